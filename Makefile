@@ -1,0 +1,158 @@
+# tandem: one Makefile. Build output goes only under build/ (bin/, lib/, gen/).
+#   make            build everything (core library, messages, daemons, sim, tools)
+#   make run        install missing Debian packages, then run the whole system
+#   make test       install missing packages, then unit + integration tests,
+#                   also rebuilt and rerun with -fsanitize=address,undefined
+#   make bench      benchmarks (figures printed, nothing asserted)
+#   make spy        lcm-spy with every tandem channel decoded
+#   make clean
+# SAN=1 builds into build/san with the sanitizers on.
+
+CC       ?= cc
+PKGS     := lcm ode ccd
+WARN     := -std=c99 -Wall -Wextra -Wpedantic -Werror
+OPT      ?= -O2 -g
+ifeq ($(SAN),1)
+BUILD    := build/san
+OPT      := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
+LDSAN    := -fsanitize=address,undefined
+else
+BUILD    := build
+endif
+BIN      := $(BUILD)/bin
+LIB      := $(BUILD)/lib
+OBJ      := $(BUILD)/obj
+GEN      := build/gen
+PKG_CFLAGS := $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
+PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
+CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
+CPPFLAGS := -Iinclude -I$(GEN)/c -Idaemons -Isim -D_POSIX_C_SOURCE=200809L
+CFLAGS   := $(WARN) $(OPT)
+LDLIBS   := -lm
+
+# ---- sources ---------------------------------------------------------------
+CORE_SRC   := $(wildcard src/*.c)
+CORE_OBJ   := $(patsubst src/%.c,$(OBJ)/core/%.o,$(CORE_SRC))
+CORE_LIB   := $(LIB)/libtandem.a
+LCM_FILES  := $(wildcard lcmtypes/*.lcm)
+GEN_STAMP  := $(GEN)/.stamp
+COMMON_SRC := $(wildcard daemons/common/*.c)
+COMMON_OBJ := $(patsubst daemons/common/%.c,$(OBJ)/common/%.o,$(COMMON_SRC))
+COMMON_LIB := $(LIB)/libtandem_daemon.a
+SIM_SRC    := $(wildcard sim/*.c)
+SIM_OBJ    := $(patsubst sim/%.c,$(OBJ)/sim/%.o,$(SIM_SRC))
+SCEN_SRC   := $(wildcard tools/scenario/*.c)
+SCEN_OBJ   := $(patsubst tools/scenario/%.c,$(OBJ)/scenario/%.o,$(SCEN_SRC))
+# every daemons/tandem_<name>.c and tools/tandem_<name>.c is one program tandem-<name>
+DAEMON_SRC := $(wildcard daemons/tandem_*.c)
+TOOL_SRC   := $(wildcard tools/tandem_*.c)
+PROGS      := $(patsubst daemons/tandem_%.c,$(BIN)/tandem-%,$(DAEMON_SRC)) \
+              $(patsubst tools/tandem_%.c,$(BIN)/tandem-%,$(TOOL_SRC)) \
+              $(BIN)/tandem-sim $(if $(SCEN_SRC),$(BIN)/tandem-scenario)
+UNIT_SRC   := $(wildcard test/test_*.c)
+UNIT_BIN   := $(patsubst test/%.c,$(BIN)/%,$(UNIT_SRC))
+BENCH_SRC  := $(wildcard test/bench_*.c)
+BENCH_BIN  := $(patsubst test/%.c,$(BIN)/%,$(BENCH_SRC))
+TYPES_JAR  := build/lib/tandem_types.jar
+
+.PHONY: all run test unit integration bench spy clean deps deps-bench jar
+all: $(PROGS) $(UNIT_BIN) $(TYPES_JAR)
+
+# ---- Debian packages (installs when root, else prints the command) ---------
+deps:
+	@tools/deps.sh run
+deps-bench:
+	@tools/deps.sh bench
+
+# ---- messages --------------------------------------------------------------
+$(GEN_STAMP): $(LCM_FILES)
+	@mkdir -p $(GEN)/c $(GEN)/java
+	@lcm-gen -c --c-cpath $(GEN)/c --c-hpath $(GEN)/c $(LCM_FILES)
+	@lcm-gen -j --jpath $(GEN)/java $(LCM_FILES)
+	@touch $@
+$(LIB)/libtandem_lcm.a: $(GEN_STAMP)
+	@mkdir -p $(OBJ)/gen $(LIB)
+	@for f in $(GEN)/c/*.c; do \
+	  $(CC) -std=c99 $(OPT) $(PKG_CFLAGS) -I$(GEN)/c -c $$f -o $(OBJ)/gen/$$(basename $$f .c).o || exit 1; done
+	@rm -f $@ && ar rcs $@ $(OBJ)/gen/*.o
+$(TYPES_JAR): $(GEN_STAMP)
+	@mkdir -p build/lib build/javaclasses
+	@javac -nowarn -d build/javaclasses -cp /usr/share/java/lcm.jar $$(find $(GEN)/java -name '*.java') 2>&1 | grep -v '^Note:' || true
+	@jar cf $@ -C build/javaclasses .
+jar: $(TYPES_JAR)
+
+# ---- libraries -------------------------------------------------------------
+# the core sees only include/: no LCM, no ODE (pure C99 + libm; rtloop adds POSIX)
+$(OBJ)/core/%.o: src/%.c
+	@mkdir -p $(@D)
+	$(CC) -Iinclude -D_POSIX_C_SOURCE=200809L $(CFLAGS) -MMD -c $< -o $@
+$(CORE_LIB): $(CORE_OBJ)
+	@mkdir -p $(@D)
+	@rm -f $@ && ar rcs $@ $^
+$(OBJ)/common/%.o: daemons/common/%.c $(GEN_STAMP)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+$(COMMON_LIB): $(COMMON_OBJ)
+	@mkdir -p $(@D)
+	@rm -f $@ && ar rcs $@ $^
+DLIBS := $(COMMON_LIB) $(LIB)/libtandem_lcm.a $(CORE_LIB)
+
+# ---- programs --------------------------------------------------------------
+$(OBJ)/sim/%.o: sim/%.c $(GEN_STAMP)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+$(BIN)/tandem-sim: $(SIM_OBJ) $(DLIBS)
+	@mkdir -p $(@D)
+	$(CC) $(OPT) $(LDSAN) -o $@ $(SIM_OBJ) $(DLIBS) $(PKG_LIBS) $(LDLIBS)
+$(OBJ)/scenario/%.o: tools/scenario/%.c $(GEN_STAMP)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+$(BIN)/tandem-scenario: $(SCEN_OBJ) $(DLIBS)
+	@mkdir -p $(@D)
+	$(CC) $(OPT) $(LDSAN) -o $@ $(SCEN_OBJ) $(DLIBS) $(PKG_LIBS) $(LDLIBS)
+$(OBJ)/prog/%.o: daemons/%.c $(GEN_STAMP)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+$(OBJ)/prog/%.o: tools/%.c $(GEN_STAMP)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+$(BIN)/tandem-%: $(OBJ)/prog/tandem_%.o $(DLIBS)
+	@mkdir -p $(@D)
+	$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(LDLIBS)
+
+# ---- tests -----------------------------------------------------------------
+$(OBJ)/test/%.o: test/%.c $(GEN_STAMP)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+$(BIN)/test_%: $(OBJ)/test/test_%.o $(DLIBS)
+	@mkdir -p $(@D)
+	$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(CMOCKA_LIBS) $(LDLIBS)
+$(BIN)/bench_%: $(OBJ)/test/bench_%.o $(DLIBS)
+	@mkdir -p $(@D)
+	$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(LDLIBS)
+
+unit: $(UNIT_BIN)
+	@tools/run-tests.sh unit $(BIN) $(UNIT_BIN)
+integration: $(PROGS)
+	@tools/run-tests.sh integration $(BIN)
+
+test: deps
+	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory unit integration
+	@$(MAKE) --no-print-directory SAN=1 unit integration
+
+run: deps
+	@$(MAKE) --no-print-directory all
+	@tools/tandem-run $(if $(DURATION),--duration $(DURATION))
+
+bench: deps deps-bench
+	@$(MAKE) --no-print-directory all $(BENCH_BIN)
+	@tools/bench.sh $(BIN)
+
+spy: $(TYPES_JAR)
+	@tools/spy.sh $(TYPES_JAR)
+
+clean:
+	rm -rf build
+
+-include $(shell find build -name '*.d' 2>/dev/null)

@@ -1,0 +1,48 @@
+/* vec3: 3-vectors, 3x3 rotation matrices and homogeneous transforms.
+ *
+ * Shared small-geometry kernel for every core module (kinematics, path
+ * profiles, TDSD, sonar). Plain arrays, row-major, no allocation, so the
+ * same code runs on a 68040 or a Cortex-M. Rotations R are 3x3 row-major
+ * (double[9]); transforms T are 4x4 row-major (double[16]).
+ */
+#ifndef TANDEM_VEC3_H
+#define TANDEM_VEC3_H
+
+void   vec3_set(double out[3], double x, double y, double z);
+void   vec3_copy(double out[3], const double a[3]);
+void   vec3_add(double out[3], const double a[3], const double b[3]);
+void   vec3_sub(double out[3], const double a[3], const double b[3]);
+void   vec3_scale(double out[3], const double a[3], double k);
+/* out = a + k b */
+void   vec3_axpy(double out[3], const double a[3], double k, const double b[3]);
+double vec3_dot(const double a[3], const double b[3]);
+void   vec3_cross(double out[3], const double a[3], const double b[3]);
+double vec3_norm(const double a[3]);
+/* Returns the norm before normalising; leaves a zero vector unchanged. */
+double vec3_normalize(double out[3], const double a[3]);
+
+void   rot_identity(double R[9]);
+void   rot_mul(double out[9], const double A[9], const double B[9]);
+/* out = A^T B */
+void   rot_tmul(double out[9], const double A[9], const double B[9]);
+void   rot_apply(double out[3], const double R[9], const double v[3]);
+/* out = R^T v */
+void   rot_tapply(double out[3], const double R[9], const double v[3]);
+void   rot_transpose(double out[9], const double R[9]);
+/* Rotation of angle_rad about unit axis (Rodrigues). */
+void   rot_from_axis_angle(double R[9], const double axis[3], double angle_rad);
+/* Inverse of the above; angle in [0, pi]; axis (1,0,0) for the identity. */
+double rot_to_axis_angle(double axis[3], const double R[9]);
+/* Unit quaternion w x y z <-> rotation matrix. */
+void   rot_from_quat(double R[9], const double q_wxyz[4]);
+void   rot_to_quat(double q_wxyz[4], const double R[9]);
+
+void   tf_identity(double T[16]);
+void   tf_mul(double out[16], const double A[16], const double B[16]);
+void   tf_from_rot_pos(double T[16], const double R[9], const double p[3]);
+void   tf_rot(double R[9], const double T[16]);
+void   tf_pos(double p[3], const double T[16]);
+/* out = T^-1 for a rigid transform. */
+void   tf_inverse(double out[16], const double T[16]);
+
+#endif
