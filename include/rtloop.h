@@ -1,0 +1,44 @@
+/* rtloop: the periodic real-time loop of every daemon (SPEC.md §1).
+ *
+ * Absolute deadlines on CLOCK_MONOTONIC with clock_nanosleep(TIMER_ABSTIME),
+ * so the period does not drift with the work done in each cycle. Measures
+ * wake-up latency (how late the thread woke after its deadline) and cycle
+ * time (wake-up to end of work) into fixed histograms, and counts overruns
+ * (work that ran past the next deadline; the loop then skips the missed
+ * deadlines instead of bursting to catch up).
+ *
+ * This is the one core module that needs POSIX (clock_nanosleep); porting
+ * to a bare-metal board means replacing rtloop_now_ns and rtloop_sleep_until
+ * with a hardware timer.
+ */
+#ifndef TANDEM_RTLOOP_H
+#define TANDEM_RTLOOP_H
+
+#include <stdint.h>
+#include "loopstats.h"
+
+#define RTLOOP_MIN_PERIOD_NS 50000LL        /* 20 kHz */
+#define RTLOOP_MAX_PERIOD_NS 10000000000LL  /* 10 s */
+
+typedef struct rtloop {
+    int64_t   period_ns;
+    int64_t   next_ns;        /* next absolute deadline */
+    int64_t   wake_ns;        /* when the current cycle woke */
+    int64_t   cycles;
+    int64_t   overruns;
+    loopstats cycle;          /* wake-up to rtloop_end_cycle, us */
+    loopstats latency;        /* deadline to wake-up, us */
+} rtloop;
+
+int64_t rtloop_now_ns(void);
+/* Returns -1 if the period is outside [RTLOOP_MIN_PERIOD_NS, RTLOOP_MAX_PERIOD_NS]. */
+int  rtloop_init(rtloop *l, int64_t period_ns);
+/* Sleeps until the next deadline and records the wake-up latency. */
+void rtloop_wait(rtloop *l);
+/* Records the cycle time, counts an overrun and skips missed deadlines. */
+void rtloop_end_cycle(rtloop *l);
+/* Cycle accounting for loops driven by something else (lockstep):
+ * record a cycle that started at start_ns and ends now. */
+void rtloop_record(rtloop *l, int64_t start_ns);
+
+#endif

@@ -1,0 +1,66 @@
+/* rtloop: periodic loop on absolute CLOCK_MONOTONIC deadlines (SPEC.md §1).
+ * Bounded work per call: no loops that depend on how late we are (missed
+ * deadlines are skipped arithmetically).
+ */
+#include "rtloop.h"
+#include <time.h>
+
+int64_t rtloop_now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000000000LL + (int64_t)ts.tv_nsec;
+}
+
+static void sleep_until(int64_t t_ns)
+{
+    struct timespec ts;
+    ts.tv_sec = (time_t)(t_ns / 1000000000LL);
+    ts.tv_nsec = (long)(t_ns % 1000000000LL);
+    /* One call: if a signal interrupts it (EINTR) the cycle simply starts
+     * early, and the caller sees its stop flag at once. */
+    (void)clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
+}
+
+int rtloop_init(rtloop *l, int64_t period_ns)
+{
+    if (period_ns < RTLOOP_MIN_PERIOD_NS || period_ns > RTLOOP_MAX_PERIOD_NS)
+        return -1;
+    l->period_ns = period_ns;
+    l->next_ns = rtloop_now_ns() + period_ns;
+    l->wake_ns = 0;
+    l->cycles = 0;
+    l->overruns = 0;
+    loopstats_reset(&l->cycle);
+    loopstats_reset(&l->latency);
+    return 0;
+}
+
+void rtloop_wait(rtloop *l)
+{
+    int64_t now;
+    sleep_until(l->next_ns);
+    now = rtloop_now_ns();
+    l->wake_ns = now;
+    loopstats_add(&l->latency, now > l->next_ns ? (double)(now - l->next_ns) * 1e-3 : 0.0);
+}
+
+void rtloop_end_cycle(rtloop *l)
+{
+    const int64_t now = rtloop_now_ns();
+    loopstats_add(&l->cycle, (double)(now - l->wake_ns) * 1e-3);
+    l->cycles++;
+    l->next_ns += l->period_ns;
+    if (now >= l->next_ns) {
+        const int64_t missed = (now - l->next_ns) / l->period_ns + 1;
+        l->overruns++;
+        l->next_ns += missed * l->period_ns;
+    }
+}
+
+void rtloop_record(rtloop *l, int64_t start_ns)
+{
+    const int64_t now = rtloop_now_ns();
+    loopstats_add(&l->cycle, (double)(now - start_ns) * 1e-3);
+    l->cycles++;
+}
