@@ -1,0 +1,127 @@
+/* erlaw: event-referenced control law for one straight segment
+ * (SPEC 2.2, eq. 6-7), its orientation channel, external (synchronised)
+ * references, and the time-referenced baseline.
+ *
+ * Output is the commanded operational-space acceleration (linear in m/s^2,
+ * angular in rad/s^2). Turning it into joint torques (computed torque with
+ * the arm's dynamic model) is the arm daemon's job; erlaw knows no arm.
+ *
+ *   u = A_d(s_ref) e + k_v (V_d(s_ref) e - V) + k_p (X_d(s_ref) - X) + p_bias
+ *   p_bias = e k0 / (1 + exp(k1 - k2 (s_f - s)))
+ *
+ * s is always the *measured* progress (projection of X on the segment,
+ * clamped to [0, s_f]); p_bias uses it. s_ref selects the reference:
+ *   ERLAW_REF_MEASURED  s_ref = s                  (event law, eq. 6)
+ *   ERLAW_REF_EXTERNAL  s_ref = given (k_i s*)     (synchronised, SPEC 2.3)
+ *   ERLAW_REF_TIME      s_ref = s_d(t), advancing with the clock from the
+ *                       segment start              (baseline, SPEC 2.6)
+ *
+ * While blocked under the event law, s stops, so every term stops:
+ * u = A_d(s) e + k_v V_d(s) e + p_bias(s) (plus feedback on V = 0), i.e.
+ * bounded by a_m + k_v v_m + k0 whatever the block duration. A partner
+ * following a frozen external reference leads it by
+ * (A_d + k_v V_d + p_bias) / k_p at most.
+ *
+ * Orientation channel: rotation R0 -> R1 about the fixed world axis n of
+ * R1 R0^T by theta_f (must be < pi). Measured progress: theta =
+ * n . log(R R0^T) clamped; reference R_d = Rot(n, theta_ref) R0; the
+ * "position error" is the world rotation vector log(R_d R^T).
+ */
+#ifndef TANDEM_ERLAW_H
+#define TANDEM_ERLAW_H
+
+#include "sprofile.h"
+
+/* One set of limits and gains (one row of the lookup table, SPEC 2.5).
+ * For the orientation channel read m as rad. */
+typedef struct {
+    double v_m;   /* m/s                       */
+    double a_m;   /* m/s^2                     */
+    double u_m;   /* da/ds limit, 1/s^2        */
+    double k_p;   /* 1/s^2                     */
+    double k_v;   /* 1/s                       */
+    double k0;    /* m/s^2: bias magnitude     */
+    double k1;    /* -: bias turn-off offset   */
+    double k2;    /* 1/m: bias turn-off slope  */
+} erlaw_gains;
+
+typedef enum {
+    ERLAW_REF_MEASURED = 0,
+    ERLAW_REF_EXTERNAL = 1,
+    ERLAW_REF_TIME = 2
+} erlaw_ref;
+
+/* The time-referenced baseline advances s_d(t) with speed
+ * max(V_d(s_d), ERLAW_TIME_V_FLOOR_FRAC * v_peak) (see sprofile_advance). */
+#define ERLAW_TIME_V_FLOOR_FRAC 0.05
+
+/* State of one channel (one segment, translation or rotation). */
+typedef struct {
+    sprofile prof;
+    erlaw_gains g;
+    double e[3];        /* unit direction / rotation axis              */
+    double s_time_m;    /* s_d(t) of the time-referenced baseline      */
+    double t_s;         /* time since the segment start                */
+} erlaw_channel;
+
+typedef struct {
+    erlaw_channel ch;
+    double p0_m[3];
+} erlaw_line;
+
+typedef struct {
+    erlaw_channel ch;
+    double R0[9];
+} erlaw_rot;
+
+typedef struct {
+    double u[3];        /* commanded acceleration (m/s^2 or rad/s^2)  */
+    double s_m;         /* measured progress                          */
+    double s_ref_m;     /* reference progress used                    */
+    double x_err[3];    /* X_d - X (or log(R_d R^T))                  */
+    double a_d, v_d;    /* planned scalars at s_ref                   */
+    double bias;        /* |p_bias|                                   */
+} erlaw_out;
+
+/* Gains valid: every field finite, limits > 0, k_p, k_v, k0, k2 >= 0. */
+int erlaw_gains_valid(const erlaw_gains *g);
+
+/* Segment p0 -> p1. A zero-length segment is valid (holds p0). 0 / -1. */
+int erlaw_line_init(erlaw_line *l, const double p0_m[3], const double p1_m[3],
+                    const erlaw_gains *g);
+/* Measured progress: projection of x on the segment, clamped to [0, s_f]. */
+double erlaw_line_s(const erlaw_line *l, const double x_m[3]);
+/* One control cycle. s_ext_m is used only with ERLAW_REF_EXTERNAL (it is
+ * clamped to [0, s_f]); dt_s advances the baseline clock (ERLAW_REF_TIME)
+ * and the segment time. Returns 0, or -1 on bad input (out->u is then 0). */
+int erlaw_line_step(erlaw_line *l, const double x_m[3], const double v_mps[3],
+                    erlaw_ref ref, double s_ext_m, double dt_s, erlaw_out *out);
+
+/* Orientation move R0 -> R1 (rotation matrices, row-major). 0 / -1. */
+int erlaw_rot_init(erlaw_rot *r, const double R0[9], const double R1[9],
+                   const erlaw_gains *g);
+/* Measured rotated angle about the move's axis, clamped to [0, theta_f]. */
+double erlaw_rot_angle(const erlaw_rot *r, const double R[9]);
+int erlaw_rot_step(erlaw_rot *r, const double R[9], const double w_radps[3],
+                   erlaw_ref ref, double s_ext_rad, double dt_s, erlaw_out *out);
+
+/* Segment length s_f (m or rad) of a channel. */
+double erlaw_channel_length(const erlaw_channel *c);
+
+/* Done: s within tol_s of s_f and |speed| below tol_v. */
+int erlaw_done(double s_m, double s_f_m, double speed, double tol_s, double tol_v);
+
+/* Blocked detection: s has not advanced by more than eps_s for longer
+ * than t_block_s while motion was commanded. */
+typedef struct {
+    double s_best_m;
+    double t_still_s;
+} erlaw_block;
+
+void erlaw_block_reset(erlaw_block *b, double s_m);
+/* Returns 1 while blocked, 0 otherwise. commanding = 0 (e.g. at the goal)
+ * resets the still timer. */
+int erlaw_block_update(erlaw_block *b, double s_m, int commanding, double dt_s,
+                       double eps_s, double t_block_s);
+
+#endif

@@ -1,0 +1,253 @@
+/* erlaw: event-referenced segment control law, SPEC 2.2 eq. 6-7 (with the
+ * start-up bias), the orientation channel referenced by rotated angle, the
+ * external reference of SPEC 2.3 and the time-referenced baseline of
+ * SPEC 2.6. One generic channel does the arithmetic for both the line and
+ * the rotation; they differ only in how progress and error are measured.
+ */
+#include "erlaw.h"
+
+#include <math.h>
+
+#include "vec3.h"
+
+static int finite3(const double v[3])
+{
+    return v && isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+static double clamp(double x, double lo, double hi)
+{
+    return x < lo ? lo : (x > hi ? hi : x);
+}
+
+int erlaw_gains_valid(const erlaw_gains *g)
+{
+    if (!g)
+        return 0;
+    if (!(isfinite(g->v_m) && isfinite(g->a_m) && isfinite(g->u_m) && isfinite(g->k_p) &&
+          isfinite(g->k_v) && isfinite(g->k0) && isfinite(g->k1) && isfinite(g->k2)))
+        return 0;
+    return g->v_m > 0.0 && g->a_m > 0.0 && g->u_m > 0.0 && g->k_p >= 0.0 && g->k_v >= 0.0 &&
+           g->k0 >= 0.0 && g->k2 >= 0.0;
+}
+
+static int channel_init(erlaw_channel *c, const double e[3], double s_f, const erlaw_gains *g)
+{
+    if (!erlaw_gains_valid(g))
+        return -1;
+    if (sprofile_plan(&c->prof, s_f, g->v_m, g->a_m, g->u_m) != 0)
+        return -1;
+    c->g = *g;
+    vec3_copy(c->e, e);
+    c->s_time_m = 0.0;
+    c->t_s = 0.0;
+    return 0;
+}
+
+double erlaw_channel_length(const erlaw_channel *c)
+{
+    return c ? c->prof.s_f_m : 0.0;
+}
+
+static double bias(const erlaw_channel *c, double s)
+{
+    const erlaw_gains *g = &c->g;
+    /* s is clamped to [0, s_f] so the exponent is <= k1: no overflow. */
+    return g->k0 / (1.0 + exp(g->k1 - g->k2 * (c->prof.s_f_m - s)));
+}
+
+/* Picks s_ref, advancing the baseline clock when it is the reference. */
+static int channel_ref(erlaw_channel *c, double s, erlaw_ref ref, double s_ext, double dt,
+                       double *s_ref)
+{
+    const double s_f = c->prof.s_f_m;
+    if (!isfinite(dt) || dt < 0.0)
+        return -1;
+    c->t_s += dt;
+    switch (ref) {
+    case ERLAW_REF_MEASURED:
+        *s_ref = s;
+        return 0;
+    case ERLAW_REF_EXTERNAL:
+        if (!isfinite(s_ext))
+            return -1;
+        *s_ref = clamp(s_ext, 0.0, s_f);
+        return 0;
+    case ERLAW_REF_TIME:
+        c->s_time_m = sprofile_advance(&c->prof, c->s_time_m, dt,
+                                       ERLAW_TIME_V_FLOOR_FRAC * sprofile_v_peak(&c->prof));
+        *s_ref = c->s_time_m;
+        return 0;
+    }
+    return -1;
+}
+
+/* u = A_d e + k_v (V_d e - V) + k_p err + p_bias e  (eq. 6, 7) */
+static void channel_command(const erlaw_channel *c, double s, double s_ref, const double err[3],
+                            const double vel[3], erlaw_out *out)
+{
+    const erlaw_gains *g = &c->g;
+    double a_d, v_d, b, dv[3];
+    int i;
+    sprofile_at(&c->prof, s_ref, &a_d, &v_d);
+    b = bias(c, s);
+    for (i = 0; i < 3; i++) {
+        dv[i] = v_d * c->e[i] - vel[i];
+        out->u[i] = (a_d + b) * c->e[i] + g->k_v * dv[i] + g->k_p * err[i];
+        out->x_err[i] = err[i];
+    }
+    out->s_m = s;
+    out->s_ref_m = s_ref;
+    out->a_d = a_d;
+    out->v_d = v_d;
+    out->bias = b;
+}
+
+static void out_zero(erlaw_out *out)
+{
+    if (!out)
+        return;
+    vec3_set(out->u, 0.0, 0.0, 0.0);
+    vec3_set(out->x_err, 0.0, 0.0, 0.0);
+    out->s_m = out->s_ref_m = out->a_d = out->v_d = out->bias = 0.0;
+}
+
+/* ---- line ---------------------------------------------------------------*/
+
+int erlaw_line_init(erlaw_line *l, const double p0_m[3], const double p1_m[3],
+                    const erlaw_gains *g)
+{
+    double d[3], e[3], s_f;
+    if (!l || !finite3(p0_m) || !finite3(p1_m))
+        return -1;
+    vec3_sub(d, p1_m, p0_m);
+    s_f = vec3_normalize(e, d);
+    if (s_f == 0.0)
+        vec3_set(e, 1.0, 0.0, 0.0);
+    vec3_copy(l->p0_m, p0_m);
+    return channel_init(&l->ch, e, s_f, g);
+}
+
+double erlaw_line_s(const erlaw_line *l, const double x_m[3])
+{
+    double d[3];
+    if (!l || !finite3(x_m))
+        return 0.0;
+    vec3_sub(d, x_m, l->p0_m);
+    return clamp(vec3_dot(d, l->ch.e), 0.0, l->ch.prof.s_f_m);
+}
+
+int erlaw_line_step(erlaw_line *l, const double x_m[3], const double v_mps[3],
+                    erlaw_ref ref, double s_ext_m, double dt_s, erlaw_out *out)
+{
+    double s, s_ref, x_d[3], err[3];
+    out_zero(out);
+    if (!l || !out || !finite3(x_m) || !finite3(v_mps))
+        return -1;
+    s = erlaw_line_s(l, x_m);
+    if (channel_ref(&l->ch, s, ref, s_ext_m, dt_s, &s_ref) != 0)
+        return -1;
+    vec3_axpy(x_d, l->p0_m, s_ref, l->ch.e);
+    vec3_sub(err, x_d, x_m);
+    channel_command(&l->ch, s, s_ref, err, v_mps, out);
+    return 0;
+}
+
+/* ---- orientation ----------------------------------------------------------*/
+
+static int finite9(const double R[9])
+{
+    int i;
+    if (!R)
+        return 0;
+    for (i = 0; i < 9; i++)
+        if (!isfinite(R[i]))
+            return 0;
+    return 1;
+}
+
+/* World-frame rotation vector of A B^T. */
+static void rotvec_abt(double out[3], const double A[9], const double B[9])
+{
+    double Bt[9], M[9], axis[3], ang;
+    rot_transpose(Bt, B);
+    rot_mul(M, A, Bt);
+    ang = rot_to_axis_angle(axis, M);
+    vec3_scale(out, axis, ang);
+}
+
+int erlaw_rot_init(erlaw_rot *r, const double R0[9], const double R1[9], const erlaw_gains *g)
+{
+    double phi[3], n[3], theta_f;
+    int i;
+    if (!r || !finite9(R0) || !finite9(R1))
+        return -1;
+    rotvec_abt(phi, R1, R0);
+    theta_f = vec3_normalize(n, phi);
+    if (theta_f < 1e-12) {
+        theta_f = 0.0;
+        vec3_set(n, 1.0, 0.0, 0.0);
+    }
+    for (i = 0; i < 9; i++)
+        r->R0[i] = R0[i];
+    return channel_init(&r->ch, n, theta_f, g);
+}
+
+double erlaw_rot_angle(const erlaw_rot *r, const double R[9])
+{
+    double phi[3];
+    if (!r || !finite9(R))
+        return 0.0;
+    rotvec_abt(phi, R, r->R0);
+    return clamp(vec3_dot(phi, r->ch.e), 0.0, r->ch.prof.s_f_m);
+}
+
+int erlaw_rot_step(erlaw_rot *r, const double R[9], const double w_radps[3],
+                   erlaw_ref ref, double s_ext_rad, double dt_s, erlaw_out *out)
+{
+    double th, th_ref, Rs[9], Rd[9], err[3];
+    out_zero(out);
+    if (!r || !out || !finite9(R) || !finite3(w_radps))
+        return -1;
+    th = erlaw_rot_angle(r, R);
+    if (channel_ref(&r->ch, th, ref, s_ext_rad, dt_s, &th_ref) != 0)
+        return -1;
+    rot_from_axis_angle(Rs, r->ch.e, th_ref);
+    rot_mul(Rd, Rs, r->R0);
+    rotvec_abt(err, Rd, R);
+    channel_command(&r->ch, th, th_ref, err, w_radps, out);
+    return 0;
+}
+
+/* ---- predicates -----------------------------------------------------------*/
+
+int erlaw_done(double s_m, double s_f_m, double speed, double tol_s, double tol_v)
+{
+    if (!isfinite(s_m) || !isfinite(s_f_m) || !isfinite(speed))
+        return 0;
+    return fabs(s_f_m - s_m) <= tol_s && fabs(speed) <= tol_v;
+}
+
+void erlaw_block_reset(erlaw_block *b, double s_m)
+{
+    if (!b)
+        return;
+    b->s_best_m = isfinite(s_m) ? s_m : 0.0;
+    b->t_still_s = 0.0;
+}
+
+int erlaw_block_update(erlaw_block *b, double s_m, int commanding, double dt_s,
+                       double eps_s, double t_block_s)
+{
+    if (!b || !isfinite(s_m) || !isfinite(dt_s) || dt_s < 0.0)
+        return 0;
+    if (s_m > b->s_best_m + eps_s || !commanding) {
+        /* progress (or nothing asked): restart the still timer */
+        if (s_m > b->s_best_m)
+            b->s_best_m = s_m;
+        b->t_still_s = 0.0;
+        return 0;
+    }
+    b->t_still_s += dt_s;
+    return b->t_still_s > t_block_s;
+}

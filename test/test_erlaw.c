@@ -1,0 +1,322 @@
+/* Unit tests for erlaw (SPEC 2.2, 2.6): closed-loop error dynamics on a
+ * point mass X'' = u (the plant the arm's computed-torque loop makes of
+ * the arm), including a frozen ("blocked") mass and its release. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+
+#include "erlaw.h"
+#include "vec3.h"
+
+static const erlaw_gains G = { 0.25, 0.5, 4.0, 100.0, 20.0, 0.2, 5.0, 50.0 };
+static const double P0[3] = { 0.4, -0.2, 0.3 };
+static const double P1[3] = { 0.7, 0.2, 0.3 };   /* s_f = 0.5 m */
+#define DT 1e-3
+#define TOL_S 1e-3
+#define TOL_V 5e-3
+
+typedef struct {
+    double x[3], v[3];
+    double s_raw_max;     /* furthest along e, unclamped: overshoot check */
+    double speed_max;
+} mass;
+
+/* One 1 kHz cycle; a frozen mass keeps its position and zero speed. */
+static erlaw_out cycle(erlaw_line *l, mass *m, erlaw_ref ref, double s_ext, int frozen)
+{
+    erlaw_out o;
+    double d[3];
+    int i;
+    assert_int_equal(erlaw_line_step(l, m->x, m->v, ref, s_ext, DT, &o), 0);
+    for (i = 0; i < 3; i++) {
+        if (frozen) {
+            m->v[i] = 0.0;
+        } else {
+            m->v[i] += o.u[i] * DT;
+            m->x[i] += m->v[i] * DT;
+        }
+    }
+    vec3_sub(d, m->x, l->p0_m);
+    m->s_raw_max = fmax(m->s_raw_max, vec3_dot(d, l->ch.e));
+    m->speed_max = fmax(m->speed_max, vec3_norm(m->v));
+    return o;
+}
+
+static void mass_at(mass *m, const double p[3])
+{
+    vec3_copy(m->x, p);
+    vec3_set(m->v, 0.0, 0.0, 0.0);
+    m->s_raw_max = 0.0;
+    m->speed_max = 0.0;
+}
+
+static int is_done(const erlaw_line *l, const mass *m)
+{
+    return erlaw_done(erlaw_line_s(l, m->x), erlaw_channel_length(&l->ch), vec3_norm(m->v), TOL_S,
+                      TOL_V);
+}
+
+/* Runs until done; returns the time taken (or a big number). */
+static double run_to_done(erlaw_line *l, mass *m, erlaw_ref ref, double t_max)
+{
+    double t = 0.0;
+    while (!is_done(l, m) && t < t_max) {
+        cycle(l, m, ref, 0.0, 0);
+        t += DT;
+    }
+    return t;
+}
+
+static void test_reaches_goal_at_rest(void **st)
+{
+    erlaw_line l;
+    mass m;
+    double t, dist[3];
+    int k;
+    (void)st;
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
+    mass_at(&m, P0);
+    t = run_to_done(&l, &m, ERLAW_REF_MEASURED, 30.0);
+    assert_true(t < 10.0);
+    /* stays there, at rest, without overshoot */
+    for (k = 0; k < 3000; k++)
+        cycle(&l, &m, ERLAW_REF_MEASURED, 0.0, 0);
+    vec3_sub(dist, m.x, P1);
+    assert_true(vec3_norm(dist) < TOL_S);
+    assert_true(vec3_norm(m.v) < 1e-4);
+    assert_true(m.s_raw_max <= 0.5 + TOL_S);
+    /* the speed limit is respected up to the bias surplus k0/k_v */
+    assert_true(m.speed_max <= G.v_m + G.k0 / G.k_v + 1e-3);
+}
+
+/* A cross-track offset is removed on the way (k_p acts across e). */
+static void test_cross_track_error_decays(void **st)
+{
+    erlaw_line l;
+    mass m;
+    double start[3] = { 0.4, -0.2, 0.32 }, dist[3];
+    (void)st;
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
+    mass_at(&m, start);
+    assert_true(run_to_done(&l, &m, ERLAW_REF_MEASURED, 30.0) < 10.0);
+    vec3_sub(dist, m.x, P1);
+    assert_true(vec3_norm(dist) < 2.0 * TOL_S);
+}
+
+/* Without p_bias, at s0 every term of eq. 6 is zero: the mass never
+ * starts. With it, it does. */
+static void test_bias_is_needed(void **st)
+{
+    erlaw_gains g0 = G;
+    erlaw_line l;
+    mass m;
+    int k;
+    (void)st;
+    g0.k0 = 0.0;
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &g0), 0);
+    mass_at(&m, P0);
+    for (k = 0; k < 5000; k++) {
+        erlaw_out o = cycle(&l, &m, ERLAW_REF_MEASURED, 0.0, 0);
+        assert_true(vec3_norm(o.u) == 0.0);
+    }
+    assert_true(erlaw_line_s(&l, m.x) == 0.0);
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
+    mass_at(&m, P0);
+    for (k = 0; k < 1000; k++)
+        cycle(&l, &m, ERLAW_REF_MEASURED, 0.0, 0);
+    assert_true(erlaw_line_s(&l, m.x) > 1e-3);
+}
+
+/* Drives the mass to s ~ s_block, freezes it for block_s seconds, and
+ * returns |u| after 0.1 s and at the end of the block. */
+static void block_episode(erlaw_line *l, mass *m, erlaw_ref ref, double s_block, double block_s,
+                          double *u_early, double *u_late, double *u_max)
+{
+    double t = 0.0;
+    *u_max = 0.0;
+    while (erlaw_line_s(l, m->x) < s_block)
+        cycle(l, m, ref, 0.0, 0);
+    for (t = 0.0; t < block_s; t += DT) {
+        erlaw_out o = cycle(l, m, ref, 0.0, 1);
+        double un = vec3_norm(o.u);
+        if (t < 0.1)
+            *u_early = un;
+        *u_late = un;
+        *u_max = fmax(*u_max, un);
+    }
+}
+
+static void test_blocked_event_vs_time(void **st)
+{
+    const double bound = G.a_m + G.k_v * G.v_m + G.k0;
+    erlaw_line l;
+    mass m;
+    double e1, l1, mx1, e2, l2, mx2;
+    (void)st;
+    /* event law: u is constant while frozen, bounded, whatever the time */
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
+    mass_at(&m, P0);
+    block_episode(&l, &m, ERLAW_REF_MEASURED, 0.2, 20.0, &e1, &l1, &mx1);
+    assert_true(mx1 <= bound);
+    assert_true(fabs(l1 - e1) < 1e-9);
+    /* release: resumes and completes without overshoot */
+    m.s_raw_max = 0.0;
+    assert_true(run_to_done(&l, &m, ERLAW_REF_MEASURED, 30.0) < 10.0);
+    assert_true(m.s_raw_max <= 0.5 + TOL_S);
+
+    /* time-referenced baseline: u grows with the block duration */
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
+    mass_at(&m, P0);
+    block_episode(&l, &m, ERLAW_REF_TIME, 0.2, 0.5, &e2, &l2, &mx2);
+    assert_true(l2 > 2.0 * e2);
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
+    mass_at(&m, P0);
+    block_episode(&l, &m, ERLAW_REF_TIME, 0.2, 3.0, &e2, &l2, &mx2);
+    assert_true(l2 > 3.0 * bound);     /* ~k_p (s_f - s): far above the event law */
+    /* release: a lurch well above the speed limit */
+    m.speed_max = 0.0;
+    run_to_done(&l, &m, ERLAW_REF_TIME, 30.0);
+    assert_true(m.speed_max > 2.0 * G.v_m);
+}
+
+/* Externally held reference (a synchronised partner is blocked): the mass
+ * leads the frozen reference by a bounded amount and stops. */
+static void test_external_reference_bounded_lead(void **st)
+{
+    erlaw_line l;
+    mass m;
+    double s_hold = 0.2, lead_bound, s;
+    int k;
+    (void)st;
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
+    mass_at(&m, P0);
+    while (erlaw_line_s(&l, m.x) < s_hold)
+        cycle(&l, &m, ERLAW_REF_EXTERNAL, erlaw_line_s(&l, m.x), 0);
+    for (k = 0; k < 10000; k++)
+        cycle(&l, &m, ERLAW_REF_EXTERNAL, s_hold, 0);
+    s = erlaw_line_s(&l, m.x);
+    lead_bound = (G.a_m + G.k_v * G.v_m + G.k0) / G.k_p;
+    assert_true(s - s_hold <= lead_bound);
+    assert_true(s - s_hold > 0.0);
+    assert_true(vec3_norm(m.v) < 1e-4);
+    /* the held reference is respected as clamped: beyond s_f means s_f */
+    {
+        erlaw_out o;
+        assert_int_equal(erlaw_line_step(&l, m.x, m.v, ERLAW_REF_EXTERNAL, 7.0, DT, &o), 0);
+        assert_true(o.s_ref_m == 0.5);
+    }
+}
+
+/* Rotational double integrator R' = [w]x R, w' = u about a fixed axis. */
+static void test_rotation_channel(void **st)
+{
+    const erlaw_gains gr = { 0.5, 1.0, 8.0, 100.0, 20.0, 0.2, 5.0, 20.0 };
+    const double ax0[3] = { 0.0, 0.0, 1.0 }, ax1[3] = { 0.6, 0.0, 0.8 };
+    double R0[9], R1[9], R[9], w[3] = { 0, 0, 0 }, Rt[9], M[9], axis[3];
+    erlaw_rot r;
+    double t = 0.0, theta_f;
+    int k;
+    (void)st;
+    rot_from_axis_angle(R0, ax0, 0.3);
+    rot_from_axis_angle(M, ax1, 1.2);
+    rot_mul(R1, M, R0);
+    assert_int_equal(erlaw_rot_init(&r, R0, R1, &gr), 0);
+    theta_f = erlaw_channel_length(&r.ch);
+    assert_true(fabs(theta_f - 1.2) < 1e-9);
+    for (k = 0; k < 9; k++)
+        R[k] = R0[k];
+    while (t < 20.0 &&
+           !erlaw_done(erlaw_rot_angle(&r, R), theta_f, vec3_norm(w), 1e-3, 5e-3)) {
+        erlaw_out o;
+        double dR[9], Rn[9], wn;
+        assert_int_equal(erlaw_rot_step(&r, R, w, ERLAW_REF_MEASURED, 0.0, DT, &o), 0);
+        for (k = 0; k < 3; k++)
+            w[k] += o.u[k] * DT;
+        wn = vec3_norm(w);
+        if (wn > 0.0) {
+            double wa[3];
+            vec3_scale(wa, w, 1.0 / wn);
+            rot_from_axis_angle(dR, wa, wn * DT);
+        } else {
+            rot_identity(dR);
+        }
+        rot_mul(Rn, dR, R);
+        for (k = 0; k < 9; k++)
+            R[k] = Rn[k];
+        t += DT;
+    }
+    assert_true(t < 10.0);
+    rot_transpose(Rt, R1);
+    rot_mul(M, R, Rt);
+    assert_true(rot_to_axis_angle(axis, M) < 2e-3);
+}
+
+static void test_predicates(void **st)
+{
+    erlaw_block b;
+    int k, blocked = 0;
+    (void)st;
+    assert_true(erlaw_done(0.4995, 0.5, 0.001, 1e-3, 5e-3));
+    assert_false(erlaw_done(0.49, 0.5, 0.001, 1e-3, 5e-3));
+    assert_false(erlaw_done(0.5, 0.5, 0.01, 1e-3, 5e-3));
+    erlaw_block_reset(&b, 0.0);
+    /* advancing: never blocked */
+    for (k = 0; k < 2000; k++)
+        blocked |= erlaw_block_update(&b, k * 1e-5, 1, DT, 1e-4, 0.5);
+    assert_int_equal(blocked, 0);
+    /* stuck while commanded: blocked after 0.5 s, not before */
+    assert_int_equal(erlaw_block_update(&b, 0.02, 1, DT, 1e-4, 0.5), 0);
+    for (k = 0; k < 499; k++)
+        assert_int_equal(erlaw_block_update(&b, 0.02, 1, DT, 1e-4, 0.5), 0);
+    for (k = 0; k < 10; k++)
+        blocked = erlaw_block_update(&b, 0.02, 1, DT, 1e-4, 0.5);
+    assert_int_equal(blocked, 1);
+    /* moving again clears it; not commanding never reports */
+    assert_int_equal(erlaw_block_update(&b, 0.021, 1, DT, 1e-4, 0.5), 0);
+    for (k = 0; k < 2000; k++)
+        assert_int_equal(erlaw_block_update(&b, 0.021, 0, DT, 1e-4, 0.5), 0);
+}
+
+static void test_invalid_input(void **st)
+{
+    erlaw_gains bad = G;
+    erlaw_line l;
+    erlaw_out o;
+    double nanv[3] = { NAN, 0, 0 }, z[3] = { 0, 0, 0 };
+    (void)st;
+    bad.v_m = 0.0;
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &bad), -1);
+    bad = G;
+    bad.k2 = INFINITY;
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &bad), -1);
+    assert_int_equal(erlaw_line_init(&l, nanv, P1, &G), -1);
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
+    assert_int_equal(erlaw_line_step(&l, nanv, z, ERLAW_REF_MEASURED, 0, DT, &o), -1);
+    assert_true(vec3_norm(o.u) == 0.0);
+    assert_int_equal(erlaw_line_step(&l, P0, z, ERLAW_REF_EXTERNAL, NAN, DT, &o), -1);
+    assert_int_equal(erlaw_line_step(&l, P0, z, (erlaw_ref)9, 0, DT, &o), -1);
+    assert_int_equal(erlaw_line_step(&l, P0, z, ERLAW_REF_TIME, 0, -1.0, &o), -1);
+    /* zero-length segment holds p0 */
+    assert_int_equal(erlaw_line_init(&l, P0, P0, &G), 0);
+    assert_int_equal(erlaw_line_step(&l, P0, z, ERLAW_REF_MEASURED, 0, DT, &o), 0);
+    assert_true(vec3_norm(o.u) < G.k0);
+    assert_true(erlaw_done(o.s_m, erlaw_channel_length(&l.ch), 0.0, TOL_S, TOL_V));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_reaches_goal_at_rest),
+        cmocka_unit_test(test_cross_track_error_decays),
+        cmocka_unit_test(test_bias_is_needed),
+        cmocka_unit_test(test_blocked_event_vs_time),
+        cmocka_unit_test(test_external_reference_bounded_lead),
+        cmocka_unit_test(test_rotation_channel),
+        cmocka_unit_test(test_predicates),
+        cmocka_unit_test(test_invalid_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
