@@ -268,16 +268,16 @@ static void test_predicates(void **st)
         blocked |= erlaw_block_update(&b, k * 1e-5, 1, DT, 1e-4, 0.5);
     assert_int_equal(blocked, 0);
     /* stuck while commanded: blocked after 0.5 s, not before */
-    assert_int_equal(erlaw_block_update(&b, 0.02, 1, DT, 1e-4, 0.5), 0);
+    assert_int_equal(erlaw_block_update(&b, 0.03, 1, DT, 1e-4, 0.5), 0);
     for (k = 0; k < 499; k++)
-        assert_int_equal(erlaw_block_update(&b, 0.02, 1, DT, 1e-4, 0.5), 0);
+        assert_int_equal(erlaw_block_update(&b, 0.03, 1, DT, 1e-4, 0.5), 0);
     for (k = 0; k < 10; k++)
-        blocked = erlaw_block_update(&b, 0.02, 1, DT, 1e-4, 0.5);
+        blocked = erlaw_block_update(&b, 0.03, 1, DT, 1e-4, 0.5);
     assert_int_equal(blocked, 1);
     /* moving again clears it; not commanding never reports */
-    assert_int_equal(erlaw_block_update(&b, 0.021, 1, DT, 1e-4, 0.5), 0);
+    assert_int_equal(erlaw_block_update(&b, 0.031, 1, DT, 1e-4, 0.5), 0);
     for (k = 0; k < 2000; k++)
-        assert_int_equal(erlaw_block_update(&b, 0.021, 0, DT, 1e-4, 0.5), 0);
+        assert_int_equal(erlaw_block_update(&b, 0.031, 0, DT, 1e-4, 0.5), 0);
 }
 
 static void test_invalid_input(void **st)
