@@ -1,0 +1,63 @@
+/* arm_model: constant kinematic and dynamic tables of 6R arms (SPEC.md §3, §5).
+ *
+ * Standard Denavit-Hartenberg convention (Corke): the transform from frame
+ * i-1 to frame i is A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i) with
+ * theta_i = q_i + theta_offset_i. Joint i turns about z_{i-1}; link i is
+ * rigidly attached to frame i, so its centre of mass and inertia are given
+ * in frame i. Frame 0 sits base_height_m above the mounting surface (the
+ * "base" frame, z up, same orientation); frame 6 is the flange.
+ */
+#ifndef TANDEM_ARM_MODEL_H
+#define TANDEM_ARM_MODEL_H
+
+#define ARM_NJ 6 /* joints of every arm model */
+
+typedef struct arm_model {
+    const char *name;
+    double base_height_m;            /* mounting surface -> frame 0 (shoulder) */
+    double a_m[ARM_NJ];
+    double d_m[ARM_NJ];
+    double alpha_rad[ARM_NJ];
+    double theta_offset_rad[ARM_NJ];
+    double q_min_rad[ARM_NJ];
+    double q_max_rad[ARM_NJ];
+    double qd_max_radps[ARM_NJ];     /* motor speed limit at the joint */
+    double tau_max_Nm[ARM_NJ];       /* peak joint torque */
+    double mass_kg[ARM_NJ];
+    double com_m[ARM_NJ][3];         /* centre of mass of link i in frame i */
+    double inertia_kgm2[ARM_NJ][9];  /* about the COM, frame-i axes, row-major */
+} arm_model;
+
+/* Corke's Puma560 (Armstrong, Khatib & Burdick 1986 inertial data). */
+extern const arm_model arm_model_puma560;
+/* The simplified PUMA of seed 002 (la 671, lc 433, lf 433, lg 50 mm). */
+extern const arm_model arm_model_seed002;
+
+/* Tool rigidly fixed to the flange: T_flange_tool (4x4 row-major). */
+typedef struct arm_tool {
+    double T_flange_tool[16];
+} arm_tool;
+
+/* Identity tool (the flange itself). */
+void arm_tool_none(arm_tool *tool);
+/* Pure translation of the tool point, flange axes kept. 0 ok, -1 bad input. */
+int  arm_tool_offset(arm_tool *tool, const double p_flange_m[3]);
+
+/* "puma560" / "seed002" -> model; NULL if unknown. */
+const arm_model *arm_model_by_name(const char *name);
+
+/* 0 if all six numbers are finite, -1 otherwise (also for NULL). */
+int arm_q_finite(const double q[ARM_NJ]);
+/* Bit i set if q_i is outside [q_min_i, q_max_i]; 0 = all inside. */
+unsigned arm_q_outside_limits(const arm_model *m, const double q[ARM_NJ]);
+
+/* Link i -> frame i transform A_i(q_i) (4x4 row-major). */
+void arm_dh_transform(const arm_model *m, int i, double q_i, double A[16]);
+
+/* T[0] = mounting surface -> frame 0 (base height), T[i] = mounting
+ * surface -> frame i (i = 1..6, T[6] = flange). Link i's body pose is T[i];
+ * its COM in base coordinates is T[i] * com_m[i-1].
+ * 0 ok, -1 bad input (NULL, non-finite q). */
+int arm_link_frames(const arm_model *m, const double q[ARM_NJ], double T[ARM_NJ + 1][16]);
+
+#endif

@@ -1,0 +1,159 @@
+/* arm_model: PUMA 560 and seed-002 arm tables, DH link transforms and the
+ * per-link frames the simulator places its bodies with (SPEC.md §3, §5).
+ *
+ * Sources and choices (every number below is one of these):
+ * - Kinematics, masses, COMs, inertias: Corke's mdl_puma560 (standard DH),
+ *   itself from Armstrong, Khatib & Burdick 1986 and Corke &
+ *   Armstrong-Helouvry 1994. Corke's 'I' = [Ixx Iyy Izz Ixy Iyz Ixz].
+ * - Link 1: Corke gives m = 0 and I = diag(0, 0.35, 0). An ODE body needs a
+ *   positive mass and a physically valid inertia. Link 1 only rotates about
+ *   z0 (= y1) and its COM is on that axis, so its mass and its inertia about
+ *   axes other than y1 never enter the joint-space dynamics: we use 13 kg
+ *   and diag(0.30, 0.35, 0.30) (triangle inequality holds), keeping the
+ *   only dynamically visible number, Iyy = 0.35 kg m^2, unchanged.
+ * - Link 3's published principal moments (0.066, 0.086, 0.0125) violate the
+ *   triangle inequality (0.066 + 0.0125 < 0.086); kept as published (the
+ *   matrix is positive definite, which is all ODE checks).
+ * - Motor armature (Jm G^2), gear friction and Coulomb friction are NOT
+ *   modelled: the joint torques are link-side torques of rigid links.
+ * - Joint ranges: SPEC.md §3 (seed 002's PUMA 560 ranges).
+ * - Base height: shoulder (frame 0) 0.6718 m above the mounting surface.
+ * - tau_max: the peak joint torques commonly quoted for the PUMA 560
+ *   (97.6 186.4 89.4 24.2 20.1 21.3 N m).
+ * - qd_max: no primary Unimation figure was at hand; we use conservative
+ *   engineering values of the order of the rated motor speed divided by
+ *   Corke's gear ratios (joints 1-3 about 2 rad/s, wrist about 4 rad/s).
+ * - seed002: the seed gives only lengths. la -> base height, lc -> a2,
+ *   lf -> d4, lg -> d6, lb = ld = le = 0 -> d3 = a3 = 0. Mass properties,
+ *   ranges and motor limits are the PUMA's; COMs that are measured from a
+ *   frame the seed moves (frame 3: a3 = 0; frame 6: d6 = 0.05) are shifted
+ *   so each COM keeps its place relative to the joint axes.
+ */
+#include "arm_model.h"
+#include "vec3.h"
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#define DEG (3.14159265358979323846 / 180.0)
+#define PI_2 1.57079632679489661923
+
+#define DIAG(x, y, z) { (x), 0.0, 0.0, 0.0, (y), 0.0, 0.0, 0.0, (z) }
+
+#define PUMA_LIMITS \
+    .q_min_rad = { -160 * DEG, -225 * DEG, -45 * DEG, -110 * DEG, -100 * DEG, -266 * DEG }, \
+    .q_max_rad = {  160 * DEG,   45 * DEG, 225 * DEG,  170 * DEG,  100 * DEG,  266 * DEG }, \
+    .qd_max_radps = { 2.0, 1.75, 2.2, 4.0, 3.6, 4.6 }, \
+    .tau_max_Nm = { 97.6, 186.4, 89.4, 24.2, 20.1, 21.3 }, \
+    .mass_kg = { 13.0, 17.4, 4.8, 0.82, 0.34, 0.09 }
+
+#define PUMA_INERTIA \
+    .inertia_kgm2 = { DIAG(0.30, 0.35, 0.30), \
+                      DIAG(0.13, 0.524, 0.539), \
+                      DIAG(0.066, 0.086, 0.0125), \
+                      DIAG(1.8e-3, 1.3e-3, 1.8e-3), \
+                      DIAG(0.3e-3, 0.4e-3, 0.3e-3), \
+                      DIAG(0.15e-3, 0.15e-3, 0.04e-3) }
+
+const arm_model arm_model_puma560 = {
+    .name = "puma560",
+    .base_height_m = 0.6718,
+    .a_m = { 0.0, 0.4318, 0.0203, 0.0, 0.0, 0.0 },
+    .d_m = { 0.0, 0.0, 0.15005, 0.4318, 0.0, 0.0 },
+    .alpha_rad = { PI_2, 0.0, -PI_2, PI_2, -PI_2, 0.0 },
+    .theta_offset_rad = { 0, 0, 0, 0, 0, 0 },
+    PUMA_LIMITS,
+    .com_m = { { 0, 0, 0 }, { -0.3638, 0.006, 0.2275 }, { -0.0203, -0.0141, 0.070 },
+               { 0, 0.019, 0 }, { 0, 0, 0 }, { 0, 0, 0.032 } },
+    PUMA_INERTIA,
+};
+
+const arm_model arm_model_seed002 = {
+    .name = "seed002",
+    .base_height_m = 0.671,
+    .a_m = { 0.0, 0.433, 0.0, 0.0, 0.0, 0.0 },
+    .d_m = { 0.0, 0.0, 0.0, 0.433, 0.0, 0.050 },
+    .alpha_rad = { PI_2, 0.0, -PI_2, PI_2, -PI_2, 0.0 },
+    .theta_offset_rad = { 0, 0, 0, 0, 0, 0 },
+    PUMA_LIMITS,
+    .com_m = { { 0, 0, 0 }, { -0.3638, 0.006, 0.2275 }, { 0.0, -0.0141, 0.070 },
+               { 0, 0.019, 0 }, { 0, 0, 0 }, { 0, 0, 0.032 - 0.050 } },
+    PUMA_INERTIA,
+};
+
+void arm_tool_none(arm_tool *tool)
+{
+    if (tool)
+        tf_identity(tool->T_flange_tool);
+}
+
+int arm_tool_offset(arm_tool *tool, const double p_flange_m[3])
+{
+    if (!tool || !p_flange_m || !isfinite(p_flange_m[0]) || !isfinite(p_flange_m[1])
+        || !isfinite(p_flange_m[2]))
+        return -1;
+    tf_identity(tool->T_flange_tool);
+    tool->T_flange_tool[3] = p_flange_m[0];
+    tool->T_flange_tool[7] = p_flange_m[1];
+    tool->T_flange_tool[11] = p_flange_m[2];
+    return 0;
+}
+
+const arm_model *arm_model_by_name(const char *name)
+{
+    if (!name)
+        return NULL;
+    if (strcmp(name, arm_model_puma560.name) == 0)
+        return &arm_model_puma560;
+    if (strcmp(name, arm_model_seed002.name) == 0)
+        return &arm_model_seed002;
+    return NULL;
+}
+
+int arm_q_finite(const double q[ARM_NJ])
+{
+    int i;
+    if (!q)
+        return -1;
+    for (i = 0; i < ARM_NJ; i++)
+        if (!isfinite(q[i]))
+            return -1;
+    return 0;
+}
+
+unsigned arm_q_outside_limits(const arm_model *m, const double q[ARM_NJ])
+{
+    unsigned bits = 0;
+    int i;
+    for (i = 0; i < ARM_NJ; i++)
+        if (!(q[i] >= m->q_min_rad[i] && q[i] <= m->q_max_rad[i]))
+            bits |= 1u << i;
+    return bits;
+}
+
+void arm_dh_transform(const arm_model *m, int i, double q_i, double A[16])
+{
+    const double th = q_i + m->theta_offset_rad[i];
+    const double ct = cos(th), st = sin(th);
+    const double ca = cos(m->alpha_rad[i]), sa = sin(m->alpha_rad[i]);
+    const double a = m->a_m[i], d = m->d_m[i];
+    A[0] = ct;  A[1] = -st * ca; A[2] = st * sa;   A[3] = a * ct;
+    A[4] = st;  A[5] = ct * ca;  A[6] = -ct * sa;  A[7] = a * st;
+    A[8] = 0.0; A[9] = sa;       A[10] = ca;       A[11] = d;
+    A[12] = 0.0; A[13] = 0.0;    A[14] = 0.0;      A[15] = 1.0;
+}
+
+int arm_link_frames(const arm_model *m, const double q[ARM_NJ], double T[ARM_NJ + 1][16])
+{
+    double A[16];
+    int i;
+    if (!m || !T || arm_q_finite(q) != 0)
+        return -1;
+    tf_identity(T[0]);
+    T[0][11] = m->base_height_m;
+    for (i = 0; i < ARM_NJ; i++) {
+        arm_dh_transform(m, i, q[i], A);
+        tf_mul(T[i + 1], T[i], A);
+    }
+    return 0;
+}

@@ -1,0 +1,148 @@
+/* test_arm_model: table sanity (physically valid bodies for ODE), link
+ * frames consistent with the DH chain and FK, tool offsets, bad input. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <math.h>
+#include <string.h>
+#include "arm_model.h"
+#include "arm_kin.h"
+#include "vec3.h"
+
+static const arm_model *const models[] = { &arm_model_puma560, &arm_model_seed002 };
+
+static void test_by_name(void **state)
+{
+    (void)state;
+    assert_ptr_equal(arm_model_by_name("puma560"), &arm_model_puma560);
+    assert_ptr_equal(arm_model_by_name("seed002"), &arm_model_seed002);
+    assert_null(arm_model_by_name("puma761"));
+    assert_null(arm_model_by_name(NULL));
+}
+
+/* Every link must be a valid ODE body: m > 0, inertia symmetric positive
+ * definite (leading minors > 0); link 1 keeps Corke's 0.35 about its axis. */
+static void test_mass_properties_valid(void **state)
+{
+    size_t k;
+    int i;
+    (void)state;
+    for (k = 0; k < sizeof models / sizeof models[0]; k++) {
+        const arm_model *m = models[k];
+        for (i = 0; i < ARM_NJ; i++) {
+            const double *I = m->inertia_kgm2[i];
+            const double m1 = I[0];
+            const double m2 = I[0] * I[4] - I[1] * I[3];
+            const double m3 = I[0] * (I[4] * I[8] - I[5] * I[7]) - I[1] * (I[3] * I[8] - I[5] * I[6])
+                              + I[2] * (I[3] * I[7] - I[4] * I[6]);
+            assert_true(m->mass_kg[i] > 0.0);
+            assert_true(m1 > 0.0 && m2 > 0.0 && m3 > 0.0);
+            assert_true(fabs(I[1] - I[3]) < 1e-15 && fabs(I[2] - I[6]) < 1e-15
+                        && fabs(I[5] - I[7]) < 1e-15);
+            assert_true(m->q_min_rad[i] < m->q_max_rad[i]);
+            assert_true(m->qd_max_radps[i] > 0.0 && m->tau_max_Nm[i] > 0.0);
+        }
+        /* joint 1 axis is y of frame 1 (alpha1 = 90 deg) */
+        assert_true(fabs(m->inertia_kgm2[0][4] - 0.35) < 1e-12);
+        assert_true(vec3_norm(m->com_m[0]) == 0.0);
+    }
+}
+
+static double lcg_uniform(unsigned long *s)
+{
+    *s = *s * 6364136223846793005UL + 1442695040888963407UL;
+    return (double)((*s >> 11) & ((1UL << 53) - 1)) / (double)(1UL << 53);
+}
+
+static void random_q(const arm_model *m, unsigned long *s, double q[ARM_NJ])
+{
+    int j;
+    for (j = 0; j < ARM_NJ; j++)
+        q[j] = m->q_min_rad[j] + (m->q_max_rad[j] - m->q_min_rad[j]) * lcg_uniform(s);
+}
+
+static void test_frames_chain_and_fk(void **state)
+{
+    unsigned long seed = 7;
+    size_t k;
+    int n, i, e;
+    (void)state;
+    for (k = 0; k < sizeof models / sizeof models[0]; k++) {
+        const arm_model *m = models[k];
+        for (n = 0; n < 200; n++) {
+            double q[ARM_NJ], F[ARM_NJ + 1][16], T[16], A[16], C[16], R[9], RtR[9];
+            random_q(m, &seed, q);
+            assert_int_equal(arm_link_frames(m, q, F), 0);
+            assert_true(fabs(F[0][11] - m->base_height_m) < 1e-15);
+            assert_int_equal(arm_fk(m, NULL, q, T), 0);
+            for (e = 0; e < 16; e++)
+                assert_true(fabs(F[ARM_NJ][e] - T[e]) < 1e-12);
+            for (i = 0; i < ARM_NJ; i++) {
+                /* consecutive frames differ by the DH transform of joint i */
+                arm_dh_transform(m, i, q[i], A);
+                tf_mul(C, F[i], A);
+                for (e = 0; e < 16; e++)
+                    assert_true(fabs(C[e] - F[i + 1][e]) < 1e-12);
+                tf_rot(R, F[i + 1]);
+                rot_tmul(RtR, R, R);
+                for (e = 0; e < 9; e++)
+                    assert_true(fabs(RtR[e] - (e % 4 == 0 ? 1.0 : 0.0)) < 1e-12);
+            }
+        }
+    }
+}
+
+static void test_tool_offset(void **state)
+{
+    const double p[3] = { 0.01, -0.02, 0.15 };
+    const double q[ARM_NJ] = { 0.3, -0.7, 1.1, 0.4, -0.5, 2.0 };
+    const double bad[3] = { 0.0, NAN, 0.0 };
+    arm_tool tool;
+    double T6[16], Tt[16], pt[3], pw[3];
+    (void)state;
+    assert_int_equal(arm_tool_offset(&tool, p), 0);
+    assert_int_equal(arm_tool_offset(&tool, bad), -1);
+    assert_int_equal(arm_tool_offset(&tool, p), 0);
+    arm_fk(&arm_model_puma560, NULL, q, T6);
+    arm_fk(&arm_model_puma560, &tool, q, Tt);
+    /* the tool point is the flange point p carried by the flange rotation */
+    tf_pos(pt, Tt);
+    pw[0] = T6[3] + T6[0] * p[0] + T6[1] * p[1] + T6[2] * p[2];
+    pw[1] = T6[7] + T6[4] * p[0] + T6[5] * p[1] + T6[6] * p[2];
+    pw[2] = T6[11] + T6[8] * p[0] + T6[9] * p[1] + T6[10] * p[2];
+    assert_true(fabs(pt[0] - pw[0]) < 1e-14 && fabs(pt[1] - pw[1]) < 1e-14
+                && fabs(pt[2] - pw[2]) < 1e-14);
+    arm_tool_none(&tool);
+    arm_fk(&arm_model_puma560, &tool, q, Tt);
+    assert_memory_equal(Tt, T6, sizeof Tt);
+}
+
+static void test_bad_input(void **state)
+{
+    double q[ARM_NJ] = { 0, 0, 0, 0, 0, 0 }, F[ARM_NJ + 1][16];
+    (void)state;
+    assert_int_equal(arm_link_frames(NULL, q, F), -1);
+    assert_int_equal(arm_link_frames(&arm_model_puma560, NULL, F), -1);
+    q[3] = NAN;
+    assert_int_equal(arm_link_frames(&arm_model_puma560, q, F), -1);
+    q[3] = INFINITY;
+    assert_int_equal(arm_q_finite(q), -1);
+    q[3] = 0.0;
+    assert_int_equal(arm_q_finite(q), 0);
+    assert_int_equal(arm_q_outside_limits(&arm_model_puma560, q), 0u);
+    q[1] = 1.0; /* q2 max is 45 deg */
+    assert_int_equal(arm_q_outside_limits(&arm_model_puma560, q), 1u << 1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_by_name),
+        cmocka_unit_test(test_mass_properties_valid),
+        cmocka_unit_test(test_frames_chain_and_fk),
+        cmocka_unit_test(test_tool_offset),
+        cmocka_unit_test(test_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
