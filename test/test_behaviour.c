@@ -1,0 +1,379 @@
+/* Unit tests for behaviour: closed-loop error dynamics of move-to-goal and
+ * keep-formation checked by central finite differences on the exact
+ * kinematic model, saturation, avoid, dead-zone alternation, narrow-passage
+ * detection and the three blending modes. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+
+#include "behaviour.h"
+#include "prng.h"
+
+static double urand(prng_t *r, double lo, double hi)
+{
+    return lo + (hi - lo) * prng_uniform(r);
+}
+
+/* O pose after moving C with u for dt (dt may be negative). */
+static pose2_t o_after(const pose2_t *o, const unicycle_cmd_t *u, double d, double dt)
+{
+    pose2_t c, out;
+    unicycle_c_from_o(&c, o, d);
+    unicycle_step_exact(&c, u->v_mps, u->w_radps, dt);
+    unicycle_o_from_c(&out, &c, d);
+    return out;
+}
+
+static void test_goal_error_dynamics(void **state)
+{
+    prng_t rng;
+    const double h = 1e-5;
+    int n = 0, tries = 0;
+    (void)state;
+    prng_seed(&rng, 3);
+    while (n < 500 && tries < 100000) {
+        const double d = urand(&rng, 0.05, 0.4), a1 = urand(&rng, 0.1, 2.0), a2 = urand(&rng, 0.1, 3.0);
+        pose2_t o = { urand(&rng, -5, 5), urand(&rng, -5, 5), urand(&rng, -VEC2_PI, VEC2_PI) };
+        const double g[2] = { urand(&rng, -5, 5), urand(&rng, -5, 5) };
+        double r, phi, rp, php, rm, phm;
+        unicycle_cmd_t u;
+        pose2_t op, om;
+        tries++;
+        behaviour_goal_polar(&r, &phi, &o, g);
+        if (r * cos(phi) - d < 0.1 || fabs(phi) > 3.0) continue;
+        assert_int_equal(behaviour_goal_raw(&u, r, phi, d, a1, a2), 0);
+        op = o_after(&o, &u, d, h);
+        om = o_after(&o, &u, d, -h);
+        behaviour_goal_polar(&rp, &php, &op, g);
+        behaviour_goal_polar(&rm, &phm, &om, g);
+        assert_true(fabs((rp - rm) / (2 * h) + a1 * r) < 1e-5 * (1 + fabs(a1 * r)));
+        assert_true(fabs(vec2_angle_diff_rad(php, phm) / (2 * h) + a2 * phi) < 1e-5 * (1 + fabs(u.w_radps)));
+        n++;
+    }
+    assert_int_equal(n, 500);
+}
+
+static void test_goal_singular_and_turn(void **state)
+{
+    behaviour_params_t p;
+    unicycle_cmd_t u;
+    pose2_t o = {0, 0, 0};
+    double g[2] = {-2.0, 0.1};   /* behind, slightly left: r cos phi < d */
+    (void)state;
+    behaviour_params_default(&p);
+    assert_int_equal(behaviour_goal_raw(&u, p.d_m, 0.0, p.d_m, 1, 1), -1);
+    assert_int_equal(behaviour_goal(&u, &o, g, &p), BEH_GOAL_TURN);
+    assert_true(u.v_mps == 0.0 && u.w_radps > 0.0 && u.w_radps <= p.w_max_radps);
+    g[0] = 0.1; g[1] = 0.1;
+    assert_int_equal(behaviour_goal(&u, &o, g, &p), BEH_GOAL_REACHED);
+    assert_true(u.v_mps == 0.0 && u.w_radps == 0.0);
+    g[0] = NAN;
+    assert_int_equal(behaviour_goal(&u, &o, g, &p), -1);
+}
+
+static void test_goal_saturated_closed_loop_reaches(void **state)
+{
+    /* Far goal, behind and to the side: saturated commands stay in limits
+     * and the robot arrives. */
+    behaviour_params_t p;
+    pose2_t o = {0, 0, 2.5};
+    const double g[2] = {8.0, -3.0};
+    int k, st = -1;
+    (void)state;
+    behaviour_params_default(&p);
+    for (k = 0; k < 20 * 120; k++) {
+        unicycle_cmd_t u;
+        st = behaviour_goal(&u, &o, g, &p);
+        assert_true(st >= 0);
+        assert_true(fabs(u.v_mps) <= p.v_max_mps + 1e-12 && fabs(u.w_radps) <= p.w_max_radps + 1e-12);
+        if (st == BEH_GOAL_REACHED) break;
+        o = o_after(&o, &u, p.d_m, 0.05);
+    }
+    assert_int_equal(st, BEH_GOAL_REACHED);
+}
+
+/* Reference R0 moving as a unicycle O point with (V0, w0). */
+static unicycle_state_t ref_after(const unicycle_state_t *r, double d, double dt)
+{
+    pose2_t o = { r->x_m, r->y_m, r->theta_rad };
+    unicycle_cmd_t u = { r->v_mps, r->w_radps };
+    unicycle_state_t out = *r;
+    o = o_after(&o, &u, d, dt);
+    out.x_m = o.x_m; out.y_m = o.y_m; out.theta_rad = o.theta_rad;
+    return out;
+}
+
+static void test_formation_error_dynamics(void **state)
+{
+    prng_t rng;
+    behaviour_params_t p;
+    const double h = 1e-5;
+    int n = 0, tries = 0;
+    (void)state;
+    prng_seed(&rng, 7);
+    behaviour_params_default(&p);
+    p.v_fm_max_mps = p.w_fm_max_radps = 1e9;   /* check the unsaturated law */
+    while (n < 500 && tries < 100000) {
+        unicycle_state_t ref = { urand(&rng, -3, 3), urand(&rng, -3, 3), urand(&rng, -VEC2_PI, VEC2_PI),
+                                 urand(&rng, -0.5, 0.8), urand(&rng, -0.8, 0.8) };
+        pose2_t o = { ref.x_m + urand(&rng, -3, 3), ref.y_m + urand(&rng, -3, 3), urand(&rng, -VEC2_PI, VEC2_PI) };
+        const double l_d = urand(&rng, 0, 2), phi_d = urand(&rng, -VEC2_PI, VEC2_PI);
+        double l, phi, lp, php, lm, phm, Rd;
+        unicycle_cmd_t u;
+        unicycle_state_t rp, rm;
+        pose2_t op, om;
+        tries++;
+        p.d_m = urand(&rng, 0.05, 0.4);
+        p.b1 = urand(&rng, 0.1, 2.0);
+        p.b2 = urand(&rng, 0.1, 2.0);
+        behaviour_formation_polar(&l, &phi, &o, &ref);
+        if (l < 0.3 || fabs(phi) > 3.0) continue;
+        assert_int_equal(behaviour_formation(&u, &Rd, &o, &ref, l_d, phi_d, &p), 0);
+        assert_true(fabs(Rd - behaviour_slot_error(l, phi, l_d, phi_d)) < 1e-12);
+        op = o_after(&o, &u, p.d_m, h);
+        om = o_after(&o, &u, p.d_m, -h);
+        rp = ref_after(&ref, p.d_m, h);
+        rm = ref_after(&ref, p.d_m, -h);
+        behaviour_formation_polar(&lp, &php, &op, &rp);
+        behaviour_formation_polar(&lm, &phm, &om, &rm);
+        assert_true(fabs((lp - lm) / (2 * h) - p.b1 * (l_d - l)) < 1e-5 * (1 + fabs(u.v_mps) + fabs(u.w_radps)));
+        assert_true(fabs(vec2_angle_diff_rad(php, phm) / (2 * h) - p.b2 * vec2_wrap_rad(phi_d - phi)) <
+                    1e-5 * (1 + fabs(u.v_mps) + fabs(u.w_radps)) / l);
+        n++;
+    }
+    assert_int_equal(n, 500);
+}
+
+static void test_formation_converges_saturated(void **state)
+{
+    /* Reference on a circle; the follower ends up in its slot. */
+    behaviour_params_t p;
+    unicycle_state_t ref = {0, 0, 0, 0.2, 0.1};
+    pose2_t o = {-1.0, 1.5, 1.0};
+    double Rd = 1e9;
+    int k;
+    (void)state;
+    behaviour_params_default(&p);
+    for (k = 0; k < 20 * 60; k++) {
+        unicycle_cmd_t u;
+        assert_int_equal(behaviour_formation(&u, &Rd, &o, &ref, 0.8, -VEC2_PI / 2, &p), 0);
+        assert_true(fabs(u.v_mps) <= p.v_fm_max_mps && fabs(u.w_radps) <= p.w_fm_max_radps);
+        o = o_after(&o, &u, p.d_m, 0.05);
+        ref = ref_after(&ref, p.d_m, 0.05);
+    }
+    assert_true(Rd < 0.01);
+}
+
+static void ring(double r[8], double v)
+{
+    int i;
+    for (i = 0; i < 8; i++) r[i] = v;
+}
+
+static void test_sonar_groups_and_avoid(void **state)
+{
+    behaviour_params_t p;
+    sonar_groups_t g;
+    double r[8];
+    unicycle_cmd_t u;
+    (void)state;
+    behaviour_params_default(&p);
+    ring(r, 5.0);
+    r[1] = 0.9; r[6] = 1.4; r[3] = NAN;
+    behaviour_sonar_groups(&g, r);
+    assert_true(g.right_front_m == 0.9 && g.left_front_m == 1.4 && g.front_m == 0.0 && g.min_m == 0.0);
+    ring(r, 5.0);
+    behaviour_sonar_groups(&g, r);
+    assert_int_equal(behaviour_avoid(&u, &g, 0.33, 1.0, &p), 0);
+    assert_true(u.v_mps == 0.33 && u.w_radps == 0.0);
+    r[1] = 0.7; r[4] = 1.2;           /* obstacle right-front: turn left */
+    behaviour_sonar_groups(&g, r);
+    assert_int_equal(behaviour_avoid(&u, &g, 0.33, 1.0, &p), 1);
+    assert_true(fabs(u.v_mps - p.k_v * 1.2) < 1e-12);
+    assert_true(u.w_radps > 0.0 && u.w_radps <= p.w_max_radps);
+    ring(r, 5.0);
+    r[6] = 0.5;                        /* mirror: turn right, clamped */
+    behaviour_sonar_groups(&g, r);
+    behaviour_avoid(&u, &g, 0.33, 1.0, &p);
+    assert_true(u.w_radps == -p.w_max_radps);
+}
+
+static void test_d_st(void **state)
+{
+    behaviour_params_t p;
+    (void)state;
+    behaviour_params_default(&p);
+    /* abreast slot at +-90 deg: SPEC form gives d_s + D/2 */
+    assert_true(fabs(behaviour_d_st(&p, 2.0, 1.0, VEC2_PI / 2) - (p.d_s_m + 1.0)) < 1e-12);
+    /* lateral variant: edge robot needs only d_s, centre d_s + D/2 */
+    p.d_st_lateral = 1;
+    assert_true(fabs(behaviour_d_st(&p, 2.0, 1.0, VEC2_PI / 2) - p.d_s_m) < 1e-12);
+    assert_true(fabs(behaviour_d_st(&p, 2.0, 0.0, 0.0) - (p.d_s_m + 1.0)) < 1e-12);
+    /* never below d_s */
+    assert_true(behaviour_d_st(&p, 0.0, 3.0, VEC2_PI / 2) == p.d_s_m);
+}
+
+static void test_dead_zone_alternation(void **state)
+{
+    behaviour_params_t p;
+    behaviour_exception_t e;
+    sonar_groups_t blocked = {0.3, 0.3, 0.3, 0.3, 0.3, 0.3}, clear = {2, 2, 2, 2, 2, 0.3};
+    unicycle_cmd_t u;
+    int k, entry;
+    (void)state;
+    behaviour_params_default(&p);
+    behaviour_exception_init(&e);
+    /* shorter than the threshold, then a free direction: timer clears */
+    for (k = 0; k < 15; k++) assert_int_equal(behaviour_exception_step(&e, &u, &blocked, 0.1, &p), 0);
+    assert_int_equal(behaviour_exception_step(&e, &u, &clear, 0.1, &p), 0);
+    assert_true(e.blocked_s == 0.0);
+    for (entry = 1; entry <= 4; entry++) {
+        for (k = 0; k < 19; k++) assert_int_equal(behaviour_exception_step(&e, &u, &blocked, 0.1, &p), 0);
+        assert_int_equal(behaviour_exception_step(&e, &u, &blocked, 0.1 + 1e-9, &p), 1);
+        assert_int_equal(e.entries, entry);
+        assert_true(u.v_mps == p.v_k_mps);
+        assert_true(u.w_radps == ((entry % 2) ? p.w_k_radps : -p.w_k_radps));
+        /* stays active while the front stays blocked */
+        assert_int_equal(behaviour_exception_step(&e, &u, &blocked, 0.1, &p), 1);
+        assert_int_equal(behaviour_exception_step(&e, &u, &clear, 0.1, &p), 0);
+        assert_true(u.v_mps == 0.0 && u.w_radps == 0.0);
+    }
+    assert_int_equal(behaviour_exception_step(&e, &u, &clear, -1.0, &p), -1);
+}
+
+static void test_passage_narrow(void **state)
+{
+    behaviour_params_t p;
+    sonar_groups_t g = {5, 5, 5, 0.5, 0.6, 0.5};
+    (void)state;
+    behaviour_params_default(&p);
+    /* corridor 0.5 + 0.6 + 0.38 = 1.48 m */
+    assert_int_equal(behaviour_passage_narrow(&g, 1.48 - p.passage_safety_m + 0.01, &p), 1);
+    assert_int_equal(behaviour_passage_narrow(&g, 1.48 - p.passage_safety_m - 0.01, &p), 0);
+}
+
+static behaviour_inputs_t sample_inputs(void)
+{
+    behaviour_inputs_t in;
+    in.u[BEH_GOAL].v_mps = 0.5;       in.u[BEH_GOAL].w_radps = 0.2;
+    in.u[BEH_FORMATION].v_mps = 0.1;  in.u[BEH_FORMATION].w_radps = -0.4;
+    in.u[BEH_AVOID].v_mps = 0.3;      in.u[BEH_AVOID].w_radps = 0.9;
+    in.u[BEH_EXCEPTION].v_mps = 0.0;  in.u[BEH_EXCEPTION].w_radps = -0.6;
+    in.exception_active = 0;
+    in.avoid_active = 0;
+    in.R_d_m = 0.45;
+    in.d_st_m = 1.2;
+    in.min_range_m = 2.4;
+    return in;
+}
+
+static void test_blend_weighted(void **state)
+{
+    behaviour_params_t p;
+    behaviour_inputs_t in = sample_inputs();
+    behaviour_blend_t b;
+    double s = 0, v = 0, w = 0;
+    int i;
+    (void)state;
+    behaviour_params_default(&p);
+    p.k2 = 0.7; p.k3 = 1.3; p.k4 = 0.4;
+    assert_int_equal(behaviour_blend(&b, &in, BEH_BLEND_WEIGHTED, &p), 0);
+    assert_true(b.weight_raw[BEH_EXCEPTION] == 0.0);
+    assert_true(fabs(b.weight_raw[BEH_GOAL] - p.k2) < 1e-15);
+    assert_true(fabs(b.weight_raw[BEH_FORMATION] * p.d_r_m / in.R_d_m - p.k3) < 1e-12);
+    assert_true(fabs(b.weight_raw[BEH_AVOID] * in.min_range_m / in.d_st_m - p.k4) < 1e-12);
+    for (i = 0; i < BEH_COUNT; i++) {
+        s += b.weight[i];
+        v += b.weight_raw[i] * in.u[i].v_mps;
+        w += b.weight_raw[i] * in.u[i].w_radps;
+        assert_true(fabs(b.weight[i] * (b.weight_raw[0] + b.weight_raw[1] + b.weight_raw[2]) - b.weight_raw[i]) < 1e-12);
+        assert_true(b.weight[i] <= b.weight[b.winner]);
+    }
+    assert_true(fabs(s - 1.0) < 1e-12);
+    s = b.weight_raw[0] + b.weight_raw[1] + b.weight_raw[2];
+    assert_true(fabs(b.u.v_mps - v / s) < 1e-12 && fabs(b.u.w_radps - w / s) < 1e-12);
+    /* all behaviours agreeing: blend equals them */
+    for (i = 0; i < BEH_COUNT; i++) { in.u[i].v_mps = 0.25; in.u[i].w_radps = -0.1; }
+    behaviour_blend(&b, &in, BEH_BLEND_WEIGHTED, &p);
+    assert_true(fabs(b.u.v_mps - 0.25) < 1e-15 && fabs(b.u.w_radps + 0.1) < 1e-15);
+    /* a zero echo keeps the avoid weight finite and dominant */
+    in = sample_inputs();
+    in.min_range_m = 0.0;
+    assert_int_equal(behaviour_blend(&b, &in, BEH_BLEND_WEIGHTED, &p), 0);
+    assert_int_equal(b.winner, BEH_AVOID);
+    /* exception overrides everything */
+    in = sample_inputs();
+    in.exception_active = 1;
+    for (i = 0; i < 3; i++) {
+        assert_int_equal(behaviour_blend(&b, &in, i, &p), 0);
+        assert_true(b.u.v_mps == in.u[BEH_EXCEPTION].v_mps && b.u.w_radps == in.u[BEH_EXCEPTION].w_radps);
+        assert_true(b.weight[BEH_EXCEPTION] == 1.0 && b.winner == BEH_EXCEPTION);
+    }
+    in.R_d_m = NAN;
+    assert_int_equal(behaviour_blend(&b, &in, BEH_BLEND_WEIGHTED, &p), -1);
+    in = sample_inputs();
+    assert_int_equal(behaviour_blend(&b, &in, 9, &p), -1);
+}
+
+static void test_blend_subsumption_vecsum(void **state)
+{
+    behaviour_params_t p;
+    behaviour_inputs_t in = sample_inputs();
+    behaviour_blend_t b;
+    int i;
+    (void)state;
+    behaviour_params_default(&p);
+    in.R_d_m = p.d_r_m * 0.5;
+    behaviour_blend(&b, &in, BEH_BLEND_SUBSUMPTION, &p);
+    assert_int_equal(b.winner, BEH_GOAL);
+    assert_true(b.u.v_mps == in.u[BEH_GOAL].v_mps && b.u.w_radps == in.u[BEH_GOAL].w_radps);
+    in.R_d_m = p.d_r_m * 1.5;
+    behaviour_blend(&b, &in, BEH_BLEND_SUBSUMPTION, &p);
+    assert_int_equal(b.winner, BEH_FORMATION);
+    assert_true(b.u.v_mps == in.u[BEH_FORMATION].v_mps);
+    in.avoid_active = 1;
+    behaviour_blend(&b, &in, BEH_BLEND_SUBSUMPTION, &p);
+    assert_int_equal(b.winner, BEH_AVOID);
+    assert_true(b.u.w_radps == in.u[BEH_AVOID].w_radps);
+    for (i = 0; i < BEH_COUNT; i++) assert_true(b.weight[i] == (i == BEH_AVOID ? 1.0 : 0.0));
+    behaviour_blend(&b, &in, BEH_BLEND_VECSUM, &p);
+    for (i = 0; i < 3; i++) assert_true(fabs(b.weight[i] - 1.0 / 3.0) < 1e-15);
+    assert_true(fabs(3 * b.u.v_mps - (in.u[0].v_mps + in.u[1].v_mps + in.u[2].v_mps)) < 1e-12);
+    assert_true(fabs(3 * b.u.w_radps - (in.u[0].w_radps + in.u[1].w_radps + in.u[2].w_radps)) < 1e-12);
+}
+
+static void test_params(void **state)
+{
+    behaviour_params_t p;
+    (void)state;
+    behaviour_params_default(&p);
+    assert_int_equal(behaviour_params_check(&p), 0);
+    p.d_m = 0.0;
+    assert_int_equal(behaviour_params_check(&p), -1);
+    behaviour_params_default(&p);
+    p.k3 = NAN;
+    assert_int_equal(behaviour_params_check(&p), -1);
+    assert_int_equal(behaviour_params_check(NULL), -1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_goal_error_dynamics),
+        cmocka_unit_test(test_goal_singular_and_turn),
+        cmocka_unit_test(test_goal_saturated_closed_loop_reaches),
+        cmocka_unit_test(test_formation_error_dynamics),
+        cmocka_unit_test(test_formation_converges_saturated),
+        cmocka_unit_test(test_sonar_groups_and_avoid),
+        cmocka_unit_test(test_d_st),
+        cmocka_unit_test(test_dead_zone_alternation),
+        cmocka_unit_test(test_passage_narrow),
+        cmocka_unit_test(test_blend_weighted),
+        cmocka_unit_test(test_blend_subsumption_vecsum),
+        cmocka_unit_test(test_params),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
