@@ -1,0 +1,387 @@
+/* petri: Petri-net engine of SPEC 2.4 (eq. 11, the seed's I_j / C_j
+ * event-path planning, split start/complete firing, inhibitor arcs for
+ * external token sources, P-invariant checks) and a fixed-capacity BFS
+ * reachability explorer (safe / bounded / deadlock).
+ */
+#include "petri.h"
+
+#include <string.h>
+
+static int8_t at(const int8_t *tab, const petri_net *n, int i, int j)
+{
+    return tab ? tab[i * n->n_transitions + j] : 0;
+}
+
+static int table_ok(const int8_t *tab, const petri_net *n)
+{
+    int k;
+    if (!tab)
+        return 1;
+    for (k = 0; k < n->n_places * n->n_transitions; k++)
+        if (tab[k] != 0 && tab[k] != 1)
+            return 0;
+    return 1;
+}
+
+static int inv_dot(const petri_compiled *c, int k, const petri_state *s)
+{
+    const petri_net *n = c->net;
+    const int8_t *y = n->invariants + k * n->n_places;
+    int i, j, v = 0;
+    for (i = 0; i < n->n_places; i++) {
+        v += y[i] * s->m[i];
+        for (j = 0; j < n->n_transitions; j++)
+            if (s->running & (UINT32_C(1) << j))
+                v += y[i] * at(n->n_minus, n, i, j);
+    }
+    return v;
+}
+
+int petri_compile(petri_compiled *c, const petri_net *n)
+{
+    petri_state s0;
+    int i, j, k;
+    if (!c || !n || !n->n_minus || !n->n_plus || !n->m0)
+        return -1;
+    if (n->n_places < 1 || n->n_places > PETRI_MAX_PLACES || n->n_transitions < 1 ||
+        n->n_transitions > PETRI_MAX_TRANSITIONS || n->n_invariants < 0 ||
+        n->n_invariants > PETRI_MAX_INVARIANTS || (n->n_invariants > 0 && !n->invariants))
+        return -1;
+    if (!table_ok(n->n_minus, n) || !table_ok(n->n_plus, n) || !table_ok(n->n_inhibit, n))
+        return -1;
+    memset(c, 0, sizeof *c);
+    c->net = n;
+    for (j = 0; j < n->n_transitions; j++) {
+        for (i = 0; i < n->n_places; i++) {
+            if (at(n->n_minus, n, i, j)) {
+                c->n_in[j]++;
+                c->in_mask[j] |= UINT32_C(1) << i;
+            }
+            if (at(n->n_inhibit, n, i, j))
+                c->inhibit_mask[j] |= UINT32_C(1) << i;
+        }
+    }
+    petri_state_initial(c, &s0);
+    for (k = 0; k < n->n_invariants; k++)
+        c->inv_value[k] = inv_dot(c, k, &s0);
+    return 0;
+}
+
+void petri_state_initial(const petri_compiled *c, petri_state *s)
+{
+    int i;
+    memset(s, 0, sizeof *s);
+    for (i = 0; i < c->net->n_places; i++)
+        s->m[i] = c->net->m0[i];
+}
+
+static int t_ok(const petri_compiled *c, int t)
+{
+    return c && c->net && t >= 0 && t < c->net->n_transitions;
+}
+
+static int inhibited(const petri_compiled *c, const petri_state *s, int t)
+{
+    int i;
+    for (i = 0; i < c->net->n_places; i++)
+        if (at(c->net->n_inhibit, c->net, i, t) && s->m[i] > 0)
+            return 1;
+    return 0;
+}
+
+int petri_state_enabled_scan(const petri_compiled *c, const petri_state *s, int t)
+{
+    const petri_net *n;
+    int i, count = 0;
+    if (!t_ok(c, t) || !s)
+        return 0;
+    n = c->net;
+    if (s->running & (UINT32_C(1) << t))
+        return 0;
+    /* seed step 2: C_j counts marked inputs, stopping at the first
+     * unmarked one; step 3: enabled iff C_j = I_j */
+    for (i = 0; i < n->n_places; i++) {
+        if (at(n->n_minus, n, i, t) > 0) {
+            if (s->m[i] == 0)
+                break;
+            count++;
+        }
+    }
+    return count == c->n_in[t] && !inhibited(c, s, t);
+}
+
+static uint32_t marked_mask(const petri_compiled *c, const petri_state *s)
+{
+    uint32_t m = 0;
+    int i;
+    for (i = 0; i < c->net->n_places; i++)
+        if (s->m[i] > 0)
+            m |= UINT32_C(1) << i;
+    return m;
+}
+
+int petri_state_enabled_mask(const petri_compiled *c, const petri_state *s, int t)
+{
+    uint32_t marked;
+    if (!t_ok(c, t) || !s)
+        return 0;
+    marked = marked_mask(c, s);
+    return !(s->running & (UINT32_C(1) << t)) && (c->in_mask[t] & ~marked) == 0 &&
+           (c->inhibit_mask[t] & marked) == 0;
+}
+
+int petri_state_invariant_violations(const petri_compiled *c, const petri_state *s)
+{
+    int k, bad = 0;
+    for (k = 0; k < c->net->n_invariants; k++)
+        if (inv_dot(c, k, s) != c->inv_value[k])
+            bad++;
+    return bad;
+}
+
+int petri_state_dead(const petri_compiled *c, const petri_state *s)
+{
+    int j;
+    if (s->running)
+        return 0;
+    for (j = 0; j < c->net->n_transitions; j++)
+        if (petri_state_enabled_mask(c, s, j))
+            return 0;
+    return 1;
+}
+
+/* State transitions shared by the engine and the explorer. */
+static int state_start(const petri_compiled *c, petri_state *s, int t)
+{
+    int i;
+    if (!petri_state_enabled_mask(c, s, t))
+        return PETRI_ERR_NOT_ENABLED;
+    for (i = 0; i < c->net->n_places; i++)
+        s->m[i] = (uint8_t)(s->m[i] - at(c->net->n_minus, c->net, i, t));
+    s->running |= UINT32_C(1) << t;
+    return 0;
+}
+
+static int state_complete(const petri_compiled *c, petri_state *s, int t)
+{
+    int i;
+    if (!(s->running & (UINT32_C(1) << t)))
+        return PETRI_ERR_NOT_RUNNING;
+    for (i = 0; i < c->net->n_places; i++)
+        if (s->m[i] + at(c->net->n_plus, c->net, i, t) > PETRI_TOKEN_MAX)
+            return PETRI_ERR_OVERFLOW;
+    for (i = 0; i < c->net->n_places; i++)
+        s->m[i] = (uint8_t)(s->m[i] + at(c->net->n_plus, c->net, i, t));
+    s->running &= ~(UINT32_C(1) << t);
+    return 0;
+}
+
+/* ---- engine -------------------------------------------------------------*/
+
+int petri_init(petri *p, const petri_net *net)
+{
+    if (!p || petri_compile(&p->c, net) != 0)
+        return -1;
+    petri_state_initial(&p->c, &p->st);
+    p->invariant_violations = 0;
+    p->last_fired = -1;
+    p->fired_count = 0;
+    return 0;
+}
+
+int petri_select(const petri *p)
+{
+    int j;
+    if (!p)
+        return -1;
+    for (j = 0; j < p->c.net->n_transitions; j++)
+        if (petri_state_enabled_scan(&p->c, &p->st, j))
+            return j;
+    return -1;
+}
+
+int petri_enabled(const petri *p, int t)
+{
+    return p ? petri_state_enabled_mask(&p->c, &p->st, t) : 0;
+}
+
+int petri_running(const petri *p, int t)
+{
+    return p && t_ok(&p->c, t) && (p->st.running & (UINT32_C(1) << t)) != 0;
+}
+
+static void check_invariants(petri *p)
+{
+    if (petri_state_invariant_violations(&p->c, &p->st) > 0)
+        p->invariant_violations++;
+}
+
+int petri_start(petri *p, int t)
+{
+    int r;
+    if (!p || !t_ok(&p->c, t))
+        return PETRI_ERR_ARG;
+    r = state_start(&p->c, &p->st, t);
+    if (r == 0)
+        check_invariants(p);
+    return r;
+}
+
+int petri_complete(petri *p, int t)
+{
+    int r;
+    if (!p || !t_ok(&p->c, t))
+        return PETRI_ERR_ARG;
+    r = state_complete(&p->c, &p->st, t);
+    if (r == 0) {
+        p->last_fired = t;
+        p->fired_count++;
+        check_invariants(p);
+    }
+    return r;
+}
+
+int petri_fire(petri *p, int t)
+{
+    petri_state keep;
+    int r;
+    if (!p || !t_ok(&p->c, t))
+        return PETRI_ERR_ARG;
+    keep = p->st;
+    r = petri_start(p, t);
+    if (r == 0) {
+        r = petri_complete(p, t);
+        if (r != 0)
+            p->st = keep;   /* all or nothing */
+    }
+    return r;
+}
+
+int petri_dead(const petri *p)
+{
+    return p ? petri_state_dead(&p->c, &p->st) : 0;
+}
+
+int petri_invariants_ok(const petri *p)
+{
+    return p && petri_state_invariant_violations(&p->c, &p->st) == 0;
+}
+
+/* ---- reachability ---------------------------------------------------------*/
+
+static uint32_t state_hash(const petri_compiled *c, const petri_state *s)
+{
+    uint32_t h = UINT32_C(2166136261);
+    int i;
+    for (i = 0; i < c->net->n_places; i++)
+        h = (h ^ s->m[i]) * UINT32_C(16777619);
+    for (i = 0; i < 4; i++)
+        h = (h ^ ((s->running >> (8 * i)) & 0xFFu)) * UINT32_C(16777619);
+    return h;
+}
+
+static int state_eq(const petri_compiled *c, const petri_state *a, const petri_state *b)
+{
+    return a->running == b->running && memcmp(a->m, b->m, (size_t)c->net->n_places) == 0;
+}
+
+/* Adds s if new. Returns 1 added, 0 known, -1 capacity exhausted. */
+static int visit(petri_explore_ws *ws, const petri_state *s, int parent, int event)
+{
+    uint32_t h = state_hash(&ws->c, s) & (PETRI_HASH_SIZE - 1);
+    while (ws->hash[h] != 0) {
+        if (state_eq(&ws->c, &ws->states[ws->hash[h] - 1], s))
+            return 0;
+        h = (h + 1) & (PETRI_HASH_SIZE - 1);
+    }
+    if (ws->n_states >= PETRI_MAX_STATES)
+        return -1;
+    ws->states[ws->n_states] = *s;
+    ws->parent[ws->n_states] = (int16_t)parent;
+    ws->event[ws->n_states] = (int8_t)event;
+    ws->n_states++;
+    ws->hash[h] = (int16_t)ws->n_states;
+    return 1;
+}
+
+static void note(int *first, int index)
+{
+    if (*first < 0)
+        *first = index;
+}
+
+/* Records the properties of state k; returns 1 if it should be expanded. */
+static int inspect(petri_explore_ws *ws, int k, int token_bound, petri_report *rep)
+{
+    const petri_state *s = &ws->states[k];
+    int i, expand = 1;
+    for (i = 0; i < ws->c.net->n_places; i++) {
+        if (s->m[i] > rep->max_tokens)
+            rep->max_tokens = s->m[i];
+        if (s->m[i] > 1) {
+            rep->safe = 0;
+            note(&rep->unsafe_index, k);
+        }
+        if (s->m[i] > token_bound) {
+            rep->bounded = 0;
+            note(&rep->unbounded_index, k);
+            expand = 0;
+        }
+    }
+    if (petri_state_invariant_violations(&ws->c, s) > 0) {
+        rep->invariant_states++;
+        note(&rep->invariant_index, k);
+    }
+    if (petri_state_dead(&ws->c, s)) {
+        rep->deadlock = 1;
+        note(&rep->dead_index, k);
+    }
+    return expand;
+}
+
+int petri_explore(petri_explore_ws *ws, const petri_net *net, int token_bound, petri_report *rep)
+{
+    petri_state s0;
+    int head, j;
+    if (!ws || !rep || token_bound < 1 || token_bound >= PETRI_TOKEN_MAX)
+        return -1;
+    if (petri_compile(&ws->c, net) != 0)
+        return -1;
+    memset(ws->hash, 0, sizeof ws->hash);
+    ws->n_states = 0;
+    memset(rep, 0, sizeof *rep);
+    rep->complete = rep->safe = rep->bounded = 1;
+    rep->unsafe_index = rep->unbounded_index = rep->dead_index = rep->invariant_index = -1;
+    petri_state_initial(&ws->c, &s0);
+    visit(ws, &s0, -1, 0);
+    for (head = 0; head < ws->n_states; head++) {
+        if (!inspect(ws, head, token_bound, rep))
+            continue;
+        for (j = 0; j < net->n_transitions; j++) {
+            petri_state nx = ws->states[head];
+            int ev = 0;
+            if (state_start(&ws->c, &nx, j) == 0)
+                ev = j + 1;
+            else if (state_complete(&ws->c, &nx, j) == 0)
+                ev = -(j + 1);
+            if (ev != 0 && visit(ws, &nx, head, ev) < 0)
+                rep->complete = 0;
+        }
+    }
+    rep->n_states = ws->n_states;
+    return 0;
+}
+
+int petri_explore_trace(const petri_explore_ws *ws, int index, int8_t *events, int max)
+{
+    int n = 0, k, i;
+    if (!ws || !events || max < 0 || index < 0 || index >= ws->n_states)
+        return -1;
+    for (k = index; k > 0 && ws->parent[k] >= 0; k = ws->parent[k])
+        n++;
+    if (n > max)
+        return -1;
+    for (k = index, i = n - 1; i >= 0; k = ws->parent[k], i--)
+        events[i] = ws->event[k];
+    return n;
+}

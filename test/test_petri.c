@@ -1,0 +1,267 @@
+/* Unit tests for petri (SPEC 2.4): eq. 11, the seed's enabling scan
+ * against the bitmask test, split firing, invariants, and reachability
+ * (safe, unbounded, deadlock, capacity). */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <string.h>
+
+#include "petri.h"
+
+/* Two processes sharing two resources, taken in opposite order: the
+ * classic reachable deadlock. Places: 0 A idle, 1 A has r1, 2 B idle,
+ * 3 B has r2, 4 r1 free, 5 r2 free. Transitions: 0 A takes r1,
+ * 1 A takes r2 and works then frees both, 2 B takes r2, 3 B takes r1
+ * and frees both. */
+#define DL_P 6
+#define DL_T 4
+static const int8_t DL_MINUS[DL_P * DL_T] = {
+    1, 0, 0, 0,
+    0, 1, 0, 0,
+    0, 0, 1, 0,
+    0, 0, 0, 1,
+    1, 0, 0, 1,
+    0, 1, 1, 0,
+};
+static const int8_t DL_PLUS[DL_P * DL_T] = {
+    0, 1, 0, 0,
+    1, 0, 0, 0,
+    0, 0, 0, 1,
+    0, 0, 1, 0,
+    0, 1, 0, 1,
+    0, 1, 0, 1,
+};
+static const uint8_t DL_M0[DL_P] = { 1, 0, 1, 0, 1, 1 };
+/* A: p0 + p1 = 1; B: p2 + p3 = 1 */
+static const int8_t DL_INV[2 * DL_P] = { 1, 1, 0, 0, 0, 0, 0, 0, 1, 1, 0, 0 };
+static const petri_net DL = { DL_P, DL_T, DL_MINUS, DL_PLUS, NULL, DL_M0, 2, DL_INV };
+
+/* A source feeding a place consumed by a sink that needs a second place:
+ * unbounded without the inhibitor, safe with it. p0 buffer, p1 consumer
+ * ready. t0 source (-> p0), t1 consume (p0, p1 -> p1). */
+static const int8_t SRC_MINUS[2 * 2] = { 0, 1, 0, 1 };
+static const int8_t SRC_PLUS[2 * 2] = { 1, 0, 0, 1 };
+static const int8_t SRC_INHIB[2 * 2] = { 1, 0, 0, 0 };
+static const uint8_t SRC_M0[2] = { 0, 1 };
+static const petri_net SRC_FREE = { 2, 2, SRC_MINUS, SRC_PLUS, NULL, SRC_M0, 0, NULL };
+static const petri_net SRC_GUARDED = { 2, 2, SRC_MINUS, SRC_PLUS, SRC_INHIB, SRC_M0, 0, NULL };
+
+static petri_explore_ws WS;   /* large: static */
+
+static uint32_t rng_state = 12345u;
+static uint32_t rnd(void)
+{
+    rng_state = rng_state * 1664525u + 1013904223u;
+    return rng_state >> 8;
+}
+
+/* Random nets of full size, random markings and running sets. */
+static void test_scan_equals_mask(void **st)
+{
+    static int8_t mi[PETRI_MAX_PLACES * PETRI_MAX_TRANSITIONS];
+    static int8_t pl[PETRI_MAX_PLACES * PETRI_MAX_TRANSITIONS];
+    static int8_t ih[PETRI_MAX_PLACES * PETRI_MAX_TRANSITIONS];
+    static uint8_t m0[PETRI_MAX_PLACES];
+    int trial, agree_enabled = 0;
+    (void)st;
+    for (trial = 0; trial < 200; trial++) {
+        petri_net n;
+        petri_compiled c;
+        petri_state s;
+        int k, j, i;
+        n.n_places = 1 + (int)(rnd() % PETRI_MAX_PLACES);
+        n.n_transitions = 1 + (int)(rnd() % PETRI_MAX_TRANSITIONS);
+        for (k = 0; k < n.n_places * n.n_transitions; k++) {
+            mi[k] = (int8_t)(rnd() % 5 == 0);
+            pl[k] = (int8_t)(rnd() % 5 == 0);
+            ih[k] = (int8_t)(rnd() % 17 == 0);
+        }
+        memset(m0, 0, sizeof m0);
+        n.n_minus = mi;
+        n.n_plus = pl;
+        n.n_inhibit = (trial % 2) ? ih : NULL;
+        n.m0 = m0;
+        n.n_invariants = 0;
+        n.invariants = NULL;
+        assert_int_equal(petri_compile(&c, &n), 0);
+        for (k = 0; k < 50; k++) {
+            memset(&s, 0, sizeof s);
+            for (i = 0; i < n.n_places; i++)
+                s.m[i] = (uint8_t)(rnd() % 4 ? 1 + rnd() % 2 : 0);
+            s.running = (uint32_t)(rnd() & rnd() & rnd());
+            if (n.n_transitions < 32)
+                s.running &= (UINT32_C(1) << n.n_transitions) - 1;
+            for (j = 0; j < n.n_transitions; j++) {
+                int a = petri_state_enabled_scan(&c, &s, j);
+                assert_int_equal(a, petri_state_enabled_mask(&c, &s, j));
+                agree_enabled += a;
+            }
+        }
+    }
+    assert_true(agree_enabled > 100);   /* both outcomes were exercised */
+}
+
+/* eq. 11: gamma(k) = gamma(k-1) + (N+ - N-) t_j, and the split firing. */
+static void test_fire_eq11_and_split(void **st)
+{
+    petri p;
+    petri_state before;
+    int i, t;
+    (void)st;
+    assert_int_equal(petri_init(&p, &DL), 0);
+    assert_int_equal(petri_select(&p), 0);   /* lowest index wins */
+    before = p.st;
+    assert_int_equal(petri_fire(&p, 0), 0);
+    for (i = 0; i < DL_P; i++)
+        assert_int_equal(p.st.m[i], before.m[i] + DL_PLUS[i * DL_T + 0] - DL_MINUS[i * DL_T + 0]);
+    assert_int_equal(p.last_fired, 0);
+    /* A holds r1; B may still start (t2) */
+    t = 2;
+    assert_int_equal(petri_start(&p, t), 0);
+    assert_true(petri_running(&p, t));
+    assert_int_equal(petri_start(&p, t), PETRI_ERR_NOT_ENABLED);  /* no double start */
+    assert_true(petri_invariants_ok(&p));   /* tokens in flight counted */
+    assert_int_equal(petri_complete(&p, 1), PETRI_ERR_NOT_RUNNING);
+    assert_int_equal(petri_complete(&p, t), 0);
+    assert_false(petri_running(&p, t));
+    /* now A needs r2 (held by B) and B needs r1 (held by A): dead */
+    assert_int_equal(petri_select(&p), -1);
+    assert_true(petri_dead(&p));
+    assert_int_equal(p.invariant_violations, 0);
+    assert_int_equal(p.fired_count, 2);
+    assert_int_equal(petri_start(&p, 99), PETRI_ERR_ARG);
+    assert_int_equal(petri_fire(&p, -1), PETRI_ERR_ARG);
+}
+
+/* A wrong invariant is caught after the change that breaks it. */
+static void test_invariant_violation_counted(void **st)
+{
+    static const int8_t bad_inv[DL_P] = { 1, 0, 0, 0, 0, 0 };   /* not y^T N = 0 */
+    petri_net n = DL;
+    petri p;
+    (void)st;
+    n.n_invariants = 1;
+    n.invariants = bad_inv;
+    assert_int_equal(petri_init(&p, &n), 0);
+    assert_true(petri_invariants_ok(&p));
+    assert_int_equal(petri_start(&p, 0), 0);
+    assert_int_equal(p.invariant_violations, 0);   /* in flight: still 1 */
+    assert_int_equal(petri_complete(&p, 0), 0);
+    assert_int_equal(p.invariant_violations, 1);
+    assert_false(petri_invariants_ok(&p));
+}
+
+static void test_bad_tables(void **st)
+{
+    static const int8_t two[DL_P * DL_T] = { 2 };
+    petri_net n = DL;
+    petri p;
+    (void)st;
+    n.n_minus = two;
+    assert_int_equal(petri_init(&p, &n), -1);
+    n = DL;
+    n.n_places = PETRI_MAX_PLACES + 1;
+    assert_int_equal(petri_init(&p, &n), -1);
+    n = DL;
+    n.n_plus = NULL;
+    assert_int_equal(petri_init(&p, &n), -1);
+    n = DL;
+    n.n_invariants = 1;
+    n.invariants = NULL;
+    assert_int_equal(petri_init(&p, &n), -1);
+}
+
+static void replay(const petri_net *n, const int8_t *ev, int len, petri *p)
+{
+    int i;
+    assert_int_equal(petri_init(p, n), 0);
+    for (i = 0; i < len; i++) {
+        if (ev[i] > 0)
+            assert_int_equal(petri_start(p, ev[i] - 1), 0);
+        else
+            assert_int_equal(petri_complete(p, -ev[i] - 1), 0);
+    }
+}
+
+static void test_explore_deadlock(void **st)
+{
+    petri_report r;
+    int8_t ev[64];
+    int len;
+    petri p;
+    (void)st;
+    assert_int_equal(petri_explore(&WS, &DL, 8, &r), 0);
+    assert_true(r.complete && r.safe && r.bounded);
+    assert_true(r.deadlock);
+    assert_int_equal(r.invariant_states, 0);
+    assert_true(r.dead_index > 0);
+    /* the trace leads the engine to the reported dead state */
+    len = petri_explore_trace(&WS, r.dead_index, ev, 64);
+    assert_true(len > 0);
+    replay(&DL, ev, len, &p);
+    assert_true(petri_dead(&p));
+    assert_memory_equal(p.st.m, WS.states[r.dead_index].m, DL_P);
+}
+
+static void test_explore_source_bounded_by_inhibitor(void **st)
+{
+    petri_report r;
+    (void)st;
+    assert_int_equal(petri_explore(&WS, &SRC_FREE, 5, &r), 0);
+    assert_false(r.bounded);
+    assert_false(r.safe);
+    assert_true(r.unbounded_index >= 0);
+    assert_true(WS.states[r.unbounded_index].m[0] > 5);
+    assert_int_equal(petri_explore(&WS, &SRC_GUARDED, 5, &r), 0);
+    assert_true(r.complete && r.safe && r.bounded);
+    assert_false(r.deadlock);
+    assert_int_equal(r.max_tokens, 1);
+}
+
+/* 12 independent toggles: 3^12 states > capacity, reported incomplete. */
+static void test_explore_capacity(void **st)
+{
+    static int8_t mi[24 * 24], pl[24 * 24];
+    static uint8_t m0[24];
+    petri_net n;
+    petri_report r;
+    int k;
+    (void)st;
+    memset(mi, 0, sizeof mi);
+    memset(pl, 0, sizeof pl);
+    for (k = 0; k < 12; k++) {
+        mi[(2 * k) * 24 + 2 * k] = 1;          /* t2k: p2k -> p2k+1 */
+        pl[(2 * k + 1) * 24 + 2 * k] = 1;
+        mi[(2 * k + 1) * 24 + 2 * k + 1] = 1;  /* t2k+1: back */
+        pl[(2 * k) * 24 + 2 * k + 1] = 1;
+        m0[2 * k] = 1;
+    }
+    n.n_places = 24;
+    n.n_transitions = 24;
+    n.n_minus = mi;
+    n.n_plus = pl;
+    n.n_inhibit = NULL;
+    n.m0 = m0;
+    n.n_invariants = 0;
+    n.invariants = NULL;
+    assert_int_equal(petri_explore(&WS, &n, 4, &r), 0);
+    assert_false(r.complete);
+    assert_int_equal(r.n_states, PETRI_MAX_STATES);
+    assert_int_equal(petri_explore(&WS, &n, 0, &r), -1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_scan_equals_mask),
+        cmocka_unit_test(test_fire_eq11_and_split),
+        cmocka_unit_test(test_invariant_violation_counted),
+        cmocka_unit_test(test_bad_tables),
+        cmocka_unit_test(test_explore_deadlock),
+        cmocka_unit_test(test_explore_source_bounded_by_inhibitor),
+        cmocka_unit_test(test_explore_capacity),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
