@@ -1,0 +1,416 @@
+/* tdsd: task decomposition and speed distribution near singularities,
+ * SPEC.md §3 (seed 002, Zhang & Fan 2016), eq. 8, 11-13:
+ *   y1' = lambda p_d' + K_p e_p                  (12, time-scaled)
+ *   y2' = lambda w_d  + K_o e_o                  (13)
+ *   P1 = I - J1+ J1,  dq1 = J1+ y1',  dq2 = (J2P1)+ (y2' - J2 dq1),
+ *   dq3 = (P1 - (J2P1)+ (J2P1)) k grad V,  dq = dq1 + Q1 dq2 + Q2 dq3 (8, 11)
+ * with Q1, Q2 from the joint speed limits and lambda (path-rate factor)
+ * chosen so that dq1 alone fits the limits. Also the baselines of §3:
+ * clipped pseudo-inverse and damped-least-squares resolved rate.
+ * Pure computation; every matrix is a fixed-size stack array.
+ */
+#include "tdsd.h"
+#include "linalg.h"
+#include "vec3.h"
+#include <math.h>
+#include <stddef.h>
+
+#define NJ TDSD_NJ
+
+/* LINALG_ENOCONV still delivers a usable (best-so-far) factorisation. */
+static int la_ok(int rc)
+{
+    return rc == LINALG_OK || rc == LINALG_ENOCONV;
+}
+
+static void rot_col(double c[3], const double R[9], int j)
+{
+    c[0] = R[j];
+    c[1] = R[3 + j];
+    c[2] = R[6 + j];
+}
+
+void tdsd_orientation_error(double e_o[3], const double R_d[9], const double R[9])
+{
+    double acc[3] = { 0.0, 0.0, 0.0 };
+    int j;
+    for (j = 0; j < 3; j++) {
+        double c[3], cd[3], x[3];
+        rot_col(c, R, j);
+        rot_col(cd, R_d, j);
+        vec3_cross(x, c, cd);
+        vec3_add(acc, acc, x);
+    }
+    vec3_scale(e_o, acc, 0.5);
+}
+
+void tdsd_axis_error(double e2[2], const double R_d[9], const double R[9])
+{
+    double n[3], o[3], a[3], a_d[3], x[3];
+    rot_col(n, R, 0);
+    rot_col(o, R, 1);
+    rot_col(a, R, 2);
+    rot_col(a_d, R_d, 2);
+    vec3_cross(x, a, a_d);
+    e2[0] = vec3_dot(n, x);
+    e2[1] = vec3_dot(o, x);
+}
+
+void tdsd_axis_jacobian(double J2[2 * NJ], const double Jw[3 * NJ], const double R[9])
+{
+    double NO[6]; /* rows n^T, o^T */
+    int j;
+    for (j = 0; j < 3; j++) {
+        NO[j] = R[3 * j];         /* n_j */
+        NO[3 + j] = R[3 * j + 1]; /* o_j */
+    }
+    linalg_mul(J2, NO, Jw, 2, 3, NJ);
+}
+
+int tdsd_midrange_grad(double grad_V[NJ], double *V, const double q_rad[NJ],
+                       const double q_min_rad[NJ], const double q_max_rad[NJ],
+                       unsigned joint_mask)
+{
+    double v = 0.0;
+    int i;
+    for (i = 0; i < NJ; i++) {
+        grad_V[i] = 0.0;
+        if (!(joint_mask & (1u << i)))
+            continue;
+        if (!isfinite(q_rad[i]) || !isfinite(q_min_rad[i]) || !isfinite(q_max_rad[i])
+            || !(q_max_rad[i] > q_min_rad[i]))
+            return TDSD_EINVAL;
+    }
+    for (i = 0; i < NJ; i++) {
+        double range, u;
+        if (!(joint_mask & (1u << i)))
+            continue;
+        range = q_max_rad[i] - q_min_rad[i];
+        u = (q_rad[i] - 0.5 * (q_min_rad[i] + q_max_rad[i])) / range;
+        v -= u * u;
+        grad_V[i] = -2.0 * u / range;
+    }
+    if (V)
+        *V = v;
+    return TDSD_OK;
+}
+
+static int input_valid(const tdsd_input *in)
+{
+    int i;
+    if (!linalg_all_finite(in->J1, 3 * NJ) || !linalg_all_finite(in->Jw, 3 * NJ)
+        || !linalg_all_finite(in->v_d_mps, 3) || !linalg_all_finite(in->p_d_m, 3)
+        || !linalg_all_finite(in->p_m, 3) || !linalg_all_finite(in->w_d_radps, 3)
+        || !linalg_all_finite(in->R_d, 9) || !linalg_all_finite(in->R, 9)
+        || !linalg_all_finite(in->grad_V, NJ) || !isfinite(in->k_V))
+        return 0;
+    if (in->orient != TDSD_ORIENT_NONE && in->orient != TDSD_ORIENT_FULL
+        && in->orient != TDSD_ORIENT_AXIS)
+        return 0;
+    if (!(in->K_p >= 0.0) || !isfinite(in->K_p) || !(in->K_o >= 0.0) || !isfinite(in->K_o))
+        return 0;
+    if (!(in->rate_cap >= 0.0) || !(in->rate_cap <= 1.0))
+        return 0;
+    if (!(in->pinv_rtol >= 0.0) || !(in->pinv_rtol < 1.0))
+        return 0;
+    for (i = 0; i < NJ; i++)
+        if (!(in->dq_max_radps[i] > 0.0) || !isfinite(in->dq_max_radps[i]))
+            return 0;
+    return 1;
+}
+
+static void output_reset(tdsd_output *out)
+{
+    int i;
+    for (i = 0; i < NJ; i++)
+        out->dq_radps[i] = out->dq1[i] = out->dq2[i] = out->dq3[i] = 0.0;
+    for (i = 0; i < 3; i++)
+        out->e_p[i] = out->e_o[i] = out->y1[i] = out->y2[i] = 0.0;
+    out->Q1 = out->Q2 = 0.0;
+    out->lambda = 0.0;
+    out->fb_scale = 1.0;
+    out->time_scaled = 0;
+    out->n_clipped = 0;
+    out->sigma_min_J1 = out->sigma_max_J1 = 0.0;
+    out->rank_J1 = out->rank_J2P1 = 0;
+    out->n2 = 0;
+    out->damping = 0.0;
+}
+
+/* Task 2 rows J2 (n2 x 6), error e2 and feed-forward w2 (n2), per mode. */
+static int task2_setup(const tdsd_input *in, double J2[3 * NJ], double e2[3], double w2[3])
+{
+    int j;
+    switch (in->orient) {
+    case TDSD_ORIENT_FULL:
+        linalg_copy(J2, in->Jw, 3, NJ);
+        tdsd_orientation_error(e2, in->R_d, in->R);
+        for (j = 0; j < 3; j++)
+            w2[j] = in->w_d_radps[j];
+        return 3;
+    case TDSD_ORIENT_AXIS: {
+        double n[3], o[3];
+        rot_col(n, in->R, 0);
+        rot_col(o, in->R, 1);
+        tdsd_axis_jacobian(J2, in->Jw, in->R);
+        tdsd_axis_error(e2, in->R_d, in->R);
+        w2[0] = vec3_dot(n, in->w_d_radps);
+        w2[1] = vec3_dot(o, in->w_d_radps);
+        return 2;
+    }
+    default:
+        return 0;
+    }
+}
+
+/* Largest lambda in [0, cap] with |lambda a_i + b_i| <= m_i for all i.
+ * Each joint admits an interval of lambda; returns 0 and sets *lambda if
+ * the intersection with [0, cap] is non-empty, -1 otherwise. */
+static int max_path_rate(double *lambda, const double a[NJ], const double b[NJ],
+                         const double m[NJ], double cap)
+{
+    double lo = 0.0, hi = cap;
+    int i;
+    for (i = 0; i < NJ; i++) {
+        if (a[i] == 0.0) {
+            if (fabs(b[i]) > m[i])
+                return -1;
+            continue;
+        }
+        {
+            double l1 = (-m[i] - b[i]) / a[i], l2 = (m[i] - b[i]) / a[i];
+            double ilo = a[i] > 0.0 ? l1 : l2, ihi = a[i] > 0.0 ? l2 : l1;
+            if (ilo > lo)
+                lo = ilo;
+            if (ihi < hi)
+                hi = ihi;
+        }
+    }
+    if (!(lo <= hi))
+        return -1;
+    *lambda = hi;
+    return 0;
+}
+
+/* Largest Q in [0,1] with |base_i| + Q |d_i| <= m_i for all i. */
+static double speed_share(const double base[NJ], const double d[NJ], const double m[NJ])
+{
+    double Q = 1.0;
+    int i;
+    for (i = 0; i < NJ; i++) {
+        double ad = fabs(d[i]);
+        if (ad > 0.0) {
+            double q = (m[i] - fabs(base[i])) / ad;
+            if (q < Q)
+                Q = q;
+        }
+    }
+    return Q > 0.0 ? Q : 0.0;
+}
+
+/* Saturates each joint to +-m_i; returns how many were cut by more than
+ * relative rounding (slack). */
+static int clip_joints(double dq[NJ], const double m[NJ], double slack)
+{
+    int i, n = 0;
+    for (i = 0; i < NJ; i++)
+        if (fabs(dq[i]) > m[i]) {
+            if (fabs(dq[i]) > m[i] * (1.0 + slack))
+                n++;
+            dq[i] = copysign(m[i], dq[i]);
+        }
+    return n;
+}
+
+int tdsd_step(const tdsd_input *in, tdsd_output *out)
+{
+    double J1p[NJ * 3], P1[NJ * NJ], J2[3 * NJ], e2[3], w2[3];
+    double a[NJ], b[NJ], Kpe[3];
+    double lambda = 0.0, c = 1.0;
+    linalg_pinv_info info1;
+    int n2, i;
+
+    output_reset(out);
+    if (!input_valid(in))
+        return TDSD_EINVAL;
+
+    vec3_sub(out->e_p, in->p_d_m, in->p_m);
+    n2 = task2_setup(in, J2, e2, w2);
+    out->n2 = n2;
+    for (i = 0; i < n2; i++)
+        out->e_o[i] = e2[i];
+
+    if (!la_ok(linalg_pinv(J1p, P1, &info1, in->J1, 3, NJ, in->pinv_rtol)))
+        return TDSD_ENUM;
+    out->sigma_min_J1 = info1.sigma_min;
+    out->sigma_max_J1 = info1.sigma_max;
+    out->rank_J1 = info1.rank;
+
+    /* dq1(lambda) = lambda a + b: feed-forward and feedback parts */
+    vec3_scale(Kpe, out->e_p, in->K_p);
+    linalg_matvec(a, J1p, in->v_d_mps, NJ, 3);
+    linalg_matvec(b, J1p, Kpe, NJ, 3);
+    if (max_path_rate(&lambda, a, b, in->dq_max_radps, in->rate_cap) != 0) {
+        /* even stopping on the path leaves the feedback too fast: keep its
+         * direction (the tool still heads straight for p_d), shrink it */
+        lambda = 0.0;
+        for (i = 0; i < NJ; i++)
+            if (fabs(b[i]) * c > in->dq_max_radps[i])
+                c = in->dq_max_radps[i] / fabs(b[i]);
+    }
+    for (i = 0; i < NJ; i++)
+        out->dq1[i] = lambda * a[i] + c * b[i];
+    for (i = 0; i < 3; i++)
+        out->y1[i] = lambda * in->v_d_mps[i] + c * Kpe[i];
+    out->lambda = lambda;
+    out->fb_scale = c;
+    out->time_scaled = (lambda < in->rate_cap) || (c < 1.0);
+
+    if (n2 > 0) {
+        double M[3 * NJ], Mp[NJ * 3], r[3], Mg[3], t[NJ], s[NJ], g[NJ];
+        linalg_pinv_info info2;
+        linalg_mul(M, J2, P1, n2, NJ, NJ);
+        if (!la_ok(linalg_pinv(Mp, NULL, &info2, M, n2, NJ, in->pinv_rtol))) {
+            output_reset(out);
+            return TDSD_ENUM;
+        }
+        out->rank_J2P1 = info2.rank;
+        linalg_matvec(r, J2, out->dq1, n2, NJ);
+        for (i = 0; i < n2; i++) {
+            out->y2[i] = lambda * w2[i] + in->K_o * e2[i];
+            r[i] = out->y2[i] - r[i];
+        }
+        linalg_matvec(out->dq2, Mp, r, NJ, n2);
+        /* dq3 = P1 g - (J2P1)+ (J2P1) g: project k grad V onto the joint
+         * motions that move neither task */
+        for (i = 0; i < NJ; i++)
+            g[i] = in->k_V * in->grad_V[i];
+        linalg_matvec(t, P1, g, NJ, NJ);
+        linalg_matvec(Mg, M, g, n2, NJ);
+        linalg_matvec(s, Mp, Mg, NJ, n2);
+        for (i = 0; i < NJ; i++)
+            out->dq3[i] = t[i] - s[i];
+    } else {
+        double g[NJ];
+        for (i = 0; i < NJ; i++)
+            g[i] = in->k_V * in->grad_V[i];
+        linalg_matvec(out->dq3, P1, g, NJ, NJ);
+    }
+
+    out->Q1 = speed_share(out->dq1, out->dq2, in->dq_max_radps);
+    {
+        double base[NJ];
+        for (i = 0; i < NJ; i++)
+            base[i] = out->dq1[i] + out->Q1 * out->dq2[i];
+        out->Q2 = speed_share(base, out->dq3, in->dq_max_radps);
+        for (i = 0; i < NJ; i++)
+            out->dq_radps[i] = base[i] + out->Q2 * out->dq3[i];
+    }
+    /* By construction |dq_i| <= dq_max_i up to rounding; the guard makes the
+     * hard limit exact and counts any real violation. The slack is wide
+     * because near a singularity dq1 = lambda a + b cancels two terms of
+     * size ~ |y1'| / sigma_min, so its rounding is ~ DBL_EPSILON / sigma_min
+     * relative (1e-7 at sigma_min = 1e-9). */
+    out->n_clipped = clip_joints(out->dq_radps, in->dq_max_radps, 1e-6);
+    return TDSD_OK;
+}
+
+/* Stacked task [J1; J2] (m x 6) and velocity [y1'; y2'] at lambda = rate_cap. */
+static int rr_setup(const tdsd_input *in, tdsd_output *out, double J[NJ * NJ], double y[NJ])
+{
+    double J2[3 * NJ], e2[3], w2[3];
+    linalg_pinv_info info1;
+    double J1p[NJ * 3];
+    int n2, i;
+
+    vec3_sub(out->e_p, in->p_d_m, in->p_m);
+    n2 = task2_setup(in, J2, e2, w2);
+    out->n2 = n2;
+    out->lambda = in->rate_cap;
+    out->Q1 = out->Q2 = 1.0;
+    linalg_copy(J, in->J1, 3, NJ);
+    linalg_copy(J + 3 * NJ, J2, n2, NJ);
+    for (i = 0; i < 3; i++) {
+        out->y1[i] = in->rate_cap * in->v_d_mps[i] + in->K_p * out->e_p[i];
+        y[i] = out->y1[i];
+    }
+    for (i = 0; i < n2; i++) {
+        out->e_o[i] = e2[i];
+        out->y2[i] = in->rate_cap * w2[i] + in->K_o * e2[i];
+        y[3 + i] = out->y2[i];
+    }
+    if (!la_ok(linalg_pinv(J1p, NULL, &info1, in->J1, 3, NJ, in->pinv_rtol)))
+        return TDSD_ENUM;
+    out->sigma_min_J1 = info1.sigma_min;
+    out->sigma_max_J1 = info1.sigma_max;
+    out->rank_J1 = info1.rank;
+    return 3 + n2;
+}
+
+static void rr_finish(const tdsd_input *in, tdsd_output *out, const double *Jinv, int m,
+                      const double y[NJ])
+{
+    int i;
+    linalg_matvec(out->dq1, Jinv, y, NJ, m);
+    for (i = 0; i < NJ; i++)
+        out->dq_radps[i] = out->dq1[i];
+    out->n_clipped = clip_joints(out->dq_radps, in->dq_max_radps, 0.0);
+}
+
+int rr_pinv_step(const tdsd_input *in, tdsd_output *out)
+{
+    double J[NJ * NJ], Jp[NJ * NJ], y[NJ];
+    linalg_pinv_info info;
+    int m;
+
+    output_reset(out);
+    if (!input_valid(in))
+        return TDSD_EINVAL;
+    m = rr_setup(in, out, J, y);
+    if (m < 0)
+        return TDSD_ENUM;
+    if (!la_ok(linalg_pinv(Jp, NULL, &info, J, m, NJ, in->pinv_rtol))) {
+        output_reset(out);
+        return TDSD_ENUM;
+    }
+    out->rank_J2P1 = info.rank;
+    rr_finish(in, out, Jp, m, y);
+    return TDSD_OK;
+}
+
+int rr_dls_step(const tdsd_input *in, const rr_dls_params *dls, tdsd_output *out)
+{
+    double J[NJ * NJ], Jp[NJ * NJ], Jd[NJ * NJ], y[NJ];
+    linalg_pinv_info info;
+    double damping;
+    int m;
+
+    output_reset(out);
+    if (!input_valid(in) || !dls || !(dls->lambda0 >= 0.0) || !isfinite(dls->lambda0)
+        || !isfinite(dls->eps))
+        return TDSD_EINVAL;
+    m = rr_setup(in, out, J, y);
+    if (m < 0)
+        return TDSD_ENUM;
+    /* sigma_min of the stacked J drives the variable damping */
+    if (!la_ok(linalg_pinv(Jp, NULL, &info, J, m, NJ, in->pinv_rtol))) {
+        output_reset(out);
+        return TDSD_ENUM;
+    }
+    out->rank_J2P1 = info.rank;
+    if (dls->eps <= 0.0) {
+        damping = dls->lambda0;
+    } else if (info.sigma_min < dls->eps) {
+        double r = info.sigma_min / dls->eps;
+        damping = dls->lambda0 * sqrt(1.0 - r * r);
+    } else {
+        damping = 0.0;
+    }
+    out->damping = damping;
+    if (!la_ok(linalg_dls(Jd, J, m, NJ, damping))) {
+        output_reset(out);
+        return TDSD_ENUM;
+    }
+    rr_finish(in, out, Jd, m, y);
+    return TDSD_OK;
+}
