@@ -1,0 +1,312 @@
+/* daemon: shared daemon shell (see daemon.h). */
+#include "daemon.h"
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <sched.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <sys/select.h>
+#include <sys/time.h>
+#include <time.h>
+#include <unistd.h>
+#include "tandem_clock_ack_t.h"
+#include "tandem_health_t.h"
+#include "tandem_sim_clock_t.h"
+
+static volatile sig_atomic_t stop_flag;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    stop_flag = 1;
+}
+
+int daemon_stop_requested(void) { return stop_flag != 0; }
+void daemon_request_stop(void) { stop_flag = 1; }
+
+int64_t daemon_utime_now(void)
+{
+    struct timeval tv;
+    gettimeofday(&tv, NULL);
+    return (int64_t)tv.tv_sec * 1000000 + tv.tv_usec;
+}
+
+int all_finite(const double *v, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
+int parse_double_opt(const char *prog, const char *opt, const char *s,
+                     double lo, double hi, double *out)
+{
+    char *end;
+    double v;
+    errno = 0;
+    v = strtod(s, &end);
+    if (s[0] == '\0' || *end != '\0' || errno != 0 || !isfinite(v)) {
+        fprintf(stderr, "%s: %s: '%s' is not a number\n", prog, opt, s);
+        return -1;
+    }
+    if (v < lo || v > hi) {
+        fprintf(stderr, "%s: %s: %g is outside [%g, %g]\n", prog, opt, v, lo, hi);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+int parse_int_opt(const char *prog, const char *opt, const char *s,
+                  long lo, long hi, long *out)
+{
+    char *end;
+    long v;
+    errno = 0;
+    v = strtol(s, &end, 10);
+    if (s[0] == '\0' || *end != '\0' || errno != 0) {
+        fprintf(stderr, "%s: %s: '%s' is not an integer\n", prog, opt, s);
+        return -1;
+    }
+    if (v < lo || v > hi) {
+        fprintf(stderr, "%s: %s: %ld is outside [%ld, %ld]\n", prog, opt, v, lo, hi);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+void daemon_defaults(daemon *d, const char *name, double period_s)
+{
+    const char *env = getenv("LCM_DEFAULT_URL");
+    memset(d, 0, sizeof *d);
+    snprintf(d->name, sizeof d->name, "%s", name);
+    d->lcm_url = (env && env[0]) ? env : DAEMON_DEFAULT_LCM_URL;
+    d->period_s = period_s;
+    d->step = -1;
+    d->pending_step = -1;
+    snprintf(d->status, sizeof d->status, "starting");
+}
+
+int daemon_parse_common(daemon *d, int opt, const char *arg)
+{
+    long prio;
+    double ms;
+    switch (opt) {
+    case OPT_LCM_URL:
+        if (arg[0] == '\0') {
+            fprintf(stderr, "%s: --lcm-url: empty URL\n", d->name);
+            return -1;
+        }
+        d->lcm_url = arg;
+        return 1;
+    case OPT_RT:
+        if (parse_int_opt(d->name, "--rt", arg, 1, 99, &prio) < 0)
+            return -1;
+        d->rt_prio = (int)prio;
+        return 1;
+    case OPT_LOCKSTEP:
+        d->lockstep = 1;
+        return 1;
+    case OPT_PERIOD_MS:
+        if (parse_double_opt(d->name, "--period-ms", arg, 0.05, 10000.0, &ms) < 0)
+            return -1;
+        d->period_s = ms * 1e-3;
+        return 1;
+    case OPT_HELP:
+        return 2;
+    default:
+        return 0;
+    }
+}
+
+static void apply_rt(daemon *d)
+{
+    struct sched_param sp;
+    if (d->rt_prio <= 0)
+        return;
+    memset(&sp, 0, sizeof sp);
+    sp.sched_priority = d->rt_prio;
+    if (sched_setscheduler(0, SCHED_FIFO, &sp) != 0)
+        fprintf(stderr, "%s: warning: SCHED_FIFO priority %d not permitted (%s); "
+                "running with normal scheduling\n", d->name, d->rt_prio, strerror(errno));
+    if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
+        fprintf(stderr, "%s: warning: mlockall not permitted (%s); pages may fault\n",
+                d->name, strerror(errno));
+}
+
+static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *user)
+{
+    daemon *d = user;
+    tandem_sim_clock_t m;
+    (void)ch;
+    d->msgs.received++;
+    if (tandem_sim_clock_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
+        d->msgs.rejected++;
+        return;
+    }
+    if (m.step < 0 || !isfinite(m.sim_time_s)) {
+        d->msgs.rejected++;
+        tandem_sim_clock_t_decode_cleanup(&m);
+        return;
+    }
+    d->step = m.step;
+    d->sim_time_s = m.sim_time_s;
+    if (d->lockstep && m.mode == TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP && m.step % d->period_steps == 0)
+        d->pending_step = m.step;
+    tandem_sim_clock_t_decode_cleanup(&m);
+}
+
+int daemon_start(daemon *d)
+{
+    struct sigaction sa;
+    size_t i;
+    long steps;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN);
+
+    steps = lround(d->period_s / DAEMON_SIM_DT_S);
+    d->period_steps = (int32_t)(steps < 1 ? 1 : steps);
+    snprintf(d->health_channel, sizeof d->health_channel, "HEALTH_%s", d->name);
+    for (i = 0; d->health_channel[i]; i++)
+        d->health_channel[i] = (char)(d->health_channel[i] == '-' ? '_' : toupper((unsigned char)d->health_channel[i]));
+
+    d->lcm = lcm_create(d->lcm_url);
+    if (!d->lcm) {
+        fprintf(stderr, "%s: cannot open LCM at '%s'\n", d->name, d->lcm_url);
+        return -1;
+    }
+    lcm_subscribe(d->lcm, "SIM_CLOCK", on_clock, d);
+    apply_rt(d);
+    if (rtloop_init(&d->loop, (int64_t)llround(d->period_s * 1e9)) != 0) {
+        fprintf(stderr, "%s: period %g s out of range\n", d->name, d->period_s);
+        return -1;
+    }
+    d->last_health_ns = rtloop_now_ns();
+    return 0;
+}
+
+void daemon_drain(daemon *d)
+{
+    int fd = lcm_get_fileno(d->lcm);
+    int guard;
+    /* Bounded: at most 4096 messages per call so a flood cannot starve the loop. */
+    for (guard = 0; guard < 4096; guard++) {
+        fd_set fds;
+        struct timeval tv = { 0, 0 };
+        FD_ZERO(&fds);
+        FD_SET(fd, &fds);
+        if (select(fd + 1, &fds, NULL, NULL, &tv) <= 0)
+            break;
+        if (lcm_handle(d->lcm) != 0)
+            break;
+    }
+}
+
+void daemon_publish_health(daemon *d)
+{
+    tandem_health_t h;
+    memset(&h, 0, sizeof h);
+    h.seq = d->health_seq++;
+    h.utime = daemon_utime_now();
+    h.step = d->step;
+    h.name = d->name;
+    h.pid = (int32_t)getpid();
+    h.period_us = d->period_s * 1e6;
+    h.cycles = d->loop.cycles;
+    h.cycle_min_us = d->loop.cycle.min_us;
+    h.cycle_mean_us = loopstats_mean(&d->loop.cycle);
+    h.cycle_max_us = d->loop.cycle.max_us;
+    h.cycle_p99_us = loopstats_percentile(&d->loop.cycle, 0.99);
+    h.wake_latency_p99_us = loopstats_percentile(&d->loop.latency, 0.99);
+    h.overruns = d->loop.overruns;
+    h.msgs_received = d->msgs.received;
+    h.msgs_rejected = d->msgs.rejected;
+    h.msgs_stale = d->msgs.stale;
+    h.safe_hold = (int8_t)d->safe_hold;
+    h.status = d->status;
+    tandem_health_t_publish(d->lcm, d->health_channel, &h);
+}
+
+static void ack(daemon *d, int64_t step, int leaving)
+{
+    tandem_clock_ack_t a;
+    a.seq = d->ack_seq++;
+    a.utime = daemon_utime_now();
+    a.step = step;
+    a.name = d->name;
+    a.period_steps = d->period_steps;
+    a.leaving = (int8_t)leaving;
+    tandem_clock_ack_t_publish(d->lcm, "SIM_ACK", &a);
+}
+
+static void health_tick(daemon *d)
+{
+    const int64_t now = rtloop_now_ns();
+    if (now - d->last_health_ns >= 1000000000LL) {
+        d->last_health_ns = now;
+        daemon_publish_health(d);
+    }
+}
+
+static void run_realtime(daemon *d, daemon_cycle_fn fn, void *user)
+{
+    d->loop.next_ns = rtloop_now_ns() + d->loop.period_ns;
+    while (!stop_flag) {
+        rtloop_wait(&d->loop);
+        daemon_drain(d);
+        fn(d, user);
+        rtloop_end_cycle(&d->loop);
+        health_tick(d);
+    }
+}
+
+static void run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
+{
+    while (!stop_flag) {
+        int64_t t0;
+        /* Blocking here is the point of lockstep: nothing happens until the
+         * simulator publishes the next step. */
+        lcm_handle_timeout(d->lcm, 100);
+        health_tick(d);
+        if (d->pending_step < 0)
+            continue;
+        t0 = rtloop_now_ns();
+        fn(d, user);
+        rtloop_record(&d->loop, t0);
+        ack(d, d->pending_step, 0);
+        d->pending_step = -1;
+    }
+}
+
+int daemon_run(daemon *d, daemon_cycle_fn fn, void *user)
+{
+    snprintf(d->status, sizeof d->status, "running");
+    if (d->lockstep)
+        run_lockstep(d, fn, user);
+    else
+        run_realtime(d, fn, user);
+    return 0;
+}
+
+void daemon_finish(daemon *d)
+{
+    if (!d->lcm)
+        return;
+    snprintf(d->status, sizeof d->status, "stopped");
+    daemon_publish_health(d);
+    if (d->lockstep)
+        ack(d, d->step, 1);
+    lcm_destroy(d->lcm);
+    d->lcm = NULL;
+}

@@ -1,0 +1,98 @@
+/* daemon: the thin shell every tandem daemon shares (SPEC.md §1, §7).
+ *
+ * Command-line handling of the common options, signals, optional
+ * SCHED_FIFO + mlockall, the LCM handle, the loop driver for both timing
+ * modes (real time on rtloop; lockstep on the simulator's SIM_CLOCK with
+ * an ack per answered step), and the once-a-second health message.
+ * Daemon-specific work lives in a cycle callback that calls the core.
+ */
+#ifndef TANDEM_DAEMON_H
+#define TANDEM_DAEMON_H
+
+#include <getopt.h>
+#include <stdint.h>
+#include <lcm/lcm.h>
+#include "rtloop.h"
+
+#define DAEMON_DEFAULT_LCM_URL "udpm://239.255.76.67:7667?ttl=0"
+#define DAEMON_SIM_DT_S 0.001          /* the simulator's fixed step */
+#define DAEMON_NAME_MAX 64
+
+/* Long options every daemon accepts; splice into a getopt_long table. */
+enum { OPT_LCM_URL = 1000, OPT_RT, OPT_LOCKSTEP, OPT_PERIOD_MS, OPT_HELP };
+#define DAEMON_COMMON_OPTIONS \
+    { "lcm-url",   required_argument, 0, OPT_LCM_URL }, \
+    { "rt",        required_argument, 0, OPT_RT }, \
+    { "lockstep",  no_argument,       0, OPT_LOCKSTEP }, \
+    { "period-ms", required_argument, 0, OPT_PERIOD_MS }, \
+    { "help",      no_argument,       0, OPT_HELP }
+#define DAEMON_COMMON_HELP \
+    "  --lcm-url URL     LCM provider (default " DAEMON_DEFAULT_LCM_URL ",\n" \
+    "                    or $LCM_DEFAULT_URL when set)\n" \
+    "  --rt PRIO         SCHED_FIFO priority 1-99 and mlockall (warns and goes on\n" \
+    "                    without them when not permitted)\n" \
+    "  --lockstep        follow the simulator's clock (deterministic) instead of\n" \
+    "                    the wall clock\n" \
+    "  --period-ms MS    control period\n" \
+    "  --help            this text\n"
+
+typedef struct daemon_counters {
+    int64_t received;
+    int64_t rejected;   /* failed decoding or validation: dropped */
+    int64_t stale;      /* valid but too old to use */
+} daemon_counters;
+
+typedef struct daemon {
+    char     name[DAEMON_NAME_MAX];     /* e.g. tandem-arm-1 */
+    char     health_channel[DAEMON_NAME_MAX + 8];
+    const char *lcm_url;
+    int      rt_prio;                   /* 0 = normal scheduling */
+    int      lockstep;
+    double   period_s;
+    int32_t  period_steps;              /* lockstep: answer every n-th step */
+    lcm_t   *lcm;
+    rtloop   loop;
+    daemon_counters msgs;
+    int64_t  step;                      /* last SIM_CLOCK step seen */
+    double   sim_time_s;
+    int64_t  pending_step;              /* lockstep: step to answer, -1 none */
+    int64_t  health_seq;
+    int64_t  ack_seq;
+    int64_t  last_health_ns;
+    int      safe_hold;
+    char     status[96];
+} daemon;
+
+/* Cycle callback: read the latest inputs, call the core, publish outputs. */
+typedef void (*daemon_cycle_fn)(daemon *d, void *user);
+
+void daemon_defaults(daemon *d, const char *name, double period_s);
+/* Handles a common option; returns 1 handled, 0 not common, -1 bad value
+ * (message already printed), 2 for --help (caller prints usage, exits 0). */
+int  daemon_parse_common(daemon *d, int opt, const char *arg);
+/* Opens LCM, installs SIGINT/SIGTERM handlers, applies --rt. 0 on success. */
+int  daemon_start(daemon *d);
+/* Runs until SIGINT/SIGTERM; returns the process exit code. */
+int  daemon_run(daemon *d, daemon_cycle_fn fn, void *user);
+void daemon_finish(daemon *d);
+int  daemon_stop_requested(void);
+void daemon_request_stop(void);
+/* Publishes the health message now (daemon_run does it once a second). */
+void daemon_publish_health(daemon *d);
+/* Handles every LCM message already queued, without blocking. */
+void daemon_drain(daemon *d);
+/* Seconds between wall-clock now and a message's utime, for staleness. */
+int64_t daemon_utime_now(void);
+
+/* Strict number parsing for command-line values: the whole string must be
+ * a finite number inside [lo, hi]; prints "NAME: --OPT: why" and returns -1
+ * otherwise. */
+int parse_double_opt(const char *prog, const char *opt, const char *s,
+                     double lo, double hi, double *out);
+int parse_int_opt(const char *prog, const char *opt, const char *s,
+                  long lo, long hi, long *out);
+
+/* All n values finite. */
+int all_finite(const double *v, int n);
+
+#endif

@@ -1,0 +1,45 @@
+/* cell: the two-arm workcell layout of the carry task (SPEC.md §2.4, §5).
+ *
+ * One const table shared by the simulator, the supervisor and the arm
+ * controllers, so every program agrees where the arms stand and where the
+ * table, pick zone, hand-over and delivery poses are. World frame: z up,
+ * floor at z = 0; arm 1 stands at x < 0 facing +x, arm 2 mirrors it.
+ * All tool poses have the gripper pointing down (flange z = -world z).
+ * The poses were chosen inside the PUMA 560's reachable annulus for a
+ * downward tool (radius ~0.45-0.7 m from the base axis at these heights)
+ * and inside the joint ranges of SPEC.md §3 (checked in test_cell).
+ */
+#ifndef TANDEM_CELL_H
+#define TANDEM_CELL_H
+
+#define CELL_ARMS 2
+#define CELL_TOOL_LENGTH_M 0.10        /* flange -> point between the fingers */
+
+typedef struct cell_layout {
+    double base_xyz_m[CELL_ARMS][3];   /* mounting surface of each arm */
+    double base_yaw_rad[CELL_ARMS];
+    double table_center_m[3];          /* table box centre */
+    double table_size_m[3];
+    double workpiece_size_m[3];        /* a bar, long axis along world x */
+    double workpiece_mass_kg;
+    double grasp_offset_m;             /* grasp points at +- this along the bar */
+    double grasp_tolerance_m;          /* gripper closes on a grasp point this near */
+    double pick_center_m[3];           /* workpiece centre, middle of the pick zone */
+    double pick_spread_m[2];           /* +- uniform spread of new workpieces in x, y */
+    double deliver_center_m[3];        /* where arm 2 puts the workpiece down */
+    double handover_center_m[3];       /* workpiece centre at the hand-over */
+    double approach_height_m;          /* above-workpiece clearance */
+    double home_tool_m[CELL_ARMS][3];  /* tool point at home */
+} cell_layout;
+
+extern const cell_layout cell_default;
+
+/* World <-> arm mounting frame (4x4, row-major) for arm index a (0, 1). */
+void cell_world_from_arm(const cell_layout *c, int a, double T[16]);
+/* Tool-down orientation for arm a, expressed in the arm's own frame. */
+void cell_tool_down_R(const cell_layout *c, int a, double R_arm[9]);
+/* Grasp point of arm a on a workpiece centred at centre_world (arm 1 takes
+ * the end towards -x, arm 2 the end towards +x). */
+void cell_grasp_point(const cell_layout *c, int a, const double centre_world[3], double p_world[3]);
+
+#endif

@@ -1,0 +1,115 @@
+/* tandem-sim: the ODE world shared by every simulated model (SPEC.md §1, §5).
+ *
+ * One world, one fixed 1 kHz step, two timing modes: real time (steps on
+ * the wall clock, zero-order hold of the last command, stale-command
+ * watchdog) and lockstep (step k+1 only after every registered controller
+ * has answered step k). Models (the PUMA pair, the Pioneer team) add bodies
+ * to this world and hook into the step through sim_arms_* / sim_rovers_*.
+ */
+#ifndef TANDEM_SIM_H
+#define TANDEM_SIM_H
+
+#include <stdint.h>
+#include <ode/ode.h>
+#include <lcm/lcm.h>
+#include "daemon.h"
+#include "tandem_sim_control_t.h"
+#include "tandem_sim_status_t.h"
+
+#define SIM_DT_S            0.001
+#define SIM_MAX_CONTACTS    1024
+#define SIM_MAX_PARTICIPANTS 16
+#define SIM_MAX_BODIES      2048
+
+/* Collision categories (geom category bits) so models can filter pairs. */
+enum {
+    SIM_CAT_GROUND    = 1u << 0,
+    SIM_CAT_ARM       = 1u << 1,
+    SIM_CAT_TABLE     = 1u << 2,
+    SIM_CAT_WORKPIECE = 1u << 3,
+    SIM_CAT_STICK     = 1u << 4,
+    SIM_CAT_ROVER     = 1u << 5,
+    SIM_CAT_OBSTACLE  = 1u << 6
+};
+
+typedef struct sim_contact {
+    dBodyID b1, b2;
+    dJointFeedback fb;
+} sim_contact;
+
+typedef struct sim_participant {
+    char    name[DAEMON_NAME_MAX];
+    int32_t period_steps;
+    int64_t last_ack;        /* last step answered */
+    int     active;
+} sim_participant;
+
+typedef struct sim_world {
+    dWorldID      world;
+    dSpaceID      space;
+    dJointGroupID contacts;
+    dGeomID       ground;
+    int64_t       step;
+    double        time_s;
+    uint64_t      seed;
+    int           lockstep;
+    int           paused;
+    lcm_t        *lcm;
+    daemon        d;               /* options, counters, health, loop stats */
+    sim_contact   contact[SIM_MAX_CONTACTS];
+    int           n_contacts;
+    int64_t       contacts_dropped;
+    sim_participant part[SIM_MAX_PARTICIPANTS];
+    int           n_part;
+    int64_t       lockstep_timeouts;
+    double        lockstep_timeout_s;
+    int64_t       stale_commands;
+    int64_t       status_seq, clock_seq;
+    dBodyID       bodies[SIM_MAX_BODIES];  /* every body, in creation order (hashing) */
+    int           n_bodies;
+} sim_world;
+
+int      sim_world_create(sim_world *w);
+void     sim_world_destroy(sim_world *w);
+/* Registers a body for the state hash; models call this for every body. */
+dBodyID  sim_body_create(sim_world *w);
+void     sim_world_step(sim_world *w);
+/* Sum of contact-force magnitudes acting on body b during the last step. */
+double   sim_contact_force_on(const sim_world *w, dBodyID b);
+/* FNV-1a over every body's position, rotation and velocities, bit for bit. */
+uint64_t sim_state_hash(const sim_world *w);
+
+/* Configuration of the simulated models (command line of tandem-sim). */
+typedef struct sim_config {
+    int    arms;               /* 1: the PUMA 560 pair, table, workpieces */
+    int    workpieces;         /* workpieces to feed (0 = endless stream) */
+    double arm_friction_viscous;  /* N m s / rad */
+    double arm_friction_coulomb;  /* N m */
+    int    rovers;             /* number of Pioneer robots (0 = none) */
+    char   rover_world[32];    /* open | obstacles | corridor | deadzone */
+} sim_config;
+
+/* A simulated model plugs into the step through these hooks. */
+typedef struct sim_model_ops {
+    const char *name;
+    int  (*create)(sim_world *w, const sim_config *cfg);
+    void (*destroy)(sim_world *w);
+    void (*before_step)(sim_world *w);   /* apply held commands, watchdogs */
+    void (*after_step)(sim_world *w);    /* sensors; publish states */
+    /* 1 if the control message was for this model (and applied), 0 if not,
+     * -1 if it was for this model but invalid. */
+    int  (*control)(sim_world *w, const tandem_sim_control_t *c);
+    void (*status)(sim_world *w, tandem_sim_status_t *s);   /* may be NULL */
+} sim_model_ops;
+
+extern const sim_model_ops sim_arms_ops;
+extern const sim_model_ops sim_rovers_ops;
+
+/* lockstep registry (sim_lockstep.c) */
+void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t period, int leaving);
+/* 1 when every participant due at step k has answered it. */
+int  sim_lockstep_ready(const sim_world *w, int64_t k);
+/* Drops participants that have not answered k; returns how many. */
+int  sim_lockstep_drop_late(sim_world *w, int64_t k);
+
+#endif

@@ -1,0 +1,443 @@
+/* sim_arms: the PUMA 560 pair as torque-driven ODE bodies (SPEC.md §5).
+ *
+ * Each link is one ODE body whose mass, centre of mass and inertia are
+ * exactly arm_model_puma560's (the body origin sits at the COM because ODE
+ * requires it; geometry is offset accordingly). Joints are hinges on the
+ * DH z axes. Commands are held between messages (zero-order hold); a
+ * command older than ARM_STALE_STEPS puts the joints on their brakes
+ * (velocity motors at zero speed, limited to the motor torque) until fresh
+ * commands arrive. Joint ranges that fit a hinge's (-pi, pi) stop window
+ * are enforced by ODE stops; wider ranges (q4, q6) are left to the
+ * controllers and to the scenarios' limit checks.
+ */
+#include "sim_arms.h"
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include "arm_kin.h"
+#include "cell.h"
+#include "vec3.h"
+#include "tandem_arm_command_t.h"
+#include "tandem_arm_state_t.h"
+#include "tandem_sim_control_t.h"
+#include "tandem_sim_status_t.h"
+
+#define ARM_STALE_STEPS 20          /* 20 ms: SPEC.md §7 bounded safe hold */
+#define ARM_TAU_REJECT_FACTOR 2.0   /* |tau| beyond 2x the motor limit = bad data */
+
+sim_arm sim_arm_pair[SIM_ARMS];
+static const char *const state_channel[SIM_ARMS] = { "ARM1_STATE", "ARM2_STATE" };
+static const char *const command_channel[SIM_ARMS] = { "ARM1_COMMAND", "ARM2_COMMAND" };
+static const double link_radius_m[ARM_NJ] = { 0.09, 0.07, 0.06, 0.045, 0.04, 0.035 };
+static const sim_config *arms_cfg;
+static lcm_subscription_t *subs[SIM_ARMS];
+static sim_world *arms_world;
+
+/* ---- building ------------------------------------------------------------- */
+
+static void world_from_link(const sim_arm *a, const double T_mount_link[16], double T[16])
+{
+    tf_mul(T, a->T_world_mount, T_mount_link);
+}
+
+static void set_body_pose(dBodyID b, const double R[9], const double p[3])
+{
+    dMatrix3 Rm;
+    int r;
+    for (r = 0; r < 3; r++) {
+        Rm[4 * r] = R[3 * r]; Rm[4 * r + 1] = R[3 * r + 1]; Rm[4 * r + 2] = R[3 * r + 2];
+        Rm[4 * r + 3] = 0.0;
+    }
+    dBodySetRotation(b, Rm);
+    dBodySetPosition(b, p[0], p[1], p[2]);
+}
+
+/* A capsule from point p0 to p1, both in link-frame coordinates, attached to
+ * the link body whose origin is the COM. */
+static dGeomID link_capsule(sim_world *w, dBodyID body, const double com[3],
+                            const double p0[3], const double p1[3], double radius)
+{
+    double axis[3], mid[3], R[9], zc[3], rot_axis[3];
+    const double z[3] = { 0.0, 0.0, 1.0 };
+    dMatrix3 Rm;
+    double len, angle;
+    dGeomID g;
+    int r;
+    vec3_sub(axis, p1, p0);
+    len = vec3_normalize(axis, axis);
+    if (len < 1e-3)
+        return NULL;
+    vec3_add(mid, p0, p1);
+    vec3_scale(mid, mid, 0.5);
+    vec3_sub(mid, mid, com);
+    vec3_cross(rot_axis, z, axis);
+    angle = atan2(vec3_norm(rot_axis), vec3_dot(z, axis));
+    if (vec3_norm(rot_axis) < 1e-12)
+        vec3_set(rot_axis, 1.0, 0.0, 0.0);
+    rot_from_axis_angle(R, rot_axis, angle);
+    vec3_copy(zc, mid);
+    g = dCreateCapsule(w->space, radius, len);
+    dGeomSetBody(g, body);
+    dGeomSetOffsetPosition(g, zc[0], zc[1], zc[2]);
+    for (r = 0; r < 3; r++) {
+        Rm[4 * r] = R[3 * r]; Rm[4 * r + 1] = R[3 * r + 1]; Rm[4 * r + 2] = R[3 * r + 2];
+        Rm[4 * r + 3] = 0.0;
+    }
+    dGeomSetOffsetRotation(g, Rm);
+    dGeomSetCategoryBits(g, SIM_CAT_ARM);
+    dGeomSetCollideBits(g, SIM_CAT_STICK);
+    return g;
+}
+
+static void build_link(sim_world *w, sim_arm *a, int i, double Tl[ARM_NJ + 1][16])
+{
+    const arm_model *m = a->model;
+    const double *I = m->inertia_kgm2[i];
+    double T[16], R[9], p[3], com_w[3], origin_prev[3], p0[3], p1[3], Tinv[16];
+    dMass mass;
+    world_from_link(a, Tl[i + 1], T);
+    tf_rot(R, T);
+    tf_pos(p, T);
+    rot_apply(com_w, R, m->com_m[i]);
+    vec3_add(com_w, com_w, p);
+    a->link[i] = sim_body_create(w);
+    set_body_pose(a->link[i], R, com_w);
+    dMassSetParameters(&mass, m->mass_kg[i], 0, 0, 0, I[0], I[4], I[8], I[1], I[2], I[5]);
+    dBodySetMass(a->link[i], &mass);
+
+    /* Collision shape: joint i's origin (frame i-1) to frame i's origin, and
+     * on along z_i by d_{i+1} (the part of the next offset fixed in link i). */
+    tf_inverse(Tinv, Tl[i + 1]);
+    tf_pos(origin_prev, Tl[i]);
+    rot_apply(p0, (double[9]){ Tinv[0], Tinv[1], Tinv[2], Tinv[4], Tinv[5], Tinv[6], Tinv[8], Tinv[9], Tinv[10] }, origin_prev);
+    p0[0] += Tinv[3]; p0[1] += Tinv[7]; p0[2] += Tinv[11];
+    vec3_set(p1, 0.0, 0.0, 0.0);
+    a->geom[i][0] = link_capsule(w, a->link[i], m->com_m[i], p0, p1, link_radius_m[i]);
+    vec3_set(p0, 0.0, 0.0, i + 1 < ARM_NJ ? m->d_m[i + 1] : CELL_TOOL_LENGTH_M);
+    a->geom[i][1] = link_capsule(w, a->link[i], m->com_m[i], p1, p0, link_radius_m[i]);
+}
+
+static void build_joint(sim_world *w, sim_arm *a, int i, double Tl[ARM_NJ + 1][16])
+{
+    const arm_model *m = a->model;
+    double T[16], anchor[3], axis[3];
+    dJointID j = dJointCreateHinge(w->world, 0);
+    world_from_link(a, Tl[i], T);
+    tf_pos(anchor, T);
+    vec3_set(axis, T[2], T[6], T[10]);          /* z_{i-1} */
+    /* body1 = the link, body2 = its parent: the hinge angle then grows with
+     * the link turning positively about z_{i-1}, as q_i does. */
+    dJointAttach(j, a->link[i], i > 0 ? a->link[i - 1] : 0);
+    dJointSetHingeAnchor(j, anchor[0], anchor[1], anchor[2]);
+    dJointSetHingeAxis(j, axis[0], axis[1], axis[2]);
+    {
+        const double lo = m->q_min_rad[i] - a->q_init[i], hi = m->q_max_rad[i] - a->q_init[i];
+        if (lo > -3.14159 && hi < 3.14159) {
+            dJointSetHingeParam(j, dParamLoStop, lo);
+            dJointSetHingeParam(j, dParamHiStop, hi);
+        }
+    }
+    a->joint[i] = j;
+}
+
+static int home_q(const sim_arm *a, int idx, double q[ARM_NJ])
+{
+    double T[16], R[9], p_arm[3], Tw[16], Tinv[16], pw[4];
+    arm_tool tool;
+    const double off[3] = { 0.0, 0.0, CELL_TOOL_LENGTH_M };
+    arm_ik_result r;
+    const double q_ref[ARM_NJ] = { 0.0, 0.6, 2.9, 0.0, -0.4, 0.0 };
+    int b;
+    arm_tool_offset(&tool, off);
+    cell_world_from_arm(&cell_default, idx, Tw);
+    tf_inverse(Tinv, Tw);
+    vec3_copy(pw, cell_default.home_tool_m[idx]);
+    rot_apply(p_arm, (double[9]){ Tinv[0], Tinv[1], Tinv[2], Tinv[4], Tinv[5], Tinv[6], Tinv[8], Tinv[9], Tinv[10] }, pw);
+    p_arm[0] += Tinv[3]; p_arm[1] += Tinv[7]; p_arm[2] += Tinv[11];
+    cell_tool_down_R(&cell_default, idx, R);
+    tf_from_rot_pos(T, R, p_arm);
+    if (arm_ik(a->model, &tool, T, &r) != 0 || r.unreachable)
+        return -1;
+    b = arm_ik_nearest(&r, q_ref);
+    if (b < 0)
+        return -1;
+    memcpy(q, r.branch[b].q_rad, sizeof(double) * ARM_NJ);
+    return 0;
+}
+
+static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *user);
+
+static int arms_create(sim_world *w, const sim_config *cfg)
+{
+    int k, i;
+    arms_cfg = cfg;
+    arms_world = w;
+    for (k = 0; k < SIM_ARMS; k++) {
+        sim_arm *a = &sim_arm_pair[k];
+        double Tl[ARM_NJ + 1][16];
+        memset(a, 0, sizeof *a);
+        a->model = &arm_model_puma560;
+        a->holding = -1;
+        a->mode = TANDEM_ARM_COMMAND_T_MODE_BRAKE;
+        cell_world_from_arm(&cell_default, k, a->T_world_mount);
+        if (home_q(a, k, a->q_init) != 0) {
+            fprintf(stderr, "tandem-sim: arm %d home pose has no IK solution\n", k + 1);
+            return -1;
+        }
+        arm_link_frames(a->model, a->q_init, Tl);
+        for (i = 0; i < ARM_NJ; i++)
+            build_link(w, a, i, Tl);
+        for (i = 0; i < ARM_NJ; i++)
+            build_joint(w, a, i, Tl);
+        memcpy(a->q, a->q_init, sizeof a->q);
+        if (!subs[k])
+            subs[k] = lcm_subscribe(w->lcm, command_channel[k], on_command, a);
+    }
+    return 0;
+}
+
+static void arms_destroy(sim_world *w)
+{
+    (void)w;   /* bodies and joints go with the ODE world */
+}
+
+/* ---- commands in ---------------------------------------------------------- */
+
+static int command_valid(const sim_arm *a, int idx, const tandem_arm_command_t *c)
+{
+    int i;
+    if (c->arm != idx + 1 || c->step < 0)
+        return 0;
+    if (c->mode != TANDEM_ARM_COMMAND_T_MODE_TORQUE && c->mode != TANDEM_ARM_COMMAND_T_MODE_BRAKE)
+        return 0;
+    if (c->gripper < TANDEM_ARM_COMMAND_T_GRIP_KEEP || c->gripper > TANDEM_ARM_COMMAND_T_GRIP_OPEN)
+        return 0;
+    for (i = 0; i < ARM_NJ; i++)
+        if (!isfinite(c->tau_Nm[i]) || fabs(c->tau_Nm[i]) > ARM_TAU_REJECT_FACTOR * a->model->tau_max_Nm[i])
+            return 0;
+    return 1;
+}
+
+static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *user)
+{
+    sim_arm *a = user;
+    const int idx = (int)(a - sim_arm_pair);
+    tandem_arm_command_t c;
+    (void)ch;
+    arms_world->d.msgs.received++;
+    if (tandem_arm_command_t_decode(rb->data, 0, rb->data_size, &c) < 0) {
+        arms_world->d.msgs.rejected++;
+        return;
+    }
+    if (!command_valid(a, idx, &c)) {
+        arms_world->d.msgs.rejected++;
+        return;
+    }
+    if (c.step < a->cmd_step) {         /* out of order: an older answer */
+        arms_world->d.msgs.rejected++;
+        return;
+    }
+    memcpy(a->tau_cmd, c.tau_Nm, sizeof a->tau_cmd);
+    a->mode = c.mode;
+    a->cmd_step = c.step;
+    a->have_cmd = 1;
+    if (c.gripper == TANDEM_ARM_COMMAND_T_GRIP_CLOSE)
+        a->gripper_closed = 1;
+    else if (c.gripper == TANDEM_ARM_COMMAND_T_GRIP_OPEN)
+        a->gripper_closed = 0;
+}
+
+/* ---- the step ------------------------------------------------------------- */
+
+static void read_joints(sim_arm *a)
+{
+    int i;
+    for (i = 0; i < ARM_NJ; i++) {
+        a->q[i] = a->q_init[i] + dJointGetHingeAngle(a->joint[i]);
+        a->qd[i] = dJointGetHingeAngleRate(a->joint[i]);
+    }
+}
+
+static double friction_Nm(double qd)
+{
+    /* tanh smooths the Coulomb sign so the integrator does not chatter. */
+    return -arms_cfg->arm_friction_viscous * qd - arms_cfg->arm_friction_coulomb * tanh(qd / 0.01);
+}
+
+static void set_brake(sim_arm *a, int on)
+{
+    int i;
+    for (i = 0; i < ARM_NJ; i++) {
+        dJointSetHingeParam(a->joint[i], dParamVel, 0.0);
+        dJointSetHingeParam(a->joint[i], dParamFMax, on ? a->model->tau_max_Nm[i] : 0.0);
+    }
+}
+
+static void arms_before_step(sim_world *w)
+{
+    int k, i;
+    for (k = 0; k < SIM_ARMS; k++) {
+        sim_arm *a = &sim_arm_pair[k];
+        const int stale = !a->have_cmd || w->step - a->cmd_step > ARM_STALE_STEPS;
+        const int brake = stale || a->mode == TANDEM_ARM_COMMAND_T_MODE_BRAKE;
+        if (stale && !a->stale && a->have_cmd)
+            w->stale_commands++;
+        a->stale = stale;
+        read_joints(a);
+        set_brake(a, brake);
+        for (i = 0; i < ARM_NJ; i++) {
+            double tau = brake ? 0.0 : a->tau_cmd[i];
+            const double lim = a->model->tau_max_Nm[i];
+            tau = tau > lim ? lim : (tau < -lim ? -lim : tau);
+            a->tau_applied[i] = tau;
+            dJointAddHingeTorque(a->joint[i], tau + friction_Nm(a->qd[i]));
+        }
+    }
+}
+
+void sim_arm_tool(const sim_arm *a, double p_world[3], double R_world[9])
+{
+    double T[16], Tw[16];
+    arm_tool tool;
+    const double off[3] = { 0.0, 0.0, CELL_TOOL_LENGTH_M };
+    arm_tool_offset(&tool, off);
+    arm_fk(a->model, &tool, a->q, T);
+    tf_mul(Tw, a->T_world_mount, T);
+    tf_pos(p_world, Tw);
+    if (R_world)
+        tf_rot(R_world, Tw);
+}
+
+static void publish_state(sim_world *w, int k)
+{
+    sim_arm *a = &sim_arm_pair[k];
+    tandem_arm_state_t s;
+    int i;
+    read_joints(a);
+    memset(&s, 0, sizeof s);
+    s.seq = a->seq++;
+    s.utime = daemon_utime_now();
+    s.step = w->step;
+    s.sim_time_s = w->time_s;
+    s.arm = (int8_t)(k + 1);
+    a->max_contact_N = 0.0;
+    for (i = 0; i < ARM_NJ; i++) {
+        s.q_rad[i] = a->q[i];
+        s.qd_radps[i] = a->qd[i];
+        s.tau_applied_Nm[i] = a->tau_applied[i];
+        a->contact_N[i] = sim_contact_force_on(w, a->link[i]);
+        s.contact_force_N[i] = a->contact_N[i];
+        if (a->contact_N[i] > a->max_contact_N)
+            a->max_contact_N = a->contact_N[i];
+    }
+    s.max_contact_force_N = a->max_contact_N;
+    sim_arm_tool(a, s.tool_position_m, NULL);
+    s.gripper_closed = (int8_t)a->gripper_closed;
+    s.holding_workpiece = a->holding;
+    tandem_arm_state_t_publish(w->lcm, state_channel[k], &s);
+}
+
+static void arms_after_step(sim_world *w)
+{
+    int k;
+    for (k = 0; k < SIM_ARMS; k++)
+        publish_state(w, k);
+}
+
+/* ---- the stick ------------------------------------------------------------ */
+
+static dGeomID stick;
+static int stick_target, stick_link;
+
+static void remove_stick(void)
+{
+    if (stick) {
+        dGeomDestroy(stick);
+        stick = NULL;
+    }
+}
+
+/* Place the rod just ahead of the link along its current motion, across
+ * both the motion and the link, so the link runs into it. */
+static int stick_pose_for_link(const tandem_sim_control_t *c, double centre[3], double axis[3])
+{
+    const sim_arm *a = &sim_arm_pair[c->target - 1];
+    const dBodyID b = a->link[c->link - 1];
+    const dReal *p = dBodyGetPosition(b), *v = dBodyGetLinearVel(b), *R = dBodyGetRotation(b);
+    double dir[3], along[3], speed;
+    vec3_set(dir, v[0], v[1], v[2]);
+    speed = vec3_normalize(dir, dir);
+    if (speed < 1e-3) {
+        /* Not moving: put the stick above the link, where a lift would go. */
+        vec3_set(dir, 0.0, 0.0, 1.0);
+    }
+    vec3_set(along, R[0], R[4], R[8]);         /* link x axis, roughly along it */
+    vec3_cross(axis, dir, along);
+    if (vec3_normalize(axis, axis) < 1e-6)
+        vec3_set(axis, 0.0, 0.0, 1.0);
+    vec3_set(centre, p[0], p[1], p[2]);
+    vec3_axpy(centre, centre, link_radius_m[c->link - 1] + c->radius_m + 0.005, dir);
+    return 0;
+}
+
+static int arms_control(sim_world *w, const tandem_sim_control_t *c)
+{
+    double centre[3], axis[3];
+    dMatrix3 Rm;
+    if (c->command == TANDEM_SIM_CONTROL_T_REMOVE_STICK) {
+        remove_stick();
+        return 1;
+    }
+    if (c->command != TANDEM_SIM_CONTROL_T_INSERT_STICK)
+        return 0;
+    if (c->length_m <= 0.0 || c->length_m > 2.0 || c->radius_m <= 0.0 || c->radius_m > 0.1)
+        return -1;
+    if (c->link == 0) {
+        vec3_copy(centre, c->position_m);
+        if (vec3_normalize(axis, c->axis) < 1e-9)
+            return -1;
+    } else {
+        if (c->target < 1 || c->target > SIM_ARMS || c->link < 1 || c->link > ARM_NJ)
+            return -1;
+        stick_pose_for_link(c, centre, axis);
+    }
+    remove_stick();
+    stick = dCreateCapsule(w->space, c->radius_m, c->length_m);
+    {
+        double R[9], rot_axis[3];
+        const double z[3] = { 0, 0, 1 };
+        int r;
+        vec3_cross(rot_axis, z, axis);
+        rot_from_axis_angle(R, vec3_norm(rot_axis) > 1e-12 ? rot_axis : (double[3]){ 1, 0, 0 },
+                            atan2(vec3_norm(rot_axis), vec3_dot(z, axis)));
+        for (r = 0; r < 3; r++) {
+            Rm[4 * r] = R[3 * r]; Rm[4 * r + 1] = R[3 * r + 1]; Rm[4 * r + 2] = R[3 * r + 2];
+            Rm[4 * r + 3] = 0.0;
+        }
+    }
+    dGeomSetRotation(stick, Rm);
+    dGeomSetPosition(stick, centre[0], centre[1], centre[2]);
+    dGeomSetCategoryBits(stick, SIM_CAT_STICK);
+    dGeomSetCollideBits(stick, SIM_CAT_ARM);
+    stick_target = c->target;
+    stick_link = c->link;
+    fprintf(stderr, "tandem-sim: stick in at (%.3f %.3f %.3f) for arm %d link %d\n",
+            centre[0], centre[1], centre[2], c->target, c->link);
+    return 1;
+}
+
+static void arms_status(sim_world *w, tandem_sim_status_t *s)
+{
+    (void)w;
+    s->stick_inserted = stick != NULL;
+    s->stick_target = stick_target;
+    s->stick_link = stick_link;
+    if (stick) {
+        const dReal *p = dGeomGetPosition(stick);
+        vec3_set(s->stick_position_m, p[0], p[1], p[2]);
+    }
+}
+
+const sim_model_ops sim_arms_ops = {
+    "arms", arms_create, arms_destroy, arms_before_step, arms_after_step, arms_control, arms_status
+};

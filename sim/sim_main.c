@@ -1,0 +1,416 @@
+/* tandem-sim: the ODE simulator daemon (SPEC.md §1, §5).
+ * Owns the world and the clock; models (arms, rovers) plug in through
+ * sim_model_ops. In lockstep it publishes step k, then waits until every
+ * registered controller has answered k before stepping to k+1.
+ */
+#include "sim.h"
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "tandem_clock_ack_t.h"
+#include "tandem_sim_clock_t.h"
+#include "tandem_sim_control_t.h"
+#include "tandem_sim_status_t.h"
+
+typedef struct sim_app {
+    sim_world  w;
+    sim_config cfg;
+    int64_t    max_steps;      /* 0 = run forever */
+    int        expect;         /* lockstep: participants to wait for at start */
+    const sim_model_ops *models[2];
+    int        n_models;
+    int        reset_pending;
+    uint64_t   next_seed;
+} sim_app;
+
+static sim_app app;
+
+static void usage(void)
+{
+    printf("usage: tandem-sim [options]\n"
+           "ODE simulator of the tandem world: two PUMA 560 arms with a table,\n"
+           "workpieces, vision camera and stick; Pioneer robots with sonar and\n"
+           "beacons. Steps at 1 kHz on the wall clock, or in lockstep.\n\n"
+           "  --seed S          random seed (noise, workpiece stream); default 1\n"
+           "  --steps N         stop after N steps (0 = run until stopped)\n"
+           "  --expect N        lockstep: wait for N controllers before the first step\n"
+           "  --timeout-ms MS   lockstep: drop a controller silent this long (default 2000)\n"
+           "  --no-arms         leave the PUMA pair out\n"
+           "  --workpieces N    workpieces to feed (0 = endless, default)\n"
+           "  --friction V,C    arm joint viscous (N m s/rad) and Coulomb (N m) friction\n"
+           "  --rovers N        number of Pioneer robots (default 0)\n"
+           "  --world NAME      rover world: open | obstacles | corridor | deadzone\n"
+           DAEMON_COMMON_HELP);
+}
+
+static int parse_args(int argc, char **argv)
+{
+    static const struct option opts[] = {
+        { "seed", required_argument, 0, 's' },
+        { "steps", required_argument, 0, 'n' },
+        { "expect", required_argument, 0, 'e' },
+        { "timeout-ms", required_argument, 0, 't' },
+        { "no-arms", no_argument, 0, 'A' },
+        { "workpieces", required_argument, 0, 'W' },
+        { "friction", required_argument, 0, 'f' },
+        { "rovers", required_argument, 0, 'r' },
+        { "world", required_argument, 0, 'w' },
+        DAEMON_COMMON_OPTIONS,
+        { 0, 0, 0, 0 }
+    };
+    int c;
+    long v;
+    double ms;
+    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
+        int rc = daemon_parse_common(&app.w.d, c, optarg);
+        if (rc == 2) {
+            usage();
+            exit(0);
+        }
+        if (rc < 0)
+            return -1;
+        if (rc == 1)
+            continue;
+        switch (c) {
+        case 's':
+            if (parse_int_opt("tandem-sim", "--seed", optarg, 0, 2147483647L, &v) < 0) return -1;
+            app.w.seed = (uint64_t)v;
+            break;
+        case 'n':
+            if (parse_int_opt("tandem-sim", "--steps", optarg, 0, 2000000000L, &v) < 0) return -1;
+            app.max_steps = v;
+            break;
+        case 'e':
+            if (parse_int_opt("tandem-sim", "--expect", optarg, 0, SIM_MAX_PARTICIPANTS, &v) < 0) return -1;
+            app.expect = (int)v;
+            break;
+        case 't':
+            if (parse_double_opt("tandem-sim", "--timeout-ms", optarg, 10.0, 600000.0, &ms) < 0) return -1;
+            app.w.lockstep_timeout_s = ms * 1e-3;
+            break;
+        case 'A':
+            app.cfg.arms = 0;
+            break;
+        case 'W':
+            if (parse_int_opt("tandem-sim", "--workpieces", optarg, 0, 100000L, &v) < 0) return -1;
+            app.cfg.workpieces = (int)v;
+            break;
+        case 'f': {
+            char *comma = strchr(optarg, ',');
+            if (!comma) {
+                fprintf(stderr, "tandem-sim: --friction: expected VISCOUS,COULOMB\n");
+                return -1;
+            }
+            *comma = '\0';
+            if (parse_double_opt("tandem-sim", "--friction (viscous)", optarg, 0.0, 100.0, &app.cfg.arm_friction_viscous) < 0 ||
+                parse_double_opt("tandem-sim", "--friction (Coulomb)", comma + 1, 0.0, 100.0, &app.cfg.arm_friction_coulomb) < 0)
+                return -1;
+            break;
+        }
+        case 'r':
+            if (parse_int_opt("tandem-sim", "--rovers", optarg, 0, 1000L, &v) < 0) return -1;
+            app.cfg.rovers = (int)v;
+            break;
+        case 'w':
+            if (strcmp(optarg, "open") && strcmp(optarg, "obstacles") &&
+                strcmp(optarg, "corridor") && strcmp(optarg, "deadzone")) {
+                fprintf(stderr, "tandem-sim: --world: '%s' is not open|obstacles|corridor|deadzone\n", optarg);
+                return -1;
+            }
+            snprintf(app.cfg.rover_world, sizeof app.cfg.rover_world, "%s", optarg);
+            break;
+        default:
+            usage();
+            return -1;
+        }
+    }
+    if (optind < argc) {
+        fprintf(stderr, "tandem-sim: unexpected argument '%s'\n", argv[optind]);
+        return -1;
+    }
+    return 0;
+}
+
+/* ---- messages in ---------------------------------------------------------- */
+
+static void on_ack(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_clock_ack_t m;
+    (void)ch; (void)u;
+    app.w.d.msgs.received++;
+    if (tandem_clock_ack_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
+        app.w.d.msgs.rejected++;
+        return;
+    }
+    if (m.step < 0 || m.period_steps < 1 || m.period_steps > 100000 || m.name[0] == '\0' ||
+        m.step > app.w.step) {
+        app.w.d.msgs.rejected++;
+    } else {
+        sim_lockstep_on_ack(&app.w, m.name, m.step, m.period_steps, m.leaving);
+    }
+    tandem_clock_ack_t_decode_cleanup(&m);
+}
+
+static int control_valid(const tandem_sim_control_t *c)
+{
+    return c->command >= TANDEM_SIM_CONTROL_T_RESET && c->command <= TANDEM_SIM_CONTROL_T_QUIT &&
+           all_finite(c->position_m, 3) && all_finite(c->axis, 3) &&
+           isfinite(c->length_m) && isfinite(c->radius_m) && c->seed >= 0;
+}
+
+static void on_control(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_sim_control_t m;
+    int i, handled = 0;
+    (void)ch; (void)u;
+    app.w.d.msgs.received++;
+    if (tandem_sim_control_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
+        app.w.d.msgs.rejected++;
+        return;
+    }
+    if (!control_valid(&m)) {
+        app.w.d.msgs.rejected++;
+        goto out;
+    }
+    switch (m.command) {
+    case TANDEM_SIM_CONTROL_T_PAUSE:  app.w.paused = 1; handled = 1; break;
+    case TANDEM_SIM_CONTROL_T_RESUME: app.w.paused = 0; handled = 1; break;
+    case TANDEM_SIM_CONTROL_T_QUIT:   daemon_request_stop(); handled = 1; break;
+    case TANDEM_SIM_CONTROL_T_SET_SEED: app.next_seed = (uint64_t)m.seed; handled = 1; break;
+    case TANDEM_SIM_CONTROL_T_RESET:
+        app.next_seed = (uint64_t)m.seed;
+        app.reset_pending = 1;
+        handled = 1;
+        break;
+    default:
+        for (i = 0; i < app.n_models && !handled; i++) {
+            int rc = app.models[i]->control ? app.models[i]->control(&app.w, &m) : 0;
+            if (rc < 0) {
+                app.w.d.msgs.rejected++;
+                handled = -1;
+            } else if (rc > 0) {
+                handled = 1;
+            }
+        }
+    }
+    if (handled == 0)
+        app.w.d.msgs.rejected++;
+out:
+    tandem_sim_control_t_decode_cleanup(&m);
+}
+
+/* ---- messages out --------------------------------------------------------- */
+
+static void publish_clock(void)
+{
+    tandem_sim_clock_t c;
+    c.seq = app.w.clock_seq++;
+    c.utime = daemon_utime_now();
+    c.step = app.w.step;
+    c.sim_time_s = app.w.time_s;
+    c.mode = app.w.lockstep ? TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP : TANDEM_SIM_CLOCK_T_MODE_REALTIME;
+    c.paused = (int8_t)app.w.paused;
+    c.seed = (int64_t)app.w.seed;
+    tandem_sim_clock_t_publish(app.w.lcm, "SIM_CLOCK", &c);
+}
+
+static void publish_status(void)
+{
+    tandem_sim_status_t s;
+    int i, n = 0;
+    memset(&s, 0, sizeof s);
+    for (i = 0; i < app.w.n_part; i++)
+        n += app.w.part[i].active;
+    s.seq = app.w.status_seq++;
+    s.utime = daemon_utime_now();
+    s.step = app.w.step;
+    s.sim_time_s = app.w.time_s;
+    s.mode = (int8_t)app.w.lockstep;
+    s.paused = (int8_t)app.w.paused;
+    s.n_participants = n;
+    s.lockstep_timeouts = app.w.lockstep_timeouts;
+    s.state_hash = (int64_t)sim_state_hash(&app.w);
+    s.msgs_received = app.w.d.msgs.received;
+    s.msgs_rejected = app.w.d.msgs.rejected;
+    s.stale_commands = app.w.stale_commands;
+    for (i = 0; i < app.n_models; i++)
+        if (app.models[i]->status)
+            app.models[i]->status(&app.w, &s);
+    tandem_sim_status_t_publish(app.w.lcm, "SIM_STATUS", &s);
+}
+
+/* ---- the step ------------------------------------------------------------- */
+
+static int build_world(void)
+{
+    int i;
+    if (sim_world_create(&app.w) != 0)
+        return -1;
+    for (i = 0; i < app.n_models; i++)
+        if (app.models[i]->create(&app.w, &app.cfg) != 0) {
+            fprintf(stderr, "tandem-sim: cannot create model '%s'\n", app.models[i]->name);
+            return -1;
+        }
+    return 0;
+}
+
+static void destroy_world(void)
+{
+    int i;
+    for (i = app.n_models - 1; i >= 0; i--)
+        app.models[i]->destroy(&app.w);
+    sim_world_destroy(&app.w);
+}
+
+static void publish_step(void)
+{
+    int i;
+    for (i = 0; i < app.n_models; i++)
+        app.models[i]->after_step(&app.w);
+    if (app.w.step % 100 == 0)
+        publish_status();
+    publish_clock();
+}
+
+static void advance(void)
+{
+    int i;
+    for (i = 0; i < app.n_models; i++)
+        app.models[i]->before_step(&app.w);
+    sim_world_step(&app.w);
+    publish_step();
+}
+
+static void maybe_reset(void)
+{
+    if (!app.reset_pending)
+        return;
+    app.reset_pending = 0;
+    destroy_world();
+    app.w.seed = app.next_seed;
+    if (build_world() != 0) {
+        daemon_request_stop();
+        return;
+    }
+    fprintf(stderr, "tandem-sim: reset with seed %llu\n", (unsigned long long)app.w.seed);
+    publish_step();
+}
+
+static int active_participants(void)
+{
+    int i, n = 0;
+    for (i = 0; i < app.w.n_part; i++)
+        n += app.w.part[i].active;
+    return n;
+}
+
+/* Waits for the controllers due at the current step; bounded by the timeout. */
+static void wait_for_answers(void)
+{
+    const int64_t t0 = rtloop_now_ns();
+    int64_t last_pub = t0;
+    while (!daemon_stop_requested()) {
+        const int64_t now = rtloop_now_ns();
+        const int starting = app.w.step == 0 && active_participants() < app.expect;
+        if (!starting && !app.w.paused && sim_lockstep_ready(&app.w, app.w.step))
+            return;
+        if (!starting && !app.w.paused && (double)(now - t0) * 1e-9 > app.w.lockstep_timeout_s) {
+            sim_lockstep_drop_late(&app.w, app.w.step);
+            return;
+        }
+        /* Until everyone is there (or while paused), keep announcing the step. */
+        if ((starting || app.w.paused) && now - last_pub > 100000000LL) {
+            publish_clock();
+            last_pub = now;
+        }
+        lcm_handle_timeout(app.w.lcm, 10);
+        if (app.reset_pending)
+            return;
+    }
+}
+
+static int steps_done(void)
+{
+    return app.max_steps > 0 && app.w.step >= app.max_steps;
+}
+
+static void run_lockstep(void)
+{
+    publish_step();
+    while (!daemon_stop_requested() && !steps_done()) {
+        int64_t t0;
+        wait_for_answers();
+        if (app.reset_pending) {
+            maybe_reset();
+            continue;
+        }
+        if (daemon_stop_requested())
+            break;
+        t0 = rtloop_now_ns();
+        advance();
+        rtloop_record(&app.w.d.loop, t0);
+        if (t0 - app.w.d.last_health_ns >= 1000000000LL) {
+            app.w.d.last_health_ns = t0;
+            daemon_publish_health(&app.w.d);
+        }
+    }
+}
+
+static void run_realtime(void)
+{
+    rtloop *l = &app.w.d.loop;
+    l->next_ns = rtloop_now_ns() + l->period_ns;
+    publish_step();
+    while (!daemon_stop_requested() && !steps_done()) {
+        rtloop_wait(l);
+        daemon_drain(&app.w.d);
+        maybe_reset();
+        if (!app.w.paused)
+            advance();
+        else if (l->cycles % 100 == 0)
+            publish_clock();
+        rtloop_end_cycle(l);
+        if (l->wake_ns - app.w.d.last_health_ns >= 1000000000LL) {
+            app.w.d.last_health_ns = l->wake_ns;
+            daemon_publish_health(&app.w.d);
+        }
+    }
+}
+
+int main(int argc, char **argv)
+{
+    memset(&app, 0, sizeof app);
+    daemon_defaults(&app.w.d, "tandem-sim", SIM_DT_S);
+    app.w.seed = 1;
+    app.w.lockstep_timeout_s = 2.0;
+    app.cfg.arms = 1;
+    snprintf(app.cfg.rover_world, sizeof app.cfg.rover_world, "open");
+    if (parse_args(argc, argv) != 0)
+        return 2;
+    app.w.lockstep = app.w.d.lockstep;
+    app.w.d.period_s = SIM_DT_S;
+    if (app.cfg.arms)
+        app.models[app.n_models++] = &sim_arms_ops;
+    if (app.cfg.rovers > 0)
+        app.models[app.n_models++] = &sim_rovers_ops;
+    if (daemon_start(&app.w.d) != 0)
+        return 1;
+    app.w.lcm = app.w.d.lcm;
+    lcm_subscribe(app.w.lcm, "SIM_ACK", on_ack, NULL);
+    lcm_subscribe(app.w.lcm, "SIM_CONTROL", on_control, NULL);
+    if (build_world() != 0)
+        return 1;
+    if (app.w.lockstep)
+        run_lockstep();
+    else
+        run_realtime();
+    printf("tandem-sim: stopped at step %lld state_hash=%016llx rejected=%lld\n",
+           (long long)app.w.step, (unsigned long long)sim_state_hash(&app.w),
+           (long long)app.w.d.msgs.rejected);
+    fflush(stdout);
+    publish_status();
+    daemon_finish(&app.w.d);
+    destroy_world();
+    return 0;
+}

@@ -1,0 +1,38 @@
+/* jointctl: computed-torque joint control (SPEC.md §2.2 inner loop, §7 hold). */
+#include "jointctl.h"
+#include <math.h>
+
+static const double gravity_down[3] = { 0.0, 0.0, -9.81 };
+
+int jointctl_saturate(const arm_model *m, double tau_Nm[ARM_NJ])
+{
+    int i, hit = 0;
+    for (i = 0; i < ARM_NJ; i++) {
+        const double lim = m->tau_max_Nm[i];
+        if (tau_Nm[i] > lim) { tau_Nm[i] = lim; hit = 1; }
+        if (tau_Nm[i] < -lim) { tau_Nm[i] = -lim; hit = 1; }
+    }
+    return hit;
+}
+
+int jointctl_torque(const arm_model *m, const arm_payload *payload, const jointctl_gains *g,
+                    const double q[ARM_NJ], const double qd[ARM_NJ],
+                    const double q_d[ARM_NJ], const double qd_d[ARM_NJ], const double qdd_d[ARM_NJ],
+                    double tau_Nm[ARM_NJ], int *saturated)
+{
+    double a[ARM_NJ];
+    const double kp = g->wn_radps * g->wn_radps, kv = 2.0 * g->zeta * g->wn_radps;
+    int i, hit;
+    if (arm_q_finite(q_d) != 0 || arm_q_finite(qd_d) != 0 || arm_q_finite(qdd_d) != 0 ||
+        !(kp >= 0.0) || !(kv >= 0.0))
+        return -1;
+    for (i = 0; i < ARM_NJ; i++)
+        a[i] = qdd_d[i] + kv * (qd_d[i] - qd[i]) + kp * (q_d[i] - q[i]);
+    /* RNE with the servo acceleration is M a + C qd + g in one pass. */
+    if (arm_rne(m, q, qd, a, gravity_down, payload, tau_Nm) != 0)
+        return -1;
+    hit = jointctl_saturate(m, tau_Nm);
+    if (saturated)
+        *saturated = hit;
+    return 0;
+}

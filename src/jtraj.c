@@ -1,0 +1,56 @@
+/* jtraj: quintic rest-to-rest joint trajectory, s(tau) = 10 tau^3 - 15 tau^4
+ * + 6 tau^5. Peak of ds/dtau is 15/8 and of d2s/dtau2 is 10/sqrt(3), which
+ * gives the shortest duration meeting the speed and acceleration bounds.
+ */
+#include "jtraj.h"
+#include <math.h>
+
+#define QUINTIC_PEAK_VEL 1.875
+#define QUINTIC_PEAK_ACC 5.773502691896258
+
+int jtraj_plan(jtraj *t, const arm_model *m, const double q0[ARM_NJ], const double q1[ARM_NJ],
+               double speed_frac, double qdd_max_radps2)
+{
+    int i;
+    double T = 0.0;
+    if (arm_q_finite(q0) != 0 || arm_q_finite(q1) != 0 || !(speed_frac > 0.0 && speed_frac <= 1.0) ||
+        !(qdd_max_radps2 > 0.0) || !isfinite(qdd_max_radps2))
+        return -1;
+    for (i = 0; i < ARM_NJ; i++) {
+        const double dq = fabs(q1[i] - q0[i]);
+        const double t_vel = QUINTIC_PEAK_VEL * dq / (speed_frac * m->qd_max_radps[i]);
+        const double t_acc = sqrt(QUINTIC_PEAK_ACC * dq / qdd_max_radps2);
+        if (t_vel > T) T = t_vel;
+        if (t_acc > T) T = t_acc;
+        t->q0[i] = q0[i];
+        t->q1[i] = q1[i];
+    }
+    t->duration_s = T;
+    return 0;
+}
+
+void jtraj_at(const jtraj *t, double t_s, double q[ARM_NJ], double qd[ARM_NJ], double qdd[ARM_NJ])
+{
+    double tau, s, ds, dds;
+    int i;
+    if (t->duration_s <= 0.0) {
+        tau = 1.0;
+    } else {
+        tau = t_s / t->duration_s;
+        tau = tau < 0.0 ? 0.0 : (tau > 1.0 ? 1.0 : tau);
+    }
+    s = tau * tau * tau * (10.0 - 15.0 * tau + 6.0 * tau * tau);
+    if (t->duration_s > 0.0 && tau > 0.0 && tau < 1.0) {
+        ds = 30.0 * tau * tau * (1.0 - tau) * (1.0 - tau) / t->duration_s;
+        dds = 60.0 * tau * (1.0 - tau) * (1.0 - 2.0 * tau) / (t->duration_s * t->duration_s);
+    } else {
+        ds = 0.0;
+        dds = 0.0;
+    }
+    for (i = 0; i < ARM_NJ; i++) {
+        const double dq = t->q1[i] - t->q0[i];
+        q[i] = t->q0[i] + s * dq;
+        qd[i] = ds * dq;
+        qdd[i] = dds * dq;
+    }
+}
