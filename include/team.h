@@ -1,0 +1,81 @@
+/* team: the table of team-mates built from their team messages (SPEC.md
+ * section 4, distribution): heartbeat timeout, late joiners, the team
+ * average reference R0 and fusion of camera beacon observations.
+ *
+ * Positions are of the point O (the beacon) in the team frame. Reference
+ * R0: every alive member not announcing LEAVE, plus self, each extrapolated
+ * to now along its reported (V, w) (at most timeout_s), averaged:
+ * x0, y0, V0, w0 arithmetic, theta0 the circular mean atan2(sum sin, sum cos).
+ *
+ * Beacon fusion is a complementary filter on the OFFSET between where a
+ * mate says it is (its own odometry: smooth but drifting) and where our
+ * camera sees it (noisy but drift-free relative to us): each observation
+ * moves the offset by alpha of the innovation, and the mate's fused
+ * position is reported + offset. With alpha = 1 the last observation wins;
+ * with alpha = 0 the camera is ignored.
+ */
+#ifndef TANDEM_TEAM_H
+#define TANDEM_TEAM_H
+
+#include <stdint.h>
+
+#include "unicycle.h"
+#include "vec2.h"
+
+#define TEAM_MAX 128
+#define TEAM_TIMEOUT_S_DEFAULT 1.0
+
+typedef struct {
+    int32_t robot;
+    double  x_m, y_m, theta_rad;  /* reported pose of O */
+    double  v_mps, w_radps;
+    int     formation;            /* FORMATION_* */
+    double  scale;
+    int     announce;             /* FORMATION_ANN_* */
+    int32_t announce_seq;
+    double  t_s;                  /* time heard, caller's clock */
+    double  off_x_m, off_y_m;     /* camera correction (see above) */
+    int     observed;             /* number of beacon observations fused */
+} team_member_t;
+
+typedef struct {
+    int32_t self_id;
+    double  timeout_s;
+    int     n;                    /* team-mates held (self not included) */
+    team_member_t m[TEAM_MAX];    /* sorted by robot id */
+} team_t;
+
+int team_init(team_t *t, int32_t self_id, double timeout_s);
+
+/* A team message (fields robot .. t_s; offsets are ignored). Returns 1 if
+ * the robot was not known (a late joiner, or one back after a timeout:
+ * re-slot), 0 if refreshed or ignored as older than what is held, -1 if
+ * invalid (non-finite, own id, bad formation/scale) or the table is full. */
+int team_update(team_t *t, const team_member_t *msg);
+
+/* Drop every mate silent for more than timeout_s; returns how many. */
+int team_expire(team_t *t, double now_s);
+
+const team_member_t *team_find(const team_t *t, int32_t robot);
+
+/* Sorted ids of the team including self (for formation_slot_of);
+ * returns the count (at most cap). */
+int team_ids(const team_t *t, int32_t *ids, int cap);
+
+/* Fused position of a mate (reported + camera offset); -1 if unknown. */
+int team_position(const team_t *t, int32_t robot, double xy_m[2]);
+
+/* Camera sees `robot`'s beacon at (range, bearing from our heading) from
+ * our pose own_o (camera at O). alpha in [0, 1]. -1 on bad input or
+ * unknown robot. */
+int team_observe(team_t *t, int32_t robot, const pose2_t *own_o, double range_m,
+                 double bearing_rad, double alpha);
+
+/* Team-average reference R0 at now_s. self may be NULL (not counted);
+ * self_left = 1 leaves self out of the average (own dead-zone escape).
+ * Returns the number of robots averaged; -1 if none or bad input. */
+int team_reference(unicycle_state_t *ref, const team_t *t,
+                   const unicycle_state_t *self, int self_left, double d_m,
+                   double now_s);
+
+#endif
