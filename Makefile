@@ -43,12 +43,15 @@ SIM_SRC    := $(wildcard sim/*.c)
 SIM_OBJ    := $(patsubst sim/%.c,$(OBJ)/sim/%.o,$(SIM_SRC))
 SCEN_SRC   := $(wildcard tools/scenario/*.c)
 SCEN_OBJ   := $(patsubst tools/scenario/%.c,$(OBJ)/scenario/%.o,$(SCEN_SRC))
+# every tools/scenario/scenario_<name>.c but main/util defines scenario_<name>
+SCEN_NAMES := $(filter-out main util,$(patsubst tools/scenario/scenario_%.c,%,$(SCEN_SRC)))
+SCEN_LIST  := $(foreach n,$(SCEN_NAMES),&scenario_$(n),)
 # every daemons/tandem_<name>.c and tools/tandem_<name>.c is one program tandem-<name>
 DAEMON_SRC := $(wildcard daemons/tandem_*.c)
 TOOL_SRC   := $(wildcard tools/tandem_*.c)
 PROGS      := $(patsubst daemons/tandem_%.c,$(BIN)/tandem-%,$(DAEMON_SRC)) \
               $(patsubst tools/tandem_%.c,$(BIN)/tandem-%,$(TOOL_SRC)) \
-              $(BIN)/tandem-sim $(if $(SCEN_SRC),$(BIN)/tandem-scenario)
+              $(BIN)/tandem-sim $(if $(SCEN_NAMES),$(BIN)/tandem-scenario)
 UNIT_SRC   := $(wildcard test/test_*.c)
 UNIT_BIN   := $(patsubst test/%.c,$(BIN)/%,$(UNIT_SRC))
 BENCH_SRC  := $(wildcard test/bench_*.c)
@@ -106,7 +109,10 @@ $(BIN)/tandem-sim: $(SIM_OBJ) $(DLIBS)
 	$(CC) $(OPT) $(LDSAN) -o $@ $(SIM_OBJ) $(DLIBS) $(PKG_LIBS) $(LDLIBS)
 $(OBJ)/scenario/%.o: tools/scenario/%.c $(GEN_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+	$(CC) $(CPPFLAGS) -Itools/scenario $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+$(OBJ)/scenario/scenario_main.o: tools/scenario/scenario_main.c $(GEN_STAMP) Makefile $(SCEN_SRC)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) -Itools/scenario $(CFLAGS) '-DSCENARIO_LIST=$(SCEN_LIST)' -MMD -c $< -o $@
 $(BIN)/tandem-scenario: $(SCEN_OBJ) $(DLIBS)
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(LDSAN) -o $@ $(SCEN_OBJ) $(DLIBS) $(PKG_LIBS) $(LDLIBS)

@@ -1,0 +1,35 @@
+/* harness: start tandem daemons as child processes on a private LCM bus,
+ * watch them over LCM, stop them. Shared by the integration tests. */
+#ifndef TANDEM_HARNESS_H
+#define TANDEM_HARNESS_H
+
+#include <stdint.h>
+#include <sys/types.h>
+#include <lcm/lcm.h>
+
+#define HARNESS_MAX_PROCS 16
+
+typedef struct harness {
+    char  url[96];
+    char  bin[256];
+    lcm_t *lcm;
+    pid_t pid[HARNESS_MAX_PROCS];
+    int   out_fd[HARNESS_MAX_PROCS];
+    int   n;
+} harness;
+
+/* Private udpm port per test process so parallel tests never cross-talk. */
+int   harness_open(harness *h, int port_offset);
+/* argv[0] is a program name under build/bin (e.g. "tandem-sim"); NULL-terminated.
+ * stdout of the child is captured (read with harness_read_output). */
+pid_t harness_spawn(harness *h, const char *const argv[]);
+/* Waits for the child to exit within timeout_s; returns its exit status or -1. */
+int   harness_wait(harness *h, pid_t pid, double timeout_s);
+/* Reads all captured stdout of child pid into buf (NUL terminated). */
+int   harness_read_output(harness *h, pid_t pid, char *buf, int cap);
+void  harness_kill_all(harness *h);
+void  harness_close(harness *h);
+/* Handle LCM messages for ms milliseconds. */
+void  harness_pump(harness *h, int ms);
+
+#endif

@@ -1,0 +1,39 @@
+/* tandem-scenario: runs a named experiment in lockstep and writes
+ * DIR/summary.json, CSV time series and PNG plots (SPEC.md §6).
+ * Each scenario is one file scenario_<name>.c exporting a scenario_def;
+ * this header holds the shared output helpers. */
+#ifndef TANDEM_SCENARIO_H
+#define TANDEM_SCENARIO_H
+
+#include <stdio.h>
+
+typedef struct scenario_def {
+    const char *name;
+    const char *summary;                 /* one line for --help */
+    int (*run)(int argc, char **argv);   /* argv[0] = scenario name; exit code */
+} scenario_def;
+
+/* summary.json writer: keys in insertion order, flat object. */
+typedef struct json_out {
+    FILE *f;
+    int   n;
+} json_out;
+
+int  json_open(json_out *j, const char *dir, const char *file);
+void json_num(json_out *j, const char *key, double v);     /* NaN/inf -> null */
+void json_int(json_out *j, const char *key, long long v);
+void json_str(json_out *j, const char *key, const char *v);
+void json_bool(json_out *j, const char *key, int v);
+void json_close(json_out *j);
+
+/* mkdir -p; 0 ok. */
+int   scenario_mkdir(const char *dir);
+/* fopen(dir/file) for writing, with an error message on failure. */
+FILE *scenario_fopen(const char *dir, const char *file);
+/* Runs gnuplot on dir/script (written by the caller); a missing gnuplot
+ * only prints a warning (plots are optional, the numbers are not). */
+int   scenario_gnuplot(const char *dir, const char *script);
+/* Monotonic wall clock in seconds. */
+double scenario_wall_s(void);
+
+#endif

@@ -1,0 +1,38 @@
+/* tandem-scenario NAME [options] --out DIR: dispatch to one scenario. */
+#include <stdio.h>
+#include <string.h>
+#include "scenario.h"
+
+/* Each tools/scenario/scenario_<name>.c defines `const scenario_def
+ * scenario_<name>`; the Makefile lists them in SCENARIO_LIST. */
+extern const scenario_def scenario_carry, scenario_singularity, scenario_liquid, scenario_formation;
+
+static const scenario_def *const all[] = {
+    SCENARIO_LIST
+};
+
+static void usage(FILE *f)
+{
+    size_t i;
+    fprintf(f, "usage: tandem-scenario NAME [options] --out DIR\n"
+               "Runs an experiment (lockstep, deterministic for a seed) and writes\n"
+               "DIR/summary.json, CSV time series and PNG plots.\n\nscenarios:\n");
+    for (i = 0; i < sizeof all / sizeof all[0]; i++)
+        fprintf(f, "  %-13s %s\n", all[i]->name, all[i]->summary);
+    fprintf(f, "\n'tandem-scenario NAME --help' lists a scenario's options.\n");
+}
+
+int main(int argc, char **argv)
+{
+    size_t i;
+    if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+        usage(argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    for (i = 0; i < sizeof all / sizeof all[0]; i++)
+        if (strcmp(argv[1], all[i]->name) == 0)
+            return all[i]->run(argc - 1, argv + 1);
+    fprintf(stderr, "tandem-scenario: unknown scenario '%s'\n", argv[1]);
+    usage(stderr);
+    return 2;
+}

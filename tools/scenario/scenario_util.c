@@ -1,0 +1,116 @@
+/* scenario_util: JSON / CSV / gnuplot helpers for tandem-scenario. */
+#include "scenario.h"
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+int scenario_mkdir(const char *dir)
+{
+    char path[1024];
+    size_t i;
+    snprintf(path, sizeof path, "%s", dir);
+    for (i = 1; path[i]; i++)
+        if (path[i] == '/') {
+            path[i] = '\0';
+            mkdir(path, 0755);
+            path[i] = '/';
+        }
+    if (mkdir(path, 0755) != 0 && errno != EEXIST) {
+        fprintf(stderr, "tandem-scenario: cannot create '%s': %s\n", dir, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+FILE *scenario_fopen(const char *dir, const char *file)
+{
+    char path[1024];
+    FILE *f;
+    snprintf(path, sizeof path, "%s/%s", dir, file);
+    f = fopen(path, "w");
+    if (!f)
+        fprintf(stderr, "tandem-scenario: cannot write '%s': %s\n", path, strerror(errno));
+    return f;
+}
+
+int json_open(json_out *j, const char *dir, const char *file)
+{
+    j->f = scenario_fopen(dir, file);
+    j->n = 0;
+    if (!j->f)
+        return -1;
+    fputs("{\n", j->f);
+    return 0;
+}
+
+static void key(json_out *j, const char *k)
+{
+    fprintf(j->f, "%s  \"%s\": ", j->n++ ? ",\n" : "", k);
+}
+
+void json_num(json_out *j, const char *k, double v)
+{
+    key(j, k);
+    if (isfinite(v))
+        fprintf(j->f, "%.6g", v);
+    else
+        fputs("null", j->f);
+}
+
+void json_int(json_out *j, const char *k, long long v)
+{
+    key(j, k);
+    fprintf(j->f, "%lld", v);
+}
+
+void json_str(json_out *j, const char *k, const char *v)
+{
+    key(j, k);
+    fputc('"', j->f);
+    for (; *v; v++) {
+        if (*v == '"' || *v == '\\')
+            fputc('\\', j->f);
+        fputc(*v, j->f);
+    }
+    fputc('"', j->f);
+}
+
+void json_bool(json_out *j, const char *k, int v)
+{
+    key(j, k);
+    fputs(v ? "true" : "false", j->f);
+}
+
+void json_close(json_out *j)
+{
+    if (!j->f)
+        return;
+    fputs("\n}\n", j->f);
+    fclose(j->f);
+    j->f = NULL;
+}
+
+int scenario_gnuplot(const char *dir, const char *script)
+{
+    char cmd[2048];
+    int rc;
+    if (system("command -v gnuplot >/dev/null 2>&1") != 0) {
+        fprintf(stderr, "tandem-scenario: gnuplot not found; CSV written, PNG plots skipped\n");
+        return 0;
+    }
+    snprintf(cmd, sizeof cmd, "cd '%s' && gnuplot '%s'", dir, script);
+    rc = system(cmd);
+    if (rc != 0)
+        fprintf(stderr, "tandem-scenario: gnuplot %s failed (%d)\n", script, rc);
+    return rc == 0 ? 0 : -1;
+}
+
+double scenario_wall_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
