@@ -22,6 +22,16 @@
  * following a frozen external reference leads it by
  * (A_d + k_v V_d + p_bias) / k_p at most.
  *
+ * Short segments (k2 s_f < 2 k1): eq. 7 would already be fading at s = 0
+ * and the bias might not start the arm, so k2 is raised to 2 k1 / s_f
+ * (bias ~k0 at the start, k0 / (1 + e^k1) at the goal, as for long ones).
+ *
+ * Along the path, X_d is taken at the measured s, so eq. 6 has no
+ * position term there: a constant unmodelled acceleration d opposing the
+ * motion leaves the arm at rest about d / (k_v sqrt(u_m)) short of s_f
+ * (near the end V_d ~ sqrt(u_m) (s_f - s) and p_bias ~ 0). Choose the
+ * done tolerance accordingly.
+ *
  * Orientation channel: rotation R0 -> R1 about the fixed world axis n of
  * R1 R0^T by theta_f (must be < pi). Measured progress: theta =
  * n . log(R R0^T) clamped; reference R_d = Rot(n, theta_ref) R0; the
@@ -59,6 +69,7 @@ typedef enum {
 typedef struct {
     sprofile prof;
     erlaw_gains g;
+    double k2_eff;      /* k2, raised to 2 k1 / s_f on short segments  */
     double e[3];        /* unit direction / rotation axis              */
     double s_time_m;    /* s_d(t) of the time-referenced baseline      */
     double t_s;         /* time since the segment start                */

@@ -38,6 +38,11 @@ static int channel_init(erlaw_channel *c, const double e[3], double s_f, const e
     if (sprofile_plan(&c->prof, s_f, g->v_m, g->a_m, g->u_m) != 0)
         return -1;
     c->g = *g;
+    /* Short segments: eq. 7 would already be fading at s = 0 (k2 s_f < k1)
+     * and the arm might not start. Fade over the last half instead. */
+    c->k2_eff = g->k2;
+    if (s_f > 0.0 && g->k2 * s_f < 2.0 * g->k1)
+        c->k2_eff = 2.0 * g->k1 / s_f;
     vec3_copy(c->e, e);
     c->s_time_m = 0.0;
     c->t_s = 0.0;
@@ -53,7 +58,7 @@ static double bias(const erlaw_channel *c, double s)
 {
     const erlaw_gains *g = &c->g;
     /* s is clamped to [0, s_f] so the exponent is <= k1: no overflow. */
-    return g->k0 / (1.0 + exp(g->k1 - g->k2 * (c->prof.s_f_m - s)));
+    return g->k0 / (1.0 + exp(g->k1 - c->k2_eff * (c->prof.s_f_m - s)));
 }
 
 /* Picks s_ref, advancing the baseline clock when it is the reference. */

@@ -130,6 +130,33 @@ static void test_bias_is_needed(void **st)
     assert_true(erlaw_line_s(&l, m.x) > 1e-3);
 }
 
+/* Short segment (k2 s_f < k1) against an opposing model error of half
+ * the bias: eq. 7 as printed would be fading at s = 0 and never start;
+ * with k2 raised for short segments the mass starts and arrives, short
+ * by about d / (k_v sqrt(u_m)). */
+static void test_short_segment_starts_against_disturbance(void **st)
+{
+    const double p1[3] = { 0.4 + 0.018, -0.2 + 0.024, 0.3 };   /* 0.03 m */
+    const double d = 0.5 * G.k0, offset = d / (G.k_v * sqrt(G.u_m));
+    erlaw_line l;
+    mass m;
+    double t = 0.0;
+    int i;
+    (void)st;
+    assert_int_equal(erlaw_line_init(&l, P0, p1, &G), 0);
+    mass_at(&m, P0);
+    for (t = 0.0; t < 10.0; t += DT) {
+        erlaw_out o;
+        assert_int_equal(erlaw_line_step(&l, m.x, m.v, ERLAW_REF_MEASURED, 0.0, DT, &o), 0);
+        assert_true(o.bias <= G.k0);
+        for (i = 0; i < 3; i++) {
+            m.v[i] += (o.u[i] - d * l.ch.e[i]) * DT;
+            m.x[i] += m.v[i] * DT;
+        }
+    }
+    assert_true(erlaw_done(erlaw_line_s(&l, m.x), 0.03, vec3_norm(m.v), offset + 1e-3, TOL_V));
+}
+
 /* Drives the mass to s ~ s_block, freezes it for block_s seconds, and
  * returns |u| after 0.1 s and at the end of the block. */
 static void block_episode(erlaw_line *l, mass *m, erlaw_ref ref, double s_block, double block_s,
@@ -312,6 +339,7 @@ int main(void)
         cmocka_unit_test(test_reaches_goal_at_rest),
         cmocka_unit_test(test_cross_track_error_decays),
         cmocka_unit_test(test_bias_is_needed),
+        cmocka_unit_test(test_short_segment_starts_against_disturbance),
         cmocka_unit_test(test_blocked_event_vs_time),
         cmocka_unit_test(test_external_reference_bounded_lead),
         cmocka_unit_test(test_rotation_channel),

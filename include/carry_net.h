@@ -1,0 +1,116 @@
+/* carry_net: the two-arm carry task of SPEC 2.4 as const Petri-net tables
+ * and the per-transition lookup table of SPEC 2.5.
+ *
+ * Indices are 0-based: CARRY_P1 = 0 is the seed's p1, CARRY_T1 = 0 its t1.
+ * CARRY_T_VISION is the vision system as a source transition: it puts a
+ * workpiece token in p1, guarded by an inhibitor arc so it may start only
+ * while p1 is empty (the seed's dashed feedback loop).
+ *
+ * Poses are symbolic; their coordinates come from the supervisor / sim
+ * configuration. "From vision" poses are the detected workpiece pose plus
+ * a fixed offset (above it, or at grasp height).
+ *
+ * Segment sequence of each transition (per arm, run in order):
+ *   t1 arm 1: move ABOVE_WORKPIECE (vision)
+ *   t2 arm 1: descend AT_WORKPIECE (vision), grasp, lift ABOVE_WORKPIECE
+ *   t3 both, sync group 1: arm 1 move HANDOVER_1, arm 2 move HANDOVER_2
+ *   t4 arm 2: grasp; then arm 1 (after_partner): release
+ *   t5 arm 2: move ABOVE_RELEASE, descend RELEASE_POSE
+ *   t6 arm 1: back off CLEAR_1, move HOME_1
+ *   t7 arm 2: release, lift ABOVE_RELEASE, move HOME_2
+ */
+#ifndef TANDEM_CARRY_NET_H
+#define TANDEM_CARRY_NET_H
+
+#include <stdint.h>
+
+#include "erlaw.h"
+#include "petri.h"
+
+enum {
+    CARRY_P1 = 0, /* vision has located a workpiece   */
+    CARRY_P2,     /* arm 2 idle at home               */
+    CARRY_P3,     /* arm 1 idle at home               */
+    CARRY_P4,     /* arm 1 above the workpiece        */
+    CARRY_P5,     /* arm 1 holds it                   */
+    CARRY_P6,     /* both arms at the hand-over pose  */
+    CARRY_P7,     /* arm 1 has released it            */
+    CARRY_P8,     /* arm 2 holds it                   */
+    CARRY_P9,     /* arm 2 at the release pose        */
+    CARRY_N_PLACES
+};
+
+enum {
+    CARRY_T1 = 0, /* arm 1 home -> above workpiece    */
+    CARRY_T2,     /* arm 1 grasps                     */
+    CARRY_T3,     /* both to the hand-over, synced    */
+    CARRY_T4,     /* hand-over                        */
+    CARRY_T5,     /* arm 2 to the release pose        */
+    CARRY_T6,     /* arm 1 back home                  */
+    CARRY_T7,     /* arm 2 releases and goes home     */
+    CARRY_T_VISION, /* source: a workpiece located    */
+    CARRY_N_TRANSITIONS
+};
+
+#define CARRY_N_INVARIANTS 2
+
+typedef enum {
+    CARRY_POSE_NONE = 0,
+    CARRY_POSE_HOME_1,
+    CARRY_POSE_ABOVE_WORKPIECE,   /* from vision */
+    CARRY_POSE_AT_WORKPIECE,      /* from vision */
+    CARRY_POSE_HANDOVER_1,
+    CARRY_POSE_CLEAR_1,           /* arm 1 backed off the hand-over */
+    CARRY_POSE_HOME_2,
+    CARRY_POSE_HANDOVER_2,
+    CARRY_POSE_ABOVE_RELEASE,
+    CARRY_POSE_RELEASE_POSE,
+    CARRY_N_POSES
+} carry_pose;
+
+typedef enum { CARRY_GRIP_NONE = 0, CARRY_GRIP_CLOSE = 1, CARRY_GRIP_OPEN = 2 } carry_grip;
+
+/* Numbered like tandem action_segment_t (MOVE_CARTESIAN 0, GRASP 2,
+ * RELEASE 3). */
+typedef enum { CARRY_SEG_MOVE = 0, CARRY_SEG_GRASP = 2, CARRY_SEG_RELEASE = 3 } carry_seg_kind;
+
+#define CARRY_ARM1 1u
+#define CARRY_ARM2 2u
+#define CARRY_MAX_SEGMENTS 4
+
+typedef struct {
+    int8_t kind;   /* carry_seg_kind */
+    int8_t pose;   /* carry_pose, for CARRY_SEG_MOVE */
+} carry_segment;
+
+typedef struct {
+    int8_t n_segments;
+    int8_t after_partner;   /* 1: start once the partner arm has finished
+                               its segments of this transition            */
+    carry_segment seg[CARRY_MAX_SEGMENTS];
+} carry_arm_plan;
+
+typedef struct {
+    const char *name;
+    uint8_t arms;              /* CARRY_ARM1 | CARRY_ARM2, 0 for vision    */
+    int8_t target_pose[2];     /* final pose of arm 1 / arm 2 (NONE: stays) */
+    int8_t gripper[2];         /* net gripper action of arm 1 / arm 2      */
+    erlaw_gains lin;           /* v_m a_m u_m k_p k_v k0 k1 k2 (m, s)      */
+    int32_t sync_group;        /* 0 alone, > 0 arms sharing s*             */
+    carry_arm_plan plan[2];    /* arm 1, arm 2                             */
+} carry_row;
+
+/* The net: N-, N+, inhibitor, gamma0 = [1 1 1 0 0 0 0 0 0], invariants
+ * p3+p4+p5+p6+p7 = 1 (arm 1) and p2+p6+p8+p9 = 1 (arm 2). */
+extern const petri_net carry_net;
+extern const carry_row carry_table[CARRY_N_TRANSITIONS];
+/* Orientation channel gains (rad units) used with every row. */
+extern const erlaw_gains carry_rot_gains;
+
+/* Row of transition t, NULL for a bad index. */
+const carry_row *carry_row_of(int t);
+const char *carry_pose_name(int pose);
+/* 1 if the pose's coordinates come from the vision system. */
+int carry_pose_from_vision(int pose);
+
+#endif

@@ -1,0 +1,228 @@
+/* Unit tests for carry_net (SPEC 2.4, 2.5): reachability of the carry
+ * net, pipelining, the one-workpiece cycle, a randomised concurrent
+ * supervisor, and the lookup table's gains on the point-mass loop. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <string.h>
+#include <math.h>
+
+#include "carry_net.h"
+#include "erlaw.h"
+#include "vec3.h"
+
+static petri_explore_ws WS;
+
+#define BIT(t) (UINT32_C(1) << (t))
+
+static void test_reachability(void **st)
+{
+    petri_report r;
+    int k;
+    (void)st;
+    assert_int_equal(petri_explore(&WS, &carry_net, 4, &r), 0);
+    assert_true(r.complete);
+    assert_true(r.safe);
+    assert_true(r.bounded);
+    assert_false(r.deadlock);
+    assert_int_equal(r.invariant_states, 0);
+    assert_int_equal(r.max_tokens, 1);
+    assert_true(r.n_states > 10);
+    /* independently of the explorer's own check: both invariants with
+     * tokens of running transitions counted at their inputs */
+    for (k = 0; k < r.n_states; k++) {
+        const petri_state *s = &WS.states[k];
+        int arm1 = s->m[CARRY_P3] + s->m[CARRY_P4] + s->m[CARRY_P5] + s->m[CARRY_P6] + s->m[CARRY_P7];
+        int arm2 = s->m[CARRY_P2] + s->m[CARRY_P6] + s->m[CARRY_P8] + s->m[CARRY_P9];
+        int j;
+        for (j = 0; j < CARRY_N_TRANSITIONS; j++) {
+            if (!(s->running & BIT(j)))
+                continue;
+            if (carry_table[j].arms & CARRY_ARM1)
+                arm1++;
+            if (carry_table[j].arms & CARRY_ARM2)
+                arm2++;
+        }
+        assert_int_equal(arm1, 1);
+        assert_int_equal(arm2, 1);
+        /* an arm never runs two actions at once */
+        for (j = 0; j < CARRY_N_TRANSITIONS; j++) {
+            int i;
+            for (i = j + 1; i < CARRY_N_TRANSITIONS; i++)
+                if ((s->running & BIT(j)) && (s->running & BIT(i)))
+                    assert_int_equal(carry_table[i].arms & carry_table[j].arms, 0);
+        }
+    }
+}
+
+/* Pipelining: arm 1 fetches the next workpiece (t1) while arm 2 is still
+ * delivering (t5, t7). */
+static void test_pipelining(void **st)
+{
+    petri_report r;
+    int k, t1_t5 = 0, t1_t7 = 0, t2_t5 = 0;
+    (void)st;
+    assert_int_equal(petri_explore(&WS, &carry_net, 4, &r), 0);
+    for (k = 0; k < r.n_states; k++) {
+        uint32_t run = WS.states[k].running;
+        t1_t5 |= (run & BIT(CARRY_T1)) && (run & BIT(CARRY_T5));
+        t1_t7 |= (run & BIT(CARRY_T1)) && (run & BIT(CARRY_T7));
+        t2_t5 |= (run & BIT(CARRY_T2)) && (run & BIT(CARRY_T5));
+    }
+    assert_true(t1_t5 && t1_t7 && t2_t5);
+}
+
+/* One workpiece: t1..t7 plus vision's new token returns to gamma0; each
+ * step is the seed's lowest-index choice once t1 is done. */
+static void test_one_workpiece_cycle(void **st)
+{
+    static const int seq[] = { CARRY_T1, CARRY_T2, CARRY_T3, CARRY_T4,
+                               CARRY_T5, CARRY_T6, CARRY_T7, CARRY_T_VISION };
+    petri p;
+    size_t k;
+    (void)st;
+    assert_int_equal(petri_init(&p, &carry_net), 0);
+    assert_int_equal(petri_select(&p), CARRY_T1);
+    assert_false(petri_enabled(&p, CARRY_T_VISION));   /* p1 full: inhibited */
+    for (k = 0; k < sizeof seq / sizeof seq[0]; k++) {
+        assert_true(petri_enabled(&p, seq[k]));
+        assert_int_equal(petri_fire(&p, seq[k]), 0);
+        assert_true(petri_invariants_ok(&p));
+    }
+    assert_memory_equal(p.st.m, carry_net.m0, CARRY_N_PLACES);
+    assert_int_equal(p.st.running, 0);
+    assert_int_equal(p.invariant_violations, 0);
+}
+
+/* A supervisor that starts every enabled transition (lowest index first)
+ * and completes running ones in random order: it never deadlocks, the
+ * invariants hold after every event, and workpieces keep flowing. */
+static void test_random_supervisor(void **st)
+{
+    uint32_t rng = 99u;
+    petri p;
+    int ev, delivered = 0;
+    (void)st;
+    assert_int_equal(petri_init(&p, &carry_net), 0);
+    for (ev = 0; ev < 20000; ev++) {
+        int t;
+        while ((t = petri_select(&p)) >= 0)
+            assert_int_equal(petri_start(&p, t), 0);
+        assert_false(petri_dead(&p));
+        assert_true(p.st.running != 0);
+        do {
+            rng = rng * 1664525u + 1013904223u;
+            t = (int)((rng >> 8) % CARRY_N_TRANSITIONS);
+        } while (!petri_running(&p, t));
+        assert_int_equal(petri_complete(&p, t), 0);
+        delivered += t == CARRY_T7;
+    }
+    assert_int_equal(p.invariant_violations, 0);
+    assert_true(delivered > 500);
+}
+
+static void test_table_consistent(void **st)
+{
+    int t, a;
+    (void)st;
+    assert_null(carry_row_of(-1));
+    assert_null(carry_row_of(CARRY_N_TRANSITIONS));
+    for (t = 0; t < CARRY_N_TRANSITIONS; t++) {
+        const carry_row *row = carry_row_of(t);
+        int n_arms = 0;
+        assert_non_null(row);
+        assert_true(erlaw_gains_valid(&row->lin));
+        for (a = 0; a < 2; a++) {
+            const carry_arm_plan *pl = &row->plan[a];
+            int k, last_pose = CARRY_POSE_NONE;
+            int used = (row->arms >> a) & 1u;
+            n_arms += used;
+            assert_true(pl->n_segments >= 0 && pl->n_segments <= CARRY_MAX_SEGMENTS);
+            assert_int_equal(pl->n_segments > 0, used);
+            for (k = 0; k < pl->n_segments; k++)
+                if (pl->seg[k].kind == CARRY_SEG_MOVE) {
+                    assert_true(pl->seg[k].pose > CARRY_POSE_NONE &&
+                                pl->seg[k].pose < CARRY_N_POSES);
+                    last_pose = pl->seg[k].pose;
+                }
+            assert_int_equal(last_pose, row->target_pose[a]);
+        }
+        /* only t3 is synchronised, and it is the only two-arm motion */
+        assert_int_equal(row->sync_group != 0, t == CARRY_T3);
+        if (t == CARRY_T_VISION)
+            assert_int_equal(n_arms, 0);
+        else
+            assert_true(n_arms >= 1);
+    }
+    assert_true(carry_pose_from_vision(carry_table[CARRY_T1].target_pose[0]));
+    assert_int_equal(carry_table[CARRY_T1].arms, CARRY_ARM1);
+    assert_int_equal(carry_table[CARRY_T5].arms, CARRY_ARM2);
+    assert_int_equal(carry_table[CARRY_T4].plan[0].after_partner, 1);
+    assert_string_equal(carry_pose_name(CARRY_POSE_HANDOVER_2), "HANDOVER_2");
+    assert_true(erlaw_gains_valid(&carry_rot_gains));
+}
+
+/* Point-mass run of one segment; returns the time to done (within
+ * tol_s), or 1e9. */
+static double point_mass_segment(const erlaw_gains *g, double len_m, double disturbance,
+                                 double tol_s)
+{
+    const double p0[3] = { 0.3, 0.1, 0.4 };
+    double p1[3], x[3], v[3] = { 0, 0, 0 }, t = 0.0, s_raw_max = 0.0;
+    erlaw_line l;
+    vec3_set(p1, p0[0] + 0.6 * len_m, p0[1] - 0.8 * len_m, p0[2]);
+    assert_int_equal(erlaw_line_init(&l, p0, p1, g), 0);
+    vec3_copy(x, p0);
+    while (t < 30.0) {
+        erlaw_out o;
+        double d[3];
+        int i;
+        if (erlaw_done(erlaw_line_s(&l, x), len_m, vec3_norm(v), tol_s, 5e-3))
+            break;
+        assert_int_equal(erlaw_line_step(&l, x, v, ERLAW_REF_MEASURED, 0.0, 1e-3, &o), 0);
+        for (i = 0; i < 3; i++) {
+            /* an unmodelled constant acceleration error opposing the move */
+            v[i] += (o.u[i] - disturbance * l.ch.e[i]) * 1e-3;
+            x[i] += v[i] * 1e-3;
+        }
+        vec3_sub(d, x, p0);
+        s_raw_max = fmax(s_raw_max, vec3_dot(d, l.ch.e));
+        t += 1e-3;
+    }
+    assert_true(s_raw_max <= len_m + 2e-3);   /* no overshoot */
+    return t < 30.0 ? t : 1e9;
+}
+
+/* Every row's gains bring the loop to rest at the goal. Against an
+ * opposing model error d (here half the bias) the arm still starts and
+ * comes to rest short of the goal by about d / (k_v sqrt(u_m)): along
+ * the path eq. 6 has no position term (X_d is taken at the measured s),
+ * only k_v V_d(s) ~ k_v sqrt(u_m) (s_f - s) near the end resists d. */
+static void test_gains_on_point_mass(void **st)
+{
+    int t;
+    (void)st;
+    for (t = 0; t < CARRY_T_VISION; t++) {
+        const erlaw_gains *g = &carry_table[t].lin;
+        const double d = 0.5 * g->k0, offset = d / (g->k_v * sqrt(g->u_m));
+        assert_true(point_mass_segment(g, 0.08, 0.0, 1e-3) < 5.0);
+        assert_true(point_mass_segment(g, 0.5, 0.0, 1e-3) < 10.0);
+        assert_true(point_mass_segment(g, 0.5, d, offset + 1e-3) < 15.0);
+        assert_true(point_mass_segment(g, 0.08, d, offset + 1e-3) < 10.0);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_reachability),
+        cmocka_unit_test(test_pipelining),
+        cmocka_unit_test(test_one_workpiece_cycle),
+        cmocka_unit_test(test_random_supervisor),
+        cmocka_unit_test(test_table_consistent),
+        cmocka_unit_test(test_gains_on_point_mass),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
