@@ -54,12 +54,14 @@ PROGS      := $(patsubst daemons/tandem_%.c,$(BIN)/tandem-%,$(DAEMON_SRC)) \
               $(BIN)/tandem-sim $(if $(SCEN_NAMES),$(BIN)/tandem-scenario)
 UNIT_SRC   := $(wildcard test/test_*.c)
 UNIT_BIN   := $(patsubst test/%.c,$(BIN)/%,$(UNIT_SRC))
+IT_SRC     := $(wildcard test/integration/it_*.c)
+IT_BIN     := $(patsubst test/integration/%.c,$(BIN)/%,$(IT_SRC))
 BENCH_SRC  := $(wildcard test/bench_*.c)
 BENCH_BIN  := $(patsubst test/%.c,$(BIN)/%,$(BENCH_SRC))
 TYPES_JAR  := build/lib/tandem_types.jar
 
 .PHONY: all run test unit integration bench spy clean deps deps-bench jar
-all: $(PROGS) $(UNIT_BIN) $(TYPES_JAR)
+all: $(PROGS) $(UNIT_BIN) $(IT_BIN) $(TYPES_JAR)
 
 # ---- Debian packages (installs when root, else prints the command) ---------
 deps:
@@ -133,14 +135,20 @@ $(OBJ)/test/%.o: test/%.c $(GEN_STAMP)
 $(BIN)/test_%: $(OBJ)/test/test_%.o $(DLIBS)
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(CMOCKA_LIBS) $(LDLIBS)
+$(OBJ)/it/%.o: test/integration/%.c $(GEN_STAMP)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) -Itest/integration $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+$(BIN)/it_%: $(OBJ)/it/it_%.o $(OBJ)/it/harness.o $(DLIBS)
+	@mkdir -p $(@D)
+	$(CC) $(OPT) $(LDSAN) -o $@ $^ $(PKG_LIBS) $(CMOCKA_LIBS) $(LDLIBS)
 $(BIN)/bench_%: $(OBJ)/test/bench_%.o $(DLIBS)
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(LDLIBS)
 
 unit: $(UNIT_BIN)
 	@tools/run-tests.sh unit $(BIN) $(UNIT_BIN)
-integration: $(PROGS)
-	@tools/run-tests.sh integration $(BIN)
+integration: $(PROGS) $(IT_BIN)
+	@tools/run-tests.sh integration $(BIN) $(IT_BIN)
 
 test: deps
 	@$(MAKE) --no-print-directory all
