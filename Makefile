@@ -43,8 +43,9 @@ SIM_SRC    := $(wildcard sim/*.c)
 SIM_OBJ    := $(patsubst sim/%.c,$(OBJ)/sim/%.o,$(SIM_SRC))
 SCEN_SRC   := $(wildcard tools/scenario/*.c)
 SCEN_OBJ   := $(patsubst tools/scenario/%.c,$(OBJ)/scenario/%.o,$(SCEN_SRC))
-# every tools/scenario/scenario_<name>.c but main/util defines scenario_<name>
-SCEN_NAMES := $(filter-out main util,$(patsubst tools/scenario/scenario_%.c,%,$(SCEN_SRC)))
+# every tools/scenario/scenario_<name>.c but main/util defines scenario_<name>;
+# other .c files there (helpers such as tdsd_*.c) are linked in, not listed
+SCEN_NAMES := $(filter-out main util,$(patsubst tools/scenario/scenario_%.c,%,$(filter tools/scenario/scenario_%.c,$(SCEN_SRC))))
 SCEN_LIST  := $(foreach n,$(SCEN_NAMES),&scenario_$(n),)
 # every daemons/tandem_<name>.c and tools/tandem_<name>.c is one program tandem-<name>
 DAEMON_SRC := $(wildcard daemons/tandem_*.c)
