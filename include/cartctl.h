@@ -1,0 +1,81 @@
+/* cartctl: operational-space computed torque for one arm (SPEC 2.2: the
+ * feedback linearisation that turns the event-referenced law's commanded
+ * tool acceleration u into joint torques).
+ *
+ *   a     = [u_lin; kp_rot log(R_d R^T) - kv_rot w]   (tool accel, base frame)
+ *   qdd   = J# (a - Jdot qd) - k_null P qd
+ *   tau   = RNE(q, qd, qdd) (+ payload), clamped to the motor limits
+ *
+ * J# is the damped least-squares inverse V diag(s / (s^2 + lambda^2)) U^T
+ * from one SVD of the 6x6 tool Jacobian, with lambda^2 = lambda_max^2
+ * (1 - (s_min / sigma_band)^2) when s_min < sigma_band, 0 otherwise
+ * (Maciejewski-Klein): exact inverse away from the wrist singularity,
+ * bounded joint accelerations near it (tool-down poses keep q5 at
+ * -10..-35 deg). P = I - J# J = V diag(lambda^2 / (s^2 + lambda^2)) V^T is
+ * the (damped) null-space projector; -k_null P qd damps the motion J#
+ * cannot see. Jdot qd is the central difference of J along qd.
+ *
+ * Everything is in the arm's base frame (arm_fk's frame); the daemon turns
+ * world vectors into it.
+ */
+#ifndef TANDEM_CARTCTL_H
+#define TANDEM_CARTCTL_H
+
+#include "arm_dyn.h"
+#include "arm_kin.h"
+
+typedef struct cartctl_gains {
+    double kp_rot;       /* 1/s^2: orientation stiffness            */
+    double kv_rot;       /* 1/s:   orientation damping              */
+    double lambda_max;   /* DLS damping at s_min = 0                */
+    double sigma_band;   /* damping fades in below this s_min       */
+    double k_null;       /* 1/s: null-space joint damping           */
+} cartctl_gains;
+
+/* Defaults used by tandem-arm (kp_rot 100, kv_rot 20, lambda_max 0.003,
+ * sigma_band 0.003, k_null 5; the tool-down poses have s_min
+ * 0.003-0.011). */
+void cartctl_gains_default(cartctl_gains *g);
+int  cartctl_gains_valid(const cartctl_gains *g);
+
+typedef struct cartctl_state {
+    double T[16];        /* tool pose, base frame                   */
+    double J[36];        /* tool Jacobian                           */
+    double twist[6];     /* J qd: v (m/s), w (rad/s)                */
+} cartctl_state;
+
+typedef struct cartctl_out {
+    double qdd[ARM_NJ];      /* commanded joint accelerations        */
+    double a_cmd[6];         /* tool acceleration asked of J#        */
+    double rot_err[3];       /* log(R_d R^T), rad                    */
+    double sigma_min;
+    double lambda;
+    int    saturated;        /* 1 if a torque hit its limit          */
+} cartctl_out;
+
+/* Tool pose, Jacobian and twist at (q, qd). 0 / -1. */
+int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
+                     const double qd[ARM_NJ], cartctl_state *s);
+
+/* Jdot qd (6), central difference of J(q +- h qd) qd. 0 / -1. */
+int cartctl_jdot_qd(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
+                    const double qd[ARM_NJ], double jdqd[6]);
+
+/* World rotation vector log(R_d R^T) (rad). */
+void cartctl_rot_error(const double R_d[9], const double R[9], double err[3]);
+
+/* Joint accelerations for the tool acceleration a_lin (m/s^2, base frame)
+ * with the orientation held at R_d (NULL: no orientation servo, angular
+ * acceleration 0). s may be NULL (computed here). 0 / -1. */
+int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g,
+                const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s,
+                const double a_lin[3], const double R_d[9], cartctl_out *out);
+
+/* The whole law: cartctl_qdd then RNE with payload (NULL = none) and the
+ * torque clamp. 0 / -1 (tau is then 0). */
+int cartctl_torque(const arm_model *m, const arm_tool *tool, const arm_payload *payload,
+                   const cartctl_gains *g, const double q[ARM_NJ], const double qd[ARM_NJ],
+                   const cartctl_state *s, const double a_lin[3], const double R_d[9],
+                   double tau_Nm[ARM_NJ], cartctl_out *out);
+
+#endif

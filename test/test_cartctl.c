@@ -1,0 +1,217 @@
+/* test_cartctl: Jdot qd against second differences of FK, the model as
+ * plant (arm_forward_dynamics) reproduces the commanded tool acceleration,
+ * a closed loop with that plant tracks a straight-line acceleration
+ * profile and holds the orientation, damping engages only near the wrist
+ * singularity, bad input is refused. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <math.h>
+#include <string.h>
+
+#include "cartctl.h"
+#include "vec3.h"
+
+static const double Q_A[ARM_NJ] = { 0.3, -0.6, 2.7, 0.2, -0.45, 0.1 };
+static const double QD_A[ARM_NJ] = { 0.4, -0.3, 0.5, -0.6, 0.7, 0.9 };
+
+static arm_tool tool10(void)
+{
+    arm_tool t;
+    const double off[3] = { 0.0, 0.0, 0.10 };
+    arm_tool_offset(&t, off);
+    return t;
+}
+
+static void pose_at(const double q[ARM_NJ], const double qd[ARM_NJ], double t, double p[3], double R[9])
+{
+    const arm_tool tool = tool10();
+    double qt[ARM_NJ], T[16];
+    int i;
+    for (i = 0; i < ARM_NJ; i++)
+        qt[i] = q[i] + t * qd[i];
+    arm_fk(&arm_model_puma560, &tool, qt, T);
+    tf_pos(p, T);
+    tf_rot(R, T);
+}
+
+/* angular velocity along q + t qd from FK alone: log(R(t+h) R(t-h)^T)/2h */
+static void omega_fk(double t, double w[3])
+{
+    const double h = 1e-4;
+    double p[3], Rp[9], Rm[9];
+    pose_at(Q_A, QD_A, t + h, p, Rp);
+    pose_at(Q_A, QD_A, t - h, p, Rm);
+    cartctl_rot_error(Rp, Rm, w);
+    vec3_scale(w, w, 1.0 / (2.0 * h));
+}
+
+static void test_jdot_qd_matches_fk(void **st)
+{
+    const arm_tool tool = tool10();
+    const double h = 1e-3;
+    double jd[6], pp[3], p0[3], pm[3], R[9], wp[3], wm[3];
+    int i;
+    (void)st;
+    assert_int_equal(cartctl_jdot_qd(&arm_model_puma560, &tool, Q_A, QD_A, jd), 0);
+    /* with qdd = 0, xdd = Jdot qd: second difference of the FK position */
+    pose_at(Q_A, QD_A, h, pp, R);
+    pose_at(Q_A, QD_A, 0.0, p0, R);
+    pose_at(Q_A, QD_A, -h, pm, R);
+    for (i = 0; i < 3; i++)
+        assert_true(fabs((pp[i] - 2.0 * p0[i] + pm[i]) / (h * h) - jd[i]) < 1e-3);
+    omega_fk(h, wp);
+    omega_fk(-h, wm);
+    for (i = 0; i < 3; i++)
+        assert_true(fabs((wp[i] - wm[i]) / (2.0 * h) - jd[3 + i]) < 1e-3);
+}
+
+static void test_model_plant_gives_commanded_accel(void **st)
+{
+    const arm_tool tool = tool10();
+    const double a_lin[3] = { 0.4, -0.3, 0.2 };
+    arm_payload pl;
+    const double com[3] = { 0.0, 0.0, 0.10 };
+    cartctl_gains g;
+    cartctl_state s;
+    cartctl_out o;
+    double tau[ARM_NJ], qdd[ARM_NJ], jd[6], xdd[6], R_d[9], R[9], axis[3] = { 0.3, 0.5, -0.2 };
+    double qd[ARM_NJ];
+    int i;
+    (void)st;
+    for (i = 0; i < ARM_NJ; i++)
+        qd[i] = 0.1 * QD_A[i];   /* moderate speed: no torque limit reached */
+    cartctl_gains_default(&g);
+    arm_payload_point(&pl, 0.5, com);
+    assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, Q_A, qd, &s), 0);
+    tf_rot(R, s.T);
+    vec3_normalize(axis, axis);
+    {
+        double dR[9];
+        rot_from_axis_angle(dR, axis, 0.002);
+        rot_mul(R_d, dR, R);
+    }
+    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, &pl, &g, Q_A, qd, &s, a_lin, R_d, tau, &o), 0);
+    assert_int_equal(o.saturated, 0);
+    assert_true(o.lambda == 0.0);
+    assert_int_equal(arm_forward_dynamics(&arm_model_puma560, Q_A, qd, tau, NULL, &pl, qdd), 0);
+    cartctl_jdot_qd(&arm_model_puma560, &tool, Q_A, qd, jd);
+    for (i = 0; i < 6; i++) {
+        int k;
+        xdd[i] = jd[i];
+        for (k = 0; k < ARM_NJ; k++)
+            xdd[i] += s.J[i * 6 + k] * qdd[k];
+        assert_true(fabs(xdd[i] - o.a_cmd[i]) < 1e-6);
+    }
+    for (i = 0; i < 3; i++)
+        assert_true(fabs(o.a_cmd[i] - a_lin[i]) < 1e-15);
+    /* the orientation channel is a PD on the rotation error */
+    for (i = 0; i < 3; i++)
+        assert_true(fabs(o.rot_err[i] - 0.002 * axis[i]) < 1e-9);
+}
+
+/* Closed loop: x_d(t) = x0 + e (a t^2 / 2) with a PD around it, the model
+ * as plant at 1 kHz: position error stays well under a millimetre and the
+ * orientation under a milliradian. */
+static void test_closed_loop_tracks(void **st)
+{
+    const arm_tool tool = tool10();
+    const double dt = 1e-3, acc = 0.3, e[3] = { 0.6, 0.0, -0.8 };
+    double q[ARM_NJ], qd[ARM_NJ] = { 0 }, x0[3], R0[9], max_err = 0.0, max_rot = 0.0;
+    cartctl_gains g;
+    int k, i;
+    (void)st;
+    cartctl_gains_default(&g);
+    memcpy(q, Q_A, sizeof q);
+    {
+        cartctl_state s;
+        cartctl_state_at(&arm_model_puma560, &tool, q, qd, &s);
+        tf_pos(x0, s.T);
+        tf_rot(R0, s.T);
+    }
+    for (k = 0; k < 1000; k++) {
+        const double t = k * dt;
+        cartctl_state s;
+        cartctl_out o;
+        double x[3], u[3], tau[ARM_NJ], qdd[ARM_NJ], err;
+        cartctl_state_at(&arm_model_puma560, &tool, q, qd, &s);
+        tf_pos(x, s.T);
+        for (i = 0; i < 3; i++) {
+            const double xd = x0[i] + e[i] * 0.5 * acc * t * t, vd = e[i] * acc * t;
+            u[i] = e[i] * acc + 20.0 * (vd - s.twist[i]) + 100.0 * (xd - x[i]);
+        }
+        err = 0.0;
+        for (i = 0; i < 3; i++) {
+            const double d = x0[i] + e[i] * 0.5 * acc * t * t - x[i];
+            err += d * d;
+        }
+        max_err = fmax(max_err, sqrt(err));
+        assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, qd, &s, u, R0, tau, &o), 0);
+        max_rot = fmax(max_rot, vec3_norm(o.rot_err));
+        arm_forward_dynamics(&arm_model_puma560, q, qd, tau, NULL, NULL, qdd);
+        for (i = 0; i < ARM_NJ; i++) {
+            qd[i] += dt * qdd[i];
+            q[i] += dt * qd[i];
+        }
+    }
+    assert_true(max_err < 5e-4);
+    assert_true(max_rot < 1e-3);
+}
+
+static void test_damping_near_wrist_singularity(void **st)
+{
+    const arm_tool tool = tool10();
+    const double a[3] = { 0.5, 0.5, 0.5 };
+    double q[ARM_NJ], tau[ARM_NJ], n_far = 0.0, n_near = 0.0;
+    cartctl_gains g;
+    cartctl_out o;
+    int i;
+    (void)st;
+    cartctl_gains_default(&g);
+    memcpy(q, Q_A, sizeof q);
+    q[4] = 1e-4;
+    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, QD_A, NULL, a, NULL, tau, &o), 0);
+    assert_true(o.lambda > 0.9 * g.lambda_max);
+    for (i = 0; i < ARM_NJ; i++)
+        n_near = fmax(n_near, fabs(o.qdd[i]));
+    assert_true(n_near < 1e3);   /* bounded although J is singular */
+    q[4] = -0.45;
+    cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, QD_A, NULL, a, NULL, tau, &o);
+    assert_true(o.lambda == 0.0);
+    for (i = 0; i < ARM_NJ; i++)
+        n_far = fmax(n_far, fabs(o.qdd[i]));
+    assert_true(n_far > 0.0);
+}
+
+static void test_bad_input(void **st)
+{
+    const arm_tool tool = tool10();
+    double a[3] = { 0.0, NAN, 0.0 }, tau[ARM_NJ], q[ARM_NJ];
+    cartctl_gains g;
+    cartctl_out o;
+    int i;
+    (void)st;
+    cartctl_gains_default(&g);
+    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o), -1);
+    for (i = 0; i < ARM_NJ; i++)
+        assert_true(tau[i] == 0.0);
+    a[1] = 0.0;
+    memcpy(q, Q_A, sizeof q);
+    q[2] = INFINITY;
+    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, QD_A, NULL, a, NULL, tau, &o), -1);
+    g.k_null = -1.0;
+    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o), -1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_jdot_qd_matches_fk),
+        cmocka_unit_test(test_model_plant_gives_commanded_accel),
+        cmocka_unit_test(test_closed_loop_tracks),
+        cmocka_unit_test(test_damping_near_wrist_singularity),
+        cmocka_unit_test(test_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
