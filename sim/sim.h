@@ -103,6 +103,7 @@ typedef struct sim_model_ops {
 } sim_model_ops;
 
 extern const sim_model_ops sim_arms_ops;
+extern const sim_model_ops sim_workpieces_ops;   /* table, bars, camera, grippers */
 extern const sim_model_ops sim_rovers_ops;
 
 /* lockstep registry (sim_lockstep.c) */

@@ -18,7 +18,7 @@ typedef struct sim_app {
     sim_config cfg;
     int64_t    max_steps;      /* 0 = run forever */
     int        expect;         /* lockstep: participants to wait for at start */
-    const sim_model_ops *models[2];
+    const sim_model_ops *models[4];
     int        n_models;
     int        reset_pending;
     uint64_t   next_seed;
@@ -390,8 +390,10 @@ int main(int argc, char **argv)
         return 2;
     app.w.lockstep = app.w.d.lockstep;
     app.w.d.period_s = SIM_DT_S;
-    if (app.cfg.arms)
+    if (app.cfg.arms) {
         app.models[app.n_models++] = &sim_arms_ops;
+        app.models[app.n_models++] = &sim_workpieces_ops;   /* after arms: needs their joints */
+    }
     if (app.cfg.rovers > 0)
         app.models[app.n_models++] = &sim_rovers_ops;
     if (daemon_start(&app.w.d) != 0)
