@@ -9,6 +9,8 @@
 # SAN=1 builds into build/san with the sanitizers on.
 
 CC       ?= cc
+# quiet by default; V=1 shows every command
+Q        := $(if $(V),,@)
 PKGS     := lcm ode ccd
 WARN     := -std=c99 -Wall -Wextra -Wpedantic -Werror
 OPT      ?= -O2 -g
@@ -91,13 +93,15 @@ jar: $(TYPES_JAR)
 # the core sees only include/: no LCM, no ODE (pure C99 + libm; rtloop adds POSIX)
 $(OBJ)/core/%.o: src/%.c
 	@mkdir -p $(@D)
-	$(CC) -Iinclude -D_POSIX_C_SOURCE=200809L $(CFLAGS) -MMD -c $< -o $@
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) -Iinclude -D_POSIX_C_SOURCE=200809L $(CFLAGS) -MMD -c $< -o $@
 $(CORE_LIB): $(CORE_OBJ)
 	@mkdir -p $(@D)
 	@rm -f $@ && ar rcs $@ $^
 $(OBJ)/common/%.o: daemons/common/%.c $(GEN_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
 $(COMMON_LIB): $(COMMON_OBJ)
 	@mkdir -p $(@D)
 	@rm -f $@ && ar rcs $@ $^
@@ -106,45 +110,58 @@ DLIBS := $(COMMON_LIB) $(LIB)/libtandem_lcm.a $(CORE_LIB)
 # ---- programs --------------------------------------------------------------
 $(OBJ)/sim/%.o: sim/%.c $(GEN_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
 $(BIN)/tandem-sim: $(SIM_OBJ) $(DLIBS)
 	@mkdir -p $(@D)
-	$(CC) $(OPT) $(LDSAN) -o $@ $(SIM_OBJ) $(DLIBS) $(PKG_LIBS) $(LDLIBS)
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $(SIM_OBJ) $(DLIBS) $(PKG_LIBS) $(LDLIBS)
 $(OBJ)/scenario/%.o: tools/scenario/%.c $(GEN_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) -Itools/scenario $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(CPPFLAGS) -Itools/scenario $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
 $(OBJ)/scenario/scenario_main.o: tools/scenario/scenario_main.c $(GEN_STAMP) Makefile $(SCEN_SRC)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) -Itools/scenario $(CFLAGS) '-DSCENARIO_LIST=$(SCEN_LIST)' -MMD -c $< -o $@
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(CPPFLAGS) -Itools/scenario $(CFLAGS) '-DSCENARIO_LIST=$(SCEN_LIST)' -MMD -c $< -o $@
 $(BIN)/tandem-scenario: $(SCEN_OBJ) $(DLIBS)
 	@mkdir -p $(@D)
-	$(CC) $(OPT) $(LDSAN) -o $@ $(SCEN_OBJ) $(DLIBS) $(PKG_LIBS) $(LDLIBS)
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $(SCEN_OBJ) $(DLIBS) $(PKG_LIBS) $(LDLIBS)
 $(OBJ)/prog/%.o: daemons/%.c $(GEN_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
 $(OBJ)/prog/%.o: tools/%.c $(GEN_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
 $(BIN)/tandem-%: $(OBJ)/prog/tandem_%.o $(DLIBS)
 	@mkdir -p $(@D)
-	$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(LDLIBS)
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(LDLIBS)
 
 # ---- tests -----------------------------------------------------------------
 $(OBJ)/test/%.o: test/%.c $(GEN_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
 $(BIN)/test_%: $(OBJ)/test/test_%.o $(DLIBS)
 	@mkdir -p $(@D)
-	$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(CMOCKA_LIBS) $(LDLIBS)
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(CMOCKA_LIBS) $(LDLIBS)
 $(OBJ)/it/%.o: test/integration/%.c $(GEN_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) -Itest/integration $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(CPPFLAGS) -Itest/integration $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
 $(BIN)/it_%: $(OBJ)/it/it_%.o $(OBJ)/it/harness.o $(DLIBS)
 	@mkdir -p $(@D)
-	$(CC) $(OPT) $(LDSAN) -o $@ $^ $(PKG_LIBS) $(CMOCKA_LIBS) $(LDLIBS)
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $^ $(PKG_LIBS) $(CMOCKA_LIBS) $(LDLIBS)
 $(BIN)/bench_%: $(OBJ)/test/bench_%.o $(DLIBS)
 	@mkdir -p $(@D)
-	$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(LDLIBS)
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(LDLIBS)
 
 unit: $(UNIT_BIN)
 	@tools/run-tests.sh unit $(BIN) $(UNIT_BIN)
@@ -160,8 +177,13 @@ run: deps
 	@$(MAKE) --no-print-directory all
 	@tools/tandem-run $(if $(DURATION),--duration $(DURATION))
 
+$(BIN)/bench_kdl: test/bench_kdl.cpp $(CORE_LIB)
+	@mkdir -p $(@D)
+	@$(if $(Q),echo '  CXX   $@';) true
+	$(Q)$(CXX) -O2 -std=c++14 -Iinclude $$(pkg-config --cflags orocos-kdl) $< $(CORE_LIB) $$(pkg-config --libs orocos-kdl) -lm -o $@
+
 bench: deps deps-bench
-	@$(MAKE) --no-print-directory all $(BENCH_BIN)
+	@$(MAKE) --no-print-directory all $(BENCH_BIN) $(BIN)/bench_kdl
 	@tools/bench.sh $(BIN)
 
 spy: $(TYPES_JAR)

@@ -2,6 +2,7 @@
 #include "daemon.h"
 #include <ctype.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <sched.h>
 #include <signal.h>
@@ -126,19 +127,30 @@ int daemon_parse_common(daemon *d, int opt, const char *arg)
     }
 }
 
-static void apply_rt(daemon *d)
+void daemon_rt_setup(const char *name, int prio)
 {
     struct sched_param sp;
-    if (d->rt_prio <= 0)
+    static int dma_fd = -1;
+    if (prio <= 0)
         return;
     memset(&sp, 0, sizeof sp);
-    sp.sched_priority = d->rt_prio;
+    sp.sched_priority = prio;
     if (sched_setscheduler(0, SCHED_FIFO, &sp) != 0)
         fprintf(stderr, "%s: warning: SCHED_FIFO priority %d not permitted (%s); "
-                "running with normal scheduling\n", d->name, d->rt_prio, strerror(errno));
+                "running with normal scheduling\n", name, prio, strerror(errno));
     if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
         fprintf(stderr, "%s: warning: mlockall not permitted (%s); pages may fault\n",
-                d->name, strerror(errno));
+                name, strerror(errno));
+    /* Like cyclictest: hold the CPU out of deep idle states while we run
+     * (the kernel honours this only while the file stays open). */
+    if (dma_fd < 0) {
+        const int32_t zero = 0;
+        dma_fd = open("/dev/cpu_dma_latency", O_WRONLY);
+        if (dma_fd >= 0 && write(dma_fd, &zero, sizeof zero) != (ssize_t)sizeof zero) {
+            close(dma_fd);
+            dma_fd = -1;
+        }
+    }
 }
 
 static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *user)
@@ -187,7 +199,7 @@ int daemon_start(daemon *d)
         return -1;
     }
     lcm_subscribe(d->lcm, "SIM_CLOCK", on_clock, d);
-    apply_rt(d);
+    daemon_rt_setup(d->name, d->rt_prio);
     if (rtloop_init(&d->loop, (int64_t)llround(d->period_s * 1e9)) != 0) {
         fprintf(stderr, "%s: period %g s out of range\n", d->name, d->period_s);
         return -1;

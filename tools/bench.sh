@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# make bench: prints the benchmark figures (nothing is asserted).
+set -u
+bin=${1:-build/bin}
+here=$(cd "$(dirname "$0")/.." && pwd)
+cd "$here"
+export LCM_DEFAULT_URL="udpm://239.255.76.67:$((30000 + $$ % 10000))?ttl=0"
+ms_now() { echo $(( $(date +%s%N) / 1000000 )); }
+
+echo "== 1. round trip state -> controller -> command over LCM =="
+"$bin/bench_roundtrip" 10000 "$bin"
+
+echo; echo "== 2. lockstep speed: tandem-sim (PUMA pair) with one 1 kHz controller =="
+steps=20000
+"$bin/tandem-arm" --arm 1 --lockstep >/dev/null 2>&1 & arm=$!
+t0=$(ms_now)
+"$bin/tandem-sim" --lockstep --expect 1 --steps $steps >/dev/null 2>&1
+t1=$(ms_now)
+kill $arm 2>/dev/null; wait $arm 2>/dev/null
+echo "  $steps steps in $((t1 - t0)) ms: $(( steps * 1000 / (t1 - t0 > 0 ? t1 - t0 : 1) )) steps per wall second ($(( steps / (t1 - t0 > 0 ? t1 - t0 : 1) ))x real time)"
+
+echo; echo "== 3. real-time loop wake-up latency, 1 ms period, 10000 loops, beside cyclictest =="
+for prio in 0 80; do
+    label="normal scheduling"; [ $prio -gt 0 ] && label="SCHED_FIFO $prio"
+    echo "  -- $label --"
+    "$bin/bench_rtloop" 1000 10000 $prio | sed 's/^/  /'
+    if command -v cyclictest >/dev/null; then
+        pargs=(); [ $prio -gt 0 ] && pargs=(-p $prio)
+        cyclictest -t1 -i 1000 -l 10000 -q -h 5000 "${pargs[@]}" 2>/dev/null | awk '
+            /^[0-9]/ { n[$1 + 0] = $2; total += $2 }
+            /# Max Latencies/ { max = $4 }
+            END { c = 0; p50 = -1; p99 = -1
+                  for (i = 0; i <= 5000; i++) { c += n[i]
+                      if (p50 < 0 && c >= 0.5 * total) p50 = i
+                      if (p99 < 0 && c >= 0.99 * total) p99 = i }
+                  printf "  cyclictest period 1000 us, %d loops: latency p50 %d us  p99 %d us  max %d us\n", total, p50, p99, max + 0 }'
+    else
+        echo "  cyclictest not installed (Debian package rt-tests)"
+    fi
+done
+
+echo; echo "== 4. arm core vs Orocos KDL (same PUMA 560 chain, same run) =="
+if [ -x "$bin/bench_kdl" ]; then "$bin/bench_kdl" 200000; else echo "  bench_kdl not built (needs liborocos-kdl-dev)"; fi
+if command -v valgrind >/dev/null && [ -x "$bin/bench_arm" ]; then
+    echo "  instructions per call (callgrind: (2000 calls - 1000 calls) / 1000, so set-up cancels):"
+    for r in fk jac ik rne mass; do
+        out=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null "$bin/bench_arm" $r 2000 2>&1 | awk '/Collected/ {print $4}')
+        base=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null "$bin/bench_arm" $r 1000 2>&1 | awk '/Collected/ {print $4}')
+        [ -n "$out" ] && [ -n "$base" ] && printf '    %-5s %8d\n' $r $(( (out - base) / 1000 ))
+    done
+fi
+
+for extra in "$bin"/bench_carry "$bin"/bench_tdsd "$bin"/bench_rovers; do
+    [ -x "$extra" ] || continue
+    echo; echo "== $(basename "$extra") =="
+    "$extra"
+done

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs the Debian packages tandem needs (apt-get when root; otherwise
+# prints the exact command and stops). A no-op when everything is present.
+#   tools/deps.sh run     build, run and test
+#   tools/deps.sh bench   also the benchmark-only tools
+set -euo pipefail
+pkgs=(build-essential pkg-config libode-dev liblcm-dev liblcm-bin liblcm-java
+      libccd-dev libcmocka-dev libglib2.0-dev default-jdk-headless gnuplot-nox)
+if [ "${1:-run}" = bench ]; then
+    pkgs=(rt-tests valgrind liborocos-kdl-dev g++)
+fi
+missing=()
+for p in "${pkgs[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+cmd="apt-get install -y --no-install-recommends ${missing[*]}"
+if [ "$(id -u)" -ne 0 ]; then
+    echo "tandem: missing Debian packages: ${missing[*]}" >&2
+    echo "tandem: install them with:  sudo apt-get update && sudo $cmd" >&2
+    exit 1
+fi
+echo "tandem: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq >/dev/null
+$cmd >/dev/null
