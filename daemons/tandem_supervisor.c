@@ -1,0 +1,483 @@
+/* tandem-supervisor: the discrete-event controller of the carry task
+ * ("MVME162", SPEC.md §2.4, §2.5).
+ *
+ * Holds the carry Petri net and its lookup table (carry_net). At start-up
+ * it explores the net's reachability graph and refuses to run (exit 1,
+ * printing the offending marking and the event path to it) if the net is
+ * unsafe, unbounded, violates a P-invariant or can deadlock.
+ *
+ * Running: a vision detection in the pick zone puts a token in p1 only
+ * while p1 is empty (the source transition with its inhibitor arc); every
+ * enabled transition t1..t7 starts at once (its input tokens are taken)
+ * and its row goes to the arm(s) on ARMk_ACTION, with the poses resolved
+ * from the cell layout and the detection; an arm's plan marked
+ * after_partner (t4: arm 1 releases only once arm 2 holds) is sent when
+ * the partner's DONE arrives. When every arm of a transition has reported
+ * DONE on ARM_EVENTS, the transition completes (its output tokens are
+ * added). The marking goes out on PETRI_MARKING on every change and at
+ * 10 Hz; every start and completion is logged on stdout.
+ *
+ * --serial is the no-overlap reference for the pipelining figure: a new
+ * workpiece is taken only when the previous one is delivered and both arms
+ * are home with nothing running.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "daemon.h"
+#include "carry_net.h"
+#include "cell.h"
+#include "petri.h"
+#include "vec3.h"
+#include "tandem_action_event_t.h"
+#include "tandem_action_row_t.h"
+#include "tandem_petri_marking_t.h"
+#include "tandem_workpiece_detections_t.h"
+
+#define PICK_ACCEPT_RADIUS_M 0.15
+#define CLEAR_BACKOFF_M 0.10
+#define RELEASE_LIFT_M 0.003        /* put the bar down from 3 mm */
+#define EVENT_QUEUE 64
+
+enum { ARM_SLOT_NONE = 0, ARM_SLOT_WAITING, ARM_SLOT_SENT, ARM_SLOT_DONE };
+
+typedef struct sup_slot {
+    int     state[2];               /* ARM_SLOT_* per arm */
+    int32_t action_id[2];
+} sup_slot;
+
+typedef struct supervisor {
+    petri   net;
+    sup_slot slot[CARRY_N_TRANSITIONS];
+    int     controller;             /* action_row_t CONTROLLER_* */
+    int     serial;
+    /* workpiece of the current cycle (p1 .. t2) and the one being carried */
+    int32_t wp_id;
+    double  wp_pos_m[3], wp_yaw_rad;
+    int32_t last_taken_id;
+    double  pick_pos_m[3], pick_yaw_rad;   /* latched when t1 takes p1 */
+    int32_t pick_id;
+    int     have_detection;
+    int     p1_bound;               /* the p1 token has a detected pose */
+    tandem_workpiece_t det;
+    /* events queued by the LCM callback, handled in the cycle */
+    tandem_action_event_t evq[EVENT_QUEUE];
+    int     n_ev;
+    int32_t next_action_id;
+    int64_t row_seq, marking_seq;
+    int64_t cycles;
+    int     changed;
+    int32_t deadlocks, replans, detections, blockages;
+    int     was_dead;
+    int     last_fired;
+} supervisor;
+
+static supervisor S;
+static petri_explore_ws explore_ws;
+
+static void usage(void)
+{
+    printf("usage: tandem-supervisor [options]\n"
+           "Petri-net supervisor of the two-arm carry (SPEC 2.4-2.5): vision tokens,\n"
+           "lookup-table rows to the arms, completion events, marking at 10 Hz.\n\n"
+           "  --controller event|time  arms run the event-referenced law (default) or\n"
+           "                    the time-referenced baseline\n"
+           "  --serial          take a new workpiece only when the previous one is\n"
+           "                    delivered and both arms are home (no pipelining)\n"
+           DAEMON_COMMON_HELP);
+}
+
+/* ---- start-up check ------------------------------------------------------- */
+
+static void print_offender(const char *what, int index)
+{
+    int8_t ev[256];
+    int n, i;
+    const petri_state *s = &explore_ws.states[index];
+    printf("tandem-supervisor: the carry net %s; offending marking [", what);
+    for (i = 0; i < carry_net.n_places; i++)
+        printf("%s%d", i ? " " : "", s->m[i]);
+    printf("] running 0x%x\n  reached by:", (unsigned)s->running);
+    n = petri_explore_trace(&explore_ws, index, ev, (int)sizeof ev);
+    for (i = 0; i < n; i++)
+        printf(" %s t%d", ev[i] > 0 ? "start" : "complete", abs(ev[i]));
+    printf("\n");
+}
+
+static int check_net(void)
+{
+    petri_report r;
+    if (petri_explore(&explore_ws, &carry_net, 2, &r) != 0) {
+        printf("tandem-supervisor: the carry net tables are invalid\n");
+        return -1;
+    }
+    if (!r.complete) {
+        printf("tandem-supervisor: reachability graph exceeds %d states\n", PETRI_MAX_STATES);
+        return -1;
+    }
+    if (!r.safe) { print_offender("is not safe", r.unsafe_index); return -1; }
+    if (!r.bounded) { print_offender("is unbounded", r.unbounded_index); return -1; }
+    if (r.invariant_states) { print_offender("violates a P-invariant", r.invariant_index); return -1; }
+    if (r.deadlock) { print_offender("can deadlock", r.dead_index); return -1; }
+    printf("tandem-supervisor: net checked: %d reachable states, safe, live, invariants hold\n", r.n_states);
+    return 0;
+}
+
+/* ---- poses ---------------------------------------------------------------- */
+
+/* Arm a's (0-based) grasp point on a bar centred at c with yaw. */
+static void grasp_on_bar(int a, const double c[3], double yaw, double p[3])
+{
+    const double s = (a == 0 ? -1.0 : 1.0) * cell_default.grasp_offset_m;
+    p[0] = c[0] + s * cos(yaw);
+    p[1] = c[1] + s * sin(yaw);
+    p[2] = c[2];
+}
+
+static int resolve_pose(int pose, double p[3])
+{
+    const cell_layout *c = &cell_default;
+    double h[3];
+    switch (pose) {
+    case CARRY_POSE_HOME_1: vec3_copy(p, c->home_tool_m[0]); return 0;
+    case CARRY_POSE_HOME_2: vec3_copy(p, c->home_tool_m[1]); return 0;
+    case CARRY_POSE_ABOVE_WORKPIECE:
+    case CARRY_POSE_AT_WORKPIECE:
+        grasp_on_bar(0, S.pick_pos_m, S.pick_yaw_rad, p);
+        if (pose == CARRY_POSE_ABOVE_WORKPIECE)
+            p[2] += c->approach_height_m;
+        return 0;
+    case CARRY_POSE_HANDOVER_1: cell_grasp_point(c, 0, c->handover_center_m, p); return 0;
+    case CARRY_POSE_HANDOVER_2: cell_grasp_point(c, 1, c->handover_center_m, p); return 0;
+    case CARRY_POSE_CLEAR_1:
+        cell_grasp_point(c, 0, c->handover_center_m, h);
+        vec3_copy(p, h);
+        p[0] -= CLEAR_BACKOFF_M;
+        return 0;
+    case CARRY_POSE_ABOVE_RELEASE:
+    case CARRY_POSE_RELEASE_POSE:
+        cell_grasp_point(c, 1, c->deliver_center_m, p);
+        p[2] += pose == CARRY_POSE_ABOVE_RELEASE ? c->approach_height_m : RELEASE_LIFT_M;
+        return 0;
+    default:
+        return -1;
+    }
+}
+
+/* ---- rows out ------------------------------------------------------------- */
+
+static void send_row(daemon *d, int t, int a)
+{
+    const carry_row *r = carry_row_of(t);
+    const carry_arm_plan *pl = &r->plan[a];
+    tandem_action_segment_t seg[CARRY_MAX_SEGMENTS];
+    tandem_action_row_t row;
+    int i;
+    memset(&row, 0, sizeof row);
+    memset(seg, 0, sizeof seg);
+    for (i = 0; i < pl->n_segments; i++) {
+        seg[i].kind = pl->seg[i].kind;
+        /* tool-down in the world: flange x = world x, z = -world z */
+        seg[i].orientation_quat[0] = 0.0;
+        seg[i].orientation_quat[1] = 1.0;
+        if (pl->seg[i].kind == CARRY_SEG_MOVE)
+            resolve_pose(pl->seg[i].pose, seg[i].position_m);
+    }
+    row.seq = S.row_seq++;
+    row.utime = daemon_utime_now();
+    row.step = d->step;
+    row.action_id = S.next_action_id++;
+    row.transition = t + 1;
+    row.arm = (int8_t)(a + 1);
+    row.controller = (int8_t)S.controller;
+    row.sync_group = r->sync_group;
+    row.workpiece_id = S.pick_id;
+    row.v_m = r->lin.v_m; row.a_m = r->lin.a_m; row.u_m = r->lin.u_m;
+    row.k_p = r->lin.k_p; row.k_v = r->lin.k_v;
+    row.k0 = r->lin.k0; row.k1 = r->lin.k1; row.k2 = r->lin.k2;
+    row.n_segments = pl->n_segments;
+    row.segments = seg;
+    S.slot[t].state[a] = ARM_SLOT_SENT;
+    S.slot[t].action_id[a] = row.action_id;
+    tandem_action_row_t_publish(d->lcm, a == 0 ? "ARM1_ACTION" : "ARM2_ACTION", &row);
+    printf("[%9.3f] t%d %-46s row %d -> arm %d\n", d->sim_time_s, t + 1, "", (int)row.action_id, a + 1);
+}
+
+static void log_fire(const daemon *d, int t, const char *what)
+{
+    const carry_row *r = carry_row_of(t);
+    int i;
+    printf("[%9.3f] %s %s  marking [", d->sim_time_s, what, r ? r->name : "?");
+    for (i = 0; i < CARRY_N_PLACES; i++)
+        printf("%s%d", i ? " " : "", S.net.st.m[i]);
+    printf("] workpiece %d\n", (int)S.wp_id);
+    fflush(stdout);
+}
+
+static void start_transition(daemon *d, int t)
+{
+    const carry_row *r = carry_row_of(t);
+    int a;
+    if (petri_start(&S.net, t) != 0)
+        return;
+    S.changed = 1;
+    log_fire(d, t, "start   ");
+    memset(&S.slot[t], 0, sizeof S.slot[t]);
+    for (a = 0; a < 2; a++) {
+        if (!(r->arms & (a == 0 ? CARRY_ARM1 : CARRY_ARM2)) || r->plan[a].n_segments == 0)
+            continue;
+        S.slot[t].state[a] = r->plan[a].after_partner ? ARM_SLOT_WAITING : ARM_SLOT_SENT;
+    }
+    for (a = 0; a < 2; a++)
+        if (S.slot[t].state[a] == ARM_SLOT_SENT)
+            send_row(d, t, a);
+}
+
+static void complete_transition(daemon *d, int t)
+{
+    if (petri_complete(&S.net, t) != 0)
+        return;
+    S.changed = 1;
+    S.last_fired = t + 1;
+    log_fire(d, t, "complete");
+}
+
+/* ---- events in ------------------------------------------------------------ */
+
+static void on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    daemon *d = u;
+    tandem_action_event_t e;
+    (void)ch;
+    d->msgs.received++;
+    if (tandem_action_event_t_decode(rb->data, 0, rb->data_size, &e) < 0) {
+        d->msgs.rejected++;
+        return;
+    }
+    if (e.arm < 1 || e.arm > 2 || e.transition < 0 || e.transition > CARRY_N_TRANSITIONS ||
+        !isfinite(e.s_m) || !isfinite(e.s_f_m)) {
+        d->msgs.rejected++;
+    } else if (e.event != TANDEM_ACTION_EVENT_T_PROGRESS && e.event != TANDEM_ACTION_EVENT_T_STARTED &&
+               S.n_ev < EVENT_QUEUE) {
+        S.evq[S.n_ev] = e;
+        S.evq[S.n_ev].detail = NULL;
+        S.n_ev++;
+    }
+    tandem_action_event_t_decode_cleanup(&e);
+}
+
+static void handle_event(daemon *d, const tandem_action_event_t *e)
+{
+    const int a = e->arm - 1;
+    int t;
+    for (t = 0; t < CARRY_T_VISION; t++)
+        if (petri_running(&S.net, t) && S.slot[t].state[a] == ARM_SLOT_SENT && S.slot[t].action_id[a] == e->action_id)
+            break;
+    if (e->event == TANDEM_ACTION_EVENT_T_BLOCKED) {
+        S.blockages++;
+        printf("[%9.3f] arm %d BLOCKED in t%d (s = %.3f of %.3f m)\n", d->sim_time_s, a + 1, e->transition, e->s_m, e->s_f_m);
+        return;
+    }
+    if (e->event == TANDEM_ACTION_EVENT_T_UNBLOCKED) {
+        printf("[%9.3f] arm %d unblocked in t%d\n", d->sim_time_s, a + 1, e->transition);
+        return;
+    }
+    if (t == CARRY_T_VISION)
+        return;   /* not an action of ours (or already handled) */
+    if (e->event == TANDEM_ACTION_EVENT_T_REJECTED) {
+        S.replans++;
+        printf("[%9.3f] arm %d REJECTED the row of t%d: re-sending\n", d->sim_time_s, a + 1, t + 1);
+        send_row(d, t, a);
+        return;
+    }
+    if (e->event != TANDEM_ACTION_EVENT_T_DONE)
+        return;
+    S.slot[t].state[a] = ARM_SLOT_DONE;
+    if (S.slot[t].state[1 - a] == ARM_SLOT_WAITING)
+        send_row(d, t, 1 - a);
+    if (S.slot[t].state[1 - a] != ARM_SLOT_SENT && S.slot[t].state[1 - a] != ARM_SLOT_WAITING)
+        complete_transition(d, t);
+}
+
+static void on_vision(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    daemon *d = u;
+    tandem_workpiece_detections_t m;
+    int i, best = -1;
+    double best_d = PICK_ACCEPT_RADIUS_M;
+    (void)ch;
+    d->msgs.received++;
+    if (tandem_workpiece_detections_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
+        d->msgs.rejected++;
+        return;
+    }
+    for (i = 0; i < m.n; i++) {
+        const tandem_workpiece_t *w = &m.workpieces[i];
+        double dist;
+        if (!all_finite(w->position_m, 3) || !isfinite(w->yaw_rad) || fabs(w->yaw_rad) > 0.5) {
+            d->msgs.rejected++;
+            continue;
+        }
+        dist = hypot(w->position_m[0] - cell_default.pick_center_m[0], w->position_m[1] - cell_default.pick_center_m[1]);
+        if (w->id > S.last_taken_id && dist < best_d) {
+            best_d = dist;
+            best = i;
+        }
+    }
+    if (best >= 0) {
+        S.det = m.workpieces[best];
+        S.have_detection = 1;
+    }
+    tandem_workpiece_detections_t_decode_cleanup(&m);
+}
+
+/* p1 takes a token only while it is empty (inhibitor arc); --serial also
+ * waits for the previous workpiece to be delivered and both arms home.
+ * The token of gamma0 in p1 is bound to the first detection. */
+static void take_detection(daemon *d)
+{
+    int t;
+    const int bind_only = S.net.st.m[CARRY_P1] && !S.p1_bound;
+    if (!S.have_detection || S.det.id <= S.last_taken_id)
+        return;
+    if (!bind_only && !petri_enabled(&S.net, CARRY_T_VISION))
+        return;
+    if (S.serial) {
+        for (t = 0; t < CARRY_T_VISION; t++)
+            if (petri_running(&S.net, t))
+                return;
+        if (!S.net.st.m[CARRY_P2] || !S.net.st.m[CARRY_P3])
+            return;
+    }
+    if (!bind_only && petri_fire(&S.net, CARRY_T_VISION) != 0)
+        return;
+    S.p1_bound = 1;
+    S.wp_id = S.det.id;
+    S.last_taken_id = S.det.id;
+    vec3_copy(S.wp_pos_m, S.det.position_m);
+    S.wp_yaw_rad = S.det.yaw_rad;
+    S.detections++;
+    S.have_detection = 0;
+    S.changed = 1;
+    printf("[%9.3f] vision: workpiece %d at (%.3f %.3f %.3f) yaw %.3f -> p1\n", d->sim_time_s, (int)S.wp_id,
+           S.wp_pos_m[0], S.wp_pos_m[1], S.wp_pos_m[2], S.wp_yaw_rad);
+}
+
+/* ---- marking out ---------------------------------------------------------- */
+
+static void publish_marking(daemon *d)
+{
+    tandem_petri_marking_t m;
+    int8_t mk[CARRY_N_PLACES], run[CARRY_N_TRANSITIONS];
+    int i;
+    memset(&m, 0, sizeof m);
+    for (i = 0; i < CARRY_N_PLACES; i++)
+        mk[i] = (int8_t)S.net.st.m[i];
+    for (i = 0; i < CARRY_N_TRANSITIONS; i++)
+        run[i] = (int8_t)petri_running(&S.net, i);
+    m.seq = S.marking_seq++;
+    m.utime = daemon_utime_now();
+    m.step = d->step;
+    m.n_places = CARRY_N_PLACES;
+    m.marking = mk;
+    m.n_transitions = CARRY_N_TRANSITIONS;
+    m.running = run;
+    m.last_fired = S.last_fired;
+    m.fired_count = S.net.fired_count;
+    m.invariants_ok = (int8_t)petri_invariants_ok(&S.net);
+    m.dead = (int8_t)petri_dead(&S.net);
+    m.invariant_violations = S.net.invariant_violations;
+    m.deadlocks = S.deadlocks;
+    m.replans = S.replans;
+    m.detections = S.detections;
+    m.blockages = S.blockages;
+    m.workpiece_id = S.wp_id;
+    tandem_petri_marking_t_publish(d->lcm, "PETRI_MARKING", &m);
+}
+
+/* ---- the cycle ------------------------------------------------------------ */
+
+static void cycle(daemon *d, void *user)
+{
+    const int per_10hz = (int)(0.1 / d->period_s + 0.5);
+    int i, t, dead;
+    (void)user;
+    for (i = 0; i < S.n_ev; i++)
+        handle_event(d, &S.evq[i]);
+    S.n_ev = 0;
+    take_detection(d);
+    for (t = 0; t < CARRY_T_VISION; t++) {
+        if (!petri_enabled(&S.net, t) || (t == CARRY_T1 && !S.p1_bound))
+            continue;
+        if (t == CARRY_T1) {
+            S.p1_bound = 0;   /* t1 takes the p1 token and its pose */
+            vec3_copy(S.pick_pos_m, S.wp_pos_m);
+            S.pick_yaw_rad = S.wp_yaw_rad;
+            S.pick_id = S.wp_id;
+        }
+        start_transition(d, t);
+    }
+    dead = petri_dead(&S.net);
+    if (dead && !S.was_dead) {
+        S.deadlocks++;
+        printf("[%9.3f] DEAD marking reached\n", d->sim_time_s);
+    }
+    S.was_dead = dead;
+    if (S.changed || S.cycles % (per_10hz > 0 ? per_10hz : 1) == 0)
+        publish_marking(d);
+    S.changed = 0;
+    S.cycles++;
+    snprintf(d->status, sizeof d->status, "fired %ld, workpiece %d", S.net.fired_count, (int)S.wp_id);
+}
+
+int main(int argc, char **argv)
+{
+    static const struct option opts[] = {
+        { "controller", required_argument, 0, 'c' },
+        { "serial", no_argument, 0, 'S' },
+        DAEMON_COMMON_OPTIONS,
+        { 0, 0, 0, 0 }
+    };
+    daemon d;
+    int c, rc;
+    memset(&S, 0, sizeof S);
+    S.next_action_id = 1;
+    S.controller = TANDEM_ACTION_ROW_T_CONTROLLER_EVENT;
+    daemon_defaults(&d, "tandem-supervisor", 0.010);
+    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
+        rc = daemon_parse_common(&d, c, optarg);
+        if (rc == 2) { usage(); return 0; }
+        if (rc < 0) return 2;
+        if (rc == 1) continue;
+        switch (c) {
+        case 'c':
+            if (!strcmp(optarg, "event")) S.controller = TANDEM_ACTION_ROW_T_CONTROLLER_EVENT;
+            else if (!strcmp(optarg, "time")) S.controller = TANDEM_ACTION_ROW_T_CONTROLLER_TIME;
+            else {
+                fprintf(stderr, "tandem-supervisor: --controller: '%s' is not event|time\n", optarg);
+                return 2;
+            }
+            break;
+        case 'S': S.serial = 1; break;
+        default: usage(); return 2;
+        }
+    }
+    if (optind < argc) {
+        fprintf(stderr, "tandem-supervisor: unexpected argument '%s'\n", argv[optind]);
+        return 2;
+    }
+    if (check_net() != 0)
+        return 1;
+    if (petri_init(&S.net, &carry_net) != 0)
+        return 1;
+    fflush(stdout);
+    if (daemon_start(&d) != 0)
+        return 1;
+    lcm_subscribe(d.lcm, "ARM_EVENTS", on_event, &d);
+    lcm_subscribe(d.lcm, "VISION_DETECTIONS", on_vision, &d);
+    S.changed = 1;
+    rc = daemon_run(&d, cycle, NULL);
+    daemon_finish(&d);
+    return rc;
+}

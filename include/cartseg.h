@@ -1,0 +1,65 @@
+/* cartseg: one straight Cartesian segment of an action row, executed by an
+ * arm controller (SPEC 2.1-2.3, 2.6): the erlaw segment law (event-
+ * referenced, synchronised via an external s* reference, or the
+ * time-referenced baseline) in the world frame, the orientation held at
+ * the segment's target, cartctl for the joint torques, the done predicate
+ * and the blocked detector.
+ *
+ * World <-> arm: T_world_base is the arm's mounting frame in the world
+ * (arm_fk's base frame), tool is the tool offset. Pure core: no I/O.
+ */
+#ifndef TANDEM_CARTSEG_H
+#define TANDEM_CARTSEG_H
+
+#include "cartctl.h"
+#include "erlaw.h"
+
+#define CARTSEG_DONE_TOL_M 0.002       /* s within 2 mm of s_f ...            */
+#define CARTSEG_DONE_SPEED_MPS 0.005   /* ... and the tool slower than 5 mm/s */
+#define CARTSEG_BLOCK_EPS_M 0.001      /* s must gain 1 mm ...                */
+#define CARTSEG_BLOCK_TIME_S 0.15      /* ... within 150 ms, else blocked     */
+#define CARTSEG_BLOCK_NEAR_GOAL_M 0.010 /* no block detection in the last 1 cm */
+
+typedef struct cartseg {
+    erlaw_line line;
+    erlaw_block blk;
+    cartctl_gains cg;
+    erlaw_ref ref;
+    double T_world_base[16];
+    double R_d_base[9];        /* orientation held, base frame */
+    double p1_world[3];
+    int    blocked;
+} cartseg;
+
+typedef struct cartseg_out {
+    double tau_Nm[ARM_NJ];
+    double x_world[3];         /* tool point */
+    double u_world[3];         /* commanded tool acceleration (eq. 6) */
+    double v_world[3];         /* tool velocity */
+    double s_m, s_f_m, s_ref_m;
+    double bias;
+    int    done;
+    int    blocked;
+    int    block_changed;      /* blocked flipped this cycle */
+    int    saturated;
+} cartseg_out;
+
+/* Tool point and velocity in the world. 0 / -1. */
+int cartseg_tool_world(const arm_model *m, const arm_tool *tool, const double T_world_base[16],
+                       const double q[ARM_NJ], const double qd[ARM_NJ], double x[3], double v[3]);
+
+/* Segment from the current tool point to p1_world with the tool
+ * orientation R1_world held. ref: ERLAW_REF_MEASURED (event law; also used
+ * with an external s* by passing s_ext to cartseg_step) or ERLAW_REF_TIME.
+ * 0 / -1 (bad input). */
+int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool, const double T_world_base[16],
+                  const double q[ARM_NJ], const double p1_world[3], const double R1_world[9],
+                  const erlaw_gains *g, erlaw_ref ref);
+
+/* One cycle. s_ext_m >= 0 selects the external (synchronised) reference
+ * k_i s*; pass a negative value otherwise. 0 / -1 (tau then 0). */
+int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm_payload *payload,
+                 const double q[ARM_NJ], const double qd[ARM_NJ], double s_ext_m, double dt_s,
+                 cartseg_out *out);
+
+#endif

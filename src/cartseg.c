@@ -1,0 +1,100 @@
+/* cartseg: a straight Cartesian segment under the event-referenced law
+ * (SPEC 2.2 eq. 6-7), its synchronised (2.3) and time-referenced (2.6)
+ * variants, turned into torques by cartctl; see cartseg.h. */
+#include "cartseg.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "vec3.h"
+
+static void R_of(const double T[16], double R[9])
+{
+    tf_rot(R, T);
+}
+
+int cartseg_tool_world(const arm_model *m, const arm_tool *tool, const double T_world_base[16],
+                       const double q[ARM_NJ], const double qd[ARM_NJ], double x[3], double v[3])
+{
+    cartctl_state s;
+    double Tw[16], Rwb[9];
+    if (!T_world_base || !x || !v || cartctl_state_at(m, tool, q, qd, &s) != 0)
+        return -1;
+    tf_mul(Tw, T_world_base, s.T);
+    tf_pos(x, Tw);
+    R_of(T_world_base, Rwb);
+    rot_apply(v, Rwb, s.twist);
+    return 0;
+}
+
+int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool, const double T_world_base[16],
+                  const double q[ARM_NJ], const double p1_world[3], const double R1_world[9],
+                  const erlaw_gains *g, erlaw_ref ref)
+{
+    double x[3], v[3], Rwb[9];
+    const double qd0[ARM_NJ] = { 0 };
+    int i;
+    if (!c || !p1_world || !R1_world || (ref != ERLAW_REF_MEASURED && ref != ERLAW_REF_TIME))
+        return -1;
+    for (i = 0; i < 3; i++)
+        if (!isfinite(p1_world[i]))
+            return -1;
+    memset(c, 0, sizeof *c);
+    if (cartseg_tool_world(m, tool, T_world_base, q, qd0, x, v) != 0)
+        return -1;
+    if (erlaw_line_init(&c->line, x, p1_world, g) != 0)
+        return -1;
+    memcpy(c->T_world_base, T_world_base, sizeof c->T_world_base);
+    R_of(T_world_base, Rwb);
+    rot_tmul(c->R_d_base, Rwb, R1_world);
+    vec3_copy(c->p1_world, p1_world);
+    cartctl_gains_default(&c->cg);
+    c->ref = ref;
+    erlaw_block_reset(&c->blk, 0.0);
+    return 0;
+}
+
+int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm_payload *payload,
+                 const double q[ARM_NJ], const double qd[ARM_NJ], double s_ext_m, double dt_s,
+                 cartseg_out *out)
+{
+    cartctl_state st;
+    cartctl_out co;
+    erlaw_out eo;
+    double Tw[16], Rwb[9], u_base[3];
+    const erlaw_ref ref = (s_ext_m >= 0.0 && c->ref == ERLAW_REF_MEASURED) ? ERLAW_REF_EXTERNAL : c->ref;
+    int commanding, blocked;
+    if (!c || !out)
+        return -1;
+    memset(out, 0, sizeof *out);
+    if (!isfinite(dt_s) || dt_s < 0.0 || cartctl_state_at(m, tool, q, qd, &st) != 0)
+        return -1;
+    tf_mul(Tw, c->T_world_base, st.T);
+    tf_pos(out->x_world, Tw);
+    R_of(c->T_world_base, Rwb);
+    rot_apply(out->v_world, Rwb, st.twist);
+    if (erlaw_line_step(&c->line, out->x_world, out->v_world, ref, s_ext_m, dt_s, &eo) != 0)
+        return -1;
+    out->s_m = eo.s_m;
+    out->s_ref_m = eo.s_ref_m;
+    out->s_f_m = erlaw_channel_length(&c->line.ch);
+    out->bias = eo.bias;
+    vec3_copy(out->u_world, eo.u);
+    out->done = erlaw_done(eo.s_m, out->s_f_m, vec3_norm(out->v_world), CARTSEG_DONE_TOL_M, CARTSEG_DONE_SPEED_MPS);
+    /* motion is asked while not done; a synchronised arm whose reference
+     * k_i s* is behind its own s is held by its partner (it leads by about
+     * k0/k_p): waiting, not blocked. The laggard has k_i s* = s. Near
+     * the goal the law creeps in exponentially (V_d ~ sqrt(u_m)(s_f - s)):
+     * slow, not blocked. */
+    commanding = !out->done && out->s_f_m - eo.s_m > CARTSEG_BLOCK_NEAR_GOAL_M &&
+                 (ref != ERLAW_REF_EXTERNAL || eo.s_ref_m > eo.s_m - 0.5 * CARTSEG_BLOCK_EPS_M);
+    blocked = erlaw_block_update(&c->blk, eo.s_m, commanding, dt_s, CARTSEG_BLOCK_EPS_M, CARTSEG_BLOCK_TIME_S);
+    out->block_changed = blocked != c->blocked;
+    c->blocked = blocked;
+    out->blocked = blocked;
+    rot_tapply(u_base, Rwb, eo.u);
+    if (cartctl_torque(m, tool, payload, &c->cg, q, qd, &st, u_base, c->R_d_base, out->tau_Nm, &co) != 0)
+        return -1;
+    out->saturated = co.saturated;
+    return 0;
+}

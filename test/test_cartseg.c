@@ -1,0 +1,154 @@
+/* test_cartseg: with the arm model as plant (1 kHz, semi-implicit Euler)
+ * a tool-down segment of arm 1's cell ends at rest within the done
+ * tolerance of p1 with the orientation held; freezing the plant (a
+ * "stick") flags blocked within the detector time, keeps the command
+ * bounded (no error build-up) and the segment still completes after the
+ * release; the time-referenced baseline's command grows while frozen. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <math.h>
+#include <string.h>
+
+#include "cartseg.h"
+#include "cell.h"
+#include "vec3.h"
+
+static const erlaw_gains G = { 0.25, 0.5, 4.0, 100.0, 20.0, 0.2, 5.0, 50.0 };
+
+static void setup(double T_wb[16], arm_tool *tool, double q[ARM_NJ], double R1[9])
+{
+    const double off[3] = { 0.0, 0.0, CELL_TOOL_LENGTH_M };
+    double Rb[9], T[16], p[3], Tinv[16], Rinv[9];
+    arm_ik_result r;
+    const double q_ref[ARM_NJ] = { 0.0, 0.6, 2.9, 0.0, -0.4, 0.0 };
+    arm_tool_offset(tool, off);
+    cell_world_from_arm(&cell_default, 0, T_wb);
+    tf_inverse(Tinv, T_wb);
+    tf_rot(Rinv, Tinv);
+    rot_apply(p, Rinv, cell_default.home_tool_m[0]);
+    p[0] += Tinv[3]; p[1] += Tinv[7]; p[2] += Tinv[11];
+    cell_tool_down_R(&cell_default, 0, Rb);
+    tf_from_rot_pos(T, Rb, p);
+    assert_int_equal(arm_ik(&arm_model_puma560, tool, T, &r), 0);
+    memcpy(q, r.branch[arm_ik_nearest(&r, q_ref)].q_rad, sizeof(double) * ARM_NJ);
+    vec3_set(R1, 1, 0, 0); vec3_set(R1 + 3, 0, -1, 0); vec3_set(R1 + 6, 0, 0, -1);
+}
+
+/* Runs n cycles; frozen cycles in [f0, f1) keep q, qd = 0. Returns the
+ * first done cycle (-1 if none); max |u| while frozen in *tau_frozen. */
+static int run(cartseg *c, const arm_tool *tool, double q[ARM_NJ], double qd[ARM_NJ], int n, int f0, int f1,
+               double s_ext, int *blocked_at, double *tau_frozen)
+{
+    int k, i;
+    *blocked_at = -1;
+    *tau_frozen = 0.0;
+    for (k = 0; k < n; k++) {
+        cartseg_out o;
+        double qdd[ARM_NJ];
+        assert_int_equal(cartseg_step(c, &arm_model_puma560, tool, NULL, q, qd, s_ext, 1e-3, &o), 0);
+        if (o.done)
+            return k;
+        if (o.blocked && *blocked_at < 0)
+            *blocked_at = k;
+        if (k >= f0 && k < f1) {
+            memset(qd, 0, sizeof(double) * ARM_NJ);
+            *tau_frozen = fmax(*tau_frozen, vec3_norm(o.u_world));
+            continue;
+        }
+        arm_forward_dynamics(&arm_model_puma560, q, qd, o.tau_Nm, NULL, NULL, qdd);
+        for (i = 0; i < ARM_NJ; i++) {
+            qd[i] += 1e-3 * qdd[i];
+            q[i] += 1e-3 * qd[i];
+        }
+    }
+    return -1;
+}
+
+static void test_segment_ends_at_p1(void **st)
+{
+    double T_wb[16], q[ARM_NJ], qd[ARM_NJ] = { 0 }, R1[9], p1[3], x[3], v[3], tf;
+    arm_tool tool;
+    cartseg c;
+    int done, blk;
+    (void)st;
+    setup(T_wb, &tool, q, R1);
+    vec3_copy(p1, cell_default.home_tool_m[0]);
+    p1[0] -= 0.15; p1[2] -= 0.10;
+    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
+    done = run(&c, &tool, q, qd, 6000, 0, 0, -1.0, &blk, &tf);
+    assert_true(done > 0);
+    assert_int_equal(blk, -1);
+    cartseg_tool_world(&arm_model_puma560, &tool, T_wb, q, qd, x, v);
+    vec3_sub(x, x, p1);
+    assert_true(vec3_norm(x) < 0.003);
+}
+
+static void test_block_and_resume(void **st)
+{
+    double T_wb[16], q[ARM_NJ], qd[ARM_NJ] = { 0 }, R1[9], p1[3], tf_event, tf_time;
+    arm_tool tool;
+    cartseg c;
+    int done, blk;
+    (void)st;
+    setup(T_wb, &tool, q, R1);
+    vec3_copy(p1, cell_default.home_tool_m[0]);
+    p1[1] -= 0.2;
+    cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED);
+    /* frozen from 0.4 s to 2.4 s */
+    done = run(&c, &tool, q, qd, 8000, 400, 2400, -1.0, &blk, &tf_event);
+    assert_true(done > 2400);
+    assert_true(blk >= 400 && blk < 400 + 200);
+    /* the time-referenced baseline pushes ever harder on the same block */
+    setup(T_wb, &tool, q, R1);
+    memset(qd, 0, sizeof qd);
+    cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_TIME);
+    run(&c, &tool, q, qd, 2400, 400, 2400, -1.0, &blk, &tf_time);
+    /* event law: u bounded by a_m + k_v v_m + k0 however long the block */
+    assert_true(tf_event <= G.a_m + G.k_v * G.v_m + G.k0 + 1e-9);
+    assert_true(tf_time > 2.0 * tf_event);
+}
+
+static void test_external_reference_holds(void **st)
+{
+    double T_wb[16], q[ARM_NJ], qd[ARM_NJ] = { 0 }, R1[9], p1[3], tf;
+    arm_tool tool;
+    cartseg c;
+    cartseg_out o;
+    int blk;
+    (void)st;
+    setup(T_wb, &tool, q, R1);
+    vec3_copy(p1, cell_default.home_tool_m[0]);
+    p1[0] += 0.2;
+    cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED);
+    /* partner frozen at s* = 0.05 m: this arm stops a bounded lead past it */
+    assert_int_equal(run(&c, &tool, q, qd, 3000, 0, 0, 0.05, &blk, &tf), -1);
+    cartseg_step(&c, &arm_model_puma560, &tool, NULL, q, qd, 0.05, 1e-3, &o);
+    /* lead bounded by (a_m + k_v v_m + k0) / k_p (SPEC 2.3) */
+    assert_true(o.s_m > 0.05 && o.s_m < 0.05 + (G.a_m + G.k_v * G.v_m + G.k0) / G.k_p);
+    assert_int_equal(blk, -1);   /* held by the partner: not blocked */
+}
+
+static void test_bad_input(void **st)
+{
+    double T_wb[16], q[ARM_NJ], R1[9], p1[3] = { NAN, 0, 0 };
+    arm_tool tool;
+    cartseg c;
+    (void)st;
+    setup(T_wb, &tool, q, R1);
+    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), -1);
+    p1[0] = 0.0;
+    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_EXTERNAL), -1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_segment_ends_at_p1),
+        cmocka_unit_test(test_block_and_resume),
+        cmocka_unit_test(test_external_reference_holds),
+        cmocka_unit_test(test_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
