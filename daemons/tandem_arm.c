@@ -2,7 +2,8 @@
  *
  * 1 kHz: reads ARMk_STATE, runs the core controller, publishes
  * ARMk_COMMAND (joint torques). Executes action rows from the supervisor
- * (ARMk_ACTION) segment by segment and reports ARM_EVENTS. Safe hold
+ * (ARMk_ACTION) segment by segment and reports ARM_EVENTS; between rows it
+ * tracks fresh joint references (ARMk_JOINT_REF) if any arrive. Safe hold
  * (SPEC.md §7): a stale state (> --stale-ms) engages the brakes; an invalid
  * row is rejected and the arm holds where it is with gravity compensation.
  */
@@ -14,9 +15,14 @@
 #include "arm_kin.h"
 #include "jointctl.h"
 #include "jtraj.h"
+#include "cartseg.h"
+#include "cell.h"
+#include "sync_ref.h"
+#include "vec3.h"
 #include "tandem_action_event_t.h"
 #include "tandem_action_row_t.h"
 #include "tandem_arm_command_t.h"
+#include "tandem_arm_joint_ref_t.h"
 #include "tandem_arm_state_t.h"
 
 #define ROW_MAX_SEGMENTS 8
@@ -49,6 +55,15 @@ typedef struct arm_ctl {
 
 static arm_ctl C;
 
+/* External joint references (ARMk_JOINT_REF, e.g. a TDSD resolver in
+ * tandem-scenario): tracked while fresh and no action row runs. */
+static struct {
+    tandem_arm_joint_ref_t ref;
+    int     have;
+    int64_t rx_ns;
+    char    ch[20];
+} JR;
+
 static void usage(void)
 {
     printf("usage: tandem-arm --arm 1|2 [options]\n"
@@ -59,6 +74,7 @@ static void usage(void)
            "  --wn HZ           joint servo natural frequency in Hz (default 8)\n"
            "  --stale-ms MS     state older than this engages the brakes (default 20)\n"
            "  --speed-frac F    joint moves use this fraction of the motor speed (default 0.5)\n"
+           "  --arm-model NAME  puma560 (default) or seed002 (must match tandem-sim's)\n"
            DAEMON_COMMON_HELP);
 }
 
@@ -110,9 +126,18 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
     }
 }
 
+static void cart_row_accept(const tandem_action_row_t *r);
+static void cart_start(daemon *d, const tandem_action_segment_t *g);
+static int  cart_cycle(daemon *d);
+static void send_command(daemon *d, int mode, const double tau[ARM_NJ]);
+
 static int segment_valid(const tandem_action_segment_t *g)
 {
     switch (g->kind) {
+    case TANDEM_ACTION_SEGMENT_T_MOVE_CARTESIAN:
+        return all_finite(g->position_m, 3) && all_finite(g->orientation_quat, 4) &&
+               fabs(g->orientation_quat[0] * g->orientation_quat[0] + g->orientation_quat[1] * g->orientation_quat[1] +
+                    g->orientation_quat[2] * g->orientation_quat[2] + g->orientation_quat[3] * g->orientation_quat[3] - 1.0) < 1e-3;
     case TANDEM_ACTION_SEGMENT_T_MOVE_JOINT:
         return arm_q_finite(g->q_rad) == 0 && arm_q_outside_limits(C.model, g->q_rad) == 0;
     case TANDEM_ACTION_SEGMENT_T_GRASP:
@@ -156,8 +181,41 @@ static void on_action(const lcm_recv_buf_t *rb, const char *ch, void *u)
     C.action_id = r.action_id;
     C.transition = r.transition;
     C.running = 1;
+    cart_row_accept(&r);
     tandem_action_row_t_decode_cleanup(&r);
     publish_event(d, TANDEM_ACTION_EVENT_T_STARTED, "");
+}
+
+static void on_joint_ref(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    daemon *d = u;
+    tandem_arm_joint_ref_t r;
+    (void)ch;
+    d->msgs.received++;
+    if (tandem_arm_joint_ref_t_decode(rb->data, 0, rb->data_size, &r) < 0) {
+        d->msgs.rejected++;
+        return;
+    }
+    if (r.arm != C.arm || r.step < 0 || C.running || arm_q_finite(r.q_rad) != 0 ||
+        !all_finite(r.qd_radps, ARM_NJ) || !all_finite(r.qdd_radps2, ARM_NJ) ||
+        arm_q_outside_limits(C.model, r.q_rad) != 0 || (JR.have && r.step < JR.ref.step)) {
+        d->msgs.rejected++;
+        return;
+    }
+    JR.ref = r;
+    JR.have = 1;
+    JR.rx_ns = rtloop_now_ns();
+    memcpy(C.hold_q, r.q_rad, sizeof C.hold_q);   /* stale refs: hold the last one */
+    C.holding_set = 1;
+}
+
+static int joint_ref_fresh(const daemon *d)
+{
+    if (!JR.have)
+        return 0;
+    if (d->lockstep)
+        return (double)(C.st.step - JR.ref.step) * DAEMON_SIM_DT_S <= C.stale_s;
+    return (double)(rtloop_now_ns() - JR.rx_ns) * 1e-9 <= C.stale_s;
 }
 
 /* ---- segments ------------------------------------------------------------- */
@@ -175,6 +233,8 @@ static void start_segment(daemon *d)
     C.seg_t0_s = C.st.sim_time_s;
     if (g->kind == TANDEM_ACTION_SEGMENT_T_MOVE_JOINT)
         jtraj_plan(&C.traj, C.model, C.hold_q, g->q_rad, C.speed_frac, 2.0);
+    else if (g->kind == TANDEM_ACTION_SEGMENT_T_MOVE_CARTESIAN)
+        cart_start(d, g);
     else
         C.gripper = g->kind == TANDEM_ACTION_SEGMENT_T_GRASP ? TANDEM_ARM_COMMAND_T_GRIP_CLOSE
                                                             : TANDEM_ARM_COMMAND_T_GRIP_OPEN;
@@ -201,6 +261,184 @@ static int segment_reference(double q_d[ARM_NJ], double qd_d[ARM_NJ], double qdd
     if (done)
         memcpy(C.hold_q, q_d, sizeof C.hold_q);
     return done;
+}
+
+/* ---- Cartesian segments (SPEC 2.1-2.3, 2.6) ------------------------------
+ * MOVE_CARTESIAN runs cartseg: the event-referenced law (or, with
+ * CONTROLLER_TIME, the time-referenced baseline) turned into torques by
+ * operational-space computed torque. Synchronised segments (sync_group >
+ * 0) publish PROGRESS every cycle and follow k_i s*, s* = min over this arm
+ * and its partner (the partner's PROGRESS of the same transition and
+ * group). BLOCKED / UNBLOCKED are reported when s stops while commanded. */
+
+#define CART_PROGRESS_EVERY 100       /* unsynchronised: 10 Hz */
+#define CART_PARTNER_WINDOW_STEPS 500 /* partner progress older than the
+                                         segment start by more: a past one */
+
+static struct {
+    cartseg seg;
+    arm_tool tool;
+    double  T_world_base[16];
+    erlaw_gains g;
+    int     controller;               /* action_row_t CONTROLLER_* */
+    int32_t sync_group;
+    int64_t start_step;
+    int64_t cycles;
+    double  s_m, s_f_m, k;            /* last measured progress, length, k_i */
+    int     partner_valid;
+    int32_t partner_transition, partner_group;
+    int64_t partner_step;
+    double  partner_s_m, partner_s_f_m;
+} CX;
+
+static void cart_row_accept(const tandem_action_row_t *r)
+{
+    erlaw_gains g = { r->v_m, r->a_m, r->u_m, r->k_p, r->k_v, r->k0, r->k1, r->k2 };
+    CX.g = g;
+    CX.controller = r->controller;
+    CX.sync_group = r->sync_group;
+}
+
+static void cart_publish_event(daemon *d, int ev, const char *detail)
+{
+    tandem_action_event_t e;
+    memset(&e, 0, sizeof e);
+    e.seq = C.ev_seq++;
+    e.utime = daemon_utime_now();
+    e.step = C.st.step;
+    e.action_id = C.action_id;
+    e.transition = C.transition;
+    e.arm = (int8_t)C.arm;
+    e.event = (int8_t)ev;
+    e.sync_group = CX.sync_group;
+    e.segment = (int8_t)C.cur_seg;
+    e.s_m = CX.s_m;
+    e.s_f_m = CX.s_f_m;
+    e.s_norm = CX.k > 0.0 ? CX.s_m / CX.k : CX.s_m;
+    e.detail = (char *)detail;
+    tandem_action_event_t_publish(d->lcm, "ARM_EVENTS", &e);
+}
+
+static void cart_on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    daemon *d = u;
+    tandem_action_event_t e;
+    (void)ch;
+    if (tandem_action_event_t_decode(rb->data, 0, rb->data_size, &e) < 0) {
+        d->msgs.received++;
+        d->msgs.rejected++;
+        return;
+    }
+    if (e.arm != C.arm && e.arm >= 1 && e.arm <= 2 && e.event == TANDEM_ACTION_EVENT_T_PROGRESS &&
+        e.sync_group > 0) {
+        d->msgs.received++;
+        if (!isfinite(e.s_m) || !isfinite(e.s_f_m) || e.s_f_m < 0.0 || e.s_m < 0.0 || e.s_m > e.s_f_m + 1e-6) {
+            d->msgs.rejected++;
+        } else {
+            CX.partner_valid = 1;
+            CX.partner_transition = e.transition;
+            CX.partner_group = e.sync_group;
+            CX.partner_step = e.step;
+            CX.partner_s_m = e.s_m;
+            CX.partner_s_f_m = e.s_f_m;
+        }
+    }
+    tandem_action_event_t_decode_cleanup(&e);
+}
+
+static void cart_start(daemon *d, const tandem_action_segment_t *g)
+{
+    const double off[3] = { 0.0, 0.0, CELL_TOOL_LENGTH_M };
+    double R1[9];
+    const erlaw_ref ref = CX.controller == TANDEM_ACTION_ROW_T_CONTROLLER_TIME ? ERLAW_REF_TIME : ERLAW_REF_MEASURED;
+    arm_tool_offset(&CX.tool, off);
+    cell_world_from_arm(&cell_default, C.arm - 1, CX.T_world_base);
+    rot_from_quat(R1, g->orientation_quat);
+    if (cartseg_start(&CX.seg, C.model, &CX.tool, CX.T_world_base, C.st.q_rad, g->position_m, R1, &CX.g, ref) != 0) {
+        /* cannot plan it (bad gains): hold here and skip the segment */
+        memcpy(C.hold_q, C.st.q_rad, sizeof C.hold_q);
+        C.cur_seg = C.n_seg;
+        C.running = 0;
+        cart_publish_event(d, TANDEM_ACTION_EVENT_T_REJECTED, "bad segment");
+        return;
+    }
+    CX.start_step = C.st.step;
+    CX.cycles = 0;
+    CX.s_m = 0.0;
+    CX.s_f_m = erlaw_channel_length(&CX.seg.line.ch);
+    CX.k = 1.0;
+}
+
+/* Reference k_i s* of a synchronised event-referenced segment, or -1
+ * (own measured s). Until the partner reports, s* = 0 (wait at the start). */
+static double cart_sync_ref(void)
+{
+    sync_ref r;
+    double l[2], s[2], s_star, ref[2];
+    if (CX.sync_group <= 0 || CX.controller == TANDEM_ACTION_ROW_T_CONTROLLER_TIME)
+        return -1.0;
+    if (!CX.partner_valid || CX.partner_transition != C.transition || CX.partner_group != CX.sync_group ||
+        CX.partner_step < CX.start_step - CART_PARTNER_WINDOW_STEPS)
+        return 0.0;
+    l[0] = CX.s_f_m;
+    l[1] = CX.partner_s_f_m;
+    s[0] = CX.s_m;
+    s[1] = CX.partner_s_m;
+    if (sync_ref_init(&r, 2, l) != 0 || sync_ref_update(&r, s, &s_star, ref) != 0)
+        return 0.0;
+    CX.k = r.k[0];
+    return ref[0];
+}
+
+/* The bar is held at one end: its centre is 0.10 m along the flange x
+ * axis (towards +x for arm 1, -x for arm 2), at the tool point. */
+static const arm_payload *cart_payload(arm_payload *p)
+{
+    double com[3];
+    if (C.st.holding_workpiece < 0)
+        return NULL;
+    com[0] = (C.arm == 1 ? 1.0 : -1.0) * cell_default.grasp_offset_m;
+    com[1] = 0.0;
+    com[2] = CELL_TOOL_LENGTH_M;
+    arm_payload_point(p, cell_default.workpiece_mass_kg, com);
+    return p;
+}
+
+/* Runs the cycle when a Cartesian segment is current; 1 if it sent the
+ * command, 0 to let the joint-space path do it. */
+static int cart_cycle(daemon *d)
+{
+    arm_payload pl;
+    cartseg_out o;
+    double x[3], v[3], s_ext;
+    if (C.running && C.cur_seg < 0)
+        start_segment(d);
+    if (!C.running || C.cur_seg < 0 || C.cur_seg >= C.n_seg ||
+        C.seg[C.cur_seg].kind != TANDEM_ACTION_SEGMENT_T_MOVE_CARTESIAN)
+        return 0;
+    if (cartseg_tool_world(C.model, &CX.tool, CX.T_world_base, C.st.q_rad, C.st.qd_radps, x, v) != 0)
+        return 0;
+    CX.s_m = erlaw_line_s(&CX.seg.line, x);
+    s_ext = cart_sync_ref();
+    if (cartseg_step(&CX.seg, C.model, &CX.tool, cart_payload(&pl), C.st.q_rad, C.st.qd_radps, s_ext,
+                     d->period_s, &o) != 0)
+        return 0;   /* joint-space hold at hold_q this cycle */
+    CX.s_m = o.s_m;
+    if (o.block_changed)
+        cart_publish_event(d, o.blocked ? TANDEM_ACTION_EVENT_T_BLOCKED : TANDEM_ACTION_EVENT_T_UNBLOCKED, "");
+    if (CX.sync_group > 0 || CX.cycles % CART_PROGRESS_EVERY == 0 || o.done)
+        cart_publish_event(d, TANDEM_ACTION_EVENT_T_PROGRESS, "");
+    CX.cycles++;
+    snprintf(d->status, sizeof d->status, "action %d seg %d s %.3f/%.3f%s", (int)C.action_id, C.cur_seg,
+             o.s_m, o.s_f_m, o.blocked ? " BLOCKED" : "");
+    send_command(d, TANDEM_ARM_COMMAND_T_MODE_TORQUE, o.tau_Nm);
+    if (o.done) {
+        if (o.blocked)
+            cart_publish_event(d, TANDEM_ACTION_EVENT_T_UNBLOCKED, "");
+        memcpy(C.hold_q, C.st.q_rad, sizeof C.hold_q);
+        start_segment(d);
+    }
+    return 1;
 }
 
 /* ---- the cycle ------------------------------------------------------------ */
@@ -235,6 +473,10 @@ static void cycle(daemon *d, void *user)
     double q_d[ARM_NJ], qd_d[ARM_NJ] = { 0 }, qdd_d[ARM_NJ] = { 0 }, tau[ARM_NJ];
     arm_payload payload, *pl = NULL;
     (void)user;
+    if (!C.have_state) {
+        d->skip_ack = 1;   /* lockstep: join once the first state is here */
+        return;
+    }
     if (state_stale(d)) {
         if (C.have_state)
             d->msgs.stale++;
@@ -244,6 +486,8 @@ static void cycle(daemon *d, void *user)
         return;
     }
     d->safe_hold = 0;
+    if (cart_cycle(d))
+        return;
     memcpy(q_d, C.hold_q, sizeof q_d);
     if (C.running) {
         if (C.cur_seg < 0)
@@ -253,6 +497,10 @@ static void cycle(daemon *d, void *user)
             if (C.running)
                 segment_reference(q_d, qd_d, qdd_d);
         }
+    } else if (joint_ref_fresh(d)) {
+        memcpy(q_d, JR.ref.q_rad, sizeof q_d);
+        memcpy(qd_d, JR.ref.qd_radps, sizeof qd_d);
+        memcpy(qdd_d, JR.ref.qdd_radps2, sizeof qdd_d);
     }
     if (C.st.holding_workpiece >= 0) {
         const double com[3] = { 0.0, 0.0, 0.10 };
@@ -275,6 +523,7 @@ int main(int argc, char **argv)
         { "wn", required_argument, 0, 'w' },
         { "stale-ms", required_argument, 0, 's' },
         { "speed-frac", required_argument, 0, 'f' },
+        { "arm-model", required_argument, 0, 'm' },
         DAEMON_COMMON_OPTIONS,
         { 0, 0, 0, 0 }
     };
@@ -296,6 +545,12 @@ int main(int argc, char **argv)
         case 'w': if (parse_double_opt("tandem-arm", "--wn", optarg, 0.5, 50.0, &hz) < 0) return 2; break;
         case 's': if (parse_double_opt("tandem-arm", "--stale-ms", optarg, 1.0, 1000.0, &ms) < 0) return 2; break;
         case 'f': if (parse_double_opt("tandem-arm", "--speed-frac", optarg, 0.01, 1.0, &C.speed_frac) < 0) return 2; break;
+        case 'm':
+            if (!(C.model = arm_model_by_name(optarg))) {
+                fprintf(stderr, "tandem-arm: --arm-model: '%s' is not puma560|seed002\n", optarg);
+                return 2;
+            }
+            break;
         default: usage(); return 2;
         }
     }
@@ -304,7 +559,8 @@ int main(int argc, char **argv)
         return 2;
     }
     C.arm = (int)arm;
-    C.model = &arm_model_puma560;
+    if (!C.model)
+        C.model = &arm_model_puma560;
     C.gains.wn_radps = 6.283185307179586 * hz;
     C.gains.zeta = 1.0;
     C.stale_s = ms * 1e-3;
@@ -315,8 +571,11 @@ int main(int argc, char **argv)
     snprintf(C.action_ch, sizeof C.action_ch, "ARM%d_ACTION", C.arm);
     if (daemon_start(&d) != 0)
         return 1;
+    lcm_subscribe(d.lcm, "ARM_EVENTS", cart_on_event, &d);
     lcm_subscribe(d.lcm, C.state_ch, on_state, &d);
     lcm_subscribe(d.lcm, C.action_ch, on_action, &d);
+    snprintf(JR.ch, sizeof JR.ch, "ARM%d_JOINT_REF", C.arm);
+    lcm_subscribe(d.lcm, JR.ch, on_joint_ref, &d);
     rc = daemon_run(&d, cycle, NULL);
     daemon_finish(&d);
     return rc;

@@ -87,6 +87,9 @@ typedef struct sim_config {
     double arm_friction_coulomb;  /* N m */
     int    rovers;             /* number of Pioneer robots (0 = none) */
     char   rover_world[32];    /* open | obstacles | corridor | deadzone */
+    const struct arm_model *arm1_model;  /* arm 1's tables; NULL = PUMA 560 */
+    int    arm1_q0_set;        /* 1: arm 1 starts at arm1_q0_rad, not at home */
+    double arm1_q0_rad[6];
 } sim_config;
 
 /* A simulated model plugs into the step through these hooks. */
@@ -95,7 +98,9 @@ typedef struct sim_model_ops {
     int  (*create)(sim_world *w, const sim_config *cfg);
     void (*destroy)(sim_world *w);
     void (*before_step)(sim_world *w);   /* apply held commands, watchdogs */
-    void (*after_step)(sim_world *w);    /* sensors; publish states */
+    void (*after_step)(sim_world *w);    /* sensors; publish states. May be called
+                                            again for the same step (lockstep start-up,
+                                            pause): no side effects beyond publishing */
     /* 1 if the control message was for this model (and applied), 0 if not,
      * -1 if it was for this model but invalid. */
     int  (*control)(sim_world *w, const tandem_sim_control_t *c);

@@ -176,11 +176,13 @@ static int arms_create(sim_world *w, const sim_config *cfg)
         sim_arm *a = &sim_arm_pair[k];
         double Tl[ARM_NJ + 1][16];
         memset(a, 0, sizeof *a);
-        a->model = &arm_model_puma560;
+        a->model = (k == 0 && cfg->arm1_model) ? cfg->arm1_model : &arm_model_puma560;
         a->holding = -1;
         a->mode = TANDEM_ARM_COMMAND_T_MODE_BRAKE;
         cell_world_from_arm(&cell_default, k, a->T_world_mount);
-        if (home_q(a, k, a->q_init) != 0) {
+        if (k == 0 && cfg->arm1_q0_set)
+            memcpy(a->q_init, cfg->arm1_q0_rad, sizeof a->q_init);
+        else if (home_q(a, k, a->q_init) != 0) {
             fprintf(stderr, "tandem-sim: arm %d home pose has no IK solution\n", k + 1);
             return -1;
         }
@@ -253,7 +255,10 @@ static void read_joints(sim_arm *a)
 {
     int i;
     for (i = 0; i < ARM_NJ; i++) {
-        a->q[i] = a->q_init[i] + dJointGetHingeAngle(a->joint[i]);
+        /* ODE hinge angles wrap at +-pi; q1, q4, q6 may travel further
+         * (e.g. q1 through the shoulder singularity): keep q continuous */
+        const double raw = a->q_init[i] + dJointGetHingeAngle(a->joint[i]);
+        a->q[i] = raw + 6.283185307179586 * floor((a->q[i] - raw) / 6.283185307179586 + 0.5);
         a->qd[i] = dJointGetHingeAngleRate(a->joint[i]);
     }
 }

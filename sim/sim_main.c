@@ -4,6 +4,7 @@
  * registered controller has answered k before stepping to k+1.
  */
 #include "sim.h"
+#include "arm_model.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -41,6 +42,8 @@ static void usage(void)
            "  --friction V,C    arm joint viscous (N m s/rad) and Coulomb (N m) friction\n"
            "  --rovers N        number of Pioneer robots (default 0)\n"
            "  --world NAME      rover world: open | obstacles | corridor | deadzone\n"
+           "  --arm-model NAME  arm 1 is puma560 (default) or seed002 (seed 002's arm)\n"
+           "  --arm-q0 Q1,..,Q6 arm 1 starts at these joint angles (rad) instead of home\n"
            DAEMON_COMMON_HELP);
 }
 
@@ -56,10 +59,12 @@ static int parse_args(int argc, char **argv)
         { "friction", required_argument, 0, 'f' },
         { "rovers", required_argument, 0, 'r' },
         { "world", required_argument, 0, 'w' },
+        { "arm-model", required_argument, 0, 'M' },
+        { "arm-q0", required_argument, 0, 'Q' },
         DAEMON_COMMON_OPTIONS,
         { 0, 0, 0, 0 }
     };
-    int c;
+    int c, i;
     long v;
     double ms;
     while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
@@ -120,10 +125,36 @@ static int parse_args(int argc, char **argv)
             }
             snprintf(app.cfg.rover_world, sizeof app.cfg.rover_world, "%s", optarg);
             break;
+        case 'M':
+            if (!(app.cfg.arm1_model = arm_model_by_name(optarg))) {
+                fprintf(stderr, "tandem-sim: --arm-model: '%s' is not puma560|seed002\n", optarg);
+                return -1;
+            }
+            break;
+        case 'Q': {
+            char *tok = strtok(optarg, ",");
+            for (i = 0; i < ARM_NJ; i++, tok = strtok(NULL, ","))
+                if (!tok || parse_double_opt("tandem-sim", "--arm-q0", tok, -10.0, 10.0, &app.cfg.arm1_q0_rad[i]) < 0) {
+                    if (!tok)
+                        fprintf(stderr, "tandem-sim: --arm-q0: expected 6 comma-separated angles (rad)\n");
+                    return -1;
+                }
+            if (tok) {
+                fprintf(stderr, "tandem-sim: --arm-q0: more than 6 angles\n");
+                return -1;
+            }
+            app.cfg.arm1_q0_set = 1;
+            break;
+        }
         default:
             usage();
             return -1;
         }
+    }
+    if (app.cfg.arm1_q0_set &&
+        arm_q_outside_limits(app.cfg.arm1_model ? app.cfg.arm1_model : &arm_model_puma560, app.cfg.arm1_q0_rad)) {
+        fprintf(stderr, "tandem-sim: --arm-q0: outside arm 1's joint ranges\n");
+        return -1;
     }
     if (optind < argc) {
         fprintf(stderr, "tandem-sim: unexpected argument '%s'\n", argv[optind]);
@@ -319,9 +350,10 @@ static void wait_for_answers(void)
             sim_lockstep_drop_late(&app.w, app.w.step);
             return;
         }
-        /* Until everyone is there (or while paused), keep announcing the step. */
+        /* Until everyone is there (or while paused), keep announcing the step
+         * with its states, so a controller that starts late still sees them. */
         if ((starting || app.w.paused) && now - last_pub > 100000000LL) {
-            publish_clock();
+            publish_step();
             last_pub = now;
         }
         lcm_handle_timeout(app.w.lcm, 10);

@@ -294,9 +294,11 @@ static void run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
         if (d->pending_step < 0)
             continue;
         t0 = rtloop_now_ns();
+        d->skip_ack = 0;
         fn(d, user);
         rtloop_record(&d->loop, t0);
-        ack(d, d->pending_step, 0);
+        if (!d->skip_ack)
+            ack(d, d->pending_step, 0);
         d->pending_step = -1;
     }
 }

@@ -60,6 +60,9 @@ typedef struct daemon {
     int64_t  ack_seq;
     int64_t  last_health_ns;
     int      safe_hold;
+    int      skip_ack;                  /* lockstep: set by a cycle whose inputs
+                                           have not arrived yet (no answer, so the
+                                           simulator does not count on it yet) */
     char     status[96];
 } daemon;
 
