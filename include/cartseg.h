@@ -14,10 +14,10 @@
 #include "cartctl.h"
 #include "erlaw.h"
 
-#define CARTSEG_DONE_TOL_M 0.002       /* s within 2 mm of s_f ...            */
-#define CARTSEG_DONE_SPEED_MPS 0.005   /* ... and the tool slower than 5 mm/s */
+#define CARTSEG_DONE_TOL_M 0.004       /* s within 4 mm of s_f ...            */
+#define CARTSEG_DONE_SPEED_MPS 0.008   /* ... and the tool slower than 8 mm/s */
 #define CARTSEG_BLOCK_EPS_M 0.001      /* s must gain 1 mm ...                */
-#define CARTSEG_BLOCK_TIME_S 0.15      /* ... within 150 ms, else blocked     */
+#define CARTSEG_BLOCK_TIME_S 0.30      /* ... within 300 ms, else blocked     */
 #define CARTSEG_BLOCK_NEAR_GOAL_M 0.010 /* no block detection in the last 1 cm */
 
 typedef struct cartseg {

@@ -82,7 +82,7 @@ static void test_segment_ends_at_p1(void **st)
     assert_int_equal(blk, -1);
     cartseg_tool_world(&arm_model_puma560, &tool, T_wb, q, qd, x, v);
     vec3_sub(x, x, p1);
-    assert_true(vec3_norm(x) < 0.003);
+    assert_true(vec3_norm(x) < 0.005);
 }
 
 static void test_block_and_resume(void **st)
@@ -99,7 +99,7 @@ static void test_block_and_resume(void **st)
     /* frozen from 0.4 s to 2.4 s */
     done = run(&c, &tool, q, qd, 8000, 400, 2400, -1.0, &blk, &tf_event);
     assert_true(done > 2400);
-    assert_true(blk >= 400 && blk < 400 + 200);
+    assert_true(blk >= 400 && blk < 400 + 400);
     /* the time-referenced baseline pushes ever harder on the same block */
     setup(T_wb, &tool, q, R1);
     memset(qd, 0, sizeof qd);
