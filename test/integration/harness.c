@@ -1,5 +1,6 @@
 /* harness: child daemons on a private LCM bus (see harness.h). */
 #include "harness.h"
+#include "tandem_clock_ack_t.h"
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -128,4 +129,14 @@ void harness_close(harness *h)
     if (h->lcm)
         lcm_destroy(h->lcm);
     h->lcm = NULL;
+}
+
+void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps)
+{
+    tandem_clock_ack_t a;
+    memset(&a, 0, sizeof a);
+    a.step = step;
+    a.name = (char *)name;
+    a.period_steps = period_steps;
+    tandem_clock_ack_t_publish(h->lcm, "SIM_ACK", &a);
 }

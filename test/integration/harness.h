@@ -32,4 +32,9 @@ void  harness_close(harness *h);
 /* Handle LCM messages for ms milliseconds. */
 void  harness_pump(harness *h, int ms);
 
+
+
+/* Lockstep participation for a test: answer step k on SIM_ACK. */
+void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps);
+
 #endif
