@@ -1,16 +1,594 @@
-/* sim_rovers: Pioneer-2-DX robots (SPEC.md §4, §5). Not built yet: asking
- * for rovers is refused with a clear message rather than simulated wrongly. */
+/* sim_rovers: Pioneer 2 DX robots (SPEC.md §4, §5).
+ *
+ * Each robot: a 0.44 x 0.38 m chassis box (8 kg) with a frictionless caster
+ * ball, two 0.5 kg wheels (r 0.0825 m, track 0.33 m) on hinge motors; wheel
+ * slip is a Gauss-Markov surface velocity on each wheel's ground contact
+ * (so encoders and true motion disagree a little, as on the floor).
+ * Speed limits (default 0.75 m/s, 100 deg/s) and acceleration ramps apply
+ * to the held command; a command older than --rover-stale (0.5 s of sim
+ * time) stops the robot.
+ *
+ * Cost: the rovers live in their own ODE world and hash space (stepped
+ * with QuickStep on the simulator's clock), so their contacts are only
+ * wheel/caster-ground and chassis-obstacle/chassis-chassis, found by a hash
+ * space broad phase, and the PUMA pair's exact solver does not see them.
+ * Their bodies still enter the simulator's state hash. They stand at
+ * x > 4 m, away from the work cell, in the world layout of rover_world.
+ *
+ * Sensors (LCM): ROVERk_SENSORS (encoders, 20 Hz), ROVERk_SONAR (one
+ * transducer per 40 ms in the Pioneer order, sonar_cast on a primitive
+ * list of the obstacles and the other robots' boxes rebuilt every firing),
+ * ROVERk_BEACONS (camera at O: LED beacons of mates within 6 m and +-60 deg,
+ * line of sight, noise; 10 Hz), ROVER_TRUTH (ground truth, 20 Hz, for
+ * metrics only). KILL_ROBOT removes a robot from the world.
+ */
 #include "sim.h"
+#include "sim_rovers.h"
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "formation.h"
+#include "prng.h"
+#include "rover_world.h"
+#include "sonar.h"
+#include "unicycle.h"
+#include "tandem_beacon_obs_t.h"
+#include "tandem_rover_command_t.h"
+#include "tandem_rover_sensors_t.h"
+#include "tandem_rover_truth_t.h"
+#include "tandem_sonar_scan_t.h"
+
+#define RV_MAX            ROVER_WORLD_MAX_ROBOTS
+#define RV_WHEEL_R        0.0825
+#define RV_TRACK          0.33
+#define RV_CHASSIS_H      0.20
+#define RV_CHASSIS_Z      0.15
+#define RV_CASTER_R       0.04
+#define RV_SENSORS_STEPS  50
+#define RV_BEACON_STEPS   100
+#define RV_TRUTH_STEPS    50
+#define RV_CAM_RANGE_M    6.0
+#define RV_CAM_HALF_FOV   (60.0 * VEC2_PI / 180.0)
+#define RV_BEACON_Z_M     0.30
+#define RV_SLIP_SD        0.005
+#define RV_SLIP_TAU_S     0.5
+#define RV_ACCEL_V        1.0     /* m/s^2 */
+#define RV_ACCEL_W        3.0     /* rad/s^2 */
+#define RV_CAT_WHEEL      (1u << 8)
+
+typedef struct rover {
+    int32_t id;
+    int     alive;
+    dBodyID chassis, wheel[2];
+    dJointID hinge[2];
+    dGeomID box, caster, wgeom[2];
+    double  cmd_v, cmd_w;             /* held (clipped) command */
+    double  v_ref, w_ref;             /* after the acceleration ramp */
+    int64_t cmd_rx_step;
+    int     have_cmd, stale;
+    double  slip[2];
+    double  enc[2];                   /* accumulated wheel angles */
+    double  range[SONAR_N];
+    int     bump_now, bump_prev, collisions;
+    double  min_clear;
+    prng_t  rng;
+    int     prim;                     /* its box in the sonar world */
+    int64_t seq_sens, seq_sonar, seq_beacon;
+} rover;
+
+static struct {
+    int      n;
+    rover    r[RV_MAX];
+    rover_world_t layout;
+    sonar_world_t sw;
+    sonar_model_t sm;
+    dWorldID world;
+    dSpaceID space;
+    dJointGroupID contacts;
+    dGeomID  ground;
+    dGeomID  obst[ROVER_WORLD_MAX_OBST];
+    lcm_subscription_t *sub;
+    sim_world *w;
+    double   v_max, w_max, stale_s;
+    int64_t  truth_seq, rejected, rays;
+    int      formation;
+} R;
+
+/* tunables from the environment (the sim's command line belongs to sim_main) */
+static double env_num(const char *name, double def, double lo, double hi)
+{
+    const char *s = getenv(name);
+    char *end;
+    double v;
+    if (!s || !*s) return def;
+    v = strtod(s, &end);
+    if (*end || !isfinite(v) || v < lo || v > hi) {
+        fprintf(stderr, "tandem-sim: %s='%s' ignored (expected %g..%g)\n", name, s, lo, hi);
+        return def;
+    }
+    return v;
+}
+
+static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *u);
+
+static int rover_index(int32_t id) { return (id >= 1 && id <= R.n) ? id - 1 : -1; }
+
+static void pose_c(const rover *r, pose2_t *c)
+{
+    const dReal *p = dBodyGetPosition(r->chassis);
+    const dReal *m = dBodyGetRotation(r->chassis);
+    c->theta_rad = atan2(m[4], m[0]);
+    c->x_m = p[0] - ROVER_BODY_OFFSET_M * cos(c->theta_rad);
+    c->y_m = p[1] - ROVER_BODY_OFFSET_M * sin(c->theta_rad);
+}
+
+static void build_robot(rover *r, const pose2_t *c, sim_world *w)
+{
+    const double ct = cos(c->theta_rad), st = sin(c->theta_rad);
+    dMass m;
+    dMatrix3 rot;
+    int s;
+    dRFromAxisAndAngle(rot, 0, 0, 1, c->theta_rad);
+    r->chassis = dBodyCreate(R.world);
+    dMassSetBoxTotal(&m, 8.0, ROVER_BODY_LENGTH_M, ROVER_BODY_WIDTH_M, RV_CHASSIS_H);
+    dBodySetMass(r->chassis, &m);
+    dBodySetPosition(r->chassis, c->x_m + ROVER_BODY_OFFSET_M * ct,
+                     c->y_m + ROVER_BODY_OFFSET_M * st, RV_CHASSIS_Z);
+    dBodySetRotation(r->chassis, rot);
+    dBodySetData(r->chassis, r);
+    r->box = dCreateBox(R.space, ROVER_BODY_LENGTH_M, ROVER_BODY_WIDTH_M, RV_CHASSIS_H);
+    dGeomSetBody(r->box, r->chassis);
+    dGeomSetCategoryBits(r->box, SIM_CAT_ROVER);
+    dGeomSetCollideBits(r->box, SIM_CAT_ROVER | SIM_CAT_OBSTACLE);
+    r->caster = dCreateSphere(R.space, RV_CASTER_R);
+    dGeomSetBody(r->caster, r->chassis);
+    dGeomSetOffsetPosition(r->caster, -0.18 - ROVER_BODY_OFFSET_M, 0.0, RV_CASTER_R - RV_CHASSIS_Z);
+    dGeomSetCategoryBits(r->caster, RV_CAT_WHEEL);
+    dGeomSetCollideBits(r->caster, SIM_CAT_GROUND);
+    for (s = 0; s < 2; s++) {
+        const double side = s == 0 ? 0.5 * RV_TRACK : -0.5 * RV_TRACK;  /* 0 left, 1 right */
+        r->wheel[s] = dBodyCreate(R.world);
+        dMassSetSphereTotal(&m, 0.5, RV_WHEEL_R);
+        dBodySetMass(r->wheel[s], &m);
+        dBodySetPosition(r->wheel[s], c->x_m - side * st, c->y_m + side * ct, RV_WHEEL_R);
+        dBodySetRotation(r->wheel[s], rot);
+        dBodySetData(r->wheel[s], r);
+        r->wgeom[s] = dCreateSphere(R.space, RV_WHEEL_R);
+        dGeomSetBody(r->wgeom[s], r->wheel[s]);
+        dGeomSetCategoryBits(r->wgeom[s], RV_CAT_WHEEL);
+        dGeomSetCollideBits(r->wgeom[s], SIM_CAT_GROUND);
+        r->hinge[s] = dJointCreateHinge(R.world, 0);
+        dJointAttach(r->hinge[s], r->chassis, r->wheel[s]);
+        dJointSetHingeAnchor(r->hinge[s], c->x_m - side * st, c->y_m + side * ct, RV_WHEEL_R);
+        dJointSetHingeAxis(r->hinge[s], st, -ct, 0.0);   /* ODE measures body1 vs body2: +rate rolls forward */
+        dJointSetHingeParam(r->hinge[s], dParamFMax, 1.5);
+        dJointSetHingeParam(r->hinge[s], dParamVel, 0.0);
+    }
+    /* the sim's state hash covers the rover bodies too */
+    if (w->n_bodies + 3 <= SIM_MAX_BODIES) {
+        w->bodies[w->n_bodies++] = r->chassis;
+        w->bodies[w->n_bodies++] = r->wheel[0];
+        w->bodies[w->n_bodies++] = r->wheel[1];
+    }
+}
 
 static int rovers_create(sim_world *w, const sim_config *cfg)
 {
-    (void)w; (void)cfg;
-    fprintf(stderr, "tandem-sim: --rovers: the Pioneer model is not part of this build yet\n");
-    return -1;
+    int i, world;
+    char pattern[32];
+    memset(&R, 0, sizeof R);
+    R.w = w;
+    world = rover_world_id(cfg->rover_world);
+    R.formation = (int)env_num("TANDEM_ROVER_FORMATION", FORMATION_LINE, 0, 2);
+    if (cfg->rovers < 1 || cfg->rovers > RV_MAX || world < 0 ||
+        rover_world_layout(&R.layout, world, cfg->rovers, 1.0, R.formation) != 0) {
+        fprintf(stderr, "tandem-sim: --rovers %d --world %s: not a valid team (1..%d robots)\n",
+                cfg->rovers, cfg->rover_world, RV_MAX);
+        return -1;
+    }
+    R.n = cfg->rovers;
+    R.v_max = env_num("TANDEM_ROVER_VMAX", 0.75, 0.05, 2.0);
+    R.w_max = env_num("TANDEM_ROVER_WMAX_DEG", 100.0, 5.0, 360.0) * VEC2_PI / 180.0;
+    R.stale_s = env_num("TANDEM_ROVER_STALE_S", 0.5, 0.01, 10.0);
+    sonar_model_default(&R.sm);
+    R.world = dWorldCreate();
+    dWorldSetGravity(R.world, 0, 0, -9.81);
+    dWorldSetERP(R.world, 0.2);
+    dWorldSetCFM(R.world, 1e-5);
+    dWorldSetQuickStepNumIterations(R.world, 10);
+    R.space = dHashSpaceCreate(0);
+    dHashSpaceSetLevels(R.space, -3, 4);
+    R.contacts = dJointGroupCreate(0);
+    R.ground = dCreatePlane(R.space, 0, 0, 1, 0);
+    dGeomSetCategoryBits(R.ground, SIM_CAT_GROUND);
+    dGeomSetCollideBits(R.ground, RV_CAT_WHEEL);
+    for (i = 0; i < R.layout.n_obst; i++) {
+        const rover_obstacle_t *o = &R.layout.obst[i];
+        dGeomID g;
+        if (o->kind == ROVER_OBST_CIRCLE) {
+            g = dCreateCylinder(R.space, o->r_m, o->height_m);
+        } else {
+            dMatrix3 rot;
+            g = dCreateBox(R.space, 2.0 * o->hx_m, 2.0 * o->hy_m, o->height_m);
+            dRFromAxisAndAngle(rot, 0, 0, 1, o->angle_rad);
+            dGeomSetRotation(g, rot);
+        }
+        dGeomSetPosition(g, o->cx_m, o->cy_m, 0.5 * o->height_m);
+        dGeomSetCategoryBits(g, SIM_CAT_OBSTACLE);
+        dGeomSetCollideBits(g, SIM_CAT_ROVER);
+        R.obst[i] = g;
+    }
+    for (i = 0; i < R.n; i++) {
+        rover *r = &R.r[i];
+        r->id = i + 1;
+        r->alive = 1;
+        r->min_clear = INFINITY;
+        prng_seed(&r->rng, w->seed * 1000003ULL + (uint64_t)r->id);
+        build_robot(r, &R.layout.start_c[i], w);
+        {
+            int k;
+            for (k = 0; k < SONAR_N; k++) r->range[k] = R.sm.range_max_m;
+        }
+    }
+    snprintf(pattern, sizeof pattern, "ROVER[0-9]+_COMMAND");
+    if (w->lcm) {
+        /* a whole team answers in one burst: LCM's default queue of 30
+         * would drop commands of large teams */
+        R.sub = lcm_subscribe(w->lcm, pattern, on_command, NULL);
+        if (R.sub) lcm_subscription_set_queue_capacity(R.sub, 100000);
+    }
+    fprintf(stderr, "tandem-sim: %d Pioneer robots in world '%s' (goal %.1f, %.1f)\n", R.n,
+            cfg->rover_world, R.layout.goal_m[0], R.layout.goal_m[1]);
+    return 0;
 }
-static void rovers_noop(sim_world *w) { (void)w; }
+
+static void rovers_destroy(sim_world *w)
+{
+    (void)w;
+    if (R.sub && R.w && R.w->lcm) lcm_unsubscribe(R.w->lcm, R.sub);
+    R.sub = NULL;
+    if (R.world) {
+        dJointGroupDestroy(R.contacts);
+        dSpaceDestroy(R.space);
+        dWorldDestroy(R.world);
+        R.world = NULL;
+    }
+}
+
+/* ---- commands ------------------------------------------------------------- */
+
+static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_rover_command_t m;
+    int idx, chan_id = -1;
+    (void)u;
+    R.w->d.msgs.received++;
+    if (tandem_rover_command_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
+        R.w->d.msgs.rejected++;
+        return;
+    }
+    sscanf(ch, "ROVER%d_COMMAND", &chan_id);
+    idx = rover_index(m.robot);
+    /* SPEC 7: the right robot on its own channel, finite, physically sane */
+    if (idx < 0 || chan_id != m.robot || !isfinite(m.v_mps) || !isfinite(m.w_radps) ||
+        fabs(m.v_mps) > 5.0 || fabs(m.w_radps) > 20.0) {
+        R.w->d.msgs.rejected++;
+        R.rejected++;
+        return;
+    }
+    {
+        rover *r = &R.r[idx];
+        r->cmd_v = fmax(-R.v_max, fmin(R.v_max, m.v_mps));
+        r->cmd_w = fmax(-R.w_max, fmin(R.w_max, m.w_radps));
+        r->cmd_rx_step = R.w->step;
+        r->have_cmd = 1;
+    }
+}
+
+static double ramp(double cur, double target, double max_step)
+{
+    if (target > cur + max_step) return cur + max_step;
+    if (target < cur - max_step) return cur - max_step;
+    return target;
+}
+
+/* ---- physics ---------------------------------------------------------------- */
+
+static rover *rover_of_body(dBodyID b) { return b ? (rover *)dBodyGetData(b) : NULL; }
+
+static void near_cb(void *data, dGeomID g1, dGeomID g2)
+{
+    dContact c[4];
+    dBodyID b1 = dGeomGetBody(g1), b2 = dGeomGetBody(g2);
+    const unsigned long cat1 = dGeomGetCategoryBits(g1), cat2 = dGeomGetCategoryBits(g2);
+    int n, i, wheel = -1;
+    rover *rw = NULL;
+    (void)data;
+    if (b1 && b2 && dAreConnected(b1, b2)) return;
+    n = dCollide(g1, g2, 4, &c[0].geom, sizeof(dContact));
+    if (n <= 0) return;
+    if ((cat1 | cat2) & SIM_CAT_GROUND) {
+        /* wheel or caster on the floor */
+        const dGeomID g = (cat1 & SIM_CAT_GROUND) ? g2 : g1;
+        const dBodyID b = dGeomGetBody(g);
+        rover *owner = rover_of_body(b);
+        if (owner && owner->wheel[0] == b) { rw = owner; wheel = 0; }
+        else if (owner && owner->wheel[1] == b) { rw = owner; wheel = 1; }
+        for (i = 0; i < n; i++) {
+            dJointID j;
+            memset(&c[i].surface, 0, sizeof c[i].surface);
+            c[i].surface.mode = dContactSoftERP | dContactSoftCFM | dContactApprox1;
+            c[i].surface.soft_erp = 0.5;
+            c[i].surface.soft_cfm = 1e-4;
+            if (rw) {
+                const dReal *m = dBodyGetRotation(rw->chassis);
+                const double rim = dJointGetHingeAngleRate(rw->hinge[wheel]) * RV_WHEEL_R;
+                c[i].surface.mode |= dContactFDir1 | dContactMotion1;
+                c[i].surface.mu = 1.0;
+                c[i].fdir1[0] = m[0]; c[i].fdir1[1] = m[4]; c[i].fdir1[2] = 0.0;
+                /* slip: the floor under the wheel gives way a little */
+                c[i].surface.motion1 = -rw->slip[wheel] * rim;
+            } else {
+                c[i].surface.mu = 0.0;    /* caster: frictionless */
+            }
+            j = dJointCreateContact(R.world, R.contacts, &c[i]);
+            dJointAttach(j, b1, b2);
+        }
+        return;
+    }
+    /* chassis against an obstacle or another chassis: a collision */
+    {
+        rover *r1 = rover_of_body(b1), *r2 = rover_of_body(b2);
+        if (r1) r1->bump_now = 1;
+        if (r2) r2->bump_now = 1;
+    }
+    for (i = 0; i < n; i++) {
+        dJointID j;
+        memset(&c[i].surface, 0, sizeof c[i].surface);
+        c[i].surface.mode = dContactSoftERP | dContactSoftCFM | dContactApprox1;
+        c[i].surface.mu = 0.3;
+        c[i].surface.soft_erp = 0.3;
+        c[i].surface.soft_cfm = 1e-4;
+        j = dJointCreateContact(R.world, R.contacts, &c[i]);
+        dJointAttach(j, b1, b2);
+    }
+}
+
+static void rovers_before_step(sim_world *w)
+{
+    const double dt = SIM_DT_S;
+    int i, s;
+    for (i = 0; i < R.n; i++) {
+        rover *r = &R.r[i];
+        double v, wr;
+        if (!r->alive) continue;
+        r->stale = !r->have_cmd || (double)(w->step - r->cmd_rx_step) * dt > R.stale_s;
+        if (r->stale && r->have_cmd && w->step - r->cmd_rx_step == (int64_t)(R.stale_s / dt) + 1)
+            w->stale_commands++;
+        v = r->stale ? 0.0 : r->cmd_v;
+        wr = r->stale ? 0.0 : r->cmd_w;
+        r->v_ref = ramp(r->v_ref, v, RV_ACCEL_V * dt);
+        r->w_ref = ramp(r->w_ref, wr, RV_ACCEL_W * dt);
+        for (s = 0; s < 2; s++) {
+            const double side = s == 0 ? 0.5 * RV_TRACK : -0.5 * RV_TRACK;
+            const double rim = r->v_ref - side * r->w_ref;
+            dJointSetHingeParam(r->hinge[s], dParamVel, rim / RV_WHEEL_R);
+            r->slip[s] += -r->slip[s] / RV_SLIP_TAU_S * dt +
+                          RV_SLIP_SD * sqrt(2.0 * dt / RV_SLIP_TAU_S) * prng_gauss(&r->rng);
+        }
+        r->bump_prev = r->bump_now;
+        r->bump_now = 0;
+    }
+    dJointGroupEmpty(R.contacts);
+    dSpaceCollide(R.space, NULL, near_cb);
+    dWorldQuickStep(R.world, dt);
+    for (i = 0; i < R.n; i++) {
+        rover *r = &R.r[i];
+        if (!r->alive) continue;
+        for (s = 0; s < 2; s++) r->enc[s] += dJointGetHingeAngleRate(r->hinge[s]) * dt;
+        if (r->bump_now && !r->bump_prev) r->collisions++;
+    }
+}
+
+/* ---- sensors ------------------------------------------------------------------ */
+
+static void rebuild_sonar_world(void)
+{
+    int i;
+    sonar_world_init(&R.sw);
+    for (i = 0; i < R.layout.n_obst; i++) {
+        const rover_obstacle_t *o = &R.layout.obst[i];
+        if (o->kind == ROVER_OBST_CIRCLE)
+            sonar_world_add_circle(&R.sw, o->cx_m, o->cy_m, o->r_m, 0.0, o->height_m);
+        else
+            sonar_world_add_box(&R.sw, o->cx_m, o->cy_m, o->hx_m, o->hy_m, o->angle_rad, 0.0,
+                                o->height_m);
+    }
+    for (i = 0; i < R.n; i++) {
+        rover *r = &R.r[i];
+        pose2_t c;
+        r->prim = -1;
+        if (!r->alive) continue;
+        pose_c(r, &c);
+        r->prim = sonar_world_add_box(&R.sw, c.x_m + ROVER_BODY_OFFSET_M * cos(c.theta_rad),
+                                      c.y_m + ROVER_BODY_OFFSET_M * sin(c.theta_rad),
+                                      0.5 * ROVER_BODY_LENGTH_M, 0.5 * ROVER_BODY_WIDTH_M,
+                                      c.theta_rad, 0.05, 0.25);
+    }
+    sonar_world_build(&R.sw);
+}
+
+static void fire_sonars(sim_world *w)
+{
+    const int k = sonar_fired_index(w->time_s, &R.sm);
+    int i;
+    rebuild_sonar_world();
+    for (i = 0; i < R.n; i++) {
+        rover *r = &R.r[i];
+        tandem_sonar_scan_t m;
+        double ang[SONAR_N];
+        char ch[32];
+        pose2_t c;
+        int j;
+        if (!r->alive) continue;
+        pose_c(r, &c);
+        /* a transducer does not hear its own chassis: lift the robot's own
+         * box out of the ray plane for its firing */
+        if (r->prim >= 0) { R.sw.p[r->prim].z_min = -2.0; R.sw.p[r->prim].z_max = -1.0; }
+        sonar_fire(&r->range[k], &R.sw, &R.sm, &c, k, &r->rng);
+        R.rays += R.sm.rays_per_cone;
+        if (r->prim >= 0) { R.sw.p[r->prim].z_min = 0.05; R.sw.p[r->prim].z_max = 0.25; }
+        if (!w->lcm) continue;
+        for (j = 0; j < SONAR_N; j++) ang[j] = sonar_p2dx_front[j].angle_rad;
+        m.seq = r->seq_sonar++;
+        m.utime = daemon_utime_now();
+        m.step = w->step;
+        m.robot = r->id;
+        m.n = SONAR_N;
+        m.angle_rad = ang;
+        m.range_m = r->range;
+        m.fired = (int8_t)k;
+        snprintf(ch, sizeof ch, "ROVER%d_SONAR", r->id);
+        tandem_sonar_scan_t_publish(w->lcm, ch, &m);
+    }
+}
+
+static void publish_encoders(sim_world *w)
+{
+    int i;
+    for (i = 0; i < R.n; i++) {
+        rover *r = &R.r[i];
+        tandem_rover_sensors_t m;
+        char ch[32];
+        if (!r->alive) continue;
+        m.seq = r->seq_sens++;
+        m.utime = daemon_utime_now();
+        m.step = w->step;
+        m.robot = r->id;
+        m.wheel_left_rad = r->enc[0];
+        m.wheel_right_rad = r->enc[1];
+        m.bumper = (int8_t)r->bump_now;
+        snprintf(ch, sizeof ch, "ROVER%d_SENSORS", r->id);
+        tandem_rover_sensors_t_publish(w->lcm, ch, &m);
+    }
+}
+
+static void publish_beacons(sim_world *w)
+{
+    int i, j;
+    pose2_t o[RV_MAX], c;
+    for (i = 0; i < R.n; i++) {
+        if (!R.r[i].alive) continue;
+        pose_c(&R.r[i], &c);
+        unicycle_o_from_c(&o[i], &c, ROVER_BEACON_D_M);
+    }
+    for (i = 0; i < R.n; i++) {
+        rover *r = &R.r[i];
+        int32_t tgt[RV_MAX];
+        double rng[RV_MAX], brg[RV_MAX];
+        tandem_beacon_obs_t m;
+        char ch[32];
+        int n = 0;
+        if (!r->alive) continue;
+        for (j = 0; j < R.n; j++) {
+            double dx, dy, d, b;
+            sonar_hit_t hit;
+            if (j == i || !R.r[j].alive) continue;
+            dx = o[j].x_m - o[i].x_m;
+            dy = o[j].y_m - o[i].y_m;
+            d = hypot(dx, dy);
+            b = vec2_angle_diff_rad(atan2(dy, dx), o[i].theta_rad);
+            if (d > RV_CAM_RANGE_M || d < 0.05 || fabs(b) > RV_CAM_HALF_FOV) continue;
+            /* obstacles taller than the LED hide it; robots (0.25 m) do not */
+            if (sonar_cast(&hit, &R.sw, o[i].x_m, o[i].y_m, RV_BEACON_Z_M, atan2(dy, dx), d) == 1)
+                continue;
+            tgt[n] = R.r[j].id;
+            rng[n] = d + (0.01 + 0.02 * d) * prng_gauss(&r->rng);
+            brg[n] = b + 0.01 * prng_gauss(&r->rng);
+            n++;
+        }
+        m.seq = r->seq_beacon++;
+        m.utime = daemon_utime_now();
+        m.step = w->step;
+        m.observer = r->id;
+        m.n = (int16_t)n;
+        m.target = tgt;
+        m.range_m = rng;
+        m.bearing_rad = brg;
+        snprintf(ch, sizeof ch, "ROVER%d_BEACONS", r->id);
+        tandem_beacon_obs_t_publish(w->lcm, ch, &m);
+    }
+}
+
+static void publish_truth(sim_world *w)
+{
+    static int32_t id[RV_MAX], col[RV_MAX];
+    static double x[RV_MAX], y[RV_MAX], th[RV_MAX], cl[RV_MAX];
+    static int8_t al[RV_MAX];
+    pose2_t c[RV_MAX], o;
+    int alive[RV_MAX], i;
+    tandem_rover_truth_t m;
+    for (i = 0; i < R.n; i++) {
+        pose_c(&R.r[i], &c[i]);
+        alive[i] = R.r[i].alive;
+    }
+    rover_world_clearance(&R.layout, c, alive, R.n, cl);
+    for (i = 0; i < R.n; i++) {
+        unicycle_o_from_c(&o, &c[i], ROVER_BEACON_D_M);
+        id[i] = R.r[i].id;
+        x[i] = o.x_m;
+        y[i] = o.y_m;
+        th[i] = o.theta_rad;
+        col[i] = R.r[i].collisions;
+        al[i] = (int8_t)R.r[i].alive;
+        if (!isfinite(cl[i])) cl[i] = 1e3;
+    }
+    m.seq = R.truth_seq++;
+    m.utime = daemon_utime_now();
+    m.step = w->step;
+    m.sim_time_s = w->time_s;
+    m.n = (int16_t)R.n;
+    m.robot = id; m.x_m = x; m.y_m = y; m.theta_rad = th;
+    m.min_clearance_m = cl; m.collisions = col; m.alive = al;
+    tandem_rover_truth_t_publish(w->lcm, "ROVER_TRUTH", &m);
+}
+
+static void rovers_after_step(sim_world *w)
+{
+    const int64_t fire_steps = (int64_t)llround(R.sm.fire_period_s / SIM_DT_S);
+    if (w->step % fire_steps == 0) fire_sonars(w);
+    if (!w->lcm) return;
+    if (w->step % RV_SENSORS_STEPS == 0) publish_encoders(w);
+    if (w->step % RV_BEACON_STEPS == 0) publish_beacons(w);
+    if (w->step % RV_TRUTH_STEPS == 0) publish_truth(w);
+}
+
+static int rovers_control(sim_world *w, const tandem_sim_control_t *c)
+{
+    const int idx = rover_index(c->target);
+    rover *r;
+    (void)w;
+    if (c->command != TANDEM_SIM_CONTROL_T_KILL_ROBOT) return 0;
+    if (idx < 0) return -1;
+    r = &R.r[idx];
+    if (!r->alive) return 1;
+    r->alive = 0;
+    dBodyDisable(r->chassis);
+    dBodyDisable(r->wheel[0]);
+    dBodyDisable(r->wheel[1]);
+    dGeomDisable(r->box);
+    dGeomDisable(r->caster);
+    dGeomDisable(r->wgeom[0]);
+    dGeomDisable(r->wgeom[1]);
+    fprintf(stderr, "tandem-sim: robot %d killed at t = %.2f s\n", r->id, w->time_s);
+    return 1;
+}
+
+/* Benchmarks read the ray count through this (declared in sim_rovers.h). */
+int64_t sim_rovers_rays_cast(void) { return R.rays; }
 
 const sim_model_ops sim_rovers_ops = {
-    "rovers", rovers_create, rovers_noop, rovers_noop, rovers_noop, NULL, NULL
+    "rovers", rovers_create, rovers_destroy, rovers_before_step, rovers_after_step,
+    rovers_control, NULL
 };

@@ -1,0 +1,474 @@
+/* tandem-rover: distributed formation controller of one Pioneer (or of
+ * several, --id A-B, each with its own state, talking only over LCM)
+ * (SPEC.md §4, §7). Thin: LCM in, rover_ctl_step, LCM out.
+ *
+ * In:  ROVERk_SENSORS (encoders), ROVERk_SONAR, ROVERk_BEACONS, TEAM.
+ * Out: ROVERk_COMMAND (V, w), TEAM (10 Hz), ROVERk_STATE, health.
+ * The team frame and each robot's initial pose come from the launch
+ * configuration (--robots N --world W --formation F, see rover_world.h);
+ * after that a robot knows itself only by odometry and its mates by their
+ * team messages and its camera. No ground truth is read.
+ *
+ * Determinism in lockstep: a team message is used only from the first
+ * cycle whose step is later than the step it was sent at, so the order in
+ * which the hosts happen to answer a step cannot change what anyone saw.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "daemon.h"
+#include "formation.h"
+#include "rover_ctl.h"
+#include "rover_world.h"
+#include "tandem_beacon_obs_t.h"
+#include "tandem_rover_command_t.h"
+#include "tandem_rover_sensors_t.h"
+#include "tandem_rover_state_t.h"
+#include "tandem_sim_clock_t.h"
+#include "tandem_sonar_scan_t.h"
+#include "tandem_team_msg_t.h"
+
+#define HOST_MAX   ROVER_WORLD_MAX_ROBOTS
+#define TEAMQ_MAX  4096
+
+typedef struct hosted {
+    rover_ctl_t c;
+    int64_t     cmd_seq, state_seq, team_seq;
+    int64_t     last_rx_ns;             /* wall time of the last sensor message */
+    char        ch_cmd[24], ch_state[24];
+} hosted;
+
+typedef struct teamq_item {
+    int64_t step;
+    rover_team_msg_t m;
+} teamq_item;
+
+static struct {
+    int32_t id_lo, id_hi;
+    int     robots;
+    int     world, formation, blend;
+    rover_world_t layout;
+    rover_ctl_params_t params;
+    hosted  h[HOST_MAX];
+    teamq_item q[TEAMQ_MAX];
+    int     nq;
+    double  last_t_s;
+    int64_t last_step;
+    int64_t dropped_q;
+} A;
+
+static hosted *find_hosted(int32_t id)
+{
+    return (id >= A.id_lo && id <= A.id_hi) ? &A.h[id - A.id_lo] : NULL;
+}
+
+static void usage(void)
+{
+    printf("usage: tandem-rover --id K|A-B --robots N [options]\n"
+           "Distributed behaviour-based formation controller of Pioneer robot K (or\n"
+           "of robots A..B, each with its own state, in one process): odometry,\n"
+           "team messages at 10 Hz, team-average reference, four behaviours blended\n"
+           "(eq. 11), narrow-passage protocol, dead-zone escape, heartbeat membership.\n\n"
+           "  --id K | A-B       robot id(s), 1..N\n"
+           "  --robots N         team size in the launch configuration (default 3)\n"
+           "  --world NAME       open | obstacles | corridor | deadzone (default open)\n"
+           "  --formation F      line | triangle | column (default line)\n"
+           "  --blend B          weighted | subsumption | vecsum (default weighted)\n"
+           "  --stale-ms MS      sensors older than this stop the robot (default 500)\n"
+           "  (control period --period-ms, default 50 ms = 20 Hz)\n"
+           DAEMON_COMMON_HELP);
+}
+
+static int parse_ids(const char *s)
+{
+    char *end;
+    long a, b;
+    a = strtol(s, &end, 10);
+    if (end == s) return -1;
+    if (*end == '-') {
+        const char *t = end + 1;
+        b = strtol(t, &end, 10);
+        if (end == t || *end) return -1;
+    } else if (*end) {
+        return -1;
+    } else {
+        b = a;
+    }
+    if (a < 1 || b < a || b - a + 1 > HOST_MAX) return -1;
+    A.id_lo = (int32_t)a;
+    A.id_hi = (int32_t)b;
+    return 0;
+}
+
+static int parse_args(daemon *d, int argc, char **argv)
+{
+    static const struct option opts[] = {
+        { "id", required_argument, 0, 'i' },
+        { "robots", required_argument, 0, 'n' },
+        { "world", required_argument, 0, 'w' },
+        { "formation", required_argument, 0, 'f' },
+        { "blend", required_argument, 0, 'b' },
+        { "stale-ms", required_argument, 0, 's' },
+        DAEMON_COMMON_OPTIONS,
+        { 0, 0, 0, 0 }
+    };
+    int c;
+    long v;
+    double ms;
+    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
+        int rc = daemon_parse_common(d, c, optarg);
+        if (rc == 2) { usage(); exit(0); }
+        if (rc < 0) return -1;
+        if (rc == 1) continue;
+        switch (c) {
+        case 'i':
+            if (parse_ids(optarg) != 0) {
+                fprintf(stderr, "tandem-rover: --id: '%s' is not K or A-B (1 <= A <= B, at most %d)\n",
+                        optarg, HOST_MAX);
+                return -1;
+            }
+            break;
+        case 'n':
+            if (parse_int_opt("tandem-rover", "--robots", optarg, 1, ROVER_WORLD_MAX_ROBOTS, &v) < 0)
+                return -1;
+            A.robots = (int)v;
+            break;
+        case 'w':
+            A.world = rover_world_id(optarg);
+            if (A.world < 0) {
+                fprintf(stderr, "tandem-rover: --world: '%s' is not open|obstacles|corridor|deadzone\n", optarg);
+                return -1;
+            }
+            break;
+        case 'f':
+            if (!strcmp(optarg, "line")) A.formation = FORMATION_LINE;
+            else if (!strcmp(optarg, "triangle")) A.formation = FORMATION_TRIANGLE;
+            else if (!strcmp(optarg, "column")) A.formation = FORMATION_COLUMN;
+            else {
+                fprintf(stderr, "tandem-rover: --formation: '%s' is not line|triangle|column\n", optarg);
+                return -1;
+            }
+            break;
+        case 'b':
+            if (!strcmp(optarg, "weighted")) A.blend = BEH_BLEND_WEIGHTED;
+            else if (!strcmp(optarg, "subsumption")) A.blend = BEH_BLEND_SUBSUMPTION;
+            else if (!strcmp(optarg, "vecsum")) A.blend = BEH_BLEND_VECSUM;
+            else {
+                fprintf(stderr, "tandem-rover: --blend: '%s' is not weighted|subsumption|vecsum\n", optarg);
+                return -1;
+            }
+            break;
+        case 's':
+            if (parse_double_opt("tandem-rover", "--stale-ms", optarg, 10.0, 10000.0, &ms) < 0)
+                return -1;
+            A.params.stale_s = ms * 1e-3;
+            break;
+        default:
+            usage();
+            return -1;
+        }
+    }
+    if (optind < argc) {
+        fprintf(stderr, "tandem-rover: unexpected argument '%s'\n", argv[optind]);
+        return -1;
+    }
+    if (A.id_lo == 0) {
+        fprintf(stderr, "tandem-rover: --id is required\n");
+        return -1;
+    }
+    if (A.id_hi > A.robots) {
+        fprintf(stderr, "tandem-rover: --id %d-%d outside the team of --robots %d\n",
+                (int)A.id_lo, (int)A.id_hi, A.robots);
+        return -1;
+    }
+    return 0;
+}
+
+/* ---- messages in ------------------------------------------------------------ */
+
+static daemon D;
+
+static int64_t now_ns(void) { return rtloop_now_ns(); }
+
+static void on_sensors(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_rover_sensors_t m;
+    hosted *h;
+    (void)ch; (void)u;
+    if (tandem_rover_sensors_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
+        D.msgs.received++;
+        D.msgs.rejected++;
+        return;
+    }
+    h = find_hosted(m.robot);
+    if (!h) return;                            /* another host's robot */
+    D.msgs.received++;
+    if (m.step < 0 || rover_ctl_encoders(&h->c, m.wheel_left_rad, m.wheel_right_rad,
+                                         (double)m.step * DAEMON_SIM_DT_S) != 0) {
+        D.msgs.rejected++;
+        return;
+    }
+    h->last_rx_ns = now_ns();
+}
+
+static void on_sonar(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_sonar_scan_t m;
+    hosted *h;
+    (void)ch; (void)u;
+    if (tandem_sonar_scan_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
+        D.msgs.received++;
+        D.msgs.rejected++;
+        return;
+    }
+    h = find_hosted(m.robot);
+    if (h) {
+        D.msgs.received++;
+        if (m.n != BEH_SONAR_N || m.step < 0 ||
+            rover_ctl_sonar(&h->c, m.range_m, (double)m.step * DAEMON_SIM_DT_S) != 0)
+            D.msgs.rejected++;
+    }
+    tandem_sonar_scan_t_decode_cleanup(&m);
+}
+
+static void on_beacons(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_beacon_obs_t m;
+    hosted *h;
+    int i;
+    (void)ch; (void)u;
+    if (tandem_beacon_obs_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
+        D.msgs.received++;
+        D.msgs.rejected++;
+        return;
+    }
+    h = find_hosted(m.observer);
+    if (h) {
+        D.msgs.received++;
+        if (m.n < 0 || m.n > ROVER_WORLD_MAX_ROBOTS) {
+            D.msgs.rejected++;
+        } else {
+            /* unknown targets (not heard yet) are fine: skipped */
+            for (i = 0; i < m.n; i++)
+                if (isfinite(m.range_m[i]) && isfinite(m.bearing_rad[i]) && m.range_m[i] >= 0.0)
+                    rover_ctl_beacon(&h->c, m.target[i], m.range_m[i], m.bearing_rad[i]);
+        }
+    }
+    tandem_beacon_obs_t_decode_cleanup(&m);
+}
+
+static int team_msg_valid(const tandem_team_msg_t *m)
+{
+    return m->robot >= 1 && isfinite(m->x_m) && isfinite(m->y_m) && isfinite(m->theta_rad) &&
+           isfinite(m->v_mps) && isfinite(m->w_radps) && isfinite(m->formation_scale) &&
+           m->formation_scale > 0.0 && m->formation_scale <= 1.0 &&
+           m->formation >= FORMATION_LINE && m->formation <= FORMATION_COLUMN &&
+           m->announce >= FORMATION_ANN_NONE && m->announce <= FORMATION_ANN_RESTORE &&
+           isfinite(m->goal_m[0]) && isfinite(m->goal_m[1]) && m->step >= 0;
+}
+
+static void on_team(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_team_msg_t m;
+    teamq_item *q;
+    (void)ch; (void)u;
+    D.msgs.received++;
+    if (tandem_team_msg_t_decode(rb->data, 0, rb->data_size, &m) < 0 || !team_msg_valid(&m)) {
+        D.msgs.rejected++;
+        return;
+    }
+    if (A.nq >= TEAMQ_MAX) {
+        A.dropped_q++;
+        D.msgs.stale++;
+        return;
+    }
+    q = &A.q[A.nq++];
+    memset(q, 0, sizeof *q);
+    q->step = m.step;
+    q->m.m.robot = m.robot;
+    q->m.m.x_m = m.x_m;
+    q->m.m.y_m = m.y_m;
+    q->m.m.theta_rad = m.theta_rad;
+    q->m.m.v_mps = m.v_mps;
+    q->m.m.w_radps = m.w_radps;
+    q->m.m.formation = m.formation;
+    q->m.m.scale = m.formation_scale;
+    q->m.m.announce = m.announce;
+    q->m.m.announce_seq = m.announce_seq;
+    q->m.goal_m[0] = m.goal_m[0];
+    q->m.goal_m[1] = m.goal_m[1];
+}
+
+/* Deliver queued team messages sent before `step` (all of them in real time). */
+static void deliver_team(int64_t step, double t_s)
+{
+    int i, k = 0, j;
+    for (i = 0; i < A.nq; i++) {
+        if (D.lockstep && A.q[i].step >= step) {
+            A.q[k++] = A.q[i];
+            continue;
+        }
+        for (j = A.id_lo; j <= A.id_hi; j++)
+            if (j != A.q[i].m.m.robot && rover_ctl_team_msg(&A.h[j - A.id_lo].c, &A.q[i].m, t_s) < 0)
+                D.msgs.rejected++;
+    }
+    A.nq = k;
+}
+
+/* ---- the cycle ------------------------------------------------------------------ */
+
+static void publish_outputs(hosted *h, const rover_ctl_out_t *o, int64_t step)
+{
+    tandem_rover_command_t cmd;
+    tandem_rover_state_t st;
+    int i;
+    cmd.seq = h->cmd_seq++;
+    cmd.utime = daemon_utime_now();
+    cmd.step = step;
+    cmd.robot = h->c.id;
+    cmd.v_mps = o->u.v_mps;
+    cmd.w_radps = o->u.w_radps;
+    tandem_rover_command_t_publish(D.lcm, h->ch_cmd, &cmd);
+    if (o->send_team) {
+        tandem_team_msg_t t;
+        memset(&t, 0, sizeof t);
+        t.seq = h->team_seq++;
+        t.utime = cmd.utime;
+        t.step = step;
+        t.robot = h->c.id;
+        t.x_m = o->team.x_m;
+        t.y_m = o->team.y_m;
+        t.theta_rad = o->team.theta_rad;
+        t.v_mps = o->team.v_mps;
+        t.w_radps = o->team.w_radps;
+        t.formation = (int8_t)o->team.formation;
+        t.formation_scale = o->team.scale;
+        t.announce = (int8_t)o->team.announce;
+        t.announce_seq = o->team.announce_seq;
+        t.goal_m[0] = h->c.goal_m[0];
+        t.goal_m[1] = h->c.goal_m[1];
+        tandem_team_msg_t_publish(D.lcm, "TEAM", &t);
+    }
+    memset(&st, 0, sizeof st);
+    st.seq = h->state_seq++;
+    st.utime = cmd.utime;
+    st.step = step;
+    st.robot = h->c.id;
+    st.x_m = o->o.x_m;
+    st.y_m = o->o.y_m;
+    st.theta_rad = o->o.theta_rad;
+    st.v_mps = h->c.v_est_mps;
+    st.w_radps = h->c.w_est_radps;
+    st.mode = (int8_t)o->mode;
+    st.formation = (int8_t)h->c.fsm.type;
+    for (i = 0; i < 4; i++) st.weight[i] = o->weight[i];
+    st.formation_err_m = o->slot_err_m;
+    st.team_size = (int16_t)o->team_size;
+    tandem_rover_state_t_publish(D.lcm, h->ch_state, &st);
+}
+
+static void cycle(daemon *d, void *user)
+{
+    const int64_t step = d->lockstep ? d->pending_step : d->step;
+    const double t_s = (double)(step < 0 ? 0 : step) * DAEMON_SIM_DT_S;
+    const double dt = A.last_t_s > 0.0 && t_s > A.last_t_s ? t_s - A.last_t_s : d->period_s;
+    int j, stopped = 0;
+    (void)user;
+    if (step < 0) return;                      /* no simulator clock yet */
+    if (d->lockstep && step == A.last_step) return;   /* a repeated clock: answer again only */
+    A.last_step = step;
+    deliver_team(step, t_s);
+    for (j = A.id_lo; j <= A.id_hi; j++) {
+        hosted *h = &A.h[j - A.id_lo];
+        rover_ctl_out_t o;
+        /* real time: a silent simulator is stale input too (wall clock) */
+        if (!d->lockstep && h->last_rx_ns > 0 &&
+            (double)(now_ns() - h->last_rx_ns) * 1e-9 > h->c.p.stale_s) {
+            memset(&o, 0, sizeof o);
+            o.mode = ROVER_MODE_SAFE_STOP;
+        } else if (rover_ctl_step(&h->c, t_s, dt, &o) != 0) {
+            D.msgs.rejected++;
+        }
+        if (o.mode == ROVER_MODE_SAFE_STOP) stopped++;
+        publish_outputs(h, &o, step);
+    }
+    A.last_t_s = t_s;
+    d->safe_hold = stopped > 0;
+    snprintf(d->status, sizeof d->status, "%s: %d of %d robots stopped (stale input)",
+             stopped ? "safe stop" : "running", stopped, A.id_hi - A.id_lo + 1);
+}
+
+/* The shell's own SIM_CLOCK subscription keeps LCM's default queue of 30
+ * messages; between two answered steps the simulator publishes 50 clocks
+ * (and, hosting many robots, several hundred sensor messages), so a busy
+ * host could lose the one clock it must answer and stall the lockstep.
+ * This second subscription with a deep queue sets the same pending step. */
+static void on_clock_deep(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_sim_clock_t m;
+    (void)ch; (void)u;
+    if (tandem_sim_clock_t_decode(rb->data, 0, rb->data_size, &m) < 0) return;
+    if (m.step >= 0 && isfinite(m.sim_time_s) && D.lockstep &&
+        m.mode == TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP && m.step % D.period_steps == 0 &&
+        m.step > D.step - 1) {
+        D.step = m.step;
+        D.sim_time_s = m.sim_time_s;
+        D.pending_step = m.step;
+    }
+    tandem_sim_clock_t_decode_cleanup(&m);
+}
+
+static void deep(lcm_subscription_t *s)
+{
+    if (s) lcm_subscription_set_queue_capacity(s, 100000);
+}
+
+int main(int argc, char **argv)
+{
+    int j;
+    char name[DAEMON_NAME_MAX];
+    pose2_t goal_w = { 0, 0, 0 }, goal_t;
+    double goal[2];
+    memset(&A, 0, sizeof A);
+    A.last_step = -1;
+    A.robots = 3;
+    A.world = ROVER_WORLD_OPEN;
+    rover_ctl_params_default(&A.params);
+    daemon_defaults(&D, "tandem-rover", 0.05);
+    if (parse_args(&D, argc, argv) != 0) return 2;
+    A.params.formation = A.formation;
+    A.params.blend_mode = A.blend;
+    if (A.id_lo == A.id_hi) snprintf(name, sizeof name, "tandem-rover-%d", (int)A.id_lo);
+    else snprintf(name, sizeof name, "tandem-rover-%d-%d", (int)A.id_lo, (int)A.id_hi);
+    snprintf(D.name, sizeof D.name, "%s", name);
+    if (rover_world_layout(&A.layout, A.world, A.robots, 1.0, A.formation) != 0) {
+        fprintf(stderr, "tandem-rover: no layout for %d robots\n", A.robots);
+        return 2;
+    }
+    goal_w.x_m = A.layout.goal_m[0];
+    goal_w.y_m = A.layout.goal_m[1];
+    rover_world_to_team(&A.layout, &goal_w, &goal_t);
+    goal[0] = goal_t.x_m;
+    goal[1] = goal_t.y_m;
+    for (j = A.id_lo; j <= A.id_hi; j++) {
+        hosted *h = &A.h[j - A.id_lo];
+        pose2_t start;
+        rover_world_to_team(&A.layout, &A.layout.start_c[j - 1], &start);
+        if (rover_ctl_init(&h->c, &A.params, j, &start, goal) != 0) {
+            fprintf(stderr, "tandem-rover: bad controller parameters\n");
+            return 2;
+        }
+        snprintf(h->ch_cmd, sizeof h->ch_cmd, "ROVER%d_COMMAND", j);
+        snprintf(h->ch_state, sizeof h->ch_state, "ROVER%d_STATE", j);
+    }
+    if (daemon_start(&D) != 0) return 1;
+    deep(lcm_subscribe(D.lcm, "ROVER[0-9]+_SENSORS", on_sensors, NULL));
+    deep(lcm_subscribe(D.lcm, "ROVER[0-9]+_SONAR", on_sonar, NULL));
+    deep(lcm_subscribe(D.lcm, "ROVER[0-9]+_BEACONS", on_beacons, NULL));
+    deep(lcm_subscribe(D.lcm, "TEAM", on_team, NULL));
+    deep(lcm_subscribe(D.lcm, "SIM_CLOCK", on_clock_deep, NULL));
+    daemon_run(&D, cycle, NULL);
+    daemon_finish(&D);
+    return 0;
+}

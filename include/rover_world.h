@@ -1,0 +1,83 @@
+/* rover_world: the launch configuration of the Pioneer team (SPEC.md
+ * sections 4, 5): the four worlds (open, obstacles, corridor, deadzone) as
+ * lists of static obstacles, the robots' initial poses and the goal, the
+ * team frame fixed from those initial poses, the Pioneer 2 DX footprint and
+ * ground-truth clearance between footprints and obstacles.
+ *
+ * Everything is a deterministic function of (world, number of robots), so
+ * the simulator, every rover daemon and the scenario derive the same layout
+ * without talking to each other: this is how each robot knows its initial
+ * pose in the shared team frame (and nothing else about the world).
+ *
+ * World frame: x forward (toward the goal), y left, metres. The rover
+ * worlds sit at x > 4 m, clear of the PUMA work cell around the origin.
+ * Team frame: origin at the mean initial position of the points O, axes
+ * parallel to the world's (the team starts heading +x, toward the goal).
+ */
+#ifndef TANDEM_ROVER_WORLD_H
+#define TANDEM_ROVER_WORLD_H
+
+#include "vec2.h"
+
+#define ROVER_WORLD_MAX_ROBOTS 128
+#define ROVER_WORLD_MAX_OBST   32
+#define ROVER_WORLD_ROW_MAX    10      /* robots per start row */
+
+/* Pioneer 2 DX body (the chassis box, relative to the axle centre C). */
+#define ROVER_BODY_LENGTH_M   0.44
+#define ROVER_BODY_WIDTH_M    0.38
+#define ROVER_BODY_OFFSET_M  (-0.03)  /* box centre is this far ahead of C */
+#define ROVER_BEACON_D_M      0.15     /* O (the LED beacon) lies d behind C */
+
+enum { ROVER_WORLD_OPEN = 0, ROVER_WORLD_OBSTACLES = 1, ROVER_WORLD_CORRIDOR = 2,
+       ROVER_WORLD_DEADZONE = 3, ROVER_WORLD_COUNT = 4 };
+enum { ROVER_OBST_BOX = 0, ROVER_OBST_CIRCLE = 1 };
+
+typedef struct {
+    int    kind;          /* ROVER_OBST_* */
+    double cx_m, cy_m;    /* centre */
+    double hx_m, hy_m;    /* box half extents (box frame) */
+    double angle_rad;     /* box orientation */
+    double r_m;           /* circle radius */
+    double height_m;      /* from the floor up */
+} rover_obstacle_t;
+
+typedef struct {
+    int     world;                                /* ROVER_WORLD_* */
+    int     n_robots;
+    double  spacing_m;                            /* start grid spacing */
+    pose2_t start_c[ROVER_WORLD_MAX_ROBOTS];      /* robot id k is index k-1 */
+    double  goal_m[2];                            /* world frame */
+    pose2_t team_origin;                          /* team frame in the world */
+    int     n_obst;
+    rover_obstacle_t obst[ROVER_WORLD_MAX_OBST];
+    double  x_min_m, y_min_m, x_max_m, y_max_m;   /* extent for plots/grids */
+} rover_world_t;
+
+/* "open" | "obstacles" | "corridor" | "deadzone" -> ROVER_WORLD_*, else -1. */
+int rover_world_id(const char *name);
+const char *rover_world_name(int world);
+
+/* Layout of `world` for n robots (1..ROVER_WORLD_MAX_ROBOTS), all heading
+ * +x: up to ROVER_WORLD_ROW_MAX robots start in the slots of `formation`
+ * (FORMATION_*, robot k in slot k-1, the frontmost at the same x for every
+ * formation); larger teams on a grid of rows of ROVER_WORLD_ROW_MAX abreast,
+ * spacing_m apart (> robot length). 0 ok, -1 bad input. */
+int rover_world_layout(rover_world_t *w, int world, int n, double spacing_m, int formation);
+
+/* World <-> team frame (poses of any point). */
+void rover_world_to_team(const rover_world_t *w, const pose2_t *world_p, pose2_t *team_p);
+void rover_world_from_team(const rover_world_t *w, const pose2_t *team_p, pose2_t *world_p);
+
+/* Signed distance from a point to an obstacle's outline (negative inside). */
+double rover_obstacle_distance(const rover_obstacle_t *o, double x_m, double y_m);
+
+/* Ground-truth clearance: for each alive robot (axle-centre poses c[i]),
+ * the smallest distance between its footprint and any obstacle or other
+ * alive robot's footprint (negative: overlapping). Footprint outlines are
+ * sampled at corners and edge midpoints; the box-to-box distance is the
+ * minimum of both directions. Dead robots get INFINITY. 0 ok, -1 bad. */
+int rover_world_clearance(const rover_world_t *w, const pose2_t *c, const int *alive,
+                          int n, double *clearance_m);
+
+#endif

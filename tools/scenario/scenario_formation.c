@@ -1,0 +1,600 @@
+/* tandem-scenario formation: the seed-003 Pioneer team (SPEC.md §4, §6).
+ *
+ * Spawns tandem-sim (lockstep, rovers only) and the rover daemons as
+ * children on a private LCM bus, registers itself as a lockstep participant
+ * (every 50 steps) so it sees the simulator's ground truth deterministically,
+ * and writes DIR/summary.json, CSV time series and PNG plots. Every metric
+ * comes from ROVER_TRUTH (ground truth) except the protocol counts
+ * (formation changes, dead-zone escapes), which are what the robots did,
+ * read from their ROVERk_STATE.
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+#include <lcm/lcm.h>
+#include "formation.h"
+#include "rover_world.h"
+#include "scenario.h"
+#include "tandem_clock_ack_t.h"
+#include "tandem_rover_state_t.h"
+#include "tandem_rover_truth_t.h"
+#include "tandem_sim_clock_t.h"
+#include "tandem_sim_control_t.h"
+#include "tandem_team_msg_t.h"
+
+#define FM_MAX     ROVER_WORLD_MAX_ROBOTS
+#define FM_PERIOD  50
+#define FM_PROCS   (FM_MAX + 2)
+#define FM_OUT_TOL 0.3          /* d_r: a robot further than this from its slot is out */
+
+typedef struct {
+    /* options */
+    int    formation, world, blend, robots, single;
+    long   seed;
+    double max_time_s;
+    int    kill_id;
+    double kill_t_s;
+    const char *out, *url;
+    char   url_buf[160];
+    char   bindir[512];
+    /* children */
+    pid_t  pid[FM_PROCS];
+    int    n_pid;
+    pid_t  rover_pid[FM_MAX + 1];     /* process hosting robot k (separate mode) */
+    /* lcm */
+    lcm_t *lcm;
+    int64_t clock_step, answered, ack_seq, last_clock_ns;
+    int    have_clock;
+    /* layout and truth */
+    rover_world_t layout;
+    int    type_now;                  /* formation reported by the lowest alive id */
+    double scale_now;
+    int    mode[FM_MAX];
+    int    state_type[FM_MAX];
+    double weight[FM_MAX][4];
+    int    have_state[FM_MAX];
+    /* metrics */
+    int    samples, out_samples;
+    double sum_sq_err, max_err, min_clear, path[FM_MAX];
+    double prev_x[FM_MAX], prev_y[FM_MAX], prev_th[FM_MAX], prev_w[FM_MAX];
+    int    have_prev[FM_MAX], have_prev_w[FM_MAX];
+    double sum_dw; long n_dw;
+    int    collisions, formation_changes, escapes;
+    int    reached;
+    double time_to_goal, sim_time;
+    int    killed;
+    FILE  *truth_csv, *err_csv, *w_csv, *snap_csv;
+    double last_snap_t;
+    int64_t last_truth_step;
+} fm_t;
+
+static fm_t F;
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: tandem-scenario formation [options] --out DIR\n"
+               "Pioneer team to the goal in formation (seed 003), lockstep, ground-truth metrics.\n\n"
+               "  --formation F   line | triangle | column (default line)\n"
+               "  --world W       open | obstacles | corridor | deadzone (default open)\n"
+               "  --blend B       weighted | subsumption | vecsum (default weighted)\n"
+               "  --robots N      team size (default 3)\n"
+               "  --seed S        noise seed (default 1)\n"
+               "  --kill K:T      kill robot K (its process and its body) at sim time T s\n"
+               "  --procs P       separate (one tandem-rover per robot, default up to 10\n"
+               "                  robots) | single (one process hosting all)\n"
+               "  --max-time S    give up after S simulated seconds (default 150)\n"
+               "  --lcm-url URL   bus for the children (default: a private udpm port)\n"
+               "  --out DIR       output directory (required)\n");
+}
+
+static int parse(int argc, char **argv)
+{
+    int i;
+    F.formation = FORMATION_LINE;
+    F.world = ROVER_WORLD_OPEN;
+    F.blend = 0;
+    F.robots = 3;
+    F.seed = 1;
+    F.max_time_s = 150.0;
+    F.kill_id = -1;
+    F.single = -1;
+    for (i = 1; i < argc; i++) {
+        const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(o, "--help") || !strcmp(o, "-h")) { usage(stdout); exit(0); }
+        if (!v) { fprintf(stderr, "formation: %s needs a value\n", o); return -1; }
+        i++;
+        if (!strcmp(o, "--formation")) {
+            if (!strcmp(v, "line")) F.formation = FORMATION_LINE;
+            else if (!strcmp(v, "triangle")) F.formation = FORMATION_TRIANGLE;
+            else if (!strcmp(v, "column")) F.formation = FORMATION_COLUMN;
+            else { fprintf(stderr, "formation: --formation: '%s' is not line|triangle|column\n", v); return -1; }
+        } else if (!strcmp(o, "--world")) {
+            F.world = rover_world_id(v);
+            if (F.world < 0) { fprintf(stderr, "formation: --world: '%s' is not open|obstacles|corridor|deadzone\n", v); return -1; }
+        } else if (!strcmp(o, "--blend")) {
+            if (!strcmp(v, "weighted")) F.blend = 0;
+            else if (!strcmp(v, "subsumption")) F.blend = 1;
+            else if (!strcmp(v, "vecsum")) F.blend = 2;
+            else { fprintf(stderr, "formation: --blend: '%s' is not weighted|subsumption|vecsum\n", v); return -1; }
+        } else if (!strcmp(o, "--robots")) {
+            char *e; long n = strtol(v, &e, 10);
+            if (*e || n < 1 || n > FM_MAX) { fprintf(stderr, "formation: --robots: '%s' is not 1..%d\n", v, FM_MAX); return -1; }
+            F.robots = (int)n;
+        } else if (!strcmp(o, "--seed")) {
+            char *e; long s = strtol(v, &e, 10);
+            if (*e || s < 0 || s > 2147483647L) { fprintf(stderr, "formation: --seed: '%s' is not a seed\n", v); return -1; }
+            F.seed = s;
+        } else if (!strcmp(o, "--kill")) {
+            char *e; long k = strtol(v, &e, 10); double t;
+            if (*e != ':') { fprintf(stderr, "formation: --kill: '%s' is not K:T\n", v); return -1; }
+            t = strtod(e + 1, &e);
+            if (*e || k < 1 || !isfinite(t) || t < 0) { fprintf(stderr, "formation: --kill: '%s' is not K:T\n", v); return -1; }
+            F.kill_id = (int)k;
+            F.kill_t_s = t;
+        } else if (!strcmp(o, "--procs")) {
+            if (!strcmp(v, "separate")) F.single = 0;
+            else if (!strcmp(v, "single")) F.single = 1;
+            else { fprintf(stderr, "formation: --procs: '%s' is not separate|single\n", v); return -1; }
+        } else if (!strcmp(o, "--max-time")) {
+            char *e; double t = strtod(v, &e);
+            if (*e || !isfinite(t) || t <= 0 || t > 3600) { fprintf(stderr, "formation: --max-time: '%s'\n", v); return -1; }
+            F.max_time_s = t;
+        } else if (!strcmp(o, "--lcm-url")) {
+            F.url = v;
+        } else if (!strcmp(o, "--out")) {
+            F.out = v;
+        } else {
+            fprintf(stderr, "formation: unknown option '%s'\n", o);
+            usage(stderr);
+            return -1;
+        }
+    }
+    if (!F.out) { fprintf(stderr, "formation: --out DIR is required\n"); return -1; }
+    if (F.kill_id > F.robots) { fprintf(stderr, "formation: --kill: robot %d not in the team\n", F.kill_id); return -1; }
+    if (F.single < 0) F.single = F.robots > 10;
+    return 0;
+}
+
+/* ---- children ----------------------------------------------------------------- */
+
+static pid_t spawn(char *const argv[], const char *formation_env)
+{
+    pid_t p = fork();
+    if (p == 0) {
+        char path[700];
+        int fd;
+        setenv("LCM_DEFAULT_URL", F.url, 1);
+        if (formation_env) setenv("TANDEM_ROVER_FORMATION", formation_env, 1);
+        /* children's chatter goes to DIR/children.log */
+        snprintf(path, sizeof path, "%s/children.log", F.out);
+        fd = open(path, O_WRONLY | O_CREAT | O_APPEND, 0644);
+        if (fd >= 0) { dup2(fd, 1); dup2(fd, 2); close(fd); }
+        snprintf(path, sizeof path, "%s/%s", F.bindir, argv[0]);
+        execv(path, argv);
+        _exit(127);
+    }
+    if (p > 0 && F.n_pid < FM_PROCS) F.pid[F.n_pid++] = p;
+    return p;
+}
+
+static void stop_children(void)
+{
+    int i, k;
+    for (i = 0; i < F.n_pid; i++) if (F.pid[i] > 0) kill(F.pid[i], SIGTERM);
+    for (k = 0; k < 50; k++) {
+        int left = 0;
+        for (i = 0; i < F.n_pid; i++) {
+            if (F.pid[i] <= 0) continue;
+            if (waitpid(F.pid[i], NULL, WNOHANG) == F.pid[i]) F.pid[i] = -1;
+            else left++;
+        }
+        if (!left) return;
+        {
+            struct timespec ts = { 0, 100000000L };
+            nanosleep(&ts, NULL);
+        }
+    }
+    for (i = 0; i < F.n_pid; i++)
+        if (F.pid[i] > 0) { kill(F.pid[i], SIGKILL); waitpid(F.pid[i], NULL, 0); }
+}
+
+static const char *fname(int f) { return f == 0 ? "line" : f == 1 ? "triangle" : "column"; }
+static const char *bname(int b) { return b == 0 ? "weighted" : b == 1 ? "subsumption" : "vecsum"; }
+
+static int start_children(void)
+{
+    char n_s[16], w_s[32], seed_s[24], expect_s[16], f_s[4], id_s[32];
+    int k, procs = F.single ? 1 : F.robots;
+    snprintf(n_s, sizeof n_s, "%d", F.robots);
+    snprintf(w_s, sizeof w_s, "%s", rover_world_name(F.world));
+    snprintf(seed_s, sizeof seed_s, "%ld", F.seed);
+    snprintf(expect_s, sizeof expect_s, "%d", procs + 1);
+    snprintf(f_s, sizeof f_s, "%d", F.formation);
+    {
+        char *sim[] = { "tandem-sim", "--lockstep", "--no-arms", "--rovers", n_s, "--world", w_s,
+                        "--seed", seed_s, "--expect", expect_s, "--timeout-ms", "1500", NULL };
+        if (spawn(sim, f_s) <= 0) return -1;
+    }
+    for (k = 1; k <= procs; k++) {
+        char *fo = (char *)fname(F.formation), *bl = (char *)bname(F.blend);
+        char *rv[] = { "tandem-rover", "--id", id_s, "--robots", n_s, "--world", w_s,
+                       "--formation", fo, "--blend", bl, "--lockstep", NULL };
+        if (F.single) snprintf(id_s, sizeof id_s, "1-%d", F.robots);
+        else snprintf(id_s, sizeof id_s, "%d", k);
+        F.rover_pid[k] = spawn(rv, NULL);
+        if (F.rover_pid[k] <= 0) return -1;
+    }
+    return 0;
+}
+
+/* ---- lockstep ---------------------------------------------------------------- */
+
+static void ack(int64_t step)
+{
+    tandem_clock_ack_t a;
+    a.seq = F.ack_seq++;
+    a.utime = 0;
+    a.step = step;
+    a.name = "tandem-scenario";
+    a.period_steps = FM_PERIOD;
+    a.leaving = 0;
+    tandem_clock_ack_t_publish(F.lcm, "SIM_ACK", &a);
+}
+
+static int64_t mono_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
+
+static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_clock_t *m, void *u)
+{
+    (void)rb; (void)ch; (void)u;
+    if (m->step < F.clock_step) return;
+    F.clock_step = m->step;
+    F.sim_time = m->sim_time_s;
+    F.have_clock = 1;
+    F.last_clock_ns = mono_ns();
+}
+
+/* LCM (1.3) drops messages past a subscription's queue, and the simulator
+ * does not repeat a clock while it waits: if one participant lost the clock
+ * it must answer, the lockstep would stall until the simulator's timeout
+ * dropped it. The scenario, which knows the step the simulator must be
+ * waiting at, repeats that clock; participants answer a repeat without
+ * running a second cycle. */
+static void nudge(void)
+{
+    tandem_sim_clock_t c;
+    int64_t k = F.clock_step;
+    if (k % FM_PERIOD) k += FM_PERIOD - k % FM_PERIOD;
+    memset(&c, 0, sizeof c);
+    c.step = k;
+    c.sim_time_s = (double)k * 1e-3;
+    c.mode = TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP;
+    c.seed = F.seed;
+    tandem_sim_clock_t_publish(F.lcm, "SIM_CLOCK", &c);
+    if (k > F.answered) { F.answered = k; }
+    ack(k);
+}
+
+/* ---- metrics from ground truth ------------------------------------------------- */
+
+static int alive_ids(const tandem_rover_truth_t *m, int32_t *ids)
+{
+    int i, n = 0;
+    for (i = 0; i < m->n; i++) if (m->alive[i]) ids[n++] = m->robot[i];
+    return n;
+}
+
+static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_state_t *m, void *u)
+{
+    const int i = m->robot - 1;
+    (void)rb; (void)ch; (void)u;
+    if (i < 0 || i >= F.robots) return;
+    if (F.have_state[i] && m->mode == TANDEM_ROVER_STATE_T_MODE_DEAD_ZONE && F.mode[i] != TANDEM_ROVER_STATE_T_MODE_DEAD_ZONE)
+        F.escapes++;
+    F.mode[i] = m->mode;
+    F.state_type[i] = m->formation;
+    memcpy(F.weight[i], m->weight, sizeof F.weight[i]);
+    F.have_state[i] = 1;
+}
+
+static double team_scale[FM_MAX];
+
+static void on_team(const lcm_recv_buf_t *rb, const char *ch, const tandem_team_msg_t *m, void *u)
+{
+    (void)rb; (void)ch; (void)u;
+    if (m->robot >= 1 && m->robot <= F.robots && isfinite(m->formation_scale))
+        team_scale[m->robot - 1] = m->formation_scale;
+}
+
+static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_truth_t *m, void *u)
+{
+    int32_t ids[FM_MAX];
+    int i, n, lowest = -1;
+    double cx = 0, cy = 0, s = 0, c = 0, th0, sq = 0, mx = 0, t = m->sim_time_s;
+    int all_at = 1;
+    (void)rb; (void)ch; (void)u;
+    if (m->n != F.robots || m->step <= F.last_truth_step) return;
+    F.last_truth_step = m->step;
+    n = alive_ids(m, ids);
+    if (n == 0) return;
+    for (i = 0; i < m->n; i++) {
+        if (!m->alive[i]) continue;
+        if (lowest < 0) lowest = i;
+        cx += m->x_m[i]; cy += m->y_m[i];
+        s += sin(m->theta_rad[i]); c += cos(m->theta_rad[i]);
+        if (m->min_clearance_m[i] < F.min_clear) F.min_clear = m->min_clearance_m[i];
+        /* path and smoothness (mean |dw/dt|) */
+        if (F.have_prev[i]) {
+            const double w = vec2_angle_diff_rad(m->theta_rad[i], F.prev_th[i]) / (FM_PERIOD * 1e-3);
+            F.path[i] += hypot(m->x_m[i] - F.prev_x[i], m->y_m[i] - F.prev_y[i]);
+            if (F.have_prev_w[i] && !F.reached) {
+                F.sum_dw += fabs(w - F.prev_w[i]) / (FM_PERIOD * 1e-3);
+                F.n_dw++;
+            }
+            F.prev_w[i] = w;
+            F.have_prev_w[i] = 1;
+        }
+        F.prev_x[i] = m->x_m[i]; F.prev_y[i] = m->y_m[i]; F.prev_th[i] = m->theta_rad[i];
+        F.have_prev[i] = 1;
+        if (F.truth_csv)
+            fprintf(F.truth_csv, "%.3f,%d,%.4f,%.4f,%.4f,%.4f,%d\n", t, m->robot[i], m->x_m[i],
+                    m->y_m[i], m->theta_rad[i], m->min_clearance_m[i], m->collisions[i]);
+    }
+    cx /= n; cy /= n;
+    th0 = atan2(s, c);
+    if (lowest >= 0 && F.have_state[lowest]) F.type_now = F.state_type[lowest];
+    if (lowest >= 0 && team_scale[lowest] > 0.0) F.scale_now = team_scale[lowest];
+    /* formation error: slots of the formation the team is flying now around
+     * the true centroid and mean heading; robot slots by sorted alive id */
+    for (i = 0; i < m->n; i++) {
+        double xy[2], r[2], e, gx, gy;
+        int k;
+        if (!m->alive[i]) continue;
+        k = formation_slot_of(ids, n, m->robot[i]);
+        formation_slot_xy(xy, F.type_now, n, k, 1.0, F.scale_now);
+        vec2_rotate(r, xy[0], xy[1], th0);
+        e = hypot(m->x_m[i] - cx - r[0], m->y_m[i] - cy - r[1]);
+        sq += e * e;
+        if (e > mx) mx = e;
+        /* at the goal: every robot near its nominal slot around the goal */
+        formation_slot_xy(xy, F.formation, n, k, 1.0, 1.0);
+        gx = F.layout.goal_m[0] + xy[0];
+        gy = F.layout.goal_m[1] + xy[1];
+        if (hypot(m->x_m[i] - gx, m->y_m[i] - gy) > 0.75) all_at = 0;
+    }
+    if (!F.reached) {
+        F.samples++;
+        F.sum_sq_err += sq / n;
+        if (mx > F.max_err) F.max_err = mx;
+        if (mx > FM_OUT_TOL) F.out_samples++;
+    }
+    if (F.err_csv) fprintf(F.err_csv, "%.3f,%.4f,%.4f,%d\n", t, sqrt(sq / n), mx, F.type_now);
+    if (F.w_csv && lowest >= 0)
+        fprintf(F.w_csv, "%.3f,%.3f,%.3f,%.3f,%.3f,%d\n", t, F.weight[lowest][0], F.weight[lowest][1],
+                F.weight[lowest][2], F.weight[lowest][3], F.mode[lowest]);
+    if (F.snap_csv && t - F.last_snap_t >= 5.0 - 1e-9) {
+        F.last_snap_t = t;
+        for (i = 0; i < m->n; i++)
+            if (m->alive[i]) fprintf(F.snap_csv, "%.4f,%.4f\n", m->x_m[i], m->y_m[i]);
+        if (lowest >= 0) fprintf(F.snap_csv, "%.4f,%.4f\n", m->x_m[lowest], m->y_m[lowest]);
+        fprintf(F.snap_csv, "\n");
+    }
+    F.collisions = 0;
+    for (i = 0; i < m->n; i++) F.collisions += m->collisions[i];
+    if (!F.reached && all_at && hypot(cx - F.layout.goal_m[0], cy - F.layout.goal_m[1]) < 0.5) {
+        F.reached = 1;
+        F.time_to_goal = t;
+    }
+}
+
+/* ---- output -------------------------------------------------------------------- */
+
+static void write_plots(void)
+{
+    FILE *g = scenario_fopen(F.out, "plots.gp");
+    int i;
+    if (!g) return;
+    fprintf(g, "set datafile separator ','\nset terminal pngcairo size 1100,700\n");
+    fprintf(g, "set output 'paths.png'\nset size ratio -1\nset title 'formation %s, world %s, blend %s: paths (ground truth), snapshots every 5 s'\n",
+            fname(F.formation), rover_world_name(F.world), bname(F.blend));
+    fprintf(g, "set xlabel 'x (m)'\nset ylabel 'y (m)'\n");
+    for (i = 0; i < F.layout.n_obst; i++) {
+        const rover_obstacle_t *o = &F.layout.obst[i];
+        if (o->kind == ROVER_OBST_CIRCLE) {
+            fprintf(g, "set object %d circle at %g,%g size %g fc rgb 'gray40' fs solid\n", i + 1,
+                    o->cx_m, o->cy_m, o->r_m);
+        } else {
+            const double c = cos(o->angle_rad), s = sin(o->angle_rad);
+            fprintf(g, "set object %d polygon from %g,%g to %g,%g to %g,%g to %g,%g to %g,%g fc rgb 'gray40' fs solid\n",
+                    i + 1,
+                    o->cx_m + o->hx_m * c - o->hy_m * s, o->cy_m + o->hx_m * s + o->hy_m * c,
+                    o->cx_m - o->hx_m * c - o->hy_m * s, o->cy_m - o->hx_m * s + o->hy_m * c,
+                    o->cx_m - o->hx_m * c + o->hy_m * s, o->cy_m - o->hx_m * s - o->hy_m * c,
+                    o->cx_m + o->hx_m * c + o->hy_m * s, o->cy_m + o->hx_m * s - o->hy_m * c,
+                    o->cx_m + o->hx_m * c - o->hy_m * s, o->cy_m + o->hx_m * s + o->hy_m * c);
+        }
+    }
+    fprintf(g, "set object %d circle at %g,%g size 0.3 fc rgb 'green' fs transparent solid 0.4\n",
+            F.layout.n_obst + 1, F.layout.goal_m[0], F.layout.goal_m[1]);
+    fprintf(g, "plot ");
+    for (i = 1; i <= F.robots && i <= 12; i++)
+        fprintf(g, "'truth.csv' using ($2==%d?$3:1/0):4 with lines lw 2 title 'robot %d', ", i, i);
+    fprintf(g, "'snapshots.csv' using 1:2 with linespoints lc rgb 'black' pt 7 ps 0.6 dt 2 title 'formation every 5 s'\n");
+    fprintf(g, "set output 'formation_error.png'\nset size noratio\nset title 'formation error (ground truth)'\n"
+               "set xlabel 't (s)'\nset ylabel 'm'\nset y2label 'formation (0 line, 1 triangle, 2 column)'\n"
+               "set y2range [-0.2:2.2]\nset y2tics 0,1,2\n"
+               "plot 'formation_error.csv' using 1:2 with lines lw 2 title 'rms over robots', "
+               "'' using 1:3 with lines title 'max over robots', '' using 1:4 axes x1y2 with steps title 'formation type'\n");
+    fprintf(g, "set output 'weights.png'\nunset y2label\nunset y2tics\nset title 'behaviour weights of the lowest-id robot (normalised)'\n"
+               "set ylabel 'weight'\nset yrange [-0.05:1.05]\n"
+               "plot 'weights.csv' using 1:2 with lines title 'goal', '' using 1:3 with lines title 'formation', "
+               "'' using 1:4 with lines title 'avoid', '' using 1:5 with lines title 'exception'\n");
+    fclose(g);
+    scenario_gnuplot(F.out, "plots.gp");
+}
+
+static void write_summary(double wall_s)
+{
+    json_out j;
+    double path = 0.0;
+    int i, n = 0;
+    if (json_open(&j, F.out, "summary.json") != 0) return;
+    for (i = 0; i < F.robots; i++)
+        if (F.have_prev[i] && i + 1 != F.kill_id) { path += F.path[i]; n++; }
+    json_str(&j, "scenario", "formation");
+    json_str(&j, "formation", fname(F.formation));
+    json_str(&j, "world", rover_world_name(F.world));
+    json_str(&j, "blend", bname(F.blend));
+    json_int(&j, "robots", F.robots);
+    json_int(&j, "seed", F.seed);
+    json_int(&j, "killed_robot", F.kill_id > 0 && F.killed ? F.kill_id : 0);
+    json_bool(&j, "reached_goal", F.reached);
+    json_num(&j, "time_to_goal_s", F.reached ? F.time_to_goal : NAN);
+    json_num(&j, "rms_formation_err_m", F.samples ? sqrt(F.sum_sq_err / F.samples) : NAN);
+    json_num(&j, "max_formation_err_m", F.max_err);
+    json_num(&j, "time_out_of_formation_frac", F.samples ? (double)F.out_samples / F.samples : NAN);
+    json_num(&j, "min_clearance_m", F.min_clear);
+    json_int(&j, "collisions", F.collisions);
+    json_int(&j, "formation_changes", F.formation_changes);
+    json_int(&j, "dead_zone_escapes", F.escapes);
+    json_num(&j, "path_length_m", n ? path / n : NAN);
+    json_num(&j, "smoothness", F.n_dw ? F.sum_dw / F.n_dw : NAN);
+    json_num(&j, "sim_time_s", F.sim_time);
+    json_num(&j, "wall_time_s", wall_s);
+    json_close(&j);
+}
+
+/* ---- run ------------------------------------------------------------------------- */
+
+static void on_sig(int s) { (void)s; }
+
+static int run(int argc, char **argv)
+{
+    double wall0;
+    int i, last_type = -1, changes = 0;
+    char self[512];
+    ssize_t len;
+    memset(&F, 0, sizeof F);
+    F.min_clear = INFINITY;
+    F.scale_now = 1.0;
+    F.clock_step = -1;
+    F.answered = -1;
+    F.last_truth_step = -1;
+    F.last_snap_t = -1e9;
+    if (parse(argc, argv) != 0) return 2;
+    if (scenario_mkdir(F.out) != 0) return 1;
+    len = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (len <= 0) { fprintf(stderr, "formation: cannot find my own binary\n"); return 1; }
+    self[len] = '\0';
+    snprintf(F.bindir, sizeof F.bindir, "%s", self);
+    if (strrchr(F.bindir, '/')) *strrchr(F.bindir, '/') = '\0';
+    if (!F.url) {
+        snprintf(F.url_buf, sizeof F.url_buf, "udpm://239.255.76.67:%d?ttl=0&recv_buf_size=4194304",
+                 20000 + (int)(getpid() % 20000));
+        F.url = F.url_buf;
+    }
+    if (rover_world_layout(&F.layout, F.world, F.robots, 1.0, F.formation) != 0) return 2;
+    F.type_now = F.formation;
+    F.lcm = lcm_create(F.url);
+    if (!F.lcm) { fprintf(stderr, "formation: cannot open LCM at %s\n", F.url); return 1; }
+    tandem_sim_clock_t_subscription_set_queue_capacity(
+        tandem_sim_clock_t_subscribe(F.lcm, "SIM_CLOCK", on_clock, NULL), 0);
+    tandem_rover_truth_t_subscription_set_queue_capacity(
+        tandem_rover_truth_t_subscribe(F.lcm, "ROVER_TRUTH", on_truth, NULL), 100000);
+    tandem_rover_state_t_subscription_set_queue_capacity(
+        tandem_rover_state_t_subscribe(F.lcm, "ROVER[0-9]+_STATE", on_state, NULL), 100000);
+    tandem_team_msg_t_subscription_set_queue_capacity(
+        tandem_team_msg_t_subscribe(F.lcm, "TEAM", on_team, NULL), 100000);
+    F.truth_csv = scenario_fopen(F.out, "truth.csv");
+    F.err_csv = scenario_fopen(F.out, "formation_error.csv");
+    F.w_csv = scenario_fopen(F.out, "weights.csv");
+    F.snap_csv = scenario_fopen(F.out, "snapshots.csv");
+    {
+        char p[700];
+        snprintf(p, sizeof p, "%s/children.log", F.out);
+        remove(p);
+    }
+    signal(SIGPIPE, SIG_IGN);
+    signal(SIGINT, on_sig);
+    wall0 = scenario_wall_s();
+    if (start_children() != 0) { stop_children(); return 1; }
+    fprintf(stderr, "formation: %d robots, %s, world %s, blend %s, seed %ld on %s\n", F.robots,
+            fname(F.formation), rover_world_name(F.world), bname(F.blend), F.seed, F.url);
+    F.last_clock_ns = mono_ns();
+    /* register before the first step (the sim waits for --expect participants) */
+    while (scenario_wall_s() - wall0 < 30.0) {
+        ack(0);
+        lcm_handle_timeout(F.lcm, 100);
+        if (F.have_clock) break;
+    }
+    for (;;) {
+        const int rc = lcm_handle_timeout(F.lcm, 50);
+        const int64_t due = F.clock_step - F.clock_step % FM_PERIOD;
+        if (rc < 0) break;
+        if (F.have_clock && due > F.answered && F.clock_step % FM_PERIOD == 0) {
+            /* robot states of the last cycle: protocol counts */
+            int lo = -1;
+            for (i = 0; i < F.robots; i++)
+                if (F.have_state[i] && (i + 1 != F.kill_id || !F.killed)) { lo = i; break; }
+            if (lo >= 0) {
+                if (last_type >= 0 && F.state_type[lo] != last_type) changes++;
+                last_type = F.state_type[lo];
+            }
+            F.formation_changes = changes;
+            if (F.kill_id > 0 && !F.killed && F.sim_time >= F.kill_t_s) {
+                tandem_sim_control_t c;
+                memset(&c, 0, sizeof c);
+                c.command = TANDEM_SIM_CONTROL_T_KILL_ROBOT;
+                c.target = F.kill_id;
+                tandem_sim_control_t_publish(F.lcm, "SIM_CONTROL", &c);
+                if (!F.single && F.rover_pid[F.kill_id] > 0) kill(F.rover_pid[F.kill_id], SIGKILL);
+                F.killed = 1;
+                fprintf(stderr, "formation: killed robot %d at t = %.2f s\n", F.kill_id, F.sim_time);
+            }
+            F.answered = F.clock_step;
+            if (F.reached || F.sim_time >= F.max_time_s) break;
+            ack(F.clock_step);
+        } else if (F.have_clock && mono_ns() - F.last_clock_ns > 200000000LL) {
+            nudge();
+            F.last_clock_ns = mono_ns();
+        }
+        if (scenario_wall_s() - wall0 > 20.0 * F.max_time_s + 60.0) {
+            fprintf(stderr, "formation: no progress; giving up\n");
+            break;
+        }
+    }
+    stop_children();
+    if (F.truth_csv) fclose(F.truth_csv);
+    if (F.err_csv) fclose(F.err_csv);
+    if (F.w_csv) fclose(F.w_csv);
+    if (F.snap_csv) fclose(F.snap_csv);
+    F.truth_csv = F.err_csv = F.w_csv = F.snap_csv = NULL;
+    write_summary(scenario_wall_s() - wall0);
+    write_plots();
+    lcm_destroy(F.lcm);
+    printf("formation %s world %s blend %s robots %d seed %ld: reached_goal=%d time_to_goal_s=%.2f "
+           "rms_formation_err_m=%.3f max_formation_err_m=%.3f min_clearance_m=%.3f collisions=%d "
+           "formation_changes=%d dead_zone_escapes=%d sim_time_s=%.1f wall_time_s=%.1f\n",
+           fname(F.formation), rover_world_name(F.world), bname(F.blend), F.robots, F.seed,
+           F.reached, F.reached ? F.time_to_goal : NAN,
+           F.samples ? sqrt(F.sum_sq_err / F.samples) : NAN, F.max_err, F.min_clear,
+           F.collisions, F.formation_changes, F.escapes, F.sim_time, scenario_wall_s() - wall0);
+    return 0;
+}
+
+const scenario_def scenario_formation = {
+    "formation",
+    "Pioneer team in line/triangle/column formation to a goal (seed 003)",
+    run
+};
