@@ -363,26 +363,75 @@ static void remove_stick(void)
 }
 
 /* Place the rod just ahead of the link along its current motion, across
- * both the motion and the link, so the link runs into it. */
+ * both the motion and the link, so the link runs into it. "The link" is
+ * its longest capsule (the forearm of link 3 lies along z3, not x3): the
+ * rod crosses that capsule's axis, so it touches the link at one point
+ * instead of lying along it inside the geometry. */
 static int stick_pose_for_link(const tandem_sim_control_t *c, double centre[3], double axis[3])
 {
     const sim_arm *a = &sim_arm_pair[c->target - 1];
-    const dBodyID b = a->link[c->link - 1];
-    const dReal *p = dBodyGetPosition(b), *v = dBodyGetLinearVel(b), *R = dBodyGetRotation(b);
+    const int i = c->link - 1;
+    const dBodyID b = a->link[i];
+    dGeomID g = a->geom[i][0];
+    dReal r0 = 0, l0 = 0, r1 = 0, l1 = 0;
+    const dReal *p, *R;
+    dVector3 v;
     double dir[3], along[3], speed;
+    if (a->geom[i][0])
+        dGeomCapsuleGetParams(a->geom[i][0], &r0, &l0);
+    if (a->geom[i][1])
+        dGeomCapsuleGetParams(a->geom[i][1], &r1, &l1);
+    if (!g || (a->geom[i][1] && l1 > l0))
+        g = a->geom[i][1];
+    p = g ? dGeomGetPosition(g) : dBodyGetPosition(b);
+    R = g ? dGeomGetRotation(g) : dBodyGetRotation(b);
+    vec3_set(along, R[2], R[6], R[10]);        /* capsule axis (its z) */
+    dBodyGetPointVel(b, p[0], p[1], p[2], v);
     vec3_set(dir, v[0], v[1], v[2]);
+    vec3_axpy(dir, dir, -vec3_dot(dir, along), along);   /* motion across the link */
     speed = vec3_normalize(dir, dir);
     if (speed < 1e-3) {
         /* Not moving: put the stick above the link, where a lift would go. */
         vec3_set(dir, 0.0, 0.0, 1.0);
     }
-    vec3_set(along, R[0], R[4], R[8]);         /* link x axis, roughly along it */
     vec3_cross(axis, dir, along);
     if (vec3_normalize(axis, axis) < 1e-6)
         vec3_set(axis, 0.0, 0.0, 1.0);
     vec3_set(centre, p[0], p[1], p[2]);
-    vec3_axpy(centre, centre, link_radius_m[c->link - 1] + c->radius_m + 0.005, dir);
+    vec3_axpy(centre, centre, link_radius_m[i] + c->radius_m + 0.005, dir);
     return 0;
+}
+
+/* A rod that starts inside some capsule of the arm (the wrist links sit
+ * close together) would throw the arm back: move it on along the link's
+ * motion, 5 mm at a time (up to 15 cm), until it touches nothing. */
+static void stick_clear_of_arm(const tandem_sim_control_t *c, double centre[3])
+{
+    const sim_arm *a = &sim_arm_pair[c->target - 1];
+    double dir[3];
+    dContactGeom cg[4];
+    int step, i, k, hit = 1;
+    {
+        const dBodyID b = a->link[c->link - 1];
+        const dReal *bp = dBodyGetPosition(b);
+        vec3_set(dir, centre[0] - bp[0], centre[1] - bp[1], centre[2] - bp[2]);
+        if (vec3_normalize(dir, dir) < 1e-9)
+            vec3_set(dir, 0.0, 0.0, 1.0);
+    }
+    for (step = 0; step < 30 && hit; step++) {
+        hit = 0;
+        for (k = 0; k < SIM_ARMS && !hit; k++)
+            for (i = 0; i < ARM_NJ && !hit; i++) {
+                if (sim_arm_pair[k].geom[i][0] && dCollide(stick, sim_arm_pair[k].geom[i][0], 4, cg, sizeof cg[0]) > 0)
+                    hit = 1;
+                if (sim_arm_pair[k].geom[i][1] && dCollide(stick, sim_arm_pair[k].geom[i][1], 4, cg, sizeof cg[0]) > 0)
+                    hit = 1;
+            }
+        if (hit) {
+            vec3_axpy(centre, centre, 0.005, dir);
+            dGeomSetPosition(stick, centre[0], centre[1], centre[2]);
+        }
+    }
 }
 
 static int arms_control(sim_world *w, const tandem_sim_control_t *c)
@@ -424,6 +473,8 @@ static int arms_control(sim_world *w, const tandem_sim_control_t *c)
     dGeomSetPosition(stick, centre[0], centre[1], centre[2]);
     dGeomSetCategoryBits(stick, SIM_CAT_STICK);
     dGeomSetCollideBits(stick, SIM_CAT_ARM);
+    if (c->link != 0)
+        stick_clear_of_arm(c, centre);
     stick_target = c->target;
     stick_link = c->link;
     fprintf(stderr, "tandem-sim: stick in at (%.3f %.3f %.3f) for arm %d link %d\n",

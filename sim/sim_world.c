@@ -14,6 +14,16 @@ static void near_callback(void *data, dGeomID g1, dGeomID g2)
         return;
     if (!b1 && !b2)
         return;
+    if (!b1) {
+        /* a body against a static geom: put the body first, so the contact
+         * joint's feedback f1 is the force on it (ODE leaves f2 unset for a
+         * joint with one body) and sim_contact_force_on sees it */
+        dGeomID tg = g1;
+        g1 = g2;
+        g2 = tg;
+        b1 = b2;
+        b2 = 0;
+    }
     n = dCollide(g1, g2, 8, &c[0].geom, sizeof(dContact));
     for (i = 0; i < n; i++) {
         dJointID j;

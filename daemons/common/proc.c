@@ -1,0 +1,142 @@
+/* proc: child processes of tandem-scenario and the integration tests. */
+#include "proc.h"
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+static double mono_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void proc_init(proc_set *p, const char *bin_dir)
+{
+    const char *env = getenv("TANDEM_BIN");
+    memset(p, 0, sizeof *p);
+    snprintf(p->bin, sizeof p->bin, "%s", bin_dir ? bin_dir : (env ? env : "build/bin"));
+}
+
+pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url,
+                 const char *out_path, const char *err_path)
+{
+    int fds[2] = { -1, -1 };
+    pid_t pid;
+    char path[512];
+    if (p->n >= PROC_MAX || !argv || !argv[0])
+        return -1;
+    if (!out_path && pipe(fds) != 0)
+        return -1;
+    snprintf(path, sizeof path, "%s/%s", p->bin, argv[0]);
+    pid = fork();
+    if (pid < 0)
+        return -1;
+    if (pid == 0) {
+        if (out_path) {
+            int fd = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+            if (fd >= 0) {
+                dup2(fd, 1);
+                close(fd);
+            }
+        } else {
+            dup2(fds[1], 1);
+            close(fds[0]);
+            close(fds[1]);
+        }
+        if (err_path) {
+            int fd = open(err_path, O_WRONLY | O_CREAT | O_APPEND, 0644);
+            if (fd >= 0) {
+                dup2(fd, 2);
+                close(fd);
+            }
+        }
+        if (lcm_url)
+            setenv("LCM_DEFAULT_URL", lcm_url, 1);
+        execv(path, (char *const *)argv);
+        fprintf(stderr, "proc: cannot exec %s: %s\n", path, strerror(errno));
+        _exit(127);
+    }
+    if (!out_path) {
+        close(fds[1]);
+        fcntl(fds[0], F_SETFL, O_NONBLOCK);
+    }
+    p->pid[p->n] = pid;
+    p->out_fd[p->n] = out_path ? -1 : fds[0];
+    p->status[p->n] = -1;
+    p->n++;
+    return pid;
+}
+
+static int index_of(const proc_set *p, pid_t pid)
+{
+    int i;
+    for (i = 0; i < p->n; i++)
+        if (p->pid[i] == pid)
+            return i;
+    return -1;
+}
+
+int proc_poll(proc_set *p, pid_t pid, int *status)
+{
+    const int i = index_of(p, pid);
+    int st;
+    if (i < 0)
+        return -1;
+    if (waitpid(pid, &st, WNOHANG) != pid)
+        return 0;
+    p->status[i] = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    p->pid[i] = 0;
+    if (status)
+        *status = p->status[i];
+    return 1;
+}
+
+int proc_read(proc_set *p, pid_t pid, char *buf, int cap)
+{
+    const int i = index_of(p, pid);
+    int n = 0;
+    if (cap <= 0)
+        return 0;
+    if (i >= 0 && p->out_fd[i] >= 0) {
+        for (;;) {
+            ssize_t r = read(p->out_fd[i], buf + n, (size_t)(cap - 1 - n));
+            if (r <= 0)
+                break;
+            n += (int)r;
+        }
+    }
+    buf[n] = '\0';
+    return n;
+}
+
+void proc_kill_all(proc_set *p, double grace_s)
+{
+    int i;
+    double t0;
+    for (i = 0; i < p->n; i++)
+        if (p->pid[i] > 0)
+            kill(p->pid[i], SIGTERM);
+    t0 = mono_s();
+    for (i = 0; i < p->n; i++) {
+        while (p->pid[i] > 0 && proc_poll(p, p->pid[i], NULL) == 0 && mono_s() - t0 < grace_s) {
+            struct timespec ts = { 0, 10000000L };
+            nanosleep(&ts, NULL);
+        }
+        if (p->pid[i] > 0) {
+            kill(p->pid[i], SIGKILL);
+            waitpid(p->pid[i], NULL, 0);
+            p->pid[i] = 0;
+        }
+        if (p->out_fd[i] >= 0)
+            close(p->out_fd[i]);
+        p->out_fd[i] = -1;
+    }
+    p->n = 0;
+}

@@ -1,0 +1,35 @@
+/* proc: start tandem programs as child processes and stop them again
+ * (shared by tandem-scenario and the integration tests). */
+#ifndef TANDEM_PROC_H
+#define TANDEM_PROC_H
+
+#include <sys/types.h>
+
+#define PROC_MAX 16
+
+typedef struct proc_set {
+    char  bin[256];          /* directory of the programs */
+    pid_t pid[PROC_MAX];     /* 0 once reaped */
+    int   out_fd[PROC_MAX];  /* read end of the stdout pipe, -1 if none */
+    int   status[PROC_MAX];  /* exit status once reaped */
+    int   n;
+} proc_set;
+
+/* bin_dir NULL: $TANDEM_BIN or build/bin. */
+void  proc_init(proc_set *p, const char *bin_dir);
+/* argv[0] is a program name under bin (NULL-terminated argv). The child
+ * gets LCM_DEFAULT_URL = lcm_url (if not NULL). stdout goes to out_path
+ * (created/truncated) or, if out_path is NULL, to a pipe (proc_read).
+ * stderr is appended to err_path if not NULL (else inherited).
+ * Returns the pid or -1. */
+pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url,
+                 const char *out_path, const char *err_path);
+/* Non-blocking reap: 1 if pid has exited (status in *status), 0 if it
+ * runs, -1 unknown pid. */
+int   proc_poll(proc_set *p, pid_t pid, int *status);
+/* Reads whatever the child wrote to its stdout pipe (NUL terminated). */
+int   proc_read(proc_set *p, pid_t pid, char *buf, int cap);
+/* SIGTERM to every child, SIGKILL after grace_s; closes the pipes. */
+void  proc_kill_all(proc_set *p, double grace_s);
+
+#endif

@@ -1,0 +1,701 @@
+/* tandem-scenario carry: the seed-000 experiment (SPEC.md §2.6, issue 4).
+ *
+ * Spawns tandem-sim, tandem-arm 1 and 2 and tandem-supervisor in lockstep
+ * on a private LCM URL and joins the lockstep itself (it answers every
+ * step), so the stick goes in and out at exact simulated times and every
+ * step is recorded. A block ARM:LINK:START_S:DURATION_S[:t3] is armed at
+ * START_S and inserted at the first step after it at which that arm's
+ * tool moves (> 3 cm/s; in t3 > 10 cm/s) -- and, with ":t3", while the synchronised t3
+ * runs -- so every block meets a moving link; it is removed DURATION_S
+ * later. Blocks run one after the other (one stick).
+ *
+ * t3 blocks: the blocked arm's stop is the first step after contact at
+ * which its s gained less than 0.1 mm over 10 ms; the partner's stop the
+ * same test on its s; latency = partner stop - blocked stop; lead = the
+ * partner's s minus its reference k_p s*.
+ *
+ * Then (unless --no-serial) the same task with --serial on the
+ * supervisor (a new workpiece only when the previous one is delivered and
+ * both arms are home), without blocks, for serial_cycle_s.
+ *
+ * Output: summary.json, timeseries.csv (10 ms), blocks.csv,
+ * transitions.csv, s.png, force.png, gantt.png, and the daemons' logs.
+ */
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <getopt.h>
+#include <lcm/lcm.h>
+#include "scenario.h"
+#include "proc.h"
+#include "prng.h"
+#include "tandem_action_event_t.h"
+#include "tandem_arm_state_t.h"
+#include "tandem_clock_ack_t.h"
+#include "tandem_petri_marking_t.h"
+#include "tandem_sim_clock_t.h"
+#include "tandem_sim_control_t.h"
+#include "tandem_sim_status_t.h"
+
+#define MAX_BLOCKS 64
+#define MAX_TRANS_LOG 4096
+#define MOVING_MPS 0.03          /* a block waits for its arm to move this fast ... */
+#define MOVING_T3_MPS 0.10       /* ... or, in t3, this fast (cruise) */
+#define CONTACT_N 0.5
+#define LURCH_WINDOW_S 2.0
+#define STOP_MPS 0.01
+#define NT 8
+
+typedef struct block {
+    int    arm, link, need_t3;
+    double start_s, dur_s;
+    /* measured */
+    double in_s, out_s, contact_s, self_stop_s, partner_stop_s;
+    double max_force_N, force_sum_N;
+    long   force_n;
+    double lead_max_m, lurch_mps;
+    int    during_t3, done;
+} block;
+
+typedef struct run_cfg {
+    int    workpieces;
+    int    controller_time;
+    int    serial;
+    double max_sim_s;
+    const char *out;
+    const char *tag;           /* "run" or "serial": log names */
+    uint64_t seed;
+} run_cfg;
+
+typedef struct run_result {
+    int    detected, delivered, dropped, blockages, replans, deadlocks;
+    long   invariant_violations;
+    double max_contact_N, max_lurch_mps, mean_blocked_force_N;
+    double first_delivery_s, last_delivery_s, mean_cycle_s;
+    double sim_s, wall_s;
+    int    ok;
+} run_result;
+
+/* ---- state of one run ------------------------------------------------------ */
+
+static struct {
+    lcm_t   *lcm;
+    int64_t  pending;            /* step to answer, -1 none */
+    double   t_s;
+    tandem_arm_state_t arm[2];
+    int      have_arm[2];
+    double   prev_tool[2][3];
+    double   speed[2];
+    double   s[2], s_f[2];
+    int      tr[2];              /* transition of the last progress */
+    int64_t  s_step[2];
+    double   s_hist[2][16];      /* s at the last 16 steps, ring */
+    tandem_petri_marking_t mk;
+    int8_t   mk_marking[16], mk_running[16];
+    int      have_mk;
+    int      delivered, dropped, spawned;
+    int64_t  ack_seq;
+    int      running_prev[NT];
+    double   run_start[NT];
+} R;
+
+static block blocks[MAX_BLOCKS];
+static int n_blocks;
+static FILE *f_ts, *f_tr;
+
+static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_sim_clock_t m;
+    (void)ch; (void)u;
+    if (tandem_sim_clock_t_decode(rb->data, 0, rb->data_size, &m) < 0)
+        return;
+    if (m.mode == TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP && m.step >= 0) {
+        R.pending = m.step;
+        R.t_s = m.sim_time_s;
+    }
+    tandem_sim_clock_t_decode_cleanup(&m);
+}
+
+static void on_arm(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_arm_state_t m;
+    int a;
+    (void)ch; (void)u;
+    if (tandem_arm_state_t_decode(rb->data, 0, rb->data_size, &m) < 0)
+        return;
+    a = m.arm - 1;
+    if (a == 0 || a == 1) {
+        if (R.have_arm[a] && m.step > R.arm[a].step) {
+            const double dt = (double)(m.step - R.arm[a].step) * 1e-3;
+            const double dx = m.tool_position_m[0] - R.arm[a].tool_position_m[0];
+            const double dy = m.tool_position_m[1] - R.arm[a].tool_position_m[1];
+            const double dz = m.tool_position_m[2] - R.arm[a].tool_position_m[2];
+            R.speed[a] = sqrt(dx * dx + dy * dy + dz * dz) / dt;
+        }
+        R.arm[a] = m;
+        R.have_arm[a] = 1;
+    }
+    tandem_arm_state_t_decode_cleanup(&m);
+}
+
+static void on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_action_event_t e;
+    (void)ch; (void)u;
+    if (tandem_action_event_t_decode(rb->data, 0, rb->data_size, &e) < 0)
+        return;
+    if ((e.arm == 1 || e.arm == 2) && e.event == TANDEM_ACTION_EVENT_T_PROGRESS) {
+        R.s[e.arm - 1] = e.s_m;
+        R.s_f[e.arm - 1] = e.s_f_m;
+        R.tr[e.arm - 1] = e.transition;
+        R.s_step[e.arm - 1] = e.step;
+    }
+    tandem_action_event_t_decode_cleanup(&e);
+}
+
+static void on_marking(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_petri_marking_t m;
+    int i;
+    (void)ch; (void)u;
+    if (tandem_petri_marking_t_decode(rb->data, 0, rb->data_size, &m) < 0)
+        return;
+    if (m.n_places <= 16 && m.n_transitions <= 16) {
+        R.mk = m;
+        for (i = 0; i < m.n_places; i++)
+            R.mk_marking[i] = m.marking[i];
+        for (i = 0; i < m.n_transitions; i++)
+            R.mk_running[i] = m.running[i];
+        R.mk.marking = R.mk_marking;
+        R.mk.running = R.mk_running;
+        R.have_mk = 1;
+    }
+    tandem_petri_marking_t_decode_cleanup(&m);
+}
+
+static void on_status(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_sim_status_t m;
+    (void)ch; (void)u;
+    if (tandem_sim_status_t_decode(rb->data, 0, rb->data_size, &m) < 0)
+        return;
+    R.delivered = m.workpieces_delivered;
+    R.dropped = m.workpieces_dropped;
+    R.spawned = m.workpieces_spawned;
+    tandem_sim_status_t_decode_cleanup(&m);
+}
+
+static void send_control(int cmd, int arm, int link)
+{
+    tandem_sim_control_t c;
+    memset(&c, 0, sizeof c);
+    c.utime = 0;
+    c.command = (int8_t)cmd;
+    c.target = arm;
+    c.link = link;
+    c.length_m = cmd == TANDEM_SIM_CONTROL_T_INSERT_STICK ? 0.3 : 0.0;
+    c.radius_m = cmd == TANDEM_SIM_CONTROL_T_INSERT_STICK ? 0.02 : 0.0;
+    tandem_sim_control_t_publish(R.lcm, "SIM_CONTROL", &c);
+}
+
+static void ack(int64_t step, int leaving)
+{
+    tandem_clock_ack_t a;
+    a.seq = R.ack_seq++;
+    a.utime = 0;
+    a.step = step;
+    a.name = (char *)"tandem-scenario";
+    a.period_steps = 1;
+    a.leaving = (int8_t)leaving;
+    tandem_clock_ack_t_publish(R.lcm, "SIM_ACK", &a);
+}
+
+static int t3_running(void)
+{
+    return R.have_mk && R.mk.n_transitions > 2 && R.mk.running[2];
+}
+
+/* ---- blocks ---------------------------------------------------------------- */
+
+static int cur_block;          /* index of the block armed or in, n_blocks when all done */
+static double gap_after_s;     /* start of the next block counted from the end of this one */
+
+static void block_step(void)
+{
+    block *b;
+    int a, p;
+    if (cur_block >= n_blocks)
+        return;
+    b = &blocks[cur_block];
+    a = b->arm - 1;
+    p = 1 - a;
+    if (b->in_s < 0.0) {
+        if (R.t_s >= b->start_s && R.speed[a] > (b->need_t3 ? MOVING_T3_MPS : MOVING_MPS) &&
+            (!b->need_t3 || t3_running())) {
+            send_control(TANDEM_SIM_CONTROL_T_INSERT_STICK, b->arm, b->link);
+            b->in_s = R.t_s;
+            b->during_t3 = t3_running();
+        } else if (R.t_s > b->start_s + 300.0) {
+            b->done = 1;          /* never met a moving arm: skipped */
+            cur_block++;
+        }
+        return;
+    }
+    if (b->out_s < 0.0) {
+        const double f = R.arm[a].max_contact_force_N;
+        if (f > b->max_force_N)
+            b->max_force_N = f;
+        if (f > CONTACT_N && b->contact_s < 0.0)
+            b->contact_s = R.t_s;
+        if (b->contact_s >= 0.0 && R.t_s - b->contact_s > 0.1 && f > 0.0) {
+            b->force_sum_N += f;
+            b->force_n++;
+        }
+        if (b->during_t3 && b->contact_s >= 0.0 && R.tr[0] == 3 && R.tr[1] == 3 &&
+            R.s_f[0] > 0.0 && R.s_f[1] > 0.0) {
+            /* partner stop: its s advances by less than STOP_MPS * 10 ms
+             * over the last 10 steps; lead over its reference k_p s* */
+            const double l_max = fmax(R.s_f[0], R.s_f[1]);
+            const double kb = R.s_f[a] / l_max, kp = R.s_f[p] / l_max;
+            const double lead = R.s[p] - kp * (R.s[a] / kb);
+            const double ds = R.s[p] - R.s_hist[p][(R.pending + 6) & 15];
+            const double ds_self = R.s[a] - R.s_hist[a][(R.pending + 6) & 15];
+            if (lead > b->lead_max_m)
+                b->lead_max_m = lead;
+            if (b->self_stop_s < 0.0 && ds_self < STOP_MPS * 0.010)
+                b->self_stop_s = R.t_s;
+            if (b->self_stop_s >= 0.0 && b->partner_stop_s < 0.0 && ds < STOP_MPS * 0.010)
+                b->partner_stop_s = R.t_s;
+        }
+        if (R.t_s >= b->in_s + b->dur_s) {
+            send_control(TANDEM_SIM_CONTROL_T_REMOVE_STICK, 0, 0);
+            b->out_s = R.t_s;
+        }
+        return;
+    }
+    if (R.t_s <= b->out_s + LURCH_WINDOW_S) {
+        if (R.speed[a] > b->lurch_mps)
+            b->lurch_mps = R.speed[a];
+        return;
+    }
+    b->done = 1;
+    cur_block++;
+    if (cur_block < n_blocks && blocks[cur_block].start_s < R.t_s)
+        blocks[cur_block].start_s = R.t_s + gap_after_s;
+}
+
+/* ---- recording --------------------------------------------------------------- */
+
+static void record_step(int64_t step)
+{
+    int a, t;
+    for (a = 0; a < 2; a++)
+        R.s_hist[a][step & 15] = R.s[a];
+    if (R.have_mk && f_tr) {
+        for (t = 0; t < NT && t < R.mk.n_transitions; t++) {
+            if (R.mk.running[t] && !R.running_prev[t])
+                R.run_start[t] = R.t_s;
+            if (!R.mk.running[t] && R.running_prev[t])
+                fprintf(f_tr, "%d,%.3f,%.3f\n", t + 1, R.run_start[t], R.t_s);
+            R.running_prev[t] = R.mk.running[t];
+        }
+    }
+    if (f_ts && step % 10 == 0) {
+        int stick = cur_block < n_blocks && blocks[cur_block].in_s >= 0.0 && blocks[cur_block].out_s < 0.0;
+        fprintf(f_ts, "%.3f,%.5f,%.5f,%d,%.5f,%.5f,%d,%.4f,%.4f,%.3f,%.3f,%d,%d,%d\n", R.t_s,
+                R.s[0], R.s_f[0], R.tr[0], R.s[1], R.s_f[1], R.tr[1], R.speed[0], R.speed[1],
+                R.arm[0].max_contact_force_N, R.arm[1].max_contact_force_N,
+                stick ? blocks[cur_block].arm : 0, R.delivered, R.dropped);
+    }
+}
+
+/* ---- one run --------------------------------------------------------------- */
+
+static volatile sig_atomic_t interrupted;
+static void on_sigint(int s) { (void)s; interrupted = 1; }
+
+static int run_once(const run_cfg *c, run_result *res)
+{
+    char url[96], nbuf[32], sbuf[32], path[4][1024], err[1024];
+    proc_set ps;
+    const double wall0 = scenario_wall_s();
+    double t_deliv_first = -1.0, t_deliv_last = -1.0, end_at = -1.0;
+    int last_delivered = 0, k, rc = 0;
+    const char *sim_argv[] = { "tandem-sim", "--lockstep", "--expect", "4", "--workpieces", nbuf,
+                               "--seed", sbuf, "--timeout-ms", "20000", NULL };
+    const char *a1_argv[] = { "tandem-arm", "--arm", "1", "--lockstep", NULL };
+    const char *a2_argv[] = { "tandem-arm", "--arm", "2", "--lockstep", NULL };
+    const char *sup_argv[] = { "tandem-supervisor", "--lockstep", "--controller",
+                               c->controller_time ? "time" : "event", c->serial ? "--serial" : NULL, NULL };
+    memset(res, 0, sizeof *res);
+    memset(&R, 0, sizeof R);
+    R.pending = -1;
+    snprintf(nbuf, sizeof nbuf, "%d", c->workpieces);
+    snprintf(sbuf, sizeof sbuf, "%llu", (unsigned long long)c->seed);
+    snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", 30000 + (int)(getpid() % 20000) + (c->serial ? 1 : 0));
+    R.lcm = lcm_create(url);
+    if (!R.lcm) {
+        fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", url);
+        return -1;
+    }
+    lcm_subscribe(R.lcm, "SIM_CLOCK", on_clock, NULL);
+    lcm_subscribe(R.lcm, "ARM1_STATE", on_arm, NULL);
+    lcm_subscribe(R.lcm, "ARM2_STATE", on_arm, NULL);
+    lcm_subscribe(R.lcm, "ARM_EVENTS", on_event, NULL);
+    lcm_subscribe(R.lcm, "PETRI_MARKING", on_marking, NULL);
+    lcm_subscribe(R.lcm, "SIM_STATUS", on_status, NULL);
+    proc_init(&ps, NULL);
+    {
+        const char *const names[4] = { "sim", "arm1", "arm2", "supervisor" };
+        const char *const *argvs[4] = { sim_argv, a1_argv, a2_argv, sup_argv };
+        snprintf(err, sizeof err, "%s/%s_stderr.log", c->out, c->tag);
+        remove(err);
+        for (k = 0; k < 4; k++) {
+            snprintf(path[k], sizeof path[k], "%s/%s_%s.log", c->out, c->tag, names[k]);
+            if (proc_spawn(&ps, argvs[k], url, path[k], err) < 0) {
+                fprintf(stderr, "tandem-scenario: cannot start %s\n", argvs[k][0]);
+                proc_kill_all(&ps, 1.0);
+                lcm_destroy(R.lcm);
+                return -1;
+            }
+        }
+    }
+    while (!interrupted) {
+        lcm_handle_timeout(R.lcm, 200);
+        for (k = 0; k < ps.n; k++) {
+            int st;
+            if (ps.pid[k] > 0 && proc_poll(&ps, ps.pid[k], &st) == 1) {
+                fprintf(stderr, "tandem-scenario: a daemon exited early (status %d); see %s\n", st, err);
+                rc = -1;
+            }
+        }
+        if (rc != 0)
+            break;
+        if (scenario_wall_s() - wall0 > 3600.0) {
+            fprintf(stderr, "tandem-scenario: wall-time limit reached\n");
+            break;
+        }
+        if (R.pending < 0)
+            continue;
+        if (!c->serial)
+            block_step();
+        record_step(R.pending);
+        if (R.delivered > last_delivered) {
+            if (t_deliv_first < 0.0)
+                t_deliv_first = R.t_s;
+            t_deliv_last = R.t_s;
+            last_delivered = R.delivered;
+        }
+        if (end_at < 0.0 && R.delivered + R.dropped >= c->workpieces && (c->serial || cur_block >= n_blocks))
+            end_at = R.t_s + 0.5;
+        ack(R.pending, 0);
+        R.pending = -1;
+        if ((end_at >= 0.0 && R.t_s >= end_at) || R.t_s >= c->max_sim_s)
+            break;
+    }
+    ack(R.pending >= 0 ? R.pending : 0, 1);
+    send_control(TANDEM_SIM_CONTROL_T_QUIT, 0, 0);
+    res->sim_s = R.t_s;
+    proc_kill_all(&ps, 3.0);
+    res->wall_s = scenario_wall_s() - wall0;
+    /* the last SIM_STATUS may be up to 100 steps old: read the sim log */
+    res->delivered = R.delivered;
+    res->dropped = R.dropped;
+    if (R.have_mk) {
+        res->detected = R.mk.detections;
+        res->blockages = R.mk.blockages;
+        res->replans = R.mk.replans;
+        res->deadlocks = R.mk.deadlocks;
+        res->invariant_violations = R.mk.invariant_violations;
+    }
+    res->first_delivery_s = t_deliv_first;
+    res->last_delivery_s = t_deliv_last;
+    res->mean_cycle_s = last_delivered >= 2 ? (t_deliv_last - t_deliv_first) / (last_delivered - 1) : NAN;
+    res->ok = rc == 0;
+    lcm_destroy(R.lcm);
+    R.lcm = NULL;
+    return rc;
+}
+
+/* ---- options, plots, summary ------------------------------------------------- */
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: tandem-scenario carry [--workpieces N] [--controller event|time]\n"
+               "         [--block ARM:LINK:START_S:DURATION_S[:t3]]... [--random-blocks K]\n"
+               "         [--seed S] [--no-serial] [--serial-workpieces M] --out DIR\n"
+               "Two-arm carry in lockstep with the stick pushed into the arms (SPEC 2.6).\n"
+               "  --workpieces N        workpieces to carry (default 3)\n"
+               "  --controller C        event (default) or time (the time-referenced baseline)\n"
+               "  --block A:L:S:D[:t3]  push the stick into arm A, link L at the first step\n"
+               "                        after S s at which arm A moves (with :t3, during t3),\n"
+               "                        for D s; repeatable, run one after the other\n"
+               "  --random-blocks K     K seeded random blocks (links 2-5, 0.2-60 s, every\n"
+               "                        third during t3)\n"
+               "  --seed S              seed of the sim and the random blocks (default 1)\n"
+               "  --no-serial           skip the serial reference run (serial_cycle_s = null)\n"
+               "  --serial-workpieces M workpieces of the serial run (default min(N, 3))\n"
+               "  --out DIR             output directory (required)\n");
+}
+
+static int parse_block(const char *s, block *b)
+{
+    char t3[8] = "";
+    int n;
+    memset(b, 0, sizeof *b);
+    n = sscanf(s, "%d:%d:%lf:%lf:%7s", &b->arm, &b->link, &b->start_s, &b->dur_s, t3);
+    if (n < 4 || b->arm < 1 || b->arm > 2 || b->link < 1 || b->link > 6 || !isfinite(b->start_s) ||
+        b->start_s < 0.0 || !isfinite(b->dur_s) || b->dur_s <= 0.0 || b->dur_s > 3600.0 ||
+        (n == 5 && strcmp(t3, "t3") != 0))
+        return -1;
+    b->need_t3 = n == 5;
+    return 0;
+}
+
+static void random_blocks(int k, uint64_t seed)
+{
+    prng_t r;
+    double t = 5.0;
+    int i;
+    prng_seed(&r, seed * 104729u + 3u);
+    for (i = 0; i < k && n_blocks < MAX_BLOCKS; i++) {
+        block *b = &blocks[n_blocks++];
+        memset(b, 0, sizeof *b);
+        b->arm = 1 + (int)(prng_uniform(&r) * 2.0);
+        b->link = 2 + (int)(prng_uniform(&r) * 4.0);
+        b->dur_s = 0.2 + 59.8 * prng_uniform(&r);
+        b->need_t3 = i % 3 == 2;
+        b->start_s = t;
+        t += 2.0 + 10.0 * prng_uniform(&r);
+    }
+}
+
+static void write_blocks_csv(const char *dir)
+{
+    FILE *f = scenario_fopen(dir, "blocks.csv");
+    int i;
+    if (!f)
+        return;
+    fprintf(f, "arm,link,armed_s,in_s,out_s,duration_s,during_t3,contact_s,max_force_N,mean_force_N,"
+               "blocked_stop_s,partner_stop_latency_s,partner_lead_max_m,lurch_mps\n");
+    for (i = 0; i < n_blocks; i++) {
+        const block *b = &blocks[i];
+        fprintf(f, "%d,%d,%.3f,%.3f,%.3f,%.3f,%d,%.3f,%.2f,%.2f,%.3f,%.4f,%.4f,%.3f\n", b->arm, b->link, b->start_s,
+                b->in_s, b->out_s, b->dur_s, b->during_t3, b->contact_s, b->max_force_N,
+                b->force_n ? b->force_sum_N / (double)b->force_n : 0.0, b->self_stop_s,
+                b->partner_stop_s >= 0.0 ? b->partner_stop_s - b->self_stop_s : NAN,
+                b->lead_max_m, b->lurch_mps);
+    }
+    fclose(f);
+}
+
+static void write_plots(const char *dir)
+{
+    FILE *g = scenario_fopen(dir, "plots.gp");
+    int i;
+    if (!g)
+        return;
+    fprintf(g, "set datafile separator ','\nset terminal pngcairo size 1200,500\nset key outside\n");
+    for (i = 0; i < n_blocks; i++)
+        if (blocks[i].in_s >= 0.0)
+            fprintf(g, "set object %d rect from %.3f, graph 0 to %.3f, graph 1 fc rgb '%s' fs solid 0.25 noborder\n",
+                    i + 1, blocks[i].in_s, blocks[i].out_s >= 0 ? blocks[i].out_s : blocks[i].in_s + blocks[i].dur_s,
+                    blocks[i].arm == 1 ? "#ff8080" : "#8080ff");
+    fprintf(g, "set output 's.png'\nset title 'path length s(t) per arm (shaded: stick in; red arm 1, blue arm 2)'\n"
+               "set xlabel 'sim time (s)'\nset ylabel 's (m)'\n"
+               "plot 'timeseries.csv' every ::1 using 1:2 with lines lw 1.5 title 'arm 1', "
+               "'' every ::1 using 1:5 with lines lw 1.5 title 'arm 2'\n");
+    fprintf(g, "set output 'force.png'\nset title 'max link contact force'\nset ylabel 'N'\n"
+               "plot 'timeseries.csv' every ::1 using 1:10 with lines title 'arm 1', "
+               "'' every ::1 using 1:11 with lines title 'arm 2'\n");
+    fprintf(g, "unset object\nset output 'gantt.png'\nset title 'transitions per arm (running intervals; t3, t4 involve both arms)'\n"
+               "set ylabel ''\nset ytics ('arm 1' 1, 'arm 2' 2)\nset yrange [0.3:2.9]\nset xlabel 'sim time (s)'\n"
+               "a1(t) = (t==1||t==2||t==3||t==4||t==6)\na2(t) = (t==3||t==4||t==5||t==7)\n"
+               "plot 'transitions.csv' every ::1 using 2:(a1($1)?1:1/0):($3-$2):(0):1 with vectors nohead lw 14 lc variable notitle, "
+               "'' every ::1 using 2:(a2($1)?2:1/0):($3-$2):(0):1 with vectors nohead lw 14 lc variable notitle, "
+               "'' every ::1 using (($2+$3)/2):(a1($1)?1.3:1/0):(sprintf('t%%d',$1)) with labels font ',8' notitle, "
+               "'' every ::1 using (($2+$3)/2):(a2($1)?2.3:1/0):(sprintf('t%%d',$1)) with labels font ',8' notitle\n");
+    fclose(g);
+    scenario_gnuplot(dir, "plots.gp");
+}
+
+static int run(int argc, char **argv)
+{
+    static const struct option opts[] = {
+        { "workpieces", required_argument, 0, 'w' },
+        { "controller", required_argument, 0, 'c' },
+        { "block", required_argument, 0, 'b' },
+        { "random-blocks", required_argument, 0, 'r' },
+        { "seed", required_argument, 0, 's' },
+        { "no-serial", no_argument, 0, 'N' },
+        { "serial-workpieces", required_argument, 0, 'W' },
+        { "out", required_argument, 0, 'o' },
+        { "help", no_argument, 0, 'h' },
+        { 0, 0, 0, 0 }
+    };
+    run_cfg cfg;
+    run_result res, ser;
+    json_out j;
+    int c, i, n_random = 0, no_serial = 0, serial_n = -1;
+    long seed = 1;
+    double total_block_s = 0.0, max_force = 0.0, max_lurch = 0.0, fsum = 0.0, lat_max = NAN, lead_max = NAN;
+    long fn = 0;
+    char *end;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.workpieces = 3;
+    n_blocks = 0;
+    optind = 1;
+    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
+        switch (c) {
+        case 'w':
+            cfg.workpieces = (int)strtol(optarg, &end, 10);
+            if (*end || cfg.workpieces < 1 || cfg.workpieces > 1000) {
+                fprintf(stderr, "tandem-scenario carry: --workpieces: '%s' is not 1..1000\n", optarg);
+                return 2;
+            }
+            break;
+        case 'c':
+            if (strcmp(optarg, "event") && strcmp(optarg, "time")) {
+                fprintf(stderr, "tandem-scenario carry: --controller: '%s' is not event|time\n", optarg);
+                return 2;
+            }
+            cfg.controller_time = !strcmp(optarg, "time");
+            break;
+        case 'b':
+            if (n_blocks >= MAX_BLOCKS || parse_block(optarg, &blocks[n_blocks]) != 0) {
+                fprintf(stderr, "tandem-scenario carry: --block: '%s' is not ARM:LINK:START_S:DURATION_S[:t3] "
+                                "(arm 1-2, link 1-6, start >= 0, 0 < duration <= 3600)\n", optarg);
+                return 2;
+            }
+            n_blocks++;
+            break;
+        case 'r':
+            n_random = (int)strtol(optarg, &end, 10);
+            if (*end || n_random < 0 || n_random > MAX_BLOCKS) {
+                fprintf(stderr, "tandem-scenario carry: --random-blocks: '%s' is not 0..%d\n", optarg, MAX_BLOCKS);
+                return 2;
+            }
+            break;
+        case 's':
+            seed = strtol(optarg, &end, 10);
+            if (*end || seed < 0 || seed > 2147483647L) {
+                fprintf(stderr, "tandem-scenario carry: --seed: '%s' is not 0..2147483647\n", optarg);
+                return 2;
+            }
+            break;
+        case 'N': no_serial = 1; break;
+        case 'W':
+            serial_n = (int)strtol(optarg, &end, 10);
+            if (*end || serial_n < 2 || serial_n > 1000) {
+                fprintf(stderr, "tandem-scenario carry: --serial-workpieces: '%s' is not 2..1000\n", optarg);
+                return 2;
+            }
+            break;
+        case 'o': cfg.out = optarg; break;
+        case 'h': usage(stdout); return 0;
+        default: usage(stderr); return 2;
+        }
+    }
+    if (optind < argc || !cfg.out) {
+        fprintf(stderr, "tandem-scenario carry: %s\n", cfg.out ? "unexpected argument" : "--out DIR is required");
+        usage(stderr);
+        return 2;
+    }
+    if (n_random > 0 && n_blocks + n_random > MAX_BLOCKS) {
+        fprintf(stderr, "tandem-scenario carry: too many blocks\n");
+        return 2;
+    }
+    random_blocks(n_random, (uint64_t)seed);
+    for (i = 0; i < n_blocks; i++) {
+        blocks[i].in_s = blocks[i].out_s = blocks[i].contact_s = blocks[i].self_stop_s = blocks[i].partner_stop_s = -1.0;
+        total_block_s += blocks[i].dur_s;
+    }
+    if (scenario_mkdir(cfg.out) != 0)
+        return 1;
+    signal(SIGINT, on_sigint);
+    signal(SIGTERM, on_sigint);
+    cfg.seed = (uint64_t)seed;
+    cfg.tag = "run";
+    cfg.max_sim_s = 60.0 * cfg.workpieces + 1.5 * total_block_s + 30.0 * n_blocks + 60.0;
+    cur_block = 0;
+    gap_after_s = 3.0;
+    f_ts = scenario_fopen(cfg.out, "timeseries.csv");
+    f_tr = scenario_fopen(cfg.out, "transitions.csv");
+    if (!f_ts || !f_tr)
+        return 1;
+    fprintf(f_ts, "t_s,s1_m,sf1_m,tr1,s2_m,sf2_m,tr2,speed1_mps,speed2_mps,force1_N,force2_N,stick_arm,delivered,dropped\n");
+    fprintf(f_tr, "transition,start_s,end_s\n");
+    fprintf(stderr, "tandem-scenario carry: %d workpieces, %s controller, %d blocks, seed %ld\n", cfg.workpieces,
+            cfg.controller_time ? "time" : "event", n_blocks, seed);
+    if (run_once(&cfg, &res) != 0 && !res.sim_s)
+        return 1;
+    fclose(f_ts);
+    fclose(f_tr);
+    f_ts = f_tr = NULL;
+    memset(&ser, 0, sizeof ser);
+    ser.mean_cycle_s = NAN;
+    if (!no_serial && !interrupted) {
+        run_cfg s = cfg;
+        const int nb = n_blocks;
+        s.serial = 1;
+        s.tag = "serial";
+        s.workpieces = serial_n > 0 ? serial_n : (cfg.workpieces < 3 ? (cfg.workpieces < 2 ? 2 : cfg.workpieces) : 3);
+        s.max_sim_s = 80.0 * s.workpieces + 60.0;
+        n_blocks = 0;
+        fprintf(stderr, "tandem-scenario carry: serial reference run, %d workpieces\n", s.workpieces);
+        run_once(&s, &ser);
+        n_blocks = nb;
+    }
+    for (i = 0; i < n_blocks; i++) {
+        const block *b = &blocks[i];
+        max_force = fmax(max_force, b->max_force_N);
+        max_lurch = fmax(max_lurch, b->lurch_mps);
+        fsum += b->force_sum_N;
+        fn += b->force_n;
+        if (b->during_t3 && b->partner_stop_s >= 0.0) {
+            lat_max = isnan(lat_max) ? b->partner_stop_s - b->self_stop_s : fmax(lat_max, b->partner_stop_s - b->self_stop_s);
+            lead_max = isnan(lead_max) ? b->lead_max_m : fmax(lead_max, b->lead_max_m);
+        }
+    }
+    write_blocks_csv(cfg.out);
+    if (json_open(&j, cfg.out, "summary.json") != 0)
+        return 1;
+    json_str(&j, "scenario", "carry");
+    json_str(&j, "controller", cfg.controller_time ? "time" : "event");
+    json_int(&j, "seed", seed);
+    json_int(&j, "workpieces", cfg.workpieces);
+    json_int(&j, "workpieces_detected", res.detected);
+    json_int(&j, "workpieces_delivered", res.delivered);
+    json_int(&j, "workpieces_dropped", res.dropped);
+    json_int(&j, "blocks_requested", n_blocks);
+    json_int(&j, "blockages", res.blockages);
+    json_num(&j, "max_contact_force_N", max_force);
+    json_num(&j, "mean_contact_force_blocked_N", fn ? fsum / (double)fn : 0.0);
+    json_num(&j, "max_tool_speed_after_release_mps", max_lurch);
+    json_num(&j, "t3_partner_stop_latency_max_s", lat_max);
+    json_num(&j, "t3_partner_lead_max_m", lead_max);
+    json_int(&j, "invariant_violations", res.invariant_violations);
+    json_int(&j, "deadlocks", res.deadlocks);
+    json_int(&j, "replans", res.replans);
+    json_num(&j, "mean_cycle_s", res.mean_cycle_s);
+    json_num(&j, "serial_cycle_s", ser.mean_cycle_s);
+    json_num(&j, "pipelining_ratio", res.mean_cycle_s / ser.mean_cycle_s);
+    json_num(&j, "first_delivery_s", res.first_delivery_s);
+    json_num(&j, "sim_time_s", res.sim_s);
+    json_num(&j, "wall_time_s", res.wall_s + ser.wall_s);
+    json_close(&j);
+    write_plots(cfg.out);
+    printf("carry (%s): delivered %d/%d, dropped %d, blockages %d, max contact %.1f N, lurch %.3f m/s, "
+           "invariant violations %ld, deadlocks %d, replans %d, mean cycle %.2f s, serial %.2f s\n",
+           cfg.controller_time ? "time" : "event", res.delivered, cfg.workpieces, res.dropped, res.blockages,
+           max_force, max_lurch, res.invariant_violations, res.deadlocks, res.replans, res.mean_cycle_s,
+           ser.mean_cycle_s);
+    return (res.ok && !interrupted) ? 0 : 1;
+}
+
+const scenario_def scenario_carry = {
+    "carry", "two-arm carry with the stick (seed 000): event law vs time baseline", run
+};
