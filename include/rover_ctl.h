@@ -50,6 +50,9 @@ typedef struct {
     double escape_max_s;        /* give up following after this long */
     double passage_sense_max_m; /* side readings beyond: no passage wall */
     double mate_keep_m;         /* a mate's echo nearer than this stays an obstacle */
+    double passage_front_min_m; /* a passage needs the front open this far */
+    double v_change_mps;
+    double goal_heading_gain;   /* R0 heading toward the goal bearing, 0..1 (see .c) */        /* speed cap while shrinking / changing type */
     double sonar_max_m;         /* range reported for a masked (mate) echo */
 } rover_ctl_params_t;
 

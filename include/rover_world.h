@@ -65,6 +65,15 @@ const char *rover_world_name(int world);
  * spacing_m apart (> robot length). 0 ok, -1 bad input. */
 int rover_world_layout(rover_world_t *w, int world, int n, double spacing_m, int formation);
 
+/* Slot of the robot whose rank among the sorted team ids is `rank`, in a
+ * formation of `type` (FORMATION_*) and n robots. Line: the rank itself
+ * (slot 0 leftmost). Triangle and column: centre-out, so that the middle
+ * robot of the line becomes the apex / the head of the column and its
+ * neighbours fall in behind on their own side; going line -> triangle ->
+ * column in a passage then needs no robot to cross another. -1 on bad
+ * input. */
+int rover_world_slot(int type, int n, int rank);
+
 /* World <-> team frame (poses of any point). */
 void rover_world_to_team(const rover_world_t *w, const pose2_t *world_p, pose2_t *team_p);
 void rover_world_from_team(const rover_world_t *w, const pose2_t *team_p, pose2_t *world_p);

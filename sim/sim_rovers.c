@@ -8,18 +8,20 @@
  * to the held command; a command older than --rover-stale (0.5 s of sim
  * time) stops the robot.
  *
- * Cost: the rovers live in their own ODE world and hash space (stepped
- * with QuickStep on the simulator's clock), so their contacts are only
- * wheel/caster-ground and chassis-obstacle/chassis-chassis, found by a hash
- * space broad phase, and the PUMA pair's exact solver does not see them.
+ * Cost: the rovers live in their own ODE world (stepped with QuickStep on
+ * the simulator's clock) so the PUMA pair's exact solver does not see
+ * them. Contacts are only wheel/caster-floor (computed directly: spheres on
+ * a plane) and chassis-obstacle/chassis-chassis, found by a hash-space
+ * broad phase that holds nothing but chassis boxes and obstacles.
  * Their bodies still enter the simulator's state hash. They stand at
  * x > 4 m, away from the work cell, in the world layout of rover_world.
  *
  * Sensors (LCM): ROVERk_SENSORS (encoders, 20 Hz), ROVERk_SONAR (one
  * transducer per 40 ms in the Pioneer order, sonar_cast on a primitive
  * list of the obstacles and the other robots' boxes rebuilt every firing),
- * ROVERk_BEACONS (camera at O: LED beacons of mates within 6 m and +-60 deg,
- * line of sight, noise; 10 Hz), ROVER_TRUTH (ground truth, 20 Hz, for
+ * ROVERk_BEACONS (camera at O on a pan unit stepping ahead/left/ahead/right:
+ * LED beacons of mates within 6 m and +-60 deg of where it looks, line of
+ * sight, noise; 10 Hz), ROVER_TRUTH (ground truth, 20 Hz, for
  * metrics only). KILL_ROBOT removes a robot from the world.
  */
 #include "sim.h"
@@ -55,14 +57,13 @@
 #define RV_SLIP_TAU_S     0.5
 #define RV_ACCEL_V        1.0     /* m/s^2 */
 #define RV_ACCEL_W        3.0     /* rad/s^2 */
-#define RV_CAT_WHEEL      (1u << 8)
 
 typedef struct rover {
     int32_t id;
     int     alive;
     dBodyID chassis, wheel[2];
     dJointID hinge[2];
-    dGeomID box, caster, wgeom[2];
+    dGeomID box;
     double  cmd_v, cmd_w;             /* held (clipped) command */
     double  v_ref, w_ref;             /* after the acceleration ramp */
     int64_t cmd_rx_step;
@@ -86,11 +87,11 @@ static struct {
     dWorldID world;
     dSpaceID space;
     dJointGroupID contacts;
-    dGeomID  ground;
     dGeomID  obst[ROVER_WORLD_MAX_OBST];
     lcm_subscription_t *sub;
     sim_world *w;
     double   v_max, w_max, stale_s;
+    int      phys_steps;
     int64_t  truth_seq, rejected, rays;
     int      formation;
 } R;
@@ -141,11 +142,6 @@ static void build_robot(rover *r, const pose2_t *c, sim_world *w)
     dGeomSetBody(r->box, r->chassis);
     dGeomSetCategoryBits(r->box, SIM_CAT_ROVER);
     dGeomSetCollideBits(r->box, SIM_CAT_ROVER | SIM_CAT_OBSTACLE);
-    r->caster = dCreateSphere(R.space, RV_CASTER_R);
-    dGeomSetBody(r->caster, r->chassis);
-    dGeomSetOffsetPosition(r->caster, -0.18 - ROVER_BODY_OFFSET_M, 0.0, RV_CASTER_R - RV_CHASSIS_Z);
-    dGeomSetCategoryBits(r->caster, RV_CAT_WHEEL);
-    dGeomSetCollideBits(r->caster, SIM_CAT_GROUND);
     for (s = 0; s < 2; s++) {
         const double side = s == 0 ? 0.5 * RV_TRACK : -0.5 * RV_TRACK;  /* 0 left, 1 right */
         r->wheel[s] = dBodyCreate(R.world);
@@ -154,10 +150,6 @@ static void build_robot(rover *r, const pose2_t *c, sim_world *w)
         dBodySetPosition(r->wheel[s], c->x_m - side * st, c->y_m + side * ct, RV_WHEEL_R);
         dBodySetRotation(r->wheel[s], rot);
         dBodySetData(r->wheel[s], r);
-        r->wgeom[s] = dCreateSphere(R.space, RV_WHEEL_R);
-        dGeomSetBody(r->wgeom[s], r->wheel[s]);
-        dGeomSetCategoryBits(r->wgeom[s], RV_CAT_WHEEL);
-        dGeomSetCollideBits(r->wgeom[s], SIM_CAT_GROUND);
         r->hinge[s] = dJointCreateHinge(R.world, 0);
         dJointAttach(r->hinge[s], r->chassis, r->wheel[s]);
         dJointSetHingeAnchor(r->hinge[s], c->x_m - side * st, c->y_m + side * ct, RV_WHEEL_R);
@@ -191,6 +183,7 @@ static int rovers_create(sim_world *w, const sim_config *cfg)
     R.v_max = env_num("TANDEM_ROVER_VMAX", 0.75, 0.05, 2.0);
     R.w_max = env_num("TANDEM_ROVER_WMAX_DEG", 100.0, 5.0, 360.0) * VEC2_PI / 180.0;
     R.stale_s = env_num("TANDEM_ROVER_STALE_S", 0.5, 0.01, 10.0);
+    R.phys_steps = (int)env_num("TANDEM_ROVER_PHYS_STEPS", 2, 1, 10);
     sonar_model_default(&R.sm);
     R.world = dWorldCreate();
     dWorldSetGravity(R.world, 0, 0, -9.81);
@@ -200,9 +193,6 @@ static int rovers_create(sim_world *w, const sim_config *cfg)
     R.space = dHashSpaceCreate(0);
     dHashSpaceSetLevels(R.space, -3, 4);
     R.contacts = dJointGroupCreate(0);
-    R.ground = dCreatePlane(R.space, 0, 0, 1, 0);
-    dGeomSetCategoryBits(R.ground, SIM_CAT_GROUND);
-    dGeomSetCollideBits(R.ground, RV_CAT_WHEEL);
     for (i = 0; i < R.layout.n_obst; i++) {
         const rover_obstacle_t *o = &R.layout.obst[i];
         dGeomID g;
@@ -301,42 +291,11 @@ static void near_cb(void *data, dGeomID g1, dGeomID g2)
 {
     dContact c[4];
     dBodyID b1 = dGeomGetBody(g1), b2 = dGeomGetBody(g2);
-    const unsigned long cat1 = dGeomGetCategoryBits(g1), cat2 = dGeomGetCategoryBits(g2);
-    int n, i, wheel = -1;
-    rover *rw = NULL;
+    int n, i;
     (void)data;
     if (b1 && b2 && dAreConnected(b1, b2)) return;
     n = dCollide(g1, g2, 4, &c[0].geom, sizeof(dContact));
     if (n <= 0) return;
-    if ((cat1 | cat2) & SIM_CAT_GROUND) {
-        /* wheel or caster on the floor */
-        const dGeomID g = (cat1 & SIM_CAT_GROUND) ? g2 : g1;
-        const dBodyID b = dGeomGetBody(g);
-        rover *owner = rover_of_body(b);
-        if (owner && owner->wheel[0] == b) { rw = owner; wheel = 0; }
-        else if (owner && owner->wheel[1] == b) { rw = owner; wheel = 1; }
-        for (i = 0; i < n; i++) {
-            dJointID j;
-            memset(&c[i].surface, 0, sizeof c[i].surface);
-            c[i].surface.mode = dContactSoftERP | dContactSoftCFM | dContactApprox1;
-            c[i].surface.soft_erp = 0.5;
-            c[i].surface.soft_cfm = 1e-4;
-            if (rw) {
-                const dReal *m = dBodyGetRotation(rw->chassis);
-                const double rim = dJointGetHingeAngleRate(rw->hinge[wheel]) * RV_WHEEL_R;
-                c[i].surface.mode |= dContactFDir1 | dContactMotion1;
-                c[i].surface.mu = 1.0;
-                c[i].fdir1[0] = m[0]; c[i].fdir1[1] = m[4]; c[i].fdir1[2] = 0.0;
-                /* slip: the floor under the wheel gives way a little */
-                c[i].surface.motion1 = -rw->slip[wheel] * rim;
-            } else {
-                c[i].surface.mu = 0.0;    /* caster: frictionless */
-            }
-            j = dJointCreateContact(R.world, R.contacts, &c[i]);
-            dJointAttach(j, b1, b2);
-        }
-        return;
-    }
     /* chassis against an obstacle or another chassis: a collision */
     {
         rover *r1 = rover_of_body(b1), *r2 = rover_of_body(b2);
@@ -355,17 +314,75 @@ static void near_cb(void *data, dGeomID g1, dGeomID g2)
     }
 }
 
+/* Floor contacts without a broad phase: the wheels and the caster are
+ * spheres on the plane z = 0, so each is one contact when it touches.
+ * Wheels grip along their rolling direction, with the slip noise as a
+ * surface velocity; the caster is frictionless. */
+static void floor_contact(rover *r, dBodyID b, const dVector3 p, double radius, int wheel)
+{
+    dContact c;
+    dJointID j;
+    const double depth = radius - p[2];
+    if (depth < -0.001) return;
+    memset(&c, 0, sizeof c);
+    c.geom.pos[0] = p[0];
+    c.geom.pos[1] = p[1];
+    c.geom.pos[2] = 0.0;
+    c.geom.normal[2] = 1.0;
+    c.geom.depth = depth > 0.0 ? depth : 0.0;
+    c.surface.mode = dContactSoftERP | dContactSoftCFM | dContactApprox1;
+    c.surface.soft_erp = 0.5;
+    c.surface.soft_cfm = 1e-4;
+    if (wheel >= 0) {
+        const dReal *m = dBodyGetRotation(r->chassis);
+        const double rim = dJointGetHingeAngleRate(r->hinge[wheel]) * RV_WHEEL_R;
+        c.surface.mode |= dContactFDir1 | dContactMotion1;
+        c.surface.mu = 1.0;
+        c.fdir1[0] = m[0]; c.fdir1[1] = m[4]; c.fdir1[2] = 0.0;
+        /* slip: the floor under the wheel gives way a little */
+        c.surface.motion1 = -r->slip[wheel] * rim;
+    } else {
+        c.surface.mu = 0.0;
+    }
+    j = dJointCreateContact(R.world, R.contacts, &c);
+    dJointAttach(j, b, 0);
+}
+
+static void floor_contacts(void)
+{
+    int i, s;
+    for (i = 0; i < R.n; i++) {
+        rover *r = &R.r[i];
+        dVector3 p;
+        if (!r->alive) continue;
+        for (s = 0; s < 2; s++) {
+            const dReal *q = dBodyGetPosition(r->wheel[s]);
+            p[0] = q[0]; p[1] = q[1]; p[2] = q[2];
+            floor_contact(r, r->wheel[s], p, RV_WHEEL_R, s);
+        }
+        dBodyGetRelPointPos(r->chassis, -0.18 - ROVER_BODY_OFFSET_M, 0.0,
+                            RV_CASTER_R - RV_CHASSIS_Z, p);
+        floor_contact(r, r->chassis, p, RV_CASTER_R, -1);
+    }
+}
+
 static void rovers_before_step(sim_world *w)
 {
-    const double dt = SIM_DT_S;
+    const double dt = SIM_DT_S * R.phys_steps;
     int i, s;
+    /* the rover world advances every phys_steps simulator steps (2 ms by
+     * default: wheeled robots at 0.75 m/s need no more, and it halves the
+     * cost of large teams) */
+    if (w->step % R.phys_steps != 0) return;
     for (i = 0; i < R.n; i++) {
         rover *r = &R.r[i];
         double v, wr;
         if (!r->alive) continue;
-        r->stale = !r->have_cmd || (double)(w->step - r->cmd_rx_step) * dt > R.stale_s;
-        if (r->stale && r->have_cmd && w->step - r->cmd_rx_step == (int64_t)(R.stale_s / dt) + 1)
-            w->stale_commands++;
+        {
+            const int was = r->stale;
+            r->stale = !r->have_cmd || (double)(w->step - r->cmd_rx_step) * SIM_DT_S > R.stale_s;
+            if (r->stale && !was && r->have_cmd) w->stale_commands++;
+        }
         v = r->stale ? 0.0 : r->cmd_v;
         wr = r->stale ? 0.0 : r->cmd_w;
         r->v_ref = ramp(r->v_ref, v, RV_ACCEL_V * dt);
@@ -381,6 +398,7 @@ static void rovers_before_step(sim_world *w)
         r->bump_now = 0;
     }
     dJointGroupEmpty(R.contacts);
+    floor_contacts();
     dSpaceCollide(R.space, NULL, near_cb);
     dWorldQuickStep(R.world, dt);
     for (i = 0; i < R.n; i++) {
@@ -476,6 +494,10 @@ static void publish_encoders(sim_world *w)
 
 static void publish_beacons(sim_world *w)
 {
+    /* the camera sits on a pan unit that looks ahead, left, ahead, right in
+     * turn, one frame each (abreast mates are seen every 0.4 s) */
+    static const double pans[4] = { 0.0, 0.5 * VEC2_PI, 0.0, -0.5 * VEC2_PI };
+    const double pan = pans[(w->step / RV_BEACON_STEPS) % 4];
     int i, j;
     pose2_t o[RV_MAX], c;
     for (i = 0; i < R.n; i++) {
@@ -499,7 +521,9 @@ static void publish_beacons(sim_world *w)
             dy = o[j].y_m - o[i].y_m;
             d = hypot(dx, dy);
             b = vec2_angle_diff_rad(atan2(dy, dx), o[i].theta_rad);
-            if (d > RV_CAM_RANGE_M || d < 0.05 || fabs(b) > RV_CAM_HALF_FOV) continue;
+            if (d > RV_CAM_RANGE_M || d < 0.05 ||
+                fabs(vec2_angle_diff_rad(b, pan)) > RV_CAM_HALF_FOV)
+                continue;
             /* obstacles taller than the LED hide it; robots (0.25 m) do not */
             if (sonar_cast(&hit, &R.sw, o[i].x_m, o[i].y_m, RV_BEACON_Z_M, atan2(dy, dx), d) == 1)
                 continue;
@@ -578,15 +602,24 @@ static int rovers_control(sim_world *w, const tandem_sim_control_t *c)
     dBodyDisable(r->wheel[0]);
     dBodyDisable(r->wheel[1]);
     dGeomDisable(r->box);
-    dGeomDisable(r->caster);
-    dGeomDisable(r->wgeom[0]);
-    dGeomDisable(r->wgeom[1]);
     fprintf(stderr, "tandem-sim: robot %d killed at t = %.2f s\n", r->id, w->time_s);
     return 1;
 }
 
-/* Benchmarks read the ray count through this (declared in sim_rovers.h). */
+/* Benchmarks read the ray count and drive the robots through these
+ * (declared in sim_rovers.h). */
 int64_t sim_rovers_rays_cast(void) { return R.rays; }
+
+int sim_rovers_set_command(int32_t id, double v_mps, double w_radps, int64_t step)
+{
+    const int idx = rover_index(id);
+    if (idx < 0 || !isfinite(v_mps) || !isfinite(w_radps)) return -1;
+    R.r[idx].cmd_v = fmax(-R.v_max, fmin(R.v_max, v_mps));
+    R.r[idx].cmd_w = fmax(-R.w_max, fmin(R.w_max, w_radps));
+    R.r[idx].cmd_rx_step = step;
+    R.r[idx].have_cmd = 1;
+    return 0;
+}
 
 const sim_model_ops sim_rovers_ops = {
     "rovers", rovers_create, rovers_destroy, rovers_before_step, rovers_after_step,

@@ -5,6 +5,7 @@
  * the one new piece is the escape's boundary following (see rover_ctl.h).
  */
 #include "rover_ctl.h"
+#include "rover_world.h"
 
 #include <math.h>
 #include <string.h>
@@ -31,6 +32,9 @@ void rover_ctl_params_default(rover_ctl_params_t *p)
     p->escape_max_s = 60.0;
     p->passage_sense_max_m = 2.5;
     p->mate_keep_m = 0.45;
+    p->v_change_mps = 0.25;
+    p->goal_heading_gain = 1.0;
+    p->passage_front_min_m = 2.0;
     p->sonar_max_m = 5.0;
 }
 
@@ -44,7 +48,8 @@ int rover_ctl_params_check(const rover_ctl_params_t *p)
     if (!pos(p->team_timeout_s) || !pos(p->stale_s) || !pos(p->team_period_s) ||
         !pos(p->wheel_radius_m) || !pos(p->axle_track_m) || !pos(p->follow_dist_m) ||
         !pos(p->follow_v_mps) || !pos(p->follow_w_radps) || !pos(p->escape_max_s) ||
-        !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->sonar_max_m) || !pos(p->fsm.spacing_m) ||
+        !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->v_change_mps) || !isfinite(p->goal_heading_gain) ||
+        p->goal_heading_gain < 0.0 || p->goal_heading_gain > 1.0 || !pos(p->passage_front_min_m) || !pos(p->sonar_max_m) || !pos(p->fsm.spacing_m) ||
         !(p->fsm.shrink_scale > 0.0 && p->fsm.shrink_scale <= 1.0))
         return -1;
     if (!isfinite(p->beacon_alpha) || p->beacon_alpha < 0.0 || p->beacon_alpha > 1.0) return -1;
@@ -240,6 +245,23 @@ static void formation_no_reverse(unicycle_cmd_t *u, const pose2_t *o,
                : w < -bp->w_fm_max_radps ? -bp->w_fm_max_radps : w;
 }
 
+/* R0's heading: the SPEC's circular mean of the robots' headings couples
+ * every slot to every robot's turning (a robot that turns rotates the
+ * frame, its slot moves sideways, it turns more): long formations (a
+ * column) drift round in a slow spiral. With goal_heading_gain g > 0 the
+ * heading used is the mean heading pulled toward the bearing of the goal
+ * from R0 by the fraction g (1: the goal bearing alone), and its rate w0 is
+ * dropped in the same proportion; near the goal the mean is kept. */
+static void ref_heading_to_goal(const rover_ctl_t *c, unicycle_state_t *ref)
+{
+    const double g = c->p.goal_heading_gain;
+    const double dx = c->goal_m[0] - ref->x_m, dy = c->goal_m[1] - ref->y_m;
+    if (!(g > 0.0) || hypot(dx, dy) < 1.0) return;
+    ref->theta_rad = vec2_wrap_rad(ref->theta_rad +
+                                   g * vec2_angle_diff_rad(atan2(dy, dx), ref->theta_rad));
+    ref->w_radps *= 1.0 - g;
+}
+
 static void own_goal(const rover_ctl_t *c, int n, int k, double g[2])
 {
     double xy[2] = { 0.0, 0.0 }, r[2];
@@ -333,7 +355,7 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
     self.x_m = o.x_m; self.y_m = o.y_m; self.theta_rad = o.theta_rad;
     self.v_mps = c->v_est_mps; self.w_radps = c->w_est_radps;
     n = team_ids(&c->team, ids, TEAM_MAX + 1);
-    k = formation_slot_of(ids, n, c->id);
+    k = rover_world_slot(c->fsm.type, n, formation_slot_of(ids, n, c->id));
     {
         /* avoid sees mates that come too near; the passage and dead-zone
          * tests never take a mate for a wall */
@@ -348,7 +370,10 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
     escaping = escape_step(c, &gw, &g, &o, goal, dt_s, &in.u[BEH_EXCEPTION]);
 
     /* narrow-passage protocol (not while escaping: the trap is not a passage) */
-    passage = (gw.left_m < c->p.passage_sense_max_m && gw.right_m < c->p.passage_sense_max_m)
+    /* a passage has an open end ahead; walls on three sides are a trap
+     * (the dead-zone exception's business), not a passage */
+    passage = (gw.left_m < c->p.passage_sense_max_m && gw.right_m < c->p.passage_sense_max_m &&
+               gw.front_m > c->p.passage_front_min_m)
                   ? gw.left_m + gw.right_m + bp->robot_width_m : INFINITY;
     if (!escaping) {
         const int before = c->fsm.type;
@@ -358,7 +383,9 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
             if (c->fsm.type != before) c->formation_changes++;
         }
     }
+    k = rover_world_slot(c->fsm.type, n, formation_slot_of(ids, n, c->id));  /* type may have changed */
     if (team_reference(&ref, &c->team, &self, escaping, bp->d_m, t_s) < 0) ref = self;
+    ref_heading_to_goal(c, &ref);
     if (k < 0 || formation_slot(&l_d, &phi_d, c->fsm.type, n, k, c->p.fsm.spacing_m,
                                 c->fsm.scale) != 0) {
         l_d = 0.0;
@@ -380,6 +407,9 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
         return -1;
     }
     u = c->blend.u;
+    /* while the formation reshapes for a passage, give it time */
+    if (c->fsm.phase == FORMATION_PHASE_SHRINK || c->fsm.phase == FORMATION_PHASE_CHANGE)
+        if (u.v_mps > c->p.v_change_mps) u.v_mps = c->p.v_change_mps;
     out->mode = escaping ? ROVER_MODE_DEAD_ZONE
               : c->fsm.phase != FORMATION_PHASE_NORMAL ? ROVER_MODE_CHANGING
               : ROVER_MODE_FORMATION;

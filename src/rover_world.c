@@ -131,7 +131,7 @@ int rover_world_layout(rover_world_t *w, int world, int n, double spacing_m, int
                 formation_slot_xy(xy, formation, n, q, spacing_m, 1.0);
                 if (q == 0 || xy[0] > x_top) x_top = xy[0];
             }
-            formation_slot_xy(xy, formation, n, k, spacing_m, 1.0);
+            formation_slot_xy(xy, formation, n, rover_world_slot(formation, n, k), spacing_m, 1.0);
             c->x_m = xf + xy[0] - x_top;
             c->y_m = xy[1];
         }
@@ -149,6 +149,28 @@ int rover_world_layout(rover_world_t *w, int world, int n, double spacing_m, int
     if (w->y_max_m < 4.0) w->y_max_m = 4.0;
     w->y_min_m = -w->y_max_m;
     return 0;
+}
+
+int rover_world_slot(int type, int n, int rank)
+{
+    int mid, j, k = 0;
+    if (n < 1 || rank < 0 || rank >= n || type < FORMATION_LINE || type > FORMATION_COLUMN)
+        return -1;
+    if (type == FORMATION_LINE) return rank;
+    mid = (n - 1) / 2;
+    if (rank == mid) return 0;
+    /* order: mid, mid-1, mid+1, mid-2, mid+2, ... (skipping the ends) */
+    for (j = 1; j < n; j++) {
+        if (mid - j >= 0) {
+            k++;
+            if (rank == mid - j) return k;
+        }
+        if (mid + j < n) {
+            k++;
+            if (rank == mid + j) return k;
+        }
+    }
+    return -1;
 }
 
 void rover_world_to_team(const rover_world_t *w, const pose2_t *world_p, pose2_t *team_p)

@@ -59,6 +59,7 @@ typedef struct {
     int    mode[FM_MAX];
     int    state_type[FM_MAX];
     double weight[FM_MAX][4];
+    pose2_t est[FM_MAX];              /* the robot's own odometry, world frame */
     int    have_state[FM_MAX];
     /* metrics */
     int    samples, out_samples;
@@ -305,6 +306,10 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_rove
     F.mode[i] = m->mode;
     F.state_type[i] = m->formation;
     memcpy(F.weight[i], m->weight, sizeof F.weight[i]);
+    {
+        const pose2_t team = { m->x_m, m->y_m, m->theta_rad };
+        rover_world_from_team(&F.layout, &team, &F.est[i]);
+    }
     F.have_state[i] = 1;
 }
 
@@ -348,8 +353,9 @@ static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rove
         F.prev_x[i] = m->x_m[i]; F.prev_y[i] = m->y_m[i]; F.prev_th[i] = m->theta_rad[i];
         F.have_prev[i] = 1;
         if (F.truth_csv)
-            fprintf(F.truth_csv, "%.3f,%d,%.4f,%.4f,%.4f,%.4f,%d\n", t, m->robot[i], m->x_m[i],
-                    m->y_m[i], m->theta_rad[i], m->min_clearance_m[i], m->collisions[i]);
+            fprintf(F.truth_csv, "%.3f,%d,%.4f,%.4f,%.4f,%.4f,%d,%.4f,%.4f,%.4f\n", t, m->robot[i],
+                    m->x_m[i], m->y_m[i], m->theta_rad[i], m->min_clearance_m[i], m->collisions[i],
+                    F.est[i].x_m, F.est[i].y_m, F.est[i].theta_rad);
     }
     cx /= n; cy /= n;
     th0 = atan2(s, c);
@@ -359,16 +365,16 @@ static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rove
      * the true centroid and mean heading; robot slots by sorted alive id */
     for (i = 0; i < m->n; i++) {
         double xy[2], r[2], e, gx, gy;
-        int k;
+        int rank;
         if (!m->alive[i]) continue;
-        k = formation_slot_of(ids, n, m->robot[i]);
-        formation_slot_xy(xy, F.type_now, n, k, 1.0, F.scale_now);
+        rank = formation_slot_of(ids, n, m->robot[i]);
+        formation_slot_xy(xy, F.type_now, n, rover_world_slot(F.type_now, n, rank), 1.0, F.scale_now);
         vec2_rotate(r, xy[0], xy[1], th0);
         e = hypot(m->x_m[i] - cx - r[0], m->y_m[i] - cy - r[1]);
         sq += e * e;
         if (e > mx) mx = e;
         /* at the goal: every robot near its nominal slot around the goal */
-        formation_slot_xy(xy, F.formation, n, k, 1.0, 1.0);
+        formation_slot_xy(xy, F.formation, n, rover_world_slot(F.formation, n, rank), 1.0, 1.0);
         gx = F.layout.goal_m[0] + xy[0];
         gy = F.layout.goal_m[1] + xy[1];
         if (hypot(m->x_m[i] - gx, m->y_m[i] - gy) > 0.75) all_at = 0;
