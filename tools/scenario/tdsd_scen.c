@@ -1,0 +1,261 @@
+/* tdsd_scen: shared glue of the TDSD scenarios (see tdsd_scen.h). */
+#include "tdsd_scen.h"
+#include "tdsd_ode.h"
+#include "arm_kin.h"
+#include "daemon.h"
+#include "vec3.h"
+#include <getopt.h>
+#include <math.h>
+#include <string.h>
+
+#define RAD2DEG (180.0 / 3.14159265358979323846)
+
+int tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const char *const methods[],
+                   int n_methods, void (*usage)(FILE *f))
+{
+    static const struct option opts[] = {
+        { "method", required_argument, 0, 'm' },
+        { "plant", required_argument, 0, 'p' },
+        { "out", required_argument, 0, 'o' },
+        { "servo-hz", required_argument, 0, 'w' },
+        { "help", no_argument, 0, 'h' },
+        { 0, 0, 0, 0 }
+    };
+    int c, i;
+    s->method_index = 0;
+    s->method = methods[0];
+    s->plant_ode = 0;
+    s->out = NULL;
+    s->servo_hz = 15.0;
+    optind = 1;
+    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
+        switch (c) {
+        case 'm':
+            for (i = 0; i < n_methods && strcmp(optarg, methods[i]); i++)
+                ;
+            if (i == n_methods) {
+                fprintf(stderr, "tandem-scenario %s: --method: '%s' is not one of", s->name, optarg);
+                for (i = 0; i < n_methods; i++)
+                    fprintf(stderr, "%s%s", i ? "|" : " ", methods[i]);
+                fputc('\n', stderr);
+                return -1;
+            }
+            s->method_index = i;
+            s->method = methods[i];
+            break;
+        case 'p':
+            if (strcmp(optarg, "kin") && strcmp(optarg, "ode")) {
+                fprintf(stderr, "tandem-scenario %s: --plant: '%s' is not kin|ode\n", s->name, optarg);
+                return -1;
+            }
+            s->plant_ode = !strcmp(optarg, "ode");
+            break;
+        case 'o':
+            s->out = optarg;
+            break;
+        case 'w':
+            if (parse_double_opt("tandem-scenario", "--servo-hz", optarg, 0.5, 50.0, &s->servo_hz) < 0)
+                return -1;
+            break;
+        case 'h':
+            usage(stdout);
+            return 1;
+        default:
+            usage(stderr);
+            return -1;
+        }
+    }
+    if (optind < argc || !s->out) {
+        fprintf(stderr, "tandem-scenario %s: %s\n", s->name,
+                s->out ? "unexpected argument" : "--out DIR is required");
+        usage(stderr);
+        return -1;
+    }
+    return scenario_mkdir(s->out) == 0 ? 0 : -1;
+}
+
+int tdsd_scen_start_pose(tdsd_scen *s, const char *branch)
+{
+    double T[16];
+    arm_ik_result r;
+    const int b = arm_ik_branch_from_name(branch);
+    tf_from_rot_pos(T, s->path.R_d, s->path.wp_m[0]);
+    if (b < 0 || arm_ik(s->cfg.model, &s->cfg.tool, T, &r) != 0 || r.branch[b].status != ARM_IK_OK) {
+        fprintf(stderr, "tandem-scenario %s: start pose has no in-range IK on branch %s\n",
+                s->name, branch);
+        return -1;
+    }
+    memcpy(s->q0_rad, r.branch[b].q_rad, sizeof s->q0_rad);
+    return 0;
+}
+
+/* ---- series.csv ----------------------------------------------------------- */
+
+typedef struct csv_ctx {
+    FILE *f;
+    const arm_model *model;
+} csv_ctx;
+
+static void csv_header(FILE *f)
+{
+    int i;
+    fputs("t_s,s,lambda,Q1,Q2,pos_err_mm,ex_mm,ey_mm,ez_mm,ori_err_deg,tilt_deg", f);
+    for (i = 1; i <= ARM_NJ; i++)
+        fprintf(f, ",q%d_deg", i);
+    for (i = 1; i <= ARM_NJ; i++)
+        fprintf(f, ",dq%d_ratio", i);
+    fputs(",demand_ratio,wrist_axis_mm,sigma_min_J,time_scaled\n", f);
+}
+
+static void csv_row(void *user, const tdsdrun_sample *s, const double q[ARM_NJ])
+{
+    const csv_ctx *c = user;
+    double demand = 0.0;
+    int i;
+    fprintf(c->f, "%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f", s->t_s, s->s, s->lambda,
+            s->Q1, s->Q2, s->pos_err_m * 1e3, (s->p_d_m[0] - s->p_m[0]) * 1e3,
+            (s->p_d_m[1] - s->p_m[1]) * 1e3, (s->p_d_m[2] - s->p_m[2]) * 1e3,
+            s->ori_err_rad * RAD2DEG, s->tilt_rad * RAD2DEG);
+    for (i = 0; i < ARM_NJ; i++)
+        fprintf(c->f, ",%.4f", q[i] * RAD2DEG);
+    for (i = 0; i < ARM_NJ; i++) {
+        const double r = fabs(s->dq_demand_radps[i]) / c->model->qd_max_radps[i];
+        fprintf(c->f, ",%.5f", s->dq_radps[i] / c->model->qd_max_radps[i]);
+        if (r > demand)
+            demand = r;
+    }
+    fprintf(c->f, ",%.5g,%.4f,%.6g,%d\n", demand, s->wrist_axis_m * 1e3, s->sigma_min_J,
+            s->time_scaled);
+}
+
+int tdsd_scen_run(tdsd_scen *s)
+{
+    csv_ctx cc;
+    const double wall0 = scenario_wall_s();
+    const double t_max = 4.0 * tdsdrun_path_length_s(&s->path) + 10.0;
+    cc.f = scenario_fopen(s->out, "series.csv");
+    cc.model = s->cfg.model;
+    if (!cc.f)
+        return -1;
+    csv_header(cc.f);
+    tdsdrun_metrics_init(&s->m, s->cfg.region_m);
+    if (s->plant_ode) {
+        tdsd_ode_opts o;
+        o.out_dir = s->out;
+        o.servo_hz = s->servo_hz;
+        o.settle_s = 0.3;
+        o.t_max_s = t_max;
+        s->duration_s = tdsd_ode_run(&s->cfg, &s->path, s->q0_rad, &o, &s->m, csv_row, &cc);
+    } else {
+        s->duration_s = tdsdrun_kin(&s->cfg, &s->path, s->q0_rad, t_max, &s->m, csv_row, &cc);
+    }
+    fclose(cc.f);
+    s->wall_s = scenario_wall_s() - wall0;
+    return s->duration_s < 0.0 ? -1 : 0;
+}
+
+/* ---- summary.json --------------------------------------------------------- */
+
+void tdsd_scen_summary(const tdsd_scen *s, json_out *j)
+{
+    const tdsdrun_metrics *m = &s->m;
+    char key[48];
+    int i, worst = -1;
+    json_str(j, "scenario", s->name);
+    json_str(j, "method", s->method);
+    json_str(j, "plant", s->plant_ode ? "ode" : "kin");
+    json_str(j, "arm_model", s->cfg.model->name);
+    json_num(j, "max_pos_err_mm", m->max_pos_err_m * 1e3);
+    json_num(j, "rms_pos_err_mm", m->n ? sqrt(m->sum_sq_pos_err / (double)m->n) * 1e3 : NAN);
+    json_num(j, "max_ori_err_deg", m->max_ori_err_rad * RAD2DEG);
+    json_num(j, "max_tilt_deg", m->max_tilt_rad * RAD2DEG);
+    json_num(j, "max_joint_speed_ratio", m->max_speed_ratio);
+    json_num(j, "max_demand_speed_ratio", m->max_demand_ratio);
+    json_num(j, "min_q1", m->min_Q1);
+    json_num(j, "t_min_q1_s", m->t_min_Q1_s);
+    json_num(j, "min_q1_outside_region", m->min_Q1_outside);
+    json_num(j, "region_mm", s->cfg.region_m * 1e3);
+    json_num(j, "t_region_in_s", m->t_region_in_s);
+    json_num(j, "t_region_out_s", m->t_region_out_s);
+    json_num(j, "min_wrist_axis_mm", m->min_wrist_axis_m * 1e3);
+    json_num(j, "t_ori_recovered_s", m->t_ori_recovered_s);
+    json_num(j, "ori_err_end_deg", m->ori_err_end_rad * RAD2DEG);
+    json_num(j, "tilt_end_deg", m->tilt_end_rad * RAD2DEG);
+    json_int(j, "joint_limit_violations", m->joint_limit_violations);
+    for (i = 0; i < ARM_NJ; i++) {
+        snprintf(key, sizeof key, "q%d_excess_deg", i + 1);
+        json_num(j, key, m->max_excess_rad[i] * RAD2DEG);
+        if (m->max_excess_rad[i] > 0.0 && (worst < 0 || m->max_excess_rad[i] > m->max_excess_rad[worst]))
+            worst = i;
+    }
+    if (worst >= 0) {
+        snprintf(key, sizeof key, "q%d", worst + 1);
+        json_str(j, "worst_joint_out_of_range", key);
+    } else {
+        json_str(j, "worst_joint_out_of_range", "none");
+    }
+    for (i = 0; i < ARM_NJ; i++) {
+        snprintf(key, sizeof key, "q%d_min_deg", i + 1);
+        json_num(j, key, m->q_lo_rad[i] * RAD2DEG);
+        snprintf(key, sizeof key, "q%d_max_deg", i + 1);
+        json_num(j, key, m->q_hi_rad[i] * RAD2DEG);
+    }
+    json_num(j, "min_path_rate", m->min_lambda);
+    json_int(j, "resolver_errors", m->resolver_errors);
+    json_num(j, "nominal_duration_s", tdsdrun_path_length_s(&s->path));
+    json_num(j, "duration_s", s->duration_s);
+    json_num(j, "K_p", s->cfg.K_p);
+    json_num(j, "K_o", s->cfg.K_o);
+    if (s->plant_ode)
+        json_num(j, "servo_hz", s->servo_hz);
+    json_num(j, "wall_s", s->wall_s);
+}
+
+/* ---- plots ---------------------------------------------------------------- */
+
+int tdsd_scen_plots(const tdsd_scen *s, const char *title)
+{
+    FILE *f = scenario_fopen(s->out, "plots.gp");
+    int i;
+    if (!f)
+        return -1;
+    fprintf(f, "set datafile separator ','\nset key outside right\nset grid\n"
+               "set xlabel 't (s)'\n");
+    /* Fig. 4: tool position and orientation errors */
+    fprintf(f, "set terminal pngcairo size 900,700\nset output 'fig4_errors.png'\n"
+               "set multiplot layout 2,1 title '%s: tool errors (%s, %s plant)'\n"
+               "set ylabel 'position error (mm)'\n"
+               "plot 'series.csv' u 1:7 w l t 'e_x', '' u 1:8 w l t 'e_y', '' u 1:9 w l t 'e_z', "
+               "'' u 1:6 w l lw 2 t '|e_p|'\n"
+               "set ylabel 'orientation error (deg)'\n"
+               "plot 'series.csv' u 1:10 w l lw 2 t 'angle(R_d R^T)', '' u 1:11 w l t 'tool-axis tilt'\n"
+               "unset multiplot\n", title, s->method, s->plant_ode ? "ode" : "kin");
+    /* Fig. 5: joint angles */
+    fprintf(f, "set terminal pngcairo size 900,500\nset output 'fig5_joints.png'\n"
+               "set title '%s: joint angles (%s, %s plant)'\nset ylabel 'q (deg)'\nplot ",
+            title, s->method, s->plant_ode ? "ode" : "kin");
+    for (i = 0; i < ARM_NJ; i++)
+        fprintf(f, "%s'series.csv' u 1:%d w l lw 2 t 'q%d'", i ? ", " : "", 12 + i, i + 1);
+    /* Fig. 6: Q1 (and the path rate) */
+    fprintf(f, "\nset output 'fig6_q1.png'\nset title '%s: speed distribution (%s, %s plant)'\n"
+               "set ylabel 'factor'\nset yrange [-0.05:1.1]\n"
+               "set y2label 'wrist centre to joint-1 axis (mm)'\nset y2tics\n"
+               "plot 'series.csv' u 1:4 w l lw 2 t 'Q1', '' u 1:3 w l t 'path rate lambda', "
+               "'' u 1:25 axes x1y2 w l dt 2 t 'wrist-axis distance'\n"
+               "unset y2label\nunset y2tics\nset autoscale y\n",
+            title, s->method, s->plant_ode ? "ode" : "kin");
+    /* Fig. 8: every joint against its range */
+    fprintf(f, "set terminal pngcairo size 1000,900\nset output 'fig8_joint_ranges.png'\nunset title\n"
+               "set multiplot layout 3,2 title '%s: joints against their ranges (%s, %s plant)'\n",
+            title, s->method, s->plant_ode ? "ode" : "kin");
+    for (i = 0; i < ARM_NJ; i++) {
+        const double lo = s->cfg.model->q_min_rad[i] * RAD2DEG, hi = s->cfg.model->q_max_rad[i] * RAD2DEG;
+        fprintf(f, "set ylabel 'q%d (deg)'\nset yrange [%g:%g]\n"
+                   "plot 'series.csv' u 1:%d w l lw 2 t 'q%d', %g w l dt 2 lc rgb 'red' t 'min', "
+                   "%g w l dt 2 lc rgb 'red' t 'max'\n",
+                i + 1, lo - 0.25 * (hi - lo), hi + 0.25 * (hi - lo), 12 + i, i + 1, lo, hi);
+    }
+    fprintf(f, "unset multiplot\n");
+    fclose(f);
+    return scenario_gnuplot(s->out, "plots.gp");
+}

@@ -1,0 +1,43 @@
+/* tdsd_scen: command line, plant selection, CSV, summary.json and plots
+ * shared by `tandem-scenario singularity` and `tandem-scenario liquid`
+ * (SPEC.md §3 S1/S2, §6). The scenario files only choose the arm, the
+ * path, the start pose and the method.
+ */
+#ifndef TANDEM_TDSD_SCEN_H
+#define TANDEM_TDSD_SCEN_H
+
+#include <stdio.h>
+#include "scenario.h"
+#include "tdsd_run.h"
+
+typedef struct tdsd_scen {
+    const char *name;            /* "singularity" | "liquid" */
+    const char *method;          /* the --method name */
+    int    method_index;         /* index into the scenario's method list */
+    int    plant_ode;
+    const char *out;
+    double servo_hz;             /* --plant ode: tandem-arm --wn */
+    tdsdrun_cfg cfg;
+    tdsdrun_path path;
+    double q0_rad[ARM_NJ];
+    tdsdrun_metrics m;
+    double duration_s;           /* path duration (time scaling included) */
+    double wall_s;
+} tdsd_scen;
+
+/* Parses --method M --plant kin|ode --out DIR [--servo-hz HZ] into s.
+ * Returns 0 ok, 1 if --help was printed, -1 bad usage (message printed). */
+int  tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const char *const methods[],
+                    int n_methods, void (*usage)(FILE *f));
+/* Runs the chosen plant from s->q0_rad, writing DIR/series.csv. 0 ok. */
+int  tdsd_scen_run(tdsd_scen *s);
+/* The keys both scenarios report (summary.json is left open for more). */
+void tdsd_scen_summary(const tdsd_scen *s, json_out *j);
+/* DIR/plots.gp -> fig4_errors.png, fig5_joints.png, fig6_q1.png,
+ * fig8_joint_ranges.png. */
+int  tdsd_scen_plots(const tdsd_scen *s, const char *title);
+/* The start pose: IK of the path's first point and R_d on the named
+ * branch. 0 ok, -1 (message printed) if unreachable or outside the ranges. */
+int  tdsd_scen_start_pose(tdsd_scen *s, const char *branch);
+
+#endif
