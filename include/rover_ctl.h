@@ -52,6 +52,7 @@ typedef struct {
     double mate_keep_m;         /* a mate's echo nearer than this stays an obstacle */
     double passage_front_min_m; /* a passage needs the front open this far */
     double v_change_mps;
+    double guard_m, guard_stop_m; /* collision guard: slow below, stop at (front echo) */
     double goal_heading_gain;   /* R0 heading toward the goal bearing, 0..1 (see .c) */        /* speed cap while shrinking / changing type */
     double sonar_max_m;         /* range reported for a masked (mate) echo */
 } rover_ctl_params_t;

@@ -34,6 +34,8 @@ void rover_ctl_params_default(rover_ctl_params_t *p)
     p->mate_keep_m = 0.45;
     p->v_change_mps = 0.25;
     p->goal_heading_gain = 1.0;
+    p->guard_m = 0.5;
+    p->guard_stop_m = 0.15;
     p->passage_front_min_m = 2.0;
     p->sonar_max_m = 5.0;
 }
@@ -48,7 +50,7 @@ int rover_ctl_params_check(const rover_ctl_params_t *p)
     if (!pos(p->team_timeout_s) || !pos(p->stale_s) || !pos(p->team_period_s) ||
         !pos(p->wheel_radius_m) || !pos(p->axle_track_m) || !pos(p->follow_dist_m) ||
         !pos(p->follow_v_mps) || !pos(p->follow_w_radps) || !pos(p->escape_max_s) ||
-        !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->v_change_mps) || !isfinite(p->goal_heading_gain) ||
+        !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->v_change_mps) || !pos(p->guard_m) || !pos(p->guard_stop_m) || !isfinite(p->goal_heading_gain) ||
         p->goal_heading_gain < 0.0 || p->goal_heading_gain > 1.0 || !pos(p->passage_front_min_m) || !pos(p->sonar_max_m) || !pos(p->fsm.spacing_m) ||
         !(p->fsm.shrink_scale > 0.0 && p->fsm.shrink_scale <= 1.0))
         return -1;
@@ -262,6 +264,29 @@ static void ref_heading_to_goal(const rover_ctl_t *c, unicycle_state_t *ref)
     ref->w_radps *= 1.0 - g;
 }
 
+/* Eq. 11 only weights avoidance by d_st / range; goal and formation keep
+ * pushing, so a robot can creep into an obstacle dead ahead (and with
+ * S_LF = S_RF the seed's turn is zero). Last line of defence: forward speed
+ * falls to zero guard_stop_m short of the nearest front echo, and a robot
+ * blocked ahead that is not turning turns toward the freer side (toward its
+ * goal on a tie). */
+static void collision_guard(unicycle_cmd_t *u, const sonar_groups_t *g, const pose2_t *o,
+                            const double goal[2], const rover_ctl_params_t *p)
+{
+    const double near = fmin(g->front_m, fmin(g->left_front_m, g->right_front_m));
+    double vmax, side;
+    if (near >= p->guard_m) return;
+    vmax = p->beh.k_v * (near - p->guard_stop_m);
+    if (vmax < 0.0) vmax = 0.0;
+    if (u->v_mps > vmax) u->v_mps = vmax;
+    if (fabs(u->w_radps) < 0.2 && g->front_m < p->guard_m) {
+        side = g->left_front_m - g->right_front_m;
+        if (fabs(side) < 0.05)
+            side = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m), o->theta_rad);
+        u->w_radps = side >= 0.0 ? 0.5 : -0.5;
+    }
+}
+
 static void own_goal(const rover_ctl_t *c, int n, int k, double g[2])
 {
     double xy[2] = { 0.0, 0.0 }, r[2];
@@ -417,6 +442,7 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
         u.v_mps = u.w_radps = 0.0;
         out->mode = ROVER_MODE_AT_GOAL;
     }
+    if (!escaping) collision_guard(&u, &g, &o, goal, &c->p);
     /* no rear sonar: never back up blindly */
     if (u.v_mps < 0.0) u.v_mps = 0.0;
     unicycle_saturate(&out->u, &u, bp->v_max_mps, bp->w_max_radps, UNICYCLE_SAT_CLIP);

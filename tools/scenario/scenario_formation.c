@@ -220,7 +220,7 @@ static int start_children(void)
     snprintf(f_s, sizeof f_s, "%d", F.formation);
     {
         char *sim[] = { "tandem-sim", "--lockstep", "--no-arms", "--rovers", n_s, "--world", w_s,
-                        "--seed", seed_s, "--expect", expect_s, "--timeout-ms", "1500", NULL };
+                        "--seed", seed_s, "--expect", expect_s, "--timeout-ms", "10000", NULL };
         if (spawn(sim, f_s) <= 0) return -1;
     }
     for (k = 1; k <= procs; k++) {
@@ -564,7 +564,20 @@ static int run(int argc, char **argv)
                 c.command = TANDEM_SIM_CONTROL_T_KILL_ROBOT;
                 c.target = F.kill_id;
                 tandem_sim_control_t_publish(F.lcm, "SIM_CONTROL", &c);
-                if (!F.single && F.rover_pid[F.kill_id] > 0) kill(F.rover_pid[F.kill_id], SIGKILL);
+                if (!F.single && F.rover_pid[F.kill_id] > 0) {
+                    /* the process dies without a word; tell the simulator it
+                     * left rather than make it wait for its lockstep timeout */
+                    tandem_clock_ack_t a;
+                    char name[64];
+                    kill(F.rover_pid[F.kill_id], SIGKILL);
+                    snprintf(name, sizeof name, "tandem-rover-%d", F.kill_id);
+                    memset(&a, 0, sizeof a);
+                    a.step = F.clock_step;
+                    a.name = name;
+                    a.period_steps = FM_PERIOD;
+                    a.leaving = 1;
+                    tandem_clock_ack_t_publish(F.lcm, "SIM_ACK", &a);
+                }
                 F.killed = 1;
                 fprintf(stderr, "formation: killed robot %d at t = %.2f s\n", F.kill_id, F.sim_time);
             }
