@@ -1,9 +1,7 @@
 /* tdsd_scen: shared glue of the TDSD scenarios (see tdsd_scen.h). */
 #include "tdsd_scen.h"
 #include "tdsd_ode.h"
-#include "arm_kin.h"
 #include "daemon.h"
-#include "vec3.h"
 #include <getopt.h>
 #include <math.h>
 #include <string.h>
@@ -72,21 +70,6 @@ int tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const char *const method
         return -1;
     }
     return scenario_mkdir(s->out) == 0 ? 0 : -1;
-}
-
-int tdsd_scen_start_pose(tdsd_scen *s, const char *branch)
-{
-    double T[16];
-    arm_ik_result r;
-    const int b = arm_ik_branch_from_name(branch);
-    tf_from_rot_pos(T, s->path.R_d, s->path.wp_m[0]);
-    if (b < 0 || arm_ik(s->cfg.model, &s->cfg.tool, T, &r) != 0 || r.branch[b].status != ARM_IK_OK) {
-        fprintf(stderr, "tandem-scenario %s: start pose has no in-range IK on branch %s\n",
-                s->name, branch);
-        return -1;
-    }
-    memcpy(s->q0_rad, r.branch[b].q_rad, sizeof s->q0_rad);
-    return 0;
 }
 
 /* ---- series.csv ----------------------------------------------------------- */

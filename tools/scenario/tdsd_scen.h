@@ -36,8 +36,4 @@ void tdsd_scen_summary(const tdsd_scen *s, json_out *j);
 /* DIR/plots.gp -> fig4_errors.png, fig5_joints.png, fig6_q1.png,
  * fig8_joint_ranges.png. */
 int  tdsd_scen_plots(const tdsd_scen *s, const char *title);
-/* The start pose: IK of the path's first point and R_d on the named
- * branch. 0 ok, -1 (message printed) if unreachable or outside the ranges. */
-int  tdsd_scen_start_pose(tdsd_scen *s, const char *branch);
-
 #endif
