@@ -191,6 +191,14 @@ static daemon D;
 
 static int64_t now_ns(void) { return rtloop_now_ns(); }
 
+/* Lockstep start-up: the simulator publishes step 0 once, possibly before
+ * every host has subscribed; whether a host saw it must not change the
+ * run, so lockstep hosts ignore step 0 and start at their first period. */
+static int too_early(int64_t step)
+{
+    return D.lockstep && step < D.period_steps;
+}
+
 static void on_sensors(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     tandem_rover_sensors_t m;
@@ -202,7 +210,7 @@ static void on_sensors(const lcm_recv_buf_t *rb, const char *ch, void *u)
         return;
     }
     h = find_hosted(m.robot);
-    if (!h) return;                            /* another host's robot */
+    if (!h || too_early(m.step)) return;       /* another host's robot / start-up */
     D.msgs.received++;
     if (m.step < 0 || rover_ctl_encoders(&h->c, m.wheel_left_rad, m.wheel_right_rad,
                                          (double)m.step * DAEMON_SIM_DT_S) != 0) {
@@ -223,7 +231,7 @@ static void on_sonar(const lcm_recv_buf_t *rb, const char *ch, void *u)
         return;
     }
     h = find_hosted(m.robot);
-    if (h) {
+    if (h && !too_early(m.step)) {
         D.msgs.received++;
         if (m.n != BEH_SONAR_N || m.step < 0 ||
             rover_ctl_sonar(&h->c, m.range_m, (double)m.step * DAEMON_SIM_DT_S) != 0)
@@ -244,7 +252,7 @@ static void on_beacons(const lcm_recv_buf_t *rb, const char *ch, void *u)
         return;
     }
     h = find_hosted(m.observer);
-    if (h) {
+    if (h && !too_early(m.step)) {
         D.msgs.received++;
         if (m.n < 0 || m.n > ROVER_WORLD_MAX_ROBOTS) {
             D.msgs.rejected++;
@@ -377,6 +385,7 @@ static void cycle(daemon *d, void *user)
     (void)user;
     if (step < 0) return;                      /* no simulator clock yet */
     if (d->lockstep && step == A.last_step) return;   /* a repeated clock: answer again only */
+    if (too_early(step)) return;
     A.last_step = step;
     deliver_team(step, t_s);
     for (j = A.id_lo; j <= A.id_hi; j++) {

@@ -92,6 +92,7 @@ static struct {
     sim_world *w;
     double   v_max, w_max, stale_s;
     int      phys_steps;
+    int64_t  last_after_step;
     int64_t  truth_seq, rejected, rays;
     int      formation;
 } R;
@@ -180,6 +181,7 @@ static int rovers_create(sim_world *w, const sim_config *cfg)
         return -1;
     }
     R.n = cfg->rovers;
+    R.last_after_step = -1;
     R.v_max = env_num("TANDEM_ROVER_VMAX", 0.75, 0.05, 2.0);
     R.w_max = env_num("TANDEM_ROVER_WMAX_DEG", 100.0, 5.0, 360.0) * VEC2_PI / 180.0;
     R.stale_s = env_num("TANDEM_ROVER_STALE_S", 0.5, 0.01, 10.0);
@@ -437,11 +439,11 @@ static void rebuild_sonar_world(void)
     sonar_world_build(&R.sw);
 }
 
-static void fire_sonars(sim_world *w)
+static void fire_sonars(sim_world *w, int fire)
 {
     const int k = sonar_fired_index(w->time_s, &R.sm);
     int i;
-    rebuild_sonar_world();
+    if (fire) rebuild_sonar_world();
     for (i = 0; i < R.n; i++) {
         rover *r = &R.r[i];
         tandem_sonar_scan_t m;
@@ -453,10 +455,12 @@ static void fire_sonars(sim_world *w)
         pose_c(r, &c);
         /* a transducer does not hear its own chassis: lift the robot's own
          * box out of the ray plane for its firing */
-        if (r->prim >= 0) { R.sw.p[r->prim].z_min = -2.0; R.sw.p[r->prim].z_max = -1.0; }
-        sonar_fire(&r->range[k], &R.sw, &R.sm, &c, k, &r->rng);
-        R.rays += R.sm.rays_per_cone;
-        if (r->prim >= 0) { R.sw.p[r->prim].z_min = 0.05; R.sw.p[r->prim].z_max = 0.25; }
+        if (fire) {
+            if (r->prim >= 0) { R.sw.p[r->prim].z_min = -2.0; R.sw.p[r->prim].z_max = -1.0; }
+            sonar_fire(&r->range[k], &R.sw, &R.sm, &c, k, &r->rng);
+            R.rays += R.sm.rays_per_cone;
+            if (r->prim >= 0) { R.sw.p[r->prim].z_min = 0.05; R.sw.p[r->prim].z_max = 0.25; }
+        }
         if (!w->lcm) continue;
         for (j = 0; j < SONAR_N; j++) ang[j] = sonar_p2dx_front[j].angle_rad;
         m.seq = r->seq_sonar++;
@@ -580,16 +584,22 @@ static void publish_truth(sim_world *w)
 
 static void rovers_after_step(sim_world *w)
 {
+    /* the simulator re-announces a step while it waits for controllers to
+     * start: publish the same readings again, without firing or drawing
+     * noise a second time (that would change the run) */
+    const int repeat = w->step == R.last_after_step;
+    R.last_after_step = w->step;
     const int64_t fire_steps = (int64_t)llround(R.sm.fire_period_s / SIM_DT_S);
-    if (w->step % fire_steps == 0) fire_sonars(w);
+    if (w->step % fire_steps == 0) fire_sonars(w, !repeat);
     if (!w->lcm) return;
     if (w->step % RV_SENSORS_STEPS == 0) publish_encoders(w);
-    if (w->step % RV_BEACON_STEPS == 0) publish_beacons(w);
+    if (w->step % RV_BEACON_STEPS == 0 && !repeat) publish_beacons(w);
     if (w->step % RV_TRUTH_STEPS == 0) publish_truth(w);
 }
 
 static int rovers_control(sim_world *w, const tandem_sim_control_t *c)
 {
+
     const int idx = rover_index(c->target);
     rover *r;
     (void)w;

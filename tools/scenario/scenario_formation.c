@@ -267,23 +267,24 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_
 }
 
 /* LCM (1.3) drops messages past a subscription's queue, and the simulator
- * does not repeat a clock while it waits: if one participant lost the clock
- * it must answer, the lockstep would stall until the simulator's timeout
- * dropped it. The scenario, which knows the step the simulator must be
- * waiting at, repeats that clock; participants answer a repeat without
- * running a second cycle. */
+ * does not repeat a clock while it waits: a participant that lost the
+ * clock it must answer would stall the lockstep until the simulator's
+ * timeout dropped it. When the last clock seen is a step everyone answers
+ * and nothing has moved for a while, the simulator is waiting there: the
+ * scenario repeats that clock (never a later one, which could make a
+ * controller act before the simulator has published that step's sensors).
+ * Controllers answer a repeat without running a second cycle. */
 static void nudge(void)
 {
     tandem_sim_clock_t c;
-    int64_t k = F.clock_step;
-    if (k % FM_PERIOD) k += FM_PERIOD - k % FM_PERIOD;
+    const int64_t k = F.clock_step;
+    if (k % FM_PERIOD) return;
     memset(&c, 0, sizeof c);
     c.step = k;
     c.sim_time_s = (double)k * 1e-3;
     c.mode = TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP;
     c.seed = F.seed;
     tandem_sim_clock_t_publish(F.lcm, "SIM_CLOCK", &c);
-    if (k > F.answered) { F.answered = k; }
     ack(k);
 }
 
@@ -435,7 +436,7 @@ static void write_plots(void)
             F.layout.n_obst + 1, F.layout.goal_m[0], F.layout.goal_m[1]);
     fprintf(g, "plot ");
     for (i = 1; i <= F.robots && i <= 12; i++)
-        fprintf(g, "'truth.csv' using ($2==%d?$3:1/0):4 with lines lw 2 title 'robot %d', ", i, i);
+        fprintf(g, "'truth.csv' using ($2==%d?$3:1/0):4 with points pt 7 ps 0.25 title 'robot %d', ", i, i);
     fprintf(g, "'snapshots.csv' using 1:2 with linespoints lc rgb 'black' pt 7 ps 0.6 dt 2 title 'formation every 5 s'\n");
     fprintf(g, "set output 'formation_error.png'\nset size noratio\nset title 'formation error (ground truth)'\n"
                "set xlabel 't (s)'\nset ylabel 'm'\nset y2label 'formation (0 line, 1 triangle, 2 column)'\n"
@@ -584,7 +585,7 @@ static int run(int argc, char **argv)
             F.answered = F.clock_step;
             if (F.reached || F.sim_time >= F.max_time_s) break;
             ack(F.clock_step);
-        } else if (F.have_clock && mono_ns() - F.last_clock_ns > 200000000LL) {
+        } else if (F.have_clock && mono_ns() - F.last_clock_ns > 500000000LL) {
             nudge();
             F.last_clock_ns = mono_ns();
         }
