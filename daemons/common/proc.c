@@ -68,6 +68,7 @@ pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url,
         fcntl(fds[0], F_SETFL, O_NONBLOCK);
     }
     p->pid[p->n] = pid;
+    p->alive[p->n] = 1;
     p->out_fd[p->n] = out_path ? -1 : fds[0];
     p->status[p->n] = -1;
     p->n++;
@@ -89,10 +90,15 @@ int proc_poll(proc_set *p, pid_t pid, int *status)
     int st;
     if (i < 0)
         return -1;
+    if (!p->alive[i]) {
+        if (status)
+            *status = p->status[i];
+        return 1;
+    }
     if (waitpid(pid, &st, WNOHANG) != pid)
         return 0;
     p->status[i] = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-    p->pid[i] = 0;
+    p->alive[i] = 0;
     if (status)
         *status = p->status[i];
     return 1;
@@ -121,18 +127,18 @@ void proc_kill_all(proc_set *p, double grace_s)
     int i;
     double t0;
     for (i = 0; i < p->n; i++)
-        if (p->pid[i] > 0)
+        if (p->alive[i])
             kill(p->pid[i], SIGTERM);
     t0 = mono_s();
     for (i = 0; i < p->n; i++) {
-        while (p->pid[i] > 0 && proc_poll(p, p->pid[i], NULL) == 0 && mono_s() - t0 < grace_s) {
+        while (p->alive[i] && proc_poll(p, p->pid[i], NULL) == 0 && mono_s() - t0 < grace_s) {
             struct timespec ts = { 0, 10000000L };
             nanosleep(&ts, NULL);
         }
-        if (p->pid[i] > 0) {
+        if (p->alive[i]) {
             kill(p->pid[i], SIGKILL);
             waitpid(p->pid[i], NULL, 0);
-            p->pid[i] = 0;
+            p->alive[i] = 0;
         }
         if (p->out_fd[i] >= 0)
             close(p->out_fd[i]);

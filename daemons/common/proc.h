@@ -9,7 +9,8 @@
 
 typedef struct proc_set {
     char  bin[256];          /* directory of the programs */
-    pid_t pid[PROC_MAX];     /* 0 once reaped */
+    pid_t pid[PROC_MAX];
+    int   alive[PROC_MAX];   /* 0 once reaped (its output stays readable) */
     int   out_fd[PROC_MAX];  /* read end of the stdout pipe, -1 if none */
     int   status[PROC_MAX];  /* exit status once reaped */
     int   n;

@@ -1,16 +1,10 @@
 /* harness: child daemons on a private LCM bus (see harness.h). */
 #include "harness.h"
-#include "tandem_clock_ack_t.h"
-#include <errno.h>
-#include <fcntl.h>
-#include <signal.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <sys/time.h>
-#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
+#include "tandem_clock_ack_t.h"
 
 static double now_s(void)
 {
@@ -21,9 +15,8 @@ static double now_s(void)
 
 int harness_open(harness *h, int port_offset)
 {
-    const char *bin = getenv("TANDEM_BIN");
     memset(h, 0, sizeof *h);
-    snprintf(h->bin, sizeof h->bin, "%s", bin ? bin : "build/bin");
+    proc_init(&h->procs, NULL);
     snprintf(h->url, sizeof h->url, "udpm://239.255.76.67:%d?ttl=0",
              20000 + (int)(getpid() % 20000) + port_offset);
     h->lcm = lcm_create(h->url);
@@ -32,28 +25,7 @@ int harness_open(harness *h, int port_offset)
 
 pid_t harness_spawn(harness *h, const char *const argv[])
 {
-    int fds[2];
-    pid_t pid;
-    char path[512];
-    if (h->n >= HARNESS_MAX_PROCS || pipe(fds) != 0)
-        return -1;
-    snprintf(path, sizeof path, "%s/%s", h->bin, argv[0]);
-    pid = fork();
-    if (pid == 0) {
-        dup2(fds[1], 1);
-        close(fds[0]);
-        close(fds[1]);
-        setenv("LCM_DEFAULT_URL", h->url, 1);
-        execv(path, (char *const *)argv);
-        fprintf(stderr, "harness: cannot exec %s: %s\n", path, strerror(errno));
-        _exit(127);
-    }
-    close(fds[1]);
-    fcntl(fds[0], F_SETFL, O_NONBLOCK);
-    h->pid[h->n] = pid;
-    h->out_fd[h->n] = fds[0];
-    h->n++;
-    return pid;
+    return proc_spawn(&h->procs, argv, h->url, NULL, NULL);
 }
 
 int harness_wait(harness *h, pid_t pid, double timeout_s)
@@ -61,14 +33,9 @@ int harness_wait(harness *h, pid_t pid, double timeout_s)
     const double t0 = now_s();
     int status;
     while (now_s() - t0 < timeout_s) {
-        pid_t r = waitpid(pid, &status, WNOHANG);
-        if (r == pid) {
-            int i;
-            for (i = 0; i < h->n; i++)
-                if (h->pid[i] == pid)
-                    h->pid[i] = 0;
-            return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        }
+        const int r = proc_poll(&h->procs, pid, &status);
+        if (r != 0)
+            return r > 0 ? status : -1;
         harness_pump(h, 10);
     }
     return -1;
@@ -76,23 +43,7 @@ int harness_wait(harness *h, pid_t pid, double timeout_s)
 
 int harness_read_output(harness *h, pid_t pid, char *buf, int cap)
 {
-    int i, n = 0;
-    for (i = 0; i < h->n; i++) {
-        if (h->pid[i] != pid && h->pid[i] != 0)
-            continue;
-        if (h->pid[i] == 0 && h->out_fd[i] < 0)
-            continue;
-        for (;;) {
-            ssize_t r = read(h->out_fd[i], buf + n, (size_t)(cap - 1 - n));
-            if (r <= 0)
-                break;
-            n += (int)r;
-        }
-        if (h->pid[i] == pid)
-            break;
-    }
-    buf[n] = '\0';
-    return n;
+    return proc_read(&h->procs, pid, buf, cap);
 }
 
 void harness_pump(harness *h, int ms)
@@ -106,21 +57,7 @@ void harness_pump(harness *h, int ms)
 
 void harness_kill_all(harness *h)
 {
-    int i;
-    for (i = 0; i < h->n; i++)
-        if (h->pid[i] > 0)
-            kill(h->pid[i], SIGTERM);
-    for (i = 0; i < h->n; i++)
-        if (h->pid[i] > 0) {
-            if (harness_wait(h, h->pid[i], 3.0) < 0) {
-                kill(h->pid[i], SIGKILL);
-                waitpid(h->pid[i], NULL, 0);
-            }
-            h->pid[i] = 0;
-        }
-    for (i = 0; i < h->n; i++)
-        close(h->out_fd[i]);
-    h->n = 0;
+    proc_kill_all(&h->procs, 3.0);
 }
 
 void harness_close(harness *h)

@@ -1,21 +1,17 @@
-/* harness: start tandem daemons as child processes on a private LCM bus,
- * watch them over LCM, stop them. Shared by the integration tests. */
+/* harness: tandem daemons on a private LCM bus for the integration tests:
+ * proc.h starts and stops them, this adds the bus and lockstep helpers. */
 #ifndef TANDEM_HARNESS_H
 #define TANDEM_HARNESS_H
 
 #include <stdint.h>
 #include <sys/types.h>
 #include <lcm/lcm.h>
-
-#define HARNESS_MAX_PROCS 16
+#include "proc.h"
 
 typedef struct harness {
-    char  url[96];
-    char  bin[256];
-    lcm_t *lcm;
-    pid_t pid[HARNESS_MAX_PROCS];
-    int   out_fd[HARNESS_MAX_PROCS];
-    int   n;
+    char     url[96];
+    lcm_t   *lcm;
+    proc_set procs;          /* the daemons under test (daemons/common/proc.h) */
 } harness;
 
 /* Private udpm port per test process so parallel tests never cross-talk. */

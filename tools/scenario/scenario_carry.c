@@ -367,7 +367,7 @@ static int run_once(const run_cfg *c, run_result *res)
         lcm_handle_timeout(R.lcm, 200);
         for (k = 0; k < ps.n; k++) {
             int st;
-            if (ps.pid[k] > 0 && proc_poll(&ps, ps.pid[k], &st) == 1) {
+            if (ps.alive[k] && proc_poll(&ps, ps.pid[k], &st) == 1) {
                 fprintf(stderr, "tandem-scenario: a daemon exited early (status %d); see %s\n", st, err);
                 rc = -1;
             }

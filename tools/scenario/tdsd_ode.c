@@ -134,7 +134,7 @@ static int child_died(proc_set *ps, const tdsd_ode_opts *o)
 {
     int k, st;
     for (k = 0; k < ps->n; k++)
-        if (ps->pid[k] > 0 && proc_poll(ps, ps->pid[k], &st) == 1) {
+        if (ps->alive[k] && proc_poll(ps, ps->pid[k], &st) == 1) {
             fprintf(stderr, "tandem-scenario: a child exited early (status %d); see %s/ode_stderr.log\n",
                     st, o->out_dir);
             return 1;
