@@ -51,6 +51,7 @@ typedef struct {
     double passage_sense_max_m; /* side readings beyond: no passage wall */
     double mate_keep_m;         /* a mate's echo nearer than this stays an obstacle */
     double passage_front_min_m; /* a passage needs the front open this far */
+    double passage_hold_s;      /* front blocked: last width kept this long (0: no hold) */
     double v_change_mps;
     double guard_m, guard_stop_m; /* collision guard: slow below, stop at (front echo) */
     double goal_heading_gain;   /* R0 heading toward the goal bearing, 0..1 (see .c) */        /* speed cap while shrinking / changing type */
@@ -94,6 +95,7 @@ typedef struct {
     int     ann_code;           /* own latest announcement */
     int32_t ann_seq;
     double  team_tx_t_s;
+    double  passage_m, passage_t_s;   /* last sensed passage width */
     int     formation_changes;  /* adopted changes of type (own view) */
     behaviour_blend_t blend;
 } rover_ctl_t;

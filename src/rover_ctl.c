@@ -18,6 +18,7 @@ void rover_ctl_params_default(rover_ctl_params_t *p)
     p->beh.d_s_m = 0.5;
     formation_fsm_params_default(&p->fsm);
     p->fsm.shrink_scale = 0.8;
+    p->fsm.clear_hold_s = 4.0;   /* 10 s (the whole column out) did worse in the corridor runs */
     p->blend_mode = BEH_BLEND_WEIGHTED;
     p->formation = FORMATION_LINE;
     p->team_timeout_s = TEAM_TIMEOUT_S_DEFAULT;
@@ -37,6 +38,7 @@ void rover_ctl_params_default(rover_ctl_params_t *p)
     p->guard_m = 0.5;
     p->guard_stop_m = 0.15;
     p->passage_front_min_m = 2.0;
+    p->passage_hold_s = 0.0;
     p->sonar_max_m = 5.0;
 }
 
@@ -51,7 +53,7 @@ int rover_ctl_params_check(const rover_ctl_params_t *p)
         !pos(p->wheel_radius_m) || !pos(p->axle_track_m) || !pos(p->follow_dist_m) ||
         !pos(p->follow_v_mps) || !pos(p->follow_w_radps) || !pos(p->escape_max_s) ||
         !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->v_change_mps) || !pos(p->guard_m) || !pos(p->guard_stop_m) || !isfinite(p->goal_heading_gain) ||
-        p->goal_heading_gain < 0.0 || p->goal_heading_gain > 1.0 || !pos(p->passage_front_min_m) || !pos(p->sonar_max_m) || !pos(p->fsm.spacing_m) ||
+        p->goal_heading_gain < 0.0 || p->goal_heading_gain > 1.0 || !pos(p->passage_front_min_m) || !(p->passage_hold_s >= 0.0) || !pos(p->sonar_max_m) || !pos(p->fsm.spacing_m) ||
         !(p->fsm.shrink_scale > 0.0 && p->fsm.shrink_scale <= 1.0))
         return -1;
     if (!isfinite(p->beacon_alpha) || p->beacon_alpha < 0.0 || p->beacon_alpha > 1.0) return -1;
@@ -74,6 +76,8 @@ int rover_ctl_init(rover_ctl_t *c, const rover_ctl_params_t *p, int32_t id,
     if (formation_fsm_init(&c->fsm, p->formation, 1.0) != 0) return -1;
     behaviour_exception_init(&c->exc);
     c->team_tx_t_s = -INFINITY;
+    c->passage_m = INFINITY;
+    c->passage_t_s = -INFINITY;
     return 0;
 }
 
@@ -159,7 +163,8 @@ void rover_ctl_follow(unicycle_cmd_t *u, const sonar_groups_t *g, int side,
     const double near_side = s < 0 ? fmin(g->right_m, g->right_front_m)
                                    : fmin(g->left_m, g->left_front_m);
     const double wmax = p->follow_w_radps;
-    if (fmin(g->front_m, s < 0 ? g->right_front_m : g->left_front_m) < p->follow_dist_m + 0.15) {
+    if (g->front_m < p->follow_dist_m + 0.1 ||
+        (s < 0 ? g->right_front_m : g->left_front_m) < 0.75 * p->follow_dist_m) {
         /* blocked ahead: turn away from the wall side, nearly on the spot */
         u->v_mps = 0.03;
         u->w_radps = -s * wmax;
@@ -397,9 +402,16 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
     /* narrow-passage protocol (not while escaping: the trap is not a passage) */
     /* a passage has an open end ahead; walls on three sides are a trap
      * (the dead-zone exception's business), not a passage */
-    passage = (gw.left_m < c->p.passage_sense_max_m && gw.right_m < c->p.passage_sense_max_m &&
-               gw.front_m > c->p.passage_front_min_m)
-                  ? gw.left_m + gw.right_m + bp->robot_width_m : INFINITY;
+    if (gw.left_m < c->p.passage_sense_max_m && gw.right_m < c->p.passage_sense_max_m &&
+        gw.front_m > c->p.passage_front_min_m) {
+        c->passage_m = gw.left_m + gw.right_m + bp->robot_width_m;
+        c->passage_t_s = t_s;
+    } else if (gw.left_m >= c->p.passage_sense_max_m || gw.right_m >= c->p.passage_sense_max_m) {
+        c->passage_m = INFINITY;              /* open on a side: no passage */
+    }
+    /* front blocked (a mate or a bend ahead): the width is unknown, not
+     * clear; keep the last reading for a while */
+    passage = t_s - c->passage_t_s <= c->p.passage_hold_s ? c->passage_m : INFINITY;
     if (!escaping) {
         const int before = c->fsm.type;
         if (formation_fsm_step(&c->fsm, &c->p.fsm, passage, n, dt_s, c->id, &ann) == 1) {
