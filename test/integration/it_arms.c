@@ -34,6 +34,9 @@ typedef struct obs {
 } obs;
 
 static obs O;
+static tandem_arm_state_t_subscription_t *sub_state[2];
+static tandem_sim_clock_t_subscription_t *sub_clock;
+static tandem_action_event_t_subscription_t *sub_event;
 
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_state_t *m, void *u)
 {
@@ -71,10 +74,19 @@ static int64_t next_step(harness *h)
 static void subscribe_all(harness *h)
 {
     memset(&O, 0, sizeof O);
-    tandem_arm_state_t_subscribe(h->lcm, "ARM1_STATE", on_state, NULL);
-    tandem_arm_state_t_subscribe(h->lcm, "ARM2_STATE", on_state, NULL);
-    tandem_sim_clock_t_subscribe(h->lcm, "SIM_CLOCK", on_clock, NULL);
-    tandem_action_event_t_subscribe(h->lcm, "ARM_EVENTS", on_event, NULL);
+    sub_state[0] = tandem_arm_state_t_subscribe(h->lcm, "ARM1_STATE", on_state, NULL);
+    sub_state[1] = tandem_arm_state_t_subscribe(h->lcm, "ARM2_STATE", on_state, NULL);
+    sub_clock = tandem_sim_clock_t_subscribe(h->lcm, "SIM_CLOCK", on_clock, NULL);
+    sub_event = tandem_action_event_t_subscribe(h->lcm, "ARM_EVENTS", on_event, NULL);
+}
+
+static void close_all(harness *h)
+{
+    tandem_arm_state_t_unsubscribe(h->lcm, sub_state[0]);
+    tandem_arm_state_t_unsubscribe(h->lcm, sub_state[1]);
+    tandem_sim_clock_t_unsubscribe(h->lcm, sub_clock);
+    tandem_action_event_t_unsubscribe(h->lcm, sub_event);
+    harness_close(h);
 }
 
 static void test_rne_open_loop_tracks_within_1deg(void **state)
@@ -120,7 +132,7 @@ static void test_rne_open_loop_tracks_within_1deg(void **state)
     }
     printf("open-loop RNE torques vs ODE arm: max joint error over 2 s = %.4f deg\n", err_max * 57.29577951308232);
     assert_true(err_max * 57.29577951308232 < 1.0);
-    harness_close(&h);
+    close_all(&h);
 }
 
 static void handover_q(int a, const double q_home[6], double q[6])
@@ -237,7 +249,7 @@ static void test_hold_and_move_under_tandem_arm(void **state)
         printf("arm %d back home: tool error %.2f mm\n", a + 1, e * 1e3);
         assert_true(e < 2e-3);
     }
-    harness_close(&h);
+    close_all(&h);
 }
 
 int main(void)

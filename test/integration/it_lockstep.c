@@ -142,15 +142,18 @@ static void test_bad_messages_counted_and_ignored(void **state)
     const char *sim[] = { "tandem-sim", "--lockstep", "--expect", "2", "--steps", "6000", NULL };
     const char *arm1[] = { "tandem-arm", "--arm", "1", "--lockstep", NULL };
     const char *arm2[] = { "tandem-arm", "--arm", "2", "--lockstep", NULL };
+    tandem_sim_status_t_subscription_t *s_status;
+    tandem_health_t_subscription_t *s_health;
+    tandem_arm_state_t_subscription_t *s_state;
     pid_t ps;
     int i;
     double drift = 0.0;
     (void)state;
     memset(&w, 0, sizeof w);
     assert_int_equal(harness_open(&h, 3), 0);
-    tandem_sim_status_t_subscribe(h.lcm, "SIM_STATUS", on_status, &w);
-    tandem_health_t_subscribe(h.lcm, "HEALTH_TANDEM_ARM_1", on_health, &w);
-    tandem_arm_state_t_subscribe(h.lcm, "ARM1_STATE", on_state, &w);
+    s_status = tandem_sim_status_t_subscribe(h.lcm, "SIM_STATUS", on_status, &w);
+    s_health = tandem_health_t_subscribe(h.lcm, "HEALTH_TANDEM_ARM_1", on_health, &w);
+    s_state = tandem_arm_state_t_subscribe(h.lcm, "ARM1_STATE", on_state, &w);
     ps = harness_spawn(&h, sim);
     harness_spawn(&h, arm1);
     harness_spawn(&h, arm2);
@@ -172,6 +175,9 @@ static void test_bad_messages_counted_and_ignored(void **state)
         drift = fmax(drift, fabs(w.q_last[i] - w.q_first[i]));
     printf("arm 1 joint drift after bad input: %.2e rad\n", drift);
     assert_true(drift < 1e-3);
+    tandem_sim_status_t_unsubscribe(h.lcm, s_status);
+    tandem_health_t_unsubscribe(h.lcm, s_health);
+    tandem_arm_state_t_unsubscribe(h.lcm, s_state);
     harness_close(&h);
 }
 
