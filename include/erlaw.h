@@ -12,15 +12,47 @@
  * s is always the *measured* progress (projection of X on the segment,
  * clamped to [0, s_f]); p_bias uses it. s_ref selects the reference:
  *   ERLAW_REF_MEASURED  s_ref = s                  (event law, eq. 6)
- *   ERLAW_REF_EXTERNAL  s_ref = given (k_i s*)     (synchronised, SPEC 2.3)
+ *   ERLAW_REF_EXTERNAL  s_ref = min(k_i s*, s)     (synchronised, SPEC 2.3)
  *   ERLAW_REF_TIME      s_ref = s_d(t), advancing with the clock from the
  *                       segment start              (baseline, SPEC 2.6)
+ *   ERLAW_REF_BLOCKED   s_ref = s, planned motion dropped (a detected block)
  *
  * While blocked under the event law, s stops, so every term stops:
  * u = A_d(s) e + k_v V_d(s) e + p_bias(s) (plus feedback on V = 0), i.e.
- * bounded by a_m + k_v v_m + k0 whatever the block duration. A partner
- * following a frozen external reference leads it by
- * (A_d + k_v V_d + p_bias) / k_p at most.
+ * bounded by a_m + k_v v_m + k0 whatever the block duration. Once the
+ * block is detected, ERLAW_REF_BLOCKED drops the planned motion and keeps
+ * the law's start-up form at the measured s,
+ *   u = p_bias(s) e - k_v V + k_p (X_d(s) - X),
+ * so the arm leans on the obstacle with the bias only and the bias moves
+ * it on when the obstacle goes (as it starts the arm at s0).
+ *
+ * External reference (a synchronised action, SPEC 2.3): s_ext = k_i s*.
+ * With min semantics k_i s* <= s_i, and an arm never chases a reference
+ * ahead of itself: s_ref = min(clamp(s_ext), s). An arm with s_ref = s
+ * defines s* (it is the laggard): plain eq. 6 at its own s, bias included.
+ * An arm ahead of its reference (s_ref < s) is a follower and tracks the
+ * reference *as it moves*:
+ *   u = A_ref e + k_vf (V_ref e - V) + k_pf (X_d(s_ref + g) - X)
+ *   V_ref = d s_ref/dt  (first-order filtered difference of s_ext,
+ *                        ERLAW_REF_RATE_TAU_S, clamped to |.| <= 2 v_m)
+ *   A_ref = rho^2 A_d(s_ref),  rho = clamp(V_ref / V_d(s_ref), 0, 1)
+ * (A_ref: a reference moving along the profile at rho times its planned
+ * pace has acceleration rho^2 A_d, neglecting d rho/dt.) No bias: it
+ * belongs to the arm that defines s*. Instead the follower keeps a fixed
+ * gap g = ERLAW_FOLLOW_GAP_M (1 mm) ahead of its reference: it makes the
+ * roles unambiguous (without it a follower at rest sits exactly on its
+ * reference, flips to laggard on rounding, takes the bias, flips back,
+ * and the arms' blocked detectors cannot tell the held arm from the
+ * blocked one); cartseg treats an arm more than 0.5 mm ahead of its
+ * reference as held, not blocked. When s* stops, V_ref -> 0 and
+ * A_ref -> 0 within a few ms and the follower brakes as a critically
+ * damped tracker of a fixed point: k_pf = max(k_p, w^2), k_vf = max(k_v, 2 w), w =
+ * ERLAW_SYNC_OMEGA_RADPS. From speed v0 its speed falls below eps when
+ * (1 - w t) e^(-w t) = eps / v0, i.e. t = 0.88 / w for eps / v0 = 1/20
+ * (29 ms at w = 30 rad/s), and it overshoots its rest point by at most
+ * v0 / (e w) (2.5 mm from 0.2 m/s): lead <= g + v0 / (e w); it then
+ * backs onto its rest point (at up to ~0.15 v0). With the row's
+ * k_p = 100, k_v = 20 alone (w = 10) the stop would take 88 ms.
  *
  * Short segments (k2 s_f < 2 k1): eq. 7 would already be fading at s = 0
  * and the bias might not start the arm, so k2 is raised to 2 k1 / s_f
@@ -58,8 +90,16 @@ typedef struct {
 typedef enum {
     ERLAW_REF_MEASURED = 0,
     ERLAW_REF_EXTERNAL = 1,
-    ERLAW_REF_TIME = 2
+    ERLAW_REF_TIME = 2,
+    ERLAW_REF_BLOCKED = 3     /* detected block: start-up form at s */
 } erlaw_ref;
+
+/* Follower of an external reference: tracking bandwidth (rad/s) and the
+ * time constant of the reference-rate filter (s). */
+#define ERLAW_SYNC_OMEGA_RADPS 30.0
+#define ERLAW_REF_RATE_TAU_S 0.004
+/* A follower rests this far ahead of its reference (see above). */
+#define ERLAW_FOLLOW_GAP_M 0.001
 
 /* The time-referenced baseline advances s_d(t) with speed
  * max(V_d(s_d), ERLAW_TIME_V_FLOOR_FRAC * v_peak) (see sprofile_advance). */
@@ -73,6 +113,9 @@ typedef struct {
     double e[3];        /* unit direction / rotation axis              */
     double s_time_m;    /* s_d(t) of the time-referenced baseline      */
     double t_s;         /* time since the segment start                */
+    double s_ext_prev;  /* last external reference (clamped)           */
+    double v_ext;       /* its filtered rate V_ref                     */
+    int    ext_seen;    /* s_ext_prev holds a value                    */
 } erlaw_channel;
 
 typedef struct {
@@ -90,8 +133,10 @@ typedef struct {
     double s_m;         /* measured progress                          */
     double s_ref_m;     /* reference progress used                    */
     double x_err[3];    /* X_d - X (or log(R_d R^T))                  */
-    double a_d, v_d;    /* planned scalars at s_ref                   */
+    double a_d, v_d;    /* reference acceleration and speed used
+                           (planned at s_ref; A_ref, V_ref for a follower) */
     double bias;        /* |p_bias|                                   */
+    int    follower;    /* 1: tracking an external reference ahead of it */
 } erlaw_out;
 
 /* Gains valid: every field finite, limits > 0, k_p, k_v, k0, k2 >= 0. */
@@ -103,8 +148,9 @@ int erlaw_line_init(erlaw_line *l, const double p0_m[3], const double p1_m[3],
 /* Measured progress: projection of x on the segment, clamped to [0, s_f]. */
 double erlaw_line_s(const erlaw_line *l, const double x_m[3]);
 /* One control cycle. s_ext_m is used only with ERLAW_REF_EXTERNAL (it is
- * clamped to [0, s_f]); dt_s advances the baseline clock (ERLAW_REF_TIME)
- * and the segment time. Returns 0, or -1 on bad input (out->u is then 0). */
+ * clamped to [0, s_f], then to the measured s); dt_s advances the baseline
+ * clock (ERLAW_REF_TIME), the reference-rate estimate and the segment
+ * time. Returns 0, or -1 on bad input (out->u is then 0). */
 int erlaw_line_step(erlaw_line *l, const double x_m[3], const double v_mps[3],
                     erlaw_ref ref, double s_ext_m, double dt_s, erlaw_out *out);
 

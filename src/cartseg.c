@@ -62,8 +62,9 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     cartctl_out co;
     erlaw_out eo;
     double Tw[16], Rwb[9], u_base[3];
-    const erlaw_ref ref = (s_ext_m >= 0.0 && c->ref == ERLAW_REF_MEASURED) ? ERLAW_REF_EXTERNAL : c->ref;
-    int commanding, blocked;
+    const int sync = s_ext_m >= 0.0 && c->ref == ERLAW_REF_MEASURED;
+    erlaw_ref ref = sync ? ERLAW_REF_EXTERNAL : c->ref;
+    int commanding, blocked, held;
     if (!c || !out)
         return -1;
     memset(out, 0, sizeof *out);
@@ -73,6 +74,10 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     tf_pos(out->x_world, Tw);
     R_of(c->T_world_base, Rwb);
     rot_apply(out->v_world, Rwb, st.twist);
+    /* a detected block suspends the planned motion (event law only; the
+     * baseline keeps its clock): lean on the obstacle with the bias */
+    if (c->blocked && c->ref == ERLAW_REF_MEASURED)
+        ref = ERLAW_REF_BLOCKED;
     if (erlaw_line_step(&c->line, out->x_world, out->v_world, ref, s_ext_m, dt_s, &eo) != 0)
         return -1;
     out->s_m = eo.s_m;
@@ -82,12 +87,12 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     vec3_copy(out->u_world, eo.u);
     out->done = erlaw_done(eo.s_m, out->s_f_m, vec3_norm(out->v_world), CARTSEG_DONE_TOL_M, CARTSEG_DONE_SPEED_MPS);
     /* motion is asked while not done; a synchronised arm whose reference
-     * k_i s* is behind its own s is held by its partner (it leads by about
-     * k0/k_p): waiting, not blocked. The laggard has k_i s* = s. Near
+     * k_i s* is behind its own s is held by its partner (a follower rests
+     * ERLAW_FOLLOW_GAP_M ahead of it): waiting, not blocked. The laggard has k_i s* = s. Near
      * the goal the law creeps in exponentially (V_d ~ sqrt(u_m)(s_f - s)):
      * slow, not blocked. */
-    commanding = !out->done && out->s_f_m - eo.s_m > CARTSEG_BLOCK_NEAR_GOAL_M &&
-                 (ref != ERLAW_REF_EXTERNAL || eo.s_ref_m > eo.s_m - 0.5 * CARTSEG_BLOCK_EPS_M);
+    held = sync && fmin(s_ext_m, out->s_f_m) <= eo.s_m - 0.5 * CARTSEG_BLOCK_EPS_M;
+    commanding = !out->done && out->s_f_m - eo.s_m > CARTSEG_BLOCK_NEAR_GOAL_M && !held;
     blocked = erlaw_block_update(&c->blk, eo.s_m, commanding, dt_s, CARTSEG_BLOCK_EPS_M, CARTSEG_BLOCK_TIME_S);
     out->block_changed = blocked != c->blocked;
     c->blocked = blocked;

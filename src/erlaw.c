@@ -46,6 +46,9 @@ static int channel_init(erlaw_channel *c, const double e[3], double s_f, const e
     vec3_copy(c->e, e);
     c->s_time_m = 0.0;
     c->t_s = 0.0;
+    c->s_ext_prev = 0.0;
+    c->v_ext = 0.0;
+    c->ext_seen = 0;
     return 0;
 }
 
@@ -61,6 +64,23 @@ static double bias(const erlaw_channel *c, double s)
     return g->k0 / (1.0 + exp(g->k1 - c->k2_eff * (c->prof.s_f_m - s)));
 }
 
+/* V_ref: first-order filtered difference of the external reference,
+ * clamped to |V_ref| <= 2 v_m (a stale or skipped partner message must not
+ * become a speed spike). */
+static void ext_rate_update(erlaw_channel *c, double s_ext, double dt)
+{
+    const double lim = 2.0 * c->g.v_m;
+    if (c->ext_seen && dt > 0.0) {
+        const double raw = (s_ext - c->s_ext_prev) / dt;
+        c->v_ext += dt / (ERLAW_REF_RATE_TAU_S + dt) * (raw - c->v_ext);
+        c->v_ext = clamp(c->v_ext, -lim, lim);
+    } else if (!c->ext_seen) {
+        c->v_ext = 0.0;
+    }
+    c->s_ext_prev = s_ext;
+    c->ext_seen = 1;
+}
+
 /* Picks s_ref, advancing the baseline clock when it is the reference. */
 static int channel_ref(erlaw_channel *c, double s, erlaw_ref ref, double s_ext, double dt,
                        double *s_ref)
@@ -68,15 +88,21 @@ static int channel_ref(erlaw_channel *c, double s, erlaw_ref ref, double s_ext, 
     const double s_f = c->prof.s_f_m;
     if (!isfinite(dt) || dt < 0.0)
         return -1;
+    if (ref == ERLAW_REF_EXTERNAL && !isfinite(s_ext))
+        return -1;
     c->t_s += dt;
+    if (ref != ERLAW_REF_EXTERNAL)
+        c->ext_seen = 0;
     switch (ref) {
     case ERLAW_REF_MEASURED:
+    case ERLAW_REF_BLOCKED:
         *s_ref = s;
         return 0;
     case ERLAW_REF_EXTERNAL:
-        if (!isfinite(s_ext))
-            return -1;
-        *s_ref = clamp(s_ext, 0.0, s_f);
+        /* min semantics (SPEC 2.3): never a reference ahead of oneself */
+        s_ext = clamp(s_ext, 0.0, s_f);
+        ext_rate_update(c, s_ext, dt);
+        *s_ref = fmin(s_ext, s);
         return 0;
     case ERLAW_REF_TIME:
         c->s_time_m = sprofile_advance(&c->prof, c->s_time_m, dt,
@@ -87,18 +113,35 @@ static int channel_ref(erlaw_channel *c, double s, erlaw_ref ref, double s_ext, 
     return -1;
 }
 
-/* u = A_d e + k_v (V_d e - V) + k_p err + p_bias e  (eq. 6, 7) */
-static void channel_command(const erlaw_channel *c, double s, double s_ref, const double err[3],
-                            const double vel[3], erlaw_out *out)
+/* Numerical slack for "s_ref = s": the laggard's k_i (s_i / k_i). */
+#define FOLLOW_EPS_M 1e-9
+
+/* u = A e + k_v (V e - V) + k_p err + p_bias e  (eq. 6, 7), with (A, V,
+ * gains, bias) chosen by the reference mode (see erlaw.h). */
+static void channel_command(const erlaw_channel *c, double s, double s_ref, erlaw_ref ref,
+                            const double err[3], const double vel[3], erlaw_out *out)
 {
     const erlaw_gains *g = &c->g;
-    double a_d, v_d, b, dv[3];
+    const double w = ERLAW_SYNC_OMEGA_RADPS;
+    double a_d, v_d, b, k_p = g->k_p, k_v = g->k_v, gap = 0.0, dv[3];
     int i;
     sprofile_at(&c->prof, s_ref, &a_d, &v_d);
     b = bias(c, s);
+    out->follower = ref == ERLAW_REF_EXTERNAL && s_ref < s - FOLLOW_EPS_M;
+    if (out->follower) {
+        const double rho = v_d > 1e-9 ? clamp(c->v_ext / v_d, 0.0, 1.0) : 0.0;
+        a_d = rho * rho * a_d;
+        v_d = c->v_ext;
+        k_p = fmax(k_p, w * w);
+        k_v = fmax(k_v, 2.0 * w);
+        b = 0.0;
+        gap = fmin(ERLAW_FOLLOW_GAP_M, c->prof.s_f_m - s_ref);
+    } else if (ref == ERLAW_REF_BLOCKED) {
+        a_d = v_d = 0.0;
+    }
     for (i = 0; i < 3; i++) {
         dv[i] = v_d * c->e[i] - vel[i];
-        out->u[i] = (a_d + b) * c->e[i] + g->k_v * dv[i] + g->k_p * err[i];
+        out->u[i] = (a_d + b + k_p * gap) * c->e[i] + k_v * dv[i] + k_p * err[i];
         out->x_err[i] = err[i];
     }
     out->s_m = s;
@@ -115,6 +158,7 @@ static void out_zero(erlaw_out *out)
     vec3_set(out->u, 0.0, 0.0, 0.0);
     vec3_set(out->x_err, 0.0, 0.0, 0.0);
     out->s_m = out->s_ref_m = out->a_d = out->v_d = out->bias = 0.0;
+    out->follower = 0;
 }
 
 /* ---- line ---------------------------------------------------------------*/
@@ -154,7 +198,7 @@ int erlaw_line_step(erlaw_line *l, const double x_m[3], const double v_mps[3],
         return -1;
     vec3_axpy(x_d, l->p0_m, s_ref, l->ch.e);
     vec3_sub(err, x_d, x_m);
-    channel_command(&l->ch, s, s_ref, err, v_mps, out);
+    channel_command(&l->ch, s, s_ref, ref, err, v_mps, out);
     return 0;
 }
 
@@ -220,7 +264,7 @@ int erlaw_rot_step(erlaw_rot *r, const double R[9], const double w_radps[3],
     rot_from_axis_angle(Rs, r->ch.e, th_ref);
     rot_mul(Rd, Rs, r->R0);
     rotvec_abt(err, Rd, R);
-    channel_command(&r->ch, th, th_ref, err, w_radps, out);
+    channel_command(&r->ch, th, th_ref, ref, err, w_radps, out);
     return 0;
 }
 

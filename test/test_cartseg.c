@@ -110,24 +110,67 @@ static void test_block_and_resume(void **st)
     assert_true(tf_time > 2.0 * tf_event);
 }
 
-static void test_external_reference_holds(void **st)
+/* Synchronised segment on the arm model: the reference k s* comes from a
+ * virtual partner (a point mass under the event law on a segment of the
+ * same length). The partner is frozen at speed: the arm's tool speed
+ * falls below 1 cm/s within 50 ms, its lead stays bounded, it is held
+ * (not blocked), and after the release both finish. */
+static void test_external_reference_stops_fast(void **st)
 {
-    double T_wb[16], q[ARM_NJ], qd[ARM_NJ] = { 0 }, R1[9], p1[3], tf;
+    const double w = ERLAW_SYNC_OMEGA_RADPS;
+    double T_wb[16], q[ARM_NJ], qd[ARM_NJ] = { 0 }, R1[9], p1[3], x[3], v[3];
+    double pm0[3] = { 0, 0, 0 }, pm1[3], xm[3] = { 0, 0, 0 }, vm[3] = { 0, 0, 0 };
+    double t_freeze = -1.0, t_stop = -1.0, v0 = 0.0, lead_max = 0.0, s_hold = 0.0;
     arm_tool tool;
     cartseg c;
-    cartseg_out o;
-    int blk;
+    erlaw_line partner;
+    int k, i, done = 0, blocked = 0;
     (void)st;
     setup(T_wb, &tool, q, R1);
     vec3_copy(p1, cell_default.home_tool_m[0]);
     p1[0] += 0.2;
-    cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED);
-    /* partner frozen at s* = 0.05 m: this arm stops a bounded lead past it */
-    assert_int_equal(run(&c, &tool, q, qd, 3000, 0, 0, 0.05, &blk, &tf), -1);
-    cartseg_step(&c, &arm_model_puma560, &tool, NULL, q, qd, 0.05, 1e-3, &o);
-    /* lead bounded by (a_m + k_v v_m + k0) / k_p (SPEC 2.3) */
-    assert_true(o.s_m > 0.05 && o.s_m < 0.05 + (G.a_m + G.k_v * G.v_m + G.k0) / G.k_p);
-    assert_int_equal(blk, -1);   /* held by the partner: not blocked */
+    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
+    vec3_set(pm1, erlaw_channel_length(&c.line.ch), 0, 0);
+    assert_int_equal(erlaw_line_init(&partner, pm0, pm1, &G), 0);
+    for (k = 0; k < 12000 && !done; k++) {
+        const double t = k * 1e-3;
+        const int frozen = t >= 1.8 && t < 3.8;
+        cartseg_out o;
+        erlaw_out po;
+        double qdd[ARM_NJ], s_arm, s_star;
+        cartseg_tool_world(&arm_model_puma560, &tool, T_wb, q, qd, x, v);
+        s_arm = erlaw_line_s(&c.line, x);
+        s_star = fmin(s_arm, erlaw_line_s(&partner, xm));    /* min, k = 1 */
+        assert_int_equal(erlaw_line_step(&partner, xm, vm, ERLAW_REF_EXTERNAL, s_arm, 1e-3, &po), 0);
+        assert_int_equal(cartseg_step(&c, &arm_model_puma560, &tool, NULL, q, qd, s_star, 1e-3, &o), 0);
+        blocked |= o.blocked;
+        done = o.done && erlaw_done(erlaw_line_s(&partner, xm), erlaw_channel_length(&partner.ch), vec3_norm(vm), 0.004, 0.008);
+        for (i = 0; i < 3; i++) {
+            vm[i] = frozen ? 0.0 : vm[i] + po.u[i] * 1e-3;
+            xm[i] += vm[i] * 1e-3;
+        }
+        if (frozen && t_freeze < 0.0) {
+            t_freeze = t;
+            v0 = vec3_norm(v);
+            s_hold = s_star;
+            assert_true(v0 > 0.12);   /* near the peak of this 0.2 m segment */
+        }
+        if (frozen) {
+            lead_max = fmax(lead_max, o.s_m - s_hold);
+            if (t_stop < 0.0 && vec3_norm(v) < 0.01)
+                t_stop = t;
+        }
+        arm_forward_dynamics(&arm_model_puma560, q, qd, o.tau_Nm, NULL, NULL, qdd);
+        for (i = 0; i < ARM_NJ; i++) {
+            qd[i] += 1e-3 * qdd[i];
+            q[i] += 1e-3 * qd[i];
+        }
+    }
+    print_message("freeze %.3f v0 %.3f stop %.3f lead %.4f blocked %d done %d\n", t_freeze, v0, t_stop, lead_max, blocked, done);
+    assert_true(t_stop >= t_freeze && t_stop - t_freeze <= 0.050);
+    assert_true(lead_max > 0.0 && lead_max <= ERLAW_FOLLOW_GAP_M + v0 / (exp(1.0) * w) + 1e-3);
+    assert_int_equal(blocked, 0);   /* held by the partner: not blocked */
+    assert_true(done);              /* both resumed and finished */
 }
 
 static void test_bad_input(void **st)
@@ -147,7 +190,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_segment_ends_at_p1),
         cmocka_unit_test(test_block_and_resume),
-        cmocka_unit_test(test_external_reference_holds),
+        cmocka_unit_test(test_external_reference_stops_fast),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

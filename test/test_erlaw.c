@@ -209,32 +209,94 @@ static void test_blocked_event_vs_time(void **st)
     assert_true(m.speed_max > 2.0 * G.v_m);
 }
 
-/* Externally held reference (a synchronised partner is blocked): the mass
- * leads the frozen reference by a bounded amount and stops. */
-static void test_external_reference_bounded_lead(void **st)
+/* External reference (SPEC 2.3): a leader mass runs the event law, the
+ * follower tracks s_ref = its s. The leader is frozen at cruise: the
+ * follower's speed falls below 1 cm/s within 50 ms, its lead over the
+ * frozen reference stays below g + v0 / (e w), it rests at the gap and
+ * resumes with the leader. */
+static void test_external_reference_follower_stops(void **st)
+{
+    const double w = ERLAW_SYNC_OMEGA_RADPS;
+    /* the event law cruises at up to v_m + k0/k_v (bias surplus) */
+    const double lead_bound = ERLAW_FOLLOW_GAP_M + (G.v_m + G.k0 / G.k_v) / (exp(1.0) * w) + 1e-4;
+    erlaw_line lead_l, fol_l;
+    mass lead, fol;
+    double t, t_freeze = -1.0, t_stop = -1.0, lead_max = 0.0, s_hold = 0.0;
+    int k;
+    (void)st;
+    assert_int_equal(erlaw_line_init(&lead_l, P0, P1, &G), 0);
+    assert_int_equal(erlaw_line_init(&fol_l, P0, P1, &G), 0);
+    mass_at(&lead, P0);
+    mass_at(&fol, P0);
+    for (t = 0.0; t < 20.0 && !(is_done(&lead_l, &lead) && is_done(&fol_l, &fol)); t += DT) {
+        const int frozen = t > 2.5 && t < 4.5;
+        const double s_lead = erlaw_line_s(&lead_l, lead.x);
+        erlaw_out o;
+        /* s* = min: whichever mass is behind holds the other */
+        cycle(&lead_l, &lead, ERLAW_REF_EXTERNAL, erlaw_line_s(&fol_l, fol.x), frozen);
+        o = cycle(&fol_l, &fol, ERLAW_REF_EXTERNAL, s_lead, 0);
+        assert_true(o.bias == 0.0 || !o.follower);
+        if (frozen && t_freeze < 0.0) {
+            t_freeze = t;
+            s_hold = s_lead;
+            /* frozen at cruise, the follower moving at full speed */
+            assert_true(vec3_norm(fol.v) > 0.8 * G.v_m);
+        }
+        if (frozen) {
+            const double lead_now = erlaw_line_s(&fol_l, fol.x) - s_hold;
+            lead_max = fmax(lead_max, lead_now);
+            if (t_stop < 0.0 && vec3_norm(fol.v) < 0.01)
+                t_stop = t;
+            if (t > 3.5) {
+                assert_true(vec3_norm(fol.v) < 1e-4);
+                assert_true(fabs(lead_now - ERLAW_FOLLOW_GAP_M) < 1e-4);
+            }
+        }
+    }
+    assert_true(t_stop > t_freeze && t_stop - t_freeze <= 0.050);
+    assert_true(lead_max > 0.0 && lead_max <= lead_bound);
+    /* both resumed and finished after the 2 s hold */
+    assert_true(t < 20.0);
+    /* without the rate term (old law: V_d(s_ref) as feed-forward) the
+     * follower would coast until k_p lead ~ k_v v_m: 4 cm. */
+    for (k = 0; k < 2; k++) {
+        erlaw_out o;
+        double x[3];
+        /* min semantics: a reference ahead of the arm (or past s_f) is the
+         * arm's own s, and the arm is then not a follower */
+        vec3_axpy(x, P0, 0.1, lead_l.ch.e);
+        assert_int_equal(erlaw_line_step(&fol_l, x, fol.v, ERLAW_REF_EXTERNAL, k ? 7.0 : 0.3, DT, &o), 0);
+        assert_true(fabs(o.s_ref_m - 0.1) < 1e-12);
+        assert_int_equal(o.follower, 0);
+    }
+}
+
+/* A detected block (ERLAW_REF_BLOCKED): the command on the frozen mass is
+ * the bias alone along e, far below the event law's a_m + k_v v_m + k0;
+ * on release the bias moves the mass on. */
+static void test_blocked_leans_with_bias(void **st)
 {
     erlaw_line l;
     mass m;
-    double s_hold = 0.2, lead_bound, s;
+    double s0;
     int k;
     (void)st;
     assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
     mass_at(&m, P0);
-    while (erlaw_line_s(&l, m.x) < s_hold)
-        cycle(&l, &m, ERLAW_REF_EXTERNAL, erlaw_line_s(&l, m.x), 0);
-    for (k = 0; k < 10000; k++)
-        cycle(&l, &m, ERLAW_REF_EXTERNAL, s_hold, 0);
-    s = erlaw_line_s(&l, m.x);
-    lead_bound = (G.a_m + G.k_v * G.v_m + G.k0) / G.k_p;
-    assert_true(s - s_hold <= lead_bound);
-    assert_true(s - s_hold > 0.0);
-    assert_true(vec3_norm(m.v) < 1e-4);
-    /* the held reference is respected as clamped: beyond s_f means s_f */
-    {
-        erlaw_out o;
-        assert_int_equal(erlaw_line_step(&l, m.x, m.v, ERLAW_REF_EXTERNAL, 7.0, DT, &o), 0);
-        assert_true(o.s_ref_m == 0.5);
+    while (erlaw_line_s(&l, m.x) < 0.2)
+        cycle(&l, &m, ERLAW_REF_MEASURED, 0.0, 0);
+    for (k = 0; k < 1000; k++) {
+        erlaw_out o = cycle(&l, &m, ERLAW_REF_BLOCKED, 0.0, 1);
+        if (k == 0)
+            continue;   /* the mass still had its speed this cycle */
+        assert_true(fabs(vec3_norm(o.u) - o.bias) < 1e-9);
+        assert_true(o.bias <= G.k0 && o.bias > 0.5 * G.k0);
+        assert_true(vec3_dot(o.u, l.ch.e) > 0.0);
     }
+    s0 = erlaw_line_s(&l, m.x);
+    for (k = 0; k < 300; k++)
+        cycle(&l, &m, ERLAW_REF_BLOCKED, 0.0, 0);
+    assert_true(erlaw_line_s(&l, m.x) > s0 + 1e-3);
 }
 
 /* Rotational double integrator R' = [w]x R, w' = u about a fixed axis. */
@@ -341,7 +403,8 @@ int main(void)
         cmocka_unit_test(test_bias_is_needed),
         cmocka_unit_test(test_short_segment_starts_against_disturbance),
         cmocka_unit_test(test_blocked_event_vs_time),
-        cmocka_unit_test(test_external_reference_bounded_lead),
+        cmocka_unit_test(test_external_reference_follower_stops),
+        cmocka_unit_test(test_blocked_leans_with_bias),
         cmocka_unit_test(test_rotation_channel),
         cmocka_unit_test(test_predicates),
         cmocka_unit_test(test_invalid_input),

@@ -76,15 +76,18 @@ static void test_invalid(void **st)
 }
 
 /* Two point masses on segments of different lengths, both driven by
- * erlaw with the common reference. Mass 2 is frozen for a while: mass 1
- * stops within a bounded lead of its reference, and both finish. */
+ * erlaw with the common reference. Mass 2 is frozen at speed for 10 s:
+ * mass 1's speed falls below 1 cm/s within 50 ms, its lead over its
+ * reference stays below g + v0 / (e w) (erlaw.h), it rests at the gap, and
+ * both resume and finish. */
 static void test_closed_loop_bounded_lead(void **st)
 {
     const erlaw_gains g = { 0.25, 0.5, 4.0, 100.0, 20.0, 0.2, 5.0, 50.0 };
     const double p0[2][3] = { { 0, 0, 0 }, { 1, 0, 0 } };
     const double p1[2][3] = { { 0.6, 0, 0 }, { 1, 0.3, 0 } };
-    const double dt = 1e-3, lead_bound = (g.a_m + g.k_v * g.v_m + g.k0) / g.k_p;
-    double x[2][3], v[2][3], l[2], s[2], ref[2], s_star, t = 0.0, max_lead = 0.0;
+    const double dt = 1e-3, w = ERLAW_SYNC_OMEGA_RADPS;
+    double x[2][3], v[2][3], l[2], s[2], ref[2], s_star, t = 0.0, max_lead = 0.0, v0 = -1.0;
+    double t_stop = -1.0, t_freeze = -1.0;
     erlaw_line seg[2];
     sync_ref r;
     int i, k, done = 0;
@@ -97,10 +100,15 @@ static void test_closed_loop_bounded_lead(void **st)
     }
     assert_int_equal(sync_ref_init(&r, 2, l), 0);
     while (!done && t < 40.0) {
-        int frozen2 = t > 1.5 && t < 11.5;
+        const int frozen2 = t > 2.0 && t < 12.0;
         for (i = 0; i < 2; i++)
             s[i] = erlaw_line_s(&seg[i], x[i]);
         assert_int_equal(sync_ref_update(&r, s, &s_star, ref), 0);
+        if (frozen2 && t_freeze < 0.0) {
+            t_freeze = t;
+            v0 = vec3_norm(v[0]);
+            assert_true(v0 > 0.15);    /* blocked at speed */
+        }
         for (i = 0; i < 2; i++) {
             erlaw_out o;
             assert_int_equal(
@@ -114,19 +122,25 @@ static void test_closed_loop_bounded_lead(void **st)
                 x[i][k] += v[i][k] * dt;
             }
         }
-        if (frozen2 && t > 2.5) {
-            /* the free mass is held: at rest, near its reference */
+        if (frozen2) {
+            /* the free mass is held: it stops within 50 ms, its lead over
+             * its reference stays bounded, then it rests at the gap */
             max_lead = fmax(max_lead, s[0] - ref[0]);
-            if (t > 5.0)
-                assert_true(vec3_norm(v[0]) < 1e-3);
+            if (t_stop < 0.0 && vec3_norm(v[0]) < 0.01)
+                t_stop = t;
+            if (t > 3.0) {
+                assert_true(vec3_norm(v[0]) < 1e-4);
+                assert_true(fabs(s[0] - ref[0] - ERLAW_FOLLOW_GAP_M) < 1e-4);
+            }
         }
         done = erlaw_done(s[0], l[0], vec3_norm(v[0]), 1e-3, 5e-3) &&
                erlaw_done(s[1], l[1], vec3_norm(v[1]), 1e-3, 5e-3);
         t += dt;
     }
+    assert_true(t_stop > t_freeze && t_stop - t_freeze <= 0.050);
     assert_true(max_lead > 0.0);
-    assert_true(max_lead <= lead_bound);
-    assert_true(done);
+    assert_true(max_lead <= ERLAW_FOLLOW_GAP_M + v0 / (exp(1.0) * w) + 2e-4);
+    assert_true(done);   /* both resumed and finished */
 }
 
 int main(void)
