@@ -15,6 +15,11 @@
  * the (damped) null-space projector; -k_null P qd damps the motion J#
  * cannot see. Jdot qd is the central difference of J along qd.
  *
+ * Fast path: the SVD is the hot spot of the cycle. J^-1 (Gauss-Jordan)
+ * gives a lower bound on s_min (||J^-1 J^-T||_F^(-1/2)); when that bound
+ * is >= sigma_band, lambda = 0 and J# = J^-1, P = 0, so qdd = J^-1 rhs is
+ * the same law without the SVD. Otherwise the SVD decides as above.
+ *
  * Everything is in the arm's base frame (arm_fk's frame); the daemon turns
  * world vectors into it.
  */
@@ -48,7 +53,8 @@ typedef struct cartctl_out {
     double qdd[ARM_NJ];      /* commanded joint accelerations        */
     double a_cmd[6];         /* tool acceleration asked of J#        */
     double rot_err[3];       /* log(R_d R^T), rad                    */
-    double sigma_min;
+    double sigma_min;        /* from the SVD; on the fast path (see
+                                cartctl_qdd) a lower bound >= sigma_band */
     double lambda;
     int    saturated;        /* 1 if a torque hit its limit          */
 } cartctl_out;
