@@ -408,30 +408,7 @@ static void cycle(daemon *d, void *user)
              stopped ? "safe stop" : "running", stopped, A.id_hi - A.id_lo + 1);
 }
 
-/* The shell's own SIM_CLOCK subscription keeps LCM's default queue of 30
- * messages; between two answered steps the simulator publishes 50 clocks
- * (and, hosting many robots, several hundred sensor messages), so a busy
- * host could lose the one clock it must answer and stall the lockstep.
- * This second subscription with a deep queue sets the same pending step. */
-static void on_clock_deep(const lcm_recv_buf_t *rb, const char *ch, void *u)
-{
-    tandem_sim_clock_t m;
-    (void)ch; (void)u;
-    if (tandem_sim_clock_t_decode(rb->data, 0, rb->data_size, &m) < 0) return;
-    if (m.step >= 0 && isfinite(m.sim_time_s) && D.lockstep &&
-        m.mode == TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP && m.step % D.period_steps == 0 &&
-        m.step > D.step - 1) {
-        D.step = m.step;
-        D.sim_time_s = m.sim_time_s;
-        D.pending_step = m.step;
-    }
-    tandem_sim_clock_t_decode_cleanup(&m);
-}
 
-static void deep(lcm_subscription_t *s)
-{
-    if (s) lcm_subscription_set_queue_capacity(s, 100000);
-}
 
 int main(int argc, char **argv)
 {
@@ -472,11 +449,10 @@ int main(int argc, char **argv)
         snprintf(h->ch_state, sizeof h->ch_state, "ROVER%d_STATE", j);
     }
     if (daemon_start(&D) != 0) return 1;
-    deep(lcm_subscribe(D.lcm, "ROVER[0-9]+_SENSORS", on_sensors, NULL));
-    deep(lcm_subscribe(D.lcm, "ROVER[0-9]+_SONAR", on_sonar, NULL));
-    deep(lcm_subscribe(D.lcm, "ROVER[0-9]+_BEACONS", on_beacons, NULL));
-    deep(lcm_subscribe(D.lcm, "TEAM", on_team, NULL));
-    deep(lcm_subscribe(D.lcm, "SIM_CLOCK", on_clock_deep, NULL));
+    daemon_subscribe(&D, "ROVER[0-9]+_SENSORS", on_sensors, NULL);
+    daemon_subscribe(&D, "ROVER[0-9]+_SONAR", on_sonar, NULL);
+    daemon_subscribe(&D, "ROVER[0-9]+_BEACONS", on_beacons, NULL);
+    daemon_subscribe(&D, "TEAM", on_team, NULL);
     daemon_run(&D, cycle, NULL);
     daemon_finish(&D);
     return 0;

@@ -474,8 +474,8 @@ int main(int argc, char **argv)
     fflush(stdout);
     if (daemon_start(&d) != 0)
         return 1;
-    lcm_subscribe(d.lcm, "ARM_EVENTS", on_event, &d);
-    lcm_subscribe(d.lcm, "VISION_DETECTIONS", on_vision, &d);
+    daemon_subscribe(&d, "ARM_EVENTS", on_event, &d);
+    daemon_subscribe(&d, "VISION_DETECTIONS", on_vision, &d);
     S.changed = 1;
     rc = daemon_run(&d, cycle, NULL);
     daemon_finish(&d);

@@ -193,7 +193,7 @@ static int arms_create(sim_world *w, const sim_config *cfg)
             build_joint(w, a, i, Tl);
         memcpy(a->q, a->q_init, sizeof a->q);
         if (!subs[k])
-            subs[k] = lcm_subscribe(w->lcm, command_channel[k], on_command, a);
+            subs[k] = daemon_subscribe(&w->d, command_channel[k], on_command, a);
     }
     return 0;
 }

@@ -431,8 +431,8 @@ int main(int argc, char **argv)
     if (daemon_start(&app.w.d) != 0)
         return 1;
     app.w.lcm = app.w.d.lcm;
-    lcm_subscribe(app.w.lcm, "SIM_ACK", on_ack, NULL);
-    lcm_subscribe(app.w.lcm, "SIM_CONTROL", on_control, NULL);
+    daemon_subscribe(&app.w.d, "SIM_ACK", on_ack, NULL);
+    daemon_subscribe(&app.w.d, "SIM_CONTROL", on_control, NULL);
     if (build_world() != 0)
         return 1;
     if (app.w.lockstep)

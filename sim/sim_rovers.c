@@ -225,10 +225,9 @@ static int rovers_create(sim_world *w, const sim_config *cfg)
     }
     snprintf(pattern, sizeof pattern, "ROVER[0-9]+_COMMAND");
     if (w->lcm) {
-        /* a whole team answers in one burst: LCM's default queue of 30
-         * would drop commands of large teams */
-        R.sub = lcm_subscribe(w->lcm, pattern, on_command, NULL);
-        if (R.sub) lcm_subscription_set_queue_capacity(R.sub, 100000);
+        /* a whole team answers in one burst: the deep queue of
+         * daemon_subscribe keeps large teams' commands */
+        R.sub = daemon_subscribe(&w->d, pattern, on_command, NULL);
     }
     fprintf(stderr, "tandem-sim: %d Pioneer robots in world '%s' (goal %.1f, %.1f)\n", R.n,
             cfg->rover_world, R.layout.goal_m[0], R.layout.goal_m[1]);

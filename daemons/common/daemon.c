@@ -198,7 +198,7 @@ int daemon_start(daemon *d)
         fprintf(stderr, "%s: cannot open LCM at '%s'\n", d->name, d->lcm_url);
         return -1;
     }
-    lcm_subscribe(d->lcm, "SIM_CLOCK", on_clock, d);
+    daemon_subscribe(d, "SIM_CLOCK", on_clock, d);
     daemon_rt_setup(d->name, d->rt_prio);
     if (rtloop_init(&d->loop, (int64_t)llround(d->period_s * 1e9)) != 0) {
         fprintf(stderr, "%s: period %g s out of range\n", d->name, d->period_s);
@@ -206,6 +206,18 @@ int daemon_start(daemon *d)
     }
     d->last_health_ns = rtloop_now_ns();
     return 0;
+}
+
+lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler, void *user)
+{
+    lcm_subscription_t *s = lcm_subscribe(d->lcm, channel, handler, user);
+    /* LCM keeps 30 messages per subscription by default and drops the rest
+     * silently; in lockstep a dropped SIM_CLOCK would stall the world, and
+     * a busy moment must not lose inputs. The queue costs memory only while
+     * it is actually full. */
+    if (s)
+        lcm_subscription_set_queue_capacity(s, DAEMON_QUEUE_CAPACITY);
+    return s;
 }
 
 void daemon_drain(daemon *d)

@@ -17,6 +17,7 @@
 #define DAEMON_DEFAULT_LCM_URL "udpm://239.255.76.67:7667?ttl=0"
 #define DAEMON_SIM_DT_S 0.001          /* the simulator's fixed step */
 #define DAEMON_NAME_MAX 64
+#define DAEMON_QUEUE_CAPACITY 100000   /* messages per subscription */
 
 /* Long options every daemon accepts; splice into a getopt_long table. */
 enum { OPT_LCM_URL = 1000, OPT_RT, OPT_LOCKSTEP, OPT_PERIOD_MS, OPT_HELP };
@@ -85,6 +86,8 @@ int  daemon_stop_requested(void);
 void daemon_request_stop(void);
 /* Publishes the health message now (daemon_run does it once a second). */
 void daemon_publish_health(daemon *d);
+/* lcm_subscribe with a deep receive queue (no silent drops under load). */
+lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler, void *user);
 /* Handles every LCM message already queued, without blocking. */
 void daemon_drain(daemon *d);
 /* Seconds between wall-clock now and a message's utime, for staleness. */
