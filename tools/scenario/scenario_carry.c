@@ -47,6 +47,7 @@
 #define CONTACT_N 0.5
 #define LURCH_WINDOW_S 2.0
 #define STOP_MPS 0.01
+#define BLOCK_SETTLED_S 0.5      /* contact force "settled": this long after contact */
 #define NT 8
 
 typedef struct block {
@@ -54,8 +55,8 @@ typedef struct block {
     double start_s, dur_s;
     /* measured */
     double in_s, out_s, contact_s, self_stop_s, partner_stop_s;
-    double max_force_N, force_sum_N;
-    long   force_n;
+    double max_force_N, force_sum_N, force_late_sum_N;
+    long   force_n, force_late_n;
     double lead_max_m, lurch_mps;
     int    during_t3, done;
 } block;
@@ -253,6 +254,12 @@ static void block_step(void)
         if (b->contact_s >= 0.0 && R.t_s - b->contact_s > 0.1 && f > 0.0) {
             b->force_sum_N += f;
             b->force_n++;
+        }
+        /* after the arm's blocked detector (0.3 s still) has switched the
+         * law to leaning with the bias only */
+        if (b->contact_s >= 0.0 && R.t_s - b->contact_s > BLOCK_SETTLED_S && f > 0.0) {
+            b->force_late_sum_N += f;
+            b->force_late_n++;
         }
         if (b->during_t3 && b->contact_s >= 0.0 && R.tr[0] == 3 && R.tr[1] == 3 &&
             R.s_f[0] > 0.0 && R.s_f[1] > 0.0) {
@@ -480,14 +487,15 @@ static void write_blocks_csv(const char *dir)
     if (!f)
         return;
     fprintf(f, "arm,link,armed_s,in_s,out_s,duration_s,during_t3,contact_s,max_force_N,mean_force_N,"
-               "blocked_stop_s,partner_stop_latency_s,partner_lead_max_m,lurch_mps\n");
+               "blocked_stop_s,partner_stop_latency_s,partner_lead_max_m,lurch_mps,mean_force_settled_N\n");
     for (i = 0; i < n_blocks; i++) {
         const block *b = &blocks[i];
-        fprintf(f, "%d,%d,%.3f,%.3f,%.3f,%.3f,%d,%.3f,%.2f,%.2f,%.3f,%.4f,%.4f,%.3f\n", b->arm, b->link, b->start_s,
+        fprintf(f, "%d,%d,%.3f,%.3f,%.3f,%.3f,%d,%.3f,%.2f,%.2f,%.3f,%.4f,%.4f,%.3f,%.2f\n", b->arm, b->link, b->start_s,
                 b->in_s, b->out_s, b->dur_s, b->during_t3, b->contact_s, b->max_force_N,
                 b->force_n ? b->force_sum_N / (double)b->force_n : 0.0, b->self_stop_s,
                 b->partner_stop_s >= 0.0 ? b->partner_stop_s - b->self_stop_s : NAN,
-                b->lead_max_m, b->lurch_mps);
+                b->lead_max_m, b->lurch_mps,
+                b->force_late_n ? b->force_late_sum_N / (double)b->force_late_n : NAN);
     }
     fclose(f);
 }
@@ -675,6 +683,21 @@ static int run(int argc, char **argv)
     json_num(&j, "max_contact_force_N", max_force);
     json_num(&j, "mean_contact_force_blocked_N", fn ? fsum / (double)fn : 0.0);
     json_num(&j, "max_tool_speed_after_release_mps", max_lurch);
+    for (i = 0; i < n_blocks; i++) {
+        /* per block: arm, link, t3, mean contact force from 0.1 s after
+         * contact and once settled (BLOCK_SETTLED_S), max */
+        const block *b = &blocks[i];
+        char k[64], v[64];
+        snprintf(k, sizeof k, "block%d", i + 1);
+        snprintf(v, sizeof v, "arm %d link %d%s", b->arm, b->link, b->during_t3 ? " t3" : "");
+        json_str(&j, k, v);
+        snprintf(k, sizeof k, "block%d_mean_force_N", i + 1);
+        json_num(&j, k, b->force_n ? b->force_sum_N / (double)b->force_n : NAN);
+        snprintf(k, sizeof k, "block%d_mean_force_settled_N", i + 1);
+        json_num(&j, k, b->force_late_n ? b->force_late_sum_N / (double)b->force_late_n : NAN);
+        snprintf(k, sizeof k, "block%d_max_force_N", i + 1);
+        json_num(&j, k, b->max_force_N);
+    }
     json_num(&j, "t3_partner_stop_latency_max_s", lat_max);
     json_num(&j, "t3_partner_lead_max_m", lead_max);
     json_int(&j, "invariant_violations", res.invariant_violations);
