@@ -444,7 +444,7 @@ int main(int argc, char **argv)
            (long long)app.w.d.msgs.rejected);
     fflush(stdout);
     publish_status();
+    destroy_world();           /* models unsubscribe: LCM must still be open */
     daemon_finish(&app.w.d);
-    destroy_world();
     return 0;
 }
