@@ -15,15 +15,18 @@
  *   ERLAW_REF_EXTERNAL  s_ref = min(k_i s*, s)     (synchronised, SPEC 2.3)
  *   ERLAW_REF_TIME      s_ref = s_d(t), advancing with the clock from the
  *                       segment start              (baseline, SPEC 2.6)
- *   ERLAW_REF_BLOCKED   s_ref = s, planned motion dropped (a detected block)
+ *   ERLAW_REF_BLOCKED   s_ref = max(s, s_ext), s_ext = where the block was
+ *                       met; planned motion dropped (a detected block)
  *
  * While blocked under the event law, s stops, so every term stops:
  * u = A_d(s) e + k_v V_d(s) e + p_bias(s) (plus feedback on V = 0), i.e.
  * bounded by a_m + k_v v_m + k0 whatever the block duration. Once the
  * block is detected, ERLAW_REF_BLOCKED drops the planned motion and keeps
- * the law's start-up form at the measured s,
- *   u = p_bias(s) e - k_v V + k_p (X_d(s) - X),
- * so the arm leans on the obstacle with the bias only and the bias moves
+ * the law's start-up form, holding the ground gained (s_h: where the
+ * block was met),
+ *   u = p_bias(s) e - k_v V + k_p (X_d(max(s, s_h)) - X),
+ * so the arm leans on the obstacle with the bias only (the position term
+ * acts only if the obstacle pushes it back: no recoil), and the bias moves
  * it on when the obstacle goes (as it starts the arm at s0).
  *
  * External reference (a synchronised action, SPEC 2.3): s_ext = k_i s*.

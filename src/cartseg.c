@@ -77,8 +77,9 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     /* a detected block suspends the planned motion (event law only; the
      * baseline keeps its clock): lean on the obstacle with the bias */
     if (c->blocked && c->ref == ERLAW_REF_MEASURED)
-        ref = ERLAW_REF_BLOCKED;
-    if (erlaw_line_step(&c->line, out->x_world, out->v_world, ref, s_ext_m, dt_s, &eo) != 0)
+        ref = ERLAW_REF_BLOCKED;   /* s_h: where the block was met */
+    if (erlaw_line_step(&c->line, out->x_world, out->v_world, ref,
+                        ref == ERLAW_REF_BLOCKED ? c->blk.s_best_m : s_ext_m, dt_s, &eo) != 0)
         return -1;
     out->s_m = eo.s_m;
     out->s_ref_m = eo.s_ref_m;

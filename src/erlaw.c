@@ -88,15 +88,21 @@ static int channel_ref(erlaw_channel *c, double s, erlaw_ref ref, double s_ext, 
     const double s_f = c->prof.s_f_m;
     if (!isfinite(dt) || dt < 0.0)
         return -1;
-    if (ref == ERLAW_REF_EXTERNAL && !isfinite(s_ext))
+    if ((ref == ERLAW_REF_EXTERNAL || ref == ERLAW_REF_BLOCKED) && !isfinite(s_ext))
         return -1;
     c->t_s += dt;
     if (ref != ERLAW_REF_EXTERNAL)
         c->ext_seen = 0;
     switch (ref) {
     case ERLAW_REF_MEASURED:
-    case ERLAW_REF_BLOCKED:
         *s_ref = s;
+        return 0;
+    case ERLAW_REF_BLOCKED:
+        /* hold the ground gained (s_ext = where the block was met): no
+         * recoil along e, no pull-back of progress */
+        if (!isfinite(s_ext))
+            return -1;
+        *s_ref = fmax(s, clamp(s_ext, 0.0, s_f));
         return 0;
     case ERLAW_REF_EXTERNAL:
         /* min semantics (SPEC 2.3): never a reference ahead of oneself */

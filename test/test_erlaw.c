@@ -273,7 +273,8 @@ static void test_external_reference_follower_stops(void **st)
 
 /* A detected block (ERLAW_REF_BLOCKED): the command on the frozen mass is
  * the bias alone along e, far below the event law's a_m + k_v v_m + k0;
- * on release the bias moves the mass on. */
+ * pushed back, it holds the ground gained; on release the bias moves the
+ * mass on. */
 static void test_blocked_leans_with_bias(void **st)
 {
     erlaw_line l;
@@ -286,7 +287,7 @@ static void test_blocked_leans_with_bias(void **st)
     while (erlaw_line_s(&l, m.x) < 0.2)
         cycle(&l, &m, ERLAW_REF_MEASURED, 0.0, 0);
     for (k = 0; k < 1000; k++) {
-        erlaw_out o = cycle(&l, &m, ERLAW_REF_BLOCKED, 0.0, 1);
+        erlaw_out o = cycle(&l, &m, ERLAW_REF_BLOCKED, erlaw_line_s(&l, m.x), 1);
         if (k == 0)
             continue;   /* the mass still had its speed this cycle */
         assert_true(fabs(vec3_norm(o.u) - o.bias) < 1e-9);
@@ -294,8 +295,17 @@ static void test_blocked_leans_with_bias(void **st)
         assert_true(vec3_dot(o.u, l.ch.e) > 0.0);
     }
     s0 = erlaw_line_s(&l, m.x);
+    /* pushed back 1 cm by the obstacle: the ground gained is held */
+    {
+        erlaw_out o;
+        double x[3];
+        vec3_axpy(x, m.x, -0.01, l.ch.e);
+        assert_int_equal(erlaw_line_step(&l, x, m.v, ERLAW_REF_BLOCKED, s0, DT, &o), 0);
+        assert_true(fabs(vec3_dot(o.u, l.ch.e) - (o.bias + G.k_p * 0.01)) < 1e-9);
+    }
+    /* released: the bias moves it on */
     for (k = 0; k < 300; k++)
-        cycle(&l, &m, ERLAW_REF_BLOCKED, 0.0, 0);
+        cycle(&l, &m, ERLAW_REF_BLOCKED, s0, 0);
     assert_true(erlaw_line_s(&l, m.x) > s0 + 1e-3);
 }
 
