@@ -49,13 +49,17 @@ typedef struct {
     double robot_width_m;
     double k2, k3, k4;         /* eq. 11 weights */
     double d_r_m;              /* allowed deviation from the slot */
+    double form_near_m, form_far_m; /* slot distance band over which slot tracking
+                                     * hands over from pose tracking to pursuit
+                                     * (behaviour_slot_track) */
 } behaviour_params_t;
 
 /* Defaults (Pioneer 2 DX-like):
  *   d 0.15 m; V_max 0.5 m/s, w_max 1.0 rad/s (both eq. 6 and eq. 10);
  *   a1 0.4, a2 1.0; goal_tol 0.3 m, goal_margin 0.05 m; b1 0.5, b2 1.0;
  *   d_s 0.6 m; k_v 0.3 1/s, k_s 0.8; V_k 0.0 m/s, w_k 0.6 rad/s, 2 s;
- *   passage safety 0.3 m, width 0.38 m; k2 1, k3 1, k4 1, d_r 0.3 m. */
+ *   passage safety 0.3 m, width 0.38 m; k2 1, k3 1, k4 1, d_r 0.3 m;
+ *   form_near 0.3 m, form_far 0.8 m. */
 void behaviour_params_default(behaviour_params_t *p);
 /* 0 if every parameter is finite and in range, else -1. */
 int  behaviour_params_check(const behaviour_params_t *p);
@@ -100,6 +104,28 @@ void behaviour_formation_raw(unicycle_cmd_t *u, double l_m, double phi_rad,
 int  behaviour_formation(unicycle_cmd_t *u, double *R_d_m, const pose2_t *o,
                          const unicycle_state_t *ref, double l_d_m,
                          double phi_d_rad, const behaviour_params_t *p);
+
+/* Slot tracking, the formation command as flown. The seed law moves the
+ * point O, which lies BEHIND the axle: to move O sideways it swings the
+ * tail (turns the nose the other way), and with V >= 0 (no rear sonar) its
+ * internal heading dynamics are unstable (theta' ~ (V / d) sin theta: a
+ * time constant of d / V ~ 0.3 s). Near the slot the rover then chatters
+ * between the seed law and a no-reverse fallback; a robot pushed a metre
+ * off its slot turns away and orbits the team (test_behaviour). This law
+ * steers the NOSE: Kanayama pose tracking of the slot pose (slot position,
+ * team heading; V = V0 cos e_th + b1 e_x, w = w0 + V0 (4 e_y + 2 sin e_th),
+ * V0 floored at 0.1 m/s for steering), handing over linearly between
+ * form_near_m and form_far_m from the slot to pursuit of the slot point
+ * when the slot is ahead (V = (V0 + b1 dist) cos(bearing),
+ * w = w0 + b2 bearing). V is never negative: a robot ahead of its slot
+ * waits for it. Saturated as eq. 10. -1 on bad input (U = 0). */
+int  behaviour_slot_track(unicycle_cmd_t *u, const pose2_t *o, const unicycle_state_t *ref,
+                          double l_d_m, double phi_d_rad, const behaviour_params_t *p);
+/* behaviour_slot_track, with R_d_m (may be NULL) the seed law's slot error
+ * (used by the eq. 11 weight). */
+int  behaviour_formation_track(unicycle_cmd_t *u, double *R_d_m, const pose2_t *o,
+                               const unicycle_state_t *ref, double l_d_m,
+                               double phi_d_rad, const behaviour_params_t *p);
 
 /* ---- avoid obstacles -------------------------------------------------- */
 /* d_st = d_s + (D/2 - l_d cos phi_d), never below d_s. */

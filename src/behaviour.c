@@ -39,6 +39,8 @@ void behaviour_params_default(behaviour_params_t *p)
     p->k3 = 1.0;
     p->k4 = 1.0;
     p->d_r_m = 0.3;
+    p->form_near_m = 0.3;
+    p->form_far_m = 0.8;
 }
 
 static int params_check_values(const behaviour_params_t *p)
@@ -56,6 +58,9 @@ static int params_check_values(const behaviour_params_t *p)
     for (i = 0; i < sizeof nonneg / sizeof nonneg[0]; i++)
         if (!isfinite(nonneg[i]) || nonneg[i] < 0.0) return -1;
     if (p->sat_mode != UNICYCLE_SAT_CLIP && p->sat_mode != UNICYCLE_SAT_SCALE) return -1;
+    if (!isfinite(p->form_near_m) || p->form_near_m < 0.0 || !isfinite(p->form_far_m) ||
+        !(p->form_far_m > p->form_near_m))
+        return -1;
     return 0;
 }
 
@@ -189,6 +194,75 @@ int behaviour_formation(unicycle_cmd_t *u, double *R_d_m, const pose2_t *o,
                             ref->w_radps, p->d_m, p->b1, p->b2);
     unicycle_saturate(u, &raw, p->v_fm_max_mps, p->w_fm_max_radps, p->sat_mode);
     if (R_d_m) *R_d_m = behaviour_slot_error(l, phi, l_d_m, phi_d_rad);
+    return 0;
+}
+
+/* Slot position and the slot's offset seen from O in the robot frame. */
+static void slot_in_robot_frame(double *ex, double *ey, const pose2_t *o,
+                                const unicycle_state_t *ref, double l_d_m, double phi_d_rad)
+{
+    double s[2];
+    const double c = cos(o->theta_rad), sn = sin(o->theta_rad);
+    vec2_rotate(s, l_d_m * cos(phi_d_rad), l_d_m * sin(phi_d_rad), ref->theta_rad);
+    s[0] += ref->x_m - o->x_m;
+    s[1] += ref->y_m - o->y_m;
+    *ex = s[0] * c + s[1] * sn;
+    *ey = -s[0] * sn + s[1] * c;
+}
+
+static int formation_inputs_ok(const pose2_t *o, const unicycle_state_t *ref, double l_d_m,
+                               double phi_d_rad, const behaviour_params_t *p)
+{
+    return vec2_pose_finite(o) && ref && vec2_finite3(ref->x_m, ref->y_m, ref->theta_rad) &&
+           isfinite(ref->v_mps) && isfinite(ref->w_radps) && isfinite(l_d_m) &&
+           isfinite(phi_d_rad) && l_d_m >= 0.0 && p->d_m > 0.0;
+}
+
+int behaviour_slot_track(unicycle_cmd_t *u, const pose2_t *o, const unicycle_state_t *ref,
+                         double l_d_m, double phi_d_rad, const behaviour_params_t *p)
+{
+    double ex, ey, dist, mu, kv, kw;
+    unicycle_cmd_t raw;
+    cmd_zero(u);
+    if (!formation_inputs_ok(o, ref, l_d_m, phi_d_rad, p)) return -1;
+    slot_in_robot_frame(&ex, &ey, o, ref, l_d_m, phi_d_rad);
+    dist = hypot(ex, ey);
+    {
+        /* Kanayama et al. 1990 with k_y = 4, k_th = 2 (per m, per rad at
+         * the reference speed); the speed floor keeps it steering when the
+         * team stands */
+        const double eth = vec2_angle_diff_rad(ref->theta_rad, o->theta_rad);
+        const double vr = ref->v_mps > 0.1 ? ref->v_mps : 0.1;
+        kv = ref->v_mps * cos(eth) + p->b1 * ex;
+        kw = ref->w_radps + vr * (4.0 * ey + 2.0 * sin(eth));
+    }
+    /* far with the slot ahead: pursue the slot point (nose toward it) */
+    mu = ex > 0.0 ? (dist - p->form_near_m) / (p->form_far_m - p->form_near_m) : 0.0;
+    if (mu < 0.0) mu = 0.0;
+    if (mu > 1.0) mu = 1.0;
+    if (mu > 0.0) {
+        const double b = atan2(ey, ex);
+        const double v0 = ref->v_mps > 0.0 ? ref->v_mps : 0.0;
+        kv = (1.0 - mu) * kv + mu * (v0 + p->b1 * dist) * cos(b);
+        kw = (1.0 - mu) * kw + mu * (ref->w_radps + p->b2 * b);
+    }
+    raw.v_mps = kv > 0.0 ? kv : 0.0;
+    raw.w_radps = kw;
+    unicycle_saturate(u, &raw, p->v_fm_max_mps, p->w_fm_max_radps, UNICYCLE_SAT_CLIP);
+    return 0;
+}
+
+int behaviour_formation_track(unicycle_cmd_t *u, double *R_d_m, const pose2_t *o,
+                              const unicycle_state_t *ref, double l_d_m,
+                              double phi_d_rad, const behaviour_params_t *p)
+{
+    unicycle_cmd_t seed;
+    double R_d = 0.0;
+    cmd_zero(u);
+    if (R_d_m) *R_d_m = 0.0;
+    if (behaviour_formation(&seed, &R_d, o, ref, l_d_m, phi_d_rad, p) != 0) return -1;
+    if (behaviour_slot_track(u, o, ref, l_d_m, phi_d_rad, p) != 0) return -1;
+    if (R_d_m) *R_d_m = R_d;
     return 0;
 }
 

@@ -225,33 +225,6 @@ static void mask_mates(const rover_ctl_t *c, const pose2_t *o, double keep_m,
         if (isinf(masked[k])) masked[k] = c->p.sonar_max_m;
 }
 
-/* The seed's formation law steers the point O to its slot in any
- * direction and leaves the heading free: from some starts it converges
- * driving backwards (heading flipped), and the Pioneer has no rear sonar
- * (the final command never reverses). Where the seed law asks for V < 0
- * or the slot lies behind, track the slot POSE instead (Kanayama: slot
- * position and the team heading, feed-forward V0, w0), which keeps V >= 0:
- * a robot ahead of its slot slows down and waits, facing the team heading. */
-static void formation_no_reverse(unicycle_cmd_t *u, const pose2_t *o,
-                                 const unicycle_state_t *ref, double l_d, double phi_d,
-                                 const behaviour_params_t *bp)
-{
-    double s[2], dx, dy, ex, ey, eth, v, w, vr;
-    vec2_rotate(s, l_d * cos(phi_d), l_d * sin(phi_d), ref->theta_rad);
-    dx = ref->x_m + s[0] - o->x_m;
-    dy = ref->y_m + s[1] - o->y_m;
-    ex = dx * cos(o->theta_rad) + dy * sin(o->theta_rad);
-    ey = -dx * sin(o->theta_rad) + dy * cos(o->theta_rad);
-    if (ex >= 0.0 && u->v_mps >= 0.0) return;
-    eth = vec2_angle_diff_rad(ref->theta_rad, o->theta_rad);
-    vr = ref->v_mps > 0.1 ? ref->v_mps : 0.1;
-    v = ref->v_mps * cos(eth) + bp->b1 * ex;
-    w = ref->w_radps + vr * (4.0 * ey + 2.0 * sin(eth)) + bp->b2 * 0.0;
-    u->v_mps = v > 0.0 ? (v < bp->v_fm_max_mps ? v : bp->v_fm_max_mps) : 0.0;
-    u->w_radps = w > bp->w_fm_max_radps ? bp->w_fm_max_radps
-               : w < -bp->w_fm_max_radps ? -bp->w_fm_max_radps : w;
-}
-
 /* R0's heading: the SPEC's circular mean of the robots' headings couples
  * every slot to every robot's turning (a robot that turns rotates the
  * frame, its slot moves sideways, it turns more): long formations (a
@@ -290,6 +263,35 @@ static void collision_guard(unicycle_cmd_t *u, const sonar_groups_t *g, const po
             side = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m), o->theta_rad);
         u->w_radps = side >= 0.0 ? 0.5 : -0.5;
     }
+}
+
+/* This robot is the last of the team along the direction of travel (from
+ * the team's mean position toward the goal), within 0.1 m: only the last
+ * robot through a passage may restore the formation. */
+static int is_rearmost(const rover_ctl_t *c, const pose2_t *o)
+{
+    double mx = o->x_m, my = o->y_m, ex, ey, len, own;
+    int i, n = 1;
+    for (i = 0; i < c->team.n; i++) {
+        double xy[2];
+        if (team_position(&c->team, c->team.m[i].robot, xy) != 0) continue;
+        mx += xy[0];
+        my += xy[1];
+        n++;
+    }
+    mx /= n;
+    my /= n;
+    ex = c->goal_m[0] - mx;
+    ey = c->goal_m[1] - my;
+    len = hypot(ex, ey);
+    if (!(len > 1e-6)) return 1;
+    own = (o->x_m * ex + o->y_m * ey) / len;
+    for (i = 0; i < c->team.n; i++) {
+        double xy[2];
+        if (team_position(&c->team, c->team.m[i].robot, xy) != 0) continue;
+        if ((xy[0] * ex + xy[1] * ey) / len < own - 0.1) return 0;
+    }
+    return 1;
 }
 
 static void own_goal(const rover_ctl_t *c, int n, int k, double g[2])
@@ -365,6 +367,8 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
     int32_t ids[TEAM_MAX + 1];
     int n, k, rc_goal, escaping, i;
     double l_d, phi_d, D, goal[2], R_d = 0.0, passage;
+    int side_hidden;
+    double masked[BEH_SONAR_N];
     behaviour_inputs_t in;
     formation_announce_t ann;
     unicycle_cmd_t u;
@@ -389,32 +393,37 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
     {
         /* avoid sees mates that come too near; the passage and dead-zone
          * tests never take a mate for a wall */
-        double masked[BEH_SONAR_N];
         mask_mates(c, &o, c->p.mate_keep_m, masked);
         behaviour_sonar_groups(&g, masked);
         mask_mates(c, &o, 0.0, masked);
         behaviour_sonar_groups(&gw, masked);
+        /* a side transducer that sees a mate cannot see the wall behind it */
+        side_hidden = masked[0] != c->range_m[0] || masked[BEH_SONAR_N - 1] != c->range_m[BEH_SONAR_N - 1];
     }
-
     own_goal(c, n, k, goal);
     escaping = escape_step(c, &gw, &g, &o, goal, dt_s, &in.u[BEH_EXCEPTION]);
 
-    /* narrow-passage protocol (not while escaping: the trap is not a passage) */
-    /* a passage has an open end ahead; walls on three sides are a trap
-     * (the dead-zone exception's business), not a passage */
-    if (gw.left_m < c->p.passage_sense_max_m && gw.right_m < c->p.passage_sense_max_m &&
-        gw.front_m > c->p.passage_front_min_m) {
+    /* narrow-passage protocol (not while escaping: the trap is not a passage).
+     * A passage has an open end ahead; walls on three sides are a trap
+     * (the dead-zone exception's business), not a passage. A side hidden
+     * by a mate or a front blocked (a mate or a bend ahead) leaves the
+     * width unknown, not clear: unknown neither narrows nor restores. */
+    if (!side_hidden && gw.left_m < c->p.passage_sense_max_m &&
+        gw.right_m < c->p.passage_sense_max_m && gw.front_m > c->p.passage_front_min_m) {
         c->passage_m = gw.left_m + gw.right_m + bp->robot_width_m;
         c->passage_t_s = t_s;
-    } else if (gw.left_m >= c->p.passage_sense_max_m || gw.right_m >= c->p.passage_sense_max_m) {
-        c->passage_m = INFINITY;              /* open on a side: no passage */
+        passage = c->passage_m;
+    } else if ((gw.left_m >= c->p.passage_sense_max_m &&
+                masked[BEH_SONAR_N - 1] == c->range_m[BEH_SONAR_N - 1]) ||
+               (gw.right_m >= c->p.passage_sense_max_m && masked[0] == c->range_m[0])) {
+        passage = INFINITY;                   /* a real open side: no passage */
+    } else {
+        passage = t_s - c->passage_t_s <= c->p.passage_hold_s ? c->passage_m : NAN;
     }
-    /* front blocked (a mate or a bend ahead): the width is unknown, not
-     * clear; keep the last reading for a while */
-    passage = t_s - c->passage_t_s <= c->p.passage_hold_s ? c->passage_m : INFINITY;
     if (!escaping) {
         const int before = c->fsm.type;
-        if (formation_fsm_step(&c->fsm, &c->p.fsm, passage, n, dt_s, c->id, &ann) == 1) {
+        if (formation_fsm_step(&c->fsm, &c->p.fsm, passage, n, dt_s, c->id,
+                               is_rearmost(c, &o), &ann) == 1) {
             c->ann_code = ann.code;
             c->ann_seq = ann.seq;
             if (c->fsm.type != before) c->formation_changes++;
@@ -431,8 +440,8 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
     D = formation_width(c->fsm.type, n, c->p.fsm.spacing_m, c->fsm.scale, bp->robot_width_m);
 
     rc_goal = behaviour_goal(&in.u[BEH_GOAL], &o, goal, bp);
-    behaviour_formation(&in.u[BEH_FORMATION], &R_d, &o, &ref, l_d, phi_d, bp);
-    formation_no_reverse(&in.u[BEH_FORMATION], &o, &ref, l_d, phi_d, bp);
+    /* the seed law near the slot, slot tracking away from it (behaviour.h) */
+    behaviour_formation_track(&in.u[BEH_FORMATION], &R_d, &o, &ref, l_d, phi_d, bp);
     in.d_st_m = behaviour_d_st(bp, D, l_d, phi_d);
     in.avoid_active = behaviour_avoid(&in.u[BEH_AVOID], &g, self.v_mps, in.d_st_m, bp);
     in.exception_active = escaping;

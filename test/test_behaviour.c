@@ -1,7 +1,8 @@
 /* Unit tests for behaviour: closed-loop error dynamics of move-to-goal and
  * keep-formation checked by central finite differences on the exact
  * kinematic model, saturation, avoid, dead-zone alternation, narrow-passage
- * detection and the three blending modes. */
+ * detection and the three blending modes; the slot-tracking handover of
+ * the formation command (far from the slot). */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -165,6 +166,88 @@ static void test_formation_converges_saturated(void **state)
         ref = ref_after(&ref, p.d_m, 0.05);
     }
     assert_true(Rd < 0.01);
+}
+
+/* Slot error after 60 s of following a reference driving straight at
+ * 0.3 m/s, V never negative (the Pioneer has no rear sonar: the rover
+ * clips V >= 0), starting from a robot pushed to the side of its slot
+ * (left-rear slot of a triangle, robot 2 m further left, 1 m ahead, nose
+ * turned 30 deg away, as after passing an obstacle on the wrong side).
+ * track = 1: behaviour_formation_track; 0: the seed law alone. Also the
+ * largest distance from the slot on the way. */
+static double slot_follow(int track, double *worst_m)
+{
+    behaviour_params_t p;
+    unicycle_state_t ref = {0, 0, 0, 0.3, 0.0};
+    const double l_d = hypot(0.29, 0.5), phi_d = atan2(0.5, -0.29);
+    pose2_t o = {0.7, 2.5, 0.5};
+    double Rd = 0.0;
+    int k;
+    behaviour_params_default(&p);
+    *worst_m = 0.0;
+    for (k = 0; k < 20 * 60; k++) {
+        unicycle_cmd_t u;
+        if (track) assert_int_equal(behaviour_formation_track(&u, &Rd, &o, &ref, l_d, phi_d, &p), 0);
+        else assert_int_equal(behaviour_formation(&u, &Rd, &o, &ref, l_d, phi_d, &p), 0);
+        if (u.v_mps < 0.0) u.v_mps = 0.0;
+        assert_true(u.v_mps <= p.v_fm_max_mps && fabs(u.w_radps) <= p.w_fm_max_radps);
+        if (Rd > *worst_m) *worst_m = Rd;
+        o = o_after(&o, &u, p.d_m, 0.05);
+        ref.x_m += ref.v_mps * 0.05;
+    }
+    return Rd;
+}
+
+static void test_formation_track_recovers_far_slot(void **state)
+{
+    double worst_seed, worst_track, end_seed, end_track;
+    (void)state;
+    /* the seed law moves O by swinging the tail: far off the slot with
+     * V >= 0 the robot turns away and orbits the team (the obstacles-world
+     * failure); tracking steers the nose to the slot and settles */
+    end_seed = slot_follow(0, &worst_seed);
+    end_track = slot_follow(1, &worst_track);
+    print_message("seed law: end %.2f m, worst %.2f m; track: end %.3f m, worst %.2f m\n",
+                  end_seed, worst_seed, end_track, worst_track);
+    assert_true(end_track < 0.05);
+    assert_true(worst_track < 2.6);          /* never further than the start */
+    assert_true(end_seed > 1.0);             /* the defect this law removes */
+}
+
+static void test_formation_track_bands(void **state)
+{
+    behaviour_params_t p;
+    unicycle_state_t ref = {0, 0, 0, 0.3, 0.0};
+    unicycle_cmd_t a, b;
+    double Rd_a, Rd_b;
+    pose2_t o = {0.05, 1.02, 0.03};         /* slot (0, 1): 0.05 m off */
+    (void)state;
+    behaviour_params_default(&p);
+    /* the slot error reported is the seed law's R_d */
+    assert_int_equal(behaviour_formation(&a, &Rd_a, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
+    assert_int_equal(behaviour_formation_track(&b, &Rd_b, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
+    assert_true(Rd_a < p.form_near_m && Rd_a == Rd_b);
+    /* near the slot, nose 0.03 rad left of the team heading and O 0.02 m
+     * left of the slot: turn right, back onto the team heading (the seed
+     * law turns left here: it moves O right by swinging the tail) */
+    print_message("near: seed w %.3f, track w %.3f\n", a.w_radps, b.w_radps);
+    assert_true(b.w_radps < 0.0 && a.w_radps > 0.0);
+    assert_true(fabs(b.v_mps - ref.v_mps) < 0.05);
+    /* far, slot ahead to the right: drive and turn toward it */
+    o = (pose2_t){ -3.0, 3.0, 0.0 };
+    assert_int_equal(behaviour_formation_track(&b, &Rd_b, &o, &ref, 1.0, -VEC2_PI / 2, &p), 0);
+    assert_true(b.v_mps > 0.0 && b.w_radps < 0.0);
+    /* slot 1.5 m behind: wait (V = 0), never reverse */
+    o = (pose2_t){ 1.5, 1.0, 0.0 };
+    assert_int_equal(behaviour_slot_track(&b, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
+    assert_true(b.v_mps == 0.0);
+    /* bad input */
+    o.x_m = NAN;
+    assert_int_equal(behaviour_formation_track(&b, &Rd_b, &o, &ref, 1.0, 0.0, &p), -1);
+    assert_true(b.v_mps == 0.0 && b.w_radps == 0.0);
+    behaviour_params_default(&p);
+    p.form_far_m = p.form_near_m;
+    assert_int_equal(behaviour_params_check(&p), -1);
 }
 
 static void ring(double r[8], double v)
@@ -367,6 +450,8 @@ int main(void)
         cmocka_unit_test(test_goal_saturated_closed_loop_reaches),
         cmocka_unit_test(test_formation_error_dynamics),
         cmocka_unit_test(test_formation_converges_saturated),
+        cmocka_unit_test(test_formation_track_recovers_far_slot),
+        cmocka_unit_test(test_formation_track_bands),
         cmocka_unit_test(test_sonar_groups_and_avoid),
         cmocka_unit_test(test_d_st),
         cmocka_unit_test(test_dead_zone_alternation),
