@@ -90,17 +90,24 @@ typedef struct {
 int formation_fsm_init(formation_fsm_t *f, int type, double scale);
 
 /* One control period. passage_width_m = sensed left + right + robot width
- * (INFINITY when nothing is sensed); n = team size. When this robot
+ * (INFINITY when nothing is sensed, NAN when this robot cannot tell: a
+ * side or the front hidden by a mate; unknown is neither narrow nor
+ * clear, the clear timer holds); n = team size; rearmost = 1 if this robot
+ * is the last of the team along the direction of travel. When this robot
  * makes a new announcement, fills *out and returns 1 (send it); 0
  * otherwise; -1 on bad input (state unchanged).
  *   NORMAL: narrow for the current formation -> SHRINK (scale = shrink)
  *   SHRINK/CHANGE: after dwell, still narrow and not a column -> CHANGE to
- *       the next type; clear for the nominal formation for clear_hold_s
- *       (and this robot saw the passage) -> RESTORE nominal type and scale
+ *       the next type; clear for the nominal formation for clear_hold_s,
+ *       this robot saw the passage, and it is the rearmost -> RESTORE
+ *       nominal type and scale (only the last robot through knows that the
+ *       whole team is out: a leader that restored on its own clear reading
+ *       pulled the others back to the line inside the passage, they shrank
+ *       again, and the team flip-flopped)
  *   RESTORE: narrow again -> SHRINK; after dwell -> NORMAL (silently). */
 int formation_fsm_step(formation_fsm_t *f, const formation_fsm_params_t *p,
                        double passage_width_m, int n, double dt_s,
-                       int32_t self_id, formation_announce_t *out);
+                       int32_t self_id, int rearmost, formation_announce_t *out);
 
 /* A team-mate's announcement. Adopted (returns 1) if it is newer than the
  * adopted one: higher seq, or equal seq from a lower robot id (so two

@@ -205,21 +205,22 @@ int formation_fsm_on_announce(formation_fsm_t *f, const formation_announce_t *a)
 
 int formation_fsm_step(formation_fsm_t *f, const formation_fsm_params_t *p,
                        double passage_width_m, int n, double dt_s,
-                       int32_t self_id, formation_announce_t *out)
+                       int32_t self_id, int rearmost, formation_announce_t *out)
 {
     double need_now, need_nominal;
     int narrow, clear;
-    if (!params_ok(p) || isnan(passage_width_m) || n < 1 || n > FORMATION_MAX_ROBOTS ||
+    const int known = !isnan(passage_width_m);
+    if (!params_ok(p) || n < 1 || n > FORMATION_MAX_ROBOTS ||
         !isfinite(dt_s) || dt_s < 0.0 || !out)
         return -1;
     need_now = formation_width(f->type, n, p->spacing_m, f->scale, p->robot_width_m) + p->safety_m;
     need_nominal = formation_width(f->type_nominal, n, p->spacing_m, f->scale_nominal,
                                    p->robot_width_m) + p->safety_m;
-    narrow = passage_width_m < need_now;
-    clear = passage_width_m >= need_nominal;
-    if (!clear) f->witnessed = 1;
+    narrow = known && passage_width_m < need_now;
+    clear = known && passage_width_m >= need_nominal;
+    if (known && !clear) f->witnessed = 1;
     f->phase_s += dt_s;
-    f->clear_s = clear ? f->clear_s + dt_s : 0.0;
+    if (known) f->clear_s = clear ? f->clear_s + dt_s : 0.0;
 
     switch (f->phase) {
     case FORMATION_PHASE_NORMAL:
@@ -231,7 +232,7 @@ int formation_fsm_step(formation_fsm_t *f, const formation_fsm_params_t *p,
         return 0;
     case FORMATION_PHASE_SHRINK:
     case FORMATION_PHASE_CHANGE:
-        if (f->witnessed && f->clear_s >= p->clear_hold_s) {
+        if (rearmost && f->witnessed && f->clear_s >= p->clear_hold_s) {
             announce(f, out, FORMATION_ANN_RESTORE, f->type_nominal, f->scale_nominal, self_id);
             return 1;
         }

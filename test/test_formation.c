@@ -101,7 +101,7 @@ static int run(formation_fsm_t *f, const formation_fsm_params_t *p, double width
     int k, made = 0;
     for (k = 0; k < (int)(secs / 0.1 + 0.5); k++) {
         formation_announce_t a;
-        const int r = formation_fsm_step(f, p, width, 3, 0.1, self, &a);
+        const int r = formation_fsm_step(f, p, width, 3, 0.1, self, 1, &a);
         assert_true(r >= 0);
         if (r == 1) {
             log[(*nlog)++] = a;
@@ -201,8 +201,8 @@ static void test_protocol_agreement_and_ties(void **state)
     formation_fsm_init(&B, FORMATION_LINE, 1.0);
     formation_fsm_init(&C, FORMATION_LINE, 1.0);
     /* A and B announce at once with the same seq: everyone takes id 2's */
-    assert_int_equal(formation_fsm_step(&A, &p, 1.0, 3, 0.1, 5, &a), 1);
-    assert_int_equal(formation_fsm_step(&B, &p, 1.0, 3, 0.1, 2, &b), 1);
+    assert_int_equal(formation_fsm_step(&A, &p, 1.0, 3, 0.1, 5, 1, &a), 1);
+    assert_int_equal(formation_fsm_step(&B, &p, 1.0, 3, 0.1, 2, 1, &b), 1);
     assert_int_equal(a.seq, b.seq);
     assert_int_equal(formation_fsm_on_announce(&A, &b), 1);
     assert_int_equal(formation_fsm_on_announce(&B, &a), 0);
@@ -210,7 +210,7 @@ static void test_protocol_agreement_and_ties(void **state)
     assert_int_equal(formation_fsm_on_announce(&C, &b), 1);
     assert_true(A.origin == 2 && B.origin == 2 && C.origin == 2);
     /* the next announcement from anyone is newer than all of that */
-    assert_int_equal(formation_fsm_step(&C, &p, 1.0, 3, 1.5, 9, &a), 1);
+    assert_int_equal(formation_fsm_step(&C, &p, 1.0, 3, 1.5, 9, 1, &a), 1);
     assert_true(a.seq > b.seq && a.code == FORMATION_ANN_CHANGE);
     assert_int_equal(formation_fsm_on_announce(&A, &a), 1);
     assert_int_equal(A.type, FORMATION_TRIANGLE);
@@ -222,7 +222,45 @@ static void test_protocol_agreement_and_ties(void **state)
     assert_true(formation_fsm_next_seq(&A) > b.seq);
     b.scale = NAN;
     assert_int_equal(formation_fsm_on_announce(&A, &b), -1);
-    assert_int_equal(formation_fsm_step(&A, &p, NAN, 3, 0.1, 5, &a), -1);
+    assert_int_equal(formation_fsm_step(&A, &p, 1.0, 3, NAN, 5, 1, &a), -1);
+}
+
+/* Restore hysteresis: a robot that cannot see the passage (NAN: a mate
+ * hides a side or the front) neither narrows nor clears, and only the
+ * rearmost robot restores; the leader of a column that has left the
+ * corridor while the others are still inside does not. */
+static void test_protocol_restore_rear_and_unknown(void **state)
+{
+    formation_fsm_params_t p;
+    formation_fsm_t A;
+    formation_announce_t a;
+    int k, made = 0;
+    (void)state;
+    formation_fsm_params_default(&p);
+    formation_fsm_init(&A, FORMATION_LINE, 1.0);
+    /* unknown in NORMAL: nothing happens */
+    for (k = 0; k < 50; k++) made += formation_fsm_step(&A, &p, NAN, 3, 0.1, 1, 1, &a);
+    assert_int_equal(made, 0);
+    assert_int_equal(A.phase, FORMATION_PHASE_NORMAL);
+    for (k = 0; k < 30; k++) formation_fsm_step(&A, &p, 1.0, 3, 0.1, 1, 0, &a);
+    assert_int_equal(A.type, FORMATION_COLUMN);
+    /* the leader is out, clear for far longer than the hold: no restore */
+    for (k = 0; k < 200; k++) made += formation_fsm_step(&A, &p, INFINITY, 3, 0.1, 1, 0, &a);
+    assert_int_equal(made, 0);
+    assert_int_equal(A.type, FORMATION_COLUMN);
+    /* the rear robot: clear for less than the hold, then unknown (a mate
+     * in front of a side transducer) for long: the timer holds, no reset */
+    formation_fsm_init(&A, FORMATION_LINE, 1.0);
+    for (k = 0; k < 30; k++) formation_fsm_step(&A, &p, 1.0, 3, 0.1, 1, 1, &a);
+    for (k = 0; k < (int)(10.0 * (p.clear_hold_s - 1.0)); k++)
+        made += formation_fsm_step(&A, &p, INFINITY, 3, 0.1, 1, 1, &a);
+    for (k = 0; k < 100; k++) made += formation_fsm_step(&A, &p, NAN, 3, 0.1, 1, 1, &a);
+    assert_int_equal(made, 0);
+    assert_true(fabs(A.clear_s - (p.clear_hold_s - 1.0)) < 1e-6);
+    for (k = 0; k < 11; k++) made += formation_fsm_step(&A, &p, INFINITY, 3, 0.1, 1, 1, &a);
+    assert_int_equal(made, 1);
+    assert_int_equal(a.code, FORMATION_ANN_RESTORE);
+    assert_int_equal(A.type, FORMATION_LINE);
 }
 
 int main(void)
@@ -234,6 +272,7 @@ int main(void)
         cmocka_unit_test(test_protocol_sequence_and_restore),
         cmocka_unit_test(test_protocol_stops_when_it_fits),
         cmocka_unit_test(test_protocol_agreement_and_ties),
+        cmocka_unit_test(test_protocol_restore_rear_and_unknown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
