@@ -18,6 +18,11 @@ typedef struct arm_model {
     double a_m[ARM_NJ];
     double d_m[ARM_NJ];
     double alpha_rad[ARM_NJ];
+    /* cos/sin of alpha_rad, kept in the table so that no routine evaluates
+     * trig of a constant per call. A model built or edited at run time must
+     * call arm_model_refresh_alpha after setting alpha_rad. */
+    double cos_alpha[ARM_NJ];
+    double sin_alpha[ARM_NJ];
     double theta_offset_rad[ARM_NJ];
     double q_min_rad[ARM_NJ];
     double q_max_rad[ARM_NJ];
@@ -51,8 +56,30 @@ int arm_q_finite(const double q[ARM_NJ]);
 /* Bit i set if q_i is outside [q_min_i, q_max_i]; 0 = all inside. */
 unsigned arm_q_outside_limits(const arm_model *m, const double q[ARM_NJ]);
 
+/* Recompute cos_alpha/sin_alpha from alpha_rad (for models built or edited
+ * at run time; the shipped tables already hold them). */
+void arm_model_refresh_alpha(arm_model *m);
+
+/* cos/sin of theta_i = q_i + theta_offset_i: the one trig evaluation per
+ * joint that FK, Jacobian, RNE and M(q) share. */
+typedef struct arm_joint_cs {
+    double c[ARM_NJ];
+    double s[ARM_NJ];
+} arm_joint_cs;
+
+/* 0 ok, -1 bad input (NULL, non-finite q). */
+int arm_joint_cs_eval(const arm_model *m, const double q[ARM_NJ], arm_joint_cs *cs);
+
 /* Link i -> frame i transform A_i(q_i) (4x4 row-major). */
 void arm_dh_transform(const arm_model *m, int i, double q_i, double A[16]);
+
+/* out = T A_i for joint i with cos/sin theta_i = (ct, st), using the DH
+ * structure instead of a general 4x4 product; out may be T (in place). */
+void arm_dh_compose(const arm_model *m, int i, double ct, double st, const double T[16],
+                    double out[16]);
+
+/* Mounting surface -> frame 0: identity rotation, base_height_m up. */
+void arm_base_frame(const arm_model *m, double T[16]);
 
 /* T[0] = mounting surface -> frame 0 (base height), T[i] = mounting
  * surface -> frame i (i = 1..6, T[6] = flange). Link i's body pose is T[i];

@@ -4,10 +4,14 @@
  * - arm_rne: recursive Newton-Euler in link frames for standard DH (Luh,
  *   Walker & Paul 1980; same recursion as Corke's rne_dh). Base acceleration
  *   -g stands in for gravity.
- * - arm_mass_matrix: composite rigid body algorithm in base coordinates:
- *   with C_i = links i..6 (mass m_c, COM c_c, inertia I_c about c_c), a unit
- *   rate of joint i gives C_i the momentum h = m_c z_i x (c_c - o_i),
- *   L = I_c z_i, and M_ji = z_j . (L + (c_c - o_j) x h) for j <= i.
+ * - arm_mass_matrix: composite rigid body algorithm in joint frames: the
+ *   composite C_i = links i..6 is held in frame i-1 (mass m, first moment
+ *   h = m c, inertia I about the frame origin), where joint i turns about z
+ *   through the origin. A unit rate of joint i gives C_i the momentum
+ *   n = I z, f = z x h; M_ii = n_z, and carrying (n, f) inward frame by
+ *   frame (f' = R f, n' = R n + p x f') gives M_ji = n'_z for j < i.
+ * Both use R_i = Rz(theta_i) Rx(alpha_i) as two plane rotations (cos/sin of
+ * theta once per call, of alpha from the table) rather than 3x3 products.
  * A payload is merged into link 6 (mass, COM, parallel-axis inertia).
  */
 #include "arm_dyn.h"
@@ -78,105 +82,161 @@ static void merge_mass(link_mass *a, const link_mass *b)
     vec3_copy(a->c, c);
 }
 
-static void link_masses(const arm_model *m, const arm_payload *p, link_mass L[ARM_NJ])
+/* Mass properties of link i as the recursions read them: the model's own
+ * numbers, except link 6 when a payload is merged into it (then they point
+ * into *merged). Pointers, not copies: most calls carry no payload. */
+typedef struct link_ref {
+    double m;
+    const double *c;
+    const double *I;
+} link_ref;
+
+static void link_refs(const arm_model *m, const arm_payload *p, link_mass *merged,
+                      link_ref L[ARM_NJ])
 {
     int i;
     for (i = 0; i < ARM_NJ; i++) {
         L[i].m = m->mass_kg[i];
-        vec3_copy(L[i].c, m->com_m[i]);
-        memcpy(L[i].I, m->inertia_kgm2[i], sizeof L[i].I);
+        L[i].c = m->com_m[i];
+        L[i].I = m->inertia_kgm2[i];
     }
     if (p && p->mass_kg > 0.0) {
         link_mass pl;
+        const int l = ARM_NJ - 1;
+        merged->m = m->mass_kg[l];
+        vec3_copy(merged->c, m->com_m[l]);
+        memcpy(merged->I, m->inertia_kgm2[l], sizeof merged->I);
         pl.m = p->mass_kg;
         vec3_copy(pl.c, p->com_m);
         memcpy(pl.I, p->inertia_kgm2, sizeof pl.I);
-        merge_mass(&L[ARM_NJ - 1], &pl);
+        merge_mass(merged, &pl);
+        L[l].m = merged->m;
+        L[l].c = merged->c;
+        L[l].I = merged->I;
     }
 }
+
+/* out = R_i v, R_i = Rz(theta) Rx(alpha): turn (y, z) by alpha, then
+ * (x, y) by theta; 8 multiplications instead of 9 and no matrix. out may
+ * be v. */
+static inline void dh_rot(const arm_model *m, int i, const arm_joint_cs *cs, const double v[3],
+                   double out[3])
+{
+    const double ca = m->cos_alpha[i], sa = m->sin_alpha[i], ct = cs->c[i], st = cs->s[i];
+    const double x = v[0], y = ca * v[1] - sa * v[2];
+    out[2] = sa * v[1] + ca * v[2];
+    out[0] = ct * x - st * y;
+    out[1] = st * x + ct * y;
+}
+
+/* out = R_i^T v: the same two plane rotations, backwards; out may be v. */
+static inline void dh_rot_t(const arm_model *m, int i, const arm_joint_cs *cs, const double v[3],
+                     double out[3])
+{
+    const double ca = m->cos_alpha[i], sa = m->sin_alpha[i], ct = cs->c[i], st = cs->s[i];
+    const double x = ct * v[0] + st * v[1], y = ct * v[1] - st * v[0];
+    out[0] = x;
+    out[1] = ca * y + sa * v[2];
+    out[2] = ca * v[2] - sa * y;
+}
+
+/* p*_i: origin of frame i seen from frame i-1, in frame i coordinates
+ * (R_i^T (a ct, a st, d) = (a, d sa, d ca), free of theta). */
+static inline void dh_pstar(const arm_model *m, int i, double ps[3])
+{
+    vec3_set(ps, m->a_m[i], m->d_m[i] * m->sin_alpha[i], m->d_m[i] * m->cos_alpha[i]);
+}
+
+/* RNE with the joint trig already evaluated and the inputs validated.
+ * Centripetal terms use w x (w x p) = w (w . p) - p |w|^2 (one dot product
+ * instead of two cross products), and the inward moment is taken as
+ * p* x f + c x F after f is summed (two cross products instead of three). */
+static void rne_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[ARM_NJ],
+                   const double qd[ARM_NJ], const double qdd[ARM_NJ], const double g[3],
+                   double tau_Nm[ARM_NJ])
+{
+    double ps[ARM_NJ][3], F[ARM_NJ][3], N[ARM_NJ][3];
+    double w[3] = { 0, 0, 0 }, wd[3] = { 0, 0, 0 }, vd[3], f[3] = { 0, 0, 0 }, n[3] = { 0, 0, 0 };
+    int i, k;
+
+    vec3_scale(vd, g, -1.0);
+    /* outward: velocities and accelerations of frame i, in frame i */
+    for (i = 0; i < ARM_NJ; i++) {
+        /* locals, so the stores into F, N and vd need not reload them */
+        const double mi = L[i].m, *c = L[i].c, *I = L[i].I;
+        const double I0 = I[0], I1 = I[1], I2 = I[2], I3 = I[3], I4 = I[4], I5 = I[5];
+        const double I6 = I[6], I7 = I[7], I8 = I[8];
+        double t[3], u[3], Iw[3], ww, wp, wc;
+        dh_pstar(m, i, ps[i]);
+        /* wd_i = R^T (wd + z0 qdd + w x z0 qd), w x z0 = (w1, -w0, 0) */
+        t[0] = wd[0] + w[1] * qd[i];
+        t[1] = wd[1] - w[0] * qd[i];
+        t[2] = wd[2] + qdd[i];
+        dh_rot_t(m, i, cs, t, wd);
+        /* w_i = R^T (w + z0 qd) */
+        w[2] += qd[i];
+        dh_rot_t(m, i, cs, w, w);
+        ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+        /* vd_i = R^T vd + wd x p* + w x (w x p*) */
+        dh_rot_t(m, i, cs, vd, vd);
+        wp = w[0] * ps[i][0] + w[1] * ps[i][1] + w[2] * ps[i][2];
+        vec3_cross(u, wd, ps[i]);
+        for (k = 0; k < 3; k++)
+            vd[k] += u[k] + w[k] * wp - ps[i][k] * ww;
+        /* F = m (vd + wd x c + w x (w x c)) */
+        wc = w[0] * c[0] + w[1] * c[1] + w[2] * c[2];
+        vec3_cross(u, wd, c);
+        for (k = 0; k < 3; k++)
+            F[i][k] = mi * (vd[k] + u[k] + w[k] * wc - c[k] * ww);
+        /* N = I wd + w x (I w) */
+        Iw[0] = I0 * w[0] + I1 * w[1] + I2 * w[2];
+        Iw[1] = I3 * w[0] + I4 * w[1] + I5 * w[2];
+        Iw[2] = I6 * w[0] + I7 * w[1] + I8 * w[2];
+        vec3_cross(N[i], w, Iw);
+        N[i][0] += I0 * wd[0] + I1 * wd[1] + I2 * wd[2];
+        N[i][1] += I3 * wd[0] + I4 * wd[1] + I5 * wd[2];
+        N[i][2] += I6 * wd[0] + I7 * wd[1] + I8 * wd[2];
+    }
+    /* inward: force f and moment n (about origin i-1) exerted on link i by
+     * link i-1, in frame i: f = R f_{i+1} + F, n = R n_{i+1} + p* x f + c x F + N */
+    for (i = ARM_NJ - 1; i >= 0; i--) {
+        double pf[3], cF[3];
+        if (i < ARM_NJ - 1) {
+            dh_rot(m, i + 1, cs, f, f);
+            dh_rot(m, i + 1, cs, n, n);
+        }
+        for (k = 0; k < 3; k++)
+            f[k] += F[i][k];
+        vec3_cross(pf, ps[i], f);
+        vec3_cross(cF, L[i].c, F[i]);
+        for (k = 0; k < 3; k++)
+            n[k] += pf[k] + cF[k] + N[i][k];
+        /* joint axis z_{i-1} in frame i is R^T z0 = (0, sa, ca) */
+        tau_Nm[i] = n[1] * m->sin_alpha[i] + n[2] * m->cos_alpha[i];
+    }
+}
+
+static int rne_inputs_valid(const double qd[ARM_NJ], const double qdd[ARM_NJ],
+                            const double gravity_mps2[3], const arm_payload *payload)
+{
+    return qd && qdd && vec_finite(qd, ARM_NJ) && vec_finite(qdd, ARM_NJ)
+           && (!gravity_mps2 || vec_finite(gravity_mps2, 3)) && payload_valid(payload);
+}
+
+static const double default_gravity[3] = { 0.0, 0.0, -ARM_GRAVITY_MPS2 };
 
 int arm_rne(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
             const double qdd[ARM_NJ], const double gravity_mps2[3],
             const arm_payload *payload, double tau_Nm[ARM_NJ])
 {
-    static const double z0[3] = { 0.0, 0.0, 1.0 };
-    link_mass L[ARM_NJ];
-    double R[ARM_NJ][9], ps[ARM_NJ][3];
-    double w[3] = { 0, 0, 0 }, wd[3] = { 0, 0, 0 }, vd[3];
-    double F[ARM_NJ][3], N[ARM_NJ][3];
-    double f[3] = { 0, 0, 0 }, n[3] = { 0, 0, 0 };
-    int i;
-
-    if (!m || !q || !qd || !qdd || !tau_Nm || !vec_finite(q, ARM_NJ) || !vec_finite(qd, ARM_NJ)
-        || !vec_finite(qdd, ARM_NJ) || (gravity_mps2 && !vec_finite(gravity_mps2, 3))
-        || !payload_valid(payload))
+    arm_joint_cs cs;
+    link_mass merged;
+    link_ref L[ARM_NJ];
+    if (!tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload)
+        || arm_joint_cs_eval(m, q, &cs) != 0)
         return -1;
-    link_masses(m, payload, L);
-    if (gravity_mps2)
-        vec3_scale(vd, gravity_mps2, -1.0);
-    else
-        vec3_set(vd, 0.0, 0.0, ARM_GRAVITY_MPS2);
-
-    /* outward: velocities and accelerations of frame i, in frame i */
-    for (i = 0; i < ARM_NJ; i++) {
-        double A[16], t[3], u[3], wz[3], vc[3];
-        arm_dh_transform(m, i, q[i], A);
-        tf_rot(R[i], A);
-        vec3_set(ps[i], m->a_m[i], m->d_m[i] * sin(m->alpha_rad[i]),
-                 m->d_m[i] * cos(m->alpha_rad[i]));
-        /* wd_i = R^T (wd + z0 qdd + w x z0 qd) */
-        vec3_cross(wz, w, z0);
-        vec3_axpy(t, wd, qdd[i], z0);
-        vec3_axpy(t, t, qd[i], wz);
-        rot_tapply(wd, R[i], t);
-        /* w_i = R^T (w + z0 qd) */
-        vec3_axpy(t, w, qd[i], z0);
-        rot_tapply(w, R[i], t);
-        /* vd_i = wd x p* + w x (w x p*) + R^T vd */
-        rot_tapply(t, R[i], vd);
-        vec3_cross(u, wd, ps[i]);
-        vec3_add(t, t, u);
-        vec3_cross(u, w, ps[i]);
-        vec3_cross(u, w, u);
-        vec3_add(vd, t, u);
-        /* COM acceleration, force and moment */
-        vec3_cross(vc, wd, L[i].c);
-        vec3_cross(u, w, L[i].c);
-        vec3_cross(u, w, u);
-        vec3_add(vc, vc, u);
-        vec3_add(vc, vc, vd);
-        vec3_scale(F[i], vc, L[i].m);
-        {
-            double Iw[3], Iwd[3];
-            int k;
-            for (k = 0; k < 3; k++) {
-                Iw[k] = L[i].I[3 * k] * w[0] + L[i].I[3 * k + 1] * w[1] + L[i].I[3 * k + 2] * w[2];
-                Iwd[k] = L[i].I[3 * k] * wd[0] + L[i].I[3 * k + 1] * wd[1]
-                         + L[i].I[3 * k + 2] * wd[2];
-            }
-            vec3_cross(u, w, Iw);
-            vec3_add(N[i], Iwd, u);
-        }
-    }
-    /* inward: forces and moments exerted on link i by link i-1, in frame i */
-    for (i = ARM_NJ - 1; i >= 0; i--) {
-        double t[3], u[3], pc[3], zi[3];
-        if (i < ARM_NJ - 1) {
-            double Rf[3], Rn[3];
-            rot_apply(Rf, R[i + 1], f);
-            rot_apply(Rn, R[i + 1], n);
-            vec3_cross(u, ps[i], Rf);
-            vec3_add(n, Rn, u);
-            vec3_copy(f, Rf);
-        }
-        vec3_add(pc, ps[i], L[i].c);
-        vec3_cross(t, pc, F[i]);
-        vec3_add(n, n, t);
-        vec3_add(n, n, N[i]);
-        vec3_add(f, f, F[i]);
-        rot_tapply(zi, R[i], z0);
-        tau_Nm[i] = vec3_dot(n, zi);
-    }
+    link_refs(m, payload, &merged, L);
+    rne_cs(m, &cs, L, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, tau_Nm);
     return 0;
 }
 
@@ -195,57 +255,123 @@ int arm_coriolis(const arm_model *m, const double q[ARM_NJ], const double qd[ARM
     return arm_rne(m, q, qd, zero, no_gravity, payload, c_Nm);
 }
 
-/* out = R I R^T */
-static void rot_inertia(double out[9], const double R[9], const double I[9])
+/* ---- joint-space inertia ------------------------------------------------ */
+
+/* Rigid body (or composite) referred to a frame origin: mass, first moment
+ * h = m c and inertia about the origin, all in that frame's axes. Sums of
+ * bodies are plain sums in this form, which is why CRBA keeps it. The
+ * inertia is symmetric, so only I = (xx, yy, zz, xy, yz, xz) is kept. */
+enum { XX, YY, ZZ, XY, YZ, XZ };
+
+typedef struct origin_body {
+    double m;
+    double h[3];
+    double I[6];
+} origin_body;
+
+/* b += link l (COM c, inertia about c): h += m c, I += I_c + m (|c|^2 E - c c^T). */
+static void origin_body_add_link(origin_body *b, const link_ref *l)
 {
-    double RI[9], Rt[9];
-    rot_mul(RI, R, I);
-    rot_transpose(Rt, R);
-    rot_mul(out, RI, Rt);
+    const double m = l->m, *c = l->c, *Ic = l->I;
+    const double mx = m * c[0], my = m * c[1], mz = m * c[2];
+    b->m += m;
+    b->h[0] += mx;
+    b->h[1] += my;
+    b->h[2] += mz;
+    b->I[XX] += Ic[0] + my * c[1] + mz * c[2];
+    b->I[YY] += Ic[4] + mx * c[0] + mz * c[2];
+    b->I[ZZ] += Ic[8] + mx * c[0] + my * c[1];
+    b->I[XY] += Ic[1] - mx * c[1];
+    b->I[YZ] += Ic[5] - my * c[2];
+    b->I[XZ] += Ic[2] - mx * c[2];
+}
+
+/* I <- G I G^T for G the rotation by (c, s) in the plane of axes (a, b),
+ * k the third axis: only the entries touching a or b change. */
+static inline void sym_rotate_plane(double *aa, double *bb, double *ab, double *ak, double *bk,
+                                    double c, double s)
+{
+    const double Iaa = *aa, Ibb = *bb, Iab = *ab, Iak = *ak, Ibk = *bk;
+    const double cc = c * c, ss = s * s, cs = c * s;
+    *aa = cc * Iaa - 2.0 * cs * Iab + ss * Ibb;
+    *bb = ss * Iaa + 2.0 * cs * Iab + cc * Ibb;
+    *ab = cs * (Iaa - Ibb) + (cc - ss) * Iab;
+    *ak = c * Iak - s * Ibk;
+    *bk = s * Iak + c * Ibk;
+}
+
+/* Re-express body b, given in frame i+1 about its origin, in frame i about
+ * frame i's origin (A_i = (R_i, p_i), p_i = (a ct, a st, d)):
+ * I' = R I R^T + m (|p|^2 E - p p^T) + 2 (p . h') E - (p h'^T + h' p^T)
+ * with h' = R h, then h' += m p (parallel-axis theorem with a first moment).
+ * R I R^T = Rz (Rx I Rx^T) Rz^T: two plane rotations, no 3x3 products. */
+static void origin_body_to_parent(const arm_model *m, int i, const arm_joint_cs *cs,
+                                  origin_body *b)
+{
+    const double p[3] = { m->a_m[i] * cs->c[i], m->a_m[i] * cs->s[i], m->d_m[i] };
+    double *I = b->I, h[3], pp, ph;
+    int k;
+    dh_rot(m, i, cs, b->h, h);
+    sym_rotate_plane(&I[YY], &I[ZZ], &I[YZ], &I[XY], &I[XZ], m->cos_alpha[i], m->sin_alpha[i]);
+    sym_rotate_plane(&I[XX], &I[YY], &I[XY], &I[XZ], &I[YZ], cs->c[i], cs->s[i]);
+    pp = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    ph = p[0] * h[0] + p[1] * h[1] + p[2] * h[2];
+    for (k = 0; k < 3; k++)
+        I[k] += b->m * (pp - p[k] * p[k]) + 2.0 * (ph - p[k] * h[k]);
+    I[XY] -= b->m * p[0] * p[1] + p[0] * h[1] + h[0] * p[1];
+    I[YZ] -= b->m * p[1] * p[2] + p[1] * h[2] + h[1] * p[2];
+    I[XZ] -= b->m * p[0] * p[2] + p[0] * h[2] + h[0] * p[2];
+    for (k = 0; k < 3; k++)
+        b->h[k] = h[k] + b->m * p[k];
+}
+
+/* (n, f) of frame i+1 -> frame i, n about the frame origin:
+ * f' = R f, n' = R n + p x R f = R (n + p* x f) since p = R p*. */
+static void wrench_to_parent(const arm_model *m, int i, const arm_joint_cs *cs, double n[3],
+                             double f[3])
+{
+    double ps[3], pf[3];
+    int k;
+    dh_pstar(m, i, ps);
+    vec3_cross(pf, ps, f);
+    for (k = 0; k < 3; k++)
+        n[k] += pf[k];
+    dh_rot(m, i, cs, n, n);
+    dh_rot(m, i, cs, f, f);
+}
+
+static void mass_matrix_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[ARM_NJ],
+                           double M[36])
+{
+    origin_body comp;
+    int i, j;
+    memset(&comp, 0, sizeof comp);
+    for (i = ARM_NJ - 1; i >= 0; i--) {
+        double n[3], f[3];
+        /* C_i = link i + C_{i+1}, both in frame i (1-based: link i+1, frame i+1) */
+        origin_body_add_link(&comp, &L[i]);
+        origin_body_to_parent(m, i, cs, &comp);
+        /* unit rate about z through the origin: n = I z, f = z x h */
+        vec3_set(n, comp.I[XZ], comp.I[YZ], comp.I[ZZ]);
+        vec3_set(f, -comp.h[1], comp.h[0], 0.0);
+        M[i * 6 + i] = n[2];
+        for (j = i - 1; j >= 0; j--) {
+            wrench_to_parent(m, j, cs, n, f);
+            M[j * 6 + i] = M[i * 6 + j] = n[2];
+        }
+    }
 }
 
 int arm_mass_matrix(const arm_model *m, const double q[ARM_NJ],
                     const arm_payload *payload, double M[36])
 {
-    double F[ARM_NJ + 1][16];
-    link_mass L[ARM_NJ], comp;
-    int i, j;
-
-    if (!m || !M || !payload_valid(payload) || arm_link_frames(m, q, F) != 0)
+    arm_joint_cs cs;
+    link_mass merged;
+    link_ref L[ARM_NJ];
+    if (!M || !payload_valid(payload) || arm_joint_cs_eval(m, q, &cs) != 0)
         return -1;
-    link_masses(m, payload, L);
-    memset(&comp, 0, sizeof comp);
-    for (i = ARM_NJ - 1; i >= 0; i--) {
-        link_mass lb;
-        double R[9], o[3], z[3], r[3], v[3], h[3], Lm[3];
-        /* link i+1 (index i) in base coordinates */
-        tf_rot(R, F[i + 1]);
-        tf_pos(o, F[i + 1]);
-        lb.m = L[i].m;
-        rot_apply(lb.c, R, L[i].c);
-        vec3_add(lb.c, lb.c, o);
-        rot_inertia(lb.I, R, L[i].I);
-        if (comp.m <= 0.0)
-            comp = lb;
-        else
-            merge_mass(&comp, &lb);
-        /* joint i+1: axis z of frame i through its origin */
-        vec3_set(z, F[i][2], F[i][6], F[i][10]);
-        tf_pos(o, F[i]);
-        vec3_sub(r, comp.c, o);
-        vec3_cross(v, z, r);
-        vec3_scale(h, v, comp.m);
-        rot_apply(Lm, comp.I, z);
-        for (j = 0; j <= i; j++) {
-            double zj[3], oj[3], rj[3], t[3];
-            vec3_set(zj, F[j][2], F[j][6], F[j][10]);
-            tf_pos(oj, F[j]);
-            vec3_sub(rj, comp.c, oj);
-            vec3_cross(t, rj, h);
-            vec3_add(t, t, Lm);
-            M[j * 6 + i] = M[i * 6 + j] = vec3_dot(zj, t);
-        }
-    }
+    link_refs(m, payload, &merged, L);
+    mass_matrix_cs(m, &cs, L, M);
     return 0;
 }
 
@@ -287,13 +413,18 @@ int arm_forward_dynamics(const arm_model *m, const double q[ARM_NJ], const doubl
                          const arm_payload *payload, double qdd[ARM_NJ])
 {
     static const double zero[ARM_NJ] = { 0, 0, 0, 0, 0, 0 };
+    arm_joint_cs cs;
+    link_mass merged;
+    link_ref L[ARM_NJ];
     double M[36], h[ARM_NJ], rhs[ARM_NJ];
     int i;
-    if (!tau_Nm || !qdd || !vec_finite(tau_Nm, ARM_NJ))
+    if (!tau_Nm || !qdd || !vec_finite(tau_Nm, ARM_NJ)
+        || !rne_inputs_valid(qd, zero, gravity_mps2, payload) || arm_joint_cs_eval(m, q, &cs) != 0)
         return -1;
-    if (arm_rne(m, q, qd, zero, gravity_mps2, payload, h) != 0
-        || arm_mass_matrix(m, q, payload, M) != 0)
-        return -1;
+    /* one trig evaluation and one payload merge serve both RNE and M(q) */
+    link_refs(m, payload, &merged, L);
+    rne_cs(m, &cs, L, qd, zero, gravity_mps2 ? gravity_mps2 : default_gravity, h);
+    mass_matrix_cs(m, &cs, L, M);
     for (i = 0; i < ARM_NJ; i++)
         rhs[i] = tau_Nm[i] - h[i];
     return arm_spd_solve6(M, rhs, qdd);

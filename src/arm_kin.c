@@ -61,18 +61,18 @@ static void flange_to_tool(const arm_tool *tool, const double T6[16], double T[1
 
 int arm_fk(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], double T[16])
 {
-    double A[16], Tn[16], Ti[16];
+    arm_joint_cs cs;
+    double T6[16];
+    double *Ti = tool ? T6 : T; /* no tool: build the pose in the caller's T */
     int i;
-    if (!m || !T || arm_q_finite(q) != 0)
+    if (!T || arm_joint_cs_eval(m, q, &cs) != 0)
         return -1;
-    tf_identity(Ti);
-    Ti[11] = m->base_height_m;
-    for (i = 0; i < ARM_NJ; i++) {
-        arm_dh_transform(m, i, q[i], A);
-        tf_mul(Tn, Ti, A);
-        memcpy(Ti, Tn, sizeof Ti);
-    }
-    flange_to_tool(tool, Ti, T);
+    arm_base_frame(m, Ti);
+    /* in place: arm_dh_compose works row by row */
+    for (i = 0; i < ARM_NJ; i++)
+        arm_dh_compose(m, i, cs.c[i], cs.s[i], Ti, Ti);
+    if (tool)
+        flange_to_tool(tool, T6, T);
     return 0;
 }
 

@@ -37,6 +37,15 @@
 
 #define DEG (3.14159265358979323846 / 180.0)
 #define PI_2 1.57079632679489661923
+/* cos(PI_2) exactly as libm returns it for the double nearest pi/2, so the
+ * precomputed table gives the same bits as cos(alpha_rad) did per call. */
+#define COS_PI_2 6.123233995736766e-17
+
+/* alpha = 90 0 -90 90 -90 0 deg, shared by both tables */
+#define PUMA_ALPHA \
+    .alpha_rad = { PI_2, 0.0, -PI_2, PI_2, -PI_2, 0.0 }, \
+    .cos_alpha = { COS_PI_2, 1.0, COS_PI_2, COS_PI_2, COS_PI_2, 1.0 }, \
+    .sin_alpha = { 1.0, 0.0, -1.0, 1.0, -1.0, 0.0 }
 
 #define DIAG(x, y, z) { (x), 0.0, 0.0, 0.0, (y), 0.0, 0.0, 0.0, (z) }
 
@@ -60,7 +69,7 @@ const arm_model arm_model_puma560 = {
     .base_height_m = 0.6718,
     .a_m = { 0.0, 0.4318, 0.0203, 0.0, 0.0, 0.0 },
     .d_m = { 0.0, 0.0, 0.15005, 0.4318, 0.0, 0.0 },
-    .alpha_rad = { PI_2, 0.0, -PI_2, PI_2, -PI_2, 0.0 },
+    PUMA_ALPHA,
     .theta_offset_rad = { 0, 0, 0, 0, 0, 0 },
     PUMA_LIMITS,
     .com_m = { { 0, 0, 0 }, { -0.3638, 0.006, 0.2275 }, { -0.0203, -0.0141, 0.070 },
@@ -73,7 +82,7 @@ const arm_model arm_model_seed002 = {
     .base_height_m = 0.671,
     .a_m = { 0.0, 0.433, 0.0, 0.0, 0.0, 0.0 },
     .d_m = { 0.0, 0.0, 0.0, 0.433, 0.0, 0.050 },
-    .alpha_rad = { PI_2, 0.0, -PI_2, PI_2, -PI_2, 0.0 },
+    PUMA_ALPHA,
     .theta_offset_rad = { 0, 0, 0, 0, 0, 0 },
     PUMA_LIMITS,
     .com_m = { { 0, 0, 0 }, { -0.3638, 0.006, 0.2275 }, { 0.0, -0.0141, 0.070 },
@@ -131,11 +140,37 @@ unsigned arm_q_outside_limits(const arm_model *m, const double q[ARM_NJ])
     return bits;
 }
 
+void arm_model_refresh_alpha(arm_model *m)
+{
+    int i;
+    if (!m)
+        return;
+    for (i = 0; i < ARM_NJ; i++) {
+        m->cos_alpha[i] = cos(m->alpha_rad[i]);
+        m->sin_alpha[i] = sin(m->alpha_rad[i]);
+    }
+}
+
+int arm_joint_cs_eval(const arm_model *m, const double q[ARM_NJ], arm_joint_cs *cs)
+{
+    int i;
+    if (!m || !cs || !q)
+        return -1;
+    for (i = 0; i < ARM_NJ; i++) {
+        const double th = q[i] + m->theta_offset_rad[i];
+        if (!isfinite(q[i]))
+            return -1;
+        cs->c[i] = cos(th); /* compilers fuse the pair into one sincos call */
+        cs->s[i] = sin(th);
+    }
+    return 0;
+}
+
 void arm_dh_transform(const arm_model *m, int i, double q_i, double A[16])
 {
     const double th = q_i + m->theta_offset_rad[i];
     const double ct = cos(th), st = sin(th);
-    const double ca = cos(m->alpha_rad[i]), sa = sin(m->alpha_rad[i]);
+    const double ca = m->cos_alpha[i], sa = m->sin_alpha[i];
     const double a = m->a_m[i], d = m->d_m[i];
     A[0] = ct;  A[1] = -st * ca; A[2] = st * sa;   A[3] = a * ct;
     A[4] = st;  A[5] = ct * ca;  A[6] = -ct * sa;  A[7] = a * st;
@@ -143,17 +178,48 @@ void arm_dh_transform(const arm_model *m, int i, double q_i, double A[16])
     A[12] = 0.0; A[13] = 0.0;    A[14] = 0.0;      A[15] = 1.0;
 }
 
+void arm_base_frame(const arm_model *m, double T[16])
+{
+    /* a constant copied in: cheaper than tf_identity's loop on the hot path */
+    static const double identity[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+    memcpy(T, identity, sizeof identity);
+    T[11] = m->base_height_m;
+}
+
+/* A_i = Rz(theta) Tz(d) Tx(a) Rx(alpha), so each row r of T A_i is row r
+ * of T turned by theta in its (x, y) entries, then by alpha in its (y, z)
+ * entries, and the position gains a (row . x-axis after Rz) + d (row z):
+ * 30 multiplications per joint instead of a 4x4 product and a copy. Rows
+ * are independent, which makes the in-place call safe. */
+void arm_dh_compose(const arm_model *m, int i, double ct, double st, const double T[16],
+                    double out[16])
+{
+    const double ca = m->cos_alpha[i], sa = m->sin_alpha[i];
+    const double a = m->a_m[i], d = m->d_m[i];
+    int r;
+    for (r = 0; r < 12; r += 4) {
+        const double x = T[r], y = T[r + 1], z = T[r + 2], p = T[r + 3];
+        const double u = x * ct + y * st;   /* row . Rz x-axis */
+        const double v = y * ct - x * st;   /* row . Rz y-axis */
+        out[r] = u;
+        out[r + 1] = v * ca + z * sa;
+        out[r + 2] = z * ca - v * sa;
+        out[r + 3] = p + a * u + d * z;
+    }
+    out[12] = 0.0;
+    out[13] = 0.0;
+    out[14] = 0.0;
+    out[15] = 1.0;
+}
+
 int arm_link_frames(const arm_model *m, const double q[ARM_NJ], double T[ARM_NJ + 1][16])
 {
-    double A[16];
+    arm_joint_cs cs;
     int i;
-    if (!m || !T || arm_q_finite(q) != 0)
+    if (!T || arm_joint_cs_eval(m, q, &cs) != 0)
         return -1;
-    tf_identity(T[0]);
-    T[0][11] = m->base_height_m;
-    for (i = 0; i < ARM_NJ; i++) {
-        arm_dh_transform(m, i, q[i], A);
-        tf_mul(T[i + 1], T[i], A);
-    }
+    arm_base_frame(m, T[0]);
+    for (i = 0; i < ARM_NJ; i++)
+        arm_dh_compose(m, i, cs.c[i], cs.s[i], T[i], T[i + 1]);
     return 0;
 }

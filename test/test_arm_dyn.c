@@ -12,7 +12,12 @@
 #include "arm_kin.h"
 #include "vec3.h"
 
-static const arm_model *const models[] = { &arm_model_puma560, &arm_model_seed002 };
+/* An arm with no special twist angles, offsets everywhere and joint angle
+ * offsets: the recursions must not depend on alpha in {0, +-90 deg}. Filled
+ * in by main() from the PUMA table. */
+static arm_model skewed;
+
+static const arm_model *const models[] = { &arm_model_puma560, &arm_model_seed002, &skewed };
 #define NMODELS (sizeof models / sizeof models[0])
 
 static double lcg_uniform(unsigned long *s)
@@ -282,6 +287,23 @@ static void test_bad_input(void **state)
     assert_int_equal(arm_spd_solve6(M, qd, tau), -2);
 }
 
+static void make_skewed(void)
+{
+    static const double alpha[ARM_NJ] = { 1.2, -0.4, 2.3, 0.7, -1.9, 0.3 };
+    static const double a[ARM_NJ] = { 0.05, 0.4318, 0.0203, -0.03, 0.02, 0.01 };
+    static const double d[ARM_NJ] = { 0.1, -0.02, 0.15005, 0.4318, 0.03, 0.06 };
+    static const double off[ARM_NJ] = { 0.1, -0.3, 0.5, 0.0, -0.2, 0.4 };
+    int i;
+    skewed = arm_model_puma560;
+    for (i = 0; i < ARM_NJ; i++) {
+        skewed.alpha_rad[i] = alpha[i];
+        skewed.a_m[i] = a[i];
+        skewed.d_m[i] = d[i];
+        skewed.theta_offset_rad[i] = off[i];
+    }
+    arm_model_refresh_alpha(&skewed);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -292,5 +314,6 @@ int main(void)
         cmocka_unit_test(test_payload_gravity_as_wrench),
         cmocka_unit_test(test_bad_input),
     };
+    make_skewed();
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

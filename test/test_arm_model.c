@@ -4,6 +4,7 @@
 #include <stddef.h>
 #include <setjmp.h>
 #include <cmocka.h>
+#include <float.h>
 #include <math.h>
 #include <string.h>
 #include "arm_model.h"
@@ -118,6 +119,65 @@ static void test_tool_offset(void **state)
     assert_memory_equal(Tt, T6, sizeof Tt);
 }
 
+/* The tables carry cos/sin of alpha so no routine evaluates them per call:
+ * they must be the very numbers cos(alpha_rad), sin(alpha_rad). */
+static void test_alpha_trig_tables(void **state)
+{
+    size_t k;
+    int i;
+    (void)state;
+    for (k = 0; k < sizeof models / sizeof models[0]; k++) {
+        arm_model copy = *models[k];
+        for (i = 0; i < ARM_NJ; i++) {
+            assert_true(fabs(models[k]->cos_alpha[i] - cos(models[k]->alpha_rad[i])) <= DBL_EPSILON);
+            assert_true(fabs(models[k]->sin_alpha[i] - sin(models[k]->alpha_rad[i])) <= DBL_EPSILON);
+        }
+        memset(copy.cos_alpha, 0, sizeof copy.cos_alpha);
+        memset(copy.sin_alpha, 0, sizeof copy.sin_alpha);
+        arm_model_refresh_alpha(&copy);
+        for (i = 0; i < ARM_NJ; i++) {
+            assert_true(fabs(copy.cos_alpha[i] - models[k]->cos_alpha[i]) <= DBL_EPSILON);
+            assert_true(fabs(copy.sin_alpha[i] - models[k]->sin_alpha[i]) <= DBL_EPSILON);
+        }
+    }
+}
+
+/* The DH-specialised product equals the general T * A_i, in place too, for
+ * twist angles that are not multiples of 90 deg. */
+static void test_dh_compose_general_alpha(void **state)
+{
+    static const double alpha[ARM_NJ] = { 1.2, -0.4, 2.3, 0.7, -1.9, 0.3 };
+    arm_model m = arm_model_puma560;
+    unsigned long seed = 11;
+    int n, i, e;
+    (void)state;
+    for (i = 0; i < ARM_NJ; i++) {
+        m.alpha_rad[i] = alpha[i];
+        m.a_m[i] += 0.01 * (i + 1);
+        m.theta_offset_rad[i] = 0.1 * i;
+    }
+    arm_model_refresh_alpha(&m);
+    for (n = 0; n < 100; n++) {
+        double q[ARM_NJ], F[ARM_NJ + 1][16], T[16], A[16], C[16];
+        arm_joint_cs cs;
+        random_q(&m, &seed, q);
+        assert_int_equal(arm_joint_cs_eval(&m, q, &cs), 0);
+        assert_int_equal(arm_link_frames(&m, q, F), 0);
+        for (i = 0; i < ARM_NJ; i++) {
+            assert_true(fabs(cs.c[i] - cos(q[i] + m.theta_offset_rad[i])) <= DBL_EPSILON);
+            assert_true(fabs(cs.s[i] - sin(q[i] + m.theta_offset_rad[i])) <= DBL_EPSILON);
+            arm_dh_transform(&m, i, q[i], A);
+            tf_mul(C, F[i], A);
+            memcpy(T, F[i], sizeof T);
+            arm_dh_compose(&m, i, cs.c[i], cs.s[i], T, T);
+            for (e = 0; e < 16; e++) {
+                assert_true(fabs(C[e] - F[i + 1][e]) < 1e-14);
+                assert_true(fabs(T[e] - F[i + 1][e]) == 0.0);
+            }
+        }
+    }
+}
+
 static void test_bad_input(void **state)
 {
     double q[ARM_NJ] = { 0, 0, 0, 0, 0, 0 }, F[ARM_NJ + 1][16];
@@ -142,6 +202,8 @@ int main(void)
         cmocka_unit_test(test_mass_properties_valid),
         cmocka_unit_test(test_frames_chain_and_fk),
         cmocka_unit_test(test_tool_offset),
+        cmocka_unit_test(test_alpha_trig_tables),
+        cmocka_unit_test(test_dh_compose_general_alpha),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
