@@ -5,6 +5,7 @@
  */
 #include "sim.h"
 #include "arm_model.h"
+#include "formation.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -42,6 +43,7 @@ static void usage(void)
            "  --friction V,C    arm joint viscous (N m s/rad) and Coulomb (N m) friction\n"
            "  --rovers N        number of Pioneer robots (default 0)\n"
            "  --world NAME      rover world: open | obstacles | corridor | deadzone\n"
+           "  --formation F     rover team's start formation: line (default) | triangle | column\n"
            "  --arm-model NAME  arm 1 is puma560 (default) or seed002 (seed 002's arm)\n"
            "  --arm-q0 Q1,..,Q6 arm 1 starts at these joint angles (rad) instead of home\n"
            DAEMON_COMMON_HELP);
@@ -59,6 +61,7 @@ static int parse_args(int argc, char **argv)
         { "friction", required_argument, 0, 'f' },
         { "rovers", required_argument, 0, 'r' },
         { "world", required_argument, 0, 'w' },
+        { "formation", required_argument, 0, 'F' },
         { "arm-model", required_argument, 0, 'M' },
         { "arm-q0", required_argument, 0, 'Q' },
         DAEMON_COMMON_OPTIONS,
@@ -124,6 +127,15 @@ static int parse_args(int argc, char **argv)
                 return -1;
             }
             snprintf(app.cfg.rover_world, sizeof app.cfg.rover_world, "%s", optarg);
+            break;
+        case 'F':
+            if (!strcmp(optarg, "line")) app.cfg.rover_formation = FORMATION_LINE;
+            else if (!strcmp(optarg, "triangle")) app.cfg.rover_formation = FORMATION_TRIANGLE;
+            else if (!strcmp(optarg, "column")) app.cfg.rover_formation = FORMATION_COLUMN;
+            else {
+                fprintf(stderr, "tandem-sim: --formation: '%s' is not line|triangle|column\n", optarg);
+                return -1;
+            }
             break;
         case 'M':
             if (!(app.cfg.arm1_model = arm_model_by_name(optarg))) {
@@ -418,6 +430,7 @@ int main(int argc, char **argv)
     app.w.lockstep_timeout_s = 2.0;
     app.cfg.arms = 1;
     snprintf(app.cfg.rover_world, sizeof app.cfg.rover_world, "open");
+    app.cfg.rover_formation = FORMATION_LINE;
     if (parse_args(argc, argv) != 0)
         return 2;
     app.w.lockstep = app.w.d.lockstep;

@@ -173,7 +173,7 @@ static int rovers_create(sim_world *w, const sim_config *cfg)
     memset(&R, 0, sizeof R);
     R.w = w;
     world = rover_world_id(cfg->rover_world);
-    R.formation = (int)env_num("TANDEM_ROVER_FORMATION", FORMATION_LINE, 0, 2);
+    R.formation = cfg->rover_formation;   /* the rovers get the same --formation */
     if (cfg->rovers < 1 || cfg->rovers > RV_MAX || world < 0 ||
         rover_world_layout(&R.layout, world, cfg->rovers, 1.0, R.formation) != 0) {
         fprintf(stderr, "tandem-sim: --rovers %d --world %s: not a valid team (1..%d robots)\n",

@@ -165,14 +165,13 @@ static int parse(int argc, char **argv)
 
 /* ---- children ----------------------------------------------------------------- */
 
-static pid_t spawn(char *const argv[], const char *formation_env)
+static pid_t spawn(char *const argv[])
 {
     pid_t p = fork();
     if (p == 0) {
         char path[700];
         int fd;
         setenv("LCM_DEFAULT_URL", F.url, 1);
-        if (formation_env) setenv("TANDEM_ROVER_FORMATION", formation_env, 1);
         /* children's chatter goes to DIR/children.log */
         snprintf(path, sizeof path, "%s/children.log", F.out);
         fd = open(path, O_WRONLY | O_CREAT | O_APPEND, 0644);
@@ -211,17 +210,17 @@ static const char *bname(int b) { return b == 0 ? "weighted" : b == 1 ? "subsump
 
 static int start_children(void)
 {
-    char n_s[16], w_s[32], seed_s[24], expect_s[16], f_s[4], id_s[32];
+    char n_s[16], w_s[32], seed_s[24], expect_s[16], id_s[32];
     int k, procs = F.single ? 1 : F.robots;
     snprintf(n_s, sizeof n_s, "%d", F.robots);
     snprintf(w_s, sizeof w_s, "%s", rover_world_name(F.world));
     snprintf(seed_s, sizeof seed_s, "%ld", F.seed);
     snprintf(expect_s, sizeof expect_s, "%d", procs + 1);
-    snprintf(f_s, sizeof f_s, "%d", F.formation);
     {
         char *sim[] = { "tandem-sim", "--lockstep", "--no-arms", "--rovers", n_s, "--world", w_s,
+                        "--formation", (char *)fname(F.formation),
                         "--seed", seed_s, "--expect", expect_s, "--timeout-ms", "10000", NULL };
-        if (spawn(sim, f_s) <= 0) return -1;
+        if (spawn(sim) <= 0) return -1;
     }
     for (k = 1; k <= procs; k++) {
         char *fo = (char *)fname(F.formation), *bl = (char *)bname(F.blend);
@@ -229,7 +228,7 @@ static int start_children(void)
                        "--formation", fo, "--blend", bl, "--lockstep", NULL };
         if (F.single) snprintf(id_s, sizeof id_s, "1-%d", F.robots);
         else snprintf(id_s, sizeof id_s, "%d", k);
-        F.rover_pid[k] = spawn(rv, NULL);
+        F.rover_pid[k] = spawn(rv);
         if (F.rover_pid[k] <= 0) return -1;
     }
     return 0;
