@@ -16,6 +16,7 @@
 #include "jointctl.h"
 #include "jtraj.h"
 #include "cartseg.h"
+#include "tdsd_seg.h"
 #include "cell.h"
 #include "sync_ref.h"
 #include "vec3.h"
@@ -127,6 +128,7 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
 }
 
 static void cart_row_accept(const tandem_action_row_t *r);
+static void tdsd_row_accept(const tandem_action_row_t *r);
 static void cart_start(daemon *d, const tandem_action_segment_t *g);
 static int  cart_cycle(daemon *d);
 static void send_command(daemon *d, int mode, const double tau[ARM_NJ]);
@@ -182,6 +184,7 @@ static void on_action(const lcm_recv_buf_t *rb, const char *ch, void *u)
     C.transition = r.transition;
     C.running = 1;
     cart_row_accept(&r);
+    tdsd_row_accept(&r);
     tandem_action_row_t_decode_cleanup(&r);
     publish_event(d, TANDEM_ACTION_EVENT_T_STARTED, "");
 }
@@ -441,6 +444,90 @@ static int cart_cycle(daemon *d)
     return 1;
 }
 
+/* ---- TDSD Cartesian segments (SPEC 3, action_row_t.use_tdsd) ------------
+ * A MOVE_CARTESIAN segment of a use_tdsd row is resolved by tdsd_seg (TDSD
+ * at the joint reference along the row's profile, 0.9 qd_max) and the
+ * joint reference is tracked by the computed-torque servo with its speed
+ * limited to qd_max (tdsd_servo_vlimit). Synchronised rows (sync_group > 0)
+ * keep the event-referenced law: TDSD has no shared s*. No PROGRESS
+ * events; DONE as for every row. */
+
+static struct {
+    int      use;                     /* this row resolves Cartesian moves by TDSD */
+    tdsd_seg_params par;
+    tdsd_seg seg;
+    int32_t  action_id;
+    int      seg_index;               /* C.cur_seg the TDSD segment belongs to, -1 */
+} TD;
+
+static void tdsd_row_accept(const tandem_action_row_t *r)
+{
+    TD.use = r->use_tdsd != 0 && r->sync_group <= 0;
+    tdsd_seg_default_params(&TD.par, r->v_m, r->a_m, r->u_m);
+    TD.seg_index = -1;
+}
+
+static void tdsd_start(daemon *d, const tandem_action_segment_t *g)
+{
+    const double off[3] = { 0.0, 0.0, CELL_TOOL_LENGTH_M };
+    double T_world_base[16], R1[9];
+    arm_tool tool;
+    arm_tool_offset(&tool, off);
+    cell_world_from_arm(&cell_default, C.arm - 1, T_world_base);
+    rot_from_quat(R1, g->orientation_quat);
+    TD.action_id = C.action_id;
+    TD.seg_index = C.cur_seg;
+    if (tdsd_seg_start(&TD.seg, C.model, &tool, T_world_base, C.st.q_rad, g->position_m, R1, &TD.par) != 0) {
+        memcpy(C.hold_q, C.st.q_rad, sizeof C.hold_q);
+        C.cur_seg = C.n_seg;
+        C.running = 0;
+        TD.seg_index = -1;
+        publish_event(d, TANDEM_ACTION_EVENT_T_REJECTED, "bad tdsd segment");
+    }
+}
+
+/* Runs the cycle when a TDSD Cartesian segment is current; 1 if it sent
+ * the command. */
+static int tdsd_cycle(daemon *d)
+{
+    double qd_lim[ARM_NJ], tau[ARM_NJ];
+    arm_payload payload, *pl = NULL;
+    tdsd_seg_out o;
+    if (!TD.use)
+        return 0;
+    if (C.running && C.cur_seg < 0)
+        start_segment(d);
+    if (!C.running || C.cur_seg < 0 || C.cur_seg >= C.n_seg ||
+        C.seg[C.cur_seg].kind != TANDEM_ACTION_SEGMENT_T_MOVE_CARTESIAN)
+        return 0;
+    if (TD.seg_index != C.cur_seg || TD.action_id != C.action_id) {
+        tdsd_start(d, &C.seg[C.cur_seg]);
+        if (!C.running)
+            return 0;
+    }
+    tdsd_seg_step(&TD.seg, C.model, d->period_s, &o);   /* error: the reference holds */
+    memcpy(qd_lim, C.model->qd_max_radps, sizeof qd_lim);
+    tdsd_servo_vlimit(&C.gains, qd_lim, C.st.q_rad, o.q_d, o.qd_d, o.qdd_d);
+    if (C.st.holding_workpiece >= 0) {
+        const double com[3] = { 0.0, 0.0, 0.10 };
+        arm_payload_point(&payload, 0.5, com);
+        pl = &payload;
+    }
+    if (jointctl_torque(C.model, pl, &C.gains, C.st.q_rad, C.st.qd_radps, o.q_d, o.qd_d, o.qdd_d, tau, NULL) != 0) {
+        send_command(d, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
+        return 1;
+    }
+    snprintf(d->status, sizeof d->status, "action %d seg %d tdsd s %.3f/%.3f Q1 %.2f", (int)C.action_id,
+             C.cur_seg, o.s_m, o.L_m, o.Q1);
+    send_command(d, TANDEM_ARM_COMMAND_T_MODE_TORQUE, tau);
+    if (tdsd_seg_done(&TD.seg, C.st.q_rad, C.st.qd_radps)) {
+        memcpy(C.hold_q, TD.seg.q_ref, sizeof C.hold_q);
+        TD.seg_index = -1;
+        start_segment(d);
+    }
+    return 1;
+}
+
 /* ---- the cycle ------------------------------------------------------------ */
 
 static int state_stale(const daemon *d)
@@ -486,7 +573,7 @@ static void cycle(daemon *d, void *user)
         return;
     }
     d->safe_hold = 0;
-    if (cart_cycle(d))
+    if (tdsd_cycle(d) || cart_cycle(d))
         return;
     memcpy(q_d, C.hold_q, sizeof q_d);
     if (C.running) {
@@ -501,6 +588,7 @@ static void cycle(daemon *d, void *user)
         memcpy(q_d, JR.ref.q_rad, sizeof q_d);
         memcpy(qd_d, JR.ref.qd_radps, sizeof qd_d);
         memcpy(qdd_d, JR.ref.qdd_radps2, sizeof qdd_d);
+        tdsd_servo_vlimit(&C.gains, C.model->qd_max_radps, C.st.q_rad, q_d, qd_d, qdd_d);
     }
     if (C.st.holding_workpiece >= 0) {
         const double com[3] = { 0.0, 0.0, 0.10 };
@@ -571,11 +659,11 @@ int main(int argc, char **argv)
     snprintf(C.action_ch, sizeof C.action_ch, "ARM%d_ACTION", C.arm);
     if (daemon_start(&d) != 0)
         return 1;
-    lcm_subscribe(d.lcm, "ARM_EVENTS", cart_on_event, &d);
-    lcm_subscribe(d.lcm, C.state_ch, on_state, &d);
-    lcm_subscribe(d.lcm, C.action_ch, on_action, &d);
+    daemon_subscribe(&d, "ARM_EVENTS", cart_on_event, &d);
+    daemon_subscribe(&d, C.state_ch, on_state, &d);
+    daemon_subscribe(&d, C.action_ch, on_action, &d);
     snprintf(JR.ch, sizeof JR.ch, "ARM%d_JOINT_REF", C.arm);
-    lcm_subscribe(d.lcm, JR.ch, on_joint_ref, &d);
+    daemon_subscribe(&d, JR.ch, on_joint_ref, &d);
     rc = daemon_run(&d, cycle, NULL);
     daemon_finish(&d);
     return rc;
