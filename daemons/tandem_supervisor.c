@@ -52,6 +52,7 @@ typedef struct supervisor {
     sup_slot slot[CARRY_N_TRANSITIONS];
     int     controller;             /* action_row_t CONTROLLER_* */
     int     serial;
+    int     use_tdsd;               /* --tdsd: rows ask for TDSD Cartesian moves */
     /* workpiece of the current cycle (p1 .. t2) and the one being carried */
     int32_t wp_id;
     double  wp_pos_m[3], wp_yaw_rad;
@@ -85,6 +86,8 @@ static void usage(void)
            "                    the time-referenced baseline\n"
            "  --serial          take a new workpiece only when the previous one is\n"
            "                    delivered and both arms are home (no pipelining)\n"
+           "  --tdsd            rows set use_tdsd: the arms resolve unsynchronised\n"
+           "                    Cartesian moves by TDSD (passes near singular poses)\n"
            DAEMON_COMMON_HELP);
 }
 
@@ -191,6 +194,7 @@ static void send_row(daemon *d, int t, int a)
     row.transition = t + 1;
     row.arm = (int8_t)(a + 1);
     row.controller = (int8_t)S.controller;
+    row.use_tdsd = (int8_t)S.use_tdsd;
     row.sync_group = r->sync_group;
     row.workpiece_id = S.pick_id;
     row.v_m = r->lin.v_m; row.a_m = r->lin.a_m; row.u_m = r->lin.u_m;
@@ -436,6 +440,7 @@ int main(int argc, char **argv)
     static const struct option opts[] = {
         { "controller", required_argument, 0, 'c' },
         { "serial", no_argument, 0, 'S' },
+        { "tdsd", no_argument, 0, 'T' },
         DAEMON_COMMON_OPTIONS,
         { 0, 0, 0, 0 }
     };
@@ -460,6 +465,7 @@ int main(int argc, char **argv)
             }
             break;
         case 'S': S.serial = 1; break;
+        case 'T': S.use_tdsd = 1; break;
         default: usage(); return 2;
         }
     }
