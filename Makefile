@@ -182,8 +182,13 @@ $(BIN)/bench_kdl: test/bench_kdl.cpp $(CORE_LIB)
 	@$(if $(Q),echo '  CXX   $@';) true
 	$(Q)$(CXX) -O2 -std=c++14 -Iinclude $$(pkg-config --cflags orocos-kdl) $< $(CORE_LIB) $$(pkg-config --libs orocos-kdl) -lm -o $@
 
+$(BIN)/bench_tdsd_kdl: test/bench_tdsd_kdl.cpp $(CORE_LIB)
+	@mkdir -p $(@D)
+	@$(if $(Q),echo '  CXX   $@';) true
+	$(Q)$(CXX) -O2 -std=c++14 -Iinclude $$(pkg-config --cflags orocos-kdl) $< $(CORE_LIB) $$(pkg-config --libs orocos-kdl) -lm -o $@
+
 bench: deps deps-bench
-	@$(MAKE) --no-print-directory all $(BENCH_BIN) $(BIN)/bench_kdl
+	@$(MAKE) --no-print-directory all $(BENCH_BIN) $(BIN)/bench_kdl $(BIN)/bench_tdsd_kdl
 	@tools/bench.sh $(BIN)
 
 spy: $(TYPES_JAR)

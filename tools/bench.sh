@@ -50,6 +50,21 @@ if command -v valgrind >/dev/null && [ -x "$bin/bench_arm" ]; then
     done
 fi
 
+echo; echo "== 5. one TDSD step vs Orocos KDL velocity IK (wdls, pinv), same PUMA 560 chain, same run =="
+if [ -x "$bin/bench_tdsd_kdl" ]; then
+    "$bin/bench_tdsd_kdl" 100000 | sed 's/^/  /'
+    if command -v valgrind >/dev/null; then
+        echo "  instructions per call (callgrind: (2000 calls - 1000 calls) / 1000):"
+        for r in tdsd tdsd_jac wdls pinv; do
+            out=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null "$bin/bench_tdsd_kdl" 2000 $r 2>&1 | awk '/Collected/ {print $4}')
+            base=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null "$bin/bench_tdsd_kdl" 1000 $r 2>&1 | awk '/Collected/ {print $4}')
+            [ -n "$out" ] && [ -n "$base" ] && printf '    %-9s %8d\n' $r $(( (out - base) / 1000 ))
+        done
+    fi
+else
+    echo "  bench_tdsd_kdl not built (needs liborocos-kdl-dev)"
+fi
+
 for extra in "$bin"/bench_carry "$bin"/bench_tdsd "$bin"/bench_rovers; do
     [ -x "$extra" ] || continue
     echo; echo "== $(basename "$extra") =="
