@@ -91,13 +91,31 @@ static void build_features(rover_world_t *w, double xf)
         add_wall(w, xf + 4.0, 3.0, xf + 4.0, 9.0, t);
         add_wall(w, xf + 4.0, -3.0, xf + 4.0, -9.0, t);
         break;
-    default: /* DEADZONE: a U open toward the team, inner width 1.0 m, with
-              * the goal straight behind its back wall */
-        w->goal_m[0] = xf + 11.5;
-        add_wall(w, xf + 8.0 + 0.5 * t, -0.5 - t, xf + 8.0 + 0.5 * t, 0.5 + t, t);
-        add_wall(w, xf + 6.3, 0.5 + 0.5 * t, xf + 8.0 + t, 0.5 + 0.5 * t, t);
-        add_wall(w, xf + 6.3, -0.5 - 0.5 * t, xf + 8.0 + t, -0.5 - 0.5 * t, t);
+    default: {
+        /* DEADZONE (SPEC 4, dead-zone exception): a U lying across the way,
+         * centred on the start -> goal line (y = 0), opening toward the
+         * team, the goal 3.5 m behind its back wall. The mouth, 3.2 m
+         * between the lips, takes the whole line (formation_width 2.38 m
+         * at 1 m spacing) with 0.4 m to spare each side, so no robot
+         * passes round the outside. Over 1.5 m the side walls close in to
+         * a pocket 1.0 m wide and 1.2 m deep: a robot at its bottom has the
+         * back wall ahead and a side wall on each hand, all under
+         * d_s = 0.5 m (side echoes ~0.36 m; a trap must be narrower than
+         * 2 (d_s + 0.136) = 1.27 m, 0.136 m being the side transducers'
+         * offset), and room to turn on the spot (corner radius 0.31 m).
+         * Mates are never trap walls, so no U wide enough for the whole
+         * line can trap a robot at a wide bottom: the taper is what makes
+         * the team's way end in a one-robot trap. */
+        const double x_lip = xf + 5.5, x_pocket = xf + 7.0, x_back = xf + 8.2;
+        const double mouth_half = 1.6, bottom_half = 0.5;
+        w->goal_m[0] = x_back + 3.5;
+        add_wall(w, x_back + 0.5 * t, -bottom_half - t, x_back + 0.5 * t, bottom_half + t, t);
+        add_wall(w, x_lip, mouth_half + 0.5 * t, x_pocket, bottom_half + 0.5 * t, t);
+        add_wall(w, x_lip, -mouth_half - 0.5 * t, x_pocket, -bottom_half - 0.5 * t, t);
+        add_wall(w, x_pocket, bottom_half + 0.5 * t, x_back + t, bottom_half + 0.5 * t, t);
+        add_wall(w, x_pocket, -bottom_half - 0.5 * t, x_back + t, -bottom_half - 0.5 * t, t);
         break;
+    }
     }
 }
 

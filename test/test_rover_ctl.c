@@ -4,7 +4,7 @@
  * messages delivered every 0.1 s, beacons from true relative positions).
  * Checks: the team reaches the goal in every formation and blend; a robot
  * that falls silent is dropped by the heartbeat and the rest still arrive;
- * the middle robot caught in the U trap escapes and the team arrives;
+ * one robot driving into the U gets trapped in its pocket, escapes and arrives;
  * stale sensors stop the robot; the escape's wall following turns the
  * right way; slot mapping is a bijection; world layouts are deterministic
  * and the clearance matches hand-computed distances. (The obstacle and
@@ -218,16 +218,68 @@ static void test_slot_mapping(void **state)
     assert_int_equal(rover_world_slot(7, 3, 0), -1);
 }
 
+/* One robot on the kinematic model drives from the start straight into the
+ * deadzone world's U (rover_world.c): it must reach the pocket, be trapped
+ * there (front, left and right under d_s for the dead-zone time), escape
+ * by the exception (turn, then boundary following) and reach the goal
+ * without touching a wall. The trap point is checked against the layout:
+ * inside the 1.0 m pocket, beyond the taper. */
 static void test_deadzone_escape(void **state)
 {
-    kin_result r;
+    rover_world_t w;
+    rover_ctl_params_t p;
+    rover_ctl_t c;
+    sonar_model_t sm;
+    pose2_t pose, st, gw = {0, 0, 0}, gt;
+    double el = 0.0, er = 0.0, goal[2], min_clear = INFINITY, trap_x = NAN, trap_y = NAN;
+    double back_x = -INFINITY;
+    int alive[1] = {1}, step, entered = 0, reached = 0, k;
     (void)state;
-    r = kin_run(ROVER_WORLD_DEADZONE, FORMATION_LINE, BEH_BLEND_WEIGHTED, 200.0, -1, 0.0);
-    print_message("deadzone: reached=%d t=%.1f escapes=%d min_clear=%.2f\n", r.reached,
-                  r.t_end, r.escapes, r.min_clear);
-    assert_true(r.escapes >= 1);
-    assert_true(r.reached);
-    assert_true(r.min_clear > 0.0);
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_DEADZONE, 1, 1.0, FORMATION_LINE), 0);
+    for (k = 0; k < w.n_obst; k++)
+        if (w.obst[k].cx_m > back_x) back_x = w.obst[k].cx_m;   /* the back wall */
+    rover_ctl_params_default(&p);
+    sonar_model_default(&sm);
+    sm.noise_sd_m = 0.0;
+    gw.x_m = w.goal_m[0];
+    gw.y_m = w.goal_m[1];
+    rover_world_to_team(&w, &gw, &gt);
+    goal[0] = gt.x_m;
+    goal[1] = gt.y_m;
+    pose = w.start_c[0];
+    rover_world_to_team(&w, &pose, &st);
+    assert_int_equal(rover_ctl_init(&c, &p, 1, &st, goal), 0);
+    for (step = 0; step * DT < 200.0 && !reached; step++) {
+        const double t = step * DT, b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
+        double rng[SONAR_N], clear;
+        rover_ctl_out_t out;
+        build_sonar(&w, &pose, alive, 0);
+        sonar_ring(rng, &sw, &sm, &pose, NULL);
+        rover_ctl_encoders(&c, el, er, t);
+        rover_ctl_sonar(&c, rng, t);
+        assert_int_equal(rover_ctl_step(&c, t, DT, &out), 0);
+        if (out.mode == ROVER_MODE_DEAD_ZONE && !entered) {
+            entered = 1;
+            trap_x = pose.x_m;
+            trap_y = pose.y_m;
+            /* the trap as the exception sees it: all three under d_s */
+            assert_true(rng[0] < p.beh.d_s_m && rng[7] < p.beh.d_s_m &&
+                        fmin(rng[3], rng[4]) < p.beh.d_s_m);
+        }
+        if (out.mode == ROVER_MODE_AT_GOAL) reached = 1;
+        el += (out.u.v_mps - 0.5 * b * out.u.w_radps) / rw * DT;
+        er += (out.u.v_mps + 0.5 * b * out.u.w_radps) / rw * DT;
+        unicycle_step_exact(&pose, out.u.v_mps, out.u.w_radps, DT);
+        rover_world_clearance(&w, &pose, alive, 1, &clear);
+        if (clear < min_clear) min_clear = clear;
+    }
+    print_message("deadzone (one robot): trapped at (%.2f, %.2f), escapes=%d, reached=%d at t=%.1f, "
+                  "min clearance %.2f m\n", trap_x, trap_y, c.escapes, reached, step * DT, min_clear);
+    assert_true(entered);
+    assert_true(trap_x > back_x - 1.2 - 0.5 && trap_x < back_x && fabs(trap_y) < 0.5);
+    assert_true(c.escapes >= 1);
+    assert_true(reached);
+    assert_true(min_clear > 0.0);
 }
 
 static void test_stale_sensors_stop(void **state)
