@@ -114,6 +114,9 @@ static double line_distance(const double p[3], const double A[3], const double B
 static void test_tdsd_row_near_wrist_singularity(void **state)
 {
     harness h;
+    tandem_arm_state_t_subscription_t *s_state;
+    tandem_sim_clock_t_subscription_t *s_clock;
+    tandem_action_event_t_subscription_t *s_event;
     char q0s[160];
     const char *sim[] = { "tandem-sim", "--lockstep", "--expect", "2", "--arm-q0", q0s, NULL };
     const char *arm[] = { "tandem-arm", "--arm", "1", "--lockstep", NULL };
@@ -134,9 +137,9 @@ static void test_tdsd_row_near_wrist_singularity(void **state)
 
     assert_int_equal(harness_open(&h, 31), 0);
     memset(&O, 0, sizeof O);
-    tandem_arm_state_t_subscribe(h.lcm, "ARM1_STATE", on_state, NULL);
-    tandem_sim_clock_t_subscribe(h.lcm, "SIM_CLOCK", on_clock, NULL);
-    tandem_action_event_t_subscribe(h.lcm, "ARM_EVENTS", on_event, NULL);
+    s_state = tandem_arm_state_t_subscribe(h.lcm, "ARM1_STATE", on_state, NULL);
+    s_clock = tandem_sim_clock_t_subscribe(h.lcm, "SIM_CLOCK", on_clock, NULL);
+    s_event = tandem_action_event_t_subscribe(h.lcm, "ARM_EVENTS", on_event, NULL);
     harness_spawn(&h, sim);
     harness_spawn(&h, arm);
     for (i = 0; i < 100 && !O.have; i++)
@@ -187,6 +190,9 @@ static void test_tdsd_row_near_wrist_singularity(void **state)
            "q4 swept %.1f deg, max measured joint speed %.3f x limit (q%d)\n",
            O.done, (double)(k - k_start) * 1e-3, vec3_norm(d) * 1e3, max_dev * 1e3, min_q5 / DEG,
            (q4_hi - q4_lo) / DEG, max_ratio, worst + 1);
+    tandem_arm_state_t_unsubscribe(h.lcm, s_state);
+    tandem_sim_clock_t_unsubscribe(h.lcm, s_clock);
+    tandem_action_event_t_unsubscribe(h.lcm, s_event);
     harness_close(&h);   /* before the checks: a failed one would leave the children */
     assert_false(O.rejected);
     assert_true(O.done);

@@ -50,6 +50,10 @@ typedef struct {
     pid_t  rover_pid[FM_MAX + 1];     /* process hosting robot k (separate mode) */
     /* lcm */
     lcm_t *lcm;
+    tandem_sim_clock_t_subscription_t *sub_clock;
+    tandem_rover_truth_t_subscription_t *sub_truth;
+    tandem_rover_state_t_subscription_t *sub_state;
+    tandem_team_msg_t_subscription_t *sub_team;
     int64_t clock_step, answered, ack_seq, last_clock_ns;
     int    have_clock;
     /* layout and truth */
@@ -514,14 +518,14 @@ static int run(int argc, char **argv)
     F.type_now = F.formation;
     F.lcm = lcm_create(F.url);
     if (!F.lcm) { fprintf(stderr, "formation: cannot open LCM at %s\n", F.url); return 1; }
-    tandem_sim_clock_t_subscription_set_queue_capacity(
-        tandem_sim_clock_t_subscribe(F.lcm, "SIM_CLOCK", on_clock, NULL), 0);
-    tandem_rover_truth_t_subscription_set_queue_capacity(
-        tandem_rover_truth_t_subscribe(F.lcm, "ROVER_TRUTH", on_truth, NULL), 100000);
-    tandem_rover_state_t_subscription_set_queue_capacity(
-        tandem_rover_state_t_subscribe(F.lcm, "ROVER[0-9]+_STATE", on_state, NULL), 100000);
-    tandem_team_msg_t_subscription_set_queue_capacity(
-        tandem_team_msg_t_subscribe(F.lcm, "TEAM", on_team, NULL), 100000);
+    F.sub_clock = tandem_sim_clock_t_subscribe(F.lcm, "SIM_CLOCK", on_clock, NULL);
+    F.sub_truth = tandem_rover_truth_t_subscribe(F.lcm, "ROVER_TRUTH", on_truth, NULL);
+    F.sub_state = tandem_rover_state_t_subscribe(F.lcm, "ROVER[0-9]+_STATE", on_state, NULL);
+    F.sub_team = tandem_team_msg_t_subscribe(F.lcm, "TEAM", on_team, NULL);
+    tandem_sim_clock_t_subscription_set_queue_capacity(F.sub_clock, 0);
+    tandem_rover_truth_t_subscription_set_queue_capacity(F.sub_truth, 100000);
+    tandem_rover_state_t_subscription_set_queue_capacity(F.sub_state, 100000);
+    tandem_team_msg_t_subscription_set_queue_capacity(F.sub_team, 100000);
     F.truth_csv = scenario_fopen(F.out, "truth.csv");
     F.err_csv = scenario_fopen(F.out, "formation_error.csv");
     F.w_csv = scenario_fopen(F.out, "weights.csv");
@@ -601,6 +605,10 @@ static int run(int argc, char **argv)
     F.truth_csv = F.err_csv = F.w_csv = F.snap_csv = NULL;
     write_summary(scenario_wall_s() - wall0);
     write_plots();
+    tandem_sim_clock_t_unsubscribe(F.lcm, F.sub_clock);
+    tandem_rover_truth_t_unsubscribe(F.lcm, F.sub_truth);
+    tandem_rover_state_t_unsubscribe(F.lcm, F.sub_state);
+    tandem_team_msg_t_unsubscribe(F.lcm, F.sub_team);
     lcm_destroy(F.lcm);
     printf("formation %s world %s blend %s robots %d seed %ld: reached_goal=%d time_to_goal_s=%.2f "
            "rms_formation_err_m=%.3f max_formation_err_m=%.3f min_clearance_m=%.3f collisions=%d "
