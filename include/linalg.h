@@ -21,6 +21,20 @@
  * the cap bounds the worst-case execution time. */
 #define LINALG_SVD_MAX_SWEEPS 40
 
+/* Wide matrices with LINALG_GRAM_ROWS rows and more columns (the 3x6 task
+ * Jacobians) start the one-sided Jacobi from the eigenvectors of the 3x3
+ * Gram matrix A A^T, if its eigenvalues satisfy
+ * lambda_min >= LINALG_GRAM_RTOL lambda_max (sigma_min >= 1e-3 sigma_max);
+ * otherwise, and for every other shape, from the identity. Either way the
+ * sweeps stop on the same orthogonality test (accuracy argument in
+ * linalg.c, svd_wide_gram). (With 2 rows the one Gram rotation would be
+ * exactly the cold path's first one, so there is nothing to gain.)
+ * LINALG_GRAM_MAX_SWEEPS caps the 3x3 symmetric Jacobi (it converges in
+ * 3..5 sweeps). */
+#define LINALG_GRAM_ROWS 3
+#define LINALG_GRAM_RTOL 1e-6
+#define LINALG_GRAM_MAX_SWEEPS 8
+
 /* Default relative rank tolerance of linalg_pinv: singular values
  * sigma_i <= LINALG_PINV_RTOL * sigma_max are treated as zero.
  * Why relative: the Jacobians mix units (m/rad rows, 1/1 rows), and a
@@ -81,6 +95,30 @@ typedef struct {
  * is symmetric and idempotent to rounding; info. */
 int linalg_pinv(double *Ap, double *Pnull, linalg_pinv_info *info,
                 const double *A, int m, int n, double rtol);
+
+/* The pseudo-inverse kept as its SVD factors, A+ = V_r diag(1/s_r) U_r^T
+ * (r = info.rank, the same cut as linalg_pinv), for callers that apply A+
+ * and the projectors A+ A, I - A+ A to a few vectors or rows only: cheaper
+ * than forming them (TDSD needs J1+ on two vectors and J2 (I - J1+ J1)). */
+typedef struct {
+    int m, n, p;                       /* A is m x n, p = min(m, n) */
+    double U[LINALG_MAX * LINALG_MAX]; /* m x p */
+    double s[LINALG_MAX];              /* descending; s[0..rank-1] kept */
+    double V[LINALG_MAX * LINALG_MAX]; /* n x p */
+    linalg_pinv_info info;
+} linalg_pinv_svd;
+
+/* Factors A (m x n) with rank tolerance rtol as linalg_pinv. Same return
+ * codes; F is filled in on LINALG_OK and LINALG_ENOCONV. */
+int linalg_pinv_factor(linalg_pinv_svd *F, const double *A, int m, int n, double rtol);
+/* x (n) = A+ y, y has m entries. */
+void linalg_pinv_apply(double *x, const linalg_pinv_svd *F, const double *y);
+/* x (n) = A+ A g = V_r V_r^T g: the part of g in the row space of A
+ * (g - x is its null-space part). x may alias g. */
+void linalg_pinv_rowspace(double *x, const linalg_pinv_svd *F, const double *g);
+/* M (k x n) = B (I - A+ A) = B - (B V_r) V_r^T for B (k x n, k <= LINALG_MAX):
+ * the rows of B projected onto the null space of A. */
+void linalg_pinv_null_rows(double *M, const double *B, int k, const linalg_pinv_svd *F);
 
 /* Damped least-squares inverse Ad (n x m) = A^T (A A^T + lambda^2 I)^-1
  * (Wampler 1986). lambda > 0: Cholesky of the m x m SPD matrix (falls back

@@ -105,6 +105,8 @@ static double penrose_error(const double *A, const double *Ap, int m, int n)
     return worst;
 }
 
+static void check_pinv_case(const double *A, int m, int n, int rank_expected, double tol);
+
 static void check_svd(const double *A, int m, int n, double tol)
 {
     double U[NN], V[NN], s[LINALG_MAX], US[NN], R[NN], G[NN], I[NN];
@@ -161,6 +163,108 @@ static void test_svd_recovers_singular_values(void **state)
         for (k = 0; k < p; k++)
             assert_true(fabs(s[k] - sv[k]) <= 1e-14 * sv[0]);
         check_svd(A, m, n, 1e-13);
+    }
+}
+
+/* Wide inputs with LINALG_GRAM_ROWS rows can take the Gram
+ * warm start; the SVD of A^T (tall) always takes the cold one-sided Jacobi
+ * on the same vectors (the rows of A). Returns 1 if the two factorisations
+ * of A are bit for bit the same (the warm start was declined). */
+static int svd_same_as_cold(const double *A, int m, int n, double tol)
+{
+    double U[NN], V[NN], s[LINALG_MAX], Uc[NN], Vc[NN], sc[LINALG_MAX], At[NN];
+    double P[NN], Pc[NN];
+    int i, j, k, same = 1;
+
+    linalg_transpose(At, A, m, n);
+    assert_int_equal(linalg_svd(U, s, V, A, m, n), LINALG_OK);
+    assert_int_equal(linalg_svd(Vc, sc, Uc, At, n, m), LINALG_OK); /* A = Uc S Vc^T */
+    for (k = 0; k < m; k++) {
+        assert_true(fabs(s[k] - sc[k]) <= 1e-14 * sc[0]);
+        same = same && s[k] == sc[k];
+    }
+    for (i = 0; i < m * m; i++)
+        same = same && U[i] == Uc[i];
+    for (i = 0; i < n * m; i++)
+        same = same && V[i] == Vc[i];
+    /* singular vectors are defined up to sign (and rotation inside a
+     * repeated sigma): compare the row-space projectors V V^T */
+    for (i = 0; i < n; i++)
+        for (j = 0; j < n; j++) {
+            double a = 0.0, b = 0.0;
+            for (k = 0; k < m; k++) {
+                a += V[i * m + k] * V[j * m + k];
+                b += Vc[i * m + k] * Vc[j * m + k];
+            }
+            P[i * n + j] = a;
+            Pc[i * n + j] = b;
+        }
+    assert_true(linalg_maxabs_diff(P, Pc, n, n) <= tol);
+    return same;
+}
+
+static void test_svd_gram_path_matches_cold(void **state)
+{
+    static const int shapes[][2] = { {3, 6}, {2, 6}, {3, 4}, {2, 3}, {1, 6} };
+    static const double kappa[] = { 1.0, 10.0, 100.0, 900.0 };
+    double A[NN], sv[LINALG_MAX], Ap[NN], Apc[NN], Apct[NN], At[NN];
+    size_t c;
+    int trial, k, n_warm = 0, n_all = 0;
+    (void)state;
+    for (c = 0; c < sizeof shapes / sizeof shapes[0]; c++) {
+        int m = shapes[c][0], n = shapes[c][1];
+        for (trial = 0; trial < 100; trial++) {
+            double kap = kappa[trial % 4];
+            /* well conditioned: sigma in [sigma_max / kappa, sigma_max] */
+            sv[0] = 0.5 + (urand() + 1.0);
+            for (k = 1; k < m; k++)
+                sv[k] = sv[0] / kap * (1.0 + (kap - 1.0) * 0.5 * (urand() + 1.0));
+            if (m > 1)
+                sv[m - 1] = sv[0] / kap;
+            mat_with_sv(A, m, n, sv);
+            check_svd(A, m, n, 1e-13);
+            check_pinv_case(A, m, n, m, 1e-12);
+            if (!svd_same_as_cold(A, m, n, 1e-12)) {
+                assert_int_equal(m, LINALG_GRAM_ROWS); /* other shapes: cold */
+                n_warm++;
+            }
+            n_all += (m == LINALG_GRAM_ROWS && kap > 1.0);
+            /* the same pseudo-inverse as the cold path's, (A^T)+^T */
+            linalg_transpose(At, A, m, n);
+            assert_int_equal(linalg_pinv(Ap, NULL, NULL, A, m, n, 0.0), LINALG_OK);
+            assert_int_equal(linalg_pinv(Apc, NULL, NULL, At, n, m, 0.0), LINALG_OK);
+            linalg_transpose(Apct, Apc, m, n);
+            assert_true(linalg_maxabs_diff(Ap, Apct, n, m) <= 1e-12 * kap * kap / sv[0]);
+        }
+    }
+    /* the warm start was really taken (at kappa = 1, G is already diagonal
+     * and the warm start is the cold one) */
+    assert_true(n_warm >= n_all * 9 / 10);
+}
+
+static void test_svd_gram_guard_declines_near_singular(void **state)
+{
+    static const double small[] = { 5e-4, 1e-7, 1e-12, 0.0 };
+    double A[NN], sv[3];
+    size_t c;
+    int trial, j;
+    (void)state;
+    for (c = 0; c < sizeof small / sizeof small[0]; c++)
+        for (trial = 0; trial < 25; trial++) {
+            sv[0] = 2.0;
+            sv[1] = 1.0;
+            sv[2] = small[c] * 2.0; /* sigma_min / sigma_max < 1e-3 */
+            mat_with_sv(A, 3, 6, sv);
+            assert_true(svd_same_as_cold(A, 3, 6, 1e-12));
+            sv[1] = sv[2];
+            mat_with_sv(A, 2, 6, sv);
+            assert_true(svd_same_as_cold(A, 2, 6, 1e-12));
+        }
+    for (trial = 0; trial < 25; trial++) { /* exactly rank-deficient */
+        rand_mat(A, 3, 6);
+        for (j = 0; j < 6; j++)
+            A[2 * 6 + j] = A[0 * 6 + j];
+        assert_true(svd_same_as_cold(A, 3, 6, 1e-12));
     }
 }
 
@@ -267,6 +371,58 @@ static void test_pinv_nearly_singular(void **state)
         check_pinv_case(A, 3, 6, 2, 1e-12);
         sv[2] = 1e-7;
     }
+}
+
+/* The factored form applies the same A+, A+ A and I - A+ A as the
+ * explicit matrices of linalg_pinv, on full-rank, rank-deficient and nearly
+ * singular inputs. */
+static void test_pinv_factored_matches_explicit(void **state)
+{
+    static const int shapes[][2] = { {3, 6}, {2, 6}, {6, 6}, {6, 3} };
+    double A[NN], Ap[NN], P[NN], B[3 * LINALG_MAX], M[3 * LINALG_MAX], Mref[3 * LINALG_MAX];
+    double y[LINALG_MAX], g[LINALG_MAX], x[LINALG_MAX], xr[LINALG_MAX], sv[LINALG_MAX];
+    linalg_pinv_svd F;
+    linalg_pinv_info info;
+    size_t c;
+    int trial, k, i;
+    (void)state;
+    for (c = 0; c < sizeof shapes / sizeof shapes[0]; c++) {
+        int m = shapes[c][0], n = shapes[c][1], p = m < n ? m : n;
+        for (trial = 0; trial < 40; trial++) {
+            for (k = 0; k < p; k++)
+                sv[k] = 0.1 + (urand() + 1.0);
+            if (trial % 4 == 1)
+                sv[p - 1] = 0.0;   /* rank-deficient */
+            if (trial % 4 == 2)
+                sv[p - 1] = 1e-7;  /* nearly singular, kept */
+            mat_with_sv(A, m, n, sv);
+            assert_int_equal(linalg_pinv(Ap, P, &info, A, m, n, 0.0), LINALG_OK);
+            assert_int_equal(linalg_pinv_factor(&F, A, m, n, 0.0), LINALG_OK);
+            assert_int_equal(F.info.rank, info.rank);
+            assert_true(F.info.sigma_max == info.sigma_max && F.info.sigma_min == info.sigma_min);
+            rand_mat(y, m, 1);
+            rand_mat(g, n, 1);
+            linalg_pinv_apply(x, &F, y);
+            linalg_matvec(xr, Ap, y, n, m);
+            assert_true(linalg_maxabs_diff(x, xr, n, 1) <= 1e-12 * (1.0 + fro(Ap, n * m)));
+            linalg_pinv_rowspace(x, &F, g);   /* A+ A g = g - P g */
+            linalg_matvec(xr, P, g, n, n);
+            for (i = 0; i < n; i++)
+                xr[i] = g[i] - xr[i];
+            assert_true(linalg_maxabs_diff(x, xr, n, 1) <= 1e-13);
+            linalg_copy(x, g, n, 1);          /* in place */
+            linalg_pinv_rowspace(x, &F, x);
+            assert_true(linalg_maxabs_diff(x, xr, n, 1) <= 1e-13);
+            rand_mat(B, 3, n);
+            linalg_pinv_null_rows(M, B, 3, &F);
+            linalg_mul(Mref, B, P, 3, n, n);
+            assert_true(linalg_maxabs_diff(M, Mref, 3, n) <= 1e-13);
+            linalg_mul_t(Mref, M, A, 3, n, m); /* rows of M are in null(A) */
+            assert_true(fro(Mref, 3 * m) <= 1e-13 * (1.0 + fro(A, m * n)));
+        }
+    }
+    assert_int_equal(linalg_pinv_factor(&F, A, 2, 7, 0.0), LINALG_EDIM);
+    assert_int_equal(linalg_pinv_factor(&F, A, 2, 6, 1.0), LINALG_EARG);
 }
 
 static void test_pinv_zero_matrix_and_bad_input(void **state)
@@ -378,10 +534,13 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_svd_random_all_shapes),
         cmocka_unit_test(test_svd_recovers_singular_values),
+        cmocka_unit_test(test_svd_gram_path_matches_cold),
+        cmocka_unit_test(test_svd_gram_guard_declines_near_singular),
         cmocka_unit_test(test_svd_exactly_singular_and_zero),
         cmocka_unit_test(test_pinv_penrose_full_and_deficient),
         cmocka_unit_test(test_pinv_exactly_singular_rows),
         cmocka_unit_test(test_pinv_nearly_singular),
+        cmocka_unit_test(test_pinv_factored_matches_explicit),
         cmocka_unit_test(test_pinv_zero_matrix_and_bad_input),
         cmocka_unit_test(test_mul_identities),
         cmocka_unit_test(test_cholesky),
