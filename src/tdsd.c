@@ -222,12 +222,17 @@ static int clip_joints(double dq[NJ], const double m[NJ], double slack)
     return n;
 }
 
+/* The pseudo-inverses stay in SVD form (linalg_pinv_svd): J1+ is applied
+ * to two vectors and P1 only enters through J2 P1 and P1 g, so neither J1+
+ * nor P1 (6x6) nor (J2P1)+ is ever formed:
+ *   J2 P1 = J2 - (J2 V1) V1^T,   P1 g = g - V1 V1^T g,
+ *   (J2P1)+ (J2P1) g = V2 V2^T g   (V1, V2: kept right singular vectors). */
 int tdsd_step(const tdsd_input *in, tdsd_output *out)
 {
-    double J1p[NJ * 3], P1[NJ * NJ], J2[3 * NJ], e2[3], w2[3];
+    linalg_pinv_svd F1;
+    double J2[3 * NJ], e2[3], w2[3], g[NJ];
     double a[NJ], b[NJ], Kpe[3];
     double lambda = 0.0, c = 1.0;
-    linalg_pinv_info info1;
     int n2, i;
 
     output_reset(out);
@@ -240,16 +245,16 @@ int tdsd_step(const tdsd_input *in, tdsd_output *out)
     for (i = 0; i < n2; i++)
         out->e_o[i] = e2[i];
 
-    if (!la_ok(linalg_pinv(J1p, P1, &info1, in->J1, 3, NJ, in->pinv_rtol)))
+    if (!la_ok(linalg_pinv_factor(&F1, in->J1, 3, NJ, in->pinv_rtol)))
         return TDSD_ENUM;
-    out->sigma_min_J1 = info1.sigma_min;
-    out->sigma_max_J1 = info1.sigma_max;
-    out->rank_J1 = info1.rank;
+    out->sigma_min_J1 = F1.info.sigma_min;
+    out->sigma_max_J1 = F1.info.sigma_max;
+    out->rank_J1 = F1.info.rank;
 
     /* dq1(lambda) = lambda a + b: feed-forward and feedback parts */
     vec3_scale(Kpe, out->e_p, in->K_p);
-    linalg_matvec(a, J1p, in->v_d_mps, NJ, 3);
-    linalg_matvec(b, J1p, Kpe, NJ, 3);
+    linalg_pinv_apply(a, &F1, in->v_d_mps);
+    linalg_pinv_apply(b, &F1, Kpe);
     if (max_path_rate(&lambda, a, b, in->dq_max_radps, in->rate_cap) != 0) {
         /* even stopping on the path leaves the feedback too fast: keep its
          * direction (the tool still heads straight for p_d), shrink it */
@@ -266,35 +271,34 @@ int tdsd_step(const tdsd_input *in, tdsd_output *out)
     out->fb_scale = c;
     out->time_scaled = (lambda < in->rate_cap) || (c < 1.0);
 
+    /* dq3 = P1 g - (J2P1)+ (J2P1) g: project k grad V onto the joint
+     * motions that move neither task */
+    for (i = 0; i < NJ; i++)
+        g[i] = in->k_V * in->grad_V[i];
+    {
+        double t[NJ];
+        linalg_pinv_rowspace(t, &F1, g);
+        for (i = 0; i < NJ; i++)
+            out->dq3[i] = g[i] - t[i];
+    }
     if (n2 > 0) {
-        double M[3 * NJ], Mp[NJ * 3], r[3], Mg[3], t[NJ], s[NJ], g[NJ];
-        linalg_pinv_info info2;
-        linalg_mul(M, J2, P1, n2, NJ, NJ);
-        if (!la_ok(linalg_pinv(Mp, NULL, &info2, M, n2, NJ, in->pinv_rtol))) {
+        linalg_pinv_svd F2;
+        double M[3 * NJ], r[3], s[NJ];
+        linalg_pinv_null_rows(M, J2, n2, &F1);  /* J2 P1 */
+        if (!la_ok(linalg_pinv_factor(&F2, M, n2, NJ, in->pinv_rtol))) {
             output_reset(out);
             return TDSD_ENUM;
         }
-        out->rank_J2P1 = info2.rank;
+        out->rank_J2P1 = F2.info.rank;
         linalg_matvec(r, J2, out->dq1, n2, NJ);
         for (i = 0; i < n2; i++) {
             out->y2[i] = lambda * w2[i] + in->K_o * e2[i];
             r[i] = out->y2[i] - r[i];
         }
-        linalg_matvec(out->dq2, Mp, r, NJ, n2);
-        /* dq3 = P1 g - (J2P1)+ (J2P1) g: project k grad V onto the joint
-         * motions that move neither task */
+        linalg_pinv_apply(out->dq2, &F2, r);
+        linalg_pinv_rowspace(s, &F2, g);
         for (i = 0; i < NJ; i++)
-            g[i] = in->k_V * in->grad_V[i];
-        linalg_matvec(t, P1, g, NJ, NJ);
-        linalg_matvec(Mg, M, g, n2, NJ);
-        linalg_matvec(s, Mp, Mg, NJ, n2);
-        for (i = 0; i < NJ; i++)
-            out->dq3[i] = t[i] - s[i];
-    } else {
-        double g[NJ];
-        for (i = 0; i < NJ; i++)
-            g[i] = in->k_V * in->grad_V[i];
-        linalg_matvec(out->dq3, P1, g, NJ, NJ);
+            out->dq3[i] -= s[i];
     }
 
     out->Q1 = speed_share(out->dq1, out->dq2, in->dq_max_radps);
@@ -319,8 +323,7 @@ int tdsd_step(const tdsd_input *in, tdsd_output *out)
 static int rr_setup(const tdsd_input *in, tdsd_output *out, double J[NJ * NJ], double y[NJ])
 {
     double J2[3 * NJ], e2[3], w2[3];
-    linalg_pinv_info info1;
-    double J1p[NJ * 3];
+    linalg_pinv_svd F1;
     int n2, i;
 
     vec3_sub(out->e_p, in->p_d_m, in->p_m);
@@ -339,11 +342,11 @@ static int rr_setup(const tdsd_input *in, tdsd_output *out, double J[NJ * NJ], d
         out->y2[i] = in->rate_cap * w2[i] + in->K_o * e2[i];
         y[3 + i] = out->y2[i];
     }
-    if (!la_ok(linalg_pinv(J1p, NULL, &info1, in->J1, 3, NJ, in->pinv_rtol)))
+    if (!la_ok(linalg_pinv_factor(&F1, in->J1, 3, NJ, in->pinv_rtol)))
         return TDSD_ENUM;
-    out->sigma_min_J1 = info1.sigma_min;
-    out->sigma_max_J1 = info1.sigma_max;
-    out->rank_J1 = info1.rank;
+    out->sigma_min_J1 = F1.info.sigma_min;
+    out->sigma_max_J1 = F1.info.sigma_max;
+    out->rank_J1 = F1.info.rank;
     return 3 + n2;
 }
 

@@ -225,6 +225,75 @@ static void test_limits_random_and_singular(void **state)
     }
 }
 
+/* tdsd_step keeps J1+ and (J2 P1)+ as SVD factors and never forms P1;
+ * this is eq. 8/11 with the explicit matrices (linalg_pinv, P1 = I - J1+ J1,
+ * M = J2 P1), evaluated at the lambda and fb_scale tdsd_step chose. The
+ * three components must agree on random well-conditioned tasks; scale is
+ * the size of the terms, so the bound is relative. */
+static void reference_components(const tdsd_input *in, const tdsd_output *out,
+                                 double dq1[NJ], double dq2[NJ], double dq3[NJ])
+{
+    double J1p[NJ * 3], P1[NJ * NJ], J2[3 * NJ], M[3 * NJ], Mp[NJ * 3];
+    double y1[3], r[3], Mg[3], t[NJ], g[NJ];
+    int n2 = out->n2, i;
+    assert_int_equal(linalg_pinv(J1p, P1, NULL, in->J1, 3, NJ, 0.0), LINALG_OK);
+    for (i = 0; i < 3; i++)
+        y1[i] = out->lambda * in->v_d_mps[i] + out->fb_scale * in->K_p * out->e_p[i];
+    linalg_matvec(dq1, J1p, y1, NJ, 3);
+    for (i = 0; i < NJ; i++)
+        g[i] = in->k_V * in->grad_V[i];
+    linalg_matvec(dq3, P1, g, NJ, NJ);
+    for (i = 0; i < NJ; i++)
+        dq2[i] = 0.0;
+    if (n2 == 0)
+        return;
+    if (n2 == 3)
+        memcpy(J2, in->Jw, sizeof J2);
+    else
+        tdsd_axis_jacobian(J2, in->Jw, in->R);
+    linalg_mul(M, J2, P1, n2, NJ, NJ);
+    assert_int_equal(linalg_pinv(Mp, NULL, NULL, M, n2, NJ, 0.0), LINALG_OK);
+    linalg_matvec(r, J2, dq1, n2, NJ);
+    for (i = 0; i < n2; i++)
+        r[i] = out->y2[i] - r[i];
+    linalg_matvec(dq2, Mp, r, NJ, n2);
+    linalg_matvec(Mg, M, g, n2, NJ);
+    linalg_matvec(t, Mp, Mg, NJ, n2);
+    for (i = 0; i < NJ; i++)
+        dq3[i] -= t[i];
+}
+
+static double norm6(const double v[NJ])
+{
+    double acc = 0.0;
+    int i;
+    for (i = 0; i < NJ; i++)
+        acc += v[i] * v[i];
+    return sqrt(acc);
+}
+
+static void test_factored_matches_explicit_formulas(void **state)
+{
+    tdsd_input in;
+    tdsd_output out;
+    double dq1[NJ], dq2[NJ], dq3[NJ];
+    int trial;
+    (void)state;
+    for (trial = 0; trial < 500; trial++) {
+        double scale;
+        make_input(&in);
+        in.orient = (tdsd_orient_mode)(trial % 3);
+        in.k_V = 2.0;
+        rand_vec(in.grad_V, NJ, 1.0);
+        assert_int_equal(tdsd_step(&in, &out), TDSD_OK);
+        reference_components(&in, &out, dq1, dq2, dq3);
+        scale = 1.0 + vec3_norm(out.y1) / out.sigma_min_J1;
+        assert_true(linalg_maxabs_diff(out.dq1, dq1, NJ, 1) <= 1e-12 * scale);
+        assert_true(linalg_maxabs_diff(out.dq2, dq2, NJ, 1) <= 1e-10 * (scale + norm6(out.dq2)));
+        assert_true(linalg_maxabs_diff(out.dq3, dq3, NJ, 1) <= 1e-10 * (1.0 + norm6(out.dq3)));
+    }
+}
+
 /* J1 = U diag(1, 1, eps) V^T, eps -> 0, fixed y1' = p_d' with a component
  * along the vanishing direction: Q1 decreases toward 0, lambda too, and
  * the (time-scaled) position task stays exact. */
@@ -631,6 +700,7 @@ int main(void)
         cmocka_unit_test(test_priority1_exact_and_Q_one_when_generous),
         cmocka_unit_test(test_priority1_exact_under_speed_distribution),
         cmocka_unit_test(test_limits_random_and_singular),
+        cmocka_unit_test(test_factored_matches_explicit_formulas),
         cmocka_unit_test(test_Q1_drops_toward_singularity),
         cmocka_unit_test(test_orientation_error_formula),
         cmocka_unit_test(test_dq2_reduces_orientation_keeps_position),
