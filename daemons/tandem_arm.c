@@ -79,19 +79,26 @@ static void usage(void)
            DAEMON_COMMON_HELP);
 }
 
+/* Every event carries the running action and segment; Cartesian segments
+ * add their progress (see cart_publish_event). */
+static void event_fill(tandem_action_event_t *e, int ev, const char *detail)
+{
+    memset(e, 0, sizeof *e);
+    e->seq = C.ev_seq++;
+    e->utime = daemon_utime_now();
+    e->step = C.st.step;
+    e->action_id = C.action_id;
+    e->transition = C.transition;
+    e->arm = (int8_t)C.arm;
+    e->event = (int8_t)ev;
+    e->segment = (int8_t)C.cur_seg;
+    e->detail = (char *)detail;
+}
+
 static void publish_event(daemon *d, int ev, const char *detail)
 {
     tandem_action_event_t e;
-    memset(&e, 0, sizeof e);
-    e.seq = C.ev_seq++;
-    e.utime = daemon_utime_now();
-    e.step = C.st.step;
-    e.action_id = C.action_id;
-    e.transition = C.transition;
-    e.arm = (int8_t)C.arm;
-    e.event = (int8_t)ev;
-    e.segment = (int8_t)C.cur_seg;
-    e.detail = (char *)detail;
+    event_fill(&e, ev, detail);
     tandem_action_event_t_publish(d->lcm, "ARM_EVENTS", &e);
 }
 
@@ -109,11 +116,8 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
     daemon *d = u;
     tandem_arm_state_t s;
     (void)ch;
-    d->msgs.received++;
-    if (tandem_arm_state_t_decode(rb->data, 0, rb->data_size, &s) < 0) {
-        d->msgs.rejected++;
+    if (!DAEMON_DECODE(&d->msgs, tandem_arm_state_t, rb, &s))
         return;
-    }
     if (!state_valid(&s)) {
         d->msgs.rejected++;
         return;
@@ -156,11 +160,8 @@ static void on_action(const lcm_recv_buf_t *rb, const char *ch, void *u)
     tandem_action_row_t r;
     int i, ok;
     (void)ch;
-    d->msgs.received++;
-    if (tandem_action_row_t_decode(rb->data, 0, rb->data_size, &r) < 0) {
-        d->msgs.rejected++;
+    if (!DAEMON_DECODE(&d->msgs, tandem_action_row_t, rb, &r))
         return;
-    }
     ok = r.arm == C.arm && r.n_segments > 0 && r.n_segments <= ROW_MAX_SEGMENTS && !C.running;
     for (i = 0; ok && i < r.n_segments; i++)
         ok = segment_valid(&r.segments[i]);
@@ -194,11 +195,8 @@ static void on_joint_ref(const lcm_recv_buf_t *rb, const char *ch, void *u)
     daemon *d = u;
     tandem_arm_joint_ref_t r;
     (void)ch;
-    d->msgs.received++;
-    if (tandem_arm_joint_ref_t_decode(rb->data, 0, rb->data_size, &r) < 0) {
-        d->msgs.rejected++;
+    if (!DAEMON_DECODE(&d->msgs, tandem_arm_joint_ref_t, rb, &r))
         return;
-    }
     if (r.arm != C.arm || r.step < 0 || C.running || arm_q_finite(r.q_rad) != 0 ||
         !all_finite(r.qd_radps, ARM_NJ) || !all_finite(r.qdd_radps2, ARM_NJ) ||
         arm_q_outside_limits(C.model, r.q_rad) != 0 || (JR.have && r.step < JR.ref.step)) {
@@ -305,20 +303,11 @@ static void cart_row_accept(const tandem_action_row_t *r)
 static void cart_publish_event(daemon *d, int ev, const char *detail)
 {
     tandem_action_event_t e;
-    memset(&e, 0, sizeof e);
-    e.seq = C.ev_seq++;
-    e.utime = daemon_utime_now();
-    e.step = C.st.step;
-    e.action_id = C.action_id;
-    e.transition = C.transition;
-    e.arm = (int8_t)C.arm;
-    e.event = (int8_t)ev;
+    event_fill(&e, ev, detail);
     e.sync_group = CX.sync_group;
-    e.segment = (int8_t)C.cur_seg;
     e.s_m = CX.s_m;
     e.s_f_m = CX.s_f_m;
     e.s_norm = CX.k > 0.0 ? CX.s_m / CX.k : CX.s_m;
-    e.detail = (char *)detail;
     tandem_action_event_t_publish(d->lcm, "ARM_EVENTS", &e);
 }
 

@@ -254,11 +254,8 @@ static void on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
     daemon *d = u;
     tandem_action_event_t e;
     (void)ch;
-    d->msgs.received++;
-    if (tandem_action_event_t_decode(rb->data, 0, rb->data_size, &e) < 0) {
-        d->msgs.rejected++;
+    if (!DAEMON_DECODE(&d->msgs, tandem_action_event_t, rb, &e))
         return;
-    }
     if (e.arm < 1 || e.arm > 2 || e.transition < 0 || e.transition > CARRY_N_TRANSITIONS ||
         !isfinite(e.s_m) || !isfinite(e.s_f_m)) {
         d->msgs.rejected++;
@@ -311,11 +308,8 @@ static void on_vision(const lcm_recv_buf_t *rb, const char *ch, void *u)
     int i, best = -1;
     double best_d = PICK_ACCEPT_RADIUS_M;
     (void)ch;
-    d->msgs.received++;
-    if (tandem_workpiece_detections_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
-        d->msgs.rejected++;
+    if (!DAEMON_DECODE(&d->msgs, tandem_workpiece_detections_t, rb, &m))
         return;
-    }
     for (i = 0; i < m.n; i++) {
         const tandem_workpiece_t *w = &m.workpieces[i];
         double dist;

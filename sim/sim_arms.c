@@ -226,11 +226,8 @@ static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *user)
     const int idx = (int)(a - sim_arm_pair);
     tandem_arm_command_t c;
     (void)ch;
-    arms_world->d.msgs.received++;
-    if (tandem_arm_command_t_decode(rb->data, 0, rb->data_size, &c) < 0) {
-        arms_world->d.msgs.rejected++;
+    if (!DAEMON_DECODE(&arms_world->d.msgs, tandem_arm_command_t, rb, &c))
         return;
-    }
     if (!command_valid(a, idx, &c)) {
         arms_world->d.msgs.rejected++;
         return;

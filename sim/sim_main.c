@@ -181,11 +181,8 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     tandem_clock_ack_t m;
     (void)ch; (void)u;
-    app.w.d.msgs.received++;
-    if (tandem_clock_ack_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
-        app.w.d.msgs.rejected++;
+    if (!DAEMON_DECODE(&app.w.d.msgs, tandem_clock_ack_t, rb, &m))
         return;
-    }
     if (m.step < 0 || m.period_steps < 1 || m.period_steps > 100000 || m.name[0] == '\0' ||
         m.step > app.w.step) {
         app.w.d.msgs.rejected++;
@@ -207,11 +204,8 @@ static void on_control(const lcm_recv_buf_t *rb, const char *ch, void *u)
     tandem_sim_control_t m;
     int i, handled = 0;
     (void)ch; (void)u;
-    app.w.d.msgs.received++;
-    if (tandem_sim_control_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
-        app.w.d.msgs.rejected++;
+    if (!DAEMON_DECODE(&app.w.d.msgs, tandem_sim_control_t, rb, &m))
         return;
-    }
     if (!control_valid(&m)) {
         app.w.d.msgs.rejected++;
         goto out;

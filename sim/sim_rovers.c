@@ -254,11 +254,8 @@ static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *u)
     tandem_rover_command_t m;
     int idx, chan_id = -1;
     (void)u;
-    R.w->d.msgs.received++;
-    if (tandem_rover_command_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
-        R.w->d.msgs.rejected++;
+    if (!DAEMON_DECODE(&R.w->d.msgs, tandem_rover_command_t, rb, &m))
         return;
-    }
     sscanf(ch, "ROVER%d_COMMAND", &chan_id);
     idx = rover_index(m.robot);
     /* SPEC 7: the right robot on its own channel, finite, physically sane */

@@ -158,11 +158,8 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *user)
     daemon *d = user;
     tandem_sim_clock_t m;
     (void)ch;
-    d->msgs.received++;
-    if (tandem_sim_clock_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
-        d->msgs.rejected++;
+    if (!DAEMON_DECODE(&d->msgs, tandem_sim_clock_t, rb, &m))
         return;
-    }
     if (m.step < 0 || !isfinite(m.sim_time_s)) {
         d->msgs.rejected++;
         tandem_sim_clock_t_decode_cleanup(&m);

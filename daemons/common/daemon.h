@@ -93,6 +93,13 @@ void daemon_drain(daemon *d);
 /* Seconds between wall-clock now and a message's utime, for staleness. */
 int64_t daemon_utime_now(void);
 
+/* Decodes an LCM receive buffer into *msg, counting it as received and,
+ * when it does not decode (wrong fingerprint, truncated), as rejected.
+ * 1 on success (then call TYPE_decode_cleanup), 0 if dropped. */
+#define DAEMON_DECODE(counters, type, rb, msg) \
+    ((counters)->received++, \
+     type##_decode((rb)->data, 0, (rb)->data_size, (msg)) >= 0 ? 1 : ((counters)->rejected++, 0))
+
 /* Strict number parsing for command-line values: the whole string must be
  * a finite number inside [lo, hi]; prints "NAME: --OPT: why" and returns -1
  * otherwise. */
