@@ -5,8 +5,9 @@
  *     simulator sends each step) to a real `tandem-arm --lockstep`, which
  *     decodes, validates, runs computed torque (RNE) and publishes
  *     ARM1_COMMAND; we time until that command arrives.
- *   bare path: a forked echo process answers a raw payload of the state's
- *     size with a raw payload of the command's size on its own channel.
+ *   bare path: a forked echo process receives the same two payload sizes
+ *     (state, clock) and answers the second with one of the command's size.
+ * The two kinds of exchange alternate, so both see the same load.
  * Prints p50 / p99 / max in microseconds over N exchanges.
  */
 #include <signal.h>
@@ -37,15 +38,9 @@ static void on_echo(const lcm_recv_buf_t *rb, const char *ch, void *u)
     (void)ch;
     int size;
     memcpy(&size, rb->data, sizeof size);
-    if (size < 0 || size > (int)sizeof reply)
-        size = 0;
+    if (size <= 0 || size > (int)sizeof reply)
+        return;
     lcm_publish((lcm_t *)u, "BENCH_PONG", reply, (unsigned)size);
-}
-
-static void print_row(const char *name, const loopstats *s)
-{
-    printf("  %-34s p50 %7.1f us   p99 %7.1f us   max %8.1f us   (n=%lld)\n", name,
-           loopstats_percentile(s, 0.50), loopstats_percentile(s, 0.99), s->max_us, (long long)s->count);
 }
 
 static int wait_reply(lcm_t *l)
@@ -57,6 +52,54 @@ static int wait_reply(lcm_t *l)
     return got ? 0 : -1;
 }
 
+/* Bare path: the same two messages the simulator sends (a state-sized and
+ * a clock-sized payload); the echo answers the second with a command-sized
+ * payload. The first int of each payload is the reply size (0: none). */
+static int bare_exchange(lcm_t *l, int state_size, int clock_size, int cmd_size, loopstats *s)
+{
+    char buf[512];
+    const int none = 0;
+    int64_t t0;
+    memset(buf, 0, sizeof buf);
+    got = 0;
+    t0 = rtloop_now_ns();
+    memcpy(buf, &none, sizeof none);
+    lcm_publish(l, "BENCH_PING", buf, (unsigned)state_size);
+    memcpy(buf, &cmd_size, sizeof cmd_size);
+    lcm_publish(l, "BENCH_PING", buf, (unsigned)clock_size);
+    if (wait_reply(l) != 0)
+        return -1;
+    if (s)
+        loopstats_add(s, (double)(rtloop_now_ns() - t0) * 1e-3);
+    return 0;
+}
+
+/* tandem path: ARM1_STATE + SIM_CLOCK to tandem-arm, wait for ARM1_COMMAND. */
+static int tandem_exchange(lcm_t *l, tandem_arm_state_t *st, tandem_sim_clock_t *clk, int i, loopstats *s)
+{
+    int64_t t0;
+    st->step = i;
+    st->sim_time_s = i * 1e-3;
+    clk->step = i;
+    clk->sim_time_s = st->sim_time_s;
+    got = 0;
+    t0 = rtloop_now_ns();
+    tandem_arm_state_t_publish(l, "ARM1_STATE", st);
+    tandem_sim_clock_t_publish(l, "SIM_CLOCK", clk);
+    if (wait_reply(l) != 0)
+        return -1;
+    if (s)
+        loopstats_add(s, (double)(rtloop_now_ns() - t0) * 1e-3);
+    return 0;
+}
+
+static void print_row(const char *name, const loopstats *s)
+{
+    printf("  %-34s p50 %7.1f us   p99 %7.1f us   max %8.1f us   (n=%lld)\n", name,
+           loopstats_percentile(s, 0.50), loopstats_percentile(s, 0.99), s->max_us, (long long)s->count);
+}
+
+
 int main(int argc, char **argv)
 {
     const int n = argc > 1 ? atoi(argv[1]) : 10000;
@@ -67,7 +110,7 @@ int main(int argc, char **argv)
     tandem_arm_state_t st;
     tandem_sim_clock_t clk;
     loopstats bare, tandem;
-    int i, state_size, cmd_size;
+    int i, state_size, cmd_size, clock_size;
     snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", 40000 + (int)(getpid() % 10000));
     setenv("LCM_DEFAULT_URL", url, 1);
     memset(&st, 0, sizeof st);
@@ -102,33 +145,19 @@ int main(int argc, char **argv)
     loopstats_reset(&tandem);
     printf("round trip over LCM (%s), %d exchanges, state %d B, command %d B\n", url, n, state_size, cmd_size);
 
-    for (i = 0; i < n + 100; i++) {   /* bare: payload sized like the state; first int = reply size */
-        char buf[512];
-        int64_t t0;
-        memset(buf, 0, sizeof buf);
-        memcpy(buf, &cmd_size, sizeof cmd_size);
-        got = 0;
-        t0 = rtloop_now_ns();
-        lcm_publish(l, "BENCH_PING", buf, (unsigned)state_size);
-        if (wait_reply(l) != 0) { fprintf(stderr, "bench: no echo\n"); break; }
-        if (i >= 100)
-            loopstats_add(&bare, (double)(rtloop_now_ns() - t0) * 1e-3);
-    }
     memset(&clk, 0, sizeof clk);
     clk.mode = TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP;
+    clock_size = tandem_sim_clock_t_encoded_size(&clk);
+    /* Exchanges alternate bare / tandem so both see the same machine load. */
     for (i = 0; i < n + 100; i++) {
-        int64_t t0;
-        st.step = i;
-        st.sim_time_s = i * 1e-3;
-        clk.step = i;
-        clk.sim_time_s = st.sim_time_s;
-        got = 0;
-        t0 = rtloop_now_ns();
-        tandem_arm_state_t_publish(l, "ARM1_STATE", &st);
-        tandem_sim_clock_t_publish(l, "SIM_CLOCK", &clk);
-        if (wait_reply(l) != 0) { fprintf(stderr, "bench: no command from tandem-arm\n"); break; }
-        if (i >= 100)
-            loopstats_add(&tandem, (double)(rtloop_now_ns() - t0) * 1e-3);
+        if (bare_exchange(l, state_size, clock_size, cmd_size, i >= 100 ? &bare : NULL) != 0) {
+            fprintf(stderr, "bench: no echo\n");
+            break;
+        }
+        if (tandem_exchange(l, &st, &clk, i, i >= 100 ? &tandem : NULL) != 0) {
+            fprintf(stderr, "bench: no command from tandem-arm\n");
+            break;
+        }
     }
     print_row("bare LCM ping-pong", &bare);
     print_row("tandem state->tandem-arm->command", &tandem);
