@@ -76,8 +76,9 @@ void daemon_defaults(daemon *d, const char *name, double period_s);
 int  daemon_parse_common(daemon *d, int opt, const char *arg);
 /* Opens LCM, installs SIGINT/SIGTERM handlers, applies --rt. 0 on success. */
 int  daemon_start(daemon *d);
-/* SCHED_FIFO at prio, mlockall, CPU latency hint; warns once and goes on
- * when not permitted. prio 0 = leave scheduling alone. */
+/* Minimal timer slack always (Linux); with prio > 0 also SCHED_FIFO at
+ * prio, mlockall and the CPU latency hint; warns and goes on when not
+ * permitted. */
 void daemon_rt_setup(const char *name, int prio);
 /* Runs until SIGINT/SIGTERM; returns the process exit code. */
 int  daemon_run(daemon *d, daemon_cycle_fn fn, void *user);
