@@ -175,7 +175,7 @@ test: deps
 
 run: deps
 	@$(MAKE) --no-print-directory all
-	@tools/tandem-run $(if $(DURATION),--duration $(DURATION))
+	@tools/tandem-run $(if $(DURATION),--duration $(DURATION)) $(RUN_ARGS)
 
 $(BIN)/bench_kdl: test/bench_kdl.cpp $(CORE_LIB)
 	@mkdir -p $(@D)
