@@ -76,6 +76,11 @@ dBodyID  sim_body_create(sim_world *w);
 void     sim_world_step(sim_world *w);
 /* Sum of contact-force magnitudes acting on body b during the last step. */
 double   sim_contact_force_on(const sim_world *w, dBodyID b);
+/* Row-major 3x3 rotation -> ODE's 3x4 dMatrix3. */
+void     sim_ode_rotation(dMatrix3 out, const double R[9]);
+/* A rotation taking the z axis onto the unit vector axis (capsules and
+ * cylinders in ODE lie along their z axis). */
+void     sim_rot_z_to(double R[9], const double axis[3]);
 /* FNV-1a over every body's position, rotation and velocities, bit for bit. */
 uint64_t sim_state_hash(const sim_world *w);
 

@@ -43,11 +43,7 @@ static void world_from_link(const sim_arm *a, const double T_mount_link[16], dou
 static void set_body_pose(dBodyID b, const double R[9], const double p[3])
 {
     dMatrix3 Rm;
-    int r;
-    for (r = 0; r < 3; r++) {
-        Rm[4 * r] = R[3 * r]; Rm[4 * r + 1] = R[3 * r + 1]; Rm[4 * r + 2] = R[3 * r + 2];
-        Rm[4 * r + 3] = 0.0;
-    }
+    sim_ode_rotation(Rm, R);
     dBodySetRotation(b, Rm);
     dBodySetPosition(b, p[0], p[1], p[2]);
 }
@@ -57,12 +53,10 @@ static void set_body_pose(dBodyID b, const double R[9], const double p[3])
 static dGeomID link_capsule(sim_world *w, dBodyID body, const double com[3],
                             const double p0[3], const double p1[3], double radius)
 {
-    double axis[3], mid[3], R[9], zc[3], rot_axis[3];
-    const double z[3] = { 0.0, 0.0, 1.0 };
+    double axis[3], mid[3], R[9];
     dMatrix3 Rm;
-    double len, angle;
+    double len;
     dGeomID g;
-    int r;
     vec3_sub(axis, p1, p0);
     len = vec3_normalize(axis, axis);
     if (len < 1e-3)
@@ -70,19 +64,11 @@ static dGeomID link_capsule(sim_world *w, dBodyID body, const double com[3],
     vec3_add(mid, p0, p1);
     vec3_scale(mid, mid, 0.5);
     vec3_sub(mid, mid, com);
-    vec3_cross(rot_axis, z, axis);
-    angle = atan2(vec3_norm(rot_axis), vec3_dot(z, axis));
-    if (vec3_norm(rot_axis) < 1e-12)
-        vec3_set(rot_axis, 1.0, 0.0, 0.0);
-    rot_from_axis_angle(R, rot_axis, angle);
-    vec3_copy(zc, mid);
+    sim_rot_z_to(R, axis);
     g = dCreateCapsule(w->space, radius, len);
     dGeomSetBody(g, body);
-    dGeomSetOffsetPosition(g, zc[0], zc[1], zc[2]);
-    for (r = 0; r < 3; r++) {
-        Rm[4 * r] = R[3 * r]; Rm[4 * r + 1] = R[3 * r + 1]; Rm[4 * r + 2] = R[3 * r + 2];
-        Rm[4 * r + 3] = 0.0;
-    }
+    dGeomSetOffsetPosition(g, mid[0], mid[1], mid[2]);
+    sim_ode_rotation(Rm, R);
     dGeomSetOffsetRotation(g, Rm);
     dGeomSetCategoryBits(g, SIM_CAT_ARM);
     dGeomSetCollideBits(g, SIM_CAT_STICK);
@@ -455,16 +441,9 @@ static int arms_control(sim_world *w, const tandem_sim_control_t *c)
     remove_stick();
     stick = dCreateCapsule(w->space, c->radius_m, c->length_m);
     {
-        double R[9], rot_axis[3];
-        const double z[3] = { 0, 0, 1 };
-        int r;
-        vec3_cross(rot_axis, z, axis);
-        rot_from_axis_angle(R, vec3_norm(rot_axis) > 1e-12 ? rot_axis : (double[3]){ 1, 0, 0 },
-                            atan2(vec3_norm(rot_axis), vec3_dot(z, axis)));
-        for (r = 0; r < 3; r++) {
-            Rm[4 * r] = R[3 * r]; Rm[4 * r + 1] = R[3 * r + 1]; Rm[4 * r + 2] = R[3 * r + 2];
-            Rm[4 * r + 3] = 0.0;
-        }
+        double R[9];
+        sim_rot_z_to(R, axis);     /* ODE capsules lie along their z axis */
+        sim_ode_rotation(Rm, R);
     }
     dGeomSetRotation(stick, Rm);
     dGeomSetPosition(stick, centre[0], centre[1], centre[2]);

@@ -2,6 +2,7 @@
  * feedback, and the bit-exact state hash used by the determinism tests.
  */
 #include "sim.h"
+#include "vec3.h"
 #include <string.h>
 
 static void near_callback(void *data, dGeomID g1, dGeomID g2)
@@ -132,4 +133,25 @@ uint64_t sim_state_hash(const sim_world *w)
         h = fnv_bytes(h, dBodyGetAngularVel(b), 3 * sizeof(dReal));
     }
     return h;
+}
+
+void sim_ode_rotation(dMatrix3 out, const double R[9])
+{
+    int r;
+    for (r = 0; r < 3; r++) {
+        out[4 * r] = R[3 * r];
+        out[4 * r + 1] = R[3 * r + 1];
+        out[4 * r + 2] = R[3 * r + 2];
+        out[4 * r + 3] = 0.0;
+    }
+}
+
+void sim_rot_z_to(double R[9], const double axis[3])
+{
+    const double z[3] = { 0.0, 0.0, 1.0 };
+    double k[3];
+    vec3_cross(k, z, axis);
+    if (vec3_norm(k) < 1e-12)   /* parallel or antiparallel: turn about x */
+        vec3_set(k, 1.0, 0.0, 0.0);
+    rot_from_axis_angle(R, k, atan2(vec3_norm(k), vec3_dot(z, axis)));
 }
