@@ -267,16 +267,21 @@ void daemon_publish_health(daemon *d)
     tandem_health_t_publish(d->lcm, d->health_channel, &h);
 }
 
-static void ack(daemon *d, int64_t step, int leaving)
+void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32_t period_steps, int leaving)
 {
     tandem_clock_ack_t a;
-    a.seq = d->ack_seq++;
+    a.seq = seq;
     a.utime = daemon_utime_now();
     a.step = step;
-    a.name = d->name;
-    a.period_steps = d->period_steps;
+    a.name = (char *)name;
+    a.period_steps = period_steps;
     a.leaving = (int8_t)leaving;
-    tandem_clock_ack_t_publish(d->lcm, "SIM_ACK", &a);
+    tandem_clock_ack_t_publish(lcm, "SIM_ACK", &a);
+}
+
+static void ack(daemon *d, int64_t step, int leaving)
+{
+    lockstep_ack(d->lcm, d->name, d->ack_seq++, step, d->period_steps, leaving);
 }
 
 static void health_tick(daemon *d)

@@ -89,6 +89,10 @@ void daemon_request_stop(void);
 void daemon_publish_health(daemon *d);
 /* lcm_subscribe with a deep receive queue (no silent drops under load). */
 lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler, void *user);
+/* Answers lockstep step `step` for participant `name` on SIM_ACK (the
+ * first answer registers it with its period; leaving = 1 unregisters).
+ * Daemons do this in daemon_run; scenarios and tests call it directly. */
+void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32_t period_steps, int leaving);
 /* Handles every LCM message already queued, without blocking. */
 void daemon_drain(daemon *d);
 /* Seconds between wall-clock now and a message's utime, for staleness. */

@@ -4,6 +4,7 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include "daemon.h"
 #include "tandem_clock_ack_t.h"
 
 static double now_s(void)
@@ -70,10 +71,5 @@ void harness_close(harness *h)
 
 void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps)
 {
-    tandem_clock_ack_t a;
-    memset(&a, 0, sizeof a);
-    a.step = step;
-    a.name = (char *)name;
-    a.period_steps = period_steps;
-    tandem_clock_ack_t_publish(h->lcm, "SIM_ACK", &a);
+    lockstep_ack(h->lcm, name, 0, step, period_steps, 0);
 }

@@ -34,6 +34,7 @@
 #include "prng.h"
 #include "tandem_action_event_t.h"
 #include "tandem_arm_state_t.h"
+#include "daemon.h"
 #include "tandem_clock_ack_t.h"
 #include "tandem_petri_marking_t.h"
 #include "tandem_sim_clock_t.h"
@@ -204,14 +205,7 @@ static void send_control(int cmd, int arm, int link)
 
 static void ack(int64_t step, int leaving)
 {
-    tandem_clock_ack_t a;
-    a.seq = R.ack_seq++;
-    a.utime = 0;
-    a.step = step;
-    a.name = (char *)"tandem-scenario";
-    a.period_steps = 1;
-    a.leaving = (int8_t)leaving;
-    tandem_clock_ack_t_publish(R.lcm, "SIM_ACK", &a);
+    lockstep_ack(R.lcm, "tandem-scenario", R.ack_seq++, step, 1, leaving);
 }
 
 static int t3_running(void)

@@ -22,6 +22,7 @@
 #include "formation.h"
 #include "rover_world.h"
 #include "scenario.h"
+#include "daemon.h"
 #include "tandem_clock_ack_t.h"
 #include "tandem_rover_state_t.h"
 #include "tandem_rover_truth_t.h"
@@ -242,14 +243,7 @@ static int start_children(void)
 
 static void ack(int64_t step)
 {
-    tandem_clock_ack_t a;
-    a.seq = F.ack_seq++;
-    a.utime = 0;
-    a.step = step;
-    a.name = "tandem-scenario";
-    a.period_steps = FM_PERIOD;
-    a.leaving = 0;
-    tandem_clock_ack_t_publish(F.lcm, "SIM_ACK", &a);
+    lockstep_ack(F.lcm, "tandem-scenario", F.ack_seq++, step, FM_PERIOD, 0);
 }
 
 static int64_t mono_ns(void)
@@ -571,16 +565,10 @@ static int run(int argc, char **argv)
                 if (!F.single && F.rover_pid[F.kill_id] > 0) {
                     /* the process dies without a word; tell the simulator it
                      * left rather than make it wait for its lockstep timeout */
-                    tandem_clock_ack_t a;
                     char name[64];
                     kill(F.rover_pid[F.kill_id], SIGKILL);
                     snprintf(name, sizeof name, "tandem-rover-%d", F.kill_id);
-                    memset(&a, 0, sizeof a);
-                    a.step = F.clock_step;
-                    a.name = name;
-                    a.period_steps = FM_PERIOD;
-                    a.leaving = 1;
-                    tandem_clock_ack_t_publish(F.lcm, "SIM_ACK", &a);
+                    lockstep_ack(F.lcm, name, 0, F.clock_step, FM_PERIOD, 1);
                 }
                 F.killed = 1;
                 fprintf(stderr, "formation: killed robot %d at t = %.2f s\n", F.kill_id, F.sim_time);

@@ -19,6 +19,7 @@
 #include <lcm/lcm.h>
 #include "tandem_arm_joint_ref_t.h"
 #include "tandem_arm_state_t.h"
+#include "daemon.h"
 #include "tandem_clock_ack_t.h"
 #include "tandem_sim_clock_t.h"
 #include "tandem_sim_control_t.h"
@@ -60,14 +61,7 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
 
 static void ack(int64_t step, int leaving)
 {
-    tandem_clock_ack_t a;
-    a.seq = O.ack_seq++;
-    a.utime = 0;
-    a.step = step;
-    a.name = (char *)"tandem-scenario";
-    a.period_steps = 1;
-    a.leaving = (int8_t)leaving;
-    tandem_clock_ack_t_publish(O.lcm, "SIM_ACK", &a);
+    lockstep_ack(O.lcm, "tandem-scenario", O.ack_seq++, step, 1, leaving);
 }
 
 static void publish_ref(int64_t step, const double q[ARM_NJ], const double qd[ARM_NJ],
