@@ -1,0 +1,113 @@
+/* Unit tests for cell: every working pose of the carry task is reachable by
+ * its arm with the tool pointing down, inside the joint ranges, and the
+ * frame helpers are consistent. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <math.h>
+#include <cmocka.h>
+#include "arm_kin.h"
+#include "cell.h"
+#include "vec3.h"
+
+/* An in-limits IK branch exists for arm a's tool at p_world, pointing down,
+ * and FK of it gives the pose back. */
+static int reachable(int a, const double p_world[3])
+{
+    double Tw[16], Tinv[16], R[9], p[3], T[16], Tfk[16], Rb[9];
+    const double off[3] = { 0.0, 0.0, CELL_TOOL_LENGTH_M };
+    arm_tool tool;
+    arm_ik_result r;
+    int b;
+    arm_tool_offset(&tool, off);
+    cell_world_from_arm(&cell_default, a, Tw);
+    tf_inverse(Tinv, Tw);
+    tf_rot(Rb, Tinv);
+    rot_apply(p, Rb, p_world);
+    p[0] += Tinv[3]; p[1] += Tinv[7]; p[2] += Tinv[11];
+    cell_tool_down_R(&cell_default, a, R);
+    tf_from_rot_pos(T, R, p);
+    if (arm_ik(&arm_model_puma560, &tool, T, &r) != 0 || r.unreachable)
+        return 0;
+    for (b = 0; b < ARM_IK_NBRANCH; b++) {
+        int i;
+        double err = 0.0;
+        if (r.branch[b].status != ARM_IK_OK)
+            continue;
+        arm_fk(&arm_model_puma560, &tool, r.branch[b].q_rad, Tfk);
+        for (i = 0; i < 12; i++)
+            err = fmax(err, fabs(Tfk[i] - T[i]));
+        if (err < 1e-9)
+            return 1;
+    }
+    return 0;
+}
+
+static void test_every_working_pose_is_reachable(void **state)
+{
+    const cell_layout *c = &cell_default;
+    double p[3], centre[3];
+    int a, sx, sy;
+    (void)state;
+    for (a = 0; a < CELL_ARMS; a++) {
+        assert_true(reachable(a, c->home_tool_m[a]));
+        cell_grasp_point(c, a, c->handover_center_m, p);
+        assert_true(reachable(a, p));
+    }
+    /* arm 1: every corner of the pick zone, at grasp height and above it */
+    for (sx = -1; sx <= 1; sx += 2)
+        for (sy = -1; sy <= 1; sy += 2) {
+            vec3_copy(centre, c->pick_center_m);
+            centre[0] += sx * c->pick_spread_m[0];
+            centre[1] += sy * c->pick_spread_m[1];
+            cell_grasp_point(c, 0, centre, p);
+            assert_true(reachable(0, p));
+            p[2] += c->approach_height_m;
+            assert_true(reachable(0, p));
+        }
+    /* arm 2: the delivery pose and its approach */
+    cell_grasp_point(c, 1, c->deliver_center_m, p);
+    assert_true(reachable(1, p));
+    p[2] += c->approach_height_m;
+    assert_true(reachable(1, p));
+}
+
+static void test_tool_down_is_down_in_the_world(void **state)
+{
+    double Tw[16], Rb[9], R[9], Rworld[9];
+    int a;
+    (void)state;
+    for (a = 0; a < CELL_ARMS; a++) {
+        cell_world_from_arm(&cell_default, a, Tw);
+        tf_rot(Rb, Tw);
+        cell_tool_down_R(&cell_default, a, R);
+        rot_mul(Rworld, Rb, R);
+        /* flange z axis (third column) along -world z */
+        assert_true(fabs(Rworld[8] + 1.0) < 1e-12);
+    }
+}
+
+static void test_grasp_points_are_the_bar_ends(void **state)
+{
+    double p1[3], p2[3], d[3];
+    (void)state;
+    cell_grasp_point(&cell_default, 0, cell_default.handover_center_m, p1);
+    cell_grasp_point(&cell_default, 1, cell_default.handover_center_m, p2);
+    vec3_sub(d, p2, p1);
+    assert_true(fabs(vec3_norm(d) - 2.0 * cell_default.grasp_offset_m) < 1e-12);
+    assert_true(2.0 * cell_default.grasp_offset_m < cell_default.workpiece_size_m[0]);
+    /* the workpiece rests on the table top */
+    assert_true(fabs(cell_default.pick_center_m[2] - cell_default.workpiece_size_m[2] / 2.0 -
+                     (cell_default.table_center_m[2] + cell_default.table_size_m[2] / 2.0)) < 1e-9);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_every_working_pose_is_reachable),
+        cmocka_unit_test(test_tool_down_is_down_in_the_world),
+        cmocka_unit_test(test_grasp_points_are_the_bar_ends),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
