@@ -121,6 +121,8 @@ extern const sim_model_ops sim_rovers_ops;
 void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t period, int leaving);
 /* 1 when every participant due at step k has answered it. */
 int  sim_lockstep_ready(const sim_world *w, int64_t k);
+/* 1 if some participant must answer step k. */
+int  sim_lockstep_due(const sim_world *w, int64_t k);
 /* Drops participants that have not answered k; returns how many. */
 int  sim_lockstep_drop_late(sim_world *w, int64_t k);
 

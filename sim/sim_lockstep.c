@@ -53,6 +53,15 @@ int sim_lockstep_ready(const sim_world *w, int64_t k)
     return 1;
 }
 
+int sim_lockstep_due(const sim_world *w, int64_t k)
+{
+    int i;
+    for (i = 0; i < w->n_part; i++)
+        if (w->part[i].active && k % w->part[i].period_steps == 0)
+            return 1;
+    return 0;
+}
+
 int sim_lockstep_drop_late(sim_world *w, int64_t k)
 {
     int i, n = 0;

@@ -300,6 +300,8 @@ static void destroy_world(void)
     sim_world_destroy(&app.w);
 }
 
+static int active_participants(void);
+
 static void publish_step(void)
 {
     int i;
@@ -307,7 +309,13 @@ static void publish_step(void)
         app.models[i]->after_step(&app.w);
     if (app.w.step % 100 == 0)
         publish_status();
-    publish_clock();
+    /* In lockstep the clock goes out when somebody must answer it (and
+     * every 100 steps for a newcomer to join on): a team of 20 Hz rovers
+     * does not need 1000 clocks a second, each received by every process
+     * on the bus. */
+    if (!app.w.lockstep || app.w.step % 100 == 0 || sim_lockstep_due(&app.w, app.w.step) ||
+        active_participants() == 0)
+        publish_clock();
 }
 
 static void advance(void)
