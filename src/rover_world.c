@@ -161,7 +161,12 @@ int rover_world_layout(rover_world_t *w, int world, int n, double spacing_m, int
     w->team_origin.theta_rad = 0.0;
     w->goal_m[1] = 0.0;
     build_features(w, xf);
+    /* behind the rearmost start: a column or wedge reaches further back
+     * than the rows of the grid */
     w->x_min_m = xf - spacing_m * rows - 1.0;
+    for (k = 0; k < n; k++)
+        if (w->start_c[k].x_m - spacing_m - 1.0 < w->x_min_m)
+            w->x_min_m = w->start_c[k].x_m - spacing_m - 1.0;
     w->x_max_m = w->goal_m[0] + 3.0;
     w->y_max_m = 0.5 * spacing_m * ROVER_WORLD_ROW_MAX + 1.0;
     if (w->y_max_m < 4.0) w->y_max_m = 4.0;
@@ -175,7 +180,10 @@ int rover_world_slot(int type, int n, int rank)
     if (n < 1 || rank < 0 || rank >= n || type < FORMATION_LINE || type > FORMATION_COLUMN)
         return -1;
     if (type == FORMATION_LINE) return rank;
-    mid = (n - 1) / 2;
+    /* the left side (ranks below mid) takes the odd triangle slots, which
+     * are one more than the even ones when n is even: mid = n / 2 keeps
+     * every robot on its own side */
+    mid = n / 2;
     if (rank == mid) return 0;
     /* order: mid, mid-1, mid+1, mid-2, mid+2, ... (skipping the ends) */
     for (j = 1; j < n; j++) {
