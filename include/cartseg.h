@@ -19,6 +19,15 @@
 #define CARTSEG_BLOCK_EPS_M 0.001      /* s must gain 1 mm ...                */
 #define CARTSEG_BLOCK_TIME_S 0.30      /* ... within 300 ms, else blocked     */
 #define CARTSEG_BLOCK_NEAR_GOAL_M 0.010 /* no block detection in the last 1 cm */
+#define CARTSEG_BLOCK_DEV_M 0.010      /* or pushed 1 cm off the line: blocked */
+/* A blocked arm is released when s gains 5 mm: held by the servos at the
+ * pose where the block was met, the bias alone can move the tool along
+ * the path by about k0 / k_p (2 mm with the carry rows) against a pinned
+ * proximal link; 1 mm would flip it back to the full law. */
+#define CARTSEG_UNBLOCK_EPS_M 0.005
+/* While blocked the hold point follows the tool along the path only while
+ * the tool stays within this distance of it across the path. */
+#define CARTSEG_HOLD_SLIP_M 0.002
 
 typedef struct cartseg {
     erlaw_line line;
@@ -27,7 +36,9 @@ typedef struct cartseg {
     erlaw_ref ref;
     double T_world_base[16];
     double R_d_base[9];        /* orientation held, base frame */
+    double R_hold_base[9];     /* orientation held while blocked   */
     double p1_world[3];
+    double dev_ref_m;          /* least line deviation since the last block */
     int    blocked;
 } cartseg;
 
@@ -37,6 +48,7 @@ typedef struct cartseg_out {
     double u_world[3];         /* commanded tool acceleration (eq. 6) */
     double v_world[3];         /* tool velocity */
     double s_m, s_f_m, s_ref_m;
+    double deviation_m;        /* distance of the tool from the line */
     double bias;
     int    done;
     int    blocked;

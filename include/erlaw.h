@@ -15,19 +15,26 @@
  *   ERLAW_REF_EXTERNAL  s_ref = min(k_i s*, s)     (synchronised, SPEC 2.3)
  *   ERLAW_REF_TIME      s_ref = s_d(t), advancing with the clock from the
  *                       segment start              (baseline, SPEC 2.6)
- *   ERLAW_REF_BLOCKED   s_ref = max(s, s_ext), s_ext = where the block was
- *                       met; planned motion dropped (a detected block)
+ *   ERLAW_REF_BLOCKED   s_ref = s, planned motion dropped, the pose
+ *                       across e held where the block was detected
+ *                       (erlaw_line_hold / erlaw_rot_hold); s_ext unused
  *
  * While blocked under the event law, s stops, so every term stops:
  * u = A_d(s) e + k_v V_d(s) e + p_bias(s) (plus feedback on V = 0), i.e.
  * bounded by a_m + k_v v_m + k0 whatever the block duration. Once the
  * block is detected, ERLAW_REF_BLOCKED drops the planned motion and keeps
- * the law's start-up form, holding the ground gained (s_h: where the
- * block was met),
- *   u = p_bias(s) e - k_v V + k_p (X_d(max(s, s_h)) - X),
- * so the arm leans on the obstacle with the bias only (the position term
- * acts only if the obstacle pushes it back: no recoil), and the bias moves
- * it on when the obstacle goes (as it starts the arm at s0).
+ * the law's start-up form with the references frozen at the measured
+ * pose X_h (set by erlaw_line_hold when the block is detected):
+ *   u = p_bias(s) e - k_v V + k_p P (X_h - X),   P = I - e e^T,
+ * so the only demand is the bias along the path (SPEC 2.2: no error
+ * builds up). Across the path the pose where the block met the arm is
+ * held, not the planned line: an obstacle that deflected the arm (a
+ * pinned proximal link: the other joints carry the tool on, off the line)
+ * is not fought, and a contact near a joint axis is not loaded with the
+ * lever-arm multiple of a cross-track error. There is no position term
+ * along e: ground lost to a posture change is not pulled back (that pull
+ * would be resisted by the same contact). The bias moves the arm on when
+ * the obstacle goes (as it starts the arm at s0).
  *
  * External reference (a synchronised action, SPEC 2.3): s_ext = k_i s*.
  * With min semantics k_i s* <= s_i, and an arm never chases a reference
@@ -124,11 +131,13 @@ typedef struct {
 typedef struct {
     erlaw_channel ch;
     double p0_m[3];
+    double x_hold_m[3]; /* pose held across e while blocked (init: p0) */
 } erlaw_line;
 
 typedef struct {
     erlaw_channel ch;
     double R0[9];
+    double R_hold[9];   /* orientation held while blocked (init: R0)   */
 } erlaw_rot;
 
 typedef struct {
@@ -150,6 +159,9 @@ int erlaw_line_init(erlaw_line *l, const double p0_m[3], const double p1_m[3],
                     const erlaw_gains *g);
 /* Measured progress: projection of x on the segment, clamped to [0, s_f]. */
 double erlaw_line_s(const erlaw_line *l, const double x_m[3]);
+/* Pose held across the path under ERLAW_REF_BLOCKED (call it with the
+ * measured tool point when the block is detected). 0 / -1. */
+int erlaw_line_hold(erlaw_line *l, const double x_m[3]);
 /* One control cycle. s_ext_m is used only with ERLAW_REF_EXTERNAL (it is
  * clamped to [0, s_f], then to the measured s); dt_s advances the baseline
  * clock (ERLAW_REF_TIME), the reference-rate estimate and the segment
@@ -162,6 +174,8 @@ int erlaw_rot_init(erlaw_rot *r, const double R0[9], const double R1[9],
                    const erlaw_gains *g);
 /* Measured rotated angle about the move's axis, clamped to [0, theta_f]. */
 double erlaw_rot_angle(const erlaw_rot *r, const double R[9]);
+/* Orientation held (across the move's axis) under ERLAW_REF_BLOCKED. */
+int erlaw_rot_hold(erlaw_rot *r, const double R[9]);
 int erlaw_rot_step(erlaw_rot *r, const double R[9], const double w_radps[3],
                    erlaw_ref ref, double s_ext_rad, double dt_s, erlaw_out *out);
 

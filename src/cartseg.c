@@ -51,7 +51,63 @@ int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool, const do
     cartctl_gains_default(&c->cg);
     c->ref = ref;
     erlaw_block_reset(&c->blk, 0.0);
+    c->dev_ref_m = 0.0;
     return 0;
+}
+
+/* Distance of the tool point from the segment's line. */
+static double line_deviation(const erlaw_line *l, const double x[3])
+{
+    double d[3];
+    vec3_sub(d, l->p0_m, x);
+    vec3_axpy(d, d, -vec3_dot(d, l->ch.e), l->ch.e);
+    return vec3_norm(d);
+}
+
+/* While blocked the hold point moves on along the path with the tool as
+ * long as the tool keeps to it across the path: the obstacle is gone (or
+ * lets it slide), and the bias carries the arm on until s gains
+ * CARTSEG_UNBLOCK_EPS_M. Progress that drags the tool off the hold pose
+ * (a pinned proximal link: the other joints can only carry the tool on
+ * along the path by leaving it) is not taken: the hold point stays and the
+ * servo holds the arm near it, so the bias alone is resisted. */
+static void hold_ratchet(cartseg *c, const double x[3])
+{
+    const double *e = c->line.ch.e;
+    double d[3], along;
+    vec3_sub(d, x, c->line.x_hold_m);
+    along = vec3_dot(d, e);
+    vec3_axpy(d, d, -along, e);
+    if (along > 0.0 && vec3_norm(d) < CARTSEG_HOLD_SLIP_M)
+        vec3_axpy(c->line.x_hold_m, c->line.x_hold_m, along, e);
+}
+
+/* Blocked detection: s stalls (erlaw_block_update), or, while motion is
+ * commanded, the tool is pushed CARTSEG_BLOCK_DEV_M further off the line
+ * than it has been since the last block ended. The second test catches an
+ * obstacle that pins a proximal link: the other joints carry the tool on
+ * along the path (s does not stall for a second or more) but off the line,
+ * and the cross-track and orientation servos load the contact with the
+ * lever-arm multiple of their error. A deviation block then lasts, like a
+ * stall, until s gains CARTSEG_UNBLOCK_EPS_M. */
+static int block_update(cartseg *c, double s, double v_along, double dev, int commanding, double dt)
+{
+    int blocked;
+    c->dev_ref_m = fmin(c->dev_ref_m, dev);
+    if (!c->blocked && commanding && dev > c->dev_ref_m + CARTSEG_BLOCK_DEV_M) {
+        /* the tool may still be moving along the path: count the progress
+         * that releases the block from where the damping -k_v V alone
+         * brings it to rest (v / k_v on), not from here */
+        const double k_v = c->line.ch.g.k_v;
+        c->blk.s_best_m = fmax(c->blk.s_best_m, s + (k_v > 0.0 ? fmax(v_along, 0.0) / k_v : 0.0));
+        c->blk.t_still_s = CARTSEG_BLOCK_TIME_S + dt;
+    }
+    blocked = erlaw_block_update(&c->blk, s, commanding, dt,
+                                 c->blocked ? CARTSEG_UNBLOCK_EPS_M : CARTSEG_BLOCK_EPS_M,
+                                 CARTSEG_BLOCK_TIME_S);
+    if (c->blocked && !blocked)
+        c->dev_ref_m = dev;   /* rejoining the line from here is not a new block */
+    return blocked;
 }
 
 int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm_payload *payload,
@@ -61,7 +117,7 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     cartctl_state st;
     cartctl_out co;
     erlaw_out eo;
-    double Tw[16], Rwb[9], u_base[3];
+    double Tw[16], Rwb[9], u_base[3], dev;
     const int sync = s_ext_m >= 0.0 && c->ref == ERLAW_REF_MEASURED;
     erlaw_ref ref = sync ? ERLAW_REF_EXTERNAL : c->ref;
     int commanding, blocked, held;
@@ -75,11 +131,12 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     R_of(c->T_world_base, Rwb);
     rot_apply(out->v_world, Rwb, st.twist);
     /* a detected block suspends the planned motion (event law only; the
-     * baseline keeps its clock): lean on the obstacle with the bias */
+     * baseline keeps its clock): lean on the obstacle with the bias, the
+     * pose across the path and the orientation held where the block was
+     * detected */
     if (c->blocked && c->ref == ERLAW_REF_MEASURED)
-        ref = ERLAW_REF_BLOCKED;   /* s_h: where the block was met */
-    if (erlaw_line_step(&c->line, out->x_world, out->v_world, ref,
-                        ref == ERLAW_REF_BLOCKED ? c->blk.s_best_m : s_ext_m, dt_s, &eo) != 0)
+        ref = ERLAW_REF_BLOCKED;
+    if (erlaw_line_step(&c->line, out->x_world, out->v_world, ref, s_ext_m, dt_s, &eo) != 0)
         return -1;
     out->s_m = eo.s_m;
     out->s_ref_m = eo.s_ref_m;
@@ -94,12 +151,23 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
      * slow, not blocked. */
     held = sync && fmin(s_ext_m, out->s_f_m) <= eo.s_m - 0.5 * CARTSEG_BLOCK_EPS_M;
     commanding = !out->done && out->s_f_m - eo.s_m > CARTSEG_BLOCK_NEAR_GOAL_M && !held;
-    blocked = erlaw_block_update(&c->blk, eo.s_m, commanding, dt_s, CARTSEG_BLOCK_EPS_M, CARTSEG_BLOCK_TIME_S);
+    dev = line_deviation(&c->line, out->x_world);
+    out->deviation_m = dev;
+    blocked = block_update(c, eo.s_m, vec3_dot(out->v_world, c->line.ch.e), dev, commanding, dt_s);
     out->block_changed = blocked != c->blocked;
+    if (blocked && c->blocked)
+        hold_ratchet(c, out->x_world);
+    if (blocked && !c->blocked) {
+        /* freeze the references at the measured pose: from the next cycle
+         * the only demand is the bias along the path */
+        erlaw_line_hold(&c->line, out->x_world);
+        tf_rot(c->R_hold_base, st.T);
+    }
     c->blocked = blocked;
     out->blocked = blocked;
     rot_tapply(u_base, Rwb, eo.u);
-    if (cartctl_torque(m, tool, payload, &c->cg, q, qd, &st, u_base, c->R_d_base, out->tau_Nm, &co) != 0)
+    if (cartctl_torque(m, tool, payload, &c->cg, q, qd, &st, u_base,
+                       ref == ERLAW_REF_BLOCKED ? c->R_hold_base : c->R_d_base, out->tau_Nm, &co) != 0)
         return -1;
     out->saturated = co.saturated;
     return 0;

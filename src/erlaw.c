@@ -88,7 +88,7 @@ static int channel_ref(erlaw_channel *c, double s, erlaw_ref ref, double s_ext, 
     const double s_f = c->prof.s_f_m;
     if (!isfinite(dt) || dt < 0.0)
         return -1;
-    if ((ref == ERLAW_REF_EXTERNAL || ref == ERLAW_REF_BLOCKED) && !isfinite(s_ext))
+    if (ref == ERLAW_REF_EXTERNAL && !isfinite(s_ext))
         return -1;
     c->t_s += dt;
     if (ref != ERLAW_REF_EXTERNAL)
@@ -98,11 +98,9 @@ static int channel_ref(erlaw_channel *c, double s, erlaw_ref ref, double s_ext, 
         *s_ref = s;
         return 0;
     case ERLAW_REF_BLOCKED:
-        /* hold the ground gained (s_ext = where the block was met): no
-         * recoil along e, no pull-back of progress */
-        if (!isfinite(s_ext))
-            return -1;
-        *s_ref = fmax(s, clamp(s_ext, 0.0, s_f));
+        /* no reference motion along e (the error across it is taken from
+         * the hold pose by the caller) */
+        *s_ref = s;
         return 0;
     case ERLAW_REF_EXTERNAL:
         /* min semantics (SPEC 2.3): never a reference ahead of oneself */
@@ -180,7 +178,16 @@ int erlaw_line_init(erlaw_line *l, const double p0_m[3], const double p1_m[3],
     if (s_f == 0.0)
         vec3_set(e, 1.0, 0.0, 0.0);
     vec3_copy(l->p0_m, p0_m);
+    vec3_copy(l->x_hold_m, p0_m);
     return channel_init(&l->ch, e, s_f, g);
+}
+
+int erlaw_line_hold(erlaw_line *l, const double x_m[3])
+{
+    if (!l || !finite3(x_m))
+        return -1;
+    vec3_copy(l->x_hold_m, x_m);
+    return 0;
 }
 
 double erlaw_line_s(const erlaw_line *l, const double x_m[3])
@@ -202,8 +209,12 @@ int erlaw_line_step(erlaw_line *l, const double x_m[3], const double v_mps[3],
     s = erlaw_line_s(l, x_m);
     if (channel_ref(&l->ch, s, ref, s_ext_m, dt_s, &s_ref) != 0)
         return -1;
-    vec3_axpy(x_d, l->p0_m, s_ref, l->ch.e);
-    vec3_sub(err, x_d, x_m);
+    if (ref == ERLAW_REF_BLOCKED) {
+        vec3_sub(err, l->x_hold_m, x_m);
+    } else {
+        vec3_axpy(x_d, l->p0_m, s_ref, l->ch.e);
+        vec3_sub(err, x_d, x_m);
+    }
     channel_command(&l->ch, s, s_ref, ref, err, v_mps, out);
     return 0;
 }
@@ -244,7 +255,7 @@ int erlaw_rot_init(erlaw_rot *r, const double R0[9], const double R1[9], const e
         vec3_set(n, 1.0, 0.0, 0.0);
     }
     for (i = 0; i < 9; i++)
-        r->R0[i] = R0[i];
+        r->R0[i] = r->R_hold[i] = R0[i];
     return channel_init(&r->ch, n, theta_f, g);
 }
 
@@ -257,6 +268,16 @@ double erlaw_rot_angle(const erlaw_rot *r, const double R[9])
     return clamp(vec3_dot(phi, r->ch.e), 0.0, r->ch.prof.s_f_m);
 }
 
+int erlaw_rot_hold(erlaw_rot *r, const double R[9])
+{
+    int i;
+    if (!r || !finite9(R))
+        return -1;
+    for (i = 0; i < 9; i++)
+        r->R_hold[i] = R[i];
+    return 0;
+}
+
 int erlaw_rot_step(erlaw_rot *r, const double R[9], const double w_radps[3],
                    erlaw_ref ref, double s_ext_rad, double dt_s, erlaw_out *out)
 {
@@ -267,9 +288,13 @@ int erlaw_rot_step(erlaw_rot *r, const double R[9], const double w_radps[3],
     th = erlaw_rot_angle(r, R);
     if (channel_ref(&r->ch, th, ref, s_ext_rad, dt_s, &th_ref) != 0)
         return -1;
-    rot_from_axis_angle(Rs, r->ch.e, th_ref);
-    rot_mul(Rd, Rs, r->R0);
-    rotvec_abt(err, Rd, R);
+    if (ref == ERLAW_REF_BLOCKED) {
+        rotvec_abt(err, r->R_hold, R);
+    } else {
+        rot_from_axis_angle(Rs, r->ch.e, th_ref);
+        rot_mul(Rd, Rs, r->R0);
+        rotvec_abt(err, Rd, R);
+    }
     channel_command(&r->ch, th, th_ref, ref, err, w_radps, out);
     return 0;
 }

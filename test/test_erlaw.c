@@ -271,10 +271,11 @@ static void test_external_reference_follower_stops(void **st)
     }
 }
 
-/* A detected block (ERLAW_REF_BLOCKED): the command on the frozen mass is
- * the bias alone along e, far below the event law's a_m + k_v v_m + k0;
- * pushed back, it holds the ground gained; on release the bias moves the
- * mass on. */
+/* A detected block (ERLAW_REF_BLOCKED, the pose held where the block was
+ * met): the command on the frozen mass is the bias alone along e, far
+ * below the event law's a_m + k_v v_m + k0; pushed back or sideways, the
+ * held pose (not the planned line) is restored; on release the bias moves
+ * the mass on. */
 static void test_blocked_leans_with_bias(void **st)
 {
     erlaw_line l;
@@ -286,6 +287,8 @@ static void test_blocked_leans_with_bias(void **st)
     mass_at(&m, P0);
     while (erlaw_line_s(&l, m.x) < 0.2)
         cycle(&l, &m, ERLAW_REF_MEASURED, 0.0, 0);
+    m.x[1] += 0.03;   /* the obstacle has pushed it 3 cm off the line */
+    assert_int_equal(erlaw_line_hold(&l, m.x), 0);
     for (k = 0; k < 1000; k++) {
         erlaw_out o = cycle(&l, &m, ERLAW_REF_BLOCKED, erlaw_line_s(&l, m.x), 1);
         if (k == 0)
@@ -302,6 +305,12 @@ static void test_blocked_leans_with_bias(void **st)
         vec3_axpy(x, m.x, -0.01, l.ch.e);
         assert_int_equal(erlaw_line_step(&l, x, m.v, ERLAW_REF_BLOCKED, s0, DT, &o), 0);
         assert_true(fabs(vec3_dot(o.u, l.ch.e) - (o.bias + G.k_p * 0.01)) < 1e-9);
+        /* and 1 cm sideways: pulled back to the held pose, not the line */
+        vec3_copy(x, m.x);
+        x[2] -= 0.01;
+        assert_int_equal(erlaw_line_step(&l, x, m.v, ERLAW_REF_BLOCKED, s0, DT, &o), 0);
+        assert_true(fabs(o.u[2] - G.k_p * 0.01 - o.bias * l.ch.e[2]) < 1e-9);
+        assert_true(fabs(o.u[1] - o.bias * l.ch.e[1]) < 1e-9);
     }
     /* released: the bias moves it on */
     for (k = 0; k < 300; k++)
