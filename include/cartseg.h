@@ -26,8 +26,15 @@
  * proximal link; 1 mm would flip it back to the full law. */
 #define CARTSEG_UNBLOCK_EPS_M 0.005
 /* While blocked the hold point follows the tool along the path only while
- * the tool stays within this distance of it across the path. */
-#define CARTSEG_HOLD_SLIP_M 0.002
+ * the tool moves along it (> 1 mm/s, sideways speed at most half of that). */
+#define CARTSEG_HOLD_V_MPS 0.001
+#define CARTSEG_HOLD_SIDE_FRAC 0.5
+/* ... or while it keeps within this distance of it across the path. */
+#define CARTSEG_HOLD_SLIP_M 0.004
+/* Filter of the free servo's cross-track error (its static part, model
+ * error / k_p, is kept up while blocked). */
+#define CARTSEG_STATIC_ERR_TAU_S 0.5
+#define CARTSEG_STATIC_ERR_DELAY_S 0.25
 
 typedef struct cartseg {
     erlaw_line line;
@@ -39,6 +46,8 @@ typedef struct cartseg {
     double R_hold_base[9];     /* orientation held while blocked   */
     double p1_world[3];
     double dev_ref_m;          /* least line deviation since the last block */
+    double hold_off_m[3];      /* static cross-track error, 0.25-0.5 s old  */
+    double err_filt_m[3], err_snap_m[3], t_snap_s;   /* its filter      */
     int    blocked;
 } cartseg;
 

@@ -52,6 +52,10 @@ int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool, const do
     c->ref = ref;
     erlaw_block_reset(&c->blk, 0.0);
     c->dev_ref_m = 0.0;
+    vec3_set(c->hold_off_m, 0.0, 0.0, 0.0);
+    vec3_set(c->err_filt_m, 0.0, 0.0, 0.0);
+    vec3_set(c->err_snap_m, 0.0, 0.0, 0.0);
+    c->t_snap_s = 0.0;
     return 0;
 }
 
@@ -65,20 +69,33 @@ static double line_deviation(const erlaw_line *l, const double x[3])
 }
 
 /* While blocked the hold point moves on along the path with the tool as
- * long as the tool keeps to it across the path: the obstacle is gone (or
- * lets it slide), and the bias carries the arm on until s gains
- * CARTSEG_UNBLOCK_EPS_M. Progress that drags the tool off the hold pose
- * (a pinned proximal link: the other joints can only carry the tool on
- * along the path by leaving it) is not taken: the hold point stays and the
- * servo holds the arm near it, so the bias alone is resisted. */
-static void hold_ratchet(cartseg *c, const double x[3])
+ * long as the tool moves along the path (faster than
+ * CARTSEG_HOLD_V_MPS, its sideways speed at most CARTSEG_HOLD_SIDE_FRAC
+ * of that): the obstacle is gone (or lets it slide), and the bias carries
+ * the arm on until s gains CARTSEG_UNBLOCK_EPS_M. Progress that drags the
+ * tool sideways (a pinned proximal link: the other joints can only carry
+ * the tool on along the path by leaving it) is not taken: the hold point
+ * stays and the servo holds the arm near it, so the bias alone is
+ * resisted. A speed test, not a distance from the hold point: the servo's
+ * static error (model error / k_p, mm in the simulator) must not stop a
+ * released arm. */
+static void hold_ratchet(cartseg *c, const double x[3], const double v[3])
 {
     const double *e = c->line.ch.e;
-    double d[3], along;
-    vec3_sub(d, x, c->line.x_hold_m);
-    along = vec3_dot(d, e);
-    vec3_axpy(d, d, -along, e);
-    if (along > 0.0 && vec3_norm(d) < CARTSEG_HOLD_SLIP_M)
+    const double v_along = vec3_dot(v, e);
+    double side_v[3], side_x[3], along;
+    int moving_along, near;
+    vec3_axpy(side_v, v, -v_along, e);
+    vec3_sub(side_x, x, c->line.x_hold_m);
+    along = vec3_dot(side_x, e);
+    vec3_axpy(side_x, side_x, -along, e);
+    /* where the servo leaves the tool when nothing but the model error
+     * pushes it: hold_off short of the hold point */
+    vec3_add(side_x, side_x, c->hold_off_m);
+    vec3_axpy(side_x, side_x, -vec3_dot(side_x, e), e);
+    moving_along = v_along >= CARTSEG_HOLD_V_MPS && vec3_norm(side_v) <= CARTSEG_HOLD_SIDE_FRAC * v_along;
+    near = vec3_norm(side_x) < CARTSEG_HOLD_SLIP_M;
+    if (along > 0.0 && (moving_along || near))
         vec3_axpy(c->line.x_hold_m, c->line.x_hold_m, along, e);
 }
 
@@ -120,7 +137,7 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     double Tw[16], Rwb[9], u_base[3], dev;
     const int sync = s_ext_m >= 0.0 && c->ref == ERLAW_REF_MEASURED;
     erlaw_ref ref = sync ? ERLAW_REF_EXTERNAL : c->ref;
-    int commanding, blocked, held;
+    int commanding, blocked, held, i;
     if (!c || !out)
         return -1;
     memset(out, 0, sizeof *out);
@@ -156,11 +173,32 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     blocked = block_update(c, eo.s_m, vec3_dot(out->v_world, c->line.ch.e), dev, commanding, dt_s);
     out->block_changed = blocked != c->blocked;
     if (blocked && c->blocked)
-        hold_ratchet(c, out->x_world);
+        hold_ratchet(c, out->x_world, out->v_world);
+    if (!blocked) {
+        /* static cross-track error of the free servo (model error / k_p) */
+        double xe[3];
+        const double a = dt_s / (CARTSEG_STATIC_ERR_TAU_S + dt_s);
+        vec3_copy(xe, eo.x_err);
+        vec3_axpy(xe, xe, -vec3_dot(xe, c->line.ch.e), c->line.ch.e);
+        for (i = 0; i < 3; i++)
+            c->err_filt_m[i] += a * (xe[i] - c->err_filt_m[i]);
+        /* hold_off is the filter as it was 0.25-0.5 s ago: the deflection
+         * an obstacle causes before it is detected must not count */
+        c->t_snap_s += dt_s;
+        if (c->t_snap_s >= CARTSEG_STATIC_ERR_DELAY_S) {
+            c->t_snap_s = 0.0;
+            vec3_copy(c->hold_off_m, c->err_snap_m);
+            vec3_copy(c->err_snap_m, c->err_filt_m);
+        }
+    }
     if (blocked && !c->blocked) {
-        /* freeze the references at the measured pose: from the next cycle
-         * the only demand is the bias along the path */
-        erlaw_line_hold(&c->line, out->x_world);
+        /* freeze the references at the measured pose (plus the servo's
+         * static error, so it keeps up its effort against the model
+         * error): from the next cycle the only demand is the bias along
+         * the path */
+        double x_hold[3];
+        vec3_add(x_hold, out->x_world, c->hold_off_m);
+        erlaw_line_hold(&c->line, x_hold);
         tf_rot(c->R_hold_base, st.T);
     }
     c->blocked = blocked;
