@@ -28,7 +28,7 @@ GEN      := build/gen
 PKG_CFLAGS := $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
 PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
-CPPFLAGS := -Iinclude -I$(GEN)/c -Idaemons/common -Isim -D_POSIX_C_SOURCE=200809L
+CPPFLAGS := -Iinclude -Itest -I$(GEN)/c -Idaemons/common -Isim -D_POSIX_C_SOURCE=200809L
 CFLAGS   := $(WARN) $(OPT)
 LDLIBS   := -lm
 

@@ -437,6 +437,7 @@ int main(int argc, char **argv)
         return 2;
     app.w.lockstep = app.w.d.lockstep;
     app.w.d.period_s = SIM_DT_S;
+    app.w.d.clock_source = 1;
     if (app.cfg.arms) {
         app.models[app.n_models++] = &sim_arms_ops;
         app.models[app.n_models++] = &sim_workpieces_ops;   /* after arms: needs their joints */

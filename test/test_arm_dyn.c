@@ -8,6 +8,7 @@
 #include <cmocka.h>
 #include <math.h>
 #include <string.h>
+#include "arm_samples.h"
 #include "arm_dyn.h"
 #include "arm_kin.h"
 #include "vec3.h"
@@ -19,26 +20,6 @@ static arm_model skewed;
 
 static const arm_model *const models[] = { &arm_model_puma560, &arm_model_seed002, &skewed };
 #define NMODELS (sizeof models / sizeof models[0])
-
-static double lcg_uniform(unsigned long *s)
-{
-    *s = *s * 6364136223846793005UL + 1442695040888963407UL;
-    return (double)((*s >> 11) & ((1UL << 53) - 1)) / (double)(1UL << 53);
-}
-
-static void random_q(const arm_model *m, unsigned long *s, double q[ARM_NJ])
-{
-    int j;
-    for (j = 0; j < ARM_NJ; j++)
-        q[j] = m->q_min_rad[j] + (m->q_max_rad[j] - m->q_min_rad[j]) * lcg_uniform(s);
-}
-
-static void random_vec(unsigned long *s, double scale, double v[ARM_NJ])
-{
-    int j;
-    for (j = 0; j < ARM_NJ; j++)
-        v[j] = scale * (2.0 * lcg_uniform(s) - 1.0);
-}
 
 static const arm_payload *test_payload(void)
 {
@@ -76,7 +57,8 @@ static int cholesky_ok(const double M[36])
 static void test_mass_matrix_spd_and_rne_columns(void **state)
 {
     static const double zero[ARM_NJ] = { 0 }, nog[3] = { 0, 0, 0 };
-    unsigned long seed = 3;
+    prng_t seed;
+    prng_seed(&seed, 3);
     size_t k;
     int n, i, j, pl;
     (void)state;
@@ -133,7 +115,8 @@ static void test_gravity_is_potential_gradient(void **state)
     const double g_default[3] = { 0, 0, -ARM_GRAVITY_MPS2 };
     const double g_tilted[3] = { 1.2, -0.7, -9.7 };
     const double h = 1e-6;
-    unsigned long seed = 5;
+    prng_t seed;
+    prng_seed(&seed, 5);
     size_t k;
     int n, j, pl, gv;
     (void)state;
@@ -161,7 +144,8 @@ static void test_gravity_is_potential_gradient(void **state)
 static void test_rne_decomposition_and_christoffel(void **state)
 {
     const double h = 1e-6;
-    unsigned long seed = 9;
+    prng_t seed;
+    prng_seed(&seed, 9);
     size_t k;
     int n, i, j, pl;
     (void)state;
@@ -224,7 +208,8 @@ static void test_rne_decomposition_and_christoffel(void **state)
 static void test_link1_mass_invisible(void **state)
 {
     arm_model corke = arm_model_puma560;
-    unsigned long seed = 21;
+    prng_t seed;
+    prng_seed(&seed, 21);
     int n, i;
     (void)state;
     corke.mass_kg[0] = 0.0;
@@ -252,7 +237,8 @@ static void test_payload_gravity_as_wrench(void **state)
 {
     const arm_payload *p = test_payload();
     arm_tool tool;
-    unsigned long seed = 33;
+    prng_t seed;
+    prng_seed(&seed, 33);
     int n, i;
     (void)state;
     arm_tool_offset(&tool, p->com_m);

@@ -7,6 +7,7 @@
 #include <cmocka.h>
 #include <math.h>
 #include <string.h>
+#include "arm_samples.h"
 #include "arm_kin.h"
 #include "vec3.h"
 
@@ -14,19 +15,6 @@
 
 static const arm_model *const models[] = { &arm_model_puma560, &arm_model_seed002 };
 #define NMODELS (sizeof models / sizeof models[0])
-
-static double lcg_uniform(unsigned long *s)
-{
-    *s = *s * 6364136223846793005UL + 1442695040888963407UL;
-    return (double)((*s >> 11) & ((1UL << 53) - 1)) / (double)(1UL << 53);
-}
-
-static void random_q(const arm_model *m, unsigned long *s, double q[ARM_NJ])
-{
-    int j;
-    for (j = 0; j < ARM_NJ; j++)
-        q[j] = m->q_min_rad[j] + (m->q_max_rad[j] - m->q_min_rad[j]) * lcg_uniform(s);
-}
 
 static double pose_error(const double A[16], const double B[16])
 {
@@ -91,7 +79,8 @@ static void check_jacobian(const arm_model *m, const arm_tool *tool, const doubl
 
 static void test_jacobian_finite_differences(void **state)
 {
-    unsigned long seed = 11;
+    prng_t seed;
+    prng_seed(&seed, 11);
     const double p[3] = { 0.02, -0.03, 0.12 };
     arm_tool tool;
     size_t k;
@@ -122,7 +111,7 @@ static double angle_dist(const double a[ARM_NJ], const double b[ARM_NJ])
     return d;
 }
 
-static void ik_round_trip(const arm_model *m, const arm_tool *tool, unsigned long *seed, int n_poses)
+static void ik_round_trip(const arm_model *m, const arm_tool *tool, prng_t *seed, int n_poses)
 {
     int n, b, found_original = 0, n_checked = 0;
     for (n = 0; n < n_poses; n++) {
@@ -161,7 +150,8 @@ static void ik_round_trip(const arm_model *m, const arm_tool *tool, unsigned lon
 
 static void test_ik_round_trip(void **state)
 {
-    unsigned long seed = 12345;
+    prng_t seed;
+    prng_seed(&seed, 12345);
     const double p[3] = { 0.0, 0.05, 0.20 };
     arm_tool tool;
     size_t k;

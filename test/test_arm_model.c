@@ -7,6 +7,7 @@
 #include <float.h>
 #include <math.h>
 #include <string.h>
+#include "arm_samples.h"
 #include "arm_model.h"
 #include "arm_kin.h"
 #include "vec3.h"
@@ -50,22 +51,10 @@ static void test_mass_properties_valid(void **state)
     }
 }
 
-static double lcg_uniform(unsigned long *s)
-{
-    *s = *s * 6364136223846793005UL + 1442695040888963407UL;
-    return (double)((*s >> 11) & ((1UL << 53) - 1)) / (double)(1UL << 53);
-}
-
-static void random_q(const arm_model *m, unsigned long *s, double q[ARM_NJ])
-{
-    int j;
-    for (j = 0; j < ARM_NJ; j++)
-        q[j] = m->q_min_rad[j] + (m->q_max_rad[j] - m->q_min_rad[j]) * lcg_uniform(s);
-}
-
 static void test_frames_chain_and_fk(void **state)
 {
-    unsigned long seed = 7;
+    prng_t seed;
+    prng_seed(&seed, 7);
     size_t k;
     int n, i, e;
     (void)state;
@@ -148,7 +137,8 @@ static void test_dh_compose_general_alpha(void **state)
 {
     static const double alpha[ARM_NJ] = { 1.2, -0.4, 2.3, 0.7, -1.9, 0.3 };
     arm_model m = arm_model_puma560;
-    unsigned long seed = 11;
+    prng_t seed;
+    prng_seed(&seed, 11);
     int n, i, e;
     (void)state;
     for (i = 0; i < ARM_NJ; i++) {

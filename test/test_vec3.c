@@ -5,14 +5,14 @@
 #include <stdint.h>
 #include <math.h>
 #include <cmocka.h>
+#include "prng.h"
 #include "vec3.h"
 
-static unsigned long rng = 12345;
+static prng_t rng;
 
 static double urand(void)
 {
-    rng = rng * 6364136223846793005UL + 1442695040888963407UL;
-    return (double)((rng >> 11) & ((1UL << 52) - 1)) / (double)(1UL << 52);
+    return prng_uniform(&rng);
 }
 
 static void random_rot(double R[9])
@@ -146,6 +146,7 @@ static void test_normalize_leaves_zero_alone(void **state)
 
 int main(void)
 {
+    prng_seed(&rng, 12345);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rotations_are_orthonormal),
         cmocka_unit_test(test_axis_angle_round_trip),

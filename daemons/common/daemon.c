@@ -203,7 +203,8 @@ int daemon_start(daemon *d)
         fprintf(stderr, "%s: cannot open LCM at '%s'\n", d->name, d->lcm_url);
         return -1;
     }
-    daemon_subscribe(d, "SIM_CLOCK", on_clock, d);
+    if (!d->clock_source)
+        daemon_subscribe(d, "SIM_CLOCK", on_clock, d);
     daemon_rt_setup(d->name, d->rt_prio);
     if (rtloop_init(&d->loop, (int64_t)llround(d->period_s * 1e9)) != 0) {
         fprintf(stderr, "%s: period %g s out of range\n", d->name, d->period_s);

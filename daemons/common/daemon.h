@@ -61,6 +61,8 @@ typedef struct daemon {
     int64_t  ack_seq;
     int64_t  last_health_ns;
     int      safe_hold;
+    int      clock_source;              /* 1 for tandem-sim: it publishes SIM_CLOCK,
+                                           so it does not listen to it */
     int      skip_ack;                  /* lockstep: set by a cycle whose inputs
                                            have not arrived yet (no answer, so the
                                            simulator does not count on it yet) */
