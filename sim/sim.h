@@ -93,6 +93,7 @@ typedef struct sim_config {
     int    rovers;             /* number of Pioneer robots (0 = none) */
     char   rover_world[32];    /* open | obstacles | corridor | deadzone */
     int    rover_formation;    /* FORMATION_* the team starts in (0 = line) */
+    int    rover_batch;        /* 1: ROVERS_* batched sensor messages */
     const struct arm_model *arm1_model;  /* arm 1's tables; NULL = PUMA 560 */
     int    arm1_q0_set;        /* 1: arm 1 starts at arm1_q0_rad, not at home */
     double arm1_q0_rad[6];

@@ -44,6 +44,8 @@ static void usage(void)
            "  --rovers N        number of Pioneer robots (default 0)\n"
            "  --world NAME      rover world: open | obstacles | corridor | deadzone\n"
            "  --formation F     rover team's start formation: line (default) | triangle | column\n"
+           "  --rover-batch     all robots' sensors in one message per tick (ROVERS_SENSORS,\n"
+           "                    ROVERS_BEACONS) instead of ROVERk_SENSORS/_SONAR/_BEACONS\n"
            "  --arm-model NAME  arm 1 is puma560 (default) or seed002 (seed 002's arm)\n"
            "  --arm-q0 Q1,..,Q6 arm 1 starts at these joint angles (rad) instead of home\n"
            DAEMON_COMMON_HELP);
@@ -62,6 +64,7 @@ static int parse_args(int argc, char **argv)
         { "rovers", required_argument, 0, 'r' },
         { "world", required_argument, 0, 'w' },
         { "formation", required_argument, 0, 'F' },
+        { "rover-batch", no_argument, 0, 'B' },
         { "arm-model", required_argument, 0, 'M' },
         { "arm-q0", required_argument, 0, 'Q' },
         DAEMON_COMMON_OPTIONS,
@@ -136,6 +139,9 @@ static int parse_args(int argc, char **argv)
                 fprintf(stderr, "tandem-sim: --formation: '%s' is not line|triangle|column\n", optarg);
                 return -1;
             }
+            break;
+        case 'B':
+            app.cfg.rover_batch = 1;
             break;
         case 'M':
             if (!(app.cfg.arm1_model = arm_model_by_name(optarg))) {

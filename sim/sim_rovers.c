@@ -16,13 +16,17 @@
  * Their bodies still enter the simulator's state hash. They stand at
  * x > 4 m, away from the work cell, in the world layout of rover_world.
  *
- * Sensors (LCM): ROVERk_SENSORS (encoders, 20 Hz), ROVERk_SONAR (one
- * transducer per 40 ms in the Pioneer order, sonar_cast on a primitive
- * list of the obstacles and the other robots' boxes rebuilt every firing),
- * ROVERk_BEACONS (camera at O on a pan unit stepping ahead/left/ahead/right:
- * LED beacons of mates within 6 m and +-60 deg of where it looks, line of
- * sight, noise; 10 Hz), ROVER_TRUTH (ground truth, 20 Hz, for
- * metrics only). KILL_ROBOT removes a robot from the world.
+ * Sensors (LCM): ROVERk_SENSORS (encoders, 20 Hz) and ROVERk_SONAR (the
+ * latest echo of each transducer, 20 Hz, sent with the encoders as the
+ * Pioneer's own packet does; the transducers fire one per 40 ms in the
+ * Pioneer order, sonar_cast on a primitive list of the obstacles and the
+ * other robots' boxes rebuilt every firing), ROVERk_BEACONS (camera at O on
+ * a pan unit stepping ahead/left/ahead/right: LED beacons of mates within
+ * 6 m and +-60 deg of where it looks, line of sight, noise; 10 Hz),
+ * ROVER_TRUTH (ground truth, 20 Hz, for metrics only). With --rover-batch
+ * the same frames of all robots go out as one message per tick
+ * (ROVERS_SENSORS, ROVERS_BEACONS); commands are taken on ROVERk_COMMAND
+ * and ROVERS_COMMAND alike. KILL_ROBOT removes a robot from the world.
  */
 #include "sim.h"
 #include "sim_rovers.h"
@@ -39,6 +43,9 @@
 #include "tandem_rover_command_t.h"
 #include "tandem_rover_sensors_t.h"
 #include "tandem_rover_truth_t.h"
+#include "tandem_rovers_beacons_t.h"
+#include "tandem_rovers_command_t.h"
+#include "tandem_rovers_sensors_t.h"
 #include "tandem_sonar_scan_t.h"
 
 #define RV_MAX            ROVER_WORLD_MAX_ROBOTS
@@ -75,6 +82,7 @@ typedef struct rover {
     double  min_clear;
     prng_t  rng;
     int     prim;                     /* its box in the sonar world */
+    int     fired;                    /* transducer fired last */
     int64_t seq_sens, seq_sonar, seq_beacon;
 } rover;
 
@@ -88,8 +96,11 @@ static struct {
     dSpaceID space;
     dJointGroupID contacts;
     dGeomID  obst[ROVER_WORLD_MAX_OBST];
-    lcm_subscription_t *sub;
+    double   sonar_angle_rad[SONAR_N];
+    lcm_subscription_t *sub, *sub_batch;
     sim_world *w;
+    int      batch;                   /* 1: ROVERS_* messages, not ROVERk_* */
+    int64_t  batch_seq[2];
     double   v_max, w_max, stale_s;
     int      phys_steps;
     int64_t  last_after_step;
@@ -113,6 +124,7 @@ static double env_num(const char *name, double def, double lo, double hi)
 }
 
 static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *u);
+static void on_commands(const lcm_recv_buf_t *rb, const char *ch, void *u);
 
 static int rover_index(int32_t id) { return (id >= 1 && id <= R.n) ? id - 1 : -1; }
 
@@ -181,12 +193,14 @@ static int rovers_create(sim_world *w, const sim_config *cfg)
         return -1;
     }
     R.n = cfg->rovers;
+    R.batch = cfg->rover_batch;
     R.last_after_step = -1;
     R.v_max = env_num("TANDEM_ROVER_VMAX", 0.75, 0.05, 2.0);
     R.w_max = env_num("TANDEM_ROVER_WMAX_DEG", 100.0, 5.0, 360.0) * VEC2_PI / 180.0;
     R.stale_s = env_num("TANDEM_ROVER_STALE_S", 0.5, 0.01, 10.0);
-    R.phys_steps = (int)env_num("TANDEM_ROVER_PHYS_STEPS", 2, 1, 10);
+    R.phys_steps = (int)env_num("TANDEM_ROVER_PHYS_STEPS", 4, 1, 10);
     sonar_model_default(&R.sm);
+    for (i = 0; i < SONAR_N; i++) R.sonar_angle_rad[i] = sonar_p2dx_front[i].angle_rad;
     R.world = dWorldCreate();
     dWorldSetGravity(R.world, 0, 0, -9.81);
     dWorldSetERP(R.world, 0.2);
@@ -228,6 +242,7 @@ static int rovers_create(sim_world *w, const sim_config *cfg)
         /* a whole team answers in one burst: the deep queue of
          * daemon_subscribe keeps large teams' commands */
         R.sub = daemon_subscribe(&w->d, pattern, on_command, NULL);
+        R.sub_batch = daemon_subscribe(&w->d, "ROVERS_COMMAND", on_commands, NULL);
     }
     fprintf(stderr, "tandem-sim: %d Pioneer robots in world '%s' (goal %.1f, %.1f)\n", R.n,
             cfg->rover_world, R.layout.goal_m[0], R.layout.goal_m[1]);
@@ -238,7 +253,8 @@ static void rovers_destroy(sim_world *w)
 {
     (void)w;
     if (R.sub && R.w && R.w->lcm) lcm_unsubscribe(R.w->lcm, R.sub);
-    R.sub = NULL;
+    if (R.sub_batch && R.w && R.w->lcm) lcm_unsubscribe(R.w->lcm, R.sub_batch);
+    R.sub = R.sub_batch = NULL;
     if (R.world) {
         dJointGroupDestroy(R.contacts);
         dSpaceDestroy(R.space);
@@ -249,29 +265,45 @@ static void rovers_destroy(sim_world *w)
 
 /* ---- commands ------------------------------------------------------------- */
 
-static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *u)
+/* SPEC 7: the right robot (on its own channel, when it has one), finite,
+ * physically sane; anything else is counted and changes nothing. */
+static void take_command(const tandem_rover_command_t *m, int chan_id)
 {
-    tandem_rover_command_t m;
-    int idx, chan_id = -1;
-    (void)u;
-    if (!DAEMON_DECODE(&R.w->d.msgs, tandem_rover_command_t, rb, &m))
-        return;
-    sscanf(ch, "ROVER%d_COMMAND", &chan_id);
-    idx = rover_index(m.robot);
-    /* SPEC 7: the right robot on its own channel, finite, physically sane */
-    if (idx < 0 || chan_id != m.robot || !isfinite(m.v_mps) || !isfinite(m.w_radps) ||
-        fabs(m.v_mps) > 5.0 || fabs(m.w_radps) > 20.0) {
+    const int idx = rover_index(m->robot);
+    rover *r;
+    if (idx < 0 || (chan_id >= 0 && chan_id != m->robot) || !isfinite(m->v_mps) ||
+        !isfinite(m->w_radps) || fabs(m->v_mps) > 5.0 || fabs(m->w_radps) > 20.0) {
         R.w->d.msgs.rejected++;
         R.rejected++;
         return;
     }
-    {
-        rover *r = &R.r[idx];
-        r->cmd_v = fmax(-R.v_max, fmin(R.v_max, m.v_mps));
-        r->cmd_w = fmax(-R.w_max, fmin(R.w_max, m.w_radps));
-        r->cmd_rx_step = R.w->step;
-        r->have_cmd = 1;
-    }
+    r = &R.r[idx];
+    r->cmd_v = fmax(-R.v_max, fmin(R.v_max, m->v_mps));
+    r->cmd_w = fmax(-R.w_max, fmin(R.w_max, m->w_radps));
+    r->cmd_rx_step = R.w->step;
+    r->have_cmd = 1;
+}
+
+static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_rover_command_t m;
+    int chan_id = 0;
+    (void)u;
+    if (!DAEMON_DECODE(&R.w->d.msgs, tandem_rover_command_t, rb, &m))
+        return;
+    sscanf(ch, "ROVER%d_COMMAND", &chan_id);
+    take_command(&m, chan_id);
+}
+
+static void on_commands(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_rovers_command_t m;
+    int i;
+    (void)ch; (void)u;
+    if (!DAEMON_DECODE(&R.w->d.msgs, tandem_rovers_command_t, rb, &m))
+        return;
+    for (i = 0; i < m.n; i++) take_command(&m.cmd[i], -1);
+    tandem_rovers_command_t_decode_cleanup(&m);
 }
 
 static double ramp(double cur, double target, double max_step)
@@ -368,9 +400,11 @@ static void rovers_before_step(sim_world *w)
 {
     const double dt = SIM_DT_S * R.phys_steps;
     int i, s;
-    /* the rover world advances every phys_steps simulator steps (2 ms by
-     * default: wheeled robots at 0.75 m/s need no more, and it halves the
-     * cost of large teams) */
+    /* the rover world advances every phys_steps simulator steps (4 ms by
+     * default: a wheeled robot at 0.75 m/s moves 3 mm per step; after a
+     * 12 s, 9 m drive the pose differs from 1 ms stepping by 3-4 cm along
+     * the path (0.4 %) and by no more sideways than the wheel slip
+     * scatters it between seeds; it quarters the cost of large teams) */
     if (w->step % R.phys_steps != 0) return;
     for (i = 0; i < R.n; i++) {
         rover *r = &R.r[i];
@@ -435,61 +469,111 @@ static void rebuild_sonar_world(void)
     sonar_world_build(&R.sw);
 }
 
-static void fire_sonars(sim_world *w, int fire)
+/* Fire the transducer due now on every robot (the Pioneer sequence). */
+static void fire_sonars(sim_world *w)
 {
     const int k = sonar_fired_index(w->time_s, &R.sm);
     int i;
-    if (fire) rebuild_sonar_world();
+    rebuild_sonar_world();
     for (i = 0; i < R.n; i++) {
         rover *r = &R.r[i];
-        tandem_sonar_scan_t m;
-        double ang[SONAR_N];
-        char ch[32];
         pose2_t c;
-        int j;
         if (!r->alive) continue;
         pose_c(r, &c);
         /* a transducer does not hear its own chassis: lift the robot's own
          * box out of the ray plane for its firing */
-        if (fire) {
-            if (r->prim >= 0) { R.sw.p[r->prim].z_min = -2.0; R.sw.p[r->prim].z_max = -1.0; }
-            sonar_fire(&r->range[k], &R.sw, &R.sm, &c, k, &r->rng);
-            R.rays += R.sm.rays_per_cone;
-            if (r->prim >= 0) { R.sw.p[r->prim].z_min = 0.05; R.sw.p[r->prim].z_max = 0.25; }
-        }
-        if (!w->lcm) continue;
-        for (j = 0; j < SONAR_N; j++) ang[j] = sonar_p2dx_front[j].angle_rad;
-        m.seq = r->seq_sonar++;
-        m.utime = daemon_utime_now();
-        m.step = w->step;
-        m.robot = r->id;
-        m.n = SONAR_N;
-        m.angle_rad = ang;
-        m.range_m = r->range;
-        m.fired = (int8_t)k;
-        snprintf(ch, sizeof ch, "ROVER%d_SONAR", r->id);
-        tandem_sonar_scan_t_publish(w->lcm, ch, &m);
+        if (r->prim >= 0) { R.sw.p[r->prim].z_min = -2.0; R.sw.p[r->prim].z_max = -1.0; }
+        sonar_fire(&r->range[k], &R.sw, &R.sm, &c, k, &r->rng);
+        R.rays += R.sm.rays_per_cone;
+        r->fired = k;
+        if (r->prim >= 0) { R.sw.p[r->prim].z_min = 0.05; R.sw.p[r->prim].z_max = 0.25; }
     }
 }
 
-static void publish_encoders(sim_world *w)
+/* One robot's hardware frame: encoders + bumper, and the latest echo of
+ * every transducer (the Pioneer's own packet carries the readings that
+ * came in since the last one, once per control tick). */
+static void fill_sensors(rover *r, int64_t step, int64_t utime,
+                         tandem_rover_sensors_t *s, tandem_sonar_scan_t *m)
 {
-    int i;
-    for (i = 0; i < R.n; i++) {
-        rover *r = &R.r[i];
-        tandem_rover_sensors_t m;
-        char ch[32];
-        if (!r->alive) continue;
-        m.seq = r->seq_sens++;
-        m.utime = daemon_utime_now();
-        m.step = w->step;
-        m.robot = r->id;
-        m.wheel_left_rad = r->enc[0];
-        m.wheel_right_rad = r->enc[1];
-        m.bumper = (int8_t)r->bump_now;
-        snprintf(ch, sizeof ch, "ROVER%d_SENSORS", r->id);
-        tandem_rover_sensors_t_publish(w->lcm, ch, &m);
+    s->seq = r->seq_sens++;
+    s->utime = utime;
+    s->step = step;
+    s->robot = r->id;
+    s->wheel_left_rad = r->enc[0];
+    s->wheel_right_rad = r->enc[1];
+    s->bumper = (int8_t)r->bump_now;
+    m->seq = r->seq_sonar++;
+    m->utime = utime;
+    m->step = step;
+    m->robot = r->id;
+    m->n = SONAR_N;
+    m->angle_rad = R.sonar_angle_rad;
+    m->range_m = r->range;
+    m->fired = (int8_t)r->fired;
+}
+
+static void publish_sensors(sim_world *w)
+{
+    static tandem_rover_sensors_t s[RV_MAX];
+    static tandem_sonar_scan_t m[RV_MAX];
+    const int64_t utime = daemon_utime_now();
+    int i, n = 0;
+    for (i = 0; i < R.n; i++)
+        if (R.r[i].alive) fill_sensors(&R.r[i], w->step, utime, &s[n], &m[n]), n++;
+    if (R.batch) {
+        tandem_rovers_sensors_t b;
+        b.seq = R.batch_seq[0]++;
+        b.utime = utime;
+        b.step = w->step;
+        b.n = (int16_t)n;
+        b.sensors = s;
+        b.sonar = m;
+        tandem_rovers_sensors_t_publish(w->lcm, "ROVERS_SENSORS", &b);
+        return;
     }
+    for (i = 0; i < n; i++) {
+        char ch[32];
+        snprintf(ch, sizeof ch, "ROVER%d_SENSORS", s[i].robot);
+        tandem_rover_sensors_t_publish(w->lcm, ch, &s[i]);
+        snprintf(ch, sizeof ch, "ROVER%d_SONAR", s[i].robot);
+        tandem_sonar_scan_t_publish(w->lcm, ch, &m[i]);
+    }
+}
+
+/* Robot i's camera frame: mates' LED beacons in view (range, bearing). */
+static void observe_beacons(int i, const pose2_t o[], double pan, int64_t step, int64_t utime,
+                            int32_t *tgt, double *rng, double *brg, tandem_beacon_obs_t *m)
+{
+    rover *r = &R.r[i];
+    int j, n = 0;
+    for (j = 0; j < R.n; j++) {
+        double dx, dy, d, b;
+        sonar_hit_t hit;
+        if (j == i || !R.r[j].alive) continue;
+        dx = o[j].x_m - o[i].x_m;
+        dy = o[j].y_m - o[i].y_m;
+        d = hypot(dx, dy);
+        b = vec2_angle_diff_rad(atan2(dy, dx), o[i].theta_rad);
+        if (d > RV_CAM_RANGE_M || d < 0.05 ||
+            fabs(vec2_angle_diff_rad(b, pan)) > RV_CAM_HALF_FOV)
+            continue;
+        /* obstacles taller than the LED hide it; robots (0.25 m) do not */
+        if (sonar_cast(&hit, &R.sw, o[i].x_m, o[i].y_m, RV_BEACON_Z_M, atan2(dy, dx), d) == 1)
+            continue;
+        tgt[n] = R.r[j].id;
+        rng[n] = d + (0.01 + 0.02 * d) * prng_gauss(&r->rng);
+        brg[n] = b + 0.01 * prng_gauss(&r->rng);
+        n++;
+    }
+    m->seq = r->seq_beacon++;
+    m->utime = utime;
+    m->step = step;
+    m->observer = r->id;
+    m->n = (int16_t)n;
+    m->target = tgt;
+    m->range_m = rng;
+    m->bearing_rad = brg;
 }
 
 static void publish_beacons(sim_world *w)
@@ -497,51 +581,34 @@ static void publish_beacons(sim_world *w)
     /* the camera sits on a pan unit that looks ahead, left, ahead, right in
      * turn, one frame each (abreast mates are seen every 0.4 s) */
     static const double pans[4] = { 0.0, 0.5 * VEC2_PI, 0.0, -0.5 * VEC2_PI };
+    static int32_t tgt[RV_MAX][RV_MAX];
+    static double rng[RV_MAX][RV_MAX], brg[RV_MAX][RV_MAX];
+    static tandem_beacon_obs_t m[RV_MAX];
     const double pan = pans[(w->step / RV_BEACON_STEPS) % 4];
-    int i, j;
+    const int64_t utime = daemon_utime_now();
     pose2_t o[RV_MAX], c;
+    int i, n = 0;
     for (i = 0; i < R.n; i++) {
         if (!R.r[i].alive) continue;
         pose_c(&R.r[i], &c);
         unicycle_o_from_c(&o[i], &c, ROVER_BEACON_D_M);
     }
-    for (i = 0; i < R.n; i++) {
-        rover *r = &R.r[i];
-        int32_t tgt[RV_MAX];
-        double rng[RV_MAX], brg[RV_MAX];
-        tandem_beacon_obs_t m;
+    for (i = 0; i < R.n; i++)
+        if (R.r[i].alive) observe_beacons(i, o, pan, w->step, utime, tgt[n], rng[n], brg[n], &m[n]), n++;
+    if (R.batch) {
+        tandem_rovers_beacons_t b;
+        b.seq = R.batch_seq[1]++;
+        b.utime = utime;
+        b.step = w->step;
+        b.n = (int16_t)n;
+        b.obs = m;
+        tandem_rovers_beacons_t_publish(w->lcm, "ROVERS_BEACONS", &b);
+        return;
+    }
+    for (i = 0; i < n; i++) {
         char ch[32];
-        int n = 0;
-        if (!r->alive) continue;
-        for (j = 0; j < R.n; j++) {
-            double dx, dy, d, b;
-            sonar_hit_t hit;
-            if (j == i || !R.r[j].alive) continue;
-            dx = o[j].x_m - o[i].x_m;
-            dy = o[j].y_m - o[i].y_m;
-            d = hypot(dx, dy);
-            b = vec2_angle_diff_rad(atan2(dy, dx), o[i].theta_rad);
-            if (d > RV_CAM_RANGE_M || d < 0.05 ||
-                fabs(vec2_angle_diff_rad(b, pan)) > RV_CAM_HALF_FOV)
-                continue;
-            /* obstacles taller than the LED hide it; robots (0.25 m) do not */
-            if (sonar_cast(&hit, &R.sw, o[i].x_m, o[i].y_m, RV_BEACON_Z_M, atan2(dy, dx), d) == 1)
-                continue;
-            tgt[n] = R.r[j].id;
-            rng[n] = d + (0.01 + 0.02 * d) * prng_gauss(&r->rng);
-            brg[n] = b + 0.01 * prng_gauss(&r->rng);
-            n++;
-        }
-        m.seq = r->seq_beacon++;
-        m.utime = daemon_utime_now();
-        m.step = w->step;
-        m.observer = r->id;
-        m.n = (int16_t)n;
-        m.target = tgt;
-        m.range_m = rng;
-        m.bearing_rad = brg;
-        snprintf(ch, sizeof ch, "ROVER%d_BEACONS", r->id);
-        tandem_beacon_obs_t_publish(w->lcm, ch, &m);
+        snprintf(ch, sizeof ch, "ROVER%d_BEACONS", m[i].observer);
+        tandem_beacon_obs_t_publish(w->lcm, ch, &m[i]);
     }
 }
 
@@ -586,9 +653,9 @@ static void rovers_after_step(sim_world *w)
     const int repeat = w->step == R.last_after_step;
     R.last_after_step = w->step;
     const int64_t fire_steps = (int64_t)llround(R.sm.fire_period_s / SIM_DT_S);
-    if (w->step % fire_steps == 0) fire_sonars(w, !repeat);
+    if (w->step % fire_steps == 0 && !repeat) fire_sonars(w);
     if (!w->lcm) return;
-    if (w->step % RV_SENSORS_STEPS == 0) publish_encoders(w);
+    if (w->step % RV_SENSORS_STEPS == 0) publish_sensors(w);
     if (w->step % RV_BEACON_STEPS == 0 && !repeat) publish_beacons(w);
     if (w->step % RV_TRUTH_STEPS == 0) publish_truth(w);
 }
