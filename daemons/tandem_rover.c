@@ -2,8 +2,12 @@
  * several, --id A-B, each with its own state, talking only over LCM)
  * (SPEC.md §4, §7). Thin: LCM in, rover_ctl_step, LCM out.
  *
- * In:  ROVERk_SENSORS (encoders), ROVERk_SONAR, ROVERk_BEACONS, TEAM.
- * Out: ROVERk_COMMAND (V, w), TEAM (10 Hz), ROVERk_STATE, health.
+ * In:  ROVERk_SENSORS (encoders), ROVERk_SONAR, ROVERk_BEACONS, TEAM, or
+ *      the same frames batched (ROVERS_SENSORS, ROVERS_BEACONS).
+ * Out: ROVERk_COMMAND (V, w), TEAM (10 Hz), ROVERk_STATE, health; with
+ *      --batch the commands and states of all hosted robots go out as one
+ *      ROVERS_COMMAND and one ROVERS_STATE per tick (TEAM stays per robot:
+ *      it is the robots' radio, not the simulator link).
  * The team frame and each robot's initial pose come from the launch
  * configuration (--robots N --world W --formation F, see rover_world.h);
  * after that a robot knows itself only by odometry and its mates by their
@@ -25,6 +29,10 @@
 #include "tandem_rover_command_t.h"
 #include "tandem_rover_sensors_t.h"
 #include "tandem_rover_state_t.h"
+#include "tandem_rovers_beacons_t.h"
+#include "tandem_rovers_command_t.h"
+#include "tandem_rovers_sensors_t.h"
+#include "tandem_rovers_state_t.h"
 #include "tandem_sim_clock_t.h"
 #include "tandem_sonar_scan_t.h"
 #include "tandem_team_msg_t.h"
@@ -56,6 +64,8 @@ static struct {
     double  last_t_s;
     int64_t last_step;
     int64_t dropped_q;
+    int     batch;                      /* --batch: ROVERS_COMMAND / ROVERS_STATE */
+    int64_t batch_seq;
 } A;
 
 static hosted *find_hosted(int32_t id)
@@ -76,6 +86,9 @@ static void usage(void)
            "  --formation F      line | triangle | column (default line)\n"
            "  --blend B          weighted | subsumption | vecsum (default weighted)\n"
            "  --stale-ms MS      sensors older than this stop the robot (default 500)\n"
+           "  --batch            publish all hosted robots' commands and states as one\n"
+           "                     ROVERS_COMMAND / ROVERS_STATE message per tick\n"
+           "                     (sensors are taken per robot and batched alike)\n"
            "  (control period --period-ms, default 50 ms = 20 Hz)\n"
            DAEMON_COMMON_HELP);
 }
@@ -110,6 +123,7 @@ static int parse_args(daemon *d, int argc, char **argv)
         { "formation", required_argument, 0, 'f' },
         { "blend", required_argument, 0, 'b' },
         { "stale-ms", required_argument, 0, 's' },
+        { "batch", no_argument, 0, 'B' },
         DAEMON_COMMON_OPTIONS,
         { 0, 0, 0, 0 }
     };
@@ -159,6 +173,9 @@ static int parse_args(daemon *d, int argc, char **argv)
                 return -1;
             }
             break;
+        case 'B':
+            A.batch = 1;
+            break;
         case 's':
             if (parse_double_opt("tandem-rover", "--stale-ms", optarg, 10.0, 10000.0, &ms) < 0)
                 return -1;
@@ -199,71 +216,99 @@ static int too_early(int64_t step)
     return D.lockstep && step < D.period_steps;
 }
 
-static void on_sensors(const lcm_recv_buf_t *rb, const char *ch, void *u)
+/* The hardware frames of one robot, from its own channels or from a
+ * batch: only hosted robots count; bad values are dropped and counted. */
+static void take_sensors(const tandem_rover_sensors_t *m)
 {
-    tandem_rover_sensors_t m;
-    hosted *h;
-    (void)ch; (void)u;
-    if (tandem_rover_sensors_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
-        D.msgs.received++;
-        D.msgs.rejected++;
-        return;
-    }
-    h = find_hosted(m.robot);
-    if (!h || too_early(m.step)) return;       /* another host's robot / start-up */
+    hosted *h = find_hosted(m->robot);
+    if (!h || too_early(m->step)) return;      /* another host's robot / start-up */
     D.msgs.received++;
-    if (m.step < 0 || rover_ctl_encoders(&h->c, m.wheel_left_rad, m.wheel_right_rad,
-                                         (double)m.step * DAEMON_SIM_DT_S) != 0) {
+    if (m->step < 0 || rover_ctl_encoders(&h->c, m->wheel_left_rad, m->wheel_right_rad,
+                                          (double)m->step * DAEMON_SIM_DT_S) != 0) {
         D.msgs.rejected++;
         return;
     }
     h->last_rx_ns = now_ns();
 }
 
-static void on_sonar(const lcm_recv_buf_t *rb, const char *ch, void *u)
+static void take_sonar(const tandem_sonar_scan_t *m)
 {
-    tandem_sonar_scan_t m;
-    hosted *h;
-    (void)ch; (void)u;
-    if (tandem_sonar_scan_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
-        D.msgs.received++;
+    hosted *h = find_hosted(m->robot);
+    if (!h || too_early(m->step)) return;
+    D.msgs.received++;
+    if (m->n != BEH_SONAR_N || m->step < 0 ||
+        rover_ctl_sonar(&h->c, m->range_m, (double)m->step * DAEMON_SIM_DT_S) != 0)
+        D.msgs.rejected++;
+}
+
+static void take_beacons(const tandem_beacon_obs_t *m)
+{
+    hosted *h = find_hosted(m->observer);
+    int i;
+    if (!h || too_early(m->step)) return;
+    D.msgs.received++;
+    if (m->n < 0 || m->n > ROVER_WORLD_MAX_ROBOTS) {
         D.msgs.rejected++;
         return;
     }
-    h = find_hosted(m.robot);
-    if (h && !too_early(m.step)) {
-        D.msgs.received++;
-        if (m.n != BEH_SONAR_N || m.step < 0 ||
-            rover_ctl_sonar(&h->c, m.range_m, (double)m.step * DAEMON_SIM_DT_S) != 0)
-            D.msgs.rejected++;
-    }
+    /* unknown targets (not heard yet) are fine: skipped */
+    for (i = 0; i < m->n; i++)
+        if (isfinite(m->range_m[i]) && isfinite(m->bearing_rad[i]) && m->range_m[i] >= 0.0)
+            rover_ctl_beacon(&h->c, m->target[i], m->range_m[i], m->bearing_rad[i]);
+}
+
+/* A message that does not decode is counted once, as received and rejected. */
+#define ROVER_DECODE(type, rb, m) \
+    (type##_decode((rb)->data, 0, (rb)->data_size, (m)) >= 0 ? 1 \
+     : (D.msgs.received++, D.msgs.rejected++, 0))
+
+static void on_sensors(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_rover_sensors_t m;
+    (void)ch; (void)u;
+    if (ROVER_DECODE(tandem_rover_sensors_t, rb, &m)) take_sensors(&m);
+}
+
+static void on_sonar(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_sonar_scan_t m;
+    (void)ch; (void)u;
+    if (!ROVER_DECODE(tandem_sonar_scan_t, rb, &m)) return;
+    take_sonar(&m);
     tandem_sonar_scan_t_decode_cleanup(&m);
 }
 
 static void on_beacons(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     tandem_beacon_obs_t m;
-    hosted *h;
+    (void)ch; (void)u;
+    if (!ROVER_DECODE(tandem_beacon_obs_t, rb, &m)) return;
+    take_beacons(&m);
+    tandem_beacon_obs_t_decode_cleanup(&m);
+}
+
+/* tandem-sim --rover-batch: every robot's frames in one message */
+static void on_sensors_batch(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_rovers_sensors_t m;
     int i;
     (void)ch; (void)u;
-    if (tandem_beacon_obs_t_decode(rb->data, 0, rb->data_size, &m) < 0) {
-        D.msgs.received++;
-        D.msgs.rejected++;
-        return;
+    if (!ROVER_DECODE(tandem_rovers_sensors_t, rb, &m)) return;
+    for (i = 0; i < m.n; i++) {
+        take_sensors(&m.sensors[i]);
+        take_sonar(&m.sonar[i]);
     }
-    h = find_hosted(m.observer);
-    if (h && !too_early(m.step)) {
-        D.msgs.received++;
-        if (m.n < 0 || m.n > ROVER_WORLD_MAX_ROBOTS) {
-            D.msgs.rejected++;
-        } else {
-            /* unknown targets (not heard yet) are fine: skipped */
-            for (i = 0; i < m.n; i++)
-                if (isfinite(m.range_m[i]) && isfinite(m.bearing_rad[i]) && m.range_m[i] >= 0.0)
-                    rover_ctl_beacon(&h->c, m.target[i], m.range_m[i], m.bearing_rad[i]);
-        }
-    }
-    tandem_beacon_obs_t_decode_cleanup(&m);
+    tandem_rovers_sensors_t_decode_cleanup(&m);
+}
+
+static void on_beacons_batch(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_rovers_beacons_t m;
+    int i;
+    (void)ch; (void)u;
+    if (!ROVER_DECODE(tandem_rovers_beacons_t, rb, &m)) return;
+    for (i = 0; i < m.n; i++) take_beacons(&m.obs[i]);
+    tandem_rovers_beacons_t_decode_cleanup(&m);
 }
 
 static int team_msg_valid(const tandem_team_msg_t *m)
@@ -326,54 +371,80 @@ static void deliver_team(int64_t step, double t_s)
 
 /* ---- the cycle ------------------------------------------------------------------ */
 
-static void publish_outputs(hosted *h, const rover_ctl_out_t *o, int64_t step)
+static void publish_team(hosted *h, const rover_ctl_out_t *o, int64_t step, int64_t utime)
 {
-    tandem_rover_command_t cmd;
-    tandem_rover_state_t st;
+    tandem_team_msg_t t;
+    memset(&t, 0, sizeof t);
+    t.seq = h->team_seq++;
+    t.utime = utime;
+    t.step = step;
+    t.robot = h->c.id;
+    t.x_m = o->team.x_m;
+    t.y_m = o->team.y_m;
+    t.theta_rad = o->team.theta_rad;
+    t.v_mps = o->team.v_mps;
+    t.w_radps = o->team.w_radps;
+    t.formation = (int8_t)o->team.formation;
+    t.formation_scale = o->team.scale;
+    t.announce = (int8_t)o->team.announce;
+    t.announce_seq = o->team.announce_seq;
+    t.goal_m[0] = h->c.goal_m[0];
+    t.goal_m[1] = h->c.goal_m[1];
+    tandem_team_msg_t_publish(D.lcm, "TEAM", &t);
+}
+
+/* One robot's command and own-view state for this tick, into *cmd / *st. */
+static void fill_outputs(hosted *h, const rover_ctl_out_t *o, int64_t step, int64_t utime,
+                         tandem_rover_command_t *cmd, tandem_rover_state_t *st)
+{
     int i;
-    cmd.seq = h->cmd_seq++;
-    cmd.utime = daemon_utime_now();
-    cmd.step = step;
-    cmd.robot = h->c.id;
-    cmd.v_mps = o->u.v_mps;
-    cmd.w_radps = o->u.w_radps;
-    tandem_rover_command_t_publish(D.lcm, h->ch_cmd, &cmd);
-    if (o->send_team) {
-        tandem_team_msg_t t;
-        memset(&t, 0, sizeof t);
-        t.seq = h->team_seq++;
-        t.utime = cmd.utime;
-        t.step = step;
-        t.robot = h->c.id;
-        t.x_m = o->team.x_m;
-        t.y_m = o->team.y_m;
-        t.theta_rad = o->team.theta_rad;
-        t.v_mps = o->team.v_mps;
-        t.w_radps = o->team.w_radps;
-        t.formation = (int8_t)o->team.formation;
-        t.formation_scale = o->team.scale;
-        t.announce = (int8_t)o->team.announce;
-        t.announce_seq = o->team.announce_seq;
-        t.goal_m[0] = h->c.goal_m[0];
-        t.goal_m[1] = h->c.goal_m[1];
-        tandem_team_msg_t_publish(D.lcm, "TEAM", &t);
+    cmd->seq = h->cmd_seq++;
+    cmd->utime = utime;
+    cmd->step = step;
+    cmd->robot = h->c.id;
+    cmd->v_mps = o->u.v_mps;
+    cmd->w_radps = o->u.w_radps;
+    memset(st, 0, sizeof *st);
+    st->seq = h->state_seq++;
+    st->utime = utime;
+    st->step = step;
+    st->robot = h->c.id;
+    st->x_m = o->o.x_m;
+    st->y_m = o->o.y_m;
+    st->theta_rad = o->o.theta_rad;
+    st->v_mps = h->c.v_est_mps;
+    st->w_radps = h->c.w_est_radps;
+    st->mode = (int8_t)o->mode;
+    st->formation = (int8_t)h->c.fsm.type;
+    for (i = 0; i < 4; i++) st->weight[i] = o->weight[i];
+    st->formation_err_m = o->slot_err_m;
+    st->team_size = (int16_t)o->team_size;
+}
+
+/* The hosted robots' commands and states: one message each per robot, or
+ * (--batch) one ROVERS_COMMAND and one ROVERS_STATE for all of them. */
+static void publish_outputs(tandem_rover_command_t *cmd, tandem_rover_state_t *st, int n,
+                            int64_t step, int64_t utime)
+{
+    int i;
+    if (A.batch) {
+        tandem_rovers_command_t bc;
+        tandem_rovers_state_t bs;
+        bc.seq = bs.seq = A.batch_seq++;
+        bc.utime = bs.utime = utime;
+        bc.step = bs.step = step;
+        bc.n = bs.n = (int16_t)n;
+        bc.cmd = cmd;
+        bs.state = st;
+        tandem_rovers_command_t_publish(D.lcm, "ROVERS_COMMAND", &bc);
+        tandem_rovers_state_t_publish(D.lcm, "ROVERS_STATE", &bs);
+        return;
     }
-    memset(&st, 0, sizeof st);
-    st.seq = h->state_seq++;
-    st.utime = cmd.utime;
-    st.step = step;
-    st.robot = h->c.id;
-    st.x_m = o->o.x_m;
-    st.y_m = o->o.y_m;
-    st.theta_rad = o->o.theta_rad;
-    st.v_mps = h->c.v_est_mps;
-    st.w_radps = h->c.w_est_radps;
-    st.mode = (int8_t)o->mode;
-    st.formation = (int8_t)h->c.fsm.type;
-    for (i = 0; i < 4; i++) st.weight[i] = o->weight[i];
-    st.formation_err_m = o->slot_err_m;
-    st.team_size = (int16_t)o->team_size;
-    tandem_rover_state_t_publish(D.lcm, h->ch_state, &st);
+    for (i = 0; i < n; i++) {
+        hosted *h = find_hosted(cmd[i].robot);
+        tandem_rover_command_t_publish(D.lcm, h->ch_cmd, &cmd[i]);
+        tandem_rover_state_t_publish(D.lcm, h->ch_state, &st[i]);
+    }
 }
 
 static void cycle(daemon *d, void *user)
@@ -381,7 +452,10 @@ static void cycle(daemon *d, void *user)
     const int64_t step = d->lockstep ? d->pending_step : d->step;
     const double t_s = (double)(step < 0 ? 0 : step) * DAEMON_SIM_DT_S;
     const double dt = A.last_t_s > 0.0 && t_s > A.last_t_s ? t_s - A.last_t_s : d->period_s;
-    int j, stopped = 0;
+    static tandem_rover_command_t cmd[HOST_MAX];
+    static tandem_rover_state_t st[HOST_MAX];
+    const int64_t utime = daemon_utime_now();
+    int j, n = 0, stopped = 0;
     (void)user;
     if (step < 0) return;                      /* no simulator clock yet */
     if (d->lockstep && step == A.last_step) return;   /* a repeated clock: answer again only */
@@ -400,8 +474,11 @@ static void cycle(daemon *d, void *user)
             D.msgs.rejected++;
         }
         if (o.mode == ROVER_MODE_SAFE_STOP) stopped++;
-        publish_outputs(h, &o, step);
+        if (o.send_team) publish_team(h, &o, step, utime);
+        fill_outputs(h, &o, step, utime, &cmd[n], &st[n]);
+        n++;
     }
+    publish_outputs(cmd, st, n, step, utime);
     A.last_t_s = t_s;
     d->safe_hold = stopped > 0;
     snprintf(d->status, sizeof d->status, "%s: %d of %d robots stopped (stale input)",
@@ -452,6 +529,8 @@ int main(int argc, char **argv)
     daemon_subscribe(&D, "ROVER[0-9]+_SENSORS", on_sensors, NULL);
     daemon_subscribe(&D, "ROVER[0-9]+_SONAR", on_sonar, NULL);
     daemon_subscribe(&D, "ROVER[0-9]+_BEACONS", on_beacons, NULL);
+    daemon_subscribe(&D, "ROVERS_SENSORS", on_sensors_batch, NULL);
+    daemon_subscribe(&D, "ROVERS_BEACONS", on_beacons_batch, NULL);
     daemon_subscribe(&D, "TEAM", on_team, NULL);
     daemon_run(&D, cycle, NULL);
     daemon_finish(&D);

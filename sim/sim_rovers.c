@@ -8,9 +8,10 @@
  * to the held command; a command older than --rover-stale (0.5 s of sim
  * time) stops the robot.
  *
- * Cost: the rovers live in their own ODE world (stepped with QuickStep on
- * the simulator's clock) so the PUMA pair's exact solver does not see
- * them. Contacts are only wheel/caster-floor (computed directly: spheres on
+ * Cost: the rovers live in their own ODE world, stepped every 4 ms on the
+ * simulator's clock (exact solver while no chassis touches anything,
+ * QuickStep otherwise: see rovers_before_step), apart from the PUMA pair's
+ * world. Contacts are only wheel/caster-floor (computed directly: spheres on
  * a plane) and chassis-obstacle/chassis-chassis, found by a hash-space
  * broad phase that holds nothing but chassis boxes and obstacles.
  * Their bodies still enter the simulator's state hash. They stand at
@@ -103,6 +104,8 @@ static struct {
     int64_t  batch_seq[2];
     double   v_max, w_max, stale_s;
     int      phys_steps;
+    int      chassis_contacts;        /* chassis contact joints this step */
+    int64_t  quick_steps;             /* steps that fell back to QuickStep */
     int64_t  last_after_step;
     int64_t  truth_seq, rejected, rays;
     int      formation;
@@ -251,7 +254,9 @@ static int rovers_create(sim_world *w, const sim_config *cfg)
 
 static void rovers_destroy(sim_world *w)
 {
-    (void)w;
+    if (R.world)
+        fprintf(stderr, "tandem-sim: rovers: %lld of %lld physics steps had chassis contacts "
+                "(QuickStep)\n", (long long)R.quick_steps, (long long)(w->step / R.phys_steps));
     if (R.sub && R.w && R.w->lcm) lcm_unsubscribe(R.w->lcm, R.sub);
     if (R.sub_batch && R.w && R.w->lcm) lcm_unsubscribe(R.w->lcm, R.sub_batch);
     R.sub = R.sub_batch = NULL;
@@ -331,6 +336,7 @@ static void near_cb(void *data, dGeomID g1, dGeomID g2)
         rover *r1 = rover_of_body(b1), *r2 = rover_of_body(b2);
         if (r1) r1->bump_now = 1;
         if (r2) r2->bump_now = 1;
+        R.chassis_contacts += n;
     }
     for (i = 0; i < n; i++) {
         dJointID j;
@@ -402,9 +408,10 @@ static void rovers_before_step(sim_world *w)
     int i, s;
     /* the rover world advances every phys_steps simulator steps (4 ms by
      * default: a wheeled robot at 0.75 m/s moves 3 mm per step; after a
-     * 12 s, 9 m drive the pose differs from 1 ms stepping by 3-4 cm along
-     * the path (0.4 %) and by no more sideways than the wheel slip
-     * scatters it between seeds; it quarters the cost of large teams) */
+     * 12 s, 9 m drive the encoder totals agree with 1 ms stepping to
+     * 0.02 % and the pose differs by less than the wheel slip scatters it
+     * between seeds (1-2 cm along the path); it quarters the cost of
+     * large teams) */
     if (w->step % R.phys_steps != 0) return;
     for (i = 0; i < R.n; i++) {
         rover *r = &R.r[i];
@@ -431,8 +438,20 @@ static void rovers_before_step(sim_world *w)
     }
     dJointGroupEmpty(R.contacts);
     floor_contacts();
+    R.chassis_contacts = 0;
     dSpaceCollide(R.space, NULL, near_cb);
-    dWorldQuickStep(R.world, dt);
+    /* A robot touching nothing but the floor is an island of 3 bodies,
+     * which ODE's exact solver handles as fast as QuickStep; QuickStep's
+     * 10 iterations leave a residual that lets a parked robot creep
+     * (5 mm/s at 4 ms, 0.02 mm in 4 s exact). Chassis contacts (with
+     * friction) make the exact solver's cost grow steeply, and robots
+     * pushing each other join islands (cost ~ island size cubed): in a
+     * step with any chassis contact, QuickStep bounds the cost. */
+    if (R.chassis_contacts == 0) dWorldStep(R.world, dt);
+    else {
+        dWorldQuickStep(R.world, dt);
+        R.quick_steps++;
+    }
     for (i = 0; i < R.n; i++) {
         rover *r = &R.r[i];
         if (!r->alive) continue;

@@ -65,8 +65,12 @@ else
     echo "  bench_tdsd_kdl not built (needs liborocos-kdl-dev)"
 fi
 
-for extra in "$bin"/bench_carry "$bin"/bench_tdsd "$bin"/bench_rovers; do
+for extra in "$bin"/bench_carry "$bin"/bench_tdsd; do
     [ -x "$extra" ] || continue
     echo; echo "== $(basename "$extra") =="
     "$extra"
 done
+
+echo; echo "== bench_rovers: Pioneer team, all processes pinned to one core (taskset -c 0) =="
+if command -v taskset >/dev/null; then taskset -c 0 "$bin/bench_rovers" 20 "$bin"
+else echo "  (taskset not found: not pinned)"; "$bin/bench_rovers" 20 "$bin"; fi

@@ -2,7 +2,11 @@
  * runs tandem-sim and three separate tandem-rover processes in lockstep on
  * a private bus; at t = 8 s robot 3's process is killed (SIGKILL) and its
  * body removed. The other two must drop it by heartbeat, re-slot, and
- * still reach the goal in formation without a collision (ground truth). */
+ * still reach the goal in formation without a collision (ground truth).
+ * Second test: how the robots are spread over processes and how their
+ * frames travel (one process per robot on ROVERk_* channels, or one
+ * process for the team on the batched ROVERS_* channels) is transport
+ * only: the two runs must be bit-identical in ground truth. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -63,10 +67,55 @@ static void test_kill_one_rover_mid_run(void **state)
     harness_close(&h);
 }
 
+/* Runs the obstacles world for 20 s; returns truth.csv's size and hash. */
+static uint64_t run_truth_hash(harness *h, const char *procs, const char *link, long *size)
+{
+    char dir[64], path[128];
+    const char *argv[] = { "tandem-scenario", "formation", "--world", "obstacles", "--robots", "3",
+                           "--seed", "2", "--procs", procs, "--link", link, "--max-time", "20",
+                           "--lcm-url", h->url, "--out", dir, NULL };
+    uint64_t hash = 1469598103934665603ULL;
+    pid_t p;
+    FILE *f;
+    int c;
+    snprintf(dir, sizeof dir, "/tmp/it_formation_%s_%d", link, (int)getpid());
+    p = harness_spawn(h, argv);
+    assert_true(p > 0);
+    assert_int_equal(harness_wait(h, p, 120.0), 0);
+    snprintf(path, sizeof path, "%s/truth.csv", dir);
+    f = fopen(path, "r");
+    assert_non_null(f);
+    *size = 0;
+    while ((c = fgetc(f)) != EOF) {
+        hash = (hash ^ (uint64_t)(unsigned char)c) * 1099511628211ULL;
+        (*size)++;
+    }
+    fclose(f);
+    return hash;
+}
+
+static void test_batched_link_is_the_same_run(void **state)
+{
+    harness h;
+    long size_robot, size_batch;
+    uint64_t robot, batch;
+    (void)state;
+    assert_int_equal(harness_open(&h, 8), 0);
+    robot = run_truth_hash(&h, "separate", "robot", &size_robot);
+    batch = run_truth_hash(&h, "single", "batch", &size_batch);
+    printf("truth.csv: %ld bytes per robot link, %ld batched; hashes %016llx %016llx\n",
+           size_robot, size_batch, (unsigned long long)robot, (unsigned long long)batch);
+    assert_true(size_robot > 10000);   /* 20 s of 20 Hz truth for 3 robots */
+    assert_int_equal(size_robot, size_batch);
+    assert_true(robot == batch);
+    harness_close(&h);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_kill_one_rover_mid_run),
+        cmocka_unit_test(test_batched_link_is_the_same_run),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -25,6 +25,7 @@
 #include "daemon.h"
 #include "tandem_clock_ack_t.h"
 #include "tandem_rover_state_t.h"
+#include "tandem_rovers_state_t.h"
 #include "tandem_rover_truth_t.h"
 #include "tandem_sim_clock_t.h"
 #include "tandem_sim_control_t.h"
@@ -37,7 +38,7 @@
 
 typedef struct {
     /* options */
-    int    formation, world, blend, robots, single;
+    int    formation, world, blend, robots, single, batch;
     long   seed;
     double max_time_s;
     int    kill_id;
@@ -54,6 +55,7 @@ typedef struct {
     tandem_sim_clock_t_subscription_t *sub_clock;
     tandem_rover_truth_t_subscription_t *sub_truth;
     tandem_rover_state_t_subscription_t *sub_state;
+    tandem_rovers_state_t_subscription_t *sub_states;
     tandem_team_msg_t_subscription_t *sub_team;
     int64_t clock_step, answered, ack_seq, last_clock_ns;
     int    have_clock;
@@ -95,6 +97,9 @@ static void usage(FILE *f)
                "  --kill K:T      kill robot K (its process and its body) at sim time T s\n"
                "  --procs P       separate (one tandem-rover per robot, default up to 10\n"
                "                  robots) | single (one process hosting all)\n"
+               "  --link L        robot (ROVERk_* channels per robot) | batch (ROVERS_*: one\n"
+               "                  message per tick for all robots); default batch with\n"
+               "                  --procs single, robot otherwise. Same run either way.\n"
                "  --max-time S    give up after S simulated seconds (default 150)\n"
                "  --lcm-url URL   bus for the children (default: a private udpm port)\n"
                "  --out DIR       output directory (required)\n");
@@ -111,6 +116,7 @@ static int parse(int argc, char **argv)
     F.max_time_s = 150.0;
     F.kill_id = -1;
     F.single = -1;
+    F.batch = -1;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(o, "--help") || !strcmp(o, "-h")) { usage(stdout); exit(0); }
@@ -148,6 +154,10 @@ static int parse(int argc, char **argv)
             if (!strcmp(v, "separate")) F.single = 0;
             else if (!strcmp(v, "single")) F.single = 1;
             else { fprintf(stderr, "formation: --procs: '%s' is not separate|single\n", v); return -1; }
+        } else if (!strcmp(o, "--link")) {
+            if (!strcmp(v, "robot")) F.batch = 0;
+            else if (!strcmp(v, "batch")) F.batch = 1;
+            else { fprintf(stderr, "formation: --link: '%s' is not robot|batch\n", v); return -1; }
         } else if (!strcmp(o, "--max-time")) {
             char *e; double t = strtod(v, &e);
             if (*e || !isfinite(t) || t <= 0 || t > 3600) { fprintf(stderr, "formation: --max-time: '%s'\n", v); return -1; }
@@ -165,6 +175,7 @@ static int parse(int argc, char **argv)
     if (!F.out) { fprintf(stderr, "formation: --out DIR is required\n"); return -1; }
     if (F.kill_id > F.robots) { fprintf(stderr, "formation: --kill: robot %d not in the team\n", F.kill_id); return -1; }
     if (F.single < 0) F.single = F.robots > 10;
+    if (F.batch < 0) F.batch = F.single;
     return 0;
 }
 
@@ -224,13 +235,15 @@ static int start_children(void)
     {
         char *sim[] = { "tandem-sim", "--lockstep", "--no-arms", "--rovers", n_s, "--world", w_s,
                         "--formation", (char *)fname(F.formation),
-                        "--seed", seed_s, "--expect", expect_s, "--timeout-ms", "10000", NULL };
+                        "--seed", seed_s, "--expect", expect_s, "--timeout-ms", "10000",
+                        F.batch ? "--rover-batch" : NULL, NULL };
         if (spawn(sim) <= 0) return -1;
     }
     for (k = 1; k <= procs; k++) {
         char *fo = (char *)fname(F.formation), *bl = (char *)bname(F.blend);
         char *rv[] = { "tandem-rover", "--id", id_s, "--robots", n_s, "--world", w_s,
-                       "--formation", fo, "--blend", bl, "--lockstep", NULL };
+                       "--formation", fo, "--blend", bl, "--lockstep",
+                       F.batch ? "--batch" : NULL, NULL };
         if (F.single) snprintf(id_s, sizeof id_s, "1-%d", F.robots);
         else snprintf(id_s, sizeof id_s, "%d", k);
         F.rover_pid[k] = spawn(rv);
@@ -294,10 +307,9 @@ static int alive_ids(const tandem_rover_truth_t *m, int32_t *ids)
     return n;
 }
 
-static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_state_t *m, void *u)
+static void take_state(const tandem_rover_state_t *m)
 {
     const int i = m->robot - 1;
-    (void)rb; (void)ch; (void)u;
     if (i < 0 || i >= F.robots) return;
     if (F.have_state[i] && m->mode == TANDEM_ROVER_STATE_T_MODE_DEAD_ZONE && F.mode[i] != TANDEM_ROVER_STATE_T_MODE_DEAD_ZONE)
         F.escapes++;
@@ -309,6 +321,19 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_rove
         rover_world_from_team(&F.layout, &team, &F.est[i]);
     }
     F.have_state[i] = 1;
+}
+
+static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_state_t *m, void *u)
+{
+    (void)rb; (void)ch; (void)u;
+    take_state(m);
+}
+
+static void on_states(const lcm_recv_buf_t *rb, const char *ch, const tandem_rovers_state_t *m, void *u)
+{
+    int i;
+    (void)rb; (void)ch; (void)u;
+    for (i = 0; i < m->n; i++) take_state(&m->state[i]);
 }
 
 static double team_scale[FM_MAX];
@@ -515,10 +540,12 @@ static int run(int argc, char **argv)
     F.sub_clock = tandem_sim_clock_t_subscribe(F.lcm, "SIM_CLOCK", on_clock, NULL);
     F.sub_truth = tandem_rover_truth_t_subscribe(F.lcm, "ROVER_TRUTH", on_truth, NULL);
     F.sub_state = tandem_rover_state_t_subscribe(F.lcm, "ROVER[0-9]+_STATE", on_state, NULL);
+    F.sub_states = tandem_rovers_state_t_subscribe(F.lcm, "ROVERS_STATE", on_states, NULL);
     F.sub_team = tandem_team_msg_t_subscribe(F.lcm, "TEAM", on_team, NULL);
     tandem_sim_clock_t_subscription_set_queue_capacity(F.sub_clock, 0);
     tandem_rover_truth_t_subscription_set_queue_capacity(F.sub_truth, 100000);
     tandem_rover_state_t_subscription_set_queue_capacity(F.sub_state, 100000);
+    tandem_rovers_state_t_subscription_set_queue_capacity(F.sub_states, 100000);
     tandem_team_msg_t_subscription_set_queue_capacity(F.sub_team, 100000);
     F.truth_csv = scenario_fopen(F.out, "truth.csv");
     F.err_csv = scenario_fopen(F.out, "formation_error.csv");
@@ -596,6 +623,7 @@ static int run(int argc, char **argv)
     tandem_sim_clock_t_unsubscribe(F.lcm, F.sub_clock);
     tandem_rover_truth_t_unsubscribe(F.lcm, F.sub_truth);
     tandem_rover_state_t_unsubscribe(F.lcm, F.sub_state);
+    tandem_rovers_state_t_unsubscribe(F.lcm, F.sub_states);
     tandem_team_msg_t_unsubscribe(F.lcm, F.sub_team);
     lcm_destroy(F.lcm);
     printf("formation %s world %s blend %s robots %d seed %ld: reached_goal=%d time_to_goal_s=%.2f "
