@@ -1,15 +1,21 @@
 /* Unit tests for rover_ctl and rover_world: closed-loop runs of a team of
  * kinematic unicycles (exact arcs, encoders from wheel increments, sonar
  * ring cast against the rover_world obstacles and the other robots, team
- * messages delivered every 0.1 s, beacons from true relative positions).
- * Checks: the team reaches the goal in every formation and blend; a robot
- * that falls silent is dropped by the heartbeat and the rest still arrive;
- * one robot driving into the U gets trapped in its pocket, escapes and arrives;
- * stale sensors stop the robot; the escape's wall following turns the
- * right way; slot mapping is a bijection; world layouts are deterministic
- * and the clearance matches hand-computed distances. (The obstacle and
- * corridor worlds are exercised by the scenario in ODE, see
- * docs/formation.md.) */
+ * messages delivered every 0.1 s, beacons from true relative positions),
+ * and single controllers fed by hand.
+ * Checks: the team reaches the goal (every robot at its slot) in every
+ * formation and blend; a robot that falls silent is dropped by the
+ * heartbeat and the rest still arrive; one robot driving into the U gets
+ * trapped in its pocket, escapes and arrives; the obstacles world needs no
+ * formation change; the corridor goes line -> triangle -> column -> line;
+ * a mate gives way to a trapped one (dead end, deadzone world); boundary
+ * following never rejoins on a timer; mates are masked out of the ring by
+ * geometry; the collision guard's rules; the frame consensus; restore with
+ * a leaving mate behind; a post inside the formation is not a passage
+ * wall; the team heading at the goal; stale sensors stop the robot; the
+ * escape's wall following turns the right way; slot mapping is a
+ * bijection; world layouts are deterministic and the clearance matches
+ * hand-computed distances. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -34,6 +40,7 @@ typedef struct {
     double max_err_end, min_clear, t_end;
     double est_err_m[KN][2];      /* own estimate - truth of O at the end */
     double t_first_change;        /* robot 1's protocol first left NORMAL */
+    double max_slot_err_m;        /* at the end: farthest O from its goal slot */
 } kin_result;
 
 /* Run options: team size n (<= KN), a per-robot scale on the left wheel's
@@ -195,6 +202,14 @@ static kin_result kin_run_world(const rover_world_t *w, const rover_ctl_params_t
         rover_world_from_team(w, &est, &est_w);
         r.est_err_m[i][0] = est_w.x_m - o.x_m;
         r.est_err_m[i][1] = est_w.y_m - o.y_m;
+        {   /* the nominal slot round the goal (world frame, as the scenario has it) */
+            double xy[2], rot[2];
+            const double head = atan2(goal_team[1], goal_team[0]);
+            formation_slot_xy(xy, p->formation, n, rover_world_slot(p->formation, n, i), 1.0, 1.0);
+            vec2_rotate(rot, xy[0], xy[1], head);
+            r.max_slot_err_m = fmax(r.max_slot_err_m, hypot(o.x_m - w->goal_m[0] - rot[0],
+                                                            o.y_m - w->goal_m[1] - rot[1]));
+        }
     }
     return r;
 }
@@ -222,11 +237,14 @@ static void test_open_reaches_goal(void **state)
     for (f = FORMATION_LINE; f <= FORMATION_COLUMN; f++)
         for (b = BEH_BLEND_WEIGHTED; b <= BEH_BLEND_VECSUM; b++) {
             kin_result r = kin_run(ROVER_WORLD_OPEN, f, b, 90.0, -1, 0.0);
-            print_message("open f=%d blend=%d reached=%d t=%.1f min_clear=%.2f\n", f, b,
-                          r.reached, r.t_end, r.min_clear);
+            print_message("open f=%d blend=%d reached=%d t=%.1f min_clear=%.2f slot err %.2f\n",
+                          f, b, r.reached, r.t_end, r.min_clear, r.max_slot_err_m);
             if (b == BEH_BLEND_VECSUM) continue;   /* a baseline: reported, not required */
             assert_true(r.reached);
             assert_true(r.min_clear > 0.0);
+            /* stopped at the slot, not goal_tol 0.3 m short of it (the team's
+             * centroid with them: half the 0.5 m of the goal test) */
+            assert_true(r.max_slot_err_m < 0.25);
         }
 }
 
@@ -506,16 +524,17 @@ static void test_follow_keeps_wall_side(void **state)
     assert_true(u.w_radps < 0.0);
 }
 
-/* One controller fed by hand: encoders held (the robot stands), the given
- * ring, and mates' team messages; returns the output of the last step. */
+/* One controller fed by hand: the given ring and mates' team messages, the
+ * encoders as they are (hand_step_enc) or held at zero (hand_step: the
+ * robot stands); out: the step's output. */
 typedef struct {
     int32_t id;
     double x, y, th;
     int announce;
 } hand_mate;
 
-static void hand_step(rover_ctl_t *c, double t, const double rng[8], const hand_mate *m, int nm,
-                      rover_ctl_out_t *out)
+static void hand_step_enc(rover_ctl_t *c, double t, double enc_l, double enc_r, const double rng[8],
+                          const hand_mate *m, int nm, rover_ctl_out_t *out)
 {
     int i;
     for (i = 0; i < nm; i++) {
@@ -533,9 +552,15 @@ static void hand_step(rover_ctl_t *c, double t, const double rng[8], const hand_
         msg.goal_m[1] = c->goal_m[1];
         rover_ctl_team_msg(c, &msg, t);
     }
-    rover_ctl_encoders(c, 0.0, 0.0, t);
+    rover_ctl_encoders(c, enc_l, enc_r, t);
     rover_ctl_sonar(c, rng, t);
     assert_int_equal(rover_ctl_step(c, t, DT, out), 0);
+}
+
+static void hand_step(rover_ctl_t *c, double t, const double rng[8], const hand_mate *m, int nm,
+                      rover_ctl_out_t *out)
+{
+    hand_step_enc(c, t, 0.0, 0.0, rng, m, nm, out);
 }
 
 /* Boundary following never ends on a timer: a robot that has followed a
@@ -848,6 +873,46 @@ static void test_post_inside_formation_not_a_wall(void **state)
     }
 }
 
+/* The team heading at the goal. Two mates stand at their goal slots,
+ * having turned to headings 2.0 and 1.8 rad as they stopped; the third
+ * comes up behind its own slot. Within a metre of the goal the team
+ * reference takes the goal slots' heading, so its formation slot is its
+ * goal slot and it stops there. (With the mean of the headings the slots
+ * turned with the stopped robots, the formation pulled the robot away
+ * from its goal slot and it never arrived.) */
+static void test_team_heading_at_goal(void **state)
+{
+    rover_ctl_t c;
+    rover_ctl_params_t p;
+    rover_ctl_out_t out;
+    const double goal[2] = { 10.0, 0.0 };
+    const hand_mate m[2] = { { 2, 10.0, 0.0, 2.0, FORMATION_ANN_NONE },
+                             { 3, 10.0, -1.0, 1.8, FORMATION_ANN_NONE } };
+    pose2_t pose = { 8.0, 1.0, 0.0 }, o;
+    double el = 0.0, er = 0.0, t;
+    const double b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
+    int at_goal = 0, j;
+    (void)state;
+    rover_ctl_params_default(&p);
+    assert_int_equal(rover_ctl_init(&c, &p, 1, &pose, goal), 0);
+    for (t = 0.0; t < 30.0 && !at_goal; t += DT) {
+        hand_step_enc(&c, t, el, er, open_ring, m, 2, &out);
+        unicycle_o_from_c(&o, &pose, ROVER_BEACON_D_M);
+        for (j = 0; j < 2; j++)
+            rover_ctl_beacon(&c, m[j].id, hypot(m[j].x - o.x_m, m[j].y - o.y_m),
+                             vec2_angle_diff_rad(atan2(m[j].y - o.y_m, m[j].x - o.x_m), o.theta_rad));
+        at_goal = out.mode == ROVER_MODE_AT_GOAL;
+        el += (out.u.v_mps - 0.5 * b * out.u.w_radps) / rw * DT;
+        er += (out.u.v_mps + 0.5 * b * out.u.w_radps) / rw * DT;
+        unicycle_step_exact(&pose, out.u.v_mps, out.u.w_radps, DT);
+    }
+    unicycle_o_from_c(&o, &pose, ROVER_BEACON_D_M);
+    print_message("heading at goal: at_goal=%d after %.1f s, O at (%.2f %.2f), slot (10, 1)\n",
+                  at_goal, t, o.x_m, o.y_m);
+    assert_true(at_goal);
+    assert_true(hypot(o.x_m - 10.0, o.y_m - 1.0) < p.beh.goal_tol_m + 0.05);
+}
+
 static void test_world_layout_and_clearance(void **state)
 {
     rover_world_t a, b;
@@ -914,6 +979,7 @@ int main(void)
         cmocka_unit_test(test_frame_consensus),
         cmocka_unit_test(test_restore_ignores_leaving_mate),
         cmocka_unit_test(test_post_inside_formation_not_a_wall),
+        cmocka_unit_test(test_team_heading_at_goal),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
