@@ -66,10 +66,14 @@ typedef struct {
     double clear_hold_s;   /* passage clear for the nominal formation this
                             * long before RESTORE; set it >= the time the
                             * whole column needs to leave the passage */
+    double confirm_s;      /* a passage must read narrow this long (sensed
+                            * narrow, unknown readings in between hold the
+                            * count, a wider one resets it) before SHRINK
+                            * or CHANGE */
 } formation_fsm_params_t;
 
 /* spacing 1.0 m, width 0.38 m, safety 0.3 m, shrink 0.6, dwell 1 s,
- * clear hold 4 s. */
+ * clear hold 4 s, confirm 1 s. */
 void formation_fsm_params_default(formation_fsm_params_t *p);
 
 typedef struct {
@@ -84,6 +88,7 @@ typedef struct {
     int32_t seq_max_seen;  /* highest announce_seq heard (any code) */
     double  phase_s;       /* time since the last protocol step */
     double  clear_s;       /* time the passage has been clear */
+    double  narrow_s;      /* time it has read narrow for the current formation */
     int     witnessed;     /* this robot sensed the narrow passage this episode */
 } formation_fsm_t;
 

@@ -1,10 +1,12 @@
 /* rover_ctl: one Pioneer's distributed formation controller (SPEC.md
  * section 4), the whole per-robot algorithm behind tandem-rover:
- *   odometry from wheel encoders only (pose of O in the team frame),
+ *   odometry from wheel encoders only (pose of O in the team frame), with a
+ *   frame consensus among mates seen by the camera,
  *   team table from team messages (1 s heartbeat) and beacon fusion,
  *   team-average reference R0, slot by sorted id, the four behaviours and
  *   the blend (eq. 11 or a baseline), the narrow-passage protocol, the
- *   dead-zone escape, and a safe stop on stale sensors.
+ *   dead-zone escape and giving way to it, a collision guard, and a safe
+ *   stop on stale sensors.
  *
  * Dead-zone escape: the seed turns with alternating +-w_k until the front
  * is free (behaviour_exception_step). Turning alone leaves the robot facing
@@ -14,6 +16,13 @@
  * closer to its goal than where it was trapped and the way to the goal is
  * free (the leave rule of Bug2). The robot announces LEAVE on entry (the
  * team reference leaves it out) and REJOIN when done.
+ *
+ * Giving way: a trapped robot's only way out is back the way it came, past
+ * the mates that followed it in. A robot that sees (camera) a mate that
+ * announced LEAVE close ahead and heading its way, with walls about, leaves
+ * the formation too (LEAVE), turns away from it and follows the boundary
+ * out with the same leave rule; it reports MODE_CHANGING, not a dead-zone
+ * entry of its own.
  *
  * Announcements: a robot broadcasts the announcement it originated last
  * (code, seq) in every team message until it makes another, so a lost
@@ -32,7 +41,7 @@
 /* Values match rover_state_t MODE_*. */
 enum { ROVER_MODE_FORMATION = 0, ROVER_MODE_DEAD_ZONE = 1, ROVER_MODE_CHANGING = 2,
        ROVER_MODE_AT_GOAL = 3, ROVER_MODE_SAFE_STOP = 4 };
-enum { ROVER_ESC_NONE = 0, ROVER_ESC_TURN = 1, ROVER_ESC_FOLLOW = 2 };
+enum { ROVER_ESC_NONE = 0, ROVER_ESC_TURN = 1, ROVER_ESC_FOLLOW = 2, ROVER_ESC_YIELD = 3 };
 
 typedef struct {
     behaviour_params_t beh;
@@ -47,15 +56,27 @@ typedef struct {
     double follow_dist_m;       /* escape: wall distance kept */
     double follow_v_mps;
     double follow_w_radps;
-    double escape_max_s;        /* give up following after this long */
+    double escape_max_s;        /* boundary following: the other way round after this long */
+    double give_way_m;          /* a mate that announced LEAVE this near ahead: give way */
+    double yield_max_s;         /* giving way: turn away at most this long, then follow */
+    double give_way_seen_s;     /* ... to a mate the camera saw this recently (no wall between) */
+    double yield_clear_m;       /* ... and let a turning lower-id mate this near (axles) turn first */
+    double yield_wait_s;        /* ... waiting at most this long */
+    double follow_lost_s;       /* boundary following: no wall in reach this long ends it */
     double passage_sense_max_m; /* side readings beyond: no passage wall */
     double mate_keep_m;         /* a mate's echo nearer than this stays an obstacle */
     double passage_front_min_m; /* a passage needs the front open this far */
-    double passage_hold_s;      /* front blocked: last width kept this long (0: no hold) */
-    double v_change_mps;
-    double guard_m, guard_stop_m; /* collision guard: slow below, stop at (front echo) */
-    double goal_heading_gain;   /* R0 heading toward the goal bearing, 0..1 (see .c) */        /* speed cap while shrinking / changing type */
+    double v_change_mps;        /* speed cap while shrinking / changing type */
+    double guard_m, guard_stop_m; /* collision guard: slow below, stop at (echo in the way) */
+    double guard_lane_m;        /* an echo this far outside the swept lane is not in the way */
+    double side_guard_m;        /* an echo alongside this near: turn away ... */
+    double side_turn_radps;     /* ... at least this fast */
+    double goal_heading_gain;   /* R0 heading toward the goal bearing, 0..1 (see .c) */
     double sonar_max_m;         /* range reported for a masked (mate) echo */
+    double consensus_gain;      /* frame consensus rate, 1/s (0: own odometry only) */
+    double consensus_age_s;     /* only mates seen this recently count */
+    double consensus_max_mps;   /* at most this much correction per second */
+    double consensus_range_m;   /* only mates seen this near count (own heading error) */
 } rover_ctl_params_t;
 
 /* One received team message (fields of team_msg_t). */
@@ -79,6 +100,7 @@ typedef struct {
     int32_t id;
     rover_ctl_params_t p;
     odometry_t odo;
+    double  corr_m[2];          /* frame consensus: added to the odometry position */
     int     have_enc, have_sonar;
     pose2_t start_c;
     double  enc_t_s, sonar_t_s, prev_enc_t_s;
@@ -90,12 +112,15 @@ typedef struct {
     behaviour_exception_t exc;
     int     esc_phase;          /* ROVER_ESC_* */
     int     esc_side;           /* -1: wall kept on the right, +1 left */
+    int     esc_yield;          /* 1: giving way to a leaving mate, not trapped */
+    int     esc_turn;           /* giving way: turn direction (+1 left) */
     double  esc_hit_dist_m, esc_s;
+    double  esc_lost_s;         /* time without a wall in reach while following */
+    double  esc_wait_s;         /* giving way: time waited for a mate to turn first */
     int     escapes;            /* dead-zone entries */
     int     ann_code;           /* own latest announcement */
     int32_t ann_seq;
     double  team_tx_t_s;
-    double  passage_m, passage_t_s;   /* last sensed passage width */
     int     formation_changes;  /* adopted changes of type (own view) */
     behaviour_blend_t blend;
 } rover_ctl_t;
@@ -118,6 +143,20 @@ int  rover_ctl_team_msg(rover_ctl_t *c, const rover_team_msg_t *msg, double t_s)
 int  rover_ctl_beacon(rover_ctl_t *c, int32_t target, double range_m, double bearing_rad);
 /* One control period ending at t_s. -1 on bad input (out->u = 0). */
 int  rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out);
+
+/* The ranges with every echo the team table explains as a mate (its
+ * chassis where the table puts it) replaced by sonar_max_m, except echoes
+ * nearer than keep_m; keep_m > 0 (avoidance) also keeps echoes far behind
+ * the mate's near face. o is own O pose. (Used by the step; exposed for
+ * tests.) */
+void rover_ctl_mask_mates(const rover_ctl_t *c, const pose2_t *o, double keep_m,
+                          double masked[BEH_SONAR_N]);
+
+/* Collision guard applied to the blended command u (exposed for tests):
+ * range_m are the raw ranges (mates are obstacles here), o own O pose,
+ * goal own goal (see rover_ctl.c). */
+void rover_ctl_guard(unicycle_cmd_t *u, const double range_m[BEH_SONAR_N], const pose2_t *o,
+                     const double goal[2], const rover_ctl_params_t *p);
 
 /* Escape wall following (exposed for tests): command that keeps the
  * obstacle on `side` (-1 right, +1 left) at follow_dist_m. */

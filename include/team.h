@@ -24,6 +24,7 @@
 
 #define TEAM_MAX 128
 #define TEAM_TIMEOUT_S_DEFAULT 1.0
+#define TEAM_STILL_MPS 0.05      /* a mate slower than this counts as standing */
 
 typedef struct {
     int32_t robot;
@@ -36,6 +37,8 @@ typedef struct {
     double  t_s;                  /* time heard, caller's clock */
     double  off_x_m, off_y_m;     /* camera correction (see above) */
     int     observed;             /* number of beacon observations fused */
+    double  obs_t_s;              /* time of the last one */
+    double  obs_range_m;          /* and its range */
 } team_member_t;
 
 typedef struct {
@@ -66,10 +69,25 @@ int team_ids(const team_t *t, int32_t *ids, int cap);
 int team_position(const team_t *t, int32_t robot, double xy_m[2]);
 
 /* Camera sees `robot`'s beacon at (range, bearing from our heading) from
- * our pose own_o (camera at O). alpha in [0, 1]. -1 on bad input or
- * unknown robot. */
+ * our pose own_o (camera at O) at now_s. alpha in [0, 1]. -1 on bad input
+ * or unknown robot. */
 int team_observe(team_t *t, int32_t robot, const pose2_t *own_o, double range_m,
-                 double bearing_rad, double alpha);
+                 double bearing_rad, double alpha, double now_s);
+
+/* Frame consensus. Each robot's position is dead reckoning with its own
+ * drift e; a mate's camera offset is (where we see it) - (where it says it
+ * is) = e_self - e_mate. team_mean_offset gives the mean offset over the
+ * mates seen within max_age_s of now_s and max_range_m of us (a heading
+ * error of ours turns the sighting about us by that angle: the farther the
+ * mate, the larger the false offset) (returns how many; 0: off = 0); of a
+ * mate on the move only the part across its heading counts (along it the
+ * offset also holds the report's lag times its speed).
+ * A robot that moves its own estimate by (dx, dy) calls team_shift_offsets
+ * with the same (dx, dy): every sighting it makes from now on moves with
+ * it, so the offsets it holds must too. */
+int  team_mean_offset(const team_t *t, double now_s, double max_age_s, double max_range_m,
+                      double off_m[2]);
+void team_shift_offsets(team_t *t, double dx_m, double dy_m);
 
 /* Team-average reference R0 at now_s. self may be NULL (not counted);
  * self_left = 1 leaves self out of the average (own dead-zone escape).

@@ -116,6 +116,7 @@ void formation_fsm_params_default(formation_fsm_params_t *p)
     p->shrink_scale = 0.6;
     p->dwell_s = 1.0;
     p->clear_hold_s = 4.0;
+    p->confirm_s = 1.0;
 }
 
 static int params_ok(const formation_fsm_params_t *p)
@@ -125,7 +126,8 @@ static int params_ok(const formation_fsm_params_t *p)
            isfinite(p->safety_m) && p->safety_m >= 0.0 &&
            isfinite(p->shrink_scale) && p->shrink_scale > 0.0 && p->shrink_scale <= 1.0 &&
            isfinite(p->dwell_s) && p->dwell_s >= 0.0 &&
-           isfinite(p->clear_hold_s) && p->clear_hold_s >= 0.0;
+           isfinite(p->clear_hold_s) && p->clear_hold_s >= 0.0 &&
+           isfinite(p->confirm_s) && p->confirm_s >= 0.0;
 }
 
 int formation_fsm_init(formation_fsm_t *f, int type, double scale)
@@ -140,6 +142,7 @@ int formation_fsm_init(formation_fsm_t *f, int type, double scale)
     f->seq_max_seen = 0;
     f->phase_s = 0.0;
     f->clear_s = 0.0;
+    f->narrow_s = 0.0;
     f->witnessed = 0;
     return 0;
 }
@@ -174,6 +177,7 @@ static void adopt(formation_fsm_t *f, const formation_announce_t *a)
     f->phase = phase_of_code(a->code);
     f->phase_s = 0.0;
     f->clear_s = 0.0;
+    f->narrow_s = 0.0;
     if (a->code == FORMATION_ANN_RESTORE) f->witnessed = 0;
     if (a->seq > f->seq_max_seen) f->seq_max_seen = a->seq;
 }
@@ -216,7 +220,11 @@ int formation_fsm_step(formation_fsm_t *f, const formation_fsm_params_t *p,
     need_now = formation_width(f->type, n, p->spacing_m, f->scale, p->robot_width_m) + p->safety_m;
     need_nominal = formation_width(f->type_nominal, n, p->spacing_m, f->scale_nominal,
                                    p->robot_width_m) + p->safety_m;
-    narrow = known && passage_width_m < need_now;
+    /* narrow only when sensed narrow for confirm_s (a known wider reading
+     * starts over, an unknown one holds): a gap between two scattered
+     * obstacles passes in a moment, a passage goes on */
+    if (known) f->narrow_s = passage_width_m < need_now ? f->narrow_s + dt_s : 0.0;
+    narrow = f->narrow_s > 0.0 && f->narrow_s >= p->confirm_s;
     clear = known && passage_width_m >= need_nominal;
     if (known && !clear) f->witnessed = 1;
     f->phase_s += dt_s;

@@ -2,10 +2,13 @@
  * section 4: team-average reference, behaviours, eq. 11 blend, narrow
  * passage protocol, dead-zone escape, heartbeat membership; section 7: safe
  * stop on stale input). Glue over odometry, team, formation and behaviour;
- * the one new piece is the escape's boundary following (see rover_ctl.h).
+ * the pieces of its own are the escape's boundary following, giving way to
+ * a mate that escapes, the mate mask of the sonar ring, the collision guard
+ * and the frame consensus (see rover_ctl.h and each function).
  */
 #include "rover_ctl.h"
 #include "rover_world.h"
+#include "sonar.h"
 
 #include <math.h>
 #include <string.h>
@@ -16,6 +19,11 @@ void rover_ctl_params_default(rover_ctl_params_t *p)
     /* 0.5 m: a column in a 1.3 m corridor (side echoes ~0.51 m) must not
      * read as a dead zone, a robot in a 1.0 m trap (~0.36 m) must. */
     p->beh.d_s_m = 0.5;
+    /* at the goal slot: stop when O is this near. The behaviour's 0.3 m left
+     * every robot about that far short, the whole team's centroid with it
+     * (the goal test allows 0.5 m, odometry drift takes most of it); eq. 5
+     * drives O forward down to d + goal_margin = 0.2 m, so a little above */
+    p->beh.goal_tol_m = 0.22;
     formation_fsm_params_default(&p->fsm);
     p->fsm.shrink_scale = 0.8;
     p->fsm.clear_hold_s = 4.0;   /* 10 s (the whole column out) did worse in the corridor runs */
@@ -31,15 +39,27 @@ void rover_ctl_params_default(rover_ctl_params_t *p)
     p->follow_v_mps = 0.25;
     p->follow_w_radps = 0.7;
     p->escape_max_s = 60.0;
+    p->give_way_m = 2.0;
+    p->yield_max_s = 6.0;
+    p->give_way_seen_s = 1.0;
+    p->yield_clear_m = 0.75;
+    p->yield_wait_s = 5.0;
+    p->follow_lost_s = 5.0;
     p->passage_sense_max_m = 2.5;
     p->mate_keep_m = 0.45;
     p->v_change_mps = 0.25;
     p->goal_heading_gain = 1.0;
     p->guard_m = 0.5;
     p->guard_stop_m = 0.15;
+    p->guard_lane_m = 0.1;
+    p->side_guard_m = 0.3;
+    p->side_turn_radps = 0.4;
     p->passage_front_min_m = 2.0;
-    p->passage_hold_s = 0.0;
     p->sonar_max_m = 5.0;
+    p->consensus_gain = 0.2;
+    p->consensus_age_s = 2.0;
+    p->consensus_max_mps = 0.05;
+    p->consensus_range_m = 2.5;
 }
 
 static int pos(double v) { return isfinite(v) && v > 0.0; }
@@ -52,8 +72,14 @@ int rover_ctl_params_check(const rover_ctl_params_t *p)
     if (!pos(p->team_timeout_s) || !pos(p->stale_s) || !pos(p->team_period_s) ||
         !pos(p->wheel_radius_m) || !pos(p->axle_track_m) || !pos(p->follow_dist_m) ||
         !pos(p->follow_v_mps) || !pos(p->follow_w_radps) || !pos(p->escape_max_s) ||
-        !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->v_change_mps) || !pos(p->guard_m) || !pos(p->guard_stop_m) || !isfinite(p->goal_heading_gain) ||
-        p->goal_heading_gain < 0.0 || p->goal_heading_gain > 1.0 || !pos(p->passage_front_min_m) || !(p->passage_hold_s >= 0.0) || !pos(p->sonar_max_m) || !pos(p->fsm.spacing_m) ||
+        !pos(p->give_way_m) || !pos(p->yield_max_s) || !pos(p->give_way_seen_s) ||
+        !pos(p->yield_clear_m) || !pos(p->yield_wait_s) ||
+        !pos(p->follow_lost_s) ||
+        !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->v_change_mps) || !pos(p->guard_m) || !pos(p->guard_stop_m) || !pos(p->guard_lane_m) ||
+        !pos(p->side_guard_m) || !pos(p->side_turn_radps) || !isfinite(p->goal_heading_gain) ||
+        p->goal_heading_gain < 0.0 || p->goal_heading_gain > 1.0 || !pos(p->passage_front_min_m) || !pos(p->sonar_max_m) ||
+        !(p->consensus_gain >= 0.0) || !isfinite(p->consensus_gain) || !pos(p->consensus_age_s) ||
+        !pos(p->consensus_max_mps) || !pos(p->consensus_range_m) || !pos(p->fsm.spacing_m) ||
         !(p->fsm.shrink_scale > 0.0 && p->fsm.shrink_scale <= 1.0))
         return -1;
     if (!isfinite(p->beacon_alpha) || p->beacon_alpha < 0.0 || p->beacon_alpha > 1.0) return -1;
@@ -76,8 +102,6 @@ int rover_ctl_init(rover_ctl_t *c, const rover_ctl_params_t *p, int32_t id,
     if (formation_fsm_init(&c->fsm, p->formation, 1.0) != 0) return -1;
     behaviour_exception_init(&c->exc);
     c->team_tx_t_s = -INFINITY;
-    c->passage_m = INFINITY;
-    c->passage_t_s = -INFINITY;
     return 0;
 }
 
@@ -148,12 +172,48 @@ int rover_ctl_team_msg(rover_ctl_t *c, const rover_team_msg_t *msg, double t_s)
     return rc;
 }
 
+/* Own pose of O: odometry plus the frame-consensus correction. */
+static void own_pose(const rover_ctl_t *c, pose2_t *o)
+{
+    odometry_pose_o(&c->odo, o);
+    o->x_m += c->corr_m[0];
+    o->y_m += c->corr_m[1];
+}
+
 int rover_ctl_beacon(rover_ctl_t *c, int32_t target, double range_m, double bearing_rad)
 {
     pose2_t o;
     if (!c->have_enc) return -1;
-    odometry_pose_o(&c->odo, &o);
-    return team_observe(&c->team, target, &o, range_m, bearing_rad, c->p.beacon_alpha);
+    own_pose(c, &o);
+    return team_observe(&c->team, target, &o, range_m, bearing_rad, c->p.beacon_alpha,
+                        c->enc_t_s);
+}
+
+/* Frame consensus (team.h): every robot dead-reckons with its own drift,
+ * so after a few metres the mates' frames disagree by decimetres: robots
+ * stopped at their goal slots in their own frames, and a mate holding
+ * its formation slot relative to them (the camera sees where they really
+ * are) could never reach its own goal slot and circled it. Each robot
+ * moves its estimate toward the team mean of the offsets it sees, at
+ * consensus_gain (a first-order average over the team: the drifts average
+ * out, the frames agree). */
+static void frame_consensus(rover_ctl_t *c, double t_s, double dt_s)
+{
+    double off[2], k, dx, dy, len;
+    const int n = team_mean_offset(&c->team, t_s, c->p.consensus_age_s, c->p.consensus_range_m,
+                                   off);
+    if (n == 0) return;
+    k = c->p.consensus_gain * dt_s * n / (n + 1.0);
+    dx = -k * off[0];
+    dy = -k * off[1];
+    len = hypot(dx, dy);
+    if (len > c->p.consensus_max_mps * dt_s) {
+        dx *= c->p.consensus_max_mps * dt_s / len;
+        dy *= c->p.consensus_max_mps * dt_s / len;
+    }
+    c->corr_m[0] += dx;
+    c->corr_m[1] += dy;
+    team_shift_offsets(&c->team, dx, dy);
 }
 
 void rover_ctl_follow(unicycle_cmd_t *u, const sonar_groups_t *g, int side,
@@ -165,8 +225,10 @@ void rover_ctl_follow(unicycle_cmd_t *u, const sonar_groups_t *g, int side,
     const double wmax = p->follow_w_radps;
     if (g->front_m < p->follow_dist_m + 0.1 ||
         (s < 0 ? g->right_front_m : g->left_front_m) < 0.75 * p->follow_dist_m) {
-        /* blocked ahead: turn away from the wall side, nearly on the spot */
-        u->v_mps = 0.03;
+        /* blocked ahead: turn away from the wall side on the spot (creeping
+         * forward while turning walked the axle toward the walls of a narrow
+         * pocket until the turning tail touched one) */
+        u->v_mps = 0.0;
         u->w_radps = -s * wmax;
     } else if (near_side > p->follow_dist_m + 0.8) {
         /* lost the wall (a convex corner): arc round toward it */
@@ -192,32 +254,99 @@ static double range_toward(const double range_m[BEH_SONAR_N], double b_rad)
     return range_m[best];
 }
 
+/* Entry and exit distances along a ray from (px, py) with direction
+ * (dx, dy) through a box (centre, half extents, heading); 0 if it misses
+ * (slab test), 1 if it meets it. */
+static int ray_box_m(double px, double py, double dx, double dy, double bx, double by,
+                     double hx, double hy, double th, double *t_in, double *t_out)
+{
+    const double c = cos(th), s = sin(th);
+    const double o[2] = { (px - bx) * c + (py - by) * s, -(px - bx) * s + (py - by) * c };
+    const double d[2] = { dx * c + dy * s, -dx * s + dy * c };
+    const double h[2] = { hx, hy };
+    double t0 = 0.0, t1 = INFINITY;
+    int a;
+    for (a = 0; a < 2; a++) {
+        if (fabs(d[a]) < 1e-12) {
+            if (fabs(o[a]) > h[a]) return 0;
+        } else {
+            double ta = (-h[a] - o[a]) / d[a], tb = (h[a] - o[a]) / d[a];
+            if (ta > tb) { const double tmp = ta; ta = tb; tb = tmp; }
+            if (ta > t0) t0 = ta;
+            if (tb < t1) t1 = tb;
+            if (t0 > t1) return 0;
+        }
+    }
+    *t_in = t0;
+    *t_out = t1;
+    return 1;
+}
+
+/* The range of echoes transducer k (at C pose c) can get from a mate whose
+ * O the team table puts at xy with heading th, known to MASK_GROW_M: from
+ * where the cone (MASK_RAYS rays, widened by MASK_EXTRA_RAD for the
+ * heading) first meets the chassis grown by that much to where it leaves
+ * it (a ray grazing a face meets it anywhere along the face). 0 if the
+ * cone misses even the grown chassis. */
+#define MASK_RAYS 7
+#define MASK_CONE_RAD (25.0 * VEC2_PI / 180.0)
+#define MASK_EXTRA_RAD (3.0 * VEC2_PI / 180.0)
+#define MASK_GROW_M 0.15
+static int mate_echo_m(const pose2_t *c, int k, const double xy[2], double th, double d_m,
+                       double *near_m, double *far_m)
+{
+    const sonar_transducer_t *tr = &sonar_p2dx_front[k];
+    const double cc = cos(c->theta_rad), sc = sin(c->theta_rad);
+    const double px = c->x_m + tr->x_m * cc - tr->y_m * sc;
+    const double py = c->y_m + tr->x_m * sc + tr->y_m * cc;
+    const double bx = xy[0] + (d_m + ROVER_BODY_OFFSET_M) * cos(th);
+    const double by = xy[1] + (d_m + ROVER_BODY_OFFSET_M) * sin(th);
+    const double hx = 0.5 * ROVER_BODY_LENGTH_M, hy = 0.5 * ROVER_BODY_WIDTH_M;
+    const double span = MASK_CONE_RAD + 2.0 * MASK_EXTRA_RAD;
+    int j, hit = 0;
+    *near_m = INFINITY;
+    *far_m = 0.0;
+    for (j = 0; j < MASK_RAYS; j++) {
+        const double a = c->theta_rad + tr->angle_rad - 0.5 * span + span * j / (MASK_RAYS - 1);
+        double t_in, t_out;
+        if (ray_box_m(px, py, cos(a), sin(a), bx, by, hx + MASK_GROW_M, hy + MASK_GROW_M, th,
+                      &t_in, &t_out)) {
+            hit = 1;
+            if (t_in < *near_m) *near_m = t_in;
+            if (t_out > *far_m) *far_m = t_out;
+        }
+    }
+    return hit;
+}
+
 /* Sonar echoes explained by a team-mate where the team table puts it (and
  * not dangerously close) are not obstacles for the avoid behaviour, the
  * passage test or the dead-zone test: a formation would otherwise flee its
- * own members and read its neighbours as corridor walls. */
-static void mask_mates(const rover_ctl_t *c, const pose2_t *o, double keep_m,
-                       double masked[BEH_SONAR_N])
+ * own members and read its neighbours as corridor walls. An echo is the
+ * mate's when it lies in the range of echoes the mate can give
+ * (mate_echo_m); a nearer echo is something between us and the mate. For
+ * walls (keep_m 0: passage and trap tests) the whole range counts, since
+ * a mate must never be taken for a wall; for avoidance only echoes within
+ * MASK_DEPTH_M of the nearest possible one (the mate's near face): a far
+ * echo off a grazed face is as likely something else, and robots that let
+ * mates come closer than that met when they turned on the spot. */
+#define MASK_DEPTH_M 0.5
+void rover_ctl_mask_mates(const rover_ctl_t *c, const pose2_t *o, double keep_m,
+                          double masked[BEH_SONAR_N])
 {
-    static const double deg[BEH_SONAR_N] = { -90, -50, -30, -10, 10, 30, 50, 90 };
     pose2_t cpos;
     int i, k;
     unicycle_c_from_o(&cpos, o, c->p.beh.d_m);
     for (k = 0; k < BEH_SONAR_N; k++) masked[k] = c->range_m[k];
     for (i = 0; i < c->team.n; i++) {
         const team_member_t *m = &c->team.m[i];
-        double xy[2], bx, by;
+        double xy[2];
         if (team_position(&c->team, m->robot, xy) != 0) continue;
-        /* body centre of the mate: O + (d + offset) along its heading */
-        bx = xy[0] + (c->p.beh.d_m + 0.12) * cos(m->theta_rad);
-        by = xy[1] + (c->p.beh.d_m + 0.12) * sin(m->theta_rad);
         for (k = 0; k < BEH_SONAR_N; k++) {
-            const double a = cpos.theta_rad + deg[k] * VEC2_PI / 180.0;
-            const double dist = hypot(bx - cpos.x_m, by - cpos.y_m);
-            const double bear = vec2_angle_diff_rad(atan2(by - cpos.y_m, bx - cpos.x_m), a);
-            const double half = 0.22 + atan2(0.3, dist > 0.3 ? dist : 0.3) + 0.09;
-            if (fabs(bear) < half && fabs(c->range_m[k] - (dist - 0.24)) < 0.4 &&
-                c->range_m[k] > keep_m)
+            double near, far;
+            if (mate_echo_m(&cpos, k, xy, m->theta_rad, c->p.beh.d_m, &near, &far) &&
+                c->range_m[k] > keep_m && c->range_m[k] >= near - 0.05 &&
+                c->range_m[k] <= (keep_m > 0.0 ? fmin(far, near + MASK_DEPTH_M) : far) + 0.05)
                 masked[k] = INFINITY;
         }
     }
@@ -231,50 +360,175 @@ static void mask_mates(const rover_ctl_t *c, const pose2_t *o, double keep_m,
  * column) drift round in a slow spiral. With goal_heading_gain g > 0 the
  * heading used is the mean heading pulled toward the bearing of the goal
  * from R0 by the fraction g (1: the goal bearing alone), and its rate w0 is
- * dropped in the same proportion; near the goal the mean is kept. */
+ * dropped in the same proportion. Within a metre of the goal the bearing
+ * swings about, so the heading of the goal's own slot frame (own_goal) is
+ * used: there the mean heading of robots that have stopped anyhow turned
+ * the formation round, and a robot whose slot came to lie behind it
+ * circled the goal chasing it. */
 static void ref_heading_to_goal(const rover_ctl_t *c, unicycle_state_t *ref)
 {
     const double g = c->p.goal_heading_gain;
     const double dx = c->goal_m[0] - ref->x_m, dy = c->goal_m[1] - ref->y_m;
-    if (!(g > 0.0) || hypot(dx, dy) < 1.0) return;
-    ref->theta_rad = vec2_wrap_rad(ref->theta_rad +
-                                   g * vec2_angle_diff_rad(atan2(dy, dx), ref->theta_rad));
+    const double to = hypot(dx, dy) < 1.0 ? atan2(c->goal_m[1], c->goal_m[0]) : atan2(dy, dx);
+    if (!(g > 0.0)) return;
+    ref->theta_rad = vec2_wrap_rad(ref->theta_rad + g * vec2_angle_diff_rad(to, ref->theta_rad));
     ref->w_radps *= 1.0 - g;
+}
+
+/* Nearest echo in the robot's way: of the front transducers, those whose
+ * cone reaches within guard_lane_m of the line the chassis sweeps driving
+ * straight (the edge of the cone nearest the heading, from the mounting
+ * point), the smallest range. A side-front echo off that lane (a mate
+ * driving alongside, a wall being passed) is not in the way; counting it
+ * kept two robots that ended up side by side crawling along together. */
+static double range_in_way(const double range_m[BEH_SONAR_N], const rover_ctl_params_t *p)
+{
+    const double half_cone = 12.5 * VEC2_PI / 180.0;
+    double best = INFINITY;
+    int k;
+    for (k = 1; k < BEH_SONAR_N - 1; k++) {
+        const sonar_transducer_t *tr = &sonar_p2dx_front[k];
+        const double b = fmax(fabs(tr->angle_rad) - half_cone, 0.0);
+        const double lat = fabs(tr->y_m) + range_m[k] * sin(b);
+        if (lat < 0.5 * ROVER_BODY_WIDTH_M + p->guard_lane_m && range_m[k] < best)
+            best = range_m[k];
+    }
+    return best;
 }
 
 /* Eq. 11 only weights avoidance by d_st / range; goal and formation keep
  * pushing, so a robot can creep into an obstacle dead ahead (and with
  * S_LF = S_RF the seed's turn is zero). Last line of defence: forward speed
- * falls to zero guard_stop_m short of the nearest front echo, and a robot
- * blocked ahead that is not turning turns toward the freer side (toward its
- * goal on a tie). */
-static void collision_guard(unicycle_cmd_t *u, const sonar_groups_t *g, const pose2_t *o,
-                            const double goal[2], const rover_ctl_params_t *p)
+ * falls to zero guard_stop_m short of the nearest echo in the way
+ * (range_in_way); inside guard_m the robot never turns toward the nearer
+ * front-side echo (a robot whose formation slot lay beyond a post kept
+ * turning into it, the guard held it, and the weighted sum of "toward the
+ * slot" and "away from the post" came to nothing: it stood there for the
+ * rest of the run); and a robot the guard has stopped that is not turning
+ * turns toward the freer side (toward its goal on a tie); an echo alongside
+ * within side_guard_m turns it away. It works on the
+ * raw ranges: a mate is masked out of the avoid behaviour (or a line would
+ * flee its own members), but one in our way is still something to stop
+ * short of (two robots closing head-on at full speed met, each taking the
+ * other's echo for a mate's). */
+void rover_ctl_guard(unicycle_cmd_t *u, const double range_m[BEH_SONAR_N], const pose2_t *o,
+                     const double goal[2], const rover_ctl_params_t *p)
 {
-    const double near = fmin(g->front_m, fmin(g->left_front_m, g->right_front_m));
+    sonar_groups_t g;
+    const double near = range_in_way(range_m, p);
     double vmax, side;
-    if (near >= p->guard_m) return;
-    vmax = p->beh.k_v * (near - p->guard_stop_m);
-    if (vmax < 0.0) vmax = 0.0;
-    if (u->v_mps > vmax) u->v_mps = vmax;
-    if (fabs(u->w_radps) < 0.2 && g->front_m < p->guard_m) {
-        side = g->left_front_m - g->right_front_m;
-        if (fabs(side) < 0.05)
-            side = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m), o->theta_rad);
-        u->w_radps = side >= 0.0 ? 0.5 : -0.5;
+    behaviour_sonar_groups(&g, range_m);
+    if (near < p->guard_m) {
+        vmax = p->beh.k_v * (near - p->guard_stop_m);
+        if (vmax < 0.0) vmax = 0.0;
+        if (u->v_mps > vmax) u->v_mps = vmax;
     }
+    side = g.left_front_m - g.right_front_m;
+    if (fabs(side) < 0.05)
+        side = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m), o->theta_rad);
+    if (fmin(g.left_front_m, g.right_front_m) < p->guard_m && u->w_radps * side < 0.0)
+        u->w_radps = 0.0;
+    if (near < p->guard_m && fabs(u->w_radps) < 0.2 &&
+        (g.front_m < p->guard_m || u->v_mps < 0.05))
+        u->w_radps = side >= 0.0 ? 0.5 : -0.5;
+    {
+        /* something alongside within side_guard_m (a mate squeezed toward
+         * us past an obstacle: eq. 11's avoidance looks ahead only): turn
+         * away from it, if nothing is close ahead on the other side */
+        const double l = g.left_m, r = g.right_m;
+        if (l < p->side_guard_m && l < r && g.right_front_m >= p->guard_m &&
+            u->w_radps > -p->side_turn_radps)
+            u->w_radps = -p->side_turn_radps;
+        else if (r < p->side_guard_m && r <= l && g.left_front_m >= p->guard_m &&
+                 u->w_radps < p->side_turn_radps)
+            u->w_radps = p->side_turn_radps;
+    }
+}
+
+/* Lateral offset of a point from the team's centre line (R0 position,
+ * R0 heading), positive to the left. */
+static double lateral_m(const unicycle_state_t *ref, double x, double y)
+{
+    return -(x - ref->x_m) * sin(ref->theta_rad) + (y - ref->y_m) * cos(ref->theta_rad);
+}
+
+enum { SIDE_UNKNOWN = 0, SIDE_OPEN = 1, SIDE_WALL = 2 };
+
+/* What side transducer k (0 right, BEH_SONAR_N - 1 left) says about a
+ * passage wall on its side: a mate's echo hides the wall (unknown); no echo
+ * within passage_sense_max_m is an open side; an echo is a passage wall
+ * only if it lies beyond every mate on that side of the team's centre
+ * line. An obstacle with a mate further out lies inside the formation: the
+ * team splits round it, it does not squeeze the formation (scattered
+ * posts read as walls made the line shrink and change type among them);
+ * unknown. */
+static int side_wall(const rover_ctl_t *c, const pose2_t *cpos, const unicycle_state_t *ref,
+                     const double masked[BEH_SONAR_N], int k)
+{
+    const sonar_transducer_t *tr = &sonar_p2dx_front[k];
+    const double r = c->range_m[k], side = k == 0 ? -1.0 : 1.0;
+    const double ct = cos(cpos->theta_rad), st = sin(cpos->theta_rad);
+    const double a = cpos->theta_rad + tr->angle_rad;
+    double lat;
+    int i;
+    if (masked[k] != r) return SIDE_UNKNOWN;
+    if (r >= c->p.passage_sense_max_m) return SIDE_OPEN;
+    lat = lateral_m(ref, cpos->x_m + tr->x_m * ct - tr->y_m * st + r * cos(a),
+                    cpos->y_m + tr->x_m * st + tr->y_m * ct + r * sin(a));
+    for (i = 0; i < c->team.n; i++) {
+        double xy[2];
+        if (team_position(&c->team, c->team.m[i].robot, xy) != 0) continue;
+        if (side * (lateral_m(ref, xy[0], xy[1]) - lat) > -0.5 * ROVER_BODY_WIDTH_M)
+            return SIDE_UNKNOWN;
+    }
+    return SIDE_WALL;
+}
+
+/* Width of the passage the team is in, for the passage protocol (SPEC 4:
+ * left + right + robot width against formation width + safety):
+ * INFINITY when a side is really open, NAN when this robot cannot tell
+ * (a side hidden by a mate or an obstacle inside the formation, see
+ * side_wall; the front closed within passage_front_min_m: walls on three
+ * sides are a trap, the dead-zone exception's business, not a passage; or
+ * the robot turned more than 45 deg off the team's heading, its side
+ * transducers no longer looking across the way). */
+static double passage_width(const rover_ctl_t *c, const pose2_t *o, const unicycle_state_t *ref,
+                            const sonar_groups_t *gw, const double masked[BEH_SONAR_N])
+{
+    pose2_t cpos;
+    int right, left;
+    if (gw->front_m <= c->p.passage_front_min_m ||
+        fabs(vec2_angle_diff_rad(o->theta_rad, ref->theta_rad)) > 0.25 * VEC2_PI)
+        return NAN;
+    unicycle_c_from_o(&cpos, o, c->p.beh.d_m);
+    right = side_wall(c, &cpos, ref, masked, 0);
+    left = side_wall(c, &cpos, ref, masked, BEH_SONAR_N - 1);
+    if (right == SIDE_OPEN || left == SIDE_OPEN) return INFINITY;
+    if (right == SIDE_WALL && left == SIDE_WALL)
+        return c->range_m[0] + c->range_m[BEH_SONAR_N - 1] + c->p.beh.robot_width_m;
+    return NAN;
 }
 
 /* This robot is the last of the team along the direction of travel (from
  * the team's mean position toward the goal), within 0.1 m: only the last
- * robot through a passage may restore the formation. */
+ * robot through a passage may restore the formation. Mates that announced
+ * LEAVE are out of the formation and do not count (their fsm is idle while
+ * they escape; one left behind in a dead zone held the team in a column
+ * all the way to the goal). */
+static int counts_in_formation(const team_member_t *m)
+{
+    return m->announce != FORMATION_ANN_LEAVE;
+}
+
 static int is_rearmost(const rover_ctl_t *c, const pose2_t *o)
 {
     double mx = o->x_m, my = o->y_m, ex, ey, len, own;
     int i, n = 1;
     for (i = 0; i < c->team.n; i++) {
         double xy[2];
-        if (team_position(&c->team, c->team.m[i].robot, xy) != 0) continue;
+        if (!counts_in_formation(&c->team.m[i]) ||
+            team_position(&c->team, c->team.m[i].robot, xy) != 0)
+            continue;
         mx += xy[0];
         my += xy[1];
         n++;
@@ -288,7 +542,9 @@ static int is_rearmost(const rover_ctl_t *c, const pose2_t *o)
     own = (o->x_m * ex + o->y_m * ey) / len;
     for (i = 0; i < c->team.n; i++) {
         double xy[2];
-        if (team_position(&c->team, c->team.m[i].robot, xy) != 0) continue;
+        if (!counts_in_formation(&c->team.m[i]) ||
+            team_position(&c->team, c->team.m[i].robot, xy) != 0)
+            continue;
         if ((xy[0] * ex + xy[1] * ey) / len < own - 0.1) return 0;
     }
     return 1;
@@ -310,10 +566,121 @@ static void announce_own(rover_ctl_t *c, int code)
     c->ann_seq = formation_fsm_next_seq(&c->fsm);
 }
 
-/* Dead-zone escape state machine; returns 1 while escaping (U in *u). */
+/* The nearest mate that announced LEAVE (it is escaping a dead zone, or
+ * giving way itself) within give_way_m whose bearing from our heading is
+ * within cone_rad: 1 and its bearing, or 0. With seen_s > 0 only a mate
+ * whose beacon the camera saw within seen_s counts (walls hide beacons: a
+ * mate behind a wall is not coming our way) and only one heading our way
+ * (within 90 deg of the line to us: one trapped facing the end of its
+ * pocket has not turned round yet, one following a wall past us is not
+ * coming through). */
+static int leaving_mate(const rover_ctl_t *c, const pose2_t *o, double cone_rad, double seen_s,
+                        double now_s, double *bearing_rad)
+{
+    double best = c->p.give_way_m;
+    int i, found = 0;
+    for (i = 0; i < c->team.n; i++) {
+        const team_member_t *m = &c->team.m[i];
+        double xy[2], dist, b;
+        if (m->announce != FORMATION_ANN_LEAVE ||
+            (seen_s > 0.0 && !(now_s - m->obs_t_s <= seen_s)) ||
+            team_position(&c->team, m->robot, xy) != 0)
+            continue;
+        dist = hypot(xy[0] - o->x_m, xy[1] - o->y_m);
+        b = vec2_angle_diff_rad(atan2(xy[1] - o->y_m, xy[0] - o->x_m), o->theta_rad);
+        if (seen_s > 0.0 &&
+            cos(m->theta_rad) * (o->x_m - xy[0]) + sin(m->theta_rad) * (o->y_m - xy[1]) <= 0.0)
+            continue;
+        if (dist < best && fabs(b) < cone_rad) {
+            best = dist;
+            *bearing_rad = b;
+            found = 1;
+        }
+    }
+    return found;
+}
+
+/* A lower-id mate turning with its axle within yield_clear_m of ours: a
+ * robot turning on the spot sweeps a circle of ~0.31 m round its axle, two
+ * side by side that both turn sweep their tails into each other; the
+ * higher id waits its turn (at most yield_wait_s: the other may be
+ * spinning in place until we move). */
+static int turn_blocked_by_mate(const rover_ctl_t *c, const pose2_t *o)
+{
+    pose2_t own_c;
+    int i;
+    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
+    for (i = 0; i < c->team.n; i++) {
+        const team_member_t *m = &c->team.m[i];
+        double xy[2];
+        if (m->robot >= c->id || fabs(m->w_radps) < 0.1 ||
+            team_position(&c->team, m->robot, xy) != 0)
+            continue;
+        if (hypot(xy[0] + c->p.beh.d_m * cos(m->theta_rad) - own_c.x_m,
+                  xy[1] + c->p.beh.d_m * sin(m->theta_rad) - own_c.y_m) < c->p.yield_clear_m)
+            return 1;
+    }
+    return 0;
+}
+
+/* Walls (not mates) within reach of boundary following on some side. */
+static int confined(const sonar_groups_t *gw, const rover_ctl_params_t *p)
+{
+    return fmin(fmin(gw->left_m, gw->left_front_m), fmin(gw->right_m, gw->right_front_m)) <
+           p->follow_dist_m + 0.8;
+}
+
+/* Side (-1 right, +1 left) of the nearer wall. */
+static int nearer_wall_side(const sonar_groups_t *gw)
+{
+    return fmin(gw->left_m, gw->left_front_m) < fmin(gw->right_m, gw->right_front_m) ? 1 : -1;
+}
+
+/* Start giving way when a mate that announced LEAVE is ahead within
+ * give_way_m and walls are near (the trapped robot's only way out is back
+ * past us; nobody made room, it spun in its pocket and the team jammed):
+ * leave the formation as well, turn away from the mate, then follow the
+ * nearer wall out and round (the escape's boundary following, hit point
+ * here). Returns 1 if it started. */
+static int give_way_start(rover_ctl_t *c, const sonar_groups_t *gw, const pose2_t *o, double dist,
+                          double t_s)
+{
+    double b;
+    if (!leaving_mate(c, o, 0.5 * VEC2_PI, c->p.give_way_seen_s, t_s, &b) || !confined(gw, &c->p))
+        return 0;
+    c->esc_phase = ROVER_ESC_YIELD;
+    c->esc_yield = 1;
+    c->esc_hit_dist_m = dist;
+    c->esc_s = 0.0;
+    c->esc_lost_s = 0.0;
+    c->esc_wait_s = 0.0;
+    /* away from the mate; one dead ahead: toward the roomier side */
+    if (fabs(b) > 0.2) c->esc_turn = b > 0.0 ? -1 : 1;
+    else c->esc_turn = gw->left_m + gw->left_front_m >= gw->right_m + gw->right_front_m ? 1 : -1;
+    announce_own(c, FORMATION_ANN_LEAVE);
+    return 1;
+}
+
+/* Dead-zone escape and give-way state machine; returns 1 while escaping
+ * (U in *u).
+ *   trapped (SPEC: front, left, right < d_s for the dead-zone time): LEAVE,
+ *     turn +-w_k alternately per entry until the front is free (eq. 2),
+ *     then FOLLOW the boundary, the wall on the side turned away from;
+ *   a mate escaping right ahead (give_way_start): LEAVE, YIELD (turn on
+ *     the spot until no leaving mate is ahead, at most yield_max_s of
+ *     turning; a lower-id mate turning next to us goes first), then FOLLOW
+ *     the nearer wall;
+ *   FOLLOW ends (REJOIN) when closer to the goal than where it started
+ *     by 0.5 m with the way to the goal free (Bug2's leave rule), or when
+ *     no wall has been in reach for follow_lost_s (open floor: nothing to
+ *     follow; the follow law would circle for ever looking for it). After
+ *     escape_max_s without that it follows the other way round (the
+ *     alternation of eq. 2 applied to the boundary): it never rejoins
+ *     short of the leave point. Rejoining on a timeout put an escaped robot
+ *     back on the straight way to the goal, through the U it had left. */
 static int escape_step(rover_ctl_t *c, const sonar_groups_t *gw, const sonar_groups_t *g,
-                       const pose2_t *o,
-                       const double goal[2], double dt_s, unicycle_cmd_t *u)
+                       const pose2_t *o, const double goal[2], double t_s, double dt_s,
+                       unicycle_cmd_t *u)
 {
     unicycle_cmd_t turn;
     const int entries = c->exc.entries;
@@ -327,6 +694,8 @@ static int escape_step(rover_ctl_t *c, const sonar_groups_t *gw, const sonar_gro
             }
             c->escapes++;
             c->esc_s = 0.0;
+            c->esc_lost_s = 0.0;
+            c->esc_yield = 0;
             /* turned left (+w_k): keep the wall on the right */
             c->esc_side = turn.w_radps > 0.0 ? -1 : 1;
         }
@@ -334,18 +703,40 @@ static int escape_step(rover_ctl_t *c, const sonar_groups_t *gw, const sonar_gro
         *u = turn;
         return 1;
     }
-    if (c->esc_phase == ROVER_ESC_NONE) return 0;
-    c->esc_phase = ROVER_ESC_FOLLOW;
+    if (c->esc_phase == ROVER_ESC_NONE && !give_way_start(c, gw, o, dist, t_s)) return 0;
     c->esc_s += dt_s;
+    if (c->esc_phase == ROVER_ESC_YIELD) {
+        double b;
+        if (leaving_mate(c, o, 2.0 * VEC2_PI / 3.0, 0.0, t_s, &b) && c->esc_s < c->p.yield_max_s) {
+            u->v_mps = 0.0;
+            if (c->esc_wait_s < c->p.yield_wait_s && turn_blocked_by_mate(c, o)) {
+                u->w_radps = 0.0;
+                c->esc_wait_s += dt_s;
+                c->esc_s -= dt_s;        /* waiting does not count as turning */
+            } else {
+                u->w_radps = c->esc_turn * c->p.follow_w_radps;
+            }
+            return 1;
+        }
+        c->esc_side = nearer_wall_side(gw);
+        c->esc_s = 0.0;
+    }
+    c->esc_phase = ROVER_ESC_FOLLOW;
     {
         const double b = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m),
                                              o->theta_rad);
         const int free_way = fabs(b) < 0.5 * VEC2_PI && range_toward(c->range_m, b) > 1.2 &&
                              g->front_m > 0.8;
-        if ((dist < c->esc_hit_dist_m - 0.5 && free_way) || c->esc_s > c->p.escape_max_s) {
+        c->esc_lost_s = confined(gw, &c->p) ? 0.0 : c->esc_lost_s + dt_s;
+        if ((dist < c->esc_hit_dist_m - 0.5 && free_way) || c->esc_lost_s > c->p.follow_lost_s) {
             c->esc_phase = ROVER_ESC_NONE;
+            c->esc_yield = 0;
             announce_own(c, FORMATION_ANN_REJOIN);
             return 0;
+        }
+        if (c->esc_s > c->p.escape_max_s) {
+            c->esc_side = -c->esc_side;
+            c->esc_s = 0.0;
         }
     }
     rover_ctl_follow(u, g, c->esc_side, &c->p);
@@ -367,7 +758,6 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
     int32_t ids[TEAM_MAX + 1];
     int n, k, rc_goal, escaping, i;
     double l_d, phi_d, D, goal[2], R_d = 0.0, passage;
-    int side_hidden;
     double masked[BEH_SONAR_N];
     behaviour_inputs_t in;
     formation_announce_t ann;
@@ -380,12 +770,13 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
         t_s - c->sonar_t_s > c->p.stale_s) {
         /* SPEC 7: stop, and stay silent so the mates re-slot without us */
         stop_out(out, ROVER_MODE_SAFE_STOP);
-        if (c->have_enc) odometry_pose_o(&c->odo, &out->o);
+        if (c->have_enc) own_pose(c, &out->o);
         return 0;
     }
     memset(out, 0, sizeof *out);
     team_expire(&c->team, t_s);
-    odometry_pose_o(&c->odo, &o);
+    frame_consensus(c, t_s, dt_s);
+    own_pose(c, &o);
     self.x_m = o.x_m; self.y_m = o.y_m; self.theta_rad = o.theta_rad;
     self.v_mps = c->v_est_mps; self.w_radps = c->w_est_radps;
     n = team_ids(&c->team, ids, TEAM_MAX + 1);
@@ -393,33 +784,18 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
     {
         /* avoid sees mates that come too near; the passage and dead-zone
          * tests never take a mate for a wall */
-        mask_mates(c, &o, c->p.mate_keep_m, masked);
+        rover_ctl_mask_mates(c, &o, c->p.mate_keep_m, masked);
         behaviour_sonar_groups(&g, masked);
-        mask_mates(c, &o, 0.0, masked);
+        rover_ctl_mask_mates(c, &o, 0.0, masked);
         behaviour_sonar_groups(&gw, masked);
-        /* a side transducer that sees a mate cannot see the wall behind it */
-        side_hidden = masked[0] != c->range_m[0] || masked[BEH_SONAR_N - 1] != c->range_m[BEH_SONAR_N - 1];
     }
     own_goal(c, n, k, goal);
-    escaping = escape_step(c, &gw, &g, &o, goal, dt_s, &in.u[BEH_EXCEPTION]);
+    escaping = escape_step(c, &gw, &g, &o, goal, t_s, dt_s, &in.u[BEH_EXCEPTION]);
 
-    /* narrow-passage protocol (not while escaping: the trap is not a passage).
-     * A passage has an open end ahead; walls on three sides are a trap
-     * (the dead-zone exception's business), not a passage. A side hidden
-     * by a mate or a front blocked (a mate or a bend ahead) leaves the
-     * width unknown, not clear: unknown neither narrows nor restores. */
-    if (!side_hidden && gw.left_m < c->p.passage_sense_max_m &&
-        gw.right_m < c->p.passage_sense_max_m && gw.front_m > c->p.passage_front_min_m) {
-        c->passage_m = gw.left_m + gw.right_m + bp->robot_width_m;
-        c->passage_t_s = t_s;
-        passage = c->passage_m;
-    } else if ((gw.left_m >= c->p.passage_sense_max_m &&
-                masked[BEH_SONAR_N - 1] == c->range_m[BEH_SONAR_N - 1]) ||
-               (gw.right_m >= c->p.passage_sense_max_m && masked[0] == c->range_m[0])) {
-        passage = INFINITY;                   /* a real open side: no passage */
-    } else {
-        passage = t_s - c->passage_t_s <= c->p.passage_hold_s ? c->passage_m : NAN;
-    }
+    /* narrow-passage protocol (not while escaping: the trap is not a passage) */
+    if (team_reference(&ref, &c->team, &self, escaping, bp->d_m, t_s) < 0) ref = self;
+    ref_heading_to_goal(c, &ref);
+    passage = passage_width(c, &o, &ref, &gw, masked);
     if (!escaping) {
         const int before = c->fsm.type;
         if (formation_fsm_step(&c->fsm, &c->p.fsm, passage, n, dt_s, c->id,
@@ -430,8 +806,6 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
         }
     }
     k = rover_world_slot(c->fsm.type, n, formation_slot_of(ids, n, c->id));  /* type may have changed */
-    if (team_reference(&ref, &c->team, &self, escaping, bp->d_m, t_s) < 0) ref = self;
-    ref_heading_to_goal(c, &ref);
     if (k < 0 || formation_slot(&l_d, &phi_d, c->fsm.type, n, k, c->p.fsm.spacing_m,
                                 c->fsm.scale) != 0) {
         l_d = 0.0;
@@ -456,14 +830,15 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
     /* while the formation reshapes for a passage, give it time */
     if (c->fsm.phase == FORMATION_PHASE_SHRINK || c->fsm.phase == FORMATION_PHASE_CHANGE)
         if (u.v_mps > c->p.v_change_mps) u.v_mps = c->p.v_change_mps;
-    out->mode = escaping ? ROVER_MODE_DEAD_ZONE
+    /* a robot giving way left the formation but was not trapped itself */
+    out->mode = escaping ? (c->esc_yield ? ROVER_MODE_CHANGING : ROVER_MODE_DEAD_ZONE)
               : c->fsm.phase != FORMATION_PHASE_NORMAL ? ROVER_MODE_CHANGING
               : ROVER_MODE_FORMATION;
     if (!escaping && rc_goal == BEH_GOAL_REACHED) {
         u.v_mps = u.w_radps = 0.0;
         out->mode = ROVER_MODE_AT_GOAL;
     }
-    if (!escaping) collision_guard(&u, &g, &o, goal, &c->p);
+    if (!escaping) rover_ctl_guard(&u, c->range_m, &o, goal, &c->p);
     /* no rear sonar: never back up blindly */
     if (u.v_mps < 0.0) u.v_mps = 0.0;
     unicycle_saturate(&out->u, &u, bp->v_max_mps, bp->w_max_radps, UNICYCLE_SAT_CLIP);

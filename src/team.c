@@ -40,7 +40,7 @@ static int msg_ok(const team_t *t, const team_member_t *m)
 int team_update(team_t *t, const team_member_t *msg)
 {
     int ins, i;
-    double ox = 0.0, oy = 0.0;
+    double ox = 0.0, oy = 0.0, ot = -INFINITY, orng = INFINITY;
     int obs = 0, added = 0;
     if (!t || !msg || !msg_ok(t, msg)) return -1;
     i = index_of(t, msg->robot, &ins);
@@ -49,6 +49,8 @@ int team_update(team_t *t, const team_member_t *msg)
         ox = t->m[i].off_x_m;
         oy = t->m[i].off_y_m;
         obs = t->m[i].observed;
+        ot = t->m[i].obs_t_s;
+        orng = t->m[i].obs_range_m;
     } else {
         if (t->n >= TEAM_MAX) return -1;
         memmove(&t->m[ins + 1], &t->m[ins], (size_t)(t->n - ins) * sizeof t->m[0]);
@@ -61,6 +63,8 @@ int team_update(team_t *t, const team_member_t *msg)
     t->m[i].off_x_m = ox;
     t->m[i].off_y_m = oy;
     t->m[i].observed = obs;
+    t->m[i].obs_t_s = ot;
+    t->m[i].obs_range_m = orng;
     return added;
 }
 
@@ -105,13 +109,14 @@ int team_position(const team_t *t, int32_t robot, double xy_m[2])
 }
 
 int team_observe(team_t *t, int32_t robot, const pose2_t *own_o, double range_m,
-                 double bearing_rad, double alpha)
+                 double bearing_rad, double alpha, double now_s)
 {
     const int i = index_of(t, robot, NULL);
     double ox, oy;
     team_member_t *m;
     if (i < 0 || !vec2_pose_finite(own_o) || !isfinite(range_m) || range_m < 0.0 ||
-        !isfinite(bearing_rad) || !isfinite(alpha) || alpha < 0.0 || alpha > 1.0)
+        !isfinite(bearing_rad) || !isfinite(alpha) || alpha < 0.0 || alpha > 1.0 ||
+        !isfinite(now_s))
         return -1;
     m = &t->m[i];
     ox = own_o->x_m + range_m * cos(own_o->theta_rad + bearing_rad) - m->x_m;
@@ -121,7 +126,50 @@ int team_observe(team_t *t, int32_t robot, const pose2_t *own_o, double range_m,
     m->off_x_m += alpha * (ox - m->off_x_m);
     m->off_y_m += alpha * (oy - m->off_y_m);
     m->observed++;
+    m->obs_t_s = now_s;
+    m->obs_range_m = range_m;
     return 0;
+}
+
+int team_mean_offset(const team_t *t, double now_s, double max_age_s, double max_range_m,
+                     double off_m[2])
+{
+    int i, n = 0;
+    off_m[0] = off_m[1] = 0.0;
+    for (i = 0; i < t->n; i++) {
+        const team_member_t *m = &t->m[i];
+        double ox = m->off_x_m, oy = m->off_y_m;
+        if (m->observed == 0 || !(now_s - m->obs_t_s <= max_age_s) ||
+            !(m->obs_range_m <= max_range_m))
+            continue;
+        if (fabs(m->v_mps) > TEAM_STILL_MPS) {
+            /* a moving mate's report is older than the sighting (transport,
+             * control period): along its heading the offset holds v times
+             * that lag, the same for every robot of a team on the move, and
+             * the consensus would pull the whole frame back; across it the
+             * offset is drift alone */
+            const double hx = cos(m->theta_rad), hy = sin(m->theta_rad), a = ox * hx + oy * hy;
+            ox -= a * hx;
+            oy -= a * hy;
+        }
+        off_m[0] += ox;
+        off_m[1] += oy;
+        n++;
+    }
+    if (n > 0) {
+        off_m[0] /= n;
+        off_m[1] /= n;
+    }
+    return n;
+}
+
+void team_shift_offsets(team_t *t, double dx_m, double dy_m)
+{
+    int i;
+    for (i = 0; i < t->n; i++) {
+        t->m[i].off_x_m += dx_m;
+        t->m[i].off_y_m += dy_m;
+    }
 }
 
 /* Move a reported O pose forward by age along its (V, w). */

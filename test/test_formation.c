@@ -1,7 +1,7 @@
 /* Unit tests for formation: slot-pattern invariants (centred, spacing,
  * widths, scaling), deterministic slot assignment, and the narrow-passage
  * protocol (shrink -> line -> triangle -> column -> restore) agreed by two
- * robots through announcements. */
+ * robots through announcements, with its confirmation hysteresis. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -197,6 +197,7 @@ static void test_protocol_agreement_and_ties(void **state)
     formation_announce_t a, b;
     (void)state;
     formation_fsm_params_default(&p);
+    p.confirm_s = 0.0;   /* one narrow reading is enough here (see test_protocol_confirm) */
     formation_fsm_init(&A, FORMATION_LINE, 1.0);
     formation_fsm_init(&B, FORMATION_LINE, 1.0);
     formation_fsm_init(&C, FORMATION_LINE, 1.0);
@@ -242,7 +243,7 @@ static void test_protocol_restore_rear_and_unknown(void **state)
     for (k = 0; k < 50; k++) made += formation_fsm_step(&A, &p, NAN, 3, 0.1, 1, 1, &a);
     assert_int_equal(made, 0);
     assert_int_equal(A.phase, FORMATION_PHASE_NORMAL);
-    for (k = 0; k < 30; k++) formation_fsm_step(&A, &p, 1.0, 3, 0.1, 1, 0, &a);
+    for (k = 0; k < 50; k++) formation_fsm_step(&A, &p, 1.0, 3, 0.1, 1, 0, &a);
     assert_int_equal(A.type, FORMATION_COLUMN);
     /* the leader is out, clear for far longer than the hold: no restore */
     for (k = 0; k < 200; k++) made += formation_fsm_step(&A, &p, INFINITY, 3, 0.1, 1, 0, &a);
@@ -251,7 +252,7 @@ static void test_protocol_restore_rear_and_unknown(void **state)
     /* the rear robot: clear for less than the hold, then unknown (a mate
      * in front of a side transducer) for long: the timer holds, no reset */
     formation_fsm_init(&A, FORMATION_LINE, 1.0);
-    for (k = 0; k < 30; k++) formation_fsm_step(&A, &p, 1.0, 3, 0.1, 1, 1, &a);
+    for (k = 0; k < 50; k++) formation_fsm_step(&A, &p, 1.0, 3, 0.1, 1, 1, &a);
     for (k = 0; k < (int)(10.0 * (p.clear_hold_s - 1.0)); k++)
         made += formation_fsm_step(&A, &p, INFINITY, 3, 0.1, 1, 1, &a);
     for (k = 0; k < 100; k++) made += formation_fsm_step(&A, &p, NAN, 3, 0.1, 1, 1, &a);
@@ -261,6 +262,58 @@ static void test_protocol_restore_rear_and_unknown(void **state)
     assert_int_equal(made, 1);
     assert_int_equal(a.code, FORMATION_ANN_RESTORE);
     assert_int_equal(A.type, FORMATION_LINE);
+}
+
+/* Hysteresis on the way in: a passage must read narrow for confirm_s.
+ * Narrow readings shorter than that, each followed by a wider one (the
+ * gaps between scattered posts a robot threads), never shrink the
+ * formation however often they come; unknown readings in between hold the
+ * count; a passage that goes on shrinks after confirm_s, and each further
+ * step (CHANGE) again needs confirm_s of narrow readings for the new
+ * width as well as the dwell. */
+static void test_protocol_confirm(void **state)
+{
+    formation_fsm_params_t p;
+    formation_fsm_t A;
+    formation_announce_t a;
+    const double dt = 0.05;
+    double t = 0.0, t_shrink = NAN, t_change = NAN;
+    int k, j, made = 0;
+    (void)state;
+    formation_fsm_params_default(&p);
+    assert_true(p.confirm_s > 0.2);
+    formation_fsm_init(&A, FORMATION_LINE, 1.0);
+    for (k = 0; k < 40; k++) {
+        for (j = 0; j < (int)((p.confirm_s - 0.2) / dt); j++)
+            made += formation_fsm_step(&A, &p, 1.5, 3, dt, 1, 1, &a);
+        made += formation_fsm_step(&A, &p, INFINITY, 3, dt, 1, 1, &a);
+    }
+    assert_int_equal(made, 0);
+    assert_int_equal(A.phase, FORMATION_PHASE_NORMAL);
+    /* narrow, unknown for long, narrow again: the unknown stretch holds */
+    for (j = 0; j < (int)(0.6 * p.confirm_s / dt); j++)
+        made += formation_fsm_step(&A, &p, 1.5, 3, dt, 1, 1, &a);
+    for (j = 0; j < 100; j++) made += formation_fsm_step(&A, &p, NAN, 3, dt, 1, 1, &a);
+    assert_int_equal(made, 0);
+    for (j = 0; j < (int)(0.6 * p.confirm_s / dt); j++)
+        made += formation_fsm_step(&A, &p, 1.5, 3, dt, 1, 1, &a);
+    assert_int_equal(made, 1);
+    assert_int_equal(a.code, FORMATION_ANN_SHRINK);
+    /* a passage only a shrunk triangle fits: SHRINK after confirm_s, CHANGE
+     * no sooner than confirm_s and the dwell after that */
+    formation_fsm_init(&A, FORMATION_LINE, 1.0);
+    for (k = 0; k < 200 && isnan(t_change); k++) {
+        t += dt;
+        if (formation_fsm_step(&A, &p, 1.5, 3, dt, 1, 1, &a) == 1) {
+            if (a.code == FORMATION_ANN_SHRINK) t_shrink = t;
+            if (a.code == FORMATION_ANN_CHANGE) t_change = t;
+        }
+    }
+    assert_true(t_shrink >= p.confirm_s - 1e-9 && t_shrink < p.confirm_s + 2.0 * dt);
+    assert_true(t_change - t_shrink >= fmax(p.confirm_s, p.dwell_s) - 1e-9);
+    assert_int_equal(A.type, FORMATION_TRIANGLE);
+    p.confirm_s = -1.0;
+    assert_int_equal(formation_fsm_step(&A, &p, 1.5, 3, dt, 1, 1, &a), -1);
 }
 
 int main(void)
@@ -273,6 +326,7 @@ int main(void)
         cmocka_unit_test(test_protocol_stops_when_it_fits),
         cmocka_unit_test(test_protocol_agreement_and_ties),
         cmocka_unit_test(test_protocol_restore_rear_and_unknown),
+        cmocka_unit_test(test_protocol_confirm),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,6 +1,6 @@
 /* Unit tests for team: team-average reference (circular mean across the
  * +-pi wrap, extrapolation, LEAVE excluded), heartbeat timeout, late join
- * and re-slot ids, beacon fusion, bad input. */
+ * and re-slot ids, beacon fusion, frame-consensus offsets, bad input. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -148,7 +148,7 @@ static void test_beacon_fusion(void **state)
     assert_int_equal(team_position(&t, 8, xy), 0);
     assert_true(xy[0] == 2.0 && xy[1] == 1.0);
     /* first sighting is taken whole */
-    assert_int_equal(team_observe(&t, 8, &me, rng, brg, 0.2), 0);
+    assert_int_equal(team_observe(&t, 8, &me, rng, brg, 0.2, 1.0), 0);
     team_position(&t, 8, xy);
     assert_true(fabs(xy[0] - true_x) < 1e-12 && fabs(xy[1] - true_y) < 1e-12);
     /* the correction survives new messages, and tracks a changed offset
@@ -157,13 +157,66 @@ static void test_beacon_fusion(void **state)
     team_update(&t, &a);
     team_position(&t, 8, xy);
     assert_true(fabs(xy[0] - (true_x + 0.1)) < 1e-12);
-    for (k = 0; k < 10; k++) team_observe(&t, 8, &me, rng, brg, 0.2);
+    for (k = 0; k < 10; k++) team_observe(&t, 8, &me, rng, brg, 0.2, 1.0);
     team_position(&t, 8, xy);
     assert_true(fabs(xy[0] - true_x - 0.1 * pow(0.8, 10)) < 1e-12);
     assert_true(fabs(xy[1] - true_y) < 1e-12);
-    assert_int_equal(team_observe(&t, 8, &me, -1.0, brg, 0.2), -1);
-    assert_int_equal(team_observe(&t, 8, &me, rng, brg, 1.5), -1);
-    assert_int_equal(team_observe(&t, 99, &me, rng, brg, 0.2), -1);
+    assert_int_equal(team_observe(&t, 8, &me, -1.0, brg, 0.2, 1.0), -1);
+    assert_int_equal(team_observe(&t, 8, &me, rng, brg, 1.5, 1.0), -1);
+    assert_int_equal(team_observe(&t, 99, &me, rng, brg, 0.2, 1.0), -1);
+}
+
+/* Frame consensus input. Two robots whose dead reckoning has drifted by
+ * e_self and e_mate: the offset of the mate is e_self - e_mate. With a
+ * standing mate the mean offset is that, whole; with a mate on the move
+ * only its part across the mate's heading counts (along the heading the
+ * report lags the sighting); sightings older than max_age_s or farther than
+ * max_range_m do not count;
+ * shifting our own estimate moves every held offset by the same amount, so
+ * a second sighting after the shift agrees with the shifted offset. */
+static void test_consensus_offset(void **state)
+{
+    team_t t;
+    const double e_self[2] = { 0.3, -0.2 }, e_mate[2] = { -0.1, 0.4 };
+    const double tx = 3.0, ty = 1.0;                 /* the mate, truly */
+    team_member_t a = mate(4, tx + e_mate[0], ty + e_mate[1], 0.0, 0.0, 0.0, 1.0);
+    team_member_t b = mate(6, 0.0, 5.0, 0.0, 0.0, 0.0, 1.0);
+    pose2_t me = { 1.0 + e_self[0], -1.0 + e_self[1], 0.4 };   /* truly (1, -1) */
+    const double rng = hypot(tx - 1.0, ty + 1.0), brg = atan2(ty + 1.0, tx - 1.0) - 0.4;
+    double off[2], xy[2];
+    (void)state;
+    team_init(&t, 2, 1.0);
+    team_update(&t, &a);
+    team_update(&t, &b);
+    assert_int_equal(team_mean_offset(&t, 1.0, 2.0, 10.0, off), 0);      /* nobody seen yet */
+    assert_true(off[0] == 0.0 && off[1] == 0.0);
+    assert_int_equal(team_observe(&t, 4, &me, rng, brg, 0.2, 1.0), 0);
+    assert_int_equal(team_mean_offset(&t, 1.5, 2.0, 10.0, off), 1);      /* b never seen */
+    assert_true(fabs(off[0] - (e_self[0] - e_mate[0])) < 1e-12);
+    assert_true(fabs(off[1] - (e_self[1] - e_mate[1])) < 1e-12);
+    assert_int_equal(team_mean_offset(&t, 3.5, 2.0, 10.0, off), 0);      /* too old */
+    assert_int_equal(team_mean_offset(&t, 1.5, 2.0, 0.9 * rng, off), 0); /* too far */
+    /* moving along +x: only the y part counts */
+    a.v_mps = 0.4;
+    a.t_s = 1.1;
+    team_update(&t, &a);
+    assert_int_equal(team_mean_offset(&t, 1.5, 2.0, 10.0, off), 1);
+    assert_true(fabs(off[0]) < 1e-12 && fabs(off[1] - (e_self[1] - e_mate[1])) < 1e-12);
+    /* shift our estimate by the offset: the held offset goes to zero, and a
+     * sighting from the shifted pose finds the same */
+    a.v_mps = 0.0;
+    a.t_s = 1.2;
+    team_update(&t, &a);
+    team_mean_offset(&t, 1.5, 2.0, 10.0, off);
+    team_shift_offsets(&t, -off[0], -off[1]);
+    me.x_m -= off[0];
+    me.y_m -= off[1];
+    team_position(&t, 4, xy);
+    assert_true(fabs(xy[0] - (tx + e_mate[0])) < 1e-12 && fabs(xy[1] - (ty + e_mate[1])) < 1e-12);
+    team_observe(&t, 4, &me, rng, brg, 1.0, 1.3);
+    team_mean_offset(&t, 1.5, 2.0, 10.0, off);
+    assert_true(fabs(off[0]) < 1e-12 && fabs(off[1]) < 1e-12);
+    assert_int_equal(team_observe(&t, 4, &me, rng, brg, 0.2, NAN), -1);
 }
 
 int main(void)
@@ -174,6 +227,7 @@ int main(void)
         cmocka_unit_test(test_timeout_and_late_join),
         cmocka_unit_test(test_capacity_and_bad),
         cmocka_unit_test(test_beacon_fusion),
+        cmocka_unit_test(test_consensus_offset),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
