@@ -255,12 +255,11 @@ static double range_toward(const double range_m[BEH_SONAR_N], double b_rad)
 }
 
 /* Entry and exit distances along a ray from (px, py) with direction
- * (dx, dy) through a box (centre, half extents, heading); 0 if it misses
- * (slab test), 1 if it meets it. */
+ * (dx, dy) through a box (centre, half extents, heading given as its
+ * cosine c and sine s); 0 if it misses (slab test), 1 if it meets it. */
 static int ray_box_m(double px, double py, double dx, double dy, double bx, double by,
-                     double hx, double hy, double th, double *t_in, double *t_out)
+                     double hx, double hy, double c, double s, double *t_in, double *t_out)
 {
-    const double c = cos(th), s = sin(th);
     const double o[2] = { (px - bx) * c + (py - by) * s, -(px - bx) * s + (py - by) * c };
     const double d[2] = { dx * c + dy * s, -dx * s + dy * c };
     const double h[2] = { hx, hy };
@@ -299,24 +298,46 @@ static int mate_echo_m(const pose2_t *c, int k, const double xy[2], double th, d
     const double cc = cos(c->theta_rad), sc = sin(c->theta_rad);
     const double px = c->x_m + tr->x_m * cc - tr->y_m * sc;
     const double py = c->y_m + tr->x_m * sc + tr->y_m * cc;
-    const double bx = xy[0] + (d_m + ROVER_BODY_OFFSET_M) * cos(th);
-    const double by = xy[1] + (d_m + ROVER_BODY_OFFSET_M) * sin(th);
+    const double cth = cos(th), sth = sin(th);
+    const double bx = xy[0] + (d_m + ROVER_BODY_OFFSET_M) * cth;
+    const double by = xy[1] + (d_m + ROVER_BODY_OFFSET_M) * sth;
     const double hx = 0.5 * ROVER_BODY_LENGTH_M, hy = 0.5 * ROVER_BODY_WIDTH_M;
     const double span = MASK_CONE_RAD + 2.0 * MASK_EXTRA_RAD;
+    const double a0 = c->theta_rad + tr->angle_rad - 0.5 * span, step = span / (MASK_RAYS - 1);
+    const double cs = cos(step), ss = sin(step);
+    double dx = cos(a0), dy = sin(a0);
     int j, hit = 0;
     *near_m = INFINITY;
     *far_m = 0.0;
+    /* the rays of the cone, each the last one turned by `step` */
     for (j = 0; j < MASK_RAYS; j++) {
-        const double a = c->theta_rad + tr->angle_rad - 0.5 * span + span * j / (MASK_RAYS - 1);
+        const double nx = dx * cs - dy * ss;
         double t_in, t_out;
-        if (ray_box_m(px, py, cos(a), sin(a), bx, by, hx + MASK_GROW_M, hy + MASK_GROW_M, th,
+        if (ray_box_m(px, py, dx, dy, bx, by, hx + MASK_GROW_M, hy + MASK_GROW_M, cth, sth,
                       &t_in, &t_out)) {
             hit = 1;
             if (t_in < *near_m) *near_m = t_in;
             if (t_out > *far_m) *far_m = t_out;
         }
+        dy = dx * ss + dy * cs;
+        dx = nx;
     }
     return hit;
+}
+
+/* A lower bound on any echo mate_echo_m can return: C to the chassis
+ * centre, less the farthest transducer from C and the grown chassis'
+ * half-diagonal. */
+static double mate_min_echo_m(const pose2_t *c, const double xy[2], double th, double d_m)
+{
+    const double bx = xy[0] + (d_m + ROVER_BODY_OFFSET_M) * cos(th);
+    const double by = xy[1] + (d_m + ROVER_BODY_OFFSET_M) * sin(th);
+    double reach_m = 0.0;
+    int k;
+    for (k = 0; k < BEH_SONAR_N; k++)
+        reach_m = fmax(reach_m, hypot(sonar_p2dx_front[k].x_m, sonar_p2dx_front[k].y_m));
+    return hypot(bx - c->x_m, by - c->y_m) - reach_m -
+           hypot(0.5 * ROVER_BODY_LENGTH_M + MASK_GROW_M, 0.5 * ROVER_BODY_WIDTH_M + MASK_GROW_M);
 }
 
 /* Sonar echoes explained by a team-mate where the team table puts it (and
@@ -335,13 +356,20 @@ void rover_ctl_mask_mates(const rover_ctl_t *c, const pose2_t *o, double keep_m,
                           double masked[BEH_SONAR_N])
 {
     pose2_t cpos;
+    double far_echo_m = 0.0;
     int i, k;
     unicycle_c_from_o(&cpos, o, c->p.beh.d_m);
-    for (k = 0; k < BEH_SONAR_N; k++) masked[k] = c->range_m[k];
+    for (k = 0; k < BEH_SONAR_N; k++) {
+        masked[k] = c->range_m[k];
+        far_echo_m = fmax(far_echo_m, c->range_m[k]);
+    }
     for (i = 0; i < c->team.n; i++) {
         const team_member_t *m = &c->team.m[i];
         double xy[2];
         if (team_position(&c->team, m->robot, xy) != 0) continue;
+        /* a mate whose grown chassis lies beyond every echo explains none:
+         * skip the ray casts (a large team is mostly such mates) */
+        if (mate_min_echo_m(&cpos, xy, m->theta_rad, c->p.beh.d_m) > far_echo_m + 0.05) continue;
         for (k = 0; k < BEH_SONAR_N; k++) {
             double near, far;
             if (mate_echo_m(&cpos, k, xy, m->theta_rad, c->p.beh.d_m, &near, &far) &&

@@ -712,6 +712,67 @@ static void test_mask_mates_property(void **state)
     }
 }
 
+/* The mask skips mates that lie beyond every echo (mate_min_echo_m): with
+ * the ring as short as it can be around a mate's own echoes (every
+ * transducer that misses the mate reads the mate's nearest echo), the
+ * mate's echoes are still masked, at every distance the sonar reaches. */
+static void test_mask_cull_keeps_mates_that_echo(void **state)
+{
+    rover_ctl_t c;
+    rover_ctl_params_t p;
+    sonar_model_t sm;
+    const pose2_t s0 = {0, 0, 0};
+    const double goal[2] = { 10.0, 0.0 };
+    pose2_t me_c, me_o;
+    double dist;
+    int k, checked = 0;
+    (void)state;
+    rover_ctl_params_default(&p);
+    sonar_model_default(&sm);
+    sm.noise_sd_m = 0.0;
+    assert_int_equal(rover_ctl_init(&c, &p, 1, &s0, goal), 0);
+    rover_ctl_encoders(&c, 0, 0, 0.0);
+    rover_ctl_sonar(&c, open_ring, 0.0);
+    odometry_pose_o(&c.odo, &me_o);
+    unicycle_c_from_o(&me_c, &me_o, ROVER_BEACON_D_M);
+    for (dist = 0.8; dist < 5.6; dist += 0.2) {
+        const pose2_t mc = { me_c.x_m + dist, me_c.y_m + 0.3, 0.5 };
+        pose2_t mo;
+        double r[8], echo[8], masked[8], nearest = INFINITY;
+        rover_team_msg_t msg;
+        memset(&msg, 0, sizeof msg);
+        unicycle_o_from_c(&mo, &mc, ROVER_BEACON_D_M);
+        msg.m.robot = 2;
+        msg.m.x_m = mo.x_m;
+        msg.m.y_m = mo.y_m;
+        msg.m.theta_rad = mo.theta_rad;
+        msg.m.scale = 1.0;
+        team_init(&c.team, 1, 1.0);
+        assert_int_equal(rover_ctl_team_msg(&c, &msg, 0.0), 1);
+        sonar_world_init(&sw);
+        sonar_world_add_box(&sw, mc.x_m + ROVER_BODY_OFFSET_M * cos(mc.theta_rad),
+                            mc.y_m + ROVER_BODY_OFFSET_M * sin(mc.theta_rad),
+                            0.5 * ROVER_BODY_LENGTH_M, 0.5 * ROVER_BODY_WIDTH_M, mc.theta_rad,
+                            0.03, 0.25);
+        sonar_world_build(&sw);
+        sonar_ring(r, &sw, &sm, &me_c, NULL);
+        for (k = 0; k < 8; k++) nearest = fmin(nearest, r[k]);
+        if (nearest >= sm.range_max_m) continue;     /* out of sonar reach */
+        memcpy(echo, r, sizeof echo);
+        for (k = 0; k < 8; k++)
+            if (r[k] >= sm.range_max_m) r[k] = nearest;
+        memcpy(c.range_m, r, sizeof c.range_m);
+        rover_ctl_mask_mates(&c, &me_o, 0.0, masked);
+        for (k = 0; k < 8; k++)
+            if (echo[k] < sm.range_max_m) {     /* the mate's own echo */
+                assert_true(masked[k] == p.sonar_max_m);
+                checked++;
+            }
+    }
+    print_message("cull: %d mate echoes checked out to the sonar's reach\n", checked);
+    assert_true(checked > 20);
+}
+
 /* The collision guard, by its rules: inside guard_m it never turns toward
  * the nearer front-side echo (a formation slot beyond a post kept the
  * robot turning into it: stopped by the guard, blended turn zero, stuck
@@ -975,6 +1036,7 @@ int main(void)
         cmocka_unit_test(test_deadzone_team),
         cmocka_unit_test(test_escape_timeout_and_lost_wall),
         cmocka_unit_test(test_mask_mates_property),
+        cmocka_unit_test(test_mask_cull_keeps_mates_that_echo),
         cmocka_unit_test(test_guard_rules),
         cmocka_unit_test(test_frame_consensus),
         cmocka_unit_test(test_restore_ignores_leaving_mate),
