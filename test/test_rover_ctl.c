@@ -628,26 +628,59 @@ static double mate_near_m(const pose2_t *mate_c, const pose2_t *c, int k)
                                    c->y_m + tr->x_m * sin(c->theta_rad) + tr->y_m * cos(c->theta_rad));
 }
 
+/* A robot at the team origin with an open ring and noise-free sonar, for
+ * the mask tests; me_c / me_o its C and O poses. */
+static void mask_fixture(rover_ctl_t *c, rover_ctl_params_t *p, sonar_model_t *sm,
+                         pose2_t *me_c, pose2_t *me_o)
+{
+    const pose2_t s0 = {0, 0, 0};
+    const double goal[2] = { 10.0, 0.0 };
+    rover_ctl_params_default(p);
+    sonar_model_default(sm);
+    sm->noise_sd_m = 0.0;
+    assert_int_equal(rover_ctl_init(c, p, 1, &s0, goal), 0);
+    rover_ctl_encoders(c, 0, 0, 0.0);
+    rover_ctl_sonar(c, open_ring, 0.0);
+    odometry_pose_o(&c->odo, me_o);
+    unicycle_c_from_o(me_c, me_o, ROVER_BEACON_D_M);
+}
+
+/* The team table of c holds one mate, robot 2, at O pose (x, y, th). */
+static void mask_tell_mate(rover_ctl_t *c, double x_m, double y_m, double th_rad)
+{
+    rover_team_msg_t msg;
+    memset(&msg, 0, sizeof msg);
+    msg.m.robot = 2;
+    msg.m.x_m = x_m;
+    msg.m.y_m = y_m;
+    msg.m.theta_rad = th_rad;
+    msg.m.scale = 1.0;
+    team_init(&c->team, 1, 1.0);
+    assert_int_equal(rover_ctl_team_msg(c, &msg, 0.0), 1);
+}
+
+/* The sonar world holds the chassis of a robot at C pose mc, alone. */
+static void mask_world_mate(const pose2_t *mc)
+{
+    sonar_world_init(&sw);
+    sonar_world_add_box(&sw, mc->x_m + ROVER_BODY_OFFSET_M * cos(mc->theta_rad),
+                        mc->y_m + ROVER_BODY_OFFSET_M * sin(mc->theta_rad),
+                        0.5 * ROVER_BODY_LENGTH_M, 0.5 * ROVER_BODY_WIDTH_M, mc->theta_rad,
+                        0.03, 0.25);
+    sonar_world_build(&sw);
+}
+
 static void test_mask_mates_property(void **state)
 {
     rover_ctl_t c;
     rover_ctl_params_t p;
     sonar_model_t sm;
     prng_t rng;
-    const pose2_t s0 = {0, 0, 0};
-    const double goal[2] = { 10.0, 0.0 };
     pose2_t me_c, me_o;
     int trial, k, mate_echoes = 0, post_echoes = 0;
     (void)state;
-    rover_ctl_params_default(&p);
-    sonar_model_default(&sm);
-    sm.noise_sd_m = 0.0;
+    mask_fixture(&c, &p, &sm, &me_c, &me_o);
     prng_seed(&rng, 42);
-    assert_int_equal(rover_ctl_init(&c, &p, 1, &s0, goal), 0);
-    rover_ctl_encoders(&c, 0, 0, 0.0);
-    rover_ctl_sonar(&c, open_ring, 0.0);
-    odometry_pose_o(&c.odo, &me_o);
-    unicycle_c_from_o(&me_c, &me_o, ROVER_BEACON_D_M);
     for (trial = 0; trial < 500; trial++) {
         const double dist = 0.7 + 2.3 * prng_uniform(&rng);
         const double bear = (prng_uniform(&rng) - 0.5) * 1.2 * VEC2_PI;
@@ -655,23 +688,14 @@ static void test_mask_mates_property(void **state)
         pose2_t mc = { me_c.x_m + dist * cos(bear), me_c.y_m + dist * sin(bear), th }, mo;
         const double pb = bear + (prng_uniform(&rng) - 0.5) * 0.6;
         const double pd = 0.35 + (dist - 0.7) * prng_uniform(&rng);
-        double r_mate[8], r_post[8], r_all[8], masked[8];
-        rover_team_msg_t msg;
-        memset(&msg, 0, sizeof msg);
+        double r_mate[8], r_post[8], r_all[8], masked[8], ex, ey, eth;
         unicycle_o_from_c(&mo, &mc, ROVER_BEACON_D_M);
-        msg.m.robot = 2;
-        msg.m.x_m = mo.x_m + 0.08 * (2.0 * prng_uniform(&rng) - 1.0);
-        msg.m.y_m = mo.y_m + 0.08 * (2.0 * prng_uniform(&rng) - 1.0);
-        msg.m.theta_rad = th + 0.1 * (2.0 * prng_uniform(&rng) - 1.0);
-        msg.m.scale = 1.0;
-        team_init(&c.team, 1, 1.0);
-        assert_int_equal(rover_ctl_team_msg(&c, &msg, 0.0), 1);
+        ex = 0.08 * (2.0 * prng_uniform(&rng) - 1.0);   /* the table's error */
+        ey = 0.08 * (2.0 * prng_uniform(&rng) - 1.0);
+        eth = 0.1 * (2.0 * prng_uniform(&rng) - 1.0);
+        mask_tell_mate(&c, mo.x_m + ex, mo.y_m + ey, th + eth);
         /* the mate alone, a post alone (somewhere toward it), both */
-        sonar_world_init(&sw);
-        sonar_world_add_box(&sw, mc.x_m + ROVER_BODY_OFFSET_M * cos(th),
-                            mc.y_m + ROVER_BODY_OFFSET_M * sin(th), 0.5 * ROVER_BODY_LENGTH_M,
-                            0.5 * ROVER_BODY_WIDTH_M, th, 0.03, 0.25);
-        sonar_world_build(&sw);
+        mask_world_mate(&mc);
         sonar_ring(r_mate, &sw, &sm, &me_c, NULL);
         sonar_world_init(&sw);
         sonar_world_add_circle(&sw, me_c.x_m + pd * cos(pb), me_c.y_m + pd * sin(pb), 0.08, 0.0, 0.5);
@@ -687,7 +711,7 @@ static void test_mask_mates_property(void **state)
                 if (masked[k] != p.sonar_max_m)
                     print_message("trial %d k %d: mate at %.2f m %.2f rad (C) th %.2f told (%.3f %.3f %.3f) "
                                   "true O (%.3f %.3f): r_mate %.2f\n", trial, k, dist, bear, th,
-                                  msg.m.x_m, msg.m.y_m, msg.m.theta_rad, mo.x_m, mo.y_m, r_mate[k]);
+                                  mo.x_m + ex, mo.y_m + ey, th + eth, mo.x_m, mo.y_m, r_mate[k]);
                 assert_true(masked[k] == p.sonar_max_m);
             } else if (r_post[k] < mate_near_m(&mc, &me_c, k) - 0.35) {
                 post_echoes++;
@@ -721,40 +745,18 @@ static void test_mask_cull_keeps_mates_that_echo(void **state)
     rover_ctl_t c;
     rover_ctl_params_t p;
     sonar_model_t sm;
-    const pose2_t s0 = {0, 0, 0};
-    const double goal[2] = { 10.0, 0.0 };
     pose2_t me_c, me_o;
     double dist;
     int k, checked = 0;
     (void)state;
-    rover_ctl_params_default(&p);
-    sonar_model_default(&sm);
-    sm.noise_sd_m = 0.0;
-    assert_int_equal(rover_ctl_init(&c, &p, 1, &s0, goal), 0);
-    rover_ctl_encoders(&c, 0, 0, 0.0);
-    rover_ctl_sonar(&c, open_ring, 0.0);
-    odometry_pose_o(&c.odo, &me_o);
-    unicycle_c_from_o(&me_c, &me_o, ROVER_BEACON_D_M);
+    mask_fixture(&c, &p, &sm, &me_c, &me_o);
     for (dist = 0.8; dist < 5.6; dist += 0.2) {
         const pose2_t mc = { me_c.x_m + dist, me_c.y_m + 0.3, 0.5 };
         pose2_t mo;
         double r[8], echo[8], masked[8], nearest = INFINITY;
-        rover_team_msg_t msg;
-        memset(&msg, 0, sizeof msg);
         unicycle_o_from_c(&mo, &mc, ROVER_BEACON_D_M);
-        msg.m.robot = 2;
-        msg.m.x_m = mo.x_m;
-        msg.m.y_m = mo.y_m;
-        msg.m.theta_rad = mo.theta_rad;
-        msg.m.scale = 1.0;
-        team_init(&c.team, 1, 1.0);
-        assert_int_equal(rover_ctl_team_msg(&c, &msg, 0.0), 1);
-        sonar_world_init(&sw);
-        sonar_world_add_box(&sw, mc.x_m + ROVER_BODY_OFFSET_M * cos(mc.theta_rad),
-                            mc.y_m + ROVER_BODY_OFFSET_M * sin(mc.theta_rad),
-                            0.5 * ROVER_BODY_LENGTH_M, 0.5 * ROVER_BODY_WIDTH_M, mc.theta_rad,
-                            0.03, 0.25);
-        sonar_world_build(&sw);
+        mask_tell_mate(&c, mo.x_m, mo.y_m, mo.theta_rad);
+        mask_world_mate(&mc);
         sonar_ring(r, &sw, &sm, &me_c, NULL);
         for (k = 0; k < 8; k++) nearest = fmin(nearest, r[k]);
         if (nearest >= sm.range_max_m) continue;     /* out of sonar reach */
