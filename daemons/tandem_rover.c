@@ -430,10 +430,9 @@ static void publish_outputs(tandem_rover_command_t *cmd, tandem_rover_state_t *s
     if (A.batch) {
         tandem_rovers_command_t bc;
         tandem_rovers_state_t bs;
-        bc.seq = bs.seq = A.batch_seq++;
-        bc.utime = bs.utime = utime;
-        bc.step = bs.step = step;
-        bc.n = bs.n = (int16_t)n;
+        BATCH_HEADER(bc, A.batch_seq, utime, step, n);
+        BATCH_HEADER(bs, A.batch_seq, utime, step, n);
+        A.batch_seq++;
         bc.cmd = cmd;
         bs.state = st;
         tandem_rovers_command_t_publish(D.lcm, "ROVERS_COMMAND", &bc);

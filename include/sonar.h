@@ -90,6 +90,16 @@ int sonar_cast(sonar_hit_t *hit, const sonar_world_t *w, double ox, double oy,
 int sonar_cast_brute(sonar_hit_t *hit, const sonar_world_t *w, double ox,
                      double oy, double z_m, double dir_rad, double max_m);
 
+/* Slab test of the line through (ox, oy) with direction (dx, dy) against
+ * a box (centre cx, cy, half extents hx, hy, heading given by its cosine c
+ * and sine s): *t_in, *t_out the line parameters where it enters and
+ * leaves the box, n_in the outward normal (box frame) of the face it
+ * enters by (0, 0 if no face bounds the entry). 1 if the line meets the
+ * box, 0 if it misses. Shared by the sonar and the controller's mate mask. */
+int sonar_line_box(double ox, double oy, double dx, double dy, double cx, double cy,
+                   double hx, double hy, double c, double s,
+                   double *t_in, double *t_out, double n_in[2]);
+
 typedef struct {
     double x_m, y_m;        /* mounting position relative to C, robot frame */
     double angle_rad;       /* bearing, CCW from the heading */

@@ -542,10 +542,7 @@ static void publish_sensors(sim_world *w)
         if (R.r[i].alive) fill_sensors(&R.r[i], w->step, utime, &s[n], &m[n]), n++;
     if (R.batch) {
         tandem_rovers_sensors_t b;
-        b.seq = R.batch_seq[0]++;
-        b.utime = utime;
-        b.step = w->step;
-        b.n = (int16_t)n;
+        BATCH_HEADER(b, R.batch_seq[0]++, utime, w->step, n);
         b.sensors = s;
         b.sonar = m;
         tandem_rovers_sensors_t_publish(w->lcm, "ROVERS_SENSORS", &b);
@@ -616,10 +613,7 @@ static void publish_beacons(sim_world *w)
         if (R.r[i].alive) observe_beacons(i, o, pan, w->step, utime, tgt[n], rng[n], brg[n], &m[n]), n++;
     if (R.batch) {
         tandem_rovers_beacons_t b;
-        b.seq = R.batch_seq[1]++;
-        b.utime = utime;
-        b.step = w->step;
-        b.n = (int16_t)n;
+        BATCH_HEADER(b, R.batch_seq[1]++, utime, w->step, n);
         b.obs = m;
         tandem_rovers_beacons_t_publish(w->lcm, "ROVERS_BEACONS", &b);
         return;

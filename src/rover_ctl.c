@@ -255,30 +255,15 @@ static double range_toward(const double range_m[BEH_SONAR_N], double b_rad)
 }
 
 /* Entry and exit distances along a ray from (px, py) with direction
- * (dx, dy) through a box (centre, half extents, heading given as its
- * cosine c and sine s); 0 if it misses (slab test), 1 if it meets it. */
+ * (dx, dy) through a box (centre, half extents, heading as cos c, sin s);
+ * 0 if it misses, 1 if it meets it (entry 0 when the ray starts inside). */
 static int ray_box_m(double px, double py, double dx, double dy, double bx, double by,
                      double hx, double hy, double c, double s, double *t_in, double *t_out)
 {
-    const double o[2] = { (px - bx) * c + (py - by) * s, -(px - bx) * s + (py - by) * c };
-    const double d[2] = { dx * c + dy * s, -dx * s + dy * c };
-    const double h[2] = { hx, hy };
-    double t0 = 0.0, t1 = INFINITY;
-    int a;
-    for (a = 0; a < 2; a++) {
-        if (fabs(d[a]) < 1e-12) {
-            if (fabs(o[a]) > h[a]) return 0;
-        } else {
-            double ta = (-h[a] - o[a]) / d[a], tb = (h[a] - o[a]) / d[a];
-            if (ta > tb) { const double tmp = ta; ta = tb; tb = tmp; }
-            if (ta > t0) t0 = ta;
-            if (tb < t1) t1 = tb;
-            if (t0 > t1) return 0;
-        }
-    }
-    *t_in = t0;
-    *t_out = t1;
-    return 1;
+    double n_in[2];
+    if (!sonar_line_box(px, py, dx, dy, bx, by, hx, hy, c, s, t_in, t_out, n_in)) return 0;
+    *t_in = fmax(*t_in, 0.0);
+    return *t_in <= *t_out;
 }
 
 /* The range of echoes transducer k (at C pose c) can get from a mate whose
@@ -326,16 +311,13 @@ static int mate_echo_m(const pose2_t *c, int k, const double xy[2], double th, d
 }
 
 /* A lower bound on any echo mate_echo_m can return: C to the chassis
- * centre, less the farthest transducer from C and the grown chassis'
- * half-diagonal. */
-static double mate_min_echo_m(const pose2_t *c, const double xy[2], double th, double d_m)
+ * centre, less reach_m (the farthest transducer from C) and the grown
+ * chassis' half-diagonal. */
+static double mate_min_echo_m(const pose2_t *c, const double xy[2], double th, double d_m,
+                              double reach_m)
 {
     const double bx = xy[0] + (d_m + ROVER_BODY_OFFSET_M) * cos(th);
     const double by = xy[1] + (d_m + ROVER_BODY_OFFSET_M) * sin(th);
-    double reach_m = 0.0;
-    int k;
-    for (k = 0; k < BEH_SONAR_N; k++)
-        reach_m = fmax(reach_m, hypot(sonar_p2dx_front[k].x_m, sonar_p2dx_front[k].y_m));
     return hypot(bx - c->x_m, by - c->y_m) - reach_m -
            hypot(0.5 * ROVER_BODY_LENGTH_M + MASK_GROW_M, 0.5 * ROVER_BODY_WIDTH_M + MASK_GROW_M);
 }
@@ -356,12 +338,13 @@ void rover_ctl_mask_mates(const rover_ctl_t *c, const pose2_t *o, double keep_m,
                           double masked[BEH_SONAR_N])
 {
     pose2_t cpos;
-    double far_echo_m = 0.0;
+    double far_echo_m = 0.0, reach_m = 0.0;
     int i, k;
     unicycle_c_from_o(&cpos, o, c->p.beh.d_m);
     for (k = 0; k < BEH_SONAR_N; k++) {
         masked[k] = c->range_m[k];
         far_echo_m = fmax(far_echo_m, c->range_m[k]);
+        reach_m = fmax(reach_m, hypot(sonar_p2dx_front[k].x_m, sonar_p2dx_front[k].y_m));
     }
     for (i = 0; i < c->team.n; i++) {
         const team_member_t *m = &c->team.m[i];
@@ -369,7 +352,8 @@ void rover_ctl_mask_mates(const rover_ctl_t *c, const pose2_t *o, double keep_m,
         if (team_position(&c->team, m->robot, xy) != 0) continue;
         /* a mate whose grown chassis lies beyond every echo explains none:
          * skip the ray casts (a large team is mostly such mates) */
-        if (mate_min_echo_m(&cpos, xy, m->theta_rad, c->p.beh.d_m) > far_echo_m + 0.05) continue;
+        if (mate_min_echo_m(&cpos, xy, m->theta_rad, c->p.beh.d_m, reach_m) > far_echo_m + 0.05)
+            continue;
         for (k = 0; k < BEH_SONAR_N; k++) {
             double near, far;
             if (mate_echo_m(&cpos, k, xy, m->theta_rad, c->p.beh.d_m, &near, &far) &&

@@ -219,20 +219,18 @@ static int hit_circle(const sonar_prim_t *p, const ray_t *r, double *t, double n
     return 1;
 }
 
-static int hit_box(const sonar_prim_t *p, const ray_t *r, double *t, double n[2])
+int sonar_line_box(double ox, double oy, double dx, double dy, double cx, double cy,
+                   double hx, double hy, double c, double s,
+                   double *t_in, double *t_out, double n_in[2])
 {
-    /* ray in the box frame */
-    const double qx = r->ox - p->ax, qy = r->oy - p->ay;
-    const double o[2] = { p->c * qx + p->s * qy, -p->s * qx + p->c * qy };
-    const double d[2] = { p->c * r->dx + p->s * r->dy, -p->s * r->dx + p->c * r->dy };
-    const double h[2] = { p->bx, p->by };
-    double tmin = -INFINITY, tmax = INFINITY, ln[2] = { 0.0, 0.0 };
+    /* the line in the box frame */
+    const double qx = ox - cx, qy = oy - cy;
+    const double o[2] = { c * qx + s * qy, -s * qx + c * qy };
+    const double d[2] = { c * dx + s * dy, -s * dx + c * dy };
+    const double h[2] = { hx, hy };
+    double tmin = -INFINITY, tmax = INFINITY;
     int a;
-    if (fabs(o[0]) <= h[0] && fabs(o[1]) <= h[1]) {
-        *t = 0.0;
-        n[0] = -r->dx; n[1] = -r->dy;
-        return 1;
-    }
+    n_in[0] = n_in[1] = 0.0;
     for (a = 0; a < 2; a++) {
         if (fabs(d[a]) < SONAR_EPS) {
             if (fabs(o[a]) > h[a]) return 0;
@@ -241,13 +239,29 @@ static int hit_box(const sonar_prim_t *p, const ray_t *r, double *t, double n[2]
             if (t1 > t2) { const double tmp = t1; t1 = t2; t2 = tmp; }
             if (t1 > tmin) {
                 tmin = t1;
-                ln[0] = ln[1] = 0.0;
-                ln[a] = d[a] > 0.0 ? -1.0 : 1.0;
+                n_in[0] = n_in[1] = 0.0;
+                n_in[a] = d[a] > 0.0 ? -1.0 : 1.0;
             }
             if (t2 < tmax) tmax = t2;
         }
     }
-    if (tmin > tmax || tmin < 0.0) return 0;
+    *t_in = tmin;
+    *t_out = tmax;
+    return tmin <= tmax;
+}
+
+static int hit_box(const sonar_prim_t *p, const ray_t *r, double *t, double n[2])
+{
+    const double qx = r->ox - p->ax, qy = r->oy - p->ay;
+    double tmin, tmax, ln[2];
+    if (fabs(p->c * qx + p->s * qy) <= p->bx && fabs(-p->s * qx + p->c * qy) <= p->by) {
+        *t = 0.0;
+        n[0] = -r->dx; n[1] = -r->dy;
+        return 1;
+    }
+    if (!sonar_line_box(r->ox, r->oy, r->dx, r->dy, p->ax, p->ay, p->bx, p->by, p->c, p->s,
+                        &tmin, &tmax, ln) || tmin < 0.0)
+        return 0;
     *t = tmin;
     n[0] = p->c * ln[0] - p->s * ln[1];
     n[1] = p->s * ln[0] + p->c * ln[1];

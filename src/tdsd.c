@@ -360,6 +360,23 @@ static void rr_finish(const tdsd_input *in, tdsd_output *out, const double *Jinv
     out->n_clipped = clip_joints(out->dq_radps, in->dq_max_radps, 0.0);
 }
 
+/* Both baselines: the stacked J and y (rr_setup) and J's pseudo-inverse
+ * Jp (its singular values drive the DLS damping). Row count, or
+ * TDSD_ENUM with out reset. */
+static int rr_stack_pinv(const tdsd_input *in, tdsd_output *out, double J[NJ * NJ],
+                         double Jp[NJ * NJ], double y[NJ], linalg_pinv_info *info)
+{
+    const int m = rr_setup(in, out, J, y);
+    if (m < 0)
+        return TDSD_ENUM;
+    if (!la_ok(linalg_pinv(Jp, NULL, info, J, m, NJ, in->pinv_rtol))) {
+        output_reset(out);
+        return TDSD_ENUM;
+    }
+    out->rank_J2P1 = info->rank;
+    return m;
+}
+
 int rr_pinv_step(const tdsd_input *in, tdsd_output *out)
 {
     double J[NJ * NJ], Jp[NJ * NJ], y[NJ];
@@ -369,14 +386,9 @@ int rr_pinv_step(const tdsd_input *in, tdsd_output *out)
     output_reset(out);
     if (!input_valid(in))
         return TDSD_EINVAL;
-    m = rr_setup(in, out, J, y);
+    m = rr_stack_pinv(in, out, J, Jp, y, &info);
     if (m < 0)
-        return TDSD_ENUM;
-    if (!la_ok(linalg_pinv(Jp, NULL, &info, J, m, NJ, in->pinv_rtol))) {
-        output_reset(out);
-        return TDSD_ENUM;
-    }
-    out->rank_J2P1 = info.rank;
+        return m;
     rr_finish(in, out, Jp, m, y);
     return TDSD_OK;
 }
@@ -392,15 +404,10 @@ int rr_dls_step(const tdsd_input *in, const rr_dls_params *dls, tdsd_output *out
     if (!input_valid(in) || !dls || !(dls->lambda0 >= 0.0) || !isfinite(dls->lambda0)
         || !isfinite(dls->eps))
         return TDSD_EINVAL;
-    m = rr_setup(in, out, J, y);
-    if (m < 0)
-        return TDSD_ENUM;
     /* sigma_min of the stacked J drives the variable damping */
-    if (!la_ok(linalg_pinv(Jp, NULL, &info, J, m, NJ, in->pinv_rtol))) {
-        output_reset(out);
-        return TDSD_ENUM;
-    }
-    out->rank_J2P1 = info.rank;
+    m = rr_stack_pinv(in, out, J, Jp, y, &info);
+    if (m < 0)
+        return m;
     if (dls->eps <= 0.0) {
         damping = dls->lambda0;
     } else if (info.sigma_min < dls->eps) {

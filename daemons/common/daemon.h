@@ -107,6 +107,11 @@ int64_t daemon_utime_now(void);
     ((counters)->received++, \
      type##_decode((rb)->data, 0, (rb)->data_size, (msg)) >= 0 ? 1 : ((counters)->rejected++, 0))
 
+/* The common head of the rovers_*_t batch messages (several robots' frames
+ * of one tick in one message). */
+#define BATCH_HEADER(b, seq_, utime_, step_, n_) \
+    ((b).seq = (seq_), (b).utime = (utime_), (b).step = (step_), (b).n = (int16_t)(n_))
+
 /* Strict number parsing for command-line values: the whole string must be
  * a finite number inside [lo, hi]; prints "NAME: --OPT: why" and returns -1
  * otherwise. */

@@ -23,6 +23,8 @@ int  json_open(json_out *j, const char *dir, const char *file);
 void json_num(json_out *j, const char *key, double v);     /* NaN/inf -> null */
 void json_int(json_out *j, const char *key, long long v);
 void json_str(json_out *j, const char *key, const char *v);
+/* A point as a string, printed with fmt (three doubles, e.g. "%.3f %.3f %.3f"). */
+void json_point(json_out *j, const char *key, const double p[3], const char *fmt);
 void json_bool(json_out *j, const char *key, int v);
 void json_close(json_out *j);
 

@@ -41,7 +41,6 @@ static int run(int argc, char **argv)
 {
     tdsd_scen s;
     json_out j;
-    char buf[96];
     memset(&s, 0, sizeof s);
     s.name = "liquid";
     switch (tdsd_scen_args(&s, argc, argv, methods, 2, usage)) {
@@ -58,12 +57,9 @@ static int run(int argc, char **argv)
     if (json_open(&j, s.out, "summary.json") != 0)
         return 1;
     tdsd_scen_summary(&s, &j);
-    snprintf(buf, sizeof buf, "%.4f %.4f %.2f", s.path.wp_m[0][0], s.path.wp_m[0][1], s.path.wp_m[0][2]);
-    json_str(&j, "a_m", buf);
-    snprintf(buf, sizeof buf, "%.4f %.4f %.2f", s.path.wp_m[1][0], s.path.wp_m[1][1], s.path.wp_m[1][2]);
-    json_str(&j, "b_m", buf);
-    snprintf(buf, sizeof buf, "%.4f %.4f %.2f", s.path.wp_m[2][0], s.path.wp_m[2][1], s.path.wp_m[2][2]);
-    json_str(&j, "c_m", buf);
+    json_point(&j, "a_m", s.path.wp_m[0], "%.4f %.4f %.2f");
+    json_point(&j, "b_m", s.path.wp_m[1], "%.4f %.4f %.2f");
+    json_point(&j, "c_m", s.path.wp_m[2], "%.4f %.4f %.2f");
     json_close(&j);
     tdsd_scen_plots(&s, "S2 liquid transport");
     printf("liquid %s (%s): max_tilt %.3f deg, joint_limit_violations %ld, q6 %.1f..%.1f deg "

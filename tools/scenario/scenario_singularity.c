@@ -34,7 +34,6 @@ static int run(int argc, char **argv)
 {
     tdsd_scen s;
     json_out j;
-    char buf[96];
     memset(&s, 0, sizeof s);
     s.name = "singularity";
     switch (tdsd_scen_args(&s, argc, argv, methods, 3, usage)) {
@@ -51,10 +50,8 @@ static int run(int argc, char **argv)
     if (json_open(&j, s.out, "summary.json") != 0)
         return 1;
     tdsd_scen_summary(&s, &j);
-    snprintf(buf, sizeof buf, "%.3f %.3f %.3f", s.path.wp_m[0][0], s.path.wp_m[0][1], s.path.wp_m[0][2]);
-    json_str(&j, "A_m", buf);
-    snprintf(buf, sizeof buf, "%.3f %.3f %.3f", s.path.wp_m[1][0], s.path.wp_m[1][1], s.path.wp_m[1][2]);
-    json_str(&j, "B_m", buf);
+    json_point(&j, "A_m", s.path.wp_m[0], "%.3f %.3f %.3f");
+    json_point(&j, "B_m", s.path.wp_m[1], "%.3f %.3f %.3f");
     json_close(&j);
     tdsd_scen_plots(&s, "S1 shoulder singularity");
     printf("singularity %s (%s): max_pos_err %.3f mm, max_ori_err %.2f deg, speed ratio %.3f "

@@ -78,6 +78,13 @@ void json_str(json_out *j, const char *k, const char *v)
     fputc('"', j->f);
 }
 
+void json_point(json_out *j, const char *k, const double p[3], const char *fmt)
+{
+    char buf[96];
+    snprintf(buf, sizeof buf, fmt, p[0], p[1], p[2]);
+    json_str(j, k, buf);
+}
+
 void json_bool(json_out *j, const char *k, int v)
 {
     key(j, k);
