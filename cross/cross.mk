@@ -88,3 +88,22 @@ test-cross: deps
 	@$(MAKE) --no-print-directory cross $(M68K_UNIT_BIN)
 	@cross/check-elf.sh $(M68K_UNIT_BIN)
 	@TEST_RUNNER="$(QEMU_M68K)" tools/run-tests.sh unit-m68040 $(CROSS)/m68k/bin $(M68K_UNIT_BIN)
+
+# ---- budgets -----------------------------------------------------------------
+# $(1) target name, $(2) compiler, $(3) arch flags: the entry points, for the call graph
+define cross_budget
+$(CROSS)/$(1)/budget/cycles.o: cross/budget/cycles.c | $(CORE_POISON)
+	@mkdir -p $$(@D)
+	$$(Q)$(2) $(3) -Iinclude -I$(CORE_POISON) $$(CROSS_CFLAGS) -MMD -c $$< -o $$@
+endef
+$(eval $(call cross_budget,m68k,$(M68K_CC),$(M68K_ARCH)))
+$(eval $(call cross_budget,cm4,$(CM4_CC),$(CM4_ARCH)))
+$(CROSS)/m68k/bin/budget: cross/budget/budget_main.c $(CROSS)/m68k/budget/cycles.o $(CROSS)/m68k/libtandem.a
+	@mkdir -p $(@D)
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(M68K_CC) $(M68K_ARCH) $(WARN) -O2 -Iinclude -Icross/budget -MMD -static -o $@ $< \
+	    $(CROSS)/m68k/budget/cycles.o $(CROSS)/m68k/libtandem.a -lm
+
+budget: deps
+	@$(MAKE) --no-print-directory cross $(CROSS)/m68k/bin/budget $(CROSS)/m68k/budget/cycles.o $(CROSS)/cm4/budget/cycles.o
+	@cross/budget.sh $(CROSS) $(CROSS)/m68k/bin/budget
