@@ -67,7 +67,7 @@ BENCH_SRC  := $(wildcard test/bench_*.c)
 BENCH_BIN  := $(patsubst test/%.c,$(BIN)/%,$(BENCH_SRC))
 TYPES_JAR  := build/lib/tandem_types.jar
 
-.PHONY: all run test unit integration bench spy clean deps deps-bench jar
+.PHONY: all run test unit integration bench spy clean deps deps-bench deps-cross jar
 all: $(PROGS) $(UNIT_BIN) $(IT_BIN) $(TYPES_JAR)
 
 # make cross, make test-cross, make budget: the core on a 68040 and a Cortex-M4
@@ -78,6 +78,8 @@ deps:
 	@tools/deps.sh run
 deps-bench:
 	@tools/deps.sh bench
+deps-cross:
+	@tools/deps.sh cross
 
 # ---- messages --------------------------------------------------------------
 $(GEN_STAMP): $(LCM_FILES)
@@ -180,7 +182,7 @@ unit: $(UNIT_BIN)
 integration: $(PROGS) $(IT_BIN)
 	@tools/run-tests.sh integration $(BIN) $(IT_BIN)
 
-test: deps
+test: deps deps-cross
 	@$(MAKE) --no-print-directory all
 	@$(MAKE) --no-print-directory unit integration
 	@$(MAKE) --no-print-directory SAN=1 unit integration

@@ -84,7 +84,7 @@ $(CROSS)/m68k/bin/test_%: test/test_%.c $(CROSS)/m68k/libtandem.a $(CROSS)/m68k/
 	$(Q)$(M68K_CC) $(M68K_TEST_FLAGS) -MMD -static -o $@ $< $(CROSS)/m68k/cmocka.o \
 	    $(CROSS)/m68k/platform/rtclock_posix.o $(CROSS)/m68k/libtandem.a -lm
 
-test-cross: deps
+test-cross: deps-cross
 	@$(MAKE) --no-print-directory cross $(M68K_UNIT_BIN)
 	@cross/check-elf.sh $(M68K_UNIT_BIN)
 	@TEST_RUNNER="$(QEMU_M68K)" tools/run-tests.sh unit-m68040 $(CROSS)/m68k/bin $(M68K_UNIT_BIN)
@@ -104,6 +104,6 @@ $(CROSS)/m68k/bin/budget: cross/budget/budget_main.c $(CROSS)/m68k/budget/cycles
 	$(Q)$(M68K_CC) $(M68K_ARCH) $(WARN) -O2 -Iinclude -Icross/budget -MMD -static -o $@ $< \
 	    $(CROSS)/m68k/budget/cycles.o $(CROSS)/m68k/libtandem.a -lm
 
-budget: deps
+budget: deps-cross
 	@$(MAKE) --no-print-directory cross $(CROSS)/m68k/bin/budget $(CROSS)/m68k/budget/cycles.o $(CROSS)/cm4/budget/cycles.o
 	@cross/budget.sh $(CROSS) $(CROSS)/m68k/bin/budget
