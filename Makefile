@@ -5,6 +5,9 @@
 #                   also rebuilt and rerun with -fsanitize=address,undefined
 #   make bench      benchmarks (figures printed, nothing asserted)
 #   make spy        lcm-spy with every tandem channel decoded
+#   make cross      the core for m68k-linux-gnu (-m68040) and arm-none-eabi (Cortex-M4F)
+#   make test-cross the unit tests built for the 68040, run under qemu-m68k
+#   make budget     memory, stack and cycle budgets of the cross builds
 #   make clean
 # SAN=1 builds into build/san with the sanitizers on.
 
@@ -34,7 +37,8 @@ LDLIBS   := -lm
 
 # ---- sources ---------------------------------------------------------------
 CORE_SRC   := $(wildcard src/*.c)
-CORE_OBJ   := $(patsubst src/%.c,$(OBJ)/core/%.o,$(CORE_SRC))
+# the POSIX clock behind rtloop (include/rtclock.h) goes into the host library
+CORE_OBJ   := $(patsubst src/%.c,$(OBJ)/core/%.o,$(CORE_SRC)) $(OBJ)/platform/rtclock_posix.o
 CORE_LIB   := $(LIB)/libtandem.a
 LCM_FILES  := $(wildcard lcmtypes/*.lcm)
 GEN_STAMP  := $(GEN)/.stamp
@@ -63,14 +67,19 @@ BENCH_SRC  := $(wildcard test/bench_*.c)
 BENCH_BIN  := $(patsubst test/%.c,$(BIN)/%,$(BENCH_SRC))
 TYPES_JAR  := build/lib/tandem_types.jar
 
-.PHONY: all run test unit integration bench spy clean deps deps-bench jar
+.PHONY: all run test unit integration bench spy clean deps deps-bench deps-cross jar
 all: $(PROGS) $(UNIT_BIN) $(IT_BIN) $(TYPES_JAR)
+
+# make cross, make test-cross, make budget: the core on a 68040 and a Cortex-M4
+include cross/cross.mk
 
 # ---- Debian packages (installs when root, else prints the command) ---------
 deps:
 	@tools/deps.sh run
 deps-bench:
 	@tools/deps.sh bench
+deps-cross:
+	@tools/deps.sh cross
 
 # ---- messages --------------------------------------------------------------
 $(GEN_STAMP): $(LCM_FILES)
@@ -90,8 +99,13 @@ $(TYPES_JAR): $(GEN_STAMP)
 jar: $(TYPES_JAR)
 
 # ---- libraries -------------------------------------------------------------
-# the core sees only include/: no LCM, no ODE (pure C99 + libm; rtloop adds POSIX)
-$(OBJ)/core/%.o: src/%.c
+# the core sees only include/: no LCM, no ODE, pure C99 + libm; a POSIX or
+# stdio header reached from it stops the build (CORE_POISON, cross/cross.mk)
+$(OBJ)/core/%.o: src/%.c | $(CORE_POISON)
+	@mkdir -p $(@D)
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) -Iinclude -I$(CORE_POISON) $(CFLAGS) -MMD -c $< -o $@
+$(OBJ)/platform/%.o: platform/posix/%.c
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CC    $@';) true
 	$(Q)$(CC) -Iinclude -D_POSIX_C_SOURCE=200809L $(CFLAGS) -MMD -c $< -o $@
@@ -168,7 +182,7 @@ unit: $(UNIT_BIN)
 integration: $(PROGS) $(IT_BIN)
 	@tools/run-tests.sh integration $(BIN) $(IT_BIN)
 
-test: deps
+test: deps deps-cross
 	@$(MAKE) --no-print-directory all
 	@$(MAKE) --no-print-directory unit integration
 	@$(MAKE) --no-print-directory SAN=1 unit integration

@@ -3,11 +3,16 @@
 # prints the exact command and stops). A no-op when everything is present.
 #   tools/deps.sh run     build, run and test
 #   tools/deps.sh bench   also the benchmark-only tools
+#   tools/deps.sh cross   the 68040 and Cortex-M4 toolchains and qemu (make cross,
+#                         test-cross, budget; make test installs them too)
 set -euo pipefail
 pkgs=(build-essential pkg-config libode-dev liblcm-dev liblcm-bin liblcm-java
       libccd-dev libcmocka-dev libglib2.0-dev default-jdk-headless gnuplot-nox)
 if [ "${1:-run}" = bench ]; then
     pkgs=(rt-tests valgrind liborocos-kdl-dev g++)
+elif [ "${1:-run}" = cross ]; then
+    pkgs=(gcc-m68k-linux-gnu libc6-dev-m68k-cross gcc-arm-none-eabi libnewlib-arm-none-eabi
+          qemu-user-static binutils)
 fi
 missing=()
 for p in "${pkgs[@]}"; do
