@@ -41,12 +41,16 @@
 /* Values match rover_state_t MODE_*. */
 enum { ROVER_MODE_FORMATION = 0, ROVER_MODE_DEAD_ZONE = 1, ROVER_MODE_CHANGING = 2,
        ROVER_MODE_AT_GOAL = 3, ROVER_MODE_SAFE_STOP = 4 };
+/* The formation behaviour flown: the seed's law (behaviour_formation_seed)
+ * or Kanayama slot tracking (behaviour_slot_track), for comparison. */
+enum { ROVER_LAW_SEED = 0, ROVER_LAW_KANAYAMA = 1 };
 enum { ROVER_ESC_NONE = 0, ROVER_ESC_TURN = 1, ROVER_ESC_FOLLOW = 2, ROVER_ESC_YIELD = 3 };
 
 typedef struct {
     behaviour_params_t beh;
     formation_fsm_params_t fsm;
     int    blend_mode;          /* BEH_BLEND_* */
+    int    formation_law;       /* ROVER_LAW_* */
     int    formation;           /* nominal FORMATION_* */
     double team_timeout_s;      /* heartbeat: 1 s */
     double beacon_alpha;        /* team_observe gain */

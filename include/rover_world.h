@@ -27,7 +27,10 @@
 #define ROVER_BODY_LENGTH_M   0.44
 #define ROVER_BODY_WIDTH_M    0.38
 #define ROVER_BODY_OFFSET_M  (-0.03)  /* box centre is this far ahead of C */
-#define ROVER_BEACON_D_M      0.15     /* O (the LED beacon) lies d behind C */
+/* O (the LED beacon, the camera) lies d behind C, signed: -0.15 puts it
+ * 0.15 m AHEAD of the axle, where the seed's formation law has stable
+ * heading dynamics in forward motion (docs/formation.md) */
+#define ROVER_BEACON_D_M    (-0.15)
 
 enum { ROVER_WORLD_OPEN = 0, ROVER_WORLD_OBSTACLES = 1, ROVER_WORLD_CORRIDOR = 2,
        ROVER_WORLD_DEADZONE = 3, ROVER_WORLD_COUNT = 4 };

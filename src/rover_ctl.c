@@ -28,6 +28,7 @@ void rover_ctl_params_default(rover_ctl_params_t *p)
     p->fsm.shrink_scale = 0.8;
     p->fsm.clear_hold_s = 4.0;   /* 10 s (the whole column out) did worse in the corridor runs */
     p->blend_mode = BEH_BLEND_WEIGHTED;
+    p->formation_law = ROVER_LAW_SEED;
     p->formation = FORMATION_LINE;
     p->team_timeout_s = TEAM_TIMEOUT_S_DEFAULT;
     p->beacon_alpha = 0.2;
@@ -68,6 +69,7 @@ int rover_ctl_params_check(const rover_ctl_params_t *p)
 {
     if (!p || behaviour_params_check(&p->beh) != 0) return -1;
     if (p->blend_mode < BEH_BLEND_WEIGHTED || p->blend_mode > BEH_BLEND_VECSUM) return -1;
+    if (p->formation_law != ROVER_LAW_SEED && p->formation_law != ROVER_LAW_KANAYAMA) return -1;
     if (p->formation < FORMATION_LINE || p->formation > FORMATION_COLUMN) return -1;
     if (!pos(p->team_timeout_s) || !pos(p->stale_s) || !pos(p->team_period_s) ||
         !pos(p->wheel_radius_m) || !pos(p->axle_track_m) || !pos(p->follow_dist_m) ||
@@ -826,8 +828,10 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
     D = formation_width(c->fsm.type, n, c->p.fsm.spacing_m, c->fsm.scale, bp->robot_width_m);
 
     rc_goal = behaviour_goal(&in.u[BEH_GOAL], &o, goal, bp);
-    /* the seed law near the slot, slot tracking away from it (behaviour.h) */
-    behaviour_formation_track(&in.u[BEH_FORMATION], &R_d, &o, &ref, l_d, phi_d, bp);
+    if (c->p.formation_law == ROVER_LAW_KANAYAMA)
+        behaviour_formation_track(&in.u[BEH_FORMATION], &R_d, &o, &ref, l_d, phi_d, bp);
+    else
+        behaviour_formation_seed(&in.u[BEH_FORMATION], &R_d, &o, &ref, l_d, phi_d, bp);
     in.d_st_m = behaviour_d_st(bp, D, l_d, phi_d);
     in.avoid_active = behaviour_avoid(&in.u[BEH_AVOID], &g, self.v_mps, in.d_st_m, bp);
     in.exception_active = escaping;
