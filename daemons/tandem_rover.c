@@ -281,7 +281,7 @@ static void take_beacons(const tandem_beacon_obs_t *m)
     int i;
     if (!h || too_early(m->step)) return;
     D.msgs.received++;
-    if (m->n < 0 || m->n > ROVER_WORLD_MAX_ROBOTS) {
+    if (m->n < 0 || m->n > ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS) {
         D.msgs.rejected++;
         return;
     }
@@ -525,7 +525,7 @@ int main(int argc, char **argv)
     int j;
     char name[DAEMON_NAME_MAX];
     pose2_t goal_w = { 0, 0, 0 }, goal_t;
-    double goal[2];
+    double goal[2], lm[ROVER_WORLD_MAX_LANDMARKS][2];
     memset(&A, 0, sizeof A);
     A.last_step = -1;
     A.robots = 3;
@@ -536,6 +536,7 @@ int main(int argc, char **argv)
     if (parse_args(&D, argc, argv) != 0) return 2;
     A.params.formation = A.formation;
     A.params.blend_mode = A.blend;
+    A.params.localize = A.localize;
     if (A.id_lo == A.id_hi) snprintf(name, sizeof name, "tandem-rover-%d", (int)A.id_lo);
     else snprintf(name, sizeof name, "tandem-rover-%d-%d", (int)A.id_lo, (int)A.id_hi);
     snprintf(D.name, sizeof D.name, "%s", name);
@@ -548,11 +549,19 @@ int main(int argc, char **argv)
     rover_world_to_team(&A.layout, &goal_w, &goal_t);
     goal[0] = goal_t.x_m;
     goal[1] = goal_t.y_m;
+    for (j = 0; j < A.layout.n_landmarks; j++) {
+        const pose2_t lw = { A.layout.landmark_m[j][0], A.layout.landmark_m[j][1], 0.0 };
+        pose2_t lt;
+        rover_world_to_team(&A.layout, &lw, &lt);
+        lm[j][0] = lt.x_m;
+        lm[j][1] = lt.y_m;
+    }
     for (j = A.id_lo; j <= A.id_hi; j++) {
         hosted *h = &A.h[j - A.id_lo];
         pose2_t start;
         rover_world_to_team(&A.layout, &A.layout.start_c[j - 1], &start);
-        if (rover_ctl_init(&h->c, &A.params, j, &start, goal) != 0) {
+        if (rover_ctl_init(&h->c, &A.params, j, &start, goal) != 0 ||
+            rover_ctl_set_landmarks(&h->c, (const double (*)[2])lm, A.layout.n_landmarks) != 0) {
             fprintf(stderr, "tandem-rover: bad controller parameters\n");
             return 2;
         }
