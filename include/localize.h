@@ -14,7 +14,12 @@
  *   unicycle.h, sees landmark L at range r and bearing b from the heading):
  *     z = (|L - O|, atan2(L - O) - theta), R = diag((r0 + r1 r)^2, sb^2),
  *     innovation gated by its Mahalanobis distance (chi-square, 2 dof),
- *     Joseph-form covariance update (stays symmetric positive definite).
+ *     Joseph-form covariance update (stays symmetric positive definite);
+ *   recovery: reject_reset landmark sightings gated out in a row mean the
+ *     estimate has left its covariance (a robot pushing against a wall
+ *     spins its wheels: the encoders run, the robot does not); the position
+ *     and heading variances are then raised by reset_sd_xy_m^2 and
+ *     reset_sd_theta_rad^2 so the next sightings pull it back.
  *
  * Landmarks are identified (each LED blinks its own code, as the robots'
  * beacons do): no data association beyond the gate. Capacity
@@ -36,6 +41,8 @@ typedef struct {
     double range_sd1;
     double bearing_sd_rad;
     double gate_chi2;         /* reject innovations beyond this (2 dof) */
+    int    reject_reset;      /* this many rejections in a row: inflate P */
+    double reset_sd_xy_m, reset_sd_theta_rad;
 } localize_params_t;
 
 typedef struct {
@@ -44,7 +51,8 @@ typedef struct {
     double P[9];              /* covariance, row-major */
     int    n_lm;
     double lm[LOCALIZE_LANDMARKS_MAX][2];
-    long   accepted, rejected;
+    long   accepted, rejected, resets;
+    int    rejected_run;      /* rejections since the last fused sighting */
 } localize_t;
 
 /* Defaults for the simulated Pioneer 2 DX and camera (sim/sim_rovers.c:
@@ -52,7 +60,8 @@ typedef struct {
  * bearing), each inflated about 2-3x for what the filter does not model
  * (slip correlation time, the 0.1 s camera period): k_ds 0.01 m/sqrt(m),
  * k_th_ds 0.03 rad/sqrt(m), k_th_dth 0.02 rad/sqrt(rad), range 0.02 m +
- * 3 %, bearing 0.02 rad, gate 13.8 (99.9 %). d -0.15 m. */
+ * 3 %, bearing 0.02 rad, gate 13.8 (99.9 %); reset after 10 rejections
+ * in a row by 0.5 m and 0.3 rad. d -0.15 m. */
 void localize_params_default(localize_params_t *p);
 int  localize_params_check(const localize_params_t *p);
 

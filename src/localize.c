@@ -20,13 +20,19 @@ void localize_params_default(localize_params_t *p)
     p->range_sd1 = 0.03;
     p->bearing_sd_rad = 0.02;
     p->gate_chi2 = 13.8;
+    p->reject_reset = 10;
+    p->reset_sd_xy_m = 0.5;
+    p->reset_sd_theta_rad = 0.3;
 }
 
 int localize_params_check(const localize_params_t *p)
 {
     const double nonneg[] = { p->k_ds, p->k_th_ds, p->k_th_dth, p->range_sd1 };
     size_t i;
-    if (!p || !isfinite(p->d_m)) return -1;
+    if (!p || !isfinite(p->d_m) || p->reject_reset < 1 || !isfinite(p->reset_sd_xy_m) ||
+        !(p->reset_sd_xy_m > 0.0) || !isfinite(p->reset_sd_theta_rad) ||
+        !(p->reset_sd_theta_rad > 0.0))
+        return -1;
     for (i = 0; i < sizeof nonneg / sizeof nonneg[0]; i++)
         if (!isfinite(nonneg[i]) || nonneg[i] < 0.0) return -1;
     if (!isfinite(p->range_sd0_m) || !(p->range_sd0_m > 0.0) || !isfinite(p->bearing_sd_rad) ||
@@ -140,8 +146,16 @@ int localize_landmark(localize_t *l, int k, double range_m, double bearing_rad)
     if (nu[0] * (Si[0] * nu[0] + Si[1] * nu[1]) + nu[1] * (Si[2] * nu[0] + Si[3] * nu[1]) >
         l->p.gate_chi2) {
         l->rejected++;
+        if (++l->rejected_run >= l->p.reject_reset) {
+            l->P[0] += l->p.reset_sd_xy_m * l->p.reset_sd_xy_m;
+            l->P[4] += l->p.reset_sd_xy_m * l->p.reset_sd_xy_m;
+            l->P[8] += l->p.reset_sd_theta_rad * l->p.reset_sd_theta_rad;
+            l->rejected_run = 0;
+            l->resets++;
+        }
         return 0;
     }
+    l->rejected_run = 0;
     /* K = P H^T S^-1 = (HP)^T S^-1 */
     for (i = 0; i < 3; i++)
         for (j = 0; j < 2; j++) K[2 * i + j] = HP[i] * Si[j] + HP[3 + i] * Si[2 + j];

@@ -95,8 +95,8 @@ static void usage(FILE *f)
                "  --world W       open | obstacles | corridor | deadzone (default open)\n"
                "  --blend B       weighted | subsumption | vecsum (default weighted)\n"
                "  --formation-law L  seed (default) | kanayama: the formation behaviour flown\n"
-               "  --ref-heading H  mean (the seed's team average, default) | goal (bearing\n"
-               "                  of the goal as the reference heading)\n"
+               "  --ref-heading H  goal (bearing of the goal as the team reference heading,\n"
+               "                  default) | mean (the seed's mean of the headings)\n"
                "  --localize on|off  robots fuse the world's LED landmarks (default on)\n"
                "  --robots N      team size (default 3)\n"
                "  --seed S        noise seed (default 1)\n"
@@ -117,6 +117,7 @@ static int parse(int argc, char **argv)
     F.formation = FORMATION_LINE;
     F.world = ROVER_WORLD_OPEN;
     F.blend = 0;
+    F.ref_goal = 1;
     F.robots = 3;
     F.seed = 1;
     F.max_time_s = 150.0;
