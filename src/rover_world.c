@@ -133,8 +133,10 @@ static void add_landmark(rover_world_t *w, double x, double y)
 static void build_landmarks(rover_world_t *w, double x_from_m, double xf)
 {
     const double side_m = 3.5, step_m = 3.0;
-    double x;
-    for (x = x_from_m; x <= w->goal_m[0] + 3.0 + 1e-9; x += step_m) {
+    /* on a grid anchored at the front start row, so the posts keep their
+     * place relative to the worlds' walls whatever the team size */
+    double x = xf + step_m * floor((x_from_m - xf) / step_m);
+    for (; x <= w->goal_m[0] + 3.0 + 1e-9; x += step_m) {
         add_landmark(w, x, side_m);
         add_landmark(w, x, -side_m);
     }

@@ -467,7 +467,11 @@ static void write_plots(void)
     fprintf(g, "set datafile separator ','\nset terminal pngcairo size 1100,700\n");
     fprintf(g, "set output 'paths.png'\nset size ratio -1\nset title 'formation %s, world %s, blend %s: paths (ground truth), snapshots every 5 s'\n",
             fname(F.formation), rover_world_name(F.world), bname(F.blend));
-    fprintf(g, "set xlabel 'x (m)'\nset ylabel 'y (m)'\n");
+    /* the whole world with the goal disc inside it; the key below the plot,
+     * where it covers nothing */
+    fprintf(g, "set xlabel 'x (m)'\nset ylabel 'y (m)'\nset key below horizontal\n"
+               "set xrange [%g:%g]\nset yrange [%g:%g]\n",
+            F.layout.x_min_m, F.layout.x_max_m, F.layout.y_min_m, F.layout.y_max_m);
     for (i = 0; i < F.layout.n_obst; i++) {
         const rover_obstacle_t *o = &F.layout.obst[i];
         if (o->kind == ROVER_OBST_CIRCLE) {
@@ -490,13 +494,16 @@ static void write_plots(void)
     for (i = 1; i <= F.robots && i <= 12; i++)
         fprintf(g, "'truth.csv' using ($2==%d?$3:1/0):4 with points pt 7 ps 0.25 title 'robot %d', ", i, i);
     fprintf(g, "'snapshots.csv' using 1:2 with linespoints lc rgb 'black' pt 7 ps 0.6 dt 2 title 'formation every 5 s'\n");
+    /* the time plots carry none of the world's discs and their own ranges */
+    fprintf(g, "unset object\nset autoscale xy\nset key top right vertical\n");
     fprintf(g, "set output 'formation_error.png'\nset size noratio\nset title 'formation error (ground truth)'\n"
-               "set xlabel 't (s)'\nset ylabel 'm'\nset y2label 'formation (0 line, 1 triangle, 2 column)'\n"
+               "set xlabel 't (s)'\nset ylabel 'formation error (m)'\n"
+               "set y2label 'formation type (0 line, 1 triangle, 2 column)'\n"
                "set y2range [-0.2:2.2]\nset y2tics 0,1,2\n"
                "plot 'formation_error.csv' using 1:2 with lines lw 2 title 'rms over robots', "
                "'' using 1:3 with lines title 'max over robots', '' using 1:4 axes x1y2 with steps title 'formation type'\n");
     fprintf(g, "set output 'weights.png'\nunset y2label\nunset y2tics\nset title 'behaviour weights of the lowest-id robot (normalised)'\n"
-               "set ylabel 'weight'\nset yrange [-0.05:1.05]\n"
+               "set ylabel 'normalised weight (1)'\nset yrange [-0.05:1.05]\n"
                "plot 'weights.csv' using 1:2 with lines title 'goal', '' using 1:3 with lines title 'formation', "
                "'' using 1:4 with lines title 'avoid', '' using 1:5 with lines title 'exception'\n");
     fclose(g);
