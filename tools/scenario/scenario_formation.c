@@ -495,7 +495,7 @@ static void write_plots(void)
         fprintf(g, "'truth.csv' using ($2==%d?$3:1/0):4 with points pt 7 ps 0.25 title 'robot %d', ", i, i);
     fprintf(g, "'snapshots.csv' using 1:2 with linespoints lc rgb 'black' pt 7 ps 0.6 dt 2 title 'formation every 5 s'\n");
     /* the time plots carry none of the world's discs and their own ranges */
-    fprintf(g, "unset object\nset autoscale xy\nset key top right vertical\n");
+    fprintf(g, "unset object\nset autoscale xy\nset key default\n");
     fprintf(g, "set output 'formation_error.png'\nset size noratio\nset title 'formation error (ground truth)'\n"
                "set xlabel 't (s)'\nset ylabel 'formation error (m)'\n"
                "set y2label 'formation type (0 line, 1 triangle, 2 column)'\n"
