@@ -40,6 +40,7 @@ typedef struct {
     /* options */
     int    formation, world, blend, robots, single, batch;
     int    law_kanayama, ref_goal, localize_off;   /* --formation-law, --ref-heading, --localize */
+    char   timeout_ms[24];                     /* --lockstep-timeout-ms */
     long   seed;
     double max_time_s;
     int    kill_id;
@@ -98,6 +99,10 @@ static void usage(FILE *f)
                "  --ref-heading H  goal (bearing of the goal as the team reference heading,\n"
                "                  default) | mean (the seed's mean of the headings)\n"
                "  --localize on|off  robots fuse the world's LED landmarks (default on)\n"
+               "  --lockstep-timeout-ms MS  the simulator drops a participant silent this\n"
+               "                  long (wall; default 10000); on a heavily loaded machine a\n"
+               "                  starved controller would be dropped and the run no longer\n"
+               "                  be the deterministic one: raise it for sweeps there\n"
                "  --robots N      team size (default 3)\n"
                "  --seed S        noise seed (default 1)\n"
                "  --kill K:T      kill robot K (its process and its body) at sim time T s\n"
@@ -118,6 +123,7 @@ static int parse(int argc, char **argv)
     F.world = ROVER_WORLD_OPEN;
     F.blend = 0;
     F.ref_goal = 1;
+    snprintf(F.timeout_ms, sizeof F.timeout_ms, "10000");
     F.robots = 3;
     F.seed = 1;
     F.max_time_s = 150.0;
@@ -154,6 +160,10 @@ static int parse(int argc, char **argv)
             if (!strcmp(v, "on")) F.localize_off = 0;
             else if (!strcmp(v, "off")) F.localize_off = 1;
             else { fprintf(stderr, "formation: --localize: '%s' is not on|off\n", v); return -1; }
+        } else if (!strcmp(o, "--lockstep-timeout-ms")) {
+            char *e; long ms = strtol(v, &e, 10);
+            if (*e || ms < 100 || ms > 3600000L) { fprintf(stderr, "formation: --lockstep-timeout-ms: '%s' is not 100..3600000\n", v); return -1; }
+            snprintf(F.timeout_ms, sizeof F.timeout_ms, "%ld", ms);
         } else if (!strcmp(o, "--robots")) {
             char *e; long n = strtol(v, &e, 10);
             if (*e || n < 1 || n > FM_MAX) { fprintf(stderr, "formation: --robots: '%s' is not 1..%d\n", v, FM_MAX); return -1; }
@@ -254,7 +264,7 @@ static int start_children(void)
     {
         char *sim[] = { "tandem-sim", "--lockstep", "--no-arms", "--rovers", n_s, "--world", w_s,
                         "--formation", (char *)fname(F.formation),
-                        "--seed", seed_s, "--expect", expect_s, "--timeout-ms", "10000",
+                        "--seed", seed_s, "--expect", expect_s, "--timeout-ms", F.timeout_ms,
                         F.batch ? "--rover-batch" : NULL, NULL };
         if (spawn(sim) <= 0) return -1;
     }
