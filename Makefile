@@ -73,15 +73,16 @@ deps-bench:
 	@tools/deps.sh bench
 
 # ---- messages --------------------------------------------------------------
-$(GEN_STAMP): $(LCM_FILES)
+$(GEN_STAMP): $(LCM_FILES) lcmtypes/capacities tools/wire/lcm-wire-gen.awk
 	@mkdir -p $(GEN)/c $(GEN)/java
 	@lcm-gen -c --c-cpath $(GEN)/c --c-hpath $(GEN)/c $(LCM_FILES)
+	@awk -v OUT=$(GEN)/c -f tools/wire/lcm-wire-gen.awk lcmtypes/capacities $(LCM_FILES)
 	@lcm-gen -j --jpath $(GEN)/java $(LCM_FILES)
 	@touch $@
 $(LIB)/libtandem_lcm.a: $(GEN_STAMP)
 	@mkdir -p $(OBJ)/gen $(LIB)
 	@for f in $(GEN)/c/*.c; do \
-	  $(CC) -std=c99 $(OPT) $(PKG_CFLAGS) -I$(GEN)/c -c $$f -o $(OBJ)/gen/$$(basename $$f .c).o || exit 1; done
+	  $(CC) -std=c99 $(OPT) $(PKG_CFLAGS) -I$(GEN)/c -Idaemons/common -c $$f -o $(OBJ)/gen/$$(basename $$f .c).o || exit 1; done
 	@rm -f $@ && ar rcs $@ $(OBJ)/gen/*.o
 $(TYPES_JAR): $(GEN_STAMP)
 	@mkdir -p build/lib build/javaclasses
