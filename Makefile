@@ -63,7 +63,7 @@ BENCH_SRC  := $(wildcard test/bench_*.c)
 BENCH_BIN  := $(patsubst test/%.c,$(BIN)/%,$(BENCH_SRC))
 TYPES_JAR  := build/lib/tandem_types.jar
 
-.PHONY: all run test unit integration bench spy clean deps deps-bench jar
+.PHONY: all run test unit integration bench spy clean deps deps-bench jar fuzz
 all: $(PROGS) $(UNIT_BIN) $(IT_BIN) $(TYPES_JAR)
 
 # ---- Debian packages (installs when root, else prints the command) ---------
@@ -191,6 +191,13 @@ $(BIN)/bench_tdsd_kdl: test/bench_tdsd_kdl.cpp $(CORE_LIB)
 bench: deps deps-bench
 	@$(MAKE) --no-print-directory all $(BENCH_BIN) $(BIN)/bench_kdl $(BIN)/bench_tdsd_kdl
 	@tools/bench.sh $(BIN)
+
+# libFuzzer (clang): every message type's wire check + decoder + validators
+# for FUZZ_SECONDS each (tools/fuzz.sh); fails on any crash, leak or report
+FUZZ_SECONDS ?= 10
+fuzz: $(GEN_STAMP)
+	@command -v clang >/dev/null || tools/deps.sh fuzz
+	@tools/fuzz.sh $(FUZZ_SECONDS)
 
 spy: $(TYPES_JAR)
 	@tools/spy.sh $(TYPES_JAR)

@@ -552,8 +552,11 @@ static void cycle(daemon *d, void *user)
     double q_d[ARM_NJ], qd_d[ARM_NJ] = { 0 }, qdd_d[ARM_NJ] = { 0 }, tau[ARM_NJ];
     arm_payload payload, *pl = NULL;
     (void)user;
-    if (!C.have_state) {
-        d->skip_ack = 1;   /* lockstep: join once the first state is here */
+    if (!C.have_state || (d->lockstep && C.st.step != d->pending_step)) {
+        /* lockstep: join once the first state is here; a state lost on the
+         * way is waited for (the simulator announces the step again) rather
+         * than answered from the previous one, which would break determinism */
+        d->skip_ack = 1;
         return;
     }
     if (state_stale(d)) {

@@ -3,11 +3,15 @@
 # prints the exact command and stops). A no-op when everything is present.
 #   tools/deps.sh run     build, run and test
 #   tools/deps.sh bench   also the benchmark-only tools
+#   tools/deps.sh fuzz    clang (libFuzzer) for make fuzz
 set -euo pipefail
 pkgs=(build-essential pkg-config libode-dev liblcm-dev liblcm-bin liblcm-java
       libccd-dev libcmocka-dev libglib2.0-dev default-jdk-headless gnuplot-nox)
 if [ "${1:-run}" = bench ]; then
     pkgs=(rt-tests valgrind liborocos-kdl-dev g++)
+fi
+if [ "${1:-run}" = fuzz ]; then
+    pkgs=(clang)
 fi
 missing=()
 for p in "${pkgs[@]}"; do

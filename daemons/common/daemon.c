@@ -342,12 +342,21 @@ static void run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
         health_tick(d);
         if (d->pending_step < 0)
             continue;
+        if (d->pending_step == d->answered_step) {
+            /* the simulator announced this step again: our ack (or its clock)
+             * was lost. Answer again; the cycle must not run twice. */
+            ack(d, d->pending_step, 0);
+            d->pending_step = -1;
+            continue;
+        }
         t0 = rtloop_now_ns();
         d->skip_ack = 0;
         fn(d, user);
         rtloop_record(&d->loop, t0);
-        if (!d->skip_ack)
+        if (!d->skip_ack) {
             ack(d, d->pending_step, 0);
+            d->answered_step = d->pending_step;
+        }
         d->pending_step = -1;
     }
 }
