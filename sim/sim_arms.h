@@ -9,6 +9,8 @@
 #define SIM_ARMS 2
 /* Tool point (between the gripper fingers) on the flange z axis. */
 #define SIM_TOOL_LENGTH_M 0.10
+/* Contact force filter of the stick's force sensor: 10 steps = 10 ms. */
+#define SIM_FORCE_AVG_STEPS 10
 
 typedef struct sim_arm {
     const arm_model *model;
@@ -18,6 +20,7 @@ typedef struct sim_arm {
     double   q_init[ARM_NJ];           /* ODE hinge angles are relative to this */
     dBodyID  link[ARM_NJ];
     dJointID joint[ARM_NJ];
+    dJointID stop[ARM_NJ];             /* angular motor carrying the range stops */
     dGeomID  geom[ARM_NJ][2];
     /* held command (zero-order hold) */
     double   tau_cmd[ARM_NJ];
@@ -28,8 +31,13 @@ typedef struct sim_arm {
     int      stale;
     double   tau_applied[ARM_NJ];
     double   q[ARM_NJ], qd[ARM_NJ];
-    double   contact_N[ARM_NJ];
+    double   contact_N[ARM_NJ];        /* raw, this 1 ms step */
     double   max_contact_N;
+    double   contact_hist_N[ARM_NJ][SIM_FORCE_AVG_STEPS];  /* ring of raw forces */
+    double   contact_avg_N[ARM_NJ];    /* SIM_FORCE_AVG_STEPS moving average */
+    double   max_contact_avg_N;
+    int64_t  limit_stops;              /* steps a joint sat on a range stop */
+    int64_t  speed_brakes;             /* steps a drive braked at its speed limit */
     int32_t  holding;                  /* workpiece id or -1 */
     int64_t  seq;
 } sim_arm;
