@@ -67,7 +67,7 @@ BENCH_SRC  := $(wildcard test/bench_*.c)
 BENCH_BIN  := $(patsubst test/%.c,$(BIN)/%,$(BENCH_SRC))
 TYPES_JAR  := build/lib/tandem_types.jar
 
-.PHONY: all run test unit integration bench spy clean deps deps-bench deps-cross jar
+.PHONY: all run test unit integration bench spy clean deps deps-bench deps-cross jar fuzz
 all: $(PROGS) $(UNIT_BIN) $(IT_BIN) $(TYPES_JAR)
 
 # make cross, make test-cross, make budget: the core on a 68040 and a Cortex-M4
@@ -82,15 +82,16 @@ deps-cross:
 	@tools/deps.sh cross
 
 # ---- messages --------------------------------------------------------------
-$(GEN_STAMP): $(LCM_FILES)
+$(GEN_STAMP): $(LCM_FILES) lcmtypes/capacities tools/wire/lcm-wire-gen.awk
 	@mkdir -p $(GEN)/c $(GEN)/java
 	@lcm-gen -c --c-cpath $(GEN)/c --c-hpath $(GEN)/c $(LCM_FILES)
+	@awk -v OUT=$(GEN)/c -f tools/wire/lcm-wire-gen.awk lcmtypes/capacities $(LCM_FILES)
 	@lcm-gen -j --jpath $(GEN)/java $(LCM_FILES)
 	@touch $@
 $(LIB)/libtandem_lcm.a: $(GEN_STAMP)
 	@mkdir -p $(OBJ)/gen $(LIB)
 	@for f in $(GEN)/c/*.c; do \
-	  $(CC) -std=c99 $(OPT) $(PKG_CFLAGS) -I$(GEN)/c -c $$f -o $(OBJ)/gen/$$(basename $$f .c).o || exit 1; done
+	  $(CC) -std=c99 $(OPT) $(PKG_CFLAGS) -I$(GEN)/c -Idaemons/common -c $$f -o $(OBJ)/gen/$$(basename $$f .c).o || exit 1; done
 	@rm -f $@ && ar rcs $@ $(OBJ)/gen/*.o
 $(TYPES_JAR): $(GEN_STAMP)
 	@mkdir -p build/lib build/javaclasses
@@ -204,6 +205,13 @@ $(BIN)/bench_tdsd_kdl: test/bench_tdsd_kdl.cpp $(CORE_LIB)
 bench: deps deps-bench
 	@$(MAKE) --no-print-directory all $(BENCH_BIN) $(BIN)/bench_kdl $(BIN)/bench_tdsd_kdl
 	@tools/bench.sh $(BIN)
+
+# libFuzzer (clang): every message type's wire check + decoder + validators
+# for FUZZ_SECONDS each (tools/fuzz.sh); fails on any crash, leak or report
+FUZZ_SECONDS ?= 10
+fuzz: $(GEN_STAMP)
+	@command -v clang >/dev/null || tools/deps.sh fuzz
+	@tools/fuzz.sh $(FUZZ_SECONDS)
 
 spy: $(TYPES_JAR)
 	@tools/spy.sh $(TYPES_JAR)

@@ -5,6 +5,7 @@
 #   tools/deps.sh bench   also the benchmark-only tools
 #   tools/deps.sh cross   the 68040 and Cortex-M4 toolchains and qemu (make cross,
 #                         test-cross, budget; make test installs them too)
+#   tools/deps.sh fuzz    clang (libFuzzer) for make fuzz
 set -euo pipefail
 pkgs=(build-essential pkg-config libode-dev liblcm-dev liblcm-bin liblcm-java
       libccd-dev libcmocka-dev libglib2.0-dev default-jdk-headless gnuplot-nox)
@@ -13,6 +14,9 @@ if [ "${1:-run}" = bench ]; then
 elif [ "${1:-run}" = cross ]; then
     pkgs=(gcc-m68k-linux-gnu libc6-dev-m68k-cross gcc-arm-none-eabi libnewlib-arm-none-eabi
           qemu-user-static binutils)
+fi
+if [ "${1:-run}" = fuzz ]; then
+    pkgs=(clang)
 fi
 missing=()
 for p in "${pkgs[@]}"; do
