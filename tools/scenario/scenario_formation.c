@@ -84,6 +84,8 @@ typedef struct {
     FILE  *truth_csv, *err_csv, *w_csv, *snap_csv;
     double last_snap_t;
     int64_t last_truth_step;
+    char   failed[256];          /* failed success criteria (formation_criteria) */
+    int    n_failed;
 } fm_t;
 
 static fm_t F;
@@ -520,6 +522,31 @@ static void write_plots(void)
     scenario_gnuplot(F.out, "plots.gp");
 }
 
+/* The run's success criteria (the seed-003 must-show figures): the team
+ * reached the goal without a collision, each robot's own pose estimate
+ * within 0.25 m of the truth, >= 2 formation changes in the corridor and
+ * >= 1 dead-zone escape in the dead zone. Appends the failed ones to buf;
+ * returns how many failed. */
+static int formation_criteria(char *buf, size_t cap)
+{
+    struct { int failed; const char *what; } k[] = {
+        { !F.reached, "reached_goal" },
+        { F.collisions != 0, "collisions" },
+        { F.loc_n && !(F.loc_max <= 0.25), "loc_err_max_m" },
+        { F.world == ROVER_WORLD_CORRIDOR && F.formation_changes < 2, "formation_changes" },
+        { F.world == ROVER_WORLD_DEADZONE && F.escapes < 1, "dead_zone_escapes" },
+    };
+    size_t i, n = 0;
+    int failed = 0;
+    buf[0] = '\0';
+    for (i = 0; i < sizeof k / sizeof k[0]; i++)
+        if (k[i].failed) {
+            n += (size_t)snprintf(buf + n, n < cap ? cap - n : 0, "%s%s", failed ? " " : "", k[i].what);
+            failed++;
+        }
+    return failed;
+}
+
 static void write_summary(double wall_s)
 {
     json_out j;
@@ -553,6 +580,8 @@ static void write_summary(double wall_s)
     json_num(&j, "loc_err_max_m", F.loc_n ? F.loc_max : NAN);
     json_num(&j, "sim_time_s", F.sim_time);
     json_num(&j, "wall_time_s", wall_s);
+    json_str(&j, "exit_reason", F.reached ? "completed" : "goal_not_reached");
+    json_str(&j, "failed_criteria", F.failed);
     json_close(&j);
 }
 
@@ -670,6 +699,7 @@ static int run(int argc, char **argv)
     if (F.w_csv) fclose(F.w_csv);
     if (F.snap_csv) fclose(F.snap_csv);
     F.truth_csv = F.err_csv = F.w_csv = F.snap_csv = NULL;
+    F.n_failed = formation_criteria(F.failed, sizeof F.failed);
     write_summary(scenario_wall_s() - wall0);
     write_plots();
     tandem_sim_clock_t_unsubscribe(F.lcm, F.sub_clock);
@@ -687,6 +717,11 @@ static int run(int argc, char **argv)
            F.samples ? sqrt(F.sum_sq_err / F.samples) : NAN, F.max_err, F.min_clear,
            F.collisions, F.formation_changes, F.escapes, F.loc_n ? F.loc_max : NAN, F.sim_time,
            scenario_wall_s() - wall0);
+    if (F.n_failed) {
+        printf("formation: FAILED %d criteria: %s\n", F.n_failed, F.failed);
+        return 3;
+    }
+    printf("formation: all criteria met\n");
     return 0;
 }
 
