@@ -31,6 +31,7 @@
 #define JOINT_DONE_TOL_RAD 0.005
 #define JOINT_DONE_SPEED_RADPS 0.02
 #define FAULT_CLEAR_S 0.5
+#define SERVO_SPEED_SHARE 0.9
 
 typedef struct arm_ctl {
     int    arm;                       /* 1 or 2 */
@@ -554,6 +555,18 @@ static void send_command(daemon *d, int mode, const double tau[ARM_NJ])
     C.gripper = TANDEM_ARM_COMMAND_T_GRIP_KEEP;
 }
 
+/* The joint servo's velocity command is held to SERVO_SPEED_SHARE of the
+ * motor limits: the drives stop at the limit, and a servo asking for all
+ * of it has no headroom left to catch up with a lagging reference. */
+static void servo_vlimit(double q_d[ARM_NJ], double qd_d[ARM_NJ], double qdd_d[ARM_NJ])
+{
+    double lim[ARM_NJ];
+    int i;
+    for (i = 0; i < ARM_NJ; i++)
+        lim[i] = SERVO_SPEED_SHARE * C.model->qd_max_radps[i];
+    tdsd_servo_vlimit(&C.gains, lim, C.st.q_rad, q_d, qd_d, qdd_d);
+}
+
 /* Joint range and speed watchdog; 1 while the arm holds on its brakes. */
 static int joint_fault(daemon *d)
 {
@@ -619,7 +632,7 @@ static void cycle(daemon *d, void *user)
         memcpy(q_d, JR.ref.q_rad, sizeof q_d);
         memcpy(qd_d, JR.ref.qd_radps, sizeof qd_d);
         memcpy(qdd_d, JR.ref.qdd_radps2, sizeof qdd_d);
-        tdsd_servo_vlimit(&C.gains, C.model->qd_max_radps, C.st.q_rad, q_d, qd_d, qdd_d);
+        servo_vlimit(q_d, qd_d, qdd_d);
     }
     if (C.st.holding_workpiece >= 0) {
         const double com[3] = { 0.0, 0.0, 0.10 };

@@ -40,8 +40,10 @@
  * rotational stops act inside (-pi, pi) of the motor's angle); a joint
  * cannot cover the rest in one 1 ms step. */
 #define STOP_WINDOW_RAD 3.0
-/* A joint above this share of its speed limit is braked back to it. */
-#define DRIVE_SPEED_GUARD 0.95
+/* A joint above this share of its speed limit (driven there by outside
+ * forces) is braked back to it: the joint watchdogs' limit (1.0) is not
+ * reached by the drive's own overshoot of one step. */
+#define DRIVE_SPEED_GUARD 0.98
 
 sim_arm sim_arm_pair[SIM_ARMS];
 static const char *const state_channel[SIM_ARMS] = { "ARM1_STATE", "ARM2_STATE" };

@@ -103,7 +103,12 @@ int tdsdrun_step(const tdsdrun_cfg *c, const tdsdrun_path *p, tdsdrun_state *st,
     if (c->criterion_mask)
         tdsd_midrange_grad(in.grad_V, NULL, q_rad, c->model->q_min_rad, c->model->q_max_rad,
                            c->criterion_mask);
-    memcpy(in.dq_max_radps, c->model->qd_max_radps, sizeof in.dq_max_radps);
+    {
+        const double frac = c->speed_frac > 0.0 ? c->speed_frac : 1.0;
+        int i;
+        for (i = 0; i < ARM_NJ; i++)
+            in.dq_max_radps[i] = frac * c->model->qd_max_radps[i];
+    }
     /* re-accelerate smoothly after a slow-down (tdsd.h, rate_cap) */
     in.rate_cap = st->lambda + c->dt_s / c->T_recover_s;
     if (in.rate_cap > 1.0)

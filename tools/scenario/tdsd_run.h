@@ -48,6 +48,8 @@ typedef struct tdsdrun_cfg {
     double settle_s;             /* run on this long after the path's end */
     double region_m;             /* "singular region": wrist centre closer than
                                     this to the joint-1 axis (metrics only) */
+    double speed_frac;           /* joint speeds planned up to this share of
+                                    qd_max (0 = 1.0); the metrics use qd_max */
 } tdsdrun_cfg;
 
 typedef struct tdsdrun_state {

@@ -124,6 +124,10 @@ int tdsd_scen_run(tdsd_scen *s)
     tdsdrun_metrics_init(&s->m, s->cfg.region_m);
     if (s->plant_ode) {
         tdsd_ode_opts o;
+        /* the simulated drives stop at qd_max: a plan at the limit leaves
+         * the joint servo nothing to catch up with (tandem-arm's TDSD
+         * segments plan at 0.9 too) */
+        s->cfg.speed_frac = TDSD_ODE_SPEED_FRAC;
         o.out_dir = s->out;
         o.servo_hz = s->servo_hz;
         o.settle_s = 0.3;
