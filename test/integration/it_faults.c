@@ -191,12 +191,15 @@ static void test_no_message_latches(void **state)
     pid_t ps;
     int i;
     long long rej0[2];
+    tandem_arm_state_t_subscription_t *sub_state;
+    tandem_sim_status_t_subscription_t *sub_status;
+    tandem_health_t_subscription_t *sub_health;
     (void)state;
     memset(&W, 0, sizeof W);
     assert_int_equal(harness_open(&h, 5), 0);
-    tandem_arm_state_t_subscribe(h.lcm, "ARM[12]_STATE", on_state, NULL);
-    tandem_sim_status_t_subscribe(h.lcm, "SIM_STATUS", on_status, NULL);
-    tandem_health_t_subscribe(h.lcm, "HEALTH_TANDEM_ARM_[12]", on_health, NULL);
+    sub_state = tandem_arm_state_t_subscribe(h.lcm, "ARM[12]_STATE", on_state, NULL);
+    sub_status = tandem_sim_status_t_subscribe(h.lcm, "SIM_STATUS", on_status, NULL);
+    sub_health = tandem_health_t_subscribe(h.lcm, "HEALTH_TANDEM_ARM_[12]", on_health, NULL);
     lcm_subscribe(h.lcm, "ARM_EVENTS", on_event, NULL);
     ps = harness_spawn(&h, sim);
     assert_true(harness_spawn(&h, arm1) > 0);
@@ -234,6 +237,11 @@ static void test_no_message_latches(void **state)
     assert_true(W.health_after[0] >= 1);
     assert_int_equal(W.safe_hold_after[0], 0);
     assert_true(W.arm1_state_channel);
+    /* the typed subscriptions own their handles: give them back (the
+     * sanitizer build's leak check) */
+    tandem_arm_state_t_unsubscribe(h.lcm, sub_state);
+    tandem_sim_status_t_unsubscribe(h.lcm, sub_status);
+    tandem_health_t_unsubscribe(h.lcm, sub_health);
     harness_close(&h);
 }
 
