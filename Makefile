@@ -5,6 +5,8 @@
 #                   also rebuilt and rerun with -fsanitize=address,undefined
 #   make bench      benchmarks (figures printed, nothing asserted)
 #   make spy        lcm-spy with every tandem channel decoded
+#   make view       live 3D viewer in the browser (also: make run VIEW=1)
+#   make help       every target and variable
 #   make clean
 # SAN=1 builds into build/san with the sanitizers on.
 
@@ -173,9 +175,9 @@ test: deps
 	@$(MAKE) --no-print-directory unit integration
 	@$(MAKE) --no-print-directory SAN=1 unit integration
 
-run: deps
+run: deps $(if $(VIEW),viewer)
 	@$(MAKE) --no-print-directory all
-	@tools/tandem-run $(if $(DURATION),--duration $(DURATION)) $(RUN_ARGS)
+	@tools/tandem-run $(if $(DURATION),--duration $(DURATION)) $(if $(VIEW),--view) $(RUN_ARGS)
 
 $(BIN)/bench_kdl: test/bench_kdl.cpp $(CORE_LIB)
 	@mkdir -p $(@D)
@@ -196,6 +198,8 @@ spy: $(TYPES_JAR)
 
 clean:
 	rm -rf build
+
+include tools/extra.mk
 
 -include $(shell find build -name '*.d' 2>/dev/null)
 .SECONDARY:

@@ -3,12 +3,18 @@
 # prints the exact command and stops). A no-op when everything is present.
 #   tools/deps.sh run     build, run and test
 #   tools/deps.sh bench   also the benchmark-only tools
+#   tools/deps.sh view    the viewer's Python venv; view-test: also Chromium
+#   tools/deps.sh install man pages (help2man)
 set -euo pipefail
 pkgs=(build-essential pkg-config libode-dev liblcm-dev liblcm-bin liblcm-java
-      libccd-dev libcmocka-dev libglib2.0-dev default-jdk-headless gnuplot-nox)
-if [ "${1:-run}" = bench ]; then
-    pkgs=(rt-tests valgrind liborocos-kdl-dev g++)
-fi
+      libccd-dev libcmocka-dev libglib2.0-dev default-jdk-headless gnuplot-nox
+      libjchart2d-java)
+case ${1:-run} in
+    bench) pkgs=(rt-tests valgrind liborocos-kdl-dev g++) ;;
+    view) pkgs=(python3-venv) ;;
+    view-test) pkgs=(python3-venv chromium fonts-dejavu-core iproute2) ;;
+    install) pkgs=(help2man man-db) ;;
+esac
 missing=()
 for p in "${pkgs[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <lcm/lcm.h>
 #include "rtloop.h"
+#include "version.h"
 
 #define DAEMON_DEFAULT_LCM_URL "udpm://239.255.76.67:7667?ttl=0"
 #define DAEMON_SIM_DT_S 0.001          /* the simulator's fixed step */
@@ -20,13 +21,14 @@
 #define DAEMON_QUEUE_CAPACITY 100000   /* messages per subscription */
 
 /* Long options every daemon accepts; splice into a getopt_long table. */
-enum { OPT_LCM_URL = 1000, OPT_RT, OPT_LOCKSTEP, OPT_PERIOD_MS, OPT_HELP };
+enum { OPT_LCM_URL = 1000, OPT_RT, OPT_LOCKSTEP, OPT_PERIOD_MS, OPT_HELP, OPT_VERSION };
 #define DAEMON_COMMON_OPTIONS \
     { "lcm-url",   required_argument, 0, OPT_LCM_URL }, \
     { "rt",        required_argument, 0, OPT_RT }, \
     { "lockstep",  no_argument,       0, OPT_LOCKSTEP }, \
     { "period-ms", required_argument, 0, OPT_PERIOD_MS }, \
-    { "help",      no_argument,       0, OPT_HELP }
+    { "help",      no_argument,       0, OPT_HELP }, \
+    { "version",   no_argument,       0, OPT_VERSION }
 #define DAEMON_COMMON_HELP \
     "  --lcm-url URL     LCM provider (default " DAEMON_DEFAULT_LCM_URL ",\n" \
     "                    or $LCM_DEFAULT_URL when set)\n" \
@@ -35,7 +37,8 @@ enum { OPT_LCM_URL = 1000, OPT_RT, OPT_LOCKSTEP, OPT_PERIOD_MS, OPT_HELP };
     "  --lockstep        follow the simulator's clock (deterministic) instead of\n" \
     "                    the wall clock\n" \
     "  --period-ms MS    control period\n" \
-    "  --help            this text\n"
+    "  --help            this text\n" \
+    "  --version         program version (git describe at build time)\n"
 
 typedef struct daemon_counters {
     int64_t received;
@@ -74,7 +77,8 @@ typedef void (*daemon_cycle_fn)(daemon *d, void *user);
 
 void daemon_defaults(daemon *d, const char *name, double period_s);
 /* Handles a common option; returns 1 handled, 0 not common, -1 bad value
- * (message already printed), 2 for --help (caller prints usage, exits 0). */
+ * (message already printed), 2 for --help (caller prints usage, exits 0).
+ * --version prints the version and exits 0 here. */
 int  daemon_parse_common(daemon *d, int opt, const char *arg);
 /* Opens LCM, installs SIGINT/SIGTERM handlers, applies --rt. 0 on success. */
 int  daemon_start(daemon *d);
