@@ -63,15 +63,15 @@ class TeamDrawer:
             quats.append(rot_z_quat(th))
             colors.append(robot_color(r))
             origins.append([x, y, 0.3])
-            vecs.append([0.6 * c, 0.6 * s, 0.0])
+            vecs.append([0.8 * c, 0.8 * s, 0.0])
             labels.append(f"R{r}")
         half = [b["body_length_m"] / 2, b["body_width_m"] / 2, 0.12]
         rr.log("team/robots/body", rr.Boxes3D(centers=centres, half_sizes=[half] * len(centres),
                                               quaternions=quats or None, colors=colors, labels=labels,
                                               fill_mode="solid"))
         rr.log("team/robots/heading", rr.Arrows3D(origins=origins or np.zeros((0, 3)), vectors=vecs or np.zeros((0, 3)),
-                                                  colors=colors, radii=[0.03]))
-        rr.log("team/robots/beacon", rr.Points3D([[o[0], o[1], 0.35] for o in origins], radii=[0.07],
+                                                  colors=colors, radii=[0.05]))
+        rr.log("team/robots/beacon", rr.Points3D([[o[0], o[1], 0.35] for o in origins], radii=[0.12],
                                                  colors=colors))
         self._slots()
 
@@ -99,7 +99,7 @@ class TeamDrawer:
             arc = [[px + r * math.cos(a), py + r * math.sin(a), 0.2]
                    for a in np.linspace(a0 - half, a0 + half, CONE_STEPS)]
             cones.append([[px, py, 0.2]] + arc + [[px, py, 0.2]])
-            colors.append(base if echo else tuple(v // 3 + 150 for v in base))
+            colors.append(base if echo else tuple(v // 2 + 110 for v in base))
             if echo:
                 echoes.append([px + r * math.cos(a0), py + r * math.sin(a0), 0.2])
         ent = f"team/robots/R{scan.robot}"

@@ -10,16 +10,16 @@ import rerun.blueprint as rrb
 
 
 def blueprint(scene):
-    w = scene["rover_world"]
-    x0, y0, x1, y1 = w["extent_m"]
-    cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
-    span = max(x1 - x0, y1 - y0, 4.0)
+    # the team starts around its team-frame origin and drives toward the
+    # goal along +x: look a few metres ahead of the start, from behind
+    ox, oy = scene["rover_world"]["team_origin"][:2]
+    look = [ox + 3.0, oy, 0.0]
     cell = rrb.Spatial3DView(origin="/cell", name="work cell (PUMA 560 pair)",
-                             eye_controls=rrb.EyeControls3D(position=[0.0, -2.6, 1.9], look_target=[0.0, 0.3, 0.5],
+                             eye_controls=rrb.EyeControls3D(position=[0.0, -1.75, 1.35], look_target=[0.0, 0.35, 0.45],
                                                             eye_up=[0, 0, 1]))
     team = rrb.Spatial3DView(origin="/team", name="rover team",
-                             eye_controls=rrb.EyeControls3D(position=[cx - 0.15 * span, cy - 0.55 * span, 0.75 * span],
-                                                            look_target=[cx, cy, 0.0], eye_up=[0, 0, 1]))
+                             eye_controls=rrb.EyeControls3D(position=[look[0] - 4.0, look[1] - 6.0, 7.0],
+                                                            look_target=look, eye_up=[0, 0, 1]))
     plots = rrb.Horizontal(
         rrb.TimeSeriesView(origin="/plots/s", name="s(t) per arm [m]"),
         rrb.TimeSeriesView(origin="/plots/formation_error", name="formation error [m]"),
