@@ -68,12 +68,9 @@ class EventLog:
         self.marking = key
         at_step(m.step)
         n = m.n_places
-        pos = [[1.0 * i, 0.0] for i in range(n)]
-        rr.log("petri/places", rr.Points2D(pos, radii=[0.42] * n, colors=[(230, 230, 230)] * n,
-                                           labels=[f"p{i + 1}" for i in range(n)], draw_order=[1.0] * n))
-        tokens = [pos[i] for i in range(n) if m.marking[i]]
-        rr.log("petri/tokens", rr.Points2D(tokens or np.zeros((0, 2)), radii=[0.25], colors=[(20, 20, 20)],
-                                           draw_order=[2.0] * len(tokens)))
+        rr.log("petri/places", rr.Points2D([[1.0 * i, 0.0] for i in range(n)], radii=[0.42] * n,
+                                           colors=[(20, 20, 20) if m.marking[i] else (225, 225, 225) for i in range(n)],
+                                           labels=[f"p{i + 1}" for i in range(n)]))
         run = [[1.0 * j, 1.2] for j in range(m.n_transitions) if m.running[j]]
         rr.log("petri/running", rr.Points2D(run or np.zeros((0, 2)), radii=[0.3], colors=[(255, 140, 0)],
                                             labels=[f"t{j + 1}" for j in range(m.n_transitions) if m.running[j]]))
