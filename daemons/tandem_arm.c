@@ -29,6 +29,7 @@
 #define ROW_MAX_SEGMENTS 8
 #define JOINT_DONE_TOL_RAD 0.005
 #define JOINT_DONE_SPEED_RADPS 0.02
+#define FAULT_CLEAR_S 0.5
 
 typedef struct arm_ctl {
     int    arm;                       /* 1 or 2 */
@@ -50,6 +51,9 @@ typedef struct arm_ctl {
     jtraj  traj;
     double seg_t0_s;
     int    gripper;                   /* command to send this cycle */
+    int    block_detect;              /* 0: eq. 6-7 alone, no blocked detector */
+    int    fault;                     /* in a joint fault (braking) */
+    double fault_clear_s;             /* healthy time since the fault's last sign */
     int64_t cmd_seq, ev_seq;
     char   state_ch[16], cmd_ch[16], action_ch[16];
 } arm_ctl;
@@ -76,6 +80,8 @@ static void usage(void)
            "  --stale-ms MS     state older than this engages the brakes (default 20)\n"
            "  --speed-frac F    joint moves use this fraction of the motor speed (default 0.5)\n"
            "  --arm-model NAME  puma560 (default) or seed002 (must match tandem-sim's)\n"
+           "  --block-detect on|off  off: the event-referenced law (eq. 6-7) alone, no\n"
+           "                    blocked detector and no BLOCKED events (default on)\n"
            DAEMON_COMMON_HELP);
 }
 
@@ -354,6 +360,7 @@ static void cart_start(daemon *d, const tandem_action_segment_t *g)
         cart_publish_event(d, TANDEM_ACTION_EVENT_T_REJECTED, "bad segment");
         return;
     }
+    CX.seg.block_detect = C.block_detect;
     CX.start_step = C.st.step;
     CX.cycles = 0;
     CX.s_m = 0.0;
@@ -544,6 +551,35 @@ static void send_command(daemon *d, int mode, const double tau[ARM_NJ])
     C.gripper = TANDEM_ARM_COMMAND_T_GRIP_KEEP;
 }
 
+/* Joint range and speed watchdog; 1 while the arm holds on its brakes. */
+static int joint_fault(daemon *d)
+{
+    const unsigned bits = arm_joint_faults(C.model, C.st.q_rad, C.st.qd_radps);
+    if (bits) {
+        char detail[64];
+        C.fault_clear_s = 0.0;
+        if (!C.fault) {
+            snprintf(detail, sizeof detail, "range 0x%02x speed 0x%02x", ARM_FAULT_RANGE(bits), ARM_FAULT_SPEED(bits));
+            publish_event(d, TANDEM_ACTION_EVENT_T_FAULT, detail);
+            fprintf(stderr, "%s: FAULT %s: safe hold on the brakes\n", d->name, detail);
+        }
+        C.fault = 1;
+    } else if (C.fault) {
+        C.fault_clear_s += d->period_s;
+        if (C.fault_clear_s >= FAULT_CLEAR_S) {
+            C.fault = 0;
+            publish_event(d, TANDEM_ACTION_EVENT_T_FAULT_CLEARED, "");
+            fprintf(stderr, "%s: fault cleared\n", d->name);
+        }
+    }
+    if (!C.fault)
+        return 0;
+    d->safe_hold = 1;
+    snprintf(d->status, sizeof d->status, "safe hold: joint FAULT");
+    send_command(d, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
+    return 1;
+}
+
 static void cycle(daemon *d, void *user)
 {
     double q_d[ARM_NJ], qd_d[ARM_NJ] = { 0 }, qdd_d[ARM_NJ] = { 0 }, tau[ARM_NJ];
@@ -562,7 +598,7 @@ static void cycle(daemon *d, void *user)
         return;
     }
     d->safe_hold = 0;
-    if (tdsd_cycle(d) || cart_cycle(d))
+    if (joint_fault(d) || tdsd_cycle(d) || cart_cycle(d))
         return;
     memcpy(q_d, C.hold_q, sizeof q_d);
     if (C.running) {
@@ -601,6 +637,7 @@ int main(int argc, char **argv)
         { "stale-ms", required_argument, 0, 's' },
         { "speed-frac", required_argument, 0, 'f' },
         { "arm-model", required_argument, 0, 'm' },
+        { "block-detect", required_argument, 0, 'B' },
         DAEMON_COMMON_OPTIONS,
         { 0, 0, 0, 0 }
     };
@@ -611,6 +648,7 @@ int main(int argc, char **argv)
     char name[32];
     memset(&C, 0, sizeof C);
     C.speed_frac = 0.5;
+    C.block_detect = 1;
     daemon_defaults(&d, "tandem-arm", 0.001);
     while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
         rc = daemon_parse_common(&d, c, optarg);
@@ -627,6 +665,13 @@ int main(int argc, char **argv)
                 fprintf(stderr, "tandem-arm: --arm-model: '%s' is not puma560|seed002\n", optarg);
                 return 2;
             }
+            break;
+        case 'B':
+            if (strcmp(optarg, "on") && strcmp(optarg, "off")) {
+                fprintf(stderr, "tandem-arm: --block-detect: '%s' is not on|off\n", optarg);
+                return 2;
+            }
+            C.block_detect = !strcmp(optarg, "on");
             break;
         default: usage(); return 2;
         }

@@ -17,6 +17,12 @@
  * added). The marking goes out on PETRI_MARKING on every change and at
  * 10 Hz; every start and completion is logged on stdout.
  *
+ * Watchdogs: an arm's FAULT event (joint out of range or over speed; the
+ * arm holds on its brakes) is logged and shown in the marking message
+ * until FAULT_CLEARED. A stall -- work pending, nothing completed for
+ * --stall-s seconds while the stick is out (SIM_STATUS) -- is logged once,
+ * flagged in PETRI_MARKING and in the health status (stallwatch).
+ *
  * --serial is the no-overlap reference for the pipelining figure: a new
  * workpiece is taken only when the previous one is delivered and both arms
  * are home with nothing running.
@@ -29,10 +35,12 @@
 #include "carry_net.h"
 #include "cell.h"
 #include "petri.h"
+#include "stallwatch.h"
 #include "vec3.h"
 #include "tandem_action_event_t.h"
 #include "tandem_action_row_t.h"
 #include "tandem_petri_marking_t.h"
+#include "tandem_sim_status_t.h"
 #include "tandem_workpiece_detections_t.h"
 
 #define PICK_ACCEPT_RADIUS_M 0.15
@@ -72,6 +80,12 @@ typedef struct supervisor {
     int32_t deadlocks, replans, detections, blockages;
     int     was_dead;
     int     last_fired;
+    /* watchdogs */
+    stallwatch stall;
+    int     completed;              /* a transition completed this cycle */
+    int     stick_in;               /* SIM_STATUS: an obstruction is in the cell */
+    int     arms_faulted;           /* bit a: arm a+1 in FAULT */
+    int32_t faults;
 } supervisor;
 
 static supervisor S;
@@ -88,6 +102,8 @@ static void usage(void)
            "                    delivered and both arms are home (no pipelining)\n"
            "  --tdsd            rows set use_tdsd: the arms resolve unsynchronised\n"
            "                    Cartesian moves by TDSD (passes near singular poses)\n"
+           "  --stall-s S       a stall: work pending and no transition completed for\n"
+           "                    S s of simulated time while the stick is out (default 30)\n"
            DAEMON_COMMON_HELP);
 }
 
@@ -243,6 +259,7 @@ static void complete_transition(daemon *d, int t)
     if (petri_complete(&S.net, t) != 0)
         return;
     S.changed = 1;
+    S.completed = 1;
     S.last_fired = t + 1;
     log_fire(d, t, "complete");
 }
@@ -282,6 +299,15 @@ static void handle_event(daemon *d, const tandem_action_event_t *e)
     }
     if (e->event == TANDEM_ACTION_EVENT_T_UNBLOCKED) {
         printf("[%9.3f] arm %d unblocked in t%d\n", d->sim_time_s, a + 1, e->transition);
+        return;
+    }
+    if (e->event == TANDEM_ACTION_EVENT_T_FAULT || e->event == TANDEM_ACTION_EVENT_T_FAULT_CLEARED) {
+        const int on = e->event == TANDEM_ACTION_EVENT_T_FAULT;
+        S.faults += on;
+        S.arms_faulted = on ? (S.arms_faulted | 1 << a) : (S.arms_faulted & ~(1 << a));
+        S.changed = 1;
+        printf("[%9.3f] arm %d %s in t%d\n", d->sim_time_s, a + 1, on ? "FAULT (safe hold)" : "fault cleared",
+               e->transition);
         return;
     }
     if (t == CARRY_T_VISION)
@@ -391,7 +417,46 @@ static void publish_marking(daemon *d)
     m.detections = S.detections;
     m.blockages = S.blockages;
     m.workpiece_id = S.wp_id;
+    m.stalled = (int8_t)S.stall.stalled;
+    m.since_progress_s = S.stall.idle_s;
+    m.stall_limit_s = S.stall.limit_s;
+    m.stalls = S.stall.stalls;
+    m.arms_faulted = (int8_t)S.arms_faulted;
+    m.faults = S.faults;
     tandem_petri_marking_t_publish(d->lcm, "PETRI_MARKING", &m);
+}
+
+/* ---- watchdogs ---------------------------------------------------------------- */
+
+static void on_sim_status(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    daemon *d = u;
+    tandem_sim_status_t m;
+    (void)ch;
+    if (!DAEMON_DECODE(&d->msgs, tandem_sim_status_t, rb, &m))
+        return;
+    S.stick_in = m.stick_inserted != 0;
+    tandem_sim_status_t_decode_cleanup(&m);
+}
+
+/* Work is pending while a transition runs or one of t1..t7 may start. */
+static int work_pending(void)
+{
+    int t;
+    for (t = 0; t < CARRY_T_VISION; t++)
+        if (petri_running(&S.net, t) || (petri_enabled(&S.net, t) && (t != CARRY_T1 || S.p1_bound)))
+            return 1;
+    return 0;
+}
+
+static void watch_stall(daemon *d)
+{
+    if (stallwatch_update(&S.stall, d->sim_time_s, S.completed, work_pending(), S.stick_in) == 1) {
+        S.changed = 1;
+        printf("[%9.3f] STALLED: work pending, no transition completed for %.1f s with the stick out\n",
+               d->sim_time_s, S.stall.limit_s);
+    }
+    S.completed = 0;
 }
 
 /* ---- the cycle ------------------------------------------------------------ */
@@ -422,11 +487,13 @@ static void cycle(daemon *d, void *user)
         printf("[%9.3f] DEAD marking reached\n", d->sim_time_s);
     }
     S.was_dead = dead;
+    watch_stall(d);
     if (S.changed || S.cycles % (per_10hz > 0 ? per_10hz : 1) == 0)
         publish_marking(d);
     S.changed = 0;
     S.cycles++;
-    snprintf(d->status, sizeof d->status, "fired %ld, workpiece %d", S.net.fired_count, (int)S.wp_id);
+    snprintf(d->status, sizeof d->status, "%sfired %ld, workpiece %d%s", S.stall.stalled ? "STALLED: " : "",
+             S.net.fired_count, (int)S.wp_id, S.arms_faulted ? ", arm FAULT" : "");
 }
 
 int main(int argc, char **argv)
@@ -435,11 +502,13 @@ int main(int argc, char **argv)
         { "controller", required_argument, 0, 'c' },
         { "serial", no_argument, 0, 'S' },
         { "tdsd", no_argument, 0, 'T' },
+        { "stall-s", required_argument, 0, 'L' },
         DAEMON_COMMON_OPTIONS,
         { 0, 0, 0, 0 }
     };
     daemon d;
     int c, rc;
+    double stall_s = 30.0;
     memset(&S, 0, sizeof S);
     S.next_action_id = 1;
     S.controller = TANDEM_ACTION_ROW_T_CONTROLLER_EVENT;
@@ -460,6 +529,7 @@ int main(int argc, char **argv)
             break;
         case 'S': S.serial = 1; break;
         case 'T': S.use_tdsd = 1; break;
+        case 'L': if (parse_double_opt("tandem-supervisor", "--stall-s", optarg, 0.1, 1e6, &stall_s) < 0) return 2; break;
         default: usage(); return 2;
         }
     }
@@ -469,13 +539,14 @@ int main(int argc, char **argv)
     }
     if (check_net() != 0)
         return 1;
-    if (petri_init(&S.net, &carry_net) != 0)
+    if (petri_init(&S.net, &carry_net) != 0 || stallwatch_init(&S.stall, stall_s) != 0)
         return 1;
     fflush(stdout);
     if (daemon_start(&d) != 0)
         return 1;
     daemon_subscribe(&d, "ARM_EVENTS", on_event, &d);
     daemon_subscribe(&d, "VISION_DETECTIONS", on_vision, &d);
+    daemon_subscribe(&d, "SIM_STATUS", on_sim_status, &d);
     S.changed = 1;
     rc = daemon_run(&d, cycle, NULL);
     daemon_finish(&d);

@@ -56,6 +56,16 @@ int arm_q_finite(const double q[ARM_NJ]);
 /* Bit i set if q_i is outside [q_min_i, q_max_i]; 0 = all inside. */
 unsigned arm_q_outside_limits(const arm_model *m, const double q[ARM_NJ]);
 
+/* An arm is outside its range when a joint is past a range end by more
+ * than this (a joint resting on its mechanical stop is inside). */
+#define ARM_RANGE_TOL_RAD 0.0087   /* 0.5 deg */
+/* Joint faults of a measured state: bit i (0..5) joint i past its range by
+ * more than ARM_RANGE_TOL_RAD, bit 6 + i joint i faster than its speed
+ * limit; non-finite values count as both. 0 = healthy. */
+#define ARM_FAULT_RANGE(bits) ((bits) & 0x3fu)
+#define ARM_FAULT_SPEED(bits) (((bits) >> ARM_NJ) & 0x3fu)
+unsigned arm_joint_faults(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ]);
+
 /* Recompute cos_alpha/sin_alpha from alpha_rad (for models built or edited
  * at run time; the shipped tables already hold them). */
 void arm_model_refresh_alpha(arm_model *m);

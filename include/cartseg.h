@@ -49,6 +49,7 @@ typedef struct cartseg {
     double hold_off_m[3];      /* static cross-track error, 0.25-0.5 s old  */
     double err_filt_m[3], err_snap_m[3], t_snap_s;   /* its filter      */
     int    blocked;
+    int    block_detect;       /* 1 (cartseg_start's default): detector on; 0: eq. 6-7 alone */
 } cartseg;
 
 typedef struct cartseg_out {

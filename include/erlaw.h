@@ -25,8 +25,10 @@
  * block is detected, ERLAW_REF_BLOCKED drops the planned motion and keeps
  * the law's start-up form with the references frozen at the measured
  * pose X_h (set by erlaw_line_hold when the block is detected):
- *   u = p_bias(s) e - k_v V + k_p P (X_h - X),   P = I - e e^T,
- * so the only demand is the bias along the path (SPEC 2.2: no error
+ *   u = k0 e - k_v V + k_p P (X_h - X),   P = I - e e^T,
+ * so the only demand is the bias along the path (its full start-up value
+ * k0, not eq. 7's faded p_bias(s): released near the goal, the arm must
+ * still move on at k0 / k_v) (SPEC 2.2: no error
  * builds up). Across the path the pose where the block met the arm is
  * held, not the planned line: an obstacle that deflected the arm (a
  * pinned proximal link: the other joints carry the tool on, off the line)

@@ -21,6 +21,13 @@
 #define SIM_MAX_PARTICIPANTS 16
 #define SIM_MAX_BODIES      2048
 
+/* The stick is a hand-held rod with a force sensor, not a rigid wall: its
+ * contact is a spring-damper (a firm grip: 20 N per mm, damped near
+ * critically for the 2-10 kg a PUMA link presents at the contact). The
+ * figures are split over the contact points ODE generates for one pair. */
+#define SIM_STICK_STIFFNESS_NPM 2.0e4
+#define SIM_STICK_DAMPING_NSPM  600.0
+
 /* Collision categories (geom category bits) so models can filter pairs. */
 enum {
     SIM_CAT_GROUND    = 1u << 0,
@@ -64,6 +71,7 @@ typedef struct sim_world {
     int64_t       lockstep_timeouts;
     double        lockstep_timeout_s;
     int64_t       stale_commands;
+    int64_t       stick_refused;   /* insertions refused: no pose clear of the arms */
     int64_t       status_seq, clock_seq;
     dBodyID       bodies[SIM_MAX_BODIES];  /* every body, in creation order (hashing) */
     int           n_bodies;
@@ -76,6 +84,8 @@ dBodyID  sim_body_create(sim_world *w);
 void     sim_world_step(sim_world *w);
 /* Sum of contact-force magnitudes acting on body b during the last step. */
 double   sim_contact_force_on(const sim_world *w, dBodyID b);
+/* Soft ERP/CFM of a contact that acts as spring k (N/m) and damper c (N s/m). */
+void     sim_surface_spring(dSurfaceParameters *s, double k_Npm, double c_Nspm);
 /* Row-major 3x3 rotation -> ODE's 3x4 dMatrix3. */
 void     sim_ode_rotation(dMatrix3 out, const double R[9]);
 /* A rotation taking the z axis onto the unit vector axis (capsules and

@@ -6,9 +6,20 @@
  * DH z axes. Commands are held between messages (zero-order hold); a
  * command older than ARM_STALE_STEPS puts the joints on their brakes
  * (velocity motors at zero speed, limited to the motor torque) until fresh
- * commands arrive. Joint ranges that fit a hinge's (-pi, pi) stop window
- * are enforced by ODE stops; wider ranges (q4, q6) are left to the
- * controllers and to the scenarios' limit checks.
+ * commands arrive.
+ *
+ * The drives and the mechanics hold the arm's limits, as a real PUMA's do:
+ * - every joint's range is a hard stop (ODE hinge stops on a hinge whose
+ *   zero follows the joint, so ranges wider than ODE's (-pi, pi) window,
+ *   q4 and q6, are held too: joint_stops);
+ * - a drive gives at most its peak torque and never drives its joint past
+ *   its speed limit: the commanded torque acts through a velocity motor
+ *   whose target is the speed limit (ODE's velocity-limited torque), and
+ *   a joint pushed faster than the limit by outside forces is braked back
+ *   with the peak torque (drive_motor);
+ * - the stick is a compliant contact (a hand-held rod with a force sensor,
+ *   sim_world.c) and goes in clear of every link (stick_place_for_link).
+ * Contact forces go out raw (this 1 ms step) and as a 10 ms moving average.
  */
 #include "sim_arms.h"
 #include <math.h>
@@ -24,6 +35,14 @@
 
 #define ARM_STALE_STEPS 20          /* 20 ms: SPEC.md §7 bounded safe hold */
 #define ARM_TAU_REJECT_FACTOR 2.0   /* |tau| beyond 2x the motor limit = bad data */
+/* The hinge zero is moved to the joint's angle once the hinge angle passes
+ * this (ODE's angle wraps at +-pi, its stops only work inside it) ... */
+#define HINGE_RECENTRE_RAD 1.5707963267948966
+/* ... and a range end gets a stop once it lies inside this window: the
+ * joint cannot cover the 1.4 rad between the two in one 1 ms step. */
+#define HINGE_STOP_WINDOW_RAD 3.0
+/* A joint above this share of its speed limit is braked back to it. */
+#define DRIVE_SPEED_GUARD 0.95
 
 sim_arm sim_arm_pair[SIM_ARMS];
 static const char *const state_channel[SIM_ARMS] = { "ARM1_STATE", "ARM2_STATE" };
@@ -105,7 +124,6 @@ static void build_link(sim_world *w, sim_arm *a, int i, double Tl[ARM_NJ + 1][16
 
 static void build_joint(sim_world *w, sim_arm *a, int i, double Tl[ARM_NJ + 1][16])
 {
-    const arm_model *m = a->model;
     double T[16], anchor[3], axis[3];
     dJointID j = dJointCreateHinge(w->world, 0);
     world_from_link(a, Tl[i], T);
@@ -116,13 +134,6 @@ static void build_joint(sim_world *w, sim_arm *a, int i, double Tl[ARM_NJ + 1][1
     dJointAttach(j, a->link[i], i > 0 ? a->link[i - 1] : 0);
     dJointSetHingeAnchor(j, anchor[0], anchor[1], anchor[2]);
     dJointSetHingeAxis(j, axis[0], axis[1], axis[2]);
-    {
-        const double lo = m->q_min_rad[i] - a->q_init[i], hi = m->q_max_rad[i] - a->q_init[i];
-        if (lo > -3.14159 && hi < 3.14159) {
-            dJointSetHingeParam(j, dParamLoStop, lo);
-            dJointSetHingeParam(j, dParamHiStop, hi);
-        }
-    }
     a->joint[i] = j;
 }
 
@@ -152,6 +163,7 @@ static int home_q(const sim_arm *a, int idx, double q[ARM_NJ])
 }
 
 static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *user);
+static void joint_stops(sim_arm *a, int i);
 
 static int arms_create(sim_world *w, const sim_config *cfg)
 {
@@ -178,6 +190,9 @@ static int arms_create(sim_world *w, const sim_config *cfg)
         for (i = 0; i < ARM_NJ; i++)
             build_joint(w, a, i, Tl);
         memcpy(a->q, a->q_init, sizeof a->q);
+        memcpy(a->q_zero, a->q_init, sizeof a->q_zero);
+        for (i = 0; i < ARM_NJ; i++)
+            joint_stops(a, i);
         if (!subs[k])
             subs[k] = daemon_subscribe(&w->d, command_channel[k], on_command, a);
     }
@@ -238,27 +253,74 @@ static void read_joints(sim_arm *a)
 {
     int i;
     for (i = 0; i < ARM_NJ; i++) {
-        /* ODE hinge angles wrap at +-pi; q1, q4, q6 may travel further
-         * (e.g. q1 through the shoulder singularity): keep q continuous */
-        const double raw = a->q_init[i] + dJointGetHingeAngle(a->joint[i]);
+        /* the hinge angle is relative to q_zero and stays well inside
+         * +-pi (joint_recentre); the 2 pi unwrap is a guard only */
+        const double raw = a->q_zero[i] + dJointGetHingeAngle(a->joint[i]);
         a->q[i] = raw + 6.283185307179586 * floor((a->q[i] - raw) / 6.283185307179586 + 0.5);
         a->qd[i] = dJointGetHingeAngleRate(a->joint[i]);
     }
+}
+
+/* ---- limits held by the mechanics and the drives --------------------------- */
+
+/* Range stops of joint i relative to the hinge's zero; a range end outside
+ * the window gets none (yet). ODE keeps lo <= hi: open hi first. */
+static void joint_stops(sim_arm *a, int i)
+{
+    const double lo = a->model->q_min_rad[i] - a->q_zero[i];
+    const double hi = a->model->q_max_rad[i] - a->q_zero[i];
+    dJointSetHingeParam(a->joint[i], dParamHiStop, dInfinity);
+    dJointSetHingeParam(a->joint[i], dParamLoStop, lo > -HINGE_STOP_WINDOW_RAD ? lo : -dInfinity);
+    dJointSetHingeParam(a->joint[i], dParamHiStop, hi < HINGE_STOP_WINDOW_RAD ? hi : dInfinity);
+}
+
+/* Keeps the hinge angle near 0: past HINGE_RECENTRE_RAD its zero moves to
+ * the joint's present angle (ODE measures the angle from the bodies'
+ * relative rotation stored at that moment), and the stops follow. */
+static void joint_recentre(sim_arm *a, int i)
+{
+    dVector3 ax;
+    if (fabs(dJointGetHingeAngle(a->joint[i])) <= HINGE_RECENTRE_RAD)
+        return;
+    dJointGetHingeAxis(a->joint[i], ax);
+    dJointSetHingeAxisOffset(a->joint[i], ax[0], ax[1], ax[2], 0.0);
+    a->q_zero[i] = a->q[i];
+    joint_stops(a, i);
+}
+
+/* Joint i's drive for one step. Braking (or a joint above the guard speed,
+ * driven there by outside forces): a velocity motor towards 0 (or back to
+ * the guard speed) with the peak torque. Otherwise the commanded torque
+ * through a velocity motor whose target is the speed limit in the torque's
+ * direction: below the limit it is exactly the torque, at the limit only
+ * what holds the speed. Returns the torque the drive was asked for. */
+static double drive_motor(sim_arm *a, int i, int brake)
+{
+    const double lim = a->model->tau_max_Nm[i], vmax = a->model->qd_max_radps[i];
+    const double qd = a->qd[i];
+    double tau = brake ? 0.0 : a->tau_cmd[i], vel, fmax;
+    tau = tau > lim ? lim : (tau < -lim ? -lim : tau);
+    if (brake) {
+        vel = 0.0;
+        fmax = lim;
+    } else if (fabs(qd) > DRIVE_SPEED_GUARD * vmax) {
+        vel = (qd > 0.0 ? 1.0 : -1.0) * DRIVE_SPEED_GUARD * vmax;
+        fmax = lim;
+        tau = 0.0;
+        a->speed_brakes++;
+    } else {
+        vel = tau >= 0.0 ? vmax : -vmax;
+        fmax = fabs(tau);
+    }
+    dJointSetHingeParam(a->joint[i], dParamVel, vel);
+    dJointSetHingeParam(a->joint[i], dParamFMax, fmax);
+    return tau;
 }
 
 static double friction_Nm(double qd)
 {
     /* tanh smooths the Coulomb sign so the integrator does not chatter. */
     return -arms_cfg->arm_friction_viscous * qd - arms_cfg->arm_friction_coulomb * tanh(qd / 0.01);
-}
-
-static void set_brake(sim_arm *a, int on)
-{
-    int i;
-    for (i = 0; i < ARM_NJ; i++) {
-        dJointSetHingeParam(a->joint[i], dParamVel, 0.0);
-        dJointSetHingeParam(a->joint[i], dParamFMax, on ? a->model->tau_max_Nm[i] : 0.0);
-    }
 }
 
 static void arms_before_step(sim_world *w)
@@ -272,13 +334,12 @@ static void arms_before_step(sim_world *w)
             w->stale_commands++;
         a->stale = stale;
         read_joints(a);
-        set_brake(a, brake);
         for (i = 0; i < ARM_NJ; i++) {
-            double tau = brake ? 0.0 : a->tau_cmd[i];
-            const double lim = a->model->tau_max_Nm[i];
-            tau = tau > lim ? lim : (tau < -lim ? -lim : tau);
-            a->tau_applied[i] = tau;
-            dJointAddHingeTorque(a->joint[i], tau + friction_Nm(a->qd[i]));
+            joint_recentre(a, i);
+            if (a->q[i] <= a->model->q_min_rad[i] || a->q[i] >= a->model->q_max_rad[i])
+                a->limit_stops++;
+            a->tau_applied[i] = drive_motor(a, i, brake);
+            dJointAddHingeTorque(a->joint[i], friction_Nm(a->qd[i]));
         }
     }
 }
@@ -296,6 +357,25 @@ void sim_arm_tool(const sim_arm *a, double p_world[3], double R_world[9])
         tf_rot(R_world, Tw);
 }
 
+/* Per link: the contact force of this step, and its moving average over
+ * the last SIM_FORCE_AVG_STEPS steps (a force sensor's 10 ms filter). */
+static void contact_sense(const sim_world *w, sim_arm *a)
+{
+    const int slot = (int)(w->step % SIM_FORCE_AVG_STEPS);
+    int i, j;
+    a->max_contact_N = a->max_contact_avg_N = 0.0;
+    for (i = 0; i < ARM_NJ; i++) {
+        double sum = 0.0;
+        a->contact_N[i] = sim_contact_force_on(w, a->link[i]);
+        a->contact_hist_N[i][slot] = a->contact_N[i];
+        for (j = 0; j < SIM_FORCE_AVG_STEPS; j++)
+            sum += a->contact_hist_N[i][j];
+        a->contact_avg_N[i] = sum / SIM_FORCE_AVG_STEPS;
+        a->max_contact_N = fmax(a->max_contact_N, a->contact_N[i]);
+        a->max_contact_avg_N = fmax(a->max_contact_avg_N, a->contact_avg_N[i]);
+    }
+}
+
 static void publish_state(sim_world *w, int k)
 {
     sim_arm *a = &sim_arm_pair[k];
@@ -308,17 +388,16 @@ static void publish_state(sim_world *w, int k)
     s.step = w->step;
     s.sim_time_s = w->time_s;
     s.arm = (int8_t)(k + 1);
-    a->max_contact_N = 0.0;
+    contact_sense(w, a);
     for (i = 0; i < ARM_NJ; i++) {
         s.q_rad[i] = a->q[i];
         s.qd_radps[i] = a->qd[i];
         s.tau_applied_Nm[i] = a->tau_applied[i];
-        a->contact_N[i] = sim_contact_force_on(w, a->link[i]);
         s.contact_force_N[i] = a->contact_N[i];
-        if (a->contact_N[i] > a->max_contact_N)
-            a->max_contact_N = a->contact_N[i];
+        s.contact_force_10ms_N[i] = a->contact_avg_N[i];
     }
     s.max_contact_force_N = a->max_contact_N;
+    s.max_contact_force_10ms_N = a->max_contact_avg_N;
     sim_arm_tool(a, s.tool_position_m, NULL);
     s.gripper_closed = (int8_t)a->gripper_closed;
     s.holding_workpiece = a->holding;
@@ -345,12 +424,18 @@ static void remove_stick(void)
     }
 }
 
-/* Place the rod just ahead of the link along its current motion, across
- * both the motion and the link, so the link runs into it. "The link" is
- * its longest capsule (the forearm of link 3 lies along z3, not x3): the
- * rod crosses that capsule's axis, so it touches the link at one point
- * instead of lying along it inside the geometry. */
-static int stick_pose_for_link(const tandem_sim_control_t *c, double centre[3], double axis[3])
+/* The stick's pose: the point ahead of the target link and the frame that
+ * candidate poses are built in. "The link" is its longest capsule (the
+ * forearm of link 3 lies along z3, not x3). */
+typedef struct stick_frame {
+    double p[3];        /* capsule centre of the target link */
+    double dir[3];      /* unit motion of that point across the link */
+    double along[3];    /* unit capsule axis */
+    double across[3];   /* dir x along: the rod's axis in the first candidate */
+    double reach_m;     /* link radius + rod radius: touching distance */
+} stick_frame;
+
+static void stick_frame_for_link(const tandem_sim_control_t *c, stick_frame *f)
 {
     const sim_arm *a = &sim_arm_pair[c->target - 1];
     const int i = c->link - 1;
@@ -359,7 +444,6 @@ static int stick_pose_for_link(const tandem_sim_control_t *c, double centre[3], 
     dReal r0 = 0, l0 = 0, r1 = 0, l1 = 0;
     const dReal *p, *R;
     dVector3 v;
-    double dir[3], along[3], speed;
     if (a->geom[i][0])
         dGeomCapsuleGetParams(a->geom[i][0], &r0, &l0);
     if (a->geom[i][1])
@@ -368,59 +452,83 @@ static int stick_pose_for_link(const tandem_sim_control_t *c, double centre[3], 
         g = a->geom[i][1];
     p = g ? dGeomGetPosition(g) : dBodyGetPosition(b);
     R = g ? dGeomGetRotation(g) : dBodyGetRotation(b);
-    vec3_set(along, R[2], R[6], R[10]);        /* capsule axis (its z) */
+    vec3_set(f->p, p[0], p[1], p[2]);
+    vec3_set(f->along, R[2], R[6], R[10]);        /* capsule axis (its z) */
     dBodyGetPointVel(b, p[0], p[1], p[2], v);
-    vec3_set(dir, v[0], v[1], v[2]);
-    vec3_axpy(dir, dir, -vec3_dot(dir, along), along);   /* motion across the link */
-    speed = vec3_normalize(dir, dir);
-    if (speed < 1e-3) {
-        /* Not moving: put the stick above the link, where a lift would go. */
-        vec3_set(dir, 0.0, 0.0, 1.0);
+    vec3_set(f->dir, v[0], v[1], v[2]);
+    vec3_axpy(f->dir, f->dir, -vec3_dot(f->dir, f->along), f->along);   /* across the link */
+    if (vec3_normalize(f->dir, f->dir) < 1e-3) {
+        /* not moving: above the link, where a lift would go */
+        vec3_set(f->dir, 0.0, 0.0, 1.0);
+        vec3_axpy(f->dir, f->dir, -vec3_dot(f->dir, f->along), f->along);
+        if (vec3_normalize(f->dir, f->dir) < 1e-6)
+            vec3_set(f->dir, 1.0, 0.0, 0.0);
     }
-    vec3_cross(axis, dir, along);
-    if (vec3_normalize(axis, axis) < 1e-6)
-        vec3_set(axis, 0.0, 0.0, 1.0);
-    vec3_set(centre, p[0], p[1], p[2]);
-    vec3_axpy(centre, centre, link_radius_m[i] + c->radius_m + 0.005, dir);
+    vec3_cross(f->across, f->dir, f->along);
+    if (vec3_normalize(f->across, f->across) < 1e-6)
+        vec3_set(f->across, 0.0, 0.0, 1.0);
+    f->reach_m = link_radius_m[i] + c->radius_m;
+}
+
+/* 1 if the stick touches or overlaps any link of either arm. */
+static int stick_touches_arms(void)
+{
+    dContactGeom cg[4];
+    int k, i, g;
+    for (k = 0; k < SIM_ARMS; k++)
+        for (i = 0; i < ARM_NJ; i++)
+            for (g = 0; g < 2; g++)
+                if (sim_arm_pair[k].geom[i][g] &&
+                    dCollide(stick, sim_arm_pair[k].geom[i][g], 4, cg, sizeof cg[0]) > 0)
+                    return 1;
     return 0;
 }
 
-/* A rod that starts inside some capsule of the arm (the wrist links sit
- * close together) would throw the arm back: move it on along the link's
- * motion, 5 mm at a time (up to 15 cm), until it touches nothing. */
-static void stick_clear_of_arm(const tandem_sim_control_t *c, double centre[3])
+static void stick_set_pose(const double centre[3], const double axis[3])
 {
-    const sim_arm *a = &sim_arm_pair[c->target - 1];
-    double dir[3];
-    dContactGeom cg[4];
-    int step, i, k, hit = 1;
-    {
-        const dBodyID b = a->link[c->link - 1];
-        const dReal *bp = dBodyGetPosition(b);
-        vec3_set(dir, centre[0] - bp[0], centre[1] - bp[1], centre[2] - bp[2]);
-        if (vec3_normalize(dir, dir) < 1e-9)
-            vec3_set(dir, 0.0, 0.0, 1.0);
-    }
-    for (step = 0; step < 30 && hit; step++) {
-        hit = 0;
-        for (k = 0; k < SIM_ARMS && !hit; k++)
-            for (i = 0; i < ARM_NJ && !hit; i++) {
-                if (sim_arm_pair[k].geom[i][0] && dCollide(stick, sim_arm_pair[k].geom[i][0], 4, cg, sizeof cg[0]) > 0)
-                    hit = 1;
-                if (sim_arm_pair[k].geom[i][1] && dCollide(stick, sim_arm_pair[k].geom[i][1], 4, cg, sizeof cg[0]) > 0)
-                    hit = 1;
+    double R[9];
+    dMatrix3 Rm;
+    sim_rot_z_to(R, axis);     /* ODE capsules lie along their z axis */
+    sim_ode_rotation(Rm, R);
+    dGeomSetRotation(stick, Rm);
+    dGeomSetPosition(stick, centre[0], centre[1], centre[2]);
+}
+
+/* Candidate stick poses, nearest first: the rod lies across the link's
+ * path a gap ahead of it, turned about the motion by a tilt (never along
+ * the link) and slid along its own axis by a shift (a rod reaching in from
+ * one side past the link instead of spanning the arm). The first pose
+ * that touches no link of either arm is taken: a rod that went in inside
+ * the geometry would throw the arm with the penetration spring. */
+static const double stick_gap_m[] = { 0.005, 0.010, 0.020, 0.040, 0.080 };
+static const double stick_tilt_rad[] = { 0.0, 0.2618, -0.2618, 0.5236, -0.5236, 0.7854, -0.7854, 1.0472, -1.0472 };
+static const double stick_shift_share[] = { 0.0, 0.33, -0.33 };   /* of the rod's half length */
+#define NELEM(x) ((int)(sizeof(x) / sizeof((x)[0])))
+
+static int stick_place_for_link(const tandem_sim_control_t *c, double centre[3], double axis[3])
+{
+    stick_frame f;
+    int ig, it, is;
+    stick_frame_for_link(c, &f);
+    for (ig = 0; ig < NELEM(stick_gap_m); ig++)
+        for (is = 0; is < NELEM(stick_shift_share); is++)
+            for (it = 0; it < NELEM(stick_tilt_rad); it++) {
+                const double ct = cos(stick_tilt_rad[it]), st = sin(stick_tilt_rad[it]);
+                vec3_scale(axis, f.across, ct);
+                vec3_axpy(axis, axis, st, f.along);
+                vec3_copy(centre, f.p);
+                vec3_axpy(centre, centre, f.reach_m + stick_gap_m[ig], f.dir);
+                vec3_axpy(centre, centre, stick_shift_share[is] * 0.5 * c->length_m, axis);
+                stick_set_pose(centre, axis);
+                if (!stick_touches_arms())
+                    return 0;
             }
-        if (hit) {
-            vec3_axpy(centre, centre, 0.005, dir);
-            dGeomSetPosition(stick, centre[0], centre[1], centre[2]);
-        }
-    }
+    return -1;
 }
 
 static int arms_control(sim_world *w, const tandem_sim_control_t *c)
 {
     double centre[3], axis[3];
-    dMatrix3 Rm;
     if (c->command == TANDEM_SIM_CONTROL_T_REMOVE_STICK) {
         remove_stick();
         return 1;
@@ -429,28 +537,32 @@ static int arms_control(sim_world *w, const tandem_sim_control_t *c)
         return 0;
     if (c->length_m <= 0.0 || c->length_m > 2.0 || c->radius_m <= 0.0 || c->radius_m > 0.1)
         return -1;
-    if (c->link == 0) {
-        vec3_copy(centre, c->position_m);
-        if (vec3_normalize(axis, c->axis) < 1e-9)
-            return -1;
-    } else {
-        if (c->target < 1 || c->target > SIM_ARMS || c->link < 1 || c->link > ARM_NJ)
-            return -1;
-        stick_pose_for_link(c, centre, axis);
-    }
+    if (c->link == 0 && (!(vec3_normalize(axis, c->axis) >= 1e-9) || !isfinite(c->position_m[0]) ||
+                         !isfinite(c->position_m[1]) || !isfinite(c->position_m[2])))
+        return -1;
+    if (c->link != 0 && (c->target < 1 || c->target > SIM_ARMS || c->link < 1 || c->link > ARM_NJ))
+        return -1;
     remove_stick();
     stick = dCreateCapsule(w->space, c->radius_m, c->length_m);
-    {
-        double R[9];
-        sim_rot_z_to(R, axis);     /* ODE capsules lie along their z axis */
-        sim_ode_rotation(Rm, R);
-    }
-    dGeomSetRotation(stick, Rm);
-    dGeomSetPosition(stick, centre[0], centre[1], centre[2]);
     dGeomSetCategoryBits(stick, SIM_CAT_STICK);
     dGeomSetCollideBits(stick, SIM_CAT_ARM);
-    if (c->link != 0)
-        stick_clear_of_arm(c, centre);
+    if (c->link == 0) {
+        vec3_copy(centre, c->position_m);
+        stick_set_pose(centre, axis);
+    } else if (stick_place_for_link(c, centre, axis) != 0) {
+        fprintf(stderr, "tandem-sim: no stick pose ahead of arm %d link %d clears both arms: not inserted\n",
+                c->target, c->link);
+        remove_stick();
+        w->stick_refused++;
+        return -1;
+    }
+    if (stick_touches_arms()) {
+        /* an explicit pose inside an arm: refused, never thrown at it */
+        fprintf(stderr, "tandem-sim: stick pose overlaps an arm: not inserted\n");
+        remove_stick();
+        w->stick_refused++;
+        return -1;
+    }
     stick_target = c->target;
     stick_link = c->link;
     fprintf(stderr, "tandem-sim: stick in at (%.3f %.3f %.3f) for arm %d link %d\n",

@@ -9,13 +9,16 @@
 #define SIM_ARMS 2
 /* Tool point (between the gripper fingers) on the flange z axis. */
 #define SIM_TOOL_LENGTH_M 0.10
+/* Contact force filter of the stick's force sensor: 10 steps = 10 ms. */
+#define SIM_FORCE_AVG_STEPS 10
 
 typedef struct sim_arm {
     const arm_model *model;
     double   base_xyz_m[3];
     double   base_yaw_rad;
     double   T_world_mount[16];        /* world -> arm mounting surface */
-    double   q_init[ARM_NJ];           /* ODE hinge angles are relative to this */
+    double   q_init[ARM_NJ];           /* joint angles at creation */
+    double   q_zero[ARM_NJ];           /* ODE hinge angle 0 is q = q_zero (re-centred) */
     dBodyID  link[ARM_NJ];
     dJointID joint[ARM_NJ];
     dGeomID  geom[ARM_NJ][2];
@@ -28,8 +31,13 @@ typedef struct sim_arm {
     int      stale;
     double   tau_applied[ARM_NJ];
     double   q[ARM_NJ], qd[ARM_NJ];
-    double   contact_N[ARM_NJ];
+    double   contact_N[ARM_NJ];        /* raw, this 1 ms step */
     double   max_contact_N;
+    double   contact_hist_N[ARM_NJ][SIM_FORCE_AVG_STEPS];  /* ring of raw forces */
+    double   contact_avg_N[ARM_NJ];    /* SIM_FORCE_AVG_STEPS moving average */
+    double   max_contact_avg_N;
+    int64_t  limit_stops;              /* steps a joint sat on a range stop */
+    int64_t  speed_brakes;             /* steps a drive braked at its speed limit */
     int32_t  holding;                  /* workpiece id or -1 */
     int64_t  seq;
 } sim_arm;

@@ -10,7 +10,7 @@ static void near_callback(void *data, dGeomID g1, dGeomID g2)
     sim_world *w = data;
     dContact c[8];
     dBodyID b1 = dGeomGetBody(g1), b2 = dGeomGetBody(g2);
-    int n, i;
+    int n, i, stick;
     if (b1 && b2 && dAreConnectedExcluding(b1, b2, dJointTypeContact))
         return;
     if (!b1 && !b2)
@@ -25,14 +25,19 @@ static void near_callback(void *data, dGeomID g1, dGeomID g2)
         b1 = b2;
         b2 = 0;
     }
+    stick = ((dGeomGetCategoryBits(g1) | dGeomGetCategoryBits(g2)) & SIM_CAT_STICK) != 0;
     n = dCollide(g1, g2, 8, &c[0].geom, sizeof(dContact));
     for (i = 0; i < n; i++) {
         dJointID j;
         memset(&c[i].surface, 0, sizeof c[i].surface);
         c[i].surface.mode = dContactSoftERP | dContactSoftCFM | dContactApprox1;
         c[i].surface.mu = 0.8;
-        c[i].surface.soft_erp = 0.2;
-        c[i].surface.soft_cfm = 1e-5;
+        if (stick)
+            sim_surface_spring(&c[i].surface, SIM_STICK_STIFFNESS_NPM / n, SIM_STICK_DAMPING_NSPM / n);
+        else {
+            c[i].surface.soft_erp = 0.2;
+            c[i].surface.soft_cfm = 1e-5;
+        }
         j = dJointCreateContact(w->world, w->contacts, &c[i]);
         dJointAttach(j, b1, b2);
         if (w->n_contacts < SIM_MAX_CONTACTS) {
@@ -44,6 +49,15 @@ static void near_callback(void *data, dGeomID g1, dGeomID g2)
             w->contacts_dropped++;
         }
     }
+}
+
+void sim_surface_spring(dSurfaceParameters *s, double k_Npm, double c_Nspm)
+{
+    /* ODE's soft contact is a spring-damper: ERP = h k / (h k + c),
+     * CFM = 1 / (h k + c) for step h (ODE manual, "Soft ERP and CFM") */
+    const double hk = SIM_DT_S * k_Npm;
+    s->soft_erp = hk / (hk + c_Nspm);
+    s->soft_cfm = 1.0 / (hk + c_Nspm);
 }
 
 int sim_world_create(sim_world *w)

@@ -140,6 +140,19 @@ unsigned arm_q_outside_limits(const arm_model *m, const double q[ARM_NJ])
     return bits;
 }
 
+unsigned arm_joint_faults(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ])
+{
+    unsigned bits = 0;
+    int i;
+    for (i = 0; i < ARM_NJ; i++) {
+        if (!(q[i] >= m->q_min_rad[i] - ARM_RANGE_TOL_RAD && q[i] <= m->q_max_rad[i] + ARM_RANGE_TOL_RAD))
+            bits |= 1u << i;
+        if (!(fabs(qd[i]) <= m->qd_max_radps[i]))
+            bits |= 1u << (ARM_NJ + i);
+    }
+    return bits;
+}
+
 void arm_model_refresh_alpha(arm_model *m)
 {
     int i;

@@ -56,6 +56,7 @@ int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool, const do
     vec3_set(c->err_filt_m, 0.0, 0.0, 0.0);
     vec3_set(c->err_snap_m, 0.0, 0.0, 0.0);
     c->t_snap_s = 0.0;
+    c->block_detect = 1;
     return 0;
 }
 
@@ -174,7 +175,7 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     commanding = !out->done && out->s_f_m - eo.s_m > CARTSEG_BLOCK_NEAR_GOAL_M && !held;
     dev = line_deviation(&c->line, out->x_world);
     out->deviation_m = dev;
-    blocked = block_update(c, eo.s_m, vec3_dot(out->v_world, c->line.ch.e), dev, commanding, dt_s);
+    blocked = c->block_detect ? block_update(c, eo.s_m, vec3_dot(out->v_world, c->line.ch.e), dev, commanding, dt_s) : 0;
     out->block_changed = blocked != c->blocked;
     if (blocked && c->blocked)
         hold_ratchet(c, out->x_world, out->v_world);

@@ -141,7 +141,12 @@ static void channel_command(const erlaw_channel *c, double s, double s_ref, erla
         b = 0.0;
         gap = fmin(ERLAW_FOLLOW_GAP_M, c->prof.s_f_m - s_ref);
     } else if (ref == ERLAW_REF_BLOCKED) {
+        /* lean with the full start-up bias k0 wherever the block met the
+         * arm: eq. 7 fades near the goal, and a faded bias could not move
+         * the arm on once the obstacle is gone (a block 3 cm before the
+         * goal crept for 19 s) */
         a_d = v_d = 0.0;
+        b = g->k0;
     }
     for (i = 0; i < 3; i++) {
         dv[i] = v_d * c->e[i] - vel[i];

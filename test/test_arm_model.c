@@ -185,6 +185,33 @@ static void test_bad_input(void **state)
     assert_int_equal(arm_q_outside_limits(&arm_model_puma560, q), 1u << 1);
 }
 
+/* arm_joint_faults: range with its tolerance, speed, NaN; one bit per joint */
+static void test_joint_faults(void **st)
+{
+    const arm_model *m = &arm_model_puma560;
+    double q[ARM_NJ], qd[ARM_NJ] = { 0 };
+    int i;
+    (void)st;
+    for (i = 0; i < ARM_NJ; i++)
+        q[i] = m->q_max_rad[i] + 0.9 * ARM_RANGE_TOL_RAD;   /* on the stop: inside */
+    assert_int_equal(arm_joint_faults(m, q, qd), 0u);
+    for (i = 0; i < ARM_NJ; i++) {
+        double qq[ARM_NJ], vv[ARM_NJ] = { 0 };
+        memcpy(qq, q, sizeof qq);
+        qq[i] = m->q_min_rad[i] - 1.1 * ARM_RANGE_TOL_RAD;
+        assert_int_equal(arm_joint_faults(m, qq, vv), 1u << i);
+        assert_int_equal(ARM_FAULT_RANGE(arm_joint_faults(m, qq, vv)), 1u << i);
+        qq[i] = q[i];
+        vv[i] = -1.01 * m->qd_max_radps[i];
+        assert_int_equal(ARM_FAULT_SPEED(arm_joint_faults(m, qq, vv)), 1u << i);
+        assert_int_equal(ARM_FAULT_RANGE(arm_joint_faults(m, qq, vv)), 0u);
+        vv[i] = 0.99 * m->qd_max_radps[i];
+        assert_int_equal(arm_joint_faults(m, qq, vv), 0u);
+        qq[i] = NAN;
+        assert_int_equal(arm_joint_faults(m, qq, vv), 1u << i);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -195,6 +222,7 @@ int main(void)
         cmocka_unit_test(test_alpha_trig_tables),
         cmocka_unit_test(test_dh_compose_general_alpha),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_joint_faults),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

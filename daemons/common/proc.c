@@ -17,11 +17,30 @@ static double mono_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The directory of the running program: its sibling programs live there
+ * (build/bin, or an installed bin/), whatever the working directory. */
+static int own_dir(char *out, size_t cap)
+{
+    char *slash;
+    const ssize_t n = readlink("/proc/self/exe", out, cap - 1);
+    if (n <= 0)
+        return -1;
+    out[n] = '\0';
+    slash = strrchr(out, '/');
+    if (!slash)
+        return -1;
+    *slash = '\0';
+    return 0;
+}
+
 void proc_init(proc_set *p, const char *bin_dir)
 {
     const char *env = getenv("TANDEM_BIN");
     memset(p, 0, sizeof *p);
-    snprintf(p->bin, sizeof p->bin, "%s", bin_dir ? bin_dir : (env ? env : "build/bin"));
+    if (bin_dir || env)
+        snprintf(p->bin, sizeof p->bin, "%s", bin_dir ? bin_dir : env);
+    else if (own_dir(p->bin, sizeof p->bin) != 0)
+        snprintf(p->bin, sizeof p->bin, "build/bin");
 }
 
 pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url,

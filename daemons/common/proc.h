@@ -16,7 +16,7 @@ typedef struct proc_set {
     int   n;
 } proc_set;
 
-/* bin_dir NULL: $TANDEM_BIN or build/bin. */
+/* bin_dir NULL: $TANDEM_BIN, else the running program's own directory. */
 void  proc_init(proc_set *p, const char *bin_dir);
 /* argv[0] is a program name under bin (NULL-terminated argv). The child
  * gets LCM_DEFAULT_URL = lcm_url (if not NULL). stdout goes to out_path

@@ -18,6 +18,19 @@
  * supervisor (a new workpiece only when the previous one is delivered and
  * both arms are home), without blocks, for serial_cycle_s.
  *
+ * Resume: when the stick comes out while the blocked arm runs a row (its
+ * last event is not DONE), the arm has resumed at the first step at which
+ * its tool is 5 mm from where it was at removal, or it reports UNBLOCKED
+ * or DONE; resume_latency = that step - removal.
+ *
+ * Health of the run, from the arms' measured state every step: joint
+ * range violations (onsets of a joint past its range by more than
+ * ARM_RANGE_TOL_RAD), the largest |qd_i| / qd_max_i, and the contact force
+ * raw (1 ms) and 10 ms-averaged. The run stops when the supervisor reports
+ * a stall, a daemon dies, or the simulated or wall time limit is reached;
+ * it exits 0 only when every success criterion holds (carry_criteria),
+ * 3 otherwise with the failed criteria on its last line.
+ *
  * Output: summary.json, timeseries.csv (10 ms), blocks.csv,
  * transitions.csv, s.png, force.png, gantt.png, and the daemons' logs.
  */
@@ -30,6 +43,7 @@
 #include <getopt.h>
 #include <lcm/lcm.h>
 #include "scenario.h"
+#include "arm_model.h"
 #include "proc.h"
 #include "prng.h"
 #include "tandem_action_event_t.h"
@@ -50,6 +64,11 @@
 #define STOP_MPS 0.01
 #define BLOCK_SETTLED_S 0.5      /* contact force "settled": this long after contact */
 #define NT 8
+#define RESUME_MOVE_M 0.005      /* resumed: the tool is this far from where it was at removal */
+#define PROGRESS_EVERY_S 5.0     /* wall time between progress lines */
+/* success criteria (issue 10's "must show" figures) */
+#define CRIT_FORCE_10MS_N 1000.0
+#define CRIT_RESUME_S 1.0
 
 typedef struct block {
     int    arm, link, need_t3;
@@ -59,6 +78,8 @@ typedef struct block {
     double max_force_N, force_sum_N, force_late_sum_N;
     long   force_n, force_late_n;
     double lead_max_m, lurch_mps;
+    double out_pos_m[3], resume_s;   /* tool at removal; resumed at (< 0: not yet) */
+    int    row_running_at_out;       /* the arm had a row to finish when the stick came out */
     int    during_t3, done;
 } block;
 
@@ -69,6 +90,8 @@ typedef struct run_cfg {
     double max_sim_s;
     const char *out;
     const char *tag;           /* "run" or "serial": log names */
+    const char *block_detect;  /* tandem-arm --block-detect on|off */
+    const char *stall_s;       /* tandem-supervisor --stall-s */
     uint64_t seed;
 } run_cfg;
 
@@ -79,6 +102,11 @@ typedef struct run_result {
     double first_delivery_s, last_delivery_s, mean_cycle_s;
     double sim_s, wall_s;
     int    ok;
+    /* health of the run */
+    long   joint_limit_violations;
+    double max_speed_ratio, max_force_N, max_force_10ms_N;
+    int    stalls, faults;
+    const char *exit_reason;
 } run_result;
 
 /* ---- state of one run ------------------------------------------------------ */
@@ -102,6 +130,13 @@ static struct {
     int64_t  ack_seq;
     int      running_prev[NT];
     double   run_start[NT];
+    /* per arm: the last event other than PROGRESS, and when UNBLOCKED / DONE came */
+    int      last_event[2];
+    int64_t  unblocked_step[2], done_step[2];
+    /* health of the run from the measured states */
+    unsigned range_bits[2];      /* joints past their range at the last state */
+    long     limit_violations;
+    double   max_speed_ratio, max_force_N, max_force_10ms_N;
 } R;
 
 static block blocks[MAX_BLOCKS];
@@ -119,6 +154,22 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *u)
         R.t_s = m.sim_time_s;
     }
     tandem_sim_clock_t_decode_cleanup(&m);
+}
+
+/* Range violations (onsets per joint), speed ratio and contact forces. */
+static void arm_health(int a, const tandem_arm_state_t *m)
+{
+    const arm_model *pm = &arm_model_puma560;
+    const unsigned range = ARM_FAULT_RANGE(arm_joint_faults(pm, m->q_rad, m->qd_radps));
+    int i;
+    for (i = 0; i < ARM_NJ; i++) {
+        if ((range & (1u << i)) && !(R.range_bits[a] & (1u << i)))
+            R.limit_violations++;
+        R.max_speed_ratio = fmax(R.max_speed_ratio, fabs(m->qd_radps[i]) / pm->qd_max_radps[i]);
+    }
+    R.range_bits[a] = range;
+    R.max_force_N = fmax(R.max_force_N, m->max_contact_force_N);
+    R.max_force_10ms_N = fmax(R.max_force_10ms_N, m->max_contact_force_10ms_N);
 }
 
 static void on_arm(const lcm_recv_buf_t *rb, const char *ch, void *u)
@@ -139,6 +190,7 @@ static void on_arm(const lcm_recv_buf_t *rb, const char *ch, void *u)
         }
         R.arm[a] = m;
         R.have_arm[a] = 1;
+        arm_health(a, &m);
     }
     tandem_arm_state_t_decode_cleanup(&m);
 }
@@ -154,6 +206,12 @@ static void on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
         R.s_f[e.arm - 1] = e.s_f_m;
         R.tr[e.arm - 1] = e.transition;
         R.s_step[e.arm - 1] = e.step;
+    } else if (e.arm == 1 || e.arm == 2) {
+        R.last_event[e.arm - 1] = e.event;
+        if (e.event == TANDEM_ACTION_EVENT_T_UNBLOCKED)
+            R.unblocked_step[e.arm - 1] = e.step;
+        if (e.event == TANDEM_ACTION_EVENT_T_DONE)
+            R.done_step[e.arm - 1] = e.step;
     }
     tandem_action_event_t_decode_cleanup(&e);
 }
@@ -274,11 +332,24 @@ static void block_step(void)
         if (R.t_s >= b->in_s + b->dur_s) {
             send_control(TANDEM_SIM_CONTROL_T_REMOVE_STICK, 0, 0);
             b->out_s = R.t_s;
+            memcpy(b->out_pos_m, R.arm[a].tool_position_m, sizeof b->out_pos_m);
+            b->row_running_at_out = R.last_event[a] != TANDEM_ACTION_EVENT_T_DONE;
+            b->resume_s = b->row_running_at_out ? -1.0 : b->out_s;
         }
         return;
     }
-    if (R.t_s <= b->out_s + LURCH_WINDOW_S) {
-        if (R.speed[a] > b->lurch_mps)
+    if (b->resume_s < 0.0) {
+        const int64_t out_step = (int64_t)(b->out_s * 1000.0 + 0.5);
+        double d[3];
+        int i;
+        for (i = 0; i < 3; i++)
+            d[i] = R.arm[a].tool_position_m[i] - b->out_pos_m[i];
+        if (sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) >= RESUME_MOVE_M ||
+            R.unblocked_step[a] >= out_step || R.done_step[a] >= out_step)
+            b->resume_s = R.t_s;
+    }
+    if (R.t_s <= b->out_s + LURCH_WINDOW_S || b->resume_s < 0.0) {
+        if (R.speed[a] > b->lurch_mps && R.t_s <= b->out_s + LURCH_WINDOW_S)
             b->lurch_mps = R.speed[a];
         return;
     }
@@ -315,6 +386,22 @@ static void record_step(int64_t step)
 
 /* ---- one run --------------------------------------------------------------- */
 
+/* One line on stderr every PROGRESS_EVERY_S of wall time. */
+static void progress_line(const run_cfg *c, double wall0)
+{
+    const double wall = scenario_wall_s() - wall0;
+    char blk[64] = "no block";
+    if (cur_block < n_blocks && blocks[cur_block].in_s >= 0.0 && blocks[cur_block].out_s < 0.0)
+        snprintf(blk, sizeof blk, "block %d/%d in (arm %d link %d)", cur_block + 1, n_blocks,
+                 blocks[cur_block].arm, blocks[cur_block].link);
+    else if (cur_block < n_blocks)
+        snprintf(blk, sizeof blk, "block %d/%d armed", cur_block + 1, n_blocks);
+    fprintf(stderr, "tandem-scenario carry %s: t %.1f s (%.1fx real time), delivered %d/%d, dropped %d, %s, "
+                    "max contact %.0f N (10 ms)%s\n", c->tag, R.t_s, wall > 0.0 ? R.t_s / wall : 0.0, R.delivered,
+            c->workpieces, R.dropped, blk, R.max_force_10ms_N,
+            R.max_force_10ms_N > CRIT_FORCE_10MS_N ? " IMPLAUSIBLE" : "");
+}
+
 static volatile sig_atomic_t interrupted;
 static void on_sigint(int s) { (void)s; interrupted = 1; }
 
@@ -327,13 +414,17 @@ static int run_once(const run_cfg *c, run_result *res)
     int last_delivered = 0, k, rc = 0;
     const char *sim_argv[] = { "tandem-sim", "--lockstep", "--expect", "4", "--workpieces", nbuf,
                                "--seed", sbuf, "--timeout-ms", "20000", NULL };
-    const char *a1_argv[] = { "tandem-arm", "--arm", "1", "--lockstep", NULL };
-    const char *a2_argv[] = { "tandem-arm", "--arm", "2", "--lockstep", NULL };
-    const char *sup_argv[] = { "tandem-supervisor", "--lockstep", "--controller",
+    const char *a1_argv[] = { "tandem-arm", "--arm", "1", "--lockstep", "--block-detect", c->block_detect, NULL };
+    const char *a2_argv[] = { "tandem-arm", "--arm", "2", "--lockstep", "--block-detect", c->block_detect, NULL };
+    const char *sup_argv[] = { "tandem-supervisor", "--lockstep", "--stall-s", c->stall_s, "--controller",
                                c->controller_time ? "time" : "event", c->serial ? "--serial" : NULL, NULL };
+    double next_progress = wall0 + PROGRESS_EVERY_S;
     memset(res, 0, sizeof *res);
     memset(&R, 0, sizeof R);
     R.pending = -1;
+    R.last_event[0] = R.last_event[1] = TANDEM_ACTION_EVENT_T_DONE;   /* idle until a row starts */
+    R.unblocked_step[0] = R.unblocked_step[1] = R.done_step[0] = R.done_step[1] = -1;
+    res->exit_reason = "completed";
     snprintf(nbuf, sizeof nbuf, "%d", c->workpieces);
     snprintf(sbuf, sizeof sbuf, "%llu", (unsigned long long)c->seed);
     snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", 30000 + (int)(getpid() % 20000) + (c->serial ? 1 : 0));
@@ -370,6 +461,7 @@ static int run_once(const run_cfg *c, run_result *res)
             int st;
             if (ps.alive[k] && proc_poll(&ps, ps.pid[k], &st) == 1) {
                 fprintf(stderr, "tandem-scenario: a daemon exited early (status %d); see %s\n", st, err);
+                res->exit_reason = "daemon_exited";
                 rc = -1;
             }
         }
@@ -377,6 +469,17 @@ static int run_once(const run_cfg *c, run_result *res)
             break;
         if (scenario_wall_s() - wall0 > 3600.0) {
             fprintf(stderr, "tandem-scenario: wall-time limit reached\n");
+            res->exit_reason = "wall_time_limit";
+            break;
+        }
+        if (scenario_wall_s() >= next_progress) {
+            next_progress += PROGRESS_EVERY_S;
+            progress_line(c, wall0);
+        }
+        if (R.have_mk && R.mk.stalled) {
+            fprintf(stderr, "tandem-scenario: the supervisor reports a stall at %.2f s (no transition completed "
+                            "for %.1f s with the stick out): run stopped\n", R.t_s, R.mk.stall_limit_s);
+            res->exit_reason = "stalled";
             break;
         }
         if (R.pending < 0)
@@ -394,9 +497,16 @@ static int run_once(const run_cfg *c, run_result *res)
             end_at = R.t_s + 0.5;
         ack(R.pending, 0);
         R.pending = -1;
-        if ((end_at >= 0.0 && R.t_s >= end_at) || R.t_s >= c->max_sim_s)
+        if (end_at >= 0.0 && R.t_s >= end_at)
             break;
+        if (R.t_s >= c->max_sim_s) {
+            fprintf(stderr, "tandem-scenario: simulated-time limit %.0f s reached\n", c->max_sim_s);
+            res->exit_reason = "sim_time_limit";
+            break;
+        }
     }
+    if (interrupted)
+        res->exit_reason = "interrupted";
     ack(R.pending >= 0 ? R.pending : 0, 1);
     send_control(TANDEM_SIM_CONTROL_T_QUIT, 0, 0);
     res->sim_s = R.t_s;
@@ -411,7 +521,13 @@ static int run_once(const run_cfg *c, run_result *res)
         res->replans = R.mk.replans;
         res->deadlocks = R.mk.deadlocks;
         res->invariant_violations = R.mk.invariant_violations;
+        res->stalls = R.mk.stalls;
+        res->faults = R.mk.faults;
     }
+    res->joint_limit_violations = R.limit_violations;
+    res->max_speed_ratio = R.max_speed_ratio;
+    res->max_force_N = R.max_force_N;
+    res->max_force_10ms_N = R.max_force_10ms_N;
     res->first_delivery_s = t_deliv_first;
     res->last_delivery_s = t_deliv_last;
     res->mean_cycle_s = last_delivered >= 2 ? (t_deliv_last - t_deliv_first) / (last_delivered - 1) : NAN;
@@ -427,7 +543,8 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: tandem-scenario carry [--workpieces N] [--controller event|time]\n"
                "         [--block ARM:LINK:START_S:DURATION_S[:t3]]... [--random-blocks K]\n"
-               "         [--seed S] [--no-serial] [--serial-workpieces M] --out DIR\n"
+               "         [--seed S] [--no-serial] [--serial-workpieces M]\n"
+               "         [--block-detect on|off] [--stall-s S] --out DIR\n"
                "Two-arm carry in lockstep with the stick pushed into the arms (SPEC 2.6).\n"
                "  --workpieces N        workpieces to carry (default 3)\n"
                "  --controller C        event (default) or time (the time-referenced baseline)\n"
@@ -439,6 +556,14 @@ static void usage(FILE *f)
                "  --seed S              seed of the sim and the random blocks (default 1)\n"
                "  --no-serial           skip the serial reference run (serial_cycle_s = null)\n"
                "  --serial-workpieces M workpieces of the serial run (default min(N, 3))\n"
+               "  --block-detect on|off off: the arms run eq. 6-7 alone (no blocked detector)\n"
+               "  --stall-s S           the supervisor's stall limit (default 30 s); a stall\n"
+               "                        stops the run\n"
+               "Exit status: 0 when the run met every success criterion (all delivered,\n"
+               "none dropped, no joint-limit violation, speeds within the motor limits,\n"
+               "10 ms contact force <= 1000 N, resumed within 1 s of every removal, no\n"
+               "stall, no invariant violation or deadlock, completed); 3 otherwise, with\n"
+               "the failed criteria on the last line; 1 on errors, 2 on bad options.\n"
                "  --out DIR             output directory (required)\n");
 }
 
@@ -524,6 +649,33 @@ static void write_plots(const char *dir)
     scenario_gnuplot(dir, "plots.gp");
 }
 
+/* Appends the failed success criteria to buf (space separated); returns
+ * how many failed. */
+static int carry_criteria(const run_cfg *c, const run_result *r, double resume_max_s, char *buf, size_t cap)
+{
+    struct { int failed; const char *what; } k[] = {
+        { strcmp(r->exit_reason, "completed") != 0, "exit_reason" },
+        { r->delivered != c->workpieces, "workpieces_delivered" },
+        { r->dropped != 0, "workpieces_dropped" },
+        { r->joint_limit_violations != 0, "joint_limit_violations" },
+        { !(r->max_speed_ratio <= 1.0), "max_joint_speed_ratio" },
+        { !(r->max_force_10ms_N <= CRIT_FORCE_10MS_N), "max_contact_force_10ms_N" },
+        { !(resume_max_s <= CRIT_RESUME_S), "resume_latency_max_s" },
+        { r->stalls != 0, "stalls" },
+        { r->invariant_violations != 0, "invariant_violations" },
+        { r->deadlocks != 0, "deadlocks" },
+    };
+    size_t i, n = 0;
+    int failed = 0;
+    buf[0] = '\0';
+    for (i = 0; i < sizeof k / sizeof k[0]; i++)
+        if (k[i].failed) {
+            n += (size_t)snprintf(buf + n, n < cap ? cap - n : 0, "%s%s", failed ? " " : "", k[i].what);
+            failed++;
+        }
+    return failed;
+}
+
 static int run(int argc, char **argv)
 {
     static const struct option opts[] = {
@@ -534,6 +686,8 @@ static int run(int argc, char **argv)
         { "seed", required_argument, 0, 's' },
         { "no-serial", no_argument, 0, 'N' },
         { "serial-workpieces", required_argument, 0, 'W' },
+        { "block-detect", required_argument, 0, 'B' },
+        { "stall-s", required_argument, 0, 'L' },
         { "out", required_argument, 0, 'o' },
         { "help", no_argument, 0, 'h' },
         { 0, 0, 0, 0 }
@@ -544,10 +698,14 @@ static int run(int argc, char **argv)
     int c, i, n_random = 0, no_serial = 0, serial_n = -1;
     long seed = 1;
     double total_block_s = 0.0, max_force = 0.0, max_lurch = 0.0, fsum = 0.0, lat_max = NAN, lead_max = NAN;
+    double resume_max = 0.0, settled_max = 0.0, stall_s = 30.0;
+    char stall_buf[32], failed[512];
+    int n_failed, blocks_skipped = 0;
     long fn = 0;
     char *end;
     memset(&cfg, 0, sizeof cfg);
     cfg.workpieces = 3;
+    cfg.block_detect = "on";
     n_blocks = 0;
     optind = 1;
     while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
@@ -596,6 +754,20 @@ static int run(int argc, char **argv)
                 return 2;
             }
             break;
+        case 'B':
+            if (strcmp(optarg, "on") && strcmp(optarg, "off")) {
+                fprintf(stderr, "tandem-scenario carry: --block-detect: '%s' is not on|off\n", optarg);
+                return 2;
+            }
+            cfg.block_detect = optarg;
+            break;
+        case 'L':
+            stall_s = strtod(optarg, &end);
+            if (*end || !(stall_s >= 0.1 && stall_s <= 1e6)) {
+                fprintf(stderr, "tandem-scenario carry: --stall-s: '%s' is not 0.1..1e6\n", optarg);
+                return 2;
+            }
+            break;
         case 'o': cfg.out = optarg; break;
         case 'h': usage(stdout); return 0;
         default: usage(stderr); return 2;
@@ -613,6 +785,7 @@ static int run(int argc, char **argv)
     random_blocks(n_random, (uint64_t)seed);
     for (i = 0; i < n_blocks; i++) {
         blocks[i].in_s = blocks[i].out_s = blocks[i].contact_s = blocks[i].self_stop_s = blocks[i].partner_stop_s = -1.0;
+        blocks[i].resume_s = -1.0;
         total_block_s += blocks[i].dur_s;
     }
     if (scenario_mkdir(cfg.out) != 0)
@@ -621,6 +794,8 @@ static int run(int argc, char **argv)
     signal(SIGTERM, on_sigint);
     cfg.seed = (uint64_t)seed;
     cfg.tag = "run";
+    snprintf(stall_buf, sizeof stall_buf, "%g", stall_s);
+    cfg.stall_s = stall_buf;
     cfg.max_sim_s = 60.0 * cfg.workpieces + 1.5 * total_block_s + 30.0 * n_blocks + 60.0;
     cur_block = 0;
     gap_after_s = 3.0;
@@ -632,8 +807,10 @@ static int run(int argc, char **argv)
     fprintf(f_tr, "transition,start_s,end_s\n");
     fprintf(stderr, "tandem-scenario carry: %d workpieces, %s controller, %d blocks, seed %ld\n", cfg.workpieces,
             cfg.controller_time ? "time" : "event", n_blocks, seed);
-    if (run_once(&cfg, &res) != 0 && !res.sim_s)
+    if (run_once(&cfg, &res) != 0 && !res.sim_s) {
+        fprintf(stderr, "tandem-scenario carry: the run did not start\n");
         return 1;
+    }
     fclose(f_ts);
     fclose(f_tr);
     f_ts = f_tr = NULL;
@@ -657,6 +834,12 @@ static int run(int argc, char **argv)
         max_lurch = fmax(max_lurch, b->lurch_mps);
         fsum += b->force_sum_N;
         fn += b->force_n;
+        if (b->in_s < 0.0)
+            blocks_skipped++;
+        if (b->out_s >= 0.0)   /* not resumed by the end: counted to the end */
+            resume_max = fmax(resume_max, (b->resume_s >= 0.0 ? b->resume_s : res.sim_s) - b->out_s);
+        if (b->force_late_n)
+            settled_max = fmax(settled_max, b->force_late_sum_N / (double)b->force_late_n);
         if (b->during_t3 && b->partner_stop_s >= 0.0) {
             lat_max = isnan(lat_max) ? b->partner_stop_s - b->self_stop_s : fmax(lat_max, b->partner_stop_s - b->self_stop_s);
             lead_max = isnan(lead_max) ? b->lead_max_m : fmax(lead_max, b->lead_max_m);
@@ -703,6 +886,19 @@ static int run(int argc, char **argv)
     json_num(&j, "first_delivery_s", res.first_delivery_s);
     json_num(&j, "sim_time_s", res.sim_s);
     json_num(&j, "wall_time_s", res.wall_s + ser.wall_s);
+    json_str(&j, "block_detect", cfg.block_detect);
+    json_int(&j, "joint_limit_violations", res.joint_limit_violations);
+    json_num(&j, "max_joint_speed_ratio", res.max_speed_ratio);
+    json_int(&j, "stalls", res.stalls);
+    json_int(&j, "faults", res.faults);
+    json_num(&j, "resume_latency_max_s", resume_max);
+    json_num(&j, "max_contact_force_10ms_N", res.max_force_10ms_N);
+    json_num(&j, "max_contact_force_raw_N", res.max_force_N);
+    json_num(&j, "settled_force_max_N", settled_max);
+    json_int(&j, "blocks_skipped", blocks_skipped);
+    json_str(&j, "exit_reason", res.exit_reason);
+    n_failed = carry_criteria(&cfg, &res, resume_max, failed, sizeof failed);
+    json_str(&j, "failed_criteria", failed);
     json_close(&j);
     write_plots(cfg.out);
     printf("carry (%s): delivered %d/%d, dropped %d, blockages %d, max contact %.1f N, lurch %.3f m/s, "
@@ -710,7 +906,12 @@ static int run(int argc, char **argv)
            cfg.controller_time ? "time" : "event", res.delivered, cfg.workpieces, res.dropped, res.blockages,
            max_force, max_lurch, res.invariant_violations, res.deadlocks, res.replans, res.mean_cycle_s,
            ser.mean_cycle_s);
-    return (res.ok && !interrupted) ? 0 : 1;
+    if (n_failed) {
+        printf("carry: FAILED %d criteria: %s\n", n_failed, failed);
+        return 3;
+    }
+    printf("carry: all criteria met\n");
+    return 0;
 }
 
 const scenario_def scenario_carry = {

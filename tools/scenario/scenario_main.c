@@ -5,7 +5,8 @@
 
 /* Each tools/scenario/scenario_<name>.c defines `const scenario_def
  * scenario_<name>`; the Makefile lists them in SCENARIO_LIST. */
-extern const scenario_def scenario_carry, scenario_singularity, scenario_liquid, scenario_formation;
+extern const scenario_def scenario_carry, scenario_singularity, scenario_liquid, scenario_formation,
+    scenario_sweep;
 
 static const scenario_def *const all[] = {
     SCENARIO_LIST

@@ -1,0 +1,39 @@
+/* stallwatch: progress watchdog of the supervisor (see stallwatch.h). */
+#include "stallwatch.h"
+
+#include <math.h>
+
+int stallwatch_init(stallwatch *w, double limit_s)
+{
+    if (!w || !isfinite(limit_s) || limit_s <= 0.0)
+        return STALLWATCH_EBADARG;
+    w->limit_s = limit_s;
+    w->idle_s = 0.0;
+    w->last_t_s = -1.0;
+    w->stalled = 0;
+    w->stalls = 0;
+    return STALLWATCH_OK;
+}
+
+int stallwatch_update(stallwatch *w, double t_s, int completed, int work_pending, int obstructed)
+{
+    double dt;
+    if (!w || !isfinite(t_s) || (w->last_t_s >= 0.0 && t_s < w->last_t_s))
+        return STALLWATCH_EBADARG;
+    dt = w->last_t_s >= 0.0 ? t_s - w->last_t_s : 0.0;
+    w->last_t_s = t_s;
+    if (completed || obstructed || !work_pending) {
+        /* progress, an obstruction to wait for, or nothing to do */
+        w->idle_s = 0.0;
+        if (completed || !work_pending)
+            w->stalled = 0;
+        return 0;
+    }
+    w->idle_s += dt;
+    if (!w->stalled && w->idle_s > w->limit_s) {
+        w->stalled = 1;
+        w->stalls++;
+        return 1;
+    }
+    return 0;
+}

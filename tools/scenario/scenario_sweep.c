@@ -1,0 +1,371 @@
+/* tandem-scenario sweep NAME --seeds A-B [--jobs J] [--keys K,..] --out DIR
+ *                   [NAME's options]
+ *
+ * Runs scenario NAME once per seed A..B, J runs at a time, each as its own
+ * tandem-scenario process (own private bus, own daemons) with
+ * `--seed S --out DIR/seed-S` added to NAME's options; its output goes to
+ * DIR/seed-S/scenario.log. While it runs, a progress line per finished
+ * seed. Then a table with one row per seed (exit status and the summary
+ * keys of the scenario's column list, or --keys), totals (passed runs,
+ * and min / mean / max of each numeric column) and DIR/sweep.csv.
+ * Exit status: 0 when every run exited 0, 3 otherwise (1 on errors).
+ */
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "scenario.h"
+
+#define SWEEP_MAX_SEEDS 10000
+#define SWEEP_MAX_JOBS 64
+#define SWEEP_MAX_KEYS 24
+#define SWEEP_MAX_ARGS 128
+#define SWEEP_VAL 48
+
+/* Default columns per scenario (summary.json keys). */
+static const struct { const char *scenario, *keys; } default_keys[] = {
+    { "carry", "workpieces_delivered,workpieces_dropped,joint_limit_violations,max_joint_speed_ratio,"
+               "max_contact_force_10ms_N,settled_force_max_N,resume_latency_max_s,stalls,sim_time_s,exit_reason" },
+    { "formation", "reached_goal,time_to_goal_s,collisions,formation_changes,dead_zone_escapes,"
+                   "max_formation_err_m,loc_err_max_m,exit_reason" },
+    { "singularity", "max_pos_err_m,exit_reason" },
+    { "liquid", "joint_limit_violations,exit_reason" },
+};
+
+typedef struct sweep_run {
+    long  seed;
+    pid_t pid;
+    int   status;              /* exit status, -1 not run / killed */
+    int   done;
+    char  val[SWEEP_MAX_KEYS][SWEEP_VAL];
+} sweep_run;
+
+typedef struct sweep {
+    const char *name, *out;
+    long  seed_a, seed_b;
+    int   jobs;
+    char  keys_buf[1024];
+    const char *key[SWEEP_MAX_KEYS];
+    int   n_keys;
+    const char *pass[SWEEP_MAX_ARGS];   /* NAME's own options, passed through */
+    int   n_pass;
+    char  self[1024];
+    sweep_run *run;
+    int   n_run;
+} sweep;
+
+static volatile sig_atomic_t sweep_interrupted;
+static void sweep_on_sigint(int s) { (void)s; sweep_interrupted = 1; }
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: tandem-scenario sweep NAME --seeds A-B [--jobs J] [--keys K1,K2,..]\n"
+               "         --out DIR [NAME's options]\n"
+               "Runs scenario NAME for every seed A..B (J at a time, default 1), each with\n"
+               "--seed S --out DIR/seed-S, and prints one row per seed (exit status and\n"
+               "summary.json keys), totals and DIR/sweep.csv. Exit 0 when every run\n"
+               "exited 0, 3 otherwise.\n"
+               "  --keys K1,K2   summary.json keys to tabulate (default: per scenario)\n");
+}
+
+static int split_keys(sweep *w, const char *list)
+{
+    char *tok, *save = NULL;
+    snprintf(w->keys_buf, sizeof w->keys_buf, "%s", list);
+    w->n_keys = 0;
+    for (tok = strtok_r(w->keys_buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        if (w->n_keys >= SWEEP_MAX_KEYS)
+            return -1;
+        w->key[w->n_keys++] = tok;
+    }
+    return 0;
+}
+
+/* Options of the sweep itself; everything else goes to NAME. */
+static int parse(sweep *w, int argc, char **argv)
+{
+    int i;
+    const char *keys = NULL;
+    size_t k;
+    if (argc < 2 || argv[1][0] == '-')
+        return -1;
+    w->name = argv[1];
+    for (i = 2; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--seeds") && v) {
+            char *end;
+            w->seed_a = strtol(v, &end, 10);
+            w->seed_b = *end == '-' ? strtol(end + 1, &end, 10) : w->seed_a;
+            if (*end || w->seed_a < 0 || w->seed_b < w->seed_a || w->seed_b - w->seed_a >= SWEEP_MAX_SEEDS) {
+                fprintf(stderr, "tandem-scenario sweep: --seeds: '%s' is not A-B (0 <= A <= B, at most %d seeds)\n",
+                        v, SWEEP_MAX_SEEDS);
+                return -1;
+            }
+            i++;
+        } else if (!strcmp(a, "--jobs") && v) {
+            w->jobs = atoi(v);
+            if (w->jobs < 1 || w->jobs > SWEEP_MAX_JOBS) {
+                fprintf(stderr, "tandem-scenario sweep: --jobs: '%s' is not 1..%d\n", v, SWEEP_MAX_JOBS);
+                return -1;
+            }
+            i++;
+        } else if (!strcmp(a, "--keys") && v) {
+            keys = v;
+            i++;
+        } else if (!strcmp(a, "--out") && v) {
+            w->out = v;
+            i++;
+        } else if (!strcmp(a, "--seed")) {
+            fprintf(stderr, "tandem-scenario sweep: --seed is set per run; use --seeds A-B\n");
+            return -1;
+        } else if (w->n_pass < SWEEP_MAX_ARGS - 8) {
+            w->pass[w->n_pass++] = a;
+        } else {
+            return -1;
+        }
+    }
+    if (!w->out || w->seed_b < w->seed_a) {
+        fprintf(stderr, "tandem-scenario sweep: --seeds A-B and --out DIR are required\n");
+        return -1;
+    }
+    for (k = 0; !keys && k < sizeof default_keys / sizeof default_keys[0]; k++)
+        if (!strcmp(default_keys[k].scenario, w->name))
+            keys = default_keys[k].keys;
+    if (split_keys(w, keys ? keys : "exit_reason") != 0) {
+        fprintf(stderr, "tandem-scenario sweep: at most %d keys\n", SWEEP_MAX_KEYS);
+        return -1;
+    }
+    return 0;
+}
+
+static pid_t spawn_seed(const sweep *w, const sweep_run *r)
+{
+    char dir[1024], seed[32], log[1100];
+    const char *argv[SWEEP_MAX_ARGS + 8];
+    int n = 0, i;
+    pid_t pid;
+    snprintf(dir, sizeof dir, "%s/seed-%ld", w->out, r->seed);
+    snprintf(seed, sizeof seed, "%ld", r->seed);
+    snprintf(log, sizeof log, "%s/scenario.log", dir);
+    if (scenario_mkdir(dir) != 0)
+        return -1;
+    argv[n++] = "tandem-scenario";
+    argv[n++] = w->name;
+    for (i = 0; i < w->n_pass; i++)
+        argv[n++] = w->pass[i];
+    argv[n++] = "--seed";
+    argv[n++] = seed;
+    argv[n++] = "--out";
+    argv[n++] = dir;
+    argv[n] = NULL;
+    pid = fork();
+    if (pid == 0) {
+        FILE *f = freopen(log, "w", stdout);
+        if (!f || dup2(fileno(stdout), 2) < 0)
+            _exit(1);
+        signal(SIGINT, SIG_DFL);
+        execv(w->self, (char *const *)argv);
+        fprintf(stderr, "tandem-scenario sweep: cannot run %s: %s\n", w->self, strerror(errno));
+        _exit(1);
+    }
+    return pid;
+}
+
+/* Value of key in a flat summary.json ("key": value), as text without
+ * quotes; "-" when missing. */
+static void json_value(const char *json, const char *key, char *out, size_t cap)
+{
+    char pat[80];
+    const char *p, *e;
+    size_t n;
+    snprintf(pat, sizeof pat, "\"%s\":", key);
+    snprintf(out, cap, "-");
+    if (!json || !(p = strstr(json, pat)))
+        return;
+    p += strlen(pat);
+    while (*p == ' ')
+        p++;
+    if (*p == '"') {
+        e = strchr(++p, '"');
+    } else {
+        for (e = p; *e && *e != ',' && *e != '\n' && *e != '}'; e++)
+            ;
+    }
+    if (!e)
+        return;
+    n = (size_t)(e - p) < cap - 1 ? (size_t)(e - p) : cap - 1;
+    memcpy(out, p, n);
+    out[n] = '\0';
+    if (n == 0)
+        snprintf(out, cap, "\"\"");
+}
+
+static void read_summary(const sweep *w, sweep_run *r)
+{
+    char path[1100], buf[65536];
+    size_t n = 0;
+    int k;
+    FILE *f;
+    snprintf(path, sizeof path, "%s/seed-%ld/summary.json", w->out, r->seed);
+    f = fopen(path, "r");
+    if (f) {
+        n = fread(buf, 1, sizeof buf - 1, f);
+        fclose(f);
+    }
+    buf[n] = '\0';
+    for (k = 0; k < w->n_keys; k++)
+        json_value(f ? buf : NULL, w->key[k], r->val[k], sizeof r->val[k]);
+}
+
+static void print_row(FILE *o, const sweep *w, const sweep_run *r, const char *sep)
+{
+    int k;
+    fprintf(o, "%ld%s%d", r->seed, sep, r->status);
+    for (k = 0; k < w->n_keys; k++)
+        fprintf(o, "%s%s", sep, r->val[k]);
+    fprintf(o, "\n");
+}
+
+static void print_totals(const sweep *w, int passed, int ran)
+{
+    int k, i;
+    printf("passed (exit 0): %d/%d\n", passed, w->n_run);
+    if (ran < w->n_run)
+        printf("not run (interrupted): %d\n", w->n_run - ran);
+    for (k = 0; k < w->n_keys; k++) {
+        double lo = INFINITY, hi = -INFINITY, sum = 0.0;
+        int n = 0;
+        for (i = 0; i < w->n_run; i++) {
+            char *end;
+            const double v = strtod(w->run[i].val[k], &end);
+            if (!w->run[i].done || end == w->run[i].val[k] || *end)
+                continue;
+            lo = fmin(lo, v);
+            hi = fmax(hi, v);
+            sum += v;
+            n++;
+        }
+        if (n)
+            printf("  %-28s min %-12.4g mean %-12.4g max %-12.4g (%d runs)\n", w->key[k], lo, sum / n, hi, n);
+    }
+}
+
+static void print_header(FILE *o, const sweep *w, const char *sep)
+{
+    int k;
+    fprintf(o, "seed%sexit", sep);
+    for (k = 0; k < w->n_keys; k++)
+        fprintf(o, "%s%s", sep, w->key[k]);
+    fprintf(o, "\n");
+}
+
+static int run_all(sweep *w, double wall0)
+{
+    int next = 0, running = 0, finished = 0, passed = 0;
+    while ((next < w->n_run && !sweep_interrupted) || running > 0) {
+        int st, i;
+        pid_t pid;
+        while (next < w->n_run && running < w->jobs && !sweep_interrupted) {
+            w->run[next].pid = spawn_seed(w, &w->run[next]);
+            if (w->run[next].pid < 0)
+                return -1;
+            next++;
+            running++;
+        }
+        pid = waitpid(-1, &st, 0);
+        if (pid < 0) {
+            if (errno == EINTR)
+                continue;
+            return -1;
+        }
+        for (i = 0; i < next; i++)
+            if (w->run[i].pid == pid && !w->run[i].done) {
+                sweep_run *r = &w->run[i];
+                const double el = scenario_wall_s() - wall0;
+                r->done = 1;
+                r->status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+                read_summary(w, r);
+                running--;
+                finished++;
+                passed += r->status == 0;
+                fprintf(stderr, "sweep %s: seed %ld exit %d | %d/%d done, %d passed, %.0f s elapsed, ~%.0f s left\n",
+                        w->name, r->seed, r->status, finished, w->n_run, passed, el,
+                        el / finished * (w->n_run - finished));
+            }
+    }
+    return finished;
+}
+
+static int run(int argc, char **argv)
+{
+    sweep w;
+    FILE *csv;
+    int i, ran, passed = 0;
+    ssize_t n;
+    const double wall0 = scenario_wall_s();
+    memset(&w, 0, sizeof w);
+    w.jobs = 1;
+    w.seed_b = -1;
+    if (argc >= 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+        usage(stdout);
+        return 0;
+    }
+    if (parse(&w, argc, argv) != 0) {
+        usage(stderr);
+        return 2;
+    }
+    n = readlink("/proc/self/exe", w.self, sizeof w.self - 1);
+    if (n <= 0) {
+        fprintf(stderr, "tandem-scenario sweep: cannot find my own program\n");
+        return 1;
+    }
+    w.self[n] = '\0';
+    if (scenario_mkdir(w.out) != 0)
+        return 1;
+    w.n_run = (int)(w.seed_b - w.seed_a + 1);
+    w.run = calloc((size_t)w.n_run, sizeof *w.run);
+    if (!w.run)
+        return 1;
+    for (i = 0; i < w.n_run; i++) {
+        w.run[i].seed = w.seed_a + i;
+        w.run[i].status = -1;
+    }
+    signal(SIGINT, sweep_on_sigint);
+    signal(SIGTERM, sweep_on_sigint);
+    fprintf(stderr, "sweep %s: seeds %ld-%ld, %d at a time, into %s\n", w.name, w.seed_a, w.seed_b, w.jobs, w.out);
+    ran = run_all(&w, wall0);
+    if (ran < 0) {
+        fprintf(stderr, "tandem-scenario sweep: cannot run the scenario\n");
+        free(w.run);
+        return 1;
+    }
+    csv = scenario_fopen(w.out, "sweep.csv");
+    print_header(stdout, &w, "\t");
+    if (csv)
+        print_header(csv, &w, ",");
+    for (i = 0; i < w.n_run; i++) {
+        if (!w.run[i].done)
+            continue;
+        passed += w.run[i].status == 0;
+        print_row(stdout, &w, &w.run[i], "\t");
+        if (csv)
+            print_row(csv, &w, &w.run[i], ",");
+    }
+    if (csv)
+        fclose(csv);
+    print_totals(&w, passed, ran);
+    printf("sweep %s: %d/%d runs passed, %.0f s\n", w.name, passed, w.n_run, scenario_wall_s() - wall0);
+    free(w.run);
+    return passed == w.n_run ? 0 : 3;
+}
+
+const scenario_def scenario_sweep = {
+    "sweep", "runs a scenario over a range of seeds (J at a time): table, totals, sweep.csv", run
+};
