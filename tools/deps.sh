@@ -8,7 +8,7 @@
 set -euo pipefail
 pkgs=(build-essential pkg-config libode-dev liblcm-dev liblcm-bin liblcm-java
       libccd-dev libcmocka-dev libglib2.0-dev default-jdk-headless gnuplot-nox
-      libjchart2d-java)
+      libjchart2d-java python3)
 case ${1:-run} in
     bench) pkgs=(rt-tests valgrind liborocos-kdl-dev g++) ;;
     view) pkgs=(python3-venv) ;;

@@ -62,3 +62,9 @@ install: all
 	@tools/install.sh "$(DESTDIR)$(PREFIX)" "$(PREFIX)" $(BIN) $(CORE_LIB) $(TYPES_JAR) $(MAN_DIR)
 
 .PHONY: viewer view view-test help install FORCE
+
+# ---- tandem-log2csv: CSV printers generated for every message type ----------
+$(GEN)/c/tandem_csv.c: $(LCM_FILES) tools/lcm2csv_gen.py $(GEN_STAMP)
+	@python3 tools/lcm2csv_gen.py $(GEN)/c $(LCM_FILES)
+$(LIB)/libtandem_lcm.a: $(GEN)/c/tandem_csv.c
+$(OBJ)/prog/tandem_log2csv.o: $(GEN)/c/tandem_csv.c
