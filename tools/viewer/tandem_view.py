@@ -16,6 +16,7 @@ decoded as they come, so no event is lost between two frames.
 import argparse
 import os
 import select
+import struct
 import sys
 import time
 
@@ -68,6 +69,7 @@ class Bridge:
         self.latest = {}
         self.received = 0
         self.frames = 0
+        self.undecodable = {}     # channel -> messages that did not decode
 
     def on_latest(self, channel, data):
         self.received += 1
@@ -75,14 +77,26 @@ class Bridge:
 
     def on_now(self, channel, data):
         self.received += 1
-        self.events.handle(channel, data, self.cell)
+        self.guarded(channel, self.events.handle, channel, data, self.cell)
+
+    def guarded(self, channel, fn, *args):
+        """A message that does not decode (another version of the types,
+        a truncated datagram) is counted and reported once, never fatal."""
+        try:
+            fn(*args)
+        except (ValueError, struct.error, IndexError) as e:
+            n = self.undecodable.get(channel, 0)
+            self.undecodable[channel] = n + 1
+            if n == 0:
+                print(f"tandem-view: {channel}: message does not decode ({e}); "
+                      f"types out of date? (make viewer)", file=sys.stderr, flush=True)
 
     def draw(self):
         """One frame from the newest message of every channel."""
         latest, self.latest = self.latest, {}
         # ground truth first: sonar cones and beacon rays hang on the poses
         for channel in sorted(latest, key=lambda c: (c != "ROVER_TRUTH", c)):
-            self.events.draw_latest(channel, latest[channel], self.cell, self.team)
+            self.guarded(channel, self.events.draw_latest, channel, latest[channel], self.cell, self.team)
         self.events.draw_progress()
         if "VISION_DETECTIONS" in latest or "ARM1_STATE" in latest or "ARM2_STATE" in latest:
             self.cell.workpieces()
