@@ -9,9 +9,10 @@
  * commands arrive.
  *
  * The drives and the mechanics hold the arm's limits, as a real PUMA's do:
- * - every joint's range is a hard stop (ODE hinge stops on a hinge whose
- *   zero follows the joint, so ranges wider than ODE's (-pi, pi) window,
- *   q4 and q6, are held too: joint_stops);
+ * - every joint's range is a hard stop: a one-axis ODE angular motor in
+ *   user mode beside each hinge carries the stops, fed with the joint's
+ *   continuous angle, so ranges wider than the hinge's (-pi, pi) angle
+ *   window, q4 and q6, are held too (joint_stops);
  * - a drive gives at most its peak torque and never drives its joint past
  *   its speed limit: the commanded torque acts through a velocity motor
  *   whose target is the speed limit (ODE's velocity-limited torque), and
@@ -35,12 +36,10 @@
 
 #define ARM_STALE_STEPS 20          /* 20 ms: SPEC.md §7 bounded safe hold */
 #define ARM_TAU_REJECT_FACTOR 2.0   /* |tau| beyond 2x the motor limit = bad data */
-/* The hinge zero is moved to the joint's angle once the hinge angle passes
- * this (ODE's angle wraps at +-pi, its stops only work inside it) ... */
-#define HINGE_RECENTRE_RAD 1.5707963267948966
-/* ... and a range end gets a stop once it lies inside this window: the
- * joint cannot cover the 1.4 rad between the two in one 1 ms step. */
-#define HINGE_STOP_WINDOW_RAD 3.0
+/* A range end gets a stop once it lies within this of the joint (ODE's
+ * rotational stops act inside (-pi, pi) of the motor's angle); a joint
+ * cannot cover the rest in one 1 ms step. */
+#define STOP_WINDOW_RAD 3.0
 /* A joint above this share of its speed limit is braked back to it. */
 #define DRIVE_SPEED_GUARD 0.95
 
@@ -135,6 +134,12 @@ static void build_joint(sim_world *w, sim_arm *a, int i, double Tl[ARM_NJ + 1][1
     dJointSetHingeAnchor(j, anchor[0], anchor[1], anchor[2]);
     dJointSetHingeAxis(j, axis[0], axis[1], axis[2]);
     a->joint[i] = j;
+    /* the stops: same bodies, the hinge axis fixed in the link (rel 1) */
+    a->stop[i] = dJointCreateAMotor(w->world, 0);
+    dJointAttach(a->stop[i], a->link[i], i > 0 ? a->link[i - 1] : 0);
+    dJointSetAMotorMode(a->stop[i], dAMotorUser);
+    dJointSetAMotorNumAxes(a->stop[i], 1);
+    dJointSetAMotorAxis(a->stop[i], 0, 1, axis[0], axis[1], axis[2]);
 }
 
 static int home_q(const sim_arm *a, int idx, double q[ARM_NJ])
@@ -163,7 +168,6 @@ static int home_q(const sim_arm *a, int idx, double q[ARM_NJ])
 }
 
 static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *user);
-static void joint_stops(sim_arm *a, int i);
 
 static int arms_create(sim_world *w, const sim_config *cfg)
 {
@@ -190,9 +194,6 @@ static int arms_create(sim_world *w, const sim_config *cfg)
         for (i = 0; i < ARM_NJ; i++)
             build_joint(w, a, i, Tl);
         memcpy(a->q, a->q_init, sizeof a->q);
-        memcpy(a->q_zero, a->q_init, sizeof a->q_zero);
-        for (i = 0; i < ARM_NJ; i++)
-            joint_stops(a, i);
         if (!subs[k])
             subs[k] = daemon_subscribe(&w->d, command_channel[k], on_command, a);
     }
@@ -253,9 +254,9 @@ static void read_joints(sim_arm *a)
 {
     int i;
     for (i = 0; i < ARM_NJ; i++) {
-        /* the hinge angle is relative to q_zero and stays well inside
-         * +-pi (joint_recentre); the 2 pi unwrap is a guard only */
-        const double raw = a->q_zero[i] + dJointGetHingeAngle(a->joint[i]);
+        /* ODE hinge angles wrap at +-pi; q1, q4, q6 may travel further
+         * (e.g. q1 through the shoulder singularity): keep q continuous */
+        const double raw = a->q_init[i] + dJointGetHingeAngle(a->joint[i]);
         a->q[i] = raw + 6.283185307179586 * floor((a->q[i] - raw) / 6.283185307179586 + 0.5);
         a->qd[i] = dJointGetHingeAngleRate(a->joint[i]);
     }
@@ -263,29 +264,18 @@ static void read_joints(sim_arm *a)
 
 /* ---- limits held by the mechanics and the drives --------------------------- */
 
-/* Range stops of joint i relative to the hinge's zero; a range end outside
- * the window gets none (yet). ODE keeps lo <= hi: open hi first. */
+/* Range stops of joint i for this step: the stop motor's angle is 0 and
+ * the range ends are given relative to the joint's angle q, so they stay
+ * inside ODE's window whatever q is; an end further than STOP_WINDOW_RAD
+ * gets none this step. ODE keeps lo <= hi: open hi first. */
 static void joint_stops(sim_arm *a, int i)
 {
-    const double lo = a->model->q_min_rad[i] - a->q_zero[i];
-    const double hi = a->model->q_max_rad[i] - a->q_zero[i];
-    dJointSetHingeParam(a->joint[i], dParamHiStop, dInfinity);
-    dJointSetHingeParam(a->joint[i], dParamLoStop, lo > -HINGE_STOP_WINDOW_RAD ? lo : -dInfinity);
-    dJointSetHingeParam(a->joint[i], dParamHiStop, hi < HINGE_STOP_WINDOW_RAD ? hi : dInfinity);
-}
-
-/* Keeps the hinge angle near 0: past HINGE_RECENTRE_RAD its zero moves to
- * the joint's present angle (ODE measures the angle from the bodies'
- * relative rotation stored at that moment), and the stops follow. */
-static void joint_recentre(sim_arm *a, int i)
-{
-    dVector3 ax;
-    if (fabs(dJointGetHingeAngle(a->joint[i])) <= HINGE_RECENTRE_RAD)
-        return;
-    dJointGetHingeAxis(a->joint[i], ax);
-    dJointSetHingeAxisOffset(a->joint[i], ax[0], ax[1], ax[2], 0.0);
-    a->q_zero[i] = a->q[i];
-    joint_stops(a, i);
+    const double lo = a->model->q_min_rad[i] - a->q[i];
+    const double hi = a->model->q_max_rad[i] - a->q[i];
+    dJointSetAMotorAngle(a->stop[i], 0, 0.0);
+    dJointSetAMotorParam(a->stop[i], dParamHiStop, dInfinity);
+    dJointSetAMotorParam(a->stop[i], dParamLoStop, lo > -STOP_WINDOW_RAD ? lo : -dInfinity);
+    dJointSetAMotorParam(a->stop[i], dParamHiStop, hi < STOP_WINDOW_RAD ? hi : dInfinity);
 }
 
 /* Joint i's drive for one step. Braking (or a joint above the guard speed,
@@ -335,7 +325,7 @@ static void arms_before_step(sim_world *w)
         a->stale = stale;
         read_joints(a);
         for (i = 0; i < ARM_NJ; i++) {
-            joint_recentre(a, i);
+            joint_stops(a, i);
             if (a->q[i] <= a->model->q_min_rad[i] || a->q[i] >= a->model->q_max_rad[i])
                 a->limit_stops++;
             a->tau_applied[i] = drive_motor(a, i, brake);

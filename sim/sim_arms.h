@@ -17,10 +17,10 @@ typedef struct sim_arm {
     double   base_xyz_m[3];
     double   base_yaw_rad;
     double   T_world_mount[16];        /* world -> arm mounting surface */
-    double   q_init[ARM_NJ];           /* joint angles at creation */
-    double   q_zero[ARM_NJ];           /* ODE hinge angle 0 is q = q_zero (re-centred) */
+    double   q_init[ARM_NJ];           /* ODE hinge angles are relative to this */
     dBodyID  link[ARM_NJ];
     dJointID joint[ARM_NJ];
+    dJointID stop[ARM_NJ];             /* angular motor carrying the range stops */
     dGeomID  geom[ARM_NJ][2];
     /* held command (zero-order hold) */
     double   tau_cmd[ARM_NJ];
