@@ -4,7 +4,7 @@ Both PUMAs as link polylines from their measured joint angles (FK from the
 core's DH table), gripper fingers (red closed, grey open), the table, the
 workpieces the camera sees plus those held in a gripper, the stick when it
 is in, and the per-link contact forces as arrows. arm_state_t carries only
-the magnitude of each link's contact force, so an arrow points from the
+the magnitude of each link's contact force (its 10 ms average is drawn), so an arrow points from the
 stick at the link when the stick is in, and straight up otherwise; its
 length is 1 mm per newton (at most 0.5 m) and its label gives the value.
 """
@@ -50,8 +50,10 @@ class CellDrawer:
         rr.log(base + "/joints", rr.Points3D(pts[1::2], radii=[0.045], colors=[(60, 60, 60)]))
         self.tool[s.arm] = fk.tool_point(flange)
         self._gripper(base, flange, s.gripper_closed, fk.tool_length_m)
-        self._forces(base, pts, s.contact_force_N)
-        rr.log(f"plots/contact_force/arm{s.arm}", rr.Scalars(s.max_contact_force_N))
+        # the 10 ms average (the force sensor's filter), not the raw 1 ms
+        # value, whose single-step spikes of a stiff contact mean nothing
+        self._forces(base, pts, s.contact_force_10ms_N)
+        rr.log(f"plots/contact_force/arm{s.arm}", rr.Scalars(s.max_contact_force_10ms_N))
 
     def _gripper(self, base, flange, closed, length):
         half = 0.015 if closed else 0.045

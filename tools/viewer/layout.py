@@ -24,7 +24,7 @@ def blueprint(scene):
         rrb.TimeSeriesView(origin="/plots/s", name="s(t) per arm [m]"),
         rrb.TimeSeriesView(origin="/plots/formation_error", name="formation error [m]"),
         rrb.Vertical(rrb.Spatial2DView(origin="/petri", name="Petri net marking"),
-                     rrb.TimeSeriesView(origin="/plots/contact_force", name="max contact force [N]")),
+                     rrb.TimeSeriesView(origin="/plots/contact_force", name="max contact force, 10 ms avg [N]")),
         rrb.TextLogView(origin="/events", name="events"),
     )
     return rrb.Blueprint(rrb.Vertical(rrb.Horizontal(cell, team), plots, row_shares=[3, 2]),
