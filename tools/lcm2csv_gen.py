@@ -105,7 +105,7 @@ def main():
                 "#include <stdio.h>\n#include \"tandem_csv.h\"\n")
         for n in names:
             c.write(f"#include \"{package}_{n}.h\"\n")
-        c.write(HELPERS)
+        c.write(PRINT_FUNCS)
         for n in names:
             c.write(e.printer(n) + "\n")
         c.write("static const tandem_csv_type types[] = {\n")
@@ -117,7 +117,7 @@ def main():
         h.write(HEADER)
 
 
-HELPERS = """
+PRINT_FUNCS = """
 static void print_i(long long v, int *first) { printf(*first ? "%lld" : ";%lld", v); *first = 0; }
 static void print_d(double v, int *first) { printf(*first ? "%.9g" : ";%.9g", v); *first = 0; }
 static void print_s(const char *s, int *first)
