@@ -1,7 +1,8 @@
 /* tandem-status: one console line a second about the whole running system,
  * and a clear warning when it falls behind real time or a daemon holds
  * safe, from what the daemons already publish (HEALTH_*, SIM_STATUS,
- * ARM_EVENTS, ROVERk_STATE / ROVERS_STATE). tools/tandem-run starts it.
+ * ARM_EVENTS, PETRI_MARKING, ROVERk_STATE / ROVERS_STATE): also arm
+ * faults and a stalled carry task. tools/tandem-run starts it.
  *
  *   t=  12.3 s  sim/wall 0.98x  overruns +0 (12)  safe hold: -  blocked: -  delivered 2  at goal 0/3
  */
@@ -13,6 +14,7 @@
 #include "daemon.h"
 #include "tandem_action_event_t.h"
 #include "tandem_health_t.h"
+#include "tandem_petri_marking_t.h"
 #include "tandem_rover_state_t.h"
 #include "tandem_rovers_state_t.h"
 #include "tandem_sim_status_t.h"
@@ -39,6 +41,8 @@ static struct {
     int32_t delivered, dropped, spawned;
     int     blocked[3];                   /* arm 1, 2: 1 while BLOCKED */
     int8_t  rover_mode[MAX_ROBOTS + 1];   /* -1 unknown */
+    int     stalled, stalled_warned;      /* supervisor: no progress for its stall limit */
+    int     faulted;                      /* bit k-1: arm k reports a joint fault */
     double  behind_ratio;
     double  behind_warned_s;              /* wall time of the last behind warning, <0 none */
 } S;
@@ -94,6 +98,13 @@ static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_acti
     if (e->arm < 1 || e->arm > 2) return;
     if (e->event == TANDEM_ACTION_EVENT_T_BLOCKED) S.blocked[e->arm] = 1;
     else if (e->event != TANDEM_ACTION_EVENT_T_PROGRESS) S.blocked[e->arm] = 0;
+}
+
+static void on_marking(const lcm_recv_buf_t *rb, const char *ch, const tandem_petri_marking_t *m, void *u)
+{
+    (void)rb; (void)ch; (void)u;
+    S.stalled = m->stalled;
+    S.faulted = m->arms_faulted;
 }
 
 static void rover_mode(int32_t robot, int8_t mode)
@@ -182,6 +193,9 @@ static void status_line(double now)
     safe_holds(holds, sizeof holds, now);
     warn_behind(ratio, now);
     if (ratio >= 0.0) snprintf(ratio_s, sizeof ratio_s, "%.2fx", ratio);
+    if (S.stalled && !S.stalled_warned)
+        printf("WARNING: the carry task is stalled: work pending and nothing completed (supervisor)\n");
+    S.stalled_warned = S.stalled;
     if (S.blocked[1] || S.blocked[2])
         snprintf(blocked, sizeof blocked, "%s%s%s", S.blocked[1] ? "arm1" : "",
                  S.blocked[1] && S.blocked[2] ? "," : "", S.blocked[2] ? "arm2" : "");
@@ -189,10 +203,11 @@ static void status_line(double now)
         known += S.rover_mode[k] >= 0;
         at_goal += S.rover_mode[k] == TANDEM_ROVER_STATE_T_MODE_AT_GOAL;
     }
-    printf("t=%7.1f s  sim/wall %s%s  overruns +%lld (%lld)  safe hold: %s  blocked: %s  "
+    printf("t=%7.1f s  sim/wall %s%s  overruns +%lld (%lld)  safe hold: %s  blocked: %s%s%s%s  "
            "delivered %d/%d dropped %d  at goal %d/%d\n",
            S.sim_s, ratio_s, S.lockstep ? " (lockstep)" : S.paused ? " (paused)" : "", (long long)delta,
-           (long long)total, holds, blocked, (int)S.delivered, (int)S.spawned, (int)S.dropped, at_goal, known);
+           (long long)total, holds, blocked, S.faulted & 1 ? "  FAULT arm1" : "", S.faulted & 2 ? "  FAULT arm2" : "",
+           S.stalled ? "  STALLED" : "", (int)S.delivered, (int)S.spawned, (int)S.dropped, at_goal, known);
     fflush(stdout);
 }
 
@@ -241,6 +256,7 @@ int main(int argc, char **argv)
     tandem_health_t_subscribe(lcm, "HEALTH_.*", on_health, NULL);
     tandem_sim_status_t_subscribe(lcm, "SIM_STATUS", on_sim, NULL);
     tandem_action_event_t_subscribe(lcm, "ARM_EVENTS", on_event, NULL);
+    tandem_petri_marking_t_subscribe(lcm, "PETRI_MARKING", on_marking, NULL);
     tandem_rover_state_t_subscribe(lcm, "ROVER[0-9]+_STATE", on_rover, NULL);
     tandem_rovers_state_t_subscribe(lcm, "ROVERS_STATE", on_rovers, NULL);
     signal(SIGINT, on_signal);
