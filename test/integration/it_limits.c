@@ -159,7 +159,7 @@ static void send_joint_row(harness *h, int arm, int id, const double q[6])
 {
     tandem_action_row_t row;
     tandem_action_segment_t seg;
-    char ch[16];
+    char ch[24];
     memset(&row, 0, sizeof row);
     memset(&seg, 0, sizeof seg);
     seg.kind = TANDEM_ACTION_SEGMENT_T_MOVE_JOINT;
