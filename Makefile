@@ -5,6 +5,9 @@
 #                   also rebuilt and rerun with -fsanitize=address,undefined
 #   make bench      benchmarks (figures printed, nothing asserted)
 #   make spy        lcm-spy with every tandem channel decoded
+#   make cross      the core for m68k-linux-gnu (-m68040) and arm-none-eabi (Cortex-M4F)
+#   make test-cross the unit tests built for the 68040, run under qemu-m68k
+#   make budget     memory, stack and cycle budgets of the cross builds
 #   make view       live 3D viewer in the browser (also: make run VIEW=1)
 #   make help       every target and variable
 #   make clean
@@ -36,7 +39,8 @@ LDLIBS   := -lm
 
 # ---- sources ---------------------------------------------------------------
 CORE_SRC   := $(wildcard src/*.c)
-CORE_OBJ   := $(patsubst src/%.c,$(OBJ)/core/%.o,$(CORE_SRC))
+# the POSIX clock behind rtloop (include/rtclock.h) goes into the host library
+CORE_OBJ   := $(patsubst src/%.c,$(OBJ)/core/%.o,$(CORE_SRC)) $(OBJ)/platform/rtclock_posix.o
 CORE_LIB   := $(LIB)/libtandem.a
 LCM_FILES  := $(wildcard lcmtypes/*.lcm)
 GEN_STAMP  := $(GEN)/.stamp
@@ -65,25 +69,31 @@ BENCH_SRC  := $(wildcard test/bench_*.c)
 BENCH_BIN  := $(patsubst test/%.c,$(BIN)/%,$(BENCH_SRC))
 TYPES_JAR  := build/lib/tandem_types.jar
 
-.PHONY: all run test unit integration bench spy clean deps deps-bench jar
+.PHONY: all run test unit integration bench spy clean deps deps-bench deps-cross jar fuzz
 all: $(PROGS) $(UNIT_BIN) $(IT_BIN) $(TYPES_JAR)
+
+# make cross, make test-cross, make budget: the core on a 68040 and a Cortex-M4
+include cross/cross.mk
 
 # ---- Debian packages (installs when root, else prints the command) ---------
 deps:
 	@tools/deps.sh run
 deps-bench:
 	@tools/deps.sh bench
+deps-cross:
+	@tools/deps.sh cross
 
 # ---- messages --------------------------------------------------------------
-$(GEN_STAMP): $(LCM_FILES)
+$(GEN_STAMP): $(LCM_FILES) lcmtypes/capacities tools/wire/lcm-wire-gen.awk
 	@mkdir -p $(GEN)/c $(GEN)/java
 	@lcm-gen -c --c-cpath $(GEN)/c --c-hpath $(GEN)/c $(LCM_FILES)
+	@awk -v OUT=$(GEN)/c -f tools/wire/lcm-wire-gen.awk lcmtypes/capacities $(LCM_FILES)
 	@lcm-gen -j --jpath $(GEN)/java $(LCM_FILES)
 	@touch $@
 $(LIB)/libtandem_lcm.a: $(GEN_STAMP)
 	@mkdir -p $(OBJ)/gen $(LIB)
 	@for f in $(GEN)/c/*.c; do \
-	  $(CC) -std=c99 $(OPT) $(PKG_CFLAGS) -I$(GEN)/c -c $$f -o $(OBJ)/gen/$$(basename $$f .c).o || exit 1; done
+	  $(CC) -std=c99 $(OPT) $(PKG_CFLAGS) -I$(GEN)/c -Idaemons/common -c $$f -o $(OBJ)/gen/$$(basename $$f .c).o || exit 1; done
 	@rm -f $@ && ar rcs $@ $(OBJ)/gen/*.o
 $(TYPES_JAR): $(GEN_STAMP)
 	@mkdir -p build/lib build/javaclasses
@@ -92,8 +102,13 @@ $(TYPES_JAR): $(GEN_STAMP)
 jar: $(TYPES_JAR)
 
 # ---- libraries -------------------------------------------------------------
-# the core sees only include/: no LCM, no ODE (pure C99 + libm; rtloop adds POSIX)
-$(OBJ)/core/%.o: src/%.c
+# the core sees only include/: no LCM, no ODE, pure C99 + libm; a POSIX or
+# stdio header reached from it stops the build (CORE_POISON, cross/cross.mk)
+$(OBJ)/core/%.o: src/%.c | $(CORE_POISON)
+	@mkdir -p $(@D)
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) -Iinclude -I$(CORE_POISON) $(CFLAGS) -MMD -c $< -o $@
+$(OBJ)/platform/%.o: platform/posix/%.c
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CC    $@';) true
 	$(Q)$(CC) -Iinclude -D_POSIX_C_SOURCE=200809L $(CFLAGS) -MMD -c $< -o $@
@@ -170,7 +185,7 @@ unit: $(UNIT_BIN)
 integration: $(PROGS) $(IT_BIN)
 	@tools/run-tests.sh integration $(BIN) $(IT_BIN)
 
-test: deps
+test: deps deps-cross
 	@$(MAKE) --no-print-directory all
 	@$(MAKE) --no-print-directory unit integration
 	@$(MAKE) --no-print-directory SAN=1 unit integration
@@ -192,6 +207,13 @@ $(BIN)/bench_tdsd_kdl: test/bench_tdsd_kdl.cpp $(CORE_LIB)
 bench: deps deps-bench
 	@$(MAKE) --no-print-directory all $(BENCH_BIN) $(BIN)/bench_kdl $(BIN)/bench_tdsd_kdl
 	@tools/bench.sh $(BIN)
+
+# libFuzzer (clang): every message type's wire check + decoder + validators
+# for FUZZ_SECONDS each (tools/fuzz.sh); fails on any crash, leak or report
+FUZZ_SECONDS ?= 10
+fuzz: $(GEN_STAMP)
+	@command -v clang >/dev/null || tools/deps.sh fuzz
+	@tools/fuzz.sh $(FUZZ_SECONDS)
 
 spy: $(TYPES_JAR)
 	@tools/spy.sh $(TYPES_JAR)

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "daemon.h"
+#include "msg_check.h"
 #include "arm_kin.h"
 #include "jointctl.h"
 #include "jtraj.h"
@@ -59,6 +60,9 @@ typedef struct arm_ctl {
 } arm_ctl;
 
 static arm_ctl C;
+/* ARMk_STATE steps (guard.h): a state may be 1 s ahead of the last one;
+ * after 1 s without a state the simulator is taken to have restarted. */
+static step_gate state_gate;
 
 /* External joint references (ARMk_JOINT_REF, e.g. a TDSD resolver in
  * tandem-scenario): tracked while fresh and no action row runs. */
@@ -113,8 +117,7 @@ static void publish_event(daemon *d, int ev, const char *detail)
 static int state_valid(const tandem_arm_state_t *s)
 {
     return s->arm == C.arm && s->step >= 0 && all_finite(s->q_rad, ARM_NJ) &&
-           all_finite(s->qd_radps, ARM_NJ) && isfinite(s->sim_time_s) &&
-           (!C.have_state || s->step >= C.st.step);
+           all_finite(s->qd_radps, ARM_NJ) && isfinite(s->sim_time_s);
 }
 
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
@@ -124,7 +127,7 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
     (void)ch;
     if (!DAEMON_DECODE(&d->msgs, tandem_arm_state_t, rb, &s))
         return;
-    if (!state_valid(&s)) {
+    if (!state_valid(&s) || step_gate_pass(&state_gate, s.step, rtloop_now_ns()) != GUARD_OK) {
         d->msgs.rejected++;
         return;
     }
@@ -168,7 +171,7 @@ static void on_action(const lcm_recv_buf_t *rb, const char *ch, void *u)
     (void)ch;
     if (!DAEMON_DECODE(&d->msgs, tandem_action_row_t, rb, &r))
         return;
-    ok = r.arm == C.arm && r.n_segments > 0 && r.n_segments <= ROW_MAX_SEGMENTS && !C.running;
+    ok = action_row_check(&r, C.arm, ROW_MAX_SEGMENTS) == MSG_OK && !C.running;
     for (i = 0; ok && i < r.n_segments; i++)
         ok = segment_valid(&r.segments[i]);
     if (!ok) {
@@ -203,9 +206,9 @@ static void on_joint_ref(const lcm_recv_buf_t *rb, const char *ch, void *u)
     (void)ch;
     if (!DAEMON_DECODE(&d->msgs, tandem_arm_joint_ref_t, rb, &r))
         return;
-    if (r.arm != C.arm || r.step < 0 || C.running || arm_q_finite(r.q_rad) != 0 ||
-        !all_finite(r.qd_radps, ARM_NJ) || !all_finite(r.qdd_radps2, ARM_NJ) ||
-        arm_q_outside_limits(C.model, r.q_rad) != 0 || (JR.have && r.step < JR.ref.step)) {
+    if (C.running || !C.have_state || (JR.have && r.step < JR.ref.step) ||
+        joint_ref_check(&r, C.arm, C.model, C.st.q_rad, C.st.step,
+                        (int64_t)(C.stale_s / DAEMON_SIM_DT_S)) != MSG_OK) {
         d->msgs.rejected++;
         return;
     }
@@ -585,8 +588,11 @@ static void cycle(daemon *d, void *user)
     double q_d[ARM_NJ], qd_d[ARM_NJ] = { 0 }, qdd_d[ARM_NJ] = { 0 }, tau[ARM_NJ];
     arm_payload payload, *pl = NULL;
     (void)user;
-    if (!C.have_state) {
-        d->skip_ack = 1;   /* lockstep: join once the first state is here */
+    if (!C.have_state || (d->lockstep && C.st.step != d->pending_step)) {
+        /* lockstep: join once the first state is here; a state lost on the
+         * way is waited for (the simulator announces the step again) rather
+         * than answered from the previous one, which would break determinism */
+        d->skip_ack = 1;
         return;
     }
     if (state_stale(d)) {
@@ -686,6 +692,7 @@ int main(int argc, char **argv)
     C.gains.wn_radps = 6.283185307179586 * hz;
     C.gains.zeta = 1.0;
     C.stale_s = ms * 1e-3;
+    step_gate_init(&state_gate, 1000, 1000000000LL);
     snprintf(name, sizeof name, "tandem-arm-%d", C.arm);
     snprintf(d.name, sizeof d.name, "%s", name);
     snprintf(C.state_ch, sizeof C.state_ch, "ARM%d_STATE", C.arm);

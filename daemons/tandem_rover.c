@@ -66,6 +66,7 @@ static struct {
     int64_t last_step;
     int64_t dropped_q;
     int     batch;                      /* --batch: ROVERS_COMMAND / ROVERS_STATE */
+    int     localize;                   /* --localize: landmarks fused (1) */
     int64_t batch_seq;
 } A;
 
@@ -86,6 +87,12 @@ static void usage(void)
            "  --world NAME       open | obstacles | corridor | deadzone (default open)\n"
            "  --formation F      line | triangle | column (default line)\n"
            "  --blend B          weighted | subsumption | vecsum (default weighted)\n"
+           "  --formation-law L  seed (the seed's law, O ahead of the axle) | kanayama\n"
+           "                     (slot tracking, for comparison) (default seed)\n"
+           "  --ref-heading H    team reference heading: goal (bearing of the goal,\n"
+           "                     default) | mean (the seed's mean of the headings)\n"
+           "  --localize on|off  fuse the world's LED landmarks with odometry (EKF);\n"
+           "                     off: odometry and frame consensus only (default on)\n"
            "  --stale-ms MS      sensors older than this stop the robot (default 500)\n"
            "  --batch            publish all hosted robots' commands and states as one\n"
            "                     ROVERS_COMMAND / ROVERS_STATE message per tick\n"
@@ -124,6 +131,9 @@ static int parse_args(daemon *d, int argc, char **argv)
         { "formation", required_argument, 0, 'f' },
         { "blend", required_argument, 0, 'b' },
         { "stale-ms", required_argument, 0, 's' },
+        { "formation-law", required_argument, 0, 'L' },
+        { "ref-heading", required_argument, 0, 'H' },
+        { "localize", required_argument, 0, 'z' },
         { "batch", no_argument, 0, 'B' },
         DAEMON_COMMON_OPTIONS,
         { 0, 0, 0, 0 }
@@ -176,6 +186,30 @@ static int parse_args(daemon *d, int argc, char **argv)
             break;
         case 'B':
             A.batch = 1;
+            break;
+        case 'L':
+            if (!strcmp(optarg, "seed")) A.params.formation_law = ROVER_LAW_SEED;
+            else if (!strcmp(optarg, "kanayama")) A.params.formation_law = ROVER_LAW_KANAYAMA;
+            else {
+                fprintf(stderr, "tandem-rover: --formation-law: '%s' is not seed|kanayama\n", optarg);
+                return -1;
+            }
+            break;
+        case 'H':
+            if (!strcmp(optarg, "mean")) A.params.goal_heading_gain = 0.0;
+            else if (!strcmp(optarg, "goal")) A.params.goal_heading_gain = 1.0;
+            else {
+                fprintf(stderr, "tandem-rover: --ref-heading: '%s' is not mean|goal\n", optarg);
+                return -1;
+            }
+            break;
+        case 'z':
+            if (!strcmp(optarg, "on")) A.localize = 1;
+            else if (!strcmp(optarg, "off")) A.localize = 0;
+            else {
+                fprintf(stderr, "tandem-rover: --localize: '%s' is not on|off\n", optarg);
+                return -1;
+            }
             break;
         case 's':
             if (parse_double_opt("tandem-rover", "--stale-ms", optarg, 10.0, 10000.0, &ms) < 0)
@@ -248,7 +282,7 @@ static void take_beacons(const tandem_beacon_obs_t *m)
     int i;
     if (!h || too_early(m->step)) return;
     D.msgs.received++;
-    if (m->n < 0 || m->n > ROVER_WORLD_MAX_ROBOTS) {
+    if (m->n < 0 || m->n > ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS) {
         D.msgs.rejected++;
         return;
     }
@@ -515,16 +549,18 @@ int main(int argc, char **argv)
     int j;
     char name[DAEMON_NAME_MAX];
     pose2_t goal_w = { 0, 0, 0 }, goal_t;
-    double goal[2];
+    double goal[2], lm[ROVER_WORLD_MAX_LANDMARKS][2];
     memset(&A, 0, sizeof A);
     A.last_step = -1;
     A.robots = 3;
     A.world = ROVER_WORLD_OPEN;
+    A.localize = 1;
     rover_ctl_params_default(&A.params);
     daemon_defaults(&D, "tandem-rover", 0.05);
     if (parse_args(&D, argc, argv) != 0) return 2;
     A.params.formation = A.formation;
     A.params.blend_mode = A.blend;
+    A.params.localize = A.localize;
     if (A.id_lo == A.id_hi) snprintf(name, sizeof name, "tandem-rover-%d", (int)A.id_lo);
     else snprintf(name, sizeof name, "tandem-rover-%d-%d", (int)A.id_lo, (int)A.id_hi);
     snprintf(D.name, sizeof D.name, "%s", name);
@@ -537,11 +573,19 @@ int main(int argc, char **argv)
     rover_world_to_team(&A.layout, &goal_w, &goal_t);
     goal[0] = goal_t.x_m;
     goal[1] = goal_t.y_m;
+    for (j = 0; j < A.layout.n_landmarks; j++) {
+        const pose2_t lw = { A.layout.landmark_m[j][0], A.layout.landmark_m[j][1], 0.0 };
+        pose2_t lt;
+        rover_world_to_team(&A.layout, &lw, &lt);
+        lm[j][0] = lt.x_m;
+        lm[j][1] = lt.y_m;
+    }
     for (j = A.id_lo; j <= A.id_hi; j++) {
         hosted *h = &A.h[j - A.id_lo];
         pose2_t start;
         rover_world_to_team(&A.layout, &A.layout.start_c[j - 1], &start);
-        if (rover_ctl_init(&h->c, &A.params, j, &start, goal) != 0) {
+        if (rover_ctl_init(&h->c, &A.params, j, &start, goal) != 0 ||
+            rover_ctl_set_landmarks(&h->c, (const double (*)[2])lm, A.layout.n_landmarks) != 0) {
             fprintf(stderr, "tandem-rover: bad controller parameters\n");
             return 2;
         }

@@ -2,7 +2,10 @@
  * section 4; seed eqs. 2, 5-11 with the corrections of the SPEC).
  *
  * Poses passed in are poses of the tracked point O (the beacon, the robot's
- * origin) with the robot heading; O lies d behind the axle centre C.
+ * origin) with the robot heading; O lies at the signed distance d behind
+ * the axle centre C (d < 0: ahead of it; unicycle.h). Every law below holds
+ * for either sign; the seed's formation law is stable in forward motion
+ * only with O ahead (d < 0, docs/formation.md), which is the default.
  * Index order of the behaviours (and of every weight array) follows the
  * rover_state_t message: BEH_GOAL, BEH_FORMATION, BEH_AVOID, BEH_EXCEPTION
  * (the seed numbers them W2, W3, W4, W1).
@@ -29,7 +32,7 @@ enum {
 #define BEH_SONAR_N 8
 
 typedef struct {
-    double d_m;                /* O behind C */
+    double d_m;                /* O behind C, signed (< 0: ahead); |d| > 0 */
     double v_max_mps;          /* eq. 6 (goal) and avoid/exception limits */
     double w_max_radps;
     double v_fm_max_mps;       /* eq. 10 (formation) */
@@ -55,7 +58,7 @@ typedef struct {
 } behaviour_params_t;
 
 /* Defaults (Pioneer 2 DX-like):
- *   d 0.15 m; V_max 0.5 m/s, w_max 1.0 rad/s (both eq. 6 and eq. 10);
+ *   d -0.15 m (O ahead of C); V_max 0.5 m/s, w_max 1.0 rad/s (both eq. 6 and eq. 10);
  *   a1 0.4, a2 1.0; goal_tol 0.3 m, goal_margin 0.05 m; b1 0.5, b2 1.0;
  *   d_s 0.6 m; k_v 0.3 1/s, k_s 0.8; V_k 0.0 m/s, w_k 0.6 rad/s, 2 s;
  *   passage safety 0.3 m, width 0.38 m; k2 1, k3 1, k4 1, d_r 0.3 m;
@@ -105,14 +108,22 @@ int  behaviour_formation(unicycle_cmd_t *u, double *R_d_m, const pose2_t *o,
                          const unicycle_state_t *ref, double l_d_m,
                          double phi_d_rad, const behaviour_params_t *p);
 
-/* Slot tracking, the formation command as flown. The seed law moves the
- * point O, which lies BEHIND the axle: to move O sideways it swings the
- * tail (turns the nose the other way), and with V >= 0 (no rear sonar) its
- * internal heading dynamics are unstable (theta' ~ (V / d) sin theta: a
- * time constant of d / V ~ 0.3 s). Near the slot the rover then chatters
- * between the seed law and a no-reverse fallback; a robot pushed a metre
- * off its slot turns away and orbits the team (test_behaviour). This law
- * steers the NOSE: Kanayama pose tracking of the slot pose (slot position,
+/* The seed's law as flown (ROVER_LAW_SEED): behaviour_formation with V
+ * floored at 0 (the Pioneer has no rear sonar; a robot ahead of its slot
+ * slows down and waits). With O ahead of the axle (d < 0) the law's
+ * heading dynamics are stable in forward motion, theta_i' =
+ * -(V0 / |d|) sin(theta_i - theta0) on the slot; with O behind (d > 0)
+ * they are the mirror image and unstable (docs/formation.md). R_d_m as in
+ * behaviour_formation. -1 on bad input (U = 0). */
+int  behaviour_formation_seed(unicycle_cmd_t *u, double *R_d_m, const pose2_t *o,
+                              const unicycle_state_t *ref, double l_d_m,
+                              double phi_d_rad, const behaviour_params_t *p);
+
+/* Slot tracking (the comparison law, ROVER_LAW_KANAYAMA). With O behind
+ * the axle the seed law swings the tail to move O sideways and, with
+ * V >= 0, its internal heading dynamics are unstable (theta' ~
+ * (V / d) sin theta: a time constant of d / V ~ 0.3 s); this law steers
+ * the NOSE whatever the sign of d: Kanayama pose tracking of the slot pose (slot position,
  * team heading; V = V0 cos e_th + b1 e_x, w = w0 + V0 (4 e_y + 2 sin e_th),
  * V0 floored at 0.1 m/s for steering), handing over linearly between
  * form_near_m and form_far_m from the slot to pursuit of the slot point

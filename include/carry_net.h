@@ -107,6 +107,16 @@ extern const carry_row carry_table[CARRY_N_TRANSITIONS];
 /* Orientation channel gains (rad units) used with every row. */
 extern const erlaw_gains carry_rot_gains;
 
+/* Bounds of the lookup table's gains: lo[i], hi[i] = min, max over every
+ * row that moves an arm, field i in erlaw_gains order (v_m a_m u_m k_p k_v
+ * k0 k1 k2). A row received from the bus must stay inside them (SPEC 7). */
+#define CARRY_N_GAINS 8
+int carry_gains_bounds(double lo[CARRY_N_GAINS], double hi[CARRY_N_GAINS]);
+/* 1 if every field of g is finite and inside the table's bounds; with
+ * allow_zero a field may also be exactly 0 (rows without Cartesian
+ * segments carry no gains). */
+int carry_gains_within_table(const erlaw_gains *g, int allow_zero);
+
 /* Row of transition t, NULL for a bad index. */
 const carry_row *carry_row_of(int t);
 const char *carry_pose_name(int pose);

@@ -1,7 +1,8 @@
 /* odometry: differential-drive dead reckoning from accumulated wheel
  * encoder angles (SPEC.md sections 4, 5: each robot knows itself only by
  * odometry). Integrates the pose of the axle centre C exactly along the arc
- * implied by each encoder increment; O (the beacon) is d behind C.
+ * implied by each encoder increment; O (the beacon) is at the signed
+ * distance d behind C (d < 0: ahead, unicycle.h).
  */
 #ifndef TANDEM_ODOMETRY_H
 #define TANDEM_ODOMETRY_H
@@ -11,7 +12,7 @@
 typedef struct {
     double wheel_radius_m;
     double axle_track_m;     /* distance between the wheel contact points */
-    double d_m;              /* O lies d_m behind C */
+    double d_m;              /* O lies d_m behind C (signed) */
     double last_left_rad;
     double last_right_rad;
     double dist_m;           /* path length of C travelled, for logging */

@@ -1,7 +1,8 @@
 /* rover_ctl: one Pioneer's distributed formation controller (SPEC.md
  * section 4), the whole per-robot algorithm behind tandem-rover:
- *   odometry from wheel encoders only (pose of O in the team frame), with a
- *   frame consensus among mates seen by the camera,
+ *   own pose from wheel encoders fused with the world's LED landmarks seen
+ *   by the camera (localize.h, EKF), or with localization off odometry
+ *   alone with a frame consensus among mates seen by the camera,
  *   team table from team messages (1 s heartbeat) and beacon fusion,
  *   team-average reference R0, slot by sorted id, the four behaviours and
  *   the blend (eq. 11 or a baseline), the narrow-passage protocol, the
@@ -35,18 +36,23 @@
 
 #include "behaviour.h"
 #include "formation.h"
+#include "localize.h"
 #include "odometry.h"
 #include "team.h"
 
 /* Values match rover_state_t MODE_*. */
 enum { ROVER_MODE_FORMATION = 0, ROVER_MODE_DEAD_ZONE = 1, ROVER_MODE_CHANGING = 2,
        ROVER_MODE_AT_GOAL = 3, ROVER_MODE_SAFE_STOP = 4 };
+/* The formation behaviour flown: the seed's law (behaviour_formation_seed)
+ * or Kanayama slot tracking (behaviour_slot_track), for comparison. */
+enum { ROVER_LAW_SEED = 0, ROVER_LAW_KANAYAMA = 1 };
 enum { ROVER_ESC_NONE = 0, ROVER_ESC_TURN = 1, ROVER_ESC_FOLLOW = 2, ROVER_ESC_YIELD = 3 };
 
 typedef struct {
     behaviour_params_t beh;
     formation_fsm_params_t fsm;
     int    blend_mode;          /* BEH_BLEND_* */
+    int    formation_law;       /* ROVER_LAW_* */
     int    formation;           /* nominal FORMATION_* */
     double team_timeout_s;      /* heartbeat: 1 s */
     double beacon_alpha;        /* team_observe gain */
@@ -77,6 +83,10 @@ typedef struct {
     double consensus_age_s;     /* only mates seen this recently count */
     double consensus_max_mps;   /* at most this much correction per second */
     double consensus_range_m;   /* only mates seen this near count (own heading error) */
+    int    localize;            /* 1: fuse landmarks (rover_ctl_set_landmarks); 0: odometry
+                                 * and frame consensus */
+    localize_params_t loc;      /* its d_m is taken from beh.d_m */
+    double loc_sd0_xy_m, loc_sd0_theta_rad; /* start pose uncertainty */
 } rover_ctl_params_t;
 
 /* One received team message (fields of team_msg_t). */
@@ -101,6 +111,9 @@ typedef struct {
     rover_ctl_params_t p;
     odometry_t odo;
     double  corr_m[2];          /* frame consensus: added to the odometry position */
+    localize_t loc;             /* own pose when p.localize (started with the odometry) */
+    int     n_lm;               /* landmarks known (team frame) */
+    double  lm_m[LOCALIZE_LANDMARKS_MAX][2];
     int     have_enc, have_sonar;
     pose2_t start_c;
     double  enc_t_s, sonar_t_s, prev_enc_t_s;
@@ -131,6 +144,10 @@ int  rover_ctl_params_check(const rover_ctl_params_t *p);
 /* start_c: pose of C in the team frame; goal in the team frame. */
 int  rover_ctl_init(rover_ctl_t *c, const rover_ctl_params_t *p, int32_t id,
                     const pose2_t *start_c, const double goal_m[2]);
+/* The world's LED landmarks in the team frame (landmark k is camera
+ * target ROVER_LANDMARK_ID_BASE + k); call before the first encoder
+ * reading. -1 on bad input or too many. */
+int  rover_ctl_set_landmarks(rover_ctl_t *c, const double (*lm_m)[2], int n);
 /* Accumulated wheel angles at time t_s. The first reading anchors the
  * odometry at start_c. -1 on non-finite input. */
 int  rover_ctl_encoders(rover_ctl_t *c, double left_rad, double right_rad, double t_s);
@@ -139,7 +156,9 @@ int  rover_ctl_sonar(rover_ctl_t *c, const double range_m[BEH_SONAR_N], double t
 /* A team-mate's message heard at t_s. Returns team_update's result
  * (1 new member, 0 refreshed), -1 invalid. */
 int  rover_ctl_team_msg(rover_ctl_t *c, const rover_team_msg_t *msg, double t_s);
-/* Camera: beacon of `target` at range / bearing. -1 unknown or bad. */
+/* Camera: beacon of `target` (a mate, or a landmark: ROVER_LANDMARK_ID_BASE
+ * + k) at range / bearing. -1 unknown or bad; for a landmark 1 fused, 0
+ * gated out or localization off. */
 int  rover_ctl_beacon(rover_ctl_t *c, int32_t target, double range_m, double bearing_rad);
 /* One control period ending at t_s. -1 on bad input (out->u = 0). */
 int  rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out);

@@ -22,12 +22,19 @@
 #define ROVER_WORLD_MAX_ROBOTS 128
 #define ROVER_WORLD_MAX_OBST   32
 #define ROVER_WORLD_ROW_MAX    10      /* robots per start row */
+#define ROVER_WORLD_MAX_LANDMARKS 64   /* = LOCALIZE_LANDMARKS_MAX */
+/* The camera reports landmark k (rover_world_t.landmark_m[k]) as beacon
+ * target ROVER_LANDMARK_ID_BASE + k (robot ids stay below it). */
+#define ROVER_LANDMARK_ID_BASE 1000
 
 /* Pioneer 2 DX body (the chassis box, relative to the axle centre C). */
 #define ROVER_BODY_LENGTH_M   0.44
 #define ROVER_BODY_WIDTH_M    0.38
 #define ROVER_BODY_OFFSET_M  (-0.03)  /* box centre is this far ahead of C */
-#define ROVER_BEACON_D_M      0.15     /* O (the LED beacon) lies d behind C */
+/* O (the LED beacon, the camera) lies d behind C, signed: -0.15 puts it
+ * 0.15 m AHEAD of the axle, where the seed's formation law has stable
+ * heading dynamics in forward motion (docs/formation.md) */
+#define ROVER_BEACON_D_M    (-0.15)
 
 enum { ROVER_WORLD_OPEN = 0, ROVER_WORLD_OBSTACLES = 1, ROVER_WORLD_CORRIDOR = 2,
        ROVER_WORLD_DEADZONE = 3, ROVER_WORLD_COUNT = 4 };
@@ -52,6 +59,14 @@ typedef struct {
     int     n_obst;
     rover_obstacle_t obst[ROVER_WORLD_MAX_OBST];
     double  x_min_m, y_min_m, x_max_m, y_max_m;   /* extent for plots/grids */
+    /* LED landmarks at known places (world frame), at the height of the
+     * robots' beacons: pairs 3.5 m either side of the way every 3 m from
+     * behind the start to past the goal, and in the corridor world two
+     * pairs on the corridor's inner faces (the funnel walls hide the
+     * outer ones there). Not obstacles: the posts stand outside the space
+     * the team drives through (sim/sim_rovers.c sees them as LEDs only). */
+    int     n_landmarks;
+    double  landmark_m[ROVER_WORLD_MAX_LANDMARKS][2];
 } rover_world_t;
 
 /* "open" | "obstacles" | "corridor" | "deadzone" -> ROVER_WORLD_*, else -1. */

@@ -1,15 +1,16 @@
 /* rtloop: the periodic real-time loop of every daemon (SPEC.md §1).
  *
- * Absolute deadlines on CLOCK_MONOTONIC with clock_nanosleep(TIMER_ABSTIME),
- * so the period does not drift with the work done in each cycle. Measures
+ * Absolute deadlines on the platform's monotonic clock (rtclock.h; on Linux
+ * CLOCK_MONOTONIC with clock_nanosleep(TIMER_ABSTIME)), so the period does
+ * not drift with the work done in each cycle. Measures
  * wake-up latency (how late the thread woke after its deadline) and cycle
  * time (wake-up to end of work) into fixed histograms, and counts overruns
  * (work that ran past the next deadline; the loop then skips the missed
  * deadlines instead of bursting to catch up).
  *
- * This is the one core module that needs POSIX (clock_nanosleep); porting
- * to a bare-metal board means replacing rtloop_now_ns and rtloop_sleep_until
- * with a hardware timer.
+ * The clock comes from the platform layer (include/rtclock.h): Linux links
+ * platform/posix/rtclock_posix.c, a bare board its own timer
+ * (platform/board/rtclock_board.c shows the shape).
  */
 #ifndef TANDEM_RTLOOP_H
 #define TANDEM_RTLOOP_H

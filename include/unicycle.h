@@ -3,10 +3,11 @@
  * The unicycle point is C, the wheel-axle centre, with heading theta and
  * controls (V, w): C' = V (cos theta, sin theta), theta' = w. The tracked
  * point O (the LED beacon, the robot's own origin, what team messages and
- * the behaviours use) lies a distance d BEHIND C on the heading:
+ * the behaviours use) lies on the heading line at the SIGNED distance d:
  *     O = C - d (cos theta, sin theta)
  *     O' = V (cos theta, sin theta) + d w (sin theta, -cos theta)
- * This convention reproduces the seed's eq. 3.
+ * d > 0 puts O behind C (the seed's eq. 3 as written), d < 0 ahead of it
+ * (the Pioneer team flies d = -0.15 m: docs/formation.md derives why).
  *
  * Saturation (seed eq. 6 and eq. 10): the seed clips V and w independently
  * to [-V_max, V_max] x [-w_max, w_max] (UNICYCLE_SAT_CLIP). That changes the
@@ -42,7 +43,7 @@ enum {
     UNICYCLE_SAT_SCALE = 1   /* one factor for both: keeps V / w */
 };
 
-/* Pose of O from pose of C (and back); same heading. d_m >= 0. */
+/* Pose of O from pose of C (and back); same heading. d_m signed (above). */
 void unicycle_o_from_c(pose2_t *o, const pose2_t *c, double d_m);
 void unicycle_c_from_o(pose2_t *c, const pose2_t *o, double d_m);
 

@@ -222,6 +222,16 @@ static int command_valid(const sim_arm *a, int idx, const tandem_arm_command_t *
     return 1;
 }
 
+/* A command answers a state the simulator published: its step is at most
+ * the simulator's own and no older than the watchdog's limit (an older one
+ * would be stale on arrival). Checked against the simulator's step, not
+ * only the last command's, so one command from the future cannot latch. */
+static int command_step_plausible(const sim_arm *a, int64_t step)
+{
+    const int64_t now = arms_world->step;
+    return step <= now && step >= now - ARM_STALE_STEPS && step >= a->cmd_step;
+}
+
 static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *user)
 {
     sim_arm *a = user;
@@ -234,7 +244,7 @@ static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *user)
         arms_world->d.msgs.rejected++;
         return;
     }
-    if (c.step < a->cmd_step) {         /* out of order: an older answer */
+    if (!command_step_plausible(a, c.step)) {
         arms_world->d.msgs.rejected++;
         return;
     }

@@ -28,6 +28,10 @@ typedef struct sim_app {
 
 static sim_app app;
 
+/* Lockstep: how long to wait for the answers before publishing the step
+ * again (a datagram lost on a loaded host, not a dead participant). */
+#define SIM_REANNOUNCE_NS 5000000LL
+
 static void usage(void)
 {
     printf("usage: tandem-sim [options]\n"
@@ -371,12 +375,16 @@ static void wait_for_answers(void)
             return;
         }
         /* Until everyone is there (or while paused), keep announcing the step
-         * with its states, so a controller that starts late still sees them. */
-        if ((starting || app.w.paused) && now - last_pub > 100000000LL) {
+         * with its states, so a controller that starts late still sees them.
+         * Otherwise re-announce on a short timer: a lost SIM_CLOCK, state or
+         * ack then costs SIM_REANNOUNCE_NS, not the participant timeout
+         * (participants answer a step they already answered again, without
+         * running their cycle twice). */
+        if (now - last_pub > ((starting || app.w.paused) ? 100000000LL : SIM_REANNOUNCE_NS)) {
             publish_step();
             last_pub = now;
         }
-        lcm_handle_timeout(app.w.lcm, 10);
+        lcm_handle_timeout(app.w.lcm, 2);   /* the re-announce timer's resolution */
         if (app.reset_pending)
             return;
     }

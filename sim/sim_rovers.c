@@ -22,8 +22,9 @@
  * Pioneer's own packet does; the transducers fire one per 40 ms in the
  * Pioneer order, sonar_cast on a primitive list of the obstacles and the
  * other robots' boxes rebuilt every firing), ROVERk_BEACONS (camera at O on
- * a pan unit stepping ahead/left/ahead/right: LED beacons of mates within
- * 6 m and +-60 deg of where it looks, line of sight, noise; 10 Hz),
+ * a pan unit stepping ahead/left/ahead/right: LED beacons of mates and the
+ * world's LED landmarks within 6 m and +-60 deg of where it looks, line of
+ * sight, noise; 10 Hz),
  * ROVER_TRUTH (ground truth, 20 Hz, for metrics only). With --rover-batch
  * the same frames of all robots go out as one message per tick
  * (ROVERS_SENSORS, ROVERS_BEACONS); commands are taken on ROVERk_COMMAND
@@ -557,31 +558,38 @@ static void publish_sensors(sim_world *w)
     }
 }
 
-/* Robot i's camera frame: mates' LED beacons in view (range, bearing). */
+/* One LED at (x, y) seen from camera pose o: appended as target `id`
+ * with noisy range and bearing if in view (6 m, the pan's field of view)
+ * and not hidden by an obstacle taller than the LED (robots, 0.25 m, do
+ * not hide it). */
+static int see_led(rover *r, const pose2_t *o, double pan, double x, double y, int32_t id,
+                   int32_t *tgt, double *rng, double *brg, int n)
+{
+    const double dx = x - o->x_m, dy = y - o->y_m, d = hypot(dx, dy);
+    const double b = vec2_angle_diff_rad(atan2(dy, dx), o->theta_rad);
+    sonar_hit_t hit;
+    if (d > RV_CAM_RANGE_M || d < 0.05 || fabs(vec2_angle_diff_rad(b, pan)) > RV_CAM_HALF_FOV)
+        return n;
+    if (sonar_cast(&hit, &R.sw, o->x_m, o->y_m, RV_BEACON_Z_M, atan2(dy, dx), d) == 1) return n;
+    tgt[n] = id;
+    rng[n] = d + (0.01 + 0.02 * d) * prng_gauss(&r->rng);
+    brg[n] = b + 0.01 * prng_gauss(&r->rng);
+    return n + 1;
+}
+
+/* Robot i's camera frame: mates' LED beacons and the world's LED landmarks
+ * (target ROVER_LANDMARK_ID_BASE + k) in view (range, bearing). */
 static void observe_beacons(int i, const pose2_t o[], double pan, int64_t step, int64_t utime,
                             int32_t *tgt, double *rng, double *brg, tandem_beacon_obs_t *m)
 {
     rover *r = &R.r[i];
     int j, n = 0;
-    for (j = 0; j < R.n; j++) {
-        double dx, dy, d, b;
-        sonar_hit_t hit;
-        if (j == i || !R.r[j].alive) continue;
-        dx = o[j].x_m - o[i].x_m;
-        dy = o[j].y_m - o[i].y_m;
-        d = hypot(dx, dy);
-        b = vec2_angle_diff_rad(atan2(dy, dx), o[i].theta_rad);
-        if (d > RV_CAM_RANGE_M || d < 0.05 ||
-            fabs(vec2_angle_diff_rad(b, pan)) > RV_CAM_HALF_FOV)
-            continue;
-        /* obstacles taller than the LED hide it; robots (0.25 m) do not */
-        if (sonar_cast(&hit, &R.sw, o[i].x_m, o[i].y_m, RV_BEACON_Z_M, atan2(dy, dx), d) == 1)
-            continue;
-        tgt[n] = R.r[j].id;
-        rng[n] = d + (0.01 + 0.02 * d) * prng_gauss(&r->rng);
-        brg[n] = b + 0.01 * prng_gauss(&r->rng);
-        n++;
-    }
+    for (j = 0; j < R.n; j++)
+        if (j != i && R.r[j].alive)
+            n = see_led(r, &o[i], pan, o[j].x_m, o[j].y_m, R.r[j].id, tgt, rng, brg, n);
+    for (j = 0; j < R.layout.n_landmarks; j++)
+        n = see_led(r, &o[i], pan, R.layout.landmark_m[j][0], R.layout.landmark_m[j][1],
+                    ROVER_LANDMARK_ID_BASE + j, tgt, rng, brg, n);
     m->seq = r->seq_beacon++;
     m->utime = utime;
     m->step = step;
@@ -597,8 +605,9 @@ static void publish_beacons(sim_world *w)
     /* the camera sits on a pan unit that looks ahead, left, ahead, right in
      * turn, one frame each (abreast mates are seen every 0.4 s) */
     static const double pans[4] = { 0.0, 0.5 * VEC2_PI, 0.0, -0.5 * VEC2_PI };
-    static int32_t tgt[RV_MAX][RV_MAX];
-    static double rng[RV_MAX][RV_MAX], brg[RV_MAX][RV_MAX];
+    static int32_t tgt[RV_MAX][RV_MAX + ROVER_WORLD_MAX_LANDMARKS];
+    static double rng[RV_MAX][RV_MAX + ROVER_WORLD_MAX_LANDMARKS];
+    static double brg[RV_MAX][RV_MAX + ROVER_WORLD_MAX_LANDMARKS];
     static tandem_beacon_obs_t m[RV_MAX];
     const double pan = pans[(w->step / RV_BEACON_STEPS) % 4];
     const int64_t utime = daemon_utime_now();

@@ -14,7 +14,7 @@
 
 void behaviour_params_default(behaviour_params_t *p)
 {
-    p->d_m = 0.15;
+    p->d_m = -0.15;   /* O ahead of the axle: behaviour.h */
     p->v_max_mps = 0.5;
     p->w_max_radps = 1.0;
     p->v_fm_max_mps = 0.5;
@@ -45,7 +45,7 @@ void behaviour_params_default(behaviour_params_t *p)
 
 static int params_check_values(const behaviour_params_t *p)
 {
-    const double pos[] = { p->d_m, p->v_max_mps, p->w_max_radps, p->v_fm_max_mps,
+    const double pos[] = { fabs(p->d_m), p->v_max_mps, p->w_max_radps, p->v_fm_max_mps,
                            p->w_fm_max_radps, p->d_r_m };
     const double nonneg[] = { p->a1, p->a2, p->goal_tol_m, p->goal_margin_m,
                               p->b1, p->b2, p->d_s_m, p->k_v, p->k_s,
@@ -183,7 +183,7 @@ int behaviour_formation(unicycle_cmd_t *u, double *R_d_m, const pose2_t *o,
     if (R_d_m) *R_d_m = 0.0;
     if (!vec2_pose_finite(o) || !ref || !vec2_finite3(ref->x_m, ref->y_m, ref->theta_rad) ||
         !isfinite(ref->v_mps) || !isfinite(ref->w_radps) || !isfinite(l_d_m) ||
-        !isfinite(phi_d_rad) || l_d_m < 0.0 || !(p->d_m > 0.0))
+        !isfinite(phi_d_rad) || l_d_m < 0.0 || !(fabs(p->d_m) > 0.0))
         return -1;
     behaviour_formation_polar(&l, &phi, o, ref);
     /* At l = 0 the bearing is undefined; any value works since l multiplies
@@ -195,6 +195,16 @@ int behaviour_formation(unicycle_cmd_t *u, double *R_d_m, const pose2_t *o,
     unicycle_saturate(u, &raw, p->v_fm_max_mps, p->w_fm_max_radps, p->sat_mode);
     if (R_d_m) *R_d_m = behaviour_slot_error(l, phi, l_d_m, phi_d_rad);
     return 0;
+}
+
+int behaviour_formation_seed(unicycle_cmd_t *u, double *R_d_m, const pose2_t *o,
+                              const unicycle_state_t *ref, double l_d_m,
+                              double phi_d_rad, const behaviour_params_t *p)
+{
+    const int rc = behaviour_formation(u, R_d_m, o, ref, l_d_m, phi_d_rad, p);
+    /* no rear sonar: a robot ahead of its slot stops and lets it come */
+    if (rc == 0 && u->v_mps < 0.0) u->v_mps = 0.0;
+    return rc;
 }
 
 /* Slot position and the slot's offset seen from O in the robot frame. */
@@ -215,7 +225,7 @@ static int formation_inputs_ok(const pose2_t *o, const unicycle_state_t *ref, do
 {
     return vec2_pose_finite(o) && ref && vec2_finite3(ref->x_m, ref->y_m, ref->theta_rad) &&
            isfinite(ref->v_mps) && isfinite(ref->w_radps) && isfinite(l_d_m) &&
-           isfinite(phi_d_rad) && l_d_m >= 0.0 && p->d_m > 0.0;
+           isfinite(phi_d_rad) && l_d_m >= 0.0 && fabs(p->d_m) > 0.0;
 }
 
 int behaviour_slot_track(unicycle_cmd_t *u, const pose2_t *o, const unicycle_state_t *ref,

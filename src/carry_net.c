@@ -5,6 +5,7 @@
  * arm behaves like X'' = u.
  */
 #include "carry_net.h"
+#include <math.h>
 
 #include <stddef.h>
 
@@ -109,6 +110,44 @@ static const char *const POSE_NAMES[CARRY_N_POSES] = {
 const carry_row *carry_row_of(int t)
 {
     return (t >= 0 && t < CARRY_N_TRANSITIONS) ? &carry_table[t] : NULL;
+}
+
+/* Field i of a gain set, in erlaw_gains order. */
+static double gain_field(const erlaw_gains *g, int i)
+{
+    const double v[CARRY_N_GAINS] = { g->v_m, g->a_m, g->u_m, g->k_p, g->k_v, g->k0, g->k1, g->k2 };
+    return v[i];
+}
+
+int carry_gains_bounds(double lo[CARRY_N_GAINS], double hi[CARRY_N_GAINS])
+{
+    int t, i, n = 0;
+    for (t = 0; t < CARRY_N_TRANSITIONS; t++) {
+        const erlaw_gains *g = &carry_table[t].lin;
+        if (!erlaw_gains_valid(g))
+            continue;   /* the vision transition moves no arm */
+        for (i = 0; i < CARRY_N_GAINS; i++) {
+            const double v = gain_field(g, i);
+            lo[i] = (n == 0 || v < lo[i]) ? v : lo[i];
+            hi[i] = (n == 0 || v > hi[i]) ? v : hi[i];
+        }
+        n++;
+    }
+    return n > 0 ? 0 : -1;
+}
+
+int carry_gains_within_table(const erlaw_gains *g, int allow_zero)
+{
+    double lo[CARRY_N_GAINS], hi[CARRY_N_GAINS];
+    int i;
+    if (!g || carry_gains_bounds(lo, hi) != 0)
+        return 0;
+    for (i = 0; i < CARRY_N_GAINS; i++) {
+        const double v = gain_field(g, i);
+        if (!isfinite(v) || v > hi[i] || (v < lo[i] && !(allow_zero && v == 0.0)))
+            return 0;
+    }
+    return 1;
 }
 
 const char *carry_pose_name(int pose)

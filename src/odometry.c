@@ -12,8 +12,7 @@ int odometry_init(odometry_t *o, double wheel_radius_m, double axle_track_m,
                   double d_m, const pose2_t *c0, double left0_rad,
                   double right0_rad)
 {
-    if (!(wheel_radius_m > 0.0) || !(axle_track_m > 0.0) || !(d_m >= 0.0) ||
-        !isfinite(wheel_radius_m) || !isfinite(axle_track_m) ||
+    if (!(wheel_radius_m > 0.0) || !(axle_track_m > 0.0) ||         !isfinite(wheel_radius_m) || !isfinite(axle_track_m) ||
         !isfinite(d_m) || !vec2_pose_finite(c0) || !isfinite(left0_rad) ||
         !isfinite(right0_rad))
         return -1;

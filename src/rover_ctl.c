@@ -28,6 +28,7 @@ void rover_ctl_params_default(rover_ctl_params_t *p)
     p->fsm.shrink_scale = 0.8;
     p->fsm.clear_hold_s = 4.0;   /* 10 s (the whole column out) did worse in the corridor runs */
     p->blend_mode = BEH_BLEND_WEIGHTED;
+    p->formation_law = ROVER_LAW_SEED;
     p->formation = FORMATION_LINE;
     p->team_timeout_s = TEAM_TIMEOUT_S_DEFAULT;
     p->beacon_alpha = 0.2;
@@ -60,6 +61,10 @@ void rover_ctl_params_default(rover_ctl_params_t *p)
     p->consensus_age_s = 2.0;
     p->consensus_max_mps = 0.05;
     p->consensus_range_m = 2.5;
+    p->localize = 1;
+    localize_params_default(&p->loc);
+    p->loc_sd0_xy_m = 0.02;
+    p->loc_sd0_theta_rad = 0.01;
 }
 
 static int pos(double v) { return isfinite(v) && v > 0.0; }
@@ -68,6 +73,7 @@ int rover_ctl_params_check(const rover_ctl_params_t *p)
 {
     if (!p || behaviour_params_check(&p->beh) != 0) return -1;
     if (p->blend_mode < BEH_BLEND_WEIGHTED || p->blend_mode > BEH_BLEND_VECSUM) return -1;
+    if (p->formation_law != ROVER_LAW_SEED && p->formation_law != ROVER_LAW_KANAYAMA) return -1;
     if (p->formation < FORMATION_LINE || p->formation > FORMATION_COLUMN) return -1;
     if (!pos(p->team_timeout_s) || !pos(p->stale_s) || !pos(p->team_period_s) ||
         !pos(p->wheel_radius_m) || !pos(p->axle_track_m) || !pos(p->follow_dist_m) ||
@@ -83,6 +89,10 @@ int rover_ctl_params_check(const rover_ctl_params_t *p)
         !(p->fsm.shrink_scale > 0.0 && p->fsm.shrink_scale <= 1.0))
         return -1;
     if (!isfinite(p->beacon_alpha) || p->beacon_alpha < 0.0 || p->beacon_alpha > 1.0) return -1;
+    if ((p->localize != 0 && p->localize != 1) || localize_params_check(&p->loc) != 0 ||
+        !isfinite(p->loc_sd0_xy_m) || p->loc_sd0_xy_m < 0.0 || !isfinite(p->loc_sd0_theta_rad) ||
+        p->loc_sd0_theta_rad < 0.0)
+        return -1;
     return 0;
 }
 
@@ -105,20 +115,45 @@ int rover_ctl_init(rover_ctl_t *c, const rover_ctl_params_t *p, int32_t id,
     return 0;
 }
 
+int rover_ctl_set_landmarks(rover_ctl_t *c, const double (*lm_m)[2], int n)
+{
+    int k;
+    if (!c || n < 0 || n > LOCALIZE_LANDMARKS_MAX || (n > 0 && !lm_m) || c->have_enc) return -1;
+    for (k = 0; k < n; k++) {
+        if (!isfinite(lm_m[k][0]) || !isfinite(lm_m[k][1])) return -1;
+        c->lm_m[k][0] = lm_m[k][0];
+        c->lm_m[k][1] = lm_m[k][1];
+    }
+    c->n_lm = n;
+    return 0;
+}
+
+/* The localizer starts where the odometry does, with the camera at O. */
+static int localize_start(rover_ctl_t *c)
+{
+    localize_params_t lp = c->p.loc;
+    lp.d_m = c->p.beh.d_m;
+    return localize_init(&c->loc, &lp, &c->start_c, c->p.loc_sd0_xy_m, c->p.loc_sd0_theta_rad,
+                         (const double (*)[2])c->lm_m, c->n_lm);
+}
+
 int rover_ctl_encoders(rover_ctl_t *c, double left_rad, double right_rad, double t_s)
 {
     double ds, dth;
     if (!isfinite(left_rad) || !isfinite(right_rad) || !isfinite(t_s)) return -1;
     if (!c->have_enc) {
         if (odometry_init(&c->odo, c->p.wheel_radius_m, c->p.axle_track_m, c->p.beh.d_m,
-                          &c->start_c, left_rad, right_rad) != 0)
+                          &c->start_c, left_rad, right_rad) != 0 ||
+            localize_start(c) != 0)
             return -1;
         c->have_enc = 1;
         c->enc_t_s = c->prev_enc_t_s = t_s;
         return 0;
     }
     if (t_s < c->enc_t_s) return -1;
-    if (odometry_update(&c->odo, left_rad, right_rad, &ds, &dth) != 0) return -1;
+    if (odometry_update(&c->odo, left_rad, right_rad, &ds, &dth) != 0 ||
+        localize_predict(&c->loc, ds, dth) != 0)
+        return -1;
     if (t_s > c->enc_t_s) {
         const double dt = t_s - c->enc_t_s;
         c->v_est_mps = ds / dt;
@@ -172,10 +207,18 @@ int rover_ctl_team_msg(rover_ctl_t *c, const rover_team_msg_t *msg, double t_s)
     return rc;
 }
 
-/* Own pose of O: odometry plus the frame-consensus correction. */
+/* Landmarks fused: localization on and the world has some. */
+static int localizing(const rover_ctl_t *c)
+{
+    return c->p.localize && c->n_lm > 0;
+}
+
+/* Own pose of O: the localizer's when localizing, else odometry; plus the
+ * frame-consensus correction (zero when localizing). */
 static void own_pose(const rover_ctl_t *c, pose2_t *o)
 {
-    odometry_pose_o(&c->odo, o);
+    if (localizing(c)) localize_pose_o(&c->loc, o);
+    else odometry_pose_o(&c->odo, o);
     o->x_m += c->corr_m[0];
     o->y_m += c->corr_m[1];
 }
@@ -184,6 +227,11 @@ int rover_ctl_beacon(rover_ctl_t *c, int32_t target, double range_m, double bear
 {
     pose2_t o;
     if (!c->have_enc) return -1;
+    if (target >= ROVER_LANDMARK_ID_BASE) {
+        /* a landmark: the localizer's business (ignored with it off) */
+        if (!localizing(c)) return 0;
+        return localize_landmark(&c->loc, target - ROVER_LANDMARK_ID_BASE, range_m, bearing_rad);
+    }
     own_pose(c, &o);
     return team_observe(&c->team, target, &o, range_m, bearing_rad, c->p.beacon_alpha,
                         c->enc_t_s);
@@ -200,8 +248,10 @@ int rover_ctl_beacon(rover_ctl_t *c, int32_t target, double range_m, double bear
 static void frame_consensus(rover_ctl_t *c, double t_s, double dt_s)
 {
     double off[2], k, dx, dy, len;
-    const int n = team_mean_offset(&c->team, t_s, c->p.consensus_age_s, c->p.consensus_range_m,
-                                   off);
+    int n;
+    /* with landmarks every robot's frame is the world's: nothing to agree on */
+    if (localizing(c)) return;
+    n = team_mean_offset(&c->team, t_s, c->p.consensus_age_s, c->p.consensus_range_m, off);
     if (n == 0) return;
     k = c->p.consensus_gain * dt_s * n / (n + 1.0);
     dx = -k * off[0];
@@ -826,8 +876,10 @@ int rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out
     D = formation_width(c->fsm.type, n, c->p.fsm.spacing_m, c->fsm.scale, bp->robot_width_m);
 
     rc_goal = behaviour_goal(&in.u[BEH_GOAL], &o, goal, bp);
-    /* the seed law near the slot, slot tracking away from it (behaviour.h) */
-    behaviour_formation_track(&in.u[BEH_FORMATION], &R_d, &o, &ref, l_d, phi_d, bp);
+    if (c->p.formation_law == ROVER_LAW_KANAYAMA)
+        behaviour_formation_track(&in.u[BEH_FORMATION], &R_d, &o, &ref, l_d, phi_d, bp);
+    else
+        behaviour_formation_seed(&in.u[BEH_FORMATION], &R_d, &o, &ref, l_d, phi_d, bp);
     in.d_st_m = behaviour_d_st(bp, D, l_d, phi_d);
     in.avoid_active = behaviour_avoid(&in.u[BEH_AVOID], &g, self.v_mps, in.d_st_m, bp);
     in.exception_active = escaping;

@@ -119,6 +119,35 @@ static void build_features(rover_world_t *w, double xf)
     }
 }
 
+static void add_landmark(rover_world_t *w, double x, double y)
+{
+    if (w->n_landmarks >= ROVER_WORLD_MAX_LANDMARKS) return;
+    w->landmark_m[w->n_landmarks][0] = x;
+    w->landmark_m[w->n_landmarks][1] = y;
+    w->n_landmarks++;
+}
+
+/* Landmark pairs every 3 m along the way, 3.5 m out: from any pose on the
+ * way the camera's forward frame (6 m, +-60 deg) holds two to four of
+ * them, its side frames one or two. */
+static void build_landmarks(rover_world_t *w, double x_from_m, double xf)
+{
+    const double side_m = 3.5, step_m = 3.0;
+    /* on a grid anchored at the front start row, so the posts keep their
+     * place relative to the worlds' walls whatever the team size */
+    double x = xf + step_m * floor((x_from_m - xf) / step_m);
+    for (; x <= w->goal_m[0] + 3.0 + 1e-9; x += step_m) {
+        add_landmark(w, x, side_m);
+        add_landmark(w, x, -side_m);
+    }
+    if (w->world == ROVER_WORLD_CORRIDOR) {
+        add_landmark(w, xf + 7.0, 0.55);
+        add_landmark(w, xf + 7.0, -0.55);
+        add_landmark(w, xf + 9.0, 0.55);
+        add_landmark(w, xf + 9.0, -0.55);
+    }
+}
+
 int rover_world_layout(rover_world_t *w, int world, int n, double spacing_m, int formation)
 {
     int k, rows;
@@ -168,6 +197,7 @@ int rover_world_layout(rover_world_t *w, int world, int n, double spacing_m, int
         if (w->start_c[k].x_m - spacing_m - 1.0 < w->x_min_m)
             w->x_min_m = w->start_c[k].x_m - spacing_m - 1.0;
     w->x_max_m = w->goal_m[0] + 3.0;
+    build_landmarks(w, w->x_min_m - 1.0, xf);
     w->y_max_m = 0.5 * spacing_m * ROVER_WORLD_ROW_MAX + 1.0;
     if (w->y_max_m < 4.0) w->y_max_m = 4.0;
     w->y_min_m = -w->y_max_m;

@@ -1,25 +1,14 @@
-/* rtloop: periodic loop on absolute CLOCK_MONOTONIC deadlines (SPEC.md §1).
+/* rtloop: periodic loop on absolute monotonic deadlines (SPEC.md §1).
  * Bounded work per call: no loops that depend on how late we are (missed
- * deadlines are skipped arithmetically).
+ * deadlines are skipped arithmetically). The clock is the platform's
+ * (rtclock.h), so this module stays freestanding.
  */
 #include "rtloop.h"
-#include <time.h>
+#include "rtclock.h"
 
 int64_t rtloop_now_ns(void)
 {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (int64_t)ts.tv_sec * 1000000000LL + (int64_t)ts.tv_nsec;
-}
-
-static void sleep_until(int64_t t_ns)
-{
-    struct timespec ts;
-    ts.tv_sec = (time_t)(t_ns / 1000000000LL);
-    ts.tv_nsec = (long)(t_ns % 1000000000LL);
-    /* One call: if a signal interrupts it (EINTR) the cycle simply starts
-     * early, and the caller sees its stop flag at once. */
-    (void)clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
+    return rtclock_now_ns();
 }
 
 int rtloop_init(rtloop *l, int64_t period_ns)
@@ -39,7 +28,7 @@ int rtloop_init(rtloop *l, int64_t period_ns)
 void rtloop_wait(rtloop *l)
 {
     int64_t now;
-    sleep_until(l->next_ns);
+    rtclock_sleep_until_ns(l->next_ns);
     now = rtloop_now_ns();
     l->wake_ns = now;
     loopstats_add(&l->latency, now > l->next_ns ? (double)(now - l->next_ns) * 1e-3 : 0.0);

@@ -203,7 +203,7 @@ int team_reference(unicycle_state_t *ref, const team_t *t,
 {
     ref_acc_t a = {0, 0, 0, 0, 0, 0, 0};
     int i;
-    if (!ref || !t || !isfinite(now_s) || !isfinite(d_m) || d_m < 0.0) return -1;
+    if (!ref || !t || !isfinite(now_s) || !isfinite(d_m)) return -1;
     if (self && !self_left) {
         const pose2_t o = { self->x_m, self->y_m, self->theta_rad };
         if (!vec2_pose_finite(&o) || !isfinite(self->v_mps) || !isfinite(self->w_radps))

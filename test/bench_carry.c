@@ -26,12 +26,15 @@
 #include "erlaw.h"
 #include "linalg.h"
 #include "petri.h"
+#include "stallwatch.h"
 #include "vec3.h"
 
 #define NSAMPLES 64
 
 static volatile double sink;
 static petri net;
+static stallwatch stall;
+static double sup_t_s;
 static cartseg seg;
 static arm_tool tool;
 static arm_payload bar;
@@ -46,19 +49,25 @@ static double now_s(void)
 
 /* One supervisor step: the daemon's enable scan, then start the chosen
  * transition (or, with none enabled, complete the lowest running one, as a
- * completion event would), then the invariant check it does on change. */
+ * completion event would), then the invariant check it does on change and
+ * its stall watch (with the pending-work scan). */
 static int sup_step(void)
 {
-    int t = petri_select(&net);
+    int t = petri_select(&net), completed = 0, pending = 0;
     if (t >= 0) {
         petri_start(&net, t);
     } else {
         for (t = 0; t < carry_net.n_transitions; t++)
             if (petri_running(&net, t)) {
                 petri_complete(&net, t);
+                completed = 1;
                 break;
             }
     }
+    for (t = 0; t < carry_net.n_transitions && !pending; t++)
+        pending = petri_running(&net, t) || petri_enabled(&net, t);
+    sup_t_s += 0.01;
+    stallwatch_update(&stall, sup_t_s, completed, pending, 0);
     return petri_invariants_ok(&net);
 }
 
@@ -71,7 +80,7 @@ static int setup(void)
     arm_ik_result r;
     unsigned long s = 1;
     int i, j;
-    if (petri_init(&net, &carry_net) != 0)
+    if (stallwatch_init(&stall, 30.0) != 0 || petri_init(&net, &carry_net) != 0)
         return -1;
     arm_tool_offset(&tool, off);
     arm_payload_point(&bar, cell_default.workpiece_mass_kg, com);
@@ -111,6 +120,8 @@ static void run(const char *mode, long n)
             sink = sup_step();
         } else if (strcmp(mode, "cycle") == 0) {
             cartseg_out o;
+            /* the daemon's joint watchdog, then the segment law */
+            sink = arm_joint_faults(&arm_model_puma560, q, qd);
             cartseg_step(&seg, &arm_model_puma560, &tool, &bar, q, qd, -1.0, 1e-3, &o);
             sink = o.tau_Nm[0];
         } else if (strcmp(mode, "kin") == 0) {

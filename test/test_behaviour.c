@@ -2,7 +2,10 @@
  * keep-formation checked by central finite differences on the exact
  * kinematic model, saturation, avoid, dead-zone alternation, narrow-passage
  * detection and the three blending modes; the slot-tracking handover of
- * the formation command (far from the slot). */
+ * the formation command (far from the slot). The control point O lies at
+ * a signed distance d behind the axle: the error dynamics hold for both
+ * signs; the seed law's heading dynamics are stable only with O ahead
+ * (d < 0), shown by the linearisation and in closed loop. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -19,6 +22,13 @@ static double urand(prng_t *r, double lo, double hi)
 }
 
 /* O pose after moving C with u for dt (dt may be negative). */
+/* A signed d with 0.05 <= |d| <= 0.4 (O behind or ahead of the axle). */
+static double urand_d(prng_t *r)
+{
+    const double m = urand(r, 0.05, 0.4);
+    return prng_uniform(r) < 0.5 ? -m : m;
+}
+
 static pose2_t o_after(const pose2_t *o, const unicycle_cmd_t *u, double d, double dt)
 {
     pose2_t c, out;
@@ -36,7 +46,7 @@ static void test_goal_error_dynamics(void **state)
     (void)state;
     prng_seed(&rng, 3);
     while (n < 500 && tries < 100000) {
-        const double d = urand(&rng, 0.05, 0.4), a1 = urand(&rng, 0.1, 2.0), a2 = urand(&rng, 0.1, 3.0);
+        const double d = urand_d(&rng), a1 = urand(&rng, 0.1, 2.0), a2 = urand(&rng, 0.1, 3.0);
         pose2_t o = { urand(&rng, -5, 5), urand(&rng, -5, 5), urand(&rng, -VEC2_PI, VEC2_PI) };
         const double g[2] = { urand(&rng, -5, 5), urand(&rng, -5, 5) };
         double r, phi, rp, php, rm, phm;
@@ -65,7 +75,11 @@ static void test_goal_singular_and_turn(void **state)
     double g[2] = {-2.0, 0.1};   /* behind, slightly left: r cos phi < d */
     (void)state;
     behaviour_params_default(&p);
-    assert_int_equal(behaviour_goal_raw(&u, p.d_m, 0.0, p.d_m, 1, 1), -1);
+    /* eq. 5 is singular at r cos phi = d: with O behind (d > 0) for a goal
+     * ahead, with O ahead (d < 0) only for a goal behind */
+    assert_int_equal(behaviour_goal_raw(&u, 0.15, 0.0, 0.15, 1, 1), -1);
+    assert_int_equal(behaviour_goal_raw(&u, 0.15, VEC2_PI, -0.15, 1, 1), -1);
+    assert_int_equal(behaviour_goal_raw(&u, 0.15, 0.0, -0.15, 1, 1), 0);
     assert_int_equal(behaviour_goal(&u, &o, g, &p), BEH_GOAL_TURN);
     assert_true(u.v_mps == 0.0 && u.w_radps > 0.0 && u.w_radps <= p.w_max_radps);
     g[0] = 0.1; g[1] = 0.1;
@@ -127,7 +141,7 @@ static void test_formation_error_dynamics(void **state)
         unicycle_state_t rp, rm;
         pose2_t op, om;
         tries++;
-        p.d_m = urand(&rng, 0.05, 0.4);
+        p.d_m = urand_d(&rng);
         p.b1 = urand(&rng, 0.1, 2.0);
         p.b2 = urand(&rng, 0.1, 2.0);
         behaviour_formation_polar(&l, &phi, &o, &ref);
@@ -173,9 +187,9 @@ static void test_formation_converges_saturated(void **state)
  * clips V >= 0), starting from a robot pushed to the side of its slot
  * (left-rear slot of a triangle, robot 2 m further left, 1 m ahead, nose
  * turned 30 deg away, as after passing an obstacle on the wrong side).
- * track = 1: behaviour_formation_track; 0: the seed law alone. Also the
- * largest distance from the slot on the way. */
-static double slot_follow(int track, double *worst_m)
+ * track = 1: behaviour_formation_track; 0: the seed law alone; d_m the
+ * signed O offset. Also the largest distance from the slot on the way. */
+static double slot_follow(int track, double d_m, double *worst_m)
 {
     behaviour_params_t p;
     unicycle_state_t ref = {0, 0, 0, 0.3, 0.0};
@@ -184,6 +198,7 @@ static double slot_follow(int track, double *worst_m)
     double Rd = 0.0;
     int k;
     behaviour_params_default(&p);
+    p.d_m = d_m;
     *worst_m = 0.0;
     for (k = 0; k < 20 * 60; k++) {
         unicycle_cmd_t u;
@@ -205,13 +220,151 @@ static void test_formation_track_recovers_far_slot(void **state)
     /* the seed law moves O by swinging the tail: far off the slot with
      * V >= 0 the robot turns away and orbits the team (the obstacles-world
      * failure); tracking steers the nose to the slot and settles */
-    end_seed = slot_follow(0, &worst_seed);
-    end_track = slot_follow(1, &worst_track);
-    print_message("seed law: end %.2f m, worst %.2f m; track: end %.3f m, worst %.2f m\n",
-                  end_seed, worst_seed, end_track, worst_track);
+    double end_ahead, worst_ahead;
+    end_seed = slot_follow(0, 0.15, &worst_seed);
+    end_track = slot_follow(1, 0.15, &worst_track);
+    end_ahead = slot_follow(0, -0.15, &worst_ahead);
+    print_message("seed law, O behind: end %.2f m, worst %.2f m; O ahead: end %.3f m, worst %.2f m; "
+                  "track: end %.3f m, worst %.2f m\n",
+                  end_seed, worst_seed, end_ahead, worst_ahead, end_track, worst_track);
     assert_true(end_track < 0.05);
     assert_true(worst_track < 2.6);          /* never further than the start */
-    assert_true(end_seed > 1.0);             /* the defect this law removes */
+    assert_true(end_seed > 1.0);             /* O behind: the robot orbits off */
+    assert_true(end_ahead < 0.01);           /* O ahead: the seed law settles */
+    assert_true(worst_ahead < 2.6);
+}
+
+/* On the slot (l = l_d, phi = phi_d), reference straight at V0: the seed
+ * law's w as a function of the heading is (V0 / d) sin(theta - theta0)
+ * (docs/formation.md), so the linearised heading dynamics are
+ * theta' = (V0 / d) (theta - theta0): unstable with O behind (d > 0),
+ * stable with O ahead (d < 0). Checked against the law itself, and its
+ * slope by a central difference. */
+static void test_seed_heading_linearisation(void **state)
+{
+    const double ds[2] = { 0.15, -0.15 }, v0 = 0.3, h = 1e-6;
+    unicycle_state_t ref = { 1.0, -2.0, 0.4, 0.3, 0.0 };
+    const double l_d = 1.2, phi_d = 2.1;
+    int i, k;
+    (void)state;
+    for (i = 0; i < 2; i++) {
+        behaviour_params_t p;
+        pose2_t o;
+        unicycle_cmd_t up, um;
+        double slope;
+        behaviour_params_default(&p);
+        p.d_m = ds[i];
+        p.v_fm_max_mps = p.w_fm_max_radps = 1e9;
+        o.x_m = ref.x_m + l_d * cos(phi_d + ref.theta_rad);
+        o.y_m = ref.y_m + l_d * sin(phi_d + ref.theta_rad);
+        for (k = -6; k <= 6; k++) {
+            unicycle_cmd_t u;
+            o.theta_rad = ref.theta_rad + 0.25 * k;
+            assert_int_equal(behaviour_formation(&u, NULL, &o, &ref, l_d, phi_d, &p), 0);
+            assert_true(fabs(u.w_radps - v0 / p.d_m * sin(0.25 * k)) < 1e-9);
+        }
+        o.theta_rad = ref.theta_rad + h;
+        behaviour_formation(&up, NULL, &o, &ref, l_d, phi_d, &p);
+        o.theta_rad = ref.theta_rad - h;
+        behaviour_formation(&um, NULL, &o, &ref, l_d, phi_d, &p);
+        slope = (up.w_radps - um.w_radps) / (2 * h);
+        assert_true(fabs(slope - v0 / p.d_m) < 1e-6);
+        /* the sign is the point: O behind diverges, O ahead converges */
+        assert_true(p.d_m > 0.0 ? slope > 0.0 : slope < 0.0);
+    }
+}
+
+/* Closed loop on the slot, reference straight at 0.3 m/s, heading 0.05 rad
+ * off, unsaturated and unclipped: O stays on its slot in both cases (the
+ * law linearises the output exactly), but with O behind the heading runs
+ * away to the other equilibrium, driving backwards; with O ahead it
+ * settles on the team heading with V = V0. */
+static void test_seed_heading_closed_loop(void **state)
+{
+    const double ds[2] = { 0.15, -0.15 };
+    int i, k;
+    (void)state;
+    for (i = 0; i < 2; i++) {
+        behaviour_params_t p;
+        unicycle_state_t ref = { 0, 0, 0, 0.3, 0.0 };
+        pose2_t o = { 0.0, 1.0, 0.05 };
+        unicycle_cmd_t u = { 0, 0 };
+        double Rd = 0.0, worst = 0.0;
+        behaviour_params_default(&p);
+        p.d_m = ds[i];
+        p.v_fm_max_mps = p.w_fm_max_radps = 1e9;
+        for (k = 0; k < 2000; k++) {
+            assert_int_equal(behaviour_formation(&u, &Rd, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
+            if (Rd > worst) worst = Rd;
+            o = o_after(&o, &u, p.d_m, 0.005);
+            ref.x_m += ref.v_mps * 0.005;
+        }
+        print_message("d %+.2f: heading error after 10 s %.3f rad, V %.3f, worst slot error %.4f m\n",
+                      p.d_m, o.theta_rad, u.v_mps, worst);
+        assert_true(worst < 0.01);
+        if (p.d_m > 0.0) {
+            assert_true(fabs(vec2_wrap_rad(o.theta_rad)) > 3.0);
+            assert_true(u.v_mps < -0.25);
+        } else {
+            assert_true(fabs(o.theta_rad) < 1e-4);
+            assert_true(fabs(u.v_mps - 0.3) < 1e-3);
+        }
+    }
+}
+
+/* The seed law as flown (O ahead, V >= 0) from offsets behind, beside and
+ * ahead of the slot, near (0.15 m, where nothing saturates or clips, so the
+ * seed's error dynamics l' = b1 (l_d - l), phi' = b2 (phi_d - phi) must
+ * hold along the whole run; heading 0.1 rad off) and far (1-1.5 m, heading
+ * 0.3 rad off):
+ * V never negative, the robot ends on its slot on the team heading. */
+static void test_seed_ahead_converges_from_offsets(void **state)
+{
+    /* slot (l_d, phi_d) = (1, 90 deg): at (0, 1) relative to R0 */
+    static const double start[6][2] = {
+        { -0.15, 1.0 }, { 0.0, 1.15 }, { 0.15, 1.0 },   /* behind, beside, ahead */
+        { -1.5, 1.0 }, { 0.0, 2.5 }, { 1.0, 1.0 }
+    };
+    int s, k;
+    (void)state;
+    for (s = 0; s < 6; s++) {
+        behaviour_params_t p;
+        unicycle_state_t ref = { 0, 0, 0, 0.3, 0.0 };
+        pose2_t o = { start[s][0], start[s][1], s < 3 ? 0.1 : 0.3 };
+        const double dt = 0.002;
+        double l0, phi0, Rd = 0.0, dyn_err = 0.0, vmin = 1e9, vmax = 0.0, wmax = 0.0;
+        behaviour_params_default(&p);
+        assert_true(p.d_m < 0.0);
+        behaviour_formation_polar(&l0, &phi0, &o, &ref);
+        for (k = 0; k < (int)(60.0 / dt); k++) {
+            unicycle_cmd_t u;
+            double l, phi;
+            assert_int_equal(behaviour_formation_seed(&u, &Rd, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
+            if (u.v_mps < vmin) vmin = u.v_mps;
+            if (u.v_mps > vmax) vmax = u.v_mps;
+            if (fabs(u.w_radps) > wmax) wmax = fabs(u.w_radps);
+            behaviour_formation_polar(&l, &phi, &o, &ref);
+            if (s < 3) {
+                /* closed form of the seed's error dynamics */
+                const double t = k * dt;
+                dyn_err = fmax(dyn_err, fabs(l - (1.0 + (l0 - 1.0) * exp(-p.b1 * t))));
+                dyn_err = fmax(dyn_err, fabs(phi - (VEC2_PI / 2 + (phi0 - VEC2_PI / 2) *
+                                                                   exp(-p.b2 * t))));
+            }
+            o = o_after(&o, &u, p.d_m, dt);
+            ref.x_m += ref.v_mps * dt;
+        }
+        print_message("start %d: end slot error %.4f m, heading %.4f rad, min V %.3f, "
+                      "max |w| %.3f, error-dynamics residual %.4f\n", s, Rd, o.theta_rad, vmin, wmax, dyn_err);
+        assert_true(vmin >= 0.0);
+        assert_true(Rd < 0.005);
+        assert_true(fabs(vec2_wrap_rad(o.theta_rad)) < 0.005);
+        if (s < 3) {
+            /* never clipped nor saturated: the seed's law as is */
+            assert_true(vmin > 0.0 && vmax < p.v_fm_max_mps && wmax < p.w_fm_max_radps);
+            assert_true(dyn_err < 0.002);
+        }
+    }
 }
 
 static void test_formation_track_bands(void **state)
@@ -223,6 +376,7 @@ static void test_formation_track_bands(void **state)
     pose2_t o = {0.05, 1.02, 0.03};         /* slot (0, 1): 0.05 m off */
     (void)state;
     behaviour_params_default(&p);
+    p.d_m = 0.15;                            /* O behind: the seed law's wrong turn */
     /* the slot error reported is the seed law's R_d */
     assert_int_equal(behaviour_formation(&a, &Rd_a, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
     assert_int_equal(behaviour_formation_track(&b, &Rd_b, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
@@ -232,6 +386,10 @@ static void test_formation_track_bands(void **state)
      * law turns left here: it moves O right by swinging the tail) */
     print_message("near: seed w %.3f, track w %.3f\n", a.w_radps, b.w_radps);
     assert_true(b.w_radps < 0.0 && a.w_radps > 0.0);
+    /* O ahead: the seed law turns right too */
+    p.d_m = -0.15;
+    assert_int_equal(behaviour_formation(&a, &Rd_a, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
+    assert_true(a.w_radps < 0.0);
     assert_true(fabs(b.v_mps - ref.v_mps) < 0.05);
     /* far, slot ahead to the right: drive and turn toward it */
     o = (pose2_t){ -3.0, 3.0, 0.0 };
@@ -452,6 +610,9 @@ int main(void)
         cmocka_unit_test(test_formation_converges_saturated),
         cmocka_unit_test(test_formation_track_recovers_far_slot),
         cmocka_unit_test(test_formation_track_bands),
+        cmocka_unit_test(test_seed_heading_linearisation),
+        cmocka_unit_test(test_seed_heading_closed_loop),
+        cmocka_unit_test(test_seed_ahead_converges_from_offsets),
         cmocka_unit_test(test_sonar_groups_and_avoid),
         cmocka_unit_test(test_d_st),
         cmocka_unit_test(test_dead_zone_alternation),

@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 #include <math.h>
+#include <stdio.h>
 
 #include "erlaw.h"
 #include "vec3.h"
@@ -318,6 +319,39 @@ static void test_blocked_leans_with_bias(void **st)
     assert_true(erlaw_line_s(&l, m.x) > s0 + 1e-3);
 }
 
+/* Blocked 2 cm before the goal, where eq. 7's bias has faded: the held
+ * arm still leans with the full start-up bias k0 (with the faded bias a
+ * released arm crept for 19 s); released, the free mass moves on to where
+ * the bias balances the hold spring, k0 / k_p ahead (cartseg's hold
+ * ratchet then moves the hold point on with it). */
+static void test_blocked_near_goal_leans_with_k0(void **st)
+{
+    erlaw_line l;
+    mass m;
+    erlaw_out o;
+    double d[3], s_f, s0;
+    int k;
+    (void)st;
+    vec3_sub(d, P1, P0);
+    s_f = vec3_norm(d);
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
+    mass_at(&m, P0);
+    while (erlaw_line_s(&l, m.x) < s_f - 0.02)
+        cycle(&l, &m, ERLAW_REF_MEASURED, 0.0, 0);
+    m.v[0] = m.v[1] = m.v[2] = 0.0;
+    o = cycle(&l, &m, ERLAW_REF_MEASURED, 0.0, 1);
+    assert_true(o.bias < 0.5 * G.k0);           /* eq. 7 has faded here */
+    assert_int_equal(erlaw_line_hold(&l, m.x), 0);
+    o = cycle(&l, &m, ERLAW_REF_BLOCKED, 0.0, 1);
+    assert_true(fabs(o.bias - G.k0) < 1e-12);   /* blocked: the full k0 */
+    s0 = erlaw_line_s(&l, m.x);
+    for (k = 0; k < 2000; k++)
+        cycle(&l, &m, ERLAW_REF_BLOCKED, 0.0, 0);
+    printf("released 2 cm before the goal: moved on %.3f mm (k0 / k_p = %.3f mm)\n",
+           (erlaw_line_s(&l, m.x) - s0) * 1e3, G.k0 / G.k_p * 1e3);
+    assert_true(fabs(erlaw_line_s(&l, m.x) - s0 - G.k0 / G.k_p) < 0.05 * G.k0 / G.k_p);
+}
+
 /* Rotational double integrator R' = [w]x R, w' = u about a fixed axis. */
 static void test_rotation_channel(void **st)
 {
@@ -424,6 +458,7 @@ int main(void)
         cmocka_unit_test(test_blocked_event_vs_time),
         cmocka_unit_test(test_external_reference_follower_stops),
         cmocka_unit_test(test_blocked_leans_with_bias),
+        cmocka_unit_test(test_blocked_near_goal_leans_with_k0),
         cmocka_unit_test(test_rotation_channel),
         cmocka_unit_test(test_predicates),
         cmocka_unit_test(test_invalid_input),

@@ -577,6 +577,34 @@ static void test_clearance(void **state)
     assert_int_equal(rover_world_clearance(&w, c, alive, -1, cl), -1);
 }
 
+/* Landmarks: within capacity for every world and team size, and from
+ * every point of the way (start to goal, centre line) at least two lie
+ * within the camera's 6 m and none inside an obstacle. */
+static void test_landmarks_cover_the_way(void **state)
+{
+    static const int sizes[] = { 1, 3, 10, 30, 100, ROVER_WORLD_MAX_ROBOTS };
+    int w, s;
+    (void)state;
+    for (w = 0; w < ROVER_WORLD_COUNT; w++)
+        for (s = 0; s < (int)(sizeof sizes / sizeof sizes[0]); s++) {
+            rover_world_t L;
+            double x;
+            int k, j;
+            assert_int_equal(rover_world_layout(&L, w, sizes[s], 1.0, FORMATION_LINE), 0);
+            assert_true(L.n_landmarks >= 4 && L.n_landmarks <= ROVER_WORLD_MAX_LANDMARKS);
+            for (k = 0; k < L.n_landmarks; k++)
+                for (j = 0; j < L.n_obst; j++)
+                    assert_true(rover_obstacle_distance(&L.obst[j], L.landmark_m[k][0],
+                                                        L.landmark_m[k][1]) > 0.0);
+            for (x = L.start_c[sizes[s] - 1].x_m; x <= L.goal_m[0]; x += 0.25) {
+                int near = 0;
+                for (k = 0; k < L.n_landmarks; k++)
+                    near += hypot(L.landmark_m[k][0] - x, L.landmark_m[k][1]) < 6.0;
+                assert_true(near >= 2);
+            }
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -589,6 +617,7 @@ int main(void)
         cmocka_unit_test(test_deadzone),
         cmocka_unit_test(test_obstacle_signed_distance),
         cmocka_unit_test(test_clearance),
+        cmocka_unit_test(test_landmarks_cover_the_way),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

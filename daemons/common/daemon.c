@@ -17,6 +17,7 @@
 #include <sys/time.h>
 #include <time.h>
 #include <unistd.h>
+#include "rx.h"
 #include "tandem_clock_ack_t.h"
 #include "tandem_health_t.h"
 #include "tandem_sim_clock_t.h"
@@ -95,6 +96,10 @@ void daemon_defaults(daemon *d, const char *name, double period_s)
     d->period_s = period_s;
     d->step = -1;
     d->pending_step = -1;
+    d->answered_step = -1;
+    /* a clock may jump 10 s ahead of the last one we saw (a slow
+     * participant); after 1 s without a clock any step is taken (reset) */
+    step_gate_init(&d->clock_gate, 10000, 1000000000LL);
     snprintf(d->status, sizeof d->status, "starting");
 }
 
@@ -129,8 +134,28 @@ int daemon_parse_common(daemon *d, int opt, const char *arg)
         daemon_print_version(d->name);
         exit(0);
     default:
+        return daemon_parse_fault(d, opt, arg);
+    }
+}
+
+int daemon_parse_fault(daemon *d, int opt, const char *arg)
+{
+    static double p;
+    static long seed = 1;
+    switch (opt) {
+    case OPT_DROP_RATE:
+        if (parse_double_opt(d->name, "--drop-rate", arg, 0.0, 0.9, &p) < 0)
+            return -1;
+        break;
+    case OPT_DROP_SEED:
+        if (parse_int_opt(d->name, "--drop-seed", arg, 0, 2147483647L, &seed) < 0)
+            return -1;
+        break;
+    default:
         return 0;
     }
+    rx_set_drop(p, (uint64_t)seed);
+    return 1;
 }
 
 void daemon_rt_setup(const char *name, int prio)
@@ -171,7 +196,7 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *user)
     (void)ch;
     if (!DAEMON_DECODE(&d->msgs, tandem_sim_clock_t, rb, &m))
         return;
-    if (m.step < 0 || !isfinite(m.sim_time_s)) {
+    if (!isfinite(m.sim_time_s) || step_gate_pass(&d->clock_gate, m.step, rtloop_now_ns()) != GUARD_OK) {
         d->msgs.rejected++;
         tandem_sim_clock_t_decode_cleanup(&m);
         return;
@@ -219,7 +244,7 @@ int daemon_start(daemon *d)
 
 lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler, void *user)
 {
-    lcm_subscription_t *s = lcm_subscribe(d->lcm, channel, handler, user);
+    lcm_subscription_t *s = rx_subscribe(d, channel, handler, user);
     /* LCM keeps 30 messages per subscription by default and drops the rest
      * silently; in lockstep a dropped SIM_CLOCK would stall the world, and
      * a busy moment must not lose inputs. The queue costs memory only while
@@ -268,6 +293,7 @@ void daemon_publish_health(daemon *d)
     h.msgs_stale = d->msgs.stale;
     h.safe_hold = (int8_t)d->safe_hold;
     h.status = d->status;
+    rx_fill_health(&h);
     tandem_health_t_publish(d->lcm, d->health_channel, &h);
 }
 
@@ -319,12 +345,21 @@ static void run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
         health_tick(d);
         if (d->pending_step < 0)
             continue;
+        if (d->pending_step == d->answered_step) {
+            /* the simulator announced this step again: our ack (or its clock)
+             * was lost. Answer again; the cycle must not run twice. */
+            ack(d, d->pending_step, 0);
+            d->pending_step = -1;
+            continue;
+        }
         t0 = rtloop_now_ns();
         d->skip_ack = 0;
         fn(d, user);
         rtloop_record(&d->loop, t0);
-        if (!d->skip_ack)
+        if (!d->skip_ack) {
             ack(d, d->pending_step, 0);
+            d->answered_step = d->pending_step;
+        }
         d->pending_step = -1;
     }
 }

@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <lcm/lcm.h>
 #include "rtloop.h"
+#include "guard.h"
 #include "version.h"
 
 #define DAEMON_DEFAULT_LCM_URL "udpm://239.255.76.67:7667?ttl=0"
@@ -28,7 +29,16 @@ enum { OPT_LCM_URL = 1000, OPT_RT, OPT_LOCKSTEP, OPT_PERIOD_MS, OPT_HELP, OPT_VE
     { "lockstep",  no_argument,       0, OPT_LOCKSTEP }, \
     { "period-ms", required_argument, 0, OPT_PERIOD_MS }, \
     { "help",      no_argument,       0, OPT_HELP }, \
-    { "version",   no_argument,       0, OPT_VERSION }
+    { "version",   no_argument,       0, OPT_VERSION }, \
+    DAEMON_FAULT_OPTIONS
+/* Fault injection (daemons/common/rx.h), parsed by daemon_parse_fault. */
+enum { OPT_DROP_RATE = 1100, OPT_DROP_SEED };
+#define DAEMON_FAULT_OPTIONS \
+    { "drop-rate", required_argument, 0, OPT_DROP_RATE }, \
+    { "drop-seed", required_argument, 0, OPT_DROP_SEED }
+#define DAEMON_FAULT_HELP \
+    "  --drop-rate P     fault injection: drop received messages with probability P\n" \
+    "  --drop-seed S     seed of the drops (default 1): same seed, same drops\n"
 #define DAEMON_COMMON_HELP \
     "  --lcm-url URL     LCM provider (default " DAEMON_DEFAULT_LCM_URL ",\n" \
     "                    or $LCM_DEFAULT_URL when set)\n" \
@@ -38,7 +48,8 @@ enum { OPT_LCM_URL = 1000, OPT_RT, OPT_LOCKSTEP, OPT_PERIOD_MS, OPT_HELP, OPT_VE
     "                    the wall clock\n" \
     "  --period-ms MS    control period\n" \
     "  --help            this text\n" \
-    "  --version         program version (git describe at build time)\n"
+    "  --version         program version (git describe at build time)\n" \
+    DAEMON_FAULT_HELP
 
 typedef struct daemon_counters {
     int64_t received;
@@ -70,12 +81,16 @@ typedef struct daemon {
                                            have not arrived yet (no answer, so the
                                            simulator does not count on it yet) */
     char     status[96];
+    step_gate clock_gate;               /* SIM_CLOCK steps (guard.h) */
+    int64_t  answered_step;             /* lockstep: last step acked, -1 none */
 } daemon;
 
 /* Cycle callback: read the latest inputs, call the core, publish outputs. */
 typedef void (*daemon_cycle_fn)(daemon *d, void *user);
 
 void daemon_defaults(daemon *d, const char *name, double period_s);
+/* Handles a fault-injection option (as daemon_parse_common). */
+int  daemon_parse_fault(daemon *d, int opt, const char *arg);
 /* Handles a common option; returns 1 handled, 0 not common, -1 bad value
  * (message already printed), 2 for --help (caller prints usage, exits 0).
  * --version prints the version and exits 0 here. */

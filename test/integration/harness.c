@@ -1,5 +1,6 @@
 /* harness: child daemons on a private LCM bus (see harness.h). */
 #include "harness.h"
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
@@ -72,4 +73,28 @@ void harness_close(harness *h)
 void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps)
 {
     lockstep_ack(h->lcm, name, 0, step, period_steps, 0);
+}
+
+/* unshare(2) is declared only under _GNU_SOURCE, which would also declare
+ * glibc's daemon() and clash with the daemon shell's type of that name. */
+#ifdef __linux__
+extern int unshare(int flags);
+#define HARNESS_CLONE_NEWNET 0x40000000
+#endif
+
+int harness_private_net(void)
+{
+#ifndef __linux__
+    return -1;
+#else
+    if (getenv("TANDEM_SHARED_NET") || unshare(HARNESS_CLONE_NEWNET) != 0)
+        return -1;
+    /* a new namespace has only a loopback, down, and no route for the
+     * multicast group LCM's udpm provider joins */
+    if (system("ip link set lo up && ip route add 224.0.0.0/4 dev lo") != 0) {
+        fprintf(stderr, "harness: cannot set up loopback multicast in the new namespace\n");
+        return -1;
+    }
+    return 0;
+#endif
 }

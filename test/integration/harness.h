@@ -30,6 +30,12 @@ void  harness_pump(harness *h, int ms);
 
 
 
+/* Moves this test (and the daemons it will start) into a network namespace
+ * of its own, so nothing else on the machine shares its bus (needs root or
+ * CAP_SYS_ADMIN and iproute2; returns -1 and leaves things as they are
+ * otherwise, or when TANDEM_SHARED_NET is set). Call first in main(). */
+int harness_private_net(void);
+
 /* Lockstep participation for a test: answer step k on SIM_ACK. */
 void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps);
 

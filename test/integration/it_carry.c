@@ -3,7 +3,12 @@
  * arm 1 during an unsynchronised move (t1) and one during the
  * synchronised t3. Asserts both delivered, none dropped, no invariant
  * violation, no deadlock or re-plan, and that the t3 block stopped the
- * partner too (its s stopped advancing) with a bounded lead. */
+ * partner too (its s stopped advancing) with a bounded lead, that each
+ * blocked arm moved on within 1 s of the stick coming out, and that the
+ * run stayed physical (no joint-limit violation, 10 ms contact force at
+ * most 1000 N, speeds within the motor limits).
+ * Then a run whose supervisor is told a stall is 1 s: the run stops on
+ * the stall and tandem-scenario exits 3 naming the failed criteria. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -81,6 +86,17 @@ static void test_short_carry_with_blocks(void **state)
     assert_true(json_value(text, "invariant_violations") == 0.0);
     assert_true(json_value(text, "deadlocks") == 0.0);
     assert_true(json_value(text, "replans") == 0.0);
+    printf("resume latency max %.3f s, 10 ms contact force max %.1f N, max |qd|/qd_max %.3f\n",
+           json_value(text, "resume_latency_max_s"), json_value(text, "max_contact_force_10ms_N"),
+           json_value(text, "max_joint_speed_ratio"));
+    assert_true(json_value(text, "resume_latency_max_s") > 0.0);
+    assert_true(json_value(text, "resume_latency_max_s") <= 1.0);
+    assert_true(json_value(text, "joint_limit_violations") == 0.0);
+    assert_true(json_value(text, "max_contact_force_10ms_N") > 0.5);   /* the stick was met */
+    assert_true(json_value(text, "max_contact_force_10ms_N") <= 1000.0);
+    assert_true(json_value(text, "max_joint_speed_ratio") <= 1.0);
+    assert_true(json_value(text, "stalls") == 0.0);
+    assert_non_null(strstr(text, "\"exit_reason\": \"completed\""));
     snprintf(path, sizeof path, "%s/blocks.csv", dir);
     f = fopen(path, "r");
     assert_non_null(f);
@@ -104,10 +120,43 @@ static void test_short_carry_with_blocks(void **state)
     assert_int_equal(t3_rows, 1);
 }
 
+/* Any transition takes longer than 1 s: with --stall-s 1 the supervisor
+ * reports a stall in the first one and the scenario stops on it. */
+static void test_stall_stops_the_run_exit_3(void **state)
+{
+    proc_set ps;
+    char out[300], path[512], text[8192];
+    const char *argv[] = { "tandem-scenario", "carry", "--workpieces", "1", "--stall-s", "1", "--no-serial",
+                           "--out", out, NULL };
+    pid_t pid;
+    int st = -1, i;
+    struct timespec ts = { 0, 50000000L };
+    (void)state;
+    snprintf(out, sizeof out, "%s_stall", dir);
+    proc_init(&ps, NULL);
+    pid = proc_spawn(&ps, argv, NULL, NULL, NULL);
+    assert_true(pid > 0);
+    for (i = 0; i < 1200 && proc_poll(&ps, pid, &st) == 0; i++)
+        nanosleep(&ts, NULL);   /* at most 60 s */
+    if (st < 0)
+        proc_kill_all(&ps, 2.0);
+    proc_read(&ps, pid, text, sizeof text);
+    printf("%s", text);
+    assert_int_equal(st, 3);
+    assert_non_null(strstr(text, "FAILED"));
+    assert_non_null(strstr(text, "stalls"));
+    snprintf(path, sizeof path, "%s/summary.json", out);
+    assert_true(slurp(path, text, sizeof text) > 0);
+    assert_non_null(strstr(text, "\"exit_reason\": \"stalled\""));
+    assert_true(json_value(text, "stalls") >= 1.0);
+    assert_true(json_value(text, "sim_time_s") < 10.0);   /* stopped at the stall, not at the time limit */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_short_carry_with_blocks),
+        cmocka_unit_test(test_stall_stops_the_run_exit_3),
     };
     snprintf(dir, sizeof dir, "/tmp/it_carry_%d", (int)getpid());
     return cmocka_run_group_tests(tests, NULL, NULL);

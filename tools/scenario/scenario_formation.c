@@ -39,6 +39,8 @@
 typedef struct {
     /* options */
     int    formation, world, blend, robots, single, batch;
+    int    law_kanayama, ref_goal, localize_off;   /* --formation-law, --ref-heading, --localize */
+    char   timeout_ms[24];                     /* --lockstep-timeout-ms */
     long   seed;
     double max_time_s;
     int    kill_id;
@@ -74,6 +76,7 @@ typedef struct {
     double prev_x[FM_MAX], prev_y[FM_MAX], prev_th[FM_MAX], prev_w[FM_MAX];
     int    have_prev[FM_MAX], have_prev_w[FM_MAX];
     double sum_dw; long n_dw;
+    double loc_sum_sq, loc_max; long loc_n;     /* own estimate vs truth */
     int    collisions, formation_changes, escapes;
     int    reached;
     double time_to_goal, sim_time;
@@ -81,6 +84,8 @@ typedef struct {
     FILE  *truth_csv, *err_csv, *w_csv, *snap_csv;
     double last_snap_t;
     int64_t last_truth_step;
+    char   failed[256];          /* failed success criteria (formation_criteria) */
+    int    n_failed;
 } fm_t;
 
 static fm_t F;
@@ -92,6 +97,14 @@ static void usage(FILE *f)
                "  --formation F   line | triangle | column (default line)\n"
                "  --world W       open | obstacles | corridor | deadzone (default open)\n"
                "  --blend B       weighted | subsumption | vecsum (default weighted)\n"
+               "  --formation-law L  seed (default) | kanayama: the formation behaviour flown\n"
+               "  --ref-heading H  goal (bearing of the goal as the team reference heading,\n"
+               "                  default) | mean (the seed's mean of the headings)\n"
+               "  --localize on|off  robots fuse the world's LED landmarks (default on)\n"
+               "  --lockstep-timeout-ms MS  the simulator drops a participant silent this\n"
+               "                  long (wall; default 10000); on a heavily loaded machine a\n"
+               "                  starved controller would be dropped and the run no longer\n"
+               "                  be the deterministic one: raise it for sweeps there\n"
                "  --robots N      team size (default 3)\n"
                "  --seed S        noise seed (default 1)\n"
                "  --kill K:T      kill robot K (its process and its body) at sim time T s\n"
@@ -111,6 +124,8 @@ static int parse(int argc, char **argv)
     F.formation = FORMATION_LINE;
     F.world = ROVER_WORLD_OPEN;
     F.blend = 0;
+    F.ref_goal = 1;
+    snprintf(F.timeout_ms, sizeof F.timeout_ms, "10000");
     F.robots = 3;
     F.seed = 1;
     F.max_time_s = 150.0;
@@ -135,6 +150,22 @@ static int parse(int argc, char **argv)
             else if (!strcmp(v, "subsumption")) F.blend = 1;
             else if (!strcmp(v, "vecsum")) F.blend = 2;
             else { fprintf(stderr, "formation: --blend: '%s' is not weighted|subsumption|vecsum\n", v); return -1; }
+        } else if (!strcmp(o, "--formation-law")) {
+            if (!strcmp(v, "seed")) F.law_kanayama = 0;
+            else if (!strcmp(v, "kanayama")) F.law_kanayama = 1;
+            else { fprintf(stderr, "formation: --formation-law: '%s' is not seed|kanayama\n", v); return -1; }
+        } else if (!strcmp(o, "--ref-heading")) {
+            if (!strcmp(v, "mean")) F.ref_goal = 0;
+            else if (!strcmp(v, "goal")) F.ref_goal = 1;
+            else { fprintf(stderr, "formation: --ref-heading: '%s' is not mean|goal\n", v); return -1; }
+        } else if (!strcmp(o, "--localize")) {
+            if (!strcmp(v, "on")) F.localize_off = 0;
+            else if (!strcmp(v, "off")) F.localize_off = 1;
+            else { fprintf(stderr, "formation: --localize: '%s' is not on|off\n", v); return -1; }
+        } else if (!strcmp(o, "--lockstep-timeout-ms")) {
+            char *e; long ms = strtol(v, &e, 10);
+            if (*e || ms < 100 || ms > 3600000L) { fprintf(stderr, "formation: --lockstep-timeout-ms: '%s' is not 100..3600000\n", v); return -1; }
+            snprintf(F.timeout_ms, sizeof F.timeout_ms, "%ld", ms);
         } else if (!strcmp(o, "--robots")) {
             char *e; long n = strtol(v, &e, 10);
             if (*e || n < 1 || n > FM_MAX) { fprintf(stderr, "formation: --robots: '%s' is not 1..%d\n", v, FM_MAX); return -1; }
@@ -235,7 +266,7 @@ static int start_children(void)
     {
         char *sim[] = { "tandem-sim", "--lockstep", "--no-arms", "--rovers", n_s, "--world", w_s,
                         "--formation", (char *)fname(F.formation),
-                        "--seed", seed_s, "--expect", expect_s, "--timeout-ms", "10000",
+                        "--seed", seed_s, "--expect", expect_s, "--timeout-ms", F.timeout_ms,
                         F.batch ? "--rover-batch" : NULL, NULL };
         if (spawn(sim) <= 0) return -1;
     }
@@ -243,6 +274,9 @@ static int start_children(void)
         char *fo = (char *)fname(F.formation), *bl = (char *)bname(F.blend);
         char *rv[] = { "tandem-rover", "--id", id_s, "--robots", n_s, "--world", w_s,
                        "--formation", fo, "--blend", bl, "--lockstep",
+                       "--formation-law", F.law_kanayama ? "kanayama" : "seed",
+                       "--ref-heading", F.ref_goal ? "goal" : "mean",
+                       "--localize", F.localize_off ? "off" : "on",
                        F.batch ? "--batch" : NULL, NULL };
         if (F.single) snprintf(id_s, sizeof id_s, "1-%d", F.robots);
         else snprintf(id_s, sizeof id_s, "%d", k);
@@ -375,6 +409,14 @@ static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rove
         }
         F.prev_x[i] = m->x_m[i]; F.prev_y[i] = m->y_m[i]; F.prev_th[i] = m->theta_rad[i];
         F.have_prev[i] = 1;
+        if (F.have_state[i]) {
+            /* localization error: the robot's own estimate of O against
+             * the truth (both world frame) */
+            const double e = hypot(F.est[i].x_m - m->x_m[i], F.est[i].y_m - m->y_m[i]);
+            F.loc_sum_sq += e * e;
+            F.loc_n++;
+            if (e > F.loc_max) F.loc_max = e;
+        }
         if (F.truth_csv)
             fprintf(F.truth_csv, "%.3f,%d,%.4f,%.4f,%.4f,%.4f,%d,%.4f,%.4f,%.4f\n", t, m->robot[i],
                     m->x_m[i], m->y_m[i], m->theta_rad[i], m->min_clearance_m[i], m->collisions[i],
@@ -437,7 +479,11 @@ static void write_plots(void)
     fprintf(g, "set datafile separator ','\nset terminal pngcairo size 1100,700\n");
     fprintf(g, "set output 'paths.png'\nset size ratio -1\nset title 'formation %s, world %s, blend %s: paths (ground truth), snapshots every 5 s'\n",
             fname(F.formation), rover_world_name(F.world), bname(F.blend));
-    fprintf(g, "set xlabel 'x (m)'\nset ylabel 'y (m)'\n");
+    /* the whole world with the goal disc inside it; the key below the plot,
+     * where it covers nothing */
+    fprintf(g, "set xlabel 'x (m)'\nset ylabel 'y (m)'\nset key below horizontal\n"
+               "set xrange [%g:%g]\nset yrange [%g:%g]\n",
+            F.layout.x_min_m, F.layout.x_max_m, F.layout.y_min_m, F.layout.y_max_m);
     for (i = 0; i < F.layout.n_obst; i++) {
         const rover_obstacle_t *o = &F.layout.obst[i];
         if (o->kind == ROVER_OBST_CIRCLE) {
@@ -460,17 +506,45 @@ static void write_plots(void)
     for (i = 1; i <= F.robots && i <= 12; i++)
         fprintf(g, "'truth.csv' using ($2==%d?$3:1/0):4 with points pt 7 ps 0.25 title 'robot %d', ", i, i);
     fprintf(g, "'snapshots.csv' using 1:2 with linespoints lc rgb 'black' pt 7 ps 0.6 dt 2 title 'formation every 5 s'\n");
+    /* the time plots carry none of the world's discs and their own ranges */
+    fprintf(g, "unset object\nset autoscale xy\nset key default\n");
     fprintf(g, "set output 'formation_error.png'\nset size noratio\nset title 'formation error (ground truth)'\n"
-               "set xlabel 't (s)'\nset ylabel 'm'\nset y2label 'formation (0 line, 1 triangle, 2 column)'\n"
+               "set xlabel 't (s)'\nset ylabel 'formation error (m)'\n"
+               "set y2label 'formation type (0 line, 1 triangle, 2 column)'\n"
                "set y2range [-0.2:2.2]\nset y2tics 0,1,2\n"
                "plot 'formation_error.csv' using 1:2 with lines lw 2 title 'rms over robots', "
                "'' using 1:3 with lines title 'max over robots', '' using 1:4 axes x1y2 with steps title 'formation type'\n");
     fprintf(g, "set output 'weights.png'\nunset y2label\nunset y2tics\nset title 'behaviour weights of the lowest-id robot (normalised)'\n"
-               "set ylabel 'weight'\nset yrange [-0.05:1.05]\n"
+               "set ylabel 'normalised weight (1)'\nset yrange [-0.05:1.05]\n"
                "plot 'weights.csv' using 1:2 with lines title 'goal', '' using 1:3 with lines title 'formation', "
                "'' using 1:4 with lines title 'avoid', '' using 1:5 with lines title 'exception'\n");
     fclose(g);
     scenario_gnuplot(F.out, "plots.gp");
+}
+
+/* The run's success criteria (the seed-003 must-show figures): the team
+ * reached the goal without a collision, each robot's own pose estimate
+ * within 0.25 m of the truth, >= 2 formation changes in the corridor and
+ * >= 1 dead-zone escape in the dead zone. Appends the failed ones to buf;
+ * returns how many failed. */
+static int formation_criteria(char *buf, size_t cap)
+{
+    struct { int failed; const char *what; } k[] = {
+        { !F.reached, "reached_goal" },
+        { F.collisions != 0, "collisions" },
+        { F.loc_n && !(F.loc_max <= 0.25), "loc_err_max_m" },
+        { F.world == ROVER_WORLD_CORRIDOR && F.formation_changes < 2, "formation_changes" },
+        { F.world == ROVER_WORLD_DEADZONE && F.escapes < 1, "dead_zone_escapes" },
+    };
+    size_t i, n = 0;
+    int failed = 0;
+    buf[0] = '\0';
+    for (i = 0; i < sizeof k / sizeof k[0]; i++)
+        if (k[i].failed) {
+            n += (size_t)snprintf(buf + n, n < cap ? cap - n : 0, "%s%s", failed ? " " : "", k[i].what);
+            failed++;
+        }
+    return failed;
 }
 
 static void write_summary(double wall_s)
@@ -485,6 +559,9 @@ static void write_summary(double wall_s)
     json_str(&j, "formation", fname(F.formation));
     json_str(&j, "world", rover_world_name(F.world));
     json_str(&j, "blend", bname(F.blend));
+    json_str(&j, "formation_law", F.law_kanayama ? "kanayama" : "seed");
+    json_str(&j, "ref_heading", F.ref_goal ? "goal" : "mean");
+    json_bool(&j, "localize", !F.localize_off);
     json_int(&j, "robots", F.robots);
     json_int(&j, "seed", F.seed);
     json_int(&j, "killed_robot", F.kill_id > 0 && F.killed ? F.kill_id : 0);
@@ -499,8 +576,12 @@ static void write_summary(double wall_s)
     json_int(&j, "dead_zone_escapes", F.escapes);
     json_num(&j, "path_length_m", n ? path / n : NAN);
     json_num(&j, "smoothness", F.n_dw ? F.sum_dw / F.n_dw : NAN);
+    json_num(&j, "loc_err_rms_m", F.loc_n ? sqrt(F.loc_sum_sq / F.loc_n) : NAN);
+    json_num(&j, "loc_err_max_m", F.loc_n ? F.loc_max : NAN);
     json_num(&j, "sim_time_s", F.sim_time);
     json_num(&j, "wall_time_s", wall_s);
+    json_str(&j, "exit_reason", F.reached ? "completed" : "goal_not_reached");
+    json_str(&j, "failed_criteria", F.failed);
     json_close(&j);
 }
 
@@ -618,6 +699,7 @@ static int run(int argc, char **argv)
     if (F.w_csv) fclose(F.w_csv);
     if (F.snap_csv) fclose(F.snap_csv);
     F.truth_csv = F.err_csv = F.w_csv = F.snap_csv = NULL;
+    F.n_failed = formation_criteria(F.failed, sizeof F.failed);
     write_summary(scenario_wall_s() - wall0);
     write_plots();
     tandem_sim_clock_t_unsubscribe(F.lcm, F.sub_clock);
@@ -626,13 +708,20 @@ static int run(int argc, char **argv)
     tandem_rovers_state_t_unsubscribe(F.lcm, F.sub_states);
     tandem_team_msg_t_unsubscribe(F.lcm, F.sub_team);
     lcm_destroy(F.lcm);
-    printf("formation %s world %s blend %s robots %d seed %ld: reached_goal=%d time_to_goal_s=%.2f "
+    printf("formation %s world %s blend %s law %s robots %d seed %ld: reached_goal=%d time_to_goal_s=%.2f "
            "rms_formation_err_m=%.3f max_formation_err_m=%.3f min_clearance_m=%.3f collisions=%d "
-           "formation_changes=%d dead_zone_escapes=%d sim_time_s=%.1f wall_time_s=%.1f\n",
-           fname(F.formation), rover_world_name(F.world), bname(F.blend), F.robots, F.seed,
+           "formation_changes=%d dead_zone_escapes=%d loc_err_max_m=%.3f sim_time_s=%.1f wall_time_s=%.1f\n",
+           fname(F.formation), rover_world_name(F.world), bname(F.blend),
+           F.law_kanayama ? "kanayama" : "seed", F.robots, F.seed,
            F.reached, F.reached ? F.time_to_goal : NAN,
            F.samples ? sqrt(F.sum_sq_err / F.samples) : NAN, F.max_err, F.min_clear,
-           F.collisions, F.formation_changes, F.escapes, F.sim_time, scenario_wall_s() - wall0);
+           F.collisions, F.formation_changes, F.escapes, F.loc_n ? F.loc_max : NAN, F.sim_time,
+           scenario_wall_s() - wall0);
+    if (F.n_failed) {
+        printf("formation: FAILED %d criteria: %s\n", F.n_failed, F.failed);
+        return 3;
+    }
+    printf("formation: all criteria met\n");
     return 0;
 }
 

@@ -52,14 +52,14 @@ static int run(int argc, char **argv)
     tdsd_scen_summary(&s, &j);
     json_point(&j, "A_m", s.path.wp_m[0], "%.3f %.3f %.3f");
     json_point(&j, "B_m", s.path.wp_m[1], "%.3f %.3f %.3f");
-    json_close(&j);
+    tdsd_scen_finish(&s, &j);
     tdsd_scen_plots(&s, "S1 shoulder singularity");
     printf("singularity %s (%s): max_pos_err %.3f mm, max_ori_err %.2f deg, speed ratio %.3f "
            "(demand %.3g), min Q1 %.3f at %.3f s, Q1 outside region %.3f, duration %.3f s -> %s\n",
            s.method, s.plant_ode ? "ode" : "kin", s.m.max_pos_err_m * 1e3,
            s.m.max_ori_err_rad * 57.29577951308232, s.m.max_speed_ratio, s.m.max_demand_ratio,
            s.m.min_Q1, s.m.t_min_Q1_s, s.m.min_Q1_outside, s.duration_s, s.out);
-    return 0;
+    return tdsd_scen_exit(&s);
 }
 
 const scenario_def scenario_singularity = {

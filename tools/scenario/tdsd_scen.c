@@ -139,6 +139,49 @@ int tdsd_scen_run(tdsd_scen *s)
 
 /* ---- summary.json --------------------------------------------------------- */
 
+int tdsd_scen_criteria(const tdsd_scen *s, char *buf, size_t cap)
+{
+    const tdsdrun_metrics *m = &s->m;
+    const double pos_tol_m = s->plant_ode ? TDSD_POS_TOL_ODE_M : TDSD_POS_TOL_KIN_M;
+    struct { int failed; const char *what; } k[] = {
+        { !(m->max_pos_err_m <= pos_tol_m), "max_pos_err_mm" },
+        { m->joint_limit_violations != 0, "joint_limit_violations" },
+        { !(m->max_speed_ratio <= 1.0 + 1e-9), "max_joint_speed_ratio" },
+        { !strcmp(s->name, "liquid") && !(m->max_tilt_rad <= TDSD_TILT_TOL_RAD), "max_tilt_deg" },
+    };
+    size_t i, n = 0;
+    int failed = 0;
+    buf[0] = '\0';
+    for (i = 0; i < sizeof k / sizeof k[0]; i++)
+        if (k[i].failed) {
+            n += (size_t)snprintf(buf + n, n < cap ? cap - n : 0, "%s%s", failed ? " " : "", k[i].what);
+            failed++;
+        }
+    return failed;
+}
+
+int tdsd_scen_finish(const tdsd_scen *s, json_out *j)
+{
+    char failed[128];
+    const int n = tdsd_scen_criteria(s, failed, sizeof failed);
+    json_str(j, "exit_reason", "completed");
+    json_str(j, "failed_criteria", failed);
+    json_close(j);
+    return n;
+}
+
+int tdsd_scen_exit(const tdsd_scen *s)
+{
+    char failed[128];
+    const int n = tdsd_scen_criteria(s, failed, sizeof failed);
+    if (n) {
+        printf("%s: FAILED %d criteria: %s\n", s->name, n, failed);
+        return 3;
+    }
+    printf("%s: all criteria met\n", s->name);
+    return 0;
+}
+
 void tdsd_scen_summary(const tdsd_scen *s, json_out *j)
 {
     const tdsdrun_metrics *m = &s->m;

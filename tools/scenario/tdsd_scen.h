@@ -32,6 +32,20 @@ int  tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const char *const metho
 /* Runs the chosen plant from s->q0_rad, writing DIR/series.csv. 0 ok. */
 int  tdsd_scen_run(tdsd_scen *s);
 /* The keys both scenarios report (summary.json is left open for more). */
+/* Success criteria of a TDSD scenario run: tool position error within
+ * TDSD_POS_TOL_* (kinematic plant: 0.1 mm; ODE plant: 1 mm), no joint
+ * past its range, no joint faster than its limit, and for the liquid the
+ * tool axis within 1 deg of vertical. Appends the failed ones to buf;
+ * returns how many failed. */
+#define TDSD_POS_TOL_KIN_M 0.0001
+#define TDSD_POS_TOL_ODE_M 0.001
+#define TDSD_TILT_TOL_RAD 0.017453292519943295
+int tdsd_scen_criteria(const tdsd_scen *s, char *buf, size_t cap);
+/* Adds exit_reason and failed_criteria, closes the summary; returns the
+ * number of failed criteria. */
+int tdsd_scen_finish(const tdsd_scen *s, json_out *j);
+/* Prints the verdict line; exit status 0 (all met) or 3. */
+int tdsd_scen_exit(const tdsd_scen *s);
 void tdsd_scen_summary(const tdsd_scen *s, json_out *j);
 /* DIR/plots.gp -> fig4_errors.png, fig5_joints.png, fig6_q1.png,
  * fig8_joint_ranges.png. */

@@ -1,0 +1,173 @@
+/* rx: checked, counted, optionally lossy receive path (see rx.h). */
+#include "rx.h"
+#include <stdio.h>
+#include <string.h>
+#include "daemon.h"
+#include "wire.h"
+#include "tandem_health_t.h"
+
+typedef struct rx_sub {
+    daemon *d;
+    lcm_msg_handler_t handler;
+    void *user;
+    char channel[RX_CHANNEL_NAME];
+} rx_sub;
+
+static rx_channel chans[RX_MAX_CHANNELS];
+static int n_chans;
+static rx_sub subs[RX_MAX_SUBS];
+static int n_subs;
+static double drop_p;
+static uint64_t drop_seed;
+static const char *health_names[RX_MAX_CHANNELS];
+static int64_t health_received[RX_MAX_CHANNELS], health_lost[RX_MAX_CHANNELS];
+
+void rx_set_drop(double p, uint64_t seed)
+{
+    drop_p = p;
+    drop_seed = seed;
+}
+
+static rx_channel *channel_of(const char *name)
+{
+    int i;
+    for (i = 0; i < n_chans; i++)
+        if (strncmp(chans[i].name, name, RX_CHANNEL_NAME - 1) == 0)
+            return &chans[i];
+    if (n_chans < RX_MAX_CHANNELS - 1) {
+        snprintf(chans[n_chans].name, RX_CHANNEL_NAME, "%s", name);
+        return &chans[n_chans++];
+    }
+    /* the table is full: the last slot sums the rest */
+    if (n_chans == RX_MAX_CHANNELS - 1)
+        snprintf(chans[n_chans++].name, RX_CHANNEL_NAME, "(other)");
+    return &chans[RX_MAX_CHANNELS - 1];
+}
+
+int64_t rx_seq_gap(rx_channel *c, int64_t seq)
+{
+    int i, best = -1;
+    int64_t gap;
+    for (i = 0; i < c->n_streams; i++) {
+        const int64_t dd = seq - c->last_seq[i];
+        if (dd >= 1 && dd <= RX_GAP_WINDOW && (best < 0 || dd < seq - c->last_seq[best]))
+            best = i;
+    }
+    if (best < 0) {
+        /* a duplicate of a seq some stream already has is no new stream */
+        for (i = 0; i < c->n_streams; i++)
+            if (c->last_seq[i] == seq)
+                return 0;
+        if (c->n_streams < RX_STREAMS)
+            best = c->n_streams++;
+        else
+            best = (int)(c->copies % RX_STREAMS);   /* replace one, round robin */
+        c->last_seq[best] = seq;
+        return 0;
+    }
+    gap = seq - c->last_seq[best] - 1;
+    c->last_seq[best] = seq;
+    return gap;
+}
+
+static uint64_t mix64(uint64_t x)
+{
+    x += 0x9e3779b97f4a7c15ULL;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    return x ^ (x >> 31);
+}
+
+static int drop_this(const rx_channel *c, int64_t seq)
+{
+    uint64_t h = 1469598103934665603ULL;
+    const char *p;
+    if (drop_p <= 0.0)
+        return 0;
+    for (p = c->name; *p; p++)
+        h = (h ^ (unsigned char)*p) * 1099511628211ULL;
+    h = mix64(h ^ mix64(drop_seed) ^ mix64((uint64_t)seq * 31u + (uint64_t)c->copies));
+    return (double)(h >> 11) * (1.0 / 9007199254740992.0) < drop_p;
+}
+
+static void trampoline(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    rx_sub *s = u;
+    rx_channel *c = channel_of(ch);
+    const wire_type *t = wire_find(rb->data, rb->data_size);
+    const int64_t seq = wire_seq(rb->data, rb->data_size);
+    c->copies++;
+    if (drop_this(c, seq)) {
+        c->dropped++;
+        return;
+    }
+    if (!t || wire_check(t, rb->data, rb->data_size) != WIRE_OK) {
+        s->d->msgs.received++;
+        s->d->msgs.rejected++;
+        c->rejected++;
+        return;
+    }
+    c->received++;
+    c->lost += rx_seq_gap(c, seq);
+    s->handler(rb, ch, s->user);
+}
+
+lcm_subscription_t *rx_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler, void *user)
+{
+    rx_sub *s = NULL;
+    int i;
+    /* a model re-created after a simulator reset subscribes again: reuse */
+    for (i = 0; i < n_subs && !s; i++)
+        if (subs[i].handler == handler && subs[i].user == user && subs[i].d == d &&
+            strncmp(subs[i].channel, channel, RX_CHANNEL_NAME - 1) == 0)
+            s = &subs[i];
+    if (!s) {
+        if (n_subs >= RX_MAX_SUBS) {
+            fprintf(stderr, "%s: more than %d subscriptions\n", d->name, RX_MAX_SUBS);
+            return NULL;
+        }
+        s = &subs[n_subs++];
+    }
+    s->d = d;
+    s->handler = handler;
+    s->user = user;
+    snprintf(s->channel, sizeof s->channel, "%s", channel);
+    return lcm_subscribe(d->lcm, channel, trampoline, s);
+}
+
+int64_t rx_lost_total(void)
+{
+    int64_t n = 0;
+    int i;
+    for (i = 0; i < n_chans; i++)
+        n += chans[i].lost;
+    return n;
+}
+
+int64_t rx_dropped_total(void)
+{
+    int64_t n = 0;
+    int i;
+    for (i = 0; i < n_chans; i++)
+        n += chans[i].dropped;
+    return n;
+}
+
+void rx_fill_health(tandem_health_t *h)
+{
+    int64_t rec = 0;
+    int i;
+    for (i = 0; i < n_chans; i++) {
+        health_names[i] = chans[i].name;
+        health_received[i] = chans[i].received;
+        health_lost[i] = chans[i].lost;
+        rec += chans[i].received;
+    }
+    h->n_channels = (int16_t)n_chans;
+    h->channel = (char **)health_names;
+    h->channel_received = health_received;
+    h->channel_lost = health_lost;
+    h->msgs_lost = rx_lost_total();
+    h->msgs_dropped = rx_dropped_total();
+    h->loss_rate = rec + h->msgs_lost > 0 ? (double)h->msgs_lost / (double)(rec + h->msgs_lost) : 0.0;
+}

@@ -1,0 +1,57 @@
+/* rx: the receive path every daemon subscription goes through
+ * (daemon_subscribe). Before a handler sees a message it is
+ *   1. dropped on purpose with probability --drop-rate (fault injection,
+ *      deterministic for --drop-seed: a hash of the seed, the channel, the
+ *      message's seq and how many copies of the channel arrived);
+ *   2. checked on its raw bytes (wire.h): a malformed message is counted
+ *      as received + rejected and never reaches lcm-gen's decoder;
+ *   3. counted per channel, with sequence gaps (messages lost on the way)
+ *      found from the leading seq field, per sender.
+ * The counts go into the HEALTH_<NAME> message (rx_fill_health).
+ */
+#ifndef TANDEM_RX_H
+#define TANDEM_RX_H
+
+#include <stdint.h>
+#include <lcm/lcm.h>
+
+#define RX_MAX_CHANNELS 32     /* per process; more are summed in "(other)" */
+#define RX_MAX_SUBS     64
+#define RX_STREAMS      8      /* senders told apart per channel */
+#define RX_CHANNEL_NAME 48
+
+typedef struct rx_channel {
+    char    name[RX_CHANNEL_NAME];
+    int64_t received;          /* passed the wire check */
+    int64_t rejected;          /* failed it */
+    int64_t lost;              /* sequence gaps */
+    int64_t dropped;           /* dropped on purpose (--drop-rate) */
+    int64_t copies;            /* every arrival, for the drop hash */
+    int64_t last_seq[RX_STREAMS];
+    int     n_streams;
+} rx_channel;
+
+struct daemon;
+struct _tandem_health_t;
+
+/* Fault injection: drop received messages with probability p (0 = off). */
+void rx_set_drop(double p, uint64_t seed);
+/* lcm_subscribe through the receive path (daemon_subscribe calls this). */
+lcm_subscription_t *rx_subscribe(struct daemon *d, const char *channel, lcm_msg_handler_t handler, void *user);
+/* Adds per-channel counts, gaps and the loss rate to a health message;
+ * the strings point into rx's own table. */
+void rx_fill_health(struct _tandem_health_t *h);
+/* Totals over every channel. */
+int64_t rx_lost_total(void);
+int64_t rx_dropped_total(void);
+
+/* Sequence-gap bookkeeping of one channel (exposed for the unit test):
+ * returns how many messages were missing before this seq. Several senders
+ * may share a channel (ARM_EVENTS, TEAM, SIM_ACK): the message extends the
+ * stream whose last seq is the closest below it; a seq no stream can take
+ * (behind all of them, or a jump of more than RX_GAP_WINDOW) starts a new
+ * stream (a restarted or new sender) and counts no loss. */
+#define RX_GAP_WINDOW 1000
+int64_t rx_seq_gap(rx_channel *c, int64_t seq);
+
+#endif
