@@ -17,7 +17,7 @@ Xvfb "$DISPLAY" -screen 0 1400x1000x24 >/dev/null 2>&1 & xv=$!
 sleep 1
 "$here/tools/tandem-run" --duration 90 >/dev/null 2>&1 & run=$!
 "$here/tools/spy.sh" "$here/build/lib/tandem_types.jar" >/dev/null 2>&1 & spy=$!
-trap 'kill $spy 2>/dev/null; kill -INT $run 2>/dev/null; wait $run; kill $xv' EXIT
+trap 'kill $spy 2>/dev/null; kill -TERM $run 2>/dev/null; wait $run; kill $xv' EXIT
 win=
 for _ in $(seq 1 60); do win=$(xdotool search --name "LCM Spy" 2>/dev/null | head -1) && [ -n "$win" ] && break; sleep 0.5; done
 xdotool windowsize "$win" 820 640

@@ -49,7 +49,8 @@ else
         --devtools-port "$devtools" "$url" "$out/viewer.png"
     rc=$?
 fi
-kill -INT $run 2>/dev/null; wait $run
+# TERM: a background job of a script ignores SIGINT, so tandem-run's INT trap never runs
+kill -TERM $run 2>/dev/null; wait $run
 kill -INT $logger 2>/dev/null; wait $logger
 grep -E "tandem-view|\[view\]" "$out/run.log" | tail -5
 [ $rc -eq 0 ] || { echo "view-test: run log:" >&2; tail -40 "$out/run.log" >&2; }
