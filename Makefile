@@ -8,6 +8,8 @@
 #   make cross      the core for m68k-linux-gnu (-m68040) and arm-none-eabi (Cortex-M4F)
 #   make test-cross the unit tests built for the 68040, run under qemu-m68k
 #   make budget     memory, stack and cycle budgets of the cross builds
+#   make view       live 3D viewer in the browser (also: make run VIEW=1)
+#   make help       every target and variable
 #   make clean
 # SAN=1 builds into build/san with the sanitizers on.
 
@@ -188,9 +190,9 @@ test: deps deps-cross
 	@$(MAKE) --no-print-directory unit integration
 	@$(MAKE) --no-print-directory SAN=1 unit integration
 
-run: deps
+run: deps $(if $(VIEW),viewer)
 	@$(MAKE) --no-print-directory all
-	@tools/tandem-run $(if $(DURATION),--duration $(DURATION)) $(RUN_ARGS)
+	@tools/tandem-run $(if $(DURATION),--duration $(DURATION)) $(if $(VIEW),--view) $(RUN_ARGS)
 
 $(BIN)/bench_kdl: test/bench_kdl.cpp $(CORE_LIB)
 	@mkdir -p $(@D)
@@ -218,6 +220,8 @@ spy: $(TYPES_JAR)
 
 clean:
 	rm -rf build
+
+include tools/extra.mk
 
 -include $(shell find build -name '*.d' 2>/dev/null)
 .SECONDARY:

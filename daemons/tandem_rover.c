@@ -45,6 +45,7 @@ typedef struct hosted {
     int64_t     cmd_seq, state_seq, team_seq;
     int64_t     last_rx_ns;             /* wall time of the last sensor message */
     char        ch_cmd[24], ch_state[24];
+    int         shown_mode, shown_type, shown_yield;   /* last printed (-1: none yet) */
 } hosted;
 
 typedef struct teamq_item {
@@ -480,6 +481,28 @@ static void publish_outputs(tandem_rover_command_t *cmd, tandem_rover_state_t *s
     }
 }
 
+/* One console line per change of what a robot is doing (mode, formation
+ * type, giving way), so that a run can be followed without lcm-spy. */
+static void report_changes(hosted *h, int mode, double t_s)
+{
+    static const char *modes[] = { "formation", "dead-zone escape", "changing formation", "at goal",
+                                   "safe stop (stale input)" };
+    static const char *types[] = { "line", "triangle", "column" };
+    const int type = h->c.fsm.type, yield = h->c.esc_yield;
+    if (mode != h->shown_mode && mode >= 0 && mode <= ROVER_MODE_SAFE_STOP)
+        printf("[%9.3f] robot %d: %s\n", t_s, (int)h->c.id, modes[mode]);
+    if (type != h->shown_type && h->shown_type >= 0 && type >= 0 && type <= FORMATION_COLUMN)
+        printf("[%9.3f] robot %d: formation %s -> %s (scale %.2f)\n", t_s, (int)h->c.id,
+               types[h->shown_type], types[type], h->c.fsm.scale);
+    if (yield != h->shown_yield && h->shown_yield >= 0)
+        printf("[%9.3f] robot %d: %s\n", t_s, (int)h->c.id, yield ? "gives way to a leaving mate" : "done giving way");
+    if (mode != h->shown_mode || type != h->shown_type || yield != h->shown_yield)
+        fflush(stdout);
+    h->shown_mode = mode;
+    h->shown_type = type;
+    h->shown_yield = yield;
+}
+
 static void cycle(daemon *d, void *user)
 {
     const int64_t step = d->lockstep ? d->pending_step : d->step;
@@ -507,6 +530,7 @@ static void cycle(daemon *d, void *user)
             D.msgs.rejected++;
         }
         if (o.mode == ROVER_MODE_SAFE_STOP) stopped++;
+        report_changes(h, o.mode, t_s);
         if (o.send_team) publish_team(h, &o, step, utime);
         fill_outputs(h, &o, step, utime, &cmd[n], &st[n]);
         n++;
@@ -567,6 +591,7 @@ int main(int argc, char **argv)
         }
         snprintf(h->ch_cmd, sizeof h->ch_cmd, "ROVER%d_COMMAND", j);
         snprintf(h->ch_state, sizeof h->ch_state, "ROVER%d_STATE", j);
+        h->shown_mode = h->shown_type = h->shown_yield = -1;
     }
     if (daemon_start(&D) != 0) return 1;
     daemon_subscribe(&D, "ROVER[0-9]+_SENSORS", on_sensors, NULL);

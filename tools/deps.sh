@@ -6,18 +6,24 @@
 #   tools/deps.sh cross   the 68040 and Cortex-M4 toolchains and qemu (make cross,
 #                         test-cross, budget; make test installs them too)
 #   tools/deps.sh fuzz    clang (libFuzzer) for make fuzz
+#   tools/deps.sh view    the viewer's Python venv; view-test: also Chromium
+#   tools/deps.sh install man pages (help2man)
 set -euo pipefail
 pkgs=(build-essential pkg-config libode-dev liblcm-dev liblcm-bin liblcm-java
-      libccd-dev libcmocka-dev libglib2.0-dev default-jdk-headless gnuplot-nox)
+      libccd-dev libcmocka-dev libglib2.0-dev default-jdk-headless gnuplot-nox
+      libjchart2d-java python3)
 if [ "${1:-run}" = bench ]; then
     pkgs=(rt-tests valgrind liborocos-kdl-dev g++)
 elif [ "${1:-run}" = cross ]; then
     pkgs=(gcc-m68k-linux-gnu libc6-dev-m68k-cross gcc-arm-none-eabi libnewlib-arm-none-eabi
           qemu-user-static binutils)
 fi
-if [ "${1:-run}" = fuzz ]; then
-    pkgs=(clang)
-fi
+case ${1:-run} in
+    fuzz) pkgs=(clang) ;;
+    view) pkgs=(python3-venv) ;;
+    view-test) pkgs=(python3-venv chromium fonts-dejavu-core iproute2) ;;
+    install) pkgs=(help2man man-db) ;;
+esac
 missing=()
 for p in "${pkgs[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

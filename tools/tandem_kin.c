@@ -14,6 +14,7 @@
 #include "arm_kin.h"
 #include "arm_model.h"
 #include "vec3.h"
+#include "version.h"
 
 #define PI 3.14159265358979323846
 #define EXIT_BAD_ARGS 2
@@ -146,6 +147,8 @@ int main(int argc, char **argv)
         { "help", no_argument, NULL, 'h' },
         { NULL, 0, NULL, 0 },
     };
+    if (version_requested(argc, argv, "tandem-kin"))
+        return 0;
     const arm_model *m = &arm_model_puma560;
     arm_tool tool;
     int have_tool = 0, deg = 0, c, nargs, j, rc;

@@ -1,11 +1,19 @@
 /* tandem-log2csv: turns an lcm-logger file into CSV for plotting.
  *   tandem-log2csv LOGFILE CHANNEL > out.csv
- * Knows ARM1_STATE / ARM2_STATE (arm_state_t), PETRI_MARKING and
- * ROVER_TRUTH; other channels are refused with a clear message. Events
- * that fail to decode are counted and reported on stderr, never guessed. */
+ *   tandem-log2csv --list LOGFILE
+ * Any channel: the message type is found from each event's fingerprint and
+ * printed by the CSV printers generated from lcmtypes/ (tandem_csv.c, by
+ * tools/lcm2csv_gen.py), one row per message after a log_time_s column.
+ * ARM1_STATE / ARM2_STATE, PETRI_MARKING and ROVER_TRUTH keep their short
+ * plotting layouts (--all-fields gives the generic one). Events that fail
+ * to decode are counted and reported on stderr, never guessed; a file that
+ * is not an LCM log is an error. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <lcm/lcm.h>
+#include "tandem_csv.h"
+#include "version.h"
 #include "tandem_arm_state_t.h"
 #include "tandem_petri_marking_t.h"
 #include "tandem_rover_truth_t.h"
@@ -64,43 +72,150 @@ static int truth_row(const lcm_eventlog_event_t *ev, int header)
     return 0;
 }
 
-int main(int argc, char **argv)
+/* The curated layout of a channel, or NULL for the generic one. */
+static row_fn curated(const char *channel)
 {
-    lcm_eventlog_t *log;
+    if (!strcmp(channel, "ARM1_STATE") || !strcmp(channel, "ARM2_STATE")) return arm_row;
+    if (!strcmp(channel, "PETRI_MARKING")) return marking_row;
+    if (!strcmp(channel, "ROVER_TRUTH")) return truth_row;
+    return NULL;
+}
+
+static int64_t fingerprint(const lcm_eventlog_event_t *ev)
+{
+    const unsigned char *b = ev->data;
+    uint64_t h = 0;
+    int i;
+    if (ev->datalen < 8) return 0;
+    for (i = 0; i < 8; i++) h = (h << 8) | b[i];
+    return (int64_t)h;
+}
+
+/* An LCM log starts with the event sync word 0xEDA1DA01. */
+static int is_lcm_log(const char *path)
+{
+    unsigned char m[4];
+    FILE *f = fopen(path, "rb");
+    size_t n;
+    if (!f) return -1;
+    n = fread(m, 1, 4, f);
+    fclose(f);
+    return n == 4 && m[0] == 0xED && m[1] == 0xA1 && m[2] == 0xDA && m[3] == 0x01;
+}
+
+/* Generic row: log time, then the type's own columns. */
+static int generic_row(const tandem_csv_type *t, const lcm_eventlog_event_t *ev, int64_t t0)
+{
+    printf("%.6f,", (double)(ev->timestamp - t0) * 1e-6);
+    if (t->row(ev->data, (int)ev->datalen) < 0) {
+        printf("\n");
+        return -1;
+    }
+    putchar('\n');
+    return 0;
+}
+
+typedef struct { char name[256]; const char *type; long count; } chan_count;
+
+static void list_channels(lcm_eventlog_t *log)
+{
+    static chan_count c[512];
+    int n = 0, i;
     lcm_eventlog_event_t *ev;
-    row_fn fn;
-    long rows = 0, bad = 0;
-    if (argc != 3) {
-        fprintf(stderr, "usage: tandem-log2csv LOGFILE CHANNEL > out.csv\n"
-                        "channels: ARM1_STATE ARM2_STATE PETRI_MARKING ROVER_TRUTH\n");
-        return 2;
-    }
-    if (!strcmp(argv[2], "ARM1_STATE") || !strcmp(argv[2], "ARM2_STATE"))
-        fn = arm_row;
-    else if (!strcmp(argv[2], "PETRI_MARKING"))
-        fn = marking_row;
-    else if (!strcmp(argv[2], "ROVER_TRUTH"))
-        fn = truth_row;
-    else {
-        fprintf(stderr, "tandem-log2csv: no CSV layout for channel '%s'\n", argv[2]);
-        return 2;
-    }
-    log = lcm_eventlog_create(argv[1], "r");
-    if (!log) {
-        fprintf(stderr, "tandem-log2csv: cannot open '%s'\n", argv[1]);
-        return 1;
-    }
-    fn(NULL, 1);
     while ((ev = lcm_eventlog_read_next_event(log)) != NULL) {
-        if (strcmp(ev->channel, argv[2]) == 0) {
-            if (fn(ev, 0) == 0)
-                rows++;
-            else
-                bad++;
+        const tandem_csv_type *t = tandem_csv_find(fingerprint(ev));
+        for (i = 0; i < n && strcmp(c[i].name, ev->channel); i++) {}
+        if (i == n && n < 512) {
+            snprintf(c[n].name, sizeof c[n].name, "%s", ev->channel);
+            c[n].type = t ? t->name : "(not a tandem type)";
+            c[n++].count = 0;
+        }
+        if (i < n) c[i].count++;
+        lcm_eventlog_free_event(ev);
+    }
+    for (i = 0; i < n; i++) printf("%-24s %-28s %ld\n", c[i].name, c[i].type, c[i].count);
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: tandem-log2csv [--all-fields] LOGFILE CHANNEL > out.csv\n"
+               "       tandem-log2csv --list LOGFILE\n"
+               "Writes the messages of one channel of an lcm-logger file as CSV on stdout, one\n"
+               "row per message. Any tandem channel: the type is recognised by its fingerprint\n"
+               "and every field becomes a column (log_time_s first; arrays one column per\n"
+               "element; inside variable-length arrays one column per field, the elements'\n"
+               "values joined with ';'). ARM1_STATE, ARM2_STATE, PETRI_MARKING and ROVER_TRUTH\n"
+               "have short plotting layouts unless --all-fields is given.\n\n"
+               "  --list          the channels in the log, their types and message counts\n"
+               "  --all-fields    the generic layout for every channel\n"
+               "  --help          this text\n"
+               "  --version       program version\n"
+               "Exit status: 0 rows written, 1 not an LCM log / unreadable / channel absent\n"
+               "or of an unknown type, 2 bad arguments.\n");
+}
+
+static int convert(lcm_eventlog_t *log, const char *channel, int all_fields)
+{
+    row_fn fn = all_fields ? NULL : curated(channel);
+    const tandem_csv_type *type = NULL;
+    lcm_eventlog_event_t *ev;
+    long rows = 0, bad = 0, other = 0;
+    int64_t t0 = -1;
+    while ((ev = lcm_eventlog_read_next_event(log)) != NULL) {
+        if (t0 < 0) t0 = ev->timestamp;
+        if (strcmp(ev->channel, channel) == 0) {
+            const tandem_csv_type *t = fn ? NULL : tandem_csv_find(fingerprint(ev));
+            if (!fn && !t) {
+                other++;
+            } else {
+                if (rows + bad == 0) {
+                    if (fn) fn(NULL, 1);
+                    else { fputs("log_time_s,", stdout); t->header(); putchar('\n'); }
+                    type = t;
+                }
+                if (fn ? fn(ev, 0) : (t == type ? generic_row(t, ev, t0) : -1)) bad++;
+                else rows++;
+            }
         }
         lcm_eventlog_free_event(ev);
     }
-    lcm_eventlog_destroy(log);
-    fprintf(stderr, "tandem-log2csv: %ld rows, %ld undecodable events skipped\n", rows, bad);
+    fprintf(stderr, "tandem-log2csv: %s: %ld rows, %ld undecodable events skipped", channel, rows, bad);
+    if (other) fprintf(stderr, ", %ld of an unknown type", other);
+    fputc('\n', stderr);
+    if (rows + bad == 0) {
+        fprintf(stderr, "tandem-log2csv: no %s messages %s (tandem-log2csv --list LOGFILE shows the channels)\n",
+                channel, other ? "of a tandem type" : "in the log");
+        return 1;
+    }
     return 0;
+}
+
+int main(int argc, char **argv)
+{
+    lcm_eventlog_t *log;
+    int all_fields = 0, list = 0, first = 1, rc;
+    if (version_requested(argc, argv, "tandem-log2csv")) return 0;
+    for (; first < argc && argv[first][0] == '-' && argv[first][1] == '-'; first++) {
+        if (!strcmp(argv[first], "--help")) { usage(stdout); return 0; }
+        else if (!strcmp(argv[first], "--all-fields")) all_fields = 1;
+        else if (!strcmp(argv[first], "--list")) list = 1;
+        else { fprintf(stderr, "tandem-log2csv: unknown option '%s'\n", argv[first]); usage(stderr); return 2; }
+    }
+    if (argc - first != (list ? 1 : 2)) { usage(stderr); return 2; }
+    rc = is_lcm_log(argv[first]);
+    if (rc <= 0) {
+        fprintf(stderr, rc < 0 ? "tandem-log2csv: cannot open '%s'\n"
+                               : "tandem-log2csv: '%s' is not an LCM log (it does not start with an LCM event)\n",
+                argv[first]);
+        return 1;
+    }
+    if (!(log = lcm_eventlog_create(argv[first], "r"))) {
+        fprintf(stderr, "tandem-log2csv: cannot open '%s'\n", argv[first]);
+        return 1;
+    }
+    rc = 0;
+    if (list) list_channels(log);
+    else rc = convert(log, argv[first + 1], all_fields);
+    lcm_eventlog_destroy(log);
+    return rc;
 }

@@ -36,6 +36,8 @@ int main(int argc, char **argv)
         { "help", no_argument, 0, 'h' },
         { 0, 0, 0, 0 }
     };
+    if (version_requested(argc, argv, "tandem-stick"))
+        return 0;
     tandem_sim_control_t m;
     const char *url = NULL;
     long arm = 0, link = 0;

@@ -130,6 +130,9 @@ int daemon_parse_common(daemon *d, int opt, const char *arg)
         return 1;
     case OPT_HELP:
         return 2;
+    case OPT_VERSION:
+        daemon_print_version(d->name);
+        exit(0);
     default:
         return daemon_parse_fault(d, opt, arg);
     }

@@ -14,6 +14,7 @@
 #include <lcm/lcm.h>
 #include "rtloop.h"
 #include "guard.h"
+#include "version.h"
 
 #define DAEMON_DEFAULT_LCM_URL "udpm://239.255.76.67:7667?ttl=0"
 #define DAEMON_SIM_DT_S 0.001          /* the simulator's fixed step */
@@ -21,13 +22,14 @@
 #define DAEMON_QUEUE_CAPACITY 100000   /* messages per subscription */
 
 /* Long options every daemon accepts; splice into a getopt_long table. */
-enum { OPT_LCM_URL = 1000, OPT_RT, OPT_LOCKSTEP, OPT_PERIOD_MS, OPT_HELP };
+enum { OPT_LCM_URL = 1000, OPT_RT, OPT_LOCKSTEP, OPT_PERIOD_MS, OPT_HELP, OPT_VERSION };
 #define DAEMON_COMMON_OPTIONS \
     { "lcm-url",   required_argument, 0, OPT_LCM_URL }, \
     { "rt",        required_argument, 0, OPT_RT }, \
     { "lockstep",  no_argument,       0, OPT_LOCKSTEP }, \
     { "period-ms", required_argument, 0, OPT_PERIOD_MS }, \
     { "help",      no_argument,       0, OPT_HELP }, \
+    { "version",   no_argument,       0, OPT_VERSION }, \
     DAEMON_FAULT_OPTIONS
 /* Fault injection (daemons/common/rx.h), parsed by daemon_parse_fault. */
 enum { OPT_DROP_RATE = 1100, OPT_DROP_SEED };
@@ -46,6 +48,7 @@ enum { OPT_DROP_RATE = 1100, OPT_DROP_SEED };
     "                    the wall clock\n" \
     "  --period-ms MS    control period\n" \
     "  --help            this text\n" \
+    "  --version         program version (git describe at build time)\n" \
     DAEMON_FAULT_HELP
 
 typedef struct daemon_counters {
@@ -89,7 +92,8 @@ void daemon_defaults(daemon *d, const char *name, double period_s);
 /* Handles a fault-injection option (as daemon_parse_common). */
 int  daemon_parse_fault(daemon *d, int opt, const char *arg);
 /* Handles a common option; returns 1 handled, 0 not common, -1 bad value
- * (message already printed), 2 for --help (caller prints usage, exits 0). */
+ * (message already printed), 2 for --help (caller prints usage, exits 0).
+ * --version prints the version and exits 0 here. */
 int  daemon_parse_common(daemon *d, int opt, const char *arg);
 /* Opens LCM, installs SIGINT/SIGTERM handlers, applies --rt. 0 on success. */
 int  daemon_start(daemon *d);

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# make install: programs, the core library with its headers and a
+# pkg-config file, the LCM types jar, and man pages generated from each
+# program's --help / --version with help2man.
+#   tools/install.sh DESTROOT PREFIX BIN_DIR CORE_LIB TYPES_JAR MAN_BUILD_DIR
+# DESTROOT is DESTDIR + PREFIX (where files go); PREFIX is what the
+# pkg-config file names (where they will be found).
+set -euo pipefail
+dest=$1 prefix=$2 bin=$3 corelib=$4 jar=$5 mandir=$6
+here=$(cd "$(dirname "$0")/.." && pwd)
+# one-line summaries for the NAME section of each man page
+declare -A what=(
+    [tandem-sim]="ODE simulator of the PUMA 560 pair, work cell and Pioneer team, on LCM"
+    [tandem-arm]="1 kHz computed-torque controller of one PUMA 560 arm"
+    [tandem-supervisor]="Petri-net supervisor of the two-arm carry task"
+    [tandem-rover]="behaviour-based formation controller of Pioneer robots"
+    [tandem-kin]="PUMA 560 kinematics calculator (fk, jac, ik, grav)"
+    [tandem-stick]="push the stick into an arm of a running tandem-sim, or pull it out"
+    [tandem-log2csv]="turn an lcm-logger file of tandem messages into CSV"
+    [tandem-scenario]="run a tandem experiment in lockstep and write summary, CSV and plots"
+    [tandem-scene]="print the static geometry of the tandem world as JSON"
+    [tandem-status]="one status line a second about a running tandem system"
+)
+install -d "$dest/bin" "$dest/lib/pkgconfig" "$dest/include/tandem" "$dest/share/java" "$dest/share/man/man1" "$mandir"
+version=$(sed -n 's/^#define TANDEM_VERSION "\(.*\)"$/\1/p' "$here/build/gen/c/tandem_version.h")
+for p in "$bin"/tandem-*; do
+    name=$(basename "$p")
+    install -m 755 "$p" "$dest/bin/$name"
+    help2man --no-info --no-discard-stderr --version-string="$version" \
+        --name="${what[$name]:-part of tandem}" --output="$mandir/$name.1" "$p"
+    install -m 644 "$mandir/$name.1" "$dest/share/man/man1/$name.1"
+done
+install -m 644 "$corelib" "$dest/lib/libtandem.a"
+install -m 644 "$here"/include/*.h "$dest/include/tandem/"
+install -m 644 "$jar" "$dest/share/java/tandem_types.jar"
+cat > "$dest/lib/pkgconfig/tandem.pc" <<PC
+prefix=$prefix
+libdir=\${prefix}/lib
+includedir=\${prefix}/include/tandem
+
+Name: tandem
+Description: tandem robot control core (PUMA 560 dynamics, Petri-net carry, TDSD, formation control), ISO C99
+Version: $version
+Libs: -L\${libdir} -ltandem
+Libs.private: -lm
+Cflags: -I\${includedir}
+PC
+echo "tandem: installed $(ls "$bin"/tandem-* | wc -l) programs, man pages, libtandem.a, tandem.pc and tandem_types.jar under $dest"

@@ -1,0 +1,276 @@
+/* tandem-status: one console line a second about the whole running system,
+ * and a clear warning when it falls behind real time or a daemon holds
+ * safe, from what the daemons already publish (HEALTH_*, SIM_STATUS,
+ * ARM_EVENTS, PETRI_MARKING, ROVERk_STATE / ROVERS_STATE): also arm
+ * faults and a stalled carry task. tools/tandem-run starts it.
+ *
+ *   t=  12.3 s  sim/wall 0.98x  overruns +0 (12)  safe hold: -  blocked: -  delivered 2  at goal 0/3
+ */
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+#include <lcm/lcm.h>
+#include "daemon.h"
+#include "tandem_action_event_t.h"
+#include "tandem_health_t.h"
+#include "tandem_petri_marking_t.h"
+#include "tandem_rover_state_t.h"
+#include "tandem_rovers_state_t.h"
+#include "tandem_sim_status_t.h"
+
+#define MAX_DAEMONS 160
+#define MAX_ROBOTS  128
+#define REPEAT_WARNING_S 10.0   /* a lasting problem is re-announced this often */
+#define SILENT_S 3.0            /* a daemon without health this long is reported */
+
+typedef struct {
+    char    name[DAEMON_NAME_MAX];
+    int64_t overruns, overruns_shown;
+    int     safe_hold, warned_safe;
+    double  last_wall_s;
+    char    status[96];
+} daemon_view;
+
+static struct {
+    daemon_view d[MAX_DAEMONS];
+    int     n_daemons;
+    double  sim_s, sim_wall_s;            /* newest SIM_STATUS and when it came */
+    double  sim_s0, sim_wall0_s;          /* the one the last line started from */
+    int     have_sim, paused, lockstep;
+    int32_t delivered, dropped, spawned;
+    int     blocked[3];                   /* arm 1, 2: 1 while BLOCKED */
+    int8_t  rover_mode[MAX_ROBOTS + 1];   /* -1 unknown */
+    int     stalled, stalled_warned;      /* supervisor: no progress for its stall limit */
+    int     faulted;                      /* bit k-1: arm k reports a joint fault */
+    double  behind_ratio;
+    double  behind_warned_s;              /* wall time of the last behind warning, <0 none */
+} S;
+
+static volatile sig_atomic_t stop;
+static void on_signal(int sig) { (void)sig; stop = 1; }
+
+static double wall_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static daemon_view *find_daemon(const char *name)
+{
+    int i;
+    for (i = 0; i < S.n_daemons; i++)
+        if (!strcmp(S.d[i].name, name)) return &S.d[i];
+    if (S.n_daemons == MAX_DAEMONS) return NULL;
+    snprintf(S.d[S.n_daemons].name, sizeof S.d[0].name, "%s", name);
+    return &S.d[S.n_daemons++];
+}
+
+static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *h, void *u)
+{
+    daemon_view *d = find_daemon(h->name);
+    (void)rb; (void)ch; (void)u;
+    if (!d) return;
+    d->overruns = h->overruns;
+    d->safe_hold = h->safe_hold;
+    d->last_wall_s = wall_s();
+    snprintf(d->status, sizeof d->status, "%s", h->status);
+}
+
+static void on_sim(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *s, void *u)
+{
+    (void)rb; (void)ch; (void)u;
+    S.sim_s = s->sim_time_s;
+    S.sim_wall_s = wall_s();
+    if (!S.have_sim) { S.sim_s0 = S.sim_s; S.sim_wall0_s = S.sim_wall_s; }
+    S.have_sim = 1;
+    S.paused = s->paused;
+    S.lockstep = s->n_participants > 0;
+    S.delivered = s->workpieces_delivered;
+    S.dropped = s->workpieces_dropped;
+    S.spawned = s->workpieces_spawned;
+}
+
+static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_action_event_t *e, void *u)
+{
+    (void)rb; (void)ch; (void)u;
+    if (e->arm < 1 || e->arm > 2) return;
+    if (e->event == TANDEM_ACTION_EVENT_T_BLOCKED) S.blocked[e->arm] = 1;
+    else if (e->event != TANDEM_ACTION_EVENT_T_PROGRESS) S.blocked[e->arm] = 0;
+}
+
+static void on_marking(const lcm_recv_buf_t *rb, const char *ch, const tandem_petri_marking_t *m, void *u)
+{
+    (void)rb; (void)ch; (void)u;
+    S.stalled = m->stalled;
+    S.faulted = m->arms_faulted;
+}
+
+static void rover_mode(int32_t robot, int8_t mode)
+{
+    if (robot >= 1 && robot <= MAX_ROBOTS) S.rover_mode[robot] = mode;
+}
+
+static void on_rover(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_state_t *s, void *u)
+{
+    (void)rb; (void)ch; (void)u;
+    rover_mode(s->robot, s->mode);
+}
+
+static void on_rovers(const lcm_recv_buf_t *rb, const char *ch, const tandem_rovers_state_t *b, void *u)
+{
+    int i;
+    (void)rb; (void)ch; (void)u;
+    for (i = 0; i < b->n; i++) rover_mode(b->state[i].robot, b->state[i].mode);
+}
+
+/* Safe holds as a list of names; warns once when a daemon enters one. */
+static void safe_holds(char *out, size_t cap, double now)
+{
+    int i;
+    size_t len = 0;
+    out[0] = '\0';
+    for (i = 0; i < S.n_daemons; i++) {
+        daemon_view *d = &S.d[i];
+        int silent = now - d->last_wall_s > SILENT_S;
+        if (d->safe_hold && !d->warned_safe)
+            printf("WARNING: %s holds safe: %s\n", d->name, d->status);
+        if (silent && d->warned_safe >= 0)
+            printf("WARNING: no health from %s for %.0f s\n", d->name, now - d->last_wall_s);
+        d->warned_safe = silent ? -1 : d->safe_hold;
+        if ((d->safe_hold || silent) && len + strlen(d->name) + 10 < cap)
+            len += (size_t)snprintf(out + len, cap - len, "%s%s%s", len ? "," : "", d->name, silent ? "(silent)" : "");
+    }
+    if (!out[0]) snprintf(out, cap, "-");
+}
+
+static int64_t overruns_since_last(int64_t *total)
+{
+    int64_t delta = 0;
+    int i;
+    *total = 0;
+    for (i = 0; i < S.n_daemons; i++) {
+        delta += S.d[i].overruns - S.d[i].overruns_shown;
+        S.d[i].overruns_shown = S.d[i].overruns;
+        *total += S.d[i].overruns;
+    }
+    return delta;
+}
+
+/* sim/wall over the SIM_STATUS messages since the last line; -1 unknown. */
+static double speed_ratio(void)
+{
+    double r = -1.0;
+    if (S.have_sim && S.sim_wall_s - S.sim_wall0_s > 0.3)
+        r = (S.sim_s - S.sim_s0) / (S.sim_wall_s - S.sim_wall0_s);
+    if (S.have_sim && S.sim_wall_s - S.sim_wall0_s > 0.3) { S.sim_s0 = S.sim_s; S.sim_wall0_s = S.sim_wall_s; }
+    return r;
+}
+
+static void warn_behind(double ratio, double now)
+{
+    int behind = ratio >= 0.0 && ratio < S.behind_ratio && !S.paused && !S.lockstep;
+    if (!behind) {
+        if (S.behind_warned_s >= 0.0) printf("back in real time (sim/wall %.2fx)\n", ratio);
+        S.behind_warned_s = -1.0;
+        return;
+    }
+    if (S.behind_warned_s < 0.0 || now - S.behind_warned_s >= REPEAT_WARNING_S) {
+        printf("WARNING: BEHIND REAL TIME: the simulation runs at %.2fx wall-clock speed; controllers "
+               "will overrun and hold safe (machine overloaded? see HEALTH_* in make spy)\n", ratio);
+        S.behind_warned_s = now;
+    }
+}
+
+static void status_line(double now)
+{
+    char holds[512], blocked[32] = "-", ratio_s[24] = "  -  ";
+    int64_t total, delta = overruns_since_last(&total);
+    double ratio = speed_ratio();
+    int k, known = 0, at_goal = 0;
+    if (S.have_sim && now - S.sim_wall_s > SILENT_S) ratio = 0.0;   /* the simulator went quiet */
+    safe_holds(holds, sizeof holds, now);
+    warn_behind(ratio, now);
+    if (ratio >= 0.0) snprintf(ratio_s, sizeof ratio_s, "%.2fx", ratio);
+    if (S.stalled && !S.stalled_warned)
+        printf("WARNING: the carry task is stalled: work pending and nothing completed (supervisor)\n");
+    S.stalled_warned = S.stalled;
+    if (S.blocked[1] || S.blocked[2])
+        snprintf(blocked, sizeof blocked, "%s%s%s", S.blocked[1] ? "arm1" : "",
+                 S.blocked[1] && S.blocked[2] ? "," : "", S.blocked[2] ? "arm2" : "");
+    for (k = 1; k <= MAX_ROBOTS; k++) {
+        known += S.rover_mode[k] >= 0;
+        at_goal += S.rover_mode[k] == TANDEM_ROVER_STATE_T_MODE_AT_GOAL;
+    }
+    printf("t=%7.1f s  sim/wall %s%s  overruns +%lld (%lld)  safe hold: %s  blocked: %s%s%s%s  "
+           "delivered %d/%d dropped %d  at goal %d/%d\n",
+           S.sim_s, ratio_s, S.lockstep ? " (lockstep)" : S.paused ? " (paused)" : "", (long long)delta,
+           (long long)total, holds, blocked, S.faulted & 1 ? "  FAULT arm1" : "", S.faulted & 2 ? "  FAULT arm2" : "",
+           S.stalled ? "  STALLED" : "", (int)S.delivered, (int)S.spawned, (int)S.dropped, at_goal, known);
+    fflush(stdout);
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: tandem-status [--lcm-url URL] [--every S] [--behind R]\n"
+               "One line per period about the running system: simulated / wall-clock time\n"
+               "ratio, controller overruns (new and total), daemons holding safe, blocked arms,\n"
+               "workpieces delivered, rovers at the goal. Prints a WARNING line when the\n"
+               "simulation falls behind real time or a daemon holds safe or goes silent.\n\n"
+               "  --lcm-url URL   LCM provider (default $LCM_DEFAULT_URL or " DAEMON_DEFAULT_LCM_URL ")\n"
+               "  --every S       seconds between lines (0.2-60, default 1)\n"
+               "  --behind R      warn below this sim/wall ratio (0-1, default 0.9)\n"
+               "  --help          this text\n"
+               "  --version       program version\n");
+}
+
+int main(int argc, char **argv)
+{
+    static const struct option opts[] = {
+        { "lcm-url", required_argument, 0, 'u' }, { "every", required_argument, 0, 'e' },
+        { "behind", required_argument, 0, 'b' }, { "help", no_argument, 0, 'h' },
+        { "version", no_argument, 0, 'V' }, { 0, 0, 0, 0 }
+    };
+    const char *url = NULL;
+    double every = 1.0, next;
+    int c;
+    lcm_t *lcm;
+    S.behind_ratio = 0.9;
+    S.behind_warned_s = -1.0;
+    memset(S.rover_mode, -1, sizeof S.rover_mode);
+    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
+        switch (c) {
+        case 'u': url = optarg; break;
+        case 'e': if (parse_double_opt("tandem-status", "--every", optarg, 0.2, 60.0, &every) < 0) return 2; break;
+        case 'b': if (parse_double_opt("tandem-status", "--behind", optarg, 0.0, 1.0, &S.behind_ratio) < 0) return 2; break;
+        case 'h': usage(stdout); return 0;
+        case 'V': daemon_print_version("tandem-status"); return 0;
+        default: usage(stderr); return 2;
+        }
+    }
+    if (!(lcm = lcm_create(url))) {
+        fprintf(stderr, "tandem-status: cannot open LCM\n");
+        return 1;
+    }
+    tandem_health_t_subscribe(lcm, "HEALTH_.*", on_health, NULL);
+    tandem_sim_status_t_subscribe(lcm, "SIM_STATUS", on_sim, NULL);
+    tandem_action_event_t_subscribe(lcm, "ARM_EVENTS", on_event, NULL);
+    tandem_petri_marking_t_subscribe(lcm, "PETRI_MARKING", on_marking, NULL);
+    tandem_rover_state_t_subscribe(lcm, "ROVER[0-9]+_STATE", on_rover, NULL);
+    tandem_rovers_state_t_subscribe(lcm, "ROVERS_STATE", on_rovers, NULL);
+    signal(SIGINT, on_signal);
+    signal(SIGTERM, on_signal);
+    next = wall_s() + every;
+    while (!stop) {
+        double now = wall_s();
+        if (now >= next) {
+            status_line(now);
+            next += every;
+            if (next < now) next = now + every;
+        }
+        lcm_handle_timeout(lcm, (int)((next - now) * 1000.0) + 1);
+    }
+    lcm_destroy(lcm);
+    return 0;
+}

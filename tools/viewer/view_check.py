@@ -1,0 +1,136 @@
+#!/usr/bin/env python3
+"""view_check: loads the viewer page in headless Chromium and checks that
+it really drew the arms and the rovers.
+
+Drives Chromium over the DevTools protocol (navigate, wait, screenshot),
+then counts the pixels of each thing's colour inside the view where it must
+appear: arm 1 (orange) and arm 2 (blue) in the work-cell view, each robot's
+colour in the rover-team view (bodies, sonar cones, beacons), and the
+workpieces (yellow) in the work-cell view. The page is checked every few
+seconds until every count reaches its threshold or the time is up; the
+last screenshot is written either way, and the counts are printed.
+Exit 0 when every check passed, 1 otherwise.
+"""
+import argparse
+import base64
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+
+import websocket
+from PIL import Image
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from draw_cell import ARM_COLORS, WORKPIECE_COLOR  # noqa: E402
+from draw_team import robot_color  # noqa: E402
+
+WIDTH, HEIGHT = 1400, 900
+# regions as fractions of the page (x0, y0, x1, y1): the blueprint's top row
+# is split in two halves below a title bar, above the plots (3:2 rows)
+CELL_VIEW = (0.0, 0.05, 0.5, 0.6)
+TEAM_VIEW = (0.5, 0.05, 1.0, 0.6)
+TOLERANCE = 40          # max per-channel difference for a pixel to count
+# pixels of a colour that make "drawn": an arm's links and joints cover
+# thousands at this size, a robot (body, beacon, heading, sonar cones)
+# hundreds, a lit workpiece bar some tens
+MIN_PIXELS = {"arm": 300, "workpieces": 40, "rover": 100}
+
+
+def chromium_binary():
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        if shutil.which(name):
+            return shutil.which(name)
+    sys.exit("view_check: no chromium on PATH (tools/deps.sh view-test installs it)")
+
+
+class Cdp:
+    """The least of the DevTools protocol: one page, request/response."""
+
+    def __init__(self, port):
+        for _ in range(150):
+            try:
+                tabs = json.load(urllib.request.urlopen(f"http://127.0.0.1:{port}/json", timeout=2))
+                break
+            except OSError:
+                time.sleep(0.2)
+        else:
+            sys.exit("view_check: Chromium's DevTools port never answered")
+        page = [t for t in tabs if t["type"] == "page"][0]
+        # software WebGL on a loaded machine can take minutes per frame
+        self.ws = websocket.create_connection(page["webSocketDebuggerUrl"], timeout=300)
+        self.n = 0
+
+    def call(self, method, **params):
+        self.n += 1
+        self.ws.send(json.dumps({"id": self.n, "method": method, "params": params}))
+        while True:
+            r = json.loads(self.ws.recv())
+            if r.get("id") == self.n:
+                if "error" in r:
+                    raise RuntimeError(f"{method}: {r['error']}")
+                return r["result"]
+
+
+def count(img, region, color):
+    x0, y0, x1, y1 = (int(f * s) for f, s in zip(region, (img.width, img.height, img.width, img.height)))
+    px = img.crop((x0, y0, x1, y1)).get_flattened_data()
+    r0, g0, b0 = color
+    return sum(1 for r, g, b in px if abs(r - r0) < TOLERANCE and abs(g - g0) < TOLERANCE and abs(b - b0) < TOLERANCE)
+
+
+def checks(rovers):
+    c = [("arm 1", CELL_VIEW, ARM_COLORS[1]), ("arm 2", CELL_VIEW, ARM_COLORS[2]),
+         ("workpieces", CELL_VIEW, WORKPIECE_COLOR)]
+    return c + [(f"rover {k}", TEAM_VIEW, robot_color(k)) for k in range(1, rovers + 1)]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("url")
+    ap.add_argument("out_png")
+    ap.add_argument("--rovers", type=int, default=3)
+    ap.add_argument("--timeout-s", type=float, default=240.0)
+    ap.add_argument("--settle-s", type=float, default=8.0, help="keep watching this long after the first pass")
+    ap.add_argument("--devtools-port", type=int, default=9222)
+    a = ap.parse_args()
+    prof = tempfile.mkdtemp(prefix="tandem-view-chromium-")
+    chrome = subprocess.Popen([chromium_binary(), "--headless=new", "--use-angle=swiftshader",
+                               "--enable-unsafe-swiftshader", "--no-sandbox", "--no-first-run",
+                               f"--remote-debugging-port={a.devtools_port}", f"--window-size={WIDTH},{HEIGHT}",
+                               f"--user-data-dir={prof}", "about:blank"],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    ok = False
+    try:
+        cdp = Cdp(a.devtools_port)
+        cdp.call("Page.navigate", url=a.url)
+        t0, passed_at = time.monotonic(), None
+        while time.monotonic() - t0 < a.timeout_s:
+            time.sleep(3.0)
+            png = base64.b64decode(cdp.call("Page.captureScreenshot", format="png")["data"])
+            with open(a.out_png, "wb") as f:
+                f.write(png)
+            img = Image.open(a.out_png).convert("RGB")
+            counts = [(name, count(img, region, color)) for name, region, color in checks(a.rovers)]
+            ok = all(n >= MIN_PIXELS[name.split()[0]] for name, n in counts)
+            print(f"view_check: t={time.monotonic() - t0:5.1f} s  " +
+                  "  ".join(f"{name}: {n}" for name, n in counts), flush=True)
+            if ok and passed_at is None:
+                passed_at = time.monotonic()
+            if passed_at is not None and time.monotonic() - passed_at >= a.settle_s:
+                break
+    finally:
+        chrome.terminate()
+        chrome.wait(10)
+        shutil.rmtree(prof, ignore_errors=True)
+    print(f"view_check: {'PASS' if ok else 'FAIL'} (pixels needed per colour: {MIN_PIXELS}; "
+          f"screenshot {a.out_png})")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
