@@ -31,6 +31,14 @@
 #define CARTSEG_HOLD_SIDE_FRAC 0.5
 /* ... or while it keeps within this distance of it across the path. */
 #define CARTSEG_HOLD_SLIP_M 0.004
+/* ... or once it has rested this long at least half the bias's reach
+ * (k0 / k_p) ahead of it along the path (nothing resists the bias along
+ * the path, whatever holds the tool sideways: a released arm whose static
+ * sideways error outgrew the allowance otherwise stayed held for good) --
+ * again only if the tool went on mostly along the path since the last
+ * such step (a pinned proximal link turns the tool sideways instead). */
+#define CARTSEG_HOLD_REST_S 0.25
+#define CARTSEG_HOLD_REST_MPS 0.001
 /* Filter of the free servo's cross-track error (its static part, model
  * error / k_p, is kept up while blocked). */
 #define CARTSEG_STATIC_ERR_TAU_S 0.5
@@ -48,6 +56,9 @@ typedef struct cartseg {
     double dev_ref_m;          /* least line deviation since the last block */
     double hold_off_m[3];      /* static cross-track error, 0.25-0.5 s old  */
     double err_filt_m[3], err_snap_m[3], t_snap_s;   /* its filter      */
+    double t_rest_s;           /* blocked: time at rest ahead of the hold point */
+    double rest_pos_m[3];      /* tool where the hold last moved after a rest */
+    int    rest_steps;         /* such moves in this block */
     int    blocked;
     int    block_detect;       /* 1 (cartseg_start's default): detector on; 0: eq. 6-7 alone */
 } cartseg;

@@ -84,7 +84,34 @@ static double line_deviation(const erlaw_line *l, const double x[3])
  * t5 upper-arm block). The price: a pinned arm may slide up to that far
  * sideways before the hold stops it (model as plant, upper arm pinned:
  * 10 N settled with 2 mm, 16 N with 4 mm). */
-static void hold_ratchet(cartseg *c, const double x[3], const double v[3])
+/* The rest rule of hold_ratchet: 1 when the hold point may move on to a
+ * tool that has rested CARTSEG_HOLD_REST_S half the bias's reach ahead of
+ * it; after the first such move, only if the tool went on mostly along
+ * the path since (sideways at most CARTSEG_HOLD_SIDE_FRAC of it). */
+static int hold_rest_step(cartseg *c, const double x[3], const double v[3], double along, double dt)
+{
+    const double *e = c->line.ch.e;
+    const erlaw_gains *g = &c->line.ch.g;
+    double d[3], d_along;
+    if (!(vec3_norm(v) < CARTSEG_HOLD_REST_MPS && g->k_p > 0.0 && along >= 0.5 * g->k0 / g->k_p)) {
+        c->t_rest_s = 0.0;
+        return 0;
+    }
+    c->t_rest_s += dt;
+    if (c->t_rest_s < CARTSEG_HOLD_REST_S)
+        return 0;
+    c->t_rest_s = 0.0;
+    vec3_sub(d, x, c->rest_pos_m);
+    d_along = vec3_dot(d, e);
+    vec3_axpy(d, d, -d_along, e);
+    if (c->rest_steps > 0 && !(d_along > 0.0 && vec3_norm(d) <= CARTSEG_HOLD_SIDE_FRAC * d_along))
+        return 0;
+    vec3_copy(c->rest_pos_m, x);
+    c->rest_steps++;
+    return 1;
+}
+
+static void hold_ratchet(cartseg *c, const double x[3], const double v[3], double dt)
 {
     const double *e = c->line.ch.e;
     const double v_along = vec3_dot(v, e);
@@ -100,7 +127,7 @@ static void hold_ratchet(cartseg *c, const double x[3], const double v[3])
     vec3_axpy(side_x, side_x, -vec3_dot(side_x, e), e);
     moving_along = v_along >= CARTSEG_HOLD_V_MPS && vec3_norm(side_v) <= CARTSEG_HOLD_SIDE_FRAC * v_along;
     near = vec3_norm(side_x) < CARTSEG_HOLD_SLIP_M;
-    if (along > 0.0 && (moving_along || near))
+    if (along > 0.0 && (moving_along || near || hold_rest_step(c, x, v, along, dt)))
         vec3_axpy(c->line.x_hold_m, c->line.x_hold_m, along, e);
 }
 
@@ -178,7 +205,7 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     blocked = c->block_detect ? block_update(c, eo.s_m, vec3_dot(out->v_world, c->line.ch.e), dev, commanding, dt_s) : 0;
     out->block_changed = blocked != c->blocked;
     if (blocked && c->blocked)
-        hold_ratchet(c, out->x_world, out->v_world);
+        hold_ratchet(c, out->x_world, out->v_world, dt_s);
     if (!blocked) {
         /* static cross-track error of the free servo (model error / k_p) */
         double xe[3];
@@ -202,6 +229,9 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
          * error): from the next cycle the only demand is the bias along
          * the path */
         double x_hold[3];
+        c->t_rest_s = 0.0;
+        c->rest_steps = 0;
+        vec3_copy(c->rest_pos_m, out->x_world);
         vec3_add(x_hold, out->x_world, c->hold_off_m);
         erlaw_line_hold(&c->line, x_hold);
         tf_rot(c->R_hold_base, st.T);
