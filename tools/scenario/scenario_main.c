@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "scenario.h"
+#include "version.h"
 
 /* Each tools/scenario/scenario_<name>.c defines `const scenario_def
  * scenario_<name>`; the Makefile lists them in SCENARIO_LIST. */
@@ -26,6 +27,8 @@ static void usage(FILE *f)
 int main(int argc, char **argv)
 {
     size_t i;
+    if (version_requested(argc, argv, "tandem-scenario"))
+        return 0;
     if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
         usage(argc < 2 ? stderr : stdout);
         return argc < 2 ? 2 : 0;
