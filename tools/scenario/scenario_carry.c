@@ -382,10 +382,11 @@ static void record_step(int64_t step)
     }
     if (f_ts && step % 10 == 0) {
         int stick = cur_block < n_blocks && blocks[cur_block].in_s >= 0.0 && blocks[cur_block].out_s < 0.0;
-        fprintf(f_ts, "%.3f,%.5f,%.5f,%d,%.5f,%.5f,%d,%.4f,%.4f,%.3f,%.3f,%d,%d,%d\n", R.t_s,
+        fprintf(f_ts, "%.3f,%.5f,%.5f,%d,%.5f,%.5f,%d,%.4f,%.4f,%.3f,%.3f,%d,%d,%d,%.3f,%.3f\n", R.t_s,
                 R.s[0], R.s_f[0], R.tr[0], R.s[1], R.s_f[1], R.tr[1], R.speed[0], R.speed[1],
                 R.arm[0].max_contact_force_N, R.arm[1].max_contact_force_N,
-                stick ? blocks[cur_block].arm : 0, R.delivered, R.dropped);
+                stick ? blocks[cur_block].arm : 0, R.delivered, R.dropped,
+                R.arm[0].max_contact_force_10ms_N, R.arm[1].max_contact_force_10ms_N);
     }
 }
 
@@ -636,13 +637,17 @@ static void write_plots(const char *dir)
             fprintf(g, "set object %d rect from %.3f, graph 0 to %.3f, graph 1 fc rgb '%s' fs solid 0.25 noborder\n",
                     i + 1, blocks[i].in_s, blocks[i].out_s >= 0 ? blocks[i].out_s : blocks[i].in_s + blocks[i].dur_s,
                     blocks[i].arm == 1 ? "#ff8080" : "#8080ff");
-    fprintf(g, "set output 's.png'\nset title 'path length s(t) per arm (shaded: stick in; red arm 1, blue arm 2)'\n"
+    fprintf(g, "set output 's.png'\nset title 'path length s(t) of the running segment per arm (shaded: stick in, "
+               "in the colour of the arm it blocks)'\n"
                "set xlabel 'sim time (s)'\nset ylabel 's (m)'\n"
-               "plot 'timeseries.csv' every ::1 using 1:2 with lines lw 1.5 title 'arm 1', "
-               "'' every ::1 using 1:5 with lines lw 1.5 title 'arm 2'\n");
-    fprintf(g, "set output 'force.png'\nset title 'max link contact force'\nset ylabel 'N'\n"
-               "plot 'timeseries.csv' every ::1 using 1:10 with lines title 'arm 1', "
-               "'' every ::1 using 1:11 with lines title 'arm 2'\n");
+               "plot 'timeseries.csv' every ::1 using 1:2 with lines lw 1.5 lc rgb '#c00000' title 'arm 1', "
+               "'' every ::1 using 1:5 with lines lw 1.5 lc rgb '#0000c0' title 'arm 2'\n");
+    /* the force sensor's 10 ms average, as a real stick's sensor reads it
+     * (the raw 1 ms maximum is in the CSV) */
+    fprintf(g, "set output 'force.png'\nset title 'largest link contact force, 10 ms average'\n"
+               "set ylabel 'force (N)'\nset yrange [0:*]\n"
+               "plot 'timeseries.csv' every ::1 using 1:15 with lines lc rgb '#c00000' title 'arm 1', "
+               "'' every ::1 using 1:16 with lines lc rgb '#0000c0' title 'arm 2'\nset autoscale y\n");
     fprintf(g, "unset object\nset output 'gantt.png'\nset title 'transitions per arm (running intervals; t3, t4 involve both arms)'\n"
                "set ylabel ''\nset ytics ('arm 1' 1, 'arm 2' 2)\nset yrange [0.3:2.9]\nset xlabel 'sim time (s)'\n"
                "a1(t) = (t==1||t==2||t==3||t==4||t==6)\na2(t) = (t==3||t==4||t==5||t==7)\n"
@@ -808,7 +813,8 @@ static int run(int argc, char **argv)
     f_tr = scenario_fopen(cfg.out, "transitions.csv");
     if (!f_ts || !f_tr)
         return 1;
-    fprintf(f_ts, "t_s,s1_m,sf1_m,tr1,s2_m,sf2_m,tr2,speed1_mps,speed2_mps,force1_N,force2_N,stick_arm,delivered,dropped\n");
+    fprintf(f_ts, "t_s,s1_m,sf1_m,tr1,s2_m,sf2_m,tr2,speed1_mps,speed2_mps,force1_N,force2_N,stick_arm,delivered,dropped,"
+                  "force1_10ms_N,force2_10ms_N\n");
     fprintf(f_tr, "transition,start_s,end_s\n");
     fprintf(stderr, "tandem-scenario carry: %d workpieces, %s controller, %d blocks, seed %ld\n", cfg.workpieces,
             cfg.controller_time ? "time" : "event", n_blocks, seed);
