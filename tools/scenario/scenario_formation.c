@@ -591,7 +591,7 @@ static void on_sig(int s) { (void)s; }
 
 static int run(int argc, char **argv)
 {
-    double wall0;
+    double wall0, next_progress;
     int i, last_type = -1, changes = 0;
     char self[512];
     ssize_t len;
@@ -640,6 +640,7 @@ static int run(int argc, char **argv)
     signal(SIGPIPE, SIG_IGN);
     signal(SIGINT, on_sig);
     wall0 = scenario_wall_s();
+    next_progress = wall0 + 5.0;
     if (start_children() != 0) { stop_children(); return 1; }
     fprintf(stderr, "formation: %d robots, %s, world %s, blend %s, seed %ld on %s\n", F.robots,
             fname(F.formation), rover_world_name(F.world), bname(F.blend), F.seed, F.url);
@@ -687,6 +688,14 @@ static int run(int argc, char **argv)
         } else if (F.have_clock && mono_ns() - F.last_clock_ns > 500000000LL) {
             nudge();
             F.last_clock_ns = mono_ns();
+        }
+        if (scenario_wall_s() >= next_progress) {
+            /* one line every few seconds of wall time */
+            const double wall = scenario_wall_s() - wall0;
+            next_progress += 5.0;
+            fprintf(stderr, "formation: t %.1f s (%.1fx real time), collisions %d, formation changes %d, "
+                            "dead-zone escapes %d%s\n", F.sim_time, wall > 0.0 ? F.sim_time / wall : 0.0,
+                    F.collisions, F.formation_changes, F.escapes, F.reached ? ", at the goal" : "");
         }
         if (scenario_wall_s() - wall0 > 20.0 * F.max_time_s + 60.0) {
             fprintf(stderr, "formation: no progress; giving up\n");
