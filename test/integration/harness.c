@@ -6,6 +6,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "daemon.h"
+#include "tandem_action_row_t.h"
 #include "tandem_clock_ack_t.h"
 
 static double now_s(void)
@@ -97,4 +98,22 @@ int harness_private_net(void)
     }
     return 0;
 #endif
+}
+
+void harness_send_joint_row(harness *h, int arm, int action_id, const double q[6])
+{
+    tandem_action_row_t row;
+    tandem_action_segment_t seg;
+    char ch[24];
+    memset(&row, 0, sizeof row);
+    memset(&seg, 0, sizeof seg);
+    seg.kind = TANDEM_ACTION_SEGMENT_T_MOVE_JOINT;
+    seg.orientation_quat[0] = 1.0;
+    memcpy(seg.q_rad, q, sizeof seg.q_rad);
+    row.action_id = action_id;
+    row.arm = (int8_t)arm;
+    row.n_segments = 1;
+    row.segments = &seg;
+    snprintf(ch, sizeof ch, "ARM%d_ACTION", arm);
+    tandem_action_row_t_publish(h->lcm, ch, &row);
 }

@@ -36,6 +36,9 @@ void  harness_pump(harness *h, int ms);
  * otherwise, or when TANDEM_SHARED_NET is set). Call first in main(). */
 int harness_private_net(void);
 
+/* One action row of a single joint move to q on ARMk_ACTION. */
+void harness_send_joint_row(harness *h, int arm, int action_id, const double q[6]);
+
 /* Lockstep participation for a test: answer step k on SIM_ACK. */
 void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps);
 

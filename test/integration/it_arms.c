@@ -157,24 +157,6 @@ static void handover_q(int a, const double q_home[6], double q[6])
     memcpy(q, r.branch[b].q_rad, sizeof(double) * 6);
 }
 
-static void send_joint_row(harness *h, int arm, int id, const double q[6])
-{
-    tandem_action_row_t row;
-    tandem_action_segment_t seg;
-    char ch[16];
-    memset(&row, 0, sizeof row);
-    memset(&seg, 0, sizeof seg);
-    seg.kind = TANDEM_ACTION_SEGMENT_T_MOVE_JOINT;
-    seg.orientation_quat[0] = 1.0;
-    memcpy(seg.q_rad, q, sizeof seg.q_rad);
-    row.action_id = id;
-    row.arm = (int8_t)arm;
-    row.n_segments = 1;
-    row.segments = &seg;
-    snprintf(ch, sizeof ch, "ARM%d_ACTION", arm);
-    tandem_action_row_t_publish(h->lcm, ch, &row);
-}
-
 static double dist3(const double a[3], const double b[3])
 {
     double d[3];
@@ -232,7 +214,7 @@ static void test_hold_and_move_under_tandem_arm(void **state)
     for (a = 0; a < 2; a++) {
         handover_q(a, q_home[a], q_ho[a]);
         cell_grasp_point(&cell_default, a, cell_default.handover_center_m, target[a]);
-        send_joint_row(&h, a + 1, 100 + a, q_ho[a]);
+        harness_send_joint_row(&h, a + 1, 100 + a, q_ho[a]);
     }
     k = run_until_done(&h, k, 20000);
     assert_true(O.done[0] && O.done[1]);
@@ -240,7 +222,7 @@ static void test_hold_and_move_under_tandem_arm(void **state)
         const double e = dist3(O.arm[a].tool_position_m, target[a]);
         printf("arm %d at the hand-over pose: tool error %.2f mm\n", a + 1, e * 1e3);
         assert_true(e < 2e-3);
-        send_joint_row(&h, a + 1, 200 + a, q_home[a]);
+        harness_send_joint_row(&h, a + 1, 200 + a, q_home[a]);
     }
     k = run_until_done(&h, k, 20000);
     assert_true(O.done[0] && O.done[1]);

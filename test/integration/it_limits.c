@@ -155,24 +155,6 @@ static void test_limits_hold_under_torque(void **state)
     close_bus(&h);
 }
 
-static void send_joint_row(harness *h, int arm, int id, const double q[6])
-{
-    tandem_action_row_t row;
-    tandem_action_segment_t seg;
-    char ch[24];
-    memset(&row, 0, sizeof row);
-    memset(&seg, 0, sizeof seg);
-    seg.kind = TANDEM_ACTION_SEGMENT_T_MOVE_JOINT;
-    seg.orientation_quat[0] = 1.0;
-    memcpy(seg.q_rad, q, sizeof seg.q_rad);
-    row.action_id = id;
-    row.arm = (int8_t)arm;
-    row.n_segments = 1;
-    row.segments = &seg;
-    snprintf(ch, sizeof ch, "ARM%d_ACTION", arm);
-    tandem_action_row_t_publish(h->lcm, ch, &row);
-}
-
 static void stick(harness *h, int cmd, int arm, int link)
 {
     tandem_sim_control_t c;
@@ -218,7 +200,7 @@ static void test_stick_goes_in_clear_of_the_arms(void **state)
             const int out = (a * ARM_NJ + link) % 2;
             int64_t k0 = k;
             int contact = 0;
-            send_joint_row(&h, a + 1, 10 * (a * ARM_NJ + link), out ? q_out[a] : q_home[a]);
+            harness_send_joint_row(&h, a + 1, 10 * (a * ARM_NJ + link), out ? q_out[a] : q_home[a]);
             while (k - k0 < 400)          /* under way */
                 k = step_once(&h, k);
             stick(&h, TANDEM_SIM_CONTROL_T_INSERT_STICK, a + 1, link);

@@ -28,6 +28,16 @@ void json_point(json_out *j, const char *key, const double p[3], const char *fmt
 void json_bool(json_out *j, const char *key, int v);
 void json_close(json_out *j);
 
+/* One success criterion of a run: its summary key and whether it failed. */
+typedef struct scenario_criterion {
+    int failed;
+    const char *what;
+} scenario_criterion;
+
+/* Writes the failed criteria's names into buf, space separated (empty
+ * when all hold); returns how many failed. */
+int scenario_failed_criteria(const scenario_criterion *k, int n, char *buf, size_t cap);
+
 /* mkdir -p; 0 ok. */
 int   scenario_mkdir(const char *dir);
 /* fopen(dir/file) for writing, with an error message on failure. */

@@ -663,7 +663,7 @@ static void write_plots(const char *dir)
  * how many failed. */
 static int carry_criteria(const run_cfg *c, const run_result *r, double resume_max_s, char *buf, size_t cap)
 {
-    struct { int failed; const char *what; } k[] = {
+    const scenario_criterion k[] = {
         { strcmp(r->exit_reason, "completed") != 0, "exit_reason" },
         { r->delivered != c->workpieces, "workpieces_delivered" },
         { r->dropped != 0, "workpieces_dropped" },
@@ -675,15 +675,7 @@ static int carry_criteria(const run_cfg *c, const run_result *r, double resume_m
         { r->invariant_violations != 0, "invariant_violations" },
         { r->deadlocks != 0, "deadlocks" },
     };
-    size_t i, n = 0;
-    int failed = 0;
-    buf[0] = '\0';
-    for (i = 0; i < sizeof k / sizeof k[0]; i++)
-        if (k[i].failed) {
-            n += (size_t)snprintf(buf + n, n < cap ? cap - n : 0, "%s%s", failed ? " " : "", k[i].what);
-            failed++;
-        }
-    return failed;
+    return scenario_failed_criteria(k, (int)(sizeof k / sizeof k[0]), buf, cap);
 }
 
 static int run(int argc, char **argv)

@@ -529,22 +529,14 @@ static void write_plots(void)
  * returns how many failed. */
 static int formation_criteria(char *buf, size_t cap)
 {
-    struct { int failed; const char *what; } k[] = {
+    const scenario_criterion k[] = {
         { !F.reached, "reached_goal" },
         { F.collisions != 0, "collisions" },
         { F.loc_n && !(F.loc_max <= 0.25), "loc_err_max_m" },
         { F.world == ROVER_WORLD_CORRIDOR && F.formation_changes < 2, "formation_changes" },
         { F.world == ROVER_WORLD_DEADZONE && F.escapes < 1, "dead_zone_escapes" },
     };
-    size_t i, n = 0;
-    int failed = 0;
-    buf[0] = '\0';
-    for (i = 0; i < sizeof k / sizeof k[0]; i++)
-        if (k[i].failed) {
-            n += (size_t)snprintf(buf + n, n < cap ? cap - n : 0, "%s%s", failed ? " " : "", k[i].what);
-            failed++;
-        }
-    return failed;
+    return scenario_failed_criteria(k, (int)(sizeof k / sizeof k[0]), buf, cap);
 }
 
 static void write_summary(double wall_s)

@@ -7,6 +7,20 @@
 #include <sys/stat.h>
 #include <time.h>
 
+int scenario_failed_criteria(const scenario_criterion *k, int n, char *buf, size_t cap)
+{
+    size_t used = 0;
+    int i, failed = 0;
+    buf[0] = '\0';
+    for (i = 0; i < n; i++)
+        if (k[i].failed) {
+            const int w = snprintf(buf + used, used < cap ? cap - used : 0, "%s%s", failed ? " " : "", k[i].what);
+            used += w > 0 ? (size_t)w : 0;
+            failed++;
+        }
+    return failed;
+}
+
 int scenario_mkdir(const char *dir)
 {
     char path[1024];

@@ -147,21 +147,13 @@ int tdsd_scen_criteria(const tdsd_scen *s, char *buf, size_t cap)
 {
     const tdsdrun_metrics *m = &s->m;
     const double pos_tol_m = s->plant_ode ? TDSD_POS_TOL_ODE_M : TDSD_POS_TOL_KIN_M;
-    struct { int failed; const char *what; } k[] = {
+    const scenario_criterion k[] = {
         { !(m->max_pos_err_m <= pos_tol_m), "max_pos_err_mm" },
         { m->joint_limit_violations != 0, "joint_limit_violations" },
         { !(m->max_speed_ratio <= 1.0 + 1e-9), "max_joint_speed_ratio" },
         { !strcmp(s->name, "liquid") && !(m->max_tilt_rad <= TDSD_TILT_TOL_RAD), "max_tilt_deg" },
     };
-    size_t i, n = 0;
-    int failed = 0;
-    buf[0] = '\0';
-    for (i = 0; i < sizeof k / sizeof k[0]; i++)
-        if (k[i].failed) {
-            n += (size_t)snprintf(buf + n, n < cap ? cap - n : 0, "%s%s", failed ? " " : "", k[i].what);
-            failed++;
-        }
-    return failed;
+    return scenario_failed_criteria(k, (int)(sizeof k / sizeof k[0]), buf, cap);
 }
 
 int tdsd_scen_finish(const tdsd_scen *s, json_out *j)
