@@ -16,6 +16,15 @@
  * Determinism in lockstep: a team message is used only from the first
  * cycle whose step is later than the step it was sent at, so the order in
  * which the hosts happen to answer a step cannot change what anyone saw.
+ * And a cycle runs only on complete inputs (lockstep_inputs_complete):
+ * the frames of the hosted robots for this step, and from every mate the
+ * team message of its last 10 Hz tick. A frame or team message lost on
+ * the way leaves the step unanswered; the simulator announces it again,
+ * everyone who already answered publishes its last outputs again
+ * (republish), copies already taken are ignored (duplicates), and the
+ * cycle runs when the inputs are there: with loss, the same run. A source
+ * silent for ROVER_INPUT_WAIT_NS of wall time is taken as gone (a killed
+ * robot) and not waited for again until it speaks.
  */
 #include <math.h>
 #include <stdio.h>
@@ -39,11 +48,24 @@
 
 #define HOST_MAX   ROVER_WORLD_MAX_ROBOTS
 #define TEAMQ_MAX  4096
+#define ROVER_INPUT_WAIT_NS 300000000LL   /* a missing input: gone after 0.3 s */
 
 typedef struct hosted {
     rover_ctl_t c;
     int64_t     cmd_seq, state_seq, team_seq;
     int64_t     last_rx_ns;             /* wall time of the last sensor message */
+    int64_t     sens_step, sonar_step, camera_step;   /* last frames taken (-1 none) */
+    /* frames taken but not yet applied: the cycle applies them in one
+     * order (encoders, sonar, camera), whatever order they arrived in */
+    int         new_enc, new_sonar, new_cam;
+    double      enc_rad[2];
+    double      sonar_m[BEH_SONAR_N];
+    int         cam_n;
+    int32_t     cam_target[ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS];
+    double      cam_range_m[ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS];
+    double      cam_bearing_rad[ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS];
+    int         silent;                 /* lockstep: frames stopped (killed body) */
+    tandem_team_msg_t last_team;        /* for republish (robot 0: none yet) */
     char        ch_cmd[24], ch_state[24];
     int         shown_mode, shown_type, shown_yield;   /* last printed (-1: none yet) */
 } hosted;
@@ -68,6 +90,18 @@ static struct {
     int     batch;                      /* --batch: ROVERS_COMMAND / ROVERS_STATE */
     int     localize;                   /* --localize: landmarks fused (1) */
     int64_t batch_seq;
+    /* lockstep: what each mate last said on TEAM, and what we published */
+    int64_t mate_step[ROVER_WORLD_MAX_ROBOTS + 1];   /* -1: nothing yet */
+    int     mate_gone[ROVER_WORLD_MAX_ROBOTS + 1];
+    int64_t wait_step, wait_since_ns;                 /* incomplete inputs */
+    int64_t gone_count;
+    struct outbox {
+        tandem_rover_command_t cmd[HOST_MAX];
+        tandem_rover_state_t   st[HOST_MAX];
+        int     n;
+        int64_t step, utime, batch_seq;               /* step -1: empty */
+    } out[2];                                         /* out[cur]: the last cycle */
+    int     cur;
 } A;
 
 static hosted *find_hosted(int32_t id)
@@ -251,6 +285,23 @@ static int too_early(int64_t step)
     return D.lockstep && step < D.period_steps;
 }
 
+static int all_ranges(const double *r, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(r[i]) || r[i] < 0.0) return 0;
+    return 1;
+}
+
+/* A frame at or before the last one taken of its kind is a copy (the
+ * simulator announcing a step again, or a replay): counted, ignored. */
+static int is_copy(int64_t step, const int64_t *last)
+{
+    if (step > *last) return 0;
+    D.msgs.duplicate++;
+    return 1;
+}
+
 /* The hardware frames of one robot, from its own channels or from a
  * batch: only hosted robots count; bad values are dropped and counted. */
 static void take_sensors(const tandem_rover_sensors_t *m)
@@ -258,11 +309,16 @@ static void take_sensors(const tandem_rover_sensors_t *m)
     hosted *h = find_hosted(m->robot);
     if (!h || too_early(m->step)) return;      /* another host's robot / start-up */
     D.msgs.received++;
-    if (m->step < 0 || rover_ctl_encoders(&h->c, m->wheel_left_rad, m->wheel_right_rad,
-                                          (double)m->step * DAEMON_SIM_DT_S) != 0) {
+    if (is_copy(m->step, &h->sens_step)) return;
+    if (m->step < 0 || !isfinite(m->wheel_left_rad) || !isfinite(m->wheel_right_rad)) {
         D.msgs.rejected++;
         return;
     }
+    h->enc_rad[0] = m->wheel_left_rad;
+    h->enc_rad[1] = m->wheel_right_rad;
+    h->new_enc = 1;
+    h->sens_step = m->step;
+    h->silent = 0;
     h->last_rx_ns = now_ns();
 }
 
@@ -271,9 +327,14 @@ static void take_sonar(const tandem_sonar_scan_t *m)
     hosted *h = find_hosted(m->robot);
     if (!h || too_early(m->step)) return;
     D.msgs.received++;
-    if (m->n != BEH_SONAR_N || m->step < 0 ||
-        rover_ctl_sonar(&h->c, m->range_m, (double)m->step * DAEMON_SIM_DT_S) != 0)
+    if (is_copy(m->step, &h->sonar_step)) return;
+    if (m->n != BEH_SONAR_N || m->step < 0 || !all_ranges(m->range_m, m->n)) {
         D.msgs.rejected++;
+        return;
+    }
+    memcpy(h->sonar_m, m->range_m, sizeof h->sonar_m);
+    h->new_sonar = 1;
+    h->sonar_step = m->step;
 }
 
 static void take_beacons(const tandem_beacon_obs_t *m)
@@ -282,14 +343,36 @@ static void take_beacons(const tandem_beacon_obs_t *m)
     int i;
     if (!h || too_early(m->step)) return;
     D.msgs.received++;
+    if (is_copy(m->step, &h->camera_step)) return;
     if (m->n < 0 || m->n > ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS) {
         D.msgs.rejected++;
         return;
     }
-    /* unknown targets (not heard yet) are fine: skipped */
+    h->camera_step = m->step;
+    h->cam_n = 0;
     for (i = 0; i < m->n; i++)
-        if (isfinite(m->range_m[i]) && isfinite(m->bearing_rad[i]) && m->range_m[i] >= 0.0)
-            rover_ctl_beacon(&h->c, m->target[i], m->range_m[i], m->bearing_rad[i]);
+        if (isfinite(m->range_m[i]) && isfinite(m->bearing_rad[i]) && m->range_m[i] >= 0.0) {
+            h->cam_target[h->cam_n] = m->target[i];
+            h->cam_range_m[h->cam_n] = m->range_m[i];
+            h->cam_bearing_rad[h->cam_n] = m->bearing_rad[i];
+            h->cam_n++;
+        }
+    h->new_cam = 1;
+}
+
+/* The frames taken since the last cycle, into the controller. */
+static void apply_frames(hosted *h)
+{
+    int i;
+    if (h->new_enc && rover_ctl_encoders(&h->c, h->enc_rad[0], h->enc_rad[1],
+                                         (double)h->sens_step * DAEMON_SIM_DT_S) != 0)
+        D.msgs.rejected++;
+    if (h->new_sonar && rover_ctl_sonar(&h->c, h->sonar_m, (double)h->sonar_step * DAEMON_SIM_DT_S) != 0)
+        D.msgs.rejected++;
+    /* unknown targets (not heard yet) are fine: skipped */
+    for (i = 0; h->new_cam && i < h->cam_n; i++)
+        rover_ctl_beacon(&h->c, h->cam_target[i], h->cam_range_m[i], h->cam_bearing_rad[i]);
+    h->new_enc = h->new_sonar = h->new_cam = 0;
 }
 
 /* A message that does not decode is counted once, as received and rejected. */
@@ -366,6 +449,13 @@ static void on_team(const lcm_recv_buf_t *rb, const char *ch, void *u)
         D.msgs.rejected++;
         return;
     }
+    if (m.robot > A.robots) {
+        D.msgs.rejected++;
+        return;
+    }
+    if (is_copy(m.step, &A.mate_step[m.robot])) return;
+    A.mate_step[m.robot] = m.step;
+    A.mate_gone[m.robot] = 0;
     if (A.nq >= TEAMQ_MAX) {
         A.dropped_q++;
         D.msgs.stale++;
@@ -426,6 +516,7 @@ static void publish_team(hosted *h, const rover_ctl_out_t *o, int64_t step, int6
     t.goal_m[0] = h->c.goal_m[0];
     t.goal_m[1] = h->c.goal_m[1];
     tandem_team_msg_t_publish(D.lcm, "TEAM", &t);
+    h->last_team = t;
 }
 
 /* One robot's command and own-view state for this tick, into *cmd / *st. */
@@ -454,31 +545,46 @@ static void fill_outputs(hosted *h, const rover_ctl_out_t *o, int64_t step, int6
     for (i = 0; i < 4; i++) st->weight[i] = o->weight[i];
     st->formation_err_m = o->slot_err_m;
     st->team_size = (int16_t)o->team_size;
+    st->formation_scale = h->c.fsm.scale;
 }
 
-/* The hosted robots' commands and states: one message each per robot, or
- * (--batch) one ROVERS_COMMAND and one ROVERS_STATE for all of them. */
-static void publish_outputs(tandem_rover_command_t *cmd, tandem_rover_state_t *st, int n,
-                            int64_t step, int64_t utime)
+/* The hosted robots' commands and states of one cycle: one message each
+ * per robot, or (--batch) one ROVERS_COMMAND and one ROVERS_STATE for all
+ * of them. Published again as they were by republish. */
+static void publish_outbox(struct outbox *o)
 {
     int i;
+    if (o->step < 0) return;
     if (A.batch) {
         tandem_rovers_command_t bc;
         tandem_rovers_state_t bs;
-        BATCH_HEADER(bc, A.batch_seq, utime, step, n);
-        BATCH_HEADER(bs, A.batch_seq, utime, step, n);
-        A.batch_seq++;
-        bc.cmd = cmd;
-        bs.state = st;
+        BATCH_HEADER(bc, o->batch_seq, o->utime, o->step, o->n);
+        BATCH_HEADER(bs, o->batch_seq, o->utime, o->step, o->n);
+        bc.cmd = o->cmd;
+        bs.state = o->st;
         tandem_rovers_command_t_publish(D.lcm, "ROVERS_COMMAND", &bc);
         tandem_rovers_state_t_publish(D.lcm, "ROVERS_STATE", &bs);
         return;
     }
-    for (i = 0; i < n; i++) {
-        hosted *h = find_hosted(cmd[i].robot);
-        tandem_rover_command_t_publish(D.lcm, h->ch_cmd, &cmd[i]);
-        tandem_rover_state_t_publish(D.lcm, h->ch_state, &st[i]);
+    for (i = 0; i < o->n; i++) {
+        hosted *h = find_hosted(o->cmd[i].robot);
+        tandem_rover_command_t_publish(D.lcm, h->ch_cmd, &o->cmd[i]);
+        tandem_rover_state_t_publish(D.lcm, h->ch_state, &o->st[i]);
     }
+}
+
+/* A step this host already answered was announced again: something it
+ * sent may have been lost. The last two cycles' outputs (a state is read
+ * one cycle later) and each robot's last team message, unchanged. */
+static void republish(daemon *d, void *user)
+{
+    int j;
+    (void)d; (void)user;
+    publish_outbox(&A.out[A.cur ^ 1]);
+    publish_outbox(&A.out[A.cur]);
+    for (j = A.id_lo; j <= A.id_hi; j++)
+        if (A.h[j - A.id_lo].last_team.robot > 0)
+            tandem_team_msg_t_publish(D.lcm, "TEAM", &A.h[j - A.id_lo].last_team);
 }
 
 /* One console line per change of what a robot is doing (mode, formation
@@ -503,20 +609,81 @@ static void report_changes(hosted *h, int mode, double t_s)
     h->shown_yield = yield;
 }
 
+/* The frame a lockstep cycle at `step` needs: the last one of its period,
+ * if that falls after start-up (-1: none needed). */
+static int64_t frame_due(int64_t step, int64_t period)
+{
+    const int64_t due = step - step % period;
+    return due >= D.period_steps ? due : -1;
+}
+
+/* Lockstep: are this step's inputs all here (see the top of the file)? A
+ * hosted robot needs its encoder/sonar frame and camera frame of this
+ * step's periods; every robot's last team tick (sent every team period)
+ * must be in for the robots that listen to it. */
+static int inputs_missing(int64_t step, int mark_gone)
+{
+    const int64_t sens = frame_due(step, ROVER_SENSOR_PERIOD_STEPS);
+    const int64_t cam = frame_due(step, ROVER_CAMERA_PERIOD_STEPS);
+    const int64_t team_w = (int64_t)llround(A.params.team_period_s / DAEMON_SIM_DT_S);
+    int j, missing = 0;
+    for (j = A.id_lo; j <= A.id_hi; j++) {
+        hosted *h = &A.h[j - A.id_lo];
+        if (h->silent) continue;
+        if (h->sens_step < sens || h->sonar_step < sens || h->camera_step < cam) {
+            missing++;
+            if (mark_gone) h->silent = 1;
+        }
+    }
+    for (j = 1; j <= A.robots; j++) {
+        const int listened = A.id_lo != A.id_hi || A.id_lo != j;
+        if (!listened || A.mate_gone[j] || step - team_w < 0 || A.mate_step[j] >= step - team_w)
+            continue;
+        missing++;
+        if (mark_gone) A.mate_gone[j] = 1;
+    }
+    return missing;
+}
+
+static int lockstep_inputs_complete(int64_t step)
+{
+    const int64_t now = now_ns();
+    int n;
+    if (inputs_missing(step, 0) == 0) return 1;
+    if (A.wait_step != step) {
+        A.wait_step = step;
+        A.wait_since_ns = now;
+    }
+    if (now - A.wait_since_ns < ROVER_INPUT_WAIT_NS) return 0;
+    /* announced again and again for 0.3 s: not lost, gone (a killed
+     * robot, a dead mate). Go on without it until it speaks again. */
+    n = inputs_missing(step, 1);
+    A.gone_count += n;
+    fprintf(stderr, "%s: step %lld: %d input source(s) silent for %.1f s, taken as gone\n",
+            D.name, (long long)step, n, (double)ROVER_INPUT_WAIT_NS * 1e-9);
+    return 1;
+}
+
 static void cycle(daemon *d, void *user)
 {
     const int64_t step = d->lockstep ? d->pending_step : d->step;
     const double t_s = (double)(step < 0 ? 0 : step) * DAEMON_SIM_DT_S;
     const double dt = A.last_t_s > 0.0 && t_s > A.last_t_s ? t_s - A.last_t_s : d->period_s;
-    static tandem_rover_command_t cmd[HOST_MAX];
-    static tandem_rover_state_t st[HOST_MAX];
     const int64_t utime = daemon_utime_now();
+    struct outbox *ob;
     int j, n = 0, stopped = 0;
     (void)user;
     if (step < 0) return;                      /* no simulator clock yet */
     if (d->lockstep && step == A.last_step) return;   /* a repeated clock: answer again only */
     if (too_early(step)) return;
+    if (d->lockstep && !lockstep_inputs_complete(step)) {
+        d->skip_ack = 1;                       /* wait for the announcement again */
+        return;
+    }
     A.last_step = step;
+    for (j = A.id_lo; j <= A.id_hi; j++) apply_frames(&A.h[j - A.id_lo]);
+    A.cur ^= 1;                                /* keep the cycle before for republish */
+    ob = &A.out[A.cur];
     deliver_team(step, t_s);
     for (j = A.id_lo; j <= A.id_hi; j++) {
         hosted *h = &A.h[j - A.id_lo];
@@ -532,10 +699,14 @@ static void cycle(daemon *d, void *user)
         if (o.mode == ROVER_MODE_SAFE_STOP) stopped++;
         report_changes(h, o.mode, t_s);
         if (o.send_team) publish_team(h, &o, step, utime);
-        fill_outputs(h, &o, step, utime, &cmd[n], &st[n]);
+        fill_outputs(h, &o, step, utime, &ob->cmd[n], &ob->st[n]);
         n++;
     }
-    publish_outputs(cmd, st, n, step, utime);
+    ob->n = n;
+    ob->step = step;
+    ob->utime = utime;
+    ob->batch_seq = A.batch_seq++;
+    publish_outbox(ob);
     A.last_t_s = t_s;
     d->safe_hold = stopped > 0;
     snprintf(d->status, sizeof d->status, "%s: %d of %d robots stopped (stale input)",
@@ -552,6 +723,9 @@ int main(int argc, char **argv)
     double goal[2], lm[ROVER_WORLD_MAX_LANDMARKS][2];
     memset(&A, 0, sizeof A);
     A.last_step = -1;
+    A.wait_step = -1;
+    A.out[0].step = A.out[1].step = -1;
+    for (j = 0; j <= ROVER_WORLD_MAX_ROBOTS; j++) A.mate_step[j] = -1;
     A.robots = 3;
     A.world = ROVER_WORLD_OPEN;
     A.localize = 1;
@@ -592,6 +766,7 @@ int main(int argc, char **argv)
         snprintf(h->ch_cmd, sizeof h->ch_cmd, "ROVER%d_COMMAND", j);
         snprintf(h->ch_state, sizeof h->ch_state, "ROVER%d_STATE", j);
         h->shown_mode = h->shown_type = h->shown_yield = -1;
+        h->sens_step = h->sonar_step = h->camera_step = -1;
     }
     if (daemon_start(&D) != 0) return 1;
     daemon_subscribe(&D, "ROVER[0-9]+_SENSORS", on_sensors, NULL);
@@ -600,6 +775,7 @@ int main(int argc, char **argv)
     daemon_subscribe(&D, "ROVERS_SENSORS", on_sensors_batch, NULL);
     daemon_subscribe(&D, "ROVERS_BEACONS", on_beacons_batch, NULL);
     daemon_subscribe(&D, "TEAM", on_team, NULL);
+    D.repeat_fn = republish;
     daemon_run(&D, cycle, NULL);
     daemon_finish(&D);
     return 0;

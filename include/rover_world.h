@@ -35,6 +35,11 @@
  * 0.15 m AHEAD of the axle, where the seed's formation law has stable
  * heading dynamics in forward motion (docs/formation.md) */
 #define ROVER_BEACON_D_M    (-0.15)
+/* The robot's hardware schedule, in simulator steps (1 ms): one frame of
+ * encoders + sonar every 50 ms, one camera frame every 100 ms. A lockstep
+ * controller at step k expects the frames of the last multiple of each. */
+#define ROVER_SENSOR_PERIOD_STEPS 50
+#define ROVER_CAMERA_PERIOD_STEPS 100
 
 enum { ROVER_WORLD_OPEN = 0, ROVER_WORLD_OBSTACLES = 1, ROVER_WORLD_CORRIDOR = 2,
        ROVER_WORLD_DEADZONE = 3, ROVER_WORLD_COUNT = 4 };

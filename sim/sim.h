@@ -122,6 +122,11 @@ typedef struct sim_model_ops {
      * -1 if it was for this model but invalid. */
     int  (*control)(sim_world *w, const tandem_sim_control_t *c);
     void (*status)(sim_world *w, tandem_sim_status_t *s);   /* may be NULL */
+    /* lockstep: 1 when every output this model waits for at step k (the
+     * controllers' commands answering k) is in; the simulator announces
+     * k again until it is (lost messages), up to the participant timeout.
+     * NULL: nothing to wait for. */
+    int  (*ready)(const sim_world *w, int64_t k);
 } sim_model_ops;
 
 extern const sim_model_ops sim_arms_ops;

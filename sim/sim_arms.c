@@ -585,5 +585,5 @@ static void arms_status(sim_world *w, tandem_sim_status_t *s)
 }
 
 const sim_model_ops sim_arms_ops = {
-    "arms", arms_create, arms_destroy, arms_before_step, arms_after_step, arms_control, arms_status
+    "arms", arms_create, arms_destroy, arms_before_step, arms_after_step, arms_control, arms_status, NULL
 };

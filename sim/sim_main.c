@@ -30,7 +30,8 @@ static sim_app app;
 
 /* Lockstep: how long to wait for the answers before publishing the step
  * again (a datagram lost on a loaded host, not a dead participant). */
-#define SIM_REANNOUNCE_NS 5000000LL
+#define SIM_REANNOUNCE_NS 1000000LL       /* first repeat of an unanswered step */
+#define SIM_REANNOUNCE_MAX_NS 32000000LL  /* back-off cap */
 
 static void usage(void)
 {
@@ -312,6 +313,17 @@ static void destroy_world(void)
 
 static int active_participants(void);
 
+/* Lockstep: every model has what it waits for at step k (its
+ * controllers' commands, sim_model_ops.ready). */
+static int models_ready(int64_t k)
+{
+    int i;
+    for (i = 0; i < app.n_models; i++)
+        if (app.models[i]->ready && !app.models[i]->ready(&app.w, k))
+            return 0;
+    return 1;
+}
+
 static void publish_step(void)
 {
     int i;
@@ -364,14 +376,19 @@ static int active_participants(void)
 static void wait_for_answers(void)
 {
     const int64_t t0 = rtloop_now_ns();
-    int64_t last_pub = t0;
+    int64_t last_pub = t0, again_ns = SIM_REANNOUNCE_NS;
     while (!daemon_stop_requested()) {
         const int64_t now = rtloop_now_ns();
         const int starting = app.w.step == 0 && active_participants() < app.expect;
-        if (!starting && !app.w.paused && sim_lockstep_ready(&app.w, app.w.step))
+        if (!starting && !app.w.paused && sim_lockstep_ready(&app.w, app.w.step) &&
+            (active_participants() == 0 || models_ready(app.w.step)))
             return;
         if (!starting && !app.w.paused && (double)(now - t0) * 1e-9 > app.w.lockstep_timeout_s) {
-            sim_lockstep_drop_late(&app.w, app.w.step);
+            if (sim_lockstep_drop_late(&app.w, app.w.step) == 0) {
+                app.w.lockstep_timeouts++;
+                fprintf(stderr, "tandem-sim: step %lld: a controller's output never came; going on\n",
+                        (long long)app.w.step);
+            }
             return;
         }
         /* Until everyone is there (or while paused), keep announcing the step
@@ -380,11 +397,15 @@ static void wait_for_answers(void)
          * ack then costs SIM_REANNOUNCE_NS, not the participant timeout
          * (participants answer a step they already answered again, without
          * running their cycle twice). */
-        if (now - last_pub > ((starting || app.w.paused) ? 100000000LL : SIM_REANNOUNCE_NS)) {
+        if (now - last_pub > ((starting || app.w.paused) ? 100000000LL : again_ns)) {
             publish_step();
             last_pub = now;
+            /* a lost message is found at the first repeat; a controller
+             * that is only slow (a loaded machine) should not be flooded */
+            if (again_ns < SIM_REANNOUNCE_MAX_NS)
+                again_ns *= 2;
         }
-        lcm_handle_timeout(app.w.lcm, 2);   /* the re-announce timer's resolution */
+        lcm_handle_timeout(app.w.lcm, 1);   /* the re-announce timer's resolution */
         if (app.reset_pending)
             return;
     }

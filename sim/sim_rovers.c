@@ -56,8 +56,8 @@
 #define RV_CHASSIS_H      0.20
 #define RV_CHASSIS_Z      0.15
 #define RV_CASTER_R       0.04
-#define RV_SENSORS_STEPS  50
-#define RV_BEACON_STEPS   100
+#define RV_SENSORS_STEPS  ROVER_SENSOR_PERIOD_STEPS
+#define RV_BEACON_STEPS   ROVER_CAMERA_PERIOD_STEPS
 #define RV_TRUTH_STEPS    50
 #define RV_CAM_RANGE_M    6.0
 #define RV_CAM_HALF_FOV   (60.0 * VEC2_PI / 180.0)
@@ -76,6 +76,7 @@ typedef struct rover {
     double  cmd_v, cmd_w;             /* held (clipped) command */
     double  v_ref, w_ref;             /* after the acceleration ramp */
     int64_t cmd_rx_step;
+    int64_t cmd_step;         /* the step the held command answers (-1 none) */
     int     have_cmd, stale;
     double  slip[2];
     double  enc[2];                   /* accumulated wheel angles */
@@ -108,6 +109,7 @@ static struct {
     int      chassis_contacts;        /* chassis contact joints this step */
     int64_t  quick_steps;             /* steps that fell back to QuickStep */
     int64_t  last_after_step;
+    int      beacon_frames;       /* camera frames last drawn (published again on a repeat) */
     int64_t  truth_seq, rejected, rays;
     int      formation;
 } R;
@@ -233,6 +235,7 @@ static int rovers_create(sim_world *w, const sim_config *cfg)
         rover *r = &R.r[i];
         r->id = i + 1;
         r->alive = 1;
+        r->cmd_step = -1;
         r->min_clear = INFINITY;
         prng_seed(&r->rng, w->seed * 1000003ULL + (uint64_t)r->id);
         build_robot(r, &R.layout.start_c[i], w);
@@ -278,12 +281,20 @@ static void take_command(const tandem_rover_command_t *m, int chan_id)
     const int idx = rover_index(m->robot);
     rover *r;
     if (idx < 0 || (chan_id >= 0 && chan_id != m->robot) || !isfinite(m->v_mps) ||
-        !isfinite(m->w_radps) || fabs(m->v_mps) > 5.0 || fabs(m->w_radps) > 20.0) {
+        !isfinite(m->w_radps) || fabs(m->v_mps) > 5.0 || fabs(m->w_radps) > 20.0 ||
+        m->step < 0 || m->step > R.w->step) {   /* an answer to a step not taken yet */
         R.w->d.msgs.rejected++;
         R.rejected++;
         return;
     }
     r = &R.r[idx];
+    /* an older command than the one held is stale; in lockstep one for the
+     * same step is a copy (republished after a loss) and changes nothing */
+    if (m->step < r->cmd_step || (R.w->lockstep && m->step == r->cmd_step)) {
+        R.w->d.msgs.duplicate++;
+        return;
+    }
+    r->cmd_step = m->step;
     r->cmd_v = fmax(-R.v_max, fmin(R.v_max, m->v_mps));
     r->cmd_w = fmax(-R.w_max, fmin(R.w_max, m->w_radps));
     r->cmd_rx_step = R.w->step;
@@ -600,7 +611,8 @@ static void observe_beacons(int i, const pose2_t o[], double pan, int64_t step, 
     m->bearing_rad = brg;
 }
 
-static void publish_beacons(sim_world *w)
+/* fresh = 0 (the step announced again): the frames already drawn, again. */
+static void publish_beacons(sim_world *w, int fresh)
 {
     /* the camera sits on a pan unit that looks ahead, left, ahead, right in
      * turn, one frame each (abreast mates are seen every 0.4 s) */
@@ -609,25 +621,27 @@ static void publish_beacons(sim_world *w)
     static double rng[RV_MAX][RV_MAX + ROVER_WORLD_MAX_LANDMARKS];
     static double brg[RV_MAX][RV_MAX + ROVER_WORLD_MAX_LANDMARKS];
     static tandem_beacon_obs_t m[RV_MAX];
+    int *n = &R.beacon_frames;
     const double pan = pans[(w->step / RV_BEACON_STEPS) % 4];
     const int64_t utime = daemon_utime_now();
     pose2_t o[RV_MAX], c;
-    int i, n = 0;
-    for (i = 0; i < R.n; i++) {
+    int i;
+    for (i = 0; fresh && i < R.n; i++) {
         if (!R.r[i].alive) continue;
         pose_c(&R.r[i], &c);
         unicycle_o_from_c(&o[i], &c, ROVER_BEACON_D_M);
     }
-    for (i = 0; i < R.n; i++)
-        if (R.r[i].alive) observe_beacons(i, o, pan, w->step, utime, tgt[n], rng[n], brg[n], &m[n]), n++;
+    if (fresh) *n = 0;
+    for (i = 0; fresh && i < R.n; i++)
+        if (R.r[i].alive) observe_beacons(i, o, pan, w->step, utime, tgt[*n], rng[*n], brg[*n], &m[*n]), (*n)++;
     if (R.batch) {
         tandem_rovers_beacons_t b;
-        BATCH_HEADER(b, R.batch_seq[1]++, utime, w->step, n);
+        BATCH_HEADER(b, R.batch_seq[1]++, utime, w->step, *n);
         b.obs = m;
         tandem_rovers_beacons_t_publish(w->lcm, "ROVERS_BEACONS", &b);
         return;
     }
-    for (i = 0; i < n; i++) {
+    for (i = 0; i < *n; i++) {
         char ch[32];
         snprintf(ch, sizeof ch, "ROVER%d_BEACONS", m[i].observer);
         tandem_beacon_obs_t_publish(w->lcm, ch, &m[i]);
@@ -678,8 +692,25 @@ static void rovers_after_step(sim_world *w)
     if (w->step % fire_steps == 0 && !repeat) fire_sonars(w);
     if (!w->lcm) return;
     if (w->step % RV_SENSORS_STEPS == 0) publish_sensors(w);
-    if (w->step % RV_BEACON_STEPS == 0 && !repeat) publish_beacons(w);
+    if (w->step % RV_BEACON_STEPS == 0) publish_beacons(w, !repeat);
     if (w->step % RV_TRUTH_STEPS == 0) publish_truth(w);
+}
+
+/* Lockstep: at a control tick every live robot still commanded (it
+ * answered one of the last two ticks, or this is the first tick) must have
+ * its command for this step before the world moves on. */
+static int rovers_ready(const sim_world *w, int64_t k)
+{
+    const int64_t p = RV_SENSORS_STEPS;
+    int i;
+    if (k % p != 0 || k < p) return 1;
+    for (i = 0; i < R.n; i++) {
+        const rover *r = &R.r[i];
+        const int commanded = k == p || r->cmd_step >= k - 2 * p;
+        if (r->alive && commanded && r->cmd_step < k) return 0;
+    }
+    (void)w;
+    return 1;
 }
 
 static int rovers_control(sim_world *w, const tandem_sim_control_t *c)
@@ -718,5 +749,5 @@ int sim_rovers_set_command(int32_t id, double v_mps, double w_radps, int64_t ste
 
 const sim_model_ops sim_rovers_ops = {
     "rovers", rovers_create, rovers_destroy, rovers_before_step, rovers_after_step,
-    rovers_control, NULL
+    rovers_control, NULL, rovers_ready
 };

@@ -409,5 +409,5 @@ static void wp_status(sim_world *w, tandem_sim_status_t *s)
 }
 
 const sim_model_ops sim_workpieces_ops = {
-    "workpieces", wp_create, wp_destroy, wp_before_step, wp_after_step, wp_control, wp_status
+    "workpieces", wp_create, wp_destroy, wp_before_step, wp_after_step, wp_control, wp_status, NULL
 };

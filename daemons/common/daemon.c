@@ -293,6 +293,9 @@ void daemon_publish_health(daemon *d)
     h.msgs_stale = d->msgs.stale;
     h.safe_hold = (int8_t)d->safe_hold;
     h.status = d->status;
+    h.lockstep_repeats = d->repeats;
+    h.lockstep_input_waits = d->input_waits;
+    h.msgs_duplicate = d->msgs.duplicate;
     rx_fill_health(&h);
     tandem_health_t_publish(d->lcm, d->health_channel, &h);
 }
@@ -346,8 +349,12 @@ static void run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
         if (d->pending_step < 0)
             continue;
         if (d->pending_step == d->answered_step) {
-            /* the simulator announced this step again: our ack (or its clock)
-             * was lost. Answer again; the cycle must not run twice. */
+            /* the simulator announced this step again: our ack, or one of
+             * our outputs, was lost. Publish them again and answer again;
+             * the cycle must not run twice. */
+            if (d->repeat_fn)
+                d->repeat_fn(d, user);
+            d->repeats++;
             ack(d, d->pending_step, 0);
             d->pending_step = -1;
             continue;
@@ -359,6 +366,12 @@ static void run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
         if (!d->skip_ack) {
             ack(d, d->pending_step, 0);
             d->answered_step = d->pending_step;
+        } else {
+            /* waiting for an input: a mate may wait for ours just the same
+             * (each for the other's lost message), so ours go out again */
+            d->input_waits++;
+            if (d->repeat_fn)
+                d->repeat_fn(d, user);
         }
         d->pending_step = -1;
     }

@@ -55,6 +55,8 @@ typedef struct daemon_counters {
     int64_t received;
     int64_t rejected;   /* failed decoding or validation: dropped */
     int64_t stale;      /* valid but too old to use */
+    int64_t duplicate;  /* a copy of a message already taken (lockstep
+                           re-announcement): ignored, changes nothing */
 } daemon_counters;
 
 typedef struct daemon {
@@ -83,6 +85,15 @@ typedef struct daemon {
     char     status[96];
     step_gate clock_gate;               /* SIM_CLOCK steps (guard.h) */
     int64_t  answered_step;             /* lockstep: last step acked, -1 none */
+    /* lockstep: called when the simulator announces again a step this
+     * daemon has already answered (its ack, or one of its outputs, was
+     * lost on the way): publish the last outputs again, then the ack goes
+     * out again; also while a cycle waits for a missing input (a mate
+     * may be waiting for ours). NULL: only the ack is repeated. */
+    void   (*repeat_fn)(struct daemon *d, void *user);
+    int64_t  repeats;                   /* lockstep: steps answered again */
+    int64_t  input_waits;               /* lockstep: announcements not answered
+                                           yet because an input was missing */
 } daemon;
 
 /* Cycle callback: read the latest inputs, call the core, publish outputs. */

@@ -38,6 +38,20 @@ typedef struct scenario_criterion {
  * when all hold); returns how many failed. */
 int scenario_failed_criteria(const scenario_criterion *k, int n, char *buf, size_t cap);
 
+/* --drop-rate P: fault injection handed to every daemon a scenario starts;
+ * their receive paths drop messages with probability P (deterministic for
+ * the run's seed: --drop-seed). Lockstep makes the run the same as without
+ * loss, only slower. */
+typedef struct scenario_drop {
+    char rate[24];                       /* "" = off */
+    char seed[24];
+} scenario_drop;
+/* Parses P (0 <= P < 1); 0 ok, -1 with a message. */
+int  scenario_parse_drop(scenario_drop *d, const char *v, long seed);
+/* Appends "--drop-rate P --drop-seed S" (when on) to argv at *n; argv has
+ * room for cap pointers including the closing NULL, which is written. */
+void scenario_argv_drop(const scenario_drop *d, char **argv, int *n, int cap);
+
 /* mkdir -p; 0 ok. */
 int   scenario_mkdir(const char *dir);
 /* fopen(dir/file) for writing, with an error message on failure. */

@@ -29,11 +29,11 @@
 #include "tandem_rover_truth_t.h"
 #include "tandem_sim_clock_t.h"
 #include "tandem_sim_control_t.h"
-#include "tandem_team_msg_t.h"
 
 #define FM_MAX     ROVER_WORLD_MAX_ROBOTS
 #define FM_PERIOD  50
 #define FM_PROCS   (FM_MAX + 2)
+#define FM_RING    4            /* states kept per robot */
 #define FM_OUT_TOL 0.3          /* d_r: a robot further than this from its slot is out */
 
 typedef struct {
@@ -41,6 +41,8 @@ typedef struct {
     int    formation, world, blend, robots, single, batch;
     int    law_kanayama, ref_goal, localize_off;   /* --formation-law, --ref-heading, --localize */
     char   timeout_ms[24];                     /* --lockstep-timeout-ms */
+    scenario_drop drop;                        /* --drop-rate */
+    const char *drop_arg;
     long   seed;
     double max_time_s;
     int    kill_id;
@@ -58,7 +60,6 @@ typedef struct {
     tandem_rover_truth_t_subscription_t *sub_truth;
     tandem_rover_state_t_subscription_t *sub_state;
     tandem_rovers_state_t_subscription_t *sub_states;
-    tandem_team_msg_t_subscription_t *sub_team;
     int64_t clock_step, answered, ack_seq, last_clock_ns;
     int    have_clock;
     /* layout and truth */
@@ -67,9 +68,14 @@ typedef struct {
     double scale_now;
     int    mode[FM_MAX];
     int    state_type[FM_MAX];
+    double state_scale[FM_MAX];
     double weight[FM_MAX][4];
     pose2_t est[FM_MAX];              /* the robot's own odometry, world frame */
     int    have_state[FM_MAX];
+    /* the robots' last states by step: truth at step k is read with the
+     * states of the cycle before (k - FM_PERIOD), whatever arrived since */
+    tandem_rover_state_t ring[FM_MAX][FM_RING];
+    int    clock_repeat;             /* the simulator announced an answered step again */
     /* metrics */
     int    samples, out_samples;
     double sum_sq_err, max_err, min_clear, path[FM_MAX];
@@ -108,6 +114,9 @@ static void usage(FILE *f)
                "  --robots N      team size (default 3)\n"
                "  --seed S        noise seed (default 1)\n"
                "  --kill K:T      kill robot K (its process and its body) at sim time T s\n"
+               "  --drop-rate P   fault injection: every daemon drops received messages\n"
+               "                  with probability P (deterministic for the seed); the\n"
+               "                  run is the same as without loss, only slower\n"
                "  --procs P       separate (one tandem-rover per robot, default up to 10\n"
                "                  robots) | single (one process hosting all)\n"
                "  --link L        robot (ROVERk_* channels per robot) | batch (ROVERS_*: one\n"
@@ -181,6 +190,8 @@ static int parse(int argc, char **argv)
             if (*e || k < 1 || !isfinite(t) || t < 0) { fprintf(stderr, "formation: --kill: '%s' is not K:T\n", v); return -1; }
             F.kill_id = (int)k;
             F.kill_t_s = t;
+        } else if (!strcmp(o, "--drop-rate")) {
+            F.drop_arg = v;
         } else if (!strcmp(o, "--procs")) {
             if (!strcmp(v, "separate")) F.single = 0;
             else if (!strcmp(v, "single")) F.single = 1;
@@ -205,6 +216,7 @@ static int parse(int argc, char **argv)
     }
     if (!F.out) { fprintf(stderr, "formation: --out DIR is required\n"); return -1; }
     if (F.kill_id > F.robots) { fprintf(stderr, "formation: --kill: robot %d not in the team\n", F.kill_id); return -1; }
+    if (scenario_parse_drop(&F.drop, F.drop_arg ? F.drop_arg : "0", F.seed) != 0) return -1;
     if (F.single < 0) F.single = F.robots > 10;
     if (F.batch < 0) F.batch = F.single;
     return 0;
@@ -264,20 +276,24 @@ static int start_children(void)
     snprintf(seed_s, sizeof seed_s, "%ld", F.seed);
     snprintf(expect_s, sizeof expect_s, "%d", procs + 1);
     {
-        char *sim[] = { "tandem-sim", "--lockstep", "--no-arms", "--rovers", n_s, "--world", w_s,
-                        "--formation", (char *)fname(F.formation),
-                        "--seed", seed_s, "--expect", expect_s, "--timeout-ms", F.timeout_ms,
-                        F.batch ? "--rover-batch" : NULL, NULL };
+        char *sim[32] = { "tandem-sim", "--lockstep", "--no-arms", "--rovers", n_s, "--world", w_s,
+                          "--formation", (char *)fname(F.formation),
+                          "--seed", seed_s, "--expect", expect_s, "--timeout-ms", F.timeout_ms };
+        int n = 15;
+        if (F.batch) sim[n++] = "--rover-batch";
+        scenario_argv_drop(&F.drop, sim, &n, 32);
         if (spawn(sim) <= 0) return -1;
     }
     for (k = 1; k <= procs; k++) {
         char *fo = (char *)fname(F.formation), *bl = (char *)bname(F.blend);
-        char *rv[] = { "tandem-rover", "--id", id_s, "--robots", n_s, "--world", w_s,
-                       "--formation", fo, "--blend", bl, "--lockstep",
-                       "--formation-law", F.law_kanayama ? "kanayama" : "seed",
-                       "--ref-heading", F.ref_goal ? "goal" : "mean",
-                       "--localize", F.localize_off ? "off" : "on",
-                       F.batch ? "--batch" : NULL, NULL };
+        char *rv[32] = { "tandem-rover", "--id", id_s, "--robots", n_s, "--world", w_s,
+                         "--formation", fo, "--blend", bl, "--lockstep",
+                         "--formation-law", F.law_kanayama ? "kanayama" : "seed",
+                         "--ref-heading", F.ref_goal ? "goal" : "mean",
+                         "--localize", F.localize_off ? "off" : "on" };
+        int n = 18;
+        if (F.batch) rv[n++] = "--batch";
+        scenario_argv_drop(&F.drop, rv, &n, 32);
         if (F.single) snprintf(id_s, sizeof id_s, "1-%d", F.robots);
         else snprintf(id_s, sizeof id_s, "%d", k);
         F.rover_pid[k] = spawn(rv);
@@ -304,6 +320,7 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_
 {
     (void)rb; (void)ch; (void)u;
     if (m->step < F.clock_step) return;
+    if (m->step == F.answered) F.clock_repeat = 1;
     F.clock_step = m->step;
     F.sim_time = m->sim_time_s;
     F.have_clock = 1;
@@ -349,6 +366,7 @@ static void take_state(const tandem_rover_state_t *m)
         F.escapes++;
     F.mode[i] = m->mode;
     F.state_type[i] = m->formation;
+    if (isfinite(m->formation_scale) && m->formation_scale > 0.0) F.state_scale[i] = m->formation_scale;
     memcpy(F.weight[i], m->weight, sizeof F.weight[i]);
     {
         const pose2_t team = { m->x_m, m->y_m, m->theta_rad };
@@ -357,26 +375,51 @@ static void take_state(const tandem_rover_state_t *m)
     F.have_state[i] = 1;
 }
 
+static void ring_put(const tandem_rover_state_t *m)
+{
+    const int i = m->robot - 1;
+    if (i < 0 || i >= F.robots || m->step < 0) return;
+    F.ring[i][(m->step / FM_PERIOD) % FM_RING] = *m;
+}
+
+/* Robot i's state of step k from the ring, or NULL. */
+static const tandem_rover_state_t *ring_get(int i, int64_t k)
+{
+    const tandem_rover_state_t *m = &F.ring[i][(k / FM_PERIOD) % FM_RING];
+    return m->step == k && m->robot == i + 1 ? m : NULL;
+}
+
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_state_t *m, void *u)
 {
     (void)rb; (void)ch; (void)u;
-    take_state(m);
+    ring_put(m);
 }
 
 static void on_states(const lcm_recv_buf_t *rb, const char *ch, const tandem_rovers_state_t *m, void *u)
 {
     int i;
     (void)rb; (void)ch; (void)u;
-    for (i = 0; i < m->n; i++) take_state(&m->state[i]);
+    for (i = 0; i < m->n; i++) ring_put(&m->state[i]);
 }
 
-static double team_scale[FM_MAX];
-
-static void on_team(const lcm_recv_buf_t *rb, const char *ch, const tandem_team_msg_t *m, void *u)
+/* Truth at step k is taken with every live robot's state of the cycle
+ * before; 0 while one of them is missing (lost: the simulator announces
+ * k again and the robots publish it again). */
+static int states_for_truth(const tandem_rover_truth_t *m)
 {
-    (void)rb; (void)ch; (void)u;
-    if (m->robot >= 1 && m->robot <= F.robots && isfinite(m->formation_scale))
-        team_scale[m->robot - 1] = m->formation_scale;
+    const int64_t k = m->step - FM_PERIOD;
+    int i;
+    if (k < FM_PERIOD) return 1;               /* robots start at their first period */
+    for (i = 0; i < m->n; i++) {
+        const int r = m->robot[i] - 1;
+        if (m->alive[i] && r >= 0 && r < F.robots && !(F.killed && r + 1 == F.kill_id) && !ring_get(r, k))
+            return 0;
+    }
+    for (i = 0; i < F.robots; i++) {
+        const tandem_rover_state_t *st = ring_get(i, k);
+        if (st) take_state(st);
+    }
+    return 1;
 }
 
 static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_truth_t *m, void *u)
@@ -386,7 +429,7 @@ static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rove
     double cx = 0, cy = 0, s = 0, c = 0, th0, sq = 0, mx = 0, t = m->sim_time_s;
     int all_at = 1;
     (void)rb; (void)ch; (void)u;
-    if (m->n != F.robots || m->step <= F.last_truth_step) return;
+    if (m->n != F.robots || m->step <= F.last_truth_step || !states_for_truth(m)) return;
     F.last_truth_step = m->step;
     n = alive_ids(m, ids);
     if (n == 0) return;
@@ -425,7 +468,7 @@ static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rove
     cx /= n; cy /= n;
     th0 = atan2(s, c);
     if (lowest >= 0 && F.have_state[lowest]) F.type_now = F.state_type[lowest];
-    if (lowest >= 0 && team_scale[lowest] > 0.0) F.scale_now = team_scale[lowest];
+    if (lowest >= 0 && F.have_state[lowest]) F.scale_now = F.state_scale[lowest];
     /* formation error: slots of the formation the team is flying now around
      * the true centroid and mean heading; robot slots by sorted alive id */
     for (i = 0; i < m->n; i++) {
@@ -614,12 +657,10 @@ static int run(int argc, char **argv)
     F.sub_truth = tandem_rover_truth_t_subscribe(F.lcm, "ROVER_TRUTH", on_truth, NULL);
     F.sub_state = tandem_rover_state_t_subscribe(F.lcm, "ROVER[0-9]+_STATE", on_state, NULL);
     F.sub_states = tandem_rovers_state_t_subscribe(F.lcm, "ROVERS_STATE", on_states, NULL);
-    F.sub_team = tandem_team_msg_t_subscribe(F.lcm, "TEAM", on_team, NULL);
     tandem_sim_clock_t_subscription_set_queue_capacity(F.sub_clock, 0);
     tandem_rover_truth_t_subscription_set_queue_capacity(F.sub_truth, 100000);
     tandem_rover_state_t_subscription_set_queue_capacity(F.sub_state, 100000);
     tandem_rovers_state_t_subscription_set_queue_capacity(F.sub_states, 100000);
-    tandem_team_msg_t_subscription_set_queue_capacity(F.sub_team, 100000);
     F.truth_csv = scenario_fopen(F.out, "truth.csv");
     F.err_csv = scenario_fopen(F.out, "formation_error.csv");
     F.w_csv = scenario_fopen(F.out, "weights.csv");
@@ -647,7 +688,12 @@ static int run(int argc, char **argv)
         const int rc = lcm_handle_timeout(F.lcm, 50);
         const int64_t due = F.clock_step - F.clock_step % FM_PERIOD;
         if (rc < 0) break;
-        if (F.have_clock && due > F.answered && F.clock_step % FM_PERIOD == 0) {
+        if (F.clock_repeat) {
+            F.clock_repeat = 0;          /* our ack was lost: answer again */
+            if (F.answered >= 0) ack(F.answered);
+        }
+        if (F.have_clock && due > F.answered && F.clock_step % FM_PERIOD == 0 &&
+            F.last_truth_step >= F.clock_step) {
             /* robot states of the last cycle: protocol counts */
             int lo = -1;
             for (i = 0; i < F.robots; i++)
@@ -707,7 +753,6 @@ static int run(int argc, char **argv)
     tandem_rover_truth_t_unsubscribe(F.lcm, F.sub_truth);
     tandem_rover_state_t_unsubscribe(F.lcm, F.sub_state);
     tandem_rovers_state_t_unsubscribe(F.lcm, F.sub_states);
-    tandem_team_msg_t_unsubscribe(F.lcm, F.sub_team);
     lcm_destroy(F.lcm);
     printf("formation %s world %s blend %s law %s robots %d seed %ld: reached_goal=%d time_to_goal_s=%.2f "
            "rms_formation_err_m=%.3f max_formation_err_m=%.3f min_clearance_m=%.3f collisions=%d "

@@ -135,3 +135,27 @@ double scenario_wall_s(void)
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
+
+int scenario_parse_drop(scenario_drop *d, const char *v, long seed)
+{
+    char *e;
+    const double p = strtod(v, &e);
+    if (e == v || *e || !(p >= 0.0 && p < 1.0)) {
+        fprintf(stderr, "tandem-scenario: --drop-rate: '%s' is not a probability in [0, 1)\n", v);
+        return -1;
+    }
+    snprintf(d->rate, sizeof d->rate, "%s", p > 0.0 ? v : "");
+    snprintf(d->seed, sizeof d->seed, "%ld", seed);
+    return 0;
+}
+
+void scenario_argv_drop(const scenario_drop *d, char **argv, int *n, int cap)
+{
+    if (d->rate[0] && *n + 4 < cap) {
+        argv[(*n)++] = "--drop-rate";
+        argv[(*n)++] = (char *)d->rate;
+        argv[(*n)++] = "--drop-seed";
+        argv[(*n)++] = (char *)d->seed;
+    }
+    argv[*n < cap ? *n : cap - 1] = NULL;
+}
