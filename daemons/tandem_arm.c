@@ -49,6 +49,8 @@ typedef struct arm_ctl {
     tandem_action_segment_t seg[ROW_MAX_SEGMENTS];
     int    n_seg, cur_seg;
     int32_t action_id, transition;
+    int32_t last_done_id;             /* the last row finished (0: none yet) */
+    int64_t status_cycles;            /* idle cycles, for the 10 Hz STATUS */
     int    running;
     jtraj  traj;
     double seg_t0_s;
@@ -104,6 +106,11 @@ static void event_fill(tandem_action_event_t *e, int ev, const char *detail)
     e->event = (int8_t)ev;
     e->segment = (int8_t)C.cur_seg;
     e->detail = (char *)detail;
+    if (ev == TANDEM_ACTION_EVENT_T_DONE)
+        C.last_done_id = C.action_id;
+    e->last_done_action_id = C.last_done_id;
+    e->running = (int8_t)(C.running && ev != TANDEM_ACTION_EVENT_T_DONE);
+    e->holding_workpiece = C.have_state ? C.st.holding_workpiece : -1;
 }
 
 static void publish_event(daemon *d, int ev, const char *detail)
@@ -646,6 +653,10 @@ static void cycle(daemon *d, void *user)
     snprintf(d->status, sizeof d->status, C.running ? "action %d segment %d" : "holding",
              (int)C.action_id, C.cur_seg);
     send_command(d, TANDEM_ARM_COMMAND_T_MODE_TORQUE, tau);
+    /* idle: say so at 10 Hz, with the last row finished, so a supervisor
+     * that lost a DONE (or restarted) knows where this arm stands */
+    if (!C.running && C.status_cycles++ % (int64_t)(0.1 / d->period_s + 0.5) == 0)
+        publish_event(d, TANDEM_ACTION_EVENT_T_STATUS, "idle");
 }
 
 int main(int argc, char **argv)

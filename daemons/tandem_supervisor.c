@@ -23,6 +23,18 @@
  * --stall-s seconds while the stick is out (SIM_STATUS) -- is logged once,
  * flagged in PETRI_MARKING and in the health status (stallwatch).
  *
+ * Recovery: with --journal PATH every change of the discrete state (marking,
+ * running rows, the workpieces bound to tokens, action ids) is appended to
+ * PATH and flushed; a supervisor started on an existing journal takes the
+ * last snapshot back (unless it is from a later step than the simulator:
+ * another run). The arms say what they are doing in every event, and at
+ * 10 Hz when idle (STATUS: last row finished, holding): a row an arm
+ * finished whose DONE never came completes from it; a row an arm is not
+ * running 0.3 s after it was sent (the arm restarted, or the row was lost)
+ * is sent again; a transition that grasps never starts for an arm that
+ * already holds a workpiece. An arm or the simulator silent for 1 s of
+ * wall time is shown (PETRI_MARKING, health status).
+ *
  * --serial is the no-overlap reference for the pipelining figure: a new
  * workpiece is taken only when the previous one is delivered and both arms
  * are home with nothing running.
@@ -32,6 +44,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "daemon.h"
+#include "journal.h"
 #include "carry_net.h"
 #include "cell.h"
 #include "petri.h"
@@ -47,13 +60,25 @@
 #define CLEAR_BACKOFF_M 0.10
 #define RELEASE_LIFT_M 0.003        /* put the bar down from 3 mm */
 #define EVENT_QUEUE 64
+#define ROW_RESEND_STEPS 300        /* an arm idle this long after a row was sent lost it */
+#define SILENT_NS 1000000000LL      /* wall time without a word: arm or simulator silent */
+#define SILENT_STEPS 1000           /* the same in lockstep, in simulated steps */
 
 enum { ARM_SLOT_NONE = 0, ARM_SLOT_WAITING, ARM_SLOT_SENT, ARM_SLOT_DONE };
 
 typedef struct sup_slot {
     int     state[2];               /* ARM_SLOT_* per arm */
     int32_t action_id[2];
+    int64_t sent_step[2];
 } sup_slot;
+
+/* What an arm last said about itself (any ARM_EVENTS message). */
+typedef struct arm_view {
+    int     heard;
+    int64_t step, rx_ns;
+    int     running;
+    int32_t action_id, last_done, holding;
+} arm_view;
 
 typedef struct supervisor {
     petri   net;
@@ -86,6 +111,15 @@ typedef struct supervisor {
     int     stick_in;               /* SIM_STATUS: an obstruction is in the cell */
     int     arms_faulted;           /* bit a: arm a+1 in FAULT */
     int32_t faults;
+    /* recovery */
+    arm_view arm[2];
+    int64_t sim_rx_ns;
+    int     arms_silent, sim_silent;
+    int32_t rows_reissued, dones_recovered;
+    int     resumed, journal_checked;
+    const char *journal_path;
+    journal jr;
+    int     dirty;                  /* the discrete state changed: journal it */
 } supervisor;
 
 static supervisor S;
@@ -104,6 +138,8 @@ static void usage(void)
            "                    Cartesian moves by TDSD (passes near singular poses)\n"
            "  --stall-s S       a stall: work pending and no transition completed for\n"
            "                    S s of simulated time while the stick is out (default 30)\n"
+           "  --journal PATH    append the discrete state to PATH on every change; start\n"
+           "                    from its last snapshot when PATH exists (restart)\n"
            DAEMON_COMMON_HELP);
 }
 
@@ -220,6 +256,8 @@ static void send_row(daemon *d, int t, int a)
     row.segments = seg;
     S.slot[t].state[a] = ARM_SLOT_SENT;
     S.slot[t].action_id[a] = row.action_id;
+    S.slot[t].sent_step[a] = d->step;
+    S.dirty = 1;
     tandem_action_row_t_publish(d->lcm, a == 0 ? "ARM1_ACTION" : "ARM2_ACTION", &row);
     printf("[%9.3f] t%d %-46s row %d -> arm %d\n", d->sim_time_s, t + 1, "", (int)row.action_id, a + 1);
 }
@@ -242,6 +280,7 @@ static void start_transition(daemon *d, int t)
     if (petri_start(&S.net, t) != 0)
         return;
     S.changed = 1;
+    S.dirty = 1;
     log_fire(d, t, "start   ");
     memset(&S.slot[t], 0, sizeof S.slot[t]);
     for (a = 0; a < 2; a++) {
@@ -259,12 +298,29 @@ static void complete_transition(daemon *d, int t)
     if (petri_complete(&S.net, t) != 0)
         return;
     S.changed = 1;
+    S.dirty = 1;
     S.completed = 1;
     S.last_fired = t + 1;
     log_fire(d, t, "complete");
 }
 
 /* ---- events in ------------------------------------------------------------ */
+
+static void handle_event_row(daemon *d, const tandem_action_event_t *e);
+
+static void see_arm(const tandem_action_event_t *e)
+{
+    arm_view *v = &S.arm[e->arm - 1];
+    if (v->heard && e->step < v->step)
+        return;                     /* older than what we know */
+    v->heard = 1;
+    v->step = e->step;
+    v->rx_ns = rtloop_now_ns();
+    v->running = e->running != 0;
+    v->action_id = e->action_id;
+    v->last_done = e->last_done_action_id;
+    v->holding = e->holding_workpiece;
+}
 
 static void on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
@@ -274,10 +330,12 @@ static void on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
     if (!DAEMON_DECODE(&d->msgs, tandem_action_event_t, rb, &e))
         return;
     if (e.arm < 1 || e.arm > 2 || e.transition < 0 || e.transition > CARRY_N_TRANSITIONS ||
-        !isfinite(e.s_m) || !isfinite(e.s_f_m)) {
+        !isfinite(e.s_m) || !isfinite(e.s_f_m) || e.action_id < 0 || e.last_done_action_id < 0) {
         d->msgs.rejected++;
-    } else if (e.event != TANDEM_ACTION_EVENT_T_PROGRESS && e.event != TANDEM_ACTION_EVENT_T_STARTED &&
-               S.n_ev < EVENT_QUEUE) {
+    } else if (e.event == TANDEM_ACTION_EVENT_T_STATUS || e.event == TANDEM_ACTION_EVENT_T_PROGRESS ||
+               e.event == TANDEM_ACTION_EVENT_T_STARTED) {
+        see_arm(&e);
+    } else if (S.n_ev < EVENT_QUEUE) {
         S.evq[S.n_ev] = e;
         S.evq[S.n_ev].detail = NULL;
         S.n_ev++;
@@ -286,6 +344,12 @@ static void on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
 }
 
 static void handle_event(daemon *d, const tandem_action_event_t *e)
+{
+    see_arm(e);
+    handle_event_row(d, e);
+}
+
+static void handle_event_row(daemon *d, const tandem_action_event_t *e)
 {
     const int a = e->arm - 1;
     int t;
@@ -384,6 +448,7 @@ static void take_detection(daemon *d)
     S.detections++;
     S.have_detection = 0;
     S.changed = 1;
+    S.dirty = 1;
     printf("[%9.3f] vision: workpiece %d at (%.3f %.3f %.3f) yaw %.3f -> p1\n", d->sim_time_s, (int)S.wp_id,
            S.wp_pos_m[0], S.wp_pos_m[1], S.wp_pos_m[2], S.wp_yaw_rad);
 }
@@ -423,6 +488,11 @@ static void publish_marking(daemon *d)
     m.stalls = S.stall.stalls;
     m.arms_faulted = (int8_t)S.arms_faulted;
     m.faults = S.faults;
+    m.arms_silent = (int8_t)S.arms_silent;
+    m.sim_silent = (int8_t)S.sim_silent;
+    m.rows_reissued = S.rows_reissued;
+    m.dones_recovered = S.dones_recovered;
+    m.resumed = (int8_t)S.resumed;
     tandem_petri_marking_t_publish(d->lcm, "PETRI_MARKING", &m);
 }
 
@@ -436,6 +506,7 @@ static void on_sim_status(const lcm_recv_buf_t *rb, const char *ch, void *u)
     if (!DAEMON_DECODE(&d->msgs, tandem_sim_status_t, rb, &m))
         return;
     S.stick_in = m.stick_inserted != 0;
+    S.sim_rx_ns = rtloop_now_ns();
     tandem_sim_status_t_decode_cleanup(&m);
 }
 
@@ -459,6 +530,171 @@ static void watch_stall(daemon *d)
     S.completed = 0;
 }
 
+/* ---- recovery ---------------------------------------------------------------- */
+
+/* A row sent to arm a that the arm finished (its DONE lost) completes from
+ * the arm's own word; one it is not running long after it was sent was
+ * lost (the arm restarted, or the row never arrived): sent again. */
+static void recover_rows(daemon *d)
+{
+    int t, a;
+    for (t = 0; t < CARRY_T_VISION; t++) {
+        if (!petri_running(&S.net, t))
+            continue;
+        for (a = 0; a < 2; a++) {
+            const arm_view *v = &S.arm[a];
+            const int32_t id = S.slot[t].action_id[a];
+            if (S.slot[t].state[a] != ARM_SLOT_SENT || !v->heard)
+                continue;
+            if (v->last_done == id) {
+                tandem_action_event_t e;
+                memset(&e, 0, sizeof e);
+                e.arm = (int8_t)(a + 1);
+                e.event = TANDEM_ACTION_EVENT_T_DONE;
+                e.action_id = id;
+                e.transition = t + 1;
+                S.dones_recovered++;
+                printf("[%9.3f] arm %d finished row %d of t%d (its DONE was lost)\n", d->sim_time_s, a + 1, (int)id, t + 1);
+                handle_event_row(d, &e);
+            } else if (!(v->running && v->action_id == id) &&
+                       v->step - S.slot[t].sent_step[a] > ROW_RESEND_STEPS) {
+                S.rows_reissued++;
+                printf("[%9.3f] arm %d is not running row %d of t%d (restarted, or the row was lost): sending it again\n",
+                       d->sim_time_s, a + 1, (int)id, t + 1);
+                send_row(d, t, a);
+            }
+        }
+    }
+}
+
+/* A transition whose row grasps with arm a must not start while arm a
+ * reports a workpiece in its gripper (after a restart without journal). */
+static int grasp_blocked(int t)
+{
+    const carry_row *r = carry_row_of(t);
+    int a, i;
+    for (a = 0; a < 2; a++)
+        for (i = 0; i < r->plan[a].n_segments; i++)
+            if (r->plan[a].seg[i].kind == CARRY_SEG_GRASP && S.arm[a].heard && S.arm[a].holding >= 0)
+                return 1;
+    return 0;
+}
+
+/* Real time: 1 s of wall time without a word. Lockstep: 1 s of simulated
+ * time (the whole cell pauses together there, so wall time says nothing;
+ * a simulator that stops sends no clock and the shell's health says so). */
+static void watch_silence(daemon *d)
+{
+    const int64_t now = rtloop_now_ns();
+    int a, arms = 0, sim;
+    for (a = 0; a < 2; a++)
+        if (S.arm[a].heard && (d->lockstep ? d->step - S.arm[a].step > SILENT_STEPS : now - S.arm[a].rx_ns > SILENT_NS))
+            arms |= 1 << a;
+    sim = !d->lockstep && S.sim_rx_ns > 0 && now - S.sim_rx_ns > SILENT_NS;
+    if (arms != S.arms_silent || sim != S.sim_silent) {
+        printf("[%9.3f] silent: arm 1 %s, arm 2 %s, simulator %s\n", d->sim_time_s, arms & 1 ? "SILENT" : "ok",
+               arms & 2 ? "SILENT" : "ok", sim ? "SILENT" : "ok");
+        fflush(stdout);
+        S.changed = 1;
+    }
+    S.arms_silent = arms;
+    S.sim_silent = sim;
+}
+
+/* ---- journal ------------------------------------------------------------------ */
+
+#define SNAP_HEAD 20
+#define SNAP_LEN  (SNAP_HEAD + CARRY_N_PLACES + 6 * CARRY_N_TRANSITIONS)
+#define SNAP_VERSION 1
+
+static int snapshot(daemon *d, double *v)
+{
+    int n = 0, i, a;
+    v[n++] = SNAP_VERSION; v[n++] = (double)d->step;
+    v[n++] = S.net.st.running; v[n++] = (double)S.net.fired_count;
+    v[n++] = S.next_action_id; v[n++] = S.wp_id;
+    v[n++] = S.wp_pos_m[0]; v[n++] = S.wp_pos_m[1]; v[n++] = S.wp_pos_m[2]; v[n++] = S.wp_yaw_rad;
+    v[n++] = S.pick_id; v[n++] = S.pick_pos_m[0]; v[n++] = S.pick_pos_m[1]; v[n++] = S.pick_pos_m[2];
+    v[n++] = S.pick_yaw_rad; v[n++] = S.last_taken_id; v[n++] = S.p1_bound; v[n++] = S.detections;
+    v[n++] = S.last_fired; v[n++] = S.blockages;
+    for (i = 0; i < CARRY_N_PLACES; i++) v[n++] = S.net.st.m[i];
+    for (i = 0; i < CARRY_N_TRANSITIONS; i++)
+        for (a = 0; a < 2; a++) {
+            v[n++] = S.slot[i].state[a];
+            v[n++] = S.slot[i].action_id[a];
+            v[n++] = (double)S.slot[i].sent_step[a];
+        }
+    return n;
+}
+
+static int restore(const double *v)
+{
+    int n = SNAP_HEAD, i, a;
+    petri_state st;
+    memset(&st, 0, sizeof st);
+    st.running = (uint32_t)v[2];
+    for (i = 0; i < CARRY_N_PLACES; i++) {
+        if (v[n] < 0 || v[n] > PETRI_TOKEN_MAX) return -1;
+        st.m[i] = (uint8_t)v[n++];
+    }
+    if (petri_set_state(&S.net, &st) != 0) return -1;
+    S.net.fired_count = (long)v[3];
+    S.next_action_id = (int32_t)v[4]; S.wp_id = (int32_t)v[5];
+    vec3_set(S.wp_pos_m, v[6], v[7], v[8]); S.wp_yaw_rad = v[9];
+    S.pick_id = (int32_t)v[10]; vec3_set(S.pick_pos_m, v[11], v[12], v[13]); S.pick_yaw_rad = v[14];
+    S.last_taken_id = (int32_t)v[15]; S.p1_bound = v[16] != 0; S.detections = (int32_t)v[17];
+    S.last_fired = (int)v[18]; S.blockages = (int32_t)v[19];
+    for (i = 0; i < CARRY_N_TRANSITIONS; i++)
+        for (a = 0; a < 2; a++) {
+            S.slot[i].state[a] = (int)v[n++];
+            S.slot[i].action_id[a] = (int32_t)v[n++];
+            S.slot[i].sent_step[a] = (int64_t)v[n++];
+        }
+    return 0;
+}
+
+/* At start-up: the last snapshot of --journal, if any (checked against the
+ * simulator's step in the first cycle). */
+static void journal_resume(void)
+{
+    static double v[JOURNAL_MAX_VALUES];
+    const int n = journal_load_last(S.journal_path, v, JOURNAL_MAX_VALUES);
+    if (n < 0)
+        return;
+    if (n != SNAP_LEN || v[0] != SNAP_VERSION || restore(v) != 0) {
+        fprintf(stderr, "tandem-supervisor: journal %s: last snapshot does not fit this net; starting fresh\n",
+                S.journal_path);
+        petri_init(&S.net, &carry_net);
+        return;
+    }
+    S.resumed = (int)v[1] + 1;     /* the snapshot's step + 1, checked in the first cycle */
+    printf("tandem-supervisor: resumed from %s (step %lld, fired %ld, next row %d)\n", S.journal_path,
+           (long long)v[1], S.net.fired_count, (int)S.next_action_id);
+}
+
+static void journal_cycle(daemon *d)
+{
+    static double v[JOURNAL_MAX_VALUES];
+    if (!S.journal_path)
+        return;
+    if (!S.journal_checked && d->step >= 0) {
+        S.journal_checked = 1;
+        if (S.resumed && d->step + 1 < S.resumed) {
+            printf("tandem-supervisor: the journal is from a later step than the simulator's: another run; starting fresh\n");
+            memset(S.slot, 0, sizeof S.slot);
+            petri_init(&S.net, &carry_net);
+            S.resumed = 0;
+        }
+        S.resumed = S.resumed != 0;
+        S.dirty = 1;
+    }
+    if (S.dirty && journal_append(&S.jr, v, snapshot(d, v)) != JOURNAL_OK) {
+        fprintf(stderr, "tandem-supervisor: cannot write the journal %s\n", S.journal_path);
+        d->safe_hold = 1;
+    }
+    S.dirty = 0;
+}
+
 /* ---- the cycle ------------------------------------------------------------ */
 
 static void cycle(daemon *d, void *user)
@@ -469,9 +705,10 @@ static void cycle(daemon *d, void *user)
     for (i = 0; i < S.n_ev; i++)
         handle_event(d, &S.evq[i]);
     S.n_ev = 0;
+    recover_rows(d);
     take_detection(d);
     for (t = 0; t < CARRY_T_VISION; t++) {
-        if (!petri_enabled(&S.net, t) || (t == CARRY_T1 && !S.p1_bound))
+        if (!petri_enabled(&S.net, t) || (t == CARRY_T1 && !S.p1_bound) || grasp_blocked(t))
             continue;
         if (t == CARRY_T1) {
             S.p1_bound = 0;   /* t1 takes the p1 token and its pose */
@@ -488,12 +725,16 @@ static void cycle(daemon *d, void *user)
     }
     S.was_dead = dead;
     watch_stall(d);
+    watch_silence(d);
+    journal_cycle(d);
     if (S.changed || S.cycles % (per_10hz > 0 ? per_10hz : 1) == 0)
         publish_marking(d);
     S.changed = 0;
     S.cycles++;
-    snprintf(d->status, sizeof d->status, "%sfired %ld, workpiece %d%s", S.stall.stalled ? "STALLED: " : "",
-             S.net.fired_count, (int)S.wp_id, S.arms_faulted ? ", arm FAULT" : "");
+    snprintf(d->status, sizeof d->status, "%sfired %ld, workpiece %d%s%s%s%s", S.stall.stalled ? "STALLED: " : "",
+             S.net.fired_count, (int)S.wp_id, S.arms_faulted ? ", arm FAULT" : "",
+             S.arms_silent & 1 ? ", arm 1 SILENT" : "", S.arms_silent & 2 ? ", arm 2 SILENT" : "",
+             S.sim_silent ? ", simulator SILENT" : "");
 }
 
 int main(int argc, char **argv)
@@ -503,6 +744,7 @@ int main(int argc, char **argv)
         { "serial", no_argument, 0, 'S' },
         { "tdsd", no_argument, 0, 'T' },
         { "stall-s", required_argument, 0, 'L' },
+        { "journal", required_argument, 0, 'J' },
         DAEMON_COMMON_OPTIONS,
         { 0, 0, 0, 0 }
     };
@@ -528,6 +770,7 @@ int main(int argc, char **argv)
             }
             break;
         case 'S': S.serial = 1; break;
+        case 'J': S.journal_path = optarg; break;
         case 'T': S.use_tdsd = 1; break;
         case 'L': if (parse_double_opt("tandem-supervisor", "--stall-s", optarg, 0.1, 1e6, &stall_s) < 0) return 2; break;
         default: usage(); return 2;
@@ -541,6 +784,13 @@ int main(int argc, char **argv)
         return 1;
     if (petri_init(&S.net, &carry_net) != 0 || stallwatch_init(&S.stall, stall_s) != 0)
         return 1;
+    if (S.journal_path) {
+        journal_resume();
+        if (journal_open(&S.jr, S.journal_path) != JOURNAL_OK) {
+            fprintf(stderr, "tandem-supervisor: cannot open the journal %s\n", S.journal_path);
+            return 1;
+        }
+    }
     fflush(stdout);
     if (daemon_start(&d) != 0)
         return 1;
@@ -550,5 +800,6 @@ int main(int argc, char **argv)
     S.changed = 1;
     rc = daemon_run(&d, cycle, NULL);
     daemon_finish(&d);
+    journal_close(&S.jr);
     return rc;
 }

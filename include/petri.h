@@ -95,6 +95,11 @@ int petri_complete(petri *p, int t);
 int petri_fire(petri *p, int t);
 int petri_dead(const petri *p);
 int petri_invariants_ok(const petri *p);
+/* Takes a saved state back (a supervisor's journal after a restart): only
+ * running bits of existing transitions and a marking that keeps every
+ * P-invariant (tokens of running transitions counted). 0 or PETRI_ERR_ARG,
+ * and then the state is unchanged. */
+int petri_set_state(petri *p, const petri_state *s);
 
 /* ---- reachability ------------------------------------------------------ */
 /* Workspace (large: make it static). BFS over states = marking + running

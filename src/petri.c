@@ -262,6 +262,17 @@ int petri_dead(const petri *p)
     return p ? petri_state_dead(&p->c, &p->st) : 0;
 }
 
+int petri_set_state(petri *p, const petri_state *s)
+{
+    const int nt = p && p->c.net ? p->c.net->n_transitions : 0;
+    const uint32_t all = nt >= 32 ? UINT32_C(0xFFFFFFFF) : (UINT32_C(1) << nt) - 1u;
+    if (!p || !s || (s->running & ~all) != 0 ||
+        petri_state_invariant_violations(&p->c, s) != 0)
+        return PETRI_ERR_ARG;
+    p->st = *s;
+    return 0;
+}
+
 int petri_invariants_ok(const petri *p)
 {
     return p && petri_state_invariant_violations(&p->c, &p->st) == 0;

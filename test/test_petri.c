@@ -135,6 +135,34 @@ static void test_fire_eq11_and_split(void **st)
     assert_int_equal(petri_fire(&p, -1), PETRI_ERR_ARG);
 }
 
+/* A saved state (a journal) comes back exactly; one that breaks a
+ * P-invariant or names a transition the net lacks is refused and changes
+ * nothing. */
+static void test_set_state_round_trip(void **st)
+{
+    petri p, q;
+    petri_state saved, bad;
+    int i;
+    (void)st;
+    assert_int_equal(petri_init(&p, &DL), 0);
+    assert_int_equal(petri_fire(&p, 0), 0);
+    assert_int_equal(petri_start(&p, 2), 0);     /* a transition in flight */
+    saved = p.st;
+    assert_int_equal(petri_init(&q, &DL), 0);
+    assert_int_equal(petri_set_state(&q, &saved), 0);
+    assert_memory_equal(q.st.m, saved.m, sizeof saved.m);
+    assert_int_equal(q.st.running, saved.running);
+    assert_int_equal(petri_complete(&q, 2), 0);   /* and runs on from there */
+    bad = saved;
+    for (i = 0; i < DL_P; i++) bad.m[i] = 0;      /* every token lost */
+    assert_int_equal(petri_set_state(&p, &bad), PETRI_ERR_ARG);
+    assert_int_equal(p.st.running, saved.running);
+    assert_memory_equal(p.st.m, saved.m, sizeof saved.m);
+    bad = saved;
+    bad.running |= 1u << DL_T;                   /* no such transition */
+    assert_int_equal(petri_set_state(&p, &bad), PETRI_ERR_ARG);
+}
+
 /* A wrong invariant is caught after the change that breaks it. */
 static void test_invariant_violation_counted(void **st)
 {
@@ -258,6 +286,7 @@ int main(void)
         cmocka_unit_test(test_scan_equals_mask),
         cmocka_unit_test(test_fire_eq11_and_split),
         cmocka_unit_test(test_invariant_violation_counted),
+        cmocka_unit_test(test_set_state_round_trip),
         cmocka_unit_test(test_bad_tables),
         cmocka_unit_test(test_explore_deadlock),
         cmocka_unit_test(test_explore_source_bounded_by_inhibitor),

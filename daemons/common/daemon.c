@@ -203,6 +203,7 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *user)
     }
     d->step = m.step;
     d->sim_time_s = m.sim_time_s;
+    d->clock_rx_ns = rtloop_now_ns();
     if (d->lockstep && m.mode == TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP && m.step % d->period_steps == 0)
         d->pending_step = m.step;
     tandem_sim_clock_t_decode_cleanup(&m);
@@ -320,6 +321,14 @@ static void ack(daemon *d, int64_t step, int leaving)
 static void health_tick(daemon *d)
 {
     const int64_t now = rtloop_now_ns();
+    /* lockstep: a cell waits together, but 5 s without any clock means the
+     * simulator is gone: say so (the daemon holds; nothing moves anyway) */
+    if (d->lockstep && d->clock_rx_ns > 0 && now - d->clock_rx_ns > DAEMON_SIM_SILENT_NS &&
+        strncmp(d->status, "no simulator", 12) != 0) {
+        snprintf(d->status, sizeof d->status, "no simulator clock for %.0f s",
+                 (double)(now - d->clock_rx_ns) * 1e-9);
+        fprintf(stderr, "%s: %s\n", d->name, d->status);
+    }
     if (now - d->last_health_ns >= 1000000000LL) {
         d->last_health_ns = now;
         daemon_publish_health(d);

@@ -20,6 +20,7 @@
 #define DAEMON_SIM_DT_S 0.001          /* the simulator's fixed step */
 #define DAEMON_NAME_MAX 64
 #define DAEMON_QUEUE_CAPACITY 100000   /* messages per subscription */
+#define DAEMON_SIM_SILENT_NS 5000000000LL  /* lockstep: no clock this long = no simulator */
 
 /* Long options every daemon accepts; splice into a getopt_long table. */
 enum { OPT_LCM_URL = 1000, OPT_RT, OPT_LOCKSTEP, OPT_PERIOD_MS, OPT_HELP, OPT_VERSION };
@@ -92,6 +93,7 @@ typedef struct daemon {
      * may be waiting for ours). NULL: only the ack is repeated. */
     void   (*repeat_fn)(struct daemon *d, void *user);
     int64_t  repeats;                   /* lockstep: steps answered again */
+    int64_t  clock_rx_ns;               /* wall time of the last SIM_CLOCK (0 none) */
     int64_t  input_waits;               /* lockstep: announcements not answered
                                            yet because an input was missing */
 } daemon;

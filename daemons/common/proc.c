@@ -141,6 +141,17 @@ int proc_read(proc_set *p, pid_t pid, char *buf, int cap)
     return n;
 }
 
+void proc_kill(proc_set *p, pid_t pid)
+{
+    int i;
+    for (i = 0; i < p->n; i++)
+        if (p->pid[i] == pid && p->alive[i]) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &p->status[i], 0);
+            p->alive[i] = 0;
+        }
+}
+
 void proc_kill_all(proc_set *p, double grace_s)
 {
     int i;

@@ -30,6 +30,8 @@ pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url,
 int   proc_poll(proc_set *p, pid_t pid, int *status);
 /* Reads whatever the child wrote to its stdout pipe (NUL terminated). */
 int   proc_read(proc_set *p, pid_t pid, char *buf, int cap);
+/* SIGKILL to one child (a fault injected on purpose), reaped at once. */
+void  proc_kill(proc_set *p, pid_t pid);
 /* SIGTERM to every child, SIGKILL after grace_s; closes the pipes. */
 void  proc_kill_all(proc_set *p, double grace_s);
 

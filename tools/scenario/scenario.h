@@ -52,6 +52,19 @@ int  scenario_parse_drop(scenario_drop *d, const char *v, long seed);
  * room for cap pointers including the closing NULL, which is written. */
 void scenario_argv_drop(const scenario_drop *d, char **argv, int *n, int cap);
 
+/* --fault kill:DAEMON:T[:RESTART_T]: the scenario kills DAEMON (SIGKILL,
+ * no goodbye) at simulated time T and, with RESTART_T, starts it again
+ * then, holding the lockstep until it has answered: deterministic. */
+#define SCENARIO_MAX_FAULTS 8
+typedef struct scenario_fault {
+    char   daemon[24];                   /* arm1, arm2, supervisor, roverK */
+    double kill_s, restart_s;            /* restart_s < 0: left down */
+    int    stage;                        /* 0 armed, 1 killed, 2 restarting, 3 done */
+    int    slot;                         /* the scenario's index of the daemon */
+} scenario_fault;
+/* Parses one --fault value; 0 ok, -1 with a message. */
+int scenario_parse_fault(scenario_fault *f, const char *v);
+
 /* mkdir -p; 0 ok. */
 int   scenario_mkdir(const char *dir);
 /* fopen(dir/file) for writing, with an error message on failure. */

@@ -98,6 +98,9 @@ typedef struct run_cfg {
     const char *block_detect;  /* tandem-arm --block-detect on|off */
     const char *stall_s;       /* tandem-supervisor --stall-s */
     uint64_t seed;
+    scenario_drop drop;        /* --drop-rate, to every daemon */
+    scenario_fault *faults;    /* --fault (the main run only) */
+    int    n_faults;
 } run_cfg;
 
 typedef struct run_result {
@@ -111,6 +114,7 @@ typedef struct run_result {
     long   joint_limit_violations;
     double max_speed_ratio, max_force_N, max_force_10ms_N;
     int    stalls, faults;
+    int    kills, restarts, rows_reissued, dones_recovered;
     const char *exit_reason;
 } run_result;
 
@@ -142,11 +146,31 @@ static struct {
     unsigned range_bits[2];      /* joints past their range at the last state */
     long     limit_violations;
     double   max_speed_ratio, max_force_N, max_force_10ms_N;
+    /* --fault: the last step each daemon answered (SIM_ACK) */
+    int64_t  ack_step[4];
+    double   hold_since_s;     /* wall time a restart began holding the step */
 } R;
+
+/* The daemons of a run: proc slot k, --fault name, lockstep name. */
+static const char *const daemon_fault_name[4] = { "sim", "arm1", "arm2", "supervisor" };
+static const char *const daemon_lock_name[4] = { "tandem-sim", "tandem-arm-1", "tandem-arm-2", "tandem-supervisor" };
 
 static block blocks[MAX_BLOCKS];
 static int n_blocks;
 static FILE *f_ts, *f_tr;
+
+static void on_sim_ack(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    tandem_clock_ack_t m;
+    int k;
+    (void)ch; (void)u;
+    if (tandem_clock_ack_t_decode(rb->data, 0, rb->data_size, &m) < 0)
+        return;
+    for (k = 0; k < 4; k++)
+        if (!m.leaving && !strcmp(m.name, daemon_lock_name[k]) && m.step > R.ack_step[k])
+            R.ack_step[k] = m.step;
+    tandem_clock_ack_t_decode_cleanup(&m);
+}
 
 static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
@@ -411,6 +435,56 @@ static void progress_line(const run_cfg *c, double wall0)
 static volatile sig_atomic_t interrupted;
 static void on_sigint(int s) { (void)s; interrupted = 1; }
 
+/* The options every daemon of a run gets besides its own (--drop-rate),
+ * appended at argv[n] with the closing NULL. */
+static void daemon_argv_finish(const run_cfg *c, const char **argv, int n, int cap)
+{
+    scenario_argv_drop(&c->drop, (char **)argv, &n, cap);
+}
+
+/* --fault, at the step about to be answered: kill (SIGKILL, and the
+ * simulator is told the daemon left so it does not wait out its timeout),
+ * then restart at the first step after RESTART_T that every controller
+ * answers (a multiple of 20 ms), holding that step until the new process
+ * has answered it. 1: go on, 0: hold the step, -1: the restart failed. */
+static int faults_step(const run_cfg *c, run_result *res, proc_set *ps, pid_t pid[4],
+                       const char *const *argvs[4], const char *url, const char *err)
+{
+    int i;
+    for (i = 0; i < c->n_faults; i++) {
+        scenario_fault *f = &c->faults[i];
+        if (f->stage == 0 && R.t_s >= f->kill_s) {
+            proc_kill(ps, pid[f->slot]);
+            lockstep_ack(R.lcm, daemon_lock_name[f->slot], 0, R.pending, 1, 1);
+            fprintf(stderr, "tandem-scenario: fault: %s killed at %.3f s\n", f->daemon, R.t_s);
+            res->kills++;
+            f->stage = f->restart_s >= 0.0 ? 1 : 3;
+        }
+        if (f->stage == 1 && R.t_s >= f->restart_s && R.pending % 20 == 0) {
+            char log[700];
+            snprintf(log, sizeof log, "%s/%s_%s_restart%d.log", c->out, c->tag, f->daemon, i + 1);
+            pid[f->slot] = proc_spawn(ps, argvs[f->slot], url, log, err);
+            if (pid[f->slot] < 0)
+                return -1;
+            fprintf(stderr, "tandem-scenario: fault: %s restarted at %.3f s\n", f->daemon, R.t_s);
+            R.hold_since_s = scenario_wall_s();
+            f->stage = 2;
+        }
+        if (f->stage == 2) {
+            if (R.ack_step[f->slot] < R.pending) {
+                if (scenario_wall_s() - R.hold_since_s > 60.0) {
+                    fprintf(stderr, "tandem-scenario: fault: %s did not rejoin within 60 s\n", f->daemon);
+                    return -1;
+                }
+                return 0;
+            }
+            res->restarts++;
+            f->stage = 3;
+        }
+    }
+    return 1;
+}
+
 static int run_once(const run_cfg *c, run_result *res)
 {
     char url[96], nbuf[32], sbuf[32], path[4][1024], err[1024];
@@ -418,12 +492,15 @@ static int run_once(const run_cfg *c, run_result *res)
     const double wall0 = scenario_wall_s();
     double t_deliv_first = -1.0, t_deliv_last = -1.0, end_at = -1.0;
     int last_delivered = 0, k, rc = 0;
-    const char *sim_argv[] = { "tandem-sim", "--lockstep", "--expect", "4", "--workpieces", nbuf,
-                               "--seed", sbuf, "--timeout-ms", LOCKSTEP_TIMEOUT_MS, NULL };
-    const char *a1_argv[] = { "tandem-arm", "--arm", "1", "--lockstep", "--block-detect", c->block_detect, NULL };
-    const char *a2_argv[] = { "tandem-arm", "--arm", "2", "--lockstep", "--block-detect", c->block_detect, NULL };
-    const char *sup_argv[] = { "tandem-supervisor", "--lockstep", "--stall-s", c->stall_s, "--controller",
-                               c->controller_time ? "time" : "event", c->serial ? "--serial" : NULL, NULL };
+    char journal[700];
+    const char *sim_argv[16] = { "tandem-sim", "--lockstep", "--expect", "4", "--workpieces", nbuf,
+                                 "--seed", sbuf, "--timeout-ms", LOCKSTEP_TIMEOUT_MS };
+    const char *a1_argv[16] = { "tandem-arm", "--arm", "1", "--lockstep", "--block-detect", c->block_detect };
+    const char *a2_argv[16] = { "tandem-arm", "--arm", "2", "--lockstep", "--block-detect", c->block_detect };
+    const char *sup_argv[20] = { "tandem-supervisor", "--lockstep", "--stall-s", c->stall_s, "--controller",
+                                 c->controller_time ? "time" : "event", "--journal", journal };
+    const char *const *argvs[4] = { sim_argv, a1_argv, a2_argv, sup_argv };
+    pid_t pid[4];
     double next_progress = wall0 + PROGRESS_EVERY_S;
     memset(res, 0, sizeof *res);
     memset(&R, 0, sizeof R);
@@ -445,15 +522,21 @@ static int run_once(const run_cfg *c, run_result *res)
     lcm_subscribe(R.lcm, "ARM_EVENTS", on_event, NULL);
     lcm_subscribe(R.lcm, "PETRI_MARKING", on_marking, NULL);
     lcm_subscribe(R.lcm, "SIM_STATUS", on_status, NULL);
+    lcm_subscribe(R.lcm, "SIM_ACK", on_sim_ack, NULL);
     proc_init(&ps, NULL);
+    snprintf(journal, sizeof journal, "%s/%s_supervisor.journal", c->out, c->tag);
+    remove(journal);                  /* a fresh run; a restart reads it */
+    daemon_argv_finish(c, sim_argv, 10, 16);
+    daemon_argv_finish(c, a1_argv, 6, 16);
+    daemon_argv_finish(c, a2_argv, 6, 16);
+    if (c->serial) sup_argv[8] = "--serial";
+    daemon_argv_finish(c, sup_argv, c->serial ? 9 : 8, 20);
     {
-        const char *const names[4] = { "sim", "arm1", "arm2", "supervisor" };
-        const char *const *argvs[4] = { sim_argv, a1_argv, a2_argv, sup_argv };
         snprintf(err, sizeof err, "%s/%s_stderr.log", c->out, c->tag);
         remove(err);
         for (k = 0; k < 4; k++) {
-            snprintf(path[k], sizeof path[k], "%s/%s_%s.log", c->out, c->tag, names[k]);
-            if (proc_spawn(&ps, argvs[k], url, path[k], err) < 0) {
+            snprintf(path[k], sizeof path[k], "%s/%s_%s.log", c->out, c->tag, daemon_fault_name[k]);
+            if ((pid[k] = proc_spawn(&ps, argvs[k], url, path[k], err)) < 0) {
                 fprintf(stderr, "tandem-scenario: cannot start %s\n", argvs[k][0]);
                 proc_kill_all(&ps, 1.0);
                 lcm_destroy(R.lcm);
@@ -490,6 +573,14 @@ static int run_once(const run_cfg *c, run_result *res)
         }
         if (R.pending < 0)
             continue;
+        k = faults_step(c, res, &ps, pid, argvs, url, err);
+        if (k < 0) {
+            rc = -1;
+            res->exit_reason = "restart_failed";
+            break;
+        }
+        if (k == 0)
+            continue;                 /* hold the step: a restarted daemon joins */
         if (!c->serial)
             block_step();
         record_step(R.pending);
@@ -529,6 +620,8 @@ static int run_once(const run_cfg *c, run_result *res)
         res->invariant_violations = R.mk.invariant_violations;
         res->stalls = R.mk.stalls;
         res->faults = R.mk.faults;
+        res->rows_reissued = R.mk.rows_reissued;
+        res->dones_recovered = R.mk.dones_recovered;
     }
     res->joint_limit_violations = R.limit_violations;
     res->max_speed_ratio = R.max_speed_ratio;
@@ -550,7 +643,8 @@ static void usage(FILE *f)
     fprintf(f, "usage: tandem-scenario carry [--workpieces N] [--controller event|time]\n"
                "         [--block ARM:LINK:START_S:DURATION_S[:t3]]... [--random-blocks K]\n"
                "         [--seed S] [--no-serial] [--serial-workpieces M]\n"
-               "         [--block-detect on|off] [--stall-s S] --out DIR\n"
+               "         [--block-detect on|off] [--stall-s S] [--fault kill:D:T[:R]]...\n"
+               "         [--drop-rate P] --out DIR\n"
                "Two-arm carry in lockstep with the stick pushed into the arms (SPEC 2.6).\n"
                "  --workpieces N        workpieces to carry (default 3)\n"
                "  --controller C        event (default) or time (the time-referenced baseline)\n"
@@ -565,6 +659,9 @@ static void usage(FILE *f)
                "  --block-detect on|off off: the arms run eq. 6-7 alone (no blocked detector)\n"
                "  --stall-s S           the supervisor's stall limit (default 30 s); a stall\n"
                "                        stops the run\n"
+               "  --fault kill:D:T[:R]  kill daemon D (arm1, arm2, supervisor) at T s of\n"
+               "                        simulated time, restart it at R s; repeatable\n"
+               "  --drop-rate P         every daemon drops received messages with probability P\n"
                "Exit status: 0 when the run met every success criterion (all delivered,\n"
                "none dropped, no joint-limit violation, speeds within the motor limits,\n"
                "10 ms contact force <= 1000 N, resumed within 1 s of every removal, no\n"
@@ -690,6 +787,8 @@ static int run(int argc, char **argv)
         { "serial-workpieces", required_argument, 0, 'W' },
         { "block-detect", required_argument, 0, 'B' },
         { "stall-s", required_argument, 0, 'L' },
+        { "drop-rate", required_argument, 0, 'D' },
+        { "fault", required_argument, 0, 'F' },
         { "out", required_argument, 0, 'o' },
         { "help", no_argument, 0, 'h' },
         { 0, 0, 0, 0 }
@@ -705,7 +804,10 @@ static int run(int argc, char **argv)
     int n_failed, blocks_skipped = 0;
     long fn = 0;
     char *end;
+    const char *drop_arg = "0";
+    static scenario_fault faults[SCENARIO_MAX_FAULTS];
     memset(&cfg, 0, sizeof cfg);
+    cfg.faults = faults;
     cfg.workpieces = 3;
     cfg.block_detect = "on";
     n_blocks = 0;
@@ -770,6 +872,19 @@ static int run(int argc, char **argv)
                 return 2;
             }
             break;
+        case 'D': drop_arg = optarg; break;
+        case 'F':
+            if (cfg.n_faults >= SCENARIO_MAX_FAULTS || scenario_parse_fault(&faults[cfg.n_faults], optarg) != 0)
+                return 2;
+            for (i = 1; i < 4 && strcmp(faults[cfg.n_faults].daemon, daemon_fault_name[i]); i++)
+                ;
+            if (i == 4) {
+                fprintf(stderr, "tandem-scenario carry: --fault: '%s' is not arm1|arm2|supervisor\n",
+                        faults[cfg.n_faults].daemon);
+                return 2;
+            }
+            faults[cfg.n_faults++].slot = i;
+            break;
         case 'o': cfg.out = optarg; break;
         case 'h': usage(stdout); return 0;
         default: usage(stderr); return 2;
@@ -790,6 +905,8 @@ static int run(int argc, char **argv)
         blocks[i].resume_s = -1.0;
         total_block_s += blocks[i].dur_s;
     }
+    if (scenario_parse_drop(&cfg.drop, drop_arg, seed) != 0)
+        return 2;
     if (scenario_mkdir(cfg.out) != 0)
         return 1;
     signal(SIGINT, on_sigint);
@@ -824,6 +941,7 @@ static int run(int argc, char **argv)
         const int nb = n_blocks;
         s.serial = 1;
         s.tag = "serial";
+        s.n_faults = 0;                 /* the reference runs without faults */
         s.workpieces = serial_n > 0 ? serial_n : (cfg.workpieces < 3 ? (cfg.workpieces < 2 ? 2 : cfg.workpieces) : 3);
         s.max_sim_s = 80.0 * s.workpieces + 60.0;
         n_blocks = 0;
@@ -899,6 +1017,11 @@ static int run(int argc, char **argv)
     json_num(&j, "max_contact_force_raw_N", res.max_force_N);
     json_num(&j, "settled_force_max_N", settled_max);
     json_int(&j, "blocks_skipped", blocks_skipped);
+    json_num(&j, "drop_rate", cfg.drop.rate[0] ? atof(cfg.drop.rate) : 0.0);
+    json_int(&j, "kills", res.kills);
+    json_int(&j, "restarts", res.restarts);
+    json_int(&j, "rows_reissued", res.rows_reissued);
+    json_int(&j, "dones_recovered", res.dones_recovered);
     json_str(&j, "exit_reason", res.exit_reason);
     n_failed = carry_criteria(&cfg, &res, resume_max, failed, sizeof failed);
     json_str(&j, "failed_criteria", failed);

@@ -159,3 +159,29 @@ void scenario_argv_drop(const scenario_drop *d, char **argv, int *n, int cap)
     }
     argv[*n < cap ? *n : cap - 1] = NULL;
 }
+
+int scenario_parse_fault(scenario_fault *f, const char *v)
+{
+    const char *name = v + 5, *colon = strchr(name, ':');
+    char *e;
+    memset(f, 0, sizeof *f);
+    f->restart_s = -1.0;
+    if (strncmp(v, "kill:", 5) != 0 || !colon || colon == name || (size_t)(colon - name) >= sizeof f->daemon)
+        goto bad;
+    memcpy(f->daemon, name, (size_t)(colon - name));
+    f->kill_s = strtod(colon + 1, &e);
+    if (e == colon + 1 || !isfinite(f->kill_s) || f->kill_s < 0.0)
+        goto bad;
+    if (*e == ':') {
+        const char *r = e + 1;
+        f->restart_s = strtod(r, &e);
+        if (e == r || !isfinite(f->restart_s) || f->restart_s <= f->kill_s)
+            goto bad;
+    }
+    if (*e)
+        goto bad;
+    return 0;
+bad:
+    fprintf(stderr, "tandem-scenario: --fault: '%s' is not kill:DAEMON:T[:RESTART_T] (RESTART_T > T)\n", v);
+    return -1;
+}
