@@ -69,7 +69,7 @@ BENCH_SRC  := $(wildcard test/bench_*.c)
 BENCH_BIN  := $(patsubst test/%.c,$(BIN)/%,$(BENCH_SRC))
 TYPES_JAR  := build/lib/tandem_types.jar
 
-.PHONY: all run test unit integration bench spy clean deps deps-bench deps-cross jar fuzz
+.PHONY: all run test unit integration bench spy clean deps deps-bench deps-cross jar fuzz multihost-test
 all: $(PROGS) $(UNIT_BIN) $(IT_BIN) $(TYPES_JAR)
 
 # make cross, make test-cross, make budget: the core on a 68040 and a Cortex-M4
@@ -214,6 +214,12 @@ FUZZ_SECONDS ?= 10
 fuzz: $(GEN_STAMP)
 	@command -v clang >/dev/null || tools/deps.sh fuzz
 	@tools/fuzz.sh $(FUZZ_SECONDS)
+
+# the cell on three network namespaces joined by a bridge (udpm ttl=1)
+# against one host: the same lockstep state hash (needs root)
+multihost-test: deps $(PROGS)
+	@command -v ip >/dev/null || { apt-get update -qq && apt-get install -y -qq iproute2; }
+	@tools/multihost-test.sh
 
 spy: $(TYPES_JAR)
 	@tools/spy.sh $(TYPES_JAR)

@@ -603,7 +603,7 @@ static void watch_silence(daemon *d)
 
 /* ---- journal ------------------------------------------------------------------ */
 
-#define SNAP_HEAD 20
+#define SNAP_HEAD 25
 #define SNAP_LEN  (SNAP_HEAD + CARRY_N_PLACES + 6 * CARRY_N_TRANSITIONS)
 #define SNAP_VERSION 1
 
@@ -617,6 +617,8 @@ static int snapshot(daemon *d, double *v)
     v[n++] = S.pick_id; v[n++] = S.pick_pos_m[0]; v[n++] = S.pick_pos_m[1]; v[n++] = S.pick_pos_m[2];
     v[n++] = S.pick_yaw_rad; v[n++] = S.last_taken_id; v[n++] = S.p1_bound; v[n++] = S.detections;
     v[n++] = S.last_fired; v[n++] = S.blockages;
+    v[n++] = S.rows_reissued; v[n++] = S.dones_recovered; v[n++] = S.replans; v[n++] = S.deadlocks;
+    v[n++] = S.faults;
     for (i = 0; i < CARRY_N_PLACES; i++) v[n++] = S.net.st.m[i];
     for (i = 0; i < CARRY_N_TRANSITIONS; i++)
         for (a = 0; a < 2; a++) {
@@ -644,6 +646,8 @@ static int restore(const double *v)
     S.pick_id = (int32_t)v[10]; vec3_set(S.pick_pos_m, v[11], v[12], v[13]); S.pick_yaw_rad = v[14];
     S.last_taken_id = (int32_t)v[15]; S.p1_bound = v[16] != 0; S.detections = (int32_t)v[17];
     S.last_fired = (int)v[18]; S.blockages = (int32_t)v[19];
+    S.rows_reissued = (int32_t)v[20]; S.dones_recovered = (int32_t)v[21]; S.replans = (int32_t)v[22];
+    S.deadlocks = (int32_t)v[23]; S.faults = (int32_t)v[24];
     for (i = 0; i < CARRY_N_TRANSITIONS; i++)
         for (a = 0; a < 2; a++) {
             S.slot[i].state[a] = (int)v[n++];

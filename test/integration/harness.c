@@ -1,5 +1,6 @@
 /* harness: child daemons on a private LCM bus (see harness.h). */
 #include "harness.h"
+#include <math.h>
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
@@ -116,4 +117,45 @@ void harness_send_joint_row(harness *h, int arm, int action_id, const double q[6
     row.segments = &seg;
     snprintf(ch, sizeof ch, "ARM%d_ACTION", arm);
     tandem_action_row_t_publish(h->lcm, ch, &row);
+}
+
+int harness_slurp(const char *path, char *buf, int cap)
+{
+    FILE *f = fopen(path, "r");
+    int n;
+    if (!f)
+        return -1;
+    n = (int)fread(buf, 1, (size_t)(cap - 1), f);
+    buf[n] = '\0';
+    fclose(f);
+    return n;
+}
+
+double harness_json_value(const char *text, const char *key)
+{
+    char pat[128];
+    const char *p;
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    p = strstr(text, pat);
+    if (!p)
+        return NAN;
+    p += strlen(pat);
+    return strncmp(p, "null", 4) == 0 ? NAN : strtod(p, NULL);
+}
+
+int harness_run(const char *const argv[], double timeout_s)
+{
+    proc_set ps;
+    pid_t pid;
+    int st = -1, i;
+    struct timespec ts = { 0, 50000000L };
+    proc_init(&ps, NULL);
+    pid = proc_spawn(&ps, argv, NULL, NULL, NULL);
+    if (pid <= 0)
+        return -1;
+    for (i = 0; i < (int)(timeout_s * 20.0) && proc_poll(&ps, pid, &st) == 0; i++)
+        nanosleep(&ts, NULL);
+    if (st < 0)
+        proc_kill_all(&ps, 2.0);
+    return st;
 }

@@ -42,4 +42,12 @@ void harness_send_joint_row(harness *h, int arm, int action_id, const double q[6
 /* Lockstep participation for a test: answer step k on SIM_ACK. */
 void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps);
 
+/* A file's text into buf (NUL terminated); its length or -1. */
+int harness_slurp(const char *path, char *buf, int cap);
+/* The number under "key" in a summary.json text; NaN if absent or null. */
+double harness_json_value(const char *text, const char *key);
+/* Runs a program (argv[0] under the build's bin) to its end, at most
+ * timeout_s; its exit status, or -1 if it had to be killed. */
+int harness_run(const char *const argv[], double timeout_s);
+
 #endif

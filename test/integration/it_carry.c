@@ -21,7 +21,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "erlaw.h"
-#include "proc.h"
+#include "harness.h"
 
 /* The issue's 50 ms. A follower of the common reference tracks its rate
  * and brakes as a critically damped tracker at ERLAW_SYNC_OMEGA_RADPS
@@ -33,30 +33,6 @@
 #define SYNC_LEAD_BOUND_M (ERLAW_FOLLOW_GAP_M + (0.2 + 0.2 / 20.0) / (exp(1.0) * ERLAW_SYNC_OMEGA_RADPS) + 0.001)
 
 static char dir[256];
-
-static double json_value(const char *text, const char *key)
-{
-    char pat[128];
-    const char *p;
-    snprintf(pat, sizeof pat, "\"%s\": ", key);
-    p = strstr(text, pat);
-    if (!p)
-        return NAN;
-    p += strlen(pat);
-    return strncmp(p, "null", 4) == 0 ? NAN : strtod(p, NULL);
-}
-
-static int slurp(const char *path, char *buf, int cap)
-{
-    FILE *f = fopen(path, "r");
-    int n;
-    if (!f)
-        return -1;
-    n = (int)fread(buf, 1, (size_t)(cap - 1), f);
-    buf[n] = '\0';
-    fclose(f);
-    return n;
-}
 
 static void test_short_carry_with_blocks(void **state)
 {
@@ -80,22 +56,22 @@ static void test_short_carry_with_blocks(void **state)
     proc_read(&ps, pid, text, sizeof text);
     printf("%s", text);
     snprintf(path, sizeof path, "%s/summary.json", dir);
-    assert_true(slurp(path, text, sizeof text) > 0);
-    assert_true(json_value(text, "workpieces_delivered") == 2.0);
-    assert_true(json_value(text, "workpieces_dropped") == 0.0);
-    assert_true(json_value(text, "invariant_violations") == 0.0);
-    assert_true(json_value(text, "deadlocks") == 0.0);
-    assert_true(json_value(text, "replans") == 0.0);
+    assert_true(harness_slurp(path, text, sizeof text) > 0);
+    assert_true(harness_json_value(text, "workpieces_delivered") == 2.0);
+    assert_true(harness_json_value(text, "workpieces_dropped") == 0.0);
+    assert_true(harness_json_value(text, "invariant_violations") == 0.0);
+    assert_true(harness_json_value(text, "deadlocks") == 0.0);
+    assert_true(harness_json_value(text, "replans") == 0.0);
     printf("resume latency max %.3f s, 10 ms contact force max %.1f N, max |qd|/qd_max %.3f\n",
-           json_value(text, "resume_latency_max_s"), json_value(text, "max_contact_force_10ms_N"),
-           json_value(text, "max_joint_speed_ratio"));
-    assert_true(json_value(text, "resume_latency_max_s") > 0.0);
-    assert_true(json_value(text, "resume_latency_max_s") <= 1.0);
-    assert_true(json_value(text, "joint_limit_violations") == 0.0);
-    assert_true(json_value(text, "max_contact_force_10ms_N") > 0.5);   /* the stick was met */
-    assert_true(json_value(text, "max_contact_force_10ms_N") <= 1000.0);
-    assert_true(json_value(text, "max_joint_speed_ratio") <= 1.0);
-    assert_true(json_value(text, "stalls") == 0.0);
+           harness_json_value(text, "resume_latency_max_s"), harness_json_value(text, "max_contact_force_10ms_N"),
+           harness_json_value(text, "max_joint_speed_ratio"));
+    assert_true(harness_json_value(text, "resume_latency_max_s") > 0.0);
+    assert_true(harness_json_value(text, "resume_latency_max_s") <= 1.0);
+    assert_true(harness_json_value(text, "joint_limit_violations") == 0.0);
+    assert_true(harness_json_value(text, "max_contact_force_10ms_N") > 0.5);   /* the stick was met */
+    assert_true(harness_json_value(text, "max_contact_force_10ms_N") <= 1000.0);
+    assert_true(harness_json_value(text, "max_joint_speed_ratio") <= 1.0);
+    assert_true(harness_json_value(text, "stalls") == 0.0);
     assert_non_null(strstr(text, "\"exit_reason\": \"completed\""));
     snprintf(path, sizeof path, "%s/blocks.csv", dir);
     f = fopen(path, "r");
@@ -146,10 +122,10 @@ static void test_stall_stops_the_run_exit_3(void **state)
     assert_non_null(strstr(text, "FAILED"));
     assert_non_null(strstr(text, "stalls"));
     snprintf(path, sizeof path, "%s/summary.json", out);
-    assert_true(slurp(path, text, sizeof text) > 0);
+    assert_true(harness_slurp(path, text, sizeof text) > 0);
     assert_non_null(strstr(text, "\"exit_reason\": \"stalled\""));
-    assert_true(json_value(text, "stalls") >= 1.0);
-    assert_true(json_value(text, "sim_time_s") < 10.0);   /* stopped at the stall, not at the time limit */
+    assert_true(harness_json_value(text, "stalls") >= 1.0);
+    assert_true(harness_json_value(text, "sim_time_s") < 10.0);   /* stopped at the stall, not at the time limit */
 }
 
 int main(void)

@@ -1,0 +1,104 @@
+/* Integration: lost messages and dead daemons leave the run what it was.
+ *
+ * 1. Loss: the formation scenario with every daemon dropping 10 % of what
+ *    it receives (--drop-rate) writes a truth.csv identical byte for byte
+ *    to the lossless run, with the drops counted (the lockstep announces a
+ *    step again until every input is in; copies are ignored).
+ * 2. Restarts: a carry run whose arm 1 is killed (SIGKILL) in the middle
+ *    of its first row and restarted, and whose supervisor is killed and
+ *    restarted later, still delivers its workpiece, none dropped: the
+ *    restarted arm is sent its row again, the restarted supervisor comes
+ *    back from its journal.
+ * 3. Left down: a rover killed without restart is taken as gone by its
+ *    mates (they stop waiting for its team messages) and the team still
+ *    reaches the goal.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include "harness.h"
+
+static char dir[256];
+
+static int formation(const char *out, const char *drop, const char *kill)
+{
+    const char *argv[20] = { "tandem-scenario", "formation", "--formation", "line", "--world", "obstacles",
+                             "--robots", "3", "--seed", "2", "--out", out };
+    int n = 12;
+    if (drop) { argv[n++] = "--drop-rate"; argv[n++] = drop; }
+    if (kill) { argv[n++] = "--kill"; argv[n++] = kill; }
+    argv[n] = NULL;
+    return harness_run(argv, 120.0);
+}
+
+static void test_loss_leaves_the_run_unchanged(void **state)
+{
+    static char a[1 << 20], b[1 << 20];
+    char out0[300], out1[300], path[400];
+    int na, nb;
+    (void)state;
+    snprintf(out0, sizeof out0, "%s/lossless", dir);
+    snprintf(out1, sizeof out1, "%s/loss10", dir);
+    assert_int_equal(formation(out0, NULL, NULL), 0);
+    assert_int_equal(formation(out1, "0.10", NULL), 0);
+    snprintf(path, sizeof path, "%s/truth.csv", out0);
+    na = harness_slurp(path, a, sizeof a);
+    snprintf(path, sizeof path, "%s/truth.csv", out1);
+    nb = harness_slurp(path, b, sizeof b);
+    printf("truth.csv: %d bytes lossless, %d bytes at 10 %% loss\n", na, nb);
+    assert_true(na > 10000);
+    assert_int_equal(na, nb);
+    assert_memory_equal(a, b, (size_t)na);
+}
+
+static void test_killed_arm_and_supervisor_recover(void **state)
+{
+    char out[300], path[400], text[16384];
+    const char *argv[] = { "tandem-scenario", "carry", "--workpieces", "1", "--no-serial",
+                           "--fault", "kill:arm1:2.5:3.5", "--fault", "kill:supervisor:9:10",
+                           "--out", out, NULL };
+    (void)state;
+    snprintf(out, sizeof out, "%s/restart", dir);
+    assert_int_equal(harness_run(argv, 240.0), 0);
+    snprintf(path, sizeof path, "%s/summary.json", out);
+    assert_true(harness_slurp(path, text, sizeof text) > 0);
+    printf("kills %.0f restarts %.0f rows re-sent %.0f completions recovered %.0f\n",
+           harness_json_value(text, "kills"), harness_json_value(text, "restarts"),
+           harness_json_value(text, "rows_reissued"), harness_json_value(text, "dones_recovered"));
+    assert_true(harness_json_value(text, "workpieces_delivered") == 1.0);
+    assert_true(harness_json_value(text, "workpieces_dropped") == 0.0);
+    assert_true(harness_json_value(text, "kills") == 2.0);
+    assert_true(harness_json_value(text, "restarts") == 2.0);
+    /* arm 1 died inside its first row: it had to be sent again */
+    assert_true(harness_json_value(text, "rows_reissued") >= 1.0);
+    assert_true(harness_json_value(text, "invariant_violations") == 0.0);
+}
+
+static void test_killed_rover_left_down(void **state)
+{
+    char out[300], path[400], text[8192];
+    (void)state;
+    snprintf(out, sizeof out, "%s/kill", dir);
+    assert_int_equal(formation(out, "0.05", "2:8"), 0);
+    snprintf(path, sizeof path, "%s/summary.json", out);
+    assert_true(harness_slurp(path, text, sizeof text) > 0);
+    assert_true(harness_json_value(text, "killed_robot") == 2.0);
+    assert_non_null(strstr(text, "\"reached_goal\": true"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_loss_leaves_the_run_unchanged),
+        cmocka_unit_test(test_killed_arm_and_supervisor_recover),
+        cmocka_unit_test(test_killed_rover_left_down),
+    };
+    snprintf(dir, sizeof dir, "/tmp/it_recovery_%d", (int)getpid());
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
