@@ -9,6 +9,7 @@
 #   make test-cross the unit tests built for the 68040, run under qemu-m68k
 #   make budget     memory, stack and cycle budgets of the cross builds
 #   make view       live 3D viewer in the browser (also: make run VIEW=1)
+#   make multihost-test  the cell on three network namespaces (root)
 #   make help       every target and variable
 #   make clean
 # SAN=1 builds into build/san with the sanitizers on.

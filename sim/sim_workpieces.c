@@ -64,6 +64,8 @@ static int32_t spawned, delivered, dropped, next_id;
 static double clear_s;
 static int64_t vision_seq;
 static int spawn_requests;
+static int64_t settled_step = -1;   /* the last step wp_after_step settled */
+static int64_t vision_step = -1;    /* the step of the camera frame drawn last */
 
 static double table_top_z(void)
 {
@@ -97,6 +99,7 @@ static int wp_create(sim_world *w, const sim_config *cfg)
     int i;
     wp_cfg = cfg;
     memset(pool, 0, sizeof pool);
+    settled_step = vision_step = -1;
     prng_seed(&rng, w->seed * 7919u + 17u);
     spawned = delivered = dropped = 0;
     next_id = 1;
@@ -351,12 +354,18 @@ static void settle(int i)
     }
 }
 
+/* The camera frame of this step. Drawn once per step: the simulator
+ * announces a step again while a lockstep answer is missing, and a second
+ * draw of the noise would make the run depend on how often it had to. */
+static tandem_workpiece_t vision_det[WP_POOL];
+static int vision_n;
+
 static void publish_vision(sim_world *w)
 {
     tandem_workpiece_detections_t m;
-    tandem_workpiece_t det[WP_POOL];
+    tandem_workpiece_t *det = vision_det;
     int i, n = 0;
-    for (i = 0; i < WP_POOL; i++) {
+    for (i = 0; i < WP_POOL && w->step != vision_step; i++) {
         const wp *p = &pool[i];
         double R[9], axis[3], yaw;
         const dReal *c;
@@ -373,11 +382,15 @@ static void publish_vision(sim_world *w)
         det[n].yaw_rad = yaw + VISION_SIGMA_YAW_RAD * prng_gauss(&rng);
         n++;
     }
+    if (w->step != vision_step) {
+        vision_n = n;
+        vision_step = w->step;
+    }
     memset(&m, 0, sizeof m);
     m.seq = vision_seq++;
     m.utime = daemon_utime_now();
     m.step = w->step;
-    m.n = (int16_t)n;
+    m.n = (int16_t)vision_n;
     m.workpieces = det;
     tandem_workpiece_detections_t_publish(w->lcm, "VISION_DETECTIONS", &m);
 }
@@ -385,8 +398,10 @@ static void publish_vision(sim_world *w)
 static void wp_after_step(sim_world *w)
 {
     int i;
-    for (i = 0; i < WP_POOL; i++)
+    /* a step announced again: the world has not moved, nothing settles */
+    for (i = 0; i < WP_POOL && w->step != settled_step; i++)
         settle(i);
+    settled_step = w->step;
     if (w->step % VISION_PERIOD_STEPS == 0)
         publish_vision(w);
 }

@@ -12,6 +12,8 @@
  * 3. Left down: a rover killed without restart is taken as gone by its
  *    mates (they stop waiting for its team messages) and the team still
  *    reaches the goal.
+ * 4. Loss is visible: states sent to tandem-arm with a gap of 10 in their
+ *    sequence numbers show up in its HEALTH as 10 lost on ARM1_STATE.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -23,6 +25,8 @@
 #include <string.h>
 #include <unistd.h>
 #include "harness.h"
+#include "tandem_arm_state_t.h"
+#include "tandem_health_t.h"
 
 static char dir[256];
 
@@ -92,12 +96,68 @@ static void test_killed_rover_left_down(void **state)
     assert_non_null(strstr(text, "\"reached_goal\": true"));
 }
 
+typedef struct loss_seen {
+    int64_t lost;
+    double  rate;
+    int     heard;
+} loss_seen;
+
+static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
+{
+    loss_seen *w = u;
+    int i;
+    (void)rb; (void)ch;
+    for (i = 0; i < m->n_channels; i++)
+        if (!strcmp(m->channel[i], "ARM1_STATE")) {
+            w->lost = m->channel_lost[i];
+            w->rate = m->loss_rate;
+            w->heard = 1;
+        }
+}
+
+static void test_loss_visible_in_health(void **state)
+{
+    harness h;
+    loss_seen w;
+    const char *arm[] = { "tandem-arm", "--arm", "1", NULL };
+    tandem_health_t_subscription_t *sub;
+    tandem_arm_state_t s;
+    int64_t seq;
+    int i;
+    (void)state;
+    memset(&w, 0, sizeof w);
+    memset(&s, 0, sizeof s);
+    assert_int_equal(harness_open(&h, 57), 0);
+    sub = tandem_health_t_subscribe(h.lcm, "HEALTH_TANDEM_ARM_1", on_health, &w);
+    assert_true(harness_spawn(&h, arm) > 0);
+    harness_pump(&h, 300);
+    s.arm = 1;
+    s.holding_workpiece = -1;
+    for (seq = 0, i = 0; i < 40; i++, seq++) {
+        if (i == 20)
+            seq += 10;                /* ten states lost on the way */
+        s.seq = seq;
+        s.step = i;
+        s.sim_time_s = i * 1e-3;
+        tandem_arm_state_t_publish(h.lcm, "ARM1_STATE", &s);
+        harness_pump(&h, 2);
+    }
+    for (i = 0; i < 30 && !(w.heard && w.lost > 0); i++)
+        harness_pump(&h, 100);
+    printf("ARM1_STATE lost %lld, loss rate %.3f\n", (long long)w.lost, w.rate);
+    assert_int_equal(w.lost, 10);
+    assert_true(w.rate > 0.1 && w.rate < 0.3);   /* 10 of 50 */
+    tandem_health_t_unsubscribe(h.lcm, sub);
+    harness_close(&h);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_loss_leaves_the_run_unchanged),
         cmocka_unit_test(test_killed_arm_and_supervisor_recover),
         cmocka_unit_test(test_killed_rover_left_down),
+        cmocka_unit_test(test_loss_visible_in_health),
     };
     snprintf(dir, sizeof dir, "/tmp/it_recovery_%d", (int)getpid());
     return cmocka_run_group_tests(tests, NULL, NULL);
