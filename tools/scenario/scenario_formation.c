@@ -92,6 +92,7 @@ typedef struct {
     int64_t last_truth_step;
     char   failed[256];          /* failed success criteria (formation_criteria) */
     int    n_failed;
+    int    lost_lockstep;        /* the simulator dropped us: not the seed's run */
 } fm_t;
 
 static fm_t F;
@@ -578,6 +579,7 @@ static int formation_criteria(char *buf, size_t cap)
         { F.loc_n && !(F.loc_max <= 0.25), "loc_err_max_m" },
         { F.world == ROVER_WORLD_CORRIDOR && F.formation_changes < 2, "formation_changes" },
         { F.world == ROVER_WORLD_DEADZONE && F.escapes < 1, "dead_zone_escapes" },
+        { F.lost_lockstep, "lockstep" },
     };
     return scenario_failed_criteria(k, (int)(sizeof k / sizeof k[0]), buf, cap);
 }
@@ -615,7 +617,7 @@ static void write_summary(double wall_s)
     json_num(&j, "loc_err_max_m", F.loc_n ? F.loc_max : NAN);
     json_num(&j, "sim_time_s", F.sim_time);
     json_num(&j, "wall_time_s", wall_s);
-    json_str(&j, "exit_reason", F.reached ? "completed" : "goal_not_reached");
+    json_str(&j, "exit_reason", F.lost_lockstep ? "lockstep_lost" : F.reached ? "completed" : "goal_not_reached");
     json_str(&j, "failed_criteria", F.failed);
     json_close(&j);
 }
@@ -735,7 +737,14 @@ static int run(int argc, char **argv)
                             "dead-zone escapes %d%s\n", F.sim_time, wall > 0.0 ? F.sim_time / wall : 0.0,
                     F.collisions, F.formation_changes, F.escapes, F.reached ? ", at the goal" : "");
         }
-        if (scenario_wall_s() - wall0 > 20.0 * F.max_time_s + 60.0) {
+        if (F.sim_time > F.max_time_s + 5.0) {
+            /* the world ran past the limit without us: every participant
+             * was dropped (a machine too loaded for --lockstep-timeout-ms) */
+            fprintf(stderr, "formation: the simulator went on without the lockstep participants; giving up\n");
+            F.lost_lockstep = 1;
+            break;
+        }
+                if (scenario_wall_s() - wall0 > 20.0 * F.max_time_s + 60.0) {
             fprintf(stderr, "formation: no progress; giving up\n");
             break;
         }
