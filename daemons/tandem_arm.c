@@ -171,6 +171,11 @@ static int segment_valid(const tandem_action_segment_t *g)
     }
 }
 
+static tandem_action_row_t row_pending;
+static tandem_action_segment_t row_pending_seg[ROW_MAX_SEGMENTS];
+static int have_row_pending;
+static void row_take(daemon *d);
+
 static void on_action(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     daemon *d = u;
@@ -179,7 +184,7 @@ static void on_action(const lcm_recv_buf_t *rb, const char *ch, void *u)
     (void)ch;
     if (!DAEMON_DECODE(&d->msgs, tandem_action_row_t, rb, &r))
         return;
-    ok = action_row_check(&r, C.arm, ROW_MAX_SEGMENTS) == MSG_OK && !C.running;
+    ok = action_row_check(&r, C.arm, ROW_MAX_SEGMENTS) == MSG_OK && !C.running && !have_row_pending;
     for (i = 0; ok && i < r.n_segments; i++)
         ok = segment_valid(&r.segments[i]);
     if (!ok) {
@@ -195,15 +200,30 @@ static void on_action(const lcm_recv_buf_t *rb, const char *ch, void *u)
         tandem_action_row_t_decode_cleanup(&r);
         return;
     }
-    memcpy(C.seg, r.segments, sizeof(r.segments[0]) * (size_t)r.n_segments);
-    C.n_seg = r.n_segments;
-    C.cur_seg = -1;
-    C.action_id = r.action_id;
-    C.transition = r.transition;
-    C.running = 1;
-    cart_row_accept(&r);
-    tdsd_row_accept(&r);
+    row_pending = r;
+    memcpy(row_pending_seg, r.segments, sizeof(r.segments[0]) * (size_t)r.n_segments);
+    row_pending.segments = row_pending_seg;
+    have_row_pending = 1;
     tandem_action_row_t_decode_cleanup(&r);
+    if (!d->lockstep)
+        row_take(d);
+}
+
+/* A valid row starts here: at once in real time, in lockstep at the first
+ * cycle after the step it was sent at (the supervisor answers that step
+ * beside us, so whether it had arrived by then is a race). */
+static void row_take(daemon *d)
+{
+    const tandem_action_row_t *r = &row_pending;
+    have_row_pending = 0;
+    memcpy(C.seg, r->segments, sizeof(r->segments[0]) * (size_t)r->n_segments);
+    C.n_seg = r->n_segments;
+    C.cur_seg = -1;
+    C.action_id = r->action_id;
+    C.transition = r->transition;
+    C.running = 1;
+    cart_row_accept(r);
+    tdsd_row_accept(r);
     publish_event(d, TANDEM_ACTION_EVENT_T_STARTED, "");
 }
 
@@ -307,6 +327,9 @@ static struct {
     int32_t partner_transition, partner_group;
     int64_t partner_step;
     double  partner_s_m, partner_s_f_m;
+    /* the partner's last PROGRESS messages by step: lockstep uses the
+     * newest sent before the step it answers, whatever the arrival order */
+    tandem_action_event_t partner_ring[4];
 } CX;
 
 static void cart_row_accept(const tandem_action_row_t *r)
@@ -328,6 +351,31 @@ static void cart_publish_event(daemon *d, int ev, const char *detail)
     tandem_action_event_t_publish(d->lcm, "ARM_EVENTS", &e);
 }
 
+static void partner_take(const tandem_action_event_t *e)
+{
+    CX.partner_valid = 1;
+    CX.partner_transition = e->transition;
+    CX.partner_group = e->sync_group;
+    CX.partner_step = e->step;
+    CX.partner_s_m = e->s_m;
+    CX.partner_s_f_m = e->s_f_m;
+}
+
+/* Lockstep, at the cycle of step k: the partner's newest progress sent
+ * before k (its progress of step k may or may not have arrived yet). */
+static void partner_at(int64_t k)
+{
+    const tandem_action_event_t *best = NULL;
+    int i;
+    for (i = 0; i < 4; i++) {
+        const tandem_action_event_t *e = &CX.partner_ring[i];
+        if (e->arm != 0 && e->step < k && (!best || e->step > best->step))
+            best = e;
+    }
+    if (best && (!CX.partner_valid || best->step > CX.partner_step))
+        partner_take(best);
+}
+
 static void cart_on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     daemon *d = u;
@@ -344,12 +392,11 @@ static void cart_on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
         if (!isfinite(e.s_m) || !isfinite(e.s_f_m) || e.s_f_m < 0.0 || e.s_m < 0.0 || e.s_m > e.s_f_m + 1e-6) {
             d->msgs.rejected++;
         } else {
-            CX.partner_valid = 1;
-            CX.partner_transition = e.transition;
-            CX.partner_group = e.sync_group;
-            CX.partner_step = e.step;
-            CX.partner_s_m = e.s_m;
-            CX.partner_s_f_m = e.s_f_m;
+            tandem_action_event_t *slot = &CX.partner_ring[(e.step & 3)];
+            *slot = e;
+            slot->detail = NULL;
+            if (!d->lockstep)
+                partner_take(slot);
         }
     }
     tandem_action_event_t_decode_cleanup(&e);
@@ -624,6 +671,10 @@ static void cycle(daemon *d, void *user)
         return;
     }
     d->safe_hold = 0;
+    if (d->lockstep && have_row_pending && row_pending.step < d->pending_step)
+        row_take(d);
+    if (d->lockstep)
+        partner_at(d->pending_step);
     if (joint_fault(d) || tdsd_cycle(d) || cart_cycle(d))
         return;
     memcpy(q_d, C.hold_q, sizeof q_d);

@@ -72,7 +72,7 @@ typedef struct sup_slot {
     int64_t sent_step[2];
 } sup_slot;
 
-/* What an arm last said about itself (any ARM_EVENTS message). */
+/* What an arm last said about itself (its events and idle STATUS). */
 typedef struct arm_view {
     int     heard;
     int64_t step, rx_ns;
@@ -332,10 +332,8 @@ static void on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
     if (e.arm < 1 || e.arm > 2 || e.transition < 0 || e.transition > CARRY_N_TRANSITIONS ||
         !isfinite(e.s_m) || !isfinite(e.s_f_m) || e.action_id < 0 || e.last_done_action_id < 0) {
         d->msgs.rejected++;
-    } else if (e.event == TANDEM_ACTION_EVENT_T_STATUS || e.event == TANDEM_ACTION_EVENT_T_PROGRESS ||
-               e.event == TANDEM_ACTION_EVENT_T_STARTED) {
-        see_arm(&e);
-    } else if (S.n_ev < EVENT_QUEUE) {
+    } else if (e.event != TANDEM_ACTION_EVENT_T_PROGRESS && e.event != TANDEM_ACTION_EVENT_T_STARTED &&
+               S.n_ev < EVENT_QUEUE) {
         S.evq[S.n_ev] = e;
         S.evq[S.n_ev].detail = NULL;
         S.n_ev++;
@@ -556,8 +554,7 @@ static void recover_rows(daemon *d)
                 S.dones_recovered++;
                 printf("[%9.3f] arm %d finished row %d of t%d (its DONE was lost)\n", d->sim_time_s, a + 1, (int)id, t + 1);
                 handle_event_row(d, &e);
-            } else if (!(v->running && v->action_id == id) &&
-                       v->step - S.slot[t].sent_step[a] > ROW_RESEND_STEPS) {
+            } else if (!v->running && v->step - S.slot[t].sent_step[a] > ROW_RESEND_STEPS) {
                 S.rows_reissued++;
                 printf("[%9.3f] arm %d is not running row %d of t%d (restarted, or the row was lost): sending it again\n",
                        d->sim_time_s, a + 1, (int)id, t + 1);
@@ -701,14 +698,28 @@ static void journal_cycle(daemon *d)
 
 /* ---- the cycle ------------------------------------------------------------ */
 
+/* The queued arm events, in arrival order; in lockstep only those sent
+ * before the step this cycle answers (an arm answering the same step may
+ * or may not have been heard yet), the rest wait for the next cycle. */
+static void handle_events(daemon *d)
+{
+    int i, kept = 0;
+    for (i = 0; i < S.n_ev; i++) {
+        if (d->lockstep && S.evq[i].step >= d->pending_step) {
+            S.evq[kept++] = S.evq[i];
+            continue;
+        }
+        handle_event(d, &S.evq[i]);
+    }
+    S.n_ev = kept;
+}
+
 static void cycle(daemon *d, void *user)
 {
     const int per_10hz = (int)(0.1 / d->period_s + 0.5);
-    int i, t, dead;
+    int t, dead;
     (void)user;
-    for (i = 0; i < S.n_ev; i++)
-        handle_event(d, &S.evq[i]);
-    S.n_ev = 0;
+    handle_events(d);
     recover_rows(d);
     take_detection(d);
     for (t = 0; t < CARRY_T_VISION; t++) {
