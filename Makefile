@@ -16,7 +16,7 @@
 CC       ?= cc
 # quiet by default; V=1 shows every command
 Q        := $(if $(V),,@)
-PKGS     := lcm ode ccd
+PKGS     := lcm ode ccd libsodium
 WARN     := -std=c99 -Wall -Wextra -Wpedantic -Werror
 OPT      ?= -O2 -g
 ifeq ($(SAN),1)

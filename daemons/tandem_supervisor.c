@@ -220,7 +220,7 @@ static void send_row(daemon *d, int t, int a)
     row.segments = seg;
     S.slot[t].state[a] = ARM_SLOT_SENT;
     S.slot[t].action_id[a] = row.action_id;
-    tandem_action_row_t_publish(d->lcm, a == 0 ? "ARM1_ACTION" : "ARM2_ACTION", &row);
+    AUTH_PUBLISH(tandem_action_row_t, d->lcm, a == 0 ? "ARM1_ACTION" : "ARM2_ACTION", &row);
     printf("[%9.3f] t%d %-46s row %d -> arm %d\n", d->sim_time_s, t + 1, "", (int)row.action_id, a + 1);
 }
 
@@ -423,7 +423,7 @@ static void publish_marking(daemon *d)
     m.stalls = S.stall.stalls;
     m.arms_faulted = (int8_t)S.arms_faulted;
     m.faults = S.faults;
-    tandem_petri_marking_t_publish(d->lcm, "PETRI_MARKING", &m);
+    AUTH_PUBLISH(tandem_petri_marking_t, d->lcm, "PETRI_MARKING", &m);
 }
 
 /* ---- watchdogs ---------------------------------------------------------------- */
@@ -542,6 +542,7 @@ int main(int argc, char **argv)
     if (petri_init(&S.net, &carry_net) != 0 || stallwatch_init(&S.stall, stall_s) != 0)
         return 1;
     fflush(stdout);
+    auth_bus_identity(AUTH_ROLE_SUPERVISOR, 0, 0);
     if (daemon_start(&d) != 0)
         return 1;
     daemon_subscribe(&d, "ARM_EVENTS", on_event, &d);

@@ -379,7 +379,7 @@ static void publish_vision(sim_world *w)
     m.step = w->step;
     m.n = (int16_t)n;
     m.workpieces = det;
-    tandem_workpiece_detections_t_publish(w->lcm, "VISION_DETECTIONS", &m);
+    AUTH_PUBLISH(tandem_workpiece_detections_t, w->lcm, "VISION_DETECTIONS", &m);
 }
 
 static void wp_after_step(sim_world *w)

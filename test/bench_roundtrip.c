@@ -18,6 +18,7 @@
 #include <time.h>
 #include <unistd.h>
 #include <lcm/lcm.h>
+#include "auth_bus.h"
 #include "loopstats.h"
 #include "rtloop.h"
 #include "tandem_arm_command_t.h"
@@ -84,8 +85,8 @@ static int tandem_exchange(lcm_t *l, tandem_arm_state_t *st, tandem_sim_clock_t 
     clk->sim_time_s = st->sim_time_s;
     got = 0;
     t0 = rtloop_now_ns();
-    tandem_arm_state_t_publish(l, "ARM1_STATE", st);
-    tandem_sim_clock_t_publish(l, "SIM_CLOCK", clk);
+    AUTH_PUBLISH(tandem_arm_state_t, l, "ARM1_STATE", st);
+    AUTH_PUBLISH(tandem_sim_clock_t, l, "SIM_CLOCK", clk);
     if (wait_reply(l) != 0)
         return -1;
     if (s)

@@ -16,9 +16,26 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+static int harness_key(void)
+{
+    static int ready;
+    char path[600];
+    if (ready)
+        return 0;
+    if (auth_bus_ephemeral_key(path, sizeof path) != 0)
+        return -1;
+    auth_bus_sign_as_owner();
+    if (auth_bus_start("harness") != 0)
+        return -1;
+    ready = 1;
+    return 0;
+}
+
 int harness_open(harness *h, int port_offset)
 {
     memset(h, 0, sizeof *h);
+    if (harness_key() != 0)
+        return -1;
     proc_init(&h->procs, NULL);
     snprintf(h->url, sizeof h->url, "udpm://239.255.76.67:%d?ttl=0",
              20000 + (int)(getpid() % 20000) + port_offset);
@@ -115,5 +132,5 @@ void harness_send_joint_row(harness *h, int arm, int action_id, const double q[6
     row.n_segments = 1;
     row.segments = &seg;
     snprintf(ch, sizeof ch, "ARM%d_ACTION", arm);
-    tandem_action_row_t_publish(h->lcm, ch, &row);
+    AUTH_PUBLISH(tandem_action_row_t, h->lcm, ch, &row);
 }

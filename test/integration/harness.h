@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <sys/types.h>
 #include <lcm/lcm.h>
+#include "auth_bus.h"
 #include "proc.h"
 
 typedef struct harness {
@@ -14,7 +15,11 @@ typedef struct harness {
     proc_set procs;          /* the daemons under test (daemons/common/proc.h) */
 } harness;
 
-/* Private udpm port per test process so parallel tests never cross-talk. */
+/* Private udpm port per test process so parallel tests never cross-talk.
+ * The first call also makes a bus key for this test alone
+ * (auth_bus_ephemeral_key: the daemons it starts inherit it through
+ * $TANDEM_KEY_FILE) and lets the test sign every message as its channel's
+ * owner, as the daemons it stands in for would. */
 int   harness_open(harness *h, int port_offset);
 /* argv[0] is a program name under build/bin (e.g. "tandem-sim"); NULL-terminated.
  * stdout of the child is captured (read with harness_read_output). */

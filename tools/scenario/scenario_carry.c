@@ -263,7 +263,7 @@ static void send_control(int cmd, int arm, int link)
     c.link = link;
     c.length_m = cmd == TANDEM_SIM_CONTROL_T_INSERT_STICK ? 0.3 : 0.0;
     c.radius_m = cmd == TANDEM_SIM_CONTROL_T_INSERT_STICK ? 0.02 : 0.0;
-    tandem_sim_control_t_publish(R.lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, R.lcm, "SIM_CONTROL", &c);
 }
 
 static void ack(int64_t step, int leaving)
@@ -439,12 +439,12 @@ static int run_once(const run_cfg *c, run_result *res)
         fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", url);
         return -1;
     }
-    lcm_subscribe(R.lcm, "SIM_CLOCK", on_clock, NULL);
-    lcm_subscribe(R.lcm, "ARM1_STATE", on_arm, NULL);
-    lcm_subscribe(R.lcm, "ARM2_STATE", on_arm, NULL);
-    lcm_subscribe(R.lcm, "ARM_EVENTS", on_event, NULL);
-    lcm_subscribe(R.lcm, "PETRI_MARKING", on_marking, NULL);
-    lcm_subscribe(R.lcm, "SIM_STATUS", on_status, NULL);
+    auth_bus_subscribe(R.lcm, "SIM_CLOCK", on_clock, NULL);
+    auth_bus_subscribe(R.lcm, "ARM1_STATE", on_arm, NULL);
+    auth_bus_subscribe(R.lcm, "ARM2_STATE", on_arm, NULL);
+    auth_bus_subscribe(R.lcm, "ARM_EVENTS", on_event, NULL);
+    auth_bus_subscribe(R.lcm, "PETRI_MARKING", on_marking, NULL);
+    auth_bus_subscribe(R.lcm, "SIM_STATUS", on_status, NULL);
     proc_init(&ps, NULL);
     {
         const char *const names[4] = { "sim", "arm1", "arm2", "supervisor" };
