@@ -209,10 +209,11 @@ int auth_sender_check(const auth_sender *s)
 
 /* ---- replay ------------------------------------------------------------------ */
 
-void auth_replay_init(auth_replay *r, int64_t window_us)
+void auth_replay_init(auth_replay *r, int64_t window_us, uint64_t start_us)
 {
     memset(r, 0, sizeof *r);
     r->window_us = window_us;
+    r->oldest_us = start_us > (uint64_t)AUTH_START_SLACK_US ? start_us - (uint64_t)AUTH_START_SLACK_US : 0;
 }
 
 uint64_t auth_channel_hash(const char *channel)
@@ -250,7 +251,8 @@ int auth_replay_check(auth_replay *r, const auth_sender *s, uint64_t channel_has
     const size_t base = set_of(s, channel_hash);
     auth_stream *victim = &r->slot[base];
     size_t i;
-    if (!within_window(counter, now_us, r->window_us))
+    /* LCM has no history: nothing sent before we started is news */
+    if (!within_window(counter, now_us, r->window_us) || counter < r->oldest_us)
         return AUTH_ERR_REPLAY;
     for (i = base; i < base + AUTH_REPLAY_WAYS; i++) {
         auth_stream *e = &r->slot[i];

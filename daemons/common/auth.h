@@ -25,10 +25,12 @@
  * viewer and lcm-logger files still decode.
  *
  * Replay: a receiver keeps the last counter per (sender, session,
- * channel) and takes a message only with a larger counter and within
- * AUTH_WINDOW_US of its own clock (so a message captured and sent again
- * later, or after the receiver restarted, is refused, while a restarted
- * sender, whose counter is its clock, is taken at once).
+ * channel) and takes a message only with a larger counter, within
+ * AUTH_WINDOW_US of its own clock, and not signed before the receiver
+ * itself started (less AUTH_START_SLACK_US for clocks of other hosts): a
+ * message captured and sent again later, or to a restarted receiver, is
+ * refused, while a restarted sender, whose counter is its clock, is taken
+ * at once.
  *
  * This module is the daemon layer's: it needs libsodium, which the core
  * (src/, built for the 68040) never sees. auth_bus.h is the process-wide
@@ -48,6 +50,8 @@
 #define AUTH_CHANNEL_MAX    63          /* LCM's channel name limit */
 #define AUTH_MAX_KEYS       2           /* the current key and, while rotating, the previous one */
 #define AUTH_WINDOW_US      60000000LL  /* a counter this far from the local clock is refused */
+#define AUTH_START_SLACK_US 2000000LL   /* how much older than the receiver a message may be:
+                                           the clock difference allowed between hosts */
 #define AUTH_REPLAY_SLOTS   1024        /* (sender, channel) streams remembered */
 #define AUTH_REPLAY_WAYS    8           /* a stream lives in one set of this many slots */
 
@@ -144,13 +148,15 @@ typedef struct auth_stream {
 typedef struct auth_replay {
     auth_stream slot[AUTH_REPLAY_SLOTS];
     int64_t     window_us;
+    uint64_t    oldest_us;     /* the receiver's start less AUTH_START_SLACK_US */
 } auth_replay;
 
-void     auth_replay_init(auth_replay *r, int64_t window_us);
+/* A receiver started at start_us (its wall clock, microseconds). */
+void     auth_replay_init(auth_replay *r, int64_t window_us, uint64_t start_us);
 uint64_t auth_channel_hash(const char *channel);
 /* Accepts (AUTH_OK, and remembers the counter) a counter within window of
- * now_us that is larger than the last one of its stream; AUTH_ERR_REPLAY
- * otherwise (the table is left as it was). */
+ * now_us, not older than the receiver, and larger than the last one of its
+ * stream; AUTH_ERR_REPLAY otherwise (the table is left as it was). */
 int      auth_replay_check(auth_replay *r, const auth_sender *s, uint64_t channel_hash,
                            uint64_t counter, uint64_t now_us);
 /* The next counter of a sender: now_us, or one more than the last if the

@@ -60,8 +60,9 @@ int  auth_bus_option(const char *prog, int opt, const char *arg);
 void auth_bus_identity(int role, int first, int last);
 /* A process standing in for several publishers (integration tests, the
  * round-trip bench) signs each message as its channel's owner
- * (auth_acl_owner) -- what any key holder can do. */
-void auth_bus_sign_as_owner(void);
+ * (auth_acl_owner) -- what any key holder can do. 0: as its own identity
+ * again. */
+void auth_bus_sign_as_owner(int on);
 /* Loads the key(s) the options and environment name and prints the
  * --insecure warning; 0, or -1 after printing why (then exit 1). */
 int  auth_bus_start(const char *prog);

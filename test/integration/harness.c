@@ -24,7 +24,7 @@ static int harness_key(void)
         return 0;
     if (auth_bus_ephemeral_key(path, sizeof path) != 0)
         return -1;
-    auth_bus_sign_as_owner();
+    auth_bus_sign_as_owner(1);
     if (auth_bus_start("harness") != 0)
         return -1;
     ready = 1;

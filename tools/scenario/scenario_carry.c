@@ -95,6 +95,7 @@ typedef struct run_cfg {
     double max_sim_s;
     const char *out;
     const char *tag;           /* "run" or "serial": log names */
+    const char *url;           /* --lcm-url, or NULL: a private udpm port */
     const char *block_detect;  /* tandem-arm --block-detect on|off */
     const char *stall_s;       /* tandem-supervisor --stall-s */
     uint64_t seed;
@@ -433,7 +434,10 @@ static int run_once(const run_cfg *c, run_result *res)
     res->exit_reason = "completed";
     snprintf(nbuf, sizeof nbuf, "%d", c->workpieces);
     snprintf(sbuf, sizeof sbuf, "%llu", (unsigned long long)c->seed);
-    snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", 30000 + (int)(getpid() % 20000) + (c->serial ? 1 : 0));
+    if (c->url)
+        snprintf(url, sizeof url, "%s", c->url);
+    else
+        snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", 30000 + (int)(getpid() % 20000) + (c->serial ? 1 : 0));
     R.lcm = lcm_create(url);
     if (!R.lcm) {
         fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", url);
@@ -550,7 +554,7 @@ static void usage(FILE *f)
     fprintf(f, "usage: tandem-scenario carry [--workpieces N] [--controller event|time]\n"
                "         [--block ARM:LINK:START_S:DURATION_S[:t3]]... [--random-blocks K]\n"
                "         [--seed S] [--no-serial] [--serial-workpieces M]\n"
-               "         [--block-detect on|off] [--stall-s S] --out DIR\n"
+               "         [--block-detect on|off] [--stall-s S] [--lcm-url URL] --out DIR\n"
                "Two-arm carry in lockstep with the stick pushed into the arms (SPEC 2.6).\n"
                "  --workpieces N        workpieces to carry (default 3)\n"
                "  --controller C        event (default) or time (the time-referenced baseline)\n"
@@ -570,6 +574,7 @@ static void usage(FILE *f)
                "10 ms contact force <= 1000 N, resumed within 1 s of every removal, no\n"
                "stall, no invariant violation or deadlock, completed); 3 otherwise, with\n"
                "the failed criteria on the last line; 1 on errors, 2 on bad options.\n"
+               "  --lcm-url URL         bus of the run (default: a private udpm port)\n"
                "  --out DIR             output directory (required)\n");
 }
 
@@ -691,6 +696,7 @@ static int run(int argc, char **argv)
         { "block-detect", required_argument, 0, 'B' },
         { "stall-s", required_argument, 0, 'L' },
         { "out", required_argument, 0, 'o' },
+        { "lcm-url", required_argument, 0, 'U' },
         { "help", no_argument, 0, 'h' },
         { 0, 0, 0, 0 }
     };
@@ -771,6 +777,13 @@ static int run(int argc, char **argv)
             }
             break;
         case 'o': cfg.out = optarg; break;
+        case 'U':
+            if (!optarg[0] || strlen(optarg) >= 96) {
+                fprintf(stderr, "tandem-scenario carry: --lcm-url: '%s' is empty or too long\n", optarg);
+                return 2;
+            }
+            cfg.url = optarg;
+            break;
         case 'h': usage(stdout); return 0;
         default: usage(stderr); return 2;
         }
