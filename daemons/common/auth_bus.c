@@ -11,6 +11,10 @@
 #include "tandem_health_t.h"
 
 #define AUTH_BUS_MAX_SUBS 64
+/* Messages are checked when LCM dispatches them, after its per-subscription
+ * queue (30 by default, the rest dropped silently): forged messages must
+ * not be able to push real ones out of it. */
+#define AUTH_BUS_QUEUE_CAPACITY 100000
 
 typedef struct bus_sub {
     lcm_msg_handler_t handler;
@@ -376,21 +380,25 @@ static void sub_trampoline(const lcm_recv_buf_t *rb, const char *channel, void *
 
 lcm_subscription_t *auth_bus_subscribe(lcm_t *lcm, const char *channel, lcm_msg_handler_t handler, void *user)
 {
+    lcm_subscription_t *sub;
     bus_sub *s = NULL;
     int i;
     for (i = 0; i < B.n_subs && !s; i++)   /* a run repeated in one process subscribes again */
         if (B.subs[i].handler == handler && B.subs[i].user == user)
             s = &B.subs[i];
-    if (s)
-        return lcm_subscribe(lcm, channel, sub_trampoline, s);
-    if (B.n_subs >= AUTH_BUS_MAX_SUBS) {
-        fprintf(stderr, "tandem: more than %d checked subscriptions\n", AUTH_BUS_MAX_SUBS);
-        return NULL;
+    if (!s) {
+        if (B.n_subs >= AUTH_BUS_MAX_SUBS) {
+            fprintf(stderr, "tandem: more than %d checked subscriptions\n", AUTH_BUS_MAX_SUBS);
+            return NULL;
+        }
+        s = &B.subs[B.n_subs++];
+        s->handler = handler;
+        s->user = user;
     }
-    s = &B.subs[B.n_subs++];
-    s->handler = handler;
-    s->user = user;
-    return lcm_subscribe(lcm, channel, sub_trampoline, s);
+    sub = lcm_subscribe(lcm, channel, sub_trampoline, s);
+    if (sub)
+        lcm_subscription_set_queue_capacity(sub, AUTH_BUS_QUEUE_CAPACITY);
+    return sub;
 }
 
 const auth_bus_counts *auth_bus_counts_get(void)

@@ -94,7 +94,9 @@ int  auth_bus_publish_raw(lcm_t *lcm, const char *channel, const void *buf, int 
  * refusal (counted). With --insecure every message passes (a trailer, if
  * any, stripped). */
 int  auth_bus_accept(const lcm_recv_buf_t *rb, const char *channel, lcm_recv_buf_t *body);
-/* lcm_subscribe through auth_bus_accept and wire_check (for tools). */
+/* lcm_subscribe through auth_bus_accept and wire_check (for tools), with
+ * a deep queue as daemon_subscribe's (forged messages wait in LCM's queue
+ * before they are checked and must not push real ones out). */
 lcm_subscription_t *auth_bus_subscribe(lcm_t *lcm, const char *channel, lcm_msg_handler_t handler, void *user);
 const auth_bus_counts *auth_bus_counts_get(void);
 int64_t auth_bus_rejected_total(void);

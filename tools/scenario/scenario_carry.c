@@ -120,6 +120,7 @@ typedef struct run_result {
 static struct {
     lcm_t   *lcm;
     int64_t  pending;            /* step to answer, -1 none */
+    int64_t  handled;            /* last step recorded, -1 none */
     double   t_s;
     tandem_arm_state_t arm[2];
     int      have_arm[2];
@@ -428,7 +429,7 @@ static int run_once(const run_cfg *c, run_result *res)
     double next_progress = wall0 + PROGRESS_EVERY_S;
     memset(res, 0, sizeof *res);
     memset(&R, 0, sizeof R);
-    R.pending = -1;
+    R.pending = R.handled = -1;
     R.last_event[0] = R.last_event[1] = TANDEM_ACTION_EVENT_T_DONE;   /* idle until a row starts */
     R.unblocked_step[0] = R.unblocked_step[1] = R.done_step[0] = R.done_step[1] = -1;
     res->exit_reason = "completed";
@@ -494,6 +495,15 @@ static int run_once(const run_cfg *c, run_result *res)
         }
         if (R.pending < 0)
             continue;
+        if (R.pending == R.handled) {
+            /* the simulator announced the step again (an answer was late or
+             * lost): answer again, but record and measure it only once, so
+             * the results do not depend on the machine's timing */
+            ack(R.pending, 0);
+            R.pending = -1;
+            continue;
+        }
+        R.handled = R.pending;
         if (!c->serial)
             block_step();
         record_step(R.pending);
