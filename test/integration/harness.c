@@ -8,6 +8,7 @@
 #include "daemon.h"
 #include "tandem_action_row_t.h"
 #include "tandem_clock_ack_t.h"
+#include "tandem_health_t.h"
 
 static double now_s(void)
 {
@@ -86,6 +87,66 @@ void harness_close(harness *h)
     if (h->lcm)
         lcm_destroy(h->lcm);
     h->lcm = NULL;
+}
+
+static harness_health *health_slot(harness *h, const char *name)
+{
+    int i;
+    for (i = 0; i < h->n_health; i++)
+        if (!strcmp(h->health[i].name, name))
+            return &h->health[i];
+    if (h->n_health == HARNESS_MAX_HEALTH)
+        return NULL;
+    snprintf(h->health[h->n_health].name, sizeof h->health[0].name, "%s", name);
+    return &h->health[h->n_health++];
+}
+
+static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
+{
+    harness_health *d = health_slot(u, m->name);
+    (void)rb; (void)ch;
+    if (!d)
+        return;
+    d->pid = m->pid;
+    d->auth_on = m->auth_on;
+    d->refused[0] = m->auth_unsigned;
+    d->refused[1] = m->auth_bad_mac;
+    d->refused[2] = m->auth_unknown_sender;
+    d->refused[3] = m->auth_replayed;
+    d->refused[4] = m->auth_unauthorised;
+    d->msgs_rejected = m->msgs_rejected;
+    d->msgs_lost = m->msgs_lost;
+}
+
+AUTH_TYPED_HANDLER(tandem_health_t, raw_on_health, on_health)
+
+void harness_watch_health(harness *h)
+{
+    auth_bus_subscribe(h->lcm, "HEALTH_.*", raw_on_health, h);
+}
+
+harness_health harness_health_of(harness *h, const char *name)
+{
+    harness_health none;
+    int i;
+    for (i = 0; i < h->n_health; i++)
+        if (!strcmp(h->health[i].name, name))
+            return h->health[i];
+    memset(&none, 0, sizeof none);
+    return none;
+}
+
+int64_t harness_refused(const harness_health *d)
+{
+    return d->refused[0] + d->refused[1] + d->refused[2] + d->refused[3] + d->refused[4];
+}
+
+void harness_print_refused(const harness_health *d)
+{
+    printf("  %-18s refused %6lld: unsigned %lld, bad MAC %lld, unknown sender %lld, replayed %lld, "
+           "not allowed %lld (lost on the way in: %lld)\n", d->name, (long long)harness_refused(d),
+           (long long)d->refused[0], (long long)d->refused[1], (long long)d->refused[2], (long long)d->refused[3],
+           (long long)d->refused[4], (long long)d->msgs_lost);
 }
 
 void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps)
