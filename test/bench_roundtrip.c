@@ -14,6 +14,9 @@
  * The three kinds of exchange alternate, so all see the same load.
  * Prints p50 / p99 / max in microseconds over N exchanges, and first the
  * cost of signing and of checking one message of each size.
+ *   bench_roundtrip [N [BIN_DIR]]
+ *   bench_roundtrip auth N   only the signing and checking, N messages of
+ *                            each size (for instruction counts: callgrind)
  */
 #include <signal.h>
 #include <stdio.h>
@@ -137,11 +140,10 @@ static double wall_s(void)
 
 /* Microseconds per auth_sign and per auth_verify + the channel table +
  * the replay table (the receive check) of a body_len-byte message. */
-static void time_sign_verify(const char *channel, int body_len)
+static void time_sign_verify(const char *channel, int body_len, int reps)
 {
     static uint8_t buf[1024];
     static auth_replay replay;
-    const int reps = 100000;
     auth_keyring ring;
     auth_sender s;
     auth_trailer t;
@@ -187,10 +189,20 @@ static pid_t start_arm(const char *path, const char *url, int insecure)
     return pid;
 }
 
+/* ARM1_STATE, ARM1_COMMAND and SIM_CLOCK as the simulator and an arm send them. */
+static void time_auth(int reps, int state_size, int cmd_size, int clock_size)
+{
+    printf("authentication (keyed BLAKE2b-128, libsodium), %d messages each, one core:\n", reps);
+    time_sign_verify("ARM1_STATE", state_size, reps);
+    time_sign_verify("ARM1_COMMAND", cmd_size, reps);
+    time_sign_verify("SIM_CLOCK", clock_size, reps);
+}
+
 int main(int argc, char **argv)
 {
-    const int n = argc > 1 ? atoi(argv[1]) : 10000;
-    const char *bin = argc > 2 ? argv[2] : "build/bin";
+    const int auth_only = argc > 2 && strcmp(argv[1], "auth") == 0;
+    const int n = auth_only ? atoi(argv[2]) : argc > 1 ? atoi(argv[1]) : 10000;
+    const char *bin = !auth_only && argc > 2 ? argv[2] : "build/bin";
     char url_ins[96], url_sec[96], path[512], key[600];
     lcm_t *l_ins, *l_sec;
     pid_t echo_pid, arm_ins, arm_sec;
@@ -218,10 +230,9 @@ int main(int argc, char **argv)
     clk.mode = TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP;
     clock_size = tandem_sim_clock_t_encoded_size(&clk);
 
-    printf("authentication (keyed BLAKE2b-128, libsodium), %d messages each, one core:\n", 100000);
-    time_sign_verify("ARM1_STATE", state_size);
-    time_sign_verify("ARM1_COMMAND", cmd_size);
-    time_sign_verify("SIM_CLOCK", clock_size);
+    time_auth(auth_only ? n : 100000, state_size, cmd_size, clock_size);
+    if (auth_only)
+        return 0;
 
     echo_pid = fork();
     if (echo_pid == 0) {

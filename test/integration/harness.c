@@ -1,8 +1,11 @@
 /* harness: child daemons on a private LCM bus (see harness.h). */
 #include "harness.h"
+#include <dirent.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 #include "daemon.h"
@@ -44,9 +47,92 @@ int harness_open(harness *h, int port_offset)
     return h->lcm ? 0 : -1;
 }
 
+/* Every child started, so none outlives a test that failed before its
+ * harness_close (cmocka leaves the test function on a failed assert). */
+#define HARNESS_MAX_SPAWNED 512
+static pid_t spawned[HARNESS_MAX_SPAWNED];
+static int n_spawned;
+
+/* 1 if pid is our child and still running (a pid already reaped is not
+ * our child any more: ECHILD, left alone). */
+static int running_child(pid_t pid)
+{
+    return waitpid(pid, NULL, WNOHANG) == 0;
+}
+
+/* The parent of process pid (from /proc), -1 if there is none. */
+static int parent_of(long pid)
+{
+    char path[64], buf[512], *p;
+    FILE *f;
+    int ppid = -1;
+    snprintf(path, sizeof path, "/proc/%ld/stat", pid);
+    if (!(f = fopen(path, "r")))
+        return -1;
+    p = fgets(buf, sizeof buf, f) ? strrchr(buf, ')') : NULL;   /* the name may hold spaces */
+    fclose(f);
+    if (!p || sscanf(p + 1, " %*c %d", &ppid) != 1)
+        return -1;
+    return ppid;
+}
+
+/* The processes whose parent is pid; up to cap. */
+static int children_of(pid_t pid, pid_t *out, int cap)
+{
+    DIR *d = opendir("/proc");
+    struct dirent *e;
+    int n = 0;
+    while (d && n < cap && (e = readdir(d)) != NULL) {
+        const long p = atol(e->d_name);
+        if (p > 0 && parent_of(p) == (int)pid)
+            out[n++] = (pid_t)p;
+    }
+    if (d)
+        closedir(d);
+    return n;
+}
+
+static void kill_leftovers(void)
+{
+    pid_t grand[256];
+    int i, k, left = 0, n_grand = 0;
+    for (i = 0; i < n_spawned; i++)
+        if (running_child(spawned[i])) {
+            /* a scenario's daemons: found now, while they are still its children */
+            n_grand += children_of(spawned[i], grand + n_grand, 256 - n_grand);
+            kill(spawned[i], SIGTERM);   /* a scenario stops its own daemons */
+            left++;
+        }
+    for (k = 0; k < 30 && left > 0; k++) {
+        struct timespec ts = { 0, 100000000L };
+        nanosleep(&ts, NULL);
+        for (i = 0, left = 0; i < n_spawned; i++)
+            left += running_child(spawned[i]);
+    }
+    for (i = 0; i < n_spawned; i++)
+        if (running_child(spawned[i])) {
+            kill(spawned[i], SIGKILL);
+            waitpid(spawned[i], NULL, 0);
+        }
+    for (i = 0; i < n_grand; i++)
+        if (parent_of(grand[i]) == 1)   /* our grandchild left behind (reparented to init) */
+            kill(grand[i], SIGKILL);
+}
+
+void harness_track_child(pid_t pid)
+{
+    if (pid <= 0 || n_spawned == HARNESS_MAX_SPAWNED)
+        return;
+    if (n_spawned == 0)
+        atexit(kill_leftovers);
+    spawned[n_spawned++] = pid;
+}
+
 pid_t harness_spawn(harness *h, const char *const argv[])
 {
-    return proc_spawn(&h->procs, argv, h->url, NULL, NULL);
+    const pid_t pid = proc_spawn(&h->procs, argv, h->url, NULL, NULL);
+    harness_track_child(pid);
+    return pid;
 }
 
 int harness_wait(harness *h, pid_t pid, double timeout_s)

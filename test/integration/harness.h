@@ -35,6 +35,9 @@ int   harness_open(harness *h, int port_offset);
 /* argv[0] is a program name under build/bin (e.g. "tandem-sim"); NULL-terminated.
  * stdout of the child is captured (read with harness_read_output). */
 pid_t harness_spawn(harness *h, const char *const argv[]);
+/* Children started otherwise (fork) that must not outlive the test: killed
+ * at exit if still running (harness_spawn does this for its own). */
+void  harness_track_child(pid_t pid);
 /* Waits for the child to exit within timeout_s; returns its exit status or -1. */
 int   harness_wait(harness *h, pid_t pid, double timeout_s);
 /* Reads all captured stdout of child pid into buf (NUL terminated). */

@@ -341,6 +341,7 @@ static pid_t start_attacker(char (*bus_url)[160], int n, const char *key)
         execl(self, "it_secure", "--attack", key, urls[0], n > 1 ? urls[1] : NULL, (char *)NULL);
         _exit(127);
     }
+    harness_track_child(pid);
     if (pid > 0 && netns) {
         if (read(ready[0], &c, 1) != 1 || sh("ip link set ta0 netns %d", (int)pid) != 0 || write(go[1], &c, 1) != 1) {
             kill(pid, SIGKILL);

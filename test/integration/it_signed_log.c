@@ -125,6 +125,7 @@ static int record(void **state)
     if (harness_open(&h, 15) != 0)
         return -1;
     logger = start_logger(h.url);
+    harness_track_child(logger);
     harness_pump(&h, 300);
     ps = harness_spawn(&h, sim);
     harness_pump(&h, 300);
