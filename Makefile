@@ -17,7 +17,7 @@
 CC       ?= cc
 # quiet by default; V=1 shows every command
 Q        := $(if $(V),,@)
-PKGS     := lcm ode ccd
+PKGS     := lcm ode ccd libsodium
 WARN     := -std=c99 -Wall -Wextra -Wpedantic -Werror
 OPT      ?= -O2 -g
 ifeq ($(SAN),1)
@@ -64,6 +64,9 @@ PROGS      := $(patsubst daemons/tandem_%.c,$(BIN)/tandem-%,$(DAEMON_SRC)) \
               $(BIN)/tandem-sim $(if $(SCEN_NAMES),$(BIN)/tandem-scenario)
 UNIT_SRC   := $(wildcard test/test_*.c)
 UNIT_BIN   := $(patsubst test/%.c,$(BIN)/%,$(UNIT_SRC))
+# unit tests of the daemon layer (daemons/common): host only, never cross-built
+DUNIT_SRC  := $(wildcard test/common/test_*.c)
+DUNIT_BIN  := $(patsubst test/common/%.c,$(BIN)/%,$(DUNIT_SRC))
 IT_SRC     := $(wildcard test/integration/it_*.c)
 IT_BIN     := $(patsubst test/integration/%.c,$(BIN)/%,$(IT_SRC))
 BENCH_SRC  := $(wildcard test/bench_*.c)
@@ -71,7 +74,7 @@ BENCH_BIN  := $(patsubst test/%.c,$(BIN)/%,$(BENCH_SRC))
 TYPES_JAR  := build/lib/tandem_types.jar
 
 .PHONY: all run test unit integration bench spy clean deps deps-bench deps-cross jar fuzz multihost-test
-all: $(PROGS) $(UNIT_BIN) $(IT_BIN) $(TYPES_JAR)
+all: $(PROGS) $(UNIT_BIN) $(DUNIT_BIN) $(IT_BIN) $(TYPES_JAR)
 
 # make cross, make test-cross, make budget: the core on a 68040 and a Cortex-M4
 include cross/cross.mk
@@ -168,6 +171,14 @@ $(BIN)/test_%: $(OBJ)/test/test_%.o $(DLIBS)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CC    $@';) true
 	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(CMOCKA_LIBS) $(LDLIBS)
+$(OBJ)/dtest/%.o: test/common/%.c $(GEN_STAMP)
+	@mkdir -p $(@D)
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
+$(BIN)/test_%: $(OBJ)/dtest/test_%.o $(DLIBS)
+	@mkdir -p $(@D)
+	@$(if $(Q),echo '  CC    $@';) true
+	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(CMOCKA_LIBS) $(LDLIBS)
 $(OBJ)/it/%.o: test/integration/%.c $(GEN_STAMP)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CC    $@';) true
@@ -181,8 +192,8 @@ $(BIN)/bench_%: $(OBJ)/test/bench_%.o $(DLIBS)
 	@$(if $(Q),echo '  CC    $@';) true
 	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(LDLIBS)
 
-unit: $(UNIT_BIN)
-	@tools/run-tests.sh unit $(BIN) $(UNIT_BIN)
+unit: $(UNIT_BIN) $(DUNIT_BIN)
+	@tools/run-tests.sh unit $(BIN) $(UNIT_BIN) $(DUNIT_BIN)
 integration: $(PROGS) $(IT_BIN)
 	@tools/run-tests.sh integration $(BIN) $(IT_BIN)
 

@@ -117,7 +117,7 @@ static void publish_event(daemon *d, int ev, const char *detail)
 {
     tandem_action_event_t e;
     event_fill(&e, ev, detail);
-    tandem_action_event_t_publish(d->lcm, "ARM_EVENTS", &e);
+    AUTH_PUBLISH(tandem_action_event_t, d->lcm, "ARM_EVENTS", &e);
 }
 
 /* ---- inputs --------------------------------------------------------------- */
@@ -348,7 +348,7 @@ static void cart_publish_event(daemon *d, int ev, const char *detail)
     e.s_m = CX.s_m;
     e.s_f_m = CX.s_f_m;
     e.s_norm = CX.k > 0.0 ? CX.s_m / CX.k : CX.s_m;
-    tandem_action_event_t_publish(d->lcm, "ARM_EVENTS", &e);
+    AUTH_PUBLISH(tandem_action_event_t, d->lcm, "ARM_EVENTS", &e);
 }
 
 static void partner_take(const tandem_action_event_t *e)
@@ -605,7 +605,7 @@ static void send_command(daemon *d, int mode, const double tau[ARM_NJ])
     if (tau)
         memcpy(c.tau_Nm, tau, sizeof c.tau_Nm);
     c.gripper = (int8_t)C.gripper;
-    tandem_arm_command_t_publish(d->lcm, C.cmd_ch, &c);
+    AUTH_PUBLISH(tandem_arm_command_t, d->lcm, C.cmd_ch, &c);
     C.gripper = TANDEM_ARM_COMMAND_T_GRIP_KEEP;
 }
 
@@ -773,6 +773,7 @@ int main(int argc, char **argv)
     snprintf(C.state_ch, sizeof C.state_ch, "ARM%d_STATE", C.arm);
     snprintf(C.cmd_ch, sizeof C.cmd_ch, "ARM%d_COMMAND", C.arm);
     snprintf(C.action_ch, sizeof C.action_ch, "ARM%d_ACTION", C.arm);
+    auth_bus_identity(AUTH_ROLE_ARM, C.arm, C.arm);
     if (daemon_start(&d) != 0)
         return 1;
     daemon_subscribe(&d, "ARM_EVENTS", cart_on_event, &d);

@@ -515,7 +515,7 @@ static void publish_team(hosted *h, const rover_ctl_out_t *o, int64_t step, int6
     t.announce_seq = o->team.announce_seq;
     t.goal_m[0] = h->c.goal_m[0];
     t.goal_m[1] = h->c.goal_m[1];
-    tandem_team_msg_t_publish(D.lcm, "TEAM", &t);
+    AUTH_PUBLISH(tandem_team_msg_t, D.lcm, "TEAM", &t);
     h->last_team = t;
 }
 
@@ -562,14 +562,14 @@ static void publish_outbox(struct outbox *o)
         BATCH_HEADER(bs, o->batch_seq, o->utime, o->step, o->n);
         bc.cmd = o->cmd;
         bs.state = o->st;
-        tandem_rovers_command_t_publish(D.lcm, "ROVERS_COMMAND", &bc);
-        tandem_rovers_state_t_publish(D.lcm, "ROVERS_STATE", &bs);
+        AUTH_PUBLISH(tandem_rovers_command_t, D.lcm, "ROVERS_COMMAND", &bc);
+        AUTH_PUBLISH(tandem_rovers_state_t, D.lcm, "ROVERS_STATE", &bs);
         return;
     }
     for (i = 0; i < o->n; i++) {
         hosted *h = find_hosted(o->cmd[i].robot);
-        tandem_rover_command_t_publish(D.lcm, h->ch_cmd, &o->cmd[i]);
-        tandem_rover_state_t_publish(D.lcm, h->ch_state, &o->st[i]);
+        AUTH_PUBLISH(tandem_rover_command_t, D.lcm, h->ch_cmd, &o->cmd[i]);
+        AUTH_PUBLISH(tandem_rover_state_t, D.lcm, h->ch_state, &o->st[i]);
     }
 }
 
@@ -584,7 +584,7 @@ static void republish(daemon *d, void *user)
     publish_outbox(&A.out[A.cur]);
     for (j = A.id_lo; j <= A.id_hi; j++)
         if (A.h[j - A.id_lo].last_team.robot > 0)
-            tandem_team_msg_t_publish(D.lcm, "TEAM", &A.h[j - A.id_lo].last_team);
+            AUTH_PUBLISH(tandem_team_msg_t, D.lcm, "TEAM", &A.h[j - A.id_lo].last_team);
 }
 
 /* One console line per change of what a robot is doing (mode, formation
@@ -768,6 +768,7 @@ int main(int argc, char **argv)
         h->shown_mode = h->shown_type = h->shown_yield = -1;
         h->sens_step = h->sonar_step = h->camera_step = -1;
     }
+    auth_bus_identity(AUTH_ROLE_ROVER, A.id_lo, A.id_hi);
     if (daemon_start(&D) != 0) return 1;
     daemon_subscribe(&D, "ROVER[0-9]+_SENSORS", on_sensors, NULL);
     daemon_subscribe(&D, "ROVER[0-9]+_SONAR", on_sonar, NULL);

@@ -258,7 +258,7 @@ static void send_row(daemon *d, int t, int a)
     S.slot[t].action_id[a] = row.action_id;
     S.slot[t].sent_step[a] = d->step;
     S.dirty = 1;
-    tandem_action_row_t_publish(d->lcm, a == 0 ? "ARM1_ACTION" : "ARM2_ACTION", &row);
+    AUTH_PUBLISH(tandem_action_row_t, d->lcm, a == 0 ? "ARM1_ACTION" : "ARM2_ACTION", &row);
     printf("[%9.3f] t%d %-46s row %d -> arm %d\n", d->sim_time_s, t + 1, "", (int)row.action_id, a + 1);
 }
 
@@ -491,7 +491,7 @@ static void publish_marking(daemon *d)
     m.rows_reissued = S.rows_reissued;
     m.dones_recovered = S.dones_recovered;
     m.resumed = (int8_t)S.resumed;
-    tandem_petri_marking_t_publish(d->lcm, "PETRI_MARKING", &m);
+    AUTH_PUBLISH(tandem_petri_marking_t, d->lcm, "PETRI_MARKING", &m);
 }
 
 /* ---- watchdogs ---------------------------------------------------------------- */
@@ -807,6 +807,7 @@ int main(int argc, char **argv)
         }
     }
     fflush(stdout);
+    auth_bus_identity(AUTH_ROLE_SUPERVISOR, 0, 0);
     if (daemon_start(&d) != 0)
         return 1;
     daemon_subscribe(&d, "ARM_EVENTS", on_event, &d);

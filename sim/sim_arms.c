@@ -403,7 +403,7 @@ static void publish_state(sim_world *w, int k)
     sim_arm_tool(a, s.tool_position_m, NULL);
     s.gripper_closed = (int8_t)a->gripper_closed;
     s.holding_workpiece = a->holding;
-    tandem_arm_state_t_publish(w->lcm, state_channel[k], &s);
+    AUTH_PUBLISH(tandem_arm_state_t, w->lcm, state_channel[k], &s);
 }
 
 static void arms_after_step(sim_world *w)

@@ -261,7 +261,7 @@ static void publish_clock(void)
     c.mode = app.w.lockstep ? TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP : TANDEM_SIM_CLOCK_T_MODE_REALTIME;
     c.paused = (int8_t)app.w.paused;
     c.seed = (int64_t)app.w.seed;
-    tandem_sim_clock_t_publish(app.w.lcm, "SIM_CLOCK", &c);
+    AUTH_PUBLISH(tandem_sim_clock_t, app.w.lcm, "SIM_CLOCK", &c);
 }
 
 static void publish_status(void)
@@ -286,7 +286,7 @@ static void publish_status(void)
     for (i = 0; i < app.n_models; i++)
         if (app.models[i]->status)
             app.models[i]->status(&app.w, &s);
-    tandem_sim_status_t_publish(app.w.lcm, "SIM_STATUS", &s);
+    AUTH_PUBLISH(tandem_sim_status_t, app.w.lcm, "SIM_STATUS", &s);
 }
 
 /* ---- the step ------------------------------------------------------------- */
@@ -489,6 +489,7 @@ int main(int argc, char **argv)
     }
     if (app.cfg.rovers > 0)
         app.models[app.n_models++] = &sim_rovers_ops;
+    auth_bus_identity(AUTH_ROLE_SIM, 0, 0);
     if (daemon_start(&app.w.d) != 0)
         return 1;
     app.w.lcm = app.w.d.lcm;

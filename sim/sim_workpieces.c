@@ -63,9 +63,10 @@ static const sim_config *wp_cfg;
 static int32_t spawned, delivered, dropped, next_id;
 static double clear_s;
 static int64_t vision_seq;
+static int64_t last_after_step;          /* the step wp_after_step last ran for */
+static tandem_workpiece_t last_det[WP_POOL];   /* the detections of the last camera frame */
+static int last_n_det;
 static int spawn_requests;
-static int64_t settled_step = -1;   /* the last step wp_after_step settled */
-static int64_t vision_step = -1;    /* the step of the camera frame drawn last */
 
 static double table_top_z(void)
 {
@@ -99,9 +100,10 @@ static int wp_create(sim_world *w, const sim_config *cfg)
     int i;
     wp_cfg = cfg;
     memset(pool, 0, sizeof pool);
-    settled_step = vision_step = -1;
     prng_seed(&rng, w->seed * 7919u + 17u);
     spawned = delivered = dropped = 0;
+    last_after_step = -1;
+    last_n_det = 0;
     next_id = 1;
     clear_s = 0.0;
     spawn_requests = 0;
@@ -354,18 +356,13 @@ static void settle(int i)
     }
 }
 
-/* The camera frame of this step. Drawn once per step: the simulator
- * announces a step again while a lockstep answer is missing, and a second
- * draw of the noise would make the run depend on how often it had to. */
-static tandem_workpiece_t vision_det[WP_POOL];
-static int vision_n;
-
-static void publish_vision(sim_world *w)
+/* fresh = 0: the same frame again (a re-announced step), no new noise */
+static void publish_vision(sim_world *w, int fresh)
 {
     tandem_workpiece_detections_t m;
-    tandem_workpiece_t *det = vision_det;
+    tandem_workpiece_t *det = last_det;
     int i, n = 0;
-    for (i = 0; i < WP_POOL && w->step != vision_step; i++) {
+    for (i = 0; i < WP_POOL && fresh; i++) {
         const wp *p = &pool[i];
         double R[9], axis[3], yaw;
         const dReal *c;
@@ -382,28 +379,31 @@ static void publish_vision(sim_world *w)
         det[n].yaw_rad = yaw + VISION_SIGMA_YAW_RAD * prng_gauss(&rng);
         n++;
     }
-    if (w->step != vision_step) {
-        vision_n = n;
-        vision_step = w->step;
-    }
+    if (fresh)
+        last_n_det = n;
+    n = last_n_det;
     memset(&m, 0, sizeof m);
     m.seq = vision_seq++;
     m.utime = daemon_utime_now();
     m.step = w->step;
-    m.n = (int16_t)vision_n;
+    m.n = (int16_t)n;
     m.workpieces = det;
-    tandem_workpiece_detections_t_publish(w->lcm, "VISION_DETECTIONS", &m);
+    AUTH_PUBLISH(tandem_workpiece_detections_t, w->lcm, "VISION_DETECTIONS", &m);
 }
 
 static void wp_after_step(sim_world *w)
 {
+    /* the simulator re-announces a step while it waits for controllers:
+     * publish the same frame again, without settling or drawing camera
+     * noise a second time (how often that happens depends on the machine's
+     * timing, and must not change the run) */
+    const int repeat = w->step == last_after_step;
     int i;
-    /* a step announced again: the world has not moved, nothing settles */
-    for (i = 0; i < WP_POOL && w->step != settled_step; i++)
+    last_after_step = w->step;
+    for (i = 0; i < WP_POOL && !repeat; i++)
         settle(i);
-    settled_step = w->step;
     if (w->step % VISION_PERIOD_STEPS == 0)
-        publish_vision(w);
+        publish_vision(w, !repeat);
 }
 
 static int wp_control(sim_world *w, const tandem_sim_control_t *c)

@@ -1,23 +1,34 @@
 /* bench_roundtrip: state -> controller -> command over the real LCM bus,
- * beside a bare LCM ping-pong of the same message sizes, in the same run.
+ * beside a bare LCM ping-pong of the same message sizes, in the same run;
+ * and what authentication (daemons/common/auth*.h) costs.
  *
  *   tandem path: this process publishes ARM1_STATE + SIM_CLOCK (what the
  *     simulator sends each step) to a real `tandem-arm --lockstep`, which
  *     decodes, validates, runs computed torque (RNE) and publishes
- *     ARM1_COMMAND; we time until that command arrives.
+ *     ARM1_COMMAND; we time until that command arrives. Twice: to an arm
+ *     run with --insecure on one bus, and to an arm checking and signing
+ *     with a bus key on another (this process then signs its messages and
+ *     checks the command, as the simulator does).
  *   bare path: a forked echo process receives the same two payload sizes
  *     (state, clock) and answers the second with one of the command's size.
- * The two kinds of exchange alternate, so both see the same load.
- * Prints p50 / p99 / max in microseconds over N exchanges.
+ * The three kinds of exchange alternate, so all see the same load.
+ * Prints p50 / p99 / max in microseconds over N exchanges, and first the
+ * cost of signing and of checking one message of each size.
+ *   bench_roundtrip [N [BIN_DIR]]
+ *   bench_roundtrip auth N   only the signing and checking, N messages of
+ *                            each size (for instruction counts: callgrind)
  */
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/time.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 #include <lcm/lcm.h>
+#include "auth_bus.h"
+#include "auth_acl.h"
 #include "loopstats.h"
 #include "rtloop.h"
 #include "tandem_arm_command_t.h"
@@ -74,8 +85,16 @@ static int bare_exchange(lcm_t *l, int state_size, int clock_size, int cmd_size,
     return 0;
 }
 
+/* Encodes and publishes without authentication (to the --insecure arm). */
+#define PUBLISH_PLAIN(type, l, ch, msg) do { \
+        uint8_t b_[512]; \
+        const int n_ = type##_encode(b_, 0, (int)sizeof b_, (msg)); \
+        if (n_ > 0) lcm_publish((l), (ch), b_, (unsigned)n_); \
+    } while (0)
+
 /* tandem path: ARM1_STATE + SIM_CLOCK to tandem-arm, wait for ARM1_COMMAND. */
-static int tandem_exchange(lcm_t *l, tandem_arm_state_t *st, tandem_sim_clock_t *clk, int i, loopstats *s)
+static int tandem_exchange(lcm_t *l, int signed_msgs, tandem_arm_state_t *st, tandem_sim_clock_t *clk, int i,
+                           loopstats *s)
 {
     int64_t t0;
     st->step = i;
@@ -84,8 +103,13 @@ static int tandem_exchange(lcm_t *l, tandem_arm_state_t *st, tandem_sim_clock_t 
     clk->sim_time_s = st->sim_time_s;
     got = 0;
     t0 = rtloop_now_ns();
-    tandem_arm_state_t_publish(l, "ARM1_STATE", st);
-    tandem_sim_clock_t_publish(l, "SIM_CLOCK", clk);
+    if (signed_msgs) {
+        AUTH_PUBLISH(tandem_arm_state_t, l, "ARM1_STATE", st);
+        AUTH_PUBLISH(tandem_sim_clock_t, l, "SIM_CLOCK", clk);
+    } else {
+        PUBLISH_PLAIN(tandem_arm_state_t, l, "ARM1_STATE", st);
+        PUBLISH_PLAIN(tandem_sim_clock_t, l, "SIM_CLOCK", clk);
+    }
     if (wait_reply(l) != 0)
         return -1;
     if (s)
@@ -99,76 +123,168 @@ static void print_row(const char *name, const loopstats *s)
            loopstats_percentile(s, 0.50), loopstats_percentile(s, 0.99), s->max_us, (long long)s->count);
 }
 
+static void print_ratio(const char *name, const loopstats *a, const loopstats *b, const char *note)
+{
+    if (a->count > 0 && b->count > 0)
+        printf("  %-34s p50 %.2fx   p99 %.2fx%s\n", name,
+               loopstats_percentile(a, 0.5) / loopstats_percentile(b, 0.5),
+               loopstats_percentile(a, 0.99) / loopstats_percentile(b, 0.99), note);
+}
+
+static double wall_s(void)
+{
+    struct timeval tv;
+    gettimeofday(&tv, NULL);
+    return (double)tv.tv_sec + 1e-6 * (double)tv.tv_usec;
+}
+
+/* Microseconds per auth_sign and per auth_verify + the channel table +
+ * the replay table (the receive check) of a body_len-byte message. */
+static void time_sign_verify(const char *channel, int body_len, int reps)
+{
+    static uint8_t buf[1024];
+    static auth_replay replay;
+    auth_keyring ring;
+    auth_sender s;
+    auth_trailer t;
+    uint8_t key[AUTH_KEY_BYTES];
+    double t0, sign_us, check_us;
+    int i, bad = 0;
+    memset(key, 7, sizeof key);
+    auth_key_set(&ring.key[0], key);
+    ring.n = 1;
+    memset(buf, 0x5a, (size_t)body_len);
+    auth_acl_owner(auth_acl_table, auth_acl_table_n, channel, &s);
+    s.session = 1;
+    auth_replay_init(&replay, AUTH_WINDOW_US, 0);
+    t0 = wall_s();
+    for (i = 0; i < reps; i++)
+        auth_sign(&ring.key[0], &s, 1000000000000000ULL + (uint64_t)i, channel, buf, (size_t)body_len, sizeof buf);
+    sign_us = (wall_s() - t0) * 1e6 / reps;
+    t0 = wall_s();
+    for (i = 0; i < reps; i++) {
+        /* the same message each time: the check's work without re-signing */
+        bad += auth_verify(&ring, channel, buf, (size_t)(body_len + AUTH_TRAILER_BYTES), &t) != AUTH_OK;
+        bad += auth_acl_check(auth_acl_table, auth_acl_table_n, channel, &t.sender) != AUTH_OK;
+        auth_replay_check(&replay, &t.sender, auth_channel_hash(channel), t.counter + (uint64_t)i,
+                          t.counter + (uint64_t)i);
+    }
+    check_us = (wall_s() - t0) * 1e6 / reps;
+    printf("  %-13s %4d B + %d B trailer: sign %.2f us, check (MAC, channel table, replay table) %.2f us%s\n",
+           channel, body_len, AUTH_TRAILER_BYTES, sign_us, check_us, bad ? "  (CHECK FAILED)" : "");
+}
+
+static pid_t start_arm(const char *path, const char *url, int insecure)
+{
+    const pid_t pid = fork();
+    if (pid == 0) {
+        setenv("LCM_DEFAULT_URL", url, 1);
+        if (insecure)
+            execl(path, "tandem-arm", "--arm", "1", "--lockstep", "--insecure", (char *)NULL);
+        else
+            execl(path, "tandem-arm", "--arm", "1", "--lockstep", (char *)NULL);
+        perror("exec tandem-arm");
+        _exit(127);
+    }
+    return pid;
+}
+
+/* ARM1_STATE, ARM1_COMMAND and SIM_CLOCK as the simulator and an arm send them. */
+static void time_auth(int reps, int state_size, int cmd_size, int clock_size)
+{
+    printf("authentication (keyed BLAKE2b-128, libsodium), %d messages each, one core:\n", reps);
+    time_sign_verify("ARM1_STATE", state_size, reps);
+    time_sign_verify("ARM1_COMMAND", cmd_size, reps);
+    time_sign_verify("SIM_CLOCK", clock_size, reps);
+}
 
 int main(int argc, char **argv)
 {
-    const int n = argc > 1 ? atoi(argv[1]) : 10000;
-    const char *bin = argc > 2 ? argv[2] : "build/bin";
-    char url[96], path[512];
-    lcm_t *l;
-    pid_t echo_pid, arm_pid;
+    const int auth_only = argc > 2 && strcmp(argv[1], "auth") == 0;
+    const int n = auth_only ? atoi(argv[2]) : argc > 1 ? atoi(argv[1]) : 10000;
+    const char *bin = !auth_only && argc > 2 ? argv[2] : "build/bin";
+    char url_ins[96], url_sec[96], path[512], key[600];
+    lcm_t *l_ins, *l_sec;
+    pid_t echo_pid, arm_ins, arm_sec;
     tandem_arm_state_t st;
     tandem_sim_clock_t clk;
-    loopstats bare, tandem;
+    tandem_arm_command_t cmd0;
+    loopstats bare, plain, authed;
     int i, state_size, cmd_size, clock_size;
-    snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", 40000 + (int)(getpid() % 10000));
-    setenv("LCM_DEFAULT_URL", url, 1);
+    snprintf(url_ins, sizeof url_ins, "udpm://239.255.76.67:%d?ttl=0", 40000 + (int)(getpid() % 10000));
+    snprintf(url_sec, sizeof url_sec, "udpm://239.255.76.67:%d?ttl=0", 50000 + (int)(getpid() % 10000));
+    /* this process stands in for the simulator; the secured arm gets the key
+     * through $TANDEM_KEY_FILE */
+    if (auth_bus_ephemeral_key(key, sizeof key) != 0)
+        return 1;
+    auth_bus_sign_as_owner(1);
+    if (auth_bus_start("bench_roundtrip") != 0)
+        return 1;
     memset(&st, 0, sizeof st);
     st.arm = 1;
     st.q_rad[1] = 0.6; st.q_rad[2] = 2.9; st.q_rad[4] = -0.4;
     state_size = tandem_arm_state_t_encoded_size(&st);
-    {
-        tandem_arm_command_t c;
-        memset(&c, 0, sizeof c);
-        cmd_size = tandem_arm_command_t_encoded_size(&c);
-    }
+    memset(&cmd0, 0, sizeof cmd0);
+    cmd_size = tandem_arm_command_t_encoded_size(&cmd0);
+    memset(&clk, 0, sizeof clk);
+    clk.mode = TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP;
+    clock_size = tandem_sim_clock_t_encoded_size(&clk);
+
+    time_auth(auth_only ? n : 100000, state_size, cmd_size, clock_size);
+    if (auth_only)
+        return 0;
 
     echo_pid = fork();
     if (echo_pid == 0) {
-        lcm_t *e = lcm_create(url);
+        lcm_t *e = lcm_create(url_ins);
         lcm_subscribe(e, "BENCH_PING", on_echo, e);
         for (;;)
             lcm_handle(e);
     }
     snprintf(path, sizeof path, "%s/tandem-arm", bin);
-    arm_pid = fork();
-    if (arm_pid == 0) {
-        execl(path, "tandem-arm", "--arm", "1", "--lockstep", (char *)NULL);
-        perror("exec tandem-arm");
-        _exit(127);
-    }
-    l = lcm_create(url);
-    lcm_subscribe(l, "BENCH_PONG", on_any, NULL);
-    lcm_subscribe(l, "ARM1_COMMAND", on_any, NULL);
+    arm_ins = start_arm(path, url_ins, 1);
+    arm_sec = start_arm(path, url_sec, 0);
+    l_ins = lcm_create(url_ins);
+    l_sec = lcm_create(url_sec);
+    lcm_subscribe(l_ins, "BENCH_PONG", on_any, NULL);
+    lcm_subscribe(l_ins, "ARM1_COMMAND", on_any, NULL);
+    auth_bus_subscribe(l_sec, "ARM1_COMMAND", on_any, NULL);   /* checked, as the simulator does */
     { struct timespec ts = { 0, 300000000L }; nanosleep(&ts, NULL); }
     loopstats_reset(&bare);
-    loopstats_reset(&tandem);
-    printf("round trip over LCM (%s), %d exchanges, state %d B, command %d B\n", url, n, state_size, cmd_size);
+    loopstats_reset(&plain);
+    loopstats_reset(&authed);
+    printf("round trip over LCM, %d exchanges, state %d B, command %d B (+%d B trailer when authenticated)\n",
+           n, state_size, cmd_size, AUTH_TRAILER_BYTES);
 
-    memset(&clk, 0, sizeof clk);
-    clk.mode = TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP;
-    clock_size = tandem_sim_clock_t_encoded_size(&clk);
-    /* Exchanges alternate bare / tandem so both see the same machine load. */
+    /* Exchanges alternate bare / insecure / authenticated so all see the
+     * same machine load. */
     for (i = 0; i < n + 100; i++) {
-        if (bare_exchange(l, state_size, clock_size, cmd_size, i >= 100 ? &bare : NULL) != 0) {
+        if (bare_exchange(l_ins, state_size, clock_size, cmd_size, i >= 100 ? &bare : NULL) != 0) {
             fprintf(stderr, "bench: no echo\n");
             break;
         }
-        if (tandem_exchange(l, &st, &clk, i, i >= 100 ? &tandem : NULL) != 0) {
-            fprintf(stderr, "bench: no command from tandem-arm\n");
+        if (tandem_exchange(l_ins, 0, &st, &clk, i, i >= 100 ? &plain : NULL) != 0) {
+            fprintf(stderr, "bench: no command from tandem-arm --insecure\n");
+            break;
+        }
+        if (tandem_exchange(l_sec, 1, &st, &clk, i, i >= 100 ? &authed : NULL) != 0) {
+            fprintf(stderr, "bench: no command from tandem-arm (authenticated)\n");
             break;
         }
     }
     print_row("bare LCM ping-pong", &bare);
-    print_row("tandem state->tandem-arm->command", &tandem);
-    if (bare.count > 0 && tandem.count > 0)
-        printf("  tandem / bare: p50 %.2fx   p99 %.2fx   (target: <= 1.20x)\n",
-               loopstats_percentile(&tandem, 0.5) / loopstats_percentile(&bare, 0.5),
-               loopstats_percentile(&tandem, 0.99) / loopstats_percentile(&bare, 0.99));
+    print_row("tandem-arm, --insecure", &plain);
+    print_row("tandem-arm, authenticated", &authed);
+    print_ratio("insecure / bare:", &plain, &bare, "");
+    print_ratio("authenticated / bare:", &authed, &bare, "   (target: <= 1.20x)");
+    print_ratio("authenticated / insecure:", &authed, &plain, "");
     kill(echo_pid, SIGKILL);
-    kill(arm_pid, SIGTERM);
+    kill(arm_ins, SIGTERM);
+    kill(arm_sec, SIGTERM);
     waitpid(echo_pid, NULL, 0);
-    waitpid(arm_pid, NULL, 0);
-    lcm_destroy(l);
+    waitpid(arm_ins, NULL, 0);
+    waitpid(arm_sec, NULL, 0);
+    lcm_destroy(l_ins);
+    lcm_destroy(l_sec);
     return 0;
 }

@@ -20,6 +20,7 @@ declare -A what=(
     [tandem-scenario]="run a tandem experiment in lockstep and write summary, CSV and plots"
     [tandem-scene]="print the static geometry of the tandem world as JSON"
     [tandem-status]="one status line a second about a running tandem system"
+    [tandem-keygen]="make or rotate the tandem bus key (32 random bytes, mode 0600)"
 )
 install -d "$dest/bin" "$dest/lib/pkgconfig" "$dest/include/tandem" "$dest/share/java" "$dest/share/man/man1" "$mandir"
 version=$(sed -n 's/^#define TANDEM_VERSION "\(.*\)"$/\1/p' "$here/build/gen/c/tandem_version.h")

@@ -83,6 +83,9 @@ run_cell() {
     sed -n 's/.*stopped at step \([0-9]*\) state_hash=\([0-9a-f]*\).*/\1 \2/p' "$dir/sim.out"
 }
 
+# one bus key for the whole cell, as make run would make (tandem-keygen)
+export TANDEM_KEY_FILE=$out/bus.key
+"$bin/tandem-keygen" "$TANDEM_KEY_FILE" >/dev/null || { echo "multihost-test: cannot make a bus key"; exit 1; }
 make_single
 make_lan
 t0=$SECONDS

@@ -2,7 +2,9 @@
  * and a clear warning when it falls behind real time or a daemon holds
  * safe, from what the daemons already publish (HEALTH_*, SIM_STATUS,
  * ARM_EVENTS, PETRI_MARKING, ROVERk_STATE / ROVERS_STATE): also arm
- * faults and a stalled carry task. tools/tandem-run starts it.
+ * faults, a stalled carry task, daemons running --insecure and messages
+ * the daemons refused as unauthenticated (issue 13). It checks what it
+ * reads like the daemons do (auth_bus.h). tools/tandem-run starts it.
  *
  *   t=  12.3 s  sim/wall 0.98x  overruns +0 (12)  safe hold: -  blocked: -  delivered 2  at goal 0/3
  */
@@ -30,6 +32,10 @@ typedef struct {
     int     safe_hold, warned_safe;
     double  last_wall_s;
     char    status[96];
+    int     auth_on;                      /* -1 until its first health */
+    int64_t auth_kind[5];                 /* unsigned, bad MAC, unknown sender, replayed, not allowed */
+    int64_t auth_rejected, auth_rejected_shown;
+    double  auth_warned_s;
 } daemon_view;
 
 static struct {
@@ -64,6 +70,7 @@ static daemon_view *find_daemon(const char *name)
         if (!strcmp(S.d[i].name, name)) return &S.d[i];
     if (S.n_daemons == MAX_DAEMONS) return NULL;
     snprintf(S.d[S.n_daemons].name, sizeof S.d[0].name, "%s", name);
+    S.d[S.n_daemons].auth_on = -1;
     return &S.d[S.n_daemons++];
 }
 
@@ -76,6 +83,16 @@ static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_hea
     d->safe_hold = h->safe_hold;
     d->last_wall_s = wall_s();
     snprintf(d->status, sizeof d->status, "%s", h->status);
+    if (d->auth_on == 1 && !h->auth_on)
+        d->auth_warned_s = 0.0;           /* it restarted insecure: warn at once */
+    d->auth_on = h->auth_on;
+    d->auth_kind[0] = h->auth_unsigned;
+    d->auth_kind[1] = h->auth_bad_mac;
+    d->auth_kind[2] = h->auth_unknown_sender;
+    d->auth_kind[3] = h->auth_replayed;
+    d->auth_kind[4] = h->auth_unauthorised;
+    d->auth_rejected = h->auth_unsigned + h->auth_bad_mac + h->auth_unknown_sender + h->auth_replayed +
+                       h->auth_unauthorised;
 }
 
 static void on_sim(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *s, void *u)
@@ -123,6 +140,31 @@ static void on_rovers(const lcm_recv_buf_t *rb, const char *ch, const tandem_rov
     int i;
     (void)rb; (void)ch; (void)u;
     for (i = 0; i < b->n; i++) rover_mode(b->state[i].robot, b->state[i].mode);
+}
+
+/* Daemons without authentication, and messages the daemons refused as
+ * unauthenticated since the last warning; both repeated every
+ * REPEAT_WARNING_S while they last. */
+static void auth_warnings(double now)
+{
+    int i;
+    for (i = 0; i < S.n_daemons; i++) {
+        daemon_view *d = &S.d[i];
+        const int64_t *k = d->auth_kind;
+        const int insecure = d->auth_on == 0;
+        const int refused = d->auth_rejected > d->auth_rejected_shown;
+        if ((!insecure && !refused) || (d->auth_warned_s > 0.0 && now - d->auth_warned_s < REPEAT_WARNING_S))
+            continue;
+        if (insecure)
+            printf("WARNING: %s runs --insecure: it neither signs nor checks bus messages\n", d->name);
+        if (refused)
+            printf("WARNING: %s refused %lld unauthenticated messages (unsigned %lld, bad MAC %lld, unknown sender "
+                   "%lld, replayed %lld, not allowed on the channel %lld): something without the key, or an old "
+                   "log, is publishing on the bus\n", d->name, (long long)(d->auth_rejected - d->auth_rejected_shown),
+                   (long long)k[0], (long long)k[1], (long long)k[2], (long long)k[3], (long long)k[4]);
+        d->auth_rejected_shown = d->auth_rejected;
+        d->auth_warned_s = now;
+    }
 }
 
 /* Safe holds as a list of names; warns once when a daemon enters one. */
@@ -192,6 +234,7 @@ static void status_line(double now)
     if (S.have_sim && now - S.sim_wall_s > SILENT_S) ratio = 0.0;   /* the simulator went quiet */
     safe_holds(holds, sizeof holds, now);
     warn_behind(ratio, now);
+    auth_warnings(now);
     if (ratio >= 0.0) snprintf(ratio_s, sizeof ratio_s, "%.2fx", ratio);
     if (S.stalled && !S.stalled_warned)
         printf("WARNING: the carry task is stalled: work pending and nothing completed (supervisor)\n");
@@ -211,16 +254,25 @@ static void status_line(double now)
     fflush(stdout);
 }
 
+AUTH_TYPED_HANDLER(tandem_health_t, raw_on_health, on_health)
+AUTH_TYPED_HANDLER(tandem_sim_status_t, raw_on_sim, on_sim)
+AUTH_TYPED_HANDLER(tandem_action_event_t, raw_on_event, on_event)
+AUTH_TYPED_HANDLER(tandem_petri_marking_t, raw_on_marking, on_marking)
+AUTH_TYPED_HANDLER(tandem_rover_state_t, raw_on_rover, on_rover)
+AUTH_TYPED_HANDLER(tandem_rovers_state_t, raw_on_rovers, on_rovers)
+
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: tandem-status [--lcm-url URL] [--every S] [--behind R]\n"
+    fprintf(f, "usage: tandem-status [--lcm-url URL] [--every S] [--behind R] [--key-file PATH | --insecure]\n"
                "One line per period about the running system: simulated / wall-clock time\n"
                "ratio, controller overruns (new and total), daemons holding safe, blocked arms,\n"
                "workpieces delivered, rovers at the goal. Prints a WARNING line when the\n"
-               "simulation falls behind real time or a daemon holds safe or goes silent.\n\n"
+               "simulation falls behind real time, a daemon holds safe or goes silent, runs\n"
+               "--insecure, or refuses unauthenticated messages.\n\n"
                "  --lcm-url URL   LCM provider (default $LCM_DEFAULT_URL or " DAEMON_DEFAULT_LCM_URL ")\n"
                "  --every S       seconds between lines (0.2-60, default 1)\n"
                "  --behind R      warn below this sim/wall ratio (0-1, default 0.9)\n"
+               AUTH_BUS_HELP
                "  --help          this text\n"
                "  --version       program version\n");
 }
@@ -230,7 +282,7 @@ int main(int argc, char **argv)
     static const struct option opts[] = {
         { "lcm-url", required_argument, 0, 'u' }, { "every", required_argument, 0, 'e' },
         { "behind", required_argument, 0, 'b' }, { "help", no_argument, 0, 'h' },
-        { "version", no_argument, 0, 'V' }, { 0, 0, 0, 0 }
+        { "version", no_argument, 0, 'V' }, AUTH_BUS_OPTIONS, { 0, 0, 0, 0 }
     };
     const char *url = NULL;
     double every = 1.0, next;
@@ -246,19 +298,25 @@ int main(int argc, char **argv)
         case 'b': if (parse_double_opt("tandem-status", "--behind", optarg, 0.0, 1.0, &S.behind_ratio) < 0) return 2; break;
         case 'h': usage(stdout); return 0;
         case 'V': daemon_print_version("tandem-status"); return 0;
-        default: usage(stderr); return 2;
+        default:
+            if (auth_bus_option("tandem-status", c, optarg) > 0) break;
+            usage(stderr);
+            return 2;
         }
     }
+    auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);
+    if (auth_bus_start("tandem-status") != 0)
+        return 1;
     if (!(lcm = lcm_create(url))) {
         fprintf(stderr, "tandem-status: cannot open LCM\n");
         return 1;
     }
-    tandem_health_t_subscribe(lcm, "HEALTH_.*", on_health, NULL);
-    tandem_sim_status_t_subscribe(lcm, "SIM_STATUS", on_sim, NULL);
-    tandem_action_event_t_subscribe(lcm, "ARM_EVENTS", on_event, NULL);
-    tandem_petri_marking_t_subscribe(lcm, "PETRI_MARKING", on_marking, NULL);
-    tandem_rover_state_t_subscribe(lcm, "ROVER[0-9]+_STATE", on_rover, NULL);
-    tandem_rovers_state_t_subscribe(lcm, "ROVERS_STATE", on_rovers, NULL);
+    auth_bus_subscribe(lcm, "HEALTH_.*", raw_on_health, NULL);
+    auth_bus_subscribe(lcm, "SIM_STATUS", raw_on_sim, NULL);
+    auth_bus_subscribe(lcm, "ARM_EVENTS", raw_on_event, NULL);
+    auth_bus_subscribe(lcm, "PETRI_MARKING", raw_on_marking, NULL);
+    auth_bus_subscribe(lcm, "ROVER[0-9]+_STATE", raw_on_rover, NULL);
+    auth_bus_subscribe(lcm, "ROVERS_STATE", raw_on_rovers, NULL);
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
     next = wall_s() + every;

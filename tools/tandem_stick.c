@@ -13,7 +13,8 @@
 static void usage(FILE *f)
 {
     fprintf(f, "usage: tandem-stick insert --arm 1|2 --link 1..6 [--length M] [--radius R] [--lcm-url URL]\n"
-               "       tandem-stick remove [--lcm-url URL]\n"
+               "                           [--key-file PATH | --insecure]\n"
+               "       tandem-stick remove [--lcm-url URL] [--key-file PATH | --insecure]\n"
                "Puts a rod just ahead of the given link of the arm, across its motion, so the\n"
                "link runs into it (SPEC 2.6); 'remove' takes it out. One SIM_CONTROL message.\n\n"
                "  --arm N         arm 1 or 2\n"
@@ -21,8 +22,9 @@ static void usage(FILE *f)
                "  --length M      rod length in m (0.01-2, default 0.6)\n"
                "  --radius R      rod radius in m (0.001-0.1, default 0.02)\n"
                "  --lcm-url URL   LCM provider (default $LCM_DEFAULT_URL or " DAEMON_DEFAULT_LCM_URL ")\n"
+               AUTH_BUS_HELP
                "  --help          this text\n"
-               "Exit status: 0 sent, 1 LCM error, 2 bad arguments.\n");
+               "Exit status: 0 sent, 1 LCM or key error, 2 bad arguments.\n");
 }
 
 int main(int argc, char **argv)
@@ -34,6 +36,7 @@ int main(int argc, char **argv)
         { "radius", required_argument, 0, 'r' },
         { "lcm-url", required_argument, 0, 'u' },
         { "help", no_argument, 0, 'h' },
+        AUTH_BUS_OPTIONS,
         { 0, 0, 0, 0 }
     };
     if (version_requested(argc, argv, "tandem-stick"))
@@ -63,7 +66,10 @@ int main(int argc, char **argv)
         case 'r': if (parse_double_opt("tandem-stick", "--radius", optarg, 0.001, 0.1, &radius) < 0) return 2; break;
         case 'u': url = optarg; break;
         case 'h': usage(stdout); return 0;
-        default: usage(stderr); return 2;
+        default:
+            if (auth_bus_option("tandem-stick", c, optarg) > 0) break;
+            usage(stderr);
+            return 2;
         }
     }
     if (optind < argc) {
@@ -78,6 +84,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "tandem-stick: remove takes no --arm/--link (there is one stick)\n");
         return 2;
     }
+    auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);
+    if (auth_bus_start("tandem-stick") != 0)
+        return 1;
     lcm = lcm_create(url);
     if (!lcm) {
         fprintf(stderr, "tandem-stick: cannot open LCM at '%s'\n", url ? url : "(default)");
@@ -90,7 +99,7 @@ int main(int argc, char **argv)
     m.link = (int32_t)link;
     m.length_m = insert ? length : 0.0;
     m.radius_m = insert ? radius : 0.0;
-    if (tandem_sim_control_t_publish(lcm, "SIM_CONTROL", &m) != 0) {
+    if (AUTH_PUBLISH(tandem_sim_control_t, lcm, "SIM_CONTROL", &m) != 0) {
         fprintf(stderr, "tandem-stick: publish failed\n");
         lcm_destroy(lcm);
         return 1;

@@ -133,8 +133,10 @@ int daemon_parse_common(daemon *d, int opt, const char *arg)
     case OPT_VERSION:
         daemon_print_version(d->name);
         exit(0);
-    default:
-        return daemon_parse_fault(d, opt, arg);
+    default: {
+        const int rc = auth_bus_option(d->name, opt, arg);
+        return rc != 0 ? rc : daemon_parse_fault(d, opt, arg);
+    }
     }
 }
 
@@ -227,6 +229,8 @@ int daemon_start(daemon *d)
     for (i = 0; d->health_channel[i]; i++)
         d->health_channel[i] = (char)(d->health_channel[i] == '-' ? '_' : toupper((unsigned char)d->health_channel[i]));
 
+    if (auth_bus_start(d->name) != 0)
+        return -1;
     d->lcm = lcm_create(d->lcm_url);
     if (!d->lcm) {
         fprintf(stderr, "%s: cannot open LCM at '%s'\n", d->name, d->lcm_url);
@@ -298,7 +302,8 @@ void daemon_publish_health(daemon *d)
     h.lockstep_input_waits = d->input_waits;
     h.msgs_duplicate = d->msgs.duplicate;
     rx_fill_health(&h);
-    tandem_health_t_publish(d->lcm, d->health_channel, &h);
+    auth_bus_fill_health(&h);
+    AUTH_PUBLISH(tandem_health_t, d->lcm, d->health_channel, &h);
 }
 
 void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32_t period_steps, int leaving)
@@ -310,7 +315,7 @@ void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32
     a.name = (char *)name;
     a.period_steps = period_steps;
     a.leaving = (int8_t)leaving;
-    tandem_clock_ack_t_publish(lcm, "SIM_ACK", &a);
+    AUTH_PUBLISH(tandem_clock_ack_t, lcm, "SIM_ACK", &a);
 }
 
 static void ack(daemon *d, int64_t step, int leaving)

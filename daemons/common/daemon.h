@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <lcm/lcm.h>
 #include "rtloop.h"
+#include "auth_bus.h"
 #include "guard.h"
 #include "version.h"
 
@@ -31,6 +32,7 @@ enum { OPT_LCM_URL = 1000, OPT_RT, OPT_LOCKSTEP, OPT_PERIOD_MS, OPT_HELP, OPT_VE
     { "period-ms", required_argument, 0, OPT_PERIOD_MS }, \
     { "help",      no_argument,       0, OPT_HELP }, \
     { "version",   no_argument,       0, OPT_VERSION }, \
+    AUTH_BUS_OPTIONS, \
     DAEMON_FAULT_OPTIONS
 /* Fault injection (daemons/common/rx.h), parsed by daemon_parse_fault. */
 enum { OPT_DROP_RATE = 1100, OPT_DROP_SEED };
@@ -50,6 +52,7 @@ enum { OPT_DROP_RATE = 1100, OPT_DROP_SEED };
     "  --period-ms MS    control period\n" \
     "  --help            this text\n" \
     "  --version         program version (git describe at build time)\n" \
+    AUTH_BUS_HELP \
     DAEMON_FAULT_HELP
 
 typedef struct daemon_counters {
@@ -108,7 +111,9 @@ int  daemon_parse_fault(daemon *d, int opt, const char *arg);
  * (message already printed), 2 for --help (caller prints usage, exits 0).
  * --version prints the version and exits 0 here. */
 int  daemon_parse_common(daemon *d, int opt, const char *arg);
-/* Opens LCM, installs SIGINT/SIGTERM handlers, applies --rt. 0 on success. */
+/* Loads the bus key (auth_bus_start; the daemon has set its identity with
+ * auth_bus_identity), opens LCM, installs SIGINT/SIGTERM handlers,
+ * applies --rt. 0 on success. */
 int  daemon_start(daemon *d);
 /* Minimal timer slack always (Linux); with prio > 0 also SCHED_FIFO at
  * prio, mlockall and the CPU latency hint; warns and goes on when not

@@ -2,6 +2,7 @@
 #include "rx.h"
 #include <stdio.h>
 #include <string.h>
+#include "auth_bus.h"
 #include "daemon.h"
 #include "wire.h"
 #include "tandem_health_t.h"
@@ -21,6 +22,7 @@ static double drop_p;
 static uint64_t drop_seed;
 static const char *health_names[RX_MAX_CHANNELS];
 static int64_t health_received[RX_MAX_CHANNELS], health_lost[RX_MAX_CHANNELS];
+static int64_t health_auth_rejected[RX_MAX_CHANNELS];
 
 void rx_set_drop(double p, uint64_t seed)
 {
@@ -28,12 +30,20 @@ void rx_set_drop(double p, uint64_t seed)
     drop_seed = seed;
 }
 
-static rx_channel *channel_of(const char *name)
+static rx_channel *channel_known(const char *name)
 {
     int i;
     for (i = 0; i < n_chans; i++)
         if (strncmp(chans[i].name, name, RX_CHANNEL_NAME - 1) == 0)
             return &chans[i];
+    return NULL;
+}
+
+static rx_channel *channel_of(const char *name)
+{
+    rx_channel *c = channel_known(name);
+    if (c)
+        return c;
     if (n_chans < RX_MAX_CHANNELS - 1) {
         snprintf(chans[n_chans].name, RX_CHANNEL_NAME, "%s", name);
         return &chans[n_chans++];
@@ -90,12 +100,24 @@ static int drop_this(const rx_channel *c, int64_t seq)
     return (double)(h >> 11) * (1.0 / 9007199254740992.0) < drop_p;
 }
 
-static void trampoline(const lcm_recv_buf_t *rb, const char *ch, void *u)
+static void trampoline(const lcm_recv_buf_t *rb_in, const char *ch, void *u)
 {
     rx_sub *s = u;
-    rx_channel *c = channel_of(ch);
-    const wire_type *t = wire_find(rb->data, rb->data_size);
-    const int64_t seq = wire_seq(rb->data, rb->data_size);
+    lcm_recv_buf_t body;
+    const lcm_recv_buf_t *rb = &body;
+    rx_channel *c;
+    const wire_type *t;
+    int64_t seq;
+    if (auth_bus_accept(rb_in, ch, &body) != AUTH_OK) {
+        /* a forged channel name must not take a slot of the table */
+        c = channel_known(ch);
+        if (c)
+            c->auth_rejected++;
+        return;
+    }
+    c = channel_of(ch);
+    t = wire_find(rb->data, rb->data_size);
+    seq = wire_seq(rb->data, rb->data_size);
     c->copies++;
     if (drop_this(c, seq)) {
         c->dropped++;
@@ -132,6 +154,10 @@ lcm_subscription_t *rx_subscribe(daemon *d, const char *channel, lcm_msg_handler
     s->handler = handler;
     s->user = user;
     snprintf(s->channel, sizeof s->channel, "%s", channel);
+    /* a plain channel gets its row now, so refusals before its first
+     * accepted message are counted on it too */
+    if (strspn(channel, "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") == strlen(channel))
+        channel_of(channel);
     return lcm_subscribe(d->lcm, channel, trampoline, s);
 }
 
@@ -161,12 +187,14 @@ void rx_fill_health(tandem_health_t *h)
         health_names[i] = chans[i].name;
         health_received[i] = chans[i].received;
         health_lost[i] = chans[i].lost;
+        health_auth_rejected[i] = chans[i].auth_rejected;
         rec += chans[i].received;
     }
     h->n_channels = (int16_t)n_chans;
     h->channel = (char **)health_names;
     h->channel_received = health_received;
     h->channel_lost = health_lost;
+    h->channel_auth_rejected = health_auth_rejected;
     h->msgs_lost = rx_lost_total();
     h->msgs_dropped = rx_dropped_total();
     h->loss_rate = rec + h->msgs_lost > 0 ? (double)h->msgs_lost / (double)(rec + h->msgs_lost) : 0.0;

@@ -1,5 +1,9 @@
 /* rx: the receive path every daemon subscription goes through
  * (daemon_subscribe). Before a handler sees a message it is
+ *   0. authenticated (auth_bus_accept: trailer, MAC, sender, channel
+ *      authorisation, counter); a refused message is counted per channel
+ *      and by kind and touches nothing else, not even the drop hash; the
+ *      handler gets the message without its trailer;
  *   1. dropped on purpose with probability --drop-rate (fault injection,
  *      deterministic for --drop-seed: a hash of the seed, the channel, the
  *      message's seq and how many copies of the channel arrived);
@@ -26,6 +30,7 @@ typedef struct rx_channel {
     int64_t rejected;          /* failed it */
     int64_t lost;              /* sequence gaps */
     int64_t dropped;           /* dropped on purpose (--drop-rate) */
+    int64_t auth_rejected;     /* refused by auth_bus_accept */
     int64_t copies;            /* every arrival, for the drop hash */
     int64_t last_seq[RX_STREAMS];
     int     n_streams;

@@ -1,14 +1,18 @@
 /* harness: child daemons on a private LCM bus (see harness.h). */
 #include "harness.h"
 #include <math.h>
+#include <dirent.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 #include "daemon.h"
 #include "tandem_action_row_t.h"
 #include "tandem_clock_ack_t.h"
+#include "tandem_health_t.h"
 
 static double now_s(void)
 {
@@ -17,9 +21,26 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+static int harness_key(void)
+{
+    static int ready;
+    char path[600];
+    if (ready)
+        return 0;
+    if (auth_bus_ephemeral_key(path, sizeof path) != 0)
+        return -1;
+    auth_bus_sign_as_owner(1);
+    if (auth_bus_start("harness") != 0)
+        return -1;
+    ready = 1;
+    return 0;
+}
+
 int harness_open(harness *h, int port_offset)
 {
     memset(h, 0, sizeof *h);
+    if (harness_key() != 0)
+        return -1;
     proc_init(&h->procs, NULL);
     snprintf(h->url, sizeof h->url, "udpm://239.255.76.67:%d?ttl=0",
              20000 + (int)(getpid() % 20000) + port_offset);
@@ -27,9 +48,92 @@ int harness_open(harness *h, int port_offset)
     return h->lcm ? 0 : -1;
 }
 
+/* Every child started, so none outlives a test that failed before its
+ * harness_close (cmocka leaves the test function on a failed assert). */
+#define HARNESS_MAX_SPAWNED 512
+static pid_t spawned[HARNESS_MAX_SPAWNED];
+static int n_spawned;
+
+/* 1 if pid is our child and still running (a pid already reaped is not
+ * our child any more: ECHILD, left alone). */
+static int running_child(pid_t pid)
+{
+    return waitpid(pid, NULL, WNOHANG) == 0;
+}
+
+/* The parent of process pid (from /proc), -1 if there is none. */
+static int parent_of(long pid)
+{
+    char path[64], buf[512], *p;
+    FILE *f;
+    int ppid = -1;
+    snprintf(path, sizeof path, "/proc/%ld/stat", pid);
+    if (!(f = fopen(path, "r")))
+        return -1;
+    p = fgets(buf, sizeof buf, f) ? strrchr(buf, ')') : NULL;   /* the name may hold spaces */
+    fclose(f);
+    if (!p || sscanf(p + 1, " %*c %d", &ppid) != 1)
+        return -1;
+    return ppid;
+}
+
+/* The processes whose parent is pid; up to cap. */
+static int children_of(pid_t pid, pid_t *out, int cap)
+{
+    DIR *d = opendir("/proc");
+    struct dirent *e;
+    int n = 0;
+    while (d && n < cap && (e = readdir(d)) != NULL) {
+        const long p = atol(e->d_name);
+        if (p > 0 && parent_of(p) == (int)pid)
+            out[n++] = (pid_t)p;
+    }
+    if (d)
+        closedir(d);
+    return n;
+}
+
+static void kill_leftovers(void)
+{
+    pid_t grand[256];
+    int i, k, left = 0, n_grand = 0;
+    for (i = 0; i < n_spawned; i++)
+        if (running_child(spawned[i])) {
+            /* a scenario's daemons: found now, while they are still its children */
+            n_grand += children_of(spawned[i], grand + n_grand, 256 - n_grand);
+            kill(spawned[i], SIGTERM);   /* a scenario stops its own daemons */
+            left++;
+        }
+    for (k = 0; k < 30 && left > 0; k++) {
+        struct timespec ts = { 0, 100000000L };
+        nanosleep(&ts, NULL);
+        for (i = 0, left = 0; i < n_spawned; i++)
+            left += running_child(spawned[i]);
+    }
+    for (i = 0; i < n_spawned; i++)
+        if (running_child(spawned[i])) {
+            kill(spawned[i], SIGKILL);
+            waitpid(spawned[i], NULL, 0);
+        }
+    for (i = 0; i < n_grand; i++)
+        if (parent_of(grand[i]) == 1)   /* our grandchild left behind (reparented to init) */
+            kill(grand[i], SIGKILL);
+}
+
+void harness_track_child(pid_t pid)
+{
+    if (pid <= 0 || n_spawned == HARNESS_MAX_SPAWNED)
+        return;
+    if (n_spawned == 0)
+        atexit(kill_leftovers);
+    spawned[n_spawned++] = pid;
+}
+
 pid_t harness_spawn(harness *h, const char *const argv[])
 {
-    return proc_spawn(&h->procs, argv, h->url, NULL, NULL);
+    const pid_t pid = proc_spawn(&h->procs, argv, h->url, NULL, NULL);
+    harness_track_child(pid);
+    return pid;
 }
 
 int harness_wait(harness *h, pid_t pid, double timeout_s)
@@ -70,6 +174,66 @@ void harness_close(harness *h)
     if (h->lcm)
         lcm_destroy(h->lcm);
     h->lcm = NULL;
+}
+
+static harness_health *health_slot(harness *h, const char *name)
+{
+    int i;
+    for (i = 0; i < h->n_health; i++)
+        if (!strcmp(h->health[i].name, name))
+            return &h->health[i];
+    if (h->n_health == HARNESS_MAX_HEALTH)
+        return NULL;
+    snprintf(h->health[h->n_health].name, sizeof h->health[0].name, "%s", name);
+    return &h->health[h->n_health++];
+}
+
+static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
+{
+    harness_health *d = health_slot(u, m->name);
+    (void)rb; (void)ch;
+    if (!d)
+        return;
+    d->pid = m->pid;
+    d->auth_on = m->auth_on;
+    d->refused[0] = m->auth_unsigned;
+    d->refused[1] = m->auth_bad_mac;
+    d->refused[2] = m->auth_unknown_sender;
+    d->refused[3] = m->auth_replayed;
+    d->refused[4] = m->auth_unauthorised;
+    d->msgs_rejected = m->msgs_rejected;
+    d->msgs_lost = m->msgs_lost;
+}
+
+AUTH_TYPED_HANDLER(tandem_health_t, raw_on_health, on_health)
+
+void harness_watch_health(harness *h)
+{
+    auth_bus_subscribe(h->lcm, "HEALTH_.*", raw_on_health, h);
+}
+
+harness_health harness_health_of(harness *h, const char *name)
+{
+    harness_health none;
+    int i;
+    for (i = 0; i < h->n_health; i++)
+        if (!strcmp(h->health[i].name, name))
+            return h->health[i];
+    memset(&none, 0, sizeof none);
+    return none;
+}
+
+int64_t harness_refused(const harness_health *d)
+{
+    return d->refused[0] + d->refused[1] + d->refused[2] + d->refused[3] + d->refused[4];
+}
+
+void harness_print_refused(const harness_health *d)
+{
+    printf("  %-18s refused %6lld: unsigned %lld, bad MAC %lld, unknown sender %lld, replayed %lld, "
+           "not allowed %lld (lost on the way in: %lld)\n", d->name, (long long)harness_refused(d),
+           (long long)d->refused[0], (long long)d->refused[1], (long long)d->refused[2], (long long)d->refused[3],
+           (long long)d->refused[4], (long long)d->msgs_lost);
 }
 
 void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps)
@@ -116,7 +280,7 @@ void harness_send_joint_row(harness *h, int arm, int action_id, const double q[6
     row.n_segments = 1;
     row.segments = &seg;
     snprintf(ch, sizeof ch, "ARM%d_ACTION", arm);
-    tandem_action_row_t_publish(h->lcm, ch, &row);
+    AUTH_PUBLISH(tandem_action_row_t, h->lcm, ch, &row);
 }
 
 int harness_slurp(const char *path, char *buf, int cap)

@@ -6,19 +6,38 @@
 #include <stdint.h>
 #include <sys/types.h>
 #include <lcm/lcm.h>
+#include "auth_bus.h"
 #include "proc.h"
+
+/* The last health message of one daemon: what the secure bus refused. */
+#define HARNESS_MAX_HEALTH 16
+typedef struct harness_health {
+    char    name[64];
+    int     pid, auth_on;
+    int64_t refused[5];      /* unsigned, bad MAC, unknown sender, replayed, not allowed */
+    int64_t msgs_rejected, msgs_lost;
+} harness_health;
 
 typedef struct harness {
     char     url[96];
     lcm_t   *lcm;
     proc_set procs;          /* the daemons under test (daemons/common/proc.h) */
+    harness_health health[HARNESS_MAX_HEALTH];   /* harness_watch_health */
+    int      n_health;
 } harness;
 
-/* Private udpm port per test process so parallel tests never cross-talk. */
+/* Private udpm port per test process so parallel tests never cross-talk.
+ * The first call also makes a bus key for this test alone
+ * (auth_bus_ephemeral_key: the daemons it starts inherit it through
+ * $TANDEM_KEY_FILE) and lets the test sign every message as its channel's
+ * owner, as the daemons it stands in for would. */
 int   harness_open(harness *h, int port_offset);
 /* argv[0] is a program name under build/bin (e.g. "tandem-sim"); NULL-terminated.
  * stdout of the child is captured (read with harness_read_output). */
 pid_t harness_spawn(harness *h, const char *const argv[]);
+/* Children started otherwise (fork) that must not outlive the test: killed
+ * at exit if still running (harness_spawn does this for its own). */
+void  harness_track_child(pid_t pid);
 /* Waits for the child to exit within timeout_s; returns its exit status or -1. */
 int   harness_wait(harness *h, pid_t pid, double timeout_s);
 /* Reads all captured stdout of child pid into buf (NUL terminated). */
@@ -38,6 +57,15 @@ int harness_private_net(void);
 
 /* One action row of a single joint move to q on ARMk_ACTION. */
 void harness_send_joint_row(harness *h, int arm, int action_id, const double q[6]);
+
+/* Keeps every daemon's last health (checked: auth_bus_subscribe) in
+ * h->health; harness_health_of finds one by name (a zeroed entry if none
+ * came yet). */
+void harness_watch_health(harness *h);
+harness_health harness_health_of(harness *h, const char *name);
+int64_t harness_refused(const harness_health *d);
+/* One line: the daemon's refusals by kind and its loss. */
+void harness_print_refused(const harness_health *d);
 
 /* Lockstep participation for a test: answer step k on SIM_ACK. */
 void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps);

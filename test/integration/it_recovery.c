@@ -25,6 +25,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "harness.h"
+#include "auth_bus.h"
 #include "tandem_arm_state_t.h"
 #include "tandem_health_t.h"
 
@@ -139,7 +140,7 @@ static void test_loss_visible_in_health(void **state)
         s.seq = seq;
         s.step = i;
         s.sim_time_s = i * 1e-3;
-        tandem_arm_state_t_publish(h.lcm, "ARM1_STATE", &s);
+        AUTH_PUBLISH(tandem_arm_state_t, h.lcm, "ARM1_STATE", &s);
         harness_pump(&h, 2);
     }
     for (i = 0; i < 30 && !(w.heard && w.lost > 0); i++)

@@ -95,6 +95,7 @@ typedef struct run_cfg {
     double max_sim_s;
     const char *out;
     const char *tag;           /* "run" or "serial": log names */
+    const char *url;           /* --lcm-url, or NULL: a private udpm port */
     const char *block_detect;  /* tandem-arm --block-detect on|off */
     const char *stall_s;       /* tandem-supervisor --stall-s */
     uint64_t seed;
@@ -123,6 +124,7 @@ typedef struct run_result {
 static struct {
     lcm_t   *lcm;
     int64_t  pending;            /* step to answer, -1 none */
+    int64_t  handled;            /* last step recorded, -1 none */
     double   t_s;
     tandem_arm_state_t arm[2];
     int      have_arm[2];
@@ -287,7 +289,7 @@ static void send_control(int cmd, int arm, int link)
     c.link = link;
     c.length_m = cmd == TANDEM_SIM_CONTROL_T_INSERT_STICK ? 0.3 : 0.0;
     c.radius_m = cmd == TANDEM_SIM_CONTROL_T_INSERT_STICK ? 0.02 : 0.0;
-    tandem_sim_control_t_publish(R.lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, R.lcm, "SIM_CONTROL", &c);
 }
 
 static void ack(int64_t step, int leaving)
@@ -504,25 +506,28 @@ static int run_once(const run_cfg *c, run_result *res)
     double next_progress = wall0 + PROGRESS_EVERY_S;
     memset(res, 0, sizeof *res);
     memset(&R, 0, sizeof R);
-    R.pending = -1;
+    R.pending = R.handled = -1;
     R.last_event[0] = R.last_event[1] = TANDEM_ACTION_EVENT_T_DONE;   /* idle until a row starts */
     R.unblocked_step[0] = R.unblocked_step[1] = R.done_step[0] = R.done_step[1] = -1;
     res->exit_reason = "completed";
     snprintf(nbuf, sizeof nbuf, "%d", c->workpieces);
     snprintf(sbuf, sizeof sbuf, "%llu", (unsigned long long)c->seed);
-    snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", 30000 + (int)(getpid() % 20000) + (c->serial ? 1 : 0));
+    if (c->url)
+        snprintf(url, sizeof url, "%s", c->url);
+    else
+        snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", 30000 + (int)(getpid() % 20000) + (c->serial ? 1 : 0));
     R.lcm = lcm_create(url);
     if (!R.lcm) {
         fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", url);
         return -1;
     }
-    lcm_subscribe(R.lcm, "SIM_CLOCK", on_clock, NULL);
-    lcm_subscribe(R.lcm, "ARM1_STATE", on_arm, NULL);
-    lcm_subscribe(R.lcm, "ARM2_STATE", on_arm, NULL);
-    lcm_subscribe(R.lcm, "ARM_EVENTS", on_event, NULL);
-    lcm_subscribe(R.lcm, "PETRI_MARKING", on_marking, NULL);
-    lcm_subscribe(R.lcm, "SIM_STATUS", on_status, NULL);
-    lcm_subscribe(R.lcm, "SIM_ACK", on_sim_ack, NULL);
+    auth_bus_subscribe(R.lcm, "SIM_CLOCK", on_clock, NULL);
+    auth_bus_subscribe(R.lcm, "ARM1_STATE", on_arm, NULL);
+    auth_bus_subscribe(R.lcm, "ARM2_STATE", on_arm, NULL);
+    auth_bus_subscribe(R.lcm, "ARM_EVENTS", on_event, NULL);
+    auth_bus_subscribe(R.lcm, "PETRI_MARKING", on_marking, NULL);
+    auth_bus_subscribe(R.lcm, "SIM_STATUS", on_status, NULL);
+    auth_bus_subscribe(R.lcm, "SIM_ACK", on_sim_ack, NULL);
     proc_init(&ps, NULL);
     snprintf(journal, sizeof journal, "%s/%s_supervisor.journal", c->out, c->tag);
     remove(journal);                  /* a fresh run; a restart reads it */
@@ -573,6 +578,14 @@ static int run_once(const run_cfg *c, run_result *res)
         }
         if (R.pending < 0)
             continue;
+        if (R.pending == R.handled) {
+            /* the simulator announced the step again (an answer was late or
+             * lost): answer again, but record and measure it only once, so
+             * the results do not depend on the machine's timing */
+            ack(R.pending, 0);
+            R.pending = -1;
+            continue;
+        }
         k = faults_step(c, res, &ps, pid, argvs, url, err);
         if (k < 0) {
             rc = -1;
@@ -581,6 +594,7 @@ static int run_once(const run_cfg *c, run_result *res)
         }
         if (k == 0)
             continue;                 /* hold the step: a restarted daemon joins */
+        R.handled = R.pending;
         if (!c->serial)
             block_step();
         record_step(R.pending);
@@ -644,7 +658,7 @@ static void usage(FILE *f)
                "         [--block ARM:LINK:START_S:DURATION_S[:t3]]... [--random-blocks K]\n"
                "         [--seed S] [--no-serial] [--serial-workpieces M]\n"
                "         [--block-detect on|off] [--stall-s S] [--fault kill:D:T[:R]]...\n"
-               "         [--drop-rate P] --out DIR\n"
+               "         [--drop-rate P] [--lcm-url URL] --out DIR\n"
                "Two-arm carry in lockstep with the stick pushed into the arms (SPEC 2.6).\n"
                "  --workpieces N        workpieces to carry (default 3)\n"
                "  --controller C        event (default) or time (the time-referenced baseline)\n"
@@ -667,6 +681,7 @@ static void usage(FILE *f)
                "10 ms contact force <= 1000 N, resumed within 1 s of every removal, no\n"
                "stall, no invariant violation or deadlock, completed); 3 otherwise, with\n"
                "the failed criteria on the last line; 1 on errors, 2 on bad options.\n"
+               "  --lcm-url URL         bus of the run (default: a private udpm port)\n"
                "  --out DIR             output directory (required)\n");
 }
 
@@ -790,6 +805,7 @@ static int run(int argc, char **argv)
         { "drop-rate", required_argument, 0, 'D' },
         { "fault", required_argument, 0, 'F' },
         { "out", required_argument, 0, 'o' },
+        { "lcm-url", required_argument, 0, 'U' },
         { "help", no_argument, 0, 'h' },
         { 0, 0, 0, 0 }
     };
@@ -886,6 +902,13 @@ static int run(int argc, char **argv)
             faults[cfg.n_faults++].slot = i;
             break;
         case 'o': cfg.out = optarg; break;
+        case 'U':
+            if (!optarg[0] || strlen(optarg) >= 96) {
+                fprintf(stderr, "tandem-scenario carry: --lcm-url: '%s' is empty or too long\n", optarg);
+                return 2;
+            }
+            cfg.url = optarg;
+            break;
         case 'h': usage(stdout); return 0;
         default: usage(stderr); return 2;
         }

@@ -56,10 +56,7 @@ typedef struct {
     pid_t  rover_pid[FM_MAX + 1];     /* process hosting robot k (separate mode) */
     /* lcm */
     lcm_t *lcm;
-    tandem_sim_clock_t_subscription_t *sub_clock;
-    tandem_rover_truth_t_subscription_t *sub_truth;
-    tandem_rover_state_t_subscription_t *sub_state;
-    tandem_rovers_state_t_subscription_t *sub_states;
+    lcm_subscription_t *sub_clock, *sub_truth, *sub_state, *sub_states;
     int64_t clock_step, answered, ack_seq, last_clock_ns;
     int    have_clock;
     /* layout and truth */
@@ -328,25 +325,15 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_
     F.last_clock_ns = mono_ns();
 }
 
-/* LCM (1.3) drops messages past a subscription's queue, and the simulator
- * does not repeat a clock while it waits: a participant that lost the
- * clock it must answer would stall the lockstep until the simulator's
- * timeout dropped it. When the last clock seen is a step everyone answers
- * and nothing has moved for a while, the simulator is waiting there: the
- * scenario repeats that clock (never a later one, which could make a
- * controller act before the simulator has published that step's sensors).
- * Controllers answer a repeat without running a second cycle. */
+/* When the last clock seen is a step everyone answers and nothing has
+ * moved for a while, the simulator is waiting there: answer that step
+ * again in case our ack was lost. (The simulator itself re-announces a
+ * step whose answers are missing, sim_main.c; only it may publish
+ * SIM_CLOCK, auth_acl.c.) */
 static void nudge(void)
 {
-    tandem_sim_clock_t c;
     const int64_t k = F.clock_step;
     if (k % FM_PERIOD) return;
-    memset(&c, 0, sizeof c);
-    c.step = k;
-    c.sim_time_s = (double)k * 1e-3;
-    c.mode = TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP;
-    c.seed = F.seed;
-    tandem_sim_clock_t_publish(F.lcm, "SIM_CLOCK", &c);
     ack(k);
 }
 
@@ -622,6 +609,12 @@ static void write_summary(double wall_s)
     json_close(&j);
 }
 
+/* Checked subscriptions (auth_bus_subscribe) of the typed handlers above. */
+AUTH_TYPED_HANDLER(tandem_sim_clock_t, raw_on_clock, on_clock)
+AUTH_TYPED_HANDLER(tandem_rover_truth_t, raw_on_truth, on_truth)
+AUTH_TYPED_HANDLER(tandem_rover_state_t, raw_on_state, on_state)
+AUTH_TYPED_HANDLER(tandem_rovers_state_t, raw_on_states, on_states)
+
 /* ---- run ------------------------------------------------------------------------- */
 
 static void on_sig(int s) { (void)s; }
@@ -655,14 +648,14 @@ static int run(int argc, char **argv)
     F.type_now = F.formation;
     F.lcm = lcm_create(F.url);
     if (!F.lcm) { fprintf(stderr, "formation: cannot open LCM at %s\n", F.url); return 1; }
-    F.sub_clock = tandem_sim_clock_t_subscribe(F.lcm, "SIM_CLOCK", on_clock, NULL);
-    F.sub_truth = tandem_rover_truth_t_subscribe(F.lcm, "ROVER_TRUTH", on_truth, NULL);
-    F.sub_state = tandem_rover_state_t_subscribe(F.lcm, "ROVER[0-9]+_STATE", on_state, NULL);
-    F.sub_states = tandem_rovers_state_t_subscribe(F.lcm, "ROVERS_STATE", on_states, NULL);
-    tandem_sim_clock_t_subscription_set_queue_capacity(F.sub_clock, 0);
-    tandem_rover_truth_t_subscription_set_queue_capacity(F.sub_truth, 100000);
-    tandem_rover_state_t_subscription_set_queue_capacity(F.sub_state, 100000);
-    tandem_rovers_state_t_subscription_set_queue_capacity(F.sub_states, 100000);
+    F.sub_clock = auth_bus_subscribe(F.lcm, "SIM_CLOCK", raw_on_clock, NULL);
+    F.sub_truth = auth_bus_subscribe(F.lcm, "ROVER_TRUTH", raw_on_truth, NULL);
+    F.sub_state = auth_bus_subscribe(F.lcm, "ROVER[0-9]+_STATE", raw_on_state, NULL);
+    F.sub_states = auth_bus_subscribe(F.lcm, "ROVERS_STATE", raw_on_states, NULL);
+    lcm_subscription_set_queue_capacity(F.sub_clock, 0);
+    lcm_subscription_set_queue_capacity(F.sub_truth, 100000);
+    lcm_subscription_set_queue_capacity(F.sub_state, 100000);
+    lcm_subscription_set_queue_capacity(F.sub_states, 100000);
     F.truth_csv = scenario_fopen(F.out, "truth.csv");
     F.err_csv = scenario_fopen(F.out, "formation_error.csv");
     F.w_csv = scenario_fopen(F.out, "weights.csv");
@@ -710,7 +703,7 @@ static int run(int argc, char **argv)
                 memset(&c, 0, sizeof c);
                 c.command = TANDEM_SIM_CONTROL_T_KILL_ROBOT;
                 c.target = F.kill_id;
-                tandem_sim_control_t_publish(F.lcm, "SIM_CONTROL", &c);
+                AUTH_PUBLISH(tandem_sim_control_t, F.lcm, "SIM_CONTROL", &c);
                 if (!F.single && F.rover_pid[F.kill_id] > 0) {
                     /* the process dies without a word; tell the simulator it
                      * left rather than make it wait for its lockstep timeout */
@@ -758,10 +751,10 @@ static int run(int argc, char **argv)
     F.n_failed = formation_criteria(F.failed, sizeof F.failed);
     write_summary(scenario_wall_s() - wall0);
     write_plots();
-    tandem_sim_clock_t_unsubscribe(F.lcm, F.sub_clock);
-    tandem_rover_truth_t_unsubscribe(F.lcm, F.sub_truth);
-    tandem_rover_state_t_unsubscribe(F.lcm, F.sub_state);
-    tandem_rovers_state_t_unsubscribe(F.lcm, F.sub_states);
+    lcm_unsubscribe(F.lcm, F.sub_clock);
+    lcm_unsubscribe(F.lcm, F.sub_truth);
+    lcm_unsubscribe(F.lcm, F.sub_state);
+    lcm_unsubscribe(F.lcm, F.sub_states);
     lcm_destroy(F.lcm);
     printf("formation %s world %s blend %s law %s robots %d seed %ld: reached_goal=%d time_to_goal_s=%.2f "
            "rms_formation_err_m=%.3f max_formation_err_m=%.3f min_clearance_m=%.3f collisions=%d "

@@ -1,6 +1,7 @@
 /* tandem-scenario NAME [options] --out DIR: dispatch to one scenario. */
 #include <stdio.h>
 #include <string.h>
+#include "run_key.h"
 #include "scenario.h"
 #include "version.h"
 
@@ -21,7 +22,7 @@ static void usage(FILE *f)
                "DIR/summary.json, CSV time series and PNG plots.\n\nscenarios:\n");
     for (i = 0; i < sizeof all / sizeof all[0]; i++)
         fprintf(f, "  %-13s %s\n", all[i]->name, all[i]->summary);
-    fprintf(f, "\n'tandem-scenario NAME --help' lists a scenario's options.\n");
+    fprintf(f, "\n'tandem-scenario NAME --help' lists a scenario's options.\n" RUN_KEY_HELP);
 }
 
 int main(int argc, char **argv)
@@ -34,8 +35,11 @@ int main(int argc, char **argv)
         return argc < 2 ? 2 : 0;
     }
     for (i = 0; i < sizeof all / sizeof all[0]; i++)
-        if (strcmp(argv[1], all[i]->name) == 0)
+        if (strcmp(argv[1], all[i]->name) == 0) {
+            if (run_key_setup(&argc, argv) != 0)
+                return 1;
             return all[i]->run(argc - 1, argv + 1);
+        }
     fprintf(stderr, "tandem-scenario: unknown scenario '%s'\n", argv[1]);
     usage(stderr);
     return 2;

@@ -75,7 +75,7 @@ static void publish_ref(int64_t step, const double q[ARM_NJ], const double qd[AR
     memcpy(r.q_rad, q, sizeof r.q_rad);
     memcpy(r.qd_radps, qd, sizeof r.qd_radps);
     memcpy(r.qdd_radps2, qdd, sizeof r.qdd_radps2);
-    tandem_arm_joint_ref_t_publish(O.lcm, "ARM1_JOINT_REF", &r);
+    AUTH_PUBLISH(tandem_arm_joint_ref_t, O.lcm, "ARM1_JOINT_REF", &r);
 }
 
 static void send_quit(void)
@@ -83,7 +83,7 @@ static void send_quit(void)
     tandem_sim_control_t c;
     memset(&c, 0, sizeof c);
     c.command = TANDEM_SIM_CONTROL_T_QUIT;
-    tandem_sim_control_t_publish(O.lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, O.lcm, "SIM_CONTROL", &c);
 }
 
 /* The programs sit beside tandem-scenario (build/bin). */
@@ -157,8 +157,8 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
         fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", url);
         return -1.0;
     }
-    lcm_subscribe(O.lcm, "SIM_CLOCK", on_clock, NULL);
-    lcm_subscribe(O.lcm, "ARM1_STATE", on_state, NULL);
+    auth_bus_subscribe(O.lcm, "SIM_CLOCK", on_clock, NULL);
+    auth_bus_subscribe(O.lcm, "ARM1_STATE", on_state, NULL);
     if (start_children(&ps, url, c, q0_rad, o) != 0) {
         proc_kill_all(&ps, 1.0);
         lcm_destroy(O.lcm);

@@ -1,0 +1,423 @@
+/* auth_bus: signing, checking and key handling of one process (see auth_bus.h). */
+#include "auth_bus.h"
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/time.h>
+#include <unistd.h>
+#include <sodium.h>
+#include "auth_acl.h"
+#include "wire.h"
+#include "tandem_health_t.h"
+
+#define AUTH_BUS_MAX_SUBS 64
+/* Messages are checked when LCM dispatches them, after its per-subscription
+ * queue (30 by default, the rest dropped silently): forged messages must
+ * not be able to push real ones out of it. */
+#define AUTH_BUS_QUEUE_CAPACITY 100000
+
+typedef struct bus_sub {
+    lcm_msg_handler_t handler;
+    void *user;
+} bus_sub;
+
+/* The last verdict, so a message several subscriptions of this process
+ * match is checked (and counted) once: a second check would see its own
+ * counter again and call it a replay. A delivery is the same when LCM
+ * hands over the same buffer with the same receive time, size, channel
+ * and MAC; a copy sent again by someone else arrives in a buffer of its
+ * own, received later. */
+typedef struct last_verdict {
+    const void *data;
+    int64_t  recv_utime;
+    uint32_t size;
+    uint64_t channel_hash;
+    uint8_t  mac[AUTH_MAC_BYTES];
+    int      rc;
+    int      valid;
+} last_verdict;
+
+static struct {
+    const char  *key_file[AUTH_MAX_KEYS];
+    int          n_key_files;
+    int          insecure;
+    int          have_identity, as_owner;
+    auth_sender  me;
+    auth_keyring ring;
+    int          started, secure;
+    uint64_t     last_counter;
+    auth_replay  replay;
+    auth_bus_counts counts;
+    last_verdict last;
+    uint8_t     *tx;
+    int          tx_cap;
+    bus_sub      subs[AUTH_BUS_MAX_SUBS];
+    int          n_subs;
+    char         prog[64];
+} B;
+
+static uint64_t wall_us(void)
+{
+    struct timeval tv;
+    gettimeofday(&tv, NULL);
+    return (uint64_t)tv.tv_sec * 1000000u + (uint64_t)tv.tv_usec;
+}
+
+int auth_bus_option(const char *prog, int opt, const char *arg)
+{
+    switch (opt) {
+    case OPT_KEY_FILE:
+        if (!arg[0] || B.n_key_files >= AUTH_MAX_KEYS) {
+            fprintf(stderr, "%s: --key-file: %s\n", prog, arg[0] ? "at most two (the key and the previous one)" : "empty path");
+            return -1;
+        }
+        B.key_file[B.n_key_files++] = arg;
+        return 1;
+    case OPT_INSECURE:
+        B.insecure = 1;
+        return 1;
+    default:
+        return 0;
+    }
+}
+
+void auth_bus_identity(int role, int first, int last)
+{
+    B.me.role = (uint8_t)role;
+    B.me.first = (uint16_t)first;
+    B.me.last = (uint16_t)last;
+    B.have_identity = 1;
+}
+
+void auth_bus_sign_as_owner(int on)
+{
+    B.as_owner = on != 0;
+}
+
+int auth_bus_secure(void)
+{
+    return B.secure;
+}
+
+int auth_bus_default_key_path(char *out, size_t cap)
+{
+    const char *xdg = getenv("XDG_CONFIG_HOME"), *home = getenv("HOME");
+    int n;
+    if (xdg && xdg[0] == '/')
+        n = snprintf(out, cap, "%s/tandem/bus.key", xdg);
+    else if (home && home[0])
+        n = snprintf(out, cap, "%s/.config/tandem/bus.key", home);
+    else
+        return -1;
+    return n > 0 && (size_t)n < cap ? 0 : -1;
+}
+
+static void warn_insecure(void)
+{
+    fprintf(stderr,
+            "%s: WARNING: --insecure: bus messages are NOT authenticated. Nothing this process\n"
+            "%s: WARNING: sends is signed and nothing it receives is checked: anyone who can\n"
+            "%s: WARNING: reach the bus can command it. Its health messages say auth_on = 0.\n",
+            B.prog, B.prog, B.prog);
+}
+
+/* The key files to load: the options, else $TANDEM_KEY_FILE, else the
+ * default file if it exists. 0, or -1 when there is none. */
+static int key_files(const char *files[AUTH_MAX_KEYS], int *n, char *def, size_t cap)
+{
+    const char *env = getenv(AUTH_BUS_KEY_ENV);
+    int i;
+    *n = B.n_key_files;
+    for (i = 0; i < B.n_key_files; i++)
+        files[i] = B.key_file[i];
+    if (*n > 0)
+        return 0;
+    if (env && env[0]) {
+        files[(*n)++] = env;
+        return 0;
+    }
+    if (auth_bus_default_key_path(def, cap) == 0 && access(def, F_OK) == 0) {
+        files[(*n)++] = def;
+        return 0;
+    }
+    return -1;
+}
+
+static int load_keys(void)
+{
+    const char *files[AUTH_MAX_KEYS];
+    char def[1024] = "", why[1200];
+    int i, n;
+    if (key_files(files, &n, def, sizeof def) != 0) {
+        fprintf(stderr, "%s: no bus key. Give --key-file PATH (`make run` creates %s on first use,\n"
+                        "%s: `tandem-keygen` makes one), or --insecure to run without authentication.\n",
+                B.prog, def[0] ? def : "~/.config/tandem/bus.key", B.prog);
+        return -1;
+    }
+    for (i = 0; i < n; i++)
+        if (auth_key_load(&B.ring.key[i], files[i], why, sizeof why) != AUTH_OK) {
+            fprintf(stderr, "%s: bus key %s\n", B.prog, why);
+            return -1;
+        }
+    B.ring.n = n;
+    return 0;
+}
+
+/* $TANDEM_INSECURE=1 without any key option or $TANDEM_KEY_FILE. */
+static int insecure_from_env(void)
+{
+    const char *ins = getenv(AUTH_BUS_INSECURE_ENV), *key = getenv(AUTH_BUS_KEY_ENV);
+    return B.n_key_files == 0 && !(key && key[0]) && ins && strcmp(ins, "1") == 0;
+}
+
+int auth_bus_start(const char *prog)
+{
+    snprintf(B.prog, sizeof B.prog, "%s", prog);
+    if (insecure_from_env())
+        B.insecure = 1;
+    if (B.insecure && B.n_key_files > 0) {
+        fprintf(stderr, "%s: --insecure and --key-file exclude each other\n", prog);
+        return -1;
+    }
+    B.started = 1;
+    if (B.insecure) {
+        B.secure = 0;
+        warn_insecure();
+        return 0;
+    }
+    if (auth_init() != 0) {
+        fprintf(stderr, "%s: libsodium does not start\n", prog);
+        return -1;
+    }
+    if (!B.have_identity && !B.as_owner) {
+        fprintf(stderr, "%s: no bus identity set (auth_bus_identity)\n", prog);
+        return -1;
+    }
+    if (load_keys() != 0)
+        return -1;
+    B.me.session = randombytes_random();
+    auth_replay_init(&B.replay, AUTH_WINDOW_US, wall_us());
+    B.secure = 1;
+    return 0;
+}
+
+/* ---- ephemeral key ------------------------------------------------------------- */
+
+static char eph_dir[512], eph_file[600];
+static pid_t eph_owner;
+
+static void remove_ephemeral(void)
+{
+    if (getpid() != eph_owner)
+        return;   /* a forked child that did not exec must not take the key away */
+    unlink(eph_file);
+    rmdir(eph_dir);
+}
+
+int auth_bus_ephemeral_key(char *path, size_t cap)
+{
+    const char *tmp = getenv("TMPDIR");
+    char why[700];
+    snprintf(eph_dir, sizeof eph_dir, "%s/tandem-key-XXXXXX", tmp && tmp[0] == '/' ? tmp : "/tmp");
+    if (!mkdtemp(eph_dir))
+        return -1;
+    snprintf(eph_file, sizeof eph_file, "%s/bus.key", eph_dir);
+    if (auth_key_create(eph_file, why, sizeof why) != AUTH_OK) {
+        fprintf(stderr, "tandem: %s\n", why);
+        rmdir(eph_dir);
+        return -1;
+    }
+    eph_owner = getpid();
+    atexit(remove_ephemeral);
+    setenv(AUTH_BUS_KEY_ENV, eph_file, 1);
+    snprintf(path, cap, "%s", eph_file);
+    return 0;
+}
+
+/* ---- publishing ---------------------------------------------------------------- */
+
+int auth_bus_tx_reserve(int body_len)
+{
+    const int need = body_len + AUTH_TRAILER_BYTES;
+    if (body_len < 0)
+        return -1;
+    if (need > B.tx_cap) {
+        uint8_t *p = realloc(B.tx, (size_t)need);
+        if (!p)
+            return -1;
+        B.tx = p;
+        B.tx_cap = need;
+    }
+    return 0;
+}
+
+uint8_t *auth_bus_tx(void)
+{
+    return B.tx;
+}
+
+int auth_bus_tx_cap(void)
+{
+    return B.tx_cap - AUTH_TRAILER_BYTES;
+}
+
+static int sender_for(const char *channel, auth_sender *s)
+{
+    *s = B.me;
+    if (B.as_owner && auth_acl_owner(auth_acl_table, auth_acl_table_n, channel, s) != AUTH_OK) {
+        s->role = AUTH_ROLE_TOOL;
+        s->first = s->last = 0;
+    }
+    s->session = B.me.session;
+    return 0;
+}
+
+int auth_bus_publish_tx(lcm_t *lcm, const char *channel, int body_len)
+{
+    auth_sender s;
+    if (body_len < 0 || !B.tx)
+        return -1;
+    if (!B.started) {
+        fprintf(stderr, "tandem: publishing on %s before auth_bus_start: not sent\n", channel);
+        return -1;
+    }
+    if (!B.secure)
+        return lcm_publish(lcm, channel, B.tx, (unsigned)body_len);
+    sender_for(channel, &s);
+    if (auth_sign(&B.ring.key[0], &s, auth_next_counter(&B.last_counter, wall_us()), channel, B.tx,
+                  (size_t)body_len, (size_t)B.tx_cap) != AUTH_OK)
+        return -1;
+    return lcm_publish(lcm, channel, B.tx, (unsigned)(body_len + AUTH_TRAILER_BYTES));
+}
+
+int auth_bus_publish_raw(lcm_t *lcm, const char *channel, const void *buf, int len)
+{
+    if (auth_bus_tx_reserve(len) != 0)
+        return -1;
+    memcpy(B.tx, buf, (size_t)len);
+    return auth_bus_publish_tx(lcm, channel, len);
+}
+
+/* ---- receiving ----------------------------------------------------------------- */
+
+static void count(int rc)
+{
+    switch (rc) {
+    case AUTH_OK: B.counts.accepted++; break;
+    case AUTH_ERR_MAC: B.counts.bad_mac++; break;
+    case AUTH_ERR_SENDER: B.counts.unknown_sender++; break;
+    case AUTH_ERR_REPLAY: B.counts.replayed++; break;
+    case AUTH_ERR_ACL: B.counts.unauthorised++; break;
+    default: B.counts.unsigned_msgs++; break;
+    }
+}
+
+static int same_delivery(const lcm_recv_buf_t *rb, uint64_t ch_hash, const uint8_t *mac)
+{
+    return B.last.valid && B.last.data == rb->data && B.last.recv_utime == rb->recv_utime &&
+           B.last.size == rb->data_size && B.last.channel_hash == ch_hash &&
+           memcmp(B.last.mac, mac, AUTH_MAC_BYTES) == 0;
+}
+
+static int check(const uint8_t *data, uint32_t size, const char *channel, uint64_t ch_hash, auth_trailer *t)
+{
+    int rc = auth_verify(&B.ring, channel, data, size, t);
+    if (rc == AUTH_OK)
+        rc = auth_sender_check(&t->sender);
+    if (rc == AUTH_OK)
+        rc = auth_acl_check(auth_acl_table, auth_acl_table_n, channel, &t->sender);
+    if (rc == AUTH_OK)
+        rc = auth_replay_check(&B.replay, &t->sender, ch_hash, t->counter, wall_us());
+    return rc;
+}
+
+int auth_bus_accept(const lcm_recv_buf_t *rb, const char *channel, lcm_recv_buf_t *body)
+{
+    const uint8_t *data = rb->data;
+    const uint64_t ch_hash = auth_channel_hash(channel);
+    auth_trailer t;
+    int rc;
+    memset(&t, 0, sizeof t);
+    *body = *rb;
+    if (!B.started)
+        return AUTH_ERR_KEY;   /* fail closed */
+    if (!B.secure) {
+        if (auth_parse(data, rb->data_size, &t) == AUTH_OK)
+            body->data_size -= AUTH_TRAILER_BYTES;
+        return AUTH_OK;
+    }
+    auth_parse(data, rb->data_size, &t);
+    if (same_delivery(rb, ch_hash, t.mac)) {
+        rc = B.last.rc;
+    } else {
+        rc = check(data, rb->data_size, channel, ch_hash, &t);
+        count(rc);
+        B.last.valid = 1;
+        B.last.data = rb->data;
+        B.last.recv_utime = rb->recv_utime;
+        B.last.size = rb->data_size;
+        B.last.channel_hash = ch_hash;
+        memcpy(B.last.mac, t.mac, AUTH_MAC_BYTES);
+        B.last.rc = rc;
+    }
+    if (rc == AUTH_OK)
+        body->data_size -= AUTH_TRAILER_BYTES;
+    return rc;
+}
+
+static void sub_trampoline(const lcm_recv_buf_t *rb, const char *channel, void *u)
+{
+    const bus_sub *s = u;
+    lcm_recv_buf_t body;
+    const wire_type *w;
+    if (auth_bus_accept(rb, channel, &body) != AUTH_OK)
+        return;
+    w = wire_find(body.data, body.data_size);
+    if (!w || wire_check(w, body.data, body.data_size) != WIRE_OK)
+        return;
+    s->handler(&body, channel, s->user);
+}
+
+lcm_subscription_t *auth_bus_subscribe(lcm_t *lcm, const char *channel, lcm_msg_handler_t handler, void *user)
+{
+    lcm_subscription_t *sub;
+    bus_sub *s = NULL;
+    int i;
+    for (i = 0; i < B.n_subs && !s; i++)   /* a run repeated in one process subscribes again */
+        if (B.subs[i].handler == handler && B.subs[i].user == user)
+            s = &B.subs[i];
+    if (!s) {
+        if (B.n_subs >= AUTH_BUS_MAX_SUBS) {
+            fprintf(stderr, "tandem: more than %d checked subscriptions\n", AUTH_BUS_MAX_SUBS);
+            return NULL;
+        }
+        s = &B.subs[B.n_subs++];
+        s->handler = handler;
+        s->user = user;
+    }
+    sub = lcm_subscribe(lcm, channel, sub_trampoline, s);
+    if (sub)
+        lcm_subscription_set_queue_capacity(sub, AUTH_BUS_QUEUE_CAPACITY);
+    return sub;
+}
+
+const auth_bus_counts *auth_bus_counts_get(void)
+{
+    return &B.counts;
+}
+
+int64_t auth_bus_rejected_total(void)
+{
+    return B.counts.unsigned_msgs + B.counts.bad_mac + B.counts.unknown_sender + B.counts.replayed +
+           B.counts.unauthorised;
+}
+
+void auth_bus_fill_health(tandem_health_t *h)
+{
+    h->auth_on = (int8_t)B.secure;
+    h->auth_unsigned = B.counts.unsigned_msgs;
+    h->auth_bad_mac = B.counts.bad_mac;
+    h->auth_unknown_sender = B.counts.unknown_sender;
+    h->auth_replayed = B.counts.replayed;
+    h->auth_unauthorised = B.counts.unauthorised;
+}

@@ -1,0 +1,22 @@
+/* run_key: the bus key of a tandem-scenario run (issue 13). The options
+ * --key-file PATH and --insecure are taken out of the command line before
+ * the scenario parses it. Without them the run uses $TANDEM_KEY_FILE if
+ * set, else a key made for this run alone (a 0600 file in a fresh
+ * temporary directory, removed at exit). The children started by the run
+ * get the same key or mode through the environment ($TANDEM_KEY_FILE,
+ * $TANDEM_INSECURE). */
+#ifndef TANDEM_RUN_KEY_H
+#define TANDEM_RUN_KEY_H
+
+#define RUN_KEY_HELP \
+    "\nbus authentication (every scenario):\n" \
+    "  --key-file PATH   sign and check with this key (default $TANDEM_KEY_FILE,\n" \
+    "                    else a key made for this run alone)\n" \
+    "  --insecure        no authentication for this run and its daemons\n"
+
+/* Removes the options from argv (updating *argc), sets up the key for this
+ * process (a tool: it sends SIM_CONTROL, SIM_ACK, joint references) and
+ * its children. 0, or -1 after printing why. */
+int run_key_setup(int *argc, char **argv);
+
+#endif
