@@ -677,7 +677,8 @@ static int joint_fault(daemon *d)
 static void cycle(daemon *d, void *user)
 {
     double q_d[ARM_NJ], qd_d[ARM_NJ] = { 0 }, qdd_d[ARM_NJ] = { 0 }, tau[ARM_NJ];
-    arm_payload payload, *pl = NULL;
+    arm_payload payload;
+    const arm_payload *pl;
     (void)user;
     if (!C.have_state || (d->lockstep && C.st.step != d->pending_step)) {
         /* lockstep: join once the first state is here; a state lost on the
@@ -713,11 +714,9 @@ static void cycle(daemon *d, void *user)
         memcpy(qdd_d, JR.ref.qdd_radps2, sizeof qdd_d);
         servo_vlimit(q_d, qd_d, qdd_d);
     }
-    if (C.st.holding_workpiece >= 0) {
-        const double com[3] = { 0.0, 0.0, 0.10 };
-        arm_payload_point(&payload, 0.5, com);
-        pl = &payload;
-    }
+    /* the held bar as the Cartesian law models it: a joint move that
+     * finishes a Cartesian segment must meet the joint done tolerance */
+    pl = cart_payload(&payload);
     if (jointctl_torque(C.model, pl, &C.gains, C.st.q_rad, C.st.qd_radps, q_d, qd_d, qdd_d, tau, NULL) != 0) {
         send_command(d, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
         return;
