@@ -307,7 +307,17 @@ static int segment_reference(double q_d[ARM_NJ], double qd_d[ARM_NJ], double qdd
  * operational-space computed torque. Synchronised segments (sync_group >
  * 0) publish PROGRESS every cycle and follow k_i s*, s* = min over this arm
  * and its partner (the partner's PROGRESS of the same transition and
- * group). BLOCKED / UNBLOCKED are reported when s stops while commanded. */
+ * group). BLOCKED / UNBLOCKED are reported when s stops while commanded
+ * and the arm touches something (the links' contact force in ARMk_STATE).
+ *
+ * Joint ranges (event law): a segment whose goal the Cartesian move would
+ * reach only with a joint within CARTSEG_GOAL_MARGIN_RAD of (or past) its
+ * range end -- e.g. after a push turned the wrist over -- and a segment
+ * that stalls with nothing touching the arm (a joint held at its range
+ * barrier, cartctl) are finished by a joint-space move to the goal's
+ * in-range solution (cartseg_joint_goal), still reporting s along the
+ * segment; a contact during that move hands the segment back to the
+ * Cartesian law, which then reports the block. */
 
 #define CART_PROGRESS_EVERY 100       /* unsynchronised: 10 Hz */
 #define CART_PARTNER_WINDOW_STEPS 500 /* partner progress older than the
@@ -330,6 +340,8 @@ static struct {
     /* the partner's last PROGRESS messages by step: lockstep uses the
      * newest sent before the step it answers, whatever the arrival order */
     tandem_action_event_t partner_ring[4];
+    int     fallback;                 /* the segment runs as a joint-space move */
+    tandem_action_segment_t cart_seg; /* ... in place of this Cartesian one */
 } CX;
 
 static void cart_row_accept(const tandem_action_row_t *r)
@@ -402,6 +414,63 @@ static void cart_on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
     tandem_action_event_t_decode_cleanup(&e);
 }
 
+/* Finish the current Cartesian segment by a joint-space move to its
+ * goal's in-range solution (see above). at_start: only if the Cartesian
+ * move would end too near a range end; otherwise the segment is stuck. */
+static void cart_joint_fallback(daemon *d, int at_start)
+{
+    tandem_action_segment_t *g = &C.seg[C.cur_seg];
+    double R1[9], q_goal[ARM_NJ];
+    int rc;
+    rot_from_quat(R1, g->orientation_quat);
+    rc = cartseg_joint_goal(C.model, &CX.tool, CX.T_world_base, C.st.q_rad, g->position_m, R1, q_goal);
+    if (at_start ? rc != 1 : rc < 0) {
+        if (rc < 0)
+            fprintf(stderr, "%s: segment %d: no goal solution inside the joint ranges\n", d->name, C.cur_seg);
+        return;
+    }
+    CX.cart_seg = *g;
+    CX.fallback = 1;
+    g->kind = TANDEM_ACTION_SEGMENT_T_MOVE_JOINT;
+    memcpy(g->q_rad, q_goal, sizeof g->q_rad);
+    memcpy(C.hold_q, C.st.q_rad, sizeof C.hold_q);
+    C.seg_t0_s = C.st.sim_time_s;
+    jtraj_plan(&C.traj, C.model, C.hold_q, g->q_rad, C.speed_frac, 2.0);
+    fprintf(stderr, "%s: t %.3f s: action %d segment %d %s: joint-space move to q = [%.3f %.3f %.3f %.3f %.3f %.3f]\n",
+            d->name, C.st.sim_time_s, (int)C.action_id, C.cur_seg,
+            at_start ? "would end near a joint range end" : "stalled with no contact", q_goal[0], q_goal[1],
+            q_goal[2], q_goal[3], q_goal[4], q_goal[5]);
+}
+
+/* While a fallback joint move runs: s along the segment for PROGRESS
+ * (the partner of a synchronised segment follows it), and a contact hands
+ * the segment back to the Cartesian law (returns 1 then). done: the move
+ * has ended. */
+static int cart_fallback_cycle(daemon *d, int done)
+{
+    double x[3], v[3];
+    if (!CX.fallback || !C.running || C.cur_seg < 0 || C.cur_seg >= C.n_seg)
+        return 0;
+    if (cartseg_tool_world(C.model, &CX.tool, CX.T_world_base, C.st.q_rad, C.st.qd_radps, x, v) == 0)
+        CX.s_m = erlaw_line_s(&CX.seg.line, x);
+    if (done)
+        CX.s_m = CX.s_f_m;
+    if (CX.sync_group > 0 || CX.cycles % CART_PROGRESS_EVERY == 0 || done)
+        cart_publish_event(d, TANDEM_ACTION_EVENT_T_PROGRESS, "");
+    CX.cycles++;
+    if (done) {
+        CX.fallback = 0;
+    } else if (C.st.max_contact_force_10ms_N >= CARTSEG_CONTACT_N) {
+        C.seg[C.cur_seg] = CX.cart_seg;
+        CX.fallback = 0;
+        erlaw_block_reset(&CX.seg.blk, CX.s_m);
+        fprintf(stderr, "%s: t %.3f s: contact during the joint-space move: back to the Cartesian law\n", d->name,
+                C.st.sim_time_s);
+        return 1;
+    }
+    return 0;
+}
+
 static void cart_start(daemon *d, const tandem_action_segment_t *g)
 {
     const double off[3] = { 0.0, 0.0, CELL_TOOL_LENGTH_M };
@@ -424,6 +493,9 @@ static void cart_start(daemon *d, const tandem_action_segment_t *g)
     CX.s_m = 0.0;
     CX.s_f_m = erlaw_channel_length(&CX.seg.line.ch);
     CX.k = 1.0;
+    CX.fallback = 0;
+    if (ref == ERLAW_REF_MEASURED)
+        cart_joint_fallback(d, 1);
 }
 
 /* Reference k_i s* of a synchronised event-referenced segment, or -1
@@ -477,12 +549,18 @@ static int cart_cycle(daemon *d)
         return 0;
     CX.s_m = erlaw_line_s(&CX.seg.line, x);
     s_ext = cart_sync_ref();
+    cartseg_set_contact(&CX.seg, C.st.max_contact_force_10ms_N);
     if (cartseg_step(&CX.seg, C.model, &CX.tool, cart_payload(&pl), C.st.q_rad, C.st.qd_radps, s_ext,
                      d->period_s, &o) != 0)
         return 0;   /* joint-space hold at hold_q this cycle */
     CX.s_m = o.s_m;
     if (o.block_changed)
         cart_publish_event(d, o.blocked ? TANDEM_ACTION_EVENT_T_BLOCKED : TANDEM_ACTION_EVENT_T_UNBLOCKED, "");
+    if (o.stuck) {
+        cart_joint_fallback(d, 0);
+        if (CX.fallback)
+            return 0;   /* the joint-space path runs it from this cycle */
+    }
     if (CX.sync_group > 0 || CX.cycles % CART_PROGRESS_EVERY == 0 || o.done)
         cart_publish_event(d, TANDEM_ACTION_EVENT_T_PROGRESS, "");
     CX.cycles++;
@@ -653,7 +731,8 @@ static int joint_fault(daemon *d)
 static void cycle(daemon *d, void *user)
 {
     double q_d[ARM_NJ], qd_d[ARM_NJ] = { 0 }, qdd_d[ARM_NJ] = { 0 }, tau[ARM_NJ];
-    arm_payload payload, *pl = NULL;
+    arm_payload payload;
+    const arm_payload *pl;
     (void)user;
     if (!C.have_state || (d->lockstep && C.st.step != d->pending_step)) {
         /* lockstep: join once the first state is here; a state lost on the
@@ -675,13 +754,14 @@ static void cycle(daemon *d, void *user)
         row_take(d);
     if (d->lockstep)
         partner_at(d->pending_step);
-    if (joint_fault(d) || tdsd_cycle(d) || cart_cycle(d))
+    if (joint_fault(d) || tdsd_cycle(d) || cart_cycle(d) || (cart_fallback_cycle(d, 0) && cart_cycle(d)))
         return;
     memcpy(q_d, C.hold_q, sizeof q_d);
     if (C.running) {
         if (C.cur_seg < 0)
             start_segment(d);
         if (C.running && segment_reference(q_d, qd_d, qdd_d)) {
+            cart_fallback_cycle(d, 1);
             start_segment(d);
             if (C.running)
                 segment_reference(q_d, qd_d, qdd_d);
@@ -692,11 +772,9 @@ static void cycle(daemon *d, void *user)
         memcpy(qdd_d, JR.ref.qdd_radps2, sizeof qdd_d);
         servo_vlimit(q_d, qd_d, qdd_d);
     }
-    if (C.st.holding_workpiece >= 0) {
-        const double com[3] = { 0.0, 0.0, 0.10 };
-        arm_payload_point(&payload, 0.5, com);
-        pl = &payload;
-    }
+    /* the held bar as the Cartesian law models it: a joint move that
+     * finishes a Cartesian segment must meet the joint done tolerance */
+    pl = cart_payload(&payload);
     if (jointctl_torque(C.model, pl, &C.gains, C.st.q_rad, C.st.qd_radps, q_d, qd_d, qdd_d, tau, NULL) != 0) {
         send_command(d, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
         return;

@@ -15,6 +15,21 @@
  * the (damped) null-space projector; -k_null P qd damps the motion J#
  * cannot see. Jdot qd is the central difference of J along qd.
  *
+ * Joint ranges: the task cannot ask a joint to run onto its stop. Each
+ * joint's acceleration is bounded so that it comes to rest no closer than
+ * range_margin_rad to a range end, as a critically damped spring at that
+ * barrier b would bring it there (w = range_w_radps, d = distance to b):
+ *   qdd_i >= -w^2 d_lo - 2 w qd_i,   qdd_i <= w^2 d_hi - 2 w qd_i.
+ * The bounds act within CARTCTL_RANGE_BAND_RAD of a range end (farther
+ * out, a fast move near the wrist singularity would meet them). A
+ * joint whose qdd leaves its bounds is held at the bound and the other
+ * joints are re-solved for the task in the least-squares sense (position
+ * rows, and orientation rows weighted by CARTCTL_RANGE_ROT_WEIGHT_M), one
+ * joint at a time, worst first; out->range_limited says which were held.
+ * The tool then leaves its commanded path only as far as the ranges force
+ * it to (a path that needs a joint beyond its range is not followed past
+ * the barrier: the caller sees the tool stop and must re-plan).
+ *
  * Fast path: the SVD is the hot spot of the cycle. J^-1 (Gauss-Jordan)
  * gives a lower bound on s_min (||J^-1 J^-T||_F^(-1/2)); when that bound
  * is >= sigma_band, lambda = 0 and J# = J^-1, P = 0, so qdd = J^-1 rhs is
@@ -35,11 +50,20 @@ typedef struct cartctl_gains {
     double lambda_max;   /* DLS damping at s_min = 0                */
     double sigma_band;   /* damping fades in below this s_min       */
     double k_null;       /* 1/s: null-space joint damping           */
+    double range_margin_rad; /* joints come to rest this far inside their ranges */
+    double range_w_radps;    /* range barrier bandwidth; 0: no barrier  */
 } cartctl_gains;
+
+/* The range barrier acts on joints this close to a range end. */
+#define CARTCTL_RANGE_BAND_RAD 0.15
+/* Weight (m) of the orientation rows against the position rows when the
+ * task is re-solved with a joint held at its range barrier. */
+#define CARTCTL_RANGE_ROT_WEIGHT_M 0.1
 
 /* Defaults used by tandem-arm (kp_rot 100, kv_rot 20, lambda_max 0.003,
  * sigma_band 0.003, k_null 5; the tool-down poses have s_min
- * 0.003-0.011). */
+ * 0.003-0.011; range_margin 2 deg, range_w 20 rad/s: never active on the
+ * carry's planned moves, whose joints stay >= 3.6 deg from their ends). */
 void cartctl_gains_default(cartctl_gains *g);
 int  cartctl_gains_valid(const cartctl_gains *g);
 
@@ -57,6 +81,7 @@ typedef struct cartctl_out {
                                 cartctl_qdd) a lower bound >= sigma_band */
     double lambda;
     int    saturated;        /* 1 if a torque hit its limit          */
+    unsigned range_limited;  /* bit i: joint i held at its range barrier */
 } cartctl_out;
 
 /* Tool pose, Jacobian and twist at (q, qd). 0 / -1. */

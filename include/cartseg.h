@@ -2,8 +2,9 @@
  * arm controller (SPEC 2.1-2.3, 2.6): the erlaw segment law (event-
  * referenced, synchronised via an external s* reference, or the
  * time-referenced baseline) in the world frame, the orientation held at
- * the segment's target, cartctl for the joint torques, the done predicate
- * and the blocked detector.
+ * the segment's target, cartctl for the joint torques, the done predicate,
+ * the blocked detector, and the in-range joint-space goal of a segment
+ * the arm cannot finish as a Cartesian move.
  *
  * World <-> arm: T_world_base is the arm's mounting frame in the world
  * (arm_fk's base frame), tool is the tool offset. Pure core: no I/O.
@@ -39,6 +40,19 @@
  * such step (a pinned proximal link turns the tool sideways instead). */
 #define CARTSEG_HOLD_REST_S 0.25
 #define CARTSEG_HOLD_REST_MPS 0.001
+/* Contact sensing (cartseg_set_contact): a contact force of at least
+ * CARTSEG_CONTACT_N on the arm is an obstacle. A stall (or a push off the
+ * line) is a block only if the arm touched something within the stall
+ * window; without contact it is not an obstacle but a path the arm cannot
+ * follow from where it is (a joint held at its range barrier, or a law too
+ * weak for the model error at the start of a segment): cartseg_out.stuck,
+ * and the caller re-plans (cartseg_joint_goal). A blocked arm with no
+ * contact for CARTSEG_FREE_S is released at once (the obstacle is gone),
+ * besides the release on progress. */
+#define CARTSEG_CONTACT_N 0.05
+#define CARTSEG_FREE_S 0.05
+/* Joint-space goals keep every joint this far inside its range. */
+#define CARTSEG_GOAL_MARGIN_RAD 0.0262   /* 1.5 deg */
 /* Filter of the free servo's cross-track error (its static part, model
  * error / k_p, is kept up while blocked). */
 #define CARTSEG_STATIC_ERR_TAU_S 0.5
@@ -61,6 +75,8 @@ typedef struct cartseg {
     int    rest_steps;         /* such moves in this block */
     int    blocked;
     int    block_detect;       /* 1 (cartseg_start's default): detector on; 0: eq. 6-7 alone */
+    double contact_N;          /* measured contact force on the arm, < 0: no sensor */
+    double t_no_contact_s;     /* time since the arm last touched something */
 } cartseg;
 
 typedef struct cartseg_out {
@@ -75,6 +91,9 @@ typedef struct cartseg_out {
     int    blocked;
     int    block_changed;      /* blocked flipped this cycle */
     int    saturated;
+    int    stuck;              /* stalled with nothing touching the arm (event law,
+                                  contact sensed): re-plan, see CARTSEG_CONTACT_N */
+    unsigned range_limited;    /* joints held at their range barrier (cartctl) */
 } cartseg_out;
 
 /* Tool point and velocity in the world. 0 / -1. */
@@ -88,6 +107,24 @@ int cartseg_tool_world(const arm_model *m, const arm_tool *tool, const double T_
 int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool, const double T_world_base[16],
                   const double q[ARM_NJ], const double p1_world[3], const double R1_world[9],
                   const erlaw_gains *g, erlaw_ref ref);
+
+/* The arm's measured contact force this cycle (N, e.g. the largest 10 ms
+ * average over its links); NAN or < 0: no contact sensor (the blocked
+ * detector then goes by progress alone). cartseg_start sets "none". */
+void cartseg_set_contact(cartseg *c, double force_N);
+
+/* Joint-space goal of the segment start -> (p1_world, R1_world) for the
+ * arm at q. The goal solution the Cartesian move would end at is the IK
+ * solution nearest q (max |dq|, angles taken 2 pi-nearest to q). Returns
+ * 0 when that solution keeps every joint at least CARTSEG_GOAL_MARGIN_RAD
+ * inside its range (q_goal = it: the Cartesian move may run); 1 when it
+ * does not (q_goal = the nearest solution, preferring the arm's shoulder
+ * and elbow configuration, that keeps the margin: reach the goal by a
+ * joint-space move); -1 when no solution keeps the margin or on bad
+ * input (q_goal = q). */
+int cartseg_joint_goal(const arm_model *m, const arm_tool *tool, const double T_world_base[16],
+                       const double q[ARM_NJ], const double p1_world[3], const double R1_world[9],
+                       double q_goal[ARM_NJ]);
 
 /* One cycle. s_ext_m >= 0 selects the external (synchronised) reference
  * k_i s*; pass a negative value otherwise. 0 / -1 (tau then 0). */

@@ -1,6 +1,7 @@
 /* cartctl: operational-space computed torque (SPEC 2.2, the feedback
  * linearisation below eq. 6): tool acceleration -> qdd through a damped
- * SVD inverse of the Jacobian -> tau by RNE. See cartctl.h. */
+ * SVD inverse of the Jacobian, bounded by the joint-range barrier -> tau
+ * by RNE. See cartctl.h. */
 #include "cartctl.h"
 
 #include <math.h>
@@ -11,6 +12,7 @@
 #include "vec3.h"
 
 #define JDOT_H_S 1e-4   /* central-difference step along qd, seconds */
+#define RANGE_MARGIN_DEFAULT_RAD 0.017453293   /* 1 deg */
 
 void cartctl_gains_default(cartctl_gains *g)
 {
@@ -19,13 +21,17 @@ void cartctl_gains_default(cartctl_gains *g)
     g->lambda_max = 0.003;
     g->sigma_band = 0.003;
     g->k_null = 5.0;
+    g->range_margin_rad = RANGE_MARGIN_DEFAULT_RAD;
+    g->range_w_radps = 20.0;
 }
 
 int cartctl_gains_valid(const cartctl_gains *g)
 {
     return g && isfinite(g->kp_rot) && isfinite(g->kv_rot) && isfinite(g->lambda_max) &&
            isfinite(g->sigma_band) && isfinite(g->k_null) && g->kp_rot >= 0.0 && g->kv_rot >= 0.0 &&
-           g->lambda_max >= 0.0 && g->sigma_band >= 0.0 && g->k_null >= 0.0;
+           g->lambda_max >= 0.0 && g->sigma_band >= 0.0 && g->k_null >= 0.0 &&
+           isfinite(g->range_margin_rad) && isfinite(g->range_w_radps) && g->range_margin_rad >= 0.0 &&
+           g->range_w_radps >= 0.0;
 }
 
 static int vec_finite(const double *v, int n)
@@ -146,6 +152,86 @@ static double sigma_min_lower(const double Ji[36])
     return f2 > 0.0 ? pow(f2, -0.25) : 0.0;
 }
 
+/* Bounds of the range barrier on qdd (see cartctl.h). */
+static void range_bounds(const arm_model *m, const cartctl_gains *g, const double q[ARM_NJ],
+                         const double qd[ARM_NJ], double lo[ARM_NJ], double hi[ARM_NJ])
+{
+    const double w = g->range_w_radps;
+    int i;
+    for (i = 0; i < ARM_NJ; i++) {
+        const double d_lo = q[i] - (m->q_min_rad[i] + g->range_margin_rad);
+        const double d_hi = (m->q_max_rad[i] - g->range_margin_rad) - q[i];
+        lo[i] = d_lo + g->range_margin_rad < CARTCTL_RANGE_BAND_RAD ? -w * w * d_lo - 2.0 * w * qd[i] : -HUGE_VAL;
+        hi[i] = d_hi + g->range_margin_rad < CARTCTL_RANGE_BAND_RAD ? w * w * d_hi - 2.0 * w * qd[i] : HUGE_VAL;
+    }
+}
+
+/* Holds the joints that leave their bounds (worst first) at the bound and
+ * re-solves the free ones for J qdd = rhs, weighted least squares with
+ * damping mu2. Returns the held joints' bits. */
+static unsigned range_resolve(const double J[36], const double rhs[6], const double lo[ARM_NJ],
+                              const double hi[ARM_NJ], double mu2, double qdd[ARM_NJ])
+{
+    unsigned held = 0;
+    int pass;
+    for (pass = 0; pass < ARM_NJ; pass++) {
+        double A[6 * ARM_NJ], N[ARM_NJ * ARM_NJ], L[ARM_NJ * ARM_NJ], b[6], r[ARM_NJ], x[ARM_NJ];
+        double excess = 0.0;
+        int idx[ARM_NJ], nf = 0, worst = -1, i, j, k;
+        for (i = 0; i < ARM_NJ; i++) {
+            const double e = qdd[i] < lo[i] ? lo[i] - qdd[i] : (qdd[i] > hi[i] ? qdd[i] - hi[i] : 0.0);
+            if (!(held & (1u << i)) && e > excess) {
+                excess = e;
+                worst = i;
+            }
+        }
+        if (worst < 0)
+            break;
+        held |= 1u << worst;
+        qdd[worst] = qdd[worst] < lo[worst] ? lo[worst] : hi[worst];
+        for (i = 0; i < ARM_NJ; i++)
+            if (!(held & (1u << i)))
+                idx[nf++] = i;
+        if (nf == 0)
+            break;
+        for (k = 0; k < 6; k++) {
+            const double wk = k < 3 ? 1.0 : CARTCTL_RANGE_ROT_WEIGHT_M;
+            double bk = rhs[k];
+            for (i = 0; i < ARM_NJ; i++)
+                if (held & (1u << i))
+                    bk -= J[k * 6 + i] * qdd[i];
+            b[k] = wk * bk;
+            for (j = 0; j < nf; j++)
+                A[k * nf + j] = wk * J[k * 6 + idx[j]];
+        }
+        linalg_tmul(N, A, A, 6, nf, nf);
+        linalg_tmatvec(r, A, b, 6, nf);
+        for (j = 0; j < nf; j++)
+            N[j * nf + j] += mu2;
+        if (linalg_cholesky(L, N, nf) != 0)
+            break;   /* the free joints keep their unconstrained values */
+        linalg_cholesky_solve(x, L, r, nf);
+        for (j = 0; j < nf; j++)
+            qdd[idx[j]] = x[j];
+    }
+    return held;
+}
+
+/* The range barrier on out->qdd (J qdd = rhs solved before), then the
+ * finiteness check: 0 / -1. */
+static int qdd_finish(const arm_model *m, const cartctl_gains *g, const double q[ARM_NJ],
+                      const double qd[ARM_NJ], const double J[36], const double rhs[6], cartctl_out *out)
+{
+    if (!vec_finite(out->qdd, ARM_NJ))
+        return -1;
+    if (g->range_w_radps > 0.0) {
+        double lo[ARM_NJ], hi[ARM_NJ];
+        range_bounds(m, g, q, qd, lo, hi);
+        out->range_limited = range_resolve(J, rhs, lo, hi, g->lambda_max * g->lambda_max + 1e-12, out->qdd);
+    }
+    return vec_finite(out->qdd, ARM_NJ) ? 0 : -1;
+}
+
 int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g,
                 const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s_in,
                 const double a_lin[3], const double R_d[9], cartctl_out *out)
@@ -187,7 +273,7 @@ int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g
             out->sigma_min = s_lo;
             out->lambda = 0.0;
             if (vec_finite(out->qdd, ARM_NJ))
-                return 0;
+                return qdd_finish(m, g, q, qd, s->J, rhs, out);
             memset(out->qdd, 0, sizeof out->qdd);
         }
     }
@@ -203,7 +289,7 @@ int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g
         y[k] = den > 0.0 ? (sv[k] * y[k] - g->k_null * lam2 * Vtqd[k]) / den : 0.0;
     }
     linalg_matvec(out->qdd, V, y, 6, 6);
-    return vec_finite(out->qdd, ARM_NJ) ? 0 : -1;
+    return qdd_finish(m, g, q, qd, s->J, rhs, out);
 }
 
 int cartctl_torque(const arm_model *m, const arm_tool *tool, const arm_payload *payload,

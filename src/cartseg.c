@@ -1,6 +1,8 @@
 /* cartseg: a straight Cartesian segment under the event-referenced law
  * (SPEC 2.2 eq. 6-7), its synchronised (2.3) and time-referenced (2.6)
- * variants, turned into torques by cartctl; see cartseg.h. */
+ * variants, turned into torques by cartctl; the blocked detector (with
+ * contact sensing) and the in-range joint-space goal a stuck segment is
+ * re-planned to; see cartseg.h. */
 #include "cartseg.h"
 
 #include <math.h>
@@ -57,7 +59,99 @@ int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool, const do
     vec3_set(c->err_snap_m, 0.0, 0.0, 0.0);
     c->t_snap_s = 0.0;
     c->block_detect = 1;
+    c->contact_N = -1.0;
+    c->t_no_contact_s = HUGE_VAL;
     return 0;
+}
+
+void cartseg_set_contact(cartseg *c, double force_N)
+{
+    if (c)
+        c->contact_N = isfinite(force_N) && force_N >= 0.0 ? force_N : -1.0;
+}
+
+/* Of the angles q_b + 2 pi k, the one nearest q_ref; with lo <= hi, only
+ * those in [lo, hi] (NAN if none). */
+static double angle_near(double q_b, double q_ref, double lo, double hi)
+{
+    const double two_pi = 6.283185307179586;
+    double best = NAN;
+    int k;
+    q_b += two_pi * floor((q_ref - q_b) / two_pi + 0.5);
+    for (k = -1; k <= 1; k++) {
+        const double a = q_b + two_pi * k;
+        if (lo <= hi && !(a >= lo && a <= hi))
+            continue;
+        if (isnan(best) || fabs(a - q_ref) < fabs(best - q_ref))
+            best = a;
+    }
+    return best;
+}
+
+/* Max |a - b| over the joints. */
+static double joint_dist(const double a[ARM_NJ], const double b[ARM_NJ])
+{
+    double d = 0.0;
+    int j;
+    for (j = 0; j < ARM_NJ; j++)
+        d = fmax(d, fabs(a[j] - b[j]));
+    return d;
+}
+
+int cartseg_joint_goal(const arm_model *m, const arm_tool *tool, const double T_world_base[16],
+                       const double q[ARM_NJ], const double p1_world[3], const double R1_world[9],
+                       double q_goal[ARM_NJ])
+{
+    double Tw[16], Tinv[16], T[16], cont[ARM_NJ], best[ARM_NJ], d_cont = HUGE_VAL, d_best = HUGE_VAL;
+    arm_ik_result r;
+    int b, j, arm_cfg, best_same = 0, inside = 0;
+    if (!m || !T_world_base || !p1_world || !R1_world || !q_goal || arm_q_finite(q) != 0)
+        return -1;
+    memcpy(q_goal, q, sizeof(double) * ARM_NJ);
+    tf_from_rot_pos(Tw, R1_world, p1_world);
+    tf_inverse(Tinv, T_world_base);
+    tf_mul(T, Tinv, Tw);
+    arm_cfg = arm_ik_branch_of(m, q);
+    if (arm_ik(m, tool, T, &r) != 0 || r.unreachable || arm_cfg < 0)
+        return -1;
+    for (b = 0; b < ARM_IK_NBRANCH; b++) {
+        double qc[ARM_NJ], qr[ARM_NJ], d;
+        int ok = 1, same;
+        if (r.branch[b].status & ARM_IK_UNREACHABLE)
+            continue;
+        for (j = 0; j < ARM_NJ; j++) {
+            const double lo = m->q_min_rad[j] + CARTSEG_GOAL_MARGIN_RAD, hi = m->q_max_rad[j] - CARTSEG_GOAL_MARGIN_RAD;
+            qc[j] = angle_near(r.branch[b].q_rad[j], q[j], 1.0, 0.0);
+            qr[j] = angle_near(r.branch[b].q_rad[j], q[j], lo, hi);
+            ok = ok && !isnan(qr[j]);
+        }
+        d = joint_dist(qc, q);
+        if (d < d_cont) {   /* where a continuous move ends */
+            d_cont = d;
+            memcpy(cont, qc, sizeof cont);
+        }
+        if (!ok)
+            continue;
+        d = joint_dist(qr, q);
+        same = (b & 3) == (arm_cfg & 3);   /* shoulder and elbow as now */
+        if (!inside || (same && !best_same) || (same == best_same && d < d_best)) {
+            inside = 1;
+            best_same = same;
+            d_best = d;
+            memcpy(best, qr, sizeof best);
+        }
+    }
+    for (j = 0; j < ARM_NJ; j++)
+        if (!(cont[j] >= m->q_min_rad[j] + CARTSEG_GOAL_MARGIN_RAD && cont[j] <= m->q_max_rad[j] - CARTSEG_GOAL_MARGIN_RAD))
+            break;
+    if (d_cont < HUGE_VAL && j == ARM_NJ) {
+        memcpy(q_goal, cont, sizeof cont);
+        return 0;
+    }
+    if (!inside)
+        return -1;
+    memcpy(q_goal, best, sizeof best);
+    return 1;
 }
 
 /* Distance of the tool point from the segment's line. */
@@ -175,6 +269,8 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     memset(out, 0, sizeof *out);
     if (!isfinite(dt_s) || dt_s < 0.0 || cartctl_state_at(m, tool, q, qd, &st) != 0)
         return -1;
+    if (c->contact_N >= 0.0)
+        c->t_no_contact_s = c->contact_N >= CARTSEG_CONTACT_N ? 0.0 : c->t_no_contact_s + dt_s;
     tf_mul(Tw, c->T_world_base, st.T);
     tf_pos(out->x_world, Tw);
     R_of(c->T_world_base, Rwb);
@@ -203,6 +299,15 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     dev = line_deviation(&c->line, out->x_world);
     out->deviation_m = dev;
     blocked = c->block_detect ? block_update(c, eo.s_m, vec3_dot(out->v_world, c->line.ch.e), dev, commanding, dt_s) : 0;
+    if (blocked && c->contact_N >= 0.0 && c->ref == ERLAW_REF_MEASURED &&
+        c->t_no_contact_s > (c->blocked ? CARTSEG_FREE_S : CARTSEG_BLOCK_TIME_S)) {
+        /* nothing touches the arm: a new stall is not an obstacle (stuck),
+         * and a blocked arm's obstacle is gone */
+        out->stuck = !c->blocked;
+        blocked = 0;
+        erlaw_block_reset(&c->blk, eo.s_m);
+        c->dev_ref_m = dev;
+    }
     out->block_changed = blocked != c->blocked;
     if (blocked && c->blocked)
         hold_ratchet(c, out->x_world, out->v_world, dt_s);
@@ -243,5 +348,6 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
                        ref == ERLAW_REF_BLOCKED ? c->R_hold_base : c->R_d_base, out->tau_Nm, &co) != 0)
         return -1;
     out->saturated = co.saturated;
+    out->range_limited = co.range_limited;
     return 0;
 }

@@ -2,7 +2,9 @@
  * plant (arm_forward_dynamics) reproduces the commanded tool acceleration,
  * a closed loop with that plant tracks a straight-line acceleration
  * profile and holds the orientation, damping engages only near the wrist
- * singularity, bad input is refused. */
+ * singularity, the range barrier keeps a joint inside its range where the
+ * unbounded law runs it past (and the tool still converges), bad input is
+ * refused. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -228,6 +230,7 @@ static void test_fast_path_matches_svd(void **st)
             scale = fmax(scale, fabs(ref[i]));
         }
         assert_true(err <= 1e-9 * fmax(scale, 1.0));
+        assert_int_equal(o.range_limited, 0u);   /* far from every range end */
         assert_true(o.sigma_min <= sv[5] * (1.0 + 1e-9));
         if (lam2 == 0.0 && o.sigma_min < sv[5] * (1.0 - 1e-9))
             fast++;    /* bound, not the SVD value: the fast path ran */
@@ -235,6 +238,74 @@ static void test_fast_path_matches_svd(void **st)
             slow++;
     }
     assert_true(fast > 0 && slow > 0);
+}
+
+/* Runs an underdamped tool servo (k_p 400, k_v 8: zeta 0.2) from Q_B to
+ * the pose at q_goal with the model as plant for 4 s. Returns the largest
+ * q2 reached; the final tool position and orientation errors and the
+ * largest q2 while the barrier held a joint go to *pos_err, *rot_err. */
+static double servo_to(const cartctl_gains *g, const double q_goal[ARM_NJ], double *pos_err, double *rot_err,
+                       int *limited)
+{
+    static const double Q_B[ARM_NJ] = { 0.3, 0.45, 2.9, 0.1, -0.5, 0.2 };
+    const arm_tool tool = tool10();
+    const double dt = 1e-3;
+    double q[ARM_NJ], qd[ARM_NJ] = { 0 }, x1[3], R1[9], T1[16], q2_max = -HUGE_VAL;
+    int k, i;
+    memcpy(q, Q_B, sizeof q);
+    arm_fk(&arm_model_puma560, &tool, q_goal, T1);
+    tf_pos(x1, T1);
+    tf_rot(R1, T1);
+    *limited = 0;
+    for (k = 0; k < 4000; k++) {
+        cartctl_state s;
+        cartctl_out o;
+        double x[3], u[3], tau[ARM_NJ], qdd[ARM_NJ];
+        assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, qd, &s), 0);
+        tf_pos(x, s.T);
+        for (i = 0; i < 3; i++)
+            u[i] = 400.0 * (x1[i] - x[i]) - 8.0 * s.twist[i];
+        assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, g, q, qd, &s, u, R1, tau, &o), 0);
+        *limited |= o.range_limited != 0;
+        *rot_err = vec3_norm(o.rot_err);
+        vec3_sub(x, x1, x);
+        *pos_err = vec3_norm(x);
+        assert_int_equal(arm_forward_dynamics(&arm_model_puma560, q, qd, tau, NULL, NULL, qdd), 0);
+        for (i = 0; i < ARM_NJ; i++) {
+            qd[i] += dt * qdd[i];
+            q[i] += dt * qd[i];
+        }
+        q2_max = fmax(q2_max, q[1]);
+    }
+    return q2_max;
+}
+
+/* Range barrier: the goal has q2 = 0.74 rad, 2.6 deg inside its 45 deg
+ * end (and 0.6 deg inside the barrier); the underdamped servo overshoots
+ * it. Without the barrier q2 runs past its range (the plant has no
+ * stops); with it q2 stays inside the range, the barrier holds the
+ * joint, and the tool error still converges to the goal. */
+static void test_range_barrier(void **st)
+{
+    const double q_goal[ARM_NJ] = { 0.3, 0.74, 2.9, 0.1, -0.5, 0.2 };
+    const double q2_end = arm_model_puma560.q_max_rad[1];
+    double pos_err, rot_err, q2_free, q2_held;
+    cartctl_gains g;
+    int limited;
+    (void)st;
+    cartctl_gains_default(&g);
+    g.range_w_radps = 0.0;
+    q2_free = servo_to(&g, q_goal, &pos_err, &rot_err, &limited);
+    assert_int_equal(limited, 0);
+    assert_true(q2_free > q2_end);
+    cartctl_gains_default(&g);
+    q2_held = servo_to(&g, q_goal, &pos_err, &rot_err, &limited);
+    print_message("q2 end %.4f: peak without barrier %.4f, with %.4f; final error %.2g m, %.2g rad\n", q2_end,
+                  q2_free, q2_held, pos_err, rot_err);
+    assert_int_equal(limited, 1);
+    assert_true(q2_held < q2_end);
+    assert_true(q2_held >= q_goal[1]);
+    assert_true(pos_err < 1e-4 && rot_err < 1e-3);
 }
 
 static void test_bad_input(void **st)
@@ -255,6 +326,9 @@ static void test_bad_input(void **st)
     assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, QD_A, NULL, a, NULL, tau, &o), -1);
     g.k_null = -1.0;
     assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o), -1);
+    cartctl_gains_default(&g);
+    g.range_w_radps = -1.0;
+    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o), -1);
 }
 
 int main(void)
@@ -265,6 +339,7 @@ int main(void)
         cmocka_unit_test(test_closed_loop_tracks),
         cmocka_unit_test(test_damping_near_wrist_singularity),
         cmocka_unit_test(test_fast_path_matches_svd),
+        cmocka_unit_test(test_range_barrier),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

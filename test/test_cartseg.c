@@ -37,32 +37,42 @@ static void setup(double T_wb[16], arm_tool *tool, double q[ARM_NJ], double R1[9
     vec3_set(R1, 1, 0, 0); vec3_set(R1 + 3, 0, -1, 0); vec3_set(R1 + 6, 0, 0, -1);
 }
 
+/* One 1 ms step of the model as plant (semi-implicit Euler), or, frozen,
+ * q kept and qd = 0. */
+static void plant_step(double q[ARM_NJ], double qd[ARM_NJ], const double tau[ARM_NJ], int frozen)
+{
+    double qdd[ARM_NJ];
+    int i;
+    if (frozen) {
+        memset(qd, 0, sizeof(double) * ARM_NJ);
+        return;
+    }
+    arm_forward_dynamics(&arm_model_puma560, q, qd, tau, NULL, NULL, qdd);
+    for (i = 0; i < ARM_NJ; i++) {
+        qd[i] += 1e-3 * qdd[i];
+        q[i] += 1e-3 * qd[i];
+    }
+}
+
 /* Runs n cycles; frozen cycles in [f0, f1) keep q, qd = 0. Returns the
  * first done cycle (-1 if none); max |u| while frozen in *tau_frozen. */
 static int run(cartseg *c, const arm_tool *tool, double q[ARM_NJ], double qd[ARM_NJ], int n, int f0, int f1,
                double s_ext, int *blocked_at, double *tau_frozen)
 {
-    int k, i;
+    int k;
     *blocked_at = -1;
     *tau_frozen = 0.0;
     for (k = 0; k < n; k++) {
+        const int frozen = k >= f0 && k < f1;
         cartseg_out o;
-        double qdd[ARM_NJ];
         assert_int_equal(cartseg_step(c, &arm_model_puma560, tool, NULL, q, qd, s_ext, 1e-3, &o), 0);
         if (o.done)
             return k;
         if (o.blocked && *blocked_at < 0)
             *blocked_at = k;
-        if (k >= f0 && k < f1) {
-            memset(qd, 0, sizeof(double) * ARM_NJ);
+        if (frozen)
             *tau_frozen = fmax(*tau_frozen, vec3_norm(o.u_world));
-            continue;
-        }
-        arm_forward_dynamics(&arm_model_puma560, q, qd, o.tau_Nm, NULL, NULL, qdd);
-        for (i = 0; i < ARM_NJ; i++) {
-            qd[i] += 1e-3 * qdd[i];
-            q[i] += 1e-3 * qd[i];
-        }
+        plant_step(q, qd, o.tau_Nm, frozen);
     }
     return -1;
 }
@@ -377,6 +387,122 @@ static void test_pinned_upper_arm(void **st)
     assert_true(done);
 }
 
+/* World pose of the tool at q (arm 1's mounting). */
+static void tool_pose_world(const double T_wb[16], const arm_tool *tool, const double q[ARM_NJ], double p[3],
+                            double R[9])
+{
+    double T[16], Tw[16];
+    assert_int_equal(arm_fk(&arm_model_puma560, tool, q, T), 0);
+    tf_mul(Tw, T_wb, T);
+    tf_pos(p, Tw);
+    tf_rot(R, Tw);
+}
+
+/* cartseg_joint_goal: its q_goal reaches the goal pose (FK(q_goal) = goal)
+ * and keeps every joint CARTSEG_GOAL_MARGIN_RAD inside its range. From the
+ * home pose a nearby goal is reached by the Cartesian move itself (0, q_goal
+ * near q). With the wrist turned over (q4 1 deg short of its 170 deg end)
+ * the Cartesian move to a goal 5 mm lower would end within the margin: 1,
+ * and q_goal has the wrist turned back, shoulder and elbow as they are.
+ * A goal out of reach: -1. */
+static void test_joint_goal(void **st)
+{
+    const double pi = 3.14159265358979323846;
+    double T_wb[16], q[ARM_NJ], qf[ARM_NJ], R1[9], p1[3], pg[3], Rg[9], q_goal[ARM_NJ], d[3], Rt[9], E[9], axis[3];
+    arm_tool tool;
+    int j, rc;
+    (void)st;
+    setup(T_wb, &tool, q, R1);
+    vec3_copy(p1, cell_default.home_tool_m[0]);
+    p1[0] -= 0.05;
+    p1[2] -= 0.10;
+    assert_int_equal(cartseg_joint_goal(&arm_model_puma560, &tool, T_wb, q, p1, R1, q_goal), 0);
+    for (j = 0; j < ARM_NJ; j++)
+        assert_true(fabs(q_goal[j] - q[j]) < 0.5);
+    tool_pose_world(T_wb, &tool, q_goal, pg, Rg);
+    vec3_sub(d, pg, p1);
+    assert_true(vec3_norm(d) < 1e-9);
+    /* a wrist turned over so that q4 sits 2 deg short of its end */
+    memcpy(qf, q, sizeof qf);
+    qf[3] = arm_model_puma560.q_max_rad[3] - 1.0 * pi / 180.0;
+    qf[4] = 0.3;
+    qf[5] = 1.0;
+    tool_pose_world(T_wb, &tool, qf, p1, R1);   /* goal: here, 5 mm lower */
+    p1[2] -= 0.005;
+    rc = cartseg_joint_goal(&arm_model_puma560, &tool, T_wb, qf, p1, R1, q_goal);
+    print_message("turned-over wrist: rc %d, q_goal [%.3f %.3f %.3f %.3f %.3f %.3f]\n", rc, q_goal[0], q_goal[1],
+                  q_goal[2], q_goal[3], q_goal[4], q_goal[5]);
+    assert_int_equal(rc, 1);
+    for (j = 0; j < ARM_NJ; j++)
+        assert_true(q_goal[j] >= arm_model_puma560.q_min_rad[j] + CARTSEG_GOAL_MARGIN_RAD &&
+                    q_goal[j] <= arm_model_puma560.q_max_rad[j] - CARTSEG_GOAL_MARGIN_RAD);
+    assert_int_equal(arm_ik_branch_of(&arm_model_puma560, q_goal) & 3, arm_ik_branch_of(&arm_model_puma560, qf) & 3);
+    assert_true(fabs(q_goal[3] - (qf[3] - pi)) < 0.3);   /* the wrist turned back */
+    tool_pose_world(T_wb, &tool, q_goal, pg, Rg);
+    vec3_sub(d, pg, p1);
+    assert_true(vec3_norm(d) < 1e-9);
+    rot_transpose(Rt, R1);
+    rot_mul(E, Rg, Rt);
+    assert_true(rot_to_axis_angle(axis, E) < 1e-9);
+    p1[0] += 5.0;   /* out of reach */
+    assert_int_equal(cartseg_joint_goal(&arm_model_puma560, &tool, T_wb, qf, p1, R1, q_goal), -1);
+}
+
+/* An 18 cm segment with the model as plant and a contact sensor; the plant
+ * is frozen in [f0, f1) ms and the sensor reads force_N then. Returns the
+ * done cycle (-1 if none) and the first blocked, unblocked and stuck
+ * cycles. */
+static int run_sensed(int f0, int f1, double force_N, int *blocked_at, int *unblocked_at, int *stuck_at)
+{
+    double T_wb[16], q[ARM_NJ], qd[ARM_NJ] = { 0 }, R1[9], p1[3];
+    arm_tool tool;
+    cartseg c;
+    int k;
+    setup(T_wb, &tool, q, R1);
+    vec3_copy(p1, cell_default.home_tool_m[0]);
+    p1[0] -= 0.15;
+    p1[2] -= 0.10;
+    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
+    *blocked_at = *unblocked_at = *stuck_at = -1;
+    for (k = 0; k < 8000; k++) {
+        const int frozen = k >= f0 && k < f1;
+        cartseg_out o;
+        cartseg_set_contact(&c, frozen ? force_N : 0.0);
+        assert_int_equal(cartseg_step(&c, &arm_model_puma560, &tool, NULL, q, qd, -1.0, 1e-3, &o), 0);
+        if (o.done)
+            return k;
+        if (o.blocked && *blocked_at < 0)
+            *blocked_at = k;
+        if (o.block_changed && !o.blocked && *unblocked_at < 0)
+            *unblocked_at = k;
+        if (o.stuck && *stuck_at < 0)
+            *stuck_at = k;
+        plant_step(q, qd, o.tau_Nm, frozen);
+    }
+    return -1;
+}
+
+/* With a contact sensor: held by an obstacle that pushes back (5 N) the
+ * arm is blocked within the detector time and released within
+ * CARTSEG_FREE_S of the contact ending, however little s gained; held
+ * with nothing touching it (as by a joint stop) it is never blocked but
+ * reported stuck within the detector time. */
+static void test_contact_sensed_block(void **st)
+{
+    int done, blk, unblk, stuck;
+    (void)st;
+    done = run_sensed(400, 2400, 5.0, &blk, &unblk, &stuck);
+    print_message("obstacle: blocked %d unblocked %d stuck %d done %d\n", blk, unblk, stuck, done);
+    assert_true(blk >= 400 && blk <= 400 + 1000 * CARTSEG_BLOCK_TIME_S + 50);
+    assert_true(unblk >= 2400 && unblk <= 2400 + 1000 * CARTSEG_FREE_S + 1);
+    assert_int_equal(stuck, -1);
+    assert_true(done > 2400);
+    done = run_sensed(400, 2400, 0.0, &blk, &unblk, &stuck);
+    print_message("no contact: blocked %d stuck %d done %d\n", blk, stuck, done);
+    assert_int_equal(blk, -1);
+    assert_true(stuck >= 400 && stuck <= 400 + 1000 * CARTSEG_BLOCK_TIME_S + 50);
+}
+
 static void test_bad_input(void **st)
 {
     double T_wb[16], q[ARM_NJ], R1[9], p1[3] = { NAN, 0, 0 };
@@ -397,6 +523,8 @@ int main(void)
         cmocka_unit_test(test_block_and_resume),
         cmocka_unit_test(test_external_reference_stops_fast),
         cmocka_unit_test(test_pinned_upper_arm),
+        cmocka_unit_test(test_joint_goal),
+        cmocka_unit_test(test_contact_sensed_block),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -31,8 +31,9 @@
  * it exits 0 only when every success criterion holds (carry_criteria),
  * 3 otherwise with the failed criteria on its last line.
  *
- * Output: summary.json, timeseries.csv (10 ms), blocks.csv,
- * transitions.csv, s.png, force.png, gantt.png, and the daemons' logs.
+ * Output: summary.json, timeseries.csv (10 ms), joints.csv (both arms'
+ * joint angles, 10 ms), blocks.csv, transitions.csv, s.png, force.png,
+ * gantt.png, and the daemons' logs.
  */
 #include <math.h>
 #include <signal.h>
@@ -112,8 +113,8 @@ typedef struct run_result {
     double sim_s, wall_s;
     int    ok;
     /* health of the run */
-    long   joint_limit_violations;
-    double max_speed_ratio, max_force_N, max_force_10ms_N;
+    long   joint_limit_violations, joint_stop_onsets;
+    double max_speed_ratio, max_force_N, max_force_10ms_N, min_range_margin_rad;
     int    stalls, faults;
     int    kills, restarts, rows_reissued, dones_recovered;
     const char *exit_reason;
@@ -146,8 +147,10 @@ static struct {
     int64_t  unblocked_step[2], done_step[2];
     /* health of the run from the measured states */
     unsigned range_bits[2];      /* joints past their range at the last state */
-    long     limit_violations;
+    unsigned stop_bits[2];       /* joints at (or past) a range end at the last state */
+    long     limit_violations, stop_onsets;
     double   max_speed_ratio, max_force_N, max_force_10ms_N;
+    double   min_range_margin_rad; /* least distance of a joint from a range end */
     /* --fault: the last step each daemon answered (SIM_ACK) */
     int64_t  ack_step[4];
     double   hold_since_s;     /* wall time a restart began holding the step */
@@ -159,7 +162,7 @@ static const char *const daemon_lock_name[4] = { "tandem-sim", "tandem-arm-1", "
 
 static block blocks[MAX_BLOCKS];
 static int n_blocks;
-static FILE *f_ts, *f_tr;
+static FILE *f_ts, *f_tr, *f_q;
 
 static void on_sim_ack(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
@@ -187,18 +190,28 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *u)
     tandem_sim_clock_t_decode_cleanup(&m);
 }
 
-/* Range violations (onsets per joint), speed ratio and contact forces. */
+/* Range violations (onsets per joint), joints on their range stops
+ * (onsets of a joint within ARM_RANGE_TOL_RAD of a range end, or past
+ * it), the least margin to a range end, speed ratio and contact forces. */
 static void arm_health(int a, const tandem_arm_state_t *m)
 {
     const arm_model *pm = &arm_model_puma560;
     const unsigned range = ARM_FAULT_RANGE(arm_joint_faults(pm, m->q_rad, m->qd_radps));
+    unsigned stop = 0;
     int i;
     for (i = 0; i < ARM_NJ; i++) {
+        const double margin = fmin(m->q_rad[i] - pm->q_min_rad[i], pm->q_max_rad[i] - m->q_rad[i]);
         if ((range & (1u << i)) && !(R.range_bits[a] & (1u << i)))
             R.limit_violations++;
+        if (margin <= ARM_RANGE_TOL_RAD)
+            stop |= 1u << i;
+        if ((stop & (1u << i)) && !(R.stop_bits[a] & (1u << i)))
+            R.stop_onsets++;
+        R.min_range_margin_rad = fmin(R.min_range_margin_rad, margin);
         R.max_speed_ratio = fmax(R.max_speed_ratio, fabs(m->qd_radps[i]) / pm->qd_max_radps[i]);
     }
     R.range_bits[a] = range;
+    R.stop_bits[a] = stop;
     R.max_force_N = fmax(R.max_force_N, m->max_contact_force_N);
     R.max_force_10ms_N = fmax(R.max_force_10ms_N, m->max_contact_force_10ms_N);
 }
@@ -414,6 +427,14 @@ static void record_step(int64_t step)
                 stick ? blocks[cur_block].arm : 0, R.delivered, R.dropped,
                 R.arm[0].max_contact_force_10ms_N, R.arm[1].max_contact_force_10ms_N);
     }
+    if (f_q && step % 10 == 0) {
+        int a, i;
+        fprintf(f_q, "%.3f", R.t_s);
+        for (a = 0; a < 2; a++)
+            for (i = 0; i < ARM_NJ; i++)
+                fprintf(f_q, ",%.5f", R.arm[a].q_rad[i]);
+        fputc('\n', f_q);
+    }
 }
 
 /* ---- one run --------------------------------------------------------------- */
@@ -507,6 +528,7 @@ static int run_once(const run_cfg *c, run_result *res)
     memset(res, 0, sizeof *res);
     memset(&R, 0, sizeof R);
     R.pending = R.handled = -1;
+    R.min_range_margin_rad = INFINITY;
     R.last_event[0] = R.last_event[1] = TANDEM_ACTION_EVENT_T_DONE;   /* idle until a row starts */
     R.unblocked_step[0] = R.unblocked_step[1] = R.done_step[0] = R.done_step[1] = -1;
     res->exit_reason = "completed";
@@ -638,6 +660,8 @@ static int run_once(const run_cfg *c, run_result *res)
         res->dones_recovered = R.mk.dones_recovered;
     }
     res->joint_limit_violations = R.limit_violations;
+    res->joint_stop_onsets = R.stop_onsets;
+    res->min_range_margin_rad = R.min_range_margin_rad;
     res->max_speed_ratio = R.max_speed_ratio;
     res->max_force_N = R.max_force_N;
     res->max_force_10ms_N = R.max_force_10ms_N;
@@ -943,8 +967,10 @@ static int run(int argc, char **argv)
     gap_after_s = 3.0;
     f_ts = scenario_fopen(cfg.out, "timeseries.csv");
     f_tr = scenario_fopen(cfg.out, "transitions.csv");
-    if (!f_ts || !f_tr)
+    f_q = scenario_fopen(cfg.out, "joints.csv");
+    if (!f_ts || !f_tr || !f_q)
         return 1;
+    fprintf(f_q, "t_s,q1_1,q1_2,q1_3,q1_4,q1_5,q1_6,q2_1,q2_2,q2_3,q2_4,q2_5,q2_6\n");
     fprintf(f_ts, "t_s,s1_m,sf1_m,tr1,s2_m,sf2_m,tr2,speed1_mps,speed2_mps,force1_N,force2_N,stick_arm,delivered,dropped,"
                   "force1_10ms_N,force2_10ms_N\n");
     fprintf(f_tr, "transition,start_s,end_s\n");
@@ -956,7 +982,8 @@ static int run(int argc, char **argv)
     }
     fclose(f_ts);
     fclose(f_tr);
-    f_ts = f_tr = NULL;
+    fclose(f_q);
+    f_ts = f_tr = f_q = NULL;
     memset(&ser, 0, sizeof ser);
     ser.mean_cycle_s = NAN;
     if (!no_serial && !interrupted) {
@@ -1032,6 +1059,8 @@ static int run(int argc, char **argv)
     json_num(&j, "wall_time_s", res.wall_s + ser.wall_s);
     json_str(&j, "block_detect", cfg.block_detect);
     json_int(&j, "joint_limit_violations", res.joint_limit_violations);
+    json_int(&j, "joint_stop_onsets", res.joint_stop_onsets);
+    json_num(&j, "min_joint_range_margin_deg", res.min_range_margin_rad * 57.29577951308232);
     json_num(&j, "max_joint_speed_ratio", res.max_speed_ratio);
     json_int(&j, "stalls", res.stalls);
     json_int(&j, "faults", res.faults);
