@@ -33,7 +33,7 @@ typedef struct {
     double  last_wall_s;
     char    status[96];
     int     auth_on;                      /* -1 until its first health */
-    int64_t auth_kind[5];                 /* unsigned, bad MAC, unknown sender, replayed, not allowed */
+    int64_t auth_kind[AUTH_BUS_KINDS];    /* auth_bus_health_refusals */
     int64_t auth_rejected, auth_rejected_shown;
     double  auth_warned_s;
 } daemon_view;
@@ -86,13 +86,7 @@ static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_hea
     if (d->auth_on == 1 && !h->auth_on)
         d->auth_warned_s = 0.0;           /* it restarted insecure: warn at once */
     d->auth_on = h->auth_on;
-    d->auth_kind[0] = h->auth_unsigned;
-    d->auth_kind[1] = h->auth_bad_mac;
-    d->auth_kind[2] = h->auth_unknown_sender;
-    d->auth_kind[3] = h->auth_replayed;
-    d->auth_kind[4] = h->auth_unauthorised;
-    d->auth_rejected = h->auth_unsigned + h->auth_bad_mac + h->auth_unknown_sender + h->auth_replayed +
-                       h->auth_unauthorised;
+    d->auth_rejected = auth_bus_health_refusals(h, d->auth_kind);
 }
 
 static void on_sim(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *s, void *u)

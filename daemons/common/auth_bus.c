@@ -412,6 +412,16 @@ int64_t auth_bus_rejected_total(void)
            B.counts.unauthorised;
 }
 
+int64_t auth_bus_health_refusals(const tandem_health_t *h, int64_t kinds[AUTH_BUS_KINDS])
+{
+    kinds[0] = h->auth_unsigned;
+    kinds[1] = h->auth_bad_mac;
+    kinds[2] = h->auth_unknown_sender;
+    kinds[3] = h->auth_replayed;
+    kinds[4] = h->auth_unauthorised;
+    return kinds[0] + kinds[1] + kinds[2] + kinds[3] + kinds[4];
+}
+
 void auth_bus_fill_health(tandem_health_t *h)
 {
     h->auth_on = (int8_t)B.secure;

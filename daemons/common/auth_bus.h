@@ -104,6 +104,11 @@ int64_t auth_bus_rejected_total(void);
 struct _tandem_health_t;
 /* The auth_* fields of a health message. */
 void auth_bus_fill_health(struct _tandem_health_t *h);
+/* A health message's refusals by kind, in the order unsigned, bad MAC,
+ * unknown sender, replayed, not allowed (for readers: tandem-status, the
+ * tests); returns their sum. */
+#define AUTH_BUS_KINDS 5
+int64_t auth_bus_health_refusals(const struct _tandem_health_t *h, int64_t kinds[AUTH_BUS_KINDS]);
 
 /* A raw handler that decodes `type` and calls typed(rb, ch, &msg, user):
  * for a typed handler on auth_bus_subscribe. */

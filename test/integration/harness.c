@@ -2,6 +2,7 @@
 #include "harness.h"
 #include <math.h>
 #include <dirent.h>
+#include <stdarg.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <stdio.h>
@@ -196,11 +197,7 @@ static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_hea
         return;
     d->pid = m->pid;
     d->auth_on = m->auth_on;
-    d->refused[0] = m->auth_unsigned;
-    d->refused[1] = m->auth_bad_mac;
-    d->refused[2] = m->auth_unknown_sender;
-    d->refused[3] = m->auth_replayed;
-    d->refused[4] = m->auth_unauthorised;
+    auth_bus_health_refusals(m, d->refused);
     d->msgs_rejected = m->msgs_rejected;
     d->msgs_lost = m->msgs_lost;
 }
@@ -234,6 +231,16 @@ void harness_print_refused(const harness_health *d)
            "not allowed %lld (lost on the way in: %lld)\n", d->name, (long long)harness_refused(d),
            (long long)d->refused[0], (long long)d->refused[1], (long long)d->refused[2], (long long)d->refused[3],
            (long long)d->refused[4], (long long)d->msgs_lost);
+}
+
+int harness_sh(const char *fmt, ...)
+{
+    char cmd[2048];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(cmd, sizeof cmd, fmt, ap);
+    va_end(ap);
+    return system(cmd);
 }
 
 void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps)

@@ -14,7 +14,7 @@
 typedef struct harness_health {
     char    name[64];
     int     pid, auth_on;
-    int64_t refused[5];      /* unsigned, bad MAC, unknown sender, replayed, not allowed */
+    int64_t refused[AUTH_BUS_KINDS];   /* auth_bus_health_refusals */
     int64_t msgs_rejected, msgs_lost;
 } harness_health;
 
@@ -66,6 +66,9 @@ harness_health harness_health_of(harness *h, const char *name);
 int64_t harness_refused(const harness_health *d);
 /* One line: the daemon's refusals by kind and its loss. */
 void harness_print_refused(const harness_health *d);
+
+/* system() of a printf-formatted command line. */
+int harness_sh(const char *fmt, ...);
 
 /* Lockstep participation for a test: answer step k on SIM_ACK. */
 void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps);

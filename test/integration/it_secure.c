@@ -297,15 +297,6 @@ static void attacker_url(const char *url, char *out, size_t cap)
         snprintf(out, cap, "%s", url);
 }
 
-static int sh(const char *fmt, ...)
-{
-    char cmd[512];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(cmd, sizeof cmd, fmt, ap);
-    va_end(ap);
-    return system(cmd);
-}
 
 /* Starts the attacker: in its own namespace (netns) joined by the veth
  * pair, as nobody, or as a plain child. It re-executes this program, so
@@ -329,7 +320,7 @@ static pid_t start_attacker(char (*bus_url)[160], int n, const char *key)
                 _exit(126);
             if (write(ready[1], &c, 1) != 1 || read(go[0], &c, 1) != 1)
                 _exit(126);
-            if (sh("ip link set lo up && ip addr add 10.213.0.2/24 dev ta0 && ip link set ta0 up && "
+            if (harness_sh("ip link set lo up && ip addr add 10.213.0.2/24 dev ta0 && ip link set ta0 up && "
                    "ip route add 224.0.0.0/4 dev ta0") != 0)
                 _exit(126);
         }
@@ -343,7 +334,7 @@ static pid_t start_attacker(char (*bus_url)[160], int n, const char *key)
     }
     harness_track_child(pid);
     if (pid > 0 && netns) {
-        if (read(ready[0], &c, 1) != 1 || sh("ip link set ta0 netns %d", (int)pid) != 0 || write(go[1], &c, 1) != 1) {
+        if (read(ready[0], &c, 1) != 1 || harness_sh("ip link set ta0 netns %d", (int)pid) != 0 || write(go[1], &c, 1) != 1) {
             kill(pid, SIGKILL);
             waitpid(pid, NULL, 0);
             pid = -1;
@@ -360,7 +351,7 @@ static pid_t start_attacker(char (*bus_url)[160], int n, const char *key)
  * namespace, and the veth pair with it, would go away otherwise). */
 static void stop_attacker(pid_t pid)
 {
-    if (netns && sh("nsenter -t %d -n ip link set ta0 netns %d", (int)pid, (int)getpid()) != 0)
+    if (netns && harness_sh("nsenter -t %d -n ip link set ta0 netns %d", (int)pid, (int)getpid()) != 0)
         fprintf(stderr, "it_secure: could not take the veth end back\n");
     kill(pid, SIGKILL);
     waitpid(pid, NULL, 0);
@@ -375,7 +366,7 @@ static int bus_namespace(void)
     if (geteuid() != 0 || getenv("TANDEM_SHARED_NET") || system("command -v nsenter >/dev/null") != 0 ||
         unshare(IT_CLONE_NEWNET) != 0)
         return -1;
-    if (sh("ip link set lo up && ip link add tb0 type veth peer name ta0 && ip addr add 10.213.0.1/24 dev tb0 && "
+    if (harness_sh("ip link set lo up && ip link add tb0 type veth peer name ta0 && ip addr add 10.213.0.1/24 dev tb0 && "
            "ip link set tb0 up && ip route add 224.0.0.0/4 dev tb0") != 0) {
         fprintf(stderr, "it_secure: cannot set up the veth pair\n");
         return -1;

@@ -35,15 +35,6 @@
 
 static char dir[128], log_path[160], root[512], bin[512];
 
-static int sh(const char *fmt, ...)
-{
-    char cmd[2048];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(cmd, sizeof cmd, fmt, ap);
-    va_end(ap);
-    return system(cmd);
-}
 
 /* The source tree: the programs are in ROOT/build/bin (or build/san/bin). */
 static int find_root(void)
@@ -58,7 +49,7 @@ static int find_root(void)
         *b = '\0';
     else if (!strcmp(root, "build/bin") || !strcmp(root, "build/san/bin"))
         snprintf(root, sizeof root, ".");
-    return sh("test -d '%s/lcmtypes' && test -d '%s/tools/logcheck'", root, root) == 0 ? 0 : -1;
+    return harness_sh("test -d '%s/lcmtypes' && test -d '%s/tools/logcheck'", root, root) == 0 ? 0 : -1;
 }
 
 static pid_t start_logger(const char *url)
@@ -120,7 +111,7 @@ static int record(void **state)
     (void)state;
     snprintf(dir, sizeof dir, "/tmp/it_signed_log_%d", (int)getpid());
     snprintf(log_path, sizeof log_path, "%s/run.lcmlog", dir);
-    if (find_root() != 0 || sh("mkdir -p '%s'", dir) != 0)
+    if (find_root() != 0 || harness_sh("mkdir -p '%s'", dir) != 0)
         return -1;
     if (harness_open(&h, 15) != 0)
         return -1;
@@ -147,16 +138,16 @@ static void test_every_event_decodes(void **state)
 {
     const char *cp_extra = access("/usr/share/java/jchart2d.jar", R_OK) == 0 ? ":/usr/share/java/jchart2d.jar" : "";
     (void)state;
-    assert_int_equal(sh("'%s/tandem-log2csv' --list '%s'", bin, log_path), 0);
-    if (sh("command -v java >/dev/null && command -v javac >/dev/null") == 0) {
-        assert_int_equal(sh("javac -nowarn -d '%s/java' -cp /usr/share/java/lcm.jar '%s/tools/logcheck/SpyDecodeCheck.java' "
+    assert_int_equal(harness_sh("'%s/tandem-log2csv' --list '%s'", bin, log_path), 0);
+    if (harness_sh("command -v java >/dev/null && command -v javac >/dev/null") == 0) {
+        assert_int_equal(harness_sh("javac -nowarn -d '%s/java' -cp /usr/share/java/lcm.jar '%s/tools/logcheck/SpyDecodeCheck.java' "
                             "2>&1 | grep -v '^Note:'; java -cp '/usr/share/java/lcm.jar:%s/build/lib/tandem_types.jar:%s/java%s' "
                             "SpyDecodeCheck '%s' 2>/dev/null", dir, root, root, dir, cp_extra, log_path), 0);
     } else {
         printf("it_signed_log: no java/javac here: lcm-spy's decoding not checked\n");
     }
-    if (sh("command -v python3 >/dev/null") == 0) {
-        assert_int_equal(sh("mkdir -p '%s/py' && lcm-gen -p --ppath '%s/py' '%s'/lcmtypes/*.lcm && "
+    if (harness_sh("command -v python3 >/dev/null") == 0) {
+        assert_int_equal(harness_sh("mkdir -p '%s/py' && lcm-gen -p --ppath '%s/py' '%s'/lcmtypes/*.lcm && "
                             "python3 '%s/tools/logcheck/decode_check.py' '%s/py' '%s'", dir, dir, root, root, dir,
                             log_path), 0);
     } else {
@@ -183,7 +174,7 @@ static void test_played_back_log_commands_nothing(void **state)
     a0 = harness_health_of(&h, "tandem-arm-1");
     assert_true(s0.pid > 0 && a0.pid > 0);
     assert_int_equal(harness_refused(&s0), 0);
-    assert_int_equal(sh("lcm-logplayer --lcm-url='%s' '%s'", h.url, log_path), 0);
+    assert_int_equal(harness_sh("lcm-logplayer --lcm-url='%s' '%s'", h.url, log_path), 0);
     harness_pump(&h, 2500);
     s1 = harness_health_of(&h, "tandem-sim");
     a1 = harness_health_of(&h, "tandem-arm-1");
