@@ -553,7 +553,10 @@ static int cart_cycle(daemon *d)
     if (cartseg_step(&CX.seg, C.model, &CX.tool, cart_payload(&pl), C.st.q_rad, C.st.qd_radps, s_ext,
                      d->period_s, &o) != 0)
         return 0;   /* joint-space hold at hold_q this cycle */
-    CX.s_m = o.s_m;
+    /* done (within CARTSEG_DONE_TOL_M of s_f, at rest): the last PROGRESS
+     * says s_f, so a synchronised partner's s* is not held up to 4 mm short
+     * of its own goal, where it would wait for good */
+    CX.s_m = o.done ? CX.s_f_m : o.s_m;
     if (o.block_changed)
         cart_publish_event(d, o.blocked ? TANDEM_ACTION_EVENT_T_BLOCKED : TANDEM_ACTION_EVENT_T_UNBLOCKED, "");
     if (o.stuck) {
