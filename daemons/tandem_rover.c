@@ -25,6 +25,14 @@
  * cycle runs when the inputs are there: with loss, the same run. A source
  * silent for ROVER_INPUT_WAIT_NS of wall time is taken as gone (a killed
  * robot) and not waited for again until it speaks.
+ *
+ * Restart (--journal PATH): after every cycle each hosted robot appends
+ * its controller snapshot (rover_ctl_snapshot: own pose with the encoder
+ * readings it belongs to, landmark filter, formation protocol, escape) to
+ * PATH (PATH-K when hosting several robots). A process started on an
+ * existing journal resumes each robot from its last intact snapshot; its
+ * first encoder frame then adds the wheels' travel while it was down, and
+ * the mates' next team messages rebuild its view of the team.
  */
 #include <math.h>
 #include <stdio.h>
@@ -32,6 +40,7 @@
 #include <string.h>
 #include "daemon.h"
 #include "formation.h"
+#include "journal.h"
 #include "rover_ctl.h"
 #include "rover_world.h"
 #include "tandem_beacon_obs_t.h"
@@ -68,6 +77,8 @@ typedef struct hosted {
     tandem_team_msg_t last_team;        /* for republish (robot 0: none yet) */
     char        ch_cmd[24], ch_state[24];
     int         shown_mode, shown_type, shown_yield;   /* last printed (-1: none yet) */
+    char        journal_path[600];      /* "" without --journal */
+    journal     jr;
 } hosted;
 
 typedef struct teamq_item {
@@ -102,6 +113,8 @@ static struct {
         int64_t step, utime, batch_seq;               /* step -1: empty */
     } out[2];                                         /* out[cur]: the last cycle */
     int     cur;
+    const char *journal;                /* --journal PATH, NULL: none */
+    int64_t journal_errors;
 } A;
 
 static hosted *find_hosted(int32_t id)
@@ -131,6 +144,9 @@ static void usage(void)
            "  --batch            publish all hosted robots' commands and states as one\n"
            "                     ROVERS_COMMAND / ROVERS_STATE message per tick\n"
            "                     (sensors are taken per robot and batched alike)\n"
+           "  --journal PATH     append each robot's controller snapshot to PATH\n"
+           "                     (PATH-K when hosting several) after every cycle; a\n"
+           "                     process started on an existing journal resumes there\n"
            "  (control period --period-ms, default 50 ms = 20 Hz)\n"
            DAEMON_COMMON_HELP);
 }
@@ -169,6 +185,7 @@ static int parse_args(daemon *d, int argc, char **argv)
         { "ref-heading", required_argument, 0, 'H' },
         { "localize", required_argument, 0, 'z' },
         { "batch", no_argument, 0, 'B' },
+        { "journal", required_argument, 0, 'J' },
         DAEMON_COMMON_OPTIONS,
         { 0, 0, 0, 0 }
     };
@@ -220,6 +237,9 @@ static int parse_args(daemon *d, int argc, char **argv)
             break;
         case 'B':
             A.batch = 1;
+            break;
+        case 'J':
+            A.journal = optarg;
             break;
         case 'L':
             if (!strcmp(optarg, "seed")) A.params.formation_law = ROVER_LAW_SEED;
@@ -664,6 +684,58 @@ static int lockstep_inputs_complete(int64_t step)
     return 1;
 }
 
+/* ---- journal (--journal) --------------------------------------------------------- */
+
+/* At start-up: each hosted robot resumes from its journal's last intact
+ * snapshot (step, then rover_ctl_snapshot's values), and appends to it. */
+static int journal_start(void)
+{
+    int j;
+    for (j = A.id_lo; j <= A.id_hi && A.journal; j++) {
+        hosted *h = &A.h[j - A.id_lo];
+        double v[1 + ROVER_CTL_SNAPSHOT_VALUES];
+        int n;
+        if (A.id_lo == A.id_hi) snprintf(h->journal_path, sizeof h->journal_path, "%s", A.journal);
+        else snprintf(h->journal_path, sizeof h->journal_path, "%s-%d", A.journal, j);
+        n = journal_load_last(h->journal_path, v, 1 + ROVER_CTL_SNAPSHOT_VALUES);
+        if (n == 1 + ROVER_CTL_SNAPSHOT_VALUES && rover_ctl_resume(&h->c, v + 1) == ROVER_CTL_OK) {
+            printf("%s: robot %d resumed from %s (step %.0f, escapes %d, formation changes %d)\n", D.name, j,
+                   h->journal_path, v[0], h->c.escapes, h->c.formation_changes);
+            fflush(stdout);
+        } else if (n != JOURNAL_ERR_NONE) {
+            fprintf(stderr, "%s: journal %s: last snapshot is not robot %d's; starting from the launch pose\n",
+                    D.name, h->journal_path, j);
+        }
+        if (journal_open(&h->jr, h->journal_path) != JOURNAL_OK) {
+            fprintf(stderr, "%s: cannot open journal %s\n", D.name, h->journal_path);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* After a cycle's outputs are out: one snapshot per robot (a robot before
+ * its first encoder frame has nothing to keep). */
+static void journal_cycle(int64_t step)
+{
+    int j;
+    for (j = A.id_lo; j <= A.id_hi && A.journal; j++) {
+        hosted *h = &A.h[j - A.id_lo];
+        double v[1 + ROVER_CTL_SNAPSHOT_VALUES];
+        v[0] = (double)step;
+        if (rover_ctl_snapshot(&h->c, v + 1) == ROVER_CTL_OK &&
+            journal_append(&h->jr, v, 1 + ROVER_CTL_SNAPSHOT_VALUES) != JOURNAL_OK)
+            A.journal_errors++;
+    }
+}
+
+static void journal_stop(void)
+{
+    int j;
+    for (j = A.id_lo; j <= A.id_hi && A.journal; j++)
+        journal_close(&A.h[j - A.id_lo].jr);
+}
+
 static void cycle(daemon *d, void *user)
 {
     const int64_t step = d->lockstep ? d->pending_step : d->step;
@@ -707,10 +779,12 @@ static void cycle(daemon *d, void *user)
     ob->utime = utime;
     ob->batch_seq = A.batch_seq++;
     publish_outbox(ob);
+    journal_cycle(step);
     A.last_t_s = t_s;
     d->safe_hold = stopped > 0;
-    snprintf(d->status, sizeof d->status, "%s: %d of %d robots stopped (stale input)",
-             stopped ? "safe stop" : "running", stopped, A.id_hi - A.id_lo + 1);
+    snprintf(d->status, sizeof d->status, "%s: %d of %d robots stopped (stale input)%s",
+             stopped ? "safe stop" : "running", stopped, A.id_hi - A.id_lo + 1,
+             A.journal_errors ? ", journal not written" : "");
 }
 
 
@@ -768,6 +842,7 @@ int main(int argc, char **argv)
         h->shown_mode = h->shown_type = h->shown_yield = -1;
         h->sens_step = h->sonar_step = h->camera_step = -1;
     }
+    if (journal_start() != 0) return 1;
     auth_bus_identity(AUTH_ROLE_ROVER, A.id_lo, A.id_hi);
     if (daemon_start(&D) != 0) return 1;
     daemon_subscribe(&D, "ROVER[0-9]+_SENSORS", on_sensors, NULL);
@@ -778,6 +853,7 @@ int main(int argc, char **argv)
     daemon_subscribe(&D, "TEAM", on_team, NULL);
     D.repeat_fn = republish;
     daemon_run(&D, cycle, NULL);
+    journal_stop();
     daemon_finish(&D);
     return 0;
 }

@@ -160,6 +160,27 @@ int  rover_ctl_team_msg(rover_ctl_t *c, const rover_team_msg_t *msg, double t_s)
  * + k) at range / bearing. -1 unknown or bad; for a landmark 1 fused, 0
  * gated out or localization off. */
 int  rover_ctl_beacon(rover_ctl_t *c, int32_t target, double range_m, double bearing_rad);
+/* ---- restart (tandem-rover --journal) ------------------------------------
+ * What a controller restarted after a crash or a kill takes back from its
+ * last snapshot: its own pose (odometry with the encoder readings it
+ * belongs to, frame correction, the landmark filter's mean and
+ * covariance), the formation protocol's state, the dead-zone escape and
+ * the counters. Not its view of the team, its sonar ranges or its blend:
+ * the mates' next messages and the next frames rebuild those. The first
+ * encoder reading after rover_ctl_resume integrates the wheels' travel
+ * while the process was down. A snapshot is ROVER_CTL_SNAPSHOT_VALUES
+ * numbers, id first. */
+#define ROVER_CTL_SNAPSHOT_VALUES 57
+enum { ROVER_CTL_OK = 0, ROVER_CTL_ERR_ARG = -1, ROVER_CTL_ERR_SNAPSHOT = -2 };
+/* ROVER_CTL_ERR_ARG before the first encoder reading (nothing to keep). */
+int  rover_ctl_snapshot(const rover_ctl_t *c, double v[ROVER_CTL_SNAPSHOT_VALUES]);
+/* c as made by rover_ctl_init (same id) and rover_ctl_set_landmarks;
+ * ROVER_CTL_ERR_SNAPSHOT (c unchanged) for another robot's snapshot or
+ * values out of range. */
+int  rover_ctl_resume(rover_ctl_t *c, const double v[ROVER_CTL_SNAPSHOT_VALUES]);
+/* ROVER_CTL_OK if the snapshot's field table is sound (src/rover_snapshot.c). */
+int  rover_snapshot_validate(void);
+
 /* One control period ending at t_s. -1 on bad input (out->u = 0). */
 int  rover_ctl_step(rover_ctl_t *c, double t_s, double dt_s, rover_ctl_out_t *out);
 

@@ -141,5 +141,11 @@ int  sim_lockstep_ready(const sim_world *w, int64_t k);
 int  sim_lockstep_due(const sim_world *w, int64_t k);
 /* Drops participants that have not answered k; returns how many. */
 int  sim_lockstep_drop_late(sim_world *w, int64_t k);
+/* 0 when the participant that hosts robot id ("tandem-rover-K" or
+ * "tandem-rover-A-B") has left or was dropped and no active one hosts it:
+ * its commands are not waited for. 1 otherwise (hosted, or by nobody the
+ * simulator knows of: a controller of another name is waited for as
+ * before). */
+int  sim_lockstep_robot_hosted(const sim_world *w, int32_t id);
 
 #endif

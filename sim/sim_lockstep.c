@@ -6,6 +6,7 @@
  */
 #include "sim.h"
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static sim_participant *find(sim_world *w, const char *name)
@@ -76,4 +77,33 @@ int sim_lockstep_drop_late(sim_world *w, int64_t k)
         }
     }
     return n;
+}
+
+/* The robots a participant's name says it hosts: 1 and *lo..*hi for
+ * "tandem-rover-K" / "tandem-rover-A-B" (tandem-rover's lockstep name). */
+static int rover_host_range(const char *name, long *lo, long *hi)
+{
+    static const char prefix[] = "tandem-rover-";
+    char *end;
+    if (strncmp(name, prefix, sizeof prefix - 1) != 0)
+        return 0;
+    *lo = strtol(name + sizeof prefix - 1, &end, 10);
+    *hi = *lo;
+    if (*end == '-')
+        *hi = strtol(end + 1, &end, 10);
+    return *end == '\0' && *lo >= 1 && *hi >= *lo;
+}
+
+int sim_lockstep_robot_hosted(const sim_world *w, int32_t id)
+{
+    int i, named = 0;
+    for (i = 0; i < w->n_part; i++) {
+        long lo, hi;
+        if (!rover_host_range(w->part[i].name, &lo, &hi) || id < lo || id > hi)
+            continue;
+        if (w->part[i].active)
+            return 1;
+        named = 1;
+    }
+    return !named;
 }

@@ -698,7 +698,9 @@ static void rovers_after_step(sim_world *w)
 
 /* Lockstep: at a control tick every live robot still commanded (it
  * answered one of the last two ticks, or this is the first tick) must have
- * its command for this step before the world moves on. */
+ * its command for this step before the world moves on -- unless the
+ * process hosting it has left the lockstep (killed: its body stands on
+ * the held command until that goes stale). */
 static int rovers_ready(const sim_world *w, int64_t k)
 {
     const int64_t p = RV_SENSORS_STEPS;
@@ -707,9 +709,8 @@ static int rovers_ready(const sim_world *w, int64_t k)
     for (i = 0; i < R.n; i++) {
         const rover *r = &R.r[i];
         const int commanded = k == p || r->cmd_step >= k - 2 * p;
-        if (r->alive && commanded && r->cmd_step < k) return 0;
+        if (r->alive && commanded && r->cmd_step < k && sim_lockstep_robot_hosted(w, r->id)) return 0;
     }
-    (void)w;
     return 1;
 }
 

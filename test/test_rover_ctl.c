@@ -472,6 +472,82 @@ static void test_deadzone_escape(void **state)
     assert_true(min_clear > 0.0);
 }
 
+/* Restart (rover_ctl_snapshot / rover_ctl_resume): a controller resumed
+ * from a snapshot taken on the way into the dead zone and fed the same
+ * frames from then on commands exactly what the original does, through
+ * the escape and on to the goal: the snapshot holds every bit of state
+ * that is not rebuilt from the next frames. Snapshots of another robot or
+ * with values out of range are refused and change nothing. */
+static void test_snapshot_resume_identity(void **state)
+{
+    rover_world_t w;
+    rover_ctl_params_t p;
+    rover_ctl_t c, r, before;
+    sonar_model_t sm;
+    pose2_t pose, st, gw = {0, 0, 0}, gt;
+    double el = 0.0, er = 0.0, goal[2], v[ROVER_CTL_SNAPSHOT_VALUES], bad[ROVER_CTL_SNAPSHOT_VALUES];
+    int alive[1] = {1}, step, resumed = 0, compared = 0, escapes_after = 0;
+    (void)state;
+    assert_int_equal(rover_snapshot_validate(), ROVER_CTL_OK);
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_DEADZONE, 1, 1.0, FORMATION_LINE), 0);
+    rover_ctl_params_default(&p);
+    sonar_model_default(&sm);
+    sm.noise_sd_m = 0.0;
+    gw.x_m = w.goal_m[0];
+    gw.y_m = w.goal_m[1];
+    rover_world_to_team(&w, &gw, &gt);
+    goal[0] = gt.x_m;
+    goal[1] = gt.y_m;
+    pose = w.start_c[0];
+    rover_world_to_team(&w, &pose, &st);
+    assert_int_equal(rover_ctl_init(&c, &p, 1, &st, goal), 0);
+    assert_int_equal(rover_ctl_snapshot(&c, v), ROVER_CTL_ERR_ARG);   /* nothing to keep yet */
+    for (step = 0; step * DT < 120.0; step++) {
+        const double t = step * DT, b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
+        double rng[SONAR_N];
+        rover_ctl_out_t out, out_r;
+        if (step * DT >= 5.0 && !resumed) {
+            /* the restarted process: a fresh controller from the launch
+             * configuration, then the snapshot */
+            assert_int_equal(rover_ctl_snapshot(&c, v), ROVER_CTL_OK);
+            assert_int_equal(rover_ctl_init(&r, &p, 1, &st, goal), 0);
+            memcpy(bad, v, sizeof bad);
+            bad[0] = 2.0;                                   /* robot 2's snapshot */
+            before = r;
+            assert_int_equal(rover_ctl_resume(&r, bad), ROVER_CTL_ERR_SNAPSHOT);
+            memcpy(bad, v, sizeof bad);
+            bad[5] = NAN;
+            assert_int_equal(rover_ctl_resume(&r, bad), ROVER_CTL_ERR_SNAPSHOT);
+            assert_memory_equal(&r, &before, sizeof r);
+            assert_int_equal(rover_ctl_resume(&r, v), ROVER_CTL_OK);
+            escapes_after = c.escapes;
+            resumed = 1;
+        }
+        build_sonar(&w, &pose, alive, 0);
+        sonar_ring(rng, &sw, &sm, &pose, NULL);
+        rover_ctl_encoders(&c, el, er, t);
+        rover_ctl_sonar(&c, rng, t);
+        assert_int_equal(rover_ctl_step(&c, t, DT, &out), 0);
+        if (resumed) {
+            rover_ctl_encoders(&r, el, er, t);
+            rover_ctl_sonar(&r, rng, t);
+            assert_int_equal(rover_ctl_step(&r, t, DT, &out_r), 0);
+            assert_true(out_r.u.v_mps == out.u.v_mps && out_r.u.w_radps == out.u.w_radps);
+            assert_int_equal(out_r.mode, out.mode);
+            compared++;
+        }
+        if (out.mode == ROVER_MODE_AT_GOAL) break;
+        el += (out.u.v_mps - 0.5 * b * out.u.w_radps) / rw * DT;
+        er += (out.u.v_mps + 0.5 * b * out.u.w_radps) / rw * DT;
+        unicycle_step_exact(&pose, out.u.v_mps, out.u.w_radps, DT);
+    }
+    print_message("snapshot at 5 s (escapes so far %d): %d cycles compared, escapes at the end %d, %s\n",
+                  escapes_after, compared, c.escapes, step * DT < 120.0 ? "at the goal" : "not at the goal");
+    assert_true(compared > 100);
+    assert_true(c.escapes > escapes_after);   /* the escape happened after the restart */
+    assert_int_equal(r.escapes, c.escapes);
+}
+
 static void test_stale_sensors_stop(void **state)
 {
     rover_ctl_t c;
@@ -1044,6 +1120,7 @@ int main(void)
         cmocka_unit_test(test_restore_ignores_leaving_mate),
         cmocka_unit_test(test_post_inside_formation_not_a_wall),
         cmocka_unit_test(test_team_heading_at_goal),
+        cmocka_unit_test(test_snapshot_resume_identity),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,5 +1,6 @@
 /* wire: raw-byte check of an LCM message against its generated layout
  * (see wire.h). */
+#include <string.h>
 #include "wire.h"
 #include "tandem_wire_types.h"
 
@@ -31,7 +32,10 @@ static int walk_string(const wire_field *f, const uint8_t *b, size_t len, size_t
         return WIRE_ERR_STRING;
     if (len - *pos < (size_t)n)
         return WIRE_ERR_SHORT;
-    if (b[*pos + (size_t)n - 1] != 0)
+    /* exactly one NUL, at the end: what lcm-gen encodes (strlen + 1). A
+     * NUL inside would hide the bytes after it from every reader (the
+     * decoded string ends there) and re-encode shorter. */
+    if (memchr(b + *pos, 0, (size_t)n) != b + *pos + (size_t)n - 1)
         return WIRE_ERR_STRING;
     *pos += (size_t)n;
     return WIRE_OK;
@@ -68,6 +72,11 @@ static int walk(const wire_type *t, const uint8_t *b, size_t len, size_t *pos, i
         if (f->len_field >= 0) {
             count = vals[f->len_field];
             if (count < 0 || count > f->cap)
+                return WIRE_ERR_LENGTH;
+            /* lcm-gen decodes a 1-byte array (int8_t, byte) with memcpy
+             * into lcm_malloc(0) = NULL when it is empty: memcpy(NULL, p, 0)
+             * is undefined in C. No tandem message sends an empty one. */
+            if (count == 0 && f->kind != WIRE_STRING && f->kind != WIRE_STRUCT && f->size == 1)
                 return WIRE_ERR_LENGTH;
         }
         for (k = 0; k < count; k++) {

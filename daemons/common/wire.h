@@ -21,8 +21,8 @@ enum {
     WIRE_OK = 0,
     WIRE_ERR_SHORT = -1,        /* buffer ends inside a field */
     WIRE_ERR_FINGERPRINT = -2,  /* not this type (or unknown to wire_find) */
-    WIRE_ERR_LENGTH = -3,       /* array length negative or over capacity */
-    WIRE_ERR_STRING = -4,       /* string length out of range or no NUL */
+    WIRE_ERR_LENGTH = -3,       /* array length negative, over capacity, or an empty byte array */
+    WIRE_ERR_STRING = -4,       /* string length out of range, or its NUL not (only) at the end */
     WIRE_ERR_TRAILING = -5,     /* bytes left over after the message */
     WIRE_ERR_DEPTH = -6         /* nesting deeper than any tandem type */
 };

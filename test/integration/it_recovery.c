@@ -11,7 +11,8 @@
  *    back from its journal.
  * 3. Left down: a rover killed without restart is taken as gone by its
  *    mates (they stop waiting for its team messages) and the team still
- *    reaches the goal.
+ *    reaches the goal. A rover's process killed and restarted resumes from
+ *    its journal; the run is the same with and without loss.
  * 4. Loss is visible: states sent to tandem-arm with a gap of 10 in their
  *    sequence numbers show up in its HEALTH as 10 lost on ARM1_STATE.
  */
@@ -31,15 +32,21 @@
 
 static char dir[256];
 
-static int formation(const char *out, const char *drop, const char *kill)
+static int formation_fault(const char *out, const char *drop, const char *kill, const char *fault)
 {
     const char *argv[20] = { "tandem-scenario", "formation", "--formation", "line", "--world", "obstacles",
                              "--robots", "3", "--seed", "2", "--out", out };
     int n = 12;
     if (drop) { argv[n++] = "--drop-rate"; argv[n++] = drop; }
     if (kill) { argv[n++] = "--kill"; argv[n++] = kill; }
+    if (fault) { argv[n++] = "--fault"; argv[n++] = fault; }
     argv[n] = NULL;
     return harness_run(argv, 120.0);
+}
+
+static int formation(const char *out, const char *drop, const char *kill)
+{
+    return formation_fault(out, drop, kill, NULL);
 }
 
 static void test_loss_leaves_the_run_unchanged(void **state)
@@ -95,6 +102,37 @@ static void test_killed_rover_left_down(void **state)
     assert_true(harness_slurp(path, text, sizeof text) > 0);
     assert_true(harness_json_value(text, "killed_robot") == 2.0);
     assert_non_null(strstr(text, "\"reached_goal\": true"));
+}
+
+/* A rover's process killed and restarted: it resumes from its journal
+ * (pose, filter, protocol), the team reaches the goal, and the run is
+ * deterministic: the same truth.csv again, and with 5 % loss. */
+static void test_killed_rover_process_resumes(void **state)
+{
+    static char a[1 << 20], b[1 << 20], log[1 << 16];
+    char out0[300], out1[300], path[400], text[8192];
+    int na, nb;
+    (void)state;
+    snprintf(out0, sizeof out0, "%s/restart", dir);
+    snprintf(out1, sizeof out1, "%s/restart_loss", dir);
+    assert_int_equal(formation_fault(out0, NULL, NULL, "kill:rover2:20:26"), 0);
+    assert_int_equal(formation_fault(out1, "0.05", NULL, "kill:rover2:20:26"), 0);
+    snprintf(path, sizeof path, "%s/summary.json", out0);
+    assert_true(harness_slurp(path, text, sizeof text) > 0);
+    assert_true(harness_json_value(text, "kills") == 1.0);
+    assert_true(harness_json_value(text, "restarts") == 1.0);
+    assert_true(harness_json_value(text, "loc_err_max_m") < 0.1);   /* it knew where it was */
+    assert_non_null(strstr(text, "\"reached_goal\": true"));
+    snprintf(path, sizeof path, "%s/children.log", out0);
+    assert_true(harness_slurp(path, log, sizeof log) > 0);
+    assert_non_null(strstr(log, "robot 2 resumed from"));
+    snprintf(path, sizeof path, "%s/truth.csv", out0);
+    na = harness_slurp(path, a, sizeof a);
+    snprintf(path, sizeof path, "%s/truth.csv", out1);
+    nb = harness_slurp(path, b, sizeof b);
+    assert_true(na > 10000);
+    assert_int_equal(na, nb);
+    assert_memory_equal(a, b, (size_t)na);
 }
 
 typedef struct loss_seen {
@@ -158,6 +196,7 @@ int main(void)
         cmocka_unit_test(test_loss_leaves_the_run_unchanged),
         cmocka_unit_test(test_killed_arm_and_supervisor_recover),
         cmocka_unit_test(test_killed_rover_left_down),
+        cmocka_unit_test(test_killed_rover_process_resumes),
         cmocka_unit_test(test_loss_visible_in_health),
     };
     snprintf(dir, sizeof dir, "/tmp/it_recovery_%d", (int)getpid());

@@ -27,6 +27,7 @@
 #include "tandem_rover_state_t.h"
 #include "tandem_rovers_state_t.h"
 #include "tandem_rover_truth_t.h"
+#include "tandem_clock_ack_t.h"
 #include "tandem_sim_clock_t.h"
 #include "tandem_sim_control_t.h"
 
@@ -47,6 +48,12 @@ typedef struct {
     double max_time_s;
     int    kill_id;
     double kill_t_s;
+    scenario_fault faults[SCENARIO_MAX_FAULTS];   /* --fault kill:roverK:T[:R] */
+    int    n_faults, kills, restarts;
+    int64_t rover_ack[FM_MAX + 1];    /* the last step each rover process answered */
+    double hold_since_s;              /* wall time a restart began holding the step */
+    int64_t down_after[FM_MAX + 1];   /* --fault: robot k's process answered no step in */
+    int64_t up_at[FM_MAX + 1];        /* (down_after, up_at): no states then */
     const char *out, *url;
     char   url_buf[160];
     char   bindir[512];
@@ -56,7 +63,7 @@ typedef struct {
     pid_t  rover_pid[FM_MAX + 1];     /* process hosting robot k (separate mode) */
     /* lcm */
     lcm_t *lcm;
-    lcm_subscription_t *sub_clock, *sub_truth, *sub_state, *sub_states;
+    lcm_subscription_t *sub_clock, *sub_truth, *sub_state, *sub_states, *sub_ack;
     int64_t clock_step, answered, ack_seq, last_clock_ns;
     int    have_clock;
     /* layout and truth */
@@ -112,6 +119,10 @@ static void usage(FILE *f)
                "  --robots N      team size (default 3)\n"
                "  --seed S        noise seed (default 1)\n"
                "  --kill K:T      kill robot K (its process and its body) at sim time T s\n"
+               "  --fault kill:roverK:T[:R]  kill robot K's process (SIGKILL; its body\n"
+               "                  stands) at T s of simulated time and, with R, start it\n"
+               "                  again at R s: it resumes from its journal; repeatable.\n"
+               "                  Deterministic (the lockstep is held while it rejoins)\n"
                "  --drop-rate P   fault injection: every daemon drops received messages\n"
                "                  with probability P (deterministic for the seed); the\n"
                "                  run is the same as without loss, only slower\n"
@@ -190,6 +201,18 @@ static int parse(int argc, char **argv)
             F.kill_t_s = t;
         } else if (!strcmp(o, "--drop-rate")) {
             F.drop_arg = v;
+        } else if (!strcmp(o, "--fault")) {
+            scenario_fault *f = &F.faults[F.n_faults];
+            char *e;
+            long k;
+            if (F.n_faults >= SCENARIO_MAX_FAULTS || scenario_parse_fault(f, v) != 0) return -1;
+            k = strncmp(f->daemon, "rover", 5) == 0 ? strtol(f->daemon + 5, &e, 10) : 0;
+            if (k < 1 || k > FM_MAX || *e) {
+                fprintf(stderr, "formation: --fault: '%s' is not roverK\n", f->daemon);
+                return -1;
+            }
+            f->slot = (int)k;
+            F.n_faults++;
         } else if (!strcmp(o, "--procs")) {
             if (!strcmp(v, "separate")) F.single = 0;
             else if (!strcmp(v, "single")) F.single = 1;
@@ -214,9 +237,18 @@ static int parse(int argc, char **argv)
     }
     if (!F.out) { fprintf(stderr, "formation: --out DIR is required\n"); return -1; }
     if (F.kill_id > F.robots) { fprintf(stderr, "formation: --kill: robot %d not in the team\n", F.kill_id); return -1; }
+    for (i = 0; i < F.n_faults; i++)
+        if (F.faults[i].slot > F.robots) {
+            fprintf(stderr, "formation: --fault: robot %d not in the team\n", F.faults[i].slot);
+            return -1;
+        }
     if (scenario_parse_drop(&F.drop, F.drop_arg ? F.drop_arg : "0", F.seed) != 0) return -1;
     if (F.single < 0) F.single = F.robots > 10;
     if (F.batch < 0) F.batch = F.single;
+    if (F.n_faults > 0 && F.single) {
+        fprintf(stderr, "formation: --fault kill:roverK needs one process per robot (--procs separate)\n");
+        return -1;
+    }
     return 0;
 }
 
@@ -265,9 +297,43 @@ static void stop_children(void)
 static const char *fname(int f) { return f == 0 ? "line" : f == 1 ? "triangle" : "column"; }
 static const char *bname(int b) { return b == 0 ? "weighted" : b == 1 ? "subsumption" : "vecsum"; }
 
+/* A robot's journal: only for a robot a --fault restarts. */
+static int journaled(int k)
+{
+    int i;
+    for (i = 0; i < F.n_faults; i++)
+        if (F.faults[i].slot == k) return 1;
+    return 0;
+}
+
+/* The tandem-rover process of robot k (all robots with --procs single). */
+static pid_t spawn_rover(int k)
+{
+    char n_s[16], w_s[32], id_s[32], journal[700];
+    char *fo = (char *)fname(F.formation), *bl = (char *)bname(F.blend);
+    char *rv[32] = { "tandem-rover", "--id", id_s, "--robots", n_s, "--world", w_s,
+                     "--formation", fo, "--blend", bl, "--lockstep",
+                     "--formation-law", F.law_kanayama ? "kanayama" : "seed",
+                     "--ref-heading", F.ref_goal ? "goal" : "mean",
+                     "--localize", F.localize_off ? "off" : "on" };
+    int n = 18;
+    snprintf(n_s, sizeof n_s, "%d", F.robots);
+    snprintf(w_s, sizeof w_s, "%s", rover_world_name(F.world));
+    if (F.batch) rv[n++] = "--batch";
+    if (journaled(k)) {
+        snprintf(journal, sizeof journal, "%s/rover_%d.journal", F.out, k);
+        rv[n++] = "--journal";
+        rv[n++] = journal;
+    }
+    scenario_argv_drop(&F.drop, rv, &n, 32);
+    if (F.single) snprintf(id_s, sizeof id_s, "1-%d", F.robots);
+    else snprintf(id_s, sizeof id_s, "%d", k);
+    return spawn(rv);
+}
+
 static int start_children(void)
 {
-    char n_s[16], w_s[32], seed_s[24], expect_s[16], id_s[32];
+    char n_s[16], w_s[32], seed_s[24], expect_s[16];
     int k, procs = F.single ? 1 : F.robots;
     snprintf(n_s, sizeof n_s, "%d", F.robots);
     snprintf(w_s, sizeof w_s, "%s", rover_world_name(F.world));
@@ -283,18 +349,7 @@ static int start_children(void)
         if (spawn(sim) <= 0) return -1;
     }
     for (k = 1; k <= procs; k++) {
-        char *fo = (char *)fname(F.formation), *bl = (char *)bname(F.blend);
-        char *rv[32] = { "tandem-rover", "--id", id_s, "--robots", n_s, "--world", w_s,
-                         "--formation", fo, "--blend", bl, "--lockstep",
-                         "--formation-law", F.law_kanayama ? "kanayama" : "seed",
-                         "--ref-heading", F.ref_goal ? "goal" : "mean",
-                         "--localize", F.localize_off ? "off" : "on" };
-        int n = 18;
-        if (F.batch) rv[n++] = "--batch";
-        scenario_argv_drop(&F.drop, rv, &n, 32);
-        if (F.single) snprintf(id_s, sizeof id_s, "1-%d", F.robots);
-        else snprintf(id_s, sizeof id_s, "%d", k);
-        F.rover_pid[k] = spawn(rv);
+        F.rover_pid[k] = spawn_rover(k);
         if (F.rover_pid[k] <= 0) return -1;
     }
     return 0;
@@ -393,6 +448,12 @@ static void on_states(const lcm_recv_buf_t *rb, const char *ch, const tandem_rov
 /* Truth at step k is taken with every live robot's state of the cycle
  * before; 0 while one of them is missing (lost: the simulator announces
  * k again and the robots publish it again). */
+/* --fault: robot id's process was down at step k (it published no state). */
+static int process_down(int id, int64_t k)
+{
+    return id >= 1 && id <= FM_MAX && k > F.down_after[id] && k < F.up_at[id];
+}
+
 static int states_for_truth(const tandem_rover_truth_t *m)
 {
     const int64_t k = m->step - FM_PERIOD;
@@ -400,7 +461,8 @@ static int states_for_truth(const tandem_rover_truth_t *m)
     if (k < FM_PERIOD) return 1;               /* robots start at their first period */
     for (i = 0; i < m->n; i++) {
         const int r = m->robot[i] - 1;
-        if (m->alive[i] && r >= 0 && r < F.robots && !(F.killed && r + 1 == F.kill_id) && !ring_get(r, k))
+        if (m->alive[i] && r >= 0 && r < F.robots && !(F.killed && r + 1 == F.kill_id) && !process_down(r + 1, k) &&
+            !ring_get(r, k))
             return 0;
     }
     for (i = 0; i < F.robots; i++) {
@@ -440,9 +502,9 @@ static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rove
         }
         F.prev_x[i] = m->x_m[i]; F.prev_y[i] = m->y_m[i]; F.prev_th[i] = m->theta_rad[i];
         F.have_prev[i] = 1;
-        if (F.have_state[i]) {
+        if (F.have_state[i] && !process_down(m->robot[i], m->step - FM_PERIOD)) {
             /* localization error: the robot's own estimate of O against
-             * the truth (both world frame) */
+             * the truth (both world frame); none while its process is down */
             const double e = hypot(F.est[i].x_m - m->x_m[i], F.est[i].y_m - m->y_m[i]);
             F.loc_sum_sq += e * e;
             F.loc_n++;
@@ -596,6 +658,8 @@ static void write_summary(double wall_s)
     json_num(&j, "time_out_of_formation_frac", F.samples ? (double)F.out_samples / F.samples : NAN);
     json_num(&j, "min_clearance_m", F.min_clear);
     json_int(&j, "collisions", F.collisions);
+    json_int(&j, "kills", F.kills);
+    json_int(&j, "restarts", F.restarts);
     json_int(&j, "formation_changes", F.formation_changes);
     json_int(&j, "dead_zone_escapes", F.escapes);
     json_num(&j, "path_length_m", n ? path / n : NAN);
@@ -610,6 +674,71 @@ static void write_summary(double wall_s)
 }
 
 /* Checked subscriptions (auth_bus_subscribe) of the typed handlers above. */
+/* SIM_ACK: the last step each rover process answered (--fault). */
+static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const tandem_clock_ack_t *m, void *u)
+{
+    char *e;
+    long k;
+    (void)rb; (void)ch; (void)u;
+    if (m->leaving || strncmp(m->name, "tandem-rover-", 13) != 0) return;
+    k = strtol(m->name + 13, &e, 10);
+    if (*e || k < 1 || k > FM_MAX) return;
+    if (m->step > F.rover_ack[k]) F.rover_ack[k] = m->step;
+}
+
+/* --fault kill:roverK:T[:R], at a step due to be answered (every robot's
+ * cycle runs at these steps). Kill once the robot's process has answered
+ * the step (so its journal holds this cycle: the same state whatever the
+ * machine's speed) and tell the simulator it left; restart at the first
+ * such step after R and hold the step until the new process has answered
+ * it. 1: go on, 0: hold the step, -1: the restart failed. */
+static int faults_step(void)
+{
+    int i, j;
+    for (i = 0; i < F.n_faults; i++) {
+        scenario_fault *f = &F.faults[i];
+        const int k = f->slot;
+        char name[64];
+        snprintf(name, sizeof name, "tandem-rover-%d", k);
+        if (f->stage == 0 && F.sim_time >= f->kill_s) {
+            if (F.rover_ack[k] < F.clock_step) return 0;
+            kill(F.rover_pid[k], SIGKILL);
+            waitpid(F.rover_pid[k], NULL, 0);
+            for (j = 0; j < F.n_pid; j++)
+                if (F.pid[j] == F.rover_pid[k]) F.pid[j] = -1;   /* reaped: its pid may be reused */
+            F.rover_pid[k] = -1;
+            F.rover_ack[k] = -1;
+            F.down_after[k] = F.clock_step;
+            F.up_at[k] = INT64_MAX;
+            lockstep_ack(F.lcm, name, 0, F.clock_step, FM_PERIOD, 1);
+            fprintf(stderr, "formation: fault: rover %d's process killed at t = %.2f s\n", k, F.sim_time);
+            F.kills++;
+            f->stage = f->restart_s >= 0.0 ? 1 : 3;
+        }
+        if (f->stage == 1 && F.sim_time >= f->restart_s) {
+            F.rover_pid[k] = spawn_rover(k);
+            if (F.rover_pid[k] <= 0) return -1;
+            fprintf(stderr, "formation: fault: rover %d's process restarted at t = %.2f s\n", k, F.sim_time);
+            F.hold_since_s = scenario_wall_s();
+            f->stage = 2;
+        }
+        if (f->stage == 2) {
+            if (F.rover_ack[k] < F.clock_step) {
+                if (scenario_wall_s() - F.hold_since_s > 60.0) {
+                    fprintf(stderr, "formation: fault: rover %d did not rejoin within 60 s\n", k);
+                    return -1;
+                }
+                return 0;
+            }
+            F.up_at[k] = F.clock_step;
+            F.restarts++;
+            f->stage = 3;
+        }
+    }
+    return 1;
+}
+
+AUTH_TYPED_HANDLER(tandem_clock_ack_t, raw_on_ack, on_ack)
 AUTH_TYPED_HANDLER(tandem_sim_clock_t, raw_on_clock, on_clock)
 AUTH_TYPED_HANDLER(tandem_rover_truth_t, raw_on_truth, on_truth)
 AUTH_TYPED_HANDLER(tandem_rover_state_t, raw_on_state, on_state)
@@ -652,6 +781,8 @@ static int run(int argc, char **argv)
     F.sub_truth = auth_bus_subscribe(F.lcm, "ROVER_TRUTH", raw_on_truth, NULL);
     F.sub_state = auth_bus_subscribe(F.lcm, "ROVER[0-9]+_STATE", raw_on_state, NULL);
     F.sub_states = auth_bus_subscribe(F.lcm, "ROVERS_STATE", raw_on_states, NULL);
+    F.sub_ack = auth_bus_subscribe(F.lcm, "SIM_ACK", raw_on_ack, NULL);
+    lcm_subscription_set_queue_capacity(F.sub_ack, 100000);
     lcm_subscription_set_queue_capacity(F.sub_clock, 0);
     lcm_subscription_set_queue_capacity(F.sub_truth, 100000);
     lcm_subscription_set_queue_capacity(F.sub_state, 100000);
@@ -664,6 +795,15 @@ static int run(int argc, char **argv)
         char p[700];
         snprintf(p, sizeof p, "%s/children.log", F.out);
         remove(p);
+        for (i = 1; i <= F.robots; i++) {   /* a fresh run: a restart reads what this one wrote */
+            snprintf(p, sizeof p, "%s/rover_%d.journal", F.out, i);
+            remove(p);
+        }
+    }
+    for (i = 0; i <= FM_MAX; i++) {
+        F.rover_ack[i] = -1;
+        F.down_after[i] = INT64_MAX;
+        F.up_at[i] = INT64_MAX;
     }
     signal(SIGPIPE, SIG_IGN);
     signal(SIGINT, on_sig);
@@ -687,7 +827,13 @@ static int run(int argc, char **argv)
             F.clock_repeat = 0;          /* our ack was lost: answer again */
             if (F.answered >= 0) ack(F.answered);
         }
+        int fault_rc = 1;
         if (F.have_clock && due > F.answered && F.clock_step % FM_PERIOD == 0 &&
+            F.last_truth_step >= F.clock_step && (fault_rc = faults_step()) < 0) {
+            F.lost_lockstep = 1;
+            break;
+        }
+        if (fault_rc == 1 && F.have_clock && due > F.answered && F.clock_step % FM_PERIOD == 0 &&
             F.last_truth_step >= F.clock_step) {
             /* robot states of the last cycle: protocol counts */
             int lo = -1;
@@ -755,6 +901,7 @@ static int run(int argc, char **argv)
     lcm_unsubscribe(F.lcm, F.sub_truth);
     lcm_unsubscribe(F.lcm, F.sub_state);
     lcm_unsubscribe(F.lcm, F.sub_states);
+    lcm_unsubscribe(F.lcm, F.sub_ack);
     lcm_destroy(F.lcm);
     printf("formation %s world %s blend %s law %s robots %d seed %ld: reached_goal=%d time_to_goal_s=%.2f "
            "rms_formation_err_m=%.3f max_formation_err_m=%.3f min_clearance_m=%.3f collisions=%d "
