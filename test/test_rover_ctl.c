@@ -414,13 +414,33 @@ static void test_slot_mapping(void **state)
  * by the exception (turn, then boundary following) and reach the goal
  * without touching a wall. The trap point is checked against the layout:
  * inside the 1.0 m pocket, beyond the taper. */
+/* One robot at its start in the dead-zone world (w already laid out):
+ * default parameters, a noiseless sonar, the goal and start in the team
+ * frame, the controller made. */
+static void deadzone_one_robot(const rover_world_t *w, rover_ctl_params_t *p, sonar_model_t *sm, pose2_t *pose,
+                               pose2_t *st, double goal[2], rover_ctl_t *c)
+{
+    pose2_t gw = {0, 0, 0}, gt;
+    rover_ctl_params_default(p);
+    sonar_model_default(sm);
+    sm->noise_sd_m = 0.0;
+    gw.x_m = w->goal_m[0];
+    gw.y_m = w->goal_m[1];
+    rover_world_to_team(w, &gw, &gt);
+    goal[0] = gt.x_m;
+    goal[1] = gt.y_m;
+    *pose = w->start_c[0];
+    rover_world_to_team(w, pose, st);
+    assert_int_equal(rover_ctl_init(c, p, 1, st, goal), 0);
+}
+
 static void test_deadzone_escape(void **state)
 {
     rover_world_t w;
     rover_ctl_params_t p;
     rover_ctl_t c;
     sonar_model_t sm;
-    pose2_t pose, st, gw = {0, 0, 0}, gt;
+    pose2_t pose, st;
     double el = 0.0, er = 0.0, goal[2], min_clear = INFINITY, trap_x = NAN, trap_y = NAN;
     double back_x = -INFINITY;
     int alive[1] = {1}, step, entered = 0, reached = 0, k;
@@ -428,17 +448,7 @@ static void test_deadzone_escape(void **state)
     assert_int_equal(rover_world_layout(&w, ROVER_WORLD_DEADZONE, 1, 1.0, FORMATION_LINE), 0);
     for (k = 0; k < w.n_obst; k++)
         if (w.obst[k].cx_m > back_x) back_x = w.obst[k].cx_m;   /* the back wall */
-    rover_ctl_params_default(&p);
-    sonar_model_default(&sm);
-    sm.noise_sd_m = 0.0;
-    gw.x_m = w.goal_m[0];
-    gw.y_m = w.goal_m[1];
-    rover_world_to_team(&w, &gw, &gt);
-    goal[0] = gt.x_m;
-    goal[1] = gt.y_m;
-    pose = w.start_c[0];
-    rover_world_to_team(&w, &pose, &st);
-    assert_int_equal(rover_ctl_init(&c, &p, 1, &st, goal), 0);
+    deadzone_one_robot(&w, &p, &sm, &pose, &st, goal, &c);
     for (step = 0; step * DT < 200.0 && !reached; step++) {
         const double t = step * DT, b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
         double rng[SONAR_N], clear;
@@ -484,23 +494,13 @@ static void test_snapshot_resume_identity(void **state)
     rover_ctl_params_t p;
     rover_ctl_t c, r, before;
     sonar_model_t sm;
-    pose2_t pose, st, gw = {0, 0, 0}, gt;
+    pose2_t pose, st;
     double el = 0.0, er = 0.0, goal[2], v[ROVER_CTL_SNAPSHOT_VALUES], bad[ROVER_CTL_SNAPSHOT_VALUES];
     int alive[1] = {1}, step, resumed = 0, compared = 0, escapes_after = 0;
     (void)state;
     assert_int_equal(rover_snapshot_validate(), ROVER_CTL_OK);
     assert_int_equal(rover_world_layout(&w, ROVER_WORLD_DEADZONE, 1, 1.0, FORMATION_LINE), 0);
-    rover_ctl_params_default(&p);
-    sonar_model_default(&sm);
-    sm.noise_sd_m = 0.0;
-    gw.x_m = w.goal_m[0];
-    gw.y_m = w.goal_m[1];
-    rover_world_to_team(&w, &gw, &gt);
-    goal[0] = gt.x_m;
-    goal[1] = gt.y_m;
-    pose = w.start_c[0];
-    rover_world_to_team(&w, &pose, &st);
-    assert_int_equal(rover_ctl_init(&c, &p, 1, &st, goal), 0);
+    deadzone_one_robot(&w, &p, &sm, &pose, &st, goal, &c);
     assert_int_equal(rover_ctl_snapshot(&c, v), ROVER_CTL_ERR_ARG);   /* nothing to keep yet */
     for (step = 0; step * DT < 120.0; step++) {
         const double t = step * DT, b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
