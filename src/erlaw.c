@@ -135,7 +135,12 @@ static void channel_command(const erlaw_channel *c, double s, double s_ref, erla
     if (out->follower) {
         const double rho = v_d > 1e-9 ? clamp(c->v_ext / v_d, 0.0, 1.0) : 0.0;
         a_d = rho * rho * a_d;
-        v_d = c->v_ext;
+        /* never faster than its own profile at its reference: two arms
+         * that each took the other's rate (each a follower by a cycle-old
+         * PROGRESS) sped each other up to the end of t3 and hit it at
+         * 0.39 m/s after a long block (the bar was knocked out at the
+         * hand-over) */
+        v_d = fmin(c->v_ext, v_d);
         k_p = fmax(k_p, w * w);
         k_v = fmax(k_v, 2.0 * w);
         b = 0.0;

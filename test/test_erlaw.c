@@ -10,6 +10,7 @@
 #include <stdio.h>
 
 #include "erlaw.h"
+#include "sprofile.h"
 #include "vec3.h"
 
 static const erlaw_gains G = { 0.25, 0.5, 4.0, 100.0, 20.0, 0.2, 5.0, 50.0 };
@@ -277,6 +278,35 @@ static void test_external_reference_follower_stops(void **st)
  * below the event law's a_m + k_v v_m + k0; pushed back or sideways, the
  * held pose (not the planned line) is restored; on release the bias moves
  * the mass on. */
+/* A follower never asks for more speed than its own profile gives at its
+ * reference, whatever the partner's rate: near the goal a reference
+ * running at 2 v_m (the clamp) still leaves v_d on the decelerating
+ * profile. Without the cap the two arms of t3 took each other's rate and
+ * reached the end at 0.39 m/s. */
+static void test_follower_speed_capped_by_profile(void **st)
+{
+    erlaw_line l;
+    erlaw_out o;
+    double x[3], s_ext = 0.40;
+    const double v0[3] = { 0, 0, 0 };
+    int k;
+    (void)st;
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
+    for (k = 0; k < 3; k++)
+        x[k] = P0[k] + 0.47 / 0.5 * (P1[k] - P0[k]);     /* s = 0.47 of 0.5 m */
+    for (k = 0; k < 40; k++) {
+        s_ext += 2.0 * G.v_m * 1e-3;                      /* the partner races on */
+        assert_int_equal(erlaw_line_step(&l, x, v0, ERLAW_REF_EXTERNAL, fmin(s_ext, 0.469), 1e-3, &o), 0);
+    }
+    {
+        double a_d, v_prof;
+        sprofile_at(&l.ch.prof, o.s_ref_m, &a_d, &v_prof);
+        assert_true(o.follower);
+        assert_true(l.ch.v_ext > v_prof + 0.05);          /* the partner is faster ... */
+        assert_true(o.v_d <= v_prof + 1e-12);             /* ... the follower is not */
+    }
+}
+
 static void test_blocked_leans_with_bias(void **st)
 {
     erlaw_line l;
@@ -457,6 +487,7 @@ int main(void)
         cmocka_unit_test(test_short_segment_starts_against_disturbance),
         cmocka_unit_test(test_blocked_event_vs_time),
         cmocka_unit_test(test_external_reference_follower_stops),
+        cmocka_unit_test(test_follower_speed_capped_by_profile),
         cmocka_unit_test(test_blocked_leans_with_bias),
         cmocka_unit_test(test_blocked_near_goal_leans_with_k0),
         cmocka_unit_test(test_rotation_channel),
