@@ -76,6 +76,9 @@ typedef struct sup_slot {
 typedef struct arm_view {
     int     heard;
     int64_t step, rx_ns;
+    /* liveness from PROGRESS too (a running arm sends no STATUS; its
+     * PROGRESS is not queued as an event): the newest step and wall time */
+    int64_t alive_step, alive_rx_ns;
     int     running;
     int32_t action_id, last_done, holding;
 } arm_view;
@@ -332,8 +335,13 @@ static void on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
     if (e.arm < 1 || e.arm > 2 || e.transition < 0 || e.transition > CARRY_N_TRANSITIONS ||
         !isfinite(e.s_m) || !isfinite(e.s_f_m) || e.action_id < 0 || e.last_done_action_id < 0) {
         d->msgs.rejected++;
-    } else if (e.event != TANDEM_ACTION_EVENT_T_PROGRESS && e.event != TANDEM_ACTION_EVENT_T_STARTED &&
-               S.n_ev < EVENT_QUEUE) {
+    } else if (e.event == TANDEM_ACTION_EVENT_T_PROGRESS || e.event == TANDEM_ACTION_EVENT_T_STARTED) {
+        arm_view *v = &S.arm[e.arm - 1];
+        if (e.step > v->alive_step) {
+            v->alive_step = e.step;
+            v->alive_rx_ns = rtloop_now_ns();
+        }
+    } else if (S.n_ev < EVENT_QUEUE) {
         S.evq[S.n_ev] = e;
         S.evq[S.n_ev].detail = NULL;
         S.n_ev++;
@@ -584,9 +592,13 @@ static void watch_silence(daemon *d)
 {
     const int64_t now = rtloop_now_ns();
     int a, arms = 0, sim;
-    for (a = 0; a < 2; a++)
-        if (S.arm[a].heard && (d->lockstep ? d->step - S.arm[a].step > SILENT_STEPS : now - S.arm[a].rx_ns > SILENT_NS))
+    for (a = 0; a < 2; a++) {
+        const arm_view *v = &S.arm[a];
+        const int64_t step = v->alive_step > v->step ? v->alive_step : v->step;
+        const int64_t rx = v->alive_rx_ns > v->rx_ns ? v->alive_rx_ns : v->rx_ns;
+        if (v->heard && (d->lockstep ? d->step - step > SILENT_STEPS : now - rx > SILENT_NS))
             arms |= 1 << a;
+    }
     sim = !d->lockstep && S.sim_rx_ns > 0 && now - S.sim_rx_ns > SILENT_NS;
     if (arms != S.arms_silent || sim != S.sim_silent) {
         printf("[%9.3f] silent: arm 1 %s, arm 2 %s, simulator %s\n", d->sim_time_s, arms & 1 ? "SILENT" : "ok",
