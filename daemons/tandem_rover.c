@@ -114,6 +114,7 @@ static struct {
     } out[2];                                         /* out[cur]: the last cycle */
     int     cur;
     const char *journal;                /* --journal PATH, NULL: none */
+    int64_t first_step;                 /* the first step this process ran a cycle for (-1) */
     int64_t journal_errors;
 } A;
 
@@ -498,7 +499,18 @@ static void on_team(const lcm_recv_buf_t *rb, const char *ch, void *u)
     q->m.goal_m[1] = m.goal_m[1];
 }
 
-/* Deliver queued team messages sent before `step` (all of them in real time). */
+/* This process started after the run had (a restart): its first cycle
+ * was later than the first period. */
+static int joined_late(void)
+{
+    return A.first_step > D.period_steps;
+}
+
+/* Deliver queued team messages sent before `step` (all of them in real
+ * time). Lockstep: only those sent after this process's first cycle; what
+ * a mate sent up to that step may or may not have reached a process that
+ * was just starting (republished on a repeated step, or not), so it must
+ * not count. */
 static void deliver_team(int64_t step, double t_s)
 {
     int i, k = 0, j;
@@ -507,6 +519,8 @@ static void deliver_team(int64_t step, double t_s)
             A.q[k++] = A.q[i];
             continue;
         }
+        if (D.lockstep && joined_late() && A.q[i].step <= A.first_step)
+            continue;
         for (j = A.id_lo; j <= A.id_hi; j++)
             if (j != A.q[i].m.m.robot && rover_ctl_team_msg(&A.h[j - A.id_lo].c, &A.q[i].m, t_s) < 0)
                 D.msgs.rejected++;
@@ -630,11 +644,14 @@ static void report_changes(hosted *h, int mode, double t_s)
 }
 
 /* The frame a lockstep cycle at `step` needs: the last one of its period,
- * if that falls after start-up (-1: none needed). */
+ * if that falls after start-up and not before this process's first cycle
+ * (a process restarted at step k never saw what was sent before k: a
+ * frame or team message it cannot have must not decide anything, or
+ * whether it waited would depend on the machine's speed) (-1: none). */
 static int64_t frame_due(int64_t step, int64_t period)
 {
     const int64_t due = step - step % period;
-    return due >= D.period_steps ? due : -1;
+    return due >= D.period_steps && due >= A.first_step ? due : -1;
 }
 
 /* Lockstep: are this step's inputs all here (see the top of the file)? A
@@ -646,6 +663,7 @@ static int inputs_missing(int64_t step, int mark_gone)
     const int64_t sens = frame_due(step, ROVER_SENSOR_PERIOD_STEPS);
     const int64_t cam = frame_due(step, ROVER_CAMERA_PERIOD_STEPS);
     const int64_t team_w = (int64_t)llround(A.params.team_period_s / DAEMON_SIM_DT_S);
+    const int64_t team_from = joined_late() ? A.first_step + 1 : 0;   /* see deliver_team */
     int j, missing = 0;
     for (j = A.id_lo; j <= A.id_hi; j++) {
         hosted *h = &A.h[j - A.id_lo];
@@ -657,7 +675,7 @@ static int inputs_missing(int64_t step, int mark_gone)
     }
     for (j = 1; j <= A.robots; j++) {
         const int listened = A.id_lo != A.id_hi || A.id_lo != j;
-        if (!listened || A.mate_gone[j] || step - team_w < 0 || A.mate_step[j] >= step - team_w)
+        if (!listened || A.mate_gone[j] || step - team_w < team_from || A.mate_step[j] >= step - team_w)
             continue;
         missing++;
         if (mark_gone) A.mate_gone[j] = 1;
@@ -748,6 +766,8 @@ static void cycle(daemon *d, void *user)
     if (step < 0) return;                      /* no simulator clock yet */
     if (d->lockstep && step == A.last_step) return;   /* a repeated clock: answer again only */
     if (too_early(step)) return;
+    if (A.first_step < 0)
+        A.first_step = step;
     if (d->lockstep && !lockstep_inputs_complete(step)) {
         d->skip_ack = 1;                       /* wait for the announcement again */
         return;
@@ -797,6 +817,7 @@ int main(int argc, char **argv)
     double goal[2], lm[ROVER_WORLD_MAX_LANDMARKS][2];
     memset(&A, 0, sizeof A);
     A.last_step = -1;
+    A.first_step = -1;
     A.wait_step = -1;
     A.out[0].step = A.out[1].step = -1;
     for (j = 0; j <= ROVER_WORLD_MAX_ROBOTS; j++) A.mate_step[j] = -1;

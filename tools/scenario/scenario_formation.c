@@ -690,8 +690,9 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const tandem_clock_
  * cycle runs at these steps). Kill once the robot's process has answered
  * the step (so its journal holds this cycle: the same state whatever the
  * machine's speed) and tell the simulator it left; restart at the first
- * such step after R and hold the step until the new process has answered
- * it. 1: go on, 0: hold the step, -1: the restart failed. */
+ * such step after R and hold the step until the new process has run its
+ * cycle of it (its state is in). 1: go on, 0: hold the step, -1: the
+ * restart failed. */
 static int faults_step(void)
 {
     int i, j;
@@ -701,7 +702,7 @@ static int faults_step(void)
         char name[64];
         snprintf(name, sizeof name, "tandem-rover-%d", k);
         if (f->stage == 0 && F.sim_time >= f->kill_s) {
-            if (F.rover_ack[k] < F.clock_step) return 0;
+            if (F.rover_ack[k] < F.clock_step || !ring_get(k - 1, F.clock_step)) return 0;
             kill(F.rover_pid[k], SIGKILL);
             waitpid(F.rover_pid[k], NULL, 0);
             for (j = 0; j < F.n_pid; j++)
@@ -723,7 +724,10 @@ static int faults_step(void)
             f->stage = 2;
         }
         if (f->stage == 2) {
-            if (F.rover_ack[k] < F.clock_step) {
+            /* its ack and its state of this step (published after its
+             * command): the simulator waits for no command from a robot
+             * silent this long, so the step must not move on before it */
+            if (F.rover_ack[k] < F.clock_step || !ring_get(k - 1, F.clock_step)) {
                 if (scenario_wall_s() - F.hold_since_s > 60.0) {
                     fprintf(stderr, "formation: fault: rover %d did not rejoin within 60 s\n", k);
                     return -1;
