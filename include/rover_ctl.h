@@ -130,7 +130,6 @@ typedef struct {
     double  esc_hit_dist_m, esc_s;
     double  esc_lost_s;         /* time without a wall in reach while following */
     double  esc_wait_s;         /* giving way: time waited for a mate to turn first */
-    double  esc_pass_wait_s;    /* escaping: time waited for a mate to drive past */
     int     escapes;            /* dead-zone entries */
     int     ann_code;           /* own latest announcement */
     int32_t ann_seq;
@@ -171,7 +170,7 @@ int  rover_ctl_beacon(rover_ctl_t *c, int32_t target, double range_m, double bea
  * encoder reading after rover_ctl_resume integrates the wheels' travel
  * while the process was down. A snapshot is ROVER_CTL_SNAPSHOT_VALUES
  * numbers, id first. */
-#define ROVER_CTL_SNAPSHOT_VALUES 58
+#define ROVER_CTL_SNAPSHOT_VALUES 57
 enum { ROVER_CTL_OK = 0, ROVER_CTL_ERR_ARG = -1, ROVER_CTL_ERR_SNAPSHOT = -2 };
 /* ROVER_CTL_ERR_ARG before the first encoder reading (nothing to keep). */
 int  rover_ctl_snapshot(const rover_ctl_t *c, double v[ROVER_CTL_SNAPSHOT_VALUES]);

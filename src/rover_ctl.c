@@ -458,6 +458,20 @@ static double range_in_way(const double range_m[BEH_SONAR_N], const rover_ctl_pa
     return best;
 }
 
+/* The guard's first rule alone: forward speed falls to zero guard_stop_m
+ * short of the nearest echo in the way (range_in_way, which it returns).
+ * Also used while giving way, where the boundary follower sees walls only. */
+static double guard_speed(unicycle_cmd_t *u, const double range_m[BEH_SONAR_N], const rover_ctl_params_t *p)
+{
+    const double near = range_in_way(range_m, p);
+    if (near < p->guard_m) {
+        double vmax = p->beh.k_v * (near - p->guard_stop_m);
+        if (vmax < 0.0) vmax = 0.0;
+        if (u->v_mps > vmax) u->v_mps = vmax;
+    }
+    return near;
+}
+
 /* Eq. 11 only weights avoidance by d_st / range; goal and formation keep
  * pushing, so a robot can creep into an obstacle dead ahead (and with
  * S_LF = S_RF the seed's turn is zero). Last line of defence: forward speed
@@ -473,27 +487,13 @@ static double range_in_way(const double range_m[BEH_SONAR_N], const rover_ctl_pa
  * flee its own members), but one in our way is still something to stop
  * short of (two robots closing head-on at full speed met, each taking the
  * other's echo for a mate's). */
-/* The guard's first rule alone: forward speed falls to zero guard_stop_m
- * short of the nearest echo in the way (raw ranges: mates count). Also
- * used while escaping, where the boundary follower sees walls only. */
-static void guard_speed(unicycle_cmd_t *u, const double range_m[BEH_SONAR_N], const rover_ctl_params_t *p)
-{
-    const double near = range_in_way(range_m, p);
-    if (near < p->guard_m) {
-        double vmax = p->beh.k_v * (near - p->guard_stop_m);
-        if (vmax < 0.0) vmax = 0.0;
-        if (u->v_mps > vmax) u->v_mps = vmax;
-    }
-}
-
 void rover_ctl_guard(unicycle_cmd_t *u, const double range_m[BEH_SONAR_N], const pose2_t *o,
                      const double goal[2], const rover_ctl_params_t *p)
 {
     sonar_groups_t g;
-    const double near = range_in_way(range_m, p);
+    const double near = guard_speed(u, range_m, p);
     double side;
     behaviour_sonar_groups(&g, range_m);
-    guard_speed(u, range_m, p);
     side = g.left_front_m - g.right_front_m;
     if (fabs(side) < 0.05)
         side = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m), o->theta_rad);
@@ -671,66 +671,27 @@ static int leaving_mate(const rover_ctl_t *c, const pose2_t *o, double cone_rad,
     return found;
 }
 
-/* Whom a robot about to turn on the spot waits for (turn_blocked_by_mate). */
-enum { WAIT_FOR_TURNERS = 1, WAIT_FOR_PASSERS = 2 };
-
-/* A mate with its axle within yield_clear_m of ours that is turning on
- * the spot and has the lower id (WAIT_FOR_TURNERS), or that is driving
- * past (not at us; WAIT_FOR_PASSERS): a robot
- * turning on the spot sweeps a circle of ~0.31 m round its axle. Two side
- * by side that both turn sweep their tails into each other, and one
- * driving past a turning one meets its tail (the dead zone: a mate
- * following the wall out past one still turning to give way); the
- * turner waits (at most yield_wait_s: the other may be spinning in place
- * until we move). */
-static int turn_blocked_by_mate(const rover_ctl_t *c, const pose2_t *o, int which)
+/* A lower-id mate turning on the spot (not driving) with its axle within
+ * yield_clear_m of ours: a robot turning on the spot sweeps a circle of
+ * ~0.31 m round its axle, two side by side that both turn sweep their
+ * tails into each other; the higher id waits its turn (at most
+ * yield_wait_s: the other may be spinning in place until we move). */
+static int turn_blocked_by_mate(const rover_ctl_t *c, const pose2_t *o)
 {
     pose2_t own_c;
     int i;
     unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
     for (i = 0; i < c->team.n; i++) {
         const team_member_t *m = &c->team.m[i];
-        const int driving = fabs(m->v_mps) > 0.05, spinning = !driving && fabs(m->w_radps) >= 0.1;
+        const int spinning = fabs(m->v_mps) <= 0.05 && fabs(m->w_radps) >= 0.1;
         double xy[2];
-        if (spinning ? !(which & WAIT_FOR_TURNERS) || m->robot >= c->id : !((which & WAIT_FOR_PASSERS) && driving))
+        if (m->robot >= c->id || !spinning || team_position(&c->team, m->robot, xy) != 0)
             continue;
-        if (team_position(&c->team, m->robot, xy) != 0)
-            continue;
-        {
-            const double dx = own_c.x_m - (xy[0] + c->p.beh.d_m * cos(m->theta_rad));
-            const double dy = own_c.y_m - (xy[1] + c->p.beh.d_m * sin(m->theta_rad));
-            const double dist = hypot(dx, dy);
-            /* one driving at us (within 30 deg) is not passing: we turn
-             * out of its way (the trapped robot coming out of its pocket) */
-            if (driving && dist > 1e-6 && (cos(m->theta_rad) * dx + sin(m->theta_rad) * dy) / dist > 0.87)
-                continue;
-            if (dist < c->p.yield_clear_m)
-                return 1;
-        }
+        if (hypot(xy[0] + c->p.beh.d_m * cos(m->theta_rad) - own_c.x_m,
+                  xy[1] + c->p.beh.d_m * sin(m->theta_rad) - own_c.y_m) < c->p.yield_clear_m)
+            return 1;
     }
     return 0;
-}
-
-/* A turn on the spot (u) that would sweep the tail into a mate
- * (turn_blocked_by_mate) waits: u->w = 0, for at most yield_wait_s per
- * escape for turning mates and as long again for passing ones (a mate
- * driving past is gone in a second or two; the budget for turning mates
- * may be spent by then). Returns 1 while waiting. */
-static int turn_wait(rover_ctl_t *c, const pose2_t *o, unicycle_cmd_t *u, double dt_s, int which)
-{
-    if (fabs(u->v_mps) > 0.05 || fabs(u->w_radps) < 0.1)
-        return 0;
-    if ((which & WAIT_FOR_TURNERS) && c->esc_wait_s < c->p.yield_wait_s &&
-        turn_blocked_by_mate(c, o, WAIT_FOR_TURNERS)) {
-        c->esc_wait_s += dt_s;
-    } else if ((which & WAIT_FOR_PASSERS) && c->esc_pass_wait_s < c->p.yield_wait_s &&
-               turn_blocked_by_mate(c, o, WAIT_FOR_PASSERS)) {
-        c->esc_pass_wait_s += dt_s;
-    } else {
-        return 0;
-    }
-    u->w_radps = 0.0;
-    return 1;
 }
 
 /* Walls (not mates) within reach of boundary following on some side. */
@@ -764,7 +725,6 @@ static int give_way_start(rover_ctl_t *c, const sonar_groups_t *gw, const pose2_
     c->esc_s = 0.0;
     c->esc_lost_s = 0.0;
     c->esc_wait_s = 0.0;
-    c->esc_pass_wait_s = 0.0;
     /* away from the mate; one dead ahead: toward the roomier side */
     if (fabs(b) > 0.2) c->esc_turn = b > 0.0 ? -1 : 1;
     else c->esc_turn = gw->left_m + gw->left_front_m >= gw->right_m + gw->right_front_m ? 1 : -1;
@@ -807,7 +767,6 @@ static int escape_step(rover_ctl_t *c, const sonar_groups_t *gw, const sonar_gro
             c->esc_s = 0.0;
             c->esc_lost_s = 0.0;
             c->esc_wait_s = 0.0;
-            c->esc_pass_wait_s = 0.0;
             c->esc_yield = 0;
             /* turned left (+w_k): keep the wall on the right */
             c->esc_side = turn.w_radps > 0.0 ? -1 : 1;
@@ -822,9 +781,13 @@ static int escape_step(rover_ctl_t *c, const sonar_groups_t *gw, const sonar_gro
         double b;
         if (leaving_mate(c, o, 2.0 * VEC2_PI / 3.0, 0.0, t_s, &b) && c->esc_s < c->p.yield_max_s) {
             u->v_mps = 0.0;
-            u->w_radps = c->esc_turn * c->p.follow_w_radps;
-            if (turn_wait(c, o, u, dt_s, WAIT_FOR_TURNERS))
+            if (c->esc_wait_s < c->p.yield_wait_s && turn_blocked_by_mate(c, o)) {
+                u->w_radps = 0.0;
+                c->esc_wait_s += dt_s;
                 c->esc_s -= dt_s;        /* waiting does not count as turning */
+            } else {
+                u->w_radps = c->esc_turn * c->p.follow_w_radps;
+            }
             return 1;
         }
         c->esc_side = nearer_wall_side(gw);
