@@ -97,6 +97,7 @@ typedef struct {
     char   failed[256];          /* failed success criteria (formation_criteria) */
     int    n_failed;
     int    lost_lockstep;        /* the simulator dropped us: not the seed's run */
+    int    restart_failed;       /* a --fault restart did not rejoin within 60 s */
 } fm_t;
 
 static fm_t F;
@@ -629,6 +630,7 @@ static int formation_criteria(char *buf, size_t cap)
         { F.world == ROVER_WORLD_CORRIDOR && F.formation_changes < 2, "formation_changes" },
         { F.world == ROVER_WORLD_DEADZONE && F.escapes < 1, "dead_zone_escapes" },
         { F.lost_lockstep, "lockstep" },
+        { F.restart_failed, "restarts" },
     };
     return scenario_failed_criteria(k, (int)(sizeof k / sizeof k[0]), buf, cap);
 }
@@ -668,7 +670,8 @@ static void write_summary(double wall_s)
     json_num(&j, "loc_err_max_m", F.loc_n ? F.loc_max : NAN);
     json_num(&j, "sim_time_s", F.sim_time);
     json_num(&j, "wall_time_s", wall_s);
-    json_str(&j, "exit_reason", F.lost_lockstep ? "lockstep_lost" : F.reached ? "completed" : "goal_not_reached");
+    json_str(&j, "exit_reason", F.restart_failed ? "restart_failed" : F.lost_lockstep ? "lockstep_lost" :
+                                F.reached ? "completed" : "goal_not_reached");
     json_str(&j, "failed_criteria", F.failed);
     json_close(&j);
 }
@@ -834,7 +837,7 @@ static int run(int argc, char **argv)
         int fault_rc = 1;
         if (F.have_clock && due > F.answered && F.clock_step % FM_PERIOD == 0 &&
             F.last_truth_step >= F.clock_step && (fault_rc = faults_step()) < 0) {
-            F.lost_lockstep = 1;
+            F.restart_failed = 1;
             break;
         }
         if (fault_rc == 1 && F.have_clock && due > F.answered && F.clock_step % FM_PERIOD == 0 &&
