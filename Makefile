@@ -34,46 +34,72 @@ GEN      := build/gen
 PKG_CFLAGS := $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
 PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
-CPPFLAGS := -Iinclude -Itest -I$(GEN)/c -Idaemons/common -Isim -D_POSIX_C_SOURCE=200809L
+LAYER    := build/layer
+# everything above the core: every core header, the daemon shell, the
+# simulator's headers, the generated message types, LCM, ODE, libsodium
+APP_CPPFLAGS = $(CORE_INC) -Iplatform/posix -I$(GEN)/c -Idaemons/common -Isim -Isim/models \
+               -D_POSIX_C_SOURCE=200809L $(PKG_CFLAGS)
 CFLAGS   := $(WARN) $(OPT)
 LDLIBS   := -lm
 
-# ---- sources ---------------------------------------------------------------
-CORE_SRC   := $(wildcard src/*.c)
-# the POSIX clock behind rtloop (include/rtclock.h) goes into the host library
-CORE_OBJ   := $(patsubst src/%.c,$(OBJ)/core/%.o,$(CORE_SRC)) $(OBJ)/platform/rtclock_posix.o
-CORE_LIB   := $(LIB)/libtandem.a
+# ---- layout ----------------------------------------------------------------
+# Every folder with sources has a module.mk that lists them (LinuxCNC's
+# Submakefile idea); this file holds the one compile recipe and the link
+# rules. The core is split by domain and each domain compiles with only the
+# include paths of the domains below it (core/layers.mk): an include across
+# the layering stops the build with a message that names the rule.
+CORE_SRC   :=
+CORE_DIRS  :=
+# per-domain include flags for the host and the cross builds
+core_cppflags = $(foreach d,$(LAYER_$(1)),-Icore/$(d)) -I$(LAYER)/$(1) -I$(CORE_POISON)
+# every core header, for the programs, tests and tools above the core
+CORE_INC    = $(foreach d,$(CORE_DIRS),-I$(d))
 LCM_FILES  := $(wildcard lcmtypes/*.lcm)
 GEN_STAMP  := $(GEN)/.stamp
-COMMON_SRC := $(wildcard daemons/common/*.c)
-COMMON_OBJ := $(patsubst daemons/common/%.c,$(OBJ)/common/%.o,$(COMMON_SRC))
-COMMON_LIB := $(LIB)/libtandem_daemon.a
-SIM_SRC    := $(wildcard sim/*.c)
-SIM_OBJ    := $(patsubst sim/%.c,$(OBJ)/sim/%.o,$(SIM_SRC))
-SCEN_SRC   := $(wildcard tools/scenario/*.c)
-SCEN_OBJ   := $(patsubst tools/scenario/%.c,$(OBJ)/scenario/%.o,$(SCEN_SRC))
-# every tools/scenario/scenario_<name>.c but main/util defines scenario_<name>;
-# other .c files there (helpers such as tdsd_*.c) are linked in, not listed
-SCEN_NAMES := $(filter-out main util,$(patsubst tools/scenario/scenario_%.c,%,$(filter tools/scenario/scenario_%.c,$(SCEN_SRC))))
-SCEN_LIST  := $(foreach n,$(SCEN_NAMES),&scenario_$(n),)
-# every daemons/tandem_<name>.c and tools/tandem_<name>.c is one program tandem-<name>
-DAEMON_SRC := $(wildcard daemons/tandem_*.c)
-TOOL_SRC   := $(wildcard tools/tandem_*.c)
-PROGS      := $(patsubst daemons/tandem_%.c,$(BIN)/tandem-%,$(DAEMON_SRC)) \
-              $(patsubst tools/tandem_%.c,$(BIN)/tandem-%,$(TOOL_SRC)) \
-              $(BIN)/tandem-sim $(if $(SCEN_NAMES),$(BIN)/tandem-scenario)
-UNIT_SRC   := $(wildcard test/test_*.c)
-UNIT_BIN   := $(patsubst test/%.c,$(BIN)/%,$(UNIT_SRC))
-# unit tests of the daemon layer (daemons/common): host only, never cross-built
-DUNIT_SRC  := $(wildcard test/common/test_*.c)
-DUNIT_BIN  := $(patsubst test/common/%.c,$(BIN)/%,$(DUNIT_SRC))
-IT_SRC     := $(wildcard test/integration/it_*.c)
-IT_BIN     := $(patsubst test/integration/%.c,$(BIN)/%,$(IT_SRC))
-BENCH_SRC  := $(wildcard test/bench_*.c)
-BENCH_BIN  := $(patsubst test/%.c,$(BIN)/%,$(BENCH_SRC))
 TYPES_JAR  := build/lib/tandem_types.jar
+PROGS      :=
+UNIT_SRC   :=
+DUNIT_SRC  :=
+IT_SRC     :=
+BENCH_SRC  :=
 
-.PHONY: all run test unit integration bench spy clean deps deps-bench deps-cross jar fuzz multihost-test
+# ---- links (used by the module.mk files) -------------------------------------------------------
+CORE_LIB   := $(LIB)/libtandem.a
+COMMON_LIB := $(LIB)/libtandem_daemon.a
+DLIBS      := $(COMMON_LIB) $(LIB)/libtandem_lcm.a $(CORE_LIB)
+# $(call link,EXTRA_LIBS): the target from its object prerequisites and DLIBS
+define link
+	@mkdir -p $(@D)
+	@$(if $(Q),echo '  LD    $@';) true
+	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $(filter %.o,$^) $(DLIBS) $(PKG_LIBS) $(1) $(LDLIBS)
+endef
+# $(call program,NAME,OBJECTS): build/bin/NAME from OBJECTS
+define program
+$(BIN)/$(1): $(2) $$(DLIBS)
+	$$(call link,)
+endef
+# $(call unit_tests,D): test/unit/D/test_*.c, compiled against the core only
+define unit_tests
+UNIT_SRC += $$(wildcard test/unit/$(1)/test_*.c)
+$$(OBJ)/test/unit/$(1)/%.o: DIR_CPPFLAGS = $$(UNIT_CPPFLAGS)
+endef
+UNIT_CPPFLAGS = $(CORE_INC) -Itest/unit -Itools/scenario -Iplatform/posix -D_POSIX_C_SOURCE=200809L
+include core/layers.mk
+include $(foreach d,$(CORE_DOMAINS),core/$(d)/module.mk)
+include platform/module.mk daemons/common/module.mk
+include daemons/arm/module.mk daemons/rover/module.mk daemons/supervisor/module.mk
+include sim/models/module.mk sim/module.mk
+include tools/module.mk tools/scenario/module.mk
+include $(foreach d,$(CORE_DOMAINS),test/unit/$(d)/module.mk)
+include test/common/module.mk test/integration/module.mk bench/module.mk
+
+CORE_OBJ   := $(patsubst %.c,$(OBJ)/%.o,$(CORE_SRC)) $(OBJ)/platform/posix/rtclock_posix.o
+UNIT_BIN   := $(patsubst %.c,$(BIN)/%,$(notdir $(UNIT_SRC)))
+DUNIT_BIN  := $(patsubst %.c,$(BIN)/%,$(notdir $(DUNIT_SRC)))
+IT_BIN     := $(patsubst %.c,$(BIN)/%,$(notdir $(IT_SRC)))
+BENCH_BIN  := $(patsubst %.c,$(BIN)/%,$(notdir $(BENCH_SRC)))
+
+.PHONY: all run test unit integration bench spy clean deps deps-bench deps-cross jar fuzz multihost-test lint
 all: $(PROGS) $(UNIT_BIN) $(DUNIT_BIN) $(IT_BIN) $(TYPES_JAR)
 
 # make cross, make test-cross, make budget: the core on a 68040 and a Cortex-M4
@@ -94,6 +120,7 @@ $(GEN_STAMP): $(LCM_FILES) lcmtypes/capacities tools/wire/lcm-wire-gen.awk
 	@awk -v OUT=$(GEN)/c -f tools/wire/lcm-wire-gen.awk lcmtypes/capacities $(LCM_FILES)
 	@lcm-gen -j --jpath $(GEN)/java $(LCM_FILES)
 	@touch $@
+# lcm-gen's C is not ours: built without -Werror, all of it in one step
 $(LIB)/libtandem_lcm.a: $(GEN_STAMP)
 	@mkdir -p $(OBJ)/gen $(LIB)
 	@for f in $(GEN)/c/*.c; do \
@@ -105,92 +132,29 @@ $(TYPES_JAR): $(GEN_STAMP)
 	@jar cf $@ -C build/javaclasses .
 jar: $(TYPES_JAR)
 
-# ---- libraries -------------------------------------------------------------
-# the core sees only include/: no LCM, no ODE, pure C99 + libm; a POSIX or
-# stdio header reached from it stops the build (CORE_POISON, cross/cross.mk)
-$(OBJ)/core/%.o: src/%.c | $(CORE_POISON)
+# ---- the one compile recipe ---------------------------------------------------
+# DIR_CPPFLAGS is set per folder by its module.mk (pattern-specific); the
+# core's folders get only their layer's include paths and the poisoned
+# POSIX/stdio headers, everything above the core gets all of it plus LCM.
+$(OBJ)/%.o: %.c | $(GEN_STAMP) $(CORE_POISON) $(LAYER_STAMP)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) -Iinclude -I$(CORE_POISON) $(CFLAGS) -MMD -c $< -o $@
-$(OBJ)/platform/%.o: platform/posix/%.c
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) -Iinclude -D_POSIX_C_SOURCE=200809L $(CFLAGS) -MMD -c $< -o $@
+	$(Q)$(CC) $(DIR_CPPFLAGS) $(CFLAGS) -MMD -c $< -o $@
+
 $(CORE_LIB): $(CORE_OBJ)
 	@mkdir -p $(@D)
 	@rm -f $@ && ar rcs $@ $^
-$(OBJ)/common/%.o: daemons/common/%.c $(GEN_STAMP)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
-$(COMMON_LIB): $(COMMON_OBJ)
+$(COMMON_LIB): $(patsubst %.c,$(OBJ)/%.o,$(COMMON_SRC))
 	@mkdir -p $(@D)
 	@rm -f $@ && ar rcs $@ $^
-DLIBS := $(COMMON_LIB) $(LIB)/libtandem_lcm.a $(CORE_LIB)
-
-# ---- programs --------------------------------------------------------------
-$(OBJ)/sim/%.o: sim/%.c $(GEN_STAMP)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
-$(BIN)/tandem-sim: $(SIM_OBJ) $(DLIBS)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $(SIM_OBJ) $(DLIBS) $(PKG_LIBS) $(LDLIBS)
-$(OBJ)/scenario/%.o: tools/scenario/%.c $(GEN_STAMP)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(CPPFLAGS) -Itools/scenario $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
-$(OBJ)/scenario/scenario_main.o: tools/scenario/scenario_main.c $(GEN_STAMP) Makefile $(SCEN_SRC)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(CPPFLAGS) -Itools/scenario $(CFLAGS) '-DSCENARIO_LIST=$(SCEN_LIST)' -MMD -c $< -o $@
-$(BIN)/tandem-scenario: $(SCEN_OBJ) $(DLIBS)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $(SCEN_OBJ) $(DLIBS) $(PKG_LIBS) $(LDLIBS)
-$(OBJ)/prog/%.o: daemons/%.c $(GEN_STAMP)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
-$(OBJ)/prog/%.o: tools/%.c $(GEN_STAMP)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
-$(BIN)/tandem-%: $(OBJ)/prog/tandem_%.o $(DLIBS)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(LDLIBS)
-
-# ---- tests -----------------------------------------------------------------
-$(OBJ)/test/%.o: test/%.c $(GEN_STAMP)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
-$(BIN)/test_%: $(OBJ)/test/test_%.o $(DLIBS)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(CMOCKA_LIBS) $(LDLIBS)
-$(OBJ)/dtest/%.o: test/common/%.c $(GEN_STAMP)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(CPPFLAGS) $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
-$(BIN)/test_%: $(OBJ)/dtest/test_%.o $(DLIBS)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(CMOCKA_LIBS) $(LDLIBS)
-$(OBJ)/it/%.o: test/integration/%.c $(GEN_STAMP)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(CPPFLAGS) -Itest/integration $(CFLAGS) $(PKG_CFLAGS) -MMD -c $< -o $@
-$(BIN)/it_%: $(OBJ)/it/it_%.o $(OBJ)/it/harness.o $(DLIBS)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $^ $(PKG_LIBS) $(CMOCKA_LIBS) $(LDLIBS)
-$(BIN)/bench_%: $(OBJ)/test/bench_%.o $(DLIBS)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(OPT) $(LDSAN) -o $@ $< $(DLIBS) $(PKG_LIBS) $(LDLIBS)
+# tests: one object each (integration tests add the harness)
+$(BIN)/test_%: $(DLIBS)
+	$(call link,$(CMOCKA_LIBS))
+$(BIN)/it_%: $(OBJ)/test/integration/harness.o $(DLIBS)
+	$(call link,$(CMOCKA_LIBS))
+$(BIN)/bench_%: $(DLIBS)
+	$(call link,)
+$(foreach s,$(UNIT_SRC) $(DUNIT_SRC) $(IT_SRC) $(BENCH_SRC),$(eval $(BIN)/$(notdir $(s:.c=)): $(OBJ)/$(s:.c=.o)))
 
 unit: $(UNIT_BIN) $(DUNIT_BIN)
 	@tools/run-tests.sh unit $(BIN) $(UNIT_BIN) $(DUNIT_BIN)
@@ -206,15 +170,11 @@ run: deps $(if $(VIEW),viewer)
 	@$(MAKE) --no-print-directory all
 	@tools/tandem-run $(if $(DURATION),--duration $(DURATION)) $(if $(VIEW),--view) $(RUN_ARGS)
 
-$(BIN)/bench_kdl: test/bench_kdl.cpp $(CORE_LIB)
+# the KDL baselines (C++): only make bench builds them
+$(BIN)/bench_kdl $(BIN)/bench_tdsd_kdl: $(BIN)/%: bench/%.cpp $(CORE_LIB)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CXX   $@';) true
-	$(Q)$(CXX) -O2 -std=c++14 -Iinclude $$(pkg-config --cflags orocos-kdl) $< $(CORE_LIB) $$(pkg-config --libs orocos-kdl) -lm -o $@
-
-$(BIN)/bench_tdsd_kdl: test/bench_tdsd_kdl.cpp $(CORE_LIB)
-	@mkdir -p $(@D)
-	@$(if $(Q),echo '  CXX   $@';) true
-	$(Q)$(CXX) -O2 -std=c++14 -Iinclude $$(pkg-config --cflags orocos-kdl) $< $(CORE_LIB) $$(pkg-config --libs orocos-kdl) -lm -o $@
+	$(Q)$(CXX) -O2 -std=c++14 $(CORE_INC) $$(pkg-config --cflags orocos-kdl) $< $(CORE_LIB) $$(pkg-config --libs orocos-kdl) -lm -o $@
 
 bench: deps deps-bench
 	@$(MAKE) --no-print-directory all $(BENCH_BIN) $(BIN)/bench_kdl $(BIN)/bench_tdsd_kdl

@@ -33,18 +33,20 @@ CORE_POISON := build/poison
 $(CORE_POISON): cross/cross.mk
 	@rm -rf $@
 	@for h in $(CORE_FORBIDDEN); do mkdir -p $@/$$(dirname $$h); \
-	  printf '#error "<%s> reached from the pure core: src/ and include/ are ISO C99 + libm only; platform code goes in platform/"\n' $$h > $@/$$h; done
+	  printf '#error "<%s> reached from the pure core: core/ is ISO C99 + libm only; platform code goes in platform/"\n' $$h > $@/$$h; done
 
 # ---- per-target core library -------------------------------------------------
-CORE_NAMES := $(patsubst src/%.c,%,$(CORE_SRC))
+CORE_NAMES := $(patsubst core/%.c,%,$(CORE_SRC))
 
 # $(1) target name, $(2) compiler, $(3) arch flags
 define cross_target
 $(1)_CORE_OBJ := $$(patsubst %,$(CROSS)/$(1)/core/%.o,$(CORE_NAMES))
-$(CROSS)/$(1)/core/%.o: src/%.c | $(CORE_POISON)
+$(foreach d,$(CORE_DOMAINS),$(CROSS)/$(1)/core/$(d)/%.o: DIR_CPPFLAGS = $$(call core_cppflags,$(d))
+)
+$(CROSS)/$(1)/core/%.o: core/%.c | $(CORE_POISON) $(LAYER_STAMP)
 	@mkdir -p $$(@D)
 	@$$(if $$(Q),echo '  CC    $$@';) true
-	$$(Q)$(2) $(3) -Iinclude -I$(CORE_POISON) $$(CROSS_CFLAGS) -MMD -c $$< -o $$@
+	$$(Q)$(2) $(3) $$(DIR_CPPFLAGS) $$(CROSS_CFLAGS) -MMD -c $$< -o $$@
 $(CROSS)/$(1)/libtandem.a: $$($(1)_CORE_OBJ)
 	@rm -f $$@ && $(2)-ar rcs $$@ $$^
 	@cross/check-core-calls.sh $(subst gcc,nm,$(2)) $$@
@@ -52,7 +54,7 @@ $(CROSS)/$(1)/libtandem.a: $$($(1)_CORE_OBJ)
 $(CROSS)/$(1)/platform/rtclock_board.o: platform/board/rtclock_board.c
 	@mkdir -p $$(@D)
 	@$$(if $$(Q),echo '  CC    $$@';) true
-	$$(Q)$(2) $(3) -ffreestanding -Iinclude -Iplatform/board -I$(CORE_POISON) $$(CROSS_CFLAGS) -MMD -c $$< -o $$@
+	$$(Q)$(2) $(3) -ffreestanding -Icore/base -Iplatform/board -I$(CORE_POISON) $$(CROSS_CFLAGS) -MMD -c $$< -o $$@
 endef
 $(eval $(call cross_target,m68k,$(M68K_CC),$(M68K_ARCH)))
 $(eval $(call cross_target,cm4,$(CM4_CC),$(CM4_ARCH)))
@@ -67,8 +69,8 @@ cross: $(CROSS_LIBS)
 # ---- the unit tests on the 68040 ---------------------------------------------
 # CMocka 1.1.5 (Apache-2.0, third_party/cmocka) built for the target; the
 # tests link the core, the POSIX clock (m68k Linux has one) and glibc.
-M68K_TEST_FLAGS := $(M68K_ARCH) $(WARN) -O2 -Iinclude -Itest -Itools/scenario -Ithird_party/cmocka -D_POSIX_C_SOURCE=200809L
-M68K_UNIT_BIN := $(patsubst test/%.c,$(CROSS)/m68k/bin/%,$(UNIT_SRC))
+M68K_TEST_FLAGS = $(M68K_ARCH) $(WARN) -O2 $(UNIT_CPPFLAGS) -Ithird_party/cmocka
+M68K_UNIT_BIN := $(patsubst %.c,$(CROSS)/m68k/bin/%,$(notdir $(UNIT_SRC)))
 $(CROSS)/m68k/cmocka.o: third_party/cmocka/cmocka.c
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CC    $@';) true
@@ -77,11 +79,12 @@ CMOCKA_DEFS := -DHAVE_SIGNAL_H -DHAVE_STRINGS_H -DHAVE_INTTYPES_H -DHAVE_MALLOC_
                -DHAVE_CLOCK_GETTIME -DHAVE_CLOCK_REALTIME -DHAVE_SIGLONGJMP -DHAVE_STRSIGNAL
 $(CROSS)/m68k/platform/rtclock_posix.o: platform/posix/rtclock_posix.c
 	@mkdir -p $(@D)
-	$(Q)$(M68K_CC) $(M68K_ARCH) $(WARN) -O2 -Iinclude -D_POSIX_C_SOURCE=200809L -c $< -o $@
-$(CROSS)/m68k/bin/test_%: test/test_%.c $(CROSS)/m68k/libtandem.a $(CROSS)/m68k/cmocka.o $(CROSS)/m68k/platform/rtclock_posix.o
+	$(Q)$(M68K_CC) $(M68K_ARCH) $(WARN) -O2 -Icore/base -D_POSIX_C_SOURCE=200809L -c $< -o $@
+$(foreach s,$(UNIT_SRC),$(eval $(CROSS)/m68k/bin/$(notdir $(s:.c=)): $(s)))
+$(CROSS)/m68k/bin/test_%: $(CROSS)/m68k/libtandem.a $(CROSS)/m68k/cmocka.o $(CROSS)/m68k/platform/rtclock_posix.o
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(M68K_CC) $(M68K_TEST_FLAGS) -MMD -static -o $@ $< $(CROSS)/m68k/cmocka.o \
+	$(Q)$(M68K_CC) $(M68K_TEST_FLAGS) -MMD -static -o $@ $(filter %.c,$^) $(CROSS)/m68k/cmocka.o \
 	    $(CROSS)/m68k/platform/rtclock_posix.o $(CROSS)/m68k/libtandem.a -lm
 
 test-cross: deps-cross
@@ -94,14 +97,14 @@ test-cross: deps-cross
 define cross_budget
 $(CROSS)/$(1)/budget/cycles.o: cross/budget/cycles.c | $(CORE_POISON)
 	@mkdir -p $$(@D)
-	$$(Q)$(2) $(3) -Iinclude -I$(CORE_POISON) $$(CROSS_CFLAGS) -MMD -c $$< -o $$@
+	$$(Q)$(2) $(3) $(CORE_INC) -I$(CORE_POISON) $$(CROSS_CFLAGS) -MMD -c $$< -o $$@
 endef
 $(eval $(call cross_budget,m68k,$(M68K_CC),$(M68K_ARCH)))
 $(eval $(call cross_budget,cm4,$(CM4_CC),$(CM4_ARCH)))
 $(CROSS)/m68k/bin/budget: cross/budget/budget_main.c $(CROSS)/m68k/budget/cycles.o $(CROSS)/m68k/libtandem.a
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(M68K_CC) $(M68K_ARCH) $(WARN) -O2 -Iinclude -Icross/budget -MMD -static -o $@ $< \
+	$(Q)$(M68K_CC) $(M68K_ARCH) $(WARN) -O2 $(CORE_INC) -Icross/budget -MMD -static -o $@ $< \
 	    $(CROSS)/m68k/budget/cycles.o $(CROSS)/m68k/libtandem.a -lm
 
 budget: deps-cross

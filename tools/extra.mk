@@ -10,7 +10,7 @@ $(VERSION_H): FORCE
 	@v='$(TANDEM_VERSION)'; [ -n "$$v" ] || v=$$(git describe --tags --always --dirty 2>/dev/null || echo unknown); \
 	 printf '#define TANDEM_VERSION "%s"\n' "$$v" > $@.tmp; \
 	 if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
-$(OBJ)/common/version.o: $(VERSION_H)
+$(OBJ)/daemons/common/version.o: $(VERSION_H)
 FORCE:
 
 # ---- viewer: Python bridge to Rerun's web viewer ------------------------------
@@ -72,4 +72,4 @@ install: all
 $(GEN)/c/tandem_csv.c: $(LCM_FILES) tools/lcm2csv_gen.py $(GEN_STAMP)
 	@python3 tools/lcm2csv_gen.py $(GEN)/c $(LCM_FILES)
 $(LIB)/libtandem_lcm.a: $(GEN)/c/tandem_csv.c
-$(OBJ)/prog/tandem_log2csv.o: $(GEN)/c/tandem_csv.c
+$(OBJ)/tools/tandem_log2csv.o: $(GEN)/c/tandem_csv.c

@@ -15,17 +15,18 @@ out=build/fuzz; gen=build/gen/c
 command -v clang >/dev/null || { echo "fuzz: clang is missing (apt-get install clang)"; exit 2; }
 mkdir -p "$out/obj"
 san="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined"
-cflags="-std=c99 -O1 -g -D_POSIX_C_SOURCE=200809L $(pkg-config --cflags lcm) -Iinclude -I$gen -Ibuild/gen -Idaemons/common -Iplatform"
+core_inc=$(for d in core/*/; do printf -- '-I%s ' "${d%/}"; done)
+cflags="-std=c99 -O1 -g -D_POSIX_C_SOURCE=200809L $(pkg-config --cflags lcm) $core_inc -I$gen -Ibuild/gen -Idaemons/common -Iplatform/posix"
 # the receive path's code, instrumented once for every target
 objs=()
-for f in $gen/*.c daemons/common/*.c platform/posix/*.c src/*.c; do
+for f in $gen/*.c daemons/common/*.c platform/posix/*.c core/*/*.c; do
     o=$out/obj/$(echo "$f" | tr / _ | sed 's/\.c$/.o/')
     [ "$o" -nt "$f" ] || clang $cflags $san -c "$f" -o "$o"
     objs+=("$o")
 done
 # seeds that match the types as they are now (a committed seed of a type
 # that has since grown fields is rejected by the wire check at once)
-clang -std=c99 -D_POSIX_C_SOURCE=200809L $(pkg-config --cflags lcm) -Iinclude -I$gen -Idaemons/common \
+clang -std=c99 -D_POSIX_C_SOURCE=200809L $(pkg-config --cflags lcm) $core_inc -I$gen -Idaemons/common \
     fuzz/seed_gen.c daemons/common/wire.c $gen/*.c $(pkg-config --libs lcm) -o "$out/seed_gen"
 mkdir -p "$out/corpus" && "$out/seed_gen" "$out/corpus" >/dev/null
 types=("$@")

@@ -59,7 +59,7 @@ static void print_cell(const cell_layout *c)
     printf("},\n");
 }
 
-static void print_obstacle(const rover_obstacle_t *o, const char *sep)
+static void print_obstacle(const rover_obstacle *o, const char *sep)
 {
     printf("    {\"kind\": \"%s\", \"c_m\": [%.10g, %.10g], \"half_m\": [%.10g, %.10g], "
            "\"angle_rad\": %.10g, \"r_m\": %.10g, \"height_m\": %.10g}%s\n",
@@ -67,7 +67,7 @@ static void print_obstacle(const rover_obstacle_t *o, const char *sep)
            o->angle_rad, o->r_m, o->height_m, sep);
 }
 
-static void print_rover_world(const rover_world_t *w)
+static void print_rover_world(const rover_world_config *w)
 {
     int i;
     printf("\"rover_world\": {\"name\": \"%s\", \"n_robots\": %d, ", rover_world_name(w->world), w->n_robots);
@@ -83,7 +83,7 @@ static void print_rover_world(const rover_world_t *w)
 
 static void print_rover_body(void)
 {
-    sonar_model_t sm;
+    sonar_model sm;
     int k;
     sonar_model_default(&sm);
     printf("\"rover\": {\"body_length_m\": %.10g, \"body_width_m\": %.10g, \"body_offset_m\": %.10g, "
@@ -101,7 +101,7 @@ static void print_rover_body(void)
 static void print_slots(int n)
 {
     static const char *names[] = { "line", "triangle", "column" };
-    formation_fsm_params_t p;
+    formation_fsm_params p;
     int t, r;
     formation_fsm_params_default(&p);
     printf("\"formation\": {\"spacing_m\": %.10g", p.spacing_m);
@@ -150,7 +150,7 @@ int main(int argc, char **argv)
     const arm_model *arm1 = &arm_model_puma560;
     int world = ROVER_WORLD_OPEN, formation = FORMATION_LINE, c;
     long n = 3;
-    static rover_world_t w;   /* large: keep it off the stack */
+    static rover_world_config w;   /* large: keep it off the stack */
     while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
         switch (c) {
         case 'w': world = rover_world_id(optarg); break;

@@ -34,7 +34,7 @@ __attribute__((noinline)) void budget_probe(int region)
 static budget_arm arm;
 static budget_supervisor sup;
 static budget_rover rov;
-static sonar_world_t sw;
+static sonar_world sw;
 
 static void plant_step(budget_arm *a)
 {
@@ -124,12 +124,12 @@ static int supervisor_region(int region)
 }
 
 /* Sonar world of the obstacles and every robot but `self`. */
-static void rover_sonar_world(const rover_world_t *w, const pose2_t *c, int self)
+static void rover_sonar_world(const rover_world_config *w, const pose2 *c, int self)
 {
     int i;
     sonar_world_init(&sw);
     for (i = 0; i < w->n_obst; i++) {
-        const rover_obstacle_t *o = &w->obst[i];
+        const rover_obstacle *o = &w->obst[i];
         if (o->kind == ROVER_OBST_CIRCLE)
             sonar_world_add_circle(&sw, o->cx_m, o->cy_m, o->r_m, 0.0, o->height_m);
         else
@@ -145,7 +145,7 @@ static void rover_sonar_world(const rover_world_t *w, const pose2_t *c, int self
 
 /* Robot 1 drives under its controller; its two mates drive straight at
  * 0.3 m/s and report their true pose every period. */
-static int rover_plant_step(budget_rover *r, const rover_world_t *w, pose2_t *c, const sonar_model_t *sm)
+static int rover_plant_step(budget_rover *r, const rover_world_config *w, pose2 *c, const sonar_model *sm)
 {
     const double b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
     int i;
@@ -153,7 +153,7 @@ static int rover_plant_step(budget_rover *r, const rover_world_t *w, pose2_t *c,
     r->enc_rad[1] += (r->out.u.v_mps + 0.5 * b * r->out.u.w_radps) / rw * BUDGET_ROVER_DT_S;
     unicycle_step_exact(&c[0], r->out.u.v_mps, r->out.u.w_radps, BUDGET_ROVER_DT_S);
     for (i = 1; i <= BUDGET_MATES; i++) {
-        pose2_t o, t;
+        pose2 o, t;
         unicycle_step_exact(&c[i], 0.3, 0.0, BUDGET_ROVER_DT_S);
         unicycle_o_from_c(&o, &c[i], ROVER_BEACON_D_M);
         rover_world_to_team(w, &o, &t);
@@ -169,10 +169,10 @@ static int rover_plant_step(budget_rover *r, const rover_world_t *w, pose2_t *c,
 
 static int rover_region(int region)
 {
-    static rover_world_t w;
-    rover_ctl_params_t p;
-    sonar_model_t sm;
-    pose2_t c[1 + BUDGET_MATES], st, gw = { 0, 0, 0 }, gt;
+    static rover_world_config w;
+    rover_ctl_params p;
+    sonar_model sm;
+    pose2 c[1 + BUDGET_MATES], st, gw = { 0, 0, 0 }, gt;
     double goal[2];
     int i, rc;
     if (rover_world_layout(&w, ROVER_WORLD_OBSTACLES, 1 + BUDGET_MATES, 1.0, FORMATION_LINE) != 0)

@@ -2,7 +2,7 @@
  * it, with the LCM in and out left out (that is the platform's). These are
  * the entry points make budget measures: their stack depth from the call
  * graph and, on the 68040, their instruction count under emulation.
- *   arm, joint segment   daemons/tandem_arm.c cycle(): jtraj reference +
+ *   arm, joint segment   daemons/arm/tandem_arm.c cycle(): jtraj reference +
  *                        computed torque with the held bar
  *   arm, Cartesian (ER)  cart_cycle(): tool point, s, s* of the pair,
  *                        cartseg_step (erlaw law, damped inverse, RNE)
@@ -51,11 +51,11 @@ typedef struct budget_supervisor {
 } budget_supervisor;
 
 typedef struct budget_rover {
-    rover_ctl_t ctl;
+    rover_ctl_state ctl;
     double t_s, enc_rad[2];
     double range_m[BEH_SONAR_N];
-    rover_team_msg_t mate[BUDGET_MATES];
-    rover_ctl_out_t out;
+    rover_team_msg mate[BUDGET_MATES];
+    rover_ctl_out out;
 } budget_rover;
 
 int budget_arm_joint_cycle(budget_arm *a);

@@ -33,7 +33,7 @@
  * at once.
  *
  * This module is the daemon layer's: it needs libsodium, which the core
- * (src/, built for the 68040) never sees. auth_bus.h is the process-wide
+ * (core/, built for the 68040) never sees. auth_bus.h is the process-wide
  * glue (options, key files, publishing, the receive check).
  */
 #ifndef TANDEM_AUTH_H

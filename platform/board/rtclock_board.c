@@ -1,4 +1,4 @@
-/* rtclock on a bare board (include/rtclock.h) over board_timer.h: extends
+/* rtclock on a bare board (core/base/rtclock.h) over board_timer.h: extends
  * the 32-bit free-running counter to 64 bits and converts ticks to ns.
  *
  * The extension needs rtclock_now_ns to be called at least once per

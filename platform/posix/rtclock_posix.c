@@ -1,4 +1,4 @@
-/* rtclock on Linux/POSIX (include/rtclock.h): CLOCK_MONOTONIC read and an
+/* rtclock on Linux/POSIX (core/base/rtclock.h): CLOCK_MONOTONIC read and an
  * absolute clock_nanosleep, so the loop's period does not drift with the
  * work done in each cycle. */
 #define _POSIX_C_SOURCE 200809L   /* clock_nanosleep: here, not in the core's flags */

@@ -725,7 +725,7 @@ static int parse_block(const char *s, block *b)
 
 static void random_blocks(int k, uint64_t seed)
 {
-    prng_t r;
+    prng_state r;
     double t = 5.0;
     int i;
     prng_seed(&r, seed * 104729u + 3u);

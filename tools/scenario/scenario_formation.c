@@ -67,14 +67,14 @@ typedef struct {
     int64_t clock_step, answered, ack_seq, last_clock_ns;
     int    have_clock;
     /* layout and truth */
-    rover_world_t layout;
+    rover_world_config layout;
     int    type_now;                  /* formation reported by the lowest alive id */
     double scale_now;
     int    mode[FM_MAX];
     int    state_type[FM_MAX];
     double state_scale[FM_MAX];
     double weight[FM_MAX][4];
-    pose2_t est[FM_MAX];              /* the robot's own odometry, world frame */
+    pose2 est[FM_MAX];              /* the robot's own odometry, world frame */
     int    have_state[FM_MAX];
     /* the robots' last states by step: truth at step k is read with the
      * states of the cycle before (k - FM_PERIOD), whatever arrived since */
@@ -413,7 +413,7 @@ static void take_state(const tandem_rover_state_t *m)
     if (isfinite(m->formation_scale) && m->formation_scale > 0.0) F.state_scale[i] = m->formation_scale;
     memcpy(F.weight[i], m->weight, sizeof F.weight[i]);
     {
-        const pose2_t team = { m->x_m, m->y_m, m->theta_rad };
+        const pose2 team = { m->x_m, m->y_m, m->theta_rad };
         rover_world_from_team(&F.layout, &team, &F.est[i]);
     }
     F.have_state[i] = 1;
@@ -579,7 +579,7 @@ static void write_plots(void)
                "set xrange [%g:%g]\nset yrange [%g:%g]\n",
             F.layout.x_min_m, F.layout.x_max_m, F.layout.y_min_m, F.layout.y_max_m);
     for (i = 0; i < F.layout.n_obst; i++) {
-        const rover_obstacle_t *o = &F.layout.obst[i];
+        const rover_obstacle *o = &F.layout.obst[i];
         if (o->kind == ROVER_OBST_CIRCLE) {
             fprintf(g, "set object %d circle at %g,%g size %g fc rgb 'gray40' fs solid\n", i + 1,
                     o->cx_m, o->cy_m, o->r_m);

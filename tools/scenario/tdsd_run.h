@@ -3,7 +3,7 @@
  * (tdsd_step or a resolved-rate baseline) from a joint vector, the measures
  * of SPEC.md §6 / issue 5, and the kinematic plant (joint rates integrated
  * at 1 kHz). The ODE plant (tdsd_ode.c) calls the same step on the measured
- * state. No I/O, no allocation: test/test_tdsd_scenario.c links it with the
+ * state. No I/O, no allocation: test/unit/tdsd/test_tdsd_scenario.c links it with the
  * core alone.
  */
 #ifndef TANDEM_TDSD_RUN_H

@@ -1,6 +1,6 @@
 /* tdsd_setup: the two experiments of seed 002 (SPEC.md §3 S1, S2) as data:
  * arm, tool, path, gains and start pose. Pure (no I/O): the scenarios and
- * test/test_tdsd_scenario.c use the very same set-up.
+ * test/unit/tdsd/test_tdsd_scenario.c use the very same set-up.
  */
 #ifndef TANDEM_TDSD_SETUP_H
 #define TANDEM_TDSD_SETUP_H

@@ -1,0 +1,2 @@
+# core/carry: see core/layers.mk for what it is and what it may include
+$(eval $(call core_domain,carry))

@@ -1,0 +1,206 @@
+/* rover_ctl: one Pioneer's distributed formation controller (SPEC.md
+ * section 4), the whole per-robot algorithm behind tandem-rover:
+ *   own pose from wheel encoders fused with the world's LED landmarks seen
+ *   by the camera (localize.h, EKF), or with localization off odometry
+ *   alone with a frame consensus among mates seen by the camera,
+ *   team table from team messages (1 s heartbeat) and beacon fusion,
+ *   team-average reference R0, slot by sorted id, the four behaviours and
+ *   the blend (eq. 11 or a baseline), the narrow-passage protocol, the
+ *   dead-zone escape and giving way to it, a collision guard, and a safe
+ *   stop on stale sensors.
+ *
+ * Dead-zone escape: the seed turns with alternating +-w_k until the front
+ * is free (behaviour_exception_step). Turning alone leaves the robot facing
+ * out of the trap with the goal still behind it, and the goal behaviour
+ * drives it straight back in; so after the turn the robot follows the
+ * obstacle boundary (wall on the side it turned away from) until it is
+ * closer to its goal than where it was trapped and the way to the goal is
+ * free (the leave rule of Bug2). The robot announces LEAVE on entry (the
+ * team reference leaves it out) and REJOIN when done.
+ *
+ * Giving way: a trapped robot's only way out is back the way it came, past
+ * the mates that followed it in. A robot that sees (camera) a mate that
+ * announced LEAVE close ahead and heading its way, with walls about, leaves
+ * the formation too (LEAVE), turns away from it and follows the boundary
+ * out with the same leave rule; it reports MODE_CHANGING, not a dead-zone
+ * entry of its own.
+ *
+ * Announcements: a robot broadcasts the announcement it originated last
+ * (code, seq) in every team message until it makes another, so a lost
+ * message costs nothing; mates adopt it through formation_fsm_on_announce.
+ */
+#ifndef TANDEM_ROVER_CTL_H
+#define TANDEM_ROVER_CTL_H
+
+#include <stdint.h>
+
+#include "behaviour.h"
+#include "formation.h"
+#include "localize.h"
+#include "odometry.h"
+#include "team.h"
+
+/* Values match rover_state_t MODE_*. */
+enum { ROVER_MODE_FORMATION = 0, ROVER_MODE_DEAD_ZONE = 1, ROVER_MODE_CHANGING = 2,
+       ROVER_MODE_AT_GOAL = 3, ROVER_MODE_SAFE_STOP = 4 };
+/* The formation behaviour flown: the seed's law (behaviour_formation_seed)
+ * or Kanayama slot tracking (behaviour_slot_track), for comparison. */
+enum { ROVER_LAW_SEED = 0, ROVER_LAW_KANAYAMA = 1 };
+enum { ROVER_ESC_NONE = 0, ROVER_ESC_TURN = 1, ROVER_ESC_FOLLOW = 2, ROVER_ESC_YIELD = 3 };
+
+typedef struct {
+    behaviour_params beh;
+    formation_fsm_params fsm;
+    int    blend_mode;          /* BEH_BLEND_* */
+    int    formation_law;       /* ROVER_LAW_* */
+    int    formation;           /* nominal FORMATION_* */
+    double team_timeout_s;      /* heartbeat: 1 s */
+    double beacon_alpha;        /* team_observe gain */
+    double stale_s;             /* sensors older than this: safe stop */
+    double team_period_s;       /* team messages: 0.1 s (10 Hz) */
+    double wheel_radius_m, axle_track_m;
+    double follow_dist_m;       /* escape: wall distance kept */
+    double follow_v_mps;
+    double follow_w_radps;
+    double escape_max_s;        /* boundary following: the other way round after this long */
+    double give_way_m;          /* a mate that announced LEAVE this near ahead: give way */
+    double yield_max_s;         /* giving way: turn away at most this long, then follow */
+    double give_way_seen_s;     /* ... to a mate the camera saw this recently (no wall between) */
+    double yield_clear_m;       /* ... and let a turning lower-id mate this near (axles) turn first */
+    double yield_wait_s;        /* ... waiting at most this long */
+    double follow_lost_s;       /* boundary following: no wall in reach this long ends it */
+    double passage_sense_max_m; /* side readings beyond: no passage wall */
+    double mate_keep_m;         /* a mate's echo nearer than this stays an obstacle */
+    double passage_front_min_m; /* a passage needs the front open this far */
+    double v_change_mps;        /* speed cap while shrinking / changing type */
+    double guard_m, guard_stop_m; /* collision guard: slow below, stop at (echo in the way) */
+    double guard_lane_m;        /* an echo this far outside the swept lane is not in the way */
+    double side_guard_m;        /* an echo alongside this near: turn away ... */
+    double side_turn_radps;     /* ... at least this fast */
+    double goal_heading_gain;   /* R0 heading toward the goal bearing, 0..1 (see .c) */
+    double sonar_max_m;         /* range reported for a masked (mate) echo */
+    double consensus_gain;      /* frame consensus rate, 1/s (0: own odometry only) */
+    double consensus_age_s;     /* only mates seen this recently count */
+    double consensus_max_mps;   /* at most this much correction per second */
+    double consensus_range_m;   /* only mates seen this near count (own heading error) */
+    int    localize;            /* 1: fuse landmarks (rover_ctl_set_landmarks); 0: odometry
+                                 * and frame consensus */
+    localize_params loc;      /* its d_m is taken from beh.d_m */
+    double loc_sd0_xy_m, loc_sd0_theta_rad; /* start pose uncertainty */
+} rover_ctl_params;
+
+/* One received team message (fields of team_msg_t). */
+typedef struct {
+    team_member m;            /* robot .. announce_seq; t_s = receive time */
+    double goal_m[2];
+} rover_team_msg;
+
+typedef struct {
+    unicycle_cmd u;           /* drive command */
+    int    mode;                /* ROVER_MODE_* */
+    int    send_team;           /* 1: publish `team` now */
+    team_member team;         /* own team message (x, y, theta of O) */
+    pose2 o;                  /* own O pose (odometry, team frame) */
+    double weight[BEH_COUNT];
+    double slot_err_m;          /* own estimate */
+    int    team_size;           /* including self */
+} rover_ctl_out;
+
+typedef struct {
+    int32_t id;
+    rover_ctl_params p;
+    odometer odo;
+    double  corr_m[2];          /* frame consensus: added to the odometry position */
+    localizer loc;             /* own pose when p.localize (started with the odometry) */
+    int     n_lm;               /* landmarks known (team frame) */
+    double  lm_m[LOCALIZE_LANDMARKS_MAX][2];
+    int     have_enc, have_sonar;
+    pose2 start_c;
+    double  enc_t_s, sonar_t_s, prev_enc_t_s;
+    double  v_est_mps, w_est_radps;
+    double  range_m[BEH_SONAR_N];
+    double  goal_m[2];          /* team goal, team frame */
+    team_table  team;
+    formation_fsm fsm;
+    behaviour_exception exc;
+    int     esc_phase;          /* ROVER_ESC_* */
+    int     esc_side;           /* -1: wall kept on the right, +1 left */
+    int     esc_yield;          /* 1: giving way to a leaving mate, not trapped */
+    int     esc_turn;           /* giving way: turn direction (+1 left) */
+    double  esc_hit_dist_m, esc_s;
+    double  esc_lost_s;         /* time without a wall in reach while following */
+    double  esc_wait_s;         /* giving way: time waited for a mate to turn first */
+    int     escapes;            /* dead-zone entries */
+    int     ann_code;           /* own latest announcement */
+    int32_t ann_seq;
+    double  team_tx_t_s;
+    int     formation_changes;  /* adopted changes of type (own view) */
+    behaviour_blender blend;
+} rover_ctl_state;
+
+void rover_ctl_params_default(rover_ctl_params *p);
+int  rover_ctl_params_check(const rover_ctl_params *p);
+
+/* start_c: pose of C in the team frame; goal in the team frame. */
+int  rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id,
+                    const pose2 *start_c, const double goal_m[2]);
+/* The world's LED landmarks in the team frame (landmark k is camera
+ * target ROVER_LANDMARK_ID_BASE + k); call before the first encoder
+ * reading. -1 on bad input or too many. */
+int  rover_ctl_set_landmarks(rover_ctl_state *c, const double (*lm_m)[2], int n);
+/* Accumulated wheel angles at time t_s. The first reading anchors the
+ * odometry at start_c. -1 on non-finite input. */
+int  rover_ctl_encoders(rover_ctl_state *c, double left_rad, double right_rad, double t_s);
+/* The latest range of each transducer (table order). -1 on bad input. */
+int  rover_ctl_sonar(rover_ctl_state *c, const double range_m[BEH_SONAR_N], double t_s);
+/* A team-mate's message heard at t_s. Returns team_update's result
+ * (1 new member, 0 refreshed), -1 invalid. */
+int  rover_ctl_team_msg(rover_ctl_state *c, const rover_team_msg *msg, double t_s);
+/* Camera: beacon of `target` (a mate, or a landmark: ROVER_LANDMARK_ID_BASE
+ * + k) at range / bearing. -1 unknown or bad; for a landmark 1 fused, 0
+ * gated out or localization off. */
+int  rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double bearing_rad);
+/* ---- restart (tandem-rover --journal) ------------------------------------
+ * What a controller restarted after a crash or a kill takes back from its
+ * last snapshot: its own pose (odometry with the encoder readings it
+ * belongs to, frame correction, the landmark filter's mean and
+ * covariance), the formation protocol's state, the dead-zone escape and
+ * the counters. Not its view of the team, its sonar ranges or its blend:
+ * the mates' next messages and the next frames rebuild those. The first
+ * encoder reading after rover_ctl_resume integrates the wheels' travel
+ * while the process was down. A snapshot is ROVER_CTL_SNAPSHOT_VALUES
+ * numbers, id first. */
+#define ROVER_CTL_SNAPSHOT_VALUES 57
+enum { ROVER_CTL_OK = 0, ROVER_CTL_ERR_ARG = -1, ROVER_CTL_ERR_SNAPSHOT = -2 };
+/* ROVER_CTL_ERR_ARG before the first encoder reading (nothing to keep). */
+int  rover_ctl_snapshot(const rover_ctl_state *c, double v[ROVER_CTL_SNAPSHOT_VALUES]);
+/* c as made by rover_ctl_init (same id) and rover_ctl_set_landmarks;
+ * ROVER_CTL_ERR_SNAPSHOT (c unchanged) for another robot's snapshot or
+ * values out of range. */
+int  rover_ctl_resume(rover_ctl_state *c, const double v[ROVER_CTL_SNAPSHOT_VALUES]);
+/* ROVER_CTL_OK if the snapshot's field table is sound (rover_snapshot.c). */
+int  rover_snapshot_validate(void);
+
+/* One control period ending at t_s. -1 on bad input (out->u = 0). */
+int  rover_ctl_step(rover_ctl_state *c, double t_s, double dt_s, rover_ctl_out *out);
+
+/* The ranges with every echo the team table explains as a mate (its
+ * chassis where the table puts it) replaced by sonar_max_m, except echoes
+ * nearer than keep_m; keep_m > 0 (avoidance) also keeps echoes far behind
+ * the mate's near face. o is own O pose. (Used by the step; exposed for
+ * tests.) */
+void rover_ctl_mask_mates(const rover_ctl_state *c, const pose2 *o, double keep_m,
+                          double masked[BEH_SONAR_N]);
+
+/* Collision guard applied to the blended command u (exposed for tests):
+ * range_m are the raw ranges (mates are obstacles here), o own O pose,
+ * goal own goal (see rover_ctl.c). */
+void rover_ctl_guard(unicycle_cmd *u, const double range_m[BEH_SONAR_N], const pose2 *o,
+                     const double goal[2], const rover_ctl_params *p);
+
+/* Escape wall following (exposed for tests): command that keeps the
+ * obstacle on `side` (-1 right, +1 left) at follow_dist_m. */
+void rover_ctl_follow(unicycle_cmd *u, const sonar_groups *g, int side,
+                      const rover_ctl_params *p);
+
+#endif

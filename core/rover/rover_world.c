@@ -1,0 +1,324 @@
+/* rover_world: launch configuration of the Pioneer team (worlds, initial
+ * poses, goal, team frame) and ground-truth footprint clearance
+ * (SPEC.md sections 4, 5). See rover_world.h.
+ */
+#include "rover_world.h"
+
+#include "formation.h"
+
+#include <math.h>
+#include <string.h>
+
+static const char *const world_names[ROVER_WORLD_COUNT] = {
+    "open", "obstacles", "corridor", "deadzone"
+};
+
+int rover_world_id(const char *name)
+{
+    int i;
+    if (!name) return -1;
+    for (i = 0; i < ROVER_WORLD_COUNT; i++)
+        if (strcmp(name, world_names[i]) == 0) return i;
+    return -1;
+}
+
+const char *rover_world_name(int world)
+{
+    return (world >= 0 && world < ROVER_WORLD_COUNT) ? world_names[world] : "?";
+}
+
+static void add_box(rover_world_config *w, double cx, double cy, double hx, double hy,
+                    double angle_rad, double height_m)
+{
+    rover_obstacle *o;
+    if (w->n_obst >= ROVER_WORLD_MAX_OBST) return;
+    o = &w->obst[w->n_obst++];
+    memset(o, 0, sizeof *o);
+    o->kind = ROVER_OBST_BOX;
+    o->cx_m = cx; o->cy_m = cy; o->hx_m = hx; o->hy_m = hy;
+    o->angle_rad = angle_rad;
+    o->height_m = height_m;
+}
+
+/* A thin wall from (ax, ay) to (bx, by) whose faces are thick_m apart. */
+static void add_wall(rover_world_config *w, double ax, double ay, double bx, double by,
+                     double thick_m)
+{
+    const double len = hypot(bx - ax, by - ay);
+    add_box(w, 0.5 * (ax + bx), 0.5 * (ay + by), 0.5 * len, 0.5 * thick_m,
+            atan2(by - ay, bx - ax), 0.5);
+}
+
+static void add_circle(rover_world_config *w, double cx, double cy, double r)
+{
+    rover_obstacle *o;
+    if (w->n_obst >= ROVER_WORLD_MAX_OBST) return;
+    o = &w->obst[w->n_obst++];
+    memset(o, 0, sizeof *o);
+    o->kind = ROVER_OBST_CIRCLE;
+    o->cx_m = cx; o->cy_m = cy; o->r_m = r;
+    o->height_m = 0.6;
+}
+
+/* Obstacles relative to the front start row at x = xf (team centred on y = 0).
+ * Distances are chosen for a 3-robot team at 1 m spacing (line width 2.38 m)
+ * and scale with nothing else: larger teams meet the same features. */
+static void build_features(rover_world_config *w, double xf)
+{
+    const double t = 0.1;                       /* wall thickness */
+    switch (w->world) {
+    case ROVER_WORLD_OPEN:
+        w->goal_m[0] = xf + 12.0;
+        break;
+    case ROVER_WORLD_OBSTACLES:
+        w->goal_m[0] = xf + 14.0;
+        add_circle(w, xf + 4.0, 0.5, 0.25);
+        add_circle(w, xf + 6.0, -2.3, 0.35);
+        add_circle(w, xf + 8.0, -0.5, 0.3);
+        add_box(w, xf + 11.0, 1.7, 0.3, 0.3, 0.4, 0.6);
+        break;
+    case ROVER_WORLD_CORRIDOR:
+        /* funnel in, a 1.2 m corridor (faces at y = +-0.6: narrower than the
+         * line, wide enough for a column), funnel out; long walls at the
+         * funnel mouth so the team cannot go round. */
+        w->goal_m[0] = xf + 17.0;
+        add_wall(w, xf + 4.0, 3.0 + 0.5 * t, xf + 6.0, 0.6 + 0.5 * t, t);
+        add_wall(w, xf + 4.0, -3.0 - 0.5 * t, xf + 6.0, -0.6 - 0.5 * t, t);
+        add_wall(w, xf + 6.0, 0.6 + 0.5 * t, xf + 10.0, 0.6 + 0.5 * t, t);
+        add_wall(w, xf + 6.0, -0.6 - 0.5 * t, xf + 10.0, -0.6 - 0.5 * t, t);
+        add_wall(w, xf + 10.0, 0.6 + 0.5 * t, xf + 11.5, 3.0 + 0.5 * t, t);
+        add_wall(w, xf + 10.0, -0.6 - 0.5 * t, xf + 11.5, -3.0 - 0.5 * t, t);
+        add_wall(w, xf + 4.0, 3.0, xf + 4.0, 9.0, t);
+        add_wall(w, xf + 4.0, -3.0, xf + 4.0, -9.0, t);
+        break;
+    default: {
+        /* DEADZONE (SPEC 4, dead-zone exception): a U lying across the way,
+         * centred on the start -> goal line (y = 0), opening toward the
+         * team, the goal 3.5 m behind its back wall. The mouth, 3.2 m
+         * between the lips, takes the whole line (formation_width 2.38 m
+         * at 1 m spacing) with 0.4 m to spare each side, so no robot
+         * passes round the outside. Over 1.5 m the side walls close in to
+         * a pocket 1.0 m wide and 1.2 m deep: a robot at its bottom has the
+         * back wall ahead and a side wall on each hand, all under
+         * d_s = 0.5 m (side echoes ~0.36 m; a trap must be narrower than
+         * 2 (d_s + 0.136) = 1.27 m, 0.136 m being the side transducers'
+         * offset), and room to turn on the spot (corner radius 0.31 m).
+         * Mates are never trap walls, so no U wide enough for the whole
+         * line can trap a robot at a wide bottom: the taper is what makes
+         * the team's way end in a one-robot trap. */
+        const double x_lip = xf + 5.5, x_pocket = xf + 7.0, x_back = xf + 8.2;
+        const double mouth_half = 1.6, bottom_half = 0.5;
+        w->goal_m[0] = x_back + 3.5;
+        add_wall(w, x_back + 0.5 * t, -bottom_half - t, x_back + 0.5 * t, bottom_half + t, t);
+        add_wall(w, x_lip, mouth_half + 0.5 * t, x_pocket, bottom_half + 0.5 * t, t);
+        add_wall(w, x_lip, -mouth_half - 0.5 * t, x_pocket, -bottom_half - 0.5 * t, t);
+        add_wall(w, x_pocket, bottom_half + 0.5 * t, x_back + t, bottom_half + 0.5 * t, t);
+        add_wall(w, x_pocket, -bottom_half - 0.5 * t, x_back + t, -bottom_half - 0.5 * t, t);
+        break;
+    }
+    }
+}
+
+static void add_landmark(rover_world_config *w, double x, double y)
+{
+    if (w->n_landmarks >= ROVER_WORLD_MAX_LANDMARKS) return;
+    w->landmark_m[w->n_landmarks][0] = x;
+    w->landmark_m[w->n_landmarks][1] = y;
+    w->n_landmarks++;
+}
+
+/* Landmark pairs every 3 m along the way, 3.5 m out: from any pose on the
+ * way the camera's forward frame (6 m, +-60 deg) holds two to four of
+ * them, its side frames one or two. */
+static void build_landmarks(rover_world_config *w, double x_from_m, double xf)
+{
+    const double side_m = 3.5, step_m = 3.0;
+    /* on a grid anchored at the front start row, so the posts keep their
+     * place relative to the worlds' walls whatever the team size */
+    double x = xf + step_m * floor((x_from_m - xf) / step_m);
+    for (; x <= w->goal_m[0] + 3.0 + 1e-9; x += step_m) {
+        add_landmark(w, x, side_m);
+        add_landmark(w, x, -side_m);
+    }
+    if (w->world == ROVER_WORLD_CORRIDOR) {
+        add_landmark(w, xf + 7.0, 0.55);
+        add_landmark(w, xf + 7.0, -0.55);
+        add_landmark(w, xf + 9.0, 0.55);
+        add_landmark(w, xf + 9.0, -0.55);
+    }
+}
+
+int rover_world_layout(rover_world_config *w, int world, int n, double spacing_m, int formation)
+{
+    int k, rows;
+    double xf, sx = 0.0, sy = 0.0;
+    if (!w || world < 0 || world >= ROVER_WORLD_COUNT || n < 1 ||
+        n > ROVER_WORLD_MAX_ROBOTS || !isfinite(spacing_m) ||
+        spacing_m <= ROVER_BODY_LENGTH_M || spacing_m > 10.0 ||
+        formation < FORMATION_LINE || formation > FORMATION_COLUMN)
+        return -1;
+    memset(w, 0, sizeof *w);
+    w->world = world;
+    w->n_robots = n;
+    w->spacing_m = spacing_m;
+    rows = (n + ROVER_WORLD_ROW_MAX - 1) / ROVER_WORLD_ROW_MAX;
+    xf = 8.0 + spacing_m * (rows - 1);
+    for (k = 0; k < n; k++) {
+        const int r = k / ROVER_WORLD_ROW_MAX, j = k % ROVER_WORLD_ROW_MAX;
+        const int in_row = (r == rows - 1) ? n - r * ROVER_WORLD_ROW_MAX : ROVER_WORLD_ROW_MAX;
+        pose2 *c = &w->start_c[k];
+        c->x_m = xf - spacing_m * r;
+        c->y_m = spacing_m * (0.5 * (in_row - 1) - j);
+        c->theta_rad = 0.0;
+        if (n <= ROVER_WORLD_ROW_MAX && formation != FORMATION_LINE) {
+            /* small teams start in their nominal formation, front at xf */
+            double xy[2], x_top = 0.0;
+            int q;
+            for (q = 0; q < n; q++) {
+                formation_slot_xy(xy, formation, n, q, spacing_m, 1.0);
+                if (q == 0 || xy[0] > x_top) x_top = xy[0];
+            }
+            formation_slot_xy(xy, formation, n, rover_world_slot(formation, n, k), spacing_m, 1.0);
+            c->x_m = xf + xy[0] - x_top;
+            c->y_m = xy[1];
+        }
+        sx += c->x_m - ROVER_BEACON_D_M;
+        sy += c->y_m;
+    }
+    w->team_origin.x_m = sx / n;
+    w->team_origin.y_m = sy / n;
+    w->team_origin.theta_rad = 0.0;
+    w->goal_m[1] = 0.0;
+    build_features(w, xf);
+    /* behind the rearmost start: a column or wedge reaches further back
+     * than the rows of the grid */
+    w->x_min_m = xf - spacing_m * rows - 1.0;
+    for (k = 0; k < n; k++)
+        if (w->start_c[k].x_m - spacing_m - 1.0 < w->x_min_m)
+            w->x_min_m = w->start_c[k].x_m - spacing_m - 1.0;
+    w->x_max_m = w->goal_m[0] + 3.0;
+    build_landmarks(w, w->x_min_m - 1.0, xf);
+    w->y_max_m = 0.5 * spacing_m * ROVER_WORLD_ROW_MAX + 1.0;
+    if (w->y_max_m < 4.0) w->y_max_m = 4.0;
+    w->y_min_m = -w->y_max_m;
+    return 0;
+}
+
+int rover_world_slot(int type, int n, int rank)
+{
+    int mid, j, k = 0;
+    if (n < 1 || rank < 0 || rank >= n || type < FORMATION_LINE || type > FORMATION_COLUMN)
+        return -1;
+    if (type == FORMATION_LINE) return rank;
+    /* the left side (ranks below mid) takes the odd triangle slots, which
+     * are one more than the even ones when n is even: mid = n / 2 keeps
+     * every robot on its own side */
+    mid = n / 2;
+    if (rank == mid) return 0;
+    /* order: mid, mid-1, mid+1, mid-2, mid+2, ... (skipping the ends) */
+    for (j = 1; j < n; j++) {
+        if (mid - j >= 0) {
+            k++;
+            if (rank == mid - j) return k;
+        }
+        if (mid + j < n) {
+            k++;
+            if (rank == mid + j) return k;
+        }
+    }
+    return -1;
+}
+
+void rover_world_to_team(const rover_world_config *w, const pose2 *world_p, pose2 *team_p)
+{
+    double v[2];
+    vec2_rotate(v, world_p->x_m - w->team_origin.x_m, world_p->y_m - w->team_origin.y_m,
+                -w->team_origin.theta_rad);
+    team_p->x_m = v[0];
+    team_p->y_m = v[1];
+    team_p->theta_rad = vec2_wrap_rad(world_p->theta_rad - w->team_origin.theta_rad);
+}
+
+void rover_world_from_team(const rover_world_config *w, const pose2 *team_p, pose2 *world_p)
+{
+    double v[2];
+    vec2_rotate(v, team_p->x_m, team_p->y_m, w->team_origin.theta_rad);
+    world_p->x_m = v[0] + w->team_origin.x_m;
+    world_p->y_m = v[1] + w->team_origin.y_m;
+    world_p->theta_rad = vec2_wrap_rad(team_p->theta_rad + w->team_origin.theta_rad);
+}
+
+/* Signed distance from (x, y) to a box with centre, half extents, angle. */
+static double box_distance(double cx, double cy, double hx, double hy, double a,
+                           double x, double y)
+{
+    double l[2], qx, qy, ox, oy;
+    vec2_rotate(l, x - cx, y - cy, -a);
+    qx = fabs(l[0]) - hx;
+    qy = fabs(l[1]) - hy;
+    ox = qx > 0.0 ? qx : 0.0;
+    oy = qy > 0.0 ? qy : 0.0;
+    return hypot(ox, oy) + (qx > qy ? (qx < 0.0 ? qx : 0.0) : (qy < 0.0 ? qy : 0.0));
+}
+
+double rover_obstacle_distance(const rover_obstacle *o, double x_m, double y_m)
+{
+    if (o->kind == ROVER_OBST_CIRCLE)
+        return hypot(x_m - o->cx_m, y_m - o->cy_m) - o->r_m;
+    return box_distance(o->cx_m, o->cy_m, o->hx_m, o->hy_m, o->angle_rad, x_m, y_m);
+}
+
+#define FOOT_PTS 8
+
+/* Footprint outline samples (corners and edge midpoints) of a robot at c. */
+static void footprint(const pose2 *c, double px[FOOT_PTS], double py[FOOT_PTS],
+                      double *bx, double *by)
+{
+    static const double u[FOOT_PTS] = { 1, 1, 1, 0, -1, -1, -1, 0 };
+    static const double v[FOOT_PTS] = { 1, 0, -1, -1, -1, 0, 1, 1 };
+    const double ct = cos(c->theta_rad), st = sin(c->theta_rad);
+    const double hx = 0.5 * ROVER_BODY_LENGTH_M, hy = 0.5 * ROVER_BODY_WIDTH_M;
+    int i;
+    *bx = c->x_m + ROVER_BODY_OFFSET_M * ct;
+    *by = c->y_m + ROVER_BODY_OFFSET_M * st;
+    for (i = 0; i < FOOT_PTS; i++) {
+        px[i] = *bx + u[i] * hx * ct - v[i] * hy * st;
+        py[i] = *by + u[i] * hx * st + v[i] * hy * ct;
+    }
+}
+
+int rover_world_clearance(const rover_world_config *w, const pose2 *c, const int *alive,
+                          int n, double *clearance_m)
+{
+    static const double reach = 0.6;   /* two half-diagonals, rounded up */
+    double px[FOOT_PTS], py[FOOT_PTS], bx, by, qx[FOOT_PTS], qy[FOOT_PTS], cx2, cy2;
+    int i, j, k, p;
+    if (!w || !c || !alive || !clearance_m || n < 0 || n > ROVER_WORLD_MAX_ROBOTS) return -1;
+    for (i = 0; i < n; i++)
+        if (alive[i] && !vec2_pose_finite(&c[i])) return -1;
+    for (i = 0; i < n; i++) {
+        double best = INFINITY;
+        if (!alive[i]) { clearance_m[i] = INFINITY; continue; }
+        footprint(&c[i], px, py, &bx, &by);
+        for (k = 0; k < w->n_obst; k++)
+            for (p = 0; p < FOOT_PTS; p++) {
+                const double d = rover_obstacle_distance(&w->obst[k], px[p], py[p]);
+                if (d < best) best = d;
+            }
+        for (j = 0; j < n; j++) {
+            if (j == i || !alive[j]) continue;
+            footprint(&c[j], qx, qy, &cx2, &cy2);
+            if (hypot(cx2 - bx, cy2 - by) - reach > best) continue;
+            for (p = 0; p < FOOT_PTS; p++) {
+                const double d1 = box_distance(cx2, cy2, 0.5 * ROVER_BODY_LENGTH_M,
+                                               0.5 * ROVER_BODY_WIDTH_M, c[j].theta_rad, px[p], py[p]);
+                const double d2 = box_distance(bx, by, 0.5 * ROVER_BODY_LENGTH_M,
+                                               0.5 * ROVER_BODY_WIDTH_M, c[i].theta_rad, qx[p], qy[p]);
+                if (d1 < best) best = d1;
+                if (d2 < best) best = d2;
+            }
+        }
+        clearance_m[i] = best;
+    }
+    return 0;
+}

@@ -1,0 +1,428 @@
+/* sim_workpieces: the table, the workpiece stream, the vision camera and
+ * the grippers of the carry task (SPEC.md §2.4, §5).
+ *
+ * Workpieces are bars (cell_default.workpiece_size_m) drawn from a fixed
+ * pool of ODE bodies: a parked body is disabled and its geom off, so the
+ * world's body list (and the state hash) never sees a freed body. A new
+ * bar appears in the pick zone (seeded uniform spread in x, y and a small
+ * yaw) whenever the zone has been clear for WP_SPAWN_DELAY_S, until
+ * --workpieces are spawned (0 = endless).
+ *
+ * Gripper: an arm whose command closed the gripper grasps a bar when its
+ * tool point is within cell_default.grasp_tolerance_m of that arm's grasp
+ * point on it (arm 1 the -x end, arm 2 the +x end): a fixed joint to the
+ * flange. A bar picked from the table is first re-centred in the fingers
+ * (self-centring jaws: bar axis along the flange x axis, grasp point on
+ * the tool point); a bar already held by the other arm (hand-over) is
+ * attached where it is. Opening the gripper removes the joint.
+ *
+ * A bar released and at rest inside the delivery zone is counted
+ * delivered and parked; one at rest anywhere else after it left the pick
+ * zone (or on the floor) is counted dropped and parked.
+ *
+ * Camera: VISION_DETECTIONS at 20 Hz with the free bars lying at rest,
+ * positions with Gaussian noise (VISION_SIGMA_M) and yaw noise.
+ * Bars collide with the table and the ground only.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include "sim.h"
+#include "sim_arms.h"
+#include "cell.h"
+#include "prng.h"
+#include "vec3.h"
+#include "tandem_workpiece_detections_t.h"
+
+#define WP_POOL 4
+#define WP_SPAWN_DELAY_S 0.5
+#define WP_REST_SPEED_MPS 0.01
+#define WP_REST_TIME_S 0.2
+#define WP_PICK_RADIUS_M 0.15
+#define WP_DELIVER_RADIUS_M 0.10
+#define WP_YAW_SPREAD_RAD 0.05
+#define VISION_PERIOD_STEPS 50
+#define VISION_SIGMA_M 0.001
+#define VISION_SIGMA_YAW_RAD 0.005
+
+enum { WP_PARKED = 0, WP_ON_PICK, WP_HELD, WP_FREE };
+
+typedef struct wp {
+    dBodyID body;
+    dGeomID geom;
+    int     state;
+    int32_t id;
+    dJointID hold[SIM_ARMS];     /* fixed joint to arm k's flange, or 0 */
+    double  rest_s;
+} wp;
+
+static wp pool[WP_POOL];
+static dGeomID table_geom;
+static prng_state rng;
+static const sim_config *wp_cfg;
+static int32_t spawned, delivered, dropped, next_id;
+static double clear_s;
+static int64_t vision_seq;
+static int64_t last_after_step;          /* the step wp_after_step last ran for */
+static tandem_workpiece_t last_det[WP_POOL];   /* the detections of the last camera frame */
+static int last_n_det;
+static int spawn_requests;
+
+static double table_top_z(void)
+{
+    return cell_default.table_center_m[2] + 0.5 * cell_default.table_size_m[2];
+}
+
+static void park(int i)
+{
+    wp *p = &pool[i];
+    int k;
+    for (k = 0; k < SIM_ARMS; k++) {
+        if (p->hold[k]) {
+            dJointDestroy(p->hold[k]);
+            p->hold[k] = 0;
+            sim_arm_pair[k].holding = -1;
+        }
+    }
+    p->state = WP_PARKED;
+    p->id = -1;
+    dBodySetPosition(p->body, 0.0, 0.0, -10.0 - (double)i);
+    dBodySetLinearVel(p->body, 0, 0, 0);
+    dBodySetAngularVel(p->body, 0, 0, 0);
+    dBodyDisable(p->body);
+    dGeomDisable(p->geom);
+}
+
+static int wp_create(sim_world *w, const sim_config *cfg)
+{
+    const double *sz = cell_default.workpiece_size_m;
+    dMass m;
+    int i;
+    wp_cfg = cfg;
+    memset(pool, 0, sizeof pool);
+    prng_seed(&rng, w->seed * 7919u + 17u);
+    spawned = delivered = dropped = 0;
+    last_after_step = -1;
+    last_n_det = 0;
+    next_id = 1;
+    clear_s = 0.0;
+    spawn_requests = 0;
+    table_geom = dCreateBox(w->space, cell_default.table_size_m[0], cell_default.table_size_m[1],
+                            cell_default.table_size_m[2]);
+    dGeomSetPosition(table_geom, cell_default.table_center_m[0], cell_default.table_center_m[1],
+                     cell_default.table_center_m[2]);
+    dGeomSetCategoryBits(table_geom, SIM_CAT_TABLE);
+    dGeomSetCollideBits(table_geom, SIM_CAT_WORKPIECE);
+    for (i = 0; i < WP_POOL; i++) {
+        pool[i].body = sim_body_create(w);
+        dMassSetBoxTotal(&m, cell_default.workpiece_mass_kg, sz[0], sz[1], sz[2]);
+        dBodySetMass(pool[i].body, &m);
+        pool[i].geom = dCreateBox(w->space, sz[0], sz[1], sz[2]);
+        dGeomSetBody(pool[i].geom, pool[i].body);
+        dGeomSetCategoryBits(pool[i].geom, SIM_CAT_WORKPIECE);
+        dGeomSetCollideBits(pool[i].geom, SIM_CAT_TABLE | SIM_CAT_GROUND);
+        park(i);
+    }
+    return 0;
+}
+
+static void wp_destroy(sim_world *w)
+{
+    (void)w;   /* bodies, geoms and joints go with the ODE world */
+    memset(pool, 0, sizeof pool);
+    table_geom = NULL;
+}
+
+/* ---- geometry helpers ----------------------------------------------------- */
+
+static void body_R(dBodyID b, double R[9])
+{
+    const dReal *r = dBodyGetRotation(b);
+    int i;
+    for (i = 0; i < 3; i++) {
+        R[3 * i] = r[4 * i];
+        R[3 * i + 1] = r[4 * i + 1];
+        R[3 * i + 2] = r[4 * i + 2];
+    }
+}
+
+static void set_body_R(dBodyID b, const double R[9])
+{
+    dMatrix3 r;
+    int i;
+    for (i = 0; i < 3; i++) {
+        r[4 * i] = R[3 * i];
+        r[4 * i + 1] = R[3 * i + 1];
+        r[4 * i + 2] = R[3 * i + 2];
+        r[4 * i + 3] = 0.0;
+    }
+    dBodySetRotation(b, r);
+}
+
+/* Grasp point of arm k (0-based) on bar i: -x end for arm 1, +x for arm 2,
+ * along the bar's own axis. */
+static void grasp_point(const wp *p, int k, double g[3])
+{
+    const dReal *c = dBodyGetPosition(p->body);
+    double R[9], off[3];
+    body_R(p->body, R);
+    vec3_set(off, (k == 0 ? -1.0 : 1.0) * cell_default.grasp_offset_m, 0.0, 0.0);
+    rot_apply(g, R, off);
+    g[0] += c[0]; g[1] += c[1]; g[2] += c[2];
+}
+
+static double xy_dist(const dReal *p, const double c[3])
+{
+    return hypot(p[0] - c[0], p[1] - c[1]);
+}
+
+static double body_speed(dBodyID b)
+{
+    const dReal *v = dBodyGetLinearVel(b), *om = dBodyGetAngularVel(b);
+    return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) +
+           0.1 * sqrt(om[0] * om[0] + om[1] * om[1] + om[2] * om[2]);
+}
+
+static int held_by_other(const wp *p, int k)
+{
+    int j;
+    for (j = 0; j < SIM_ARMS; j++)
+        if (j != k && p->hold[j])
+            return 1;
+    return 0;
+}
+
+/* ---- spawning ------------------------------------------------------------- */
+
+static int pick_zone_clear(void)
+{
+    int i;
+    for (i = 0; i < WP_POOL; i++) {
+        if (pool[i].state == WP_PARKED || pool[i].state == WP_HELD)
+            continue;
+        if (xy_dist(dBodyGetPosition(pool[i].body), cell_default.pick_center_m) < WP_PICK_RADIUS_M)
+            return 0;
+    }
+    return 1;
+}
+
+static int spawn(void)
+{
+    const double *pc = cell_default.pick_center_m, *sp = cell_default.pick_spread_m;
+    double R[9], yaw;
+    const double z[3] = { 0.0, 0.0, 1.0 };
+    int i;
+    for (i = 0; i < WP_POOL && pool[i].state != WP_PARKED; i++)
+        ;
+    if (i == WP_POOL)
+        return -1;
+    yaw = WP_YAW_SPREAD_RAD * (2.0 * prng_uniform(&rng) - 1.0);
+    rot_from_axis_angle(R, z, yaw);
+    dBodyEnable(pool[i].body);
+    dGeomEnable(pool[i].geom);
+    set_body_R(pool[i].body, R);
+    dBodySetPosition(pool[i].body, pc[0] + sp[0] * (2.0 * prng_uniform(&rng) - 1.0),
+                     pc[1] + sp[1] * (2.0 * prng_uniform(&rng) - 1.0),
+                     table_top_z() + 0.5 * cell_default.workpiece_size_m[2] + 0.001);
+    dBodySetLinearVel(pool[i].body, 0, 0, 0);
+    dBodySetAngularVel(pool[i].body, 0, 0, 0);
+    pool[i].state = WP_ON_PICK;
+    pool[i].id = next_id++;
+    pool[i].rest_s = 0.0;
+    spawned++;
+    return i;
+}
+
+static void maybe_spawn(void)
+{
+    const int more = wp_cfg->workpieces == 0 || spawned < wp_cfg->workpieces;
+    if (!pick_zone_clear()) {
+        clear_s = 0.0;
+        return;
+    }
+    clear_s += SIM_DT_S;
+    if ((more && clear_s >= WP_SPAWN_DELAY_S) || spawn_requests > 0) {
+        if (spawn() >= 0) {
+            clear_s = 0.0;
+            if (spawn_requests > 0)
+                spawn_requests--;
+        }
+    }
+}
+
+/* ---- gripper -------------------------------------------------------------- */
+
+static void attach(sim_world *w, int k, wp *p)
+{
+    sim_arm *a = &sim_arm_pair[k];
+    const dBodyID flange = a->link[ARM_NJ - 1];
+    if (!held_by_other(p, k)) {
+        /* self-centring jaws: bar along the flange x axis, grasp point on
+         * the tool point, bar z opposite the tool z (upright for tool-down) */
+        double tool[3], Rf[9], Rb[9], c[3], off[3];
+        const double flip[9] = { 1, 0, 0, 0, -1, 0, 0, 0, -1 };
+        const dReal *v;
+        sim_arm_tool(a, tool, Rf);
+        rot_mul(Rb, Rf, flip);
+        vec3_set(off, (k == 0 ? 1.0 : -1.0) * cell_default.grasp_offset_m, 0.0, 0.0);
+        rot_apply(c, Rb, off);
+        vec3_add(c, c, tool);
+        set_body_R(p->body, Rb);
+        dBodySetPosition(p->body, c[0], c[1], c[2]);
+        v = dBodyGetLinearVel(flange);
+        dBodySetLinearVel(p->body, v[0], v[1], v[2]);
+        v = dBodyGetAngularVel(flange);
+        dBodySetAngularVel(p->body, v[0], v[1], v[2]);
+    }
+    p->hold[k] = dJointCreateFixed(w->world, 0);
+    dJointAttach(p->hold[k], p->body, flange);
+    dJointSetFixed(p->hold[k]);
+    p->state = WP_HELD;
+    a->holding = p->id;
+}
+
+static void detach(int k, wp *p)
+{
+    dJointDestroy(p->hold[k]);
+    p->hold[k] = 0;
+    sim_arm_pair[k].holding = -1;
+    if (!held_by_other(p, k)) {
+        p->state = WP_FREE;
+        p->rest_s = 0.0;
+    }
+}
+
+static void gripper_step(sim_world *w, int k)
+{
+    sim_arm *a = &sim_arm_pair[k];
+    int i;
+    if (a->gripper_closed && a->holding < 0) {
+        double tool[3];
+        sim_arm_tool(a, tool, NULL);
+        for (i = 0; i < WP_POOL; i++) {
+            double g[3], d[3];
+            if (pool[i].state == WP_PARKED)
+                continue;
+            grasp_point(&pool[i], k, g);
+            vec3_sub(d, g, tool);
+            if (vec3_norm(d) <= cell_default.grasp_tolerance_m) {
+                attach(w, k, &pool[i]);
+                break;
+            }
+        }
+    } else if (!a->gripper_closed && a->holding >= 0) {
+        for (i = 0; i < WP_POOL; i++)
+            if (pool[i].hold[k])
+                detach(k, &pool[i]);
+        a->holding = -1;
+    }
+}
+
+static void wp_before_step(sim_world *w)
+{
+    int k;
+    for (k = 0; k < SIM_ARMS; k++)
+        gripper_step(w, k);
+    maybe_spawn();
+}
+
+/* ---- bookkeeping and camera ----------------------------------------------- */
+
+static void settle(int i)
+{
+    wp *p = &pool[i];
+    const dReal *c = dBodyGetPosition(p->body);
+    const int on_floor = c[2] < table_top_z() - 0.05;
+    if (p->state == WP_HELD || p->state == WP_PARKED)
+        return;
+    if (body_speed(p->body) > WP_REST_SPEED_MPS) {
+        p->rest_s = 0.0;
+        return;
+    }
+    p->rest_s += SIM_DT_S;
+    if (p->rest_s < WP_REST_TIME_S)
+        return;
+    if (p->state == WP_FREE && !on_floor && xy_dist(c, cell_default.deliver_center_m) < WP_DELIVER_RADIUS_M) {
+        delivered++;
+        fprintf(stderr, "tandem-sim: workpiece %d delivered\n", (int)p->id);
+        park(i);
+    } else if (on_floor || (p->state == WP_FREE && xy_dist(c, cell_default.pick_center_m) >= WP_PICK_RADIUS_M) ||
+               (p->state == WP_ON_PICK && xy_dist(c, cell_default.pick_center_m) >= WP_PICK_RADIUS_M)) {
+        dropped++;
+        fprintf(stderr, "tandem-sim: workpiece %d dropped at (%.3f %.3f %.3f)\n", (int)p->id, c[0], c[1], c[2]);
+        park(i);
+    } else if (p->state == WP_FREE) {
+        p->state = WP_ON_PICK;    /* put back down in the pick zone: pick it again */
+    }
+}
+
+/* fresh = 0: the same frame again (a re-announced step), no new noise */
+static void publish_vision(sim_world *w, int fresh)
+{
+    tandem_workpiece_detections_t m;
+    tandem_workpiece_t *det = last_det;
+    int i, n = 0;
+    for (i = 0; i < WP_POOL && fresh; i++) {
+        const wp *p = &pool[i];
+        double R[9], axis[3], yaw;
+        const dReal *c;
+        if (p->state != WP_ON_PICK || p->rest_s < WP_REST_TIME_S)
+            continue;
+        c = dBodyGetPosition(p->body);
+        body_R(p->body, R);
+        (void)axis;
+        yaw = atan2(R[3], R[0]);
+        det[n].id = p->id;
+        det[n].position_m[0] = c[0] + VISION_SIGMA_M * prng_gauss(&rng);
+        det[n].position_m[1] = c[1] + VISION_SIGMA_M * prng_gauss(&rng);
+        det[n].position_m[2] = c[2] + VISION_SIGMA_M * prng_gauss(&rng);
+        det[n].yaw_rad = yaw + VISION_SIGMA_YAW_RAD * prng_gauss(&rng);
+        n++;
+    }
+    if (fresh)
+        last_n_det = n;
+    n = last_n_det;
+    memset(&m, 0, sizeof m);
+    m.seq = vision_seq++;
+    m.utime = daemon_utime_now();
+    m.step = w->step;
+    m.n = (int16_t)n;
+    m.workpieces = det;
+    AUTH_PUBLISH(tandem_workpiece_detections_t, w->lcm, "VISION_DETECTIONS", &m);
+}
+
+static void wp_after_step(sim_world *w)
+{
+    /* the simulator re-announces a step while it waits for controllers:
+     * publish the same frame again, without settling or drawing camera
+     * noise a second time (how often that happens depends on the machine's
+     * timing, and must not change the run) */
+    const int repeat = w->step == last_after_step;
+    int i;
+    last_after_step = w->step;
+    for (i = 0; i < WP_POOL && !repeat; i++)
+        settle(i);
+    if (w->step % VISION_PERIOD_STEPS == 0)
+        publish_vision(w, !repeat);
+}
+
+static int wp_control(sim_world *w, const tandem_sim_control_t *c)
+{
+    (void)w;
+    if (c->command != TANDEM_SIM_CONTROL_T_SPAWN_WORKPIECE)
+        return 0;
+    spawn_requests++;
+    return 1;
+}
+
+static void wp_status(sim_world *w, tandem_sim_status_t *s)
+{
+    (void)w;
+    s->workpieces_spawned = spawned;
+    s->workpieces_delivered = delivered;
+    s->workpieces_dropped = dropped;
+}
+
+const sim_model_ops sim_workpieces_ops = {
+    "workpieces", wp_create, wp_destroy, wp_before_step, wp_after_step, wp_control, wp_status, NULL
+};
