@@ -68,7 +68,7 @@ static int sup_step(void)
         pending = petri_running(&net, t) || petri_enabled(&net, t);
     sup_t_s += 0.01;
     stallwatch_update(&stall, sup_t_s, completed, pending, 0);
-    return petri_invariants_ok(&net);
+    return petri_invariants_hold(&net);
 }
 
 static int setup(void)

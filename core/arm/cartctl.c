@@ -25,7 +25,7 @@ void cartctl_gains_default(cartctl_gains *g)
     g->range_w_radps = 20.0;
 }
 
-int cartctl_gains_valid(const cartctl_gains *g)
+int cartctl_gains_validate(const cartctl_gains *g)
 {
     return g && isfinite(g->kp_rot) && isfinite(g->kv_rot) && isfinite(g->lambda_max) &&
            isfinite(g->sigma_band) && isfinite(g->k_null) && g->kp_rot >= 0.0 && g->kv_rot >= 0.0 &&
@@ -243,7 +243,7 @@ int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g
     if (!out)
         return -1;
     memset(out, 0, sizeof *out);
-    if (!cartctl_gains_valid(g) || !a_lin || !vec_finite(a_lin, 3) || (R_d && !vec_finite(R_d, 9)))
+    if (!cartctl_gains_validate(g) || !a_lin || !vec_finite(a_lin, 3) || (R_d && !vec_finite(R_d, 9)))
         return -1;
     if (!s) {
         if (cartctl_state_at(m, tool, q, qd, &s_local) != 0)

@@ -65,7 +65,7 @@ typedef struct cartctl_gains {
  * 0.003-0.011; range_margin 2 deg, range_w 20 rad/s: never active on the
  * carry's planned moves, whose joints stay >= 3.6 deg from their ends). */
 void cartctl_gains_default(cartctl_gains *g);
-int  cartctl_gains_valid(const cartctl_gains *g);
+int  cartctl_gains_validate(const cartctl_gains *g);
 
 typedef struct cartctl_state {
     double T[16];        /* tool pose, base frame                   */

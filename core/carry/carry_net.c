@@ -124,7 +124,7 @@ int carry_gains_bounds(double lo[CARRY_N_GAINS], double hi[CARRY_N_GAINS])
     int t, i, n = 0;
     for (t = 0; t < CARRY_N_TRANSITIONS; t++) {
         const erlaw_gains *g = &carry_table[t].lin;
-        if (!erlaw_gains_valid(g))
+        if (!erlaw_gains_validate(g))
             continue;   /* the vision transition moves no arm */
         for (i = 0; i < CARRY_N_GAINS; i++) {
             const double v = gain_field(g, i);

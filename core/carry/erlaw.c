@@ -20,7 +20,7 @@ static double clamp(double x, double lo, double hi)
     return x < lo ? lo : (x > hi ? hi : x);
 }
 
-int erlaw_gains_valid(const erlaw_gains *g)
+int erlaw_gains_validate(const erlaw_gains *g)
 {
     if (!g)
         return 0;
@@ -33,7 +33,7 @@ int erlaw_gains_valid(const erlaw_gains *g)
 
 static int channel_init(erlaw_channel *c, const double e[3], double s_f, const erlaw_gains *g)
 {
-    if (!erlaw_gains_valid(g))
+    if (!erlaw_gains_validate(g))
         return -1;
     if (sprofile_plan(&c->prof, s_f, g->v_m, g->a_m, g->u_m) != 0)
         return -1;

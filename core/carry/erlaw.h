@@ -154,7 +154,7 @@ typedef struct {
 } erlaw_out;
 
 /* Gains valid: every field finite, limits > 0, k_p, k_v, k0, k2 >= 0. */
-int erlaw_gains_valid(const erlaw_gains *g);
+int erlaw_gains_validate(const erlaw_gains *g);
 
 /* Segment p0 -> p1. A zero-length segment is valid (holds p0). 0 / -1. */
 int erlaw_line_init(erlaw_line *l, const double p0_m[3], const double p1_m[3],

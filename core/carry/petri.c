@@ -273,7 +273,7 @@ int petri_set_state(petri *p, const petri_state *s)
     return 0;
 }
 
-int petri_invariants_ok(const petri *p)
+int petri_invariants_hold(const petri *p)
 {
     return p && petri_state_invariant_violations(&p->c, &p->st) == 0;
 }

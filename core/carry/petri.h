@@ -94,7 +94,7 @@ int petri_start(petri *p, int t);
 int petri_complete(petri *p, int t);
 int petri_fire(petri *p, int t);
 int petri_dead(const petri *p);
-int petri_invariants_ok(const petri *p);
+int petri_invariants_hold(const petri *p);
 /* Takes a saved state back (a supervisor's journal after a restart): only
  * running bits of existing transitions and a marking that keeps every
  * P-invariant (tokens of running transitions counted). 0 or PETRI_ERR_ARG,

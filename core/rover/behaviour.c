@@ -64,7 +64,7 @@ static int params_check_values(const behaviour_params *p)
     return 0;
 }
 
-int behaviour_params_check(const behaviour_params *p)
+int behaviour_params_validate(const behaviour_params *p)
 {
     return p ? params_check_values(p) : -1;
 }

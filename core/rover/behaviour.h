@@ -65,7 +65,7 @@ typedef struct {
  *   form_near 0.3 m, form_far 0.8 m. */
 void behaviour_params_default(behaviour_params *p);
 /* 0 if every parameter is finite and in range, else -1. */
-int  behaviour_params_check(const behaviour_params *p);
+int  behaviour_params_validate(const behaviour_params *p);
 
 typedef struct {
     double front_m, left_front_m, right_front_m, left_m, right_m;

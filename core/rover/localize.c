@@ -25,7 +25,7 @@ void localize_params_default(localize_params *p)
     p->reset_sd_theta_rad = 0.3;
 }
 
-int localize_params_check(const localize_params *p)
+int localize_params_validate(const localize_params *p)
 {
     const double nonneg[] = { p->k_ds, p->k_th_ds, p->k_th_dth, p->range_sd1 };
     size_t i;
@@ -45,7 +45,7 @@ int localize_init(localizer *l, const localize_params *p, const pose2 *c0,
                   double sd_xy_m, double sd_theta_rad, const double (*lm)[2], int n)
 {
     int k;
-    if (!l || localize_params_check(p) != 0 || !c0 || !vec2_pose_finite(c0) ||
+    if (!l || localize_params_validate(p) != 0 || !c0 || !vec2_pose_finite(c0) ||
         !isfinite(sd_xy_m) || sd_xy_m < 0.0 || !isfinite(sd_theta_rad) || sd_theta_rad < 0.0 ||
         n < 0 || n > LOCALIZE_LANDMARKS_MAX || (n > 0 && !lm))
         return -1;

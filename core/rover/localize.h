@@ -63,7 +63,7 @@ typedef struct {
  * 3 %, bearing 0.02 rad, gate 13.8 (99.9 %); reset after 10 rejections
  * in a row by 0.5 m and 0.3 rad. d -0.15 m. */
 void localize_params_default(localize_params *p);
-int  localize_params_check(const localize_params *p);
+int  localize_params_validate(const localize_params *p);
 
 /* Start at C pose c0 with standard deviations sd_xy_m, sd_theta_rad, and
  * the n landmark positions lm (same frame as c0). -1 on bad input

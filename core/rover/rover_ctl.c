@@ -69,9 +69,9 @@ void rover_ctl_params_default(rover_ctl_params *p)
 
 static int pos(double v) { return isfinite(v) && v > 0.0; }
 
-int rover_ctl_params_check(const rover_ctl_params *p)
+int rover_ctl_params_validate(const rover_ctl_params *p)
 {
-    if (!p || behaviour_params_check(&p->beh) != 0) return -1;
+    if (!p || behaviour_params_validate(&p->beh) != 0) return -1;
     if (p->blend_mode < BEH_BLEND_WEIGHTED || p->blend_mode > BEH_BLEND_VECSUM) return -1;
     if (p->formation_law != ROVER_LAW_SEED && p->formation_law != ROVER_LAW_KANAYAMA) return -1;
     if (p->formation < FORMATION_LINE || p->formation > FORMATION_COLUMN) return -1;
@@ -89,7 +89,7 @@ int rover_ctl_params_check(const rover_ctl_params *p)
         !(p->fsm.shrink_scale > 0.0 && p->fsm.shrink_scale <= 1.0))
         return -1;
     if (!isfinite(p->beacon_alpha) || p->beacon_alpha < 0.0 || p->beacon_alpha > 1.0) return -1;
-    if ((p->localize != 0 && p->localize != 1) || localize_params_check(&p->loc) != 0 ||
+    if ((p->localize != 0 && p->localize != 1) || localize_params_validate(&p->loc) != 0 ||
         !isfinite(p->loc_sd0_xy_m) || p->loc_sd0_xy_m < 0.0 || !isfinite(p->loc_sd0_theta_rad) ||
         p->loc_sd0_theta_rad < 0.0)
         return -1;
@@ -99,7 +99,7 @@ int rover_ctl_params_check(const rover_ctl_params *p)
 int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id,
                    const pose2 *start_c, const double goal_m[2])
 {
-    if (!c || rover_ctl_params_check(p) != 0 || !start_c || !vec2_pose_finite(start_c) ||
+    if (!c || rover_ctl_params_validate(p) != 0 || !start_c || !vec2_pose_finite(start_c) ||
         !goal_m || !isfinite(goal_m[0]) || !isfinite(goal_m[1]) || id < 0)
         return -1;
     memset(c, 0, sizeof *c);

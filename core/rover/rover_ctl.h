@@ -139,7 +139,7 @@ typedef struct {
 } rover_ctl_state;
 
 void rover_ctl_params_default(rover_ctl_params *p);
-int  rover_ctl_params_check(const rover_ctl_params *p);
+int  rover_ctl_params_validate(const rover_ctl_params *p);
 
 /* start_c: pose of C in the team frame; goal in the team frame. */
 int  rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id,

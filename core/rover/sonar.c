@@ -431,7 +431,7 @@ void sonar_model_default(sonar_model *m)
     m->fire_period_s = 0.04;
 }
 
-int sonar_model_check(const sonar_model *m)
+int sonar_model_validate(const sonar_model *m)
 {
     if (!m || !isfinite(m->range_min_m) || !isfinite(m->range_max_m) ||
         m->range_min_m < 0.0 || !(m->range_max_m > m->range_min_m) ||
@@ -450,7 +450,7 @@ int sonar_fire(double *range_m, const sonar_world *w, const sonar_model *m,
     const sonar_transducer *s;
     double pos[2], best = INFINITY, centre, range;
     int i, n;
-    if (!range_m || !w || sonar_model_check(m) != 0 || !vec2_pose_finite(c) ||
+    if (!range_m || !w || sonar_model_validate(m) != 0 || !vec2_pose_finite(c) ||
         k < 0 || k >= SONAR_N)
         return -1;
     *range_m = m->range_max_m;

@@ -120,7 +120,7 @@ typedef struct {
 } sonar_model;
 
 void sonar_model_default(sonar_model *m);
-int  sonar_model_check(const sonar_model *m);
+int  sonar_model_validate(const sonar_model *m);
 
 /* Reading of transducer k for a robot whose axle centre C has pose c.
  * rng may be NULL (no noise). Returns 1 echo, 0 none (range = max), -1 bad. */

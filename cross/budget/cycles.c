@@ -57,7 +57,7 @@ int budget_supervisor_step(budget_supervisor *s)
             (void)petri_start(&s->net, t);
     if (petri_enabled(&s->net, CARRY_T_VISION))
         (void)petri_fire(&s->net, CARRY_T_VISION);   /* a workpiece is always in view */
-    if (!petri_invariants_ok(&s->net))
+    if (!petri_invariants_hold(&s->net))
         return -1;
     return petri_dead(&s->net);
 }

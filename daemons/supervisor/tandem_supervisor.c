@@ -480,7 +480,7 @@ static void publish_marking(daemon *d)
     m.running = run;
     m.last_fired = S.last_fired;
     m.fired_count = S.net.fired_count;
-    m.invariants_ok = (int8_t)petri_invariants_ok(&S.net);
+    m.invariants_ok = (int8_t)petri_invariants_hold(&S.net);
     m.dead = (int8_t)petri_dead(&S.net);
     m.invariant_violations = S.net.invariant_violations;
     m.deadlocks = S.deadlocks;

@@ -89,7 +89,7 @@ static void test_one_workpiece_cycle(void **st)
     for (k = 0; k < sizeof seq / sizeof seq[0]; k++) {
         assert_true(petri_enabled(&p, seq[k]));
         assert_int_equal(petri_fire(&p, seq[k]), 0);
-        assert_true(petri_invariants_ok(&p));
+        assert_true(petri_invariants_hold(&p));
     }
     assert_memory_equal(p.st.m, carry_net.m0, CARRY_N_PLACES);
     assert_int_equal(p.st.running, 0);
@@ -133,7 +133,7 @@ static void test_table_consistent(void **st)
         const carry_row *row = carry_row_of(t);
         int n_arms = 0;
         assert_non_null(row);
-        assert_true(erlaw_gains_valid(&row->lin));
+        assert_true(erlaw_gains_validate(&row->lin));
         for (a = 0; a < 2; a++) {
             const carry_arm_plan *pl = &row->plan[a];
             int k, last_pose = CARRY_POSE_NONE;
@@ -161,7 +161,7 @@ static void test_table_consistent(void **st)
     assert_int_equal(carry_table[CARRY_T5].arms, CARRY_ARM2);
     assert_int_equal(carry_table[CARRY_T4].plan[0].after_partner, 1);
     assert_string_equal(carry_pose_name(CARRY_POSE_HANDOVER_2), "HANDOVER_2");
-    assert_true(erlaw_gains_valid(&carry_rot_gains));
+    assert_true(erlaw_gains_validate(&carry_rot_gains));
 }
 
 /* Point-mass run of one segment; returns the time to done (within

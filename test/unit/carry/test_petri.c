@@ -122,7 +122,7 @@ static void test_fire_eq11_and_split(void **st)
     assert_int_equal(petri_start(&p, t), 0);
     assert_true(petri_running(&p, t));
     assert_int_equal(petri_start(&p, t), PETRI_ERR_NOT_ENABLED);  /* no double start */
-    assert_true(petri_invariants_ok(&p));   /* tokens in flight counted */
+    assert_true(petri_invariants_hold(&p));   /* tokens in flight counted */
     assert_int_equal(petri_complete(&p, 1), PETRI_ERR_NOT_RUNNING);
     assert_int_equal(petri_complete(&p, t), 0);
     assert_false(petri_running(&p, t));
@@ -173,12 +173,12 @@ static void test_invariant_violation_counted(void **st)
     n.n_invariants = 1;
     n.invariants = bad_inv;
     assert_int_equal(petri_init(&p, &n), 0);
-    assert_true(petri_invariants_ok(&p));
+    assert_true(petri_invariants_hold(&p));
     assert_int_equal(petri_start(&p, 0), 0);
     assert_int_equal(p.invariant_violations, 0);   /* in flight: still 1 */
     assert_int_equal(petri_complete(&p, 0), 0);
     assert_int_equal(p.invariant_violations, 1);
-    assert_false(petri_invariants_ok(&p));
+    assert_false(petri_invariants_hold(&p));
 }
 
 static void test_bad_tables(void **st)

@@ -405,7 +405,7 @@ static void test_formation_track_bands(void **state)
     assert_true(b.v_mps == 0.0 && b.w_radps == 0.0);
     behaviour_params_default(&p);
     p.form_far_m = p.form_near_m;
-    assert_int_equal(behaviour_params_check(&p), -1);
+    assert_int_equal(behaviour_params_validate(&p), -1);
 }
 
 static void ring(double r[8], double v)
@@ -591,13 +591,13 @@ static void test_params(void **state)
     behaviour_params p;
     (void)state;
     behaviour_params_default(&p);
-    assert_int_equal(behaviour_params_check(&p), 0);
+    assert_int_equal(behaviour_params_validate(&p), 0);
     p.d_m = 0.0;
-    assert_int_equal(behaviour_params_check(&p), -1);
+    assert_int_equal(behaviour_params_validate(&p), -1);
     behaviour_params_default(&p);
     p.k3 = NAN;
-    assert_int_equal(behaviour_params_check(&p), -1);
-    assert_int_equal(behaviour_params_check(NULL), -1);
+    assert_int_equal(behaviour_params_validate(&p), -1);
+    assert_int_equal(behaviour_params_validate(NULL), -1);
 }
 
 int main(void)

@@ -197,7 +197,7 @@ static void test_bad_input(void **state)
     double s[3] = { 0.85, 0, 0 }, z[2], H[6];
     (void)state;
     localize_params_default(&p);
-    assert_int_equal(localize_params_check(&p), 0);
+    assert_int_equal(localize_params_validate(&p), 0);
     p.bearing_sd_rad = 0.0;
     assert_int_equal(localize_init(&l, &p, &c0, 0.1, 0.1, lm, 1), -1);
     localize_params_default(&p);
