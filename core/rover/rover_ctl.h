@@ -48,6 +48,11 @@ enum { ROVER_MODE_FORMATION = 0, ROVER_MODE_DEAD_ZONE = 1, ROVER_MODE_CHANGING =
 enum { ROVER_LAW_SEED = 0, ROVER_LAW_KANAYAMA = 1 };
 enum { ROVER_ESC_NONE = 0, ROVER_ESC_TURN = 1, ROVER_ESC_FOLLOW = 2, ROVER_ESC_YIELD = 3 };
 
+/* Status of the rover_ctl_* functions (0 ok, negative an error). */
+#define ROVER_CTL_OK 0
+#define ROVER_CTL_ERR_ARG (-1)      /* bad argument, parameter set or reading */
+#define ROVER_CTL_ERR_SNAPSHOT (-2) /* a snapshot of another robot or out of range */
+
 typedef struct {
     behaviour_params beh;
     formation_fsm_params fsm;
@@ -139,26 +144,30 @@ typedef struct {
 } rover_ctl_state;
 
 void rover_ctl_params_default(rover_ctl_params *p);
+/* ROVER_CTL_OK or ROVER_CTL_ERR_ARG. */
 int  rover_ctl_params_validate(const rover_ctl_params *p);
 
-/* start_c: pose of C in the team frame; goal in the team frame. */
+/* start_c: pose of C in the team frame; goal in the team frame.
+ * ROVER_CTL_ERR_ARG on bad input or parameters. */
 int  rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id,
                     const pose2 *start_c, const double goal_m[2]);
 /* The world's LED landmarks in the team frame (landmark k is camera
  * target ROVER_LANDMARK_ID_BASE + k); call before the first encoder
- * reading. -1 on bad input or too many. */
+ * reading. ROVER_CTL_ERR_ARG on bad input or too many. */
 int  rover_ctl_set_landmarks(rover_ctl_state *c, const double (*lm_m)[2], int n);
 /* Accumulated wheel angles at time t_s. The first reading anchors the
- * odometry at start_c. -1 on non-finite input. */
+ * odometry at start_c. ROVER_CTL_ERR_ARG on non-finite input. */
 int  rover_ctl_encoders(rover_ctl_state *c, double left_rad, double right_rad, double t_s);
-/* The latest range of each transducer (table order). -1 on bad input. */
+/* The latest range of each transducer (table order). ROVER_CTL_ERR_ARG on
+ * bad input. */
 int  rover_ctl_sonar(rover_ctl_state *c, const double range_m[BEH_SONAR_N], double t_s);
 /* A team-mate's message heard at t_s. Returns team_update's result
- * (1 new member, 0 refreshed), -1 invalid. */
+ * (1 new member, 0 refreshed), ROVER_CTL_ERR_ARG invalid. */
 int  rover_ctl_team_msg(rover_ctl_state *c, const rover_team_msg *msg, double t_s);
 /* Camera: beacon of `target` (a mate, or a landmark: ROVER_LANDMARK_ID_BASE
- * + k) at range / bearing. -1 unknown or bad; for a landmark 1 fused, 0
- * gated out or localization off. */
+ * + k) at range / bearing. ROVER_CTL_ERR_ARG unknown or bad (team_observe's
+ * and localize_landmark's -1 alike); for a landmark 1 fused, 0 gated out
+ * or localization off. */
 int  rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double bearing_rad);
 /* ---- restart (tandem-rover --journal) ------------------------------------
  * What a controller restarted after a crash or a kill takes back from its
@@ -171,7 +180,6 @@ int  rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double
  * while the process was down. A snapshot is ROVER_CTL_SNAPSHOT_VALUES
  * numbers, id first. */
 #define ROVER_CTL_SNAPSHOT_VALUES 57
-enum { ROVER_CTL_OK = 0, ROVER_CTL_ERR_ARG = -1, ROVER_CTL_ERR_SNAPSHOT = -2 };
 /* ROVER_CTL_ERR_ARG before the first encoder reading (nothing to keep). */
 int  rover_ctl_snapshot(const rover_ctl_state *c, double v[ROVER_CTL_SNAPSHOT_VALUES]);
 /* c as made by rover_ctl_init (same id) and rover_ctl_set_landmarks;
@@ -181,7 +189,8 @@ int  rover_ctl_resume(rover_ctl_state *c, const double v[ROVER_CTL_SNAPSHOT_VALU
 /* ROVER_CTL_OK if the snapshot's field table is sound (rover_snapshot.c). */
 int  rover_snapshot_validate(void);
 
-/* One control period ending at t_s. -1 on bad input (out->u = 0). */
+/* One control period ending at t_s. ROVER_CTL_ERR_ARG on bad input
+ * (out->u = 0). */
 int  rover_ctl_step(rover_ctl_state *c, double t_s, double dt_s, rover_ctl_out *out);
 
 /* The ranges with every echo the team table explains as a mate (its

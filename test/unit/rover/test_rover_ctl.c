@@ -572,8 +572,13 @@ static void test_stale_sensors_stop(void **state)
     assert_int_equal(rover_ctl_step(&c, 0.65, DT, &out), 0);
     assert_true(out.u.v_mps > 0.0);
     rng[3] = NAN;
-    assert_int_equal(rover_ctl_sonar(&c, rng, 0.7), -1);
-    assert_int_equal(rover_ctl_encoders(&c, INFINITY, 0, 0.7), -1);
+    assert_int_equal(rover_ctl_sonar(&c, rng, 0.7), ROVER_CTL_ERR_ARG);
+    assert_int_equal(rover_ctl_encoders(&c, INFINITY, 0, 0.7), ROVER_CTL_ERR_ARG);
+    assert_int_equal(rover_ctl_step(&c, 0.7, -DT, &out), ROVER_CTL_ERR_ARG);
+    assert_true(out.mode == ROVER_MODE_SAFE_STOP && out.u.v_mps == 0.0);
+    p.give_way_m = 0.0;                                        /* not a distance */
+    assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
+    assert_int_equal(rover_ctl_init(&c, &p, 1, &s, g), ROVER_CTL_ERR_ARG);
 }
 
 static void test_follow_keeps_wall_side(void **state)

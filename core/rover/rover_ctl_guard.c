@@ -1,0 +1,200 @@
+/* rover_ctl_guard: the formation controller's collision guard and its
+ * view of a narrow passage (SPEC.md section 4: narrow passage protocol,
+ * left + right + robot width against formation width + safety). The guard
+ * is the last line of defence behind eq. 11's avoidance: it caps forward
+ * speed short of an echo in the way and keeps the robot from turning into
+ * a near one. The passage width and the rearmost test feed the formation
+ * protocol (formation_fsm_step): which robot sees walls on both sides,
+ * and which robot, last through, may restore the formation.
+ */
+#include "rover_ctl_internal.h"
+#include "rover_world.h"
+#include "sonar.h"
+
+#include <math.h>
+
+/* Nearest echo in the robot's way: of the front transducers, those whose
+ * cone reaches within guard_lane_m of the line the chassis sweeps driving
+ * straight (the edge of the cone nearest the heading, from the mounting
+ * point), the smallest range. A side-front echo off that lane (a mate
+ * driving alongside, a wall being passed) is not in the way; counting it
+ * kept two robots that ended up side by side crawling along together. */
+static double range_in_way(const double range_m[BEH_SONAR_N], const rover_ctl_params *p)
+{
+    const double half_cone = 12.5 * VEC2_PI / 180.0;
+    double best = INFINITY;
+    int k;
+    for (k = 1; k < BEH_SONAR_N - 1; k++) {
+        const sonar_transducer *tr = &sonar_p2dx_front[k];
+        const double b = fmax(fabs(tr->angle_rad) - half_cone, 0.0);
+        const double lat = fabs(tr->y_m) + range_m[k] * sin(b);
+        if (lat < 0.5 * ROVER_BODY_WIDTH_M + p->guard_lane_m && range_m[k] < best)
+            best = range_m[k];
+    }
+    return best;
+}
+
+/* The guard's first rule alone: forward speed falls to zero guard_stop_m
+ * short of the nearest echo in the way (range_in_way, which it returns).
+ * Also used while giving way, where the boundary follower sees walls only. */
+double rover_ctl_guard_speed(unicycle_cmd *u, const double range_m[BEH_SONAR_N],
+                             const rover_ctl_params *p)
+{
+    const double near = range_in_way(range_m, p);
+    if (near < p->guard_m) {
+        double vmax = p->beh.k_v * (near - p->guard_stop_m);
+        if (vmax < 0.0) vmax = 0.0;
+        if (u->v_mps > vmax) u->v_mps = vmax;
+    }
+    return near;
+}
+
+/* Eq. 11 only weights avoidance by d_st / range; goal and formation keep
+ * pushing, so a robot can creep into an obstacle dead ahead (and with
+ * S_LF = S_RF the seed's turn is zero). Last line of defence: forward speed
+ * falls to zero guard_stop_m short of the nearest echo in the way
+ * (range_in_way); inside guard_m the robot never turns toward the nearer
+ * front-side echo (a robot whose formation slot lay beyond a post kept
+ * turning into it, the guard held it, and the weighted sum of "toward the
+ * slot" and "away from the post" came to nothing: it stood there for the
+ * rest of the run); and a robot the guard has stopped that is not turning
+ * turns toward the freer side (toward its goal on a tie); an echo alongside
+ * within side_guard_m turns it away. It works on the
+ * raw ranges: a mate is masked out of the avoid behaviour (or a line would
+ * flee its own members), but one in our way is still something to stop
+ * short of (two robots closing head-on at full speed met, each taking the
+ * other's echo for a mate's). */
+void rover_ctl_guard(unicycle_cmd *u, const double range_m[BEH_SONAR_N], const pose2 *o,
+                     const double goal[2], const rover_ctl_params *p)
+{
+    sonar_groups g;
+    const double near = rover_ctl_guard_speed(u, range_m, p);
+    double side;
+    behaviour_sonar_groups(&g, range_m);
+    side = g.left_front_m - g.right_front_m;
+    if (fabs(side) < 0.05)
+        side = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m), o->theta_rad);
+    if (fmin(g.left_front_m, g.right_front_m) < p->guard_m && u->w_radps * side < 0.0)
+        u->w_radps = 0.0;
+    if (near < p->guard_m && fabs(u->w_radps) < 0.2 &&
+        (g.front_m < p->guard_m || u->v_mps < 0.05))
+        u->w_radps = side >= 0.0 ? 0.5 : -0.5;
+    {
+        /* something alongside within side_guard_m (a mate squeezed toward
+         * us past an obstacle: eq. 11's avoidance looks ahead only): turn
+         * away from it, if nothing is close ahead on the other side */
+        const double l = g.left_m, r = g.right_m;
+        if (l < p->side_guard_m && l < r && g.right_front_m >= p->guard_m &&
+            u->w_radps > -p->side_turn_radps)
+            u->w_radps = -p->side_turn_radps;
+        else if (r < p->side_guard_m && r <= l && g.left_front_m >= p->guard_m &&
+                 u->w_radps < p->side_turn_radps)
+            u->w_radps = p->side_turn_radps;
+    }
+}
+
+/* Lateral offset of a point from the team's centre line (R0 position,
+ * R0 heading), positive to the left. */
+static double lateral_m(const unicycle_state *ref, double x, double y)
+{
+    return -(x - ref->x_m) * sin(ref->theta_rad) + (y - ref->y_m) * cos(ref->theta_rad);
+}
+
+enum { SIDE_UNKNOWN = 0, SIDE_OPEN = 1, SIDE_WALL = 2 };
+
+/* What side transducer k (0 right, BEH_SONAR_N - 1 left) says about a
+ * passage wall on its side: a mate's echo hides the wall (unknown); no echo
+ * within passage_sense_max_m is an open side; an echo is a passage wall
+ * only if it lies beyond every mate on that side of the team's centre
+ * line. An obstacle with a mate further out lies inside the formation: the
+ * team splits round it, it does not squeeze the formation (scattered
+ * posts read as walls made the line shrink and change type among them);
+ * unknown. */
+static int side_wall(const rover_ctl_state *c, const pose2 *cpos, const unicycle_state *ref,
+                     const double masked[BEH_SONAR_N], int k)
+{
+    const sonar_transducer *tr = &sonar_p2dx_front[k];
+    const double r = c->range_m[k], side = k == 0 ? -1.0 : 1.0;
+    const double ct = cos(cpos->theta_rad), st = sin(cpos->theta_rad);
+    const double a = cpos->theta_rad + tr->angle_rad;
+    double lat;
+    int i;
+    if (masked[k] != r) return SIDE_UNKNOWN;
+    if (r >= c->p.passage_sense_max_m) return SIDE_OPEN;
+    lat = lateral_m(ref, cpos->x_m + tr->x_m * ct - tr->y_m * st + r * cos(a),
+                    cpos->y_m + tr->x_m * st + tr->y_m * ct + r * sin(a));
+    for (i = 0; i < c->team.n; i++) {
+        double xy[2];
+        if (team_position(&c->team, c->team.m[i].robot, xy) != 0) continue;
+        if (side * (lateral_m(ref, xy[0], xy[1]) - lat) > -0.5 * ROVER_BODY_WIDTH_M)
+            return SIDE_UNKNOWN;
+    }
+    return SIDE_WALL;
+}
+
+/* Width of the passage the team is in, for the passage protocol (SPEC 4:
+ * left + right + robot width against formation width + safety):
+ * INFINITY when a side is really open, NAN when this robot cannot tell
+ * (a side hidden by a mate or an obstacle inside the formation, see
+ * side_wall; the front closed within passage_front_min_m: walls on three
+ * sides are a trap, the dead-zone exception's business, not a passage; or
+ * the robot turned more than 45 deg off the team's heading, its side
+ * transducers no longer looking across the way). */
+double rover_ctl_passage_width(const rover_ctl_state *c, const pose2 *o,
+                               const unicycle_state *ref, const sonar_groups *gw,
+                               const double masked[BEH_SONAR_N])
+{
+    pose2 cpos;
+    int right, left;
+    if (gw->front_m <= c->p.passage_front_min_m ||
+        fabs(vec2_angle_diff_rad(o->theta_rad, ref->theta_rad)) > 0.25 * VEC2_PI)
+        return NAN;
+    unicycle_c_from_o(&cpos, o, c->p.beh.d_m);
+    right = side_wall(c, &cpos, ref, masked, 0);
+    left = side_wall(c, &cpos, ref, masked, BEH_SONAR_N - 1);
+    if (right == SIDE_OPEN || left == SIDE_OPEN) return INFINITY;
+    if (right == SIDE_WALL && left == SIDE_WALL)
+        return c->range_m[0] + c->range_m[BEH_SONAR_N - 1] + c->p.beh.robot_width_m;
+    return NAN;
+}
+
+/* This robot is the last of the team along the direction of travel (from
+ * the team's mean position toward the goal), within 0.1 m: only the last
+ * robot through a passage may restore the formation. Mates that announced
+ * LEAVE are out of the formation and do not count (their fsm is idle while
+ * they escape; one left behind in a dead zone held the team in a column
+ * all the way to the goal). */
+static int counts_in_formation(const team_member *m)
+{
+    return m->announce != FORMATION_ANN_LEAVE;
+}
+
+int rover_ctl_is_rearmost(const rover_ctl_state *c, const pose2 *o)
+{
+    double mx = o->x_m, my = o->y_m, ex, ey, len, own;
+    int i, n = 1;
+    for (i = 0; i < c->team.n; i++) {
+        double xy[2];
+        if (!counts_in_formation(&c->team.m[i]) ||
+            team_position(&c->team, c->team.m[i].robot, xy) != 0)
+            continue;
+        mx += xy[0];
+        my += xy[1];
+        n++;
+    }
+    mx /= n;
+    my /= n;
+    ex = c->goal_m[0] - mx;
+    ey = c->goal_m[1] - my;
+    len = hypot(ex, ey);
+    if (!(len > 1e-6)) return 1;
+    own = (o->x_m * ex + o->y_m * ey) / len;
+    for (i = 0; i < c->team.n; i++) {
+        double xy[2];
+        if (!counts_in_formation(&c->team.m[i]) ||
+            team_position(&c->team, c->team.m[i].robot, xy) != 0)
+            continue;
+        if ((xy[0] * ex + xy[1] * ey) / len < own - 0.1) return 0;
+    }
+    return 1;
+}

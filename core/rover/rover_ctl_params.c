@@ -1,0 +1,97 @@
+/* rover_ctl_params: the formation controller's parameter set (SPEC.md
+ * section 4: behaviours, eq. 11 blend, narrow-passage protocol, dead-zone
+ * escape, heartbeat membership; section 7: safe stop on stale input), its
+ * defaults, with the reasons for the values tuned in the runs, and
+ * rover_ctl_params_validate.
+ */
+#include "rover_ctl.h"
+
+#include <math.h>
+
+/* One flat table of defaults, better read whole than split. */
+void rover_ctl_params_default(rover_ctl_params *p)
+{
+    behaviour_params_default(&p->beh);
+    /* 0.5 m: a column in a 1.3 m corridor (side echoes ~0.51 m) must not
+     * read as a dead zone, a robot in a 1.0 m trap (~0.36 m) must. */
+    p->beh.d_s_m = 0.5;
+    /* at the goal slot: stop when O is this near. The behaviour's 0.3 m left
+     * every robot about that far short, the whole team's centroid with it
+     * (the goal test allows 0.5 m, odometry drift takes most of it); eq. 5
+     * drives O forward down to d + goal_margin = 0.2 m, so a little above */
+    p->beh.goal_tol_m = 0.22;
+    formation_fsm_params_default(&p->fsm);
+    p->fsm.shrink_scale = 0.8;
+    p->fsm.clear_hold_s = 4.0;   /* 10 s (the whole column out) did worse in the corridor runs */
+    p->blend_mode = BEH_BLEND_WEIGHTED;
+    p->formation_law = ROVER_LAW_SEED;
+    p->formation = FORMATION_LINE;
+    p->team_timeout_s = TEAM_TIMEOUT_S_DEFAULT;
+    p->beacon_alpha = 0.2;
+    p->stale_s = 0.5;
+    p->team_period_s = 0.1;
+    p->wheel_radius_m = ODOMETRY_P2DX_WHEEL_RADIUS_M;
+    p->axle_track_m = ODOMETRY_P2DX_AXLE_TRACK_M;
+    p->follow_dist_m = 0.45;
+    p->follow_v_mps = 0.25;
+    p->follow_w_radps = 0.7;
+    p->escape_max_s = 60.0;
+    p->give_way_m = 2.0;
+    p->yield_max_s = 6.0;
+    p->give_way_seen_s = 1.0;
+    p->yield_clear_m = 0.75;
+    p->yield_wait_s = 5.0;
+    p->follow_lost_s = 5.0;
+    p->passage_sense_max_m = 2.5;
+    p->mate_keep_m = 0.45;
+    p->v_change_mps = 0.25;
+    p->goal_heading_gain = 1.0;
+    p->guard_m = 0.5;
+    p->guard_stop_m = 0.15;
+    p->guard_lane_m = 0.1;
+    p->side_guard_m = 0.3;
+    p->side_turn_radps = 0.4;
+    p->passage_front_min_m = 2.0;
+    p->sonar_max_m = 5.0;
+    p->consensus_gain = 0.2;
+    p->consensus_age_s = 2.0;
+    p->consensus_max_mps = 0.05;
+    p->consensus_range_m = 2.5;
+    p->localize = 1;
+    localize_params_default(&p->loc);
+    p->loc_sd0_xy_m = 0.02;
+    p->loc_sd0_theta_rad = 0.01;
+}
+
+static int pos(double v) { return isfinite(v) && v > 0.0; }
+
+int rover_ctl_params_validate(const rover_ctl_params *p)
+{
+    if (!p || behaviour_params_validate(&p->beh) != 0) return ROVER_CTL_ERR_ARG;
+    if (p->blend_mode < BEH_BLEND_WEIGHTED || p->blend_mode > BEH_BLEND_VECSUM)
+        return ROVER_CTL_ERR_ARG;
+    if (p->formation_law != ROVER_LAW_SEED && p->formation_law != ROVER_LAW_KANAYAMA)
+        return ROVER_CTL_ERR_ARG;
+    if (p->formation < FORMATION_LINE || p->formation > FORMATION_COLUMN) return ROVER_CTL_ERR_ARG;
+    if (!pos(p->team_timeout_s) || !pos(p->stale_s) || !pos(p->team_period_s) ||
+        !pos(p->wheel_radius_m) || !pos(p->axle_track_m) || !pos(p->follow_dist_m) ||
+        !pos(p->follow_v_mps) || !pos(p->follow_w_radps) || !pos(p->escape_max_s) ||
+        !pos(p->give_way_m) || !pos(p->yield_max_s) || !pos(p->give_way_seen_s) ||
+        !pos(p->yield_clear_m) || !pos(p->yield_wait_s) || !pos(p->follow_lost_s) ||
+        !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->v_change_mps) ||
+        !pos(p->guard_m) || !pos(p->guard_stop_m) || !pos(p->guard_lane_m) ||
+        !pos(p->side_guard_m) || !pos(p->side_turn_radps) || !isfinite(p->goal_heading_gain) ||
+        p->goal_heading_gain < 0.0 || p->goal_heading_gain > 1.0 ||
+        !pos(p->passage_front_min_m) || !pos(p->sonar_max_m) ||
+        !(p->consensus_gain >= 0.0) || !isfinite(p->consensus_gain) || !pos(p->consensus_age_s) ||
+        !pos(p->consensus_max_mps) || !pos(p->consensus_range_m) || !pos(p->fsm.spacing_m) ||
+        !(p->fsm.shrink_scale > 0.0 && p->fsm.shrink_scale <= 1.0))
+        return ROVER_CTL_ERR_ARG;
+    if (!isfinite(p->beacon_alpha) || p->beacon_alpha < 0.0 || p->beacon_alpha > 1.0)
+        return ROVER_CTL_ERR_ARG;
+    if ((p->localize != 0 && p->localize != 1) || localize_params_validate(&p->loc) != 0 ||
+        !isfinite(p->loc_sd0_xy_m) || p->loc_sd0_xy_m < 0.0 || !isfinite(p->loc_sd0_theta_rad) ||
+        p->loc_sd0_theta_rad < 0.0)
+        return ROVER_CTL_ERR_ARG;
+    return ROVER_CTL_OK;
+}
