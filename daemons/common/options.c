@@ -378,6 +378,8 @@ static void describe(const option_entry *e, char *d, size_t cap)
         else
             add(d, cap, e->type == OPTION_INT ? "%s%.0f..%.0f" : "%s%g..%g", d[0] ? "; " : "", e->min, e->max);
     }
+    if (e->type == OPTION_STRING && e->max > 0.0)
+        add(d, cap, "%s%g..%g characters", d[0] ? "; " : "", e->min, e->max);
     if (e->def)
         add(d, cap, "%s", d[0] ? "; default " : "default ", 0, 0), add(d, cap, "%s", e->def, 0, 0);
     if (e->type == OPTION_LIST || e->repeatable)
@@ -512,6 +514,8 @@ int options_table_validate(const option_entry *table)
 /* ---- shared tables ------------------------------------------------------------------ */
 
 const char *const options_world_names[] = { "open", "obstacles", "corridor", "deadzone", NULL };
+const int options_world_values[] = { ROVER_WORLD_OPEN, ROVER_WORLD_OBSTACLES, ROVER_WORLD_CORRIDOR,
+                                     ROVER_WORLD_DEADZONE };
 const char *const options_formation_names[] = { "line", "triangle", "column", NULL };
 const int options_formation_values[] = { FORMATION_LINE, FORMATION_TRIANGLE, FORMATION_COLUMN };
 const char *const options_arm_model_names[] = { "puma560", "seed002", NULL };

@@ -133,6 +133,7 @@ extern const option_entry options_bus_tool[];
 
 /* Choice lists several programs share (values: the core's enum ids). */
 extern const char *const options_world_names[];      /* ROVER_WORLD_* */
+extern const int         options_world_values[];
 extern const char *const options_formation_names[];  /* FORMATION_* */
 extern const int         options_formation_values[];
 extern const char *const options_arm_model_names[];  /* arm_model_by_name */
