@@ -352,7 +352,8 @@ int options_exit_status(int rc)
 
 /* ---- help ---------------------------------------------------------------------- */
 
-/* Appends printf-style text to buf (truncating at cap). */
+/* Appends fmt (a literal of this file taking a string and up to two
+ * numbers) to buf, truncating at cap. */
 static void add(char *buf, size_t cap, const char *fmt, const char *s1, double v1, double v2)
 {
     const size_t n = strlen(buf);
@@ -367,8 +368,10 @@ static void describe(const option_entry *e, char *d, size_t cap)
     add(d, cap, "%s", e->help, 0, 0);
     if (e->type == OPTION_CHOICE && e->meta) {
         add(d, cap, "%s", d[0] ? ": " : "", 0, 0);
-        for (i = 0; e->choices[i]; i++)
-            add(d, cap, "%s", i ? " | " : "", 0, 0), add(d, cap, "%s", e->choices[i], 0, 0);
+        for (i = 0; e->choices[i]; i++) {
+            add(d, cap, "%s", i ? " | " : "", 0, 0);
+            add(d, cap, "%s", e->choices[i], 0, 0);
+        }
     }
     if (e->type == OPTION_INT || e->type == OPTION_DOUBLE) {
         if (e->max >= HUGE_VAL && e->min <= -HUGE_VAL)
@@ -380,8 +383,10 @@ static void describe(const option_entry *e, char *d, size_t cap)
     }
     if (e->type == OPTION_STRING && e->max > 0.0)
         add(d, cap, "%s%g..%g characters", d[0] ? "; " : "", e->min, e->max);
-    if (e->def)
-        add(d, cap, "%s", d[0] ? "; default " : "default ", 0, 0), add(d, cap, "%s", e->def, 0, 0);
+    if (e->def) {
+        add(d, cap, "%s", d[0] ? "; default " : "default ", 0, 0);
+        add(d, cap, "%s", e->def, 0, 0);
+    }
     if (e->type == OPTION_LIST || e->repeatable)
         add(d, cap, "%s", d[0] ? "; repeatable" : "repeatable", 0, 0);
     if (e->required)

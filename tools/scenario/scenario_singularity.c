@@ -22,7 +22,7 @@ static const tdsd_scen_usage usage = {
     "Seed-002 arm, straight tool path A -> B whose wrist centre passes 3 mm from\n"
     "the joint-1 axis (shoulder singularity), 3.5 s, position + full orientation.\n\n",
     methods,
-    "tdsd: task priority; pinv: clipped pseudo-inverse; dls: damped",
+    "tdsd: the seed's method (tdsd_step); pinv: clipped pseudo-inverse; dls: damped",
     "Writes DIR/summary.json, series.csv, fig4_errors.png, fig5_joints.png,\n"
     "fig6_q1.png, fig8_joint_ranges.png.\n"
 };
