@@ -6,6 +6,7 @@
 #include "sim.h"
 #include "arm_model.h"
 #include "formation.h"
+#include "options.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,6 +26,10 @@ typedef struct sim_app {
     int        reset_pending;
     uint64_t   next_seed;
     int64_t answer_ns_avg;      /* lockstep: typical wall time to an answered step */
+    /* options that are not stored as given */
+    int        no_arms;        /* --no-arms: cfg.arms = 0 */
+    int        world;          /* --world: index in options_world_names */
+    int        arm_model;      /* --arm-model: index in options_arm_model_names, -1 not given */
 } sim_app;
 
 static sim_app app;
@@ -34,155 +39,98 @@ static sim_app app;
 #define SIM_REANNOUNCE_NS 1000000LL       /* first repeat of an unanswered step */
 #define SIM_REANNOUNCE_MAX_NS 32000000LL  /* back-off cap */
 
-static void usage(void)
+/* --friction V,C: both in [0, 100] */
+static int parse_friction(const char *prog, void *dest, char *value)
 {
-    printf("usage: tandem-sim [options]\n"
-           "ODE simulator of the tandem world: two PUMA 560 arms with a table,\n"
-           "workpieces, vision camera and stick; Pioneer robots with sonar and\n"
-           "beacons. Steps at 1 kHz on the wall clock, or in lockstep.\n\n"
-           "  --seed S          random seed (noise, workpiece stream); default 1\n"
-           "  --steps N         stop after N steps (0 = run until stopped)\n"
-           "  --expect N        lockstep: wait for N controllers before the first step\n"
-           "  --timeout-ms MS   lockstep: drop a controller silent this long (default 2000)\n"
-           "  --no-arms         leave the PUMA pair out\n"
-           "  --workpieces N    workpieces to feed (0 = endless, default)\n"
-           "  --friction V,C    arm joint viscous (N m s/rad) and Coulomb (N m) friction\n"
-           "  --rovers N        number of Pioneer robots (default 0)\n"
-           "  --world NAME      rover world: open | obstacles | corridor | deadzone\n"
-           "  --formation F     rover team's start formation: line (default) | triangle | column\n"
-           "  --rover-batch     all robots' sensors in one message per tick (ROVERS_SENSORS,\n"
-           "                    ROVERS_BEACONS) instead of ROVERk_SENSORS/_SONAR/_BEACONS\n"
-           "  --arm-model NAME  arm 1 is puma560 (default) or seed002 (seed 002's arm)\n"
-           "  --arm-q0 Q1,..,Q6 arm 1 starts at these joint angles (rad) instead of home\n"
-           DAEMON_COMMON_HELP);
+    sim_config *cfg = dest;
+    char *comma = strchr(value, ',');
+    if (!comma) {
+        fprintf(stderr, "%s: --friction: expected VISCOUS,COULOMB\n", prog);
+        return OPTIONS_ERR_SAID;
+    }
+    *comma = '\0';
+    if (parse_double_opt(prog, "--friction (viscous)", value, 0.0, 100.0, &cfg->arm_friction_viscous) < 0 ||
+        parse_double_opt(prog, "--friction (Coulomb)", comma + 1, 0.0, 100.0, &cfg->arm_friction_coulomb) < 0)
+        return OPTIONS_ERR_SAID;
+    return 0;
 }
+
+/* --arm-q0 Q1,..,Q6: six angles in [-10, 10] rad (the joint ranges are
+ * checked once the arm model is known) */
+static int parse_q0(const char *prog, void *dest, char *value)
+{
+    sim_config *cfg = dest;
+    char *tok = strtok(value, ",");
+    int i;
+    for (i = 0; i < ARM_NJ; i++, tok = strtok(NULL, ","))
+        if (!tok || parse_double_opt(prog, "--arm-q0", tok, -10.0, 10.0, &cfg->arm1_q0_rad[i]) < 0) {
+            if (!tok)
+                fprintf(stderr, "%s: --arm-q0: expected 6 comma-separated angles (rad)\n", prog);
+            return OPTIONS_ERR_SAID;
+        }
+    if (tok) {
+        fprintf(stderr, "%s: --arm-q0: more than 6 angles\n", prog);
+        return OPTIONS_ERR_SAID;
+    }
+    cfg->arm1_q0_set = 1;
+    return 0;
+}
+
+static const option_entry sim_options[] = {
+    { .name = "seed", .type = OPTION_INT, OPTION_AT(sim_app, w.seed), .min = 0, .max = 2147483647.0, .meta = "S",
+      .help = "random seed (noise, workpiece stream)", .def = "1" },
+    { .name = "steps", .type = OPTION_INT, OPTION_AT(sim_app, max_steps), .min = 0, .max = 2000000000.0,
+      .meta = "N", .help = "stop after N steps (0 = run until stopped)", .def = "0" },
+    { .name = "expect", .type = OPTION_INT, OPTION_AT(sim_app, expect), .min = 0, .max = SIM_MAX_PARTICIPANTS,
+      .meta = "N", .help = "lockstep: wait for N controllers before the first step", .def = "0" },
+    { .name = "timeout-ms", .type = OPTION_DOUBLE, OPTION_AT(sim_app, w.lockstep_timeout_s), .min = 10.0,
+      .max = 600000.0, .scale = 1e-3, .meta = "MS", .help = "lockstep: drop a controller silent this long",
+      .def = "2000" },
+    { .name = "no-arms", .type = OPTION_FLAG, OPTION_AT(sim_app, no_arms), .help = "leave the PUMA pair out" },
+    { .name = "workpieces", .type = OPTION_INT, OPTION_AT(sim_app, cfg.workpieces), .min = 0, .max = 100000,
+      .meta = "N", .help = "workpieces to feed (0 = endless)", .def = "0" },
+    { .name = "friction", .type = OPTION_CALL, OPTION_AT(sim_app, cfg), .call = parse_friction, .meta = "V,C",
+      .help = "arm joint viscous (N m s/rad) and Coulomb (N m) friction, each 0..100", .def = "0,0" },
+    { .name = "rovers", .type = OPTION_INT, OPTION_AT(sim_app, cfg.rovers), .min = 0, .max = 1000, .meta = "N",
+      .help = "number of Pioneer robots", .def = "0" },
+    { .name = "world", .type = OPTION_CHOICE, OPTION_AT(sim_app, world), .choices = options_world_names,
+      .meta = "NAME", .help = "rover world", .def = "open" },
+    { .name = "formation", .type = OPTION_CHOICE, OPTION_AT(sim_app, cfg.rover_formation),
+      .choices = options_formation_names, .values = options_formation_values, .meta = "F",
+      .help = "rover team's start formation", .def = "line" },
+    { .name = "rover-batch", .type = OPTION_FLAG, OPTION_AT(sim_app, cfg.rover_batch),
+      .help = "all robots' sensors in one message per tick (ROVERS_SENSORS, ROVERS_BEACONS) instead of "
+              "ROVERk_SENSORS/_SONAR/_BEACONS" },
+    { .name = "arm-model", .type = OPTION_CHOICE, OPTION_AT(sim_app, arm_model), .choices = options_arm_model_names,
+      .meta = "NAME", .help = "arm 1's model (seed002: seed 002's arm)", .def = "puma560" },
+    { .name = "arm-q0", .type = OPTION_CALL, OPTION_AT(sim_app, cfg), .call = parse_q0, .meta = "Q1,..,Q6",
+      .help = "arm 1 starts at these joint angles (rad, -10..10) instead of home" },
+    { .name = NULL }
+};
 
 static int parse_args(int argc, char **argv)
 {
-    static const struct option opts[] = {
-        { "seed", required_argument, 0, 's' },
-        { "steps", required_argument, 0, 'n' },
-        { "expect", required_argument, 0, 'e' },
-        { "timeout-ms", required_argument, 0, 't' },
-        { "no-arms", no_argument, 0, 'A' },
-        { "workpieces", required_argument, 0, 'W' },
-        { "friction", required_argument, 0, 'f' },
-        { "rovers", required_argument, 0, 'r' },
-        { "world", required_argument, 0, 'w' },
-        { "formation", required_argument, 0, 'F' },
-        { "rover-batch", no_argument, 0, 'B' },
-        { "arm-model", required_argument, 0, 'M' },
-        { "arm-q0", required_argument, 0, 'Q' },
-        DAEMON_COMMON_OPTIONS,
-        { 0, 0, 0, 0 }
+    const option_program prog = {
+        .name = "tandem-sim",
+        .usage = "usage: tandem-sim [options]\n"
+                 "ODE simulator of the tandem world: two PUMA 560 arms with a table,\n"
+                 "workpieces, vision camera and stick; Pioneer robots with sonar and\n"
+                 "beacons. Steps at 1 kHz on the wall clock, or in lockstep.\n\n",
+        .groups = { { sim_options, &app }, { options_daemon_common, &app.w.d } },
+        .n_groups = 2,
     };
-    int c, i;
-    long v;
-    double ms;
-    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-        int rc = daemon_parse_common(&app.w.d, c, optarg);
-        if (rc == 2) {
-            usage();
-            exit(0);
-        }
-        if (rc < 0)
-            return -1;
-        if (rc == 1)
-            continue;
-        switch (c) {
-        case 's':
-            if (parse_int_opt("tandem-sim", "--seed", optarg, 0, 2147483647L, &v) < 0) return -1;
-            app.w.seed = (uint64_t)v;
-            break;
-        case 'n':
-            if (parse_int_opt("tandem-sim", "--steps", optarg, 0, 2000000000L, &v) < 0) return -1;
-            app.max_steps = v;
-            break;
-        case 'e':
-            if (parse_int_opt("tandem-sim", "--expect", optarg, 0, SIM_MAX_PARTICIPANTS, &v) < 0) return -1;
-            app.expect = (int)v;
-            break;
-        case 't':
-            if (parse_double_opt("tandem-sim", "--timeout-ms", optarg, 10.0, 600000.0, &ms) < 0) return -1;
-            app.w.lockstep_timeout_s = ms * 1e-3;
-            break;
-        case 'A':
-            app.cfg.arms = 0;
-            break;
-        case 'W':
-            if (parse_int_opt("tandem-sim", "--workpieces", optarg, 0, 100000L, &v) < 0) return -1;
-            app.cfg.workpieces = (int)v;
-            break;
-        case 'f': {
-            char *comma = strchr(optarg, ',');
-            if (!comma) {
-                fprintf(stderr, "tandem-sim: --friction: expected VISCOUS,COULOMB\n");
-                return -1;
-            }
-            *comma = '\0';
-            if (parse_double_opt("tandem-sim", "--friction (viscous)", optarg, 0.0, 100.0, &app.cfg.arm_friction_viscous) < 0 ||
-                parse_double_opt("tandem-sim", "--friction (Coulomb)", comma + 1, 0.0, 100.0, &app.cfg.arm_friction_coulomb) < 0)
-                return -1;
-            break;
-        }
-        case 'r':
-            if (parse_int_opt("tandem-sim", "--rovers", optarg, 0, 1000L, &v) < 0) return -1;
-            app.cfg.rovers = (int)v;
-            break;
-        case 'w':
-            if (strcmp(optarg, "open") && strcmp(optarg, "obstacles") &&
-                strcmp(optarg, "corridor") && strcmp(optarg, "deadzone")) {
-                fprintf(stderr, "tandem-sim: --world: '%s' is not open|obstacles|corridor|deadzone\n", optarg);
-                return -1;
-            }
-            snprintf(app.cfg.rover_world, sizeof app.cfg.rover_world, "%s", optarg);
-            break;
-        case 'F':
-            if (!strcmp(optarg, "line")) app.cfg.rover_formation = FORMATION_LINE;
-            else if (!strcmp(optarg, "triangle")) app.cfg.rover_formation = FORMATION_TRIANGLE;
-            else if (!strcmp(optarg, "column")) app.cfg.rover_formation = FORMATION_COLUMN;
-            else {
-                fprintf(stderr, "tandem-sim: --formation: '%s' is not line|triangle|column\n", optarg);
-                return -1;
-            }
-            break;
-        case 'B':
-            app.cfg.rover_batch = 1;
-            break;
-        case 'M':
-            if (!(app.cfg.arm1_model = arm_model_by_name(optarg))) {
-                fprintf(stderr, "tandem-sim: --arm-model: '%s' is not puma560|seed002\n", optarg);
-                return -1;
-            }
-            break;
-        case 'Q': {
-            char *tok = strtok(optarg, ",");
-            for (i = 0; i < ARM_NJ; i++, tok = strtok(NULL, ","))
-                if (!tok || parse_double_opt("tandem-sim", "--arm-q0", tok, -10.0, 10.0, &app.cfg.arm1_q0_rad[i]) < 0) {
-                    if (!tok)
-                        fprintf(stderr, "tandem-sim: --arm-q0: expected 6 comma-separated angles (rad)\n");
-                    return -1;
-                }
-            if (tok) {
-                fprintf(stderr, "tandem-sim: --arm-q0: more than 6 angles\n");
-                return -1;
-            }
-            app.cfg.arm1_q0_set = 1;
-            break;
-        }
-        default:
-            usage();
-            return -1;
-        }
-    }
+    int rc = options_parse(&prog, argc, argv, 1);
+    if (rc < 0)
+        return rc;
+    if (app.no_arms)
+        app.cfg.arms = 0;
+    snprintf(app.cfg.rover_world, sizeof app.cfg.rover_world, "%s", options_world_names[app.world]);
+    if (app.arm_model >= 0)
+        app.cfg.arm1_model = arm_model_by_name(options_arm_model_names[app.arm_model]);
     if (app.cfg.arm1_q0_set &&
         arm_q_outside_limits(app.cfg.arm1_model ? app.cfg.arm1_model : &arm_model_puma560, app.cfg.arm1_q0_rad)) {
         fprintf(stderr, "tandem-sim: --arm-q0: outside arm 1's joint ranges\n");
-        return -1;
-    }
-    if (optind < argc) {
-        fprintf(stderr, "tandem-sim: unexpected argument '%s'\n", argv[optind]);
-        return -1;
+        return OPTIONS_ERR_ARG;
     }
     return 0;
 }
@@ -471,6 +419,7 @@ static void run_realtime(void)
 
 int main(int argc, char **argv)
 {
+    int rc;
     memset(&app, 0, sizeof app);
     daemon_defaults(&app.w.d, "tandem-sim", SIM_DT_S);
     app.w.seed = 1;
@@ -478,8 +427,10 @@ int main(int argc, char **argv)
     app.cfg.arms = 1;
     snprintf(app.cfg.rover_world, sizeof app.cfg.rover_world, "open");
     app.cfg.rover_formation = FORMATION_LINE;
-    if (parse_args(argc, argv) != 0)
-        return 2;
+    app.arm_model = -1;
+    rc = parse_args(argc, argv);
+    if (rc < 0)
+        return options_exit_status(rc);
     app.w.lockstep = app.w.d.lockstep;
     app.w.d.period_s = SIM_DT_S;
     app.w.d.clock_source = 1;

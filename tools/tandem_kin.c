@@ -1,10 +1,10 @@
 /* tandem-kin: command-line calculator over the arm kinematics and dynamics
  * core (arm_model, arm_kin, arm_dyn): FK, Jacobian, all IK branches and
  * gravity torques of the PUMA 560 or the seed-002 arm. A tool, not core:
- * stdio is fine here; it links only the core library.
+ * stdio is fine here; it links the core library and the option table
+ * (daemons/common/options.h).
  */
 #include <errno.h>
-#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,10 +14,34 @@
 #include "arm_kin.h"
 #include "arm_model.h"
 #include "vec3.h"
+#include "options.h"
 #include "version.h"
 
 #define PI 3.14159265358979323846
 #define EXIT_BAD_ARGS 2
+
+typedef struct kin_options {
+    int    arm;             /* index in options_arm_model_names */
+    int    deg;
+    double tool_p[3];
+    int    have_tool;
+    double payload_kg;
+} kin_options;
+
+static const option_entry kin_table[] = {
+    { .name = "arm", .type = OPTION_CHOICE, OPTION_AT(kin_options, arm), .choices = options_arm_model_names,
+      .meta = "NAME", .help = "arm model", .def = "puma560" },
+    { .name = "deg", .type = OPTION_FLAG, OPTION_AT(kin_options, deg),
+      .help = "joint angles in and out in degrees (default rad)" },
+    { .name = "tool", .type = OPTION_DOUBLE, OPTION_AT(kin_options, tool_p), .nargs = 3, .min = -HUGE_VAL,
+      .max = HUGE_VAL, OPTION_SEEN(kin_options, have_tool), .meta = "X Y Z",
+      .help = "tool point offset from the flange, flange axes, m" },
+    { .name = "payload", .type = OPTION_DOUBLE, OPTION_AT(kin_options, payload_kg), .min = 0.0, .max = HUGE_VAL,
+      .meta = "KG", .help = "point mass held at the tool point (the flange origin without --tool); "
+                            "used by grav only", .def = "0" },
+    { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
+    { .name = NULL }
+};
 
 static const char usage_text[] =
     "usage: tandem-kin [OPTIONS] COMMAND ARGS...\n"
@@ -40,13 +64,9 @@ static const char usage_text[] =
     "  grav Q1..Q6    print the six joint torques (N m) that hold the arm\n"
     "                 against gravity (9.81 m/s^2 along -z of the base)\n"
     "\n"
-    "Options (before the command):\n"
-    "  --arm NAME     puma560 (default) or seed002\n"
-    "  --deg          joint angles in and out in degrees (default rad)\n"
-    "  --tool X Y Z   tool point offset from the flange, flange axes, m\n"
-    "  --payload KG   point mass held at the tool point (the flange origin\n"
-    "                 without --tool); used by grav only\n"
-    "  -h, --help     this text\n"
+    "Options (before the command):\n";
+
+static const char epilog_text[] =
     "\n"
     "Branch names: left|right (shoulder) - up|down (elbow) - noflip|flip\n"
     "(wrist). Bad arguments: message on stderr, exit status 2.\n";
@@ -139,99 +159,64 @@ static int cmd_ik(const arm_model *m, const arm_tool *tool, int deg, const doubl
 
 int main(int argc, char **argv)
 {
-    static const struct option opts[] = {
-        { "arm", required_argument, NULL, 'a' },
-        { "deg", no_argument, NULL, 'd' },
-        { "tool", required_argument, NULL, 't' },
-        { "payload", required_argument, NULL, 'p' },
-        { "help", no_argument, NULL, 'h' },
-        { NULL, 0, NULL, 0 },
+    kin_options o = { 0, 0, { 0, 0, 0 }, 0, 0.0 };
+    const option_program prog = {
+        .name = "tandem-kin", .usage = usage_text, .epilog = epilog_text,
+        .groups = { { kin_table, &o } }, .n_groups = 1,
+        .args = OPTIONS_ARGS_STOP,   /* the command ends the options: negative numbers are never options */
     };
     if (version_requested(argc, argv, "tandem-kin"))
         return 0;
-    const arm_model *m = &arm_model_puma560;
+    const arm_model *m;
     arm_tool tool;
-    int have_tool = 0, deg = 0, c, nargs, j, rc;
-    double tool_p[3] = { 0, 0, 0 }, payload_kg = 0.0, v[16];
+    int nargs, j, rc, first;
+    double v[16];
     const char *cmd;
 
-    opterr = 0;
-    /* '+': stop at the command, so negative numbers are never options */
-    while ((c = getopt_long(argc, argv, "+:h", opts, NULL)) != -1) {
-        switch (c) {
-        case 'a':
-            m = arm_model_by_name(optarg);
-            if (!m)
-                return bad_args("unknown arm (puma560, seed002)", optarg);
-            break;
-        case 'd':
-            deg = 1;
-            break;
-        case 't':
-            if (optind + 2 > argc)
-                return bad_args("--tool needs three numbers X Y Z", NULL);
-            if (parse_number(optarg, &tool_p[0]) != 0)
-                return bad_args("--tool: not a finite number", optarg);
-            if (parse_number(argv[optind], &tool_p[1]) != 0)
-                return bad_args("--tool: not a finite number", argv[optind]);
-            if (parse_number(argv[optind + 1], &tool_p[2]) != 0)
-                return bad_args("--tool: not a finite number", argv[optind + 1]);
-            optind += 2;
-            have_tool = 1;
-            break;
-        case 'p':
-            if (parse_number(optarg, &payload_kg) != 0 || payload_kg < 0.0)
-                return bad_args("--payload: not a mass >= 0 kg", optarg);
-            break;
-        case 'h':
-            fputs(usage_text, stdout);
-            return 0;
-        case ':':
-            return bad_args("option needs an argument", argv[optind - 1]);
-        default:
-            return bad_args("unknown option", argv[optind - 1]);
-        }
-    }
-    if (optind >= argc)
+    first = options_parse(&prog, argc, argv, 1);
+    if (first < 0)
+        return options_exit_status(first);
+    m = arm_model_by_name(options_arm_model_names[o.arm]);
+    if (first >= argc)
         return bad_args("missing command (fk, jac, ik, grav)", NULL);
-    cmd = argv[optind++];
-    nargs = argc - optind;
+    cmd = argv[first++];
+    nargs = argc - first;
     arm_tool_none(&tool);
-    if (have_tool)
-        arm_tool_offset(&tool, tool_p);
+    if (o.have_tool)
+        arm_tool_offset(&tool, o.tool_p);
 
     if (strcmp(cmd, "ik") == 0) {
         if (nargs != 16)
             return bad_args("ik needs exactly 16 numbers (row-major 4x4)", NULL);
-        if ((rc = parse_numbers(argv + optind, 16, v)) != 0)
+        if ((rc = parse_numbers(argv + first, 16, v)) != 0)
             return rc;
-        return cmd_ik(m, have_tool ? &tool : NULL, deg, v);
+        return cmd_ik(m, o.have_tool ? &tool : NULL, o.deg, v);
     }
     if (strcmp(cmd, "fk") != 0 && strcmp(cmd, "jac") != 0 && strcmp(cmd, "grav") != 0)
         return bad_args("unknown command (fk, jac, ik, grav)", cmd);
     if (nargs != ARM_NJ)
         return bad_args("needs exactly six joint angles Q1..Q6", cmd);
-    if ((rc = parse_numbers(argv + optind, ARM_NJ, v)) != 0)
+    if ((rc = parse_numbers(argv + first, ARM_NJ, v)) != 0)
         return rc;
-    if (deg)
+    if (o.deg)
         for (j = 0; j < ARM_NJ; j++)
             v[j] *= PI / 180.0;
 
     if (strcmp(cmd, "fk") == 0) {
         double T[16];
-        arm_fk(m, have_tool ? &tool : NULL, v, T);
+        arm_fk(m, o.have_tool ? &tool : NULL, v, T);
         for (j = 0; j < 4; j++)
             print_row(T + 4 * j, 4);
     } else if (strcmp(cmd, "jac") == 0) {
         double J[36];
-        arm_jacobian(m, have_tool ? &tool : NULL, v, J);
+        arm_jacobian(m, o.have_tool ? &tool : NULL, v, J);
         for (j = 0; j < 6; j++)
             print_row(J + 6 * j, 6);
     } else {
         double tau[ARM_NJ];
         arm_payload pl;
-        arm_payload_point(&pl, payload_kg, tool_p);
-        arm_gravity(m, v, NULL, payload_kg > 0.0 ? &pl : NULL, tau);
+        arm_payload_point(&pl, o.payload_kg, o.tool_p);
+        arm_gravity(m, v, NULL, o.payload_kg > 0.0 ? &pl : NULL, tau);
         print_row(tau, ARM_NJ);
     }
     return 0;

@@ -8,13 +8,12 @@
  */
 #include <stdio.h>
 #include <string.h>
-#include <getopt.h>
 #include "arm_model.h"
 #include "cell.h"
 #include "formation.h"
 #include "rover_world.h"
 #include "sonar.h"
-#include "daemon.h"
+#include "options.h"
 
 static void json_array(const char *key, const double *v, int n, const char *sep)
 {
@@ -117,57 +116,51 @@ static void print_slots(int n)
     printf("}\n");
 }
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: tandem-scene [--world NAME] [--rovers N] [--formation F] [--arm1 MODEL]\n"
-               "Prints the static geometry of the tandem world as JSON on stdout: the arm\n"
-               "DH tables, the work cell (arm bases, table, workpieces), the rover world\n"
-               "(obstacles, goal, team frame), the Pioneer body and sonar ring and the\n"
-               "formation slots, all from the same tables the controllers use.\n\n"
-               "  --world NAME      open | obstacles | corridor | deadzone (default open)\n"
-               "  --rovers N        robots in the team, 1-%d (default 3)\n"
-               "  --formation F     line | triangle | column (default line)\n"
-               "  --arm1 MODEL      arm 1's tables: puma560 | seed002 (default puma560)\n"
-               "  --help            this text\n"
-               "  --version         program version\n", ROVER_WORLD_MAX_ROBOTS);
-}
+typedef struct scene_options {
+    int  world, formation, arm1;   /* indices in the options_*_names lists */
+    long n;
+} scene_options;
 
-static int formation_id(const char *s)
-{
-    if (!strcmp(s, "line")) return FORMATION_LINE;
-    if (!strcmp(s, "triangle")) return FORMATION_TRIANGLE;
-    if (!strcmp(s, "column")) return FORMATION_COLUMN;
-    return -1;
-}
+static const option_entry scene_table[] = {
+    { .name = "world", .type = OPTION_CHOICE, OPTION_AT(scene_options, world), .choices = options_world_names,
+      .meta = "NAME", .help = "rover world", .def = "open" },
+    { .name = "rovers", .type = OPTION_INT, OPTION_AT(scene_options, n), .min = 1, .max = ROVER_WORLD_MAX_ROBOTS,
+      .meta = "N", .help = "robots in the team", .def = "3" },
+    { .name = "formation", .type = OPTION_CHOICE, OPTION_AT(scene_options, formation),
+      .choices = options_formation_names, .values = options_formation_values, .meta = "F",
+      .help = "formation of the slots' team", .def = "line" },
+    { .name = "arm1", .type = OPTION_CHOICE, OPTION_AT(scene_options, arm1), .choices = options_arm_model_names,
+      .meta = "MODEL", .help = "arm 1's tables", .def = "puma560" },
+    { .name = "help", .type = OPTION_HELP, .help = "this text" },
+    { .name = "version", .type = OPTION_VERSION, .help = "program version" },
+    { .name = NULL }
+};
 
 int main(int argc, char **argv)
 {
-    static const struct option opts[] = {
-        { "world", required_argument, 0, 'w' }, { "rovers", required_argument, 0, 'n' },
-        { "formation", required_argument, 0, 'f' }, { "arm1", required_argument, 0, 'a' },
-        { "help", no_argument, 0, 'h' }, { "version", no_argument, 0, 'V' }, { 0, 0, 0, 0 }
+    scene_options o = { 0, FORMATION_LINE, 0, 3 };
+    const option_program prog = {
+        .name = "tandem-scene",
+        .usage = "usage: tandem-scene [--world NAME] [--rovers N] [--formation F] [--arm1 MODEL]\n"
+                 "Prints the static geometry of the tandem world as JSON on stdout: the arm\n"
+                 "DH tables, the work cell (arm bases, table, workpieces), the rover world\n"
+                 "(obstacles, goal, team frame), the Pioneer body and sonar ring and the\n"
+                 "formation slots, all from the same tables the controllers use.\n\n",
+        .groups = { { scene_table, &o } }, .n_groups = 1,
     };
-    const arm_model *arm1 = &arm_model_puma560;
-    int world = ROVER_WORLD_OPEN, formation = FORMATION_LINE, c;
-    long n = 3;
+    const arm_model *arm1;
+    int world, formation, rc;
+    long n;
     static rover_world_config w;   /* large: keep it off the stack */
-    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-        switch (c) {
-        case 'w': world = rover_world_id(optarg); break;
-        case 'n': if (parse_int_opt("tandem-scene", "--rovers", optarg, 1, ROVER_WORLD_MAX_ROBOTS, &n) < 0) return 2; break;
-        case 'f': formation = formation_id(optarg); break;
-        case 'a': arm1 = arm_model_by_name(optarg); break;
-        case 'h': usage(stdout); return 0;
-        case 'V': daemon_print_version("tandem-scene"); return 0;
-        default: usage(stderr); return 2;
-        }
-        if (world < 0 || formation < 0 || !arm1) {
-            fprintf(stderr, "tandem-scene: unknown value '%s'\n", optarg);
-            return 2;
-        }
-    }
-    if (optind != argc || rover_world_layout(&w, world, (int)n, 1.0, formation) != 0) {
-        usage(stderr);
+    rc = options_parse(&prog, argc, argv, 1);
+    if (rc < 0)
+        return options_exit_status(rc);
+    world = rover_world_id(options_world_names[o.world]);
+    formation = o.formation;
+    arm1 = arm_model_by_name(options_arm_model_names[o.arm1]);
+    n = o.n;
+    if (rover_world_layout(&w, world, (int)n, 1.0, formation) != 0) {
+        options_print_help(&prog, stderr);
         return 2;
     }
     printf("{\n");

@@ -14,6 +14,7 @@
 #include <time.h>
 #include <lcm/lcm.h>
 #include "daemon.h"
+#include "options.h"
 #include "tandem_action_event_t.h"
 #include "tandem_health_t.h"
 #include "tandem_petri_marking_t.h"
@@ -255,49 +256,46 @@ AUTH_TYPED_HANDLER(tandem_petri_marking_t, raw_on_marking, on_marking)
 AUTH_TYPED_HANDLER(tandem_rover_state_t, raw_on_rover, on_rover)
 AUTH_TYPED_HANDLER(tandem_rovers_state_t, raw_on_rovers, on_rovers)
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: tandem-status [--lcm-url URL] [--every S] [--behind R] [--key-file PATH | --insecure]\n"
-               "One line per period about the running system: simulated / wall-clock time\n"
-               "ratio, controller overruns (new and total), daemons holding safe, blocked arms,\n"
-               "workpieces delivered, rovers at the goal. Prints a WARNING line when the\n"
-               "simulation falls behind real time, a daemon holds safe or goes silent, runs\n"
-               "--insecure, or refuses unauthenticated messages.\n\n"
-               "  --lcm-url URL   LCM provider (default $LCM_DEFAULT_URL or " DAEMON_DEFAULT_LCM_URL ")\n"
-               "  --every S       seconds between lines (0.2-60, default 1)\n"
-               "  --behind R      warn below this sim/wall ratio (0-1, default 0.9)\n"
-               AUTH_BUS_HELP
-               "  --help          this text\n"
-               "  --version       program version\n");
-}
+typedef struct status_options {
+    const char *url;
+    double every_s, behind_ratio;
+} status_options;
+
+static const option_entry status_table[] = {
+    { .name = "every", .type = OPTION_DOUBLE, OPTION_AT(status_options, every_s), .min = 0.2, .max = 60.0,
+      .meta = "S", .help = "seconds between lines", .def = "1" },
+    { .name = "behind", .type = OPTION_DOUBLE, OPTION_AT(status_options, behind_ratio), .min = 0.0, .max = 1.0,
+      .meta = "R", .help = "warn below this sim/wall ratio", .def = "0.9" },
+    { .name = "help", .type = OPTION_HELP, .help = "this text" },
+    { .name = "version", .type = OPTION_VERSION, .help = "program version" },
+    { .name = NULL }
+};
 
 int main(int argc, char **argv)
 {
-    static const struct option opts[] = {
-        { "lcm-url", required_argument, 0, 'u' }, { "every", required_argument, 0, 'e' },
-        { "behind", required_argument, 0, 'b' }, { "help", no_argument, 0, 'h' },
-        { "version", no_argument, 0, 'V' }, AUTH_BUS_OPTIONS, { 0, 0, 0, 0 }
+    status_options o = { NULL, 1.0, 0.9 };
+    const option_program prog = {
+        .name = "tandem-status",
+        .usage = "usage: tandem-status [--lcm-url URL] [--every S] [--behind R] [--key-file PATH | --insecure]\n"
+                 "One line per period about the running system: simulated / wall-clock time\n"
+                 "ratio, controller overruns (new and total), daemons holding safe, blocked arms,\n"
+                 "workpieces delivered, rovers at the goal. Prints a WARNING line when the\n"
+                 "simulation falls behind real time, a daemon holds safe or goes silent, runs\n"
+                 "--insecure, or refuses unauthenticated messages.\n\n",
+        .groups = { { options_bus_tool, &o.url }, { status_table, &o } }, .n_groups = 2,
     };
-    const char *url = NULL;
-    double every = 1.0, next;
-    int c;
+    const char *url;
+    double every, next;
+    int rc;
     lcm_t *lcm;
-    S.behind_ratio = 0.9;
     S.behind_warned_s = -1.0;
     memset(S.rover_mode, -1, sizeof S.rover_mode);
-    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-        switch (c) {
-        case 'u': url = optarg; break;
-        case 'e': if (parse_double_opt("tandem-status", "--every", optarg, 0.2, 60.0, &every) < 0) return 2; break;
-        case 'b': if (parse_double_opt("tandem-status", "--behind", optarg, 0.0, 1.0, &S.behind_ratio) < 0) return 2; break;
-        case 'h': usage(stdout); return 0;
-        case 'V': daemon_print_version("tandem-status"); return 0;
-        default:
-            if (auth_bus_option("tandem-status", c, optarg) > 0) break;
-            usage(stderr);
-            return 2;
-        }
-    }
+    rc = options_parse(&prog, argc, argv, 1);
+    if (rc < 0)
+        return options_exit_status(rc);
+    url = o.url;
+    every = o.every_s;
+    S.behind_ratio = o.behind_ratio;
     auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);
     if (auth_bus_start("tandem-status") != 0)
         return 1;

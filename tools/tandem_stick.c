@@ -8,74 +8,67 @@
 #include <string.h>
 #include <lcm/lcm.h>
 #include "daemon.h"
+#include "options.h"
 #include "tandem_sim_control_t.h"
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: tandem-stick insert --arm 1|2 --link 1..6 [--length M] [--radius R] [--lcm-url URL]\n"
-               "                           [--key-file PATH | --insecure]\n"
-               "       tandem-stick remove [--lcm-url URL] [--key-file PATH | --insecure]\n"
-               "Puts a rod just ahead of the given link of the arm, across its motion, so the\n"
-               "link runs into it (SPEC 2.6); 'remove' takes it out. One SIM_CONTROL message.\n\n"
-               "  --arm N         arm 1 or 2\n"
-               "  --link L        link 1..6 of that arm\n"
-               "  --length M      rod length in m (0.01-2, default 0.6)\n"
-               "  --radius R      rod radius in m (0.001-0.1, default 0.02)\n"
-               "  --lcm-url URL   LCM provider (default $LCM_DEFAULT_URL or " DAEMON_DEFAULT_LCM_URL ")\n"
-               AUTH_BUS_HELP
-               "  --help          this text\n"
-               "Exit status: 0 sent, 1 LCM or key error, 2 bad arguments.\n");
-}
+typedef struct stick_options {
+    const char *url;
+    long   arm, link;
+    double length_m, radius_m;
+} stick_options;
+
+static const option_entry stick_table[] = {
+    { .name = "arm", .type = OPTION_INT, OPTION_AT(stick_options, arm), .min = 1, .max = 2, .meta = "N",
+      .help = "arm 1 or 2" },
+    { .name = "link", .type = OPTION_INT, OPTION_AT(stick_options, link), .min = 1, .max = 6, .meta = "L",
+      .help = "link of that arm" },
+    { .name = "length", .type = OPTION_DOUBLE, OPTION_AT(stick_options, length_m), .min = 0.01, .max = 2.0,
+      .meta = "M", .help = "rod length in m", .def = "0.6" },
+    { .name = "radius", .type = OPTION_DOUBLE, OPTION_AT(stick_options, radius_m), .min = 0.001, .max = 0.1,
+      .meta = "R", .help = "rod radius in m", .def = "0.02" },
+    { .name = "help", .type = OPTION_HELP, .help = "this text" },
+    { .name = NULL }
+};
 
 int main(int argc, char **argv)
 {
-    static const struct option opts[] = {
-        { "arm", required_argument, 0, 'a' },
-        { "link", required_argument, 0, 'l' },
-        { "length", required_argument, 0, 'L' },
-        { "radius", required_argument, 0, 'r' },
-        { "lcm-url", required_argument, 0, 'u' },
-        { "help", no_argument, 0, 'h' },
-        AUTH_BUS_OPTIONS,
-        { 0, 0, 0, 0 }
+    stick_options o = { NULL, 0, 0, 0.6, 0.02 };
+    const option_program prog = {
+        .name = "tandem-stick",
+        .usage = "usage: tandem-stick insert --arm 1|2 --link 1..6 [--length M] [--radius R] [--lcm-url URL]\n"
+                 "                           [--key-file PATH | --insecure]\n"
+                 "       tandem-stick remove [--lcm-url URL] [--key-file PATH | --insecure]\n"
+                 "Puts a rod just ahead of the given link of the arm, across its motion, so the\n"
+                 "link runs into it (SPEC 2.6); 'remove' takes it out. One SIM_CONTROL message.\n\n",
+        .epilog = "Exit status: 0 sent, 1 LCM or key error, 2 bad arguments.\n",
+        .groups = { { stick_table, &o }, { options_bus_tool, &o.url } }, .n_groups = 2,
     };
     if (version_requested(argc, argv, "tandem-stick"))
         return 0;
     tandem_sim_control_t m;
-    const char *url = NULL;
-    long arm = 0, link = 0;
-    double length = 0.6, radius = 0.02;
-    int c, insert;
+    const char *url;
+    long arm, link;
+    double length, radius;
+    int rc, insert;
     lcm_t *lcm;
     if (argc >= 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
-        usage(stdout);
+        options_print_help(&prog, stdout);
         return 0;
     }
     if (argc < 2 || (strcmp(argv[1], "insert") && strcmp(argv[1], "remove"))) {
         fprintf(stderr, "tandem-stick: first argument must be 'insert' or 'remove'\n");
-        usage(stderr);
+        options_print_help(&prog, stderr);
         return 2;
     }
     insert = !strcmp(argv[1], "insert");
-    optind = 2;
-    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-        switch (c) {
-        case 'a': if (parse_int_opt("tandem-stick", "--arm", optarg, 1, 2, &arm) < 0) return 2; break;
-        case 'l': if (parse_int_opt("tandem-stick", "--link", optarg, 1, 6, &link) < 0) return 2; break;
-        case 'L': if (parse_double_opt("tandem-stick", "--length", optarg, 0.01, 2.0, &length) < 0) return 2; break;
-        case 'r': if (parse_double_opt("tandem-stick", "--radius", optarg, 0.001, 0.1, &radius) < 0) return 2; break;
-        case 'u': url = optarg; break;
-        case 'h': usage(stdout); return 0;
-        default:
-            if (auth_bus_option("tandem-stick", c, optarg) > 0) break;
-            usage(stderr);
-            return 2;
-        }
-    }
-    if (optind < argc) {
-        fprintf(stderr, "tandem-stick: unexpected argument '%s'\n", argv[optind]);
-        return 2;
-    }
+    rc = options_parse(&prog, argc, argv, 2);
+    if (rc < 0)
+        return options_exit_status(rc);
+    url = o.url;
+    arm = o.arm;
+    link = o.link;
+    length = o.length_m;
+    radius = o.radius_m;
     if (insert && (arm == 0 || link == 0)) {
         fprintf(stderr, "tandem-stick: insert needs --arm and --link\n");
         return 2;

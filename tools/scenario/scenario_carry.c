@@ -41,7 +41,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include <getopt.h>
 #include <lcm/lcm.h>
 #include "scenario.h"
 #include "arm_model.h"
@@ -50,6 +49,7 @@
 #include "tandem_action_event_t.h"
 #include "tandem_arm_state_t.h"
 #include "daemon.h"
+#include "options.h"
 #include "tandem_clock_ack_t.h"
 #include "tandem_petri_marking_t.h"
 #include "tandem_sim_clock_t.h"
@@ -676,39 +676,6 @@ static int run_once(const run_cfg *c, run_result *res)
 
 /* ---- options, plots, summary ------------------------------------------------- */
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: tandem-scenario carry [--workpieces N] [--controller event|time]\n"
-               "         [--block ARM:LINK:START_S:DURATION_S[:t3]]... [--random-blocks K]\n"
-               "         [--seed S] [--no-serial] [--serial-workpieces M]\n"
-               "         [--block-detect on|off] [--stall-s S] [--fault kill:D:T[:R]]...\n"
-               "         [--drop-rate P] [--lcm-url URL] --out DIR\n"
-               "Two-arm carry in lockstep with the stick pushed into the arms (SPEC 2.6).\n"
-               "  --workpieces N        workpieces to carry (default 3)\n"
-               "  --controller C        event (default) or time (the time-referenced baseline)\n"
-               "  --block A:L:S:D[:t3]  push the stick into arm A, link L at the first step\n"
-               "                        after S s at which arm A moves (with :t3, during t3),\n"
-               "                        for D s; repeatable, run one after the other\n"
-               "  --random-blocks K     K seeded random blocks (links 2-5, 0.2-60 s, every\n"
-               "                        third during t3)\n"
-               "  --seed S              seed of the sim and the random blocks (default 1)\n"
-               "  --no-serial           skip the serial reference run (serial_cycle_s = null)\n"
-               "  --serial-workpieces M workpieces of the serial run (default min(N, 3))\n"
-               "  --block-detect on|off off: the arms run eq. 6-7 alone (no blocked detector)\n"
-               "  --stall-s S           the supervisor's stall limit (default 30 s); a stall\n"
-               "                        stops the run\n"
-               "  --fault kill:D:T[:R]  kill daemon D (arm1, arm2, supervisor) at T s of\n"
-               "                        simulated time, restart it at R s; repeatable\n"
-               "  --drop-rate P         every daemon drops received messages with probability P\n"
-               "Exit status: 0 when the run met every success criterion (all delivered,\n"
-               "none dropped, no joint-limit violation, speeds within the motor limits,\n"
-               "10 ms contact force <= 1000 N, resumed within 1 s of every removal, no\n"
-               "stall, no invariant violation or deadlock, completed); 3 otherwise, with\n"
-               "the failed criteria on the last line; 1 on errors, 2 on bad options.\n"
-               "  --lcm-url URL         bus of the run (default: a private udpm port)\n"
-               "  --out DIR             output directory (required)\n");
-}
-
 static int parse_block(const char *s, block *b)
 {
     char t3[8] = "";
@@ -814,134 +781,137 @@ static int carry_criteria(const run_cfg *c, const run_result *r, double resume_m
     return scenario_failed_criteria(k, (int)(sizeof k / sizeof k[0]), buf, cap);
 }
 
+/* What the command line sets; run() copies it out. */
+typedef struct carry_options {
+    run_cfg cfg;               /* workpieces, controller_time, out, url, n_faults */
+    int    block_detect;       /* index in options_on_off */
+    int    n_random, no_serial, serial_n;
+    long   seed;
+    double stall_s;
+    const char *drop_arg;
+    int    out_given;
+} carry_options;
+
+/* --block A:L:S:D[:t3], repeatable: into blocks[] */
+static int option_block(const char *prog, void *dest, char *value)
+{
+    (void)dest;
+    if (n_blocks >= MAX_BLOCKS || parse_block(value, &blocks[n_blocks]) != 0) {
+        fprintf(stderr, "%s: --block: '%s' is not ARM:LINK:START_S:DURATION_S[:t3] "
+                        "(arm 1-2, link 1-6, start >= 0, 0 < duration <= 3600)\n", prog, value);
+        return OPTIONS_ERR_SAID;
+    }
+    n_blocks++;
+    return 0;
+}
+
+/* --fault kill:D:T[:R], repeatable: into cfg->faults */
+static int option_fault(const char *prog, void *dest, char *value)
+{
+    run_cfg *cfg = dest;
+    int i;
+    if (cfg->n_faults >= SCENARIO_MAX_FAULTS || scenario_parse_fault(&cfg->faults[cfg->n_faults], value) != 0)
+        return OPTIONS_ERR_SAID;
+    for (i = 1; i < 4 && strcmp(cfg->faults[cfg->n_faults].daemon, daemon_fault_name[i]); i++)
+        ;
+    if (i == 4) {
+        fprintf(stderr, "%s: --fault: '%s' is not arm1|arm2|supervisor\n", prog, cfg->faults[cfg->n_faults].daemon);
+        return OPTIONS_ERR_SAID;
+    }
+    cfg->faults[cfg->n_faults++].slot = i;
+    return 0;
+}
+
+static const char *const controllers[] = { "event", "time", NULL };
+
+static const option_entry carry_table[] = {
+    { .name = "workpieces", .type = OPTION_INT, OPTION_AT(carry_options, cfg.workpieces), .min = 1, .max = 1000,
+      .meta = "N", .help = "workpieces to carry", .def = "3" },
+    { .name = "controller", .type = OPTION_CHOICE, OPTION_AT(carry_options, cfg.controller_time),
+      .choices = controllers, .help = "time: the time-referenced baseline",
+      .def = "event" },
+    { .name = "block", .type = OPTION_CALL, .call = option_block, .repeatable = 1, .meta = "A:L:S:D[:t3]",
+      .help = "push the stick into arm A (1-2), link L (1-6) at the first step after S s (>= 0) at which arm A "
+              "moves (with :t3, during t3), for D s (0 < D <= 3600); run one after the other" },
+    { .name = "random-blocks", .type = OPTION_INT, OPTION_AT(carry_options, n_random), .min = 0,
+      .max = MAX_BLOCKS, .meta = "K", .help = "K seeded random blocks (links 2-5, 0.2-60 s, every third during t3)",
+      .def = "0" },
+    { .name = "seed", .type = OPTION_INT, OPTION_AT(carry_options, seed), .min = 0, .max = 2147483647.0,
+      .meta = "S", .help = "seed of the sim and the random blocks", .def = "1" },
+    { .name = "no-serial", .type = OPTION_FLAG, OPTION_AT(carry_options, no_serial),
+      .help = "skip the serial reference run (serial_cycle_s = null)" },
+    { .name = "serial-workpieces", .type = OPTION_INT, OPTION_AT(carry_options, serial_n), .min = 2, .max = 1000,
+      .meta = "M", .help = "workpieces of the serial run", .def = "min(N, 3)" },
+    { .name = "block-detect", .type = OPTION_CHOICE, OPTION_AT(carry_options, block_detect),
+      .choices = options_on_off, .help = "off: the arms run eq. 6-7 alone (no blocked detector)", .def = "on" },
+    { .name = "stall-s", .type = OPTION_DOUBLE, OPTION_AT(carry_options, stall_s), .min = 0.1, .max = 1e6,
+      .meta = "S", .help = "the supervisor's stall limit (s); a stall stops the run", .def = "30" },
+    { .name = "fault", .type = OPTION_CALL, OPTION_AT(carry_options, cfg), .call = option_fault, .repeatable = 1,
+      .meta = "kill:D:T[:R]", .help = "kill daemon D (arm1, arm2, supervisor) at T s of simulated time, "
+                                      "restart it at R s" },
+    { .name = "drop-rate", .type = OPTION_STRING, OPTION_AT(carry_options, drop_arg), .meta = "P",
+      .help = "every daemon drops received messages with probability P (0 <= P < 1)", .def = "0" },
+    { .name = "lcm-url", .type = OPTION_STRING, OPTION_AT(carry_options, cfg.url), .min = 1, .max = 95,
+      .meta = "URL", .help = "bus of the run", .def = "a private udpm port" },
+    { .name = "out", .type = OPTION_STRING, OPTION_AT(carry_options, cfg.out), OPTION_SEEN(carry_options, out_given),
+      .required = 1, .meta = "DIR", .help = "output directory" },
+    { .name = "help", .type = OPTION_HELP, .help = "this text" },
+    { .name = NULL }
+};
+
+static const option_program carry_program = {
+    .name = "tandem-scenario carry",
+    .usage = "usage: tandem-scenario carry [--workpieces N] [--controller event|time]\n"
+             "         [--block ARM:LINK:START_S:DURATION_S[:t3]]... [--random-blocks K]\n"
+             "         [--seed S] [--no-serial] [--serial-workpieces M]\n"
+             "         [--block-detect on|off] [--stall-s S] [--fault kill:D:T[:R]]...\n"
+             "         [--drop-rate P] [--lcm-url URL] --out DIR\n"
+             "Two-arm carry in lockstep with the stick pushed into the arms (SPEC 2.6).\n\n",
+    .epilog = "Exit status: 0 when the run met every success criterion (all delivered,\n"
+              "none dropped, no joint-limit violation, speeds within the motor limits,\n"
+              "10 ms contact force <= 1000 N, resumed within 1 s of every removal, no\n"
+              "stall, no invariant violation or deadlock, completed); 3 otherwise, with\n"
+              "the failed criteria on the last line; 1 on errors, 2 on bad options.\n",
+    .groups = { { carry_table, NULL } },   /* the base is run()'s carry_options */
+    .n_groups = 1,
+};
+
 static int run(int argc, char **argv)
 {
-    static const struct option opts[] = {
-        { "workpieces", required_argument, 0, 'w' },
-        { "controller", required_argument, 0, 'c' },
-        { "block", required_argument, 0, 'b' },
-        { "random-blocks", required_argument, 0, 'r' },
-        { "seed", required_argument, 0, 's' },
-        { "no-serial", no_argument, 0, 'N' },
-        { "serial-workpieces", required_argument, 0, 'W' },
-        { "block-detect", required_argument, 0, 'B' },
-        { "stall-s", required_argument, 0, 'L' },
-        { "drop-rate", required_argument, 0, 'D' },
-        { "fault", required_argument, 0, 'F' },
-        { "out", required_argument, 0, 'o' },
-        { "lcm-url", required_argument, 0, 'U' },
-        { "help", no_argument, 0, 'h' },
-        { 0, 0, 0, 0 }
-    };
     run_cfg cfg;
     run_result res, ser;
     json_out j;
-    int c, i, n_random = 0, no_serial = 0, serial_n = -1;
-    long seed = 1;
+    int i, n_random, no_serial, serial_n, rc;
+    long seed;
     double total_block_s = 0.0, max_force = 0.0, max_lurch = 0.0, fsum = 0.0, lat_max = NAN, lead_max = NAN;
-    double resume_max = 0.0, settled_max = 0.0, stall_s = 30.0;
+    double resume_max = 0.0, settled_max = 0.0, stall_s;
     char stall_buf[32], failed[512];
     int n_failed, blocks_skipped = 0;
     long fn = 0;
-    char *end;
-    const char *drop_arg = "0";
+    const char *drop_arg;
     static scenario_fault faults[SCENARIO_MAX_FAULTS];
-    memset(&cfg, 0, sizeof cfg);
-    cfg.faults = faults;
-    cfg.workpieces = 3;
-    cfg.block_detect = "on";
+    carry_options o;
+    option_program prog = carry_program;
+    memset(&o, 0, sizeof o);
+    o.cfg.faults = faults;
+    o.cfg.workpieces = 3;
+    o.serial_n = -1;
+    o.seed = 1;
+    o.stall_s = 30.0;
+    o.drop_arg = "0";
     n_blocks = 0;
-    optind = 1;
-    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-        switch (c) {
-        case 'w':
-            cfg.workpieces = (int)strtol(optarg, &end, 10);
-            if (*end || cfg.workpieces < 1 || cfg.workpieces > 1000) {
-                fprintf(stderr, "tandem-scenario carry: --workpieces: '%s' is not 1..1000\n", optarg);
-                return 2;
-            }
-            break;
-        case 'c':
-            if (strcmp(optarg, "event") && strcmp(optarg, "time")) {
-                fprintf(stderr, "tandem-scenario carry: --controller: '%s' is not event|time\n", optarg);
-                return 2;
-            }
-            cfg.controller_time = !strcmp(optarg, "time");
-            break;
-        case 'b':
-            if (n_blocks >= MAX_BLOCKS || parse_block(optarg, &blocks[n_blocks]) != 0) {
-                fprintf(stderr, "tandem-scenario carry: --block: '%s' is not ARM:LINK:START_S:DURATION_S[:t3] "
-                                "(arm 1-2, link 1-6, start >= 0, 0 < duration <= 3600)\n", optarg);
-                return 2;
-            }
-            n_blocks++;
-            break;
-        case 'r':
-            n_random = (int)strtol(optarg, &end, 10);
-            if (*end || n_random < 0 || n_random > MAX_BLOCKS) {
-                fprintf(stderr, "tandem-scenario carry: --random-blocks: '%s' is not 0..%d\n", optarg, MAX_BLOCKS);
-                return 2;
-            }
-            break;
-        case 's':
-            seed = strtol(optarg, &end, 10);
-            if (*end || seed < 0 || seed > 2147483647L) {
-                fprintf(stderr, "tandem-scenario carry: --seed: '%s' is not 0..2147483647\n", optarg);
-                return 2;
-            }
-            break;
-        case 'N': no_serial = 1; break;
-        case 'W':
-            serial_n = (int)strtol(optarg, &end, 10);
-            if (*end || serial_n < 2 || serial_n > 1000) {
-                fprintf(stderr, "tandem-scenario carry: --serial-workpieces: '%s' is not 2..1000\n", optarg);
-                return 2;
-            }
-            break;
-        case 'B':
-            if (strcmp(optarg, "on") && strcmp(optarg, "off")) {
-                fprintf(stderr, "tandem-scenario carry: --block-detect: '%s' is not on|off\n", optarg);
-                return 2;
-            }
-            cfg.block_detect = optarg;
-            break;
-        case 'L':
-            stall_s = strtod(optarg, &end);
-            if (*end || !(stall_s >= 0.1 && stall_s <= 1e6)) {
-                fprintf(stderr, "tandem-scenario carry: --stall-s: '%s' is not 0.1..1e6\n", optarg);
-                return 2;
-            }
-            break;
-        case 'D': drop_arg = optarg; break;
-        case 'F':
-            if (cfg.n_faults >= SCENARIO_MAX_FAULTS || scenario_parse_fault(&faults[cfg.n_faults], optarg) != 0)
-                return 2;
-            for (i = 1; i < 4 && strcmp(faults[cfg.n_faults].daemon, daemon_fault_name[i]); i++)
-                ;
-            if (i == 4) {
-                fprintf(stderr, "tandem-scenario carry: --fault: '%s' is not arm1|arm2|supervisor\n",
-                        faults[cfg.n_faults].daemon);
-                return 2;
-            }
-            faults[cfg.n_faults++].slot = i;
-            break;
-        case 'o': cfg.out = optarg; break;
-        case 'U':
-            if (!optarg[0] || strlen(optarg) >= 96) {
-                fprintf(stderr, "tandem-scenario carry: --lcm-url: '%s' is empty or too long\n", optarg);
-                return 2;
-            }
-            cfg.url = optarg;
-            break;
-        case 'h': usage(stdout); return 0;
-        default: usage(stderr); return 2;
-        }
-    }
-    if (optind < argc || !cfg.out) {
-        fprintf(stderr, "tandem-scenario carry: %s\n", cfg.out ? "unexpected argument" : "--out DIR is required");
-        usage(stderr);
-        return 2;
-    }
+    prog.groups[0].base = &o;
+    rc = options_parse(&prog, argc, argv, 1);
+    if (rc < 0)
+        return options_exit_status(rc);
+    cfg = o.cfg;
+    cfg.block_detect = options_on_off[o.block_detect];
+    n_random = o.n_random;
+    no_serial = o.no_serial;
+    serial_n = o.serial_n;
+    seed = o.seed;
+    stall_s = o.stall_s;
+    drop_arg = o.drop_arg;
     if (n_random > 0 && n_blocks + n_random > MAX_BLOCKS) {
         fprintf(stderr, "tandem-scenario carry: too many blocks\n");
         return 2;

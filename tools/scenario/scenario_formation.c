@@ -23,6 +23,7 @@
 #include "rover_world.h"
 #include "scenario.h"
 #include "daemon.h"
+#include "options.h"
 #include "tandem_clock_ack_t.h"
 #include "tandem_rover_state_t.h"
 #include "tandem_rovers_state_t.h"
@@ -42,6 +43,7 @@ typedef struct {
     int    formation, world, blend, robots, single, batch;
     int    law_kanayama, ref_goal, localize_off;   /* --formation-law, --ref-heading, --localize */
     char   timeout_ms[24];                     /* --lockstep-timeout-ms */
+    long   timeout_ms_given;
     scenario_drop drop;                        /* --drop-rate */
     const char *drop_arg;
     long   seed;
@@ -55,6 +57,7 @@ typedef struct {
     int64_t down_after[FM_MAX + 1];   /* --fault: robot k's process answered no step in */
     int64_t up_at[FM_MAX + 1];        /* (down_after, up_at): no states then */
     const char *out, *url;
+    int    out_given;
     char   url_buf[160];
     char   bindir[512];
     /* children */
@@ -102,141 +105,123 @@ typedef struct {
 
 static fm_t F;
 
-static void usage(FILE *f)
+/* --kill K:T */
+static int option_kill(const char *prog, void *dest, char *v)
 {
-    fprintf(f, "usage: tandem-scenario formation [options] --out DIR\n"
-               "Pioneer team to the goal in formation (seed 003), lockstep, ground-truth metrics.\n\n"
-               "  --formation F   line | triangle | column (default line)\n"
-               "  --world W       open | obstacles | corridor | deadzone (default open)\n"
-               "  --blend B       weighted | subsumption | vecsum (default weighted)\n"
-               "  --formation-law L  seed (default) | kanayama: the formation behaviour flown\n"
-               "  --ref-heading H  goal (bearing of the goal as the team reference heading,\n"
-               "                  default) | mean (the seed's mean of the headings)\n"
-               "  --localize on|off  robots fuse the world's LED landmarks (default on)\n"
-               "  --lockstep-timeout-ms MS  the simulator drops a participant silent this\n"
-               "                  long (wall; default 10000); on a heavily loaded machine a\n"
-               "                  starved controller would be dropped and the run no longer\n"
-               "                  be the deterministic one: raise it for sweeps there\n"
-               "  --robots N      team size (default 3)\n"
-               "  --seed S        noise seed (default 1)\n"
-               "  --kill K:T      kill robot K (its process and its body) at sim time T s\n"
-               "  --fault kill:roverK:T[:R]  kill robot K's process (SIGKILL; its body\n"
-               "                  stands) at T s of simulated time and, with R, start it\n"
-               "                  again at R s: it resumes from its journal; repeatable.\n"
-               "                  Deterministic (the lockstep is held while it rejoins)\n"
-               "  --drop-rate P   fault injection: every daemon drops received messages\n"
-               "                  with probability P (deterministic for the seed); the\n"
-               "                  run is the same as without loss, only slower\n"
-               "  --procs P       separate (one tandem-rover per robot, default up to 10\n"
-               "                  robots) | single (one process hosting all)\n"
-               "  --link L        robot (ROVERk_* channels per robot) | batch (ROVERS_*: one\n"
-               "                  message per tick for all robots); default batch with\n"
-               "                  --procs single, robot otherwise. Same run either way.\n"
-               "  --max-time S    give up after S simulated seconds (default 150)\n"
-               "  --lcm-url URL   bus for the children (default: a private udpm port)\n"
-               "  --out DIR       output directory (required)\n");
+    fm_t *f = dest;
+    char *e;
+    long k = strtol(v, &e, 10);
+    double t;
+    (void)prog;
+    if (*e != ':')
+        return -1;
+    t = strtod(e + 1, &e);
+    if (*e || k < 1 || !isfinite(t) || t < 0)
+        return -1;
+    f->kill_id = (int)k;
+    f->kill_t_s = t;
+    return 0;
 }
+
+/* --fault kill:roverK:T[:R], repeatable */
+static int option_fault(const char *prog, void *dest, char *v)
+{
+    fm_t *fm = dest;
+    scenario_fault *f = &fm->faults[fm->n_faults];
+    char *e = NULL;
+    long k;
+    if (fm->n_faults >= SCENARIO_MAX_FAULTS || scenario_parse_fault(f, v) != 0)
+        return OPTIONS_ERR_SAID;
+    k = strncmp(f->daemon, "rover", 5) == 0 ? strtol(f->daemon + 5, &e, 10) : 0;
+    if (k < 1 || k > FM_MAX || *e) {
+        fprintf(stderr, "%s: --fault: '%s' is not roverK\n", prog, f->daemon);
+        return OPTIONS_ERR_SAID;
+    }
+    f->slot = (int)k;
+    fm->n_faults++;
+    return 0;
+}
+
+static const char *const blends[] = { "weighted", "subsumption", "vecsum", NULL };
+static const char *const laws[] = { "seed", "kanayama", NULL };
+static const char *const ref_headings[] = { "mean", "goal", NULL };
+static const char *const procs[] = { "separate", "single", NULL };
+static const char *const links[] = { "robot", "batch", NULL };
+
+static const option_entry formation_table[] = {
+    { .name = "formation", .type = OPTION_CHOICE, OPTION_AT(fm_t, formation), .choices = options_formation_names,
+      .values = options_formation_values, .help = "the team's formation", .def = "line" },
+    { .name = "world", .type = OPTION_CHOICE, OPTION_AT(fm_t, world), .choices = options_world_names,
+      .values = options_world_values, .help = "the rover world", .def = "open" },
+    { .name = "blend", .type = OPTION_CHOICE, OPTION_AT(fm_t, blend), .choices = blends,
+      .help = "how the behaviours' outputs are blended", .def = "weighted" },
+    { .name = "formation-law", .type = OPTION_CHOICE, OPTION_AT(fm_t, law_kanayama), .choices = laws,
+      .help = "the formation behaviour flown", .def = "seed" },
+    { .name = "ref-heading", .type = OPTION_CHOICE, OPTION_AT(fm_t, ref_goal), .choices = ref_headings,
+      .help = "the team reference heading: goal (bearing of the goal) or mean (the seed's mean of the headings)",
+      .def = "goal" },
+    { .name = "localize", .type = OPTION_CHOICE, OPTION_AT(fm_t, localize_off), .choices = options_on_off,
+      .help = "robots fuse the world's LED landmarks", .def = "on" },
+    { .name = "lockstep-timeout-ms", .type = OPTION_INT, OPTION_AT(fm_t, timeout_ms_given), .min = 100,
+      .max = 3600000, .meta = "MS", .help = "the simulator drops a participant silent this long (wall); on a "
+      "heavily loaded machine a starved controller would be dropped and the run no longer be the deterministic "
+      "one: raise it for sweeps there", .def = "10000" },
+    { .name = "robots", .type = OPTION_INT, OPTION_AT(fm_t, robots), .min = 1, .max = FM_MAX, .meta = "N",
+      .help = "team size", .def = "3" },
+    { .name = "seed", .type = OPTION_INT, OPTION_AT(fm_t, seed), .min = 0, .max = 2147483647.0, .meta = "S",
+      .help = "noise seed", .def = "1" },
+    { .name = "kill", .type = OPTION_CALL, OPTION_ALL(fm_t), .call = option_kill, .meta = "K:T",
+      .help = "kill robot K (its process and its body) at sim time T s" },
+    { .name = "fault", .type = OPTION_CALL, OPTION_ALL(fm_t), .call = option_fault, .repeatable = 1,
+      .meta = "kill:roverK:T[:R]", .help = "kill robot K's process (SIGKILL; its body stands) at T s of "
+      "simulated time and, with R, start it again at R s: it resumes from its journal. Deterministic (the "
+      "lockstep is held while it rejoins)" },
+    { .name = "drop-rate", .type = OPTION_STRING, OPTION_AT(fm_t, drop_arg), .meta = "P",
+      .help = "fault injection: every daemon drops received messages with probability P (0 <= P < 1, "
+      "deterministic for the seed); the run is the same as without loss, only slower", .def = "0" },
+    { .name = "procs", .type = OPTION_CHOICE, OPTION_AT(fm_t, single), .choices = procs,
+      .help = "separate: one tandem-rover per robot; single: one process hosting all",
+      .def = "separate up to 10 robots" },
+    { .name = "link", .type = OPTION_CHOICE, OPTION_AT(fm_t, batch), .choices = links,
+      .help = "robot: ROVERk_* channels per robot; batch: ROVERS_*, one message per tick for all robots. "
+      "Same run either way", .def = "batch with --procs single, robot otherwise" },
+    { .name = "max-time", .type = OPTION_DOUBLE, OPTION_AT(fm_t, max_time_s), .min = 0.0, .max = 3600.0,
+      .meta = "S", .help = "give up after S simulated seconds (S > 0)", .def = "150" },
+    { .name = "lcm-url", .type = OPTION_STRING, OPTION_AT(fm_t, url), .meta = "URL",
+      .help = "bus for the children", .def = "a private udpm port" },
+    { .name = "out", .type = OPTION_STRING, OPTION_AT(fm_t, out), OPTION_SEEN(fm_t, out_given), .required = 1,
+      .meta = "DIR", .help = "output directory" },
+    { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
+    { .name = NULL }
+};
 
 static int parse(int argc, char **argv)
 {
-    int i;
+    const option_program prog = {
+        .name = "tandem-scenario formation",
+        .usage = "usage: tandem-scenario formation [options] --out DIR\n"
+                 "Pioneer team to the goal in formation (seed 003), lockstep, ground-truth metrics.\n\n",
+        .groups = { { formation_table, &F } }, .n_groups = 1,
+    };
+    int i, rc;
     F.formation = FORMATION_LINE;
     F.world = ROVER_WORLD_OPEN;
     F.blend = 0;
     F.ref_goal = 1;
-    snprintf(F.timeout_ms, sizeof F.timeout_ms, "10000");
+    F.timeout_ms_given = 10000;
     F.robots = 3;
     F.seed = 1;
     F.max_time_s = 150.0;
     F.kill_id = -1;
     F.single = -1;
     F.batch = -1;
-    for (i = 1; i < argc; i++) {
-        const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(o, "--help") || !strcmp(o, "-h")) { usage(stdout); exit(0); }
-        if (!v) { fprintf(stderr, "formation: %s needs a value\n", o); return -1; }
-        i++;
-        if (!strcmp(o, "--formation")) {
-            if (!strcmp(v, "line")) F.formation = FORMATION_LINE;
-            else if (!strcmp(v, "triangle")) F.formation = FORMATION_TRIANGLE;
-            else if (!strcmp(v, "column")) F.formation = FORMATION_COLUMN;
-            else { fprintf(stderr, "formation: --formation: '%s' is not line|triangle|column\n", v); return -1; }
-        } else if (!strcmp(o, "--world")) {
-            F.world = rover_world_id(v);
-            if (F.world < 0) { fprintf(stderr, "formation: --world: '%s' is not open|obstacles|corridor|deadzone\n", v); return -1; }
-        } else if (!strcmp(o, "--blend")) {
-            if (!strcmp(v, "weighted")) F.blend = 0;
-            else if (!strcmp(v, "subsumption")) F.blend = 1;
-            else if (!strcmp(v, "vecsum")) F.blend = 2;
-            else { fprintf(stderr, "formation: --blend: '%s' is not weighted|subsumption|vecsum\n", v); return -1; }
-        } else if (!strcmp(o, "--formation-law")) {
-            if (!strcmp(v, "seed")) F.law_kanayama = 0;
-            else if (!strcmp(v, "kanayama")) F.law_kanayama = 1;
-            else { fprintf(stderr, "formation: --formation-law: '%s' is not seed|kanayama\n", v); return -1; }
-        } else if (!strcmp(o, "--ref-heading")) {
-            if (!strcmp(v, "mean")) F.ref_goal = 0;
-            else if (!strcmp(v, "goal")) F.ref_goal = 1;
-            else { fprintf(stderr, "formation: --ref-heading: '%s' is not mean|goal\n", v); return -1; }
-        } else if (!strcmp(o, "--localize")) {
-            if (!strcmp(v, "on")) F.localize_off = 0;
-            else if (!strcmp(v, "off")) F.localize_off = 1;
-            else { fprintf(stderr, "formation: --localize: '%s' is not on|off\n", v); return -1; }
-        } else if (!strcmp(o, "--lockstep-timeout-ms")) {
-            char *e; long ms = strtol(v, &e, 10);
-            if (*e || ms < 100 || ms > 3600000L) { fprintf(stderr, "formation: --lockstep-timeout-ms: '%s' is not 100..3600000\n", v); return -1; }
-            snprintf(F.timeout_ms, sizeof F.timeout_ms, "%ld", ms);
-        } else if (!strcmp(o, "--robots")) {
-            char *e; long n = strtol(v, &e, 10);
-            if (*e || n < 1 || n > FM_MAX) { fprintf(stderr, "formation: --robots: '%s' is not 1..%d\n", v, FM_MAX); return -1; }
-            F.robots = (int)n;
-        } else if (!strcmp(o, "--seed")) {
-            char *e; long s = strtol(v, &e, 10);
-            if (*e || s < 0 || s > 2147483647L) { fprintf(stderr, "formation: --seed: '%s' is not a seed\n", v); return -1; }
-            F.seed = s;
-        } else if (!strcmp(o, "--kill")) {
-            char *e; long k = strtol(v, &e, 10); double t;
-            if (*e != ':') { fprintf(stderr, "formation: --kill: '%s' is not K:T\n", v); return -1; }
-            t = strtod(e + 1, &e);
-            if (*e || k < 1 || !isfinite(t) || t < 0) { fprintf(stderr, "formation: --kill: '%s' is not K:T\n", v); return -1; }
-            F.kill_id = (int)k;
-            F.kill_t_s = t;
-        } else if (!strcmp(o, "--drop-rate")) {
-            F.drop_arg = v;
-        } else if (!strcmp(o, "--fault")) {
-            scenario_fault *f = &F.faults[F.n_faults];
-            char *e;
-            long k;
-            if (F.n_faults >= SCENARIO_MAX_FAULTS || scenario_parse_fault(f, v) != 0) return -1;
-            k = strncmp(f->daemon, "rover", 5) == 0 ? strtol(f->daemon + 5, &e, 10) : 0;
-            if (k < 1 || k > FM_MAX || *e) {
-                fprintf(stderr, "formation: --fault: '%s' is not roverK\n", f->daemon);
-                return -1;
-            }
-            f->slot = (int)k;
-            F.n_faults++;
-        } else if (!strcmp(o, "--procs")) {
-            if (!strcmp(v, "separate")) F.single = 0;
-            else if (!strcmp(v, "single")) F.single = 1;
-            else { fprintf(stderr, "formation: --procs: '%s' is not separate|single\n", v); return -1; }
-        } else if (!strcmp(o, "--link")) {
-            if (!strcmp(v, "robot")) F.batch = 0;
-            else if (!strcmp(v, "batch")) F.batch = 1;
-            else { fprintf(stderr, "formation: --link: '%s' is not robot|batch\n", v); return -1; }
-        } else if (!strcmp(o, "--max-time")) {
-            char *e; double t = strtod(v, &e);
-            if (*e || !isfinite(t) || t <= 0 || t > 3600) { fprintf(stderr, "formation: --max-time: '%s'\n", v); return -1; }
-            F.max_time_s = t;
-        } else if (!strcmp(o, "--lcm-url")) {
-            F.url = v;
-        } else if (!strcmp(o, "--out")) {
-            F.out = v;
-        } else {
-            fprintf(stderr, "formation: unknown option '%s'\n", o);
-            usage(stderr);
-            return -1;
-        }
-    }
-    if (!F.out) { fprintf(stderr, "formation: --out DIR is required\n"); return -1; }
+    rc = options_parse(&prog, argc, argv, 1);
+    if (rc == OPTIONS_EXIT)
+        exit(0);
+    if (rc < 0)
+        return -1;
+    snprintf(F.timeout_ms, sizeof F.timeout_ms, "%ld", F.timeout_ms_given);
+    if (!(F.max_time_s > 0)) { fprintf(stderr, "formation: --max-time: '%g'\n", F.max_time_s); return -1; }
     if (F.kill_id > F.robots) { fprintf(stderr, "formation: --kill: robot %d not in the team\n", F.kill_id); return -1; }
     for (i = 0; i < F.n_faults; i++)
         if (F.faults[i].slot > F.robots) {

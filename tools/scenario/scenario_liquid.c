@@ -21,29 +21,24 @@
 
 #define DEG (3.14159265358979323846 / 180.0)
 
-static const char *const methods[] = { "tdsd", "full" };
+static const char *const methods[] = { "tdsd", "full", NULL };
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: tandem-scenario liquid [--method tdsd|full] [--plant kin|ode]\n"
-               "                              [--servo-hz HZ] --out DIR\n"
-               "PUMA 560 carries a bucket upright a -> b -> c (base turns ~200 deg).\n"
-               "  --method    tdsd (default): position + tool axis + mid-range criterion\n"
-               "              for q4..q6 | full: 6-D resolved rate (start orientation held)\n"
-               "  --plant     kin (integrate dq at 1 kHz, default) | ode (tandem-sim +\n"
-               "              tandem-arm tracking ARM1_JOINT_REF in lockstep)\n"
-               "  --servo-hz  ode: tandem-arm joint servo bandwidth (default 15)\n"
-               "Writes DIR/summary.json, series.csv, fig8_joint_ranges.png (seed Fig. 8),\n"
-               "fig4_errors.png, fig5_joints.png, fig6_q1.png.\n");
-}
-
+static const tdsd_scen_usage usage = {
+    "usage: tandem-scenario liquid [--method tdsd|full] [--plant kin|ode]\n"
+    "                              [--servo-hz HZ] --out DIR\n"
+    "PUMA 560 carries a bucket upright a -> b -> c (base turns ~200 deg).\n\n",
+    methods,
+    "tdsd: position + tool axis + mid-range criterion for q4..q6; full: 6-D resolved rate (start orientation held)",
+    "Writes DIR/summary.json, series.csv, fig8_joint_ranges.png (seed Fig. 8),\n"
+    "fig4_errors.png, fig5_joints.png, fig6_q1.png.\n"
+};
 static int run(int argc, char **argv)
 {
     tdsd_scen s;
     json_out j;
     memset(&s, 0, sizeof s);
     s.name = "liquid";
-    switch (tdsd_scen_args(&s, argc, argv, methods, 2, usage)) {
+    switch (tdsd_scen_args(&s, argc, argv, &usage)) {
     case 0: break;
     case 1: return 0;
     default: return 2;

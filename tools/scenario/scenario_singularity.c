@@ -14,29 +14,25 @@
 #include "tdsd_scen.h"
 #include "tdsd_setup.h"
 
-static const char *const methods[] = { "tdsd", "pinv", "dls" };
+static const char *const methods[] = { "tdsd", "pinv", "dls", NULL };
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: tandem-scenario singularity [--method tdsd|pinv|dls] [--plant kin|ode]\n"
-               "                                   [--servo-hz HZ] --out DIR\n"
-               "Seed-002 arm, straight tool path A -> B whose wrist centre passes 3 mm from\n"
-               "the joint-1 axis (shoulder singularity), 3.5 s, position + full orientation.\n"
-               "  --method    tdsd (default) | pinv (clipped pseudo-inverse) | dls (damped)\n"
-               "  --plant     kin (integrate dq at 1 kHz, default) | ode (tandem-sim +\n"
-               "              tandem-arm tracking ARM1_JOINT_REF in lockstep)\n"
-               "  --servo-hz  ode: tandem-arm joint servo bandwidth (default 15)\n"
-               "Writes DIR/summary.json, series.csv, fig4_errors.png, fig5_joints.png,\n"
-               "fig6_q1.png, fig8_joint_ranges.png.\n");
-}
-
+static const tdsd_scen_usage usage = {
+    "usage: tandem-scenario singularity [--method tdsd|pinv|dls] [--plant kin|ode]\n"
+    "                                   [--servo-hz HZ] --out DIR\n"
+    "Seed-002 arm, straight tool path A -> B whose wrist centre passes 3 mm from\n"
+    "the joint-1 axis (shoulder singularity), 3.5 s, position + full orientation.\n\n",
+    methods,
+    "tdsd: the seed's method (tdsd_step); pinv: clipped pseudo-inverse; dls: damped",
+    "Writes DIR/summary.json, series.csv, fig4_errors.png, fig5_joints.png,\n"
+    "fig6_q1.png, fig8_joint_ranges.png.\n"
+};
 static int run(int argc, char **argv)
 {
     tdsd_scen s;
     json_out j;
     memset(&s, 0, sizeof s);
     s.name = "singularity";
-    switch (tdsd_scen_args(&s, argc, argv, methods, 3, usage)) {
+    switch (tdsd_scen_args(&s, argc, argv, &usage)) {
     case 0: break;
     case 1: return 0;
     default: return 2;

@@ -11,7 +11,6 @@
  * Exit status: 0 when every run exited 0, 3 otherwise (1 on errors).
  */
 #include <errno.h>
-#include <getopt.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -20,6 +19,7 @@
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include "options.h"
 #include "scenario.h"
 
 #define SWEEP_MAX_SEEDS 10000
@@ -50,6 +50,8 @@ typedef struct sweep {
     const char *name, *out;
     long  seed_a, seed_b;
     int   jobs;
+    const char *keys_arg;               /* --keys, NULL: the scenario's default */
+    int   seeds_given, out_given;
     char  keys_buf[1024];
     const char *key[SWEEP_MAX_KEYS];
     int   n_keys;
@@ -62,17 +64,6 @@ typedef struct sweep {
 
 static volatile sig_atomic_t sweep_interrupted;
 static void sweep_on_sigint(int s) { (void)s; sweep_interrupted = 1; }
-
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: tandem-scenario sweep NAME --seeds A-B [--jobs J] [--keys K1,K2,..]\n"
-               "         --out DIR [NAME's options]\n"
-               "Runs scenario NAME for every seed A..B (J at a time, default 1), each with\n"
-               "--seed S --out DIR/seed-S, and prints one row per seed (exit status and\n"
-               "summary.json keys), totals and DIR/sweep.csv. Exit 0 when every run\n"
-               "exited 0, 3 otherwise.\n"
-               "  --keys K1,K2   summary.json keys to tabulate (default: per scenario)\n");
-}
 
 static int split_keys(sweep *w, const char *list)
 {
@@ -87,54 +78,83 @@ static int split_keys(sweep *w, const char *list)
     return 0;
 }
 
+/* --seeds A-B (or A) */
+static int option_seeds(const char *prog, void *dest, char *v)
+{
+    sweep *w = dest;
+    char *end;
+    w->seed_a = strtol(v, &end, 10);
+    w->seed_b = *end == '-' ? strtol(end + 1, &end, 10) : w->seed_a;
+    if (*end || w->seed_a < 0 || w->seed_b < w->seed_a || w->seed_b - w->seed_a >= SWEEP_MAX_SEEDS) {
+        fprintf(stderr, "%s: --seeds: '%s' is not A-B (0 <= A <= B, at most %d seeds)\n", prog, v,
+                SWEEP_MAX_SEEDS);
+        return OPTIONS_ERR_SAID;
+    }
+    return 0;
+}
+
+static int option_seed(const char *prog, void *dest, char *v)
+{
+    (void)dest;
+    (void)v;
+    fprintf(stderr, "%s: --seed is set per run; use --seeds A-B\n", prog);
+    return OPTIONS_ERR_SAID;
+}
+
+/* Everything that is not the sweep's own goes to NAME. */
+static int pass_on(void *user, const char *word)
+{
+    sweep *w = user;
+    if (w->n_pass >= SWEEP_MAX_ARGS - 8) {
+        fprintf(stderr, "tandem-scenario sweep: more than %d arguments for the scenario\n", SWEEP_MAX_ARGS - 8);
+        return -1;
+    }
+    w->pass[w->n_pass++] = word;
+    return 0;
+}
+
+static const option_entry sweep_table[] = {
+    { .name = "seeds", .type = OPTION_CALL, OPTION_ALL(sweep), .call = option_seeds, .meta = "A-B",
+      .help = "run NAME for every seed A..B (0 <= A <= B, at most 10000 seeds) with --seed S --out DIR/seed-S",
+      OPTION_SEEN(sweep, seeds_given), .required = 1 },
+    { .name = "jobs", .type = OPTION_INT, OPTION_AT(sweep, jobs), .min = 1, .max = SWEEP_MAX_JOBS, .meta = "J",
+      .help = "runs at a time", .def = "1" },
+    { .name = "keys", .type = OPTION_STRING, OPTION_AT(sweep, keys_arg), .meta = "K1,K2,..",
+      .help = "summary.json keys to tabulate", .def = "per scenario" },
+    { .name = "out", .type = OPTION_STRING, OPTION_AT(sweep, out), OPTION_SEEN(sweep, out_given), .required = 1,
+      .meta = "DIR", .help = "output directory: DIR/seed-S per run, DIR/sweep.csv" },
+    { .name = "seed", .type = OPTION_CALL, .call = option_seed, .meta = "S",
+      .help = "refused: the sweep sets it per run" },
+    { .name = NULL }
+};
+
+static const option_program sweep_program = {
+    .name = "tandem-scenario sweep",
+    .usage = "usage: tandem-scenario sweep NAME --seeds A-B [--jobs J] [--keys K1,K2,..]\n"
+             "         --out DIR [NAME's options]\n"
+             "Runs scenario NAME for every seed A..B (J at a time, default 1), each with\n"
+             "--seed S --out DIR/seed-S, and prints one row per seed (exit status and\n"
+             "summary.json keys), totals and DIR/sweep.csv. Exit 0 when every run\n"
+             "exited 0, 3 otherwise. Every other option goes to NAME.\n\n",
+    .groups = { { sweep_table, NULL } },   /* the base is the caller's sweep */
+    .n_groups = 1,
+};
+
 /* Options of the sweep itself; everything else goes to NAME. */
 static int parse(sweep *w, int argc, char **argv)
 {
-    int i;
-    const char *keys = NULL;
+    option_program prog = sweep_program;
+    const char *keys;
     size_t k;
     if (argc < 2 || argv[1][0] == '-')
         return -1;
     w->name = argv[1];
-    for (i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(a, "--seeds") && v) {
-            char *end;
-            w->seed_a = strtol(v, &end, 10);
-            w->seed_b = *end == '-' ? strtol(end + 1, &end, 10) : w->seed_a;
-            if (*end || w->seed_a < 0 || w->seed_b < w->seed_a || w->seed_b - w->seed_a >= SWEEP_MAX_SEEDS) {
-                fprintf(stderr, "tandem-scenario sweep: --seeds: '%s' is not A-B (0 <= A <= B, at most %d seeds)\n",
-                        v, SWEEP_MAX_SEEDS);
-                return -1;
-            }
-            i++;
-        } else if (!strcmp(a, "--jobs") && v) {
-            w->jobs = atoi(v);
-            if (w->jobs < 1 || w->jobs > SWEEP_MAX_JOBS) {
-                fprintf(stderr, "tandem-scenario sweep: --jobs: '%s' is not 1..%d\n", v, SWEEP_MAX_JOBS);
-                return -1;
-            }
-            i++;
-        } else if (!strcmp(a, "--keys") && v) {
-            keys = v;
-            i++;
-        } else if (!strcmp(a, "--out") && v) {
-            w->out = v;
-            i++;
-        } else if (!strcmp(a, "--seed")) {
-            fprintf(stderr, "tandem-scenario sweep: --seed is set per run; use --seeds A-B\n");
-            return -1;
-        } else if (w->n_pass < SWEEP_MAX_ARGS - 8) {
-            w->pass[w->n_pass++] = a;
-        } else {
-            return -1;
-        }
-    }
-    if (!w->out || w->seed_b < w->seed_a) {
-        fprintf(stderr, "tandem-scenario sweep: --seeds A-B and --out DIR are required\n");
+    prog.groups[0].base = w;
+    prog.other = pass_on;
+    prog.other_user = w;
+    if (options_parse(&prog, argc, argv, 2) < 0)
         return -1;
-    }
+    keys = w->keys_arg;
     for (k = 0; !keys && k < sizeof default_keys / sizeof default_keys[0]; k++)
         if (!strcmp(default_keys[k].scenario, w->name))
             keys = default_keys[k].keys;
@@ -314,11 +334,11 @@ static int run(int argc, char **argv)
     w.jobs = 1;
     w.seed_b = -1;
     if (argc >= 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
-        usage(stdout);
+        options_print_help(&sweep_program, stdout);
         return 0;
     }
     if (parse(&w, argc, argv) != 0) {
-        usage(stderr);
+        options_print_help(&sweep_program, stderr);
         return 2;
     }
     n = readlink("/proc/self/exe", w.self, sizeof w.self - 1);

@@ -2,73 +2,43 @@
 #include "tdsd_scen.h"
 #include "tdsd_ode.h"
 #include "daemon.h"
-#include <getopt.h>
+#include "options.h"
 #include <math.h>
 #include <string.h>
 
 #define RAD2DEG (180.0 / 3.14159265358979323846)
 
-int tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const char *const methods[],
-                   int n_methods, void (*usage)(FILE *f))
+static const char *const plants[] = { "kin", "ode", NULL };
+
+int tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const tdsd_scen_usage *u)
 {
-    static const struct option opts[] = {
-        { "method", required_argument, 0, 'm' },
-        { "plant", required_argument, 0, 'p' },
-        { "out", required_argument, 0, 'o' },
-        { "servo-hz", required_argument, 0, 'w' },
-        { "help", no_argument, 0, 'h' },
-        { 0, 0, 0, 0 }
+    const option_entry table[] = {
+        { .name = "method", .type = OPTION_CHOICE, OPTION_AT(tdsd_scen, method_index), .choices = u->methods,
+          .help = u->method_help, .def = u->methods[0] },
+        { .name = "plant", .type = OPTION_CHOICE, OPTION_AT(tdsd_scen, plant_ode), .choices = plants,
+          .help = "kin: integrate dq at 1 kHz; ode: tandem-sim + tandem-arm tracking ARM1_JOINT_REF in lockstep",
+          .def = "kin" },
+        { .name = "servo-hz", .type = OPTION_DOUBLE, OPTION_AT(tdsd_scen, servo_hz), .min = 0.5, .max = 50.0,
+          .meta = "HZ", .help = "ode: tandem-arm joint servo bandwidth", .def = "15" },
+        { .name = "out", .type = OPTION_STRING, OPTION_AT(tdsd_scen, out), OPTION_SEEN(tdsd_scen, out_given),
+          .required = 1, .meta = "DIR", .help = "output directory" },
+        { .name = "help", .type = OPTION_HELP, .help = "this text" },
+        { .name = NULL }
     };
-    int c, i;
+    char name[64];
+    option_program prog = { .name = name, .usage = u->usage, .epilog = u->epilog,
+                            .groups = { { table, s } }, .n_groups = 1 };
+    int rc;
+    snprintf(name, sizeof name, "tandem-scenario %s", s->name);
     s->method_index = 0;
-    s->method = methods[0];
     s->plant_ode = 0;
     s->out = NULL;
+    s->out_given = 0;
     s->servo_hz = 15.0;
-    optind = 1;
-    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-        switch (c) {
-        case 'm':
-            for (i = 0; i < n_methods && strcmp(optarg, methods[i]); i++)
-                ;
-            if (i == n_methods) {
-                fprintf(stderr, "tandem-scenario %s: --method: '%s' is not one of", s->name, optarg);
-                for (i = 0; i < n_methods; i++)
-                    fprintf(stderr, "%s%s", i ? "|" : " ", methods[i]);
-                fputc('\n', stderr);
-                return -1;
-            }
-            s->method_index = i;
-            s->method = methods[i];
-            break;
-        case 'p':
-            if (strcmp(optarg, "kin") && strcmp(optarg, "ode")) {
-                fprintf(stderr, "tandem-scenario %s: --plant: '%s' is not kin|ode\n", s->name, optarg);
-                return -1;
-            }
-            s->plant_ode = !strcmp(optarg, "ode");
-            break;
-        case 'o':
-            s->out = optarg;
-            break;
-        case 'w':
-            if (parse_double_opt("tandem-scenario", "--servo-hz", optarg, 0.5, 50.0, &s->servo_hz) < 0)
-                return -1;
-            break;
-        case 'h':
-            usage(stdout);
-            return 1;
-        default:
-            usage(stderr);
-            return -1;
-        }
-    }
-    if (optind < argc || !s->out) {
-        fprintf(stderr, "tandem-scenario %s: %s\n", s->name,
-                s->out ? "unexpected argument" : "--out DIR is required");
-        usage(stderr);
-        return -1;
-    }
+    rc = options_parse(&prog, argc, argv, 1);
+    if (rc < 0)
+        return rc == OPTIONS_EXIT ? 1 : -1;
+    s->method = u->methods[s->method_index];
     return scenario_mkdir(s->out) == 0 ? 0 : -1;
 }
 

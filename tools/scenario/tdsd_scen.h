@@ -16,6 +16,7 @@ typedef struct tdsd_scen {
     int    method_index;         /* index into the scenario's method list */
     int    plant_ode;
     const char *out;
+    int    out_given;            /* --out seen */
     double servo_hz;             /* --plant ode: tandem-arm --wn */
     tdsdrun_cfg cfg;
     tdsdrun_path path;
@@ -25,10 +26,20 @@ typedef struct tdsd_scen {
     double wall_s;
 } tdsd_scen;
 
-/* Parses --method M --plant kin|ode --out DIR [--servo-hz HZ] into s.
- * Returns 0 ok, 1 if --help was printed, -1 bad usage (message printed). */
-int  tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const char *const methods[],
-                    int n_methods, void (*usage)(FILE *f));
+/* What a TDSD scenario tells its --help: synopsis and description, its
+ * methods (NULL-terminated, the first is the default) and what they are,
+ * and what it writes. */
+typedef struct tdsd_scen_usage {
+    const char *usage;
+    const char *const *methods;
+    const char *method_help;
+    const char *epilog;
+} tdsd_scen_usage;
+
+/* Parses --method M --plant kin|ode --out DIR [--servo-hz HZ] into s and
+ * creates DIR. Returns 0 ok, 1 if --help was printed, -1 bad usage
+ * (message printed). */
+int  tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const tdsd_scen_usage *u);
 /* Runs the chosen plant from s->q0_rad, writing DIR/series.csv. 0 ok. */
 int  tdsd_scen_run(tdsd_scen *s);
 /* The keys both scenarios report (summary.json is left open for more). */
