@@ -1,5 +1,6 @@
 /* arm_model: PUMA 560 and seed-002 arm tables, DH link transforms and the
- * per-link frames the simulator places its bodies with (SPEC.md §3, §5).
+ * per-link frames the simulator places its bodies with (SPEC.md §3, §5),
+ * and arm_model_validate, the tables' start-up check.
  *
  * Sources and choices (every number below is one of these):
  * - Kinematics, masses, COMs, inertias: Corke's mdl_puma560 (standard DH),

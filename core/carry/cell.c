@@ -1,4 +1,7 @@
-/* cell: const layout of the two-arm workcell (SPEC.md §2.4, §5); see cell.h. */
+/* cell: const layout of the two-arm workcell (SPEC.md §2.4, §5), the frame
+ * helpers every program places the arms with, and cell_layout_validate,
+ * which checks the layout fits together (no equation: geometry only); see
+ * cell.h. */
 #include "cell.h"
 #include <math.h>
 #include <stddef.h>

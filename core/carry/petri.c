@@ -1,7 +1,9 @@
 /* petri: Petri-net engine of SPEC 2.4 (eq. 11, the seed's I_j / C_j
  * event-path planning, split start/complete firing, inhibitor arcs for
  * external token sources, P-invariant checks) and a fixed-capacity BFS
- * reachability explorer (safe / bounded / deadlock).
+ * reachability explorer (safe / bounded / deadlock). petri_net_validate
+ * checks a definition: 0/1 tables, every transition able to act, and every
+ * invariant y a P-invariant of the incidence N = N+ - N- (y^T N = 0).
  */
 #include "petri.h"
 

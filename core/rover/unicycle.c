@@ -1,6 +1,7 @@
 /* unicycle: kinematics of the wheel-axle centre C and of the tracked point
- * O at the signed distance d behind it (d < 0: ahead) (SPEC.md section 4, seed eqs. 1, 3), exact-arc
- * and RK4 integration, and the (V, w) saturation of seed eqs. 6 and 10.
+ * O at the signed distance d behind it (d < 0: ahead) (SPEC.md section 4,
+ * seed eqs. 1, 3), exact-arc and RK4 integration, and the (V, w)
+ * saturation of seed eqs. 6 and 10.
  */
 #include "unicycle.h"
 
