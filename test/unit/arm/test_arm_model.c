@@ -221,45 +221,23 @@ static void test_validate(void **state)
     assert_int_equal(arm_model_validate(&arm_model_puma560), 0);
     assert_int_equal(arm_model_validate(&arm_model_seed002), 0);
     assert_int_equal(arm_model_validate(NULL), ARM_MODEL_ERR_ARG);
-
-    m = arm_model_puma560;
-    m.name = NULL;
-    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_ARG);
-    m = arm_model_puma560;
-    m.d_m[3] = NAN;
-    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_NONFINITE);
-    m = arm_model_puma560;
-    m.inertia_kgm2[2][4] = INFINITY;
-    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_NONFINITE);
-    m = arm_model_puma560;
-    m.q_min_rad[1] = m.q_max_rad[1];                    /* lo < hi */
-    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_RANGE);
-    m = arm_model_puma560;
-    m.mass_kg[4] = 0.0;
-    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_RANGE);
-    m = arm_model_puma560;
-    m.tau_max_Nm[0] = -97.6;
-    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_RANGE);
-    m = arm_model_puma560;
-    m.qd_max_radps[5] = 0.0;
-    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_RANGE);
-    m = arm_model_puma560;
-    m.a_m[1] = -0.4318;
-    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_RANGE);
-    m = arm_model_puma560;
-    m.base_height_m = -0.1;
-    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_RANGE);
-    m = arm_model_puma560;
-    m.alpha_rad[2] = -m.alpha_rad[2];                   /* trig tables stale */
-    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_INCONSISTENT);
-    arm_model_refresh_alpha(&m);                        /* ... until refreshed */
+#define BROKEN(field_change, code) \
+    do { m = arm_model_puma560; field_change; assert_int_equal(arm_model_validate(&m), (code)); } while (0)
+    BROKEN(m.name = NULL, ARM_MODEL_ERR_ARG);
+    BROKEN(m.d_m[3] = NAN, ARM_MODEL_ERR_NONFINITE);
+    BROKEN(m.inertia_kgm2[2][4] = INFINITY, ARM_MODEL_ERR_NONFINITE);
+    BROKEN(m.q_min_rad[1] = m.q_max_rad[1], ARM_MODEL_ERR_RANGE);   /* lo < hi */
+    BROKEN(m.mass_kg[4] = 0.0, ARM_MODEL_ERR_RANGE);
+    BROKEN(m.tau_max_Nm[0] = -97.6, ARM_MODEL_ERR_RANGE);
+    BROKEN(m.qd_max_radps[5] = 0.0, ARM_MODEL_ERR_RANGE);
+    BROKEN(m.a_m[1] = -0.4318, ARM_MODEL_ERR_RANGE);
+    BROKEN(m.base_height_m = -0.1, ARM_MODEL_ERR_RANGE);
+    BROKEN(m.alpha_rad[2] = -m.alpha_rad[2], ARM_MODEL_ERR_INCONSISTENT); /* trig tables stale */
+    arm_model_refresh_alpha(&m);                                        /* ... until refreshed */
     assert_int_equal(arm_model_validate(&m), 0);
-    m = arm_model_puma560;
-    m.inertia_kgm2[1][1] = 0.01;                        /* not symmetric */
-    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_INCONSISTENT);
-    m = arm_model_puma560;
-    m.inertia_kgm2[3][8] = -1.8e-3;                     /* not positive definite */
-    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_INCONSISTENT);
+    BROKEN(m.inertia_kgm2[1][1] = 0.01, ARM_MODEL_ERR_INCONSISTENT);    /* not symmetric */
+    BROKEN(m.inertia_kgm2[3][8] = -1.8e-3, ARM_MODEL_ERR_INCONSISTENT); /* not positive definite */
+#undef BROKEN
 }
 
 int main(void)
