@@ -39,7 +39,7 @@ static int vec_finite(const double *v, int n)
 int arm_payload_point(arm_payload *p, double mass_kg, const double com_m[3])
 {
     if (!p || !com_m || !isfinite(mass_kg) || mass_kg < 0.0 || !vec_finite(com_m, 3))
-        return -1;
+        return ARM_DYN_ERR_ARG;
     memset(p, 0, sizeof *p);
     p->mass_kg = mass_kg;
     vec3_copy(p->com_m, com_m);
@@ -234,7 +234,7 @@ int arm_rne(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
     link_ref L[ARM_NJ];
     if (!tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload)
         || arm_joint_cs_eval(m, q, &cs) != 0)
-        return -1;
+        return ARM_DYN_ERR_ARG;
     link_refs(m, payload, &merged, L);
     rne_cs(m, &cs, L, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, tau_Nm);
     return 0;
@@ -369,7 +369,7 @@ int arm_mass_matrix(const arm_model *m, const double q[ARM_NJ],
     link_mass merged;
     link_ref L[ARM_NJ];
     if (!M || !payload_valid(payload) || arm_joint_cs_eval(m, q, &cs) != 0)
-        return -1;
+        return ARM_DYN_ERR_ARG;
     link_refs(m, payload, &merged, L);
     mass_matrix_cs(m, &cs, L, M);
     return 0;
@@ -384,7 +384,7 @@ int arm_spd_solve6(const double M[36], const double b[ARM_NJ], double x[ARM_NJ])
         for (k = 0; k < j; k++)
             s -= Lc[j * 6 + k] * Lc[j * 6 + k];
         if (!(s > 0.0))
-            return -2;
+            return ARM_DYN_ERR_NOT_PD;
         Lc[j * 6 + j] = sqrt(s);
         for (i = j + 1; i < ARM_NJ; i++) {
             double t = M[i * 6 + j];
@@ -420,7 +420,7 @@ int arm_forward_dynamics(const arm_model *m, const double q[ARM_NJ], const doubl
     int i;
     if (!tau_Nm || !qdd || !vec_finite(tau_Nm, ARM_NJ)
         || !rne_inputs_valid(qd, zero, gravity_mps2, payload) || arm_joint_cs_eval(m, q, &cs) != 0)
-        return -1;
+        return ARM_DYN_ERR_ARG;
     /* one trig evaluation and one payload merge serve both RNE and M(q) */
     link_refs(m, payload, &merged, L);
     rne_cs(m, &cs, L, qd, zero, gravity_mps2 ? gravity_mps2 : default_gravity, h);

@@ -13,6 +13,10 @@
 
 #include "arm_model.h"
 
+#define ARM_DYN_ERR_ARG (-1)     /* NULL, non-finite input, negative payload */
+#define ARM_DYN_ERR_NOT_PD (-2)  /* mass matrix not positive definite
+                                    (cannot happen for a valid model)      */
+
 #define ARM_GRAVITY_MPS2 9.81
 
 typedef struct arm_payload {
@@ -21,11 +25,11 @@ typedef struct arm_payload {
     double inertia_kgm2[9];   /* about its COM, flange axes; zeros = point mass */
 } arm_payload;
 
-/* Point-mass payload at com (flange frame). 0 ok, -1 bad input. */
+/* Point-mass payload at com (flange frame). 0 ok, ARM_DYN_ERR_ARG bad input. */
 int arm_payload_point(arm_payload *p, double mass_kg, const double com_m[3]);
 
 /* Recursive Newton-Euler (Luh, Walker & Paul 1980): tau for (q, qd, qdd).
- * 0 ok, -1 bad input (NULL, non-finite, negative payload mass). */
+ * 0 ok, ARM_DYN_ERR_ARG bad input (NULL, non-finite, negative payload mass). */
 int arm_rne(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
             const double qdd[ARM_NJ], const double gravity_mps2[3],
             const arm_payload *payload, double tau_Nm[ARM_NJ]);
@@ -42,14 +46,14 @@ int arm_gravity(const arm_model *m, const double q[ARM_NJ], const double gravity
 int arm_coriolis(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
                  const arm_payload *payload, double c_Nm[ARM_NJ]);
 
-/* Forward dynamics qdd = M^-1 (tau - C qd - g). -2 if M is not positive
- * definite (cannot happen for a valid model). */
+/* Forward dynamics qdd = M^-1 (tau - C qd - g). ARM_DYN_ERR_NOT_PD if M is
+ * not positive definite (cannot happen for a valid model). */
 int arm_forward_dynamics(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
                          const double tau_Nm[ARM_NJ], const double gravity_mps2[3],
                          const arm_payload *payload, double qdd[ARM_NJ]);
 
 /* Solve M x = b for a symmetric positive definite 6x6 M (Cholesky).
- * 0 ok, -2 not positive definite. */
+ * 0 ok, ARM_DYN_ERR_NOT_PD not positive definite. */
 int arm_spd_solve6(const double M[36], const double b[ARM_NJ], double x[ARM_NJ]);
 
 #endif

@@ -35,11 +35,11 @@ int arm_ik_branch_from_name(const char *name)
 {
     int b;
     if (!name)
-        return -1;
+        return ARM_KIN_ERR_ARG;
     for (b = 0; b < ARM_IK_NBRANCH; b++)
         if (strcmp(name, branch_names[b]) == 0)
             return b;
-    return -1;
+    return ARM_KIN_ERR_NO_BRANCH;
 }
 
 static int tf_finite(const double T[16])
@@ -66,7 +66,7 @@ int arm_fk(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], dou
     double *Ti = tool ? T6 : T; /* no tool: build the pose in the caller's T */
     int i;
     if (!T || arm_joint_cs_eval(m, q, &cs) != 0)
-        return -1;
+        return ARM_KIN_ERR_ARG;
     arm_base_frame(m, Ti);
     /* in place: arm_dh_compose works row by row */
     for (i = 0; i < ARM_NJ; i++)
@@ -83,7 +83,7 @@ int arm_fk_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM
     double p_e[3], z[3], o[3], r[3], v[3];
     int i;
     if (!m || !T || !J || arm_link_frames(m, q, F) != 0)
-        return -1;
+        return ARM_KIN_ERR_ARG;
     flange_to_tool(tool, F[ARM_NJ], T);
     tf_pos(p_e, T);
     for (i = 0; i < ARM_NJ; i++) {
@@ -207,9 +207,9 @@ int arm_ik(const arm_model *m, const arm_tool *tool, const double T[16], arm_ik_
     int s, e, w, b;
 
     if (!m || !T || !out || !tf_finite(T))
-        return -1;
+        return ARM_KIN_ERR_ARG;
     if (!ik_geometry_supported(m))
-        return -2;
+        return ARM_KIN_ERR_GEOMETRY;
     memset(out, 0, sizeof *out);
 
     if (tool) {
@@ -299,10 +299,10 @@ int arm_ik(const arm_model *m, const arm_tool *tool, const double T[16], arm_ik_
 
 int arm_ik_nearest(const arm_ik_result *r, const double q_ref[ARM_NJ])
 {
-    int b, j, best = -1;
+    int b, j, best = ARM_KIN_ERR_NO_BRANCH;
     double best_d = 0.0;
     if (!r || arm_q_finite(q_ref) != 0)
-        return -1;
+        return ARM_KIN_ERR_ARG;
     for (b = 0; b < ARM_IK_NBRANCH; b++) {
         double d = 0.0;
         if (r->branch[b].status != ARM_IK_OK)
@@ -325,7 +325,7 @@ int arm_ik_branch_of(const arm_model *m, const double q[ARM_NJ])
     double t[ARM_NJ], X, gamma;
     int j, s, e, w;
     if (!m || arm_q_finite(q) != 0)
-        return -1;
+        return ARM_KIN_ERR_ARG;
     for (j = 0; j < ARM_NJ; j++)
         t[j] = q[j] + m->theta_offset_rad[j];
     X = m->a_m[1] * cos(t[1]) + m->a_m[2] * cos(t[1] + t[2]) - m->d_m[3] * sin(t[1] + t[2]);

@@ -9,11 +9,16 @@
 
 #include "arm_model.h"
 
-/* Pose of the flange (tool == NULL) or of the tool. 0 ok, -1 bad input. */
+#define ARM_KIN_ERR_ARG (-1)        /* NULL, non-finite q or pose           */
+#define ARM_KIN_ERR_GEOMETRY (-2)   /* arm_ik: the model is not PUMA-type   */
+#define ARM_KIN_ERR_NO_BRANCH (-1)  /* no IK branch: unknown name, or none
+                                       inside the limits                    */
+
+/* Pose of the flange (tool == NULL) or of the tool. 0 ok, ARM_KIN_ERR_ARG bad input. */
 int arm_fk(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], double T[16]);
 
 /* Geometric Jacobian of the flange/tool point in base coordinates, 6x6
- * row-major, rows vx vy vz wx wy wz: [v; w] = J qd. 0 ok, -1 bad input. */
+ * row-major, rows vx vy vz wx wy wz: [v; w] = J qd. 0 ok, ARM_KIN_ERR_ARG bad input. */
 int arm_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], double J[36]);
 
 /* Same, also returning the pose (saves a second FK). */
@@ -50,17 +55,18 @@ typedef struct arm_ik_result {
 } arm_ik_result;
 
 const char *arm_ik_branch_name(int b);
-/* Name -> branch index, -1 if unknown. */
+/* Name -> branch index, ARM_KIN_ERR_NO_BRANCH if unknown. */
 int arm_ik_branch_from_name(const char *name);
 
 /* Solve every branch. Needs a PUMA-type model (a1 = a4 = a5 = a6 = 0,
  * d5 = 0, alpha = [90 0 -90 90 -90 0] deg). Angles in range are wrapped by
  * +-2 pi when that brings them inside [q_min, q_max].
- * 0 ok (check out->unreachable), -1 bad input, -2 unsupported geometry. */
+ * 0 ok (check out->unreachable), ARM_KIN_ERR_ARG bad input,
+ * ARM_KIN_ERR_GEOMETRY unsupported geometry. */
 int arm_ik(const arm_model *m, const arm_tool *tool, const double T[16], arm_ik_result *out);
 
 /* Index of the in-limits branch closest to q_ref (max-abs joint distance),
- * -1 if none. */
+ * ARM_KIN_ERR_NO_BRANCH if none. */
 int arm_ik_nearest(const arm_ik_result *r, const double q_ref[ARM_NJ]);
 
 /* Branch index of a joint vector (its configuration), as arm_ik names it. */

@@ -1,5 +1,6 @@
 /* arm_model: PUMA 560 and seed-002 arm tables, DH link transforms and the
- * per-link frames the simulator places its bodies with (SPEC.md §3, §5).
+ * per-link frames the simulator places its bodies with (SPEC.md §3, §5),
+ * and arm_model_validate, the tables' start-up check.
  *
  * Sources and choices (every number below is one of these):
  * - Kinematics, masses, COMs, inertias: Corke's mdl_puma560 (standard DH),
@@ -100,11 +101,69 @@ int arm_tool_offset(arm_tool *tool, const double p_flange_m[3])
 {
     if (!tool || !p_flange_m || !isfinite(p_flange_m[0]) || !isfinite(p_flange_m[1])
         || !isfinite(p_flange_m[2]))
-        return -1;
+        return ARM_MODEL_ERR_ARG;
     tf_identity(tool->T_flange_tool);
     tool->T_flange_tool[3] = p_flange_m[0];
     tool->T_flange_tool[7] = p_flange_m[1];
     tool->T_flange_tool[11] = p_flange_m[2];
+    return 0;
+}
+
+/* The per-joint rows of the table, for the finiteness check. */
+static int rows_finite(const arm_model *m)
+{
+    const double *rows[] = { m->a_m, m->d_m, m->alpha_rad, m->cos_alpha, m->sin_alpha,
+                             m->theta_offset_rad, m->q_min_rad, m->q_max_rad,
+                             m->qd_max_radps, m->tau_max_Nm, m->mass_kg };
+    size_t r;
+    int i, k;
+    if (!isfinite(m->base_height_m))
+        return 0;
+    for (r = 0; r < sizeof rows / sizeof rows[0]; r++)
+        for (i = 0; i < ARM_NJ; i++)
+            if (!isfinite(rows[r][i]))
+                return 0;
+    for (i = 0; i < ARM_NJ; i++) {
+        for (k = 0; k < 3; k++)
+            if (!isfinite(m->com_m[i][k]))
+                return 0;
+        for (k = 0; k < 9; k++)
+            if (!isfinite(m->inertia_kgm2[i][k]))
+                return 0;
+    }
+    return 1;
+}
+
+/* Symmetric positive definite 3x3 (Sylvester: leading minors > 0). */
+static int inertia_spd(const double I[9])
+{
+    const double m2 = I[0] * I[4] - I[1] * I[3];
+    const double m3 = I[0] * (I[4] * I[8] - I[5] * I[7]) - I[1] * (I[3] * I[8] - I[5] * I[6])
+                      + I[2] * (I[3] * I[7] - I[4] * I[6]);
+    return I[1] == I[3] && I[2] == I[6] && I[5] == I[7] && I[0] > 0.0 && m2 > 0.0 && m3 > 0.0;
+}
+
+int arm_model_validate(const arm_model *m)
+{
+    /* the tables store libm's cos/sin of the same double; 1e-12 leaves
+     * room for another libm, not for a wrong angle */
+    const double trig_tol = 1e-12;
+    int i;
+    if (!m || !m->name)
+        return ARM_MODEL_ERR_ARG;
+    if (!rows_finite(m))
+        return ARM_MODEL_ERR_NONFINITE;
+    if (m->base_height_m < 0.0)
+        return ARM_MODEL_ERR_RANGE;
+    for (i = 0; i < ARM_NJ; i++)
+        if (m->a_m[i] < 0.0 || !(m->q_min_rad[i] < m->q_max_rad[i]) || !(m->qd_max_radps[i] > 0.0)
+            || !(m->tau_max_Nm[i] > 0.0) || !(m->mass_kg[i] > 0.0))
+            return ARM_MODEL_ERR_RANGE;
+    for (i = 0; i < ARM_NJ; i++)
+        if (fabs(m->cos_alpha[i] - cos(m->alpha_rad[i])) > trig_tol
+            || fabs(m->sin_alpha[i] - sin(m->alpha_rad[i])) > trig_tol
+            || !inertia_spd(m->inertia_kgm2[i]))
+            return ARM_MODEL_ERR_INCONSISTENT;
     return 0;
 }
 
@@ -123,10 +182,10 @@ int arm_q_finite(const double q[ARM_NJ])
 {
     int i;
     if (!q)
-        return -1;
+        return ARM_MODEL_ERR_ARG;
     for (i = 0; i < ARM_NJ; i++)
         if (!isfinite(q[i]))
-            return -1;
+            return ARM_MODEL_ERR_ARG;
     return 0;
 }
 
@@ -168,11 +227,11 @@ int arm_joint_cs_eval(const arm_model *m, const double q[ARM_NJ], arm_joint_cs *
 {
     int i;
     if (!m || !cs || !q)
-        return -1;
+        return ARM_MODEL_ERR_ARG;
     for (i = 0; i < ARM_NJ; i++) {
         const double th = q[i] + m->theta_offset_rad[i];
         if (!isfinite(q[i]))
-            return -1;
+            return ARM_MODEL_ERR_ARG;
         cs->c[i] = cos(th); /* compilers fuse the pair into one sincos call */
         cs->s[i] = sin(th);
     }
@@ -230,7 +289,7 @@ int arm_link_frames(const arm_model *m, const double q[ARM_NJ], double T[ARM_NJ 
     arm_joint_cs cs;
     int i;
     if (!T || arm_joint_cs_eval(m, q, &cs) != 0)
-        return -1;
+        return ARM_MODEL_ERR_ARG;
     arm_base_frame(m, T[0]);
     for (i = 0; i < ARM_NJ; i++)
         arm_dh_compose(m, i, cs.c[i], cs.s[i], T[i], T[i + 1]);

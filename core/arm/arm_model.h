@@ -10,6 +10,17 @@
 #ifndef TANDEM_ARM_MODEL_H
 #define TANDEM_ARM_MODEL_H
 
+#define ARM_MODEL_ERR_ARG (-1)           /* NULL (a table without name too),
+                                            a non-finite joint or tool offset */
+/* arm_model_validate only: */
+#define ARM_MODEL_ERR_NONFINITE (-2)     /* a table entry is NaN or Inf      */
+#define ARM_MODEL_ERR_RANGE (-3)         /* a length, joint range, speed or
+                                            torque limit or mass outside its
+                                            physical range                  */
+#define ARM_MODEL_ERR_INCONSISTENT (-4)  /* cos/sin_alpha do not match
+                                            alpha_rad, or an inertia is not
+                                            symmetric positive definite     */
+
 #define ARM_NJ 6 /* joints of every arm model */
 
 typedef struct arm_model {
@@ -45,13 +56,19 @@ typedef struct arm_tool {
 
 /* Identity tool (the flange itself). */
 void arm_tool_none(arm_tool *tool);
-/* Pure translation of the tool point, flange axes kept. 0 ok, -1 bad input. */
+/* Pure translation of the tool point, flange axes kept. 0 or ARM_MODEL_ERR_ARG. */
 int  arm_tool_offset(arm_tool *tool, const double p_flange_m[3]);
+
+/* The table is sound: a name, every number finite, link lengths a_i and
+ * the base height >= 0, q_min < q_max, speed and torque limits and masses > 0,
+ * cos/sin_alpha equal to cos/sin(alpha_rad) (to 1e-12), inertias symmetric
+ * positive definite. 0 or ARM_MODEL_ERR_*. For start-up checks. */
+int arm_model_validate(const arm_model *m);
 
 /* "puma560" / "seed002" -> model; NULL if unknown. */
 const arm_model *arm_model_by_name(const char *name);
 
-/* 0 if all six numbers are finite, -1 otherwise (also for NULL). */
+/* 0 if all six numbers are finite, ARM_MODEL_ERR_ARG otherwise (also for NULL). */
 int arm_q_finite(const double q[ARM_NJ]);
 /* Bit i set if q_i is outside [q_min_i, q_max_i]; 0 = all inside. */
 unsigned arm_q_outside_limits(const arm_model *m, const double q[ARM_NJ]);
@@ -77,7 +94,7 @@ typedef struct arm_joint_cs {
     double s[ARM_NJ];
 } arm_joint_cs;
 
-/* 0 ok, -1 bad input (NULL, non-finite q). */
+/* 0 or ARM_MODEL_ERR_ARG (NULL, non-finite q). */
 int arm_joint_cs_eval(const arm_model *m, const double q[ARM_NJ], arm_joint_cs *cs);
 
 /* Link i -> frame i transform A_i(q_i) (4x4 row-major). */
@@ -94,7 +111,7 @@ void arm_base_frame(const arm_model *m, double T[16]);
 /* T[0] = mounting surface -> frame 0 (base height), T[i] = mounting
  * surface -> frame i (i = 1..6, T[6] = flange). Link i's body pose is T[i];
  * its COM in base coordinates is T[i] * com_m[i-1].
- * 0 ok, -1 bad input (NULL, non-finite q). */
+ * 0 or ARM_MODEL_ERR_ARG (NULL, non-finite q). */
 int arm_link_frames(const arm_model *m, const double q[ARM_NJ], double T[ARM_NJ + 1][16]);
 
 #endif

@@ -13,6 +13,7 @@
 
 #define JDOT_H_S 1e-4   /* central-difference step along qd, seconds */
 #define RANGE_MARGIN_DEFAULT_RAD 0.017453293   /* 1 deg */
+#define SINGULAR (-1)   /* inverse6: zero pivot; the SVD path takes over */
 
 void cartctl_gains_default(cartctl_gains *g)
 {
@@ -47,9 +48,9 @@ int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[AR
                      const double qd[ARM_NJ], cartctl_state *s)
 {
     if (!m || !q || !qd || !s || !vec_finite(q, ARM_NJ) || !vec_finite(qd, ARM_NJ))
-        return -1;
+        return CARTCTL_ERR_ARG;
     if (arm_fk_jacobian(m, tool, q, s->T, s->J) != 0)
-        return -1;
+        return CARTCTL_ERR_ARG;
     linalg_matvec(s->twist, s->J, qd, 6, ARM_NJ);
     return 0;
 }
@@ -60,13 +61,13 @@ int cartctl_jdot_qd(const arm_model *m, const arm_tool *tool, const double q[ARM
     double qp[ARM_NJ], qm[ARM_NJ], Jp[36], Jm[36], vp[6], vm[6];
     int i;
     if (!m || !q || !qd || !jdqd || !vec_finite(q, ARM_NJ) || !vec_finite(qd, ARM_NJ))
-        return -1;
+        return CARTCTL_ERR_ARG;
     for (i = 0; i < ARM_NJ; i++) {
         qp[i] = q[i] + JDOT_H_S * qd[i];
         qm[i] = q[i] - JDOT_H_S * qd[i];
     }
     if (arm_jacobian(m, tool, qp, Jp) != 0 || arm_jacobian(m, tool, qm, Jm) != 0)
-        return -1;
+        return CARTCTL_ERR_ARG;
     linalg_matvec(vp, Jp, qd, 6, ARM_NJ);
     linalg_matvec(vm, Jm, qd, 6, ARM_NJ);
     for (i = 0; i < 6; i++)
@@ -93,8 +94,8 @@ static double damping_sq(const cartctl_gains *g, double s_min)
     return g->lambda_max * g->lambda_max * (1.0 - r * r);
 }
 
-/* Gauss-Jordan inverse of a 6x6 matrix with partial pivoting. 0, or -1
- * on a zero pivot (singular). */
+/* Gauss-Jordan inverse of a 6x6 matrix with partial pivoting. 0, or
+ * SINGULAR on a zero pivot. */
 static int inverse6(const double A[36], double Ai[36])
 {
     double M[36];
@@ -108,7 +109,7 @@ static int inverse6(const double A[36], double Ai[36])
             if (fabs(M[i * 6 + k]) > fabs(M[p * 6 + k]))
                 p = i;
         if (M[p * 6 + k] == 0.0)
-            return -1;
+            return SINGULAR;
         if (p != k)
             for (j = 0; j < 6; j++) {
                 double t = M[k * 6 + j];
@@ -223,13 +224,13 @@ static int qdd_finish(const arm_model *m, const cartctl_gains *g, const double q
                       const double qd[ARM_NJ], const double J[36], const double rhs[6], cartctl_out *out)
 {
     if (!vec_finite(out->qdd, ARM_NJ))
-        return -1;
+        return CARTCTL_ERR_ARG;
     if (g->range_w_radps > 0.0) {
         double lo[ARM_NJ], hi[ARM_NJ];
         range_bounds(m, g, q, qd, lo, hi);
         out->range_limited = range_resolve(J, rhs, lo, hi, g->lambda_max * g->lambda_max + 1e-12, out->qdd);
     }
-    return vec_finite(out->qdd, ARM_NJ) ? 0 : -1;
+    return vec_finite(out->qdd, ARM_NJ) ? 0 : CARTCTL_ERR_ARG;
 }
 
 int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g,
@@ -241,17 +242,17 @@ int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g
     double U[36], sv[6], V[36], jdqd[6], rhs[6], y[6], Vtqd[6], lam2;
     int i, k;
     if (!out)
-        return -1;
+        return CARTCTL_ERR_ARG;
     memset(out, 0, sizeof *out);
     if (!cartctl_gains_validate(g) || !a_lin || !vec_finite(a_lin, 3) || (R_d && !vec_finite(R_d, 9)))
-        return -1;
+        return CARTCTL_ERR_ARG;
     if (!s) {
         if (cartctl_state_at(m, tool, q, qd, &s_local) != 0)
-            return -1;
+            return CARTCTL_ERR_ARG;
         s = &s_local;
     }
     if (cartctl_jdot_qd(m, tool, q, qd, jdqd) != 0)
-        return -1;
+        return CARTCTL_ERR_ARG;
     vec3_copy(out->a_cmd, a_lin);
     if (R_d) {
         double R[9];
@@ -300,13 +301,13 @@ int cartctl_torque(const arm_model *m, const arm_tool *tool, const arm_payload *
     cartctl_out local;
     cartctl_out *o = out ? out : &local;
     if (!tau_Nm)
-        return -1;
+        return CARTCTL_ERR_ARG;
     memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
     if (cartctl_qdd(m, tool, g, q, qd, s, a_lin, R_d, o) != 0)
-        return -1;
+        return CARTCTL_ERR_ARG;
     if (arm_rne(m, q, qd, o->qdd, NULL, payload, tau_Nm) != 0) {
         memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
-        return -1;
+        return CARTCTL_ERR_ARG;
     }
     o->saturated = jointctl_saturate(m, tau_Nm);
     return 0;

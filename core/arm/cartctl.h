@@ -44,6 +44,10 @@
 #include "arm_dyn.h"
 #include "arm_kin.h"
 
+#define CARTCTL_ERR_ARG (-1)  /* NULL, non-finite input or invalid gains, or
+                                 kinematics / dynamics failed below (a
+                                 non-finite acceleration or torque)        */
+
 typedef struct cartctl_gains {
     double kp_rot;       /* 1/s^2: orientation stiffness            */
     double kv_rot;       /* 1/s:   orientation damping              */
@@ -84,11 +88,11 @@ typedef struct cartctl_out {
     unsigned range_limited;  /* bit i: joint i held at its range barrier */
 } cartctl_out;
 
-/* Tool pose, Jacobian and twist at (q, qd). 0 / -1. */
+/* Tool pose, Jacobian and twist at (q, qd). 0 / CARTCTL_ERR_ARG. */
 int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
                      const double qd[ARM_NJ], cartctl_state *s);
 
-/* Jdot qd (6), central difference of J(q +- h qd) qd. 0 / -1. */
+/* Jdot qd (6), central difference of J(q +- h qd) qd. 0 / CARTCTL_ERR_ARG. */
 int cartctl_jdot_qd(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
                     const double qd[ARM_NJ], double jdqd[6]);
 
@@ -97,13 +101,13 @@ void cartctl_rot_error(const double R_d[9], const double R[9], double err[3]);
 
 /* Joint accelerations for the tool acceleration a_lin (m/s^2, base frame)
  * with the orientation held at R_d (NULL: no orientation servo, angular
- * acceleration 0). s may be NULL (computed here). 0 / -1. */
+ * acceleration 0). s may be NULL (computed here). 0 / CARTCTL_ERR_ARG. */
 int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g,
                 const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s,
                 const double a_lin[3], const double R_d[9], cartctl_out *out);
 
 /* The whole law: cartctl_qdd then RNE with payload (NULL = none) and the
- * torque clamp. 0 / -1 (tau is then 0). */
+ * torque clamp. 0 / CARTCTL_ERR_ARG (tau is then 0). */
 int cartctl_torque(const arm_model *m, const arm_tool *tool, const arm_payload *payload,
                    const cartctl_gains *g, const double q[ARM_NJ], const double qd[ARM_NJ],
                    const cartctl_state *s, const double a_lin[3], const double R_d[9],

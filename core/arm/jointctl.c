@@ -1,4 +1,7 @@
-/* jointctl: computed-torque joint control (SPEC.md §2.2 inner loop, §7 hold). */
+/* jointctl: computed-torque joint control (SPEC.md §2.2 inner loop, §7 hold):
+ *   tau = M(q) (qdd_d + Kv (qd_d - qd) + Kp (q_d - q)) + C(q, qd) qd + g(q)
+ * evaluated as one RNE pass with the servo acceleration, then clamped to
+ * the torque limits (jointctl_clamp, shared by every controller). */
 #include "jointctl.h"
 #include <math.h>
 
@@ -25,12 +28,12 @@ int jointctl_torque(const arm_model *m, const arm_payload *payload, const jointc
     int i, hit;
     if (arm_q_finite(q_d) != 0 || arm_q_finite(qd_d) != 0 || arm_q_finite(qdd_d) != 0 ||
         !(kp >= 0.0) || !(kv >= 0.0))
-        return -1;
+        return JOINTCTL_ERR_ARG;
     for (i = 0; i < ARM_NJ; i++)
         a[i] = qdd_d[i] + kv * (qd_d[i] - qd[i]) + kp * (q_d[i] - q[i]);
     /* RNE with the servo acceleration is M a + C qd + g in one pass. */
     if (arm_rne(m, q, qd, a, gravity_down, payload, tau_Nm) != 0)
-        return -1;
+        return JOINTCTL_ERR_ARG;
     hit = jointctl_saturate(m, tau_Nm);
     if (saturated)
         *saturated = hit;

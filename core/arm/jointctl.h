@@ -10,12 +10,15 @@
 #include "arm_dyn.h"
 #include "arm_model.h"
 
+#define JOINTCTL_ERR_ARG (-1)  /* non-finite reference, negative gains, or
+                                  the inverse dynamics refused the state  */
+
 typedef struct jointctl_gains {
     double wn_radps;     /* closed-loop natural frequency */
     double zeta;         /* damping ratio */
 } jointctl_gains;
 
-/* Torque for the reference (q_d, qd_d, qdd_d). 0 ok, -1 bad input.
+/* Torque for the reference (q_d, qd_d, qdd_d). 0 ok, JOINTCTL_ERR_ARG bad input.
  * saturated (may be NULL) is set to 1 if any joint hit its torque limit. */
 int jointctl_torque(const arm_model *m, const arm_payload *payload, const jointctl_gains *g,
                     const double q[ARM_NJ], const double qd[ARM_NJ],

@@ -1,6 +1,8 @@
-/* jtraj: quintic rest-to-rest joint trajectory, s(tau) = 10 tau^3 - 15 tau^4
- * + 6 tau^5. Peak of ds/dtau is 15/8 and of d2s/dtau2 is 10/sqrt(3), which
- * gives the shortest duration meeting the speed and acceleration bounds.
+/* jtraj: quintic rest-to-rest joint trajectory for tandem-arm's joint moves
+ * (home, park; no SPEC equation: the standard quintic blend),
+ * s(tau) = 10 tau^3 - 15 tau^4 + 6 tau^5. Peak of ds/dtau is 15/8 and of
+ * d2s/dtau2 is 10/sqrt(3), which gives the shortest duration meeting the
+ * speed and acceleration bounds.
  */
 #include "jtraj.h"
 #include <math.h>
@@ -15,7 +17,7 @@ int jtraj_plan(jtraj *t, const arm_model *m, const double q0[ARM_NJ], const doub
     double T = 0.0;
     if (arm_q_finite(q0) != 0 || arm_q_finite(q1) != 0 || !(speed_frac > 0.0 && speed_frac <= 1.0) ||
         !(qdd_max_radps2 > 0.0) || !isfinite(qdd_max_radps2))
-        return -1;
+        return JTRAJ_ERR_ARG;
     for (i = 0; i < ARM_NJ; i++) {
         const double dq = fabs(q1[i] - q0[i]);
         const double t_vel = QUINTIC_PEAK_VEL * dq / (speed_frac * m->qd_max_radps[i]);

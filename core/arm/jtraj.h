@@ -7,6 +7,9 @@
 
 #include "arm_model.h"
 
+#define JTRAJ_ERR_ARG (-1)  /* non-finite q0/q1, speed_frac outside (0, 1]
+                               or qdd_max <= 0                            */
+
 typedef struct jtraj {
     double q0[ARM_NJ];
     double q1[ARM_NJ];
@@ -14,7 +17,7 @@ typedef struct jtraj {
 } jtraj;
 
 /* Plans q0 -> q1 with peak speed <= speed_frac * qd_max and peak
- * acceleration <= qdd_max_radps2 on every joint. 0 ok, -1 bad input. */
+ * acceleration <= qdd_max_radps2 on every joint. 0 ok, JTRAJ_ERR_ARG bad input. */
 int  jtraj_plan(jtraj *t, const arm_model *m, const double q0[ARM_NJ], const double q1[ARM_NJ],
                 double speed_frac, double qdd_max_radps2);
 /* Position, velocity, acceleration at time t_s (clamped to [0, duration]). */

@@ -13,6 +13,7 @@
 
 #define NN (LINALG_MAX * LINALG_MAX)
 #define GRAM_DECLINED 1 /* svd_wide_gram: guard failed, nothing computed */
+#define SWEEP_CAP_HIT (-1) /* jacobi_rows: LINALG_SVD_MAX_SWEEPS used up */
 
 static int dims_ok(int m, int n)
 {
@@ -171,7 +172,7 @@ static void rotate_cols(double *X, int rows, int cols, int p, int q, double c, d
  * so every dot product runs over consecutive memory, and a row's squared
  * norm is recomputed only when the row changes (the same sums, in the same
  * order, as recomputing it at every pair). Returns the number of sweeps
- * used, or -1 if the cap was reached. */
+ * used, or SWEEP_CAP_HIT. */
 static int jacobi_rows(double *X, double *V, double nrm2[], int k, int len)
 {
     const double thresh = 2.0 * DBL_EPSILON;
@@ -207,7 +208,7 @@ static int jacobi_rows(double *X, double *V, double nrm2[], int k, int len)
         if (!rotated)
             return sweep + 1;
     }
-    return -1;
+    return SWEEP_CAP_HIT;
 }
 
 /* Cyclic two-sided Jacobi on the symmetric k x k G (k <= 3): on return G
@@ -333,7 +334,7 @@ static int svd_cold(double *U, double *s, double *V, double *X, int k, int len)
     linalg_identity(Vf, k);
     sweeps = jacobi_rows(X, Vf, nrm2, k, len);
     svd_from_rows(U, s, V, X, Vf, nrm2, k, len);
-    return sweeps < 0 ? LINALG_ENOCONV : LINALG_OK;
+    return sweeps == SWEEP_CAP_HIT ? LINALG_ENOCONV : LINALG_OK;
 }
 
 /* Wide A (m = LINALG_GRAM_ROWS < n), Gram warm start. The
@@ -399,7 +400,7 @@ static int svd_wide_gram(double *U, double *s, double *V, const double *A, int m
     sweeps = jacobi_rows(X, Q, nrm2, m, n);
     /* A^T Q' = X'^T = W diag(s)  =>  A = Q' diag(s) W^T */
     svd_from_rows(V, s, U, X, Q, nrm2, m, n);
-    return sweeps < 0 ? LINALG_ENOCONV : LINALG_OK;
+    return sweeps == SWEEP_CAP_HIT ? LINALG_ENOCONV : LINALG_OK;
 }
 
 int linalg_svd(double *U, double *s, double *V, const double *A, int m, int n)

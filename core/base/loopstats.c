@@ -20,7 +20,7 @@ int loopstats_add(loopstats *s, double sample_us)
 {
     double bin;
     if (!isfinite(sample_us) || sample_us < 0.0)
-        return -1;
+        return LOOPSTATS_ERR_ARG;
     bin = sample_us / LOOPSTATS_BIN_US;
     if (bin >= (double)(LOOPSTATS_BINS - 1))
         bin = (double)(LOOPSTATS_BINS - 1);

@@ -10,6 +10,8 @@
 
 #include <stdint.h>
 
+#define LOOPSTATS_ERR_ARG (-1)  /* sample negative or not finite (ignored) */
+
 #define LOOPSTATS_BINS   2048
 #define LOOPSTATS_BIN_US 1.0    /* 1 us resolution up to ~2 ms, then overflow */
 
@@ -22,7 +24,7 @@ typedef struct loopstats {
 } loopstats;
 
 void   loopstats_reset(loopstats *s);
-/* Negative or non-finite samples are ignored (returns -1). */
+/* Negative or non-finite samples are ignored (returns LOOPSTATS_ERR_ARG). */
 int    loopstats_add(loopstats *s, double sample_us);
 double loopstats_mean(const loopstats *s);
 /* Upper edge of the bin holding the p-quantile, p in [0, 1]; 0 if empty.

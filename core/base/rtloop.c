@@ -14,7 +14,7 @@ int64_t rtloop_now_ns(void)
 int rtloop_init(rtloop *l, int64_t period_ns)
 {
     if (period_ns < RTLOOP_MIN_PERIOD_NS || period_ns > RTLOOP_MAX_PERIOD_NS)
-        return -1;
+        return RTLOOP_ERR_RANGE;
     l->period_ns = period_ns;
     l->next_ns = rtloop_now_ns() + period_ns;
     l->wake_ns = 0;

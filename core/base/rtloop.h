@@ -18,6 +18,8 @@
 #include <stdint.h>
 #include "loopstats.h"
 
+#define RTLOOP_ERR_RANGE (-1)  /* period outside [RTLOOP_MIN_PERIOD_NS, RTLOOP_MAX_PERIOD_NS] */
+
 #define RTLOOP_MIN_PERIOD_NS 50000LL        /* 20 kHz */
 #define RTLOOP_MAX_PERIOD_NS 10000000000LL  /* 10 s */
 
@@ -32,7 +34,8 @@ typedef struct rtloop {
 } rtloop;
 
 int64_t rtloop_now_ns(void);
-/* Returns -1 if the period is outside [RTLOOP_MIN_PERIOD_NS, RTLOOP_MAX_PERIOD_NS]. */
+/* 0, or RTLOOP_ERR_RANGE if the period is outside
+ * [RTLOOP_MIN_PERIOD_NS, RTLOOP_MAX_PERIOD_NS]. */
 int  rtloop_init(rtloop *l, int64_t period_ns);
 /* Sleeps until the next deadline and records the wake-up latency. */
 void rtloop_wait(rtloop *l);

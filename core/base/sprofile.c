@@ -28,10 +28,10 @@ int sprofile_plan(sprofile *p, double s_f_m, double v_m, double a_m, double u_m)
 {
     double w_m, a0, d0, d, a;
     if (!p)
-        return -1;
+        return SPROFILE_ERR_ARG;
     zero(p);
     if (!isfinite(s_f_m) || s_f_m < 0.0 || !finite_pos(v_m) || !finite_pos(a_m) || !finite_pos(u_m))
-        return -1;
+        return SPROFILE_ERR_ARG;
     p->s_f_m = s_f_m;
     p->u_m = u_m;
     w_m = v_m * v_m;

@@ -18,6 +18,8 @@
 #ifndef TANDEM_SPROFILE_H
 #define TANDEM_SPROFILE_H
 
+#define SPROFILE_ERR_ARG (-1)  /* NULL, not finite, s_f < 0 or a limit <= 0 */
+
 typedef struct {
     double s_f_m;       /* segment length                                 */
     double u_m;         /* da/ds limit                                    */
@@ -28,7 +30,7 @@ typedef struct {
 } sprofile;
 
 /* Plan a profile. s_f_m >= 0 and v_m, a_m, u_m > 0, all finite.
- * s_f_m = 0 gives the all-zero profile. Returns 0 or -1 (bad input;
+ * s_f_m = 0 gives the all-zero profile. Returns 0 or SPROFILE_ERR_ARG (bad input;
  * *p is then the zero profile). */
 int sprofile_plan(sprofile *p, double s_f_m, double v_m, double a_m, double u_m);
 

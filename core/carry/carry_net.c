@@ -1,8 +1,9 @@
 /* carry_net: the two-arm carry task of SPEC 2.4 (Petri net: N-, N+, the
  * vision source with its inhibitor arc, P-invariants, gamma0) and the
  * lookup table of SPEC 2.5. Gains were tuned on the erlaw point-mass
- * loop (test/unit/carry/test_carry_net.c): a 1 kHz operational-space computed-torque
- * arm behaves like X'' = u.
+ * loop (test/unit/carry/test_carry_net.c): a 1 kHz operational-space
+ * computed-torque arm behaves like X'' = u. carry_table_validate checks the
+ * lookup table against itself and against the net.
  */
 #include "carry_net.h"
 #include <math.h>
@@ -133,7 +134,7 @@ int carry_gains_bounds(double lo[CARRY_N_GAINS], double hi[CARRY_N_GAINS])
         }
         n++;
     }
-    return n > 0 ? 0 : -1;
+    return n > 0 ? 0 : CARRY_NET_ERR_NO_GAINS;
 }
 
 int carry_gains_within_table(const erlaw_gains *g, int allow_zero)
@@ -148,6 +149,107 @@ int carry_gains_within_table(const erlaw_gains *g, int allow_zero)
             return 0;
     }
     return 1;
+}
+
+static int pose_ok(int pose)
+{
+    return pose >= 0 && pose < CARRY_N_POSES;
+}
+
+static int grip_ok(int grip)
+{
+    return grip == CARRY_GRIP_NONE || grip == CARRY_GRIP_CLOSE || grip == CARRY_GRIP_OPEN;
+}
+
+/* One segment: 0, CARRY_NET_ERR_RANGE or _INCONSISTENT (a move goes to a
+ * pose, a grasp or release has none). */
+static int segment_check(const carry_segment *s)
+{
+    if (!pose_ok(s->pose))
+        return CARRY_NET_ERR_RANGE;
+    switch (s->kind) {
+    case CARRY_SEG_MOVE:
+        return s->pose != CARRY_POSE_NONE ? 0 : CARRY_NET_ERR_INCONSISTENT;
+    case CARRY_SEG_GRASP:
+    case CARRY_SEG_RELEASE:
+        return s->pose == CARRY_POSE_NONE ? 0 : CARRY_NET_ERR_INCONSISTENT;
+    default:
+        return CARRY_NET_ERR_RANGE;
+    }
+}
+
+/* Arm a's plan in row r: its segments, and the row's claims about it (in
+ * arms, target pose, net gripper action, waiting for the partner). Sets
+ * *moves if the plan has a Cartesian move. */
+static int plan_check(const carry_row *r, int a, int *moves)
+{
+    const carry_arm_plan *pl = &r->plan[a];
+    const carry_arm_plan *partner = &r->plan[1 - a];
+    const int in_row = (r->arms & (a == 0 ? CARRY_ARM1 : CARRY_ARM2)) != 0;
+    int k, last_pose = CARRY_POSE_NONE, last_grip = CARRY_GRIP_NONE;
+    if (pl->n_segments < 0 || pl->n_segments > CARRY_MAX_SEGMENTS)
+        return CARRY_NET_ERR_SIZE;
+    if (!pose_ok(r->target_pose[a]) || !grip_ok(r->gripper[a])
+        || (pl->after_partner != 0 && pl->after_partner != 1))
+        return CARRY_NET_ERR_RANGE;
+    for (k = 0; k < pl->n_segments; k++) {
+        const int rc = segment_check(&pl->seg[k]);
+        if (rc != 0)
+            return rc;
+        if (pl->seg[k].kind == CARRY_SEG_MOVE) {
+            last_pose = pl->seg[k].pose;
+            *moves = 1;
+        } else {
+            last_grip = pl->seg[k].kind == CARRY_SEG_GRASP ? CARRY_GRIP_CLOSE : CARRY_GRIP_OPEN;
+        }
+    }
+    if (in_row != (pl->n_segments > 0) || r->target_pose[a] != last_pose
+        || r->gripper[a] != last_grip
+        || (pl->after_partner && (partner->n_segments == 0 || partner->after_partner)))
+        return CARRY_NET_ERR_INCONSISTENT;
+    return 0;
+}
+
+/* Transition t has an input place (is not a source). */
+static int has_input(const petri_net *net, int t)
+{
+    int i;
+    for (i = 0; i < net->n_places; i++)
+        if (net->n_minus[i * net->n_transitions + t])
+            return 1;
+    return 0;
+}
+
+static int row_check(const carry_row *r, const petri_net *net, int t)
+{
+    int a, rc, moves = 0;
+    if (!r->name || (r->arms & ~(CARRY_ARM1 | CARRY_ARM2)) != 0 || r->sync_group < 0)
+        return CARRY_NET_ERR_RANGE;
+    for (a = 0; a < 2; a++)
+        if ((rc = plan_check(r, a, &moves)) != 0)
+            return rc;
+    if (r->sync_group > 0 && r->arms != (CARRY_ARM1 | CARRY_ARM2))
+        return CARRY_NET_ERR_INCONSISTENT;
+    if (moves && !erlaw_gains_validate(&r->lin))
+        return CARRY_NET_ERR_GAINS;
+    if ((r->arms != 0) != has_input(net, t))
+        return CARRY_NET_ERR_NET;
+    return 0;
+}
+
+int carry_table_validate(const carry_row *rows, int n_rows, const petri_net *net)
+{
+    int t, rc;
+    if (!rows || !net)
+        return CARRY_NET_ERR_ARG;
+    if (petri_net_validate(net) != 0)
+        return CARRY_NET_ERR_NET;
+    if (n_rows != net->n_transitions)
+        return CARRY_NET_ERR_SIZE;
+    for (t = 0; t < n_rows; t++)
+        if ((rc = row_check(&rows[t], net, t)) != 0)
+            return rc;
+    return 0;
 }
 
 const char *carry_pose_name(int pose)

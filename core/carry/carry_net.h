@@ -27,6 +27,34 @@
 #include "erlaw.h"
 #include "petri.h"
 
+#define CARRY_NET_ERR_NO_GAINS (-1)     /* carry_gains_bounds: no row moves an
+                                           arm, so there are no bounds    */
+/* carry_table_validate only: */
+#define CARRY_NET_ERR_ARG (-2)          /* NULL rows or net                */
+#define CARRY_NET_ERR_SIZE (-3)         /* not one row per transition, or a
+                                           plan longer than
+                                           CARRY_MAX_SEGMENTS or negative */
+#define CARRY_NET_ERR_RANGE (-4)        /* a field outside its set: no name,
+                                           arms, pose, gripper, segment
+                                           kind, after_partner not 0/1,
+                                           sync_group < 0                 */
+#define CARRY_NET_ERR_GAINS (-5)        /* a row that moves an arm has gains
+                                           erlaw_gains_validate refuses   */
+#define CARRY_NET_ERR_INCONSISTENT (-6) /* a row contradicts itself: an arm
+                                           in arms without segments or the
+                                           reverse, a move without pose or
+                                           a grasp with one, target pose or
+                                           gripper not what the plan ends
+                                           with, after_partner without a
+                                           partner that goes first, a sync
+                                           group of one arm               */
+#define CARRY_NET_ERR_NET (-7)          /* the net is not sound
+                                           (petri_net_validate), or a row
+                                           contradicts its transition: a
+                                           source (no input place) that
+                                           moves an arm, or a transition
+                                           with inputs that moves none    */
+
 enum {
     CARRY_P1 = 0, /* vision has located a workpiece   */
     CARRY_P2,     /* arm 2 idle at home               */
@@ -107,9 +135,17 @@ extern const carry_row carry_table[CARRY_N_TRANSITIONS];
 /* Orientation channel gains (rad units) used with every row. */
 extern const erlaw_gains carry_rot_gains;
 
+/* The lookup table is sound against its net: n_rows rows, one per
+ * transition of net (row t is transition t), each as the
+ * CARRY_NET_ERR_* above describe. 0 or the first CARRY_NET_ERR_* found.
+ * For start-up checks: carry_table_validate(carry_table,
+ * CARRY_N_TRANSITIONS, &carry_net). */
+int carry_table_validate(const carry_row *rows, int n_rows, const petri_net *net);
+
 /* Bounds of the lookup table's gains: lo[i], hi[i] = min, max over every
  * row that moves an arm, field i in erlaw_gains order (v_m a_m u_m k_p k_v
- * k0 k1 k2). A row received from the bus must stay inside them (SPEC 7). */
+ * k0 k1 k2). A row received from the bus must stay inside them (SPEC 7).
+ * 0 or CARRY_NET_ERR_NO_GAINS. */
 #define CARRY_N_GAINS 8
 int carry_gains_bounds(double lo[CARRY_N_GAINS], double hi[CARRY_N_GAINS]);
 /* 1 if every field of g is finite and inside the table's bounds; with

@@ -21,7 +21,7 @@ int cartseg_tool_world(const arm_model *m, const arm_tool *tool, const double T_
     cartctl_state s;
     double Tw[16], Rwb[9];
     if (!T_world_base || !x || !v || cartctl_state_at(m, tool, q, qd, &s) != 0)
-        return -1;
+        return CARTSEG_ERR_ARG;
     tf_mul(Tw, T_world_base, s.T);
     tf_pos(x, Tw);
     R_of(T_world_base, Rwb);
@@ -37,15 +37,15 @@ int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool, const do
     const double qd0[ARM_NJ] = { 0 };
     int i;
     if (!c || !p1_world || !R1_world || (ref != ERLAW_REF_MEASURED && ref != ERLAW_REF_TIME))
-        return -1;
+        return CARTSEG_ERR_ARG;
     for (i = 0; i < 3; i++)
         if (!isfinite(p1_world[i]))
-            return -1;
+            return CARTSEG_ERR_ARG;
     memset(c, 0, sizeof *c);
     if (cartseg_tool_world(m, tool, T_world_base, q, qd0, x, v) != 0)
-        return -1;
+        return CARTSEG_ERR_ARG;
     if (erlaw_line_init(&c->line, x, p1_world, g) != 0)
-        return -1;
+        return CARTSEG_ERR_ARG;
     memcpy(c->T_world_base, T_world_base, sizeof c->T_world_base);
     R_of(T_world_base, Rwb);
     rot_tmul(c->R_d_base, Rwb, R1_world);
@@ -106,14 +106,14 @@ int cartseg_joint_goal(const arm_model *m, const arm_tool *tool, const double T_
     arm_ik_result r;
     int b, j, arm_cfg, best_same = 0, inside = 0;
     if (!m || !T_world_base || !p1_world || !R1_world || !q_goal || arm_q_finite(q) != 0)
-        return -1;
+        return CARTSEG_ERR_ARG;
     memcpy(q_goal, q, sizeof(double) * ARM_NJ);
     tf_from_rot_pos(Tw, R1_world, p1_world);
     tf_inverse(Tinv, T_world_base);
     tf_mul(T, Tinv, Tw);
     arm_cfg = arm_ik_branch_of(m, q);
     if (arm_ik(m, tool, T, &r) != 0 || r.unreachable || arm_cfg < 0)
-        return -1;
+        return CARTSEG_ERR_NO_GOAL;
     for (b = 0; b < ARM_IK_NBRANCH; b++) {
         double qc[ARM_NJ], qr[ARM_NJ], d;
         int ok = 1, same;
@@ -149,7 +149,7 @@ int cartseg_joint_goal(const arm_model *m, const arm_tool *tool, const double T_
         return 0;
     }
     if (!inside)
-        return -1;
+        return CARTSEG_ERR_NO_GOAL;
     memcpy(q_goal, best, sizeof best);
     return 1;
 }
@@ -265,10 +265,10 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     erlaw_ref ref = sync ? ERLAW_REF_EXTERNAL : c->ref;
     int commanding, blocked, held, i;
     if (!c || !out)
-        return -1;
+        return CARTSEG_ERR_ARG;
     memset(out, 0, sizeof *out);
     if (!isfinite(dt_s) || dt_s < 0.0 || cartctl_state_at(m, tool, q, qd, &st) != 0)
-        return -1;
+        return CARTSEG_ERR_ARG;
     if (c->contact_N >= 0.0)
         c->t_no_contact_s = c->contact_N >= CARTSEG_CONTACT_N ? 0.0 : c->t_no_contact_s + dt_s;
     tf_mul(Tw, c->T_world_base, st.T);
@@ -282,7 +282,7 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     if (c->blocked && c->ref == ERLAW_REF_MEASURED)
         ref = ERLAW_REF_BLOCKED;
     if (erlaw_line_step(&c->line, out->x_world, out->v_world, ref, s_ext_m, dt_s, &eo) != 0)
-        return -1;
+        return CARTSEG_ERR_ARG;
     out->s_m = eo.s_m;
     out->s_ref_m = eo.s_ref_m;
     out->s_f_m = erlaw_channel_length(&c->line.ch);
@@ -346,7 +346,7 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     rot_tapply(u_base, Rwb, eo.u);
     if (cartctl_torque(m, tool, payload, &c->cg, q, qd, &st, u_base,
                        ref == ERLAW_REF_BLOCKED ? c->R_hold_base : c->R_d_base, out->tau_Nm, &co) != 0)
-        return -1;
+        return CARTSEG_ERR_ARG;
     out->saturated = co.saturated;
     out->range_limited = co.range_limited;
     return 0;

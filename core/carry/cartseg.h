@@ -15,6 +15,13 @@
 #include "cartctl.h"
 #include "erlaw.h"
 
+#define CARTSEG_ERR_ARG (-1)     /* NULL, non-finite input or bad reference
+                                    mode, or a failure below (kinematics,
+                                    erlaw, cartctl)                        */
+#define CARTSEG_ERR_NO_GOAL (-1) /* cartseg_joint_goal: no IK solution keeps
+                                    the margin (the pose unreachable or the
+                                    arm's configuration unknown)           */
+
 #define CARTSEG_DONE_TOL_M 0.004       /* s within 4 mm of s_f ...            */
 #define CARTSEG_DONE_SPEED_MPS 0.008   /* ... and the tool slower than 8 mm/s */
 #define CARTSEG_BLOCK_EPS_M 0.001      /* s must gain 1 mm ...                */
@@ -96,14 +103,14 @@ typedef struct cartseg_out {
     unsigned range_limited;    /* joints held at their range barrier (cartctl) */
 } cartseg_out;
 
-/* Tool point and velocity in the world. 0 / -1. */
+/* Tool point and velocity in the world. 0 / CARTSEG_ERR_ARG. */
 int cartseg_tool_world(const arm_model *m, const arm_tool *tool, const double T_world_base[16],
                        const double q[ARM_NJ], const double qd[ARM_NJ], double x[3], double v[3]);
 
 /* Segment from the current tool point to p1_world with the tool
  * orientation R1_world held. ref: ERLAW_REF_MEASURED (event law; also used
  * with an external s* by passing s_ext to cartseg_step) or ERLAW_REF_TIME.
- * 0 / -1 (bad input). */
+ * 0 / CARTSEG_ERR_ARG (bad input). */
 int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool, const double T_world_base[16],
                   const double q[ARM_NJ], const double p1_world[3], const double R1_world[9],
                   const erlaw_gains *g, erlaw_ref ref);
@@ -120,14 +127,14 @@ void cartseg_set_contact(cartseg *c, double force_N);
  * inside its range (q_goal = it: the Cartesian move may run); 1 when it
  * does not (q_goal = the nearest solution, preferring the arm's shoulder
  * and elbow configuration, that keeps the margin: reach the goal by a
- * joint-space move); -1 when no solution keeps the margin or on bad
+ * joint-space move); CARTSEG_ERR_NO_GOAL when no solution keeps the margin or on bad
  * input (q_goal = q). */
 int cartseg_joint_goal(const arm_model *m, const arm_tool *tool, const double T_world_base[16],
                        const double q[ARM_NJ], const double p1_world[3], const double R1_world[9],
                        double q_goal[ARM_NJ]);
 
 /* One cycle. s_ext_m >= 0 selects the external (synchronised) reference
- * k_i s*; pass a negative value otherwise. 0 / -1 (tau then 0). */
+ * k_i s*; pass a negative value otherwise. 0 / CARTSEG_ERR_ARG (tau then 0). */
 int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm_payload *payload,
                  const double q[ARM_NJ], const double qd[ARM_NJ], double s_ext_m, double dt_s,
                  cartseg_out *out);

@@ -1,6 +1,10 @@
-/* cell: const layout of the two-arm workcell (SPEC.md §2.4, §5); see cell.h. */
+/* cell: const layout of the two-arm workcell (SPEC.md §2.4, §5), the frame
+ * helpers every program places the arms with, and cell_layout_validate,
+ * which checks the layout fits together (no equation: geometry only); see
+ * cell.h. */
 #include "cell.h"
 #include <math.h>
+#include <stddef.h>
 #include "vec3.h"
 
 #define PI 3.14159265358979323846
@@ -21,6 +25,75 @@ const cell_layout cell_default = {
     .approach_height_m = 0.13,
     .home_tool_m = { { -0.50, 0.50, 0.45 }, { 0.50, 0.50, 0.45 } },
 };
+
+/* Every number of the layout, group by group. */
+static int numbers_finite(const cell_layout *c)
+{
+    const double *groups[] = { c->base_xyz_m[0], c->base_xyz_m[1], c->base_yaw_rad,
+                               c->table_center_m, c->table_size_m, c->workpiece_size_m,
+                               &c->workpiece_mass_kg, &c->grasp_offset_m, &c->grasp_tolerance_m,
+                               c->pick_center_m, c->pick_spread_m, c->deliver_center_m,
+                               c->handover_center_m, &c->approach_height_m, c->home_tool_m[0],
+                               c->home_tool_m[1] };
+    const int len[] = { 3, 3, CELL_ARMS, 3, 3, 3, 1, 1, 1, 3, 2, 3, 3, 1, 3, 3 };
+    size_t g;
+    int i;
+    for (g = 0; g < sizeof groups / sizeof groups[0]; g++)
+        for (i = 0; i < len[g]; i++)
+            if (!isfinite(groups[g][i]))
+                return 0;
+    return 1;
+}
+
+static int positive(const double *v, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!(v[i] > 0.0))
+            return 0;
+    return 1;
+}
+
+/* A workpiece centred at p (+- spread in x, y) lies on the table top,
+ * inside the table's footprint. */
+static int rests_on_table(const cell_layout *c, const double p[3], const double spread[2])
+{
+    /* same tolerance the layout's own test uses for "resting on" */
+    const double top = c->table_center_m[2] + 0.5 * c->table_size_m[2];
+    int k;
+    if (fabs(p[2] - 0.5 * c->workpiece_size_m[2] - top) > 1e-9)
+        return 0;
+    for (k = 0; k < 2; k++)
+        if (fabs(p[k] - c->table_center_m[k]) + spread[k] + 0.5 * c->workpiece_size_m[k]
+            > 0.5 * c->table_size_m[k])
+            return 0;
+    return 1;
+}
+
+int cell_layout_validate(const cell_layout *c)
+{
+    static const double no_spread[2] = { 0.0, 0.0 };
+    double arms_apart[3];
+    if (!c)
+        return CELL_ERR_ARG;
+    if (!numbers_finite(c))
+        return CELL_ERR_NONFINITE;
+    if (!positive(c->table_size_m, 3) || !positive(c->workpiece_size_m, 3)
+        || !positive(&c->workpiece_mass_kg, 1) || !positive(&c->grasp_offset_m, 1)
+        || !positive(&c->grasp_tolerance_m, 1) || !positive(&c->approach_height_m, 1)
+        || c->pick_spread_m[0] < 0.0 || c->pick_spread_m[1] < 0.0)
+        return CELL_ERR_RANGE;
+    if (c->grasp_offset_m + c->grasp_tolerance_m > 0.5 * c->workpiece_size_m[0]
+        || !rests_on_table(c, c->pick_center_m, c->pick_spread_m)
+        || !rests_on_table(c, c->deliver_center_m, no_spread)
+        || !(c->handover_center_m[2] - 0.5 * c->workpiece_size_m[2]
+             > c->table_center_m[2] + 0.5 * c->table_size_m[2]))
+        return CELL_ERR_INCONSISTENT;
+    vec3_sub(arms_apart, c->base_xyz_m[1], c->base_xyz_m[0]);
+    if (!(vec3_norm(arms_apart) > 0.0))
+        return CELL_ERR_INCONSISTENT;
+    return 0;
+}
 
 void cell_world_from_arm(const cell_layout *c, int a, double T[16])
 {

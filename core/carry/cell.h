@@ -12,6 +12,16 @@
 #ifndef TANDEM_CELL_H
 #define TANDEM_CELL_H
 
+#define CELL_ERR_ARG (-1)           /* NULL layout                       */
+#define CELL_ERR_NONFINITE (-2)     /* a number is NaN or Inf            */
+#define CELL_ERR_RANGE (-3)         /* a size, mass, offset or clearance
+                                       <= 0, or a spread < 0             */
+#define CELL_ERR_INCONSISTENT (-4)  /* parts that do not fit together:
+                                       grasp points off the bar, a
+                                       workpiece pose not resting on the
+                                       table or outside it, the hand-over
+                                       not above it, the arms on one spot */
+
 #define CELL_ARMS 2
 #define CELL_TOOL_LENGTH_M 0.10        /* flange -> point between the fingers */
 
@@ -33,6 +43,14 @@ typedef struct cell_layout {
 } cell_layout;
 
 extern const cell_layout cell_default;
+
+/* The layout is sound: every number finite, sizes, mass, grasp offset and
+ * tolerance and approach height > 0, spreads >= 0, both grasp points on
+ * the bar (within the tolerance of its ends), the pick zone (with its
+ * spread) and the delivery pose resting on the table top and inside its
+ * footprint, the hand-over workpiece above the table top, the arms at two
+ * different places. 0 or CELL_ERR_*. For start-up checks. */
+int cell_layout_validate(const cell_layout *c);
 
 /* World <-> arm mounting frame (4x4, row-major) for arm index a (0, 1). */
 void cell_world_from_arm(const cell_layout *c, int a, double T[16]);

@@ -34,9 +34,9 @@ int erlaw_gains_validate(const erlaw_gains *g)
 static int channel_init(erlaw_channel *c, const double e[3], double s_f, const erlaw_gains *g)
 {
     if (!erlaw_gains_validate(g))
-        return -1;
+        return ERLAW_ERR_ARG;
     if (sprofile_plan(&c->prof, s_f, g->v_m, g->a_m, g->u_m) != 0)
-        return -1;
+        return ERLAW_ERR_ARG;
     c->g = *g;
     /* Short segments: eq. 7 would already be fading at s = 0 (k2 s_f < k1)
      * and the arm might not start. Fade over the last half instead. */
@@ -87,9 +87,9 @@ static int channel_ref(erlaw_channel *c, double s, erlaw_ref ref, double s_ext, 
 {
     const double s_f = c->prof.s_f_m;
     if (!isfinite(dt) || dt < 0.0)
-        return -1;
+        return ERLAW_ERR_ARG;
     if (ref == ERLAW_REF_EXTERNAL && !isfinite(s_ext))
-        return -1;
+        return ERLAW_ERR_ARG;
     c->t_s += dt;
     if (ref != ERLAW_REF_EXTERNAL)
         c->ext_seen = 0;
@@ -114,7 +114,7 @@ static int channel_ref(erlaw_channel *c, double s, erlaw_ref ref, double s_ext, 
         *s_ref = c->s_time_m;
         return 0;
     }
-    return -1;
+    return ERLAW_ERR_ARG;
 }
 
 /* Numerical slack for "s_ref = s": the laggard's k_i (s_i / k_i). */
@@ -182,7 +182,7 @@ int erlaw_line_init(erlaw_line *l, const double p0_m[3], const double p1_m[3],
 {
     double d[3], e[3], s_f;
     if (!l || !finite3(p0_m) || !finite3(p1_m))
-        return -1;
+        return ERLAW_ERR_ARG;
     vec3_sub(d, p1_m, p0_m);
     s_f = vec3_normalize(e, d);
     if (s_f == 0.0)
@@ -195,7 +195,7 @@ int erlaw_line_init(erlaw_line *l, const double p0_m[3], const double p1_m[3],
 int erlaw_line_hold(erlaw_line *l, const double x_m[3])
 {
     if (!l || !finite3(x_m))
-        return -1;
+        return ERLAW_ERR_ARG;
     vec3_copy(l->x_hold_m, x_m);
     return 0;
 }
@@ -215,10 +215,10 @@ int erlaw_line_step(erlaw_line *l, const double x_m[3], const double v_mps[3],
     double s, s_ref, x_d[3], err[3];
     out_zero(out);
     if (!l || !out || !finite3(x_m) || !finite3(v_mps))
-        return -1;
+        return ERLAW_ERR_ARG;
     s = erlaw_line_s(l, x_m);
     if (channel_ref(&l->ch, s, ref, s_ext_m, dt_s, &s_ref) != 0)
-        return -1;
+        return ERLAW_ERR_ARG;
     if (ref == ERLAW_REF_BLOCKED) {
         vec3_sub(err, l->x_hold_m, x_m);
     } else {
@@ -257,7 +257,7 @@ int erlaw_rot_init(erlaw_rot *r, const double R0[9], const double R1[9], const e
     double phi[3], n[3], theta_f;
     int i;
     if (!r || !finite9(R0) || !finite9(R1))
-        return -1;
+        return ERLAW_ERR_ARG;
     rotvec_abt(phi, R1, R0);
     theta_f = vec3_normalize(n, phi);
     if (theta_f < 1e-12) {
@@ -282,7 +282,7 @@ int erlaw_rot_hold(erlaw_rot *r, const double R[9])
 {
     int i;
     if (!r || !finite9(R))
-        return -1;
+        return ERLAW_ERR_ARG;
     for (i = 0; i < 9; i++)
         r->R_hold[i] = R[i];
     return 0;
@@ -294,10 +294,10 @@ int erlaw_rot_step(erlaw_rot *r, const double R[9], const double w_radps[3],
     double th, th_ref, Rs[9], Rd[9], err[3];
     out_zero(out);
     if (!r || !out || !finite9(R) || !finite3(w_radps))
-        return -1;
+        return ERLAW_ERR_ARG;
     th = erlaw_rot_angle(r, R);
     if (channel_ref(&r->ch, th, ref, s_ext_rad, dt_s, &th_ref) != 0)
-        return -1;
+        return ERLAW_ERR_ARG;
     if (ref == ERLAW_REF_BLOCKED) {
         rotvec_abt(err, r->R_hold, R);
     } else {

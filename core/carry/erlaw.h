@@ -86,6 +86,9 @@
 
 #include "sprofile.h"
 
+#define ERLAW_ERR_ARG (-1)  /* NULL, non-finite input, invalid gains, bad
+                               reference mode, or dt < 0                  */
+
 /* One set of limits and gains (one row of the lookup table, SPEC 2.5).
  * For the orientation channel read m as rad. */
 typedef struct {
@@ -156,22 +159,22 @@ typedef struct {
 /* Gains valid: every field finite, limits > 0, k_p, k_v, k0, k2 >= 0. */
 int erlaw_gains_validate(const erlaw_gains *g);
 
-/* Segment p0 -> p1. A zero-length segment is valid (holds p0). 0 / -1. */
+/* Segment p0 -> p1. A zero-length segment is valid (holds p0). 0 / ERLAW_ERR_ARG. */
 int erlaw_line_init(erlaw_line *l, const double p0_m[3], const double p1_m[3],
                     const erlaw_gains *g);
 /* Measured progress: projection of x on the segment, clamped to [0, s_f]. */
 double erlaw_line_s(const erlaw_line *l, const double x_m[3]);
 /* Pose held across the path under ERLAW_REF_BLOCKED (call it with the
- * measured tool point when the block is detected). 0 / -1. */
+ * measured tool point when the block is detected). 0 / ERLAW_ERR_ARG. */
 int erlaw_line_hold(erlaw_line *l, const double x_m[3]);
 /* One control cycle. s_ext_m is used only with ERLAW_REF_EXTERNAL (it is
  * clamped to [0, s_f], then to the measured s); dt_s advances the baseline
  * clock (ERLAW_REF_TIME), the reference-rate estimate and the segment
- * time. Returns 0, or -1 on bad input (out->u is then 0). */
+ * time. Returns 0, or ERLAW_ERR_ARG on bad input (out->u is then 0). */
 int erlaw_line_step(erlaw_line *l, const double x_m[3], const double v_mps[3],
                     erlaw_ref ref, double s_ext_m, double dt_s, erlaw_out *out);
 
-/* Orientation move R0 -> R1 (rotation matrices, row-major). 0 / -1. */
+/* Orientation move R0 -> R1 (rotation matrices, row-major). 0 / ERLAW_ERR_ARG. */
 int erlaw_rot_init(erlaw_rot *r, const double R0[9], const double R1[9],
                    const erlaw_gains *g);
 /* Measured rotated angle about the move's axis, clamped to [0, theta_f]. */

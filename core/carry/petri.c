@@ -1,11 +1,15 @@
 /* petri: Petri-net engine of SPEC 2.4 (eq. 11, the seed's I_j / C_j
  * event-path planning, split start/complete firing, inhibitor arcs for
  * external token sources, P-invariant checks) and a fixed-capacity BFS
- * reachability explorer (safe / bounded / deadlock).
+ * reachability explorer (safe / bounded / deadlock). petri_net_validate
+ * checks a definition: 0/1 tables, every transition able to act, and every
+ * invariant y a P-invariant of the incidence N = N+ - N- (y^T N = 0).
  */
 #include "petri.h"
 
 #include <string.h>
+
+#define VISIT_FULL (-1) /* visit: PETRI_MAX_STATES states held already */
 
 static int8_t at(const int8_t *tab, const petri_net *n, int i, int j)
 {
@@ -37,18 +41,73 @@ static int inv_dot(const petri_compiled *c, int k, const petri_state *s)
     return v;
 }
 
+/* What the engine needs of a net: its tables, sizes within the
+ * capacities, 0/1 entries. 0, PETRI_ERR_ARG, _SIZE or _ENTRY. */
+static int net_tables_check(const petri_net *n)
+{
+    if (!n || !n->n_minus || !n->n_plus || !n->m0)
+        return PETRI_ERR_ARG;
+    if (n->n_places < 1 || n->n_places > PETRI_MAX_PLACES || n->n_transitions < 1 ||
+        n->n_transitions > PETRI_MAX_TRANSITIONS || n->n_invariants < 0 ||
+        n->n_invariants > PETRI_MAX_INVARIANTS)
+        return PETRI_ERR_SIZE;
+    if (n->n_invariants > 0 && !n->invariants)
+        return PETRI_ERR_ARG;
+    if (!table_ok(n->n_minus, n) || !table_ok(n->n_plus, n) || !table_ok(n->n_inhibit, n))
+        return PETRI_ERR_ENTRY;
+    return 0;
+}
+
+/* Transition j has an arc and is not inhibited by one of its inputs. */
+static int transition_can_act(const petri_net *n, int j)
+{
+    int i, arcs = 0;
+    for (i = 0; i < n->n_places; i++) {
+        arcs += at(n->n_minus, n, i, j) + at(n->n_plus, n, i, j);
+        if (at(n->n_minus, n, i, j) && at(n->n_inhibit, n, i, j))
+            return 0;
+    }
+    return arcs > 0;
+}
+
+/* Invariant k is non-zero and y^T N_j = 0 for every transition j. */
+static int invariant_sound(const petri_net *n, int k)
+{
+    const int8_t *y = n->invariants + k * n->n_places;
+    int i, j, nonzero = 0;
+    for (i = 0; i < n->n_places; i++)
+        nonzero |= y[i] != 0;
+    for (j = 0; j < n->n_transitions; j++) {
+        int flow = 0;
+        for (i = 0; i < n->n_places; i++)
+            flow += y[i] * (at(n->n_plus, n, i, j) - at(n->n_minus, n, i, j));
+        if (flow != 0)
+            return 0;
+    }
+    return nonzero;
+}
+
+int petri_net_validate(const petri_net *n)
+{
+    int j, k;
+    const int r = net_tables_check(n);
+    if (r != 0)
+        return r;
+    for (j = 0; j < n->n_transitions; j++)
+        if (!transition_can_act(n, j))
+            return PETRI_ERR_TRANSITION;
+    for (k = 0; k < n->n_invariants; k++)
+        if (!invariant_sound(n, k))
+            return PETRI_ERR_INVARIANT;
+    return 0;
+}
+
 int petri_compile(petri_compiled *c, const petri_net *n)
 {
     petri_state s0;
     int i, j, k;
-    if (!c || !n || !n->n_minus || !n->n_plus || !n->m0)
-        return -1;
-    if (n->n_places < 1 || n->n_places > PETRI_MAX_PLACES || n->n_transitions < 1 ||
-        n->n_transitions > PETRI_MAX_TRANSITIONS || n->n_invariants < 0 ||
-        n->n_invariants > PETRI_MAX_INVARIANTS || (n->n_invariants > 0 && !n->invariants))
-        return -1;
-    if (!table_ok(n->n_minus, n) || !table_ok(n->n_plus, n) || !table_ok(n->n_inhibit, n))
-        return -1;
+    if (!c || net_tables_check(n) != 0)
+        return PETRI_ERR_ARG;
     memset(c, 0, sizeof *c);
     c->net = n;
     for (j = 0; j < n->n_transitions; j++) {
@@ -181,7 +240,7 @@ static int state_complete(const petri_compiled *c, petri_state *s, int t)
 int petri_init(petri *p, const petri_net *net)
 {
     if (!p || petri_compile(&p->c, net) != 0)
-        return -1;
+        return PETRI_ERR_ARG;
     petri_state_initial(&p->c, &p->st);
     p->invariant_violations = 0;
     p->last_fired = -1;
@@ -193,11 +252,11 @@ int petri_select(const petri *p)
 {
     int j;
     if (!p)
-        return -1;
+        return PETRI_ERR_NONE_ENABLED;
     for (j = 0; j < p->c.net->n_transitions; j++)
         if (petri_state_enabled_scan(&p->c, &p->st, j))
             return j;
-    return -1;
+    return PETRI_ERR_NONE_ENABLED;
 }
 
 int petri_enabled(const petri *p, int t)
@@ -296,7 +355,7 @@ static int state_eq(const petri_compiled *c, const petri_state *a, const petri_s
     return a->running == b->running && memcmp(a->m, b->m, (size_t)c->net->n_places) == 0;
 }
 
-/* Adds s if new. Returns 1 added, 0 known, -1 capacity exhausted. */
+/* Adds s if new. Returns 1 added, 0 known, VISIT_FULL capacity exhausted. */
 static int visit(petri_explore_ws *ws, const petri_state *s, int parent, int event)
 {
     uint32_t h = state_hash(&ws->c, s) & (PETRI_HASH_SIZE - 1);
@@ -306,7 +365,7 @@ static int visit(petri_explore_ws *ws, const petri_state *s, int parent, int eve
         h = (h + 1) & (PETRI_HASH_SIZE - 1);
     }
     if (ws->n_states >= PETRI_MAX_STATES)
-        return -1;
+        return VISIT_FULL;
     ws->states[ws->n_states] = *s;
     ws->parent[ws->n_states] = (int16_t)parent;
     ws->event[ws->n_states] = (int8_t)event;
@@ -355,9 +414,9 @@ int petri_explore(petri_explore_ws *ws, const petri_net *net, int token_bound, p
     petri_state s0;
     int head, j;
     if (!ws || !rep || token_bound < 1 || token_bound >= PETRI_TOKEN_MAX)
-        return -1;
+        return PETRI_ERR_ARG;
     if (petri_compile(&ws->c, net) != 0)
-        return -1;
+        return PETRI_ERR_ARG;
     memset(ws->hash, 0, sizeof ws->hash);
     ws->n_states = 0;
     memset(rep, 0, sizeof *rep);
@@ -375,7 +434,7 @@ int petri_explore(petri_explore_ws *ws, const petri_net *net, int token_bound, p
                 ev = j + 1;
             else if (state_complete(&ws->c, &nx, j) == 0)
                 ev = -(j + 1);
-            if (ev != 0 && visit(ws, &nx, head, ev) < 0)
+            if (ev != 0 && visit(ws, &nx, head, ev) == VISIT_FULL)
                 rep->complete = 0;
         }
     }
@@ -387,11 +446,11 @@ int petri_explore_trace(const petri_explore_ws *ws, int index, int8_t *events, i
 {
     int n = 0, k, i;
     if (!ws || !events || max < 0 || index < 0 || index >= ws->n_states)
-        return -1;
+        return PETRI_ERR_ARG;
     for (k = index; k > 0 && ws->parent[k] >= 0; k = ws->parent[k])
         n++;
     if (n > max)
-        return -1;
+        return PETRI_ERR_ARG;
     for (k = index, i = n - 1; i >= 0; k = ws->parent[k], i--)
         events[i] = ws->event[k];
     return n;

@@ -31,6 +31,23 @@
 #define PETRI_MAX_STATES 4096      /* reachability: visited-set capacity */
 #define PETRI_HASH_SIZE 8192       /* power of two, > PETRI_MAX_STATES   */
 
+#define PETRI_ERR_ARG (-1)          /* bad argument / index            */
+#define PETRI_ERR_NOT_ENABLED (-2)  /* start of a transition not enabled */
+#define PETRI_ERR_NOT_RUNNING (-3)  /* completion of one not running   */
+#define PETRI_ERR_OVERFLOW (-4)     /* a place would exceed PETRI_TOKEN_MAX */
+#define PETRI_ERR_NONE_ENABLED (-1) /* petri_select: no transition enabled */
+/* petri_net_validate only (petri_compile returns PETRI_ERR_ARG for the
+ * first two): */
+#define PETRI_ERR_SIZE (-5)         /* places / transitions / invariants
+                                       outside 1..PETRI_MAX_* (0.. for
+                                       invariants)                     */
+#define PETRI_ERR_ENTRY (-6)        /* an N-, N+ or inhibitor entry not 0/1 */
+#define PETRI_ERR_TRANSITION (-7)   /* a transition that can never act: no
+                                       arc at all, or an inhibitor arc on
+                                       one of its own input places      */
+#define PETRI_ERR_INVARIANT (-8)    /* an invariant y that is zero or not a
+                                       P-invariant (y^T N != 0, N = N+ - N-) */
+
 typedef struct {
     int n_places;
     int n_transitions;
@@ -57,8 +74,14 @@ typedef struct {
     int inv_value[PETRI_MAX_INVARIANTS];     /* y^T gamma0             */
 } petri_compiled;
 
-/* Validates sizes and 0/1 entries. Returns 0 or -1. */
+/* Validates sizes and 0/1 entries. Returns 0 or PETRI_ERR_ARG. */
 int petri_compile(petri_compiled *c, const petri_net *net);
+/* The whole definition is sound: what petri_compile checks, and every
+ * transition can act (has an arc, is not inhibited by its own input), and
+ * every invariant y is non-zero with y^T N = 0 for the incidence matrix
+ * N = N+ - N- (so y^T gamma is conserved by every firing). Returns 0 or
+ * the first PETRI_ERR_* found. For start-up checks of a const net. */
+int petri_net_validate(const petri_net *net);
 void petri_state_initial(const petri_compiled *c, petri_state *s);
 
 /* Enabling (not running, inputs marked, inhibitor places empty):
@@ -80,13 +103,9 @@ typedef struct {
     long fired_count;           /* completions                             */
 } petri;
 
-#define PETRI_ERR_ARG (-1)          /* bad argument / index            */
-#define PETRI_ERR_NOT_ENABLED (-2)  /* start of a transition not enabled */
-#define PETRI_ERR_NOT_RUNNING (-3)  /* completion of one not running   */
-#define PETRI_ERR_OVERFLOW (-4)     /* a place would exceed PETRI_TOKEN_MAX */
-
 int petri_init(petri *p, const petri_net *net);
-/* Seed's event-path planning: lowest-index enabled transition, -1 if none. */
+/* Seed's event-path planning: lowest-index enabled transition,
+ * PETRI_ERR_NONE_ENABLED if none. */
 int petri_select(const petri *p);
 int petri_enabled(const petri *p, int t);
 int petri_running(const petri *p, int t);
@@ -127,12 +146,14 @@ typedef struct {
 } petri_report;
 
 /* token_bound in 1..PETRI_TOKEN_MAX-1: a state with a place above it is
- * reported unbounded and not expanded. Returns 0 or -1 (bad net/args). */
+ * reported unbounded and not expanded. Returns 0 or PETRI_ERR_ARG (bad
+ * net/args). */
 int petri_explore(petri_explore_ws *ws, const petri_net *net, int token_bound, petri_report *rep);
 
 /* Event path from the initial state to ws->states[index], as signed
  * events (+(t+1) start, -(t+1) complete), at most max entries, in order.
- * Returns the number written, or -1. */
+ * Returns the number written, or PETRI_ERR_ARG (also when it needs more
+ * than max). */
 int petri_explore_trace(const petri_explore_ws *ws, int index, int8_t *events, int max);
 
 #endif

@@ -1,4 +1,7 @@
-/* stallwatch: progress watchdog of the supervisor (see stallwatch.h). */
+/* stallwatch: progress watchdog of the supervisor: time without a
+ * completion while work is pending and nothing obstructs the cell, past a
+ * limit, is a stall (no SPEC equation; issue: no silent stall; see
+ * stallwatch.h). */
 #include "stallwatch.h"
 
 #include <math.h>

@@ -8,12 +8,12 @@ int sync_ref_init(sync_ref *r, int n, const double l_m[])
 {
     int i;
     if (!r || !l_m || n < 1 || n > SYNC_MAX)
-        return -1;
+        return SYNC_REF_ERR_ARG;
     r->n = 0;
     r->l_max_m = 0.0;
     for (i = 0; i < n; i++) {
         if (!isfinite(l_m[i]) || l_m[i] < 0.0)
-            return -1;
+            return SYNC_REF_ERR_ARG;
         if (l_m[i] > r->l_max_m)
             r->l_max_m = l_m[i];
     }
@@ -28,10 +28,10 @@ int sync_ref_update(const sync_ref *r, const double s_m[], double *s_star_m, dou
     double s_star;
     int i;
     if (!r || !s_m || !s_star_m || r->n < 1 || r->n > SYNC_MAX)
-        return -1;
+        return SYNC_REF_ERR_ARG;
     for (i = 0; i < r->n; i++)
         if (!isfinite(s_m[i]))
-            return -1;
+            return SYNC_REF_ERR_ARG;
     s_star = r->l_max_m;
     for (i = 0; i < r->n; i++)
         if (r->k[i] > 0.0)

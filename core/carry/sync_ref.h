@@ -13,6 +13,9 @@
 #ifndef TANDEM_SYNC_REF_H
 #define TANDEM_SYNC_REF_H
 
+#define SYNC_REF_ERR_ARG (-1)  /* NULL, n outside 1..SYNC_MAX, a length
+                                  < 0 or a non-finite number             */
+
 #define SYNC_MAX 4
 
 typedef struct {
@@ -21,11 +24,11 @@ typedef struct {
     double k[SYNC_MAX];
 } sync_ref;
 
-/* n in 1..SYNC_MAX, l_m[i] finite and >= 0. Returns 0 or -1. */
+/* n in 1..SYNC_MAX, l_m[i] finite and >= 0. Returns 0 or SYNC_REF_ERR_ARG. */
 int sync_ref_init(sync_ref *r, int n, const double l_m[]);
 
 /* s_m[i]: measured progress of arm i (finite). Writes s* and, if s_ref_m
- * is not NULL, the n per-arm references k_i s*. Returns 0 or -1. */
+ * is not NULL, the n per-arm references k_i s*. Returns 0 or SYNC_REF_ERR_ARG. */
 int sync_ref_update(const sync_ref *r, const double s_m[], double *s_star_m, double s_ref_m[]);
 
 #endif

@@ -54,19 +54,19 @@ static int params_check_values(const behaviour_params *p)
                               p->k2, p->k3, p->k4 };
     size_t i;
     for (i = 0; i < sizeof pos / sizeof pos[0]; i++)
-        if (!isfinite(pos[i]) || !(pos[i] > 0.0)) return -1;
+        if (!isfinite(pos[i]) || !(pos[i] > 0.0)) return BEHAVIOUR_ERR_ARG;
     for (i = 0; i < sizeof nonneg / sizeof nonneg[0]; i++)
-        if (!isfinite(nonneg[i]) || nonneg[i] < 0.0) return -1;
-    if (p->sat_mode != UNICYCLE_SAT_CLIP && p->sat_mode != UNICYCLE_SAT_SCALE) return -1;
+        if (!isfinite(nonneg[i]) || nonneg[i] < 0.0) return BEHAVIOUR_ERR_ARG;
+    if (p->sat_mode != UNICYCLE_SAT_CLIP && p->sat_mode != UNICYCLE_SAT_SCALE) return BEHAVIOUR_ERR_ARG;
     if (!isfinite(p->form_near_m) || p->form_near_m < 0.0 || !isfinite(p->form_far_m) ||
         !(p->form_far_m > p->form_near_m))
-        return -1;
+        return BEHAVIOUR_ERR_ARG;
     return 0;
 }
 
 int behaviour_params_validate(const behaviour_params *p)
 {
-    return p ? params_check_values(p) : -1;
+    return p ? params_check_values(p) : BEHAVIOUR_ERR_ARG;
 }
 
 static double range_ok(double r)
@@ -113,7 +113,7 @@ int behaviour_goal_raw(unicycle_cmd *u, double r_m, double phi_rad,
     const double den = r_m * c - d_m;
     if (!(fabs(den) > 1e-12)) {
         cmd_zero(u);
-        return -1;
+        return BEHAVIOUR_ERR_ARG;
     }
     u->w_radps = r_m * (a1 * s + a2 * phi_rad * c) / den;
     u->v_mps = r_m * (a1 * (r_m - d_m * c) + a2 * d_m * phi_rad * s) / den;
@@ -127,7 +127,7 @@ int behaviour_goal(unicycle_cmd *u, const pose2 *o, const double goal_m[2],
     unicycle_cmd raw;
     cmd_zero(u);
     if (!vec2_pose_finite(o) || !isfinite(goal_m[0]) || !isfinite(goal_m[1]))
-        return -1;
+        return BEHAVIOUR_ERR_ARG;
     behaviour_goal_polar(&r, &phi, o, goal_m);
     if (r <= p->goal_tol_m) return BEH_GOAL_REACHED;
     if (r * cos(phi) - p->d_m <= p->goal_margin_m) {
@@ -184,7 +184,7 @@ int behaviour_formation(unicycle_cmd *u, double *R_d_m, const pose2 *o,
     if (!vec2_pose_finite(o) || !ref || !vec2_finite3(ref->x_m, ref->y_m, ref->theta_rad) ||
         !isfinite(ref->v_mps) || !isfinite(ref->w_radps) || !isfinite(l_d_m) ||
         !isfinite(phi_d_rad) || l_d_m < 0.0 || !(fabs(p->d_m) > 0.0))
-        return -1;
+        return BEHAVIOUR_ERR_ARG;
     behaviour_formation_polar(&l, &phi, o, ref);
     /* At l = 0 the bearing is undefined; any value works since l multiplies
      * the phi error, so take the demanded one. */
@@ -234,7 +234,7 @@ int behaviour_slot_track(unicycle_cmd *u, const pose2 *o, const unicycle_state *
     double ex, ey, dist, mu, kv, kw;
     unicycle_cmd raw;
     cmd_zero(u);
-    if (!formation_inputs_ok(o, ref, l_d_m, phi_d_rad, p)) return -1;
+    if (!formation_inputs_ok(o, ref, l_d_m, phi_d_rad, p)) return BEHAVIOUR_ERR_ARG;
     slot_in_robot_frame(&ex, &ey, o, ref, l_d_m, phi_d_rad);
     dist = hypot(ex, ey);
     {
@@ -270,8 +270,8 @@ int behaviour_formation_track(unicycle_cmd *u, double *R_d_m, const pose2 *o,
     double R_d = 0.0;
     cmd_zero(u);
     if (R_d_m) *R_d_m = 0.0;
-    if (behaviour_formation(&seed, &R_d, o, ref, l_d_m, phi_d_rad, p) != 0) return -1;
-    if (behaviour_slot_track(u, o, ref, l_d_m, phi_d_rad, p) != 0) return -1;
+    if (behaviour_formation(&seed, &R_d, o, ref, l_d_m, phi_d_rad, p) != 0) return BEHAVIOUR_ERR_ARG;
+    if (behaviour_slot_track(u, o, ref, l_d_m, phi_d_rad, p) != 0) return BEHAVIOUR_ERR_ARG;
     if (R_d_m) *R_d_m = R_d;
     return 0;
 }
@@ -320,7 +320,7 @@ int behaviour_exception_step(behaviour_exception *e, unicycle_cmd *u,
     const double ds = p->d_s_m;
     const int blocked = g->front_m < ds && g->left_m < ds && g->right_m < ds;
     cmd_zero(u);
-    if (!isfinite(dt_s) || dt_s < 0.0) return -1;
+    if (!isfinite(dt_s) || dt_s < 0.0) return BEHAVIOUR_ERR_ARG;
     if (e->active) {
         if (g->front_m > ds) {
             e->active = 0;
@@ -393,10 +393,10 @@ int behaviour_blend(behaviour_blender *out, const behaviour_inputs *in,
     out->winner = BEH_GOAL;
     if ((mode != BEH_BLEND_WEIGHTED && mode != BEH_BLEND_SUBSUMPTION &&
          mode != BEH_BLEND_VECSUM) || !inputs_finite(in))
-        return -1;
+        return BEHAVIOUR_ERR_ARG;
     raw_weights(out->weight_raw, in, mode, p);
     for (i = 0; i < BEH_COUNT; i++) sum += out->weight_raw[i];
-    if (!(sum > 0.0) || !isfinite(sum)) return -1;
+    if (!(sum > 0.0) || !isfinite(sum)) return BEHAVIOUR_ERR_ARG;
     for (i = 0; i < BEH_COUNT; i++) {
         out->weight[i] = out->weight_raw[i] / sum;
         v += out->weight[i] * in->u[i].v_mps;

@@ -21,6 +21,11 @@
 #include "unicycle.h"
 #include "vec2.h"
 
+#define BEHAVIOUR_ERR_ARG (-1)  /* NULL, non-finite input, bad mode or a
+                                   parameter out of range; also the pose too
+                                   near eq. 5's singularity (r cos phi = d)
+                                   and weights that do not sum above 0     */
+
 enum { BEH_GOAL = 0, BEH_FORMATION = 1, BEH_AVOID = 2, BEH_EXCEPTION = 3, BEH_COUNT = 4 };
 
 enum {
@@ -64,7 +69,7 @@ typedef struct {
  *   passage safety 0.3 m, width 0.38 m; k2 1, k3 1, k4 1, d_r 0.3 m;
  *   form_near 0.3 m, form_far 0.8 m. */
 void behaviour_params_default(behaviour_params *p);
-/* 0 if every parameter is finite and in range, else -1. */
+/* 0 if every parameter is finite and in range, else BEHAVIOUR_ERR_ARG. */
 int  behaviour_params_validate(const behaviour_params *p);
 
 typedef struct {
@@ -81,13 +86,13 @@ enum { BEH_GOAL_DRIVE = 0, BEH_GOAL_TURN = 1, BEH_GOAL_REACHED = 2 };
 /* r = |G - O|, phi = bearing of G from O minus heading. */
 void behaviour_goal_polar(double *r_m, double *phi_rad, const pose2 *o,
                           const double goal_m[2]);
-/* Unsaturated eq. 5: requires r cos phi - d != 0 (returns -1 if too near). */
+/* Unsaturated eq. 5: requires r cos phi - d != 0 (returns BEHAVIOUR_ERR_ARG if too near). */
 int  behaviour_goal_raw(unicycle_cmd *u, double r_m, double phi_rad,
                         double d_m, double a1, double a2);
 /* Saturated move-to-goal. Returns BEH_GOAL_DRIVE (eq. 5 + 6),
  * BEH_GOAL_TURN (r cos phi - d <= margin but r > goal_tol: turn in place
  * toward the goal, V = 0, w = sat(a2 phi)), BEH_GOAL_REACHED (r <= goal_tol:
- * U = 0), or -1 on bad input (U = 0). */
+ * U = 0), or BEHAVIOUR_ERR_ARG on bad input (U = 0). */
 int  behaviour_goal(unicycle_cmd *u, const pose2 *o, const double goal_m[2],
                     const behaviour_params *p);
 
@@ -103,7 +108,7 @@ void behaviour_formation_raw(unicycle_cmd *u, double l_m, double phi_rad,
                              double v0_mps, double w0_radps, double d_m,
                              double b1, double b2);
 /* Saturated keep-formation; R_d_m (may be NULL) receives the slot error.
- * -1 on bad input (U = 0). */
+ * BEHAVIOUR_ERR_ARG on bad input (U = 0). */
 int  behaviour_formation(unicycle_cmd *u, double *R_d_m, const pose2 *o,
                          const unicycle_state *ref, double l_d_m,
                          double phi_d_rad, const behaviour_params *p);
@@ -114,7 +119,7 @@ int  behaviour_formation(unicycle_cmd *u, double *R_d_m, const pose2 *o,
  * heading dynamics are stable in forward motion, theta_i' =
  * -(V0 / |d|) sin(theta_i - theta0) on the slot; with O behind (d > 0)
  * they are the mirror image and unstable (docs/formation.md). R_d_m as in
- * behaviour_formation. -1 on bad input (U = 0). */
+ * behaviour_formation. BEHAVIOUR_ERR_ARG on bad input (U = 0). */
 int  behaviour_formation_seed(unicycle_cmd *u, double *R_d_m, const pose2 *o,
                               const unicycle_state *ref, double l_d_m,
                               double phi_d_rad, const behaviour_params *p);
@@ -129,7 +134,7 @@ int  behaviour_formation_seed(unicycle_cmd *u, double *R_d_m, const pose2 *o,
  * form_near_m and form_far_m from the slot to pursuit of the slot point
  * when the slot is ahead (V = (V0 + b1 dist) cos(bearing),
  * w = w0 + b2 bearing). V is never negative: a robot ahead of its slot
- * waits for it. Saturated as eq. 10. -1 on bad input (U = 0). */
+ * waits for it. Saturated as eq. 10. BEHAVIOUR_ERR_ARG on bad input (U = 0). */
 int  behaviour_slot_track(unicycle_cmd *u, const pose2 *o, const unicycle_state *ref,
                           double l_d_m, double phi_d_rad, const behaviour_params *p);
 /* behaviour_slot_track, with R_d_m (may be NULL) the seed law's slot error
@@ -161,7 +166,7 @@ void behaviour_exception_init(behaviour_exception *e);
  * U = (V_k, +w_k) on odd entries, (V_k, -w_k) on even. Leave (and clear
  * the timer) as soon as the front reads > d_s (the heading is free); when
  * not active, any direction > d_s clears the timer. Returns 1 while active
- * (announce ANNOUNCE_LEAVE), 0 otherwise, -1 on bad input. */
+ * (announce ANNOUNCE_LEAVE), 0 otherwise, BEHAVIOUR_ERR_ARG on bad input. */
 int  behaviour_exception_step(behaviour_exception *e, unicycle_cmd *u,
                               const sonar_groups *g, double dt_s,
                               const behaviour_params *p);
@@ -190,7 +195,7 @@ typedef struct {
  * W_form = k3 R_d / d_r, W_avoid = k4 d_st / min range.
  * Subsumption: exception > avoid (if avoid_active) > formation
  * (if R_d > d_r) > goal, one-hot. Vecsum: exception alone if active, else
- * goal, formation and avoid with equal weights. Returns -1 on bad mode or
+ * goal, formation and avoid with equal weights. Returns BEHAVIOUR_ERR_ARG on bad mode or
  * non-finite input (U = 0). */
 int  behaviour_blend(behaviour_blender *out, const behaviour_inputs *in,
                      int mode, const behaviour_params *p);

@@ -56,7 +56,7 @@ int formation_slot_xy(double xy_m[2], int type, int n, int k, double spacing_m,
                       double scale)
 {
     double p[2], c[2];
-    if (!geom_ok(type, n, spacing_m, scale) || k < 0 || k >= n) return -1;
+    if (!geom_ok(type, n, spacing_m, scale) || k < 0 || k >= n) return FORMATION_ERR_ARG;
     pattern_xy(p, type, n, k);
     pattern_centroid(c, type, n);
     xy_m[0] = (p[0] - c[0]) * spacing_m * scale;
@@ -68,7 +68,7 @@ int formation_slot(double *l_d_m, double *phi_d_rad, int type, int n, int k,
                    double spacing_m, double scale)
 {
     double xy[2];
-    if (formation_slot_xy(xy, type, n, k, spacing_m, scale) != 0) return -1;
+    if (formation_slot_xy(xy, type, n, k, spacing_m, scale) != 0) return FORMATION_ERR_ARG;
     *l_d_m = hypot(xy[0], xy[1]);
     *phi_d_rad = atan2(xy[1], xy[0]);
     return 0;
@@ -80,7 +80,7 @@ double formation_width(int type, int n, double spacing_m, double scale,
     double p[2], lo = 0.0, hi = 0.0;
     int k;
     if (!geom_ok(type, n, spacing_m, scale) || !isfinite(robot_width_m) || robot_width_m < 0.0)
-        return -1.0;
+        return FORMATION_ERR_ARG;
     for (k = 0; k < n; k++) {
         pattern_xy(p, type, n, k);
         if (k == 0 || p[1] < lo) lo = p[1];
@@ -98,12 +98,12 @@ int formation_next_type(int type)
 int formation_slot_of(const int32_t ids[], int n, int32_t id)
 {
     int k, rank = 0, found = 0;
-    if (n < 0 || n > FORMATION_MAX_ROBOTS) return -1;
+    if (n < 0 || n > FORMATION_MAX_ROBOTS) return FORMATION_ERR_ARG;
     for (k = 0; k < n; k++) {
         if (ids[k] < id) rank++;
         else if (ids[k] == id) found = 1;
     }
-    return found ? rank : -1;
+    return found ? rank : FORMATION_ERR_ABSENT;
 }
 
 /* ---- narrow-passage protocol ------------------------------------------- */
@@ -132,7 +132,7 @@ static int params_ok(const formation_fsm_params *p)
 
 int formation_fsm_init(formation_fsm *f, int type, double scale)
 {
-    if (!type_ok(type) || !isfinite(scale) || !(scale > 0.0)) return -1;
+    if (!type_ok(type) || !isfinite(scale) || !(scale > 0.0)) return FORMATION_ERR_ARG;
     f->type_nominal = f->type = type;
     f->scale_nominal = f->scale = scale;
     f->phase = FORMATION_PHASE_NORMAL;
@@ -199,7 +199,7 @@ int formation_fsm_on_announce(formation_fsm *f, const formation_announce *a)
 {
     if (!a || !isfinite(a->scale) || !(a->scale > 0.0) || !type_ok(a->type) ||
         a->code < FORMATION_ANN_NONE || a->code > FORMATION_ANN_RESTORE)
-        return -1;
+        return FORMATION_ERR_ARG;
     if (a->seq > f->seq_max_seen) f->seq_max_seen = a->seq;
     if (!code_is_protocol(a->code)) return 0;
     if (a->seq < f->seq || (a->seq == f->seq && a->origin >= f->origin)) return 0;
@@ -216,7 +216,7 @@ int formation_fsm_step(formation_fsm *f, const formation_fsm_params *p,
     const int known = !isnan(passage_width_m);
     if (!params_ok(p) || n < 1 || n > FORMATION_MAX_ROBOTS ||
         !isfinite(dt_s) || dt_s < 0.0 || !out)
-        return -1;
+        return FORMATION_ERR_ARG;
     need_now = formation_width(f->type, n, p->spacing_m, f->scale, p->robot_width_m) + p->safety_m;
     need_nominal = formation_width(f->type_nominal, n, p->spacing_m, f->scale_nominal,
                                    p->robot_width_m) + p->safety_m;

@@ -18,6 +18,10 @@
 
 #include <stdint.h>
 
+#define FORMATION_ERR_ARG (-1)     /* bad type, n, k, spacing, scale or
+                                      announcement content               */
+#define FORMATION_ERR_ABSENT (-1)  /* formation_slot_of: id not in the team */
+
 #define FORMATION_MAX_ROBOTS 128
 
 /* Values match team_msg_t FORMATION_* and ANNOUNCE_*. */
@@ -32,7 +36,7 @@ enum {
 };
 
 /* Slot k of n (0 <= k < n <= FORMATION_MAX_ROBOTS) as (x, y) and as
- * (l_d, phi_d). -1 on bad type, n, k, or non-positive spacing/scale. */
+ * (l_d, phi_d). FORMATION_ERR_ARG on bad type, n, k, or non-positive spacing/scale. */
 int formation_slot_xy(double xy_m[2], int type, int n, int k, double spacing_m,
                       double scale);
 int formation_slot(double *l_d_m, double *phi_d_rad, int type, int n, int k,
@@ -45,7 +49,7 @@ double formation_width(int type, int n, double spacing_m, double scale,
 int formation_next_type(int type);
 /* Slot of robot `id` in a team of n unique ids (any order): its rank among
  * the sorted ids, so every robot computes the same assignment and a member
- * leaving or joining re-slots everyone deterministically. -1 if absent. */
+ * leaving or joining re-slots everyone deterministically. FORMATION_ERR_ABSENT if absent. */
 int formation_slot_of(const int32_t ids[], int n, int32_t id);
 
 /* ---- narrow-passage protocol ------------------------------------------- */
@@ -100,7 +104,7 @@ int formation_fsm_init(formation_fsm *f, int type, double scale);
  * clear, the clear timer holds); n = team size; rearmost = 1 if this robot
  * is the last of the team along the direction of travel. When this robot
  * makes a new announcement, fills *out and returns 1 (send it); 0
- * otherwise; -1 on bad input (state unchanged).
+ * otherwise; FORMATION_ERR_ARG on bad input (state unchanged).
  *   NORMAL: narrow for the current formation -> SHRINK (scale = shrink)
  *   SHRINK/CHANGE: after dwell, still narrow and not a column -> CHANGE to
  *       the next type; clear for the nominal formation for clear_hold_s,
@@ -118,7 +122,7 @@ int formation_fsm_step(formation_fsm *f, const formation_fsm_params *p,
  * adopted one: higher seq, or equal seq from a lower robot id (so two
  * simultaneous announcers resolve the same way everywhere). Repeats and
  * older ones are ignored (0). LEAVE / REJOIN only advance seq_max_seen (0).
- * -1 on invalid content. */
+ * FORMATION_ERR_ARG on invalid content. */
 int formation_fsm_on_announce(formation_fsm *f, const formation_announce *a);
 
 /* Next free announce_seq (for announcements made outside the protocol,

@@ -32,12 +32,12 @@ int localize_params_validate(const localize_params *p)
     if (!p || !isfinite(p->d_m) || p->reject_reset < 1 || !isfinite(p->reset_sd_xy_m) ||
         !(p->reset_sd_xy_m > 0.0) || !isfinite(p->reset_sd_theta_rad) ||
         !(p->reset_sd_theta_rad > 0.0))
-        return -1;
+        return LOCALIZE_ERR_ARG;
     for (i = 0; i < sizeof nonneg / sizeof nonneg[0]; i++)
-        if (!isfinite(nonneg[i]) || nonneg[i] < 0.0) return -1;
+        if (!isfinite(nonneg[i]) || nonneg[i] < 0.0) return LOCALIZE_ERR_ARG;
     if (!isfinite(p->range_sd0_m) || !(p->range_sd0_m > 0.0) || !isfinite(p->bearing_sd_rad) ||
         !(p->bearing_sd_rad > 0.0) || !isfinite(p->gate_chi2) || !(p->gate_chi2 > 0.0))
-        return -1;
+        return LOCALIZE_ERR_ARG;
     return 0;
 }
 
@@ -48,9 +48,9 @@ int localize_init(localizer *l, const localize_params *p, const pose2 *c0,
     if (!l || localize_params_validate(p) != 0 || !c0 || !vec2_pose_finite(c0) ||
         !isfinite(sd_xy_m) || sd_xy_m < 0.0 || !isfinite(sd_theta_rad) || sd_theta_rad < 0.0 ||
         n < 0 || n > LOCALIZE_LANDMARKS_MAX || (n > 0 && !lm))
-        return -1;
+        return LOCALIZE_ERR_ARG;
     for (k = 0; k < n; k++)
-        if (!isfinite(lm[k][0]) || !isfinite(lm[k][1])) return -1;
+        if (!isfinite(lm[k][0]) || !isfinite(lm[k][1])) return LOCALIZE_ERR_ARG;
     memset(l, 0, sizeof *l);
     l->p = *p;
     l->s[0] = c0->x_m;
@@ -83,7 +83,7 @@ int localize_predict(localizer *l, double ds_m, double dtheta_rad)
     const double G[6] = { ca, -0.5 * ds_m * sa, sa, 0.5 * ds_m * ca, 0, 1 };
     double q[2], FP[9], GQ[6], Q[9];
     int i;
-    if (!isfinite(ds_m) || !isfinite(dtheta_rad)) return -1;
+    if (!isfinite(ds_m) || !isfinite(dtheta_rad)) return LOCALIZE_ERR_ARG;
     q[0] = l->p.k_ds * l->p.k_ds * fabs(ds_m);
     q[1] = l->p.k_th_ds * l->p.k_th_ds * fabs(ds_m) + l->p.k_th_dth * l->p.k_th_dth * fabs(dtheta_rad);
     l->s[0] += ds_m * ca;
@@ -105,11 +105,11 @@ int localize_measure(const localizer *l, const double s[3], int k, double z[2], 
 {
     const double c = cos(s[2]), sn = sin(s[2]), d = l->p.d_m;
     double dx, dy, r2, r, dO_dth[2];
-    if (k < 0 || k >= l->n_lm) return -1;
+    if (k < 0 || k >= l->n_lm) return LOCALIZE_ERR_ARG;
     dx = l->lm[k][0] - (s[0] - d * c);
     dy = l->lm[k][1] - (s[1] - d * sn);
     r2 = dx * dx + dy * dy;
-    if (!(r2 > 1e-12)) return -1;
+    if (!(r2 > 1e-12)) return LOCALIZE_ERR_ARG;
     r = sqrt(r2);
     z[0] = r;
     z[1] = vec2_wrap_rad(atan2(dy, dx) - s[2]);
@@ -132,7 +132,7 @@ int localize_landmark(localizer *l, int k, double range_m, double bearing_rad)
     int i, j;
     if (!l || !isfinite(range_m) || range_m < 0.0 || !isfinite(bearing_rad) ||
         localize_measure(l, l->s, k, z, H) != 0)
-        return -1;
+        return LOCALIZE_ERR_ARG;
     nu[0] = range_m - z[0];
     nu[1] = vec2_wrap_rad(bearing_rad - z[1]);
     sr = l->p.range_sd0_m + l->p.range_sd1 * range_m;
@@ -141,7 +141,7 @@ int localize_landmark(localizer *l, int k, double range_m, double bearing_rad)
     linalg_mul_t(S, HP, H, 2, 3, 2);
     for (i = 0; i < 4; i++) S[i] += R[i];
     det = S[0] * S[3] - S[1] * S[2];
-    if (!(det > 0.0)) return -1;
+    if (!(det > 0.0)) return LOCALIZE_ERR_ARG;
     Si[0] = S[3] / det; Si[1] = -S[1] / det; Si[2] = -S[2] / det; Si[3] = S[0] / det;
     if (nu[0] * (Si[0] * nu[0] + Si[1] * nu[1]) + nu[1] * (Si[2] * nu[0] + Si[3] * nu[1]) >
         l->p.gate_chi2) {

@@ -30,6 +30,11 @@
 
 #include "vec2.h"
 
+#define LOCALIZE_ERR_ARG (-1)  /* NULL, non-finite input, parameter out of
+                                  range, unknown landmark, or a degenerate
+                                  measurement (landmark at the camera,
+                                  innovation covariance not positive)     */
+
 #define LOCALIZE_LANDMARKS_MAX 64
 
 typedef struct {
@@ -66,7 +71,7 @@ void localize_params_default(localize_params *p);
 int  localize_params_validate(const localize_params *p);
 
 /* Start at C pose c0 with standard deviations sd_xy_m, sd_theta_rad, and
- * the n landmark positions lm (same frame as c0). -1 on bad input
+ * the n landmark positions lm (same frame as c0). LOCALIZE_ERR_ARG on bad input
  * (n outside 0..LOCALIZE_LANDMARKS_MAX, non-finite, negative sd). */
 int  localize_init(localizer *l, const localize_params *p, const pose2 *c0,
                    double sd_xy_m, double sd_theta_rad, const double (*lm)[2], int n);
@@ -75,11 +80,11 @@ int  localize_init(localizer *l, const localize_params *p, const pose2 *c0,
 int  localize_predict(localizer *l, double ds_m, double dtheta_rad);
 
 /* Camera sees landmark k at (range, bearing from the heading). Returns 1
- * if fused, 0 if gated out, -1 on bad input (k unknown, non-finite). */
+ * if fused, 0 if gated out, LOCALIZE_ERR_ARG on bad input (k unknown, non-finite). */
 int  localize_landmark(localizer *l, int k, double range_m, double bearing_rad);
 
 /* Expected measurement of landmark k from pose s and its Jacobian
- * H (2x3, row-major) (exposed for the finite-difference test). -1 if the
+ * H (2x3, row-major) (exposed for the finite-difference test). LOCALIZE_ERR_ARG if the
  * landmark sits on the camera. */
 int  localize_measure(const localizer *l, const double s[3], int k, double z[2],
                       double H[6]);

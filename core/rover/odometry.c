@@ -15,7 +15,7 @@ int odometry_init(odometer *o, double wheel_radius_m, double axle_track_m,
     if (!(wheel_radius_m > 0.0) || !(axle_track_m > 0.0) ||         !isfinite(wheel_radius_m) || !isfinite(axle_track_m) ||
         !isfinite(d_m) || !vec2_pose_finite(c0) || !isfinite(left0_rad) ||
         !isfinite(right0_rad))
-        return -1;
+        return ODOMETRY_ERR_ARG;
     o->wheel_radius_m = wheel_radius_m;
     o->axle_track_m = axle_track_m;
     o->d_m = d_m;
@@ -31,13 +31,13 @@ int odometry_update(odometer *o, double left_rad, double right_rad,
                     double *ds_m, double *dtheta_rad)
 {
     double dl, dr, ds, dth;
-    if (!isfinite(left_rad) || !isfinite(right_rad)) return -1;
+    if (!isfinite(left_rad) || !isfinite(right_rad)) return ODOMETRY_ERR_ARG;
     dl = (left_rad - o->last_left_rad) * o->wheel_radius_m;
     dr = (right_rad - o->last_right_rad) * o->wheel_radius_m;
     ds = 0.5 * (dl + dr);
     dth = (dr - dl) / o->axle_track_m;
     /* (V, w) = (ds, dth) over a unit interval is the same arc. */
-    if (unicycle_step_exact(&o->c, ds, dth, 1.0) != 0) return -1;
+    if (unicycle_step_exact(&o->c, ds, dth, 1.0) != 0) return ODOMETRY_ERR_ARG;
     o->last_left_rad = left_rad;
     o->last_right_rad = right_rad;
     o->dist_m += fabs(ds);

@@ -9,6 +9,8 @@
 
 #include "vec2.h"
 
+#define ODOMETRY_ERR_ARG (-1)  /* non-positive geometry or non-finite input */
+
 typedef struct {
     double wheel_radius_m;
     double axle_track_m;     /* distance between the wheel contact points */
@@ -24,12 +26,12 @@ typedef struct {
 #define ODOMETRY_P2DX_AXLE_TRACK_M   0.33
 
 /* Start at pose c0 (of C) with the encoders currently reading
- * (left0, right0). -1 on non-positive geometry or non-finite input. */
+ * (left0, right0). ODOMETRY_ERR_ARG on non-positive geometry or non-finite input. */
 int odometry_init(odometer *o, double wheel_radius_m, double axle_track_m,
                   double d_m, const pose2 *c0, double left0_rad,
                   double right0_rad);
 
-/* New accumulated encoder readings. Returns -1 (state unchanged) on
+/* New accumulated encoder readings. Returns ODOMETRY_ERR_ARG (state unchanged) on
  * non-finite input. Optionally returns the increment as (ds, dtheta). */
 int odometry_update(odometer *o, double left_rad, double right_rad,
                     double *ds_m, double *dtheta_rad);

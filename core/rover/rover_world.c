@@ -16,10 +16,10 @@ static const char *const world_names[ROVER_WORLD_COUNT] = {
 int rover_world_id(const char *name)
 {
     int i;
-    if (!name) return -1;
+    if (!name) return ROVER_WORLD_ERR_ARG;
     for (i = 0; i < ROVER_WORLD_COUNT; i++)
         if (strcmp(name, world_names[i]) == 0) return i;
-    return -1;
+    return ROVER_WORLD_ERR_UNKNOWN;
 }
 
 const char *rover_world_name(int world)
@@ -156,7 +156,7 @@ int rover_world_layout(rover_world_config *w, int world, int n, double spacing_m
         n > ROVER_WORLD_MAX_ROBOTS || !isfinite(spacing_m) ||
         spacing_m <= ROVER_BODY_LENGTH_M || spacing_m > 10.0 ||
         formation < FORMATION_LINE || formation > FORMATION_COLUMN)
-        return -1;
+        return ROVER_WORLD_ERR_ARG;
     memset(w, 0, sizeof *w);
     w->world = world;
     w->n_robots = n;
@@ -208,7 +208,7 @@ int rover_world_slot(int type, int n, int rank)
 {
     int mid, j, k = 0;
     if (n < 1 || rank < 0 || rank >= n || type < FORMATION_LINE || type > FORMATION_COLUMN)
-        return -1;
+        return ROVER_WORLD_ERR_ARG;
     if (type == FORMATION_LINE) return rank;
     /* the left side (ranks below mid) takes the odd triangle slots, which
      * are one more than the even ones when n is even: mid = n / 2 keeps
@@ -226,7 +226,7 @@ int rover_world_slot(int type, int n, int rank)
             if (rank == mid + j) return k;
         }
     }
-    return -1;
+    return ROVER_WORLD_ERR_ARG;
 }
 
 void rover_world_to_team(const rover_world_config *w, const pose2 *world_p, pose2 *team_p)
@@ -293,9 +293,9 @@ int rover_world_clearance(const rover_world_config *w, const pose2 *c, const int
     static const double reach = 0.6;   /* two half-diagonals, rounded up */
     double px[FOOT_PTS], py[FOOT_PTS], bx, by, qx[FOOT_PTS], qy[FOOT_PTS], cx2, cy2;
     int i, j, k, p;
-    if (!w || !c || !alive || !clearance_m || n < 0 || n > ROVER_WORLD_MAX_ROBOTS) return -1;
+    if (!w || !c || !alive || !clearance_m || n < 0 || n > ROVER_WORLD_MAX_ROBOTS) return ROVER_WORLD_ERR_ARG;
     for (i = 0; i < n; i++)
-        if (alive[i] && !vec2_pose_finite(&c[i])) return -1;
+        if (alive[i] && !vec2_pose_finite(&c[i])) return ROVER_WORLD_ERR_ARG;
     for (i = 0; i < n; i++) {
         double best = INFINITY;
         if (!alive[i]) { clearance_m[i] = INFINITY; continue; }

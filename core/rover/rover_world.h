@@ -19,6 +19,10 @@
 
 #include "vec2.h"
 
+#define ROVER_WORLD_ERR_ARG (-1)      /* NULL, n, spacing or formation out of
+                                         range, a non-finite pose          */
+#define ROVER_WORLD_ERR_UNKNOWN (-1)  /* rover_world_id: no such world name */
+
 #define ROVER_WORLD_MAX_ROBOTS 128
 #define ROVER_WORLD_MAX_OBST   32
 #define ROVER_WORLD_ROW_MAX    10      /* robots per start row */
@@ -74,7 +78,7 @@ typedef struct {
     double  landmark_m[ROVER_WORLD_MAX_LANDMARKS][2];
 } rover_world_config;
 
-/* "open" | "obstacles" | "corridor" | "deadzone" -> ROVER_WORLD_*, else -1. */
+/* "open" | "obstacles" | "corridor" | "deadzone" -> ROVER_WORLD_*, else ROVER_WORLD_ERR_UNKNOWN. */
 int rover_world_id(const char *name);
 const char *rover_world_name(int world);
 
@@ -82,7 +86,7 @@ const char *rover_world_name(int world);
  * +x: up to ROVER_WORLD_ROW_MAX robots start in the slots of `formation`
  * (FORMATION_*, robot k in slot k-1, the frontmost at the same x for every
  * formation); larger teams on a grid of rows of ROVER_WORLD_ROW_MAX abreast,
- * spacing_m apart (> robot length). 0 ok, -1 bad input. */
+ * spacing_m apart (> robot length). 0 ok, ROVER_WORLD_ERR_ARG bad input. */
 int rover_world_layout(rover_world_config *w, int world, int n, double spacing_m, int formation);
 
 /* Slot of the robot whose rank among the sorted team ids is `rank`, in a
@@ -90,7 +94,7 @@ int rover_world_layout(rover_world_config *w, int world, int n, double spacing_m
  * (slot 0 leftmost). Triangle and column: centre-out, so that the middle
  * robot of the line becomes the apex / the head of the column and its
  * neighbours fall in behind on their own side; going line -> triangle ->
- * column in a passage then needs no robot to cross another. -1 on bad
+ * column in a passage then needs no robot to cross another. ROVER_WORLD_ERR_ARG on bad
  * input. */
 int rover_world_slot(int type, int n, int rank);
 
@@ -105,7 +109,7 @@ double rover_obstacle_distance(const rover_obstacle *o, double x_m, double y_m);
  * the smallest distance between its footprint and any obstacle or other
  * alive robot's footprint (negative: overlapping). Footprint outlines are
  * sampled at corners and edge midpoints; the box-to-box distance is the
- * minimum of both directions. Dead robots get INFINITY. 0 ok, -1 bad. */
+ * minimum of both directions. Dead robots get INFINITY. 0 ok, ROVER_WORLD_ERR_ARG bad. */
 int rover_world_clearance(const rover_world_config *w, const pose2 *c, const int *alive,
                           int n, double *clearance_m);
 

@@ -74,9 +74,9 @@ int sonar_world_add_box(sonar_world *w, double cx, double cy, double half_x,
     double ex, ey;
     if (!vec2_finite3(cx, cy, angle_rad) || !isfinite(half_x) || !isfinite(half_y) ||
         !(half_x > 0.0) || !(half_y > 0.0))
-        return -1;
+        return SONAR_ERR_ARG;
     p = prim_new(w, SONAR_PRIM_BOX, z_min, z_max);
-    if (!p) return -1;
+    if (!p) return SONAR_ERR_ARG;
     p->ax = cx; p->ay = cy;
     p->bx = half_x; p->by = half_y;
     p->c = cos(angle_rad);
@@ -98,9 +98,9 @@ int sonar_world_add_circle(sonar_world *w, double cx, double cy, double r,
                            double z_min, double z_max)
 {
     sonar_prim *p;
-    if (!vec2_finite3(cx, cy, r) || !(r > 0.0)) return -1;
+    if (!vec2_finite3(cx, cy, r) || !(r > 0.0)) return SONAR_ERR_ARG;
     p = prim_new(w, SONAR_PRIM_CIRCLE, z_min, z_max);
-    if (!p) return -1;
+    if (!p) return SONAR_ERR_ARG;
     p->ax = cx; p->ay = cy; p->r = r;
     prim_bounds(p, cx - r, cy - r, cx + r, cy + r);
     return w->n++;
@@ -111,9 +111,9 @@ int sonar_world_add_segment(sonar_world *w, double ax, double ay, double bx,
 {
     sonar_prim *p;
     if (!vec2_finite3(ax, ay, bx) || !isfinite(by) || hypot(bx - ax, by - ay) <= 0.0)
-        return -1;
+        return SONAR_ERR_ARG;
     p = prim_new(w, SONAR_PRIM_SEGMENT, z_min, z_max);
-    if (!p) return -1;
+    if (!p) return SONAR_ERR_ARG;
     p->ax = ax; p->ay = ay; p->bx = bx; p->by = by;
     prim_bounds(p, fmin(ax, bx), fmin(ay, by), fmax(ax, bx), fmax(ay, by));
     return w->n++;
@@ -312,7 +312,7 @@ static void test_prim(const sonar_world *w, int k, const ray_t *r, sonar_hit *be
 
 static int ray_make(ray_t *r, double ox, double oy, double z, double dir, double max_m)
 {
-    if (!vec2_finite3(ox, oy, dir) || isnan(z) || !isfinite(max_m) || max_m < 0.0) return -1;
+    if (!vec2_finite3(ox, oy, dir) || isnan(z) || !isfinite(max_m) || max_m < 0.0) return SONAR_ERR_ARG;
     r->ox = ox; r->oy = oy;
     r->dx = cos(dir); r->dy = sin(dir);
     r->z = z;
@@ -344,7 +344,7 @@ int sonar_cast_brute(sonar_hit *hit, const sonar_world *w, double ox,
     ray_t r;
     sonar_hit best;
     int k;
-    if (ray_make(&r, ox, oy, z_m, dir_rad, max_m) != 0) return -1;
+    if (ray_make(&r, ox, oy, z_m, dir_rad, max_m) != 0) return SONAR_ERR_ARG;
     best_init(&best, max_m);
     for (k = 0; k < w->n; k++) test_prim(w, k, &r, &best);
     return finish(hit, &best, &r);
@@ -360,7 +360,7 @@ int sonar_cast(sonar_hit *hit, const sonar_world *w, double ox, double oy,
     double t0 = 0.0, t1 = max_m, tmx, tmy, dtx, dty, gx1, gy1;
     int i, j, sx, sy;
     if (!w->built) return sonar_cast_brute(hit, w, ox, oy, z_m, dir_rad, max_m);
-    if (ray_make(&r, ox, oy, z_m, dir_rad, max_m) != 0) return -1;
+    if (ray_make(&r, ox, oy, z_m, dir_rad, max_m) != 0) return SONAR_ERR_ARG;
     best_init(&best, max_m);
     gx1 = w->gx0 + w->nx * w->cell_m;
     gy1 = w->gy0 + w->ny * w->cell_m;
@@ -440,7 +440,7 @@ int sonar_model_validate(const sonar_model *m)
         !isfinite(m->noise_sd_m) || m->noise_sd_m < 0.0 ||
         !isfinite(m->specular_max_rad) || m->specular_max_rad < 0.0 ||
         !isfinite(m->height_m) || !isfinite(m->fire_period_s) || !(m->fire_period_s > 0.0))
-        return -1;
+        return SONAR_ERR_ARG;
     return 0;
 }
 
@@ -452,7 +452,7 @@ int sonar_fire(double *range_m, const sonar_world *w, const sonar_model *m,
     int i, n;
     if (!range_m || !w || sonar_model_validate(m) != 0 || !vec2_pose_finite(c) ||
         k < 0 || k >= SONAR_N)
-        return -1;
+        return SONAR_ERR_ARG;
     *range_m = m->range_max_m;
     s = &sonar_p2dx_front[k];
     vec2_rotate(pos, s->x_m, s->y_m, c->theta_rad);
@@ -483,7 +483,7 @@ int sonar_ring(double range_m[SONAR_N], const sonar_world *w,
     int k, echoes = 0;
     for (k = 0; k < SONAR_N; k++) {
         const int r = sonar_fire(&range_m[k], w, m, c, k, rng);
-        if (r < 0) return -1;
+        if (r < 0) return SONAR_ERR_ARG;
         echoes += r;
     }
     return echoes;
@@ -492,7 +492,7 @@ int sonar_ring(double range_m[SONAR_N], const sonar_world *w,
 int sonar_fired_index(double t_s, const sonar_model *m)
 {
     double slot;
-    if (!m || !isfinite(t_s) || t_s < 0.0 || !(m->fire_period_s > 0.0)) return -1;
+    if (!m || !isfinite(t_s) || t_s < 0.0 || !(m->fire_period_s > 0.0)) return SONAR_ERR_ARG;
     slot = fmod(floor(t_s / m->fire_period_s), (double)SONAR_N);
     return sonar_p2dx_fire_order[(int)slot];
 }

@@ -31,6 +31,9 @@
 #include "prng.h"
 #include "vec2.h"
 
+#define SONAR_ERR_ARG (-1)  /* NULL, non-finite or out-of-range input, an
+                               invalid model, or the primitive table full */
+
 #define SONAR_MAX_PRIMS     512
 #define SONAR_N             8
 #define SONAR_MAX_RAYS      32
@@ -68,7 +71,7 @@ typedef struct {
 } sonar_hit;
 
 void sonar_world_init(sonar_world *w);
-/* Each returns the prim index, or -1 (full, or invalid: non-finite,
+/* Each returns the prim index, or SONAR_ERR_ARG (full, or invalid: non-finite,
  * non-positive size, z_min > z_max, NaN). Adding invalidates the grid. */
 int sonar_world_add_box(sonar_world *w, double cx, double cy, double half_x,
                         double half_y, double angle_rad, double z_min, double z_max);
@@ -82,7 +85,7 @@ int sonar_world_add_segment(sonar_world *w, double ax, double ay, double bx,
 int sonar_world_build(sonar_world *w);
 
 /* One ray from (ox, oy) at height z, direction dir_rad, up to max_m.
- * Returns 1 with *hit filled, 0 for no hit, -1 on bad input. Starting
+ * Returns 1 with *hit filled, 0 for no hit, SONAR_ERR_ARG on bad input. Starting
  * inside a primitive is a hit at t = 0. */
 int sonar_cast(sonar_hit *hit, const sonar_world *w, double ox, double oy,
                double z_m, double dir_rad, double max_m);
@@ -123,11 +126,11 @@ void sonar_model_default(sonar_model *m);
 int  sonar_model_validate(const sonar_model *m);
 
 /* Reading of transducer k for a robot whose axle centre C has pose c.
- * rng may be NULL (no noise). Returns 1 echo, 0 none (range = max), -1 bad. */
+ * rng may be NULL (no noise). Returns 1 echo, 0 none (range = max), SONAR_ERR_ARG bad. */
 int sonar_fire(double *range_m, const sonar_world *w, const sonar_model *m,
                const pose2 *c, int k, prng_state *rng);
 /* All eight, in table order (noise drawn in table order). Returns the
- * number of echoes or -1. */
+ * number of echoes or SONAR_ERR_ARG. */
 int sonar_ring(double range_m[SONAR_N], const sonar_world *w,
                const sonar_model *m, const pose2 *c, prng_state *rng);
 /* Transducer that fires in the slot containing time t_s (t_s >= 0). */

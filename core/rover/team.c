@@ -10,7 +10,7 @@
 
 int team_init(team_table *t, int32_t self_id, double timeout_s)
 {
-    if (!t || !isfinite(timeout_s) || !(timeout_s > 0.0)) return -1;
+    if (!t || !isfinite(timeout_s) || !(timeout_s > 0.0)) return TEAM_ERR_ARG;
     t->self_id = self_id;
     t->timeout_s = timeout_s;
     t->n = 0;
@@ -26,7 +26,7 @@ static int index_of(const team_table *t, int32_t robot, int *ins)
         else hi = mid;
     }
     if (ins) *ins = lo;
-    return (lo < t->n && t->m[lo].robot == robot) ? lo : -1;
+    return (lo < t->n && t->m[lo].robot == robot) ? lo : TEAM_ERR_UNKNOWN;
 }
 
 static int msg_ok(const team_table *t, const team_member *m)
@@ -42,7 +42,7 @@ int team_update(team_table *t, const team_member *msg)
     int ins, i;
     double ox = 0.0, oy = 0.0, ot = -INFINITY, orng = INFINITY;
     int obs = 0, added = 0;
-    if (!t || !msg || !msg_ok(t, msg)) return -1;
+    if (!t || !msg || !msg_ok(t, msg)) return TEAM_ERR_ARG;
     i = index_of(t, msg->robot, &ins);
     if (i >= 0) {
         if (msg->t_s < t->m[i].t_s) return 0;      /* out of order */
@@ -52,7 +52,7 @@ int team_update(team_table *t, const team_member *msg)
         ot = t->m[i].obs_t_s;
         orng = t->m[i].obs_range_m;
     } else {
-        if (t->n >= TEAM_MAX) return -1;
+        if (t->n >= TEAM_MAX) return TEAM_ERR_FULL;
         memmove(&t->m[ins + 1], &t->m[ins], (size_t)(t->n - ins) * sizeof t->m[0]);
         t->n++;
         i = ins;
@@ -102,7 +102,7 @@ int team_ids(const team_table *t, int32_t *ids, int cap)
 int team_position(const team_table *t, int32_t robot, double xy_m[2])
 {
     const team_member *m = team_find(t, robot);
-    if (!m) return -1;
+    if (!m) return TEAM_ERR_UNKNOWN;
     xy_m[0] = m->x_m + m->off_x_m;
     xy_m[1] = m->y_m + m->off_y_m;
     return 0;
@@ -117,7 +117,7 @@ int team_observe(team_table *t, int32_t robot, const pose2 *own_o, double range_
     if (i < 0 || !vec2_pose_finite(own_o) || !isfinite(range_m) || range_m < 0.0 ||
         !isfinite(bearing_rad) || !isfinite(alpha) || alpha < 0.0 || alpha > 1.0 ||
         !isfinite(now_s))
-        return -1;
+        return TEAM_ERR_ARG;
     m = &t->m[i];
     ox = own_o->x_m + range_m * cos(own_o->theta_rad + bearing_rad) - m->x_m;
     oy = own_o->y_m + range_m * sin(own_o->theta_rad + bearing_rad) - m->y_m;
@@ -203,11 +203,11 @@ int team_reference(unicycle_state *ref, const team_table *t,
 {
     ref_acc_t a = {0, 0, 0, 0, 0, 0, 0};
     int i;
-    if (!ref || !t || !isfinite(now_s) || !isfinite(d_m)) return -1;
+    if (!ref || !t || !isfinite(now_s) || !isfinite(d_m)) return TEAM_ERR_ARG;
     if (self && !self_left) {
         const pose2 o = { self->x_m, self->y_m, self->theta_rad };
         if (!vec2_pose_finite(&o) || !isfinite(self->v_mps) || !isfinite(self->w_radps))
-            return -1;
+            return TEAM_ERR_ARG;
         acc_add(&a, &o, self->v_mps, self->w_radps);
     }
     for (i = 0; i < t->n; i++) {
@@ -222,7 +222,7 @@ int team_reference(unicycle_state *ref, const team_table *t,
         extrapolate(&o, m->v_mps, m->w_radps, d_m, age);
         acc_add(&a, &o, m->v_mps, m->w_radps);
     }
-    if (a.n == 0) return -1;
+    if (a.n == 0) return TEAM_ERR_UNKNOWN;
     ref->x_m = a.x / a.n;
     ref->y_m = a.y / a.n;
     /* Opposed headings have no mean; keep self's (or 0) rather than noise. */

@@ -22,6 +22,10 @@
 #include "unicycle.h"
 #include "vec2.h"
 
+#define TEAM_ERR_ARG (-1)      /* NULL, non-finite input or invalid message */
+#define TEAM_ERR_FULL (-1)     /* a new mate but TEAM_MAX are held          */
+#define TEAM_ERR_UNKNOWN (-1)  /* no such mate, or none to average          */
+
 #define TEAM_MAX 128
 #define TEAM_TIMEOUT_S_DEFAULT 1.0
 #define TEAM_STILL_MPS 0.05      /* a mate slower than this counts as standing */
@@ -52,8 +56,9 @@ int team_init(team_table *t, int32_t self_id, double timeout_s);
 
 /* A team message (fields robot .. t_s; offsets are ignored). Returns 1 if
  * the robot was not known (a late joiner, or one back after a timeout:
- * re-slot), 0 if refreshed or ignored as older than what is held, -1 if
- * invalid (non-finite, own id, bad formation/scale) or the table is full. */
+ * re-slot), 0 if refreshed or ignored as older than what is held,
+ * TEAM_ERR_ARG if invalid (non-finite, own id, bad formation/scale),
+ * TEAM_ERR_FULL if the table is full. */
 int team_update(team_table *t, const team_member *msg);
 
 /* Drop every mate silent for more than timeout_s; returns how many. */
@@ -65,11 +70,11 @@ const team_member *team_find(const team_table *t, int32_t robot);
  * returns the count (at most cap). */
 int team_ids(const team_table *t, int32_t *ids, int cap);
 
-/* Fused position of a mate (reported + camera offset); -1 if unknown. */
+/* Fused position of a mate (reported + camera offset); TEAM_ERR_UNKNOWN if unknown. */
 int team_position(const team_table *t, int32_t robot, double xy_m[2]);
 
 /* Camera sees `robot`'s beacon at (range, bearing from our heading) from
- * our pose own_o (camera at O) at now_s. alpha in [0, 1]. -1 on bad input
+ * our pose own_o (camera at O) at now_s. alpha in [0, 1]. TEAM_ERR_ARG on bad input
  * or unknown robot. */
 int team_observe(team_table *t, int32_t robot, const pose2 *own_o, double range_m,
                  double bearing_rad, double alpha, double now_s);
@@ -91,7 +96,8 @@ void team_shift_offsets(team_table *t, double dx_m, double dy_m);
 
 /* Team-average reference R0 at now_s. self may be NULL (not counted);
  * self_left = 1 leaves self out of the average (own dead-zone escape).
- * Returns the number of robots averaged; -1 if none or bad input. */
+ * Returns the number of robots averaged; TEAM_ERR_UNKNOWN if
+ * none, TEAM_ERR_ARG on bad input. */
 int team_reference(unicycle_state *ref, const team_table *t,
                    const unicycle_state *self, int self_left, double d_m,
                    double now_s);

@@ -1,6 +1,7 @@
 /* unicycle: kinematics of the wheel-axle centre C and of the tracked point
- * O at the signed distance d behind it (d < 0: ahead) (SPEC.md section 4, seed eqs. 1, 3), exact-arc
- * and RK4 integration, and the (V, w) saturation of seed eqs. 6 and 10.
+ * O at the signed distance d behind it (d < 0: ahead) (SPEC.md section 4,
+ * seed eqs. 1, 3), exact-arc and RK4 integration, and the (V, w)
+ * saturation of seed eqs. 6 and 10.
  */
 #include "unicycle.h"
 
@@ -35,7 +36,7 @@ int unicycle_step_exact(pose2 *c, double v_mps, double w_radps, double dt_s)
     const double th = c->theta_rad;
     const double dth = w_radps * dt_s;
     double fwd, side;
-    if (!vec2_pose_finite(c) || !vec2_finite3(v_mps, w_radps, dt_s)) return -1;
+    if (!vec2_pose_finite(c) || !vec2_finite3(v_mps, w_radps, dt_s)) return UNICYCLE_ERR_ARG;
     if (fabs(dth) < 1e-9) {
         /* Second-order series of the arc: avoids 0/0 and loses nothing. */
         fwd = v_mps * dt_s * (1.0 - dth * dth / 6.0);
@@ -62,7 +63,7 @@ int unicycle_step_rk4(pose2 *c, double v_mps, double w_radps, double dt_s)
 {
     double k1[3], k2[3], k3[3], k4[3];
     const double th = c->theta_rad;
-    if (!vec2_pose_finite(c) || !vec2_finite3(v_mps, w_radps, dt_s)) return -1;
+    if (!vec2_pose_finite(c) || !vec2_finite3(v_mps, w_radps, dt_s)) return UNICYCLE_ERR_ARG;
     unicycle_deriv(k1, th, v_mps, w_radps);
     unicycle_deriv(k2, th + 0.5 * dt_s * k1[2], v_mps, w_radps);
     unicycle_deriv(k3, th + 0.5 * dt_s * k2[2], v_mps, w_radps);
@@ -86,7 +87,7 @@ int unicycle_saturate(unicycle_cmd *out, const unicycle_cmd *in,
     if (!isfinite(v) || !isfinite(w) || !isfinite(vm) || !isfinite(wm)) {
         out->v_mps = 0.0;
         out->w_radps = 0.0;
-        return -1;
+        return UNICYCLE_ERR_ARG;
     }
     if (mode == UNICYCLE_SAT_SCALE) {
         double k = 1.0;

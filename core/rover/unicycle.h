@@ -22,6 +22,8 @@
 
 #include "vec2.h"
 
+#define UNICYCLE_ERR_ARG (-1)  /* non-finite input (the output is then 0) */
+
 /* A control (V, w). */
 typedef struct {
     double v_mps;
@@ -52,14 +54,14 @@ void unicycle_o_velocity(double out[2], double theta_rad, double v_mps,
                          double w_radps, double d_m);
 
 /* Exact integration of C over dt with constant (V, w): a circular arc
- * (straight line when |w dt| is tiny). Returns -1 on non-finite input. */
+ * (straight line when |w dt| is tiny). Returns UNICYCLE_ERR_ARG on non-finite input. */
 int unicycle_step_exact(pose2 *c, double v_mps, double w_radps, double dt_s);
 
 /* Classical RK4 of the same ODE (for cross-checking the exact arc). */
 int unicycle_step_rk4(pose2 *c, double v_mps, double w_radps, double dt_s);
 
 /* Saturate (V, w) to (v_max, w_max) with mode UNICYCLE_SAT_*. Non-finite
- * input gives (0, 0) and -1. Returns 1 if anything was limited, else 0. */
+ * input gives (0, 0) and UNICYCLE_ERR_ARG. Returns 1 if anything was limited, else 0. */
 int unicycle_saturate(unicycle_cmd *out, const unicycle_cmd *in,
                       double v_max_mps, double w_max_radps, int mode);
 

@@ -16,6 +16,7 @@
 #include <stddef.h>
 
 #define NJ TDSD_NJ
+#define RATE_INFEASIBLE (-1) /* max_path_rate: no admissible lambda */
 
 /* LINALG_ENOCONV still delivers a usable (best-so-far) factorisation. */
 static int la_ok(int rc)
@@ -165,7 +166,7 @@ static int task2_setup(const tdsd_input *in, double J2[3 * NJ], double e2[3], do
 
 /* Largest lambda in [0, cap] with |lambda a_i + b_i| <= m_i for all i.
  * Each joint admits an interval of lambda; returns 0 and sets *lambda if
- * the intersection with [0, cap] is non-empty, -1 otherwise. */
+ * the intersection with [0, cap] is non-empty, RATE_INFEASIBLE otherwise. */
 static int max_path_rate(double *lambda, const double a[NJ], const double b[NJ],
                          const double m[NJ], double cap)
 {
@@ -174,7 +175,7 @@ static int max_path_rate(double *lambda, const double a[NJ], const double b[NJ],
     for (i = 0; i < NJ; i++) {
         if (a[i] == 0.0) {
             if (fabs(b[i]) > m[i])
-                return -1;
+                return RATE_INFEASIBLE;
             continue;
         }
         {
@@ -187,7 +188,7 @@ static int max_path_rate(double *lambda, const double a[NJ], const double b[NJ],
         }
     }
     if (!(lo <= hi))
-        return -1;
+        return RATE_INFEASIBLE;
     *lambda = hi;
     return 0;
 }

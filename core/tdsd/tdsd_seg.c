@@ -55,13 +55,13 @@ int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
     if (!g || !m || !tool || !T_world_base || !q || !p1_world || !R1_world || !par ||
         !params_valid(par) || arm_q_finite(q) != 0 || !linalg_all_finite(T_world_base, 16) ||
         !linalg_all_finite(p1_world, 3) || !linalg_all_finite(R1_world, 9))
-        return -1;
+        return TDSD_SEG_ERR_ARG;
     memset(g, 0, sizeof *g);
     g->par = *par;
     g->tool = *tool;
     memcpy(g->T_world_base, T_world_base, sizeof g->T_world_base);
     if (arm_fk(m, tool, q, T) != 0)
-        return -1;
+        return TDSD_SEG_ERR_ARG;
     tf_pos(g->p0, T);
     tf_rot(g->R0, T);
     to_base(g->p1, T_world_base, p1_world);
@@ -76,7 +76,7 @@ int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
     vec3_sub(d, g->p1, g->p0);
     g->L_m = fmax(vec3_norm(d), par->rot_len_m * g->rot_rad);
     if (sprofile_plan(&g->prof, g->L_m, par->v_m, par->a_m, par->u_m) != 0)
-        return -1;
+        return TDSD_SEG_ERR_ARG;
     memcpy(g->q_ref, q, sizeof g->q_ref);
     g->lambda = 1.0;
     g->t_path_end_s = g->L_m > 0.0 ? -1.0 : 0.0;
@@ -190,10 +190,10 @@ int tdsd_servo_vlimit(const jointctl_gains *gains, const double qd_lim[ARM_NJ],
     if (!gains || !qd_lim || !q || !q_d || !qd_d || !qdd_d || !(gains->wn_radps > 0.0) ||
         !(gains->zeta > 0.0) || !isfinite(gains->wn_radps) || !isfinite(gains->zeta) ||
         arm_q_finite(q) != 0 || arm_q_finite(q_d) != 0 || arm_q_finite(qd_d) != 0)
-        return -1;
+        return TDSD_SEG_ERR_ARG;
     for (i = 0; i < ARM_NJ; i++)
         if (!(qd_lim[i] > 0.0))
-            return -1;
+            return TDSD_SEG_ERR_ARG;
     k = gains->wn_radps / (2.0 * gains->zeta);   /* Kp / Kv */
     for (i = 0; i < ARM_NJ; i++) {
         const double v_c = qd_d[i] + k * (q_d[i] - q[i]);

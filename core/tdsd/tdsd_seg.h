@@ -30,6 +30,10 @@
 #include "sprofile.h"
 #include "tdsd.h"
 
+#define TDSD_SEG_ERR_ARG (-1)  /* NULL, non-finite input, invalid parameters
+                                  or gains, a joint speed limit <= 0, or FK /
+                                  the speed profile refused the segment     */
+
 #define TDSD_SEG_DONE_POS_M 0.0005       /* reference on the target within 0.5 mm */
 #define TDSD_SEG_DONE_ORI_RAD 0.008727   /* ... and 0.5 deg */
 #define TDSD_SEG_DONE_Q_RAD 0.005        /* arm within 5 mrad of the reference */
@@ -82,7 +86,7 @@ typedef struct tdsd_seg_out {
 } tdsd_seg_out;
 
 /* Segment from the pose at q (the arm's current joints, also the first
- * reference) to p1_world with tool orientation R1_world. 0 ok, -1 bad
+ * reference) to p1_world with tool orientation R1_world. 0 ok, TDSD_SEG_ERR_ARG bad
  * input (non-finite, params out of range, FK failure). */
 int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
                    const double T_world_base[16], const double q[ARM_NJ],
@@ -110,7 +114,7 @@ int tdsd_seg_done(const tdsd_seg *g, const double q[ARM_NJ], const double qd[ARM
  * jointctl_torque gives a = Kv (+-qd_lim_i - qd): the joint approaches its
  * limit from below and does not overshoot it (on the model); it then
  * catches up at the limit. Below the limit the law is unchanged.
- * Returns the number of joints limited, -1 on bad input (nothing changed). */
+ * Returns the number of joints limited, TDSD_SEG_ERR_ARG on bad input (nothing changed). */
 int tdsd_servo_vlimit(const jointctl_gains *gains, const double qd_lim[ARM_NJ],
                       const double q[ARM_NJ], double q_d[ARM_NJ], double qd_d[ARM_NJ],
                       double qdd_d[ARM_NJ]);

@@ -259,18 +259,18 @@ static void test_bad_input(void **state)
     arm_payload p;
     const double c[3] = { 0, 0, 0.1 };
     (void)state;
-    assert_int_equal(arm_payload_point(&p, -1.0, c), -1);
+    assert_int_equal(arm_payload_point(&p, -1.0, c), ARM_DYN_ERR_ARG);
     assert_int_equal(arm_payload_point(&p, 1.0, c), 0);
     p.mass_kg = NAN;
-    assert_int_equal(arm_gravity(&arm_model_puma560, q, NULL, &p, tau), -1);
-    assert_int_equal(arm_mass_matrix(&arm_model_puma560, q, &p, M), -1);
+    assert_int_equal(arm_gravity(&arm_model_puma560, q, NULL, &p, tau), ARM_DYN_ERR_ARG);
+    assert_int_equal(arm_mass_matrix(&arm_model_puma560, q, &p, M), ARM_DYN_ERR_ARG);
     qd[4] = INFINITY;
-    assert_int_equal(arm_rne(&arm_model_puma560, q, qd, q, NULL, NULL, tau), -1);
-    assert_int_equal(arm_rne(NULL, q, q, q, NULL, NULL, tau), -1);
+    assert_int_equal(arm_rne(&arm_model_puma560, q, qd, q, NULL, NULL, tau), ARM_DYN_ERR_ARG);
+    assert_int_equal(arm_rne(NULL, q, q, q, NULL, NULL, tau), ARM_DYN_ERR_ARG);
     q[0] = NAN;
-    assert_int_equal(arm_mass_matrix(&arm_model_puma560, q, NULL, M), -1);
+    assert_int_equal(arm_mass_matrix(&arm_model_puma560, q, NULL, M), ARM_DYN_ERR_ARG);
     memset(M, 0, sizeof M);
-    assert_int_equal(arm_spd_solve6(M, qd, tau), -2);
+    assert_int_equal(arm_spd_solve6(M, qd, tau), ARM_DYN_ERR_NOT_PD);
 }
 
 static void make_skewed(void)

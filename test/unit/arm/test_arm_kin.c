@@ -207,7 +207,7 @@ static void test_ik_unreachable(void **state)
     assert_int_equal(r.n_valid, 0);
     for (b = 0; b < ARM_IK_NBRANCH; b++)
         assert_true(r.branch[b].status & ARM_IK_UNREACHABLE);
-    assert_int_equal(arm_ik_nearest(&r, T), -1);
+    assert_int_equal(arm_ik_nearest(&r, T), ARM_KIN_ERR_NO_BRANCH);
     /* PUMA wrist centre inside the d3 = 0.15 m cylinder about joint 1 */
     T[3] = 0.05;
     T[7] = 0.0;
@@ -228,7 +228,7 @@ static void test_branch_names(void **state)
     assert_string_equal(arm_ik_branch_name(8), "invalid");
     for (b = 0; b < ARM_IK_NBRANCH; b++)
         assert_int_equal(arm_ik_branch_from_name(arm_ik_branch_name(b)), b);
-    assert_int_equal(arm_ik_branch_from_name("up"), -1);
+    assert_int_equal(arm_ik_branch_from_name("up"), ARM_KIN_ERR_NO_BRANCH);
 }
 
 static void test_bad_input(void **state)
@@ -239,14 +239,14 @@ static void test_bad_input(void **state)
     (void)state;
     tf_identity(T);
     T[5] = NAN;
-    assert_int_equal(arm_ik(&arm_model_puma560, NULL, T, &r), -1);
-    assert_int_equal(arm_ik(&arm_model_puma560, NULL, NULL, &r), -1);
+    assert_int_equal(arm_ik(&arm_model_puma560, NULL, T, &r), ARM_KIN_ERR_ARG);
+    assert_int_equal(arm_ik(&arm_model_puma560, NULL, NULL, &r), ARM_KIN_ERR_ARG);
     tf_identity(T);
     odd.a_m[4] = 0.01; /* not a spherical wrist */
-    assert_int_equal(arm_ik(&odd, NULL, T, &r), -2);
+    assert_int_equal(arm_ik(&odd, NULL, T, &r), ARM_KIN_ERR_GEOMETRY);
     q[2] = NAN;
-    assert_int_equal(arm_fk(&arm_model_puma560, NULL, q, T), -1);
-    assert_int_equal(arm_jacobian(&arm_model_puma560, NULL, q, J), -1);
+    assert_int_equal(arm_fk(&arm_model_puma560, NULL, q, T), ARM_KIN_ERR_ARG);
+    assert_int_equal(arm_jacobian(&arm_model_puma560, NULL, q, J), ARM_KIN_ERR_ARG);
 }
 
 int main(void)

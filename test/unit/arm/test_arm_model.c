@@ -92,7 +92,7 @@ static void test_tool_offset(void **state)
     double T6[16], Tt[16], pt[3], pw[3];
     (void)state;
     assert_int_equal(arm_tool_offset(&tool, p), 0);
-    assert_int_equal(arm_tool_offset(&tool, bad), -1);
+    assert_int_equal(arm_tool_offset(&tool, bad), ARM_MODEL_ERR_ARG);
     assert_int_equal(arm_tool_offset(&tool, p), 0);
     arm_fk(&arm_model_puma560, NULL, q, T6);
     arm_fk(&arm_model_puma560, &tool, q, Tt);
@@ -172,12 +172,12 @@ static void test_bad_input(void **state)
 {
     double q[ARM_NJ] = { 0, 0, 0, 0, 0, 0 }, F[ARM_NJ + 1][16];
     (void)state;
-    assert_int_equal(arm_link_frames(NULL, q, F), -1);
-    assert_int_equal(arm_link_frames(&arm_model_puma560, NULL, F), -1);
+    assert_int_equal(arm_link_frames(NULL, q, F), ARM_MODEL_ERR_ARG);
+    assert_int_equal(arm_link_frames(&arm_model_puma560, NULL, F), ARM_MODEL_ERR_ARG);
     q[3] = NAN;
-    assert_int_equal(arm_link_frames(&arm_model_puma560, q, F), -1);
+    assert_int_equal(arm_link_frames(&arm_model_puma560, q, F), ARM_MODEL_ERR_ARG);
     q[3] = INFINITY;
-    assert_int_equal(arm_q_finite(q), -1);
+    assert_int_equal(arm_q_finite(q), ARM_MODEL_ERR_ARG);
     q[3] = 0.0;
     assert_int_equal(arm_q_finite(q), 0);
     assert_int_equal(arm_q_outside_limits(&arm_model_puma560, q), 0u);
@@ -212,6 +212,34 @@ static void test_joint_faults(void **st)
     }
 }
 
+/* Both shipped tables pass; a copy with one field broken fails with the
+ * code that names the fault. */
+static void test_validate(void **state)
+{
+    arm_model m;
+    (void)state;
+    assert_int_equal(arm_model_validate(&arm_model_puma560), 0);
+    assert_int_equal(arm_model_validate(&arm_model_seed002), 0);
+    assert_int_equal(arm_model_validate(NULL), ARM_MODEL_ERR_ARG);
+#define BROKEN(field_change, code) \
+    do { m = arm_model_puma560; field_change; assert_int_equal(arm_model_validate(&m), (code)); } while (0)
+    BROKEN(m.name = NULL, ARM_MODEL_ERR_ARG);
+    BROKEN(m.d_m[3] = NAN, ARM_MODEL_ERR_NONFINITE);
+    BROKEN(m.inertia_kgm2[2][4] = INFINITY, ARM_MODEL_ERR_NONFINITE);
+    BROKEN(m.q_min_rad[1] = m.q_max_rad[1], ARM_MODEL_ERR_RANGE);   /* lo < hi */
+    BROKEN(m.mass_kg[4] = 0.0, ARM_MODEL_ERR_RANGE);
+    BROKEN(m.tau_max_Nm[0] = -97.6, ARM_MODEL_ERR_RANGE);
+    BROKEN(m.qd_max_radps[5] = 0.0, ARM_MODEL_ERR_RANGE);
+    BROKEN(m.a_m[1] = -0.4318, ARM_MODEL_ERR_RANGE);
+    BROKEN(m.base_height_m = -0.1, ARM_MODEL_ERR_RANGE);
+    BROKEN(m.alpha_rad[2] = -m.alpha_rad[2], ARM_MODEL_ERR_INCONSISTENT); /* trig tables stale */
+    arm_model_refresh_alpha(&m);                                        /* ... until refreshed */
+    assert_int_equal(arm_model_validate(&m), 0);
+    BROKEN(m.inertia_kgm2[1][1] = 0.01, ARM_MODEL_ERR_INCONSISTENT);    /* not symmetric */
+    BROKEN(m.inertia_kgm2[3][8] = -1.8e-3, ARM_MODEL_ERR_INCONSISTENT); /* not positive definite */
+#undef BROKEN
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -223,6 +251,7 @@ int main(void)
         cmocka_unit_test(test_dh_compose_general_alpha),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_joint_faults),
+        cmocka_unit_test(test_validate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -317,18 +317,18 @@ static void test_bad_input(void **st)
     int i;
     (void)st;
     cartctl_gains_default(&g);
-    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o), -1);
+    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o), CARTCTL_ERR_ARG);
     for (i = 0; i < ARM_NJ; i++)
         assert_true(tau[i] == 0.0);
     a[1] = 0.0;
     memcpy(q, Q_A, sizeof q);
     q[2] = INFINITY;
-    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, QD_A, NULL, a, NULL, tau, &o), -1);
+    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, QD_A, NULL, a, NULL, tau, &o), CARTCTL_ERR_ARG);
     g.k_null = -1.0;
-    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o), -1);
+    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o), CARTCTL_ERR_ARG);
     cartctl_gains_default(&g);
     g.range_w_radps = -1.0;
-    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o), -1);
+    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o), CARTCTL_ERR_ARG);
 }
 
 int main(void)

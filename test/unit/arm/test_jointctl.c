@@ -78,7 +78,7 @@ static void test_bad_reference_rejected(void **state)
     (void)state;
     memcpy(bad, q_ref, sizeof bad);
     bad[3] = NAN;
-    assert_int_equal(jointctl_torque(&arm_model_puma560, NULL, &g, q_ref, zero, bad, zero, zero, tau, NULL), -1);
+    assert_int_equal(jointctl_torque(&arm_model_puma560, NULL, &g, q_ref, zero, bad, zero, zero, tau, NULL), JOINTCTL_ERR_ARG);
 }
 
 int main(void)

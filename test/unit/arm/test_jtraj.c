@@ -80,10 +80,10 @@ static void test_bad_input_rejected(void **state)
     jtraj t;
     double bad[ARM_NJ] = { 0, 0, NAN, 0, 0, 0 };
     (void)state;
-    assert_int_equal(jtraj_plan(&t, &arm_model_puma560, q0, bad, 0.5, 2.0), -1);
-    assert_int_equal(jtraj_plan(&t, &arm_model_puma560, q0, q1, 0.0, 2.0), -1);
-    assert_int_equal(jtraj_plan(&t, &arm_model_puma560, q0, q1, 1.5, 2.0), -1);
-    assert_int_equal(jtraj_plan(&t, &arm_model_puma560, q0, q1, 0.5, -1.0), -1);
+    assert_int_equal(jtraj_plan(&t, &arm_model_puma560, q0, bad, 0.5, 2.0), JTRAJ_ERR_ARG);
+    assert_int_equal(jtraj_plan(&t, &arm_model_puma560, q0, q1, 0.0, 2.0), JTRAJ_ERR_ARG);
+    assert_int_equal(jtraj_plan(&t, &arm_model_puma560, q0, q1, 1.5, 2.0), JTRAJ_ERR_ARG);
+    assert_int_equal(jtraj_plan(&t, &arm_model_puma560, q0, q1, 0.5, -1.0), JTRAJ_ERR_ARG);
     assert_int_equal(jtraj_plan(&t, &arm_model_puma560, q0, q0, 0.5, 2.0), 0);
     assert_true(t.duration_s == 0.0);
 }

@@ -65,9 +65,9 @@ static void test_rejects_bad_samples(void **state)
 {
     (void)state;
     loopstats_reset(&s);
-    assert_int_equal(loopstats_add(&s, -1.0), -1);
-    assert_int_equal(loopstats_add(&s, NAN), -1);
-    assert_int_equal(loopstats_add(&s, INFINITY), -1);
+    assert_int_equal(loopstats_add(&s, -1.0), LOOPSTATS_ERR_ARG);
+    assert_int_equal(loopstats_add(&s, NAN), LOOPSTATS_ERR_ARG);
+    assert_int_equal(loopstats_add(&s, INFINITY), LOOPSTATS_ERR_ARG);
     assert_int_equal(s.count, 0);
 }
 

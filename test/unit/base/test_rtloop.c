@@ -20,9 +20,9 @@ static void busy_ns(int64_t ns)
 static void test_rejects_bad_period(void **state)
 {
     (void)state;
-    assert_int_equal(rtloop_init(&l, 0), -1);
-    assert_int_equal(rtloop_init(&l, 1000), -1);
-    assert_int_equal(rtloop_init(&l, RTLOOP_MAX_PERIOD_NS + 1), -1);
+    assert_int_equal(rtloop_init(&l, 0), RTLOOP_ERR_RANGE);
+    assert_int_equal(rtloop_init(&l, 1000), RTLOOP_ERR_RANGE);
+    assert_int_equal(rtloop_init(&l, RTLOOP_MAX_PERIOD_NS + 1), RTLOOP_ERR_RANGE);
     assert_int_equal(rtloop_init(&l, 1000000), 0);
 }
 

@@ -150,12 +150,12 @@ static void test_degenerate_and_invalid(void **st)
     sprofile_at(&p, 1.0, &a, &v);
     assert_true(a == 0.0 && v == 0.0);
     assert_true(sprofile_advance(&p, 0.0, 0.01, 0.1) == 0.0);
-    assert_int_equal(sprofile_plan(&p, -1.0, 0.25, 0.5, 2.0), -1);
-    assert_int_equal(sprofile_plan(&p, 1.0, 0.0, 0.5, 2.0), -1);
-    assert_int_equal(sprofile_plan(&p, 1.0, 0.25, -0.5, 2.0), -1);
-    assert_int_equal(sprofile_plan(&p, 1.0, 0.25, 0.5, NAN), -1);
-    assert_int_equal(sprofile_plan(&p, INFINITY, 0.25, 0.5, 2.0), -1);
-    assert_int_equal(sprofile_plan(0, 1.0, 0.25, 0.5, 2.0), -1);
+    assert_int_equal(sprofile_plan(&p, -1.0, 0.25, 0.5, 2.0), SPROFILE_ERR_ARG);
+    assert_int_equal(sprofile_plan(&p, 1.0, 0.0, 0.5, 2.0), SPROFILE_ERR_ARG);
+    assert_int_equal(sprofile_plan(&p, 1.0, 0.25, -0.5, 2.0), SPROFILE_ERR_ARG);
+    assert_int_equal(sprofile_plan(&p, 1.0, 0.25, 0.5, NAN), SPROFILE_ERR_ARG);
+    assert_int_equal(sprofile_plan(&p, INFINITY, 0.25, 0.5, 2.0), SPROFILE_ERR_ARG);
+    assert_int_equal(sprofile_plan(0, 1.0, 0.25, 0.5, 2.0), SPROFILE_ERR_ARG);
     sprofile_at(&p, NAN, &a, &v);
     assert_true(a == 0.0 && v == 0.0);
 }

@@ -214,6 +214,115 @@ static void test_gains_on_point_mass(void **st)
     }
 }
 
+/* A writable copy of carry_net, to break one thing at a time. */
+typedef struct {
+    petri_net net;
+    int8_t minus[CARRY_N_PLACES * CARRY_N_TRANSITIONS];
+    int8_t plus[CARRY_N_PLACES * CARRY_N_TRANSITIONS];
+    int8_t inhibit[CARRY_N_PLACES * CARRY_N_TRANSITIONS];
+    int8_t inv[CARRY_N_INVARIANTS * CARRY_N_PLACES];
+} net_copy;
+
+static void net_copy_init(net_copy *c)
+{
+    memcpy(c->minus, carry_net.n_minus, sizeof c->minus);
+    memcpy(c->plus, carry_net.n_plus, sizeof c->plus);
+    memcpy(c->inhibit, carry_net.n_inhibit, sizeof c->inhibit);
+    memcpy(c->inv, carry_net.invariants, sizeof c->inv);
+    c->net = carry_net;
+    c->net.n_minus = c->minus;
+    c->net.n_plus = c->plus;
+    c->net.n_inhibit = c->inhibit;
+    c->net.invariants = c->inv;
+}
+
+#define AT(p, t) ((p) * CARRY_N_TRANSITIONS + (t))
+
+static void test_net_validate(void **st)
+{
+    net_copy c;
+    (void)st;
+    assert_int_equal(petri_net_validate(&carry_net), 0);
+    net_copy_init(&c);
+    assert_int_equal(petri_net_validate(&c.net), 0);
+    assert_int_equal(petri_net_validate(NULL), PETRI_ERR_ARG);
+
+    c.net.n_minus = NULL;
+    assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_ARG);
+    net_copy_init(&c);
+    c.net.n_transitions = PETRI_MAX_TRANSITIONS + 1;
+    assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_SIZE);
+    net_copy_init(&c);
+    c.net.n_invariants = -1;
+    assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_SIZE);
+    net_copy_init(&c);
+    c.plus[AT(CARRY_P4, CARRY_T1)] = 2;
+    assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_ENTRY);
+    net_copy_init(&c);
+    c.inhibit[AT(CARRY_P9, CARRY_T2)] = -1;
+    assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_ENTRY);
+    net_copy_init(&c);
+    c.minus[AT(CARRY_P8, CARRY_T5)] = 0;       /* t5 left without arcs */
+    c.plus[AT(CARRY_P9, CARRY_T5)] = 0;
+    assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_TRANSITION);
+    net_copy_init(&c);
+    c.inhibit[AT(CARRY_P1, CARRY_T1)] = 1;     /* t1 needs p1 marked and empty */
+    assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_TRANSITION);
+    net_copy_init(&c);
+    c.plus[AT(CARRY_P7, CARRY_T4)] = 0;        /* arm 1's token lost at the hand-over */
+    assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_INVARIANT);
+    net_copy_init(&c);
+    c.inv[CARRY_P1] = 1;                       /* p1 is not part of arm 1's cycle */
+    assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_INVARIANT);
+    net_copy_init(&c);
+    memset(c.inv + CARRY_N_PLACES, 0, CARRY_N_PLACES);
+    assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_INVARIANT);
+}
+
+static void test_table_validate(void **st)
+{
+    carry_row r[CARRY_N_TRANSITIONS];
+    net_copy c;
+    (void)st;
+#define FRESH() memcpy(r, carry_table, sizeof r)
+#define EXPECT(code) assert_int_equal(carry_table_validate(r, CARRY_N_TRANSITIONS, &carry_net), (code))
+    assert_int_equal(carry_table_validate(carry_table, CARRY_N_TRANSITIONS, &carry_net), 0);
+    assert_int_equal(carry_table_validate(NULL, CARRY_N_TRANSITIONS, &carry_net), CARRY_NET_ERR_ARG);
+    assert_int_equal(carry_table_validate(carry_table, CARRY_N_TRANSITIONS, NULL), CARRY_NET_ERR_ARG);
+    assert_int_equal(carry_table_validate(carry_table, CARRY_N_TRANSITIONS - 1, &carry_net),
+                     CARRY_NET_ERR_SIZE);
+    FRESH(); r[CARRY_T2].plan[0].n_segments = CARRY_MAX_SEGMENTS + 1; EXPECT(CARRY_NET_ERR_SIZE);
+    FRESH(); r[CARRY_T1].name = NULL; EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH(); r[CARRY_T1].arms = 4u; EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH(); r[CARRY_T3].sync_group = -1; EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH(); r[CARRY_T1].plan[0].seg[0].pose = CARRY_N_POSES; EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH(); r[CARRY_T1].plan[0].seg[0].kind = 1; EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH(); r[CARRY_T4].gripper[1] = 7; EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH(); r[CARRY_T4].plan[0].after_partner = 2; EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH(); r[CARRY_T1].lin.v_m = 0.0; EXPECT(CARRY_NET_ERR_GAINS);
+    FRESH(); r[CARRY_T5].lin.k_p = NAN; EXPECT(CARRY_NET_ERR_GAINS);
+    FRESH(); r[CARRY_T6].target_pose[0] = CARRY_POSE_CLEAR_1; EXPECT(CARRY_NET_ERR_INCONSISTENT);
+    FRESH(); r[CARRY_T2].gripper[0] = CARRY_GRIP_OPEN; EXPECT(CARRY_NET_ERR_INCONSISTENT);
+    FRESH(); r[CARRY_T1].arms = CARRY_ARM1 | CARRY_ARM2; EXPECT(CARRY_NET_ERR_INCONSISTENT);
+    FRESH(); r[CARRY_T4].plan[1].after_partner = 1; EXPECT(CARRY_NET_ERR_INCONSISTENT);
+    FRESH(); r[CARRY_T1].sync_group = 1; EXPECT(CARRY_NET_ERR_INCONSISTENT);
+    FRESH(); r[CARRY_T1].plan[0].seg[0].kind = CARRY_SEG_GRASP; EXPECT(CARRY_NET_ERR_INCONSISTENT);
+    FRESH(); r[CARRY_T5].plan[1].seg[0].pose = CARRY_POSE_NONE; EXPECT(CARRY_NET_ERR_INCONSISTENT);
+#undef EXPECT
+    /* rows against their transitions: t1 made a source (no input place)
+     * while its row still moves arm 1; and a net that is not sound */
+    FRESH();
+    net_copy_init(&c);
+    c.minus[AT(CARRY_P1, CARRY_T1)] = c.minus[AT(CARRY_P3, CARRY_T1)] = 0;
+    c.net.n_invariants = 0;
+    assert_int_equal(petri_net_validate(&c.net), 0);
+    assert_int_equal(carry_table_validate(r, CARRY_N_TRANSITIONS, &c.net), CARRY_NET_ERR_NET);
+    net_copy_init(&c);
+    c.plus[AT(CARRY_P7, CARRY_T4)] = 0;
+    assert_int_equal(carry_table_validate(r, CARRY_N_TRANSITIONS, &c.net), CARRY_NET_ERR_NET);
+#undef FRESH
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -222,6 +331,8 @@ int main(void)
         cmocka_unit_test(test_one_workpiece_cycle),
         cmocka_unit_test(test_random_supervisor),
         cmocka_unit_test(test_table_consistent),
+        cmocka_unit_test(test_net_validate),
+        cmocka_unit_test(test_table_validate),
         cmocka_unit_test(test_gains_on_point_mass),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

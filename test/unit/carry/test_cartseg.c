@@ -445,7 +445,7 @@ static void test_joint_goal(void **st)
     rot_mul(E, Rg, Rt);
     assert_true(rot_to_axis_angle(axis, E) < 1e-9);
     p1[0] += 5.0;   /* out of reach */
-    assert_int_equal(cartseg_joint_goal(&arm_model_puma560, &tool, T_wb, qf, p1, R1, q_goal), -1);
+    assert_int_equal(cartseg_joint_goal(&arm_model_puma560, &tool, T_wb, qf, p1, R1, q_goal), CARTSEG_ERR_NO_GOAL);
 }
 
 /* An 18 cm segment with the model as plant and a contact sensor; the plant
@@ -510,9 +510,9 @@ static void test_bad_input(void **st)
     cartseg c;
     (void)st;
     setup(T_wb, &tool, q, R1);
-    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), -1);
+    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), CARTSEG_ERR_ARG);
     p1[0] = 0.0;
-    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_EXTERNAL), -1);
+    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_EXTERNAL), CARTSEG_ERR_ARG);
 }
 
 int main(void)

@@ -102,12 +102,38 @@ static void test_grasp_points_are_the_bar_ends(void **state)
                      (cell_default.table_center_m[2] + cell_default.table_size_m[2] / 2.0)) < 1e-9);
 }
 
+static void test_validate(void **state)
+{
+    cell_layout c;
+    (void)state;
+    assert_int_equal(cell_layout_validate(&cell_default), 0);
+    assert_int_equal(cell_layout_validate(NULL), CELL_ERR_ARG);
+#define BROKEN(field_change, code) \
+    do { c = cell_default; field_change; assert_int_equal(cell_layout_validate(&c), (code)); } while (0)
+    BROKEN(c.pick_center_m[1] = NAN, CELL_ERR_NONFINITE);
+    BROKEN(c.base_yaw_rad[1] = INFINITY, CELL_ERR_NONFINITE);
+    BROKEN(c.home_tool_m[1][2] = NAN, CELL_ERR_NONFINITE);
+    BROKEN(c.workpiece_mass_kg = 0.0, CELL_ERR_RANGE);
+    BROKEN(c.table_size_m[2] = -0.05, CELL_ERR_RANGE);
+    BROKEN(c.grasp_tolerance_m = 0.0, CELL_ERR_RANGE);
+    BROKEN(c.pick_spread_m[0] = -0.01, CELL_ERR_RANGE);
+    BROKEN(c.approach_height_m = 0.0, CELL_ERR_RANGE);
+    BROKEN(c.grasp_offset_m = 0.14, CELL_ERR_INCONSISTENT);       /* past the bar's end */
+    BROKEN(c.pick_center_m[2] += 0.01, CELL_ERR_INCONSISTENT);    /* floats above the top */
+    BROKEN(c.pick_spread_m[1] = 0.5, CELL_ERR_INCONSISTENT);      /* spreads off the table */
+    BROKEN(c.deliver_center_m[0] = 0.85, CELL_ERR_INCONSISTENT);  /* off the table's end */
+    BROKEN(c.handover_center_m[2] = 0.2, CELL_ERR_INCONSISTENT);  /* inside the table */
+    BROKEN(vec3_copy(c.base_xyz_m[1], c.base_xyz_m[0]), CELL_ERR_INCONSISTENT);
+#undef BROKEN
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_working_pose_is_reachable),
         cmocka_unit_test(test_tool_down_is_down_in_the_world),
         cmocka_unit_test(test_grasp_points_are_the_bar_ends),
+        cmocka_unit_test(test_validate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

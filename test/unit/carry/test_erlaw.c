@@ -460,17 +460,17 @@ static void test_invalid_input(void **st)
     double nanv[3] = { NAN, 0, 0 }, z[3] = { 0, 0, 0 };
     (void)st;
     bad.v_m = 0.0;
-    assert_int_equal(erlaw_line_init(&l, P0, P1, &bad), -1);
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &bad), ERLAW_ERR_ARG);
     bad = G;
     bad.k2 = INFINITY;
-    assert_int_equal(erlaw_line_init(&l, P0, P1, &bad), -1);
-    assert_int_equal(erlaw_line_init(&l, nanv, P1, &G), -1);
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &bad), ERLAW_ERR_ARG);
+    assert_int_equal(erlaw_line_init(&l, nanv, P1, &G), ERLAW_ERR_ARG);
     assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
-    assert_int_equal(erlaw_line_step(&l, nanv, z, ERLAW_REF_MEASURED, 0, DT, &o), -1);
+    assert_int_equal(erlaw_line_step(&l, nanv, z, ERLAW_REF_MEASURED, 0, DT, &o), ERLAW_ERR_ARG);
     assert_true(vec3_norm(o.u) == 0.0);
-    assert_int_equal(erlaw_line_step(&l, P0, z, ERLAW_REF_EXTERNAL, NAN, DT, &o), -1);
-    assert_int_equal(erlaw_line_step(&l, P0, z, (erlaw_ref)9, 0, DT, &o), -1);
-    assert_int_equal(erlaw_line_step(&l, P0, z, ERLAW_REF_TIME, 0, -1.0, &o), -1);
+    assert_int_equal(erlaw_line_step(&l, P0, z, ERLAW_REF_EXTERNAL, NAN, DT, &o), ERLAW_ERR_ARG);
+    assert_int_equal(erlaw_line_step(&l, P0, z, (erlaw_ref)9, 0, DT, &o), ERLAW_ERR_ARG);
+    assert_int_equal(erlaw_line_step(&l, P0, z, ERLAW_REF_TIME, 0, -1.0, &o), ERLAW_ERR_ARG);
     /* zero-length segment holds p0 */
     assert_int_equal(erlaw_line_init(&l, P0, P0, &G), 0);
     assert_int_equal(erlaw_line_step(&l, P0, z, ERLAW_REF_MEASURED, 0, DT, &o), 0);

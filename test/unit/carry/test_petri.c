@@ -127,7 +127,7 @@ static void test_fire_eq11_and_split(void **st)
     assert_int_equal(petri_complete(&p, t), 0);
     assert_false(petri_running(&p, t));
     /* now A needs r2 (held by B) and B needs r1 (held by A): dead */
-    assert_int_equal(petri_select(&p), -1);
+    assert_int_equal(petri_select(&p), PETRI_ERR_NONE_ENABLED);
     assert_true(petri_dead(&p));
     assert_int_equal(p.invariant_violations, 0);
     assert_int_equal(p.fired_count, 2);
@@ -188,17 +188,17 @@ static void test_bad_tables(void **st)
     petri p;
     (void)st;
     n.n_minus = two;
-    assert_int_equal(petri_init(&p, &n), -1);
+    assert_int_equal(petri_init(&p, &n), PETRI_ERR_ARG);
     n = DL;
     n.n_places = PETRI_MAX_PLACES + 1;
-    assert_int_equal(petri_init(&p, &n), -1);
+    assert_int_equal(petri_init(&p, &n), PETRI_ERR_ARG);
     n = DL;
     n.n_plus = NULL;
-    assert_int_equal(petri_init(&p, &n), -1);
+    assert_int_equal(petri_init(&p, &n), PETRI_ERR_ARG);
     n = DL;
     n.n_invariants = 1;
     n.invariants = NULL;
-    assert_int_equal(petri_init(&p, &n), -1);
+    assert_int_equal(petri_init(&p, &n), PETRI_ERR_ARG);
 }
 
 static void replay(const petri_net *n, const int8_t *ev, int len, petri *p)
@@ -277,7 +277,7 @@ static void test_explore_capacity(void **st)
     assert_int_equal(petri_explore(&WS, &n, 4, &r), 0);
     assert_false(r.complete);
     assert_int_equal(r.n_states, PETRI_MAX_STATES);
-    assert_int_equal(petri_explore(&WS, &n, 0, &r), -1);
+    assert_int_equal(petri_explore(&WS, &n, 0, &r), PETRI_ERR_ARG);
 }
 
 int main(void)

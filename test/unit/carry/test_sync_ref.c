@@ -65,11 +65,11 @@ static void test_invalid(void **st)
     double s[2] = { NAN, 0.0 }, s_star;
     sync_ref r;
     (void)st;
-    assert_int_equal(sync_ref_init(&r, 2, l), -1);
-    assert_int_equal(sync_ref_init(&r, 0, ok), -1);
-    assert_int_equal(sync_ref_init(&r, SYNC_MAX + 1, ok), -1);
+    assert_int_equal(sync_ref_init(&r, 2, l), SYNC_REF_ERR_ARG);
+    assert_int_equal(sync_ref_init(&r, 0, ok), SYNC_REF_ERR_ARG);
+    assert_int_equal(sync_ref_init(&r, SYNC_MAX + 1, ok), SYNC_REF_ERR_ARG);
     assert_int_equal(sync_ref_init(&r, 2, ok), 0);
-    assert_int_equal(sync_ref_update(&r, s, &s_star, 0), -1);
+    assert_int_equal(sync_ref_update(&r, s, &s_star, 0), SYNC_REF_ERR_ARG);
     s[0] = -0.01;   /* measured s may be a hair below 0: clamped */
     assert_int_equal(sync_ref_update(&r, s, &s_star, 0), 0);
     assert_true(s_star == 0.0);

@@ -77,8 +77,8 @@ static void test_goal_singular_and_turn(void **state)
     behaviour_params_default(&p);
     /* eq. 5 is singular at r cos phi = d: with O behind (d > 0) for a goal
      * ahead, with O ahead (d < 0) only for a goal behind */
-    assert_int_equal(behaviour_goal_raw(&u, 0.15, 0.0, 0.15, 1, 1), -1);
-    assert_int_equal(behaviour_goal_raw(&u, 0.15, VEC2_PI, -0.15, 1, 1), -1);
+    assert_int_equal(behaviour_goal_raw(&u, 0.15, 0.0, 0.15, 1, 1), BEHAVIOUR_ERR_ARG);
+    assert_int_equal(behaviour_goal_raw(&u, 0.15, VEC2_PI, -0.15, 1, 1), BEHAVIOUR_ERR_ARG);
     assert_int_equal(behaviour_goal_raw(&u, 0.15, 0.0, -0.15, 1, 1), 0);
     assert_int_equal(behaviour_goal(&u, &o, g, &p), BEH_GOAL_TURN);
     assert_true(u.v_mps == 0.0 && u.w_radps > 0.0 && u.w_radps <= p.w_max_radps);
@@ -86,7 +86,7 @@ static void test_goal_singular_and_turn(void **state)
     assert_int_equal(behaviour_goal(&u, &o, g, &p), BEH_GOAL_REACHED);
     assert_true(u.v_mps == 0.0 && u.w_radps == 0.0);
     g[0] = NAN;
-    assert_int_equal(behaviour_goal(&u, &o, g, &p), -1);
+    assert_int_equal(behaviour_goal(&u, &o, g, &p), BEHAVIOUR_ERR_ARG);
 }
 
 static void test_goal_saturated_closed_loop_reaches(void **state)
@@ -401,11 +401,11 @@ static void test_formation_track_bands(void **state)
     assert_true(b.v_mps == 0.0);
     /* bad input */
     o.x_m = NAN;
-    assert_int_equal(behaviour_formation_track(&b, &Rd_b, &o, &ref, 1.0, 0.0, &p), -1);
+    assert_int_equal(behaviour_formation_track(&b, &Rd_b, &o, &ref, 1.0, 0.0, &p), BEHAVIOUR_ERR_ARG);
     assert_true(b.v_mps == 0.0 && b.w_radps == 0.0);
     behaviour_params_default(&p);
     p.form_far_m = p.form_near_m;
-    assert_int_equal(behaviour_params_validate(&p), -1);
+    assert_int_equal(behaviour_params_validate(&p), BEHAVIOUR_ERR_ARG);
 }
 
 static void ring(double r[8], double v)
@@ -482,7 +482,7 @@ static void test_dead_zone_alternation(void **state)
         assert_int_equal(behaviour_exception_step(&e, &u, &clear, 0.1, &p), 0);
         assert_true(u.v_mps == 0.0 && u.w_radps == 0.0);
     }
-    assert_int_equal(behaviour_exception_step(&e, &u, &clear, -1.0, &p), -1);
+    assert_int_equal(behaviour_exception_step(&e, &u, &clear, -1.0, &p), BEHAVIOUR_ERR_ARG);
 }
 
 static void test_passage_narrow(void **state)
@@ -554,9 +554,9 @@ static void test_blend_weighted(void **state)
         assert_true(b.weight[BEH_EXCEPTION] == 1.0 && b.winner == BEH_EXCEPTION);
     }
     in.R_d_m = NAN;
-    assert_int_equal(behaviour_blend(&b, &in, BEH_BLEND_WEIGHTED, &p), -1);
+    assert_int_equal(behaviour_blend(&b, &in, BEH_BLEND_WEIGHTED, &p), BEHAVIOUR_ERR_ARG);
     in = sample_inputs();
-    assert_int_equal(behaviour_blend(&b, &in, 9, &p), -1);
+    assert_int_equal(behaviour_blend(&b, &in, 9, &p), BEHAVIOUR_ERR_ARG);
 }
 
 static void test_blend_subsumption_vecsum(void **state)
@@ -593,11 +593,11 @@ static void test_params(void **state)
     behaviour_params_default(&p);
     assert_int_equal(behaviour_params_validate(&p), 0);
     p.d_m = 0.0;
-    assert_int_equal(behaviour_params_validate(&p), -1);
+    assert_int_equal(behaviour_params_validate(&p), BEHAVIOUR_ERR_ARG);
     behaviour_params_default(&p);
     p.k3 = NAN;
-    assert_int_equal(behaviour_params_validate(&p), -1);
-    assert_int_equal(behaviour_params_validate(NULL), -1);
+    assert_int_equal(behaviour_params_validate(&p), BEHAVIOUR_ERR_ARG);
+    assert_int_equal(behaviour_params_validate(NULL), BEHAVIOUR_ERR_ARG);
 }
 
 int main(void)

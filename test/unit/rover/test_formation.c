@@ -66,9 +66,9 @@ static void test_slot_spacing_and_width(void **state)
     assert_true(formation_width(FORMATION_LINE, FORMATION_MAX_ROBOTS + 1, s, 1, w) < 0);
     {
         double xy[2];
-        assert_int_equal(formation_slot_xy(xy, FORMATION_LINE, 3, 3, s, 1), -1);
-        assert_int_equal(formation_slot_xy(xy, FORMATION_LINE, 3, 0, NAN, 1), -1);
-        assert_int_equal(formation_slot_xy(xy, FORMATION_LINE, 3, 0, s, 0), -1);
+        assert_int_equal(formation_slot_xy(xy, FORMATION_LINE, 3, 3, s, 1), FORMATION_ERR_ARG);
+        assert_int_equal(formation_slot_xy(xy, FORMATION_LINE, 3, 0, NAN, 1), FORMATION_ERR_ARG);
+        assert_int_equal(formation_slot_xy(xy, FORMATION_LINE, 3, 0, s, 0), FORMATION_ERR_ARG);
     }
     assert_int_equal(formation_next_type(FORMATION_LINE), FORMATION_TRIANGLE);
     assert_int_equal(formation_next_type(FORMATION_TRIANGLE), FORMATION_COLUMN);
@@ -92,7 +92,7 @@ static void test_slot_assignment(void **state)
     /* 19 leaves: 42 moves up one, 3 and 7 keep theirs */
     assert_int_equal(formation_slot_of(c, 4, 42), 2);
     assert_int_equal(formation_slot_of(c, 4, 7), 1);
-    assert_int_equal(formation_slot_of(c, 4, 19), -1);
+    assert_int_equal(formation_slot_of(c, 4, 19), FORMATION_ERR_ABSENT);
 }
 
 static int run(formation_fsm *f, const formation_fsm_params *p, double width,
@@ -222,8 +222,8 @@ static void test_protocol_agreement_and_ties(void **state)
     assert_int_equal(A.type, FORMATION_TRIANGLE);
     assert_true(formation_fsm_next_seq(&A) > b.seq);
     b.scale = NAN;
-    assert_int_equal(formation_fsm_on_announce(&A, &b), -1);
-    assert_int_equal(formation_fsm_step(&A, &p, 1.0, 3, NAN, 5, 1, &a), -1);
+    assert_int_equal(formation_fsm_on_announce(&A, &b), FORMATION_ERR_ARG);
+    assert_int_equal(formation_fsm_step(&A, &p, 1.0, 3, NAN, 5, 1, &a), FORMATION_ERR_ARG);
 }
 
 /* Restore hysteresis: a robot that cannot see the passage (NAN: a mate
@@ -313,7 +313,7 @@ static void test_protocol_confirm(void **state)
     assert_true(t_change - t_shrink >= fmax(p.confirm_s, p.dwell_s) - 1e-9);
     assert_int_equal(A.type, FORMATION_TRIANGLE);
     p.confirm_s = -1.0;
-    assert_int_equal(formation_fsm_step(&A, &p, 1.5, 3, dt, 1, 1, &a), -1);
+    assert_int_equal(formation_fsm_step(&A, &p, 1.5, 3, dt, 1, 1, &a), FORMATION_ERR_ARG);
 }
 
 int main(void)

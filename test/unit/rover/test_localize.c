@@ -199,16 +199,16 @@ static void test_bad_input(void **state)
     localize_params_default(&p);
     assert_int_equal(localize_params_validate(&p), 0);
     p.bearing_sd_rad = 0.0;
-    assert_int_equal(localize_init(&l, &p, &c0, 0.1, 0.1, lm, 1), -1);
+    assert_int_equal(localize_init(&l, &p, &c0, 0.1, 0.1, lm, 1), LOCALIZE_ERR_ARG);
     localize_params_default(&p);
-    assert_int_equal(localize_init(&l, &p, &c0, 0.1, 0.1, lm, LOCALIZE_LANDMARKS_MAX + 1), -1);
-    assert_int_equal(localize_init(&l, &p, &c0, -0.1, 0.1, lm, 1), -1);
+    assert_int_equal(localize_init(&l, &p, &c0, 0.1, 0.1, lm, LOCALIZE_LANDMARKS_MAX + 1), LOCALIZE_ERR_ARG);
+    assert_int_equal(localize_init(&l, &p, &c0, -0.1, 0.1, lm, 1), LOCALIZE_ERR_ARG);
     assert_int_equal(localize_init(&l, &p, &c0, 0.1, 0.1, lm, 1), 0);
-    assert_int_equal(localize_landmark(&l, 1, 1.0, 0.0), -1);    /* unknown landmark */
-    assert_int_equal(localize_landmark(&l, 0, NAN, 0.0), -1);
-    assert_int_equal(localize_predict(&l, INFINITY, 0.0), -1);
+    assert_int_equal(localize_landmark(&l, 1, 1.0, 0.0), LOCALIZE_ERR_ARG);    /* unknown landmark */
+    assert_int_equal(localize_landmark(&l, 0, NAN, 0.0), LOCALIZE_ERR_ARG);
+    assert_int_equal(localize_predict(&l, INFINITY, 0.0), LOCALIZE_ERR_ARG);
     /* camera (O = C + 0.15 x) on the landmark: no bearing */
-    assert_int_equal(localize_measure(&l, s, 0, z, H), -1);
+    assert_int_equal(localize_measure(&l, s, 0, z, H), LOCALIZE_ERR_ARG);
 }
 
 int main(void)

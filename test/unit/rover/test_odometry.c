@@ -72,10 +72,10 @@ static void test_bad(void **state)
     odometer o;
     pose2 c0 = {0, 0, 0}, c;
     (void)state;
-    assert_int_equal(odometry_init(&o, 0.0, B, 0, &c0, 0, 0), -1);
-    assert_int_equal(odometry_init(&o, R, -1, 0, &c0, 0, 0), -1);
+    assert_int_equal(odometry_init(&o, 0.0, B, 0, &c0, 0, 0), ODOMETRY_ERR_ARG);
+    assert_int_equal(odometry_init(&o, R, -1, 0, &c0, 0, 0), ODOMETRY_ERR_ARG);
     assert_int_equal(odometry_init(&o, R, B, 0, &c0, 0, 0), 0);
-    assert_int_equal(odometry_update(&o, NAN, 0, NULL, NULL), -1);
+    assert_int_equal(odometry_update(&o, NAN, 0, NULL, NULL), ODOMETRY_ERR_ARG);
     odometry_pose_c(&o, &c);
     assert_true(c.x_m == 0 && c.y_m == 0 && c.theta_rad == 0);
 }

@@ -227,18 +227,18 @@ static void test_bad_input(void **state)
 {
     static rover_world_config w;
     (void)state;
-    assert_int_equal(rover_world_layout(NULL, 0, 3, 1.0, FORMATION_LINE), -1);
-    assert_int_equal(rover_world_layout(&w, -1, 3, 1.0, FORMATION_LINE), -1);
-    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_COUNT, 3, 1.0, FORMATION_LINE), -1);
-    assert_int_equal(rover_world_layout(&w, 0, 0, 1.0, FORMATION_LINE), -1);
-    assert_int_equal(rover_world_layout(&w, 0, ROVER_WORLD_MAX_ROBOTS + 1, 1.0, FORMATION_LINE), -1);
-    assert_int_equal(rover_world_layout(&w, 0, 3, ROVER_BODY_LENGTH_M, FORMATION_LINE), -1);
-    assert_int_equal(rover_world_layout(&w, 0, 3, NAN, FORMATION_LINE), -1);
-    assert_int_equal(rover_world_layout(&w, 0, 3, INFINITY, FORMATION_LINE), -1);
-    assert_int_equal(rover_world_layout(&w, 0, 3, 1.0, FORMATION_COLUMN + 1), -1);
-    assert_int_equal(rover_world_layout(&w, 0, 3, 1.0, -1), -1);
-    assert_int_equal(rover_world_id("nowhere"), -1);
-    assert_int_equal(rover_world_id(NULL), -1);
+    assert_int_equal(rover_world_layout(NULL, 0, 3, 1.0, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_layout(&w, -1, 3, 1.0, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_COUNT, 3, 1.0, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_layout(&w, 0, 0, 1.0, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_layout(&w, 0, ROVER_WORLD_MAX_ROBOTS + 1, 1.0, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_layout(&w, 0, 3, ROVER_BODY_LENGTH_M, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_layout(&w, 0, 3, NAN, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_layout(&w, 0, 3, INFINITY, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_layout(&w, 0, 3, 1.0, FORMATION_COLUMN + 1), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_layout(&w, 0, 3, 1.0, -1), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_id("nowhere"), ROVER_WORLD_ERR_UNKNOWN);
+    assert_int_equal(rover_world_id(NULL), ROVER_WORLD_ERR_ARG);
     {
         int world;
         for (world = 0; world < ROVER_WORLD_COUNT; world++)
@@ -289,8 +289,8 @@ static void test_slot_sides(void **state)
                 seen[k] = 1;
                 if (type == FORMATION_LINE) assert_int_equal(k, r);
             }
-            assert_int_equal(rover_world_slot(type, n, -1), -1);
-            assert_int_equal(rover_world_slot(type, n, n), -1);
+            assert_int_equal(rover_world_slot(type, n, -1), ROVER_WORLD_ERR_ARG);
+            assert_int_equal(rover_world_slot(type, n, n), ROVER_WORLD_ERR_ARG);
         }
     for (n = 1; n <= 40; n++) {
         double line[40][2], tri[40][2], col[40][2];
@@ -572,9 +572,9 @@ static void test_clearance(void **state)
     assert_true(fabs(cl[0] - 0.3) < 1e-9);
     /* bad input */
     c[0].x_m = NAN;
-    assert_int_equal(rover_world_clearance(&w, c, alive, 1, cl), -1);
-    assert_int_equal(rover_world_clearance(NULL, c, alive, 1, cl), -1);
-    assert_int_equal(rover_world_clearance(&w, c, alive, -1, cl), -1);
+    assert_int_equal(rover_world_clearance(&w, c, alive, 1, cl), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_clearance(NULL, c, alive, 1, cl), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_clearance(&w, c, alive, -1, cl), ROVER_WORLD_ERR_ARG);
 }
 
 /* Landmarks: within capacity for every world and team size, and from

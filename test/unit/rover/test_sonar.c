@@ -84,9 +84,9 @@ static void test_cylinder_and_wall(void **state)
     close_to(h.t_m, 2.0, 1e-12);
     close_to(h.nx, 1.0, 1e-12);
     assert_int_equal(sonar_cast(&h, &W, 0, 1.2, 0.2, 0.0, 5.0), 0);      /* past the end */
-    assert_int_equal(sonar_cast(&h, &W, 0, 0, 0.2, NAN, 5.0), -1);
-    assert_int_equal(sonar_world_add_circle(&W, 0, 0, -1, 0, 1), -1);
-    assert_int_equal(sonar_world_add_box(&W, 0, 0, 1, 1, 0, 1, 0), -1);
+    assert_int_equal(sonar_cast(&h, &W, 0, 0, 0.2, NAN, 5.0), SONAR_ERR_ARG);
+    assert_int_equal(sonar_world_add_circle(&W, 0, 0, -1, 0, 1), SONAR_ERR_ARG);
+    assert_int_equal(sonar_world_add_box(&W, 0, 0, 1, 1, 0, 1, 0), SONAR_ERR_ARG);
 }
 
 static void test_grid_equals_brute(void **state)
@@ -105,7 +105,7 @@ static void test_grid_equals_brute(void **state)
         else idx = sonar_world_add_segment(&W, x, y, x + 4 * prng_uniform(&r) - 2, y + 4 * prng_uniform(&r) - 2, 0, 1);
         assert_int_equal(idx, k);
     }
-    assert_int_equal(sonar_world_add_circle(&W, 0, 0, 1, 0, 1), -1);   /* full */
+    assert_int_equal(sonar_world_add_circle(&W, 0, 0, 1, 0, 1), SONAR_ERR_ARG);   /* full */
     assert_int_equal(sonar_world_build(&W), 0);
     assert_true(W.built);
     for (k = 0; k < 20000; k++) {
@@ -147,7 +147,7 @@ static void test_cone_nearest_echo_and_clamps(void **state)
     sonar_world_add_circle(&W, s->x_m + 0.07 * cos(s->angle_rad), s->y_m + 0.07 * sin(s->angle_rad), 0.02, 0, 1);
     assert_int_equal(sonar_fire(&rg, &W, &m, &c, 3, NULL), 1);
     close_to(rg, m.range_min_m, 0);
-    assert_int_equal(sonar_fire(&rg, &W, &m, &c, 8, NULL), -1);
+    assert_int_equal(sonar_fire(&rg, &W, &m, &c, 8, NULL), SONAR_ERR_ARG);
 }
 
 static void test_specular(void **state)
@@ -217,7 +217,7 @@ static void test_firing_sequence(void **state)
     for (k = 0; k < SONAR_N; k++) seen[sonar_fired_index((k + 0.5) * m.fire_period_s, &m)]++;
     for (k = 0; k < SONAR_N; k++) assert_int_equal(seen[k], 1);
     assert_int_equal(sonar_fired_index((SONAR_N + 0.5) * m.fire_period_s, &m), 7);
-    assert_int_equal(sonar_fired_index(-1.0, &m), -1);
+    assert_int_equal(sonar_fired_index(-1.0, &m), SONAR_ERR_ARG);
     /* table: symmetric ring, angles as in the SPEC */
     for (k = 0; k < SONAR_N; k++) {
         const sonar_transducer *a = &sonar_p2dx_front[k], *b = &sonar_p2dx_front[SONAR_N - 1 - k];

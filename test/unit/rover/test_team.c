@@ -63,7 +63,7 @@ static void test_reference_extrapolates(void **state)
     /* turning in place: O swings about C by the same angle */
     a = mate(1, 0.0, 0.0, 0.0, 0.0, 1.0, 3.0);
     team_update(&t, &a);
-    assert_int_equal(team_reference(&ref, &t, NULL, 0, 0.15, 3.0 + VEC2_PI / 2), -1); /* stale > 1 s */
+    assert_int_equal(team_reference(&ref, &t, NULL, 0, 0.15, 3.0 + VEC2_PI / 2), TEAM_ERR_UNKNOWN); /* stale > 1 s */
     assert_int_equal(team_reference(&ref, &t, NULL, 0, 0.15, 3.5), 1);
     assert_true(fabs(hypot(ref.x_m - 0.15, ref.y_m) - 0.15) < 1e-12);
     assert_true(fabs(ref.theta_rad - 0.5) < 1e-12);
@@ -119,17 +119,17 @@ static void test_capacity_and_bad(void **state)
     }
     for (i = 1; i < t.n; i++) assert_true(t.m[i - 1].robot < t.m[i].robot);
     m = mate(1000, 0, 0, 0, 0, 0, 0);
-    assert_int_equal(team_update(&t, &m), -1);
+    assert_int_equal(team_update(&t, &m), TEAM_ERR_FULL);
     team_init(&t, 3, 1.0);
     m = mate(3, 0, 0, 0, 0, 0, 0);
-    assert_int_equal(team_update(&t, &m), -1);       /* own id */
+    assert_int_equal(team_update(&t, &m), TEAM_ERR_ARG);       /* own id */
     m = mate(4, NAN, 0, 0, 0, 0, 0);
-    assert_int_equal(team_update(&t, &m), -1);
+    assert_int_equal(team_update(&t, &m), TEAM_ERR_ARG);
     m = mate(4, 0, 0, 0, 0, 0, 0);
     m.scale = 0;
-    assert_int_equal(team_update(&t, &m), -1);
+    assert_int_equal(team_update(&t, &m), TEAM_ERR_ARG);
     assert_int_equal(t.n, 0);
-    assert_int_equal(team_init(&t, 3, 0.0), -1);
+    assert_int_equal(team_init(&t, 3, 0.0), TEAM_ERR_ARG);
 }
 
 static void test_beacon_fusion(void **state)
@@ -161,9 +161,9 @@ static void test_beacon_fusion(void **state)
     team_position(&t, 8, xy);
     assert_true(fabs(xy[0] - true_x - 0.1 * pow(0.8, 10)) < 1e-12);
     assert_true(fabs(xy[1] - true_y) < 1e-12);
-    assert_int_equal(team_observe(&t, 8, &me, -1.0, brg, 0.2, 1.0), -1);
-    assert_int_equal(team_observe(&t, 8, &me, rng, brg, 1.5, 1.0), -1);
-    assert_int_equal(team_observe(&t, 99, &me, rng, brg, 0.2, 1.0), -1);
+    assert_int_equal(team_observe(&t, 8, &me, -1.0, brg, 0.2, 1.0), TEAM_ERR_ARG);
+    assert_int_equal(team_observe(&t, 8, &me, rng, brg, 1.5, 1.0), TEAM_ERR_ARG);
+    assert_int_equal(team_observe(&t, 99, &me, rng, brg, 0.2, 1.0), TEAM_ERR_ARG);
 }
 
 /* Frame consensus input. Two robots whose dead reckoning has drifted by
@@ -216,7 +216,7 @@ static void test_consensus_offset(void **state)
     team_observe(&t, 4, &me, rng, brg, 1.0, 1.3);
     team_mean_offset(&t, 1.5, 2.0, 10.0, off);
     assert_true(fabs(off[0]) < 1e-12 && fabs(off[1]) < 1e-12);
-    assert_int_equal(team_observe(&t, 4, &me, rng, brg, 0.2, NAN), -1);
+    assert_int_equal(team_observe(&t, 4, &me, rng, brg, 0.2, NAN), TEAM_ERR_ARG);
 }
 
 int main(void)

@@ -87,7 +87,7 @@ static void test_saturate(void **state)
     assert_int_equal(unicycle_saturate(&out, &in, 0.5, 1.0, UNICYCLE_SAT_SCALE), 0);
     assert_true(out.v_mps == 0.1 && out.w_radps == 0.2);
     in.v_mps = NAN;
-    assert_int_equal(unicycle_saturate(&out, &in, 0.5, 1.0, UNICYCLE_SAT_CLIP), -1);
+    assert_int_equal(unicycle_saturate(&out, &in, 0.5, 1.0, UNICYCLE_SAT_CLIP), UNICYCLE_ERR_ARG);
     assert_true(out.v_mps == 0.0 && out.w_radps == 0.0);
 }
 
@@ -95,8 +95,8 @@ static void test_bad_input(void **state)
 {
     pose2 c = {0, 0, 0};
     (void)state;
-    assert_int_equal(unicycle_step_exact(&c, INFINITY, 0, 1), -1);
-    assert_int_equal(unicycle_step_rk4(&c, 0, NAN, 1), -1);
+    assert_int_equal(unicycle_step_exact(&c, INFINITY, 0, 1), UNICYCLE_ERR_ARG);
+    assert_int_equal(unicycle_step_rk4(&c, 0, NAN, 1), UNICYCLE_ERR_ARG);
     assert_true(c.x_m == 0 && c.y_m == 0);
 }
 

@@ -244,15 +244,15 @@ static void test_bad_input(void **state)
     tf_identity(Tid);
     memcpy(q, q_near_home, sizeof q);
     default_params(&par);
-    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, nan_p, R_down, &par), -1);
+    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, nan_p, R_down, &par), TDSD_SEG_ERR_ARG);
     par.speed_frac = 1.5;
-    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, B, R_down, &par), -1);
+    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, B, R_down, &par), TDSD_SEG_ERR_ARG);
     default_params(&par);
     par.v_m = 0.0;
-    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, B, R_down, &par), -1);
+    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, B, R_down, &par), TDSD_SEG_ERR_ARG);
     default_params(&par);
     q[2] = INFINITY;
-    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, B, R_down, &par), -1);
+    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, B, R_down, &par), TDSD_SEG_ERR_ARG);
 }
 
 /* Velocity limit: unchanged law below the limit; above it, the servo
@@ -303,7 +303,7 @@ static void test_servo_vlimit(void **state)
             assert_true(v <= lim[0] + 1e-9);
         }
     }
-    assert_int_equal(tdsd_servo_vlimit(NULL, lim, q, q_d, qd_d, qdd_d), -1);
+    assert_int_equal(tdsd_servo_vlimit(NULL, lim, q, q_d, qd_d, qdd_d), TDSD_SEG_ERR_ARG);
 }
 
 int main(void)
