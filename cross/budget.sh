@@ -14,10 +14,10 @@ entries="budget_arm_joint_cycle budget_arm_cart_cycle budget_arm_tdsd_cycle budg
 
 echo "== memory per module (bytes; size of each object) =="
 printf '%-12s %8s %6s %6s   %8s %6s %6s\n' module "m68k text" data bss "cm4 text" data bss
-for o in "$cross"/m68k/core/*.o; do
-    m=$(basename "$o" .o)
+for o in "$cross"/m68k/core/*/*.o; do
+    m=$(basename "$o" .o); d=$(basename "$(dirname "$o")")
     a=$(m68k-linux-gnu-size "$o" | awk 'NR == 2 { print $1, $2, $3 }')
-    b=$(arm-none-eabi-size "$cross/cm4/core/$m.o" | awk 'NR == 2 { print $1, $2, $3 }')
+    b=$(arm-none-eabi-size "$cross/cm4/core/$d/$m.o" | awk 'NR == 2 { print $1, $2, $3 }')
     echo "$m $a $b"
 done | awk '{ printf "%-12s %8d %6d %6d   %8d %6d %6d\n", $1, $2, $3, $4, $5, $6, $7
               for (i = 2; i <= 7; i++) t[i] += $i }
@@ -26,7 +26,7 @@ done | awk '{ printf "%-12s %8d %6d %6d   %8d %6d %6d\n", $1, $2, $3, $4, $5, $6
 echo
 echo "== worst-case stack per cycle entry point (bytes, core call graph) =="
 for t in m68k cm4; do
-    awk -v entries="$entries" -f "$here/stack-depth.awk" "$cross/$t"/core/*.ci "$cross/$t"/budget/*.ci |
+    awk -v entries="$entries" -f "$here/stack-depth.awk" "$cross/$t"/core/*/*.ci "$cross/$t"/budget/*.ci |
         awk -F'\t' -v t="$t" '{ sf = gsub(/__aeabi_[a-z0-9]+ ?/, "", $4); sub(/ $/, "", $4)
                                  if (sf) $4 = $4 " + soft-float double (__aeabi_d*)"
                                  printf "%-5s %-24s %7s  via %s\n", t, $1, $2, $3
