@@ -15,6 +15,7 @@
  * A payload is merged into link 6 (mass, COM, parallel-axis inertia).
  */
 #include "arm_dyn.h"
+#include "linalg.h"
 #include "vec3.h"
 #include <math.h>
 #include <stddef.h>
@@ -27,18 +28,9 @@ typedef struct link_mass {
     double I[9];
 } link_mass;
 
-static int vec_finite(const double *v, int n)
-{
-    int i;
-    for (i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
 int arm_payload_point(arm_payload *p, double mass_kg, const double com_m[3])
 {
-    if (!p || !com_m || !isfinite(mass_kg) || mass_kg < 0.0 || !vec_finite(com_m, 3))
+    if (!p || !com_m || !isfinite(mass_kg) || mass_kg < 0.0 || !linalg_all_finite(com_m, 3))
         return ARM_DYN_ERR_ARG;
     memset(p, 0, sizeof *p);
     p->mass_kg = mass_kg;
@@ -48,8 +40,8 @@ int arm_payload_point(arm_payload *p, double mass_kg, const double com_m[3])
 
 static int payload_valid(const arm_payload *p)
 {
-    return !p || (isfinite(p->mass_kg) && p->mass_kg >= 0.0 && vec_finite(p->com_m, 3)
-                  && vec_finite(p->inertia_kgm2, 9));
+    return !p || (isfinite(p->mass_kg) && p->mass_kg >= 0.0 && linalg_all_finite(p->com_m, 3)
+                  && linalg_all_finite(p->inertia_kgm2, 9));
 }
 
 /* I += m (|r|^2 E - r r^T): inertia of mass m at offset r (parallel axis). */
@@ -219,8 +211,8 @@ static void rne_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[
 static int rne_inputs_valid(const double qd[ARM_NJ], const double qdd[ARM_NJ],
                             const double gravity_mps2[3], const arm_payload *payload)
 {
-    return qd && qdd && vec_finite(qd, ARM_NJ) && vec_finite(qdd, ARM_NJ)
-           && (!gravity_mps2 || vec_finite(gravity_mps2, 3)) && payload_valid(payload);
+    return qd && qdd && linalg_all_finite(qd, ARM_NJ) && linalg_all_finite(qdd, ARM_NJ)
+           && (!gravity_mps2 || linalg_all_finite(gravity_mps2, 3)) && payload_valid(payload);
 }
 
 static const double default_gravity[3] = { 0.0, 0.0, -ARM_GRAVITY_MPS2 };
@@ -418,7 +410,7 @@ int arm_forward_dynamics(const arm_model *m, const double q[ARM_NJ], const doubl
     link_ref L[ARM_NJ];
     double M[36], h[ARM_NJ], rhs[ARM_NJ];
     int i;
-    if (!tau_Nm || !qdd || !vec_finite(tau_Nm, ARM_NJ)
+    if (!tau_Nm || !qdd || !linalg_all_finite(tau_Nm, ARM_NJ)
         || !rne_inputs_valid(qd, zero, gravity_mps2, payload) || arm_joint_cs_eval(m, q, &cs) != 0)
         return ARM_DYN_ERR_ARG;
     /* one trig evaluation and one payload merge serve both RNE and M(q) */

@@ -28,26 +28,17 @@ void cartctl_gains_default(cartctl_gains *g)
 
 int cartctl_gains_validate(const cartctl_gains *g)
 {
-    return g && isfinite(g->kp_rot) && isfinite(g->kv_rot) && isfinite(g->lambda_max) &&
+    return (g && isfinite(g->kp_rot) && isfinite(g->kv_rot) && isfinite(g->lambda_max) &&
            isfinite(g->sigma_band) && isfinite(g->k_null) && g->kp_rot >= 0.0 && g->kv_rot >= 0.0 &&
            g->lambda_max >= 0.0 && g->sigma_band >= 0.0 && g->k_null >= 0.0 &&
            isfinite(g->range_margin_rad) && isfinite(g->range_w_radps) && g->range_margin_rad >= 0.0 &&
-           g->range_w_radps >= 0.0;
-}
-
-static int vec_finite(const double *v, int n)
-{
-    int i;
-    for (i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
+           g->range_w_radps >= 0.0) ? 0 : CARTCTL_ERR_ARG;
 }
 
 int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
                      const double qd[ARM_NJ], cartctl_state *s)
 {
-    if (!m || !q || !qd || !s || !vec_finite(q, ARM_NJ) || !vec_finite(qd, ARM_NJ))
+    if (!m || !q || !qd || !s || !linalg_all_finite(q, ARM_NJ) || !linalg_all_finite(qd, ARM_NJ))
         return CARTCTL_ERR_ARG;
     if (arm_fk_jacobian(m, tool, q, s->T, s->J) != 0)
         return CARTCTL_ERR_ARG;
@@ -60,7 +51,7 @@ int cartctl_jdot_qd(const arm_model *m, const arm_tool *tool, const double q[ARM
 {
     double qp[ARM_NJ], qm[ARM_NJ], Jp[36], Jm[36], vp[6], vm[6];
     int i;
-    if (!m || !q || !qd || !jdqd || !vec_finite(q, ARM_NJ) || !vec_finite(qd, ARM_NJ))
+    if (!m || !q || !qd || !jdqd || !linalg_all_finite(q, ARM_NJ) || !linalg_all_finite(qd, ARM_NJ))
         return CARTCTL_ERR_ARG;
     for (i = 0; i < ARM_NJ; i++) {
         qp[i] = q[i] + JDOT_H_S * qd[i];
@@ -223,14 +214,14 @@ static unsigned range_resolve(const double J[36], const double rhs[6], const dou
 static int qdd_finish(const arm_model *m, const cartctl_gains *g, const double q[ARM_NJ],
                       const double qd[ARM_NJ], const double J[36], const double rhs[6], cartctl_out *out)
 {
-    if (!vec_finite(out->qdd, ARM_NJ))
+    if (!linalg_all_finite(out->qdd, ARM_NJ))
         return CARTCTL_ERR_ARG;
     if (g->range_w_radps > 0.0) {
         double lo[ARM_NJ], hi[ARM_NJ];
         range_bounds(m, g, q, qd, lo, hi);
         out->range_limited = range_resolve(J, rhs, lo, hi, g->lambda_max * g->lambda_max + 1e-12, out->qdd);
     }
-    return vec_finite(out->qdd, ARM_NJ) ? 0 : CARTCTL_ERR_ARG;
+    return linalg_all_finite(out->qdd, ARM_NJ) ? 0 : CARTCTL_ERR_ARG;
 }
 
 int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g,
@@ -244,7 +235,7 @@ int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g
     if (!out)
         return CARTCTL_ERR_ARG;
     memset(out, 0, sizeof *out);
-    if (!cartctl_gains_validate(g) || !a_lin || !vec_finite(a_lin, 3) || (R_d && !vec_finite(R_d, 9)))
+    if (cartctl_gains_validate(g) != 0 || !a_lin || !linalg_all_finite(a_lin, 3) || (R_d && !linalg_all_finite(R_d, 9)))
         return CARTCTL_ERR_ARG;
     if (!s) {
         if (cartctl_state_at(m, tool, q, qd, &s_local) != 0)
@@ -273,7 +264,7 @@ int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g
             linalg_matvec(out->qdd, U, rhs, 6, 6);
             out->sigma_min = s_lo;
             out->lambda = 0.0;
-            if (vec_finite(out->qdd, ARM_NJ))
+            if (linalg_all_finite(out->qdd, ARM_NJ))
                 return qdd_finish(m, g, q, qd, s->J, rhs, out);
             memset(out->qdd, 0, sizeof out->qdd);
         }

@@ -66,9 +66,10 @@ typedef struct cartctl_gains {
 
 /* Defaults used by tandem-arm (kp_rot 100, kv_rot 20, lambda_max 0.003,
  * sigma_band 0.003, k_null 5; the tool-down poses have s_min
- * 0.003-0.011; range_margin 2 deg, range_w 20 rad/s: never active on the
+ * 0.003-0.011; range_margin 1 deg (RANGE_MARGIN_DEFAULT_RAD), range_w 20 rad/s: never active on the
  * carry's planned moves, whose joints stay >= 3.6 deg from their ends). */
 void cartctl_gains_default(cartctl_gains *g);
+/* 0 if every gain is finite and >= 0, else CARTCTL_ERR_ARG. */
 int  cartctl_gains_validate(const cartctl_gains *g);
 
 typedef struct cartctl_state {

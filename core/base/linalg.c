@@ -334,7 +334,7 @@ static int svd_cold(double *U, double *s, double *V, double *X, int k, int len)
     linalg_identity(Vf, k);
     sweeps = jacobi_rows(X, Vf, nrm2, k, len);
     svd_from_rows(U, s, V, X, Vf, nrm2, k, len);
-    return sweeps == SWEEP_CAP_HIT ? LINALG_ENOCONV : LINALG_OK;
+    return sweeps == SWEEP_CAP_HIT ? LINALG_ERR_NOCONV : LINALG_OK;
 }
 
 /* Wide A (m = LINALG_GRAM_ROWS < n), Gram warm start. The
@@ -400,16 +400,16 @@ static int svd_wide_gram(double *U, double *s, double *V, const double *A, int m
     sweeps = jacobi_rows(X, Q, nrm2, m, n);
     /* A^T Q' = X'^T = W diag(s)  =>  A = Q' diag(s) W^T */
     svd_from_rows(V, s, U, X, Q, nrm2, m, n);
-    return sweeps == SWEEP_CAP_HIT ? LINALG_ENOCONV : LINALG_OK;
+    return sweeps == SWEEP_CAP_HIT ? LINALG_ERR_NOCONV : LINALG_OK;
 }
 
 int linalg_svd(double *U, double *s, double *V, const double *A, int m, int n)
 {
     double X[NN];
     if (!dims_ok(m, n))
-        return LINALG_EDIM;
+        return LINALG_ERR_SIZE;
     if (!linalg_all_finite(A, m * n))
-        return LINALG_ENONFINITE;
+        return LINALG_ERR_NONFINITE;
     if (m >= n) {
         /* the columns of A are the vectors: X = A^T */
         linalg_transpose(X, A, m, n);
@@ -431,11 +431,11 @@ int linalg_pinv_factor(linalg_pinv_svd *F, const double *A, int m, int n, double
     int k, rank = 0, rc;
 
     if (!(rtol >= 0.0) || !(rtol < 1.0))
-        return LINALG_EARG;
+        return LINALG_ERR_ARG;
     if (rtol == 0.0)
         rtol = LINALG_PINV_RTOL;
     rc = linalg_svd(F->U, F->s, F->V, A, m, n);
-    if (rc != LINALG_OK && rc != LINALG_ENOCONV)
+    if (rc != LINALG_OK && rc != LINALG_ERR_NOCONV)
         return rc;
     F->m = m;
     F->n = n;
@@ -507,7 +507,7 @@ int linalg_pinv(double *Ap, double *Pnull, linalg_pinv_info *info,
     int i, j, k, rank, rc;
 
     rc = linalg_pinv_factor(&F, A, m, n, rtol);
-    if (rc != LINALG_OK && rc != LINALG_ENOCONV)
+    if (rc != LINALG_OK && rc != LINALG_ERR_NOCONV)
         return rc;
     rank = F.info.rank;
     for (i = 0; i < n; i++)
@@ -535,9 +535,9 @@ int linalg_cholesky(double *L, const double *A, int n)
 {
     int i, j, k;
     if (!dims_ok(n, n))
-        return LINALG_EDIM;
+        return LINALG_ERR_SIZE;
     if (!linalg_all_finite(A, n * n))
-        return LINALG_ENONFINITE;
+        return LINALG_ERR_NONFINITE;
     for (i = 0; i < n * n; i++)
         L[i] = 0.0;
     for (j = 0; j < n; j++) {
@@ -545,7 +545,7 @@ int linalg_cholesky(double *L, const double *A, int n)
         for (k = 0; k < j; k++)
             d -= L[j * n + k] * L[j * n + k];
         if (!(d > 0.0) || !isfinite(d))
-            return LINALG_ENOTPD;
+            return LINALG_ERR_NOT_PD;
         L[j * n + j] = sqrt(d);
         for (i = j + 1; i < n; i++) {
             double v = A[i * n + j];
@@ -585,7 +585,7 @@ static int dls_svd(double *Ad, const double *A, int m, int n, double lambda)
     double tol;
 
     rc = linalg_svd(U, s, V, A, m, n);
-    if (rc != LINALG_OK && rc != LINALG_ENOCONV)
+    if (rc != LINALG_OK && rc != LINALG_ERR_NOCONV)
         return rc;
     tol = (lambda > 0.0) ? 0.0 : LINALG_PINV_RTOL * s[0];
     for (i = 0; i < n; i++)
@@ -607,11 +607,11 @@ int linalg_dls(double *Ad, const double *A, int m, int n, double lambda)
     int i, j;
 
     if (!dims_ok(m, n))
-        return LINALG_EDIM;
+        return LINALG_ERR_SIZE;
     if (!linalg_all_finite(A, m * n))
-        return LINALG_ENONFINITE;
+        return LINALG_ERR_NONFINITE;
     if (!(lambda >= 0.0) || !isfinite(lambda))
-        return LINALG_EARG;
+        return LINALG_ERR_ARG;
     if (lambda == 0.0)
         return dls_svd(Ad, A, m, n, 0.0);
 

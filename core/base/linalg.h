@@ -9,7 +9,7 @@
  *
  * The void helpers trust their dimensions (1..LINALG_MAX; callers use
  * compile-time sizes). The int functions validate dimensions and finiteness
- * and return 0 on success, a negative LINALG_E* code otherwise.
+ * and return 0 on success, a negative LINALG_ERR_* code otherwise.
  */
 #ifndef TANDEM_LINALG_H
 #define TANDEM_LINALG_H
@@ -48,11 +48,11 @@
 
 enum {
     LINALG_OK = 0,
-    LINALG_EDIM = -1,      /* a dimension outside 1..LINALG_MAX */
-    LINALG_ENONFINITE = -2,/* NaN or Inf in an input */
-    LINALG_EARG = -3,      /* bad scalar argument (negative tolerance, ...) */
-    LINALG_ENOTPD = -4,    /* Cholesky: matrix not positive definite */
-    LINALG_ENOCONV = -5    /* SVD: sweep cap reached (result still usable) */
+    LINALG_ERR_SIZE = -1,      /* a dimension outside 1..LINALG_MAX */
+    LINALG_ERR_NONFINITE = -2,/* NaN or Inf in an input */
+    LINALG_ERR_ARG = -3,      /* bad scalar argument (negative tolerance, ...) */
+    LINALG_ERR_NOT_PD = -4,    /* Cholesky: matrix not positive definite */
+    LINALG_ERR_NOCONV = -5    /* SVD: sweep cap reached (result still usable) */
 };
 
 void linalg_identity(double *I, int n);
@@ -76,7 +76,7 @@ int linalg_all_finite(const double *A, int count);
 /* Thin SVD A = U diag(s) V^T of an m x n matrix, p = min(m, n):
  * U is m x p, s[p] descending and >= 0, V is n x p; U and V have orthonormal
  * columns (columns for exactly zero singular values are completed to an
- * orthonormal set). Returns LINALG_ENOCONV if the sweep cap was hit; the
+ * orthonormal set). Returns LINALG_ERR_NOCONV if the sweep cap was hit; the
  * factors are then still filled in (best so far). */
 int linalg_svd(double *U, double *s, double *V, const double *A, int m, int n);
 
@@ -109,7 +109,7 @@ typedef struct {
 } linalg_pinv_svd;
 
 /* Factors A (m x n) with rank tolerance rtol as linalg_pinv. Same return
- * codes; F is filled in on LINALG_OK and LINALG_ENOCONV. */
+ * codes; F is filled in on LINALG_OK and LINALG_ERR_NOCONV. */
 int linalg_pinv_factor(linalg_pinv_svd *F, const double *A, int m, int n, double rtol);
 /* x (n) = A+ y, y has m entries. */
 void linalg_pinv_apply(double *x, const linalg_pinv_svd *F, const double *y);

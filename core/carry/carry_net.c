@@ -125,7 +125,7 @@ int carry_gains_bounds(double lo[CARRY_N_GAINS], double hi[CARRY_N_GAINS])
     int t, i, n = 0;
     for (t = 0; t < CARRY_N_TRANSITIONS; t++) {
         const erlaw_gains *g = &carry_table[t].lin;
-        if (!erlaw_gains_validate(g))
+        if (erlaw_gains_validate(g) != 0)
             continue;   /* the vision transition moves no arm */
         for (i = 0; i < CARRY_N_GAINS; i++) {
             const double v = gain_field(g, i);
@@ -230,7 +230,7 @@ static int row_check(const carry_row *r, const petri_net *net, int t)
             return rc;
     if (r->sync_group > 0 && r->arms != (CARRY_ARM1 | CARRY_ARM2))
         return CARRY_NET_ERR_INCONSISTENT;
-    if (moves && !erlaw_gains_validate(&r->lin))
+    if (moves && erlaw_gains_validate(&r->lin) != 0)
         return CARRY_NET_ERR_GAINS;
     if ((r->arms != 0) != has_input(net, t))
         return CARRY_NET_ERR_NET;

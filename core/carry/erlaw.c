@@ -23,17 +23,17 @@ static double clamp(double x, double lo, double hi)
 int erlaw_gains_validate(const erlaw_gains *g)
 {
     if (!g)
-        return 0;
+        return ERLAW_ERR_ARG;
     if (!(isfinite(g->v_m) && isfinite(g->a_m) && isfinite(g->u_m) && isfinite(g->k_p) &&
           isfinite(g->k_v) && isfinite(g->k0) && isfinite(g->k1) && isfinite(g->k2)))
-        return 0;
-    return g->v_m > 0.0 && g->a_m > 0.0 && g->u_m > 0.0 && g->k_p >= 0.0 && g->k_v >= 0.0 &&
-           g->k0 >= 0.0 && g->k2 >= 0.0;
+        return ERLAW_ERR_ARG;
+    return (g->v_m > 0.0 && g->a_m > 0.0 && g->u_m > 0.0 && g->k_p >= 0.0 && g->k_v >= 0.0 &&
+            g->k0 >= 0.0 && g->k2 >= 0.0) ? 0 : ERLAW_ERR_ARG;
 }
 
 static int channel_init(erlaw_channel *c, const double e[3], double s_f, const erlaw_gains *g)
 {
-    if (!erlaw_gains_validate(g))
+    if (erlaw_gains_validate(g) != 0)
         return ERLAW_ERR_ARG;
     if (sprofile_plan(&c->prof, s_f, g->v_m, g->a_m, g->u_m) != 0)
         return ERLAW_ERR_ARG;

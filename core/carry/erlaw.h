@@ -156,7 +156,8 @@ typedef struct {
     int    follower;    /* 1: tracking an external reference ahead of it */
 } erlaw_out;
 
-/* Gains valid: every field finite, limits > 0, k_p, k_v, k0, k2 >= 0. */
+/* 0 if every field is finite, the limits > 0 and k_p, k_v, k0, k2 >= 0;
+ * else ERLAW_ERR_ARG. */
 int erlaw_gains_validate(const erlaw_gains *g);
 
 /* Segment p0 -> p1. A zero-length segment is valid (holds p0). 0 / ERLAW_ERR_ARG. */

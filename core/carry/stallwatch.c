@@ -9,7 +9,7 @@
 int stallwatch_init(stallwatch *w, double limit_s)
 {
     if (!w || !isfinite(limit_s) || limit_s <= 0.0)
-        return STALLWATCH_EBADARG;
+        return STALLWATCH_ERR_ARG;
     w->limit_s = limit_s;
     w->idle_s = 0.0;
     w->last_t_s = -1.0;
@@ -22,7 +22,7 @@ int stallwatch_update(stallwatch *w, double t_s, int completed, int work_pending
 {
     double dt;
     if (!w || !isfinite(t_s) || (w->last_t_s >= 0.0 && t_s < w->last_t_s))
-        return STALLWATCH_EBADARG;
+        return STALLWATCH_ERR_ARG;
     dt = w->last_t_s >= 0.0 ? t_s - w->last_t_s : 0.0;
     w->last_t_s = t_s;
     if (completed || obstructed || !work_pending) {

@@ -21,12 +21,12 @@ typedef struct stallwatch {
     int    stalls;         /* stalls begun */
 } stallwatch;
 
-enum { STALLWATCH_OK = 0, STALLWATCH_EBADARG = -1 };
+enum { STALLWATCH_OK = 0, STALLWATCH_ERR_ARG = -1 };
 
 /* limit_s finite and > 0. */
 int stallwatch_init(stallwatch *w, double limit_s);
 /* One cycle at time t_s (non-decreasing). Returns 1 on the update at which
- * a stall begins, 0 otherwise, STALLWATCH_EBADARG on bad input (state
+ * a stall begins, 0 otherwise, STALLWATCH_ERR_ARG on bad input (state
  * unchanged). */
 int stallwatch_update(stallwatch *w, double t_s, int completed, int work_pending, int obstructed);
 

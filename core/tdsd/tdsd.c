@@ -18,10 +18,10 @@
 #define NJ TDSD_NJ
 #define RATE_INFEASIBLE (-1) /* max_path_rate: no admissible lambda */
 
-/* LINALG_ENOCONV still delivers a usable (best-so-far) factorisation. */
+/* LINALG_ERR_NOCONV still delivers a usable (best-so-far) factorisation. */
 static int la_ok(int rc)
 {
-    return rc == LINALG_OK || rc == LINALG_ENOCONV;
+    return rc == LINALG_OK || rc == LINALG_ERR_NOCONV;
 }
 
 static void rot_col(double c[3], const double R[9], int j)
@@ -80,7 +80,7 @@ int tdsd_midrange_grad(double grad_V[NJ], double *V, const double q_rad[NJ],
             continue;
         if (!isfinite(q_rad[i]) || !isfinite(q_min_rad[i]) || !isfinite(q_max_rad[i])
             || !(q_max_rad[i] > q_min_rad[i]))
-            return TDSD_EINVAL;
+            return TDSD_ERR_ARG;
     }
     for (i = 0; i < NJ; i++) {
         double range, u;
@@ -238,7 +238,7 @@ int tdsd_step(const tdsd_input *in, tdsd_output *out)
 
     output_reset(out);
     if (!input_valid(in))
-        return TDSD_EINVAL;
+        return TDSD_ERR_ARG;
 
     vec3_sub(out->e_p, in->p_d_m, in->p_m);
     n2 = task2_setup(in, J2, e2, w2);
@@ -247,7 +247,7 @@ int tdsd_step(const tdsd_input *in, tdsd_output *out)
         out->e_o[i] = e2[i];
 
     if (!la_ok(linalg_pinv_factor(&F1, in->J1, 3, NJ, in->pinv_rtol)))
-        return TDSD_ENUM;
+        return TDSD_ERR_NUMERIC;
     out->sigma_min_J1 = F1.info.sigma_min;
     out->sigma_max_J1 = F1.info.sigma_max;
     out->rank_J1 = F1.info.rank;
@@ -288,7 +288,7 @@ int tdsd_step(const tdsd_input *in, tdsd_output *out)
         linalg_pinv_null_rows(M, J2, n2, &F1);  /* J2 P1 */
         if (!la_ok(linalg_pinv_factor(&F2, M, n2, NJ, in->pinv_rtol))) {
             output_reset(out);
-            return TDSD_ENUM;
+            return TDSD_ERR_NUMERIC;
         }
         out->rank_J2P1 = F2.info.rank;
         linalg_matvec(r, J2, out->dq1, n2, NJ);
@@ -344,7 +344,7 @@ static int rr_setup(const tdsd_input *in, tdsd_output *out, double J[NJ * NJ], d
         y[3 + i] = out->y2[i];
     }
     if (!la_ok(linalg_pinv_factor(&F1, in->J1, 3, NJ, in->pinv_rtol)))
-        return TDSD_ENUM;
+        return TDSD_ERR_NUMERIC;
     out->sigma_min_J1 = F1.info.sigma_min;
     out->sigma_max_J1 = F1.info.sigma_max;
     out->rank_J1 = F1.info.rank;
@@ -363,16 +363,16 @@ static void rr_finish(const tdsd_input *in, tdsd_output *out, const double *Jinv
 
 /* Both baselines: the stacked J and y (rr_setup) and J's pseudo-inverse
  * Jp (its singular values drive the DLS damping). Row count, or
- * TDSD_ENUM with out reset. */
+ * TDSD_ERR_NUMERIC with out reset. */
 static int rr_stack_pinv(const tdsd_input *in, tdsd_output *out, double J[NJ * NJ],
                          double Jp[NJ * NJ], double y[NJ], linalg_pinv_info *info)
 {
     const int m = rr_setup(in, out, J, y);
     if (m < 0)
-        return TDSD_ENUM;
+        return TDSD_ERR_NUMERIC;
     if (!la_ok(linalg_pinv(Jp, NULL, info, J, m, NJ, in->pinv_rtol))) {
         output_reset(out);
-        return TDSD_ENUM;
+        return TDSD_ERR_NUMERIC;
     }
     out->rank_J2P1 = info->rank;
     return m;
@@ -386,7 +386,7 @@ int rr_pinv_step(const tdsd_input *in, tdsd_output *out)
 
     output_reset(out);
     if (!input_valid(in))
-        return TDSD_EINVAL;
+        return TDSD_ERR_ARG;
     m = rr_stack_pinv(in, out, J, Jp, y, &info);
     if (m < 0)
         return m;
@@ -404,7 +404,7 @@ int rr_dls_step(const tdsd_input *in, const rr_dls_params *dls, tdsd_output *out
     output_reset(out);
     if (!input_valid(in) || !dls || !(dls->lambda0 >= 0.0) || !isfinite(dls->lambda0)
         || !isfinite(dls->eps))
-        return TDSD_EINVAL;
+        return TDSD_ERR_ARG;
     /* sigma_min of the stacked J drives the variable damping */
     m = rr_stack_pinv(in, out, J, Jp, y, &info);
     if (m < 0)
@@ -420,7 +420,7 @@ int rr_dls_step(const tdsd_input *in, const rr_dls_params *dls, tdsd_output *out
     out->damping = damping;
     if (!la_ok(linalg_dls(Jd, J, m, NJ, damping))) {
         output_reset(out);
-        return TDSD_ENUM;
+        return TDSD_ERR_NUMERIC;
     }
     rr_finish(in, out, Jd, m, y);
     return TDSD_OK;

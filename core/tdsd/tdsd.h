@@ -24,8 +24,8 @@
 
 enum {
     TDSD_OK = 0,
-    TDSD_EINVAL = -1,   /* non-finite or out-of-range input; out->dq is zeroed */
-    TDSD_ENUM = -2      /* linear algebra failure (should not happen); dq zeroed */
+    TDSD_ERR_ARG = -1,   /* non-finite or out-of-range input; out->dq is zeroed */
+    TDSD_ERR_NUMERIC = -2      /* linear algebra failure (should not happen); dq zeroed */
 };
 
 /* Second-priority task. */
@@ -103,7 +103,7 @@ void tdsd_axis_jacobian(double J2[2 * TDSD_NJ], const double Jw[3 * TDSD_NJ],
  * (bit i = joint i+1; S2 uses 0x38 = joints 4..6):
  *   V(q) = -sum ((q_i - mid_i) / (max_i - min_i))^2,  mid = (min+max)/2
  *   dV/dq_i = -2 (q_i - mid_i) / (max_i - min_i)^2.
- * V may be NULL. Returns TDSD_EINVAL unless every used max_i > min_i and
+ * V may be NULL. Returns TDSD_ERR_ARG unless every used max_i > min_i and
  * all values are finite. */
 int tdsd_midrange_grad(double grad_V[TDSD_NJ], double *V, const double q_rad[TDSD_NJ],
                        const double q_min_rad[TDSD_NJ], const double q_max_rad[TDSD_NJ],

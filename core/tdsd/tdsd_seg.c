@@ -110,11 +110,11 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
     tdsd_output o;
     int i, rc;
     if (!g || !m || !out || !isfinite(dt_s) || dt_s <= 0.0)
-        return TDSD_EINVAL;
+        return TDSD_ERR_ARG;
     memset(out, 0, sizeof *out);
     memset(&in, 0, sizeof in);
     if (arm_fk_jacobian(m, &g->tool, g->q_ref, T, J) != 0)
-        return TDSD_EINVAL;
+        return TDSD_ERR_ARG;
     tf_pos(in.p_m, T);
     tf_rot(in.R, T);
     path_at(g, g->s_m, in.p_d_m, in.R_d, in.v_d_mps, in.w_d_radps);
@@ -127,7 +127,7 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
     if (g->par.criterion_mask &&
         tdsd_midrange_grad(in.grad_V, NULL, g->q_ref, m->q_min_rad, m->q_max_rad,
                            g->par.criterion_mask) != TDSD_OK)
-        return TDSD_EINVAL;
+        return TDSD_ERR_ARG;
     for (i = 0; i < ARM_NJ; i++)
         in.dq_max_radps[i] = g->par.speed_frac * m->qd_max_radps[i];
     /* re-accelerate smoothly after a slow-down (tdsd.h, rate_cap) */

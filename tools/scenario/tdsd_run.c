@@ -86,8 +86,8 @@ int tdsdrun_step(const tdsdrun_cfg *c, const tdsdrun_path *p, tdsdrun_state *st,
     out->t_s = st->t_s;
     out->s = st->s;
     if (arm_fk_jacobian(c->model, &c->tool, q_rad, T, J) != 0) {
-        out->status = TDSD_EINVAL;
-        return TDSD_EINVAL;
+        out->status = TDSD_ERR_ARG;
+        return TDSD_ERR_ARG;
     }
     tf_rot(R, T);
     tf_pos(in.p_m, T);

@@ -421,8 +421,8 @@ static void test_pinv_factored_matches_explicit(void **state)
             assert_true(fro(Mref, 3 * m) <= 1e-13 * (1.0 + fro(A, m * n)));
         }
     }
-    assert_int_equal(linalg_pinv_factor(&F, A, 2, 7, 0.0), LINALG_EDIM);
-    assert_int_equal(linalg_pinv_factor(&F, A, 2, 6, 1.0), LINALG_EARG);
+    assert_int_equal(linalg_pinv_factor(&F, A, 2, 7, 0.0), LINALG_ERR_SIZE);
+    assert_int_equal(linalg_pinv_factor(&F, A, 2, 6, 1.0), LINALG_ERR_ARG);
 }
 
 static void test_pinv_zero_matrix_and_bad_input(void **state)
@@ -436,13 +436,13 @@ static void test_pinv_zero_matrix_and_bad_input(void **state)
     for (i = 0; i < 12; i++)
         assert_true(Ap[i] == 0.0);
     rand_mat(A, 2, 6);
-    assert_int_equal(linalg_pinv(Ap, NULL, NULL, A, 2, 7, 0.0), LINALG_EDIM);
-    assert_int_equal(linalg_pinv(Ap, NULL, NULL, A, 0, 6, 0.0), LINALG_EDIM);
-    assert_int_equal(linalg_pinv(Ap, NULL, NULL, A, 2, 6, -1.0), LINALG_EARG);
+    assert_int_equal(linalg_pinv(Ap, NULL, NULL, A, 2, 7, 0.0), LINALG_ERR_SIZE);
+    assert_int_equal(linalg_pinv(Ap, NULL, NULL, A, 0, 6, 0.0), LINALG_ERR_SIZE);
+    assert_int_equal(linalg_pinv(Ap, NULL, NULL, A, 2, 6, -1.0), LINALG_ERR_ARG);
     A[3] = NAN;
-    assert_int_equal(linalg_pinv(Ap, NULL, NULL, A, 2, 6, 0.0), LINALG_ENONFINITE);
+    assert_int_equal(linalg_pinv(Ap, NULL, NULL, A, 2, 6, 0.0), LINALG_ERR_NONFINITE);
     A[3] = INFINITY;
-    assert_int_equal(linalg_svd(Ap, Z, Z, A, 2, 6), LINALG_ENONFINITE);
+    assert_int_equal(linalg_svd(Ap, Z, Z, A, 2, 6), LINALG_ERR_NONFINITE);
 }
 
 static void test_mul_identities(void **state)
@@ -487,7 +487,7 @@ static void test_cholesky(void **state)
         }
     linalg_identity(G, 3);
     G[4] = -1.0;
-    assert_int_equal(linalg_cholesky(L, G, 3), LINALG_ENOTPD);
+    assert_int_equal(linalg_cholesky(L, G, 3), LINALG_ERR_NOT_PD);
 }
 
 static void test_dls(void **state)
@@ -526,7 +526,7 @@ static void test_dls(void **state)
                         <= 2e-14 / (smin * smin * smin) + 1e-12 / (smin * smin));
         }
     }
-    assert_int_equal(linalg_dls(Ad, A, 3, 6, -0.1), LINALG_EARG);
+    assert_int_equal(linalg_dls(Ad, A, 3, 6, -0.1), LINALG_ERR_ARG);
 }
 
 int main(void)

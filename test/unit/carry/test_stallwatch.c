@@ -85,14 +85,14 @@ static void test_bad_input(void **st)
 {
     stallwatch w;
     (void)st;
-    assert_int_equal(stallwatch_init(&w, 0.0), STALLWATCH_EBADARG);
-    assert_int_equal(stallwatch_init(&w, NAN), STALLWATCH_EBADARG);
-    assert_int_equal(stallwatch_init(NULL, 1.0), STALLWATCH_EBADARG);
+    assert_int_equal(stallwatch_init(&w, 0.0), STALLWATCH_ERR_ARG);
+    assert_int_equal(stallwatch_init(&w, NAN), STALLWATCH_ERR_ARG);
+    assert_int_equal(stallwatch_init(NULL, 1.0), STALLWATCH_ERR_ARG);
     assert_int_equal(stallwatch_init(&w, 1.0), STALLWATCH_OK);
     assert_int_equal(stallwatch_update(&w, 5.0, 0, 1, 0), 0);
     /* time going backwards or NaN changes nothing */
-    assert_int_equal(stallwatch_update(&w, 4.0, 0, 1, 0), STALLWATCH_EBADARG);
-    assert_int_equal(stallwatch_update(&w, NAN, 0, 1, 0), STALLWATCH_EBADARG);
+    assert_int_equal(stallwatch_update(&w, 4.0, 0, 1, 0), STALLWATCH_ERR_ARG);
+    assert_int_equal(stallwatch_update(&w, NAN, 0, 1, 0), STALLWATCH_ERR_ARG);
     assert_true(w.last_t_s == 5.0 && w.idle_s == 0.0);
 }
 

@@ -598,9 +598,9 @@ static void test_midrange_grad(void **state)
         q[i] = 0.5 * (qmin[i] + qmax[i]);
     assert_int_equal(tdsd_midrange_grad(g, &V, q, qmin, qmax, 0x38u), TDSD_OK);
     assert_true(fabs(V) <= 1e-30);
-    assert_int_equal(tdsd_midrange_grad(g, &V, q, qmax, qmin, 0x38u), TDSD_EINVAL);
+    assert_int_equal(tdsd_midrange_grad(g, &V, q, qmax, qmin, 0x38u), TDSD_ERR_ARG);
     q[4] = NAN;
-    assert_int_equal(tdsd_midrange_grad(g, &V, q, qmin, qmax, 0x38u), TDSD_EINVAL);
+    assert_int_equal(tdsd_midrange_grad(g, &V, q, qmin, qmax, 0x38u), TDSD_ERR_ARG);
 }
 
 static void test_baselines(void **state)
@@ -676,22 +676,22 @@ static void test_invalid_input(void **state)
     (void)state;
     make_input(&in);
     bad = in; bad.J1[4] = NAN;
-    assert_int_equal(tdsd_step(&bad, &out), TDSD_EINVAL);
+    assert_int_equal(tdsd_step(&bad, &out), TDSD_ERR_ARG);
     for (i = 0; i < NJ; i++)
         assert_true(out.dq_radps[i] == 0.0);
     bad = in; bad.dq_max_radps[2] = 0.0;
-    assert_int_equal(tdsd_step(&bad, &out), TDSD_EINVAL);
+    assert_int_equal(tdsd_step(&bad, &out), TDSD_ERR_ARG);
     bad = in; bad.rate_cap = 1.5;
-    assert_int_equal(tdsd_step(&bad, &out), TDSD_EINVAL);
+    assert_int_equal(tdsd_step(&bad, &out), TDSD_ERR_ARG);
     bad = in; bad.orient = (tdsd_orient_mode)7;
-    assert_int_equal(tdsd_step(&bad, &out), TDSD_EINVAL);
+    assert_int_equal(tdsd_step(&bad, &out), TDSD_ERR_ARG);
     bad = in; bad.K_p = -1.0;
-    assert_int_equal(rr_pinv_step(&bad, &out), TDSD_EINVAL);
+    assert_int_equal(rr_pinv_step(&bad, &out), TDSD_ERR_ARG);
     bad = in; bad.R[3] = INFINITY;
-    assert_int_equal(rr_dls_step(&bad, &dls, &out), TDSD_EINVAL);
+    assert_int_equal(rr_dls_step(&bad, &dls, &out), TDSD_ERR_ARG);
     dls.lambda0 = -1.0;
-    assert_int_equal(rr_dls_step(&in, &dls, &out), TDSD_EINVAL);
-    assert_int_equal(rr_dls_step(&in, NULL, &out), TDSD_EINVAL);
+    assert_int_equal(rr_dls_step(&in, &dls, &out), TDSD_ERR_ARG);
+    assert_int_equal(rr_dls_step(&in, NULL, &out), TDSD_ERR_ARG);
 }
 
 int main(void)
