@@ -25,17 +25,18 @@
  * block is detected, ERLAW_REF_BLOCKED drops the planned motion and keeps
  * the law's start-up form with the references frozen at the measured
  * pose X_h (set by erlaw_line_hold when the block is detected):
- *   u = k0 e - k_v V + k_p P (X_h - X),   P = I - e e^T,
- * so the only demand is the bias along the path (its full start-up value
- * k0, not eq. 7's faded p_bias(s): released near the goal, the arm must
- * still move on at k0 / k_v) (SPEC 2.2: no error
- * builds up). Across the path the pose where the block met the arm is
- * held, not the planned line: an obstacle that deflected the arm (a
- * pinned proximal link: the other joints carry the tool on, off the line)
- * is not fought, and a contact near a joint axis is not loaded with the
- * lever-arm multiple of a cross-track error. There is no position term
- * along e: ground lost to a posture change is not pulled back (that pull
- * would be resisted by the same contact). The bias moves the arm on when
+ *   u = k0 e - k_v V + k_p (X_h - X),
+ * so the demand is the bias along the path (its full start-up value k0,
+ * not eq. 7's faded p_bias(s): released near the goal, the arm must still
+ * move on at k0 / k_v) plus a hold of the pose where the block was
+ * detected, in every direction (SPEC 2.2: no error builds up). The pose
+ * held is the measured one, not the planned line: an obstacle that
+ * deflected the arm (a pinned proximal link: the other joints carry the
+ * tool on, off the line) is not fought, and a contact near a joint axis
+ * is not loaded with the lever-arm multiple of a cross-track error. Along
+ * e the hold and the bias balance k_p |X_h - X| = k0 a few mm ahead of
+ * X_h (cartseg's CARTSEG_UNBLOCK_EPS_M reads that creep as the release).
+ * The bias moves the arm on when
  * the obstacle goes (as it starts the arm at s0).
  *
  * External reference (a synchronised action, SPEC 2.3): s_ext = k_i s*.

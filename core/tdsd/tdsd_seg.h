@@ -54,7 +54,7 @@ typedef struct tdsd_seg_params {
 } tdsd_seg_params;
 
 /* The defaults used by tandem-arm (K_p 20/s, K_o 10/s, k_V 10, q4..q6,
- * speed_frac 0.9, T_recover 0.5 s, rot_len 0.2 m/rad, floor 2 mm/s) with
+ * speed_frac 0.9, T_recover 0.5 s, rot_len 0.2 m/rad, floor 1 cm/s) with
  * the row's v_m, a_m, u_m. */
 void tdsd_seg_default_params(tdsd_seg_params *p, double v_m, double a_m, double u_m);
 
