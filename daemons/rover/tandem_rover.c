@@ -754,7 +754,7 @@ static void journal_stop(void)
         journal_close(&A.h[j - A.id_lo].jr);
 }
 
-static void cycle(daemon *d, void *user)
+static int cycle(daemon *d, void *user)
 {
     const int64_t step = d->lockstep ? d->pending_step : d->step;
     const double t_s = (double)(step < 0 ? 0 : step) * DAEMON_SIM_DT_S;
@@ -763,14 +763,14 @@ static void cycle(daemon *d, void *user)
     struct outbox *ob;
     int j, n = 0, stopped = 0;
     (void)user;
-    if (step < 0) return;                      /* no simulator clock yet */
-    if (d->lockstep && step == A.last_step) return;   /* a repeated clock: answer again only */
-    if (too_early(step)) return;
+    if (step < 0) return DAEMON_CONTINUE;                      /* no simulator clock yet */
+    if (d->lockstep && step == A.last_step) return DAEMON_CONTINUE;   /* a repeated clock: answer again only */
+    if (too_early(step)) return DAEMON_CONTINUE;
     if (A.first_step < 0)
         A.first_step = step;
     if (d->lockstep && !lockstep_inputs_complete(step)) {
         d->skip_ack = 1;                       /* wait for the announcement again */
-        return;
+        return DAEMON_CONTINUE;
     }
     A.last_step = step;
     for (j = A.id_lo; j <= A.id_hi; j++) apply_frames(&A.h[j - A.id_lo]);
@@ -805,6 +805,7 @@ static void cycle(daemon *d, void *user)
     snprintf(d->status, sizeof d->status, "%s: %d of %d robots stopped (stale input)%s",
              stopped ? "safe stop" : "running", stopped, A.id_hi - A.id_lo + 1,
              A.journal_errors ? ", journal not written" : "");
+    return DAEMON_CONTINUE;
 }
 
 

@@ -726,7 +726,7 @@ static void handle_events(daemon *d)
     S.n_ev = kept;
 }
 
-static void cycle(daemon *d, void *user)
+static int cycle(daemon *d, void *user)
 {
     const int per_10hz = (int)(0.1 / d->period_s + 0.5);
     int t, dead;
@@ -762,6 +762,7 @@ static void cycle(daemon *d, void *user)
              S.net.fired_count, (int)S.wp_id, S.arms_faulted ? ", arm FAULT" : "",
              S.arms_silent & 1 ? ", arm 1 SILENT" : "", S.arms_silent & 2 ? ", arm 2 SILENT" : "",
              S.sim_silent ? ", simulator SILENT" : "");
+    return DAEMON_CONTINUE;
 }
 
 int main(int argc, char **argv)
