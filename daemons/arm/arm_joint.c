@@ -43,7 +43,6 @@ static int joint_ref_fresh(const arm_daemon *ad)
     return (double)(rtloop_now_ns() - ad->jref.rx_ns) * 1e-9 <= ad->stale_s;
 }
 
-
 /* The joint servo's velocity command is held to SERVO_SPEED_SHARE of the
  * motor limits: the drives stop at the limit, and a servo asking for all
  * of it has no headroom left to catch up with a lagging reference. */

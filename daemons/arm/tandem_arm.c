@@ -22,7 +22,6 @@
 
 #define FAULT_CLEAR_S 0.5
 
-
 static void usage(void)
 {
     printf("usage: tandem-arm --arm 1|2 [options]\n"
@@ -66,7 +65,6 @@ void arm_publish_event(arm_daemon *ad, int ev, const char *detail)
     arm_event_fill(ad, &e, ev, detail);
     AUTH_PUBLISH(tandem_action_event_t, ad->d.lcm, "ARM_EVENTS", &e);
 }
-
 
 /* ---- inputs --------------------------------------------------------------- */
 

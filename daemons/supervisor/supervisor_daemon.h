@@ -84,7 +84,6 @@ typedef struct supervisor_daemon {
     petri_explore_ws explore_ws;    /* start-up check of the net */
 } supervisor_daemon;
 
-
 /* supervisor_rows.c */
 void sup_start_transition(supervisor_daemon *sv, int t);
 /* The queued arm events, in arrival order (lockstep: those sent before
