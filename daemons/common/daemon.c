@@ -340,21 +340,24 @@ static void health_tick(daemon *d)
     }
 }
 
-static void run_realtime(daemon *d, daemon_cycle_fn fn, void *user)
+static int run_realtime(daemon *d, daemon_cycle_fn fn, void *user)
 {
+    int status = DAEMON_CONTINUE;
     d->loop.next_ns = rtloop_now_ns() + d->loop.period_ns;
-    while (!stop_flag) {
+    while (!stop_flag && status == DAEMON_CONTINUE) {
         rtloop_wait(&d->loop);
         daemon_drain(d);
-        fn(d, user);
+        status = fn(d, user);
         rtloop_end_cycle(&d->loop);
         health_tick(d);
     }
+    return status;
 }
 
-static void run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
+static int run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
 {
-    while (!stop_flag) {
+    int status = DAEMON_CONTINUE;
+    while (!stop_flag && status == DAEMON_CONTINUE) {
         int64_t t0;
         /* Blocking here is the point of lockstep: nothing happens until the
          * simulator publishes the next step. */
@@ -375,8 +378,10 @@ static void run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
         }
         t0 = rtloop_now_ns();
         d->skip_ack = 0;
-        fn(d, user);
+        status = fn(d, user);
         rtloop_record(&d->loop, t0);
+        if (status != DAEMON_CONTINUE)
+            break;   /* leaving: daemon_finish says so to the simulator */
         if (!d->skip_ack) {
             ack(d, d->pending_step, 0);
             d->answered_step = d->pending_step;
@@ -389,16 +394,15 @@ static void run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
         }
         d->pending_step = -1;
     }
+    return status;
 }
 
 int daemon_run(daemon *d, daemon_cycle_fn fn, void *user)
 {
+    int status;
     snprintf(d->status, sizeof d->status, "running");
-    if (d->lockstep)
-        run_lockstep(d, fn, user);
-    else
-        run_realtime(d, fn, user);
-    return 0;
+    status = d->lockstep ? run_lockstep(d, fn, user) : run_realtime(d, fn, user);
+    return status == DAEMON_CONTINUE ? DAEMON_STOPPED : status;
 }
 
 void daemon_finish(daemon *d)

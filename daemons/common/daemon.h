@@ -101,8 +101,15 @@ typedef struct daemon {
                                            yet because an input was missing */
 } daemon;
 
-/* Cycle callback: read the latest inputs, call the core, publish outputs. */
-typedef void (*daemon_cycle_fn)(daemon *d, void *user);
+/* Cycle callback: read the latest inputs, call the core, publish outputs;
+ * user is the daemon's own state (given to daemon_run). Returns
+ * DAEMON_CONTINUE, or a status that ends daemon_run, which returns it
+ * (the process's exit code). */
+typedef int (*daemon_cycle_fn)(daemon *d, void *user);
+
+#define DAEMON_CONTINUE 0      /* cycle: go on */
+#define DAEMON_STOPPED 0       /* daemon_run: stopped by SIGINT/SIGTERM (exit 0) */
+#define DAEMON_STOP_FAILED 1   /* cycle: stop, the daemon cannot go on (exit 1) */
 
 void daemon_defaults(daemon *d, const char *name, double period_s);
 /* Handles a fault-injection option (as daemon_parse_common). */
@@ -119,7 +126,9 @@ int  daemon_start(daemon *d);
  * prio, mlockall and the CPU latency hint; warns and goes on when not
  * permitted. */
 void daemon_rt_setup(const char *name, int prio);
-/* Runs until SIGINT/SIGTERM; returns the process exit code. */
+/* Runs the cycle until SIGINT/SIGTERM (returns DAEMON_STOPPED) or until
+ * the cycle returns a status other than DAEMON_CONTINUE (returns that
+ * status): the process exit code. */
 int  daemon_run(daemon *d, daemon_cycle_fn fn, void *user);
 void daemon_finish(daemon *d);
 int  daemon_stop_requested(void);

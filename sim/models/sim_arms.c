@@ -45,13 +45,18 @@
  * reached by the drive's own overshoot of one step. */
 #define DRIVE_SPEED_GUARD 0.98
 
-sim_arm sim_arm_pair[SIM_ARMS];
+static sim_arm sim_arm_pair[SIM_ARMS];
 static const char *const state_channel[SIM_ARMS] = { "ARM1_STATE", "ARM2_STATE" };
 static const char *const command_channel[SIM_ARMS] = { "ARM1_COMMAND", "ARM2_COMMAND" };
 static const double link_radius_m[ARM_NJ] = { 0.09, 0.07, 0.06, 0.045, 0.04, 0.035 };
 static const sim_config *arms_cfg;
 static lcm_subscription_t *subs[SIM_ARMS];
 static sim_world *arms_world;
+
+sim_arm *sim_arms_arm(int k)
+{
+    return &sim_arm_pair[k];
+}
 
 /* ---- building ------------------------------------------------------------- */
 

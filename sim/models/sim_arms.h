@@ -42,7 +42,8 @@ typedef struct sim_arm {
     int64_t  seq;
 } sim_arm;
 
-extern sim_arm sim_arm_pair[SIM_ARMS];
+/* Arm k (0-based, < SIM_ARMS) of the pair. */
+sim_arm *sim_arms_arm(int k);
 
 /* Tool point of arm a (0-based) in world coordinates, and the flange rotation. */
 void sim_arm_tool(const sim_arm *a, double p_world[3], double R_world[9]);

@@ -56,32 +56,39 @@ typedef struct wp {
     double  rest_s;
 } wp;
 
-static wp pool[WP_POOL];
-static dGeomID table_geom;
-static prng_state rng;
-static const sim_config *wp_cfg;
-static int32_t spawned, delivered, dropped, next_id;
-static double clear_s;
-static int64_t vision_seq;
-static int64_t last_after_step;          /* the step wp_after_step last ran for */
-static tandem_workpiece_t last_det[WP_POOL];   /* the detections of the last camera frame */
-static int last_n_det;
-static int spawn_requests;
+/* The model's state, handed to every function here as an argument. The
+ * sim's one instance is wp_model_of_sim: the ops hooks carry no state
+ * pointer (sim.h), so they take it from there, as sim_rovers' hooks take R. */
+typedef struct wp_model {
+    wp      pool[WP_POOL];
+    dGeomID table_geom;
+    prng_state rng;
+    const sim_config *cfg;
+    int32_t spawned, delivered, dropped, next_id;
+    double  clear_s;                      /* the pick zone has been clear this long */
+    int64_t vision_seq;
+    int64_t last_after_step;              /* the step wp_after_step last ran for */
+    tandem_workpiece_t last_det[WP_POOL]; /* the detections of the last camera frame */
+    int     last_n_det;
+    int     spawn_requests;               /* SPAWN_WORKPIECE requests not served yet */
+} wp_model;
+
+static wp_model wp_model_of_sim;
 
 static double table_top_z(void)
 {
     return cell_default.table_center_m[2] + 0.5 * cell_default.table_size_m[2];
 }
 
-static void park(int i)
+static void park(wp_model *m, int i)
 {
-    wp *p = &pool[i];
+    wp *p = &m->pool[i];
     int k;
     for (k = 0; k < SIM_ARMS; k++) {
         if (p->hold[k]) {
             dJointDestroy(p->hold[k]);
             p->hold[k] = 0;
-            sim_arm_pair[k].holding = -1;
+            sim_arms_arm(k)->holding = -1;
         }
     }
     p->state = WP_PARKED;
@@ -95,42 +102,44 @@ static void park(int i)
 
 static int wp_create(sim_world *w, const sim_config *cfg)
 {
+    wp_model *m = &wp_model_of_sim;
     const double *sz = cell_default.workpiece_size_m;
-    dMass m;
+    dMass mass;
     int i;
-    wp_cfg = cfg;
-    memset(pool, 0, sizeof pool);
-    prng_seed(&rng, w->seed * 7919u + 17u);
-    spawned = delivered = dropped = 0;
-    last_after_step = -1;
-    last_n_det = 0;
-    next_id = 1;
-    clear_s = 0.0;
-    spawn_requests = 0;
-    table_geom = dCreateBox(w->space, cell_default.table_size_m[0], cell_default.table_size_m[1],
+    m->cfg = cfg;
+    memset(m->pool, 0, sizeof m->pool);
+    prng_seed(&m->rng, w->seed * 7919u + 17u);
+    m->spawned = m->delivered = m->dropped = 0;
+    m->last_after_step = -1;
+    m->last_n_det = 0;
+    m->next_id = 1;
+    m->clear_s = 0.0;
+    m->spawn_requests = 0;
+    m->table_geom = dCreateBox(w->space, cell_default.table_size_m[0], cell_default.table_size_m[1],
                             cell_default.table_size_m[2]);
-    dGeomSetPosition(table_geom, cell_default.table_center_m[0], cell_default.table_center_m[1],
+    dGeomSetPosition(m->table_geom, cell_default.table_center_m[0], cell_default.table_center_m[1],
                      cell_default.table_center_m[2]);
-    dGeomSetCategoryBits(table_geom, SIM_CAT_TABLE);
-    dGeomSetCollideBits(table_geom, SIM_CAT_WORKPIECE);
+    dGeomSetCategoryBits(m->table_geom, SIM_CAT_TABLE);
+    dGeomSetCollideBits(m->table_geom, SIM_CAT_WORKPIECE);
     for (i = 0; i < WP_POOL; i++) {
-        pool[i].body = sim_body_create(w);
-        dMassSetBoxTotal(&m, cell_default.workpiece_mass_kg, sz[0], sz[1], sz[2]);
-        dBodySetMass(pool[i].body, &m);
-        pool[i].geom = dCreateBox(w->space, sz[0], sz[1], sz[2]);
-        dGeomSetBody(pool[i].geom, pool[i].body);
-        dGeomSetCategoryBits(pool[i].geom, SIM_CAT_WORKPIECE);
-        dGeomSetCollideBits(pool[i].geom, SIM_CAT_TABLE | SIM_CAT_GROUND);
-        park(i);
+        m->pool[i].body = sim_body_create(w);
+        dMassSetBoxTotal(&mass, cell_default.workpiece_mass_kg, sz[0], sz[1], sz[2]);
+        dBodySetMass(m->pool[i].body, &mass);
+        m->pool[i].geom = dCreateBox(w->space, sz[0], sz[1], sz[2]);
+        dGeomSetBody(m->pool[i].geom, m->pool[i].body);
+        dGeomSetCategoryBits(m->pool[i].geom, SIM_CAT_WORKPIECE);
+        dGeomSetCollideBits(m->pool[i].geom, SIM_CAT_TABLE | SIM_CAT_GROUND);
+        park(m, i);
     }
     return 0;
 }
 
 static void wp_destroy(sim_world *w)
 {
+    wp_model *m = &wp_model_of_sim;
     (void)w;   /* bodies, geoms and joints go with the ODE world */
-    memset(pool, 0, sizeof pool);
-    table_geom = NULL;
+    memset(m->pool, 0, sizeof m->pool);
+    m->table_geom = NULL;
 }
 
 /* ---- geometry helpers ----------------------------------------------------- */
@@ -194,58 +203,58 @@ static int held_by_other(const wp *p, int k)
 
 /* ---- spawning ------------------------------------------------------------- */
 
-static int pick_zone_clear(void)
+static int pick_zone_clear(const wp_model *m)
 {
     int i;
     for (i = 0; i < WP_POOL; i++) {
-        if (pool[i].state == WP_PARKED || pool[i].state == WP_HELD)
+        if (m->pool[i].state == WP_PARKED || m->pool[i].state == WP_HELD)
             continue;
-        if (xy_dist(dBodyGetPosition(pool[i].body), cell_default.pick_center_m) < WP_PICK_RADIUS_M)
+        if (xy_dist(dBodyGetPosition(m->pool[i].body), cell_default.pick_center_m) < WP_PICK_RADIUS_M)
             return 0;
     }
     return 1;
 }
 
-static int spawn(void)
+static int spawn(wp_model *m)
 {
     const double *pc = cell_default.pick_center_m, *sp = cell_default.pick_spread_m;
     double R[9], yaw;
     const double z[3] = { 0.0, 0.0, 1.0 };
     int i;
-    for (i = 0; i < WP_POOL && pool[i].state != WP_PARKED; i++)
+    for (i = 0; i < WP_POOL && m->pool[i].state != WP_PARKED; i++)
         ;
     if (i == WP_POOL)
         return -1;
-    yaw = WP_YAW_SPREAD_RAD * (2.0 * prng_uniform(&rng) - 1.0);
+    yaw = WP_YAW_SPREAD_RAD * (2.0 * prng_uniform(&m->rng) - 1.0);
     rot_from_axis_angle(R, z, yaw);
-    dBodyEnable(pool[i].body);
-    dGeomEnable(pool[i].geom);
-    set_body_R(pool[i].body, R);
-    dBodySetPosition(pool[i].body, pc[0] + sp[0] * (2.0 * prng_uniform(&rng) - 1.0),
-                     pc[1] + sp[1] * (2.0 * prng_uniform(&rng) - 1.0),
+    dBodyEnable(m->pool[i].body);
+    dGeomEnable(m->pool[i].geom);
+    set_body_R(m->pool[i].body, R);
+    dBodySetPosition(m->pool[i].body, pc[0] + sp[0] * (2.0 * prng_uniform(&m->rng) - 1.0),
+                     pc[1] + sp[1] * (2.0 * prng_uniform(&m->rng) - 1.0),
                      table_top_z() + 0.5 * cell_default.workpiece_size_m[2] + 0.001);
-    dBodySetLinearVel(pool[i].body, 0, 0, 0);
-    dBodySetAngularVel(pool[i].body, 0, 0, 0);
-    pool[i].state = WP_ON_PICK;
-    pool[i].id = next_id++;
-    pool[i].rest_s = 0.0;
-    spawned++;
+    dBodySetLinearVel(m->pool[i].body, 0, 0, 0);
+    dBodySetAngularVel(m->pool[i].body, 0, 0, 0);
+    m->pool[i].state = WP_ON_PICK;
+    m->pool[i].id = m->next_id++;
+    m->pool[i].rest_s = 0.0;
+    m->spawned++;
     return i;
 }
 
-static void maybe_spawn(void)
+static void maybe_spawn(wp_model *m)
 {
-    const int more = wp_cfg->workpieces == 0 || spawned < wp_cfg->workpieces;
-    if (!pick_zone_clear()) {
-        clear_s = 0.0;
+    const int more = m->cfg->workpieces == 0 || m->spawned < m->cfg->workpieces;
+    if (!pick_zone_clear(m)) {
+        m->clear_s = 0.0;
         return;
     }
-    clear_s += SIM_DT_S;
-    if ((more && clear_s >= WP_SPAWN_DELAY_S) || spawn_requests > 0) {
-        if (spawn() >= 0) {
-            clear_s = 0.0;
-            if (spawn_requests > 0)
-                spawn_requests--;
+    m->clear_s += SIM_DT_S;
+    if ((more && m->clear_s >= WP_SPAWN_DELAY_S) || m->spawn_requests > 0) {
+        if (spawn(m) >= 0) {
+            m->clear_s = 0.0;
+            if (m->spawn_requests > 0)
+                m->spawn_requests--;
         }
     }
 }
@@ -254,7 +263,7 @@ static void maybe_spawn(void)
 
 static void attach(sim_world *w, int k, wp *p)
 {
-    sim_arm *a = &sim_arm_pair[k];
+    sim_arm *a = sim_arms_arm(k);
     const dBodyID flange = a->link[ARM_NJ - 1];
     if (!held_by_other(p, k)) {
         /* self-centring jaws: bar along the flange x axis, grasp point on
@@ -285,52 +294,53 @@ static void detach(int k, wp *p)
 {
     dJointDestroy(p->hold[k]);
     p->hold[k] = 0;
-    sim_arm_pair[k].holding = -1;
+    sim_arms_arm(k)->holding = -1;
     if (!held_by_other(p, k)) {
         p->state = WP_FREE;
         p->rest_s = 0.0;
     }
 }
 
-static void gripper_step(sim_world *w, int k)
+static void gripper_step(wp_model *m, sim_world *w, int k)
 {
-    sim_arm *a = &sim_arm_pair[k];
+    sim_arm *a = sim_arms_arm(k);
     int i;
     if (a->gripper_closed && a->holding < 0) {
         double tool[3];
         sim_arm_tool(a, tool, NULL);
         for (i = 0; i < WP_POOL; i++) {
             double g[3], d[3];
-            if (pool[i].state == WP_PARKED)
+            if (m->pool[i].state == WP_PARKED)
                 continue;
-            grasp_point(&pool[i], k, g);
+            grasp_point(&m->pool[i], k, g);
             vec3_sub(d, g, tool);
             if (vec3_norm(d) <= cell_default.grasp_tolerance_m) {
-                attach(w, k, &pool[i]);
+                attach(w, k, &m->pool[i]);
                 break;
             }
         }
     } else if (!a->gripper_closed && a->holding >= 0) {
         for (i = 0; i < WP_POOL; i++)
-            if (pool[i].hold[k])
-                detach(k, &pool[i]);
+            if (m->pool[i].hold[k])
+                detach(k, &m->pool[i]);
         a->holding = -1;
     }
 }
 
 static void wp_before_step(sim_world *w)
 {
+    wp_model *m = &wp_model_of_sim;
     int k;
     for (k = 0; k < SIM_ARMS; k++)
-        gripper_step(w, k);
-    maybe_spawn();
+        gripper_step(m, w, k);
+    maybe_spawn(m);
 }
 
 /* ---- bookkeeping and camera ----------------------------------------------- */
 
-static void settle(int i)
+static void settle(wp_model *m, int i)
 {
-    wp *p = &pool[i];
+    wp *p = &m->pool[i];
     const dReal *c = dBodyGetPosition(p->body);
     const int on_floor = c[2] < table_top_z() - 0.05;
     if (p->state == WP_HELD || p->state == WP_PARKED)
@@ -343,27 +353,27 @@ static void settle(int i)
     if (p->rest_s < WP_REST_TIME_S)
         return;
     if (p->state == WP_FREE && !on_floor && xy_dist(c, cell_default.deliver_center_m) < WP_DELIVER_RADIUS_M) {
-        delivered++;
-        fprintf(stderr, "tandem-sim: workpiece %d delivered\n", (int)p->id);
-        park(i);
+        m->delivered++;
+        fprintf(stderr, "tandem-sim: workpiece %d m->delivered\n", (int)p->id);
+        park(m, i);
     } else if (on_floor || (p->state == WP_FREE && xy_dist(c, cell_default.pick_center_m) >= WP_PICK_RADIUS_M) ||
                (p->state == WP_ON_PICK && xy_dist(c, cell_default.pick_center_m) >= WP_PICK_RADIUS_M)) {
-        dropped++;
-        fprintf(stderr, "tandem-sim: workpiece %d dropped at (%.3f %.3f %.3f)\n", (int)p->id, c[0], c[1], c[2]);
-        park(i);
+        m->dropped++;
+        fprintf(stderr, "tandem-sim: workpiece %d m->dropped at (%.3f %.3f %.3f)\n", (int)p->id, c[0], c[1], c[2]);
+        park(m, i);
     } else if (p->state == WP_FREE) {
         p->state = WP_ON_PICK;    /* put back down in the pick zone: pick it again */
     }
 }
 
 /* fresh = 0: the same frame again (a re-announced step), no new noise */
-static void publish_vision(sim_world *w, int fresh)
+static void publish_vision(wp_model *m, sim_world *w, int fresh)
 {
-    tandem_workpiece_detections_t m;
-    tandem_workpiece_t *det = last_det;
+    tandem_workpiece_detections_t msg;
+    tandem_workpiece_t *det = m->last_det;
     int i, n = 0;
     for (i = 0; i < WP_POOL && fresh; i++) {
-        const wp *p = &pool[i];
+        const wp *p = &m->pool[i];
         double R[9], axis[3], yaw;
         const dReal *c;
         if (p->state != WP_ON_PICK || p->rest_s < WP_REST_TIME_S)
@@ -373,54 +383,57 @@ static void publish_vision(sim_world *w, int fresh)
         (void)axis;
         yaw = atan2(R[3], R[0]);
         det[n].id = p->id;
-        det[n].position_m[0] = c[0] + VISION_SIGMA_M * prng_gauss(&rng);
-        det[n].position_m[1] = c[1] + VISION_SIGMA_M * prng_gauss(&rng);
-        det[n].position_m[2] = c[2] + VISION_SIGMA_M * prng_gauss(&rng);
-        det[n].yaw_rad = yaw + VISION_SIGMA_YAW_RAD * prng_gauss(&rng);
+        det[n].position_m[0] = c[0] + VISION_SIGMA_M * prng_gauss(&m->rng);
+        det[n].position_m[1] = c[1] + VISION_SIGMA_M * prng_gauss(&m->rng);
+        det[n].position_m[2] = c[2] + VISION_SIGMA_M * prng_gauss(&m->rng);
+        det[n].yaw_rad = yaw + VISION_SIGMA_YAW_RAD * prng_gauss(&m->rng);
         n++;
     }
     if (fresh)
-        last_n_det = n;
-    n = last_n_det;
-    memset(&m, 0, sizeof m);
-    m.seq = vision_seq++;
-    m.utime = daemon_utime_now();
-    m.step = w->step;
-    m.n = (int16_t)n;
-    m.workpieces = det;
-    AUTH_PUBLISH(tandem_workpiece_detections_t, w->lcm, "VISION_DETECTIONS", &m);
+        m->last_n_det = n;
+    n = m->last_n_det;
+    memset(&msg, 0, sizeof msg);
+    msg.seq = m->vision_seq++;
+    msg.utime = daemon_utime_now();
+    msg.step = w->step;
+    msg.n = (int16_t)n;
+    msg.workpieces = det;
+    AUTH_PUBLISH(tandem_workpiece_detections_t, w->lcm, "VISION_DETECTIONS", &msg);
 }
 
 static void wp_after_step(sim_world *w)
 {
+    wp_model *m = &wp_model_of_sim;
     /* the simulator re-announces a step while it waits for controllers:
      * publish the same frame again, without settling or drawing camera
      * noise a second time (how often that happens depends on the machine's
      * timing, and must not change the run) */
-    const int repeat = w->step == last_after_step;
+    const int repeat = w->step == m->last_after_step;
     int i;
-    last_after_step = w->step;
+    m->last_after_step = w->step;
     for (i = 0; i < WP_POOL && !repeat; i++)
-        settle(i);
+        settle(m, i);
     if (w->step % VISION_PERIOD_STEPS == 0)
-        publish_vision(w, !repeat);
+        publish_vision(m, w, !repeat);
 }
 
 static int wp_control(sim_world *w, const tandem_sim_control_t *c)
 {
+    wp_model *m = &wp_model_of_sim;
     (void)w;
     if (c->command != TANDEM_SIM_CONTROL_T_SPAWN_WORKPIECE)
         return 0;
-    spawn_requests++;
+    m->spawn_requests++;
     return 1;
 }
 
 static void wp_status(sim_world *w, tandem_sim_status_t *s)
 {
+    const wp_model *m = &wp_model_of_sim;
     (void)w;
-    s->workpieces_spawned = spawned;
-    s->workpieces_delivered = delivered;
-    s->workpieces_dropped = dropped;
+    s->workpieces_spawned = m->spawned;
+    s->workpieces_delivered = m->delivered;
+    s->workpieces_dropped = m->dropped;
 }
 
 const sim_model_ops sim_workpieces_ops = {

@@ -1,0 +1,114 @@
+/* rover_daemon: the state of tandem-rover, one struct created in main and
+ * handed to the cycle and to every handler (see tandem_rover.c), and the
+ * calls between its files: tandem_rover.c (command line, cycle, start-up),
+ * rover_inputs.c (frames and team messages in, lockstep input
+ * completeness), rover_outputs.c (commands, states and team messages out,
+ * the console, --journal).
+ */
+#ifndef TANDEM_ROVER_DAEMON_H
+#define TANDEM_ROVER_DAEMON_H
+
+#include <stdint.h>
+#include "daemon.h"
+#include "journal.h"
+#include "rover_ctl.h"
+#include "rover_world.h"
+#include "tandem_rover_command_t.h"
+#include "tandem_rover_state_t.h"
+#include "tandem_team_msg_t.h"
+
+#define HOST_MAX   ROVER_WORLD_MAX_ROBOTS
+#define TEAMQ_MAX  4096
+
+typedef struct hosted {
+    rover_ctl_state c;
+    int64_t     cmd_seq, state_seq, team_seq;
+    int64_t     last_rx_ns;             /* wall time of the last sensor message */
+    int64_t     sens_step, sonar_step, camera_step;   /* last frames taken (-1 none) */
+    /* frames taken but not yet applied: the cycle applies them in one
+     * order (encoders, sonar, camera), whatever order they arrived in */
+    int         new_enc, new_sonar, new_cam;
+    double      enc_rad[2];
+    double      sonar_m[BEH_SONAR_N];
+    int         cam_n;
+    int32_t     cam_target[ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS];
+    double      cam_range_m[ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS];
+    double      cam_bearing_rad[ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS];
+    int         silent;                 /* lockstep: frames stopped (killed body) */
+    tandem_team_msg_t last_team;        /* for republish (robot 0: none yet) */
+    char        ch_cmd[24], ch_state[24];
+    int         shown_mode, shown_type, shown_yield;   /* last printed (-1: none yet) */
+    char        journal_path[600];      /* "" without --journal */
+    journal     jr;
+} hosted;
+
+typedef struct teamq_item {
+    int64_t step;
+    rover_team_msg m;
+} teamq_item;
+
+/* The hosted robots' commands and states of one cycle (rover_publish_outbox). */
+typedef struct rover_outbox {
+    tandem_rover_command_t cmd[HOST_MAX];
+    tandem_rover_state_t   st[HOST_MAX];
+    int     n;
+    int64_t step, utime, batch_seq;               /* step -1: empty */
+} rover_outbox;
+
+typedef struct rover_daemon {
+    daemon  d;                          /* the shell: bus, loop, counters, health */
+    int32_t id_lo, id_hi;
+    int     robots;
+    int     world, formation, blend;
+    rover_world_config layout;
+    rover_ctl_params params;
+    hosted  h[HOST_MAX];
+    teamq_item q[TEAMQ_MAX];
+    int     nq;
+    double  last_t_s;
+    int64_t last_step;
+    int64_t dropped_q;
+    int     batch;                      /* --batch: ROVERS_COMMAND / ROVERS_STATE */
+    int     localize;                   /* --localize: landmarks fused (1) */
+    int64_t batch_seq;
+    /* lockstep: what each mate last said on TEAM, and what we published */
+    int64_t mate_step[ROVER_WORLD_MAX_ROBOTS + 1];   /* -1: nothing yet */
+    int     mate_gone[ROVER_WORLD_MAX_ROBOTS + 1];
+    int64_t wait_step, wait_since_ns;                 /* incomplete inputs */
+    int64_t gone_count;
+    rover_outbox out[2];                              /* out[cur]: the last cycle */
+    int     cur;
+    const char *journal;                /* --journal PATH, NULL: none */
+    int64_t first_step;                 /* the first step this process ran a cycle for (-1) */
+    int64_t journal_errors;
+} rover_daemon;
+
+/* The hosted robot id, or NULL (another host's robot). */
+hosted *rover_find_hosted(rover_daemon *rd, int32_t id);
+
+/* rover_inputs.c */
+int  rover_too_early(rover_daemon *rd, int64_t step);
+void rover_apply_frames(rover_daemon *rd, hosted *h);
+void rover_on_sensors(const lcm_recv_buf_t *rb, const char *ch, void *u);
+void rover_on_sonar(const lcm_recv_buf_t *rb, const char *ch, void *u);
+void rover_on_beacons(const lcm_recv_buf_t *rb, const char *ch, void *u);
+void rover_on_sensors_batch(const lcm_recv_buf_t *rb, const char *ch, void *u);
+void rover_on_beacons_batch(const lcm_recv_buf_t *rb, const char *ch, void *u);
+void rover_on_team(const lcm_recv_buf_t *rb, const char *ch, void *u);
+void rover_deliver_team(rover_daemon *rd, int64_t step, double t_s);
+/* Lockstep: 1 when the cycle of step may run (its inputs are here, or
+ * the missing ones are taken as gone), 0 to wait for it again. */
+int  rover_inputs_complete(rover_daemon *rd, int64_t step);
+
+/* rover_outputs.c */
+void rover_publish_team(rover_daemon *rd, hosted *h, const rover_ctl_out *o, int64_t step, int64_t utime);
+void rover_fill_outputs(hosted *h, const rover_ctl_out *o, int64_t step, int64_t utime,
+                        tandem_rover_command_t *cmd, tandem_rover_state_t *st);
+void rover_publish_outbox(rover_daemon *rd, rover_outbox *o);
+void rover_republish(daemon *d, void *user);
+void rover_report_changes(hosted *h, int mode, double t_s);
+int  rover_journal_start(rover_daemon *rd);
+void rover_journal_cycle(rover_daemon *rd, int64_t step);
+void rover_journal_stop(rover_daemon *rd);
+
+#endif

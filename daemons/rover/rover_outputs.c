@@ -1,0 +1,179 @@
+/* rover_outputs: what tandem-rover sends and keeps: each hosted robot's
+ * command, own-view state and team message (per robot or batched, and
+ * again on a repeated step), a console line per change of what a robot
+ * does, and the --journal snapshots.
+ */
+#include <stdio.h>
+#include <string.h>
+#include "rover_daemon.h"
+#include "formation.h"
+#include "tandem_rovers_command_t.h"
+#include "tandem_rovers_state_t.h"
+
+/* ---- outputs ------------------------------------------------------------------ */
+
+void rover_publish_team(rover_daemon *rd, hosted *h, const rover_ctl_out *o, int64_t step, int64_t utime)
+{
+    tandem_team_msg_t t;
+    memset(&t, 0, sizeof t);
+    t.seq = h->team_seq++;
+    t.utime = utime;
+    t.step = step;
+    t.robot = h->c.id;
+    t.x_m = o->team.x_m;
+    t.y_m = o->team.y_m;
+    t.theta_rad = o->team.theta_rad;
+    t.v_mps = o->team.v_mps;
+    t.w_radps = o->team.w_radps;
+    t.formation = (int8_t)o->team.formation;
+    t.formation_scale = o->team.scale;
+    t.announce = (int8_t)o->team.announce;
+    t.announce_seq = o->team.announce_seq;
+    t.goal_m[0] = h->c.goal_m[0];
+    t.goal_m[1] = h->c.goal_m[1];
+    AUTH_PUBLISH(tandem_team_msg_t, rd->d.lcm, "TEAM", &t);
+    h->last_team = t;
+}
+
+/* One robot's command and own-view state for this tick, into *cmd / *st. */
+void rover_fill_outputs(hosted *h, const rover_ctl_out *o, int64_t step, int64_t utime,
+                         tandem_rover_command_t *cmd, tandem_rover_state_t *st)
+{
+    int i;
+    cmd->seq = h->cmd_seq++;
+    cmd->utime = utime;
+    cmd->step = step;
+    cmd->robot = h->c.id;
+    cmd->v_mps = o->u.v_mps;
+    cmd->w_radps = o->u.w_radps;
+    memset(st, 0, sizeof *st);
+    st->seq = h->state_seq++;
+    st->utime = utime;
+    st->step = step;
+    st->robot = h->c.id;
+    st->x_m = o->o.x_m;
+    st->y_m = o->o.y_m;
+    st->theta_rad = o->o.theta_rad;
+    st->v_mps = h->c.v_est_mps;
+    st->w_radps = h->c.w_est_radps;
+    st->mode = (int8_t)o->mode;
+    st->formation = (int8_t)h->c.fsm.type;
+    for (i = 0; i < 4; i++) st->weight[i] = o->weight[i];
+    st->formation_err_m = o->slot_err_m;
+    st->team_size = (int16_t)o->team_size;
+    st->formation_scale = h->c.fsm.scale;
+}
+
+/* The hosted robots' commands and states of one cycle: one message each
+ * per robot, or (--batch) one ROVERS_COMMAND and one ROVERS_STATE for all
+ * of them. Published again as they were by rover_republish. */
+void rover_publish_outbox(rover_daemon *rd, rover_outbox *o)
+{
+    int i;
+    if (o->step < 0) return;
+    if (rd->batch) {
+        tandem_rovers_command_t bc;
+        tandem_rovers_state_t bs;
+        BATCH_HEADER(bc, o->batch_seq, o->utime, o->step, o->n);
+        BATCH_HEADER(bs, o->batch_seq, o->utime, o->step, o->n);
+        bc.cmd = o->cmd;
+        bs.state = o->st;
+        AUTH_PUBLISH(tandem_rovers_command_t, rd->d.lcm, "ROVERS_COMMAND", &bc);
+        AUTH_PUBLISH(tandem_rovers_state_t, rd->d.lcm, "ROVERS_STATE", &bs);
+        return;
+    }
+    for (i = 0; i < o->n; i++) {
+        hosted *h = rover_find_hosted(rd, o->cmd[i].robot);
+        AUTH_PUBLISH(tandem_rover_command_t, rd->d.lcm, h->ch_cmd, &o->cmd[i]);
+        AUTH_PUBLISH(tandem_rover_state_t, rd->d.lcm, h->ch_state, &o->st[i]);
+    }
+}
+
+/* A step this host already answered was announced again: something it
+ * sent may have been lost. The last two cycles' outputs (a state is read
+ * one cycle later) and each robot's last team message, unchanged. */
+void rover_republish(daemon *d, void *user)
+{
+    rover_daemon *rd = user;
+    int j;
+    (void)d;
+    rover_publish_outbox(rd, &rd->out[rd->cur ^ 1]);
+    rover_publish_outbox(rd, &rd->out[rd->cur]);
+    for (j = rd->id_lo; j <= rd->id_hi; j++)
+        if (rd->h[j - rd->id_lo].last_team.robot > 0)
+            AUTH_PUBLISH(tandem_team_msg_t, rd->d.lcm, "TEAM", &rd->h[j - rd->id_lo].last_team);
+}
+
+/* One console line per change of what a robot is doing (mode, formation
+ * type, giving way), so that a run can be followed without lcm-spy. */
+void rover_report_changes(hosted *h, int mode, double t_s)
+{
+    static const char *const modes[] = { "formation", "dead-zone escape", "changing formation", "at goal",
+                                   "safe stop (stale input)" };
+    static const char *const types[] = { "line", "triangle", "column" };
+    const int type = h->c.fsm.type, yield = h->c.esc_yield;
+    if (mode != h->shown_mode && mode >= 0 && mode <= ROVER_MODE_SAFE_STOP)
+        printf("[%9.3f] robot %d: %s\n", t_s, (int)h->c.id, modes[mode]);
+    if (type != h->shown_type && h->shown_type >= 0 && type >= 0 && type <= FORMATION_COLUMN)
+        printf("[%9.3f] robot %d: formation %s -> %s (scale %.2f)\n", t_s, (int)h->c.id,
+               types[h->shown_type], types[type], h->c.fsm.scale);
+    if (yield != h->shown_yield && h->shown_yield >= 0)
+        printf("[%9.3f] robot %d: %s\n", t_s, (int)h->c.id, yield ? "gives way to a leaving mate" : "done giving way");
+    if (mode != h->shown_mode || type != h->shown_type || yield != h->shown_yield)
+        fflush(stdout);
+    h->shown_mode = mode;
+    h->shown_type = type;
+    h->shown_yield = yield;
+}
+/* ---- journal (--journal) --------------------------------------------------------- */
+
+/* At start-up: each hosted robot resumes from its journal's last intact
+ * snapshot (step, then rover_ctl_snapshot's values), and appends to it. */
+int rover_journal_start(rover_daemon *rd)
+{
+    int j;
+    for (j = rd->id_lo; j <= rd->id_hi && rd->journal; j++) {
+        hosted *h = &rd->h[j - rd->id_lo];
+        double v[1 + ROVER_CTL_SNAPSHOT_VALUES];
+        int n;
+        if (rd->id_lo == rd->id_hi) snprintf(h->journal_path, sizeof h->journal_path, "%s", rd->journal);
+        else snprintf(h->journal_path, sizeof h->journal_path, "%s-%d", rd->journal, j);
+        n = journal_load_last(h->journal_path, v, 1 + ROVER_CTL_SNAPSHOT_VALUES);
+        if (n == 1 + ROVER_CTL_SNAPSHOT_VALUES && rover_ctl_resume(&h->c, v + 1) == ROVER_CTL_OK) {
+            printf("%s: robot %d resumed from %s (step %.0f, escapes %d, formation changes %d)\n", rd->d.name, j,
+                   h->journal_path, v[0], h->c.escapes, h->c.formation_changes);
+            fflush(stdout);
+        } else if (n != JOURNAL_ERR_NONE) {
+            fprintf(stderr, "%s: journal %s: last snapshot is not robot %d's; starting from the launch pose\n",
+                    rd->d.name, h->journal_path, j);
+        }
+        if (journal_open(&h->jr, h->journal_path) != JOURNAL_OK) {
+            fprintf(stderr, "%s: cannot open journal %s\n", rd->d.name, h->journal_path);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* After a cycle's outputs are out: one snapshot per robot (a robot before
+ * its first encoder frame has nothing to keep). */
+void rover_journal_cycle(rover_daemon *rd, int64_t step)
+{
+    int j;
+    for (j = rd->id_lo; j <= rd->id_hi && rd->journal; j++) {
+        hosted *h = &rd->h[j - rd->id_lo];
+        double v[1 + ROVER_CTL_SNAPSHOT_VALUES];
+        v[0] = (double)step;
+        if (rover_ctl_snapshot(&h->c, v + 1) == ROVER_CTL_OK &&
+            journal_append(&h->jr, v, 1 + ROVER_CTL_SNAPSHOT_VALUES) != JOURNAL_OK)
+            rd->journal_errors++;
+    }
+}
+
+void rover_journal_stop(rover_daemon *rd)
+{
+    int j;
+    for (j = rd->id_lo; j <= rd->id_hi && rd->journal; j++)
+        journal_close(&rd->h[j - rd->id_lo].jr);
+}
+

@@ -1,0 +1,106 @@
+/* supervisor_daemon: the state of tandem-supervisor, one struct created in
+ * main and handed to the cycle and to every handler (see
+ * tandem_supervisor.c), and the calls between its files:
+ * tandem_supervisor.c (start-up check, vision tokens, the cycle),
+ * supervisor_rows.c (rows out, arm events in, recovery of lost rows),
+ * supervisor_watch.c (marking out, stall and silence watchdogs),
+ * supervisor_journal.c (--journal).
+ */
+#ifndef TANDEM_SUPERVISOR_DAEMON_H
+#define TANDEM_SUPERVISOR_DAEMON_H
+
+#include <stdint.h>
+#include "daemon.h"
+#include "journal.h"
+#include "carry_net.h"
+#include "petri.h"
+#include "stallwatch.h"
+#include "tandem_action_event_t.h"
+#include "tandem_workpiece_detections_t.h"
+
+#define EVENT_QUEUE 64
+
+enum { ARM_SLOT_NONE = 0, ARM_SLOT_WAITING, ARM_SLOT_SENT, ARM_SLOT_DONE };
+
+typedef struct sup_slot {
+    int     state[2];               /* ARM_SLOT_* per arm */
+    int32_t action_id[2];
+    int64_t sent_step[2];
+} sup_slot;
+
+/* What an arm last said about itself (its events and idle STATUS). */
+typedef struct arm_view {
+    int     heard;
+    int64_t step, rx_ns;
+    /* liveness from PROGRESS too (a running arm sends no STATUS; its
+     * PROGRESS is not queued as an event): the newest step and wall time */
+    int64_t alive_step, alive_rx_ns;
+    int     running;
+    int32_t action_id, last_done, holding;
+} arm_view;
+
+typedef struct supervisor_daemon {
+    daemon  d;                      /* the shell: bus, loop, counters, health */
+    petri   net;
+    sup_slot slot[CARRY_N_TRANSITIONS];
+    int     controller;             /* action_row_t CONTROLLER_* */
+    int     serial;
+    int     use_tdsd;               /* --tdsd: rows ask for TDSD Cartesian moves */
+    /* workpiece of the current cycle (p1 .. t2) and the one being carried */
+    int32_t wp_id;
+    double  wp_pos_m[3], wp_yaw_rad;
+    int32_t last_taken_id;
+    double  pick_pos_m[3], pick_yaw_rad;   /* latched when t1 takes p1 */
+    int32_t pick_id;
+    int     have_detection;
+    int     p1_bound;               /* the p1 token has a detected pose */
+    tandem_workpiece_t det;
+    /* events queued by the LCM callback, handled in the cycle */
+    tandem_action_event_t evq[EVENT_QUEUE];
+    int     n_ev;
+    int32_t next_action_id;
+    int64_t row_seq, marking_seq;
+    int64_t cycles;
+    int     changed;
+    int32_t deadlocks, replans, detections, blockages;
+    int     was_dead;
+    int     last_fired;
+    /* watchdogs */
+    stallwatch stall;
+    int     completed;              /* a transition completed this cycle */
+    int     stick_in;               /* SIM_STATUS: an obstruction is in the cell */
+    int     arms_faulted;           /* bit a: arm a+1 in FAULT */
+    int32_t faults;
+    /* recovery */
+    arm_view arm[2];
+    int64_t sim_rx_ns;
+    int     arms_silent, sim_silent;
+    int32_t rows_reissued, dones_recovered;
+    int     resumed, journal_checked;
+    const char *journal_path;
+    journal jr;
+    int     dirty;                  /* the discrete state changed: journal it */
+    double  journal_values[JOURNAL_MAX_VALUES];   /* a snapshot, written or read */
+    petri_explore_ws explore_ws;    /* start-up check of the net */
+} supervisor_daemon;
+
+/* supervisor_rows.c */
+void sup_start_transition(supervisor_daemon *sv, int t);
+/* The queued arm events, in arrival order (lockstep: those sent before
+ * the step this cycle answers). */
+void sup_handle_events(supervisor_daemon *sv);
+void sup_on_event(const lcm_recv_buf_t *rb, const char *ch, void *u);
+void sup_recover_rows(supervisor_daemon *sv);
+int  sup_grasp_blocked(const supervisor_daemon *sv, int t);
+
+/* supervisor_watch.c */
+void sup_publish_marking(supervisor_daemon *sv);
+void sup_on_sim_status(const lcm_recv_buf_t *rb, const char *ch, void *u);
+void sup_watch_stall(supervisor_daemon *sv);
+void sup_watch_silence(supervisor_daemon *sv);
+
+/* supervisor_journal.c */
+void sup_journal_resume(supervisor_daemon *sv);
+void sup_journal_cycle(supervisor_daemon *sv);
+
+#endif
