@@ -172,7 +172,14 @@ static int insecure_from_env(void)
 
 int auth_bus_start(const char *prog)
 {
+    int rc;
     snprintf(B.prog, sizeof B.prog, "%s", prog);
+    /* a channel table that lets two rules claim one channel, or names none,
+     * would grant or refuse by accident: no process starts on one */
+    if ((rc = auth_acl_validate(auth_acl_table, auth_acl_table_n)) != AUTH_ACL_OK) {
+        fprintf(stderr, "%s: the channel table (auth_acl_table) is unsound: auth_acl_validate %d\n", prog, rc);
+        return -1;
+    }
     if (insecure_from_env())
         B.insecure = 1;
     if (B.insecure && B.n_key_files > 0) {
