@@ -1,4 +1,4 @@
-/* bench_carry: cost of the carry task's two real-time steps (issue 4).
+/* bench_carry: cost of the carry task's two real-time steps.
  *   supervisor step: enable scan (petri_select) + one firing (start or
  *     completion) + P-invariant check, cycling the carry net forever;
  *   arm control cycle: cartseg_step (FK + Jacobian + Jdot qd, erlaw law,

@@ -1,6 +1,6 @@
-// bench_tdsd_kdl: one TDSD step (tdsd_step, SPEC §3) beside Orocos KDL's
+// bench_tdsd_kdl: one TDSD step (tdsd_step, docs/method/tdsd.md) beside Orocos KDL's
 // velocity IK solvers ChainIkSolverVel_wdls and ChainIkSolverVel_pinv on the
-// same PUMA 560 chain, timed in the same run (issue 5 benchmark). Figures
+// same PUMA 560 chain, timed in the same run. Figures
 // only, nothing asserted. C++ only because KDL is; the core is linked as C.
 //   bench_tdsd_kdl [N]          ns/call of every variant (best of 10 rounds
 //                               of N/10 calls)

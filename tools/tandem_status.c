@@ -3,7 +3,7 @@
  * safe, from what the daemons already publish (HEALTH_*, SIM_STATUS,
  * ARM_EVENTS, PETRI_MARKING, ROVERk_STATE / ROVERS_STATE): also arm
  * faults, a stalled carry task, daemons running --insecure and messages
- * the daemons refused as unauthenticated (issue 13). It checks what it
+ * the daemons refused as unauthenticated (docs/method/lockstep.md §4-5). It checks what it
  * reads like the daemons do (auth_bus.h). tools/tandem-run starts it.
  *
  *   t=  12.3 s  sim/wall 0.98x  overruns +0 (12)  safe hold: -  blocked: -  delivered 2  at goal 0/3

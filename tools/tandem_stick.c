@@ -1,5 +1,5 @@
 /* tandem-stick: push the stick into an arm's path, or pull it out, in a
- * running tandem-sim (SPEC.md §2.6). Publishes one SIM_CONTROL message.
+ * running tandem-sim (docs/method/carry.md §8). Publishes one SIM_CONTROL message.
  *
  *   tandem-stick insert --arm N --link L [--length M] [--radius R]
  *   tandem-stick remove
@@ -39,7 +39,7 @@ int main(int argc, char **argv)
                  "                           [--key-file PATH | --insecure]\n"
                  "       tandem-stick remove [--lcm-url URL] [--key-file PATH | --insecure]\n"
                  "Puts a rod just ahead of the given link of the arm, across its motion, so the\n"
-                 "link runs into it (SPEC 2.6); 'remove' takes it out. One SIM_CONTROL message.\n\n",
+                 "link runs into it (docs/method/carry.md §8); 'remove' takes it out. One SIM_CONTROL message.\n\n",
         .epilog = "Exit status: 0 sent, 1 LCM or key error, 2 bad arguments.\n",
         .groups = { { stick_table, &o }, { options_bus_tool, &o.url } }, .n_groups = 2,
     };

@@ -1,4 +1,4 @@
-/* arm_dyn: rigid-body dynamics of the 6R arm models (SPEC.md §2.2 computed
+/* arm_dyn: rigid-body dynamics of the 6R arm models (docs/method/carry.md §3 computed
  * torque / operational-space control, §7 gravity-compensated hold).
  *
  * - arm_rne: recursive Newton-Euler in link frames for standard DH (Luh,

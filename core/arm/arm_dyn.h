@@ -1,5 +1,5 @@
 /* arm_dyn: rigid-body inverse dynamics, joint-space inertia, gravity and
- * Coriolis/centrifugal torques of the arm models (SPEC.md §2.2 computed
+ * Coriolis/centrifugal torques of the arm models (docs/method/carry.md §3 computed
  * torque, §7 hold with gravity compensation, §5 simulator cross-checks).
  *
  *   tau = M(q) qdd + C(q, qd) qd + g(q)       (link-side torques, N m)

@@ -1,5 +1,5 @@
 /* arm_kin: forward kinematics, geometric Jacobian and closed-form inverse
- * kinematics of PUMA-type 6R arms (used by SPEC.md §2.2 operational-space
+ * kinematics of PUMA-type 6R arms (used by docs/method/carry.md §3 operational-space
  * control and §3 TDSD; model tables in arm_model.c).
  *
  * IK (Paul & Zhang 1986 geometry, standard DH): the wrist centre

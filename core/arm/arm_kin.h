@@ -1,5 +1,5 @@
 /* arm_kin: forward kinematics, geometric Jacobian and closed-form inverse
- * kinematics (all eight branches) of PUMA-type arms (SPEC.md §2, §3).
+ * kinematics (all eight branches) of PUMA-type arms (docs/method/carry.md, §3).
  *
  * All poses are in the base (mounting-surface) frame, 4x4 row-major. A NULL
  * tool means the flange. Angles in rad.

@@ -1,5 +1,5 @@
 /* arm_model: PUMA 560 and seed-002 arm tables, DH link transforms and the
- * per-link frames the simulator places its bodies with (SPEC.md §3, §5),
+ * per-link frames the simulator places its bodies with (docs/method/tdsd.md, §5),
  * and arm_model_validate, the tables' start-up check.
  *
  * Sources and choices (every number below is one of these):
@@ -17,7 +17,7 @@
  *   matrix is positive definite, which is all ODE checks).
  * - Motor armature (Jm G^2), gear friction and Coulomb friction are NOT
  *   modelled: the joint torques are link-side torques of rigid links.
- * - Joint ranges: SPEC.md §3 (seed 002's PUMA 560 ranges).
+ * - Joint ranges: docs/method/tdsd.md (seed 002's PUMA 560 ranges).
  * - Base height: shoulder (frame 0) 0.6718 m above the mounting surface.
  * - tau_max: the peak joint torques commonly quoted for the PUMA 560
  *   (97.6 186.4 89.4 24.2 20.1 21.3 N m).

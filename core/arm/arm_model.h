@@ -1,4 +1,4 @@
-/* arm_model: constant kinematic and dynamic tables of 6R arms (SPEC.md §3, §5).
+/* arm_model: constant kinematic and dynamic tables of 6R arms (docs/method/tdsd.md, §5).
  *
  * Standard Denavit-Hartenberg convention (Corke): the transform from frame
  * i-1 to frame i is A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i) with

@@ -1,4 +1,4 @@
-/* cartctl: operational-space computed torque (SPEC 2.2, the feedback
+/* cartctl: operational-space computed torque (docs/method/carry.md §3, the feedback
  * linearisation below eq. 6): tool acceleration -> qdd through a damped
  * SVD inverse of the Jacobian, bounded by the joint-range barrier -> tau
  * by RNE. See cartctl.h. */

@@ -1,4 +1,4 @@
-/* cartctl: operational-space computed torque for one arm (SPEC 2.2: the
+/* cartctl: operational-space computed torque for one arm (docs/method/carry.md §3: the
  * feedback linearisation that turns the event-referenced law's commanded
  * tool acceleration u into joint torques).
  *

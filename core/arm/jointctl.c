@@ -1,4 +1,4 @@
-/* jointctl: computed-torque joint control (SPEC.md §2.2 inner loop, §7 hold):
+/* jointctl: computed-torque joint control (docs/method/carry.md §3 inner loop, §7 hold):
  *   tau = M(q) (qdd_d + Kv (qd_d - qd) + Kp (q_d - q)) + C(q, qd) qd + g(q)
  * evaluated as one RNE pass with the servo acceleration, then clamped to
  * the torque limits (jointctl_clamp, shared by every controller). */

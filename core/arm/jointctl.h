@@ -1,5 +1,5 @@
 /* jointctl: joint-space computed-torque control with gravity compensation
- * (the arm's inner loop and its safe hold, SPEC.md §2.2, §7):
+ * (the arm's inner loop and its safe hold, docs/method/carry.md §3, §7):
  *   tau = M(q) (qdd_d + Kv (qd_d - qd) + Kp (q_d - q)) + C(q, qd) qd + g(q)
  * saturated to the motor torque limits. Gains are natural frequency and
  * damping ratio, the same for every joint (M decouples the joints).

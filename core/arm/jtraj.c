@@ -1,5 +1,5 @@
 /* jtraj: quintic rest-to-rest joint trajectory for tandem-arm's joint moves
- * (home, park; no SPEC equation: the standard quintic blend),
+ * (home, park; no equation of docs/method/: the standard quintic blend),
  * s(tau) = 10 tau^3 - 15 tau^4 + 6 tau^5. Peak of ds/dtau is 15/8 and of
  * d2s/dtau2 is 10/sqrt(3), which gives the shortest duration meeting the
  * speed and acceleration bounds.

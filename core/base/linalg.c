@@ -1,5 +1,5 @@
 /* linalg: small dense linear algebra for the velocity-level controllers of
- * SPEC.md §3 (pseudo-inverses and null-space projectors of eq. 8/11, the
+ * docs/method/tdsd.md (pseudo-inverses and null-space projectors of eq. 8/11, the
  * damped least-squares baseline). One-sided (Hestenes) Jacobi SVD: simple,
  * accurate, and bounded (LINALG_SVD_MAX_SWEEPS); well-conditioned 3-row
  * wide matrices start it from the eigenvectors of their 3x3 Gram matrix

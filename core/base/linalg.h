@@ -1,5 +1,5 @@
 /* linalg: small dense matrices (at most LINALG_MAX rows and columns) for the
- * velocity-level controllers (TDSD, resolved-rate baselines; SPEC.md §3).
+ * velocity-level controllers (TDSD, resolved-rate baselines; docs/method/tdsd.md).
  *
  * Matrices are plain row-major double arrays with the dimensions passed
  * explicitly; an m x n matrix occupies a[0 .. m*n-1], element (i,j) at

@@ -1,4 +1,4 @@
-/* loopstats: fixed-histogram cycle statistics (SPEC.md §1 health message).
+/* loopstats: fixed-histogram cycle statistics (docs/method/lockstep.md §7 health message).
  * A histogram instead of a sample buffer keeps memory constant however long
  * a daemon runs; the percentile error is at most one bin (1 us).
  */

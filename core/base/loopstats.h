@@ -2,7 +2,7 @@
  *
  * min / mean / max exactly, percentiles from a fixed histogram
  * (LOOPSTATS_BINS bins of LOOPSTATS_BIN_US each; the last bin collects
- * everything longer). SPEC.md §1: every daemon reports min/mean/max/p99
+ * everything longer). docs/method/lockstep.md §7: every daemon reports min/mean/max/p99
  * cycle time and overruns in its health message.
  */
 #ifndef TANDEM_LOOPSTATS_H

@@ -1,5 +1,5 @@
 /* prng: splitmix64 (Steele, Lea, Flood 2014) with uniform and Gaussian
- * draws; drives the sonar range noise of SPEC.md section 5 deterministically.
+ * draws; drives the sonar range noise of docs/method/lockstep.md §3 deterministically.
  */
 #include "prng.h"
 #include "vec2.h"

@@ -1,4 +1,4 @@
-/* rtloop: periodic loop on absolute monotonic deadlines (SPEC.md §1).
+/* rtloop: periodic loop on absolute monotonic deadlines (docs/method/lockstep.md §1).
  * Bounded work per call: no loops that depend on how late we are (missed
  * deadlines are skipped arithmetically). The clock is the platform's
  * (rtclock.h), so this module stays freestanding.

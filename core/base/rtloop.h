@@ -1,4 +1,4 @@
-/* rtloop: the periodic real-time loop of every daemon (SPEC.md §1).
+/* rtloop: the periodic real-time loop of every daemon (docs/method/lockstep.md §1).
  *
  * Absolute deadlines on the platform's monotonic clock (rtclock.h; on Linux
  * CLOCK_MONOTONIC with clock_nanosleep(TIMER_ABSTIME)), so the period does

@@ -1,5 +1,5 @@
 /* sprofile: minimum-time jerk-limited profile in the path-length domain,
- * SPEC 2.1 eq. 2-4, with the short-segment case the seed omits solved in
+ * docs/method/carry.md §2 eq. 2-4, with the short-segment case the seed omits solved in
  * closed form (see sprofile.h).
  *
  * Acceleration phase of length D with peak acceleration A (x = s - s0):

@@ -1,5 +1,5 @@
 /* sprofile: minimum-time jerk-limited speed profile in the path-length
- * domain (SPEC 2.1, eq. 2-4).
+ * domain (docs/method/carry.md §2, eq. 2-4).
  *
  * The profile is a function of the travelled path length s in [0, s_f],
  * not of time: a(s) is piecewise linear with slopes +-u_m (u = da/ds),

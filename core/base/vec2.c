@@ -1,5 +1,5 @@
 /* vec2: planar pose and angle helpers for the seed-003 formation core
- * (SPEC.md section 4). Pure C99 + libm.
+ * (docs/method/formation.md). Pure C99 + libm.
  */
 #include "vec2.h"
 

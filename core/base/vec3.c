@@ -1,5 +1,5 @@
 /* vec3: 3-vectors, rotations and rigid transforms (see vec3.h).
- * Pure geometry used by every equation of SPEC.md; no state, no allocation.
+ * Pure geometry used by every equation of docs/method/; no state, no allocation.
  */
 #include "vec3.h"
 #include <math.h>

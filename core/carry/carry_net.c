@@ -1,6 +1,6 @@
-/* carry_net: the two-arm carry task of SPEC 2.4 (Petri net: N-, N+, the
+/* carry_net: the two-arm carry task of docs/method/carry.md §5 (Petri net: N-, N+, the
  * vision source with its inhibitor arc, P-invariants, gamma0) and the
- * lookup table of SPEC 2.5. Gains were tuned on the erlaw point-mass
+ * lookup table of docs/method/carry.md §6. Gains were tuned on the erlaw point-mass
  * loop (test/unit/carry/test_carry_net.c): a 1 kHz operational-space
  * computed-torque arm behaves like X'' = u. carry_table_validate checks the
  * lookup table against itself and against the net.

@@ -1,5 +1,5 @@
-/* carry_net: the two-arm carry task of SPEC 2.4 as const Petri-net tables
- * and the per-transition lookup table of SPEC 2.5.
+/* carry_net: the two-arm carry task of docs/method/carry.md §5 as const Petri-net tables
+ * and the per-transition lookup table of docs/method/carry.md §6.
  *
  * Indices are 0-based: CARRY_P1 = 0 is the seed's p1, CARRY_T1 = 0 its t1.
  * CARRY_T_VISION is the vision system as a source transition: it puts a
@@ -144,7 +144,7 @@ int carry_table_validate(const carry_row *rows, int n_rows, const petri_net *net
 
 /* Bounds of the lookup table's gains: lo[i], hi[i] = min, max over every
  * row that moves an arm, field i in erlaw_gains order (v_m a_m u_m k_p k_v
- * k0 k1 k2). A row received from the bus must stay inside them (SPEC 7).
+ * k0 k1 k2). A row received from the bus must stay inside them (docs/method/lockstep.md §6).
  * 0 or CARRY_NET_ERR_NO_GAINS. */
 #define CARRY_N_GAINS 8
 int carry_gains_bounds(double lo[CARRY_N_GAINS], double hi[CARRY_N_GAINS]);

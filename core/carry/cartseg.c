@@ -1,5 +1,5 @@
 /* cartseg: a straight Cartesian segment under the event-referenced law
- * (SPEC 2.2 eq. 6-7), its synchronised (2.3) and time-referenced (2.6)
+ * (docs/method/carry.md §3 eq. 6-7), its synchronised (2.3) and time-referenced (2.6)
  * variants, turned into torques by cartctl; the blocked detector (with
  * contact sensing) and the in-range joint-space goal a stuck segment is
  * re-planned to; see cartseg.h. */

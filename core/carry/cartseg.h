@@ -1,5 +1,5 @@
 /* cartseg: one straight Cartesian segment of an action row, executed by an
- * arm controller (SPEC 2.1-2.3, 2.6): the erlaw segment law (event-
+ * arm controller (docs/method/carry.md §2-2.3, 2.6): the erlaw segment law (event-
  * referenced, synchronised via an external s* reference, or the
  * time-referenced baseline) in the world frame, the orientation held at
  * the segment's target, cartctl for the joint torques, the done predicate,

@@ -1,4 +1,4 @@
-/* cell: const layout of the two-arm workcell (SPEC.md §2.4, §5), the frame
+/* cell: const layout of the two-arm workcell (docs/method/carry.md §5, §5), the frame
  * helpers every program places the arms with, and cell_layout_validate,
  * which checks the layout fits together (no equation: geometry only); see
  * cell.h. */

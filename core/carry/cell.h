@@ -1,4 +1,4 @@
-/* cell: the two-arm workcell layout of the carry task (SPEC.md §2.4, §5).
+/* cell: the two-arm workcell layout of the carry task (docs/method/carry.md §5, §5).
  *
  * One const table shared by the simulator, the supervisor and the arm
  * controllers, so every program agrees where the arms stand and where the
@@ -7,7 +7,7 @@
  * All tool poses have the gripper pointing down (flange z = -world z).
  * The poses were chosen inside the PUMA 560's reachable annulus for a
  * downward tool (radius ~0.45-0.7 m from the base axis at these heights)
- * and inside the joint ranges of SPEC.md §3 (checked in test_cell).
+ * and inside the joint ranges of docs/method/tdsd.md (checked in test_cell).
  */
 #ifndef TANDEM_CELL_H
 #define TANDEM_CELL_H

@@ -1,7 +1,7 @@
-/* erlaw: event-referenced segment control law, SPEC 2.2 eq. 6-7 (with the
+/* erlaw: event-referenced segment control law, docs/method/carry.md §3 eq. 6-7 (with the
  * start-up bias), the orientation channel referenced by rotated angle, the
- * external reference of SPEC 2.3 and the time-referenced baseline of
- * SPEC 2.6. One generic channel does the arithmetic for both the line and
+ * external reference of docs/method/carry.md §4 and the time-referenced baseline of
+ * docs/method/carry.md §8. One generic channel does the arithmetic for both the line and
  * the rotation; they differ only in how progress and error are measured.
  */
 #include "erlaw.h"
@@ -103,7 +103,7 @@ static int channel_ref(erlaw_channel *c, double s, erlaw_ref ref, double s_ext, 
         *s_ref = s;
         return 0;
     case ERLAW_REF_EXTERNAL:
-        /* min semantics (SPEC 2.3): never a reference ahead of oneself */
+        /* min semantics (docs/method/carry.md §4): never a reference ahead of oneself */
         s_ext = clamp(s_ext, 0.0, s_f);
         ext_rate_update(c, s_ext, dt);
         *s_ref = fmin(s_ext, s);

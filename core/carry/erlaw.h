@@ -1,5 +1,5 @@
 /* erlaw: event-referenced control law for one straight segment
- * (SPEC 2.2, eq. 6-7), its orientation channel, external (synchronised)
+ * (docs/method/carry.md §3, eq. 6-7), its orientation channel, external (synchronised)
  * references, and the time-referenced baseline.
  *
  * Output is the commanded operational-space acceleration (linear in m/s^2,
@@ -12,9 +12,9 @@
  * s is always the *measured* progress (projection of X on the segment,
  * clamped to [0, s_f]); p_bias uses it. s_ref selects the reference:
  *   ERLAW_REF_MEASURED  s_ref = s                  (event law, eq. 6)
- *   ERLAW_REF_EXTERNAL  s_ref = min(k_i s*, s)     (synchronised, SPEC 2.3)
+ *   ERLAW_REF_EXTERNAL  s_ref = min(k_i s*, s)     (synchronised, docs/method/carry.md §4)
  *   ERLAW_REF_TIME      s_ref = s_d(t), advancing with the clock from the
- *                       segment start              (baseline, SPEC 2.6)
+ *                       segment start              (baseline, docs/method/carry.md §8)
  *   ERLAW_REF_BLOCKED   s_ref = s, planned motion dropped, the pose
  *                       across e held where the block was detected
  *                       (erlaw_line_hold / erlaw_rot_hold); s_ext unused
@@ -29,7 +29,7 @@
  * so the demand is the bias along the path (its full start-up value k0,
  * not eq. 7's faded p_bias(s): released near the goal, the arm must still
  * move on at k0 / k_v) plus a hold of the pose where the block was
- * detected, in every direction (SPEC 2.2: no error builds up). The pose
+ * detected, in every direction (docs/method/carry.md §3: no error builds up). The pose
  * held is the measured one, not the planned line: an obstacle that
  * deflected the arm (a pinned proximal link: the other joints carry the
  * tool on, off the line) is not fought, and a contact near a joint axis
@@ -39,7 +39,7 @@
  * The bias moves the arm on when
  * the obstacle goes (as it starts the arm at s0).
  *
- * External reference (a synchronised action, SPEC 2.3): s_ext = k_i s*.
+ * External reference (a synchronised action, docs/method/carry.md §4): s_ext = k_i s*.
  * With min semantics k_i s* <= s_i, and an arm never chases a reference
  * ahead of itself: s_ref = min(clamp(s_ext), s). An arm with s_ref = s
  * defines s* (it is the laggard): plain eq. 6 at its own s, bias included.
@@ -90,7 +90,7 @@
 #define ERLAW_ERR_ARG (-1)  /* NULL, non-finite input, invalid gains, bad
                                reference mode, or dt < 0                  */
 
-/* One set of limits and gains (one row of the lookup table, SPEC 2.5).
+/* One set of limits and gains (one row of the lookup table, docs/method/carry.md §6).
  * For the orientation channel read m as rad. */
 typedef struct {
     double v_m;   /* m/s                       */

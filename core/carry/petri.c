@@ -1,4 +1,4 @@
-/* petri: Petri-net engine of SPEC 2.4 (eq. 11, the seed's I_j / C_j
+/* petri: Petri-net engine of docs/method/carry.md §5 (eq. 11, the seed's I_j / C_j
  * event-path planning, split start/complete firing, inhibitor arcs for
  * external token sources, P-invariant checks) and a fixed-capacity BFS
  * reachability explorer (safe / bounded / deadlock). petri_net_validate

@@ -1,4 +1,4 @@
-/* petri: Petri-net engine for the discrete-event supervisor (SPEC 2.4,
+/* petri: Petri-net engine for the discrete-event supervisor (docs/method/carry.md §5,
  * eq. 11) and a bounded reachability explorer.
  *
  * A net is const tables: N- (input), N+ (output) and optionally an

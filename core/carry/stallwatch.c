@@ -1,6 +1,6 @@
 /* stallwatch: progress watchdog of the supervisor: time without a
  * completion while work is pending and nothing obstructs the cell, past a
- * limit, is a stall (no SPEC equation; issue: no silent stall; see
+ * limit, is a stall (no equation of docs/method/; issue: no silent stall; see
  * stallwatch.h). */
 #include "stallwatch.h"
 

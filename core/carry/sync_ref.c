@@ -1,4 +1,4 @@
-/* sync_ref: common action reference s* = min_i s_i / k_i of SPEC 2.3 (the
+/* sync_ref: common action reference s* = min_i s_i / k_i of docs/method/carry.md §4 (the
  * seed's step 3 prints max; its stated behaviour needs min). */
 #include "sync_ref.h"
 

@@ -1,4 +1,4 @@
-/* sync_ref: common action reference for synchronised actions (SPEC 2.3).
+/* sync_ref: common action reference for synchronised actions (docs/method/carry.md §4).
  *
  *   l_max = max l_i,  k_i = l_i / l_max,
  *   s* = min_i (s_i / k_i),  reference of arm i = k_i s*

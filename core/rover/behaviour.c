@@ -1,5 +1,5 @@
-/* behaviour: move-to-goal (seed eq. 5 as corrected in SPEC.md section 4,
- * saturation eq. 6), keep-formation (SPEC A, B, gamma form of eqs. 7-9,
+/* behaviour: move-to-goal (seed eq. 5 as corrected in docs/method/formation.md,
+ * saturation eq. 6), keep-formation (docs/method/formation.md §3 A, B, gamma form of eqs. 7-9,
  * saturation eq. 10), avoid-obstacles (d_st, k S_F, k_s (S_LF - S_RF)),
  * exceptions (dead zone eq. 2, narrow passage) and the blending of eq. 11
  * with the subsumption and vector-sum baselines.

@@ -1,5 +1,5 @@
-/* behaviour: the four seed-003 behaviours and their blending (SPEC.md
- * section 4; seed eqs. 2, 5-11 with the corrections of the SPEC).
+/* behaviour: the four seed-003 behaviours and their blending (docs/method/
+ * formation.md; seed eqs. 2, 5-11 with the corrections of docs/method/formation.md).
  *
  * Poses passed in are poses of the tracked point O (the beacon, the robot's
  * origin) with the robot heading; O lies at the signed distance d behind
@@ -50,7 +50,7 @@ typedef struct {
     double d_s_m;              /* single-robot safety distance */
     double k_v;                /* avoid: V = k S_F (1/s) */
     double k_s;                /* avoid: w = k_s (S_LF - S_RF) (rad/s per m) */
-    int    d_st_lateral;       /* 0: SPEC d_st (l_d cos phi_d); 1: lateral |l_d sin phi_d| */
+    int    d_st_lateral;       /* 0: the seed's d_st (l_d cos phi_d); 1: lateral |l_d sin phi_d| */
     double v_k_mps, w_k_radps; /* dead-zone escape, eq. 2 */
     double dead_zone_time_s;   /* dead-zone condition must hold this long */
     double passage_safety_m;   /* narrow passage: L + R + width < D + this */
@@ -96,7 +96,7 @@ int  behaviour_goal_raw(unicycle_cmd *u, double r_m, double phi_rad,
 int  behaviour_goal(unicycle_cmd *u, const pose2 *o, const double goal_m[2],
                     const behaviour_params *p);
 
-/* ---- keep formation (SPEC A, B, gamma; eq. 10) ------------------------ */
+/* ---- keep formation (docs/method/formation.md §3: A, B, gamma; eq. 10) ------------------------ */
 /* (l, phi) of O_i relative to O_0 in R0's frame. */
 void behaviour_formation_polar(double *l_m, double *phi_rad, const pose2 *o,
                                const unicycle_state *ref);

@@ -1,6 +1,6 @@
 /* formation: slot geometry, width D and slot assignment for the line /
  * triangle / column formations, and the narrow-passage protocol of
- * SPEC.md section 4 (seed 3.2.1, fig. 3: shrink, then change type in the
+ * docs/method/formation.md (seed 3.2.1, fig. 3: shrink, then change type in the
  * order line -> triangle -> column, restore when clear) as a state machine
  * kept consistent across robots by (announce_seq, origin) ordering.
  */

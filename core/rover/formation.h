@@ -1,6 +1,6 @@
 /* formation: slot geometry (line / triangle / column), formation width,
  * slot assignment by sorted robot id, and the narrow-passage protocol
- * (SPEC.md section 4: shrink first, then line -> triangle -> column, restore
+ * (docs/method/formation.md: shrink first, then line -> triangle -> column, restore
  * when clear), agreed across the team by sequenced announcements.
  *
  * Slots are given relative to the team reference point O_0 in R0's frame

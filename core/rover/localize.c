@@ -1,6 +1,6 @@
 /* localize: EKF of one Pioneer's axle-centre pose from its encoder
  * increments and its camera's range and bearing to known LED landmarks
- * (SPEC.md section 4: odometry corrected only by the robot's own sensors;
+ * (docs/method/formation.md: odometry corrected only by the robot's own sensors;
  * equations in localize.h and docs/formation.md "Localization").
  */
 #include "localize.h"

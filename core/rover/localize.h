@@ -1,5 +1,5 @@
-/* localize: one Pioneer's own pose from its own sensors (SPEC.md section
- * 4, distribution: odometry corrected by fixed LED landmarks seen by its
+/* localize: one Pioneer's own pose from its own sensors (docs/method/
+ * formation.md, distribution: odometry corrected by fixed LED landmarks seen by its
  * camera; never ground truth). A fixed-size extended Kalman filter on the
  * pose of the axle centre C, s = (x, y, theta):
  *

@@ -1,4 +1,4 @@
-/* odometry: differential-drive dead reckoning (SPEC.md section 4: no global
+/* odometry: differential-drive dead reckoning (docs/method/formation.md: no global
  * positioning, each robot knows itself by odometry). Each encoder increment
  * is taken as a constant-curvature arc of C (exact for constant wheel
  * speeds between samples) and integrated with unicycle_step_exact.

@@ -1,5 +1,5 @@
 /* odometry: differential-drive dead reckoning from accumulated wheel
- * encoder angles (SPEC.md sections 4, 5: each robot knows itself only by
+ * encoder angles (docs/method/formation.md, sonar.md: each robot knows itself only by
  * odometry). Integrates the pose of the axle centre C exactly along the arc
  * implied by each encoder increment; O (the beacon) is at the signed
  * distance d behind C (d < 0: ahead, unicycle.h).

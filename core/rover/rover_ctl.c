@@ -1,5 +1,5 @@
-/* rover_ctl: one Pioneer's distributed formation controller (SPEC.md
- * section 4: team-average reference, behaviours, eq. 11 blend, narrow
+/* rover_ctl: one Pioneer's distributed formation controller (docs/method/
+ * formation.md: team-average reference, behaviours, eq. 11 blend, narrow
  * passage protocol, dead-zone escape, heartbeat membership; section 7: safe
  * stop on stale input). Glue over odometry, team, formation and behaviour;
  * the pieces of its own are the escape's boundary following, giving way to
@@ -36,7 +36,7 @@ int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id,
     return ROVER_CTL_OK;
 }
 
-/* R0's heading: the SPEC's circular mean of the robots' headings couples
+/* R0's heading: the seed's circular mean of the robots' headings couples
  * every slot to every robot's turning (a robot that turns rotates the
  * frame, its slot moves sideways, it turns more): long formations (a
  * column) drift round in a slow spiral. With goal_heading_gain g > 0 the
@@ -75,7 +75,7 @@ static void stop_out(rover_ctl_out *out, int mode)
     out->mode = mode;
 }
 
-/* Sensors missing or older than stale_s (SPEC 7). */
+/* Sensors missing or older than stale_s (docs/method/lockstep.md §6). */
 static int sensors_stale(const rover_ctl_state *c, double t_s)
 {
     return !c->have_enc || !c->have_sonar || t_s - c->enc_t_s > c->p.stale_s ||
@@ -237,7 +237,7 @@ int rover_ctl_step(rover_ctl_state *c, double t_s, double dt_s, rover_ctl_out *o
         return ROVER_CTL_ERR_ARG;
     }
     if (sensors_stale(c, t_s)) {
-        /* SPEC 7: stop, and stay silent so the mates re-slot without us */
+        /* docs/method/lockstep.md §6: stop, and stay silent so the mates re-slot without us */
         stop_out(out, ROVER_MODE_SAFE_STOP);
         if (c->have_enc) rover_ctl_own_pose(c, &out->o);
         return ROVER_CTL_OK;

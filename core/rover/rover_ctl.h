@@ -1,5 +1,5 @@
-/* rover_ctl: one Pioneer's distributed formation controller (SPEC.md
- * section 4), the whole per-robot algorithm behind tandem-rover:
+/* rover_ctl: one Pioneer's distributed formation controller (docs/method/
+ * formation.md), the whole per-robot algorithm behind tandem-rover:
  *   own pose from wheel encoders fused with the world's LED landmarks seen
  *   by the camera (localize.h, EKF), or with localization off odometry
  *   alone with a frame consensus among mates seen by the camera,

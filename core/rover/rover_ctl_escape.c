@@ -1,5 +1,5 @@
 /* rover_ctl_escape: the formation controller's dead-zone escape and giving
- * way to it (SPEC.md section 4: dead-zone escape, eq. 2's alternating
+ * way to it (docs/method/formation.md: dead-zone escape, eq. 2's alternating
  * +-w_k turn in behaviour_exception_step; see rover_ctl.h). After the turn
  * the robot follows the obstacle boundary until Bug2's leave rule lets it
  * rejoin; a robot in the way of a mate that escapes leaves the formation
@@ -234,7 +234,7 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
 
 /* Dead-zone escape and give-way state machine; returns 1 while escaping
  * (U in *u).
- *   trapped (SPEC: front, left, right < d_s for the dead-zone time): LEAVE,
+ *   trapped (docs/method/formation.md §10: front, left, right < d_s for the dead-zone time): LEAVE,
  *     turn +-w_k alternately per entry until the front is free (eq. 2),
  *     then FOLLOW the boundary, the wall on the side turned away from;
  *   a mate escaping right ahead (give_way_start): LEAVE, YIELD (turn on

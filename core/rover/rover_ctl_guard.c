@@ -1,5 +1,5 @@
 /* rover_ctl_guard: the formation controller's collision guard and its
- * view of a narrow passage (SPEC.md section 4: narrow passage protocol,
+ * view of a narrow passage (docs/method/formation.md: narrow passage protocol,
  * left + right + robot width against formation width + safety). The guard
  * is the last line of defence behind eq. 11's avoidance: it caps forward
  * speed short of an echo in the way and keeps the robot from turning into
@@ -132,7 +132,7 @@ static int side_wall(const rover_ctl_state *c, const pose2 *cpos, const unicycle
     return SIDE_WALL;
 }
 
-/* Width of the passage the team is in, for the passage protocol (SPEC 4:
+/* Width of the passage the team is in, for the passage protocol (docs/method/formation.md:
  * left + right + robot width against formation width + safety):
  * INFINITY when a side is really open, NAN when this robot cannot tell
  * (a side hidden by a mate or an obstacle inside the formation, see

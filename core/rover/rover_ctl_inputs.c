@@ -1,5 +1,5 @@
-/* rover_ctl_inputs: what the formation controller takes in (SPEC.md
- * section 4): wheel encoders (odometry), the landmark filter fed by the
+/* rover_ctl_inputs: what the formation controller takes in (docs/method/
+ * formation.md): wheel encoders (odometry), the landmark filter fed by the
  * camera's LED landmarks (localize.h, EKF), sonar ranges, team messages
  * (heartbeat membership, the narrow-passage protocol's announcements
  * adopted through formation_fsm_on_announce) and mates' beacons; the own

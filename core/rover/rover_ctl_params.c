@@ -1,5 +1,5 @@
-/* rover_ctl_params: the formation controller's parameter set (SPEC.md
- * section 4: behaviours, eq. 11 blend, narrow-passage protocol, dead-zone
+/* rover_ctl_params: the formation controller's parameter set (docs/method/
+ * formation.md: behaviours, eq. 11 blend, narrow-passage protocol, dead-zone
  * escape, heartbeat membership; section 7: safe stop on stale input), its
  * defaults, with the reasons for the values tuned in the runs, and
  * rover_ctl_params_validate.

@@ -1,7 +1,7 @@
 /* rover_snapshot: what a restarted formation controller takes back
  * (rover_ctl_snapshot / rover_ctl_resume, see rover_ctl.h): its own pose
  * (odometry, frame correction, the landmark filter), the formation
- * protocol (SPEC 4.3), the dead-zone escape (eq. 2) and the counters, as
+ * protocol (docs/method/formation.md §9), the dead-zone escape (eq. 2) and the counters, as
  * a vector of numbers for tandem-rover's journal. One const table names
  * every field once, for both directions; rover_snapshot_validate checks
  * it (sizes, no field twice, the count the header promises).

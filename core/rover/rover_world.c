@@ -1,6 +1,6 @@
 /* rover_world: launch configuration of the Pioneer team (worlds, initial
  * poses, goal, team frame) and ground-truth footprint clearance
- * (SPEC.md sections 4, 5). See rover_world.h.
+ * (docs/method/formation.md, sonar.md). See rover_world.h.
  */
 #include "rover_world.h"
 
@@ -92,7 +92,7 @@ static void build_features(rover_world_config *w, double xf)
         add_wall(w, xf + 4.0, -3.0, xf + 4.0, -9.0, t);
         break;
     default: {
-        /* DEADZONE (SPEC 4, dead-zone exception): a U lying across the way,
+        /* DEADZONE (docs/method/formation.md, dead-zone exception): a U lying across the way,
          * centred on the start -> goal line (y = 0), opening toward the
          * team, the goal 3.5 m behind its back wall. The mouth, 3.2 m
          * between the lips, takes the whole line (formation_width 2.38 m

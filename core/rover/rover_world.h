@@ -1,5 +1,5 @@
-/* rover_world: the launch configuration of the Pioneer team (SPEC.md
- * sections 4, 5): the four worlds (open, obstacles, corridor, deadzone) as
+/* rover_world: the launch configuration of the Pioneer team (docs/method/formation.md,
+ * sonar.md): the four worlds (open, obstacles, corridor, deadzone) as
  * lists of static obstacles, the robots' initial poses and the goal, the
  * team frame fixed from those initial poses, the Pioneer 2 DX footprint and
  * ground-truth clearance between footprints and obstacles.

@@ -1,7 +1,7 @@
 /* sonar: 2.5-D ray casting (boxes, cylinders, walls) with a uniform-grid
  * broad phase, and the Pioneer 2 DX front-ring transducer model with cone,
  * nearest echo, range clamp, specular loss and seeded Gaussian noise
- * (SPEC.md section 5; the 8-sonar grouping used by the avoid behaviour of
+ * (docs/method/sonar.md; the 8-sonar grouping used by the avoid behaviour of
  * section 4 is in behaviour.c).
  */
 #include "sonar.h"

@@ -1,5 +1,5 @@
 /* sonar: ray casting against a fixed-capacity 2.5-D world and the Pioneer
- * 2 DX front-ring transducer model (SPEC.md section 5).
+ * 2 DX front-ring transducer model (docs/method/sonar.md).
  *
  * World: up to SONAR_MAX_PRIMS primitives, each a 2-D shape extruded over
  * [z_min, z_max] (infinities allowed): oriented boxes (axis-aligned is

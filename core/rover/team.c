@@ -1,5 +1,5 @@
 /* team: team-mate table from team messages, heartbeat timeout, late join,
- * the team-average reference R0 of SPEC.md section 4 (keep formation) and
+ * the team-average reference R0 of docs/method/formation.md (keep formation) and
  * a complementary-filter fusion of camera beacon observations.
  */
 #include "team.h"

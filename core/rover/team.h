@@ -1,5 +1,5 @@
-/* team: the table of team-mates built from their team messages (SPEC.md
- * section 4, distribution): heartbeat timeout, late joiners, the team
+/* team: the table of team-mates built from their team messages (docs/method/
+ * formation.md, distribution): heartbeat timeout, late joiners, the team
  * average reference R0 and fusion of camera beacon observations.
  *
  * Positions are of the point O (the beacon) in the team frame. Reference

@@ -1,5 +1,5 @@
 /* unicycle: kinematics of the wheel-axle centre C and of the tracked point
- * O at the signed distance d behind it (d < 0: ahead) (SPEC.md section 4,
+ * O at the signed distance d behind it (d < 0: ahead) (docs/method/formation.md,
  * seed eqs. 1, 3), exact-arc and RK4 integration, and the (V, w)
  * saturation of seed eqs. 6 and 10.
  */

@@ -1,4 +1,4 @@
-/* unicycle: kinematic model of a Pioneer-style robot (SPEC.md section 4).
+/* unicycle: kinematic model of a Pioneer-style robot (docs/method/formation.md).
  *
  * The unicycle point is C, the wheel-axle centre, with heading theta and
  * controls (V, w): C' = V (cos theta, sin theta), theta' = w. The tracked

@@ -1,5 +1,5 @@
 /* tdsd: task decomposition and speed distribution near singularities,
- * SPEC.md §3 (seed 002, Zhang & Fan 2016), eq. 8, 11-13:
+ * docs/method/tdsd.md (seed 002, Zhang & Fan 2016), eq. 8, 11-13:
  *   y1' = lambda p_d' + K_p e_p                  (12, time-scaled)
  *   y2' = lambda w_d  + K_o e_o                  (13)
  *   P1 = I - J1+ J1,  dq1 = J1+ y1',  dq2 = (J2P1)+ (y2' - J2 dq1),

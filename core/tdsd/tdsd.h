@@ -1,4 +1,4 @@
-/* tdsd: task decomposition + speed distribution (SPEC.md §3, eq. 8, 11-13)
+/* tdsd: task decomposition + speed distribution (docs/method/tdsd.md, eq. 8, 11-13)
  * for a 6-joint arm, plus the resolved-rate baselines (plain pseudo-inverse
  * and damped least squares, both clipped per joint).
  *
@@ -34,7 +34,7 @@ typedef enum {
     TDSD_ORIENT_FULL = 1, /* J2 = Jw (3 rows), e_o of eq. 13 */
     TDSD_ORIENT_AXIS = 2  /* tool axis a only (2 rows): J2 = [n^T; o^T] Jw,
                              e2 = [n.(a x a_d), o.(a x a_d)]; rotation about
-                             a is left free (SPEC §3 S2, "liquid transport") */
+                             a is left free (docs/method/tdsd.md §8 S2, "liquid transport") */
 } tdsd_orient_mode;
 
 typedef struct {
@@ -99,7 +99,7 @@ void tdsd_axis_error(double e2[2], const double R_d[9], const double R[9]);
 void tdsd_axis_jacobian(double J2[2 * TDSD_NJ], const double Jw[3 * TDSD_NJ],
                         const double R[9]);
 
-/* Criterion of SPEC §3 S2, for the joints whose bit is set in joint_mask
+/* Criterion of docs/method/tdsd.md §8 S2, for the joints whose bit is set in joint_mask
  * (bit i = joint i+1; S2 uses 0x38 = joints 4..6):
  *   V(q) = -sum ((q_i - mid_i) / (max_i - min_i))^2,  mid = (min+max)/2
  *   dV/dq_i = -2 (q_i - mid_i) / (max_i - min_i)^2.

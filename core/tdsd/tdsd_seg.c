@@ -1,7 +1,7 @@
-/* tdsd_seg: a Cartesian action-row segment resolved by TDSD (SPEC.md §3,
+/* tdsd_seg: a Cartesian action-row segment resolved by TDSD (docs/method/tdsd.md,
  * eq. 8, 11-13; path rate contract of tdsd.h) along a jerk-limited profile
- * (SPEC 2.1, sprofile), integrated into a joint reference for the
- * computed-torque servo (SPEC 2.2), plus the servo's velocity limit.
+ * (docs/method/carry.md §2, sprofile), integrated into a joint reference for the
+ * computed-torque servo (docs/method/carry.md §3), plus the servo's velocity limit.
  * See tdsd_seg.h.
  */
 #include "tdsd_seg.h"

@@ -1,5 +1,5 @@
 /* tdsd_seg: one straight Cartesian segment of an action row resolved by
- * TDSD (SPEC.md §3, issue 5: action_row_t.use_tdsd) instead of the
+ * TDSD (docs/method/tdsd.md: action_row_t.use_tdsd) instead of the
  * event-referenced law, for an arm whose inner loop is the joint
  * computed-torque servo (jointctl).
  *
@@ -43,7 +43,7 @@
 typedef struct tdsd_seg_params {
     double v_m, a_m, u_m;    /* profile: peak speed (m/s), acceleration
                                 (m/s^2), da/ds (1/s^2), as action_row_t */
-    double K_p, K_o;         /* 1/s, SPEC eq. 12, 13 */
+    double K_p, K_o;         /* 1/s, docs/method/tdsd.md §2 eq. 12, 13 */
     double k_V;              /* criterion gain (priority 3), >= 0 */
     unsigned criterion_mask; /* tdsd_midrange_grad joints; 0x38 = q4..q6 */
     double speed_frac;       /* resolver uses speed_frac * qd_max, (0, 1]:

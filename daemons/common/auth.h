@@ -1,4 +1,4 @@
-/* auth: message authentication for the tandem bus (issue 13).
+/* auth: message authentication for the tandem bus (docs/method/lockstep.md §4-5).
  *
  * Every message carries a fixed-size trailer after its LCM encoding:
  *

@@ -1,4 +1,4 @@
-/* auth_acl: who may publish on which channel (issue 13).
+/* auth_acl: who may publish on which channel (docs/method/lockstep.md §4-5).
  *
  * One const table (auth_acl_table in auth_acl.c) lists every tandem
  * channel with the roles allowed to publish on it; numbered channels

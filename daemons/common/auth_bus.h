@@ -1,4 +1,4 @@
-/* auth_bus: the process side of the secure bus (issue 13; auth.h has the
+/* auth_bus: the process side of the secure bus (docs/method/lockstep.md §4-5; auth.h has the
  * wire format). One process = one sender: it signs everything it
  * publishes with the deployment key and checks everything it receives
  * before any handler sees it.

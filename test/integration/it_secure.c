@@ -1,4 +1,4 @@
-/* Integration: the secure bus (issue 13).
+/* Integration: the secure bus (docs/method/lockstep.md §4-5).
  *
  * 1. An attacker without the key changes nothing. A short carry and a
  *    short formation scenario run twice on two buses, once alone and once

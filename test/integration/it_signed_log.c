@@ -1,4 +1,4 @@
-/* Integration: logs of the secure bus (issue 13). A short real-time run
+/* Integration: logs of the secure bus (docs/method/lockstep.md §4-5). A short real-time run
  * (the simulator with both arms and two rovers, both arm controllers, the
  * supervisor, one rover host) is recorded with lcm-logger, together with
  * one message of each kind the run does not send (SIM_ACK, ARM1_JOINT_REF,

@@ -1,4 +1,4 @@
-/* Integration (issue 5): tandem-arm executes a use_tdsd Cartesian action row
+/* Integration : tandem-arm executes a use_tdsd Cartesian action row
  * on the simulated PUMA 560 (tandem-sim, lockstep; this test is a
  * participant and sees every step). The line is the wrist line of
  * test_tdsd_seg: radially inwards 0.20 m, tool down tilted 3 deg sideways,

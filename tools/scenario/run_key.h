@@ -1,4 +1,4 @@
-/* run_key: the bus key of a tandem-scenario run (issue 13). The options
+/* run_key: the bus key of a tandem-scenario run (docs/method/lockstep.md §4-5). The options
  * --key-file PATH and --insecure are taken out of the command line before
  * the scenario parses it. Without them the run uses $TANDEM_KEY_FILE if
  * set, else a key made for this run alone (a 0600 file in a fresh

@@ -1,5 +1,5 @@
 /* tandem-scenario: runs a named experiment in lockstep and writes
- * DIR/summary.json, CSV time series and PNG plots (SPEC.md §6).
+ * DIR/summary.json, CSV time series and PNG plots (docs/method/lockstep.md §8).
  * Each scenario is one file scenario_<name>.c exporting a scenario_def;
  * this header holds the shared output helpers. */
 #ifndef TANDEM_SCENARIO_H

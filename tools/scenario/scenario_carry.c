@@ -1,4 +1,4 @@
-/* tandem-scenario carry: the seed-000 experiment (SPEC.md §2.6, issue 4).
+/* tandem-scenario carry: the seed-000 experiment (docs/method/carry.md §8).
  *
  * Spawns tandem-sim, tandem-arm 1 and 2 and tandem-supervisor in lockstep
  * on a private LCM URL and joins the lockstep itself (it answers every
@@ -72,7 +72,7 @@
  * daemon that really died is seen by its exit: so only after 10 minutes
  * (a loaded machine can starve a controller for tens of seconds). */
 #define LOCKSTEP_TIMEOUT_MS "600000"
-/* success criteria (issue 10's "must show" figures) */
+/* success criteria (the figures a carry run must show) */
 #define CRIT_FORCE_10MS_N 1000.0
 #define CRIT_RESUME_S 1.0
 
@@ -866,7 +866,7 @@ static const option_program carry_program = {
              "         [--seed S] [--no-serial] [--serial-workpieces M]\n"
              "         [--block-detect on|off] [--stall-s S] [--fault kill:D:T[:R]]...\n"
              "         [--drop-rate P] [--lcm-url URL] --out DIR\n"
-             "Two-arm carry in lockstep with the stick pushed into the arms (SPEC 2.6).\n\n",
+             "Two-arm carry in lockstep with the stick pushed into the arms (docs/method/carry.md §8).\n\n",
     .epilog = "Exit status: 0 when the run met every success criterion (all delivered,\n"
               "none dropped, no joint-limit violation, speeds within the motor limits,\n"
               "10 ms contact force <= 1000 N, resumed within 1 s of every removal, no\n"

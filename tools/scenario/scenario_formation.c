@@ -1,4 +1,4 @@
-/* tandem-scenario formation: the seed-003 Pioneer team (SPEC.md §4, §6).
+/* tandem-scenario formation: the seed-003 Pioneer team (docs/method/formation.md, §6).
  *
  * Spawns tandem-sim (lockstep, rovers only) and the rover daemons as
  * children on a private LCM bus, registers itself as a lockstep participant

@@ -1,6 +1,6 @@
-/* tandem-scenario liquid: seed 002's S2 (SPEC.md §3, seed Fig. 7-8).
+/* tandem-scenario liquid: seed 002's S2 (docs/method/tdsd.md, seed Fig. 7-8).
  *
- * The PUMA 560 (SPEC §3 joint ranges) carries a bucket upright from a to b
+ * The PUMA 560 (docs/method/tdsd.md joint ranges) carries a bucket upright from a to b
  * to c (straight segments, 3 s each, rest to rest); the base turns about
  * 200 deg. a, b, c, the start pose and why: tools/scenario/tdsd_setup.c
  * and docs/tdsd.md.

@@ -1,4 +1,4 @@
-/* tandem-scenario singularity: seed 002's S1 (SPEC.md §3, seed Fig. 3-6).
+/* tandem-scenario singularity: seed 002's S1 (docs/method/tdsd.md, seed Fig. 3-6).
  *
  * The seed-002 arm moves its tool on a straight line A -> B in 3.5 s with
  * the tool frame held; the wrist centre passes 3 mm from the joint-1 axis.

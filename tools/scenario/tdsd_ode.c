@@ -1,5 +1,5 @@
-/* tdsd_ode: TDSD resolved in the loop against the ODE arm (SPEC.md §3,
- * issue 5 --plant ode; see tdsd_ode.h).
+/* tdsd_ode: TDSD resolved in the loop against the ODE arm (docs/method/tdsd.md,
+ * --plant ode; see tdsd_ode.h).
  *
  * Per simulator step k: ARM1_STATE(k) -> tdsdrun_step on the measured q ->
  * q_ref += dq dt, publish ARM1_JOINT_REF(q_ref, dq, d(dq)/dt) -> ack k.

@@ -1,5 +1,5 @@
 /* tdsd_run: path, resolver step, measures and kinematic plant shared by the
- * singularity and liquid scenarios (SPEC.md §3 S1/S2, §6; see tdsd_run.h).
+ * singularity and liquid scenarios (docs/method/tdsd.md §8 S1/S2, §6; see tdsd_run.h).
  * Pure C99 + libm over the core (arm_kin, tdsd, linalg, vec3).
  */
 #include "tdsd_run.h"

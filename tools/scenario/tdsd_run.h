@@ -1,7 +1,7 @@
-/* tdsd_run: the part of the TDSD scenarios (singularity, liquid; SPEC.md
- * §3 S1/S2) that is pure computation: the tool path, one resolver step
+/* tdsd_run: the part of the TDSD scenarios (singularity, liquid; docs/method/
+ * tdsd.md §8 S1/S2) that is pure computation: the tool path, one resolver step
  * (tdsd_step or a resolved-rate baseline) from a joint vector, the measures
- * of SPEC.md §6 / issue 5, and the kinematic plant (joint rates integrated
+ * of docs/method/lockstep.md §8, and the kinematic plant (joint rates integrated
  * at 1 kHz). The ODE plant (tdsd_ode.c) calls the same step on the measured
  * state. No I/O, no allocation: test/unit/tdsd/test_tdsd_scenario.c links it with the
  * core alone.
@@ -82,7 +82,7 @@ int  tdsdrun_step(const tdsdrun_cfg *c, const tdsdrun_path *p, tdsdrun_state *st
 /* 1 when the path is done and settle_s has passed. */
 int  tdsdrun_finished(const tdsdrun_cfg *c, const tdsdrun_state *st);
 
-/* Measures of issue 5 (SPEC.md §6). */
+/* Measures (docs/method/lockstep.md §8). */
 typedef struct tdsdrun_metrics {
     double region_m;
     long   n;

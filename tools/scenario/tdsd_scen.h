@@ -1,6 +1,6 @@
 /* tdsd_scen: command line, plant selection, CSV, summary.json and plots
  * shared by `tandem-scenario singularity` and `tandem-scenario liquid`
- * (SPEC.md §3 S1/S2, §6). The scenario files only choose the arm, the
+ * (docs/method/tdsd.md §8 S1/S2, §6). The scenario files only choose the arm, the
  * path, the start pose and the method.
  */
 #ifndef TANDEM_TDSD_SCEN_H

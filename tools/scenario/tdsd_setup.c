@@ -1,4 +1,4 @@
-/* tdsd_setup: S1 and S2 of seed 002 (SPEC.md §3); why these numbers: see
+/* tdsd_setup: S1 and S2 of seed 002 (docs/method/tdsd.md); why these numbers: see
  * docs/tdsd.md and the comments below.
  *
  * Base frame of both arms: z up along the joint-1 axis, mounting surface at
@@ -32,8 +32,8 @@ static int start_pose(const tdsdrun_cfg *c, const tdsdrun_path *p, const char *b
  * With that frame the wrist centre is the tool point + 50 mm along x, i.e.
  * on x = +3 mm: it passes 3 mm from the joint-1 axis at mid-path (shoulder
  * singularity), 0.271 m below the shoulder. Height and frame were chosen
- * where the seed-002 arm stays inside the SPEC §3 ranges along the whole
- * line on both sides of the axis; above the shoulder the SPEC ranges of
+ * where the seed-002 arm stays inside the docs/method/tdsd.md ranges along the whole
+ * line on both sides of the axis; above the shoulder the seed-002 ranges of
  * q2/q3 leave no in-range pose for such a line. */
 int tdsd_setup_singularity(tdsdrun_cfg *c, tdsdrun_path *p, tdsdrun_method method,
                            double q0_rad[ARM_NJ])

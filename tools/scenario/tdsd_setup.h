@@ -1,4 +1,4 @@
-/* tdsd_setup: the two experiments of seed 002 (SPEC.md §3 S1, S2) as data:
+/* tdsd_setup: the two experiments of seed 002 (docs/method/tdsd.md §8 S1, S2) as data:
  * arm, tool, path, gains and start pose. Pure (no I/O): the scenarios and
  * test/unit/tdsd/test_tdsd_scenario.c use the very same set-up.
  */

@@ -1,4 +1,4 @@
-/* Unit tests for sprofile (SPEC 2.1): identities checked by finite
+/* Unit tests for sprofile (docs/method/carry.md §2): identities checked by finite
  * differences over s, for long, short and very short segments. */
 #include <stdarg.h>
 #include <stddef.h>

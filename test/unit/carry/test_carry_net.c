@@ -1,4 +1,4 @@
-/* Unit tests for carry_net (SPEC 2.4, 2.5): reachability of the carry
+/* Unit tests for carry_net (docs/method/carry.md §5, 2.5): reachability of the carry
  * net, pipelining, the one-workpiece cycle, a randomised concurrent
  * supervisor, and the lookup table's gains on the point-mass loop. */
 #include <stdarg.h>

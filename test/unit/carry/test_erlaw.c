@@ -1,4 +1,4 @@
-/* Unit tests for erlaw (SPEC 2.2, 2.6): closed-loop error dynamics on a
+/* Unit tests for erlaw (docs/method/carry.md §3, 2.6): closed-loop error dynamics on a
  * point mass X'' = u (the plant the arm's computed-torque loop makes of
  * the arm), including a frozen ("blocked") mass and its release. */
 #include <stdarg.h>
@@ -211,7 +211,7 @@ static void test_blocked_event_vs_time(void **st)
     assert_true(m.speed_max > 2.0 * G.v_m);
 }
 
-/* External reference (SPEC 2.3): a leader mass runs the event law, the
+/* External reference (docs/method/carry.md §4): a leader mass runs the event law, the
  * follower tracks s_ref = its s. The leader is frozen at cruise: the
  * follower's speed falls below 1 cm/s within 50 ms, its lead over the
  * frozen reference stays below g + v0 / (e w), it rests at the gap and

@@ -1,4 +1,4 @@
-/* Unit tests for petri (SPEC 2.4): eq. 11, the seed's enabling scan
+/* Unit tests for petri (docs/method/carry.md §5): eq. 11, the seed's enabling scan
  * against the bitmask test, split firing, invariants, and reachability
  * (safe, unbounded, deadlock, capacity). */
 #include <stdarg.h>

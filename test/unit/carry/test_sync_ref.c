@@ -1,4 +1,4 @@
-/* Unit tests for sync_ref (SPEC 2.3), including a closed loop of two
+/* Unit tests for sync_ref (docs/method/carry.md §4), including a closed loop of two
  * point-mass "arms" under erlaw with the common reference. */
 #include <stdarg.h>
 #include <stddef.h>

@@ -447,7 +447,7 @@ static void test_d_st(void **state)
     behaviour_params p;
     (void)state;
     behaviour_params_default(&p);
-    /* abreast slot at +-90 deg: SPEC form gives d_s + D/2 */
+    /* abreast slot at +-90 deg: the seed's form gives d_s + D/2 */
     assert_true(fabs(behaviour_d_st(&p, 2.0, 1.0, VEC2_PI / 2) - (p.d_s_m + 1.0)) < 1e-12);
     /* lateral variant: edge robot needs only d_s, centre d_s + D/2 */
     p.d_st_lateral = 1;

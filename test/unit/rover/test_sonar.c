@@ -218,7 +218,7 @@ static void test_firing_sequence(void **state)
     for (k = 0; k < SONAR_N; k++) assert_int_equal(seen[k], 1);
     assert_int_equal(sonar_fired_index((SONAR_N + 0.5) * m.fire_period_s, &m), 7);
     assert_int_equal(sonar_fired_index(-1.0, &m), SONAR_ERR_ARG);
-    /* table: symmetric ring, angles as in the SPEC */
+    /* table: symmetric ring, angles as in docs/method/sonar.md */
     for (k = 0; k < SONAR_N; k++) {
         const sonar_transducer *a = &sonar_p2dx_front[k], *b = &sonar_p2dx_front[SONAR_N - 1 - k];
         close_to(a->angle_rad, -b->angle_rad, 1e-15);

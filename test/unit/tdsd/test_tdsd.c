@@ -1,4 +1,4 @@
-/* Unit tests for tdsd (SPEC §3): priority-1 exactness, joint speed limits on
+/* Unit tests for tdsd (docs/method/tdsd.md): priority-1 exactness, joint speed limits on
  * random and singular Jacobians, speed distribution Q1/Q2, time scaling,
  * eq. 13 orientation error, null-space invariance, criterion gradient, and
  * the clipped-pinv / DLS baselines. Jacobians are random matrices: TDSD is

@@ -1,4 +1,4 @@
-/* Guards the claims of issue 5 / docs/tdsd.md on the kinematic plant: the
+/* Guards the claims of docs/tdsd.md on the kinematic plant: the
  * seed-002 S1 path through the shoulder singularity with TDSD (position
  * error, joint speed limits, Q1 behaviour, orientation recovery), that the
  * same path really defeats the baselines (so the S1 numbers mean

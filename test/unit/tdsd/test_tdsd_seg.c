@@ -1,4 +1,4 @@
-/* Unit tests for tdsd_seg (issue 5: use_tdsd Cartesian segments): closed
+/* Unit tests for tdsd_seg (docs/method/tdsd.md §7: use_tdsd Cartesian segments): closed
  * loop on the kinematic model (the arm follows its joint reference
  * exactly) along a straight tool-down line on the PUMA 560 that passes a
  * few mm from the wrist singularity (q5 = 0): the tool stays within 0.5 mm
