@@ -223,8 +223,11 @@ static int arms_create(void *model, sim_world *w, const sim_config *cfg)
 
 static void arms_destroy(void *model, sim_world *w)
 {
-    (void)model;
-    (void)w;   /* bodies and joints go with the ODE world */
+    sim_arms *arms = model;
+    (void)w;
+    /* bodies, joints and the stick's geom go with the ODE world: the
+     * stick must not outlive it (a seed reset builds a new world) */
+    arms->stick = NULL;
 }
 
 /* ---- commands in ---------------------------------------------------------- */

@@ -57,7 +57,7 @@ typedef struct sim_arms {
     const sim_config *cfg;
     sim_world  *w;                     /* the world the arms live in */
     sim_arms_channel chan[SIM_ARMS];
-    dGeomID     stick;                 /* NULL: no stick */
+    dGeomID     stick;                 /* NULL: no stick (cleared with the world) */
     int         stick_target, stick_link;
 } sim_arms;
 
