@@ -1,5 +1,5 @@
 /* sim_app: the state of tandem-sim, one struct created in main and handed
- * to every function of sim_main.c (command line, start-up)
+ * to every function of sim_main.c (command line, table checks, start-up)
  * and sim_loop.c (messages in and out, the step, the two timing modes),
  * and the calls between the two files. It owns every model's state; a
  * model's hooks get theirs through sim_model.state.

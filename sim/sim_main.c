@@ -1,15 +1,18 @@
 /* tandem-sim: the ODE simulator daemon (SPEC.md §1, §5).
  * Owns the world, the clock and every model's state (sim_app.h); models
  * (arms, workpieces, rovers) plug in through sim_model_ops. This file: the
- * command line, start-up and shutdown; the step and the timing modes are
- * in sim_loop.c.
+ * command line, the checks of the constant tables the models are built
+ * from, start-up and shutdown; the step and the timing modes are in
+ * sim_loop.c.
  */
 #include "sim_app.h"
 #include <stdio.h>
 #include <string.h>
 #include "arm_model.h"
+#include "cell.h"
 #include "formation.h"
 #include "options.h"
+#include "sonar.h"
 
 /* --friction V,C: both in [0, 100] */
 static int parse_friction(const char *prog, void *dest, char *value)
@@ -107,8 +110,41 @@ static int parse_args(sim_app *app, int argc, char **argv)
     return 0;
 }
 
-/* Defaults, the command line, the models in step order. 0 to run; -1 to
- * exit with *status (--help, a bad option). */
+/* A constant table refused by its validator: said with the table and the
+ * code's name. The module's codes are the first n_codes of -1 ARG,
+ * -2 NONFINITE, -3 RANGE, -4 INCONSISTENT (arm_model.h and cell.h have all
+ * four, sonar.h ARG alone). */
+static int table_refused(const char *table, const char *module, int n_codes, int rc)
+{
+    static const char *const why[] = { "ARG", "NONFINITE", "RANGE", "INCONSISTENT" };
+    const char *name = rc <= -1 && rc >= -n_codes ? why[-rc - 1] : "?";
+    fprintf(stderr, "tandem-sim: %s refused by its validator: %s_ERR_%s (%d)\n", table, module, name, rc);
+    return rc;
+}
+
+/* The constant tables the models are built from: the arm models of the
+ * pair, the cell layout, the robots' sonar model. */
+static int check_tables(const sim_app *app)
+{
+    sonar_model sm;
+    char what[64];
+    int k, rc;
+    for (k = 0; k < SIM_ARMS; k++) {
+        const arm_model *m = sim_arms_model(&app->cfg, k);
+        snprintf(what, sizeof what, "arm %d's model '%s'", k + 1, m->name ? m->name : "");
+        if ((rc = arm_model_validate(m)) != 0)
+            return table_refused(what, "ARM_MODEL", 4, rc);
+    }
+    if ((rc = cell_layout_validate(&cell_default)) != 0)
+        return table_refused("cell layout cell_default", "CELL", 4, rc);
+    sim_rovers_sonar_model(&sm);
+    if ((rc = sonar_model_validate(&sm)) != 0)
+        return table_refused("the Pioneer sonar model", "SONAR", 1, rc);
+    return 0;
+}
+
+/* Defaults, the command line, the tables, the models in step order. 0 to
+ * run; -1 to exit with *status (--help, a bad option, a bad table). */
 static int setup(sim_app *app, int argc, char **argv, int *status)
 {
     int rc;
@@ -122,6 +158,10 @@ static int setup(sim_app *app, int argc, char **argv, int *status)
     rc = parse_args(app, argc, argv);
     if (rc < 0) {
         *status = options_exit_status(rc);
+        return -1;
+    }
+    if (check_tables(app) != 0) {
+        *status = 2;
         return -1;
     }
     app->w.lockstep = app->w.d.lockstep;
