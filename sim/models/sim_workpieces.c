@@ -321,12 +321,12 @@ static void settle(sim_workpieces *m, int i)
         return;
     if (p->state == WP_FREE && !on_floor && xy_dist(c, cell_default.deliver_center_m) < WP_DELIVER_RADIUS_M) {
         m->delivered++;
-        fprintf(stderr, "tandem-sim: workpiece %d m->delivered\n", (int)p->id);
+        fprintf(stderr, "tandem-sim: workpiece %d delivered\n", (int)p->id);
         park(m, i);
     } else if (on_floor || (p->state == WP_FREE && xy_dist(c, cell_default.pick_center_m) >= WP_PICK_RADIUS_M) ||
                (p->state == WP_ON_PICK && xy_dist(c, cell_default.pick_center_m) >= WP_PICK_RADIUS_M)) {
         m->dropped++;
-        fprintf(stderr, "tandem-sim: workpiece %d m->dropped at (%.3f %.3f %.3f)\n", (int)p->id, c[0], c[1], c[2]);
+        fprintf(stderr, "tandem-sim: workpiece %d dropped at (%.3f %.3f %.3f)\n", (int)p->id, c[0], c[1], c[2]);
         park(m, i);
     } else if (p->state == WP_FREE) {
         p->state = WP_ON_PICK;    /* put back down in the pick zone: pick it again */
