@@ -13,7 +13,9 @@
  * Usage: bench_rovers [SIM_SECONDS] [BIN_DIR]  (default 20 s, build/bin)
  */
 #include "sim_world.c"
+#include "sim_lockstep.c"
 #include "sim_rovers.c"
+#include "sim_rovers_sense.c"
 #include <time.h>
 #include <sys/resource.h>
 #include <unistd.h>   /* getpid */
@@ -44,6 +46,7 @@ static double wall_s(void)
 static void in_process(int n, double sim_s)
 {
     static sim_world w;
+    static sim_rovers team;
     sim_config cfg;
     const int64_t steps = (int64_t)(sim_s / SIM_DT_S);
     int64_t k;
@@ -56,24 +59,24 @@ static void in_process(int n, double sim_s)
     cfg.rovers = n;
     snprintf(cfg.rover_world, sizeof cfg.rover_world, "obstacles");
     sim_world_create(&w);
-    if (sim_rovers_ops.create(&w, &cfg) != 0) return;
+    if (sim_rovers_ops.create(&team, &w, &cfg) != 0) return;
     t0 = wall_s();
     c0 = cpu_s();
     for (k = 0; k < steps; k++) {
         if (k % 50 == 0)   /* a 20 Hz "controller": drive and weave */
             for (i = 1; i <= n; i++)
-                sim_rovers_set_command(i, 0.4, 0.5 * sin(0.5 * (double)k * SIM_DT_S + i), w.step);
-        sim_rovers_ops.before_step(&w);
+                sim_rovers_set_command(&team, i, 0.4, 0.5 * sin(0.5 * (double)k * SIM_DT_S + i), w.step);
+        sim_rovers_ops.before_step(&team, &w);
         sim_world_step(&w);
-        sim_rovers_ops.after_step(&w);
+        sim_rovers_ops.after_step(&team, &w);
     }
     t1 = wall_s();
     c1 = cpu_s();
     printf("  N = %3d: %5.1f s simulated: %6.2f s CPU = %7.1fx real time per core "
            "(%6.2f s wall = %6.1fx), %9.0f sonar rays per CPU second\n",
            n, sim_s, c1 - c0, sim_s / (c1 - c0), t1 - t0, sim_s / (t1 - t0),
-           (double)sim_rovers_rays_cast() / (c1 - c0));
-    sim_rovers_ops.destroy(&w);
+           (double)sim_rovers_rays_cast(&team) / (c1 - c0));
+    sim_rovers_ops.destroy(&team, &w);
     sim_world_destroy(&w);
 }
 

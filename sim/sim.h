@@ -4,7 +4,7 @@
  * the wall clock, zero-order hold of the last command, stale-command
  * watchdog) and lockstep (step k+1 only after every registered controller
  * has answered step k). Models (the PUMA pair, the Pioneer team) add bodies
- * to this world and hook into the step through sim_arms_* / sim_rovers_*.
+ * to this world and hook into the step through sim_model_ops.
  */
 #ifndef TANDEM_SIM_H
 #define TANDEM_SIM_H
@@ -109,29 +109,39 @@ typedef struct sim_config {
     double arm1_q0_rad[6];
 } sim_config;
 
-/* A simulated model plugs into the step through these hooks. */
+/* A simulated model plugs into the step through these hooks. Each hook
+ * gets the model's own state first (the struct named in its header:
+ * sim_arms, sim_workpieces, sim_rovers), which the simulator owns and
+ * hands over through sim_model. */
 typedef struct sim_model_ops {
     const char *name;
-    int  (*create)(sim_world *w, const sim_config *cfg);
-    void (*destroy)(sim_world *w);
-    void (*before_step)(sim_world *w);   /* apply held commands, watchdogs */
-    void (*after_step)(sim_world *w);    /* sensors; publish states. May be called
-                                            again for the same step (lockstep start-up,
-                                            pause): no side effects beyond publishing */
+    int  (*create)(void *model, sim_world *w, const sim_config *cfg);
+    void (*destroy)(void *model, sim_world *w);
+    void (*before_step)(void *model, sim_world *w);   /* apply held commands, watchdogs */
+    void (*after_step)(void *model, sim_world *w);    /* sensors; publish states. May be
+                                            called again for the same step (lockstep
+                                            start-up, pause): no side effects beyond
+                                            publishing */
     /* 1 if the control message was for this model (and applied), 0 if not,
      * -1 if it was for this model but invalid. */
-    int  (*control)(sim_world *w, const tandem_sim_control_t *c);
-    void (*status)(sim_world *w, tandem_sim_status_t *s);   /* may be NULL */
+    int  (*control)(void *model, sim_world *w, const tandem_sim_control_t *c);
+    void (*status)(const void *model, const sim_world *w, tandem_sim_status_t *s);   /* may be NULL */
     /* lockstep: 1 when every output this model waits for at step k (the
      * controllers' commands answering k) is in; the simulator announces
      * k again until it is (lost messages), up to the participant timeout.
      * NULL: nothing to wait for. */
-    int  (*ready)(const sim_world *w, int64_t k);
+    int  (*ready)(const void *model, const sim_world *w, int64_t k);
 } sim_model_ops;
 
-extern const sim_model_ops sim_arms_ops;
-extern const sim_model_ops sim_workpieces_ops;   /* table, bars, camera, grippers */
-extern const sim_model_ops sim_rovers_ops;
+/* One model in the step: its hooks and the state they are handed. */
+typedef struct sim_model {
+    const sim_model_ops *ops;
+    void *state;
+} sim_model;
+
+extern const sim_model_ops sim_arms_ops;         /* state: sim_arms (sim_arms.h) */
+extern const sim_model_ops sim_workpieces_ops;   /* table, bars, camera, grippers: sim_workpieces */
+extern const sim_model_ops sim_rovers_ops;       /* state: sim_rovers (sim_rovers.h) */
 
 /* lockstep registry (sim_lockstep.c) */
 void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t period, int leaving);

@@ -19,7 +19,7 @@
  *   a joint pushed faster than the limit by outside forces is braked back
  *   with the peak torque (drive_motor);
  * - the stick is a compliant contact (a hand-held rod with a force sensor,
- *   sim_world.c) and goes in clear of every link (stick_place_for_link).
+ *   sim_world.c) and goes in clear of every link (sim_stick.c).
  * Contact forces go out raw (this 1 ms step) and as a 10 ms moving average.
  */
 #include "sim_arms.h"
@@ -45,17 +45,18 @@
  * reached by the drive's own overshoot of one step. */
 #define DRIVE_SPEED_GUARD 0.98
 
-static sim_arm sim_arm_pair[SIM_ARMS];
 static const char *const state_channel[SIM_ARMS] = { "ARM1_STATE", "ARM2_STATE" };
 static const char *const command_channel[SIM_ARMS] = { "ARM1_COMMAND", "ARM2_COMMAND" };
-static const double link_radius_m[ARM_NJ] = { 0.09, 0.07, 0.06, 0.045, 0.04, 0.035 };
-static const sim_config *arms_cfg;
-static lcm_subscription_t *subs[SIM_ARMS];
-static sim_world *arms_world;
+const double sim_arm_link_radius_m[ARM_NJ] = { 0.09, 0.07, 0.06, 0.045, 0.04, 0.035 };
 
-sim_arm *sim_arms_arm(int k)
+const arm_model *sim_arms_model(const sim_config *cfg, int k)
 {
-    return &sim_arm_pair[k];
+    return (k == 0 && cfg->arm1_model) ? cfg->arm1_model : &arm_model_puma560;
+}
+
+sim_arm *sim_arms_arm(sim_arms *arms, int k)
+{
+    return &arms->pair[k];
 }
 
 /* ---- building ------------------------------------------------------------- */
@@ -123,9 +124,9 @@ static void build_link(sim_world *w, sim_arm *a, int i, double Tl[ARM_NJ + 1][16
     rot_apply(p0, (double[9]){ Tinv[0], Tinv[1], Tinv[2], Tinv[4], Tinv[5], Tinv[6], Tinv[8], Tinv[9], Tinv[10] }, origin_prev);
     p0[0] += Tinv[3]; p0[1] += Tinv[7]; p0[2] += Tinv[11];
     vec3_set(p1, 0.0, 0.0, 0.0);
-    a->geom[i][0] = link_capsule(w, a->link[i], m->com_m[i], p0, p1, link_radius_m[i]);
+    a->geom[i][0] = link_capsule(w, a->link[i], m->com_m[i], p0, p1, sim_arm_link_radius_m[i]);
     vec3_set(p0, 0.0, 0.0, i + 1 < ARM_NJ ? m->d_m[i + 1] : CELL_TOOL_LENGTH_M);
-    a->geom[i][1] = link_capsule(w, a->link[i], m->com_m[i], p1, p0, link_radius_m[i]);
+    a->geom[i][1] = link_capsule(w, a->link[i], m->com_m[i], p1, p0, sim_arm_link_radius_m[i]);
 }
 
 static void build_joint(sim_world *w, sim_arm *a, int i, double Tl[ARM_NJ + 1][16])
@@ -176,40 +177,57 @@ static int home_q(const sim_arm *a, int idx, double q[ARM_NJ])
 
 static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *user);
 
-static int arms_create(sim_world *w, const sim_config *cfg)
+/* Arm k (0-based) at its start pose: bodies, hinges and range stops. */
+static int build_arm(sim_world *w, const sim_config *cfg, sim_arm *a, int k)
 {
-    int k, i;
-    arms_cfg = cfg;
-    arms_world = w;
+    double Tl[ARM_NJ + 1][16];
+    int i;
+    memset(a, 0, sizeof *a);
+    a->model = sim_arms_model(cfg, k);
+    a->holding = -1;
+    a->mode = TANDEM_ARM_COMMAND_T_MODE_BRAKE;
+    cell_world_from_arm(&cell_default, k, a->T_world_mount);
+    if (k == 0 && cfg->arm1_q0_set)
+        memcpy(a->q_init, cfg->arm1_q0_rad, sizeof a->q_init);
+    else if (home_q(a, k, a->q_init) != 0) {
+        fprintf(stderr, "tandem-sim: arm %d home pose has no IK solution\n", k + 1);
+        return -1;
+    }
+    arm_link_frames(a->model, a->q_init, Tl);
+    for (i = 0; i < ARM_NJ; i++)
+        build_link(w, a, i, Tl);
+    for (i = 0; i < ARM_NJ; i++)
+        build_joint(w, a, i, Tl);
+    memcpy(a->q, a->q_init, sizeof a->q);
+    return 0;
+}
+
+static int arms_create(void *model, sim_world *w, const sim_config *cfg)
+{
+    sim_arms *arms = model;
+    int k;
+    arms->cfg = cfg;
+    arms->w = w;
     for (k = 0; k < SIM_ARMS; k++) {
-        sim_arm *a = &sim_arm_pair[k];
-        double Tl[ARM_NJ + 1][16];
-        memset(a, 0, sizeof *a);
-        a->model = (k == 0 && cfg->arm1_model) ? cfg->arm1_model : &arm_model_puma560;
-        a->holding = -1;
-        a->mode = TANDEM_ARM_COMMAND_T_MODE_BRAKE;
-        cell_world_from_arm(&cell_default, k, a->T_world_mount);
-        if (k == 0 && cfg->arm1_q0_set)
-            memcpy(a->q_init, cfg->arm1_q0_rad, sizeof a->q_init);
-        else if (home_q(a, k, a->q_init) != 0) {
-            fprintf(stderr, "tandem-sim: arm %d home pose has no IK solution\n", k + 1);
+        sim_arms_channel *ch = &arms->chan[k];
+        if (build_arm(w, cfg, &arms->pair[k], k) != 0)
             return -1;
+        if (!ch->sub) {
+            ch->arms = arms;
+            ch->k = k;
+            ch->sub = daemon_subscribe(&w->d, command_channel[k], on_command, ch);
         }
-        arm_link_frames(a->model, a->q_init, Tl);
-        for (i = 0; i < ARM_NJ; i++)
-            build_link(w, a, i, Tl);
-        for (i = 0; i < ARM_NJ; i++)
-            build_joint(w, a, i, Tl);
-        memcpy(a->q, a->q_init, sizeof a->q);
-        if (!subs[k])
-            subs[k] = daemon_subscribe(&w->d, command_channel[k], on_command, a);
     }
     return 0;
 }
 
-static void arms_destroy(sim_world *w)
+static void arms_destroy(void *model, sim_world *w)
 {
-    (void)w;   /* bodies and joints go with the ODE world */
+    sim_arms *arms = model;
+    (void)w;
+    /* bodies, joints and the stick's geom go with the ODE world: the
+     * stick must not outlive it (a seed reset builds a new world) */
+    arms->stick = NULL;
 }
 
 /* ---- commands in ---------------------------------------------------------- */
@@ -233,26 +251,26 @@ static int command_valid(const sim_arm *a, int idx, const tandem_arm_command_t *
  * the simulator's own and no older than the watchdog's limit (an older one
  * would be stale on arrival). Checked against the simulator's step, not
  * only the last command's, so one command from the future cannot latch. */
-static int command_step_plausible(const sim_arm *a, int64_t step)
+static int command_step_plausible(const sim_arm *a, int64_t now, int64_t step)
 {
-    const int64_t now = arms_world->step;
     return step <= now && step >= now - ARM_STALE_STEPS && step >= a->cmd_step;
 }
 
-static void on_command(const lcm_recv_buf_t *rb, const char *ch, void *user)
+static void on_command(const lcm_recv_buf_t *rb, const char *channel, void *user)
 {
-    sim_arm *a = user;
-    const int idx = (int)(a - sim_arm_pair);
+    const sim_arms_channel *ch = user;
+    sim_world *w = ch->arms->w;
+    sim_arm *a = &ch->arms->pair[ch->k];
     tandem_arm_command_t c;
-    (void)ch;
-    if (!DAEMON_DECODE(&arms_world->d.msgs, tandem_arm_command_t, rb, &c))
+    (void)channel;
+    if (!DAEMON_DECODE(&w->d.msgs, tandem_arm_command_t, rb, &c))
         return;
-    if (!command_valid(a, idx, &c)) {
-        arms_world->d.msgs.rejected++;
+    if (!command_valid(a, ch->k, &c)) {
+        w->d.msgs.rejected++;
         return;
     }
-    if (!command_step_plausible(a, c.step)) {
-        arms_world->d.msgs.rejected++;
+    if (!command_step_plausible(a, w->step, c.step)) {
+        w->d.msgs.rejected++;
         return;
     }
     memcpy(a->tau_cmd, c.tau_Nm, sizeof a->tau_cmd);
@@ -324,17 +342,18 @@ static double drive_motor(sim_arm *a, int i, int brake)
     return tau;
 }
 
-static double friction_Nm(double qd)
+static double friction_Nm(const sim_config *cfg, double qd)
 {
     /* tanh smooths the Coulomb sign so the integrator does not chatter. */
-    return -arms_cfg->arm_friction_viscous * qd - arms_cfg->arm_friction_coulomb * tanh(qd / 0.01);
+    return -cfg->arm_friction_viscous * qd - cfg->arm_friction_coulomb * tanh(qd / 0.01);
 }
 
-static void arms_before_step(sim_world *w)
+static void arms_before_step(void *model, sim_world *w)
 {
+    sim_arms *arms = model;
     int k, i;
     for (k = 0; k < SIM_ARMS; k++) {
-        sim_arm *a = &sim_arm_pair[k];
+        sim_arm *a = &arms->pair[k];
         const int stale = !a->have_cmd || w->step - a->cmd_step > ARM_STALE_STEPS;
         const int brake = stale || a->mode == TANDEM_ARM_COMMAND_T_MODE_BRAKE;
         if (stale && !a->stale && a->have_cmd)
@@ -346,7 +365,7 @@ static void arms_before_step(sim_world *w)
             if (a->q[i] <= a->model->q_min_rad[i] || a->q[i] >= a->model->q_max_rad[i])
                 a->limit_stops++;
             a->tau_applied[i] = drive_motor(a, i, brake);
-            dJointAddHingeTorque(a->joint[i], friction_Nm(a->qd[i]));
+            dJointAddHingeTorque(a->joint[i], friction_Nm(arms->cfg, a->qd[i]));
         }
     }
 }
@@ -383,9 +402,9 @@ static void contact_sense(const sim_world *w, sim_arm *a)
     }
 }
 
-static void publish_state(sim_world *w, int k)
+static void publish_state(sim_arms *arms, sim_world *w, int k)
 {
-    sim_arm *a = &sim_arm_pair[k];
+    sim_arm *a = &arms->pair[k];
     tandem_arm_state_t s;
     int i;
     read_joints(a);
@@ -411,182 +430,22 @@ static void publish_state(sim_world *w, int k)
     AUTH_PUBLISH(tandem_arm_state_t, w->lcm, state_channel[k], &s);
 }
 
-static void arms_after_step(sim_world *w)
+static void arms_after_step(void *model, sim_world *w)
 {
     int k;
     for (k = 0; k < SIM_ARMS; k++)
-        publish_state(w, k);
+        publish_state(model, w, k);
 }
 
-/* ---- the stick ------------------------------------------------------------ */
-
-static dGeomID stick;
-static int stick_target, stick_link;
-
-static void remove_stick(void)
+static int arms_control(void *model, sim_world *w, const tandem_sim_control_t *c)
 {
-    if (stick) {
-        dGeomDestroy(stick);
-        stick = NULL;
-    }
+    return sim_stick_control(model, w, c);
 }
 
-/* The stick's pose: the point ahead of the target link and the frame that
- * candidate poses are built in. "The link" is its longest capsule (the
- * forearm of link 3 lies along z3, not x3). */
-typedef struct stick_frame {
-    double p[3];        /* capsule centre of the target link */
-    double dir[3];      /* unit motion of that point across the link */
-    double along[3];    /* unit capsule axis */
-    double across[3];   /* dir x along: the rod's axis in the first candidate */
-    double reach_m;     /* link radius + rod radius: touching distance */
-} stick_frame;
-
-static void stick_frame_for_link(const tandem_sim_control_t *c, stick_frame *f)
-{
-    const sim_arm *a = &sim_arm_pair[c->target - 1];
-    const int i = c->link - 1;
-    const dBodyID b = a->link[i];
-    dGeomID g = a->geom[i][0];
-    dReal r0 = 0, l0 = 0, r1 = 0, l1 = 0;
-    const dReal *p, *R;
-    dVector3 v;
-    if (a->geom[i][0])
-        dGeomCapsuleGetParams(a->geom[i][0], &r0, &l0);
-    if (a->geom[i][1])
-        dGeomCapsuleGetParams(a->geom[i][1], &r1, &l1);
-    if (!g || (a->geom[i][1] && l1 > l0))
-        g = a->geom[i][1];
-    p = g ? dGeomGetPosition(g) : dBodyGetPosition(b);
-    R = g ? dGeomGetRotation(g) : dBodyGetRotation(b);
-    vec3_set(f->p, p[0], p[1], p[2]);
-    vec3_set(f->along, R[2], R[6], R[10]);        /* capsule axis (its z) */
-    dBodyGetPointVel(b, p[0], p[1], p[2], v);
-    vec3_set(f->dir, v[0], v[1], v[2]);
-    vec3_axpy(f->dir, f->dir, -vec3_dot(f->dir, f->along), f->along);   /* across the link */
-    if (vec3_normalize(f->dir, f->dir) < 1e-3) {
-        /* not moving: above the link, where a lift would go */
-        vec3_set(f->dir, 0.0, 0.0, 1.0);
-        vec3_axpy(f->dir, f->dir, -vec3_dot(f->dir, f->along), f->along);
-        if (vec3_normalize(f->dir, f->dir) < 1e-6)
-            vec3_set(f->dir, 1.0, 0.0, 0.0);
-    }
-    vec3_cross(f->across, f->dir, f->along);
-    if (vec3_normalize(f->across, f->across) < 1e-6)
-        vec3_set(f->across, 0.0, 0.0, 1.0);
-    f->reach_m = link_radius_m[i] + c->radius_m;
-}
-
-/* 1 if the stick touches or overlaps any link of either arm. */
-static int stick_touches_arms(void)
-{
-    dContactGeom cg[4];
-    int k, i, g;
-    for (k = 0; k < SIM_ARMS; k++)
-        for (i = 0; i < ARM_NJ; i++)
-            for (g = 0; g < 2; g++)
-                if (sim_arm_pair[k].geom[i][g] &&
-                    dCollide(stick, sim_arm_pair[k].geom[i][g], 4, cg, sizeof cg[0]) > 0)
-                    return 1;
-    return 0;
-}
-
-static void stick_set_pose(const double centre[3], const double axis[3])
-{
-    double R[9];
-    dMatrix3 Rm;
-    sim_rot_z_to(R, axis);     /* ODE capsules lie along their z axis */
-    sim_ode_rotation(Rm, R);
-    dGeomSetRotation(stick, Rm);
-    dGeomSetPosition(stick, centre[0], centre[1], centre[2]);
-}
-
-/* Candidate stick poses, nearest first: the rod lies across the link's
- * path a gap ahead of it, turned about the motion by a tilt (never along
- * the link) and slid along its own axis by a shift (a rod reaching in from
- * one side past the link instead of spanning the arm). The first pose
- * that touches no link of either arm is taken: a rod that went in inside
- * the geometry would throw the arm with the penetration spring. */
-static const double stick_gap_m[] = { 0.005, 0.010, 0.020, 0.040, 0.080 };
-static const double stick_tilt_rad[] = { 0.0, 0.2618, -0.2618, 0.5236, -0.5236, 0.7854, -0.7854, 1.0472, -1.0472 };
-static const double stick_shift_share[] = { 0.0, 0.33, -0.33 };   /* of the rod's half length */
-#define NELEM(x) ((int)(sizeof(x) / sizeof((x)[0])))
-
-static int stick_place_for_link(const tandem_sim_control_t *c, double centre[3], double axis[3])
-{
-    stick_frame f;
-    int ig, it, is;
-    stick_frame_for_link(c, &f);
-    for (ig = 0; ig < NELEM(stick_gap_m); ig++)
-        for (is = 0; is < NELEM(stick_shift_share); is++)
-            for (it = 0; it < NELEM(stick_tilt_rad); it++) {
-                const double ct = cos(stick_tilt_rad[it]), st = sin(stick_tilt_rad[it]);
-                vec3_scale(axis, f.across, ct);
-                vec3_axpy(axis, axis, st, f.along);
-                vec3_copy(centre, f.p);
-                vec3_axpy(centre, centre, f.reach_m + stick_gap_m[ig], f.dir);
-                vec3_axpy(centre, centre, stick_shift_share[is] * 0.5 * c->length_m, axis);
-                stick_set_pose(centre, axis);
-                if (!stick_touches_arms())
-                    return 0;
-            }
-    return -1;
-}
-
-static int arms_control(sim_world *w, const tandem_sim_control_t *c)
-{
-    double centre[3], axis[3];
-    if (c->command == TANDEM_SIM_CONTROL_T_REMOVE_STICK) {
-        remove_stick();
-        return 1;
-    }
-    if (c->command != TANDEM_SIM_CONTROL_T_INSERT_STICK)
-        return 0;
-    if (c->length_m <= 0.0 || c->length_m > 2.0 || c->radius_m <= 0.0 || c->radius_m > 0.1)
-        return -1;
-    if (c->link == 0 && (!(vec3_normalize(axis, c->axis) >= 1e-9) || !isfinite(c->position_m[0]) ||
-                         !isfinite(c->position_m[1]) || !isfinite(c->position_m[2])))
-        return -1;
-    if (c->link != 0 && (c->target < 1 || c->target > SIM_ARMS || c->link < 1 || c->link > ARM_NJ))
-        return -1;
-    remove_stick();
-    stick = dCreateCapsule(w->space, c->radius_m, c->length_m);
-    dGeomSetCategoryBits(stick, SIM_CAT_STICK);
-    dGeomSetCollideBits(stick, SIM_CAT_ARM);
-    if (c->link == 0) {
-        vec3_copy(centre, c->position_m);
-        stick_set_pose(centre, axis);
-    } else if (stick_place_for_link(c, centre, axis) != 0) {
-        fprintf(stderr, "tandem-sim: no stick pose ahead of arm %d link %d clears both arms: not inserted\n",
-                c->target, c->link);
-        remove_stick();
-        w->stick_refused++;
-        return -1;
-    }
-    if (stick_touches_arms()) {
-        /* an explicit pose inside an arm: refused, never thrown at it */
-        fprintf(stderr, "tandem-sim: stick pose overlaps an arm: not inserted\n");
-        remove_stick();
-        w->stick_refused++;
-        return -1;
-    }
-    stick_target = c->target;
-    stick_link = c->link;
-    fprintf(stderr, "tandem-sim: stick in at (%.3f %.3f %.3f) for arm %d link %d\n",
-            centre[0], centre[1], centre[2], c->target, c->link);
-    return 1;
-}
-
-static void arms_status(sim_world *w, tandem_sim_status_t *s)
+static void arms_status(const void *model, const sim_world *w, tandem_sim_status_t *s)
 {
     (void)w;
-    s->stick_inserted = stick != NULL;
-    s->stick_target = stick_target;
-    s->stick_link = stick_link;
-    if (stick) {
-        const dReal *p = dGeomGetPosition(stick);
-        vec3_set(s->stick_position_m, p[0], p[1], p[2]);
-    }
+    sim_stick_status(model, s);
 }
 
 const sim_model_ops sim_arms_ops = {

@@ -42,12 +42,41 @@ typedef struct sim_arm {
     int64_t  seq;
 } sim_arm;
 
+/* One arm's command channel: the subscription and what its handler is
+ * handed (the model and the arm the channel belongs to). */
+typedef struct sim_arms_channel {
+    struct sim_arms    *arms;
+    int                 k;             /* 0-based arm index */
+    lcm_subscription_t *sub;           /* kept over resets: subscribed once */
+} sim_arms_channel;
+
+/* The arm model's state (sim_arms_ops). The stick belongs here: it is
+ * placed against the arms' links and refused where it would touch them. */
+typedef struct sim_arms {
+    sim_arm     pair[SIM_ARMS];
+    const sim_config *cfg;
+    sim_world  *w;                     /* the world the arms live in */
+    sim_arms_channel chan[SIM_ARMS];
+    dGeomID     stick;                 /* NULL: no stick (cleared with the world) */
+    int         stick_target, stick_link;
+} sim_arms;
+
+/* The tables arm k (0-based) is built from: arm 1's as configured, the
+ * PUMA 560's otherwise. */
+const arm_model *sim_arms_model(const sim_config *cfg, int k);
+
 /* Arm k (0-based, < SIM_ARMS) of the pair. */
-sim_arm *sim_arms_arm(int k);
+sim_arm *sim_arms_arm(sim_arms *arms, int k);
 
 /* Tool point of arm a (0-based) in world coordinates, and the flange rotation. */
 void sim_arm_tool(const sim_arm *a, double p_world[3], double R_world[9]);
-/* Home joint angles shared by the simulator and the controllers. */
-extern const double sim_arm_q_home[ARM_NJ];
+/* Radius of each link's capsules (collision shape, stick placement). */
+extern const double sim_arm_link_radius_m[ARM_NJ];
+
+/* The stick (sim_stick.c): INSERT_STICK / REMOVE_STICK, and its part of
+ * SIM_STATUS. The arm model's control and status hooks. */
+int  sim_stick_control(sim_arms *arms, sim_world *w, const tandem_sim_control_t *c);
+void sim_stick_status(const sim_arms *arms, tandem_sim_status_t *s);
+void sim_stick_remove(sim_arms *arms);
 
 #endif

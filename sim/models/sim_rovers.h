@@ -1,14 +1,93 @@
-/* sim_rovers: extra hooks of the Pioneer model for benchmarks. */
+/* sim_rovers: the state of the Pioneer team model (sim_rovers_ops), one
+ * struct handed to every function of sim_rovers.c (world, commands,
+ * physics) and sim_rovers_sense.c (sonar, camera, ground truth), and the
+ * calls between the two files; extra hooks for benchmarks.
+ */
 #ifndef TANDEM_SIM_ROVERS_H
 #define TANDEM_SIM_ROVERS_H
 
 #include <stdint.h>
+#include "sim.h"
+#include "prng.h"
+#include "rover_world.h"
+#include "sonar.h"
+#include "vec2.h"
+#include "tandem_beacon_obs_t.h"
+
+#define RV_MAX            ROVER_WORLD_MAX_ROBOTS
+#define RV_SENSORS_STEPS  ROVER_SENSOR_PERIOD_STEPS   /* the control tick */
+#define RV_SEEN_MAX       (RV_MAX + ROVER_WORLD_MAX_LANDMARKS)   /* LEDs one camera frame can hold */
+
+typedef struct sim_rover {
+    int32_t id;
+    int     alive;
+    dBodyID chassis, wheel[2];
+    dJointID hinge[2];
+    dGeomID box;
+    double  cmd_v, cmd_w;             /* held (clipped) command */
+    double  v_ref, w_ref;             /* after the acceleration ramp */
+    int64_t cmd_rx_step;
+    int64_t cmd_step;         /* the step the held command answers (-1 none) */
+    int     have_cmd, stale;
+    double  slip[2];
+    double  enc[2];                   /* accumulated wheel angles */
+    double  range[SONAR_N];
+    int     bump_now, bump_prev, collisions;
+    double  min_clear;
+    prng_state  rng;
+    int     prim;                     /* its box in the sonar world */
+    int     fired;                    /* transducer fired last */
+    int64_t seq_sens, seq_sonar, seq_beacon;
+} sim_rover;
+
+/* The camera frames last drawn: a re-announced step publishes them again. */
+typedef struct sim_rovers_frames {
+    int     n;
+    tandem_beacon_obs_t obs[RV_MAX];
+    int32_t target[RV_MAX][RV_SEEN_MAX];
+    double  range_m[RV_MAX][RV_SEEN_MAX];
+    double  bearing_rad[RV_MAX][RV_SEEN_MAX];
+} sim_rovers_frames;
+
+typedef struct sim_rovers {
+    int      n;
+    sim_rover r[RV_MAX];
+    rover_world_config layout;
+    sonar_world sw;
+    sonar_model sm;
+    dWorldID world;                   /* the rovers' own ODE world (sim_rovers.c) */
+    dSpaceID space;
+    dJointGroupID contacts;
+    dGeomID  obst[ROVER_WORLD_MAX_OBST];
+    double   sonar_angle_rad[SONAR_N];
+    lcm_subscription_t *sub, *sub_batch;
+    sim_world *w;
+    int      batch;                   /* 1: ROVERS_* messages, not ROVERk_* */
+    int64_t  batch_seq[2];
+    double   v_max, w_max, stale_s;
+    int      phys_steps;
+    int      chassis_contacts;        /* chassis contact joints this step */
+    int64_t  quick_steps;             /* steps that fell back to QuickStep */
+    int64_t  last_after_step;
+    sim_rovers_frames frames;
+    int64_t  truth_seq, rejected, rays;
+    int      formation;
+} sim_rovers;
 
 /* Sonar rays cast since the rover model was created. */
-int64_t sim_rovers_rays_cast(void);
+int64_t sim_rovers_rays_cast(const sim_rovers *team);
 
 /* Hold command (V, w) for robot id as if received at sim step `step`
  * (benchmarks drive the robots without LCM). -1 unknown id. */
-int sim_rovers_set_command(int32_t id, double v_mps, double w_radps, int64_t step);
+int sim_rovers_set_command(sim_rovers *team, int32_t id, double v_mps, double w_radps, int64_t step);
+
+/* The sonar model the robots carry (the Pioneer P2DX default). */
+void sim_rovers_sonar_model(sonar_model *m);
+
+/* Between sim_rovers.c and sim_rovers_sense.c: */
+/* Pose of robot r's axle centre C from its chassis body. */
+void sim_rover_pose_c(const sim_rover *r, pose2 *c);
+/* The after_step hook: sonar firings, sensor frames, camera, truth. */
+void sim_rovers_after_step(void *model, sim_world *w);
 
 #endif

@@ -27,14 +27,11 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include "sim.h"
-#include "sim_arms.h"
+#include "sim_workpieces.h"
 #include "cell.h"
-#include "prng.h"
 #include "vec3.h"
 #include "tandem_workpiece_detections_t.h"
 
-#define WP_POOL 4
 #define WP_SPAWN_DELAY_S 0.5
 #define WP_REST_SPEED_MPS 0.01
 #define WP_REST_TIME_S 0.2
@@ -45,50 +42,20 @@
 #define VISION_SIGMA_M 0.001
 #define VISION_SIGMA_YAW_RAD 0.005
 
-enum { WP_PARKED = 0, WP_ON_PICK, WP_HELD, WP_FREE };
-
-typedef struct wp {
-    dBodyID body;
-    dGeomID geom;
-    int     state;
-    int32_t id;
-    dJointID hold[SIM_ARMS];     /* fixed joint to arm k's flange, or 0 */
-    double  rest_s;
-} wp;
-
-/* The model's state, handed to every function here as an argument. The
- * sim's one instance is wp_model_of_sim: the ops hooks carry no state
- * pointer (sim.h), so they take it from there, as sim_rovers' hooks take R. */
-typedef struct wp_model {
-    wp      pool[WP_POOL];
-    dGeomID table_geom;
-    prng_state rng;
-    const sim_config *cfg;
-    int32_t spawned, delivered, dropped, next_id;
-    double  clear_s;                      /* the pick zone has been clear this long */
-    int64_t vision_seq;
-    int64_t last_after_step;              /* the step wp_after_step last ran for */
-    tandem_workpiece_t last_det[WP_POOL]; /* the detections of the last camera frame */
-    int     last_n_det;
-    int     spawn_requests;               /* SPAWN_WORKPIECE requests not served yet */
-} wp_model;
-
-static wp_model wp_model_of_sim;
-
 static double table_top_z(void)
 {
     return cell_default.table_center_m[2] + 0.5 * cell_default.table_size_m[2];
 }
 
-static void park(wp_model *m, int i)
+static void park(sim_workpieces *m, int i)
 {
-    wp *p = &m->pool[i];
+    sim_workpiece *p = &m->pool[i];
     int k;
     for (k = 0; k < SIM_ARMS; k++) {
         if (p->hold[k]) {
             dJointDestroy(p->hold[k]);
             p->hold[k] = 0;
-            sim_arms_arm(k)->holding = -1;
+            sim_arms_arm(m->arms, k)->holding = -1;
         }
     }
     p->state = WP_PARKED;
@@ -100,9 +67,9 @@ static void park(wp_model *m, int i)
     dGeomDisable(p->geom);
 }
 
-static int wp_create(sim_world *w, const sim_config *cfg)
+static int wp_create(void *model, sim_world *w, const sim_config *cfg)
 {
-    wp_model *m = &wp_model_of_sim;
+    sim_workpieces *m = model;
     const double *sz = cell_default.workpiece_size_m;
     dMass mass;
     int i;
@@ -134,9 +101,9 @@ static int wp_create(sim_world *w, const sim_config *cfg)
     return 0;
 }
 
-static void wp_destroy(sim_world *w)
+static void wp_destroy(void *model, sim_world *w)
 {
-    wp_model *m = &wp_model_of_sim;
+    sim_workpieces *m = model;
     (void)w;   /* bodies, geoms and joints go with the ODE world */
     memset(m->pool, 0, sizeof m->pool);
     m->table_geom = NULL;
@@ -170,7 +137,7 @@ static void set_body_R(dBodyID b, const double R[9])
 
 /* Grasp point of arm k (0-based) on bar i: -x end for arm 1, +x for arm 2,
  * along the bar's own axis. */
-static void grasp_point(const wp *p, int k, double g[3])
+static void grasp_point(const sim_workpiece *p, int k, double g[3])
 {
     const dReal *c = dBodyGetPosition(p->body);
     double R[9], off[3];
@@ -192,7 +159,7 @@ static double body_speed(dBodyID b)
            0.1 * sqrt(om[0] * om[0] + om[1] * om[1] + om[2] * om[2]);
 }
 
-static int held_by_other(const wp *p, int k)
+static int held_by_other(const sim_workpiece *p, int k)
 {
     int j;
     for (j = 0; j < SIM_ARMS; j++)
@@ -203,7 +170,7 @@ static int held_by_other(const wp *p, int k)
 
 /* ---- spawning ------------------------------------------------------------- */
 
-static int pick_zone_clear(const wp_model *m)
+static int pick_zone_clear(const sim_workpieces *m)
 {
     int i;
     for (i = 0; i < WP_POOL; i++) {
@@ -215,7 +182,7 @@ static int pick_zone_clear(const wp_model *m)
     return 1;
 }
 
-static int spawn(wp_model *m)
+static int spawn(sim_workpieces *m)
 {
     const double *pc = cell_default.pick_center_m, *sp = cell_default.pick_spread_m;
     double R[9], yaw;
@@ -242,7 +209,7 @@ static int spawn(wp_model *m)
     return i;
 }
 
-static void maybe_spawn(wp_model *m)
+static void maybe_spawn(sim_workpieces *m)
 {
     const int more = m->cfg->workpieces == 0 || m->spawned < m->cfg->workpieces;
     if (!pick_zone_clear(m)) {
@@ -261,9 +228,9 @@ static void maybe_spawn(wp_model *m)
 
 /* ---- gripper -------------------------------------------------------------- */
 
-static void attach(sim_world *w, int k, wp *p)
+static void attach(sim_workpieces *m, sim_world *w, int k, sim_workpiece *p)
 {
-    sim_arm *a = sim_arms_arm(k);
+    sim_arm *a = sim_arms_arm(m->arms, k);
     const dBodyID flange = a->link[ARM_NJ - 1];
     if (!held_by_other(p, k)) {
         /* self-centring jaws: bar along the flange x axis, grasp point on
@@ -290,20 +257,20 @@ static void attach(sim_world *w, int k, wp *p)
     a->holding = p->id;
 }
 
-static void detach(int k, wp *p)
+static void detach(sim_workpieces *m, int k, sim_workpiece *p)
 {
     dJointDestroy(p->hold[k]);
     p->hold[k] = 0;
-    sim_arms_arm(k)->holding = -1;
+    sim_arms_arm(m->arms, k)->holding = -1;
     if (!held_by_other(p, k)) {
         p->state = WP_FREE;
         p->rest_s = 0.0;
     }
 }
 
-static void gripper_step(wp_model *m, sim_world *w, int k)
+static void gripper_step(sim_workpieces *m, sim_world *w, int k)
 {
-    sim_arm *a = sim_arms_arm(k);
+    sim_arm *a = sim_arms_arm(m->arms, k);
     int i;
     if (a->gripper_closed && a->holding < 0) {
         double tool[3];
@@ -315,21 +282,21 @@ static void gripper_step(wp_model *m, sim_world *w, int k)
             grasp_point(&m->pool[i], k, g);
             vec3_sub(d, g, tool);
             if (vec3_norm(d) <= cell_default.grasp_tolerance_m) {
-                attach(w, k, &m->pool[i]);
+                attach(m, w, k, &m->pool[i]);
                 break;
             }
         }
     } else if (!a->gripper_closed && a->holding >= 0) {
         for (i = 0; i < WP_POOL; i++)
             if (m->pool[i].hold[k])
-                detach(k, &m->pool[i]);
+                detach(m, k, &m->pool[i]);
         a->holding = -1;
     }
 }
 
-static void wp_before_step(sim_world *w)
+static void wp_before_step(void *model, sim_world *w)
 {
-    wp_model *m = &wp_model_of_sim;
+    sim_workpieces *m = model;
     int k;
     for (k = 0; k < SIM_ARMS; k++)
         gripper_step(m, w, k);
@@ -338,9 +305,9 @@ static void wp_before_step(sim_world *w)
 
 /* ---- bookkeeping and camera ----------------------------------------------- */
 
-static void settle(wp_model *m, int i)
+static void settle(sim_workpieces *m, int i)
 {
-    wp *p = &m->pool[i];
+    sim_workpiece *p = &m->pool[i];
     const dReal *c = dBodyGetPosition(p->body);
     const int on_floor = c[2] < table_top_z() - 0.05;
     if (p->state == WP_HELD || p->state == WP_PARKED)
@@ -354,12 +321,12 @@ static void settle(wp_model *m, int i)
         return;
     if (p->state == WP_FREE && !on_floor && xy_dist(c, cell_default.deliver_center_m) < WP_DELIVER_RADIUS_M) {
         m->delivered++;
-        fprintf(stderr, "tandem-sim: workpiece %d m->delivered\n", (int)p->id);
+        fprintf(stderr, "tandem-sim: workpiece %d delivered\n", (int)p->id);
         park(m, i);
     } else if (on_floor || (p->state == WP_FREE && xy_dist(c, cell_default.pick_center_m) >= WP_PICK_RADIUS_M) ||
                (p->state == WP_ON_PICK && xy_dist(c, cell_default.pick_center_m) >= WP_PICK_RADIUS_M)) {
         m->dropped++;
-        fprintf(stderr, "tandem-sim: workpiece %d m->dropped at (%.3f %.3f %.3f)\n", (int)p->id, c[0], c[1], c[2]);
+        fprintf(stderr, "tandem-sim: workpiece %d dropped at (%.3f %.3f %.3f)\n", (int)p->id, c[0], c[1], c[2]);
         park(m, i);
     } else if (p->state == WP_FREE) {
         p->state = WP_ON_PICK;    /* put back down in the pick zone: pick it again */
@@ -367,13 +334,13 @@ static void settle(wp_model *m, int i)
 }
 
 /* fresh = 0: the same frame again (a re-announced step), no new noise */
-static void publish_vision(wp_model *m, sim_world *w, int fresh)
+static void publish_vision(sim_workpieces *m, sim_world *w, int fresh)
 {
     tandem_workpiece_detections_t msg;
     tandem_workpiece_t *det = m->last_det;
     int i, n = 0;
     for (i = 0; i < WP_POOL && fresh; i++) {
-        const wp *p = &m->pool[i];
+        const sim_workpiece *p = &m->pool[i];
         double R[9], axis[3], yaw;
         const dReal *c;
         if (p->state != WP_ON_PICK || p->rest_s < WP_REST_TIME_S)
@@ -401,9 +368,9 @@ static void publish_vision(wp_model *m, sim_world *w, int fresh)
     AUTH_PUBLISH(tandem_workpiece_detections_t, w->lcm, "VISION_DETECTIONS", &msg);
 }
 
-static void wp_after_step(sim_world *w)
+static void wp_after_step(void *model, sim_world *w)
 {
-    wp_model *m = &wp_model_of_sim;
+    sim_workpieces *m = model;
     /* the simulator re-announces a step while it waits for controllers:
      * publish the same frame again, without settling or drawing camera
      * noise a second time (how often that happens depends on the machine's
@@ -417,9 +384,9 @@ static void wp_after_step(sim_world *w)
         publish_vision(m, w, !repeat);
 }
 
-static int wp_control(sim_world *w, const tandem_sim_control_t *c)
+static int wp_control(void *model, sim_world *w, const tandem_sim_control_t *c)
 {
-    wp_model *m = &wp_model_of_sim;
+    sim_workpieces *m = model;
     (void)w;
     if (c->command != TANDEM_SIM_CONTROL_T_SPAWN_WORKPIECE)
         return 0;
@@ -427,9 +394,9 @@ static int wp_control(sim_world *w, const tandem_sim_control_t *c)
     return 1;
 }
 
-static void wp_status(sim_world *w, tandem_sim_status_t *s)
+static void wp_status(const void *model, const sim_world *w, tandem_sim_status_t *s)
 {
-    const wp_model *m = &wp_model_of_sim;
+    const sim_workpieces *m = model;
     (void)w;
     s->workpieces_spawned = m->spawned;
     s->workpieces_delivered = m->delivered;

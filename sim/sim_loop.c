@@ -1,0 +1,314 @@
+/* sim_loop: tandem-sim's messages and its step (SPEC.md §1, §5). The
+ * models' hooks run in the order of sim_app.models (before_step, the ODE
+ * step, after_step). In lockstep the simulator publishes step k, then
+ * waits until every registered controller has answered k (and every
+ * model has the commands it waits for) before stepping to k+1; in real
+ * time it steps on the wall clock.
+ */
+#include "sim_app.h"
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include "tandem_clock_ack_t.h"
+#include "tandem_sim_clock_t.h"
+#include "tandem_sim_control_t.h"
+#include "tandem_sim_status_t.h"
+
+/* Lockstep: how long to wait for the answers before publishing the step
+ * again (a datagram lost on a loaded host, not a dead participant). */
+#define SIM_REANNOUNCE_NS 1000000LL       /* first repeat of an unanswered step */
+#define SIM_REANNOUNCE_MAX_NS 32000000LL  /* back-off cap */
+
+static int active_participants(const sim_world *w)
+{
+    int i, n = 0;
+    for (i = 0; i < w->n_part; i++)
+        n += w->part[i].active;
+    return n;
+}
+
+/* ---- messages in ---------------------------------------------------------- */
+
+static void on_ack(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    sim_app *app = u;
+    tandem_clock_ack_t m;
+    (void)ch;
+    if (!DAEMON_DECODE(&app->w.d.msgs, tandem_clock_ack_t, rb, &m))
+        return;
+    if (m.step < 0 || m.period_steps < 1 || m.period_steps > 100000 || m.name[0] == '\0' ||
+        m.step > app->w.step) {
+        app->w.d.msgs.rejected++;
+    } else {
+        sim_lockstep_on_ack(&app->w, m.name, m.step, m.period_steps, m.leaving);
+    }
+    tandem_clock_ack_t_decode_cleanup(&m);
+}
+
+static int control_valid(const tandem_sim_control_t *c)
+{
+    return c->command >= TANDEM_SIM_CONTROL_T_RESET && c->command <= TANDEM_SIM_CONTROL_T_QUIT &&
+           all_finite(c->position_m, 3) && all_finite(c->axis, 3) &&
+           isfinite(c->length_m) && isfinite(c->radius_m) && c->seed >= 0;
+}
+
+static void on_control(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    sim_app *app = u;
+    tandem_sim_control_t m;
+    int i, handled = 0;
+    (void)ch;
+    if (!DAEMON_DECODE(&app->w.d.msgs, tandem_sim_control_t, rb, &m))
+        return;
+    if (!control_valid(&m)) {
+        app->w.d.msgs.rejected++;
+        goto out;
+    }
+    switch (m.command) {
+    case TANDEM_SIM_CONTROL_T_PAUSE:  app->w.paused = 1; handled = 1; break;
+    case TANDEM_SIM_CONTROL_T_RESUME: app->w.paused = 0; handled = 1; break;
+    case TANDEM_SIM_CONTROL_T_QUIT:   daemon_request_stop(); handled = 1; break;
+    case TANDEM_SIM_CONTROL_T_SET_SEED: app->next_seed = (uint64_t)m.seed; handled = 1; break;
+    case TANDEM_SIM_CONTROL_T_RESET:
+        app->next_seed = (uint64_t)m.seed;
+        app->reset_pending = 1;
+        handled = 1;
+        break;
+    default:
+        for (i = 0; i < app->n_models && !handled; i++) {
+            const sim_model *md = &app->models[i];
+            int rc = md->ops->control ? md->ops->control(md->state, &app->w, &m) : 0;
+            if (rc < 0) {
+                app->w.d.msgs.rejected++;
+                handled = -1;
+            } else if (rc > 0) {
+                handled = 1;
+            }
+        }
+    }
+    if (handled == 0)
+        app->w.d.msgs.rejected++;
+out:
+    tandem_sim_control_t_decode_cleanup(&m);
+}
+
+void sim_subscribe(sim_app *app)
+{
+    daemon_subscribe(&app->w.d, "SIM_ACK", on_ack, app);
+    daemon_subscribe(&app->w.d, "SIM_CONTROL", on_control, app);
+}
+
+/* ---- messages out --------------------------------------------------------- */
+
+static void publish_clock(sim_app *app)
+{
+    tandem_sim_clock_t c;
+    c.seq = app->w.clock_seq++;
+    c.utime = daemon_utime_now();
+    c.step = app->w.step;
+    c.sim_time_s = app->w.time_s;
+    c.mode = app->w.lockstep ? TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP : TANDEM_SIM_CLOCK_T_MODE_REALTIME;
+    c.paused = (int8_t)app->w.paused;
+    c.seed = (int64_t)app->w.seed;
+    AUTH_PUBLISH(tandem_sim_clock_t, app->w.lcm, "SIM_CLOCK", &c);
+}
+
+void sim_publish_status(sim_app *app)
+{
+    tandem_sim_status_t s;
+    int i;
+    memset(&s, 0, sizeof s);
+    s.seq = app->w.status_seq++;
+    s.utime = daemon_utime_now();
+    s.step = app->w.step;
+    s.sim_time_s = app->w.time_s;
+    s.mode = (int8_t)app->w.lockstep;
+    s.paused = (int8_t)app->w.paused;
+    s.n_participants = active_participants(&app->w);
+    s.lockstep_timeouts = app->w.lockstep_timeouts;
+    s.state_hash = (int64_t)sim_state_hash(&app->w);
+    s.msgs_received = app->w.d.msgs.received;
+    s.msgs_rejected = app->w.d.msgs.rejected;
+    s.stale_commands = app->w.stale_commands;
+    for (i = 0; i < app->n_models; i++)
+        if (app->models[i].ops->status)
+            app->models[i].ops->status(app->models[i].state, &app->w, &s);
+    AUTH_PUBLISH(tandem_sim_status_t, app->w.lcm, "SIM_STATUS", &s);
+}
+
+/* ---- the step ------------------------------------------------------------- */
+
+int sim_build_world(sim_app *app)
+{
+    int i;
+    if (sim_world_create(&app->w) != 0)
+        return -1;
+    for (i = 0; i < app->n_models; i++)
+        if (app->models[i].ops->create(app->models[i].state, &app->w, &app->cfg) != 0) {
+            fprintf(stderr, "tandem-sim: cannot create model '%s'\n", app->models[i].ops->name);
+            return -1;
+        }
+    return 0;
+}
+
+void sim_destroy_world(sim_app *app)
+{
+    int i;
+    for (i = app->n_models - 1; i >= 0; i--)
+        app->models[i].ops->destroy(app->models[i].state, &app->w);
+    sim_world_destroy(&app->w);
+}
+
+/* Lockstep: every model has what it waits for at step k (its
+ * controllers' commands, sim_model_ops.ready). */
+static int models_ready(const sim_app *app, int64_t k)
+{
+    int i;
+    for (i = 0; i < app->n_models; i++)
+        if (app->models[i].ops->ready && !app->models[i].ops->ready(app->models[i].state, &app->w, k))
+            return 0;
+    return 1;
+}
+
+static void publish_step(sim_app *app)
+{
+    int i;
+    for (i = 0; i < app->n_models; i++)
+        app->models[i].ops->after_step(app->models[i].state, &app->w);
+    if (app->w.step % 100 == 0)
+        sim_publish_status(app);
+    /* In lockstep the clock goes out when somebody must answer it (and
+     * every 100 steps for a newcomer to join on): a team of 20 Hz rovers
+     * does not need 1000 clocks a second, each received by every process
+     * on the bus. */
+    if (!app->w.lockstep || app->w.step % 100 == 0 || sim_lockstep_due(&app->w, app->w.step) ||
+        active_participants(&app->w) == 0)
+        publish_clock(app);
+}
+
+static void advance(sim_app *app)
+{
+    int i;
+    for (i = 0; i < app->n_models; i++)
+        app->models[i].ops->before_step(app->models[i].state, &app->w);
+    sim_world_step(&app->w);
+    publish_step(app);
+}
+
+static void maybe_reset(sim_app *app)
+{
+    if (!app->reset_pending)
+        return;
+    app->reset_pending = 0;
+    sim_destroy_world(app);
+    app->w.seed = app->next_seed;
+    if (sim_build_world(app) != 0) {
+        daemon_request_stop();
+        return;
+    }
+    fprintf(stderr, "tandem-sim: reset with seed %llu\n", (unsigned long long)app->w.seed);
+    publish_step(app);
+}
+
+/* The participant timeout ran out at the current step: the participants
+ * that did not answer are dropped; if all did, a model's input never came. */
+static void give_up_waiting(sim_world *w)
+{
+    if (sim_lockstep_drop_late(w, w->step) == 0) {
+        w->lockstep_timeouts++;
+        fprintf(stderr, "tandem-sim: step %lld: a controller's output never came; going on\n",
+                (long long)w->step);
+    }
+}
+
+/* Waits for the controllers due at the current step; bounded by the timeout. */
+static void wait_for_answers(sim_app *app)
+{
+    const int64_t t0 = rtloop_now_ns();
+    /* the first repeat comes after a few typical answer times (at least
+     * SIM_REANNOUNCE_NS): on a loaded machine a slow answer is not a lost one */
+    int64_t last_pub = t0, again_ns = 4 * app->answer_ns_avg;
+    if (again_ns < SIM_REANNOUNCE_NS) again_ns = SIM_REANNOUNCE_NS;
+    if (again_ns > SIM_REANNOUNCE_MAX_NS) again_ns = SIM_REANNOUNCE_MAX_NS;
+    while (!daemon_stop_requested()) {
+        const int64_t now = rtloop_now_ns();
+        const int starting = app->w.step == 0 && active_participants(&app->w) < app->expect;
+        if (!starting && !app->w.paused && sim_lockstep_ready(&app->w, app->w.step) &&
+            (active_participants(&app->w) == 0 || models_ready(app, app->w.step))) {
+            /* answer time, averaged over ~64 waits, only of those answered
+             * without a repeat (a lost message is not the machine's speed) */
+            if (last_pub == t0)
+                app->answer_ns_avg += (now - t0 - app->answer_ns_avg) / 64;
+            return;
+        }
+        if (!starting && !app->w.paused && (double)(now - t0) * 1e-9 > app->w.lockstep_timeout_s) {
+            give_up_waiting(&app->w);
+            return;
+        }
+        /* Until everyone is there (or while paused), keep announcing the step
+         * with its states, so a controller that starts late still sees them.
+         * Otherwise re-announce on a short timer: a lost SIM_CLOCK, state or
+         * ack then costs SIM_REANNOUNCE_NS, not the participant timeout
+         * (participants answer a step they already answered again, without
+         * running their cycle twice). */
+        if (now - last_pub > ((starting || app->w.paused) ? 100000000LL : again_ns)) {
+            publish_step(app);
+            last_pub = now;
+            /* a lost message is found at the first repeat; a controller
+             * that is only slow (a loaded machine) should not be flooded */
+            if (again_ns < SIM_REANNOUNCE_MAX_NS)
+                again_ns *= 2;
+        }
+        lcm_handle_timeout(app->w.lcm, 1);   /* the re-announce timer's resolution */
+        if (app->reset_pending)
+            return;
+    }
+}
+
+static int steps_done(const sim_app *app)
+{
+    return app->max_steps > 0 && app->w.step >= app->max_steps;
+}
+
+void sim_run_lockstep(sim_app *app)
+{
+    publish_step(app);
+    while (!daemon_stop_requested() && !steps_done(app)) {
+        int64_t t0;
+        wait_for_answers(app);
+        if (app->reset_pending) {
+            maybe_reset(app);
+            continue;
+        }
+        if (daemon_stop_requested())
+            break;
+        t0 = rtloop_now_ns();
+        advance(app);
+        rtloop_record(&app->w.d.loop, t0);
+        if (t0 - app->w.d.last_health_ns >= 1000000000LL) {
+            app->w.d.last_health_ns = t0;
+            daemon_publish_health(&app->w.d);
+        }
+    }
+}
+
+void sim_run_realtime(sim_app *app)
+{
+    rtloop *l = &app->w.d.loop;
+    l->next_ns = rtloop_now_ns() + l->period_ns;
+    publish_step(app);
+    while (!daemon_stop_requested() && !steps_done(app)) {
+        rtloop_wait(l);
+        daemon_drain(&app->w.d);
+        maybe_reset(app);
+        if (!app->w.paused)
+            advance(app);
+        else if (l->cycles % 100 == 0)
+            publish_clock(app);
+        rtloop_end_cycle(l);
+        if (l->wake_ns - app->w.d.last_health_ns >= 1000000000LL) {
+            app->w.d.last_health_ns = l->wake_ns;
+            daemon_publish_health(&app->w.d);
+        }
+    }
+}
