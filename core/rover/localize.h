@@ -60,7 +60,7 @@ typedef struct {
     int    rejected_run;      /* rejections since the last fused sighting */
 } localizer;
 
-/* Defaults for the simulated Pioneer 2 DX and camera (sim/models/sim_rovers.c:
+/* Defaults for the simulated Pioneer 2 DX and camera (sim/models/sim_rovers_sense.c:
  * slip 0.5 % of rim speed per wheel, camera 1 cm + 2 % range, 0.6 deg
  * bearing), each inflated about 2-3x for what the filter does not model
  * (slip correlation time, the 0.1 s camera period): k_ds 0.01 m/sqrt(m),
