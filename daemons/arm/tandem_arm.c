@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "arm_daemon.h"
+#include "linalg.h"
 #include "msg_check.h"
 #include "tandem_arm_command_t.h"
 
@@ -70,8 +71,8 @@ void arm_publish_event(arm_daemon *ad, int ev, const char *detail)
 
 static int state_valid(const arm_daemon *ad, const tandem_arm_state_t *s)
 {
-    return s->arm == ad->arm && s->step >= 0 && all_finite(s->q_rad, ARM_NJ) &&
-           all_finite(s->qd_radps, ARM_NJ) && isfinite(s->sim_time_s);
+    return s->arm == ad->arm && s->step >= 0 && linalg_all_finite(s->q_rad, ARM_NJ) &&
+           linalg_all_finite(s->qd_radps, ARM_NJ) && isfinite(s->sim_time_s);
 }
 
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
@@ -98,7 +99,7 @@ static int segment_valid(const arm_daemon *ad, const tandem_action_segment_t *g)
 {
     switch (g->kind) {
     case TANDEM_ACTION_SEGMENT_T_MOVE_CARTESIAN:
-        return all_finite(g->position_m, 3) && all_finite(g->orientation_quat, 4) &&
+        return linalg_all_finite(g->position_m, 3) && linalg_all_finite(g->orientation_quat, 4) &&
                fabs(g->orientation_quat[0] * g->orientation_quat[0] + g->orientation_quat[1] * g->orientation_quat[1] +
                     g->orientation_quat[2] * g->orientation_quat[2] + g->orientation_quat[3] * g->orientation_quat[3] - 1.0) < 1e-3;
     case TANDEM_ACTION_SEGMENT_T_MOVE_JOINT:

@@ -40,15 +40,6 @@ int64_t daemon_utime_now(void)
     return (int64_t)tv.tv_sec * 1000000 + tv.tv_usec;
 }
 
-int all_finite(const double *v, int n)
-{
-    int i;
-    for (i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
 int parse_double_opt(const char *prog, const char *opt, const char *s,
                      double lo, double hi, double *out)
 {

@@ -12,6 +12,7 @@
 #include <getopt.h>
 #include <stdint.h>
 #include <lcm/lcm.h>
+#include "linalg.h"
 #include "rtloop.h"
 #include "auth_bus.h"
 #include "guard.h"
@@ -166,7 +167,8 @@ int parse_double_opt(const char *prog, const char *opt, const char *s,
 int parse_int_opt(const char *prog, const char *opt, const char *s,
                   long lo, long hi, long *out);
 
-/* All n values finite. */
-int all_finite(const double *v, int n);
+/* sim/sim_main.c still calls all_finite, the daemons' old copy of
+ * linalg_all_finite; this name goes once it calls linalg_all_finite. */
+#define all_finite(v, n) linalg_all_finite((v), (n))
 
 #endif

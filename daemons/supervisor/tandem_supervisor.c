@@ -48,6 +48,7 @@
 #include <string.h>
 #include "supervisor_daemon.h"
 #include "cell.h"
+#include "linalg.h"
 #include "vec3.h"
 #include "tandem_action_row_t.h"
 
@@ -121,7 +122,7 @@ static void on_vision(const lcm_recv_buf_t *rb, const char *ch, void *u)
     for (i = 0; i < m.n; i++) {
         const tandem_workpiece_t *w = &m.workpieces[i];
         double dist;
-        if (!all_finite(w->position_m, 3) || !isfinite(w->yaw_rad) || fabs(w->yaw_rad) > 0.5) {
+        if (!linalg_all_finite(w->position_m, 3) || !isfinite(w->yaw_rad) || fabs(w->yaw_rad) > 0.5) {
             sv->d.msgs.rejected++;
             continue;
         }
