@@ -17,6 +17,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "arm_daemon.h"
+#include "cartctl.h"
+#include "cell.h"
 #include "linalg.h"
 #include "msg_check.h"
 #include "options.h"
@@ -239,7 +241,7 @@ static int cycle(daemon *d, void *user)
     return DAEMON_CONTINUE;
 }
 
-/* ---- command line ----------------------------------------------------------- */
+/* ---- command line and start-up check ---------------------------------------- */
 
 /* --arm-model NAME: the model by its name */
 static int parse_model(const char *prog, void *dest, char *value)
@@ -295,6 +297,24 @@ static int parse_args(arm_daemon *ad, int argc, char **argv)
     return 0;
 }
 
+/* The constant tables this arm runs on, checked before it runs: its
+ * model, the cell layout, the Cartesian controller's gains (cartseg
+ * takes cartctl_gains_default; a row's own gains are checked as it
+ * starts) and its option table. */
+static int check_tables(const arm_daemon *ad)
+{
+    const char *prog = ad->d.name;
+    cartctl_gains cg;
+    cartctl_gains_default(&cg);
+    if (daemon_check_table(prog, ad->model == &arm_model_seed002 ? "arm_model_seed002" : "arm_model_puma560",
+                           "arm_model_validate", arm_model_validate(ad->model)) != 0 ||
+        daemon_check_table(prog, "cell_default", "cell_layout_validate", cell_layout_validate(&cell_default)) != 0 ||
+        daemon_check_table(prog, "cartctl_gains_default", "cartctl_gains_validate", cartctl_gains_validate(&cg)) != 0 ||
+        daemon_check_table(prog, "arm_options", "options_table_validate", options_table_validate(arm_options)) != 0)
+        return -1;
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     static arm_daemon app;
@@ -317,6 +337,8 @@ int main(int argc, char **argv)
     snprintf(ad->state_ch, sizeof ad->state_ch, "ARM%d_STATE", ad->arm);
     snprintf(ad->cmd_ch, sizeof ad->cmd_ch, "ARM%d_COMMAND", ad->arm);
     snprintf(ad->action_ch, sizeof ad->action_ch, "ARM%d_ACTION", ad->arm);
+    if (check_tables(ad) != 0)
+        return 1;
     auth_bus_identity(AUTH_ROLE_ARM, ad->arm, ad->arm);
     if (daemon_start(d) != 0)
         return 1;

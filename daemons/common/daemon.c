@@ -95,6 +95,14 @@ void daemon_defaults(daemon *d, const char *name, double period_s)
     snprintf(d->status, sizeof d->status, "starting");
 }
 
+int daemon_check_table(const char *prog, const char *table, const char *validator, int rc)
+{
+    if (rc == 0)
+        return 0;
+    fprintf(stderr, "%s: %s is invalid (%s: %d)\n", prog, table, validator, rc);
+    return -1;
+}
+
 void daemon_rt_setup(const char *name, int prio)
 {
     struct sched_param sp;

@@ -83,6 +83,11 @@ typedef int (*daemon_cycle_fn)(daemon *d, void *user);
 #define DAEMON_STOP_FAILED 1   /* cycle: stop, the daemon cannot go on (exit 1) */
 
 void daemon_defaults(daemon *d, const char *name, double period_s);
+/* Start-up check of one constant table: rc is what its validator returned
+ * (0, or the module's negative *_ERR_* code). 0 when rc is 0; else prints
+ * "PROG: TABLE is invalid (VALIDATOR: RC)" on stderr and returns -1 (the
+ * daemon then exits 1 without running). */
+int  daemon_check_table(const char *prog, const char *table, const char *validator, int rc);
 /* Loads the bus key (auth_bus_start; the daemon has set its identity with
  * auth_bus_identity), hands --drop-rate / --drop-seed to the receive path
  * (rx_set_drop), opens LCM, installs SIGINT/SIGTERM handlers,

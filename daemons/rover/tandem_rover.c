@@ -164,6 +164,21 @@ static int parse_args(rover_daemon *rd, int argc, char **argv)
     return 0;
 }
 
+/* The constant tables the controllers run on, checked before they run:
+ * the controller parameters (the defaults with the options applied), the
+ * journal's snapshot layout and the option table. */
+static int check_tables(const rover_daemon *rd)
+{
+    const char *prog = rd->d.name;
+    if (daemon_check_table(prog, "rover_ctl_params", "rover_ctl_params_validate",
+                           rover_ctl_params_validate(&rd->params)) != 0 ||
+        daemon_check_table(prog, "rover_snapshot field table", "rover_snapshot_validate",
+                           rover_snapshot_validate()) != 0 ||
+        daemon_check_table(prog, "rover_options", "options_table_validate", options_table_validate(rover_options)) != 0)
+        return -1;
+    return 0;
+}
+
 static int cycle(daemon *d, void *user)
 {
     rover_daemon *rd = user;
@@ -244,6 +259,7 @@ int main(int argc, char **argv)
     if (rd->id_lo == rd->id_hi) snprintf(name, sizeof name, "tandem-rover-%d", (int)rd->id_lo);
     else snprintf(name, sizeof name, "tandem-rover-%d-%d", (int)rd->id_lo, (int)rd->id_hi);
     snprintf(d->name, sizeof d->name, "%s", name);
+    if (check_tables(rd) != 0) return 1;
     if (rover_world_layout(&rd->layout, rd->world, rd->robots, 1.0, rd->formation) != 0) {
         fprintf(stderr, "tandem-rover: no layout for %d robots\n", rd->robots);
         return 2;

@@ -196,7 +196,7 @@ static int cycle(daemon *d, void *user)
     return DAEMON_CONTINUE;
 }
 
-/* ---- command line ----------------------------------------------------------- */
+/* ---- command line and start-up check of the tables -------------------------- */
 
 static const char *const controller_names[] = { "event", "time", NULL };
 static const int controller_values[] = { TANDEM_ACTION_ROW_T_CONTROLLER_EVENT, TANDEM_ACTION_ROW_T_CONTROLLER_TIME };
@@ -222,6 +222,20 @@ static const option_entry supervisor_options[] = {
     { .name = NULL }
 };
 
+/* The tables the net and its rows are made of, checked before the
+ * reachability graph is explored from them (check_net), and the option
+ * table. */
+static int check_tables(const supervisor_daemon *sv)
+{
+    if (daemon_check_table(sv->d.name, "carry_net", "petri_net_validate", petri_net_validate(&carry_net)) != 0 ||
+        daemon_check_table(sv->d.name, "carry_table", "carry_table_validate",
+                           carry_table_validate(carry_table, CARRY_N_TRANSITIONS, &carry_net)) != 0 ||
+        daemon_check_table(sv->d.name, "supervisor_options", "options_table_validate",
+                           options_table_validate(supervisor_options)) != 0)
+        return -1;
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     static supervisor_daemon app;
@@ -243,7 +257,7 @@ int main(int argc, char **argv)
     daemon_defaults(d, "tandem-supervisor", 0.010);
     if ((rc = options_parse(&prog, argc, argv, 1)) < 0)
         return options_exit_status(rc);
-    if (check_net(sv) != 0)
+    if (check_tables(sv) != 0 || check_net(sv) != 0)
         return 1;
     if (petri_init(&sv->net, &carry_net) != 0 || stallwatch_init(&sv->stall, sv->stall_s) != 0)
         return 1;
