@@ -12,24 +12,40 @@
 #include <string.h>
 #include "auth.h"
 #include "auth_bus.h"
+#include "options.h"
 #include "version.h"
 
 #define PROG "tandem-keygen"
 
-static void usage(FILE *f)
+typedef struct keygen_options {
+    int rotate, show;
+    const char *path;     /* the one PATH argument, NULL: the default */
+} keygen_options;
+
+static const option_entry keygen_table[] = {
+    { .name = "rotate", .type = OPTION_FLAG, OPTION_AT(keygen_options, rotate),
+      .help = "make a new key; the old one is kept as PATH.prev: restart the daemons with --key-file PATH "
+              "--key-file PATH.prev while some still sign with the old key, then with --key-file PATH alone" },
+    { .name = "show", .type = OPTION_FLAG, OPTION_AT(keygen_options, show),
+      .help = "print the key id byte of PATH (which key signed a message)" },
+    { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
+    { .name = "version", .type = OPTION_VERSION, .help = "program version" },
+    { .name = NULL }
+};
+
+/* A word that is not an option: the PATH, once. */
+static int path_word(void *user, const char *word)
 {
-    char def[1024] = "~/.config/tandem/bus.key";
-    auth_bus_default_key_path(def, sizeof def);
-    fprintf(f, "usage: tandem-keygen [--rotate | --show] [PATH]\n"
-               "Makes the tandem bus key: 32 random bytes (libsodium), mode 0600.\n"
-               "PATH defaults to %s.\n\n"
-               "  (no option)  make a new key; an existing file is left alone (exit 1)\n"
-               "  --rotate     make a new key; the old one is kept as PATH.prev: restart the\n"
-               "               daemons with --key-file PATH --key-file PATH.prev while some\n"
-               "               still sign with the old key, then with --key-file PATH alone\n"
-               "  --show       print the key id byte of PATH (which key signed a message)\n"
-               "  --help, --version\n"
-               "Exit status: 0 done, 1 key error, 2 bad arguments.\n", def);
+    keygen_options *o = user;
+    if (word[0] == '-')
+        fprintf(stderr, PROG ": unknown option '%s' (" PROG " --help lists them)\n", word);
+    else if (o->path)
+        fprintf(stderr, PROG ": one PATH only ('%s', then '%s')\n", o->path, word);
+    else {
+        o->path = word;
+        return 0;
+    }
+    return -1;
 }
 
 static int show(const char *path)
@@ -72,36 +88,35 @@ static int make(const char *path, int rotate)
 
 int main(int argc, char **argv)
 {
-    char def[1024];
-    const char *path = NULL;
-    int i, rotate = 0, show_only = 0;
+    char def[1024] = "~/.config/tandem/bus.key", usage[1400];
+    keygen_options o = { 0, 0, NULL };
+    const option_program prog = {
+        .name = PROG, .usage = usage,
+        .epilog = "\nWithout an option it makes a new key; an existing file is left alone (exit 1).\n"
+                  "Exit status: 0 done, 1 key error, 2 bad arguments.\n",
+        .groups = { { keygen_table, &o } }, .n_groups = 1,
+        .other = path_word, .other_user = &o,   /* exact option names, as before */
+    };
+    int rc;
     if (version_requested(argc, argv, PROG))
         return 0;
-    for (i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            usage(stdout);
-            return 0;
-        } else if (!strcmp(argv[i], "--rotate")) {
-            rotate = 1;
-        } else if (!strcmp(argv[i], "--show")) {
-            show_only = 1;
-        } else if (argv[i][0] != '-' && !path) {
-            path = argv[i];
-        } else {
-            usage(stderr);
-            return 2;
-        }
+    auth_bus_default_key_path(def, sizeof def);
+    snprintf(usage, sizeof usage,
+             "usage: tandem-keygen [--rotate | --show] [PATH]\n"
+             "Makes the tandem bus key: 32 random bytes (libsodium), mode 0600.\n"
+             "PATH defaults to %s.\n\n", def);
+    if ((rc = options_parse(&prog, argc, argv, 1)) < 0)
+        return options_exit_status(rc);
+    if (o.rotate && o.show) {
+        fprintf(stderr, PROG ": --rotate and --show exclude each other\n");
+        return OPTIONS_EXIT_BAD_ARGS;
     }
-    if (rotate && show_only) {
-        usage(stderr);
-        return 2;
-    }
-    if (!path) {
+    if (!o.path) {
         if (auth_bus_default_key_path(def, sizeof def) != 0) {
             fprintf(stderr, PROG ": no HOME: give the key's PATH\n");
             return 2;
         }
-        path = def;
+        o.path = def;
     }
-    return show_only ? show(path) : make(path, rotate);
+    return o.show ? show(o.path) : make(o.path, o.rotate);
 }

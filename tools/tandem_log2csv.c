@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <lcm/lcm.h>
+#include "options.h"
 #include "tandem_csv.h"
 #include "version.h"
 #include "tandem_arm_state_t.h"
@@ -136,23 +137,19 @@ static void list_channels(lcm_eventlog_t *log)
     for (i = 0; i < n; i++) printf("%-24s %-28s %ld\n", c[i].name, c[i].type, c[i].count);
 }
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: tandem-log2csv [--all-fields] LOGFILE CHANNEL > out.csv\n"
-               "       tandem-log2csv --list LOGFILE\n"
-               "Writes the messages of one channel of an lcm-logger file as CSV on stdout, one\n"
-               "row per message. Any tandem channel: the type is recognised by its fingerprint\n"
-               "and every field becomes a column (log_time_s first; arrays one column per\n"
-               "element; inside variable-length arrays one column per field, the elements'\n"
-               "values joined with ';'). ARM1_STATE, ARM2_STATE, PETRI_MARKING and ROVER_TRUTH\n"
-               "have short plotting layouts unless --all-fields is given.\n\n"
-               "  --list          the channels in the log, their types and message counts\n"
-               "  --all-fields    the generic layout for every channel\n"
-               "  --help          this text\n"
-               "  --version       program version\n"
-               "Exit status: 0 rows written, 1 not an LCM log / unreadable / channel absent\n"
-               "or of an unknown type, 2 bad arguments.\n");
-}
+typedef struct log2csv_options {
+    int list, all_fields;
+} log2csv_options;
+
+static const option_entry log2csv_table[] = {
+    { .name = "list", .type = OPTION_FLAG, OPTION_AT(log2csv_options, list),
+      .help = "the channels in the log, their types and message counts" },
+    { .name = "all-fields", .type = OPTION_FLAG, OPTION_AT(log2csv_options, all_fields),
+      .help = "the generic layout for every channel" },
+    { .name = "help", .type = OPTION_HELP, .help = "this text" },
+    { .name = "version", .type = OPTION_VERSION, .help = "program version" },
+    { .name = NULL }
+};
 
 static int convert(lcm_eventlog_t *log, const char *channel, int all_fields)
 {
@@ -193,15 +190,27 @@ static int convert(lcm_eventlog_t *log, const char *channel, int all_fields)
 int main(int argc, char **argv)
 {
     lcm_eventlog_t *log;
-    int all_fields = 0, list = 0, first = 1, rc;
+    log2csv_options o = { 0, 0 };
+    const option_program prog = {
+        .name = "tandem-log2csv",
+        .usage = "usage: tandem-log2csv [--all-fields] LOGFILE CHANNEL > out.csv\n"
+                 "       tandem-log2csv --list LOGFILE\n"
+                 "Writes the messages of one channel of an lcm-logger file as CSV on stdout, one\n"
+                 "row per message. Any tandem channel: the type is recognised by its fingerprint\n"
+                 "and every field becomes a column (log_time_s first; arrays one column per\n"
+                 "element; inside variable-length arrays one column per field, the elements'\n"
+                 "values joined with ';'). ARM1_STATE, ARM2_STATE, PETRI_MARKING and ROVER_TRUTH\n"
+                 "have short plotting layouts unless --all-fields is given.\n\n",
+        .epilog = "Exit status: 0 rows written, 1 not an LCM log / unreadable / channel absent\n"
+                  "or of an unknown type, 2 bad arguments.\n",
+        .groups = { { log2csv_table, &o } }, .n_groups = 1,
+        .args = OPTIONS_ARGS_STOP,   /* options before LOGFILE, as always */
+    };
+    int first, rc;
     if (version_requested(argc, argv, "tandem-log2csv")) return 0;
-    for (; first < argc && argv[first][0] == '-' && argv[first][1] == '-'; first++) {
-        if (!strcmp(argv[first], "--help")) { usage(stdout); return 0; }
-        else if (!strcmp(argv[first], "--all-fields")) all_fields = 1;
-        else if (!strcmp(argv[first], "--list")) list = 1;
-        else { fprintf(stderr, "tandem-log2csv: unknown option '%s'\n", argv[first]); usage(stderr); return 2; }
-    }
-    if (argc - first != (list ? 1 : 2)) { usage(stderr); return 2; }
+    first = options_parse(&prog, argc, argv, 1);
+    if (first < 0) return options_exit_status(first);
+    if (argc - first != (o.list ? 1 : 2)) { options_print_help(&prog, stderr); return 2; }
     rc = is_lcm_log(argv[first]);
     if (rc <= 0) {
         fprintf(stderr, rc < 0 ? "tandem-log2csv: cannot open '%s'\n"
@@ -214,8 +223,8 @@ int main(int argc, char **argv)
         return 1;
     }
     rc = 0;
-    if (list) list_channels(log);
-    else rc = convert(log, argv[first + 1], all_fields);
+    if (o.list) list_channels(log);
+    else rc = convert(log, argv[first + 1], o.all_fields);
     lcm_eventlog_destroy(log);
     return rc;
 }

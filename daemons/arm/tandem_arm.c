@@ -17,26 +17,14 @@
 #include <stdlib.h>
 #include <string.h>
 #include "arm_daemon.h"
+#include "cartctl.h"
+#include "cell.h"
+#include "linalg.h"
 #include "msg_check.h"
+#include "options.h"
 #include "tandem_arm_command_t.h"
 
 #define FAULT_CLEAR_S 0.5
-
-static void usage(void)
-{
-    printf("usage: tandem-arm --arm 1|2 [options]\n"
-           "Continuous controller of one PUMA 560: computed-torque joint control with\n"
-           "gravity compensation; executes supervisor action rows; safe hold on stale\n"
-           "or invalid input.\n\n"
-           "  --arm N           which arm, 1 or 2 (required)\n"
-           "  --wn HZ           joint servo natural frequency in Hz (default 8)\n"
-           "  --stale-ms MS     state older than this engages the brakes (default 20)\n"
-           "  --speed-frac F    joint moves use this fraction of the motor speed (default 0.5)\n"
-           "  --arm-model NAME  puma560 (default) or seed002 (must match tandem-sim's)\n"
-           "  --block-detect on|off  off: the event-referenced law (eq. 6-7) alone, no\n"
-           "                    blocked detector and no BLOCKED events (default on)\n"
-           DAEMON_COMMON_HELP);
-}
 
 /* Every event carries the running action and segment; Cartesian segments
  * add their progress (see cart_publish_event). */
@@ -70,8 +58,8 @@ void arm_publish_event(arm_daemon *ad, int ev, const char *detail)
 
 static int state_valid(const arm_daemon *ad, const tandem_arm_state_t *s)
 {
-    return s->arm == ad->arm && s->step >= 0 && all_finite(s->q_rad, ARM_NJ) &&
-           all_finite(s->qd_radps, ARM_NJ) && isfinite(s->sim_time_s);
+    return s->arm == ad->arm && s->step >= 0 && linalg_all_finite(s->q_rad, ARM_NJ) &&
+           linalg_all_finite(s->qd_radps, ARM_NJ) && isfinite(s->sim_time_s);
 }
 
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
@@ -98,7 +86,7 @@ static int segment_valid(const arm_daemon *ad, const tandem_action_segment_t *g)
 {
     switch (g->kind) {
     case TANDEM_ACTION_SEGMENT_T_MOVE_CARTESIAN:
-        return all_finite(g->position_m, 3) && all_finite(g->orientation_quat, 4) &&
+        return linalg_all_finite(g->position_m, 3) && linalg_all_finite(g->orientation_quat, 4) &&
                fabs(g->orientation_quat[0] * g->orientation_quat[0] + g->orientation_quat[1] * g->orientation_quat[1] +
                     g->orientation_quat[2] * g->orientation_quat[2] + g->orientation_quat[3] * g->orientation_quat[3] - 1.0) < 1e-3;
     case TANDEM_ACTION_SEGMENT_T_MOVE_JOINT:
@@ -253,70 +241,104 @@ static int cycle(daemon *d, void *user)
     return DAEMON_CONTINUE;
 }
 
+/* ---- command line and start-up check ---------------------------------------- */
+
+/* --arm-model NAME: the model by its name */
+static int parse_model(const char *prog, void *dest, char *value)
+{
+    const arm_model **model = dest;
+    if (!(*model = arm_model_by_name(value))) {
+        fprintf(stderr, "%s: --arm-model: '%s' is not puma560|seed002\n", prog, value);
+        return OPTIONS_ERR_SAID;
+    }
+    return 0;
+}
+
+/* Into the arm_daemon main made; the values it holds before are the
+ * defaults. --wn is stored as rad/s (times 2 pi), --stale-ms as s. */
+static const option_entry arm_options[] = {
+    { .name = "arm", .type = OPTION_INT, OPTION_AT(arm_daemon, arm), .min = 1, .max = 2, .meta = "N",
+      .help = "which arm (required)" },
+    { .name = "wn", .type = OPTION_DOUBLE, OPTION_AT(arm_daemon, gains.wn_radps), .min = 0.5, .max = 50.0,
+      .scale = 6.283185307179586, .meta = "HZ", .help = "joint servo natural frequency in Hz", .def = "8" },
+    { .name = "stale-ms", .type = OPTION_DOUBLE, OPTION_AT(arm_daemon, stale_s), .min = 1.0, .max = 1000.0,
+      .scale = 1e-3, .meta = "MS", .help = "state older than this engages the brakes", .def = "20" },
+    { .name = "speed-frac", .type = OPTION_DOUBLE, OPTION_AT(arm_daemon, speed_frac), .min = 0.01, .max = 1.0,
+      .meta = "F", .help = "joint moves use this fraction of the motor speed", .def = "0.5" },
+    { .name = "arm-model", .type = OPTION_CALL, OPTION_AT(arm_daemon, model), .call = parse_model, .meta = "NAME",
+      .help = "puma560 or seed002 (must match tandem-sim's)", .def = "puma560" },
+    { .name = "block-detect", .type = OPTION_CHOICE, OPTION_AT(arm_daemon, block_detect), .choices = options_on_off,
+      .values = options_on_off_flags,
+      .help = "off: the event-referenced law (eq. 6-7) alone, no blocked detector and no BLOCKED events",
+      .def = "on" },
+    { .name = NULL }
+};
+
+/* 0, or a negative options_parse result (--help, --version, bad options). */
+static int parse_args(arm_daemon *ad, int argc, char **argv)
+{
+    const option_program prog = {
+        .name = "tandem-arm",
+        .usage = "usage: tandem-arm --arm 1|2 [options]\n"
+                 "Continuous controller of one PUMA 560: computed-torque joint control with\n"
+                 "gravity compensation; executes supervisor action rows; safe hold on stale\n"
+                 "or invalid input.\n\n",
+        .epilog = "\nThe control period (--period-ms) is 1 ms unless given.\n",
+        .groups = { { arm_options, ad }, { options_daemon_common, &ad->d } },
+        .n_groups = 2,
+    };
+    const int rc = options_parse(&prog, argc, argv, 1);
+    if (rc < 0)
+        return rc;
+    if (ad->arm == 0) {
+        fprintf(stderr, "tandem-arm: --arm 1|2 is required\n");
+        return OPTIONS_ERR_ARG;
+    }
+    return 0;
+}
+
+/* The constant tables this arm runs on, checked before it runs: its
+ * model, the cell layout, the Cartesian controller's gains (cartseg
+ * takes cartctl_gains_default; a row's own gains are checked as it
+ * starts) and its option table. */
+static int check_tables(const arm_daemon *ad)
+{
+    const char *prog = ad->d.name;
+    cartctl_gains cg;
+    cartctl_gains_default(&cg);
+    if (daemon_check_table(prog, ad->model == &arm_model_seed002 ? "arm_model_seed002" : "arm_model_puma560",
+                           "arm_model_validate", arm_model_validate(ad->model)) != 0 ||
+        daemon_check_table(prog, "cell_default", "cell_layout_validate", cell_layout_validate(&cell_default)) != 0 ||
+        daemon_check_table(prog, "cartctl_gains_default", "cartctl_gains_validate", cartctl_gains_validate(&cg)) != 0 ||
+        daemon_check_table(prog, "arm_options", "options_table_validate", options_table_validate(arm_options)) != 0)
+        return -1;
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
-    static const struct option opts[] = {
-        { "arm", required_argument, 0, 'a' },
-        { "wn", required_argument, 0, 'w' },
-        { "stale-ms", required_argument, 0, 's' },
-        { "speed-frac", required_argument, 0, 'f' },
-        { "arm-model", required_argument, 0, 'm' },
-        { "block-detect", required_argument, 0, 'B' },
-        DAEMON_COMMON_OPTIONS,
-        { 0, 0, 0, 0 }
-    };
     static arm_daemon app;
     arm_daemon *ad = &app;
     daemon *d = &ad->d;
-    int c, rc;
-    long arm = 0;
-    double hz = 8.0, ms = 20.0;
+    int rc;
     char name[32];
+    ad->model = &arm_model_puma560;
+    ad->gains.wn_radps = 6.283185307179586 * 8.0;
+    ad->stale_s = 20.0 * 1e-3;
     ad->speed_frac = 0.5;
     ad->block_detect = 1;
     daemon_defaults(d, "tandem-arm", 0.001);
-    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-        rc = daemon_parse_common(d, c, optarg);
-        if (rc == 2) { usage(); return 0; }
-        if (rc < 0) return 2;
-        if (rc == 1) continue;
-        switch (c) {
-        case 'a': if (parse_int_opt("tandem-arm", "--arm", optarg, 1, 2, &arm) < 0) return 2; break;
-        case 'w': if (parse_double_opt("tandem-arm", "--wn", optarg, 0.5, 50.0, &hz) < 0) return 2; break;
-        case 's': if (parse_double_opt("tandem-arm", "--stale-ms", optarg, 1.0, 1000.0, &ms) < 0) return 2; break;
-        case 'f': if (parse_double_opt("tandem-arm", "--speed-frac", optarg, 0.01, 1.0, &ad->speed_frac) < 0) return 2; break;
-        case 'm':
-            if (!(ad->model = arm_model_by_name(optarg))) {
-                fprintf(stderr, "tandem-arm: --arm-model: '%s' is not puma560|seed002\n", optarg);
-                return 2;
-            }
-            break;
-        case 'B':
-            if (strcmp(optarg, "on") && strcmp(optarg, "off")) {
-                fprintf(stderr, "tandem-arm: --block-detect: '%s' is not on|off\n", optarg);
-                return 2;
-            }
-            ad->block_detect = !strcmp(optarg, "on");
-            break;
-        default: usage(); return 2;
-        }
-    }
-    if (optind < argc || arm == 0) {
-        fprintf(stderr, "tandem-arm: %s\n", arm == 0 ? "--arm 1|2 is required" : "unexpected argument");
-        return 2;
-    }
-    ad->arm = (int)arm;
-    if (!ad->model)
-        ad->model = &arm_model_puma560;
-    ad->gains.wn_radps = 6.283185307179586 * hz;
+    if ((rc = parse_args(ad, argc, argv)) < 0)
+        return options_exit_status(rc);
     ad->gains.zeta = 1.0;
-    ad->stale_s = ms * 1e-3;
     step_gate_init(&ad->state_gate, 1000, 1000000000LL);
     snprintf(name, sizeof name, "tandem-arm-%d", ad->arm);
     snprintf(d->name, sizeof d->name, "%s", name);
     snprintf(ad->state_ch, sizeof ad->state_ch, "ARM%d_STATE", ad->arm);
     snprintf(ad->cmd_ch, sizeof ad->cmd_ch, "ARM%d_COMMAND", ad->arm);
     snprintf(ad->action_ch, sizeof ad->action_ch, "ARM%d_ACTION", ad->arm);
+    if (check_tables(ad) != 0)
+        return 1;
     auth_bus_identity(AUTH_ROLE_ARM, ad->arm, ad->arm);
     if (daemon_start(d) != 0)
         return 1;

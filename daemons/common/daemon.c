@@ -40,15 +40,6 @@ int64_t daemon_utime_now(void)
     return (int64_t)tv.tv_sec * 1000000 + tv.tv_usec;
 }
 
-int all_finite(const double *v, int n)
-{
-    int i;
-    for (i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
 int parse_double_opt(const char *prog, const char *opt, const char *s,
                      double lo, double hi, double *out)
 {
@@ -97,67 +88,19 @@ void daemon_defaults(daemon *d, const char *name, double period_s)
     d->step = -1;
     d->pending_step = -1;
     d->answered_step = -1;
+    d->drop_seed = 1;
     /* a clock may jump 10 s ahead of the last one we saw (a slow
      * participant); after 1 s without a clock any step is taken (reset) */
     step_gate_init(&d->clock_gate, 10000, 1000000000LL);
     snprintf(d->status, sizeof d->status, "starting");
 }
 
-int daemon_parse_common(daemon *d, int opt, const char *arg)
+int daemon_check_table(const char *prog, const char *table, const char *validator, int rc)
 {
-    long prio;
-    double ms;
-    switch (opt) {
-    case OPT_LCM_URL:
-        if (arg[0] == '\0') {
-            fprintf(stderr, "%s: --lcm-url: empty URL\n", d->name);
-            return -1;
-        }
-        d->lcm_url = arg;
-        return 1;
-    case OPT_RT:
-        if (parse_int_opt(d->name, "--rt", arg, 1, 99, &prio) < 0)
-            return -1;
-        d->rt_prio = (int)prio;
-        return 1;
-    case OPT_LOCKSTEP:
-        d->lockstep = 1;
-        return 1;
-    case OPT_PERIOD_MS:
-        if (parse_double_opt(d->name, "--period-ms", arg, 0.05, 10000.0, &ms) < 0)
-            return -1;
-        d->period_s = ms * 1e-3;
-        return 1;
-    case OPT_HELP:
-        return 2;
-    case OPT_VERSION:
-        daemon_print_version(d->name);
-        exit(0);
-    default: {
-        const int rc = auth_bus_option(d->name, opt, arg);
-        return rc != 0 ? rc : daemon_parse_fault(d, opt, arg);
-    }
-    }
-}
-
-int daemon_parse_fault(daemon *d, int opt, const char *arg)
-{
-    static double p;
-    static long seed = 1;
-    switch (opt) {
-    case OPT_DROP_RATE:
-        if (parse_double_opt(d->name, "--drop-rate", arg, 0.0, 0.9, &p) < 0)
-            return -1;
-        break;
-    case OPT_DROP_SEED:
-        if (parse_int_opt(d->name, "--drop-seed", arg, 0, 2147483647L, &seed) < 0)
-            return -1;
-        break;
-    default:
+    if (rc == 0)
         return 0;
-    }
-    rx_set_drop(p, (uint64_t)seed);
-    return 1;
+    fprintf(stderr, "%s: %s is invalid (%s: %d)\n", prog, table, validator, rc);
+    return -1;
 }
 
 void daemon_rt_setup(const char *name, int prio)
@@ -231,6 +174,7 @@ int daemon_start(daemon *d)
 
     if (auth_bus_start(d->name) != 0)
         return -1;
+    rx_set_drop(d->drop_rate, (uint64_t)d->drop_seed);
     d->lcm = lcm_create(d->lcm_url);
     if (!d->lcm) {
         fprintf(stderr, "%s: cannot open LCM at '%s'\n", d->name, d->lcm_url);

@@ -1,17 +1,18 @@
 /* daemon: the thin shell every tandem daemon shares (SPEC.md §1, §7).
  *
- * Command-line handling of the common options, signals, optional
- * SCHED_FIFO + mlockall, the LCM handle, the loop driver for both timing
- * modes (real time on rtloop; lockstep on the simulator's SIM_CLOCK with
- * an ack per answered step), and the once-a-second health message.
+ * The common options' values (options_daemon_common in options.h fills
+ * them), signals, optional SCHED_FIFO + mlockall, the LCM handle, the loop
+ * driver for both timing modes (real time on rtloop; lockstep on the
+ * simulator's SIM_CLOCK with an ack per answered step), and the
+ * once-a-second health message.
  * Daemon-specific work lives in a cycle callback that calls the core.
  */
 #ifndef TANDEM_DAEMON_H
 #define TANDEM_DAEMON_H
 
-#include <getopt.h>
 #include <stdint.h>
 #include <lcm/lcm.h>
+#include "linalg.h"
 #include "rtloop.h"
 #include "auth_bus.h"
 #include "guard.h"
@@ -22,38 +23,6 @@
 #define DAEMON_NAME_MAX 64
 #define DAEMON_QUEUE_CAPACITY 100000   /* messages per subscription */
 #define DAEMON_SIM_SILENT_NS 5000000000LL  /* lockstep: no clock this long = no simulator */
-
-/* Long options every daemon accepts; splice into a getopt_long table. */
-enum { OPT_LCM_URL = 1000, OPT_RT, OPT_LOCKSTEP, OPT_PERIOD_MS, OPT_HELP, OPT_VERSION };
-#define DAEMON_COMMON_OPTIONS \
-    { "lcm-url",   required_argument, 0, OPT_LCM_URL }, \
-    { "rt",        required_argument, 0, OPT_RT }, \
-    { "lockstep",  no_argument,       0, OPT_LOCKSTEP }, \
-    { "period-ms", required_argument, 0, OPT_PERIOD_MS }, \
-    { "help",      no_argument,       0, OPT_HELP }, \
-    { "version",   no_argument,       0, OPT_VERSION }, \
-    AUTH_BUS_OPTIONS, \
-    DAEMON_FAULT_OPTIONS
-/* Fault injection (daemons/common/rx.h), parsed by daemon_parse_fault. */
-enum { OPT_DROP_RATE = 1100, OPT_DROP_SEED };
-#define DAEMON_FAULT_OPTIONS \
-    { "drop-rate", required_argument, 0, OPT_DROP_RATE }, \
-    { "drop-seed", required_argument, 0, OPT_DROP_SEED }
-#define DAEMON_FAULT_HELP \
-    "  --drop-rate P     fault injection: drop received messages with probability P\n" \
-    "  --drop-seed S     seed of the drops (default 1): same seed, same drops\n"
-#define DAEMON_COMMON_HELP \
-    "  --lcm-url URL     LCM provider (default " DAEMON_DEFAULT_LCM_URL ",\n" \
-    "                    or $LCM_DEFAULT_URL when set)\n" \
-    "  --rt PRIO         SCHED_FIFO priority 1-99 and mlockall (warns and goes on\n" \
-    "                    without them when not permitted)\n" \
-    "  --lockstep        follow the simulator's clock (deterministic) instead of\n" \
-    "                    the wall clock\n" \
-    "  --period-ms MS    control period\n" \
-    "  --help            this text\n" \
-    "  --version         program version (git describe at build time)\n" \
-    AUTH_BUS_HELP \
-    DAEMON_FAULT_HELP
 
 typedef struct daemon_counters {
     int64_t received;
@@ -99,6 +68,8 @@ typedef struct daemon {
     int64_t  clock_rx_ns;               /* wall time of the last SIM_CLOCK (0 none) */
     int64_t  input_waits;               /* lockstep: announcements not answered
                                            yet because an input was missing */
+    double   drop_rate;                 /* --drop-rate: fault injection (rx.h), 0 none */
+    long     drop_seed;                 /* --drop-seed: seed of the drops, 1 by default */
 } daemon;
 
 /* Cycle callback: read the latest inputs, call the core, publish outputs;
@@ -112,14 +83,14 @@ typedef int (*daemon_cycle_fn)(daemon *d, void *user);
 #define DAEMON_STOP_FAILED 1   /* cycle: stop, the daemon cannot go on (exit 1) */
 
 void daemon_defaults(daemon *d, const char *name, double period_s);
-/* Handles a fault-injection option (as daemon_parse_common). */
-int  daemon_parse_fault(daemon *d, int opt, const char *arg);
-/* Handles a common option; returns 1 handled, 0 not common, -1 bad value
- * (message already printed), 2 for --help (caller prints usage, exits 0).
- * --version prints the version and exits 0 here. */
-int  daemon_parse_common(daemon *d, int opt, const char *arg);
+/* Start-up check of one constant table: rc is what its validator returned
+ * (0, or the module's negative *_ERR_* code). 0 when rc is 0; else prints
+ * "PROG: TABLE is invalid (VALIDATOR: RC)" on stderr and returns -1 (the
+ * daemon then exits 1 without running). */
+int  daemon_check_table(const char *prog, const char *table, const char *validator, int rc);
 /* Loads the bus key (auth_bus_start; the daemon has set its identity with
- * auth_bus_identity), opens LCM, installs SIGINT/SIGTERM handlers,
+ * auth_bus_identity), hands --drop-rate / --drop-seed to the receive path
+ * (rx_set_drop), opens LCM, installs SIGINT/SIGTERM handlers,
  * applies --rt. 0 on success. */
 int  daemon_start(daemon *d);
 /* Minimal timer slack always (Linux); with prio > 0 also SCHED_FIFO at
@@ -166,7 +137,8 @@ int parse_double_opt(const char *prog, const char *opt, const char *s,
 int parse_int_opt(const char *prog, const char *opt, const char *s,
                   long lo, long hi, long *out);
 
-/* All n values finite. */
-int all_finite(const double *v, int n);
+/* sim/sim_main.c still calls all_finite, the daemons' old copy of
+ * linalg_all_finite; this name goes once it calls linalg_all_finite. */
+#define all_finite(v, n) linalg_all_finite((v), (n))
 
 #endif

@@ -3,6 +3,7 @@
 #include <math.h>
 #include "carry_net.h"
 #include "daemon.h"
+#include "linalg.h"
 
 static int row_has_cartesian(const tandem_action_row_t *r)
 {
@@ -38,7 +39,7 @@ int joint_ref_check(const tandem_arm_joint_ref_t *r, int arm, const arm_model *m
         return MSG_ERR_ARM;
     if (r->step < 0 || r->step > state_step + 1 || r->step < state_step - stale_steps)
         return MSG_ERR_STEP;
-    if (arm_q_finite(r->q_rad) != 0 || !all_finite(r->qd_radps, ARM_NJ) || !all_finite(r->qdd_radps2, ARM_NJ))
+    if (arm_q_finite(r->q_rad) != 0 || !linalg_all_finite(r->qd_radps, ARM_NJ) || !linalg_all_finite(r->qdd_radps2, ARM_NJ))
         return MSG_ERR_NUMBER;
     if (arm_q_outside_limits(m, r->q_rad) != 0)
         return MSG_ERR_RANGE;

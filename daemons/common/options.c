@@ -525,6 +525,7 @@ const char *const options_formation_names[] = { "line", "triangle", "column", NU
 const int options_formation_values[] = { FORMATION_LINE, FORMATION_TRIANGLE, FORMATION_COLUMN };
 const char *const options_arm_model_names[] = { "puma560", "seed002", NULL };
 const char *const options_on_off[] = { "on", "off", NULL };
+const int options_on_off_flags[] = { 1, 0 };
 
 static int key_file(const char *prog, void *dest, char *value)
 {
@@ -536,18 +537,6 @@ static int insecure(const char *prog, void *dest, char *value)
 {
     (void)dest;
     return auth_bus_option(prog, OPT_INSECURE, value) > 0 ? 0 : OPTIONS_ERR_SAID;
-}
-
-static int drop_rate(const char *prog, void *dest, char *value)
-{
-    (void)prog;
-    return daemon_parse_fault(dest, OPT_DROP_RATE, value) > 0 ? 0 : OPTIONS_ERR_SAID;
-}
-
-static int drop_seed(const char *prog, void *dest, char *value)
-{
-    (void)prog;
-    return daemon_parse_fault(dest, OPT_DROP_SEED, value) > 0 ? 0 : OPTIONS_ERR_SAID;
 }
 
 #define BUS_KEY_ENTRIES \
@@ -569,10 +558,10 @@ const option_entry options_daemon_common[] = {
     { .name = "help", .type = OPTION_HELP, .help = "this text" },
     { .name = "version", .type = OPTION_VERSION, .help = "program version (git describe at build time)" },
     BUS_KEY_ENTRIES,
-    { .name = "drop-rate", .type = OPTION_CALL, OPTION_ALL(daemon), .call = drop_rate,
-      .meta = "P", .help = "fault injection: drop received messages with probability P (0..0.9)" },
-    { .name = "drop-seed", .type = OPTION_CALL, OPTION_ALL(daemon), .call = drop_seed, .meta = "S",
-      .help = "seed of the drops (0..2147483647): same seed, same drops", .def = "1" },
+    { .name = "drop-rate", .type = OPTION_DOUBLE, OPTION_AT(daemon, drop_rate), .min = 0.0, .max = 0.9,
+      .meta = "P", .help = "fault injection: drop received messages with probability P" },
+    { .name = "drop-seed", .type = OPTION_INT, OPTION_AT(daemon, drop_seed), .min = 0, .max = 2147483647.0,
+      .meta = "S", .help = "seed of the drops: same seed, same drops", .def = "1" },
     { .name = NULL }
 };
 

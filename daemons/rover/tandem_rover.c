@@ -42,39 +42,11 @@
 #include <string.h>
 #include "rover_daemon.h"
 #include "formation.h"
+#include "options.h"
 
 hosted *rover_find_hosted(rover_daemon *rd, int32_t id)
 {
     return (id >= rd->id_lo && id <= rd->id_hi) ? &rd->h[id - rd->id_lo] : NULL;
-}
-
-static void usage(void)
-{
-    printf("usage: tandem-rover --id K|A-B --robots N [options]\n"
-           "Distributed behaviour-based formation controller of Pioneer robot K (or\n"
-           "of robots A..B, each with its own state, in one process): odometry,\n"
-           "team messages at 10 Hz, team-average reference, four behaviours blended\n"
-           "(eq. 11), narrow-passage protocol, dead-zone escape, heartbeat membership.\n\n"
-           "  --id K | A-B       robot id(s), 1..N\n"
-           "  --robots N         team size in the launch configuration (default 3)\n"
-           "  --world NAME       open | obstacles | corridor | deadzone (default open)\n"
-           "  --formation F      line | triangle | column (default line)\n"
-           "  --blend B          weighted | subsumption | vecsum (default weighted)\n"
-           "  --formation-law L  seed (the seed's law, O ahead of the axle) | kanayama\n"
-           "                     (slot tracking, for comparison) (default seed)\n"
-           "  --ref-heading H    team reference heading: goal (bearing of the goal,\n"
-           "                     default) | mean (the seed's mean of the headings)\n"
-           "  --localize on|off  fuse the world's LED landmarks with odometry (EKF);\n"
-           "                     off: odometry and frame consensus only (default on)\n"
-           "  --stale-ms MS      sensors older than this stop the robot (default 500)\n"
-           "  --batch            publish all hosted robots' commands and states as one\n"
-           "                     ROVERS_COMMAND / ROVERS_STATE message per tick\n"
-           "                     (sensors are taken per robot and batched alike)\n"
-           "  --journal PATH     append each robot's controller snapshot to PATH\n"
-           "                     (PATH-K when hosting several) after every cycle; a\n"
-           "                     process started on an existing journal resumes there\n"
-           "  (control period --period-ms, default 50 ms = 20 Hz)\n"
-           DAEMON_COMMON_HELP);
 }
 
 static int parse_ids(rover_daemon *rd, const char *s)
@@ -98,122 +70,112 @@ static int parse_ids(rover_daemon *rd, const char *s)
     return 0;
 }
 
+/* --id K|A-B */
+static int parse_id(const char *prog, void *dest, char *value)
+{
+    if (parse_ids(dest, value) != 0) {
+        fprintf(stderr, "%s: --id: '%s' is not K or A-B (1 <= A <= B, at most %d)\n", prog, value, HOST_MAX);
+        return OPTIONS_ERR_SAID;
+    }
+    return 0;
+}
+
+/* --ref-heading goal|mean: the reference heading's pull toward the goal */
+static int parse_ref_heading(const char *prog, void *dest, char *value)
+{
+    double *gain = dest;
+    (void)prog;
+    if (!strcmp(value, "mean"))
+        *gain = 0.0;
+    else if (!strcmp(value, "goal"))
+        *gain = 1.0;
+    else
+        return -1;
+    return 0;
+}
+
+static const char *const blend_names[] = { "weighted", "subsumption", "vecsum", NULL };
+static const int blend_values[] = { BEH_BLEND_WEIGHTED, BEH_BLEND_SUBSUMPTION, BEH_BLEND_VECSUM };
+static const char *const law_names[] = { "seed", "kanayama", NULL };
+static const int law_values[] = { ROVER_LAW_SEED, ROVER_LAW_KANAYAMA };
+
+/* Into the rover_daemon main made; the values it holds before are the
+ * defaults. --stale-ms is stored as s. */
+static const option_entry rover_options[] = {
+    { .name = "id", .type = OPTION_CALL, OPTION_ALL(rover_daemon), .call = parse_id, .meta = "K|A-B",
+      .help = "robot id(s), 1..N (required)" },
+    { .name = "robots", .type = OPTION_INT, OPTION_AT(rover_daemon, robots), .min = 1,
+      .max = ROVER_WORLD_MAX_ROBOTS, .meta = "N", .help = "team size in the launch configuration", .def = "3" },
+    { .name = "world", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, world), .choices = options_world_names,
+      .values = options_world_values, .meta = "NAME", .def = "open" },
+    { .name = "formation", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, formation),
+      .choices = options_formation_names, .values = options_formation_values, .meta = "F", .def = "line" },
+    { .name = "blend", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, blend), .choices = blend_names,
+      .values = blend_values, .meta = "B", .def = "weighted" },
+    { .name = "formation-law", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, params.formation_law),
+      .choices = law_names, .values = law_values,
+      .help = "seed: the seed's law, O ahead of the axle; kanayama: slot tracking, for comparison",
+      .def = "seed" },
+    { .name = "ref-heading", .type = OPTION_CALL, OPTION_AT(rover_daemon, params.goal_heading_gain),
+      .call = parse_ref_heading, .meta = "goal|mean",
+      .help = "team reference heading: goal (bearing of the goal) | mean (the seed's mean of the headings)",
+      .def = "goal" },
+    { .name = "localize", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, localize), .choices = options_on_off,
+      .values = options_on_off_flags,
+      .help = "fuse the world's LED landmarks with odometry (EKF); off: odometry and frame consensus only",
+      .def = "on" },
+    { .name = "stale-ms", .type = OPTION_DOUBLE, OPTION_AT(rover_daemon, params.stale_s), .min = 10.0,
+      .max = 10000.0, .scale = 1e-3, .meta = "MS", .help = "sensors older than this stop the robot", .def = "500" },
+    { .name = "batch", .type = OPTION_FLAG, OPTION_AT(rover_daemon, batch),
+      .help = "publish all hosted robots' commands and states as one ROVERS_COMMAND / ROVERS_STATE message "
+              "per tick (sensors are taken per robot and batched alike)" },
+    { .name = "journal", .type = OPTION_STRING, OPTION_AT(rover_daemon, journal), .meta = "PATH",
+      .help = "append each robot's controller snapshot to PATH (PATH-K when hosting several) after every "
+              "cycle; a process started on an existing journal resumes there" },
+    { .name = NULL }
+};
+
+/* 0, or a negative options_parse result (--help, --version, bad options). */
 static int parse_args(rover_daemon *rd, int argc, char **argv)
 {
-    static const struct option opts[] = {
-        { "id", required_argument, 0, 'i' },
-        { "robots", required_argument, 0, 'n' },
-        { "world", required_argument, 0, 'w' },
-        { "formation", required_argument, 0, 'f' },
-        { "blend", required_argument, 0, 'b' },
-        { "stale-ms", required_argument, 0, 's' },
-        { "formation-law", required_argument, 0, 'L' },
-        { "ref-heading", required_argument, 0, 'H' },
-        { "localize", required_argument, 0, 'z' },
-        { "batch", no_argument, 0, 'B' },
-        { "journal", required_argument, 0, 'J' },
-        DAEMON_COMMON_OPTIONS,
-        { 0, 0, 0, 0 }
+    const option_program prog = {
+        .name = "tandem-rover",
+        .usage = "usage: tandem-rover --id K|A-B --robots N [options]\n"
+                 "Distributed behaviour-based formation controller of Pioneer robot K (or\n"
+                 "of robots A..B, each with its own state, in one process): odometry,\n"
+                 "team messages at 10 Hz, team-average reference, four behaviours blended\n"
+                 "(eq. 11), narrow-passage protocol, dead-zone escape, heartbeat membership.\n\n",
+        .epilog = "\nThe control period (--period-ms) is 50 ms (20 Hz) unless given.\n",
+        .groups = { { rover_options, rd }, { options_daemon_common, &rd->d } },
+        .n_groups = 2,
     };
-    int c;
-    long v;
-    double ms;
-    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-        int rc = daemon_parse_common(&rd->d, c, optarg);
-        if (rc == 2) { usage(); exit(0); }
-        if (rc < 0) return -1;
-        if (rc == 1) continue;
-        switch (c) {
-        case 'i':
-            if (parse_ids(rd, optarg) != 0) {
-                fprintf(stderr, "tandem-rover: --id: '%s' is not K or A-B (1 <= A <= B, at most %d)\n",
-                        optarg, HOST_MAX);
-                return -1;
-            }
-            break;
-        case 'n':
-            if (parse_int_opt("tandem-rover", "--robots", optarg, 1, ROVER_WORLD_MAX_ROBOTS, &v) < 0)
-                return -1;
-            rd->robots = (int)v;
-            break;
-        case 'w':
-            rd->world = rover_world_id(optarg);
-            if (rd->world < 0) {
-                fprintf(stderr, "tandem-rover: --world: '%s' is not open|obstacles|corridor|deadzone\n", optarg);
-                return -1;
-            }
-            break;
-        case 'f':
-            if (!strcmp(optarg, "line")) rd->formation = FORMATION_LINE;
-            else if (!strcmp(optarg, "triangle")) rd->formation = FORMATION_TRIANGLE;
-            else if (!strcmp(optarg, "column")) rd->formation = FORMATION_COLUMN;
-            else {
-                fprintf(stderr, "tandem-rover: --formation: '%s' is not line|triangle|column\n", optarg);
-                return -1;
-            }
-            break;
-        case 'b':
-            if (!strcmp(optarg, "weighted")) rd->blend = BEH_BLEND_WEIGHTED;
-            else if (!strcmp(optarg, "subsumption")) rd->blend = BEH_BLEND_SUBSUMPTION;
-            else if (!strcmp(optarg, "vecsum")) rd->blend = BEH_BLEND_VECSUM;
-            else {
-                fprintf(stderr, "tandem-rover: --blend: '%s' is not weighted|subsumption|vecsum\n", optarg);
-                return -1;
-            }
-            break;
-        case 'B':
-            rd->batch = 1;
-            break;
-        case 'J':
-            rd->journal = optarg;
-            break;
-        case 'L':
-            if (!strcmp(optarg, "seed")) rd->params.formation_law = ROVER_LAW_SEED;
-            else if (!strcmp(optarg, "kanayama")) rd->params.formation_law = ROVER_LAW_KANAYAMA;
-            else {
-                fprintf(stderr, "tandem-rover: --formation-law: '%s' is not seed|kanayama\n", optarg);
-                return -1;
-            }
-            break;
-        case 'H':
-            if (!strcmp(optarg, "mean")) rd->params.goal_heading_gain = 0.0;
-            else if (!strcmp(optarg, "goal")) rd->params.goal_heading_gain = 1.0;
-            else {
-                fprintf(stderr, "tandem-rover: --ref-heading: '%s' is not mean|goal\n", optarg);
-                return -1;
-            }
-            break;
-        case 'z':
-            if (!strcmp(optarg, "on")) rd->localize = 1;
-            else if (!strcmp(optarg, "off")) rd->localize = 0;
-            else {
-                fprintf(stderr, "tandem-rover: --localize: '%s' is not on|off\n", optarg);
-                return -1;
-            }
-            break;
-        case 's':
-            if (parse_double_opt("tandem-rover", "--stale-ms", optarg, 10.0, 10000.0, &ms) < 0)
-                return -1;
-            rd->params.stale_s = ms * 1e-3;
-            break;
-        default:
-            usage();
-            return -1;
-        }
-    }
-    if (optind < argc) {
-        fprintf(stderr, "tandem-rover: unexpected argument '%s'\n", argv[optind]);
-        return -1;
-    }
+    const int rc = options_parse(&prog, argc, argv, 1);
+    if (rc < 0)
+        return rc;
     if (rd->id_lo == 0) {
         fprintf(stderr, "tandem-rover: --id is required\n");
-        return -1;
+        return OPTIONS_ERR_ARG;
     }
     if (rd->id_hi > rd->robots) {
         fprintf(stderr, "tandem-rover: --id %d-%d outside the team of --robots %d\n",
                 (int)rd->id_lo, (int)rd->id_hi, rd->robots);
-        return -1;
+        return OPTIONS_ERR_ARG;
     }
+    return 0;
+}
+
+/* The constant tables the controllers run on, checked before they run:
+ * the controller parameters (the defaults with the options applied), the
+ * journal's snapshot layout and the option table. */
+static int check_tables(const rover_daemon *rd)
+{
+    const char *prog = rd->d.name;
+    if (daemon_check_table(prog, "rover_ctl_params", "rover_ctl_params_validate",
+                           rover_ctl_params_validate(&rd->params)) != 0 ||
+        daemon_check_table(prog, "rover_snapshot field table", "rover_snapshot_validate",
+                           rover_snapshot_validate()) != 0 ||
+        daemon_check_table(prog, "rover_options", "options_table_validate", options_table_validate(rover_options)) != 0)
+        return -1;
     return 0;
 }
 
@@ -290,13 +252,14 @@ int main(int argc, char **argv)
     rd->localize = 1;
     rover_ctl_params_default(&rd->params);
     daemon_defaults(d, "tandem-rover", 0.05);
-    if (parse_args(rd, argc, argv) != 0) return 2;
+    if ((rc = parse_args(rd, argc, argv)) < 0) return options_exit_status(rc);
     rd->params.formation = rd->formation;
     rd->params.blend_mode = rd->blend;
     rd->params.localize = rd->localize;
     if (rd->id_lo == rd->id_hi) snprintf(name, sizeof name, "tandem-rover-%d", (int)rd->id_lo);
     else snprintf(name, sizeof name, "tandem-rover-%d-%d", (int)rd->id_lo, (int)rd->id_hi);
     snprintf(d->name, sizeof d->name, "%s", name);
+    if (check_tables(rd) != 0) return 1;
     if (rover_world_layout(&rd->layout, rd->world, rd->robots, 1.0, rd->formation) != 0) {
         fprintf(stderr, "tandem-rover: no layout for %d robots\n", rd->robots);
         return 2;

@@ -48,28 +48,12 @@
 #include <string.h>
 #include "supervisor_daemon.h"
 #include "cell.h"
+#include "linalg.h"
+#include "options.h"
 #include "vec3.h"
 #include "tandem_action_row_t.h"
 
 #define PICK_ACCEPT_RADIUS_M 0.15
-
-static void usage(void)
-{
-    printf("usage: tandem-supervisor [options]\n"
-           "Petri-net supervisor of the two-arm carry (SPEC 2.4-2.5): vision tokens,\n"
-           "lookup-table rows to the arms, completion events, marking at 10 Hz.\n\n"
-           "  --controller event|time  arms run the event-referenced law (default) or\n"
-           "                    the time-referenced baseline\n"
-           "  --serial          take a new workpiece only when the previous one is\n"
-           "                    delivered and both arms are home (no pipelining)\n"
-           "  --tdsd            rows set use_tdsd: the arms resolve unsynchronised\n"
-           "                    Cartesian moves by TDSD (passes near singular poses)\n"
-           "  --stall-s S       a stall: work pending and no transition completed for\n"
-           "                    S s of simulated time while the stick is out (default 30)\n"
-           "  --journal PATH    append the discrete state to PATH on every change; start\n"
-           "                    from its last snapshot when PATH exists (restart)\n"
-           DAEMON_COMMON_HELP);
-}
 
 /* ---- start-up check ------------------------------------------------------- */
 
@@ -121,7 +105,7 @@ static void on_vision(const lcm_recv_buf_t *rb, const char *ch, void *u)
     for (i = 0; i < m.n; i++) {
         const tandem_workpiece_t *w = &m.workpieces[i];
         double dist;
-        if (!all_finite(w->position_m, 3) || !isfinite(w->yaw_rad) || fabs(w->yaw_rad) > 0.5) {
+        if (!linalg_all_finite(w->position_m, 3) || !isfinite(w->yaw_rad) || fabs(w->yaw_rad) > 0.5) {
             sv->d.msgs.rejected++;
             continue;
         }
@@ -212,53 +196,70 @@ static int cycle(daemon *d, void *user)
     return DAEMON_CONTINUE;
 }
 
+/* ---- command line and start-up check of the tables -------------------------- */
+
+static const char *const controller_names[] = { "event", "time", NULL };
+static const int controller_values[] = { TANDEM_ACTION_ROW_T_CONTROLLER_EVENT, TANDEM_ACTION_ROW_T_CONTROLLER_TIME };
+
+/* Into the supervisor_daemon main made; the values it holds before are
+ * the defaults. */
+static const option_entry supervisor_options[] = {
+    { .name = "controller", .type = OPTION_CHOICE, OPTION_AT(supervisor_daemon, controller),
+      .choices = controller_names, .values = controller_values,
+      .help = "arms run the event-referenced law or the time-referenced baseline", .def = "event" },
+    { .name = "serial", .type = OPTION_FLAG, OPTION_AT(supervisor_daemon, serial),
+      .help = "take a new workpiece only when the previous one is delivered and both arms are home "
+              "(no pipelining)" },
+    { .name = "tdsd", .type = OPTION_FLAG, OPTION_AT(supervisor_daemon, use_tdsd),
+      .help = "rows set use_tdsd: the arms resolve unsynchronised Cartesian moves by TDSD (passes near "
+              "singular poses)" },
+    { .name = "stall-s", .type = OPTION_DOUBLE, OPTION_AT(supervisor_daemon, stall_s), .min = 0.1, .max = 1e6,
+      .meta = "S", .help = "a stall: work pending and no transition completed for S s of simulated time while "
+                           "the stick is out", .def = "30" },
+    { .name = "journal", .type = OPTION_STRING, OPTION_AT(supervisor_daemon, journal_path), .meta = "PATH",
+      .help = "append the discrete state to PATH on every change; start from its last snapshot when PATH "
+              "exists (restart)" },
+    { .name = NULL }
+};
+
+/* The tables the net and its rows are made of, checked before the
+ * reachability graph is explored from them (check_net), and the option
+ * table. */
+static int check_tables(const supervisor_daemon *sv)
+{
+    if (daemon_check_table(sv->d.name, "carry_net", "petri_net_validate", petri_net_validate(&carry_net)) != 0 ||
+        daemon_check_table(sv->d.name, "carry_table", "carry_table_validate",
+                           carry_table_validate(carry_table, CARRY_N_TRANSITIONS, &carry_net)) != 0 ||
+        daemon_check_table(sv->d.name, "supervisor_options", "options_table_validate",
+                           options_table_validate(supervisor_options)) != 0)
+        return -1;
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
-    static const struct option opts[] = {
-        { "controller", required_argument, 0, 'c' },
-        { "serial", no_argument, 0, 'S' },
-        { "tdsd", no_argument, 0, 'T' },
-        { "stall-s", required_argument, 0, 'L' },
-        { "journal", required_argument, 0, 'J' },
-        DAEMON_COMMON_OPTIONS,
-        { 0, 0, 0, 0 }
-    };
     static supervisor_daemon app;
     supervisor_daemon *sv = &app;
     daemon *d = &sv->d;
-    int c, rc;
-    double stall_s = 30.0;
+    const option_program prog = {
+        .name = "tandem-supervisor",
+        .usage = "usage: tandem-supervisor [options]\n"
+                 "Petri-net supervisor of the two-arm carry (SPEC 2.4-2.5): vision tokens,\n"
+                 "lookup-table rows to the arms, completion events, marking at 10 Hz.\n\n",
+        .epilog = "\nThe control period (--period-ms) is 10 ms unless given.\n",
+        .groups = { { supervisor_options, sv }, { options_daemon_common, d } },
+        .n_groups = 2,
+    };
+    int rc;
     sv->next_action_id = 1;
     sv->controller = TANDEM_ACTION_ROW_T_CONTROLLER_EVENT;
+    sv->stall_s = 30.0;
     daemon_defaults(d, "tandem-supervisor", 0.010);
-    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-        rc = daemon_parse_common(d, c, optarg);
-        if (rc == 2) { usage(); return 0; }
-        if (rc < 0) return 2;
-        if (rc == 1) continue;
-        switch (c) {
-        case 'c':
-            if (!strcmp(optarg, "event")) sv->controller = TANDEM_ACTION_ROW_T_CONTROLLER_EVENT;
-            else if (!strcmp(optarg, "time")) sv->controller = TANDEM_ACTION_ROW_T_CONTROLLER_TIME;
-            else {
-                fprintf(stderr, "tandem-supervisor: --controller: '%s' is not event|time\n", optarg);
-                return 2;
-            }
-            break;
-        case 'S': sv->serial = 1; break;
-        case 'J': sv->journal_path = optarg; break;
-        case 'T': sv->use_tdsd = 1; break;
-        case 'L': if (parse_double_opt("tandem-supervisor", "--stall-s", optarg, 0.1, 1e6, &stall_s) < 0) return 2; break;
-        default: usage(); return 2;
-        }
-    }
-    if (optind < argc) {
-        fprintf(stderr, "tandem-supervisor: unexpected argument '%s'\n", argv[optind]);
-        return 2;
-    }
-    if (check_net(sv) != 0)
+    if ((rc = options_parse(&prog, argc, argv, 1)) < 0)
+        return options_exit_status(rc);
+    if (check_tables(sv) != 0 || check_net(sv) != 0)
         return 1;
-    if (petri_init(&sv->net, &carry_net) != 0 || stallwatch_init(&sv->stall, stall_s) != 0)
+    if (petri_init(&sv->net, &carry_net) != 0 || stallwatch_init(&sv->stall, sv->stall_s) != 0)
         return 1;
     if (sv->journal_path) {
         sup_journal_resume(sv);

@@ -346,6 +346,12 @@ static void test_daemon_common_group(void **state)
     assert_int_equal(PARSE("--rt", "100", "--out", "d"), OPTIONS_ERR_ARG);
     assert_int_equal(PARSE("--lcm-url", "", "--out", "d"), OPTIONS_ERR_ARG);
     assert_int_equal(PARSE("--drop-rate", "0.95", "--out", "d"), OPTIONS_ERR_ARG);
+    assert_int_equal(PARSE("--drop-seed", "-1", "--out", "d"), OPTIONS_ERR_ARG);
+    assert_true(d.drop_rate == 0.0);
+    assert_int_equal(d.drop_seed, 1);   /* daemon_defaults */
+    assert_int_equal(PARSE("--drop-rate", "0.25", "--drop-seed", "7", "--out", "d"), 7);
+    assert_true(d.drop_rate == 0.25);
+    assert_int_equal(d.drop_seed, 7);
     assert_int_equal(PARSE("--version"), OPTIONS_EXIT);
 }
 

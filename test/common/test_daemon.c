@@ -1,0 +1,80 @@
+/* Unit tests of the daemons' start-up table check (daemon_check_table,
+ * daemons/common/daemon.c) on the tables the daemons check: the shipped
+ * ones pass, a broken copy is refused with -1, and the defaults the
+ * command line starts from (daemon_defaults) are the documented ones. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <string.h>
+#include "arm_model.h"
+#include "carry_net.h"
+#include "cartctl.h"
+#include "cell.h"
+#include "daemon.h"
+#include "petri.h"
+#include "rover_ctl.h"
+
+static void test_shipped_tables_pass(void **state)
+{
+    cartctl_gains cg;
+    rover_ctl_params rp;
+    (void)state;
+    cartctl_gains_default(&cg);
+    rover_ctl_params_default(&rp);
+    assert_int_equal(daemon_check_table("t", "arm_model_puma560", "arm_model_validate",
+                                        arm_model_validate(&arm_model_puma560)), 0);
+    assert_int_equal(daemon_check_table("t", "arm_model_seed002", "arm_model_validate",
+                                        arm_model_validate(&arm_model_seed002)), 0);
+    assert_int_equal(daemon_check_table("t", "cell_default", "cell_layout_validate",
+                                        cell_layout_validate(&cell_default)), 0);
+    assert_int_equal(daemon_check_table("t", "cartctl_gains_default", "cartctl_gains_validate",
+                                        cartctl_gains_validate(&cg)), 0);
+    assert_int_equal(daemon_check_table("t", "carry_net", "petri_net_validate", petri_net_validate(&carry_net)), 0);
+    assert_int_equal(daemon_check_table("t", "carry_table", "carry_table_validate",
+                                        carry_table_validate(carry_table, CARRY_N_TRANSITIONS, &carry_net)), 0);
+    assert_int_equal(daemon_check_table("t", "rover_ctl_params", "rover_ctl_params_validate",
+                                        rover_ctl_params_validate(&rp)), 0);
+    assert_int_equal(daemon_check_table("t", "rover_snapshot field table", "rover_snapshot_validate",
+                                        rover_snapshot_validate()), 0);
+}
+
+static void test_broken_table_refused(void **state)
+{
+    static arm_model m;
+    cartctl_gains cg;
+    (void)state;
+    m = arm_model_puma560;
+    m.q_min_rad[2] = m.q_max_rad[2];   /* an empty joint range */
+    assert_int_equal(daemon_check_table("t", "arm_model_puma560", "arm_model_validate", arm_model_validate(&m)), -1);
+    cartctl_gains_default(&cg);
+    cg.k_null = -1.0;
+    assert_int_equal(daemon_check_table("t", "cartctl_gains_default", "cartctl_gains_validate",
+                                        cartctl_gains_validate(&cg)), -1);
+    /* a table is named by the caller; any non-zero code is a refusal */
+    assert_int_equal(daemon_check_table("t", "x", "x_validate", PETRI_ERR_INVARIANT), -1);
+}
+
+static void test_defaults(void **state)
+{
+    static daemon d;
+    (void)state;
+    daemon_defaults(&d, "test-daemon", 0.05);
+    assert_string_equal(d.name, "test-daemon");
+    assert_true(d.period_s == 0.05);
+    assert_true(d.drop_rate == 0.0);
+    assert_int_equal(d.drop_seed, 1);
+    assert_int_equal(d.rt_prio, 0);
+    assert_int_equal(d.lockstep, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_shipped_tables_pass),
+        cmocka_unit_test(test_broken_table_refused),
+        cmocka_unit_test(test_defaults),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
