@@ -48,7 +48,7 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, void *u)
 static int control_valid(const tandem_sim_control_t *c)
 {
     return c->command >= TANDEM_SIM_CONTROL_T_RESET && c->command <= TANDEM_SIM_CONTROL_T_QUIT &&
-           all_finite(c->position_m, 3) && all_finite(c->axis, 3) &&
+           linalg_all_finite(c->position_m, 3) && linalg_all_finite(c->axis, 3) &&
            isfinite(c->length_m) && isfinite(c->radius_m) && c->seed >= 0;
 }
 

@@ -35,14 +35,8 @@
 
 /* Options every program that talks on the bus takes. */
 enum { OPT_KEY_FILE = 1200, OPT_INSECURE };
-#define AUTH_BUS_OPTIONS \
-    { "key-file", required_argument, 0, OPT_KEY_FILE }, \
-    { "insecure", no_argument,       0, OPT_INSECURE }
-#define AUTH_BUS_HELP \
-    "  --key-file PATH   bus key (default $" AUTH_BUS_KEY_ENV ", else\n" \
-    "                    ${XDG_CONFIG_HOME:-~/.config}/tandem/bus.key if it exists);\n" \
-    "                    twice while rotating: the first signs, both verify\n" \
-    "  --insecure        no authentication: nothing signed, nothing checked\n"
+/* (the options table, daemons/common/options.c, maps --key-file and
+ * --insecure onto auth_bus_option) */
 
 /* Refusals counted by kind (HEALTH_* auth_* fields). */
 typedef struct auth_bus_counts {

@@ -137,8 +137,5 @@ int parse_double_opt(const char *prog, const char *opt, const char *s,
 int parse_int_opt(const char *prog, const char *opt, const char *s,
                   long lo, long hi, long *out);
 
-/* sim/sim_main.c still calls all_finite, the daemons' old copy of
- * linalg_all_finite; this name goes once it calls linalg_all_finite. */
-#define all_finite(v, n) linalg_all_finite((v), (n))
 
 #endif

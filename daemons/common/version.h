@@ -8,7 +8,7 @@ const char *tandem_version(void);
 /* Prints "PROG (tandem) VERSION" on stdout, the form help2man reads. */
 void daemon_print_version(const char *prog);
 /* 1 if argv holds --version (after printing it), else 0: for programs that
- * do not go through daemon_parse_common. */
+ * have no options table (options_parse handles --version itself). */
 int version_requested(int argc, char **argv, const char *prog);
 
 #endif
