@@ -1,7 +1,7 @@
 # tandem: one Makefile. Build output goes only under build/ (bin/, lib/, gen/).
 #   make            build everything (core library, messages, daemons, sim, tools)
 #   make run        install missing Debian packages, then run the whole system
-#   make test       install missing packages, then unit + integration tests,
+#   make test       install missing packages, make lint, then unit + integration tests,
 #                   also rebuilt and rerun with -fsanitize=address,undefined
 #   make bench      benchmarks (figures printed, nothing asserted)
 #   make spy        lcm-spy with every tandem channel decoded
@@ -162,6 +162,7 @@ integration: $(PROGS) $(IT_BIN)
 	@tools/run-tests.sh integration $(BIN) $(IT_BIN)
 
 test: deps deps-cross
+	@$(MAKE) --no-print-directory lint
 	@$(MAKE) --no-print-directory all
 	@$(MAKE) --no-print-directory unit integration
 	@$(MAKE) --no-print-directory SAN=1 unit integration

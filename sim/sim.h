@@ -1,4 +1,4 @@
-/* tandem-sim: the ODE world shared by every simulated model (SPEC.md §1, §5).
+/* tandem-sim: the ODE world shared by every simulated model (docs/method/lockstep.md §1, §3).
  *
  * One world, one fixed 1 kHz step, two timing modes: real time (steps on
  * the wall clock, zero-order hold of the last command, stale-command

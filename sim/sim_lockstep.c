@@ -1,4 +1,4 @@
-/* sim_lockstep: who the simulator waits for (SPEC.md §1, lockstep mode).
+/* sim_lockstep: who the simulator waits for (docs/method/lockstep.md §3, the lockstep protocol).
  * A controller registers by answering a step; it is then waited for on
  * every step that is a multiple of its period. A participant that stops
  * answering is dropped after a wall-clock timeout so a dead daemon cannot

@@ -1,4 +1,4 @@
-/* sim_loop: tandem-sim's messages and its step (SPEC.md §1, §5). The
+/* sim_loop: tandem-sim's messages and its step (docs/method/lockstep.md §1, §3). The
  * models' hooks run in the order of sim_app.models (before_step, the ODE
  * step, after_step). In lockstep the simulator publishes step k, then
  * waits until every registered controller has answered k (and every

@@ -1,4 +1,4 @@
-/* tandem-sim: the ODE simulator daemon (SPEC.md §1, §5).
+/* tandem-sim: the ODE simulator daemon (docs/method/lockstep.md §1, §3).
  * Owns the world, the clock and every model's state (sim_app.h); models
  * (arms, workpieces, rovers) plug in through sim_model_ops. This file: the
  * command line, the checks of the constant tables the models are built

@@ -1,5 +1,5 @@
 /* arm_carry: tandem-arm's event-referenced Cartesian segments
- * (SPEC 2.1-2.3, 2.6).
+ * (docs/method/carry.md §2-4, §8).
  *
  * MOVE_CARTESIAN runs cartseg: the event-referenced law (or, with
  * CONTROLLER_TIME, the time-referenced baseline) turned into torques by

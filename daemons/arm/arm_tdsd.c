@@ -1,4 +1,4 @@
-/* arm_tdsd: tandem-arm's TDSD Cartesian segments (SPEC 3,
+/* arm_tdsd: tandem-arm's TDSD Cartesian segments (docs/method/tdsd.md §7,
  * action_row_t.use_tdsd).
  *
  * A MOVE_CARTESIAN segment of a use_tdsd row is resolved by tdsd_seg (TDSD

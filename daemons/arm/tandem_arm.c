@@ -4,7 +4,7 @@
  * ARMk_COMMAND (joint torques). Executes action rows from the supervisor
  * (ARMk_ACTION) segment by segment and reports ARM_EVENTS; between rows it
  * tracks fresh joint references (ARMk_JOINT_REF) if any arrive. Safe hold
- * (SPEC.md §7): a stale state (> --stale-ms) engages the brakes; an invalid
+ * (docs/method/lockstep.md §6): a stale state (> --stale-ms) engages the brakes; an invalid
  * row is rejected and the arm holds where it is with gravity compensation.
  *
  * All of its state is one arm_daemon (arm_daemon.h), created here in main

@@ -1,4 +1,4 @@
-/* daemon: the thin shell every tandem daemon shares (SPEC.md §1, §7).
+/* daemon: the thin shell every tandem daemon shares (docs/method/lockstep.md §1-3, §6-7).
  *
  * The common options' values (options_daemon_common in options.h fills
  * them), signals, optional SCHED_FIFO + mlockall, the LCM handle, the loop

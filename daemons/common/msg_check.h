@@ -1,5 +1,5 @@
 /* msg_check: range checks of the messages that can move an arm, shared by
- * tandem-arm and the fuzz targets (SPEC.md §7: bad data never moves an
+ * tandem-arm and the fuzz targets (docs/method/lockstep.md §6: bad data never moves an
  * arm). Each returns MSG_OK or a named reason. */
 #ifndef TANDEM_MSG_CHECK_H
 #define TANDEM_MSG_CHECK_H

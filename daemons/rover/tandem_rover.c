@@ -1,6 +1,6 @@
 /* tandem-rover: distributed formation controller of one Pioneer (or of
  * several, --id A-B, each with its own state, talking only over LCM)
- * (SPEC.md §4, §7). Thin: LCM in, rover_ctl_step, LCM out.
+ * (docs/method/formation.md, lockstep.md §6). Thin: LCM in, rover_ctl_step, LCM out.
  *
  * In:  ROVERk_SENSORS (encoders), ROVERk_SONAR, ROVERk_BEACONS, TEAM, or
  *      the same frames batched (ROVERS_SENSORS, ROVERS_BEACONS).

@@ -1,5 +1,5 @@
 /* tandem-supervisor: the discrete-event controller of the carry task
- * ("MVME162", SPEC.md §2.4, §2.5).
+ * ("MVME162", docs/method/carry.md §5-6).
  *
  * Holds the carry Petri net and its lookup table (carry_net). At start-up
  * it explores the net's reachability graph and refuses to run (exit 1,
@@ -244,7 +244,7 @@ int main(int argc, char **argv)
     const option_program prog = {
         .name = "tandem-supervisor",
         .usage = "usage: tandem-supervisor [options]\n"
-                 "Petri-net supervisor of the two-arm carry (SPEC 2.4-2.5): vision tokens,\n"
+                 "Petri-net supervisor of the two-arm carry (docs/method/carry.md §5-6): vision tokens,\n"
                  "lookup-table rows to the arms, completion events, marking at 10 Hz.\n\n",
         .epilog = "\nThe control period (--period-ms) is 10 ms unless given.\n",
         .groups = { { supervisor_options, sv }, { options_daemon_common, d } },

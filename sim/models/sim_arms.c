@@ -1,4 +1,4 @@
-/* sim_arms: the PUMA 560 pair as torque-driven ODE bodies (SPEC.md §5).
+/* sim_arms: the PUMA 560 pair as torque-driven ODE bodies (docs/method/lockstep.md §3).
  *
  * Each link is one ODE body whose mass, centre of mass and inertia are
  * exactly arm_model_puma560's (the body origin sits at the COM because ODE
@@ -34,7 +34,7 @@
 #include "tandem_sim_control_t.h"
 #include "tandem_sim_status_t.h"
 
-#define ARM_STALE_STEPS 20          /* 20 ms: SPEC.md §7 bounded safe hold */
+#define ARM_STALE_STEPS 20          /* 20 ms: docs/method/lockstep.md §6 bounded safe hold */
 #define ARM_TAU_REJECT_FACTOR 2.0   /* |tau| beyond 2x the motor limit = bad data */
 /* A range end gets a stop once it lies within this of the joint (ODE's
  * rotational stops act inside (-pi, pi) of the motor's angle); a joint

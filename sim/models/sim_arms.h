@@ -1,4 +1,4 @@
-/* sim_arms: the two PUMA 560 arms in ODE (SPEC.md §5). Shared with
+/* sim_arms: the two PUMA 560 arms in ODE (docs/method/lockstep.md §3). Shared with
  * sim_workpieces (gripper attach/release needs the flange bodies). */
 #ifndef TANDEM_SIM_ARMS_H
 #define TANDEM_SIM_ARMS_H

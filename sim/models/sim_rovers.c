@@ -1,4 +1,4 @@
-/* sim_rovers: Pioneer 2 DX robots (SPEC.md §4, §5).
+/* sim_rovers: Pioneer 2 DX robots (docs/method/formation.md §1, sonar.md).
  *
  * Each robot: a 0.44 x 0.38 m chassis box (8 kg) with a frictionless caster
  * ball, two 0.5 kg wheels (r 0.0825 m, track 0.33 m) on hinge motors; wheel
@@ -226,7 +226,7 @@ static void rovers_destroy(void *model, sim_world *w)
 
 /* ---- commands ------------------------------------------------------------- */
 
-/* SPEC 7: the right robot (on its own channel, when it has one), finite,
+/* docs/method/lockstep.md §6: the right robot (on its own channel, when it has one), finite,
  * physically sane; anything else is counted and changes nothing. */
 static void take_command(sim_rovers *team, const tandem_rover_command_t *m, int chan_id)
 {

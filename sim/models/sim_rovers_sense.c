@@ -1,4 +1,4 @@
-/* sim_rovers_sense: the Pioneer team's sensors (SPEC.md §4, §5; the robots
+/* sim_rovers_sense: the Pioneer team's sensors (docs/method/formation.md §12, sonar.md; the robots
  * and their world are in sim_rovers.c).
  *
  * ROVERk_SENSORS (encoders, bumper, 20 Hz) and ROVERk_SONAR (the latest

@@ -1,4 +1,4 @@
-/* sim_stick: the hand-held stick of the arm cell (SPEC.md §5), part of the
+/* sim_stick: the hand-held stick of the arm cell (docs/method/carry.md §8), part of the
  * arm model's state (sim_arms). INSERT_STICK puts a compliant rod (its
  * contact is a spring-damper, sim_world.c) either at a given pose or ahead
  * of a named link of one arm, in the first candidate pose that touches no

@@ -1,5 +1,5 @@
 /* sim_workpieces: the table, the workpiece stream, the vision camera and
- * the grippers of the carry task (SPEC.md §2.4, §5).
+ * the grippers of the carry task (docs/method/carry.md §5, lockstep.md §3).
  *
  * Workpieces are bars (cell_default.workpiece_size_m) drawn from a fixed
  * pool of ODE bodies: a parked body is disabled and its geom off, so the
