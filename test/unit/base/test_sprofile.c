@@ -9,11 +9,11 @@
 
 #include "sprofile.h"
 
-typedef struct { double s_f, v_m, a_m, u_m; } case_t;
+typedef struct { double s_f, v_m, a_m, u_m; } profile_case;
 
 /* long with a-plateau, long without plateau (w_m < 2 a_m^2/u_m),
  * short (peak speed lowered), very short (peak a lowered too). */
-static const case_t CASES[] = {
+static const profile_case CASES[] = {
     { 2.0, 0.5, 0.5, 2.0 },
     { 1.0, 0.25, 0.5, 2.0 },
     { 0.3, 0.5, 0.5, 2.0 },
@@ -23,7 +23,7 @@ static const case_t CASES[] = {
 };
 #define N_CASES (sizeof CASES / sizeof CASES[0])
 
-static void plan(sprofile *p, const case_t *c)
+static void plan(sprofile *p, const profile_case *c)
 {
     assert_int_equal(sprofile_plan(p, c->s_f, c->v_m, c->a_m, c->u_m), 0);
 }
@@ -58,7 +58,7 @@ static void test_fd_identities(void **st)
     size_t i;
     (void)st;
     for (i = 0; i < N_CASES; i++) {
-        const case_t *c = &CASES[i];
+        const profile_case *c = &CASES[i];
         sprofile p;
         const int n = 20000;
         const double h = c->s_f / n;

@@ -63,9 +63,9 @@ static void test_measure_jacobian(void **state)
 typedef struct {
     double loc_max_m, odo_max_m, within_3sd;
     long fused;
-} drive_result_t;
+} drive_result;
 
-static void drive(drive_result_t *res, int use_camera)
+static void drive(drive_result *res, int use_camera)
 {
     static double lm[LOCALIZE_LANDMARKS_MAX][2];
     const double wp[4][2] = { { 24, 0 }, { 24, 6 }, { 0, 6 }, { 0, 0 } };
@@ -143,7 +143,7 @@ static void drive(drive_result_t *res, int use_camera)
 
 static void test_long_drive_with_slip_stays_bounded(void **state)
 {
-    drive_result_t cam, dead;
+    drive_result cam, dead;
     (void)state;
     drive(&cam, 1);
     drive(&dead, 0);
