@@ -88,6 +88,8 @@ double   sim_contact_force_on(const sim_world *w, dBodyID b);
 void     sim_surface_spring(dSurfaceParameters *s, double k_Npm, double c_Nspm);
 /* Row-major 3x3 rotation -> ODE's 3x4 dMatrix3. */
 void     sim_ode_rotation(dMatrix3 out, const double R[9]);
+/* ODE's 3x4 rotation (dBodyGetRotation) -> row-major 3x3. */
+void     sim_from_ode_rotation(double R[9], const dReal *ode);
 /* A rotation taking the z axis onto the unit vector axis (capsules and
  * cylinders in ODE lie along their z axis). */
 void     sim_rot_z_to(double R[9], const double axis[3]);

@@ -160,6 +160,16 @@ void sim_ode_rotation(dMatrix3 out, const double R[9])
     }
 }
 
+void sim_from_ode_rotation(double R[9], const dReal *ode)
+{
+    int r;
+    for (r = 0; r < 3; r++) {
+        R[3 * r] = ode[4 * r];
+        R[3 * r + 1] = ode[4 * r + 1];
+        R[3 * r + 2] = ode[4 * r + 2];
+    }
+}
+
 void sim_rot_z_to(double R[9], const double axis[3])
 {
     const double z[3] = { 0.0, 0.0, 1.0 };

@@ -113,25 +113,13 @@ static void wp_destroy(void *model, sim_world *w)
 
 static void body_R(dBodyID b, double R[9])
 {
-    const dReal *r = dBodyGetRotation(b);
-    int i;
-    for (i = 0; i < 3; i++) {
-        R[3 * i] = r[4 * i];
-        R[3 * i + 1] = r[4 * i + 1];
-        R[3 * i + 2] = r[4 * i + 2];
-    }
+    sim_from_ode_rotation(R, dBodyGetRotation(b));
 }
 
 static void set_body_R(dBodyID b, const double R[9])
 {
     dMatrix3 r;
-    int i;
-    for (i = 0; i < 3; i++) {
-        r[4 * i] = R[3 * i];
-        r[4 * i + 1] = R[3 * i + 1];
-        r[4 * i + 2] = R[3 * i + 2];
-        r[4 * i + 3] = 0.0;
-    }
+    sim_ode_rotation(r, R);
     dBodySetRotation(b, r);
 }
 
