@@ -27,7 +27,7 @@
  * lambda_min >= LINALG_GRAM_RTOL lambda_max (sigma_min >= 1e-3 sigma_max);
  * otherwise, and for every other shape, from the identity. Either way the
  * sweeps stop on the same orthogonality test (accuracy argument in
- * linalg.c, svd_wide_gram). (With 2 rows the one Gram rotation would be
+ * linalg_svd.c, svd_wide_gram). (With 2 rows the one Gram rotation would be
  * exactly the cold path's first one, so there is nothing to gain.)
  * LINALG_GRAM_MAX_SWEEPS caps the 3x3 symmetric Jacobi (it converges in
  * 3..5 sweeps). */

@@ -1,0 +1,377 @@
+/* carry_run: one carry run (docs/method/carry.md §8). Spawns tandem-sim,
+ * tandem-arm 1 and 2 and tandem-supervisor in lockstep on a private LCM
+ * URL and joins the lockstep itself (it answers every step), so the stick
+ * goes in and out at exact simulated times and every step is recorded
+ * (timeseries.csv and joints.csv every 10 ms, transitions.csv). The run
+ * stops when the supervisor reports a stall, a daemon dies, every
+ * workpiece is delivered or dropped (and every block done), or the
+ * simulated or wall time limit is reached. --fault kills and restarts a
+ * daemon at exact steps.
+ */
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+#include "carry_scen.h"
+#include "daemon_run.h"
+#include "arm_model.h"
+#include "daemon.h"
+#include "proc.h"
+#include "tandem_action_event_t.h"
+#include "tandem_sim_control_t.h"
+
+#define PROGRESS_EVERY_S 5.0     /* wall time between progress lines */
+/* The simulator drops a lockstep participant that has not answered for
+ * this long. A run with a dropped controller is not the seed's run, and a
+ * daemon that really died is seen by its exit: so only after 10 minutes
+ * (a loaded machine can starve a controller for tens of seconds). */
+#define LOCKSTEP_TIMEOUT_MS "600000"
+
+/* The daemons of a run and their command lines (kept for a --fault restart). */
+typedef struct carry_daemons {
+    char url[96], nbuf[32], sbuf[32], journal[700], err[1024];
+    char path[CARRY_DAEMONS][1024];
+    const char *sim_argv[16], *a1_argv[16], *a2_argv[16], *sup_argv[20];
+    const char *const *argvs[CARRY_DAEMONS];
+    pid_t pid[CARRY_DAEMONS];
+    proc_set ps;
+} carry_daemons;
+
+static volatile sig_atomic_t interrupted;
+static void on_sigint(int s) { (void)s; interrupted = 1; }
+
+void carry_catch_signals(void)
+{
+    signal(SIGINT, on_sigint);
+    signal(SIGTERM, on_sigint);
+}
+
+int carry_interrupted(void)
+{
+    return interrupted;
+}
+
+/* ---- recording --------------------------------------------------------------- */
+
+static void record_step(carry_state *r, const carry_cfg *c, int64_t step)
+{
+    const carry_blocks *bl = c->blocks;
+    int a, t;
+    for (a = 0; a < 2; a++)
+        r->s_hist[a][step & 15] = r->s[a];
+    if (r->have_mk && c->tr_csv) {
+        for (t = 0; t < NT && t < r->mk.n_transitions; t++) {
+            if (r->mk.running[t] && !r->running_prev[t])
+                r->run_start[t] = r->t_s;
+            if (!r->mk.running[t] && r->running_prev[t])
+                fprintf(c->tr_csv, "%d,%.3f,%.3f\n", t + 1, r->run_start[t], r->t_s);
+            r->running_prev[t] = r->mk.running[t];
+        }
+    }
+    if (c->ts_csv && step % 10 == 0) {
+        int stick = carry_stick_in(bl);
+        fprintf(c->ts_csv, "%.3f,%.5f,%.5f,%d,%.5f,%.5f,%d,%.4f,%.4f,%.3f,%.3f,%d,%d,%d,%.3f,%.3f\n", r->t_s,
+                r->s[0], r->s_f[0], r->tr[0], r->s[1], r->s_f[1], r->tr[1], r->speed[0], r->speed[1],
+                r->arm[0].max_contact_force_N, r->arm[1].max_contact_force_N,
+                stick ? bl->b[bl->cur].arm : 0, r->delivered, r->dropped,
+                r->arm[0].max_contact_force_10ms_N, r->arm[1].max_contact_force_10ms_N);
+    }
+    if (c->q_csv && step % 10 == 0) {
+        int i;
+        fprintf(c->q_csv, "%.3f", r->t_s);
+        for (a = 0; a < 2; a++)
+            for (i = 0; i < ARM_NJ; i++)
+                fprintf(c->q_csv, ",%.5f", r->arm[a].q_rad[i]);
+        fputc('\n', c->q_csv);
+    }
+}
+
+/* One line on stderr every PROGRESS_EVERY_S of wall time. */
+static void progress_line(const carry_state *r, const carry_cfg *c, double wall0)
+{
+    const carry_blocks *bl = c->blocks;
+    const double wall = scenario_wall_s() - wall0;
+    char blk[64] = "no block";
+    if (carry_stick_in(bl))
+        snprintf(blk, sizeof blk, "block %d/%d in (arm %d link %d)", bl->cur + 1, bl->n,
+                 bl->b[bl->cur].arm, bl->b[bl->cur].link);
+    else if (bl->cur < bl->n)
+        snprintf(blk, sizeof blk, "block %d/%d armed", bl->cur + 1, bl->n);
+    fprintf(stderr, "tandem-scenario carry %s: t %.1f s (%.1fx real time), delivered %d/%d, dropped %d, %s, "
+                    "max contact %.0f N (10 ms)%s\n", c->tag, r->t_s, scenario_realtime_factor(r->t_s, wall),
+            r->delivered, c->workpieces, r->dropped, blk, r->max_force_10ms_N,
+            r->max_force_10ms_N > CRIT_FORCE_10MS_N ? " IMPLAUSIBLE" : "");
+}
+
+/* ---- the daemons --------------------------------------------------------------- */
+
+/* The options every daemon of a run gets besides its own (--drop-rate),
+ * appended at argv[n] with the closing NULL. */
+static void daemon_argv_finish(const carry_cfg *c, const char **argv, int n, int cap)
+{
+    scenario_argv_drop(&c->drop, (char **)argv, &n, cap);
+}
+
+/* The four command lines and the bus of run c. */
+static void daemons_argv(carry_daemons *d, const carry_cfg *c)
+{
+    const char *const sim[] = { "tandem-sim", "--lockstep", "--expect", "4", "--workpieces", d->nbuf,
+                                "--seed", d->sbuf, "--timeout-ms", LOCKSTEP_TIMEOUT_MS };
+    const char *const a1[] = { "tandem-arm", "--arm", "1", "--lockstep", "--block-detect", c->block_detect };
+    const char *const a2[] = { "tandem-arm", "--arm", "2", "--lockstep", "--block-detect", c->block_detect };
+    const char *const sup[] = { "tandem-supervisor", "--lockstep", "--stall-s", c->stall_s, "--controller",
+                                c->controller_time ? "time" : "event", "--journal", d->journal };
+    memset(d, 0, sizeof *d);
+    memcpy(d->sim_argv, sim, sizeof sim);
+    memcpy(d->a1_argv, a1, sizeof a1);
+    memcpy(d->a2_argv, a2, sizeof a2);
+    memcpy(d->sup_argv, sup, sizeof sup);
+    d->argvs[0] = d->sim_argv;
+    d->argvs[1] = d->a1_argv;
+    d->argvs[2] = d->a2_argv;
+    d->argvs[3] = d->sup_argv;
+    snprintf(d->nbuf, sizeof d->nbuf, "%d", c->workpieces);
+    snprintf(d->sbuf, sizeof d->sbuf, "%llu", (unsigned long long)c->seed);
+    if (c->url)
+        snprintf(d->url, sizeof d->url, "%s", c->url);
+    else
+        snprintf(d->url, sizeof d->url, "udpm://239.255.76.67:%d?ttl=0",
+                 30000 + (int)(getpid() % 20000) + (c->serial ? 1 : 0));
+}
+
+/* Starts the four daemons (logs DIR/TAG_NAME.log, stderr DIR/TAG_stderr.log);
+ * 0 ok, -1 one did not start (the others stopped again). */
+static int daemons_start(carry_daemons *d, const carry_cfg *c)
+{
+    int k;
+    proc_init(&d->ps, NULL);
+    snprintf(d->journal, sizeof d->journal, "%s/%s_supervisor.journal", c->out, c->tag);
+    remove(d->journal);               /* a fresh run; a restart reads it */
+    daemon_argv_finish(c, d->sim_argv, 10, 16);
+    daemon_argv_finish(c, d->a1_argv, 6, 16);
+    daemon_argv_finish(c, d->a2_argv, 6, 16);
+    if (c->serial) d->sup_argv[8] = "--serial";
+    daemon_argv_finish(c, d->sup_argv, c->serial ? 9 : 8, 20);
+    snprintf(d->err, sizeof d->err, "%s/%s_stderr.log", c->out, c->tag);
+    remove(d->err);
+    for (k = 0; k < CARRY_DAEMONS; k++) {
+        snprintf(d->path[k], sizeof d->path[k], "%s/%s_%s.log", c->out, c->tag, carry_daemon_fault_name[k]);
+        if ((d->pid[k] = proc_spawn(&d->ps, d->argvs[k], d->url, d->path[k], d->err)) < 0) {
+            fprintf(stderr, "tandem-scenario: cannot start %s\n", d->argvs[k][0]);
+            proc_kill_all(&d->ps, 1.0);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* --fault, at the step about to be answered: kill (SIGKILL, and the
+ * simulator is told the daemon left so it does not wait out its timeout),
+ * then restart at the first step after RESTART_T that every controller
+ * answers (a multiple of 20 ms), holding that step until the new process
+ * has answered it. 1: go on, 0: hold the step, -1: the restart failed. */
+static int faults_step(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d)
+{
+    int i;
+    for (i = 0; i < c->n_faults; i++) {
+        scenario_fault *f = &c->faults[i];
+        if (f->stage == SCENARIO_FAULT_ARMED && r->t_s >= f->kill_s) {
+            proc_kill(&d->ps, d->pid[f->slot]);
+            scenario_daemon_left(r->lcm, carry_daemon_lock_name[f->slot], r->pending, 1);
+            fprintf(stderr, "tandem-scenario: fault: %s killed at %.3f s\n", f->daemon, r->t_s);
+            res->kills++;
+            scenario_fault_killed(f);
+        }
+        if (f->stage == SCENARIO_FAULT_KILLED && r->t_s >= f->restart_s && r->pending % 20 == 0) {
+            char log[700];
+            snprintf(log, sizeof log, "%s/%s_%s_restart%d.log", c->out, c->tag, f->daemon, i + 1);
+            d->pid[f->slot] = proc_spawn(&d->ps, d->argvs[f->slot], d->url, log, d->err);
+            if (d->pid[f->slot] < 0)
+                return -1;
+            fprintf(stderr, "tandem-scenario: fault: %s restarted at %.3f s\n", f->daemon, r->t_s);
+            r->hold_since_s = scenario_wall_s();
+            f->stage = SCENARIO_FAULT_RESTARTING;
+        }
+        if (f->stage == SCENARIO_FAULT_RESTARTING) {
+            if (r->ack_step[f->slot] < r->pending) {
+                if (scenario_rejoin_overdue(r->hold_since_s)) {
+                    fprintf(stderr, "tandem-scenario: fault: %s did not rejoin within 60 s\n", f->daemon);
+                    return -1;
+                }
+                return 0;
+            }
+            res->restarts++;
+            f->stage = SCENARIO_FAULT_DONE;
+        }
+    }
+    return 1;
+}
+
+/* ---- the lockstep loop ------------------------------------------------------------ */
+
+static void state_init(carry_state *r)
+{
+    memset(r, 0, sizeof *r);
+    r->pending = r->handled = -1;
+    r->min_range_margin_rad = INFINITY;
+    r->last_event[0] = r->last_event[1] = TANDEM_ACTION_EVENT_T_DONE;   /* idle until a row starts */
+    r->unblocked_step[0] = r->unblocked_step[1] = r->done_step[0] = r->done_step[1] = -1;
+    r->t_deliv_first = r->t_deliv_last = r->end_at = -1.0;
+}
+
+/* Between steps: dead daemons, the wall-time limit, the progress line, a
+ * stall. 0 go on, 1 stop, -1 stop on an error. */
+static int run_watch(const carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d,
+                     double wall0, double *next_progress)
+{
+    int k, rc = 0;
+    for (k = 0; k < d->ps.n; k++) {
+        int st;
+        if (d->ps.alive[k] && proc_poll(&d->ps, d->ps.pid[k], &st) == 1) {
+            fprintf(stderr, "tandem-scenario: a daemon exited early (status %d); see %s\n", st, d->err);
+            res->exit_reason = "daemon_exited";
+            rc = -1;
+        }
+    }
+    if (rc != 0)
+        return rc;
+    if (scenario_wall_s() - wall0 > 3600.0) {
+        fprintf(stderr, "tandem-scenario: wall-time limit reached\n");
+        res->exit_reason = "wall_time_limit";
+        return 1;
+    }
+    if (scenario_progress_due(next_progress, PROGRESS_EVERY_S))
+        progress_line(r, c, wall0);
+    if (r->have_mk && r->mk.stalled) {
+        fprintf(stderr, "tandem-scenario: the supervisor reports a stall at %.2f s (no transition completed "
+                        "for %.1f s with the stick out): run stopped\n", r->t_s, r->mk.stall_limit_s);
+        res->exit_reason = "stalled";
+        return 1;
+    }
+    return 0;
+}
+
+/* Deliveries so far, and the end of the run: 0.5 s after the last
+ * workpiece is delivered or dropped and every block is done. */
+static void note_deliveries(carry_state *r, const carry_cfg *c)
+{
+    if (r->delivered > r->last_delivered) {
+        if (r->t_deliv_first < 0.0)
+            r->t_deliv_first = r->t_s;
+        r->t_deliv_last = r->t_s;
+        r->last_delivered = r->delivered;
+    }
+    if (r->end_at < 0.0 && r->delivered + r->dropped >= c->workpieces &&
+        (c->serial || c->blocks->cur >= c->blocks->n))
+        r->end_at = r->t_s + 0.5;
+}
+
+/* The step announced, if any: --fault, the blocks, the record, the answer.
+ * 0 go on, 1 stop, -1 stop on an error. */
+static int run_answer(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d)
+{
+    int k;
+    if (r->pending < 0)
+        return 0;
+    if (r->pending == r->handled) {
+        /* the simulator announced the step again (an answer was late or
+         * lost): answer again, but record and measure it only once, so
+         * the results do not depend on the machine's timing */
+        carry_ack(r, r->pending, 0);
+        r->pending = -1;
+        return 0;
+    }
+    k = faults_step(r, c, res, d);
+    if (k < 0) {
+        res->exit_reason = "restart_failed";
+        return -1;
+    }
+    if (k == 0)
+        return 0;                     /* hold the step: a restarted daemon joins */
+    r->handled = r->pending;
+    if (!c->serial)
+        carry_block_step(r, c->blocks);
+    record_step(r, c, r->pending);
+    note_deliveries(r, c);
+    carry_ack(r, r->pending, 0);
+    r->pending = -1;
+    if (r->end_at >= 0.0 && r->t_s >= r->end_at)
+        return 1;
+    if (r->t_s >= c->max_sim_s) {
+        fprintf(stderr, "tandem-scenario: simulated-time limit %.0f s reached\n", c->max_sim_s);
+        res->exit_reason = "sim_time_limit";
+        return 1;
+    }
+    return 0;
+}
+
+/* The run's result from its state at the end. */
+static void result_of(carry_result *res, const carry_state *r)
+{
+    /* the last SIM_STATUS may be up to 100 steps old: read the sim log */
+    res->delivered = r->delivered;
+    res->dropped = r->dropped;
+    if (r->have_mk) {
+        res->detected = r->mk.detections;
+        res->blockages = r->mk.blockages;
+        res->replans = r->mk.replans;
+        res->deadlocks = r->mk.deadlocks;
+        res->invariant_violations = r->mk.invariant_violations;
+        res->stalls = r->mk.stalls;
+        res->faults = r->mk.faults;
+        res->rows_reissued = r->mk.rows_reissued;
+        res->dones_recovered = r->mk.dones_recovered;
+    }
+    res->joint_limit_violations = r->limit_violations;
+    res->joint_stop_onsets = r->stop_onsets;
+    res->min_range_margin_rad = r->min_range_margin_rad;
+    res->max_speed_ratio = r->max_speed_ratio;
+    res->max_force_N = r->max_force_N;
+    res->max_force_10ms_N = r->max_force_10ms_N;
+    res->first_delivery_s = r->t_deliv_first;
+    res->last_delivery_s = r->t_deliv_last;
+    res->mean_cycle_s = r->last_delivered >= 2 ?
+        (r->t_deliv_last - r->t_deliv_first) / (r->last_delivered - 1) : NAN;
+}
+
+int carry_run_once(const carry_cfg *c, carry_result *res)
+{
+    carry_state R;
+    carry_daemons d;
+    const double wall0 = scenario_wall_s();
+    double next_progress = wall0 + PROGRESS_EVERY_S;
+    int rc = 0;
+    memset(res, 0, sizeof *res);
+    state_init(&R);
+    res->exit_reason = "completed";
+    daemons_argv(&d, c);
+    R.lcm = lcm_create(d.url);
+    if (!R.lcm) {
+        fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", d.url);
+        return -1;
+    }
+    carry_subscribe(&R);
+    if (daemons_start(&d, c) != 0) {
+        lcm_destroy(R.lcm);
+        return -1;
+    }
+    while (!interrupted && rc == 0) {
+        lcm_handle_timeout(R.lcm, 200);
+        rc = run_watch(&R, c, res, &d, wall0, &next_progress);
+        if (rc == 0)
+            rc = run_answer(&R, c, res, &d);
+    }
+    if (interrupted)
+        res->exit_reason = "interrupted";
+    carry_ack(&R, R.pending >= 0 ? R.pending : 0, 1);
+    carry_send_control(&R, TANDEM_SIM_CONTROL_T_QUIT, 0, 0);
+    res->sim_s = R.t_s;
+    proc_kill_all(&d.ps, 3.0);
+    res->wall_s = scenario_wall_s() - wall0;
+    result_of(res, &R);
+    res->ok = rc >= 0;
+    lcm_destroy(R.lcm);
+    R.lcm = NULL;
+    return rc < 0 ? -1 : 0;
+}

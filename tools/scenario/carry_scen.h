@@ -1,0 +1,168 @@
+/* carry_scen: NOT A PUBLIC INTERFACE. What the files of `tandem-scenario
+ * carry` (docs/method/carry.md §8) share with one another:
+ *   scenario_carry.c  options, the driver (the run, the serial reference run)
+ *   carry_bus.c       the run's state from the bus (handlers, arm health),
+ *                     the stick's SIM_CONTROL, the scenario's lockstep answer
+ *   carry_blocks.c    the stick: --block, random blocks, the block machine
+ *   carry_run.c       one run: daemons, the lockstep loop, --fault, the
+ *                     time series, the run's result
+ *   carry_report.c    figures over the blocks, success criteria,
+ *                     summary.json, blocks.csv, plots
+ */
+#ifndef TANDEM_CARRY_SCEN_H
+#define TANDEM_CARRY_SCEN_H
+
+#include <stdint.h>
+#include <stdio.h>
+#include <lcm/lcm.h>
+#include "scenario.h"
+#include "tandem_arm_state_t.h"
+#include "tandem_petri_marking_t.h"
+
+#define MAX_BLOCKS 64
+#define NT 8                     /* transitions recorded (transitions.csv) */
+#define CARRY_DAEMONS 4          /* sim, arm 1, arm 2, supervisor */
+/* success criteria (the figures a carry run must show) */
+#define CRIT_FORCE_10MS_N 1000.0
+#define CRIT_RESUME_S 1.0
+
+typedef struct block {
+    int    arm, link, need_t3;
+    double start_s, dur_s;
+    /* measured */
+    double in_s, out_s, contact_s, self_stop_s, partner_stop_s;
+    double max_force_N, force_sum_N, force_late_sum_N;
+    long   force_n, force_late_n;
+    double lead_max_m, lurch_mps;
+    double out_pos_m[3], resume_s;   /* tool at removal; resumed at (< 0: not yet) */
+    int    row_running_at_out;       /* the arm had a row to finish when the stick came out */
+    int    during_t3, done;
+} block;
+
+/* The blocks of a run, one after the other (one stick). */
+typedef struct carry_blocks {
+    block  b[MAX_BLOCKS];
+    int    n;
+    int    cur;                  /* index of the block armed or in, n when all done */
+    double gap_after_s;          /* start of the next block counted from the end of this one */
+} carry_blocks;
+
+typedef struct carry_cfg {
+    int    workpieces;
+    int    controller_time;
+    int    serial;
+    double max_sim_s;
+    const char *out;
+    const char *tag;           /* "run" or "serial": log names */
+    const char *url;           /* --lcm-url, or NULL: a private udpm port */
+    const char *block_detect;  /* tandem-arm --block-detect on|off */
+    const char *stall_s;       /* tandem-supervisor --stall-s */
+    uint64_t seed;
+    scenario_drop drop;        /* --drop-rate, to every daemon */
+    scenario_fault *faults;    /* --fault (the main run only) */
+    int    n_faults;
+    carry_blocks *blocks;      /* the stick's blocks (none in the serial run) */
+    FILE  *ts_csv, *tr_csv, *q_csv; /* timeseries, transitions, joints; NULL: not written */
+} carry_cfg;
+
+typedef struct carry_result {
+    int    detected, delivered, dropped, blockages, replans, deadlocks;
+    long   invariant_violations;
+    double max_contact_N, max_lurch_mps, mean_blocked_force_N;
+    double first_delivery_s, last_delivery_s, mean_cycle_s;
+    double sim_s, wall_s;
+    int    ok;
+    /* health of the run */
+    long   joint_limit_violations, joint_stop_onsets;
+    double max_speed_ratio, max_force_N, max_force_10ms_N, min_range_margin_rad;
+    int    stalls, faults;
+    int    kills, restarts, rows_reissued, dones_recovered;
+    const char *exit_reason;
+} carry_result;
+
+/* What one run knows from the bus, step by step. */
+typedef struct carry_state {
+    lcm_t   *lcm;
+    int64_t  pending;            /* step to answer, -1 none */
+    int64_t  handled;            /* last step recorded, -1 none */
+    double   t_s;
+    tandem_arm_state_t arm[2];
+    int      have_arm[2];
+    double   speed[2];
+    double   s[2], s_f[2];
+    int      tr[2];              /* transition of the last progress */
+    int64_t  s_step[2];
+    double   s_hist[2][16];      /* s at the last 16 steps, ring */
+    tandem_petri_marking_t mk;
+    int8_t   mk_marking[16], mk_running[16];
+    int      have_mk;
+    int      delivered, dropped, spawned;
+    int64_t  ack_seq;
+    int      running_prev[NT];
+    double   run_start[NT];
+    /* per arm: the last event other than PROGRESS, and when UNBLOCKED / DONE came */
+    int      last_event[2];
+    int64_t  unblocked_step[2], done_step[2];
+    /* health of the run from the measured states */
+    unsigned range_bits[2];      /* joints past their range at the last state */
+    unsigned stop_bits[2];       /* joints at (or past) a range end at the last state */
+    long     limit_violations, stop_onsets;
+    double   max_speed_ratio, max_force_N, max_force_10ms_N;
+    double   min_range_margin_rad; /* least distance of a joint from a range end */
+    /* --fault: the last step each daemon answered (SIM_ACK) */
+    int64_t  ack_step[CARRY_DAEMONS];
+    double   hold_since_s;     /* wall time a restart began holding the step */
+    /* deliveries, and when the run ends (< 0: not yet) */
+    double   t_deliv_first, t_deliv_last, end_at;
+    int      last_delivered;
+} carry_state;
+
+/* The daemons of a run: proc slot k, --fault name, lockstep name. */
+extern const char *const carry_daemon_fault_name[CARRY_DAEMONS];
+extern const char *const carry_daemon_lock_name[CARRY_DAEMONS];
+
+/* carry_bus.c */
+/* Subscribes every handler of the run's state r on r->lcm. */
+void carry_subscribe(carry_state *r);
+void carry_send_control(carry_state *r, int cmd, int arm, int link);
+void carry_ack(carry_state *r, int64_t step, int leaving);
+/* The synchronised t3 is running (the supervisor's last marking). */
+int  carry_t3_running(const carry_state *r);
+
+/* carry_blocks.c */
+/* --block A:L:S:D[:t3]; 0 ok, -1 malformed. */
+int  carry_block_parse(const char *s, block *b);
+/* Appends k seeded random blocks (as many as fit). */
+void carry_random_blocks(carry_blocks *bl, int k, uint64_t seed);
+/* The stick of the block in progress is in. */
+int  carry_stick_in(const carry_blocks *bl);
+/* The block machine at the step about to be answered. */
+void carry_block_step(carry_state *r, carry_blocks *bl);
+
+/* carry_run.c */
+/* SIGINT and SIGTERM end the run (exit_reason "interrupted"). */
+void carry_catch_signals(void);
+int  carry_interrupted(void);
+/* One run with c's daemons; res always filled in. 0 ok, -1 the run failed
+ * to start or a daemon exited. */
+int  carry_run_once(const carry_cfg *c, carry_result *res);
+
+/* carry_report.c */
+/* Figures over all blocks of a run (carry_block_figures). */
+typedef struct carry_block_figures {
+    double max_force_N, max_lurch_mps, mean_force_N;
+    double latency_max_s, lead_max_m;  /* t3 blocks; NAN: none */
+    double resume_max_s, settled_max_N;
+    int    skipped;
+} carry_block_figures;
+void carry_block_figures_of(carry_block_figures *f, const carry_blocks *bl, double sim_s);
+/* Appends the failed success criteria to buf (space separated); returns
+ * how many failed. */
+int  carry_criteria(const carry_cfg *c, const carry_result *r, double resume_max_s, char *buf, size_t cap);
+/* summary.json of the run and its serial reference; 0 ok, -1 not written. */
+int  carry_write_summary(const carry_cfg *c, long seed, const carry_result *res, const carry_result *ser,
+                         const carry_block_figures *f, const char *failed);
+void carry_write_blocks_csv(const char *dir, const carry_blocks *bl);
+void carry_write_plots(const char *dir, const carry_blocks *bl);
+
+#endif

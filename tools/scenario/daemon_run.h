@@ -1,0 +1,56 @@
+/* daemon_run: what the scenarios that start daemons and run with them in
+ * lockstep (carry, formation; docs/method/lockstep.md §8) share beyond
+ * scenario.h: the scenario's own lockstep answer, telling the simulator a
+ * killed daemon has left, the stages of a --fault and its rejoin wait, the
+ * progress-line cadence, the gnuplot script's frame, and the exit status
+ * from the success criteria.
+ */
+#ifndef TANDEM_DAEMON_RUN_H
+#define TANDEM_DAEMON_RUN_H
+
+#include <stdint.h>
+#include <stdio.h>
+#include <lcm/lcm.h>
+#include "scenario.h"
+
+/* scenario_fault.stage */
+enum {
+    SCENARIO_FAULT_ARMED = 0,      /* waiting for its kill time */
+    SCENARIO_FAULT_KILLED = 1,     /* killed, waiting for its restart time */
+    SCENARIO_FAULT_RESTARTING = 2, /* restarted, the step held until it answers */
+    SCENARIO_FAULT_DONE = 3        /* rejoined, or left down for good */
+};
+
+/* A restarted daemon that has not answered the held step within this much
+ * wall time will not: the run gives up (restart_failed). */
+#define SCENARIO_REJOIN_WALL_S 60.0
+
+/* The scenario's own answer to lockstep step `step` ("tandem-scenario",
+ * every period_steps steps; leaving = 1 unregisters); *seq counts them. */
+void scenario_ack(lcm_t *lcm, int64_t *seq, int64_t step, int32_t period_steps, int leaving);
+/* Tells the simulator that the lockstep participant `name` (a daemon just
+ * killed without a goodbye) has left, so it does not wait out its timeout. */
+void scenario_daemon_left(lcm_t *lcm, const char *name, int64_t step, int32_t period_steps);
+/* After the fault's kill: restarting later, or left down. */
+void scenario_fault_killed(scenario_fault *f);
+/* 1 when a restart begun at wall time hold_since_s has waited longer than
+ * SCENARIO_REJOIN_WALL_S. */
+int  scenario_rejoin_overdue(double hold_since_s);
+
+/* 1 (and *next_s advanced by every_s) when the wall clock has reached
+ * *next_s: time for the next progress line. */
+int    scenario_progress_due(double *next_s, double every_s);
+/* Simulated seconds per wall second, 0 before any wall time has passed. */
+double scenario_realtime_factor(double sim_s, double wall_s);
+
+/* Opens dir/plots.gp with the lines every plot script starts with (CSV
+ * input, PNG output of width x height pixels); NULL on failure. */
+FILE *scenario_plot_open(const char *dir, int width, int height);
+/* Closes the script and runs gnuplot on it (scenario_gnuplot). */
+void  scenario_plot_run(const char *dir, FILE *g);
+
+/* The last line of a run: "NAME: FAILED n criteria: ..." or "NAME: all
+ * criteria met". Returns the exit status, 3 or 0. */
+int scenario_exit_status(const char *name, int n_failed, const char *failed);
+
+#endif

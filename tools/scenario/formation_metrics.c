@@ -1,0 +1,154 @@
+/* formation_metrics: the metrics of a formation run from ground truth
+ * (ROVER_TRUTH every FM_PERIOD steps; docs/method/formation.md §6): path
+ * length and smoothness (mean |dw/dt|), clearance, collisions, each
+ * robot's own pose estimate against the truth, the formation error (the
+ * slots of the formation the team flies now, around the true centroid and
+ * mean heading), whether the team has reached the goal; and the time
+ * series truth.csv, formation_error.csv, weights.csv, snapshots.csv.
+ */
+#include <math.h>
+#include <stdio.h>
+#include "formation_scen.h"
+#include "formation.h"
+#include "vec2.h"
+
+/* The live robots' centroid and mean heading. */
+typedef struct team_pose {
+    double cx, cy, th0;
+} team_pose;
+
+static int alive_ids(const tandem_rover_truth_t *m, int32_t *ids)
+{
+    int i, n = 0;
+    for (i = 0; i < m->n; i++) if (m->alive[i]) ids[n++] = m->robot[i];
+    return n;
+}
+
+/* Robot i (index in m, alive): path and smoothness, localization error,
+ * its line of truth.csv. */
+static void robot_truth(fm_state *fm, const tandem_rover_truth_t *m, int i, double t)
+{
+    /* path and smoothness (mean |dw/dt|) */
+    if (fm->have_prev[i]) {
+        const double w = vec2_angle_diff_rad(m->theta_rad[i], fm->prev_th[i]) / (FM_PERIOD * 1e-3);
+        fm->path[i] += hypot(m->x_m[i] - fm->prev_x[i], m->y_m[i] - fm->prev_y[i]);
+        if (fm->have_prev_w[i] && !fm->reached) {
+            fm->sum_dw += fabs(w - fm->prev_w[i]) / (FM_PERIOD * 1e-3);
+            fm->n_dw++;
+        }
+        fm->prev_w[i] = w;
+        fm->have_prev_w[i] = 1;
+    }
+    fm->prev_x[i] = m->x_m[i]; fm->prev_y[i] = m->y_m[i]; fm->prev_th[i] = m->theta_rad[i];
+    fm->have_prev[i] = 1;
+    if (fm->have_state[i] && !fm_process_down(fm, m->robot[i], m->step - FM_PERIOD)) {
+        /* localization error: the robot's own estimate of O against
+         * the truth (both world frame); none while its process is down */
+        const double e = hypot(fm->est[i].x_m - m->x_m[i], fm->est[i].y_m - m->y_m[i]);
+        fm->loc_sum_sq += e * e;
+        fm->loc_n++;
+        if (e > fm->loc_max) fm->loc_max = e;
+    }
+    if (fm->truth_csv)
+        fprintf(fm->truth_csv, "%.3f,%d,%.4f,%.4f,%.4f,%.4f,%d,%.4f,%.4f,%.4f\n", t, m->robot[i],
+                m->x_m[i], m->y_m[i], m->theta_rad[i], m->min_clearance_m[i], m->collisions[i],
+                fm->est[i].x_m, fm->est[i].y_m, fm->est[i].theta_rad);
+}
+
+/* Every live robot's truth; the team's centroid and mean heading. Returns
+ * the index of the lowest live robot, -1 none. */
+static int team_truth(fm_state *fm, const tandem_rover_truth_t *m, int n, double t, team_pose *tp)
+{
+    double cx = 0, cy = 0, s = 0, c = 0;
+    int i, lowest = -1;
+    for (i = 0; i < m->n; i++) {
+        if (!m->alive[i]) continue;
+        if (lowest < 0) lowest = i;
+        cx += m->x_m[i]; cy += m->y_m[i];
+        s += sin(m->theta_rad[i]); c += cos(m->theta_rad[i]);
+        if (m->min_clearance_m[i] < fm->min_clear) fm->min_clear = m->min_clearance_m[i];
+        robot_truth(fm, m, i, t);
+    }
+    cx /= n; cy /= n;
+    tp->cx = cx;
+    tp->cy = cy;
+    tp->th0 = atan2(s, c);
+    return lowest;
+}
+
+/* Formation error: slots of the formation the team is flying now around
+ * the true centroid and mean heading; robot slots by sorted alive id.
+ * *sq: sum of the squared errors, *mx: the largest. Returns 1 when every
+ * robot is near its nominal slot around the goal. */
+static int formation_error(const fm_state *fm, const tandem_rover_truth_t *m, const int32_t *ids, int n,
+                           const team_pose *tp, double *sq, double *mx)
+{
+    int i, all_at = 1;
+    for (i = 0; i < m->n; i++) {
+        double xy[2], r[2], e, gx, gy;
+        int rank;
+        if (!m->alive[i]) continue;
+        rank = formation_slot_of(ids, n, m->robot[i]);
+        formation_slot_xy(xy, fm->type_now, n, rover_world_slot(fm->type_now, n, rank), 1.0, fm->scale_now);
+        vec2_rotate(r, xy[0], xy[1], tp->th0);
+        e = hypot(m->x_m[i] - tp->cx - r[0], m->y_m[i] - tp->cy - r[1]);
+        *sq += e * e;
+        if (e > *mx) *mx = e;
+        /* at the goal: every robot near its nominal slot around the goal */
+        formation_slot_xy(xy, fm->formation, n, rover_world_slot(fm->formation, n, rank), 1.0, 1.0);
+        gx = fm->layout.goal_m[0] + xy[0];
+        gy = fm->layout.goal_m[1] + xy[1];
+        if (hypot(m->x_m[i] - gx, m->y_m[i] - gy) > 0.75) all_at = 0;
+    }
+    return all_at;
+}
+
+/* formation_error.csv, weights.csv (the lowest live robot's), and
+ * snapshots.csv every 5 s. */
+static void truth_series(fm_state *fm, const tandem_rover_truth_t *m, double t, double sq, double mx, int n,
+                         int lowest)
+{
+    int i;
+    if (fm->err_csv) fprintf(fm->err_csv, "%.3f,%.4f,%.4f,%d\n", t, sqrt(sq / n), mx, fm->type_now);
+    if (fm->w_csv && lowest >= 0)
+        fprintf(fm->w_csv, "%.3f,%.3f,%.3f,%.3f,%.3f,%d\n", t, fm->weight[lowest][0], fm->weight[lowest][1],
+                fm->weight[lowest][2], fm->weight[lowest][3], fm->mode[lowest]);
+    if (fm->snap_csv && t - fm->last_snap_t >= 5.0 - 1e-9) {
+        fm->last_snap_t = t;
+        for (i = 0; i < m->n; i++)
+            if (m->alive[i]) fprintf(fm->snap_csv, "%.4f,%.4f\n", m->x_m[i], m->y_m[i]);
+        if (lowest >= 0) fprintf(fm->snap_csv, "%.4f,%.4f\n", m->x_m[lowest], m->y_m[lowest]);
+        fprintf(fm->snap_csv, "\n");
+    }
+}
+
+void fm_on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_truth_t *m, void *u)
+{
+    fm_state *fm = u;
+    int32_t ids[FM_MAX];
+    int i, n, lowest, all_at;
+    double sq = 0, mx = 0, t = m->sim_time_s;
+    team_pose tp;
+    (void)rb; (void)ch;
+    if (m->n != fm->robots || m->step <= fm->last_truth_step || !fm_states_for_truth(fm, m)) return;
+    fm->last_truth_step = m->step;
+    n = alive_ids(m, ids);
+    if (n == 0) return;
+    lowest = team_truth(fm, m, n, t, &tp);
+    if (lowest >= 0 && fm->have_state[lowest]) fm->type_now = fm->state_type[lowest];
+    if (lowest >= 0 && fm->have_state[lowest]) fm->scale_now = fm->state_scale[lowest];
+    all_at = formation_error(fm, m, ids, n, &tp, &sq, &mx);
+    if (!fm->reached) {
+        fm->samples++;
+        fm->sum_sq_err += sq / n;
+        if (mx > fm->max_err) fm->max_err = mx;
+        if (mx > FM_OUT_TOL) fm->out_samples++;
+    }
+    truth_series(fm, m, t, sq, mx, n, lowest);
+    fm->collisions = 0;
+    for (i = 0; i < m->n; i++) fm->collisions += m->collisions[i];
+    if (!fm->reached && all_at && hypot(tp.cx - fm->layout.goal_m[0], tp.cy - fm->layout.goal_m[1]) < 0.5) {
+        fm->reached = 1;
+        fm->time_to_goal = t;
+    }
+}

@@ -1,0 +1,119 @@
+/* formation_report: what a formation run (docs/method/formation.md §6)
+ * reports: its success criteria (the seed-003 must-show figures),
+ * summary.json, and the gnuplot script for paths.png (the world, the
+ * ground-truth paths and the formation every 5 s), formation_error.png
+ * and weights.png.
+ */
+#include <math.h>
+#include <stdio.h>
+#include "formation_scen.h"
+#include "daemon_run.h"
+
+/* The run's success criteria (the seed-003 must-show figures): the team
+ * reached the goal without a collision, each robot's own pose estimate
+ * within 0.25 m of the truth, >= 2 formation changes in the corridor and
+ * >= 1 dead-zone escape in the dead zone. Appends the failed ones to buf;
+ * returns how many failed. */
+int fm_criteria(const fm_state *fm, char *buf, size_t cap)
+{
+    const scenario_criterion k[] = {
+        { !fm->reached, "reached_goal" },
+        { fm->collisions != 0, "collisions" },
+        { fm->loc_n && !(fm->loc_max <= 0.25), "loc_err_max_m" },
+        { fm->world == ROVER_WORLD_CORRIDOR && fm->formation_changes < 2, "formation_changes" },
+        { fm->world == ROVER_WORLD_DEADZONE && fm->escapes < 1, "dead_zone_escapes" },
+        { fm->lost_lockstep, "lockstep" },
+        { fm->restart_failed, "restarts" },
+    };
+    return scenario_failed_criteria(k, (int)(sizeof k / sizeof k[0]), buf, cap);
+}
+
+void fm_write_summary(const fm_state *fm, double wall_s)
+{
+    json_out j;
+    double path = 0.0;
+    int i, n = 0;
+    if (json_open(&j, fm->out, "summary.json") != 0) return;
+    for (i = 0; i < fm->robots; i++)
+        if (fm->have_prev[i] && i + 1 != fm->kill_id) { path += fm->path[i]; n++; }
+    json_str(&j, "scenario", "formation");
+    json_str(&j, "formation", fm_formation_name(fm->formation));
+    json_str(&j, "world", rover_world_name(fm->world));
+    json_str(&j, "blend", fm_blend_name(fm->blend));
+    json_str(&j, "formation_law", fm->law_kanayama ? "kanayama" : "seed");
+    json_str(&j, "ref_heading", fm->ref_goal ? "goal" : "mean");
+    json_bool(&j, "localize", !fm->localize_off);
+    json_int(&j, "robots", fm->robots);
+    json_int(&j, "seed", fm->seed);
+    json_int(&j, "killed_robot", fm->kill_id > 0 && fm->killed ? fm->kill_id : 0);
+    json_bool(&j, "reached_goal", fm->reached);
+    json_num(&j, "time_to_goal_s", fm->reached ? fm->time_to_goal : NAN);
+    json_num(&j, "rms_formation_err_m", fm->samples ? sqrt(fm->sum_sq_err / fm->samples) : NAN);
+    json_num(&j, "max_formation_err_m", fm->max_err);
+    json_num(&j, "time_out_of_formation_frac", fm->samples ? (double)fm->out_samples / fm->samples : NAN);
+    json_num(&j, "min_clearance_m", fm->min_clear);
+    json_int(&j, "collisions", fm->collisions);
+    json_int(&j, "kills", fm->kills);
+    json_int(&j, "restarts", fm->restarts);
+    json_int(&j, "formation_changes", fm->formation_changes);
+    json_int(&j, "dead_zone_escapes", fm->escapes);
+    json_num(&j, "path_length_m", n ? path / n : NAN);
+    json_num(&j, "smoothness", fm->n_dw ? fm->sum_dw / fm->n_dw : NAN);
+    json_num(&j, "loc_err_rms_m", fm->loc_n ? sqrt(fm->loc_sum_sq / fm->loc_n) : NAN);
+    json_num(&j, "loc_err_max_m", fm->loc_n ? fm->loc_max : NAN);
+    json_num(&j, "sim_time_s", fm->sim_time);
+    json_num(&j, "wall_time_s", wall_s);
+    json_str(&j, "exit_reason", fm->restart_failed ? "restart_failed" : fm->lost_lockstep ? "lockstep_lost" :
+                                fm->reached ? "completed" : "goal_not_reached");
+    json_str(&j, "failed_criteria", fm->failed);
+    json_close(&j);
+}
+
+void fm_write_plots(const fm_state *fm)
+{
+    FILE *g = scenario_plot_open(fm->out, 1100, 700);
+    int i;
+    if (!g) return;
+    fprintf(g, "set output 'paths.png'\nset size ratio -1\nset title 'formation %s, world %s, blend %s: paths (ground truth), snapshots every 5 s'\n",
+            fm_formation_name(fm->formation), rover_world_name(fm->world), fm_blend_name(fm->blend));
+    /* the whole world with the goal disc inside it; the key below the plot,
+     * where it covers nothing */
+    fprintf(g, "set xlabel 'x (m)'\nset ylabel 'y (m)'\nset key below horizontal\n"
+               "set xrange [%g:%g]\nset yrange [%g:%g]\n",
+            fm->layout.x_min_m, fm->layout.x_max_m, fm->layout.y_min_m, fm->layout.y_max_m);
+    for (i = 0; i < fm->layout.n_obst; i++) {
+        const rover_obstacle *o = &fm->layout.obst[i];
+        if (o->kind == ROVER_OBST_CIRCLE) {
+            fprintf(g, "set object %d circle at %g,%g size %g fc rgb 'gray40' fs solid\n", i + 1,
+                    o->cx_m, o->cy_m, o->r_m);
+        } else {
+            const double c = cos(o->angle_rad), s = sin(o->angle_rad);
+            fprintf(g, "set object %d polygon from %g,%g to %g,%g to %g,%g to %g,%g to %g,%g fc rgb 'gray40' fs solid\n",
+                    i + 1,
+                    o->cx_m + o->hx_m * c - o->hy_m * s, o->cy_m + o->hx_m * s + o->hy_m * c,
+                    o->cx_m - o->hx_m * c - o->hy_m * s, o->cy_m - o->hx_m * s + o->hy_m * c,
+                    o->cx_m - o->hx_m * c + o->hy_m * s, o->cy_m - o->hx_m * s - o->hy_m * c,
+                    o->cx_m + o->hx_m * c + o->hy_m * s, o->cy_m + o->hx_m * s - o->hy_m * c,
+                    o->cx_m + o->hx_m * c - o->hy_m * s, o->cy_m + o->hx_m * s + o->hy_m * c);
+        }
+    }
+    fprintf(g, "set object %d circle at %g,%g size 0.3 fc rgb 'green' fs transparent solid 0.4\n",
+            fm->layout.n_obst + 1, fm->layout.goal_m[0], fm->layout.goal_m[1]);
+    fprintf(g, "plot ");
+    for (i = 1; i <= fm->robots && i <= 12; i++)
+        fprintf(g, "'truth.csv' using ($2==%d?$3:1/0):4 with points pt 7 ps 0.25 title 'robot %d', ", i, i);
+    fprintf(g, "'snapshots.csv' using 1:2 with linespoints lc rgb 'black' pt 7 ps 0.6 dt 2 title 'formation every 5 s'\n");
+    /* the time plots carry none of the world's discs and their own ranges */
+    fprintf(g, "unset object\nset autoscale xy\nset key default\n");
+    fprintf(g, "set output 'formation_error.png'\nset size noratio\nset title 'formation error (ground truth)'\n"
+               "set xlabel 't (s)'\nset ylabel 'formation error (m)'\n"
+               "set y2label 'formation type (0 line, 1 triangle, 2 column)'\n"
+               "set y2range [-0.2:2.2]\nset y2tics 0,1,2\n"
+               "plot 'formation_error.csv' using 1:2 with lines lw 2 title 'rms over robots', "
+               "'' using 1:3 with lines title 'max over robots', '' using 1:4 axes x1y2 with steps title 'formation type'\n");
+    fprintf(g, "set output 'weights.png'\nunset y2label\nunset y2tics\nset title 'behaviour weights of the lowest-id robot (normalised)'\n"
+               "set ylabel 'normalised weight (1)'\nset yrange [-0.05:1.05]\n"
+               "plot 'weights.csv' using 1:2 with lines title 'goal', '' using 1:3 with lines title 'formation', "
+               "'' using 1:4 with lines title 'avoid', '' using 1:5 with lines title 'exception'\n");
+    scenario_plot_run(fm->out, g);
+}

@@ -1,0 +1,136 @@
+/* formation_scen: NOT A PUBLIC INTERFACE. What the files of
+ * `tandem-scenario formation` (docs/method/formation.md §6) share:
+ *   scenario_formation.c  options and the driver (set-up, the lockstep
+ *                         loop, the end of the run)
+ *   formation_procs.c     the children: simulator and rover processes,
+ *                         --kill and --fault
+ *   formation_bus.c       the lockstep clock and answers, the robots'
+ *                         states by step, the subscriptions
+ *   formation_metrics.c   the metrics from ground truth (ROVER_TRUTH)
+ *   formation_report.c    success criteria, summary.json, plots
+ */
+#ifndef TANDEM_FORMATION_SCEN_H
+#define TANDEM_FORMATION_SCEN_H
+
+#include <stdint.h>
+#include <stdio.h>
+#include <sys/types.h>
+#include <lcm/lcm.h>
+#include "rover_world.h"
+#include "scenario.h"
+#include "tandem_rover_state_t.h"
+#include "tandem_rover_truth_t.h"
+
+#define FM_MAX     ROVER_WORLD_MAX_ROBOTS
+#define FM_PERIOD  50
+#define FM_PROCS   (FM_MAX + 2)
+#define FM_RING    4            /* states kept per robot */
+#define FM_OUT_TOL 0.3          /* d_r: a robot further than this from its slot is out */
+
+typedef struct fm_state {
+    /* options */
+    int    formation, world, blend, robots, single, batch;
+    int    law_kanayama, ref_goal, localize_off;   /* --formation-law, --ref-heading, --localize */
+    char   timeout_ms[24];                     /* --lockstep-timeout-ms */
+    long   timeout_ms_given;
+    scenario_drop drop;                        /* --drop-rate */
+    const char *drop_arg;
+    long   seed;
+    double max_time_s;
+    int    kill_id;
+    double kill_t_s;
+    scenario_fault faults[SCENARIO_MAX_FAULTS];   /* --fault kill:roverK:T[:R] */
+    int    n_faults, kills, restarts;
+    int64_t rover_ack[FM_MAX + 1];    /* the last step each rover process answered */
+    double hold_since_s;              /* wall time a restart began holding the step */
+    int64_t down_after[FM_MAX + 1];   /* --fault: robot k's process answered no step in */
+    int64_t up_at[FM_MAX + 1];        /* (down_after, up_at): no states then */
+    const char *out, *url;
+    int    out_given;
+    char   url_buf[160];
+    char   bindir[512];
+    /* children */
+    pid_t  pid[FM_PROCS];
+    int    n_pid;
+    pid_t  rover_pid[FM_MAX + 1];     /* process hosting robot k (separate mode) */
+    /* lcm */
+    lcm_t *lcm;
+    lcm_subscription_t *sub_clock, *sub_truth, *sub_state, *sub_states, *sub_ack;
+    int64_t clock_step, answered, ack_seq, last_clock_ns;
+    int    have_clock;
+    /* layout and truth */
+    rover_world_config layout;
+    int    type_now;                  /* formation reported by the lowest alive id */
+    double scale_now;
+    int    mode[FM_MAX];
+    int    state_type[FM_MAX];
+    double state_scale[FM_MAX];
+    double weight[FM_MAX][4];
+    pose2 est[FM_MAX];              /* the robot's own odometry, world frame */
+    int    have_state[FM_MAX];
+    /* the robots' last states by step: truth at step k is read with the
+     * states of the cycle before (k - FM_PERIOD), whatever arrived since */
+    tandem_rover_state_t ring[FM_MAX][FM_RING];
+    int    clock_repeat;             /* the simulator announced an answered step again */
+    int    last_type;                /* formation of the lowest live robot at the last cycle, -1 none */
+    /* metrics */
+    int    samples, out_samples;
+    double sum_sq_err, max_err, min_clear, path[FM_MAX];
+    double prev_x[FM_MAX], prev_y[FM_MAX], prev_th[FM_MAX], prev_w[FM_MAX];
+    int    have_prev[FM_MAX], have_prev_w[FM_MAX];
+    double sum_dw; long n_dw;
+    double loc_sum_sq, loc_max; long loc_n;     /* own estimate vs truth */
+    int    collisions, formation_changes, escapes;
+    int    reached;
+    double time_to_goal, sim_time;
+    int    killed;
+    FILE  *truth_csv, *err_csv, *w_csv, *snap_csv;
+    double last_snap_t;
+    int64_t last_truth_step;
+    char   failed[256];          /* failed success criteria (fm_criteria) */
+    int    n_failed;
+    int    lost_lockstep;        /* the simulator dropped us: not the seed's run */
+    int    restart_failed;       /* a --fault restart did not rejoin within 60 s */
+} fm_state;
+
+/* scenario_formation.c: the names of the --formation and --blend choices */
+const char *fm_formation_name(int f);
+const char *fm_blend_name(int b);
+
+/* formation_procs.c */
+/* Starts the simulator and the rover processes; 0 ok, -1 one did not start. */
+int  fm_start_children(fm_state *fm);
+/* SIGTERM to every child, SIGKILL to those still there after 5 s. */
+void fm_stop_children(fm_state *fm);
+/* --fault at a step due to be answered: 1 go on, 0 hold the step, -1 the
+ * restart failed. */
+int  fm_faults_step(fm_state *fm);
+/* --kill K:T once T is reached: the robot's body and its process. */
+void fm_kill_robot(fm_state *fm);
+
+/* formation_bus.c */
+/* Subscribes the handlers (fm as their user pointer), deep queues but the clock's. */
+void fm_subscribe(fm_state *fm);
+void fm_unsubscribe(fm_state *fm);
+void fm_ack(fm_state *fm, int64_t step);
+/* Answers the last clock again if it is a step everyone answers. */
+void fm_nudge(fm_state *fm);
+int64_t fm_mono_ns(void);
+/* Robot i's state of step k from the ring, or NULL. */
+const tandem_rover_state_t *fm_ring_get(const fm_state *fm, int i, int64_t k);
+/* --fault: robot id's process was down at step k (it published no state). */
+int  fm_process_down(const fm_state *fm, int id, int64_t k);
+/* Truth at step k is taken with every live robot's state of the cycle
+ * before; 0 while one of them is missing. */
+int  fm_states_for_truth(fm_state *fm, const tandem_rover_truth_t *m);
+
+/* formation_metrics.c: ROVER_TRUTH (typed handler, fm as user) */
+void fm_on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_truth_t *m, void *u);
+
+/* formation_report.c */
+/* Appends the failed success criteria to buf; returns how many failed. */
+int  fm_criteria(const fm_state *fm, char *buf, size_t cap);
+void fm_write_summary(const fm_state *fm, double wall_s);
+void fm_write_plots(const fm_state *fm);
+
+#endif
