@@ -44,7 +44,7 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_
 /* When the last clock seen is a step everyone answers and nothing has
  * moved for a while, the simulator is waiting there: answer that step
  * again in case our ack was lost. (The simulator itself re-announces a
- * step whose answers are missing, sim_main.c; only it may publish
+ * step whose answers are missing, sim_loop.c; only it may publish
  * SIM_CLOCK, auth_acl.c.) */
 void fm_nudge(fm_state *fm)
 {
