@@ -12,6 +12,7 @@
  * from R36 = R03^T R06 with z6 in frame 3 = (-c4 s5, -s4 s5, c5).
  */
 #include "arm_kin.h"
+#include "linalg.h"
 #include "vec3.h"
 #include <math.h>
 #include <stddef.h>
@@ -40,15 +41,6 @@ int arm_ik_branch_from_name(const char *name)
         if (strcmp(name, branch_names[b]) == 0)
             return b;
     return ARM_KIN_ERR_NO_BRANCH;
-}
-
-static int tf_finite(const double T[16])
-{
-    int i;
-    for (i = 0; i < 16; i++)
-        if (!isfinite(T[i]))
-            return 0;
-    return 1;
 }
 
 static void flange_to_tool(const arm_tool *tool, const double T6[16], double T[16])
@@ -200,13 +192,18 @@ static void ik_wrist(const arm_model *m, const double R36[9], double q456[2][3])
     }
 }
 
+/* Kept whole (about 90 lines): the closed-form solution is one sequence
+ * (wrist centre, q1 for both shoulders, q2-q3 for both elbows, q4-q6 for
+ * both wrists, then the eight branches ranked) whose steps share the
+ * wrist centre and the branch tables; the wrist part is already apart
+ * (ik_wrist above). */
 int arm_ik(const arm_model *m, const arm_tool *tool, const double T[16], arm_ik_result *out)
 {
     double T6[16], Tinv[16], R06[9], pw[3];
     double a2, a3, d4, L3, beta, Z, Y, r2, reach2;
     int s, e, w, b;
 
-    if (!m || !T || !out || !tf_finite(T))
+    if (!m || !T || !out || !linalg_all_finite(T, 16))
         return ARM_KIN_ERR_ARG;
     if (!ik_geometry_supported(m))
         return ARM_KIN_ERR_GEOMETRY;

@@ -253,6 +253,40 @@ static int block_update(cartseg *c, double s, double v_along, double dev, int co
     return blocked;
 }
 
+/* Static cross-track error of the free servo (model error / k_p). */
+static void static_err_update(cartseg *c, const double x_err[3], double dt_s)
+{
+    double xe[3];
+    const double a = dt_s / (CARTSEG_STATIC_ERR_TAU_S + dt_s);
+    int i;
+    vec3_copy(xe, x_err);
+    vec3_axpy(xe, xe, -vec3_dot(xe, c->line.ch.e), c->line.ch.e);
+    for (i = 0; i < 3; i++)
+        c->err_filt_m[i] += a * (xe[i] - c->err_filt_m[i]);
+    /* hold_off is the filter as it was 0.25-0.5 s ago: the deflection
+     * an obstacle causes before it is detected must not count */
+    c->t_snap_s += dt_s;
+    if (c->t_snap_s >= CARTSEG_STATIC_ERR_DELAY_S) {
+        c->t_snap_s = 0.0;
+        vec3_copy(c->hold_off_m, c->err_snap_m);
+        vec3_copy(c->err_snap_m, c->err_filt_m);
+    }
+}
+
+/* A block is detected: freeze the references at the measured pose (plus
+ * the servo's static error, so it keeps up its effort against the model
+ * error): from the next cycle the only demand is the bias along the path. */
+static void block_enter(cartseg *c, const double x_world[3], const double T_base[16])
+{
+    double x_hold[3];
+    c->t_rest_s = 0.0;
+    c->rest_steps = 0;
+    vec3_copy(c->rest_pos_m, x_world);
+    vec3_add(x_hold, x_world, c->hold_off_m);
+    erlaw_line_hold(&c->line, x_hold);
+    tf_rot(c->R_hold_base, T_base);
+}
+
 int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm_payload *payload,
                  const double q[ARM_NJ], const double qd[ARM_NJ], double s_ext_m, double dt_s,
                  cartseg_out *out)
@@ -263,7 +297,7 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     double Tw[16], Rwb[9], u_base[3], dev;
     const int sync = s_ext_m >= 0.0 && c->ref == ERLAW_REF_MEASURED;
     erlaw_ref ref = sync ? ERLAW_REF_EXTERNAL : c->ref;
-    int commanding, blocked, held, i;
+    int commanding, blocked, held;
     if (!c || !out)
         return CARTSEG_ERR_ARG;
     memset(out, 0, sizeof *out);
@@ -311,36 +345,10 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     out->block_changed = blocked != c->blocked;
     if (blocked && c->blocked)
         hold_ratchet(c, out->x_world, out->v_world, dt_s);
-    if (!blocked) {
-        /* static cross-track error of the free servo (model error / k_p) */
-        double xe[3];
-        const double a = dt_s / (CARTSEG_STATIC_ERR_TAU_S + dt_s);
-        vec3_copy(xe, eo.x_err);
-        vec3_axpy(xe, xe, -vec3_dot(xe, c->line.ch.e), c->line.ch.e);
-        for (i = 0; i < 3; i++)
-            c->err_filt_m[i] += a * (xe[i] - c->err_filt_m[i]);
-        /* hold_off is the filter as it was 0.25-0.5 s ago: the deflection
-         * an obstacle causes before it is detected must not count */
-        c->t_snap_s += dt_s;
-        if (c->t_snap_s >= CARTSEG_STATIC_ERR_DELAY_S) {
-            c->t_snap_s = 0.0;
-            vec3_copy(c->hold_off_m, c->err_snap_m);
-            vec3_copy(c->err_snap_m, c->err_filt_m);
-        }
-    }
-    if (blocked && !c->blocked) {
-        /* freeze the references at the measured pose (plus the servo's
-         * static error, so it keeps up its effort against the model
-         * error): from the next cycle the only demand is the bias along
-         * the path */
-        double x_hold[3];
-        c->t_rest_s = 0.0;
-        c->rest_steps = 0;
-        vec3_copy(c->rest_pos_m, out->x_world);
-        vec3_add(x_hold, out->x_world, c->hold_off_m);
-        erlaw_line_hold(&c->line, x_hold);
-        tf_rot(c->R_hold_base, st.T);
-    }
+    if (!blocked)
+        static_err_update(c, eo.x_err, dt_s);
+    if (blocked && !c->blocked)
+        block_enter(c, out->x_world, st.T);
     c->blocked = blocked;
     out->blocked = blocked;
     rot_tapply(u_base, Rwb, eo.u);

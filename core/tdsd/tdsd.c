@@ -227,7 +227,12 @@ static int clip_joints(double dq[NJ], const double m[NJ], double slack)
  * to two vectors and P1 only enters through J2 P1 and P1 g, so neither J1+
  * nor P1 (6x6) nor (J2P1)+ is ever formed:
  *   J2 P1 = J2 - (J2 V1) V1^T,   P1 g = g - V1 V1^T g,
- *   (J2P1)+ (J2P1) g = V2 V2^T g   (V1, V2: kept right singular vectors). */
+ *   (J2P1)+ (J2P1) g = V2 V2^T g   (V1, V2: kept right singular vectors).
+ * Kept whole (about 90 lines): it is eq. 8-11 of docs/method/tdsd.md §3-4
+ * in the order written there, and the intermediate products (J2 V1, the
+ * kept singular vectors) are shared by every line; split, they would travel
+ * through half a dozen parameters and the equations would no longer read
+ * top to bottom. */
 int tdsd_step(const tdsd_input *in, tdsd_output *out)
 {
     linalg_pinv_svd F1;
