@@ -90,13 +90,13 @@ static int put(rover_ctl_state *c, const snap_field *f, double v)
 {
     char *p = (char *)c + f->offset;
     if (!isfinite(v))
-        return -1;
+        return ROVER_CTL_ERR_SNAPSHOT;
     if (f->kind == SNAP_DOUBLE) {
         *(double *)(void *)p = v;
         return 0;
     }
     if (v != floor(v) || fabs(v) > 2147483647.0)
-        return -1;
+        return ROVER_CTL_ERR_SNAPSHOT;
     if (f->kind == SNAP_INT)
         *(int *)(void *)p = (int)v;
     else if (f->kind == SNAP_INT32)
