@@ -76,7 +76,7 @@ static int setup(void)
     const double off[3] = { 0.0, 0.0, CELL_TOOL_LENGTH_M };
     const double q_ref[ARM_NJ] = { 0.0, 0.6, 2.9, 0.0, -0.4, 0.0 };
     const double com[3] = { 0.1, 0.0, CELL_TOOL_LENGTH_M };
-    double Rb[9], T[16], p[3], Tinv[16], Rinv[9], R1[9], p1[3], q0[ARM_NJ];
+    double Rb[9], T[16], p[3], Tinv[16], R1[9], p1[3], q0[ARM_NJ];
     arm_ik_result r;
     unsigned long s = 1;
     int i, j;
@@ -86,9 +86,7 @@ static int setup(void)
     arm_payload_point(&bar, cell_default.workpiece_mass_kg, com);
     cell_world_from_arm(&cell_default, 0, T_wb);
     tf_inverse(Tinv, T_wb);
-    tf_rot(Rinv, Tinv);
-    rot_apply(p, Rinv, cell_default.home_tool_m[0]);
-    p[0] += Tinv[3]; p[1] += Tinv[7]; p[2] += Tinv[11];
+    tf_apply(p, Tinv, cell_default.home_tool_m[0]);
     cell_tool_down_R(&cell_default, 0, Rb);
     tf_from_rot_pos(T, Rb, p);
     if (arm_ik(&arm_model_puma560, &tool, T, &r) != 0)

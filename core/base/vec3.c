@@ -243,6 +243,16 @@ void tf_pos(double p[3], const double T[16])
     p[0] = T[3]; p[1] = T[7]; p[2] = T[11];
 }
 
+void tf_apply(double out[3], const double T[16], const double p[3])
+{
+    double R[9], r[3];
+    tf_rot(R, T);
+    rot_apply(r, R, p);
+    out[0] = r[0] + T[3];
+    out[1] = r[1] + T[7];
+    out[2] = r[2] + T[11];
+}
+
 void tf_inverse(double out[16], const double T[16])
 {
     double R[9], Rt[9], p[3], pi[3];

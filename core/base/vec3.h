@@ -42,6 +42,8 @@ void   tf_mul(double out[16], const double A[16], const double B[16]);
 void   tf_from_rot_pos(double T[16], const double R[9], const double p[3]);
 void   tf_rot(double R[9], const double T[16]);
 void   tf_pos(double p[3], const double T[16]);
+/* out = R p + t: the point p carried by T (out may alias p). */
+void   tf_apply(double out[3], const double T[16], const double p[3]);
 /* out = T^-1 for a rigid transform. */
 void   tf_inverse(double out[16], const double T[16]);
 

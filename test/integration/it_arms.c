@@ -146,9 +146,7 @@ static void handover_q(int a, const double q_home[6], double q[6])
     cell_grasp_point(&cell_default, a, cell_default.handover_center_m, pw);
     cell_world_from_arm(&cell_default, a, Tw);
     tf_inverse(Tinv, Tw);
-    tf_rot(R, Tinv);
-    rot_apply(p, R, pw);
-    p[0] += Tinv[3]; p[1] += Tinv[7]; p[2] += Tinv[11];
+    tf_apply(p, Tinv, pw);
     cell_tool_down_R(&cell_default, a, R);
     tf_from_rot_pos(T, R, p);
     assert_int_equal(arm_ik(&arm_model_puma560, &tool, T, &r), 0);

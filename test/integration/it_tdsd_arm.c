@@ -95,10 +95,7 @@ static void wrist_line(double A[3], double B[3], double R1[9], double q0[ARM_NJ]
 
 static void to_world(const double Tw[16], const double p[3], double out[3])
 {
-    double R[9];
-    tf_rot(R, Tw);
-    rot_apply(out, R, p);
-    out[0] += Tw[3]; out[1] += Tw[7]; out[2] += Tw[11];
+    tf_apply(out, Tw, p);
 }
 
 static double line_distance(const double p[3], const double A[3], const double B[3])

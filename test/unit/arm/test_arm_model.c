@@ -98,9 +98,7 @@ static void test_tool_offset(void **state)
     arm_fk(&arm_model_puma560, &tool, q, Tt);
     /* the tool point is the flange point p carried by the flange rotation */
     tf_pos(pt, Tt);
-    pw[0] = T6[3] + T6[0] * p[0] + T6[1] * p[1] + T6[2] * p[2];
-    pw[1] = T6[7] + T6[4] * p[0] + T6[5] * p[1] + T6[6] * p[2];
-    pw[2] = T6[11] + T6[8] * p[0] + T6[9] * p[1] + T6[10] * p[2];
+    tf_apply(pw, T6, p);
     assert_true(fabs(pt[0] - pw[0]) < 1e-14 && fabs(pt[1] - pw[1]) < 1e-14
                 && fabs(pt[2] - pw[2]) < 1e-14);
     arm_tool_none(&tool);

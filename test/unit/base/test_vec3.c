@@ -123,15 +123,23 @@ static void test_transform_inverse_and_composition(void **state)
         tf_mul(AB, A, B);
         vec3_set(x, urand(), urand(), urand());
         {
-            double Bx[3], ABx[3], Rab[9], Rb[9], Ra[9], pb[3], pa[3], pab[3];
-            tf_rot(Rb, B); tf_pos(pb, B);
-            tf_rot(Ra, A); tf_pos(pa, A);
-            tf_rot(Rab, AB); tf_pos(pab, AB);
-            rot_apply(Bx, Rb, x); vec3_add(Bx, Bx, pb);
-            rot_apply(ABx, Ra, Bx); vec3_add(ABx, ABx, pa);
-            rot_apply(y, Rab, x); vec3_add(y, y, pab);
+            double Bx[3], ABx[3];
+            tf_apply(Bx, B, x);
+            tf_apply(ABx, A, Bx);
+            tf_apply(y, AB, x);
             vec3_sub(z, y, ABx);
             assert_true(vec3_norm(z) < 1e-12);
+            /* T^-1 (T x) = x, in place */
+            vec3_copy(y, x);
+            tf_apply(y, T, y);
+            tf_apply(y, Ti, y);
+            vec3_sub(z, y, x);
+            assert_true(vec3_norm(z) < 1e-12);
+            /* the translation is applied: the origin goes to p */
+            vec3_set(y, 0.0, 0.0, 0.0);
+            tf_apply(y, T, y);
+            vec3_sub(z, y, p);
+            assert_true(vec3_norm(z) < 1e-15);
         }
     }
 }

@@ -21,15 +21,13 @@ static const erlaw_gains G = { 0.25, 0.5, 4.0, 100.0, 20.0, 0.2, 5.0, 50.0 };
 static void setup(double T_wb[16], arm_tool *tool, double q[ARM_NJ], double R1[9])
 {
     const double off[3] = { 0.0, 0.0, CELL_TOOL_LENGTH_M };
-    double Rb[9], T[16], p[3], Tinv[16], Rinv[9];
+    double Rb[9], T[16], p[3], Tinv[16];
     arm_ik_result r;
     const double q_ref[ARM_NJ] = { 0.0, 0.6, 2.9, 0.0, -0.4, 0.0 };
     arm_tool_offset(tool, off);
     cell_world_from_arm(&cell_default, 0, T_wb);
     tf_inverse(Tinv, T_wb);
-    tf_rot(Rinv, Tinv);
-    rot_apply(p, Rinv, cell_default.home_tool_m[0]);
-    p[0] += Tinv[3]; p[1] += Tinv[7]; p[2] += Tinv[11];
+    tf_apply(p, Tinv, cell_default.home_tool_m[0]);
     cell_tool_down_R(&cell_default, 0, Rb);
     tf_from_rot_pos(T, Rb, p);
     assert_int_equal(arm_ik(&arm_model_puma560, tool, T, &r), 0);
@@ -320,9 +318,8 @@ static void test_pinned_upper_arm(void **st)
     arm_tool_offset(&tool, off);
     cell_world_from_arm(&cell_default, 0, T_wb);
     tf_inverse(Tinv, T_wb);
-    tf_rot(Rinv, Tinv);
-    rot_apply(p, Rinv, p0w);
-    p[0] += Tinv[3]; p[1] += Tinv[7]; p[2] += Tinv[11];
+    tf_apply(p, Tinv, p0w);
+    tf_rot(Rinv, Tinv);   /* base <- world, for the path direction below */
     cell_tool_down_R(&cell_default, 0, Rb);
     tf_from_rot_pos(T, Rb, p);
     assert_int_equal(arm_ik(&arm_model_puma560, &tool, T, &r), 0);

@@ -15,7 +15,7 @@
  * and FK of it gives the pose back. */
 static int reachable(int a, const double p_world[3])
 {
-    double Tw[16], Tinv[16], R[9], p[3], T[16], Tfk[16], Rb[9];
+    double Tw[16], Tinv[16], R[9], p[3], T[16], Tfk[16];
     const double off[3] = { 0.0, 0.0, CELL_TOOL_LENGTH_M };
     arm_tool tool;
     arm_ik_result r;
@@ -23,9 +23,7 @@ static int reachable(int a, const double p_world[3])
     arm_tool_offset(&tool, off);
     cell_world_from_arm(&cell_default, a, Tw);
     tf_inverse(Tinv, Tw);
-    tf_rot(Rb, Tinv);
-    rot_apply(p, Rb, p_world);
-    p[0] += Tinv[3]; p[1] += Tinv[7]; p[2] += Tinv[11];
+    tf_apply(p, Tinv, p_world);
     cell_tool_down_R(&cell_default, a, R);
     tf_from_rot_pos(T, R, p);
     if (arm_ik(&arm_model_puma560, &tool, T, &r) != 0 || r.unreachable)
