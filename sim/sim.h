@@ -39,6 +39,11 @@ enum {
     SIM_CAT_OBSTACLE  = 1u << 6
 };
 
+/* Failures of the world and its models (0 = ok). */
+#define SIM_OK 0
+#define SIM_ERR_CREATE (-1)   /* the world or a model cannot be built (said on stderr) */
+#define SIM_ERR_CONTROL (-1)  /* a control message for this model, but invalid (refused) */
+
 typedef struct sim_contact {
     dBodyID b1, b2;
     dJointFeedback fb;
@@ -125,7 +130,7 @@ typedef struct sim_model_ops {
                                             start-up, pause): no side effects beyond
                                             publishing */
     /* 1 if the control message was for this model (and applied), 0 if not,
-     * -1 if it was for this model but invalid. */
+     * SIM_ERR_CONTROL if it was for this model but invalid. */
     int  (*control)(void *model, sim_world *w, const tandem_sim_control_t *c);
     void (*status)(const void *model, const sim_world *w, tandem_sim_status_t *s);   /* may be NULL */
     /* lockstep: 1 when every output this model waits for at step k (the

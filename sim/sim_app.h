@@ -38,7 +38,8 @@ typedef struct sim_app {
 /* sim_loop.c */
 /* SIM_ACK and SIM_CONTROL, handed app. */
 void sim_subscribe(sim_app *app);
-/* The world with every model in it; -1 (said) if a model cannot be built. */
+/* The world with every model in it; SIM_ERR_CREATE (said) if a model
+ * cannot be built. */
 int  sim_build_world(sim_app *app);
 void sim_destroy_world(sim_app *app);
 void sim_run_lockstep(sim_app *app);

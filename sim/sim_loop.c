@@ -142,11 +142,11 @@ int sim_build_world(sim_app *app)
 {
     int i;
     if (sim_world_create(&app->w) != 0)
-        return -1;
+        return SIM_ERR_CREATE;
     for (i = 0; i < app->n_models; i++)
         if (app->models[i].ops->create(app->models[i].state, &app->w, &app->cfg) != 0) {
             fprintf(stderr, "tandem-sim: cannot create model '%s'\n", app->models[i].ops->name);
-            return -1;
+            return SIM_ERR_CREATE;
         }
     return 0;
 }

@@ -143,8 +143,11 @@ static int check_tables(const sim_app *app)
     return 0;
 }
 
+/* setup: do not run, exit with *status */
+#define SETUP_EXIT (-1)
+
 /* Defaults, the command line, the tables, the models in step order. 0 to
- * run; -1 to exit with *status (--help, a bad option, a bad table). */
+ * run; SETUP_EXIT (--help, a bad option, a bad table). */
 static int setup(sim_app *app, int argc, char **argv, int *status)
 {
     int rc;
@@ -158,11 +161,11 @@ static int setup(sim_app *app, int argc, char **argv, int *status)
     rc = parse_args(app, argc, argv);
     if (rc < 0) {
         *status = options_exit_status(rc);
-        return -1;
+        return SETUP_EXIT;
     }
     if (check_tables(app) != 0) {
         *status = 2;
-        return -1;
+        return SETUP_EXIT;
     }
     app->w.lockstep = app->w.d.lockstep;
     app->w.d.period_s = SIM_DT_S;

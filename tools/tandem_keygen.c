@@ -45,7 +45,7 @@ static int path_word(void *user, const char *word)
         o->path = word;
         return 0;
     }
-    return -1;
+    return OPTIONS_ERR_VALUE;
 }
 
 static int show(const char *path)

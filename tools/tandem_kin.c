@@ -80,17 +80,20 @@ static int bad_args(const char *msg, const char *what)
     return EXIT_BAD_ARGS;
 }
 
-/* Whole-string finite number, else -1. */
+/* parse_number: not a whole-string finite number */
+#define NUMBER_BAD (-1)
+
+/* Whole-string finite number, else NUMBER_BAD. */
 static int parse_number(const char *s, double *out)
 {
     char *end;
     double v;
     if (!s || !*s)
-        return -1;
+        return NUMBER_BAD;
     errno = 0;
     v = strtod(s, &end);
     if (*end != '\0' || errno == ERANGE || !isfinite(v))
-        return -1;
+        return NUMBER_BAD;
     *out = v;
     return 0;
 }

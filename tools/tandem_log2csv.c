@@ -19,6 +19,11 @@
 #include "tandem_petri_marking_t.h"
 #include "tandem_rover_truth_t.h"
 
+/* A row function's result: the event does not decode as its type (skipped) */
+#define ROW_UNDECODABLE (-1)
+/* is_lcm_log: the file does not open */
+#define LOG_UNREADABLE (-1)
+
 typedef int (*row_fn)(const lcm_eventlog_event_t *ev, int header);
 
 static int arm_row(const lcm_eventlog_event_t *ev, int header)
@@ -30,7 +35,7 @@ static int arm_row(const lcm_eventlog_event_t *ev, int header)
         return 0;
     }
     if (tandem_arm_state_t_decode(ev->data, 0, ev->datalen, &s) < 0)
-        return -1;
+        return ROW_UNDECODABLE;
     printf("%.4f", s.sim_time_s);
     for (i = 0; i < 6; i++)
         printf(",%.6f", s.q_rad[i]);
@@ -48,7 +53,7 @@ static int marking_row(const lcm_eventlog_event_t *ev, int header)
         return 0;
     }
     if (tandem_petri_marking_t_decode(ev->data, 0, ev->datalen, &m) < 0)
-        return -1;
+        return ROW_UNDECODABLE;
     printf("%lld,%d,%lld,", (long long)m.step, (int)m.last_fired, (long long)m.fired_count);
     for (i = 0; i < m.n_places; i++)
         putchar('0' + m.marking[i]);
@@ -66,7 +71,7 @@ static int truth_row(const lcm_eventlog_event_t *ev, int header)
         return 0;
     }
     if (tandem_rover_truth_t_decode(ev->data, 0, ev->datalen, &t) < 0)
-        return -1;
+        return ROW_UNDECODABLE;
     for (i = 0; i < t.n; i++)
         printf("%.3f,%d,%.4f,%.4f,%.4f\n", t.sim_time_s, (int)t.robot[i], t.x_m[i], t.y_m[i], t.theta_rad[i]);
     tandem_rover_truth_t_decode_cleanup(&t);
@@ -98,7 +103,7 @@ static int is_lcm_log(const char *path)
     unsigned char m[4];
     FILE *f = fopen(path, "rb");
     size_t n;
-    if (!f) return -1;
+    if (!f) return LOG_UNREADABLE;
     n = fread(m, 1, 4, f);
     fclose(f);
     return n == 4 && m[0] == 0xED && m[1] == 0xA1 && m[2] == 0xDA && m[3] == 0x01;
@@ -110,7 +115,7 @@ static int generic_row(const tandem_csv_type *t, const lcm_eventlog_event_t *ev,
     printf("%.6f,", (double)(ev->timestamp - t0) * 1e-6);
     if (t->row(ev->data, (int)ev->datalen) < 0) {
         printf("\n");
-        return -1;
+        return ROW_UNDECODABLE;
     }
     putchar('\n');
     return 0;
@@ -170,7 +175,7 @@ static int convert(lcm_eventlog_t *log, const char *channel, int all_fields)
                     else { fputs("log_time_s,", stdout); t->header(); putchar('\n'); }
                     type = t;
                 }
-                if (fn ? fn(ev, 0) : (t == type ? generic_row(t, ev, t0) : -1)) bad++;
+                if (fn ? fn(ev, 0) : (t == type ? generic_row(t, ev, t0) : ROW_UNDECODABLE)) bad++;
                 else rows++;
             }
         }

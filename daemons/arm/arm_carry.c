@@ -192,15 +192,18 @@ void arm_cart_start(arm_daemon *ad, const tandem_action_segment_t *g)
         cart_joint_fallback(ad, 1);
 }
 
-/* Reference k_i s* of a synchronised event-referenced segment, or -1
- * (own measured s). Until the partner reports, s* = 0 (wait at the start). */
+/* cartseg_step's s_ext < 0: no external reference, the arm's own measured s */
+#define CART_REF_OWN (-1.0)
+
+/* Reference k_i s* of a synchronised event-referenced segment, or
+ * CART_REF_OWN. Until the partner reports, s* = 0 (wait at the start). */
 static double cart_sync_ref(arm_daemon *ad)
 {
     arm_carry *cx = &ad->cart;
     sync_ref r;
     double l[2], s[2], s_star, ref[2];
     if (cx->sync_group <= 0 || cx->controller == TANDEM_ACTION_ROW_T_CONTROLLER_TIME)
-        return -1.0;
+        return CART_REF_OWN;
     if (!cx->partner_valid || cx->partner_transition != ad->transition || cx->partner_group != cx->sync_group ||
         cx->partner_step < cx->start_step - CART_PARTNER_WINDOW_STEPS)
         return 0.0;

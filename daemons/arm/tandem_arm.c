@@ -311,7 +311,7 @@ static int check_tables(const arm_daemon *ad)
         daemon_check_table(prog, "cell_default", "cell_layout_validate", cell_layout_validate(&cell_default)) != 0 ||
         daemon_check_table(prog, "cartctl_gains_default", "cartctl_gains_validate", cartctl_gains_validate(&cg)) != 0 ||
         daemon_check_table(prog, "arm_options", "options_table_validate", options_table_validate(arm_options)) != 0)
-        return -1;
+        return DAEMON_ERR_TABLE;
     return 0;
 }
 

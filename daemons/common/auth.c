@@ -13,7 +13,7 @@ static const char key_id_domain[] = "tandem-key-id";
 
 int auth_init(void)
 {
-    return sodium_init() < 0 ? -1 : 0;
+    return sodium_init() < 0 ? AUTH_ERR_INIT : AUTH_OK;
 }
 
 static void put_be(uint8_t *p, uint64_t v, int n)
@@ -81,19 +81,22 @@ int auth_key_load(auth_key *k, const char *path, char *why, size_t why_cap)
     return AUTH_OK;
 }
 
+/* make_parent_dirs: the path is too long, or mkdir failed (errno says why) */
+#define MKDIR_FAILED (-1)
+
 /* mkdir -p of path's directory, new components 0700. */
 static int make_parent_dirs(const char *path)
 {
     char dir[1024];
     size_t i;
     if (snprintf(dir, sizeof dir, "%s", path) >= (int)sizeof dir)
-        return -1;
+        return MKDIR_FAILED;
     for (i = 1; dir[i]; i++) {
         if (dir[i] != '/')
             continue;
         dir[i] = '\0';
         if (mkdir(dir, 0700) != 0 && errno != EEXIST)
-            return -1;
+            return MKDIR_FAILED;
         dir[i] = '/';
     }
     return 0;

@@ -66,6 +66,7 @@ enum {
     AUTH_ERR_ARG = -6,          /* bad argument (buffer too small, channel too long) */
     AUTH_ERR_KEY = -7           /* key file missing, unreadable, wrong size or mode */
 };
+#define AUTH_ERR_INIT (-1)      /* auth_init: libsodium does not start */
 
 /* Who publishes: the roles of auth_acl.c's table. */
 enum {
@@ -104,7 +105,7 @@ typedef struct auth_trailer {
     uint8_t     mac[AUTH_MAC_BYTES];
 } auth_trailer;
 
-/* 0 once libsodium is ready (idempotent), -1 if it cannot start. */
+/* 0 once libsodium is ready (idempotent), AUTH_ERR_INIT if it cannot start. */
 int  auth_init(void);
 /* Fills k from AUTH_KEY_BYTES bytes (and its id). */
 void auth_key_set(auth_key *k, const uint8_t bytes[AUTH_KEY_BYTES]);

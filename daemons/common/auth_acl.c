@@ -47,6 +47,9 @@ const int auth_acl_table_n = (int)(sizeof auth_acl_table / sizeof auth_acl_table
 #define AUTH_ACL_MAX_RULES 256
 
 /* Reads a decimal number of 1-5 digits at *p (moving *p past it). */
+/* read_number: no digits, more than 5, or above AUTH_ACL_NUMBER_MAX */
+#define NUMBER_BAD (-1)
+
 static int read_number(const char **p, long *v)
 {
     const char *s = *p;
@@ -58,7 +61,7 @@ static int read_number(const char **p, long *v)
         n++;
     }
     if (n < 1 || n > 5 || *v > AUTH_ACL_NUMBER_MAX)
-        return -1;
+        return NUMBER_BAD;
     *p = s;
     return 0;
 }

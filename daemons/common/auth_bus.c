@@ -69,7 +69,7 @@ int auth_bus_option(const char *prog, int opt, const char *arg)
     case OPT_KEY_FILE:
         if (!arg[0] || B.n_key_files >= AUTH_MAX_KEYS) {
             fprintf(stderr, "%s: --key-file: %s\n", prog, arg[0] ? "at most two (the key and the previous one)" : "empty path");
-            return -1;
+            return AUTH_BUS_ERR_OPTION;
         }
         B.key_file[B.n_key_files++] = arg;
         return 1;
@@ -108,8 +108,8 @@ int auth_bus_default_key_path(char *out, size_t cap)
     else if (home && home[0])
         n = snprintf(out, cap, "%s/.config/tandem/bus.key", home);
     else
-        return -1;
-    return n > 0 && (size_t)n < cap ? 0 : -1;
+        return AUTH_BUS_ERR_NO_HOME;
+    return n > 0 && (size_t)n < cap ? AUTH_BUS_OK : AUTH_BUS_ERR_NO_HOME;
 }
 
 static void warn_insecure(void)
@@ -122,7 +122,7 @@ static void warn_insecure(void)
 }
 
 /* The key files to load: the options, else $TANDEM_KEY_FILE, else the
- * default file if it exists. 0, or -1 when there is none. */
+ * default file if it exists. 0, or AUTH_BUS_ERR_KEY when there is none. */
 static int key_files(const char *files[AUTH_MAX_KEYS], int *n, char *def, size_t cap)
 {
     const char *env = getenv(AUTH_BUS_KEY_ENV);
@@ -140,7 +140,7 @@ static int key_files(const char *files[AUTH_MAX_KEYS], int *n, char *def, size_t
         files[(*n)++] = def;
         return 0;
     }
-    return -1;
+    return AUTH_BUS_ERR_KEY;
 }
 
 static int load_keys(void)
@@ -152,12 +152,12 @@ static int load_keys(void)
         fprintf(stderr, "%s: no bus key. Give --key-file PATH (`make run` creates %s on first use,\n"
                         "%s: `tandem-keygen` makes one), or --insecure to run without authentication.\n",
                 B.prog, def[0] ? def : "~/.config/tandem/bus.key", B.prog);
-        return -1;
+        return AUTH_BUS_ERR_KEY;
     }
     for (i = 0; i < n; i++)
         if (auth_key_load(&B.ring.key[i], files[i], why, sizeof why) != AUTH_OK) {
             fprintf(stderr, "%s: bus key %s\n", B.prog, why);
-            return -1;
+            return AUTH_BUS_ERR_KEY;
         }
     B.ring.n = n;
     return 0;
@@ -178,13 +178,13 @@ int auth_bus_start(const char *prog)
      * would grant or refuse by accident: no process starts on one */
     if ((rc = auth_acl_validate(auth_acl_table, auth_acl_table_n)) != AUTH_ACL_OK) {
         fprintf(stderr, "%s: the channel table (auth_acl_table) is unsound: auth_acl_validate %d\n", prog, rc);
-        return -1;
+        return AUTH_BUS_ERR_START;
     }
     if (insecure_from_env())
         B.insecure = 1;
     if (B.insecure && B.n_key_files > 0) {
         fprintf(stderr, "%s: --insecure and --key-file exclude each other\n", prog);
-        return -1;
+        return AUTH_BUS_ERR_START;
     }
     B.started = 1;
     if (B.insecure) {
@@ -194,14 +194,14 @@ int auth_bus_start(const char *prog)
     }
     if (auth_init() != 0) {
         fprintf(stderr, "%s: libsodium does not start\n", prog);
-        return -1;
+        return AUTH_BUS_ERR_START;
     }
     if (!B.have_identity && !B.as_owner) {
         fprintf(stderr, "%s: no bus identity set (auth_bus_identity)\n", prog);
-        return -1;
+        return AUTH_BUS_ERR_START;
     }
     if (load_keys() != 0)
-        return -1;
+        return AUTH_BUS_ERR_KEY;
     B.me.session = randombytes_random();
     auth_replay_init(&B.replay, AUTH_WINDOW_US, wall_us());
     B.secure = 1;
@@ -227,12 +227,12 @@ int auth_bus_ephemeral_key(char *path, size_t cap)
     char why[700];
     snprintf(eph_dir, sizeof eph_dir, "%s/tandem-key-XXXXXX", tmp && tmp[0] == '/' ? tmp : "/tmp");
     if (!mkdtemp(eph_dir))
-        return -1;
+        return AUTH_BUS_ERR_KEY;
     snprintf(eph_file, sizeof eph_file, "%s/bus.key", eph_dir);
     if (auth_key_create(eph_file, why, sizeof why) != AUTH_OK) {
         fprintf(stderr, "tandem: %s\n", why);
         rmdir(eph_dir);
-        return -1;
+        return AUTH_BUS_ERR_KEY;
     }
     eph_owner = getpid();
     atexit(remove_ephemeral);
@@ -247,11 +247,11 @@ int auth_bus_tx_reserve(int body_len)
 {
     const int need = body_len + AUTH_TRAILER_BYTES;
     if (body_len < 0)
-        return -1;
+        return AUTH_BUS_ERR_ARG;
     if (need > B.tx_cap) {
         uint8_t *p = realloc(B.tx, (size_t)need);
         if (!p)
-            return -1;
+            return AUTH_BUS_ERR_MEMORY;
         B.tx = p;
         B.tx_cap = need;
     }
@@ -283,24 +283,25 @@ int auth_bus_publish_tx(lcm_t *lcm, const char *channel, int body_len)
 {
     auth_sender s;
     if (body_len < 0 || !B.tx)
-        return -1;
+        return AUTH_BUS_ERR_ARG;
     if (!B.started) {
         fprintf(stderr, "tandem: publishing on %s before auth_bus_start: not sent\n", channel);
-        return -1;
+        return AUTH_BUS_ERR_NOT_STARTED;
     }
     if (!B.secure)
         return lcm_publish(lcm, channel, B.tx, (unsigned)body_len);
     sender_for(channel, &s);
     if (auth_sign(&B.ring.key[0], &s, auth_next_counter(&B.last_counter, wall_us()), channel, B.tx,
                   (size_t)body_len, (size_t)B.tx_cap) != AUTH_OK)
-        return -1;
+        return AUTH_BUS_ERR_SIGN;
     return lcm_publish(lcm, channel, B.tx, (unsigned)(body_len + AUTH_TRAILER_BYTES));
 }
 
 int auth_bus_publish_raw(lcm_t *lcm, const char *channel, const void *buf, int len)
 {
-    if (auth_bus_tx_reserve(len) != 0)
-        return -1;
+    const int rc = auth_bus_tx_reserve(len);
+    if (rc != AUTH_BUS_OK)
+        return rc;
     memcpy(B.tx, buf, (size_t)len);
     return auth_bus_publish_tx(lcm, channel, len);
 }

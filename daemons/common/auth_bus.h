@@ -33,6 +33,20 @@
 #define AUTH_BUS_KEY_ENV "TANDEM_KEY_FILE"
 #define AUTH_BUS_INSECURE_ENV "TANDEM_INSECURE"   /* "1": as --insecure (for child processes) */
 
+/* Failures (0 = ok); the ones marked (said) have printed why on stderr. */
+#define AUTH_BUS_OK 0
+#define AUTH_BUS_ERR_OPTION (-1)       /* --key-file empty, or a third one (said) */
+#define AUTH_BUS_ERR_NO_HOME (-1)      /* no $XDG_CONFIG_HOME or $HOME, or the path does
+                                          not fit the buffer */
+#define AUTH_BUS_ERR_START (-1)        /* auth_bus_start: channel table unsound, --insecure
+                                          with --key-file, libsodium, no identity (said) */
+#define AUTH_BUS_ERR_KEY (-1)          /* no key file, one that does not load (said), or
+                                          no temporary key made (auth_bus_ephemeral_key) */
+#define AUTH_BUS_ERR_ARG (-1)          /* body_len < 0 (a failed encode), no buffer */
+#define AUTH_BUS_ERR_MEMORY (-1)       /* the transmit buffer cannot grow */
+#define AUTH_BUS_ERR_NOT_STARTED (-1)  /* publishing before auth_bus_start (said) */
+#define AUTH_BUS_ERR_SIGN (-1)         /* auth_sign refused the message */
+
 /* Options every program that talks on the bus takes. */
 enum { OPT_KEY_FILE = 1200, OPT_INSECURE };
 /* (the options table, daemons/common/options.c, maps --key-file and
@@ -48,7 +62,8 @@ typedef struct auth_bus_counts {
     int64_t unauthorised;      /* AUTH_ERR_ACL */
 } auth_bus_counts;
 
-/* Handles OPT_KEY_FILE / OPT_INSECURE: 1 handled, 0 not ours, -1 bad. */
+/* Handles OPT_KEY_FILE / OPT_INSECURE: 1 handled, 0 not ours,
+ * AUTH_BUS_ERR_OPTION. */
 int  auth_bus_option(const char *prog, int opt, const char *arg);
 /* Who this process is (before auth_bus_start). */
 void auth_bus_identity(int role, int first, int last);
@@ -58,23 +73,28 @@ void auth_bus_identity(int role, int first, int last);
  * again. */
 void auth_bus_sign_as_owner(int on);
 /* Loads the key(s) the options and environment name and prints the
- * --insecure warning; 0, or -1 after printing why (then exit 1). */
+ * --insecure warning; 0, or AUTH_BUS_ERR_START / _KEY after printing why
+ * (then exit 1). */
 int  auth_bus_start(const char *prog);
 /* 1 when messages are signed and checked, 0 with --insecure. */
 int  auth_bus_secure(void);
-/* ${XDG_CONFIG_HOME:-$HOME/.config}/tandem/bus.key; -1 without HOME. */
+/* ${XDG_CONFIG_HOME:-$HOME/.config}/tandem/bus.key; AUTH_BUS_ERR_NO_HOME. */
 int  auth_bus_default_key_path(char *out, size_t cap);
 /* Creates a key for this run alone in a fresh 0700 temporary directory
  * (both removed at exit) and exports it as $TANDEM_KEY_FILE, so child
- * processes use it too (tandem-scenario, the integration tests). */
+ * processes use it too (tandem-scenario, the integration tests).
+ * 0, or AUTH_BUS_ERR_KEY. */
 int  auth_bus_ephemeral_key(char *path, size_t cap);
 
-/* The transmit buffer AUTH_PUBLISH encodes into. */
+/* The transmit buffer AUTH_PUBLISH encodes into; reserve: 0, or
+ * AUTH_BUS_ERR_ARG / AUTH_BUS_ERR_MEMORY. */
 int      auth_bus_tx_reserve(int body_len);
 uint8_t *auth_bus_tx(void);
 int      auth_bus_tx_cap(void);
 /* Signs the body_len bytes in auth_bus_tx() for channel and publishes
- * them; body_len < 0 (a failed encode) returns -1. */
+ * them: what lcm_publish returns (0 sent, -1 not), or AUTH_BUS_ERR_ARG
+ * (body_len < 0: a failed encode), AUTH_BUS_ERR_NOT_STARTED or
+ * AUTH_BUS_ERR_SIGN. */
 int  auth_bus_publish_tx(lcm_t *lcm, const char *channel, int body_len);
 /* Copies buf into the transmit buffer, signs, publishes (raw bytes, e.g.
  * the malformed messages of the fault tests). */
@@ -82,7 +102,7 @@ int  auth_bus_publish_raw(lcm_t *lcm, const char *channel, const void *buf, int 
 #define AUTH_PUBLISH(type, lcm, channel, msg) \
     auth_bus_publish_tx((lcm), (channel), \
                         auth_bus_tx_reserve(type##_encoded_size(msg)) == 0 ? \
-                        type##_encode(auth_bus_tx(), 0, auth_bus_tx_cap(), (msg)) : -1)
+                        type##_encode(auth_bus_tx(), 0, auth_bus_tx_cap(), (msg)) : AUTH_BUS_ERR_ARG)
 
 /* The receive check: AUTH_OK with *body = rb without the trailer, or the
  * refusal (counted). With --insecure every message passes (a trailer, if

@@ -49,11 +49,11 @@ int parse_double_opt(const char *prog, const char *opt, const char *s,
     v = strtod(s, &end);
     if (s[0] == '\0' || *end != '\0' || errno != 0 || !isfinite(v)) {
         fprintf(stderr, "%s: %s: '%s' is not a number\n", prog, opt, s);
-        return -1;
+        return DAEMON_ERR_NUMBER;
     }
     if (v < lo || v > hi) {
         fprintf(stderr, "%s: %s: %g is outside [%g, %g]\n", prog, opt, v, lo, hi);
-        return -1;
+        return DAEMON_ERR_RANGE;
     }
     *out = v;
     return 0;
@@ -68,11 +68,11 @@ int parse_int_opt(const char *prog, const char *opt, const char *s,
     v = strtol(s, &end, 10);
     if (s[0] == '\0' || *end != '\0' || errno != 0) {
         fprintf(stderr, "%s: %s: '%s' is not an integer\n", prog, opt, s);
-        return -1;
+        return DAEMON_ERR_NUMBER;
     }
     if (v < lo || v > hi) {
         fprintf(stderr, "%s: %s: %ld is outside [%ld, %ld]\n", prog, opt, v, lo, hi);
-        return -1;
+        return DAEMON_ERR_RANGE;
     }
     *out = v;
     return 0;
@@ -100,7 +100,7 @@ int daemon_check_table(const char *prog, const char *table, const char *validato
     if (rc == 0)
         return 0;
     fprintf(stderr, "%s: %s is invalid (%s: %d)\n", prog, table, validator, rc);
-    return -1;
+    return DAEMON_ERR_TABLE;
 }
 
 void daemon_rt_setup(const char *name, int prio)
@@ -173,19 +173,19 @@ int daemon_start(daemon *d)
         d->health_channel[i] = (char)(d->health_channel[i] == '-' ? '_' : toupper((unsigned char)d->health_channel[i]));
 
     if (auth_bus_start(d->name) != 0)
-        return -1;
+        return DAEMON_ERR_AUTH;
     rx_set_drop(d->drop_rate, (uint64_t)d->drop_seed);
     d->lcm = lcm_create(d->lcm_url);
     if (!d->lcm) {
         fprintf(stderr, "%s: cannot open LCM at '%s'\n", d->name, d->lcm_url);
-        return -1;
+        return DAEMON_ERR_LCM;
     }
     if (!d->clock_source)
         daemon_subscribe(d, "SIM_CLOCK", on_clock, d);
     daemon_rt_setup(d->name, d->rt_prio);
     if (rtloop_init(&d->loop, (int64_t)llround(d->period_s * 1e9)) != 0) {
         fprintf(stderr, "%s: period %g s out of range\n", d->name, d->period_s);
-        return -1;
+        return DAEMON_ERR_RANGE;
     }
     d->last_health_ns = rtloop_now_ns();
     return 0;

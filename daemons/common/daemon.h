@@ -78,6 +78,16 @@ typedef struct daemon {
  * (the process's exit code). */
 typedef int (*daemon_cycle_fn)(daemon *d, void *user);
 
+/* Status codes of daemon_check_table, daemon_start and the option parsers
+ * below (each has printed why on stderr). */
+#define DAEMON_OK 0
+#define DAEMON_ERR_NUMBER (-1)  /* parse_*_opt: not a finite number / not an integer */
+#define DAEMON_ERR_RANGE (-1)   /* parse_*_opt: outside [lo, hi]; daemon_start: period
+                                   outside rtloop's range */
+#define DAEMON_ERR_TABLE (-1)   /* daemon_check_table: the validator refused the table */
+#define DAEMON_ERR_AUTH (-1)    /* daemon_start: auth_bus_start refused (no key, ...) */
+#define DAEMON_ERR_LCM (-1)     /* daemon_start: LCM does not open at the URL */
+
 #define DAEMON_CONTINUE 0      /* cycle: go on */
 #define DAEMON_STOPPED 0       /* daemon_run: stopped by SIGINT/SIGTERM (exit 0) */
 #define DAEMON_STOP_FAILED 1   /* cycle: stop, the daemon cannot go on (exit 1) */
@@ -85,13 +95,13 @@ typedef int (*daemon_cycle_fn)(daemon *d, void *user);
 void daemon_defaults(daemon *d, const char *name, double period_s);
 /* Start-up check of one constant table: rc is what its validator returned
  * (0, or the module's negative *_ERR_* code). 0 when rc is 0; else prints
- * "PROG: TABLE is invalid (VALIDATOR: RC)" on stderr and returns -1 (the
- * daemon then exits 1 without running). */
+ * "PROG: TABLE is invalid (VALIDATOR: RC)" on stderr and returns
+ * DAEMON_ERR_TABLE (the daemon then exits 1 without running). */
 int  daemon_check_table(const char *prog, const char *table, const char *validator, int rc);
 /* Loads the bus key (auth_bus_start; the daemon has set its identity with
  * auth_bus_identity), hands --drop-rate / --drop-seed to the receive path
  * (rx_set_drop), opens LCM, installs SIGINT/SIGTERM handlers,
- * applies --rt. 0 on success. */
+ * applies --rt. DAEMON_OK, or DAEMON_ERR_AUTH / _LCM / _RANGE (said). */
 int  daemon_start(daemon *d);
 /* Minimal timer slack always (Linux); with prio > 0 also SCHED_FIFO at
  * prio, mlockall and the CPU latency hint; warns and goes on when not
@@ -130,8 +140,8 @@ int64_t daemon_utime_now(void);
     ((b).seq = (seq_), (b).utime = (utime_), (b).step = (step_), (b).n = (int16_t)(n_))
 
 /* Strict number parsing for command-line values: the whole string must be
- * a finite number inside [lo, hi]; prints "NAME: --OPT: why" and returns -1
- * otherwise. */
+ * a finite number inside [lo, hi]; prints "NAME: --OPT: why" and returns
+ * DAEMON_ERR_NUMBER or DAEMON_ERR_RANGE otherwise. */
 int parse_double_opt(const char *prog, const char *opt, const char *s,
                      double lo, double hi, double *out);
 int parse_int_opt(const char *prog, const char *opt, const char *s,

@@ -47,22 +47,25 @@ void journal_close(journal *j)
     j->f = NULL;
 }
 
-/* One line into v: its length, or -1 if torn or malformed. */
+/* parse_line: a line torn by a crash, or not a snapshot line */
+#define LINE_BAD (-1)
+
+/* One line into v: its length, or LINE_BAD. */
 static int parse_line(const char *line, double *v, int cap)
 {
     const char *hash = strrchr(line, '#');
     char *end;
     long n;
     int i;
-    if (strncmp(line, "J ", 2) != 0 || !hash || hash == line) return -1;
+    if (strncmp(line, "J ", 2) != 0 || !hash || hash == line) return LINE_BAD;
     if (strtoul(hash + 1, &end, 16) != line_sum(line, (size_t)(hash - 1 - line)) || end == hash + 1)
-        return -1;
+        return LINE_BAD;
     n = strtol(line + 2, &end, 10);
-    if (n < 1 || n > cap) return -1;
+    if (n < 1 || n > cap) return LINE_BAD;
     for (i = 0; i < n; i++) {
         const char *p = end;
         v[i] = strtod(p, &end);
-        if (end == p) return -1;
+        if (end == p) return LINE_BAD;
     }
     return (int)n;
 }

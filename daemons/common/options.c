@@ -22,8 +22,12 @@ typedef struct found {
 
 /* ---- finding an entry ------------------------------------------------------ */
 
+/* find_long / find_letter: no such entry; find_long: a prefix of several */
+#define FIND_NONE (-1)
+#define FIND_AMBIGUOUS (-2)
+
 /* The entry named by name[0..len) (exact, else a unique prefix when
- * prefixes are allowed). 0 found, -1 none, -2 ambiguous. */
+ * prefixes are allowed). 0 found, FIND_NONE or FIND_AMBIGUOUS. */
 static int find_long(const option_program *p, const char *name, size_t len, int prefixes, found *out)
 {
     int g, n_prefix = 0;
@@ -42,7 +46,7 @@ static int find_long(const option_program *p, const char *name, size_t len, int 
                 out->base = p->groups[g].base;
             }
         }
-    return n_prefix == 1 ? 0 : n_prefix > 1 ? -2 : -1;
+    return n_prefix == 1 ? 0 : n_prefix > 1 ? FIND_AMBIGUOUS : FIND_NONE;
 }
 
 static int find_letter(const option_program *p, char c, found *out)
@@ -56,7 +60,7 @@ static int find_letter(const option_program *p, char c, found *out)
                 out->base = p->groups[g].base;
                 return 0;
             }
-    return -1;
+    return FIND_NONE;
 }
 
 static int takes_value(const option_entry *e)
@@ -263,7 +267,7 @@ static int lookup(const option_program *p, char *w, found *f, char **inline_valu
         char *eq = strchr(w + 2, '=');
         const size_t len = eq ? (size_t)(eq - (w + 2)) : strlen(w + 2);
         const int rc = find_long(p, w + 2, len, p->other == NULL, f);
-        if (rc == -2) {
+        if (rc == FIND_AMBIGUOUS) {
             fprintf(stderr, "%s: option '%s' is ambiguous\n", p->name, w);
             return OPTIONS_ERR_ARG;
         }
@@ -464,7 +468,7 @@ void options_print_help(const option_program *p, FILE *f)
 static int entry_bad(const option_entry *e, const char *why)
 {
     fprintf(stderr, "option table: --%s: %s\n", e->name ? e->name : "(null)", why);
-    return -1;
+    return OPTIONS_ERR_TABLE;
 }
 
 static int entry_validate(const option_entry *e)
@@ -508,7 +512,7 @@ int options_table_validate(const option_entry *table)
     const option_entry *e, *o;
     for (e = table; e->name; e++) {
         if (entry_validate(e) != 0)
-            return -1;
+            return OPTIONS_ERR_TABLE;
         for (o = table; o != e; o++)
             if (!strcmp(o->name, e->name) || (e->letter && o->letter == e->letter))
                 return entry_bad(e, "given twice");

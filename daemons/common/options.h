@@ -30,9 +30,14 @@
 #define OPTIONS_EXIT     (-1)   /* --help or --version printed: exit 0 */
 #define OPTIONS_ERR_ARG  (-2)   /* bad option, message printed: exit 2 */
 /* an OPTION_CALL handler's own result: the value is bad and the handler
- * has already said why (a handler returning -1 leaves the message to the
- * parser: "PROG: --NAME: 'VALUE' is not META") */
+ * has already said why (a handler returning OPTIONS_ERR_VALUE leaves the
+ * message to the parser: "PROG: --NAME: 'VALUE' is not META") */
 #define OPTIONS_ERR_SAID (-3)
+/* an OPTION_CALL handler's result: the value is bad (the parser says so);
+ * an `other` callback's: the word is refused (the callback said why) */
+#define OPTIONS_ERR_VALUE (-1)
+/* options_table_validate: the table is unsound (the entry named on stderr) */
+#define OPTIONS_ERR_TABLE (-1)
 
 #define OPTIONS_EXIT_BAD_ARGS 2 /* the exit status of every program on bad options */
 
@@ -44,7 +49,7 @@ typedef enum option_type {
     OPTION_STRING,   /* the word itself (const char *), at least min and (max > 0) at most max chars */
     OPTION_CHOICE,   /* one of choices (NULL-terminated): stores its index, or values[index], in an int */
     OPTION_LIST,     /* repeatable: appends the word to a const char *[max]; count in an int at count */
-    OPTION_CALL,     /* the word goes to call(prog, dest, word): 0 ok, -1 bad, OPTIONS_ERR_SAID;
+    OPTION_CALL,     /* the word goes to call(prog, dest, word): 0 ok, OPTIONS_ERR_VALUE, OPTIONS_ERR_SAID;
                         may be repeated (each occurrence is a call) */
     OPTION_HELP,     /* prints the help on stdout; options_parse returns OPTIONS_EXIT */
     OPTION_VERSION   /* prints the version; options_parse returns OPTIONS_EXIT */
@@ -103,7 +108,7 @@ typedef struct option_program {
     /* non-NULL: every word that is not one of the table's options (unknown
      * options, their values, other arguments) goes here, in order; exact
      * names only (no prefixes: a prefix may be meant for the receiver).
-     * 0 ok, -1 error (message printed). */
+     * 0 ok, OPTIONS_ERR_VALUE (message printed). */
     int (*other)(void *user, const char *word);
     void *other_user;
 } option_program;
@@ -120,7 +125,8 @@ int  options_exit_status(int rc);
  * default) and the epilog to f. */
 void options_print_help(const option_program *p, FILE *f);
 /* Checks a table: names unique and non-empty, ranges ordered, choices,
- * destinations of the right size. 0 ok, -1 (names the entry on stderr). */
+ * destinations of the right size. 0 ok, OPTIONS_ERR_TABLE (names the entry
+ * on stderr). */
 int  options_table_validate(const option_entry *table);
 
 /* The options every daemon (and tandem-sim) takes, into a `daemon`:

@@ -17,6 +17,9 @@ static double mono_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* own_dir: the path of the running program is not known */
+#define OWN_DIR_UNKNOWN (-1)
+
 /* The directory of the running program: its sibling programs live there
  * (build/bin, or an installed bin/), whatever the working directory. */
 static int own_dir(char *out, size_t cap)
@@ -24,11 +27,11 @@ static int own_dir(char *out, size_t cap)
     char *slash;
     const ssize_t n = readlink("/proc/self/exe", out, cap - 1);
     if (n <= 0)
-        return -1;
+        return OWN_DIR_UNKNOWN;
     out[n] = '\0';
     slash = strrchr(out, '/');
     if (!slash)
-        return -1;
+        return OWN_DIR_UNKNOWN;
     *slash = '\0';
     return 0;
 }
@@ -50,13 +53,13 @@ pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url,
     pid_t pid;
     char path[512];
     if (p->n >= PROC_MAX || !argv || !argv[0])
-        return -1;
+        return PROC_ERR_FULL;
     if (!out_path && pipe(fds) != 0)
-        return -1;
+        return PROC_ERR_SYS;
     snprintf(path, sizeof path, "%s/%s", p->bin, argv[0]);
     pid = fork();
     if (pid < 0)
-        return -1;
+        return PROC_ERR_SYS;
     if (pid == 0) {
         if (out_path) {
             int fd = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -100,7 +103,7 @@ static int index_of(const proc_set *p, pid_t pid)
     for (i = 0; i < p->n; i++)
         if (p->pid[i] == pid)
             return i;
-    return -1;
+    return PROC_ERR_UNKNOWN;
 }
 
 int proc_poll(proc_set *p, pid_t pid, int *status)
@@ -108,7 +111,7 @@ int proc_poll(proc_set *p, pid_t pid, int *status)
     const int i = index_of(p, pid);
     int st;
     if (i < 0)
-        return -1;
+        return PROC_ERR_UNKNOWN;
     if (!p->alive[i]) {
         if (status)
             *status = p->status[i];

@@ -7,6 +7,11 @@
 
 #define PROC_MAX 16
 
+/* Failures of proc_spawn (as a pid) and proc_poll. */
+#define PROC_ERR_SYS (-1)      /* pipe or fork failed: errno says why */
+#define PROC_ERR_FULL (-1)     /* PROC_MAX children already, or no argv[0] */
+#define PROC_ERR_UNKNOWN (-1)  /* proc_poll: not a child of this set */
+
 typedef struct proc_set {
     char  bin[256];          /* directory of the programs */
     pid_t pid[PROC_MAX];
@@ -22,11 +27,11 @@ void  proc_init(proc_set *p, const char *bin_dir);
  * gets LCM_DEFAULT_URL = lcm_url (if not NULL). stdout goes to out_path
  * (created/truncated) or, if out_path is NULL, to a pipe (proc_read).
  * stderr is appended to err_path if not NULL (else inherited).
- * Returns the pid or -1. */
+ * Returns the pid, or PROC_ERR_FULL or PROC_ERR_SYS. */
 pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url,
                  const char *out_path, const char *err_path);
 /* Non-blocking reap: 1 if pid has exited (status in *status), 0 if it
- * runs, -1 unknown pid. */
+ * runs, PROC_ERR_UNKNOWN. */
 int   proc_poll(proc_set *p, pid_t pid, int *status);
 /* Reads whatever the child wrote to its stdout pipe (NUL terminated). */
 int   proc_read(proc_set *p, pid_t pid, char *buf, int cap);

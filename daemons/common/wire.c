@@ -118,5 +118,5 @@ const wire_type *wire_find(const void *buf, size_t len)
 
 int64_t wire_seq(const void *buf, size_t len)
 {
-    return len >= 16 ? be_int((const uint8_t *)buf + 8, 8) : -1;
+    return len >= 16 ? be_int((const uint8_t *)buf + 8, 8) : WIRE_SEQ_SHORT;
 }

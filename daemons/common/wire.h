@@ -52,8 +52,9 @@ int wire_check(const wire_type *t, const void *buf, size_t len);
 /* The type whose fingerprint starts buf, or NULL. */
 const wire_type *wire_find(const void *buf, size_t len);
 /* The message's leading int64 `seq` field (every tandem message starts
- * with one), -1 if the buffer is too short. Used before decoding, on a
- * buffer that passed wire_check. */
+ * with one), WIRE_SEQ_SHORT if the buffer is too short. Used before
+ * decoding, on a buffer that passed wire_check. */
+#define WIRE_SEQ_SHORT (-1)   /* wire_seq: the buffer ends before seq */
 int64_t wire_seq(const void *buf, size_t len);
 
 #endif

@@ -20,6 +20,10 @@
 #define HOST_MAX   ROVER_WORLD_MAX_ROBOTS
 #define TEAMQ_MAX  4096
 
+/* Failures of tandem-rover's own steps (0 = ok). */
+#define ROVER_DAEMON_ERR_IDS (-1)      /* --id is not K or A-B inside 1..HOST_MAX robots */
+#define ROVER_DAEMON_ERR_JOURNAL (-1)  /* a robot's journal does not open (said) */
+
 typedef struct hosted {
     rover_ctl_state c;
     int64_t     cmd_seq, state_seq, team_seq;
@@ -107,6 +111,8 @@ void rover_fill_outputs(hosted *h, const rover_ctl_out *o, int64_t step, int64_t
 void rover_publish_outbox(rover_daemon *rd, rover_outbox *o);
 void rover_republish(daemon *d, void *user);
 void rover_report_changes(hosted *h, int mode, double t_s);
+/* Resumes each robot from its journal and opens it for appending: 0, or
+ * ROVER_DAEMON_ERR_JOURNAL. */
 int  rover_journal_start(rover_daemon *rd);
 void rover_journal_cycle(rover_daemon *rd, int64_t step);
 void rover_journal_stop(rover_daemon *rd);

@@ -149,7 +149,7 @@ int rover_journal_start(rover_daemon *rd)
         }
         if (journal_open(&h->jr, h->journal_path) != JOURNAL_OK) {
             fprintf(stderr, "%s: cannot open journal %s\n", rd->d.name, h->journal_path);
-            return -1;
+            return ROVER_DAEMON_ERR_JOURNAL;
         }
     }
     return 0;

@@ -54,17 +54,17 @@ static int parse_ids(rover_daemon *rd, const char *s)
     char *end;
     long a, b;
     a = strtol(s, &end, 10);
-    if (end == s) return -1;
+    if (end == s) return ROVER_DAEMON_ERR_IDS;
     if (*end == '-') {
         const char *t = end + 1;
         b = strtol(t, &end, 10);
-        if (end == t || *end) return -1;
+        if (end == t || *end) return ROVER_DAEMON_ERR_IDS;
     } else if (*end) {
-        return -1;
+        return ROVER_DAEMON_ERR_IDS;
     } else {
         b = a;
     }
-    if (a < 1 || b < a || b - a + 1 > HOST_MAX) return -1;
+    if (a < 1 || b < a || b - a + 1 > HOST_MAX) return ROVER_DAEMON_ERR_IDS;
     rd->id_lo = (int32_t)a;
     rd->id_hi = (int32_t)b;
     return 0;
@@ -90,7 +90,7 @@ static int parse_ref_heading(const char *prog, void *dest, char *value)
     else if (!strcmp(value, "goal"))
         *gain = 1.0;
     else
-        return -1;
+        return OPTIONS_ERR_VALUE;
     return 0;
 }
 
@@ -175,7 +175,7 @@ static int check_tables(const rover_daemon *rd)
         daemon_check_table(prog, "rover_snapshot field table", "rover_snapshot_validate",
                            rover_snapshot_validate()) != 0 ||
         daemon_check_table(prog, "rover_options", "options_table_validate", options_table_validate(rover_options)) != 0)
-        return -1;
+        return DAEMON_ERR_TABLE;
     return 0;
 }
 

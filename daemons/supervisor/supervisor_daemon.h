@@ -85,6 +85,12 @@ typedef struct supervisor_daemon {
     petri_explore_ws explore_ws;    /* start-up check of the net */
 } supervisor_daemon;
 
+/* Start-up and internal failures of the supervisor's files (0 = ok). */
+#define SUPERVISOR_ERR_NET (-1)       /* the carry net is unsound or its tables invalid
+                                         (the offending marking printed) */
+#define SUPERVISOR_ERR_POSE (-1)      /* a row names a pose the cell does not have */
+#define SUPERVISOR_ERR_SNAPSHOT (-1)  /* a journal snapshot this net cannot take */
+
 /* supervisor_rows.c */
 void sup_start_transition(supervisor_daemon *sv, int t);
 /* The queued arm events, in arrival order (lockstep: those sent before

@@ -40,10 +40,10 @@ static int restore(supervisor_daemon *sv, const double *v)
     memset(&st, 0, sizeof st);
     st.running = (uint32_t)v[2];
     for (i = 0; i < CARRY_N_PLACES; i++) {
-        if (v[n] < 0 || v[n] > PETRI_TOKEN_MAX) return -1;
+        if (v[n] < 0 || v[n] > PETRI_TOKEN_MAX) return SUPERVISOR_ERR_SNAPSHOT;
         st.m[i] = (uint8_t)v[n++];
     }
-    if (petri_set_state(&sv->net, &st) != 0) return -1;
+    if (petri_set_state(&sv->net, &st) != 0) return SUPERVISOR_ERR_SNAPSHOT;
     sv->net.fired_count = (long)v[3];
     sv->next_action_id = (int32_t)v[4]; sv->wp_id = (int32_t)v[5];
     vec3_set(sv->wp_pos_m, v[6], v[7], v[8]); sv->wp_yaw_rad = v[9];

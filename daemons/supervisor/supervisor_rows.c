@@ -53,7 +53,7 @@ static int resolve_pose(const supervisor_daemon *sv, int pose, double p[3])
         p[2] += pose == CARRY_POSE_ABOVE_RELEASE ? c->approach_height_m : RELEASE_LIFT_M;
         return 0;
     default:
-        return -1;
+        return SUPERVISOR_ERR_POSE;
     }
 }
 

@@ -77,16 +77,19 @@ static int check_net(supervisor_daemon *sv)
     petri_report r;
     if (petri_explore(&sv->explore_ws, &carry_net, 2, &r) != 0) {
         printf("tandem-supervisor: the carry net tables are invalid\n");
-        return -1;
+        return SUPERVISOR_ERR_NET;
     }
     if (!r.complete) {
         printf("tandem-supervisor: reachability graph exceeds %d states\n", PETRI_MAX_STATES);
-        return -1;
+        return SUPERVISOR_ERR_NET;
     }
-    if (!r.safe) { print_offender(sv, "is not safe", r.unsafe_index); return -1; }
-    if (!r.bounded) { print_offender(sv, "is unbounded", r.unbounded_index); return -1; }
-    if (r.invariant_states) { print_offender(sv, "violates a P-invariant", r.invariant_index); return -1; }
-    if (r.deadlock) { print_offender(sv, "can deadlock", r.dead_index); return -1; }
+    if (!r.safe || !r.bounded || r.invariant_states || r.deadlock) {
+        if (!r.safe) print_offender(sv, "is not safe", r.unsafe_index);
+        else if (!r.bounded) print_offender(sv, "is unbounded", r.unbounded_index);
+        else if (r.invariant_states) print_offender(sv, "violates a P-invariant", r.invariant_index);
+        else print_offender(sv, "can deadlock", r.dead_index);
+        return SUPERVISOR_ERR_NET;
+    }
     printf("tandem-supervisor: net checked: %d reachable states, safe, live, invariants hold\n", r.n_states);
     return 0;
 }
@@ -232,7 +235,7 @@ static int check_tables(const supervisor_daemon *sv)
                            carry_table_validate(carry_table, CARRY_N_TRANSITIONS, &carry_net)) != 0 ||
         daemon_check_table(sv->d.name, "supervisor_options", "options_table_validate",
                            options_table_validate(supervisor_options)) != 0)
-        return -1;
+        return DAEMON_ERR_TABLE;
     return 0;
 }
 

@@ -150,6 +150,9 @@ static void build_joint(sim_world *w, sim_arm *a, int i, double Tl[ARM_NJ + 1][1
     dJointSetAMotorAxis(a->stop[i], 0, 1, axis[0], axis[1], axis[2]);
 }
 
+/* home_q: the home pose has no IK solution inside the ranges */
+#define HOME_UNREACHABLE (-1)
+
 static int home_q(const sim_arm *a, int idx, double q[ARM_NJ])
 {
     double T[16], R[9], p_arm[3], Tw[16], Tinv[16], pw[4];
@@ -167,10 +170,10 @@ static int home_q(const sim_arm *a, int idx, double q[ARM_NJ])
     cell_tool_down_R(&cell_default, idx, R);
     tf_from_rot_pos(T, R, p_arm);
     if (arm_ik(a->model, &tool, T, &r) != 0 || r.unreachable)
-        return -1;
+        return HOME_UNREACHABLE;
     b = arm_ik_nearest(&r, q_ref);
     if (b < 0)
-        return -1;
+        return HOME_UNREACHABLE;
     memcpy(q, r.branch[b].q_rad, sizeof(double) * ARM_NJ);
     return 0;
 }
@@ -191,7 +194,7 @@ static int build_arm(sim_world *w, const sim_config *cfg, sim_arm *a, int k)
         memcpy(a->q_init, cfg->arm1_q0_rad, sizeof a->q_init);
     else if (home_q(a, k, a->q_init) != 0) {
         fprintf(stderr, "tandem-sim: arm %d home pose has no IK solution\n", k + 1);
-        return -1;
+        return SIM_ERR_CREATE;
     }
     arm_link_frames(a->model, a->q_init, Tl);
     for (i = 0; i < ARM_NJ; i++)
@@ -211,7 +214,7 @@ static int arms_create(void *model, sim_world *w, const sim_config *cfg)
     for (k = 0; k < SIM_ARMS; k++) {
         sim_arms_channel *ch = &arms->chan[k];
         if (build_arm(w, cfg, &arms->pair[k], k) != 0)
-            return -1;
+            return SIM_ERR_CREATE;
         if (!ch->sub) {
             ch->arms = arms;
             ch->k = k;

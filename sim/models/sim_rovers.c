@@ -118,7 +118,8 @@ static void build_robot(sim_rovers *team, sim_rover *r, const pose2 *c, sim_worl
     }
 }
 
-/* The team's layout and tunables; -1 (said) for a team the world cannot hold. */
+/* The team's layout and tunables; SIM_ERR_CREATE (said) for a team the world
+ * cannot hold. */
 static int team_layout(sim_rovers *team, const sim_config *cfg)
 {
     const int world = rover_world_id(cfg->rover_world);
@@ -128,7 +129,7 @@ static int team_layout(sim_rovers *team, const sim_config *cfg)
         rover_world_layout(&team->layout, world, cfg->rovers, 1.0, team->formation) != 0) {
         fprintf(stderr, "tandem-sim: --rovers %d --world %s: not a valid team (1..%d robots)\n",
                 cfg->rovers, cfg->rover_world, RV_MAX);
-        return -1;
+        return SIM_ERR_CREATE;
     }
     team->n = cfg->rovers;
     team->batch = cfg->rover_batch;
@@ -193,7 +194,7 @@ static int rovers_create(void *model, sim_world *w, const sim_config *cfg)
     memset(team, 0, sizeof *team);
     team->w = w;
     if (team_layout(team, cfg) != 0)
-        return -1;
+        return SIM_ERR_CREATE;
     team_world_create(team);
     team_robots_create(team, w);
     if (w->lcm) {
@@ -460,7 +461,7 @@ static int rovers_control(void *model, sim_world *w, const tandem_sim_control_t 
     const int idx = rover_index(team, c->target);
     sim_rover *r;
     if (c->command != TANDEM_SIM_CONTROL_T_KILL_ROBOT) return 0;
-    if (idx < 0) return -1;
+    if (idx < 0) return SIM_ERR_CONTROL;
     r = &team->r[idx];
     if (!r->alive) return 1;
     r->alive = 0;
@@ -479,7 +480,7 @@ int64_t sim_rovers_rays_cast(const sim_rovers *team) { return team->rays; }
 int sim_rovers_set_command(sim_rovers *team, int32_t id, double v_mps, double w_radps, int64_t step)
 {
     const int idx = rover_index(team, id);
-    if (idx < 0 || !isfinite(v_mps) || !isfinite(w_radps)) return -1;
+    if (idx < 0 || !isfinite(v_mps) || !isfinite(w_radps)) return SIM_ROVERS_ERR_ARG;
     team->r[idx].cmd_v = fmax(-team->v_max, fmin(team->v_max, v_mps));
     team->r[idx].cmd_w = fmax(-team->w_max, fmin(team->w_max, w_radps));
     team->r[idx].cmd_rx_step = step;

@@ -78,7 +78,8 @@ typedef struct sim_rovers {
 int64_t sim_rovers_rays_cast(const sim_rovers *team);
 
 /* Hold command (V, w) for robot id as if received at sim step `step`
- * (benchmarks drive the robots without LCM). -1 unknown id. */
+ * (benchmarks drive the robots without LCM). 0, or SIM_ROVERS_ERR_ARG. */
+#define SIM_ROVERS_ERR_ARG (-1)  /* no such robot, or a speed not finite */
 int sim_rovers_set_command(sim_rovers *team, int32_t id, double v_mps, double w_radps, int64_t step);
 
 /* The sonar model the robots carry (the Pioneer P2DX default). */

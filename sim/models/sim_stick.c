@@ -101,6 +101,9 @@ static const double stick_tilt_rad[] = { 0.0, 0.2618, -0.2618, 0.5236, -0.5236, 
 static const double stick_shift_share[] = { 0.0, 0.33, -0.33 };   /* of the rod's half length */
 #define NELEM(x) ((int)(sizeof(x) / sizeof((x)[0])))
 
+/* stick_place_for_link: every candidate pose touches an arm */
+#define STICK_NO_PLACE (-1)
+
 static int stick_place_for_link(sim_arms *arms, const tandem_sim_control_t *c, double centre[3],
                                 double axis[3])
 {
@@ -120,7 +123,7 @@ static int stick_place_for_link(sim_arms *arms, const tandem_sim_control_t *c, d
                 if (!stick_touches_arms(arms))
                     return 0;
             }
-    return -1;
+    return STICK_NO_PLACE;
 }
 
 /* The request's sizes, and its pose (given) or link (placed against). */
@@ -140,7 +143,7 @@ static int stick_refused(sim_arms *arms, sim_world *w)
 {
     sim_stick_remove(arms);
     w->stick_refused++;
-    return -1;
+    return SIM_ERR_CONTROL;
 }
 
 int sim_stick_control(sim_arms *arms, sim_world *w, const tandem_sim_control_t *c)
@@ -153,7 +156,7 @@ int sim_stick_control(sim_arms *arms, sim_world *w, const tandem_sim_control_t *
     if (c->command != TANDEM_SIM_CONTROL_T_INSERT_STICK)
         return 0;
     if (!stick_request_valid(c, axis))
-        return -1;
+        return SIM_ERR_CONTROL;
     sim_stick_remove(arms);
     arms->stick = dCreateCapsule(w->space, c->radius_m, c->length_m);
     dGeomSetCategoryBits(arms->stick, SIM_CAT_STICK);

@@ -170,6 +170,9 @@ static int pick_zone_clear(const sim_workpieces *m)
     return 1;
 }
 
+/* spawn: every workpiece of the pool is in use */
+#define POOL_EMPTY (-1)
+
 static int spawn(sim_workpieces *m)
 {
     const double *pc = cell_default.pick_center_m, *sp = cell_default.pick_spread_m;
@@ -179,7 +182,7 @@ static int spawn(sim_workpieces *m)
     for (i = 0; i < WP_POOL && m->pool[i].state != WP_PARKED; i++)
         ;
     if (i == WP_POOL)
-        return -1;
+        return POOL_EMPTY;
     yaw = WP_YAW_SPREAD_RAD * (2.0 * prng_uniform(&m->rng) - 1.0);
     rot_from_axis_angle(R, z, yaw);
     dBodyEnable(m->pool[i].body);

@@ -1,7 +1,7 @@
 /* Unit tests of the daemons' start-up table check (daemon_check_table,
  * daemons/common/daemon.c) on the tables the daemons check: the shipped
- * ones pass, a broken copy is refused with -1, and the defaults the
- * command line starts from (daemon_defaults) are the documented ones. */
+ * ones pass, a broken copy is refused with DAEMON_ERR_TABLE, and the
+ * defaults the command line starts from (daemon_defaults) are the documented ones. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -47,13 +47,14 @@ static void test_broken_table_refused(void **state)
     (void)state;
     m = arm_model_puma560;
     m.q_min_rad[2] = m.q_max_rad[2];   /* an empty joint range */
-    assert_int_equal(daemon_check_table("t", "arm_model_puma560", "arm_model_validate", arm_model_validate(&m)), -1);
+    assert_int_equal(daemon_check_table("t", "arm_model_puma560", "arm_model_validate", arm_model_validate(&m)),
+                     DAEMON_ERR_TABLE);
     cartctl_gains_default(&cg);
     cg.k_null = -1.0;
     assert_int_equal(daemon_check_table("t", "cartctl_gains_default", "cartctl_gains_validate",
-                                        cartctl_gains_validate(&cg)), -1);
+                                        cartctl_gains_validate(&cg)), DAEMON_ERR_TABLE);
     /* a table is named by the caller; any non-zero code is a refusal */
-    assert_int_equal(daemon_check_table("t", "x", "x_validate", PETRI_ERR_INVARIANT), -1);
+    assert_int_equal(daemon_check_table("t", "x", "x_validate", PETRI_ERR_INVARIANT), DAEMON_ERR_TABLE);
 }
 
 static void test_defaults(void **state)

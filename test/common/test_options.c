@@ -44,7 +44,7 @@ static int record_call(const char *prog, void *dest, char *value)
     test_opts *o = dest;
     (void)prog;
     if (value[0] == 'x' || strlen(value) >= sizeof o->last_call)
-        return -1;
+        return OPTIONS_ERR_VALUE;
     o->calls++;
     snprintf(o->last_call, sizeof o->last_call, "%s", value);
     return 0;
@@ -138,10 +138,10 @@ static void test_validate_refuses_bad_tables(void **state)
         { .name = NULL }
     };
     (void)state;
-    assert_int_equal(options_table_validate(twice), -1);
-    assert_int_equal(options_table_validate(wrong_size), -1);
-    assert_int_equal(options_table_validate(bad_range), -1);
-    assert_int_equal(options_table_validate(required_unseen), -1);
+    assert_int_equal(options_table_validate(twice), OPTIONS_ERR_TABLE);
+    assert_int_equal(options_table_validate(wrong_size), OPTIONS_ERR_TABLE);
+    assert_int_equal(options_table_validate(bad_range), OPTIONS_ERR_TABLE);
+    assert_int_equal(options_table_validate(required_unseen), OPTIONS_ERR_TABLE);
 }
 
 static void test_types_land_in_their_fields(void **state)

@@ -42,7 +42,7 @@ int carry_block_parse(const char *s, block *b)
     if (n < 4 || b->arm < 1 || b->arm > 2 || b->link < 1 || b->link > 6 || !isfinite(b->start_s) ||
         b->start_s < 0.0 || !isfinite(b->dur_s) || b->dur_s <= 0.0 || b->dur_s > 3600.0 ||
         (n == 5 && strcmp(t3, "t3") != 0))
-        return -1;
+        return CARRY_SCEN_ERR_BLOCK;
     b->need_t3 = n == 5;
     return 0;
 }

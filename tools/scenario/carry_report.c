@@ -84,7 +84,7 @@ int carry_write_summary(const carry_cfg *c, long seed, const carry_result *res, 
 {
     json_out j;
     if (json_open(&j, c->out, "summary.json") != 0)
-        return -1;
+        return SCENARIO_ERR_IO;
     json_str(&j, "scenario", "carry");
     json_str(&j, "controller", c->controller_time ? "time" : "event");
     json_int(&j, "seed", seed);

@@ -141,7 +141,7 @@ static void daemons_argv(carry_daemons *d, const carry_cfg *c)
 }
 
 /* Starts the four daemons (logs DIR/TAG_NAME.log, stderr DIR/TAG_stderr.log);
- * 0 ok, -1 one did not start (the others stopped again). */
+ * 0 ok, CARRY_SCEN_ERR_RUN: one did not start (the others stopped again). */
 static int daemons_start(carry_daemons *d, const carry_cfg *c)
 {
     int k;
@@ -160,7 +160,7 @@ static int daemons_start(carry_daemons *d, const carry_cfg *c)
         if ((d->pid[k] = proc_spawn(&d->ps, d->argvs[k], d->url, d->path[k], d->err)) < 0) {
             fprintf(stderr, "tandem-scenario: cannot start %s\n", d->argvs[k][0]);
             proc_kill_all(&d->ps, 1.0);
-            return -1;
+            return CARRY_SCEN_ERR_RUN;
         }
     }
     return 0;
@@ -170,7 +170,7 @@ static int daemons_start(carry_daemons *d, const carry_cfg *c)
  * simulator is told the daemon left so it does not wait out its timeout),
  * then restart at the first step after RESTART_T that every controller
  * answers (a multiple of 20 ms), holding that step until the new process
- * has answered it. 1: go on, 0: hold the step, -1: the restart failed. */
+ * has answered it. 1: go on, 0: hold the step, CARRY_SCEN_ERR_FAULT. */
 static int faults_step(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d)
 {
     int i;
@@ -188,7 +188,7 @@ static int faults_step(carry_state *r, const carry_cfg *c, carry_result *res, ca
             snprintf(log, sizeof log, "%s/%s_%s_restart%d.log", c->out, c->tag, f->daemon, i + 1);
             d->pid[f->slot] = proc_spawn(&d->ps, d->argvs[f->slot], d->url, log, d->err);
             if (d->pid[f->slot] < 0)
-                return -1;
+                return CARRY_SCEN_ERR_FAULT;
             fprintf(stderr, "tandem-scenario: fault: %s restarted at %.3f s\n", f->daemon, r->t_s);
             r->hold_since_s = scenario_wall_s();
             f->stage = SCENARIO_FAULT_RESTARTING;
@@ -197,7 +197,7 @@ static int faults_step(carry_state *r, const carry_cfg *c, carry_result *res, ca
             if (r->ack_step[f->slot] < r->pending) {
                 if (scenario_rejoin_overdue(r->hold_since_s)) {
                     fprintf(stderr, "tandem-scenario: fault: %s did not rejoin within 60 s\n", f->daemon);
-                    return -1;
+                    return CARRY_SCEN_ERR_FAULT;
                 }
                 return 0;
             }
@@ -221,7 +221,7 @@ static void state_init(carry_state *r)
 }
 
 /* Between steps: dead daemons, the wall-time limit, the progress line, a
- * stall. 0 go on, 1 stop, -1 stop on an error. */
+ * stall. 0 go on, 1 stop, CARRY_SCEN_ERR_RUN (a daemon exited). */
 static int run_watch(const carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d,
                      double wall0, double *next_progress)
 {
@@ -231,7 +231,7 @@ static int run_watch(const carry_state *r, const carry_cfg *c, carry_result *res
         if (d->ps.alive[k] && proc_poll(&d->ps, d->ps.pid[k], &st) == 1) {
             fprintf(stderr, "tandem-scenario: a daemon exited early (status %d); see %s\n", st, d->err);
             res->exit_reason = "daemon_exited";
-            rc = -1;
+            rc = CARRY_SCEN_ERR_RUN;
         }
     }
     if (rc != 0)
@@ -268,7 +268,7 @@ static void note_deliveries(carry_state *r, const carry_cfg *c)
 }
 
 /* The step announced, if any: --fault, the blocks, the record, the answer.
- * 0 go on, 1 stop, -1 stop on an error. */
+ * 0 go on, 1 stop, CARRY_SCEN_ERR_FAULT. */
 static int run_answer(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d)
 {
     int k;
@@ -285,7 +285,7 @@ static int run_answer(carry_state *r, const carry_cfg *c, carry_result *res, car
     k = faults_step(r, c, res, d);
     if (k < 0) {
         res->exit_reason = "restart_failed";
-        return -1;
+        return CARRY_SCEN_ERR_FAULT;
     }
     if (k == 0)
         return 0;                     /* hold the step: a restarted daemon joins */
@@ -349,12 +349,12 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
     R.lcm = lcm_create(d.url);
     if (!R.lcm) {
         fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", d.url);
-        return -1;
+        return CARRY_SCEN_ERR_RUN;
     }
     carry_subscribe(&R);
     if (daemons_start(&d, c) != 0) {
         lcm_destroy(R.lcm);
-        return -1;
+        return CARRY_SCEN_ERR_RUN;
     }
     while (!interrupted && rc == 0) {
         lcm_handle_timeout(R.lcm, 200);
@@ -373,5 +373,5 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
     res->ok = rc >= 0;
     lcm_destroy(R.lcm);
     R.lcm = NULL;
-    return rc < 0 ? -1 : 0;
+    return rc < 0 ? CARRY_SCEN_ERR_RUN : 0;
 }

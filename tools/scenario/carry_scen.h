@@ -26,6 +26,13 @@
 #define CRIT_FORCE_10MS_N 1000.0
 #define CRIT_RESUME_S 1.0
 
+/* Failures of a carry run's steps (0 = ok; each said on stderr but a
+ * malformed --block, which the option parser reports). */
+#define CARRY_SCEN_ERR_BLOCK (-1)  /* --block not A:L:S:D[:t3] inside its ranges */
+#define CARRY_SCEN_ERR_RUN (-1)    /* no LCM, a daemon did not start or exited early */
+#define CARRY_SCEN_ERR_FAULT (-1)  /* --fault: a daemon not restarted, or not back
+                                      within 60 s */
+
 typedef struct block {
     int    arm, link, need_t3;
     double start_s, dur_s;
@@ -130,7 +137,7 @@ void carry_ack(carry_state *r, int64_t step, int leaving);
 int  carry_t3_running(const carry_state *r);
 
 /* carry_blocks.c */
-/* --block A:L:S:D[:t3]; 0 ok, -1 malformed. */
+/* --block A:L:S:D[:t3]; 0 ok, CARRY_SCEN_ERR_BLOCK. */
 int  carry_block_parse(const char *s, block *b);
 /* Appends k seeded random blocks (as many as fit). */
 void carry_random_blocks(carry_blocks *bl, int k, uint64_t seed);
@@ -143,8 +150,8 @@ void carry_block_step(carry_state *r, carry_blocks *bl);
 /* SIGINT and SIGTERM end the run (exit_reason "interrupted"). */
 void carry_catch_signals(void);
 int  carry_interrupted(void);
-/* One run with c's daemons; res always filled in. 0 ok, -1 the run failed
- * to start or a daemon exited. */
+/* One run with c's daemons; res always filled in. 0 ok, CARRY_SCEN_ERR_RUN
+ * (the run failed to start, a daemon exited, or a --fault restart failed). */
 int  carry_run_once(const carry_cfg *c, carry_result *res);
 
 /* carry_report.c */
@@ -159,7 +166,7 @@ void carry_block_figures_of(carry_block_figures *f, const carry_blocks *bl, doub
 /* Appends the failed success criteria to buf (space separated); returns
  * how many failed. */
 int  carry_criteria(const carry_cfg *c, const carry_result *r, double resume_max_s, char *buf, size_t cap);
-/* summary.json of the run and its serial reference; 0 ok, -1 not written. */
+/* summary.json of the run and its serial reference; 0 ok, SCENARIO_ERR_IO. */
 int  carry_write_summary(const carry_cfg *c, long seed, const carry_result *res, const carry_result *ser,
                          const carry_block_figures *f, const char *failed);
 void carry_write_blocks_csv(const char *dir, const carry_blocks *bl);

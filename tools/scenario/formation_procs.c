@@ -107,11 +107,11 @@ int fm_start_children(fm_state *fm)
         int n = 15;
         if (fm->batch) sim[n++] = "--rover-batch";
         scenario_argv_drop(&fm->drop, sim, &n, 32);
-        if (spawn(fm, sim) <= 0) return -1;
+        if (spawn(fm, sim) <= 0) return FM_ERR_START;
     }
     for (k = 1; k <= procs; k++) {
         fm->rover_pid[k] = spawn_rover(fm, k);
-        if (fm->rover_pid[k] <= 0) return -1;
+        if (fm->rover_pid[k] <= 0) return FM_ERR_START;
     }
     return 0;
 }
@@ -121,8 +121,8 @@ int fm_start_children(fm_state *fm)
  * the step (so its journal holds this cycle: the same state whatever the
  * machine's speed) and tell the simulator it left; restart at the first
  * such step after R and hold the step until the new process has run its
- * cycle of it (its state is in). 1: go on, 0: hold the step, -1: the
- * restart failed. */
+ * cycle of it (its state is in). 1: go on, 0: hold the step,
+ * FM_ERR_FAULT: the restart failed. */
 int fm_faults_step(fm_state *fm)
 {
     int i, j;
@@ -148,7 +148,7 @@ int fm_faults_step(fm_state *fm)
         }
         if (f->stage == SCENARIO_FAULT_KILLED && fm->sim_time >= f->restart_s) {
             fm->rover_pid[k] = spawn_rover(fm, k);
-            if (fm->rover_pid[k] <= 0) return -1;
+            if (fm->rover_pid[k] <= 0) return FM_ERR_FAULT;
             fprintf(stderr, "formation: fault: rover %d's process restarted at t = %.2f s\n", k, fm->sim_time);
             fm->hold_since_s = scenario_wall_s();
             f->stage = SCENARIO_FAULT_RESTARTING;
@@ -160,7 +160,7 @@ int fm_faults_step(fm_state *fm)
             if (fm->rover_ack[k] < fm->clock_step || !fm_ring_get(fm, k - 1, fm->clock_step)) {
                 if (scenario_rejoin_overdue(fm->hold_since_s)) {
                     fprintf(stderr, "formation: fault: rover %d did not rejoin within 60 s\n", k);
-                    return -1;
+                    return FM_ERR_FAULT;
                 }
                 return 0;
             }

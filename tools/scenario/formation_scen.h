@@ -27,6 +27,10 @@
 #define FM_RING    4            /* states kept per robot */
 #define FM_OUT_TOL 0.3          /* d_r: a robot further than this from its slot is out */
 
+/* Failures of the children (0 = ok). */
+#define FM_ERR_START (-1)       /* the simulator or a rover process did not start */
+#define FM_ERR_FAULT (-1)       /* --fault: a rover not restarted, or not back within 60 s */
+
 typedef struct fm_state {
     /* options */
     int    formation, world, blend, robots, single, batch;
@@ -98,12 +102,12 @@ const char *fm_formation_name(int f);
 const char *fm_blend_name(int b);
 
 /* formation_procs.c */
-/* Starts the simulator and the rover processes; 0 ok, -1 one did not start. */
+/* Starts the simulator and the rover processes; 0 ok, FM_ERR_START. */
 int  fm_start_children(fm_state *fm);
 /* SIGTERM to every child, SIGKILL to those still there after 5 s. */
 void fm_stop_children(fm_state *fm);
-/* --fault at a step due to be answered: 1 go on, 0 hold the step, -1 the
- * restart failed. */
+/* --fault at a step due to be answered: 1 go on, 0 hold the step,
+ * FM_ERR_FAULT. */
 int  fm_faults_step(fm_state *fm);
 /* --kill K:T once T is reached: the robot's body and its process. */
 void fm_kill_robot(fm_state *fm);

@@ -27,7 +27,7 @@ static int key_option(int argc, char **argv, int i, const char **value, int *use
     return 0;
 }
 
-/* Takes the key options out of argv; -1 on a bad one. */
+/* Takes the key options out of argv; RUN_KEY_ERR_OPTION on a bad one. */
 static int strip_options(int *argc, char **argv)
 {
     int i = 1, j, keys = 0;
@@ -40,7 +40,7 @@ static int strip_options(int *argc, char **argv)
             continue;
         }
         if (auth_bus_option(PROG, kind == 1 ? OPT_KEY_FILE : OPT_INSECURE, value) < 0)
-            return -1;
+            return RUN_KEY_ERR_OPTION;
         if (kind == 1 && keys++ == 0) {
             setenv(AUTH_BUS_KEY_ENV, value, 1);   /* the children sign with the first key */
             unsetenv(AUTH_BUS_INSECURE_ENV);
@@ -60,13 +60,13 @@ int run_key_setup(int *argc, char **argv)
     char path[700];
     const char *env_key, *env_insecure;
     if (strip_options(argc, argv) != 0)
-        return -1;
+        return RUN_KEY_ERR_OPTION;
     env_key = getenv(AUTH_BUS_KEY_ENV);
     env_insecure = getenv(AUTH_BUS_INSECURE_ENV);
     if (!(env_key && env_key[0]) && !(env_insecure && strcmp(env_insecure, "1") == 0)) {
         if (auth_bus_ephemeral_key(path, sizeof path) != 0) {
             fprintf(stderr, PROG ": cannot make a key for this run\n");
-            return -1;
+            return RUN_KEY_ERR_KEY;
         }
     }
     auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);

@@ -16,7 +16,10 @@
 
 /* Removes the options from argv (updating *argc), sets up the key for this
  * process (a tool: it sends SIM_CONTROL, SIM_ACK, joint references) and
- * its children. 0, or -1 after printing why. */
+ * its children. 0, or RUN_KEY_ERR_OPTION, RUN_KEY_ERR_KEY or
+ * auth_bus_start's AUTH_BUS_ERR_* after printing why. */
+#define RUN_KEY_ERR_OPTION (-1)  /* a --key-file auth_bus_option refuses */
+#define RUN_KEY_ERR_KEY (-1)     /* no key made for this run */
 int run_key_setup(int *argc, char **argv);
 
 #endif

@@ -7,6 +7,14 @@
 
 #include <stdio.h>
 
+/* Results of the shared helpers (0 = ok); each has printed why. */
+#define SCENARIO_OK 0
+#define SCENARIO_ERR_ARG (-1)  /* a bad option value (--drop-rate, --fault, ...) */
+#define SCENARIO_ERR_IO (-1)   /* a directory or file not made, or gnuplot failed */
+/* A scenario's setup step: no exit status yet, the run goes on (a setup
+ * that fails returns the exit status, >= 0). */
+#define SCENARIO_GO_ON (-1)
+
 typedef struct scenario_def {
     const char *name;
     const char *summary;                 /* one line for --help */
@@ -19,6 +27,7 @@ typedef struct json_out {
     int   n;
 } json_out;
 
+/* Opens DIR/FILE and the object: 0, or SCENARIO_ERR_IO (said). */
 int  json_open(json_out *j, const char *dir, const char *file);
 void json_num(json_out *j, const char *key, double v);     /* NaN/inf -> null */
 void json_int(json_out *j, const char *key, long long v);
@@ -46,7 +55,7 @@ typedef struct scenario_drop {
     char rate[24];                       /* "" = off */
     char seed[24];
 } scenario_drop;
-/* Parses P (0 <= P < 1); 0 ok, -1 with a message. */
+/* Parses P (0 <= P < 1); 0 ok, SCENARIO_ERR_ARG with a message. */
 int  scenario_parse_drop(scenario_drop *d, const char *v, long seed);
 /* Appends "--drop-rate P --drop-seed S" (when on) to argv at *n; argv has
  * room for cap pointers including the closing NULL, which is written. */
@@ -62,15 +71,16 @@ typedef struct scenario_fault {
     int    stage;                        /* 0 armed, 1 killed, 2 restarting, 3 done */
     int    slot;                         /* the scenario's index of the daemon */
 } scenario_fault;
-/* Parses one --fault value; 0 ok, -1 with a message. */
+/* Parses one --fault value; 0 ok, SCENARIO_ERR_ARG with a message. */
 int scenario_parse_fault(scenario_fault *f, const char *v);
 
-/* mkdir -p; 0 ok. */
+/* mkdir -p; 0 ok, SCENARIO_ERR_IO. */
 int   scenario_mkdir(const char *dir);
 /* fopen(dir/file) for writing, with an error message on failure. */
 FILE *scenario_fopen(const char *dir, const char *file);
 /* Runs gnuplot on dir/script (written by the caller); a missing gnuplot
- * only prints a warning (plots are optional, the numbers are not). */
+ * only prints a warning (plots are optional, the numbers are not).
+ * 0 ok, SCENARIO_ERR_IO when gnuplot fails. */
 int   scenario_gnuplot(const char *dir, const char *script);
 /* Monotonic wall clock in seconds. */
 double scenario_wall_s(void);

@@ -124,7 +124,7 @@ static const option_program carry_program = {
 };
 
 /* The command line into o; an exit status (>= 0) when the run is not to
- * go on (bad options, --help), -1 otherwise. */
+ * go on (bad options, --help), SCENARIO_GO_ON otherwise. */
 static int parse(carry_options *o, int argc, char **argv)
 {
     option_program prog = carry_program;
@@ -144,12 +144,12 @@ static int parse(carry_options *o, int argc, char **argv)
         fprintf(stderr, "tandem-scenario carry: too many blocks\n");
         return 2;
     }
-    return -1;
+    return SCENARIO_GO_ON;
 }
 
 /* The main run's configuration from the options: the blocks completed
  * with the random ones, the output directory made, the limits set. An exit
- * status (>= 0) on failure, -1 otherwise. */
+ * status (>= 0) on failure, SCENARIO_GO_ON otherwise. */
 static int setup(carry_cfg *cfg, carry_options *o, char *stall_buf, size_t stall_cap)
 {
     carry_blocks *bl = &o->blocks;
@@ -176,7 +176,7 @@ static int setup(carry_cfg *cfg, carry_options *o, char *stall_buf, size_t stall
     cfg->blocks = bl;
     bl->cur = 0;
     bl->gap_after_s = 3.0;
-    return -1;
+    return SCENARIO_GO_ON;
 }
 
 /* The main run's time series: timeseries.csv, transitions.csv, joints.csv. */
@@ -186,7 +186,7 @@ static int open_csvs(carry_cfg *cfg)
     cfg->tr_csv = scenario_fopen(cfg->out, "transitions.csv");
     cfg->q_csv = scenario_fopen(cfg->out, "joints.csv");
     if (!cfg->ts_csv || !cfg->tr_csv || !cfg->q_csv)
-        return -1;
+        return SCENARIO_ERR_IO;
     fprintf(cfg->q_csv, "t_s,q1_1,q1_2,q1_3,q1_4,q1_5,q1_6,q2_1,q2_2,q2_3,q2_4,q2_5,q2_6\n");
     fprintf(cfg->ts_csv, "t_s,s1_m,sf1_m,tr1,s2_m,sf2_m,tr2,speed1_mps,speed2_mps,force1_N,force2_N,stick_arm,"
                          "delivered,dropped,force1_10ms_N,force2_10ms_N\n");

@@ -33,10 +33,10 @@ static int option_kill(const char *prog, void *dest, char *v)
     double t;
     (void)prog;
     if (*e != ':')
-        return -1;
+        return OPTIONS_ERR_VALUE;
     t = strtod(e + 1, &e);
     if (*e || k < 1 || !isfinite(t) || t < 0)
-        return -1;
+        return OPTIONS_ERR_VALUE;
     f->kill_id = (int)k;
     f->kill_t_s = t;
     return 0;
@@ -138,21 +138,27 @@ static int parse(fm_state *fm, int argc, char **argv)
     if (rc == OPTIONS_EXIT)
         exit(0);
     if (rc < 0)
-        return -1;
+        return SCENARIO_ERR_ARG;
     snprintf(fm->timeout_ms, sizeof fm->timeout_ms, "%ld", fm->timeout_ms_given);
-    if (!(fm->max_time_s > 0)) { fprintf(stderr, "formation: --max-time: '%g'\n", fm->max_time_s); return -1; }
-    if (fm->kill_id > fm->robots) { fprintf(stderr, "formation: --kill: robot %d not in the team\n", fm->kill_id); return -1; }
+    if (!(fm->max_time_s > 0)) {
+        fprintf(stderr, "formation: --max-time: '%g'\n", fm->max_time_s);
+        return SCENARIO_ERR_ARG;
+    }
+    if (fm->kill_id > fm->robots) {
+        fprintf(stderr, "formation: --kill: robot %d not in the team\n", fm->kill_id);
+        return SCENARIO_ERR_ARG;
+    }
     for (i = 0; i < fm->n_faults; i++)
         if (fm->faults[i].slot > fm->robots) {
             fprintf(stderr, "formation: --fault: robot %d not in the team\n", fm->faults[i].slot);
-            return -1;
+            return SCENARIO_ERR_ARG;
         }
-    if (scenario_parse_drop(&fm->drop, fm->drop_arg ? fm->drop_arg : "0", fm->seed) != 0) return -1;
+    if (scenario_parse_drop(&fm->drop, fm->drop_arg ? fm->drop_arg : "0", fm->seed) != 0) return SCENARIO_ERR_ARG;
     if (fm->single < 0) fm->single = fm->robots > 10;
     if (fm->batch < 0) fm->batch = fm->single;
     if (fm->n_faults > 0 && fm->single) {
         fprintf(stderr, "formation: --fault kill:roverK needs one process per robot (--procs separate)\n");
-        return -1;
+        return SCENARIO_ERR_ARG;
     }
     return 0;
 }
@@ -174,12 +180,15 @@ static void fm_reset(fm_state *fm)
     fm->last_type = -1;
 }
 
+/* find_bindir: the running binary's path is not known */
+#define BINDIR_UNKNOWN (-1)
+
 /* The children are started from this binary's directory. 0 ok. */
 static int find_bindir(fm_state *fm)
 {
     char self[512];
     ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);
-    if (len <= 0) { fprintf(stderr, "formation: cannot find my own binary\n"); return -1; }
+    if (len <= 0) { fprintf(stderr, "formation: cannot find my own binary\n"); return BINDIR_UNKNOWN; }
     self[len] = '\0';
     snprintf(fm->bindir, sizeof fm->bindir, "%s", self);
     if (strrchr(fm->bindir, '/')) *strrchr(fm->bindir, '/') = '\0';
@@ -205,7 +214,7 @@ static void open_outputs(fm_state *fm)
 }
 
 /* Output directory, the bus, the world's layout, the subscriptions, the
- * outputs. An exit status (>= 0) on failure, -1 otherwise. */
+ * outputs. An exit status (>= 0) on failure, SCENARIO_GO_ON otherwise. */
 static int setup(fm_state *fm)
 {
     int i;
@@ -227,7 +236,7 @@ static int setup(fm_state *fm)
         fm->down_after[i] = INT64_MAX;
         fm->up_at[i] = INT64_MAX;
     }
-    return -1;
+    return SCENARIO_GO_ON;
 }
 
 /* ---- the lockstep loop ---------------------------------------------------------------- */

@@ -28,6 +28,12 @@
 #define SWEEP_MAX_ARGS 128
 #define SWEEP_VAL 48
 
+/* Failures of the sweep's own steps (0 = ok) */
+#define SWEEP_ERR_USAGE (-1)  /* no NAME, a bad option, or too many keys (said) */
+#define SWEEP_ERR_FULL (-1)   /* more --keys than SWEEP_MAX_KEYS */
+#define SWEEP_ERR_RUN (-1)    /* a seed's directory not made, fork or waitpid failed */
+#define SWEEP_NOT_RUN (-1)    /* sweep_run.status: not run, or ended by a signal */
+
 /* Default columns per scenario (summary.json keys). */
 static const struct { const char *scenario, *keys; } default_keys[] = {
     { "carry", "workpieces_delivered,workpieces_dropped,joint_limit_violations,max_joint_speed_ratio,"
@@ -41,7 +47,7 @@ static const struct { const char *scenario, *keys; } default_keys[] = {
 typedef struct sweep_run {
     long  seed;
     pid_t pid;
-    int   status;              /* exit status, -1 not run / killed */
+    int   status;              /* exit status, or SWEEP_NOT_RUN */
     int   done;
     char  val[SWEEP_MAX_KEYS][SWEEP_VAL];
 } sweep_run;
@@ -72,7 +78,7 @@ static int split_keys(sweep *w, const char *list)
     w->n_keys = 0;
     for (tok = strtok_r(w->keys_buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
         if (w->n_keys >= SWEEP_MAX_KEYS)
-            return -1;
+            return SWEEP_ERR_FULL;
         w->key[w->n_keys++] = tok;
     }
     return 0;
@@ -107,7 +113,7 @@ static int pass_on(void *user, const char *word)
     sweep *w = user;
     if (w->n_pass >= SWEEP_MAX_ARGS - 8) {
         fprintf(stderr, "tandem-scenario sweep: more than %d arguments for the scenario\n", SWEEP_MAX_ARGS - 8);
-        return -1;
+        return OPTIONS_ERR_VALUE;
     }
     w->pass[w->n_pass++] = word;
     return 0;
@@ -147,20 +153,20 @@ static int parse(sweep *w, int argc, char **argv)
     const char *keys;
     size_t k;
     if (argc < 2 || argv[1][0] == '-')
-        return -1;
+        return SWEEP_ERR_USAGE;
     w->name = argv[1];
     prog.groups[0].base = w;
     prog.other = pass_on;
     prog.other_user = w;
     if (options_parse(&prog, argc, argv, 2) < 0)
-        return -1;
+        return SWEEP_ERR_USAGE;
     keys = w->keys_arg;
     for (k = 0; !keys && k < sizeof default_keys / sizeof default_keys[0]; k++)
         if (!strcmp(default_keys[k].scenario, w->name))
             keys = default_keys[k].keys;
     if (split_keys(w, keys ? keys : "exit_reason") != 0) {
         fprintf(stderr, "tandem-scenario sweep: at most %d keys\n", SWEEP_MAX_KEYS);
-        return -1;
+        return SWEEP_ERR_USAGE;
     }
     return 0;
 }
@@ -175,7 +181,7 @@ static pid_t spawn_seed(const sweep *w, const sweep_run *r)
     snprintf(seed, sizeof seed, "%ld", r->seed);
     snprintf(log, sizeof log, "%s/scenario.log", dir);
     if (scenario_mkdir(dir) != 0)
-        return -1;
+        return SWEEP_ERR_RUN;
     argv[n++] = "tandem-scenario";
     argv[n++] = w->name;
     for (i = 0; i < w->n_pass; i++)
@@ -295,7 +301,7 @@ static int run_all(sweep *w, double wall0)
         while (next < w->n_run && running < w->jobs && !sweep_interrupted) {
             w->run[next].pid = spawn_seed(w, &w->run[next]);
             if (w->run[next].pid < 0)
-                return -1;
+                return SWEEP_ERR_RUN;
             next++;
             running++;
         }
@@ -303,14 +309,14 @@ static int run_all(sweep *w, double wall0)
         if (pid < 0) {
             if (errno == EINTR)
                 continue;
-            return -1;
+            return SWEEP_ERR_RUN;
         }
         for (i = 0; i < next; i++)
             if (w->run[i].pid == pid && !w->run[i].done) {
                 sweep_run *r = &w->run[i];
                 const double el = scenario_wall_s() - wall0;
                 r->done = 1;
-                r->status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+                r->status = WIFEXITED(st) ? WEXITSTATUS(st) : SWEEP_NOT_RUN;
                 read_summary(w, r);
                 running--;
                 finished++;
@@ -355,7 +361,7 @@ static int run(int argc, char **argv)
         return 1;
     for (i = 0; i < w.n_run; i++) {
         w.run[i].seed = w.seed_a + i;
-        w.run[i].status = -1;
+        w.run[i].status = SWEEP_NOT_RUN;
     }
     signal(SIGINT, sweep_on_sigint);
     signal(SIGTERM, sweep_on_sigint);

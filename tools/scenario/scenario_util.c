@@ -34,7 +34,7 @@ int scenario_mkdir(const char *dir)
         }
     if (mkdir(path, 0755) != 0 && errno != EEXIST) {
         fprintf(stderr, "tandem-scenario: cannot create '%s': %s\n", dir, strerror(errno));
-        return -1;
+        return SCENARIO_ERR_IO;
     }
     return 0;
 }
@@ -55,7 +55,7 @@ int json_open(json_out *j, const char *dir, const char *file)
     j->f = scenario_fopen(dir, file);
     j->n = 0;
     if (!j->f)
-        return -1;
+        return SCENARIO_ERR_IO;
     fputs("{\n", j->f);
     return 0;
 }
@@ -126,7 +126,7 @@ int scenario_gnuplot(const char *dir, const char *script)
     rc = system(cmd);
     if (rc != 0)
         fprintf(stderr, "tandem-scenario: gnuplot %s failed (%d)\n", script, rc);
-    return rc == 0 ? 0 : -1;
+    return rc == 0 ? SCENARIO_OK : SCENARIO_ERR_IO;
 }
 
 double scenario_wall_s(void)
@@ -142,7 +142,7 @@ int scenario_parse_drop(scenario_drop *d, const char *v, long seed)
     const double p = strtod(v, &e);
     if (e == v || *e || !(p >= 0.0 && p < 1.0)) {
         fprintf(stderr, "tandem-scenario: --drop-rate: '%s' is not a probability in [0, 1)\n", v);
-        return -1;
+        return SCENARIO_ERR_ARG;
     }
     snprintf(d->rate, sizeof d->rate, "%s", p > 0.0 ? v : "");
     snprintf(d->seed, sizeof d->seed, "%ld", seed);
@@ -183,5 +183,5 @@ int scenario_parse_fault(scenario_fault *f, const char *v)
     return 0;
 bad:
     fprintf(stderr, "tandem-scenario: --fault: '%s' is not kill:DAEMON:T[:RESTART_T] (RESTART_T > T)\n", v);
-    return -1;
+    return SCENARIO_ERR_ARG;
 }

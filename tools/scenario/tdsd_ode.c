@@ -99,6 +99,9 @@ static void bin_dir(char *dir, size_t cap)
     snprintf(dir, cap, "%s", dirname(exe));
 }
 
+/* start_children: tandem-sim or tandem-arm did not start (said) */
+#define CHILDREN_NOT_STARTED (-1)
+
 static int start_children(proc_set *ps, const char *url, const tdsdrun_cfg *c,
                           const double q0[ARM_NJ], const tdsd_ode_opts *o)
 {
@@ -119,7 +122,7 @@ static int start_children(proc_set *ps, const char *url, const tdsdrun_cfg *c,
     if (proc_spawn(ps, sim_argv, url, log_sim, log_err) < 0 ||
         proc_spawn(ps, arm_argv, url, log_arm, log_err) < 0) {
         fprintf(stderr, "tandem-scenario: cannot start tandem-sim / tandem-arm from %s\n", dir);
-        return -1;
+        return CHILDREN_NOT_STARTED;
     }
     return 0;
 }
@@ -145,7 +148,7 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
     tdsdrun_state st;
     tdsdrun_sample s;
     double q_ref[ARM_NJ], dq_prev[ARM_NJ] = { 0 }, qdd[ARM_NJ], zero[ARM_NJ] = { 0 };
-    double t_start = -1.0, result = -1.0;
+    double t_start = -1.0, result = TDSD_ODE_ERR_RUN;
     const double wall0 = scenario_wall_s();
     int i, failed = 0;
 
@@ -155,14 +158,14 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
     O.lcm = lcm_create(url);
     if (!O.lcm) {
         fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", url);
-        return -1.0;
+        return TDSD_ODE_ERR_RUN;
     }
     auth_bus_subscribe(O.lcm, "SIM_CLOCK", on_clock, NULL);
     auth_bus_subscribe(O.lcm, "ARM1_STATE", on_state, NULL);
     if (start_children(&ps, url, c, q0_rad, o) != 0) {
         proc_kill_all(&ps, 1.0);
         lcm_destroy(O.lcm);
-        return -1.0;
+        return TDSD_ODE_ERR_RUN;
     }
     memcpy(q_ref, q0_rad, sizeof q_ref);
     tdsdrun_init(&st);

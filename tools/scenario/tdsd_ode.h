@@ -17,8 +17,10 @@ typedef struct tdsd_ode_opts {
 } tdsd_ode_opts;
 
 /* Same contract as tdsdrun_kin (metrics from the measured q and qd; samples
- * timed from the path start). Returns the path duration, or a negative
- * value if the simulation could not be run. */
+ * timed from the path start). Returns the path duration, or
+ * TDSD_ODE_ERR_RUN (negative) if the simulation could not be run. */
+#define TDSD_ODE_ERR_RUN (-1)  /* no LCM, the children did not start or died,
+                                  or the wall-time limit (said on stderr) */
 double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0_rad[ARM_NJ],
                     const tdsd_ode_opts *o, tdsdrun_metrics *m, tdsdrun_sample_fn on_sample,
                     void *user);

@@ -37,9 +37,9 @@ int tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const tdsd_scen_usage *u
     s->servo_hz = 15.0;
     rc = options_parse(&prog, argc, argv, 1);
     if (rc < 0)
-        return rc == OPTIONS_EXIT ? 1 : -1;
+        return rc == OPTIONS_EXIT ? 1 : TDSD_SCEN_ERR_ARG;
     s->method = u->methods[s->method_index];
-    return scenario_mkdir(s->out) == 0 ? 0 : -1;
+    return scenario_mkdir(s->out) == 0 ? 0 : TDSD_SCEN_ERR_IO;
 }
 
 /* ---- series.csv ----------------------------------------------------------- */
@@ -89,7 +89,7 @@ int tdsd_scen_run(tdsd_scen *s)
     cc.f = scenario_fopen(s->out, "series.csv");
     cc.model = s->cfg.model;
     if (!cc.f)
-        return -1;
+        return TDSD_SCEN_ERR_IO;
     csv_header(cc.f);
     tdsdrun_metrics_init(&s->m, s->cfg.region_m);
     if (s->plant_ode) {
@@ -108,7 +108,7 @@ int tdsd_scen_run(tdsd_scen *s)
     }
     fclose(cc.f);
     s->wall_s = scenario_wall_s() - wall0;
-    return s->duration_s < 0.0 ? -1 : 0;
+    return s->duration_s < 0.0 ? TDSD_SCEN_ERR_RUN : 0;
 }
 
 /* ---- summary.json --------------------------------------------------------- */
@@ -210,7 +210,7 @@ int tdsd_scen_plots(const tdsd_scen *s, const char *title)
     FILE *f = scenario_fopen(s->out, "plots.gp");
     int i;
     if (!f)
-        return -1;
+        return TDSD_SCEN_ERR_IO;
     fprintf(f, "set datafile separator ','\nset key outside right\nset grid\n"
                "set xlabel 't (s)'\n");
     /* Fig. 4: tool position and orientation errors */

@@ -36,11 +36,17 @@ typedef struct tdsd_scen_usage {
     const char *epilog;
 } tdsd_scen_usage;
 
+/* Failures of a TDSD scenario's steps (0 = ok; each said on stderr). */
+#define TDSD_SCEN_ERR_ARG (-1)  /* bad usage */
+#define TDSD_SCEN_ERR_IO (-1)   /* DIR or a file in it not made */
+#define TDSD_SCEN_ERR_RUN (-1)  /* the plant did not run (--plant ode: the children) */
+
 /* Parses --method M --plant kin|ode --out DIR [--servo-hz HZ] into s and
- * creates DIR. Returns 0 ok, 1 if --help was printed, -1 bad usage
- * (message printed). */
+ * creates DIR. Returns 0 ok, 1 if --help was printed, TDSD_SCEN_ERR_ARG
+ * or TDSD_SCEN_ERR_IO. */
 int  tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const tdsd_scen_usage *u);
-/* Runs the chosen plant from s->q0_rad, writing DIR/series.csv. 0 ok. */
+/* Runs the chosen plant from s->q0_rad, writing DIR/series.csv. 0 ok,
+ * TDSD_SCEN_ERR_IO or TDSD_SCEN_ERR_RUN. */
 int  tdsd_scen_run(tdsd_scen *s);
 /* The keys both scenarios report (summary.json is left open for more). */
 /* Success criteria of a TDSD scenario run: tool position error within
@@ -61,6 +67,6 @@ int tdsd_scen_finish(const tdsd_scen *s, json_out *j);
 int tdsd_scen_exit(const tdsd_scen *s);
 void tdsd_scen_summary(const tdsd_scen *s, json_out *j);
 /* DIR/plots.gp -> fig4_errors.png, fig5_joints.png, fig6_q1.png,
- * fig8_joint_ranges.png. */
+ * fig8_joint_ranges.png. 0 ok, TDSD_SCEN_ERR_IO, or SCENARIO_ERR_IO (gnuplot). */
 int  tdsd_scen_plots(const tdsd_scen *s, const char *title);
 #endif

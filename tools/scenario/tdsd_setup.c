@@ -20,7 +20,7 @@ static int start_pose(const tdsdrun_cfg *c, const tdsdrun_path *p, const char *b
     const int b = arm_ik_branch_from_name(branch);
     tf_from_rot_pos(T, p->R_d, p->wp_m[0]);
     if (b < 0 || arm_ik(c->model, &c->tool, T, &r) != 0 || r.branch[b].status != ARM_IK_OK)
-        return -1;
+        return TDSD_SETUP_ERR_START;
     memcpy(q0, r.branch[b].q_rad, sizeof(double) * ARM_NJ);
     return 0;
 }
