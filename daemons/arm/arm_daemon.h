@@ -115,6 +115,8 @@ void arm_send_command(arm_daemon *ad, int mode, const double tau[ARM_NJ]);
 void arm_on_joint_ref(const lcm_recv_buf_t *rb, const char *ch, void *u);
 /* Next segment of the running row (DONE after the last one). */
 void arm_start_segment(arm_daemon *ad);
+/* A joint move planned again from the measured pose (after a safe hold). */
+void arm_joint_resume(arm_daemon *ad);
 /* Computes and sends this cycle's command in joint space. */
 void arm_joint_cycle(arm_daemon *ad);
 

@@ -75,6 +75,24 @@ void arm_start_segment(arm_daemon *ad)
                                                             : TANDEM_ARM_COMMAND_T_GRIP_OPEN;
 }
 
+/* After a safe hold on the brakes: a joint move's reference is referenced
+ * to time, and its clock ran on while the arm stood; picked up there it
+ * would demand the whole lost way at once, the speed watchdog would brake
+ * again, and the arm would creep 10 ms per release for ever. The rest of
+ * the move is planned again from where the arm stands (Cartesian and TDSD
+ * segments follow their measured path coordinate and need nothing). */
+void arm_joint_resume(arm_daemon *ad)
+{
+    tandem_action_segment_t *g;
+    if (!ad->running || ad->cur_seg < 0 || ad->cur_seg >= ad->n_seg)
+        return;
+    g = &ad->seg[ad->cur_seg];
+    if (g->kind != TANDEM_ACTION_SEGMENT_T_MOVE_JOINT)
+        return;
+    ad->seg_t0_s = ad->st.sim_time_s;
+    jtraj_plan(&ad->traj, ad->model, ad->st.q_rad, g->q_rad, ad->speed_frac, 2.0);
+}
+
 /* Reference for this cycle; returns 1 when the segment is complete. */
 static int segment_reference(arm_daemon *ad, double q_d[ARM_NJ], double qd_d[ARM_NJ], double qdd_d[ARM_NJ])
 {

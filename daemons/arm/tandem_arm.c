@@ -196,6 +196,7 @@ static int joint_fault(arm_daemon *ad)
         ad->fault_clear_s += ad->d.period_s;
         if (ad->fault_clear_s >= FAULT_CLEAR_S) {
             ad->fault = 0;
+            arm_joint_resume(ad);
             arm_publish_event(ad, TANDEM_ACTION_EVENT_T_FAULT_CLEARED, "");
             fprintf(stderr, "%s: fault cleared\n", ad->d.name);
         }
