@@ -94,7 +94,7 @@ typedef struct arm_daemon {
     int    running;
     jtraj  traj;
     double seg_t0_s;
-    int    gripper;                   /* command to send this cycle */
+    int    gripper;                   /* open/close asked until the state shows it */
     int    block_detect;              /* 0: eq. 6-7 alone, no blocked detector */
     int    fault;                     /* in a joint fault (braking) */
     double fault_clear_s;             /* healthy time since the fault's last sign */

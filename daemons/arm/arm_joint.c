@@ -103,7 +103,9 @@ static int segment_reference(arm_daemon *ad, double q_d[ARM_NJ], double qd_d[ARM
         memcpy(q_d, ad->hold_q, sizeof ad->hold_q);
         memset(qd_d, 0, sizeof(double) * ARM_NJ);
         memset(qdd_d, 0, sizeof(double) * ARM_NJ);
-        return t >= 0.2;   /* the fingers take 0.2 s to close or open */
+        /* the fingers take 0.2 s to close or open, and are done only once
+         * the state shows them so (a lost command is sent again) */
+        return t >= 0.2 && ad->st.gripper_closed == (g->kind == TANDEM_ACTION_SEGMENT_T_GRASP);
     }
     jtraj_at(&ad->traj, t, q_d, qd_d, qdd_d);
     if (t < ad->traj.duration_s)

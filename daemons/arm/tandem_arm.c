@@ -163,9 +163,21 @@ static int state_stale(const arm_daemon *ad)
     return (double)(rtloop_now_ns() - ad->state_rx_ns) * 1e-9 > ad->stale_s;
 }
 
+/* 1 once the measured fingers are as the pending gripper request asks. */
+static int gripper_reached(const arm_daemon *ad)
+{
+    return (ad->gripper == TANDEM_ARM_COMMAND_T_GRIP_CLOSE && ad->st.gripper_closed) ||
+           (ad->gripper == TANDEM_ARM_COMMAND_T_GRIP_OPEN && !ad->st.gripper_closed);
+}
+
 void arm_send_command(arm_daemon *ad, int mode, const double tau[ARM_NJ])
 {
     tandem_arm_command_t c;
+    /* the request is a level, not an edge: sent in every command until the
+     * state shows the fingers so (a lost command that carried the only
+     * OPEN left both arms holding the bar, fighting through t5 and t6) */
+    if (gripper_reached(ad))
+        ad->gripper = TANDEM_ARM_COMMAND_T_GRIP_KEEP;
     memset(&c, 0, sizeof c);
     c.seq = ad->cmd_seq++;
     c.utime = daemon_utime_now();
@@ -176,7 +188,6 @@ void arm_send_command(arm_daemon *ad, int mode, const double tau[ARM_NJ])
         memcpy(c.tau_Nm, tau, sizeof c.tau_Nm);
     c.gripper = (int8_t)ad->gripper;
     AUTH_PUBLISH(tandem_arm_command_t, ad->d.lcm, ad->cmd_ch, &c);
-    ad->gripper = TANDEM_ARM_COMMAND_T_GRIP_KEEP;
 }
 
 /* Joint range and speed watchdog; 1 while the arm holds on its brakes. */
