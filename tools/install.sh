@@ -32,7 +32,10 @@ for p in "$bin"/tandem-*; do
     install -m 644 "$mandir/$name.1" "$dest/share/man/man1/$name.1"
 done
 install -m 644 "$corelib" "$dest/lib/libtandem.a"
-install -m 644 "$here"/core/*/*.h "$dest/include/tandem/"
+# the public headers (each domain's *_internal.h stays with its sources)
+for h in "$here"/core/*/*.h; do
+    case $h in *_internal.h) ;; *) install -m 644 "$h" "$dest/include/tandem/" ;; esac
+done
 install -m 644 "$jar" "$dest/share/java/tandem_types.jar"
 cat > "$dest/lib/pkgconfig/tandem.pc" <<PC
 prefix=$prefix

@@ -32,9 +32,16 @@ for d in "${!allowed[@]}"; do
     done
 done
 # outside references: the method docs are docs/method/, not a spec beside
-# the checkout; no machine's home or work directory in any tracked file
+# the checkout; no tracked file names a directory beside the checkout
+# (../<sibling>/), the directory the checkout sits in, or a home directory
 if git rev-parse --git-dir >/dev/null 2>&1; then
-    refs=$(git grep -nI -E '\.\./shared|SPEC\.md|/work/|/home/[a-z]|/root/' -- . ':!tools/lint.sh' || true)
+    here=$(pwd -P); above=$(dirname "$here")
+    pats=(-e 'SPEC\.md' -e '/home/[a-z]' -e '/root/' -e '/Users/')
+    [ "$above" != / ] && pats+=(-e "$above/")
+    for s in "$above"/*/; do
+        s=$(basename "$s"); [ "$s" = "$(basename "$here")" ] || pats+=(-e "\.\./$s/")
+    done
+    refs=$(git grep -nI -E "${pats[@]}" -- . ':!tools/lint.sh' || true)
     if [ -n "$refs" ]; then
         echo "$refs" | sed 's/$/   <- a reference outside the repository/'; bad=1
     fi

@@ -8,7 +8,7 @@
 #include <math.h>
 #include <string.h>
 #include "carry_scen.h"
-#include "daemon_run.h"
+#include "shared_run.h"
 #include "arm_model.h"
 #include "daemon.h"
 #include "tandem_action_event_t.h"

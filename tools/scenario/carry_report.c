@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "carry_scen.h"
-#include "daemon_run.h"
+#include "shared_run.h"
 
 void carry_block_figures_of(carry_block_figures *f, const carry_blocks *bl, double sim_s)
 {

@@ -14,7 +14,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "carry_scen.h"
-#include "daemon_run.h"
+#include "shared_run.h"
 #include "arm_model.h"
 #include "daemon.h"
 #include "proc.h"

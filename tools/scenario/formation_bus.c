@@ -11,7 +11,7 @@
 #include <string.h>
 #include <time.h>
 #include "formation_scen.h"
-#include "daemon_run.h"
+#include "shared_run.h"
 #include "daemon.h"
 #include "tandem_clock_ack_t.h"
 #include "tandem_rovers_state_t.h"

@@ -14,7 +14,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "formation_scen.h"
-#include "daemon_run.h"
+#include "shared_run.h"
 #include "daemon.h"
 #include "tandem_sim_control_t.h"
 

@@ -7,7 +7,7 @@
 #include <math.h>
 #include <stdio.h>
 #include "formation_scen.h"
-#include "daemon_run.h"
+#include "shared_run.h"
 
 /* The run's success criteria (the seed-003 must-show figures): the team
  * reached the goal without a collision, each robot's own pose estimate

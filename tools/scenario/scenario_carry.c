@@ -23,7 +23,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "carry_scen.h"
-#include "daemon_run.h"
+#include "shared_run.h"
 #include "options.h"
 
 /* What the command line sets; run() copies it out. */

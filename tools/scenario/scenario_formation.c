@@ -17,7 +17,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "formation_scen.h"
-#include "daemon_run.h"
+#include "shared_run.h"
 #include "formation.h"
 #include "options.h"
 

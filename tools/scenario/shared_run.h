@@ -1,12 +1,12 @@
-/* daemon_run: what the scenarios that start daemons and run with them in
+/* shared_run: what the scenarios that start daemons and run with them in
  * lockstep (carry, formation; docs/method/lockstep.md §8) share beyond
  * scenario.h: the scenario's own lockstep answer, telling the simulator a
  * killed daemon has left, the stages of a --fault and its rejoin wait, the
  * progress-line cadence, the gnuplot script's frame, and the exit status
  * from the success criteria.
  */
-#ifndef TANDEM_DAEMON_RUN_H
-#define TANDEM_DAEMON_RUN_H
+#ifndef TANDEM_SHARED_RUN_H
+#define TANDEM_SHARED_RUN_H
 
 #include <stdint.h>
 #include <stdio.h>

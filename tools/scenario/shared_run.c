@@ -1,6 +1,6 @@
-/* daemon_run: the lockstep, --fault, progress, plot and exit-status
- * helpers the carry and formation scenarios share (see daemon_run.h). */
-#include "daemon_run.h"
+/* shared_run: the lockstep, --fault, progress, plot and exit-status
+ * helpers the carry and formation scenarios share (see shared_run.h). */
+#include "shared_run.h"
 #include "daemon.h"
 
 void scenario_ack(lcm_t *lcm, int64_t *seq, int64_t step, int32_t period_steps, int leaving)
