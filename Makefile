@@ -14,6 +14,9 @@
 #   make clean
 # SAN=1 builds into build/san with the sanitizers on.
 
+# core/layers.mk (included below) defines the first rule; plain make is all
+.DEFAULT_GOAL := all
+
 CC       ?= cc
 # quiet by default; V=1 shows every command
 Q        := $(if $(V),,@)
@@ -139,7 +142,7 @@ jar: $(TYPES_JAR)
 $(OBJ)/%.o: %.c | $(GEN_STAMP) $(CORE_POISON) $(LAYER_STAMP)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(CC) $(DIR_CPPFLAGS) $(CFLAGS) -MMD -c $< -o $@
+	$(Q)$(CC) $(DIR_CPPFLAGS) $(CFLAGS) -MMD -MP -c $< -o $@
 
 $(CORE_LIB): $(CORE_OBJ)
 	@mkdir -p $(@D)

@@ -46,7 +46,7 @@ $(foreach d,$(CORE_DOMAINS),$(CROSS)/$(1)/core/$(d)/%.o: DIR_CPPFLAGS = $$(call 
 $(CROSS)/$(1)/core/%.o: core/%.c | $(CORE_POISON) $(LAYER_STAMP)
 	@mkdir -p $$(@D)
 	@$$(if $$(Q),echo '  CC    $$@';) true
-	$$(Q)$(2) $(3) $$(DIR_CPPFLAGS) $$(CROSS_CFLAGS) -MMD -c $$< -o $$@
+	$$(Q)$(2) $(3) $$(DIR_CPPFLAGS) $$(CROSS_CFLAGS) -MMD -MP -c $$< -o $$@
 $(CROSS)/$(1)/libtandem.a: $$($(1)_CORE_OBJ)
 	@rm -f $$@ && $(2)-ar rcs $$@ $$^
 	@cross/check-core-calls.sh $(subst gcc,nm,$(2)) $$@
@@ -54,7 +54,7 @@ $(CROSS)/$(1)/libtandem.a: $$($(1)_CORE_OBJ)
 $(CROSS)/$(1)/platform/rtclock_board.o: platform/board/rtclock_board.c
 	@mkdir -p $$(@D)
 	@$$(if $$(Q),echo '  CC    $$@';) true
-	$$(Q)$(2) $(3) -ffreestanding -Icore/base -Iplatform/board -I$(CORE_POISON) $$(CROSS_CFLAGS) -MMD -c $$< -o $$@
+	$$(Q)$(2) $(3) -ffreestanding -Icore/base -Iplatform/board -I$(CORE_POISON) $$(CROSS_CFLAGS) -MMD -MP -c $$< -o $$@
 endef
 $(eval $(call cross_target,m68k,$(M68K_CC),$(M68K_ARCH)))
 $(eval $(call cross_target,cm4,$(CM4_CC),$(CM4_ARCH)))
@@ -84,7 +84,7 @@ $(foreach s,$(UNIT_SRC),$(eval $(CROSS)/m68k/bin/$(notdir $(s:.c=)): $(s)))
 $(CROSS)/m68k/bin/test_%: $(CROSS)/m68k/libtandem.a $(CROSS)/m68k/cmocka.o $(CROSS)/m68k/platform/rtclock_posix.o
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(M68K_CC) $(M68K_TEST_FLAGS) -MMD -static -o $@ $(filter %.c,$^) $(CROSS)/m68k/cmocka.o \
+	$(Q)$(M68K_CC) $(M68K_TEST_FLAGS) -MMD -MP -static -o $@ $(filter %.c,$^) $(CROSS)/m68k/cmocka.o \
 	    $(CROSS)/m68k/platform/rtclock_posix.o $(CROSS)/m68k/libtandem.a -lm
 
 test-cross: deps-cross
@@ -97,14 +97,14 @@ test-cross: deps-cross
 define cross_budget
 $(CROSS)/$(1)/budget/cycles.o: cross/budget/cycles.c | $(CORE_POISON)
 	@mkdir -p $$(@D)
-	$$(Q)$(2) $(3) $(CORE_INC) -I$(CORE_POISON) $$(CROSS_CFLAGS) -MMD -c $$< -o $$@
+	$$(Q)$(2) $(3) $(CORE_INC) -I$(CORE_POISON) $$(CROSS_CFLAGS) -MMD -MP -c $$< -o $$@
 endef
 $(eval $(call cross_budget,m68k,$(M68K_CC),$(M68K_ARCH)))
 $(eval $(call cross_budget,cm4,$(CM4_CC),$(CM4_ARCH)))
 $(CROSS)/m68k/bin/budget: cross/budget/budget_main.c $(CROSS)/m68k/budget/cycles.o $(CROSS)/m68k/libtandem.a
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(M68K_CC) $(M68K_ARCH) $(WARN) -O2 $(CORE_INC) -Icross/budget -MMD -static -o $@ $< \
+	$(Q)$(M68K_CC) $(M68K_ARCH) $(WARN) -O2 $(CORE_INC) -Icross/budget -MMD -MP -static -o $@ $< \
 	    $(CROSS)/m68k/budget/cycles.o $(CROSS)/m68k/libtandem.a -lm
 
 budget: deps-cross

@@ -11,6 +11,7 @@
 
 #define BEH_MIN_RANGE_FLOOR_M 1e-3   /* keeps W4 finite for a zero echo */
 #define BEH_L_EPS_M 1e-9             /* below this phi of a slot is undefined */
+#define BEH_WAIT_V_MPS 0.1           /* a team this fast brings the slot to a robot that waits */
 
 void behaviour_params_default(behaviour_params *p)
 {
@@ -202,8 +203,28 @@ int behaviour_formation_seed(unicycle_cmd *u, double *R_d_m, const pose2 *o,
                               double phi_d_rad, const behaviour_params *p)
 {
     const int rc = behaviour_formation(u, R_d_m, o, ref, l_d_m, phi_d_rad, p);
-    /* no rear sonar: a robot ahead of its slot stops and lets it come */
-    if (rc == 0 && u->v_mps < 0.0) u->v_mps = 0.0;
+    /* No rear sonar: a robot whose O would have to move backward (it is
+     * ahead of its slot, or faces away from the team's way) stops. While
+     * the team moves it turns onto the team heading and waits: the slot
+     * comes to it, and the law's forward motion takes over once it is
+     * level. Turning by the law's own w instead (the sideways part of a
+     * backward velocity, divided by |d|) swung the robot round after a
+     * slot a few centimetres behind, and for a robot facing backward that
+     * turn's sign is noise: it cancelled the goal behaviour's turn in the
+     * blend and a team facing away from its goal crept on away from it.
+     * A team that stands (at the goal) brings no slot: there the law's
+     * own turn, toward the slot, is kept; in between the two are mixed
+     * by V0 / BEH_WAIT_V_MPS. */
+    if (rc == 0 && u->v_mps < 0.0) {
+        double mu = ref->v_mps / BEH_WAIT_V_MPS;
+        unicycle_cmd raw;
+        if (mu < 0.0) mu = 0.0;
+        if (mu > 1.0) mu = 1.0;
+        raw.v_mps = 0.0;
+        raw.w_radps = mu * p->b2 * vec2_angle_diff_rad(ref->theta_rad, o->theta_rad) +
+                      (1.0 - mu) * u->w_radps;
+        unicycle_saturate(u, &raw, p->v_fm_max_mps, p->w_fm_max_radps, UNICYCLE_SAT_CLIP);
+    }
     return rc;
 }
 

@@ -195,10 +195,20 @@ static void announce(formation_fsm *f, formation_announce *out, int code,
     *out = a;
 }
 
+int formation_ann_valid(int code)
+{
+    return code >= FORMATION_ANN_NONE && code <= FORMATION_ANN_GIVE_WAY;
+}
+
+int formation_ann_out(int code)
+{
+    return code == FORMATION_ANN_LEAVE || code == FORMATION_ANN_GIVE_WAY;
+}
+
 int formation_fsm_on_announce(formation_fsm *f, const formation_announce *a)
 {
     if (!a || !isfinite(a->scale) || !(a->scale > 0.0) || !type_ok(a->type) ||
-        a->code < FORMATION_ANN_NONE || a->code > FORMATION_ANN_RESTORE)
+        !formation_ann_valid(a->code))
         return FORMATION_ERR_ARG;
     if (a->seq > f->seq_max_seen) f->seq_max_seen = a->seq;
     if (!code_is_protocol(a->code)) return 0;

@@ -28,7 +28,8 @@
 enum { FORMATION_LINE = 0, FORMATION_TRIANGLE = 1, FORMATION_COLUMN = 2 };
 enum {
     FORMATION_ANN_NONE = 0, FORMATION_ANN_LEAVE = 1, FORMATION_ANN_REJOIN = 2,
-    FORMATION_ANN_SHRINK = 3, FORMATION_ANN_CHANGE = 4, FORMATION_ANN_RESTORE = 5
+    FORMATION_ANN_SHRINK = 3, FORMATION_ANN_CHANGE = 4, FORMATION_ANN_RESTORE = 5,
+    FORMATION_ANN_GIVE_WAY = 6      /* out of the formation making room for a LEAVE, not trapped */
 };
 enum {
     FORMATION_PHASE_NORMAL = 0, FORMATION_PHASE_SHRINK = 1,
@@ -45,6 +46,12 @@ int formation_slot(double *l_d_m, double *phi_d_rad, int type, int n, int k,
  * Returns a negative value on bad input. */
 double formation_width(int type, int n, double spacing_m, double scale,
                        double robot_width_m);
+/* 1 for a known announcement code (FORMATION_ANN_*). */
+int formation_ann_valid(int code);
+/* 1 for a robot that announced it is out of the formation (LEAVE: trapped
+ * and escaping; GIVE_WAY: making room for one that is): it is left out of
+ * the team reference and of the passage protocol's rearmost test. */
+int formation_ann_out(int code);
 /* The next narrower type: line -> triangle -> column -> column. */
 int formation_next_type(int type);
 /* Slot of robot `id` in a team of n unique ids (any order): its rank among

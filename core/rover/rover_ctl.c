@@ -57,6 +57,30 @@ static void ref_heading_to_goal(const rover_ctl_state *c, unicycle_state *ref)
     ref->w_radps *= 1.0 - g;
 }
 
+/* Arrival: within arrive_m of the goal R0 is drawn onto the goal's own
+ * slot frame, by the fraction lam = 1 - dist / arrive_m of the way (its
+ * position, its heading; V0 and w0 fade by 1 - lam), so that at the goal
+ * the formation the robots keep round R0 is the one their goal behaviour
+ * drives them to. Without it the two behaviours ask for two formations
+ * near the goal, one round the team's mean turned to the goal's bearing
+ * and one round the goal, and a team that came back together there after
+ * a dead-zone escape facing away from the goal settled on neither: its
+ * rear robots drove back to their slots behind, the mean followed them,
+ * and the whole team crept off away from the goal for the rest of the
+ * run. arrive_m 0: the reference as it is. */
+static void ref_arrive(const rover_ctl_state *c, unicycle_state *ref)
+{
+    const double dist = hypot(c->goal_m[0] - ref->x_m, c->goal_m[1] - ref->y_m);
+    double lam;
+    if (!(c->p.arrive_m > 0.0) || !(dist < c->p.arrive_m)) return;
+    lam = 1.0 - dist / c->p.arrive_m;
+    ref->theta_rad = vec2_wrap_rad(ref->theta_rad +
+                                   lam * vec2_angle_diff_rad(atan2(c->goal_m[1], c->goal_m[0]),
+                                                             ref->theta_rad));
+    ref->v_mps *= 1.0 - lam;
+    ref->w_radps *= 1.0 - lam;
+}
+
 /* Own goal: the own slot of the formation flown, placed at the team goal
  * (the slot frame headed along the goal's bearing from the origin). */
 static void own_goal(const rover_ctl_state *c, int n, int k, double g[2])
@@ -136,6 +160,7 @@ static void reference_and_passage(rover_ctl_state *c, double t_s, double dt_s, s
     if (team_reference(&v->ref, &c->team, &v->self, v->escaping, c->p.beh.d_m, t_s) < 0)
         v->ref = v->self;
     ref_heading_to_goal(c, &v->ref);
+    ref_arrive(c, &v->ref);
     passage = rover_ctl_passage_width(c, &v->o, &v->ref, &v->gw, v->masked);
     if (!v->escaping) {
         const int before = c->fsm.type;
@@ -176,7 +201,14 @@ static int blend_behaviours(rover_ctl_state *c, step_view *v)
     v->in.exception_active = v->escaping;
     if (!v->escaping) v->in.u[BEH_EXCEPTION].v_mps = v->in.u[BEH_EXCEPTION].w_radps = 0.0;
     v->in.R_d_m = v->R_d;
-    v->in.min_range_m = v->g.min_m > 0.05 ? v->g.min_m : 0.05;
+    /* avoidance's weight grows with what its law answers, the echoes ahead
+     * (front, left-front, right-front): a mate alongside (side transducer)
+     * gave the idle behaviour, which keeps the speed and turns nowhere, most
+     * of the weight, and a team facing away from its goal drove on */
+    {
+        const double ahead = fmin(v->g.front_m, fmin(v->g.left_front_m, v->g.right_front_m));
+        v->in.min_range_m = ahead > 0.05 ? ahead : 0.05;
+    }
     return behaviour_blend(&c->blend, &v->in, c->p.blend_mode, bp);
 }
 
@@ -199,9 +231,11 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
         u.v_mps = u.w_radps = 0.0;
         out->mode = ROVER_MODE_AT_GOAL;
     }
+    if (c->holding) u.v_mps = u.w_radps = 0.0;   /* a trapped mate ahead turns round */
     if (!v->escaping) rover_ctl_guard(&u, c->range_m, &v->o, v->goal, &c->p);
-    /* no rear sonar: never back up blindly */
-    if (u.v_mps < 0.0) u.v_mps = 0.0;
+    /* no rear sonar: never back up blindly (backing out of a wedge goes
+     * the way the robot came, clear of mates) */
+    if (u.v_mps < 0.0 && !(v->escaping && c->esc_backing)) u.v_mps = 0.0;
     unicycle_saturate(&out->u, &u, bp->v_max_mps, bp->w_max_radps, UNICYCLE_SAT_CLIP);
     out->o = v->o;
     for (i = 0; i < BEH_COUNT; i++) out->weight[i] = c->blend.weight[i];
@@ -210,7 +244,8 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
 }
 
 /* Own team message, every team_period_s: pose, speeds, the formation
- * flown and the own announcement (LEAVE throughout an escape). */
+ * flown and the own announcement (LEAVE throughout an escape, GIVE_WAY
+ * while making room for one). */
 static void team_message_out(rover_ctl_state *c, const step_view *v, double t_s,
                              rover_ctl_out *out)
 {
@@ -224,7 +259,7 @@ static void team_message_out(rover_ctl_state *c, const step_view *v, double t_s,
     m->v_mps = v->self.v_mps; m->w_radps = v->self.w_radps;
     m->formation = c->fsm.type;
     m->scale = c->fsm.scale;
-    m->announce = v->escaping ? FORMATION_ANN_LEAVE : c->ann_code;
+    m->announce = !v->escaping ? c->ann_code : c->esc_yield ? FORMATION_ANN_GIVE_WAY : FORMATION_ANN_LEAVE;
     m->announce_seq = c->ann_seq;
     m->t_s = t_s;
 }

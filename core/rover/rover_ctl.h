@@ -73,6 +73,9 @@ typedef struct {
     double give_way_seen_s;     /* ... to a mate the camera saw this recently (no wall between) */
     double yield_clear_m;       /* ... and let a turning lower-id mate this near (axles) turn first */
     double yield_wait_s;        /* ... waiting at most this long */
+    double hold_max_s;          /* stand at most this long while a trapped mate ahead turns round */
+    double back_max_m;          /* wedged beside a mate: back out at most this far ... */
+    double back_v_mps;          /* ... this fast */
     double follow_lost_s;       /* boundary following: no wall in reach this long ends it */
     double passage_sense_max_m; /* side readings beyond: no passage wall */
     double mate_keep_m;         /* a mate's echo nearer than this stays an obstacle */
@@ -83,6 +86,7 @@ typedef struct {
     double side_guard_m;        /* an echo alongside this near: turn away ... */
     double side_turn_radps;     /* ... at least this fast */
     double goal_heading_gain;   /* R0 heading toward the goal bearing, 0..1 (see .c) */
+    double arrive_m;            /* R0 drawn onto the goal frame within this of it (0: off) */
     double sonar_max_m;         /* range reported for a masked (mate) echo */
     double consensus_gain;      /* frame consensus rate, 1/s (0: own odometry only) */
     double consensus_age_s;     /* only mates seen this recently count */
@@ -135,6 +139,12 @@ typedef struct {
     double  esc_hit_dist_m, esc_s;
     double  esc_lost_s;         /* time without a wall in reach while following */
     double  esc_wait_s;         /* giving way: time waited for a mate to turn first */
+    int     holding;            /* 1: standing while a trapped mate ahead turns round */
+    int     esc_backing;        /* 1: giving way, backing out of a wedge (V < 0 allowed) */
+    double  esc_back_m;         /* backed so far in this escape */
+    double  trail_m;            /* driven forward, straight, since the heading last changed */
+    double  trail_theta_rad;    /* ... from this heading (the way back is known free that far) */
+    double  hold_s;             /* time held for the current trapped mate */
     int     escapes;            /* dead-zone entries */
     int     ann_code;           /* own latest announcement */
     int32_t ann_seq;
@@ -179,7 +189,7 @@ int  rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double
  * encoder reading after rover_ctl_resume integrates the wheels' travel
  * while the process was down. A snapshot is ROVER_CTL_SNAPSHOT_VALUES
  * numbers, id first. */
-#define ROVER_CTL_SNAPSHOT_VALUES 57
+#define ROVER_CTL_SNAPSHOT_VALUES 62
 /* ROVER_CTL_ERR_ARG before the first encoder reading (nothing to keep). */
 int  rover_ctl_snapshot(const rover_ctl_state *c, double v[ROVER_CTL_SNAPSHOT_VALUES]);
 /* c as made by rover_ctl_init (same id) and rover_ctl_set_landmarks;

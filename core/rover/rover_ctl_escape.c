@@ -7,8 +7,19 @@
  * Own announcements (LEAVE, REJOIN) are made here.
  */
 #include "rover_ctl_internal.h"
+#include "rover_world.h"
 
 #include <math.h>
+
+/* Chassis corners' reach round C (the box centre is ROVER_BODY_OFFSET_M
+ * ahead of C): the circle a robot turning on the spot sweeps, 0.314 m. */
+static double turn_reach_m(void)
+{
+    return hypot(0.5 * ROVER_BODY_LENGTH_M + fabs(ROVER_BODY_OFFSET_M), 0.5 * ROVER_BODY_WIDTH_M);
+}
+
+#define SPIN_MARGIN_M 0.03   /* what the team table's positions may be off by at contact range */
+#define FOLLOW_MATE_AHEAD_M 0.3   /* a follower stops this short of a mate in its way */
 
 /* Escape wall following: the nearer range on the wall side held at
  * follow_dist_m by a proportional turn. */
@@ -57,34 +68,47 @@ static void announce_own(rover_ctl_state *c, int code)
     c->ann_seq = formation_fsm_next_seq(&c->fsm);
 }
 
-/* The nearest mate that announced LEAVE (it is escaping a dead zone, or
- * giving way itself) within give_way_m whose bearing from our heading is
- * within cone_rad: 1 and its bearing, or 0. With seen_s > 0 only a mate
- * whose beacon the camera saw within seen_s counts (walls hide beacons: a
- * mate behind a wall is not coming our way) and only one heading our way
- * (within 90 deg of the line to us: one trapped facing the end of its
- * pocket has not turned round yet, one following a wall past us is not
- * coming through). */
-static int leaving_mate(const rover_ctl_state *c, const pose2 *o, double cone_rad, double seen_s,
-                        double now_s, double *bearing_rad)
+/* Which out-of-formation mates leaving_mate looks for. */
+typedef struct {
+    double cone_rad;      /* bearing from our heading within this */
+    double seen_s;        /* > 0: its beacon seen by the camera within this
+                           * (walls hide beacons: a mate behind a wall is
+                           * not coming our way) */
+    int    coming;        /* 1: only one heading our way (within 90 deg of
+                           * the line to us: one trapped facing the end of
+                           * its pocket has not turned round yet, one
+                           * following a wall past us is not coming
+                           * through) */
+    int    give_way;      /* 1: GIVE_WAY counts as well as LEAVE */
+} mate_query;
+
+/* The nearest mate that announced LEAVE (it is escaping a dead zone; one
+ * giving way announces GIVE_WAY and makes nobody else give way) within
+ * give_way_m that matches q: 1, its bearing from our heading and its
+ * position, or 0. */
+static int leaving_mate(const rover_ctl_state *c, const pose2 *o, const mate_query *q, double now_s,
+                        double *bearing_rad, double mate_xy_m[2])
 {
     double best = c->p.give_way_m;
     int i, found = 0;
     for (i = 0; i < c->team.n; i++) {
         const team_member *m = &c->team.m[i];
         double xy[2], dist, b;
-        if (m->announce != FORMATION_ANN_LEAVE ||
-            (seen_s > 0.0 && !(now_s - m->obs_t_s <= seen_s)) ||
+        if (!(m->announce == FORMATION_ANN_LEAVE ||
+              (q->give_way && m->announce == FORMATION_ANN_GIVE_WAY)) ||
+            (q->seen_s > 0.0 && !(now_s - m->obs_t_s <= q->seen_s)) ||
             team_position(&c->team, m->robot, xy) != 0)
             continue;
         dist = hypot(xy[0] - o->x_m, xy[1] - o->y_m);
         b = vec2_angle_diff_rad(atan2(xy[1] - o->y_m, xy[0] - o->x_m), o->theta_rad);
-        if (seen_s > 0.0 &&
+        if (q->coming &&
             cos(m->theta_rad) * (o->x_m - xy[0]) + sin(m->theta_rad) * (o->y_m - xy[1]) <= 0.0)
             continue;
-        if (dist < best && fabs(b) < cone_rad) {
+        if (dist < best && fabs(b) < q->cone_rad) {
             best = dist;
             *bearing_rad = b;
+            mate_xy_m[0] = xy[0];
+            mate_xy_m[1] = xy[1];
             found = 1;
         }
     }
@@ -114,6 +138,78 @@ static int turn_blocked_by_mate(const rover_ctl_state *c, const pose2 *o)
     return 0;
 }
 
+/* Turning on the spot now would sweep our chassis into a mate's: the id
+ * of a mate whose chassis (where the team table puts it) lies within our
+ * turning circle, or 0. Unlike turn_blocked_by_mate this is never waited
+ * out: two robots giving way side by side whose tails met did so when the
+ * wait ran out with the other still turning. */
+static int32_t spin_hits_mate(const rover_ctl_state *c, const pose2 *o)
+{
+    const double reach = turn_reach_m() + SPIN_MARGIN_M;
+    pose2 own_c;
+    int i;
+    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
+    for (i = 0; i < c->team.n; i++) {
+        const team_member *m = &c->team.m[i];
+        const double cm = cos(m->theta_rad), sm = sin(m->theta_rad);
+        double xy[2], mx, my, along, across;
+        if (team_position(&c->team, m->robot, xy) != 0) continue;
+        mx = xy[0] + c->p.beh.d_m * cm - own_c.x_m;            /* mate's C from ours */
+        my = xy[1] + c->p.beh.d_m * sm - own_c.y_m;
+        along = fabs(mx * cm + my * sm + ROVER_BODY_OFFSET_M) - 0.5 * ROVER_BODY_LENGTH_M;
+        across = fabs(-mx * sm + my * cm) - 0.5 * ROVER_BODY_WIDTH_M;
+        if (hypot(fmax(along, 0.0), fmax(across, 0.0)) < reach) return m->robot;
+    }
+    return 0;
+}
+
+/* Where the team table puts robot `who`'s O pose (ourselves: *o); 0 or
+ * TEAM_ERR_UNKNOWN. */
+static int robot_o(const rover_ctl_state *c, const pose2 *o, int32_t who, pose2 *out)
+{
+    const team_member *m;
+    double xy[2];
+    if (who == c->id) {
+        *out = *o;
+        return 0;
+    }
+    if (!(m = team_find(&c->team, who)) || team_position(&c->team, who, xy) != 0)
+        return TEAM_ERR_UNKNOWN;
+    out->x_m = xy[0];
+    out->y_m = xy[1];
+    out->theta_rad = m->theta_rad;
+    return 0;
+}
+
+/* Robot `who` may back up: no other robot of the team (ourselves
+ * included) has its axle in the lane behind who's (0.1 m to BACK_CLEAR_M back,
+ * BACK_LANE_M either side of its centre line: half its width and a mate's
+ * turning reach), by the team table (there is no rear sonar). Every robot
+ * works this out alike for itself and for a mate, so two wedged robots
+ * agree who backs. */
+#define BACK_CLEAR_M 0.9
+#define BACK_LANE_M 0.55
+static int may_back(const rover_ctl_state *c, const pose2 *o, int32_t who)
+{
+    pose2 w, wc, r, rc;
+    int i;
+    if (robot_o(c, o, who, &w) != 0) return 0;
+    unicycle_c_from_o(&wc, &w, c->p.beh.d_m);
+    for (i = -1; i < c->team.n; i++) {
+        const int32_t id = i < 0 ? c->id : c->team.m[i].robot;
+        double mx, my, along;
+        if (id == who || robot_o(c, o, id, &r) != 0) continue;
+        unicycle_c_from_o(&rc, &r, c->p.beh.d_m);
+        mx = rc.x_m - wc.x_m;
+        my = rc.y_m - wc.y_m;
+        along = mx * cos(wc.theta_rad) + my * sin(wc.theta_rad);
+        if (along < -0.1 && along > -BACK_CLEAR_M &&
+            fabs(-mx * sin(wc.theta_rad) + my * cos(wc.theta_rad)) < BACK_LANE_M)
+            return 0;
+    }
+    return 1;
+}
+
 /* Walls (not mates) within reach of boundary following on some side. */
 static int confined(const sonar_groups *gw, const rover_ctl_params *p)
 {
@@ -130,26 +226,52 @@ static int nearer_wall_side(const sonar_groups *gw)
 /* Start giving way when a mate that announced LEAVE is ahead within
  * give_way_m and walls are near (the trapped robot's only way out is back
  * past us; nobody made room, it spun in its pocket and the team jammed):
- * leave the formation as well, turn away from the mate, then follow the
- * nearer wall out and round (the escape's boundary following, hit point
- * here). Returns 1 if it started. */
-static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double dist,
-                          double t_s)
+ * leave the formation as well (GIVE_WAY), turn away from the mate, then
+ * follow the nearer wall out and round. The leave rule's reference is the
+ * trapped mate's distance to the goal, not our own: the wall we follow is
+ * the one it escapes along, and we were not stopped by it. Referenced to
+ * our own start, a robot that gave way already past the trap (nearer the
+ * goal than the trap's far side) could never get 0.5 m nearer still along
+ * the trap's wall and followed it for the rest of the run. Returns 1 if it
+ * started. */
+static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
+                          const double goal[2], double t_s)
 {
-    double b;
-    if (!leaving_mate(c, o, 0.5 * VEC2_PI, c->p.give_way_seen_s, t_s, &b) || !confined(gw, &c->p))
-        return 0;
+    const mate_query q = { VEC2_PI + 0.1, c->p.give_way_seen_s, 1, 0 };
+    double b, mate[2];
+    if (!leaving_mate(c, o, &q, t_s, &b, mate) || !confined(gw, &c->p)) return 0;
     c->esc_phase = ROVER_ESC_YIELD;
     c->esc_yield = 1;
-    c->esc_hit_dist_m = dist;
+    c->esc_back_m = 0.0;
+    c->esc_hit_dist_m = hypot(goal[0] - mate[0], goal[1] - mate[1]);
     c->esc_s = 0.0;
     c->esc_lost_s = 0.0;
     c->esc_wait_s = 0.0;
     /* away from the mate; one dead ahead: toward the roomier side */
     if (fabs(b) > 0.2) c->esc_turn = b > 0.0 ? -1 : 1;
     else c->esc_turn = gw->left_m + gw->left_front_m >= gw->right_m + gw->right_front_m ? 1 : -1;
-    announce_own(c, FORMATION_ANN_LEAVE);
+    announce_own(c, FORMATION_ANN_GIVE_WAY);
     return 1;
+}
+
+/* Hold (c->holding) while a mate that announced LEAVE is ahead within
+ * give_way_m, seen by the camera, with walls near, but not yet coming our
+ * way, for at most hold_max_s per trapped mate: it is turning round in its
+ * pocket and will come out the way it went in. Driving on after it, the
+ * mates behind went deep into the narrowing trap, side by side with no
+ * room left to turn on the spot when it came, and the three jammed. */
+static void hold_step(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double t_s,
+                      double dt_s)
+{
+    const mate_query q = { 0.5 * VEC2_PI, c->p.give_way_seen_s, 0, 0 };
+    double b, mate[2];
+    if (!leaving_mate(c, o, &q, t_s, &b, mate) || !confined(gw, &c->p)) {
+        c->holding = 0;
+        c->hold_s = 0.0;
+        return;
+    }
+    c->hold_s += dt_s;
+    c->holding = c->hold_s <= c->p.hold_max_s;
 }
 
 /* A new dead-zone entry: LEAVE (once per escape), the hit point, and the
@@ -162,6 +284,7 @@ static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, double
     }
     c->escapes++;
     c->esc_s = 0.0;
+    c->esc_back_m = 0.0;
     c->esc_lost_s = 0.0;
     c->esc_wait_s = 0.0;
     c->esc_yield = 0;
@@ -169,40 +292,115 @@ static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, double
     c->esc_side = turn->w_radps > 0.0 ? -1 : 1;
 }
 
+/* The way back known free: the distance driven forward since the heading
+ * last changed by more than TRAIL_TURN_RAD (a robot that turned on the
+ * spot has no idea what is behind it now: there is no rear sonar). */
+#define TRAIL_TURN_RAD 0.35
+static void trail_step(rover_ctl_state *c, const pose2 *o, double dt_s)
+{
+    if (fabs(vec2_angle_diff_rad(o->theta_rad, c->trail_theta_rad)) > TRAIL_TURN_RAD) {
+        c->trail_m = 0.0;
+        c->trail_theta_rad = o->theta_rad;
+    }
+    c->trail_m += c->v_est_mps * dt_s;          /* backing uses it up */
+    if (c->trail_m < 0.0) c->trail_m = 0.0;
+}
+
+/* A turn on the spot in *u next to a mate whose chassis is inside our
+ * turning circle is never made (spin_hits_mate). Wedged so, the higher id
+ * of the two backs straight out the way it came, or the lower id if the
+ * higher cannot, at most back_max_m per escape and no farther than it
+ * drove straight forward to get there (trail_m: a robot that turned on
+ * the spot and backed hit the wall of its pocket), only with no mate's
+ * axle in the lane behind it (the team table), so that the other can
+ * turn; otherwise stand. Returns 1 if the turn was held back. */
+static int spin_or_back(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_cmd *u)
+{
+    int32_t wedge;
+    c->esc_backing = 0;
+    if (!(u->v_mps == 0.0 && u->w_radps != 0.0) || (wedge = spin_hits_mate(c, o)) == 0) return 0;
+    u->w_radps = 0.0;
+    if (c->esc_back_m < c->p.back_max_m && c->trail_m > c->p.back_v_mps * dt_s && may_back(c, o, c->id) &&
+        (wedge < c->id || !may_back(c, o, wedge))) {
+        u->v_mps = -c->p.back_v_mps;
+        c->esc_backing = 1;
+        c->esc_back_m += c->p.back_v_mps * dt_s;
+    }
+    return 1;
+}
+
 /* YIELD: turn on the spot (U in *u, 1) while a leaving mate is ahead, at
- * most yield_max_s of turning, a lower-id mate turning next to us first;
+ * most yield_max_s of turning, a lower-id mate turning next to us first
+ * (waited out after yield_wait_s) and never into a mate (spin_or_back);
  * else 0, with the nearer wall chosen to follow. */
 static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double t_s,
                       double dt_s, unicycle_cmd *u)
 {
-    double b;
-    if (leaving_mate(c, o, 2.0 * VEC2_PI / 3.0, 0.0, t_s, &b) && c->esc_s < c->p.yield_max_s) {
+    const mate_query q = { 2.0 * VEC2_PI / 3.0, 0.0, 0, 1 };
+    double b, mate[2];
+    if (leaving_mate(c, o, &q, t_s, &b, mate) && c->esc_s < c->p.yield_max_s) {
         u->v_mps = 0.0;
+        u->w_radps = c->esc_turn * c->p.follow_w_radps;
         if (c->esc_wait_s < c->p.yield_wait_s && turn_blocked_by_mate(c, o)) {
             u->w_radps = 0.0;
+            c->esc_backing = 0;
             c->esc_wait_s += dt_s;
             c->esc_s -= dt_s;        /* waiting does not count as turning */
-        } else {
-            u->w_radps = c->esc_turn * c->p.follow_w_radps;
+        } else if (spin_or_back(c, o, dt_s, u)) {
+            c->esc_s -= dt_s;
         }
         return 1;
     }
     c->esc_side = nearer_wall_side(gw);
     c->esc_s = 0.0;
+    c->esc_backing = 0;
     return 0;
 }
 
-/* The follower sees walls only: a robot giving way stops short of a mate
- * in the way (the echoes the team table explains), not of the wall it
- * follows round a corner. */
-static void stop_short_of_mates(const rover_ctl_state *c, const pose2 *o, unicycle_cmd *u)
+/* Point (px, py) inside the box centred at (bx, by), heading th, half
+ * sizes hx, hy. */
+static int in_box(double px, double py, double bx, double by, double th, double hx, double hy)
 {
-    double masked[BEH_SONAR_N], mates[BEH_SONAR_N];
-    int k;
-    rover_ctl_mask_mates(c, o, 0.0, masked);
-    for (k = 0; k < BEH_SONAR_N; k++)
-        mates[k] = masked[k] != c->range_m[k] ? c->range_m[k] : INFINITY;
-    rover_ctl_guard_speed(u, mates, &c->p);
+    const double dx = px - bx, dy = py - by;
+    return fabs(dx * cos(th) + dy * sin(th)) <= hx && fabs(-dx * sin(th) + dy * cos(th)) <= hy;
+}
+
+/* A mate's chassis (where the team table puts it, grown by SPIN_MARGIN_M)
+ * reaches into the lane our chassis sweeps driving ahead_m straight on:
+ * its corners and side midpoints against the lane, the lane's corners
+ * against it. The follower follows walls (the ring with mates masked) and
+ * keeps off mates by where they are: a mate's echo read as a wall ahead
+ * froze a robot giving way that had the way out straight ahead, the mate
+ * alongside it. */
+static int mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahead_m)
+{
+    const double hx = 0.5 * ROVER_BODY_LENGTH_M + SPIN_MARGIN_M, hy = 0.5 * ROVER_BODY_WIDTH_M + SPIN_MARGIN_M;
+    const double lane_hx = 0.5 * (ROVER_BODY_OFFSET_M + 0.5 * ROVER_BODY_LENGTH_M + ahead_m);
+    const double lane_hy = hy;
+    pose2 own_c, lane;
+    int i, k;
+    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
+    lane.theta_rad = own_c.theta_rad;
+    lane.x_m = own_c.x_m + lane_hx * cos(lane.theta_rad);      /* from the axle forward */
+    lane.y_m = own_c.y_m + lane_hx * sin(lane.theta_rad);
+    for (i = 0; i < c->team.n; i++) {
+        const team_member *m = &c->team.m[i];
+        const double cm = cos(m->theta_rad), sm = sin(m->theta_rad);
+        double xy[2], bx, by;
+        if (team_position(&c->team, m->robot, xy) != 0) continue;
+        bx = xy[0] + (c->p.beh.d_m + ROVER_BODY_OFFSET_M) * cm;    /* the mate's box centre */
+        by = xy[1] + (c->p.beh.d_m + ROVER_BODY_OFFSET_M) * sm;
+        for (k = 0; k < 9; k++) {
+            const double u = (k % 3 - 1), v = (k / 3 - 1);        /* -1, 0, 1 each */
+            const double px = bx + u * hx * cm - v * hy * sm, py = by + u * hx * sm + v * hy * cm;
+            const double lx = lane.x_m + u * lane_hx * cos(lane.theta_rad) - v * lane_hy * sin(lane.theta_rad);
+            const double ly = lane.y_m + u * lane_hx * sin(lane.theta_rad) + v * lane_hy * cos(lane.theta_rad);
+            if (in_box(px, py, lane.x_m, lane.y_m, lane.theta_rad, lane_hx, lane_hy) ||
+                in_box(lx, ly, bx, by, m->theta_rad, hx, hy))
+                return 1;
+        }
+    }
+    return 0;
 }
 
 /* FOLLOW: the boundary on esc_side (U in *u, 1) until the leave rule or
@@ -227,8 +425,13 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
         c->esc_side = -c->esc_side;
         c->esc_s = 0.0;
     }
-    rover_ctl_follow(u, g, c->esc_side, &c->p);
-    if (c->esc_yield) stop_short_of_mates(c, o, u);
+    rover_ctl_follow(u, gw, c->esc_side, &c->p);
+    if (u->v_mps > 0.0 && mate_in_lane(c, o, FOLLOW_MATE_AHEAD_M)) {
+        /* a mate in the way: turn away from the wall as at a wall ahead */
+        u->v_mps = 0.0;
+        u->w_radps = -(c->esc_side < 0 ? -1.0 : 1.0) * c->p.follow_w_radps;
+    }
+    spin_or_back(c, o, dt_s, u);
     return 1;
 }
 
@@ -257,13 +460,18 @@ int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sona
     const int entries = c->exc.entries;
     const int in_dz = behaviour_exception_step(&c->exc, &turn, gw, dt_s, &c->p.beh);
     const double dist = hypot(goal[0] - o->x_m, goal[1] - o->y_m);
+    trail_step(c, o, dt_s);
     if (in_dz == 1) {
         if (c->exc.entries != entries) dead_zone_entry(c, &turn, dist);
         c->esc_phase = ROVER_ESC_TURN;
         *u = turn;
         return 1;
     }
-    if (c->esc_phase == ROVER_ESC_NONE && !give_way_start(c, gw, o, dist, t_s)) return 0;
+    c->holding = 0;
+    if (c->esc_phase == ROVER_ESC_NONE && !give_way_start(c, gw, o, goal, t_s)) {
+        hold_step(c, gw, o, t_s, dt_s);
+        return 0;
+    }
     c->esc_s += dt_s;
     if (c->esc_phase == ROVER_ESC_YIELD && yield_turn(c, gw, o, t_s, dt_s, u)) return 1;
     c->esc_phase = ROVER_ESC_FOLLOW;

@@ -161,12 +161,12 @@ double rover_ctl_passage_width(const rover_ctl_state *c, const pose2 *o,
 /* This robot is the last of the team along the direction of travel (from
  * the team's mean position toward the goal), within 0.1 m: only the last
  * robot through a passage may restore the formation. Mates that announced
- * LEAVE are out of the formation and do not count (their fsm is idle while
+ * LEAVE or GIVE_WAY are out of the formation and do not count (their fsm is idle while
  * they escape; one left behind in a dead zone held the team in a column
  * all the way to the goal). */
 static int counts_in_formation(const team_member *m)
 {
-    return m->announce != FORMATION_ANN_LEAVE;
+    return !formation_ann_out(m->announce);
 }
 
 int rover_ctl_is_rearmost(const rover_ctl_state *c, const pose2 *o)

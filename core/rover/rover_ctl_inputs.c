@@ -95,7 +95,7 @@ int rover_ctl_team_msg(rover_ctl_state *c, const rover_team_msg *msg, double t_s
         a.scale = m.scale;
         if (formation_fsm_on_announce(&c->fsm, &a) == 1 && c->fsm.type != before)
             c->formation_changes++;
-    } else if (m.announce == FORMATION_ANN_LEAVE || m.announce == FORMATION_ANN_REJOIN) {
+    } else if (formation_ann_out(m.announce) || m.announce == FORMATION_ANN_REJOIN) {
         formation_announce a;
         a.code = m.announce;
         a.seq = m.announce_seq;

@@ -41,11 +41,20 @@ void rover_ctl_params_default(rover_ctl_params *p)
     p->give_way_seen_s = 1.0;
     p->yield_clear_m = 0.75;
     p->yield_wait_s = 5.0;
+    /* a trapped robot turns round in the dead-zone time (2 s) and half a
+     * turn at w_k (0.6 rad/s, 5.2 s) */
+    p->hold_max_s = 10.0;
+    /* two robots whose axles are 0.5 m apart cannot turn; 0.3 m more can */
+    p->back_max_m = 0.4;
+    p->back_v_mps = 0.1;
     p->follow_lost_s = 5.0;
     p->passage_sense_max_m = 2.5;
     p->mate_keep_m = 0.45;
     p->v_change_mps = 0.25;
     p->goal_heading_gain = 1.0;
+    /* about the size of the formation (a 3-robot line is 2.4 m wide): R0
+     * is at most arrive_m / 4 = 0.75 m ahead of the team's mean */
+    p->arrive_m = 3.0;
     p->guard_m = 0.5;
     p->guard_stop_m = 0.15;
     p->guard_lane_m = 0.1;
@@ -77,11 +86,12 @@ int rover_ctl_params_validate(const rover_ctl_params *p)
         !pos(p->wheel_radius_m) || !pos(p->axle_track_m) || !pos(p->follow_dist_m) ||
         !pos(p->follow_v_mps) || !pos(p->follow_w_radps) || !pos(p->escape_max_s) ||
         !pos(p->give_way_m) || !pos(p->yield_max_s) || !pos(p->give_way_seen_s) ||
-        !pos(p->yield_clear_m) || !pos(p->yield_wait_s) || !pos(p->follow_lost_s) ||
+        !pos(p->yield_clear_m) || !pos(p->yield_wait_s) || !pos(p->hold_max_s) || !pos(p->back_max_m) || !pos(p->back_v_mps) || !pos(p->follow_lost_s) ||
         !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->v_change_mps) ||
         !pos(p->guard_m) || !pos(p->guard_stop_m) || !pos(p->guard_lane_m) ||
         !pos(p->side_guard_m) || !pos(p->side_turn_radps) || !isfinite(p->goal_heading_gain) ||
         p->goal_heading_gain < 0.0 || p->goal_heading_gain > 1.0 ||
+        !isfinite(p->arrive_m) || p->arrive_m < 0.0 ||
         !pos(p->passage_front_min_m) || !pos(p->sonar_max_m) ||
         !(p->consensus_gain >= 0.0) || !isfinite(p->consensus_gain) || !pos(p->consensus_age_s) ||
         !pos(p->consensus_max_mps) || !pos(p->consensus_range_m) || !pos(p->fsm.spacing_m) ||

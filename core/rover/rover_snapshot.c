@@ -45,6 +45,7 @@ static const snap_field snap_table[] = {
     F_D(exc.blocked_s), F_I(exc.active), F_I(exc.entries),
     F_I(esc_phase), F_I(esc_side), F_I(esc_yield), F_I(esc_turn),
     F_D(esc_hit_dist_m), F_D(esc_s), F_D(esc_lost_s), F_D(esc_wait_s), F_I(escapes),
+    F_D(hold_s), F_D(esc_back_m), F_D(trail_m), F_D(trail_theta_rad), F_I(holding),
 };
 #define SNAP_N ((int)(sizeof snap_table / sizeof snap_table[0]))
 

@@ -33,8 +33,8 @@ static int msg_ok(const team_table *t, const team_member *m)
 {
     return m->robot != t->self_id && vec2_finite3(m->x_m, m->y_m, m->theta_rad) &&
            isfinite(m->v_mps) && isfinite(m->w_radps) && isfinite(m->t_s) &&
-           isfinite(m->scale) && m->scale > 0.0 && m->formation >= 0 &&
-           m->formation <= 2 && m->announce >= 0 && m->announce <= 5;
+           isfinite(m->scale) && m->scale > 0.0 && m->formation >= FORMATION_LINE &&
+           m->formation <= FORMATION_COLUMN && formation_ann_valid(m->announce);
 }
 
 int team_update(team_table *t, const team_member *msg)
@@ -214,7 +214,7 @@ int team_reference(unicycle_state *ref, const team_table *t,
         const team_member *m = &t->m[i];
         double age = now_s - m->t_s;
         pose2 o;
-        if (age > t->timeout_s || m->announce == FORMATION_ANN_LEAVE) continue;
+        if (age > t->timeout_s || formation_ann_out(m->announce)) continue;
         if (age < 0.0) age = 0.0;
         o.x_m = m->x_m + m->off_x_m;
         o.y_m = m->y_m + m->off_y_m;

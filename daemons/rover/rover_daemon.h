@@ -42,6 +42,7 @@ typedef struct hosted {
     tandem_team_msg_t last_team;        /* for republish (robot 0: none yet) */
     char        ch_cmd[24], ch_state[24];
     int         shown_mode, shown_type, shown_yield;   /* last printed (-1: none yet) */
+    int         shown_esc;          /* escape phase and wall side last printed */
     char        journal_path[600];      /* "" without --journal */
     journal     jr;
 } hosted;
@@ -110,7 +111,7 @@ void rover_fill_outputs(hosted *h, const rover_ctl_out *o, int64_t step, int64_t
                         tandem_rover_command_t *cmd, tandem_rover_state_t *st);
 void rover_publish_outbox(rover_daemon *rd, rover_outbox *o);
 void rover_republish(daemon *d, void *user);
-void rover_report_changes(hosted *h, int mode, double t_s);
+void rover_report_changes(hosted *h, const rover_ctl_out *o, double t_s);
 /* Resumes each robot from its journal and opens it for appending: 0, or
  * ROVER_DAEMON_ERR_JOURNAL. */
 int  rover_journal_start(rover_daemon *rd);

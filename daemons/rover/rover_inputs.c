@@ -183,7 +183,7 @@ static int team_msg_valid(const tandem_team_msg_t *m)
            isfinite(m->v_mps) && isfinite(m->w_radps) && isfinite(m->formation_scale) &&
            m->formation_scale > 0.0 && m->formation_scale <= 1.0 &&
            m->formation >= FORMATION_LINE && m->formation <= FORMATION_COLUMN &&
-           m->announce >= FORMATION_ANN_NONE && m->announce <= FORMATION_ANN_RESTORE &&
+           formation_ann_valid(m->announce) &&
            isfinite(m->goal_m[0]) && isfinite(m->goal_m[1]) && m->step >= 0;
 }
 

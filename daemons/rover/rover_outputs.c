@@ -3,6 +3,7 @@
  * again on a repeated step), a console line per change of what a robot
  * does, and the --journal snapshots.
  */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include "rover_daemon.h"
@@ -104,10 +105,37 @@ void rover_republish(daemon *d, void *user)
             AUTH_PUBLISH(tandem_team_msg_t, rd->d.lcm, "TEAM", &rd->h[j - rd->id_lo].last_team);
 }
 
+/* One line per change of escape phase or of the wall side followed, with
+ * the robot's own estimate of where it is (the leave rule compares its
+ * distance to the goal with the one where the escape started). */
+static void report_escape(hosted *h, const pose2 *o, double t_s)
+{
+    static const char *const phases[] = { "escape over", "turns out of the trap", "follows the wall",
+                                          "turns away from a leaving mate" };
+    const rover_ctl_state *c = &h->c;
+    const int esc = c->esc_phase * 4 + (c->esc_side + 1);
+    const double dist_m = hypot(c->goal_m[0] - o->x_m, c->goal_m[1] - o->y_m);
+    if (esc == h->shown_esc || c->esc_phase < ROVER_ESC_NONE || c->esc_phase > ROVER_ESC_YIELD) return;
+    if (h->shown_esc < 0 && c->esc_phase == ROVER_ESC_NONE) {
+        h->shown_esc = esc;                 /* not escaping at the start: nothing to say */
+        return;
+    }
+    if (c->esc_phase == ROVER_ESC_FOLLOW)
+        printf("[%9.3f] robot %d: %s on its %s at (%.2f, %.2f), %.2f m from the goal (%.2f m at the start)\n",
+               t_s, (int)c->id, phases[c->esc_phase], c->esc_side < 0 ? "right" : "left", o->x_m,
+               o->y_m, dist_m, c->esc_hit_dist_m);
+    else
+        printf("[%9.3f] robot %d: %s at (%.2f, %.2f)\n", t_s, (int)c->id, phases[c->esc_phase], o->x_m,
+               o->y_m);
+    h->shown_esc = esc;
+    fflush(stdout);
+}
+
 /* One console line per change of what a robot is doing (mode, formation
  * type, giving way), so that a run can be followed without lcm-spy. */
-void rover_report_changes(hosted *h, int mode, double t_s)
+void rover_report_changes(hosted *h, const rover_ctl_out *o, double t_s)
 {
+    const int mode = o->mode;
     static const char *const modes[] = { "formation", "dead-zone escape", "changing formation", "at goal",
                                    "safe stop (stale input)" };
     static const char *const types[] = { "line", "triangle", "column" };
@@ -119,6 +147,7 @@ void rover_report_changes(hosted *h, int mode, double t_s)
                types[h->shown_type], types[type], h->c.fsm.scale);
     if (yield != h->shown_yield && h->shown_yield >= 0)
         printf("[%9.3f] robot %d: %s\n", t_s, (int)h->c.id, yield ? "gives way to a leaving mate" : "done giving way");
+    report_escape(h, &o->o, t_s);
     if (mode != h->shown_mode || type != h->shown_type || yield != h->shown_yield)
         fflush(stdout);
     h->shown_mode = mode;

@@ -120,6 +120,9 @@ static const option_entry rover_options[] = {
       .call = parse_ref_heading, .meta = "goal|mean",
       .help = "team reference heading: goal (bearing of the goal) | mean (the seed's mean of the headings)",
       .def = "goal" },
+    { .name = "ref-arrive", .type = OPTION_DOUBLE, OPTION_AT(rover_daemon, params.arrive_m), .min = 0.0,
+      .max = 100.0, .meta = "M", .help = "within M of the goal the team reference turns onto the goal's slot frame "
+      "and its speed fades (0: off, the reference as it is)", .def = "3" },
     { .name = "localize", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, localize), .choices = options_on_off,
       .values = options_on_off_flags,
       .help = "fuse the world's LED landmarks with odometry (EKF); off: odometry and frame consensus only",
@@ -214,7 +217,7 @@ static int cycle(daemon *d, void *user)
             d->msgs.rejected++;
         }
         if (o.mode == ROVER_MODE_SAFE_STOP) stopped++;
-        rover_report_changes(h, o.mode, t_s);
+        rover_report_changes(h, &o, t_s);
         if (o.send_team) rover_publish_team(rd, h, &o, step, utime);
         rover_fill_outputs(h, &o, step, utime, &ob->cmd[n], &ob->st[n]);
         n++;
@@ -287,7 +290,7 @@ int main(int argc, char **argv)
         }
         snprintf(h->ch_cmd, sizeof h->ch_cmd, "ROVER%d_COMMAND", j);
         snprintf(h->ch_state, sizeof h->ch_state, "ROVER%d_STATE", j);
-        h->shown_mode = h->shown_type = h->shown_yield = -1;
+        h->shown_mode = h->shown_type = h->shown_yield = h->shown_esc = -1;
         h->sens_step = h->sonar_step = h->camera_step = -1;
     }
     if (rover_journal_start(rd) != 0) return 1;

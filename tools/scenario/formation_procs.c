@@ -70,15 +70,16 @@ static int journaled(const fm_state *fm, int k)
 /* The tandem-rover process of robot k (all robots with --procs single). */
 static pid_t spawn_rover(fm_state *fm, int k)
 {
-    char n_s[16], w_s[32], id_s[32], journal[700];
+    char n_s[16], w_s[32], id_s[32], arrive_s[32], journal[700];
     char *fo = (char *)fm_formation_name(fm->formation), *bl = (char *)fm_blend_name(fm->blend);
     char *rv[32] = { "tandem-rover", "--id", id_s, "--robots", n_s, "--world", w_s,
                      "--formation", fo, "--blend", bl, "--lockstep",
                      "--formation-law", fm->law_kanayama ? "kanayama" : "seed",
                      "--ref-heading", fm->ref_goal ? "goal" : "mean",
-                     "--localize", fm->localize_off ? "off" : "on" };
-    int n = 18;
+                     "--localize", fm->localize_off ? "off" : "on", "--ref-arrive", arrive_s };
+    int n = 20;
     snprintf(n_s, sizeof n_s, "%d", fm->robots);
+    snprintf(arrive_s, sizeof arrive_s, "%.17g", fm->ref_arrive_m);
     snprintf(w_s, sizeof w_s, "%s", rover_world_name(fm->world));
     if (fm->batch) rv[n++] = "--batch";
     if (journaled(fm, k)) {

@@ -42,6 +42,7 @@ void fm_write_summary(const fm_state *fm, double wall_s)
     json_str(&j, "blend", fm_blend_name(fm->blend));
     json_str(&j, "formation_law", fm->law_kanayama ? "kanayama" : "seed");
     json_str(&j, "ref_heading", fm->ref_goal ? "goal" : "mean");
+    json_num(&j, "ref_arrive_m", fm->ref_arrive_m);
     json_bool(&j, "localize", !fm->localize_off);
     json_int(&j, "robots", fm->robots);
     json_int(&j, "seed", fm->seed);

@@ -35,6 +35,7 @@ typedef struct fm_state {
     /* options */
     int    formation, world, blend, robots, single, batch;
     int    law_kanayama, ref_goal, localize_off;   /* --formation-law, --ref-heading, --localize */
+    double ref_arrive_m;                          /* --ref-arrive */
     char   timeout_ms[24];                     /* --lockstep-timeout-ms */
     long   timeout_ms_given;
     scenario_drop drop;                        /* --drop-rate */

@@ -79,6 +79,9 @@ static const option_entry formation_table[] = {
     { .name = "ref-heading", .type = OPTION_CHOICE, OPTION_AT(fm_state, ref_goal), .choices = ref_headings,
       .help = "the team reference heading: goal (bearing of the goal) or mean (the seed's mean of the headings)",
       .def = "goal" },
+    { .name = "ref-arrive", .type = OPTION_DOUBLE, OPTION_AT(fm_state, ref_arrive_m), .min = 0.0, .max = 100.0,
+      .meta = "M", .help = "within M of the goal the team reference turns onto the goal's slot frame and its "
+      "speed fades (0: off)", .def = "3" },
     { .name = "localize", .type = OPTION_CHOICE, OPTION_AT(fm_state, localize_off), .choices = options_on_off,
       .help = "robots fuse the world's LED landmarks", .def = "on" },
     { .name = "lockstep-timeout-ms", .type = OPTION_INT, OPTION_AT(fm_state, timeout_ms_given), .min = 100,
@@ -127,6 +130,7 @@ static int parse(fm_state *fm, int argc, char **argv)
     fm->world = ROVER_WORLD_OPEN;
     fm->blend = 0;
     fm->ref_goal = 1;
+    fm->ref_arrive_m = 3.0;
     fm->timeout_ms_given = 10000;
     fm->robots = 3;
     fm->seed = 1;

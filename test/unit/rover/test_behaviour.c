@@ -367,6 +367,61 @@ static void test_seed_ahead_converges_from_offsets(void **state)
     }
 }
 
+/* A robot facing backward (heading -+2.94 rad, the team heading 0, the
+ * team moving at 0.3 m/s), its slot behind it: the law's O velocity is
+ * behind it, V is floored at 0, and it turns the short way onto the team
+ * heading (left from -2.94, right from +2.94) whatever the slot's small
+ * sideways offset; the law's own turn (the sideways part of the backward
+ * velocity over |d|) changes sign with that offset: in a blend it pulled
+ * against the goal behaviour's turn as often as with it. From there it
+ * takes its slot with V >= 0. With the team standing (V0 = 0) the turn is
+ * the law's own: there is no slot coming to wait for. */
+static void test_seed_backward_turns_onto_team_heading(void **state)
+{
+    static const double th0[2] = { -2.94, 2.94 };
+    const double dt = 0.002;
+    int s, k, law_left = 0, law_right = 0;
+    (void)state;
+    for (s = 0; s < 2; s++) {
+        behaviour_params p;
+        unicycle_state ref = { 0, 0, 0, 0.3, 0.0 };
+        pose2 o;
+        unicycle_cmd u, law;
+        double Rd = 0.0, vmin = 1e9, y;
+        behaviour_params_default(&p);
+        for (y = 0.7; y <= 1.3 + 1e-9; y += 0.05) {          /* the slot (0, 1) from beside to 0.3 m off */
+            o = (pose2){ -0.4, y, th0[s] };
+            assert_int_equal(behaviour_formation_seed(&u, &Rd, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
+            assert_int_equal(behaviour_formation(&law, NULL, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
+            if (!(law.v_mps < 0.0)) continue;                  /* O may move ahead: the law as is */
+            assert_true(u.v_mps == 0.0 && u.w_radps * -th0[s] > 0.0);
+            if (law.w_radps > 0.0) law_left++;
+            else law_right++;
+        }
+        o = (pose2){ -0.4, 1.2, th0[s] };
+        for (k = 0; k < (int)(40.0 / dt); k++) {
+            assert_int_equal(behaviour_formation_seed(&u, &Rd, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
+            if (u.v_mps < vmin) vmin = u.v_mps;
+            o = o_after(&o, &u, p.d_m, dt);
+            ref.x_m += ref.v_mps * dt;
+        }
+        print_message("from heading %+.2f: end slot error %.4f m, heading %.4f, min V %.3f\n", th0[s], Rd,
+                      o.theta_rad, vmin);
+        assert_true(vmin >= 0.0);
+        assert_true(Rd < 0.005 && fabs(vec2_wrap_rad(o.theta_rad)) < 0.005);
+        /* the team standing: the law's own turn */
+        ref.v_mps = 0.0;
+        ref.x_m = 0.0;
+        o = (pose2){ -0.6, 1.2, th0[s] };         /* the slot behind it */
+        assert_int_equal(behaviour_formation_seed(&u, &Rd, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
+        assert_int_equal(behaviour_formation(&law, NULL, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
+        assert_true(law.v_mps < 0.0);
+        assert_true(u.v_mps == 0.0 && fabs(u.w_radps - law.w_radps) < 1e-12);
+    }
+    print_message("the law's own turn over those offsets: %d left, %d right\n", law_left, law_right);
+    assert_true(law_left + law_right >= 20 && law_left > 0 && law_right > 0);
+}
+
 static void test_formation_track_bands(void **state)
 {
     behaviour_params p;
@@ -613,6 +668,7 @@ int main(void)
         cmocka_unit_test(test_seed_heading_linearisation),
         cmocka_unit_test(test_seed_heading_closed_loop),
         cmocka_unit_test(test_seed_ahead_converges_from_offsets),
+        cmocka_unit_test(test_seed_backward_turns_onto_team_heading),
         cmocka_unit_test(test_sonar_groups_and_avoid),
         cmocka_unit_test(test_d_st),
         cmocka_unit_test(test_dead_zone_alternation),

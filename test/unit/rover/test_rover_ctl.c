@@ -683,6 +683,172 @@ static void test_escape_timeout_and_lost_wall(void **state)
     assert_int_equal(c.ann_code, FORMATION_ANN_REJOIN);
 }
 
+/* One hand-fed step with the camera seeing every mate where the table
+ * says it is (the give-way rule counts only mates seen). */
+static void seen_step_enc(rover_ctl_state *c, double t, double enc, const double rng[8], const hand_mate *m,
+                          int nm, rover_ctl_out *out)
+{
+    pose2 o;
+    int j;
+    hand_step_enc(c, t, enc, enc, rng, m, nm, out);
+    o = out->o;
+    for (j = 0; j < nm; j++)
+        rover_ctl_beacon(c, m[j].id, hypot(m[j].x - o.x_m, m[j].y - o.y_m),
+                         vec2_angle_diff_rad(atan2(m[j].y - o.y_m, m[j].x - o.x_m), o.theta_rad));
+}
+
+static void seen_step(rover_ctl_state *c, double t, const double rng[8], const hand_mate *m, int nm,
+                      rover_ctl_out *out)
+{
+    seen_step_enc(c, t, 0.0, rng, m, nm, out);
+}
+
+/* Walls 0.6 m on each side, the way ahead free: confined, not trapped. */
+static const double lane_ring[8] = { 0.6, 0.8, 5, 5, 5, 5, 0.8, 0.6 };
+static const double goal_ahead[2] = { 10.0, 0.0 };
+
+/* Robot `id` with the default parameters at the origin, heading for
+ * goal_ahead. */
+static void at_origin(rover_ctl_state *c, rover_ctl_params *p, int32_t id)
+{
+    const pose2 s0 = { 0, 0, 0 };
+    rover_ctl_params_default(p);
+    assert_int_equal(rover_ctl_init(c, p, id, &s0, goal_ahead), 0);
+}
+
+/* Giving way: a trapped mate (LEAVE) 1.2 m ahead coming our way, walls
+ * near: leave the formation announcing GIVE_WAY (not LEAVE), the leave
+ * rule referenced to the trapped mate's distance to the goal (it is the
+ * one the wall is followed round for; ours, 1.2 m farther, left a robot
+ * that gave way past the trap with no point on the trap's wall near enough
+ * to leave it). A mate that announced GIVE_WAY makes nobody else give way
+ * (a cascade had two robots giving way to each other along the walls). */
+static void test_give_way_announces_and_references(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    hand_mate m = { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE };
+    double t = 0.0, own;
+    int k, gave_way_sent = 0;
+    (void)state;
+    at_origin(&c, &p, 1);
+    for (k = 0; k < 10; k++, t += DT) {
+        seen_step(&c, t, lane_ring, &m, 1, &out);
+        if (out.send_team && out.team.announce == FORMATION_ANN_GIVE_WAY) gave_way_sent = 1;
+        assert_true(!out.send_team || out.team.announce != FORMATION_ANN_LEAVE);
+    }
+    own = hypot(goal_ahead[0] - out.o.x_m, goal_ahead[1] - out.o.y_m);
+    print_message("give way: phase %d yield %d, leave reference %.2f m (own distance %.2f m)\n", c.esc_phase,
+                  c.esc_yield, c.esc_hit_dist_m, own);
+    assert_true(c.esc_yield && c.esc_phase != ROVER_ESC_NONE && gave_way_sent);
+    assert_int_equal(out.mode, ROVER_MODE_CHANGING);
+    assert_true(fabs(c.esc_hit_dist_m - (own - 1.2)) < 0.3);
+    /* the same mate giving way instead of trapped: no give-way */
+    m.announce = FORMATION_ANN_GIVE_WAY;
+    at_origin(&c, &p, 1);
+    for (k = 0, t = 0.0; k < 10; k++, t += DT) seen_step(&c, t, lane_ring, &m, 1, &out);
+    assert_int_equal(c.esc_phase, ROVER_ESC_NONE);
+    assert_false(c.esc_yield);
+}
+
+/* A trapped mate ahead still facing into its pocket (not coming our way
+ * yet), walls near: stand (no speed, no turn) until it comes, at most
+ * hold_max_s; in the open, or with the mate gone, drive on. */
+static void test_hold_while_trapped_mate_turns(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    const hand_mate m = { 2, 1.35, 0.0, 0.0, FORMATION_ANN_LEAVE };
+    double t = 0.0;
+    int held = 1;
+    (void)state;
+    at_origin(&c, &p, 1);
+    for (; t < p.hold_max_s - 0.5; t += DT) {
+        seen_step(&c, t, lane_ring, &m, 1, &out);
+        if (t > 0.2 && !(c.holding && out.u.v_mps == 0.0 && out.u.w_radps == 0.0)) held = 0;
+    }
+    assert_true(held);
+    assert_int_equal(c.esc_phase, ROVER_ESC_NONE);
+    for (; t < p.hold_max_s + 1.0; t += DT) seen_step(&c, t, lane_ring, &m, 1, &out);
+    assert_false(c.holding);
+    assert_true(out.u.v_mps > 0.0);
+    /* in the open: no hold */
+    at_origin(&c, &p, 1);
+    for (t = 0.0; t < 1.0; t += DT) seen_step(&c, t, open_ring, &m, 1, &out);
+    assert_false(c.holding);
+    assert_true(out.u.v_mps > 0.0);
+}
+
+/* A controller whose robot drove 0.6 m straight ahead from s0 in 3 s (the
+ * encoders turned DRIVE_IN_RAD), nothing seen; returns the time. */
+#define DRIVE_IN_RAD (0.6 / ODOMETRY_P2DX_WHEEL_RADIUS_M)
+static double drive_in(rover_ctl_state *c, const rover_ctl_params *p, int32_t id, const pose2 *s0,
+                       const double goal[2])
+{
+    rover_ctl_out out;
+    double t;
+    assert_int_equal(rover_ctl_init(c, p, id, s0, goal), 0);
+    for (t = 0.0; t < 3.0; t += DT) hand_step_enc(c, t, DRIVE_IN_RAD * t / 3.0, DRIVE_IN_RAD * t / 3.0, open_ring,
+                                                  NULL, 0, &out);
+    return t;
+}
+
+/* Giving way wedged beside a mate whose chassis is inside our turning
+ * circle: never turn into it. The higher id backs straight out (at most
+ * back_max_m, no farther than it drove in straight, only with no mate
+ * behind) so that the lower id can turn; the lower id waits. With the
+ * mate 0.9 m away it turns at once. A robot that has not driven straight
+ * (it turned on the spot) does not back: it has no idea what is behind. */
+static void test_give_way_wedged(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    const pose2 s0 = { -0.6, 0, 0 };       /* drives 0.6 m straight in first */
+    hand_mate m[2] = { { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE },
+                       { 1, 0.15, 0.45, 0.0, FORMATION_ANN_NONE } };     /* alongside, left */
+    double t = 0.0, backed = 0.0;
+    int k, turned = 0;
+    (void)state;
+    rover_ctl_params_default(&p);
+    t = drive_in(&c, &p, 3, &s0, goal_ahead);
+    for (k = 0; t < 13.0; k++, t += DT) {
+        seen_step_enc(&c, t, DRIVE_IN_RAD, lane_ring, m, 2, &out);
+        if (!c.esc_yield) continue;
+        assert_true(out.u.w_radps == 0.0);
+        if (out.u.v_mps < 0.0) backed += -out.u.v_mps * DT;
+    }
+    print_message("wedged, higher id: backed %.2f m (at most %.2f), then waits\n", backed, p.back_max_m);
+    assert_true(c.esc_yield);
+    assert_true(backed > p.back_max_m - 0.05 && backed < p.back_max_m + 0.05);
+    assert_true(out.u.v_mps == 0.0);
+    /* the lower id waits, it does not back */
+    m[1].id = 4;
+    for (t = drive_in(&c, &p, 3, &s0, goal_ahead); t < 6.0; t += DT) {
+        seen_step_enc(&c, t, DRIVE_IN_RAD, lane_ring, m, 2, &out);
+        if (c.esc_yield) assert_true(out.u.v_mps >= 0.0 && out.u.w_radps == 0.0);
+    }
+    assert_true(c.esc_yield);
+    /* the mate 0.9 m away: room to turn */
+    m[1].y = 0.9;
+    for (t = drive_in(&c, &p, 3, &s0, goal_ahead); t < 6.0; t += DT) {
+        seen_step_enc(&c, t, DRIVE_IN_RAD, lane_ring, m, 2, &out);
+        if (c.esc_yield && out.u.w_radps != 0.0) turned = 1;
+    }
+    assert_true(c.esc_yield && turned);
+    /* no straight way in behind it: it stands, it does not back */
+    m[1].id = 1;
+    m[1].y = 0.45;
+    at_origin(&c, &p, 3);
+    for (t = 0.0; t < 3.0; t += DT) {
+        seen_step(&c, t, lane_ring, m, 2, &out);
+        if (c.esc_yield) assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
+    }
+    assert_true(c.esc_yield);
+}
+
 /* Masking mates out of the ring, by property: for random placements of a
  * mate round the robot (the team table off by up to 8 cm and 0.1 rad),
  * every echo the mate itself returns is masked; an echo from a post
@@ -1116,6 +1282,9 @@ int main(void)
         cmocka_unit_test(test_obstacles_no_spurious_changes),
         cmocka_unit_test(test_corridor_protocol),
         cmocka_unit_test(test_give_way_to_leaving_mate),
+        cmocka_unit_test(test_give_way_announces_and_references),
+        cmocka_unit_test(test_hold_while_trapped_mate_turns),
+        cmocka_unit_test(test_give_way_wedged),
         cmocka_unit_test(test_deadzone_team),
         cmocka_unit_test(test_escape_timeout_and_lost_wall),
         cmocka_unit_test(test_mask_mates_property),

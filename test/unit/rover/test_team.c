@@ -48,6 +48,18 @@ static void test_reference_average_wrap(void **state)
     assert_int_equal(team_update(&t, &b), 0);
     assert_int_equal(team_reference(&ref, &t, &self, 0, 0.15, 10.0), 2);
     assert_true(fabs(ref.x_m - 1.5) < 1e-12);
+    /* one giving way to it (GIVE_WAY) is taken into the table (a table that
+     * refused the code lost every robot giving way: its echoes were no
+     * longer masked and two of them followed each other off as walls) and
+     * left out of the reference as well */
+    a.announce = FORMATION_ANN_GIVE_WAY;
+    a.t_s = 10.0;
+    assert_int_equal(team_update(&t, &a), 0);
+    assert_true(fabs(t.m[0].x_m - 1.0) < 1e-12 && t.m[0].announce == FORMATION_ANN_GIVE_WAY);
+    assert_int_equal(team_reference(&ref, &t, &self, 0, 0.15, 10.0), 1);
+    /* an unknown code is refused */
+    a.announce = FORMATION_ANN_GIVE_WAY + 1;
+    assert_int_equal(team_update(&t, &a), TEAM_ERR_ARG);
 }
 
 static void test_reference_extrapolates(void **state)
