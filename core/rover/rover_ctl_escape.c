@@ -27,11 +27,15 @@ void rover_ctl_follow(unicycle_cmd *u, const sonar_groups *g, int side,
                       const rover_ctl_params *p)
 {
     const double s = side < 0 ? -1.0 : 1.0;
-    const double near_side = s < 0 ? fmin(g->right_m, g->right_front_m)
-                                   : fmin(g->left_m, g->left_front_m);
+    const double right = fmin(g->right_m, g->right_front_m), left = fmin(g->left_m, g->left_front_m);
+    const double near_side = s < 0 ? right : left;
+    /* in a passage narrower than twice follow_dist_m, its middle: held at
+     * follow_dist_m from one wall, a robot in a 1 m dead end steered into
+     * the other, found itself blocked and turned on the spot there for good */
+    const double keep_m = fmin(p->follow_dist_m, 0.5 * (left + right));
     const double wmax = p->follow_w_radps;
     if (g->front_m < p->follow_dist_m + 0.1 ||
-        (s < 0 ? g->right_front_m : g->left_front_m) < 0.75 * p->follow_dist_m) {
+        (s < 0 ? g->right_front_m : g->left_front_m) < 0.75 * keep_m) {
         /* blocked ahead: turn away from the wall side on the spot (creeping
          * forward while turning walked the axle toward the walls of a narrow
          * pocket until the turning tail touched one) */
@@ -42,7 +46,7 @@ void rover_ctl_follow(unicycle_cmd *u, const sonar_groups *g, int side,
         u->v_mps = 0.7 * p->follow_v_mps;
         u->w_radps = s * 0.8 * wmax;
     } else {
-        double w = -s * 2.0 * (p->follow_dist_m - near_side);
+        double w = -s * 2.0 * (keep_m - near_side);
         if (w > wmax) w = wmax;
         if (w < -wmax) w = -wmax;
         u->v_mps = p->follow_v_mps;
@@ -80,6 +84,9 @@ typedef struct {
                            * following a wall past us is not coming
                            * through) */
     int    give_way;      /* 1: GIVE_WAY counts as well as LEAVE */
+    double slow_mps;      /* > 0: instead, a mate in formation (no
+                           * announcement) driving slower than this */
+    double range_m;       /* within this (0: give_way_m) */
 } mate_query;
 
 /* The nearest mate that announced LEAVE (it is escaping a dead zone; one
@@ -89,13 +96,15 @@ typedef struct {
 static int leaving_mate(const rover_ctl_state *c, const pose2 *o, const mate_query *q, double now_s,
                         double *bearing_rad, double mate_xy_m[2])
 {
-    double best = c->p.give_way_m;
+    double best = q->range_m > 0.0 ? q->range_m : c->p.give_way_m;
     int i, found = 0;
     for (i = 0; i < c->team.n; i++) {
         const team_member *m = &c->team.m[i];
+        const int wanted = q->slow_mps > 0.0
+            ? formation_ann_out(m->announce) == 0 && fabs(m->v_mps) < q->slow_mps
+            : m->announce == FORMATION_ANN_LEAVE || (q->give_way && m->announce == FORMATION_ANN_GIVE_WAY);
         double xy[2], dist, b;
-        if (!(m->announce == FORMATION_ANN_LEAVE ||
-              (q->give_way && m->announce == FORMATION_ANN_GIVE_WAY)) ||
+        if (!wanted ||
             (q->seen_s > 0.0 && !(now_s - m->obs_t_s <= q->seen_s)) ||
             team_position(&c->team, m->robot, xy) != 0)
             continue;
@@ -237,7 +246,7 @@ static int nearer_wall_side(const sonar_groups *gw)
 static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
                           const double goal[2], double t_s)
 {
-    const mate_query q = { VEC2_PI + 0.1, c->p.give_way_seen_s, 1, 0 };
+    const mate_query q = { VEC2_PI + 0.1, c->p.give_way_seen_s, 1, 0, 0.0, 0.0 };
     double b, mate[2];
     if (!leaving_mate(c, o, &q, t_s, &b, mate) || !confined(gw, &c->p)) return 0;
     c->esc_phase = ROVER_ESC_YIELD;
@@ -260,12 +269,17 @@ static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose
  * pocket and will come out the way it went in. Driving on after it, the
  * mates behind went deep into the narrowing trap, side by side with no
  * room left to turn on the spot when it came, and the three jammed. */
+#define QUEUE_CONE_RAD 0.6
+#define QUEUE_SLOW_MPS 0.1
+#define QUEUE_M 1.3
 static void hold_step(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double t_s,
                       double dt_s)
 {
-    const mate_query q = { 0.5 * VEC2_PI, c->p.give_way_seen_s, 0, 0 };
+    const mate_query q = { 0.5 * VEC2_PI, c->p.give_way_seen_s, 0, 0, 0.0, 0.0 };
+    const mate_query queue = { QUEUE_CONE_RAD, c->p.give_way_seen_s, 0, 0, QUEUE_SLOW_MPS, QUEUE_M };
     double b, mate[2];
-    if (!leaving_mate(c, o, &q, t_s, &b, mate) || !confined(gw, &c->p)) {
+    if (!(leaving_mate(c, o, &q, t_s, &b, mate) || leaving_mate(c, o, &queue, t_s, &b, mate)) ||
+        !confined(gw, &c->p)) {
         c->holding = 0;
         c->hold_s = 0.0;
         return;
@@ -336,7 +350,7 @@ static int spin_or_back(rover_ctl_state *c, const pose2 *o, double dt_s, unicycl
 static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double t_s,
                       double dt_s, unicycle_cmd *u)
 {
-    const mate_query q = { 2.0 * VEC2_PI / 3.0, 0.0, 0, 1 };
+    const mate_query q = { 2.0 * VEC2_PI / 3.0, 0.0, 0, 1, 0.0, 0.0 };
     double b, mate[2];
     if (leaving_mate(c, o, &q, t_s, &b, mate) && c->esc_s < c->p.yield_max_s) {
         u->v_mps = 0.0;
