@@ -76,6 +76,7 @@ typedef struct {
     double hold_max_s;          /* stand at most this long while a trapped mate ahead turns round */
     double back_max_m;          /* wedged beside a mate: back out at most this far ... */
     double back_v_mps;          /* ... this fast */
+    double wedge_max_s;         /* wedged this long (may neither turn nor back): a turn clear of mates' boxes */
     double follow_lost_s;       /* boundary following: no wall in reach this long ends it */
     double passage_sense_max_m; /* side readings beyond: no passage wall */
     double mate_keep_m;         /* a mate's echo nearer than this stays an obstacle */
@@ -142,6 +143,7 @@ typedef struct {
     int     holding;            /* 1: standing while a trapped mate ahead turns round */
     int     esc_backing;        /* 1: giving way, backing out of a wedge (V < 0 allowed) */
     double  esc_back_m;         /* backed so far in this escape */
+    double  esc_wedge_s;        /* standing wedged between mates this long */
     double  trail_m;            /* driven forward, straight, since the heading last changed */
     double  trail_theta_rad;    /* ... from this heading (the way back is known free that far) */
     double  hold_s;             /* time held for the current trapped mate */
@@ -189,7 +191,7 @@ int  rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double
  * encoder reading after rover_ctl_resume integrates the wheels' travel
  * while the process was down. A snapshot is ROVER_CTL_SNAPSHOT_VALUES
  * numbers, id first. */
-#define ROVER_CTL_SNAPSHOT_VALUES 62
+#define ROVER_CTL_SNAPSHOT_VALUES 63
 /* ROVER_CTL_ERR_ARG before the first encoder reading (nothing to keep). */
 int  rover_ctl_snapshot(const rover_ctl_state *c, double v[ROVER_CTL_SNAPSHOT_VALUES]);
 /* c as made by rover_ctl_init (same id) and rover_ctl_set_landmarks;

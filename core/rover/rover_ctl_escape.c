@@ -21,6 +21,59 @@ static double turn_reach_m(void)
 #define SPIN_MARGIN_M 0.03   /* what the team table's positions may be off by at contact range */
 #define FOLLOW_MATE_AHEAD_M 0.3   /* a follower stops this short of a mate in its way */
 
+/* Point (px, py) inside box b (centre, heading; half sizes hx, hy). */
+typedef struct { double x_m, y_m, theta_rad, hx_m, hy_m; } box2;
+static int in_box(double px, double py, const box2 *b)
+{
+    const double dx = px - b->x_m, dy = py - b->y_m;
+    return fabs(dx * cos(b->theta_rad) + dy * sin(b->theta_rad)) <= b->hx_m &&
+           fabs(-dx * sin(b->theta_rad) + dy * cos(b->theta_rad)) <= b->hy_m;
+}
+
+/* Boxes a and b touch: a corner or side midpoint of either inside the
+ * other (enough for the sizes here: neither box fits between the other's
+ * sample points). */
+static int boxes_touch(const box2 *a, const box2 *b)
+{
+    int k, pass;
+    for (pass = 0; pass < 2; pass++) {
+        const box2 *p = pass ? b : a, *q = pass ? a : b;
+        const double cp = cos(p->theta_rad), sp = sin(p->theta_rad);
+        for (k = 0; k < 9; k++) {
+            const double u = (k % 3 - 1) * p->hx_m, v = (k / 3 - 1) * p->hy_m;   /* -1, 0, 1 each */
+            if (in_box(p->x_m + u * cp - v * sp, p->y_m + u * sp + v * cp, q)) return 1;
+        }
+    }
+    return 0;
+}
+
+/* The chassis box (grown by grow_m) of a robot whose axle C is at c. */
+static box2 chassis_box(const pose2 *c, double grow_m)
+{
+    box2 b;
+    b.x_m = c->x_m + ROVER_BODY_OFFSET_M * cos(c->theta_rad);
+    b.y_m = c->y_m + ROVER_BODY_OFFSET_M * sin(c->theta_rad);
+    b.theta_rad = c->theta_rad;
+    b.hx_m = 0.5 * ROVER_BODY_LENGTH_M + grow_m;
+    b.hy_m = 0.5 * ROVER_BODY_WIDTH_M + grow_m;
+    return b;
+}
+
+/* Mate i's chassis box where the team table puts it, grown by
+ * SPIN_MARGIN_M; 0 or TEAM_ERR_UNKNOWN. */
+static int mate_box(const rover_ctl_state *c, int i, box2 *b)
+{
+    const team_member *m = &c->team.m[i];
+    double xy[2];
+    pose2 mc;
+    if (team_position(&c->team, m->robot, xy) != 0) return TEAM_ERR_UNKNOWN;
+    mc.x_m = xy[0] + c->p.beh.d_m * cos(m->theta_rad);
+    mc.y_m = xy[1] + c->p.beh.d_m * sin(m->theta_rad);
+    mc.theta_rad = m->theta_rad;
+    *b = chassis_box(&mc, SPIN_MARGIN_M);
+    return 0;
+}
+
 /* Escape wall following: the nearer range on the wall side held at
  * follow_dist_m by a proportional turn. */
 void rover_ctl_follow(unicycle_cmd *u, const sonar_groups *g, int side,
@@ -172,6 +225,31 @@ static int32_t spin_hits_mate(const rover_ctl_state *c, const pose2 *o)
     return 0;
 }
 
+/* Turning on the spot the way dir (+1 left, -1 right) sweeps our chassis
+ * into a mate's box (mate_box) within the next SPIN_LOOK_RAD: 1, else 0.
+ * Finer than spin_hits_mate's whole turning circle: a mate behind one
+ * flank is hit by the tail turning toward that flank, not the other way. */
+#define SPIN_LOOK_RAD 0.6
+#define SPIN_LOOK_STEPS 6
+static int turn_sweeps_mate(const rover_ctl_state *c, const pose2 *o, int dir)
+{
+    pose2 own_c;
+    box2 mb;
+    int i, k;
+    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
+    for (i = 0; i < c->team.n; i++) {
+        if (mate_box(c, i, &mb) != 0) continue;
+        for (k = 0; k <= SPIN_LOOK_STEPS; k++) {
+            pose2 turned = own_c;
+            box2 own;
+            turned.theta_rad += dir * SPIN_LOOK_RAD * k / SPIN_LOOK_STEPS;
+            own = chassis_box(&turned, 0.0);
+            if (boxes_touch(&own, &mb)) return 1;
+        }
+    }
+    return 0;
+}
+
 /* Where the team table puts robot `who`'s O pose (ourselves: *o); 0 or
  * TEAM_ERR_UNKNOWN. */
 static int robot_o(const rover_ctl_state *c, const pose2 *o, int32_t who, pose2 *out)
@@ -252,6 +330,7 @@ static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose
     c->esc_phase = ROVER_ESC_YIELD;
     c->esc_yield = 1;
     c->esc_back_m = 0.0;
+    c->esc_wedge_s = 0.0;
     c->esc_hit_dist_m = hypot(goal[0] - mate[0], goal[1] - mate[1]);
     c->esc_s = 0.0;
     c->esc_lost_s = 0.0;
@@ -299,6 +378,7 @@ static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, double
     c->escapes++;
     c->esc_s = 0.0;
     c->esc_back_m = 0.0;
+    c->esc_wedge_s = 0.0;
     c->esc_lost_s = 0.0;
     c->esc_wait_s = 0.0;
     c->esc_yield = 0;
@@ -330,17 +410,33 @@ static void trail_step(rover_ctl_state *c, const pose2 *o, double dt_s)
  * turn; otherwise stand. Returns 1 if the turn was held back. */
 static int spin_or_back(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_cmd *u)
 {
+    const double w = u->w_radps;
     int32_t wedge;
     c->esc_backing = 0;
-    if (!(u->v_mps == 0.0 && u->w_radps != 0.0) || (wedge = spin_hits_mate(c, o)) == 0) return 0;
+    if (!(u->v_mps == 0.0 && w != 0.0) || (wedge = spin_hits_mate(c, o)) == 0) {
+        c->esc_wedge_s = 0.0;
+        return 0;
+    }
     u->w_radps = 0.0;
     if (c->esc_back_m < c->p.back_max_m && c->trail_m > c->p.back_v_mps * dt_s && may_back(c, o, c->id) &&
         (wedge < c->id || !may_back(c, o, wedge))) {
         u->v_mps = -c->p.back_v_mps;
         c->esc_backing = 1;
         c->esc_back_m += c->p.back_v_mps * dt_s;
+        c->esc_wedge_s = 0.0;
+        return 1;
     }
-    return 1;
+    /* standing wedged for wedge_max_s (neither may turn its whole circle
+     * nor back): a turn that sweeps clear of every mate's box, either way
+     * round. Two robots in a pocket's throat stood so for the rest of the
+     * run while the trapped one behind them could not get out. */
+    c->esc_wedge_s += dt_s;
+    if (c->esc_wedge_s > c->p.wedge_max_s) {
+        const int dir = w > 0.0 ? 1 : -1;
+        if (!turn_sweeps_mate(c, o, dir)) u->w_radps = w;
+        else if (!turn_sweeps_mate(c, o, -dir)) u->w_radps = -w;
+    }
+    return u->w_radps == 0.0;
 }
 
 /* YIELD: turn on the spot (U in *u, 1) while a leaving mate is ahead, at
@@ -371,14 +467,6 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
     return 0;
 }
 
-/* Point (px, py) inside the box centred at (bx, by), heading th, half
- * sizes hx, hy. */
-static int in_box(double px, double py, double bx, double by, double th, double hx, double hy)
-{
-    const double dx = px - bx, dy = py - by;
-    return fabs(dx * cos(th) + dy * sin(th)) <= hx && fabs(-dx * sin(th) + dy * cos(th)) <= hy;
-}
-
 /* A mate's chassis (where the team table puts it, grown by SPIN_MARGIN_M)
  * reaches into the lane our chassis sweeps driving ahead_m straight on:
  * its corners and side midpoints against the lane, the lane's corners
@@ -388,32 +476,17 @@ static int in_box(double px, double py, double bx, double by, double th, double 
  * alongside it. */
 static int mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahead_m)
 {
-    const double hx = 0.5 * ROVER_BODY_LENGTH_M + SPIN_MARGIN_M, hy = 0.5 * ROVER_BODY_WIDTH_M + SPIN_MARGIN_M;
-    const double lane_hx = 0.5 * (ROVER_BODY_OFFSET_M + 0.5 * ROVER_BODY_LENGTH_M + ahead_m);
-    const double lane_hy = hy;
-    pose2 own_c, lane;
-    int i, k;
+    pose2 own_c;
+    box2 lane, mb;
+    int i;
     unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
     lane.theta_rad = own_c.theta_rad;
-    lane.x_m = own_c.x_m + lane_hx * cos(lane.theta_rad);      /* from the axle forward */
-    lane.y_m = own_c.y_m + lane_hx * sin(lane.theta_rad);
-    for (i = 0; i < c->team.n; i++) {
-        const team_member *m = &c->team.m[i];
-        const double cm = cos(m->theta_rad), sm = sin(m->theta_rad);
-        double xy[2], bx, by;
-        if (team_position(&c->team, m->robot, xy) != 0) continue;
-        bx = xy[0] + (c->p.beh.d_m + ROVER_BODY_OFFSET_M) * cm;    /* the mate's box centre */
-        by = xy[1] + (c->p.beh.d_m + ROVER_BODY_OFFSET_M) * sm;
-        for (k = 0; k < 9; k++) {
-            const double u = (k % 3 - 1), v = (k / 3 - 1);        /* -1, 0, 1 each */
-            const double px = bx + u * hx * cm - v * hy * sm, py = by + u * hx * sm + v * hy * cm;
-            const double lx = lane.x_m + u * lane_hx * cos(lane.theta_rad) - v * lane_hy * sin(lane.theta_rad);
-            const double ly = lane.y_m + u * lane_hx * sin(lane.theta_rad) + v * lane_hy * cos(lane.theta_rad);
-            if (in_box(px, py, lane.x_m, lane.y_m, lane.theta_rad, lane_hx, lane_hy) ||
-                in_box(lx, ly, bx, by, m->theta_rad, hx, hy))
-                return 1;
-        }
-    }
+    lane.hx_m = 0.5 * (ROVER_BODY_OFFSET_M + 0.5 * ROVER_BODY_LENGTH_M + ahead_m);
+    lane.hy_m = 0.5 * ROVER_BODY_WIDTH_M + SPIN_MARGIN_M;
+    lane.x_m = own_c.x_m + lane.hx_m * cos(lane.theta_rad);      /* from the axle forward */
+    lane.y_m = own_c.y_m + lane.hx_m * sin(lane.theta_rad);
+    for (i = 0; i < c->team.n; i++)
+        if (mate_box(c, i, &mb) == 0 && boxes_touch(&lane, &mb)) return 1;
     return 0;
 }
 

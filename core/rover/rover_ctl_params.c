@@ -47,6 +47,7 @@ void rover_ctl_params_default(rover_ctl_params *p)
     /* two robots whose axles are 0.5 m apart cannot turn; 0.3 m more can */
     p->back_max_m = 0.4;
     p->back_v_mps = 0.1;
+    p->wedge_max_s = 8.0;
     p->follow_lost_s = 5.0;
     p->passage_sense_max_m = 2.5;
     p->mate_keep_m = 0.45;
@@ -86,7 +87,7 @@ int rover_ctl_params_validate(const rover_ctl_params *p)
         !pos(p->wheel_radius_m) || !pos(p->axle_track_m) || !pos(p->follow_dist_m) ||
         !pos(p->follow_v_mps) || !pos(p->follow_w_radps) || !pos(p->escape_max_s) ||
         !pos(p->give_way_m) || !pos(p->yield_max_s) || !pos(p->give_way_seen_s) ||
-        !pos(p->yield_clear_m) || !pos(p->yield_wait_s) || !pos(p->hold_max_s) || !pos(p->back_max_m) || !pos(p->back_v_mps) || !pos(p->follow_lost_s) ||
+        !pos(p->yield_clear_m) || !pos(p->yield_wait_s) || !pos(p->hold_max_s) || !pos(p->back_max_m) || !pos(p->back_v_mps) || !pos(p->wedge_max_s) || !pos(p->follow_lost_s) ||
         !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->v_change_mps) ||
         !pos(p->guard_m) || !pos(p->guard_stop_m) || !pos(p->guard_lane_m) ||
         !pos(p->side_guard_m) || !pos(p->side_turn_radps) || !isfinite(p->goal_heading_gain) ||

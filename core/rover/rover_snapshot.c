@@ -46,6 +46,7 @@ static const snap_field snap_table[] = {
     F_I(esc_phase), F_I(esc_side), F_I(esc_yield), F_I(esc_turn),
     F_D(esc_hit_dist_m), F_D(esc_s), F_D(esc_lost_s), F_D(esc_wait_s), F_I(escapes),
     F_D(hold_s), F_D(esc_back_m), F_D(trail_m), F_D(trail_theta_rad), F_I(holding),
+    F_D(esc_wedge_s),
 };
 #define SNAP_N ((int)(sizeof snap_table / sizeof snap_table[0]))
 
