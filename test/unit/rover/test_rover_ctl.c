@@ -781,6 +781,80 @@ static void test_hold_while_trapped_mate_turns(void **state)
     assert_true(out.u.v_mps > 0.0);
 }
 
+/* Queue: a mate still in formation standing 1 m ahead where walls are
+ * near (about to find its pocket closed): stand behind it, at most
+ * hold_max_s; 2 m ahead, or in the open, drive on. */
+static void test_queue_behind_standing_mate(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    hand_mate m = { 2, 1.15, 0.0, 0.0, FORMATION_ANN_NONE };
+    double t;
+    int held = 1;
+    (void)state;
+    at_origin(&c, &p, 1);
+    for (t = 0.0; t < p.hold_max_s - 0.5; t += DT) {
+        seen_step(&c, t, lane_ring, &m, 1, &out);
+        if (t > 0.2 && !(c.holding && out.u.v_mps == 0.0)) held = 0;
+    }
+    assert_true(held);
+    for (; t < p.hold_max_s + 1.0; t += DT) seen_step(&c, t, lane_ring, &m, 1, &out);
+    assert_false(c.holding);
+    m.x = 2.15;
+    at_origin(&c, &p, 1);
+    for (t = 0.0; t < 1.0; t += DT) seen_step(&c, t, lane_ring, &m, 1, &out);
+    assert_false(c.holding);
+    assert_true(out.u.v_mps > 0.0);
+    m.x = 1.15;
+    at_origin(&c, &p, 1);
+    for (t = 0.0; t < 1.0; t += DT) seen_step(&c, t, open_ring, &m, 1, &out);
+    assert_false(c.holding);
+}
+
+/* Wedged with no way back (it turned on the spot to get there: no
+ * trail) and a mate behind its right flank: it stands for wedge_max_s,
+ * then turns the way whose sweep is clear of the mate's chassis. Its
+ * give-way turn is to the left (the roomier side on a tie), which would
+ * swing its tail into the mate: it turns right. With a second mate
+ * behind the left flank neither way is clear and it keeps standing. */
+static void test_wedge_turns_clear_way(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    hand_mate m[3] = { { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE },
+                       { 1, -0.2, -0.45, 0.0, FORMATION_ANN_NONE },     /* behind the right flank */
+                       { 4, -0.2, 0.45, 0.0, FORMATION_ANN_NONE } };    /* behind the left flank */
+    double t, w_first = 0.0, t_first = -1.0;
+    int stood = 1;
+    (void)state;
+    at_origin(&c, &p, 3);
+    assert_int_equal(c.trail_m, 0.0);
+    for (t = 0.0; t < p.wedge_max_s + 2.0; t += DT) {
+        seen_step(&c, t, lane_ring, m, 2, &out);
+        if (!c.esc_yield) continue;
+        if (out.u.w_radps != 0.0 && t_first < 0.0) {
+            t_first = t;
+            w_first = out.u.w_radps;
+        }
+        if (t < p.wedge_max_s && out.u.w_radps != 0.0) stood = 0;
+        assert_true(out.u.v_mps == 0.0);
+    }
+    print_message("wedge: stood until %.2f s (wedge_max_s %.1f), then w = %.2f rad/s\n", t_first, p.wedge_max_s,
+                  w_first);
+    assert_true(c.esc_yield && stood);
+    assert_true(t_first > p.wedge_max_s && t_first < p.wedge_max_s + 0.5);
+    assert_true(w_first < 0.0);
+    /* hemmed in on both flanks: no turn is clear */
+    at_origin(&c, &p, 3);
+    for (t = 0.0; t < p.wedge_max_s + 2.0; t += DT) {
+        seen_step(&c, t, lane_ring, m, 3, &out);
+        if (c.esc_yield) assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
+    }
+    assert_true(c.esc_yield);
+}
+
 /* A controller whose robot drove 0.6 m straight ahead from s0 in 3 s (the
  * encoders turned DRIVE_IN_RAD), nothing seen; returns the time. */
 #define DRIVE_IN_RAD (0.6 / ODOMETRY_P2DX_WHEEL_RADIUS_M)
@@ -1284,6 +1358,8 @@ int main(void)
         cmocka_unit_test(test_give_way_to_leaving_mate),
         cmocka_unit_test(test_give_way_announces_and_references),
         cmocka_unit_test(test_hold_while_trapped_mate_turns),
+        cmocka_unit_test(test_queue_behind_standing_mate),
+        cmocka_unit_test(test_wedge_turns_clear_way),
         cmocka_unit_test(test_give_way_wedged),
         cmocka_unit_test(test_deadzone_team),
         cmocka_unit_test(test_escape_timeout_and_lost_wall),
