@@ -7,72 +7,10 @@
  * Own announcements (LEAVE, REJOIN) are made here.
  */
 #include "rover_ctl_internal.h"
-#include "rover_world.h"
 
 #include <math.h>
 
-/* Chassis corners' reach round C (the box centre is ROVER_BODY_OFFSET_M
- * ahead of C): the circle a robot turning on the spot sweeps, 0.314 m. */
-static double turn_reach_m(void)
-{
-    return hypot(0.5 * ROVER_BODY_LENGTH_M + fabs(ROVER_BODY_OFFSET_M), 0.5 * ROVER_BODY_WIDTH_M);
-}
-
-#define SPIN_MARGIN_M 0.03   /* what the team table's positions may be off by at contact range */
 #define FOLLOW_MATE_AHEAD_M 0.3   /* a follower stops this short of a mate in its way */
-
-/* Point (px, py) inside box b (centre, heading; half sizes hx, hy). */
-typedef struct { double x_m, y_m, theta_rad, hx_m, hy_m; } box2;
-static int in_box(double px, double py, const box2 *b)
-{
-    const double dx = px - b->x_m, dy = py - b->y_m;
-    return fabs(dx * cos(b->theta_rad) + dy * sin(b->theta_rad)) <= b->hx_m &&
-           fabs(-dx * sin(b->theta_rad) + dy * cos(b->theta_rad)) <= b->hy_m;
-}
-
-/* Boxes a and b touch: a corner or side midpoint of either inside the
- * other (enough for the sizes here: neither box fits between the other's
- * sample points). */
-static int boxes_touch(const box2 *a, const box2 *b)
-{
-    int k, pass;
-    for (pass = 0; pass < 2; pass++) {
-        const box2 *p = pass ? b : a, *q = pass ? a : b;
-        const double cp = cos(p->theta_rad), sp = sin(p->theta_rad);
-        for (k = 0; k < 9; k++) {
-            const double u = (k % 3 - 1) * p->hx_m, v = (k / 3 - 1) * p->hy_m;   /* -1, 0, 1 each */
-            if (in_box(p->x_m + u * cp - v * sp, p->y_m + u * sp + v * cp, q)) return 1;
-        }
-    }
-    return 0;
-}
-
-/* The chassis box (grown by grow_m) of a robot whose axle C is at c. */
-static box2 chassis_box(const pose2 *c, double grow_m)
-{
-    box2 b;
-    b.x_m = c->x_m + ROVER_BODY_OFFSET_M * cos(c->theta_rad);
-    b.y_m = c->y_m + ROVER_BODY_OFFSET_M * sin(c->theta_rad);
-    b.theta_rad = c->theta_rad;
-    b.hx_m = 0.5 * ROVER_BODY_LENGTH_M + grow_m;
-    b.hy_m = 0.5 * ROVER_BODY_WIDTH_M + grow_m;
-    return b;
-}
-
-/* Mate i's chassis box where the team table puts it, grown by
- * SPIN_MARGIN_M; 0 or TEAM_ERR_UNKNOWN. */
-static int mate_box(const rover_ctl_state *c, int i, box2 *b)
-{
-    const team_member *m = &c->team.m[i];
-    double xy[2];
-    pose2 mc;
-    if (team_position(&c->team, m->robot, xy) != 0) return TEAM_ERR_UNKNOWN;
-    mc.x_m = xy[0] + c->p.beh.d_m * cos(m->theta_rad);
-    mc.y_m = xy[1] + c->p.beh.d_m * sin(m->theta_rad);
-    mc.theta_rad = m->theta_rad;
-    *b = chassis_box(&mc, SPIN_MARGIN_M);
-    return 0;
-}
 
 /* Escape wall following: the nearer range on the wall side held at
  * follow_dist_m by a proportional turn. */
@@ -125,7 +63,7 @@ static void announce_own(rover_ctl_state *c, int code)
     c->ann_seq = formation_fsm_next_seq(&c->fsm);
 }
 
-/* Which out-of-formation mates leaving_mate looks for. */
+/* Which mates find_mate looks for (fields left 0: not asked). */
 typedef struct {
     double cone_rad;      /* bearing from our heading within this */
     double seen_s;        /* > 0: its beacon seen by the camera within this
@@ -142,11 +80,11 @@ typedef struct {
     double range_m;       /* within this (0: give_way_m) */
 } mate_query;
 
-/* The nearest mate that announced LEAVE (it is escaping a dead zone; one
- * giving way announces GIVE_WAY and makes nobody else give way) within
- * give_way_m that matches q: 1, its bearing from our heading and its
- * position, or 0. */
-static int leaving_mate(const rover_ctl_state *c, const pose2 *o, const mate_query *q, double now_s,
+/* The nearest mate that matches q: by default one that announced LEAVE
+ * (it is escaping a dead zone; one giving way announces GIVE_WAY and makes
+ * nobody else give way), within give_way_m. 1, its bearing from our
+ * heading and its position, or 0. */
+static int find_mate(const rover_ctl_state *c, const pose2 *o, const mate_query *q, double now_s,
                         double *bearing_rad, double mate_xy_m[2])
 {
     double best = q->range_m > 0.0 ? q->range_m : c->p.give_way_m;
@@ -177,126 +115,6 @@ static int leaving_mate(const rover_ctl_state *c, const pose2 *o, const mate_que
     return found;
 }
 
-/* A lower-id mate turning on the spot (not driving) with its axle within
- * yield_clear_m of ours: a robot turning on the spot sweeps a circle of
- * ~0.31 m round its axle, two side by side that both turn sweep their
- * tails into each other; the higher id waits its turn (at most
- * yield_wait_s: the other may be spinning in place until we move). */
-static int turn_blocked_by_mate(const rover_ctl_state *c, const pose2 *o)
-{
-    pose2 own_c;
-    int i;
-    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
-    for (i = 0; i < c->team.n; i++) {
-        const team_member *m = &c->team.m[i];
-        const int spinning = fabs(m->v_mps) <= 0.05 && fabs(m->w_radps) >= 0.1;
-        double xy[2];
-        if (m->robot >= c->id || !spinning || team_position(&c->team, m->robot, xy) != 0)
-            continue;
-        if (hypot(xy[0] + c->p.beh.d_m * cos(m->theta_rad) - own_c.x_m,
-                  xy[1] + c->p.beh.d_m * sin(m->theta_rad) - own_c.y_m) < c->p.yield_clear_m)
-            return 1;
-    }
-    return 0;
-}
-
-/* Turning on the spot now would sweep our chassis into a mate's: the id
- * of a mate whose chassis (where the team table puts it) lies within our
- * turning circle, or 0. Unlike turn_blocked_by_mate this is never waited
- * out: two robots giving way side by side whose tails met did so when the
- * wait ran out with the other still turning. */
-static int32_t spin_hits_mate(const rover_ctl_state *c, const pose2 *o)
-{
-    const double reach = turn_reach_m() + SPIN_MARGIN_M;
-    pose2 own_c;
-    int i;
-    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
-    for (i = 0; i < c->team.n; i++) {
-        const team_member *m = &c->team.m[i];
-        const double cm = cos(m->theta_rad), sm = sin(m->theta_rad);
-        double xy[2], mx, my, along, across;
-        if (team_position(&c->team, m->robot, xy) != 0) continue;
-        mx = xy[0] + c->p.beh.d_m * cm - own_c.x_m;            /* mate's C from ours */
-        my = xy[1] + c->p.beh.d_m * sm - own_c.y_m;
-        along = fabs(mx * cm + my * sm + ROVER_BODY_OFFSET_M) - 0.5 * ROVER_BODY_LENGTH_M;
-        across = fabs(-mx * sm + my * cm) - 0.5 * ROVER_BODY_WIDTH_M;
-        if (hypot(fmax(along, 0.0), fmax(across, 0.0)) < reach) return m->robot;
-    }
-    return 0;
-}
-
-/* Turning on the spot the way dir (+1 left, -1 right) sweeps our chassis
- * into a mate's box (mate_box) within the next SPIN_LOOK_RAD: 1, else 0.
- * Finer than spin_hits_mate's whole turning circle: a mate behind one
- * flank is hit by the tail turning toward that flank, not the other way. */
-#define SPIN_LOOK_RAD 0.6
-#define SPIN_LOOK_STEPS 6
-static int turn_sweeps_mate(const rover_ctl_state *c, const pose2 *o, int dir)
-{
-    pose2 own_c;
-    box2 mb;
-    int i, k;
-    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
-    for (i = 0; i < c->team.n; i++) {
-        if (mate_box(c, i, &mb) != 0) continue;
-        for (k = 0; k <= SPIN_LOOK_STEPS; k++) {
-            pose2 turned = own_c;
-            box2 own;
-            turned.theta_rad += dir * SPIN_LOOK_RAD * k / SPIN_LOOK_STEPS;
-            own = chassis_box(&turned, 0.0);
-            if (boxes_touch(&own, &mb)) return 1;
-        }
-    }
-    return 0;
-}
-
-/* Where the team table puts robot `who`'s O pose (ourselves: *o); 0 or
- * TEAM_ERR_UNKNOWN. */
-static int robot_o(const rover_ctl_state *c, const pose2 *o, int32_t who, pose2 *out)
-{
-    const team_member *m;
-    double xy[2];
-    if (who == c->id) {
-        *out = *o;
-        return 0;
-    }
-    if (!(m = team_find(&c->team, who)) || team_position(&c->team, who, xy) != 0)
-        return TEAM_ERR_UNKNOWN;
-    out->x_m = xy[0];
-    out->y_m = xy[1];
-    out->theta_rad = m->theta_rad;
-    return 0;
-}
-
-/* Robot `who` may back up: no other robot of the team (ourselves
- * included) has its axle in the lane behind who's (0.1 m to BACK_CLEAR_M back,
- * BACK_LANE_M either side of its centre line: half its width and a mate's
- * turning reach), by the team table (there is no rear sonar). Every robot
- * works this out alike for itself and for a mate, so two wedged robots
- * agree who backs. */
-#define BACK_CLEAR_M 0.9
-#define BACK_LANE_M 0.55
-static int may_back(const rover_ctl_state *c, const pose2 *o, int32_t who)
-{
-    pose2 w, wc, r, rc;
-    int i;
-    if (robot_o(c, o, who, &w) != 0) return 0;
-    unicycle_c_from_o(&wc, &w, c->p.beh.d_m);
-    for (i = -1; i < c->team.n; i++) {
-        const int32_t id = i < 0 ? c->id : c->team.m[i].robot;
-        double mx, my, along;
-        if (id == who || robot_o(c, o, id, &r) != 0) continue;
-        unicycle_c_from_o(&rc, &r, c->p.beh.d_m);
-        mx = rc.x_m - wc.x_m;
-        my = rc.y_m - wc.y_m;
-        along = mx * cos(wc.theta_rad) + my * sin(wc.theta_rad);
-        if (along < -0.1 && along > -BACK_CLEAR_M &&
-            fabs(-mx * sin(wc.theta_rad) + my * cos(wc.theta_rad)) < BACK_LANE_M)
-            return 0;
-    }
-    return 1;
-}
-
 /* Walls (not mates) within reach of boundary following on some side. */
 static int confined(const sonar_groups *gw, const rover_ctl_params *p)
 {
@@ -324,9 +142,9 @@ static int nearer_wall_side(const sonar_groups *gw)
 static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
                           const double goal[2], double t_s)
 {
-    const mate_query q = { VEC2_PI + 0.1, c->p.give_way_seen_s, 1, 0, 0.0, 0.0 };
+    const mate_query q = { .cone_rad = VEC2_PI + 0.1, .seen_s = c->p.give_way_seen_s, .coming = 1 };
     double b, mate[2];
-    if (!leaving_mate(c, o, &q, t_s, &b, mate) || !confined(gw, &c->p)) return 0;
+    if (!find_mate(c, o, &q, t_s, &b, mate) || !confined(gw, &c->p)) return 0;
     c->esc_phase = ROVER_ESC_YIELD;
     c->esc_yield = 1;
     c->esc_back_m = 0.0;
@@ -342,22 +160,27 @@ static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose
     return 1;
 }
 
-/* Hold (c->holding) while a mate that announced LEAVE is ahead within
- * give_way_m, seen by the camera, with walls near, but not yet coming our
- * way, for at most hold_max_s per trapped mate: it is turning round in its
- * pocket and will come out the way it went in. Driving on after it, the
- * mates behind went deep into the narrowing trap, side by side with no
- * room left to turn on the spot when it came, and the three jammed. */
+/* Hold (c->holding), with walls near, for at most hold_max_s at a time:
+ *   while a mate that announced LEAVE is ahead within give_way_m, seen by
+ *   the camera, but not yet coming our way: it is turning round in its
+ *   pocket and will come out the way it went in. Driving on after it, the
+ *   mates behind went deep into the narrowing trap, side by side with no
+ *   room left to turn on the spot when it came, and the three jammed;
+ *   queue: behind a mate still in formation standing (under QUEUE_SLOW_MPS)
+ *   within QUEUE_M ahead: usually one about to find its pocket closed, and
+ *   the dead-zone time was enough for the mates to follow it into the
+ *   throat. */
 #define QUEUE_CONE_RAD 0.6
 #define QUEUE_SLOW_MPS 0.1
 #define QUEUE_M 1.3
 static void hold_step(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double t_s,
                       double dt_s)
 {
-    const mate_query q = { 0.5 * VEC2_PI, c->p.give_way_seen_s, 0, 0, 0.0, 0.0 };
-    const mate_query queue = { QUEUE_CONE_RAD, c->p.give_way_seen_s, 0, 0, QUEUE_SLOW_MPS, QUEUE_M };
+    const mate_query trapped = { .cone_rad = 0.5 * VEC2_PI, .seen_s = c->p.give_way_seen_s };
+    const mate_query queue = { .cone_rad = QUEUE_CONE_RAD, .seen_s = c->p.give_way_seen_s,
+                               .slow_mps = QUEUE_SLOW_MPS, .range_m = QUEUE_M };
     double b, mate[2];
-    if (!(leaving_mate(c, o, &q, t_s, &b, mate) || leaving_mate(c, o, &queue, t_s, &b, mate)) ||
+    if (!(find_mate(c, o, &trapped, t_s, &b, mate) || find_mate(c, o, &queue, t_s, &b, mate)) ||
         !confined(gw, &c->p)) {
         c->holding = 0;
         c->hold_s = 0.0;
@@ -413,13 +236,13 @@ static int spin_or_back(rover_ctl_state *c, const pose2 *o, double dt_s, unicycl
     const double w = u->w_radps;
     int32_t wedge;
     c->esc_backing = 0;
-    if (!(u->v_mps == 0.0 && w != 0.0) || (wedge = spin_hits_mate(c, o)) == 0) {
+    if (!(u->v_mps == 0.0 && w != 0.0) || (wedge = rover_ctl_spin_hits_mate(c, o)) == 0) {
         c->esc_wedge_s = 0.0;
         return 0;
     }
     u->w_radps = 0.0;
-    if (c->esc_back_m < c->p.back_max_m && c->trail_m > c->p.back_v_mps * dt_s && may_back(c, o, c->id) &&
-        (wedge < c->id || !may_back(c, o, wedge))) {
+    if (c->esc_back_m < c->p.back_max_m && c->trail_m > c->p.back_v_mps * dt_s && rover_ctl_may_back(c, o, c->id) &&
+        (wedge < c->id || !rover_ctl_may_back(c, o, wedge))) {
         u->v_mps = -c->p.back_v_mps;
         c->esc_backing = 1;
         c->esc_back_m += c->p.back_v_mps * dt_s;
@@ -433,8 +256,8 @@ static int spin_or_back(rover_ctl_state *c, const pose2 *o, double dt_s, unicycl
     c->esc_wedge_s += dt_s;
     if (c->esc_wedge_s > c->p.wedge_max_s) {
         const int dir = w > 0.0 ? 1 : -1;
-        if (!turn_sweeps_mate(c, o, dir)) u->w_radps = w;
-        else if (!turn_sweeps_mate(c, o, -dir)) u->w_radps = -w;
+        if (!rover_ctl_turn_sweeps_mate(c, o, dir)) u->w_radps = w;
+        else if (!rover_ctl_turn_sweeps_mate(c, o, -dir)) u->w_radps = -w;
     }
     return u->w_radps == 0.0;
 }
@@ -446,12 +269,12 @@ static int spin_or_back(rover_ctl_state *c, const pose2 *o, double dt_s, unicycl
 static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double t_s,
                       double dt_s, unicycle_cmd *u)
 {
-    const mate_query q = { 2.0 * VEC2_PI / 3.0, 0.0, 0, 1, 0.0, 0.0 };
+    const mate_query q = { .cone_rad = 2.0 * VEC2_PI / 3.0, .give_way = 1 };
     double b, mate[2];
-    if (leaving_mate(c, o, &q, t_s, &b, mate) && c->esc_s < c->p.yield_max_s) {
+    if (find_mate(c, o, &q, t_s, &b, mate) && c->esc_s < c->p.yield_max_s) {
         u->v_mps = 0.0;
         u->w_radps = c->esc_turn * c->p.follow_w_radps;
-        if (c->esc_wait_s < c->p.yield_wait_s && turn_blocked_by_mate(c, o)) {
+        if (c->esc_wait_s < c->p.yield_wait_s && rover_ctl_turn_blocked_by_mate(c, o)) {
             u->w_radps = 0.0;
             c->esc_backing = 0;
             c->esc_wait_s += dt_s;
@@ -464,29 +287,6 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
     c->esc_side = nearer_wall_side(gw);
     c->esc_s = 0.0;
     c->esc_backing = 0;
-    return 0;
-}
-
-/* A mate's chassis (where the team table puts it, grown by SPIN_MARGIN_M)
- * reaches into the lane our chassis sweeps driving ahead_m straight on:
- * its corners and side midpoints against the lane, the lane's corners
- * against it. The follower follows walls (the ring with mates masked) and
- * keeps off mates by where they are: a mate's echo read as a wall ahead
- * froze a robot giving way that had the way out straight ahead, the mate
- * alongside it. */
-static int mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahead_m)
-{
-    pose2 own_c;
-    box2 lane, mb;
-    int i;
-    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
-    lane.theta_rad = own_c.theta_rad;
-    lane.hx_m = 0.5 * (ROVER_BODY_OFFSET_M + 0.5 * ROVER_BODY_LENGTH_M + ahead_m);
-    lane.hy_m = 0.5 * ROVER_BODY_WIDTH_M + SPIN_MARGIN_M;
-    lane.x_m = own_c.x_m + lane.hx_m * cos(lane.theta_rad);      /* from the axle forward */
-    lane.y_m = own_c.y_m + lane.hx_m * sin(lane.theta_rad);
-    for (i = 0; i < c->team.n; i++)
-        if (mate_box(c, i, &mb) == 0 && boxes_touch(&lane, &mb)) return 1;
     return 0;
 }
 
@@ -513,7 +313,7 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
         c->esc_s = 0.0;
     }
     rover_ctl_follow(u, gw, c->esc_side, &c->p);
-    if (u->v_mps > 0.0 && mate_in_lane(c, o, FOLLOW_MATE_AHEAD_M)) {
+    if (u->v_mps > 0.0 && rover_ctl_mate_in_lane(c, o, FOLLOW_MATE_AHEAD_M)) {
         /* a mate in the way: turn away from the wall as at a wall ahead */
         u->v_mps = 0.0;
         u->w_radps = -(c->esc_side < 0 ? -1.0 : 1.0) * c->p.follow_w_radps;

@@ -7,6 +7,8 @@
  *                        frame consensus, the mate mask
  *   rover_ctl_guard.c    collision guard, passage width, rearmost test
  *   rover_ctl_escape.c   dead-zone escape and giving way
+ *   rover_ctl_mates.c    mates' chassis by the team table: turning,
+ *                        backing and driving clear of them
  */
 #ifndef TANDEM_ROVER_CTL_INTERNAL_H
 #define TANDEM_ROVER_CTL_INTERNAL_H
@@ -40,5 +42,21 @@ int    rover_ctl_is_rearmost(const rover_ctl_state *c, const pose2 *o);
 int    rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sonar_groups *g,
                              const pose2 *o, const double goal[2], double t_s, double dt_s,
                              unicycle_cmd *u);
+
+/* Mates' chassis by the team table (rover_ctl_mates.c); o: own O pose. */
+/* 1 if a lower-id mate turning on the spot has its axle within
+ * yield_clear_m of ours: it turns first. */
+int     rover_ctl_turn_blocked_by_mate(const rover_ctl_state *c, const pose2 *o);
+/* The id of a mate whose chassis lies within our turning circle, or 0. */
+int32_t rover_ctl_spin_hits_mate(const rover_ctl_state *c, const pose2 *o);
+/* 1 if turning the way dir (+1 left) sweeps our chassis into a mate's
+ * within the next 0.6 rad. */
+int     rover_ctl_turn_sweeps_mate(const rover_ctl_state *c, const pose2 *o, int dir);
+/* 1 if robot `who` (ourselves or a mate) has no robot's axle in the lane
+ * behind it. */
+int     rover_ctl_may_back(const rover_ctl_state *c, const pose2 *o, int32_t who);
+/* 1 if a mate's chassis reaches into the lane ours sweeps driving ahead_m
+ * straight on. */
+int     rover_ctl_mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahead_m);
 
 #endif

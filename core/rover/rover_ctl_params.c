@@ -87,7 +87,8 @@ int rover_ctl_params_validate(const rover_ctl_params *p)
         !pos(p->wheel_radius_m) || !pos(p->axle_track_m) || !pos(p->follow_dist_m) ||
         !pos(p->follow_v_mps) || !pos(p->follow_w_radps) || !pos(p->escape_max_s) ||
         !pos(p->give_way_m) || !pos(p->yield_max_s) || !pos(p->give_way_seen_s) ||
-        !pos(p->yield_clear_m) || !pos(p->yield_wait_s) || !pos(p->hold_max_s) || !pos(p->back_max_m) || !pos(p->back_v_mps) || !pos(p->wedge_max_s) || !pos(p->follow_lost_s) ||
+        !pos(p->yield_clear_m) || !pos(p->yield_wait_s) || !pos(p->hold_max_s) ||
+        !pos(p->back_max_m) || !pos(p->back_v_mps) || !pos(p->wedge_max_s) || !pos(p->follow_lost_s) ||
         !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->v_change_mps) ||
         !pos(p->guard_m) || !pos(p->guard_stop_m) || !pos(p->guard_lane_m) ||
         !pos(p->side_guard_m) || !pos(p->side_turn_radps) || !isfinite(p->goal_heading_gain) ||

@@ -19,6 +19,7 @@
 #include "formation_scen.h"
 #include "shared_run.h"
 #include "formation.h"
+#include "rover_ctl.h"
 #include "options.h"
 
 /* The run's state: large (every robot's last states), so not on the stack. */
@@ -125,12 +126,14 @@ static int parse(fm_state *fm, int argc, char **argv)
                  "Pioneer team to the goal in formation (seed 003), lockstep, ground-truth metrics.\n\n",
         .groups = { { formation_table, fm } }, .n_groups = 1,
     };
+    rover_ctl_params rp;
     int i, rc;
     fm->formation = FORMATION_LINE;
     fm->world = ROVER_WORLD_OPEN;
     fm->blend = 0;
     fm->ref_goal = 1;
-    fm->ref_arrive_m = 3.0;
+    rover_ctl_params_default(&rp);        /* the rovers' own default */
+    fm->ref_arrive_m = rp.arrive_m;
     fm->timeout_ms_given = 10000;
     fm->robots = 3;
     fm->seed = 1;

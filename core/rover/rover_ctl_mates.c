@@ -1,0 +1,219 @@
+/* rover_ctl_mates: where the formation controller's mates' chassis are,
+ * by the team table, for keeping clear of them while escaping or giving
+ * way (docs/method/formation.md §10: never turning into a mate, backing
+ * out of a wedge, the wedge turn, a follower's lane). There is no rear
+ * sonar and a mate's echo is masked out of the ring the follower uses, so
+ * these answers come from geometry: each chassis a box ROVER_BODY_LENGTH_M
+ * x ROVER_BODY_WIDTH_M, centred ROVER_BODY_OFFSET_M ahead of the axle C.
+ */
+#include "rover_ctl_internal.h"
+#include "rover_world.h"
+
+#include <math.h>
+
+/* Chassis corners' reach round C (the box centre is ROVER_BODY_OFFSET_M
+ * ahead of C): the circle a robot turning on the spot sweeps, 0.314 m. */
+static double turn_reach_m(void)
+{
+    return hypot(0.5 * ROVER_BODY_LENGTH_M + fabs(ROVER_BODY_OFFSET_M), 0.5 * ROVER_BODY_WIDTH_M);
+}
+
+#define SPIN_MARGIN_M 0.03   /* what the team table's positions may be off by at contact range */
+
+/* A box: centre, heading, half sizes. */
+typedef struct { double x_m, y_m, theta_rad, hx_m, hy_m; } box2;
+
+/* Distance from (px, py) to box b (0 inside or on it). */
+static double box_gap_m(const box2 *b, double px, double py)
+{
+    const double dx = px - b->x_m, dy = py - b->y_m;
+    const double along = fabs(dx * cos(b->theta_rad) + dy * sin(b->theta_rad)) - b->hx_m;
+    const double across = fabs(-dx * sin(b->theta_rad) + dy * cos(b->theta_rad)) - b->hy_m;
+    return hypot(fmax(along, 0.0), fmax(across, 0.0));
+}
+
+static int in_box(double px, double py, const box2 *b)
+{
+    return box_gap_m(b, px, py) == 0.0;
+}
+
+/* Boxes a and b touch: a corner or side midpoint of either inside the
+ * other (enough for the sizes here: neither box fits between the other's
+ * sample points). */
+static int boxes_touch(const box2 *a, const box2 *b)
+{
+    int k, pass;
+    for (pass = 0; pass < 2; pass++) {
+        const box2 *p = pass ? b : a, *q = pass ? a : b;
+        const double cp = cos(p->theta_rad), sp = sin(p->theta_rad);
+        for (k = 0; k < 9; k++) {
+            const double u = (k % 3 - 1) * p->hx_m, v = (k / 3 - 1) * p->hy_m;   /* -1, 0, 1 each */
+            if (in_box(p->x_m + u * cp - v * sp, p->y_m + u * sp + v * cp, q)) return 1;
+        }
+    }
+    return 0;
+}
+
+/* The chassis box (grown by grow_m) of a robot whose axle C is at c. */
+static box2 chassis_box(const pose2 *c, double grow_m)
+{
+    box2 b;
+    b.x_m = c->x_m + ROVER_BODY_OFFSET_M * cos(c->theta_rad);
+    b.y_m = c->y_m + ROVER_BODY_OFFSET_M * sin(c->theta_rad);
+    b.theta_rad = c->theta_rad;
+    b.hx_m = 0.5 * ROVER_BODY_LENGTH_M + grow_m;
+    b.hy_m = 0.5 * ROVER_BODY_WIDTH_M + grow_m;
+    return b;
+}
+
+/* Mate i's axle pose C where the team table puts it; 0 or
+ * TEAM_ERR_UNKNOWN. */
+static int mate_c(const rover_ctl_state *c, int i, pose2 *mc)
+{
+    const team_member *m = &c->team.m[i];
+    double xy[2];
+    pose2 mo;
+    if (team_position(&c->team, m->robot, xy) != 0) return TEAM_ERR_UNKNOWN;
+    mo.x_m = xy[0];
+    mo.y_m = xy[1];
+    mo.theta_rad = m->theta_rad;
+    unicycle_c_from_o(mc, &mo, c->p.beh.d_m);
+    return 0;
+}
+
+/* Mate i's chassis box where the team table puts it, grown by grow_m; 0
+ * or TEAM_ERR_UNKNOWN. */
+static int mate_box(const rover_ctl_state *c, int i, double grow_m, box2 *b)
+{
+    pose2 mc;
+    if (mate_c(c, i, &mc) != 0) return TEAM_ERR_UNKNOWN;
+    *b = chassis_box(&mc, grow_m);
+    return 0;
+}
+
+/* A lower-id mate turning on the spot (not driving) with its axle within
+ * yield_clear_m of ours: a robot turning on the spot sweeps a circle of
+ * ~0.31 m round its axle, two side by side that both turn sweep their
+ * tails into each other; the higher id waits its turn (at most
+ * yield_wait_s: the other may be spinning in place until we move). */
+int rover_ctl_turn_blocked_by_mate(const rover_ctl_state *c, const pose2 *o)
+{
+    pose2 own_c;
+    int i;
+    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
+    for (i = 0; i < c->team.n; i++) {
+        const team_member *m = &c->team.m[i];
+        const int spinning = fabs(m->v_mps) <= 0.05 && fabs(m->w_radps) >= 0.1;
+        pose2 mc;
+        if (m->robot >= c->id || !spinning || mate_c(c, i, &mc) != 0) continue;
+        if (hypot(mc.x_m - own_c.x_m, mc.y_m - own_c.y_m) < c->p.yield_clear_m) return 1;
+    }
+    return 0;
+}
+
+/* Turning on the spot now would sweep our chassis into a mate's: the id
+ * of a mate whose chassis (where the team table puts it) lies within our
+ * turning circle, or 0. Unlike rover_ctl_turn_blocked_by_mate this is
+ * never waited out: two robots giving way side by side whose tails met did so when the
+ * wait ran out with the other still turning. */
+int32_t rover_ctl_spin_hits_mate(const rover_ctl_state *c, const pose2 *o)
+{
+    const double reach = turn_reach_m() + SPIN_MARGIN_M;
+    pose2 own_c;
+    box2 mb;
+    int i;
+    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
+    for (i = 0; i < c->team.n; i++)
+        if (mate_box(c, i, 0.0, &mb) == 0 && box_gap_m(&mb, own_c.x_m, own_c.y_m) < reach)
+            return c->team.m[i].robot;
+    return 0;
+}
+
+/* Turning on the spot the way dir (+1 left, -1 right) sweeps our chassis
+ * into a mate's box (grown by SPIN_MARGIN_M) within the next
+ * SPIN_LOOK_RAD: 1, else 0. Finer than rover_ctl_spin_hits_mate's whole
+ * turning circle: a mate behind one flank is hit by the tail turning
+ * toward that flank, not the other way. */
+#define SPIN_LOOK_RAD 0.6
+#define SPIN_LOOK_STEPS 6
+int rover_ctl_turn_sweeps_mate(const rover_ctl_state *c, const pose2 *o, int dir)
+{
+    pose2 own_c;
+    box2 mb;
+    int i, k;
+    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
+    for (i = 0; i < c->team.n; i++) {
+        if (mate_box(c, i, SPIN_MARGIN_M, &mb) != 0) continue;
+        for (k = 0; k <= SPIN_LOOK_STEPS; k++) {
+            pose2 turned = own_c;
+            box2 own;
+            turned.theta_rad += dir * SPIN_LOOK_RAD * k / SPIN_LOOK_STEPS;
+            own = chassis_box(&turned, 0.0);
+            if (boxes_touch(&own, &mb)) return 1;
+        }
+    }
+    return 0;
+}
+
+/* Robot `who`'s axle pose C (ourselves: from *o, a mate: where the team
+ * table puts it); 0 or TEAM_ERR_UNKNOWN. */
+static int robot_c(const rover_ctl_state *c, const pose2 *o, int32_t who, pose2 *out)
+{
+    const team_member *m;
+    if (who == c->id) {
+        unicycle_c_from_o(out, o, c->p.beh.d_m);
+        return 0;
+    }
+    if (!(m = team_find(&c->team, who))) return TEAM_ERR_UNKNOWN;
+    return mate_c(c, (int)(m - c->team.m), out);
+}
+
+/* Robot `who` may back up: no other robot of the team (ourselves
+ * included) has its axle in the lane behind who's (0.1 m to BACK_CLEAR_M
+ * back, BACK_LANE_M either side of its centre line: half its width and a mate's
+ * turning reach), by the team table (there is no rear sonar). Every robot
+ * works this out alike for itself and for a mate, so two wedged robots
+ * agree who backs. */
+#define BACK_CLEAR_M 0.9
+#define BACK_LANE_M 0.55
+int rover_ctl_may_back(const rover_ctl_state *c, const pose2 *o, int32_t who)
+{
+    pose2 wc, rc;
+    int i;
+    if (robot_c(c, o, who, &wc) != 0) return 0;
+    for (i = -1; i < c->team.n; i++) {
+        const int32_t id = i < 0 ? c->id : c->team.m[i].robot;
+        double mx, my, along;
+        if (id == who || robot_c(c, o, id, &rc) != 0) continue;
+        mx = rc.x_m - wc.x_m;
+        my = rc.y_m - wc.y_m;
+        along = mx * cos(wc.theta_rad) + my * sin(wc.theta_rad);
+        if (along < -0.1 && along > -BACK_CLEAR_M &&
+            fabs(-mx * sin(wc.theta_rad) + my * cos(wc.theta_rad)) < BACK_LANE_M)
+            return 0;
+    }
+    return 1;
+}
+
+/* A mate's chassis (where the team table puts it, grown by SPIN_MARGIN_M)
+ * reaches into the lane our chassis sweeps driving ahead_m straight on:
+ * its corners and side midpoints against the lane, the lane's corners
+ * against it. The follower follows walls (the ring with mates masked) and
+ * keeps off mates by where they are: a mate's echo read as a wall ahead
+ * froze a robot giving way that had the way out straight ahead, the mate
+ * alongside it. */
+int rover_ctl_mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahead_m)
+{
+    pose2 own_c;
+    box2 lane, mb;
+    int i;
+    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
+    lane.theta_rad = own_c.theta_rad;
+    lane.hx_m = 0.5 * (ROVER_BODY_OFFSET_M + 0.5 * ROVER_BODY_LENGTH_M + ahead_m);
+    lane.hy_m = 0.5 * ROVER_BODY_WIDTH_M + SPIN_MARGIN_M;
+    lane.x_m = own_c.x_m + lane.hx_m * cos(lane.theta_rad);      /* from the axle forward */
+    lane.y_m = own_c.y_m + lane.hx_m * sin(lane.theta_rad);
+    for (i = 0; i < c->team.n; i++)
+        if (mate_box(c, i, SPIN_MARGIN_M, &mb) == 0 && boxes_touch(&lane, &mb)) return 1;
+    return 0;
+}
