@@ -67,16 +67,28 @@ static void ref_heading_to_goal(const rover_ctl_state *c, unicycle_state *ref)
  * a dead-zone escape facing away from the goal settled on neither: its
  * rear robots drove back to their slots behind, the mean followed them,
  * and the whole team crept off away from the goal for the rest of the
- * run. arrive_m 0: the reference as it is. */
+ * run. arrive_m 0: the reference as it is.
+ *   The turn onto the goal's frame is made only as far as the goal lies
+ * ahead along that frame (the fraction s, 1 while the bearing of the goal
+ * is within 60 deg of the frame's heading, 0 from 90 deg on). Past the
+ * goal the bearing points back, opposite the frame: a turn by lam of the
+ * way from one to the other took its sign from the centimetres R0 lay
+ * beside the goal line, the slots swung from side to side with it every
+ * period, and a robot standing beyond the goal, its slot behind it, turned
+ * back and forth on the spot for the rest of the run. Headed back along
+ * the bearing the team comes back to the goal, and the turn comes once it
+ * is ahead again. */
 static void ref_arrive(const rover_ctl_state *c, unicycle_state *ref)
 {
-    const double dist = hypot(c->goal_m[0] - ref->x_m, c->goal_m[1] - ref->y_m);
-    double lam;
+    const double dx = c->goal_m[0] - ref->x_m, dy = c->goal_m[1] - ref->y_m;
+    const double dist = hypot(dx, dy), frame = atan2(c->goal_m[1], c->goal_m[0]);
+    double lam, s;
     if (!(c->p.arrive_m > 0.0) || !(dist < c->p.arrive_m)) return;
     lam = 1.0 - dist / c->p.arrive_m;
+    s = dist > 0.0 ? 2.0 * (dx * cos(frame) + dy * sin(frame)) / dist : 1.0;
+    s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
     ref->theta_rad = vec2_wrap_rad(ref->theta_rad +
-                                   lam * vec2_angle_diff_rad(atan2(c->goal_m[1], c->goal_m[0]),
-                                                             ref->theta_rad));
+                                   s * lam * vec2_angle_diff_rad(frame, ref->theta_rad));
     ref->v_mps *= 1.0 - lam;
     ref->w_radps *= 1.0 - lam;
 }

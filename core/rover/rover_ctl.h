@@ -53,6 +53,12 @@ enum { ROVER_ESC_NONE = 0, ROVER_ESC_TURN = 1, ROVER_ESC_FOLLOW = 2, ROVER_ESC_Y
 #define ROVER_CTL_ERR_ARG (-1)      /* bad argument, parameter set or reading */
 #define ROVER_CTL_ERR_SNAPSHOT (-2) /* a snapshot of another robot or out of range */
 
+/* Breadcrumbs of the axle's path for backing out of a wedge (there is no
+ * rear sonar: the way the robot came is the only way known free of walls;
+ * rover_ctl_escape.c). 8 x 0.1 m: twice back_max_m's default. */
+#define ROVER_CRUMBS 8
+#define ROVER_CRUMB_STEP_M 0.1
+
 typedef struct {
     behaviour_params beh;
     formation_fsm_params fsm;
@@ -144,8 +150,9 @@ typedef struct {
     int     esc_backing;        /* 1: giving way, backing out of a wedge (V < 0 allowed) */
     double  esc_back_m;         /* backed so far in this escape */
     double  esc_wedge_s;        /* standing wedged between mates this long */
-    double  trail_m;            /* driven forward, straight, since the heading last changed */
-    double  trail_theta_rad;    /* ... from this heading (the way back is known free that far) */
+    double  crumb_m[ROVER_CRUMBS][2]; /* the axle's path, a crumb every ROVER_CRUMB_STEP_M,
+                                       * oldest first: the way back known free */
+    int     crumb_n;            /* crumbs held (the newest is crumb_m[crumb_n - 1]) */
     double  hold_s;             /* time held for the current trapped mate */
     int     escapes;            /* dead-zone entries */
     int     ann_code;           /* own latest announcement */
@@ -191,7 +198,7 @@ int  rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double
  * encoder reading after rover_ctl_resume integrates the wheels' travel
  * while the process was down. A snapshot is ROVER_CTL_SNAPSHOT_VALUES
  * numbers, id first. */
-#define ROVER_CTL_SNAPSHOT_VALUES 63
+#define ROVER_CTL_SNAPSHOT_VALUES 78
 /* ROVER_CTL_ERR_ARG before the first encoder reading (nothing to keep). */
 int  rover_ctl_snapshot(const rover_ctl_state *c, double v[ROVER_CTL_SNAPSHOT_VALUES]);
 /* c as made by rover_ctl_init (same id) and rover_ctl_set_landmarks;

@@ -9,8 +9,10 @@
 #include "rover_ctl_internal.h"
 
 #include <math.h>
+#include <stddef.h>
 
 #define FOLLOW_MATE_AHEAD_M 0.3   /* a follower stops this short of a mate in its way */
+#define FOLLOW_MOVING_MPS 0.05    /* slower than this a follower is not following */
 
 /* Escape wall following: the nearer range on the wall side held at
  * follow_dist_m by a proportional turn. */
@@ -209,31 +211,91 @@ static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, double
     c->esc_side = turn->w_radps > 0.0 ? -1 : 1;
 }
 
-/* The way back known free: the distance driven forward since the heading
- * last changed by more than TRAIL_TURN_RAD (a robot that turned on the
- * spot has no idea what is behind it now: there is no rear sonar). */
-#define TRAIL_TURN_RAD 0.35
-static void trail_step(rover_ctl_state *c, const pose2 *o, double dt_s)
+/* The way back known free: the axle's own path (a robot has no rear
+ * sonar; walls do not move, so where its chassis passed it can pass
+ * again). A crumb is laid each ROVER_CRUMB_STEP_M the axle moves from the
+ * newest, the oldest dropped when the ROVER_CRUMBS are full; backing picks
+ * them up again. A turn on the spot moves no axle and lays none. */
+static void crumbs_lay(rover_ctl_state *c, const pose2 *o)
 {
-    if (fabs(vec2_angle_diff_rad(o->theta_rad, c->trail_theta_rad)) > TRAIL_TURN_RAD) {
-        c->trail_m = 0.0;
-        c->trail_theta_rad = o->theta_rad;
+    pose2 ax;
+    double *last;
+    unicycle_c_from_o(&ax, o, c->p.beh.d_m);
+    last = c->crumb_n > 0 ? c->crumb_m[c->crumb_n - 1] : NULL;
+    if (c->esc_backing || (last && hypot(ax.x_m - last[0], ax.y_m - last[1]) < ROVER_CRUMB_STEP_M))
+        return;
+    if (c->crumb_n == ROVER_CRUMBS) {
+        int k;
+        for (k = 1; k < ROVER_CRUMBS; k++) {
+            c->crumb_m[k - 1][0] = c->crumb_m[k][0];
+            c->crumb_m[k - 1][1] = c->crumb_m[k][1];
+        }
+        c->crumb_n--;
     }
-    c->trail_m += c->v_est_mps * dt_s;          /* backing uses it up */
-    if (c->trail_m < 0.0) c->trail_m = 0.0;
+    c->crumb_m[c->crumb_n][0] = ax.x_m;
+    c->crumb_m[c->crumb_n][1] = ax.y_m;
+    c->crumb_n++;
+}
+
+/* Backing along the crumbs: crumbs the axle has come back to are picked
+ * up, the newest left is the aim and the tail is turned onto it (the
+ * heading that points the tail at it: from the aim to the axle). 1 with
+ * the command in *u; 0 with the crumbs used up or the aim more than
+ * BACK_AIM_MAX_RAD off the tail (a robot that turned on the spot since:
+ * the chassis would swing out of the path). */
+#define BACK_AIM_MAX_RAD 0.6
+#define BACK_AIM_GAIN 1.5       /* 1/s: heading error to turn rate while backing */
+#define CRUMB_REACHED_M 0.05
+static int crumbs_back(rover_ctl_state *c, const pose2 *o, unicycle_cmd *u)
+{
+    pose2 ax;
+    double err;
+    const double *aim;
+    unicycle_c_from_o(&ax, o, c->p.beh.d_m);
+    while (c->crumb_n > 0 && hypot(ax.x_m - c->crumb_m[c->crumb_n - 1][0],
+                                   ax.y_m - c->crumb_m[c->crumb_n - 1][1]) < CRUMB_REACHED_M)
+        c->crumb_n--;
+    if (c->crumb_n == 0) return 0;
+    aim = c->crumb_m[c->crumb_n - 1];
+    err = vec2_angle_diff_rad(atan2(ax.y_m - aim[1], ax.x_m - aim[0]), ax.theta_rad);
+    if (fabs(err) > BACK_AIM_MAX_RAD) return 0;
+    u->v_mps = -c->p.back_v_mps;
+    u->w_radps = BACK_AIM_GAIN * err;
+    return 1;
+}
+
+/* Which of two wedged robots backs: the higher id, or the lower if the
+ * higher cannot (judged by the lane straight behind it, by the team
+ * table), or if the higher has not started backing (its speed in the team
+ * table) after we stood wedged BACK_WAIT_S: its crumbs are its own, and
+ * one that had turned on the spot since it laid them could not back along
+ * them while the lower id waited for it. Both backing only separates them
+ * further. One that has started backing goes on (at most back_max_m). */
+#define BACK_WAIT_S 2.0
+#define BACKING_MPS (-0.02)
+static int my_turn_to_back(const rover_ctl_state *c, const pose2 *o, int32_t wedge, int was_backing)
+{
+    const team_member *m = team_find(&c->team, wedge);
+    return was_backing || wedge < c->id || !rover_ctl_may_back(c, o, wedge) ||
+           (c->esc_wedge_s > BACK_WAIT_S && !(m && m->v_mps < BACKING_MPS));
 }
 
 /* A turn on the spot in *u next to a mate whose chassis is inside our
  * turning circle is never made (spin_hits_mate). Wedged so, the higher id
- * of the two backs straight out the way it came, or the lower id if the
- * higher cannot, at most back_max_m per escape and no farther than it
- * drove straight forward to get there (trail_m: a robot that turned on
- * the spot and backed hit the wall of its pocket), only with no mate's
- * axle in the lane behind it (the team table), so that the other can
- * turn; otherwise stand. Returns 1 if the turn was held back. */
+ * of the two backs out the way it came, or the lower id if the higher
+ * cannot (each judges that for the other by the lane straight behind
+ * it), at most back_max_m per escape, along its own crumbs (a robot that
+ * backed straight after turning on the spot hit the wall of its pocket;
+ * one that could back only along a straight last stretch stood wedged in
+ * a pocket's throat with no stretch left, the trapped mate behind it),
+ * only where our chassis clears every mate's (rover_ctl_crumbs_clear), so
+ * that the other can turn; otherwise stand. Returns 1 if the turn was held
+ * back. */
 static int spin_or_back(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_cmd *u)
 {
     const double w = u->w_radps;
+    unicycle_cmd back;
+    const int was_backing = c->esc_backing;
     int32_t wedge;
     c->esc_backing = 0;
     if (!(u->v_mps == 0.0 && w != 0.0) || (wedge = rover_ctl_spin_hits_mate(c, o)) == 0) {
@@ -241,9 +303,9 @@ static int spin_or_back(rover_ctl_state *c, const pose2 *o, double dt_s, unicycl
         return 0;
     }
     u->w_radps = 0.0;
-    if (c->esc_back_m < c->p.back_max_m && c->trail_m > c->p.back_v_mps * dt_s && rover_ctl_may_back(c, o, c->id) &&
-        (wedge < c->id || !rover_ctl_may_back(c, o, wedge))) {
-        u->v_mps = -c->p.back_v_mps;
+    if (c->esc_back_m < c->p.back_max_m && my_turn_to_back(c, o, wedge, was_backing) &&
+        crumbs_back(c, o, &back) && rover_ctl_crumbs_clear(c, o, c->p.back_max_m - c->esc_back_m)) {
+        *u = back;
         c->esc_backing = 1;
         c->esc_back_m += c->p.back_v_mps * dt_s;
         c->esc_wedge_s = 0.0;
@@ -308,6 +370,11 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
         announce_own(c, FORMATION_ANN_REJOIN);
         return 0;
     }
+    /* escape_max_s is time spent following: standing or turning on the
+     * spot (in the pocket while the mates cleared its mouth) is not. A
+     * robot that had spun 50 s in its pocket turned back round the U's
+     * lip just where the wall it followed led on to the goal. */
+    if (!(c->v_est_mps > FOLLOW_MOVING_MPS)) c->esc_s -= dt_s;
     if (c->esc_s > c->p.escape_max_s) {
         c->esc_side = -c->esc_side;
         c->esc_s = 0.0;
@@ -347,7 +414,7 @@ int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sona
     const int entries = c->exc.entries;
     const int in_dz = behaviour_exception_step(&c->exc, &turn, gw, dt_s, &c->p.beh);
     const double dist = hypot(goal[0] - o->x_m, goal[1] - o->y_m);
-    trail_step(c, o, dt_s);
+    crumbs_lay(c, o);
     if (in_dz == 1) {
         if (c->exc.entries != entries) dead_zone_entry(c, &turn, dist);
         c->esc_phase = ROVER_ESC_TURN;

@@ -55,6 +55,9 @@ int     rover_ctl_turn_sweeps_mate(const rover_ctl_state *c, const pose2 *o, int
 /* 1 if robot `who` (ourselves or a mate) has no robot's axle in the lane
  * behind it. */
 int     rover_ctl_may_back(const rover_ctl_state *c, const pose2 *o, int32_t who);
+/* 1 if backing reach_m along our crumbs keeps our chassis clear of every
+ * mate's. */
+int     rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reach_m);
 /* 1 if a mate's chassis reaches into the lane ours sweeps driving ahead_m
  * straight on. */
 int     rover_ctl_mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahead_m);

@@ -91,6 +91,15 @@ static int mate_box(const rover_ctl_state *c, int i, double grow_m, box2 *b)
     return 0;
 }
 
+/* Mate i turns on the spot (by the team table) and has the lower id:
+ * where two turn side by side it turns first, and its chassis may be at
+ * any heading of its turning circle. */
+static int mate_turning_first(const rover_ctl_state *c, int i)
+{
+    const team_member *m = &c->team.m[i];
+    return m->robot < c->id && fabs(m->v_mps) <= 0.05 && fabs(m->w_radps) >= 0.1;
+}
+
 /* A lower-id mate turning on the spot (not driving) with its axle within
  * yield_clear_m of ours: a robot turning on the spot sweeps a circle of
  * ~0.31 m round its axle, two side by side that both turn sweep their
@@ -102,10 +111,8 @@ int rover_ctl_turn_blocked_by_mate(const rover_ctl_state *c, const pose2 *o)
     int i;
     unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
     for (i = 0; i < c->team.n; i++) {
-        const team_member *m = &c->team.m[i];
-        const int spinning = fabs(m->v_mps) <= 0.05 && fabs(m->w_radps) >= 0.1;
         pose2 mc;
-        if (m->robot >= c->id || !spinning || mate_c(c, i, &mc) != 0) continue;
+        if (!mate_turning_first(c, i) || mate_c(c, i, &mc) != 0) continue;
         if (hypot(mc.x_m - own_c.x_m, mc.y_m - own_c.y_m) < c->p.yield_clear_m) return 1;
     }
     return 0;
@@ -113,19 +120,26 @@ int rover_ctl_turn_blocked_by_mate(const rover_ctl_state *c, const pose2 *o)
 
 /* Turning on the spot now would sweep our chassis into a mate's: the id
  * of a mate whose chassis (where the team table puts it) lies within our
- * turning circle, or 0. Unlike rover_ctl_turn_blocked_by_mate this is
+ * turning circle, or whose own turning circle (mate_turning_first) meets
+ * ours, or 0 (two robots that turned at once, each clear of the other's
+ * chassis as it stood, met tail to tail). Unlike rover_ctl_turn_blocked_by_mate this is
  * never waited out: two robots giving way side by side whose tails met did so when the
  * wait ran out with the other still turning. */
 int32_t rover_ctl_spin_hits_mate(const rover_ctl_state *c, const pose2 *o)
 {
     const double reach = turn_reach_m() + SPIN_MARGIN_M;
-    pose2 own_c;
+    pose2 own_c, mc;
     box2 mb;
     int i;
     unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
-    for (i = 0; i < c->team.n; i++)
-        if (mate_box(c, i, 0.0, &mb) == 0 && box_gap_m(&mb, own_c.x_m, own_c.y_m) < reach)
+    for (i = 0; i < c->team.n; i++) {
+        if (mate_c(c, i, &mc) != 0) continue;
+        mb = chassis_box(&mc, 0.0);
+        if (box_gap_m(&mb, own_c.x_m, own_c.y_m) < reach ||
+            (mate_turning_first(c, i) &&
+             hypot(mc.x_m - own_c.x_m, mc.y_m - own_c.y_m) < reach + turn_reach_m()))
             return c->team.m[i].robot;
+    }
     return 0;
 }
 
@@ -216,4 +230,49 @@ int rover_ctl_mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahea
     for (i = 0; i < c->team.n; i++)
         if (mate_box(c, i, SPIN_MARGIN_M, &mb) == 0 && boxes_touch(&lane, &mb)) return 1;
     return 0;
+}
+
+/* Mate i's chassis touches box b: its box where the team table puts it
+ * (grown by SPIN_MARGIN_M), or, if it is turning, any heading of it (the
+ * circle it sweeps round its axle). */
+static int mate_touches(const rover_ctl_state *c, int i, const box2 *b)
+{
+    const team_member *m = &c->team.m[i];
+    pose2 mc;
+    box2 mb;
+    if (mate_c(c, i, &mc) != 0) return 0;
+    if (fabs(m->w_radps) >= 0.1)
+        return box_gap_m(b, mc.x_m, mc.y_m) < turn_reach_m() + SPIN_MARGIN_M;
+    mb = chassis_box(&mc, SPIN_MARGIN_M);
+    return boxes_touch(b, &mb);
+}
+
+/* Backing reach_m along our crumbs keeps our chassis clear of every
+ * mate's (mate_touches): our box posed at each crumb within reach_m (and
+ * one crumb beyond) of path behind the axle, headed along the path (from
+ * the crumb toward the next newer one). The mate we are wedged against
+ * beside us is not in the way back; one that has since driven onto our
+ * path, or turns on the spot beside it, is. 1 clear, else 0. */
+int rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reach_m)
+{
+    pose2 own_c, at;
+    double next[2], path_m = 0.0;
+    box2 own;
+    int i, k;
+    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
+    next[0] = own_c.x_m;
+    next[1] = own_c.y_m;
+    for (k = c->crumb_n - 1; k >= 0 && path_m <= reach_m; k--) {
+        at.x_m = c->crumb_m[k][0];
+        at.y_m = c->crumb_m[k][1];
+        const double seg_m = hypot(next[0] - at.x_m, next[1] - at.y_m);
+        path_m += seg_m;
+        at.theta_rad = seg_m > 1e-6 ? atan2(next[1] - at.y_m, next[0] - at.x_m) : own_c.theta_rad;
+        own = chassis_box(&at, 0.0);
+        for (i = 0; i < c->team.n; i++)
+            if (mate_touches(c, i, &own)) return 0;
+        next[0] = at.x_m;
+        next[1] = at.y_m;
+    }
+    return 1;
 }

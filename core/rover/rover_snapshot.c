@@ -22,6 +22,7 @@ typedef struct {
 #define F_D(m)   { offsetof(rover_ctl_state, m), SNAP_DOUBLE, sizeof(((rover_ctl_state *)0)->m) }
 #define F_I(m)   { offsetof(rover_ctl_state, m), SNAP_INT, sizeof(((rover_ctl_state *)0)->m) }
 #define F_I32(m) { offsetof(rover_ctl_state, m), SNAP_INT32, sizeof(((rover_ctl_state *)0)->m) }
+#define F_CRUMB(k) F_D(crumb_m[k][0]), F_D(crumb_m[k][1])
 #define F_L(m)   { offsetof(rover_ctl_state, m), SNAP_LONG, sizeof(((rover_ctl_state *)0)->m) }
 
 /* The id first (a snapshot names its robot), then have_enc. */
@@ -45,10 +46,13 @@ static const snap_field snap_table[] = {
     F_D(exc.blocked_s), F_I(exc.active), F_I(exc.entries),
     F_I(esc_phase), F_I(esc_side), F_I(esc_yield), F_I(esc_turn),
     F_D(esc_hit_dist_m), F_D(esc_s), F_D(esc_lost_s), F_D(esc_wait_s), F_I(escapes),
-    F_D(hold_s), F_D(esc_back_m), F_D(trail_m), F_D(trail_theta_rad), F_I(holding),
-    F_D(esc_wedge_s),
+    F_D(hold_s), F_D(esc_back_m), F_I(holding), F_D(esc_wedge_s),
+    F_I(crumb_n), F_CRUMB(0), F_CRUMB(1), F_CRUMB(2), F_CRUMB(3), F_CRUMB(4), F_CRUMB(5),
+    F_CRUMB(6), F_CRUMB(7),
 };
 #define SNAP_N ((int)(sizeof snap_table / sizeof snap_table[0]))
+/* the table above lists crumbs 0..7: it must list every one */
+typedef char snap_lists_every_crumb[ROVER_CRUMBS == 8 ? 1 : -1];
 
 static int size_fits(const snap_field *f)
 {
@@ -124,7 +128,8 @@ static int plausible(const rover_ctl_state *c, int32_t id)
 {
     return c->id == id && c->have_enc == 1 && c->fsm.type >= FORMATION_LINE &&
            c->fsm.type <= FORMATION_COLUMN && c->fsm.scale > 0.0 && c->loc.P[0] > 0.0 &&
-           c->loc.P[4] > 0.0 && c->loc.P[8] > 0.0 && c->enc_t_s >= c->prev_enc_t_s;
+           c->loc.P[4] > 0.0 && c->loc.P[8] > 0.0 && c->enc_t_s >= c->prev_enc_t_s &&
+           c->crumb_n >= 0 && c->crumb_n <= ROVER_CRUMBS;
 }
 
 int rover_ctl_resume(rover_ctl_state *c, const double v[ROVER_CTL_SNAPSHOT_VALUES])

@@ -25,7 +25,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "rover_ctl.h"
+#include "rover_ctl_internal.h"
 #include "rover_world.h"
 #include "prng.h"
 #include "sonar.h"
@@ -612,6 +612,7 @@ typedef struct {
     int32_t id;
     double x, y, th;
     int announce;
+    double v;               /* its speed in the team message (0 unless set) */
 } hand_mate;
 
 static void hand_step_enc(rover_ctl_state *c, double t, double enc_l, double enc_r, const double rng[8],
@@ -625,6 +626,7 @@ static void hand_step_enc(rover_ctl_state *c, double t, double enc_l, double enc
         msg.m.x_m = m[i].x;
         msg.m.y_m = m[i].y;
         msg.m.theta_rad = m[i].th;
+        msg.m.v_mps = m[i].v;
         msg.m.scale = c->fsm.scale;
         msg.m.formation = c->fsm.type;
         msg.m.announce = m[i].announce;
@@ -645,8 +647,8 @@ static void hand_step(rover_ctl_state *c, double t, const double rng[8], const h
 }
 
 /* Boundary following never ends on a timer: a robot that has followed a
- * wall for escape_max_s without getting nearer the goal goes round the
- * other way (it used to rejoin and drive straight back toward the goal,
+ * wall (driving along it; standing does not count) for escape_max_s
+ * without getting nearer the goal goes round the other way (it used to rejoin and drive straight back toward the goal,
  * into the U it had left); with no wall within reach for follow_lost_s
  * (open floor) it rejoins instead of circling. */
 static void test_escape_timeout_and_lost_wall(void **state)
@@ -658,7 +660,7 @@ static void test_escape_timeout_and_lost_wall(void **state)
     const double goal[2] = { -10.0, 0.0 };           /* behind the robot */
     const double trap[8] = { 0.3, 5, 5, 0.3, 0.3, 5, 5, 0.3 };
     const double wall[8] = { 0.45, 0.9, 1.5, 5, 5, 5, 5, 5 };   /* wall on the right */
-    double t = 0.0;
+    double t = 0.0, enc = 0.0;
     int side0, flipped = 0, k;
     (void)state;
     rover_ctl_params_default(&p);
@@ -670,14 +672,21 @@ static void test_escape_timeout_and_lost_wall(void **state)
     t += DT;
     assert_int_equal(c.esc_phase, ROVER_ESC_FOLLOW);
     side0 = c.esc_side;
-    for (; t < 2.5 * p.escape_max_s; t += DT) {
+    /* standing (held by mates, turning in its pocket) is not following */
+    for (k = 0; k * DT < 2.0 * p.escape_max_s; k++, t += DT) {
         hand_step(&c, t, wall, NULL, 0, &out);
+        assert_int_equal(c.esc_side, side0);
+    }
+    /* driving along the wall (the encoders turn at follow_v_mps) */
+    for (k = 0; k * DT < 2.5 * p.escape_max_s; k++, t += DT) {
+        enc += p.follow_v_mps * DT / p.wheel_radius_m;
+        hand_step_enc(&c, t, enc, enc, wall, NULL, 0, &out);
         assert_int_equal(out.mode, ROVER_MODE_DEAD_ZONE);
         assert_int_equal(out.team.announce * out.send_team, FORMATION_ANN_LEAVE * out.send_team);
         if (c.esc_side != side0) flipped = 1;
     }
     assert_true(flipped);
-    for (k = 0; k * DT < p.follow_lost_s + 0.5; k++, t += DT) hand_step(&c, t, open_ring, NULL, 0, &out);
+    for (k = 0; k * DT < p.follow_lost_s + 0.5; k++, t += DT) hand_step_enc(&c, t, enc, enc, open_ring, NULL, 0, &out);
     assert_int_equal(c.esc_phase, ROVER_ESC_NONE);
     assert_true(out.mode != ROVER_MODE_DEAD_ZONE);
     assert_int_equal(c.ann_code, FORMATION_ANN_REJOIN);
@@ -685,16 +694,22 @@ static void test_escape_timeout_and_lost_wall(void **state)
 
 /* One hand-fed step with the camera seeing every mate where the table
  * says it is (the give-way rule counts only mates seen). */
-static void seen_step_enc(rover_ctl_state *c, double t, double enc, const double rng[8], const hand_mate *m,
-                          int nm, rover_ctl_out *out)
+static void seen_step_lr(rover_ctl_state *c, double t, double enc_l, double enc_r, const double rng[8],
+                         const hand_mate *m, int nm, rover_ctl_out *out)
 {
     pose2 o;
     int j;
-    hand_step_enc(c, t, enc, enc, rng, m, nm, out);
+    hand_step_enc(c, t, enc_l, enc_r, rng, m, nm, out);
     o = out->o;
     for (j = 0; j < nm; j++)
         rover_ctl_beacon(c, m[j].id, hypot(m[j].x - o.x_m, m[j].y - o.y_m),
                          vec2_angle_diff_rad(atan2(m[j].y - o.y_m, m[j].x - o.x_m), o.theta_rad));
+}
+
+static void seen_step_enc(rover_ctl_state *c, double t, double enc, const double rng[8], const hand_mate *m,
+                          int nm, rover_ctl_out *out)
+{
+    seen_step_lr(c, t, enc, enc, rng, m, nm, out);
 }
 
 static void seen_step(rover_ctl_state *c, double t, const double rng[8], const hand_mate *m, int nm,
@@ -728,7 +743,7 @@ static void test_give_way_announces_and_references(void **state)
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    hand_mate m = { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE };
+    hand_mate m = { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE, 0.0 };
     double t = 0.0, own;
     int k, gave_way_sent = 0;
     (void)state;
@@ -760,7 +775,7 @@ static void test_hold_while_trapped_mate_turns(void **state)
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    const hand_mate m = { 2, 1.35, 0.0, 0.0, FORMATION_ANN_LEAVE };
+    const hand_mate m = { 2, 1.35, 0.0, 0.0, FORMATION_ANN_LEAVE, 0.0 };
     double t = 0.0;
     int held = 1;
     (void)state;
@@ -789,7 +804,7 @@ static void test_queue_behind_standing_mate(void **state)
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    hand_mate m = { 2, 1.15, 0.0, 0.0, FORMATION_ANN_NONE };
+    hand_mate m = { 2, 1.15, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 };
     double t;
     int held = 1;
     (void)state;
@@ -823,14 +838,14 @@ static void test_wedge_turns_clear_way(void **state)
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    hand_mate m[3] = { { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE },
-                       { 1, -0.2, -0.45, 0.0, FORMATION_ANN_NONE },     /* behind the right flank */
-                       { 4, -0.2, 0.45, 0.0, FORMATION_ANN_NONE } };    /* behind the left flank */
+    hand_mate m[3] = { { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE, 0.0 },
+                       { 1, -0.2, -0.45, 0.0, FORMATION_ANN_NONE, 0.0 },     /* behind the right flank */
+                       { 4, -0.2, 0.45, 0.0, FORMATION_ANN_NONE, 0.0 } };    /* behind the left flank */
     double t, w_first = 0.0, t_first = -1.0;
     int stood = 1;
     (void)state;
     at_origin(&c, &p, 3);
-    assert_int_equal(c.trail_m, 0.0);
+    assert_int_equal(c.crumb_n, 0);
     for (t = 0.0; t < p.wedge_max_s + 2.0; t += DT) {
         seen_step(&c, t, lane_ring, m, 2, &out);
         if (!c.esc_yield) continue;
@@ -881,8 +896,8 @@ static void test_give_way_wedged(void **state)
     rover_ctl_params p;
     rover_ctl_out out;
     const pose2 s0 = { -0.6, 0, 0 };       /* drives 0.6 m straight in first */
-    hand_mate m[2] = { { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE },
-                       { 1, 0.15, 0.45, 0.0, FORMATION_ANN_NONE } };     /* alongside, left */
+    hand_mate m[2] = { { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE, 0.0 },
+                       { 1, 0.15, 0.45, 0.0, FORMATION_ANN_NONE, 0.0 } };     /* alongside, left */
     double t = 0.0, backed = 0.0;
     int k, turned = 0;
     (void)state;
@@ -898,13 +913,27 @@ static void test_give_way_wedged(void **state)
     assert_true(c.esc_yield);
     assert_true(backed > p.back_max_m - 0.05 && backed < p.back_max_m + 0.05);
     assert_true(out.u.v_mps == 0.0);
-    /* the lower id waits, it does not back */
+    /* the lower id waits while the higher backs out ... */
     m[1].id = 4;
-    for (t = drive_in(&c, &p, 3, &s0, goal_ahead); t < 6.0; t += DT) {
+    m[1].v = -p.back_v_mps;
+    for (t = drive_in(&c, &p, 3, &s0, goal_ahead); t < 8.0; t += DT) {
         seen_step_enc(&c, t, DRIVE_IN_RAD, lane_ring, m, 2, &out);
         if (c.esc_yield) assert_true(out.u.v_mps >= 0.0 && out.u.w_radps == 0.0);
     }
     assert_true(c.esc_yield);
+    /* ... and backs itself once it has stood 2 s (BACK_WAIT_S) wedged
+     * with the higher id not backing (it cannot: its crumbs are its own) */
+    m[1].v = 0.0;
+    backed = 0.0;
+    for (t = drive_in(&c, &p, 3, &s0, goal_ahead); t < 10.0; t += DT) {
+        const double since = t - 3.0;
+        seen_step_enc(&c, t, DRIVE_IN_RAD, lane_ring, m, 2, &out);
+        if (c.esc_yield && since < 2.0) assert_true(out.u.v_mps >= 0.0);
+        if (out.u.v_mps < 0.0) backed += -out.u.v_mps * DT;
+    }
+    print_message("wedged, lower id, the higher not backing: backed %.2f m\n", backed);
+    assert_true(backed > p.back_max_m - 0.05 && backed < p.back_max_m + 0.05);
+    m[1].id = 4;
     /* the mate 0.9 m away: room to turn */
     m[1].y = 0.9;
     for (t = drive_in(&c, &p, 3, &s0, goal_ahead); t < 6.0; t += DT) {
@@ -921,6 +950,67 @@ static void test_give_way_wedged(void **state)
         if (c.esc_yield) assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
     }
     assert_true(c.esc_yield);
+}
+
+/* Backing out of a wedge goes back along the robot's own path, not
+ * straight: a robot that drove in on a 0.6 m arc turning 0.8 rad (no
+ * straight stretch anywhere: a straight trail would be 8 cm) and is
+ * wedged beside a lower-id mate backs with its axle on that arc, turning
+ * back along it, in closed loop (its commands drive its wheels), until the
+ * mate is out of its turning circle (about 0.35 m here; at most
+ * back_max_m); only then does it turn on the spot. */
+#define ARC_M 0.6
+#define ARC_RAD 0.8
+static void test_wedge_backs_along_path(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    const pose2 s0 = { 0, 0, 0 };
+    const double r_arc = ARC_M / ARC_RAD, b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
+    const double end[3] = { r_arc * sin(ARC_RAD), r_arc * (1.0 - cos(ARC_RAD)), ARC_RAD };
+    /* mates in the end pose's frame (x ahead, y left of our axle): the
+     * trapped one 1.35 m ahead facing us, the wedging one alongside on the
+     * arc's outside (on its inside the way back swings into it: the arc
+     * lies on its centre's side of the tangent; rover_ctl_crumbs_clear
+     * then says no, as test_give_way_wedged checks for a mate behind) */
+    const double local[2][3] = { { 1.35, 0.0, VEC2_PI }, { 0.15, -0.45, 0.0 } };
+    hand_mate m[2] = { { 2, 0, 0, 0, FORMATION_ANN_LEAVE, 0.0 }, { 1, 0, 0, 0, FORMATION_ANN_NONE, 0.0 } };
+    double t, el = 0.0, er = 0.0, backed = 0.0, off_max = 0.0;
+    int j, turned = 0;
+    (void)state;
+    rover_ctl_params_default(&p);
+    for (j = 0; j < 2; j++) {
+        m[j].x = end[0] + local[j][0] * cos(end[2]) - local[j][1] * sin(end[2]);
+        m[j].y = end[1] + local[j][0] * sin(end[2]) + local[j][1] * cos(end[2]);
+        m[j].th = vec2_wrap_rad(end[2] + local[j][2]);
+    }
+    assert_int_equal(rover_ctl_init(&c, &p, 3, &s0, goal_ahead), 0);
+    for (t = 0.0; t < 3.0; t += DT) {
+        el = (ARC_M - 0.5 * b * ARC_RAD) / rw * t / 3.0;
+        er = (ARC_M + 0.5 * b * ARC_RAD) / rw * t / 3.0;
+        hand_step_enc(&c, t, el, er, open_ring, NULL, 0, &out);
+    }
+    for (; t < 12.0 && !turned; t += DT) {
+        pose2 ax;
+        seen_step_lr(&c, t, el, er, lane_ring, m, 2, &out);
+        unicycle_c_from_o(&ax, &out.o, p.beh.d_m);
+        if (out.u.v_mps < 0.0) {
+            backed -= out.u.v_mps * DT;
+            off_max = fmax(off_max, fabs(hypot(ax.x_m, ax.y_m - r_arc) - r_arc));
+        }
+        if (c.esc_yield && out.u.v_mps == 0.0 && out.u.w_radps != 0.0) {
+            turned = 1;     /* the first turn on the spot: clear of the mate */
+            assert_int_equal(rover_ctl_spin_hits_mate(&c, &out.o), 0);
+        }
+        el += (out.u.v_mps - 0.5 * b * out.u.w_radps) * DT / rw;
+        er += (out.u.v_mps + 0.5 * b * out.u.w_radps) * DT / rw;
+    }
+    print_message("backed %.2f m (back_max_m %.2f) along the arc, axle off it by at most %.3f m, then turned: %d\n",
+                  backed, p.back_max_m, off_max, turned);
+    assert_true(c.esc_yield && turned);
+    assert_true(backed > 0.25 && backed <= p.back_max_m + 1e-9);
+    assert_true(off_max < 0.03);
 }
 
 /* Masking mates out of the ring, by property: for random placements of a
@@ -1204,8 +1294,8 @@ static void test_restore_ignores_leaving_mate(void **state)
     const pose2 s0 = {0, 0, 0};
     const double goal[2] = { 20.0, 0.0 };
     const double narrow[8] = { 0.4, 5, 5, 5, 5, 5, 5, 0.4 };
-    const hand_mate mates[2] = { { 2, 2.0, 0.0, 0.0, FORMATION_ANN_NONE },
-                                 { 3, -2.5, 0.0, 0.0, FORMATION_ANN_LEAVE } };
+    const hand_mate mates[2] = { { 2, 2.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
+                                 { 3, -2.5, 0.0, 0.0, FORMATION_ANN_LEAVE, 0.0 } };
     double t = 0.0;
     int restored = 0, pass;
     (void)state;
@@ -1240,8 +1330,8 @@ static void test_post_inside_formation_not_a_wall(void **state)
     const pose2 s0 = {0, -1.0, 0};
     const double goal[2] = { 20.0, -1.0 };
     const double ring[8] = { 0.9, 5, 5, 5, 5, 5, 5, 0.3 };
-    hand_mate m[2] = { { 2, 0.0, 0.0, 0.0, FORMATION_ANN_NONE },
-                       { 3, 0.0, 1.0, 0.0, FORMATION_ANN_NONE } };
+    hand_mate m[2] = { { 2, 0.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
+                       { 3, 0.0, 1.0, 0.0, FORMATION_ANN_NONE, 0.0 } };
     double t;
     int pass;
     (void)state;
@@ -1257,6 +1347,33 @@ static void test_post_inside_formation_not_a_wall(void **state)
     }
 }
 
+/* A controller driving its robot in closed loop (its commands turn its
+ * wheels; the robot is a kinematic unicycle at *pose, the axle) in the
+ * open, the camera seeing the hand-fed mates, until it reports AT_GOAL or
+ * t_max; returns 1 at the goal, the time in *t_end. */
+static int drive_closed_loop(rover_ctl_state *c, pose2 *pose, const hand_mate *m, int nm, double t_max,
+                             double *t_end)
+{
+    const double b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
+    rover_ctl_out out;
+    double el = 0.0, er = 0.0, t;
+    int at_goal = 0, j;
+    for (t = 0.0; t < t_max && !at_goal; t += DT) {
+        pose2 o;
+        hand_step_enc(c, t, el, er, open_ring, m, nm, &out);
+        unicycle_o_from_c(&o, pose, ROVER_BEACON_D_M);
+        for (j = 0; j < nm; j++)
+            rover_ctl_beacon(c, m[j].id, hypot(m[j].x - o.x_m, m[j].y - o.y_m),
+                             vec2_angle_diff_rad(atan2(m[j].y - o.y_m, m[j].x - o.x_m), o.theta_rad));
+        at_goal = out.mode == ROVER_MODE_AT_GOAL;
+        el += (out.u.v_mps - 0.5 * b * out.u.w_radps) / rw * DT;
+        er += (out.u.v_mps + 0.5 * b * out.u.w_radps) / rw * DT;
+        unicycle_step_exact(pose, out.u.v_mps, out.u.w_radps, DT);
+    }
+    *t_end = t;
+    return at_goal;
+}
+
 /* The team heading at the goal. Two mates stand at their goal slots,
  * having turned to headings 2.0 and 1.8 rad as they stopped; the third
  * comes up behind its own slot. Within a metre of the goal the team
@@ -1268,33 +1385,53 @@ static void test_team_heading_at_goal(void **state)
 {
     rover_ctl_state c;
     rover_ctl_params p;
-    rover_ctl_out out;
     const double goal[2] = { 10.0, 0.0 };
-    const hand_mate m[2] = { { 2, 10.0, 0.0, 2.0, FORMATION_ANN_NONE },
-                             { 3, 10.0, -1.0, 1.8, FORMATION_ANN_NONE } };
+    const hand_mate m[2] = { { 2, 10.0, 0.0, 2.0, FORMATION_ANN_NONE, 0.0 },
+                             { 3, 10.0, -1.0, 1.8, FORMATION_ANN_NONE, 0.0 } };
     pose2 pose = { 8.0, 1.0, 0.0 }, o;
-    double el = 0.0, er = 0.0, t;
-    const double b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
-    int at_goal = 0, j;
+    double t;
+    int at_goal;
     (void)state;
     rover_ctl_params_default(&p);
     assert_int_equal(rover_ctl_init(&c, &p, 1, &pose, goal), 0);
-    for (t = 0.0; t < 30.0 && !at_goal; t += DT) {
-        hand_step_enc(&c, t, el, er, open_ring, m, 2, &out);
-        unicycle_o_from_c(&o, &pose, ROVER_BEACON_D_M);
-        for (j = 0; j < 2; j++)
-            rover_ctl_beacon(&c, m[j].id, hypot(m[j].x - o.x_m, m[j].y - o.y_m),
-                             vec2_angle_diff_rad(atan2(m[j].y - o.y_m, m[j].x - o.x_m), o.theta_rad));
-        at_goal = out.mode == ROVER_MODE_AT_GOAL;
-        el += (out.u.v_mps - 0.5 * b * out.u.w_radps) / rw * DT;
-        er += (out.u.v_mps + 0.5 * b * out.u.w_radps) / rw * DT;
-        unicycle_step_exact(&pose, out.u.v_mps, out.u.w_radps, DT);
-    }
+    at_goal = drive_closed_loop(&c, &pose, m, 2, 30.0, &t);
     unicycle_o_from_c(&o, &pose, ROVER_BEACON_D_M);
     print_message("heading at goal: at_goal=%d after %.1f s, O at (%.2f %.2f), slot (10, 1)\n",
                   at_goal, t, o.x_m, o.y_m);
     assert_true(at_goal);
     assert_true(hypot(o.x_m - 10.0, o.y_m - 1.0) < p.beh.goal_tol_m + 0.05);
+}
+
+/* Past the goal: the middle robot stands 3.5 m beyond its goal slot
+ * facing away, its mates at theirs, so R0 (their mean) lies 1.2 m past
+ * the goal on the goal line. R0 heads back along the bearing of the goal
+ * (ref_arrive turns it onto the goal's frame only where the goal lies
+ * ahead): the robot turns round and drives back to its slot. Turned by
+ * lam of the way onto the frame from there, R0's heading took its sign
+ * from the centimetre R0 lay beside the goal line, and the robot turned
+ * back and forth on the spot for good. Both sides of the line. */
+static void test_turns_back_past_goal(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    const double goal[2] = { 10.0, 0.0 };
+    const hand_mate m[2] = { { 1, 10.0, 1.0, 0.0, FORMATION_ANN_NONE, 0.0 },
+                             { 3, 10.0, -1.0, 0.0, FORMATION_ANN_NONE, 0.0 } };
+    int side;
+    (void)state;
+    rover_ctl_params_default(&p);
+    for (side = -1; side <= 1; side += 2) {
+        pose2 pose = { 13.5, 0.01 * side, 0.0 }, o;
+        double t;
+        int at_goal;
+        assert_int_equal(rover_ctl_init(&c, &p, 2, &pose, goal), 0);
+        at_goal = drive_closed_loop(&c, &pose, m, 2, 40.0, &t);
+        unicycle_o_from_c(&o, &pose, ROVER_BEACON_D_M);
+        print_message("past the goal (y %+.2f): at_goal=%d after %.1f s, O at (%.2f %.2f), slot (10, 0)\n",
+                      0.01 * side, at_goal, t, o.x_m, o.y_m);
+        assert_true(at_goal);
+        assert_true(hypot(o.x_m - 10.0, o.y_m) < p.beh.goal_tol_m + 0.05);
+    }
 }
 
 static void test_world_layout_and_clearance(void **state)
@@ -1361,6 +1498,7 @@ int main(void)
         cmocka_unit_test(test_queue_behind_standing_mate),
         cmocka_unit_test(test_wedge_turns_clear_way),
         cmocka_unit_test(test_give_way_wedged),
+        cmocka_unit_test(test_wedge_backs_along_path),
         cmocka_unit_test(test_deadzone_team),
         cmocka_unit_test(test_escape_timeout_and_lost_wall),
         cmocka_unit_test(test_mask_mates_property),
@@ -1370,6 +1508,7 @@ int main(void)
         cmocka_unit_test(test_restore_ignores_leaving_mate),
         cmocka_unit_test(test_post_inside_formation_not_a_wall),
         cmocka_unit_test(test_team_heading_at_goal),
+        cmocka_unit_test(test_turns_back_past_goal),
         cmocka_unit_test(test_snapshot_resume_identity),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
