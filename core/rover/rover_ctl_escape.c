@@ -168,19 +168,23 @@ static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose
  *   pocket and will come out the way it went in. Driving on after it, the
  *   mates behind went deep into the narrowing trap, side by side with no
  *   room left to turn on the spot when it came, and the three jammed;
- *   queue: behind a mate still in formation standing (under QUEUE_SLOW_MPS)
- *   within QUEUE_M ahead: usually one about to find its pocket closed, and
+ *   queue: behind a mate still in formation within QUEUE_M ahead that
+ *   stands (under QUEUE_SLOW_MPS) or that we close on (slower than us by
+ *   QUEUE_CLOSING_MPS): usually one about to find its pocket closed, and
  *   the dead-zone time was enough for the mates to follow it into the
- *   throat. */
+ *   throat; waiting for it to stand, the rear robots of a triangle, still
+ *   at 0.5 m/s, stopped in the pocket's mouth right behind it. */
 #define QUEUE_CONE_RAD 0.6
 #define QUEUE_SLOW_MPS 0.1
 #define QUEUE_M 1.3
+#define QUEUE_CLOSING_MPS 0.1
 static void hold_step(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double t_s,
                       double dt_s)
 {
     const mate_query trapped = { .cone_rad = 0.5 * VEC2_PI, .seen_s = c->p.give_way_seen_s };
     const mate_query queue = { .cone_rad = QUEUE_CONE_RAD, .seen_s = c->p.give_way_seen_s,
-                               .slow_mps = QUEUE_SLOW_MPS, .range_m = QUEUE_M };
+                               .slow_mps = fmax(QUEUE_SLOW_MPS, c->v_est_mps - QUEUE_CLOSING_MPS),
+                               .range_m = QUEUE_M };
     double b, mate[2];
     if (!(find_mate(c, o, &trapped, t_s, &b, mate) || find_mate(c, o, &queue, t_s, &b, mate)) ||
         !confined(gw, &c->p)) {

@@ -827,6 +827,36 @@ static void test_queue_behind_standing_mate(void **state)
     assert_false(c.holding);
 }
 
+/* Queue behind a mate we are closing on: driving at 0.5 m/s between
+ * walls with a mate in formation 1.15 m ahead doing 0.3 m/s, stand (it is
+ * slowing for its pocket's end; waiting for it to stand, the rear robots
+ * of a triangle came to a stop in the pocket's mouth); with the mate at
+ * 0.45 m/s, keep going. */
+static void test_queue_behind_closing_mate(void **state)
+{
+    static const double mate_v[2] = { 0.3, 0.45 };
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    int k;
+    (void)state;
+    for (k = 0; k < 2; k++) {
+        hand_mate m = { 2, 0.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 };
+        double t, enc = 0.0;
+        int held = 0;
+        at_origin(&c, &p, 1);
+        m.v = mate_v[k];
+        for (t = 0.0; t < 1.0; t += DT) {
+            enc = 0.5 * t / p.wheel_radius_m;
+            m.x = 0.5 * t - p.beh.d_m + 1.15;       /* 1.15 m ahead of our O */
+            seen_step_lr(&c, t, enc, enc, lane_ring, &m, 1, &out);
+            if (t > 0.5 && c.holding) held = 1;
+        }
+        print_message("closing at %.2f m/s on a mate 1.15 m ahead: held %d\n", 0.5 - mate_v[k], held);
+        assert_int_equal(held, k == 0);
+    }
+}
+
 /* Wedged with no way back (it turned on the spot to get there: no
  * trail) and a mate behind its right flank: it stands for wedge_max_s,
  * then turns the way whose sweep is clear of the mate's chassis. Its
@@ -1496,6 +1526,7 @@ int main(void)
         cmocka_unit_test(test_give_way_announces_and_references),
         cmocka_unit_test(test_hold_while_trapped_mate_turns),
         cmocka_unit_test(test_queue_behind_standing_mate),
+        cmocka_unit_test(test_queue_behind_closing_mate),
         cmocka_unit_test(test_wedge_turns_clear_way),
         cmocka_unit_test(test_give_way_wedged),
         cmocka_unit_test(test_wedge_backs_along_path),
