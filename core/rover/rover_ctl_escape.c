@@ -217,9 +217,11 @@ static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, double
 
 /* The way back known free: the axle's own path (a robot has no rear
  * sonar; walls do not move, so where its chassis passed it can pass
- * again). A crumb is laid each ROVER_CRUMB_STEP_M the axle moves from the
- * newest, the oldest dropped when the ROVER_CRUMBS are full; backing picks
- * them up again. A turn on the spot moves no axle and lays none. */
+ * again, as far as its own pose is right: the localizer holds it within
+ * about 5 cm, loc_err_max_m over every sweep). A crumb is laid each
+ * ROVER_CRUMB_STEP_M the axle moves from the newest, the oldest dropped
+ * when the ROVER_CRUMBS are full; backing picks them up again. A turn on
+ * the spot moves no axle and lays none. */
 static void crumbs_lay(rover_ctl_state *c, const pose2 *o)
 {
     pose2 ax;
