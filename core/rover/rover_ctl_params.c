@@ -53,9 +53,11 @@ void rover_ctl_params_default(rover_ctl_params *p)
     p->mate_keep_m = 0.45;
     p->v_change_mps = 0.25;
     p->goal_heading_gain = 1.0;
-    /* about the size of the formation (a 3-robot line is 2.4 m wide): R0
-     * is at most arrive_m / 4 = 0.75 m ahead of the team's mean */
-    p->arrive_m = 3.0;
+    /* off: the seed's reference. With the dead-zone rules of method §10
+     * arrival no longer changes a pass rate over the sweeps and costs a
+     * little time to goal (docs/formation.md, "Results over seeds");
+     * `--ref-arrive 3` (about the size of the formation) flies it */
+    p->arrive_m = 0.0;
     p->guard_m = 0.5;
     p->guard_stop_m = 0.15;
     p->guard_lane_m = 0.1;

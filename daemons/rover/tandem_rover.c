@@ -122,7 +122,7 @@ static const option_entry rover_options[] = {
       .def = "goal" },
     { .name = "ref-arrive", .type = OPTION_DOUBLE, OPTION_AT(rover_daemon, params.arrive_m), .min = 0.0,
       .max = 100.0, .meta = "M", .help = "within M of the goal the team reference turns onto the goal's slot frame "
-      "and its speed fades (0: off, the reference as it is)", .def = "3" },
+      "and its speed fades (0: off)", .def = "0" },
     { .name = "localize", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, localize), .choices = options_on_off,
       .values = options_on_off_flags,
       .help = "fuse the world's LED landmarks with odometry (EKF); off: odometry and frame consensus only",

@@ -82,7 +82,7 @@ static const option_entry formation_table[] = {
       .def = "goal" },
     { .name = "ref-arrive", .type = OPTION_DOUBLE, OPTION_AT(fm_state, ref_arrive_m), .min = 0.0, .max = 100.0,
       .meta = "M", .help = "within M of the goal the team reference turns onto the goal's slot frame and its "
-      "speed fades (0: off)", .def = "3" },
+      "speed fades (0: off)", .def = "0" },
     { .name = "localize", .type = OPTION_CHOICE, OPTION_AT(fm_state, localize_off), .choices = options_on_off,
       .help = "robots fuse the world's LED landmarks", .def = "on" },
     { .name = "lockstep-timeout-ms", .type = OPTION_INT, OPTION_AT(fm_state, timeout_ms_given), .min = 100,
