@@ -1435,8 +1435,8 @@ static void test_team_heading_at_goal(void **state)
 /* Past the goal: the middle robot stands 3.5 m beyond its goal slot
  * facing away, its mates at theirs, so R0 (their mean) lies 1.2 m past
  * the goal on the goal line. R0 heads back along the bearing of the goal
- * (ref_arrive turns it onto the goal's frame only where the goal lies
- * ahead): the robot turns round and drives back to its slot. Turned by
+ * (ref_arrive, when on, turns it onto the goal's frame only where the
+ * goal lies ahead): the robot turns round and drives back to its slot. Turned by
  * lam of the way onto the frame from there, R0's heading took its sign
  * from the centimetre R0 lay beside the goal line, and the robot turned
  * back and forth on the spot for good. Both sides of the line. */
@@ -1450,6 +1450,7 @@ static void test_turns_back_past_goal(void **state)
     int side;
     (void)state;
     rover_ctl_params_default(&p);
+    p.arrive_m = 3.0;           /* arrival on (`--ref-arrive 3`; off by default) */
     for (side = -1; side <= 1; side += 2) {
         pose2 pose = { 13.5, 0.01 * side, 0.0 }, o;
         double t;
