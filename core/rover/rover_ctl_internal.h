@@ -53,7 +53,7 @@ int32_t rover_ctl_spin_hits_mate(const rover_ctl_state *c, const pose2 *o);
  * within the next 0.6 rad. */
 int     rover_ctl_turn_sweeps_mate(const rover_ctl_state *c, const pose2 *o, int dir);
 /* 1 if robot `who` (ourselves or a mate) has no robot's axle in the lane
- * behind it. */
+ * straight behind it. */
 int     rover_ctl_may_back(const rover_ctl_state *c, const pose2 *o, int32_t who);
 /* 1 if backing reach_m along our crumbs keeps our chassis clear of every
  * mate's. */

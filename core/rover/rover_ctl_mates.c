@@ -91,13 +91,16 @@ static int mate_box(const rover_ctl_state *c, int i, double grow_m, box2 *b)
     return 0;
 }
 
-/* Mate i turns on the spot (by the team table) and has the lower id:
- * where two turn side by side it turns first, and its chassis may be at
+/* A mate turning at least this fast (team table) may have its chassis at
  * any heading of its turning circle. */
+#define MATE_TURNING_RADPS 0.1
+
+/* Mate i turns on the spot (by the team table) and has the lower id:
+ * where two turn side by side it turns first. */
 static int mate_turning_first(const rover_ctl_state *c, int i)
 {
     const team_member *m = &c->team.m[i];
-    return m->robot < c->id && fabs(m->v_mps) <= 0.05 && fabs(m->w_radps) >= 0.1;
+    return m->robot < c->id && fabs(m->v_mps) <= 0.05 && fabs(m->w_radps) >= MATE_TURNING_RADPS;
 }
 
 /* A lower-id mate turning on the spot (not driving) with its axle within
@@ -182,12 +185,13 @@ static int robot_c(const rover_ctl_state *c, const pose2 *o, int32_t who, pose2 
     return mate_c(c, (int)(m - c->team.m), out);
 }
 
-/* Robot `who` may back up: no other robot of the team (ourselves
- * included) has its axle in the lane behind who's (0.1 m to BACK_CLEAR_M
- * back, BACK_LANE_M either side of its centre line: half its width and a mate's
- * turning reach), by the team table (there is no rear sonar). Every robot
- * works this out alike for itself and for a mate, so two wedged robots
- * agree who backs. */
+/* Robot `who` may back up straight: no other robot of the team
+ * (ourselves included) has its axle in the lane behind who's (0.1 m to
+ * BACK_CLEAR_M back, BACK_LANE_M either side of its centre line: half its
+ * width and a mate's turning reach), by the team table (there is no rear
+ * sonar). A wedged robot judges by this whether the mate it is wedged
+ * against can back (a mate's own path is not known to it; its own backing
+ * goes by rover_ctl_crumbs_clear). */
 #define BACK_CLEAR_M 0.9
 #define BACK_LANE_M 0.55
 int rover_ctl_may_back(const rover_ctl_state *c, const pose2 *o, int32_t who)
@@ -241,7 +245,7 @@ static int mate_touches(const rover_ctl_state *c, int i, const box2 *b)
     pose2 mc;
     box2 mb;
     if (mate_c(c, i, &mc) != 0) return 0;
-    if (fabs(m->w_radps) >= 0.1)
+    if (fabs(m->w_radps) >= MATE_TURNING_RADPS)
         return box_gap_m(b, mc.x_m, mc.y_m) < turn_reach_m() + SPIN_MARGIN_M;
     mb = chassis_box(&mc, SPIN_MARGIN_M);
     return boxes_touch(b, &mb);
@@ -263,9 +267,9 @@ int rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reac
     next[0] = own_c.x_m;
     next[1] = own_c.y_m;
     for (k = c->crumb_n - 1; k >= 0 && path_m <= reach_m; k--) {
+        const double seg_m = hypot(next[0] - c->crumb_m[k][0], next[1] - c->crumb_m[k][1]);
         at.x_m = c->crumb_m[k][0];
         at.y_m = c->crumb_m[k][1];
-        const double seg_m = hypot(next[0] - at.x_m, next[1] - at.y_m);
         path_m += seg_m;
         at.theta_rad = seg_m > 1e-6 ? atan2(next[1] - at.y_m, next[0] - at.x_m) : own_c.theta_rad;
         own = chassis_box(&at, 0.0);

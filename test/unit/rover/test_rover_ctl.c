@@ -857,8 +857,8 @@ static void test_queue_behind_closing_mate(void **state)
     }
 }
 
-/* Wedged with no way back (it turned on the spot to get there: no
- * trail) and a mate behind its right flank: it stands for wedge_max_s,
+/* Wedged with no way back (it never drove: no crumbs to back along)
+ * and a mate behind its right flank: it stands for wedge_max_s,
  * then turns the way whose sweep is clear of the mate's chassis. Its
  * give-way turn is to the left (the roomier side on a tie), which would
  * swing its tail into the mate: it turns right. With a second mate
@@ -915,11 +915,12 @@ static double drive_in(rover_ctl_state *c, const rover_ctl_params *p, int32_t id
 }
 
 /* Giving way wedged beside a mate whose chassis is inside our turning
- * circle: never turn into it. The higher id backs straight out (at most
- * back_max_m, no farther than it drove in straight, only with no mate
- * behind) so that the lower id can turn; the lower id waits. With the
- * mate 0.9 m away it turns at once. A robot that has not driven straight
- * (it turned on the spot) does not back: it has no idea what is behind. */
+ * circle: never turn into it. The higher id backs out the way it drove in
+ * (at most back_max_m) so that the lower id can turn; the lower id waits
+ * while the higher backs, and backs itself if the higher has not started
+ * after 2 s. With the mate 0.9 m away it turns at once. A robot that has
+ * not driven anywhere has no path to back along: it has no idea what is
+ * behind, and stands. */
 static void test_give_way_wedged(void **state)
 {
     rover_ctl_state c;
@@ -971,7 +972,7 @@ static void test_give_way_wedged(void **state)
         if (c.esc_yield && out.u.w_radps != 0.0) turned = 1;
     }
     assert_true(c.esc_yield && turned);
-    /* no straight way in behind it: it stands, it does not back */
+    /* no way in behind it (it never drove): it stands, it does not back */
     m[1].id = 1;
     m[1].y = 0.45;
     at_origin(&c, &p, 3);
