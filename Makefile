@@ -14,7 +14,7 @@
 #   make clean
 # SAN=1 builds into build/san with the sanitizers on.
 
-# core/layers.mk (included below) defines the first rule; plain make is all
+# src/core/layers.mk (included below) defines the first rule; plain make is all
 .DEFAULT_GOAL := all
 
 CC       ?= cc
@@ -40,7 +40,7 @@ CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
 LAYER    := build/layer
 # everything above the core: every core header, the daemon shell, the
 # simulator's headers, the generated message types, LCM, ODE, libsodium
-APP_CPPFLAGS = $(CORE_INC) -Iplatform/posix -I$(GEN)/c -Idaemons/common -Isim -Isim/models \
+APP_CPPFLAGS = $(CORE_INC) -Isrc/platform/posix -I$(GEN)/c -Isrc/daemons/common -Isim -Isim/models \
                -D_POSIX_C_SOURCE=200809L $(PKG_CFLAGS)
 CFLAGS   := $(WARN) $(OPT)
 LDLIBS   := -lm
@@ -48,15 +48,16 @@ LDLIBS   := -lm
 # ---- layout ----------------------------------------------------------------
 # Every folder with sources has a module.mk that lists them (LinuxCNC's
 # Submakefile idea); this file holds the one compile recipe and the link
-# rules. The core is split by domain and each domain compiles with only the
-# include paths of the domains below it (core/layers.mk): an include across
-# the layering stops the build with a message that names the rule.
+# rules. The core is split by domain (src/core/<d>, public headers in
+# include/tandem/<d>) and each domain compiles with only the include paths
+# of the domains below it (src/core/layers.mk): an include across the
+# layering stops the build with a message that names the rule.
 CORE_SRC   :=
-CORE_DIRS  :=
-# per-domain include flags for the host and the cross builds
-core_cppflags = $(foreach d,$(LAYER_$(1)),-Icore/$(d)) -I$(LAYER)/$(1) -I$(CORE_POISON)
-# every core header, for the programs, tests and tools above the core
-CORE_INC    = $(foreach d,$(CORE_DIRS),-I$(d))
+# per-domain include flags for the host and the cross builds: the public
+# headers of the domains it may use, its own private headers, the stubs
+core_cppflags = $(foreach d,$(LAYER_$(1)),-Iinclude/tandem/$(d)) -Isrc/core/$(1) -I$(LAYER)/$(1) -I$(CORE_POISON)
+# every public core header, for the programs, tests and tools above the core
+CORE_INC    = $(foreach d,$(CORE_DOMAINS),-Iinclude/tandem/$(d))
 LCM_FILES  := $(wildcard lcmtypes/*.lcm)
 GEN_STAMP  := $(GEN)/.stamp
 TYPES_JAR  := build/lib/tandem_types.jar
@@ -82,21 +83,22 @@ $(BIN)/$(1): $(2) $$(DLIBS)
 	$$(call link,)
 endef
 # $(call unit_tests,D): test/unit/D/test_*.c, compiled against the core only
+# (the public headers, and domain D's private ones)
 define unit_tests
 UNIT_SRC += $$(wildcard test/unit/$(1)/test_*.c)
-$$(OBJ)/test/unit/$(1)/%.o: DIR_CPPFLAGS = $$(UNIT_CPPFLAGS)
+$$(OBJ)/test/unit/$(1)/%.o: DIR_CPPFLAGS = $$(UNIT_CPPFLAGS) -Isrc/core/$(1)
 endef
-UNIT_CPPFLAGS = $(CORE_INC) -Itest/unit -Itools/scenario -Iplatform/posix -D_POSIX_C_SOURCE=200809L
-include core/layers.mk
-include $(foreach d,$(CORE_DOMAINS),core/$(d)/module.mk)
-include platform/module.mk daemons/common/module.mk
-include daemons/arm/module.mk daemons/rover/module.mk daemons/supervisor/module.mk
+UNIT_CPPFLAGS = $(CORE_INC) -Itest/unit -Itools/scenario -Isrc/platform/posix -D_POSIX_C_SOURCE=200809L
+include src/core/layers.mk
+include $(foreach d,$(CORE_DOMAINS),src/core/$(d)/module.mk)
+include src/platform/module.mk src/daemons/common/module.mk
+include src/daemons/arm/module.mk src/daemons/rover/module.mk src/daemons/supervisor/module.mk
 include sim/models/module.mk sim/module.mk
 include tools/module.mk tools/scenario/module.mk
 include $(foreach d,$(CORE_DOMAINS),test/unit/$(d)/module.mk)
 include test/common/module.mk test/integration/module.mk bench/module.mk
 
-CORE_OBJ   := $(patsubst %.c,$(OBJ)/%.o,$(CORE_SRC)) $(OBJ)/platform/posix/rtclock_posix.o
+CORE_OBJ   := $(patsubst %.c,$(OBJ)/%.o,$(CORE_SRC)) $(OBJ)/src/platform/posix/rtclock_posix.o
 UNIT_BIN   := $(patsubst %.c,$(BIN)/%,$(notdir $(UNIT_SRC)))
 DUNIT_BIN  := $(patsubst %.c,$(BIN)/%,$(notdir $(DUNIT_SRC)))
 IT_BIN     := $(patsubst %.c,$(BIN)/%,$(notdir $(IT_SRC)))
@@ -127,7 +129,7 @@ $(GEN_STAMP): $(LCM_FILES) lcmtypes/capacities tools/wire/lcm-wire-gen.awk
 $(LIB)/libtandem_lcm.a: $(GEN_STAMP)
 	@mkdir -p $(OBJ)/gen $(LIB)
 	@for f in $(GEN)/c/*.c; do \
-	  $(CC) -std=c99 $(OPT) $(PKG_CFLAGS) -I$(GEN)/c -Idaemons/common -c $$f -o $(OBJ)/gen/$$(basename $$f .c).o || exit 1; done
+	  $(CC) -std=c99 $(OPT) $(PKG_CFLAGS) -I$(GEN)/c -Isrc/daemons/common -c $$f -o $(OBJ)/gen/$$(basename $$f .c).o || exit 1; done
 	@rm -f $@ && ar rcs $@ $(OBJ)/gen/*.o
 $(TYPES_JAR): $(GEN_STAMP)
 	@mkdir -p build/lib build/javaclasses

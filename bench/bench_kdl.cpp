@@ -2,7 +2,7 @@
 // timed in the same run (ns/call and ratio), plus the largest difference
 // between the two results as a cross-check of the core's FK, Jacobian and
 // RNE. C++ only because KDL is; the core is linked as plain C.
-//   g++ -O2 -std=c++14 $(for d in core/*/; do printf -- "-I%s " $d; done) $(pkg-config --cflags orocos-kdl) bench/bench_kdl.cpp
+//   g++ -O2 -std=c++14 $(for d in include/tandem/*/; do printf -- "-I%s " $d; done) $(pkg-config --cflags orocos-kdl) bench/bench_kdl.cpp
 //       build/lib/libtandem.a $(pkg-config --libs orocos-kdl) -lm -o build/bin/bench_kdl
 #include <chrono>
 #include <cmath>

@@ -1,6 +1,6 @@
 /* bench_roundtrip: state -> controller -> command over the real LCM bus,
  * beside a bare LCM ping-pong of the same message sizes, in the same run;
- * and what authentication (daemons/common/auth*.h) costs.
+ * and what authentication (src/daemons/common/auth*.h) costs.
  *
  *   tandem path: this process publishes ARM1_STATE + SIM_CLOCK (what the
  *     simulator sends each step) to a real `tandem-arm --lockstep`, which

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fails if the core library calls anything outside what a bare board gives
 # it: C99 <math.h>, the <string.h> block functions, the platform clock
-# (core/base/rtclock.h) and the compiler's own runtime (__*: soft-float,
+# (include/tandem/base/rtclock.h) and the compiler's own runtime (__*: soft-float,
 # 64-bit division; sincos: GCC fuses a sin and cos of one angle into it),
 # so a malloc, printf or POSIX call shows up here even if its header was
 # not included. Usage: check-core-calls.sh NM LIB.a

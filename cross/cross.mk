@@ -33,28 +33,28 @@ CORE_POISON := build/poison
 $(CORE_POISON): cross/cross.mk
 	@rm -rf $@
 	@for h in $(CORE_FORBIDDEN); do mkdir -p $@/$$(dirname $$h); \
-	  printf '#error "<%s> reached from the pure core: core/ is ISO C99 + libm only; platform code goes in platform/"\n' $$h > $@/$$h; done
+	  printf '#error "<%s> reached from the pure core: src/core/ is ISO C99 + libm only; platform code goes in src/platform/"\n' $$h > $@/$$h; done
 
 # ---- per-target core library -------------------------------------------------
-CORE_NAMES := $(patsubst core/%.c,%,$(CORE_SRC))
+CORE_NAMES := $(patsubst src/core/%.c,%,$(CORE_SRC))
 
 # $(1) target name, $(2) compiler, $(3) arch flags
 define cross_target
 $(1)_CORE_OBJ := $$(patsubst %,$(CROSS)/$(1)/core/%.o,$(CORE_NAMES))
 $(foreach d,$(CORE_DOMAINS),$(CROSS)/$(1)/core/$(d)/%.o: DIR_CPPFLAGS = $$(call core_cppflags,$(d))
 )
-$(CROSS)/$(1)/core/%.o: core/%.c | $(CORE_POISON) $(LAYER_STAMP)
+$(CROSS)/$(1)/core/%.o: src/core/%.c | $(CORE_POISON) $(LAYER_STAMP)
 	@mkdir -p $$(@D)
 	@$$(if $$(Q),echo '  CC    $$@';) true
 	$$(Q)$(2) $(3) $$(DIR_CPPFLAGS) $$(CROSS_CFLAGS) -MMD -MP -c $$< -o $$@
 $(CROSS)/$(1)/libtandem.a: $$($(1)_CORE_OBJ)
 	@rm -f $$@ && $(2)-ar rcs $$@ $$^
 	@cross/check-core-calls.sh $(subst gcc,nm,$(2)) $$@
-# the bare-board clock (platform/board) must build freestanding too
-$(CROSS)/$(1)/platform/rtclock_board.o: platform/board/rtclock_board.c
+# the bare-board clock (src/platform/board) must build freestanding too
+$(CROSS)/$(1)/platform/rtclock_board.o: src/platform/board/rtclock_board.c
 	@mkdir -p $$(@D)
 	@$$(if $$(Q),echo '  CC    $$@';) true
-	$$(Q)$(2) $(3) -ffreestanding -Icore/base -Iplatform/board -I$(CORE_POISON) $$(CROSS_CFLAGS) -MMD -MP -c $$< -o $$@
+	$$(Q)$(2) $(3) -ffreestanding -Iinclude/tandem/base -Isrc/platform/board -I$(CORE_POISON) $$(CROSS_CFLAGS) -MMD -MP -c $$< -o $$@
 endef
 $(eval $(call cross_target,m68k,$(M68K_CC),$(M68K_ARCH)))
 $(eval $(call cross_target,cm4,$(CM4_CC),$(CM4_ARCH)))
@@ -77,14 +77,16 @@ $(CROSS)/m68k/cmocka.o: third_party/cmocka/cmocka.c
 	$(Q)$(M68K_CC) $(M68K_ARCH) -std=gnu99 -O2 -w -Ithird_party/cmocka $(CMOCKA_DEFS) -c $< -o $@
 CMOCKA_DEFS := -DHAVE_SIGNAL_H -DHAVE_STRINGS_H -DHAVE_INTTYPES_H -DHAVE_MALLOC_H -DHAVE_STRUCT_TIMESPEC \
                -DHAVE_CLOCK_GETTIME -DHAVE_CLOCK_REALTIME -DHAVE_SIGLONGJMP -DHAVE_STRSIGNAL
-$(CROSS)/m68k/platform/rtclock_posix.o: platform/posix/rtclock_posix.c
+$(CROSS)/m68k/platform/rtclock_posix.o: src/platform/posix/rtclock_posix.c
 	@mkdir -p $(@D)
-	$(Q)$(M68K_CC) $(M68K_ARCH) $(WARN) -O2 -Icore/base -D_POSIX_C_SOURCE=200809L -c $< -o $@
-$(foreach s,$(UNIT_SRC),$(eval $(CROSS)/m68k/bin/$(notdir $(s:.c=)): $(s)))
+	$(Q)$(M68K_CC) $(M68K_ARCH) $(WARN) -O2 -Iinclude/tandem/base -D_POSIX_C_SOURCE=200809L -c $< -o $@
+# each test sees the core's public headers and its own domain's private ones
+$(foreach s,$(UNIT_SRC),$(eval $(CROSS)/m68k/bin/$(notdir $(s:.c=)): $(s)) \
+  $(eval $(CROSS)/m68k/bin/$(notdir $(s:.c=)): M68K_TEST_PRIV = -I$(patsubst test/unit/%/,src/core/%,$(dir $(s)))))
 $(CROSS)/m68k/bin/test_%: $(CROSS)/m68k/libtandem.a $(CROSS)/m68k/cmocka.o $(CROSS)/m68k/platform/rtclock_posix.o
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CC    $@';) true
-	$(Q)$(M68K_CC) $(M68K_TEST_FLAGS) -MMD -MP -static -o $@ $(filter %.c,$^) $(CROSS)/m68k/cmocka.o \
+	$(Q)$(M68K_CC) $(M68K_TEST_FLAGS) $(M68K_TEST_PRIV) -MMD -MP -static -o $@ $(filter %.c,$^) $(CROSS)/m68k/cmocka.o \
 	    $(CROSS)/m68k/platform/rtclock_posix.o $(CROSS)/m68k/libtandem.a -lm
 
 test-cross: deps-cross

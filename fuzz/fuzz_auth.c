@@ -1,5 +1,5 @@
 /* fuzz_auth: libFuzzer target for the secure bus's receive check
- * (daemons/common/auth.c, auth_acl.c), the code every tandem message meets
+ * (src/daemons/common/auth.c, auth_acl.c), the code every tandem message meets
  * before any decoder (built by tools/fuzz.sh as fuzz_auth).
  *
  * Input: byte 0 picks the mode, byte 1 the channel name's length (mod 64),

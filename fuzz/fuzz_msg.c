@@ -2,7 +2,7 @@
  * with -DFUZZ_TYPE=tandem_<name>_t by tools/fuzz.sh).
  *
  * Drives the receive path every daemon uses: the raw-byte wire check
- * (daemons/common/wire.c), then, only for bytes it accepted, lcm-gen's
+ * (src/daemons/common/wire.c), then, only for bytes it accepted, lcm-gen's
  * decoder, the shared validators, re-encoding and cleanup. Fails (abort)
  * when the checker accepts bytes that lcm-gen cannot decode or that do not
  * encode back to the same bytes (the two disagree about the layout); the

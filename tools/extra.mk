@@ -10,7 +10,7 @@ $(VERSION_H): FORCE
 	@v='$(TANDEM_VERSION)'; [ -n "$$v" ] || v=$$(git describe --tags --always --dirty 2>/dev/null || echo unknown); \
 	 printf '#define TANDEM_VERSION "%s"\n' "$$v" > $@.tmp; \
 	 if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
-$(OBJ)/daemons/common/version.o: $(VERSION_H)
+$(OBJ)/src/daemons/common/version.o: $(VERSION_H)
 FORCE:
 
 # ---- viewer: Python bridge to Rerun's web viewer ------------------------------
@@ -43,7 +43,7 @@ help:
 	@echo '  make run           run the whole system (DURATION=S to stop after S s,'
 	@echo '                     VIEW=1 with the browser viewer, RUN_ARGS="..." for tools/tandem-run)'
 	@echo '  make test          make lint, unit + integration tests, then again under ASan/UBSan'
-	@echo '  make lint          core layering (core/layers.mk), no POSIX/stdio in the core, no outside references'
+	@echo '  make lint          core layering (src/core/layers.mk), no POSIX/stdio in the core, no outside references'
 	@echo '  make unit | integration   one of the two test sets'
 	@echo '  make view          browser viewer attached to a running bus (VIEW_ARGS="--help")'
 	@echo '  make view-test     headless-Chromium test of the viewer (UPDATE_DOCS=1 writes docs/viewer.png)'

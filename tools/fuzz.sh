@@ -15,31 +15,31 @@ out=build/fuzz; gen=build/gen/c
 command -v clang >/dev/null || { echo "fuzz: clang is missing (apt-get install clang)"; exit 2; }
 mkdir -p "$out/obj"
 san="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined"
-core_inc=$(for d in core/*/; do printf -- '-I%s ' "${d%/}"; done)
-cflags="-std=c99 -O1 -g -D_POSIX_C_SOURCE=200809L $(pkg-config --cflags lcm) $core_inc -I$gen -Ibuild/gen -Idaemons/common -Iplatform/posix"
+core_inc=$(for d in include/tandem/*/; do printf -- '-I%s ' "${d%/}"; done)
+cflags="-std=c99 -O1 -g -D_POSIX_C_SOURCE=200809L $(pkg-config --cflags lcm) $core_inc -I$gen -Ibuild/gen -Isrc/daemons/common -Isrc/platform/posix"
 # the receive path's code, instrumented once for every target
 objs=()
-for f in $gen/*.c daemons/common/*.c platform/posix/*.c core/*/*.c; do
+for f in $gen/*.c src/daemons/common/*.c src/platform/posix/*.c src/core/*/*.c; do
     o=$out/obj/$(echo "$f" | tr / _ | sed 's/\.c$/.o/')
     [ "$o" -nt "$f" ] || clang $cflags $san -c "$f" -o "$o"
     objs+=("$o")
 done
 # seeds that match the types as they are now (a committed seed of a type
 # that has since grown fields is rejected by the wire check at once)
-clang -std=c99 -D_POSIX_C_SOURCE=200809L $(pkg-config --cflags lcm) $core_inc -I$gen -Idaemons/common \
-    fuzz/seed_gen.c daemons/common/wire.c $gen/*.c $(pkg-config --libs lcm) -o "$out/seed_gen"
+clang -std=c99 -D_POSIX_C_SOURCE=200809L $(pkg-config --cflags lcm) $core_inc -I$gen -Isrc/daemons/common \
+    fuzz/seed_gen.c src/daemons/common/wire.c $gen/*.c $(pkg-config --libs lcm) -o "$out/seed_gen"
 mkdir -p "$out/corpus" && "$out/seed_gen" "$out/corpus" >/dev/null
 types=("$@")
 [ ${#types[@]} -gt 0 ] || types=($(ls lcmtypes/*.lcm | xargs -n1 basename | sed 's/\.lcm$//') auth)
 for t in "${types[@]}"; do
     bin=$out/fuzz_$t
     if [ "$t" = auth ]; then
-        for f in daemons/common/auth.c daemons/common/auth_acl.c; do
+        for f in src/daemons/common/auth.c src/daemons/common/auth_acl.c; do
             o=$out/obj/$(echo "$f" | tr / _ | sed 's/\.c$/.o/')
             [ "$o" -nt "$f" ] || clang $cflags $san -c "$f" -o "$o"
         done
         clang $cflags -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined fuzz/fuzz_auth.c \
-            $out/obj/daemons_common_auth.o $out/obj/daemons_common_auth_acl.o -lsodium -o "$bin"
+            $out/obj/src_daemons_common_auth.o $out/obj/src_daemons_common_auth_acl.o -lsodium -o "$bin"
     else
         extra=""
         [ "$t" = action_row_t ] && extra=-DFUZZ_ACTION_ROW

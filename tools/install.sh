@@ -32,21 +32,26 @@ for p in "$bin"/tandem-*; do
     install -m 644 "$mandir/$name.1" "$dest/share/man/man1/$name.1"
 done
 install -m 644 "$corelib" "$dest/lib/libtandem.a"
-# the public headers (each domain's *_internal.h stays with its sources)
-for h in "$here"/core/*/*.h; do
-    case $h in *_internal.h) ;; *) install -m 644 "$h" "$dest/include/tandem/" ;; esac
+# the public headers, one folder per core domain as in the tree
+# (include/tandem/<domain>/; the private *_internal.h stay in src/core/)
+cflags=
+for d in "$here"/include/tandem/*/; do
+    d=$(basename "$d")
+    install -d "$dest/include/tandem/$d"
+    install -m 644 "$here/include/tandem/$d"/*.h "$dest/include/tandem/$d/"
+    cflags="$cflags -I\${includedir}/tandem/$d"
 done
 install -m 644 "$jar" "$dest/share/java/tandem_types.jar"
 cat > "$dest/lib/pkgconfig/tandem.pc" <<PC
 prefix=$prefix
 libdir=\${prefix}/lib
-includedir=\${prefix}/include/tandem
+includedir=\${prefix}/include
 
 Name: tandem
 Description: tandem robot control core (PUMA 560 dynamics, Petri-net carry, TDSD, formation control), ISO C99
 Version: $version
 Libs: -L\${libdir} -ltandem
 Libs.private: -lm
-Cflags: -I\${includedir}
+Cflags:$cflags
 PC
 echo "tandem: installed $(ls "$bin"/tandem-* | wc -l) programs, man pages, libtandem.a, tandem.pc and tandem_types.jar under $dest"

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # make lint: the rules the build also enforces, checked from the sources so
 # that a violation is named even where no compile reaches it.
-#   1. layering: a core/<d> file includes only headers of the domains
-#      LAYER_<d> in core/layers.mk lists (quoted includes), and
+#   1. layering: a file of core domain <d> (src/core/<d>/, include/tandem/<d>/)
+#      includes only headers of the domains LAYER_<d> in src/core/layers.mk
+#      lists (quoted includes); a private header (src/core/<o>/) only from
+#      its own domain's sources, never from a public header, and
 #   2. the core reaches no POSIX or stdio header (CORE_FORBIDDEN, cross.mk);
 #   3. no tracked file cites a specification outside the repository or
 #      holds an absolute path of a development machine.
@@ -14,9 +16,19 @@ while [ $# -gt 0 ] && [ "$1" != -- ]; do allowed[${1%%:*}]=${1#*:}; shift; done
 shift
 forbidden=("$@")
 bad=0
-home_of() { local h; h=$(ls core/*/"$1" 2>/dev/null | head -1); [ -n "$h" ] && basename "$(dirname "$h")"; }
+# the domain whose header it is (public: include/tandem/<o>, private:
+# src/core/<o>, private ones marked with a trailing "*")
+home_of() {
+    local h
+    h=$(ls include/tandem/*/"$1" 2>/dev/null | head -1)
+    [ -n "$h" ] && { basename "$(dirname "$h")"; return 0; }
+    h=$(ls src/core/*/"$1" 2>/dev/null | head -1)
+    [ -n "$h" ] && { echo "$(basename "$(dirname "$h")")*"; return 0; }
+    return 1
+}
 for d in "${!allowed[@]}"; do
-    for f in core/"$d"/*.[ch]; do
+    for f in src/core/"$d"/*.[ch] include/tandem/"$d"/*.h; do
+        [ -e "$f" ] || continue
         while IFS= read -r line; do
             n=${line%%:*}; inc=$(sed 's/.*#include *[<"]\([^>"]*\)[>"].*/\1/' <<<"$line")
             for x in "${forbidden[@]}"; do
@@ -25,8 +37,14 @@ for d in "${!allowed[@]}"; do
                 fi
             done
             o=$(home_of "$inc") || continue
-            case " ${allowed[$d]} " in *" $o "*) ;; *)
-                echo "$f:$n: layering: core/$d may include only core/{${allowed[$d]}} (core/layers.mk); $inc is in core/$o"; bad=1;;
+            case $o in
+                "$d*") case $f in include/*)
+                    echo "$f:$n: a public header includes the private $inc (src/core/$d): a program linking libtandem would not find it"; bad=1;;
+                   esac;;
+                *"*") echo "$f:$n: layering: $inc is private to src/core/${o%\*} (only its own domain includes it)"; bad=1;;
+                *) case " ${allowed[$d]} " in *" $o "*) ;; *)
+                    echo "$f:$n: layering: src/core/$d may include only include/tandem/{${allowed[$d]}} (src/core/layers.mk); $inc is in include/tandem/$o"; bad=1;;
+                   esac;;
             esac
         done < <(grep -n '^[[:space:]]*#[[:space:]]*include' "$f")
     done

@@ -1,5 +1,5 @@
 /* tandem-keygen: makes the bus key every tandem program signs and checks
- * its messages with (docs/method/lockstep.md §4-5; daemons/common/auth.h). 32 random bytes
+ * its messages with (docs/method/lockstep.md §4-5; src/daemons/common/auth.h). 32 random bytes
  * from libsodium in a file only its owner may read (0600), by default
  * ${XDG_CONFIG_HOME:-~/.config}/tandem/bus.key, which `make run` also
  * creates on first use.

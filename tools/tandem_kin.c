@@ -2,7 +2,7 @@
  * core (arm_model, arm_kin, arm_dyn): FK, Jacobian, all IK branches and
  * gravity torques of the PUMA 560 or the seed-002 arm. A tool, not core:
  * stdio is fine here; it links the core library and the option table
- * (daemons/common/options.h).
+ * (src/daemons/common/options.h).
  */
 #include <errno.h>
 #include <math.h>

@@ -2,7 +2,7 @@
  * it, with the LCM in and out left out (that is the platform's). These are
  * the entry points make budget measures: their stack depth from the call
  * graph and, on the 68040, their instruction count under emulation.
- *   arm, joint segment   daemons/arm/tandem_arm.c cycle(): jtraj reference +
+ *   arm, joint segment   src/daemons/arm/tandem_arm.c cycle(): jtraj reference +
  *                        computed torque with the held bar
  *   arm, Cartesian (ER)  cart_cycle(): tool point, s, s* of the pair,
  *                        cartseg_step (erlaw law, damped inverse, RNE)

@@ -1,4 +1,4 @@
-/* Unit tests of the secure bus (daemons/common/auth*.c): the
+/* Unit tests of the secure bus (src/daemons/common/auth*.c): the
  * MAC against libsodium and BLAKE2b's published vectors, the trailer
  * under truncation and garbage, the counter window and replay table, the
  * channel authorisation table and its validator, key files, and the

@@ -1,5 +1,5 @@
 /* Unit tests of the daemons' start-up table check (daemon_check_table,
- * daemons/common/daemon.c) on the tables the daemons check: the shipped
+ * src/daemons/common/daemon.c) on the tables the daemons check: the shipped
  * ones pass, a broken copy is refused with DAEMON_ERR_TABLE, and the
  * defaults the command line starts from (daemon_defaults) are the documented ones. */
 #include <stdarg.h>

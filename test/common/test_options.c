@@ -1,4 +1,4 @@
-/* Unit tests of the option table (daemons/common/options.c): every type
+/* Unit tests of the option table (src/daemons/common/options.c): every type
  * lands in its destination with its range and choices enforced, a
  * repeatable option sees every occurrence, unknown options, missing values
  * and missing required options are refused (exit status 2), and the

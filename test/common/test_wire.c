@@ -1,4 +1,4 @@
-/* Unit tests of the raw-byte wire check (daemons/common/wire.c) against
+/* Unit tests of the raw-byte wire check (src/daemons/common/wire.c) against
  * lcm-gen's own encoder: every message lcm-gen encodes passes and is the
  * type wire_find names; each way a datagram can lie about its layout
  * (a truncated or padded buffer, a negative or too large array length, a

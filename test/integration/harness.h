@@ -21,7 +21,7 @@ typedef struct harness_health {
 typedef struct harness {
     char     url[96];
     lcm_t   *lcm;
-    proc_set procs;          /* the daemons under test (daemons/common/proc.h) */
+    proc_set procs;          /* the daemons under test (src/daemons/common/proc.h) */
     harness_health health[HARNESS_MAX_HEALTH];   /* harness_watch_health */
     int      n_health;
 } harness;

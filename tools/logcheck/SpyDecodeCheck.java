@@ -3,7 +3,7 @@
  * through lcm.spy.LCMTypeDatabase, which scans the classpath, then the
  * type's DataInput constructor), re-encodes it and checks the bytes are
  * the event's own, followed by nothing or by one authentication trailer
- * (daemons/common/auth.h). Prints the events decoded per type; exit 1 if
+ * (src/daemons/common/auth.h). Prints the events decoded per type; exit 1 if
  * any event fails.
  *   java -cp /usr/share/java/lcm.jar:build/lib/tandem_types.jar:DIR SpyDecodeCheck LOG
  */

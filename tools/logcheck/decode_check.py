@@ -2,7 +2,7 @@
 """decode_check: decodes every event of an lcm-logger file with the
 lcm-gen Python types, as the viewer's bridge does (tools/viewer/events.py:
 TYPE.decode(data)), re-encodes it and checks the bytes are the event's own,
-followed by nothing or by one authentication trailer (daemons/common/auth.h).
+followed by nothing or by one authentication trailer (src/daemons/common/auth.h).
 Prints the events decoded per type; exit 1 if any event fails.
     decode_check.py PYTHON_TYPES_DIR LOG     (lcm-gen -p --ppath PYTHON_TYPES_DIR)
 """

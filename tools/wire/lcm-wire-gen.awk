@@ -1,6 +1,6 @@
 # lcm-wire-gen.awk: turns lcmtypes/*.lcm plus lcmtypes/capacities into a C
 # table of every message layout (tandem_wire_types.{c,h}) for the raw-byte
-# checker daemons/common/wire.c. Generated, so a new or changed message type
+# checker src/daemons/common/wire.c. Generated, so a new or changed message type
 # is covered without anybody copying its layout by hand.
 #   awk -v OUT=DIR -f lcm-wire-gen.awk lcmtypes/capacities lcmtypes/*.lcm
 # Supports what tandem's types use: primitives, strings, nested tandem

@@ -1,3 +1,3 @@
-# test/unit/arm: one CMocka program per core/arm module (also built for the
+# test/unit/arm: one CMocka program per src/core/arm module (also built for the
 # 68040 by make test-cross); they see the core alone
 $(eval $(call unit_tests,arm))

@@ -1,3 +1,3 @@
-# test/unit/carry: one CMocka program per core/carry module (also built for the
+# test/unit/carry: one CMocka program per src/core/carry module (also built for the
 # 68040 by make test-cross); they see the core alone
 $(eval $(call unit_tests,carry))

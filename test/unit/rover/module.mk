@@ -1,3 +1,3 @@
-# test/unit/rover: one CMocka program per core/rover module (also built for the
+# test/unit/rover: one CMocka program per src/core/rover module (also built for the
 # 68040 by make test-cross); they see the core alone
 $(eval $(call unit_tests,rover))

@@ -1,2 +1,0 @@
-# core/arm: see core/layers.mk for what it is and what it may include
-$(eval $(call core_domain,arm))

@@ -1,2 +1,0 @@
-# core/carry: see core/layers.mk for what it is and what it may include
-$(eval $(call core_domain,carry))

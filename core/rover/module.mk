@@ -1,2 +1,0 @@
-# core/rover: see core/layers.mk for what it is and what it may include
-$(eval $(call core_domain,rover))

@@ -1,4 +1,0 @@
-# daemons/common: the daemon shell every program links (loop, bus, message
-# checks, authentication, journal, process control) -> libtandem_daemon.a
-COMMON_SRC := $(wildcard daemons/common/*.c)
-$(OBJ)/daemons/common/%.o: DIR_CPPFLAGS = $(APP_CPPFLAGS)

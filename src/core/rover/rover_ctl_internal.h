@@ -1,0 +1,65 @@
+/* rover_ctl_internal: NOT PART OF THE PUBLIC INTERFACE. The functions the
+ * formation controller's own files (rover_ctl*.c) share with one another;
+ * everything outside src/core/rover/rover_ctl*.c uses rover_ctl.h only.
+ *   rover_ctl.c          init, the step's orchestration, its outputs
+ *   rover_ctl_params.c   defaults and rover_ctl_params_validate
+ *   rover_ctl_inputs.c   encoders, sonar, camera, team messages, own pose,
+ *                        frame consensus, the mate mask
+ *   rover_ctl_guard.c    collision guard, passage width, rearmost test
+ *   rover_ctl_escape.c   dead-zone escape and giving way
+ *   rover_ctl_mates.c    mates' chassis by the team table: turning,
+ *                        backing and driving clear of them
+ */
+#ifndef TANDEM_ROVER_CTL_INTERNAL_H
+#define TANDEM_ROVER_CTL_INTERNAL_H
+
+#include "rover_ctl.h"
+
+/* Own pose of O, localized or dead-reckoned (rover_ctl_inputs.c). */
+void   rover_ctl_own_pose(const rover_ctl_state *c, pose2 *o);
+
+/* Moves the own frame toward the team's (rover_ctl_inputs.c). */
+void   rover_ctl_frame_consensus(rover_ctl_state *c, double t_s, double dt_s);
+
+/* The collision guard's speed rule alone; returns the nearest echo in the
+ * way (rover_ctl_guard.c). */
+double rover_ctl_guard_speed(unicycle_cmd *u, const double range_m[BEH_SONAR_N],
+                             const rover_ctl_params *p);
+
+/* Passage width for the passage protocol: INFINITY open, NAN unknown
+ * (rover_ctl_guard.c). masked: the ranges with mates masked (keep_m 0). */
+double rover_ctl_passage_width(const rover_ctl_state *c, const pose2 *o,
+                               const unicycle_state *ref, const sonar_groups *gw,
+                               const double masked[BEH_SONAR_N]);
+
+/* 1 if this robot is the last of the team toward the goal (it alone may
+ * restore the formation after a passage). */
+int    rover_ctl_is_rearmost(const rover_ctl_state *c, const pose2 *o);
+
+/* Dead-zone escape and give-way state machine: 1 while escaping, with its
+ * command in *u (rover_ctl_escape.c). gw: sonar groups with mates masked
+ * (walls only), g: with near mates kept (avoidance). */
+int    rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sonar_groups *g,
+                             const pose2 *o, const double goal[2], double t_s, double dt_s,
+                             unicycle_cmd *u);
+
+/* Mates' chassis by the team table (rover_ctl_mates.c); o: own O pose. */
+/* 1 if a lower-id mate turning on the spot has its axle within
+ * yield_clear_m of ours: it turns first. */
+int     rover_ctl_turn_blocked_by_mate(const rover_ctl_state *c, const pose2 *o);
+/* The id of a mate whose chassis lies within our turning circle, or 0. */
+int32_t rover_ctl_spin_hits_mate(const rover_ctl_state *c, const pose2 *o);
+/* 1 if turning the way dir (+1 left) sweeps our chassis into a mate's
+ * within the next 0.6 rad. */
+int     rover_ctl_turn_sweeps_mate(const rover_ctl_state *c, const pose2 *o, int dir);
+/* 1 if robot `who` (ourselves or a mate) has no robot's axle in the lane
+ * straight behind it. */
+int     rover_ctl_may_back(const rover_ctl_state *c, const pose2 *o, int32_t who);
+/* 1 if backing reach_m along our crumbs keeps our chassis clear of every
+ * mate's. */
+int     rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reach_m);
+/* 1 if a mate's chassis reaches into the lane ours sweeps driving ahead_m
+ * straight on. */
+int     rover_ctl_mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahead_m);
+
+#endif

@@ -1,0 +1,2 @@
+# src/core/tdsd: see src/core/layers.mk for what it is and what it may include
+$(eval $(call core_domain,tdsd))
