@@ -80,6 +80,8 @@ int cartseg_take_up(cartseg *c, double done_frac)
         return CARTSEG_ERR_ARG;
     g = c->line.ch.g;
     vec3_sub(d, c->line.p0_m, c->p1_world);
+    if (vec3_norm(d) < CARTSEG_TAKE_UP_MIN_M)
+        return CARTSEG_ERR_ARG;
     vec3_axpy(p0, c->p1_world, 1.0 / (1.0 - done_frac), d);
     if (erlaw_line_init(&c->line, p0, c->p1_world, &g) != 0)
         return CARTSEG_ERR_ARG;

@@ -125,8 +125,10 @@ int cartseg_resume(cartseg *c, const double x_world[3]);
  * through the start point so that the start lies done_frac of the way
  * along it (0 < done_frac <= CARTSEG_TAKE_UP_MAX), the progress the pair
  * had made, and the law resumes there. Call right after cartseg_start.
+ * A start point on the goal (nothing left to stretch) is refused.
  * 0 / CARTSEG_ERR_ARG. */
-#define CARTSEG_TAKE_UP_MAX 0.95
+#define CARTSEG_TAKE_UP_MAX 0.999
+#define CARTSEG_TAKE_UP_MIN_M 1e-6
 int cartseg_take_up(cartseg *c, double done_frac);
 
 /* The arm's measured contact force this cycle (N, e.g. the largest 10 ms

@@ -248,6 +248,8 @@ static double cart_sync_ref(arm_daemon *ad)
     if (!cx->partner_valid || cx->partner_transition != ad->transition || cx->partner_group != cx->sync_group ||
         cx->partner_step < cx->start_step - CART_PARTNER_WINDOW_STEPS)
         return 0.0;
+    if (cx->partner_s_f_m <= 0.0)
+        return CART_REF_OWN;   /* a partner's zero-length segment: it is done */
     l[0] = cx->s_f_m;
     l[1] = cx->partner_s_f_m;
     s[0] = cx->s_m;
