@@ -87,6 +87,24 @@ static void on_arm(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_st
     }
 }
 
+/* A synchronised arm's progress as a fraction of its segment (a
+ * restarted arm's segment is stretched, its s_f changes, its fraction
+ * does not): how far it went back from its furthest, in metres. */
+static void sync_backtrack(carry_state *r, int a, const tandem_action_event_t *e)
+{
+    double frac;
+    if (e->sync_group <= 0 || !(e->s_f_m > 0.0))
+        return;
+    frac = e->s_m / e->s_f_m;
+    if (e->action_id != r->sync_action[a] || e->segment != r->sync_seg[a]) {
+        r->sync_action[a] = e->action_id;
+        r->sync_seg[a] = e->segment;
+        r->sync_frac_max[a] = frac;
+    }
+    r->sync_frac_max[a] = fmax(r->sync_frac_max[a], frac);
+    r->max_sync_backtrack_m = fmax(r->max_sync_backtrack_m, (r->sync_frac_max[a] - frac) * e->s_f_m);
+}
+
 static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_action_event_t *e, void *u)
 {
     carry_state *r = u;
@@ -96,6 +114,7 @@ static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_acti
         r->s_f[e->arm - 1] = e->s_f_m;
         r->tr[e->arm - 1] = e->transition;
         r->s_step[e->arm - 1] = e->step;
+        sync_backtrack(r, e->arm - 1, e);
     } else if (e->arm == 1 || e->arm == 2) {
         r->last_event[e->arm - 1] = e->event;
         if (e->event == TANDEM_ACTION_EVENT_T_UNBLOCKED)

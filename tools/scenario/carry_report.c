@@ -75,6 +75,7 @@ static void summary_run(json_out *j, const carry_cfg *c, const carry_result *res
     json_int(j, "joint_stop_onsets", res->joint_stop_onsets);
     json_num(j, "min_joint_range_margin_deg", res->min_range_margin_rad * 57.29577951308232);
     json_num(j, "max_joint_speed_ratio", res->max_speed_ratio);
+    json_num(j, "max_sync_backtrack_m", res->max_sync_backtrack_m);
     json_int(j, "stalls", res->stalls);
     json_int(j, "faults", res->faults);
 }
@@ -179,6 +180,7 @@ int carry_criteria(const carry_cfg *c, const carry_result *r, double resume_max_
         { r->dropped != 0, "workpieces_dropped" },
         { r->joint_limit_violations != 0, "joint_limit_violations" },
         { !(r->max_speed_ratio <= 1.0), "max_joint_speed_ratio" },
+        { !(r->max_sync_backtrack_m <= CARRY_SYNC_BACKTRACK_MAX_M), "max_sync_backtrack_m" },
         { !(r->max_force_10ms_N <= CRIT_FORCE_10MS_N), "max_contact_force_10ms_N" },
         { !(resume_max_s <= CRIT_RESUME_S), "resume_latency_max_s" },
         { r->stalls != 0, "stalls" },

@@ -327,6 +327,7 @@ static void result_of(carry_result *res, const carry_state *r)
     res->joint_stop_onsets = r->stop_onsets;
     res->min_range_margin_rad = r->min_range_margin_rad;
     res->max_speed_ratio = r->max_speed_ratio;
+    res->max_sync_backtrack_m = r->max_sync_backtrack_m;
     res->max_force_N = r->max_force_N;
     res->max_force_10ms_N = r->max_force_10ms_N;
     res->first_delivery_s = r->t_deliv_first;

@@ -25,6 +25,11 @@
 /* success criteria (the figures a carry run must show) */
 #define CRIT_FORCE_10MS_N 1000.0
 #define CRIT_RESUME_S 1.0
+/* A synchronised arm never goes back along its segment by more than a
+ * follower's overshoot when its reference stops (v0 / (e w) = 2.5 mm from
+ * 0.2 m/s, docs/method/carry.md §4.2) and its 1 mm gap, with margin; a
+ * partner driven back by a restarted arm went 0.11 m. */
+#define CARRY_SYNC_BACKTRACK_MAX_M 0.005
 
 /* Failures of a carry run's steps (0 = ok; each said on stderr but a
  * malformed --block, which the option parser reports). */
@@ -82,6 +87,7 @@ typedef struct carry_result {
     /* health of the run */
     long   joint_limit_violations, joint_stop_onsets;
     double max_speed_ratio, max_force_N, max_force_10ms_N, min_range_margin_rad;
+    double max_sync_backtrack_m;
     int    stalls, faults;
     int    kills, restarts, rows_reissued, dones_recovered;
     const char *exit_reason;
@@ -99,6 +105,13 @@ typedef struct carry_state {
     double   s[2], s_f[2];
     int      tr[2];              /* transition of the last progress */
     int64_t  s_step[2];
+    /* synchronised segments: the furthest fraction of the way each arm has
+     * reported in its segment (action, segment), and the most any arm
+     * went back from it (m): a partner driven back by a restarted arm */
+    int32_t  sync_action[2];
+    int      sync_seg[2];
+    double   sync_frac_max[2];
+    double   max_sync_backtrack_m;
     double   s_hist[2][16];      /* s at the last 16 steps, ring */
     tandem_petri_marking_t mk;
     int8_t   mk_marking[16], mk_running[16];

@@ -115,6 +115,22 @@ int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool, const do
                   const double q[ARM_NJ], const double p1_world[3], const double R1_world[9],
                   const erlaw_gains *g, erlaw_ref ref);
 
+/* Protective-stop resume at the measured tool point x_world: the law
+ * takes the motion up from there as from a start (erlaw_channel_resume);
+ * a released block does the same by itself. 0 / CARTSEG_ERR_ARG. */
+int cartseg_resume(cartseg *c, const double x_world[3]);
+
+/* A segment taken up part way (a restarted arm of a synchronised pair,
+ * docs/method/carry.md §7.4): the line is stretched back from the goal
+ * through the start point so that the start lies done_frac of the way
+ * along it (0 < done_frac <= CARTSEG_TAKE_UP_MAX), the progress the pair
+ * had made, and the law resumes there. Call right after cartseg_start.
+ * A start point on the goal (nothing left to stretch) is refused.
+ * 0 / CARTSEG_ERR_ARG. */
+#define CARTSEG_TAKE_UP_MAX 0.999
+#define CARTSEG_TAKE_UP_MIN_M 1e-6
+int cartseg_take_up(cartseg *c, double done_frac);
+
 /* The arm's measured contact force this cycle (N, e.g. the largest 10 ms
  * average over its links); NAN or < 0: no contact sensor (the blocked
  * detector then goes by progress alone). cartseg_start sets "none". */

@@ -132,6 +132,8 @@ typedef struct {
     double s_ext_prev;  /* last external reference (clamped)           */
     double v_ext;       /* its filtered rate V_ref                     */
     int    ext_seen;    /* s_ext_prev holds a value                    */
+    double s_resume_m;  /* erlaw_channel_resume: where the arm stood   */
+    int    resumed;     /* the resume ramp caps V_d and A_d            */
 } erlaw_channel;
 
 typedef struct {
@@ -185,6 +187,16 @@ double erlaw_rot_angle(const erlaw_rot *r, const double R[9]);
 int erlaw_rot_hold(erlaw_rot *r, const double R[9]);
 int erlaw_rot_step(erlaw_rot *r, const double R[9], const double w_radps[3],
                    erlaw_ref ref, double s_ext_rad, double dt_s, erlaw_out *out);
+
+/* Protective-stop resume (docs/method/carry.md §7.4): the arm stands at
+ * measured progress s_r after a hold (a block released, a frozen or late
+ * controller, a fault) and the planned motion is taken up from there as
+ * from a start: V_d and A_d are those of the profile at s - s_r wherever
+ * that is the slower, so the arm never sees a speed demand it has no
+ * planned acceleration for (eq. 6 from rest at cruise: k_v v_m, ten
+ * times a_m with the carry rows). Not for a follower (it tracks its
+ * reference's rate, itself capped so) nor the time baseline. */
+void erlaw_channel_resume(erlaw_channel *c, double s_r);
 
 /* Segment length s_f (m or rad) of a channel. */
 double erlaw_channel_length(const erlaw_channel *c);

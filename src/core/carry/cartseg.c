@@ -64,6 +64,32 @@ int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool, const do
     return 0;
 }
 
+int cartseg_resume(cartseg *c, const double x_world[3])
+{
+    if (!c || !x_world || !isfinite(x_world[0]) || !isfinite(x_world[1]) || !isfinite(x_world[2]))
+        return CARTSEG_ERR_ARG;
+    erlaw_channel_resume(&c->line.ch, erlaw_line_s(&c->line, x_world));
+    return 0;
+}
+
+int cartseg_take_up(cartseg *c, double done_frac)
+{
+    double p0[3], d[3];
+    erlaw_gains g;
+    if (!c || !(done_frac > 0.0 && done_frac <= CARTSEG_TAKE_UP_MAX))
+        return CARTSEG_ERR_ARG;
+    g = c->line.ch.g;
+    vec3_sub(d, c->line.p0_m, c->p1_world);
+    if (vec3_norm(d) < CARTSEG_TAKE_UP_MIN_M)
+        return CARTSEG_ERR_ARG;
+    vec3_axpy(p0, c->p1_world, 1.0 / (1.0 - done_frac), d);
+    if (erlaw_line_init(&c->line, p0, c->p1_world, &g) != 0)
+        return CARTSEG_ERR_ARG;
+    erlaw_channel_resume(&c->line.ch, done_frac * erlaw_channel_length(&c->line.ch));
+    erlaw_block_reset(&c->blk, c->line.ch.s_resume_m);
+    return 0;
+}
+
 void cartseg_set_contact(cartseg *c, double force_N)
 {
     if (c)
@@ -349,6 +375,8 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
         static_err_update(c, eo.x_err, dt_s);
     if (blocked && !c->blocked)
         block_enter(c, out->x_world, st.T);
+    if (!blocked && c->blocked)
+        erlaw_channel_resume(&c->line.ch, eo.s_m);   /* released: from rest, as a start */
     c->blocked = blocked;
     out->blocked = blocked;
     rot_tapply(u_base, Rwb, eo.u);

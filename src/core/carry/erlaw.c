@@ -49,7 +49,36 @@ static int channel_init(erlaw_channel *c, const double e[3], double s_f, const e
     c->s_ext_prev = 0.0;
     c->v_ext = 0.0;
     c->ext_seen = 0;
+    c->s_resume_m = 0.0;
+    c->resumed = 0;
     return 0;
+}
+
+void erlaw_channel_resume(erlaw_channel *c, double s_r)
+{
+    if (!c || !isfinite(s_r))
+        return;
+    c->s_resume_m = clamp(s_r, 0.0, c->prof.s_f_m);
+    c->resumed = 1;
+    c->ext_seen = 0;
+}
+
+/* The resume ramp (erlaw_channel_resume): the profile started afresh at
+ * s_resume, where it is slower than the plan at s, with the full start-up
+ * bias k0 while it is (eq. 7 fades near the goal, and the ramp's V_d
+ * starts at 0: resumed 4 cm before the goal with the faded bias, the arm
+ * crept 1 mm per 300 ms and its block detector held it for good). */
+static void resume_cap(const erlaw_channel *c, double s_ref, double *a_d, double *v_d, double *b)
+{
+    double a_r, v_r;
+    if (!c->resumed)
+        return;
+    sprofile_at(&c->prof, s_ref - c->s_resume_m, &a_r, &v_r);
+    if (v_r < *v_d) {
+        *v_d = v_r;
+        *a_d = a_r;
+        *b = c->g.k0;
+    }
 }
 
 double erlaw_channel_length(const erlaw_channel *c)
@@ -145,6 +174,8 @@ static void channel_command(const erlaw_channel *c, double s, double s_ref, erla
         k_v = fmax(k_v, 2.0 * w);
         b = 0.0;
         gap = fmin(ERLAW_FOLLOW_GAP_M, c->prof.s_f_m - s_ref);
+    } else if (ref == ERLAW_REF_MEASURED || ref == ERLAW_REF_EXTERNAL) {
+        resume_cap(c, s_ref, &a_d, &v_d, &b);
     } else if (ref == ERLAW_REF_BLOCKED) {
         /* lean with the full start-up bias k0 wherever the block met the
          * arm: eq. 7 fades near the goal, and a faded bias could not move

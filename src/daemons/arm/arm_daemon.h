@@ -3,7 +3,7 @@
  * calls between its files: tandem_arm.c (inputs, cycle dispatch, commands
  * and events out), arm_joint.c (joint-space segments and references),
  * arm_carry.c (event-referenced Cartesian segments), arm_tdsd.c (TDSD
- * Cartesian segments).
+ * Cartesian segments), arm_hold.c (protective stops).
  */
 #ifndef TANDEM_ARM_DAEMON_H
 #define TANDEM_ARM_DAEMON_H
@@ -69,6 +69,19 @@ typedef struct arm_tdsd {
     int      seg_index;               /* cur_seg the TDSD segment belongs to, -1 */
 } arm_tdsd;
 
+/* Protective stop (arm_hold.c, docs/method/carry.md §7.4): after any hold
+ * the arm is brought to rest where it stands and the motion is planned
+ * again from there. */
+typedef struct arm_hold {
+    int     active;                   /* stopping or stopped; no motion runs */
+    int     pinned;                   /* the stop's reference taken from the measured state */
+    double  q_ref[ARM_NJ], qd_ref[ARM_NJ];   /* the controlled stop's reference */
+    double  rest_s;                   /* time at rest since then */
+    int64_t last_cmd_step;            /* state step of the last command sent, -1 */
+    int64_t stops;                    /* protective stops so far */
+    char    why[40];
+} arm_hold;
+
 typedef struct arm_daemon {
     daemon  d;                        /* the shell: bus, loop, counters, health */
     int    arm;                       /* 1 or 2 */
@@ -104,6 +117,7 @@ typedef struct arm_daemon {
     arm_joint_ref jref;
     arm_carry cart;
     arm_tdsd tdsd;
+    arm_hold hold;
 } arm_daemon;
 
 /* tandem_arm.c: events and commands out */
@@ -128,6 +142,18 @@ void arm_cart_start(arm_daemon *ad, const tandem_action_segment_t *g);
 int  arm_cart_cycle(arm_daemon *ad);
 int  arm_cart_fallback_cycle(arm_daemon *ad, int done);
 const arm_payload *arm_cart_payload(const arm_daemon *ad, arm_payload *p);
+
+void arm_cart_resume(arm_daemon *ad);
+
+/* arm_hold.c: protective stops */
+void arm_hold_init(arm_daemon *ad);
+/* A hold begins (why: a short phrase for the log); idempotent while one runs. */
+void arm_hold_begin(arm_daemon *ad, const char *why);
+/* A fresh state after a gap in this arm's commands (a frozen or late
+ * process) begins a hold; call once per cycle before the controllers. */
+void arm_hold_check_gap(arm_daemon *ad);
+/* Runs the cycle while a hold is in effect; 1 if it sent the command. */
+int  arm_hold_cycle(arm_daemon *ad);
 
 /* arm_tdsd.c: TDSD Cartesian segments */
 void arm_tdsd_row_accept(arm_daemon *ad, const tandem_action_row_t *r);

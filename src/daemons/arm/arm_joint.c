@@ -75,12 +75,11 @@ void arm_start_segment(arm_daemon *ad)
                                                             : TANDEM_ARM_COMMAND_T_GRIP_OPEN;
 }
 
-/* After a safe hold on the brakes: a joint move's reference is referenced
- * to time, and its clock ran on while the arm stood; picked up there it
- * would demand the whole lost way at once, the speed watchdog would brake
- * again, and the arm would creep 10 ms per release for ever. The rest of
- * the move is planned again from where the arm stands (Cartesian and TDSD
- * segments follow their measured path coordinate and need nothing). */
+/* After a protective stop (arm_hold.c): a joint move's reference is
+ * referenced to time, and its clock ran on while the arm stood; picked up
+ * there it would demand the whole lost way at once (joint 1 at its speed
+ * and torque limits, 0.35 rad past its reference after a 2 s freeze). The
+ * rest of the move is planned again from where the arm stands, at rest. */
 void arm_joint_resume(arm_daemon *ad)
 {
     tandem_action_segment_t *g;
@@ -146,6 +145,7 @@ void arm_joint_cycle(arm_daemon *ad)
      * finishes a Cartesian segment must meet the joint done tolerance */
     pl = arm_cart_payload(ad, &payload);
     if (jointctl_torque(ad->model, pl, &ad->gains, ad->st.q_rad, ad->st.qd_radps, q_d, qd_d, qdd_d, tau, NULL) != 0) {
+        arm_hold_begin(ad, "servo failed");
         arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
         return;
     }

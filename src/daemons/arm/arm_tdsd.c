@@ -72,6 +72,7 @@ int arm_tdsd_cycle(arm_daemon *ad)
         pl = &payload;
     }
     if (jointctl_torque(ad->model, pl, &ad->gains, ad->st.q_rad, ad->st.qd_radps, o.q_d, o.qd_d, o.qdd_d, tau, NULL) != 0) {
+        arm_hold_begin(ad, "servo failed");
         arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
         return 1;
     }

@@ -187,6 +187,7 @@ void arm_send_command(arm_daemon *ad, int mode, const double tau[ARM_NJ])
     if (tau)
         memcpy(c.tau_Nm, tau, sizeof c.tau_Nm);
     c.gripper = (int8_t)ad->gripper;
+    ad->hold.last_cmd_step = ad->st.step;
     AUTH_PUBLISH(tandem_arm_command_t, ad->d.lcm, ad->cmd_ch, &c);
 }
 
@@ -197,6 +198,7 @@ static int joint_fault(arm_daemon *ad)
     if (bits) {
         char detail[64];
         ad->fault_clear_s = 0.0;
+        arm_hold_begin(ad, "joint fault");
         if (!ad->fault) {
             snprintf(detail, sizeof detail, "range 0x%02x speed 0x%02x", ARM_FAULT_RANGE(bits), ARM_FAULT_SPEED(bits));
             arm_publish_event(ad, TANDEM_ACTION_EVENT_T_FAULT, detail);
@@ -206,8 +208,7 @@ static int joint_fault(arm_daemon *ad)
     } else if (ad->fault) {
         ad->fault_clear_s += ad->d.period_s;
         if (ad->fault_clear_s >= FAULT_CLEAR_S) {
-            ad->fault = 0;
-            arm_joint_resume(ad);
+            ad->fault = 0;   /* the protective stop (arm_hold.c) resumes the motion */
             arm_publish_event(ad, TANDEM_ACTION_EVENT_T_FAULT_CLEARED, "");
             fprintf(stderr, "%s: fault cleared\n", ad->d.name);
         }
@@ -221,7 +222,8 @@ static int joint_fault(arm_daemon *ad)
 }
 
 /* The controllers in turn, each when it is the one to send the command:
- * the joint watchdog's brakes, a TDSD segment, an event-referenced
+ * the joint watchdog's brakes, the protective stop (arm_hold.c), a TDSD
+ * segment, an event-referenced
  * Cartesian segment (again when a fallback joint move hands its segment
  * back), else joint space. */
 static int cycle(daemon *d, void *user)
@@ -238,16 +240,18 @@ static int cycle(daemon *d, void *user)
         if (ad->have_state)
             d->msgs.stale++;
         d->safe_hold = 1;
+        arm_hold_begin(ad, "state stale");
         snprintf(d->status, sizeof d->status, "safe hold: state stale");
         arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
         return DAEMON_CONTINUE;
     }
     d->safe_hold = 0;
+    arm_hold_check_gap(ad);
     if (d->lockstep && ad->row_in.have && ad->row_in.row.step < d->pending_step)
         row_take(ad);
     if (d->lockstep)
         arm_cart_partner_at(ad, d->pending_step);
-    if (joint_fault(ad) || arm_tdsd_cycle(ad) || arm_cart_cycle(ad) || (arm_cart_fallback_cycle(ad, 0) && arm_cart_cycle(ad)))
+    if (joint_fault(ad) || arm_hold_cycle(ad) || arm_tdsd_cycle(ad) || arm_cart_cycle(ad) || (arm_cart_fallback_cycle(ad, 0) && arm_cart_cycle(ad)))
         return DAEMON_CONTINUE;
     arm_joint_cycle(ad);
     return DAEMON_CONTINUE;
@@ -344,6 +348,7 @@ int main(int argc, char **argv)
         return options_exit_status(rc);
     ad->gains.zeta = 1.0;
     step_gate_init(&ad->state_gate, 1000, 1000000000LL);
+    arm_hold_init(ad);
     snprintf(name, sizeof name, "tandem-arm-%d", ad->arm);
     snprintf(d->name, sizeof d->name, "%s", name);
     snprintf(ad->state_ch, sizeof ad->state_ch, "ARM%d_STATE", ad->arm);

@@ -84,7 +84,11 @@ static void send_row(supervisor_daemon *sv, int t, int a)
     row.arm = (int8_t)(a + 1);
     row.controller = (int8_t)sv->controller;
     row.use_tdsd = (int8_t)sv->use_tdsd;
-    row.sync_group = r->sync_group;
+    /* a synchronised row sent again after its partner finished its part:
+     * there is no partner progress left to share (the partner says nothing
+     * more once done), so the arm finishes alone; synchronised, it waited
+     * at s* = 0 for good (arm 1 restarted 7 mm before the hand-over) */
+    row.sync_group = sv->slot[t].state[1 - a] == ARM_SLOT_DONE ? 0 : r->sync_group;
     row.workpiece_id = sv->pick_id;
     row.v_m = r->lin.v_m; row.a_m = r->lin.a_m; row.u_m = r->lin.u_m;
     row.k_p = r->lin.k_p; row.k_v = r->lin.k_v;

@@ -94,6 +94,40 @@ static void test_segment_ends_at_p1(void **st)
     assert_true(vec3_norm(x) < 0.005);
 }
 
+/* A segment taken up part way (a restarted arm of a synchronised pair):
+ * where the arm stands is done_frac of the way along the stretched line,
+ * the goal and the direction are the segment's, the arm starts from rest
+ * (no jump in the demand: the profile starts afresh there) and finishes at
+ * p1. Refused outside (0, CARTSEG_TAKE_UP_MAX]. */
+static void test_take_up_part_way(void **st)
+{
+    double T_wb[16], q[ARM_NJ], qd[ARM_NJ] = { 0 }, R1[9], p1[3], x[3], v[3], e0[3], tf;
+    arm_tool tool;
+    cartseg c;
+    cartseg_out o;
+    int done, blk;
+    (void)st;
+    setup(T_wb, &tool, q, R1);
+    vec3_copy(p1, cell_default.home_tool_m[0]);
+    p1[0] -= 0.15; p1[2] -= 0.10;
+    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
+    vec3_copy(e0, c.line.ch.e);
+    assert_int_equal(cartseg_take_up(&c, 0.0), CARTSEG_ERR_ARG);
+    assert_int_equal(cartseg_take_up(&c, CARTSEG_TAKE_UP_MAX + 0.01), CARTSEG_ERR_ARG);
+    assert_int_equal(cartseg_take_up(&c, 0.4), 0);
+    cartseg_tool_world(&arm_model_puma560, &tool, T_wb, q, qd, x, v);
+    assert_true(fabs(erlaw_line_s(&c.line, x) - 0.4 * erlaw_channel_length(&c.line.ch)) < 1e-9);
+    assert_true(fabs(erlaw_line_s(&c.line, p1) - erlaw_channel_length(&c.line.ch)) < 1e-9);
+    assert_true(vec3_dot(e0, c.line.ch.e) > 1.0 - 1e-12);
+    assert_int_equal(cartseg_step(&c, &arm_model_puma560, &tool, NULL, q, qd, -1.0, 1e-3, &o), 0);
+    assert_true(vec3_dot(o.u_world, c.line.ch.e) <= G.k0 + 1e-9);   /* from rest: the bias, no k_v v_m */
+    done = run(&c, &tool, q, qd, 6000, 0, 0, -1.0, &blk, &tf);
+    assert_true(done > 0);
+    cartseg_tool_world(&arm_model_puma560, &tool, T_wb, q, qd, x, v);
+    vec3_sub(x, x, p1);
+    assert_true(vec3_norm(x) < 0.005);
+}
+
 /* The segment with the law run every period_ms (1 ms plant steps, torque
  * held in between, as a slower arm board would). Returns the time to done
  * (ms, -1 if not within 6 s); worst distance from the line, final miss. */
@@ -516,6 +550,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_segment_ends_at_p1),
+        cmocka_unit_test(test_take_up_part_way),
         cmocka_unit_test(test_segment_at_4ms_period),
         cmocka_unit_test(test_block_and_resume),
         cmocka_unit_test(test_external_reference_stops_fast),

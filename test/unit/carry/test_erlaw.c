@@ -211,6 +211,56 @@ static void test_blocked_event_vs_time(void **st)
     assert_true(m.speed_max > 2.0 * G.v_m);
 }
 
+/* Largest commanded acceleration along e from rest at P0 + s_r e (after
+ * a protective stop there, resumed if asked) to the goal; the speed and
+ * overshoot go into m. */
+static double accel_after_stop(erlaw_line *l, mass *m, double s_r, int resume)
+{
+    double p[3], a_max = 0.0, t;
+    erlaw_out o;
+    assert_int_equal(erlaw_line_init(l, P0, P1, &G), 0);
+    vec3_axpy(p, P0, s_r, l->ch.e);
+    mass_at(m, p);
+    if (resume)
+        erlaw_channel_resume(&l->ch, erlaw_line_s(l, m->x));
+    for (t = 0.0; t < 10.0 && !is_done(l, m); t += DT) {
+        o = cycle(l, m, ERLAW_REF_MEASURED, 0.0, 0);
+        a_max = fmax(a_max, vec3_dot(o.u, l->ch.e));
+    }
+    assert_true(is_done(l, m));
+    return a_max;
+}
+
+/* Protective-stop resume (erlaw_channel_resume): from rest at cruise the
+ * event law alone asks k_v v_m (5 m/s^2, ten times a_m); resumed, the
+ * profile starts afresh where the arm stands, so the demand stays within
+ * the planned acceleration plus the start-up bias (and the small lag of
+ * the point mass behind V_d), the speed within v_m, and the reference
+ * at s_r + d is the profile's at d. */
+static void test_resume_from_rest_at_planned_acceleration(void **st)
+{
+    erlaw_line l;
+    mass m;
+    erlaw_out o;
+    double a_plain, a_resumed, v_d, a_d, p[3];
+    (void)st;
+    a_plain = accel_after_stop(&l, &m, 0.25, 0);
+    assert_true(a_plain > 0.9 * G.k_v * G.v_m);
+    a_resumed = accel_after_stop(&l, &m, 0.25, 1);
+    printf("from rest at cruise: %.2f m/s^2 plain, %.2f resumed (a_m %.2f, k0 %.2f)\n", a_plain, a_resumed, G.a_m,
+           G.k0);
+    assert_true(a_resumed <= 1.2 * (G.a_m + G.k0));
+    assert_true(m.speed_max <= G.v_m * 1.01);
+    assert_true(m.s_raw_max <= 0.5 + TOL_S);
+    /* the ramp is the profile, started at s_r */
+    assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
+    erlaw_channel_resume(&l.ch, 0.25);
+    vec3_axpy(p, P0, 0.25 + 0.01, l.ch.e);
+    assert_int_equal(erlaw_line_step(&l, p, (double[3]){ 0, 0, 0 }, ERLAW_REF_MEASURED, 0.0, DT, &o), 0);
+    sprofile_at(&l.ch.prof, 0.01, &a_d, &v_d);
+    assert_true(fabs(o.v_d - v_d) < 1e-12 && fabs(o.a_d - a_d) < 1e-12);
+}
+
 /* External reference (docs/method/carry.md §4): a leader mass runs the event law, the
  * follower tracks s_ref = its s. The leader is frozen at cruise: the
  * follower's speed falls below 1 cm/s within 50 ms, its lead over the
@@ -486,6 +536,7 @@ int main(void)
         cmocka_unit_test(test_bias_is_needed),
         cmocka_unit_test(test_short_segment_starts_against_disturbance),
         cmocka_unit_test(test_blocked_event_vs_time),
+        cmocka_unit_test(test_resume_from_rest_at_planned_acceleration),
         cmocka_unit_test(test_external_reference_follower_stops),
         cmocka_unit_test(test_follower_speed_capped_by_profile),
         cmocka_unit_test(test_blocked_leans_with_bias),

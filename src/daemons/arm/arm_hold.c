@@ -1,0 +1,135 @@
+/* arm_hold: tandem-arm's protective stop (docs/method/carry.md §7.4).
+ *
+ * Every hold -- a stale state (the brakes), a joint fault (the brakes), a
+ * servo that could not compute, this process frozen or late (a gap in its
+ * commands, during which the simulator held or braked the arm) -- ends
+ * the same way: from the state measured at the first good cycle the
+ * servo brings the arm to rest at the deceleration joint moves are
+ * planned with (a controlled stop: a stop at the servo's own bandwidth
+ * took joint 1 to its torque limit from 0.4 rad/s), holds it there until
+ * it is at rest, and then the running motion is planned
+ * again from where the arm stands: a joint move from the measured joint
+ * angles (jtraj, rest to rest), a TDSD segment from the measured pose, an
+ * event-referenced segment from its measured progress with the profile
+ * started afresh (cartseg_resume). So no motion is ever picked up where
+ * a clock says it should be, and no joint is asked for more than the
+ * planned speed and acceleration of the move it is in (a stop category 2
+ * in ISO 10218 terms: controlled, power kept, resumed by itself once the
+ * cause is gone).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include "arm_daemon.h"
+#include "tandem_arm_command_t.h"
+
+/* A gap in the commands longer than this is a hold: the servo's time
+ * constant (1 / wn, 20 ms at 8 Hz) is longer, so shorter gaps are a
+ * reference step it absorbs (2.5 mm at 0.25 m/s); longer ones the drives
+ * spend holding the last torque or braking (the simulator brakes after
+ * ARM_STALE_STEPS), and a time-referenced reference would jump. */
+#define HOLD_GAP_S 0.010
+/* At rest: every joint slower than this for HOLD_REST_S. */
+#define HOLD_REST_RADPS 0.02
+#define HOLD_REST_S 0.05
+/* The controlled stop's deceleration: jtraj's budget for joint moves
+ * (arm_start_segment plans them with 2 rad/s^2). */
+#define HOLD_DECEL_RADPS2 2.0
+
+void arm_hold_init(arm_daemon *ad)
+{
+    memset(&ad->hold, 0, sizeof ad->hold);
+    ad->hold.last_cmd_step = -1;
+}
+
+void arm_hold_begin(arm_daemon *ad, const char *why)
+{
+    arm_hold *h = &ad->hold;
+    if (h->active)
+        return;
+    h->active = 1;
+    h->pinned = 0;
+    h->rest_s = 0.0;
+    h->stops++;
+    snprintf(h->why, sizeof h->why, "%s", why);
+    fprintf(stderr, "%s: t %.3f s: protective stop (%s)\n", ad->d.name, ad->st.sim_time_s, why);
+}
+
+void arm_hold_check_gap(arm_daemon *ad)
+{
+    const arm_hold *h = &ad->hold;
+    if (h->last_cmd_step >= 0 && (double)(ad->st.step - h->last_cmd_step) * DAEMON_SIM_DT_S > HOLD_GAP_S)
+        arm_hold_begin(ad, "commands interrupted");
+}
+
+/* The running segment planned again from the measured pose. */
+static void motion_resume(arm_daemon *ad)
+{
+    const tandem_action_segment_t *g;
+    if (!ad->running || ad->cur_seg < 0 || ad->cur_seg >= ad->n_seg)
+        return;
+    g = &ad->seg[ad->cur_seg];
+    if (g->kind == TANDEM_ACTION_SEGMENT_T_MOVE_JOINT)
+        arm_joint_resume(ad);
+    else if (g->kind == TANDEM_ACTION_SEGMENT_T_MOVE_CARTESIAN && ad->tdsd.use)
+        ad->tdsd.seg_index = -1;   /* tdsd_start again, from the measured pose */
+    else if (g->kind == TANDEM_ACTION_SEGMENT_T_MOVE_CARTESIAN)
+        arm_cart_resume(ad);
+}
+
+static int at_rest(const arm_daemon *ad)
+{
+    int i;
+    for (i = 0; i < ARM_NJ; i++)
+        if (fabs(ad->st.qd_radps[i]) >= HOLD_REST_RADPS)
+            return 0;
+    return 1;
+}
+
+/* One cycle of the controlled stop's reference: each joint's speed
+ * brought to 0 at HOLD_DECEL_RADPS2 from the speed measured when the stop
+ * was taken up; hold_q follows it, so the arm rests where it stopped. */
+static void stop_reference(arm_daemon *ad, double qdd[ARM_NJ])
+{
+    arm_hold *h = &ad->hold;
+    const double dv = HOLD_DECEL_RADPS2 * ad->d.period_s;
+    int i;
+    if (!h->pinned) {
+        memcpy(h->q_ref, ad->st.q_rad, sizeof h->q_ref);
+        memcpy(h->qd_ref, ad->st.qd_radps, sizeof h->qd_ref);
+        h->pinned = 1;
+    }
+    for (i = 0; i < ARM_NJ; i++) {
+        const double v = h->qd_ref[i];
+        const double step = fabs(v) <= dv ? -v : (v > 0.0 ? -dv : dv);
+        h->qd_ref[i] = v + step;
+        h->q_ref[i] += 0.5 * (v + h->qd_ref[i]) * ad->d.period_s;
+        qdd[i] = step / ad->d.period_s;
+    }
+    memcpy(ad->hold_q, h->q_ref, sizeof ad->hold_q);
+}
+
+int arm_hold_cycle(arm_daemon *ad)
+{
+    arm_hold *h = &ad->hold;
+    double tau[ARM_NJ], qdd[ARM_NJ];
+    arm_payload payload;
+    if (!h->active)
+        return 0;
+    stop_reference(ad, qdd);
+    h->rest_s = at_rest(ad) ? h->rest_s + ad->d.period_s : 0.0;
+    if (h->rest_s >= HOLD_REST_S) {
+        h->active = 0;
+        motion_resume(ad);
+        fprintf(stderr, "%s: t %.3f s: at rest after the protective stop; motion planned again from here\n",
+                ad->d.name, ad->st.sim_time_s);
+    }
+    snprintf(ad->d.status, sizeof ad->d.status, "protective stop (%s)%s", h->why, h->active ? "" : ": resuming");
+    if (jointctl_torque(ad->model, arm_cart_payload(ad, &payload), &ad->gains, ad->st.q_rad, ad->st.qd_radps,
+                        h->q_ref, h->qd_ref, qdd, tau, NULL) != 0) {
+        arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
+        return 1;
+    }
+    arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_TORQUE, tau);
+    return 1;
+}
