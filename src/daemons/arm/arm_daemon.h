@@ -79,6 +79,7 @@ typedef struct arm_hold {
     double  rest_s;                   /* time at rest since then */
     int64_t last_cmd_step;            /* state step of the last command sent, -1 */
     int64_t stops;                    /* protective stops so far */
+    int     states_in_cycle;          /* states accepted since the last cycle */
     char    why[40];
 } arm_hold;
 
@@ -150,8 +151,10 @@ void arm_hold_init(arm_daemon *ad);
 /* A hold begins (why: a short phrase for the log); idempotent while one runs. */
 void arm_hold_begin(arm_daemon *ad, const char *why);
 /* A fresh state after a gap in this arm's commands (a frozen or late
- * process) begins a hold; call once per cycle before the controllers. */
-void arm_hold_check_gap(arm_daemon *ad);
+ * process) begins a hold; so does a backlog of states taken in one
+ * cycle, and then the arm must stay on its brakes this cycle (returns 1).
+ * Call once per cycle before the controllers. */
+int  arm_hold_check_gap(arm_daemon *ad);
 /* Runs the cycle while a hold is in effect; 1 if it sent the command. */
 int  arm_hold_cycle(arm_daemon *ad);
 

@@ -29,6 +29,13 @@
  * spend holding the last torque or braking (the simulator brakes after
  * ARM_STALE_STEPS), and a time-referenced reference would jump. */
 #define HOLD_GAP_S 0.010
+/* More states than a gap's worth taken in one cycle are a backlog (this process
+ * was not running while they queued, in the socket or in LCM), not the
+ * arm as it is: the newest of them may be seconds old (a full socket
+ * buffer keeps the oldest and drops the rest) and a stop referenced to it
+ * pulled the arm back to where it had been, at its torque limit. The arm
+ * stays on its brakes until states come at their rate again. */
+#define HOLD_BURST_STATES ((int)(HOLD_GAP_S / DAEMON_SIM_DT_S + 0.5))
 /* At rest: every joint slower than this for HOLD_REST_S. */
 #define HOLD_REST_RADPS 0.02
 #define HOLD_REST_S 0.05
@@ -45,21 +52,29 @@ void arm_hold_init(arm_daemon *ad)
 void arm_hold_begin(arm_daemon *ad, const char *why)
 {
     arm_hold *h = &ad->hold;
+    /* the stop's reference is taken from the first good state after the
+     * last cause, whichever it was */
+    h->pinned = 0;
+    h->rest_s = 0.0;
     if (h->active)
         return;
     h->active = 1;
-    h->pinned = 0;
-    h->rest_s = 0.0;
     h->stops++;
     snprintf(h->why, sizeof h->why, "%s", why);
     fprintf(stderr, "%s: t %.3f s: protective stop (%s)\n", ad->d.name, ad->st.sim_time_s, why);
 }
 
-void arm_hold_check_gap(arm_daemon *ad)
+int arm_hold_check_gap(arm_daemon *ad)
 {
-    const arm_hold *h = &ad->hold;
+    arm_hold *h = &ad->hold;
+    const int burst = h->states_in_cycle > HOLD_BURST_STATES;
+    h->states_in_cycle = 0;
     if (h->last_cmd_step >= 0 && (double)(ad->st.step - h->last_cmd_step) * DAEMON_SIM_DT_S > HOLD_GAP_S)
         arm_hold_begin(ad, "commands interrupted");
+    if (!burst)
+        return 0;
+    arm_hold_begin(ad, "states arriving in a burst");
+    return 1;
 }
 
 /* The running segment planned again from the measured pose. */

@@ -75,6 +75,7 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
     }
     ad->st = s;
     ad->have_state = 1;
+    ad->hold.states_in_cycle++;
     ad->state_rx_ns = rtloop_now_ns();
     if (!ad->holding_set) {
         memcpy(ad->hold_q, s.q_rad, sizeof ad->hold_q);
@@ -245,8 +246,13 @@ static int cycle(daemon *d, void *user)
         arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
         return DAEMON_CONTINUE;
     }
+    if (arm_hold_check_gap(ad)) {
+        d->safe_hold = 1;
+        snprintf(d->status, sizeof d->status, "safe hold: states in a burst");
+        arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
+        return DAEMON_CONTINUE;
+    }
     d->safe_hold = 0;
-    arm_hold_check_gap(ad);
     if (d->lockstep && ad->row_in.have && ad->row_in.row.step < d->pending_step)
         row_take(ad);
     if (d->lockstep)
