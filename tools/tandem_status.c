@@ -296,7 +296,7 @@ int main(int argc, char **argv)
     url = o.url;
     every = o.every_s;
     S.behind_ratio = o.behind_ratio;
-    auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);
+    auth_bus_identity(AUTH_ROLE_MONITOR, 0, 0);   /* reads only: a monitor's key file is enough */
     if (auth_bus_start("tandem-status") != 0)
         return 1;
     if (!(lcm = lcm_create(url))) {

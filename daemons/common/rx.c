@@ -108,11 +108,19 @@ static void trampoline(const lcm_recv_buf_t *rb_in, const char *ch, void *u)
     rx_channel *c;
     const wire_type *t;
     int64_t seq;
-    if (auth_bus_accept(rb_in, ch, &body) != AUTH_OK) {
+    int rc;
+    rc = auth_bus_accept(rb_in, ch, &body);
+    if (rc != AUTH_OK) {
         /* a forged channel name must not take a slot of the table */
         c = channel_known(ch);
-        if (c)
+        if (rc == AUTH_ERR_TYPE) {   /* not a tandem type or too long: malformed, refused before any MAC */
+            s->d->msgs.received++;
+            s->d->msgs.rejected++;
+            if (c)
+                c->rejected++;
+        } else if (c) {
             c->auth_rejected++;
+        }
         return;
     }
     c = channel_of(ch);
