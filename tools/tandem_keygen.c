@@ -3,7 +3,8 @@
  * mode 0600, by default ${XDG_CONFIG_HOME:-~/.config}/tandem/bus.key) and,
  * with --cell DIR, one role file per principal holding only the pairwise
  * keys that principal takes part in (sim, arm1, arm2, supervisor, tool,
- * monitor, rover1..N). tools/tandem-run and tandem-scenario make a fresh
+ * monitor, rover1..N, and rover1-N for one process hosting the whole
+ * team: tandem-rover --id 1-N). tools/tandem-run and tandem-scenario make a fresh
  * set per run.
  *
  *   tandem-keygen [PATH]                 a new master; an existing file is kept
@@ -43,8 +44,8 @@ static const option_entry keygen_table[] = {
       .help = "print the key id byte of PATH (which key signed a message)" },
     { .name = "cell", .type = OPTION_STRING, OPTION_AT(keygen_options, cell), .min = 1, .meta = "DIR",
       .help = "write the role files of a cell into DIR (0700): DIR/sim.key, arm1.key, arm2.key, supervisor.key, "
-              "tool.key, monitor.key, rover1.key ..." },
-    { .name = "rovers", .type = OPTION_INT, OPTION_AT(keygen_options, rovers), .min = 0, .max = AUTH_MAX_TAGS - 6, .meta = "N",
+              "tool.key, monitor.key, rover1.key ... and rover1-N.key (a process hosting the whole team)" },
+    { .name = "rovers", .type = OPTION_INT, OPTION_AT(keygen_options, rovers), .min = 0, .max = AUTH_MAX_TAGS - AUTH_ROSTER_FIXED, .meta = "N",
       .help = "with --cell: rovers in the cell (default 8)" },
     { .name = "revoke", .type = OPTION_STRING, OPTION_AT(keygen_options, revoke), .min = 1, .meta = "NAME",
       .help = "with --cell: leave principal NAME (e.g. rover2) out of every role file; restart the others with "
@@ -101,12 +102,15 @@ static int show(const char *path)
     return 0;
 }
 
-/* The file name of a principal: sim, arm1, supervisor, tool, monitor, rover3. */
+/* The file name of a principal: sim, arm1, supervisor, tool, monitor,
+ * rover3, and rover1-3 for the host of a whole team of three. */
 static void peer_name(const auth_peer *p, char *out, size_t cap)
 {
     static const char *const names[] = { "?", "sim", "arm", "supervisor", "rover", "tool", "monitor" };
     const char *n = p->role <= AUTH_ROLE_LAST ? names[p->role] : "?";
-    if (p->role == AUTH_ROLE_ARM || p->role == AUTH_ROLE_ROVER)
+    if (p->role == AUTH_ROLE_ROVER && p->first != p->last)
+        snprintf(out, cap, "%s%d-%d", n, p->first, p->last);
+    else if (p->role == AUTH_ROLE_ARM || p->role == AUTH_ROLE_ROVER)
         snprintf(out, cap, "%s%d", n, p->first);
     else
         snprintf(out, cap, "%s", n);
@@ -236,8 +240,8 @@ int main(int argc, char **argv)
         }
         o.path = def;
     }
-    if (o.rovers < 0 || o.rovers > AUTH_MAX_TAGS - 6 || (o.revoke && !o.cell)) {
-        fprintf(stderr, PROG ": --rovers 0..%d; --revoke needs --cell\n", AUTH_MAX_TAGS - 6);
+    if (o.rovers < 0 || o.rovers > AUTH_MAX_TAGS - AUTH_ROSTER_FIXED || (o.revoke && !o.cell)) {
+        fprintf(stderr, PROG ": --rovers 0..%d; --revoke needs --cell\n", AUTH_MAX_TAGS - AUTH_ROSTER_FIXED);
         return OPTIONS_EXIT_BAD_ARGS;
     }
     if (o.cell)

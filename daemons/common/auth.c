@@ -137,6 +137,14 @@ int auth_roster(int rovers, auth_peer *out, int cap)
         out[n].first = out[n].last = (uint16_t)i;
         n++;
     }
+    /* one process may host the whole team (tandem-rover --id 1-N, the
+     * formation scenario's --procs single): it is a principal of its own */
+    if (rovers >= 2 && n < cap) {
+        out[n].role = AUTH_ROLE_ROVER;
+        out[n].first = 1;
+        out[n].last = (uint16_t)rovers;
+        n++;
+    }
     return n;
 }
 

@@ -82,6 +82,7 @@
 #define AUTH_MAX_KEYS       2           /* the current key set and, while rotating, the previous one */
 #define AUTH_MAX_PAIRS      (2 * AUTH_MAX_TAGS)  /* pairwise keys in one key file */
 #define AUTH_ROSTER_ROVERS  8           /* rovers a master holder tags for (role files list their own) */
+#define AUTH_ROSTER_FIXED   7           /* principals of a roster besides the single rovers (host included) */
 #define AUTH_WINDOW_US      60000000LL  /* a counter this far from the local clock is refused */
 #define AUTH_START_SLACK_US 2000000LL   /* how much older than the receiver a message may be:
                                            the clock difference allowed between hosts */
@@ -182,7 +183,8 @@ void auth_keyset_free(auth_keyset *k);
 /* A master holder's set (holder = who it is, rovers = its roster). */
 void auth_keyset_master(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES], const auth_peer *holder, int rovers);
 /* The roster of a cell with `rovers` single rovers: sim, arms 1-2,
- * supervisor, tool, monitor, rovers 1..rovers; returns how many (<= cap). */
+ * supervisor, tool, monitor, rovers 1..rovers and, for two or more, the
+ * host of them all (rover 1-rovers); returns how many (<= cap). */
 int  auth_roster(int rovers, auth_peer *out, int cap);
 /* The role file of `holder` in the cell of master with the given roster:
  * a send key to every other principal but the monitor (monitors only

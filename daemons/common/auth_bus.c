@@ -39,6 +39,7 @@ static struct {
     int          n_key_files;
     int          insecure;
     int          have_identity, as_owner;
+    int          rovers;          /* the roster's rovers, 0: AUTH_ROSTER_ROVERS */
     auth_sender  me;
     auth_peer    me_peer;
     auth_keyring ring;
@@ -105,6 +106,20 @@ void auth_bus_identity(int role, int first, int last)
     B.me_peer.first = B.me.first;
     B.me_peer.last = B.me.last;
     B.have_identity = 1;
+}
+
+void auth_bus_roster(int rovers)
+{
+    int i;
+    B.rovers = rovers < 0 ? 0 : rovers > AUTH_MAX_TAGS - AUTH_ROSTER_FIXED ? AUTH_MAX_TAGS - AUTH_ROSTER_FIXED : rovers;
+    for (i = 0; i < B.ring.n; i++)   /* a master holder tags for the new roster at once */
+        if (B.ring.set[i] && B.ring.set[i]->is_master)
+            B.ring.set[i]->rovers = auth_bus_roster_rovers();
+}
+
+int auth_bus_roster_rovers(void)
+{
+    return B.rovers > 0 ? B.rovers : AUTH_ROSTER_ROVERS;
 }
 
 void auth_bus_sign_as_owner(int on)
@@ -183,6 +198,8 @@ static int load_keys(void)
             fprintf(stderr, "%s: bus key %s\n", B.prog, why);
             return AUTH_BUS_ERR_KEY;
         }
+        if (B.ring.set[i]->is_master)
+            B.ring.set[i]->rovers = auth_bus_roster_rovers();
         if (!B.ring.set[i]->is_master && !auth_peer_equal(&B.ring.set[i]->holder, &B.me_peer)) {
             fprintf(stderr, "%s: bus key %s is the key file of another role (%d %d-%d; this is %d %d-%d)\n",
                     B.prog, files[i], B.ring.set[i]->holder.role, B.ring.set[i]->holder.first,
@@ -308,6 +325,14 @@ static int sender_for(const char *channel, auth_sender *s)
         s->role = AUTH_ROLE_TOOL;
         s->first = s->last = 0;
     }
+    /* as a principal every role file knows: the simulator, supervisor
+     * and tools have no instances (ARM1_ACTION's owner is the supervisor,
+     * not "supervisor 1"); a channel of no one arm or rover (ARM_EVENTS,
+     * TEAM, ROVERS_COMMAND) is spoken as instance 1 */
+    if (B.as_owner && s->role != AUTH_ROLE_ARM && s->role != AUTH_ROLE_ROVER)
+        s->first = s->last = 0;
+    else if (B.as_owner && s->first == 0)
+        s->first = s->last = 1;
     s->session = B.me.session;
     return 0;
 }

@@ -85,6 +85,12 @@ int  auth_bus_option(const char *prog, int opt, const char *arg);
 /* Who this process is (before auth_bus_start): the principal whose key
  * file it holds (a master holder may be anyone). */
 void auth_bus_identity(int role, int first, int last);
+/* The cell's roster as a holder of the master sees it: rovers 1..rovers
+ * and the host of them all (auth_roster); AUTH_ROSTER_ROVERS unless set.
+ * A master holder tags for these, and the role files it makes for its
+ * children (auth_child.h) list them; set it before the first child starts. */
+void auth_bus_roster(int rovers);
+int  auth_bus_roster_rovers(void);
 /* A process standing in for several publishers (integration tests, the
  * round-trip bench) signs each message as its channel's owner
  * (auth_acl_owner) -- what only a holder of the cell's master can do
