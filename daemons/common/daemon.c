@@ -196,9 +196,9 @@ lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_han
 {
     lcm_subscription_t *s = rx_subscribe(d, channel, handler, user);
     /* LCM keeps 30 messages per subscription by default and drops the rest
-     * silently; in lockstep a dropped SIM_CLOCK would stall the world, and
-     * a busy moment must not lose inputs. The queue costs memory only while
-     * it is actually full. */
+     * silently: a busy moment must not lose inputs, nor a whole team's
+     * burst; but what LCM keeps must stay bounded under a flood
+     * (DAEMON_QUEUE_CAPACITY) */
     if (s)
         lcm_subscription_set_queue_capacity(s, DAEMON_QUEUE_CAPACITY);
     return s;

@@ -22,7 +22,13 @@
 #define DAEMON_DEFAULT_LCM_URL "udpm://239.255.76.67:7667?ttl=0"
 #define DAEMON_SIM_DT_S 0.001          /* the simulator's fixed step */
 #define DAEMON_NAME_MAX 64
-#define DAEMON_QUEUE_CAPACITY 100000   /* messages per subscription */
+/* Messages LCM keeps per subscription until the daemon handles them. LCM
+ * keeps a fragmented message (over 1400 bytes) in memory of its own, so
+ * this bounds what a flood of large forgeries can make a daemon hold
+ * (docs/security.md, "Flooding"): 256 x 64 kB per subscription at worst.
+ * It still takes a burst of a whole team's messages (TEAM, SIM_ACK: one
+ * per robot and step, 128 robots at most) twice over. */
+#define DAEMON_QUEUE_CAPACITY 256
 #define DAEMON_SIM_SILENT_NS 5000000000LL  /* lockstep: no clock this long = no simulator */
 
 typedef struct daemon_counters {
@@ -118,7 +124,8 @@ int  daemon_stop_requested(void);
 void daemon_request_stop(void);
 /* Publishes the health message now (daemon_run does it once a second). */
 void daemon_publish_health(daemon *d);
-/* lcm_subscribe with a deep receive queue (no silent drops under load). */
+/* lcm_subscribe through the receive path (rx.h) with a queue of
+ * DAEMON_QUEUE_CAPACITY messages. */
 lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler, void *user);
 /* Subscribes handler to PREFIX<k>SUFFIX for k = first..last, each by its
  * name, or, for more than DAEMON_EXPLICIT_MAX of them, to the one pattern
