@@ -1,18 +1,25 @@
-/* fuzz_auth: libFuzzer target for the secure bus's receive check
- * (daemons/common/auth.c, auth_acl.c), the code every tandem message meets
+/* fuzz_auth: libFuzzer target for the secure bus's receive check, v2
+ * (daemons/common/auth.c, auth_acl.c: a tag per receiver under pairwise
+ * keys, the cell id in every digest), the code every tandem message meets
  * before any decoder (built by tools/fuzz.sh as fuzz_auth).
  *
+ * The receiver is a tool holding a fixed cell master (it derives every
+ * pairwise key, so any sender of the roster can be signed as and checked).
  * Input: byte 0 picks the mode, byte 1 the channel name's length (mod 64),
  * then the channel name's bytes, then the datagram.
- *  - mode even: the datagram as received (trailer or not): auth_verify,
- *    then the sender, ACL and replay checks the way auth_bus_accept chains
- *    them. A forged MAC must never verify: a datagram that does, without
- *    having been signed here, aborts.
- *  - mode odd: the datagram's last AUTH_HEAD_BYTES bytes give a sender id
- *    and counter, the rest is the body; it is signed with the fuzz key and
- *    must then verify and parse back to the same sender and counter, one
- *    flipped body bit must not verify, and a counter the replay table took
- *    must be refused the second time (identities, checked by abort).
+ *  - mode even: the datagram as received: auth_verify (trailer parse from
+ *    the end, the cell, this receiver's tag among up to 48, the pairwise
+ *    key of the claimed sender). A tag must never verify without having
+ *    been computed here: a datagram that does aborts.
+ *  - mode odd: the datagram's last AUTH_FIXED_BYTES bytes give a sender
+ *    (role, first, last instance, session: bytes 0-8) and a counter (bytes
+ *    9-16), the rest is the body; it is signed with the tags of every
+ *    roster principal and must then verify, parse back to the same sender,
+ *    counter and key id, pass the sender, channel table and replay checks
+ *    as auth_bus_accept chains them at most once (the same counter a
+ *    second time is a replay), and must no longer verify with one bit
+ *    flipped in the body or in the fixed part of the trailer (identities,
+ *    checked by abort).
  * The sanitizers catch overflows and undefined behaviour in the parsing.
  */
 #include <stdint.h>
