@@ -18,6 +18,7 @@
  *   bench_roundtrip [N [BIN_DIR]]
  *   bench_roundtrip auth N   only the signing and checking, N messages of
  *                            each size (for instruction counts: callgrind)
+ *   bench_roundtrip ed25519 N  only Ed25519 sign + verify, N of each size
  */
 #include <signal.h>
 #include <stdio.h>
@@ -164,7 +165,7 @@ static auth_keyset *role_set(const uint8_t m[AUTH_KEY_BYTES], const auth_peer *p
  * table, the replay table) of a body_len-byte message; beside them an
  * Ed25519 signature (crypto_sign) of the same body: one signature every
  * receiver checks with the sender's public key. */
-static void time_sign_verify(const char *channel, const auth_peer *reader, int body_len, int reps)
+static void time_sign_verify(const char *channel, const auth_peer *reader, int body_len, int reps, int ed_reps)
 {
     static uint8_t buf[2048], ed_sig[crypto_sign_BYTES], ed_pk[crypto_sign_PUBLICKEYBYTES],
         ed_sk[crypto_sign_SECRETKEYBYTES];
@@ -174,7 +175,8 @@ static void time_sign_verify(const char *channel, const auth_peer *reader, int b
     auth_keyring ring;
     auth_sender s;
     auth_trailer t;
-    auth_peer sp;
+    auth_peer sp, to[AUTH_MAX_TAGS];
+    int n_to;
     size_t len = 0;
     double t0, sign_us, check_us, ed_sign_us, ed_verify_us;
     int i, bad = 0;
@@ -194,10 +196,12 @@ static void time_sign_verify(const char *channel, const auth_peer *reader, int b
     ring.set[0] = kr;
     ring.n = 1;
     auth_replay_init(&replay, AUTH_WINDOW_US, 0);
+    /* the receivers once per channel, as auth_bus keeps them */
+    n_to = auth_receivers(ks, channel, AUTH_ROLES_ALL, bench_wants, to);
     t0 = wall_s();
     for (i = 0; i < reps; i++)
-        auth_sign(ks, &s, 1000000000000000ULL + (uint64_t)i, channel, AUTH_ROLES_ALL, bench_wants, buf,
-                  (size_t)body_len, sizeof buf, &len);
+        auth_sign_to(ks, &s, 1000000000000000ULL + (uint64_t)i, channel, to, n_to, buf, (size_t)body_len,
+                     sizeof buf, &len);
     sign_us = (wall_s() - t0) * 1e6 / reps;
     t0 = wall_s();
     for (i = 0; i < reps; i++) {
@@ -210,13 +214,13 @@ static void time_sign_verify(const char *channel, const auth_peer *reader, int b
     check_us = (wall_s() - t0) * 1e6 / reps;
     crypto_sign_keypair(ed_pk, ed_sk);
     t0 = wall_s();
-    for (i = 0; i < reps / 10; i++)
+    for (i = 0; i < ed_reps; i++)
         crypto_sign_detached(ed_sig, NULL, buf, (unsigned long long)body_len, ed_sk);
-    ed_sign_us = (wall_s() - t0) * 1e6 / (reps / 10);
+    ed_sign_us = ed_reps > 0 ? (wall_s() - t0) * 1e6 / ed_reps : 0.0;
     t0 = wall_s();
-    for (i = 0; i < reps / 10; i++)
+    for (i = 0; i < ed_reps; i++)
         bad += crypto_sign_verify_detached(ed_sig, buf, (unsigned long long)body_len, ed_pk) != 0;
-    ed_verify_us = (wall_s() - t0) * 1e6 / (reps / 10);
+    ed_verify_us = ed_reps > 0 ? (wall_s() - t0) * 1e6 / ed_reps : 0.0;
     printf("  %-13s %4d B + %3d B trailer (%d tags): sign %.2f us, check %.2f us | Ed25519 + 64 B: "
            "sign %.1f us, verify %.1f us%s\n", channel, body_len, (int)t.len, t.n_tags, sign_us, check_us,
            ed_sign_us, ed_verify_us, bad ? "  (CHECK FAILED)" : "");
@@ -246,22 +250,23 @@ static pid_t start_arm(const char *path, const char *url, int insecure, auth_chi
 
 /* ARM1_STATE, ARM1_COMMAND and SIM_CLOCK as the simulator and an arm send
  * them, each checked by its main reader. */
-static void time_auth(int reps, int state_size, int cmd_size, int clock_size)
+static void time_auth(int reps, int ed_reps, int state_size, int cmd_size, int clock_size)
 {
     const auth_peer arm1 = { AUTH_ROLE_ARM, 1, 1 }, sim = { AUTH_ROLE_SIM, 0, 0 };
     printf("authentication, per-role keys (keyed BLAKE2b-128 tag per reader, libsodium), cell of 3 rovers,\n"
-           "%d messages each (Ed25519: a tenth of them), one core:\n", reps);
-    time_sign_verify("ARM1_STATE", &arm1, state_size, reps);
-    time_sign_verify("ARM1_COMMAND", &sim, cmd_size, reps);
-    time_sign_verify("SIM_CLOCK", &arm1, clock_size, reps);
+           "%d messages each (Ed25519: %d), one core:\n", reps, ed_reps);
+    time_sign_verify("ARM1_STATE", &arm1, state_size, reps, ed_reps);
+    time_sign_verify("ARM1_COMMAND", &sim, cmd_size, reps, ed_reps);
+    time_sign_verify("SIM_CLOCK", &arm1, clock_size, reps, ed_reps);
 }
 
 int main(int argc, char **argv)
 {
-    const int auth_only = argc > 2 && strcmp(argv[1], "auth") == 0;
+    const int ed_only = argc > 2 && strcmp(argv[1], "ed25519") == 0;
+    const int auth_only = ed_only || (argc > 2 && strcmp(argv[1], "auth") == 0);
     const int n = auth_only ? atoi(argv[2]) : argc > 1 ? atoi(argv[1]) : 10000;
     const char *bin = !auth_only && argc > 2 ? argv[2] : "build/bin";
-    char url_ins[96], url_sec[96], path[512], key[600];
+    char url_ins[96], url_sec[96], path[512], key[600], sim_key[600];
     lcm_t *l_ins, *l_sec;
     pid_t echo_pid, arm_ins, arm_sec;
     tandem_arm_state_t st;
@@ -272,12 +277,19 @@ int main(int argc, char **argv)
     int i, state_size, cmd_size, clock_size;
     snprintf(url_ins, sizeof url_ins, "udpm://239.255.76.67:%d?ttl=0", 40000 + (int)(getpid() % 10000));
     snprintf(url_sec, sizeof url_sec, "udpm://239.255.76.67:%d?ttl=0", 50000 + (int)(getpid() % 10000));
-    /* this process stands in for the simulator; the secured arm gets the key
-     * through $TANDEM_KEY_FILE */
     auth_child_keys_init(&keys);
     if (auth_bus_ephemeral_key(key, sizeof key) != 0)
         return 1;
-    auth_bus_sign_as_owner(1);
+    /* a cell of three rovers; this process is its simulator and holds the
+     * simulator's role file, as tandem-sim does under tandem-run */
+    auth_bus_roster(3);
+    {
+        const char *const sim_argv[] = { "tandem-sim", NULL };
+        if (auth_child_key(&keys, sim_argv, sim_key, sizeof sim_key) != AUTH_CHILD_OK ||
+            auth_bus_option("bench_roundtrip", OPT_KEY_FILE, sim_key) != 1)
+            return 1;
+    }
+    auth_bus_identity(AUTH_ROLE_SIM, 0, 0);
     if (auth_bus_start("bench_roundtrip") != 0)
         return 1;
     memset(&st, 0, sizeof st);
@@ -290,7 +302,8 @@ int main(int argc, char **argv)
     clk.mode = TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP;
     clock_size = tandem_sim_clock_t_encoded_size(&clk);
 
-    time_auth(auth_only ? n : 100000, state_size, cmd_size, clock_size);
+    time_auth(ed_only ? 0 : auth_only ? n : 100000, ed_only ? n : auth_only ? 0 : 10000, state_size, cmd_size,
+              clock_size);
     if (auth_only)
         return 0;
 
@@ -302,7 +315,6 @@ int main(int argc, char **argv)
             lcm_handle(e);
     }
     snprintf(path, sizeof path, "%s/tandem-arm", bin);
-    auth_bus_roster(3);
     arm_ins = start_arm(path, url_ins, 1, &keys);
     arm_sec = start_arm(path, url_sec, 0, &keys);
     l_ins = lcm_create(url_ins);

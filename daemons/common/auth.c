@@ -168,6 +168,7 @@ static void add_pair(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES], const
         auth_pair_key(master, k->cell, &k->holder, peer, p->key);
     else
         auth_pair_key(master, k->cell, peer, &k->holder, p->key);
+    crypto_generichash_init(&p->keyed, p->key, AUTH_KEY_BYTES, AUTH_MAC_BYTES);
 }
 
 void auth_keyset_role(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES], const auth_peer *holder,
@@ -261,6 +262,7 @@ static int parse_role_file(auth_keyset *k, const uint8_t *b, int n)
         k->pair[i].dir = p[0];
         get_peer(p + 1, &k->pair[i].peer);
         memcpy(k->pair[i].key, p + 1 + AUTH_PEER_BYTES, AUTH_KEY_BYTES);
+        crypto_generichash_init(&k->pair[i].keyed, k->pair[i].key, AUTH_KEY_BYTES, AUTH_MAC_BYTES);
     }
     k->n = pairs;
     k->is_master = 0;
@@ -381,22 +383,26 @@ int auth_keyset_write(const auth_keyset *k, const char *path, char *why, size_t 
 
 /* ---- trailer and tags ---------------------------------------------------------- */
 
-/* The key of pair (from -> to) this set holds or, for a master, derives. */
-static int pair_key(const auth_keyset *k, const auth_peer *from, const auth_peer *to, uint8_t key[AUTH_KEY_BYTES])
+/* The tag hash of pair (from -> to), keyed: the set's own, or for a
+ * master a key derived now. */
+static int pair_mac(const auth_keyset *k, const auth_peer *from, const auth_peer *to, crypto_generichash_state *st)
 {
     const int send = auth_peer_equal(from, &k->holder), recv = auth_peer_equal(to, &k->holder);
+    uint8_t key[AUTH_KEY_BYTES];
     int i;
     for (i = 0; i < k->n && (send || recv); i++) {
         const auth_pair *p = &k->pair[i];
         if ((send && p->dir == AUTH_DIR_SEND && auth_peer_equal(&p->peer, to)) ||
             (recv && p->dir == AUTH_DIR_RECV && auth_peer_equal(&p->peer, from))) {
-            memcpy(key, p->key, AUTH_KEY_BYTES);
+            *st = p->keyed;
             return AUTH_OK;
         }
     }
     if (!k->is_master)
         return AUTH_ERR_SENDER;
     auth_pair_key(k->master, k->cell, from, to, key);
+    crypto_generichash_init(st, key, AUTH_KEY_BYTES, AUTH_MAC_BYTES);
+    sodium_memzero(key, sizeof key);
     return AUTH_OK;
 }
 
@@ -436,14 +442,16 @@ static void digest(const char *channel, const uint8_t *body, size_t body_len, co
     crypto_generichash_final(&st, d, 32);
 }
 
-static void tag_of(const uint8_t key[AUTH_KEY_BYTES], const uint8_t d[32], uint8_t tag[AUTH_MAC_BYTES])
+/* BLAKE2b-128(key, d) from the keyed state st (used up). */
+static void tag_of(crypto_generichash_state *st, const uint8_t d[32], uint8_t tag[AUTH_MAC_BYTES])
 {
-    crypto_generichash(tag, AUTH_MAC_BYTES, d, 32, key, AUTH_KEY_BYTES);
+    crypto_generichash_update(st, d, 32);
+    crypto_generichash_final(st, tag, AUTH_MAC_BYTES);
 }
 
 /* The receivers of a message: the set's send peers (a master's roster). */
-static int receivers(const auth_keyset *k, const char *channel, unsigned readers,
-                     auth_wants_fn wants, auth_peer *out)
+int auth_receivers(const auth_keyset *k, const char *channel, unsigned readers, auth_wants_fn wants,
+                   auth_peer out[AUTH_MAX_TAGS])
 {
     auth_peer roster[AUTH_MAX_TAGS];
     int i, n = 0, n_all;
@@ -470,12 +478,21 @@ int auth_sign(const auth_keyset *k, const auth_sender *s, uint64_t counter, cons
               size_t *out_len)
 {
     auth_peer to[AUTH_MAX_TAGS];
-    const auth_peer from = { s->role, s->first, s->last };
-    uint8_t d[32], key[AUTH_KEY_BYTES], *tags, *fixed;
-    int i, n;
-    if (!buf || !k || strlen(channel) > AUTH_CHANNEL_MAX || cap < body_len)
+    if (!k || strlen(channel) > AUTH_CHANNEL_MAX)
         return AUTH_ERR_ARG;
-    n = receivers(k, channel, readers, wants, to);
+    return auth_sign_to(k, s, counter, channel, to, auth_receivers(k, channel, readers, wants, to), buf,
+                        body_len, cap, out_len);
+}
+
+int auth_sign_to(const auth_keyset *k, const auth_sender *s, uint64_t counter, const char *channel,
+                 const auth_peer *to, int n, uint8_t *buf, size_t body_len, size_t cap, size_t *out_len)
+{
+    const auth_peer from = { s->role, s->first, s->last };
+    crypto_generichash_state st;
+    uint8_t d[32], *tags, *fixed;
+    int i;
+    if (!buf || !k || strlen(channel) > AUTH_CHANNEL_MAX || cap < body_len || n < 0 || n > AUTH_MAX_TAGS)
+        return AUTH_ERR_ARG;
     if (cap - body_len < AUTH_FIXED_BYTES + (size_t)n * AUTH_TAG_ENTRY_BYTES)
         return AUTH_ERR_ARG;
     tags = buf + body_len;
@@ -486,12 +503,12 @@ int auth_sign(const auth_keyset *k, const auth_sender *s, uint64_t counter, cons
     digest(channel, buf, body_len, tags, n, fixed, d);
     for (i = 0; i < n; i++) {
         uint8_t *e = tags + (size_t)i * AUTH_TAG_ENTRY_BYTES;
-        if (pair_key(k, &from, &to[i], key) != AUTH_OK)
-            memset(e + AUTH_PEER_BYTES, 0, AUTH_MAC_BYTES);   /* cannot happen: receivers() chose them */
+        if (pair_mac(k, &from, &to[i], &st) != AUTH_OK)
+            memset(e + AUTH_PEER_BYTES, 0, AUTH_MAC_BYTES);   /* no key with it: a tag that cannot verify */
         else
-            tag_of(key, d, e + AUTH_PEER_BYTES);
+            tag_of(&st, d, e + AUTH_PEER_BYTES);
     }
-    sodium_memzero(key, sizeof key);
+    sodium_memzero(&st, sizeof st);
     *out_len = (size_t)(fixed - buf) + AUTH_FIXED_BYTES;
     return AUTH_OK;
 }
@@ -534,7 +551,8 @@ int auth_verify(const auth_keyring *ring, const auth_peer *me, const char *chann
 {
     const auth_keyset *k;
     const uint8_t *tags, *mine = NULL;
-    uint8_t d[32], key[AUTH_KEY_BYTES], want[AUTH_MAC_BYTES];
+    crypto_generichash_state st;
+    uint8_t d[32], want[AUTH_MAC_BYTES];
     auth_peer from, r;
     int i, rc = auth_parse(buf, len, t);
     if (rc != AUTH_OK)
@@ -554,11 +572,11 @@ int auth_verify(const auth_keyring *ring, const auth_peer *me, const char *chann
     from.role = t->sender.role;
     from.first = t->sender.first;
     from.last = t->sender.last;
-    if (pair_key(k, &from, me, key) != AUTH_OK)
+    if (pair_mac(k, &from, me, &st) != AUTH_OK)
         return AUTH_ERR_SENDER;
     digest(channel, buf, len - t->len, tags, t->n_tags, buf + len - AUTH_FIXED_BYTES, d);
-    tag_of(key, d, want);
-    sodium_memzero(key, sizeof key);
+    tag_of(&st, d, want);
+    sodium_memzero(&st, sizeof st);
     return crypto_verify_16(want, mine) == 0 ? AUTH_OK : AUTH_ERR_MAC;
 }
 

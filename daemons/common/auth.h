@@ -66,6 +66,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <sodium.h>
 
 #define AUTH_VERSION        2
 #define AUTH_KEY_BYTES      32
@@ -140,6 +141,9 @@ typedef struct auth_pair {
     auth_peer peer;
     uint8_t   dir;              /* AUTH_DIR_SEND: holder -> peer; RECV: peer -> holder */
     uint8_t   key[AUTH_KEY_BYTES];
+    /* BLAKE2b-128 already keyed with key: a tag then costs one compression,
+     * not two (the key block is done once, at load) */
+    crypto_generichash_state keyed;
 } auth_pair;
 
 /* What one key file gives a process (always in sodium_malloc'd memory). */
@@ -213,6 +217,13 @@ typedef int (*auth_wants_fn)(const auth_peer *receiver, const char *channel);
 int  auth_sign(const auth_keyset *k, const auth_sender *s, uint64_t counter, const char *channel,
                unsigned readers, auth_wants_fn wants, uint8_t *buf, size_t body_len, size_t cap,
                size_t *out_len);
+/* The receivers auth_sign would tag (at most AUTH_MAX_TAGS into out): a
+ * sender that publishes often on a channel keeps them (auth_bus does). */
+int  auth_receivers(const auth_keyset *k, const char *channel, unsigned readers, auth_wants_fn wants,
+                    auth_peer out[AUTH_MAX_TAGS]);
+/* auth_sign with the receivers given: a tag for each of to[0, n). */
+int  auth_sign_to(const auth_keyset *k, const auth_sender *s, uint64_t counter, const char *channel,
+                  const auth_peer *to, int n, uint8_t *buf, size_t body_len, size_t cap, size_t *out_len);
 /* Reads the trailer at the end of buf[0, len): AUTH_OK or AUTH_ERR_UNSIGNED. */
 int  auth_parse(const uint8_t *buf, size_t len, auth_trailer *t);
 /* auth_parse, then the tag for receiver me with the ring's key of the

@@ -18,13 +18,14 @@
  * for), readers_own (of the arms only arm K: another arm gets no tag it
  * could check, so holds no key that would let it speak as the sender). */
 const auth_acl_rule auth_acl_table[] = {
-    { "SIM_CLOCK", "", AUTH_ACL_EXACT, SIM, 0, ALL, 0 },
+    /* the 1 kHz channels are tagged only for who reads them (a tag per reader) */
+    { "SIM_CLOCK", "", AUTH_ACL_EXACT, SIM, 0, ARM | SUP | ROVER | TOOL | MON, 0 },
     { "SIM_STATUS", "", AUTH_ACL_EXACT, SIM, 0, ALL, 0 },
     { "SIM_CONTROL", "", AUTH_ACL_EXACT, TOOL, 0, ALL, 0 },
     /* lockstep participants: the daemons, scenarios and tests */
     { "SIM_ACK", "", AUTH_ACL_EXACT, ARM | SUP | ROVER | TOOL, 0, ALL, 0 },
-    { "ARM", "_STATE", AUTH_ACL_NUMBER, SIM, 0, ALL, 0 },
-    { "ARM", "_COMMAND", AUTH_ACL_NUMBER, ARM, 1, ALL, 0 },
+    { "ARM", "_STATE", AUTH_ACL_NUMBER, SIM, 0, ARM | TOOL | MON, 1 },
+    { "ARM", "_COMMAND", AUTH_ACL_NUMBER, ARM, 1, SIM | TOOL | MON, 0 },
     { "ARM", "_ACTION", AUTH_ACL_NUMBER, SUP, 0, ARM | TOOL | MON, 1 },
     { "ARM", "_JOINT_REF", AUTH_ACL_NUMBER, TOOL, 0, ARM | TOOL | MON, 1 },   /* an external resolver (TDSD scenarios) */
     { "ARM_EVENTS", "", AUTH_ACL_EXACT, ARM, 0, ALL, 0 },

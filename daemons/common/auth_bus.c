@@ -34,6 +34,18 @@ typedef struct last_verdict {
     int      valid;
 } last_verdict;
 
+/* Who a channel's messages are signed as and tagged for: worked out from
+ * the channel table once per channel, not per message (a 1 kHz loop
+ * publishes the same few channels all the time). */
+#define AUTH_BUS_ROUTES 64
+typedef struct tx_route {
+    uint64_t    channel_hash;
+    char        channel[AUTH_CHANNEL_MAX + 1];
+    auth_sender sender;
+    int         n;
+    auth_peer   to[AUTH_MAX_TAGS];
+} tx_route;
+
 static struct {
     const char  *key_file[AUTH_MAX_KEYS];
     int          n_key_files;
@@ -53,6 +65,8 @@ static struct {
     bus_sub      subs[AUTH_BUS_MAX_SUBS];
     int          n_subs;
     char         prog[64];
+    tx_route     routes[AUTH_BUS_ROUTES];
+    int          n_routes;           /* 0 after anything a route depends on changed */
 } B;
 
 const char *auth_bus_strerror(int rc)
@@ -106,12 +120,14 @@ void auth_bus_identity(int role, int first, int last)
     B.me_peer.first = B.me.first;
     B.me_peer.last = B.me.last;
     B.have_identity = 1;
+    B.n_routes = 0;
 }
 
 void auth_bus_roster(int rovers)
 {
     int i;
     B.rovers = rovers < 0 ? 0 : rovers > AUTH_MAX_TAGS - AUTH_ROSTER_FIXED ? AUTH_MAX_TAGS - AUTH_ROSTER_FIXED : rovers;
+    B.n_routes = 0;
     for (i = 0; i < B.ring.n; i++)   /* a master holder tags for the new roster at once */
         if (B.ring.set[i] && B.ring.set[i]->is_master)
             B.ring.set[i]->rovers = auth_bus_roster_rovers();
@@ -125,6 +141,7 @@ int auth_bus_roster_rovers(void)
 void auth_bus_sign_as_owner(int on)
 {
     B.as_owner = on != 0;
+    B.n_routes = 0;
 }
 
 int auth_bus_secure(void)
@@ -250,6 +267,7 @@ int auth_bus_start(const char *prog)
     }
     if (!B.have_identity)
         auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);   /* a stand-in receives as a tool */
+    B.n_routes = 0;
     if (load_keys() != 0)
         return AUTH_BUS_ERR_KEY;
     B.me.session = randombytes_random();
@@ -345,9 +363,28 @@ static int wants(const auth_peer *r, const char *channel)
            auth_acl_reader_wanted(auth_acl_table, auth_acl_table_n, channel, r);
 }
 
+/* The route of channel: from the cache, or worked out (and kept while
+ * there is room). */
+static const tx_route *route_of(const char *channel, tx_route *scratch)
+{
+    const uint64_t h = auth_channel_hash(channel);
+    tx_route *r;
+    int i;
+    for (i = 0; i < B.n_routes; i++)
+        if (B.routes[i].channel_hash == h && strcmp(B.routes[i].channel, channel) == 0)
+            return &B.routes[i];
+    r = B.n_routes < AUTH_BUS_ROUTES ? &B.routes[B.n_routes++] : scratch;
+    r->channel_hash = h;
+    snprintf(r->channel, sizeof r->channel, "%s", channel);
+    sender_for(channel, &r->sender);
+    r->n = auth_receivers(B.ring.set[0], channel, AUTH_ROLES_ALL, wants, r->to);
+    return r;
+}
+
 int auth_bus_publish_tx(lcm_t *lcm, const char *channel, int body_len)
 {
-    auth_sender s;
+    tx_route scratch;
+    const tx_route *r;
     size_t len;
     if (body_len < 0 || !B.tx)
         return AUTH_BUS_ERR_ARG;
@@ -357,9 +394,11 @@ int auth_bus_publish_tx(lcm_t *lcm, const char *channel, int body_len)
     }
     if (!B.secure)
         return lcm_publish(lcm, channel, B.tx, (unsigned)body_len);
-    sender_for(channel, &s);
-    if (auth_sign(B.ring.set[0], &s, auth_next_counter(&B.last_counter, wall_us()), channel, AUTH_ROLES_ALL,
-                  wants, B.tx, (size_t)body_len, (size_t)B.tx_cap, &len) != AUTH_OK)
+    if (strlen(channel) > AUTH_CHANNEL_MAX)
+        return AUTH_BUS_ERR_SIGN;
+    r = route_of(channel, &scratch);
+    if (auth_sign_to(B.ring.set[0], &r->sender, auth_next_counter(&B.last_counter, wall_us()), channel, r->to,
+                     r->n, B.tx, (size_t)body_len, (size_t)B.tx_cap, &len) != AUTH_OK)
         return AUTH_BUS_ERR_SIGN;
     return lcm_publish(lcm, channel, B.tx, (unsigned)len);
 }
