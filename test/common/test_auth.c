@@ -18,6 +18,7 @@
 #include "auth.h"
 #include "auth_acl.h"
 #include "auth_bus.h"
+#include "auth_child.h"
 #include "tandem_arm_command_t.h"
 #include "tandem_sim_control_t.h"
 
@@ -574,6 +575,36 @@ static void test_receive_path_counts_every_refusal(void **state)
     lcm_destroy(lcm);
 }
 
+/* A child's command line names its principal: what its role file is made for. */
+static void test_child_principal(void **state)
+{
+    const char *const sim[] = { "tandem-sim", "--rovers", "3", NULL };
+    const char *const arm2[] = { "tandem-arm", "--lockstep", "--arm", "2", NULL };
+    const char *const arm_eq[] = { "tandem-arm", "--arm=1", NULL };
+    const char *const rover[] = { "tandem-rover", "--id", "3", "--robots", "3", NULL };
+    const char *const host[] = { "tandem-rover", "--id", "1-4", NULL };
+    const char *const status[] = { "tandem-status", NULL };
+    const char *const other[] = { "it_roles", "--as-rover1", NULL };
+    auth_peer p;
+    (void)state;
+    auth_child_principal(sim, &p);
+    assert_true(p.role == AUTH_ROLE_SIM && p.first == 0 && p.last == 0);
+    auth_child_principal(arm2, &p);
+    assert_true(p.role == AUTH_ROLE_ARM && p.first == 2 && p.last == 2);
+    auth_child_principal(arm_eq, &p);
+    assert_true(p.role == AUTH_ROLE_ARM && p.first == 1 && p.last == 1);
+    auth_child_principal(rover, &p);
+    assert_true(p.role == AUTH_ROLE_ROVER && p.first == 3 && p.last == 3);
+    auth_child_principal(host, &p);
+    assert_true(p.role == AUTH_ROLE_ROVER && p.first == 1 && p.last == 4);
+    auth_child_principal(status, &p);
+    assert_true(p.role == AUTH_ROLE_MONITOR);
+    auth_child_principal(other, &p);
+    assert_true(p.role == AUTH_ROLE_TOOL);
+    assert_string_equal(auth_child_strerror(AUTH_CHILD_ERR_PRINCIPAL),
+                        "the child's principal is not in the cell's roster");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -593,6 +624,7 @@ int main(void)
         cmocka_unit_test(test_acl_says_who_publishes_what),
         cmocka_unit_test(test_key_files),
         cmocka_unit_test(test_receive_path_counts_every_refusal),
+        cmocka_unit_test(test_child_principal),
     };
     if (auth_init() != 0)
         return 1;
