@@ -1,6 +1,7 @@
 /* bench_roundtrip: state -> controller -> command over the real LCM bus,
  * beside a bare LCM ping-pong of the same message sizes, in the same run;
- * and what authentication (src/daemons/common/auth*.h) costs.
+ * and what authentication (src/daemons/common/auth*.h) costs, per-role keys
+ * (a tag per reader) beside an Ed25519 signature of the same message.
  *
  *   tandem path: this process publishes ARM1_STATE + SIM_CLOCK (what the
  *     simulator sends each step) to a real `tandem-arm --lockstep`, which
@@ -17,6 +18,7 @@
  *   bench_roundtrip [N [BIN_DIR]]
  *   bench_roundtrip auth N   only the signing and checking, N messages of
  *                            each size (for instruction counts: callgrind)
+ *   bench_roundtrip ed25519 N  only Ed25519 sign + verify, N of each size
  */
 #include <signal.h>
 #include <stdio.h>
@@ -29,6 +31,8 @@
 #include <lcm/lcm.h>
 #include "auth_bus.h"
 #include "auth_acl.h"
+#include "auth_child.h"
+#include <sodium.h>
 #include "loopstats.h"
 #include "rtloop.h"
 #include "tandem_arm_command_t.h"
@@ -138,47 +142,102 @@ static double wall_s(void)
     return (double)tv.tv_sec + 1e-6 * (double)tv.tv_usec;
 }
 
-/* Microseconds per auth_sign and per auth_verify + the channel table +
- * the replay table (the receive check) of a body_len-byte message. */
-static void time_sign_verify(const char *channel, int body_len, int reps)
+/* Who reads a channel: the channel table's readers (as auth_bus tags them). */
+static int bench_wants(const auth_peer *r, const char *channel)
 {
-    static uint8_t buf[1024];
+    return auth_acl_readers(auth_acl_table, auth_acl_table_n, channel) == 0 ||
+           auth_acl_reader_wanted(auth_acl_table, auth_acl_table_n, channel, r);
+}
+
+/* The role file of p in the cell of master m, as tandem-keygen --cell writes it. */
+static auth_keyset *role_set(const uint8_t m[AUTH_KEY_BYTES], const auth_peer *p)
+{
+    auth_peer roster[AUTH_MAX_TAGS];
+    const int n = auth_roster(3, roster, AUTH_MAX_TAGS);
+    auth_keyset *k = auth_keyset_new();
+    if (k)
+        auth_keyset_role(k, m, p, roster, n);
+    return k;
+}
+
+/* Microseconds per auth_sign (the sender's role file: one tag per reader)
+ * and per check at one receiver (its role file: auth_verify, the channel
+ * table, the replay table) of a body_len-byte message; beside them an
+ * Ed25519 signature (crypto_sign) of the same body: one signature every
+ * receiver checks with the sender's public key. */
+static void time_sign_verify(const char *channel, const auth_peer *reader, int body_len, int reps, int ed_reps)
+{
+    static uint8_t buf[2048], ed_sig[crypto_sign_BYTES], ed_pk[crypto_sign_PUBLICKEYBYTES],
+        ed_sk[crypto_sign_SECRETKEYBYTES];
     static auth_replay replay;
+    uint8_t m[AUTH_KEY_BYTES];
+    auth_keyset *ks, *kr;
     auth_keyring ring;
     auth_sender s;
     auth_trailer t;
-    uint8_t key[AUTH_KEY_BYTES];
-    double t0, sign_us, check_us;
+    auth_peer sp, to[AUTH_MAX_TAGS];
+    int n_to;
+    size_t len = 0;
+    double t0, sign_us, check_us, ed_sign_us, ed_verify_us;
     int i, bad = 0;
-    memset(key, 7, sizeof key);
-    auth_key_set(&ring.key[0], key);
-    ring.n = 1;
+    memset(m, 7, sizeof m);
     memset(buf, 0x5a, (size_t)body_len);
     auth_acl_owner(auth_acl_table, auth_acl_table_n, channel, &s);
+    if (s.role != AUTH_ROLE_ARM && s.role != AUTH_ROLE_ROVER)
+        s.first = s.last = 0;
     s.session = 1;
+    sp.role = s.role;
+    sp.first = s.first;
+    sp.last = s.last;
+    ks = role_set(m, &sp);
+    kr = role_set(m, reader);
+    if (!ks || !kr)
+        return;
+    ring.set[0] = kr;
+    ring.n = 1;
     auth_replay_init(&replay, AUTH_WINDOW_US, 0);
+    /* the receivers once per channel, as auth_bus keeps them */
+    n_to = auth_receivers(ks, channel, AUTH_ROLES_ALL, bench_wants, to);
     t0 = wall_s();
     for (i = 0; i < reps; i++)
-        auth_sign(&ring.key[0], &s, 1000000000000000ULL + (uint64_t)i, channel, buf, (size_t)body_len, sizeof buf);
+        auth_sign_to(ks, &s, 1000000000000000ULL + (uint64_t)i, channel, to, n_to, buf, (size_t)body_len,
+                     sizeof buf, &len);
     sign_us = (wall_s() - t0) * 1e6 / reps;
     t0 = wall_s();
     for (i = 0; i < reps; i++) {
         /* the same message each time: the check's work without re-signing */
-        bad += auth_verify(&ring, channel, buf, (size_t)(body_len + AUTH_TRAILER_BYTES), &t) != AUTH_OK;
+        bad += auth_verify(&ring, reader, channel, buf, len, &t) != AUTH_OK;
         bad += auth_acl_check(auth_acl_table, auth_acl_table_n, channel, &t.sender) != AUTH_OK;
         auth_replay_check(&replay, &t.sender, auth_channel_hash(channel), t.counter + (uint64_t)i,
                           t.counter + (uint64_t)i);
     }
     check_us = (wall_s() - t0) * 1e6 / reps;
-    printf("  %-13s %4d B + %d B trailer: sign %.2f us, check (MAC, channel table, replay table) %.2f us%s\n",
-           channel, body_len, AUTH_TRAILER_BYTES, sign_us, check_us, bad ? "  (CHECK FAILED)" : "");
+    crypto_sign_keypair(ed_pk, ed_sk);
+    t0 = wall_s();
+    for (i = 0; i < ed_reps; i++)
+        crypto_sign_detached(ed_sig, NULL, buf, (unsigned long long)body_len, ed_sk);
+    ed_sign_us = ed_reps > 0 ? (wall_s() - t0) * 1e6 / ed_reps : 0.0;
+    t0 = wall_s();
+    for (i = 0; i < ed_reps; i++)
+        bad += crypto_sign_verify_detached(ed_sig, buf, (unsigned long long)body_len, ed_pk) != 0;
+    ed_verify_us = ed_reps > 0 ? (wall_s() - t0) * 1e6 / ed_reps : 0.0;
+    printf("  %-13s %4d B + %3d B trailer (%d tags): sign %.2f us, check %.2f us | Ed25519 + 64 B: "
+           "sign %.1f us, verify %.1f us%s\n", channel, body_len, (int)t.len, t.n_tags, sign_us, check_us,
+           ed_sign_us, ed_verify_us, bad ? "  (CHECK FAILED)" : "");
+    auth_keyset_free(ks);
+    auth_keyset_free(kr);
 }
 
-static pid_t start_arm(const char *path, const char *url, int insecure)
+static pid_t start_arm(const char *path, const char *url, int insecure, auth_child_keys *keys)
 {
-    const pid_t pid = fork();
+    const char *const argv[] = { "tandem-arm", "--arm", "1", NULL };
+    char key[600];
+    const int keyed = insecure ? AUTH_CHILD_INHERIT : auth_child_key(keys, argv, key, sizeof key);
+    const pid_t pid = keyed < 0 ? -1 : fork();
     if (pid == 0) {
         setenv("LCM_DEFAULT_URL", url, 1);
+        if (keyed == AUTH_CHILD_OK)
+            setenv(AUTH_BUS_KEY_ENV, key, 1);   /* arm 1's role file, as tandem-run gives it */
         if (insecure)
             execl(path, "tandem-arm", "--arm", "1", "--lockstep", "--insecure", (char *)NULL);
         else
@@ -189,35 +248,48 @@ static pid_t start_arm(const char *path, const char *url, int insecure)
     return pid;
 }
 
-/* ARM1_STATE, ARM1_COMMAND and SIM_CLOCK as the simulator and an arm send them. */
-static void time_auth(int reps, int state_size, int cmd_size, int clock_size)
+/* ARM1_STATE, ARM1_COMMAND and SIM_CLOCK as the simulator and an arm send
+ * them, each checked by its main reader. */
+static void time_auth(int reps, int ed_reps, int state_size, int cmd_size, int clock_size)
 {
-    printf("authentication (keyed BLAKE2b-128, libsodium), %d messages each, one core:\n", reps);
-    time_sign_verify("ARM1_STATE", state_size, reps);
-    time_sign_verify("ARM1_COMMAND", cmd_size, reps);
-    time_sign_verify("SIM_CLOCK", clock_size, reps);
+    const auth_peer arm1 = { AUTH_ROLE_ARM, 1, 1 }, sim = { AUTH_ROLE_SIM, 0, 0 };
+    printf("authentication, per-role keys (keyed BLAKE2b-128 tag per reader, libsodium), cell of 3 rovers,\n"
+           "%d messages each (Ed25519: %d), one core:\n", reps, ed_reps);
+    time_sign_verify("ARM1_STATE", &arm1, state_size, reps, ed_reps);
+    time_sign_verify("ARM1_COMMAND", &sim, cmd_size, reps, ed_reps);
+    time_sign_verify("SIM_CLOCK", &arm1, clock_size, reps, ed_reps);
 }
 
 int main(int argc, char **argv)
 {
-    const int auth_only = argc > 2 && strcmp(argv[1], "auth") == 0;
+    const int ed_only = argc > 2 && strcmp(argv[1], "ed25519") == 0;
+    const int auth_only = ed_only || (argc > 2 && strcmp(argv[1], "auth") == 0);
     const int n = auth_only ? atoi(argv[2]) : argc > 1 ? atoi(argv[1]) : 10000;
     const char *bin = !auth_only && argc > 2 ? argv[2] : "build/bin";
-    char url_ins[96], url_sec[96], path[512], key[600];
+    char url_ins[96], url_sec[96], path[512], key[600], sim_key[600];
     lcm_t *l_ins, *l_sec;
     pid_t echo_pid, arm_ins, arm_sec;
     tandem_arm_state_t st;
     tandem_sim_clock_t clk;
     tandem_arm_command_t cmd0;
     loopstats bare, plain, authed;
+    auth_child_keys keys;
     int i, state_size, cmd_size, clock_size;
     snprintf(url_ins, sizeof url_ins, "udpm://239.255.76.67:%d?ttl=0", 40000 + (int)(getpid() % 10000));
     snprintf(url_sec, sizeof url_sec, "udpm://239.255.76.67:%d?ttl=0", 50000 + (int)(getpid() % 10000));
-    /* this process stands in for the simulator; the secured arm gets the key
-     * through $TANDEM_KEY_FILE */
+    auth_child_keys_init(&keys);
     if (auth_bus_ephemeral_key(key, sizeof key) != 0)
         return 1;
-    auth_bus_sign_as_owner(1);
+    /* a cell of three rovers; this process is its simulator and holds the
+     * simulator's role file, as tandem-sim does under tandem-run */
+    auth_bus_roster(3);
+    {
+        const char *const sim_argv[] = { "tandem-sim", NULL };
+        if (auth_child_key(&keys, sim_argv, sim_key, sizeof sim_key) != AUTH_CHILD_OK ||
+            auth_bus_option("bench_roundtrip", OPT_KEY_FILE, sim_key) != 1)
+            return 1;
+    }
+    auth_bus_identity(AUTH_ROLE_SIM, 0, 0);
     if (auth_bus_start("bench_roundtrip") != 0)
         return 1;
     memset(&st, 0, sizeof st);
@@ -230,7 +302,8 @@ int main(int argc, char **argv)
     clk.mode = TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP;
     clock_size = tandem_sim_clock_t_encoded_size(&clk);
 
-    time_auth(auth_only ? n : 100000, state_size, cmd_size, clock_size);
+    time_auth(ed_only ? 0 : auth_only ? n : 100000, ed_only ? n : auth_only ? 0 : 10000, state_size, cmd_size,
+              clock_size);
     if (auth_only)
         return 0;
 
@@ -242,8 +315,8 @@ int main(int argc, char **argv)
             lcm_handle(e);
     }
     snprintf(path, sizeof path, "%s/tandem-arm", bin);
-    arm_ins = start_arm(path, url_ins, 1);
-    arm_sec = start_arm(path, url_sec, 0);
+    arm_ins = start_arm(path, url_ins, 1, &keys);
+    arm_sec = start_arm(path, url_sec, 0, &keys);
     l_ins = lcm_create(url_ins);
     l_sec = lcm_create(url_sec);
     lcm_subscribe(l_ins, "BENCH_PONG", on_any, NULL);
@@ -253,8 +326,8 @@ int main(int argc, char **argv)
     loopstats_reset(&bare);
     loopstats_reset(&plain);
     loopstats_reset(&authed);
-    printf("round trip over LCM, %d exchanges, state %d B, command %d B (+%d B trailer when authenticated)\n",
-           n, state_size, cmd_size, AUTH_TRAILER_BYTES);
+    printf("round trip over LCM, %d exchanges, state %d B, command %d B (+ a trailer of a tag per reader when\n"
+           "authenticated; the arm holds its role file)\n", n, state_size, cmd_size);
 
     /* Exchanges alternate bare / insecure / authenticated so all see the
      * same machine load. */
@@ -286,5 +359,6 @@ int main(int argc, char **argv)
     waitpid(arm_sec, NULL, 0);
     lcm_destroy(l_ins);
     lcm_destroy(l_sec);
+    auth_child_keys_remove(&keys);
     return 0;
 }

@@ -1,18 +1,25 @@
-/* fuzz_auth: libFuzzer target for the secure bus's receive check
- * (src/daemons/common/auth.c, auth_acl.c), the code every tandem message meets
+/* fuzz_auth: libFuzzer target for the secure bus's receive check, v2
+ * (src/daemons/common/auth.c, auth_acl.c: a tag per receiver under pairwise
+ * keys, the cell id in every digest), the code every tandem message meets
  * before any decoder (built by tools/fuzz.sh as fuzz_auth).
  *
+ * The receiver is a tool holding a fixed cell master (it derives every
+ * pairwise key, so any sender of the roster can be signed as and checked).
  * Input: byte 0 picks the mode, byte 1 the channel name's length (mod 64),
  * then the channel name's bytes, then the datagram.
- *  - mode even: the datagram as received (trailer or not): auth_verify,
- *    then the sender, ACL and replay checks the way auth_bus_accept chains
- *    them. A forged MAC must never verify: a datagram that does, without
- *    having been signed here, aborts.
- *  - mode odd: the datagram's last AUTH_HEAD_BYTES bytes give a sender id
- *    and counter, the rest is the body; it is signed with the fuzz key and
- *    must then verify and parse back to the same sender and counter, one
- *    flipped body bit must not verify, and a counter the replay table took
- *    must be refused the second time (identities, checked by abort).
+ *  - mode even: the datagram as received: auth_verify (trailer parse from
+ *    the end, the cell, this receiver's tag among up to 48, the pairwise
+ *    key of the claimed sender). A tag must never verify without having
+ *    been computed here: a datagram that does aborts.
+ *  - mode odd: the datagram's last AUTH_FIXED_BYTES bytes give a sender
+ *    (role, first, last instance, session: bytes 0-8) and a counter (bytes
+ *    9-16), the rest is the body; it is signed with the tags of every
+ *    roster principal and must then verify, parse back to the same sender,
+ *    counter and key id, pass the sender, channel table and replay checks
+ *    as auth_bus_accept chains them at most once (the same counter a
+ *    second time is a replay), and must no longer verify with one bit
+ *    flipped in the body or in the fixed part of the trailer (identities,
+ *    checked by abort).
  * The sanitizers catch overflows and undefined behaviour in the parsing.
  */
 #include <stdint.h>
@@ -29,6 +36,8 @@ typedef struct fuzz_ctx {
     auth_replay  replay;
 } fuzz_ctx;
 
+static const auth_peer fuzz_me = { AUTH_ROLE_TOOL, 0, 0 };   /* the receiver */
+
 static fuzz_ctx *ctx(void)
 {
     static fuzz_ctx c;
@@ -40,7 +49,9 @@ static fuzz_ctx *ctx(void)
             abort();
         for (i = 0; i < AUTH_KEY_BYTES; i++)
             k[i] = (uint8_t)(i * 37 + 11);
-        auth_key_set(&c.ring.key[0], k);
+        if (!(c.ring.set[0] = auth_keyset_new()))
+            abort();
+        auth_keyset_master(c.ring.set[0], k, &fuzz_me, AUTH_ROSTER_ROVERS);
         c.ring.n = 1;
         auth_replay_init(&c.replay, AUTH_WINDOW_US, FUZZ_NOW_US - 10000000ULL);
         ready = 1;
@@ -71,13 +82,14 @@ static int admit(fuzz_ctx *c, const char *channel, const auth_trailer *t)
 static void as_received(fuzz_ctx *c, const char *channel, const uint8_t *d, size_t n)
 {
     auth_trailer t;
-    if (auth_verify(&c->ring, channel, d, n, &t) == AUTH_OK)
+    if (auth_verify(&c->ring, &fuzz_me, channel, d, n, &t) == AUTH_OK)
         abort();   /* a MAC nobody here computed verified */
 }
 
 static void signed_here(fuzz_ctx *c, const char *channel, const uint8_t *d, size_t n)
 {
-    static uint8_t buf[FUZZ_MAX_BODY + AUTH_TRAILER_BYTES];
+    static uint8_t buf[FUZZ_MAX_BODY + AUTH_TRAILER_MAX];
+    size_t len, flip;
     auth_sender s;
     auth_trailer t;
     uint64_t counter;
@@ -92,18 +104,19 @@ static void signed_here(fuzz_ctx *c, const char *channel, const uint8_t *d, size
     s.session = (uint32_t)be(d + body + 5, 4);
     counter = be(d + body + 9, 8);
     memcpy(buf, d, body);
-    if (auth_sign(&c->ring.key[0], &s, counter, channel, buf, body, sizeof buf) != AUTH_OK)
+    if (auth_sign(c->ring.set[0], &s, counter, channel, AUTH_ROLES_ALL, NULL, buf, body, sizeof buf, &len) != AUTH_OK)
         return;
-    if (auth_verify(&c->ring, channel, buf, body + AUTH_TRAILER_BYTES, &t) != AUTH_OK)
+    if (auth_verify(&c->ring, &fuzz_me, channel, buf, len, &t) != AUTH_OK)
         abort();   /* signed and refused */
     if (t.sender.role != s.role || t.sender.first != s.first || t.sender.last != s.last ||
-        t.sender.session != s.session || t.counter != counter || t.key_id != c->ring.key[0].id)
+        t.sender.session != s.session || t.counter != counter || t.key_id != c->ring.set[0]->id)
         abort();   /* the trailer does not read back what was written */
     rc = admit(c, channel, &t);
     if (rc == AUTH_OK && admit(c, channel, &t) != AUTH_ERR_REPLAY)
         abort();   /* the same counter taken twice */
-    buf[d[0] % (body + AUTH_HEAD_BYTES)] ^= 0x01;
-    if (auth_verify(&c->ring, channel, buf, body + AUTH_TRAILER_BYTES, &t) == AUTH_OK)
+    flip = d[0] % (body + AUTH_FIXED_BYTES);   /* a byte of the body or of the fixed part */
+    buf[flip < body ? flip : len - AUTH_FIXED_BYTES + (flip - body)] ^= 0x01;
+    if (auth_verify(&c->ring, &fuzz_me, channel, buf, len, &t) == AUTH_OK)
         abort();   /* a flipped bit of the body or trailer head still verifies */
 }
 

@@ -12,14 +12,17 @@ trap 'rm -rf "$keydir"' EXIT
 export TANDEM_KEY_FILE=$keydir/bus.key
 ms_now() { echo $(( $(date +%s%N) / 1000000 )); }
 
-echo "== 1. round trip state -> controller -> command over LCM, with and without authentication =="
+echo "== 1. round trip state -> controller -> command over LCM, with and without authentication (per-role keys) =="
 "$bin/bench_roundtrip" 10000 "$bin"
 if command -v valgrind >/dev/null; then
     echo "  instructions per message, sign + check of ARM1_STATE, ARM1_COMMAND and SIM_CLOCK"
     echo "  (callgrind: (2000 messages - 1000 messages) / 1000 / 3 sizes, set-up cancels):"
     out=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null "$bin/bench_roundtrip" auth 2000 2>&1 | awk '/Collected/ {print $4}')
     base=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null "$bin/bench_roundtrip" auth 1000 2>&1 | awk '/Collected/ {print $4}')
-    [ -n "$out" ] && [ -n "$base" ] && printf '    %d per message (sign + check)\n' $(( (out - base) / 1000 / 3 ))
+    [ -n "$out" ] && [ -n "$base" ] && printf '    %d per message (sign with a tag per reader + check one tag)\n' $(( (out - base) / 1000 / 3 ))
+    out=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null "$bin/bench_roundtrip" ed25519 200 2>&1 | awk '/Collected/ {print $4}')
+    base=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null "$bin/bench_roundtrip" ed25519 100 2>&1 | awk '/Collected/ {print $4}')
+    [ -n "$out" ] && [ -n "$base" ] && printf '    %d per message with Ed25519 instead (crypto_sign + crypto_sign_verify)\n' $(( (out - base) / 100 / 3 ))
 fi
 
 echo; echo "== 2. lockstep speed: tandem-sim (PUMA pair) with one 1 kHz controller =="

@@ -5,7 +5,7 @@
 #   tools/deps.sh bench   also the benchmark-only tools
 #   tools/deps.sh cross   the 68040 and Cortex-M4 toolchains and qemu (make cross,
 #                         test-cross, budget; make test installs them too)
-#   tools/deps.sh fuzz    clang (libFuzzer) for make fuzz
+#   tools/deps.sh fuzz    clang and its runtimes (libFuzzer, sanitizers) for make fuzz
 #   tools/deps.sh view    the viewer's Python venv; view-test: also Chromium
 #   tools/deps.sh install man pages (help2man)
 set -euo pipefail
@@ -19,7 +19,7 @@ elif [ "${1:-run}" = cross ]; then
           qemu-user-static binutils)
 fi
 case ${1:-run} in
-    fuzz) pkgs=(clang) ;;
+    fuzz) pkgs=(clang libclang-rt-14-dev) ;;   # libFuzzer and the sanitizers' runtimes
     view) pkgs=(python3-venv) ;;
     view-test) pkgs=(python3-venv chromium fonts-dejavu-core iproute2) ;;
     install) pkgs=(help2man man-db) ;;

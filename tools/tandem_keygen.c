@@ -1,15 +1,26 @@
-/* tandem-keygen: makes the bus key every tandem program signs and checks
- * its messages with (docs/method/lockstep.md §4-5; src/daemons/common/auth.h). 32 random bytes
- * from libsodium in a file only its owner may read (0600), by default
- * ${XDG_CONFIG_HOME:-~/.config}/tandem/bus.key, which `make run` also
- * creates on first use.
+/* tandem-keygen: makes the key set of a cell (docs/method/lockstep.md §4-5;
+ * src/daemons/common/auth.h): a master secret (32 random bytes from libsodium,
+ * mode 0600, by default ${XDG_CONFIG_HOME:-~/.config}/tandem/bus.key) and,
+ * with --cell DIR, one role file per principal holding only the pairwise
+ * keys that principal takes part in (sim, arm1, arm2, supervisor, tool,
+ * monitor, rover1..N, and rover1-N for one process hosting the whole
+ * team: tandem-rover --id 1-N). tools/tandem-run and tandem-scenario make a fresh
+ * set per run.
  *
- *   tandem-keygen [PATH]           a new key; an existing file is kept
- *   tandem-keygen --rotate [PATH]  a new key; the old one moves to PATH.prev
- *   tandem-keygen --show [PATH]    the key id byte of a key file
+ *   tandem-keygen [PATH]                 a new master; an existing file is kept
+ *   tandem-keygen --rotate [PATH]        a new master; the old one moves to PATH.prev
+ *   tandem-keygen --show [PATH]          key id and cell id of a key file
+ *   tandem-keygen --cell DIR [--rovers N] [--revoke NAME] [PATH]
+ *                                        role files DIR/<name>.key from the master
+ *                                        PATH (made if missing); --revoke leaves
+ *                                        NAME out of every file (its keys stop working)
  */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <sodium.h>
 #include "auth.h"
 #include "auth_bus.h"
 #include "options.h"
@@ -19,6 +30,9 @@
 
 typedef struct keygen_options {
     int rotate, show;
+    int rovers;
+    const char *cell;     /* --cell DIR */
+    const char *revoke;   /* --revoke NAME */
     const char *path;     /* the one PATH argument, NULL: the default */
 } keygen_options;
 
@@ -28,6 +42,14 @@ static const option_entry keygen_table[] = {
               "--key-file PATH.prev while some still sign with the old key, then with --key-file PATH alone" },
     { .name = "show", .type = OPTION_FLAG, OPTION_AT(keygen_options, show),
       .help = "print the key id byte of PATH (which key signed a message)" },
+    { .name = "cell", .type = OPTION_STRING, OPTION_AT(keygen_options, cell), .min = 1, .meta = "DIR",
+      .help = "write the role files of a cell into DIR (0700): DIR/sim.key, arm1.key, arm2.key, supervisor.key, "
+              "tool.key, monitor.key, rover1.key ... and rover1-N.key (a process hosting the whole team)" },
+    { .name = "rovers", .type = OPTION_INT, OPTION_AT(keygen_options, rovers), .min = 0, .max = AUTH_MAX_TAGS - AUTH_ROSTER_FIXED, .meta = "N",
+      .help = "with --cell: rovers in the cell (default 8)" },
+    { .name = "revoke", .type = OPTION_STRING, OPTION_AT(keygen_options, revoke), .min = 1, .meta = "NAME",
+      .help = "with --cell: leave principal NAME (e.g. rover2) out of every role file; restart the others with "
+              "their new files and NAME is refused" },
     { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
     { .name = "version", .type = OPTION_VERSION, .help = "program version" },
     { .name = NULL }
@@ -48,16 +70,115 @@ static int path_word(void *user, const char *word)
     return OPTIONS_ERR_VALUE;
 }
 
+static void print_cell(const auth_keyset *k)
+{
+    int i;
+    printf("key id 0x%02x, cell ", k->id);
+    for (i = 0; i < AUTH_CELL_BYTES; i++)
+        printf("%02x", k->cell[i]);
+}
+
 static int show(const char *path)
 {
-    auth_key k;
+    const auth_peer anyone = { AUTH_ROLE_TOOL, 0, 0 };
+    auth_keyset *k;
     char why[1200];
-    if (auth_init() != 0 || auth_key_load(&k, path, why, sizeof why) != AUTH_OK) {
+    if (auth_init() != 0 || !(k = auth_keyset_new())) {
+        fprintf(stderr, PROG ": libsodium does not start\n");
+        return 1;
+    }
+    if (auth_keyset_load(k, path, &anyone, why, sizeof why) != AUTH_OK) {
+        fprintf(stderr, PROG ": %s\n", why);
+        auth_keyset_free(k);
+        return 1;
+    }
+    printf("%s: %s, ", path, k->is_master ? "master" : "role file");
+    print_cell(k);
+    if (!k->is_master)
+        printf(", holder role %d instances %d-%d, %d pairwise keys", k->holder.role, k->holder.first,
+               k->holder.last, k->n);
+    printf("\n");
+    auth_keyset_free(k);
+    return 0;
+}
+
+/* The file name of a principal: sim, arm1, supervisor, tool, monitor,
+ * rover3, and rover1-3 for the host of a whole team of three. */
+static void peer_name(const auth_peer *p, char *out, size_t cap)
+{
+    static const char *const names[] = { "?", "sim", "arm", "supervisor", "rover", "tool", "monitor" };
+    const char *n = p->role <= AUTH_ROLE_LAST ? names[p->role] : "?";
+    if (p->role == AUTH_ROLE_ROVER && p->first != p->last)
+        snprintf(out, cap, "%s%d-%d", n, p->first, p->last);
+    else if (p->role == AUTH_ROLE_ARM || p->role == AUTH_ROLE_ROVER)
+        snprintf(out, cap, "%s%d", n, p->first);
+    else
+        snprintf(out, cap, "%s", n);
+}
+
+/* Writes DIR/<name>.key for every principal of the roster but the revoked one. */
+static int write_cell(const char *dir, const uint8_t *master, int rovers, const char *revoke)
+{
+    auth_peer roster[AUTH_MAX_TAGS], kept[AUTH_MAX_TAGS];
+    auth_keyset *k = auth_keyset_new();
+    char name[32], path[1200], tmp[1300], why[1400];
+    int i, n, m = 0, rc = 0;
+    if (!k)
+        return 1;
+    n = auth_roster(rovers, roster, AUTH_MAX_TAGS);
+    for (i = 0; i < n; i++) {
+        peer_name(&roster[i], name, sizeof name);
+        if (!revoke || strcmp(revoke, name) != 0)
+            kept[m++] = roster[i];
+    }
+    if (revoke && m == n)
+        fprintf(stderr, PROG ": --revoke %s: no such principal in the cell\n", revoke), rc = 1;
+    for (i = 0; i < m && rc == 0; i++) {
+        peer_name(&kept[i], name, sizeof name);
+        snprintf(path, sizeof path, "%s/%s.key", dir, name);
+        snprintf(tmp, sizeof tmp, "%s/.%s.key.new", dir, name);
+        auth_keyset_role(k, master, &kept[i], kept, m);
+        remove(tmp);
+        /* written beside, then renamed over: a reader sees the old or the new file */
+        if (auth_keyset_write(k, tmp, why, sizeof why) != AUTH_OK || rename(tmp, path) != 0) {
+            fprintf(stderr, PROG ": %s\n", why);
+            rc = 1;
+        }
+    }
+    if (revoke && rc == 0) {
+        snprintf(path, sizeof path, "%s/%s.key", dir, revoke);
+        remove(path);
+        printf("revoked %s: restart the other daemons with their new files in %s\n", revoke, dir);
+    }
+    auth_keyset_free(k);
+    return rc;
+}
+
+static int make_cell(const keygen_options *o)
+{
+    uint8_t *master;
+    char why[1200];
+    int rc;
+    if (mkdir(o->cell, 0700) != 0 && access(o->cell, F_OK) != 0) {
+        perror(PROG ": --cell");
+        return 1;
+    }
+    if (access(o->path, F_OK) != 0 && auth_key_create(o->path, why, sizeof why) != AUTH_OK) {
         fprintf(stderr, PROG ": %s\n", why);
         return 1;
     }
-    printf("%s: key id 0x%02x\n", path, k.id);
-    return 0;
+    if (auth_init() != 0 || !(master = sodium_malloc(AUTH_KEY_BYTES)))
+        return 1;
+    rc = auth_master_load(master, o->path, why, sizeof why);
+    if (rc != AUTH_OK)
+        fprintf(stderr, PROG ": %s\n", why);
+    else
+        rc = write_cell(o->cell, master, o->rovers, o->revoke);
+    sodium_free(master);
+    if (rc == 0 && !o->revoke)
+        printf("cell key set in %s (master %s): give each daemon --key-file %s/<name>.key\n", o->cell, o->path,
+               o->cell);
+    return rc == 0 ? 0 : 1;
 }
 
 static int make(const char *path, int rotate)
@@ -89,7 +210,7 @@ static int make(const char *path, int rotate)
 int main(int argc, char **argv)
 {
     char def[1024] = "~/.config/tandem/bus.key", usage[1400];
-    keygen_options o = { 0, 0, NULL };
+    keygen_options o = { 0, 0, AUTH_ROSTER_ROVERS, NULL, NULL, NULL };
     const option_program prog = {
         .name = PROG, .usage = usage,
         .epilog = "\nWithout an option it makes a new key; an existing file is left alone (exit 1).\n"
@@ -102,8 +223,9 @@ int main(int argc, char **argv)
         return 0;
     auth_bus_default_key_path(def, sizeof def);
     snprintf(usage, sizeof usage,
-             "usage: tandem-keygen [--rotate | --show] [PATH]\n"
-             "Makes the tandem bus key: 32 random bytes (libsodium), mode 0600.\n"
+             "usage: tandem-keygen [--rotate | --show | --cell DIR [--rovers N] [--revoke NAME]] [PATH]\n"
+             "Makes the master key of a tandem cell: 32 random bytes (libsodium), mode 0600;\n"
+             "with --cell, the role files of the cell's daemons and tools from it.\n"
              "PATH defaults to %s.\n\n", def);
     if ((rc = options_parse(&prog, argc, argv, 1)) < 0)
         return options_exit_status(rc);
@@ -118,5 +240,11 @@ int main(int argc, char **argv)
         }
         o.path = def;
     }
+    if (o.rovers < 0 || o.rovers > AUTH_MAX_TAGS - AUTH_ROSTER_FIXED || (o.revoke && !o.cell)) {
+        fprintf(stderr, PROG ": --rovers 0..%d; --revoke needs --cell\n", AUTH_MAX_TAGS - AUTH_ROSTER_FIXED);
+        return OPTIONS_EXIT_BAD_ARGS;
+    }
+    if (o.cell)
+        return make_cell(&o);
     return o.show ? show(o.path) : make(o.path, o.rotate);
 }

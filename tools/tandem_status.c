@@ -37,6 +37,8 @@ typedef struct {
     int64_t auth_kind[AUTH_BUS_KINDS];    /* auth_bus_health_refusals */
     int64_t auth_rejected, auth_rejected_shown;
     double  auth_warned_s;
+    double  period_us, cycle_p99_us, cycle_max_us;   /* its loop statistics (--loops) */
+    int64_t rx_deferred, msgs_received;
 } daemon_view;
 
 static struct {
@@ -50,6 +52,7 @@ static struct {
     int8_t  rover_mode[MAX_ROBOTS + 1];   /* -1 unknown */
     int     stalled, stalled_warned;      /* supervisor: no progress for its stall limit */
     int     faulted;                      /* bit k-1: arm k reports a joint fault */
+    int     loops;                        /* --loops: a line per daemon too */
     double  behind_ratio;
     double  behind_warned_s;              /* wall time of the last behind warning, <0 none */
 } S;
@@ -88,6 +91,11 @@ static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_hea
         d->auth_warned_s = 0.0;           /* it restarted insecure: warn at once */
     d->auth_on = h->auth_on;
     d->auth_rejected = auth_bus_health_refusals(h, d->auth_kind);
+    d->period_us = h->period_us;
+    d->cycle_p99_us = h->cycle_p99_us;
+    d->cycle_max_us = h->cycle_max_us;
+    d->rx_deferred = h->rx_deferred;
+    d->msgs_received = h->msgs_received;
 }
 
 static void on_sim(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *s, void *u)
@@ -154,11 +162,26 @@ static void auth_warnings(double now)
             printf("WARNING: %s runs --insecure: it neither signs nor checks bus messages\n", d->name);
         if (refused)
             printf("WARNING: %s refused %lld unauthenticated messages (unsigned %lld, bad MAC %lld, unknown sender "
-                   "%lld, replayed %lld, not allowed on the channel %lld): something without the key, or an old "
-                   "log, is publishing on the bus\n", d->name, (long long)(d->auth_rejected - d->auth_rejected_shown),
-                   (long long)k[0], (long long)k[1], (long long)k[2], (long long)k[3], (long long)k[4]);
+                   "%lld, replayed %lld, not allowed on the channel %lld, another cell's %lld, refused before the "
+                   "MAC %lld): something without the key, or an old log, is publishing on the bus\n", d->name,
+                   (long long)(d->auth_rejected - d->auth_rejected_shown), (long long)k[0], (long long)k[1],
+                   (long long)k[2], (long long)k[3], (long long)k[4], (long long)k[5], (long long)k[6]);
         d->auth_rejected_shown = d->auth_rejected;
         d->auth_warned_s = now;
+    }
+}
+
+/* --loops: each daemon's cycle times since it started, the drains that
+ * ran out of budget and its refusals (how a flood is felt). */
+static void loop_lines(void)
+{
+    int i;
+    for (i = 0; i < S.n_daemons && S.loops; i++) {
+        const daemon_view *d = &S.d[i];
+        printf("  loop %-22s period %7.0f us  cycle p99 %7.0f us  max %8.0f us  overruns %lld  rx deferred %lld  "
+               "received %lld  refused %lld\n", d->name, d->period_us, d->cycle_p99_us, d->cycle_max_us,
+               (long long)d->overruns, (long long)d->rx_deferred, (long long)d->msgs_received,
+               (long long)d->auth_rejected);
     }
 }
 
@@ -246,6 +269,7 @@ static void status_line(double now)
            S.sim_s, ratio_s, S.lockstep ? " (lockstep)" : S.paused ? " (paused)" : "", (long long)delta,
            (long long)total, holds, blocked, S.faulted & 1 ? "  FAULT arm1" : "", S.faulted & 2 ? "  FAULT arm2" : "",
            S.stalled ? "  STALLED" : "", (int)S.delivered, (int)S.spawned, (int)S.dropped, at_goal, known);
+    loop_lines();
     fflush(stdout);
 }
 
@@ -259,6 +283,7 @@ AUTH_TYPED_HANDLER(tandem_rovers_state_t, raw_on_rovers, on_rovers)
 typedef struct status_options {
     const char *url;
     double every_s, behind_ratio;
+    int loops;
 } status_options;
 
 static const option_entry status_table[] = {
@@ -266,6 +291,9 @@ static const option_entry status_table[] = {
       .meta = "S", .help = "seconds between lines", .def = "1" },
     { .name = "behind", .type = OPTION_DOUBLE, OPTION_AT(status_options, behind_ratio), .min = 0.0, .max = 1.0,
       .meta = "R", .help = "warn below this sim/wall ratio", .def = "0.9" },
+    { .name = "loops", .type = OPTION_FLAG, OPTION_AT(status_options, loops),
+      .help = "also a line per daemon: cycle time p99 and longest since it started, overruns, receive drains "
+              "over budget (rx_deferred), messages received and refused" },
     { .name = "help", .type = OPTION_HELP, .help = "this text" },
     { .name = "version", .type = OPTION_VERSION, .help = "program version" },
     { .name = NULL }
@@ -273,10 +301,10 @@ static const option_entry status_table[] = {
 
 int main(int argc, char **argv)
 {
-    status_options o = { NULL, 1.0, 0.9 };
+    status_options o = { NULL, 1.0, 0.9, 0 };
     const option_program prog = {
         .name = "tandem-status",
-        .usage = "usage: tandem-status [--lcm-url URL] [--every S] [--behind R] [--key-file PATH | --insecure]\n"
+        .usage = "usage: tandem-status [--lcm-url URL] [--every S] [--behind R] [--loops] [--key-file PATH | --insecure]\n"
                  "One line per period about the running system: simulated / wall-clock time\n"
                  "ratio, controller overruns (new and total), daemons holding safe, blocked arms,\n"
                  "workpieces delivered, rovers at the goal. Prints a WARNING line when the\n"
@@ -296,7 +324,8 @@ int main(int argc, char **argv)
     url = o.url;
     every = o.every_s;
     S.behind_ratio = o.behind_ratio;
-    auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);
+    S.loops = o.loops;
+    auth_bus_identity(AUTH_ROLE_MONITOR, 0, 0);   /* reads only: a monitor's key file is enough */
     if (auth_bus_start("tandem-status") != 0)
         return 1;
     if (!(lcm = lcm_create(url))) {

@@ -1,5 +1,6 @@
 /* Unit tests of the secure bus (src/daemons/common/auth*.c): the
- * MAC against libsodium and BLAKE2b's published vectors, the trailer
+ * key derivation against libsodium and BLAKE2b's published vectors, what
+ * a role file can and cannot sign, the trailer
  * under truncation and garbage, the counter window and replay table, the
  * channel authorisation table and its validator, key files, and the
  * whole receive path of one process on LCM's in-process bus (memq://). */
@@ -17,6 +18,7 @@
 #include "auth.h"
 #include "auth_acl.h"
 #include "auth_bus.h"
+#include "auth_child.h"
 #include "tandem_arm_command_t.h"
 #include "tandem_sim_control_t.h"
 
@@ -24,13 +26,35 @@
 
 static const auth_sender ARM1 = { AUTH_ROLE_ARM, 1, 1, 0x01020304u };
 
-static void test_key(auth_key *k, uint8_t seed)
+static const auth_peer P_ARM1 = { AUTH_ROLE_ARM, 1, 1 }, P_ARM2 = { AUTH_ROLE_ARM, 2, 2 },
+                       P_SIM = { AUTH_ROLE_SIM, 0, 0 }, P_SUP = { AUTH_ROLE_SUPERVISOR, 0, 0 },
+                       P_ROVER1 = { AUTH_ROLE_ROVER, 1, 1 }, P_MON = { AUTH_ROLE_MONITOR, 0, 0 };
+
+static void test_master(uint8_t m[AUTH_KEY_BYTES], uint8_t seed)
 {
-    uint8_t b[AUTH_KEY_BYTES];
     int i;
     for (i = 0; i < AUTH_KEY_BYTES; i++)
-        b[i] = (uint8_t)(seed + 7 * i);
-    auth_key_set(k, b);
+        m[i] = (uint8_t)(seed + 7 * i);
+}
+
+/* The role file of who in the cell of master seed (default roster). */
+static auth_keyset *role_set(uint8_t seed, const auth_peer *who)
+{
+    uint8_t m[AUTH_KEY_BYTES];
+    auth_peer roster[AUTH_MAX_TAGS];
+    auth_keyset *k = auth_keyset_new();
+    const int n = auth_roster(AUTH_ROSTER_ROVERS, roster, AUTH_MAX_TAGS);
+    assert_non_null(k);
+    test_master(m, seed);
+    auth_keyset_role(k, m, who, roster, n);
+    return k;
+}
+
+static void ring_of(auth_keyring *r, auth_keyset *a, auth_keyset *b)
+{
+    r->set[0] = a;
+    r->set[1] = b;
+    r->n = b ? 2 : 1;
 }
 
 static void hex(const char *s, uint8_t *out, size_t n)
@@ -62,140 +86,185 @@ static void test_blake2b_reference_vectors(void **state)
     assert_memory_equal(out, want, 64);
 }
 
-/* auth_mac = BLAKE2b-128 keyed with the key over the documented input,
- * assembled here independently and hashed in one call. */
-static void test_mac_is_keyed_blake2b_of_the_documented_input(void **state)
+/* The pairwise key and cell id are keyed BLAKE2b of the documented inputs. */
+static void test_kdf_is_keyed_blake2b_of_the_documented_input(void **state)
 {
-    const char *ch = "ARM1_COMMAND";
-    uint8_t body[300], head[AUTH_HEAD_BYTES], mac[AUTH_MAC_BYTES], want[AUTH_MAC_BYTES], all[512];
+    uint8_t m[AUTH_KEY_BYTES], cell[AUTH_CELL_BYTES], want[32], key[32], in[64];
     size_t n = 0;
-    auth_key k;
-    int i;
     (void)state;
-    test_key(&k, 3);
-    for (i = 0; i < (int)sizeof body; i++)
-        body[i] = (uint8_t)(i * 13);
-    for (i = 0; i < AUTH_HEAD_BYTES; i++)
-        head[i] = (uint8_t)(200 - i);
-    memcpy(all + n, "tandem-auth-v1", 14);
-    n += 14;
-    all[n++] = (uint8_t)strlen(ch);
-    memcpy(all + n, ch, strlen(ch));
-    n += strlen(ch);
-    memcpy(all + n, body, sizeof body);
-    n += sizeof body;
-    memcpy(all + n, head, sizeof head);
-    n += sizeof head;
-    crypto_generichash(want, sizeof want, all, n, k.bytes, AUTH_KEY_BYTES);
-    assert_int_equal(auth_mac(&k, ch, body, sizeof body, head, mac), AUTH_OK);
-    assert_memory_equal(mac, want, AUTH_MAC_BYTES);
-    /* the key id is the first byte of the documented derivation */
-    crypto_generichash(want, sizeof want, (const uint8_t *)"tandem-key-id", 13, k.bytes, AUTH_KEY_BYTES);
-    assert_int_equal(k.id, want[0]);
+    test_master(m, 3);
+    auth_cell_id(m, cell);
+    crypto_generichash(want, AUTH_CELL_BYTES, (const uint8_t *)"tandem-cell-id", 14, m, AUTH_KEY_BYTES);
+    assert_memory_equal(cell, want, AUTH_CELL_BYTES);
+    memcpy(in, "tandem-pair-v2", 14);
+    n = 14;
+    memcpy(in + n, cell, AUTH_CELL_BYTES);
+    n += AUTH_CELL_BYTES;
+    memcpy(in + n, "\x03\x00\x00\x00\x00" "\x02\x00\x01\x00\x01", 10);   /* supervisor -> arm 1 */
+    n += 10;
+    crypto_generichash(want, 32, in, n, m, AUTH_KEY_BYTES);
+    auth_pair_key(m, cell, &P_SUP, &P_ARM1, key);
+    assert_memory_equal(key, want, 32);
+    auth_pair_key(m, cell, &P_ARM1, &P_SUP, key);   /* the other direction differs */
+    assert_memory_not_equal(key, want, 32);
+    crypto_generichash(want, 16, (const uint8_t *)"tandem-key-id", 13, m, AUTH_KEY_BYTES);
+    assert_int_equal(auth_key_id(m), want[0]);
 }
 
-static size_t signed_message(const auth_key *k, const char *ch, uint8_t *buf, size_t cap, uint64_t counter)
+static size_t signed_message(const auth_keyset *k, const auth_sender *s, const char *ch, uint8_t *buf, size_t cap,
+                             uint64_t counter)
 {
     const size_t body = 83;
-    size_t i;
+    size_t i, len = 0;
     for (i = 0; i < body; i++)
         buf[i] = (uint8_t)(i ^ 0x5a);
-    assert_int_equal(auth_sign(k, &ARM1, counter, ch, buf, body, cap), AUTH_OK);
-    return body + AUTH_TRAILER_BYTES;
+    assert_int_equal(auth_sign(k, s, counter, ch, AUTH_ROLES_ALL, NULL, buf, body, cap, &len), AUTH_OK);
+    return len;
 }
 
 static void test_sign_then_verify_gives_back_the_fields(void **state)
 {
-    uint8_t buf[256];
+    uint8_t buf[2048];
+    auth_keyset *a1 = role_set(1, &P_ARM1), *sim = role_set(1, &P_SIM);
     auth_keyring ring;
     auth_trailer t;
-    size_t n, i;
+    size_t n, i, len;
     (void)state;
-    test_key(&ring.key[0], 1);
-    ring.n = 1;
-    n = signed_message(&ring.key[0], "ARM1_COMMAND", buf, sizeof buf, NOW_US);
-    assert_int_equal(auth_verify(&ring, "ARM1_COMMAND", buf, n, &t), AUTH_OK);
+    ring_of(&ring, sim, NULL);
+    n = signed_message(a1, &ARM1, "ARM1_COMMAND", buf, sizeof buf, NOW_US);
+    assert_int_equal(auth_verify(&ring, &P_SIM, "ARM1_COMMAND", buf, n, &t), AUTH_OK);
     assert_int_equal(t.sender.role, AUTH_ROLE_ARM);
     assert_int_equal(t.sender.first, 1);
     assert_int_equal(t.sender.last, 1);
     assert_int_equal(t.sender.session, ARM1.session);
     assert_true(t.counter == NOW_US);
-    assert_int_equal(t.key_id, ring.key[0].id);
+    assert_int_equal(t.key_id, sim->id);
+    assert_int_equal(n - t.len, 83);
     for (i = 0; i < 83; i++)
         assert_int_equal(buf[i], (uint8_t)(i ^ 0x5a));   /* the body is untouched */
     /* too little room for the trailer, or a channel over LCM's limit */
-    assert_int_equal(auth_sign(&ring.key[0], &ARM1, 1, "X", buf, 83, 83 + AUTH_TRAILER_BYTES - 1), AUTH_ERR_ARG);
-    assert_int_equal(auth_sign(&ring.key[0], &ARM1, 1, "0123456789012345678901234567890123456789012345678901234567890123",
-                               buf, 83, sizeof buf), AUTH_ERR_ARG);
+    assert_int_equal(auth_sign(a1, &ARM1, 1, "X", AUTH_ROLES_ALL, NULL, buf, 83, 83 + AUTH_FIXED_BYTES, &len),
+                     AUTH_ERR_ARG);
+    assert_int_equal(auth_sign(a1, &ARM1, 1, "0123456789012345678901234567890123456789012345678901234567890123",
+                               AUTH_ROLES_ALL, NULL, buf, 83, sizeof buf, &len), AUTH_ERR_ARG);
+    auth_keyset_free(a1);
+    auth_keyset_free(sim);
 }
 
-/* Every single-bit change anywhere, another channel, another key: refused. */
+/* Every single-bit change anywhere, another channel, another cell: refused. */
 static void test_any_change_is_refused(void **state)
 {
-    uint8_t buf[256];
-    auth_keyring ring, other;
+    uint8_t buf[2048];
+    auth_keyset *a1 = role_set(1, &P_ARM1), *sim = role_set(1, &P_SIM), *other = role_set(2, &P_SIM);
+    auth_keyring ring;
     auth_trailer t;
     size_t n, i;
     int bit;
     (void)state;
-    test_key(&ring.key[0], 1);
-    ring.n = 1;
-    n = signed_message(&ring.key[0], "ARM1_COMMAND", buf, sizeof buf, NOW_US);
-    for (i = 0; i < n; i++)
+    ring_of(&ring, sim, NULL);
+    n = signed_message(a1, &ARM1, "ARM1_COMMAND", buf, sizeof buf, NOW_US);
+    for (i = 0; i < n; i += (i < 83 || i > n - 60) ? 1 : 7)
         for (bit = 0; bit < 8; bit++) {
             int rc;
             buf[i] ^= (uint8_t)(1u << bit);
-            rc = auth_verify(&ring, "ARM1_COMMAND", buf, n, &t);
-            assert_true(rc == AUTH_ERR_MAC || rc == AUTH_ERR_UNSIGNED);
+            rc = auth_verify(&ring, &P_SIM, "ARM1_COMMAND", buf, n, &t);
+            /* only another receiver's tag is not this receiver's business */
+            if (rc == AUTH_OK) {
+                const size_t e = (i - 83) % AUTH_TAG_ENTRY_BYTES;
+                assert_true(i >= 83 && i < n - AUTH_FIXED_BYTES && e >= AUTH_PEER_BYTES && buf[i - e] != AUTH_ROLE_SIM);
+            }
             buf[i] ^= (uint8_t)(1u << bit);
         }
-    assert_int_equal(auth_verify(&ring, "ARM1_COMMAND", buf, n, &t), AUTH_OK);
-    assert_int_equal(auth_verify(&ring, "ARM2_COMMAND", buf, n, &t), AUTH_ERR_MAC);
-    test_key(&other.key[0], 2);
-    other.n = 1;
-    assert_int_equal(auth_verify(&other, "ARM1_COMMAND", buf, n, &t), AUTH_ERR_MAC);
-    other.key[0].id = ring.key[0].id;   /* same id byte, other key */
-    assert_int_equal(auth_verify(&other, "ARM1_COMMAND", buf, n, &t), AUTH_ERR_MAC);
-    /* while rotating, a ring of the new and the old key takes both */
-    other.key[1] = ring.key[0];
-    other.n = 2;
-    assert_int_equal(auth_verify(&other, "ARM1_COMMAND", buf, n, &t), AUTH_OK);
+    assert_int_equal(auth_verify(&ring, &P_SIM, "ARM1_COMMAND", buf, n, &t), AUTH_OK);
+    assert_int_equal(auth_verify(&ring, &P_SIM, "ARM2_COMMAND", buf, n, &t), AUTH_ERR_MAC);
+    ring_of(&ring, other, NULL);   /* another cell */
+    assert_int_equal(auth_verify(&ring, &P_SIM, "ARM1_COMMAND", buf, n, &t), AUTH_ERR_CELL);
+    /* while rotating, a ring of the new and the old key set takes both */
+    ring_of(&ring, other, sim);
+    assert_int_equal(auth_verify(&ring, &P_SIM, "ARM1_COMMAND", buf, n, &t), AUTH_OK);
+    auth_keyset_free(a1);
+    auth_keyset_free(sim);
+    auth_keyset_free(other);
+}
+
+/* What rover 1's file can do: sign as rover 1; nothing as anyone else. */
+static void test_a_role_file_signs_only_as_its_role(void **state)
+{
+    uint8_t buf[2048];
+    const auth_sender as_sup = { AUTH_ROLE_SUPERVISOR, 0, 0, 5 }, as_rover1 = { AUTH_ROLE_ROVER, 1, 1, 5 };
+    auth_keyset *rv = role_set(1, &P_ROVER1), *a1 = role_set(1, &P_ARM1), *a2 = role_set(1, &P_ARM2),
+                *mon = role_set(1, &P_MON), *sup = role_set(1, &P_SUP);
+    auth_keyring r1, r2, rm;
+    auth_trailer t;
+    size_t n;
+    (void)state;
+    ring_of(&r1, a1, NULL);
+    ring_of(&r2, a2, NULL);
+    ring_of(&rm, mon, NULL);
+    /* rover 1 claims to be the supervisor: no key of the supervisor's pairs */
+    n = signed_message(rv, &as_sup, "ARM1_ACTION", buf, sizeof buf, NOW_US);
+    assert_int_not_equal(auth_verify(&r1, &P_ARM1, "ARM1_ACTION", buf, n, &t), AUTH_OK);
+    /* as itself it is taken (the channel table then refuses it on ARM1_ACTION) */
+    n = signed_message(rv, &as_rover1, "ARM1_ACTION", buf, sizeof buf, NOW_US);
+    assert_int_equal(auth_verify(&r1, &P_ARM1, "ARM1_ACTION", buf, n, &t), AUTH_OK);
+    /* arm 2 cannot speak as the supervisor to arm 1 */
+    n = signed_message(a2, &as_sup, "ARM1_ACTION", buf, sizeof buf, NOW_US);
+    assert_int_not_equal(auth_verify(&r1, &P_ARM1, "ARM1_ACTION", buf, n, &t), AUTH_OK);
+    /* the supervisor's real row: arm 1 and the monitor verify it */
+    n = signed_message(sup, &as_sup, "ARM1_ACTION", buf, sizeof buf, NOW_US);
+    assert_int_equal(auth_verify(&r1, &P_ARM1, "ARM1_ACTION", buf, n, &t), AUTH_OK);
+    assert_int_equal(auth_verify(&rm, &P_MON, "ARM1_ACTION", buf, n, &t), AUTH_OK);
+    /* a monitor holds no send key: what it signs nobody takes */
+    n = signed_message(mon, &as_sup, "ARM1_ACTION", buf, sizeof buf, NOW_US);
+    assert_int_not_equal(auth_verify(&r1, &P_ARM1, "ARM1_ACTION", buf, n, &t), AUTH_OK);
+    assert_int_not_equal(auth_verify(&r2, &P_ARM2, "ARM1_ACTION", buf, n, &t), AUTH_OK);
+    auth_keyset_free(rv);
+    auth_keyset_free(a1);
+    auth_keyset_free(a2);
+    auth_keyset_free(mon);
+    auth_keyset_free(sup);
 }
 
 static void test_truncated_and_garbage_buffers(void **state)
 {
-    uint8_t buf[256], junk[256];
+    uint8_t buf[2048], junk[512];
+    auth_keyset *a1 = role_set(1, &P_ARM1), *sim = role_set(1, &P_SIM);
     auth_keyring ring;
     auth_trailer t;
     size_t n, len;
     uint32_t x = 12345;
     int round, i;
     (void)state;
-    test_key(&ring.key[0], 1);
-    ring.n = 1;
-    n = signed_message(&ring.key[0], "SIM_CONTROL", buf, sizeof buf, NOW_US);
+    ring_of(&ring, sim, NULL);
+    n = signed_message(a1, &ARM1, "SIM_CONTROL", buf, sizeof buf, NOW_US);
     for (len = 0; len < n; len++) {
         uint8_t *copy = malloc(len ? len : 1);   /* exact size: ASan sees any overread */
         memcpy(copy, buf, len);
-        assert_int_not_equal(auth_verify(&ring, "SIM_CONTROL", copy, len, &t), AUTH_OK);
+        assert_int_not_equal(auth_verify(&ring, &P_SIM, "SIM_CONTROL", copy, len, &t), AUTH_OK);
         free(copy);
     }
-    assert_int_equal(auth_verify(&ring, "SIM_CONTROL", NULL, 0, &t), AUTH_ERR_UNSIGNED);
+    assert_int_equal(auth_verify(&ring, &P_SIM, "SIM_CONTROL", NULL, 0, &t), AUTH_ERR_UNSIGNED);
     for (round = 0; round < 2000; round++) {
         len = (size_t)(x % sizeof junk);
         for (i = 0; i < (int)len; i++) {
             x = x * 1664525u + 1013904223u;
             junk[i] = (uint8_t)(x >> 24);
         }
-        if (round % 2 && len >= AUTH_TRAILER_BYTES) {   /* a plausible trailer head */
-            junk[len - AUTH_TRAILER_BYTES] = 'T';
-            junk[len - AUTH_TRAILER_BYTES + 1] = 'A';
-            junk[len - AUTH_TRAILER_BYTES + 2] = AUTH_VERSION;
-            junk[len - AUTH_TRAILER_BYTES + 3] = ring.key[0].id;
-            junk[len - AUTH_TRAILER_BYTES + 5] = 0;
+        if (round % 2 && len >= AUTH_FIXED_BYTES) {   /* a plausible fixed part */
+            uint8_t *f = junk + len - AUTH_FIXED_BYTES;
+            f[0] = 'T';
+            f[1] = 'A';
+            f[2] = AUTH_VERSION;
+            f[5] = 0;
+            f[39] = 0;
+            f[38] = (uint8_t)(f[38] % (AUTH_MAX_TAGS + 1));
+            if (round % 4 == 1)
+                memcpy(f + 22, sim->cell, AUTH_CELL_BYTES);
         }
-        assert_int_not_equal(auth_verify(&ring, "SIM_CONTROL", junk, len, &t), AUTH_OK);
+        assert_int_not_equal(auth_verify(&ring, &P_SIM, "SIM_CONTROL", junk, len, &t), AUTH_OK);
     }
+    auth_keyset_free(a1);
+    auth_keyset_free(sim);
 }
 
 static void test_sender_ids(void **state)
@@ -370,9 +439,10 @@ static void test_acl_says_who_publishes_what(void **state)
 
 static void test_key_files(void **state)
 {
-    char dir[] = "/tmp/test_auth_XXXXXX", path[128], why[256];
-    auth_key a, b;
+    char dir[] = "/tmp/test_auth_XXXXXX", path[128], link[160], why[256];
+    auth_keyset *a = auth_keyset_new(), *b = auth_keyset_new(), *r = role_set(4, &P_ARM2);
     struct stat st;
+    int i;
     FILE *f;
     (void)state;
     assert_non_null(mkdtemp(dir));
@@ -382,27 +452,48 @@ static void test_key_files(void **state)
     assert_int_equal(st.st_mode & 0777, 0600);
     assert_int_equal((int)st.st_size, AUTH_KEY_BYTES);
     assert_int_equal(auth_key_create(path, why, sizeof why), AUTH_ERR_KEY);   /* never over a key */
-    assert_int_equal(auth_key_load(&a, path, why, sizeof why), AUTH_OK);
-    assert_int_equal(a.id, auth_key_id(a.bytes));
+    assert_int_equal(auth_keyset_load(a, path, &P_ARM1, why, sizeof why), AUTH_OK);
+    assert_true(a->is_master);
     chmod(path, 0644);
-    assert_int_equal(auth_key_load(&b, path, why, sizeof why), AUTH_ERR_KEY);
+    assert_int_equal(auth_keyset_load(b, path, &P_ARM1, why, sizeof why), AUTH_ERR_KEY);
     assert_non_null(strstr(why, "chmod 600"));
     chmod(path, 0600);
+    /* a symbolic link is not followed */
+    snprintf(link, sizeof link, "%s/link.key", dir);
+    assert_int_equal(symlink(path, link), 0);
+    assert_int_equal(auth_keyset_load(b, link, &P_ARM1, why, sizeof why), AUTH_ERR_KEY);
+    assert_non_null(strstr(why, "symbolic link"));
+    remove(link);
     f = fopen(path, "ab");
     fputc(0, f);
     fclose(f);
-    assert_int_equal(auth_key_load(&b, path, why, sizeof why), AUTH_ERR_KEY);  /* 33 bytes */
+    assert_int_equal(auth_keyset_load(b, path, &P_ARM1, why, sizeof why), AUTH_ERR_KEY);  /* 33 bytes */
     remove(path);
-    assert_int_equal(auth_key_load(&b, path, why, sizeof why), AUTH_ERR_KEY);  /* missing */
+    assert_int_equal(auth_keyset_load(b, path, &P_ARM1, why, sizeof why), AUTH_ERR_KEY);  /* missing */
+    /* a role file goes round and holds only its own pairs */
+    assert_int_equal(auth_keyset_write(r, path, why, sizeof why), AUTH_OK);
+    assert_int_equal(auth_keyset_load(b, path, &P_ARM1, why, sizeof why), AUTH_OK);
+    assert_false(b->is_master);
+    assert_true(auth_peer_equal(&b->holder, &P_ARM2));
+    assert_int_equal(b->n, r->n);
+    for (i = 0; i < r->n; i++) {
+        assert_true(auth_peer_equal(&b->pair[i].peer, &r->pair[i].peer));
+        assert_int_equal(b->pair[i].dir, r->pair[i].dir);
+        assert_memory_equal(b->pair[i].key, r->pair[i].key, AUTH_KEY_BYTES);
+    }
+    remove(path);
     snprintf(path, sizeof path, "%s/sub", dir);
     rmdir(path);
     rmdir(dir);
+    auth_keyset_free(a);
+    auth_keyset_free(b);
+    auth_keyset_free(r);
 }
 
 /* ---- one process on LCM's in-process bus ---------------------------------------- */
 
 static int got_a, got_b;
-static uint8_t captured[512];
+static uint8_t captured[2048];
 static int captured_len;
 
 static void on_a(const lcm_recv_buf_t *rb, const char *ch, void *u)
@@ -458,7 +549,7 @@ static void test_receive_path_counts_every_refusal(void **state)
     assert_int_equal(got_a, 1);
     assert_int_equal(got_b, 1);
     assert_int_equal(c->accepted, 1);
-    assert_int_equal(captured_len, tandem_sim_control_t_encoded_size(&m) + AUTH_TRAILER_BYTES);
+    assert_true(captured_len > tandem_sim_control_t_encoded_size(&m) + AUTH_FIXED_BYTES);
     /* the same bytes again: a replay */
     lcm_publish(lcm, "SIM_CONTROL", captured, (unsigned)captured_len);
     lcm_handle(lcm);
@@ -484,11 +575,42 @@ static void test_receive_path_counts_every_refusal(void **state)
     lcm_destroy(lcm);
 }
 
+/* A child's command line names its principal: what its role file is made for. */
+static void test_child_principal(void **state)
+{
+    const char *const sim[] = { "tandem-sim", "--rovers", "3", NULL };
+    const char *const arm2[] = { "tandem-arm", "--lockstep", "--arm", "2", NULL };
+    const char *const arm_eq[] = { "tandem-arm", "--arm=1", NULL };
+    const char *const rover[] = { "tandem-rover", "--id", "3", "--robots", "3", NULL };
+    const char *const host[] = { "tandem-rover", "--id", "1-4", NULL };
+    const char *const status[] = { "tandem-status", NULL };
+    const char *const other[] = { "it_roles", "--as-rover1", NULL };
+    auth_peer p;
+    (void)state;
+    auth_child_principal(sim, &p);
+    assert_true(p.role == AUTH_ROLE_SIM && p.first == 0 && p.last == 0);
+    auth_child_principal(arm2, &p);
+    assert_true(p.role == AUTH_ROLE_ARM && p.first == 2 && p.last == 2);
+    auth_child_principal(arm_eq, &p);
+    assert_true(p.role == AUTH_ROLE_ARM && p.first == 1 && p.last == 1);
+    auth_child_principal(rover, &p);
+    assert_true(p.role == AUTH_ROLE_ROVER && p.first == 3 && p.last == 3);
+    auth_child_principal(host, &p);
+    assert_true(p.role == AUTH_ROLE_ROVER && p.first == 1 && p.last == 4);
+    auth_child_principal(status, &p);
+    assert_true(p.role == AUTH_ROLE_MONITOR);
+    auth_child_principal(other, &p);
+    assert_true(p.role == AUTH_ROLE_TOOL);
+    assert_string_equal(auth_child_strerror(AUTH_CHILD_ERR_PRINCIPAL),
+                        "the child's principal is not in the cell's roster");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_blake2b_reference_vectors),
-        cmocka_unit_test(test_mac_is_keyed_blake2b_of_the_documented_input),
+        cmocka_unit_test(test_kdf_is_keyed_blake2b_of_the_documented_input),
+        cmocka_unit_test(test_a_role_file_signs_only_as_its_role),
         cmocka_unit_test(test_sign_then_verify_gives_back_the_fields),
         cmocka_unit_test(test_any_change_is_refused),
         cmocka_unit_test(test_truncated_and_garbage_buffers),
@@ -502,6 +624,7 @@ int main(void)
         cmocka_unit_test(test_acl_says_who_publishes_what),
         cmocka_unit_test(test_key_files),
         cmocka_unit_test(test_receive_path_counts_every_refusal),
+        cmocka_unit_test(test_child_principal),
     };
     if (auth_init() != 0)
         return 1;

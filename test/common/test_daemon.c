@@ -70,12 +70,30 @@ static void test_defaults(void **state)
     assert_int_equal(d.lockstep, 0);
 }
 
+/* A drain may take a quarter of the period, never less than 50 us; the
+ * receive path's tables are each daemon's own. */
+static void test_drain_budget_and_own_rx(void **state)
+{
+    static daemon a, b;
+    (void)state;
+    daemon_defaults(&a, "a", 0.001);
+    daemon_defaults(&b, "b", 0.05);
+    assert_int_equal(daemon_drain_budget_ns(&a), 250000);
+    assert_int_equal(daemon_drain_budget_ns(&b), 12500000);
+    a.period_s = 1e-5;
+    assert_int_equal(daemon_drain_budget_ns(&a), 50000);
+    rx_set_drop(&a.rx, 0.5, 7);
+    assert_true(a.rx.drop_p == 0.5 && b.rx.drop_p == 0.0);
+    assert_int_equal(a.rx.deferred, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_shipped_tables_pass),
         cmocka_unit_test(test_broken_table_refused),
         cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_drain_budget_and_own_rx),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -222,15 +222,20 @@ harness_health harness_health_of(harness *h, const char *name)
 
 int64_t harness_refused(const harness_health *d)
 {
-    return d->refused[0] + d->refused[1] + d->refused[2] + d->refused[3] + d->refused[4];
+    int64_t n = 0;
+    int i;
+    for (i = 0; i < AUTH_BUS_KINDS; i++)
+        n += d->refused[i];
+    return n;
 }
 
 void harness_print_refused(const harness_health *d)
 {
     printf("  %-18s refused %6lld: unsigned %lld, bad MAC %lld, unknown sender %lld, replayed %lld, "
-           "not allowed %lld (lost on the way in: %lld)\n", d->name, (long long)harness_refused(d),
-           (long long)d->refused[0], (long long)d->refused[1], (long long)d->refused[2], (long long)d->refused[3],
-           (long long)d->refused[4], (long long)d->msgs_lost);
+           "not allowed %lld, other cell %lld, before the MAC %lld (lost on the way in: %lld)\n", d->name,
+           (long long)harness_refused(d), (long long)d->refused[0], (long long)d->refused[1],
+           (long long)d->refused[2], (long long)d->refused[3], (long long)d->refused[4], (long long)d->refused[5],
+           (long long)d->refused[6], (long long)d->msgs_lost);
 }
 
 int harness_sh(const char *fmt, ...)

@@ -182,6 +182,7 @@ static void test_bad_frames_counted_by_rover(void **state)
     memset(&w, 0, sizeof w);
     w.rover_rejected = -1;
     assert_int_equal(harness_open(&h, 42), 0);
+    auth_bus_roster(2);   /* the host of rovers 1-2 is a principal of this cell */
     s2 = tandem_health_t_subscribe(h.lcm, "HEALTH_TANDEM_ROVER_1_2", on_health, &w);
     pr = harness_spawn(&h, rover);
     assert_true(pr > 0);

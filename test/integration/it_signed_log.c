@@ -219,6 +219,7 @@ int main(void)
     };
     if (harness_private_net() != 0)
         printf("it_signed_log: no private network namespace; using a private port on the shared one\n");
+    auth_bus_roster(2);   /* the host of rovers 1-2 is a principal of this cell, recording and playing back */
     if (record(NULL) != 0) {
         fprintf(stderr, "it_signed_log: could not record the run (lcm-logger, tandem programs)\n");
         return 1;

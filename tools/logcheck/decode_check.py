@@ -11,7 +11,7 @@ import os
 import struct
 import sys
 
-TRAILER_BYTES = 38
+FIXED_BYTES, TAG_BYTES = 40, 21  # auth.h: the trailer's fixed part; one tag per receiver before it
 SYNC = 0xEDA1DA01
 
 
@@ -39,6 +39,14 @@ def events(path):
             yield channel, f.read(data_len)
 
 
+def is_trailer(data, rest):
+    """True when data ends in exactly rest bytes of one v2 trailer."""
+    if rest < FIXED_BYTES:
+        return False
+    f = data[len(data) - FIXED_BYTES:]
+    return (f[0:3] == b"TA\x02" and f[39] == 0 and rest == FIXED_BYTES + f[38] * TAG_BYTES)
+
+
 def main():
     types = load_types(sys.argv[1])
     decoded, bad, n, signed = {}, 0, 0, 0
@@ -50,9 +58,9 @@ def main():
             cls = types[data[:8]]
             enc = cls.decode(data).encode()
             rest = len(data) - len(enc)
-            if rest not in (0, TRAILER_BYTES) or data[:len(enc)] != enc:
+            if (rest != 0 and not is_trailer(data, rest)) or data[:len(enc)] != enc:
                 raise ValueError("re-encoding gives other bytes (%d left)" % rest)
-            signed += rest == TRAILER_BYTES
+            signed += rest != 0
             decoded[cls.__name__] = decoded.get(cls.__name__, 0) + 1
         except Exception as e:  # any failure of any event is reported
             bad += 1

@@ -15,16 +15,22 @@
 #include <unistd.h>
 #include "formation_scen.h"
 #include "shared_run.h"
+#include "auth_bus.h"
 #include "daemon.h"
 #include "tandem_sim_control_t.h"
 
 static pid_t spawn(fm_state *fm, char *const argv[])
 {
-    pid_t p = fork();
+    char key[600];
+    /* the child's own role file, never this process's master */
+    const int keyed = auth_child_key(&fm->keys, (const char *const *)argv, key, sizeof key);
+    pid_t p = keyed < 0 ? -1 : fork();
     if (p == 0) {
         char path[700];
         int fd;
         setenv("LCM_DEFAULT_URL", fm->url, 1);
+        if (keyed == AUTH_CHILD_OK)
+            setenv(AUTH_BUS_KEY_ENV, key, 1);
         /* children's chatter goes to DIR/children.log */
         snprintf(path, sizeof path, "%s/children.log", fm->out);
         fd = open(path, O_WRONLY | O_CREAT | O_APPEND, 0644);
@@ -48,7 +54,7 @@ void fm_stop_children(fm_state *fm)
             if (waitpid(fm->pid[i], NULL, WNOHANG) == fm->pid[i]) fm->pid[i] = -1;
             else left++;
         }
-        if (!left) return;
+        if (!left) break;
         {
             struct timespec ts = { 0, 100000000L };
             nanosleep(&ts, NULL);
@@ -56,6 +62,7 @@ void fm_stop_children(fm_state *fm)
     }
     for (i = 0; i < fm->n_pid; i++)
         if (fm->pid[i] > 0) { kill(fm->pid[i], SIGKILL); waitpid(fm->pid[i], NULL, 0); }
+    auth_child_keys_remove(&fm->keys);
 }
 
 /* A robot's journal: only for a robot a --fault restarts. */
@@ -101,6 +108,8 @@ int fm_start_children(fm_state *fm)
     snprintf(w_s, sizeof w_s, "%s", rover_world_name(fm->world));
     snprintf(seed_s, sizeof seed_s, "%ld", fm->seed);
     snprintf(expect_s, sizeof expect_s, "%d", procs + 1);
+    /* the role files name this team: rovers 1..N and the host of all N */
+    auth_bus_roster(fm->robots);
     {
         char *sim[32] = { "tandem-sim", "--lockstep", "--no-arms", "--rovers", n_s, "--world", w_s,
                           "--formation", (char *)fm_formation_name(fm->formation),

@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <sys/types.h>
 #include <lcm/lcm.h>
+#include "auth_child.h"
 #include "rover_world.h"
 #include "scenario.h"
 #include "tandem_rover_state_t.h"
@@ -57,6 +58,7 @@ typedef struct fm_state {
     /* children */
     pid_t  pid[FM_PROCS];
     int    n_pid;
+    auth_child_keys keys;             /* the children's role files */
     pid_t  rover_pid[FM_MAX + 1];     /* process hosting robot k (separate mode) */
     /* lcm */
     lcm_t *lcm;

@@ -2,9 +2,11 @@
  * --key-file PATH and --insecure are taken out of the command line before
  * the scenario parses it. Without them the run uses $TANDEM_KEY_FILE if
  * set, else a key made for this run alone (a 0600 file in a fresh
- * temporary directory, removed at exit). The children started by the run
- * get the same key or mode through the environment ($TANDEM_KEY_FILE,
- * $TANDEM_INSECURE). */
+ * temporary directory, removed at exit). When that key is the cell's
+ * master, each child the run starts gets only the role file of the
+ * principal its command line names (auth_child.h: proc_spawn and the
+ * formation run's spawn make it), in $TANDEM_KEY_FILE; a role file or
+ * --insecure is handed on as it is ($TANDEM_KEY_FILE, $TANDEM_INSECURE). */
 #ifndef TANDEM_RUN_KEY_H
 #define TANDEM_RUN_KEY_H
 
@@ -18,8 +20,8 @@
  * process (a tool: it sends SIM_CONTROL, SIM_ACK, joint references) and
  * its children. 0, or RUN_KEY_ERR_OPTION, RUN_KEY_ERR_KEY or
  * auth_bus_start's AUTH_BUS_ERR_* after printing why. */
-#define RUN_KEY_ERR_OPTION (-1)  /* a --key-file auth_bus_option refuses */
-#define RUN_KEY_ERR_KEY (-1)     /* no key made for this run */
+#define RUN_KEY_ERR_OPTION (-301)  /* a --key-file auth_bus_option refuses */
+#define RUN_KEY_ERR_KEY (-302)     /* no key made for this run */
 int run_key_setup(int *argc, char **argv);
 
 #endif

@@ -9,38 +9,44 @@
 #define SUP   AUTH_ROLE_BIT(AUTH_ROLE_SUPERVISOR)
 #define ROVER AUTH_ROLE_BIT(AUTH_ROLE_ROVER)
 #define TOOL  AUTH_ROLE_BIT(AUTH_ROLE_TOOL)
+#define MON   AUTH_ROLE_BIT(AUTH_ROLE_MONITOR)
+#define ALL   AUTH_ROLES_ALL
 
 /* README "Channels" lists the same; the first role is the owner
- * auth_acl_owner signs as. */
+ * auth_acl_owner signs as. Columns: channel, writers, own (a writer's
+ * instances must cover K), readers (the roles a message carries a tag
+ * for), readers_own (of the arms only arm K: another arm gets no tag it
+ * could check, so holds no key that would let it speak as the sender). */
 const auth_acl_rule auth_acl_table[] = {
-    { "SIM_CLOCK", "", AUTH_ACL_EXACT, SIM, 0 },
-    { "SIM_STATUS", "", AUTH_ACL_EXACT, SIM, 0 },
-    { "SIM_CONTROL", "", AUTH_ACL_EXACT, TOOL, 0 },
+    /* the 1 kHz channels are tagged only for who reads them (a tag per reader) */
+    { "SIM_CLOCK", "", AUTH_ACL_EXACT, SIM, 0, ARM | SUP | ROVER | TOOL | MON, 0 },
+    { "SIM_STATUS", "", AUTH_ACL_EXACT, SIM, 0, ALL, 0 },
+    { "SIM_CONTROL", "", AUTH_ACL_EXACT, TOOL, 0, ALL, 0 },
     /* lockstep participants: the daemons, scenarios and tests */
-    { "SIM_ACK", "", AUTH_ACL_EXACT, ARM | SUP | ROVER | TOOL, 0 },
-    { "ARM", "_STATE", AUTH_ACL_NUMBER, SIM, 0 },
-    { "ARM", "_COMMAND", AUTH_ACL_NUMBER, ARM, 1 },
-    { "ARM", "_ACTION", AUTH_ACL_NUMBER, SUP, 0 },
-    { "ARM", "_JOINT_REF", AUTH_ACL_NUMBER, TOOL, 0 },   /* an external resolver (TDSD scenarios) */
-    { "ARM_EVENTS", "", AUTH_ACL_EXACT, ARM, 0 },
-    { "PETRI_MARKING", "", AUTH_ACL_EXACT, SUP, 0 },
-    { "VISION_DETECTIONS", "", AUTH_ACL_EXACT, SIM, 0 },
-    { "ROVER", "_SENSORS", AUTH_ACL_NUMBER, SIM, 0 },
-    { "ROVER", "_SONAR", AUTH_ACL_NUMBER, SIM, 0 },
-    { "ROVER", "_BEACONS", AUTH_ACL_NUMBER, SIM, 0 },
-    { "ROVER", "_COMMAND", AUTH_ACL_NUMBER, ROVER, 1 },
-    { "ROVER", "_STATE", AUTH_ACL_NUMBER, ROVER, 1 },
-    { "ROVERS_SENSORS", "", AUTH_ACL_EXACT, SIM, 0 },
-    { "ROVERS_BEACONS", "", AUTH_ACL_EXACT, SIM, 0 },
-    { "ROVERS_COMMAND", "", AUTH_ACL_EXACT, ROVER, 0 },
-    { "ROVERS_STATE", "", AUTH_ACL_EXACT, ROVER, 0 },
-    { "TEAM", "", AUTH_ACL_EXACT, ROVER, 0 },
-    { "ROVER_TRUTH", "", AUTH_ACL_EXACT, SIM, 0 },
+    { "SIM_ACK", "", AUTH_ACL_EXACT, ARM | SUP | ROVER | TOOL, 0, ALL, 0 },
+    { "ARM", "_STATE", AUTH_ACL_NUMBER, SIM, 0, ARM | TOOL | MON, 1 },
+    { "ARM", "_COMMAND", AUTH_ACL_NUMBER, ARM, 1, SIM | TOOL | MON, 0 },
+    { "ARM", "_ACTION", AUTH_ACL_NUMBER, SUP, 0, ARM | TOOL | MON, 1 },
+    { "ARM", "_JOINT_REF", AUTH_ACL_NUMBER, TOOL, 0, ARM | TOOL | MON, 1 },   /* an external resolver (TDSD scenarios) */
+    { "ARM_EVENTS", "", AUTH_ACL_EXACT, ARM, 0, ALL, 0 },
+    { "PETRI_MARKING", "", AUTH_ACL_EXACT, SUP, 0, ALL, 0 },
+    { "VISION_DETECTIONS", "", AUTH_ACL_EXACT, SIM, 0, ALL, 0 },
+    { "ROVER", "_SENSORS", AUTH_ACL_NUMBER, SIM, 0, ALL, 0 },
+    { "ROVER", "_SONAR", AUTH_ACL_NUMBER, SIM, 0, ALL, 0 },
+    { "ROVER", "_BEACONS", AUTH_ACL_NUMBER, SIM, 0, ALL, 0 },
+    { "ROVER", "_COMMAND", AUTH_ACL_NUMBER, ROVER, 1, ALL, 0 },
+    { "ROVER", "_STATE", AUTH_ACL_NUMBER, ROVER, 1, ALL, 0 },
+    { "ROVERS_SENSORS", "", AUTH_ACL_EXACT, SIM, 0, ALL, 0 },
+    { "ROVERS_BEACONS", "", AUTH_ACL_EXACT, SIM, 0, ALL, 0 },
+    { "ROVERS_COMMAND", "", AUTH_ACL_EXACT, ROVER, 0, ALL, 0 },
+    { "ROVERS_STATE", "", AUTH_ACL_EXACT, ROVER, 0, ALL, 0 },
+    { "TEAM", "", AUTH_ACL_EXACT, ROVER, 0, ALL, 0 },
+    { "ROVER_TRUTH", "", AUTH_ACL_EXACT, SIM, 0, ALL, 0 },
     /* each daemon its own health channel (daemon_start names it) */
-    { "HEALTH_TANDEM_SIM", "", AUTH_ACL_EXACT, SIM, 0 },
-    { "HEALTH_TANDEM_SUPERVISOR", "", AUTH_ACL_EXACT, SUP, 0 },
-    { "HEALTH_TANDEM_ARM_", "", AUTH_ACL_NUMBER, ARM, 1 },
-    { "HEALTH_TANDEM_ROVER_", "", AUTH_ACL_RANGE, ROVER, 1 },
+    { "HEALTH_TANDEM_SIM", "", AUTH_ACL_EXACT, SIM, 0, ALL, 0 },
+    { "HEALTH_TANDEM_SUPERVISOR", "", AUTH_ACL_EXACT, SUP, 0, ALL, 0 },
+    { "HEALTH_TANDEM_ARM_", "", AUTH_ACL_NUMBER, ARM, 1, ALL, 0 },
+    { "HEALTH_TANDEM_ROVER_", "", AUTH_ACL_RANGE, ROVER, 1, ALL, 0 },
 };
 const int auth_acl_table_n = (int)(sizeof auth_acl_table / sizeof auth_acl_table[0]);
 
@@ -106,6 +112,24 @@ int auth_acl_check(const auth_acl_rule *t, int n, const char *channel, const aut
     return AUTH_OK;
 }
 
+unsigned auth_acl_readers(const auth_acl_rule *t, int n, const char *channel)
+{
+    long lo, hi;
+    const auth_acl_rule *r = auth_acl_find(t, n, channel, &lo, &hi);
+    return r ? r->readers : 0u;
+}
+
+int auth_acl_reader_wanted(const auth_acl_rule *t, int n, const char *channel, const auth_peer *p)
+{
+    long lo, hi;
+    const auth_acl_rule *r = auth_acl_find(t, n, channel, &lo, &hi);
+    if (!r || p->role > AUTH_ROLE_LAST || !(r->readers & AUTH_ROLE_BIT(p->role)))
+        return 0;
+    if (r->readers_own && p->role == AUTH_ROLE_ARM)
+        return lo >= p->first && hi <= p->last;
+    return 1;
+}
+
 int auth_acl_owner(const auth_acl_rule *t, int n, const char *channel, auth_sender *s)
 {
     long lo, hi;
@@ -143,6 +167,10 @@ static int rule_ok(const auth_acl_rule *r)
     if (r->roles == 0 || (r->roles & ~AUTH_ROLES_ALL) != 0)
         return AUTH_ACL_ERR_ROLES;
     if ((r->own != 0 && r->own != 1) || (r->own && r->match == AUTH_ACL_EXACT))
+        return AUTH_ACL_ERR_OWN;
+    if (r->readers == 0 || (r->readers & ~AUTH_ROLES_ALL) != 0)
+        return AUTH_ACL_ERR_READERS;
+    if ((r->readers_own != 0 && r->readers_own != 1) || (r->readers_own && r->match == AUTH_ACL_EXACT))
         return AUTH_ACL_ERR_OWN;
     return AUTH_ACL_OK;
 }

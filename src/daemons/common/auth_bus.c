@@ -11,10 +11,6 @@
 #include "tandem_health_t.h"
 
 #define AUTH_BUS_MAX_SUBS 64
-/* Messages are checked when LCM dispatches them, after its per-subscription
- * queue (30 by default, the rest dropped silently): forged messages must
- * not be able to push real ones out of it. */
-#define AUTH_BUS_QUEUE_CAPACITY 100000
 
 typedef struct bus_sub {
     lcm_msg_handler_t handler;
@@ -32,17 +28,32 @@ typedef struct last_verdict {
     int64_t  recv_utime;
     uint32_t size;
     uint64_t channel_hash;
-    uint8_t  mac[AUTH_MAC_BYTES];
+    uint8_t  mac[AUTH_MAC_BYTES];   /* delivery_mark */
+    size_t   trailer;               /* its trailer's length when accepted */
     int      rc;
     int      valid;
 } last_verdict;
+
+/* Who a channel's messages are signed as and tagged for: worked out from
+ * the channel table once per channel, not per message (a 1 kHz loop
+ * publishes the same few channels all the time). */
+#define AUTH_BUS_ROUTES 64
+typedef struct tx_route {
+    uint64_t    channel_hash;
+    char        channel[AUTH_CHANNEL_MAX + 1];
+    auth_sender sender;
+    int         n;
+    auth_peer   to[AUTH_MAX_TAGS];
+} tx_route;
 
 static struct {
     const char  *key_file[AUTH_MAX_KEYS];
     int          n_key_files;
     int          insecure;
     int          have_identity, as_owner;
+    int          rovers;          /* the roster's rovers, 0: AUTH_ROSTER_ROVERS */
     auth_sender  me;
+    auth_peer    me_peer;
     auth_keyring ring;
     int          started, secure;
     uint64_t     last_counter;
@@ -54,7 +65,26 @@ static struct {
     bus_sub      subs[AUTH_BUS_MAX_SUBS];
     int          n_subs;
     char         prog[64];
+    tx_route     routes[AUTH_BUS_ROUTES];
+    int          n_routes;           /* 0 after anything a route depends on changed */
 } B;
+
+const char *auth_bus_strerror(int rc)
+{
+    switch (rc) {
+    case AUTH_BUS_OK: return "ok";
+    case AUTH_BUS_ERR_OPTION: return "bad --key-file / --insecure option";
+    case AUTH_BUS_ERR_NO_HOME: return "no HOME or XDG_CONFIG_HOME for the default key";
+    case AUTH_BUS_ERR_START: return "the secure bus does not start";
+    case AUTH_BUS_ERR_KEY: return "no usable key file";
+    case AUTH_BUS_ERR_ARG: return "bad argument (failed encode?)";
+    case AUTH_BUS_ERR_MEMORY: return "out of memory for the transmit buffer";
+    case AUTH_BUS_ERR_NOT_STARTED: return "publishing before auth_bus_start";
+    case AUTH_BUS_ERR_SIGN: return "the message cannot be signed";
+    case AUTH_BUS_ERR_SEND: return "lcm_publish failed";
+    default: return auth_strerror(rc);
+    }
+}
 
 static uint64_t wall_us(void)
 {
@@ -86,12 +116,32 @@ void auth_bus_identity(int role, int first, int last)
     B.me.role = (uint8_t)role;
     B.me.first = (uint16_t)first;
     B.me.last = (uint16_t)last;
+    B.me_peer.role = B.me.role;
+    B.me_peer.first = B.me.first;
+    B.me_peer.last = B.me.last;
     B.have_identity = 1;
+    B.n_routes = 0;
+}
+
+void auth_bus_roster(int rovers)
+{
+    int i;
+    B.rovers = rovers < 0 ? 0 : rovers > AUTH_MAX_TAGS - AUTH_ROSTER_FIXED ? AUTH_MAX_TAGS - AUTH_ROSTER_FIXED : rovers;
+    B.n_routes = 0;
+    for (i = 0; i < B.ring.n; i++)   /* a master holder tags for the new roster at once */
+        if (B.ring.set[i] && B.ring.set[i]->is_master)
+            B.ring.set[i]->rovers = auth_bus_roster_rovers();
+}
+
+int auth_bus_roster_rovers(void)
+{
+    return B.rovers > 0 ? B.rovers : AUTH_ROSTER_ROVERS;
 }
 
 void auth_bus_sign_as_owner(int on)
 {
     B.as_owner = on != 0;
+    B.n_routes = 0;
 }
 
 int auth_bus_secure(void)
@@ -154,11 +204,26 @@ static int load_keys(void)
                 B.prog, def[0] ? def : "~/.config/tandem/bus.key", B.prog);
         return AUTH_BUS_ERR_KEY;
     }
-    for (i = 0; i < n; i++)
-        if (auth_key_load(&B.ring.key[i], files[i], why, sizeof why) != AUTH_OK) {
+    for (i = 0; i < n; i++) {
+        /* locked memory, allocated once at start-up; a repeated start (a
+         * run repeated in one process) reuses it */
+        if (!B.ring.set[i] && !(B.ring.set[i] = auth_keyset_new())) {
+            fprintf(stderr, "%s: no locked memory for the bus key\n", B.prog);
+            return AUTH_BUS_ERR_KEY;
+        }
+        if (auth_keyset_load(B.ring.set[i], files[i], &B.me_peer, why, sizeof why) != AUTH_OK) {
             fprintf(stderr, "%s: bus key %s\n", B.prog, why);
             return AUTH_BUS_ERR_KEY;
         }
+        if (B.ring.set[i]->is_master)
+            B.ring.set[i]->rovers = auth_bus_roster_rovers();
+        if (!B.ring.set[i]->is_master && !auth_peer_equal(&B.ring.set[i]->holder, &B.me_peer)) {
+            fprintf(stderr, "%s: bus key %s is the key file of another role (%d %d-%d; this is %d %d-%d)\n",
+                    B.prog, files[i], B.ring.set[i]->holder.role, B.ring.set[i]->holder.first,
+                    B.ring.set[i]->holder.last, B.me_peer.role, B.me_peer.first, B.me_peer.last);
+            return AUTH_BUS_ERR_KEY;
+        }
+    }
     B.ring.n = n;
     return 0;
 }
@@ -200,6 +265,9 @@ int auth_bus_start(const char *prog)
         fprintf(stderr, "%s: no bus identity set (auth_bus_identity)\n", prog);
         return AUTH_BUS_ERR_START;
     }
+    if (!B.have_identity)
+        auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);   /* a stand-in receives as a tool */
+    B.n_routes = 0;
     if (load_keys() != 0)
         return AUTH_BUS_ERR_KEY;
     B.me.session = randombytes_random();
@@ -245,7 +313,7 @@ int auth_bus_ephemeral_key(char *path, size_t cap)
 
 int auth_bus_tx_reserve(int body_len)
 {
-    const int need = body_len + AUTH_TRAILER_BYTES;
+    const int need = body_len + AUTH_TRAILER_MAX;
     if (body_len < 0)
         return AUTH_BUS_ERR_ARG;
     if (need > B.tx_cap) {
@@ -265,7 +333,7 @@ uint8_t *auth_bus_tx(void)
 
 int auth_bus_tx_cap(void)
 {
-    return B.tx_cap - AUTH_TRAILER_BYTES;
+    return B.tx_cap - AUTH_TRAILER_MAX;
 }
 
 static int sender_for(const char *channel, auth_sender *s)
@@ -275,13 +343,49 @@ static int sender_for(const char *channel, auth_sender *s)
         s->role = AUTH_ROLE_TOOL;
         s->first = s->last = 0;
     }
+    /* as a principal every role file knows: the simulator, supervisor
+     * and tools have no instances (ARM1_ACTION's owner is the supervisor,
+     * not "supervisor 1"); a channel of no one arm or rover (ARM_EVENTS,
+     * TEAM, ROVERS_COMMAND) is spoken as instance 1 */
+    if (B.as_owner && s->role != AUTH_ROLE_ARM && s->role != AUTH_ROLE_ROVER)
+        s->first = s->last = 0;
+    else if (B.as_owner && s->first == 0)
+        s->first = s->last = 1;
     s->session = B.me.session;
     return 0;
 }
 
+/* A receiver gets a tag when the channel table says it reads the channel;
+ * a channel the table does not name (a bench's ping) goes to everyone. */
+static int wants(const auth_peer *r, const char *channel)
+{
+    return auth_acl_readers(auth_acl_table, auth_acl_table_n, channel) == 0 ||
+           auth_acl_reader_wanted(auth_acl_table, auth_acl_table_n, channel, r);
+}
+
+/* The route of channel: from the cache, or worked out (and kept while
+ * there is room). */
+static const tx_route *route_of(const char *channel, tx_route *scratch)
+{
+    const uint64_t h = auth_channel_hash(channel);
+    tx_route *r;
+    int i;
+    for (i = 0; i < B.n_routes; i++)
+        if (B.routes[i].channel_hash == h && strcmp(B.routes[i].channel, channel) == 0)
+            return &B.routes[i];
+    r = B.n_routes < AUTH_BUS_ROUTES ? &B.routes[B.n_routes++] : scratch;
+    r->channel_hash = h;
+    snprintf(r->channel, sizeof r->channel, "%s", channel);
+    sender_for(channel, &r->sender);
+    r->n = auth_receivers(B.ring.set[0], channel, AUTH_ROLES_ALL, wants, r->to);
+    return r;
+}
+
 int auth_bus_publish_tx(lcm_t *lcm, const char *channel, int body_len)
 {
-    auth_sender s;
+    tx_route scratch;
+    const tx_route *r;
+    size_t len;
     if (body_len < 0 || !B.tx)
         return AUTH_BUS_ERR_ARG;
     if (!B.started) {
@@ -290,11 +394,13 @@ int auth_bus_publish_tx(lcm_t *lcm, const char *channel, int body_len)
     }
     if (!B.secure)
         return lcm_publish(lcm, channel, B.tx, (unsigned)body_len);
-    sender_for(channel, &s);
-    if (auth_sign(&B.ring.key[0], &s, auth_next_counter(&B.last_counter, wall_us()), channel, B.tx,
-                  (size_t)body_len, (size_t)B.tx_cap) != AUTH_OK)
+    if (strlen(channel) > AUTH_CHANNEL_MAX)
         return AUTH_BUS_ERR_SIGN;
-    return lcm_publish(lcm, channel, B.tx, (unsigned)(body_len + AUTH_TRAILER_BYTES));
+    r = route_of(channel, &scratch);
+    if (auth_sign_to(B.ring.set[0], &r->sender, auth_next_counter(&B.last_counter, wall_us()), channel, r->to,
+                     r->n, B.tx, (size_t)body_len, (size_t)B.tx_cap, &len) != AUTH_OK)
+        return AUTH_BUS_ERR_SIGN;
+    return lcm_publish(lcm, channel, B.tx, (unsigned)len);
 }
 
 int auth_bus_publish_raw(lcm_t *lcm, const char *channel, const void *buf, int len)
@@ -316,6 +422,9 @@ static void count(int rc)
     case AUTH_ERR_SENDER: B.counts.unknown_sender++; break;
     case AUTH_ERR_REPLAY: B.counts.replayed++; break;
     case AUTH_ERR_ACL: B.counts.unauthorised++; break;
+    case AUTH_ERR_CELL: B.counts.other_cell++; break;
+    case AUTH_ERR_TYPE: break;   /* malformed, not forged: rx counts it as rejected, as the wire check would */
+    case AUTH_ERR_CHANNEL: B.counts.precheck++; break;
     default: B.counts.unsigned_msgs++; break;
     }
 }
@@ -327,9 +436,37 @@ static int same_delivery(const lcm_recv_buf_t *rb, uint64_t ch_hash, const uint8
            memcmp(B.last.mac, mac, AUTH_MAC_BYTES) == 0;
 }
 
+/* Before any MAC, so that junk costs a table look-up, not a hash of up to
+ * 64 kB: a channel of the table, a known type, no longer than that type's
+ * longest encoding plus the longest trailer. */
+static int precheck(const uint8_t *data, uint32_t size, const char *channel)
+{
+    const wire_type *w;
+    if (size > AUTH_BUS_MAX_DATAGRAM || size < 8 + AUTH_TRAILER_MIN)
+        return AUTH_ERR_TYPE;
+    if (!auth_acl_find(auth_acl_table, auth_acl_table_n, channel, &(long){ 0 }, &(long){ 0 }))
+        return AUTH_ERR_CHANNEL;
+    w = wire_find(data, size);
+    if (!w || size > wire_max_size(w) + AUTH_TRAILER_MAX)
+        return AUTH_ERR_TYPE;
+    return AUTH_OK;
+}
+
+/* The first 16 bytes of the trailer (for same_delivery): any bytes that
+ * differ between two datagrams of one sender. */
+static void delivery_mark(const uint8_t *data, uint32_t size, uint8_t mark[AUTH_MAC_BYTES])
+{
+    memset(mark, 0, AUTH_MAC_BYTES);
+    if (size >= AUTH_FIXED_BYTES)
+        memcpy(mark, data + size - AUTH_FIXED_BYTES + 6, AUTH_MAC_BYTES);   /* instances, session, counter */
+}
+
 static int check(const uint8_t *data, uint32_t size, const char *channel, uint64_t ch_hash, auth_trailer *t)
 {
-    int rc = auth_verify(&B.ring, channel, data, size, t);
+    int rc = precheck(data, size, channel);
+    if (rc != AUTH_OK)
+        return rc;
+    rc = auth_verify(&B.ring, &B.me_peer, channel, data, size, t);
     if (rc == AUTH_OK)
         rc = auth_sender_check(&t->sender);
     if (rc == AUTH_OK)
@@ -343,6 +480,7 @@ int auth_bus_accept(const lcm_recv_buf_t *rb, const char *channel, lcm_recv_buf_
 {
     const uint8_t *data = rb->data;
     const uint64_t ch_hash = auth_channel_hash(channel);
+    uint8_t mark[AUTH_MAC_BYTES];
     auth_trailer t;
     int rc;
     memset(&t, 0, sizeof t);
@@ -351,11 +489,11 @@ int auth_bus_accept(const lcm_recv_buf_t *rb, const char *channel, lcm_recv_buf_
         return AUTH_ERR_KEY;   /* fail closed */
     if (!B.secure) {
         if (auth_parse(data, rb->data_size, &t) == AUTH_OK)
-            body->data_size -= AUTH_TRAILER_BYTES;
+            body->data_size -= (uint32_t)t.len;
         return AUTH_OK;
     }
-    auth_parse(data, rb->data_size, &t);
-    if (same_delivery(rb, ch_hash, t.mac)) {
+    delivery_mark(data, rb->data_size, mark);
+    if (same_delivery(rb, ch_hash, mark)) {
         rc = B.last.rc;
     } else {
         rc = check(data, rb->data_size, channel, ch_hash, &t);
@@ -365,11 +503,12 @@ int auth_bus_accept(const lcm_recv_buf_t *rb, const char *channel, lcm_recv_buf_
         B.last.recv_utime = rb->recv_utime;
         B.last.size = rb->data_size;
         B.last.channel_hash = ch_hash;
-        memcpy(B.last.mac, t.mac, AUTH_MAC_BYTES);
+        memcpy(B.last.mac, mark, AUTH_MAC_BYTES);
         B.last.rc = rc;
+        B.last.trailer = t.len;
     }
     if (rc == AUTH_OK)
-        body->data_size -= AUTH_TRAILER_BYTES;
+        body->data_size -= (uint32_t)B.last.trailer;
     return rc;
 }
 
@@ -417,7 +556,7 @@ const auth_bus_counts *auth_bus_counts_get(void)
 int64_t auth_bus_rejected_total(void)
 {
     return B.counts.unsigned_msgs + B.counts.bad_mac + B.counts.unknown_sender + B.counts.replayed +
-           B.counts.unauthorised;
+           B.counts.unauthorised + B.counts.other_cell + B.counts.precheck;
 }
 
 int64_t auth_bus_health_refusals(const tandem_health_t *h, int64_t kinds[AUTH_BUS_KINDS])
@@ -427,7 +566,9 @@ int64_t auth_bus_health_refusals(const tandem_health_t *h, int64_t kinds[AUTH_BU
     kinds[2] = h->auth_unknown_sender;
     kinds[3] = h->auth_replayed;
     kinds[4] = h->auth_unauthorised;
-    return kinds[0] + kinds[1] + kinds[2] + kinds[3] + kinds[4];
+    kinds[5] = h->auth_other_cell;
+    kinds[6] = h->auth_precheck;
+    return kinds[0] + kinds[1] + kinds[2] + kinds[3] + kinds[4] + kinds[5] + kinds[6];
 }
 
 void auth_bus_fill_health(tandem_health_t *h)
@@ -438,4 +579,6 @@ void auth_bus_fill_health(tandem_health_t *h)
     h->auth_unknown_sender = B.counts.unknown_sender;
     h->auth_replayed = B.counts.replayed;
     h->auth_unauthorised = B.counts.unauthorised;
+    h->auth_other_cell = B.counts.other_cell;
+    h->auth_precheck = B.counts.precheck;
 }

@@ -5,8 +5,10 @@
  *
  *   Key: --key-file PATH, else $TANDEM_KEY_FILE, else the default key
  *   file (auth_bus_default_key_path: ${XDG_CONFIG_HOME:-$HOME/.config}/
- *   tandem/bus.key, made by `make run` / tandem-keygen) if it exists;
- *   otherwise the program refuses to start and names both options.
+ *   tandem/bus.key, made by tandem-keygen) if it exists; otherwise the
+ *   program refuses to start and names both options. The file is this
+ *   process's role file (tandem-keygen --cell), or a cell master, which
+ *   can sign as anyone (auth.h).
  *   $TANDEM_INSECURE=1 stands for --insecure (how tandem-scenario passes
  *   it to its children).
  *   --key-file may be given twice while rotating keys: the first signs,
@@ -18,9 +20,12 @@
  *   lcm_publish.
  *
  *   Receive: auth_bus_accept (rx.c calls it for every daemon
- *   subscription; tools use auth_bus_subscribe) checks the trailer, MAC,
- *   sender, channel authorisation and counter, counts a refusal by kind,
- *   and hands on the message without its trailer.
+ *   subscription; tools use auth_bus_subscribe) first checks, before any
+ *   MAC, the size, the channel (in the table) and the type (its
+ *   fingerprint, and at most the type's longest encoding plus a trailer);
+ *   then the cell, this receiver's tag, sender, channel authorisation and
+ *   counter; counts a refusal by kind, and hands on the message without
+ *   its trailer.
  */
 #ifndef TANDEM_AUTH_BUS_H
 #define TANDEM_AUTH_BUS_H
@@ -33,19 +38,29 @@
 #define AUTH_BUS_KEY_ENV "TANDEM_KEY_FILE"
 #define AUTH_BUS_INSECURE_ENV "TANDEM_INSECURE"   /* "1": as --insecure (for child processes) */
 
-/* Failures (0 = ok); the ones marked (said) have printed why on stderr. */
+/* Failures (0 = ok), distinct values; the ones marked (said) have printed
+ * why on stderr. auth_bus_strerror names them. */
 #define AUTH_BUS_OK 0
-#define AUTH_BUS_ERR_OPTION (-1)       /* --key-file empty, or a third one (said) */
-#define AUTH_BUS_ERR_NO_HOME (-1)      /* no $XDG_CONFIG_HOME or $HOME, or the path does
+#define AUTH_BUS_ERR_OPTION (-101)     /* --key-file empty, or a third one (said) */
+#define AUTH_BUS_ERR_NO_HOME (-102)    /* no $XDG_CONFIG_HOME or $HOME, or the path does
                                           not fit the buffer */
-#define AUTH_BUS_ERR_START (-1)        /* auth_bus_start: channel table unsound, --insecure
+#define AUTH_BUS_ERR_START (-103)      /* auth_bus_start: channel table unsound, --insecure
                                           with --key-file, libsodium, no identity (said) */
-#define AUTH_BUS_ERR_KEY (-1)          /* no key file, one that does not load (said), or
+#define AUTH_BUS_ERR_KEY (-104)        /* no key file, one that does not load (said), or
                                           no temporary key made (auth_bus_ephemeral_key) */
-#define AUTH_BUS_ERR_ARG (-1)          /* body_len < 0 (a failed encode), no buffer */
-#define AUTH_BUS_ERR_MEMORY (-1)       /* the transmit buffer cannot grow */
-#define AUTH_BUS_ERR_NOT_STARTED (-1)  /* publishing before auth_bus_start (said) */
-#define AUTH_BUS_ERR_SIGN (-1)         /* auth_sign refused the message */
+#define AUTH_BUS_ERR_ARG (-105)        /* body_len < 0 (a failed encode), no buffer */
+#define AUTH_BUS_ERR_MEMORY (-106)     /* the transmit buffer cannot grow */
+#define AUTH_BUS_ERR_NOT_STARTED (-107) /* publishing before auth_bus_start (said) */
+#define AUTH_BUS_ERR_SIGN (-108)       /* auth_sign refused the message */
+#define AUTH_BUS_ERR_SEND (-109)       /* lcm_publish did not send it */
+const char *auth_bus_strerror(int rc);
+
+/* Receive bounds (docs/method/lockstep.md §5): a subscription queues at
+ * most this many messages (LCM drops the rest of a flood; a real sender's
+ * messages are few per cycle), and a datagram longer than this is never
+ * a tandem message. */
+#define AUTH_BUS_QUEUE_CAPACITY 256
+#define AUTH_BUS_MAX_DATAGRAM   65536
 
 /* Options every program that talks on the bus takes. */
 enum { OPT_KEY_FILE = 1200, OPT_INSECURE };
@@ -60,16 +75,26 @@ typedef struct auth_bus_counts {
     int64_t unknown_sender;    /* AUTH_ERR_SENDER */
     int64_t replayed;          /* AUTH_ERR_REPLAY */
     int64_t unauthorised;      /* AUTH_ERR_ACL */
+    int64_t other_cell;        /* AUTH_ERR_CELL */
+    int64_t precheck;          /* AUTH_ERR_TYPE / AUTH_ERR_CHANNEL: refused before any MAC */
 } auth_bus_counts;
 
 /* Handles OPT_KEY_FILE / OPT_INSECURE: 1 handled, 0 not ours,
  * AUTH_BUS_ERR_OPTION. */
 int  auth_bus_option(const char *prog, int opt, const char *arg);
-/* Who this process is (before auth_bus_start). */
+/* Who this process is (before auth_bus_start): the principal whose key
+ * file it holds (a master holder may be anyone). */
 void auth_bus_identity(int role, int first, int last);
+/* The cell's roster as a holder of the master sees it: rovers 1..rovers
+ * and the host of them all (auth_roster); AUTH_ROSTER_ROVERS unless set.
+ * A master holder tags for these, and the role files it makes for its
+ * children (auth_child.h) list them; set it before the first child starts. */
+void auth_bus_roster(int rovers);
+int  auth_bus_roster_rovers(void);
 /* A process standing in for several publishers (integration tests, the
  * round-trip bench) signs each message as its channel's owner
- * (auth_acl_owner) -- what any key holder can do. 0: as its own identity
+ * (auth_acl_owner) -- what only a holder of the cell's master can do
+ * (a role file holds no other principal's keys). 0: as its own identity
  * again. */
 void auth_bus_sign_as_owner(int on);
 /* Loads the key(s) the options and environment name and prints the
@@ -109,8 +134,7 @@ int  auth_bus_publish_raw(lcm_t *lcm, const char *channel, const void *buf, int 
  * any, stripped). */
 int  auth_bus_accept(const lcm_recv_buf_t *rb, const char *channel, lcm_recv_buf_t *body);
 /* lcm_subscribe through auth_bus_accept and wire_check (for tools), with
- * a deep queue as daemon_subscribe's (forged messages wait in LCM's queue
- * before they are checked and must not push real ones out). */
+ * a queue of AUTH_BUS_QUEUE_CAPACITY messages. */
 lcm_subscription_t *auth_bus_subscribe(lcm_t *lcm, const char *channel, lcm_msg_handler_t handler, void *user);
 const auth_bus_counts *auth_bus_counts_get(void);
 int64_t auth_bus_rejected_total(void);
@@ -119,9 +143,9 @@ struct _tandem_health_t;
 /* The auth_* fields of a health message. */
 void auth_bus_fill_health(struct _tandem_health_t *h);
 /* A health message's refusals by kind, in the order unsigned, bad MAC,
- * unknown sender, replayed, not allowed (for readers: tandem-status, the
- * tests); returns their sum. */
-#define AUTH_BUS_KINDS 5
+ * unknown sender, replayed, not allowed, other cell, refused before the MAC
+ * (for readers: tandem-status, the tests); returns their sum. */
+#define AUTH_BUS_KINDS 7
 int64_t auth_bus_health_refusals(const struct _tandem_health_t *h, int64_t kinds[AUTH_BUS_KINDS]);
 
 /* A raw handler that decodes `type` and calls typed(rb, ch, &msg, user):

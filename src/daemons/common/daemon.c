@@ -89,6 +89,7 @@ void daemon_defaults(daemon *d, const char *name, double period_s)
     d->pending_step = -1;
     d->answered_step = -1;
     d->drop_seed = 1;
+    rx_init(&d->rx);
     /* a clock may jump 10 s ahead of the last one we saw (a slow
      * participant); after 1 s without a clock any step is taken (reset) */
     step_gate_init(&d->clock_gate, 10000, 1000000000LL);
@@ -174,7 +175,7 @@ int daemon_start(daemon *d)
 
     if (auth_bus_start(d->name) != 0)
         return DAEMON_ERR_AUTH;
-    rx_set_drop(d->drop_rate, (uint64_t)d->drop_seed);
+    rx_set_drop(&d->rx, d->drop_rate, (uint64_t)d->drop_seed);
     d->lcm = lcm_create(d->lcm_url);
     if (!d->lcm) {
         fprintf(stderr, "%s: cannot open LCM at '%s'\n", d->name, d->lcm_url);
@@ -195,29 +196,62 @@ lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_han
 {
     lcm_subscription_t *s = rx_subscribe(d, channel, handler, user);
     /* LCM keeps 30 messages per subscription by default and drops the rest
-     * silently; in lockstep a dropped SIM_CLOCK would stall the world, and
-     * a busy moment must not lose inputs. The queue costs memory only while
-     * it is actually full. */
+     * silently: a busy moment must not lose inputs, nor a whole team's
+     * burst; but what LCM keeps must stay bounded under a flood
+     * (DAEMON_QUEUE_CAPACITY) */
     if (s)
         lcm_subscription_set_queue_capacity(s, DAEMON_QUEUE_CAPACITY);
     return s;
 }
 
+int daemon_subscribe_numbered(daemon *d, const char *prefix, int first, int last, const char *suffix,
+                              lcm_msg_handler_t handler, void *user, lcm_subscription_t **subs, int cap)
+{
+    char ch[RX_CHANNEL_NAME];
+    int k, n = 0;
+    if (last - first + 1 > DAEMON_EXPLICIT_MAX || first < 0) {
+        snprintf(ch, sizeof ch, "%s[0-9]+%s", prefix, suffix);
+        subs[0] = daemon_subscribe(d, ch, handler, user);
+        return subs[0] ? 1 : 0;
+    }
+    for (k = first; k <= last && n < cap; k++) {
+        snprintf(ch, sizeof ch, "%s%d%s", prefix, k, suffix);
+        if ((subs[n] = daemon_subscribe(d, ch, handler, user)) != NULL)
+            n++;
+    }
+    return n;
+}
+
+int64_t daemon_drain_budget_ns(const daemon *d)
+{
+    const int64_t b = (int64_t)(d->period_s * 0.25e9);
+    return b > 50000 ? b : 50000;   /* at least 50 us: a few messages always get through */
+}
+
+/* 1 when LCM has a message waiting on fd. */
+static int readable(int fd)
+{
+    fd_set fds;
+    struct timeval tv = { 0, 0 };
+    FD_ZERO(&fds);
+    FD_SET(fd, &fds);
+    return select(fd + 1, &fds, NULL, NULL, &tv) > 0;
+}
+
 void daemon_drain(daemon *d)
 {
-    int fd = lcm_get_fileno(d->lcm);
-    int guard;
-    /* Bounded: at most 4096 messages per call so a flood cannot starve the loop. */
-    for (guard = 0; guard < 4096; guard++) {
-        fd_set fds;
-        struct timeval tv = { 0, 0 };
-        FD_ZERO(&fds);
-        FD_SET(fd, &fds);
-        if (select(fd + 1, &fds, NULL, NULL, &tv) <= 0)
-            break;
-        if (lcm_handle(d->lcm) != 0)
+    const int fd = lcm_get_fileno(d->lcm);
+    const int64_t t0 = rtloop_now_ns(), budget = daemon_drain_budget_ns(d);
+    int n;
+    for (n = 0; n < DAEMON_DRAIN_MAX; n++) {
+        if (!readable(fd) || lcm_handle(d->lcm) != 0)
+            return;
+        if (rtloop_now_ns() - t0 >= budget)
             break;
     }
+    /* out of budget: what is still queued waits for the next cycle */
+    if (readable(fd))
+        d->rx.deferred++;
 }
 
 void daemon_publish_health(daemon *d)
@@ -245,7 +279,7 @@ void daemon_publish_health(daemon *d)
     h.lockstep_repeats = d->repeats;
     h.lockstep_input_waits = d->input_waits;
     h.msgs_duplicate = d->msgs.duplicate;
-    rx_fill_health(&h);
+    rx_fill_health(&d->rx, &h);
     auth_bus_fill_health(&h);
     AUTH_PUBLISH(tandem_health_t, d->lcm, d->health_channel, &h);
 }

@@ -16,12 +16,19 @@
 #include "rtloop.h"
 #include "auth_bus.h"
 #include "guard.h"
+#include "rx.h"
 #include "version.h"
 
 #define DAEMON_DEFAULT_LCM_URL "udpm://239.255.76.67:7667?ttl=0"
 #define DAEMON_SIM_DT_S 0.001          /* the simulator's fixed step */
 #define DAEMON_NAME_MAX 64
-#define DAEMON_QUEUE_CAPACITY 100000   /* messages per subscription */
+/* Messages LCM keeps per subscription until the daemon handles them. LCM
+ * keeps a fragmented message (over 1400 bytes) in memory of its own, so
+ * this bounds what a flood of large forgeries can make a daemon hold
+ * (docs/security.md, "Flooding"): 256 x 64 kB per subscription at worst.
+ * It still takes a burst of a whole team's messages (TEAM, SIM_ACK: one
+ * per robot and step, 128 robots at most) twice over. */
+#define DAEMON_QUEUE_CAPACITY 256
 #define DAEMON_SIM_SILENT_NS 5000000000LL  /* lockstep: no clock this long = no simulator */
 
 typedef struct daemon_counters {
@@ -70,6 +77,7 @@ typedef struct daemon {
                                            yet because an input was missing */
     double   drop_rate;                 /* --drop-rate: fault injection (rx.h), 0 none */
     long     drop_seed;                 /* --drop-seed: seed of the drops, 1 by default */
+    rx_state rx;                        /* the receive path's tables and counts (rx.h) */
 } daemon;
 
 /* Cycle callback: read the latest inputs, call the core, publish outputs;
@@ -116,14 +124,31 @@ int  daemon_stop_requested(void);
 void daemon_request_stop(void);
 /* Publishes the health message now (daemon_run does it once a second). */
 void daemon_publish_health(daemon *d);
-/* lcm_subscribe with a deep receive queue (no silent drops under load). */
+/* lcm_subscribe through the receive path (rx.h) with a queue of
+ * DAEMON_QUEUE_CAPACITY messages. */
 lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler, void *user);
+/* Subscribes handler to PREFIX<k>SUFFIX for k = first..last, each by its
+ * name, or, for more than DAEMON_EXPLICIT_MAX of them, to the one pattern
+ * PREFIX[0-9]+SUFFIX. By name, a made-up channel (ROVER99999_SENSORS)
+ * reaches no handler; but LCM matches every channel name it has not seen
+ * before against every subscription (docs/security.md), so a large team
+ * keeps the pattern. Up to cap subscriptions go into subs; returns how
+ * many were made. */
+#define DAEMON_EXPLICIT_MAX 8
+int daemon_subscribe_numbered(daemon *d, const char *prefix, int first, int last, const char *suffix,
+                              lcm_msg_handler_t handler, void *user, lcm_subscription_t **subs, int cap);
 /* Answers lockstep step `step` for participant `name` on SIM_ACK (the
  * first answer registers it with its period; leaving = 1 unregisters).
  * Daemons do this in daemon_run; scenarios and tests call it directly. */
 void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32_t period_steps, int leaving);
-/* Handles every LCM message already queued, without blocking. */
+/* Handles the LCM messages already queued, without blocking, for at most
+ * DAEMON_DRAIN_MAX messages and a quarter of the period
+ * (daemon_drain_budget_ns): a flood, even of messages refused at once,
+ * cannot take the cycle's time. What is left waits for the next cycle;
+ * such a drain is counted in rx.deferred (health rx_deferred). */
+#define DAEMON_DRAIN_MAX 4096
 void daemon_drain(daemon *d);
+int64_t daemon_drain_budget_ns(const daemon *d);
 /* Seconds between wall-clock now and a message's utime, for staleness. */
 int64_t daemon_utime_now(void);
 

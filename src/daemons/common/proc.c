@@ -1,5 +1,6 @@
 /* proc: child processes of tandem-scenario and the integration tests. */
 #include "proc.h"
+#include "auth_bus.h"
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -40,6 +41,7 @@ void proc_init(proc_set *p, const char *bin_dir)
 {
     const char *env = getenv("TANDEM_BIN");
     memset(p, 0, sizeof *p);
+    auth_child_keys_init(&p->keys);
     if (bin_dir || env)
         snprintf(p->bin, sizeof p->bin, "%s", bin_dir ? bin_dir : env);
     else if (own_dir(p->bin, sizeof p->bin) != 0)
@@ -51,9 +53,13 @@ pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url,
 {
     int fds[2] = { -1, -1 };
     pid_t pid;
-    char path[512];
+    char path[512], key[600];
+    int keyed;
     if (p->n >= PROC_MAX || !argv || !argv[0])
         return PROC_ERR_FULL;
+    keyed = auth_child_key(&p->keys, argv, key, sizeof key);
+    if (keyed < 0)
+        return PROC_ERR_KEY;
     if (!out_path && pipe(fds) != 0)
         return PROC_ERR_SYS;
     snprintf(path, sizeof path, "%s/%s", p->bin, argv[0]);
@@ -81,6 +87,8 @@ pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url,
         }
         if (lcm_url)
             setenv("LCM_DEFAULT_URL", lcm_url, 1);
+        if (keyed == AUTH_CHILD_OK)
+            setenv(AUTH_BUS_KEY_ENV, key, 1);
         execv(path, (char *const *)argv);
         fprintf(stderr, "proc: cannot exec %s: %s\n", path, strerror(errno));
         _exit(127);
@@ -178,4 +186,5 @@ void proc_kill_all(proc_set *p, double grace_s)
         p->out_fd[i] = -1;
     }
     p->n = 0;
+    auth_child_keys_remove(&p->keys);
 }

@@ -4,6 +4,7 @@
 #define TANDEM_PROC_H
 
 #include <sys/types.h>
+#include "auth_child.h"
 
 #define PROC_MAX 16
 
@@ -11,6 +12,7 @@
 #define PROC_ERR_SYS (-1)      /* pipe or fork failed: errno says why */
 #define PROC_ERR_FULL (-1)     /* PROC_MAX children already, or no argv[0] */
 #define PROC_ERR_UNKNOWN (-1)  /* proc_poll: not a child of this set */
+#define PROC_ERR_KEY (-2)      /* proc_spawn: the child's role file cannot be made (said) */
 
 typedef struct proc_set {
     char  bin[256];          /* directory of the programs */
@@ -19,12 +21,15 @@ typedef struct proc_set {
     int   out_fd[PROC_MAX];  /* read end of the stdout pipe, -1 if none */
     int   status[PROC_MAX];  /* exit status once reaped */
     int   n;
+    auth_child_keys keys;    /* the children's role files (auth_child.h) */
 } proc_set;
 
 /* bin_dir NULL: $TANDEM_BIN, else the running program's own directory. */
 void  proc_init(proc_set *p, const char *bin_dir);
 /* argv[0] is a program name under bin (NULL-terminated argv). The child
- * gets LCM_DEFAULT_URL = lcm_url (if not NULL). stdout goes to out_path
+ * gets LCM_DEFAULT_URL = lcm_url (if not NULL) and, when this process
+ * holds the cell's master, the role file of the principal argv names in
+ * $TANDEM_KEY_FILE (auth_child.h), never the master itself. stdout goes to out_path
  * (created/truncated) or, if out_path is NULL, to a pipe (proc_read).
  * stderr is appended to err_path if not NULL (else inherited).
  * Returns the pid, or PROC_ERR_FULL or PROC_ERR_SYS. */
@@ -37,7 +42,8 @@ int   proc_poll(proc_set *p, pid_t pid, int *status);
 int   proc_read(proc_set *p, pid_t pid, char *buf, int cap);
 /* SIGKILL to one child (a fault injected on purpose), reaped at once. */
 void  proc_kill(proc_set *p, pid_t pid);
-/* SIGTERM to every child, SIGKILL after grace_s; closes the pipes. */
+/* SIGTERM to every child, SIGKILL after grace_s; closes the pipes and
+ * removes the children's role files. */
 void  proc_kill_all(proc_set *p, double grace_s);
 
 #endif

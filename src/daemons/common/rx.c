@@ -7,51 +7,39 @@
 #include "wire.h"
 #include "tandem_health_t.h"
 
-typedef struct rx_sub {
-    daemon *d;
-    lcm_msg_handler_t handler;
-    void *user;
-    char channel[RX_CHANNEL_NAME];
-} rx_sub;
-
-static rx_channel chans[RX_MAX_CHANNELS];
-static int n_chans;
-static rx_sub subs[RX_MAX_SUBS];
-static int n_subs;
-static double drop_p;
-static uint64_t drop_seed;
-static const char *health_names[RX_MAX_CHANNELS];
-static int64_t health_received[RX_MAX_CHANNELS], health_lost[RX_MAX_CHANNELS];
-static int64_t health_auth_rejected[RX_MAX_CHANNELS];
-
-void rx_set_drop(double p, uint64_t seed)
+void rx_init(rx_state *rx)
 {
-    drop_p = p;
-    drop_seed = seed;
+    memset(rx, 0, sizeof *rx);
 }
 
-static rx_channel *channel_known(const char *name)
+void rx_set_drop(rx_state *rx, double p, uint64_t seed)
+{
+    rx->drop_p = p;
+    rx->drop_seed = seed;
+}
+
+static rx_channel *channel_known(rx_state *rx, const char *name)
 {
     int i;
-    for (i = 0; i < n_chans; i++)
-        if (strncmp(chans[i].name, name, RX_CHANNEL_NAME - 1) == 0)
-            return &chans[i];
+    for (i = 0; i < rx->n_chans; i++)
+        if (strncmp(rx->chans[i].name, name, RX_CHANNEL_NAME - 1) == 0)
+            return &rx->chans[i];
     return NULL;
 }
 
-static rx_channel *channel_of(const char *name)
+static rx_channel *channel_of(rx_state *rx, const char *name)
 {
-    rx_channel *c = channel_known(name);
+    rx_channel *c = channel_known(rx, name);
     if (c)
         return c;
-    if (n_chans < RX_MAX_CHANNELS - 1) {
-        snprintf(chans[n_chans].name, RX_CHANNEL_NAME, "%s", name);
-        return &chans[n_chans++];
+    if (rx->n_chans < RX_MAX_CHANNELS - 1) {
+        snprintf(rx->chans[rx->n_chans].name, RX_CHANNEL_NAME, "%s", name);
+        return &rx->chans[rx->n_chans++];
     }
     /* the table is full: the last slot sums the rest */
-    if (n_chans == RX_MAX_CHANNELS - 1)
-        snprintf(chans[n_chans++].name, RX_CHANNEL_NAME, "(other)");
-    return &chans[RX_MAX_CHANNELS - 1];
+    if (rx->n_chans == RX_MAX_CHANNELS - 1)
+        snprintf(rx->chans[rx->n_chans++].name, RX_CHANNEL_NAME, "(other)");
+    return &rx->chans[RX_MAX_CHANNELS - 1];
 }
 
 int64_t rx_seq_gap(rx_channel *c, int64_t seq)
@@ -88,38 +76,47 @@ static uint64_t mix64(uint64_t x)
     return x ^ (x >> 31);
 }
 
-static int drop_this(const rx_channel *c, int64_t seq)
+static int drop_this(const rx_state *rx, const rx_channel *c, int64_t seq)
 {
     uint64_t h = 1469598103934665603ULL;
     const char *p;
-    if (drop_p <= 0.0)
+    if (rx->drop_p <= 0.0)
         return 0;
     for (p = c->name; *p; p++)
         h = (h ^ (unsigned char)*p) * 1099511628211ULL;
-    h = mix64(h ^ mix64(drop_seed) ^ mix64((uint64_t)seq * 31u + (uint64_t)c->copies));
-    return (double)(h >> 11) * (1.0 / 9007199254740992.0) < drop_p;
+    h = mix64(h ^ mix64(rx->drop_seed) ^ mix64((uint64_t)seq * 31u + (uint64_t)c->copies));
+    return (double)(h >> 11) * (1.0 / 9007199254740992.0) < rx->drop_p;
 }
 
 static void trampoline(const lcm_recv_buf_t *rb_in, const char *ch, void *u)
 {
     rx_sub *s = u;
+    rx_state *rx = &s->d->rx;
     lcm_recv_buf_t body;
     const lcm_recv_buf_t *rb = &body;
     rx_channel *c;
     const wire_type *t;
     int64_t seq;
-    if (auth_bus_accept(rb_in, ch, &body) != AUTH_OK) {
+    int rc;
+    rc = auth_bus_accept(rb_in, ch, &body);
+    if (rc != AUTH_OK) {
         /* a forged channel name must not take a slot of the table */
-        c = channel_known(ch);
-        if (c)
+        c = channel_known(rx, ch);
+        if (rc == AUTH_ERR_TYPE) {   /* not a tandem type or too long: malformed, refused before any MAC */
+            s->d->msgs.received++;
+            s->d->msgs.rejected++;
+            if (c)
+                c->rejected++;
+        } else if (c) {
             c->auth_rejected++;
+        }
         return;
     }
-    c = channel_of(ch);
+    c = channel_of(rx, ch);
     t = wire_find(rb->data, rb->data_size);
     seq = wire_seq(rb->data, rb->data_size);
     c->copies++;
-    if (drop_this(c, seq)) {
+    if (drop_this(rx, c, seq)) {
         c->dropped++;
         return;
     }
@@ -136,19 +133,20 @@ static void trampoline(const lcm_recv_buf_t *rb_in, const char *ch, void *u)
 
 lcm_subscription_t *rx_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler, void *user)
 {
+    rx_state *rx = &d->rx;
     rx_sub *s = NULL;
     int i;
     /* a model re-created after a simulator reset subscribes again: reuse */
-    for (i = 0; i < n_subs && !s; i++)
-        if (subs[i].handler == handler && subs[i].user == user && subs[i].d == d &&
-            strncmp(subs[i].channel, channel, RX_CHANNEL_NAME - 1) == 0)
-            s = &subs[i];
+    for (i = 0; i < rx->n_subs && !s; i++)
+        if (rx->subs[i].handler == handler && rx->subs[i].user == user && rx->subs[i].d == d &&
+            strncmp(rx->subs[i].channel, channel, RX_CHANNEL_NAME - 1) == 0)
+            s = &rx->subs[i];
     if (!s) {
-        if (n_subs >= RX_MAX_SUBS) {
+        if (rx->n_subs >= RX_MAX_SUBS) {
             fprintf(stderr, "%s: more than %d subscriptions\n", d->name, RX_MAX_SUBS);
             return NULL;
         }
-        s = &subs[n_subs++];
+        s = &rx->subs[rx->n_subs++];
     }
     s->d = d;
     s->handler = handler;
@@ -157,45 +155,46 @@ lcm_subscription_t *rx_subscribe(daemon *d, const char *channel, lcm_msg_handler
     /* a plain channel gets its row now, so refusals before its first
      * accepted message are counted on it too */
     if (strspn(channel, "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") == strlen(channel))
-        channel_of(channel);
+        channel_of(rx, channel);
     return lcm_subscribe(d->lcm, channel, trampoline, s);
 }
 
-int64_t rx_lost_total(void)
+int64_t rx_lost_total(const rx_state *rx)
 {
     int64_t n = 0;
     int i;
-    for (i = 0; i < n_chans; i++)
-        n += chans[i].lost;
+    for (i = 0; i < rx->n_chans; i++)
+        n += rx->chans[i].lost;
     return n;
 }
 
-int64_t rx_dropped_total(void)
+int64_t rx_dropped_total(const rx_state *rx)
 {
     int64_t n = 0;
     int i;
-    for (i = 0; i < n_chans; i++)
-        n += chans[i].dropped;
+    for (i = 0; i < rx->n_chans; i++)
+        n += rx->chans[i].dropped;
     return n;
 }
 
-void rx_fill_health(tandem_health_t *h)
+void rx_fill_health(rx_state *rx, tandem_health_t *h)
 {
     int64_t rec = 0;
     int i;
-    for (i = 0; i < n_chans; i++) {
-        health_names[i] = chans[i].name;
-        health_received[i] = chans[i].received;
-        health_lost[i] = chans[i].lost;
-        health_auth_rejected[i] = chans[i].auth_rejected;
-        rec += chans[i].received;
+    for (i = 0; i < rx->n_chans; i++) {
+        rx->health_names[i] = rx->chans[i].name;
+        rx->health_received[i] = rx->chans[i].received;
+        rx->health_lost[i] = rx->chans[i].lost;
+        rx->health_auth_rejected[i] = rx->chans[i].auth_rejected;
+        rec += rx->chans[i].received;
     }
-    h->n_channels = (int16_t)n_chans;
-    h->channel = (char **)health_names;
-    h->channel_received = health_received;
-    h->channel_lost = health_lost;
-    h->channel_auth_rejected = health_auth_rejected;
-    h->msgs_lost = rx_lost_total();
-    h->msgs_dropped = rx_dropped_total();
+    h->n_channels = (int16_t)rx->n_chans;
+    h->channel = (char **)rx->health_names;
+    h->channel_received = rx->health_received;
+    h->channel_lost = rx->health_lost;
+    h->channel_auth_rejected = rx->health_auth_rejected;
+    h->msgs_lost = rx_lost_total(rx);
+    h->msgs_dropped = rx_dropped_total(rx);
+    h->rx_deferred = rx->deferred;
     h->loss_rate = rec + h->msgs_lost > 0 ? (double)h->msgs_lost / (double)(rec + h->msgs_lost) : 0.0;
 }

@@ -39,16 +39,40 @@ typedef struct rx_channel {
 struct daemon;
 struct _tandem_health_t;
 
+typedef struct rx_sub {
+    struct daemon *d;
+    lcm_msg_handler_t handler;
+    void *user;
+    char channel[RX_CHANNEL_NAME];
+} rx_sub;
+
+/* The receive path's state: one per daemon (daemon.rx), so nothing of it
+ * is shared between daemons of one process (the unit tests run several). */
+typedef struct rx_state {
+    rx_channel chans[RX_MAX_CHANNELS];
+    int        n_chans;
+    rx_sub     subs[RX_MAX_SUBS];
+    int        n_subs;
+    double     drop_p;                 /* --drop-rate */
+    uint64_t   drop_seed;
+    int64_t    deferred;               /* drains that hit their budget (daemon_drain) */
+    /* the health message's arrays point here (rx_fill_health) */
+    const char *health_names[RX_MAX_CHANNELS];
+    int64_t    health_received[RX_MAX_CHANNELS], health_lost[RX_MAX_CHANNELS];
+    int64_t    health_auth_rejected[RX_MAX_CHANNELS];
+} rx_state;
+
+void rx_init(rx_state *rx);
 /* Fault injection: drop received messages with probability p (0 = off). */
-void rx_set_drop(double p, uint64_t seed);
-/* lcm_subscribe through the receive path (daemon_subscribe calls this). */
+void rx_set_drop(rx_state *rx, double p, uint64_t seed);
+/* lcm_subscribe through the receive path of d (daemon_subscribe calls this). */
 lcm_subscription_t *rx_subscribe(struct daemon *d, const char *channel, lcm_msg_handler_t handler, void *user);
-/* Adds per-channel counts, gaps and the loss rate to a health message;
- * the strings point into rx's own table. */
-void rx_fill_health(struct _tandem_health_t *h);
+/* Adds per-channel counts, gaps, the loss rate and the deferred drains to
+ * a health message; the strings and arrays point into rx. */
+void rx_fill_health(rx_state *rx, struct _tandem_health_t *h);
 /* Totals over every channel. */
-int64_t rx_lost_total(void);
-int64_t rx_dropped_total(void);
+int64_t rx_lost_total(const rx_state *rx);
+int64_t rx_dropped_total(const rx_state *rx);
 
 /* Sequence-gap bookkeeping of one channel (exposed for the unit test):
  * returns how many messages were missing before this seq. Several senders

@@ -103,6 +103,30 @@ int wire_check(const wire_type *t, const void *buf, size_t len)
     return pos == len ? WIRE_OK : WIRE_ERR_TRAILING;
 }
 
+/* The most bytes one element of f can take. */
+static size_t element_max(const wire_field *f)
+{
+    switch (f->kind) {
+    case WIRE_STRING:
+        return 4u + (size_t)f->size;
+    case WIRE_STRUCT:
+        return wire_max_size(f->nested) - 8u;   /* a nested struct has no fingerprint */
+    default:
+        return (size_t)f->size;
+    }
+}
+
+size_t wire_max_size(const wire_type *t)
+{
+    size_t n = 8;   /* the fingerprint; nested structs have none, see element_max */
+    int i;
+    for (i = 0; i < t->n_fields; i++) {
+        const wire_field *f = &t->fields[i];
+        n += element_max(f) * (size_t)(f->len_field >= 0 ? f->cap : f->count);
+    }
+    return n;
+}
+
 const wire_type *wire_find(const void *buf, size_t len)
 {
     int i;

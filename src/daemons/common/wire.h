@@ -49,6 +49,10 @@ typedef struct wire_type {
 
 /* 0 if buf[0, len) is exactly one well-formed message of type t. */
 int wire_check(const wire_type *t, const void *buf, size_t len);
+/* The longest encoding of type t (every array at its capacity, every
+ * string at its longest): the receive path refuses anything longer before
+ * spending a MAC on it. */
+size_t wire_max_size(const wire_type *t);
 /* The type whose fingerprint starts buf, or NULL. */
 const wire_type *wire_find(const void *buf, size_t len);
 /* The message's leading int64 `seq` field (every tandem message starts

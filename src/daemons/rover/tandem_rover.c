@@ -245,6 +245,7 @@ int main(int argc, char **argv)
     static rover_daemon app;
     rover_daemon *rd = &app;
     daemon *d = &rd->d;
+    lcm_subscription_t *subs[DAEMON_EXPLICIT_MAX];   /* kept for the whole run: never unsubscribed */
     rd->last_step = -1;
     rd->first_step = -1;
     rd->wait_step = -1;
@@ -296,9 +297,10 @@ int main(int argc, char **argv)
     if (rover_journal_start(rd) != 0) return 1;
     auth_bus_identity(AUTH_ROLE_ROVER, rd->id_lo, rd->id_hi);
     if (daemon_start(d) != 0) return 1;
-    daemon_subscribe(d, "ROVER[0-9]+_SENSORS", rover_on_sensors, rd);
-    daemon_subscribe(d, "ROVER[0-9]+_SONAR", rover_on_sonar, rd);
-    daemon_subscribe(d, "ROVER[0-9]+_BEACONS", rover_on_beacons, rd);
+    /* its own robots' channels by name (daemon_subscribe_numbered) */
+    daemon_subscribe_numbered(d, "ROVER", rd->id_lo, rd->id_hi, "_SENSORS", rover_on_sensors, rd, subs, DAEMON_EXPLICIT_MAX);
+    daemon_subscribe_numbered(d, "ROVER", rd->id_lo, rd->id_hi, "_SONAR", rover_on_sonar, rd, subs, DAEMON_EXPLICIT_MAX);
+    daemon_subscribe_numbered(d, "ROVER", rd->id_lo, rd->id_hi, "_BEACONS", rover_on_beacons, rd, subs, DAEMON_EXPLICIT_MAX);
     daemon_subscribe(d, "ROVERS_SENSORS", rover_on_sensors_batch, rd);
     daemon_subscribe(d, "ROVERS_BEACONS", rover_on_beacons_batch, rd);
     daemon_subscribe(d, "TEAM", rover_on_team, rd);
