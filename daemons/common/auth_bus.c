@@ -99,6 +99,15 @@ int auth_bus_secure(void)
     return B.secure;
 }
 
+int auth_bus_journal_key(uint8_t out[32])
+{
+    static const char ctx[] = "tandem journal key v1";
+    if (!B.secure || B.ring.n < 1)
+        return 0;
+    crypto_generichash(out, 32, (const unsigned char *)ctx, sizeof ctx - 1, B.ring.key[0].bytes, AUTH_KEY_BYTES);
+    return 1;
+}
+
 int auth_bus_default_key_path(char *out, size_t cap)
 {
     const char *xdg = getenv("XDG_CONFIG_HOME"), *home = getenv("HOME");

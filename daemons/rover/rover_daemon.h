@@ -22,7 +22,8 @@
 
 /* Failures of tandem-rover's own steps (0 = ok). */
 #define ROVER_DAEMON_ERR_IDS (-1)      /* --id is not K or A-B inside 1..HOST_MAX robots */
-#define ROVER_DAEMON_ERR_JOURNAL (-1)  /* a robot's journal does not open (said) */
+#define ROVER_DAEMON_ERR_JOURNAL (-2)  /* a robot's journal is refused or does not open (said) */
+const char *rover_daemon_strerror(int rc);
 
 typedef struct hosted {
     rover_ctl_state c;
@@ -85,6 +86,8 @@ typedef struct rover_daemon {
     int     cur;
     const char *journal;                /* --journal PATH, NULL: none */
     int64_t first_step;                 /* the first step this process ran a cycle for (-1) */
+    int     journal_reset;              /* --journal-reset: start fresh, emptying the journal(s) */
+    int     journal_failing;            /* the last append failed (said once) */
     int64_t journal_errors;
 } rover_daemon;
 

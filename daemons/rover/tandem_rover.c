@@ -134,9 +134,22 @@ static const option_entry rover_options[] = {
               "per tick (sensors are taken per robot and batched alike)" },
     { .name = "journal", .type = OPTION_STRING, OPTION_AT(rover_daemon, journal), .meta = "PATH",
       .help = "append each robot's controller snapshot to PATH (PATH-K when hosting several) after every "
-              "cycle; a process started on an existing journal resumes there" },
+              "cycle (authenticated, fsynced); a process started on an existing journal resumes there, or "
+              "refuses to start (exit 1) when a record does not check out" },
+    { .name = "journal-reset", .type = OPTION_FLAG, OPTION_AT(rover_daemon, journal_reset),
+      .help = "start fresh on purpose: empty the --journal instead of resuming from it" },
     { .name = NULL }
 };
+
+const char *rover_daemon_strerror(int rc)
+{
+    switch (rc) {
+    case 0: return "ok";
+    case ROVER_DAEMON_ERR_IDS: return "ROVER_DAEMON_ERR_IDS";
+    case ROVER_DAEMON_ERR_JOURNAL: return "ROVER_DAEMON_ERR_JOURNAL";
+    default: return "ROVER_DAEMON_ERR_?";
+    }
+}
 
 /* 0, or a negative options_parse result (--help, --version, bad options). */
 static int parse_args(rover_daemon *rd, int argc, char **argv)
@@ -293,9 +306,12 @@ int main(int argc, char **argv)
         h->shown_mode = h->shown_type = h->shown_yield = h->shown_esc = -1;
         h->sens_step = h->sonar_step = h->camera_step = -1;
     }
-    if (rover_journal_start(rd) != 0) return 1;
     auth_bus_identity(AUTH_ROLE_ROVER, rd->id_lo, rd->id_hi);
     if (daemon_start(d) != 0) return 1;
+    if (rover_journal_start(rd) != 0) {
+        daemon_finish(d);
+        return 1;
+    }
     daemon_subscribe(d, "ROVER[0-9]+_SENSORS", rover_on_sensors, rd);
     daemon_subscribe(d, "ROVER[0-9]+_SONAR", rover_on_sonar, rd);
     daemon_subscribe(d, "ROVER[0-9]+_BEACONS", rover_on_beacons, rd);
