@@ -68,6 +68,7 @@ typedef struct supervisor_daemon {
     /* watchdogs */
     stallwatch stall;
     double  stall_s;                /* --stall-s */
+    double  stall_obstructed_s;     /* --stall-obstructed-s */
     int     completed;              /* a transition completed this cycle */
     int     stick_in;               /* SIM_STATUS: an obstruction is in the cell */
     int     arms_faulted;           /* bit a: arm a+1 in FAULT */

@@ -20,8 +20,9 @@
  * Watchdogs: an arm's FAULT event (joint out of range or over speed; the
  * arm holds on its brakes) is logged and shown in the marking message
  * until FAULT_CLEARED. A stall -- work pending, nothing completed for
- * --stall-s seconds while the stick is out (SIM_STATUS) -- is logged once,
- * flagged in PETRI_MARKING and in the health status (stallwatch).
+ * --stall-s seconds while the stick is out (SIM_STATUS), or with the stick
+ * in for longer than --stall-obstructed-s -- is logged once, flagged in
+ * PETRI_MARKING and in the health status (stallwatch).
  *
  * Recovery: with --journal PATH every change of the discrete state (marking,
  * running rows, the workpieces bound to tokens, action ids, counters) is
@@ -243,6 +244,10 @@ static const option_entry supervisor_options[] = {
     { .name = "stall-s", .type = OPTION_DOUBLE, OPTION_AT(supervisor_daemon, stall_s), .min = 0.1, .max = 1e6,
       .meta = "S", .help = "a stall: work pending and no transition completed for S s of simulated time while "
                            "the stick is out", .def = "30" },
+    { .name = "stall-obstructed-s", .type = OPTION_DOUBLE, OPTION_AT(supervisor_daemon, stall_obstructed_s),
+      .min = 0.1, .max = 1e6, .meta = "S",
+      .help = "the stick in excuses a cell without progress for at most S s of simulated time; then "
+              "--stall-s more is a stall", .def = "120" },
     { .name = "journal", .type = OPTION_STRING, OPTION_AT(supervisor_daemon, journal_path), .meta = "PATH",
       .help = "append the discrete state to PATH on every change (authenticated with a key derived from the "
               "bus key, fsynced); start from its last record when PATH exists (restart); a journal that does "
@@ -285,12 +290,14 @@ int main(int argc, char **argv)
     sv->jr.fd = -1;                 /* no journal open (journal_close at the end) */
     sv->controller = TANDEM_ACTION_ROW_T_CONTROLLER_EVENT;
     sv->stall_s = 30.0;
+    sv->stall_obstructed_s = STALLWATCH_OBSTRUCT_MAX_S;
     daemon_defaults(d, "tandem-supervisor", 0.010);
     if ((rc = options_parse(&prog, argc, argv, 1)) < 0)
         return options_exit_status(rc);
     if (check_tables(sv) != 0 || check_net(sv) != 0)
         return 1;
-    if (petri_init(&sv->net, &carry_net) != 0 || stallwatch_init(&sv->stall, sv->stall_s) != 0)
+    if (petri_init(&sv->net, &carry_net) != 0 || stallwatch_init(&sv->stall, sv->stall_s) != 0 ||
+        stallwatch_set_obstruct_max(&sv->stall, sv->stall_obstructed_s) != 0)
         return 1;
     fflush(stdout);
     auth_bus_identity(AUTH_ROLE_SUPERVISOR, 0, 0);

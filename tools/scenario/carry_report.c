@@ -77,6 +77,7 @@ static void summary_run(json_out *j, const carry_cfg *c, const carry_result *res
     json_num(j, "max_joint_speed_ratio", res->max_speed_ratio);
     json_int(j, "stalls", res->stalls);
     json_int(j, "faults", res->faults);
+    json_int(j, "stick_resends", res->stick_resends);
 }
 
 int carry_write_summary(const carry_cfg *c, long seed, const carry_result *res, const carry_result *ser,

@@ -218,6 +218,8 @@ static void state_init(carry_state *r)
     r->last_event[0] = r->last_event[1] = TANDEM_ACTION_EVENT_T_DONE;   /* idle until a row starts */
     r->unblocked_step[0] = r->unblocked_step[1] = r->done_step[0] = r->done_step[1] = -1;
     r->t_deliv_first = r->t_deliv_last = r->end_at = -1.0;
+    r->status_step = -1;
+    r->stick_want = -1;
 }
 
 /* Between steps: dead daemons, the wall-time limit, the progress line, a
@@ -245,7 +247,8 @@ static int run_watch(const carry_state *r, const carry_cfg *c, carry_result *res
         progress_line(r, c, wall0);
     if (r->have_mk && r->mk.stalled) {
         fprintf(stderr, "tandem-scenario: the supervisor reports a stall at %.2f s (no transition completed "
-                        "for %.1f s with the stick out): run stopped\n", r->t_s, r->mk.stall_limit_s);
+                        "for %.1f s, stick %s): run stopped\n", r->t_s, r->mk.since_progress_s,
+                r->status_stick ? "in" : "out");
         res->exit_reason = "stalled";
         return 1;
     }
@@ -290,8 +293,10 @@ static int run_answer(carry_state *r, const carry_cfg *c, carry_result *res, car
     if (k == 0)
         return 0;                     /* hold the step: a restarted daemon joins */
     r->handled = r->pending;
-    if (!c->serial)
+    if (!c->serial) {
+        carry_stick_confirm(r);
         carry_block_step(r, c->blocks);
+    }
     record_step(r, c, r->pending);
     note_deliveries(r, c);
     carry_ack(r, r->pending, 0);
@@ -323,6 +328,7 @@ static void result_of(carry_result *res, const carry_state *r)
         res->rows_reissued = r->mk.rows_reissued;
         res->dones_recovered = r->mk.dones_recovered;
     }
+    res->stick_resends = r->stick_resends;
     res->joint_limit_violations = r->limit_violations;
     res->joint_stop_onsets = r->stop_onsets;
     res->min_range_margin_rad = r->min_range_margin_rad;

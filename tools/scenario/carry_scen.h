@@ -84,6 +84,7 @@ typedef struct carry_result {
     double max_speed_ratio, max_force_N, max_force_10ms_N, min_range_margin_rad;
     int    stalls, faults;
     int    kills, restarts, rows_reissued, dones_recovered;
+    int    stick_resends;        /* stick commands sent again (lost on the way) */
     const char *exit_reason;
 } carry_result;
 
@@ -104,6 +105,14 @@ typedef struct carry_state {
     int8_t   mk_marking[16], mk_running[16];
     int      have_mk;
     int      delivered, dropped, spawned;
+    /* the stick as the simulator last said (SIM_STATUS) and as wanted: a
+     * command is sent again until the simulator's state shows it */
+    int64_t  status_step;        /* step of the last SIM_STATUS, -1 none */
+    int      status_stick;       /* its stick_inserted */
+    int      stick_want;         /* -1 nothing asked, 0 out, 1 in */
+    int      stick_arm, stick_link;
+    int64_t  stick_sent_step;
+    int      stick_resends, stick_tries;   /* in the run; for the command in hand */
     int64_t  ack_seq;
     int      running_prev[NT];
     double   run_start[NT];
@@ -132,6 +141,12 @@ extern const char *const carry_daemon_lock_name[CARRY_DAEMONS];
 /* Subscribes every handler of the run's state r on r->lcm. */
 void carry_subscribe(carry_state *r);
 void carry_send_control(carry_state *r, int cmd, int arm, int link);
+/* The stick in (INSERT_STICK, arm, link) or out (REMOVE_STICK): sent now
+ * and again (carry_stick_confirm) until SIM_STATUS shows it. */
+void carry_stick_command(carry_state *r, int cmd, int arm, int link);
+/* At every step: a stick command whose effect a SIM_STATUS later than it
+ * does not show was lost: sent again. */
+void carry_stick_confirm(carry_state *r);
 void carry_ack(carry_state *r, int64_t step, int leaving);
 /* The synchronised t3 is running (the supervisor's last marking). */
 int  carry_t3_running(const carry_state *r);
