@@ -314,6 +314,34 @@ double harness_json_value(const char *text, const char *key)
     return strncmp(p, "null", 4) == 0 ? NAN : strtod(p, NULL);
 }
 
+pid_t harness_child_named(pid_t parent, const char *prog)
+{
+    char path[96], list[1024], cmd[512];
+    const char *p = list;
+    FILE *f;
+    snprintf(path, sizeof path, "/proc/%d/task/%d/children", (int)parent, (int)parent);
+    if (harness_slurp(path, list, sizeof list) <= 0)
+        return -1;
+    for (;;) {
+        char *end, *base;
+        const long pid = strtol(p, &end, 10);
+        size_t n;
+        if (end == p)
+            return -1;
+        p = end;
+        snprintf(path, sizeof path, "/proc/%ld/cmdline", pid);
+        f = fopen(path, "rb");
+        if (!f)
+            continue;
+        n = fread(cmd, 1, sizeof cmd - 1, f);
+        fclose(f);
+        cmd[n] = '\0';              /* argv[0] ends at its NUL */
+        base = strrchr(cmd, '/');
+        if (!strcmp(base ? base + 1 : cmd, prog))
+            return (pid_t)pid;
+    }
+}
+
 int harness_run(const char *const argv[], double timeout_s)
 {
     proc_set ps;

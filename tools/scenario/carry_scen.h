@@ -30,8 +30,8 @@
  * malformed --block, which the option parser reports). */
 #define CARRY_SCEN_ERR_BLOCK (-1)  /* --block not A:L:S:D[:t3] inside its ranges */
 #define CARRY_SCEN_ERR_RUN (-1)    /* no LCM, a daemon did not start or exited early */
-#define CARRY_SCEN_ERR_FAULT (-1)  /* --fault: a daemon not restarted, or not back
-                                      within 60 s */
+#define CARRY_SCEN_ERR_FAULT (-1)  /* --fault or a hung daemon: not restarted, or
+                                      not back within 60 s */
 
 typedef struct block {
     int    arm, link, need_t3;
@@ -64,6 +64,7 @@ typedef struct carry_cfg {
     const char *url;           /* --lcm-url, or NULL: a private udpm port */
     const char *block_detect;  /* tandem-arm --block-detect on|off */
     const char *stall_s;       /* tandem-supervisor --stall-s */
+    double hang_s;             /* --hang-s: a daemon silent this long (wall) is hung; 0 off */
     uint64_t seed;
     scenario_drop drop;        /* --drop-rate, to every daemon */
     scenario_fault *faults;    /* --fault (the main run only) */
@@ -85,6 +86,8 @@ typedef struct carry_result {
     int    stalls, faults;
     int    kills, restarts, rows_reissued, dones_recovered;
     int    stick_resends;        /* stick commands sent again (lost on the way) */
+    int    hung_restarts;        /* daemons found hung, killed and restarted */
+    int    leave_resends;        /* a killed daemon's leave sent again (lost on the way) */
     const char *exit_reason;
 } carry_result;
 
