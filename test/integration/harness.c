@@ -314,7 +314,20 @@ double harness_json_value(const char *text, const char *key)
     return strncmp(p, "null", 4) == 0 ? NAN : strtod(p, NULL);
 }
 
-pid_t harness_child_named(pid_t parent, const char *prog)
+/* argv (n bytes, NUL separated) has `opt` followed by `value`. */
+static int has_option(const char *argv, size_t n, const char *opt, const char *value)
+{
+    const char *p = argv, *end = argv + n;
+    while (p < end) {
+        const char *next = p + strlen(p) + 1;
+        if (!strcmp(p, opt) && next < end && !strcmp(next, value))
+            return 1;
+        p = next;
+    }
+    return 0;
+}
+
+pid_t harness_child_named(pid_t parent, const char *prog, const char *opt, const char *value)
 {
     char path[96], list[1024], cmd[512];
     const char *p = list;
@@ -337,7 +350,7 @@ pid_t harness_child_named(pid_t parent, const char *prog)
         fclose(f);
         cmd[n] = '\0';              /* argv[0] ends at its NUL */
         base = strrchr(cmd, '/');
-        if (!strcmp(base ? base + 1 : cmd, prog))
+        if (!strcmp(base ? base + 1 : cmd, prog) && (!opt || has_option(cmd, n, opt, value)))
             return (pid_t)pid;
     }
 }

@@ -29,6 +29,8 @@ static void on_sim_ack(const lcm_recv_buf_t *rb, const char *ch, const tandem_cl
     for (k = 0; k < CARRY_DAEMONS; k++)
         if (!m->leaving && !strcmp(m->name, carry_daemon_lock_name[k]) && m->step > r->ack_step[k])
             r->ack_step[k] = m->step;
+    if (r->hw && !m->leaving)
+        hang_watch_heard(r->hw, m->name, scenario_wall_s());
 }
 
 static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_clock_t *m, void *u)
@@ -39,6 +41,8 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_
         r->pending = m->step;
         r->t_s = m->sim_time_s;
     }
+    if (r->hw)
+        hang_watch_heard(r->hw, carry_daemon_lock_name[0], scenario_wall_s());
 }
 
 /* Range violations (onsets per joint), joints on their range stops

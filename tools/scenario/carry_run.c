@@ -247,11 +247,36 @@ static int faults_step(carry_state *r, const carry_cfg *c, carry_result *res, ca
     return 1;
 }
 
+static int restart_hung(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d, int k)
+{
+    char log[700];
+    snprintf(log, sizeof log, "%s/%s_%s_hung%d.log", c->out, c->tag, carry_daemon_fault_name[k],
+             res->hung_restarts + 1);
+    if (restart_daemon(r, d, k, log) != 0)
+        return CARRY_SCEN_ERR_FAULT;
+    fprintf(stderr, "tandem-scenario: hung: %s restarted at %.3f s\n", carry_daemon_lock_name[k], r->t_s);
+    return 0;
+}
+
+/* Hung before the first step: the simulator waits at step 0 for every
+ * daemon to join, so there is no step to hold; the new process joins as
+ * the first one would have. 0, or CARRY_SCEN_ERR_FAULT. */
+static int restart_before_start(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d, int k)
+{
+    if (restart_hung(r, c, res, d, k) != 0)
+        return CARRY_SCEN_ERR_FAULT;
+    res->restarts++;
+    res->hung_restarts++;
+    d->hung_stage[k] = HUNG_NONE;
+    return 0;
+}
+
 /* --hang-s, between steps: a daemon alive but silent on its health
  * channel for hang_s of wall time is hung: killed (SIGKILL) and, but the
  * simulator, restarted by hung_step. The world cannot be started again:
- * a hung simulator ends the run. 0 go on, 1 stop. */
-static int hung_watch(carry_state *r, carry_result *res, carry_daemons *d)
+ * a hung simulator ends the run. 0 go on, 1 stop, CARRY_SCEN_ERR_FAULT
+ * (a restart before the first step failed). */
+static int hung_watch(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d)
 {
     const double now = scenario_wall_s();
     int k;
@@ -270,6 +295,8 @@ static int hung_watch(carry_state *r, carry_result *res, carry_daemons *d)
         }
         d->hung_stage[k] = HUNG_KILLED;
         d->hung_step[k] = clock_step(r);
+        if (clock_step(r) <= 0 && restart_before_start(r, c, res, d, k) != 0)
+            return CARRY_SCEN_ERR_FAULT;
     }
     return 0;
 }
@@ -283,12 +310,8 @@ static int hung_step(carry_state *r, const carry_cfg *c, carry_result *res, carr
     int k;
     for (k = 1; k < CARRY_DAEMONS; k++) {
         if (d->hung_stage[k] == HUNG_KILLED && r->pending > d->hung_step[k] && r->pending % 20 == 0) {
-            char log[700];
-            snprintf(log, sizeof log, "%s/%s_%s_hung%d.log", c->out, c->tag, carry_daemon_fault_name[k],
-                     res->hung_restarts + 1);
-            if (restart_daemon(r, d, k, log) != 0)
+            if (restart_hung(r, c, res, d, k) != 0)
                 return CARRY_SCEN_ERR_FAULT;
-            fprintf(stderr, "tandem-scenario: hung: %s restarted at %.3f s\n", carry_daemon_lock_name[k], r->t_s);
             d->hung_stage[k] = HUNG_RESTARTING;
         }
         if (d->hung_stage[k] == HUNG_RESTARTING) {
@@ -340,8 +363,11 @@ static int run_watch(carry_state *r, const carry_cfg *c, carry_result *res, carr
         return rc;
     for (k = 0; k < CARRY_DAEMONS; k++)
         res->leave_resends += scenario_leave_confirm(&d->leave[k], r->lcm, clock_step(r));
-    if (hung_watch(r, res, d) != 0)
-        return 1;
+    if ((k = hung_watch(r, c, res, d)) != 0) {
+        if (k < 0)
+            res->exit_reason = "restart_failed";
+        return k;
+    }
     if (scenario_wall_s() - wall0 > 3600.0) {
         fprintf(stderr, "tandem-scenario: wall-time limit reached\n");
         res->exit_reason = "wall_time_limit";
@@ -469,6 +495,7 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
         return CARRY_SCEN_ERR_RUN;
     }
     hang_watch_subscribe(&d.hw, R.lcm);
+    R.hw = &d.hw;
     while (!interrupted && rc == 0) {
         lcm_handle_timeout(R.lcm, 200);
         rc = run_watch(&R, c, res, &d, wall0, &next_progress);

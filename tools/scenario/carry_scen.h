@@ -15,6 +15,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <lcm/lcm.h>
+#include "hang_watch.h"
 #include "scenario.h"
 #include "tandem_arm_state_t.h"
 #include "tandem_petri_marking_t.h"
@@ -128,6 +129,8 @@ typedef struct carry_state {
     long     limit_violations, stop_onsets;
     double   max_speed_ratio, max_force_N, max_force_10ms_N;
     double   min_range_margin_rad; /* least distance of a joint from a range end */
+    /* --hang-s: the daemons' signs of life (their answers, the clock) go here */
+    hang_watch *hw;
     /* --fault: the last step each daemon answered (SIM_ACK) */
     int64_t  ack_step[CARRY_DAEMONS];
     double   hold_since_s;     /* wall time a restart began holding the step */

@@ -29,6 +29,7 @@ void hang_watch_started(hang_watch *w, int k, double now_s)
         return;
     w->last_s[k] = now_s;
     w->on[k] = 1;
+    w->spoken[k] = 0;
 }
 
 void hang_watch_down(hang_watch *w, int k)
@@ -41,8 +42,10 @@ void hang_watch_heard(hang_watch *w, const char *name, double now_s)
 {
     int k;
     for (k = 0; k < w->n; k++)
-        if (!strcmp(w->name[k], name) && now_s > w->last_s[k])
+        if (!strcmp(w->name[k], name) && now_s > w->last_s[k]) {
             w->last_s[k] = now_s;
+            w->spoken[k] = 1;
+        }
 }
 
 double hang_watch_silent_s(const hang_watch *w, int k, double now_s)
@@ -52,7 +55,8 @@ double hang_watch_silent_s(const hang_watch *w, int k, double now_s)
 
 int hang_watch_hung(const hang_watch *w, int k, double now_s)
 {
-    return w->hang_s > 0.0 && k >= 0 && k < w->n && w->on[k] && hang_watch_silent_s(w, k, now_s) > w->hang_s;
+    return w->hang_s > 0.0 && k >= 0 && k < w->n && w->on[k] &&
+           hang_watch_silent_s(w, k, now_s) > w->hang_s + (w->spoken[k] ? 0.0 : HANG_WATCH_START_S);
 }
 
 static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)

@@ -3,7 +3,9 @@
  * second of wall time from every daemon, whatever the simulated clock
  * does) for hang_s of wall time is hung: a stopped or deadlocked process
  * holds the whole lockstep and would end the run only at its wall-time
- * limit. A slow child still sends health and is waited for. The scenario
+ * limit. A slow child still sends health and is waited for; its lockstep
+ * answers (SIM_ACK; the simulator's SIM_CLOCK) count as signs of life
+ * too, so a health message lost on a busy bus is not taken for a hang. The scenario
  * kills a hung child (SIGKILL) and restarts it as a --fault restart does.
  * Wall time, not simulated time: a hung child stops the simulated clock.
  */
@@ -14,6 +16,9 @@
 
 #define HANG_WATCH_MAX 24
 #define HANG_WATCH_DEFAULT_S 5.0   /* five missed health messages */
+/* A child just started has this much more to say its first word: a
+ * loaded machine can take seconds to start a program. */
+#define HANG_WATCH_START_S 10.0
 
 /* Failures of hang_watch_add (0 = ok). */
 #define HANG_WATCH_ERR_FULL (-1)   /* HANG_WATCH_MAX children watched already */
@@ -25,6 +30,7 @@ typedef struct hang_watch {
     char   name[HANG_WATCH_MAX][48];   /* the daemon's name (its health's name) */
     double last_s[HANG_WATCH_MAX];     /* wall time of its last health, or of its start */
     int    on[HANG_WATCH_MAX];         /* 0 while the child is down on purpose */
+    int    spoken[HANG_WATCH_MAX];     /* heard since its start */
     int    hung_restarts;              /* hung children killed and restarted */
     lcm_subscription_t *sub;
 } hang_watch;
@@ -37,7 +43,8 @@ int  hang_watch_add(hang_watch *w, const char *name, double now_s);
  * or is down on purpose (on = 0: not watched until started again). */
 void hang_watch_started(hang_watch *w, int k, double now_s);
 void hang_watch_down(hang_watch *w, int k);
-/* A health message from daemon `name` at wall time now_s. */
+/* A health message (or another sign of life) from daemon `name` at wall
+ * time now_s. */
 void hang_watch_heard(hang_watch *w, const char *name, double now_s);
 /* 1 when the child of slot k is watched and silent for hang_s at now_s. */
 int  hang_watch_hung(const hang_watch *w, int k, double now_s);
