@@ -223,28 +223,45 @@ int rover_journal_start(rover_daemon *rd)
     return 0;
 }
 
-/* After a cycle's outputs are out: one snapshot per robot (a robot before
- * its first encoder frame has nothing to keep). */
-void rover_journal_cycle(rover_daemon *rd, int64_t step)
+/* After a cycle's outputs are made, before they go out: one snapshot per
+ * robot (a robot before its first encoder frame has nothing to keep). */
+int rover_journal_cycle(rover_daemon *rd, int64_t step)
 {
-    int j;
+    int j, held = 0;
     for (j = rd->id_lo; j <= rd->id_hi && rd->journal; j++) {
         hosted *h = &rd->h[j - rd->id_lo];
         double v[1 + ROVER_CTL_SNAPSHOT_VALUES];
-        v[0] = (double)step;
         int rc;
+        v[0] = (double)step;
+        h->journal_held = 0;
         if (rover_ctl_snapshot(&h->c, v + 1) != ROVER_CTL_OK)
             continue;
         rc = journal_append(&h->jr, v, 1 + ROVER_CTL_SNAPSHOT_VALUES);
+        h->journal_held = rc != JOURNAL_OK;
+        held += h->journal_held;
         /* said once when writing starts failing and once when it works again */
         if (rc != JOURNAL_OK && !rd->journal_failing)
-            fprintf(stderr, "%s: cannot write the journal %s: %s (%s)\n", rd->d.name, h->journal_path,
-                    strerror(h->jr.err_no), journal_strerror(rc));
+            fprintf(stderr, "%s: cannot write the journal %s: %s (%s): robot %d STOPPED until it can be written\n",
+                    rd->d.name, h->journal_path, strerror(h->jr.err_no), journal_strerror(rc), j);
         else if (rc == JOURNAL_OK && rd->journal_failing)
-            fprintf(stderr, "%s: journal %s written again\n", rd->d.name, h->journal_path);
+            fprintf(stderr, "%s: journal %s written again: robot %d moves on\n", rd->d.name, h->journal_path, j);
         rd->journal_failing = rc != JOURNAL_OK;
         if (rc != JOURNAL_OK)
             rd->journal_errors++;
+    }
+    return held;
+}
+
+void rover_journal_hold(rover_daemon *rd, rover_outbox *o)
+{
+    int i;
+    for (i = 0; i < o->n; i++) {
+        const hosted *h = rover_find_hosted(rd, o->cmd[i].robot);
+        if (!h || !h->journal_held)
+            continue;
+        o->cmd[i].v_mps = 0.0;
+        o->cmd[i].w_radps = 0.0;
+        o->st[i].mode = ROVER_MODE_SAFE_STOP;
     }
 }
 

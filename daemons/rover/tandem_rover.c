@@ -203,7 +203,7 @@ static int cycle(daemon *d, void *user)
     const double dt = rd->last_t_s > 0.0 && t_s > rd->last_t_s ? t_s - rd->last_t_s : d->period_s;
     const int64_t utime = daemon_utime_now();
     rover_outbox *ob;
-    int j, n = 0, stopped = 0;
+    int j, n = 0, stopped = 0, held;
     if (step < 0) return DAEMON_CONTINUE;                      /* no simulator clock yet */
     if (d->lockstep && step == rd->last_step) return DAEMON_CONTINUE;   /* a repeated clock: answer again only */
     if (rover_too_early(rd, step)) return DAEMON_CONTINUE;
@@ -239,13 +239,19 @@ static int cycle(daemon *d, void *user)
     ob->step = step;
     ob->utime = utime;
     ob->batch_seq = rd->batch_seq++;
+    /* the record first: a robot whose record is not written stops */
+    held = rover_journal_cycle(rd, step);
+    rover_journal_hold(rd, ob);
     rover_publish_outbox(rd, ob);
-    rover_journal_cycle(rd, step);
     rd->last_t_s = t_s;
-    d->safe_hold = stopped > 0;
-    snprintf(d->status, sizeof d->status, "%s: %d of %d robots stopped (stale input)%s",
-             stopped ? "safe stop" : "running", stopped, rd->id_hi - rd->id_lo + 1,
-             rd->journal_errors ? ", journal not written" : "");
+    d->safe_hold = stopped > 0 || held > 0;
+    if (held > 0)
+        snprintf(d->status, sizeof d->status, "safe stop: journal not written, %d of %d robots stopped", held,
+                 rd->id_hi - rd->id_lo + 1);
+    else
+        snprintf(d->status, sizeof d->status, "%s: %d of %d robots stopped (stale input)%s",
+                 stopped ? "safe stop" : "running", stopped, rd->id_hi - rd->id_lo + 1,
+                 rd->journal_errors ? ", journal not written before" : "");
     return DAEMON_CONTINUE;
 }
 

@@ -8,6 +8,9 @@
  *    starts fresh on purpose.
  * 2. A journal on a full disk (/dev/full): the supervisor holds -- one
  *    HOLD line, no row sent -- while the simulator offers workpieces.
+ * 3. A rover whose journal is on a full disk stops: every command it
+ *    sends is zero, its health says safe_hold and why, while its mate
+ *    without a journal drives on.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -23,6 +26,8 @@
 #include "auth_bus.h"
 #include "carry_net.h"
 #include "journal.h"
+#include "tandem_health_t.h"
+#include "tandem_rover_command_t.h"
 
 #define SNAP_HEAD 27
 #define SNAP_LEN  (SNAP_HEAD + CARRY_N_PLACES + 6 * CARRY_N_TRANSITIONS)
@@ -163,12 +168,77 @@ static void test_disk_full_holds(void **state)
     harness_kill_all(h);
 }
 
+/* What the rovers sent: commands per robot, robot 1's last health. */
+typedef struct rover_seen {
+    int    cmds[3];
+    double max_speed[3];          /* |v| + |w| */
+    int    held, health;
+    char   status[128];
+} rover_seen;
+
+static void on_rover_cmd(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_command_t *m, void *u)
+{
+    rover_seen *w = u;
+    (void)rb; (void)ch;
+    if (m->robot == 1 || m->robot == 2) {
+        w->cmds[m->robot]++;
+        w->max_speed[m->robot] = fmax(w->max_speed[m->robot], fabs(m->v_mps) + fabs(m->w_radps));
+    }
+}
+
+static void on_rover_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
+{
+    rover_seen *w = u;
+    (void)rb; (void)ch;
+    w->health++;
+    w->held = m->safe_hold;
+    snprintf(w->status, sizeof w->status, "%s", m->status);
+}
+
+AUTH_TYPED_HANDLER(tandem_rover_command_t, raw_on_rover_cmd, on_rover_cmd)
+AUTH_TYPED_HANDLER(tandem_health_t, raw_on_rover_health, on_rover_health)
+
+static void test_rover_disk_full_stops(void **state)
+{
+    const char *sim[] = { "tandem-sim", "--no-arms", "--rovers", "2", "--world", "open", NULL };
+    const char *r1[] = { "tandem-rover", "--id", "1", "--robots", "2", "--journal", "/dev/full", "--journal-reset",
+                         NULL };
+    const char *r2[] = { "tandem-rover", "--id", "2", "--robots", "2", NULL };
+    rover_seen w;
+    lcm_subscription_t *s1, *s2, *s3;
+    ctx *c = *state;
+    harness *h = &c->h;
+    if (access("/dev/full", W_OK) != 0)
+        skip();
+    memset(&w, 0, sizeof w);
+    s1 = auth_bus_subscribe(h->lcm, "ROVER1_COMMAND", raw_on_rover_cmd, &w);
+    s2 = auth_bus_subscribe(h->lcm, "ROVER2_COMMAND", raw_on_rover_cmd, &w);
+    s3 = auth_bus_subscribe(h->lcm, "HEALTH_TANDEM_ROVER_1", raw_on_rover_health, &w);
+    assert_true(harness_spawn(h, sim) > 0);
+    assert_true(harness_spawn(h, r1) > 0);
+    assert_true(harness_spawn(h, r2) > 0);
+    harness_pump(h, 6000);
+    printf("robot 1 (journal on /dev/full): %d commands, max |v|+|w| %.3f; robot 2: %d commands, max %.3f; "
+           "robot 1's health: safe_hold %d, \"%s\"\n", w.cmds[1], w.max_speed[1], w.cmds[2], w.max_speed[2],
+           w.held, w.status);
+    assert_true(w.cmds[1] > 20 && w.cmds[2] > 20);
+    assert_true(w.max_speed[1] == 0.0);
+    assert_true(w.max_speed[2] > 0.05);
+    assert_true(w.health > 0 && w.held == 1);
+    assert_non_null(strstr(w.status, "journal not written"));
+    lcm_unsubscribe(h->lcm, s1);
+    lcm_unsubscribe(h->lcm, s2);
+    lcm_unsubscribe(h->lcm, s3);
+    harness_kill_all(h);
+}
+
 int main(void)
 {
     static ctx c;
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_prestate(test_journal_refused_or_resumed, &c),
         cmocka_unit_test_prestate(test_disk_full_holds, &c),
+        cmocka_unit_test_prestate(test_rover_disk_full_stops, &c),
     };
     int rc;
     harness_private_net();
