@@ -34,6 +34,8 @@ int scenario_leave_confirm(scenario_leave *l, lcm_t *lcm, int64_t clock_step)
     if (scenario_wall_s() - l->sent_s < SCENARIO_LEAVE_AGAIN_S)
         return 0;
     l->sent_s = scenario_wall_s();
+    fprintf(stderr, "tandem-scenario: %s's leave was lost (the simulator still waits at step %lld): sending it "
+                    "again\n", l->name, (long long)clock_step);
     scenario_daemon_left(lcm, l->name, l->step, l->period_steps);
     return 1;
 }
