@@ -280,6 +280,8 @@ static int hung_watch(carry_state *r, const carry_cfg *c, carry_result *res, car
 {
     const double now = scenario_wall_s();
     int k;
+    if (!hang_watch_look(&d->hw, r->lcm, now))
+        return 0;                   /* messages still to read: not now */
     for (k = 0; k < CARRY_DAEMONS; k++) {
         if (d->hung_stage[k] != HUNG_NONE || !hang_watch_hung(&d->hw, k, now) ||
             proc_poll(&d->ps, d->pid[k], NULL) != 0)

@@ -286,6 +286,8 @@ int fm_hung_watch(fm_state *fm)
     int k;
     for (k = 0; k < fm->hw.n; k++)
         fm->leave_resends += scenario_leave_confirm(&fm->leave[k], fm->lcm, fm->clock_step);
+    if (!hang_watch_look(&fm->hw, fm->lcm, now))
+        return 0;                   /* messages still to read: not now */
     for (k = 0; k < fm->hw.n; k++) {
         const pid_t pid = k == 0 ? fm->pid[0] : fm->rover_pid[k];
         const int restartable = k > 0 && !fm->single;

@@ -1,5 +1,6 @@
 /* hang_watch: children silent on the health channels (see hang_watch.h). */
 #include <string.h>
+#include <sys/select.h>
 #include "hang_watch.h"
 #include "auth_bus.h"
 #include "scenario.h"
@@ -57,6 +58,21 @@ int hang_watch_hung(const hang_watch *w, int k, double now_s)
 {
     return w->hang_s > 0.0 && k >= 0 && k < w->n && w->on[k] &&
            hang_watch_silent_s(w, k, now_s) > w->hang_s + (w->spoken[k] ? 0.0 : HANG_WATCH_START_S);
+}
+
+int hang_watch_look(hang_watch *w, lcm_t *lcm, double now_s)
+{
+    const int fd = lcm_get_fileno(lcm);
+    struct timeval tv = { 0, 0 };
+    fd_set fds;
+    int k;
+    if (w->looked_s > 0.0 && now_s - w->looked_s > HANG_WATCH_AWAY_S)
+        for (k = 0; k < w->n; k++)
+            w->last_s[k] += now_s - w->looked_s;
+    w->looked_s = now_s;
+    FD_ZERO(&fds);
+    FD_SET(fd, &fds);
+    return select(fd + 1, &fds, NULL, NULL, &tv) == 0;
 }
 
 static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)

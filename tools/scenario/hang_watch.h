@@ -24,8 +24,14 @@
 #define HANG_WATCH_ERR_FULL (-1)   /* HANG_WATCH_MAX children watched already */
 #define HANG_WATCH_ERR_NAME (-2)   /* empty or too long a daemon name */
 
+/* The scenario itself away (descheduled on a loaded machine) for longer
+ * than this between two looks: the children's silence meanwhile is not
+ * theirs, and is forgiven. */
+#define HANG_WATCH_AWAY_S 0.5
+
 typedef struct hang_watch {
     double hang_s;                     /* 0: off */
+    double looked_s;                   /* wall time of the last hang_watch_look, 0 none */
     int    n;
     char   name[HANG_WATCH_MAX][48];   /* the daemon's name (its health's name) */
     double last_s[HANG_WATCH_MAX];     /* wall time of its last health, or of its start */
@@ -46,6 +52,10 @@ void hang_watch_down(hang_watch *w, int k);
 /* A health message (or another sign of life) from daemon `name` at wall
  * time now_s. */
 void hang_watch_heard(hang_watch *w, const char *name, double now_s);
+/* Before judging at now_s: 1 when every message that arrived on lcm has
+ * been read (a scenario behind its bus would take the unread for silence),
+ * and a gap since the last look longer than HANG_WATCH_AWAY_S forgiven. */
+int  hang_watch_look(hang_watch *w, lcm_t *lcm, double now_s);
 /* 1 when the child of slot k is watched and silent for hang_s at now_s. */
 int  hang_watch_hung(const hang_watch *w, int k, double now_s);
 /* Seconds the child of slot k has been silent at now_s. */
