@@ -247,6 +247,8 @@ static int faults_step(carry_state *r, const carry_cfg *c, carry_result *res, ca
     return 1;
 }
 
+/* A hung daemon k started again (log DIR/TAG_NAME_hungN.log) and said so;
+ * 0, or CARRY_SCEN_ERR_FAULT. */
 static int restart_hung(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d, int k)
 {
     char log[700];
