@@ -260,6 +260,13 @@ static void wait_for_answers(sim_app *app)
                 again_ns *= 2;
         }
         lcm_handle_timeout(app->w.lcm, 1);   /* the re-announce timer's resolution */
+        /* health goes on while waiting: a simulator held by a silent
+         * controller is alive, and its health says so (a scenario takes a
+         * daemon without health for hung) */
+        if (now - app->w.d.last_health_ns >= 1000000000LL) {
+            app->w.d.last_health_ns = now;
+            daemon_publish_health(&app->w.d);
+        }
         if (app->reset_pending)
             return;
     }

@@ -78,10 +78,26 @@ static daemon_view *find_daemon(const char *name)
     return &S.d[S.n_daemons++];
 }
 
+/* --heartbeat-dir DIR: DIR/PID's modification time is the wall time of
+ * that process's last health message (how tools/tandem-run tells a hung
+ * daemon from a live one: a stopped or spinning process sends none). */
+static void note_heartbeat(const char *dir, const tandem_health_t *h)
+{
+    char path[1200];
+    FILE *f;
+    if (!dir || h->pid <= 0) return;
+    snprintf(path, sizeof path, "%s/%ld", dir, (long)h->pid);
+    if ((f = fopen(path, "w")) != NULL) {
+        fprintf(f, "%s %lld\n", h->name, (long long)h->seq);
+        fclose(f);
+    }
+}
+
 static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *h, void *u)
 {
     daemon_view *d = find_daemon(h->name);
-    (void)rb; (void)ch; (void)u;
+    (void)rb; (void)ch;
+    note_heartbeat(u, h);
     if (!d) return;
     d->overruns = h->overruns;
     d->safe_hold = h->safe_hold;
@@ -284,6 +300,7 @@ typedef struct status_options {
     const char *url;
     double every_s, behind_ratio;
     int loops;
+    const char *heartbeat_dir;
 } status_options;
 
 static const option_entry status_table[] = {
@@ -294,6 +311,9 @@ static const option_entry status_table[] = {
     { .name = "loops", .type = OPTION_FLAG, OPTION_AT(status_options, loops),
       .help = "also a line per daemon: cycle time p99 and longest since it started, overruns, receive drains "
               "over budget (rx_deferred), messages received and refused" },
+    { .name = "heartbeat-dir", .type = OPTION_STRING, OPTION_AT(status_options, heartbeat_dir), .meta = "DIR",
+      .help = "on every health message write DIR/PID (its time is the daemon's last heartbeat; tandem-run "
+              "kills a daemon whose heartbeat stops)" },
     { .name = "help", .type = OPTION_HELP, .help = "this text" },
     { .name = "version", .type = OPTION_VERSION, .help = "program version" },
     { .name = NULL }
@@ -301,7 +321,7 @@ static const option_entry status_table[] = {
 
 int main(int argc, char **argv)
 {
-    status_options o = { NULL, 1.0, 0.9, 0 };
+    status_options o = { NULL, 1.0, 0.9, 0, NULL };
     const option_program prog = {
         .name = "tandem-status",
         .usage = "usage: tandem-status [--lcm-url URL] [--every S] [--behind R] [--loops] [--key-file PATH | --insecure]\n"
@@ -332,7 +352,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "tandem-status: cannot open LCM\n");
         return 1;
     }
-    auth_bus_subscribe(lcm, "HEALTH_.*", raw_on_health, NULL);
+    auth_bus_subscribe(lcm, "HEALTH_.*", raw_on_health, (void *)o.heartbeat_dir);
     auth_bus_subscribe(lcm, "SIM_STATUS", raw_on_sim, NULL);
     auth_bus_subscribe(lcm, "ARM_EVENTS", raw_on_event, NULL);
     auth_bus_subscribe(lcm, "PETRI_MARKING", raw_on_marking, NULL);

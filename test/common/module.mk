@@ -1,3 +1,6 @@
 # test/common: unit tests of the daemon shell (src/daemons/common); host only
 DUNIT_SRC := $(wildcard test/common/test_*.c)
 $(OBJ)/test/common/%.o: DIR_CPPFLAGS = $(APP_CPPFLAGS)
+# the scenario's hang watch is tested here too (it needs the bus, as these do)
+$(OBJ)/test/common/test_hang_watch.o: DIR_CPPFLAGS += -Itools/scenario
+$(BIN)/test_hang_watch: $(OBJ)/tools/scenario/hang_watch.o $(OBJ)/tools/scenario/scenario_util.o

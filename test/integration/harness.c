@@ -319,6 +319,47 @@ double harness_json_value(const char *text, const char *key)
     return strncmp(p, "null", 4) == 0 ? NAN : strtod(p, NULL);
 }
 
+/* argv (n bytes, NUL separated) has `opt` followed by `value`. */
+static int has_option(const char *argv, size_t n, const char *opt, const char *value)
+{
+    const char *p = argv, *end = argv + n;
+    while (p < end) {
+        const char *next = p + strlen(p) + 1;
+        if (!strcmp(p, opt) && next < end && !strcmp(next, value))
+            return 1;
+        p = next;
+    }
+    return 0;
+}
+
+pid_t harness_child_named(pid_t parent, const char *prog, const char *opt, const char *value)
+{
+    char path[96], list[1024], cmd[512];
+    const char *p = list;
+    FILE *f;
+    snprintf(path, sizeof path, "/proc/%d/task/%d/children", (int)parent, (int)parent);
+    if (harness_slurp(path, list, sizeof list) <= 0)
+        return -1;
+    for (;;) {
+        char *end, *base;
+        const long pid = strtol(p, &end, 10);
+        size_t n;
+        if (end == p)
+            return -1;
+        p = end;
+        snprintf(path, sizeof path, "/proc/%ld/cmdline", pid);
+        f = fopen(path, "rb");
+        if (!f)
+            continue;
+        n = fread(cmd, 1, sizeof cmd - 1, f);
+        fclose(f);
+        cmd[n] = '\0';              /* argv[0] ends at its NUL */
+        base = strrchr(cmd, '/');
+        if (!strcmp(base ? base + 1 : cmd, prog) && (!opt || has_option(cmd, n, opt, value)))
+            return (pid_t)pid;
+    }
+}
+
 int harness_run(const char *const argv[], double timeout_s)
 {
     proc_set ps;

@@ -77,6 +77,10 @@ void harness_ack(harness *h, const char *name, int64_t step, int32_t period_step
 int harness_slurp(const char *path, char *buf, int cap);
 /* The number under "key" in a summary.json text; NaN if absent or null. */
 double harness_json_value(const char *text, const char *key);
+/* The child of `parent` running program `prog` (its argv[0]'s last part,
+ * read from /proc) and, with opt not NULL, with the arguments opt value
+ * (e.g. "--id", "2"); -1 when there is none. */
+pid_t harness_child_named(pid_t parent, const char *prog, const char *opt, const char *value);
 /* Runs a program (argv[0] under the build's bin) to its end, at most
  * timeout_s; its exit status, or -1 if it had to be killed. */
 int harness_run(const char *const argv[], double timeout_s);

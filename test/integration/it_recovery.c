@@ -14,7 +14,13 @@
  *    reaches the goal. A rover's process killed and restarted resumes from
  *    its journal; the run is the same every time, and reaches the goal
  *    with loss too.
- * 4. Loss is visible: states sent to tandem-arm with a gap of 10 in their
+ * 4. Hung: a carry run whose supervisor is stopped (SIGSTOP: alive, but
+ *    silent) is found hung by the scenario once its health has stopped
+ *    for --hang-s, killed and restarted from its journal; the run still
+ *    delivers, none dropped (hung_restarts 1). A stopped rover process
+ *    in a formation run is restarted from its journal the same way, and
+ *    the team reaches the goal.
+ * 5. Loss is visible: states sent to tandem-arm with a gap of 10 in their
  *    sequence numbers show up in its HEALTH as 10 lost on ARM1_STATE.
  */
 #include <stdarg.h>
@@ -25,6 +31,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <time.h>
 #include <unistd.h>
 #include "harness.h"
 #include "auth_bus.h"
@@ -141,6 +149,80 @@ static void test_killed_rover_process_resumes(void **state)
     assert_int_equal(formation_fault(out1, "0.05", NULL, "kill:rover2:20:26"), 0);
 }
 
+static void test_hung_supervisor_restarted(void **state)
+{
+    char out[300], path[400], text[16384];
+    const char *argv[] = { "tandem-scenario", "carry", "--workpieces", "1", "--no-serial", "--hang-s", "3",
+                           "--out", out, NULL };
+    const struct timespec tick = { 0, 100000000L };
+    proc_set ps;
+    pid_t scen, sup = -1;
+    int st = -1, i;
+    (void)state;
+    snprintf(out, sizeof out, "%s/hung", dir);
+    proc_init(&ps, NULL);
+    scen = proc_spawn(&ps, argv, NULL, NULL, NULL);
+    assert_true(scen > 0);
+    /* into the run (a few seconds of wall time), then stop the supervisor */
+    for (i = 0; i < 40; i++)
+        nanosleep(&tick, NULL);
+    for (i = 0; i < 100 && (sup = harness_child_named(scen, "tandem-supervisor", NULL, NULL)) <= 0; i++)
+        nanosleep(&tick, NULL);
+    assert_true(sup > 0);
+    assert_int_equal(kill(sup, SIGSTOP), 0);
+    for (i = 0; i < 2400 && proc_poll(&ps, scen, &st) == 0; i++)
+        nanosleep(&tick, NULL);
+    if (st < 0)
+        proc_kill_all(&ps, 2.0);
+    assert_int_equal(st, 0);
+    snprintf(path, sizeof path, "%s/summary.json", out);
+    assert_true(harness_slurp(path, text, sizeof text) > 0);
+    printf("hung restarts %.0f kills %.0f restarts %.0f delivered %.0f\n", harness_json_value(text, "hung_restarts"),
+           harness_json_value(text, "kills"), harness_json_value(text, "restarts"),
+           harness_json_value(text, "workpieces_delivered"));
+    assert_true(harness_json_value(text, "hung_restarts") == 1.0);
+    assert_true(harness_json_value(text, "workpieces_delivered") == 1.0);
+    assert_true(harness_json_value(text, "workpieces_dropped") == 0.0);
+    /* the stopped process is gone (killed), not left behind */
+    assert_true(kill(sup, 0) != 0);
+}
+
+static void test_hung_rover_restarted(void **state)
+{
+    char out[300], path[400], text[16384];
+    const char *argv[] = { "tandem-scenario", "formation", "--formation", "line", "--world", "obstacles",
+                           "--robots", "3", "--seed", "2", "--hang-s", "2", "--out", out, NULL };
+    const struct timespec tick = { 0, 10000000L };
+    proc_set ps;
+    pid_t scen, rover = -1;
+    int st = -1, i;
+    (void)state;
+    snprintf(out, sizeof out, "%s/hung_rover", dir);
+    proc_init(&ps, NULL);
+    scen = proc_spawn(&ps, argv, NULL, NULL, NULL);
+    assert_true(scen > 0);
+    /* the whole run takes about a second: stop robot 2's process once
+     * its journal holds a few cycles (and before the goal) */
+    snprintf(path, sizeof path, "%s/rover_2.journal", out);
+    for (i = 0; i < 1000 && harness_slurp(path, text, sizeof text) < 4000; i++)
+        nanosleep(&tick, NULL);
+    rover = harness_child_named(scen, "tandem-rover", "--id", "2");
+    assert_true(rover > 0);
+    assert_int_equal(kill(rover, SIGSTOP), 0);
+    for (i = 0; i < 24000 && proc_poll(&ps, scen, &st) == 0; i++)
+        nanosleep(&tick, NULL);
+    if (st < 0)
+        proc_kill_all(&ps, 2.0);
+    assert_int_equal(st, 0);
+    snprintf(path, sizeof path, "%s/summary.json", out);
+    assert_true(harness_slurp(path, text, sizeof text) > 0);
+    printf("hung restarts %.0f kills %.0f restarts %.0f, at the goal %.1f s\n",
+           harness_json_value(text, "hung_restarts"), harness_json_value(text, "kills"),
+           harness_json_value(text, "restarts"), harness_json_value(text, "time_to_goal_s"));
+    assert_true(harness_json_value(text, "hung_restarts") == 1.0);
+    assert_true(kill(rover, 0) != 0);
+}
+
 typedef struct loss_seen {
     int64_t lost;
     double  rate;
@@ -203,6 +285,8 @@ int main(void)
         cmocka_unit_test(test_killed_arm_and_supervisor_recover),
         cmocka_unit_test(test_killed_rover_left_down),
         cmocka_unit_test(test_killed_rover_process_resumes),
+        cmocka_unit_test(test_hung_supervisor_restarted),
+        cmocka_unit_test(test_hung_rover_restarted),
         cmocka_unit_test(test_loss_visible_in_health),
     };
     snprintf(dir, sizeof dir, "/tmp/it_recovery_%d", (int)getpid());

@@ -77,7 +77,7 @@ static void block_arm(carry_state *r, carry_blocks *bl, block *b)
     const int a = b->arm - 1;
     if (r->t_s >= b->start_s && r->speed[a] > (b->need_t3 ? MOVING_T3_MPS : MOVING_MPS) &&
         (!b->need_t3 || carry_t3_running(r))) {
-        carry_send_control(r, TANDEM_SIM_CONTROL_T_INSERT_STICK, b->arm, b->link);
+        carry_stick_command(r, TANDEM_SIM_CONTROL_T_INSERT_STICK, b->arm, b->link);
         b->in_s = r->t_s;
         b->during_t3 = carry_t3_running(r);
     } else if (r->t_s > b->start_s + 300.0) {
@@ -129,7 +129,7 @@ static void block_in(carry_state *r, block *b)
         r->s_f[0] > 0.0 && r->s_f[1] > 0.0)
         block_t3_stops(r, b);
     if (r->t_s >= b->in_s + b->dur_s) {
-        carry_send_control(r, TANDEM_SIM_CONTROL_T_REMOVE_STICK, 0, 0);
+        carry_stick_command(r, TANDEM_SIM_CONTROL_T_REMOVE_STICK, 0, 0);
         b->out_s = r->t_s;
         memcpy(b->out_pos_m, r->arm[a].tool_position_m, sizeof b->out_pos_m);
         b->row_running_at_out = r->last_event[a] != TANDEM_ACTION_EVENT_T_DONE;

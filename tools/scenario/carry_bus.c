@@ -29,6 +29,8 @@ static void on_sim_ack(const lcm_recv_buf_t *rb, const char *ch, const tandem_cl
     for (k = 0; k < CARRY_DAEMONS; k++)
         if (!m->leaving && !strcmp(m->name, carry_daemon_lock_name[k]) && m->step > r->ack_step[k])
             r->ack_step[k] = m->step;
+    if (r->hw && !m->leaving)
+        hang_watch_heard(r->hw, m->name, scenario_wall_s());
 }
 
 static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_clock_t *m, void *u)
@@ -39,6 +41,8 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_
         r->pending = m->step;
         r->t_s = m->sim_time_s;
     }
+    if (r->hw)
+        hang_watch_heard(r->hw, carry_daemon_lock_name[0], scenario_wall_s());
 }
 
 /* Range violations (onsets per joint), joints on their range stops
@@ -145,6 +149,10 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim
 {
     carry_state *r = u;
     (void)rb; (void)ch;
+    if (m->step > r->status_step) {
+        r->status_step = m->step;
+        r->status_stick = m->stick_inserted != 0;
+    }
     r->delivered = m->workpieces_delivered;
     r->dropped = m->workpieces_dropped;
     r->spawned = m->workpieces_spawned;
@@ -168,6 +176,42 @@ void carry_send_control(carry_state *r, int cmd, int arm, int link)
     c.length_m = cmd == TANDEM_SIM_CONTROL_T_INSERT_STICK ? 0.3 : 0.0;
     c.radius_m = cmd == TANDEM_SIM_CONTROL_T_INSERT_STICK ? 0.02 : 0.0;
     AUTH_PUBLISH(tandem_sim_control_t, r->lcm, "SIM_CONTROL", &c);
+}
+
+void carry_stick_command(carry_state *r, int cmd, int arm, int link)
+{
+    r->stick_want = cmd == TANDEM_SIM_CONTROL_T_INSERT_STICK;
+    r->stick_arm = arm;
+    r->stick_link = link;
+    r->stick_sent_step = r->pending;
+    r->stick_tries = 0;
+    carry_send_control(r, cmd, arm, link);
+}
+
+/* A status from this many steps after the command has seen it (the
+ * simulator takes a command at the next step it runs). */
+#define STICK_ACK_STEPS 20
+/* A command the simulator refuses (no stick pose clears both arms) is not
+ * lost: given up after this many tries. */
+#define STICK_MAX_TRIES 20
+
+void carry_stick_confirm(carry_state *r)
+{
+    if (r->stick_want < 0 || r->status_step < r->stick_sent_step + STICK_ACK_STEPS ||
+        r->status_stick == r->stick_want)
+        return;
+    if (++r->stick_tries > STICK_MAX_TRIES) {
+        fprintf(stderr, "tandem-scenario: the simulator does not take the stick command (%s) after %d tries: "
+                        "given up\n", r->stick_want ? "in" : "out", STICK_MAX_TRIES);
+        r->stick_want = -1;
+        return;
+    }
+    r->stick_resends++;
+    fprintf(stderr, "tandem-scenario: the stick command (%s) was lost at %.3f s: sending it again\n",
+            r->stick_want ? "in" : "out", r->t_s);
+    r->stick_sent_step = r->pending;
+    carry_send_control(r, r->stick_want ? TANDEM_SIM_CONTROL_T_INSERT_STICK : TANDEM_SIM_CONTROL_T_REMOVE_STICK,
+                       r->stick_arm, r->stick_link);
 }
 
 void carry_ack(carry_state *r, int64_t step, int leaving)

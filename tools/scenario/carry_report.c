@@ -78,6 +78,7 @@ static void summary_run(json_out *j, const carry_cfg *c, const carry_result *res
     json_num(j, "max_sync_backtrack_m", res->max_sync_backtrack_m);
     json_int(j, "stalls", res->stalls);
     json_int(j, "faults", res->faults);
+    json_int(j, "stick_resends", res->stick_resends);
 }
 
 int carry_write_summary(const carry_cfg *c, long seed, const carry_result *res, const carry_result *ser,
@@ -110,6 +111,9 @@ int carry_write_summary(const carry_cfg *c, long seed, const carry_result *res, 
     json_num(&j, "drop_rate", c->drop.rate[0] ? atof(c->drop.rate) : 0.0);
     json_int(&j, "kills", res->kills);
     json_int(&j, "restarts", res->restarts);
+    json_num(&j, "hang_s", c->hang_s);
+    json_int(&j, "hung_restarts", res->hung_restarts);
+    json_int(&j, "leave_resends", res->leave_resends);
     json_int(&j, "rows_reissued", res->rows_reissued);
     json_int(&j, "dones_recovered", res->dones_recovered);
     json_str(&j, "exit_reason", res->exit_reason);

@@ -14,6 +14,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "carry_scen.h"
+#include "hang_watch.h"
 #include "shared_run.h"
 #include "arm_model.h"
 #include "daemon.h"
@@ -36,7 +37,16 @@ typedef struct carry_daemons {
     const char *const *argvs[CARRY_DAEMONS];
     pid_t pid[CARRY_DAEMONS];
     proc_set ps;
+    /* --hang-s: silent daemons; a hung one's restart (HUNG_*), the step
+     * announced when it was killed, and the leaves of killed daemons */
+    hang_watch hw;
+    int      hung_stage[CARRY_DAEMONS];
+    int64_t  hung_step[CARRY_DAEMONS];
+    scenario_leave leave[CARRY_DAEMONS];
 } carry_daemons;
+
+/* carry_daemons.hung_stage */
+enum { HUNG_NONE = 0, HUNG_KILLED = 1, HUNG_RESTARTING = 2 };
 
 static volatile sig_atomic_t interrupted;
 static void on_sigint(int s) { (void)s; interrupted = 1; }
@@ -163,6 +173,38 @@ static int daemons_start(carry_daemons *d, const carry_cfg *c)
             return CARRY_SCEN_ERR_RUN;
         }
     }
+    hang_watch_init(&d->hw, c->hang_s);
+    for (k = 0; k < CARRY_DAEMONS; k++)
+        hang_watch_add(&d->hw, carry_daemon_lock_name[k], scenario_wall_s());
+    return 0;
+}
+
+/* The latest step the simulator announced. */
+static int64_t clock_step(const carry_state *r)
+{
+    return r->pending > r->handled ? r->pending : r->handled;
+}
+
+/* SIGKILL to daemon k (a --fault, or hung) and its leave to the simulator
+ * (sent again until taken), so the simulator does not wait out its
+ * timeout; not watched for hanging while down. */
+static void kill_daemon(carry_state *r, carry_daemons *d, int k)
+{
+    proc_kill(&d->ps, d->pid[k]);
+    scenario_leave_send(&d->leave[k], r->lcm, carry_daemon_lock_name[k], clock_step(r), 1);
+    hang_watch_down(&d->hw, k);
+}
+
+/* Daemon k started again (log `log`): watched again from now, no more
+ * leaves; 0, or CARRY_SCEN_ERR_FAULT when it did not start. */
+static int restart_daemon(carry_state *r, carry_daemons *d, int k, const char *log)
+{
+    d->pid[k] = proc_spawn(&d->ps, d->argvs[k], d->url, log, d->err);
+    if (d->pid[k] < 0)
+        return CARRY_SCEN_ERR_FAULT;
+    scenario_leave_end(&d->leave[k]);
+    hang_watch_started(&d->hw, k, scenario_wall_s());
+    r->hold_since_s = scenario_wall_s();
     return 0;
 }
 
@@ -177,8 +219,7 @@ static int faults_step(carry_state *r, const carry_cfg *c, carry_result *res, ca
     for (i = 0; i < c->n_faults; i++) {
         scenario_fault *f = &c->faults[i];
         if (f->stage == SCENARIO_FAULT_ARMED && r->t_s >= f->kill_s) {
-            proc_kill(&d->ps, d->pid[f->slot]);
-            scenario_daemon_left(r->lcm, carry_daemon_lock_name[f->slot], r->pending, 1);
+            kill_daemon(r, d, f->slot);
             fprintf(stderr, "tandem-scenario: fault: %s killed at %.3f s\n", f->daemon, r->t_s);
             res->kills++;
             scenario_fault_killed(f);
@@ -186,11 +227,9 @@ static int faults_step(carry_state *r, const carry_cfg *c, carry_result *res, ca
         if (f->stage == SCENARIO_FAULT_KILLED && r->t_s >= f->restart_s && r->pending % 20 == 0) {
             char log[700];
             snprintf(log, sizeof log, "%s/%s_%s_restart%d.log", c->out, c->tag, f->daemon, i + 1);
-            d->pid[f->slot] = proc_spawn(&d->ps, d->argvs[f->slot], d->url, log, d->err);
-            if (d->pid[f->slot] < 0)
+            if (restart_daemon(r, d, f->slot, log) != 0)
                 return CARRY_SCEN_ERR_FAULT;
             fprintf(stderr, "tandem-scenario: fault: %s restarted at %.3f s\n", f->daemon, r->t_s);
-            r->hold_since_s = scenario_wall_s();
             f->stage = SCENARIO_FAULT_RESTARTING;
         }
         if (f->stage == SCENARIO_FAULT_RESTARTING) {
@@ -208,6 +247,94 @@ static int faults_step(carry_state *r, const carry_cfg *c, carry_result *res, ca
     return 1;
 }
 
+/* A hung daemon k started again (log DIR/TAG_NAME_hungN.log) and said so;
+ * 0, or CARRY_SCEN_ERR_FAULT. */
+static int restart_hung(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d, int k)
+{
+    char log[700];
+    snprintf(log, sizeof log, "%s/%s_%s_hung%d.log", c->out, c->tag, carry_daemon_fault_name[k],
+             res->hung_restarts + 1);
+    if (restart_daemon(r, d, k, log) != 0)
+        return CARRY_SCEN_ERR_FAULT;
+    fprintf(stderr, "tandem-scenario: hung: %s restarted at %.3f s\n", carry_daemon_lock_name[k], r->t_s);
+    return 0;
+}
+
+/* Hung before the first step: the simulator waits at step 0 for every
+ * daemon to join, so there is no step to hold; the new process joins as
+ * the first one would have. 0, or CARRY_SCEN_ERR_FAULT. */
+static int restart_before_start(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d, int k)
+{
+    if (restart_hung(r, c, res, d, k) != 0)
+        return CARRY_SCEN_ERR_FAULT;
+    res->restarts++;
+    res->hung_restarts++;
+    d->hung_stage[k] = HUNG_NONE;
+    return 0;
+}
+
+/* --hang-s, between steps: a daemon alive but silent on its health
+ * channel for hang_s of wall time is hung: killed (SIGKILL) and, but the
+ * simulator, restarted by hung_step. The world cannot be started again:
+ * a hung simulator ends the run. 0 go on, 1 stop, CARRY_SCEN_ERR_FAULT
+ * (a restart before the first step failed). */
+static int hung_watch(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d)
+{
+    const double now = scenario_wall_s();
+    int k;
+    if (!hang_watch_look(&d->hw, r->lcm, now))
+        return 0;                   /* messages still to read: not now */
+    for (k = 0; k < CARRY_DAEMONS; k++) {
+        if (d->hung_stage[k] != HUNG_NONE || !hang_watch_hung(&d->hw, k, now) ||
+            proc_poll(&d->ps, d->pid[k], NULL) != 0)
+            continue;               /* not hung, or exited (said as an exit) */
+        fprintf(stderr, "tandem-scenario: hung: %s alive but without health for %.1f s (--hang-s %g): killed at "
+                        "%.3f s%s\n", carry_daemon_lock_name[k], hang_watch_silent_s(&d->hw, k, now),
+                d->hw.hang_s, r->t_s, k == 0 ? "; the world cannot be restarted: run stopped" : ", restarting");
+        res->kills++;
+        kill_daemon(r, d, k);
+        if (k == 0) {
+            res->exit_reason = "simulator_hung";
+            return 1;
+        }
+        d->hung_stage[k] = HUNG_KILLED;
+        d->hung_step[k] = clock_step(r);
+        if (clock_step(r) <= 0 && restart_before_start(r, c, res, d, k) != 0)
+            return CARRY_SCEN_ERR_FAULT;
+    }
+    return 0;
+}
+
+/* A hung daemon's restart, at the step about to be answered, as a --fault
+ * restart: at the first step after the kill that every controller
+ * answers (a multiple of 20 ms), held until the new process has answered
+ * it. 1: go on, 0: hold the step, CARRY_SCEN_ERR_FAULT. */
+static int hung_step(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d)
+{
+    int k;
+    for (k = 1; k < CARRY_DAEMONS; k++) {
+        if (d->hung_stage[k] == HUNG_KILLED && r->pending > d->hung_step[k] && r->pending % 20 == 0) {
+            if (restart_hung(r, c, res, d, k) != 0)
+                return CARRY_SCEN_ERR_FAULT;
+            d->hung_stage[k] = HUNG_RESTARTING;
+        }
+        if (d->hung_stage[k] == HUNG_RESTARTING) {
+            if (r->ack_step[k] < r->pending) {
+                if (scenario_rejoin_overdue(r->hold_since_s)) {
+                    fprintf(stderr, "tandem-scenario: hung: %s did not rejoin within 60 s\n",
+                            carry_daemon_lock_name[k]);
+                    return CARRY_SCEN_ERR_FAULT;
+                }
+                return 0;
+            }
+            res->restarts++;
+            res->hung_restarts++;
+            d->hung_stage[k] = HUNG_NONE;
+        }
+    }
+    return 1;
+}
+
 /* ---- the lockstep loop ------------------------------------------------------------ */
 
 static void state_init(carry_state *r)
@@ -218,11 +345,13 @@ static void state_init(carry_state *r)
     r->last_event[0] = r->last_event[1] = TANDEM_ACTION_EVENT_T_DONE;   /* idle until a row starts */
     r->unblocked_step[0] = r->unblocked_step[1] = r->done_step[0] = r->done_step[1] = -1;
     r->t_deliv_first = r->t_deliv_last = r->end_at = -1.0;
+    r->status_step = -1;
+    r->stick_want = -1;
 }
 
 /* Between steps: dead daemons, the wall-time limit, the progress line, a
  * stall. 0 go on, 1 stop, CARRY_SCEN_ERR_RUN (a daemon exited). */
-static int run_watch(const carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d,
+static int run_watch(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d,
                      double wall0, double *next_progress)
 {
     int k, rc = 0;
@@ -236,6 +365,13 @@ static int run_watch(const carry_state *r, const carry_cfg *c, carry_result *res
     }
     if (rc != 0)
         return rc;
+    for (k = 0; k < CARRY_DAEMONS; k++)
+        res->leave_resends += scenario_leave_confirm(&d->leave[k], r->lcm, clock_step(r));
+    if ((k = hung_watch(r, c, res, d)) != 0) {
+        if (k < 0)
+            res->exit_reason = "restart_failed";
+        return k;
+    }
     if (scenario_wall_s() - wall0 > 3600.0) {
         fprintf(stderr, "tandem-scenario: wall-time limit reached\n");
         res->exit_reason = "wall_time_limit";
@@ -245,7 +381,8 @@ static int run_watch(const carry_state *r, const carry_cfg *c, carry_result *res
         progress_line(r, c, wall0);
     if (r->have_mk && r->mk.stalled) {
         fprintf(stderr, "tandem-scenario: the supervisor reports a stall at %.2f s (no transition completed "
-                        "for %.1f s with the stick out): run stopped\n", r->t_s, r->mk.stall_limit_s);
+                        "for %.1f s, stick %s): run stopped\n", r->t_s, r->mk.since_progress_s,
+                r->status_stick ? "in" : "out");
         res->exit_reason = "stalled";
         return 1;
     }
@@ -283,6 +420,8 @@ static int run_answer(carry_state *r, const carry_cfg *c, carry_result *res, car
         return 0;
     }
     k = faults_step(r, c, res, d);
+    if (k == 1)
+        k = hung_step(r, c, res, d);
     if (k < 0) {
         res->exit_reason = "restart_failed";
         return CARRY_SCEN_ERR_FAULT;
@@ -290,8 +429,10 @@ static int run_answer(carry_state *r, const carry_cfg *c, carry_result *res, car
     if (k == 0)
         return 0;                     /* hold the step: a restarted daemon joins */
     r->handled = r->pending;
-    if (!c->serial)
+    if (!c->serial) {
+        carry_stick_confirm(r);
         carry_block_step(r, c->blocks);
+    }
     record_step(r, c, r->pending);
     note_deliveries(r, c);
     carry_ack(r, r->pending, 0);
@@ -323,6 +464,7 @@ static void result_of(carry_result *res, const carry_state *r)
         res->rows_reissued = r->mk.rows_reissued;
         res->dones_recovered = r->mk.dones_recovered;
     }
+    res->stick_resends = r->stick_resends;
     res->joint_limit_violations = r->limit_violations;
     res->joint_stop_onsets = r->stop_onsets;
     res->min_range_margin_rad = r->min_range_margin_rad;
@@ -357,6 +499,8 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
         lcm_destroy(R.lcm);
         return CARRY_SCEN_ERR_RUN;
     }
+    hang_watch_subscribe(&d.hw, R.lcm);
+    R.hw = &d.hw;
     while (!interrupted && rc == 0) {
         lcm_handle_timeout(R.lcm, 200);
         rc = run_watch(&R, c, res, &d, wall0, &next_progress);
@@ -367,6 +511,7 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
         res->exit_reason = "interrupted";
     carry_ack(&R, R.pending >= 0 ? R.pending : 0, 1);
     carry_send_control(&R, TANDEM_SIM_CONTROL_T_QUIT, 0, 0);
+    hang_watch_stop(&d.hw, R.lcm);
     res->sim_s = R.t_s;
     proc_kill_all(&d.ps, 3.0);
     res->wall_s = scenario_wall_s() - wall0;

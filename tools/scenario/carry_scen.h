@@ -15,6 +15,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <lcm/lcm.h>
+#include "hang_watch.h"
 #include "scenario.h"
 #include "tandem_arm_state_t.h"
 #include "tandem_petri_marking_t.h"
@@ -35,8 +36,8 @@
  * malformed --block, which the option parser reports). */
 #define CARRY_SCEN_ERR_BLOCK (-1)  /* --block not A:L:S:D[:t3] inside its ranges */
 #define CARRY_SCEN_ERR_RUN (-1)    /* no LCM, a daemon did not start or exited early */
-#define CARRY_SCEN_ERR_FAULT (-1)  /* --fault: a daemon not restarted, or not back
-                                      within 60 s */
+#define CARRY_SCEN_ERR_FAULT (-1)  /* --fault or a hung daemon: not restarted, or
+                                      not back within 60 s */
 
 typedef struct block {
     int    arm, link, need_t3;
@@ -69,6 +70,7 @@ typedef struct carry_cfg {
     const char *url;           /* --lcm-url, or NULL: a private udpm port */
     const char *block_detect;  /* tandem-arm --block-detect on|off */
     const char *stall_s;       /* tandem-supervisor --stall-s */
+    double hang_s;             /* --hang-s: a daemon silent this long (wall) is hung; 0 off */
     uint64_t seed;
     scenario_drop drop;        /* --drop-rate, to every daemon */
     scenario_fault *faults;    /* --fault (the main run only) */
@@ -90,6 +92,9 @@ typedef struct carry_result {
     double max_sync_backtrack_m;
     int    stalls, faults;
     int    kills, restarts, rows_reissued, dones_recovered;
+    int    stick_resends;        /* stick commands sent again (lost on the way) */
+    int    hung_restarts;        /* daemons found hung, killed and restarted */
+    int    leave_resends;        /* a killed daemon's leave sent again (lost on the way) */
     const char *exit_reason;
 } carry_result;
 
@@ -117,6 +122,14 @@ typedef struct carry_state {
     int8_t   mk_marking[16], mk_running[16];
     int      have_mk;
     int      delivered, dropped, spawned;
+    /* the stick as the simulator last said (SIM_STATUS) and as wanted: a
+     * command is sent again until the simulator's state shows it */
+    int64_t  status_step;        /* step of the last SIM_STATUS, -1 none */
+    int      status_stick;       /* its stick_inserted */
+    int      stick_want;         /* -1 nothing asked, 0 out, 1 in */
+    int      stick_arm, stick_link;
+    int64_t  stick_sent_step;
+    int      stick_resends, stick_tries;   /* in the run; for the command in hand */
     int64_t  ack_seq;
     int      running_prev[NT];
     double   run_start[NT];
@@ -129,6 +142,8 @@ typedef struct carry_state {
     long     limit_violations, stop_onsets;
     double   max_speed_ratio, max_force_N, max_force_10ms_N;
     double   min_range_margin_rad; /* least distance of a joint from a range end */
+    /* --hang-s: the daemons' signs of life (their answers, the clock) go here */
+    hang_watch *hw;
     /* --fault: the last step each daemon answered (SIM_ACK) */
     int64_t  ack_step[CARRY_DAEMONS];
     double   hold_since_s;     /* wall time a restart began holding the step */
@@ -145,6 +160,12 @@ extern const char *const carry_daemon_lock_name[CARRY_DAEMONS];
 /* Subscribes every handler of the run's state r on r->lcm. */
 void carry_subscribe(carry_state *r);
 void carry_send_control(carry_state *r, int cmd, int arm, int link);
+/* The stick in (INSERT_STICK, arm, link) or out (REMOVE_STICK): sent now
+ * and again (carry_stick_confirm) until SIM_STATUS shows it. */
+void carry_stick_command(carry_state *r, int cmd, int arm, int link);
+/* At every step: a stick command whose effect a SIM_STATUS later than it
+ * does not show was lost: sent again. */
+void carry_stick_confirm(carry_state *r);
 void carry_ack(carry_state *r, int64_t step, int leaving);
 /* The synchronised t3 is running (the supervisor's last marking). */
 int  carry_t3_running(const carry_state *r);

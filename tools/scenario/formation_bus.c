@@ -39,6 +39,7 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_
     fm->sim_time = m->sim_time_s;
     fm->have_clock = 1;
     fm->last_clock_ns = fm_mono_ns();
+    hang_watch_heard(&fm->hw, "tandem-sim", scenario_wall_s());   /* a sign of life (--hang-s) */
 }
 
 /* When the last clock seen is a step everyone answers and nothing has
@@ -128,6 +129,7 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const tandem_clock_
     long k;
     fm_state *fm = u;
     (void)rb; (void)ch;
+    if (!m->leaving) hang_watch_heard(&fm->hw, m->name, scenario_wall_s());   /* a sign of life (--hang-s) */
     if (m->leaving || strncmp(m->name, "tandem-rover-", 13) != 0) return;
     k = strtol(m->name + 13, &e, 10);
     if (*e || k < 1 || k > FM_MAX) return;

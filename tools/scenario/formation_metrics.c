@@ -130,6 +130,8 @@ void fm_on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_tr
     double sq = 0, mx = 0, t = m->sim_time_s;
     team_pose tp;
     (void)rb; (void)ch;
+    for (i = 0; i < m->n && fm->killed; i++)       /* the --kill taken (fm_kill_robot) */
+        if (m->robot[i] == fm->kill_id && !m->alive[i]) fm->kill_seen = 1;
     if (m->n != fm->robots || m->step <= fm->last_truth_step || !fm_states_for_truth(fm, m)) return;
     fm->last_truth_step = m->step;
     n = alive_ids(m, ids);

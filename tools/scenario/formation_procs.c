@@ -65,10 +65,13 @@ void fm_stop_children(fm_state *fm)
     auth_child_keys_remove(&fm->keys);
 }
 
-/* A robot's journal: only for a robot a --fault restarts. */
+/* A robot's journal: for a robot a --fault restarts, and for every robot
+ * of its own process while --hang-s may restart any of them. */
 static int journaled(const fm_state *fm, int k)
 {
     int i;
+    if (fm->hang_s > 0.0 && !fm->single)
+        return 1;
     for (i = 0; i < fm->n_faults; i++)
         if (fm->faults[i].slot == k) return 1;
     return 0;
@@ -126,6 +129,37 @@ int fm_start_children(fm_state *fm)
     return 0;
 }
 
+/* Robot k's process started again (from its journal): watched again
+ * from now, no more leaves; the step is held from now. 0, or
+ * FM_ERR_FAULT when it did not start. */
+static int restart_rover(fm_state *fm, int k)
+{
+    fm->rover_pid[k] = spawn_rover(fm, k);
+    if (fm->rover_pid[k] <= 0) return FM_ERR_FAULT;
+    scenario_leave_end(&fm->leave[k]);
+    hang_watch_started(&fm->hw, k, scenario_wall_s());
+    fm->hold_since_s = scenario_wall_s();
+    return 0;
+}
+
+/* A restarted robot k is back when it has answered the held step and its
+ * state of that step is in (the simulator waits for no command from a
+ * robot silent this long, so the step must not move on before it):
+ * 1 back (counted), 0 hold the step, FM_ERR_FAULT after 60 s. */
+static int rejoined(fm_state *fm, int k, const char *why)
+{
+    if (fm->rover_ack[k] < fm->clock_step || !fm_ring_get(fm, k - 1, fm->clock_step)) {
+        if (scenario_rejoin_overdue(fm->hold_since_s)) {
+            fprintf(stderr, "formation: %s: rover %d did not rejoin within 60 s\n", why, k);
+            return FM_ERR_FAULT;
+        }
+        return 0;
+    }
+    fm->up_at[k] = fm->clock_step;
+    fm->restarts++;
+    return 1;
+}
+
 /* --fault kill:roverK:T[:R], at a step due to be answered (every robot's
  * cycle runs at these steps). Kill once the robot's process has answered
  * the step (so its journal holds this cycle: the same state whatever the
@@ -151,54 +185,182 @@ int fm_faults_step(fm_state *fm)
             fm->rover_ack[k] = -1;
             fm->down_after[k] = fm->clock_step;
             fm->up_at[k] = INT64_MAX;
-            scenario_daemon_left(fm->lcm, name, fm->clock_step, FM_PERIOD);
+            scenario_leave_send(&fm->leave[k], fm->lcm, name, fm->clock_step, FM_PERIOD);
+            hang_watch_down(&fm->hw, k);
             fprintf(stderr, "formation: fault: rover %d's process killed at t = %.2f s\n", k, fm->sim_time);
             fm->kills++;
             scenario_fault_killed(f);
         }
         if (f->stage == SCENARIO_FAULT_KILLED && fm->sim_time >= f->restart_s) {
-            fm->rover_pid[k] = spawn_rover(fm, k);
-            if (fm->rover_pid[k] <= 0) return FM_ERR_FAULT;
+            if (restart_rover(fm, k) != 0) return FM_ERR_FAULT;
             fprintf(stderr, "formation: fault: rover %d's process restarted at t = %.2f s\n", k, fm->sim_time);
-            fm->hold_since_s = scenario_wall_s();
             f->stage = SCENARIO_FAULT_RESTARTING;
         }
         if (f->stage == SCENARIO_FAULT_RESTARTING) {
             /* its ack and its state of this step (published after its
              * command): the simulator waits for no command from a robot
              * silent this long, so the step must not move on before it */
-            if (fm->rover_ack[k] < fm->clock_step || !fm_ring_get(fm, k - 1, fm->clock_step)) {
-                if (scenario_rejoin_overdue(fm->hold_since_s)) {
-                    fprintf(stderr, "formation: fault: rover %d did not rejoin within 60 s\n", k);
-                    return FM_ERR_FAULT;
-                }
-                return 0;
-            }
-            fm->up_at[k] = fm->clock_step;
-            fm->restarts++;
+            const int rc = rejoined(fm, k, "fault");
+            if (rc != 1) return rc;
             f->stage = SCENARIO_FAULT_DONE;
         }
     }
     return 1;
 }
 
-void fm_kill_robot(fm_state *fm)
+static void send_kill_robot(fm_state *fm)
 {
     tandem_sim_control_t c;
-    if (!(fm->kill_id > 0 && !fm->killed && fm->sim_time >= fm->kill_t_s))
-        return;
     memset(&c, 0, sizeof c);
     c.command = TANDEM_SIM_CONTROL_T_KILL_ROBOT;
     c.target = fm->kill_id;
     AUTH_PUBLISH(tandem_sim_control_t, fm->lcm, "SIM_CONTROL", &c);
+    fm->kill_sent_step = fm->clock_step;
+}
+
+/* A truth this many steps after KILL_ROBOT that still shows the robot
+ * alive: the command was lost (the simulator takes it at its next step). */
+#define KILL_ACK_STEPS (2 * FM_PERIOD)
+
+void fm_kill_robot(fm_state *fm)
+{
+    if (fm->killed && !fm->kill_seen && fm->last_truth_step >= fm->kill_sent_step + KILL_ACK_STEPS) {
+        fm->kill_resends++;
+        fprintf(stderr, "formation: the kill of robot %d was lost at t = %.2f s: sending it again\n", fm->kill_id,
+                fm->sim_time);
+        send_kill_robot(fm);
+    }
+    if (!(fm->kill_id > 0 && !fm->killed && fm->sim_time >= fm->kill_t_s))
+        return;
+    send_kill_robot(fm);
     if (!fm->single && fm->rover_pid[fm->kill_id] > 0) {
         /* the process dies without a word; tell the simulator it
          * left rather than make it wait for its lockstep timeout */
         char name[64];
         kill(fm->rover_pid[fm->kill_id], SIGKILL);
         snprintf(name, sizeof name, "tandem-rover-%d", fm->kill_id);
-        scenario_daemon_left(fm->lcm, name, fm->clock_step, FM_PERIOD);
+        scenario_leave_send(&fm->leave[fm->kill_id], fm->lcm, name, fm->clock_step, FM_PERIOD);
+        hang_watch_down(&fm->hw, fm->kill_id);
     }
     fm->killed = 1;
     fprintf(stderr, "formation: killed robot %d at t = %.2f s\n", fm->kill_id, fm->sim_time);
+}
+
+/* ---- --hang-s ------------------------------------------------------------------ */
+
+void fm_hang_start(fm_state *fm)
+{
+    const double now = scenario_wall_s();
+    char name[64];
+    int k;
+    hang_watch_init(&fm->hw, fm->hang_s);
+    hang_watch_add(&fm->hw, "tandem-sim", now);
+    if (fm->single) {
+        snprintf(name, sizeof name, "tandem-rover-1-%d", fm->robots);
+        hang_watch_add(&fm->hw, name, now);
+    } else {
+        for (k = 1; k <= fm->robots; k++) {
+            snprintf(name, sizeof name, "tandem-rover-%d", k);
+            hang_watch_add(&fm->hw, name, now);
+        }
+    }
+    hang_watch_subscribe(&fm->hw, fm->lcm);
+}
+
+/* 1 when pid is a child still running (a stopped one runs); a child
+ * that exited is reaped and its entries cleared. */
+static int child_alive(fm_state *fm, pid_t pid)
+{
+    int j;
+    if (pid <= 0) return 0;
+    if (waitpid(pid, NULL, WNOHANG) == 0) return 1;
+    for (j = 0; j < fm->n_pid; j++)
+        if (fm->pid[j] == pid) fm->pid[j] = -1;
+    return 0;
+}
+
+/* SIGKILL to a hung child (reaped: its pid may be reused). */
+static void kill_child(fm_state *fm, pid_t pid)
+{
+    int j;
+    kill(pid, SIGKILL);
+    waitpid(pid, NULL, 0);
+    for (j = 0; j < fm->n_pid; j++)
+        if (fm->pid[j] == pid) fm->pid[j] = -1;
+}
+
+int fm_hung_watch(fm_state *fm)
+{
+    const double now = scenario_wall_s();
+    int k;
+    for (k = 0; k < fm->hw.n; k++)
+        fm->leave_resends += scenario_leave_confirm(&fm->leave[k], fm->lcm, fm->clock_step);
+    if (!hang_watch_look(&fm->hw, fm->lcm, now))
+        return 0;                   /* messages still to read: not now */
+    for (k = 0; k < fm->hw.n; k++) {
+        const pid_t pid = k == 0 ? fm->pid[0] : fm->rover_pid[k];
+        const int restartable = k > 0 && !fm->single;
+        char name[64];
+        if (fm->hung_stage[k] != FM_HUNG_NONE || !hang_watch_hung(&fm->hw, k, now) || !child_alive(fm, pid))
+            continue;
+        snprintf(name, sizeof name, "%s", fm->hw.name[k]);
+        fprintf(stderr, "formation: hung: %s alive but without health for %.1f s (--hang-s %g): killed at t = %.2f "
+                        "s%s\n", name, hang_watch_silent_s(&fm->hw, k, now), fm->hw.hang_s, fm->sim_time,
+                restartable ? ", restarting" : "; it cannot be restarted: run stopped");
+        fm->kills++;
+        kill_child(fm, pid);
+        hang_watch_down(&fm->hw, k);
+        if (!restartable) {
+            fm->hung_stopped = 1;
+            return FM_ERR_HUNG;
+        }
+        fm->rover_pid[k] = -1;
+        fm->down_after[k] = fm->rover_ack[k];
+        fm->up_at[k] = INT64_MAX;
+        fm->rover_ack[k] = -1;
+        scenario_leave_send(&fm->leave[k], fm->lcm, name, fm->clock_step, FM_PERIOD);
+        fm->hung_stage[k] = FM_HUNG_KILLED;
+        fm->hung_step[k] = fm->clock_step;
+        if (fm->clock_step <= 0) {
+            /* before the first step the simulator waits for every process
+             * to join: no step to hold, the new one joins as the first would */
+            if (restart_rover(fm, k) != 0) return FM_ERR_FAULT;
+            fprintf(stderr, "formation: hung: rover %d's process restarted at t = %.2f s\n", k, fm->sim_time);
+            fm->down_after[k] = fm->up_at[k] = INT64_MAX;
+            fm->restarts++;
+            fm->hung_restarts++;
+            fm->hung_stage[k] = FM_HUNG_NONE;
+        }
+    }
+    return 0;
+}
+
+int fm_hung_step(fm_state *fm)
+{
+    int k;
+    for (k = 1; k < fm->hw.n && !fm->single; k++) {
+        if (fm->hung_stage[k] == FM_HUNG_KILLED && fm->clock_step > fm->hung_step[k]) {
+            if (restart_rover(fm, k) != 0) return FM_ERR_FAULT;
+            fprintf(stderr, "formation: hung: rover %d's process restarted at t = %.2f s\n", k, fm->sim_time);
+            fm->hung_stage[k] = FM_HUNG_RESTARTING;
+        }
+        if (fm->hung_stage[k] == FM_HUNG_RESTARTING) {
+            const int rc = rejoined(fm, k, "hung");
+            if (rc != 1) return rc;
+            fm->hung_restarts++;
+            fm->hung_stage[k] = FM_HUNG_NONE;
+        }
+    }
+    return 1;
+}
+
+const char *fm_strerror(int err)
+{
+    switch (err) {
+    case 0: return "ok";
+    case FM_ERR_START: return "FM_ERR_START: the simulator or a rover process did not start";
+    case FM_ERR_FAULT: return "FM_ERR_FAULT: a rover not restarted, or not back within 60 s";
+    case FM_ERR_HUNG: return "FM_ERR_HUNG: the simulator or the one process of all rovers hung";
+    default: return "unknown formation error";
+    }
 }

@@ -24,6 +24,7 @@ int fm_criteria(const fm_state *fm, char *buf, size_t cap)
         { fm->world == ROVER_WORLD_DEADZONE && fm->escapes < 1, "dead_zone_escapes" },
         { fm->lost_lockstep, "lockstep" },
         { fm->restart_failed, "restarts" },
+        { fm->hung_stopped, "hung" },
     };
     return scenario_failed_criteria(k, (int)(sizeof k / sizeof k[0]), buf, cap);
 }
@@ -56,6 +57,10 @@ void fm_write_summary(const fm_state *fm, double wall_s)
     json_int(&j, "collisions", fm->collisions);
     json_int(&j, "kills", fm->kills);
     json_int(&j, "restarts", fm->restarts);
+    json_num(&j, "hang_s", fm->hang_s);
+    json_int(&j, "hung_restarts", fm->hung_restarts);
+    json_int(&j, "leave_resends", fm->leave_resends);
+    json_int(&j, "kill_resends", fm->kill_resends);
     json_int(&j, "formation_changes", fm->formation_changes);
     json_int(&j, "dead_zone_escapes", fm->escapes);
     json_num(&j, "path_length_m", n ? path / n : NAN);
@@ -64,7 +69,7 @@ void fm_write_summary(const fm_state *fm, double wall_s)
     json_num(&j, "loc_err_max_m", fm->loc_n ? fm->loc_max : NAN);
     json_num(&j, "sim_time_s", fm->sim_time);
     json_num(&j, "wall_time_s", wall_s);
-    json_str(&j, "exit_reason", fm->restart_failed ? "restart_failed" : fm->lost_lockstep ? "lockstep_lost" :
+    json_str(&j, "exit_reason", fm->hung_stopped ? "hung" : fm->restart_failed ? "restart_failed" : fm->lost_lockstep ? "lockstep_lost" :
                                 fm->reached ? "completed" : "goal_not_reached");
     json_str(&j, "failed_criteria", fm->failed);
     json_close(&j);

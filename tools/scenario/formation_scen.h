@@ -17,8 +17,10 @@
 #include <sys/types.h>
 #include <lcm/lcm.h>
 #include "auth_child.h"
+#include "hang_watch.h"
 #include "rover_world.h"
 #include "scenario.h"
+#include "shared_run.h"
 #include "tandem_rover_state_t.h"
 #include "tandem_rover_truth_t.h"
 
@@ -30,7 +32,11 @@
 
 /* Failures of the children (0 = ok). */
 #define FM_ERR_START (-1)       /* the simulator or a rover process did not start */
-#define FM_ERR_FAULT (-1)       /* --fault: a rover not restarted, or not back within 60 s */
+#define FM_ERR_FAULT (-2)       /* --fault or hung: a rover not restarted, or not back within 60 s */
+#define FM_ERR_HUNG (-3)        /* the simulator, or the one process of all rovers, hung: killed */
+
+/* fm_state.hung_stage */
+enum { FM_HUNG_NONE = 0, FM_HUNG_KILLED = 1, FM_HUNG_RESTARTING = 2 };
 
 typedef struct fm_state {
     /* options */
@@ -98,6 +104,21 @@ typedef struct fm_state {
     int    n_failed;
     int    lost_lockstep;        /* the simulator dropped us: not the seed's run */
     int    restart_failed;       /* a --fault restart did not rejoin within 60 s */
+    /* --hang-s: children alive but silent on their health channels. Slot
+     * 0 the simulator, slot k robot k's process (slot 1 the one process
+     * of all with --procs single); a hung rover is restarted as a --fault
+     * restart (HUNG_* stages, the step announced at its kill) */
+    double hang_s;
+    hang_watch hw;
+    int    hung_stage[FM_MAX + 1];
+    int64_t hung_step[FM_MAX + 1];
+    int    hung_restarts;
+    int    hung_stopped;         /* a child that cannot be restarted hung: run stopped */
+    /* the kills' leaves and KILL_ROBOT, sent again until taken */
+    scenario_leave leave[FM_MAX + 1];
+    int    leave_resends, kill_resends;
+    int    kill_seen;            /* ROVER_TRUTH shows the --kill robot dead */
+    int64_t kill_sent_step;      /* the step of the last KILL_ROBOT sent */
 } fm_state;
 
 /* scenario_formation.c: the names of the --formation and --blend choices */
@@ -112,8 +133,18 @@ void fm_stop_children(fm_state *fm);
 /* --fault at a step due to be answered: 1 go on, 0 hold the step,
  * FM_ERR_FAULT. */
 int  fm_faults_step(fm_state *fm);
-/* --kill K:T once T is reached: the robot's body and its process. */
+/* --kill K:T once T is reached: the robot's body and its process; the
+ * command sent again every cycle until ROVER_TRUTH shows the robot dead,
+ * the process's leave until the simulator takes it. */
 void fm_kill_robot(fm_state *fm);
+/* --hang-s, between steps: watches the children (hang_watch) from now;
+ * hung ones are killed. 0 go on, FM_ERR_HUNG: the run is to stop. */
+void fm_hang_start(fm_state *fm);
+int  fm_hung_watch(fm_state *fm);
+/* A hung rover's restart at a step due to be answered: 1 go on, 0 hold
+ * the step, FM_ERR_FAULT. */
+int  fm_hung_step(fm_state *fm);
+const char *fm_strerror(int err);
 
 /* formation_bus.c */
 /* Subscribes the handlers (fm as their user pointer), deep queues but the clock's. */

@@ -1,7 +1,7 @@
 # tools/scenario: tandem-scenario. Every scenario_<name>.c but main and
 # util defines scenario_<name>; the list is compiled into scenario_main.c.
 # The other .c files here (carry_*.c, formation_*.c, tdsd_*.c,
-# shared_run.c, run_key.c) are linked in.
+# shared_run.c, hang_watch.c, run_key.c) are linked in.
 SCEN_SRC   := $(wildcard tools/scenario/*.c)
 SCEN_NAMES := $(filter-out main util,$(patsubst tools/scenario/scenario_%.c,%,$(filter tools/scenario/scenario_%.c,$(SCEN_SRC))))
 SCEN_LIST  := $(foreach n,$(SCEN_NAMES),&scenario_$(n),)

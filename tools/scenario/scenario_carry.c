@@ -23,6 +23,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "carry_scen.h"
+#include "hang_watch.h"
 #include "shared_run.h"
 #include "options.h"
 
@@ -96,6 +97,9 @@ static const option_entry carry_table[] = {
     { .name = "fault", .type = OPTION_CALL, OPTION_AT(carry_options, cfg), .call = option_fault, .repeatable = 1,
       .meta = "kill:D:T[:R]", .help = "kill daemon D (arm1, arm2, supervisor) at T s of simulated time, "
                                       "restart it at R s" },
+    { .name = "hang-s", .type = OPTION_DOUBLE, OPTION_AT(carry_options, cfg.hang_s), .min = 0.0, .max = 3600.0,
+      .meta = "S", .help = "a daemon alive but without health messages for S s of wall time is hung: killed "
+                           "(SIGKILL) and restarted (the simulator: the run stops); 0: not watched", .def = "5" },
     { .name = "drop-rate", .type = OPTION_STRING, OPTION_AT(carry_options, drop_arg), .meta = "P",
       .help = "every daemon drops received messages with probability P (0 <= P < 1)", .def = "0" },
     { .name = "lcm-url", .type = OPTION_STRING, OPTION_AT(carry_options, cfg.url), .min = 1, .max = 95,
@@ -112,7 +116,7 @@ static const option_program carry_program = {
              "         [--block ARM:LINK:START_S:DURATION_S[:t3]]... [--random-blocks K]\n"
              "         [--seed S] [--no-serial] [--serial-workpieces M]\n"
              "         [--block-detect on|off] [--stall-s S] [--fault kill:D:T[:R]]...\n"
-             "         [--drop-rate P] [--lcm-url URL] --out DIR\n"
+             "         [--hang-s S] [--drop-rate P] [--lcm-url URL] --out DIR\n"
              "Two-arm carry in lockstep with the stick pushed into the arms (docs/method/carry.md §8).\n\n",
     .epilog = "Exit status: 0 when the run met every success criterion (all delivered,\n"
               "none dropped, no joint-limit violation, speeds within the motor limits,\n"
@@ -135,6 +139,7 @@ static int parse(carry_options *o, int argc, char **argv)
     o->serial_n = -1;
     o->seed = 1;
     o->stall_s = 30.0;
+    o->cfg.hang_s = HANG_WATCH_DEFAULT_S;
     o->drop_arg = "0";
     prog.groups[0].base = o;
     rc = options_parse(&prog, argc, argv, 1);

@@ -99,6 +99,10 @@ static const option_entry formation_table[] = {
       .meta = "kill:roverK:T[:R]", .help = "kill robot K's process (SIGKILL; its body stands) at T s of "
       "simulated time and, with R, start it again at R s: it resumes from its journal. Deterministic (the "
       "lockstep is held while it rejoins)" },
+    { .name = "hang-s", .type = OPTION_DOUBLE, OPTION_AT(fm_state, hang_s), .min = 0.0, .max = 3600.0,
+      .meta = "S", .help = "a child alive but without health messages for S s of wall time is hung: killed "
+      "(SIGKILL); a rover's process is restarted from its journal (every robot keeps one), the simulator or "
+      "the one process of --procs single stops the run; 0: not watched", .def = "5" },
     { .name = "drop-rate", .type = OPTION_STRING, OPTION_AT(fm_state, drop_arg), .meta = "P",
       .help = "fault injection: every daemon drops received messages with probability P (0 <= P < 1, "
       "deterministic for the seed); the run is the same as without loss, only slower", .def = "0" },
@@ -138,6 +142,7 @@ static int parse(fm_state *fm, int argc, char **argv)
     fm->robots = 3;
     fm->seed = 1;
     fm->max_time_s = 150.0;
+    fm->hang_s = HANG_WATCH_DEFAULT_S;
     fm->kill_id = -1;
     fm->single = -1;
     fm->batch = -1;
@@ -300,14 +305,21 @@ static void lockstep_loop(fm_state *fm, double wall0)
 {
     double next_progress = wall0 + 5.0;
     for (;;) {
-        int fault_rc = 1, due;
+        int fault_rc = 1, due, hung_rc;
         if (lcm_handle_timeout(fm->lcm, 50) < 0) break;
+        hung_rc = fm_hung_watch(fm);
+        if (hung_rc < 0) {
+            if (hung_rc == FM_ERR_FAULT) fm->restart_failed = 1;
+            break;
+        }
         if (fm->clock_repeat) {
             fm->clock_repeat = 0;          /* our ack was lost: answer again */
             if (fm->answered >= 0) fm_ack(fm, fm->answered);
         }
         due = cycle_due(fm);
-        if (due && (fault_rc = fm_faults_step(fm)) < 0) {
+        if (due && (fault_rc = fm_faults_step(fm)) == 1)
+            fault_rc = fm_hung_step(fm);
+        if (due && fault_rc < 0) {
             fm->restart_failed = 1;
             break;
         }
@@ -373,9 +385,11 @@ static int run(int argc, char **argv)
             fm_formation_name(fm->formation), rover_world_name(fm->world), fm_blend_name(fm->blend), fm->seed,
             fm->url);
     fm->last_clock_ns = fm_mono_ns();
+    fm_hang_start(fm);
     register_lockstep(fm, wall0);
     lockstep_loop(fm, wall0);
     fm_stop_children(fm);
+    hang_watch_stop(&fm->hw, fm->lcm);
     close_outputs(fm);
     fm->n_failed = fm_criteria(fm, fm->failed, sizeof fm->failed);
     fm_write_summary(fm, scenario_wall_s() - wall0);

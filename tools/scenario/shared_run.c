@@ -13,6 +13,38 @@ void scenario_daemon_left(lcm_t *lcm, const char *name, int64_t step, int32_t pe
     lockstep_ack(lcm, name, 0, step, period_steps, 1);
 }
 
+void scenario_leave_send(scenario_leave *l, lcm_t *lcm, const char *name, int64_t step, int32_t period_steps)
+{
+    snprintf(l->name, sizeof l->name, "%s", name);
+    l->step = step;
+    l->period_steps = period_steps;
+    l->sent_s = scenario_wall_s();
+    l->on = 1;
+    scenario_daemon_left(lcm, name, step, period_steps);
+}
+
+int scenario_leave_confirm(scenario_leave *l, lcm_t *lcm, int64_t clock_step)
+{
+    if (!l->on)
+        return 0;
+    if (clock_step > l->step) {
+        l->on = 0;
+        return 0;
+    }
+    if (scenario_wall_s() - l->sent_s < SCENARIO_LEAVE_AGAIN_S)
+        return 0;
+    l->sent_s = scenario_wall_s();
+    fprintf(stderr, "tandem-scenario: %s's leave was lost (the simulator still waits at step %lld): sending it "
+                    "again\n", l->name, (long long)clock_step);
+    scenario_daemon_left(lcm, l->name, l->step, l->period_steps);
+    return 1;
+}
+
+void scenario_leave_end(scenario_leave *l)
+{
+    l->on = 0;
+}
+
 void scenario_fault_killed(scenario_fault *f)
 {
     f->stage = f->restart_s >= 0.0 ? SCENARIO_FAULT_KILLED : SCENARIO_FAULT_DONE;

@@ -31,6 +31,28 @@ void scenario_ack(lcm_t *lcm, int64_t *seq, int64_t step, int32_t period_steps, 
 /* Tells the simulator that the lockstep participant `name` (a daemon just
  * killed without a goodbye) has left, so it does not wait out its timeout. */
 void scenario_daemon_left(lcm_t *lcm, const char *name, int64_t step, int32_t period_steps);
+/* A killed daemon's leave, sent again until the simulator has taken it
+ * (--drop-rate drops the simulator's received messages too, and a lost
+ * leave would hold the lockstep for the participant timeout): taken once
+ * the simulator announces a step after the one of the kill, which it
+ * does only without the daemon. Sent again at most every
+ * SCENARIO_LEAVE_AGAIN_S of wall time; the restart ends the re-sending
+ * (the new process's answers make it a participant again). */
+#define SCENARIO_LEAVE_AGAIN_S 0.3
+typedef struct scenario_leave {
+    char    name[48];
+    int64_t step;          /* the step announced at the kill */
+    int32_t period_steps;
+    double  sent_s;        /* wall time of the last send */
+    int     on;            /* 1 until taken or the daemon restarted */
+} scenario_leave;
+/* Sends the leave of `name` now (scenario_daemon_left) and keeps it. */
+void scenario_leave_send(scenario_leave *l, lcm_t *lcm, const char *name, int64_t step, int32_t period_steps);
+/* With the latest step the simulator announced: 1 when the leave was sent
+ * again (it was not taken yet), 0 otherwise. */
+int  scenario_leave_confirm(scenario_leave *l, lcm_t *lcm, int64_t clock_step);
+/* The daemon is started again: no more leaves. */
+void scenario_leave_end(scenario_leave *l);
 /* After the fault's kill: restarting later, or left down. */
 void scenario_fault_killed(scenario_fault *f);
 /* 1 when a restart begun at wall time hold_since_s has waited longer than

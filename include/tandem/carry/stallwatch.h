@@ -7,14 +7,19 @@
  * stick). The watch counts time without a completion while work is pending
  * and nothing obstructs the cell; past limit_s it reports a stall. An
  * obstruction restarts the count (a blocked arm may wait as long as the
- * block lasts; once it is out the arm must finish within limit_s again).
- * A completion ends a stall; `stalls` counts the stalls seen.
+ * block lasts; once it is out the arm must finish within limit_s again)
+ * -- but only for obstruct_max_s: an obstruction that never ends (or a
+ * stick the cell wrongly believes in) cannot hold the cell for ever;
+ * past it the obstructed time counts as idle. A completion ends a stall;
+ * `stalls` counts the stalls seen.
  */
 #ifndef TANDEM_STALLWATCH_H
 #define TANDEM_STALLWATCH_H
 
 typedef struct stallwatch {
     double limit_s;        /* time without progress that is a stall (> 0) */
+    double obstruct_max_s; /* longest obstruction that excuses it (> 0) */
+    double obstructed_s;   /* length of the obstruction going on */
     double idle_s;         /* time counted so far */
     double last_t_s;       /* time of the previous update, < 0 before the first */
     int    stalled;        /* 1 while stalled */
@@ -23,8 +28,13 @@ typedef struct stallwatch {
 
 enum { STALLWATCH_OK = 0, STALLWATCH_ERR_ARG = -1 };
 
-/* limit_s finite and > 0. */
+/* obstruct_max_s unless set: longer than any block the scenarios make (60 s) */
+#define STALLWATCH_OBSTRUCT_MAX_S 120.0
+
+/* limit_s finite and > 0; obstruct_max_s STALLWATCH_OBSTRUCT_MAX_S. */
 int stallwatch_init(stallwatch *w, double limit_s);
+/* obstruct_max_s finite and > 0. */
+int stallwatch_set_obstruct_max(stallwatch *w, double obstruct_max_s);
 /* One cycle at time t_s (non-decreasing). Returns 1 on the update at which
  * a stall begins, 0 otherwise, STALLWATCH_ERR_ARG on bad input (state
  * unchanged). */

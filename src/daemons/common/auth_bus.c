@@ -149,6 +149,30 @@ int auth_bus_secure(void)
     return B.secure;
 }
 
+/* The journal key: BLAKE2b over every pairwise key the signing set holds
+ * (or the master), under a context naming the use. Only the holder of the
+ * whole role file (or the master) has them all: a peer that shares one
+ * pair with this process cannot forge its journal. Stable across restarts
+ * of the same role. */
+int auth_bus_journal_key(uint8_t out[32])
+{
+    static const char ctx[] = "tandem journal key v2";
+    const auth_keyset *ks;
+    crypto_generichash_state h;
+    int i;
+    if (!B.secure || B.ring.n < 1 || !(ks = B.ring.set[0]))
+        return 0;
+    crypto_generichash_init(&h, NULL, 0, 32);
+    crypto_generichash_update(&h, (const unsigned char *)ctx, sizeof ctx - 1);
+    crypto_generichash_update(&h, ks->cell, AUTH_CELL_BYTES);
+    if (ks->is_master)
+        crypto_generichash_update(&h, ks->master, AUTH_KEY_BYTES);
+    for (i = 0; !ks->is_master && i < ks->n; i++)
+        crypto_generichash_update(&h, ks->pair[i].key, AUTH_KEY_BYTES);
+    crypto_generichash_final(&h, out, 32);
+    return 1;
+}
+
 int auth_bus_default_key_path(char *out, size_t cap)
 {
     const char *xdg = getenv("XDG_CONFIG_HOME"), *home = getenv("HOME");

@@ -103,6 +103,10 @@ void auth_bus_sign_as_owner(int on);
 int  auth_bus_start(const char *prog);
 /* 1 when messages are signed and checked, 0 with --insecure. */
 int  auth_bus_secure(void);
+/* After auth_bus_start: the key journals authenticate their records with
+ * (journal.h), derived from the signing key (keyed BLAKE2b of a "tandem
+ * journal" context): 1, or 0 with --insecure (out untouched). */
+int  auth_bus_journal_key(uint8_t out[32]);
 /* ${XDG_CONFIG_HOME:-$HOME/.config}/tandem/bus.key; AUTH_BUS_ERR_NO_HOME. */
 int  auth_bus_default_key_path(char *out, size_t cap);
 /* Creates a key for this run alone in a fresh 0700 temporary directory

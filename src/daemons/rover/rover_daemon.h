@@ -22,7 +22,8 @@
 
 /* Failures of tandem-rover's own steps (0 = ok). */
 #define ROVER_DAEMON_ERR_IDS (-1)      /* --id is not K or A-B inside 1..HOST_MAX robots */
-#define ROVER_DAEMON_ERR_JOURNAL (-1)  /* a robot's journal does not open (said) */
+#define ROVER_DAEMON_ERR_JOURNAL (-2)  /* a robot's journal is refused or does not open (said) */
+const char *rover_daemon_strerror(int rc);
 
 typedef struct hosted {
     rover_ctl_state c;
@@ -45,6 +46,7 @@ typedef struct hosted {
     int         shown_esc;          /* escape phase and wall side last printed */
     char        journal_path[600];      /* "" without --journal */
     journal     jr;
+    int         journal_held;           /* its record of this cycle not written: stopped */
 } hosted;
 
 typedef struct teamq_item {
@@ -85,6 +87,8 @@ typedef struct rover_daemon {
     int     cur;
     const char *journal;                /* --journal PATH, NULL: none */
     int64_t first_step;                 /* the first step this process ran a cycle for (-1) */
+    int     journal_reset;              /* --journal-reset: start fresh, emptying the journal(s) */
+    int     journal_failing;            /* the last append failed (said once) */
     int64_t journal_errors;
 } rover_daemon;
 
@@ -115,7 +119,13 @@ void rover_report_changes(hosted *h, const rover_ctl_out *o, double t_s);
 /* Resumes each robot from its journal and opens it for appending: 0, or
  * ROVER_DAEMON_ERR_JOURNAL. */
 int  rover_journal_start(rover_daemon *rd);
-void rover_journal_cycle(rover_daemon *rd, int64_t step);
+/* After a cycle's outputs are made, before they go out: one record per
+ * robot; returns how many robots' records were not written. */
+int  rover_journal_cycle(rover_daemon *rd, int64_t step);
+/* The robots of the outbox whose record was not written stop (zero
+ * speeds, mode SAFE_STOP) until one is: a restart would take them back
+ * to the last pose written, and they must not be anywhere else. */
+void rover_journal_hold(rover_daemon *rd, rover_outbox *o);
 void rover_journal_stop(rover_daemon *rd);
 
 #endif

@@ -156,46 +156,112 @@ void rover_report_changes(hosted *h, const rover_ctl_out *o, double t_s)
 }
 /* ---- journal (--journal) --------------------------------------------------------- */
 
-/* At start-up: each hosted robot resumes from its journal's last intact
- * snapshot (step, then rover_ctl_snapshot's values), and appends to it. */
+/* A robot's journal that does not check out: file, record, why (exit 1
+ * follows: resuming from a state that lies would drive the robot from a
+ * pose it is not at). */
+static int journal_refused(const rover_daemon *rd, const hosted *h, const journal_report *rep, const char *code,
+                           const char *why)
+{
+    fprintf(stderr, "%s: journal %s: record %ld (line %ld): %s (%s); refusing to start (move the file away, "
+                    "or --journal-reset to start fresh on purpose)\n",
+            rd->d.name, h->journal_path, rep->line, rep->line, why, code);
+    return ROVER_DAEMON_ERR_JOURNAL;
+}
+
+/* Robot j's journal: its last record checked and taken back (0, also
+ * when there is none), or refused. */
+static int journal_resume(rover_daemon *rd, hosted *h, int j, const journal_key *key)
+{
+    double v[1 + ROVER_CTL_SNAPSHOT_VALUES];
+    journal_report rep;
+    const int n = journal_load_last(h->journal_path, key, v, 1 + ROVER_CTL_SNAPSHOT_VALUES, &rep);
+    if (n == JOURNAL_ERR_NONE)
+        return 0;
+    if (n < 0)
+        return journal_refused(rd, h, &rep, journal_strerror(n), n == JOURNAL_ERR_READ ? strerror(rep.err_no) : rep.why);
+    if (n != 1 + ROVER_CTL_SNAPSHOT_VALUES || !isfinite(v[0]) || v[0] < 0.0 || v[0] != floor(v[0]))
+        return journal_refused(rd, h, &rep, "ROVER_CTL_ERR_SNAPSHOT", "not a snapshot of this controller");
+    if (rover_ctl_resume(&h->c, v + 1) != ROVER_CTL_OK)
+        return journal_refused(rd, h, &rep, "ROVER_CTL_ERR_SNAPSHOT",
+                               "another robot's snapshot, or a value out of its range");
+    h->jr.seq = rep.last_seq;
+    printf("%s: robot %d resumed from %s record %ld (step %.0f, escapes %d, formation changes %d)\n", rd->d.name,
+           j, h->journal_path, rep.records, v[0], h->c.escapes, h->c.formation_changes);
+    fflush(stdout);
+    return 0;
+}
+
+/* At start-up (after daemon_start: the journal key comes from the bus
+ * key): each hosted robot resumes from its journal's last record (step,
+ * then rover_ctl_snapshot's values) or, with --journal-reset, starts
+ * fresh; then appends to it. */
 int rover_journal_start(rover_daemon *rd)
 {
+    journal_key key;
     int j;
-    for (j = rd->id_lo; j <= rd->id_hi && rd->journal; j++) {
+    if (!rd->journal)
+        return 0;
+    memset(&key, 0, sizeof key);
+    key.keyed = auth_bus_journal_key(key.bytes);
+    if (!key.keyed)
+        fprintf(stderr, "%s: --insecure: journal records are checksummed, not authenticated\n", rd->d.name);
+    for (j = rd->id_lo; j <= rd->id_hi; j++) {
         hosted *h = &rd->h[j - rd->id_lo];
-        double v[1 + ROVER_CTL_SNAPSHOT_VALUES];
-        int n;
+        long seq = 0;
         if (rd->id_lo == rd->id_hi) snprintf(h->journal_path, sizeof h->journal_path, "%s", rd->journal);
         else snprintf(h->journal_path, sizeof h->journal_path, "%s-%d", rd->journal, j);
-        n = journal_load_last(h->journal_path, v, 1 + ROVER_CTL_SNAPSHOT_VALUES);
-        if (n == 1 + ROVER_CTL_SNAPSHOT_VALUES && rover_ctl_resume(&h->c, v + 1) == ROVER_CTL_OK) {
-            printf("%s: robot %d resumed from %s (step %.0f, escapes %d, formation changes %d)\n", rd->d.name, j,
-                   h->journal_path, v[0], h->c.escapes, h->c.formation_changes);
-            fflush(stdout);
-        } else if (n != JOURNAL_ERR_NONE) {
-            fprintf(stderr, "%s: journal %s: last snapshot is not robot %d's; starting from the launch pose\n",
-                    rd->d.name, h->journal_path, j);
-        }
-        if (journal_open(&h->jr, h->journal_path) != JOURNAL_OK) {
-            fprintf(stderr, "%s: cannot open journal %s\n", rd->d.name, h->journal_path);
+        if (!rd->journal_reset && journal_resume(rd, h, j, &key) != 0)
+            return ROVER_DAEMON_ERR_JOURNAL;
+        seq = h->jr.seq;
+        if (journal_open(&h->jr, h->journal_path, &key, rd->journal_reset ? JOURNAL_TRUNCATE : JOURNAL_APPEND) !=
+            JOURNAL_OK) {
+            fprintf(stderr, "%s: cannot open journal %s: %s\n", rd->d.name, h->journal_path, strerror(h->jr.err_no));
             return ROVER_DAEMON_ERR_JOURNAL;
         }
+        h->jr.seq = seq;
     }
     return 0;
 }
 
-/* After a cycle's outputs are out: one snapshot per robot (a robot before
- * its first encoder frame has nothing to keep). */
-void rover_journal_cycle(rover_daemon *rd, int64_t step)
+/* After a cycle's outputs are made, before they go out: one snapshot per
+ * robot (a robot before its first encoder frame has nothing to keep). */
+int rover_journal_cycle(rover_daemon *rd, int64_t step)
 {
-    int j;
+    int j, held = 0;
     for (j = rd->id_lo; j <= rd->id_hi && rd->journal; j++) {
         hosted *h = &rd->h[j - rd->id_lo];
         double v[1 + ROVER_CTL_SNAPSHOT_VALUES];
+        int rc;
         v[0] = (double)step;
-        if (rover_ctl_snapshot(&h->c, v + 1) == ROVER_CTL_OK &&
-            journal_append(&h->jr, v, 1 + ROVER_CTL_SNAPSHOT_VALUES) != JOURNAL_OK)
+        h->journal_held = 0;
+        if (rover_ctl_snapshot(&h->c, v + 1) != ROVER_CTL_OK)
+            continue;
+        rc = journal_append(&h->jr, v, 1 + ROVER_CTL_SNAPSHOT_VALUES);
+        h->journal_held = rc != JOURNAL_OK;
+        held += h->journal_held;
+        /* said once when writing starts failing and once when it works again */
+        if (rc != JOURNAL_OK && !rd->journal_failing)
+            fprintf(stderr, "%s: cannot write the journal %s: %s (%s): robot %d STOPPED until it can be written\n",
+                    rd->d.name, h->journal_path, strerror(h->jr.err_no), journal_strerror(rc), j);
+        else if (rc == JOURNAL_OK && rd->journal_failing)
+            fprintf(stderr, "%s: journal %s written again: robot %d moves on\n", rd->d.name, h->journal_path, j);
+        rd->journal_failing = rc != JOURNAL_OK;
+        if (rc != JOURNAL_OK)
             rd->journal_errors++;
+    }
+    return held;
+}
+
+void rover_journal_hold(rover_daemon *rd, rover_outbox *o)
+{
+    int i;
+    for (i = 0; i < o->n; i++) {
+        const hosted *h = rover_find_hosted(rd, o->cmd[i].robot);
+        if (!h || !h->journal_held)
+            continue;
+        o->cmd[i].v_mps = 0.0;
+        o->cmd[i].w_radps = 0.0;
+        o->st[i].mode = ROVER_MODE_SAFE_STOP;
     }
 }
 

@@ -134,9 +134,22 @@ static const option_entry rover_options[] = {
               "per tick (sensors are taken per robot and batched alike)" },
     { .name = "journal", .type = OPTION_STRING, OPTION_AT(rover_daemon, journal), .meta = "PATH",
       .help = "append each robot's controller snapshot to PATH (PATH-K when hosting several) after every "
-              "cycle; a process started on an existing journal resumes there" },
+              "cycle (authenticated, fsynced); a process started on an existing journal resumes there, or "
+              "refuses to start (exit 1) when a record does not check out" },
+    { .name = "journal-reset", .type = OPTION_FLAG, OPTION_AT(rover_daemon, journal_reset),
+      .help = "start fresh on purpose: empty the --journal instead of resuming from it" },
     { .name = NULL }
 };
+
+const char *rover_daemon_strerror(int rc)
+{
+    switch (rc) {
+    case 0: return "ok";
+    case ROVER_DAEMON_ERR_IDS: return "ROVER_DAEMON_ERR_IDS";
+    case ROVER_DAEMON_ERR_JOURNAL: return "ROVER_DAEMON_ERR_JOURNAL";
+    default: return "ROVER_DAEMON_ERR_?";
+    }
+}
 
 /* 0, or a negative options_parse result (--help, --version, bad options). */
 static int parse_args(rover_daemon *rd, int argc, char **argv)
@@ -190,7 +203,7 @@ static int cycle(daemon *d, void *user)
     const double dt = rd->last_t_s > 0.0 && t_s > rd->last_t_s ? t_s - rd->last_t_s : d->period_s;
     const int64_t utime = daemon_utime_now();
     rover_outbox *ob;
-    int j, n = 0, stopped = 0;
+    int j, n = 0, stopped = 0, held;
     if (step < 0) return DAEMON_CONTINUE;                      /* no simulator clock yet */
     if (d->lockstep && step == rd->last_step) return DAEMON_CONTINUE;   /* a repeated clock: answer again only */
     if (rover_too_early(rd, step)) return DAEMON_CONTINUE;
@@ -226,13 +239,19 @@ static int cycle(daemon *d, void *user)
     ob->step = step;
     ob->utime = utime;
     ob->batch_seq = rd->batch_seq++;
+    /* the record first: a robot whose record is not written stops */
+    held = rover_journal_cycle(rd, step);
+    rover_journal_hold(rd, ob);
     rover_publish_outbox(rd, ob);
-    rover_journal_cycle(rd, step);
     rd->last_t_s = t_s;
-    d->safe_hold = stopped > 0;
-    snprintf(d->status, sizeof d->status, "%s: %d of %d robots stopped (stale input)%s",
-             stopped ? "safe stop" : "running", stopped, rd->id_hi - rd->id_lo + 1,
-             rd->journal_errors ? ", journal not written" : "");
+    d->safe_hold = stopped > 0 || held > 0;
+    if (held > 0)
+        snprintf(d->status, sizeof d->status, "safe stop: journal not written, %d of %d robots stopped", held,
+                 rd->id_hi - rd->id_lo + 1);
+    else
+        snprintf(d->status, sizeof d->status, "%s: %d of %d robots stopped (stale input)%s",
+                 stopped ? "safe stop" : "running", stopped, rd->id_hi - rd->id_lo + 1,
+                 rd->journal_errors ? ", journal not written before" : "");
     return DAEMON_CONTINUE;
 }
 
@@ -294,13 +313,16 @@ int main(int argc, char **argv)
         h->shown_mode = h->shown_type = h->shown_yield = h->shown_esc = -1;
         h->sens_step = h->sonar_step = h->camera_step = -1;
     }
-    if (rover_journal_start(rd) != 0) return 1;
     auth_bus_identity(AUTH_ROLE_ROVER, rd->id_lo, rd->id_hi);
     if (daemon_start(d) != 0) return 1;
     /* its own robots' channels by name (daemon_subscribe_numbered) */
     daemon_subscribe_numbered(d, "ROVER", rd->id_lo, rd->id_hi, "_SENSORS", rover_on_sensors, rd, subs, DAEMON_EXPLICIT_MAX);
     daemon_subscribe_numbered(d, "ROVER", rd->id_lo, rd->id_hi, "_SONAR", rover_on_sonar, rd, subs, DAEMON_EXPLICIT_MAX);
     daemon_subscribe_numbered(d, "ROVER", rd->id_lo, rd->id_hi, "_BEACONS", rover_on_beacons, rd, subs, DAEMON_EXPLICIT_MAX);
+    if (rover_journal_start(rd) != 0) {
+        daemon_finish(d);
+        return 1;
+    }
     daemon_subscribe(d, "ROVERS_SENSORS", rover_on_sensors_batch, rd);
     daemon_subscribe(d, "ROVERS_BEACONS", rover_on_beacons_batch, rd);
     daemon_subscribe(d, "TEAM", rover_on_team, rd);

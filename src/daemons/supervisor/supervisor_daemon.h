@@ -68,6 +68,7 @@ typedef struct supervisor_daemon {
     /* watchdogs */
     stallwatch stall;
     double  stall_s;                /* --stall-s */
+    double  stall_obstructed_s;     /* --stall-obstructed-s */
     int     completed;              /* a transition completed this cycle */
     int     stick_in;               /* SIM_STATUS: an obstruction is in the cell */
     int     arms_faulted;           /* bit a: arm a+1 in FAULT */
@@ -79,17 +80,25 @@ typedef struct supervisor_daemon {
     int32_t rows_reissued, dones_recovered;
     int     resumed, journal_checked;
     const char *journal_path;
+    int     journal_reset;          /* --journal-reset: start fresh, emptying the journal */
     journal jr;
+    long    journal_seq_resumed;    /* seq of the record resumed from, 0 none */
+    int     journal_rc;             /* last append: JOURNAL_OK, or the failure the cell holds for */
+    int     journal_errno;          /* errno of the first failure of a run of failures */
+    long    journal_failures;       /* failed appends since the last good one */
     int     dirty;                  /* the discrete state changed: journal it */
     double  journal_values[JOURNAL_MAX_VALUES];   /* a snapshot, written or read */
     petri_explore_ws explore_ws;    /* start-up check of the net */
 } supervisor_daemon;
 
-/* Start-up and internal failures of the supervisor's files (0 = ok). */
+/* Start-up and internal failures of the supervisor's files (0 = ok;
+ * supervisor_strerror names them). */
 #define SUPERVISOR_ERR_NET (-1)       /* the carry net is unsound or its tables invalid
                                          (the offending marking printed) */
-#define SUPERVISOR_ERR_POSE (-1)      /* a row names a pose the cell does not have */
-#define SUPERVISOR_ERR_SNAPSHOT (-1)  /* a journal snapshot this net cannot take */
+#define SUPERVISOR_ERR_POSE (-2)      /* a row names a pose the cell does not have */
+#define SUPERVISOR_ERR_SNAPSHOT (-3)  /* a journal snapshot this net cannot take */
+#define SUPERVISOR_ERR_JOURNAL (-4)   /* the journal is refused or does not open (said) */
+const char *supervisor_strerror(int rc);
 
 /* supervisor_rows.c */
 void sup_start_transition(supervisor_daemon *sv, int t);
@@ -107,7 +116,13 @@ void sup_watch_stall(supervisor_daemon *sv);
 void sup_watch_silence(supervisor_daemon *sv);
 
 /* supervisor_journal.c */
-void sup_journal_resume(supervisor_daemon *sv);
+/* After daemon_start (the bus key is loaded): --journal-reset, or the last
+ * record checked and taken back, and the journal opened for appending.
+ * 0, or SUPERVISOR_ERR_JOURNAL after naming the file, record and why. */
+int  sup_journal_start(supervisor_daemon *sv);
+/* The state appended when it changed; a failed write holds the cell. */
 void sup_journal_cycle(supervisor_daemon *sv);
+/* 1 while the journal cannot be written: no new rows go out. */
+int  sup_holding(const supervisor_daemon *sv);
 
 #endif

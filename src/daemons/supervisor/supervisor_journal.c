@@ -1,15 +1,53 @@
 /* supervisor_journal: tandem-supervisor's --journal: every change of the
  * discrete state (marking, running rows, the workpieces bound to tokens,
- * action ids) appended as one snapshot; the last one taken back at start.
+ * action ids, the counters summary.json reports) appended as one
+ * authenticated, fsynced record (journal.h); the last one taken back at
+ * start after every field is checked. A journal that does not check out
+ * stops the start (exit 1, naming the record and why): resuming from a
+ * wrong state would send the arms rows for a cell that is not there.
+ * A journal that cannot be written holds the cell (no new rows) until it
+ * can be written again: state that is not on the disk would be lost by a
+ * restart. Format and policy: docs/carry.md "Recovery".
  */
+#include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include "supervisor_daemon.h"
 #include "vec3.h"
 
-#define SNAP_HEAD 25
+#define SNAP_HEAD 27
 #define SNAP_LEN  (SNAP_HEAD + CARRY_N_PLACES + 6 * CARRY_N_TRANSITIONS)
-#define SNAP_VERSION 1
+#define SNAP_VERSION 2
+#define ID_MAX 2147483647.0        /* int32 ids and counters */
+#define COUNT_MAX 9007199254740992.0   /* 2^53: exact in a double */
+#define POS_MAX_M 10.0             /* a workpiece pose outside this is not the cell's */
+#define YAW_MAX_RAD 0.5            /* what on_vision accepts */
+
+/* The head of a snapshot: name and range of each value (integers unless
+ * real), checked before anything is restored. */
+typedef struct snap_field {
+    const char *name;
+    double lo, hi;
+    int real;
+} snap_field;
+
+static const snap_field head_fields[SNAP_HEAD] = {
+    { "version", SNAP_VERSION, SNAP_VERSION, 0 }, { "step", 0, COUNT_MAX, 0 },
+    { "running", 0, (1 << CARRY_N_TRANSITIONS) - 1, 0 }, { "fired_count", 0, COUNT_MAX, 0 },
+    { "next_action_id (next row)", 1, ID_MAX, 0 }, { "wp_id", 0, ID_MAX, 0 },
+    { "wp_pos_x", -POS_MAX_M, POS_MAX_M, 1 }, { "wp_pos_y", -POS_MAX_M, POS_MAX_M, 1 },
+    { "wp_pos_z", -POS_MAX_M, POS_MAX_M, 1 }, { "wp_yaw", -YAW_MAX_RAD, YAW_MAX_RAD, 1 },
+    { "pick_id", 0, ID_MAX, 0 }, { "pick_pos_x", -POS_MAX_M, POS_MAX_M, 1 },
+    { "pick_pos_y", -POS_MAX_M, POS_MAX_M, 1 }, { "pick_pos_z", -POS_MAX_M, POS_MAX_M, 1 },
+    { "pick_yaw", -YAW_MAX_RAD, YAW_MAX_RAD, 1 }, { "last_taken_id", 0, ID_MAX, 0 },
+    { "p1_bound", 0, 1, 0 }, { "detections", 0, ID_MAX, 0 },
+    { "last_fired", 0, CARRY_N_TRANSITIONS, 0 }, { "blockages", 0, ID_MAX, 0 },
+    { "rows_reissued", 0, ID_MAX, 0 }, { "dones_recovered", 0, ID_MAX, 0 },
+    { "replans", 0, ID_MAX, 0 }, { "deadlocks", 0, ID_MAX, 0 },
+    { "faults", 0, ID_MAX, 0 }, { "stalls", 0, ID_MAX, 0 },
+    { "invariant_violations", 0, COUNT_MAX, 0 },
+};
 
 static int snapshot(supervisor_daemon *sv, double *v)
 {
@@ -22,7 +60,7 @@ static int snapshot(supervisor_daemon *sv, double *v)
     v[n++] = sv->pick_yaw_rad; v[n++] = sv->last_taken_id; v[n++] = sv->p1_bound; v[n++] = sv->detections;
     v[n++] = sv->last_fired; v[n++] = sv->blockages;
     v[n++] = sv->rows_reissued; v[n++] = sv->dones_recovered; v[n++] = sv->replans; v[n++] = sv->deadlocks;
-    v[n++] = sv->faults;
+    v[n++] = sv->faults; v[n++] = sv->stall.stalls; v[n++] = (double)sv->net.invariant_violations;
     for (i = 0; i < CARRY_N_PLACES; i++) v[n++] = sv->net.st.m[i];
     for (i = 0; i < CARRY_N_TRANSITIONS; i++)
         for (a = 0; a < 2; a++) {
@@ -33,17 +71,57 @@ static int snapshot(supervisor_daemon *sv, double *v)
     return n;
 }
 
-static int restore(supervisor_daemon *sv, const double *v)
+static int in_range(double x, double lo, double hi, int real)
+{
+    return isfinite(x) && x >= lo && x <= hi && (real || x == floor(x));
+}
+
+/* Every value of a snapshot in its range, or why not (into why). */
+static int check_values(const double *v, char *why, size_t cap)
+{
+    int i, t, a;
+    for (i = 0; i < SNAP_HEAD; i++) {
+        const snap_field *f = &head_fields[i];
+        if (!in_range(v[i], f->lo, f->hi, f->real)) {
+            snprintf(why, cap, "%s = %.17g is outside [%g, %g]%s", f->name, v[i], f->lo, f->hi,
+                     f->real ? "" : " or not a whole number");
+            return SUPERVISOR_ERR_SNAPSHOT;
+        }
+    }
+    for (i = 0; i < CARRY_N_PLACES; i++)
+        if (!in_range(v[SNAP_HEAD + i], 0, PETRI_TOKEN_MAX, 0)) {
+            snprintf(why, cap, "tokens of place p%d = %.17g are not a token count", i + 1, v[SNAP_HEAD + i]);
+            return SUPERVISOR_ERR_SNAPSHOT;
+        }
+    for (t = 0; t < CARRY_N_TRANSITIONS; t++)
+        for (a = 0; a < 2; a++) {
+            const double *s = &v[SNAP_HEAD + CARRY_N_PLACES + 6 * t + 3 * a];
+            if (!in_range(s[0], ARM_SLOT_NONE, ARM_SLOT_DONE, 0) || !in_range(s[1], 0, v[4] - 1, 0) ||
+                !in_range(s[2], 0, v[1], 0)) {
+                snprintf(why, cap, "row of t%d for arm %d (state %.17g, row %.17g, sent at step %.17g) is not one "
+                         "this supervisor could have sent", t + 1, a + 1, s[0], s[1], s[2]);
+                return SUPERVISOR_ERR_SNAPSHOT;
+            }
+        }
+    return 0;
+}
+
+/* A checked snapshot into sv; the marking must be one of the net's (every
+ * P-invariant holds, running bits of existing transitions). */
+static int restore(supervisor_daemon *sv, const double *v, char *why, size_t cap)
 {
     int n = SNAP_HEAD, i, a;
     petri_state st;
+    if (check_values(v, why, cap) != 0)
+        return SUPERVISOR_ERR_SNAPSHOT;
     memset(&st, 0, sizeof st);
     st.running = (uint32_t)v[2];
-    for (i = 0; i < CARRY_N_PLACES; i++) {
-        if (v[n] < 0 || v[n] > PETRI_TOKEN_MAX) return SUPERVISOR_ERR_SNAPSHOT;
+    for (i = 0; i < CARRY_N_PLACES; i++)
         st.m[i] = (uint8_t)v[n++];
+    if (petri_set_state(&sv->net, &st) != 0) {
+        snprintf(why, cap, "the marking is not one of the carry net's (a P-invariant fails)");
+        return SUPERVISOR_ERR_SNAPSHOT;
     }
-    if (petri_set_state(&sv->net, &st) != 0) return SUPERVISOR_ERR_SNAPSHOT;
     sv->net.fired_count = (long)v[3];
     sv->next_action_id = (int32_t)v[4]; sv->wp_id = (int32_t)v[5];
     vec3_set(sv->wp_pos_m, v[6], v[7], v[8]); sv->wp_yaw_rad = v[9];
@@ -52,6 +130,7 @@ static int restore(supervisor_daemon *sv, const double *v)
     sv->last_fired = (int)v[18]; sv->blockages = (int32_t)v[19];
     sv->rows_reissued = (int32_t)v[20]; sv->dones_recovered = (int32_t)v[21]; sv->replans = (int32_t)v[22];
     sv->deadlocks = (int32_t)v[23]; sv->faults = (int32_t)v[24];
+    sv->stall.stalls = (int)v[25]; sv->net.invariant_violations = (long)v[26];
     for (i = 0; i < CARRY_N_TRANSITIONS; i++)
         for (a = 0; a < 2; a++) {
             sv->slot[i].state[a] = (int)v[n++];
@@ -61,23 +140,101 @@ static int restore(supervisor_daemon *sv, const double *v)
     return 0;
 }
 
-/* At start-up: the last snapshot of --journal, if any (checked against the
- * simulator's step in the first cycle). */
-void sup_journal_resume(supervisor_daemon *sv)
+/* The refusal: file, record, why, and what to do. */
+static int refuse(const supervisor_daemon *sv, const journal_report *rep, const char *code, const char *why)
+{
+    fprintf(stderr, "tandem-supervisor: journal %s: record %ld (line %ld): %s (%s); refusing to start "
+                    "(move the file away, or --journal-reset to start fresh on purpose)\n",
+            sv->journal_path, rep->line, rep->line, why, code);
+    return SUPERVISOR_ERR_JOURNAL;
+}
+
+/* The last record of the journal, checked and restored: 0 (restored, or
+ * no journal yet), or SUPERVISOR_ERR_JOURNAL after saying why. */
+static int resume(supervisor_daemon *sv)
 {
     double *v = sv->journal_values;
-    const int n = journal_load_last(sv->journal_path, v, JOURNAL_MAX_VALUES);
-    if (n < 0)
-        return;
-    if (n != SNAP_LEN || v[0] != SNAP_VERSION || restore(sv, v) != 0) {
-        fprintf(stderr, "tandem-supervisor: journal %s: last snapshot does not fit this net; starting fresh\n",
-                sv->journal_path);
-        petri_init(&sv->net, &carry_net);
-        return;
+    journal_report rep;
+    char why[200];
+    const int n = journal_load_last(sv->journal_path, &sv->jr.key, v, JOURNAL_MAX_VALUES, &rep);
+    if (n == JOURNAL_ERR_NONE)
+        return 0;
+    if (n == JOURNAL_ERR_READ) {
+        fprintf(stderr, "tandem-supervisor: journal %s cannot be read: %s (JOURNAL_ERR_READ)\n", sv->journal_path,
+                strerror(rep.err_no));
+        return SUPERVISOR_ERR_JOURNAL;
     }
+    if (n < 0)
+        return refuse(sv, &rep, journal_strerror(n), rep.why);
+    if (n != SNAP_LEN) {
+        snprintf(why, sizeof why, "%d values where a snapshot of this supervisor has %d", n, SNAP_LEN);
+        return refuse(sv, &rep, supervisor_strerror(SUPERVISOR_ERR_SNAPSHOT), why);
+    }
+    if (restore(sv, v, why, sizeof why) != 0)
+        return refuse(sv, &rep, supervisor_strerror(SUPERVISOR_ERR_SNAPSHOT), why);
+    sv->journal_seq_resumed = rep.last_seq;
     sv->resumed = (int)v[1] + 1;     /* the snapshot's step + 1, checked in the first cycle */
-    printf("tandem-supervisor: resumed from %s (step %lld, fired %ld, next row %d)\n", sv->journal_path,
-           (long long)v[1], sv->net.fired_count, (int)sv->next_action_id);
+    printf("tandem-supervisor: resumed from %s record %ld (step %lld, fired %ld, next row %d, blockages %d)\n",
+           sv->journal_path, rep.records, (long long)v[1], sv->net.fired_count, (int)sv->next_action_id,
+           (int)sv->blockages);
+    return 0;
+}
+
+int sup_journal_start(supervisor_daemon *sv)
+{
+    journal_key key;
+    int rc;
+    if (!sv->journal_path)
+        return 0;
+    memset(&key, 0, sizeof key);
+    key.keyed = auth_bus_journal_key(key.bytes);
+    if (!key.keyed)
+        fprintf(stderr, "tandem-supervisor: --insecure: journal records are checksummed, not authenticated "
+                        "(an edited journal cannot be told from a good one)\n");
+    sv->jr.key = key;
+    if (sv->journal_reset)
+        printf("tandem-supervisor: --journal-reset: starting fresh; %s emptied\n", sv->journal_path);
+    else if (resume(sv) != 0)
+        return SUPERVISOR_ERR_JOURNAL;
+    rc = journal_open(&sv->jr, sv->journal_path, &key, sv->journal_reset ? JOURNAL_TRUNCATE : JOURNAL_APPEND);
+    if (rc != JOURNAL_OK) {
+        fprintf(stderr, "tandem-supervisor: cannot open the journal %s: %s (%s)\n", sv->journal_path,
+                strerror(sv->jr.err_no), journal_strerror(rc));
+        return SUPERVISOR_ERR_JOURNAL;
+    }
+    sv->jr.seq = sv->journal_seq_resumed;     /* appending goes on from the last record */
+    return 0;
+}
+
+/* A failed write: the cell holds (sup_holding) and it is said once; a
+ * write after failures: said once, and rows go out again. */
+static void note_write(supervisor_daemon *sv, int rc)
+{
+    if (rc != JOURNAL_OK && sv->journal_rc == JOURNAL_OK) {
+        fprintf(stderr, "[%9.3f] tandem-supervisor: cannot write the journal %s: %s (%s): HOLDING, no new rows "
+                        "until it can be written\n", sv->d.sim_time_s, sv->journal_path, strerror(sv->jr.err_no),
+                journal_strerror(rc));
+        printf("[%9.3f] HOLD: journal %s not written (%s); no new rows\n", sv->d.sim_time_s, sv->journal_path,
+               strerror(sv->jr.err_no));
+        fflush(stdout);
+        sv->journal_errno = sv->jr.err_no;
+        sv->changed = 1;
+    } else if (rc == JOURNAL_OK && sv->journal_rc != JOURNAL_OK) {
+        printf("[%9.3f] journal %s written again after %ld failed attempts: rows go out again\n",
+               sv->d.sim_time_s, sv->journal_path, sv->journal_failures);
+        fflush(stdout);
+        sv->journal_failures = 0;
+        sv->changed = 1;
+    }
+    if (rc != JOURNAL_OK)
+        sv->journal_failures++;
+    sv->journal_rc = rc;
+    sv->d.safe_hold = rc != JOURNAL_OK;
+}
+
+int sup_holding(const supervisor_daemon *sv)
+{
+    return sv->journal_rc != JOURNAL_OK;
 }
 
 void sup_journal_cycle(supervisor_daemon *sv)
@@ -96,10 +253,10 @@ void sup_journal_cycle(supervisor_daemon *sv)
         sv->resumed = sv->resumed != 0;
         sv->dirty = 1;
     }
-    if (sv->dirty && journal_append(&sv->jr, v, snapshot(sv, v)) != JOURNAL_OK) {
-        fprintf(stderr, "tandem-supervisor: cannot write the journal %s\n", sv->journal_path);
-        sv->d.safe_hold = 1;
+    /* while it fails, every cycle tries again (the state is still dirty) */
+    if (sv->dirty) {
+        const int rc = journal_append(&sv->jr, v, snapshot(sv, v));
+        note_write(sv, rc);
+        sv->dirty = rc != JOURNAL_OK;
     }
-    sv->dirty = 0;
 }
-

@@ -66,6 +66,8 @@ static void send_row(supervisor_daemon *sv, int t, int a)
     tandem_action_segment_t seg[CARRY_MAX_SEGMENTS];
     tandem_action_row_t row;
     int i;
+    if (sup_holding(sv))
+        return;     /* the journal cannot be written: the slot waits as it is (sup_recover_rows) */
     memset(&row, 0, sizeof row);
     memset(seg, 0, sizeof seg);
     for (i = 0; i < pl->n_segments; i++) {
@@ -202,6 +204,7 @@ static void handle_event_row(supervisor_daemon *sv, const tandem_action_event_t 
             break;
     if (e->event == TANDEM_ACTION_EVENT_T_BLOCKED) {
         sv->blockages++;
+        sv->dirty = 1;      /* a counter summary.json reports: kept over a restart */
         printf("[%9.3f] arm %d BLOCKED in t%d (s = %.3f of %.3f m)\n", sv->d.sim_time_s, a + 1, e->transition, e->s_m, e->s_f_m);
         return;
     }
@@ -212,6 +215,7 @@ static void handle_event_row(supervisor_daemon *sv, const tandem_action_event_t 
     if (e->event == TANDEM_ACTION_EVENT_T_FAULT || e->event == TANDEM_ACTION_EVENT_T_FAULT_CLEARED) {
         const int on = e->event == TANDEM_ACTION_EVENT_T_FAULT;
         sv->faults += on;
+        sv->dirty = 1;
         sv->arms_faulted = on ? (sv->arms_faulted | 1 << a) : (sv->arms_faulted & ~(1 << a));
         sv->changed = 1;
         printf("[%9.3f] arm %d %s in t%d\n", sv->d.sim_time_s, a + 1, on ? "FAULT (safe hold)" : "fault cleared",
@@ -265,6 +269,12 @@ void sup_recover_rows(supervisor_daemon *sv)
         for (a = 0; a < 2; a++) {
             const arm_view *v = &sv->arm[a];
             const int32_t id = sv->slot[t].action_id[a];
+            /* a partner row held back while the journal could not be written */
+            if (sv->slot[t].state[a] == ARM_SLOT_WAITING && sv->slot[t].state[1 - a] == ARM_SLOT_DONE &&
+                !sup_holding(sv)) {
+                send_row(sv, t, a);
+                continue;
+            }
             if (sv->slot[t].state[a] != ARM_SLOT_SENT || !v->heard)
                 continue;
             if (v->last_done == id) {

@@ -82,8 +82,14 @@ void sup_watch_stall(supervisor_daemon *sv)
 {
     if (stallwatch_update(&sv->stall, sv->d.sim_time_s, sv->completed, work_pending(sv), sv->stick_in) == 1) {
         sv->changed = 1;
-        printf("[%9.3f] STALLED: work pending, no transition completed for %.1f s with the stick out\n",
-               sv->d.sim_time_s, sv->stall.limit_s);
+        sv->dirty = 1;
+        if (sv->stick_in)
+            printf("[%9.3f] STALLED: work pending, no transition completed, the stick in for %.1f s (longer than "
+                   "any block may last)\n", sv->d.sim_time_s, sv->stall.obstructed_s);
+        else
+            printf("[%9.3f] STALLED: work pending, no transition completed for %.1f s with the stick out\n",
+                   sv->d.sim_time_s, sv->stall.limit_s);
+        fflush(stdout);
     }
     sv->completed = 0;
 }

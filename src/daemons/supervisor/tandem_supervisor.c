@@ -20,14 +20,19 @@
  * Watchdogs: an arm's FAULT event (joint out of range or over speed; the
  * arm holds on its brakes) is logged and shown in the marking message
  * until FAULT_CLEARED. A stall -- work pending, nothing completed for
- * --stall-s seconds while the stick is out (SIM_STATUS) -- is logged once,
- * flagged in PETRI_MARKING and in the health status (stallwatch).
+ * --stall-s seconds while the stick is out (SIM_STATUS), or with the stick
+ * in for longer than --stall-obstructed-s -- is logged once, flagged in
+ * PETRI_MARKING and in the health status (stallwatch).
  *
  * Recovery: with --journal PATH every change of the discrete state (marking,
- * running rows, the workpieces bound to tokens, action ids) is appended to
- * PATH and flushed; a supervisor started on an existing journal takes the
- * last snapshot back (unless it is from a later step than the simulator:
- * another run). The arms say what they are doing in every event, and at
+ * running rows, the workpieces bound to tokens, action ids, counters) is
+ * appended to PATH as an authenticated record and fsynced; a supervisor
+ * started on an existing journal checks every record and every restored
+ * value and takes the last snapshot back (unless it is from a later step
+ * than the simulator: another run), or refuses to start (exit 1, naming
+ * the record and why); --journal-reset starts fresh on purpose. While the
+ * journal cannot be written the cell holds: no new rows (health safe_hold
+ * and status say why) until a write succeeds again. The arms say what they are doing in every event, and at
  * 10 Hz when idle (STATUS: last row finished, holding): a row an arm
  * finished whose DONE never came completes from it; a row an arm is not
  * running 0.3 s after it was sent (the arm restarted, or the row was lost)
@@ -54,6 +59,18 @@
 #include "tandem_action_row_t.h"
 
 #define PICK_ACCEPT_RADIUS_M 0.15
+
+const char *supervisor_strerror(int rc)
+{
+    switch (rc) {
+    case 0: return "ok";
+    case SUPERVISOR_ERR_NET: return "SUPERVISOR_ERR_NET";
+    case SUPERVISOR_ERR_POSE: return "SUPERVISOR_ERR_POSE";
+    case SUPERVISOR_ERR_SNAPSHOT: return "SUPERVISOR_ERR_SNAPSHOT";
+    case SUPERVISOR_ERR_JOURNAL: return "SUPERVISOR_ERR_JOURNAL";
+    default: return "SUPERVISOR_ERR_?";
+    }
+}
 
 /* ---- start-up check ------------------------------------------------------- */
 
@@ -167,9 +184,11 @@ static int cycle(daemon *d, void *user)
     int t, dead;
     sup_handle_events(sv);
     sup_recover_rows(sv);
-    take_detection(sv);
+    /* holding (the journal cannot be written): nothing new starts */
+    if (!sup_holding(sv))
+        take_detection(sv);
     for (t = 0; t < CARRY_T_VISION; t++) {
-        if (!petri_enabled(&sv->net, t) || (t == CARRY_T1 && !sv->p1_bound) || sup_grasp_blocked(sv, t))
+        if (sup_holding(sv) || !petri_enabled(&sv->net, t) || (t == CARRY_T1 && !sv->p1_bound) || sup_grasp_blocked(sv, t))
             continue;
         if (t == CARRY_T1) {
             sv->p1_bound = 0;   /* t1 takes the p1 token and its pose */
@@ -192,6 +211,12 @@ static int cycle(daemon *d, void *user)
         sup_publish_marking(sv);
     sv->changed = 0;
     sv->cycles++;
+    if (sup_holding(sv)) {
+        /* why the cell holds comes first: it is what an operator must fix */
+        snprintf(d->status, sizeof d->status, "HOLD: journal not written (%s): no new rows; fired %ld",
+                 journal_strerror(sv->journal_rc), sv->net.fired_count);
+        return DAEMON_CONTINUE;
+    }
     snprintf(d->status, sizeof d->status, "%sfired %ld, workpiece %d%s%s%s%s", sv->stall.stalled ? "STALLED: " : "",
              sv->net.fired_count, (int)sv->wp_id, sv->arms_faulted ? ", arm FAULT" : "",
              sv->arms_silent & 1 ? ", arm 1 SILENT" : "", sv->arms_silent & 2 ? ", arm 2 SILENT" : "",
@@ -219,9 +244,16 @@ static const option_entry supervisor_options[] = {
     { .name = "stall-s", .type = OPTION_DOUBLE, OPTION_AT(supervisor_daemon, stall_s), .min = 0.1, .max = 1e6,
       .meta = "S", .help = "a stall: work pending and no transition completed for S s of simulated time while "
                            "the stick is out", .def = "30" },
+    { .name = "stall-obstructed-s", .type = OPTION_DOUBLE, OPTION_AT(supervisor_daemon, stall_obstructed_s),
+      .min = 0.1, .max = 1e6, .meta = "S",
+      .help = "the stick in excuses a cell without progress for at most S s of simulated time; then "
+              "--stall-s more is a stall", .def = "120" },
     { .name = "journal", .type = OPTION_STRING, OPTION_AT(supervisor_daemon, journal_path), .meta = "PATH",
-      .help = "append the discrete state to PATH on every change; start from its last snapshot when PATH "
-              "exists (restart)" },
+      .help = "append the discrete state to PATH on every change (authenticated with a key derived from the "
+              "bus key, fsynced); start from its last record when PATH exists (restart); a journal that does "
+              "not check out stops the start (exit 1); one that cannot be written holds the cell" },
+    { .name = "journal-reset", .type = OPTION_FLAG, OPTION_AT(supervisor_daemon, journal_reset),
+      .help = "start fresh on purpose: empty the --journal instead of resuming from it" },
     { .name = NULL }
 };
 
@@ -255,26 +287,28 @@ int main(int argc, char **argv)
     };
     int rc;
     sv->next_action_id = 1;
+    sv->jr.fd = -1;                 /* no journal open (journal_close at the end) */
     sv->controller = TANDEM_ACTION_ROW_T_CONTROLLER_EVENT;
     sv->stall_s = 30.0;
+    sv->stall_obstructed_s = STALLWATCH_OBSTRUCT_MAX_S;
     daemon_defaults(d, "tandem-supervisor", 0.010);
     if ((rc = options_parse(&prog, argc, argv, 1)) < 0)
         return options_exit_status(rc);
     if (check_tables(sv) != 0 || check_net(sv) != 0)
         return 1;
-    if (petri_init(&sv->net, &carry_net) != 0 || stallwatch_init(&sv->stall, sv->stall_s) != 0)
+    if (petri_init(&sv->net, &carry_net) != 0 || stallwatch_init(&sv->stall, sv->stall_s) != 0 ||
+        stallwatch_set_obstruct_max(&sv->stall, sv->stall_obstructed_s) != 0)
         return 1;
-    if (sv->journal_path) {
-        sup_journal_resume(sv);
-        if (journal_open(&sv->jr, sv->journal_path) != JOURNAL_OK) {
-            fprintf(stderr, "tandem-supervisor: cannot open the journal %s\n", sv->journal_path);
-            return 1;
-        }
-    }
     fflush(stdout);
     auth_bus_identity(AUTH_ROLE_SUPERVISOR, 0, 0);
     if (daemon_start(d) != 0)
         return 1;
+    /* after daemon_start: the journal's key comes from the bus key */
+    if (sup_journal_start(sv) != 0) {
+        daemon_finish(d);
+        return 1;
+    }
+    fflush(stdout);
     daemon_subscribe(d, "ARM_EVENTS", sup_on_event, sv);
     daemon_subscribe(d, "VISION_DETECTIONS", on_vision, sv);
     daemon_subscribe(d, "SIM_STATUS", sup_on_sim_status, sv);

@@ -70,6 +70,25 @@ static void test_obstruction_restarts_count(void **st)
     assert_true(t_first > 61.51 + 2.0 && t_first < 61.51 + 2.02);
 }
 
+/* A stick that never comes out (or one the cell wrongly believes in)
+ * excuses the cell only for obstruct_max_s; then limit_s more is a stall. */
+static void test_endless_obstruction_stalls(void **st)
+{
+    stallwatch w;
+    double t_first = -1.0;
+    (void)st;
+    assert_int_equal(stallwatch_init(&w, 2.0), STALLWATCH_OK);
+    assert_true(w.obstruct_max_s == STALLWATCH_OBSTRUCT_MAX_S);
+    assert_int_equal(stallwatch_set_obstruct_max(&w, 10.0), STALLWATCH_OK);
+    assert_int_equal(stallwatch_set_obstruct_max(&w, 0.0), STALLWATCH_ERR_ARG);
+    assert_int_equal(run(&w, 0.0, 30.0, 1, 1, &t_first), 1);
+    assert_true(t_first > 12.0 && t_first < 12.05);
+    /* a completion ends it and the next obstruction is excused again */
+    assert_int_equal(stallwatch_update(&w, 30.01, 1, 1, 1), 0);
+    assert_int_equal(w.stalled, 0);
+    assert_int_equal(run(&w, 30.02, 9.0, 1, 1, NULL), 0);
+}
+
 static void test_idle_cell_is_not_stalled(void **st)
 {
     stallwatch w;
@@ -102,6 +121,7 @@ int main(void)
         cmocka_unit_test(test_stall_after_limit),
         cmocka_unit_test(test_progress_keeps_it_quiet),
         cmocka_unit_test(test_obstruction_restarts_count),
+        cmocka_unit_test(test_endless_obstruction_stalls),
         cmocka_unit_test(test_idle_cell_is_not_stalled),
         cmocka_unit_test(test_bad_input),
     };

@@ -1,0 +1,110 @@
+/* hang_watch: children silent on the health channels (see hang_watch.h). */
+#include <string.h>
+#include <sys/select.h>
+#include "hang_watch.h"
+#include "auth_bus.h"
+#include "scenario.h"
+#include "tandem_health_t.h"
+
+void hang_watch_init(hang_watch *w, double hang_s)
+{
+    memset(w, 0, sizeof *w);
+    w->hang_s = hang_s > 0.0 ? hang_s : 0.0;
+}
+
+int hang_watch_add(hang_watch *w, const char *name, double now_s)
+{
+    const size_t len = name ? strlen(name) : 0;
+    if (len == 0 || len >= sizeof w->name[0])
+        return HANG_WATCH_ERR_NAME;
+    if (w->n >= HANG_WATCH_MAX)
+        return HANG_WATCH_ERR_FULL;
+    memcpy(w->name[w->n], name, len + 1);
+    hang_watch_started(w, w->n, now_s);
+    return w->n++;
+}
+
+void hang_watch_started(hang_watch *w, int k, double now_s)
+{
+    if (k < 0 || k >= HANG_WATCH_MAX)
+        return;
+    w->last_s[k] = now_s;
+    w->on[k] = 1;
+    w->spoken[k] = 0;
+}
+
+void hang_watch_down(hang_watch *w, int k)
+{
+    if (k >= 0 && k < HANG_WATCH_MAX)
+        w->on[k] = 0;
+}
+
+void hang_watch_heard(hang_watch *w, const char *name, double now_s)
+{
+    int k;
+    for (k = 0; k < w->n; k++)
+        if (!strcmp(w->name[k], name) && now_s > w->last_s[k]) {
+            w->last_s[k] = now_s;
+            w->spoken[k] = 1;
+        }
+}
+
+double hang_watch_silent_s(const hang_watch *w, int k, double now_s)
+{
+    return k >= 0 && k < w->n ? now_s - w->last_s[k] : 0.0;
+}
+
+int hang_watch_hung(const hang_watch *w, int k, double now_s)
+{
+    return w->hang_s > 0.0 && k >= 0 && k < w->n && w->on[k] &&
+           hang_watch_silent_s(w, k, now_s) > w->hang_s + (w->spoken[k] ? 0.0 : HANG_WATCH_START_S);
+}
+
+int hang_watch_look(hang_watch *w, lcm_t *lcm, double now_s)
+{
+    const int fd = lcm_get_fileno(lcm);
+    struct timeval tv = { 0, 0 };
+    fd_set fds;
+    int k;
+    if (w->looked_s > 0.0 && now_s - w->looked_s > HANG_WATCH_AWAY_S)
+        for (k = 0; k < w->n; k++)
+            w->last_s[k] += now_s - w->looked_s;
+    w->looked_s = now_s;
+    FD_ZERO(&fds);
+    FD_SET(fd, &fds);
+    return select(fd + 1, &fds, NULL, NULL, &tv) == 0;
+}
+
+static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
+{
+    (void)rb; (void)ch;
+    /* a daemon's goodbye ("stopped") is its last word, not a sign of life:
+     * it is about to exit, and its exit is seen as an exit */
+    if (strcmp(m->status, "stopped") != 0)
+        hang_watch_heard(u, m->name, scenario_wall_s());
+}
+
+AUTH_TYPED_HANDLER(tandem_health_t, raw_on_health, on_health)
+
+void hang_watch_subscribe(hang_watch *w, lcm_t *lcm)
+{
+    if (w->hang_s > 0.0)
+        w->sub = auth_bus_subscribe(lcm, "HEALTH_.*", raw_on_health, w);
+}
+
+void hang_watch_stop(hang_watch *w, lcm_t *lcm)
+{
+    if (w->sub)
+        lcm_unsubscribe(lcm, w->sub);
+    w->sub = NULL;
+}
+
+const char *hang_watch_strerror(int err)
+{
+    switch (err) {
+    case 0: return "ok";
+    case HANG_WATCH_ERR_FULL: return "HANG_WATCH_ERR_FULL: too many children watched";
+    case HANG_WATCH_ERR_NAME: return "HANG_WATCH_ERR_NAME: empty or too long a daemon name";
+    default: return "unknown hang_watch error";
+    }
+}
