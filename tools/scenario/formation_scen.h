@@ -30,7 +30,7 @@
 
 /* Failures of the children (0 = ok). */
 #define FM_ERR_START (-1)       /* the simulator or a rover process did not start */
-#define FM_ERR_FAULT (-1)       /* --fault: a rover not restarted, or not back within 60 s */
+#define FM_ERR_FAULT (-2)       /* --fault: a rover not restarted, or not back within 60 s */
 
 typedef struct fm_state {
     /* options */
