@@ -4,6 +4,7 @@
 #   make test       install missing packages, make lint, then unit + integration tests,
 #                   also rebuilt and rerun with -fsanitize=address,undefined
 #   make bench      benchmarks (figures printed, nothing asserted)
+#   make coverage   line and branch coverage of the unit and integration tests (gcovr)
 #   make spy        lcm-spy with every tandem channel decoded
 #   make cross      the core for m68k-linux-gnu (-m68040) and arm-none-eabi (Cortex-M4F)
 #   make test-cross the unit tests built for the 68040, run under qemu-m68k
@@ -12,7 +13,8 @@
 #   make multihost-test  the cell on three network namespaces (root)
 #   make help       every target and variable
 #   make clean
-# SAN=1 builds into build/san with the sanitizers on.
+# SAN=1 builds into build/san with the sanitizers on, COV=1 into build/cov
+# with gcov instrumentation (make coverage).
 
 # src/core/layers.mk (included below) defines the first rule; plain make is all
 .DEFAULT_GOAL := all
@@ -27,6 +29,10 @@ ifeq ($(SAN),1)
 BUILD    := build/san
 OPT      := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
 LDSAN    := -fsanitize=address,undefined
+else ifeq ($(COV),1)
+BUILD    := build/cov
+OPT      := -O0 -g --coverage
+LDSAN    := --coverage
 else
 BUILD    := build
 endif
@@ -104,7 +110,7 @@ DUNIT_BIN  := $(patsubst %.c,$(BIN)/%,$(notdir $(DUNIT_SRC)))
 IT_BIN     := $(patsubst %.c,$(BIN)/%,$(notdir $(IT_SRC)))
 BENCH_BIN  := $(patsubst %.c,$(BIN)/%,$(notdir $(BENCH_SRC)))
 
-.PHONY: all run test unit integration bench spy clean deps deps-bench deps-cross jar fuzz multihost-test lint
+.PHONY: all run test unit integration bench coverage spy clean deps deps-bench deps-cross jar fuzz multihost-test lint
 all: $(PROGS) $(UNIT_BIN) $(DUNIT_BIN) $(IT_BIN) $(TYPES_JAR)
 
 # make cross, make test-cross, make budget: the core on a 68040 and a Cortex-M4
@@ -171,6 +177,15 @@ test: deps deps-cross
 	@$(MAKE) --no-print-directory all
 	@$(MAKE) --no-print-directory unit integration
 	@$(MAKE) --no-print-directory SAN=1 unit integration
+
+# line and branch coverage (gcovr) of the unit and integration tests, the
+# core's figure first: build/cov, then the summaries
+coverage: deps
+	@tools/deps.sh coverage
+	@$(MAKE) --no-print-directory COV=1 all
+	@find build/cov -name '*.gcda' -delete
+	@$(MAKE) --no-print-directory COV=1 unit integration
+	@tools/coverage.sh build/cov
 
 run: deps $(if $(VIEW),viewer)
 	@$(MAKE) --no-print-directory all

@@ -42,7 +42,7 @@ enum {
 /* Failures of the world and its models (0 = ok). */
 #define SIM_OK 0
 #define SIM_ERR_CREATE (-1)   /* the world or a model cannot be built (said on stderr) */
-#define SIM_ERR_CONTROL (-1)  /* a control message for this model, but invalid (refused) */
+#define SIM_ERR_CONTROL (-2)  /* a control message for this model, but invalid (refused) */
 
 typedef struct sim_contact {
     dBodyID b1, b2;

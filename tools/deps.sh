@@ -19,7 +19,8 @@ elif [ "${1:-run}" = cross ]; then
           qemu-user-static binutils)
 fi
 case ${1:-run} in
-    fuzz) pkgs=(clang libclang-rt-14-dev) ;;   # libFuzzer and the sanitizers' runtimes
+    fuzz) pkgs=(clang libclang-rt-14-dev) ;;
+    coverage) pkgs=(gcovr) ;;   # libFuzzer and the sanitizers' runtimes
     view) pkgs=(python3-venv) ;;
     view-test) pkgs=(python3-venv chromium fonts-dejavu-core iproute2) ;;
     install) pkgs=(help2man man-db) ;;

@@ -49,6 +49,7 @@ help:
 	@echo '  make view-test     headless-Chromium test of the viewer (UPDATE_DOCS=1 writes docs/viewer.png)'
 	@echo '  make spy           lcm-spy with every tandem type decoded'
 	@echo '  make bench         benchmarks (figures printed, nothing asserted)'
+	@echo '  make coverage      line and branch coverage of the unit and integration tests (gcovr)'
 	@echo '  make cross         the core for m68k (68040) and arm-none-eabi (Cortex-M4F)'
 	@echo '  make test-cross    the unit tests built for the 68040, run under qemu-m68k'
 	@echo '  make budget        memory, stack and cycle budgets of the cross builds'
@@ -57,7 +58,7 @@ help:
 	@echo '  make install       PREFIX=/usr/local: binaries, types jar, man pages, pkg-config file'
 	@echo '  make jar           build/lib/tandem_types.jar only'
 	@echo '  make clean         remove build/'
-	@echo 'variables: SAN=1 (sanitizer build in build/san), V=1, PREFIX, DESTDIR, TANDEM_VERSION'
+	@echo 'variables: SAN=1 (sanitizer build in build/san), COV=1 (build/cov), V=1, PREFIX, DESTDIR, TANDEM_VERSION'
 
 # ---- install ------------------------------------------------------------------
 PREFIX  ?= /usr/local

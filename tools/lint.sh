@@ -7,7 +7,8 @@
 #      its own domain's sources, never from a public header, and
 #   2. the core reaches no POSIX or stdio header (CORE_FORBIDDEN, cross.mk);
 #   3. no tracked file cites a specification outside the repository or
-#      holds an absolute path of a development machine.
+#      holds an absolute path of a development machine;
+#   4. no two error codes of one header share a value.
 # Usage: tools/lint.sh "base:base" "arm:base arm" ... -- FORBIDDEN_HEADER...
 set -u
 cd "$(dirname "$0")/.."
@@ -69,5 +70,16 @@ if git rev-parse --git-dir >/dev/null 2>&1; then
         echo "$refs" | sed 's/$/   <- a reference outside the repository/'; bad=1
     fi
 fi
-[ $bad -eq 0 ] && echo "lint: layering, core headers and references ok"
+# 4. error codes say what failed: within one header no two *_ERR_* names
+#    share a value (a caller could not tell them apart)
+if git rev-parse --git-dir >/dev/null 2>&1; then
+    dups=$(for h in $(git ls-files '*.h'); do
+               sed -nE 's/^#define[[:space:]]+([A-Z0-9_]*_ERR_[A-Z0-9_]+)[[:space:]]+\(?(-?[0-9]+)\)?([[:space:]].*)?$/\2 \1/p' "$h" |
+               awk -v h="$h" '{ if ($1 in n) print h ": " n[$1] " and " $2 " are both " $1; else n[$1] = $2 }'
+           done)
+    if [ -n "$dups" ]; then
+        echo "$dups" | sed 's/$/   <- error codes must be distinct/'; bad=1
+    fi
+fi
+[ $bad -eq 0 ] && echo "lint: layering, core headers, references and error codes ok"
 exit $bad

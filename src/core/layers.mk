@@ -35,3 +35,4 @@ $(LAYER_STAMP): src/core/layers.mk $(wildcard include/tandem/*/*.h src/core/*/*.
 # make lint: the same table, checked from the sources (tools/lint.sh)
 lint:
 	@tools/lint.sh $(foreach d,$(CORE_DOMAINS),"$(d):$(LAYER_$(d))") -- $(CORE_FORBIDDEN)
+	@tools/lint-docs.sh

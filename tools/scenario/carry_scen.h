@@ -35,8 +35,8 @@
 /* Failures of a carry run's steps (0 = ok; each said on stderr but a
  * malformed --block, which the option parser reports). */
 #define CARRY_SCEN_ERR_BLOCK (-1)  /* --block not A:L:S:D[:t3] inside its ranges */
-#define CARRY_SCEN_ERR_RUN (-1)    /* no LCM, a daemon did not start or exited early */
-#define CARRY_SCEN_ERR_FAULT (-1)  /* --fault or a hung daemon: not restarted, or
+#define CARRY_SCEN_ERR_RUN (-2)    /* no LCM, a daemon did not start or exited early */
+#define CARRY_SCEN_ERR_FAULT (-3)  /* --fault or a hung daemon: not restarted, or
                                       not back within 60 s */
 
 typedef struct block {

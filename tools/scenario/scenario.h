@@ -10,7 +10,7 @@
 /* Results of the shared helpers (0 = ok); each has printed why. */
 #define SCENARIO_OK 0
 #define SCENARIO_ERR_ARG (-1)  /* a bad option value (--drop-rate, --fault, ...) */
-#define SCENARIO_ERR_IO (-1)   /* a directory or file not made, or gnuplot failed */
+#define SCENARIO_ERR_IO (-2)   /* a directory or file not made, or gnuplot failed */
 /* A scenario's setup step: no exit status yet, the run goes on (a setup
  * that fails returns the exit status, >= 0). */
 #define SCENARIO_GO_ON (-1)

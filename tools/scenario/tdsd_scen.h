@@ -38,8 +38,8 @@ typedef struct tdsd_scen_usage {
 
 /* Failures of a TDSD scenario's steps (0 = ok; each said on stderr). */
 #define TDSD_SCEN_ERR_ARG (-1)  /* bad usage */
-#define TDSD_SCEN_ERR_IO (-1)   /* DIR or a file in it not made */
-#define TDSD_SCEN_ERR_RUN (-1)  /* the plant did not run (--plant ode: the children) */
+#define TDSD_SCEN_ERR_IO (-2)   /* DIR or a file in it not made */
+#define TDSD_SCEN_ERR_RUN (-3)  /* the plant did not run (--plant ode: the children) */
 
 /* Parses --method M --plant kin|ode --out DIR [--servo-hz HZ] into s and
  * creates DIR. Returns 0 ok, 1 if --help was printed, TDSD_SCEN_ERR_ARG

@@ -11,7 +11,7 @@
 
 #define ARM_KIN_ERR_ARG (-1)        /* NULL, non-finite q or pose           */
 #define ARM_KIN_ERR_GEOMETRY (-2)   /* arm_ik: the model is not PUMA-type   */
-#define ARM_KIN_ERR_NO_BRANCH (-1)  /* no IK branch: unknown name, or none
+#define ARM_KIN_ERR_NO_BRANCH (-3)  /* no IK branch: unknown name, or none
                                        inside the limits                    */
 
 /* Pose of the flange (tool == NULL) or of the tool. 0 ok, ARM_KIN_ERR_ARG bad input. */

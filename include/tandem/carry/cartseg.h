@@ -18,7 +18,7 @@
 #define CARTSEG_ERR_ARG (-1)     /* NULL, non-finite input or bad reference
                                     mode, or a failure below (kinematics,
                                     erlaw, cartctl)                        */
-#define CARTSEG_ERR_NO_GOAL (-1) /* cartseg_joint_goal: no IK solution keeps
+#define CARTSEG_ERR_NO_GOAL (-2) /* cartseg_joint_goal: no IK solution keeps
                                     the margin (the pose unreachable or the
                                     arm's configuration unknown)           */
 

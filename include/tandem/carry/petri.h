@@ -35,7 +35,7 @@
 #define PETRI_ERR_NOT_ENABLED (-2)  /* start of a transition not enabled */
 #define PETRI_ERR_NOT_RUNNING (-3)  /* completion of one not running   */
 #define PETRI_ERR_OVERFLOW (-4)     /* a place would exceed PETRI_TOKEN_MAX */
-#define PETRI_ERR_NONE_ENABLED (-1) /* petri_select: no transition enabled */
+#define PETRI_ERR_NONE_ENABLED (-9) /* petri_select: no transition enabled */
 /* petri_net_validate only (petri_compile returns PETRI_ERR_ARG for the
  * first two): */
 #define PETRI_ERR_SIZE (-5)         /* places / transitions / invariants

@@ -20,7 +20,7 @@
 
 #define FORMATION_ERR_ARG (-1)     /* bad type, n, k, spacing, scale or
                                       announcement content               */
-#define FORMATION_ERR_ABSENT (-1)  /* formation_slot_of: id not in the team */
+#define FORMATION_ERR_ABSENT (-2)  /* formation_slot_of: id not in the team */
 
 #define FORMATION_MAX_ROBOTS 128
 

@@ -21,7 +21,7 @@
 
 #define ROVER_WORLD_ERR_ARG (-1)      /* NULL, n, spacing or formation out of
                                          range, a non-finite pose          */
-#define ROVER_WORLD_ERR_UNKNOWN (-1)  /* rover_world_id: no such world name */
+#define ROVER_WORLD_ERR_UNKNOWN (-2)  /* rover_world_id: no such world name */
 
 #define ROVER_WORLD_MAX_ROBOTS 128
 #define ROVER_WORLD_MAX_OBST   32

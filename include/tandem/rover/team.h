@@ -23,8 +23,8 @@
 #include "vec2.h"
 
 #define TEAM_ERR_ARG (-1)      /* NULL, non-finite input or invalid message */
-#define TEAM_ERR_FULL (-1)     /* a new mate but TEAM_MAX are held          */
-#define TEAM_ERR_UNKNOWN (-1)  /* no such mate, or none to average          */
+#define TEAM_ERR_FULL (-2)     /* a new mate but TEAM_MAX are held          */
+#define TEAM_ERR_UNKNOWN (-3)  /* no such mate, or none to average          */
 
 #define TEAM_MAX 128
 #define TEAM_TIMEOUT_S_DEFAULT 1.0

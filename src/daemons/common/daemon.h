@@ -90,11 +90,11 @@ typedef int (*daemon_cycle_fn)(daemon *d, void *user);
  * below (each has printed why on stderr). */
 #define DAEMON_OK 0
 #define DAEMON_ERR_NUMBER (-1)  /* parse_*_opt: not a finite number / not an integer */
-#define DAEMON_ERR_RANGE (-1)   /* parse_*_opt: outside [lo, hi]; daemon_start: period
+#define DAEMON_ERR_RANGE (-2)   /* parse_*_opt: outside [lo, hi]; daemon_start: period
                                    outside rtloop's range */
-#define DAEMON_ERR_TABLE (-1)   /* daemon_check_table: the validator refused the table */
-#define DAEMON_ERR_AUTH (-1)    /* daemon_start: auth_bus_start refused (no key, ...) */
-#define DAEMON_ERR_LCM (-1)     /* daemon_start: LCM does not open at the URL */
+#define DAEMON_ERR_TABLE (-3)   /* daemon_check_table: the validator refused the table */
+#define DAEMON_ERR_AUTH (-4)    /* daemon_start: auth_bus_start refused (no key, ...) */
+#define DAEMON_ERR_LCM (-5)     /* daemon_start: LCM does not open at the URL */
 
 #define DAEMON_CONTINUE 0      /* cycle: go on */
 #define DAEMON_STOPPED 0       /* daemon_run: stopped by SIGINT/SIGTERM (exit 0) */

@@ -37,7 +37,7 @@
  * an `other` callback's: the word is refused (the callback said why) */
 #define OPTIONS_ERR_VALUE (-1)
 /* options_table_validate: the table is unsound (the entry named on stderr) */
-#define OPTIONS_ERR_TABLE (-1)
+#define OPTIONS_ERR_TABLE (-4)
 
 #define OPTIONS_EXIT_BAD_ARGS 2 /* the exit status of every program on bad options */
 

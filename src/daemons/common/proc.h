@@ -10,8 +10,8 @@
 
 /* Failures of proc_spawn (as a pid) and proc_poll. */
 #define PROC_ERR_SYS (-1)      /* pipe or fork failed: errno says why */
-#define PROC_ERR_FULL (-1)     /* PROC_MAX children already, or no argv[0] */
-#define PROC_ERR_UNKNOWN (-1)  /* proc_poll: not a child of this set */
+#define PROC_ERR_FULL (-3)     /* PROC_MAX children already, or no argv[0] */
+#define PROC_ERR_UNKNOWN (-4)  /* proc_poll: not a child of this set */
 #define PROC_ERR_KEY (-2)      /* proc_spawn: the child's role file cannot be made (said) */
 
 typedef struct proc_set {

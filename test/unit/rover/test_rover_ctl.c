@@ -1474,7 +1474,7 @@ static void test_world_layout_and_clearance(void **state)
     double cl[2];
     (void)state;
     assert_int_equal(rover_world_id("corridor"), ROVER_WORLD_CORRIDOR);
-    assert_int_equal(rover_world_id("moon"), -1);
+    assert_int_equal(rover_world_id("moon"), ROVER_WORLD_ERR_UNKNOWN);
     assert_int_equal(rover_world_layout(&a, ROVER_WORLD_OBSTACLES, 30, 1.0, FORMATION_LINE), 0);
     assert_int_equal(rover_world_layout(&b, ROVER_WORLD_OBSTACLES, 30, 1.0, FORMATION_LINE), 0);
     assert_memory_equal(&a, &b, sizeof a);
