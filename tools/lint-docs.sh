@@ -61,5 +61,12 @@ for d in "${docs[@]}"; do
         grep -qx -- "$m" <<<"$targets" || say "$d" "make $m" "is not a target"
     done
 done
-[ $bad -eq 0 ] && echo "lint: every path, target, name and option the docs cite exists"
+# every relative link of a page resolves from where the page is
+for d in "${docs[@]}"; do
+    [ -f "$d" ] || continue
+    for l in $(grep -oE '\]\([^)#[:space:]]+' "$d" | sed 's/^](//' | grep -v '^http'); do
+        [ -e "$(dirname "$d")/$l" ] || say "$d" "a link to $l" "does not resolve"
+    done
+done
+[ $bad -eq 0 ] && echo "lint: every path, target, name, option and link the docs cite exists"
 exit $bad
