@@ -79,7 +79,7 @@ typedef struct arm_hold {
     double  rest_s;                   /* time at rest since then */
     int64_t last_cmd_step;            /* state step of the last command sent, -1 */
     int64_t stops;                    /* protective stops so far */
-    int     states_in_cycle;          /* states accepted since the last cycle */
+    int     states_in_cycle;          /* states of new steps since the last cycle */
     char    why[40];
 } arm_hold;
 

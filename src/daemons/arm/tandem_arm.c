@@ -73,9 +73,12 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
         ad->d.msgs.rejected++;
         return;
     }
+    /* a backlog is of new steps: the simulator re-announces a step (same
+     * state again) while it waits for a slow participant in lockstep */
+    if (!ad->have_state || s.step > ad->st.step)
+        ad->hold.states_in_cycle++;
     ad->st = s;
     ad->have_state = 1;
-    ad->hold.states_in_cycle++;
     ad->state_rx_ns = rtloop_now_ns();
     if (!ad->holding_set) {
         memcpy(ad->hold_q, s.q_rad, sizeof ad->hold_q);
