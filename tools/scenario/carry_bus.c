@@ -93,7 +93,10 @@ static void on_arm(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_st
 
 /* A synchronised arm's progress as a fraction of its segment (a
  * restarted arm's segment is stretched, its s_f changes, its fraction
- * does not): how far it went back from its furthest, in metres. */
+ * does not): how far it went back from its furthest, in metres. While the
+ * stick is in it may push an arm, and with it the bar and the partner,
+ * back along the path: that is the stick's doing, not counted (the
+ * furthest is taken from where the stick left them). */
 static void sync_backtrack(carry_state *r, int a, const tandem_action_event_t *e)
 {
     double frac;
@@ -105,6 +108,8 @@ static void sync_backtrack(carry_state *r, int a, const tandem_action_event_t *e
         r->sync_seg[a] = e->segment;
         r->sync_frac_max[a] = frac;
     }
+    if (r->status_stick)
+        r->sync_frac_max[a] = frac;
     r->sync_frac_max[a] = fmax(r->sync_frac_max[a], frac);
     r->max_sync_backtrack_m = fmax(r->max_sync_backtrack_m, (r->sync_frac_max[a] - frac) * e->s_f_m);
 }

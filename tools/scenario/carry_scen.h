@@ -26,10 +26,10 @@
 /* success criteria (the figures a carry run must show) */
 #define CRIT_FORCE_10MS_N 1000.0
 #define CRIT_RESUME_S 1.0
-/* A synchronised arm never goes back along its segment by more than a
- * follower's overshoot when its reference stops (v0 / (e w) = 2.5 mm from
- * 0.2 m/s, docs/method/carry.md §4.2) and its 1 mm gap, with margin; a
- * partner driven back by a restarted arm went 0.11 m. */
+/* A synchronised arm never goes back along its segment, but by the stick
+ * or by a follower's overshoot when its reference stops (v0 / (e w) =
+ * 2.5 mm from 0.2 m/s, docs/method/carry.md §4.2) and its 1 mm gap, with
+ * margin; a partner driven back by a restarted arm went 0.11 m. */
 #define CARRY_SYNC_BACKTRACK_MAX_M 0.005
 
 /* Failures of a carry run's steps (0 = ok; each said on stderr but a
