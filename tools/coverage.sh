@@ -7,7 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build/cov}
 echo "coverage of src/core (the portable core):"
-gcovr -r . --object-directory "$build/obj" --filter 'src/core/' --print-summary -s --txt /dev/null | sed 's/^/  /'
+gcovr -r . --object-directory "$build/obj" --filter 'src/core/' --print-summary -s --txt "$build/coverage-core.txt" | sed 's/^/  /'
 echo "coverage of everything tandem compiles (core, daemons, simulator, tools):"
 gcovr -r . --object-directory "$build/obj" --filter 'src/' --filter 'sim/' --filter 'tools/' \
       --html "$build/coverage.html" --print-summary -s | tail -3 | sed 's/^/  /'
