@@ -17,6 +17,7 @@
 #include <sys/types.h>
 #include <lcm/lcm.h>
 #include "rover_world.h"
+#include "world_file.h"
 #include "scenario.h"
 #include "tandem_rover_state_t.h"
 #include "tandem_rover_truth_t.h"
@@ -63,6 +64,9 @@ typedef struct fm_state {
     lcm_subscription_t *sub_clock, *sub_truth, *sub_state, *sub_states, *sub_ack;
     int64_t clock_step, answered, ack_seq, last_clock_ns;
     int    have_clock;
+    world_opts wopt;                  /* --world-file, --start, --goal (world_file.h) */
+    world_opts child_world;           /* what the children get: OUT/world.yaml for a file world */
+    char   world_copy[700];
     /* layout and truth */
     rover_world_config layout;
     int    type_now;                  /* formation reported by the lowest alive id */
@@ -106,6 +110,11 @@ const char *fm_blend_name(int b);
 /* Starts the simulator and the rover processes; 0 ok, FM_ERR_START. */
 int  fm_start_children(fm_state *fm);
 /* SIGTERM to every child, SIGKILL to those still there after 5 s. */
+/* formation_world.c: a file world kept in the output directory as
+ * world.yaml + world.pgm, which the children then read. 0, or 1 (said). */
+int  fm_keep_world(fm_state *fm);
+/* The --world word for the children ("open" under a --world-file). */
+const char *fm_world_arg(const fm_state *fm);
 void fm_stop_children(fm_state *fm);
 /* --fault at a step due to be answered: 1 go on, 0 hold the step,
  * FM_ERR_FAULT. */

@@ -73,6 +73,7 @@ static const option_entry formation_table[] = {
       .values = options_formation_values, .help = "the team's formation", .def = "line" },
     { .name = "world", .type = OPTION_CHOICE, OPTION_AT(fm_state, world), .choices = options_world_names,
       .values = options_world_values, .help = "the rover world", .def = "open" },
+    WORLD_FILE_OPTIONS(fm_state, wopt),
     { .name = "blend", .type = OPTION_CHOICE, OPTION_AT(fm_state, blend), .choices = blends,
       .help = "how the behaviours' outputs are blended", .def = "weighted" },
     { .name = "formation-law", .type = OPTION_CHOICE, OPTION_AT(fm_state, law_kanayama), .choices = laws,
@@ -225,14 +226,16 @@ static void open_outputs(fm_state *fm)
 static int setup(fm_state *fm)
 {
     int i;
+    fm->wopt.world = fm->world;
+    if (world_opts_layout(&fm->layout, &fm->wopt, fm->robots, 1.0, fm->formation, "formation") != 0) return 2;
     if (scenario_mkdir(fm->out) != 0) return 1;
+    if (fm_keep_world(fm) != 0) return 1;
     if (find_bindir(fm) != 0) return 1;
     if (!fm->url) {
         snprintf(fm->url_buf, sizeof fm->url_buf, "udpm://239.255.76.67:%d?ttl=0&recv_buf_size=4194304",
                  20000 + (int)(getpid() % 20000));
         fm->url = fm->url_buf;
     }
-    if (rover_world_layout(&fm->layout, fm->world, fm->robots, 1.0, fm->formation) != 0) return 2;
     fm->type_now = fm->formation;
     fm->lcm = lcm_create(fm->url);
     if (!fm->lcm) { fprintf(stderr, "formation: cannot open LCM at %s\n", fm->url); return 1; }
