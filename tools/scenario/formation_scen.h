@@ -65,6 +65,9 @@ typedef struct fm_state {
     int64_t clock_step, answered, ack_seq, last_clock_ns;
     int    have_clock;
     world_opts wopt;                  /* --world-file, --start, --goal (world_file.h) */
+    int    world_kind;                /* --world-kind (WORLDGEN_*) */
+    long   world_seed;                /* --world-seed */
+    const char *world_size;           /* --world-size WxH */
     world_opts child_world;           /* what the children get: OUT/world.yaml for a file world */
     char   world_copy[700];
     /* layout and truth */
@@ -113,6 +116,14 @@ int  fm_start_children(fm_state *fm);
 /* formation_world.c: a file world kept in the output directory as
  * world.yaml + world.pgm, which the children then read. 0, or 1 (said). */
 int  fm_keep_world(fm_state *fm);
+/* --world random: the world generated (--world-kind, --world-seed,
+ * --world-size, the team), written as OUT/world.yaml + .pgm and taken as
+ * the run's --world-file. 0, or an exit status (said). */
+int  fm_random_world(fm_state *fm);
+#define FM_WORLD_RANDOM 101                    /* --world random */
+extern const char *const fm_world_names[];     /* the built-ins and "random" */
+extern const int fm_world_values[];
+extern const char *const fm_world_kinds[];     /* worldgen's kinds, in WORLDGEN_* order */
 /* The --world word for the children ("open" under a --world-file). */
 const char *fm_world_arg(const fm_state *fm);
 void fm_stop_children(fm_state *fm);

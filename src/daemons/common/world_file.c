@@ -368,22 +368,32 @@ static int write_pgm(const char *file, const rover_map *m)
     return fclose(f) == 0 && ok;
 }
 
+/* The shortest of %.15g, %.17g that reads back as v (a kept world must be
+ * the same world bit for bit: a re-run from it is the same run). */
+static const char *num(char buf[32], double v)
+{
+    snprintf(buf, 32, "%.15g", v);
+    if (strtod(buf, NULL) != v) snprintf(buf, 32, "%.17g", v);
+    return buf;
+}
+
 static int write_yaml(const char *file, const char *image, const rover_map *m, const rover_map_site *s)
 {
     FILE *f = fopen(file, "w");
+    char a[32], b[32], c[32];
     int k, ok;
     if (!f) return 0;
-    fprintf(f, "image: %s\nresolution: %.17g\norigin: [%.17g, %.17g, 0.0]\nnegate: 0\n"
-               "occupied_thresh: 0.65\nfree_thresh: 0.196\ntandem:\n  start: [%.17g, %.17g, %.17g]\n"
-               "  goal: [%.17g, %.17g]\n",
-            image, m->resolution_m, m->origin_x_m, m->origin_y_m, s->start.x_m, s->start.y_m, s->start.theta_rad,
-            s->goal_m[0], s->goal_m[1]);
+    fprintf(f, "image: %s\nresolution: %s\norigin: [%s, %s, 0.0]\nnegate: 0\n", image, num(a, m->resolution_m),
+            num(b, m->origin_x_m), num(c, m->origin_y_m));
+    fprintf(f, "occupied_thresh: 0.65\nfree_thresh: 0.196\ntandem:\n  start: [%s, %s, %s]\n", num(a, s->start.x_m),
+            num(b, s->start.y_m), num(c, s->start.theta_rad));
+    fprintf(f, "  goal: [%s, %s]\n", num(a, s->goal_m[0]), num(b, s->goal_m[1]));
     if (s->n_landmarks == ROVER_MAP_LANDMARKS_AUTO) {
         fprintf(f, "  landmarks: auto\n");
     } else {
         fprintf(f, "  landmarks: [");
         for (k = 0; k < s->n_landmarks; k++)
-            fprintf(f, "%s[%.17g, %.17g]", k ? ", " : "", s->landmark_m[k][0], s->landmark_m[k][1]);
+            fprintf(f, "%s[%s, %s]", k ? ", " : "", num(a, s->landmark_m[k][0]), num(b, s->landmark_m[k][1]));
         fprintf(f, "]\n");
     }
     ok = !ferror(f);
@@ -400,6 +410,48 @@ int world_file_write(const char *dir, const char *name, const rover_map *m, cons
     if (!write_pgm(pgm, m)) return say(why, why_n, WORLD_FILE_ERR_WRITE, "%s: cannot write (%s)", pgm, strerror(errno));
     if (!write_yaml(yaml, image, m, s))
         return say(why, why_n, WORLD_FILE_ERR_WRITE, "%s: cannot write (%s)", yaml, strerror(errno));
+    return WORLD_FILE_OK;
+}
+
+#define SVG_PX_PER_M 20.0
+
+int world_file_write_svg(const char *dir, const char *name, const rover_world_config *w, char *why, size_t why_n)
+{
+    char file[PATH_MAX_LEN];
+    const double s = SVG_PX_PER_M, W = w->x_max_m - w->x_min_m, H = w->y_max_m - w->y_min_m;
+    FILE *f;
+    int k, ok;
+    snprintf(file, sizeof file, "%s/%s.svg", dir, name);
+    if (!(f = fopen(file, "w"))) return say(why, why_n, WORLD_FILE_ERR_WRITE, "%s: cannot write (%s)", file, strerror(errno));
+    /* y up: the group flips the picture about the map's extent */
+    fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\">\n"
+               "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n"
+               "<g transform=\"translate(%.6g %.6g) scale(%.6g %.6g)\">\n",
+            W * s, H * s, -w->x_min_m * s, w->y_max_m * s, s, -s);
+    for (k = 0; k < w->n_obst; k++) {
+        const rover_obstacle *o = &w->obst[k];
+        if (o->kind == ROVER_OBST_CIRCLE)
+            fprintf(f, "<circle cx=\"%.6g\" cy=\"%.6g\" r=\"%.6g\" fill=\"#555\"/>\n", o->cx_m, o->cy_m, o->r_m);
+        else
+            fprintf(f, "<rect x=\"%.6g\" y=\"%.6g\" width=\"%.6g\" height=\"%.6g\" fill=\"#555\" "
+                       "transform=\"rotate(%.6g %.6g %.6g)\"/>\n",
+                    o->cx_m - o->hx_m, o->cy_m - o->hy_m, 2.0 * o->hx_m, 2.0 * o->hy_m,
+                    o->angle_rad * 57.29577951308232, o->cx_m, o->cy_m);
+    }
+    for (k = 0; k < w->n_landmarks; k++)
+        fprintf(f, "<circle cx=\"%.6g\" cy=\"%.6g\" r=\"0.12\" fill=\"#e8a800\"/>\n", w->landmark_m[k][0],
+                w->landmark_m[k][1]);
+    fprintf(f, "<circle cx=\"%.6g\" cy=\"%.6g\" r=\"0.5\" fill=\"none\" stroke=\"#d00\" stroke-width=\"0.08\"/>\n",
+            w->goal_m[0], w->goal_m[1]);
+    for (k = 0; k < w->n_robots; k++) {
+        const pose2 *c = &w->start_c[k];
+        fprintf(f, "<line x1=\"%.6g\" y1=\"%.6g\" x2=\"%.6g\" y2=\"%.6g\" stroke=\"#080\" stroke-width=\"0.1\"/>"
+                   "<circle cx=\"%.6g\" cy=\"%.6g\" r=\"0.2\" fill=\"#080\"/>\n",
+                c->x_m, c->y_m, c->x_m + 0.4 * cos(c->theta_rad), c->y_m + 0.4 * sin(c->theta_rad), c->x_m, c->y_m);
+    }
+    fprintf(f, "</g>\n</svg>\n");
+    ok = !ferror(f);
+    if (fclose(f) != 0 || !ok) return say(why, why_n, WORLD_FILE_ERR_WRITE, "%s: cannot write", file);
     return WORLD_FILE_OK;
 }
 

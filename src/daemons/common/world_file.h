@@ -60,6 +60,10 @@ int world_file_read(const char *path, rover_map *m, rover_map_site *s, char *why
 int world_file_write(const char *dir, const char *name, const rover_map *m, const rover_map_site *s,
                      char *why, size_t why_n);
 
+/* DIR/NAME.svg: a picture of the world w as laid out on its map (the
+ * merged boxes, each robot's start, the goal, the landmarks), 20 px/m. */
+int world_file_write_svg(const char *dir, const char *name, const rover_world_config *w, char *why, size_t why_n);
+
 /* The layout the options choose: a built-in world by name, or the file
  * with --start / --goal applied. Said on stderr as "PROG: PATH: FIELD:
  * reason" on failure. */
