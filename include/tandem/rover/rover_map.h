@@ -77,8 +77,9 @@ int rover_world_from_map(rover_world_config *w, rover_map *m, const rover_map_si
 
 /* LED posts along the way: pairs 3.5 m either side of the straight line
  * from start to goal, every 3 m from 3 m behind the start to 3 m past the
- * goal (the step grows if they would exceed ROVER_WORLD_MAX_LANDMARKS),
- * each kept only on a free cell of the map. Returns how many (into lm). */
+ * goal (the step grows if they would exceed ROVER_WORLD_MAX_LANDMARKS);
+ * where that point is not a free cell of the map, the first free one of
+ * 2.45, 1.5 and 0.8 m out, else none. Returns how many (into lm). */
 int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const double goal_m[2],
                              double lm[ROVER_WORLD_MAX_LANDMARKS][2]);
 

@@ -38,6 +38,7 @@
 #define SONAR_N             8
 #define SONAR_MAX_RAYS      32
 #define SONAR_GRID_MAX      64
+#define SONAR_MANY_PRIMS    256    /* above: grid cells of about one prim each */
 #define SONAR_GRID_MAX_REFS 32768  /* < 65536: cell_start and refs are uint16 */
 
 enum { SONAR_PRIM_BOX = 0, SONAR_PRIM_CIRCLE = 1, SONAR_PRIM_SEGMENT = 2 };

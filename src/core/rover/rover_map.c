@@ -131,6 +131,7 @@ int rover_map_merge(rover_map *m, rover_obstacle *box, int cap, int *n)
 int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const double goal_m[2],
                              double lm[ROVER_WORLD_MAX_LANDMARKS][2])
 {
+    static const double out_frac[4] = { 1.0, 0.7, 0.43, 0.23 };   /* 3.5, 2.45, 1.5, 0.8 m */
     const double side_m = 3.5, margin_m = 3.0;
     const double dx = goal_m[0] - start->x_m, dy = goal_m[1] - start->y_m;
     const double len = hypot(dx, dy);
@@ -146,14 +147,19 @@ int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const doubl
     for (k = 0; k < pairs; k++) {
         const double s = -margin_m + step_m * k;
         const double cx = start->x_m + s * ux, cy = start->y_m + s * uy;
-        int side;
-        for (side = -1; side <= 1; side += 2) {
-            const double x = cx - side * side_m * uy, y = cy + side * side_m * ux;
-            if (rover_map_blocked(m, x, y)) continue;
-            lm[n][0] = x;
-            lm[n][1] = y;
-            n++;
-        }
+        int side, q;
+        for (side = -1; side <= 1; side += 2)
+            /* 3.5 m out, or nearer the way where a wall stands there (a
+             * corridor's posts stand on its floor, by its walls) */
+            for (q = 0; q < 4; q++) {
+                const double off = side_m * out_frac[q];
+                const double x = cx - side * off * uy, y = cy + side * off * ux;
+                if (rover_map_blocked(m, x, y)) continue;
+                lm[n][0] = x;
+                lm[n][1] = y;
+                n++;
+                break;
+            }
     }
     return n;
 }
