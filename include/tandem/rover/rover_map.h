@@ -1,5 +1,5 @@
-/* rover_map: a world given as an occupancy grid (docs/method/formation.md
- * §11, "Worlds from files"): the grid, its occupied cells merged into
+/* rover_map: a world given as an occupancy grid (docs/method/sonar.md
+ * §8, "Worlds from occupancy maps"): the grid, its occupied cells merged into
  * axis-aligned boxes (the obstacles the simulator and the sonar ray cast
  * see), and the launch configuration built on it (the team placed in its
  * formation slots around a start pose, the goal, the LED landmarks).

@@ -1,4 +1,4 @@
-/* rover_map: occupancy-grid worlds (docs/method/formation.md §11): the
+/* rover_map: occupancy-grid worlds (docs/method/sonar.md §8): the
  * grid's occupied cells merged into axis-aligned boxes, and the team's
  * launch configuration on the map. See rover_map.h.
  */

@@ -2,7 +2,7 @@
  * file beside a PGM image, P5 or P2) with tandem's own keys under
  * `tandem:` (start, goal, landmarks), the options that choose a world
  * (--world NAME | --world-file PATH, --start, --goal) and the layout they
- * give (docs/formation.md, "Worlds from files"; docs/method/formation.md §11).
+ * give (docs/formation.md, "Worlds from files"; docs/method/sonar.md §8).
  *
  * map_server's meaning of the keys: `image` (relative to the YAML file's
  * folder), `resolution` (m per cell), `origin` [x, y, yaw] (the pose of the
