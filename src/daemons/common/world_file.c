@@ -242,7 +242,8 @@ static unsigned char *slurp(const char *path, long *n)
     return b;
 }
 
-/* Pixel value k of the raster (P5 one or two bytes big-endian, P2 text). */
+/* The raster (P5: one byte a pixel, two big-endian above maxval 255; P2:
+ * text) into m's cells by map_server's thresholds, image rows top down. */
 static int pgm_pixels(pgm_buf *p, int ascii, long maxval, long count, const map_keys *k, rover_map *m)
 {
     long q;
