@@ -22,7 +22,7 @@
 CC       ?= cc
 # quiet by default; V=1 shows every command
 Q        := $(if $(V),,@)
-PKGS     := lcm ode ccd libsodium
+PKGS     := lcm ode ccd libsodium yaml-0.1
 WARN     := -std=c99 -Wall -Wextra -Wpedantic -Werror
 OPT      ?= -O2 -g
 ifeq ($(SAN),1)

@@ -109,6 +109,8 @@ typedef struct sim_config {
     double arm_friction_coulomb;  /* N m */
     int    rovers;             /* number of Pioneer robots (0 = none) */
     char   rover_world[32];    /* open | obstacles | corridor | deadzone */
+    const char *rover_world_file;  /* --world-file (world_file.h), NULL: rover_world */
+    const char *rover_start, *rover_goal;   /* --start, --goal with it (NULL: the file's) */
     int    rover_formation;    /* FORMATION_* the team starts in (0 = line) */
     int    rover_batch;        /* 1: ROVERS_* batched sensor messages */
     const struct arm_model *arm1_model;  /* arm 1's tables; NULL = PUMA 560 */

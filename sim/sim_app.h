@@ -12,6 +12,7 @@
 #include "sim_arms.h"
 #include "sim_rovers.h"
 #include "sim_workpieces.h"
+#include "world_file.h"
 
 #define SIM_MODELS_MAX 3   /* arms, workpieces, rovers */
 
@@ -28,6 +29,7 @@ typedef struct sim_app {
     /* options that are not stored as given */
     int        no_arms;        /* --no-arms: cfg.arms = 0 */
     int        world;          /* --world: index in options_world_names */
+    world_opts wopt;           /* --world-file, --start, --goal (world_file.h) */
     int        arm_model;      /* --arm-model: index in options_arm_model_names, -1 not given */
     /* the models' states */
     sim_arms       arms;

@@ -7,12 +7,14 @@
  */
 #include "sim_app.h"
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "arm_model.h"
 #include "cell.h"
 #include "formation.h"
 #include "options.h"
 #include "sonar.h"
+#include "world_file.h"
 
 /* --friction V,C: both in [0, 100] */
 static int parse_friction(const char *prog, void *dest, char *value)
@@ -70,6 +72,7 @@ static const option_entry sim_options[] = {
       .help = "number of Pioneer robots", .def = "0" },
     { .name = "world", .type = OPTION_CHOICE, OPTION_AT(sim_app, world), .choices = options_world_names,
       .meta = "NAME", .help = "rover world", .def = "open" },
+    WORLD_FILE_OPTIONS(sim_app, wopt),
     { .name = "formation", .type = OPTION_CHOICE, OPTION_AT(sim_app, cfg.rover_formation),
       .choices = options_formation_names, .values = options_formation_values, .meta = "F",
       .help = "rover team's start formation", .def = "line" },
@@ -100,6 +103,9 @@ static int parse_args(sim_app *app, int argc, char **argv)
     if (app->no_arms)
         app->cfg.arms = 0;
     snprintf(app->cfg.rover_world, sizeof app->cfg.rover_world, "%s", options_world_names[app->world]);
+    app->cfg.rover_world_file = app->wopt.file;
+    app->cfg.rover_start = app->wopt.start;
+    app->cfg.rover_goal = app->wopt.goal;
     if (app->arm_model >= 0)
         app->cfg.arm1_model = arm_model_by_name(options_arm_model_names[app->arm_model]);
     if (app->cfg.arm1_q0_set &&
@@ -143,6 +149,19 @@ static int check_tables(const sim_app *app)
     return 0;
 }
 
+/* A world file (or --start, --goal) that cannot give the team's layout:
+ * said, before anything starts. */
+static int world_refused(sim_app *app)
+{
+    rover_world_config *w = malloc(sizeof *w);
+    int rc;
+    app->wopt.world = rover_world_id(app->cfg.rover_world);
+    if (!w) return 1;
+    rc = world_opts_layout(w, &app->wopt, app->cfg.rovers, 1.0, app->cfg.rover_formation, "tandem-sim");
+    free(w);
+    return rc != 0;
+}
+
 /* setup: do not run, exit with *status */
 #define SETUP_EXIT (-1)
 
@@ -164,6 +183,10 @@ static int setup(sim_app *app, int argc, char **argv, int *status)
         return SETUP_EXIT;
     }
     if (check_tables(app) != 0) {
+        *status = 2;
+        return SETUP_EXIT;
+    }
+    if (app->cfg.rovers > 0 && world_refused(app)) {
         *status = 2;
         return SETUP_EXIT;
     }

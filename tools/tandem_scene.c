@@ -4,7 +4,10 @@
  * arms, table, obstacles, goal and formation slots the controllers use
  * instead of keeping their own copies of the numbers.
  *
- *   tandem-scene [--world NAME] [--rovers N] [--formation F] [--arm1 MODEL]
+ *   tandem-scene [--world NAME | --world-file PATH [--start X,Y,THETA] [--goal X,Y]]
+ *                [--rovers N] [--formation F] [--arm1 MODEL]
+ * A world file that gives no layout is refused (exit 2), which is how
+ * tools/tandem-run checks one before it starts anything.
  */
 #include <stdio.h>
 #include <string.h>
@@ -14,6 +17,7 @@
 #include "rover_world.h"
 #include "sonar.h"
 #include "options.h"
+#include "world_file.h"
 
 static void json_array(const char *key, const double *v, int n, const char *sep)
 {
@@ -73,8 +77,15 @@ static void print_rover_world(const rover_world_config *w)
     json_array("goal_m", w->goal_m, 2, ", ");
     printf("\"team_origin\": [%.10g, %.10g, %.10g], ", w->team_origin.x_m, w->team_origin.y_m,
            w->team_origin.theta_rad);
-    printf("\"extent_m\": [%.10g, %.10g, %.10g, %.10g],\n  \"obstacles\": [\n", w->x_min_m, w->y_min_m,
+    printf("\"extent_m\": [%.10g, %.10g, %.10g, %.10g],\n  \"landmarks_m\": [", w->x_min_m, w->y_min_m,
            w->x_max_m, w->y_max_m);
+    for (i = 0; i < w->n_landmarks; i++)
+        printf("%s[%.10g, %.10g]", i ? ", " : "", w->landmark_m[i][0], w->landmark_m[i][1]);
+    printf("],\n  \"starts\": [");
+    for (i = 0; i < w->n_robots; i++)
+        printf("%s[%.10g, %.10g, %.10g]", i ? ", " : "", w->start_c[i].x_m, w->start_c[i].y_m,
+               w->start_c[i].theta_rad);
+    printf("],\n  \"obstacles\": [\n");
     for (i = 0; i < w->n_obst; i++)
         print_obstacle(&w->obst[i], i + 1 < w->n_obst ? "," : "");
     printf("  ]},\n");
@@ -119,11 +130,13 @@ static void print_slots(int n)
 typedef struct scene_options {
     int  world, formation, arm1;   /* indices in the options_*_names lists */
     long n;
+    world_opts wopt;
 } scene_options;
 
 static const option_entry scene_table[] = {
     { .name = "world", .type = OPTION_CHOICE, OPTION_AT(scene_options, world), .choices = options_world_names,
       .meta = "NAME", .help = "rover world", .def = "open" },
+    WORLD_FILE_OPTIONS(scene_options, wopt),
     { .name = "rovers", .type = OPTION_INT, OPTION_AT(scene_options, n), .min = 1, .max = ROVER_WORLD_MAX_ROBOTS,
       .meta = "N", .help = "robots in the team", .def = "3" },
     { .name = "formation", .type = OPTION_CHOICE, OPTION_AT(scene_options, formation),
@@ -138,10 +151,10 @@ static const option_entry scene_table[] = {
 
 int main(int argc, char **argv)
 {
-    scene_options o = { 0, FORMATION_LINE, 0, 3 };
+    scene_options o = { 0, FORMATION_LINE, 0, 3, { 0, NULL, NULL, NULL } };
     const option_program prog = {
         .name = "tandem-scene",
-        .usage = "usage: tandem-scene [--world NAME] [--rovers N] [--formation F] [--arm1 MODEL]\n"
+        .usage = "usage: tandem-scene [--world NAME | --world-file PATH] [--rovers N] [--formation F] [--arm1 MODEL]\n"
                  "Prints the static geometry of the tandem world as JSON on stdout: the arm\n"
                  "DH tables, the work cell (arm bases, table, workpieces), the rover world\n"
                  "(obstacles, goal, team frame), the Pioneer body and sonar ring and the\n"
@@ -159,10 +172,8 @@ int main(int argc, char **argv)
     formation = o.formation;
     arm1 = arm_model_by_name(options_arm_model_names[o.arm1]);
     n = o.n;
-    if (rover_world_layout(&w, world, (int)n, 1.0, formation) != 0) {
-        options_print_help(&prog, stderr);
-        return 2;
-    }
+    o.wopt.world = world;
+    if (world_opts_layout(&w, &o.wopt, (int)n, 1.0, formation, "tandem-scene") != 0) return 2;
     printf("{\n");
     print_arm_model("arm1_model", arm1);
     print_arm_model("arm2_model", &arm_model_puma560);

@@ -22,6 +22,7 @@
  * ROVERS_COMMAND alike. KILL_ROBOT removes a robot from the world.
  */
 #include "sim_rovers.h"
+#include "world_file.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -122,15 +123,17 @@ static void build_robot(sim_rovers *team, sim_rover *r, const pose2 *c, sim_worl
  * cannot hold. */
 static int team_layout(sim_rovers *team, const sim_config *cfg)
 {
-    const int world = rover_world_id(cfg->rover_world);
+    const world_opts wo = { rover_world_id(cfg->rover_world), cfg->rover_world_file, cfg->rover_start,
+                            cfg->rover_goal };
     int i;
     team->formation = cfg->rover_formation;   /* the rovers get the same --formation */
-    if (cfg->rovers < 1 || cfg->rovers > RV_MAX || world < 0 ||
-        rover_world_layout(&team->layout, world, cfg->rovers, 1.0, team->formation) != 0) {
+    if (cfg->rovers < 1 || cfg->rovers > RV_MAX || (wo.world < 0 && !wo.file)) {
         fprintf(stderr, "tandem-sim: --rovers %d --world %s: not a valid team (1..%d robots)\n",
                 cfg->rovers, cfg->rover_world, RV_MAX);
         return SIM_ERR_CREATE;
     }
+    if (world_opts_layout(&team->layout, &wo, cfg->rovers, 1.0, team->formation, "tandem-sim") != 0)
+        return SIM_ERR_CREATE;
     team->n = cfg->rovers;
     team->batch = cfg->rover_batch;
     team->last_after_step = -1;
@@ -205,7 +208,8 @@ static int rovers_create(void *model, sim_world *w, const sim_config *cfg)
         team->sub_batch = daemon_subscribe(&w->d, "ROVERS_COMMAND", on_commands, team);
     }
     fprintf(stderr, "tandem-sim: %d Pioneer robots in world '%s' (goal %.1f, %.1f)\n", team->n,
-            cfg->rover_world, team->layout.goal_m[0], team->layout.goal_m[1]);
+            cfg->rover_world_file ? cfg->rover_world_file : cfg->rover_world, team->layout.goal_m[0],
+            team->layout.goal_m[1]);
     return 0;
 }
 

@@ -90,8 +90,9 @@ static pid_t spawn_rover(fm_state *fm, int k)
     int n = 20;
     snprintf(n_s, sizeof n_s, "%d", fm->robots);
     snprintf(arrive_s, sizeof arrive_s, "%.17g", fm->ref_arrive_m);
-    snprintf(w_s, sizeof w_s, "%s", rover_world_name(fm->world));
+    snprintf(w_s, sizeof w_s, "%s", fm_world_arg(fm));
     if (fm->batch) rv[n++] = "--batch";
+    world_opts_argv(&fm->child_world, rv, &n, 32);
     if (journaled(fm, k)) {
         snprintf(journal, sizeof journal, "%s/rover_%d.journal", fm->out, k);
         rv[n++] = "--journal";
@@ -108,7 +109,7 @@ int fm_start_children(fm_state *fm)
     char n_s[16], w_s[32], seed_s[24], expect_s[16];
     int k, procs = fm->single ? 1 : fm->robots;
     snprintf(n_s, sizeof n_s, "%d", fm->robots);
-    snprintf(w_s, sizeof w_s, "%s", rover_world_name(fm->world));
+    snprintf(w_s, sizeof w_s, "%s", fm_world_arg(fm));
     snprintf(seed_s, sizeof seed_s, "%ld", fm->seed);
     snprintf(expect_s, sizeof expect_s, "%d", procs + 1);
     /* the role files name this team: rovers 1..N and the host of all N */
@@ -119,6 +120,7 @@ int fm_start_children(fm_state *fm)
                           "--seed", seed_s, "--expect", expect_s, "--timeout-ms", fm->timeout_ms };
         int n = 15;
         if (fm->batch) sim[n++] = "--rover-batch";
+        world_opts_argv(&fm->child_world, sim, &n, 32);
         scenario_argv_drop(&fm->drop, sim, &n, 32);
         if (spawn(fm, sim) <= 0) return FM_ERR_START;
     }

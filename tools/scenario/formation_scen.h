@@ -19,6 +19,7 @@
 #include "auth_child.h"
 #include "hang_watch.h"
 #include "rover_world.h"
+#include "world_file.h"
 #include "scenario.h"
 #include "shared_run.h"
 #include "tandem_rover_state_t.h"
@@ -71,6 +72,12 @@ typedef struct fm_state {
     lcm_subscription_t *sub_clock, *sub_truth, *sub_state, *sub_states, *sub_ack;
     int64_t clock_step, answered, ack_seq, last_clock_ns;
     int    have_clock;
+    world_opts wopt;                  /* --world-file, --start, --goal (world_file.h) */
+    int    world_kind;                /* --world-kind (WORLDGEN_*) */
+    long   world_seed;                /* --world-seed */
+    const char *world_size;           /* --world-size WxH */
+    world_opts child_world;           /* what the children get: OUT/world.yaml for a file world */
+    char   world_copy[700];
     /* layout and truth */
     rover_world_config layout;
     int    type_now;                  /* formation reported by the lowest alive id */
@@ -129,6 +136,19 @@ const char *fm_blend_name(int b);
 /* Starts the simulator and the rover processes; 0 ok, FM_ERR_START. */
 int  fm_start_children(fm_state *fm);
 /* SIGTERM to every child, SIGKILL to those still there after 5 s. */
+/* formation_world.c: a file world kept in the output directory as
+ * world.yaml + world.pgm, which the children then read. 0, or 1 (said). */
+int  fm_keep_world(fm_state *fm);
+/* --world random: the world generated (--world-kind, --world-seed,
+ * --world-size, the team), written as OUT/world.yaml + .pgm and taken as
+ * the run's --world-file. 0, or an exit status (said). */
+int  fm_random_world(fm_state *fm);
+#define FM_WORLD_RANDOM 101                    /* --world random */
+extern const char *const fm_world_names[];     /* the built-ins and "random" */
+extern const int fm_world_values[];
+extern const char *const fm_world_kinds[];     /* worldgen's kinds, in WORLDGEN_* order */
+/* The --world word for the children ("open" under a --world-file). */
+const char *fm_world_arg(const fm_state *fm);
 void fm_stop_children(fm_state *fm);
 /* --fault at a step due to be answered: 1 go on, 0 hold the step,
  * FM_ERR_FAULT. */

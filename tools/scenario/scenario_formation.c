@@ -71,8 +71,16 @@ static const char *const links[] = { "robot", "batch", NULL };
 static const option_entry formation_table[] = {
     { .name = "formation", .type = OPTION_CHOICE, OPTION_AT(fm_state, formation), .choices = options_formation_names,
       .values = options_formation_values, .help = "the team's formation", .def = "line" },
-    { .name = "world", .type = OPTION_CHOICE, OPTION_AT(fm_state, world), .choices = options_world_names,
-      .values = options_world_values, .help = "the rover world", .def = "open" },
+    { .name = "world", .type = OPTION_CHOICE, OPTION_AT(fm_state, world), .choices = fm_world_names,
+      .values = fm_world_values, .help = "the rover world (random: generated, see --world-kind, --world-seed)",
+      .def = "open" },
+    { .name = "world-kind", .type = OPTION_CHOICE, OPTION_AT(fm_state, world_kind), .choices = fm_world_kinds,
+      .help = "--world random: clutter, traps (U, V, L pockets), corridor or a mix", .def = "mixed" },
+    { .name = "world-seed", .type = OPTION_INT, OPTION_AT(fm_state, world_seed), .min = 0, .max = 2147483647.0,
+      .meta = "W", .help = "--world random: the world's seed (the noise has --seed)", .def = "1" },
+    { .name = "world-size", .type = OPTION_STRING, OPTION_AT(fm_state, world_size), .meta = "WxH",
+      .help = "--world random: the map's size (m)", .def = "30x20" },
+    WORLD_FILE_OPTIONS(fm_state, wopt),
     { .name = "blend", .type = OPTION_CHOICE, OPTION_AT(fm_state, blend), .choices = blends,
       .help = "how the behaviours' outputs are blended", .def = "weighted" },
     { .name = "formation-law", .type = OPTION_CHOICE, OPTION_AT(fm_state, law_kanayama), .choices = laws,
@@ -134,6 +142,8 @@ static int parse(fm_state *fm, int argc, char **argv)
     int i, rc;
     fm->formation = FORMATION_LINE;
     fm->world = ROVER_WORLD_OPEN;
+    fm->world_kind = 3;       /* mixed */
+    fm->world_seed = 1;
     fm->blend = 0;
     fm->ref_goal = 1;
     rover_ctl_params_default(&rp);        /* the rovers' own default */
@@ -230,14 +240,23 @@ static void open_outputs(fm_state *fm)
 static int setup(fm_state *fm)
 {
     int i;
+    fm->wopt.world = fm->world;
+    if (fm->world == FM_WORLD_RANDOM) {
+        if (fm->wopt.file) {
+            fprintf(stderr, "formation: --world random and --world-file exclude each other\n");
+            return 2;
+        }
+        if ((i = fm_random_world(fm)) != 0) return i;
+    }
+    if (world_opts_layout(&fm->layout, &fm->wopt, fm->robots, 1.0, fm->formation, "formation") != 0) return 2;
     if (scenario_mkdir(fm->out) != 0) return 1;
+    if (fm_keep_world(fm) != 0) return 1;
     if (find_bindir(fm) != 0) return 1;
     if (!fm->url) {
         snprintf(fm->url_buf, sizeof fm->url_buf, "udpm://239.255.76.67:%d?ttl=0&recv_buf_size=4194304",
                  20000 + (int)(getpid() % 20000));
         fm->url = fm->url_buf;
     }
-    if (rover_world_layout(&fm->layout, fm->world, fm->robots, 1.0, fm->formation) != 0) return 2;
     fm->type_now = fm->formation;
     fm->lcm = lcm_create(fm->url);
     if (!fm->lcm) { fprintf(stderr, "formation: cannot open LCM at %s\n", fm->url); return 1; }

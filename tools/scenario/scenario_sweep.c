@@ -9,6 +9,12 @@
  * keys of the scenario's column list, or --keys), totals (passed runs,
  * and min / mean / max of each numeric column) and DIR/sweep.csv.
  * Exit status: 0 when every run exited 0, 3 otherwise (1 on errors).
+ *
+ * tandem-scenario sweep formation --world random --world-seeds A-B [--seeds S]
+ * sweeps worlds instead: run W gets --world-seed W (and noise seed S,
+ * default 1) into DIR/world-W, which keeps the world it flew; the worlds
+ * whose run failed are listed in DIR/failing_worlds.txt with the command
+ * that flies each again from its file (sweep_worlds.c).
  */
 #include <errno.h>
 #include <math.h>
@@ -21,12 +27,11 @@
 #include <unistd.h>
 #include "options.h"
 #include "scenario.h"
+#include "sweep_worlds.h"
 
 #define SWEEP_MAX_SEEDS 10000
 #define SWEEP_MAX_JOBS 64
-#define SWEEP_MAX_KEYS 24
 #define SWEEP_MAX_ARGS 128
-#define SWEEP_VAL 48
 
 /* Failures of the sweep's own steps (0 = ok) */
 #define SWEEP_ERR_USAGE (-1)  /* no NAME, a bad option, or too many keys (said) */
@@ -44,17 +49,11 @@ static const struct { const char *scenario, *keys; } default_keys[] = {
     { "liquid", "joint_limit_violations,exit_reason" },
 };
 
-typedef struct sweep_run {
-    long  seed;
-    pid_t pid;
-    int   status;              /* exit status, or SWEEP_NOT_RUN */
-    int   done;
-    char  val[SWEEP_MAX_KEYS][SWEEP_VAL];
-} sweep_run;
-
 typedef struct sweep {
     const char *name, *out;
     long  seed_a, seed_b;
+    long  world_a, world_b;             /* --world-seeds */
+    int   worlds_given;
     int   jobs;
     const char *keys_arg;               /* --keys, NULL: the scenario's default */
     int   seeds_given, out_given;
@@ -84,19 +83,33 @@ static int split_keys(sweep *w, const char *list)
     return 0;
 }
 
-/* --seeds A-B (or A) */
-static int option_seeds(const char *prog, void *dest, char *v)
+/* A-B (or A) into *a, *b. */
+static int seed_range(const char *prog, const char *opt, char *v, long *a, long *b)
 {
-    sweep *w = dest;
     char *end;
-    w->seed_a = strtol(v, &end, 10);
-    w->seed_b = *end == '-' ? strtol(end + 1, &end, 10) : w->seed_a;
-    if (*end || w->seed_a < 0 || w->seed_b < w->seed_a || w->seed_b - w->seed_a >= SWEEP_MAX_SEEDS) {
-        fprintf(stderr, "%s: --seeds: '%s' is not A-B (0 <= A <= B, at most %d seeds)\n", prog, v,
+    *a = strtol(v, &end, 10);
+    *b = *end == '-' ? strtol(end + 1, &end, 10) : *a;
+    if (*end || *a < 0 || *b < *a || *b - *a >= SWEEP_MAX_SEEDS) {
+        fprintf(stderr, "%s: %s: '%s' is not A-B (0 <= A <= B, at most %d seeds)\n", prog, opt, v,
                 SWEEP_MAX_SEEDS);
         return OPTIONS_ERR_SAID;
     }
     return 0;
+}
+
+/* --seeds A-B (or A) */
+static int option_seeds(const char *prog, void *dest, char *v)
+{
+    sweep *w = dest;
+    return seed_range(prog, "--seeds", v, &w->seed_a, &w->seed_b);
+}
+
+/* --world-seeds A-B (or A) */
+static int option_world_seeds(const char *prog, void *dest, char *v)
+{
+    sweep *w = dest;
+    w->worlds_given = 1;
+    return seed_range(prog, "--world-seeds", v, &w->world_a, &w->world_b);
 }
 
 static int option_seed(const char *prog, void *dest, char *v)
@@ -121,8 +134,12 @@ static int pass_on(void *user, const char *word)
 
 static const option_entry sweep_table[] = {
     { .name = "seeds", .type = OPTION_CALL, OPTION_ALL(sweep), .call = option_seeds, .meta = "A-B",
-      .help = "run NAME for every seed A..B (0 <= A <= B, at most 10000 seeds) with --seed S --out DIR/seed-S",
-      OPTION_SEEN(sweep, seeds_given), .required = 1 },
+      .help = "run NAME for every seed A..B (0 <= A <= B, at most 10000 seeds) with --seed S --out DIR/seed-S "
+              "(with --world-seeds: the one noise seed of every run, default 1)",
+      OPTION_SEEN(sweep, seeds_given) },
+    { .name = "world-seeds", .type = OPTION_CALL, OPTION_ALL(sweep), .call = option_world_seeds, .meta = "A-B",
+      .help = "formation --world random: run every world seed A..B with --world-seed W --out DIR/world-W; "
+              "the failing worlds go to DIR/failing_worlds.txt with the command that flies each again" },
     { .name = "jobs", .type = OPTION_INT, OPTION_AT(sweep, jobs), .min = 1, .max = SWEEP_MAX_JOBS, .meta = "J",
       .help = "runs at a time", .def = "1" },
     { .name = "keys", .type = OPTION_STRING, OPTION_AT(sweep, keys_arg), .meta = "K1,K2,..",
@@ -138,6 +155,7 @@ static const option_program sweep_program = {
     .name = "tandem-scenario sweep",
     .usage = "usage: tandem-scenario sweep NAME --seeds A-B [--jobs J] [--keys K1,K2,..]\n"
              "         --out DIR [NAME's options]\n"
+             "       tandem-scenario sweep formation --world random --world-seeds A-B [--seeds S] ...\n"
              "Runs scenario NAME for every seed A..B (J at a time, default 1), each with\n"
              "--seed S --out DIR/seed-S, and prints one row per seed (exit status and\n"
              "summary.json keys), totals and DIR/sweep.csv. Exit 0 when every run\n"
@@ -160,6 +178,15 @@ static int parse(sweep *w, int argc, char **argv)
     prog.other_user = w;
     if (options_parse(&prog, argc, argv, 2) < 0)
         return SWEEP_ERR_USAGE;
+    if (!w->seeds_given && !w->worlds_given) {
+        fprintf(stderr, "tandem-scenario sweep: --seeds A-B or --world-seeds A-B is required\n");
+        return SWEEP_ERR_USAGE;
+    }
+    if (w->worlds_given && w->seeds_given && w->seed_a != w->seed_b) {
+        fprintf(stderr, "tandem-scenario sweep: with --world-seeds, --seeds is one noise seed\n");
+        return SWEEP_ERR_USAGE;
+    }
+    if (w->worlds_given && !w->seeds_given) w->seed_a = w->seed_b = 1;
     keys = w->keys_arg;
     for (k = 0; !keys && k < sizeof default_keys / sizeof default_keys[0]; k++)
         if (!strcmp(default_keys[k].scenario, w->name))
@@ -173,12 +200,13 @@ static int parse(sweep *w, int argc, char **argv)
 
 static pid_t spawn_seed(const sweep *w, const sweep_run *r)
 {
-    char dir[1024], seed[32], log[1100];
+    char dir[1024], seed[32], log[1100], wseed[32];
     const char *argv[SWEEP_MAX_ARGS + 8];
     int n = 0, i;
     pid_t pid;
-    snprintf(dir, sizeof dir, "%s/seed-%ld", w->out, r->seed);
-    snprintf(seed, sizeof seed, "%ld", r->seed);
+    sweep_run_dir(dir, sizeof dir, w->out, w->worlds_given, r->seed);
+    snprintf(seed, sizeof seed, "%ld", w->worlds_given ? w->seed_a : r->seed);
+    snprintf(wseed, sizeof wseed, "%ld", r->seed);
     snprintf(log, sizeof log, "%s/scenario.log", dir);
     if (scenario_mkdir(dir) != 0)
         return SWEEP_ERR_RUN;
@@ -188,6 +216,10 @@ static pid_t spawn_seed(const sweep *w, const sweep_run *r)
         argv[n++] = w->pass[i];
     argv[n++] = "--seed";
     argv[n++] = seed;
+    if (w->worlds_given) {
+        argv[n++] = "--world-seed";
+        argv[n++] = wseed;
+    }
     argv[n++] = "--out";
     argv[n++] = dir;
     argv[n] = NULL;
@@ -239,7 +271,8 @@ static void read_summary(const sweep *w, sweep_run *r)
     size_t n = 0;
     int k;
     FILE *f;
-    snprintf(path, sizeof path, "%s/seed-%ld/summary.json", w->out, r->seed);
+    sweep_run_dir(path, sizeof path - 16, w->out, w->worlds_given, r->seed);
+    strcat(path, "/summary.json");
     f = fopen(path, "r");
     if (f) {
         n = fread(buf, 1, sizeof buf - 1, f);
@@ -261,7 +294,7 @@ static void print_row(FILE *o, const sweep *w, const sweep_run *r, const char *s
 
 static void print_totals(const sweep *w, int passed, int ran)
 {
-    int k, i;
+    int k, i, i_lo = 0, i_hi = 0;
     printf("passed (exit 0): %d/%d\n", passed, w->n_run);
     if (ran < w->n_run)
         printf("not run (interrupted): %d\n", w->n_run - ran);
@@ -273,20 +306,22 @@ static void print_totals(const sweep *w, int passed, int ran)
             const double v = strtod(w->run[i].val[k], &end);
             if (!w->run[i].done || end == w->run[i].val[k] || *end)
                 continue;
-            lo = fmin(lo, v);
-            hi = fmax(hi, v);
+            if (v < lo) { lo = v; i_lo = i; }
+            if (v > hi) { hi = v; i_hi = i; }
             sum += v;
             n++;
         }
+        /* the worst cases: which run had the min and the max */
         if (n)
-            printf("  %-28s min %-12.4g mean %-12.4g max %-12.4g (%d runs)\n", w->key[k], lo, sum / n, hi, n);
+            printf("  %-28s min %-12.4g mean %-12.4g max %-12.4g (%d runs; min at %s %ld, max at %ld)\n", w->key[k],
+                   lo, sum / n, hi, n, w->worlds_given ? "world" : "seed", w->run[i_lo].seed, w->run[i_hi].seed);
     }
 }
 
 static void print_header(FILE *o, const sweep *w, const char *sep)
 {
     int k;
-    fprintf(o, "seed%sexit", sep);
+    fprintf(o, "%s%sexit", w->worlds_given ? "world_seed" : "seed", sep);
     for (k = 0; k < w->n_keys; k++)
         fprintf(o, "%s%s", sep, w->key[k]);
     fprintf(o, "\n");
@@ -355,17 +390,22 @@ static int run(int argc, char **argv)
     w.self[n] = '\0';
     if (scenario_mkdir(w.out) != 0)
         return 1;
-    w.n_run = (int)(w.seed_b - w.seed_a + 1);
+    w.n_run = w.worlds_given ? (int)(w.world_b - w.world_a + 1) : (int)(w.seed_b - w.seed_a + 1);
     w.run = calloc((size_t)w.n_run, sizeof *w.run);
     if (!w.run)
         return 1;
     for (i = 0; i < w.n_run; i++) {
-        w.run[i].seed = w.seed_a + i;
+        w.run[i].seed = (w.worlds_given ? w.world_a : w.seed_a) + i;
         w.run[i].status = SWEEP_NOT_RUN;
     }
     signal(SIGINT, sweep_on_sigint);
     signal(SIGTERM, sweep_on_sigint);
-    fprintf(stderr, "sweep %s: seeds %ld-%ld, %d at a time, into %s\n", w.name, w.seed_a, w.seed_b, w.jobs, w.out);
+    if (w.worlds_given)
+        fprintf(stderr, "sweep %s: worlds %ld-%ld (noise seed %ld), %d at a time, into %s\n", w.name, w.world_a,
+                w.world_b, w.seed_a, w.jobs, w.out);
+    else
+        fprintf(stderr, "sweep %s: seeds %ld-%ld, %d at a time, into %s\n", w.name, w.seed_a, w.seed_b, w.jobs,
+                w.out);
     ran = run_all(&w, wall0);
     if (ran < 0) {
         fprintf(stderr, "tandem-scenario sweep: cannot run the scenario\n");
@@ -387,6 +427,8 @@ static int run(int argc, char **argv)
     if (csv)
         fclose(csv);
     print_totals(&w, passed, ran);
+    if (w.worlds_given)
+        sweep_list_failing(w.out, w.run, w.n_run, w.seed_a, w.pass, w.n_pass);
     printf("sweep %s: %d/%d runs passed, %.0f s\n", w.name, passed, w.n_run, scenario_wall_s() - wall0);
     free(w.run);
     return passed == w.n_run ? 0 : 3;

@@ -51,6 +51,17 @@ class TeamDrawer:
         ring = [[g[0] + 0.5 * math.cos(a), g[1] + 0.5 * math.sin(a), 0.01] for a in np.linspace(0, 2 * math.pi, 33)]
         rr.log("team/goal", rr.LineStrips3D([ring], radii=[0.03], colors=[(255, 40, 40)], labels=["goal"]),
                static=True)
+        # the LED landmark posts (beacon height) and where each robot starts
+        lm = self.world.get("landmarks_m", [])
+        if lm:
+            rr.log("team/landmarks", rr.Points3D([[x, y, 0.3] for x, y in lm], radii=[0.06],
+                                                 colors=[(255, 200, 0)]), static=True)
+        st = self.world.get("starts", [])
+        if st:
+            rr.log("team/starts", rr.Arrows3D(origins=[[x, y, 0.01] for x, y, _ in st],
+                                              vectors=[[0.4 * math.cos(th), 0.4 * math.sin(th), 0.0]
+                                                       for _, _, th in st],
+                                              colors=[(40, 160, 40)]), static=True)
 
     def truth(self, t):
         self.pose = {t.robot[i]: (t.x_m[i], t.y_m[i], t.theta_rad[i]) for i in range(t.n) if t.alive[i]}

@@ -14,10 +14,23 @@ import subprocess
 import numpy as np
 
 
-def load(scene_bin, world, rovers, formation):
-    """Runs tandem-scene and returns its JSON as a dict."""
+def world_file_args(world_file, start, goal):
+    """tandem-scene's words for a world from a file (none for a built-in)."""
+    words = []
+    if world_file:
+        words += ["--world-file", world_file]
+        if start:
+            words += ["--start", start]
+        if goal:
+            words += ["--goal", goal]
+    return words
+
+
+def load(scene_bin, world, rovers, formation, extra=()):
+    """Runs tandem-scene and returns its JSON as a dict. A world file's walls
+    are its merged boxes, as the simulator and the sonar see them."""
     out = subprocess.run([scene_bin, "--world", world, "--rovers", str(max(rovers, 1)),
-                          "--formation", formation],
+                          "--formation", formation, *extra],
                          check=True, capture_output=True, text=True).stdout
     return json.loads(out)
 

@@ -53,6 +53,9 @@ def parse_args(argv):
     p.add_argument("--grpc-port", type=int, default=9876, help="port the page streams data from (default 9876)")
     p.add_argument("--rate-hz", type=float, default=15.0, help="frames drawn per second at most (default 15)")
     p.add_argument("--world", default="open", help="rover world the simulator runs (default open)")
+    p.add_argument("--world-file", help="the simulator's world from a map_server YAML (tandem-sim --world-file)")
+    p.add_argument("--start", help="with --world-file: X,Y,THETA as given to tandem-sim")
+    p.add_argument("--goal", help="with --world-file: X,Y as given to tandem-sim")
     p.add_argument("--rovers", type=int, default=3, help="robots in the team (default 3)")
     p.add_argument("--formation", default="line", help="initial formation (default line)")
     p.add_argument("--bin", default=os.environ.get("TANDEM_BIN", here_bin), help="directory of tandem-scene")
@@ -113,7 +116,8 @@ def serve(args, scene):
 
 
 def run(args):
-    scene = scene_mod.load(os.path.join(args.bin, "tandem-scene"), args.world, args.rovers, args.formation)
+    scene = scene_mod.load(os.path.join(args.bin, "tandem-scene"), args.world, args.rovers, args.formation,
+                           scene_mod.world_file_args(args.world_file, args.start, args.goal))
     serve(args, scene)
     b = Bridge(args, scene)
     b.cell.log_static()

@@ -24,7 +24,7 @@
 #define ROVER_WORLD_ERR_UNKNOWN (-2)  /* rover_world_id: no such world name */
 
 #define ROVER_WORLD_MAX_ROBOTS 128
-#define ROVER_WORLD_MAX_OBST   32
+#define ROVER_WORLD_MAX_OBST   2048   /* a map's merged boxes (rover_map.h) */
 #define ROVER_WORLD_ROW_MAX    10      /* robots per start row */
 #define ROVER_WORLD_MAX_LANDMARKS 64   /* = LOCALIZE_LANDMARKS_MAX */
 /* The camera reports landmark k (rover_world_config.landmark_m[k]) as beacon
@@ -47,6 +47,8 @@
 
 enum { ROVER_WORLD_OPEN = 0, ROVER_WORLD_OBSTACLES = 1, ROVER_WORLD_CORRIDOR = 2,
        ROVER_WORLD_DEADZONE = 3, ROVER_WORLD_COUNT = 4 };
+/* A world read from a map file (rover_map.h): not one of the built-ins. */
+#define ROVER_WORLD_FILE 100
 enum { ROVER_OBST_BOX = 0, ROVER_OBST_CIRCLE = 1 };
 
 typedef struct {
@@ -78,7 +80,8 @@ typedef struct {
     double  landmark_m[ROVER_WORLD_MAX_LANDMARKS][2];
 } rover_world_config;
 
-/* "open" | "obstacles" | "corridor" | "deadzone" -> ROVER_WORLD_*, else ROVER_WORLD_ERR_UNKNOWN. */
+/* "open" | "obstacles" | "corridor" | "deadzone" -> ROVER_WORLD_*, else
+ * ROVER_WORLD_ERR_UNKNOWN. rover_world_name(ROVER_WORLD_FILE) is "file". */
 int rover_world_id(const char *name);
 const char *rover_world_name(int world);
 

@@ -34,11 +34,12 @@
 #define SONAR_ERR_ARG (-1)  /* NULL, non-finite or out-of-range input, an
                                invalid model, or the primitive table full */
 
-#define SONAR_MAX_PRIMS     512
+#define SONAR_MAX_PRIMS     2304   /* a map's boxes and the robots */
 #define SONAR_N             8
 #define SONAR_MAX_RAYS      32
 #define SONAR_GRID_MAX      64
-#define SONAR_GRID_MAX_REFS 8192
+#define SONAR_MANY_PRIMS    256    /* above: grid cells of about one prim each */
+#define SONAR_GRID_MAX_REFS 32768  /* < 65536: cell_start and refs are uint16 */
 
 enum { SONAR_PRIM_BOX = 0, SONAR_PRIM_CIRCLE = 1, SONAR_PRIM_SEGMENT = 2 };
 

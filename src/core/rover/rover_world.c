@@ -24,6 +24,7 @@ int rover_world_id(const char *name)
 
 const char *rover_world_name(int world)
 {
+    if (world == ROVER_WORLD_FILE) return "file";
     return (world >= 0 && world < ROVER_WORLD_COUNT) ? world_names[world] : "?";
 }
 

@@ -165,9 +165,11 @@ int sonar_world_build(sonar_world *w)
     span = fmax(x1 - x0, y1 - y0);
     w->gx0 = x0;
     w->gy0 = y0;
-    /* Cells about 4 prims' worth of area, at least span / GRID_MAX; coarsen
-     * until the references fit. */
-    w->cell_m = fmax(span / SONAR_GRID_MAX, sqrt((x1 - x0 + 1e-9) * (y1 - y0 + 1e-9) * 4.0 / w->n));
+    /* Cells about 4 prims' worth of area (1 in a map of many boxes, where a
+     * ray crosses many cells and each tested box costs), at least
+     * span / GRID_MAX; coarsen until the references fit. */
+    w->cell_m = fmax(span / SONAR_GRID_MAX, sqrt((x1 - x0 + 1e-9) * (y1 - y0 + 1e-9) *
+                                                 (w->n > SONAR_MANY_PRIMS ? 1.0 : 4.0) / w->n));
     if (!(w->cell_m > 0.0)) w->cell_m = 1.0;
     for (attempt = 0; attempt < 8; attempt++, w->cell_m *= 2.0) {
         w->nx = (int)ceil((x1 - x0) / w->cell_m + 1e-9);

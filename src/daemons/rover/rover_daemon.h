@@ -13,6 +13,7 @@
 #include "journal.h"
 #include "rover_ctl.h"
 #include "rover_world.h"
+#include "world_file.h"
 #include "tandem_rover_command_t.h"
 #include "tandem_rover_state_t.h"
 #include "tandem_team_msg_t.h"
@@ -68,6 +69,7 @@ typedef struct rover_daemon {
     int     robots;
     int     world, formation, blend;
     rover_world_config layout;
+    world_opts wopt;                  /* --world-file, --start, --goal */
     rover_ctl_params params;
     hosted  h[HOST_MAX];
     teamq_item q[TEAMQ_MAX];

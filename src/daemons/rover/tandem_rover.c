@@ -108,6 +108,7 @@ static const option_entry rover_options[] = {
       .max = ROVER_WORLD_MAX_ROBOTS, .meta = "N", .help = "team size in the launch configuration", .def = "3" },
     { .name = "world", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, world), .choices = options_world_names,
       .values = options_world_values, .meta = "NAME", .def = "open" },
+    WORLD_FILE_OPTIONS(rover_daemon, wopt),
     { .name = "formation", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, formation),
       .choices = options_formation_names, .values = options_formation_values, .meta = "F", .def = "line" },
     { .name = "blend", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, blend), .choices = blend_names,
@@ -283,10 +284,9 @@ int main(int argc, char **argv)
     else snprintf(name, sizeof name, "tandem-rover-%d-%d", (int)rd->id_lo, (int)rd->id_hi);
     snprintf(d->name, sizeof d->name, "%s", name);
     if (check_tables(rd) != 0) return 1;
-    if (rover_world_layout(&rd->layout, rd->world, rd->robots, 1.0, rd->formation) != 0) {
-        fprintf(stderr, "tandem-rover: no layout for %d robots\n", rd->robots);
+    rd->wopt.world = rd->world;
+    if (world_opts_layout(&rd->layout, &rd->wopt, rd->robots, 1.0, rd->formation, "tandem-rover") != 0)
         return 2;
-    }
     goal_w.x_m = rd->layout.goal_m[0];
     goal_w.y_m = rd->layout.goal_m[1];
     rover_world_to_team(&rd->layout, &goal_w, &goal_t);

@@ -1,0 +1,122 @@
+/* Unit tests of the world generator (src/daemons/common/worldgen.c): the
+ * way check passes a hall with a doorway wide enough for the body and
+ * refuses it with the doorway closed or narrower than the inflated body;
+ * every kind gives, for several seeds, a world the check passes, the same
+ * world for the same seed, and its start and goal accepted by
+ * rover_world_from_map; sizes that cannot hold the team are refused. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <string.h>
+#include "formation.h"
+#include "worldgen.h"
+
+static rover_map M, M2;
+static rover_world_config W;
+
+static const double CLEAR = WORLDGEN_BODY_RADIUS_M + WORLDGEN_MARGIN_M;
+
+/* A 20 m x 10 m hall, walled, a wall across at x = 10 with a doorway of
+ * width door_m centred on y = 5 (0: closed). */
+static void hall(double door_m, rover_map_site *s)
+{
+    int i, j;
+    memset(&M, 0, sizeof M);
+    M.width = 200;
+    M.height = 100;
+    M.resolution_m = 0.1;
+    for (j = 0; j < 100; j++)
+        for (i = 0; i < 200; i++) {
+            const double x = (i + 0.5) * 0.1, y = (j + 0.5) * 0.1;
+            const int edge = i < 2 || j < 2 || i >= 198 || j >= 98;
+            const int wall = fabs(x - 10.0) < 0.1 && fabs(y - 5.0) >= 0.5 * door_m;
+            M.cell[j * 200 + i] = edge || wall ? ROVER_MAP_OCCUPIED : ROVER_MAP_FREE;
+        }
+    memset(s, 0, sizeof *s);
+    s->start.x_m = 3.0;
+    s->start.y_m = 5.0;
+    s->goal_m[0] = 17.0;
+    s->goal_m[1] = 5.0;
+    s->n_landmarks = ROVER_MAP_LANDMARKS_AUTO;
+}
+
+static void test_a_closed_or_narrow_passage_is_refused(void **state)
+{
+    rover_map_site s;
+    (void)state;
+    hall(2.0, &s);
+    assert_int_equal(worldgen_passable(&M, &s, 3, FORMATION_LINE, CLEAR), 1);
+    hall(0.0, &s);
+    assert_int_equal(worldgen_passable(&M, &s, 3, FORMATION_LINE, CLEAR), 0);
+    /* narrower than the inflated body (2 x 0.57 m), though wider than the body */
+    hall(1.0, &s);
+    assert_int_equal(worldgen_passable(&M, &s, 3, FORMATION_LINE, CLEAR), 0);
+    hall(1.4, &s);
+    assert_int_equal(worldgen_passable(&M, &s, 3, FORMATION_LINE, CLEAR), 1);
+    /* the goal walled in */
+    hall(2.0, &s);
+    s.goal_m[0] = 10.0;
+    s.goal_m[1] = 1.0;
+    assert_int_equal(worldgen_passable(&M, &s, 3, FORMATION_LINE, CLEAR), 0);
+}
+
+static void test_every_kind_gives_passable_repeatable_worlds(void **state)
+{
+    worldgen_params p;
+    rover_map_site s, s2;
+    int kind, seed, attempt;
+    (void)state;
+    for (kind = 0; kind < WORLDGEN_KINDS; kind++)
+        for (seed = 1; seed <= 4; seed++) {
+            memset(&p, 0, sizeof p);
+            p.kind = kind;
+            p.seed = (uint64_t)seed;
+            p.width_m = 30.0;
+            p.height_m = 20.0;
+            p.robots = 3;
+            p.formation = FORMATION_LINE;
+            assert_int_equal(worldgen_make(&M, &s, &p, &attempt), WORLDGEN_OK);
+            assert_true(attempt >= 0 && attempt < WORLDGEN_ATTEMPTS);
+            assert_int_equal(worldgen_passable(&M, &s, 3, FORMATION_LINE, CLEAR), 1);
+            assert_int_equal(rover_world_from_map(&W, &M, &s, 3, 1.0, FORMATION_LINE), ROVER_MAP_OK);
+            assert_true(W.n_obst > 4);   /* more than the border */
+            memcpy(&M2, &M, sizeof M);
+            assert_int_equal(worldgen_make(&M, &s2, &p, NULL), WORLDGEN_OK);
+            assert_memory_equal(M.cell, M2.cell, (size_t)M.width * (size_t)M.height);
+            assert_memory_equal(&s, &s2, sizeof s);
+        }
+    assert_int_equal(worldgen_kind("traps"), WORLDGEN_TRAPS);
+    assert_int_equal(worldgen_kind("maze"), WORLDGEN_ERR_ARG);
+}
+
+static void test_sizes_that_cannot_hold_the_team_are_refused(void **state)
+{
+    worldgen_params p;
+    rover_map_site s;
+    (void)state;
+    memset(&p, 0, sizeof p);
+    p.kind = WORLDGEN_CLUTTER;
+    p.width_m = 30.0;
+    p.height_m = 3.0;          /* a 3-robot line needs more */
+    p.robots = 3;
+    assert_int_equal(worldgen_make(&M, &s, &p, NULL), WORLDGEN_ERR_ARG);
+    p.height_m = 20.0;
+    p.width_m = 500.0;         /* beyond ROVER_MAP_MAX_SIDE cells */
+    assert_int_equal(worldgen_make(&M, &s, &p, NULL), WORLDGEN_ERR_ARG);
+    p.width_m = 30.0;
+    p.kind = WORLDGEN_KINDS;
+    assert_int_equal(worldgen_make(&M, &s, &p, NULL), WORLDGEN_ERR_ARG);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_a_closed_or_narrow_passage_is_refused),
+        cmocka_unit_test(test_every_kind_gives_passable_repeatable_worlds),
+        cmocka_unit_test(test_sizes_that_cannot_hold_the_team_are_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
