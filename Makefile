@@ -20,7 +20,7 @@
 CC       ?= cc
 # quiet by default; V=1 shows every command
 Q        := $(if $(V),,@)
-PKGS     := lcm ode ccd libsodium
+PKGS     := lcm ode ccd libsodium libxml-2.0
 WARN     := -std=c99 -Wall -Wextra -Wpedantic -Werror
 OPT      ?= -O2 -g
 ifeq ($(SAN),1)
@@ -94,7 +94,7 @@ include $(foreach d,$(CORE_DOMAINS),src/core/$(d)/module.mk)
 include src/platform/module.mk src/daemons/common/module.mk
 include src/daemons/arm/module.mk src/daemons/rover/module.mk src/daemons/supervisor/module.mk
 include sim/models/module.mk sim/module.mk
-include tools/module.mk tools/scenario/module.mk
+include tools/module.mk tools/scenario/module.mk tools/netc/module.mk
 include $(foreach d,$(CORE_DOMAINS),test/unit/$(d)/module.mk)
 include test/common/module.mk test/integration/module.mk bench/module.mk
 
