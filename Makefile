@@ -96,7 +96,7 @@ include src/daemons/arm/module.mk src/daemons/rover/module.mk src/daemons/superv
 include sim/models/module.mk sim/module.mk
 include tools/module.mk tools/scenario/module.mk tools/netc/module.mk
 include $(foreach d,$(CORE_DOMAINS),test/unit/$(d)/module.mk)
-include test/common/module.mk test/integration/module.mk bench/module.mk
+include test/common/module.mk test/netc/module.mk test/integration/module.mk bench/module.mk
 
 CORE_OBJ   := $(patsubst %.c,$(OBJ)/%.o,$(CORE_SRC)) $(OBJ)/src/platform/posix/rtclock_posix.o
 UNIT_BIN   := $(patsubst %.c,$(BIN)/%,$(notdir $(UNIT_SRC)))
