@@ -14,10 +14,11 @@
 #include "netc.h"
 
 #define MAX_TRACE 512
+#define NETC_LOOKUP_SIZE (2 * PETRI_MAX_STATES)   /* power of two, half full at most */
 
 typedef struct {
     petri_explore_ws ws;
-    int *order;                 /* state indices sorted by state, for lookup */
+    int slot[NETC_LOOKUP_SIZE]; /* state index + 1 by hash, 0 = empty      */
     int32_t *succ;              /* n_states x 2*tau successor index or -1   */
     uint32_t *can;              /* bit j: t_j can start from here (or later) */
 } explorer;
@@ -69,32 +70,40 @@ static void print_trace(const netc_task *t, const explorer *x, int index, FILE *
 
 /* ---- graph ----------------------------------------------------------------- */
 
-static const petri_explore_ws *sort_ws;   /* qsort has no context argument */
-
-static int state_cmp(const petri_state *a, const petri_state *b)
+static int state_equal(const petri_state *a, const petri_state *b)
 {
-    const int c = memcmp(a->m, b->m, sizeof a->m);
-    return c ? c : (a->running > b->running) - (a->running < b->running);
+    return memcmp(a->m, b->m, sizeof a->m) == 0 && a->running == b->running;
 }
 
-static int order_cmp(const void *a, const void *b)
+static uint32_t state_hash(const petri_state *s)
 {
-    return state_cmp(&sort_ws->states[*(const int *)a], &sort_ws->states[*(const int *)b]);
+    uint32_t h = 2166136261u ^ s->running;
+    size_t i;
+    for (i = 0; i < sizeof s->m; i++)
+        h = (h ^ s->m[i]) * 16777619u;
+    return h;
 }
 
+/* Index of s among the explored states (open addressing), or -1. */
 static int lookup(const explorer *x, const petri_state *s)
 {
-    int lo = 0, hi = x->ws.n_states - 1;
-    while (lo <= hi) {
-        const int mid = (lo + hi) / 2, c = state_cmp(&x->ws.states[x->order[mid]], s);
-        if (c == 0)
-            return x->order[mid];
-        if (c < 0)
-            lo = mid + 1;
-        else
-            hi = mid - 1;
-    }
+    uint32_t k = state_hash(s) & (NETC_LOOKUP_SIZE - 1);
+    for (; x->slot[k]; k = (k + 1) & (NETC_LOOKUP_SIZE - 1))
+        if (state_equal(&x->ws.states[x->slot[k] - 1], s))
+            return x->slot[k] - 1;
     return -1;
+}
+
+static void index_states(explorer *x)
+{
+    int i;
+    memset(x->slot, 0, sizeof x->slot);
+    for (i = 0; i < x->ws.n_states; i++) {
+        uint32_t k = state_hash(&x->ws.states[i]) & (NETC_LOOKUP_SIZE - 1);
+        while (x->slot[k])
+            k = (k + 1) & (NETC_LOOKUP_SIZE - 1);
+        x->slot[k] = i + 1;
+    }
 }
 
 /* Successors of every state (start t_j: edge 2j, complete t_j: 2j+1) and
@@ -104,10 +113,7 @@ static void build_graph(const netc_task *t, explorer *x)
     const int n = x->ws.n_states, tau = t->n_transitions;
     int i, j;
     petri p;
-    for (i = 0; i < n; i++)
-        x->order[i] = i;
-    sort_ws = &x->ws;
-    qsort(x->order, (size_t)n, sizeof *x->order, order_cmp);
+    index_states(x);
     petri_init(&p, &t->net);
     for (i = 0; i < n; i++) {
         x->can[i] = 0;
@@ -368,10 +374,9 @@ int netc_check(netc_task *t, int bound, FILE *out, FILE *err)
     int rc;
     if (!x)
         return NETC_ERR_IO;
-    x->order = calloc(PETRI_MAX_STATES, sizeof *x->order);
     x->succ = calloc((size_t)PETRI_MAX_STATES * 2 * PETRI_MAX_TRANSITIONS, sizeof *x->succ);
     x->can = calloc(PETRI_MAX_STATES, sizeof *x->can);
-    rc = (!x->order || !x->succ || !x->can) ? NETC_ERR_IO : NETC_OK;
+    rc = (!x->succ || !x->can) ? NETC_ERR_IO : NETC_OK;
     if (rc == 0 && bound < 1)
         rc = NETC_ERR_CAPACITY;
     if (rc == 0)
@@ -384,7 +389,6 @@ int netc_check(netc_task *t, int bound, FILE *out, FILE *err)
         rc = check_graph(t, x, bound, out, err);
     if (rc == 0)
         print_invariants(t, out);
-    free(x->order);
     free(x->succ);
     free(x->can);
     free(x);
