@@ -135,6 +135,10 @@ static void test_bad_rows_refused(void **st)
     /* a row contradicting its transition: the vision source moves an arm */
     edit_copy(CARRY_ROWS, path, "tv,yes,FREE,0,-,-", "tv,yes,FREE,0,MOVE HOME_1,-");
     assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_TABLE);
+    /* arm 2 sent to a pose of arm 1's side of the cell */
+    edit_copy(CARRY_ROWS, path, "-,MOVE ABOVE_RELEASE; MOVE RELEASE_POSE", "-,MOVE ABOVE_RELEASE; MOVE HOME_1");
+    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_TABLE);
+    assert_non_null(strstr(MSG, "arm 2 cannot go to HOME_1"));
     /* a transition without its row */
     edit_copy(CARRY_ROWS, path, "t5,yes", "t6,yes");
     assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
