@@ -22,7 +22,7 @@
 CC       ?= cc
 # quiet by default; V=1 shows every command
 Q        := $(if $(V),,@)
-PKGS     := lcm ode ccd libsodium yaml-0.1
+PKGS     := lcm ode ccd libsodium yaml-0.1 libxml-2.0
 WARN     := -std=c99 -Wall -Wextra -Wpedantic -Werror
 OPT      ?= -O2 -g
 ifeq ($(SAN),1)
@@ -100,9 +100,9 @@ include $(foreach d,$(CORE_DOMAINS),src/core/$(d)/module.mk)
 include src/platform/module.mk src/daemons/common/module.mk
 include src/daemons/arm/module.mk src/daemons/rover/module.mk src/daemons/supervisor/module.mk
 include sim/models/module.mk sim/module.mk
-include tools/module.mk tools/scenario/module.mk
+include tools/module.mk tools/scenario/module.mk tools/netc/module.mk
 include $(foreach d,$(CORE_DOMAINS),test/unit/$(d)/module.mk)
-include test/common/module.mk test/integration/module.mk bench/module.mk
+include test/common/module.mk test/netc/module.mk test/integration/module.mk bench/module.mk
 
 CORE_OBJ   := $(patsubst %.c,$(OBJ)/%.o,$(CORE_SRC)) $(OBJ)/src/platform/posix/rtclock_posix.o
 UNIT_BIN   := $(patsubst %.c,$(BIN)/%,$(notdir $(UNIT_SRC)))

@@ -11,7 +11,7 @@
 set -euo pipefail
 pkgs=(build-essential pkg-config libode-dev liblcm-dev liblcm-bin liblcm-java
       libccd-dev libcmocka-dev libglib2.0-dev default-jdk-headless gnuplot-nox
-      libjchart2d-java python3 libsodium-dev libyaml-dev)
+      libjchart2d-java python3 libsodium-dev libyaml-dev libxml2-dev)
 if [ "${1:-run}" = bench ]; then
     pkgs=(rt-tests valgrind liborocos-kdl-dev g++)
 elif [ "${1:-run}" = cross ]; then

@@ -1,0 +1,187 @@
+/* Tests of tandem-netc's modules (docs/tasks.md): the shipped carry drawn
+ * as PNML compiles to carry_net and carry_table field by field; the buffer
+ * task passes with its bound and is refused as unsafe without it; a
+ * deadlocking variant, a dead transition, a lost transition, a bad row,
+ * an unreadable net and a weighted arc are refused, each for its reason. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <cmocka.h>
+#include <string.h>
+
+#include "netc.h"
+#include "equal_carry.h"
+
+#define CARRY_PNML "tasks/carry/carry.pnml"
+#define CARRY_ROWS "tasks/carry/rows.csv"
+#define BUFFER_PNML "tasks/carry_buffer/carry_buffer.pnml"
+#define BUFFER_ROWS "tasks/carry_buffer/rows.csv"
+
+/* Reads and checks a task; what the checker said to err goes to msg. */
+static int compile(netc_task *t, const char *pnml, const char *rows, int bound, char *msg, size_t n)
+{
+    FILE *out = tmpfile(), *err = tmpfile();
+    int rc;
+    size_t got;
+    assert_non_null(out);
+    assert_non_null(err);
+    memset(t, 0, sizeof *t);
+    rc = netc_pnml_read(t, pnml, err);
+    if (rc == 0)
+        rc = netc_rows_read(t, rows, err);
+    if (rc == 0)
+        rc = netc_check(t, bound, out, err);
+    rewind(err);
+    got = fread(msg, 1, n - 1, err);
+    msg[got] = '\0';
+    fclose(out);
+    fclose(err);
+    return rc;
+}
+
+/* A copy of a text file with one substring replaced, in a temporary file. */
+static void edit_copy(const char *from, const char *to, const char *find, const char *repl)
+{
+    static char text[65536];
+    FILE *f = fopen(from, "r");
+    size_t n;
+    char *at;
+    assert_non_null(f);
+    n = fread(text, 1, sizeof text - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    at = strstr(text, find);
+    assert_non_null(at);
+    f = fopen(to, "w");
+    assert_non_null(f);
+    fwrite(text, 1, (size_t)(at - text), f);
+    fputs(repl, f);
+    fputs(at + strlen(find), f);
+    fclose(f);
+}
+
+static netc_task TASK;
+static char MSG[16384];
+
+static void test_carry_compiles_to_the_shipped_tables(void **st)
+{
+    (void)st;
+    assert_int_equal(compile(&TASK, CARRY_PNML, CARRY_ROWS, 1, MSG, sizeof MSG), NETC_OK);
+    assert_string_equal(TASK.task, "carry");
+    assert_carry_equal(&TASK.net, TASK.rows);
+}
+
+static void test_buffer_task_is_bounded_not_safe(void **st)
+{
+    (void)st;
+    assert_int_equal(compile(&TASK, BUFFER_PNML, BUFFER_ROWS, 2, MSG, sizeof MSG), NETC_OK);
+    assert_int_equal(TASK.n_invariants, 3);
+    assert_int_equal(carry_table_validate(TASK.rows, TASK.n_transitions, &TASK.net), 0);
+    /* the two buffer slots are two tokens in pf at the start */
+    assert_int_equal(compile(&TASK, BUFFER_PNML, BUFFER_ROWS, 1, MSG, sizeof MSG), NETC_ERR_UNBOUNDED);
+    assert_non_null(strstr(MSG, "the net must be safe"));
+}
+
+static void test_deadlock_refused_with_counterexample(void **st)
+{
+    (void)st;
+    assert_int_equal(compile(&TASK, "test/netc/carry_deadlock.pnml", CARRY_ROWS, 1, MSG, sizeof MSG),
+                     NETC_ERR_DEADLOCK);
+    assert_non_null(strstr(MSG, "deadlock"));
+    /* arm 2 delivered one workpiece and never came home: the path goes
+     * through t7's completion and ends with arm 1 holding the next one */
+    assert_non_null(strstr(MSG, "complete t7"));
+    assert_non_null(strstr(MSG, "22. complete tv"));
+    assert_non_null(strstr(MSG, "    1     0     0     0     1     0     0     0     0   running:\n"));
+}
+
+static void test_dead_transition_refused(void **st)
+{
+    const char *path = "build/test_netc_dead.pnml";
+    (void)st;
+    /* vision inhibited by arm 1's home place, which is marked until t1:
+     * t1 needs p1, so tv and t1 never fire */
+    edit_copy(CARRY_PNML, path, "<arc id=\"i1\" source=\"p1\"", "<arc id=\"i1\" source=\"p3\"");
+    edit_copy(path, path, "<initialMarking><text>1</text></initialMarking>",
+              "<initialMarking><text>0</text></initialMarking>");
+    assert_int_equal(compile(&TASK, path, CARRY_ROWS, 1, MSG, sizeof MSG), NETC_ERR_DEADLOCK);
+    remove(path);
+}
+
+static void test_lost_transition_refused(void **st)
+{
+    const char *path = "build/test_netc_live.pnml";
+    (void)st;
+    /* t6 returns arm 1 to p4 instead of home: the net runs on (arm 1
+     * re-grasps from p4 forever, vision keeps p1 full) but t1 is lost */
+    edit_copy(CARRY_PNML, path, "source=\"t6\" target=\"p3\"", "source=\"t6\" target=\"p4\"");
+    assert_int_equal(compile(&TASK, path, CARRY_ROWS, 1, MSG, sizeof MSG), NETC_ERR_NOT_LIVE);
+    assert_non_null(strstr(MSG, "transition t1 is not live"));
+    remove(path);
+}
+
+static void test_bad_rows_refused(void **st)
+{
+    const char *path = "build/test_netc_rows.csv";
+    (void)st;
+    edit_copy(CARRY_ROWS, path, "MOVE HANDOVER_1", "MOVE HANDOVER_3");
+    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
+    assert_non_null(strstr(MSG, "arm1/arm2"));
+    /* gains beyond what the arms accept */
+    edit_copy(CARRY_ROWS, path, "t1,yes,FREE", "t1,yes,0.5 0.5 4 100 20 0.2 5 50");
+    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_TABLE);
+    /* a row contradicting its transition: the vision source moves an arm */
+    edit_copy(CARRY_ROWS, path, "tv,yes,FREE,0,-,-", "tv,yes,FREE,0,MOVE HOME_1,-");
+    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_TABLE);
+    /* arm 2 sent to a pose of arm 1's side of the cell */
+    edit_copy(CARRY_ROWS, path, "-,MOVE ABOVE_RELEASE; MOVE RELEASE_POSE", "-,MOVE ABOVE_RELEASE; MOVE HOME_1");
+    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_TABLE);
+    assert_non_null(strstr(MSG, "arm 2 cannot go to HOME_1"));
+    /* a transition without its row */
+    edit_copy(CARRY_ROWS, path, "t5,yes", "t6,yes");
+    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
+    remove(path);
+}
+
+static void test_bad_pnml_refused(void **st)
+{
+    const char *path = "build/test_netc_bad.pnml";
+    (void)st;
+    assert_int_equal(compile(&TASK, "build/no-such.pnml", CARRY_ROWS, 1, MSG, sizeof MSG), NETC_ERR_IO);
+    edit_copy(CARRY_PNML, path, "<inscription><text>1</text></inscription>",
+              "<inscription><text>2</text></inscription>");
+    assert_int_equal(compile(&TASK, path, CARRY_ROWS, 1, MSG, sizeof MSG), NETC_ERR_CAPACITY);
+    assert_non_null(strstr(MSG, "weight 2"));
+    edit_copy(CARRY_PNML, path, "source=\"t1\" target=\"p4\"", "source=\"t1\" target=\"t2\"");
+    assert_int_equal(compile(&TASK, path, CARRY_ROWS, 1, MSG, sizeof MSG), NETC_ERR_PNML);
+    edit_copy(CARRY_PNML, path, "  <type value=\"inhibitor\"/>", "  <type value=\"reset\"/>");
+    assert_int_equal(compile(&TASK, path, CARRY_ROWS, 1, MSG, sizeof MSG), NETC_ERR_PNML);
+    remove(path);
+}
+
+static void test_strerror_distinct(void **st)
+{
+    int a, b;
+    (void)st;
+    for (a = NETC_ERR_INVARIANT; a <= NETC_OK; a++)
+        for (b = a + 1; b <= NETC_OK; b++)
+            assert_string_not_equal(netc_strerror(a), netc_strerror(b));
+    assert_string_equal(netc_strerror(NETC_ERR_INVARIANT - 1), "unknown error");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_carry_compiles_to_the_shipped_tables),
+        cmocka_unit_test(test_buffer_task_is_bounded_not_safe),
+        cmocka_unit_test(test_deadlock_refused_with_counterexample),
+        cmocka_unit_test(test_dead_transition_refused),
+        cmocka_unit_test(test_lost_transition_refused),
+        cmocka_unit_test(test_bad_rows_refused),
+        cmocka_unit_test(test_bad_pnml_refused),
+        cmocka_unit_test(test_strerror_distinct),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
