@@ -13,6 +13,7 @@
 #include <ode/ode.h>
 #include <lcm/lcm.h>
 #include "daemon.h"
+#include "peer.h"
 #include "tandem_sim_control_t.h"
 #include "tandem_sim_status_t.h"
 
@@ -54,6 +55,7 @@ typedef struct sim_participant {
     int32_t period_steps;
     int64_t last_ack;        /* last step answered */
     int     active;
+    peer_watch peer;         /* its pid (from its acks) and when last heard */
 } sim_participant;
 
 typedef struct sim_world {
@@ -153,13 +155,19 @@ extern const sim_model_ops sim_workpieces_ops;   /* table, bars, camera, gripper
 extern const sim_model_ops sim_rovers_ops;       /* state: sim_rovers (sim_rovers.h) */
 
 /* lockstep registry (sim_lockstep.c) */
-void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t period, int leaving);
+void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t period, int leaving,
+                         int32_t pid);
 /* 1 when every participant due at step k has answered it. */
 int  sim_lockstep_ready(const sim_world *w, int64_t k);
 /* 1 if some participant must answer step k. */
 int  sim_lockstep_due(const sim_world *w, int64_t k);
-/* Drops participants that have not answered k; returns how many. */
-int  sim_lockstep_drop_late(sim_world *w, int64_t k);
+/* 1 if some participant due at k has not answered it. */
+int  sim_lockstep_late(const sim_world *w, int64_t k);
+/* Drops the participants due at k that have not answered it and are dead
+ * (peer_dead: process gone, or not stopped and silent for the lockstep
+ * timeout); a live one, however slow or stopped, is waited for. Returns
+ * how many were dropped. */
+int  sim_lockstep_drop_dead(sim_world *w, int64_t k);
 /* 0 when the participant that hosts robot id ("tandem-rover-K" or
  * "tandem-rover-A-B") has left or was dropped and no active one hosts it:
  * its commands are not waited for. 1 otherwise (hosted, or by nobody the

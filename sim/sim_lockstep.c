@@ -1,12 +1,17 @@
 /* sim_lockstep: who the simulator waits for (docs/method/lockstep.md §3, the lockstep protocol).
  * A controller registers by answering a step; it is then waited for on
- * every step that is a multiple of its period. A participant that stops
- * answering is dropped after a wall-clock timeout so a dead daemon cannot
- * freeze the world (and the drop is counted in SIM_STATUS).
+ * every step that is a multiple of its period. A participant that does not
+ * answer is waited for as long as it is alive, however slow (a loaded
+ * machine, a stopped process): what it answers must not depend on the
+ * wall clock. It is dropped only when dead (peer.h): its process gone, or
+ * running and silent (no ack at all, not even the "still here" of a
+ * participant waiting for an input) for the timeout, so a
+ * dead or hung daemon cannot freeze the world (the drop is counted in
+ * SIM_STATUS).
  */
 #include "sim.h"
+#include "rtloop.h"
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 static sim_participant *find(sim_world *w, const char *name)
@@ -18,7 +23,8 @@ static sim_participant *find(sim_world *w, const char *name)
     return NULL;
 }
 
-void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t period, int leaving)
+void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t period, int leaving,
+                         int32_t pid)
 {
     sim_participant *p = find(w, name);
     if (!p) {
@@ -28,6 +34,7 @@ void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t p
         memset(p, 0, sizeof *p);
         snprintf(p->name, sizeof p->name, "%s", name);
         p->last_ack = -1;
+        p->peer.heard_ns = rtloop_now_ns();
         fprintf(stderr, "tandem-sim: lockstep participant '%s' joined (every %d steps)\n",
                 name, (int)period);
     }
@@ -37,7 +44,12 @@ void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t p
         p->active = 0;
         return;
     }
+    /* a dropped participant's "still here" (a step it answered before)
+     * does not bring it back; answering a new step does */
+    if (!p->active && step <= p->last_ack)
+        return;
     p->active = 1;
+    peer_heard(&p->peer, pid, rtloop_now_ns());
     p->period_steps = period < 1 ? 1 : period;
     if (step > p->last_ack)
         p->last_ack = step;
@@ -63,35 +75,37 @@ int sim_lockstep_due(const sim_world *w, int64_t k)
     return 0;
 }
 
-int sim_lockstep_drop_late(sim_world *w, int64_t k)
+static int is_late(const sim_participant *p, int64_t k)
 {
+    return p->active && k % p->period_steps == 0 && p->last_ack < k;
+}
+
+int sim_lockstep_late(const sim_world *w, int64_t k)
+{
+    int i;
+    for (i = 0; i < w->n_part; i++)
+        if (is_late(&w->part[i], k))
+            return 1;
+    return 0;
+}
+
+int sim_lockstep_drop_dead(sim_world *w, int64_t k)
+{
+    const int64_t now = rtloop_now_ns();
+    const int64_t silent_ns = (int64_t)(w->lockstep_timeout_s * 1e9);
     int i, n = 0;
     for (i = 0; i < w->n_part; i++) {
         sim_participant *p = &w->part[i];
-        if (p->active && k % p->period_steps == 0 && p->last_ack < k) {
-            fprintf(stderr, "tandem-sim: lockstep participant '%s' did not answer step %lld; dropped\n",
-                    p->name, (long long)k);
-            p->active = 0;
-            w->lockstep_timeouts++;
-            n++;
-        }
+        if (!is_late(p, k) || !peer_dead(&p->peer, now, silent_ns))
+            continue;
+        fprintf(stderr, "tandem-sim: lockstep participant '%s' (pid %ld) did not answer step %lld and is %s; dropped\n",
+                p->name, (long)p->peer.pid, (long long)k,
+                peer_proc_of(p->peer.pid) == PEER_PROC_GONE ? "gone" : "silent");
+        p->active = 0;
+        w->lockstep_timeouts++;
+        n++;
     }
     return n;
-}
-
-/* The robots a participant's name says it hosts: 1 and *lo..*hi for
- * "tandem-rover-K" / "tandem-rover-A-B" (tandem-rover's lockstep name). */
-static int rover_host_range(const char *name, long *lo, long *hi)
-{
-    static const char prefix[] = "tandem-rover-";
-    char *end;
-    if (strncmp(name, prefix, sizeof prefix - 1) != 0)
-        return 0;
-    *lo = strtol(name + sizeof prefix - 1, &end, 10);
-    *hi = *lo;
-    if (*end == '-')
-        *hi = strtol(end + 1, &end, 10);
-    return *end == '\0' && *lo >= 1 && *hi >= *lo;
 }
 
 int sim_lockstep_robot_hosted(const sim_world *w, int32_t id)
@@ -99,7 +113,7 @@ int sim_lockstep_robot_hosted(const sim_world *w, int32_t id)
     int i, named = 0;
     for (i = 0; i < w->n_part; i++) {
         long lo, hi;
-        if (!rover_host_range(w->part[i].name, &lo, &hi) || id < lo || id > hi)
+        if (!peer_rover_range(w->part[i].name, &lo, &hi) || id < lo || id > hi)
             continue;
         if (w->part[i].active)
             return 1;

@@ -18,6 +18,9 @@
  * again (a datagram lost on a loaded host, not a dead participant). */
 #define SIM_REANNOUNCE_NS 1000000LL       /* first repeat of an unanswered step */
 #define SIM_REANNOUNCE_MAX_NS 32000000LL  /* back-off cap */
+/* Lockstep: how often a late participant's process is looked at (alive,
+ * stopped, gone: sim_lockstep_drop_dead). */
+#define SIM_LIVENESS_CHECK_NS 50000000LL
 
 static int active_participants(const sim_world *w)
 {
@@ -40,7 +43,7 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, void *u)
         m.step > app->w.step) {
         app->w.d.msgs.rejected++;
     } else {
-        sim_lockstep_on_ack(&app->w, m.name, m.step, m.period_steps, m.leaving);
+        sim_lockstep_on_ack(&app->w, m.name, m.step, m.period_steps, m.leaving, m.pid);
     }
     tandem_clock_ack_t_decode_cleanup(&m);
 }
@@ -210,38 +213,48 @@ static void maybe_reset(sim_app *app)
     publish_step(app);
 }
 
-/* The participant timeout ran out at the current step: the participants
- * that did not answer are dropped; if all did, a model's input never came. */
+/* Every participant answered, yet a model's input for the step did not
+ * come within the timeout (sim_model_ops.ready): go on without it. */
 static void give_up_waiting(sim_world *w)
 {
-    if (sim_lockstep_drop_late(w, w->step) == 0) {
-        w->lockstep_timeouts++;
-        fprintf(stderr, "tandem-sim: step %lld: a controller's output never came; going on\n",
-                (long long)w->step);
-    }
+    w->lockstep_timeouts++;
+    fprintf(stderr, "tandem-sim: step %lld: a controller's output never came; going on\n",
+            (long long)w->step);
 }
 
-/* Waits for the controllers due at the current step; bounded by the timeout. */
+/* Waits for the controllers due at the current step. A late participant
+ * is waited for while it is alive (however slow: a loaded machine must
+ * not change the run) and dropped once dead (sim_lockstep_drop_dead); the
+ * wall-clock timeout bounds only the wait for a model's input after every
+ * participant answered. */
 static void wait_for_answers(sim_app *app)
 {
     const int64_t t0 = rtloop_now_ns();
     /* the first repeat comes after a few typical answer times (at least
      * SIM_REANNOUNCE_NS): on a loaded machine a slow answer is not a lost one */
-    int64_t last_pub = t0, again_ns = 4 * app->answer_ns_avg;
+    int64_t last_pub = t0, again_ns = 4 * app->answer_ns_avg, last_check = t0, answered_ns = -1;
     if (again_ns < SIM_REANNOUNCE_NS) again_ns = SIM_REANNOUNCE_NS;
     if (again_ns > SIM_REANNOUNCE_MAX_NS) again_ns = SIM_REANNOUNCE_MAX_NS;
     while (!daemon_stop_requested()) {
         const int64_t now = rtloop_now_ns();
         const int starting = app->w.step == 0 && active_participants(&app->w) < app->expect;
-        if (!starting && !app->w.paused && sim_lockstep_ready(&app->w, app->w.step) &&
-            (active_participants(&app->w) == 0 || models_ready(app, app->w.step))) {
+        const int waiting = !starting && !app->w.paused;
+        const int late = sim_lockstep_late(&app->w, app->w.step);
+        if (waiting && !late && (active_participants(&app->w) == 0 || models_ready(app, app->w.step))) {
             /* answer time, averaged over ~64 waits, only of those answered
              * without a repeat (a lost message is not the machine's speed) */
             if (last_pub == t0)
                 app->answer_ns_avg += (now - t0 - app->answer_ns_avg) / 64;
             return;
         }
-        if (!starting && !app->w.paused && (double)(now - t0) * 1e-9 > app->w.lockstep_timeout_s) {
+        if (waiting && late && now - last_check > SIM_LIVENESS_CHECK_NS) {
+            last_check = now;
+            if (sim_lockstep_drop_dead(&app->w, app->w.step) > 0)
+                continue;
+        }
+        if (waiting && !late && answered_ns < 0)
+            answered_ns = now;
+        if (waiting && !late && (double)(now - answered_ns) * 1e-9 > app->w.lockstep_timeout_s) {
             give_up_waiting(&app->w);
             return;
         }

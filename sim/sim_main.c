@@ -61,7 +61,8 @@ static const option_entry sim_options[] = {
     { .name = "expect", .type = OPTION_INT, OPTION_AT(sim_app, expect), .min = 0, .max = SIM_MAX_PARTICIPANTS,
       .meta = "N", .help = "lockstep: wait for N controllers before the first step", .def = "0" },
     { .name = "timeout-ms", .type = OPTION_DOUBLE, OPTION_AT(sim_app, w.lockstep_timeout_s), .min = 10.0,
-      .max = 600000.0, .scale = 1e-3, .meta = "MS", .help = "lockstep: drop a controller silent this long",
+      .max = 600000.0, .scale = 1e-3, .meta = "MS", .help = "lockstep: drop a controller silent this long whose process is gone or "
+      "ran without answering (a live, slow or stopped one is waited for)",
       .def = "2000" },
     { .name = "no-arms", .type = OPTION_FLAG, OPTION_AT(sim_app, no_arms), .help = "leave the PUMA pair out" },
     { .name = "workpieces", .type = OPTION_INT, OPTION_AT(sim_app, cfg.workpieces), .min = 0, .max = 100000,

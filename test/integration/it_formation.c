@@ -6,7 +6,11 @@
  * Second test: how the robots are spread over processes and how their
  * frames travel (one process per robot on ROVERk_* channels, or one
  * process for the team on the batched ROVERS_* channels) is transport
- * only: the two runs must be bit-identical in ground truth. */
+ * only: the two runs must be bit-identical in ground truth. Third: a
+ * participant that is alive but slow is waited for, however long: robot
+ * 2's process stopped (SIGSTOP) for longer than the lockstep timeout and
+ * continued gives the undisturbed run's truth.csv, byte for byte; a killed
+ * one is still dropped (the first test). */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -15,6 +19,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 #include "harness.h"
 
@@ -67,24 +74,86 @@ static void test_kill_one_rover_mid_run(void **state)
     harness_close(&h);
 }
 
-/* Runs the obstacles world for 20 s; returns truth.csv's size and hash. */
-static uint64_t run_truth_hash(harness *h, const char *procs, const char *link, long *size)
+/* The pid of robot k's tandem-rover among the children of scenario pid p
+ * (/proc/P/task/P/children and their command lines), -1 if none. */
+static pid_t rover_child(pid_t p, int k)
+{
+    char path[96], kids[512], cmd[512], want[16];
+    const char *c;
+    FILE *f;
+    size_t n;
+    snprintf(path, sizeof path, "/proc/%d/task/%d/children", (int)p, (int)p);
+    if (!(f = fopen(path, "r"))) return -1;
+    n = fread(kids, 1, sizeof kids - 1, f);
+    fclose(f);
+    kids[n] = '\0';
+    snprintf(want, sizeof want, "%d", k);
+    for (c = kids; *c; ) {
+        const long kid = strtol(c, (char **)&c, 10);
+        const char *a;
+        int id_next = 0, rover = 0;
+        if (kid <= 0) break;
+        snprintf(path, sizeof path, "/proc/%ld/cmdline", kid);
+        if (!(f = fopen(path, "r"))) continue;
+        n = fread(cmd, 1, sizeof cmd - 1, f);
+        fclose(f);
+        cmd[n] = '\0';
+        for (a = cmd; a < cmd + n; a += strlen(a) + 1) {
+            if (strstr(a, "tandem-rover")) rover = 1;
+            if (id_next && rover && strcmp(a, want) == 0) return (pid_t)kid;
+            id_next = strcmp(a, "--id") == 0;
+        }
+    }
+    return -1;
+}
+
+static void sleep_s(double s)
+{
+    struct timespec ts;
+    ts.tv_sec = (time_t)s;
+    ts.tv_nsec = (long)((s - (double)ts.tv_sec) * 1e9);
+    nanosleep(&ts, NULL);
+}
+
+/* Once robot 2's process is running and truth.csv has grown, stops it
+ * for stop_s (SIGSTOP, then SIGCONT). */
+static void stop_rover_2(pid_t scen, const char *truth, double stop_s)
+{
+    struct stat st;
+    pid_t r = -1;
+    int i;
+    for (i = 0; i < 2000 && (r < 0 || stat(truth, &st) != 0 || st.st_size < 5000); i++) {
+        sleep_s(0.005);
+        if (r < 0) r = rover_child(scen, 2);
+    }
+    assert_true(r > 0);
+    assert_int_equal(kill(r, SIGSTOP), 0);
+    sleep_s(stop_s);
+    assert_int_equal(kill(r, SIGCONT), 0);
+}
+
+/* Runs the obstacles world for 20 s; returns truth.csv's size and hash.
+ * stop_s > 0: robot 2's process is stopped that long in the run. */
+static uint64_t run_truth_hash(harness *h, const char *procs, const char *link, double stop_s, long *size)
 {
     char dir[64], path[128];
     const char *argv[] = { "tandem-scenario", "formation", "--world", "obstacles", "--robots", "3",
                            "--seed", "2", "--procs", procs, "--link", link, "--max-time", "20",
-                           "--lcm-url", h->url, "--out", dir, NULL };
+                           "--lockstep-timeout-ms", "300", "--lcm-url", h->url, "--out", dir, NULL };
     uint64_t hash = 1469598103934665603ULL;
     pid_t p;
     FILE *f;
     int c;
-    snprintf(dir, sizeof dir, "/tmp/it_formation_%s_%d", link, (int)getpid());
+    snprintf(dir, sizeof dir, "/tmp/it_formation_%s%s_%d", link, stop_s > 0.0 ? "_stop" : "", (int)getpid());
+    snprintf(path, sizeof path, "%s/truth.csv", dir);
+    remove(path);
     p = harness_spawn(h, argv);
     assert_true(p > 0);
+    if (stop_s > 0.0)
+        stop_rover_2(p, path, stop_s);
     /* 20 s is short of the goal: the run ends on its time limit and says
      * so with exit status 3 (a criterion failed) */
     assert_int_equal(harness_wait(h, p, 120.0), 3);
-    snprintf(path, sizeof path, "%s/truth.csv", dir);
     f = fopen(path, "r");
     assert_non_null(f);
     *size = 0;
@@ -103,8 +172,8 @@ static void test_batched_link_is_the_same_run(void **state)
     uint64_t robot, batch;
     (void)state;
     assert_int_equal(harness_open(&h, 8), 0);
-    robot = run_truth_hash(&h, "separate", "robot", &size_robot);
-    batch = run_truth_hash(&h, "single", "batch", &size_batch);
+    robot = run_truth_hash(&h, "separate", "robot", 0.0, &size_robot);
+    batch = run_truth_hash(&h, "single", "batch", 0.0, &size_batch);
     printf("truth.csv: %ld bytes per robot link, %ld batched; hashes %016llx %016llx\n",
            size_robot, size_batch, (unsigned long long)robot, (unsigned long long)batch);
     assert_true(size_robot > 10000);   /* 20 s of 20 Hz truth for 3 robots */
@@ -113,11 +182,31 @@ static void test_batched_link_is_the_same_run(void **state)
     harness_close(&h);
 }
 
+/* Stopped for 1.5 s, five times the lockstep timeout (0.3 s): alive, so
+ * waited for; the run must be the undisturbed one. */
+static void test_stopped_rover_is_waited_for(void **state)
+{
+    harness h;
+    long size_plain, size_stop;
+    uint64_t plain, stopped;
+    (void)state;
+    assert_int_equal(harness_open(&h, 9), 0);
+    plain = run_truth_hash(&h, "separate", "robot", 0.0, &size_plain);
+    stopped = run_truth_hash(&h, "separate", "robot", 1.5, &size_stop);
+    printf("truth.csv: %ld bytes undisturbed, %ld with robot 2 stopped 1.5 s; hashes %016llx %016llx\n",
+           size_plain, size_stop, (unsigned long long)plain, (unsigned long long)stopped);
+    assert_true(size_plain > 10000);
+    assert_int_equal(size_plain, size_stop);
+    assert_true(plain == stopped);
+    harness_close(&h);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_kill_one_rover_mid_run),
         cmocka_unit_test(test_batched_link_is_the_same_run),
+        cmocka_unit_test(test_stopped_rover_is_waited_for),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

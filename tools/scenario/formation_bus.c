@@ -34,7 +34,10 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_
     fm_state *fm = u;
     (void)rb; (void)ch;
     if (m->step < fm->clock_step) return;
-    if (m->step == fm->answered) fm->clock_repeat = 1;
+    /* a step announced again: answered (our ack was lost), or not yet (we
+     * wait for the robots' states): either way the ack of our last answered
+     * step goes out, which also tells the simulator we are alive */
+    if (m->step == fm->answered || m->step == fm->clock_step) fm->clock_repeat = 1;
     fm->clock_step = m->step;
     fm->sim_time = m->sim_time_s;
     fm->have_clock = 1;

@@ -55,6 +55,46 @@ static void robot_truth(fm_state *fm, const tandem_rover_truth_t *m, int i, doub
                 fm->est[i].x_m, fm->est[i].y_m, fm->est[i].theta_rad);
 }
 
+/* Centre of robot i's body box (world frame): O is ROVER_BEACON_D_M from
+ * C along the heading, the box centre ROVER_BODY_OFFSET_M from C. */
+static void body_centre(const tandem_rover_truth_t *m, int i, double *x, double *y)
+{
+    const double d = ROVER_BODY_OFFSET_M - ROVER_BEACON_D_M;
+    *x = m->x_m[i] + d * cos(m->theta_rad[i]);
+    *y = m->y_m[i] + d * sin(m->theta_rad[i]);
+}
+
+/* 1 if another live robot's body is within reach of robot i's: their box
+ * centres closer than the box diagonal plus 2 cm (two boxes farther apart
+ * cannot touch whatever their headings). */
+static int mate_within_reach(const tandem_rover_truth_t *m, int i)
+{
+    const double reach_m = hypot(ROVER_BODY_LENGTH_M, ROVER_BODY_WIDTH_M) + 0.02;
+    double xi, yi, xj, yj;
+    int j;
+    body_centre(m, i, &xi, &yi);
+    for (j = 0; j < m->n; j++) {
+        if (j == i || !m->alive[j]) continue;
+        body_centre(m, j, &xj, &yj);
+        if (hypot(xj - xi, yj - yi) < reach_m) return 1;
+    }
+    return 0;
+}
+
+/* The new contact events of each robot since the last sample, counted on
+ * mates if a mate is within reach, else on walls (docs/formation.md). */
+static void split_contacts(fm_state *fm, const tandem_rover_truth_t *m)
+{
+    int i;
+    for (i = 0; i < m->n && i < FM_MAX; i++) {
+        const int d = m->collisions[i] - fm->coll_prev[i];
+        if (d <= 0) continue;
+        fm->coll_prev[i] = m->collisions[i];
+        if (mate_within_reach(m, i)) fm->collisions_mates += d;
+        else fm->collisions_walls += d;
+    }
+}
+
 /* Every live robot's truth; the team's centroid and mean heading. Returns
  * the index of the lowest live robot, -1 none. */
 static int team_truth(fm_state *fm, const tandem_rover_truth_t *m, int n, double t, team_pose *tp)
@@ -149,6 +189,7 @@ void fm_on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_tr
     truth_series(fm, m, t, sq, mx, n, lowest);
     fm->collisions = 0;
     for (i = 0; i < m->n; i++) fm->collisions += m->collisions[i];
+    split_contacts(fm, m);
     if (!fm->reached && all_at && hypot(tp.cx - fm->layout.goal_m[0], tp.cy - fm->layout.goal_m[1]) < 0.5) {
         fm->reached = 1;
         fm->time_to_goal = t;

@@ -101,6 +101,9 @@ typedef struct fm_state {
     double sum_dw; long n_dw;
     double loc_sum_sq, loc_max; long loc_n;     /* own estimate vs truth */
     int    collisions, formation_changes, escapes;
+    /* the simulator's contact events split by what was touched: a mate
+     * (another live robot's body within reach at that sample) or a wall */
+    int    coll_prev[FM_MAX], collisions_mates, collisions_walls;
     int    reached;
     double time_to_goal, sim_time;
     int    killed;
@@ -188,6 +191,11 @@ void fm_on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_tr
 /* formation_report.c */
 /* Appends the failed success criteria to buf; returns how many failed. */
 int  fm_criteria(const fm_state *fm, char *buf, size_t cap);
+/* The narrowest passage (not a dead end) narrower than need_m on the
+ * straight way start -> goal (m); 10 if none. */
+double fm_passage_width_m(const rover_world_config *w, double need_m);
+/* Width the team's formation needs (formation width + the FSM's margin). */
+double fm_needed_width_m(const fm_state *fm);
 void fm_write_summary(const fm_state *fm, double wall_s);
 void fm_write_plots(const fm_state *fm);
 

@@ -94,9 +94,9 @@ static const option_entry formation_table[] = {
     { .name = "localize", .type = OPTION_CHOICE, OPTION_AT(fm_state, localize_off), .choices = options_on_off,
       .help = "robots fuse the world's LED landmarks", .def = "on" },
     { .name = "lockstep-timeout-ms", .type = OPTION_INT, OPTION_AT(fm_state, timeout_ms_given), .min = 100,
-      .max = 3600000, .meta = "MS", .help = "the simulator drops a participant silent this long (wall); on a "
-      "heavily loaded machine a starved controller would be dropped and the run no longer be the deterministic "
-      "one: raise it for sweeps there", .def = "10000" },
+      .max = 3600000, .meta = "MS", .help = "the simulator drops a participant silent this long (wall) "
+      "whose process is gone or hangs; one alive and slow (a loaded machine) or stopped is waited for, so the run "
+      "stays the deterministic one", .def = "10000" },
     { .name = "robots", .type = OPTION_INT, OPTION_AT(fm_state, robots), .min = 1, .max = FM_MAX, .meta = "N",
       .help = "team size", .def = "3" },
     { .name = "seed", .type = OPTION_INT, OPTION_AT(fm_state, seed), .min = 0, .max = 2147483647.0, .meta = "S",
@@ -352,7 +352,7 @@ static void lockstep_loop(fm_state *fm, double wall0)
             progress_line(fm, wall0);
         if (fm->sim_time > fm->max_time_s + 5.0) {
             /* the world ran past the limit without us: every participant
-             * was dropped (a machine too loaded for --lockstep-timeout-ms) */
+             * was dropped (dead or hung, docs/method/lockstep.md §3) */
             fprintf(stderr, "formation: the simulator went on without the lockstep participants; giving up\n");
             fm->lost_lockstep = 1;
             break;

@@ -293,6 +293,7 @@ void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32
     a.name = (char *)name;
     a.period_steps = period_steps;
     a.leaving = (int8_t)leaving;
+    a.pid = (int32_t)getpid();
     AUTH_PUBLISH(tandem_clock_ack_t, lcm, "SIM_ACK", &a);
 }
 
@@ -369,6 +370,10 @@ static int run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
             d->input_waits++;
             if (d->repeat_fn)
                 d->repeat_fn(d, user);
+            /* and say we are here: the step answered last again, which
+             * the simulator takes as a sign of life and nothing more */
+            if (d->answered_step >= 0)
+                ack(d, d->answered_step, 0);
         }
         d->pending_step = -1;
     }

@@ -11,6 +11,7 @@
 #include <stdint.h>
 #include "daemon.h"
 #include "journal.h"
+#include "peer.h"
 #include "rover_ctl.h"
 #include "rover_world.h"
 #include "world_file.h"
@@ -83,6 +84,7 @@ typedef struct rover_daemon {
     /* lockstep: what each mate last said on TEAM, and what we published */
     int64_t mate_step[ROVER_WORLD_MAX_ROBOTS + 1];   /* -1: nothing yet */
     int     mate_gone[ROVER_WORLD_MAX_ROBOTS + 1];
+    peer_watch mate_peer[ROVER_WORLD_MAX_ROBOTS + 1];   /* the process hosting each mate */
     int64_t wait_step, wait_since_ns;                 /* incomplete inputs */
     int64_t gone_count;
     rover_outbox out[2];                              /* out[cur]: the last cycle */
@@ -106,6 +108,8 @@ void rover_on_beacons(const lcm_recv_buf_t *rb, const char *ch, void *u);
 void rover_on_sensors_batch(const lcm_recv_buf_t *rb, const char *ch, void *u);
 void rover_on_beacons_batch(const lcm_recv_buf_t *rb, const char *ch, void *u);
 void rover_on_team(const lcm_recv_buf_t *rb, const char *ch, void *u);
+/* SIM_ACK: the pid of the process hosting each mate, and that it lives. */
+void rover_on_ack(const lcm_recv_buf_t *rb, const char *ch, void *u);
 void rover_deliver_team(rover_daemon *rd, int64_t step, double t_s);
 /* Lockstep: 1 when the cycle of step may run (its inputs are here, or
  * the missing ones are taken as gone), 0 to wait for it again. */

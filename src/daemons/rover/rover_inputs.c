@@ -4,17 +4,23 @@
  * tandem_rover.c).
  */
 #include <math.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 #include "rover_daemon.h"
 #include "formation.h"
 #include "tandem_beacon_obs_t.h"
+#include "tandem_clock_ack_t.h"
 #include "tandem_rover_sensors_t.h"
 #include "tandem_rovers_beacons_t.h"
 #include "tandem_rovers_sensors_t.h"
 #include "tandem_sonar_scan_t.h"
 
-#define ROVER_INPUT_WAIT_NS 300000000LL   /* a missing input: gone after 0.3 s */
+#define ROVER_INPUT_WAIT_NS 300000000LL   /* a missing input: asked about after 0.3 s */
+/* A mate's process running but silent this long (no ack at all: a waiting
+ * participant says "still here" on every announcement) hangs: taken as
+ * gone (peer_dead). */
+#define ROVER_MATE_SILENT_NS 3000000000LL
 
 /* ---- messages in ------------------------------------------------------------ */
 
@@ -256,6 +262,22 @@ void rover_deliver_team(rover_daemon *rd, int64_t step, double t_s)
     rd->nq = k;
 }
 
+/* A lockstep participant's ack (any step): the process hosting the
+ * robots its name says is alive, and which pid it has. */
+void rover_on_ack(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    rover_daemon *rd = u;
+    tandem_clock_ack_t m;
+    long lo, hi, j;
+    (void)ch;
+    if (!DAEMON_DECODE(&rd->d.msgs, tandem_clock_ack_t, rb, &m))
+        return;
+    if (m.pid > 0 && m.name && !m.leaving && peer_rover_range(m.name, &lo, &hi))
+        for (j = lo; j <= hi && j <= rd->robots; j++)
+            peer_heard(&rd->mate_peer[j], m.pid, now_ns());
+    tandem_clock_ack_t_decode_cleanup(&m);
+}
+
 /* ---- lockstep: a step's inputs complete ------------------------------------------ */
 
 /* The frame a lockstep cycle at `step` needs: the last one of its period,
@@ -293,7 +315,9 @@ static int inputs_missing(rover_daemon *rd, int64_t step, int mark_gone)
         if (!listened || rd->mate_gone[j] || step - team_w < team_from || rd->mate_step[j] >= step - team_w)
             continue;
         missing++;
-        if (mark_gone) rd->mate_gone[j] = 1;
+        /* a mate whose process is alive (slow, or stopped) is waited for:
+         * what this cycle sees must not depend on the machine's load */
+        if (mark_gone && peer_dead(&rd->mate_peer[j], now_ns(), ROVER_MATE_SILENT_NS)) rd->mate_gone[j] = 1;
     }
     return missing;
 }
@@ -301,19 +325,23 @@ static int inputs_missing(rover_daemon *rd, int64_t step, int mark_gone)
 int rover_inputs_complete(rover_daemon *rd, int64_t step)
 {
     const int64_t now = now_ns();
-    int n;
+    int n, left;
     if (inputs_missing(rd, step, 0) == 0) return 1;
     if (rd->wait_step != step) {
         rd->wait_step = step;
         rd->wait_since_ns = now;
     }
     if (now - rd->wait_since_ns < ROVER_INPUT_WAIT_NS) return 0;
-    /* announced again and again for 0.3 s: not lost, gone (a killed
-     * robot, a dead mate). Go on without it until it speaks again. */
+    /* announced again and again for 0.3 s: not lost. A source whose process
+     * is gone or hangs (a killed robot, a dead mate) is gone: go on without
+     * it until it speaks again; one that is alive is waited for. */
     n = inputs_missing(rd, step, 1);
-    rd->gone_count += n;
-    fprintf(stderr, "%s: step %lld: %d input source(s) silent for %.1f s, taken as gone\n",
-            rd->d.name, (long long)step, n, (double)ROVER_INPUT_WAIT_NS * 1e-9);
-    return 1;
+    left = inputs_missing(rd, step, 0);
+    if (n > left) {
+        rd->gone_count += n - left;
+        fprintf(stderr, "%s: step %lld: %d input source(s) silent for %.1f s and not alive, taken as gone\n",
+                rd->d.name, (long long)step, n - left, (double)(now - rd->wait_since_ns) * 1e-9);
+    }
+    return left == 0;
 }
 

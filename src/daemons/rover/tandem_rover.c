@@ -23,8 +23,11 @@
  * everyone who already answered publishes its last outputs again
  * (republish), copies already taken are ignored (duplicates), and the
  * cycle runs when the inputs are there: with loss, the same run. A source
- * silent for ROVER_INPUT_WAIT_NS of wall time is taken as gone (a killed
- * robot) and not waited for again until it speaks.
+ * silent for ROVER_INPUT_WAIT_NS of wall time whose process is gone or
+ * hangs (peer_dead: a killed robot; a mate's process is known by the
+ * pid in its SIM_ACK) is taken as gone and not waited for again until it
+ * speaks; a mate whose process is alive, however slow or stopped, is
+ * waited for, so a loaded machine runs the same run.
  *
  * Restart (--journal PATH): after every cycle each hosted robot appends
  * its controller snapshot (rover_ctl_snapshot: own pose with the encoder
@@ -326,6 +329,8 @@ int main(int argc, char **argv)
     daemon_subscribe(d, "ROVERS_SENSORS", rover_on_sensors_batch, rd);
     daemon_subscribe(d, "ROVERS_BEACONS", rover_on_beacons_batch, rd);
     daemon_subscribe(d, "TEAM", rover_on_team, rd);
+    if (d->lockstep)
+        daemon_subscribe(d, "SIM_ACK", rover_on_ack, rd);
     d->repeat_fn = rover_republish;
     rc = daemon_run(d, cycle, rd);
     rover_journal_stop(rd);
