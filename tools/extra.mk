@@ -58,6 +58,7 @@ help:
 	@echo '  make jar           build/lib/tandem_types.jar only'
 	@echo '  make tools-venv    build/venv-tools: Python packages of tandem-log2mcap and its tests'
 	@echo '  make mcap-test     tandem-log2mcap on a recorded 20 s run, checked message by message'
+	@echo '  make urdf-test     tandem-scene --urdf read by yourdfpy, its FK against tandem-kin'
 	@echo '  make clean         remove build/'
 	@echo 'variables: SAN=1 (sanitizer build in build/san), V=1, PREFIX, DESTDIR, TANDEM_VERSION'
 
@@ -99,4 +100,7 @@ tools-venv: $(TOOLS_VENV)/.stamp
 mcap-test: deps tools-venv
 	@$(MAKE) --no-print-directory all
 	@tools/mcap-test.sh
-.PHONY: tools-venv mcap-test
+# the URDF of tandem-scene --urdf read by yourdfpy, its FK against tandem-kin
+urdf-test: tools-venv $(BIN)/tandem-scene $(BIN)/tandem-kin
+	@$(TOOLS_VENV)/bin/python tools/urdf_check.py $(BIN)
+.PHONY: tools-venv mcap-test urdf-test

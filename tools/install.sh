@@ -20,7 +20,7 @@ declare -A what=(
     [tandem-log2csv]="turn an lcm-logger file of tandem messages into CSV"
     [tandem-log2mcap]="turn an lcm-logger file of tandem messages into MCAP for Foxglove"
     [tandem-scenario]="run a tandem experiment in lockstep and write summary, CSV and plots"
-    [tandem-scene]="print the static geometry of the tandem world as JSON"
+    [tandem-scene]="print the static geometry of the tandem world as JSON, or the cell as URDF"
     [tandem-status]="one status line a second about a running tandem system"
     [tandem-keygen]="make or rotate the tandem bus key (32 random bytes, mode 0600)"
 )
