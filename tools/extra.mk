@@ -59,8 +59,9 @@ help:
 	@echo '  make tools-venv    build/venv-tools: Python packages of tandem-log2mcap and its tests'
 	@echo '  make mcap-test     tandem-log2mcap on a recorded 20 s run, checked message by message'
 	@echo '  make urdf-test     tandem-scene --urdf read by yourdfpy, its FK against tandem-kin'
+	@echo '  make deb           build/deb/tandem_VERSION_ARCH.deb with dpkg-deb'
 	@echo '  make clean         remove build/'
-	@echo 'variables: SAN=1 (sanitizer build in build/san), V=1, PREFIX, DESTDIR, TANDEM_VERSION'
+	@echo 'variables: SAN=1 (sanitizer build in build/san), V=1, PREFIX, DESTDIR, TANDEM_VERSION, DEB_MAINTAINER'
 
 # ---- install ------------------------------------------------------------------
 PREFIX  ?= /usr/local
@@ -104,3 +105,9 @@ mcap-test: deps tools-venv
 urdf-test: tools-venv $(BIN)/tandem-scene $(BIN)/tandem-kin
 	@$(TOOLS_VENV)/bin/python tools/urdf_check.py $(BIN)
 .PHONY: tools-venv mcap-test urdf-test
+
+# ---- make deb: a Debian package with dpkg-deb ---------------------------------
+deb: all
+	@tools/deps.sh install
+	@tools/deb.sh build/deb $(BIN) $(CORE_LIB) $(TYPES_JAR) build/deb/man
+.PHONY: deb
