@@ -57,8 +57,12 @@ help:
 	@echo '  make multihost-test  the cell on three network namespaces vs one host (root)'
 	@echo '  make install       PREFIX=/usr/local: binaries, types jar, man pages, pkg-config file'
 	@echo '  make jar           build/lib/tandem_types.jar only'
+	@echo '  make tools-venv    build/venv-tools: Python packages of tandem-log2mcap and its tests'
+	@echo '  make mcap-test     tandem-log2mcap on a recorded 20 s run, checked message by message'
+	@echo '  make urdf-test     tandem-scene --urdf read by yourdfpy, its FK against tandem-kin'
+	@echo '  make deb           build/deb/tandem_VERSION_ARCH.deb with dpkg-deb'
 	@echo '  make clean         remove build/'
-	@echo 'variables: SAN=1 (sanitizer build in build/san), COV=1 (build/cov), V=1, PREFIX, DESTDIR, TANDEM_VERSION'
+	@echo 'variables: SAN=1 (sanitizer build in build/san), COV=1 (build/cov), V=1, PREFIX, DESTDIR, TANDEM_VERSION, DEB_MAINTAINER'
 
 # ---- install ------------------------------------------------------------------
 PREFIX  ?= /usr/local
@@ -75,3 +79,36 @@ $(GEN)/c/tandem_csv.c: $(LCM_FILES) tools/lcm2csv_gen.py $(GEN_STAMP)
 	@python3 tools/lcm2csv_gen.py $(GEN)/c $(LCM_FILES)
 $(LIB)/libtandem_lcm.a: $(GEN)/c/tandem_csv.c
 $(OBJ)/tools/tandem_log2csv.o: $(GEN)/c/tandem_csv.c
+
+# ---- tandem-log2mcap: MCAP with a JSON schema per type, Foxglove geometry ----
+# The script runs from build/bin like every program; its decoders are
+# lcm-gen -p's (PY_STAMP), its schemas generated from the same lcmtypes.
+TOOLS_VENV := build/venv-tools
+SCHEMAS    := $(GEN)/python/tandem_schemas.json
+$(SCHEMAS): $(LCM_FILES) tools/mcap/lcm2schema_gen.py tools/lcm2csv_gen.py
+	@mkdir -p $(@D)
+	@python3 tools/mcap/lcm2schema_gen.py $(@D) $(LCM_FILES)
+$(BIN)/tandem-log2mcap: tools/tandem-log2mcap $(PY_STAMP) $(SCHEMAS)
+	@mkdir -p $(@D)
+	@install -m 755 $< $@
+all: $(BIN)/tandem-log2mcap
+$(TOOLS_VENV)/.stamp: tools/mcap/requirements.txt
+	@tools/deps.sh view
+	@echo "  VENV  $(TOOLS_VENV) (mcap, yourdfpy)"
+	@$(firstword $(wildcard /usr/bin/python3) python3) -m venv $(TOOLS_VENV)
+	@$(TOOLS_VENV)/bin/pip install -q --disable-pip-version-check -r $<
+	@touch $@
+tools-venv: $(TOOLS_VENV)/.stamp
+mcap-test: deps tools-venv
+	@$(MAKE) --no-print-directory all
+	@tools/mcap-test.sh
+# the URDF of tandem-scene --urdf read by yourdfpy, its FK against tandem-kin
+urdf-test: tools-venv $(BIN)/tandem-scene $(BIN)/tandem-kin
+	@$(TOOLS_VENV)/bin/python tools/urdf_check.py $(BIN)
+.PHONY: tools-venv mcap-test urdf-test
+
+# ---- make deb: a Debian package with dpkg-deb ---------------------------------
+deb: all
+	@tools/deps.sh install
+	@tools/deb.sh build/deb $(BIN) $(CORE_LIB) $(TYPES_JAR) build/deb/man
+.PHONY: deb

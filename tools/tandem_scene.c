@@ -5,15 +5,20 @@
  * instead of keeping their own copies of the numbers.
  *
  *   tandem-scene [--world NAME | --world-file PATH [--start X,Y,THETA] [--goal X,Y]]
- *                [--rovers N] [--formation F] [--arm1 MODEL]
+ *                [--rovers N] [--formation F] [--arm1 MODEL] [--urdf]
  * A world file that gives no layout is refused (exit 2), which is how
  * tools/tandem-run checks one before it starts anything.
+ *
+ * --urdf writes the cell as URDF instead (both arms, the table, a Pioneer),
+ * for tools that read robot descriptions (RViz, Foxglove, PyBullet ...).
  */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include "arm_model.h"
 #include "cell.h"
 #include "formation.h"
+#include "odometry.h"
 #include "rover_world.h"
 #include "sonar.h"
 #include "options.h"
@@ -127,10 +132,177 @@ static void print_slots(int n)
     printf("}\n");
 }
 
+/* ---- URDF ----------------------------------------------------------------
+ * Each arm is its DH chain as the core computes it (arm_model.h): link
+ * armK_link<i> is DH frame i (link0 = frame 0, base_height_m above the
+ * mounting surface armK_base), joint i a revolute joint about z of frame
+ * i-1 whose origin turns by theta_offset_i, followed by a fixed joint
+ * Tz(d_i) Tx(a_i) Rx(alpha_i) from the massless armK_q<i> to armK_link<i>;
+ * link i carries its mass, centre of mass and inertia, given in frame i by
+ * the table. So the URDF's forward kinematics are the core's, exactly. */
+
+/* URDF's rpy (R = Rz(yaw) Ry(pitch) Rx(roll)) of a row-major 4x4. */
+static void rpy_of(const double T[16], double rpy[3])
+{
+    rpy[0] = atan2(T[9], T[10]);
+    rpy[1] = atan2(-T[8], sqrt(T[0] * T[0] + T[4] * T[4]));
+    rpy[2] = atan2(T[4], T[0]);
+}
+
+static void urdf_origin(double x, double y, double z, double r, double p, double yw)
+{
+    printf("    <origin xyz=\"%.17g %.17g %.17g\" rpy=\"%.17g %.17g %.17g\"/>\n", x, y, z, r, p, yw);
+}
+
+static void urdf_fixed(const char *parent, const char *child, const char *name, const double T[16])
+{
+    double rpy[3];
+    rpy_of(T, rpy);
+    printf("  <joint name=\"%s\" type=\"fixed\">\n    <parent link=\"%s\"/>\n    <child link=\"%s\"/>\n",
+           name, parent, child);
+    urdf_origin(T[3], T[7], T[11], rpy[0], rpy[1], rpy[2]);
+    printf("  </joint>\n");
+}
+
+static void urdf_box_link(const char *name, double mass_kg, const double at[3], const double size[3])
+{
+    const double k = mass_kg / 12.0;
+    printf("  <link name=\"%s\">\n", name);
+    printf("    <inertial>\n  ");
+    urdf_origin(at[0], at[1], at[2], 0, 0, 0);
+    printf("      <mass value=\"%.17g\"/>\n", mass_kg);
+    printf("      <inertia ixx=\"%.17g\" ixy=\"0\" ixz=\"0\" iyy=\"%.17g\" iyz=\"0\" izz=\"%.17g\"/>\n",
+           k * (size[1] * size[1] + size[2] * size[2]), k * (size[0] * size[0] + size[2] * size[2]),
+           k * (size[0] * size[0] + size[1] * size[1]));
+    printf("    </inertial>\n");
+    printf("    <visual>\n  ");
+    urdf_origin(at[0], at[1], at[2], 0, 0, 0);
+    printf("      <geometry><box size=\"%.17g %.17g %.17g\"/></geometry>\n    </visual>\n", size[0], size[1],
+           size[2]);
+    printf("    <collision>\n  ");
+    urdf_origin(at[0], at[1], at[2], 0, 0, 0);
+    printf("      <geometry><box size=\"%.17g %.17g %.17g\"/></geometry>\n    </collision>\n", size[0],
+           size[1], size[2]);
+    printf("  </link>\n");
+}
+
+static void urdf_dh_link(int k, int i, const arm_model *m)
+{
+    const double *c = m->com_m[i], *I = m->inertia_kgm2[i];
+    printf("  <link name=\"arm%d_link%d\">\n    <inertial>\n  ", k, i + 1);
+    urdf_origin(c[0], c[1], c[2], 0, 0, 0);
+    printf("      <mass value=\"%.17g\"/>\n", m->mass_kg[i]);
+    printf("      <inertia ixx=\"%.17g\" ixy=\"%.17g\" ixz=\"%.17g\" iyy=\"%.17g\" iyz=\"%.17g\" izz=\"%.17g\"/>\n",
+           I[0], I[1], I[2], I[4], I[5], I[8]);
+    printf("    </inertial>\n");
+    /* a sphere at the centre of mass, for viewers: the model has no link shapes */
+    printf("    <visual>\n  ");
+    urdf_origin(c[0], c[1], c[2], 0, 0, 0);
+    printf("      <geometry><sphere radius=\"0.05\"/></geometry>\n    </visual>\n  </link>\n");
+}
+
+static void urdf_arm(int k, const arm_model *m, const double base_T[16])
+{
+    char parent[32], child[32], name[32];
+    double T[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+    int i;
+    printf("  <link name=\"arm%d_base\"/>\n  <link name=\"arm%d_link0\"/>\n", k, k);
+    snprintf(child, sizeof child, "arm%d_base", k);
+    snprintf(name, sizeof name, "arm%d_mount", k);
+    urdf_fixed("world", child, name, base_T);
+    arm_base_frame(m, T);
+    snprintf(parent, sizeof parent, "arm%d_base", k);
+    snprintf(child, sizeof child, "arm%d_link0", k);
+    snprintf(name, sizeof name, "arm%d_base_height", k);
+    urdf_fixed(parent, child, name, T);
+    for (i = 0; i < ARM_NJ; i++) {
+        printf("  <link name=\"arm%d_q%d\"/>\n", k, i + 1);
+        urdf_dh_link(k, i, m);
+        printf("  <joint name=\"arm%d_joint%d\" type=\"revolute\">\n"
+               "    <parent link=\"arm%d_link%d\"/>\n    <child link=\"arm%d_q%d\"/>\n",
+               k, i + 1, k, i, k, i + 1);
+        urdf_origin(0, 0, 0, 0, 0, m->theta_offset_rad[i]);
+        printf("    <axis xyz=\"0 0 1\"/>\n"
+               "    <limit lower=\"%.17g\" upper=\"%.17g\" effort=\"%.17g\" velocity=\"%.17g\"/>\n  </joint>\n",
+               m->q_min_rad[i], m->q_max_rad[i], m->tau_max_Nm[i], m->qd_max_radps[i]);
+        printf("  <joint name=\"arm%d_dh%d\" type=\"fixed\">\n"
+               "    <parent link=\"arm%d_q%d\"/>\n    <child link=\"arm%d_link%d\"/>\n", k, i + 1, k, i + 1, k, i + 1);
+        urdf_origin(m->a_m[i], 0, m->d_m[i], m->alpha_rad[i], 0, 0);
+        printf("  </joint>\n");
+    }
+    printf("  <link name=\"arm%d_tool\"/>\n", k);
+    T[3] = T[7] = 0.0;
+    T[11] = CELL_TOOL_LENGTH_M;
+    snprintf(parent, sizeof parent, "arm%d_link6", k);
+    snprintf(child, sizeof child, "arm%d_tool", k);
+    snprintf(name, sizeof name, "arm%d_tool_joint", k);
+    urdf_fixed(parent, child, name, T);
+}
+
+/* Sim-only numbers of the Pioneer's bodies (sim/models/sim_rovers.c: the
+ * controllers never use them); its sizes are the core's. */
+#define PIONEER_CHASSIS_KG  8.0
+#define PIONEER_CHASSIS_H_M 0.20
+#define PIONEER_CHASSIS_Z_M 0.15
+#define PIONEER_WHEEL_KG    0.5
+#define PIONEER_WHEEL_W_M   0.04
+
+/* One Pioneer at the team frame's origin: pioneer_base is its axle centre C
+ * on the floor, the chassis box ahead of it, two wheels on continuous joints. */
+static void urdf_pioneer(const rover_world_config *w)
+{
+    const double r = ODOMETRY_P2DX_WHEEL_RADIUS_M, track = ODOMETRY_P2DX_AXLE_TRACK_M;
+    const double at[3] = { ROVER_BODY_OFFSET_M, 0.0, PIONEER_CHASSIS_Z_M };
+    const double size[3] = { ROVER_BODY_LENGTH_M, ROVER_BODY_WIDTH_M, PIONEER_CHASSIS_H_M };
+    const double c = cos(w->team_origin.theta_rad), s = sin(w->team_origin.theta_rad);
+    const double T[16] = { c, -s, 0, w->team_origin.x_m, s, c, 0, w->team_origin.y_m, 0, 0, 1, 0, 0, 0, 0, 1 };
+    const double k = PIONEER_WHEEL_KG / 12.0;
+    int side;
+    urdf_box_link("pioneer_base", PIONEER_CHASSIS_KG, at, size);
+    urdf_fixed("world", "pioneer_base", "pioneer_start", T);
+    for (side = 0; side < 2; side++) {
+        const char *nm = side == 0 ? "left" : "right";
+        printf("  <link name=\"pioneer_%s_wheel\">\n    <inertial>\n      <mass value=\"%.17g\"/>\n"
+               "      <inertia ixx=\"%.17g\" ixy=\"0\" ixz=\"0\" iyy=\"%.17g\" iyz=\"0\" izz=\"%.17g\"/>\n"
+               "    </inertial>\n    <visual>\n  ", nm, PIONEER_WHEEL_KG,
+               k * (3 * r * r + PIONEER_WHEEL_W_M * PIONEER_WHEEL_W_M), k * 6 * r * r,
+               k * (3 * r * r + PIONEER_WHEEL_W_M * PIONEER_WHEEL_W_M));
+        urdf_origin(0, 0, 0, -1.5707963267948966, 0, 0);
+        printf("      <geometry><cylinder radius=\"%.17g\" length=\"%.17g\"/></geometry>\n    </visual>\n"
+               "  </link>\n", r, PIONEER_WHEEL_W_M);
+        printf("  <joint name=\"pioneer_%s_wheel_joint\" type=\"continuous\">\n"
+               "    <parent link=\"pioneer_base\"/>\n    <child link=\"pioneer_%s_wheel\"/>\n", nm, nm);
+        urdf_origin(0, side == 0 ? 0.5 * track : -0.5 * track, r, 0, 0, 0);
+        printf("    <axis xyz=\"0 1 0\"/>\n  </joint>\n");
+    }
+}
+
+static void print_urdf(const arm_model *arm1, const cell_layout *c, const rover_world_config *w)
+{
+    const arm_model *models[CELL_ARMS] = { arm1, &arm_model_puma560 };
+    const double *tc = c->table_center_m, zero[3] = { 0.0, 0.0, 0.0 };
+    const double T_table[16] = { 1, 0, 0, tc[0], 0, 1, 0, tc[1], 0, 0, 1, tc[2], 0, 0, 0, 1 };
+    int a;
+    printf("<?xml version=\"1.0\"?>\n<!-- Generated by tandem-scene (option urdf) from the core's tables "
+           "(arm_model, cell, rover_world): do not edit. -->\n<robot name=\"tandem_cell\">\n");
+    printf("  <link name=\"world\"/>\n");
+    for (a = 0; a < CELL_ARMS; a++) {
+        double B[16];
+        cell_world_from_arm(c, a, B);
+        urdf_arm(a + 1, models[a], B);
+    }
+    /* the table top is fixed: a nominal mass, for parsers that want one */
+    urdf_box_link("table", 100.0, zero, c->table_size_m);
+    urdf_fixed("world", "table", "table_fixed", T_table);
+    urdf_pioneer(w);
+    printf("</robot>\n");
+}
+
 typedef struct scene_options {
     int  world, formation, arm1;   /* indices in the options_*_names lists */
     long n;
     world_opts wopt;
+    int  urdf;
 } scene_options;
 
 static const option_entry scene_table[] = {
@@ -144,6 +316,9 @@ static const option_entry scene_table[] = {
       .help = "formation of the slots' team", .def = "line" },
     { .name = "arm1", .type = OPTION_CHOICE, OPTION_AT(scene_options, arm1), .choices = options_arm_model_names,
       .meta = "MODEL", .help = "arm 1's tables", .def = "puma560" },
+    { .name = "urdf", .type = OPTION_FLAG, OPTION_AT(scene_options, urdf),
+      .help = "write the cell as URDF (both arms' DH chains with limits, masses and inertias, "
+              "the table, a Pioneer at the team's start) instead of JSON" },
     { .name = "help", .type = OPTION_HELP, .help = "this text" },
     { .name = "version", .type = OPTION_VERSION, .help = "program version" },
     { .name = NULL }
@@ -151,14 +326,15 @@ static const option_entry scene_table[] = {
 
 int main(int argc, char **argv)
 {
-    scene_options o = { 0, FORMATION_LINE, 0, 3, { 0, NULL, NULL, NULL } };
+    scene_options o = { 0, FORMATION_LINE, 0, 3, { 0, NULL, NULL, NULL }, 0 };
     const option_program prog = {
         .name = "tandem-scene",
-        .usage = "usage: tandem-scene [--world NAME | --world-file PATH] [--rovers N] [--formation F] [--arm1 MODEL]\n"
+        .usage = "usage: tandem-scene [--world NAME | --world-file PATH] [--rovers N] [--formation F] [--arm1 MODEL] [--urdf]\n"
                  "Prints the static geometry of the tandem world as JSON on stdout: the arm\n"
                  "DH tables, the work cell (arm bases, table, workpieces), the rover world\n"
                  "(obstacles, goal, team frame), the Pioneer body and sonar ring and the\n"
-                 "formation slots, all from the same tables the controllers use.\n\n",
+                 "formation slots, all from the same tables the controllers use.\n"
+                 "With --urdf: the cell as URDF (arms, table, a Pioneer) instead.\n\n",
         .groups = { { scene_table, &o } }, .n_groups = 1,
     };
     const arm_model *arm1;
@@ -174,6 +350,10 @@ int main(int argc, char **argv)
     n = o.n;
     o.wopt.world = world;
     if (world_opts_layout(&w, &o.wopt, (int)n, 1.0, formation, "tandem-scene") != 0) return 2;
+    if (o.urdf) {
+        print_urdf(arm1, &cell_default, &w);
+        return 0;
+    }
     printf("{\n");
     print_arm_model("arm1_model", arm1);
     print_arm_model("arm2_model", &arm_model_puma560);

@@ -1,13 +1,17 @@
 /* Unit tests of the daemons' start-up table check (daemon_check_table,
  * src/daemons/common/daemon.c) on the tables the daemons check: the shipped
  * ones pass, a broken copy is refused with DAEMON_ERR_TABLE, and the
- * defaults the command line starts from (daemon_defaults) are the documented ones. */
+ * defaults the command line starts from (daemon_defaults) are the documented ones,
+ * and a line printed after daemon_defaults reaches a pipe without a flush. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include <stdio.h>
 #include <string.h>
+#include <fcntl.h>
+#include <unistd.h>
 #include "arm_model.h"
 #include "carry_net.h"
 #include "cartctl.h"
@@ -87,12 +91,44 @@ static void test_drain_budget_and_own_rx(void **state)
     assert_int_equal(a.rx.deferred, 0);
 }
 
+/* tandem-run reads every daemon's stdout through a pipe, where stdio's
+ * default is full buffering: a line printed without fflush (the
+ * supervisor's "row N -> arm K") showed up seconds late. After
+ * daemon_defaults the line must be in the pipe at once. */
+static void test_stdout_line_buffered(void **state)
+{
+    daemon d;
+    int fds[2], saved;
+    char buf[64];
+    ssize_t n;
+    (void)state;
+    fflush(stdout);
+    setvbuf(stdout, NULL, _IOFBF, BUFSIZ);   /* what a pipe gets by default */
+    assert_int_equal(pipe(fds), 0);
+    assert_int_equal(fcntl(fds[0], F_SETFL, O_NONBLOCK), 0);
+    saved = dup(1);
+    assert_true(saved >= 0);
+    assert_true(dup2(fds[1], 1) == 1);
+    daemon_defaults(&d, "tandem-test", 0.01);
+    printf("row 1 -> arm 2\n");
+    n = read(fds[0], buf, sizeof buf - 1);
+    fflush(stdout);
+    assert_true(dup2(saved, 1) == 1);
+    close(saved);
+    close(fds[0]);
+    close(fds[1]);
+    assert_int_equal((int)n, 15);
+    buf[n] = 0;
+    assert_string_equal(buf, "row 1 -> arm 2\n");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_shipped_tables_pass),
         cmocka_unit_test(test_broken_table_refused),
         cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_stdout_line_buffered),
         cmocka_unit_test(test_drain_budget_and_own_rx),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -81,6 +81,12 @@ int parse_int_opt(const char *prog, const char *opt, const char *s,
 void daemon_defaults(daemon *d, const char *name, double period_s)
 {
     const char *env = getenv("LCM_DEFAULT_URL");
+    /* Line-buffered even into a pipe (tandem-run reads every daemon's
+     * stdout through one): a line not flushed by hand would otherwise reach
+     * the console seconds after the event it reports, behind later lines of
+     * the other daemons. This is the first call of every daemon's main,
+     * before anything is written, as setvbuf requires. */
+    setvbuf(stdout, NULL, _IOLBF, BUFSIZ);
     memset(d, 0, sizeof *d);
     snprintf(d->name, sizeof d->name, "%s", name);
     d->lcm_url = (env && env[0]) ? env : DAEMON_DEFAULT_LCM_URL;
