@@ -219,24 +219,18 @@ static int qdd_finish(const arm_model *m, const cartctl_gains *g, const double q
     return linalg_all_finite(out->qdd, ARM_NJ) ? 0 : CARTCTL_ERR_ARG;
 }
 
-int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g,
-                const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s_in,
-                const double a_lin[3], const double R_d[9], cartctl_out *out)
+/* cartctl_qdd with the kinematics s given (out zeroed by the caller).
+ * Kept apart from the wrappers that evaluate s, so that the worst-case
+ * stack holds one kinematics pass, not one per wrapper. */
+static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM_NJ],
+                  const double qd[ARM_NJ], const cartctl_state *s, const double a_lin[3],
+                  const double R_d[9], cartctl_out *out)
 {
-    cartctl_state s_local;
-    const cartctl_state *s = s_in;
     double U[36], sv[6], V[36], rhs[6], y[6], Vtqd[6], lam2;
     int i, k;
-    if (!out)
+    if (!m || !q || !qd || cartctl_gains_validate(g) != 0 || !a_lin || !linalg_all_finite(a_lin, 3) ||
+        (R_d && !linalg_all_finite(R_d, 9)))
         return CARTCTL_ERR_ARG;
-    memset(out, 0, sizeof *out);
-    if (cartctl_gains_validate(g) != 0 || !a_lin || !linalg_all_finite(a_lin, 3) || (R_d && !linalg_all_finite(R_d, 9)))
-        return CARTCTL_ERR_ARG;
-    if (!s) {
-        if (cartctl_state_at(m, tool, q, qd, &s_local) != 0)
-            return CARTCTL_ERR_ARG;
-        s = &s_local;
-    }
     vec3_copy(out->a_cmd, a_lin);
     if (R_d) {
         double R[9];
@@ -277,6 +271,37 @@ int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g
     return qdd_finish(m, g, q, qd, s->J, rhs, out);
 }
 
+int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g,
+                const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s,
+                const double a_lin[3], const double R_d[9], cartctl_out *out)
+{
+    cartctl_state s_local;
+    if (!out)
+        return CARTCTL_ERR_ARG;
+    memset(out, 0, sizeof *out);
+    if (!s) {
+        if (cartctl_state_at(m, tool, q, qd, &s_local) != 0)
+            return CARTCTL_ERR_ARG;
+        s = &s_local;
+    }
+    return qdd_at(m, g, q, qd, s, a_lin, R_d, out);
+}
+
+/* cartctl_torque with the kinematics s given (tau and out zeroed by the caller). */
+static int torque_at(const arm_model *m, const arm_payload *payload, const cartctl_gains *g,
+                     const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s,
+                     const double a_lin[3], const double R_d[9], double tau_Nm[ARM_NJ], cartctl_out *o)
+{
+    if (qdd_at(m, g, q, qd, s, a_lin, R_d, o) != 0)
+        return CARTCTL_ERR_ARG;
+    if (arm_rne_cs(m, &s->cs, qd, o->qdd, NULL, payload, tau_Nm) != 0) {
+        memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
+        return CARTCTL_ERR_ARG;
+    }
+    o->saturated = jointctl_saturate(m, tau_Nm);
+    return 0;
+}
+
 int cartctl_torque(const arm_model *m, const arm_tool *tool, const arm_payload *payload,
                    const cartctl_gains *g, const double q[ARM_NJ], const double qd[ARM_NJ],
                    const cartctl_state *s, const double a_lin[3], const double R_d[9],
@@ -288,20 +313,11 @@ int cartctl_torque(const arm_model *m, const arm_tool *tool, const arm_payload *
     if (!tau_Nm)
         return CARTCTL_ERR_ARG;
     memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
+    memset(o, 0, sizeof *o);
     if (!s) {
-        if (cartctl_state_at(m, tool, q, qd, &s_local) != 0) {
-            if (out)
-                memset(out, 0, sizeof *out);
+        if (cartctl_state_at(m, tool, q, qd, &s_local) != 0)
             return CARTCTL_ERR_ARG;
-        }
         s = &s_local;
     }
-    if (cartctl_qdd(m, tool, g, q, qd, s, a_lin, R_d, o) != 0)
-        return CARTCTL_ERR_ARG;
-    if (arm_rne_cs(m, &s->cs, qd, o->qdd, NULL, payload, tau_Nm) != 0) {
-        memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
-        return CARTCTL_ERR_ARG;
-    }
-    o->saturated = jointctl_saturate(m, tau_Nm);
-    return 0;
+    return torque_at(m, payload, g, q, qd, s, a_lin, R_d, tau_Nm, o);
 }
