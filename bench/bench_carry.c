@@ -195,7 +195,7 @@ int main(int argc, char **argv)
     static const char *const parts[] = { "kin", "jdot", "law", "inv", "rne" };
     static const char *const part_names[] = {
         "kinematics: FK + Jacobian + twist (cartctl_state_at)",
-        "Jdot qd: two Jacobians, central difference",
+        "Jdot qd: kinematics pass + analytic (cartctl_jdot_qd)",
         "event law eq. 6-7 (erlaw_line_step)",
         "kinematics + damped inverse -> qdd (cartctl_qdd)",
         "dynamics: RNE with the held bar (arm_rne)",

@@ -16,7 +16,9 @@ int budget_arm_cart_cycle(budget_arm *a)
     double x[3], v[3], l[2], s[2], s_star, s_ref[2];
     sync_ref r;
     cartseg_out o;
-    if (cartseg_tool_world(a->model, &a->tool, a->T_world_base, a->q, a->qd, x, v) != 0)
+    cartctl_state kin;
+    if (cartctl_state_at(a->model, &a->tool, a->q, a->qd, &kin) != 0 ||
+        cartseg_tool_world_at(&kin, a->T_world_base, x, v) != 0)
         return -1;
     s[0] = erlaw_line_s(&a->cart.line, x);
     s[1] = a->partner_s_m;
@@ -24,7 +26,7 @@ int budget_arm_cart_cycle(budget_arm *a)
     l[1] = a->partner_s_f_m;
     if (sync_ref_init(&r, 2, l) != 0 || sync_ref_update(&r, s, &s_star, s_ref) != 0)
         return -1;
-    if (cartseg_step(&a->cart, a->model, &a->tool, &a->bar, a->q, a->qd, s_ref[0], BUDGET_ARM_DT_S, &o) != 0)
+    if (cartseg_step_at(&a->cart, a->model, &a->tool, &a->bar, &kin, a->q, a->qd, s_ref[0], BUDGET_ARM_DT_S, &o) != 0)
         return -1;
     memcpy(a->tau_Nm, o.tau_Nm, sizeof a->tau_Nm);
     return o.done;

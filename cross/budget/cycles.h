@@ -4,8 +4,9 @@
  * graph and, on the 68040, their instruction count under emulation.
  *   arm, joint segment   src/daemons/arm/tandem_arm.c cycle(): jtraj reference +
  *                        computed torque with the held bar
- *   arm, Cartesian (ER)  cart_cycle(): tool point, s, s* of the pair,
- *                        cartseg_step (erlaw law, damped inverse, RNE)
+ *   arm, Cartesian (ER)  cart_cycle(): one kinematics pass (cartctl_state_at),
+ *                        tool point, s, s* of the pair, cartseg_step_at
+ *                        (erlaw law, damped inverse, RNE)
  *   arm, TDSD            tdsd_cycle(): tdsd_seg_step, velocity limit,
  *                        computed torque, done test
  *   supervisor           cycle(): one completion event, enable scan and

@@ -34,6 +34,13 @@ int arm_rne(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
             const double qdd[ARM_NJ], const double gravity_mps2[3],
             const arm_payload *payload, double tau_Nm[ARM_NJ]);
 
+/* arm_rne with the joint sines and cosines already evaluated (cs from
+ * arm_joint_cs_eval or an arm_kin_pass of the same q): the cycle's one
+ * kinematics pass feeds the dynamics too. Same results and codes as arm_rne. */
+int arm_rne_cs(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
+               const double qdd[ARM_NJ], const double gravity_mps2[3],
+               const arm_payload *payload, double tau_Nm[ARM_NJ]);
+
 /* Joint-space inertia M(q), 6x6 row-major, composite rigid body algorithm. */
 int arm_mass_matrix(const arm_model *m, const double q[ARM_NJ],
                     const arm_payload *payload, double M[36]);

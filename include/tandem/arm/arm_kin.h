@@ -25,6 +25,28 @@ int arm_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ
 int arm_fk_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
                     double T[16], double J[36]);
 
+/* ---- one kinematics pass per control cycle ----------------------------------
+ * The cycle's kinematics from one evaluation of the joint sines and cosines
+ * (docs/method/carry.md §3): link frames, tool pose and Jacobian, kept so
+ * that J-dot q-dot (arm_kin_jdot_qd) and the dynamics (arm_rne_cs, with
+ * k.cs) reuse them instead of evaluating the chain again. */
+typedef struct arm_kin_pass {
+    arm_joint_cs cs;             /* cos/sin theta_i                         */
+    double F[ARM_NJ + 1][16];    /* base -> frame i (arm_link_frames)       */
+    double T[16];                /* tool pose (flange if no tool)           */
+    double J[36];                /* tool Jacobian, as arm_fk_jacobian       */
+} arm_kin_pass;
+
+/* 0 ok, ARM_KIN_ERR_ARG bad input (k zeroed). */
+int arm_kin_eval(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
+                 arm_kin_pass *k);
+
+/* J-dot q-dot (6: m/s^2, rad/s^2) at the pass's q, analytic (docs/method/carry.md
+ * §3, eq. for Jdot qd): sum_i qd_i [ (w_i x z_i) x (p - o_i) + z_i x (pdot - odot_i);
+ * w_i x z_i ], w_i, odot_i the angular velocity and origin velocity of frame i.
+ * 0 ok, ARM_KIN_ERR_ARG bad input (jdqd zeroed). */
+int arm_kin_jdot_qd(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[6]);
+
 /* ---- inverse kinematics ---------------------------------------------------
  * Branch index b = shoulder | elbow << 1 | wrist << 2:
  *   shoulder 0 left, 1 right (right: the wrist centre is in front of the

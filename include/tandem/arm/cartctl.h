@@ -76,6 +76,8 @@ typedef struct cartctl_state {
     double T[16];        /* tool pose, base frame                   */
     double J[36];        /* tool Jacobian                           */
     double twist[6];     /* J qd: v (m/s), w (rad/s)                */
+    double jdqd[6];      /* Jdot qd (arm_kin_jdot_qd)               */
+    arm_joint_cs cs;     /* cos/sin theta_i, for the RNE            */
 } cartctl_state;
 
 typedef struct cartctl_out {
@@ -89,11 +91,12 @@ typedef struct cartctl_out {
     unsigned range_limited;  /* bit i: joint i held at its range barrier */
 } cartctl_out;
 
-/* Tool pose, Jacobian and twist at (q, qd). 0 / CARTCTL_ERR_ARG. */
+/* Tool pose, Jacobian, twist and Jdot qd at (q, qd), from one kinematics
+ * pass. 0 / CARTCTL_ERR_ARG. */
 int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
                      const double qd[ARM_NJ], cartctl_state *s);
 
-/* Jdot qd (6), central difference of J(q +- h qd) qd. 0 / CARTCTL_ERR_ARG. */
+/* Jdot qd (6), analytic (arm_kin_jdot_qd). 0 / CARTCTL_ERR_ARG. */
 int cartctl_jdot_qd(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
                     const double qd[ARM_NJ], double jdqd[6]);
 

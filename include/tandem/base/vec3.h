@@ -10,13 +10,32 @@
 
 void   vec3_set(double out[3], double x, double y, double z);
 void   vec3_copy(double out[3], const double a[3]);
-void   vec3_add(double out[3], const double a[3], const double b[3]);
-void   vec3_sub(double out[3], const double a[3], const double b[3]);
+/* vec3_add, vec3_sub, vec3_dot and vec3_cross are C99 inline definitions
+ * (vec3.c holds the external ones): the kinematics and dynamics call them
+ * a few dozen times per control cycle, and a call costs more than the
+ * arithmetic on the 68040 (arguments through memory). */
+inline void vec3_add(double out[3], const double a[3], const double b[3])
+{
+    out[0] = a[0] + b[0]; out[1] = a[1] + b[1]; out[2] = a[2] + b[2];
+}
+inline void vec3_sub(double out[3], const double a[3], const double b[3])
+{
+    out[0] = a[0] - b[0]; out[1] = a[1] - b[1]; out[2] = a[2] - b[2];
+}
 void   vec3_scale(double out[3], const double a[3], double k);
 /* out = a + k b */
 void   vec3_axpy(double out[3], const double a[3], double k, const double b[3]);
-double vec3_dot(const double a[3], const double b[3]);
-void   vec3_cross(double out[3], const double a[3], const double b[3]);
+inline double vec3_dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+inline void vec3_cross(double out[3], const double a[3], const double b[3])
+{
+    const double x = a[1] * b[2] - a[2] * b[1];
+    const double y = a[2] * b[0] - a[0] * b[2];
+    const double z = a[0] * b[1] - a[1] * b[0];
+    out[0] = x; out[1] = y; out[2] = z;
+}
 double vec3_norm(const double a[3]);
 /* Returns the norm before normalising; leaves a zero vector unchanged. */
 double vec3_normalize(double out[3], const double a[3]);

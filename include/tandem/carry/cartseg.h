@@ -106,6 +106,10 @@ typedef struct cartseg_out {
 /* Tool point and velocity in the world. 0 / CARTSEG_ERR_ARG. */
 int cartseg_tool_world(const arm_model *m, const arm_tool *tool, const double T_world_base[16],
                        const double q[ARM_NJ], const double qd[ARM_NJ], double x[3], double v[3]);
+/* The same from the cycle's kinematics (cartctl_state_at), computed once
+ * and handed on to cartseg_step_at. 0 / CARTSEG_ERR_ARG. */
+int cartseg_tool_world_at(const cartctl_state *st, const double T_world_base[16], double x[3],
+                          double v[3]);
 
 /* Segment from the current tool point to p1_world with the tool
  * orientation R1_world held. ref: ERLAW_REF_MEASURED (event law; also used
@@ -154,5 +158,10 @@ int cartseg_joint_goal(const arm_model *m, const arm_tool *tool, const double T_
 int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm_payload *payload,
                  const double q[ARM_NJ], const double qd[ARM_NJ], double s_ext_m, double dt_s,
                  cartseg_out *out);
+/* The same cycle with the kinematics st = cartctl_state_at(m, tool, q, qd)
+ * already evaluated (the caller's one pass of the cycle). */
+int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool, const arm_payload *payload,
+                    const cartctl_state *st, const double q[ARM_NJ], const double qd[ARM_NJ],
+                    double s_ext_m, double dt_s, cartseg_out *out);
 
 #endif

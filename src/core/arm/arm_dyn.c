@@ -232,6 +232,20 @@ int arm_rne(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
     return 0;
 }
 
+int arm_rne_cs(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
+               const double qdd[ARM_NJ], const double gravity_mps2[3],
+               const arm_payload *payload, double tau_Nm[ARM_NJ])
+{
+    link_mass merged;
+    link_ref L[ARM_NJ];
+    if (!m || !cs || !tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload)
+        || !linalg_all_finite(cs->c, ARM_NJ) || !linalg_all_finite(cs->s, ARM_NJ))
+        return ARM_DYN_ERR_ARG;
+    link_refs(m, payload, &merged, L);
+    rne_cs(m, cs, L, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, tau_Nm);
+    return 0;
+}
+
 int arm_gravity(const arm_model *m, const double q[ARM_NJ], const double gravity_mps2[3],
                 const arm_payload *payload, double tau_Nm[ARM_NJ])
 {

@@ -68,20 +68,17 @@ int arm_fk(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], dou
     return 0;
 }
 
-int arm_fk_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
-                    double T[16], double J[36])
+/* The Jacobian's columns from the link frames F (ARM_NJ + 1 transforms of
+ * 16, one after the other) and the tool pose T. */
+static void jacobian_of_frames(const double *F, const double T[16], double J[36])
 {
-    double F[ARM_NJ + 1][16];
     double p_e[3], z[3], o[3], r[3], v[3];
     int i;
-    if (!m || !T || !J || arm_link_frames(m, q, F) != 0)
-        return ARM_KIN_ERR_ARG;
-    flange_to_tool(tool, F[ARM_NJ], T);
     tf_pos(p_e, T);
     for (i = 0; i < ARM_NJ; i++) {
         /* joint i+1 turns about z of frame i, through its origin */
-        vec3_set(z, F[i][2], F[i][6], F[i][10]);
-        tf_pos(o, F[i]);
+        vec3_set(z, F[16 * i + 2], F[16 * i + 6], F[16 * i + 10]);
+        tf_pos(o, F + 16 * i);
         vec3_sub(r, p_e, o);
         vec3_cross(v, z, r);
         J[0 * 6 + i] = v[0];
@@ -90,6 +87,79 @@ int arm_fk_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM
         J[3 * 6 + i] = z[0];
         J[4 * 6 + i] = z[1];
         J[5 * 6 + i] = z[2];
+    }
+}
+
+int arm_fk_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
+                    double T[16], double J[36])
+{
+    double F[ARM_NJ + 1][16];
+    if (!m || !T || !J || arm_link_frames(m, q, F) != 0)
+        return ARM_KIN_ERR_ARG;
+    flange_to_tool(tool, F[ARM_NJ], T);
+    jacobian_of_frames(F[0], T, J);
+    return 0;
+}
+
+int arm_kin_eval(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
+                 arm_kin_pass *k)
+{
+    int i;
+    if (!k)
+        return ARM_KIN_ERR_ARG;
+    if (!m || arm_joint_cs_eval(m, q, &k->cs) != 0) {
+        memset(k, 0, sizeof *k);
+        return ARM_KIN_ERR_ARG;
+    }
+    arm_base_frame(m, k->F[0]);
+    for (i = 0; i < ARM_NJ; i++)
+        arm_dh_compose(m, i, k->cs.c[i], k->cs.s[i], k->F[i], k->F[i + 1]);
+    flange_to_tool(tool, k->F[ARM_NJ], k->T);
+    jacobian_of_frames(k->F[0], k->T, k->J);
+    return 0;
+}
+
+/* Why analytic: the central difference of J along qd cost two more
+ * kinematics passes per cycle (and carried an O(h^2) error). Frame i's
+ * z axis and origin turn with link i: zdot_i = w_i x z_i and
+ * odot_{i+1} = odot_i + w_{i+1} x (o_{i+1} - o_i) (o_i lies on joint i+1's
+ * axis, so it moves with link i+1 as well as with link i). */
+int arm_kin_jdot_qd(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[6])
+{
+    double w[3] = { 0, 0, 0 }, odot[3] = { 0, 0, 0 }, pdot[3] = { 0, 0, 0 };
+    double p_e[3];
+    int i, j;
+    if (!jdqd)
+        return ARM_KIN_ERR_ARG;
+    memset(jdqd, 0, 6 * sizeof jdqd[0]);
+    if (!k || !qd || !linalg_all_finite(qd, ARM_NJ))
+        return ARM_KIN_ERR_ARG;
+    for (j = 0; j < 3; j++)
+        for (i = 0; i < ARM_NJ; i++)
+            pdot[j] += k->J[j * 6 + i] * qd[i];
+    tf_pos(p_e, k->T);
+    for (i = 0; i < ARM_NJ; i++) {
+        const double *Fi = k->F[i];
+        const double z[3] = { Fi[2], Fi[6], Fi[10] };
+        const double o[3] = { Fi[3], Fi[7], Fi[11] };
+        double zdot[3], r[3], dv[3], a[3], b[3];
+        vec3_cross(zdot, w, z);
+        vec3_sub(r, p_e, o);
+        vec3_sub(dv, pdot, odot);
+        vec3_cross(a, zdot, r);
+        vec3_cross(b, z, dv);
+        for (j = 0; j < 3; j++) {
+            jdqd[j] += qd[i] * (a[j] + b[j]);
+            jdqd[3 + j] += qd[i] * zdot[j];
+            w[j] += z[j] * qd[i];   /* now w_{i+1} */
+        }
+        {
+            const double *Fn = k->F[i + 1];
+            const double step[3] = { Fn[3] - o[0], Fn[7] - o[1], Fn[11] - o[2] };
+            double ws[3];
+            vec3_cross(ws, w, step);
+            vec3_add(odot, odot, ws);
+        }
     }
     return 0;
 }

@@ -11,7 +11,6 @@
 #include "linalg.h"
 #include "vec3.h"
 
-#define JDOT_H_S 1e-4   /* central-difference step along qd, seconds */
 #define RANGE_MARGIN_DEFAULT_RAD 0.017453293   /* 1 deg */
 #define SINGULAR (-1)   /* inverse6: zero pivot; the SVD path takes over */
 
@@ -38,10 +37,14 @@ int cartctl_gains_validate(const cartctl_gains *g)
 int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
                      const double qd[ARM_NJ], cartctl_state *s)
 {
+    arm_kin_pass k;
     if (!m || !q || !qd || !s || !linalg_all_finite(q, ARM_NJ) || !linalg_all_finite(qd, ARM_NJ))
         return CARTCTL_ERR_ARG;
-    if (arm_fk_jacobian(m, tool, q, s->T, s->J) != 0)
+    if (arm_kin_eval(m, tool, q, &k) != 0 || arm_kin_jdot_qd(&k, qd, s->jdqd) != 0)
         return CARTCTL_ERR_ARG;
+    memcpy(s->T, k.T, sizeof s->T);
+    memcpy(s->J, k.J, sizeof s->J);
+    s->cs = k.cs;
     linalg_matvec(s->twist, s->J, qd, 6, ARM_NJ);
     return 0;
 }
@@ -49,20 +52,10 @@ int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[AR
 int cartctl_jdot_qd(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
                     const double qd[ARM_NJ], double jdqd[6])
 {
-    double qp[ARM_NJ], qm[ARM_NJ], Jp[36], Jm[36], vp[6], vm[6];
-    int i;
-    if (!m || !q || !qd || !jdqd || !linalg_all_finite(q, ARM_NJ) || !linalg_all_finite(qd, ARM_NJ))
+    cartctl_state s;
+    if (!jdqd || cartctl_state_at(m, tool, q, qd, &s) != 0)
         return CARTCTL_ERR_ARG;
-    for (i = 0; i < ARM_NJ; i++) {
-        qp[i] = q[i] + JDOT_H_S * qd[i];
-        qm[i] = q[i] - JDOT_H_S * qd[i];
-    }
-    if (arm_jacobian(m, tool, qp, Jp) != 0 || arm_jacobian(m, tool, qm, Jm) != 0)
-        return CARTCTL_ERR_ARG;
-    linalg_matvec(vp, Jp, qd, 6, ARM_NJ);
-    linalg_matvec(vm, Jm, qd, 6, ARM_NJ);
-    for (i = 0; i < 6; i++)
-        jdqd[i] = (vp[i] - vm[i]) / (2.0 * JDOT_H_S);
+    memcpy(jdqd, s.jdqd, sizeof s.jdqd);
     return 0;
 }
 
@@ -141,7 +134,9 @@ static double sigma_min_lower(const double Ji[36])
     linalg_mul_t(B, Ji, Ji, 6, 6, 6);
     for (i = 0; i < 36; i++)
         f2 += B[i] * B[i];
-    return f2 > 0.0 ? pow(f2, -0.25) : 0.0;
+    /* 1/sqrt(sqrt()) rather than pow(f2, -0.25): pow traps to the 68040's
+     * FP software package (log and exp), sqrt does not */
+    return f2 > 0.0 ? 1.0 / sqrt(sqrt(f2)) : 0.0;
 }
 
 /* Bounds of the range barrier on qdd (see cartctl.h). */
@@ -224,25 +219,17 @@ static int qdd_finish(const arm_model *m, const cartctl_gains *g, const double q
     return linalg_all_finite(out->qdd, ARM_NJ) ? 0 : CARTCTL_ERR_ARG;
 }
 
-int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g,
-                const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s_in,
-                const double a_lin[3], const double R_d[9], cartctl_out *out)
+/* cartctl_qdd with the kinematics s given (out zeroed by the caller).
+ * Kept apart from the wrappers that evaluate s, so that the worst-case
+ * stack holds one kinematics pass, not one per wrapper. */
+static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM_NJ],
+                  const double qd[ARM_NJ], const cartctl_state *s, const double a_lin[3],
+                  const double R_d[9], cartctl_out *out)
 {
-    cartctl_state s_local;
-    const cartctl_state *s = s_in;
-    double U[36], sv[6], V[36], jdqd[6], rhs[6], y[6], Vtqd[6], lam2;
+    double U[36], sv[6], V[36], rhs[6], y[6], Vtqd[6], lam2;
     int i, k;
-    if (!out)
-        return CARTCTL_ERR_ARG;
-    memset(out, 0, sizeof *out);
-    if (cartctl_gains_validate(g) != 0 || !a_lin || !linalg_all_finite(a_lin, 3) || (R_d && !linalg_all_finite(R_d, 9)))
-        return CARTCTL_ERR_ARG;
-    if (!s) {
-        if (cartctl_state_at(m, tool, q, qd, &s_local) != 0)
-            return CARTCTL_ERR_ARG;
-        s = &s_local;
-    }
-    if (cartctl_jdot_qd(m, tool, q, qd, jdqd) != 0)
+    if (!m || !q || !qd || cartctl_gains_validate(g) != 0 || !a_lin || !linalg_all_finite(a_lin, 3) ||
+        (R_d && !linalg_all_finite(R_d, 9)))
         return CARTCTL_ERR_ARG;
     vec3_copy(out->a_cmd, a_lin);
     if (R_d) {
@@ -253,7 +240,7 @@ int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g
             out->a_cmd[3 + i] = g->kp_rot * out->rot_err[i] - g->kv_rot * s->twist[3 + i];
     }
     for (i = 0; i < 6; i++)
-        rhs[i] = out->a_cmd[i] - jdqd[i];
+        rhs[i] = out->a_cmd[i] - s->jdqd[i];
     /* Fast path: when sigma_min >= sigma_band for sure, lambda = 0 and the
      * damped inverse is the exact inverse (P = 0): one 6x6 inverse instead
      * of the SVD (about 7x cheaper). Otherwise, or if J is singular, the
@@ -284,6 +271,37 @@ int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g
     return qdd_finish(m, g, q, qd, s->J, rhs, out);
 }
 
+int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g,
+                const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s,
+                const double a_lin[3], const double R_d[9], cartctl_out *out)
+{
+    cartctl_state s_local;
+    if (!out)
+        return CARTCTL_ERR_ARG;
+    memset(out, 0, sizeof *out);
+    if (!s) {
+        if (cartctl_state_at(m, tool, q, qd, &s_local) != 0)
+            return CARTCTL_ERR_ARG;
+        s = &s_local;
+    }
+    return qdd_at(m, g, q, qd, s, a_lin, R_d, out);
+}
+
+/* cartctl_torque with the kinematics s given (tau and out zeroed by the caller). */
+static int torque_at(const arm_model *m, const arm_payload *payload, const cartctl_gains *g,
+                     const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s,
+                     const double a_lin[3], const double R_d[9], double tau_Nm[ARM_NJ], cartctl_out *o)
+{
+    if (qdd_at(m, g, q, qd, s, a_lin, R_d, o) != 0)
+        return CARTCTL_ERR_ARG;
+    if (arm_rne_cs(m, &s->cs, qd, o->qdd, NULL, payload, tau_Nm) != 0) {
+        memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
+        return CARTCTL_ERR_ARG;
+    }
+    o->saturated = jointctl_saturate(m, tau_Nm);
+    return 0;
+}
+
 int cartctl_torque(const arm_model *m, const arm_tool *tool, const arm_payload *payload,
                    const cartctl_gains *g, const double q[ARM_NJ], const double qd[ARM_NJ],
                    const cartctl_state *s, const double a_lin[3], const double R_d[9],
@@ -291,15 +309,15 @@ int cartctl_torque(const arm_model *m, const arm_tool *tool, const arm_payload *
 {
     cartctl_out local;
     cartctl_out *o = out ? out : &local;
+    cartctl_state s_local;
     if (!tau_Nm)
         return CARTCTL_ERR_ARG;
     memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
-    if (cartctl_qdd(m, tool, g, q, qd, s, a_lin, R_d, o) != 0)
-        return CARTCTL_ERR_ARG;
-    if (arm_rne(m, q, qd, o->qdd, NULL, payload, tau_Nm) != 0) {
-        memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
-        return CARTCTL_ERR_ARG;
+    memset(o, 0, sizeof *o);
+    if (!s) {
+        if (cartctl_state_at(m, tool, q, qd, &s_local) != 0)
+            return CARTCTL_ERR_ARG;
+        s = &s_local;
     }
-    o->saturated = jointctl_saturate(m, tau_Nm);
-    return 0;
+    return torque_at(m, payload, g, q, qd, s, a_lin, R_d, tau_Nm, o);
 }

@@ -14,15 +14,9 @@ void vec3_copy(double out[3], const double a[3])
     out[0] = a[0]; out[1] = a[1]; out[2] = a[2];
 }
 
-void vec3_add(double out[3], const double a[3], const double b[3])
-{
-    out[0] = a[0] + b[0]; out[1] = a[1] + b[1]; out[2] = a[2] + b[2];
-}
+void vec3_add(double out[3], const double a[3], const double b[3]);   /* the external definition of the inline one in vec3.h */
 
-void vec3_sub(double out[3], const double a[3], const double b[3])
-{
-    out[0] = a[0] - b[0]; out[1] = a[1] - b[1]; out[2] = a[2] - b[2];
-}
+void vec3_sub(double out[3], const double a[3], const double b[3]);   /* the external definition of the inline one in vec3.h */
 
 void vec3_scale(double out[3], const double a[3], double k)
 {
@@ -34,18 +28,9 @@ void vec3_axpy(double out[3], const double a[3], double k, const double b[3])
     out[0] = a[0] + k * b[0]; out[1] = a[1] + k * b[1]; out[2] = a[2] + k * b[2];
 }
 
-double vec3_dot(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+double vec3_dot(const double a[3], const double b[3]);   /* the external definition of the inline one in vec3.h */
 
-void vec3_cross(double out[3], const double a[3], const double b[3])
-{
-    const double x = a[1] * b[2] - a[2] * b[1];
-    const double y = a[2] * b[0] - a[0] * b[2];
-    const double z = a[0] * b[1] - a[1] * b[0];
-    out[0] = x; out[1] = y; out[2] = z;
-}
+void vec3_cross(double out[3], const double a[3], const double b[3]);   /* the external definition of the inline one in vec3.h */
 
 double vec3_norm(const double a[3])
 {

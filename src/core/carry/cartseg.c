@@ -19,13 +19,23 @@ int cartseg_tool_world(const arm_model *m, const arm_tool *tool, const double T_
                        const double q[ARM_NJ], const double qd[ARM_NJ], double x[3], double v[3])
 {
     cartctl_state s;
-    double Tw[16], Rwb[9];
-    if (!T_world_base || !x || !v || cartctl_state_at(m, tool, q, qd, &s) != 0)
+    if (cartctl_state_at(m, tool, q, qd, &s) != 0)
         return CARTSEG_ERR_ARG;
-    tf_mul(Tw, T_world_base, s.T);
-    tf_pos(x, Tw);
+    return cartseg_tool_world_at(&s, T_world_base, x, v);
+}
+
+/* x = T_world_base p_tool, v = R_world_base v_tool: the tool point alone,
+ * not the whole 4x4 product */
+int cartseg_tool_world_at(const cartctl_state *st, const double T_world_base[16], double x[3],
+                          double v[3])
+{
+    double p[3], Rwb[9];
+    if (!st || !T_world_base || !x || !v)
+        return CARTSEG_ERR_ARG;
+    tf_pos(p, st->T);
+    tf_apply(x, T_world_base, p);
     R_of(T_world_base, Rwb);
-    rot_apply(v, Rwb, s.twist);
+    rot_apply(v, Rwb, st->twist);
     return 0;
 }
 
@@ -318,23 +328,31 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
                  cartseg_out *out)
 {
     cartctl_state st;
+    if (out)
+        memset(out, 0, sizeof *out);
+    if (cartctl_state_at(m, tool, q, qd, &st) != 0)
+        return CARTSEG_ERR_ARG;
+    return cartseg_step_at(c, m, tool, payload, &st, q, qd, s_ext_m, dt_s, out);
+}
+
+int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool, const arm_payload *payload,
+                    const cartctl_state *stp, const double q[ARM_NJ], const double qd[ARM_NJ],
+                    double s_ext_m, double dt_s, cartseg_out *out)
+{
     cartctl_out co;
     erlaw_out eo;
-    double Tw[16], Rwb[9], u_base[3], dev;
+    double Rwb[9], u_base[3], dev;
     const int sync = s_ext_m >= 0.0 && c->ref == ERLAW_REF_MEASURED;
     erlaw_ref ref = sync ? ERLAW_REF_EXTERNAL : c->ref;
     int commanding, blocked, held;
     if (!c || !out)
         return CARTSEG_ERR_ARG;
     memset(out, 0, sizeof *out);
-    if (!isfinite(dt_s) || dt_s < 0.0 || cartctl_state_at(m, tool, q, qd, &st) != 0)
+    if (!isfinite(dt_s) || dt_s < 0.0 || !stp || cartseg_tool_world_at(stp, c->T_world_base, out->x_world, out->v_world) != 0)
         return CARTSEG_ERR_ARG;
     if (c->contact_N >= 0.0)
         c->t_no_contact_s = c->contact_N >= CARTSEG_CONTACT_N ? 0.0 : c->t_no_contact_s + dt_s;
-    tf_mul(Tw, c->T_world_base, st.T);
-    tf_pos(out->x_world, Tw);
     R_of(c->T_world_base, Rwb);
-    rot_apply(out->v_world, Rwb, st.twist);
     /* a detected block suspends the planned motion (event law only; the
      * baseline keeps its clock): lean on the obstacle with the bias, the
      * pose across the path and the orientation held where the block was
@@ -374,13 +392,13 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     if (!blocked)
         static_err_update(c, eo.x_err, dt_s);
     if (blocked && !c->blocked)
-        block_enter(c, out->x_world, st.T);
+        block_enter(c, out->x_world, stp->T);
     if (!blocked && c->blocked)
         erlaw_channel_resume(&c->line.ch, eo.s_m);   /* released: from rest, as a start */
     c->blocked = blocked;
     out->blocked = blocked;
     rot_tapply(u_base, Rwb, eo.u);
-    if (cartctl_torque(m, tool, payload, &c->cg, q, qd, &st, u_base,
+    if (cartctl_torque(m, tool, payload, &c->cg, q, qd, stp, u_base,
                        ref == ERLAW_REF_BLOCKED ? c->R_hold_base : c->R_d_base, out->tau_Nm, &co) != 0)
         return CARTSEG_ERR_ARG;
     out->saturated = co.saturated;

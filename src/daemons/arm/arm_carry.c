@@ -281,19 +281,21 @@ int arm_cart_cycle(arm_daemon *ad)
     arm_carry *cx = &ad->cart;
     arm_payload pl;
     cartseg_out o;
+    cartctl_state kin;   /* the cycle's one kinematics pass */
     double x[3], v[3], s_ext;
     if (ad->running && ad->cur_seg < 0)
         arm_start_segment(ad);
     if (!ad->running || ad->cur_seg < 0 || ad->cur_seg >= ad->n_seg ||
         ad->seg[ad->cur_seg].kind != TANDEM_ACTION_SEGMENT_T_MOVE_CARTESIAN)
         return 0;
-    if (cartseg_tool_world(ad->model, &cx->tool, cx->T_world_base, ad->st.q_rad, ad->st.qd_radps, x, v) != 0)
+    if (cartctl_state_at(ad->model, &cx->tool, ad->st.q_rad, ad->st.qd_radps, &kin) != 0 ||
+        cartseg_tool_world_at(&kin, cx->T_world_base, x, v) != 0)
         return 0;
     cx->s_m = erlaw_line_s(&cx->seg.line, x);
     s_ext = cart_sync_ref(ad);
     cartseg_set_contact(&cx->seg, ad->st.max_contact_force_10ms_N);
-    if (cartseg_step(&cx->seg, ad->model, &cx->tool, arm_cart_payload(ad, &pl), ad->st.q_rad, ad->st.qd_radps, s_ext,
-                     ad->d.period_s, &o) != 0)
+    if (cartseg_step_at(&cx->seg, ad->model, &cx->tool, arm_cart_payload(ad, &pl), &kin, ad->st.q_rad,
+                        ad->st.qd_radps, s_ext, ad->d.period_s, &o) != 0)
         return 0;   /* joint-space hold at hold_q this cycle */
     /* done (within CARTSEG_DONE_TOL_M of s_f, at rest): the last PROGRESS
      * says s_f, so a synchronised partner's s* is not held up to 4 mm short

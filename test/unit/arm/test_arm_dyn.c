@@ -253,6 +253,37 @@ static void test_payload_gravity_as_wrench(void **state)
     }
 }
 
+/* arm_rne_cs with the sines and cosines of arm_joint_cs_eval is arm_rne,
+ * bit for bit, with and without payload. */
+static void test_rne_cs_is_rne(void **state)
+{
+    prng_state seed;
+    int n, i;
+    (void)state;
+    prng_seed(&seed, 34);
+    for (n = 0; n < 100; n++) {
+        double q[ARM_NJ], qd[ARM_NJ], qdd[ARM_NJ], t0[ARM_NJ], t1[ARM_NJ];
+        arm_joint_cs cs;
+        random_q(&arm_model_puma560, &seed, q);
+        for (i = 0; i < ARM_NJ; i++) {
+            qd[i] = 2.0 * prng_uniform(&seed) - 1.0;
+            qdd[i] = 4.0 * prng_uniform(&seed) - 2.0;
+        }
+        assert_int_equal(arm_joint_cs_eval(&arm_model_puma560, q, &cs), 0);
+        assert_int_equal(arm_rne(&arm_model_puma560, q, qd, qdd, NULL, test_payload(), t0), 0);
+        assert_int_equal(arm_rne_cs(&arm_model_puma560, &cs, qd, qdd, NULL, test_payload(), t1), 0);
+        assert_memory_equal(t0, t1, sizeof t0);
+    }
+    {
+        arm_joint_cs cs;
+        double z[ARM_NJ] = { 0, 0, 0, 0, 0, 0 }, t[ARM_NJ];
+        assert_int_equal(arm_joint_cs_eval(&arm_model_puma560, z, &cs), 0);
+        cs.s[3] = NAN;
+        assert_int_equal(arm_rne_cs(&arm_model_puma560, &cs, z, z, NULL, NULL, t), ARM_DYN_ERR_ARG);
+        assert_int_equal(arm_rne_cs(&arm_model_puma560, NULL, z, z, NULL, NULL, t), ARM_DYN_ERR_ARG);
+    }
+}
+
 static void test_bad_input(void **state)
 {
     double q[ARM_NJ] = { 0 }, qd[ARM_NJ] = { 0 }, tau[ARM_NJ], M[36];
@@ -298,6 +329,7 @@ int main(void)
         cmocka_unit_test(test_rne_decomposition_and_christoffel),
         cmocka_unit_test(test_link1_mass_invisible),
         cmocka_unit_test(test_payload_gravity_as_wrench),
+        cmocka_unit_test(test_rne_cs_is_rne),
         cmocka_unit_test(test_bad_input),
     };
     make_skewed();

@@ -1,4 +1,6 @@
-/* test_arm_kin: Jacobian against finite differences of FK, FK(IK(x)) = x
+/* test_arm_kin: Jacobian against finite differences of FK, the one-pass
+ * kinematics (arm_kin_eval) against FK and Jacobian, analytic Jdot qd against
+ * a central difference of J along qd, FK(IK(x)) = x
  * on every branch for random reachable poses (both arms, with and without
  * a tool), branch naming, limit and reach flags, known pose at q = 0. */
 #include <stdarg.h>
@@ -94,6 +96,69 @@ static void test_jacobian_finite_differences(void **state)
             check_jacobian(models[k], NULL, q);
             check_jacobian(models[k], &tool, q);
         }
+}
+
+/* Jdot qd by a central difference of J along qd: truncation ~h^2, rounding
+ * ~eps/h, both below 1e-9 at h = 1e-5 for |qd| ~ 1 rad/s, while Jdot qd
+ * itself is ~0.1-10: the tolerance 1e-7 catches any wrong term. */
+static void check_jdot(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
+                       const double qd[ARM_NJ])
+{
+    const double h = 1e-5;
+    arm_kin_pass k;
+    double T[16], J[36], jd[6], qp[ARM_NJ], qm[ARM_NJ], Jp[36], Jm[36];
+    int i, j;
+    assert_int_equal(arm_kin_eval(m, tool, q, &k), 0);
+    assert_int_equal(arm_fk_jacobian(m, tool, q, T, J), 0);
+    assert_memory_equal(k.T, T, sizeof T);   /* same arithmetic, same bits */
+    assert_memory_equal(k.J, J, sizeof J);
+    assert_int_equal(arm_kin_jdot_qd(&k, qd, jd), 0);
+    for (i = 0; i < ARM_NJ; i++) {
+        qp[i] = q[i] + h * qd[i];
+        qm[i] = q[i] - h * qd[i];
+    }
+    assert_int_equal(arm_jacobian(m, tool, qp, Jp), 0);
+    assert_int_equal(arm_jacobian(m, tool, qm, Jm), 0);
+    for (i = 0; i < 6; i++) {
+        double fd = 0.0;
+        for (j = 0; j < ARM_NJ; j++)
+            fd += (Jp[i * 6 + j] - Jm[i * 6 + j]) * qd[j];
+        fd /= 2.0 * h;
+        assert_true(fabs(fd - jd[i]) < 1e-7);
+    }
+}
+
+static void test_jdot_qd_finite_differences(void **state)
+{
+    const double p[3] = { 0.02, -0.03, 0.12 };
+    /* the PUMA's singularities: wrist (q5 = 0), elbow straight, wrist
+     * centre over the shoulder axis is pose-dependent (random covers it) */
+    static const double q_sing[][ARM_NJ] = {
+        { 0.3, -0.5, 0.8, 1.0, 0.0, -0.4 },
+        { 0.0, 0.0, -1.5707963267948966, 0.0, 0.0, 0.0 },
+        { 0, 0, 0, 0, 0, 0 },
+    };
+    prng_state seed;
+    arm_tool tool;
+    size_t k, s;
+    int n, j;
+    (void)state;
+    prng_seed(&seed, 21);
+    arm_tool_offset(&tool, p);
+    for (k = 0; k < NMODELS; k++) {
+        for (n = 0; n < 500; n++) {
+            double q[ARM_NJ], qd[ARM_NJ];
+            random_q(models[k], &seed, q);
+            for (j = 0; j < ARM_NJ; j++)
+                qd[j] = 2.0 * prng_uniform(&seed) - 1.0;
+            check_jdot(models[k], NULL, q, qd);
+            check_jdot(models[k], &tool, q, qd);
+        }
+        for (s = 0; s < sizeof q_sing / sizeof q_sing[0]; s++) {
+            const double qd[ARM_NJ] = { 0.4, -0.7, 0.9, 1.1, -0.6, 0.8 };
+            check_jdot(models[k], &tool, q_sing[s], qd);
+        }
+    }
 }
 
 /* Distance of q1 from q2 modulo 2 pi, max over joints. */
@@ -247,6 +312,16 @@ static void test_bad_input(void **state)
     q[2] = NAN;
     assert_int_equal(arm_fk(&arm_model_puma560, NULL, q, T), ARM_KIN_ERR_ARG);
     assert_int_equal(arm_jacobian(&arm_model_puma560, NULL, q, J), ARM_KIN_ERR_ARG);
+    {
+        arm_kin_pass k;
+        double jd[6], qd[ARM_NJ] = { 0, 0, 0, 0, 0, 0 };
+        assert_int_equal(arm_kin_eval(&arm_model_puma560, NULL, q, &k), ARM_KIN_ERR_ARG);
+        q[2] = 0.0;
+        assert_int_equal(arm_kin_eval(&arm_model_puma560, NULL, q, &k), 0);
+        qd[1] = INFINITY;
+        assert_int_equal(arm_kin_jdot_qd(&k, qd, jd), ARM_KIN_ERR_ARG);
+        assert_int_equal(arm_kin_jdot_qd(NULL, qd, jd), ARM_KIN_ERR_ARG);
+    }
 }
 
 int main(void)
@@ -254,6 +329,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fk_zero_pose),
         cmocka_unit_test(test_jacobian_finite_differences),
+        cmocka_unit_test(test_jdot_qd_finite_differences),
         cmocka_unit_test(test_ik_round_trip),
         cmocka_unit_test(test_ik_limit_flags),
         cmocka_unit_test(test_ik_unreachable),
