@@ -204,7 +204,7 @@ bench: deps deps-bench
 # libFuzzer (clang): every message type's wire check + decoder + validators
 # for FUZZ_SECONDS each (tools/fuzz.sh); fails on any crash, leak or report
 FUZZ_SECONDS ?= 10
-fuzz: $(GEN_STAMP)
+fuzz: $(GEN_STAMP) $(GEN)/c/tandem_version.h
 	@tools/deps.sh fuzz
 	@tools/fuzz.sh $(FUZZ_SECONDS)
 
