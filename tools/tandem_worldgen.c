@@ -12,7 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
+#include "proc.h"
 #include "formation.h"
 #include "options.h"
 #include "world_file.h"
@@ -73,24 +73,6 @@ static void rasterise(rover_map *m, rover_map_site *s, const rover_world_config 
     memcpy(s->landmark_m, w->landmark_m, sizeof s->landmark_m);
 }
 
-/* mkdir -p */
-static int make_dir(const char *dir)
-{
-    char path[1024];
-    size_t i;
-    snprintf(path, sizeof path, "%s", dir);
-    for (i = 1; path[i]; i++)
-        if (path[i] == '/') {
-            path[i] = '\0';
-            mkdir(path, 0755);
-            path[i] = '/';
-        }
-    if (mkdir(path, 0755) != 0 && errno != EEXIST) {
-        fprintf(stderr, "tandem-worldgen: cannot create '%s': %s\n", dir, strerror(errno));
-        return 1;
-    }
-    return 0;
-}
 
 static int parse_size(const char *v, double *w, double *h)
 {
@@ -142,7 +124,10 @@ int main(int argc, char **argv)
     int rc, attempt = 0;
     rc = options_parse(&prog, argc, argv, 1);
     if (rc < 0) return options_exit_status(rc);
-    if (make_dir(o.out) != 0) return 1;
+    if (proc_mkdir_p(o.out) != 0) {
+        fprintf(stderr, "tandem-worldgen: cannot create '%s': %s\n", o.out, strerror(errno));
+        return 1;
+    }
     if (o.exported) {
         static rover_world_config w;
         const int id = rover_world_id(o.exported);

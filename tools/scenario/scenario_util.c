@@ -1,10 +1,10 @@
 /* scenario_util: JSON / CSV / gnuplot helpers for tandem-scenario. */
 #include "scenario.h"
+#include "proc.h"
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <time.h>
 
 int scenario_failed_criteria(const scenario_criterion *k, int n, char *buf, size_t cap)
@@ -23,16 +23,7 @@ int scenario_failed_criteria(const scenario_criterion *k, int n, char *buf, size
 
 int scenario_mkdir(const char *dir)
 {
-    char path[1024];
-    size_t i;
-    snprintf(path, sizeof path, "%s", dir);
-    for (i = 1; path[i]; i++)
-        if (path[i] == '/') {
-            path[i] = '\0';
-            mkdir(path, 0755);
-            path[i] = '/';
-        }
-    if (mkdir(path, 0755) != 0 && errno != EEXIST) {
+    if (proc_mkdir_p(dir) != 0) {
         fprintf(stderr, "tandem-scenario: cannot create '%s': %s\n", dir, strerror(errno));
         return SCENARIO_ERR_IO;
     }

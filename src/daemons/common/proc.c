@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -187,4 +188,21 @@ void proc_kill_all(proc_set *p, double grace_s)
     }
     p->n = 0;
     auth_child_keys_remove(&p->keys);
+}
+
+int proc_mkdir_p(const char *dir)
+{
+    char path[1024];
+    size_t i;
+    if ((size_t)snprintf(path, sizeof path, "%s", dir) >= sizeof path) {
+        errno = ENAMETOOLONG;
+        return PROC_ERR_SYS;
+    }
+    for (i = 1; path[i]; i++)
+        if (path[i] == '/') {
+            path[i] = '\0';
+            mkdir(path, 0755);   /* a step that exists, or fails: the last mkdir says */
+            path[i] = '/';
+        }
+    return mkdir(path, 0755) != 0 && errno != EEXIST ? PROC_ERR_SYS : 0;
 }

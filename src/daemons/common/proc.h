@@ -45,5 +45,7 @@ void  proc_kill(proc_set *p, pid_t pid);
 /* SIGTERM to every child, SIGKILL after grace_s; closes the pipes and
  * removes the children's role files. */
 void  proc_kill_all(proc_set *p, double grace_s);
+/* mkdir -p DIR (mode 0755); 0, or PROC_ERR_SYS with errno set. */
+int   proc_mkdir_p(const char *dir);
 
 #endif
