@@ -201,10 +201,7 @@ int rover_journal_start(rover_daemon *rd)
     int j;
     if (!rd->journal)
         return 0;
-    memset(&key, 0, sizeof key);
-    key.keyed = auth_bus_journal_key(key.bytes);
-    if (!key.keyed)
-        fprintf(stderr, "%s: --insecure: journal records are checksummed, not authenticated\n", rd->d.name);
+    journal_key_from_bus(&key, rd->d.name);
     for (j = rd->id_lo; j <= rd->id_hi; j++) {
         hosted *h = &rd->h[j - rd->id_lo];
         long seq = 0;

@@ -186,11 +186,7 @@ int sup_journal_start(supervisor_daemon *sv)
     int rc;
     if (!sv->journal_path)
         return 0;
-    memset(&key, 0, sizeof key);
-    key.keyed = auth_bus_journal_key(key.bytes);
-    if (!key.keyed)
-        fprintf(stderr, "tandem-supervisor: --insecure: journal records are checksummed, not authenticated "
-                        "(an edited journal cannot be told from a good one)\n");
+    journal_key_from_bus(&key, "tandem-supervisor");
     sv->jr.key = key;
     if (sv->journal_reset)
         printf("tandem-supervisor: --journal-reset: starting fresh; %s emptied\n", sv->journal_path);
