@@ -316,6 +316,10 @@ double harness_json_value(const char *text, const char *key)
     if (!p)
         return NAN;
     p += strlen(pat);
+    if (strncmp(p, "true", 4) == 0)
+        return 1.0;
+    if (strncmp(p, "false", 5) == 0)
+        return 0.0;
     return strncmp(p, "null", 4) == 0 ? NAN : strtod(p, NULL);
 }
 

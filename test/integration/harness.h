@@ -75,7 +75,8 @@ void harness_ack(harness *h, const char *name, int64_t step, int32_t period_step
 
 /* A file's text into buf (NUL terminated); its length or -1. */
 int harness_slurp(const char *path, char *buf, int cap);
-/* The number under "key" in a summary.json text; NaN if absent or null. */
+/* The number under "key" in a summary.json text (true 1, false 0); NaN
+ * if absent or null. */
 double harness_json_value(const char *text, const char *key);
 /* The child of `parent` running program `prog` (its argv[0]'s last part,
  * read from /proc) and, with opt not NULL, with the arguments opt value

@@ -25,21 +25,6 @@
 #include <unistd.h>
 #include "harness.h"
 
-static double json_number(const char *js, const char *key)
-{
-    char pat[64];
-    const char *p;
-    snprintf(pat, sizeof pat, "\"%s\":", key);
-    p = strstr(js, pat);
-    if (!p) return -1e9;
-    p += strlen(pat);
-    while (*p == ' ') p++;
-    if (!strncmp(p, "true", 4)) return 1.0;
-    if (!strncmp(p, "false", 5)) return 0.0;
-    if (!strncmp(p, "null", 4)) return -1e9;
-    return strtod(p, NULL);
-}
-
 static void test_kill_one_rover_mid_run(void **state)
 {
     harness h;
@@ -65,12 +50,12 @@ static void test_kill_one_rover_mid_run(void **state)
     n = fread(js, 1, sizeof js - 1, f);
     fclose(f);
     js[n] = '\0';
-    assert_true(json_number(js, "killed_robot") == 3.0);
-    assert_true(json_number(js, "reached_goal") == 1.0);
-    assert_true(json_number(js, "collisions") == 0.0);
+    assert_true(harness_json_value(js, "killed_robot") == 3.0);
+    assert_true(harness_json_value(js, "reached_goal") == 1.0);
+    assert_true(harness_json_value(js, "collisions") == 0.0);
     /* in formation: the two survivors' slots around their own average */
-    assert_true(json_number(js, "rms_formation_err_m") < 0.5);
-    assert_true(json_number(js, "wall_time_s") < 60.0);
+    assert_true(harness_json_value(js, "rms_formation_err_m") < 0.5);
+    assert_true(harness_json_value(js, "wall_time_s") < 60.0);
     harness_close(&h);
 }
 

@@ -149,15 +149,31 @@ static void test_killed_rover_process_resumes(void **state)
     assert_int_equal(formation_fault(out1, "0.05", NULL, "kill:rover2:20:26"), 0);
 }
 
+/* Waits (at most n ticks) for the scenario to end, killing what is left
+ * if it does not; reads its summary.json into text. Returns its status. */
+static int scenario_end(proc_set *ps, pid_t scen, int n, const struct timespec *tick, const char *out, char *text,
+                        int cap)
+{
+    char path[400];
+    int st = -1, i;
+    for (i = 0; i < n && proc_poll(ps, scen, &st) == 0; i++)
+        nanosleep(tick, NULL);
+    if (st < 0)
+        proc_kill_all(ps, 2.0);
+    snprintf(path, sizeof path, "%s/summary.json", out);
+    assert_true(harness_slurp(path, text, cap) > 0);
+    return st;
+}
+
 static void test_hung_supervisor_restarted(void **state)
 {
-    char out[300], path[400], text[16384];
+    char out[300], text[16384];
     const char *argv[] = { "tandem-scenario", "carry", "--workpieces", "1", "--no-serial", "--hang-s", "3",
                            "--out", out, NULL };
     const struct timespec tick = { 0, 100000000L };
     proc_set ps;
     pid_t scen, sup = -1;
-    int st = -1, i;
+    int i;
     (void)state;
     snprintf(out, sizeof out, "%s/hung", dir);
     proc_init(&ps, NULL);
@@ -170,13 +186,7 @@ static void test_hung_supervisor_restarted(void **state)
         nanosleep(&tick, NULL);
     assert_true(sup > 0);
     assert_int_equal(kill(sup, SIGSTOP), 0);
-    for (i = 0; i < 2400 && proc_poll(&ps, scen, &st) == 0; i++)
-        nanosleep(&tick, NULL);
-    if (st < 0)
-        proc_kill_all(&ps, 2.0);
-    assert_int_equal(st, 0);
-    snprintf(path, sizeof path, "%s/summary.json", out);
-    assert_true(harness_slurp(path, text, sizeof text) > 0);
+    assert_int_equal(scenario_end(&ps, scen, 2400, &tick, out, text, sizeof text), 0);
     printf("hung restarts %.0f kills %.0f restarts %.0f delivered %.0f\n", harness_json_value(text, "hung_restarts"),
            harness_json_value(text, "kills"), harness_json_value(text, "restarts"),
            harness_json_value(text, "workpieces_delivered"));
@@ -195,7 +205,7 @@ static void test_hung_rover_restarted(void **state)
     const struct timespec tick = { 0, 10000000L };
     proc_set ps;
     pid_t scen, rover = -1;
-    int st = -1, i;
+    int i;
     (void)state;
     snprintf(out, sizeof out, "%s/hung_rover", dir);
     proc_init(&ps, NULL);
@@ -209,13 +219,7 @@ static void test_hung_rover_restarted(void **state)
     rover = harness_child_named(scen, "tandem-rover", "--id", "2");
     assert_true(rover > 0);
     assert_int_equal(kill(rover, SIGSTOP), 0);
-    for (i = 0; i < 24000 && proc_poll(&ps, scen, &st) == 0; i++)
-        nanosleep(&tick, NULL);
-    if (st < 0)
-        proc_kill_all(&ps, 2.0);
-    assert_int_equal(st, 0);
-    snprintf(path, sizeof path, "%s/summary.json", out);
-    assert_true(harness_slurp(path, text, sizeof text) > 0);
+    assert_int_equal(scenario_end(&ps, scen, 24000, &tick, out, text, sizeof text), 0);
     printf("hung restarts %.0f kills %.0f restarts %.0f, at the goal %.1f s\n",
            harness_json_value(text, "hung_restarts"), harness_json_value(text, "kills"),
            harness_json_value(text, "restarts"), harness_json_value(text, "time_to_goal_s"));

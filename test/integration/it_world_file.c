@@ -19,20 +19,6 @@
 #include <unistd.h>
 #include "harness.h"
 
-static double json_number(const char *js, const char *key)
-{
-    char pat[64];
-    const char *p;
-    snprintf(pat, sizeof pat, "\"%s\":", key);
-    p = strstr(js, pat);
-    if (!p) return -1e9;
-    p += strlen(pat);
-    while (*p == ' ') p++;
-    if (!strncmp(p, "true", 4)) return 1.0;
-    if (!strncmp(p, "false", 5)) return 0.0;
-    return strtod(p, NULL);
-}
-
 static long read_file(const char *path, char *buf, long cap)
 {
     FILE *f = fopen(path, "rb");
@@ -72,9 +58,9 @@ static void test_room_to_the_goal_and_again_from_its_copy(void **state)
     assert_int_equal(fly(&h, "test/data/worlds/room.yaml", dir_a, "line"), 0);
     snprintf(path, sizeof path, "%s/summary.json", dir_a);
     assert_true(read_file(path, js, sizeof js) > 0);
-    assert_true(json_number(js, "reached_goal") == 1.0);
-    assert_true(json_number(js, "collisions") == 0.0);
-    assert_true(json_number(js, "min_clearance_m") > 0.05);
+    assert_true(harness_json_value(js, "reached_goal") == 1.0);
+    assert_true(harness_json_value(js, "collisions") == 0.0);
+    assert_true(harness_json_value(js, "min_clearance_m") > 0.05);
     assert_non_null(strstr(js, "\"world\": \"file\""));
     snprintf(path, sizeof path, "%s/world.yaml", dir_a);
     assert_int_equal(fly(&h, path, dir_b, "line"), 0);
