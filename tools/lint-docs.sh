@@ -14,6 +14,8 @@
 #              pattern, ROVER3_SENSORS of ROVERk_SENSORS: skipped)
 #   --option   an option some program or script defines
 #   test_x     a test or tool program: a source file of that name
+# and every figure of README.md shares its section with the command that
+# produced it (tools/lint-figures.awk).
 # Names of other projects the docs discuss are listed in EXTERNAL.
 # Usage: tools/lint-docs.sh  (exit 1 on the first file naming a missing thing)
 set -u
@@ -68,5 +70,9 @@ for d in "${docs[@]}"; do
         [ -e "$(dirname "$d")/$l" ] || say "$d" "a link to $l" "does not resolve"
     done
 done
-[ $bad -eq 0 ] && echo "lint: every path, target, name, option and link the docs cite exists"
+# every figure of the README names the command that produced it
+# (tools/lint-figures.awk: per section, a command line beside the figures)
+figs=$(awk -f tools/lint-figures.awk README.md)
+[ -z "$figs" ] || { echo "$figs"; bad=1; }
+[ $bad -eq 0 ] && echo "lint: every path, target, name, option and link the docs cite exists; every README figure names its command"
 exit $bad
