@@ -8,7 +8,8 @@
 #   2. the core reaches no POSIX or stdio header (CORE_FORBIDDEN, cross.mk);
 #   3. no tracked file cites a specification outside the repository or
 #      holds an absolute path of a development machine;
-#   4. no two error codes of one header share a value.
+#   4. no two error codes of one header share a value, and
+#   5. every error code has a text (a code list or a strerror).
 # Usage: tools/lint.sh "base:base" "arm:base arm" ... -- FORBIDDEN_HEADER...
 set -u
 cd "$(dirname "$0")/.."
@@ -81,5 +82,18 @@ if git rev-parse --git-dir >/dev/null 2>&1; then
         echo "$dups" | sed 's/$/   <- error codes must be distinct/'; bad=1
     fi
 fi
-[ $bad -eq 0 ] && echo "lint: layering, core headers, references and error codes ok"
+# 5. ... and say it in words: every *_ERR_* name a header of include/tandem
+#    or src/ defines has a text, in a code list (X(NAME, "text"),
+#    include/tandem/base/status.h) or a strerror's switch (case NAME:)
+if git rev-parse --git-dir >/dev/null 2>&1; then
+    texts=$(git grep -hoE '(X\(|case )[A-Z][A-Z0-9_]*_ERR_[A-Z0-9_]+' -- 'include/*.[ch]' 'src/*.[ch]' |
+            sed -E 's/^(X\(|case )//' | sort -u)
+    for h in $(git ls-files 'include/*.h' 'src/*.h'); do
+        for name in $(sed -nE 's/^(#define[[:space:]]+|[[:space:]]+)([A-Z][A-Z0-9_]*_ERR_[A-Z0-9_]+)[[:space:]]*(=[[:space:]]*-?[0-9]+|\(?-[0-9]+\)?).*/\2/p' "$h"); do
+            grep -qx "$name" <<<"$texts" ||
+                { echo "$h: $name has no text: add it to its module's code list (<domain>_status.h) or strerror"; bad=1; }
+        done
+    done
+fi
+[ $bad -eq 0 ] && echo "lint: layering, core headers, references and error codes (distinct, each with its text) ok"
 exit $bad

@@ -19,6 +19,9 @@
 #include "daemon.h"
 #include "petri.h"
 #include "rover_ctl.h"
+#include "arm_status.h"
+#include "carry_status.h"
+#include "rover_status.h"
 
 static void test_shipped_tables_pass(void **state)
 {
@@ -28,20 +31,20 @@ static void test_shipped_tables_pass(void **state)
     cartctl_gains_default(&cg);
     rover_ctl_params_default(&rp);
     assert_int_equal(daemon_check_table("t", "arm_model_puma560", "arm_model_validate",
-                                        arm_model_validate(&arm_model_puma560)), 0);
+                                        arm_model_validate(&arm_model_puma560), arm_model_strerror), 0);
     assert_int_equal(daemon_check_table("t", "arm_model_seed002", "arm_model_validate",
-                                        arm_model_validate(&arm_model_seed002)), 0);
+                                        arm_model_validate(&arm_model_seed002), arm_model_strerror), 0);
     assert_int_equal(daemon_check_table("t", "cell_default", "cell_layout_validate",
-                                        cell_layout_validate(&cell_default)), 0);
+                                        cell_layout_validate(&cell_default), cell_strerror), 0);
     assert_int_equal(daemon_check_table("t", "cartctl_gains_default", "cartctl_gains_validate",
-                                        cartctl_gains_validate(&cg)), 0);
-    assert_int_equal(daemon_check_table("t", "carry_net", "petri_net_validate", petri_net_validate(&carry_net)), 0);
+                                        cartctl_gains_validate(&cg), cartctl_strerror), 0);
+    assert_int_equal(daemon_check_table("t", "carry_net", "petri_net_validate", petri_net_validate(&carry_net), petri_strerror), 0);
     assert_int_equal(daemon_check_table("t", "carry_table", "carry_table_validate",
-                                        carry_table_validate(carry_table, CARRY_N_TRANSITIONS, &carry_net)), 0);
+                                        carry_table_validate(carry_table, CARRY_N_TRANSITIONS, &carry_net), carry_net_strerror), 0);
     assert_int_equal(daemon_check_table("t", "rover_ctl_params", "rover_ctl_params_validate",
-                                        rover_ctl_params_validate(&rp)), 0);
+                                        rover_ctl_params_validate(&rp), rover_ctl_strerror), 0);
     assert_int_equal(daemon_check_table("t", "rover_snapshot field table", "rover_snapshot_validate",
-                                        rover_snapshot_validate()), 0);
+                                        rover_snapshot_validate(), rover_ctl_strerror), 0);
 }
 
 static void test_broken_table_refused(void **state)
@@ -51,14 +54,14 @@ static void test_broken_table_refused(void **state)
     (void)state;
     m = arm_model_puma560;
     m.q_min_rad[2] = m.q_max_rad[2];   /* an empty joint range */
-    assert_int_equal(daemon_check_table("t", "arm_model_puma560", "arm_model_validate", arm_model_validate(&m)),
+    assert_int_equal(daemon_check_table("t", "arm_model_puma560", "arm_model_validate", arm_model_validate(&m), arm_model_strerror),
                      DAEMON_ERR_TABLE);
     cartctl_gains_default(&cg);
     cg.k_null = -1.0;
     assert_int_equal(daemon_check_table("t", "cartctl_gains_default", "cartctl_gains_validate",
-                                        cartctl_gains_validate(&cg)), DAEMON_ERR_TABLE);
+                                        cartctl_gains_validate(&cg), cartctl_strerror), DAEMON_ERR_TABLE);
     /* a table is named by the caller; any non-zero code is a refusal */
-    assert_int_equal(daemon_check_table("t", "x", "x_validate", PETRI_ERR_INVARIANT), DAEMON_ERR_TABLE);
+    assert_int_equal(daemon_check_table("t", "x", "x_validate", PETRI_ERR_INVARIANT, petri_strerror), DAEMON_ERR_TABLE);
 }
 
 static void test_defaults(void **state)

@@ -22,6 +22,9 @@
 #include "linalg.h"
 #include "msg_check.h"
 #include "options.h"
+#include "arm_status.h"
+#include "carry_status.h"
+#include "shell_status.h"
 #include "tandem_arm_command_t.h"
 
 #define FAULT_CLEAR_S 0.5
@@ -332,10 +335,10 @@ static int check_tables(const arm_daemon *ad)
     cartctl_gains cg;
     cartctl_gains_default(&cg);
     if (daemon_check_table(prog, ad->model == &arm_model_seed002 ? "arm_model_seed002" : "arm_model_puma560",
-                           "arm_model_validate", arm_model_validate(ad->model)) != 0 ||
-        daemon_check_table(prog, "cell_default", "cell_layout_validate", cell_layout_validate(&cell_default)) != 0 ||
-        daemon_check_table(prog, "cartctl_gains_default", "cartctl_gains_validate", cartctl_gains_validate(&cg)) != 0 ||
-        daemon_check_table(prog, "arm_options", "options_table_validate", options_table_validate(arm_options)) != 0)
+                           "arm_model_validate", arm_model_validate(ad->model), arm_model_strerror) != 0 ||
+        daemon_check_table(prog, "cell_default", "cell_layout_validate", cell_layout_validate(&cell_default), cell_strerror) != 0 ||
+        daemon_check_table(prog, "cartctl_gains_default", "cartctl_gains_validate", cartctl_gains_validate(&cg), cartctl_strerror) != 0 ||
+        daemon_check_table(prog, "arm_options", "options_table_validate", options_table_validate(arm_options), options_strerror) != 0)
         return DAEMON_ERR_TABLE;
     return 0;
 }

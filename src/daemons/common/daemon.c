@@ -93,6 +93,7 @@ void daemon_defaults(daemon *d, const char *name, double period_s)
     d->period_s = period_s;
     d->step = -1;
     d->pending_step = -1;
+    d->dma_latency_fd = -1;
     d->answered_step = -1;
     d->drop_seed = 1;
     rx_init(&d->rx);
@@ -102,18 +103,18 @@ void daemon_defaults(daemon *d, const char *name, double period_s)
     snprintf(d->status, sizeof d->status, "starting");
 }
 
-int daemon_check_table(const char *prog, const char *table, const char *validator, int rc)
+int daemon_check_table(const char *prog, const char *table, const char *validator, int rc,
+                       const char *(*strerror_fn)(int))
 {
     if (rc == 0)
         return 0;
-    fprintf(stderr, "%s: %s is invalid (%s: %d)\n", prog, table, validator, rc);
+    fprintf(stderr, "%s: %s is invalid (%s: %s, %d)\n", prog, table, validator, strerror_fn(rc), rc);
     return DAEMON_ERR_TABLE;
 }
 
-void daemon_rt_setup(const char *name, int prio)
+void daemon_rt_setup(const char *name, int prio, int *dma_latency_fd)
 {
     struct sched_param sp;
-    static int dma_fd = -1;
 #ifdef PR_SET_TIMERSLACK
     /* A periodic control loop wants its wake-up on time: the default 50 us
      * timer slack of normal threads would be added to every cycle. */
@@ -131,12 +132,12 @@ void daemon_rt_setup(const char *name, int prio)
                 name, strerror(errno));
     /* Like cyclictest: hold the CPU out of deep idle states while we run
      * (the kernel honours this only while the file stays open). */
-    if (dma_fd < 0) {
+    if (*dma_latency_fd < 0) {
         const int32_t zero = 0;
-        dma_fd = open("/dev/cpu_dma_latency", O_WRONLY);
-        if (dma_fd >= 0 && write(dma_fd, &zero, sizeof zero) != (ssize_t)sizeof zero) {
-            close(dma_fd);
-            dma_fd = -1;
+        *dma_latency_fd = open("/dev/cpu_dma_latency", O_WRONLY);
+        if (*dma_latency_fd >= 0 && write(*dma_latency_fd, &zero, sizeof zero) != (ssize_t)sizeof zero) {
+            close(*dma_latency_fd);
+            *dma_latency_fd = -1;
         }
     }
 }
@@ -189,7 +190,7 @@ int daemon_start(daemon *d)
     }
     if (!d->clock_source)
         daemon_subscribe(d, "SIM_CLOCK", on_clock, d);
-    daemon_rt_setup(d->name, d->rt_prio);
+    daemon_rt_setup(d->name, d->rt_prio, &d->dma_latency_fd);
     if (rtloop_init(&d->loop, (int64_t)llround(d->period_s * 1e9)) != 0) {
         fprintf(stderr, "%s: period %g s out of range\n", d->name, d->period_s);
         return DAEMON_ERR_RANGE;

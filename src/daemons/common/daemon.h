@@ -44,6 +44,7 @@ typedef struct daemon {
     char     health_channel[DAEMON_NAME_MAX + 8];
     const char *lcm_url;
     int      rt_prio;                   /* 0 = normal scheduling */
+    int      dma_latency_fd;            /* /dev/cpu_dma_latency, held open while we run (-1: none) */
     int      lockstep;
     double   period_s;
     int32_t  period_steps;              /* lockstep: answer every n-th step */
@@ -102,10 +103,12 @@ typedef int (*daemon_cycle_fn)(daemon *d, void *user);
 
 void daemon_defaults(daemon *d, const char *name, double period_s);
 /* Start-up check of one constant table: rc is what its validator returned
- * (0, or the module's negative *_ERR_* code). 0 when rc is 0; else prints
- * "PROG: TABLE is invalid (VALIDATOR: RC)" on stderr and returns
+ * (0, or the module's negative *_ERR_* code), strerror_fn the module's
+ * text of it (petri_strerror, ...). 0 when rc is 0; else prints
+ * "PROG: TABLE is invalid (VALIDATOR: TEXT, RC)" on stderr and returns
  * DAEMON_ERR_TABLE (the daemon then exits 1 without running). */
-int  daemon_check_table(const char *prog, const char *table, const char *validator, int rc);
+int  daemon_check_table(const char *prog, const char *table, const char *validator, int rc,
+                        const char *(*strerror_fn)(int));
 /* Loads the bus key (auth_bus_start; the daemon has set its identity with
  * auth_bus_identity), hands --drop-rate / --drop-seed to the receive path
  * (rx_set_drop), opens LCM, installs SIGINT/SIGTERM handlers,
@@ -113,8 +116,9 @@ int  daemon_check_table(const char *prog, const char *table, const char *validat
 int  daemon_start(daemon *d);
 /* Minimal timer slack always (Linux); with prio > 0 also SCHED_FIFO at
  * prio, mlockall and the CPU latency hint; warns and goes on when not
- * permitted. */
-void daemon_rt_setup(const char *name, int prio);
+ * permitted. *dma_latency_fd holds the latency hint's file, which must
+ * stay open for the hint to hold: -1 before the first call, opened once. */
+void daemon_rt_setup(const char *name, int prio, int *dma_latency_fd);
 /* Runs the cycle until SIGINT/SIGTERM (returns DAEMON_STOPPED) or until
  * the cycle returns a status other than DAEMON_CONTINUE (returns that
  * status): the process exit code. */

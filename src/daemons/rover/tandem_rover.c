@@ -46,6 +46,8 @@
 #include "rover_daemon.h"
 #include "formation.h"
 #include "options.h"
+#include "rover_status.h"
+#include "shell_status.h"
 
 hosted *rover_find_hosted(rover_daemon *rd, int32_t id)
 {
@@ -191,10 +193,10 @@ static int check_tables(const rover_daemon *rd)
 {
     const char *prog = rd->d.name;
     if (daemon_check_table(prog, "rover_ctl_params", "rover_ctl_params_validate",
-                           rover_ctl_params_validate(&rd->params)) != 0 ||
+                           rover_ctl_params_validate(&rd->params), rover_ctl_strerror) != 0 ||
         daemon_check_table(prog, "rover_snapshot field table", "rover_snapshot_validate",
-                           rover_snapshot_validate()) != 0 ||
-        daemon_check_table(prog, "rover_options", "options_table_validate", options_table_validate(rover_options)) != 0)
+                           rover_snapshot_validate(), rover_ctl_strerror) != 0 ||
+        daemon_check_table(prog, "rover_options", "options_table_validate", options_table_validate(rover_options), options_strerror) != 0)
         return DAEMON_ERR_TABLE;
     return 0;
 }

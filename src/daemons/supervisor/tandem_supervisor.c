@@ -55,6 +55,8 @@
 #include "cell.h"
 #include "linalg.h"
 #include "options.h"
+#include "carry_status.h"
+#include "shell_status.h"
 #include "vec3.h"
 #include "tandem_action_row_t.h"
 
@@ -262,11 +264,11 @@ static const option_entry supervisor_options[] = {
  * table. */
 static int check_tables(const supervisor_daemon *sv)
 {
-    if (daemon_check_table(sv->d.name, "carry_net", "petri_net_validate", petri_net_validate(&carry_net)) != 0 ||
+    if (daemon_check_table(sv->d.name, "carry_net", "petri_net_validate", petri_net_validate(&carry_net), petri_strerror) != 0 ||
         daemon_check_table(sv->d.name, "carry_table", "carry_table_validate",
-                           carry_table_validate(carry_table, CARRY_N_TRANSITIONS, &carry_net)) != 0 ||
+                           carry_table_validate(carry_table, CARRY_N_TRANSITIONS, &carry_net), carry_net_strerror) != 0 ||
         daemon_check_table(sv->d.name, "supervisor_options", "options_table_validate",
-                           options_table_validate(supervisor_options)) != 0)
+                           options_table_validate(supervisor_options), options_strerror) != 0)
         return DAEMON_ERR_TABLE;
     return 0;
 }

@@ -1,0 +1,62 @@
+/* The status codes of the rover domain's modules and the text of each
+ * (status.h): <module>_strerror(rc) returns it, STATUS_UNKNOWN_TEXT for a
+ * value that is no code of the module. Never NULL. (rover_map has its own,
+ * rover_map_strerror.) */
+#ifndef TANDEM_ROVER_STATUS_H
+#define TANDEM_ROVER_STATUS_H
+
+#include "status.h"
+#include "unicycle.h"
+#include "odometry.h"
+#include "localize.h"
+#include "sonar.h"
+#include "behaviour.h"
+#include "formation.h"
+#include "team.h"
+#include "rover_world.h"
+#include "rover_ctl.h"
+
+#define UNICYCLE_CODES(X) \
+    X(0, "ok")            \
+    X(UNICYCLE_ERR_ARG, "non-finite input (the output is 0)")
+#define ODOMETRY_CODES(X) \
+    X(0, "ok")            \
+    X(ODOMETRY_ERR_ARG, "non-positive geometry or non-finite input")
+#define LOCALIZE_CODES(X) \
+    X(0, "ok")            \
+    X(LOCALIZE_ERR_ARG, "NULL, non-finite input, a parameter out of range, an unknown landmark or a degenerate measurement")
+#define SONAR_CODES(X) \
+    X(0, "ok")         \
+    X(SONAR_ERR_ARG, "NULL, non-finite or out-of-range input, an invalid model, or the primitive table full")
+#define BEHAVIOUR_CODES(X) \
+    X(0, "ok")             \
+    X(BEHAVIOUR_ERR_ARG, "NULL, non-finite input, bad mode, a parameter out of range, or a pose at the singularity")
+#define FORMATION_CODES(X)                                                          \
+    X(0, "ok")                                                                      \
+    X(FORMATION_ERR_ARG, "bad formation type, team size, slot, spacing or scale")   \
+    X(FORMATION_ERR_ABSENT, "the robot is not in the team")
+#define TEAM_CODES(X)                                                    \
+    X(0, "ok")                                                           \
+    X(TEAM_ERR_ARG, "NULL, non-finite input or an invalid message")      \
+    X(TEAM_ERR_FULL, "a new mate but TEAM_MAX are held")                 \
+    X(TEAM_ERR_UNKNOWN, "no such mate, or none to average")
+#define ROVER_WORLD_CODES(X)                                                              \
+    X(0, "ok")                                                                            \
+    X(ROVER_WORLD_ERR_ARG, "NULL, team size, spacing or formation out of range, or a non-finite pose") \
+    X(ROVER_WORLD_ERR_UNKNOWN, "no world of that name")
+#define ROVER_CTL_CODES(X)                                                  \
+    X(ROVER_CTL_OK, "ok")                                                   \
+    X(ROVER_CTL_ERR_ARG, "bad argument, parameter set or reading")          \
+    X(ROVER_CTL_ERR_SNAPSHOT, "a snapshot of another robot or out of range")
+
+const char *unicycle_strerror(int rc);
+const char *odometry_strerror(int rc);
+const char *localize_strerror(int rc);
+const char *sonar_strerror(int rc);
+const char *behaviour_strerror(int rc);
+const char *formation_strerror(int rc);
+const char *team_strerror(int rc);
+const char *rover_world_strerror(int rc);
+const char *rover_ctl_strerror(int rc);
+
+#endif
