@@ -220,7 +220,7 @@ spy: $(TYPES_JAR)
 clean:
 	rm -rf build
 
-include tools/extra.mk
+include tools/extra.mk tools/checks.mk
 
 -include $(shell find build -name '*.d' 2>/dev/null)
 .SECONDARY:

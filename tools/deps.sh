@@ -6,6 +6,7 @@
 #   tools/deps.sh cross   the 68040 and Cortex-M4 toolchains and qemu (make cross,
 #                         test-cross, budget; make test installs them too)
 #   tools/deps.sh fuzz    clang and its runtimes (libFuzzer, sanitizers) for make fuzz
+#   tools/deps.sh analyze cppcheck and clang-format (make analyze, format-check)
 #   tools/deps.sh view    the viewer's Python venv; view-test: also Chromium
 #   tools/deps.sh install man pages (help2man)
 set -euo pipefail
@@ -19,8 +20,9 @@ elif [ "${1:-run}" = cross ]; then
           qemu-user-static binutils)
 fi
 case ${1:-run} in
-    fuzz) pkgs=(clang libclang-rt-14-dev) ;;
-    coverage) pkgs=(gcovr) ;;   # libFuzzer and the sanitizers' runtimes
+    fuzz) pkgs=(clang libclang-rt-14-dev) ;;   # libFuzzer and the sanitizers' runtimes
+    coverage) pkgs=(gcovr) ;;
+    analyze) pkgs=(cppcheck clang-format) ;;
     view) pkgs=(python3-venv) ;;
     view-test) pkgs=(python3-venv chromium fonts-dejavu-core iproute2) ;;
     install) pkgs=(help2man man-db) ;;

@@ -36,3 +36,4 @@ $(LAYER_STAMP): src/core/layers.mk $(wildcard include/tandem/*/*.h src/core/*/*.
 lint:
 	@tools/lint.sh $(foreach d,$(CORE_DOMAINS),"$(d):$(LAYER_$(d))") -- $(CORE_FORBIDDEN)
 	@tools/lint-docs.sh
+	@tools/lint-state.sh $(OBJ)

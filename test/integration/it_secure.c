@@ -452,8 +452,14 @@ static char *slurp(const char *dir, const char *file, const char *skip, long *le
         if (skip && strstr(line, skip))
             continue;
         if (n + l + 1 > cap) {
+            char *grown = realloc(out, 2 * (n + l + 1));
+            if (!grown) {   /* the comparison fails on NULL; the file read so far is not leaked */
+                free(out);
+                fclose(f);
+                return NULL;
+            }
+            out = grown;
             cap = 2 * (n + l + 1);
-            out = realloc(out, cap);
         }
         memcpy(out + n, line, l);
         n += l;

@@ -342,11 +342,12 @@ int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool, const 
     cartctl_out co;
     erlaw_out eo;
     double Rwb[9], u_base[3], dev;
-    const int sync = s_ext_m >= 0.0 && c->ref == ERLAW_REF_MEASURED;
-    erlaw_ref ref = sync ? ERLAW_REF_EXTERNAL : c->ref;
-    int commanding, blocked, held;
+    int sync, commanding, blocked, held;
+    erlaw_ref ref;
     if (!c || !out)
         return CARTSEG_ERR_ARG;
+    sync = s_ext_m >= 0.0 && c->ref == ERLAW_REF_MEASURED;   /* c is checked first */
+    ref = sync ? ERLAW_REF_EXTERNAL : c->ref;
     memset(out, 0, sizeof *out);
     if (!isfinite(dt_s) || dt_s < 0.0 || !stp || cartseg_tool_world_at(stp, c->T_world_base, out->x_world, out->v_world) != 0)
         return CARTSEG_ERR_ARG;

@@ -27,9 +27,16 @@ void localize_params_default(localize_params *p)
 
 int localize_params_validate(const localize_params *p)
 {
-    const double nonneg[] = { p->k_ds, p->k_th_ds, p->k_th_dth, p->range_sd1 };
+    double nonneg[4];
     size_t i;
-    if (!p || !isfinite(p->d_m) || p->reject_reset < 1 || !isfinite(p->reset_sd_xy_m) ||
+    if (!p)
+        return LOCALIZE_ERR_ARG;
+    /* read only once p is known to be there */
+    nonneg[0] = p->k_ds;
+    nonneg[1] = p->k_th_ds;
+    nonneg[2] = p->k_th_dth;
+    nonneg[3] = p->range_sd1;
+    if (!isfinite(p->d_m) || p->reject_reset < 1 || !isfinite(p->reset_sd_xy_m) ||
         !(p->reset_sd_xy_m > 0.0) || !isfinite(p->reset_sd_theta_rad) ||
         !(p->reset_sd_theta_rad > 0.0))
         return LOCALIZE_ERR_ARG;

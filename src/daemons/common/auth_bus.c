@@ -7,6 +7,7 @@
 #include <unistd.h>
 #include <sodium.h>
 #include "auth_acl.h"
+#include "shell_status.h"
 #include "wire.h"
 #include "tandem_health_t.h"
 
@@ -25,13 +26,13 @@ typedef struct bus_sub {
  * own, received later. */
 typedef struct last_verdict {
     const void *data;
-    int64_t  recv_utime;
+    int64_t recv_utime;
     uint32_t size;
     uint64_t channel_hash;
-    uint8_t  mac[AUTH_MAC_BYTES];   /* delivery_mark */
-    size_t   trailer;               /* its trailer's length when accepted */
-    int      rc;
-    int      valid;
+    uint8_t mac[AUTH_MAC_BYTES]; /* delivery_mark */
+    size_t trailer;              /* its trailer's length when accepted */
+    int rc;
+    int valid;
 } last_verdict;
 
 /* Who a channel's messages are signed as and tagged for: worked out from
@@ -39,35 +40,49 @@ typedef struct last_verdict {
  * publishes the same few channels all the time). */
 #define AUTH_BUS_ROUTES 64
 typedef struct tx_route {
-    uint64_t    channel_hash;
-    char        channel[AUTH_CHANNEL_MAX + 1];
+    uint64_t channel_hash;
+    char channel[AUTH_CHANNEL_MAX + 1];
     auth_sender sender;
-    int         n;
-    auth_peer   to[AUTH_MAX_TAGS];
+    int n;
+    auth_peer to[AUTH_MAX_TAGS];
 } tx_route;
 
-static struct {
-    const char  *key_file[AUTH_MAX_KEYS];
-    int          n_key_files;
-    int          insecure;
-    int          have_identity, as_owner;
-    int          rovers;          /* the roster's rovers, 0: AUTH_ROSTER_ROVERS */
-    auth_sender  me;
-    auth_peer    me_peer;
+/* Everything the bus keeps for this process: who it is, its keys, the
+ * replay window, what it has counted, its publish buffer and routes. One
+ * struct, so the functions below say what they touch (they take it as
+ * bus); the public API works on the process's one bus (the_bus). */
+typedef struct auth_bus_state {
+    const char *key_file[AUTH_MAX_KEYS];
+    int n_key_files;
+    int insecure;
+    int have_identity, as_owner;
+    int rovers; /* the roster's rovers, 0: AUTH_ROSTER_ROVERS */
+    auth_sender me;
+    auth_peer me_peer;
     auth_keyring ring;
-    int          started, secure;
-    uint64_t     last_counter;
-    auth_replay  replay;
+    int started, secure;
+    uint64_t last_counter;
+    auth_replay replay;
     auth_bus_counts counts;
     last_verdict last;
-    uint8_t     *tx;
-    int          tx_cap;
-    bus_sub      subs[AUTH_BUS_MAX_SUBS];
-    int          n_subs;
-    char         prog[64];
-    tx_route     routes[AUTH_BUS_ROUTES];
-    int          n_routes;           /* 0 after anything a route depends on changed */
-} B;
+    uint8_t *tx;
+    int tx_cap;
+    bus_sub subs[AUTH_BUS_MAX_SUBS];
+    int n_subs;
+    char prog[64];
+    tx_route routes[AUTH_BUS_ROUTES];
+    int n_routes; /* 0 after anything a route depends on changed */
+    /* the ephemeral key (auth_bus_ephemeral_key), removed at exit by the
+     * process that made it */
+    char eph_dir[512], eph_file[600];
+    pid_t eph_owner;
+} auth_bus_state;
+
+/* The process's bus: LCM calls a handler with no context of ours, and
+ * AUTH_PUBLISH and every program use the bus of the process, so there is
+ * one (the one mutable file-scope variable of the daemon shell besides
+ * the stop flag; tools/lint-state.allow). */
+static auth_bus_state the_bus;
 
 const char *auth_bus_strerror(int rc)
 {
@@ -95,58 +110,64 @@ static uint64_t wall_us(void)
 
 int auth_bus_option(const char *prog, int opt, const char *arg)
 {
+    auth_bus_state *const bus = &the_bus;
     switch (opt) {
     case OPT_KEY_FILE:
-        if (!arg[0] || B.n_key_files >= AUTH_MAX_KEYS) {
-            fprintf(stderr, "%s: --key-file: %s\n", prog, arg[0] ? "at most two (the key and the previous one)" : "empty path");
+        if (!arg[0] || bus->n_key_files >= AUTH_MAX_KEYS) {
+            fprintf(stderr, "%s: --key-file: %s\n", prog,
+                    arg[0] ? "at most two (the key and the previous one)" : "empty path");
             return AUTH_BUS_ERR_OPTION;
         }
-        B.key_file[B.n_key_files++] = arg;
+        bus->key_file[bus->n_key_files++] = arg;
         return 1;
-    case OPT_INSECURE:
-        B.insecure = 1;
-        return 1;
-    default:
-        return 0;
+    case OPT_INSECURE: bus->insecure = 1; return 1;
+    default: return 0;
     }
 }
 
 void auth_bus_identity(int role, int first, int last)
 {
-    B.me.role = (uint8_t)role;
-    B.me.first = (uint16_t)first;
-    B.me.last = (uint16_t)last;
-    B.me_peer.role = B.me.role;
-    B.me_peer.first = B.me.first;
-    B.me_peer.last = B.me.last;
-    B.have_identity = 1;
-    B.n_routes = 0;
+    auth_bus_state *const bus = &the_bus;
+    bus->me.role = (uint8_t)role;
+    bus->me.first = (uint16_t)first;
+    bus->me.last = (uint16_t)last;
+    bus->me_peer.role = bus->me.role;
+    bus->me_peer.first = bus->me.first;
+    bus->me_peer.last = bus->me.last;
+    bus->have_identity = 1;
+    bus->n_routes = 0;
 }
 
 void auth_bus_roster(int rovers)
 {
+    auth_bus_state *const bus = &the_bus;
     int i;
-    B.rovers = rovers < 0 ? 0 : rovers > AUTH_MAX_TAGS - AUTH_ROSTER_FIXED ? AUTH_MAX_TAGS - AUTH_ROSTER_FIXED : rovers;
-    B.n_routes = 0;
-    for (i = 0; i < B.ring.n; i++)   /* a master holder tags for the new roster at once */
-        if (B.ring.set[i] && B.ring.set[i]->is_master)
-            B.ring.set[i]->rovers = auth_bus_roster_rovers();
+    bus->rovers = rovers < 0                                   ? 0
+                  : rovers > AUTH_MAX_TAGS - AUTH_ROSTER_FIXED ? AUTH_MAX_TAGS - AUTH_ROSTER_FIXED
+                                                               : rovers;
+    bus->n_routes = 0;
+    for (i = 0; i < bus->ring.n; i++) /* a master holder tags for the new roster at once */
+        if (bus->ring.set[i] && bus->ring.set[i]->is_master)
+            bus->ring.set[i]->rovers = auth_bus_roster_rovers();
 }
 
 int auth_bus_roster_rovers(void)
 {
-    return B.rovers > 0 ? B.rovers : AUTH_ROSTER_ROVERS;
+    const auth_bus_state *const bus = &the_bus;
+    return bus->rovers > 0 ? bus->rovers : AUTH_ROSTER_ROVERS;
 }
 
 void auth_bus_sign_as_owner(int on)
 {
-    B.as_owner = on != 0;
-    B.n_routes = 0;
+    auth_bus_state *const bus = &the_bus;
+    bus->as_owner = on != 0;
+    bus->n_routes = 0;
 }
 
 int auth_bus_secure(void)
 {
-    return B.secure;
+    const auth_bus_state *const bus = &the_bus;
+    return bus->secure;
 }
 
 /* The journal key: BLAKE2b over every pairwise key the signing set holds
@@ -156,11 +177,12 @@ int auth_bus_secure(void)
  * of the same role. */
 int auth_bus_journal_key(uint8_t out[32])
 {
+    const auth_bus_state *const bus = &the_bus;
     static const char ctx[] = "tandem journal key v2";
     const auth_keyset *ks;
     crypto_generichash_state h;
     int i;
-    if (!B.secure || B.ring.n < 1 || !(ks = B.ring.set[0]))
+    if (!bus->secure || bus->ring.n < 1 || !(ks = bus->ring.set[0]))
         return 0;
     crypto_generichash_init(&h, NULL, 0, 32);
     crypto_generichash_update(&h, (const unsigned char *)ctx, sizeof ctx - 1);
@@ -186,24 +208,25 @@ int auth_bus_default_key_path(char *out, size_t cap)
     return n > 0 && (size_t)n < cap ? AUTH_BUS_OK : AUTH_BUS_ERR_NO_HOME;
 }
 
-static void warn_insecure(void)
+static void warn_insecure(const auth_bus_state *bus)
 {
     fprintf(stderr,
             "%s: WARNING: --insecure: bus messages are NOT authenticated. Nothing this process\n"
             "%s: WARNING: sends is signed and nothing it receives is checked: anyone who can\n"
             "%s: WARNING: reach the bus can command it. Its health messages say auth_on = 0.\n",
-            B.prog, B.prog, B.prog);
+            bus->prog, bus->prog, bus->prog);
 }
 
 /* The key files to load: the options, else $TANDEM_KEY_FILE, else the
  * default file if it exists. 0, or AUTH_BUS_ERR_KEY when there is none. */
-static int key_files(const char *files[AUTH_MAX_KEYS], int *n, char *def, size_t cap)
+static int key_files(const auth_bus_state *bus, const char *files[AUTH_MAX_KEYS], int *n, char *def,
+                     size_t cap)
 {
     const char *env = getenv(AUTH_BUS_KEY_ENV);
     int i;
-    *n = B.n_key_files;
-    for (i = 0; i < B.n_key_files; i++)
-        files[i] = B.key_file[i];
+    *n = bus->n_key_files;
+    for (i = 0; i < bus->n_key_files; i++)
+        files[i] = bus->key_file[i];
     if (*n > 0)
         return 0;
     if (env && env[0]) {
@@ -217,119 +240,127 @@ static int key_files(const char *files[AUTH_MAX_KEYS], int *n, char *def, size_t
     return AUTH_BUS_ERR_KEY;
 }
 
-static int load_keys(void)
+static int load_keys(auth_bus_state *bus)
 {
     const char *files[AUTH_MAX_KEYS];
     char def[1024] = "", why[1200];
     int i, n;
-    if (key_files(files, &n, def, sizeof def) != 0) {
-        fprintf(stderr, "%s: no bus key. Give --key-file PATH (`make run` creates %s on first use,\n"
-                        "%s: `tandem-keygen` makes one), or --insecure to run without authentication.\n",
-                B.prog, def[0] ? def : "~/.config/tandem/bus.key", B.prog);
+    if (key_files(bus, files, &n, def, sizeof def) != 0) {
+        fprintf(stderr,
+                "%s: no bus key. Give --key-file PATH (`make run` creates %s on first use,\n"
+                "%s: `tandem-keygen` makes one), or --insecure to run without authentication.\n",
+                bus->prog, def[0] ? def : "~/.config/tandem/bus.key", bus->prog);
         return AUTH_BUS_ERR_KEY;
     }
     for (i = 0; i < n; i++) {
         /* locked memory, allocated once at start-up; a repeated start (a
          * run repeated in one process) reuses it */
-        if (!B.ring.set[i] && !(B.ring.set[i] = auth_keyset_new())) {
-            fprintf(stderr, "%s: no locked memory for the bus key\n", B.prog);
+        if (!bus->ring.set[i] && !(bus->ring.set[i] = auth_keyset_new())) {
+            fprintf(stderr, "%s: no locked memory for the bus key\n", bus->prog);
             return AUTH_BUS_ERR_KEY;
         }
-        if (auth_keyset_load(B.ring.set[i], files[i], &B.me_peer, why, sizeof why) != AUTH_OK) {
-            fprintf(stderr, "%s: bus key %s\n", B.prog, why);
+        if (auth_keyset_load(bus->ring.set[i], files[i], &bus->me_peer, why, sizeof why) !=
+            AUTH_OK) {
+            fprintf(stderr, "%s: bus key %s\n", bus->prog, why);
             return AUTH_BUS_ERR_KEY;
         }
-        if (B.ring.set[i]->is_master)
-            B.ring.set[i]->rovers = auth_bus_roster_rovers();
-        if (!B.ring.set[i]->is_master && !auth_peer_equal(&B.ring.set[i]->holder, &B.me_peer)) {
-            fprintf(stderr, "%s: bus key %s is the key file of another role (%d %d-%d; this is %d %d-%d)\n",
-                    B.prog, files[i], B.ring.set[i]->holder.role, B.ring.set[i]->holder.first,
-                    B.ring.set[i]->holder.last, B.me_peer.role, B.me_peer.first, B.me_peer.last);
+        if (bus->ring.set[i]->is_master)
+            bus->ring.set[i]->rovers = auth_bus_roster_rovers();
+        if (!bus->ring.set[i]->is_master &&
+            !auth_peer_equal(&bus->ring.set[i]->holder, &bus->me_peer)) {
+            fprintf(stderr,
+                    "%s: bus key %s is the key file of another role (%d %d-%d; this is %d %d-%d)\n",
+                    bus->prog, files[i], bus->ring.set[i]->holder.role,
+                    bus->ring.set[i]->holder.first, bus->ring.set[i]->holder.last,
+                    bus->me_peer.role, bus->me_peer.first, bus->me_peer.last);
             return AUTH_BUS_ERR_KEY;
         }
     }
-    B.ring.n = n;
+    bus->ring.n = n;
     return 0;
 }
 
 /* $TANDEM_INSECURE=1 without any key option or $TANDEM_KEY_FILE. */
-static int insecure_from_env(void)
+static int insecure_from_env(const auth_bus_state *bus)
 {
     const char *ins = getenv(AUTH_BUS_INSECURE_ENV), *key = getenv(AUTH_BUS_KEY_ENV);
-    return B.n_key_files == 0 && !(key && key[0]) && ins && strcmp(ins, "1") == 0;
+    return bus->n_key_files == 0 && !(key && key[0]) && ins && strcmp(ins, "1") == 0;
 }
 
 int auth_bus_start(const char *prog)
 {
+    auth_bus_state *const bus = &the_bus;
     int rc;
-    snprintf(B.prog, sizeof B.prog, "%s", prog);
+    snprintf(bus->prog, sizeof bus->prog, "%s", prog);
     /* a channel table that lets two rules claim one channel, or names none,
      * would grant or refuse by accident: no process starts on one */
     if ((rc = auth_acl_validate(auth_acl_table, auth_acl_table_n)) != AUTH_ACL_OK) {
-        fprintf(stderr, "%s: the channel table (auth_acl_table) is unsound: auth_acl_validate %d\n", prog, rc);
+        fprintf(stderr,
+                "%s: the channel table (auth_acl_table) is unsound: auth_acl_validate: %s\n", prog,
+                auth_acl_strerror(rc));
         return AUTH_BUS_ERR_START;
     }
-    if (insecure_from_env())
-        B.insecure = 1;
-    if (B.insecure && B.n_key_files > 0) {
+    if (insecure_from_env(bus))
+        bus->insecure = 1;
+    if (bus->insecure && bus->n_key_files > 0) {
         fprintf(stderr, "%s: --insecure and --key-file exclude each other\n", prog);
         return AUTH_BUS_ERR_START;
     }
-    B.started = 1;
-    if (B.insecure) {
-        B.secure = 0;
-        warn_insecure();
+    bus->started = 1;
+    if (bus->insecure) {
+        bus->secure = 0;
+        warn_insecure(bus);
         return 0;
     }
     if (auth_init() != 0) {
         fprintf(stderr, "%s: libsodium does not start\n", prog);
         return AUTH_BUS_ERR_START;
     }
-    if (!B.have_identity && !B.as_owner) {
+    if (!bus->have_identity && !bus->as_owner) {
         fprintf(stderr, "%s: no bus identity set (auth_bus_identity)\n", prog);
         return AUTH_BUS_ERR_START;
     }
-    if (!B.have_identity)
-        auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);   /* a stand-in receives as a tool */
-    B.n_routes = 0;
-    if (load_keys() != 0)
+    if (!bus->have_identity)
+        auth_bus_identity(AUTH_ROLE_TOOL, 0, 0); /* a stand-in receives as a tool */
+    bus->n_routes = 0;
+    if (load_keys(bus) != 0)
         return AUTH_BUS_ERR_KEY;
-    B.me.session = randombytes_random();
-    auth_replay_init(&B.replay, AUTH_WINDOW_US, wall_us());
-    B.secure = 1;
+    bus->me.session = randombytes_random();
+    auth_replay_init(&bus->replay, AUTH_WINDOW_US, wall_us());
+    bus->secure = 1;
     return 0;
 }
 
 /* ---- ephemeral key ------------------------------------------------------------- */
 
-static char eph_dir[512], eph_file[600];
-static pid_t eph_owner;
-
 static void remove_ephemeral(void)
 {
-    if (getpid() != eph_owner)
-        return;   /* a forked child that did not exec must not take the key away */
-    unlink(eph_file);
-    rmdir(eph_dir);
+    auth_bus_state *const bus = &the_bus;
+    if (getpid() != bus->eph_owner)
+        return; /* a forked child that did not exec must not take the key away */
+    unlink(bus->eph_file);
+    rmdir(bus->eph_dir);
 }
 
 int auth_bus_ephemeral_key(char *path, size_t cap)
 {
+    auth_bus_state *const bus = &the_bus;
     const char *tmp = getenv("TMPDIR");
     char why[700];
-    snprintf(eph_dir, sizeof eph_dir, "%s/tandem-key-XXXXXX", tmp && tmp[0] == '/' ? tmp : "/tmp");
-    if (!mkdtemp(eph_dir))
+    snprintf(bus->eph_dir, sizeof bus->eph_dir, "%s/tandem-key-XXXXXX",
+             tmp && tmp[0] == '/' ? tmp : "/tmp");
+    if (!mkdtemp(bus->eph_dir))
         return AUTH_BUS_ERR_KEY;
-    snprintf(eph_file, sizeof eph_file, "%s/bus.key", eph_dir);
-    if (auth_key_create(eph_file, why, sizeof why) != AUTH_OK) {
+    snprintf(bus->eph_file, sizeof bus->eph_file, "%s/bus.key", bus->eph_dir);
+    if (auth_key_create(bus->eph_file, why, sizeof why) != AUTH_OK) {
         fprintf(stderr, "tandem: %s\n", why);
-        rmdir(eph_dir);
+        rmdir(bus->eph_dir);
         return AUTH_BUS_ERR_KEY;
     }
-    eph_owner = getpid();
+    bus->eph_owner = getpid();
     atexit(remove_ephemeral);
-    setenv(AUTH_BUS_KEY_ENV, eph_file, 1);
-    snprintf(path, cap, "%s", eph_file);
+    setenv(AUTH_BUS_KEY_ENV, bus->eph_file, 1);
+    snprintf(path, cap, "%s", bus->eph_file);
     return 0;
 }
 
@@ -337,33 +368,36 @@ int auth_bus_ephemeral_key(char *path, size_t cap)
 
 int auth_bus_tx_reserve(int body_len)
 {
+    auth_bus_state *const bus = &the_bus;
     const int need = body_len + AUTH_TRAILER_MAX;
     if (body_len < 0)
         return AUTH_BUS_ERR_ARG;
-    if (need > B.tx_cap) {
-        uint8_t *p = realloc(B.tx, (size_t)need);
+    if (need > bus->tx_cap) {
+        uint8_t *p = realloc(bus->tx, (size_t)need);
         if (!p)
             return AUTH_BUS_ERR_MEMORY;
-        B.tx = p;
-        B.tx_cap = need;
+        bus->tx = p;
+        bus->tx_cap = need;
     }
     return 0;
 }
 
 uint8_t *auth_bus_tx(void)
 {
-    return B.tx;
+    const auth_bus_state *const bus = &the_bus;
+    return bus->tx;
 }
 
 int auth_bus_tx_cap(void)
 {
-    return B.tx_cap - AUTH_TRAILER_MAX;
+    auth_bus_state *const bus = &the_bus;
+    return bus->tx_cap - AUTH_TRAILER_MAX;
 }
 
-static int sender_for(const char *channel, auth_sender *s)
+static int sender_for(const auth_bus_state *bus, const char *channel, auth_sender *s)
 {
-    *s = B.me;
-    if (B.as_owner && auth_acl_owner(auth_acl_table, auth_acl_table_n, channel, s) != AUTH_OK) {
+    *s = bus->me;
+    if (bus->as_owner && auth_acl_owner(auth_acl_table, auth_acl_table_n, channel, s) != AUTH_OK) {
         s->role = AUTH_ROLE_TOOL;
         s->first = s->last = 0;
     }
@@ -371,11 +405,11 @@ static int sender_for(const char *channel, auth_sender *s)
      * and tools have no instances (ARM1_ACTION's owner is the supervisor,
      * not "supervisor 1"); a channel of no one arm or rover (ARM_EVENTS,
      * TEAM, ROVERS_COMMAND) is spoken as instance 1 */
-    if (B.as_owner && s->role != AUTH_ROLE_ARM && s->role != AUTH_ROLE_ROVER)
+    if (bus->as_owner && s->role != AUTH_ROLE_ARM && s->role != AUTH_ROLE_ROVER)
         s->first = s->last = 0;
-    else if (B.as_owner && s->first == 0)
+    else if (bus->as_owner && s->first == 0)
         s->first = s->last = 1;
-    s->session = B.me.session;
+    s->session = bus->me.session;
     return 0;
 }
 
@@ -389,75 +423,80 @@ static int wants(const auth_peer *r, const char *channel)
 
 /* The route of channel: from the cache, or worked out (and kept while
  * there is room). */
-static const tx_route *route_of(const char *channel, tx_route *scratch)
+static const tx_route *route_of(auth_bus_state *bus, const char *channel, tx_route *scratch)
 {
     const uint64_t h = auth_channel_hash(channel);
     tx_route *r;
     int i;
-    for (i = 0; i < B.n_routes; i++)
-        if (B.routes[i].channel_hash == h && strcmp(B.routes[i].channel, channel) == 0)
-            return &B.routes[i];
-    r = B.n_routes < AUTH_BUS_ROUTES ? &B.routes[B.n_routes++] : scratch;
+    for (i = 0; i < bus->n_routes; i++)
+        if (bus->routes[i].channel_hash == h && strcmp(bus->routes[i].channel, channel) == 0)
+            return &bus->routes[i];
+    r = bus->n_routes < AUTH_BUS_ROUTES ? &bus->routes[bus->n_routes++] : scratch;
     r->channel_hash = h;
     snprintf(r->channel, sizeof r->channel, "%s", channel);
-    sender_for(channel, &r->sender);
-    r->n = auth_receivers(B.ring.set[0], channel, AUTH_ROLES_ALL, wants, r->to);
+    sender_for(bus, channel, &r->sender);
+    r->n = auth_receivers(bus->ring.set[0], channel, AUTH_ROLES_ALL, wants, r->to);
     return r;
 }
 
 int auth_bus_publish_tx(lcm_t *lcm, const char *channel, int body_len)
 {
+    auth_bus_state *const bus = &the_bus;
     tx_route scratch;
     const tx_route *r;
     size_t len;
-    if (body_len < 0 || !B.tx)
+    if (body_len < 0 || !bus->tx)
         return AUTH_BUS_ERR_ARG;
-    if (!B.started) {
+    if (!bus->started) {
         fprintf(stderr, "tandem: publishing on %s before auth_bus_start: not sent\n", channel);
         return AUTH_BUS_ERR_NOT_STARTED;
     }
-    if (!B.secure)
-        return lcm_publish(lcm, channel, B.tx, (unsigned)body_len);
+    if (!bus->secure)
+        return lcm_publish(lcm, channel, bus->tx, (unsigned)body_len);
     if (strlen(channel) > AUTH_CHANNEL_MAX)
         return AUTH_BUS_ERR_SIGN;
-    r = route_of(channel, &scratch);
-    if (auth_sign_to(B.ring.set[0], &r->sender, auth_next_counter(&B.last_counter, wall_us()), channel, r->to,
-                     r->n, B.tx, (size_t)body_len, (size_t)B.tx_cap, &len) != AUTH_OK)
+    r = route_of(bus, channel, &scratch);
+    if (auth_sign_to(bus->ring.set[0], &r->sender, auth_next_counter(&bus->last_counter, wall_us()),
+                     channel, r->to, r->n, bus->tx, (size_t)body_len, (size_t)bus->tx_cap,
+                     &len) != AUTH_OK)
         return AUTH_BUS_ERR_SIGN;
-    return lcm_publish(lcm, channel, B.tx, (unsigned)len);
+    return lcm_publish(lcm, channel, bus->tx, (unsigned)len);
 }
 
 int auth_bus_publish_raw(lcm_t *lcm, const char *channel, const void *buf, int len)
 {
+    auth_bus_state *const bus = &the_bus;
     const int rc = auth_bus_tx_reserve(len);
     if (rc != AUTH_BUS_OK)
         return rc;
-    memcpy(B.tx, buf, (size_t)len);
+    memcpy(bus->tx, buf, (size_t)len);
     return auth_bus_publish_tx(lcm, channel, len);
 }
 
 /* ---- receiving ----------------------------------------------------------------- */
 
-static void count(int rc)
+static void count(auth_bus_state *bus, int rc)
 {
     switch (rc) {
-    case AUTH_OK: B.counts.accepted++; break;
-    case AUTH_ERR_MAC: B.counts.bad_mac++; break;
-    case AUTH_ERR_SENDER: B.counts.unknown_sender++; break;
-    case AUTH_ERR_REPLAY: B.counts.replayed++; break;
-    case AUTH_ERR_ACL: B.counts.unauthorised++; break;
-    case AUTH_ERR_CELL: B.counts.other_cell++; break;
-    case AUTH_ERR_TYPE: break;   /* malformed, not forged: rx counts it as rejected, as the wire check would */
-    case AUTH_ERR_CHANNEL: B.counts.precheck++; break;
-    default: B.counts.unsigned_msgs++; break;
+    case AUTH_OK: bus->counts.accepted++; break;
+    case AUTH_ERR_MAC: bus->counts.bad_mac++; break;
+    case AUTH_ERR_SENDER: bus->counts.unknown_sender++; break;
+    case AUTH_ERR_REPLAY: bus->counts.replayed++; break;
+    case AUTH_ERR_ACL: bus->counts.unauthorised++; break;
+    case AUTH_ERR_CELL: bus->counts.other_cell++; break;
+    case AUTH_ERR_TYPE:
+        break; /* malformed, not forged: rx counts it as rejected, as the wire check would */
+    case AUTH_ERR_CHANNEL: bus->counts.precheck++; break;
+    default: bus->counts.unsigned_msgs++; break;
     }
 }
 
-static int same_delivery(const lcm_recv_buf_t *rb, uint64_t ch_hash, const uint8_t *mac)
+static int same_delivery(const auth_bus_state *bus, const lcm_recv_buf_t *rb, uint64_t ch_hash,
+                         const uint8_t *mac)
 {
-    return B.last.valid && B.last.data == rb->data && B.last.recv_utime == rb->recv_utime &&
-           B.last.size == rb->data_size && B.last.channel_hash == ch_hash &&
-           memcmp(B.last.mac, mac, AUTH_MAC_BYTES) == 0;
+    return bus->last.valid && bus->last.data == rb->data &&
+           bus->last.recv_utime == rb->recv_utime && bus->last.size == rb->data_size &&
+           bus->last.channel_hash == ch_hash && memcmp(bus->last.mac, mac, AUTH_MAC_BYTES) == 0;
 }
 
 /* Before any MAC, so that junk costs a table look-up, not a hash of up to
@@ -482,26 +521,29 @@ static void delivery_mark(const uint8_t *data, uint32_t size, uint8_t mark[AUTH_
 {
     memset(mark, 0, AUTH_MAC_BYTES);
     if (size >= AUTH_FIXED_BYTES)
-        memcpy(mark, data + size - AUTH_FIXED_BYTES + 6, AUTH_MAC_BYTES);   /* instances, session, counter */
+        memcpy(mark, data + size - AUTH_FIXED_BYTES + 6,
+               AUTH_MAC_BYTES); /* instances, session, counter */
 }
 
-static int check(const uint8_t *data, uint32_t size, const char *channel, uint64_t ch_hash, auth_trailer *t)
+static int check(auth_bus_state *bus, const uint8_t *data, uint32_t size, const char *channel,
+                 uint64_t ch_hash, auth_trailer *t)
 {
     int rc = precheck(data, size, channel);
     if (rc != AUTH_OK)
         return rc;
-    rc = auth_verify(&B.ring, &B.me_peer, channel, data, size, t);
+    rc = auth_verify(&bus->ring, &bus->me_peer, channel, data, size, t);
     if (rc == AUTH_OK)
         rc = auth_sender_check(&t->sender);
     if (rc == AUTH_OK)
         rc = auth_acl_check(auth_acl_table, auth_acl_table_n, channel, &t->sender);
     if (rc == AUTH_OK)
-        rc = auth_replay_check(&B.replay, &t->sender, ch_hash, t->counter, wall_us());
+        rc = auth_replay_check(&bus->replay, &t->sender, ch_hash, t->counter, wall_us());
     return rc;
 }
 
 int auth_bus_accept(const lcm_recv_buf_t *rb, const char *channel, lcm_recv_buf_t *body)
 {
+    auth_bus_state *const bus = &the_bus;
     const uint8_t *data = rb->data;
     const uint64_t ch_hash = auth_channel_hash(channel);
     uint8_t mark[AUTH_MAC_BYTES];
@@ -509,30 +551,30 @@ int auth_bus_accept(const lcm_recv_buf_t *rb, const char *channel, lcm_recv_buf_
     int rc;
     memset(&t, 0, sizeof t);
     *body = *rb;
-    if (!B.started)
-        return AUTH_ERR_KEY;   /* fail closed */
-    if (!B.secure) {
+    if (!bus->started)
+        return AUTH_ERR_KEY; /* fail closed */
+    if (!bus->secure) {
         if (auth_parse(data, rb->data_size, &t) == AUTH_OK)
             body->data_size -= (uint32_t)t.len;
         return AUTH_OK;
     }
     delivery_mark(data, rb->data_size, mark);
-    if (same_delivery(rb, ch_hash, mark)) {
-        rc = B.last.rc;
+    if (same_delivery(bus, rb, ch_hash, mark)) {
+        rc = bus->last.rc;
     } else {
-        rc = check(data, rb->data_size, channel, ch_hash, &t);
-        count(rc);
-        B.last.valid = 1;
-        B.last.data = rb->data;
-        B.last.recv_utime = rb->recv_utime;
-        B.last.size = rb->data_size;
-        B.last.channel_hash = ch_hash;
-        memcpy(B.last.mac, mark, AUTH_MAC_BYTES);
-        B.last.rc = rc;
-        B.last.trailer = t.len;
+        rc = check(bus, data, rb->data_size, channel, ch_hash, &t);
+        count(bus, rc);
+        bus->last.valid = 1;
+        bus->last.data = rb->data;
+        bus->last.recv_utime = rb->recv_utime;
+        bus->last.size = rb->data_size;
+        bus->last.channel_hash = ch_hash;
+        memcpy(bus->last.mac, mark, AUTH_MAC_BYTES);
+        bus->last.rc = rc;
+        bus->last.trailer = t.len;
     }
     if (rc == AUTH_OK)
-        body->data_size -= (uint32_t)B.last.trailer;
+        body->data_size -= (uint32_t)bus->last.trailer;
     return rc;
 }
 
@@ -549,20 +591,22 @@ static void sub_trampoline(const lcm_recv_buf_t *rb, const char *channel, void *
     s->handler(&body, channel, s->user);
 }
 
-lcm_subscription_t *auth_bus_subscribe(lcm_t *lcm, const char *channel, lcm_msg_handler_t handler, void *user)
+lcm_subscription_t *auth_bus_subscribe(lcm_t *lcm, const char *channel, lcm_msg_handler_t handler,
+                                       void *user)
 {
+    auth_bus_state *const bus = &the_bus;
     lcm_subscription_t *sub;
     bus_sub *s = NULL;
     int i;
-    for (i = 0; i < B.n_subs && !s; i++)   /* a run repeated in one process subscribes again */
-        if (B.subs[i].handler == handler && B.subs[i].user == user)
-            s = &B.subs[i];
+    for (i = 0; i < bus->n_subs && !s; i++) /* a run repeated in one process subscribes again */
+        if (bus->subs[i].handler == handler && bus->subs[i].user == user)
+            s = &bus->subs[i];
     if (!s) {
-        if (B.n_subs >= AUTH_BUS_MAX_SUBS) {
+        if (bus->n_subs >= AUTH_BUS_MAX_SUBS) {
             fprintf(stderr, "tandem: more than %d checked subscriptions\n", AUTH_BUS_MAX_SUBS);
             return NULL;
         }
-        s = &B.subs[B.n_subs++];
+        s = &bus->subs[bus->n_subs++];
         s->handler = handler;
         s->user = user;
     }
@@ -574,13 +618,16 @@ lcm_subscription_t *auth_bus_subscribe(lcm_t *lcm, const char *channel, lcm_msg_
 
 const auth_bus_counts *auth_bus_counts_get(void)
 {
-    return &B.counts;
+    auth_bus_state *const bus = &the_bus;
+    return &bus->counts;
 }
 
 int64_t auth_bus_rejected_total(void)
 {
-    return B.counts.unsigned_msgs + B.counts.bad_mac + B.counts.unknown_sender + B.counts.replayed +
-           B.counts.unauthorised + B.counts.other_cell + B.counts.precheck;
+    const auth_bus_state *const bus = &the_bus;
+    return bus->counts.unsigned_msgs + bus->counts.bad_mac + bus->counts.unknown_sender +
+           bus->counts.replayed + bus->counts.unauthorised + bus->counts.other_cell +
+           bus->counts.precheck;
 }
 
 int64_t auth_bus_health_refusals(const tandem_health_t *h, int64_t kinds[AUTH_BUS_KINDS])
@@ -597,12 +644,13 @@ int64_t auth_bus_health_refusals(const tandem_health_t *h, int64_t kinds[AUTH_BU
 
 void auth_bus_fill_health(tandem_health_t *h)
 {
-    h->auth_on = (int8_t)B.secure;
-    h->auth_unsigned = B.counts.unsigned_msgs;
-    h->auth_bad_mac = B.counts.bad_mac;
-    h->auth_unknown_sender = B.counts.unknown_sender;
-    h->auth_replayed = B.counts.replayed;
-    h->auth_unauthorised = B.counts.unauthorised;
-    h->auth_other_cell = B.counts.other_cell;
-    h->auth_precheck = B.counts.precheck;
+    auth_bus_state *const bus = &the_bus;
+    h->auth_on = (int8_t)bus->secure;
+    h->auth_unsigned = bus->counts.unsigned_msgs;
+    h->auth_bad_mac = bus->counts.bad_mac;
+    h->auth_unknown_sender = bus->counts.unknown_sender;
+    h->auth_replayed = bus->counts.replayed;
+    h->auth_unauthorised = bus->counts.unauthorised;
+    h->auth_other_cell = bus->counts.other_cell;
+    h->auth_precheck = bus->counts.precheck;
 }

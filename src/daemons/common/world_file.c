@@ -462,7 +462,7 @@ int world_file_write_svg(const char *dir, const char *name, const rover_world_co
 static int parse_numbers(const char *s, double *v, int len)
 {
     int k;
-    char *end;
+    char *end = (char *)s;   /* len 0: nothing parsed, the string must be empty */
     for (k = 0; k < len; k++) {
         errno = 0;
         v[k] = strtod(s, &end);

@@ -544,6 +544,14 @@ static void test_bad_input(void **st)
     assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), CARTSEG_ERR_ARG);
     p1[0] = 0.0;
     assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_EXTERNAL), CARTSEG_ERR_ARG);
+    {   /* no segment: refused before anything of it is read */
+        cartctl_state cs;
+        cartseg_out o;
+        const double qd[ARM_NJ] = { 0 };
+        assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, qd, &cs), 0);
+        assert_int_equal(cartseg_step_at(NULL, &arm_model_puma560, &tool, NULL, &cs, q, qd, 0.5, 1e-3, &o),
+                         CARTSEG_ERR_ARG);
+    }
 }
 
 int main(void)

@@ -198,6 +198,7 @@ static void test_bad_input(void **state)
     (void)state;
     localize_params_default(&p);
     assert_int_equal(localize_params_validate(&p), 0);
+    assert_int_equal(localize_params_validate(NULL), LOCALIZE_ERR_ARG);   /* was read before the check */
     p.bearing_sd_rad = 0.0;
     assert_int_equal(localize_init(&l, &p, &c0, 0.1, 0.1, lm, 1), LOCALIZE_ERR_ARG);
     localize_params_default(&p);
