@@ -31,20 +31,32 @@ static void test_shipped_tables_pass(void **state)
     cartctl_gains_default(&cg);
     rover_ctl_params_default(&rp);
     assert_int_equal(daemon_check_table("t", "arm_model_puma560", "arm_model_validate",
-                                        arm_model_validate(&arm_model_puma560), arm_model_strerror), 0);
+                                        arm_model_validate(&arm_model_puma560), arm_model_strerror),
+                     0);
     assert_int_equal(daemon_check_table("t", "arm_model_seed002", "arm_model_validate",
-                                        arm_model_validate(&arm_model_seed002), arm_model_strerror), 0);
+                                        arm_model_validate(&arm_model_seed002), arm_model_strerror),
+                     0);
     assert_int_equal(daemon_check_table("t", "cell_default", "cell_layout_validate",
-                                        cell_layout_validate(&cell_default), cell_strerror), 0);
+                                        cell_layout_validate(&cell_default), cell_strerror),
+                     0);
     assert_int_equal(daemon_check_table("t", "cartctl_gains_default", "cartctl_gains_validate",
-                                        cartctl_gains_validate(&cg), cartctl_strerror), 0);
-    assert_int_equal(daemon_check_table("t", "carry_net", "petri_net_validate", petri_net_validate(&carry_net), petri_strerror), 0);
-    assert_int_equal(daemon_check_table("t", "carry_table", "carry_table_validate",
-                                        carry_table_validate(carry_table, CARRY_N_TRANSITIONS, &carry_net), carry_net_strerror), 0);
+                                        cartctl_gains_validate(&cg), cartctl_strerror),
+                     0);
+    assert_int_equal(daemon_check_table("t", "carry_net", "petri_net_validate",
+                                        petri_net_validate(&carry_net), petri_strerror),
+                     0);
+    assert_int_equal(
+        daemon_check_table("t", "carry_table", "carry_table_validate",
+                           carry_table_validate(carry_table, CARRY_N_TRANSITIONS, &carry_net),
+                           carry_net_strerror),
+        0);
     assert_int_equal(daemon_check_table("t", "rover_ctl_params", "rover_ctl_params_validate",
-                                        rover_ctl_params_validate(&rp), rover_ctl_strerror), 0);
-    assert_int_equal(daemon_check_table("t", "rover_snapshot field table", "rover_snapshot_validate",
-                                        rover_snapshot_validate(), rover_ctl_strerror), 0);
+                                        rover_ctl_params_validate(&rp), rover_ctl_strerror),
+                     0);
+    assert_int_equal(daemon_check_table("t", "rover_snapshot field table",
+                                        "rover_snapshot_validate", rover_snapshot_validate(),
+                                        rover_ctl_strerror),
+                     0);
 }
 
 static void test_broken_table_refused(void **state)
@@ -53,15 +65,19 @@ static void test_broken_table_refused(void **state)
     cartctl_gains cg;
     (void)state;
     m = arm_model_puma560;
-    m.q_min_rad[2] = m.q_max_rad[2];   /* an empty joint range */
-    assert_int_equal(daemon_check_table("t", "arm_model_puma560", "arm_model_validate", arm_model_validate(&m), arm_model_strerror),
+    m.q_min_rad[2] = m.q_max_rad[2]; /* an empty joint range */
+    assert_int_equal(daemon_check_table("t", "arm_model_puma560", "arm_model_validate",
+                                        arm_model_validate(&m), arm_model_strerror),
                      DAEMON_ERR_TABLE);
     cartctl_gains_default(&cg);
     cg.k_null = -1.0;
     assert_int_equal(daemon_check_table("t", "cartctl_gains_default", "cartctl_gains_validate",
-                                        cartctl_gains_validate(&cg), cartctl_strerror), DAEMON_ERR_TABLE);
+                                        cartctl_gains_validate(&cg), cartctl_strerror),
+                     DAEMON_ERR_TABLE);
     /* a table is named by the caller; any non-zero code is a refusal */
-    assert_int_equal(daemon_check_table("t", "x", "x_validate", PETRI_ERR_INVARIANT, petri_strerror), DAEMON_ERR_TABLE);
+    assert_int_equal(
+        daemon_check_table("t", "x", "x_validate", PETRI_ERR_INVARIANT, petri_strerror),
+        DAEMON_ERR_TABLE);
 }
 
 static void test_defaults(void **state)
@@ -106,7 +122,7 @@ static void test_stdout_line_buffered(void **state)
     ssize_t n;
     (void)state;
     fflush(stdout);
-    setvbuf(stdout, NULL, _IOFBF, BUFSIZ);   /* what a pipe gets by default */
+    setvbuf(stdout, NULL, _IOFBF, BUFSIZ); /* what a pipe gets by default */
     assert_int_equal(pipe(fds), 0);
     assert_int_equal(fcntl(fds[0], F_SETFL, O_NONBLOCK), 0);
     saved = dup(1);

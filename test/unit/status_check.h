@@ -14,7 +14,8 @@
 #include <string.h>
 #include "status.h"
 
-static void status_check(const char *(*strerror_fn)(int), const int *codes, size_t n, const char *fallback)
+static void status_check(const char *(*strerror_fn)(int), const int *codes, size_t n,
+                         const char *fallback)
 {
     size_t i, k;
     int lo = 0, hi = 0;
@@ -33,9 +34,9 @@ static void status_check(const char *(*strerror_fn)(int), const int *codes, size
     assert_string_equal(strerror_fn(hi + 1), fallback);
 }
 
-#define STATUS_CHECK(fn, LIST)                                                          \
-    do {                                                                                \
-        static const int codes_[] = { LIST(STATUS_CODE) };                              \
+#define STATUS_CHECK(fn, LIST)                                                           \
+    do {                                                                                 \
+        static const int codes_[] = { LIST(STATUS_CODE) };                               \
         status_check(fn, codes_, sizeof codes_ / sizeof codes_[0], STATUS_UNKNOWN_TEXT); \
     } while (0)
 

@@ -10,12 +10,12 @@
 #include "rtloop.h"
 #include "sprofile.h"
 
-#define LINALG_CODES(X)                                                    \
-    X(LINALG_OK, "ok")                                                     \
-    X(LINALG_ERR_SIZE, "a dimension outside 1..LINALG_MAX")                \
-    X(LINALG_ERR_NONFINITE, "NaN or Inf in an input")                      \
-    X(LINALG_ERR_ARG, "bad scalar argument (a negative tolerance, ...)")   \
-    X(LINALG_ERR_NOT_PD, "Cholesky: the matrix is not positive definite")  \
+#define LINALG_CODES(X)                                                   \
+    X(LINALG_OK, "ok")                                                    \
+    X(LINALG_ERR_SIZE, "a dimension outside 1..LINALG_MAX")               \
+    X(LINALG_ERR_NONFINITE, "NaN or Inf in an input")                     \
+    X(LINALG_ERR_ARG, "bad scalar argument (a negative tolerance, ...)")  \
+    X(LINALG_ERR_NOT_PD, "Cholesky: the matrix is not positive definite") \
     X(LINALG_ERR_NOCONV, "SVD: sweep cap reached (the result is still usable)")
 #define LOOPSTATS_CODES(X) \
     X(0, "ok")             \

@@ -18,13 +18,13 @@
         return text;
 #define STATUS_CODE(code, text) code,
 /* defines const char *fn(int rc) over the code list LIST */
-#define STATUS_STRERROR(fn, LIST)              \
-    const char *fn(int rc)                     \
-    {                                          \
-        switch (rc) {                          \
-            LIST(STATUS_CASE)                  \
-        default: return STATUS_UNKNOWN_TEXT;   \
-        }                                      \
+#define STATUS_STRERROR(fn, LIST)            \
+    const char *fn(int rc)                   \
+    {                                        \
+        switch (rc) {                        \
+            LIST(STATUS_CASE)                \
+        default: return STATUS_UNKNOWN_TEXT; \
+        }                                    \
     }
 
 #endif

@@ -22,31 +22,35 @@
 #define ODOMETRY_CODES(X) \
     X(0, "ok")            \
     X(ODOMETRY_ERR_ARG, "non-positive geometry or non-finite input")
-#define LOCALIZE_CODES(X) \
-    X(0, "ok")            \
-    X(LOCALIZE_ERR_ARG, "NULL, non-finite input, a parameter out of range, an unknown landmark or a degenerate measurement")
+#define LOCALIZE_CODES(X)                                                                        \
+    X(0, "ok")                                                                                   \
+    X(LOCALIZE_ERR_ARG, "NULL, non-finite input, a parameter out of range, an unknown landmark " \
+                        "or a degenerate measurement")
 #define SONAR_CODES(X) \
     X(0, "ok")         \
-    X(SONAR_ERR_ARG, "NULL, non-finite or out-of-range input, an invalid model, or the primitive table full")
+    X(SONAR_ERR_ARG,   \
+      "NULL, non-finite or out-of-range input, an invalid model, or the primitive table full")
 #define BEHAVIOUR_CODES(X) \
     X(0, "ok")             \
-    X(BEHAVIOUR_ERR_ARG, "NULL, non-finite input, bad mode, a parameter out of range, or a pose at the singularity")
-#define FORMATION_CODES(X)                                                          \
-    X(0, "ok")                                                                      \
-    X(FORMATION_ERR_ARG, "bad formation type, team size, slot, spacing or scale")   \
+    X(BEHAVIOUR_ERR_ARG,   \
+      "NULL, non-finite input, bad mode, a parameter out of range, or a pose at the singularity")
+#define FORMATION_CODES(X)                                                        \
+    X(0, "ok")                                                                    \
+    X(FORMATION_ERR_ARG, "bad formation type, team size, slot, spacing or scale") \
     X(FORMATION_ERR_ABSENT, "the robot is not in the team")
-#define TEAM_CODES(X)                                                    \
-    X(0, "ok")                                                           \
-    X(TEAM_ERR_ARG, "NULL, non-finite input or an invalid message")      \
-    X(TEAM_ERR_FULL, "a new mate but TEAM_MAX are held")                 \
+#define TEAM_CODES(X)                                               \
+    X(0, "ok")                                                      \
+    X(TEAM_ERR_ARG, "NULL, non-finite input or an invalid message") \
+    X(TEAM_ERR_FULL, "a new mate but TEAM_MAX are held")            \
     X(TEAM_ERR_UNKNOWN, "no such mate, or none to average")
-#define ROVER_WORLD_CODES(X)                                                              \
-    X(0, "ok")                                                                            \
-    X(ROVER_WORLD_ERR_ARG, "NULL, team size, spacing or formation out of range, or a non-finite pose") \
+#define ROVER_WORLD_CODES(X)                                                      \
+    X(0, "ok")                                                                    \
+    X(ROVER_WORLD_ERR_ARG,                                                        \
+      "NULL, team size, spacing or formation out of range, or a non-finite pose") \
     X(ROVER_WORLD_ERR_UNKNOWN, "no world of that name")
-#define ROVER_CTL_CODES(X)                                                  \
-    X(ROVER_CTL_OK, "ok")                                                   \
-    X(ROVER_CTL_ERR_ARG, "bad argument, parameter set or reading")          \
+#define ROVER_CTL_CODES(X)                                         \
+    X(ROVER_CTL_OK, "ok")                                          \
+    X(ROVER_CTL_ERR_ARG, "bad argument, parameter set or reading") \
     X(ROVER_CTL_ERR_SNAPSHOT, "a snapshot of another robot or out of range")
 
 const char *unicycle_strerror(int rc);

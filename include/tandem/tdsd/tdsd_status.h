@@ -8,13 +8,14 @@
 #include "tdsd.h"
 #include "tdsd_seg.h"
 
-#define TDSD_CODES(X)                                                   \
-    X(TDSD_OK, "ok")                                                    \
-    X(TDSD_ERR_ARG, "non-finite or out-of-range input (dq zeroed)")     \
+#define TDSD_CODES(X)                                               \
+    X(TDSD_OK, "ok")                                                \
+    X(TDSD_ERR_ARG, "non-finite or out-of-range input (dq zeroed)") \
     X(TDSD_ERR_NUMERIC, "linear algebra failure (dq zeroed)")
 #define TDSD_SEG_CODES(X) \
     X(0, "ok")            \
-    X(TDSD_SEG_ERR_ARG, "NULL, non-finite input, invalid parameters or gains, or FK / the profile refused")
+    X(TDSD_SEG_ERR_ARG,   \
+      "NULL, non-finite input, invalid parameters or gains, or FK / the profile refused")
 
 const char *tdsd_strerror(int rc);
 const char *tdsd_seg_strerror(int rc);

@@ -30,8 +30,14 @@ static void on_signal(int sig)
     stop_flag = 1;
 }
 
-int daemon_stop_requested(void) { return stop_flag != 0; }
-void daemon_request_stop(void) { stop_flag = 1; }
+int daemon_stop_requested(void)
+{
+    return stop_flag != 0;
+}
+void daemon_request_stop(void)
+{
+    stop_flag = 1;
+}
 
 int64_t daemon_utime_now(void)
 {
@@ -40,8 +46,8 @@ int64_t daemon_utime_now(void)
     return (int64_t)tv.tv_sec * 1000000 + tv.tv_usec;
 }
 
-int parse_double_opt(const char *prog, const char *opt, const char *s,
-                     double lo, double hi, double *out)
+int parse_double_opt(const char *prog, const char *opt, const char *s, double lo, double hi,
+                     double *out)
 {
     char *end;
     double v;
@@ -59,8 +65,7 @@ int parse_double_opt(const char *prog, const char *opt, const char *s,
     return 0;
 }
 
-int parse_int_opt(const char *prog, const char *opt, const char *s,
-                  long lo, long hi, long *out)
+int parse_int_opt(const char *prog, const char *opt, const char *s, long lo, long hi, long *out)
 {
     char *end;
     long v;
@@ -108,7 +113,8 @@ int daemon_check_table(const char *prog, const char *table, const char *validato
 {
     if (rc == 0)
         return 0;
-    fprintf(stderr, "%s: %s is invalid (%s: %s, %d)\n", prog, table, validator, strerror_fn(rc), rc);
+    fprintf(stderr, "%s: %s is invalid (%s: %s, %d)\n", prog, table, validator, strerror_fn(rc),
+            rc);
     return DAEMON_ERR_TABLE;
 }
 
@@ -125,17 +131,20 @@ void daemon_rt_setup(const char *name, int prio, int *dma_latency_fd)
     memset(&sp, 0, sizeof sp);
     sp.sched_priority = prio;
     if (sched_setscheduler(0, SCHED_FIFO, &sp) != 0)
-        fprintf(stderr, "%s: warning: SCHED_FIFO priority %d not permitted (%s); "
-                "running with normal scheduling\n", name, prio, strerror(errno));
+        fprintf(stderr,
+                "%s: warning: SCHED_FIFO priority %d not permitted (%s); "
+                "running with normal scheduling\n",
+                name, prio, strerror(errno));
     if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
-        fprintf(stderr, "%s: warning: mlockall not permitted (%s); pages may fault\n",
-                name, strerror(errno));
+        fprintf(stderr, "%s: warning: mlockall not permitted (%s); pages may fault\n", name,
+                strerror(errno));
     /* Like cyclictest: hold the CPU out of deep idle states while we run
      * (the kernel honours this only while the file stays open). */
     if (*dma_latency_fd < 0) {
         const int32_t zero = 0;
         *dma_latency_fd = open("/dev/cpu_dma_latency", O_WRONLY);
-        if (*dma_latency_fd >= 0 && write(*dma_latency_fd, &zero, sizeof zero) != (ssize_t)sizeof zero) {
+        if (*dma_latency_fd >= 0 &&
+            write(*dma_latency_fd, &zero, sizeof zero) != (ssize_t)sizeof zero) {
             close(*dma_latency_fd);
             *dma_latency_fd = -1;
         }
@@ -149,7 +158,8 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *user)
     (void)ch;
     if (!DAEMON_DECODE(&d->msgs, tandem_sim_clock_t, rb, &m))
         return;
-    if (!isfinite(m.sim_time_s) || step_gate_pass(&d->clock_gate, m.step, rtloop_now_ns()) != GUARD_OK) {
+    if (!isfinite(m.sim_time_s) ||
+        step_gate_pass(&d->clock_gate, m.step, rtloop_now_ns()) != GUARD_OK) {
         d->msgs.rejected++;
         tandem_sim_clock_t_decode_cleanup(&m);
         return;
@@ -178,7 +188,9 @@ int daemon_start(daemon *d)
     d->period_steps = (int32_t)(steps < 1 ? 1 : steps);
     snprintf(d->health_channel, sizeof d->health_channel, "HEALTH_%s", d->name);
     for (i = 0; d->health_channel[i]; i++)
-        d->health_channel[i] = (char)(d->health_channel[i] == '-' ? '_' : toupper((unsigned char)d->health_channel[i]));
+        d->health_channel[i] = (char)(d->health_channel[i] == '-'
+                                          ? '_'
+                                          : toupper((unsigned char)d->health_channel[i]));
 
     if (auth_bus_start(d->name) != 0)
         return DAEMON_ERR_AUTH;
@@ -199,7 +211,8 @@ int daemon_start(daemon *d)
     return 0;
 }
 
-lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler, void *user)
+lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler,
+                                     void *user)
 {
     lcm_subscription_t *s = rx_subscribe(d, channel, handler, user);
     /* LCM keeps 30 messages per subscription by default and drops the rest
@@ -211,8 +224,9 @@ lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_han
     return s;
 }
 
-int daemon_subscribe_numbered(daemon *d, const char *prefix, int first, int last, const char *suffix,
-                              lcm_msg_handler_t handler, void *user, lcm_subscription_t **subs, int cap)
+int daemon_subscribe_numbered(daemon *d, const char *prefix, int first, int last,
+                              const char *suffix, lcm_msg_handler_t handler, void *user,
+                              lcm_subscription_t **subs, int cap)
 {
     char ch[RX_CHANNEL_NAME];
     int k, n = 0;
@@ -232,7 +246,7 @@ int daemon_subscribe_numbered(daemon *d, const char *prefix, int first, int last
 int64_t daemon_drain_budget_ns(const daemon *d)
 {
     const int64_t b = (int64_t)(d->period_s * 0.25e9);
-    return b > 50000 ? b : 50000;   /* at least 50 us: a few messages always get through */
+    return b > 50000 ? b : 50000; /* at least 50 us: a few messages always get through */
 }
 
 /* 1 when LCM has a message waiting on fd. */
@@ -291,7 +305,8 @@ void daemon_publish_health(daemon *d)
     AUTH_PUBLISH(tandem_health_t, d->lcm, d->health_channel, &h);
 }
 
-void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32_t period_steps, int leaving)
+void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32_t period_steps,
+                  int leaving)
 {
     tandem_clock_ack_t a;
     a.seq = seq;
@@ -367,7 +382,7 @@ static int run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
         status = fn(d, user);
         rtloop_record(&d->loop, t0);
         if (status != DAEMON_CONTINUE)
-            break;   /* leaving: daemon_finish says so to the simulator */
+            break; /* leaving: daemon_finish says so to the simulator */
         if (!d->skip_ack) {
             ack(d, d->pending_step, 0);
             d->answered_step = d->pending_step;
