@@ -141,6 +141,32 @@ static void test_stdout_line_buffered(void **state)
     assert_string_equal(buf, "row 1 -> arm 2\n");
 }
 
+/* A refused table is said in words: the module's text of the code, then
+ * the code (stderr is unbuffered, so the line is in the pipe at once). */
+static void test_refusal_names_the_code(void **state)
+{
+    int fds[2], saved;
+    char buf[256], want[256];
+    ssize_t n;
+    (void)state;
+    assert_int_equal(pipe(fds), 0);
+    assert_int_equal(fcntl(fds[0], F_SETFL, O_NONBLOCK), 0);
+    saved = dup(2);
+    assert_true(saved >= 0);
+    assert_true(dup2(fds[1], 2) == 2);
+    daemon_check_table("t", "carry_net", "petri_net_validate", PETRI_ERR_INVARIANT, petri_strerror);
+    n = read(fds[0], buf, sizeof buf - 1);
+    assert_true(dup2(saved, 2) == 2);
+    close(saved);
+    close(fds[0]);
+    close(fds[1]);
+    assert_true(n > 0);
+    buf[n] = 0;
+    snprintf(want, sizeof want, "t: carry_net is invalid (petri_net_validate: %s, %d)\n",
+             petri_strerror(PETRI_ERR_INVARIANT), PETRI_ERR_INVARIANT);
+    assert_string_equal(buf, want);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -148,6 +174,7 @@ int main(void)
         cmocka_unit_test(test_broken_table_refused),
         cmocka_unit_test(test_defaults),
         cmocka_unit_test(test_stdout_line_buffered),
+        cmocka_unit_test(test_refusal_names_the_code),
         cmocka_unit_test(test_drain_budget_and_own_rx),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
