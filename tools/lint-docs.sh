@@ -14,8 +14,8 @@
 #              pattern, ROVER3_SENSORS of ROVERk_SENSORS: skipped)
 #   --option   an option some program or script defines
 #   test_x     a test or tool program: a source file of that name
-# and every figure of README.md shares its section with the command that
-# produced it (tools/lint-figures.awk).
+# and every figure of README.md and docs/*.md shares its section with the
+# command that produced it (tools/lint-figures.awk).
 # Names of other projects the docs discuss are listed in EXTERNAL.
 # Usage: tools/lint-docs.sh  (exit 1 on the first file naming a missing thing)
 set -u
@@ -70,9 +70,12 @@ for d in "${docs[@]}"; do
         [ -e "$(dirname "$d")/$l" ] || say "$d" "a link to $l" "does not resolve"
     done
 done
-# every figure of the README names the command that produced it
-# (tools/lint-figures.awk: per section, a command line beside the figures)
-figs=$(awk -f tools/lint-figures.awk README.md)
+# every figure of the README and of the result pages (docs/*.md; the
+# method pages give parameters, not results) names the command that
+# produced it (tools/lint-figures.awk: per section, a command line beside
+# the figures; in the README every number is a figure)
+figs=$(awk -v strict=1 -f tools/lint-figures.awk README.md
+       awk -f tools/lint-figures.awk $(git ls-files 'docs/*.md' ':!docs/method' 2>/dev/null || ls docs/*.md))
 [ -z "$figs" ] || { echo "$figs"; bad=1; }
-[ $bad -eq 0 ] && echo "lint: every path, target, name, option and link the docs cite exists; every README figure names its command"
+[ $bad -eq 0 ] && echo "lint: every path, target, name, option and link the docs cite exists; every figure of README and docs/ names its command"
 exit $bad
