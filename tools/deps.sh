@@ -6,7 +6,7 @@
 #   tools/deps.sh cross   the 68040 and Cortex-M4 toolchains and qemu (make cross,
 #                         test-cross, budget; make test installs them too)
 #   tools/deps.sh fuzz    clang and its runtimes (libFuzzer, sanitizers) for make fuzz
-#   tools/deps.sh view    the viewer's Python venv; view-test: also Chromium
+#   tools/deps.sh view    the viewer's Python venv; view-test: also Chromium and tesseract (OCR)
 #   tools/deps.sh install man pages (help2man)
 set -euo pipefail
 pkgs=(build-essential pkg-config libode-dev liblcm-dev liblcm-bin liblcm-java
@@ -22,7 +22,7 @@ case ${1:-run} in
     fuzz) pkgs=(clang libclang-rt-14-dev) ;;
     coverage) pkgs=(gcovr) ;;   # libFuzzer and the sanitizers' runtimes
     view) pkgs=(python3-venv) ;;
-    view-test) pkgs=(python3-venv chromium fonts-dejavu-core iproute2) ;;
+    view-test) pkgs=(python3-venv chromium fonts-dejavu-core iproute2 tesseract-ocr tesseract-ocr-eng) ;;
     install) pkgs=(help2man man-db) ;;
 esac
 missing=()
