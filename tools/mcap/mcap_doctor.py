@@ -87,36 +87,43 @@ class Doctor:
         self.warnings.append(text)
 
     # ---- the records ------------------------------------------------------------
+    def define(self, what, table, in_summary_ids, rec, in_summary, fields):
+        """A schema or channel record: one id, one definition; the summary
+        section repeats only what the data section defines."""
+        prev = table.get(rec.id)
+        if prev is not None and any(getattr(prev, f) != getattr(rec, f) for f in fields):
+            self.error(f"two {what} records with id {rec.id} differ")
+        if in_summary:
+            if prev is None:
+                self.error(f"{what} {rec.id} of the summary section is not in the data section")
+            in_summary_ids.add(rec.id)
+        else:
+            if prev is not None:
+                self.warn(f"duplicate {what} records in the data section with id {rec.id}")
+            table[rec.id] = rec
+
     def schema(self, s, in_summary):
         if s.id == 0:
             self.error("Schema.id 0 is reserved")
-        prev = self.schemas.get(s.id)
-        if prev is not None and (prev.name, prev.encoding, prev.data) != (s.name, s.encoding, s.data):
-            self.error(f"two schema records with id {s.id} differ")
-        if in_summary:
-            if prev is None:
-                self.error(f"schema {s.id} of the summary section is not in the data section")
-            self.summary_schemas.add(s.id)
-        else:
-            if prev is not None:
-                self.warn(f"duplicate schema records in the data section with id {s.id}")
-            self.schemas[s.id] = s
+        self.define("schema", self.schemas, self.summary_schemas, s, in_summary, ("name", "encoding", "data"))
 
     def channel(self, c, in_summary):
-        prev = self.channels.get(c.id)
-        if prev is not None and (prev.schema_id, prev.topic, prev.message_encoding, prev.metadata) != \
-                (c.schema_id, c.topic, c.message_encoding, c.metadata):
-            self.error(f"two channel records with id {c.id} differ")
-        if in_summary:
-            if prev is None:
-                self.error(f"channel {c.id} of the summary section is not in the data section")
-            self.summary_channels.add(c.id)
-        else:
-            if prev is not None:
-                self.warn(f"duplicate channel records in the data section with id {c.id}")
-            self.channels[c.id] = c
+        self.define("channel", self.channels, self.summary_channels, c, in_summary,
+                    ("schema_id", "topic", "message_encoding", "metadata"))
         if c.schema_id != 0 and c.schema_id not in self.schemas:
             self.error(f"channel {c.id} ({c.topic}) of unknown schema {c.schema_id}")
+
+    def content(self, opcode, rec, in_summary):
+        """A schema, channel or message record, in a chunk or not; False for any other."""
+        if opcode == Opcode.SCHEMA:
+            self.schema(rec, in_summary)
+        elif opcode == Opcode.CHANNEL:
+            self.channel(rec, in_summary)
+        elif opcode == Opcode.MESSAGE:
+            self.message(rec)
+        else:
+            return False
+        return True
 
     def message(self, m):
         ch = self.channels.get(m.channel_id)
@@ -158,17 +165,12 @@ class Doctor:
             if err:
                 self.error(f"chunk at byte {off}: {err}")
                 return
-            if opcode == Opcode.SCHEMA:
-                self.schema(rec, False)
-            elif opcode == Opcode.CHANNEL:
-                self.channel(rec, False)
+            if not self.content(opcode, rec, False):
+                self.error(f"chunk at byte {off}: a record of opcode {opcode:#x} inside it")
             elif opcode == Opcode.MESSAGE:
-                self.message(rec)
                 ids.add(rec.channel_id)
                 t0 = rec.log_time if t0 is None else min(t0, rec.log_time)
                 t1 = rec.log_time if t1 is None else max(t1, rec.log_time)
-            else:
-                self.error(f"chunk at byte {off}: a record of opcode {opcode:#x} inside it")
         if t0 is not None and (t0, t1) != (c.message_start_time, c.message_end_time):
             self.error(f"chunk at byte {off}: message times {c.message_start_time}..{c.message_end_time}, "
                        f"its messages' {t0}..{t1}")
@@ -194,12 +196,8 @@ class Doctor:
                     self.warn("Header.library is empty")
                 if rec.profile not in ("", "ros1", "ros2"):
                     self.warn(f"Header.profile {rec.profile!r} is not a well-known profile")
-            elif opcode == Opcode.SCHEMA:
-                self.schema(rec, in_summary)
-            elif opcode == Opcode.CHANNEL:
-                self.channel(rec, in_summary)
-            elif opcode == Opcode.MESSAGE:
-                self.message(rec)
+            elif self.content(opcode, rec, in_summary):
+                pass
             elif opcode == Opcode.CHUNK:
                 length = struct.unpack_from("<Q", buf, off + 1)[0] + RECORD_HEADER
                 self.chunk(off, length, rec)

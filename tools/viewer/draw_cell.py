@@ -3,7 +3,9 @@
 The arms, the table and whatever else the cell's URDF describes are drawn
 from the URDF (`tandem-scene --urdf`, or the user's own with tandem-view
 --urdf): every link's visual bodies (boxes, cylinders, spheres, meshes) in
-its colour, under /cell/robot/<link>, posed by the URDF's joints (urdf.py).
+its colour, posed by the URDF's joints (urdf.py), in world coordinates:
+/cell/robot/armK the bodies arm K's joints move, one entity per kind of
+shape (a few log calls a frame), /cell/robot/fixed the others, once.
 The revolute joints armK_joint1 .. armK_joint6 take ARMk_STATE's q_rad;
 every other joint stays at zero. Besides: the gripper fingers (red closed,
 grey open) at the tool frame armK_tool, the workpieces the camera sees plus
@@ -64,6 +66,12 @@ class CellDrawer:
         self.robot = robot
         self.arms = {k: UrdfArm(robot, k) for k in (1, 2)}
         self.colors = {k: arm_color(robot, k) for k in (1, 2)}
+        # the visual bodies by who moves them: arm k's joints, or nothing
+        moving = {link: k for k, a in self.arms.items() for link in a.moving}
+        self.bodies = {}
+        for link, visuals in robot.links.items():
+            group = f"arm{moving[link]}" if link in moving else "fixed"
+            self.bodies.setdefault(group, []).extend((link, v) for v in visuals)
         self.q = {}                # joint name -> rad, the newest of each arm
         self.tool = {}
         self.stick = None          # (centre, inserted)
@@ -72,53 +80,46 @@ class CellDrawer:
         self.holding = {}          # arm -> workpiece id held (-1 none)
 
     def log_static(self):
-        """Every link's bodies in its own frame (once), and the pose of the
-        links no arm joint moves."""
-        moving = {link for a in self.arms.values() for link in a.moving}
+        """The bodies no arm joint moves, once; the meshes' files."""
         poses = self.robot.poses()
-        for link, visuals in self.robot.links.items():
-            self._log_visuals(link, visuals)
-            if link not in moving:
-                self._log_pose(link, poses[link], static=True)
+        for group, items in self.bodies.items():
+            for i, (_, v) in enumerate(x for x in items if x[1].kind == "mesh"):
+                rr.log(f"cell/robot/{group}/mesh{i}", rr.Asset3D(path=v.mesh, albedo_factor=v.rgb), static=True)
+        self._log_bodies("fixed", poses, static=True)
 
-    def _log_visuals(self, link, visuals):
-        ent = f"cell/robot/{link}"
+    def _log_bodies(self, group, poses, static=False):
+        """A group's bodies in world coordinates, one entity per kind of shape
+        (few log calls a frame, whatever the number of links)."""
+        ent = f"cell/robot/{group}"
         by_kind = {}
-        for v in visuals:
-            by_kind.setdefault(v.kind, []).append(v)
+        for link, v in self.bodies.get(group, []):
+            by_kind.setdefault(v.kind, []).append((v, poses[link] @ v.origin))
         for kind, vs in by_kind.items():
-            centres = [v.origin[:3, 3] for v in vs]
-            quats = [quat_of(v.origin[:3, :3]) for v in vs]
-            colors = [v.rgb for v in vs]
+            centres = [W[:3, 3] for _, W in vs]
+            quats = [quat_of(W[:3, :3]) for _, W in vs]
+            colors = [v.rgb for v, _ in vs]
             if kind == "box":
-                rr.log(f"{ent}/boxes", rr.Boxes3D(centers=centres, half_sizes=[np.array(v.size) / 2 for v in vs],
-                                                  quaternions=quats, colors=colors, fill_mode="solid"), static=True)
+                rr.log(f"{ent}/boxes", rr.Boxes3D(centers=centres, half_sizes=[np.array(v.size) / 2 for v, _ in vs],
+                                                  quaternions=quats, colors=colors, fill_mode="solid"), static=static)
             elif kind == "cylinder":
-                rr.log(f"{ent}/cylinders", rr.Cylinders3D(centers=centres, radii=[v.size[0] for v in vs],
-                                                          lengths=[v.size[1] for v in vs], quaternions=quats,
-                                                          colors=colors, fill_mode="solid"), static=True)
+                rr.log(f"{ent}/cylinders", rr.Cylinders3D(centers=centres, radii=[v.size[0] for v, _ in vs],
+                                                          lengths=[v.size[1] for v, _ in vs], quaternions=quats,
+                                                          colors=colors, fill_mode="solid"), static=static)
             elif kind == "sphere":
-                rr.log(f"{ent}/spheres", rr.Ellipsoids3D(centers=centres, half_sizes=[[v.size[0]] * 3 for v in vs],
+                rr.log(f"{ent}/spheres", rr.Ellipsoids3D(centers=centres, half_sizes=[[v.size[0]] * 3 for v, _ in vs],
                                                          quaternions=quats, colors=colors, fill_mode="solid"),
-                       static=True)
+                       static=static)
             else:
-                for i, v in enumerate(vs):
-                    rr.log(f"{ent}/mesh{i}", rr.Transform3D(translation=v.origin[:3, 3], scale=v.size,
-                                                            quaternion=quat_of(v.origin[:3, :3])), static=True)
-                    rr.log(f"{ent}/mesh{i}", rr.Asset3D(path=v.mesh, albedo_factor=v.rgb), static=True)
-
-    @staticmethod
-    def _log_pose(link, T, static=False):
-        rr.log(f"cell/robot/{link}", rr.Transform3D(translation=T[:3, 3], quaternion=quat_of(T[:3, :3])),
-               static=static)
+                for i, (v, W) in enumerate(vs):
+                    rr.log(f"{ent}/mesh{i}", rr.Transform3D(translation=W[:3, 3], quaternion=quat_of(W[:3, :3]),
+                                                            scale=v.size), static=static)
 
     def arm(self, s):
         a = self.arms[s.arm]
         for j, q in zip(a.joints, s.q_rad):
             self.q[j.name] = q
         poses = self.robot.poses(self.q)
-        for link in a.moving:
-            self._log_pose(link, poses[link])
+        self._log_bodies(f"arm{s.arm}", poses)
         base = f"cell/arm{s.arm}"
         flange, tool = poses[a.flange], poses[a.tool]
         self.tool[s.arm] = tool[:3, 3]

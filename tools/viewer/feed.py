@@ -7,7 +7,7 @@ publishes; no daemon sends anything for the viewer:
 
   ARM_EVENTS      rows started, done, rejected; blocks (stick in an arm);
                   joint faults and their clearing
-  PETRI_MARKING   transitions fired; stalls; the net dead or an invariant
+  PETRI_MARKING   transitions started (their rows sent) and fired; stalls; the net dead or an invariant
                   broken; the supervisor resumed from its journal, re-sending
                   rows, no longer hearing an arm or the simulator
   SIM_STATUS      the stick in and out; workpieces placed, delivered,
@@ -83,6 +83,11 @@ class EventFeed:
         def ev(level, text):
             out.append(Event(m.step, level, src, text))
 
+        running = tuple(j + 1 for j in range(m.n_transitions) if m.running[j])
+        c = self._changed(src, "running", running, first=())
+        if c:
+            for t in sorted(set(c[1]) - set(c[0])):
+                ev(INFO, f"started t{t} (rows sent), workpiece {m.workpiece_id}")
         c = self._changed(src, "fired", m.fired_count)
         if c and c[1] > c[0]:
             n = c[1] - c[0]
@@ -112,10 +117,10 @@ class EventFeed:
             for arm in (1, 2):
                 bit = 1 << (arm - 1)
                 if (c[0] ^ c[1]) & bit:
-                    ev(WARN, f"hears nothing from arm {arm}" if c[1] & bit else f"hears arm {arm} again")
+                    ev(*((WARN, f"hears nothing from arm {arm}") if c[1] & bit else (INFO, f"hears arm {arm} again")))
         c = self._changed(src, "sim_silent", m.sim_silent)
         if c:
-            ev(WARN, "hears nothing from the simulator" if m.sim_silent else "hears the simulator again")
+            ev(*((WARN, "hears nothing from the simulator") if m.sim_silent else (INFO, "hears the simulator again")))
         return out
 
     # ---- SIM_STATUS -----------------------------------------------------------

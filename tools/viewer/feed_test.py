@@ -36,10 +36,10 @@ def expect(what, events, n, level=None, words=()):
         failures.append(what)
 
 
-def marking(step, fired, last, stalled=0, silent=0, resumed=0):
+def marking(step, fired, last, stalled=0, silent=0, resumed=0, running=0):
     m = petri_marking_t()
     m.step, m.fired_count, m.last_fired, m.stalled, m.arms_silent, m.resumed = step, fired, last, stalled, silent, resumed
-    m.n_places, m.marking, m.n_transitions, m.running = 2, [1, 0], 1, [0]
+    m.n_places, m.marking, m.n_transitions, m.running = 2, [1, 0], 2, [running & 1, running >> 1]
     m.invariants_ok, m.workpiece_id, m.since_progress_s, m.stall_limit_s = 1, 1, 12.0, 10.0
     return wire(m)
 
@@ -65,6 +65,7 @@ def status(step, stick=0, delivered=0):
 def main():
     f = EventFeed()
     expect("first marking, nothing fired yet", f.marking(marking(100, 0, 0)), 0)
+    expect("t1 started", f.marking(marking(800, 0, 0, running=1)), 1, INFO, ["t=   0.800 s", "started t1"])
     expect("t1 fired", f.marking(marking(4300, 1, 1)), 1, INFO, ["t=   4.300 s", "supervisor", "fired t1"])
     expect("the same marking again (10 Hz)", f.marking(marking(4400, 1, 1)), 0)
     expect("stall begins", f.marking(marking(20000, 1, 1, stalled=1)), 1, ERROR, ["STALL"])

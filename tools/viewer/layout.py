@@ -33,7 +33,8 @@ def blueprint(scene):
                         columns=rrb.TextLogColumns(
                             timeline_columns=[TimelineColumn("sim_time")],
                             text_log_columns=[TextLogColumn("LogLevel"), TextLogColumn("Body"),
-                                              TextLogColumn("EntityPath", visible=False)])),
+                                              TextLogColumn("EntityPath", visible=False)]),
+                        format_options=rrb.TextLogFormat(monospace_body=True)),
         column_shares=BOTTOM_SHARES,
     )
     return rrb.Blueprint(rrb.Vertical(rrb.Horizontal(cell, team), plots, row_shares=[3, 2]),

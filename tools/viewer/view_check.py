@@ -47,9 +47,11 @@ TEAM_VIEW = (0.5, 0.05, 1.0, 0.6)
 EVENTS_VIEW = (0.55, 0.6, 1.0, 0.96)    # the bottom row's last 5/11 (layout.BOTTOM_SHARES)
 OCR_SCALE = 3                           # egui's small text, enlarged for tesseract
 # an event line as feed.Event.line() writes it: sim time, source, what happened
-EVENT_LINE = re.compile(r"t=\s*\d+\.\d+\s*s\s+(supervisor|arm \d|sim|rover \d|tandem-\S+)\s+"
+# (tesseract may drop the point and the space of "1.100 s")
+EVENT_LINE = re.compile(r"t=\s*[\d.,]+\s*s\s+(supervisor|arm \d|sim|rover \d|tandem-\S+)\s+"
                         r"(fired|started|done|BLOCKED|unblocked|REJECTED|FAULT|fault|STALL|stall|stick|workpiece|"
-                        r"mode|formation|HOLDS|left|RESTARTED|restarted|hears|sent|took|paused|running|lockstep)")
+                        r"mode|formation|HOLDS|left|RESTARTED|restarted|hears|sent|took|paused|running|lockstep|"
+                        r"asks|gives|rejoins|leaves)")
 HUE_TOLERANCE = 6       # of 256 (about 8 degrees) for a pixel to count
 SATURATION_MIN = 0.7    # of the colour's saturation (the table's brown has the orange's hue, half its saturation)
 VALUE_MIN = 60          # of 255: darker is shadow
