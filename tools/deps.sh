@@ -7,7 +7,7 @@
 #                         test-cross, budget; make test installs them too)
 #   tools/deps.sh fuzz    clang and its runtimes (libFuzzer, sanitizers) for make fuzz
 #   tools/deps.sh analyze cppcheck and clang-format (make analyze, format-check)
-#   tools/deps.sh view    the viewer's Python venv; view-test: also Chromium
+#   tools/deps.sh view    the viewer's Python venv; view-test: also Chromium and tesseract (OCR)
 #   tools/deps.sh install man pages (help2man)
 set -euo pipefail
 pkgs=(build-essential pkg-config libode-dev liblcm-dev liblcm-bin liblcm-java
@@ -24,7 +24,7 @@ case ${1:-run} in
     coverage) pkgs=(gcovr) ;;
     analyze) pkgs=(cppcheck clang-format) ;;
     view) pkgs=(python3-venv) ;;
-    view-test) pkgs=(python3-venv chromium fonts-dejavu-core iproute2) ;;
+    view-test) pkgs=(python3-venv chromium fonts-dejavu-core iproute2 tesseract-ocr tesseract-ocr-eng) ;;
     install) pkgs=(help2man man-db) ;;
 esac
 missing=()

@@ -5,8 +5,10 @@
 # with tools/mcap/mcap_check.py that every message of every channel is in
 # the MCAP file and decodes back, field by field, to what lcm-gen's decoder
 # reads from the log; then that a truncated and a foreign file fail with a
-# message and keep what came before the damage; then `mcap doctor` (the Go
-# mcap CLI, installed with go install when go is there; skipped otherwise).
+# message and keep what came before the damage; then the file's structure
+# with tools/mcap/mcap_doctor.py (the checks of `mcap doctor` on the mcap
+# package's records; it must refuse damaged copies) and `mcap doctor` itself
+# (the Go mcap CLI, installed with go install when go is there; skipped otherwise).
 #   tools/mcap-test.sh [SECONDS]       (default 20)
 set -u
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -77,6 +79,39 @@ foreign() {
 }
 check "not a log" foreign
 
+# the file's structure: the Go mcap CLI's doctor when it can be had, and
+# always tools/mcap/mcap_doctor.py (the same checks on the mcap package's
+# records), which must also refuse a damaged copy
+pydoctor() { "$py" "$here/tools/mcap/mcap_doctor.py" "$out/run.mcap" | tail -4; }
+check "MCAP structure (mcap_doctor.py)" pydoctor
+doctor_refuses() {
+    "$py" - "$out/run.mcap" "$here/tools/mcap" <<'PY'
+import struct, sys
+sys.path.insert(0, sys.argv[2])
+import mcap_doctor as md
+buf = open(sys.argv[1], "rb").read()
+recs = [(off, op) for off, op, _, _ in md.records(buf, 8, len(buf) - 8)]
+chunk = next(off for off, op in recs if op == md.Opcode.CHUNK)
+stats = next(off for off, op in recs if op == md.Opcode.STATISTICS)
+cases = {"a byte of the first chunk flipped": (chunk + 80, None),
+         "Statistics.message_count one short": (stats + 9, "count"),
+         "cut in the middle": (len(buf) // 2, "cut")}
+ok = True
+for what, (at, how) in cases.items():
+    bad = bytearray(buf)
+    if how == "cut":
+        bad = bad[:at]
+    elif how == "count":
+        struct.pack_into("<Q", bad, at, struct.unpack_from("<Q", buf, at)[0] - 1)
+    else:
+        bad[at] ^= 0xFF
+    errs = md.examine(bytes(bad)).errors
+    print(f"mcap_doctor on a copy with {what}: {len(errs)} errors, first: {errs[0] if errs else '-'}")
+    ok = ok and bool(errs)
+sys.exit(0 if ok else 1)
+PY
+}
+check "mcap_doctor.py refuses damaged copies" doctor_refuses
 mcap_cli=$(command -v mcap || echo "${GOPATH:-$HOME/go}/bin/mcap")
 if [ ! -x "$mcap_cli" ] && command -v go >/dev/null; then
     go install github.com/foxglove/mcap/go/cli/mcap@latest >/dev/null 2>&1
@@ -86,7 +121,7 @@ if [ -x "$mcap_cli" ]; then
     check "mcap doctor" doctor
 else
     skipped=$((skipped + 1))
-    echo "mcap-test: mcap doctor skipped: the Go mcap CLI is not installed and go install github.com/foxglove/mcap/go/cli/mcap@latest failed"
+    echo "mcap-test: mcap doctor (Go) skipped: the Go mcap CLI is not installed and go install github.com/foxglove/mcap/go/cli/mcap@latest failed; mcap_doctor.py checked the structure"
 fi
 echo "mcap-test: $passed passed, $failed failed, $skipped skipped"
 [ $failed -eq 0 ]

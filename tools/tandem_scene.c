@@ -164,7 +164,8 @@ static void urdf_fixed(const char *parent, const char *child, const char *name, 
     printf("  </joint>\n");
 }
 
-static void urdf_box_link(const char *name, double mass_kg, const double at[3], const double size[3])
+static void urdf_box_link(const char *name, double mass_kg, const double at[3], const double size[3],
+                          const char *material)
 {
     const double k = mass_kg / 12.0;
     printf("  <link name=\"%s\">\n", name);
@@ -177,8 +178,8 @@ static void urdf_box_link(const char *name, double mass_kg, const double at[3], 
     printf("    </inertial>\n");
     printf("    <visual>\n  ");
     urdf_origin(at[0], at[1], at[2], 0, 0, 0);
-    printf("      <geometry><box size=\"%.17g %.17g %.17g\"/></geometry>\n    </visual>\n", size[0], size[1],
-           size[2]);
+    printf("      <geometry><box size=\"%.17g %.17g %.17g\"/></geometry>\n"
+           "      <material name=\"%s\"/>\n    </visual>\n", size[0], size[1], size[2], material);
     printf("    <collision>\n  ");
     urdf_origin(at[0], at[1], at[2], 0, 0, 0);
     printf("      <geometry><box size=\"%.17g %.17g %.17g\"/></geometry>\n    </collision>\n", size[0],
@@ -186,19 +187,48 @@ static void urdf_box_link(const char *name, double mass_kg, const double at[3], 
     printf("  </link>\n");
 }
 
+/* A cylinder of a link's visual body: centre xyz, axis z turned by roll then pitch. */
+static void urdf_cylinder(double x, double y, double z, double roll, double pitch, double radius, double length,
+                          const char *material)
+{
+    printf("    <visual>\n  ");
+    urdf_origin(x, y, z, roll, pitch, 0);
+    printf("      <geometry><cylinder radius=\"%.17g\" length=\"%.17g\"/></geometry>\n"
+           "      <material name=\"%s\"/>\n    </visual>\n", radius, length, material);
+}
+
+/* Display sizes of the arms' bodies (no controller uses them): the
+ * shoulder and elbow joints and links, then the wrist's. */
+#define URDF_HOUSING_R_M   { 0.075, 0.075, 0.065, 0.05, 0.045, 0.04 }
+#define URDF_HOUSING_L_M   { 0.18, 0.18, 0.16, 0.11, 0.10, 0.08 }
+#define URDF_LINK_R_M      { 0.05, 0.05, 0.045, 0.04, 0.035, 0.03 }
+#define URDF_PEDESTAL_R_M  0.09
+#define URDF_MIN_SEGMENT_M 1e-6
+
+/* Link i's body, in frame i: the housing of joint i on its axis (z of
+ * frame i-1, which is Rx(-alpha) Tx(-a) Tz(-d) from frame i), the segment
+ * along that axis over d_i and the one along x_i over a_i. These are the
+ * sticks the DH chain draws, given a radius; zero-length ones are left out. */
 static void urdf_dh_link(int k, int i, const arm_model *m)
 {
+    static const double housing_r[ARM_NJ] = URDF_HOUSING_R_M, housing_l[ARM_NJ] = URDF_HOUSING_L_M;
+    static const double link_r[ARM_NJ] = URDF_LINK_R_M;
     const double *c = m->com_m[i], *I = m->inertia_kgm2[i];
+    const double a = m->a_m[i], d = m->d_m[i], al = m->alpha_rad[i], sa = sin(al), ca = cos(al);
+    char material[16];
+    snprintf(material, sizeof material, "arm%d", k);
     printf("  <link name=\"arm%d_link%d\">\n    <inertial>\n  ", k, i + 1);
     urdf_origin(c[0], c[1], c[2], 0, 0, 0);
     printf("      <mass value=\"%.17g\"/>\n", m->mass_kg[i]);
     printf("      <inertia ixx=\"%.17g\" ixy=\"%.17g\" ixz=\"%.17g\" iyy=\"%.17g\" iyz=\"%.17g\" izz=\"%.17g\"/>\n",
            I[0], I[1], I[2], I[4], I[5], I[8]);
     printf("    </inertial>\n");
-    /* a sphere at the centre of mass, for viewers: the model has no link shapes */
-    printf("    <visual>\n  ");
-    urdf_origin(c[0], c[1], c[2], 0, 0, 0);
-    printf("      <geometry><sphere radius=\"0.05\"/></geometry>\n    </visual>\n  </link>\n");
+    urdf_cylinder(-a, -sa * d, -ca * d, -al, 0, housing_r[i], housing_l[i], "joint");
+    if (fabs(d) > URDF_MIN_SEGMENT_M)
+        urdf_cylinder(-a, -0.5 * sa * d, -0.5 * ca * d, -al, 0, link_r[i], fabs(d), material);
+    if (fabs(a) > URDF_MIN_SEGMENT_M)
+        urdf_cylinder(-0.5 * a, 0, 0, 0, 1.5707963267948966, link_r[i], fabs(a), material);
+    printf("  </link>\n");
 }
 
 static void urdf_arm(int k, const arm_model *m, const double base_T[16])
@@ -206,7 +236,12 @@ static void urdf_arm(int k, const arm_model *m, const double base_T[16])
     char parent[32], child[32], name[32];
     double T[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
     int i;
-    printf("  <link name=\"arm%d_base\"/>\n  <link name=\"arm%d_link0\"/>\n", k, k);
+    char material[16];
+    snprintf(material, sizeof material, "arm%d", k);
+    /* the pedestal from the mounting surface up to frame 0 */
+    printf("  <link name=\"arm%d_base\">\n", k);
+    urdf_cylinder(0, 0, 0.5 * m->base_height_m, 0, 0, URDF_PEDESTAL_R_M, m->base_height_m, material);
+    printf("  </link>\n  <link name=\"arm%d_link0\"/>\n", k);
     snprintf(child, sizeof child, "arm%d_base", k);
     snprintf(name, sizeof name, "arm%d_mount", k);
     urdf_fixed("world", child, name, base_T);
@@ -258,7 +293,7 @@ static void urdf_pioneer(const rover_world_config *w)
     const double T[16] = { c, -s, 0, w->team_origin.x_m, s, c, 0, w->team_origin.y_m, 0, 0, 1, 0, 0, 0, 0, 1 };
     const double k = PIONEER_WHEEL_KG / 12.0;
     int side;
-    urdf_box_link("pioneer_base", PIONEER_CHASSIS_KG, at, size);
+    urdf_box_link("pioneer_base", PIONEER_CHASSIS_KG, at, size, "pioneer");
     urdf_fixed("world", "pioneer_base", "pioneer_start", T);
     for (side = 0; side < 2; side++) {
         const char *nm = side == 0 ? "left" : "right";
@@ -268,13 +303,28 @@ static void urdf_pioneer(const rover_world_config *w)
                k * (3 * r * r + PIONEER_WHEEL_W_M * PIONEER_WHEEL_W_M), k * 6 * r * r,
                k * (3 * r * r + PIONEER_WHEEL_W_M * PIONEER_WHEEL_W_M));
         urdf_origin(0, 0, 0, -1.5707963267948966, 0, 0);
-        printf("      <geometry><cylinder radius=\"%.17g\" length=\"%.17g\"/></geometry>\n    </visual>\n"
-               "  </link>\n", r, PIONEER_WHEEL_W_M);
+        printf("      <geometry><cylinder radius=\"%.17g\" length=\"%.17g\"/></geometry>\n"
+               "      <material name=\"wheel\"/>\n    </visual>\n  </link>\n", r, PIONEER_WHEEL_W_M);
         printf("  <joint name=\"pioneer_%s_wheel_joint\" type=\"continuous\">\n"
                "    <parent link=\"pioneer_base\"/>\n    <child link=\"pioneer_%s_wheel\"/>\n", nm, nm);
         urdf_origin(0, side == 0 ? 0.5 * track : -0.5 * track, r, 0, 0, 0);
         printf("    <axis xyz=\"0 1 0\"/>\n  </joint>\n");
     }
+}
+
+/* The colours viewers draw with: the browser viewer's, so a screenshot and
+ * its pixel check (tools/viewer/view_check.py) match whatever a URDF names. */
+static void print_urdf_materials(void)
+{
+    static const struct { const char *name; double rgba[4]; } mats[] = {
+        { "arm1", { 1.0, 0.502, 0.0, 1.0 } },       { "arm2", { 0.118, 0.431, 1.0, 1.0 } },
+        { "joint", { 0.3, 0.3, 0.3, 1.0 } },        { "table", { 0.588, 0.471, 0.353, 1.0 } },
+        { "pioneer", { 0.75, 0.1, 0.1, 1.0 } },     { "wheel", { 0.1, 0.1, 0.1, 1.0 } },
+    };
+    size_t i;
+    for (i = 0; i < sizeof mats / sizeof mats[0]; i++)
+        printf("  <material name=\"%s\"><color rgba=\"%.4g %.4g %.4g %.4g\"/></material>\n", mats[i].name,
+               mats[i].rgba[0], mats[i].rgba[1], mats[i].rgba[2], mats[i].rgba[3]);
 }
 
 static void print_urdf(const arm_model *arm1, const cell_layout *c, const rover_world_config *w)
@@ -285,6 +335,7 @@ static void print_urdf(const arm_model *arm1, const cell_layout *c, const rover_
     int a;
     printf("<?xml version=\"1.0\"?>\n<!-- Generated by tandem-scene (option urdf) from the core's tables "
            "(arm_model, cell, rover_world): do not edit. -->\n<robot name=\"tandem_cell\">\n");
+    print_urdf_materials();
     printf("  <link name=\"world\"/>\n");
     for (a = 0; a < CELL_ARMS; a++) {
         double B[16];
@@ -292,7 +343,7 @@ static void print_urdf(const arm_model *arm1, const cell_layout *c, const rover_
         urdf_arm(a + 1, models[a], B);
     }
     /* the table top is fixed: a nominal mass, for parsers that want one */
-    urdf_box_link("table", 100.0, zero, c->table_size_m);
+    urdf_box_link("table", 100.0, zero, c->table_size_m, "table");
     urdf_fixed("world", "table", "table_fixed", T_table);
     urdf_pioneer(w);
     printf("</robot>\n");

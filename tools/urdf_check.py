@@ -19,6 +19,9 @@ import sys
 import numpy as np
 import yourdfpy
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "viewer"))
+import urdf as viewer_urdf  # noqa: E402  the browser viewer's reader
+
 TOL = 1e-9
 G = 9.81
 
@@ -61,6 +64,58 @@ def grav_urdf(robot, arm, q):
     return tau
 
 
+def viewer_pose_error(robot, viewer):
+    """Largest difference over every link between the viewer's world poses
+    and yourdfpy's, for yourdfpy's configuration of every joint."""
+    poses = viewer.poses(dict(zip(robot.actuated_joint_names, robot.cfg)))
+    return max(float(np.abs(poses[name] - robot.get_transform(frame_to=name, frame_from=robot.base_link)).max())
+               for name in poses)
+
+
+def viewer_visuals(robot, viewer):
+    """The viewer draws each link's visuals where and as the URDF says:
+    the same number, shapes and origins as yourdfpy reads."""
+    errs, n = [], 0
+    for link in robot.robot.links:
+        mine = viewer.links[link.name]
+        if len(mine) != len(link.visuals):
+            errs.append(f"link {link.name}: the viewer has {len(mine)} visuals, yourdfpy {len(link.visuals)}")
+            continue
+        for v, theirs in zip(mine, link.visuals):
+            o = theirs.origin if theirs.origin is not None else np.eye(4)
+            g = theirs.geometry
+            size = (list(g.box.size) if g.box else [g.cylinder.radius, g.cylinder.length] if g.cylinder
+                    else [g.sphere.radius] if g.sphere else None)
+            if np.abs(v.origin - o).max() > TOL or (size is not None and np.abs(np.array(v.size) - size).max() > TOL):
+                errs.append(f"link {link.name}: a visual differs from yourdfpy's")
+            n += 1
+    print(f"urdf_check: {n} visual bodies, as yourdfpy reads them, in the viewer's reader")
+    return errs
+
+
+def viewer_refuses():
+    """The viewer's reader refuses what is not one tree of links."""
+    bad = {
+        "two roots": '<robot name="r"><link name="a"/><link name="b"/></robot>',
+        "a joint to no link": '<robot name="r"><link name="a"/><joint name="j" type="fixed">'
+                              '<parent link="a"/><child link="b"/></joint></robot>',
+        "a cycle": '<robot name="r"><link name="w"/><link name="a"/><link name="b"/>'
+                   '<joint name="j0" type="fixed"><parent link="w"/><child link="a"/></joint>'
+                   '<joint name="j1" type="fixed"><parent link="a"/><child link="b"/></joint>'
+                   '<joint name="j2" type="fixed"><parent link="b"/><child link="a"/></joint></robot>',
+        "a shapeless visual": '<robot name="r"><link name="a"><visual><geometry/></visual></link></robot>',
+        "not a robot": '<model name="r"/>',
+    }
+    errs = []
+    for what, text in bad.items():
+        try:
+            viewer_urdf.Robot(text)
+            errs.append(f"the viewer's reader took a URDF with {what}")
+        except viewer_urdf.UrdfError:
+            pass
+    return errs
+
+
 def main(bin_dir):
     urdf = subprocess.run([os.path.join(bin_dir, "tandem-scene"), "--urdf"], check=True,
                           capture_output=True, text=True).stdout
@@ -77,7 +132,9 @@ def main(bin_dir):
     errs = [f"joint {n}: no limits, effort or velocity" for n in bad]
     if len(revolute) != 12:
         errs.append(f"{len(revolute)} revolute joints, expected 12")
-    worst = {"flange": 0.0, "tool": 0.0, "grav": 0.0}
+    viewer = viewer_urdf.load(path)
+    errs += viewer_visuals(robot, viewer)
+    worst = {"flange": 0.0, "tool": 0.0, "grav": 0.0, "viewer": 0.0}
     n = 0
     for arm in (1, 2):
         for q in configs(robot, arm):
@@ -89,11 +146,16 @@ def main(bin_dir):
                 T_urdf = robot.get_transform(frame_to=frame, frame_from=base)
                 T_kin = kin(bin_dir, *extra, "fk", *q)
                 worst[what] = max(worst[what], float(np.abs(T_urdf - T_kin).max()))
+            worst["viewer"] = max(worst["viewer"], viewer_pose_error(robot, viewer))
             g_kin = kin(bin_dir, "grav", *q).ravel()
             worst["grav"] = max(worst["grav"], float(np.abs(grav_urdf(robot, arm, q) - g_kin).max()))
             n += 1
     print(f"urdf_check: {n} configurations: flange pose max |URDF - tandem-kin| {worst['flange']:.2e}, "
-          f"tool pose {worst['tool']:.2e}, gravity torques {worst['grav']:.2e} N m")
+          f"tool pose {worst['tool']:.2e}, gravity torques {worst['grav']:.2e} N m; "
+          f"the viewer's link poses vs yourdfpy {worst['viewer']:.2e}")
+    if worst["viewer"] > TOL:
+        errs.append(f"the viewer's reader (tools/viewer/urdf.py) places links more than {TOL} off yourdfpy")
+    errs += viewer_refuses()
     if worst["flange"] > TOL or worst["tool"] > TOL:
         errs.append(f"forward kinematics differ by more than {TOL}")
     if worst["grav"] > 1e-6:

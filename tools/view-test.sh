@@ -2,8 +2,8 @@
 # Browser test of the live viewer: a short run of the whole system with the
 # viewer (tools/tandem-run --view), the page loaded in headless Chromium,
 # a screenshot in build/view-test/viewer.png (--docs: also docs/viewer.png)
-# and pixel checks that the arms, the workpieces and every rover were drawn
-# (tools/viewer/view_check.py). The run is recorded with lcm-logger; then a
+# and pixel checks that the arms, the workpieces and every rover were drawn,
+# and OCR of the events panel for an event line (tools/viewer/view_check.py). The run is recorded with lcm-logger; then a
 # fresh viewer is fed by lcm-logplayer from that log and checked the same
 # way (replay.png). Runs in its own network namespace when it can (root),
 # so its LCM bus and ports never meet another run's.
@@ -20,6 +20,9 @@ if [ -n "${TANDEM_VIEW_TEST_NS:-}" ]; then
 fi
 out=$here/build/view-test
 mkdir -p "$out"
+# the events panel's feed on encoded messages, before anything is started
+"$here/build/venv/bin/python" "$here/tools/viewer/feed_test.py" ||
+    { echo "view test: 0 passed, 1 failed"; exit 1; }
 # ports and bus of our own (also when no namespace could be had)
 base=$((20000 + $$ % 20000))
 web=$base; devtools=$((base + 1))

@@ -11,7 +11,9 @@ Frames: world; armK_base (the mounting surface, the cell's arm_base_T),
 armK_link0 (base_height_m above it, DH frame 0), armK_link1..armK_link6
 (standard DH: A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i), as in
 arm_model.h), armK_tool (tool_length_m along the flange's z); roverK
-(point O of robot K, heading theta).
+(point O of robot K, heading theta). These are the cell URDF's link frames
+(tandem-scene --urdf), so the links' visual bodies of the URDF are drawn
+locked to them (/scene/arm_bodies, sent once).
 """
 import math
 
@@ -107,8 +109,9 @@ def cube(p, size, c):
 class Scene:
     """Foxglove messages from the static scene and the log's messages."""
 
-    def __init__(self, scene):
+    def __init__(self, scene, robot=None):
         self.s = scene
+        self.robot = robot            # the cell's URDF (urdf.Robot), for the links' bodies
         cell = scene["cell"]
         self.tool_m = cell["tool_length_m"]
         self.models = [scene["arm1_model"], scene["arm2_model"]]
@@ -149,6 +152,33 @@ class Scene:
                 "points": [{"x": p[0], "y": p[1], "z": p[2]} for p in pts],
                 "color": color(0.9, 0.55, 0.1), "colors": [], "indices": []}
         return {"deletions": [], "entities": [entity(t_ns, "world", f"arm{arm}", lines=[line])]}
+
+    def link_bodies(self, t_ns):
+        """The URDF's visual bodies of every link whose frame /tf carries
+        (armK_base, armK_link0..6), each entity locked to its link's frame."""
+        ents = []
+        for link, visuals in (self.robot.links.items() if self.robot else ()):
+            if not (link.startswith("arm") and ("_link" in link or link.endswith("_base"))) or not visuals:
+                continue
+            prims = {"cubes": [], "cylinders": [], "spheres": [], "models": []}
+            for v in visuals:
+                p = {"position": dict(zip("xyz", v.origin[:3, 3])), "orientation": quat_of(v.origin[:3, :3])}
+                c = color(*(x / 255 for x in v.rgb))
+                if v.kind == "box":
+                    prims["cubes"].append({"pose": p, "size": dict(zip("xyz", v.size)), "color": c})
+                elif v.kind == "cylinder":
+                    d = 2 * v.size[0]
+                    prims["cylinders"].append({"pose": p, "size": {"x": d, "y": d, "z": v.size[1]},
+                                               "bottom_scale": 1.0, "top_scale": 1.0, "color": c})
+                elif v.kind == "sphere":
+                    d = 2 * v.size[0]
+                    prims["spheres"].append({"pose": p, "size": {"x": d, "y": d, "z": d}, "color": c})
+                else:
+                    prims["models"].append({"pose": p, "scale": dict(zip("xyz", v.size)), "color": c,
+                                            "override_color": False, "url": "file://" + v.mesh,
+                                            "media_type": "", "data": ""})
+            ents.append(entity(t_ns, link, f"{link}_body", **prims))
+        return {"deletions": [], "entities": ents}
 
     def rover_transforms(self, t_ns, truth):
         return [transform(t_ns, "world", f"rover{truth.robot[i]}",

@@ -96,6 +96,27 @@ class Tf:
         return T
 
 
+def link_bodies(mcap_path, updates, tf):
+    """The cell's URDF is attached (cell.urdf), and /scene/arm_bodies draws
+    its visuals: one entity per arm link that has bodies, locked to a frame
+    /tf carries, with as many shapes as the URDF's link has visuals."""
+    sys.path.insert(0, os.path.join(HERE, "..", "viewer"))
+    import urdf
+    with open(mcap_path, "rb") as f:
+        att = [a for a in make_reader(f).iter_attachments() if a.name == "cell.urdf"]
+    if len(att) != 1:
+        return [f"{len(att)} cell.urdf attachments, expected 1"]
+    robot = urdf.Robot(att[0].data.decode())
+    want = {link: len(v) for link, v in robot.links.items()
+            if v and link.startswith("arm") and ("_link" in link or link.endswith("_base"))}
+    ents = {e["frame_id"]: sum(len(e[k]) for k in ("cubes", "cylinders", "spheres", "models"))
+            for _, _, u in updates[:1] for e in u["entities"]}
+    print(f"geometry: cell.urdf attached ({len(robot.links)} links); /scene/arm_bodies: "
+          f"{sum(ents.values())} bodies on {len(ents)} link frames")
+    errs = [] if ents == want else [f"/scene/arm_bodies {ents} != the URDF's visuals {want}"]
+    return errs + [f"/scene/arm_bodies: frame {f} not in /tf" for f in ents if tf.world(f) is None]
+
+
 def main(log_path, mcap_path):
     types = lcm_types()
     want = {}                       # channel -> [(log time ns, lcm-gen object)]
@@ -151,9 +172,11 @@ def main(log_path, mcap_path):
                 bad.append(f"message {i}: bytes differ")
         errs += [f"{ch}: {b}" for b in bad[:5]]
         print(line + ("" if not bad else f", {len(bad)} field(s) differ"))
-    for topic, name in (("/tf", "foxglove.FrameTransform"), ("/scene/static", "foxglove.SceneUpdate")):
+    for topic, name in (("/tf", "foxglove.FrameTransform"), ("/scene/static", "foxglove.SceneUpdate"),
+                        ("/scene/arm_bodies", "foxglove.SceneUpdate")):
         if schemas.get(topic) != name:
             errs.append(f"{topic}: schema {schemas.get(topic)}, expected {name}")
+    errs += link_bodies(mcap_path, got.get("/scene/arm_bodies", []), tf)
     print(f"geometry: {len(got.get('/tf', []))} transforms; tool frame from /tf vs the simulator's tool "
           f"position: max {tool_err:.2e} m over {tool_checked} states")
     if tool_checked == 0 or tool_err > TOOL_TOL_M:

@@ -1,30 +1,78 @@
 """draw_cell: the two-arm work cell in Rerun (entity tree /cell).
 
-Both PUMAs as link polylines from their measured joint angles (FK from the
-core's DH table), gripper fingers (red closed, grey open), the table, the
-workpieces the camera sees plus those held in a gripper, the stick when it
-is in, and the per-link contact forces as arrows. arm_state_t carries only
-the magnitude of each link's contact force (its 10 ms average is drawn), so an arrow points from the
-stick at the link when the stick is in, and straight up otherwise; its
-length is 1 mm per newton (at most 0.5 m) and its label gives the value.
+The arms, the table and whatever else the cell's URDF describes are drawn
+from the URDF (`tandem-scene --urdf`, or the user's own with tandem-view
+--urdf): every link's visual bodies (boxes, cylinders, spheres, meshes) in
+its colour, posed by the URDF's joints (urdf.py), in world coordinates:
+/cell/robot/armK the bodies arm K's joints move, one entity per kind of
+shape (a few log calls a frame), /cell/robot/fixed the others, once.
+The revolute joints armK_joint1 .. armK_joint6 take ARMk_STATE's q_rad;
+every other joint stays at zero. Besides: the gripper fingers (red closed,
+grey open) at the tool frame armK_tool, the workpieces the camera sees plus
+those held in a gripper, the stick when it is in, and the per-link contact
+forces as arrows. arm_state_t carries only the magnitude of each link's
+contact force (its 10 ms average is drawn), so an arrow points from the
+stick at the middle of the link (between its joint and the next) when the
+stick is in, and straight up otherwise; its length is 1 mm per newton (at
+most 0.5 m) and its label gives the value.
 """
 import numpy as np
 import rerun as rr
 
-from scene import ArmFK, rot_z_quat
+from scene import rot_z_quat
+from urdf import quat_of
 
-ARM_COLORS = {1: (255, 128, 0), 2: (30, 110, 255)}
 WORKPIECE_COLOR = (240, 220, 40)
 FORCE_M_PER_N = 0.001
 FORCE_MIN_N = 1.0
+ARM_JOINTS = 6
+
+
+def arm_joint_names(arm):
+    return [f"arm{arm}_joint{i}" for i in range(1, ARM_JOINTS + 1)]
+
+
+def _extent(v):
+    return max(v.size) if v.kind == "box" else max(2 * v.size[0], v.size[1]) if v.kind == "cylinder" \
+        else 2 * v.size[0] if v.kind == "sphere" else 0.0
+
+
+def arm_color(robot, arm):
+    """An arm's colour: that of the largest visual body its joints move."""
+    visuals = [v for link in robot.below(f"arm{arm}_joint1") for v in robot.links[link]]
+    return max(visuals, key=_extent).rgb if visuals else (200, 200, 200)
+
+
+class UrdfArm:
+    """One arm of the URDF: its joints, the links they move, its tool frame."""
+
+    def __init__(self, robot, arm):
+        missing = [j for j in arm_joint_names(arm) if j not in robot.joints]
+        if missing:
+            raise SystemExit(f"tandem-view: the URDF has no joint {missing[0]}: arm {arm}'s joints must be named "
+                             f"arm{arm}_joint1 .. arm{arm}_joint{ARM_JOINTS}")
+        self.joints = [robot.joints[j] for j in arm_joint_names(arm)]
+        self.moving = robot.below(self.joints[0].name)
+        tool = f"arm{arm}_tool"
+        self.tool = tool if tool in robot.links else self.joints[-1].child
+        tj = robot.child_joint.get(self.tool)
+        self.flange = tj.parent if tj is not None and self.tool != self.joints[-1].child else self.tool
+        self.tool_length_m = float(np.linalg.norm(tj.origin[:3, 3])) if self.flange != self.tool else 0.0
 
 
 class CellDrawer:
-    def __init__(self, scene):
-        cell = scene["cell"]
-        self.cell = cell
-        self.fk = {1: ArmFK(scene["arm1_model"], cell["arm_base_T"][0], cell["tool_length_m"]),
-                   2: ArmFK(scene["arm2_model"], cell["arm_base_T"][1], cell["tool_length_m"])}
+    def __init__(self, scene, robot):
+        self.cell = scene["cell"]
+        self.robot = robot
+        self.arms = {k: UrdfArm(robot, k) for k in (1, 2)}
+        self.colors = {k: arm_color(robot, k) for k in (1, 2)}
+        # the visual bodies by who moves them: arm k's joints, or nothing
+        moving = {link: k for k, a in self.arms.items() for link in a.moving}
+        self.bodies = {}
+        for link, visuals in robot.links.items():
+            group = f"arm{moving[link]}" if link in moving else "fixed"
+            self.bodies.setdefault(group, []).extend((link, v) for v in visuals)
+        self.q = {}                # joint name -> rad, the newest of each arm
         self.tool = {}
         self.stick = None          # (centre, inserted)
         self.stick_len = (0.6, 0.02)
@@ -32,27 +80,54 @@ class CellDrawer:
         self.holding = {}          # arm -> workpiece id held (-1 none)
 
     def log_static(self):
-        c = self.cell
-        rr.log("cell/table", rr.Boxes3D(centers=[c["table_center_m"]],
-                                        half_sizes=[np.array(c["table_size_m"]) / 2],
-                                        colors=[(150, 120, 90)], fill_mode="solid"), static=True)
-        for k, fk in self.fk.items():
-            rr.log(f"cell/arm{k}/base", rr.Cylinders3D(centers=[fk.base[:3, 3] + [0, 0, 0.02]], lengths=[0.04],
-                                                       radii=[0.12], colors=[(90, 90, 90)], fill_mode="solid"),
-                   static=True)
+        """The bodies no arm joint moves, once; the meshes' files."""
+        poses = self.robot.poses()
+        for group, items in self.bodies.items():
+            for i, (_, v) in enumerate(x for x in items if x[1].kind == "mesh"):
+                rr.log(f"cell/robot/{group}/mesh{i}", rr.Asset3D(path=v.mesh, albedo_factor=v.rgb), static=True)
+        self._log_bodies("fixed", poses, static=True)
+
+    def _log_bodies(self, group, poses, static=False):
+        """A group's bodies in world coordinates, one entity per kind of shape
+        (few log calls a frame, whatever the number of links)."""
+        ent = f"cell/robot/{group}"
+        by_kind = {}
+        for link, v in self.bodies.get(group, []):
+            by_kind.setdefault(v.kind, []).append((v, poses[link] @ v.origin))
+        for kind, vs in by_kind.items():
+            centres = [W[:3, 3] for _, W in vs]
+            quats = [quat_of(W[:3, :3]) for _, W in vs]
+            colors = [v.rgb for v, _ in vs]
+            if kind == "box":
+                rr.log(f"{ent}/boxes", rr.Boxes3D(centers=centres, half_sizes=[np.array(v.size) / 2 for v, _ in vs],
+                                                  quaternions=quats, colors=colors, fill_mode="solid"), static=static)
+            elif kind == "cylinder":
+                rr.log(f"{ent}/cylinders", rr.Cylinders3D(centers=centres, radii=[v.size[0] for v, _ in vs],
+                                                          lengths=[v.size[1] for v, _ in vs], quaternions=quats,
+                                                          colors=colors, fill_mode="solid"), static=static)
+            elif kind == "sphere":
+                rr.log(f"{ent}/spheres", rr.Ellipsoids3D(centers=centres, half_sizes=[[v.size[0]] * 3 for v, _ in vs],
+                                                         quaternions=quats, colors=colors, fill_mode="solid"),
+                       static=static)
+            else:
+                for i, (v, W) in enumerate(vs):
+                    rr.log(f"{ent}/mesh{i}", rr.Transform3D(translation=W[:3, 3], quaternion=quat_of(W[:3, :3]),
+                                                            scale=v.size), static=static)
 
     def arm(self, s):
-        fk = self.fk[s.arm]
-        pts, flange = fk.frames(s.q_rad)
-        color = ARM_COLORS[s.arm]
+        a = self.arms[s.arm]
+        for j, q in zip(a.joints, s.q_rad):
+            self.q[j.name] = q
+        poses = self.robot.poses(self.q)
+        self._log_bodies(f"arm{s.arm}", poses)
         base = f"cell/arm{s.arm}"
-        rr.log(base + "/links", rr.LineStrips3D([pts], radii=[0.03], colors=[color]))
-        rr.log(base + "/joints", rr.Points3D(pts[1::2], radii=[0.045], colors=[(60, 60, 60)]))
-        self.tool[s.arm] = fk.tool_point(flange)
-        self._gripper(base, flange, s.gripper_closed, fk.tool_length_m)
+        flange, tool = poses[a.flange], poses[a.tool]
+        self.tool[s.arm] = tool[:3, 3]
+        self._gripper(base, flange, s.gripper_closed, a.tool_length_m)
         # the 10 ms average (the force sensor's filter), not the raw 1 ms
         # value, whose single-step spikes of a stiff contact mean nothing
-        self._forces(base, pts, s.contact_force_10ms_N)
+        ends = [(poses[j.parent] @ j.origin)[:3, 3] for j in a.joints] + [tool[:3, 3]]
+        self._forces(base, ends, s.contact_force_10ms_N)
         rr.log(f"plots/contact_force/arm{s.arm}", rr.Scalars(s.max_contact_force_10ms_N))
 
     def _gripper(self, base, flange, closed, length):
@@ -63,12 +138,13 @@ class CellDrawer:
         rr.log(base + "/gripper", rr.LineStrips3D(fingers, radii=[0.008],
                                                   colors=[(220, 30, 30) if closed else (160, 160, 160)]))
 
-    def _forces(self, base, pts, force_N):
+    def _forces(self, base, ends, force_N):
+        """ends: joint 1 .. 6 then the tool point; link i spans ends[i-1] .. ends[i]."""
         origins, vectors, labels = [], [], []
-        for i, f in enumerate(force_N):
+        for i, f in enumerate(force_N[:len(ends) - 1]):
             if f < FORCE_MIN_N:
                 continue
-            at = (pts[2 * i + 1] + pts[2 * i + 3]) / 2     # middle of link i+1
+            at = (ends[i] + ends[i + 1]) / 2
             d = np.array([0.0, 0.0, 1.0])
             if self.stick and self.stick[1]:
                 v = at - np.array(self.stick[0])

@@ -2,9 +2,11 @@
 
 draw_latest() turns the newest message of a "latest" channel into drawing
 calls (one per frame); handle() takes every message of the low-rate event
-channels as it arrives: action events (s(t) and the event log), the Petri
-marking (a row of tokens, a dark one where a place is marked), health
-(safe holds and overruns into the log) and SIM_CONTROL (stick size).
+channels as it arrives: action events (s(t)), the Petri marking (a row of
+tokens, a dark one where a place is marked), SIM_STATUS (the stick),
+TEAM (the formation slots), SIM_CONTROL (stick size). Whatever a person
+follows in them (feed.py: transitions, blocks, faults, holds, restarts,
+stalls, modes) goes to the events panel, one line each.
 Every message is placed on the "sim_time" timeline at its simulator step,
 so a replay with lcm-logplayer lands on the same time axis as the run.
 """
@@ -12,13 +14,10 @@ import re
 
 import numpy as np
 import rerun as rr
+from feed import SIM_DT_S, EventFeed
 from tandem import (action_event_t, arm_state_t, beacon_obs_t, health_t, petri_marking_t, rover_state_t,
                     rover_truth_t, rovers_beacons_t, rovers_sensors_t, rovers_state_t, sim_control_t,
                     sim_status_t, sonar_scan_t, team_msg_t, workpiece_detections_t)
-
-EVENT_NAMES = {0: "STARTED", 1: "PROGRESS", 2: "DONE", 3: "BLOCKED", 4: "UNBLOCKED", 5: "REJECTED"}
-MODE_NAMES = {0: "formation", 1: "dead-zone escape", 2: "changing formation", 3: "at goal", 4: "safe stop"}
-SIM_DT_S = 0.001
 
 
 def at_step(step):
@@ -29,40 +28,48 @@ def at_step(step):
 class EventLog:
     def __init__(self):
         self.s_latest = {}       # arm -> action_event_t (PROGRESS)
-        self.mode = {}           # robot -> mode
-        self.safe = {}           # daemon -> safe_hold
         self.marking = None
-        self.fired = 0
+        self.feed = EventFeed()
+        self.logged = 0          # events put in the panel
+
+    def log(self, events):
+        for e in events:
+            at_step(e.step)
+            rr.log("events", rr.TextLog(e.line(), level=e.level))
+            self.logged += 1
 
     # ---- every message of the event channels ----------------------------
-    def handle(self, channel, data, cell):
+    def handle(self, channel, data, cell, team):
         if channel == "ARM_EVENTS":
             self._action(action_event_t.decode(data))
         elif channel == "PETRI_MARKING":
             self._marking(petri_marking_t.decode(data))
         elif channel.startswith("HEALTH_"):
-            self._health(health_t.decode(data))
+            self.log(self.feed.health(health_t.decode(data)))
         elif channel == "SIM_CONTROL":
             cell.stick_control(sim_control_t.decode(data))
+        elif channel == "SIM_STATUS":
+            st = sim_status_t.decode(data)
+            self.log(self.feed.sim_status(st))
+            at_step(st.step)
+            cell.stick_status(st)
+        elif channel == "TEAM":
+            t = team_msg_t.decode(data)
+            self.log(self.feed.team(t))
+            team.team(t)
 
     def _action(self, e):
         if e.event == e.PROGRESS:
             self.s_latest[e.arm] = e
             return
-        at_step(e.step)
-        rr.log(f"plots/s/arm{e.arm}", rr.Scalars(e.s_m))
-        level = "WARN" if e.event in (e.BLOCKED, e.REJECTED) else "INFO"
-        rr.log("events", rr.TextLog(f"arm {e.arm} {EVENT_NAMES.get(e.event, e.event)} action {e.action_id} "
-                                    f"(t{e.transition}, segment {e.segment}) s={e.s_m:.3f}/{e.s_f_m:.3f} m "
-                                    f"{e.detail}", level=level))
+        if e.event != e.STATUS:
+            at_step(e.step)
+            rr.log(f"plots/s/arm{e.arm}", rr.Scalars(e.s_m))
+        self.log(self.feed.action_event(e))
 
     def _marking(self, m):
         key = (bytes(b & 0xFF for b in m.marking), bytes(b & 0xFF for b in m.running))
-        if m.fired_count > self.fired and m.last_fired > 0:
-            at_step(m.step)
-            rr.log("events", rr.TextLog(f"supervisor fired t{m.last_fired} (#{m.fired_count}), "
-                                        f"workpiece {m.workpiece_id}", level="DEBUG"))
-        self.fired = m.fired_count
+        self.log(self.feed.marking(m))
         if key == self.marking:
             return
         self.marking = key
@@ -75,14 +82,6 @@ class EventLog:
         rr.log("petri/running", rr.Points2D(run or np.zeros((0, 2)), radii=[0.3], colors=[(255, 140, 0)],
                                             labels=[f"t{j + 1}" for j in range(m.n_transitions) if m.running[j]]))
 
-    def _health(self, h):
-        was = self.safe.get(h.name, 0)
-        self.safe[h.name] = h.safe_hold
-        if h.safe_hold != was:
-            at_step(h.step)
-            rr.log("events", rr.TextLog(f"{h.name} {'HOLDS SAFE' if h.safe_hold else 'left safe hold'}: {h.status}",
-                                        level="WARN" if h.safe_hold else "INFO"))
-
     # ---- the newest message of a "latest" channel, once per frame ---------
     def draw_latest(self, channel, data, cell, team):
         if channel in ("ARM1_STATE", "ARM2_STATE"):
@@ -92,16 +91,10 @@ class EventLog:
             cell.holding[s.arm] = s.holding_workpiece
         elif channel == "VISION_DETECTIONS":
             cell.det = workpiece_detections_t.decode(data)
-        elif channel == "SIM_STATUS":
-            st = sim_status_t.decode(data)
-            at_step(st.step)
-            cell.stick_status(st)
         elif channel == "ROVER_TRUTH":
             t = rover_truth_t.decode(data)
             at_step(t.step)
             team.truth(t)
-        elif channel == "TEAM":
-            team.team(team_msg_t.decode(data))
         else:
             self._draw_rover(channel, data, team)
 
@@ -126,9 +119,7 @@ class EventLog:
     def _rover_state(self, st):
         at_step(st.step)
         rr.log(f"plots/formation_error/R{st.robot}", rr.Scalars(st.formation_err_m))
-        if self.mode.get(st.robot) != st.mode:
-            self.mode[st.robot] = st.mode
-            rr.log("events", rr.TextLog(f"rover {st.robot}: {MODE_NAMES.get(st.mode, st.mode)}"))
+        self.log(self.feed.rover_state(st))
 
     def draw_progress(self):
         """s(t) of the synchronised segments, decimated to the frame rate."""

@@ -3,10 +3,14 @@
 Top row: the work cell (3D, looking at the arms over the table) and the
 rover team (3D, from above and behind the start). Bottom row: s(t) per arm,
 the formation error per robot, the Petri net marking as a row of tokens,
-and the event log. Side panels start collapsed so that the scene gets the
-page.
+and the events panel (feed.py), widest, as a list of sim time, level and
+text. Side panels start collapsed so that the scene gets the page.
 """
 import rerun.blueprint as rrb
+from rerun.blueprint.encodings import TextLogColumn, TimelineColumn
+
+# fractions of the bottom row: s(t), formation error, marking + force, events
+BOTTOM_SHARES = [2, 2, 2, 5]
 
 
 def blueprint(scene):
@@ -25,7 +29,13 @@ def blueprint(scene):
         rrb.TimeSeriesView(origin="/plots/formation_error", name="formation error [m]"),
         rrb.Vertical(rrb.Spatial2DView(origin="/petri", name="Petri net marking"),
                      rrb.TimeSeriesView(origin="/plots/contact_force", name="max contact force, 10 ms avg [N]")),
-        rrb.TextLogView(origin="/events", name="events"),
+        rrb.TextLogView(origin="/events", name="events",
+                        columns=rrb.TextLogColumns(
+                            timeline_columns=[TimelineColumn("sim_time")],
+                            text_log_columns=[TextLogColumn("LogLevel"), TextLogColumn("Body"),
+                                              TextLogColumn("EntityPath", visible=False)]),
+                        format_options=rrb.TextLogFormat(monospace_body=True)),
+        column_shares=BOTTOM_SHARES,
     )
     return rrb.Blueprint(rrb.Vertical(rrb.Horizontal(cell, team), plots, row_shares=[3, 2]),
                          collapse_panels=True)

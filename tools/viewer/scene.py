@@ -1,17 +1,16 @@
 """scene: the static geometry of the tandem world for the viewer.
 
 Everything comes from `tandem-scene`, which prints the core's own const
-tables (DH parameters, work cell, rover world, sonar ring, formation slots)
-as JSON, so the viewer never keeps a second copy of a number the
-controllers use. Forward kinematics here follows arm_model.h: standard DH,
-A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i), frame 0 base_height_m above
-the mounting surface, whose world pose is the cell's arm_base_T.
+tables (work cell, rover world, sonar ring, formation slots) as JSON, and
+the cell as URDF (--urdf: the arms' DH chains, the table), so the viewer
+never keeps a second copy of a number the controllers use.
 """
 import json
 import math
+import os
 import subprocess
 
-import numpy as np
+import urdf
 
 
 def world_file_args(world_file, start, goal):
@@ -35,43 +34,12 @@ def load(scene_bin, world, rovers, formation, extra=()):
     return json.loads(out)
 
 
-def _rz_tz(theta, d):
-    c, s = math.cos(theta), math.sin(theta)
-    return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, d], [0, 0, 0, 1.0]])
-
-
-def _tx_rx(a, alpha):
-    c, s = math.cos(alpha), math.sin(alpha)
-    return np.array([[1, 0, 0, a], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1.0]])
-
-
-class ArmFK:
-    """World-frame link geometry of one arm from its joint angles."""
-
-    def __init__(self, model, base_T, tool_length_m):
-        self.m = model
-        self.base = np.array(base_T, dtype=float).reshape(4, 4)
-        lift = np.eye(4)
-        lift[2, 3] = model["base_height_m"]
-        self.frame0 = self.base @ lift
-        self.tool_length_m = tool_length_m
-
-    def frames(self, q):
-        """(polyline points, flange transform). The polyline runs from the
-        mounting surface through every joint, with the intermediate point
-        after the d_i offset so that the PUMA's shoulder offset shows."""
-        m = self.m
-        T = self.frame0
-        pts = [self.base[:3, 3], T[:3, 3]]
-        for i in range(6):
-            T = T @ _rz_tz(q[i] + m["theta_offset_rad"][i], m["d_m"][i])
-            pts.append(T[:3, 3])
-            T = T @ _tx_rx(m["a_m"][i], m["alpha_rad"][i])
-            pts.append(T[:3, 3])
-        return np.array(pts), T
-
-    def tool_point(self, flange):
-        return flange[:3, 3] + flange[:3, 2] * self.tool_length_m
+def load_urdf(scene_bin, path=None):
+    """The cell's robot description: the file given, else tandem-scene --urdf's."""
+    if path:
+        return urdf.load(path)
+    out = subprocess.run([scene_bin, "--urdf"], check=True, capture_output=True, text=True).stdout
+    return urdf.Robot(out, os.path.dirname(os.path.abspath(scene_bin)))
 
 
 def rot_z_quat(theta):

@@ -10,8 +10,9 @@ contact force, the Petri marking and an event log.
 It must never slow the daemons: the LCM handlers only keep the newest raw
 message per channel (no decoding, no drawing), and a frame is drawn at most
 --rate-hz times a second from whatever is newest then. Only the low-rate
-event channels (ARM_EVENTS transitions, PETRI_MARKING, HEALTH_*) are
-decoded as they come, so no event is lost between two frames.
+channels that carry events (ARM_EVENTS, PETRI_MARKING, HEALTH_*, SIM_STATUS,
+TEAM, SIM_CONTROL) are decoded as they come, so no event is lost between
+two frames.
 """
 import argparse
 import os
@@ -37,11 +38,12 @@ from layout import blueprint  # noqa: E402
 # channel (or LCM regex) -> how it is used: "latest" keeps the newest raw
 # message for the next frame, "now" decodes it in the handler
 SUBSCRIPTIONS = {
-    "ARM[12]_STATE": "latest", "VISION_DETECTIONS": "latest", "SIM_STATUS": "latest",
+    "ARM[12]_STATE": "latest", "VISION_DETECTIONS": "latest",
     "ROVER_TRUTH": "latest", "ROVER[0-9]+_SONAR": "latest", "ROVER[0-9]+_BEACONS": "latest",
     "ROVER[0-9]+_STATE": "latest", "ROVERS_SENSORS": "latest", "ROVERS_BEACONS": "latest",
-    "ROVERS_STATE": "latest", "TEAM": "latest",
+    "ROVERS_STATE": "latest",
     "ARM_EVENTS": "now", "PETRI_MARKING": "now", "HEALTH_.*": "now", "SIM_CONTROL": "now",
+    "SIM_STATUS": "now", "TEAM": "now",
 }
 
 
@@ -58,6 +60,8 @@ def parse_args(argv):
     p.add_argument("--goal", help="with --world-file: X,Y as given to tandem-sim")
     p.add_argument("--rovers", type=int, default=3, help="robots in the team (default 3)")
     p.add_argument("--formation", default="line", help="initial formation (default line)")
+    p.add_argument("--urdf", help="draw the cell from this URDF (default: tandem-scene --urdf); arm K's joints "
+                                   "are armK_joint1 .. armK_joint6, its tool frame armK_tool")
     p.add_argument("--bin", default=os.environ.get("TANDEM_BIN", here_bin), help="directory of tandem-scene")
     p.add_argument("--stats-s", type=float, default=10.0, help="seconds between load lines on stderr (0 = none)")
     p.add_argument("--version", action="store_true", help="program version")
@@ -65,8 +69,8 @@ def parse_args(argv):
 
 
 class Bridge:
-    def __init__(self, args, scene):
-        self.cell = CellDrawer(scene)
+    def __init__(self, args, scene, robot):
+        self.cell = CellDrawer(scene, robot)
         self.team = TeamDrawer(scene)
         self.events = EventLog()
         self.latest = {}
@@ -80,7 +84,7 @@ class Bridge:
 
     def on_now(self, channel, data):
         self.received += 1
-        self.guarded(channel, self.events.handle, channel, data, self.cell)
+        self.guarded(channel, self.events.handle, channel, data, self.cell, self.team)
 
     def guarded(self, channel, fn, *args):
         """A message that does not decode (another version of the types,
@@ -118,8 +122,9 @@ def serve(args, scene):
 def run(args):
     scene = scene_mod.load(os.path.join(args.bin, "tandem-scene"), args.world, args.rovers, args.formation,
                            scene_mod.world_file_args(args.world_file, args.start, args.goal))
+    robot = scene_mod.load_urdf(os.path.join(args.bin, "tandem-scene"), args.urdf)
     serve(args, scene)
-    b = Bridge(args, scene)
+    b = Bridge(args, scene, robot)
     b.cell.log_static()
     b.team.log_static()
     lc = lcm.LCM(args.lcm_url)
