@@ -22,6 +22,7 @@ typedef struct {
     pnml_arc arcs[MAX_ARCS];
     int n_arcs;
     FILE *err;
+    const char *path;
     int rc;
 } pnml_reader;
 
@@ -75,7 +76,7 @@ static int label_int(pnml_reader *r, const xmlNode *n, const char *label, int df
     while (*end == ' ' || *end == '\n' || *end == '\t' || *end == '\r')
         end++;
     if (end == p || *end || v < 0 || v > PETRI_TOKEN_MAX) {
-        fprintf(r->err, "tandem-netc: %s \"%s\": not an integer 0..%d\n", what, buf, PETRI_TOKEN_MAX);
+        netc_say(r->err, "%s: %s \"%s\": not an integer 0..%d\n", r->path, what, buf, PETRI_TOKEN_MAX);
         r->rc = NETC_ERR_PNML;
         return 0;
     }
@@ -89,7 +90,7 @@ static void add_node(pnml_reader *r, const xmlNode *n, int is_place)
     const int max = is_place ? PETRI_MAX_PLACES : PETRI_MAX_TRANSITIONS;
     char *id, *name;
     if (*count >= max) {
-        fprintf(r->err, "tandem-netc: more than %d %s (PETRI_MAX_%s)\n", max,
+        netc_say(r->err, "%s: more than %d %s (PETRI_MAX_%s)\n", r->path, max,
                 is_place ? "places" : "transitions", is_place ? "PLACES" : "TRANSITIONS");
         r->rc = NETC_ERR_CAPACITY;
         return;
@@ -109,7 +110,7 @@ static void add_arc(pnml_reader *r, const xmlNode *n)
     pnml_arc *a;
     const xmlNode *ty = child(n, "type");
     if (r->n_arcs >= MAX_ARCS) {
-        fprintf(r->err, "tandem-netc: more than %d arcs\n", MAX_ARCS);
+        netc_say(r->err, "%s: more than %d arcs\n", r->path, MAX_ARCS);
         r->rc = NETC_ERR_CAPACITY;
         return;
     }
@@ -124,8 +125,7 @@ static void add_arc(pnml_reader *r, const xmlNode *n)
         if (strcmp(v, "inhibitor") == 0)
             a->inhibitor = 1;
         else if (strcmp(v, "normal") != 0 && v[0]) {
-            fprintf(r->err, "tandem-netc: arc %s -> %s: type \"%s\" not read (normal, inhibitor)\n",
-                    a->src, a->dst, v);
+            netc_say(r->err, "%s: arc %s -> %s: type \"%s\" not read (normal, inhibitor)\n", r->path, a->src, a->dst, v);
             r->rc = NETC_ERR_PNML;
         }
     }
@@ -170,15 +170,14 @@ static void resolve_arc(pnml_reader *r, const pnml_arc *a)
              && (p = find_id(t->place_id, t->n_places, a->dst)) >= 0 && !a->inhibitor)
         e = &t->n_plus[p * t->n_transitions + j];
     else {
-        fprintf(r->err, "tandem-netc: arc %s -> %s: not place -> transition or transition -> place%s\n",
-                a->src, a->dst, a->inhibitor ? " (an inhibitor arc goes from a place)" : "");
+        netc_say(r->err, "%s: arc %s -> %s: not place -> transition or transition -> place%s\n", r->path, a->src, a->dst, a->inhibitor ? " (an inhibitor arc goes from a place)" : "");
         r->rc = NETC_ERR_PNML;
         return;
     }
     if (a->weight != 1 || *e != 0) {
-        fprintf(r->err, "tandem-netc: arc %s -> %s: weight %d; the supervisor's engine takes "
+        netc_say(r->err, "%s: arc %s -> %s: weight %d; the supervisor's engine takes "
                 "weight 1 and one arc per pair (petri.h: entries 0/1)\n",
-                a->src, a->dst, *e ? *e + a->weight : a->weight);
+                r->path, a->src, a->dst, *e ? *e + a->weight : a->weight);
         r->rc = NETC_ERR_CAPACITY;
         return;
     }
@@ -208,10 +207,11 @@ int netc_pnml_read(netc_task *t, const char *path, FILE *err)
         return NETC_ERR_IO;
     r->t = t;
     r->err = err;
+    r->path = path;
     doc = xmlReadFile(path, NULL, XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING);
     net = doc ? find_net(xmlDocGetRootElement(doc)) : NULL;
     if (!net) {
-        fprintf(err, "tandem-netc: %s: %s\n", path, doc ? "no <net> element" : "not readable XML");
+        netc_say(err, "%s: %s\n", path, doc ? "no <net> element" : "not readable XML");
         r->rc = doc ? NETC_ERR_PNML : NETC_ERR_IO;
     } else {
         if (!t->task[0])
@@ -221,7 +221,7 @@ int netc_pnml_read(netc_task *t, const char *path, FILE *err)
     for (i = 0; i < r->n_arcs && r->rc == 0; i++)
         resolve_arc(r, &r->arcs[i]);
     if (r->rc == 0 && (t->n_places == 0 || t->n_transitions == 0)) {
-        fprintf(err, "tandem-netc: %s: no places or no transitions\n", path);
+        netc_say(err, "%s: no places or no transitions\n", path);
         r->rc = NETC_ERR_PNML;
     }
     rc = r->rc;

@@ -41,20 +41,9 @@ const char *netc_strerror(int rc)
     case NETC_ERR_NOT_LIVE: return "a transition that must stay live can be lost";
     case NETC_ERR_STATES: return "the reachable set exceeds PETRI_MAX_STATES";
     case NETC_ERR_INVARIANT: return "P-invariants beyond their capacity";
+    case NETC_ERR_ROLES: return "the net lacks a role the supervisor needs (source, its place, the pick)";
     default: return "unknown error";
     }
-}
-
-void netc_task_bind(netc_task *t)
-{
-    t->net.n_places = t->n_places;
-    t->net.n_transitions = t->n_transitions;
-    t->net.n_minus = t->n_minus;
-    t->net.n_plus = t->n_plus;
-    t->net.n_inhibit = t->has_inhibit ? t->n_inhibit : NULL;
-    t->net.m0 = t->m0;
-    t->net.n_invariants = t->n_invariants;
-    t->net.invariants = t->n_invariants ? t->invariants : NULL;
 }
 
 int netc_pose_from_name(const char *s)
@@ -216,7 +205,7 @@ int netc_rows_read(netc_task *t, const char *path, FILE *err)
     FILE *f = fopen(path, "r");
     int n = 0, header = 0, j;
     if (!f) {
-        fprintf(err, "tandem-netc: %s: cannot read\n", path);
+        netc_say(err, "%s: cannot read\n", path);
         return NETC_ERR_IO;
     }
     while (fgets(line, sizeof line, f)) {
@@ -227,13 +216,13 @@ int netc_rows_read(netc_task *t, const char *path, FILE *err)
             continue;
         if (!header) {
             if (strcmp(s, HEADER) != 0) {
-                fprintf(err, "tandem-netc: %s:%d: the header must be %s\n", path, n, HEADER);
+                netc_say(err, "%s:%d: the header must be %s\n", path, n, HEADER);
                 fclose(f);
                 return NETC_ERR_ROWS;
             }
             header = 1;
         } else if (parse_line(t, s, &what) != 0) {
-            fprintf(err, "tandem-netc: %s:%d: %s\n", path, n, what);
+            netc_say(err, "%s:%d: %s\n", path, n, what);
             fclose(f);
             return NETC_ERR_ROWS;
         }
@@ -241,7 +230,7 @@ int netc_rows_read(netc_task *t, const char *path, FILE *err)
     fclose(f);
     for (j = 0; j < t->n_transitions; j++)
         if (!t->has_row[j]) {
-            fprintf(err, "tandem-netc: %s: no row for transition %s\n", path, t->trans_name[j]);
+            netc_say(err, "%s: no row for transition %s\n", path, t->trans_name[j]);
             return NETC_ERR_ROWS;
         }
     return NETC_OK;
