@@ -42,6 +42,11 @@ static int resolve_pose(const supervisor_daemon *sv, int pose, double p[3])
         return 0;
     case CARRY_POSE_HANDOVER_1: cell_grasp_point(c, 0, c->handover_center_m, p); return 0;
     case CARRY_POSE_HANDOVER_2: cell_grasp_point(c, 1, c->handover_center_m, p); return 0;
+    case CARRY_POSE_ABOVE_HANDOVER_1:
+    case CARRY_POSE_ABOVE_HANDOVER_2:
+        cell_grasp_point(c, pose == CARRY_POSE_ABOVE_HANDOVER_1 ? 0 : 1, c->handover_center_m, p);
+        p[2] += CELL_STAND_CLEARANCE_M;
+        return 0;
     case CARRY_POSE_CLEAR_1:
         cell_grasp_point(c, 0, c->handover_center_m, h);
         vec3_copy(p, h);
