@@ -16,7 +16,7 @@ command -v clang >/dev/null || { echo "fuzz: clang is missing (apt-get install c
 mkdir -p "$out/obj"
 san="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined"
 core_inc=$(for d in include/tandem/*/; do printf -- '-I%s ' "${d%/}"; done)
-cflags="-std=c99 -O1 -g -D_POSIX_C_SOURCE=200809L $(pkg-config --cflags lcm yaml-0.1) $core_inc -I$gen -Ibuild/gen -Isrc/daemons/common -Isrc/platform/posix"
+cflags="-std=c99 -O1 -g -D_POSIX_C_SOURCE=200809L $(pkg-config --cflags lcm yaml-0.1 libxml-2.0) $core_inc -I$gen -Ibuild/gen -Isrc/daemons/common -Isrc/platform/posix"
 # the receive path's code, instrumented once for every target
 objs=()
 for f in $gen/*.c src/daemons/common/*.c src/platform/posix/*.c src/core/*/*.c; do
@@ -45,7 +45,7 @@ for t in "${types[@]}"; do
         [ "$t" = action_row_t ] && extra=-DFUZZ_ACTION_ROW
         [ "$t" = arm_joint_ref_t ] && extra=-DFUZZ_JOINT_REF
         clang $cflags -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-            -DFUZZ_TYPE=tandem_$t "-DFUZZ_HEADER=\"tandem_$t.h\"" $extra fuzz/fuzz_msg.c "${objs[@]}" $(pkg-config --libs lcm yaml-0.1) -lsodium -lm -o "$bin"
+            -DFUZZ_TYPE=tandem_$t "-DFUZZ_HEADER=\"tandem_$t.h\"" $extra fuzz/fuzz_msg.c "${objs[@]}" $(pkg-config --libs lcm yaml-0.1 libxml-2.0) -lsodium -lm -o "$bin"
     fi
     corpus=$out/corpus/$t; mkdir -p "$corpus"
     [ -d fuzz/corpus/$t ] && cp -n fuzz/corpus/$t/* "$corpus/" 2>/dev/null || true
