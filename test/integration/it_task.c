@@ -16,28 +16,18 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 #include "harness.h"
 
 static char dir[256];
 
-/* Runs argv to its end (at most timeout_s), its output into text; the
- * exit status, or -1 if it had to be killed. */
+/* Runs argv to its end (at most timeout_s), its output into text and
+ * shown; the exit status, or -1 if it had to be killed. */
 static int run(const char *const argv[], double timeout_s, char *text, int cap)
 {
-    proc_set ps;
-    struct timespec ts = { 0, 50000000L };
-    pid_t pid;
-    int st = -1, i;
-    proc_init(&ps, NULL);
-    pid = proc_spawn(&ps, argv, NULL, NULL, NULL);
-    assert_true(pid > 0);
-    for (i = 0; i < (int)(timeout_s * 20.0) && proc_poll(&ps, pid, &st) == 0; i++)
-        nanosleep(&ts, NULL);
-    if (st < 0)
-        proc_kill_all(&ps, 2.0);
-    proc_read(&ps, pid, text, cap);
+    int st;
+    text[0] = '\0';
+    st = harness_run_output(argv, timeout_s, text, cap);
     printf("%s", text);
     return st;
 }

@@ -65,40 +65,41 @@ static void test_roles_permuted(void **st)
     assert_int_equal(r.pick, pt[CARRY_T1]);
 }
 
+/* One entry of the carry's net changed, and the role it takes away. */
+typedef struct {
+    int table;          /* 0 N-, 1 N+, 2 inhibitor */
+    int place, transition, value;
+    int expect;
+} role_edit;
+
+static const role_edit EDITS[] = {
+    { 0, CARRY_P9, CARRY_T_VISION, 1, TASKDEF_ERR_SOURCE },   /* no source: vision fed from p9 too */
+    { 0, CARRY_P7, CARRY_T6, 0, TASKDEF_ERR_SOURCE },         /* two: t6 takes nothing from p7 */
+    { 1, CARRY_P9, CARRY_T_VISION, 1, TASKDEF_ERR_SOURCE_PLACE }, /* the source fills two places */
+    { 2, CARRY_P1, CARRY_T_VISION, 0, TASKDEF_ERR_SOURCE_PLACE }, /* not inhibited by its place */
+    { 0, CARRY_P1, CARRY_T2, 1, TASKDEF_ERR_PICK },           /* two transitions take the token */
+    { 0, CARRY_P1, CARRY_T1, 0, TASKDEF_ERR_PICK },           /* none takes it */
+};
+
 static void test_roles_refused(void **st)
 {
     static taskdef t;
     taskdef_roles r;
+    int k;
     (void)st;
     assert_int_equal(taskdef_roles_find(NULL, &r), TASKDEF_ERR_ARG);
     assert_int_equal(taskdef_roles_find(&carry_net, NULL), TASKDEF_ERR_ARG);
     assert_int_equal(taskdef_validate(NULL, carry_table, &r), TASKDEF_ERR_ARG);
 
-    /* no source: vision fed from p9 too */
-    task_from_carry(&t, ID_P, ID_T);
-    t.n_minus[CARRY_P9 * NT + CARRY_T_VISION] = 1;
-    assert_int_equal(taskdef_roles_find(&t.net, &r), TASKDEF_ERR_SOURCE);
-    assert_int_equal(r.source, -1);
-    /* two sources: t6 takes nothing from p7 */
-    task_from_carry(&t, ID_P, ID_T);
-    t.n_minus[CARRY_P7 * NT + CARRY_T6] = 0;
-    assert_int_equal(taskdef_roles_find(&t.net, &r), TASKDEF_ERR_SOURCE);
-    /* the source fills two places */
-    task_from_carry(&t, ID_P, ID_T);
-    t.n_plus[CARRY_P9 * NT + CARRY_T_VISION] = 1;
-    assert_int_equal(taskdef_roles_find(&t.net, &r), TASKDEF_ERR_SOURCE_PLACE);
-    /* the source not inhibited by its place */
-    task_from_carry(&t, ID_P, ID_T);
-    t.n_inhibit[CARRY_P1 * NT + CARRY_T_VISION] = 0;
-    assert_int_equal(taskdef_roles_find(&t.net, &r), TASKDEF_ERR_SOURCE_PLACE);
-    /* two transitions take the workpiece token */
-    task_from_carry(&t, ID_P, ID_T);
-    t.n_minus[CARRY_P1 * NT + CARRY_T2] = 1;
-    assert_int_equal(taskdef_roles_find(&t.net, &r), TASKDEF_ERR_PICK);
-    /* none takes it */
-    task_from_carry(&t, ID_P, ID_T);
-    t.n_minus[CARRY_P1 * NT + CARRY_T1] = 0;
-    assert_int_equal(taskdef_roles_find(&t.net, &r), TASKDEF_ERR_PICK);
+    for (k = 0; k < (int)(sizeof EDITS / sizeof EDITS[0]); k++) {
+        const role_edit *e = &EDITS[k];
+        int8_t *tab;
+        task_from_carry(&t, ID_P, ID_T);
+        tab = e->table == 0 ? t.n_minus : e->table == 1 ? t.n_plus : t.n_inhibit;
+        tab[e->place * NT + e->transition] = e->value;
+        assert_int_equal(taskdef_roles_find(&t.net, &r), e->expect);
+        assert_int_equal(r.source, -1);
+    }
     /* the validators come first */
     task_from_carry(&t, ID_P, ID_T);
     t.n_plus[CARRY_P7 * NT + CARRY_T4] = 0;
