@@ -73,6 +73,29 @@ static void test_carry_compiles_to_the_shipped_tables(void **st)
     assert_carry_equal(&TASK.net, TASK.rows);
 }
 
+/* The rows as YAML: the same tables as the CSV; a broken row refused
+ * with its line and the field. */
+static void test_yaml_rows(void **st)
+{
+    const char *path = "build/test_netc_rows.yaml";
+    (void)st;
+    assert_int_equal(compile(&TASK, CARRY_PNML, "test/netc/carry_rows.yaml", 1, MSG, sizeof MSG), NETC_OK);
+    assert_carry_equal(&TASK.net, TASK.rows);
+    edit_copy("test/netc/carry_rows.yaml", path, "gains: FINE", "gains: [0.1, 0.3, 4]");
+    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
+    assert_non_null(strstr(MSG, "rows.yaml:9: gains"));
+    edit_copy("test/netc/carry_rows.yaml", path, "    name: \"t6 arm 1 back home\"", "");
+    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
+    assert_non_null(strstr(MSG, "name: missing"));
+    edit_copy("test/netc/carry_rows.yaml", path, "gains: SYNC", "gains: {a: 1}");
+    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
+    assert_non_null(strstr(MSG, "gains: not a value or a list of values"));
+    edit_copy("test/netc/carry_rows.yaml", path, "rows:", "rows: [");
+    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
+    assert_non_null(strstr(MSG, "not YAML"));
+    remove(path);
+}
+
 static void test_buffer_task_is_bounded_not_safe(void **st)
 {
     (void)st;
@@ -175,6 +198,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_carry_compiles_to_the_shipped_tables),
+        cmocka_unit_test(test_yaml_rows),
         cmocka_unit_test(test_buffer_task_is_bounded_not_safe),
         cmocka_unit_test(test_deadlock_refused_with_counterexample),
         cmocka_unit_test(test_dead_transition_refused),

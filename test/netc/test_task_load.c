@@ -57,6 +57,14 @@ static void spit(const char *path, const char *text)
     fclose(f);
 }
 
+static int copy_file(const char *from, const char *to)
+{
+    static char text[65536];
+    slurp(from, text, sizeof text);
+    spit(to, text);
+    return 0;
+}
+
 /* TMP/name/ holding the carry's rows and the net `pnml` with `find`
  * replaced by `repl` (find NULL: unchanged); returns the directory. */
 static const char *task_dir(const char *pnml, const char *name, const char *find, const char *repl)
@@ -136,6 +144,14 @@ static void test_files_refused(void **st)
     remove(path);
     assert_int_equal(load(TMP "/norows", NULL), NETC_ERR_IO);
     assert_non_null(strstr(MSG, "rows.csv: cannot read"));
+    /* rows as YAML instead of CSV; both: which holds the task would be a guess */
+    snprintf(path, sizeof path, "%s/rows.csv", carry_variant("yaml", NULL, NULL));
+    assert_int_equal(copy_file("test/netc/carry_rows.yaml", TMP "/yaml/rows.yaml"), 0);
+    assert_int_equal(load(TMP "/yaml", NULL), NETC_ERR_IO);
+    assert_non_null(strstr(MSG, "both rows.csv and rows.yaml"));
+    remove(path);
+    assert_int_equal(load(TMP "/yaml", NULL), NETC_OK);
+    assert_carry_equal(&TASK.net, TASK.rows);
     /* bad arguments */
     assert_int_equal(netc_task_load(&TASK, NULL, 0, NULL, stdout, stderr), NETC_ERR_CAPACITY);
     assert_int_equal(netc_task_load(&TASK, "tasks/carry", PETRI_TOKEN_MAX, NULL, stdout, stderr), NETC_ERR_CAPACITY);

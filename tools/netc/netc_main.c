@@ -10,7 +10,7 @@
 static void usage(FILE *f)
 {
     fprintf(f,
-        "usage: tandem-netc TASK.pnml ROWS.csv [--out DIR] [--name NAME] [--bound K] [--sim-args]\n"
+        "usage: tandem-netc TASK.pnml ROWS.csv|ROWS.yaml [--out DIR] [--name NAME] [--bound K] [--sim-args]\n"
         "  Reads a place/transition net (PNML; PIPE's inhibitor arcs) and its\n"
         "  lookup rows, checks it (validators, reachability within %d states:\n"
         "  bounded, safe for K = 1, deadlock-free, every transition fires, the\n"

@@ -59,8 +59,19 @@ const char *netc_strerror(int rc);
 /* PNML (docs/tasks.md §2) into t: places, transitions, N-, N+, inhibitor,
  * m0; t->net set (no invariants yet). Writes what is wrong to err. */
 int netc_pnml_read(netc_task *t, const char *path, FILE *err);
-/* The rows file (CSV, docs/tasks.md §3): one row per transition of t. */
+/* The rows file (docs/tasks.md §3): one row per transition of t, from a
+ * CSV, or from YAML when path ends in .yaml or .yml (§3.1). */
 int netc_rows_read(netc_task *t, const char *path, FILE *err);
+int netc_rows_read_csv(netc_task *t, const char *path, FILE *err);
+int netc_rows_read_yaml(netc_task *t, const char *path, FILE *err);
+int netc_is_yaml(const char *path);
+
+/* Shared by the two rows readers: one row from its fields (transition,
+ * live, gains, sync_group, arm1, arm2, name as the CSV writes them; *what
+ * names the one that is wrong, -1), and every transition has its row. */
+#define NETC_ROW_FIELDS 7
+int netc_row_fields(netc_task *t, char *f[NETC_ROW_FIELDS], const char **what);
+int netc_rows_complete(const netc_task *t, const char *path, FILE *err);
 /* The checks of docs/tasks.md §4 with token bound `bound` (or
  * NETC_BOUND_FROM_INVARIANTS); fills t->invariants. Reports on out, a
  * refusal with its counterexample on err. */

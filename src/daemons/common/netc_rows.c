@@ -12,7 +12,7 @@
 #include "netc.h"
 
 #define LINE_MAX_CHARS 512
-#define N_FIELDS 7   /* transition,live,gains,sync_group,arm1,arm2,name */
+#define N_FIELDS NETC_ROW_FIELDS   /* transition,live,gains,sync_group,arm1,arm2,name */
 
 static const char *const HEADER = "transition,live,gains,sync_group,arm1,arm2,name";
 
@@ -166,15 +166,13 @@ static int find_transition(const netc_task *t, const char *s)
     return -1;
 }
 
-/* One data line; *what names the field that is wrong. */
-static int parse_line(netc_task *t, char *line, const char **what)
+/* One line's fields; *what names the field that is wrong. */
+int netc_row_fields(netc_task *t, char *f[NETC_ROW_FIELDS], const char **what)
 {
-    char *f[N_FIELDS], *end;
     carry_row *r;
+    char *end;
     long sync;
     int j;
-    if (!split(line, f))
-        return *what = "fields (7, comma separated)", -1;
     if ((j = find_transition(t, f[0])) < 0 || t->has_row[j])
         return *what = "transition (a transition of the net, once)", -1;
     r = &t->rows[j];
@@ -199,11 +197,38 @@ static int parse_line(netc_task *t, char *line, const char **what)
     return 0;
 }
 
+/* One data line; *what names the field that is wrong. */
+static int parse_line(netc_task *t, char *line, const char **what)
+{
+    char *f[N_FIELDS];
+    if (!split(line, f))
+        return *what = "fields (7, comma separated)", -1;
+    return netc_row_fields(t, f, what);
+}
+
+int netc_rows_complete(const netc_task *t, const char *path, FILE *err)
+{
+    int j;
+    for (j = 0; j < t->n_transitions; j++)
+        if (!t->has_row[j]) {
+            netc_say(err, "%s: no row for transition %s\n", path, t->trans_name[j]);
+            return NETC_ERR_ROWS;
+        }
+    return NETC_OK;
+}
+
 int netc_rows_read(netc_task *t, const char *path, FILE *err)
+{
+    if (netc_is_yaml(path))
+        return netc_rows_read_yaml(t, path, err);
+    return netc_rows_read_csv(t, path, err);
+}
+
+int netc_rows_read_csv(netc_task *t, const char *path, FILE *err)
 {
     char line[LINE_MAX_CHARS];
     FILE *f = fopen(path, "r");
-    int n = 0, header = 0, j;
+    int n = 0, header = 0;
     if (!f) {
         netc_say(err, "%s: cannot read\n", path);
         return NETC_ERR_IO;
@@ -228,10 +253,5 @@ int netc_rows_read(netc_task *t, const char *path, FILE *err)
         }
     }
     fclose(f);
-    for (j = 0; j < t->n_transitions; j++)
-        if (!t->has_row[j]) {
-            netc_say(err, "%s: no row for transition %s\n", path, t->trans_name[j]);
-            return NETC_ERR_ROWS;
-        }
-    return NETC_OK;
+    return netc_rows_complete(t, path, err);
 }

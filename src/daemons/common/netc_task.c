@@ -1,6 +1,6 @@
 /* netc_task: a task directory read and checked into the fixed tables the
  * supervisor runs (docs/tasks.md §7): DIR holds one PNML net (*.pnml) and
- * its rows (rows.csv); both go through the same reader and checker as
+ * its rows (rows.csv or rows.yaml, not both); both go through the same reader and checker as
  * tandem-netc, so what the supervisor takes at start-up is what the
  * offline compiler would have written as const tables.
  */
@@ -58,6 +58,32 @@ static int find_pnml(const char *dir, char *path, size_t cap, FILE *err)
     return NETC_OK;
 }
 
+static int readable(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    if (f)
+        fclose(f);
+    return f != NULL;
+}
+
+/* DIR's rows: rows.csv or rows.yaml into path (rows.csv when neither
+ * is there, for the reader to say it cannot be read); both: NETC_ERR_IO,
+ * which one holds the task would be a guess. */
+static int find_rows(const char *dir, char *path, size_t cap, FILE *err)
+{
+    char yaml[1024];
+    snprintf(yaml, sizeof yaml, "%s/rows.yaml", dir);
+    snprintf(path, cap, "%s/rows.csv", dir);
+    if (!readable(yaml))
+        return NETC_OK;
+    if (readable(path)) {
+        netc_say(err, "task %s: both rows.csv and rows.yaml where the task needs one\n", dir);
+        return NETC_ERR_IO;
+    }
+    snprintf(path, cap, "%s", yaml);
+    return NETC_OK;
+}
+
 int netc_task_load(netc_task *t, const char *dir, int bound, int *bound_out, FILE *out, FILE *err)
 {
     char pnml[PATH_CHARS], rows[PATH_CHARS];
@@ -67,7 +93,8 @@ int netc_task_load(netc_task *t, const char *dir, int bound, int *bound_out, FIL
         return NETC_ERR_CAPACITY;
     if ((rc = find_pnml(dir, pnml, sizeof pnml, err)) != NETC_OK)
         return rc;
-    snprintf(rows, sizeof rows, "%s/rows.csv", dir);
+    if ((rc = find_rows(dir, rows, sizeof rows, err)) != NETC_OK)
+        return rc;
     if ((rc = netc_pnml_read(t, pnml, err)) != NETC_OK || (rc = netc_rows_read(t, rows, err)) != NETC_OK)
         return rc;
     return netc_check_bound(t, bound, bound_out, out, err);
