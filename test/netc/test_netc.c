@@ -75,24 +75,27 @@ static void test_carry_compiles_to_the_shipped_tables(void **st)
 
 /* The rows as YAML: the same tables as the CSV; a broken row refused
  * with its line and the field. */
+static const struct {
+    const char *find, *repl, *said;
+} BAD_YAML[] = {
+    { "gains: FINE", "gains: [0.1, 0.3, 4]", "rows.yaml:9: gains" },
+    { "    name: \"t6 arm 1 back home\"", "", "name: missing" },
+    { "gains: SYNC", "gains: {a: 1}", "gains: not a value or a list of values" },
+    { "rows:", "rows: [", "not YAML" },
+};
+
 static void test_yaml_rows(void **st)
 {
     const char *path = "build/test_netc_rows.yaml";
+    size_t k;
     (void)st;
     assert_int_equal(compile(&TASK, CARRY_PNML, "test/netc/carry_rows.yaml", 1, MSG, sizeof MSG), NETC_OK);
     assert_carry_equal(&TASK.net, TASK.rows);
-    edit_copy("test/netc/carry_rows.yaml", path, "gains: FINE", "gains: [0.1, 0.3, 4]");
-    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
-    assert_non_null(strstr(MSG, "rows.yaml:9: gains"));
-    edit_copy("test/netc/carry_rows.yaml", path, "    name: \"t6 arm 1 back home\"", "");
-    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
-    assert_non_null(strstr(MSG, "name: missing"));
-    edit_copy("test/netc/carry_rows.yaml", path, "gains: SYNC", "gains: {a: 1}");
-    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
-    assert_non_null(strstr(MSG, "gains: not a value or a list of values"));
-    edit_copy("test/netc/carry_rows.yaml", path, "rows:", "rows: [");
-    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
-    assert_non_null(strstr(MSG, "not YAML"));
+    for (k = 0; k < sizeof BAD_YAML / sizeof BAD_YAML[0]; k++) {
+        edit_copy("test/netc/carry_rows.yaml", path, BAD_YAML[k].find, BAD_YAML[k].repl);
+        assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
+        assert_non_null(strstr(MSG, BAD_YAML[k].said));
+    }
     remove(path);
 }
 
