@@ -59,6 +59,9 @@ const char *netc_strerror(int rc);
 /* PNML (docs/tasks.md §2) into t: places, transitions, N-, N+, inhibitor,
  * m0; t->net set (no invariants yet). Writes what is wrong to err. */
 int netc_pnml_read(netc_task *t, const char *path, FILE *err);
+/* The same from len bytes in memory (the fuzz target, fuzz/fuzz_pnml.c);
+ * name stands for the file in what is said; err may be NULL (silent). */
+int netc_pnml_read_memory(netc_task *t, const char *buf, int len, const char *name, FILE *err);
 /* The rows file (docs/tasks.md §3): one row per transition of t, from a
  * CSV, or from YAML when path ends in .yaml or .yml (§3.1). */
 int netc_rows_read(netc_task *t, const char *path, FILE *err);

@@ -197,18 +197,20 @@ static const xmlNode *find_net(const xmlNode *n)
     return NULL;
 }
 
-int netc_pnml_read(netc_task *t, const char *path, FILE *err)
+/* The net of a parsed document (doc NULL: not readable XML) into t; path
+ * names it in what is said. Frees doc. */
+static int read_doc(netc_task *t, xmlDoc *doc, const char *path, FILE *err)
 {
     pnml_reader *r = calloc(1, sizeof *r);
-    xmlDoc *doc;
     const xmlNode *net;
     int i, rc;
-    if (!r)
+    if (!r) {
+        xmlFreeDoc(doc);
         return NETC_ERR_IO;
+    }
     r->t = t;
     r->err = err;
     r->path = path;
-    doc = xmlReadFile(path, NULL, XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING);
     net = doc ? find_net(xmlDocGetRootElement(doc)) : NULL;
     if (!net) {
         netc_say(err, "%s: %s\n", path, doc ? "no <net> element" : "not readable XML");
@@ -229,4 +231,20 @@ int netc_pnml_read(netc_task *t, const char *path, FILE *err)
     free(r);
     netc_task_bind(t);
     return rc;
+}
+
+/* No network, no entity expansion from outside, no messages of libxml2's
+ * own on stderr: what is wrong is said by this reader. */
+#define PNML_PARSE_OPTIONS (XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING)
+
+int netc_pnml_read(netc_task *t, const char *path, FILE *err)
+{
+    return read_doc(t, xmlReadFile(path, NULL, PNML_PARSE_OPTIONS), path, err);
+}
+
+int netc_pnml_read_memory(netc_task *t, const char *buf, int len, const char *name, FILE *err)
+{
+    if (!buf || len < 0)
+        return NETC_ERR_PNML;
+    return read_doc(t, xmlReadMemory(buf, len, name, NULL, PNML_PARSE_OPTIONS), name, err);
 }
