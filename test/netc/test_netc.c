@@ -82,6 +82,8 @@ static const struct {
     { "    name: \"t6 arm 1 back home\"", "", "name: missing" },
     { "gains: SYNC", "gains: {a: 1}", "gains: not a value or a list of values" },
     { "rows:", "rows: [", "not YAML" },
+    { "name: \"t6 arm 1 back home\"", "name: \"t6 arm 1 back home, the long way round: past the hand-over, "
+      "behind the table, along the wall and past the camera\"", "name: longer than the tables hold" },
 };
 
 static void test_yaml_rows(void **st)

@@ -170,6 +170,11 @@ static void test_capacity_refused(void **st)
     assert_int_equal(load(carry_variant("big", "</page>", strcat(places, "</page>")), NULL), NETC_ERR_CAPACITY);
     assert_non_null(strstr(MSG, "PETRI_MAX_PLACES"));
     assert_non_null(strstr(MSG, "task.pnml"));
+    /* a name longer than the tables hold: refused, not cut */
+    assert_int_equal(load(carry_variant("longname", "<text>p5</text>",
+                                        "<text>p5 arm 1 holds the workpiece it took from the pick zone, on its way</text>"),
+                          NULL), NETC_ERR_CAPACITY);
+    assert_non_null(strstr(MSG, "the name of p5 longer than 63 characters (TASKDEF_MAX_NAME)"));
 }
 
 /* A second transition taking the workpiece token (t2 from p1 too): the

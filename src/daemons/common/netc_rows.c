@@ -191,6 +191,8 @@ int netc_row_fields(netc_task *t, char *f[NETC_ROW_FIELDS], const char **what)
                        "CARRY_MAX_SEGMENTS, poses of the cell)", -1;
     if (!f[6][0])
         return *what = "name", -1;
+    if (strlen(f[6]) >= sizeof t->row_name[j])   /* refused, not cut */
+        return *what = "name: longer than the tables hold (TASKDEF_MAX_ROW_NAME - 1 characters)", -1;
     snprintf(t->row_name[j], sizeof t->row_name[j], "%s", f[6]);
     r->name = t->row_name[j];
     t->has_row[j] = 1;
