@@ -170,6 +170,15 @@ static void test_bad_rows_refused(void **st)
     /* a transition without its row */
     edit_copy(CARRY_ROWS, path, "t5,yes", "t6,yes");
     assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
+    /* a line longer than the reader's buffer: refused, not read as two */
+    {
+        static char longer[700];
+        memset(longer, 'x', sizeof longer - 1);
+        memcpy(longer, "vision locates a workpiece ", 27);
+        edit_copy(CARRY_ROWS, path, "vision locates a workpiece", longer);
+    }
+    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
+    assert_non_null(strstr(MSG, "longer than 510 characters"));
     remove(path);
 }
 

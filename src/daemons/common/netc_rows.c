@@ -237,8 +237,15 @@ int netc_rows_read_csv(netc_task *t, const char *path, FILE *err)
     }
     while (fgets(line, sizeof line, f)) {
         const char *what = NULL;
-        char *s = trim(line);
+        char *s;
         n++;
+        if (!strchr(line, '\n') && !feof(f)) {
+            /* the rest would be read as a line of its own */
+            netc_say(err, "%s:%d: longer than %d characters\n", path, n, LINE_MAX_CHARS - 2);
+            fclose(f);
+            return NETC_ERR_ROWS;
+        }
+        s = trim(line);
         if (!*s || *s == '#')
             continue;
         if (!header) {
