@@ -107,6 +107,8 @@ uint64_t sim_state_hash(const sim_world *w);
 typedef struct sim_config {
     int    arms;               /* 1: the PUMA 560 pair, table, workpieces */
     int    workpieces;         /* workpieces to feed (0 = endless stream) */
+    int    handover_stand;     /* 1: a stand under the hand-over, a buffer
+                                  a task sets workpieces down on */
     double arm_friction_viscous;  /* N m s / rad */
     double arm_friction_coulomb;  /* N m */
     int    rovers;             /* number of Pioneer robots (0 = none) */

@@ -67,6 +67,9 @@ static const option_entry sim_options[] = {
     { .name = "no-arms", .type = OPTION_FLAG, OPTION_AT(sim_app, no_arms), .help = "leave the PUMA pair out" },
     { .name = "workpieces", .type = OPTION_INT, OPTION_AT(sim_app, cfg.workpieces), .min = 0, .max = 100000,
       .meta = "N", .help = "workpieces to feed (0 = endless)", .def = "0" },
+    { .name = "handover-stand", .type = OPTION_FLAG, OPTION_AT(sim_app, cfg.handover_stand),
+      .help = "a stand on the table under the hand-over: a workpiece set down there rests on it until an arm "
+              "takes it (the buffer of tasks/carry_buffer, docs/tasks.md §6)" },
     { .name = "friction", .type = OPTION_CALL, OPTION_AT(sim_app, cfg), .call = parse_friction, .meta = "V,C",
       .help = "arm joint viscous (N m s/rad) and Coulomb (N m) friction, each 0..100", .def = "0,0" },
     { .name = "rovers", .type = OPTION_INT, OPTION_AT(sim_app, cfg.rovers), .min = 0, .max = 1000, .meta = "N",

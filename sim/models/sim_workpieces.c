@@ -18,7 +18,9 @@
  *
  * A bar released and at rest inside the delivery zone is counted
  * delivered and parked; one at rest anywhere else after it left the pick
- * zone (or on the floor) is counted dropped and parked.
+ * zone (or on the floor) is counted dropped and parked, except on the
+ * hand-over stand (--handover-stand): a task's buffer, where it waits for
+ * an arm to take it (docs/tasks.md §6).
  *
  * Camera: VISION_DETECTIONS at 20 Hz with the free bars lying at rest,
  * positions with Gaussian noise (VISION_SIGMA_M) and yaw noise.
@@ -37,6 +39,14 @@
 #define WP_REST_TIME_S 0.2
 #define WP_PICK_RADIUS_M 0.15
 #define WP_DELIVER_RADIUS_M 0.10
+/* The stand: narrower than the grasp points are apart (2 x 0.10 m) so the
+ * fingers close beside it, its top this far below a bar held at the
+ * hand-over so a bar released there drops onto it instead of being
+ * pressed into it by an arm's tracking error. */
+#define WP_STAND_SIZE_X_M 0.08
+#define WP_STAND_SIZE_Y_M 0.04
+#define WP_STAND_DROP_M 0.002
+#define WP_STAND_RADIUS_M 0.05   /* a bar this near the stand's axis rests on it */
 #define WP_YAW_SPREAD_RAD 0.05
 #define VISION_PERIOD_STEPS 50
 #define VISION_SIGMA_M 0.001
@@ -67,6 +77,20 @@ static void park(sim_workpieces *m, int i)
     dGeomDisable(p->geom);
 }
 
+/* The hand-over stand: a box on the table top up to just below a bar held
+ * at the hand-over; a table to the bars, nothing to the arms. */
+static dGeomID stand_create(sim_world *w)
+{
+    const double *h = cell_default.handover_center_m;
+    const double top = h[2] - 0.5 * cell_default.workpiece_size_m[2] - WP_STAND_DROP_M;
+    const double height = top - table_top_z();
+    const dGeomID g = dCreateBox(w->space, WP_STAND_SIZE_X_M, WP_STAND_SIZE_Y_M, height);
+    dGeomSetPosition(g, h[0], h[1], table_top_z() + 0.5 * height);
+    dGeomSetCategoryBits(g, SIM_CAT_TABLE);
+    dGeomSetCollideBits(g, SIM_CAT_WORKPIECE);
+    return g;
+}
+
 static int wp_create(void *model, sim_world *w, const sim_config *cfg)
 {
     sim_workpieces *m = model;
@@ -88,6 +112,7 @@ static int wp_create(void *model, sim_world *w, const sim_config *cfg)
                      cell_default.table_center_m[2]);
     dGeomSetCategoryBits(m->table_geom, SIM_CAT_TABLE);
     dGeomSetCollideBits(m->table_geom, SIM_CAT_WORKPIECE);
+    m->stand_geom = cfg->handover_stand ? stand_create(w) : NULL;
     for (i = 0; i < WP_POOL; i++) {
         m->pool[i].body = sim_body_create(w);
         dMassSetBoxTotal(&mass, cell_default.workpiece_mass_kg, sz[0], sz[1], sz[2]);
@@ -107,6 +132,7 @@ static void wp_destroy(void *model, sim_world *w)
     (void)w;   /* bodies, geoms and joints go with the ODE world */
     memset(m->pool, 0, sizeof m->pool);
     m->table_geom = NULL;
+    m->stand_geom = NULL;
 }
 
 /* ---- geometry helpers ----------------------------------------------------- */
@@ -301,7 +327,9 @@ static void settle(sim_workpieces *m, int i)
     sim_workpiece *p = &m->pool[i];
     const dReal *c = dBodyGetPosition(p->body);
     const int on_floor = c[2] < table_top_z() - 0.05;
-    if (p->state == WP_HELD || p->state == WP_PARKED)
+    const int on_stand = m->stand_geom && p->state == WP_FREE && c[2] > table_top_z() + 0.05 &&
+                         xy_dist(c, cell_default.handover_center_m) < WP_STAND_RADIUS_M;
+    if (p->state == WP_HELD || p->state == WP_PARKED || on_stand)
         return;
     if (body_speed(p->body) > WP_REST_SPEED_MPS) {
         p->rest_s = 0.0;

@@ -29,6 +29,7 @@ typedef struct sim_workpieces {
     sim_arms *arms;                       /* the grippers: set by the owner before create */
     sim_workpiece pool[WP_POOL];
     dGeomID table_geom;
+    dGeomID stand_geom;                   /* --handover-stand, or NULL */
     prng_state rng;
     const sim_config *cfg;
     int32_t spawned, delivered, dropped, next_id;

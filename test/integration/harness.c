@@ -366,6 +366,11 @@ pid_t harness_child_named(pid_t parent, const char *prog, const char *opt, const
 
 int harness_run(const char *const argv[], double timeout_s)
 {
+    return harness_run_output(argv, timeout_s, NULL, 0);
+}
+
+int harness_run_output(const char *const argv[], double timeout_s, char *buf, int cap)
+{
     proc_set ps;
     pid_t pid;
     int st = -1, i;
@@ -378,5 +383,7 @@ int harness_run(const char *const argv[], double timeout_s)
         nanosleep(&ts, NULL);
     if (st < 0)
         proc_kill_all(&ps, 2.0);
+    if (buf && cap > 0)
+        proc_read(&ps, pid, buf, cap);
     return st;
 }

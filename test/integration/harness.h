@@ -85,5 +85,7 @@ pid_t harness_child_named(pid_t parent, const char *prog, const char *opt, const
 /* Runs a program (argv[0] under the build's bin) to its end, at most
  * timeout_s; its exit status, or -1 if it had to be killed. */
 int harness_run(const char *const argv[], double timeout_s);
+/* The same, with what it printed into buf (NUL terminated; buf NULL: not kept). */
+int harness_run_output(const char *const argv[], double timeout_s, char *buf, int cap);
 
 #endif

@@ -73,6 +73,34 @@ static void test_carry_compiles_to_the_shipped_tables(void **st)
     assert_carry_equal(&TASK.net, TASK.rows);
 }
 
+/* The rows as YAML: the same tables as the CSV; a broken row refused
+ * with its line and the field. */
+static const struct {
+    const char *find, *repl, *said;
+} BAD_YAML[] = {
+    { "gains: FINE", "gains: [0.1, 0.3, 4]", "rows.yaml:9: gains" },
+    { "    name: \"t6 arm 1 back home\"", "", "name: missing" },
+    { "gains: SYNC", "gains: {a: 1}", "gains: not a value or a list of values" },
+    { "rows:", "rows: [", "not YAML" },
+    { "name: \"t6 arm 1 back home\"", "name: \"t6 arm 1 back home, the long way round: past the hand-over, "
+      "behind the table, along the wall and past the camera\"", "name: longer than the tables hold" },
+};
+
+static void test_yaml_rows(void **st)
+{
+    const char *path = "build/test_netc_rows.yaml";
+    size_t k;
+    (void)st;
+    assert_int_equal(compile(&TASK, CARRY_PNML, "test/netc/carry_rows.yaml", 1, MSG, sizeof MSG), NETC_OK);
+    assert_carry_equal(&TASK.net, TASK.rows);
+    for (k = 0; k < sizeof BAD_YAML / sizeof BAD_YAML[0]; k++) {
+        edit_copy("test/netc/carry_rows.yaml", path, BAD_YAML[k].find, BAD_YAML[k].repl);
+        assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
+        assert_non_null(strstr(MSG, BAD_YAML[k].said));
+    }
+    remove(path);
+}
+
 static void test_buffer_task_is_bounded_not_safe(void **st)
 {
     (void)st;
@@ -142,6 +170,15 @@ static void test_bad_rows_refused(void **st)
     /* a transition without its row */
     edit_copy(CARRY_ROWS, path, "t5,yes", "t6,yes");
     assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
+    /* a line longer than the reader's buffer: refused, not read as two */
+    {
+        static char longer[700];
+        memset(longer, 'x', sizeof longer - 1);
+        memcpy(longer, "vision locates a workpiece ", 27);
+        edit_copy(CARRY_ROWS, path, "vision locates a workpiece", longer);
+    }
+    assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
+    assert_non_null(strstr(MSG, "longer than 510 characters"));
     remove(path);
 }
 
@@ -165,16 +202,17 @@ static void test_strerror_distinct(void **st)
 {
     int a, b;
     (void)st;
-    for (a = NETC_ERR_INVARIANT; a <= NETC_OK; a++)
+    for (a = NETC_ERR_ROLES; a <= NETC_OK; a++)
         for (b = a + 1; b <= NETC_OK; b++)
             assert_string_not_equal(netc_strerror(a), netc_strerror(b));
-    assert_string_equal(netc_strerror(NETC_ERR_INVARIANT - 1), "unknown error");
+    assert_string_equal(netc_strerror(NETC_ERR_ROLES - 1), "unknown error");
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_carry_compiles_to_the_shipped_tables),
+        cmocka_unit_test(test_yaml_rows),
         cmocka_unit_test(test_buffer_task_is_bounded_not_safe),
         cmocka_unit_test(test_deadlock_refused_with_counterexample),
         cmocka_unit_test(test_dead_transition_refused),

@@ -10,7 +10,7 @@
 static void usage(FILE *f)
 {
     fprintf(f,
-        "usage: tandem-netc TASK.pnml ROWS.csv [--out DIR] [--name NAME] [--bound K]\n"
+        "usage: tandem-netc TASK.pnml ROWS.csv|ROWS.yaml [--out DIR] [--name NAME] [--bound K] [--sim-args]\n"
         "  Reads a place/transition net (PNML; PIPE's inhibitor arcs) and its\n"
         "  lookup rows, checks it (validators, reachability within %d states:\n"
         "  bounded, safe for K = 1, deadlock-free, every transition fires, the\n"
@@ -18,7 +18,10 @@ static void usage(FILE *f)
         "  and DIR/NAME_task.c (petri_net and carry_row const tables).\n"
         "  --out DIR    where the C goes (must exist); without it, check only\n"
         "  --name NAME  C prefix (default: the PNML net's id)\n"
-        "  --bound K    token bound per place (default 1: the net must be safe)\n"
+        "  --bound K    token bound per place (default 1: the net must be safe; 0: the\n"
+        "               largest its P-invariants allow, as tandem-supervisor --task takes it)\n"
+        "  --sim-args   last line: the tandem-sim options the cell needs for the task\n"
+        "               (--handover-stand when a row sets a workpiece down at the hand-over)\n"
         "  exit 0 ok, 1 refused (with a counterexample), 2 usage or files\n"
         "  docs/tasks.md\n", PETRI_MAX_STATES);
 }
@@ -34,11 +37,21 @@ static int name_ok(const char *s)
     return 1;
 }
 
+/* --sim-args: what the simulated cell must have for the task, as
+ * tandem-sim options on one line (tools/tandem-run reads it). */
+static void print_sim_args(const netc_task *t)
+{
+    int j, stand = 0;
+    for (j = 0; j < t->n_transitions; j++)
+        stand |= carry_row_sets_down(&t->rows[j], 0) || carry_row_sets_down(&t->rows[j], 1);
+    printf("%s\n", stand ? "--handover-stand" : "");
+}
+
 int main(int argc, char **argv)
 {
     const char *pnml = NULL, *rows = NULL, *out = NULL;
     netc_task *t = calloc(1, sizeof *t);
-    int bound = 1, i, rc;
+    int bound = 1, sim_args = 0, i, rc;
     if (!t)
         return 2;
     for (i = 1; i < argc; i++) {
@@ -52,6 +65,8 @@ int main(int argc, char **argv)
             snprintf(t->task, sizeof t->task, "%s", argv[++i]);
         else if (strcmp(argv[i], "--bound") == 0 && i + 1 < argc)
             bound = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--sim-args") == 0)
+            sim_args = 1;
         else if (argv[i][0] != '-' && !pnml)
             pnml = argv[i];
         else if (argv[i][0] != '-' && !rows)
@@ -62,7 +77,7 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    if (!pnml || !rows || bound < 1 || bound >= PETRI_TOKEN_MAX) {
+    if (!pnml || !rows || bound < NETC_BOUND_FROM_INVARIANTS || bound >= PETRI_TOKEN_MAX) {
         usage(stderr);
         free(t);
         return 2;
@@ -83,6 +98,8 @@ int main(int argc, char **argv)
         rc = netc_emit(t, out, pnml, rows, stderr);
     if (rc == 0 && out)
         printf("wrote %s/%s_task.h and %s/%s_task.c\n", out, t->task, out, t->task);
+    if (rc == 0 && sim_args)
+        print_sim_args(t);
     if (rc != 0)
         fprintf(stderr, "tandem-netc: %s\n", netc_strerror(rc));
     free(t);

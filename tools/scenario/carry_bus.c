@@ -138,7 +138,7 @@ static void on_marking(const lcm_recv_buf_t *rb, const char *ch, const tandem_pe
     int i;
     carry_state *r = u;
     (void)rb; (void)ch;
-    if (m->n_places <= 16 && m->n_transitions <= 16) {
+    if (m->n_places <= PETRI_MAX_PLACES && m->n_transitions <= PETRI_MAX_TRANSITIONS) {
         r->mk = *m;
         for (i = 0; i < m->n_places; i++)
             r->mk_marking[i] = m->marking[i];

@@ -89,6 +89,7 @@ int carry_write_summary(const carry_cfg *c, long seed, const carry_result *res, 
         return SCENARIO_ERR_IO;
     json_str(&j, "scenario", "carry");
     json_str(&j, "controller", c->controller_time ? "time" : "event");
+    json_str(&j, "task", c->task ? c->task : "carry (shipped tables)");
     json_int(&j, "seed", seed);
     json_int(&j, "workpieces", c->workpieces);
     json_int(&j, "workpieces_detected", res->detected);

@@ -154,15 +154,24 @@ static void daemons_argv(carry_daemons *d, const carry_cfg *c)
  * 0 ok, CARRY_SCEN_ERR_RUN: one did not start (the others stopped again). */
 static int daemons_start(carry_daemons *d, const carry_cfg *c)
 {
-    int k;
+    int k, n_sim, n_sup;
     proc_init(&d->ps, NULL);
     snprintf(d->journal, sizeof d->journal, "%s/%s_supervisor.journal", c->out, c->tag);
     remove(d->journal);               /* a fresh run; a restart reads it */
-    daemon_argv_finish(c, d->sim_argv, 10, 16);
+    n_sim = 10;
+    if (c->handover_stand)
+        d->sim_argv[n_sim++] = "--handover-stand";
+    daemon_argv_finish(c, d->sim_argv, n_sim, 16);
     daemon_argv_finish(c, d->a1_argv, 6, 16);
     daemon_argv_finish(c, d->a2_argv, 6, 16);
-    if (c->serial) d->sup_argv[8] = "--serial";
-    daemon_argv_finish(c, d->sup_argv, c->serial ? 9 : 8, 20);
+    n_sup = 8;
+    if (c->serial)
+        d->sup_argv[n_sup++] = "--serial";
+    if (c->task) {
+        d->sup_argv[n_sup++] = "--task";
+        d->sup_argv[n_sup++] = c->task;
+    }
+    daemon_argv_finish(c, d->sup_argv, n_sup, 20);
     snprintf(d->err, sizeof d->err, "%s/%s_stderr.log", c->out, c->tag);
     remove(d->err);
     for (k = 0; k < CARRY_DAEMONS; k++) {

@@ -17,11 +17,12 @@
 #include <lcm/lcm.h>
 #include "hang_watch.h"
 #include "scenario.h"
+#include "petri.h"
 #include "tandem_arm_state_t.h"
 #include "tandem_petri_marking_t.h"
 
 #define MAX_BLOCKS 64
-#define NT 8                     /* transitions recorded (transitions.csv) */
+#define NT PETRI_MAX_TRANSITIONS  /* transitions recorded (transitions.csv): any task's */
 #define CARRY_DAEMONS 4          /* sim, arm 1, arm 2, supervisor */
 /* success criteria (the figures a carry run must show) */
 #define CRIT_FORCE_10MS_N 1000.0
@@ -70,6 +71,9 @@ typedef struct carry_cfg {
     const char *url;           /* --lcm-url, or NULL: a private udpm port */
     const char *block_detect;  /* tandem-arm --block-detect on|off */
     const char *stall_s;       /* tandem-supervisor --stall-s */
+    const char *task;          /* --task DIR (tandem-supervisor --task), NULL: the shipped carry */
+    int    handover_stand;     /* the task sets workpieces down at the hand-over:
+                                  tandem-sim --handover-stand */
     double hang_s;             /* --hang-s: a daemon silent this long (wall) is hung; 0 off */
     uint64_t seed;
     scenario_drop drop;        /* --drop-rate, to every daemon */
@@ -119,7 +123,7 @@ typedef struct carry_state {
     double   max_sync_backtrack_m;
     double   s_hist[2][16];      /* s at the last 16 steps, ring */
     tandem_petri_marking_t mk;
-    int8_t   mk_marking[16], mk_running[16];
+    int8_t   mk_marking[PETRI_MAX_PLACES], mk_running[PETRI_MAX_TRANSITIONS];
     int      have_mk;
     int      delivered, dropped, spawned;
     /* the stick as the simulator last said (SIM_STATUS) and as wanted: a

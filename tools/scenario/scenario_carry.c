@@ -25,6 +25,7 @@
 #include "carry_scen.h"
 #include "hang_watch.h"
 #include "shared_run.h"
+#include "netc.h"
 #include "options.h"
 
 /* What the command line sets; run() copies it out. */
@@ -72,7 +73,7 @@ static int option_fault(const char *prog, void *dest, char *value)
 
 static const char *const controllers[] = { "event", "time", NULL };
 
-static const option_entry carry_table[] = {
+static const option_entry carry_option_table[] = {
     { .name = "workpieces", .type = OPTION_INT, OPTION_AT(carry_options, cfg.workpieces), .min = 1, .max = 1000,
       .meta = "N", .help = "workpieces to carry", .def = "3" },
     { .name = "controller", .type = OPTION_CHOICE, OPTION_AT(carry_options, cfg.controller_time),
@@ -102,6 +103,10 @@ static const option_entry carry_table[] = {
                            "(SIGKILL) and restarted (the simulator: the run stops); 0: not watched", .def = "5" },
     { .name = "drop-rate", .type = OPTION_STRING, OPTION_AT(carry_options, drop_arg), .meta = "P",
       .help = "every daemon drops received messages with probability P (0 <= P < 1)", .def = "0" },
+    { .name = "task", .type = OPTION_STRING, OPTION_AT(carry_options, cfg.task), .meta = "DIR",
+      .help = "run the task in DIR (tandem-supervisor --task: one *.pnml and rows.csv, docs/tasks.md); "
+              "checked here first, and the simulator gets the hand-over stand when the task sets "
+              "workpieces down there", .def = "the shipped carry" },
     { .name = "lcm-url", .type = OPTION_STRING, OPTION_AT(carry_options, cfg.url), .min = 1, .max = 95,
       .meta = "URL", .help = "bus of the run", .def = "a private udpm port" },
     { .name = "out", .type = OPTION_STRING, OPTION_AT(carry_options, cfg.out), OPTION_SEEN(carry_options, out_given),
@@ -116,14 +121,14 @@ static const option_program carry_program = {
              "         [--block ARM:LINK:START_S:DURATION_S[:t3]]... [--random-blocks K]\n"
              "         [--seed S] [--no-serial] [--serial-workpieces M]\n"
              "         [--block-detect on|off] [--stall-s S] [--fault kill:D:T[:R]]...\n"
-             "         [--hang-s S] [--drop-rate P] [--lcm-url URL] --out DIR\n"
+             "         [--hang-s S] [--drop-rate P] [--task DIR] [--lcm-url URL] --out DIR\n"
              "Two-arm carry in lockstep with the stick pushed into the arms (docs/method/carry.md §8).\n\n",
     .epilog = "Exit status: 0 when the run met every success criterion (all delivered,\n"
               "none dropped, no joint-limit violation, speeds within the motor limits,\n"
               "10 ms contact force <= 1000 N, resumed within 1 s of every removal, no\n"
               "stall, no invariant violation or deadlock, completed); 3 otherwise, with\n"
               "the failed criteria on the last line; 1 on errors, 2 on bad options.\n",
-    .groups = { { carry_table, NULL } },   /* the base is parse()'s carry_options */
+    .groups = { { carry_option_table, NULL } },   /* the base is parse()'s carry_options */
     .n_groups = 1,
 };
 
@@ -152,6 +157,27 @@ static int parse(carry_options *o, int argc, char **argv)
     return SCENARIO_GO_ON;
 }
 
+/* --task: checked before anything starts (the supervisor would refuse it
+ * the same way, but only once the simulator runs), and what the cell
+ * needs for it: the hand-over stand when a row sets a workpiece down
+ * there. An exit status (2: refused) or SCENARIO_GO_ON. */
+static int task_setup(carry_cfg *cfg)
+{
+    static netc_task task;
+    int t, rc;
+    if (!cfg->task)
+        return SCENARIO_GO_ON;
+    netc_set_program("tandem-scenario carry");
+    rc = netc_task_load(&task, cfg->task, NETC_BOUND_FROM_INVARIANTS, NULL, stderr, stderr);
+    if (rc != NETC_OK) {
+        fprintf(stderr, "tandem-scenario carry: --task %s refused: %s\n", cfg->task, netc_strerror(rc));
+        return 2;
+    }
+    for (t = 0; t < task.n_transitions; t++)
+        cfg->handover_stand |= carry_row_sets_down(&task.rows[t], 0) || carry_row_sets_down(&task.rows[t], 1);
+    return SCENARIO_GO_ON;
+}
+
 /* The main run's configuration from the options: the blocks completed
  * with the random ones, the output directory made, the limits set. An exit
  * status (>= 0) on failure, SCENARIO_GO_ON otherwise. */
@@ -169,6 +195,8 @@ static int setup(carry_cfg *cfg, carry_options *o, char *stall_buf, size_t stall
         total_block_s += bl->b[i].dur_s;
     }
     if (scenario_parse_drop(&cfg->drop, o->drop_arg, o->seed) != 0)
+        return 2;
+    if (task_setup(cfg) != SCENARIO_GO_ON)
         return 2;
     if (scenario_mkdir(cfg->out) != 0)
         return 1;

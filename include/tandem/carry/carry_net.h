@@ -93,6 +93,11 @@ typedef enum {
     CARRY_POSE_HANDOVER_2,
     CARRY_POSE_ABOVE_RELEASE,
     CARRY_POSE_RELEASE_POSE,
+    /* above the hand-over by CELL_STAND_CLEARANCE_M: a task that sets the bar
+     * down on a stand there (docs/tasks.md §6) comes and goes vertically,
+     * as at the pick and the delivery, so the bar clears the stand */
+    CARRY_POSE_ABOVE_HANDOVER_1,
+    CARRY_POSE_ABOVE_HANDOVER_2,
     CARRY_N_POSES
 } carry_pose;
 

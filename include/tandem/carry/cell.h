@@ -24,6 +24,11 @@
 
 #define CELL_ARMS 2
 #define CELL_TOOL_LENGTH_M 0.10        /* flange -> point between the fingers */
+/* ABOVE_HANDOVER_1, _2: this far above the hand-over, where a bar set down
+ * on a stand (tandem-sim --handover-stand) is approached and left
+ * vertically. Not approach_height_m: 0.13 m above the hand-over is out of
+ * the PUMA's reach with the tool down (0.10 m is the most, test_cell) */
+#define CELL_STAND_CLEARANCE_M 0.06
 
 typedef struct cell_layout {
     double base_xyz_m[CELL_ARMS][3];   /* mounting surface of each arm */

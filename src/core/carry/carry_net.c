@@ -105,7 +105,7 @@ const carry_row carry_table[CARRY_N_TRANSITIONS] = {
 
 static const char *const POSE_NAMES[CARRY_N_POSES] = {
     "NONE", "HOME_1", "ABOVE_WORKPIECE", "AT_WORKPIECE", "HANDOVER_1", "CLEAR_1",
-    "HOME_2", "HANDOVER_2", "ABOVE_RELEASE", "RELEASE_POSE",
+    "HOME_2", "HANDOVER_2", "ABOVE_RELEASE", "RELEASE_POSE", "ABOVE_HANDOVER_1", "ABOVE_HANDOVER_2",
 };
 
 const carry_row *carry_row_of(int t)

@@ -13,7 +13,9 @@
 #include "daemon.h"
 #include "journal.h"
 #include "carry_net.h"
+#include "netc.h"
 #include "petri.h"
+#include "taskdef.h"
 #include "stallwatch.h"
 #include "tandem_action_event_t.h"
 #include "tandem_workpiece_detections_t.h"
@@ -41,8 +43,17 @@ typedef struct arm_view {
 
 typedef struct supervisor_daemon {
     daemon  d;                      /* the shell: bus, loop, counters, health */
+    /* the task: the shipped carry_net and carry_table, or the net and rows
+     * --task loaded into task's fixed tables; known by its roles (the
+     * source, its place, the pick), not by the carry's indices */
+    const char *task_dir;           /* --task DIR, NULL: the shipped carry */
+    netc_task *task;                /* --task's tables (static storage in main) */
+    const petri_net *pn;
+    const carry_row *rows;          /* row t for transition t */
+    taskdef_roles roles;
+    int     token_bound;            /* the start-up check's bound per place */
     petri   net;
-    sup_slot slot[CARRY_N_TRANSITIONS];
+    sup_slot slot[PETRI_MAX_TRANSITIONS];
     int     controller;             /* action_row_t CONTROLLER_* */
     int     serial;
     int     use_tdsd;               /* --tdsd: rows ask for TDSD Cartesian moves */
@@ -98,7 +109,11 @@ typedef struct supervisor_daemon {
 #define SUPERVISOR_ERR_POSE (-2)      /* a row names a pose the cell does not have */
 #define SUPERVISOR_ERR_SNAPSHOT (-3)  /* a journal snapshot this net cannot take */
 #define SUPERVISOR_ERR_JOURNAL (-4)   /* the journal is refused or does not open (said) */
+#define SUPERVISOR_ERR_TASK (-5)      /* --task refused: a file, the net or its rows (said) */
 const char *supervisor_strerror(int rc);
+
+/* The row of transition t (t a transition of the task). */
+const carry_row *sup_row(const supervisor_daemon *sv, int t);
 
 /* supervisor_rows.c */
 void sup_start_transition(supervisor_daemon *sv, int t);

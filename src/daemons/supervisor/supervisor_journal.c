@@ -17,7 +17,13 @@
 #include "vec3.h"
 
 #define SNAP_HEAD 27
-#define SNAP_LEN  (SNAP_HEAD + CARRY_N_PLACES + 6 * CARRY_N_TRANSITIONS)
+/* values in a snapshot of the task's net: the head, the marking, and
+ * per transition and arm the slot's state, row id and step sent */
+#define SNAP_LEN(pn) (SNAP_HEAD + (pn)->n_places + 6 * (pn)->n_transitions)
+/* the largest task's snapshot fits a journal record */
+typedef char snap_fits_a_record[SNAP_HEAD + PETRI_MAX_PLACES + 6 * PETRI_MAX_TRANSITIONS <= JOURNAL_MAX_VALUES ? 1 : -1];
+#define RUNNING_MAX 4294967295.0   /* a uint32_t running set; petri_set_state
+                                      refuses bits of transitions the task lacks */
 #define SNAP_VERSION 2
 #define ID_MAX 2147483647.0        /* int32 ids and counters */
 #define COUNT_MAX 9007199254740992.0   /* 2^53: exact in a double */
@@ -34,7 +40,7 @@ typedef struct snap_field {
 
 static const snap_field head_fields[SNAP_HEAD] = {
     { "version", SNAP_VERSION, SNAP_VERSION, 0 }, { "step", 0, COUNT_MAX, 0 },
-    { "running", 0, (1 << CARRY_N_TRANSITIONS) - 1, 0 }, { "fired_count", 0, COUNT_MAX, 0 },
+    { "running", 0, RUNNING_MAX, 0 }, { "fired_count", 0, COUNT_MAX, 0 },
     { "next_action_id (next row)", 1, ID_MAX, 0 }, { "wp_id", 0, ID_MAX, 0 },
     { "wp_pos_x", -POS_MAX_M, POS_MAX_M, 1 }, { "wp_pos_y", -POS_MAX_M, POS_MAX_M, 1 },
     { "wp_pos_z", -POS_MAX_M, POS_MAX_M, 1 }, { "wp_yaw", -YAW_MAX_RAD, YAW_MAX_RAD, 1 },
@@ -42,7 +48,7 @@ static const snap_field head_fields[SNAP_HEAD] = {
     { "pick_pos_y", -POS_MAX_M, POS_MAX_M, 1 }, { "pick_pos_z", -POS_MAX_M, POS_MAX_M, 1 },
     { "pick_yaw", -YAW_MAX_RAD, YAW_MAX_RAD, 1 }, { "last_taken_id", 0, ID_MAX, 0 },
     { "p1_bound", 0, 1, 0 }, { "detections", 0, ID_MAX, 0 },
-    { "last_fired", 0, CARRY_N_TRANSITIONS, 0 }, { "blockages", 0, ID_MAX, 0 },
+    { "last_fired", 0, PETRI_MAX_TRANSITIONS, 0 }, { "blockages", 0, ID_MAX, 0 },
     { "rows_reissued", 0, ID_MAX, 0 }, { "dones_recovered", 0, ID_MAX, 0 },
     { "replans", 0, ID_MAX, 0 }, { "deadlocks", 0, ID_MAX, 0 },
     { "faults", 0, ID_MAX, 0 }, { "stalls", 0, ID_MAX, 0 },
@@ -61,8 +67,8 @@ static int snapshot(supervisor_daemon *sv, double *v)
     v[n++] = sv->last_fired; v[n++] = sv->blockages;
     v[n++] = sv->rows_reissued; v[n++] = sv->dones_recovered; v[n++] = sv->replans; v[n++] = sv->deadlocks;
     v[n++] = sv->faults; v[n++] = sv->stall.stalls; v[n++] = (double)sv->net.invariant_violations;
-    for (i = 0; i < CARRY_N_PLACES; i++) v[n++] = sv->net.st.m[i];
-    for (i = 0; i < CARRY_N_TRANSITIONS; i++)
+    for (i = 0; i < sv->pn->n_places; i++) v[n++] = sv->net.st.m[i];
+    for (i = 0; i < sv->pn->n_transitions; i++)
         for (a = 0; a < 2; a++) {
             v[n++] = sv->slot[i].state[a];
             v[n++] = sv->slot[i].action_id[a];
@@ -76,9 +82,11 @@ static int in_range(double x, double lo, double hi, int real)
     return isfinite(x) && x >= lo && x <= hi && (real || x == floor(x));
 }
 
-/* Every value of a snapshot in its range, or why not (into why). */
-static int check_values(const double *v, char *why, size_t cap)
+/* Every value of a snapshot in its range for the task's net, or why not
+ * (into why). */
+static int check_values(const supervisor_daemon *sv, const double *v, char *why, size_t cap)
 {
+    const int np = sv->pn->n_places, nt = sv->pn->n_transitions;
     int i, t, a;
     for (i = 0; i < SNAP_HEAD; i++) {
         const snap_field *f = &head_fields[i];
@@ -88,14 +96,18 @@ static int check_values(const double *v, char *why, size_t cap)
             return SUPERVISOR_ERR_SNAPSHOT;
         }
     }
-    for (i = 0; i < CARRY_N_PLACES; i++)
+    if (v[18] > nt) {
+        snprintf(why, cap, "last_fired = t%.0f: the task has %d transitions", v[18], nt);
+        return SUPERVISOR_ERR_SNAPSHOT;
+    }
+    for (i = 0; i < np; i++)
         if (!in_range(v[SNAP_HEAD + i], 0, PETRI_TOKEN_MAX, 0)) {
             snprintf(why, cap, "tokens of place p%d = %.17g are not a token count", i + 1, v[SNAP_HEAD + i]);
             return SUPERVISOR_ERR_SNAPSHOT;
         }
-    for (t = 0; t < CARRY_N_TRANSITIONS; t++)
+    for (t = 0; t < nt; t++)
         for (a = 0; a < 2; a++) {
-            const double *s = &v[SNAP_HEAD + CARRY_N_PLACES + 6 * t + 3 * a];
+            const double *s = &v[SNAP_HEAD + np + 6 * t + 3 * a];
             if (!in_range(s[0], ARM_SLOT_NONE, ARM_SLOT_DONE, 0) || !in_range(s[1], 0, v[4] - 1, 0) ||
                 !in_range(s[2], 0, v[1], 0)) {
                 snprintf(why, cap, "row of t%d for arm %d (state %.17g, row %.17g, sent at step %.17g) is not one "
@@ -112,14 +124,14 @@ static int restore(supervisor_daemon *sv, const double *v, char *why, size_t cap
 {
     int n = SNAP_HEAD, i, a;
     petri_state st;
-    if (check_values(v, why, cap) != 0)
+    if (check_values(sv, v, why, cap) != 0)
         return SUPERVISOR_ERR_SNAPSHOT;
     memset(&st, 0, sizeof st);
     st.running = (uint32_t)v[2];
-    for (i = 0; i < CARRY_N_PLACES; i++)
+    for (i = 0; i < sv->pn->n_places; i++)
         st.m[i] = (uint8_t)v[n++];
     if (petri_set_state(&sv->net, &st) != 0) {
-        snprintf(why, cap, "the marking is not one of the carry net's (a P-invariant fails)");
+        snprintf(why, cap, "the marking is not one of the task net's (a P-invariant fails)");
         return SUPERVISOR_ERR_SNAPSHOT;
     }
     sv->net.fired_count = (long)v[3];
@@ -131,7 +143,7 @@ static int restore(supervisor_daemon *sv, const double *v, char *why, size_t cap
     sv->rows_reissued = (int32_t)v[20]; sv->dones_recovered = (int32_t)v[21]; sv->replans = (int32_t)v[22];
     sv->deadlocks = (int32_t)v[23]; sv->faults = (int32_t)v[24];
     sv->stall.stalls = (int)v[25]; sv->net.invariant_violations = (long)v[26];
-    for (i = 0; i < CARRY_N_TRANSITIONS; i++)
+    for (i = 0; i < sv->pn->n_transitions; i++)
         for (a = 0; a < 2; a++) {
             sv->slot[i].state[a] = (int)v[n++];
             sv->slot[i].action_id[a] = (int32_t)v[n++];
@@ -166,8 +178,8 @@ static int resume(supervisor_daemon *sv)
     }
     if (n < 0)
         return refuse(sv, &rep, journal_strerror(n), rep.why);
-    if (n != SNAP_LEN) {
-        snprintf(why, sizeof why, "%d values where a snapshot of this supervisor has %d", n, SNAP_LEN);
+    if (n != SNAP_LEN(sv->pn)) {
+        snprintf(why, sizeof why, "%d values where a snapshot of this supervisor's task has %d", n, SNAP_LEN(sv->pn));
         return refuse(sv, &rep, supervisor_strerror(SUPERVISOR_ERR_SNAPSHOT), why);
     }
     if (restore(sv, v, why, sizeof why) != 0)
@@ -243,7 +255,7 @@ void sup_journal_cycle(supervisor_daemon *sv)
         if (sv->resumed && sv->d.step + 1 < sv->resumed) {
             printf("tandem-supervisor: the journal is from a later step than the simulator's: another run; starting fresh\n");
             memset(sv->slot, 0, sizeof sv->slot);
-            petri_init(&sv->net, &carry_net);
+            petri_init(&sv->net, sv->pn);
             sv->resumed = 0;
         }
         sv->resumed = sv->resumed != 0;

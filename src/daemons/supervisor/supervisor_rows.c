@@ -42,6 +42,11 @@ static int resolve_pose(const supervisor_daemon *sv, int pose, double p[3])
         return 0;
     case CARRY_POSE_HANDOVER_1: cell_grasp_point(c, 0, c->handover_center_m, p); return 0;
     case CARRY_POSE_HANDOVER_2: cell_grasp_point(c, 1, c->handover_center_m, p); return 0;
+    case CARRY_POSE_ABOVE_HANDOVER_1:
+    case CARRY_POSE_ABOVE_HANDOVER_2:
+        cell_grasp_point(c, pose == CARRY_POSE_ABOVE_HANDOVER_1 ? 0 : 1, c->handover_center_m, p);
+        p[2] += CELL_STAND_CLEARANCE_M;
+        return 0;
     case CARRY_POSE_CLEAR_1:
         cell_grasp_point(c, 0, c->handover_center_m, h);
         vec3_copy(p, h);
@@ -61,7 +66,7 @@ static int resolve_pose(const supervisor_daemon *sv, int pose, double p[3])
 
 static void send_row(supervisor_daemon *sv, int t, int a)
 {
-    const carry_row *r = carry_row_of(t);
+    const carry_row *r = sup_row(sv, t);
     const carry_arm_plan *pl = &r->plan[a];
     tandem_action_segment_t seg[CARRY_MAX_SEGMENTS];
     tandem_action_row_t row;
@@ -107,10 +112,10 @@ static void send_row(supervisor_daemon *sv, int t, int a)
 
 static void log_fire(const supervisor_daemon *sv, int t, const char *what)
 {
-    const carry_row *r = carry_row_of(t);
+    const carry_row *r = sup_row(sv, t);
     int i;
     printf("[%9.3f] %s %s  marking [", sv->d.sim_time_s, what, r ? r->name : "?");
-    for (i = 0; i < CARRY_N_PLACES; i++)
+    for (i = 0; i < sv->pn->n_places; i++)
         printf("%s%d", i ? " " : "", sv->net.st.m[i]);
     printf("] workpiece %d\n", (int)sv->wp_id);
     fflush(stdout);
@@ -118,7 +123,7 @@ static void log_fire(const supervisor_daemon *sv, int t, const char *what)
 
 void sup_start_transition(supervisor_daemon *sv, int t)
 {
-    const carry_row *r = carry_row_of(t);
+    const carry_row *r = sup_row(sv, t);
     int a;
     if (petri_start(&sv->net, t) != 0)
         return;
@@ -172,7 +177,7 @@ void sup_on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
     (void)ch;
     if (!DAEMON_DECODE(&sv->d.msgs, tandem_action_event_t, rb, &e))
         return;
-    if (e.arm < 1 || e.arm > 2 || e.transition < 0 || e.transition > CARRY_N_TRANSITIONS ||
+    if (e.arm < 1 || e.arm > 2 || e.transition < 0 || e.transition > sv->pn->n_transitions ||
         !isfinite(e.s_m) || !isfinite(e.s_f_m) || e.action_id < 0 || e.last_done_action_id < 0) {
         sv->d.msgs.rejected++;
     } else if (e.event == TANDEM_ACTION_EVENT_T_PROGRESS || e.event == TANDEM_ACTION_EVENT_T_STARTED) {
@@ -197,10 +202,11 @@ static void handle_event(supervisor_daemon *sv, const tandem_action_event_t *e)
 
 static void handle_event_row(supervisor_daemon *sv, const tandem_action_event_t *e)
 {
-    const int a = e->arm - 1;
+    const int a = e->arm - 1, n = sv->pn->n_transitions;
     int t;
-    for (t = 0; t < CARRY_T_VISION; t++)
-        if (petri_running(&sv->net, t) && sv->slot[t].state[a] == ARM_SLOT_SENT && sv->slot[t].action_id[a] == e->action_id)
+    for (t = 0; t < n; t++)
+        if (t != sv->roles.source && petri_running(&sv->net, t) && sv->slot[t].state[a] == ARM_SLOT_SENT &&
+            sv->slot[t].action_id[a] == e->action_id)
             break;
     if (e->event == TANDEM_ACTION_EVENT_T_BLOCKED) {
         sv->blockages++;
@@ -222,7 +228,7 @@ static void handle_event_row(supervisor_daemon *sv, const tandem_action_event_t 
                e->transition);
         return;
     }
-    if (t == CARRY_T_VISION)
+    if (t == n)
         return;   /* not an action of ours (or already handled) */
     if (e->event == TANDEM_ACTION_EVENT_T_REJECTED) {
         sv->replans++;
@@ -263,8 +269,8 @@ void sup_handle_events(supervisor_daemon *sv)
 void sup_recover_rows(supervisor_daemon *sv)
 {
     int t, a;
-    for (t = 0; t < CARRY_T_VISION; t++) {
-        if (!petri_running(&sv->net, t))
+    for (t = 0; t < sv->pn->n_transitions; t++) {
+        if (t == sv->roles.source || !petri_running(&sv->net, t))
             continue;
         for (a = 0; a < 2; a++) {
             const arm_view *v = &sv->arm[a];
@@ -301,7 +307,7 @@ void sup_recover_rows(supervisor_daemon *sv)
  * reports a workpiece in its gripper (after a restart without journal). */
 int sup_grasp_blocked(const supervisor_daemon *sv, int t)
 {
-    const carry_row *r = carry_row_of(t);
+    const carry_row *r = sup_row(sv, t);
     int a, i;
     for (a = 0; a < 2; a++)
         for (i = 0; i < r->plan[a].n_segments; i++)

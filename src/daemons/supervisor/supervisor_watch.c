@@ -16,19 +16,19 @@
 void sup_publish_marking(supervisor_daemon *sv)
 {
     tandem_petri_marking_t m;
-    int8_t mk[CARRY_N_PLACES], run[CARRY_N_TRANSITIONS];
+    int8_t mk[PETRI_MAX_PLACES], run[PETRI_MAX_TRANSITIONS];
     int i;
     memset(&m, 0, sizeof m);
-    for (i = 0; i < CARRY_N_PLACES; i++)
+    for (i = 0; i < sv->pn->n_places; i++)
         mk[i] = (int8_t)sv->net.st.m[i];
-    for (i = 0; i < CARRY_N_TRANSITIONS; i++)
+    for (i = 0; i < sv->pn->n_transitions; i++)
         run[i] = (int8_t)petri_running(&sv->net, i);
     m.seq = sv->marking_seq++;
     m.utime = daemon_utime_now();
     m.step = sv->d.step;
-    m.n_places = CARRY_N_PLACES;
+    m.n_places = sv->pn->n_places;
     m.marking = mk;
-    m.n_transitions = CARRY_N_TRANSITIONS;
+    m.n_transitions = sv->pn->n_transitions;
     m.running = run;
     m.last_fired = sv->last_fired;
     m.fired_count = sv->net.fired_count;
@@ -68,12 +68,14 @@ void sup_on_sim_status(const lcm_recv_buf_t *rb, const char *ch, void *u)
     tandem_sim_status_t_decode_cleanup(&m);
 }
 
-/* Work is pending while a transition runs or one of t1..t7 may start. */
+/* Work is pending while a transition runs or one but the source (t1..t7
+ * of the carry) may start. */
 static int work_pending(const supervisor_daemon *sv)
 {
     int t;
-    for (t = 0; t < CARRY_T_VISION; t++)
-        if (petri_running(&sv->net, t) || (petri_enabled(&sv->net, t) && (t != CARRY_T1 || sv->p1_bound)))
+    for (t = 0; t < sv->pn->n_transitions; t++)
+        if (t != sv->roles.source &&
+            (petri_running(&sv->net, t) || (petri_enabled(&sv->net, t) && (t != sv->roles.pick || sv->p1_bound))))
             return 1;
     return 0;
 }

@@ -1,14 +1,21 @@
 /* tandem-supervisor: the discrete-event controller of the carry task
  * ("MVME162", docs/method/carry.md §5-6).
  *
- * Holds the carry Petri net and its lookup table (carry_net). At start-up
- * it explores the net's reachability graph and refuses to run (exit 1,
- * printing the offending marking and the event path to it) if the net is
- * unsafe, unbounded, violates a P-invariant or can deadlock.
+ * Holds the carry Petri net and its lookup table (carry_net), or with
+ * --task DIR a task drawn as PNML with its rows (docs/tasks.md), read into
+ * fixed tables and checked at start-up by the same checker as tandem-netc
+ * (a refusal names the file, the place or transition and why: exit 2,
+ * before anything moves). The task is known by the roles its net's
+ * structure gives (taskdef.h): the source transition (vision), the place
+ * it fills, the pick transition that takes it. At start-up it explores the
+ * net's reachability graph and refuses to run (exit 1, printing the
+ * offending marking and the event path to it) if the net is unsafe,
+ * unbounded, violates a P-invariant or can deadlock.
  *
- * Running: a vision detection in the pick zone puts a token in p1 only
- * while p1 is empty (the source transition with its inhibitor arc); every
- * enabled transition t1..t7 starts at once (its input tokens are taken)
+ * Running: a vision detection in the pick zone puts a token in the
+ * source's place (p1 of the carry) only while it is empty (the source
+ * transition with its inhibitor arc); every other enabled transition
+ * starts at once (its input tokens are taken)
  * and its row goes to the arm(s) on ARMk_ACTION, with the poses resolved
  * from the cell layout and the detection; an arm's plan marked
  * after_partner (t4: arm 1 releases only once arm 2 holds) is sent when
@@ -70,6 +77,7 @@ const char *supervisor_strerror(int rc)
     case SUPERVISOR_ERR_POSE: return "SUPERVISOR_ERR_POSE";
     case SUPERVISOR_ERR_SNAPSHOT: return "SUPERVISOR_ERR_SNAPSHOT";
     case SUPERVISOR_ERR_JOURNAL: return "SUPERVISOR_ERR_JOURNAL";
+    case SUPERVISOR_ERR_TASK: return "SUPERVISOR_ERR_TASK";
     default: return "SUPERVISOR_ERR_?";
     }
 }
@@ -81,8 +89,8 @@ static void print_offender(const supervisor_daemon *sv, const char *what, int in
     int8_t ev[256];
     int n, i;
     const petri_state *s = &sv->explore_ws.states[index];
-    printf("tandem-supervisor: the carry net %s; offending marking [", what);
-    for (i = 0; i < carry_net.n_places; i++)
+    printf("tandem-supervisor: the %s net %s; offending marking [", sv->task ? sv->task->task : "carry", what);
+    for (i = 0; i < sv->pn->n_places; i++)
         printf("%s%d", i ? " " : "", s->m[i]);
     printf("] running 0x%x\n  reached by:", (unsigned)s->running);
     n = petri_explore_trace(&sv->explore_ws, index, ev, (int)sizeof ev);
@@ -94,22 +102,25 @@ static void print_offender(const supervisor_daemon *sv, const char *what, int in
 static int check_net(supervisor_daemon *sv)
 {
     petri_report r;
-    if (petri_explore(&sv->explore_ws, &carry_net, 2, &r) != 0) {
-        printf("tandem-supervisor: the carry net tables are invalid\n");
+    if (petri_explore(&sv->explore_ws, sv->pn, sv->token_bound, &r) != 0) {
+        printf("tandem-supervisor: the net's tables are invalid\n");
         return SUPERVISOR_ERR_NET;
     }
     if (!r.complete) {
         printf("tandem-supervisor: reachability graph exceeds %d states\n", PETRI_MAX_STATES);
         return SUPERVISOR_ERR_NET;
     }
-    if (!r.safe || !r.bounded || r.invariant_states || r.deadlock) {
-        if (!r.safe) print_offender(sv, "is not safe", r.unsafe_index);
-        else if (!r.bounded) print_offender(sv, "is unbounded", r.unbounded_index);
+    /* bound 1 (the carry): safe; a task with a buffer may hold more
+     * tokens in a place, up to what its P-invariants allow */
+    if (!r.bounded || r.invariant_states || r.deadlock) {
+        if (!r.bounded)
+            print_offender(sv, sv->token_bound == 1 ? "is not safe" : "exceeds its token bound", r.unbounded_index);
         else if (r.invariant_states) print_offender(sv, "violates a P-invariant", r.invariant_index);
         else print_offender(sv, "can deadlock", r.dead_index);
         return SUPERVISOR_ERR_NET;
     }
-    printf("tandem-supervisor: net checked: %d reachable states, safe, live, invariants hold\n", r.n_states);
+    printf("tandem-supervisor: net checked: %d reachable states, %s, live, invariants hold\n", r.n_states,
+           r.safe ? "safe" : "bounded");
     return 0;
 }
 
@@ -144,25 +155,39 @@ static void on_vision(const lcm_recv_buf_t *rb, const char *ch, void *u)
     tandem_workpiece_detections_t_decode_cleanup(&m);
 }
 
-/* p1 takes a token only while it is empty (inhibitor arc); --serial also
- * waits for the previous workpiece to be delivered and both arms home.
- * The token of gamma0 in p1 is bound to the first detection. */
+const carry_row *sup_row(const supervisor_daemon *sv, int t)
+{
+    return &sv->rows[t];
+}
+
+/* --serial: the cell is back where it started, nothing running and every
+ * place but the source's at its initial marking (the carry: both arms
+ * home, the previous workpiece delivered). */
+static int cell_at_rest(const supervisor_daemon *sv)
+{
+    int i;
+    if (sv->net.st.running)
+        return 0;
+    for (i = 0; i < sv->pn->n_places; i++)
+        if (i != sv->roles.source_place && sv->net.st.m[i] != sv->pn->m0[i])
+            return 0;
+    return 1;
+}
+
+/* The source's place (p1 of the carry) takes a token only while it is
+ * empty (inhibitor arc); --serial also waits for the previous workpiece
+ * to be delivered and both arms home. The token of gamma0 there is bound
+ * to the first detection. */
 static void take_detection(supervisor_daemon *sv)
 {
-    int t;
-    const int bind_only = sv->net.st.m[CARRY_P1] && !sv->p1_bound;
+    const int bind_only = sv->net.st.m[sv->roles.source_place] && !sv->p1_bound;
     if (!sv->have_detection || sv->det.id <= sv->last_taken_id)
         return;
-    if (!bind_only && !petri_enabled(&sv->net, CARRY_T_VISION))
+    if (!bind_only && !petri_enabled(&sv->net, sv->roles.source))
         return;
-    if (sv->serial) {
-        for (t = 0; t < CARRY_T_VISION; t++)
-            if (petri_running(&sv->net, t))
-                return;
-        if (!sv->net.st.m[CARRY_P2] || !sv->net.st.m[CARRY_P3])
-            return;
-    }
-    if (!bind_only && petri_fire(&sv->net, CARRY_T_VISION) != 0)
+    if (sv->serial && !cell_at_rest(sv))
+        return;
+    if (!bind_only && petri_fire(&sv->net, sv->roles.source) != 0)
         return;
     sv->p1_bound = 1;
     sv->wp_id = sv->det.id;
@@ -189,11 +214,12 @@ static int cycle(daemon *d, void *user)
     /* holding (the journal cannot be written): nothing new starts */
     if (!sup_holding(sv))
         take_detection(sv);
-    for (t = 0; t < CARRY_T_VISION; t++) {
-        if (sup_holding(sv) || !petri_enabled(&sv->net, t) || (t == CARRY_T1 && !sv->p1_bound) || sup_grasp_blocked(sv, t))
+    for (t = 0; t < sv->pn->n_transitions; t++) {
+        if (t == sv->roles.source || sup_holding(sv) || !petri_enabled(&sv->net, t) ||
+            (t == sv->roles.pick && !sv->p1_bound) || sup_grasp_blocked(sv, t))
             continue;
-        if (t == CARRY_T1) {
-            sv->p1_bound = 0;   /* t1 takes the p1 token and its pose */
+        if (t == sv->roles.pick) {
+            sv->p1_bound = 0;   /* the pick (t1) takes the token and its pose */
             vec3_copy(sv->pick_pos_m, sv->wp_pos_m);
             sv->pick_yaw_rad = sv->wp_yaw_rad;
             sv->pick_id = sv->wp_id;
@@ -256,33 +282,68 @@ static const option_entry supervisor_options[] = {
               "not check out stops the start (exit 1); one that cannot be written holds the cell" },
     { .name = "journal-reset", .type = OPTION_FLAG, OPTION_AT(supervisor_daemon, journal_reset),
       .help = "start fresh on purpose: empty the --journal instead of resuming from it" },
+    { .name = "task", .type = OPTION_STRING, OPTION_AT(supervisor_daemon, task_dir), .meta = "DIR",
+      .help = "run the task in DIR (one *.pnml and rows.csv, docs/tasks.md) instead of the shipped carry: "
+              "read into fixed tables and checked as tandem-netc does (token bound from its P-invariants); "
+              "refused (exit 2) naming the file, the place or transition and why" },
     { .name = NULL }
 };
 
 /* The tables the net and its rows are made of, checked before the
- * reachability graph is explored from them (check_net), and the option
- * table. */
-static int check_tables(const supervisor_daemon *sv)
+ * reachability graph is explored from them (check_net), the roles found
+ * (taskdef_validate), and the option table. */
+static int check_tables(supervisor_daemon *sv)
 {
-    if (daemon_check_table(sv->d.name, "carry_net", "petri_net_validate", petri_net_validate(&carry_net), petri_strerror) != 0 ||
-        daemon_check_table(sv->d.name, "carry_table", "carry_table_validate",
-                           carry_table_validate(carry_table, CARRY_N_TRANSITIONS, &carry_net), carry_net_strerror) != 0 ||
+    const char *net = sv->task ? "task net" : "carry_net", *rows = sv->task ? "task rows" : "carry_table";
+    if (daemon_check_table(sv->d.name, net, "petri_net_validate", petri_net_validate(sv->pn), petri_strerror) != 0 ||
+        daemon_check_table(sv->d.name, rows, "carry_table_validate",
+                           carry_table_validate(sv->rows, sv->pn->n_transitions, sv->pn), carry_net_strerror) != 0 ||
+        daemon_check_table(sv->d.name, net, "taskdef_validate", taskdef_validate(sv->pn, sv->rows, &sv->roles),
+                           taskdef_strerror) != 0 ||
         daemon_check_table(sv->d.name, "supervisor_options", "options_table_validate",
                            options_table_validate(supervisor_options), options_strerror) != 0)
         return DAEMON_ERR_TABLE;
     return 0;
 }
 
+/* --task DIR into sv->task, through the checker of tandem-netc: 0, or
+ * SUPERVISOR_ERR_TASK after the checker named the file, the place or
+ * transition and why. Without --task: the shipped carry, bound 1. */
+static int load_task(supervisor_daemon *sv, netc_task *store)
+{
+    int rc;
+    sv->pn = &carry_net;
+    sv->rows = carry_table;
+    sv->token_bound = 1;
+    if (!sv->task_dir)
+        return 0;
+    netc_set_program("tandem-supervisor");
+    rc = netc_task_load(store, sv->task_dir, NETC_BOUND_FROM_INVARIANTS, &sv->token_bound, stdout, stderr);
+    if (rc != NETC_OK) {
+        fprintf(stderr, "tandem-supervisor: task %s refused: %s (%s)\n", sv->task_dir, netc_strerror(rc),
+                supervisor_strerror(SUPERVISOR_ERR_TASK));
+        return SUPERVISOR_ERR_TASK;
+    }
+    sv->task = store;
+    sv->pn = &store->net;
+    sv->rows = store->rows;
+    printf("tandem-supervisor: task %s (%s): %d places, %d transitions, token bound %d\n", store->task,
+           sv->task_dir, store->n_places, store->n_transitions, sv->token_bound);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     static supervisor_daemon app;
+    static netc_task task;          /* --task's fixed tables */
     supervisor_daemon *sv = &app;
     daemon *d = &sv->d;
     const option_program prog = {
         .name = "tandem-supervisor",
         .usage = "usage: tandem-supervisor [options]\n"
-                 "Petri-net supervisor of the two-arm carry (docs/method/carry.md §5-6): vision tokens,\n"
-                 "lookup-table rows to the arms, completion events, marking at 10 Hz.\n\n",
+                 "Petri-net supervisor of the two-arm carry (docs/method/carry.md §5-6), or of a task drawn\n"
+                 "as PNML (--task, docs/tasks.md): vision tokens, lookup-table rows to the arms, completion\n"
+                 "events, marking at 10 Hz.\n\n",
         .epilog = "\nThe control period (--period-ms) is 10 ms unless given.\n",
         .groups = { { supervisor_options, sv }, { options_daemon_common, d } },
         .n_groups = 2,
@@ -296,9 +357,11 @@ int main(int argc, char **argv)
     daemon_defaults(d, "tandem-supervisor", 0.010);
     if ((rc = options_parse(&prog, argc, argv, 1)) < 0)
         return options_exit_status(rc);
+    if (load_task(sv, &task) != 0)
+        return 2;
     if (check_tables(sv) != 0 || check_net(sv) != 0)
         return 1;
-    if (petri_init(&sv->net, &carry_net) != 0 || stallwatch_init(&sv->stall, sv->stall_s) != 0 ||
+    if (petri_init(&sv->net, sv->pn) != 0 || stallwatch_init(&sv->stall, sv->stall_s) != 0 ||
         stallwatch_set_obstruct_max(&sv->stall, sv->stall_obstructed_s) != 0)
         return 1;
     fflush(stdout);

@@ -18,6 +18,7 @@ static void test_every_code_has_its_text(void **st)
     STATUS_CHECK(sync_ref_strerror, SYNC_REF_CODES);
     STATUS_CHECK(stallwatch_strerror, STALLWATCH_CODES);
     STATUS_CHECK(cell_strerror, CELL_CODES);
+    STATUS_CHECK(taskdef_strerror, TASKDEF_CODES);
 }
 
 int main(void)

@@ -52,6 +52,8 @@ static void test_every_working_pose_is_reachable(void **state)
         assert_true(reachable(a, c->home_tool_m[a]));
         cell_grasp_point(c, a, c->handover_center_m, p);
         assert_true(reachable(a, p));
+        p[2] += CELL_STAND_CLEARANCE_M;   /* ABOVE_HANDOVER_1, _2: a stand's approach */
+        assert_true(reachable(a, p));
     }
     /* arm 1: every corner of the pick zone, at grasp height and above it */
     for (sx = -1; sx <= 1; sx += 2)

@@ -12,7 +12,7 @@
 #include "netc.h"
 
 #define LINE_MAX_CHARS 512
-#define N_FIELDS 7   /* transition,live,gains,sync_group,arm1,arm2,name */
+#define N_FIELDS NETC_ROW_FIELDS   /* transition,live,gains,sync_group,arm1,arm2,name */
 
 static const char *const HEADER = "transition,live,gains,sync_group,arm1,arm2,name";
 
@@ -41,20 +41,9 @@ const char *netc_strerror(int rc)
     case NETC_ERR_NOT_LIVE: return "a transition that must stay live can be lost";
     case NETC_ERR_STATES: return "the reachable set exceeds PETRI_MAX_STATES";
     case NETC_ERR_INVARIANT: return "P-invariants beyond their capacity";
+    case NETC_ERR_ROLES: return "the net lacks a role the supervisor needs (source, its place, the pick)";
     default: return "unknown error";
     }
-}
-
-void netc_task_bind(netc_task *t)
-{
-    t->net.n_places = t->n_places;
-    t->net.n_transitions = t->n_transitions;
-    t->net.n_minus = t->n_minus;
-    t->net.n_plus = t->n_plus;
-    t->net.n_inhibit = t->has_inhibit ? t->n_inhibit : NULL;
-    t->net.m0 = t->m0;
-    t->net.n_invariants = t->n_invariants;
-    t->net.invariants = t->n_invariants ? t->invariants : NULL;
 }
 
 int netc_pose_from_name(const char *s)
@@ -177,15 +166,13 @@ static int find_transition(const netc_task *t, const char *s)
     return -1;
 }
 
-/* One data line; *what names the field that is wrong. */
-static int parse_line(netc_task *t, char *line, const char **what)
+/* One line's fields; *what names the field that is wrong. */
+int netc_row_fields(netc_task *t, char *f[NETC_ROW_FIELDS], const char **what)
 {
-    char *f[N_FIELDS], *end;
     carry_row *r;
+    char *end;
     long sync;
     int j;
-    if (!split(line, f))
-        return *what = "fields (7, comma separated)", -1;
     if ((j = find_transition(t, f[0])) < 0 || t->has_row[j])
         return *what = "transition (a transition of the net, once)", -1;
     r = &t->rows[j];
@@ -204,45 +191,76 @@ static int parse_line(netc_task *t, char *line, const char **what)
                        "CARRY_MAX_SEGMENTS, poses of the cell)", -1;
     if (!f[6][0])
         return *what = "name", -1;
+    if (strlen(f[6]) >= sizeof t->row_name[j])   /* refused, not cut */
+        return *what = "name: longer than the tables hold (TASKDEF_MAX_ROW_NAME - 1 characters)", -1;
     snprintf(t->row_name[j], sizeof t->row_name[j], "%s", f[6]);
     r->name = t->row_name[j];
     t->has_row[j] = 1;
     return 0;
 }
 
+/* One data line; *what names the field that is wrong. */
+static int parse_line(netc_task *t, char *line, const char **what)
+{
+    char *f[N_FIELDS];
+    if (!split(line, f))
+        return *what = "fields (7, comma separated)", -1;
+    return netc_row_fields(t, f, what);
+}
+
+int netc_rows_complete(const netc_task *t, const char *path, FILE *err)
+{
+    int j;
+    for (j = 0; j < t->n_transitions; j++)
+        if (!t->has_row[j]) {
+            netc_say(err, "%s: no row for transition %s\n", path, t->trans_name[j]);
+            return NETC_ERR_ROWS;
+        }
+    return NETC_OK;
+}
+
 int netc_rows_read(netc_task *t, const char *path, FILE *err)
+{
+    if (netc_is_yaml(path))
+        return netc_rows_read_yaml(t, path, err);
+    return netc_rows_read_csv(t, path, err);
+}
+
+int netc_rows_read_csv(netc_task *t, const char *path, FILE *err)
 {
     char line[LINE_MAX_CHARS];
     FILE *f = fopen(path, "r");
-    int n = 0, header = 0, j;
+    int n = 0, header = 0;
     if (!f) {
-        fprintf(err, "tandem-netc: %s: cannot read\n", path);
+        netc_say(err, "%s: cannot read\n", path);
         return NETC_ERR_IO;
     }
     while (fgets(line, sizeof line, f)) {
         const char *what = NULL;
-        char *s = trim(line);
+        char *s;
         n++;
+        if (!strchr(line, '\n') && !feof(f)) {
+            /* the rest would be read as a line of its own */
+            netc_say(err, "%s:%d: longer than %d characters\n", path, n, LINE_MAX_CHARS - 2);
+            fclose(f);
+            return NETC_ERR_ROWS;
+        }
+        s = trim(line);
         if (!*s || *s == '#')
             continue;
         if (!header) {
             if (strcmp(s, HEADER) != 0) {
-                fprintf(err, "tandem-netc: %s:%d: the header must be %s\n", path, n, HEADER);
+                netc_say(err, "%s:%d: the header must be %s\n", path, n, HEADER);
                 fclose(f);
                 return NETC_ERR_ROWS;
             }
             header = 1;
         } else if (parse_line(t, s, &what) != 0) {
-            fprintf(err, "tandem-netc: %s:%d: %s\n", path, n, what);
+            netc_say(err, "%s:%d: %s\n", path, n, what);
             fclose(f);
             return NETC_ERR_ROWS;
         }
     }
     fclose(f);
-    for (j = 0; j < t->n_transitions; j++)
-        if (!t->has_row[j]) {
-            fprintf(err, "tandem-netc: %s: no row for transition %s\n", path, t->trans_name[j]);
-            return NETC_ERR_ROWS;
-        }
-    return NETC_OK;
+    return netc_rows_complete(t, path, err);
 }

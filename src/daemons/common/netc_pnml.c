@@ -22,6 +22,7 @@ typedef struct {
     pnml_arc arcs[MAX_ARCS];
     int n_arcs;
     FILE *err;
+    const char *path;
     int rc;
 } pnml_reader;
 
@@ -39,27 +40,41 @@ static const xmlNode *child(const xmlNode *n, const char *name)
     return NULL;
 }
 
+/* label_text, copy_attr: the text did not fit the fixed field (refused,
+ * never truncated: two long ids cut to one would join two nodes) */
+#define TEXT_TOO_LONG (-1)
+
+/* s into out (size bytes): 1, or TEXT_TOO_LONG. Frees s. */
+static int take_text(xmlChar *s, char *out, size_t size)
+{
+    const int n = snprintf(out, size, "%s", s ? (const char *)s : "");
+    xmlFree(s);
+    return n >= 0 && (size_t)n < size ? 1 : TEXT_TOO_LONG;
+}
+
 /* A label's text: <name><text>..</text></name> (ISO), or PIPE's
- * <name><value>..</value></name>; 0 if absent. */
+ * <name><value>..</value></name>; 1, 0 if absent, or TEXT_TOO_LONG. */
 static int label_text(const xmlNode *n, const char *label, char *out, size_t size)
 {
     const xmlNode *l = child(n, label), *tx = l ? child(l, "text") : NULL;
     if (l && !tx)
         tx = child(l, "value");
-    xmlChar *s;
     if (!tx)
         return 0;
-    s = xmlNodeGetContent(tx);
-    snprintf(out, size, "%s", s ? (const char *)s : "");
-    xmlFree(s);
-    return 1;
+    return take_text(xmlNodeGetContent(tx), out, size);
 }
 
-static void copy_attr(const xmlNode *n, const char *name, char *out, size_t size)
+/* An attribute's value ("" if absent): 1 or TEXT_TOO_LONG. */
+static int copy_attr(const xmlNode *n, const char *name, char *out, size_t size)
 {
-    xmlChar *s = xmlGetProp(n, (const xmlChar *)name);
-    snprintf(out, size, "%s", s ? (const char *)s : "");
-    xmlFree(s);
+    return take_text(xmlGetProp(n, (const xmlChar *)name), out, size);
+}
+
+/* A name or id longer than the tables hold: refused naming the limit. */
+static void too_long(pnml_reader *r, const char *what)
+{
+    netc_say(r->err, "%s: %s longer than %d characters (TASKDEF_MAX_NAME)\n", r->path, what, NETC_MAX_NAME - 1);
+    r->rc = NETC_ERR_CAPACITY;
 }
 
 /* An integer label: "3", or PIPE's "Default,3"; `dflt` when absent. */
@@ -67,15 +82,16 @@ static int label_int(pnml_reader *r, const xmlNode *n, const char *label, int df
 {
     char buf[64], *p, *end;
     long v;
-    if (!label_text(n, label, buf, sizeof buf))
+    const int got = label_text(n, label, buf, sizeof buf);
+    if (got == 0)
         return dflt;
     p = strrchr(buf, ',');
     p = p ? p + 1 : buf;
     v = strtol(p, &end, 10);
     while (*end == ' ' || *end == '\n' || *end == '\t' || *end == '\r')
         end++;
-    if (end == p || *end || v < 0 || v > PETRI_TOKEN_MAX) {
-        fprintf(r->err, "tandem-netc: %s \"%s\": not an integer 0..%d\n", what, buf, PETRI_TOKEN_MAX);
+    if (got == TEXT_TOO_LONG || end == p || *end || v < 0 || v > PETRI_TOKEN_MAX) {
+        netc_say(r->err, "%s: %s \"%s\": not an integer 0..%d\n", r->path, what, buf, PETRI_TOKEN_MAX);
         r->rc = NETC_ERR_PNML;
         return 0;
     }
@@ -89,16 +105,31 @@ static void add_node(pnml_reader *r, const xmlNode *n, int is_place)
     const int max = is_place ? PETRI_MAX_PLACES : PETRI_MAX_TRANSITIONS;
     char *id, *name;
     if (*count >= max) {
-        fprintf(r->err, "tandem-netc: more than %d %s (PETRI_MAX_%s)\n", max,
+        netc_say(r->err, "%s: more than %d %s (PETRI_MAX_%s)\n", r->path, max,
                 is_place ? "places" : "transitions", is_place ? "PLACES" : "TRANSITIONS");
         r->rc = NETC_ERR_CAPACITY;
         return;
     }
     id = is_place ? t->place_id[*count] : t->trans_id[*count];
     name = is_place ? t->place_name[*count] : t->trans_name[*count];
-    copy_attr(n, "id", id, NETC_MAX_NAME);
-    if (!label_text(n, "name", name, NETC_MAX_NAME) || !name[0])
+    if (copy_attr(n, "id", id, NETC_MAX_NAME) == TEXT_TOO_LONG) {
+        too_long(r, is_place ? "a place id" : "a transition id");
+        return;
+    }
+    switch (label_text(n, "name", name, NETC_MAX_NAME)) {
+    case TEXT_TOO_LONG: {
+        char what[NETC_MAX_NAME + 16];
+        snprintf(what, sizeof what, "the name of %s", id);
+        too_long(r, what);
+        return;
+    }
+    case 0:
         snprintf(name, NETC_MAX_NAME, "%s", id);
+        break;
+    default:
+        if (!name[0])
+            snprintf(name, NETC_MAX_NAME, "%s", id);
+    }
     if (is_place)
         t->m0[*count] = (uint8_t)label_int(r, n, "initialMarking", 0, "initial marking");
     (*count)++;
@@ -109,23 +140,25 @@ static void add_arc(pnml_reader *r, const xmlNode *n)
     pnml_arc *a;
     const xmlNode *ty = child(n, "type");
     if (r->n_arcs >= MAX_ARCS) {
-        fprintf(r->err, "tandem-netc: more than %d arcs\n", MAX_ARCS);
+        netc_say(r->err, "%s: more than %d arcs\n", r->path, MAX_ARCS);
         r->rc = NETC_ERR_CAPACITY;
         return;
     }
     a = &r->arcs[r->n_arcs++];
-    copy_attr(n, "source", a->src, sizeof a->src);
-    copy_attr(n, "target", a->dst, sizeof a->dst);
+    if (copy_attr(n, "source", a->src, sizeof a->src) == TEXT_TOO_LONG ||
+        copy_attr(n, "target", a->dst, sizeof a->dst) == TEXT_TOO_LONG) {
+        too_long(r, "an arc's source or target");
+        return;
+    }
     a->weight = label_int(r, n, "inscription", 1, "arc weight");
     a->inhibitor = 0;
     if (ty) {
         char v[32];
-        copy_attr(ty, "value", v, sizeof v);
+        (void)copy_attr(ty, "value", v, sizeof v);   /* a longer one is no type we read either */
         if (strcmp(v, "inhibitor") == 0)
             a->inhibitor = 1;
         else if (strcmp(v, "normal") != 0 && v[0]) {
-            fprintf(r->err, "tandem-netc: arc %s -> %s: type \"%s\" not read (normal, inhibitor)\n",
-                    a->src, a->dst, v);
+            netc_say(r->err, "%s: arc %s -> %s: type \"%s\" not read (normal, inhibitor)\n", r->path, a->src, a->dst, v);
             r->rc = NETC_ERR_PNML;
         }
     }
@@ -170,15 +203,14 @@ static void resolve_arc(pnml_reader *r, const pnml_arc *a)
              && (p = find_id(t->place_id, t->n_places, a->dst)) >= 0 && !a->inhibitor)
         e = &t->n_plus[p * t->n_transitions + j];
     else {
-        fprintf(r->err, "tandem-netc: arc %s -> %s: not place -> transition or transition -> place%s\n",
-                a->src, a->dst, a->inhibitor ? " (an inhibitor arc goes from a place)" : "");
+        netc_say(r->err, "%s: arc %s -> %s: not place -> transition or transition -> place%s\n", r->path, a->src, a->dst, a->inhibitor ? " (an inhibitor arc goes from a place)" : "");
         r->rc = NETC_ERR_PNML;
         return;
     }
     if (a->weight != 1 || *e != 0) {
-        fprintf(r->err, "tandem-netc: arc %s -> %s: weight %d; the supervisor's engine takes "
+        netc_say(r->err, "%s: arc %s -> %s: weight %d; the supervisor's engine takes "
                 "weight 1 and one arc per pair (petri.h: entries 0/1)\n",
-                a->src, a->dst, *e ? *e + a->weight : a->weight);
+                r->path, a->src, a->dst, *e ? *e + a->weight : a->weight);
         r->rc = NETC_ERR_CAPACITY;
         return;
     }
@@ -198,30 +230,34 @@ static const xmlNode *find_net(const xmlNode *n)
     return NULL;
 }
 
-int netc_pnml_read(netc_task *t, const char *path, FILE *err)
+/* The net of a parsed document (doc NULL: not readable XML) into t; path
+ * names it in what is said. Frees doc. */
+static int read_doc(netc_task *t, xmlDoc *doc, const char *path, FILE *err)
 {
     pnml_reader *r = calloc(1, sizeof *r);
-    xmlDoc *doc;
     const xmlNode *net;
     int i, rc;
-    if (!r)
+    if (!r) {
+        xmlFreeDoc(doc);
         return NETC_ERR_IO;
+    }
     r->t = t;
     r->err = err;
-    doc = xmlReadFile(path, NULL, XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING);
+    r->path = path;
     net = doc ? find_net(xmlDocGetRootElement(doc)) : NULL;
     if (!net) {
-        fprintf(err, "tandem-netc: %s: %s\n", path, doc ? "no <net> element" : "not readable XML");
+        netc_say(err, "%s: %s\n", path, doc ? "no <net> element" : "not readable XML");
         r->rc = doc ? NETC_ERR_PNML : NETC_ERR_IO;
     } else {
         if (!t->task[0])
-            copy_attr(net, "id", t->task, sizeof t->task);
+            if (copy_attr(net, "id", t->task, sizeof t->task) == TEXT_TOO_LONG)
+                too_long(r, "the net's id");
         walk(r, net);
     }
     for (i = 0; i < r->n_arcs && r->rc == 0; i++)
         resolve_arc(r, &r->arcs[i]);
     if (r->rc == 0 && (t->n_places == 0 || t->n_transitions == 0)) {
-        fprintf(err, "tandem-netc: %s: no places or no transitions\n", path);
+        netc_say(err, "%s: no places or no transitions\n", path);
         r->rc = NETC_ERR_PNML;
     }
     rc = r->rc;
@@ -229,4 +265,20 @@ int netc_pnml_read(netc_task *t, const char *path, FILE *err)
     free(r);
     netc_task_bind(t);
     return rc;
+}
+
+/* No network, no entity expansion from outside, no messages of libxml2's
+ * own on stderr: what is wrong is said by this reader. */
+#define PNML_PARSE_OPTIONS (XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING)
+
+int netc_pnml_read(netc_task *t, const char *path, FILE *err)
+{
+    return read_doc(t, xmlReadFile(path, NULL, PNML_PARSE_OPTIONS), path, err);
+}
+
+int netc_pnml_read_memory(netc_task *t, const char *buf, int len, const char *name, FILE *err)
+{
+    if (!buf || len < 0)
+        return NETC_ERR_PNML;
+    return read_doc(t, xmlReadMemory(buf, len, name, NULL, PNML_PARSE_OPTIONS), name, err);
 }

@@ -259,7 +259,7 @@ static int find_invariants(netc_task *t, FILE *err)
     if (rc == 0 && n > PETRI_MAX_INVARIANTS)
         rc = NETC_ERR_INVARIANT;
     if (rc != 0)
-        fprintf(err, "tandem-netc: the P-invariants exceed PETRI_MAX_INVARIANTS = %d or "
+        netc_say(err, "the P-invariants exceed PETRI_MAX_INVARIANTS = %d or "
                 "NETC_MAX_FARKAS_ROWS = %d\n", PETRI_MAX_INVARIANTS, NETC_MAX_FARKAS_ROWS);
     else {
         qsort(found, (size_t)n, sizeof found[0], inv_cmp);
@@ -304,7 +304,7 @@ static const int8_t POSE_ARM[CARRY_N_POSES] = {
     [CARRY_POSE_HOME_1] = 0, [CARRY_POSE_ABOVE_WORKPIECE] = 0, [CARRY_POSE_AT_WORKPIECE] = 0,
     [CARRY_POSE_HANDOVER_1] = 0, [CARRY_POSE_CLEAR_1] = 0,
     [CARRY_POSE_HOME_2] = 1, [CARRY_POSE_HANDOVER_2] = 1, [CARRY_POSE_ABOVE_RELEASE] = 1,
-    [CARRY_POSE_RELEASE_POSE] = 1,
+    [CARRY_POSE_RELEASE_POSE] = 1, [CARRY_POSE_ABOVE_HANDOVER_1] = 0, [CARRY_POSE_ABOVE_HANDOVER_2] = 1,
 };
 
 /* Every move of row j goes to a pose of its own arm. */
@@ -315,7 +315,7 @@ static int check_poses(const netc_task *t, int j, FILE *err)
         for (k = 0; k < t->rows[j].plan[a].n_segments; k++) {
             const carry_segment *s = &t->rows[j].plan[a].seg[k];
             if (s->kind == CARRY_SEG_MOVE && POSE_ARM[s->pose] != a) {
-                fprintf(err, "tandem-netc: row %s: arm %d cannot go to %s, a pose of arm %d in the cell\n",
+                netc_say(err, "row %s: arm %d cannot go to %s, a pose of arm %d in the cell\n",
                         t->trans_name[j], a + 1, carry_pose_name(s->pose), POSE_ARM[s->pose] + 1);
                 return NETC_ERR_TABLE;
             }
@@ -323,22 +323,56 @@ static int check_poses(const netc_task *t, int j, FILE *err)
     return NETC_OK;
 }
 
+/* The first transition without input places, -1 if none. */
+static int first_source(const netc_task *t)
+{
+    int i, j;
+    for (j = 0; j < t->n_transitions; j++) {
+        for (i = 0; i < t->n_places && !t->n_minus[i * t->n_transitions + j]; i++)
+            ;
+        if (i == t->n_places)
+            return j;
+    }
+    return -1;
+}
+
+/* The roles the supervisor finds the task by (taskdef.h), named when
+ * one is missing: the net is then not a task it can run. */
+static int check_roles(const netc_task *t, FILE *err)
+{
+    taskdef_roles r;
+    const int rc = taskdef_roles_find(&t->net, &r), src = first_source(t);
+    if (rc == TASKDEF_OK)
+        return NETC_OK;
+    if (rc == TASKDEF_ERR_SOURCE)
+        netc_say(err, "refused: %s source transition (one without input places: the vision system adding a "
+                 "workpiece) where the supervisor needs exactly one (TASKDEF_ERR_SOURCE)\n",
+                 src < 0 ? "no" : "more than one");
+    else if (rc == TASKDEF_ERR_SOURCE_PLACE)
+        netc_say(err, "refused: source transition %s: it must fill exactly one place, and that place must "
+                 "inhibit it (one detection at a time) (TASKDEF_ERR_SOURCE_PLACE)\n", t->trans_name[src]);
+    else
+        netc_say(err, "refused: source transition %s: not exactly one transition takes the workpiece from the "
+                 "place it fills (TASKDEF_ERR_PICK)\n", t->trans_name[src]);
+    return NETC_ERR_ROLES;
+}
+
 static int check_tables(netc_task *t, FILE *err)
 {
     int j, rc = petri_net_validate(&t->net);
     if (rc != 0) {
-        fprintf(err, "tandem-netc: petri_net_validate refuses the net (%d): a transition without "
+        netc_say(err, "petri_net_validate refuses the net (%d): a transition without "
                 "arcs or inhibited by its own input\n", rc);
         return NETC_ERR_TABLE;
     }
     if ((rc = carry_table_validate(t->rows, t->n_transitions, &t->net)) != 0) {
-        fprintf(err, "tandem-netc: carry_table_validate refuses the rows (%d, CARRY_NET_ERR_*: "
+        netc_say(err, "carry_table_validate refuses the rows (%d, CARRY_NET_ERR_*: "
                 "include/tandem/carry/carry_net.h)\n", rc);
         return NETC_ERR_TABLE;
     }
     for (j = 0; j < t->n_transitions; j++)
         if (t->rows[j].arms && !carry_gains_within_table(&t->rows[j].lin, 0)) {
-            fprintf(err, "tandem-netc: row %s: gains outside what the arms accept "
+            netc_say(err, "row %s: gains outside what the arms accept "
                     "(carry_gains_within_table: the shipped table's range)\n", t->trans_name[j]);
             return NETC_ERR_TABLE;
         }
@@ -350,7 +384,7 @@ static int check_tables(netc_task *t, FILE *err)
 
 static int refuse(const netc_task *t, const explorer *x, int index, int rc, const char *what, FILE *err)
 {
-    fprintf(err, "tandem-netc: refused: %s\n", what);
+    netc_say(err, "refused: %s\n", what);
     print_trace(t, x, index, err);
     return rc;
 }
@@ -364,7 +398,7 @@ static int check_graph(netc_task *t, explorer *x, int bound, FILE *out, FILE *er
     if (petri_explore(&x->ws, &t->net, bound, &r) != 0)
         return NETC_ERR_TABLE;
     if (!r.complete) {
-        fprintf(err, "tandem-netc: refused: more than PETRI_MAX_STATES = %d reachable states\n", PETRI_MAX_STATES);
+        netc_say(err, "refused: more than PETRI_MAX_STATES = %d reachable states\n", PETRI_MAX_STATES);
         return NETC_ERR_STATES;
     }
     if (!r.bounded || (bound == 1 && !r.safe)) {
@@ -379,7 +413,7 @@ static int check_graph(netc_task *t, explorer *x, int bound, FILE *out, FILE *er
         fired |= x->can[i];
     for (j = 0; j < t->n_transitions; j++)
         if (!(fired & (1u << j))) {
-            fprintf(err, "tandem-netc: refused: transition %s never fires (enabled in none of the %d reachable states)\n",
+            netc_say(err, "refused: transition %s never fires (enabled in none of the %d reachable states)\n",
                     t->trans_name[j], x->ws.n_states);
             return NETC_ERR_DEAD_TRANSITION;
         }
@@ -399,7 +433,29 @@ static int check_graph(netc_task *t, explorer *x, int bound, FILE *out, FILE *er
     return NETC_OK;
 }
 
+/* NETC_BOUND_FROM_INVARIANTS: the largest y^T m0 / y_i over the
+ * invariants y and the places i they cover, at least 1. */
+static int invariant_bound(const netc_task *t)
+{
+    int k, i, b = 1;
+    for (k = 0; k < t->n_invariants; k++) {
+        const int8_t *y = &t->invariants[k * t->n_places];
+        int sum = 0;
+        for (i = 0; i < t->n_places; i++)
+            sum += y[i] * t->m0[i];
+        for (i = 0; i < t->n_places; i++)
+            if (y[i] > 0 && sum / y[i] > b)
+                b = sum / y[i];
+    }
+    return b < PETRI_TOKEN_MAX ? b : PETRI_TOKEN_MAX - 1;
+}
+
 int netc_check(netc_task *t, int bound, FILE *out, FILE *err)
+{
+    return netc_check_bound(t, bound, NULL, out, err);
+}
+
+int netc_check_bound(netc_task *t, int bound, int *bound_out, FILE *out, FILE *err)
 {
     explorer *x = calloc(1, sizeof *x);
     int rc;
@@ -408,16 +464,24 @@ int netc_check(netc_task *t, int bound, FILE *out, FILE *err)
     x->succ = calloc((size_t)PETRI_MAX_STATES * 2 * PETRI_MAX_TRANSITIONS, sizeof *x->succ);
     x->can = calloc(PETRI_MAX_STATES, sizeof *x->can);
     rc = (!x->succ || !x->can) ? NETC_ERR_IO : NETC_OK;
-    if (rc == 0 && bound < 1)
+    if (rc == 0 && (bound < 0 || bound >= PETRI_TOKEN_MAX))
         rc = NETC_ERR_CAPACITY;
     if (rc == 0)
         rc = check_tables(t, err);
     if (rc == 0)
         rc = find_invariants(t, err);
+    if (rc == 0 && bound == NETC_BOUND_FROM_INVARIANTS)
+        bound = invariant_bound(t);
+    if (bound_out)
+        *bound_out = bound;
     if (rc == 0 && petri_net_validate(&t->net) != 0)
         rc = NETC_ERR_INVARIANT;
     if (rc == 0)
         rc = check_graph(t, x, bound, out, err);
+    /* last: a net without the roles is refused by name, one with a
+     * deadlock or an unbounded place by its counterexample first */
+    if (rc == 0)
+        rc = check_roles(t, err);
     if (rc == 0)
         print_invariants(t, out);
     free(x->succ);

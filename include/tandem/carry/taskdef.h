@@ -1,0 +1,90 @@
+/* taskdef: a task the supervisor runs, held in fixed-capacity tables
+ * (docs/tasks.md §7): the Petri net of docs/method/carry.md §5 and its
+ * lookup rows (§6), with the names of its places and transitions, filled
+ * at start-up from a task drawn as PNML (src/daemons/common/netc_*.c) or
+ * pointing at the shipped carry_net / carry_table. Capacities are fixed
+ * at compile time (PETRI_MAX_PLACES, PETRI_MAX_TRANSITIONS,
+ * PETRI_MAX_INVARIANTS, TASKDEF_MAX_NAME): a bigger task is refused by
+ * its reader, naming the limit, never truncated.
+ *
+ * The supervisor knows a task by the roles its net's structure gives
+ * (taskdef_roles), not by the carry's indices:
+ *   source  the one transition without input places: the vision system
+ *           adding a workpiece token;
+ *   place   the one place it fills; an inhibitor arc from it to the
+ *           source lets the source start only while it is empty, so one
+ *           detection at a time is bound to its token;
+ *   pick    the one transition taking that token: its rows' vision poses
+ *           (ABOVE_WORKPIECE, AT_WORKPIECE) are the detected workpiece's.
+ */
+#ifndef TANDEM_TASKDEF_H
+#define TANDEM_TASKDEF_H
+
+#include <stdint.h>
+
+#include "carry_net.h"
+#include "petri.h"
+
+#define TASKDEF_MAX_NAME 64       /* a task, place or transition name, with its NUL */
+#define TASKDEF_MAX_ROW_NAME 96   /* a row's name in the logs, with its NUL */
+
+#define TASKDEF_OK 0
+#define TASKDEF_ERR_ARG (-1)          /* NULL net or roles                   */
+#define TASKDEF_ERR_SOURCE (-2)       /* not exactly one source transition
+                                            (no input place)                    */
+#define TASKDEF_ERR_SOURCE_PLACE (-3) /* the source fills not exactly one
+                                            place, or that place does not
+                                            inhibit it                          */
+#define TASKDEF_ERR_PICK (-4)         /* not exactly one transition takes the
+                                            source's token                      */
+#define TASKDEF_ERR_NET (-5)          /* petri_net_validate refuses the net  */
+#define TASKDEF_ERR_TABLE (-6)        /* carry_table_validate refuses the rows */
+
+typedef struct {
+    int source;         /* transition index */
+    int source_place;   /* place index      */
+    int pick;           /* transition index */
+} taskdef_roles;
+
+/* A task in fixed tables; net and rows point into the arrays (taskdef_bind). */
+typedef struct {
+    char task[TASKDEF_MAX_NAME];
+    int n_places, n_transitions;
+    char place_id[PETRI_MAX_PLACES][TASKDEF_MAX_NAME];
+    char place_name[PETRI_MAX_PLACES][TASKDEF_MAX_NAME];
+    char trans_id[PETRI_MAX_TRANSITIONS][TASKDEF_MAX_NAME];
+    char trans_name[PETRI_MAX_TRANSITIONS][TASKDEF_MAX_NAME];
+    int8_t n_minus[PETRI_MAX_PLACES * PETRI_MAX_TRANSITIONS];
+    int8_t n_plus[PETRI_MAX_PLACES * PETRI_MAX_TRANSITIONS];
+    int8_t n_inhibit[PETRI_MAX_PLACES * PETRI_MAX_TRANSITIONS];
+    int has_inhibit;
+    uint8_t m0[PETRI_MAX_PLACES];
+    int n_invariants;
+    int8_t invariants[PETRI_MAX_INVARIANTS * PETRI_MAX_PLACES];
+    petri_net net;
+    /* rows, one per transition (row t is transition t) */
+    carry_row rows[PETRI_MAX_TRANSITIONS];
+    char row_name[PETRI_MAX_TRANSITIONS][TASKDEF_MAX_ROW_NAME];
+    int has_row[PETRI_MAX_TRANSITIONS];
+    int live[PETRI_MAX_TRANSITIONS];   /* the rows file asks for liveness */
+} taskdef;
+
+/* t->net points into t's arrays, with t's sizes and invariants. */
+void taskdef_bind(taskdef *t);
+
+/* The roles of the net's structure (above). TASKDEF_OK and *r set, or
+ * the first TASKDEF_ERR_* found and *r all -1. */
+int taskdef_roles_find(const petri_net *net, taskdef_roles *r);
+
+/* What the supervisor takes into use: the net sound (petri_net_validate),
+ * the rows sound against it (carry_table_validate), the roles found.
+ * TASKDEF_OK (and *r set when r is not NULL) or the first
+ * TASKDEF_ERR_*. For start-up checks. */
+int taskdef_validate(const petri_net *net, const carry_row *rows, taskdef_roles *r);
+
+/* 1 if arm a (0, 1) sets a workpiece down in row r where no delivery is
+ * (a RELEASE not at the release pose and not handed to the partner, which
+ * grasps in the same row): the task needs a stand at the hand-over. */
+int carry_row_sets_down(const carry_row *r, int a);
+
+#endif

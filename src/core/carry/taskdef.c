@@ -1,0 +1,113 @@
+/* taskdef: a task in fixed tables and the roles the supervisor finds
+ * from its net's structure (docs/tasks.md §7; the net and rows of
+ * docs/method/carry.md §5, §6). No equation: structure only.
+ */
+#include "taskdef.h"
+
+#include <stddef.h>
+
+static int8_t entry(const int8_t *tab, const petri_net *n, int i, int j)
+{
+    return tab ? tab[i * n->n_transitions + j] : 0;
+}
+
+void taskdef_bind(taskdef *t)
+{
+    t->net.n_places = t->n_places;
+    t->net.n_transitions = t->n_transitions;
+    t->net.n_minus = t->n_minus;
+    t->net.n_plus = t->n_plus;
+    t->net.n_inhibit = t->has_inhibit ? t->n_inhibit : NULL;
+    t->net.m0 = t->m0;
+    t->net.n_invariants = t->n_invariants;
+    t->net.invariants = t->n_invariants ? t->invariants : NULL;
+}
+
+/* Places with an entry in column j of tab: their count, the last in *last. */
+static int column_count(const petri_net *n, const int8_t *tab, int j, int *last)
+{
+    int i, k = 0;
+    for (i = 0; i < n->n_places; i++)
+        if (entry(tab, n, i, j)) {
+            k++;
+            *last = i;
+        }
+    return k;
+}
+
+/* Transitions with an entry in row i of N-: their count, the last in *last. */
+static int takers(const petri_net *n, int i, int *last)
+{
+    int j, k = 0;
+    for (j = 0; j < n->n_transitions; j++)
+        if (entry(n->n_minus, n, i, j)) {
+            k++;
+            *last = j;
+        }
+    return k;
+}
+
+int taskdef_roles_find(const petri_net *net, taskdef_roles *r)
+{
+    int j, sources = 0, src = -1, place = -1, pick = -1, unused;
+    if (!r)
+        return TASKDEF_ERR_ARG;
+    r->source = r->source_place = r->pick = -1;
+    if (!net || !net->n_minus || !net->n_plus || net->n_places < 1 || net->n_places > PETRI_MAX_PLACES ||
+        net->n_transitions < 1 || net->n_transitions > PETRI_MAX_TRANSITIONS)
+        return TASKDEF_ERR_ARG;
+    for (j = 0; j < net->n_transitions; j++)
+        if (column_count(net, net->n_minus, j, &unused) == 0) {
+            sources++;
+            src = j;
+        }
+    if (sources != 1)
+        return TASKDEF_ERR_SOURCE;
+    /* one place, and the source inhibited by it: otherwise a second
+     * detection could come before the first is taken, and the supervisor
+     * binds one pose to one token */
+    if (column_count(net, net->n_plus, src, &place) != 1 || !entry(net->n_inhibit, net, place, src))
+        return TASKDEF_ERR_SOURCE_PLACE;
+    if (takers(net, place, &pick) != 1)
+        return TASKDEF_ERR_PICK;
+    r->source = src;
+    r->source_place = place;
+    r->pick = pick;
+    return TASKDEF_OK;
+}
+
+int taskdef_validate(const petri_net *net, const carry_row *rows, taskdef_roles *r)
+{
+    taskdef_roles found;
+    int rc;
+    if (!net || !rows)
+        return TASKDEF_ERR_ARG;
+    if (petri_net_validate(net) != 0)
+        return TASKDEF_ERR_NET;
+    if (carry_table_validate(rows, net->n_transitions, net) != 0)
+        return TASKDEF_ERR_TABLE;
+    if ((rc = taskdef_roles_find(net, &found)) != TASKDEF_OK)
+        return rc;
+    if (r)
+        *r = found;
+    return TASKDEF_OK;
+}
+
+int carry_row_sets_down(const carry_row *r, int a)
+{
+    const carry_arm_plan *pl, *partner;
+    int k, at = CARRY_POSE_NONE, releases = 0, partner_grasps = 0;
+    if (!r || a < 0 || a > 1)
+        return 0;
+    pl = &r->plan[a];
+    partner = &r->plan[1 - a];
+    for (k = 0; k < partner->n_segments && k < CARRY_MAX_SEGMENTS; k++)
+        partner_grasps |= partner->seg[k].kind == CARRY_SEG_GRASP;
+    for (k = 0; k < pl->n_segments && k < CARRY_MAX_SEGMENTS; k++) {
+        if (pl->seg[k].kind == CARRY_SEG_MOVE)
+            at = pl->seg[k].pose;
+        else if (pl->seg[k].kind == CARRY_SEG_RELEASE && at != CARRY_POSE_RELEASE_POSE && at != CARRY_POSE_NONE)
+            releases = 1;
+    }
+    return releases && !partner_grasps;
+}

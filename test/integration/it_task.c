@@ -1,0 +1,117 @@
+/* Integration: a task other than the shipped carry, drawn as PNML, run by
+ * the real daemons over LCM (docs/tasks.md §7). tandem-scenario carry
+ * --task tasks/carry_buffer: the supervisor loads the buffer net and its
+ * rows at start-up (token bound 2 from pb + pf = 2, its roles found from
+ * the net's structure), the simulator gets the hand-over stand; both
+ * workpieces are delivered through the buffer, none dropped, no
+ * invariant violation, deadlock or stall, every criterion met. Then a
+ * broken task: tandem-supervisor --task refuses it with exit 2, naming
+ * the file and why, and tandem-scenario refuses it before any daemon
+ * starts. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "harness.h"
+
+static char dir[256];
+
+/* Runs argv to its end (at most timeout_s), its output into text and
+ * shown; the exit status, or -1 if it had to be killed. */
+static int run(const char *const argv[], double timeout_s, char *text, int cap)
+{
+    int st;
+    text[0] = '\0';
+    st = harness_run_output(argv, timeout_s, text, cap);
+    printf("%s", text);
+    return st;
+}
+
+static void test_buffer_task_delivers_every_workpiece(void **state)
+{
+    char path[512], text[8192], log[65536];
+    const char *argv[] = { "tandem-scenario", "carry", "--task", "tasks/carry_buffer", "--workpieces", "2",
+                           "--no-serial", "--out", dir, NULL };
+    (void)state;
+    assert_int_equal(run(argv, 300.0, text, sizeof text), 0);
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    assert_true(harness_slurp(path, text, sizeof text) > 0);
+    assert_non_null(strstr(text, "\"task\": \"tasks/carry_buffer\""));
+    assert_true(harness_json_value(text, "workpieces_delivered") == 2.0);
+    assert_true(harness_json_value(text, "workpieces_dropped") == 0.0);
+    assert_true(harness_json_value(text, "invariant_violations") == 0.0);
+    assert_true(harness_json_value(text, "deadlocks") == 0.0);
+    assert_true(harness_json_value(text, "stalls") == 0.0);
+    assert_true(harness_json_value(text, "joint_limit_violations") == 0.0);
+    assert_non_null(strstr(text, "\"exit_reason\": \"completed\""));
+    /* the supervisor ran the buffer's net: its bound, and the buffer's
+     * transitions fired (t3 into the buffer, t4 out of it) */
+    snprintf(path, sizeof path, "%s/run_supervisor.log", dir);
+    assert_true(harness_slurp(path, log, sizeof log) > 0);
+    assert_non_null(strstr(log, "task carry_buffer (tasks/carry_buffer): 9 places, 7 transitions, token bound 2"));
+    assert_non_null(strstr(log, "complete t3 arm 1 puts it in the buffer"));
+    assert_non_null(strstr(log, "complete t4 arm 2 takes it from the buffer"));
+}
+
+/* Runs `cmd` (a program of this build and its arguments), stdout and
+ * stderr into log and text; its exit status. */
+static int run_logged(const char *cmd, const char *log, char *text, int cap)
+{
+    char exe[512];
+    const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    int st;
+    assert_true(n > 0);
+    exe[n] = '\0';
+    *strrchr(exe, '/') = '\0';   /* the build's bin, where this test is */
+    st = harness_sh("%s/%s > %s 2>&1", exe, cmd, log);
+    assert_true(harness_slurp(log, text, cap) > 0);
+    printf("%s", text);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+/* The carry with the arc t7 -> p2 lost: arm 2 never comes home. */
+static void test_broken_task_refused_before_anything_moves(void **state)
+{
+    char task[300], path[400], text[8192], out[300], cmd[1000];
+    FILE *f;
+    (void)state;
+    snprintf(task, sizeof task, "%s_broken_task", dir);
+    snprintf(out, sizeof out, "%s_broken_run", dir);
+    mkdir(task, 0755);
+    snprintf(path, sizeof path, "%s/rows.csv", task);
+    assert_int_equal(harness_sh("cp tasks/carry/rows.csv %s", path), 0);
+    snprintf(path, sizeof path, "%s/net.pnml", task);
+    assert_int_equal(harness_sh("cp test/netc/carry_deadlock.pnml %s", path), 0);
+    snprintf(cmd, sizeof cmd, "tandem-supervisor --task %s --insecure", task);
+    snprintf(path, sizeof path, "%s_supervisor.log", dir);
+    assert_int_equal(run_logged(cmd, path, text, sizeof text), 2);
+    assert_non_null(strstr(text, "deadlock"));
+    assert_non_null(strstr(text, "firing sequence from the initial marking"));
+    assert_non_null(strstr(text, "22. complete tv"));
+    assert_non_null(strstr(text, "refused: a dead marking is reachable (SUPERVISOR_ERR_TASK)"));
+    snprintf(cmd, sizeof cmd, "tandem-scenario carry --task %s --workpieces 1 --no-serial --out %s", task, out);
+    snprintf(path, sizeof path, "%s_scenario.log", dir);
+    assert_int_equal(run_logged(cmd, path, text, sizeof text), 2);
+    assert_non_null(strstr(text, "--task"));
+    assert_non_null(strstr(text, "refused: a dead marking is reachable"));
+    /* no daemon was started: no logs */
+    snprintf(path, sizeof path, "%s/run_sim.log", out);
+    f = fopen(path, "r");
+    assert_null(f);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_buffer_task_delivers_every_workpiece),
+        cmocka_unit_test(test_broken_task_refused_before_anything_moves),
+    };
+    snprintf(dir, sizeof dir, "/tmp/it_task_%d", (int)getpid());
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,149 @@
+/* Unit tests for taskdef (docs/tasks.md §7): the roles found from the
+ * carry net's structure are the carry's own indices, the same net with
+ * its places and transitions in another order gives the permuted roles,
+ * and every way a net can lack a role is refused with its own code. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <string.h>
+
+#include "taskdef.h"
+
+#define NP CARRY_N_PLACES
+#define NT CARRY_N_TRANSITIONS
+
+/* The carry net copied into a task's fixed tables, places and
+ * transitions renumbered by pp (new index of place i) and pt. */
+static void task_from_carry(taskdef *t, const int pp[NP], const int pt[NT])
+{
+    int i, j;
+    memset(t, 0, sizeof *t);
+    t->n_places = NP;
+    t->n_transitions = NT;
+    t->has_inhibit = 1;
+    for (i = 0; i < NP; i++) {
+        t->m0[pp[i]] = carry_net.m0[i];
+        for (j = 0; j < NT; j++) {
+            const int src = i * NT + j, dst = pp[i] * NT + pt[j];
+            t->n_minus[dst] = carry_net.n_minus[src];
+            t->n_plus[dst] = carry_net.n_plus[src];
+            t->n_inhibit[dst] = carry_net.n_inhibit[src];
+        }
+    }
+    for (j = 0; j < NT; j++)
+        t->rows[pt[j]] = carry_table[j];
+    taskdef_bind(t);
+}
+
+static const int ID_P[NP] = { 0, 1, 2, 3, 4, 5, 6, 7, 8 };
+static const int ID_T[NT] = { 0, 1, 2, 3, 4, 5, 6, 7 };
+
+static void test_roles_of_the_carry(void **st)
+{
+    taskdef_roles r;
+    (void)st;
+    assert_int_equal(taskdef_validate(&carry_net, carry_table, &r), TASKDEF_OK);
+    assert_int_equal(r.source, CARRY_T_VISION);
+    assert_int_equal(r.source_place, CARRY_P1);
+    assert_int_equal(r.pick, CARRY_T1);
+}
+
+/* The roles follow the structure, not the order of the tables. */
+static void test_roles_permuted(void **st)
+{
+    static taskdef t;
+    static const int pp[NP] = { 8, 0, 7, 1, 6, 2, 5, 3, 4 };
+    static const int pt[NT] = { 7, 6, 5, 4, 3, 2, 1, 0 };
+    taskdef_roles r;
+    (void)st;
+    task_from_carry(&t, pp, pt);
+    assert_int_equal(taskdef_validate(&t.net, t.rows, &r), TASKDEF_OK);
+    assert_int_equal(r.source, pt[CARRY_T_VISION]);
+    assert_int_equal(r.source_place, pp[CARRY_P1]);
+    assert_int_equal(r.pick, pt[CARRY_T1]);
+}
+
+/* One entry of the carry's net changed, and the role it takes away. */
+typedef struct {
+    int table;          /* 0 N-, 1 N+, 2 inhibitor */
+    int place, transition, value;
+    int expect;
+} role_edit;
+
+static const role_edit EDITS[] = {
+    { 0, CARRY_P9, CARRY_T_VISION, 1, TASKDEF_ERR_SOURCE },   /* no source: vision fed from p9 too */
+    { 0, CARRY_P7, CARRY_T6, 0, TASKDEF_ERR_SOURCE },         /* two: t6 takes nothing from p7 */
+    { 1, CARRY_P9, CARRY_T_VISION, 1, TASKDEF_ERR_SOURCE_PLACE }, /* the source fills two places */
+    { 2, CARRY_P1, CARRY_T_VISION, 0, TASKDEF_ERR_SOURCE_PLACE }, /* not inhibited by its place */
+    { 0, CARRY_P1, CARRY_T2, 1, TASKDEF_ERR_PICK },           /* two transitions take the token */
+    { 0, CARRY_P1, CARRY_T1, 0, TASKDEF_ERR_PICK },           /* none takes it */
+};
+
+static void test_roles_refused(void **st)
+{
+    static taskdef t;
+    taskdef_roles r;
+    int k;
+    (void)st;
+    assert_int_equal(taskdef_roles_find(NULL, &r), TASKDEF_ERR_ARG);
+    assert_int_equal(taskdef_roles_find(&carry_net, NULL), TASKDEF_ERR_ARG);
+    assert_int_equal(taskdef_validate(NULL, carry_table, &r), TASKDEF_ERR_ARG);
+
+    for (k = 0; k < (int)(sizeof EDITS / sizeof EDITS[0]); k++) {
+        const role_edit *e = &EDITS[k];
+        int8_t *tab;
+        task_from_carry(&t, ID_P, ID_T);
+        tab = e->table == 0 ? t.n_minus : e->table == 1 ? t.n_plus : t.n_inhibit;
+        tab[e->place * NT + e->transition] = e->value;
+        assert_int_equal(taskdef_roles_find(&t.net, &r), e->expect);
+        assert_int_equal(r.source, -1);
+    }
+    /* the validators come first */
+    task_from_carry(&t, ID_P, ID_T);
+    t.n_plus[CARRY_P7 * NT + CARRY_T4] = 0;
+    t.n_invariants = 1;
+    memcpy(t.invariants, carry_net.invariants, NP);
+    taskdef_bind(&t);
+    assert_int_equal(taskdef_validate(&t.net, t.rows, &r), TASKDEF_ERR_NET);
+    task_from_carry(&t, ID_P, ID_T);
+    t.rows[CARRY_T1].lin.v_m = 0.0;
+    assert_int_equal(taskdef_validate(&t.net, t.rows, &r), TASKDEF_ERR_TABLE);
+}
+
+static void test_sets_down(void **st)
+{
+    carry_row r;
+    int t;
+    (void)st;
+    /* the carry hands over (t4: arm 2 grasps) and delivers (t7: at the
+     * release pose): nothing is set down elsewhere */
+    for (t = 0; t < NT; t++) {
+        assert_false(carry_row_sets_down(&carry_table[t], 0));
+        assert_false(carry_row_sets_down(&carry_table[t], 1));
+    }
+    /* arm 1 releasing at the hand-over with arm 2 not grasping */
+    r = carry_table[CARRY_T4];
+    r.plan[1].n_segments = 0;
+    r.plan[0].n_segments = 2;
+    r.plan[0].seg[0].kind = CARRY_SEG_MOVE;
+    r.plan[0].seg[0].pose = CARRY_POSE_HANDOVER_1;
+    r.plan[0].seg[1].kind = CARRY_SEG_RELEASE;
+    r.plan[0].seg[1].pose = CARRY_POSE_NONE;
+    assert_true(carry_row_sets_down(&r, 0));
+    assert_false(carry_row_sets_down(&r, 1));
+    assert_false(carry_row_sets_down(NULL, 0));
+    assert_false(carry_row_sets_down(&r, 2));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_roles_of_the_carry),
+        cmocka_unit_test(test_roles_permuted),
+        cmocka_unit_test(test_roles_refused),
+        cmocka_unit_test(test_sets_down),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
