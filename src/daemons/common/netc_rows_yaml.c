@@ -27,6 +27,7 @@ typedef struct {
     yaml_document_t doc;
     const char *path;
     FILE *err;
+    char text[NETC_ROW_FIELDS][FIELD_CHARS]; /* one row's fields as the CSV parser reads them */
 } yrows;
 
 static int say(const yrows *y, const yaml_node_t *n, const char *what)
@@ -87,7 +88,6 @@ static void live_word(char *f)
 
 static int read_row(yrows *y, netc_task *t, const yaml_node_t *row)
 {
-    static char text[NETC_ROW_FIELDS][FIELD_CHARS];
     char *f[NETC_ROW_FIELDS], why[160];
     const char *what = NULL;
     int k;
@@ -95,20 +95,20 @@ static int read_row(yrows *y, netc_task *t, const yaml_node_t *row)
         return say(y, row, "a row is a mapping (transition:, live:, gains:, sync_group:, arm1:, arm2:, name:)");
     for (k = 0; k < NETC_ROW_FIELDS; k++) {
         const yaml_node_t *n = map_get(y, row, FIELDS[k].key);
-        f[k] = text[k];
+        f[k] = y->text[k];
         if (!n && !FIELDS[k].dflt) {
             snprintf(why, sizeof why, "%s: missing", FIELDS[k].key);
             return say(y, row, why);
         }
         if (!n)
-            snprintf(text[k], FIELD_CHARS, "%s", FIELDS[k].dflt);
-        else if (field_text(y, n, FIELDS[k].join, text[k]) != 0) {
+            snprintf(y->text[k], FIELD_CHARS, "%s", FIELDS[k].dflt);
+        else if (field_text(y, n, FIELDS[k].join, y->text[k]) != 0) {
             snprintf(why, sizeof why, "%s: not %s", FIELDS[k].key,
                      FIELDS[k].join ? "a value or a list of values" : "a single value");
             return say(y, n, why);
         }
     }
-    live_word(text[F_LIVE]);
+    live_word(y->text[F_LIVE]);
     if (netc_row_fields(t, f, &what) != 0)
         return say(y, row, what);
     return NETC_OK;
