@@ -54,13 +54,14 @@
     X(CELL_ERR_NONFINITE, "a number of the cell is NaN or Inf")                  \
     X(CELL_ERR_RANGE, "a size, mass, offset or clearance <= 0, or a spread < 0") \
     X(CELL_ERR_INCONSISTENT, "parts of the cell that do not fit together")
-#define TASKDEF_CODES(X)                                                                   \
-    X(TASKDEF_OK, "ok")                                                                    \
-    X(TASKDEF_ERR_ARG, "NULL net or roles")                                                \
-    X(TASKDEF_ERR_SOURCE, "not exactly one source transition (no input place)")            \
-    X(TASKDEF_ERR_SOURCE_PLACE, "the source fills not exactly one place, or it does not inhibit the source") \
-    X(TASKDEF_ERR_PICK, "not exactly one transition takes the source's token")             \
-    X(TASKDEF_ERR_NET, "petri_net_validate refuses the net")                               \
+#define TASKDEF_CODES(X)                                                           \
+    X(TASKDEF_OK, "ok")                                                            \
+    X(TASKDEF_ERR_ARG, "NULL net or roles")                                        \
+    X(TASKDEF_ERR_SOURCE, "not exactly one source transition (no input place)")    \
+    X(TASKDEF_ERR_SOURCE_PLACE,                                                    \
+      "the source fills not exactly one place, or it does not inhibit the source") \
+    X(TASKDEF_ERR_PICK, "not exactly one transition takes the source's token")     \
+    X(TASKDEF_ERR_NET, "petri_net_validate refuses the net")                       \
     X(TASKDEF_ERR_TABLE, "carry_table_validate refuses the rows")
 
 const char *petri_strerror(int rc);
