@@ -19,7 +19,6 @@
  * in ISO 10218 terms: controlled, power kept, resumed by itself once the
  * cause is gone).
  */
-#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include "arm_daemon.h"
