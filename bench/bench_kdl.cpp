@@ -39,7 +39,8 @@ static KDL::Chain make_chain(const arm_model &m)
         KDL::RigidBodyInertia rbi(m.mass_kg[i],
                                   KDL::Vector(m.com_m[i][0], m.com_m[i][1], m.com_m[i][2]),
                                   KDL::RotationalInertia(I[0], I[4], I[8], I[1], I[2], I[5]));
-        c.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::RotZ),
+        // the rotor's reflected inertia as KDL's joint inertia (on the diagonal, as arm_rne)
+        c.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::RotZ, 1.0, 0.0, m.armature_kgm2[i]),
                                   KDL::Frame::DH(m.a_m[i], m.alpha_rad[i], m.d_m[i],
                                                  m.theta_offset_rad[i]),
                                   rbi));

@@ -12,10 +12,15 @@
  *     checks the command, as the simulator does).
  *   bare path: a forked echo process receives the same two payload sizes
  *     (state, clock) and answers the second with one of the command's size.
- * The three kinds of exchange alternate, so all see the same load.
- * Prints p50 / p99 / max in microseconds over N exchanges, and first the
- * cost of signing and of checking one message of each size.
+ * The three kinds of exchange alternate, each first in turn, so all see
+ * the same load; the N exchanges of each kind come in REPS blocks, and the
+ * ratio authenticated / bare is taken in each block (p50 over p50) and
+ * reported as the median over the blocks with its range: a burst of load
+ * from another job moves one block's ratio, not the figure. Prints p50 /
+ * p99 / max in microseconds over all N exchanges, and first the cost of
+ * signing and of checking one message of each size.
  *   bench_roundtrip [N [BIN_DIR]]
+ *   bench_roundtrip roundtrip N [BIN_DIR [REPS]]   only the round trips
  *   bench_roundtrip auth N   only the signing and checking, N messages of
  *                            each size (for instruction counts: callgrind)
  *   bench_roundtrip ed25519 N  only Ed25519 sign + verify, N of each size
@@ -133,6 +138,49 @@ static void print_ratio(const char *name, const loopstats *a, const loopstats *b
         printf("  %-34s p50 %.2fx   p99 %.2fx%s\n", name,
                loopstats_percentile(a, 0.5) / loopstats_percentile(b, 0.5),
                loopstats_percentile(a, 0.99) / loopstats_percentile(b, 0.99), note);
+}
+
+#define BENCH_REPS_MAX 64
+
+/* A block's samples added to the run's. */
+static void stats_merge(loopstats *into, const loopstats *from)
+{
+    int i;
+    if (from->count == 0)
+        return;
+    for (i = 0; i < LOOPSTATS_BINS; i++)
+        into->hist[i] += from->hist[i];
+    if (into->count == 0 || from->min_us < into->min_us)
+        into->min_us = from->min_us;
+    if (from->max_us > into->max_us)
+        into->max_us = from->max_us;
+    into->count += from->count;
+    into->sum_us += from->sum_us;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median of n > 0 values (sorts v). */
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof v[0], cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* The median over the blocks of a / b at p50, with the blocks' range. */
+static void print_block_ratio(const char *name, double *r, int n, const char *note)
+{
+    double lo, hi;
+    if (n <= 0)
+        return;
+    qsort(r, (size_t)n, sizeof r[0], cmp_double);
+    lo = r[0];
+    hi = r[n - 1];
+    printf("  %-34s p50 %.2fx median of %d blocks (blocks %.2f-%.2fx)%s\n", name, median(r, n), n, lo, hi, note);
 }
 
 static double wall_s(void)
@@ -264,8 +312,15 @@ int main(int argc, char **argv)
 {
     const int ed_only = argc > 2 && strcmp(argv[1], "ed25519") == 0;
     const int auth_only = ed_only || (argc > 2 && strcmp(argv[1], "auth") == 0);
-    const int n = auth_only ? atoi(argv[2]) : argc > 1 ? atoi(argv[1]) : 10000;
-    const char *bin = !auth_only && argc > 2 ? argv[2] : "build/bin";
+    const int rt_only = argc > 2 && strcmp(argv[1], "roundtrip") == 0;
+    const int a0 = rt_only ? 2 : 1;   /* N [BIN_DIR [REPS]] from here */
+    const int n = auth_only ? atoi(argv[2]) : argc > a0 ? atoi(argv[a0]) : 10000;
+    const char *bin = !auth_only && argc > a0 + 1 ? argv[a0 + 1] : "build/bin";
+    const int reps_arg = rt_only && argc > a0 + 2 ? atoi(argv[a0 + 2]) : 10;
+    const int reps = reps_arg < 1 ? 1 : reps_arg > BENCH_REPS_MAX ? BENCH_REPS_MAX : reps_arg;
+    static loopstats blk[3];
+    double r_auth_bare[BENCH_REPS_MAX], r_auth_ins[BENCH_REPS_MAX], r_ins_bare[BENCH_REPS_MAX];
+    int n_blocks = 0, per_block;
     char url_ins[96], url_sec[96], path[512], key[600], sim_key[600];
     lcm_t *l_ins, *l_sec;
     pid_t echo_pid, arm_ins, arm_sec;
@@ -302,8 +357,9 @@ int main(int argc, char **argv)
     clk.mode = TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP;
     clock_size = tandem_sim_clock_t_encoded_size(&clk);
 
-    time_auth(ed_only ? 0 : auth_only ? n : 100000, ed_only ? n : auth_only ? 0 : 10000, state_size, cmd_size,
-              clock_size);
+    if (!rt_only)
+        time_auth(ed_only ? 0 : auth_only ? n : 100000, ed_only ? n : auth_only ? 0 : 10000, state_size, cmd_size,
+                  clock_size);
     if (auth_only)
         return 0;
 
@@ -326,31 +382,62 @@ int main(int argc, char **argv)
     loopstats_reset(&bare);
     loopstats_reset(&plain);
     loopstats_reset(&authed);
-    printf("round trip over LCM, %d exchanges, state %d B, command %d B (+ a trailer of a tag per reader when\n"
-           "authenticated; the arm holds its role file)\n", n, state_size, cmd_size);
+    per_block = n / reps > 0 ? n / reps : 1;
+    printf("round trip over LCM, %d exchanges of each kind in %d blocks, state %d B, command %d B (+ a trailer of a\n"
+           "tag per reader when authenticated; the arm holds its role file)\n", per_block * reps, reps, state_size,
+           cmd_size);
 
-    /* Exchanges alternate bare / insecure / authenticated so all see the
-     * same machine load. */
-    for (i = 0; i < n + 100; i++) {
-        if (bare_exchange(l_ins, state_size, clock_size, cmd_size, i >= 100 ? &bare : NULL) != 0) {
-            fprintf(stderr, "bench: no echo\n");
-            break;
+    /* Exchanges alternate bare / insecure / authenticated, each kind first
+     * in turn, so all see the same machine load and none always follows
+     * the same one; the first 100 of each warm up and are not counted. */
+    for (i = 0; i < per_block * reps + 100; i++) {
+        const int k = i - 100;
+        int j, bad = 0;
+        if (k >= 0 && k % per_block == 0) {
+            loopstats_reset(&blk[0]);
+            loopstats_reset(&blk[1]);
+            loopstats_reset(&blk[2]);
         }
-        if (tandem_exchange(l_ins, 0, &st, &clk, i, i >= 100 ? &plain : NULL) != 0) {
-            fprintf(stderr, "bench: no command from tandem-arm --insecure\n");
-            break;
+        for (j = 0; j < 3 && !bad; j++) {
+            switch ((i + j) % 3) {
+            case 0:
+                bad = bare_exchange(l_ins, state_size, clock_size, cmd_size, k >= 0 ? &blk[0] : NULL) != 0;
+                if (bad) fprintf(stderr, "bench: no echo\n");
+                break;
+            case 1:
+                bad = tandem_exchange(l_ins, 0, &st, &clk, i, k >= 0 ? &blk[1] : NULL) != 0;
+                if (bad) fprintf(stderr, "bench: no command from tandem-arm --insecure\n");
+                break;
+            default:
+                bad = tandem_exchange(l_sec, 1, &st, &clk, i, k >= 0 ? &blk[2] : NULL) != 0;
+                if (bad) fprintf(stderr, "bench: no command from tandem-arm (authenticated)\n");
+                break;
+            }
         }
-        if (tandem_exchange(l_sec, 1, &st, &clk, i, i >= 100 ? &authed : NULL) != 0) {
-            fprintf(stderr, "bench: no command from tandem-arm (authenticated)\n");
+        if (bad)
             break;
+        if (k >= 0 && k % per_block == per_block - 1) {
+            const double b = loopstats_percentile(&blk[0], 0.5), p = loopstats_percentile(&blk[1], 0.5),
+                         a = loopstats_percentile(&blk[2], 0.5);
+            stats_merge(&bare, &blk[0]);
+            stats_merge(&plain, &blk[1]);
+            stats_merge(&authed, &blk[2]);
+            if (b > 0.0 && p > 0.0) {
+                r_auth_bare[n_blocks] = a / b;
+                r_auth_ins[n_blocks] = a / p;
+                r_ins_bare[n_blocks] = p / b;
+                n_blocks++;
+            }
         }
     }
     print_row("bare LCM ping-pong", &bare);
     print_row("tandem-arm, --insecure", &plain);
     print_row("tandem-arm, authenticated", &authed);
-    print_ratio("insecure / bare:", &plain, &bare, "");
-    print_ratio("authenticated / bare:", &authed, &bare, "   (target: <= 1.20x)");
-    print_ratio("authenticated / insecure:", &authed, &plain, "");
+    print_ratio("insecure / bare, all:", &plain, &bare, "");
+    print_ratio("authenticated / bare, all:", &authed, &bare, "");
+    print_block_ratio("insecure / bare:", r_ins_bare, n_blocks, "");
+    print_block_ratio("authenticated / bare:", r_auth_bare, n_blocks, "   (target: <= 1.20x)");
+    print_block_ratio("authenticated / insecure:", r_auth_ins, n_blocks, "");
     kill(echo_pid, SIGKILL);
     kill(arm_ins, SIGTERM);
     kill(arm_sec, SIGTERM);

@@ -216,9 +216,10 @@ int main(int argc, char **argv)
     if (setup(app, argc, argv, &status) != 0)
         return status;
     auth_bus_identity(AUTH_ROLE_SIM, 0, 0);
+    app->w.d.keep_lcm = 1;   /* sim_world and the rover models keep copies of the handle and subscriptions */
     if (daemon_start(&app->w.d) != 0)
         return 1;
-    app->w.lcm = app->w.d.lcm;
+    app->w.lcm = app->w.d.lcm;   /* a copy: so the handle is kept (keep_lcm) */
     sim_subscribe(app);
     if (sim_build_world(app) != 0)
         return 1;

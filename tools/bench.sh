@@ -5,6 +5,7 @@ bin=${1:-build/bin}
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"
 export LCM_DEFAULT_URL="udpm://239.255.76.67:$((30000 + $$ % 10000))?ttl=0"
+export G_SLICE=always-malloc   # as tandem-run starts the daemons (docs/security.md §5)
 # a bus key for the daemons of this run alone (README "Security")
 keydir=$(mktemp -d)
 trap 'rm -rf "$keydir"' EXIT
@@ -13,7 +14,7 @@ export TANDEM_KEY_FILE=$keydir/bus.key
 ms_now() { echo $(( $(date +%s%N) / 1000000 )); }
 
 echo "== 1. round trip state -> controller -> command over LCM, with and without authentication (per-role keys) =="
-"$bin/bench_roundtrip" 10000 "$bin"
+"$bin/bench_roundtrip" 10000 "$bin"   # (the round trips alone: bench_roundtrip roundtrip N BIN_DIR REPS)
 if command -v valgrind >/dev/null; then
     echo "  instructions per message, sign + check of ARM1_STATE, ARM1_COMMAND and SIM_CLOCK"
     echo "  (callgrind: (2000 messages - 1000 messages) / 1000 / 3 sizes, set-up cancels):"

@@ -15,9 +15,13 @@
  *   window, q4 and q6, are held too (joint_stops);
  * - a drive gives at most its peak torque and never drives its joint past
  *   its speed limit: the commanded torque acts through a velocity motor
- *   whose target is the speed limit (ODE's velocity-limited torque), and
- *   a joint pushed faster than the limit by outside forces is braked back
- *   with the peak torque (drive_motor);
+ *   (ODE's velocity-limited torque), and a joint pushed faster than the
+ *   limit by outside forces is braked back with the peak torque
+ *   (drive_motor);
+ * - a drive's rotor has its inertia reflected through the gear (the
+ *   model's armature_kgm2, Jm G^2), carried by the same motor: the wrist's
+ *   is 100-1000 times its link's, and without it a stick hitting link 6 at
+ *   cruise spun joint 6 past its limit within a step;
  * - the stick is a compliant contact (a hand-held rod with a force sensor,
  *   sim_world.c) and goes in clear of every link (sim_stick.c).
  * Contact forces go out raw (this 1 ms step) and as a 10 ms moving average.
@@ -318,15 +322,21 @@ static void joint_stops(sim_arm *a, int i)
 
 /* Joint i's drive for one step. Braking (or a joint above the guard speed,
  * driven there by outside forces): a velocity motor towards 0 (or back to
- * the guard speed) with the peak torque. Otherwise the commanded torque
- * through a velocity motor whose target is the speed limit in the torque's
- * direction: below the limit it is exactly the torque, at the limit only
- * what holds the speed. Returns the torque the drive was asked for. */
-static double drive_motor(sim_arm *a, int i, int brake)
+ * the guard speed) with the peak torque, a hard constraint (cfm0, the
+ * world's). Otherwise the commanded torque tau with the rotor's reflected
+ * inertia J, implicitly: a velocity motor whose target is qd + h tau / J,
+ * softened into a damper of J / h (CFM = h / J, no force bound), pulls
+ * with (qd + h tau / J - qd') J / h = tau - J qdd', so the joint moves as
+ * (M + J) qdd = tau + ..., the controllers' model (arm_rne); a target
+ * past the speed limit is the limit, held with at most |tau|. Without an
+ * armature (J = 0): the torque through a motor whose target is the speed
+ * limit, as before. Returns the torque the drive was asked for. */
+static double drive_motor(sim_arm *a, int i, int brake, double cfm0)
 {
     const double lim = a->model->tau_max_Nm[i], vmax = a->model->qd_max_radps[i];
+    const double J = a->model->armature_kgm2[i];
     const double qd = a->qd[i];
-    double tau = brake ? 0.0 : a->tau_cmd[i], vel, fmax;
+    double tau = brake ? 0.0 : a->tau_cmd[i], vel, fmax, cfm = cfm0;
     tau = tau > lim ? lim : (tau < -lim ? -lim : tau);
     if (brake) {
         vel = 0.0;
@@ -336,12 +346,21 @@ static double drive_motor(sim_arm *a, int i, int brake)
         fmax = lim;
         tau = 0.0;
         a->speed_brakes++;
+    } else if (J > 0.0) {
+        vel = qd + SIM_DT_S * tau / J;
+        fmax = dInfinity;
+        cfm = SIM_DT_S / J;
+        if (fabs(vel) > vmax) {
+            vel = vel > 0.0 ? vmax : -vmax;
+            fmax = fabs(tau);
+        }
     } else {
         vel = tau >= 0.0 ? vmax : -vmax;
         fmax = fabs(tau);
     }
     dJointSetHingeParam(a->joint[i], dParamVel, vel);
     dJointSetHingeParam(a->joint[i], dParamFMax, fmax);
+    dJointSetHingeParam(a->joint[i], dParamCFM, cfm);
     return tau;
 }
 
@@ -367,7 +386,7 @@ static void arms_before_step(void *model, sim_world *w)
             joint_stops(a, i);
             if (a->q[i] <= a->model->q_min_rad[i] || a->q[i] >= a->model->q_max_rad[i])
                 a->limit_stops++;
-            a->tau_applied[i] = drive_motor(a, i, brake);
+            a->tau_applied[i] = drive_motor(a, i, brake, dWorldGetCFM(w->world));
             dJointAddHingeTorque(a->joint[i], friction_Nm(arms->cfg, a->qd[i]));
         }
     }

@@ -2,7 +2,10 @@
  * src/daemons/common/daemon.c) on the tables the daemons check: the shipped
  * ones pass, a broken copy is refused with DAEMON_ERR_TABLE, and the
  * defaults the command line starts from (daemon_defaults) are the documented ones,
- * and a line printed after daemon_defaults reaches a pipe without a flush. */
+ * and a line printed after daemon_defaults reaches a pipe without a flush;
+ * a renewed LCM handle (the bound on LCM's table of channel names) hears
+ * every channel the old one did, and a renewal that cannot open keeps the
+ * old one. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -167,6 +170,61 @@ static void test_refusal_names_the_code(void **state)
     assert_string_equal(buf, want);
 }
 
+static int heard;
+static void on_heard(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    (void)rb; (void)ch; (void)u;
+    heard++;
+}
+
+/* Messages of ch that reached d's receive path: handed on, or refused
+ * there (these test messages are junk, unsigned). */
+static int64_t seen_on(const daemon *d, const char *ch)
+{
+    int i;
+    for (i = 0; i < d->rx.n_chans; i++)
+        if (strcmp(d->rx.chans[i].name, ch) == 0)
+            return d->rx.chans[i].copies + d->rx.chans[i].auth_rejected + d->rx.chans[i].rejected;
+    return -1;
+}
+
+static void test_renewed_lcm_keeps_subscriptions(void **state)
+{
+    static daemon d;
+    static const char junk[32];
+    const char *chans[2] = { "ARM1_ACTION", "SIM_CLOCK" };
+    lcm_t *old;
+    int64_t before[2];
+    int i;
+    (void)state;
+    daemon_defaults(&d, "test-renew", 0.001);
+    d.lcm_url = "memq://";
+    d.lcm = lcm_create(d.lcm_url);
+    assert_non_null(d.lcm);
+    for (i = 0; i < 2; i++) {
+        assert_non_null(daemon_subscribe(&d, chans[i], on_heard, NULL));
+        before[i] = seen_on(&d, chans[i]);
+        assert_true(before[i] >= 0);
+    }
+    old = d.lcm;
+    assert_int_equal(daemon_renew_lcm(&d), DAEMON_OK);
+    assert_true(d.lcm != old);   /* the new one opens before the old one closes */
+    assert_int_equal(d.lcm_renewals, 1);
+    for (i = 0; i < 2; i++) {
+        assert_int_equal(lcm_publish(d.lcm, chans[i], junk, sizeof junk), 0);
+        /* not heard: no message to handle, a timeout (0) */
+        assert_true(lcm_handle_timeout(d.lcm, 1000) > 0);
+        assert_int_equal(seen_on(&d, chans[i]), before[i] + 1);
+    }
+    /* a handle that cannot open: the old one kept, nothing counted */
+    old = d.lcm;
+    d.lcm_url = "nosuchprovider://";
+    assert_int_equal(daemon_renew_lcm(&d), DAEMON_ERR_LCM);
+    assert_true(d.lcm == old);
+    assert_int_equal(d.lcm_renewals, 1);
+    lcm_destroy(d.lcm);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -176,6 +234,7 @@ int main(void)
         cmocka_unit_test(test_stdout_line_buffered),
         cmocka_unit_test(test_refusal_names_the_code),
         cmocka_unit_test(test_drain_budget_and_own_rx),
+        cmocka_unit_test(test_renewed_lcm_keeps_subscriptions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

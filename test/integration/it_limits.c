@@ -7,7 +7,7 @@
  *     and every joint does reach both ends (so the torque really pushed).
  *     The largest |qd| / qd_max is printed, not asserted: slammed into
  *     hard stops at full speed, the light distal links (the simulated
- *     PUMA has no motor armature) are flung past their drives' limit for
+ *     rotors' armature is on the diagonal only) are flung past their drives' limit for
  *     a few steps; in the task the carry sweep checks the ratio.
  *  2. The stick pushed into each link of both arms while tandem-arm moves
  *     them: at insertion it touches no link of either arm (zero contact

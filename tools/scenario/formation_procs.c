@@ -31,6 +31,7 @@ static pid_t spawn(fm_state *fm, char *const argv[])
         setenv("LCM_DEFAULT_URL", fm->url, 1);
         if (keyed == AUTH_CHILD_OK)
             setenv(AUTH_BUS_KEY_ENV, key, 1);
+        setenv(DAEMON_GLIB_SLICE_ENV, DAEMON_GLIB_SLICE_VALUE, 1);
         /* children's chatter goes to DIR/children.log */
         snprintf(path, sizeof path, "%s/children.log", fm->out);
         fd = open(path, O_WRONLY | O_CREAT | O_APPEND, 0644);

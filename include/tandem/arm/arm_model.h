@@ -42,6 +42,10 @@ typedef struct arm_model {
     double mass_kg[ARM_NJ];
     double com_m[ARM_NJ][3];         /* centre of mass of link i in frame i */
     double inertia_kgm2[ARM_NJ][9];  /* about the COM, frame-i axes, row-major */
+    /* The motor's rotor inertia reflected through the gear, Jm G^2, at
+     * joint i: it adds to M(q)'s diagonal only (the couplings it makes
+     * are G times smaller and neglected, as in Corke's rne). */
+    double armature_kgm2[ARM_NJ];
 } arm_model;
 
 /* Corke's Puma560 (Armstrong, Khatib & Burdick 1986 inertial data). */

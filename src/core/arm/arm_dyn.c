@@ -203,8 +203,9 @@ static void rne_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[
         vec3_cross(cF, L[i].c, F[i]);
         for (k = 0; k < 3; k++)
             n[k] += pf[k] + cF[k] + N[i][k];
-        /* joint axis z_{i-1} in frame i is R^T z0 = (0, sa, ca) */
-        tau_Nm[i] = n[1] * m->sin_alpha[i] + n[2] * m->cos_alpha[i];
+        /* joint axis z_{i-1} in frame i is R^T z0 = (0, sa, ca); the
+         * rotor's reflected inertia on the diagonal (arm_model.h) */
+        tau_Nm[i] = n[1] * m->sin_alpha[i] + n[2] * m->cos_alpha[i] + m->armature_kgm2[i] * qdd[i];
     }
 }
 
@@ -366,6 +367,8 @@ static void mass_matrix_cs(const arm_model *m, const arm_joint_cs *cs, const lin
             M[j * 6 + i] = M[i * 6 + j] = n[2];
         }
     }
+    for (i = 0; i < ARM_NJ; i++)
+        M[i * 6 + i] += m->armature_kgm2[i];   /* the rotors' reflected inertia, as in rne_cs */
 }
 
 int arm_mass_matrix(const arm_model *m, const double q[ARM_NJ],

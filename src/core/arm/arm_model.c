@@ -15,8 +15,14 @@
  * - Link 3's published principal moments (0.066, 0.086, 0.0125) violate the
  *   triangle inequality (0.066 + 0.0125 < 0.086); kept as published (the
  *   matrix is positive definite, which is all ODE checks).
- * - Motor armature (Jm G^2), gear friction and Coulomb friction are NOT
- *   modelled: the joint torques are link-side torques of rigid links.
+ * - Motor armature: Jm G^2 with Corke's mdl_puma560 Jm (200e-6 kg m^2 for
+ *   joints 1-3, 33e-6 for 4-6) and gear ratios G (-62.6111 107.815
+ *   -53.7063 76.0364 71.923 76.686): 0.784 2.325 0.577 0.191 0.171 0.194
+ *   kg m^2. On the wrist it is 100-1000 times the link's own inertia:
+ *   without it a stick hitting link 6 at cruise spun joint 6 past its
+ *   speed limit within one 1 ms step (docs/method/carry.md §8). Gear
+ *   friction and Coulomb friction are not modelled (the simulator adds
+ *   its own, sim_config).
  * - Joint ranges: docs/method/tdsd.md (seed 002's PUMA 560 ranges).
  * - Base height: shoulder (frame 0) 0.6718 m above the mounting surface.
  * - tau_max: the peak joint torques commonly quoted for the PUMA 560
@@ -55,7 +61,8 @@
     .q_max_rad = {  160 * DEG,   45 * DEG, 225 * DEG,  170 * DEG,  100 * DEG,  266 * DEG }, \
     .qd_max_radps = { 2.0, 1.75, 2.2, 4.0, 3.6, 4.6 }, \
     .tau_max_Nm = { 97.6, 186.4, 89.4, 24.2, 20.1, 21.3 }, \
-    .mass_kg = { 13.0, 17.4, 4.8, 0.82, 0.34, 0.09 }
+    .mass_kg = { 13.0, 17.4, 4.8, 0.82, 0.34, 0.09 }, \
+    .armature_kgm2 = { 0.78403, 2.32481, 0.57687, 0.19079, 0.17071, 0.19406 }
 
 #define PUMA_INERTIA \
     .inertia_kgm2 = { DIAG(0.30, 0.35, 0.30), \
@@ -114,7 +121,7 @@ static int rows_finite(const arm_model *m)
 {
     const double *rows[] = { m->a_m, m->d_m, m->alpha_rad, m->cos_alpha, m->sin_alpha,
                              m->theta_offset_rad, m->q_min_rad, m->q_max_rad,
-                             m->qd_max_radps, m->tau_max_Nm, m->mass_kg };
+                             m->qd_max_radps, m->tau_max_Nm, m->mass_kg, m->armature_kgm2 };
     size_t r;
     int i, k;
     if (!isfinite(m->base_height_m))
@@ -157,7 +164,7 @@ int arm_model_validate(const arm_model *m)
         return ARM_MODEL_ERR_RANGE;
     for (i = 0; i < ARM_NJ; i++)
         if (m->a_m[i] < 0.0 || !(m->q_min_rad[i] < m->q_max_rad[i]) || !(m->qd_max_radps[i] > 0.0)
-            || !(m->tau_max_Nm[i] > 0.0) || !(m->mass_kg[i] > 0.0))
+            || !(m->tau_max_Nm[i] > 0.0) || !(m->mass_kg[i] > 0.0) || m->armature_kgm2[i] < 0.0)
             return ARM_MODEL_ERR_RANGE;
     for (i = 0; i < ARM_NJ; i++)
         if (fabs(m->cos_alpha[i] - cos(m->alpha_rad[i])) > trig_tol

@@ -3,6 +3,11 @@
  * s(tau) = 10 tau^3 - 15 tau^4 + 6 tau^5. Peak of ds/dtau is 15/8 and of
  * d2s/dtau2 is 10/sqrt(3), which gives the shortest duration meeting the
  * speed and acceleration bounds.
+ *
+ * The controlled stop of a protective stop (docs/method/carry.md §7.4):
+ * constant deceleration per joint from the measured speed to rest, in
+ * closed form so that the reference is the same whatever the cycle's
+ * period (a reference integrated cycle by cycle drifts with late cycles).
  */
 #include "jtraj.h"
 #include <math.h>
@@ -55,4 +60,51 @@ void jtraj_at(const jtraj *t, double t_s, double q[ARM_NJ], double qd[ARM_NJ], d
         qd[i] = ds * dq;
         qdd[i] = dds * dq;
     }
+}
+
+int jtraj_stop_plan(jtraj_stop *s, const double q0_rad[ARM_NJ], const double qd0_radps[ARM_NJ],
+                    double decel_radps2)
+{
+    int i;
+    const int q_ok = arm_q_finite(q0_rad) == 0;
+    for (i = 0; i < ARM_NJ; i++) {
+        s->q0_rad[i] = q_ok ? q0_rad[i] : 0.0;
+        s->qd0_radps[i] = 0.0;
+    }
+    s->decel_radps2 = 1.0;
+    s->duration_s = 0.0;
+    if (!q_ok || arm_q_finite(qd0_radps) != 0 || !(decel_radps2 > 0.0) || !isfinite(decel_radps2))
+        return JTRAJ_ERR_STOP;
+    s->decel_radps2 = decel_radps2;
+    for (i = 0; i < ARM_NJ; i++) {
+        const double t_i = fabs(qd0_radps[i]) / decel_radps2;
+        s->qd0_radps[i] = qd0_radps[i];
+        if (t_i > s->duration_s)
+            s->duration_s = t_i;
+    }
+    return 0;
+}
+
+void jtraj_stop_at(const jtraj_stop *s, double t_s, double q[ARM_NJ], double qd[ARM_NJ], double qdd[ARM_NJ])
+{
+    const double t = t_s > 0.0 ? t_s : 0.0;
+    int i;
+    for (i = 0; i < ARM_NJ; i++) {
+        const double v = s->qd0_radps[i];
+        const double a = v > 0.0 ? -s->decel_radps2 : (v < 0.0 ? s->decel_radps2 : 0.0);
+        const double t_i = fabs(v) / s->decel_radps2;
+        const double tt = t < t_i ? t : t_i;
+        q[i] = s->q0_rad[i] + v * tt + 0.5 * a * tt * tt;
+        qd[i] = t < t_i ? v + a * tt : 0.0;
+        qdd[i] = t < t_i ? a : 0.0;
+    }
+}
+
+int jtraj_at_rest(const double qd_radps[ARM_NJ], double tol_radps)
+{
+    int i;
+    for (i = 0; i < ARM_NJ; i++)
+        if (!(fabs(qd_radps[i]) < tol_radps))
+            return 0;
+    return 1;
 }

@@ -111,7 +111,8 @@ void arm_cart_on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
 static void cart_joint_fallback(arm_daemon *ad, int at_start)
 {
     arm_carry *cx = &ad->cart;
-    tandem_action_segment_t *g = &ad->seg[ad->cur_seg];
+    const tandem_action_segment_t *g = &ad->seg[ad->cur_seg];
+    tandem_action_segment_t joint;
     double R1[9], q_goal[ARM_NJ];
     int rc;
     rot_from_quat(R1, g->orientation_quat);
@@ -123,11 +124,12 @@ static void cart_joint_fallback(arm_daemon *ad, int at_start)
     }
     cx->cart_seg = *g;
     cx->fallback = 1;
-    g->kind = TANDEM_ACTION_SEGMENT_T_MOVE_JOINT;
-    memcpy(g->q_rad, q_goal, sizeof g->q_rad);
-    memcpy(ad->hold_q, ad->st.q_rad, sizeof ad->hold_q);
-    ad->seg_t0_s = ad->st.sim_time_s;
-    jtraj_plan(&ad->traj, ad->model, ad->hold_q, g->q_rad, ad->speed_frac, 2.0);
+    joint = *g;
+    joint.kind = TANDEM_ACTION_SEGMENT_T_MOVE_JOINT;
+    memcpy(joint.q_rad, q_goal, sizeof joint.q_rad);
+    arm_row_replace_segment(ad, &joint);
+    arm_row_hold_at(ad, ad->st.q_rad);
+    arm_row_plan_joint(ad, ad->hold_q, q_goal);
     fprintf(stderr, "%s: t %.3f s: action %d segment %d %s: joint-space move to q = [%.3f %.3f %.3f %.3f %.3f %.3f]\n",
             ad->d.name, ad->st.sim_time_s, (int)ad->action_id, ad->cur_seg,
             at_start ? "would end near a joint range end" : "stalled with no contact", q_goal[0], q_goal[1],
@@ -154,7 +156,7 @@ int arm_cart_fallback_cycle(arm_daemon *ad, int done)
     if (done) {
         cx->fallback = 0;
     } else if (ad->st.max_contact_force_10ms_N >= CARTSEG_CONTACT_N) {
-        ad->seg[ad->cur_seg] = cx->cart_seg;
+        arm_row_replace_segment(ad, &cx->cart_seg);
         cx->fallback = 0;
         erlaw_block_reset(&cx->seg.blk, cx->s_m);
         fprintf(stderr, "%s: t %.3f s: contact during the joint-space move: back to the Cartesian law\n", ad->d.name,
@@ -203,9 +205,7 @@ void arm_cart_start(arm_daemon *ad, const tandem_action_segment_t *g)
     rot_from_quat(R1, g->orientation_quat);
     if (cartseg_start(&cx->seg, ad->model, &cx->tool, cx->T_world_base, ad->st.q_rad, g->position_m, R1, &cx->g, ref) != 0) {
         /* cannot plan it (bad gains): hold here and skip the segment */
-        memcpy(ad->hold_q, ad->st.q_rad, sizeof ad->hold_q);
-        ad->cur_seg = ad->n_seg;
-        ad->running = 0;
+        arm_row_abandon(ad);
         cart_publish_event(ad, TANDEM_ACTION_EVENT_T_REJECTED, "bad segment");
         return;
     }
@@ -317,7 +317,7 @@ int arm_cart_cycle(arm_daemon *ad)
     if (o.done) {
         if (o.blocked)
             cart_publish_event(ad, TANDEM_ACTION_EVENT_T_UNBLOCKED, "");
-        memcpy(ad->hold_q, ad->st.q_rad, sizeof ad->hold_q);
+        arm_row_hold_at(ad, ad->st.q_rad);
         arm_start_segment(ad);
     }
     return 1;

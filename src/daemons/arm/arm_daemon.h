@@ -1,7 +1,8 @@
 /* arm_daemon: the state of tandem-arm, one struct created in main and
  * handed to the cycle and to every handler (see tandem_arm.c), and the
  * calls between its files: tandem_arm.c (inputs, cycle dispatch, commands
- * and events out), arm_joint.c (joint-space segments and references),
+ * and events out), arm_row.c (the running row and the hold point: the one
+ * writer of both), arm_joint.c (joint-space segments and references),
  * arm_carry.c (event-referenced Cartesian segments), arm_tdsd.c (TDSD
  * Cartesian segments), arm_hold.c (protective stops).
  */
@@ -74,8 +75,9 @@ typedef struct arm_tdsd {
  * again from there. */
 typedef struct arm_hold {
     int     active;                   /* stopping or stopped; no motion runs */
-    int     pinned;                   /* the stop's reference taken from the measured state */
-    double  q_ref[ARM_NJ], qd_ref[ARM_NJ];   /* the controlled stop's reference */
+    int     pinned;                   /* the stop planned from the measured state */
+    jtraj_stop stop;                  /* the controlled stop (jtraj.h) */
+    double  stop_t_s;                 /* time into it */
     double  rest_s;                   /* time at rest since then */
     int64_t last_cmd_step;            /* state step of the last command sent, -1 */
     int64_t stops;                    /* protective stops so far */
@@ -97,18 +99,17 @@ typedef struct arm_daemon {
     /* ARMk_STATE steps (guard.h): a state may be 1 s ahead of the last one;
      * after 1 s without a state the simulator is taken to have restarted. */
     step_gate state_gate;
-    /* what the arm is doing */
+    /* what the arm is doing: written by arm_row.c alone */
     double hold_q[ARM_NJ];
     int    holding_set;
     tandem_action_segment_t seg[ROW_MAX_SEGMENTS];
     int    n_seg, cur_seg;
     int32_t action_id, transition;
     int32_t last_done_id;             /* the last row finished (0: none yet) */
-    int64_t status_cycles;            /* idle cycles, for the 10 Hz STATUS */
     int    running;
     jtraj  traj;
     double seg_t0_s;
-    int    gripper;                   /* open/close asked until the state shows it */
+    int64_t status_cycles;            /* idle cycles, for the 10 Hz STATUS */
     int    block_detect;              /* 0: eq. 6-7 alone, no blocked detector */
     int    fault;                     /* in a joint fault (braking) */
     double fault_clear_s;             /* healthy time since the fault's last sign */
@@ -126,10 +127,31 @@ void arm_event_fill(arm_daemon *ad, tandem_action_event_t *e, int ev, const char
 void arm_publish_event(arm_daemon *ad, int ev, const char *detail);
 void arm_send_command(arm_daemon *ad, int mode, const double tau[ARM_NJ]);
 
-/* arm_joint.c: joint-space segments and external joint references */
-void arm_on_joint_ref(const lcm_recv_buf_t *rb, const char *ch, void *u);
+/* arm_row.c: the running row and the hold point, their one writer */
+/* A checked row starts: its segments, none current yet, running. */
+void arm_row_begin(arm_daemon *ad, const tandem_action_row_t *r);
+/* The current segment of the running row, NULL if none. */
+const tandem_action_segment_t *arm_row_segment(const arm_daemon *ad);
 /* Next segment of the running row (DONE after the last one). */
 void arm_start_segment(arm_daemon *ad);
+/* The row given up (a segment that cannot be planned): held where the arm
+ * stands, no segment current, not running. The caller says why (REJECTED). */
+void arm_row_abandon(arm_daemon *ad);
+/* The current segment run as g instead (a Cartesian one finished in joint
+ * space, and back: arm_carry.c). */
+void arm_row_replace_segment(arm_daemon *ad, const tandem_action_segment_t *g);
+/* Where the arm is held between motions. */
+void arm_row_hold_at(arm_daemon *ad, const double q_rad[ARM_NJ]);
+/* A joint move from q_from to q_goal, timed from now. */
+void arm_row_plan_joint(arm_daemon *ad, const double q_from[ARM_NJ], const double q_goal[ARM_NJ]);
+/* The gripper request of this cycle's command: open or close while a
+ * gripper segment runs and the state does not show the fingers so yet
+ * (a level, not an edge: a lost command that carried the only OPEN left
+ * both arms holding the bar, fighting through t5 and t6), else KEEP. */
+int  arm_row_gripper_request(const arm_daemon *ad);
+
+/* arm_joint.c: joint-space segments and external joint references */
+void arm_on_joint_ref(const lcm_recv_buf_t *rb, const char *ch, void *u);
 /* A joint move planned again from the measured pose (after a safe hold). */
 void arm_joint_resume(arm_daemon *ad);
 /* Computes and sends this cycle's command in joint space. */
@@ -148,6 +170,10 @@ void arm_cart_resume(arm_daemon *ad);
 
 /* arm_hold.c: protective stops */
 void arm_hold_init(arm_daemon *ad);
+/* A state of a new step arrived (counted for the backlog test). */
+void arm_hold_note_state(arm_daemon *ad);
+/* A command was sent at the state's step (for the gap test). */
+void arm_hold_note_command(arm_daemon *ad);
 /* A hold begins (why: a short phrase for the log); idempotent while one runs. */
 void arm_hold_begin(arm_daemon *ad, const char *why);
 /* A fresh state after a gap in this arm's commands (a frozen or late
@@ -161,5 +187,7 @@ int  arm_hold_cycle(arm_daemon *ad);
 /* arm_tdsd.c: TDSD Cartesian segments */
 void arm_tdsd_row_accept(arm_daemon *ad, const tandem_action_row_t *r);
 int  arm_tdsd_cycle(arm_daemon *ad);
+/* After a protective stop: the segment started again from the measured pose. */
+void arm_tdsd_resume(arm_daemon *ad);
 
 #endif

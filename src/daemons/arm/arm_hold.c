@@ -8,7 +8,9 @@
  * planned with (a controlled stop: a stop at the servo's own bandwidth
  * took joint 1 to its torque limit from 0.4 rad/s), holds it there until
  * it is at rest, and then the running motion is planned
- * again from where the arm stands: a joint move from the measured joint
+ * again from where the arm stands. The stop's profile and the rest test
+ * are the core's (jtraj_stop_plan, jtraj_stop_at, jtraj_at_rest); this
+ * file decides when a stop begins and ends, and what is planned again: a joint move from the measured joint
  * angles (jtraj, rest to rest), a TDSD segment from the measured pose, an
  * event-referenced segment from its measured progress with the profile
  * started afresh (cartseg_resume). So no motion is ever picked up where
@@ -17,7 +19,6 @@
  * in ISO 10218 terms: controlled, power kept, resumed by itself once the
  * cause is gone).
  */
-#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include "arm_daemon.h"
@@ -39,14 +40,21 @@
 /* At rest: every joint slower than this for HOLD_REST_S. */
 #define HOLD_REST_RADPS 0.02
 #define HOLD_REST_S 0.05
-/* The controlled stop's deceleration: jtraj's budget for joint moves
- * (arm_start_segment plans them with 2 rad/s^2). */
-#define HOLD_DECEL_RADPS2 2.0
 
 void arm_hold_init(arm_daemon *ad)
 {
     memset(&ad->hold, 0, sizeof ad->hold);
     ad->hold.last_cmd_step = -1;
+}
+
+void arm_hold_note_state(arm_daemon *ad)
+{
+    ad->hold.states_in_cycle++;
+}
+
+void arm_hold_note_command(arm_daemon *ad)
+{
+    ad->hold.last_cmd_step = ad->st.step;
 }
 
 void arm_hold_begin(arm_daemon *ad, const char *why)
@@ -80,59 +88,43 @@ int arm_hold_check_gap(arm_daemon *ad)
 /* The running segment planned again from the measured pose. */
 static void motion_resume(arm_daemon *ad)
 {
-    const tandem_action_segment_t *g;
-    if (!ad->running || ad->cur_seg < 0 || ad->cur_seg >= ad->n_seg)
+    const tandem_action_segment_t *g = arm_row_segment(ad);
+    if (!g)
         return;
-    g = &ad->seg[ad->cur_seg];
     if (g->kind == TANDEM_ACTION_SEGMENT_T_MOVE_JOINT)
         arm_joint_resume(ad);
     else if (g->kind == TANDEM_ACTION_SEGMENT_T_MOVE_CARTESIAN && ad->tdsd.use)
-        ad->tdsd.seg_index = -1;   /* tdsd_start again, from the measured pose */
+        arm_tdsd_resume(ad);
     else if (g->kind == TANDEM_ACTION_SEGMENT_T_MOVE_CARTESIAN)
         arm_cart_resume(ad);
 }
 
-static int at_rest(const arm_daemon *ad)
-{
-    int i;
-    for (i = 0; i < ARM_NJ; i++)
-        if (fabs(ad->st.qd_radps[i]) >= HOLD_REST_RADPS)
-            return 0;
-    return 1;
-}
-
-/* One cycle of the controlled stop's reference: each joint's speed
- * brought to 0 at HOLD_DECEL_RADPS2 from the speed measured when the stop
- * was taken up; hold_q follows it, so the arm rests where it stopped. */
-static void stop_reference(arm_daemon *ad, double qdd[ARM_NJ])
+/* This cycle's reference of the controlled stop, planned from the state
+ * measured when the stop was taken up (jtraj_stop_plan: that state is
+ * checked finite, so the plan is taken); hold_q follows it, so the arm
+ * rests where it stopped. */
+static void stop_reference(arm_daemon *ad, double q[ARM_NJ], double qd[ARM_NJ], double qdd[ARM_NJ])
 {
     arm_hold *h = &ad->hold;
-    const double dv = HOLD_DECEL_RADPS2 * ad->d.period_s;
-    int i;
     if (!h->pinned) {
-        memcpy(h->q_ref, ad->st.q_rad, sizeof h->q_ref);
-        memcpy(h->qd_ref, ad->st.qd_radps, sizeof h->qd_ref);
+        jtraj_stop_plan(&h->stop, ad->st.q_rad, ad->st.qd_radps, JTRAJ_MOVE_QDD_RADPS2);
+        h->stop_t_s = 0.0;
         h->pinned = 1;
     }
-    for (i = 0; i < ARM_NJ; i++) {
-        const double v = h->qd_ref[i];
-        const double step = fabs(v) <= dv ? -v : (v > 0.0 ? -dv : dv);
-        h->qd_ref[i] = v + step;
-        h->q_ref[i] += 0.5 * (v + h->qd_ref[i]) * ad->d.period_s;
-        qdd[i] = step / ad->d.period_s;
-    }
-    memcpy(ad->hold_q, h->q_ref, sizeof ad->hold_q);
+    h->stop_t_s += ad->d.period_s;
+    jtraj_stop_at(&h->stop, h->stop_t_s, q, qd, qdd);
+    arm_row_hold_at(ad, q);
 }
 
 int arm_hold_cycle(arm_daemon *ad)
 {
     arm_hold *h = &ad->hold;
-    double tau[ARM_NJ], qdd[ARM_NJ];
+    double tau[ARM_NJ], q[ARM_NJ], qd[ARM_NJ], qdd[ARM_NJ];
     arm_payload payload;
     if (!h->active)
         return 0;
-    stop_reference(ad, qdd);
-    h->rest_s = at_rest(ad) ? h->rest_s + ad->d.period_s : 0.0;
+    stop_reference(ad, q, qd, qdd);
+    h->rest_s = jtraj_at_rest(ad->st.qd_radps, HOLD_REST_RADPS) ? h->rest_s + ad->d.period_s : 0.0;
     if (h->rest_s >= HOLD_REST_S) {
         h->active = 0;
         motion_resume(ad);
@@ -141,7 +133,7 @@ int arm_hold_cycle(arm_daemon *ad)
     }
     snprintf(ad->d.status, sizeof ad->d.status, "protective stop (%s)%s", h->why, h->active ? "" : ": resuming");
     if (jointctl_torque(ad->model, arm_cart_payload(ad, &payload), &ad->gains, ad->st.q_rad, ad->st.qd_radps,
-                        h->q_ref, h->qd_ref, qdd, tau, NULL) != 0) {
+                        q, qd, qdd, tau, NULL) != 0) {
         arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
         return 1;
     }

@@ -30,8 +30,7 @@ void arm_on_joint_ref(const lcm_recv_buf_t *rb, const char *ch, void *u)
     ad->jref.ref = r;
     ad->jref.have = 1;
     ad->jref.rx_ns = rtloop_now_ns();
-    memcpy(ad->hold_q, r.q_rad, sizeof ad->hold_q);   /* stale refs: hold the last one */
-    ad->holding_set = 1;
+    arm_row_hold_at(ad, r.q_rad);   /* stale refs: hold the last one */
 }
 
 static int joint_ref_fresh(const arm_daemon *ad)
@@ -55,26 +54,6 @@ static void servo_vlimit(const arm_daemon *ad, double q_d[ARM_NJ], double qd_d[A
     tdsd_servo_vlimit(&ad->gains, lim, ad->st.q_rad, q_d, qd_d, qdd_d);
 }
 
-void arm_start_segment(arm_daemon *ad)
-{
-    const tandem_action_segment_t *g;
-    ad->cur_seg++;
-    if (ad->cur_seg >= ad->n_seg) {
-        ad->running = 0;
-        arm_publish_event(ad, TANDEM_ACTION_EVENT_T_DONE, "");
-        return;
-    }
-    g = &ad->seg[ad->cur_seg];
-    ad->seg_t0_s = ad->st.sim_time_s;
-    if (g->kind == TANDEM_ACTION_SEGMENT_T_MOVE_JOINT)
-        jtraj_plan(&ad->traj, ad->model, ad->hold_q, g->q_rad, ad->speed_frac, 2.0);
-    else if (g->kind == TANDEM_ACTION_SEGMENT_T_MOVE_CARTESIAN)
-        arm_cart_start(ad, g);
-    else
-        ad->gripper = g->kind == TANDEM_ACTION_SEGMENT_T_GRASP ? TANDEM_ARM_COMMAND_T_GRIP_CLOSE
-                                                            : TANDEM_ARM_COMMAND_T_GRIP_OPEN;
-}
-
 /* After a protective stop (arm_hold.c): a joint move's reference is
  * referenced to time, and its clock ran on while the arm stood; picked up
  * there it would demand the whole lost way at once (joint 1 at its speed
@@ -82,14 +61,9 @@ void arm_start_segment(arm_daemon *ad)
  * rest of the move is planned again from where the arm stands, at rest. */
 void arm_joint_resume(arm_daemon *ad)
 {
-    tandem_action_segment_t *g;
-    if (!ad->running || ad->cur_seg < 0 || ad->cur_seg >= ad->n_seg)
-        return;
-    g = &ad->seg[ad->cur_seg];
-    if (g->kind != TANDEM_ACTION_SEGMENT_T_MOVE_JOINT)
-        return;
-    ad->seg_t0_s = ad->st.sim_time_s;
-    jtraj_plan(&ad->traj, ad->model, ad->st.q_rad, g->q_rad, ad->speed_frac, 2.0);
+    const tandem_action_segment_t *g = arm_row_segment(ad);
+    if (g && g->kind == TANDEM_ACTION_SEGMENT_T_MOVE_JOINT)
+        arm_row_plan_joint(ad, ad->st.q_rad, g->q_rad);
 }
 
 /* Reference for this cycle; returns 1 when the segment is complete. */
@@ -113,7 +87,7 @@ static int segment_reference(arm_daemon *ad, double q_d[ARM_NJ], double qd_d[ARM
         if (fabs(ad->st.q_rad[i] - q_d[i]) > JOINT_DONE_TOL_RAD || fabs(ad->st.qd_radps[i]) > JOINT_DONE_SPEED_RADPS)
             done = 0;
     if (done)
-        memcpy(ad->hold_q, q_d, sizeof ad->hold_q);
+        arm_row_hold_at(ad, q_d);
     return done;
 }
 

@@ -23,6 +23,11 @@ void arm_tdsd_row_accept(arm_daemon *ad, const tandem_action_row_t *r)
     td->seg_index = -1;
 }
 
+void arm_tdsd_resume(arm_daemon *ad)
+{
+    ad->tdsd.seg_index = -1;   /* tdsd_start again, from the measured pose */
+}
+
 static void tdsd_start(arm_daemon *ad, const tandem_action_segment_t *g)
 {
     arm_tdsd *td = &ad->tdsd;
@@ -35,9 +40,7 @@ static void tdsd_start(arm_daemon *ad, const tandem_action_segment_t *g)
     td->action_id = ad->action_id;
     td->seg_index = ad->cur_seg;
     if (tdsd_seg_start(&td->seg, ad->model, &tool, T_world_base, ad->st.q_rad, g->position_m, R1, &td->par) != 0) {
-        memcpy(ad->hold_q, ad->st.q_rad, sizeof ad->hold_q);
-        ad->cur_seg = ad->n_seg;
-        ad->running = 0;
+        arm_row_abandon(ad);
         td->seg_index = -1;
         arm_publish_event(ad, TANDEM_ACTION_EVENT_T_REJECTED, "bad tdsd segment");
     }
@@ -80,7 +83,7 @@ int arm_tdsd_cycle(arm_daemon *ad)
              ad->cur_seg, o.s_m, o.L_m, o.Q1);
     arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_TORQUE, tau);
     if (tdsd_seg_done(&td->seg, ad->st.q_rad, ad->st.qd_radps)) {
-        memcpy(ad->hold_q, td->seg.q_ref, sizeof ad->hold_q);
+        arm_row_hold_at(ad, td->seg.q_ref);
         td->seg_index = -1;
         arm_start_segment(ad);
     }

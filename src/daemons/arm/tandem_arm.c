@@ -43,8 +43,6 @@ void arm_event_fill(arm_daemon *ad, tandem_action_event_t *e, int ev, const char
     e->event = (int8_t)ev;
     e->segment = (int8_t)ad->cur_seg;
     e->detail = (char *)detail;
-    if (ev == TANDEM_ACTION_EVENT_T_DONE)
-        ad->last_done_id = ad->action_id;
     e->last_done_action_id = ad->last_done_id;
     e->running = (int8_t)(ad->running && ev != TANDEM_ACTION_EVENT_T_DONE);
     e->holding_workpiece = ad->have_state ? ad->st.holding_workpiece : -1;
@@ -79,14 +77,12 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
     /* a backlog is of new steps: the simulator re-announces a step (same
      * state again) while it waits for a slow participant in lockstep */
     if (!ad->have_state || s.step > ad->st.step)
-        ad->hold.states_in_cycle++;
+        arm_hold_note_state(ad);
     ad->st = s;
     ad->have_state = 1;
     ad->state_rx_ns = rtloop_now_ns();
-    if (!ad->holding_set) {
-        memcpy(ad->hold_q, s.q_rad, sizeof ad->hold_q);
-        ad->holding_set = 1;
-    }
+    if (!ad->holding_set)
+        arm_row_hold_at(ad, s.q_rad);
 }
 
 static int segment_valid(const arm_daemon *ad, const tandem_action_segment_t *g)
@@ -122,12 +118,12 @@ static void on_action(const lcm_recv_buf_t *rb, const char *ch, void *u)
     if (!ok) {
         ad->d.msgs.rejected++;
         if (r.arm == ad->arm) {
-            const int32_t id = ad->action_id, t = ad->transition;
-            ad->action_id = r.action_id;
-            ad->transition = r.transition;
-            arm_publish_event(ad, TANDEM_ACTION_EVENT_T_REJECTED, ad->running ? "busy" : "invalid row");
-            ad->action_id = id;
-            ad->transition = t;
+            /* the refusal names the refused row, not the one running */
+            tandem_action_event_t e;
+            arm_event_fill(ad, &e, TANDEM_ACTION_EVENT_T_REJECTED, ad->running ? "busy" : "invalid row");
+            e.action_id = r.action_id;
+            e.transition = r.transition;
+            AUTH_PUBLISH(tandem_action_event_t, ad->d.lcm, "ARM_EVENTS", &e);
         }
         tandem_action_row_t_decode_cleanup(&r);
         return;
@@ -148,12 +144,7 @@ static void row_take(arm_daemon *ad)
 {
     const tandem_action_row_t *r = &ad->row_in.row;
     ad->row_in.have = 0;
-    memcpy(ad->seg, r->segments, sizeof(r->segments[0]) * (size_t)r->n_segments);
-    ad->n_seg = r->n_segments;
-    ad->cur_seg = -1;
-    ad->action_id = r->action_id;
-    ad->transition = r->transition;
-    ad->running = 1;
+    arm_row_begin(ad, r);
     arm_cart_row_accept(ad, r);
     arm_tdsd_row_accept(ad, r);
     arm_publish_event(ad, TANDEM_ACTION_EVENT_T_STARTED, "");
@@ -170,21 +161,9 @@ static int state_stale(const arm_daemon *ad)
     return (double)(rtloop_now_ns() - ad->state_rx_ns) * 1e-9 > ad->stale_s;
 }
 
-/* 1 once the measured fingers are as the pending gripper request asks. */
-static int gripper_reached(const arm_daemon *ad)
-{
-    return (ad->gripper == TANDEM_ARM_COMMAND_T_GRIP_CLOSE && ad->st.gripper_closed) ||
-           (ad->gripper == TANDEM_ARM_COMMAND_T_GRIP_OPEN && !ad->st.gripper_closed);
-}
-
 void arm_send_command(arm_daemon *ad, int mode, const double tau[ARM_NJ])
 {
     tandem_arm_command_t c;
-    /* the request is a level, not an edge: sent in every command until the
-     * state shows the fingers so (a lost command that carried the only
-     * OPEN left both arms holding the bar, fighting through t5 and t6) */
-    if (gripper_reached(ad))
-        ad->gripper = TANDEM_ARM_COMMAND_T_GRIP_KEEP;
     memset(&c, 0, sizeof c);
     c.seq = ad->cmd_seq++;
     c.utime = daemon_utime_now();
@@ -193,12 +172,12 @@ void arm_send_command(arm_daemon *ad, int mode, const double tau[ARM_NJ])
     c.mode = (int8_t)mode;
     if (tau)
         memcpy(c.tau_Nm, tau, sizeof c.tau_Nm);
-    c.gripper = (int8_t)ad->gripper;
-    ad->hold.last_cmd_step = ad->st.step;
+    c.gripper = (int8_t)arm_row_gripper_request(ad);
+    arm_hold_note_command(ad);
     AUTH_PUBLISH(tandem_arm_command_t, ad->d.lcm, ad->cmd_ch, &c);
 }
 
-/* Joint range and speed watchdog; 1 while the arm holds on its brakes. */
+/* Joint range and speed watchdog; 1 while the arm must hold on its brakes. */
 static int joint_fault(arm_daemon *ad)
 {
     const unsigned bits = arm_joint_faults(ad->model, ad->st.q_rad, ad->st.qd_radps);
@@ -220,12 +199,31 @@ static int joint_fault(arm_daemon *ad)
             fprintf(stderr, "%s: fault cleared\n", ad->d.name);
         }
     }
-    if (!ad->fault)
+    return ad->fault;
+}
+
+/* The one writer of the shell's safe_hold: on, with the brakes commanded
+ * this cycle, when there is a cause (why), off otherwise. 1 if braking. */
+static int brakes(arm_daemon *ad, const char *why)
+{
+    ad->d.safe_hold = why != NULL;
+    if (!why)
         return 0;
-    ad->d.safe_hold = 1;
-    snprintf(ad->d.status, sizeof ad->d.status, "safe hold: joint FAULT");
+    snprintf(ad->d.status, sizeof ad->d.status, "safe hold: %s", why);
     arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
     return 1;
+}
+
+/* Inputs that stop every controller: a stale state (counted), a backlog
+ * of states (arm_hold_check_gap). Either begins a protective stop. */
+static const char *input_brake_cause(arm_daemon *ad)
+{
+    if (state_stale(ad)) {
+        ad->d.msgs.stale++;
+        arm_hold_begin(ad, "state stale");
+        return "state stale";
+    }
+    return arm_hold_check_gap(ad) ? "states in a burst" : NULL;
 }
 
 /* The controllers in turn, each when it is the one to send the command:
@@ -243,27 +241,13 @@ static int cycle(daemon *d, void *user)
         d->skip_ack = 1;
         return DAEMON_CONTINUE;
     }
-    if (state_stale(ad)) {
-        if (ad->have_state)
-            d->msgs.stale++;
-        d->safe_hold = 1;
-        arm_hold_begin(ad, "state stale");
-        snprintf(d->status, sizeof d->status, "safe hold: state stale");
-        arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
+    if (brakes(ad, input_brake_cause(ad)))
         return DAEMON_CONTINUE;
-    }
-    if (arm_hold_check_gap(ad)) {
-        d->safe_hold = 1;
-        snprintf(d->status, sizeof d->status, "safe hold: states in a burst");
-        arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
-        return DAEMON_CONTINUE;
-    }
-    d->safe_hold = 0;
     if (d->lockstep && ad->row_in.have && ad->row_in.row.step < d->pending_step)
         row_take(ad);
     if (d->lockstep)
         arm_cart_partner_at(ad, d->pending_step);
-    if (joint_fault(ad) || arm_hold_cycle(ad) || arm_tdsd_cycle(ad) || arm_cart_cycle(ad) || (arm_cart_fallback_cycle(ad, 0) && arm_cart_cycle(ad)))
+    if (brakes(ad, joint_fault(ad) ? "joint FAULT" : NULL) || arm_hold_cycle(ad) || arm_tdsd_cycle(ad) || arm_cart_cycle(ad) || (arm_cart_fallback_cycle(ad, 0) && arm_cart_cycle(ad)))
         return DAEMON_CONTINUE;
     arm_joint_cycle(ad);
     return DAEMON_CONTINUE;

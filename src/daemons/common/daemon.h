@@ -30,6 +30,20 @@
  * per robot and step, 128 robots at most) twice over. */
 #define DAEMON_QUEUE_CAPACITY 256
 #define DAEMON_SIM_SILENT_NS 5000000000LL  /* lockstep: no clock this long = no simulator */
+/* LCM keeps every channel name it sees, subscribed or not, for good
+ * (docs/security.md §5): a flood of made-up names grows every process on
+ * the bus without end. The shell bounds it: when its resident memory is
+ * this much above what it was after start-up (or after the last renewal),
+ * it opens a new LCM handle, subscribes it as the old one was and closes
+ * the old one, whose table of names goes with it. A daemon is a few MB
+ * and allocates nothing after start-up, so 16 MB is taken by a flood
+ * alone (at 50,000 names/s, after some 8 s). */
+#define DAEMON_NAMES_SLACK_KB (16L * 1024L)
+#define DAEMON_NAMES_CHECK_NS 100000000LL  /* resident memory read at 10 Hz */
+/* The environment a launcher gives its daemons so that glib (2.74) frees
+ * what it frees instead of keeping slices (daemon_defaults, docs/security.md §5). */
+#define DAEMON_GLIB_SLICE_ENV "G_SLICE"
+#define DAEMON_GLIB_SLICE_VALUE "always-malloc"
 
 typedef struct daemon_counters {
     int64_t received;
@@ -79,6 +93,12 @@ typedef struct daemon {
     double   drop_rate;                 /* --drop-rate: fault injection (rx.h), 0 none */
     long     drop_seed;                 /* --drop-seed: seed of the drops, 1 by default */
     rx_state rx;                        /* the receive path's tables and counts (rx.h) */
+    int      keep_lcm;                  /* 1: the LCM handle is never renewed (a
+                                           program that keeps copies of it or of
+                                           its subscriptions: tandem-sim) */
+    long     rss_base_kb;               /* resident memory the renewal counts from, 0 unset */
+    int64_t  names_check_ns;            /* last time it was read */
+    int64_t  lcm_renewals;              /* LCM handles renewed (a flood of names) */
 } daemon;
 
 /* Cycle callback: read the latest inputs, call the core, publish outputs;
@@ -95,7 +115,9 @@ typedef int (*daemon_cycle_fn)(daemon *d, void *user);
                                    outside rtloop's range */
 #define DAEMON_ERR_TABLE (-3)   /* daemon_check_table: the validator refused the table */
 #define DAEMON_ERR_AUTH (-4)    /* daemon_start: auth_bus_start refused (no key, ...) */
-#define DAEMON_ERR_LCM (-5)     /* daemon_start: LCM does not open at the URL */
+#define DAEMON_ERR_LCM (-5)     /* daemon_start: LCM does not open at the URL;
+                                   daemon_renew_lcm: a new handle does not open
+                                   (the old one is kept) */
 
 #define DAEMON_CONTINUE 0      /* cycle: go on */
 #define DAEMON_STOPPED 0       /* daemon_run: stopped by SIGINT/SIGTERM (exit 0) */
@@ -144,6 +166,12 @@ int daemon_subscribe_numbered(daemon *d, const char *prefix, int first, int last
 /* Answers lockstep step `step` for participant `name` on SIM_ACK (the
  * first answer registers it with its period; leaving = 1 unregisters).
  * Daemons do this in daemon_run; scenarios and tests call it directly. */
+/* A new LCM handle with the same subscriptions in place of d->lcm, whose
+ * table of channel names (LCM's, never emptied) is freed with it.
+ * DAEMON_OK, or DAEMON_ERR_LCM (nothing changed). Messages queued in the
+ * old handle are lost (in lockstep the simulator announces the step again). */
+int daemon_renew_lcm(daemon *d);
+
 void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32_t period_steps, int leaving);
 /* Handles the LCM messages already queued, without blocking, for at most
  * DAEMON_DRAIN_MAX messages and a quarter of the period

@@ -1,6 +1,7 @@
 /* proc: child processes of tandem-scenario and the integration tests. */
 #include "proc.h"
 #include "auth_bus.h"
+#include "daemon.h"
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -90,6 +91,7 @@ pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url,
             setenv("LCM_DEFAULT_URL", lcm_url, 1);
         if (keyed == AUTH_CHILD_OK)
             setenv(AUTH_BUS_KEY_ENV, key, 1);
+        setenv(DAEMON_GLIB_SLICE_ENV, DAEMON_GLIB_SLICE_VALUE, 1);
         execv(path, (char *const *)argv);
         fprintf(stderr, "proc: cannot exec %s: %s\n", path, strerror(errno));
         _exit(127);

@@ -159,6 +159,19 @@ lcm_subscription_t *rx_subscribe(daemon *d, const char *channel, lcm_msg_handler
     return lcm_subscribe(d->lcm, channel, trampoline, s);
 }
 
+int rx_subscribe_all(rx_state *rx, lcm_t *lcm, int capacity)
+{
+    int i, n = 0;
+    for (i = 0; i < rx->n_subs; i++) {
+        lcm_subscription_t *s = lcm_subscribe(lcm, rx->subs[i].channel, trampoline, &rx->subs[i]);
+        if (s) {
+            lcm_subscription_set_queue_capacity(s, capacity);
+            n++;
+        }
+    }
+    return n;
+}
+
 int64_t rx_lost_total(const rx_state *rx)
 {
     int64_t n = 0;

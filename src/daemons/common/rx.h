@@ -67,6 +67,9 @@ void rx_init(rx_state *rx);
 void rx_set_drop(rx_state *rx, double p, uint64_t seed);
 /* lcm_subscribe through the receive path of d (daemon_subscribe calls this). */
 lcm_subscription_t *rx_subscribe(struct daemon *d, const char *channel, lcm_msg_handler_t handler, void *user);
+/* Every subscription of rx again on lcm, each with a queue of capacity
+ * messages (a new handle: daemon_renew_lcm). The number subscribed. */
+int rx_subscribe_all(rx_state *rx, lcm_t *lcm, int capacity);
 /* Adds per-channel counts, gaps, the loss rate and the deferred drains to
  * a health message; the strings and arrays point into rx. */
 void rx_fill_health(rx_state *rx, struct _tandem_health_t *h);

@@ -231,6 +231,43 @@ static void test_link1_mass_invisible(void **state)
     }
 }
 
+/* The rotors' reflected inertia sits on the diagonal alone: against the
+ * same model without it, M(q) differs by diag(J) exactly and the RNE by
+ * J_i qdd_i, whatever q, qd and the payload; forward dynamics still
+ * inverts the RNE with it. */
+static void test_armature_on_the_diagonal(void **state)
+{
+    arm_model bare = arm_model_puma560;
+    const arm_model *m = &arm_model_puma560;
+    const arm_payload *p = test_payload();
+    prng_state seed;
+    int n, i, j;
+    (void)state;
+    prng_seed(&seed, 23);
+    for (i = 0; i < ARM_NJ; i++) {
+        assert_true(m->armature_kgm2[i] > 0.0);
+        bare.armature_kgm2[i] = 0.0;
+    }
+    for (n = 0; n < 50; n++) {
+        double q[ARM_NJ], qd[ARM_NJ], qdd[ARM_NJ], t1[ARM_NJ], t0[ARM_NJ], M1[36], M0[36], qdd2[ARM_NJ];
+        random_q(m, &seed, q);
+        random_vec(&seed, 2.0, qd);
+        random_vec(&seed, 5.0, qdd);
+        assert_int_equal(arm_rne(m, q, qd, qdd, NULL, p, t1), 0);
+        assert_int_equal(arm_rne(&bare, q, qd, qdd, NULL, p, t0), 0);
+        assert_int_equal(arm_mass_matrix(m, q, p, M1), 0);
+        assert_int_equal(arm_mass_matrix(&bare, q, p, M0), 0);
+        for (i = 0; i < ARM_NJ; i++) {
+            assert_true(fabs(t1[i] - t0[i] - m->armature_kgm2[i] * qdd[i]) < 1e-9 * (1.0 + fabs(t1[i])));
+            for (j = 0; j < ARM_NJ; j++)
+                assert_true(fabs(M1[i * 6 + j] - M0[i * 6 + j] - (i == j ? m->armature_kgm2[i] : 0.0)) < 1e-12);
+        }
+        assert_int_equal(arm_forward_dynamics(m, q, qd, t1, NULL, p, qdd2), 0);
+        for (i = 0; i < ARM_NJ; i++)
+            assert_true(fabs(qdd2[i] - qdd[i]) < 1e-7 * (1.0 + fabs(qdd[i])));
+    }
+}
+
 /* A payload is a load on the flange: its gravity torque is the one of a
  * force m g applied at its COM, tau = J_c^T (-m g), J_c its point Jacobian. */
 static void test_payload_gravity_as_wrench(void **state)
@@ -328,6 +365,7 @@ int main(void)
         cmocka_unit_test(test_gravity_is_potential_gradient),
         cmocka_unit_test(test_rne_decomposition_and_christoffel),
         cmocka_unit_test(test_link1_mass_invisible),
+        cmocka_unit_test(test_armature_on_the_diagonal),
         cmocka_unit_test(test_payload_gravity_as_wrench),
         cmocka_unit_test(test_rne_cs_is_rne),
         cmocka_unit_test(test_bad_input),

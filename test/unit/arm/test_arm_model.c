@@ -226,6 +226,8 @@ static void test_validate(void **state)
     BROKEN(m.inertia_kgm2[2][4] = INFINITY, ARM_MODEL_ERR_NONFINITE);
     BROKEN(m.q_min_rad[1] = m.q_max_rad[1], ARM_MODEL_ERR_RANGE);   /* lo < hi */
     BROKEN(m.mass_kg[4] = 0.0, ARM_MODEL_ERR_RANGE);
+    BROKEN(m.armature_kgm2[5] = NAN, ARM_MODEL_ERR_NONFINITE);
+    BROKEN(m.armature_kgm2[1] = -2.3, ARM_MODEL_ERR_RANGE);
     BROKEN(m.tau_max_Nm[0] = -97.6, ARM_MODEL_ERR_RANGE);
     BROKEN(m.qd_max_radps[5] = 0.0, ARM_MODEL_ERR_RANGE);
     BROKEN(m.a_m[1] = -0.4318, ARM_MODEL_ERR_RANGE);

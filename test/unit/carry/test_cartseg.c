@@ -328,7 +328,10 @@ static double tool_bias_force(const arm_tool *tool, const arm_payload *pl, const
  * the plant and the stick a rigid one-sided contact (an impulse cancels
  * the link point's velocity into it). The other joints could carry the
  * tool on along the path, off the line. The arm must be flagged blocked
- * within 0.2 s of contact, then lean with about the bias force (at most 10x
+ * within 0.25 s of contact (the deviation test, the tool 1 cm off the
+ * line: 0.08 s before the drives' rotors were in the model, 0.21 s with
+ * them, which make the unpinned joints 2-4 times heavier), then lean with
+ * about the bias force (at most 10x
  * the tool-space bias force: 9.5x, 21.8 N, since the hold point may move
  * on once to a tool resting ahead of it, the rule that makes a released
  * arm resume whatever holds it sideways; 6.9x without it; ~200x, 450 N
@@ -412,7 +415,7 @@ static void test_pinned_upper_arm(void **st)
     }
     print_message("contact %.3f blocked %.3f settled %.1f N (tool bias force %.1f N) lurch %.3f done %d\n",
                   t_in, t_blk, nf ? f_sum / nf : 0.0, f_bias, lurch, done);
-    assert_true(t_in > 0.0 && t_blk > t_in && t_blk < t_in + 0.2);
+    assert_true(t_in > 0.0 && t_blk > t_in && t_blk < t_in + 0.25);
     assert_true(nf > 0 && f_sum / nf < 10.0 * f_bias);
     assert_true(lurch <= G.v_m * 1.1);
     assert_true(done);

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# flood-names.sh: what a flood of channel names, each new, costs one daemon
+# beside a bare LCM subscriber (docs/security.md §5-6). LCM keeps every
+# channel name it sees; tandem's daemon shell renews its LCM handle when its
+# resident memory has grown by DAEMON_NAMES_SLACK_KB (daemon.h), the bare
+# subscriber (bench_bare_sub: lcm_subscribe and a counter) cannot. Runs
+# `tandem-arm --arm 1 --insecure` (no simulator: it holds on its brakes;
+# its receive path is the one every daemon has) and bench_bare_sub on a
+# private bus, floods it with tandem-flood --random-channels for FLOOD_S s
+# at RATE datagrams/s, and prints both processes' VmRSS every STEP_S s.
+# Run it in a network namespace of its own:
+#   unshare -n sh -c 'ip link set lo up; ip route add 224.0.0.0/4 dev lo; tools/flood-names.sh'
+# FLOOD_S (default 60), RATE (default 50000), STEP_S (default 5), G_SLICE
+# (default always-malloc).
+set -u
+here=$(cd "$(dirname "$0")/.." && pwd)
+bin=${TANDEM_BIN:-$here/build/bin}
+flood_s=${FLOOD_S:-60}
+rate=${RATE:-50000}
+step_s=${STEP_S:-5}
+export LCM_DEFAULT_URL="udpm://239.255.76.67:7667?ttl=0"
+# as tools/tandem-run and tandem-scenario start their daemons (daemon.h,
+# DAEMON_GLIB_SLICE_ENV); G_SLICE= (empty) on the command line shows why
+export G_SLICE=${G_SLICE-always-malloc}
+out=$(mktemp -d "${TMPDIR:-/tmp}/tandem-names-XXXXXX")
+rss() { awk '/^VmRSS/ {print $2}' "/proc/$1/status" 2>/dev/null; }
+"$bin/tandem-arm" --arm 1 --insecure >"$out/arm.log" 2>&1 &
+arm=$!
+"$bin/bench_bare_sub" "$((flood_s + 30))" ARM1_ACTION >"$out/bare.log" 2>&1 &
+bare=$!
+sleep 3
+echo "t_s  tandem-arm_kB  bench_bare_sub_kB"
+echo "0  $(rss $arm)  $(rss $bare)"
+"$bin/tandem-flood" --kind junk --rate "$rate" --random-channels --duration "$flood_s" >"$out/flood.log" 2>&1 &
+flood=$!
+t=0
+while kill -0 "$flood" 2>/dev/null; do
+    sleep "$step_s"
+    t=$((t + step_s))
+    echo "$t  $(rss $arm)  $(rss $bare)"
+done
+wait "$flood"
+cat "$out/flood.log"
+echo "tandem-arm renewed its LCM handle $(grep -c 'LCM handle renewed' "$out/arm.log") times"
+kill -TERM "$arm" "$bare" 2>/dev/null
+wait "$arm" "$bare" 2>/dev/null
+rm -rf "$out"
