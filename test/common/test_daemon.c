@@ -173,7 +173,9 @@ static void test_refusal_names_the_code(void **state)
 static int heard;
 static void on_heard(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     heard++;
 }
 
@@ -208,7 +210,7 @@ static void test_renewed_lcm_keeps_subscriptions(void **state)
     }
     old = d.lcm;
     assert_int_equal(daemon_renew_lcm(&d), DAEMON_OK);
-    assert_true(d.lcm != old);   /* the new one opens before the old one closes */
+    assert_true(d.lcm != old); /* the new one opens before the old one closes */
     assert_int_equal(d.lcm_renewals, 1);
     for (i = 0; i < 2; i++) {
         assert_int_equal(lcm_publish(d.lcm, chans[i], junk, sizeof junk), 0);

@@ -31,9 +31,10 @@
     X(0, "ok")            \
     X(JOINTCTL_ERR_ARG,   \
       "non-finite reference, negative gains, or inverse dynamics refused the state")
-#define JTRAJ_CODES(X) \
-    X(0, "ok")         \
-    X(JTRAJ_ERR_ARG, "non-finite q0/q1, speed fraction outside (0, 1] or qdd_max <= 0")
+#define JTRAJ_CODES(X)                                                                  \
+    X(0, "ok")                                                                          \
+    X(JTRAJ_ERR_ARG, "non-finite q0/q1, speed fraction outside (0, 1] or qdd_max <= 0") \
+    X(JTRAJ_ERR_STOP, "a stop from a non-finite q0/qd0, or a deceleration not finite and > 0")
 #define CARTCTL_CODES(X) \
     X(0, "ok")           \
     X(CARTCTL_ERR_ARG,   \

@@ -230,9 +230,11 @@ int daemon_start(daemon *d)
     }
     d->last_health_ns = rtloop_now_ns();
     if (!d->keep_lcm && !slice_freed())
-        fprintf(stderr, "%s: %s is not %s: glib keeps what a renewed LCM handle frees, so the bound on LCM's "
-                "table of channel names grows with each renewal (docs/security.md §5)\n", d->name,
-                DAEMON_GLIB_SLICE_ENV, DAEMON_GLIB_SLICE_VALUE);
+        fprintf(
+            stderr,
+            "%s: %s is not %s: glib keeps what a renewed LCM handle frees, so the bound on LCM's "
+            "table of channel names grows with each renewal (docs/security.md §5)\n",
+            d->name, DAEMON_GLIB_SLICE_ENV, DAEMON_GLIB_SLICE_VALUE);
     return 0;
 }
 
@@ -371,7 +373,7 @@ int daemon_renew_lcm(daemon *d)
     lcm_destroy(d->lcm);
     d->lcm = fresh;
 #ifdef __GLIBC__
-    malloc_trim(0);   /* the freed names back to the system, not only to malloc */
+    malloc_trim(0); /* the freed names back to the system, not only to malloc */
 #endif
     d->lcm_renewals++;
     return DAEMON_OK;
@@ -393,12 +395,16 @@ static void names_watch(daemon *d, int64_t now)
     if (rss - d->rss_base_kb < DAEMON_NAMES_SLACK_KB)
         return;
     if (daemon_renew_lcm(d) != DAEMON_OK) {
-        fprintf(stderr, "%s: resident memory %ld kB (from %ld): a new LCM handle does not open, the old one kept\n",
+        fprintf(stderr,
+                "%s: resident memory %ld kB (from %ld): a new LCM handle does not open, the old "
+                "one kept\n",
                 d->name, rss, d->rss_base_kb);
-        d->rss_base_kb = rss;   /* said once per slack's growth, not at 10 Hz */
+        d->rss_base_kb = rss; /* said once per slack's growth, not at 10 Hz */
         return;
     }
-    fprintf(stderr, "%s: resident memory %ld kB, %ld kB above its base: LCM handle renewed (a flood of channel names?), ",
+    fprintf(stderr,
+            "%s: resident memory %ld kB, %ld kB above its base: LCM handle renewed (a flood of "
+            "channel names?), ",
             d->name, rss, rss - d->rss_base_kb);
     d->rss_base_kb = rss_kb();
     fprintf(stderr, "now %ld kB\n", d->rss_base_kb);
