@@ -15,6 +15,7 @@
  * A payload is merged into link 6 (mass, COM, parallel-axis inertia).
  */
 #include "arm_dyn.h"
+#include "arm_puma_internal.h"
 #include "linalg.h"
 #include "vec3.h"
 #include <math.h>
@@ -74,14 +75,11 @@ static void merge_mass(link_mass *a, const link_mass *b)
     vec3_copy(a->c, c);
 }
 
-/* Mass properties of link i as the recursions read them: the model's own
- * numbers, except link 6 when a payload is merged into it (then they point
- * into *merged). Pointers, not copies: most calls carry no payload. */
-typedef struct link_ref {
-    double m;
-    const double *c;
-    const double *I;
-} link_ref;
+/* Mass properties of link i as the recursions read them (arm_link_ref,
+ * arm_puma_internal.h): the model's own numbers, except link 6 when a
+ * payload is merged into it (then they point into *merged). Pointers, not
+ * copies: most calls carry no payload. */
+typedef arm_link_ref link_ref;
 
 static void link_refs(const arm_model *m, const arm_payload *p, link_mass *merged,
                       link_ref L[ARM_NJ])
@@ -151,6 +149,10 @@ static void rne_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[
     double w[3] = { 0, 0, 0 }, wd[3] = { 0, 0, 0 }, vd[3], f[3] = { 0, 0, 0 }, n[3] = { 0, 0, 0 };
     int i, k;
 
+    if (m->structure == ARM_STRUCTURE_PUMA) {
+        arm_puma_rne(m, cs, L, qd, qdd, g, tau_Nm);
+        return;
+    }
     vec3_scale(vd, g, -1.0);
     /* outward: velocities and accelerations of frame i, in frame i */
     for (i = 0; i < ARM_NJ; i++) {
@@ -351,6 +353,10 @@ static void mass_matrix_cs(const arm_model *m, const arm_joint_cs *cs, const lin
 {
     origin_body comp;
     int i, j;
+    if (m->structure == ARM_STRUCTURE_PUMA) {
+        arm_puma_mass_matrix(m, cs, L, M);
+        return;
+    }
     memset(&comp, 0, sizeof comp);
     for (i = ARM_NJ - 1; i >= 0; i--) {
         double n[3], f[3];

@@ -12,6 +12,7 @@
  * from R36 = R03^T R06 with z6 in frame 3 = (-c4 s5, -s4 s5, c5).
  */
 #include "arm_kin.h"
+#include "arm_puma_internal.h"
 #include "linalg.h"
 #include "vec3.h"
 #include <math.h>
@@ -43,12 +44,25 @@ int arm_ik_branch_from_name(const char *name)
     return ARM_KIN_ERR_NO_BRANCH;
 }
 
+/* T = T6 T_flange_tool. A tool that only moves the point (arm_tool_offset,
+ * every tool of the cell) costs 9 products instead of a 4x4 product. */
 static void flange_to_tool(const arm_tool *tool, const double T6[16], double T[16])
 {
-    if (tool)
-        tf_mul(T, T6, tool->T_flange_tool);
-    else
+    const double *X = tool ? tool->T_flange_tool : NULL;
+    int r;
+    if (!X) {
         memcpy(T, T6, 16 * sizeof T[0]);
+        return;
+    }
+    if (!(X[0] == 1.0 && X[5] == 1.0 && X[10] == 1.0 && X[1] == 0.0 && X[2] == 0.0 && X[4] == 0.0
+          && X[6] == 0.0 && X[8] == 0.0 && X[9] == 0.0 && X[12] == 0.0 && X[13] == 0.0
+          && X[14] == 0.0 && X[15] == 1.0)) {
+        tf_mul(T, T6, X);
+        return;
+    }
+    memcpy(T, T6, 16 * sizeof T[0]);
+    for (r = 0; r < 12; r += 4)
+        T[r + 3] += T6[r] * X[3] + T6[r + 1] * X[7] + T6[r + 2] * X[11];
 }
 
 int arm_fk(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], double T[16])
@@ -59,6 +73,12 @@ int arm_fk(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], dou
     int i;
     if (!T || arm_joint_cs_eval(m, q, &cs) != 0)
         return ARM_KIN_ERR_ARG;
+    if (m->structure == ARM_STRUCTURE_PUMA) {
+        arm_puma_chain(m, &cs, NULL, Ti);
+        if (tool)
+            flange_to_tool(tool, T6, T);
+        return 0;
+    }
     arm_base_frame(m, Ti);
     /* in place: arm_dh_compose works row by row */
     for (i = 0; i < ARM_NJ; i++)
@@ -97,7 +117,10 @@ int arm_fk_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM
     if (!m || !T || !J || arm_link_frames(m, q, F) != 0)
         return ARM_KIN_ERR_ARG;
     flange_to_tool(tool, F[ARM_NJ], T);
-    jacobian_of_frames(F[0], T, J);
+    if (m->structure == ARM_STRUCTURE_PUMA)
+        arm_puma_jacobian((const double (*)[16])F, T, J);
+    else
+        jacobian_of_frames(F[0], T, J);
     return 0;
 }
 
@@ -110,6 +133,13 @@ int arm_kin_eval(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ
     if (!m || arm_joint_cs_eval(m, q, &k->cs) != 0) {
         memset(k, 0, sizeof *k);
         return ARM_KIN_ERR_ARG;
+    }
+    if (m->structure == ARM_STRUCTURE_PUMA) {
+        double T6[16];
+        arm_puma_chain(m, &k->cs, k->F, T6);
+        flange_to_tool(tool, T6, k->T);
+        arm_puma_jacobian((const double (*)[16])k->F, k->T, k->J);
+        return 0;
     }
     arm_base_frame(m, k->F[0]);
     for (i = 0; i < ARM_NJ; i++)

@@ -1,0 +1,34 @@
+/* arm_puma_internal: the folded PUMA routines (docs/method/puma.md) behind
+ * arm_kin and arm_dyn, which take them for a model whose structure is
+ * ARM_STRUCTURE_PUMA. Inputs are validated by those callers. */
+#ifndef TANDEM_ARM_PUMA_INTERNAL_H
+#define TANDEM_ARM_PUMA_INTERNAL_H
+
+#include "arm_model.h"
+
+/* Mass properties of link i as the dynamics read them: the model's own,
+ * or link 6 merged with a payload (then I is a full 3x3). */
+typedef struct arm_link_ref {
+    double m;
+    const double *c;   /* COM in frame i */
+    const double *I;   /* about the COM, frame-i axes, row-major 3x3 */
+} arm_link_ref;
+
+/* Flange pose T6 and, if F is not NULL, every frame F[0..6] as
+ * arm_link_frames gives them (docs/method/puma.md §2). */
+void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16],
+                    double T6[16]);
+
+/* Geometric Jacobian of the point of pose T from the frames F (§3). */
+void arm_puma_jacobian(const double (*F)[16], const double T[16], double J[36]);
+
+/* RNE torques (§4); g the gravity vector in base coordinates. */
+void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_link_ref L[ARM_NJ],
+                  const double qd[ARM_NJ], const double qdd[ARM_NJ], const double g[3],
+                  double tau_Nm[ARM_NJ]);
+
+/* Joint-space inertia M(q), 6x6 row-major (§5). */
+void arm_puma_mass_matrix(const arm_model *m, const arm_joint_cs *cs, const arm_link_ref L[ARM_NJ],
+                          double M[36]);
+
+#endif
