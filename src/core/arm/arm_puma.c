@@ -210,32 +210,44 @@ static inline void outward(int twist, double c, double s, double qd, double qdd,
 
 /* Inertial force F = m (vd + K c) and moment about the COM
  * N = I wd + w x (I w) of a link with diagonal inertia. */
-static inline void link_wrench_diag(const arm_link_ref *l, const accel_map *a, const double vd[3],
+static inline void link_wrench_diag(const arm_model *m, int i, const accel_map *a, const double vd[3],
                                     const double wd[3], double F[3], double N[3])
 {
-    const double *c = l->c, *I = l->I;
+    const double *c = m->com_m[i], *I = m->inertia_kgm2[i], mass = m->mass_kg[i];
     int k;
     for (k = 0; k < 3; k++)
-        F[k] = l->m * (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
+        F[k] = mass * (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
     N[0] = I[0] * wd[0] + (I[8] - I[4]) * a->w12;
     N[1] = I[4] * wd[1] + (I[0] - I[8]) * a->w02;
     N[2] = I[8] * wd[2] + (I[4] - I[0]) * a->w01;
 }
 
-/* The same with a full inertia (link 6 carrying a payload). */
-static inline void link_wrench_full(const arm_link_ref *l, const accel_map *a, const double w[3],
-                                    const double vd[3], const double wd[3], double F[3], double N[3])
+/* A payload held at the flange, as a body of its own in frame 6 (merging
+ * it into link 6 cost more than the body: a parallel-axis sum per call):
+ * F = m (vd + K c), N = I wd + w x (I w) with a full inertia, skipped for
+ * a point mass. */
+static void payload_wrench(const arm_payload *p, const accel_map *a, const double w[3],
+                           const double vd[3], const double wd[3], double F[3], double N[3])
 {
-    const double *c = l->c, *I = l->I;
-    double Iw[3];
-    int k;
-    for (k = 0; k < 3; k++) {
-        F[k] = l->m * (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
-        Iw[k] = I[3 * k] * w[0] + I[3 * k + 1] * w[1] + I[3 * k + 2] * w[2];
+    const double *c = p->com_m, *I = p->inertia_kgm2;
+    int k, point = 1;
+    for (k = 0; k < 3; k++)
+        F[k] = p->mass_kg * (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
+    for (k = 0; k < 9; k++)
+        if (I[k] != 0.0)
+            point = 0;
+    if (point) {
+        N[0] = N[1] = N[2] = 0.0;
+        return;
     }
-    N[0] = I[0] * wd[0] + I[1] * wd[1] + I[2] * wd[2] + w[1] * Iw[2] - w[2] * Iw[1];
-    N[1] = I[3] * wd[0] + I[4] * wd[1] + I[5] * wd[2] + w[2] * Iw[0] - w[0] * Iw[2];
-    N[2] = I[6] * wd[0] + I[7] * wd[1] + I[8] * wd[2] + w[0] * Iw[1] - w[1] * Iw[0];
+    {
+        double Iw[3];
+        for (k = 0; k < 3; k++)
+            Iw[k] = I[3 * k] * w[0] + I[3 * k + 1] * w[1] + I[3 * k + 2] * w[2];
+        N[0] = I[0] * wd[0] + I[1] * wd[1] + I[2] * wd[2] + w[1] * Iw[2] - w[2] * Iw[1];
+        N[1] = I[3] * wd[0] + I[4] * wd[1] + I[5] * wd[2] + w[2] * Iw[0] - w[0] * Iw[2];
+        N[2] = I[6] * wd[0] + I[7] * wd[1] + I[8] * wd[2] + w[0] * Iw[1] - w[1] * Iw[0];
+    }
 }
 
 /* n += c x F + N (the link's own moment about its frame origin) */
@@ -249,13 +261,14 @@ static inline void add_link_moment(double n[3], const double c[3], const double 
 /* Outward by joints, with p*_1 = 0, p*_2 = (a2, 0, 0), p*_3 = (a3, -d3, 0),
  * p*_4 = (0, d4, 0), p*_5 = 0, p*_6 = (0, 0, d6); inward with the same
  * zeros; tau_i = n_i . (0, sin alpha_i, cos alpha_i), a signed component. */
-void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_link_ref L[ARM_NJ],
+void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload *payload,
                   const double qd[ARM_NJ], const double qdd[ARM_NJ], const double g[3],
                   double tau_Nm[ARM_NJ])
 {
     const double a2 = m->a_m[1], a3 = m->a_m[2], d3 = m->d_m[2], d4 = m->d_m[3], d6 = m->d_m[5];
     const double *c = cs->c, *s = cs->s;
     double F[ARM_NJ][3], N[ARM_NJ][3], w[3], wd[3], vd[3], f[3], n[3], mg[3];
+    double Fp[3] = { 0.0, 0.0, 0.0 }, Np[3] = { 0.0, 0.0, 0.0 };
     accel_map a;
     int k;
 
@@ -266,49 +279,59 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_link_ref
     w[0] = 0.0; w[1] = qd[0]; w[2] = 0.0;
     wd[0] = 0.0; wd[1] = qdd[0]; wd[2] = 0.0;
     rot_t(TWIST_P90, c[0], s[0], mg, vd);
-    accel_map_of(w, wd, &a);
-    link_wrench_diag(&L[0], &a, vd, wd, F[0], N[0]);
+    {
+        /* link 1 adds only its moment about its joint axis (frame 1's y):
+         * (c x F)_y + N_y, with w x (I w) = 0 (w along y) */
+        const double *c1 = m->com_m[0];
+        const double w11 = w[1] * w[1];
+        F[0][0] = m->mass_kg[0] * (vd[0] - w11 * c1[0] + wd[1] * c1[2]);
+        F[0][2] = m->mass_kg[0] * (vd[2] - wd[1] * c1[0] - w11 * c1[2]);
+        N[0][1] = m->inertia_kgm2[0][4] * wd[1];
+    }
 
     outward(TWIST_0, c[1], s[1], qd[1], qdd[1], w, wd, vd);
     accel_map_of(w, wd, &a);
     add_column(vd, &a, 0, a2);
-    link_wrench_diag(&L[1], &a, vd, wd, F[1], N[1]);
+    link_wrench_diag(m, 1, &a, vd, wd, F[1], N[1]);
 
     outward(TWIST_M90, c[2], s[2], qd[2], qdd[2], w, wd, vd);
     accel_map_of(w, wd, &a);
     add_column(vd, &a, 0, a3);
     add_column(vd, &a, 1, -d3);
-    link_wrench_diag(&L[2], &a, vd, wd, F[2], N[2]);
+    link_wrench_diag(m, 2, &a, vd, wd, F[2], N[2]);
 
     outward(TWIST_P90, c[3], s[3], qd[3], qdd[3], w, wd, vd);
     accel_map_of(w, wd, &a);
     add_column(vd, &a, 1, d4);
-    link_wrench_diag(&L[3], &a, vd, wd, F[3], N[3]);
+    link_wrench_diag(m, 3, &a, vd, wd, F[3], N[3]);
 
     outward(TWIST_M90, c[4], s[4], qd[4], qdd[4], w, wd, vd);
     accel_map_of(w, wd, &a);
-    link_wrench_diag(&L[4], &a, vd, wd, F[4], N[4]);
+    link_wrench_diag(m, 4, &a, vd, wd, F[4], N[4]);
 
     outward(TWIST_0, c[5], s[5], qd[5], qdd[5], w, wd, vd);
     accel_map_of(w, wd, &a);
     add_column(vd, &a, 2, d6);
-    link_wrench_full(&L[5], &a, w, vd, wd, F[5], N[5]);
+    link_wrench_diag(m, 5, &a, vd, wd, F[5], N[5]);
+    if (payload && payload->mass_kg > 0.0)
+        payload_wrench(payload, &a, w, vd, wd, Fp, Np);
 
     /* inward: link 6, p*_6 x f = d6 (-f1, f0, 0) */
-    for (k = 0; k < 3; k++) {
-        f[k] = F[5][k];
-        n[k] = 0.0;
-    }
+    for (k = 0; k < 3; k++)
+        f[k] = F[5][k] + Fp[k];
     n[0] = -d6 * f[1];
     n[1] = d6 * f[0];
-    add_link_moment(n, L[5].c, F[5], N[5]);
+    n[2] = 0.0;
+    add_link_moment(n, m->com_m[5], F[5], N[5]);
+    if (payload)
+        add_link_moment(n, payload->com_m, Fp, Np);
     tau_Nm[5] = n[2];
     /* link 5: p*_5 = 0 */
     rot(TWIST_0, c[5], s[5], f, f);
     rot(TWIST_0, c[5], s[5], n, n);
     for (k = 0; k < 3; k++)
         f[k] += F[4][k];
-    add_link_moment(n, L[4].c, F[4], N[4]);
+    add_link_moment(n, m->com_m[4], F[4], N[4]);
     tau_Nm[4] = -n[1];
     /* link 4: p*_4 x f = d4 (f2, 0, -f0) */
     rot(TWIST_M90, c[4], s[4], f, f);
@@ -317,7 +340,7 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_link_ref
         f[k] += F[3][k];
     n[0] += d4 * f[2];
     n[2] -= d4 * f[0];
-    add_link_moment(n, L[3].c, F[3], N[3]);
+    add_link_moment(n, m->com_m[3], F[3], N[3]);
     tau_Nm[3] = n[1];
     /* link 3: p*_3 x f = a3 (0, -f2, f1) - d3 (f2, 0, -f0) */
     rot(TWIST_P90, c[3], s[3], f, f);
@@ -327,7 +350,7 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_link_ref
     n[0] -= d3 * f[2];
     n[1] -= a3 * f[2];
     n[2] += a3 * f[1] + d3 * f[0];
-    add_link_moment(n, L[2].c, F[2], N[2]);
+    add_link_moment(n, m->com_m[2], F[2], N[2]);
     tau_Nm[2] = -n[1];
     /* link 2: p*_2 x f = a2 (0, -f2, f1) */
     rot(TWIST_M90, c[2], s[2], f, f);
@@ -336,11 +359,11 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_link_ref
         f[k] += F[1][k];
     n[1] -= a2 * f[2];
     n[2] += a2 * f[1];
-    add_link_moment(n, L[1].c, F[1], N[1]);
+    add_link_moment(n, m->com_m[1], F[1], N[1]);
     tau_Nm[1] = n[2];
     /* link 1: only the moment's y (its joint axis in frame 1) is wanted */
     rot(TWIST_0, c[1], s[1], n, n);
-    tau_Nm[0] = n[1] + L[0].c[2] * F[0][0] - L[0].c[0] * F[0][2] + N[0][1];
+    tau_Nm[0] = n[1] + m->com_m[0][2] * F[0][0] - m->com_m[0][0] * F[0][2] + N[0][1];
 }
 
 /* ---- joint-space inertia (composite rigid bodies) ---------------------- */

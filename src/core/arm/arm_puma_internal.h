@@ -4,6 +4,7 @@
 #ifndef TANDEM_ARM_PUMA_INTERNAL_H
 #define TANDEM_ARM_PUMA_INTERNAL_H
 
+#include "arm_dyn.h"
 #include "arm_model.h"
 
 /* Mass properties of link i as the dynamics read them: the model's own,
@@ -22,8 +23,9 @@ void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16],
 /* Geometric Jacobian of the point of pose T from the frames F (§3). */
 void arm_puma_jacobian(const double (*F)[16], const double T[16], double J[36]);
 
-/* RNE torques (§4); g the gravity vector in base coordinates. */
-void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_link_ref L[ARM_NJ],
+/* RNE torques (§4); g the gravity vector in base coordinates, payload
+ * NULL or valid. */
+void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload *payload,
                   const double qd[ARM_NJ], const double qdd[ARM_NJ], const double g[3],
                   double tau_Nm[ARM_NJ]);
 

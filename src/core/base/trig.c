@@ -5,14 +5,16 @@
  * first 33 bits, so n pio2_1 is exact for n < 2^20) and tails, the second
  * round taken when x is so close to a multiple of pi/2 that the first
  * loses more than 16 bits to cancellation (fdlibm's e_rem_pio2 "medium"
- * case). y is carried as y0 + y1 (y1 the rounding tail) into fdlibm's
- * kernels (k_sin, k_cos, in the form without bit tricks), whose minimax
- * polynomials are accurate to about 2^-58 on [-pi/4, pi/4].
+ * case). Then fdlibm's minimax polynomials (k_sin, k_cos), accurate to
+ * about 2^-58 on [-pi/4, pi/4]. fdlibm also carries the rounding tail of
+ * y into the kernels; it buys the last half ulp and costs a tenth of the
+ * call, so it is left out: results stay within about one ulp of libm.
  */
 #include "trig.h"
 
 #include <math.h>
 
+static const double PIO4 = 7.85398163397448278999e-01;   /* pi/4 rounded down */
 static const double invpio2 = 6.36619772367581382433e-01;
 static const double pio2_1 = 1.57079632673412561417e+00;
 static const double pio2_1t = 6.07710050650619224932e-11;
@@ -26,27 +28,35 @@ static const double C1 = 4.16666666666666019037e-02, C2 = -1.3888888888874109574
                     C3 = 2.48015872894767294178e-05, C4 = -2.75573143513906633035e-07,
                     C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
 
-/* sin(x + y), |x| <= pi/4, y the tail of x */
-static double kernel_sin(double x, double y)
+/* sin(x), |x| <= pi/4, z = x^2 */
+static double kernel_sin(double x, double z)
 {
-    const double z = x * x, v = z * x;
+    const double v = z * x;
     const double r = S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)));
-    return x - ((z * (0.5 * y - v * r) - y) - v * S1);
+    return x + v * (S1 + z * r);
 }
 
-/* cos(x + y), |x| <= pi/4 */
-static double kernel_cos(double x, double y)
+/* cos(x), |x| <= pi/4, z = x^2: 1 - z/2 + z r, the 1 - z/2 split so that
+ * its rounding error is added back */
+static double kernel_cos(double z)
 {
-    const double z = x * x, w = z * z;
+    const double w = z * z;
     const double r = z * (C1 + z * (C2 + z * C3)) + w * w * (C4 + z * (C5 + z * C6));
     const double hz = 0.5 * z, a = 1.0 - hz;
-    return a + (((1.0 - a) - hz) + (z * r - x * y));
+    return a + (((1.0 - a) - hz) + z * r);
 }
 
 void trig_sincos(double x_rad, double *s, double *c)
 {
-    double fn, r, w, y0, y1, sk, ck;
+    double fn, r, w, y, z, sk, ck;
     long n;
+    if (fabs(x_rad) <= PIO4) {
+        /* already in the kernels' range (as fdlibm: no reduction) */
+        z = x_rad * x_rad;
+        *s = kernel_sin(x_rad, z);
+        *c = kernel_cos(z);
+        return;
+    }
     if (!(fabs(x_rad) < TRIG_REDUCE_MAX_RAD)) {
         *s = sin(x_rad);
         *c = cos(x_rad);
@@ -57,18 +67,18 @@ void trig_sincos(double x_rad, double *s, double *c)
     fn = (double)n;
     r = x_rad - fn * pio2_1;   /* exact */
     w = fn * pio2_1t;
-    y0 = r - w;
-    if (n != 0 && fabs(y0) < fabs(x_rad) * 0x1p-16) {
+    y = r - w;
+    if (n != 0 && fabs(y) < fabs(x_rad) * 0x1p-16) {
         /* near a multiple of pi/2: 33 more bits of pi/2 */
         const double t = r;
         w = fn * pio2_2;
         r = t - w;
         w = fn * pio2_2t - ((t - r) - w);
-        y0 = r - w;
+        y = r - w;
     }
-    y1 = (r - y0) - w;
-    sk = kernel_sin(y0, y1);
-    ck = kernel_cos(y0, y1);
+    z = y * y;
+    sk = kernel_sin(y, z);
+    ck = kernel_cos(z);
     switch (n & 3) {
     case 0: *s = sk;  *c = ck;  break;
     case 1: *s = ck;  *c = -sk; break;
