@@ -78,6 +78,9 @@ typedef struct cartctl_state {
     double twist[6];     /* J qd: v (m/s), w (rad/s)                */
     double jdqd[6];      /* Jdot qd (arm_kin_jdot_qd)               */
     arm_joint_cs cs;     /* cos/sin theta_i, for the RNE            */
+    int has_wrist;       /* 1: a spherical wrist (ARM_STRUCTURE_PUMA),
+                            its centre in wrist_m                  */
+    double wrist_m[3];   /* where joint axes 4, 5, 6 meet, base frame */
 } cartctl_state;
 
 typedef struct cartctl_out {

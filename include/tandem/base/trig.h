@@ -1,5 +1,5 @@
-/* trig: sine and cosine together in plain double arithmetic, for the
- * control cycles (docs/method/carry.md §3.4).
+/* trig: sine and cosine together, atan2 and exp in plain double
+ * arithmetic, for the control cycles (docs/method/puma.md §1).
  *
  * Why: the 68040 has no sine or cosine in hardware; libm's fsin/fcos/fsincos
  * trap to the FPSP software package (hundreds of clocks each). This is the
@@ -16,5 +16,14 @@
 
 /* sin(x_rad) and cos(x_rad); neither pointer may be NULL. */
 void trig_sincos(double x_rad, double *s, double *c);
+
+/* atan2(y, x) in (-pi, pi], as libm's for finite arguments (fdlibm's
+ * s_atan polynomial after its four-interval reduction); a non-finite
+ * argument goes to libm. glibc's on the 68040 traps three times. */
+double trig_atan2(double y, double x);
+
+/* exp(x) (fdlibm's e_exp: x = k ln2 + r, a rational approximation on
+ * |r| <= ln2/2, 2^k by squaring); |x| > 700 and non-finite x go to libm. */
+double trig_exp(double x);
 
 #endif

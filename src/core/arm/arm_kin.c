@@ -134,7 +134,8 @@ int arm_kin_eval(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ
         memset(k, 0, sizeof *k);
         return ARM_KIN_ERR_ARG;
     }
-    if (m->structure == ARM_STRUCTURE_PUMA) {
+    k->puma = m->structure == ARM_STRUCTURE_PUMA;
+    if (k->puma) {
         double T6[16];
         arm_puma_chain(m, &k->cs, k->F, T6);
         flange_to_tool(tool, T6, k->T);
@@ -158,7 +159,7 @@ int arm_kin_jdot_qd(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[
 {
     double w[3] = { 0, 0, 0 }, odot[3] = { 0, 0, 0 }, pdot[3] = { 0, 0, 0 };
     double p_e[3];
-    int i, j;
+    int i, j, first = 0;
     if (!jdqd)
         return ARM_KIN_ERR_ARG;
     memset(jdqd, 0, 6 * sizeof jdqd[0]);
@@ -168,7 +169,16 @@ int arm_kin_jdot_qd(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[
         for (i = 0; i < ARM_NJ; i++)
             pdot[j] += k->J[j * 6 + i] * qd[i];
     tf_pos(p_e, k->T);
-    for (i = 0; i < ARM_NJ; i++) {
+    if (k->puma) {
+        /* docs/method/puma.md §3: joint 1 turns about the base z with
+         * w_0 = 0 and o_1 = o_0, so its term is qd_1 e_z x pdot and
+         * frame 1's origin does not move */
+        jdqd[0] = -qd[0] * pdot[1];
+        jdqd[1] = qd[0] * pdot[0];
+        w[2] = qd[0];
+        first = 1;
+    }
+    for (i = first; i < ARM_NJ; i++) {
         const double *Fi = k->F[i];
         const double z[3] = { Fi[2], Fi[6], Fi[10] };
         const double o[3] = { Fi[3], Fi[7], Fi[11] };
@@ -183,7 +193,7 @@ int arm_kin_jdot_qd(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[
             jdqd[3 + j] += qd[i] * zdot[j];
             w[j] += z[j] * qd[i];   /* now w_{i+1} */
         }
-        {
+        if (i < ARM_NJ - 1 && !(k->puma && i == 4)) {   /* the PUMA's o_5 = o_4 */
             const double *Fn = k->F[i + 1];
             const double step[3] = { Fn[3] - o[0], Fn[7] - o[1], Fn[11] - o[2] };
             double ws[3];

@@ -2,7 +2,7 @@
  * general DH recursions they replace, and identities that hold them on
  * their own.
  *  - agreement to 1e-12 (relative to the largest entry of each result) of
- *    FK, Jacobian, the kinematics pass, RNE torques for random qd, qdd,
+ *    FK, Jacobian, the kinematics pass and its Jdot qd, RNE torques for random qd, qdd,
  *    tilted gravity and a payload, and M(q): 10,000 seeded configurations
  *    inside the joint ranges per model, every corner of the ranges, and
  *    the shoulder, elbow and wrist singularities;
@@ -99,6 +99,12 @@ static void check_state(const arm_model *m, const arm_model *g, const double q[A
     assert_int_equal(arm_kin_eval(g, &tool, q, &kb), 0);
     assert_true(agree(ka.T, kb.T, 16) && agree(ka.J, kb.J, 36));
     assert_true(agree(ka.F[0], kb.F[0], 16 * (ARM_NJ + 1)));
+    {
+        double ja[6], jb[6];
+        assert_int_equal(arm_kin_jdot_qd(&ka, qd, ja), 0);
+        assert_int_equal(arm_kin_jdot_qd(&kb, qd, jb), 0);
+        assert_true(agree(ja, jb, 6));
+    }
     assert_int_equal(arm_link_frames(m, q, Fa), 0);
     assert_int_equal(arm_link_frames(g, q, Fb), 0);
     assert_true(agree(Fa[0], Fb[0], 16 * (ARM_NJ + 1)));

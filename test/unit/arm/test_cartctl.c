@@ -192,12 +192,13 @@ static void test_damping_near_wrist_singularity(void **st)
  * right at the wrist singularity, qdd matches V diag(s/(s^2+l^2)) U^T rhs
  * - k_null V diag(l^2/(s^2+l^2)) V^T qd computed here from one SVD, and
  * the reported sigma_min never exceeds the true one. Both paths run. */
-static void test_fast_path_matches_svd(void **st)
+/* The fast path (the spherical wrist's block inverse for the PUMA, the
+ * 6x6 inverse for a general table) equals the damped SVD law. */
+static void fast_path_matches_svd(const arm_model *m)
 {
     const arm_tool tool = tool10();
     cartctl_gains g;
     int n, fast = 0, slow = 0;
-    (void)st;
     cartctl_gains_default(&g);
     for (n = 0; n < 200; n++) {
         double q[ARM_NJ], qd[ARM_NJ], a[3], R_d[9], U[36], sv[6], V[36], jd[6], rhs[6], y[6], vq[6];
@@ -211,10 +212,10 @@ static void test_fast_path_matches_svd(void **st)
         }
         q[4] = -0.6 * (double)(n % 50) / 49.0;     /* 0 .. -0.6 rad: through the band */
         vec3_set(a, 0.3 * sin(n), 0.2, -0.1 * cos(n));
-        assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, qd, &s), 0);
+        assert_int_equal(cartctl_state_at(m, &tool, q, qd, &s), 0);
         rot_from_axis_angle(R_d, a, 0.05);
-        assert_int_equal(cartctl_qdd(&arm_model_puma560, &tool, &g, q, qd, &s, a, R_d, &o), 0);
-        assert_int_equal(cartctl_jdot_qd(&arm_model_puma560, &tool, q, qd, jd), 0);
+        assert_int_equal(cartctl_qdd(m, &tool, &g, q, qd, &s, a, R_d, &o), 0);
+        assert_int_equal(cartctl_jdot_qd(m, &tool, q, qd, jd), 0);
         for (i = 0; i < 6; i++)
             rhs[i] = o.a_cmd[i] - jd[i];
         linalg_svd(U, sv, V, s.J, 6, 6);
@@ -238,6 +239,15 @@ static void test_fast_path_matches_svd(void **st)
             slow++;
     }
     assert_true(fast > 0 && slow > 0);
+}
+
+static void test_fast_path_matches_svd(void **st)
+{
+    arm_model general = arm_model_puma560;
+    (void)st;
+    general.structure = ARM_STRUCTURE_GENERAL;
+    fast_path_matches_svd(&arm_model_puma560);
+    fast_path_matches_svd(&general);
 }
 
 /* Runs an underdamped tool servo (k_p 400, k_v 8: zeta 0.2) from Q_B to

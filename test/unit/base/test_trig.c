@@ -1,4 +1,6 @@
-/* Unit tests for trig: trig_sincos agrees with libm's sin and cos over the
+/* Unit tests for trig: trig_atan2 and trig_exp agree with libm to a few
+ * ulps (every quadrant, the interval ends, signed zeros, the cut-overs);
+ * trig_sincos agrees with libm's sin and cos over the
  * joint angles a cycle sees and beyond (seeded random, multiples of pi/2
  * and their neighbours, where the reduction cancels most), keeps
  * sin^2 + cos^2 = 1, is odd/even, and hands huge and non-finite angles to
@@ -88,6 +90,53 @@ static void test_huge_and_nonfinite(void **state)
     check_against_libm(TRIG_REDUCE_MAX_RAD * 0.999);
 }
 
+/* atan2 on every quadrant, the axes, signed zeros, near the reduction's
+ * interval ends and far out */
+static void test_atan2_against_libm(void **state)
+{
+    static const double ends[] = { 0.4375, 0.6875, 1.1875, 2.4375 };
+    prng_state r;
+    int i, k;
+    (void)state;
+    prng_seed(&r, 126);
+    for (i = 0; i < 20000; i++) {
+        const double y = 4.0 * (prng_uniform(&r) - 0.5), x = 4.0 * (prng_uniform(&r) - 0.5);
+        const double scale = (i & 1) ? 1e-3 : 1e3;
+        assert_true(fabs(trig_atan2(y, x) - atan2(y, x)) <= 4.5e-16);
+        assert_true(fabs(trig_atan2(y * scale, x) - atan2(y * scale, x)) <= 4.5e-16);
+    }
+    for (k = 0; k < 4; k++)
+        for (i = -3; i <= 3; i++) {
+            const double t = nextafter(ends[k], i < 0 ? 0.0 : 10.0) + i * 1e-12;
+            assert_true(fabs(trig_atan2(t, 1.0) - atan2(t, 1.0)) <= 4.5e-16);
+            assert_true(fabs(trig_atan2(-t, -1.0) - atan2(-t, -1.0)) <= 4.5e-16);
+        }
+    assert_true(trig_atan2(0.0, 1.0) == 0.0 && !signbit(trig_atan2(0.0, 1.0)));
+    assert_true(trig_atan2(-0.0, 1.0) == 0.0 && signbit(trig_atan2(-0.0, 1.0)));
+    assert_true(trig_atan2(0.0, -1.0) == atan2(0.0, -1.0));
+    assert_true(trig_atan2(-0.0, -1.0) == atan2(-0.0, -1.0));
+    assert_true(trig_atan2(0.0, -0.0) == atan2(0.0, -0.0));
+    assert_true(trig_atan2(2.0, 0.0) == atan2(2.0, 0.0) && trig_atan2(-2.0, 0.0) == atan2(-2.0, 0.0));
+    assert_true(isnan(trig_atan2(NAN, 1.0)) && trig_atan2(1.0, INFINITY) == 0.0);
+}
+
+/* exp relative to libm's, over the range the bias of eq. 7 sees and out
+ * to the cut-over, and the cut-over itself */
+static void test_exp_against_libm(void **state)
+{
+    prng_state r;
+    int i;
+    (void)state;
+    prng_seed(&r, 127);
+    for (i = 0; i < 20000; i++) {
+        const double x = (i & 1) ? 100.0 * (prng_uniform(&r) - 0.5) : 1400.0 * (prng_uniform(&r) - 0.5);
+        assert_true(fabs(trig_exp(x) - exp(x)) <= 4.5e-16 * exp(x));
+    }
+    assert_true(trig_exp(0.0) == 1.0);
+    assert_true(trig_exp(800.0) == exp(800.0) && trig_exp(-800.0) == exp(-800.0));
+    assert_true(isnan(trig_exp(NAN)) && trig_exp(-INFINITY) == 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -95,6 +144,8 @@ int main(void)
         cmocka_unit_test(test_quarter_turns),
         cmocka_unit_test(test_symmetry_and_zero),
         cmocka_unit_test(test_huge_and_nonfinite),
+        cmocka_unit_test(test_atan2_against_libm),
+        cmocka_unit_test(test_exp_against_libm),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
