@@ -215,20 +215,15 @@ static int rne_inputs_valid(const double qd[ARM_NJ], const double qdd[ARM_NJ],
 
 static const double default_gravity[3] = { 0.0, 0.0, -ARM_GRAVITY_MPS2 };
 
-/* RNE by the folded PUMA routine or the general one (the model says
- * which): the dispatch sits here, before the general recursion's arrays
- * are on the stack. */
-static void rne_of(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
-                   const double qdd[ARM_NJ], const double gravity_mps2[3], const arm_payload *payload,
-                   double tau_Nm[ARM_NJ])
+/* The general RNE with the payload merged into link 6; the callers take
+ * the folded PUMA routine first (the model says which), so that this
+ * recursion's arrays are not on the PUMA cycle's stack. */
+static void rne_general(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
+                        const double qdd[ARM_NJ], const double g[3], const arm_payload *payload,
+                        double tau_Nm[ARM_NJ])
 {
-    const double *g = gravity_mps2 ? gravity_mps2 : default_gravity;
     link_mass merged;
     link_ref L[ARM_NJ];
-    if (m->structure == ARM_STRUCTURE_PUMA) {
-        arm_puma_rne(m, cs, payload, qd, qdd, g, tau_Nm);
-        return;
-    }
     link_refs(m, payload, &merged, L);
     rne_cs(m, cs, L, qd, qdd, g, tau_Nm);
 }
@@ -241,7 +236,10 @@ int arm_rne(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
     if (!tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload)
         || arm_joint_cs_eval(m, q, &cs) != 0)
         return ARM_DYN_ERR_ARG;
-    rne_of(m, &cs, qd, qdd, gravity_mps2, payload, tau_Nm);
+    if (m->structure == ARM_STRUCTURE_PUMA)
+        arm_puma_rne(m, &cs, payload, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, tau_Nm);
+    else
+        rne_general(m, &cs, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, payload, tau_Nm);
     return 0;
 }
 
@@ -252,7 +250,10 @@ int arm_rne_cs(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_N
     if (!m || !cs || !tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload)
         || !linalg_all_finite(cs->c, ARM_NJ) || !linalg_all_finite(cs->s, ARM_NJ))
         return ARM_DYN_ERR_ARG;
-    rne_of(m, cs, qd, qdd, gravity_mps2, payload, tau_Nm);
+    if (m->structure == ARM_STRUCTURE_PUMA)
+        arm_puma_rne(m, cs, payload, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, tau_Nm);
+    else
+        rne_general(m, cs, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, payload, tau_Nm);
     return 0;
 }
 
@@ -442,8 +443,11 @@ int arm_forward_dynamics(const arm_model *m, const double q[ARM_NJ], const doubl
         || !rne_inputs_valid(qd, zero, gravity_mps2, payload) || arm_joint_cs_eval(m, q, &cs) != 0)
         return ARM_DYN_ERR_ARG;
     /* one trig evaluation and one payload merge serve both RNE and M(q) */
-    rne_of(m, &cs, qd, zero, gravity_mps2, payload, h);
     link_refs(m, payload, &merged, L);
+    if (m->structure == ARM_STRUCTURE_PUMA)
+        arm_puma_rne(m, &cs, payload, qd, zero, gravity_mps2 ? gravity_mps2 : default_gravity, h);
+    else
+        rne_cs(m, &cs, L, qd, zero, gravity_mps2 ? gravity_mps2 : default_gravity, h);
     mass_matrix_cs(m, &cs, L, M);
     for (i = 0; i < ARM_NJ; i++)
         rhs[i] = tau_Nm[i] - h[i];

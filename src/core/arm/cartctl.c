@@ -168,12 +168,17 @@ static int inverse3(const double A[9], double Ai[9])
  * v + r x w_ang makes the Jacobian block triangular, Q J = [A 0; B C],
  * Q = [I [r]x; 0 I], so J^-1 = [A^-1 0; -C^-1 B A^-1 C^-1] Q: two 3x3
  * inverses and three 3x3 products instead of a 6x6 elimination. 0, or
- * SINGULAR (A or C singular: the arm at its elbow or wrist singularity). */
-static int inverse_wrist(const double J[36], const double p[3], const double w[3], double Ji[36])
+ * CARTCTL_ERR_SINGULAR (A or C singular: the arm at its elbow or wrist
+ * singularity). Not static: kept out of qdd_at, whose frame is on the
+ * cycle's deepest stack path, and tested on its own. */
+int cartctl_inverse_wrist(const double J[36], const double p[3], const double w[3], double Ji[36])
 {
-    const double r[3] = { p[0] - w[0], p[1] - w[1], p[2] - w[2] };
-    double A[9], B[9], C[9], Ai[9], Ci[9], D[9], Ar[9], Dr[9];
+    double r[3], A[9], B[9], C[9], Ai[9], Ci[9], D[9], Ar[9], Dr[9];
     int i, j;
+    if (!J || !p || !w || !Ji || !linalg_all_finite(J, 36) || !linalg_all_finite(p, 3)
+        || !linalg_all_finite(w, 3))
+        return CARTCTL_ERR_ARG;
+    vec3_sub(r, p, w);
     for (j = 0; j < 3; j++) {
         const double wx = J[18 + j], wy = J[24 + j], wz = J[30 + j];   /* column j, angular */
         A[j] = J[j] + r[1] * wz - r[2] * wy;
@@ -185,7 +190,7 @@ static int inverse_wrist(const double J[36], const double p[3], const double w[3
         }
     }
     if (inverse3(A, Ai) != 0 || inverse3(C, Ci) != 0)
-        return SINGULAR;
+        return CARTCTL_ERR_SINGULAR;
     /* D = -C^-1 B A^-1 */
     {
         double CB[9];
@@ -337,7 +342,7 @@ static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM
      * damped inverse is the exact inverse (P = 0): one 6x6 inverse instead
      * of the SVD (about 7x cheaper). Otherwise, or if J is singular, the
      * SVD below decides. */
-    if (s->has_wrist ? inverse_wrist(s->J, p_tool, s->wrist_m, U) == 0 : inverse6(s->J, U) == 0) {
+    if (s->has_wrist ? cartctl_inverse_wrist(s->J, p_tool, s->wrist_m, U) == 0 : inverse6(s->J, U) == 0) {
         const double s_lo = s->has_wrist ? sigma_min_lower_frobenius(U) : sigma_min_lower(U);
         if (g->sigma_band <= 0.0 ? s_lo > 0.0 : s_lo >= g->sigma_band) {
             linalg_matvec(out->qdd, U, rhs, 6, 6);

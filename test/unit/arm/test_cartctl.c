@@ -250,6 +250,45 @@ static void test_fast_path_matches_svd(void **st)
     fast_path_matches_svd(&general);
 }
 
+/* cartctl_inverse_wrist is J's inverse (J Ji = I) for random PUMA poses,
+ * says so at the wrist singularity, and refuses bad input. */
+static void test_inverse_wrist(void **st)
+{
+    const arm_tool tool = tool10();
+    double Ji[36], p[3];
+    int n, i, j, k;
+    (void)st;
+    for (n = 0; n < 200; n++) {
+        cartctl_state s;
+        double q[ARM_NJ];
+        for (i = 0; i < ARM_NJ; i++)
+            q[i] = Q_A[i] + 0.8 * sin(2.3 * n + 1.1 * i);
+        assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, QD_A, &s), 0);
+        assert_int_equal(s.has_wrist, 1);
+        vec3_set(p, s.T[3], s.T[7], s.T[11]);
+        assert_int_equal(cartctl_inverse_wrist(s.J, p, s.wrist_m, Ji), 0);
+        for (i = 0; i < 6; i++)
+            for (j = 0; j < 6; j++) {
+                double t = 0.0;
+                for (k = 0; k < 6; k++)
+                    t += s.J[6 * i + k] * Ji[6 * k + j];
+                assert_true(fabs(t - (i == j ? 1.0 : 0.0)) < 1e-9);
+            }
+    }
+    {
+        cartctl_state s;
+        double q[ARM_NJ];
+        memcpy(q, Q_A, sizeof q);
+        q[4] = 0.0;   /* z4 and z6 in line */
+        assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, QD_A, &s), 0);
+        vec3_set(p, s.T[3], s.T[7], s.T[11]);
+        assert_int_equal(cartctl_inverse_wrist(s.J, p, s.wrist_m, Ji), CARTCTL_ERR_SINGULAR);
+        p[1] = NAN;
+        assert_int_equal(cartctl_inverse_wrist(s.J, p, s.wrist_m, Ji), CARTCTL_ERR_ARG);
+        assert_int_equal(cartctl_inverse_wrist(NULL, p, s.wrist_m, Ji), CARTCTL_ERR_ARG);
+    }
+}
+
 /* Runs an underdamped tool servo (k_p 400, k_v 8: zeta 0.2) from Q_B to
  * the pose at q_goal with the model as plant for 4 s. Returns the largest
  * q2 reached; the final tool position and orientation errors and the
@@ -349,6 +388,7 @@ int main(void)
         cmocka_unit_test(test_closed_loop_tracks),
         cmocka_unit_test(test_damping_near_wrist_singularity),
         cmocka_unit_test(test_fast_path_matches_svd),
+        cmocka_unit_test(test_inverse_wrist),
         cmocka_unit_test(test_range_barrier),
         cmocka_unit_test(test_bad_input),
     };
