@@ -108,13 +108,13 @@ int cartctl_jdot_qd(const arm_model *m, const arm_tool *tool, const double q[ARM
 /* World rotation vector log(R_d R^T) (rad). */
 void cartctl_rot_error(const double R_d[9], const double R[9], double err[3]);
 
-/* Ji = J^-1 (6x6 row-major) of a tool Jacobian J of an arm whose last three
- * joint axes meet at wrist_m, the tool point at p_m (both in J's frame),
+/* Ji = J^-1 (6x6 row-major) of the tool Jacobian J at tool pose T of an
+ * arm whose last three joint axes meet at wrist_m (both in J's frame),
  * by the wrist's block-triangular form (docs/method/puma.md §6): the fast
  * path of cartctl_qdd for ARM_STRUCTURE_PUMA. 0, CARTCTL_ERR_SINGULAR
  * (a 3x3 block singular) or CARTCTL_ERR_ARG (NULL, non-finite); Ji is
  * undefined on failure. */
-int cartctl_inverse_wrist(const double J[36], const double p_m[3], const double wrist_m[3], double Ji[36]);
+int cartctl_inverse_wrist(const double J[36], const double T[16], const double wrist_m[3], double Ji[36]);
 
 /* Joint accelerations for the tool acceleration a_lin (m/s^2, base frame)
  * with the orientation held at R_d (NULL: no orientation servo, angular

@@ -145,7 +145,9 @@ static void rne_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[
                    const double qd[ARM_NJ], const double qdd[ARM_NJ], const double g[3],
                    double tau_Nm[ARM_NJ])
 {
-    double ps[ARM_NJ][3], F[ARM_NJ][3], N[ARM_NJ][3];
+    /* p*_i is recomputed inward (3 products) rather than kept: 144 bytes
+     * less on the joint cycle's stack */
+    double ps[3], F[ARM_NJ][3], N[ARM_NJ][3];
     double w[3] = { 0, 0, 0 }, wd[3] = { 0, 0, 0 }, vd[3], f[3] = { 0, 0, 0 }, n[3] = { 0, 0, 0 };
     int i, k;
 
@@ -157,7 +159,7 @@ static void rne_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[
         const double I0 = I[0], I1 = I[1], I2 = I[2], I3 = I[3], I4 = I[4], I5 = I[5];
         const double I6 = I[6], I7 = I[7], I8 = I[8];
         double t[3], u[3], Iw[3], ww, wp, wc;
-        dh_pstar(m, i, ps[i]);
+        dh_pstar(m, i, ps);
         /* wd_i = R^T (wd + z0 qdd + w x z0 qd), w x z0 = (w1, -w0, 0) */
         t[0] = wd[0] + w[1] * qd[i];
         t[1] = wd[1] - w[0] * qd[i];
@@ -169,10 +171,10 @@ static void rne_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[
         ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
         /* vd_i = R^T vd + wd x p* + w x (w x p*) */
         dh_rot_t(m, i, cs, vd, vd);
-        wp = w[0] * ps[i][0] + w[1] * ps[i][1] + w[2] * ps[i][2];
-        vec3_cross(u, wd, ps[i]);
+        wp = w[0] * ps[0] + w[1] * ps[1] + w[2] * ps[2];
+        vec3_cross(u, wd, ps);
         for (k = 0; k < 3; k++)
-            vd[k] += u[k] + w[k] * wp - ps[i][k] * ww;
+            vd[k] += u[k] + w[k] * wp - ps[k] * ww;
         /* F = m (vd + wd x c + w x (w x c)) */
         wc = w[0] * c[0] + w[1] * c[1] + w[2] * c[2];
         vec3_cross(u, wd, c);
@@ -197,7 +199,8 @@ static void rne_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[
         }
         for (k = 0; k < 3; k++)
             f[k] += F[i][k];
-        vec3_cross(pf, ps[i], f);
+        dh_pstar(m, i, ps);
+        vec3_cross(pf, ps, f);
         vec3_cross(cF, L[i].c, F[i]);
         for (k = 0; k < 3; k++)
             n[k] += pf[k] + cF[k] + N[i][k];

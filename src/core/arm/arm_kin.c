@@ -74,9 +74,9 @@ int arm_fk(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], dou
     if (!T || arm_joint_cs_eval(m, q, &cs) != 0)
         return ARM_KIN_ERR_ARG;
     if (m->structure == ARM_STRUCTURE_PUMA) {
-        arm_puma_chain(m, &cs, NULL, Ti);
-        if (tool)
-            flange_to_tool(tool, T6, T);
+        double F[ARM_NJ + 1][16];
+        arm_puma_chain(m, &cs, F);
+        flange_to_tool(tool, F[ARM_NJ], T);
         return 0;
     }
     arm_base_frame(m, Ti);
@@ -136,9 +136,8 @@ int arm_kin_eval(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ
     }
     k->puma = m->structure == ARM_STRUCTURE_PUMA;
     if (k->puma) {
-        double T6[16];
-        arm_puma_chain(m, &k->cs, k->F, T6);
-        flange_to_tool(tool, T6, k->T);
+        arm_puma_chain(m, &k->cs, k->F);
+        flange_to_tool(tool, k->F[ARM_NJ], k->T);
         arm_puma_jacobian((const double (*)[16])k->F, k->T, k->J);
         return 0;
     }

@@ -316,8 +316,7 @@ int arm_link_frames(const arm_model *m, const double q[ARM_NJ], double T[ARM_NJ 
     if (!T || arm_joint_cs_eval(m, q, &cs) != 0)
         return ARM_MODEL_ERR_ARG;
     if (m->structure == ARM_STRUCTURE_PUMA) {
-        double T6[16];
-        arm_puma_chain(m, &cs, T, T6);
+        arm_puma_chain(m, &cs, T);
         return 0;
     }
     arm_base_frame(m, T[0]);

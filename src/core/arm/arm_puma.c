@@ -15,6 +15,8 @@
 
 #include <string.h>
 
+#include "vec3.h"
+
 /* The three twist angles of the structure. */
 enum { TWIST_P90, TWIST_0, TWIST_M90 };
 
@@ -58,6 +60,7 @@ static inline void rot(int twist, double c, double s, const double v[3], double 
 
 /* ---- kinematics ----------------------------------------------------------- */
 
+/* Frame F (4x4 row-major) from its axes and origin. */
 static void frame_store(double F[16], const double x[3], const double y[3], const double z[3],
                         const double o[3])
 {
@@ -84,52 +87,54 @@ static inline void axis_comb(double a[3], double ca, const double u[3], double s
 
 /* docs/method/puma.md §2: R_03 = Rz(q1) Ry(-(q2 + q3)) in closed form, the
  * wrist axes by one plane turn each, o_i = o_{i-1} + a_i x_i + d_i z_{i-1}
- * with the zero lengths left out. */
-void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16],
-                    double T6[16])
+ * with the zero lengths left out. Written frame by frame into F, few
+ * locals: this sits on the Cartesian cycle's deepest stack path. */
+void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
 {
     const double c1 = cs->c[0], s1 = cs->s[0], c2 = cs->c[1], s2 = cs->s[1];
     const double c3 = cs->c[2], s3 = cs->s[2];
     const double c23 = c2 * c3 - s2 * s3, s23 = s2 * c3 + c2 * s3;
     const double a2 = m->a_m[1], a3 = m->a_m[2], d3 = m->d_m[2], d4 = m->d_m[3], d6 = m->d_m[5];
-    const double x1[3] = { c1, s1, 0.0 }, y1[3] = { 0.0, 0.0, 1.0 }, z1[3] = { s1, -c1, 0.0 };
-    const double x3[3] = { c1 * c23, s1 * c23, s23 }, y3[3] = { -s1, c1, 0.0 };
-    const double z3[3] = { -c1 * s23, -s1 * s23, c23 };
-    double x4[3], z4[3], x5[3], y5[3], z5[3], x6[3], y6[3], o0[3] = { 0.0, 0.0, m->base_height_m };
-    double o2[3], o3[3], o4[3], o6[3];
-    const double a2c2 = a2 * c2;
+    const double z1[3] = { s1, -c1, 0.0 };
+    double x[3], y[3], z[3], o[3] = { 0.0, 0.0, m->base_height_m };
     int k;
-    o2[0] = a2c2 * c1;
-    o2[1] = a2c2 * s1;
-    o2[2] = o0[2] + a2 * s2;
-    for (k = 0; k < 3; k++) {
-        o3[k] = o2[k] + a3 * x3[k] + d3 * z1[k];   /* z2 = z1 */
-        o4[k] = o3[k] + d4 * z3[k];
+    {
+        const double ex[3] = { 1.0, 0.0, 0.0 }, ey[3] = { 0.0, 1.0, 0.0 }, ez[3] = { 0.0, 0.0, 1.0 };
+        const double x1[3] = { c1, s1, 0.0 };
+        frame_store(F[0], ex, ey, ez, o);
+        frame_store(F[1], x1, ez, z1, o);
     }
-    axis_comb(x4, cs->c[3], x3, cs->s[3], y3);
-    axis_comb(z4, cs->s[3], x3, -cs->c[3], y3);
-    axis_comb(x5, cs->c[4], x4, cs->s[4], z3);     /* y4 = z3 */
-    axis_comb(z5, -cs->s[4], x4, cs->c[4], z3);
-    y5[0] = -z4[0];
-    y5[1] = -z4[1];
-    y5[2] = -z4[2];
-    axis_comb(x6, cs->c[5], x5, cs->s[5], y5);
-    axis_comb(y6, -cs->s[5], x5, cs->c[5], y5);
+    vec3_set(x, c1 * c2, s1 * c2, s2);
+    vec3_set(y, -c1 * s2, -s1 * s2, c2);
     for (k = 0; k < 3; k++)
-        o6[k] = o4[k] + d6 * z5[k];
-    if (F) {
-        const double x0[3] = { 1.0, 0.0, 0.0 }, y0[3] = { 0.0, 1.0, 0.0 }, z0[3] = { 0.0, 0.0, 1.0 };
-        const double x2[3] = { c1 * c2, s1 * c2, s2 }, y2[3] = { -c1 * s2, -s1 * s2, c2 };
-        frame_store(F[0], x0, y0, z0, o0);
-        frame_store(F[1], x1, y1, z1, o0);
-        frame_store(F[2], x2, y2, z1, o2);
-        frame_store(F[3], x3, y3, z3, o3);
-        frame_store(F[4], x4, z3, z4, o4);
-        frame_store(F[5], x5, y5, z5, o4);
+        o[k] += a2 * x[k];
+    frame_store(F[2], x, y, z1, o);
+    vec3_set(x, c1 * c23, s1 * c23, s23);
+    vec3_set(y, -s1, c1, 0.0);
+    vec3_set(z, -c1 * s23, -s1 * s23, c23);
+    for (k = 0; k < 3; k++)
+        o[k] += a3 * x[k] + d3 * z1[k];   /* z2 = z1 */
+    frame_store(F[3], x, y, z, o);
+    {
+        double x4[3], z4[3];
+        axis_comb(x4, cs->c[3], x, cs->s[3], y);
+        axis_comb(z4, cs->s[3], x, -cs->c[3], y);
+        for (k = 0; k < 3; k++)
+            o[k] += d4 * z[k];
+        frame_store(F[4], x4, z, z4, o);   /* y4 = z3 */
+        axis_comb(x, cs->c[4], x4, cs->s[4], z);
+        axis_comb(y, -cs->s[4], x4, cs->c[4], z);   /* z5, for now in y */
+        vec3_scale(z, z4, -1.0);                     /* y5 = -z4 */
     }
-    frame_store(T6, x6, y6, z5, o6);
-    if (F)
-        memcpy(F[ARM_NJ], T6, 16 * sizeof T6[0]);
+    frame_store(F[5], x, z, y, o);   /* o5 = o4 */
+    {
+        double x6[3], y6[3];
+        axis_comb(x6, cs->c[5], x, cs->s[5], z);
+        axis_comb(y6, -cs->s[5], x, cs->c[5], z);
+        for (k = 0; k < 3; k++)
+            o[k] += d6 * y[k];
+        frame_store(F[6], x6, y6, y, o);   /* z6 = z5 */
+    }
 }
 
 /* Column i: [z_{i-1} x (p - o_{i-1}); z_{i-1}]; z_0 = e_z makes the first

@@ -15,10 +15,9 @@ typedef struct arm_link_ref {
     const double *I;   /* about the COM, frame-i axes, row-major 3x3 */
 } arm_link_ref;
 
-/* Flange pose T6 and, if F is not NULL, every frame F[0..6] as
- * arm_link_frames gives them (docs/method/puma.md §2). */
-void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16],
-                    double T6[16]);
+/* Every frame F[0..6] as arm_link_frames gives them, F[6] the flange
+ * (docs/method/puma.md §2). */
+void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16]);
 
 /* Geometric Jacobian of the point of pose T from the frames F (§3). */
 void arm_puma_jacobian(const double (*F)[16], const double T[16], double J[36]);

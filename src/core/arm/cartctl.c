@@ -164,21 +164,21 @@ static int inverse3(const double A[9], double Ai[9])
 }
 
 /* Ji = J^-1 for an arm whose last three axes meet at the wrist centre w
- * (docs/method/puma.md §6). With r = p - w, the wrist centre's velocity
+ * (docs/method/puma.md §6). With r = p - w (p the tool point of T), the wrist centre's velocity
  * v + r x w_ang makes the Jacobian block triangular, Q J = [A 0; B C],
  * Q = [I [r]x; 0 I], so J^-1 = [A^-1 0; -C^-1 B A^-1 C^-1] Q: two 3x3
  * inverses and three 3x3 products instead of a 6x6 elimination. 0, or
  * CARTCTL_ERR_SINGULAR (A or C singular: the arm at its elbow or wrist
  * singularity). Not static: kept out of qdd_at, whose frame is on the
  * cycle's deepest stack path, and tested on its own. */
-int cartctl_inverse_wrist(const double J[36], const double p[3], const double w[3], double Ji[36])
+int cartctl_inverse_wrist(const double J[36], const double T[16], const double w[3], double Ji[36])
 {
     double r[3], A[9], B[9], C[9], Ai[9], Ci[9], D[9], Ar[9], Dr[9];
     int i, j;
-    if (!J || !p || !w || !Ji || !linalg_all_finite(J, 36) || !linalg_all_finite(p, 3)
+    if (!J || !T || !w || !Ji || !linalg_all_finite(J, 36) || !linalg_all_finite(T, 16)
         || !linalg_all_finite(w, 3))
         return CARTCTL_ERR_ARG;
-    vec3_sub(r, p, w);
+    vec3_set(r, T[3] - w[0], T[7] - w[1], T[11] - w[2]);
     for (j = 0; j < 3; j++) {
         const double wx = J[18 + j], wy = J[24 + j], wz = J[30 + j];   /* column j, angular */
         A[j] = J[j] + r[1] * wz - r[2] * wy;
@@ -258,7 +258,9 @@ static unsigned range_resolve(const double J[36], const double rhs[6], const dou
     unsigned held = 0;
     int pass;
     for (pass = 0; pass < ARM_NJ; pass++) {
-        double A[6 * ARM_NJ], N[ARM_NJ * ARM_NJ], L[ARM_NJ * ARM_NJ], b[6], r[ARM_NJ], x[ARM_NJ];
+        /* A holds the weighted free columns, then (dead after N and r) the
+         * Cholesky factor: one 6x6 less on the cycle's deepest stack path */
+        double A[6 * ARM_NJ], N[ARM_NJ * ARM_NJ], b[6], r[ARM_NJ], x[ARM_NJ];
         double excess = 0.0;
         int idx[ARM_NJ], nf = 0, worst = -1, i, j, k;
         for (i = 0; i < ARM_NJ; i++) {
@@ -291,9 +293,9 @@ static unsigned range_resolve(const double J[36], const double rhs[6], const dou
         linalg_tmatvec(r, A, b, 6, nf);
         for (j = 0; j < nf; j++)
             N[j * nf + j] += mu2;
-        if (linalg_cholesky(L, N, nf) != 0)
+        if (linalg_cholesky(A, N, nf) != 0)
             break;   /* the free joints keep their unconstrained values */
-        linalg_cholesky_solve(x, L, r, nf);
+        linalg_cholesky_solve(x, A, r, nf);
         for (j = 0; j < nf; j++)
             qdd[idx[j]] = x[j];
     }
@@ -322,7 +324,7 @@ static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM
                   const double qd[ARM_NJ], const cartctl_state *s, const double a_lin[3],
                   const double R_d[9], cartctl_out *out)
 {
-    double U[36], sv[6], V[36], rhs[6], y[6], Vtqd[6], lam2, p_tool[3];
+    double U[36], sv[6], V[36], rhs[6], y[6], Vtqd[6], lam2;
     int i, k;
     if (!m || !q || !qd || cartctl_gains_validate(g) != 0 || !a_lin || !linalg_all_finite(a_lin, 3) ||
         (R_d && !linalg_all_finite(R_d, 9)))
@@ -337,12 +339,11 @@ static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM
     }
     for (i = 0; i < 6; i++)
         rhs[i] = out->a_cmd[i] - s->jdqd[i];
-    vec3_set(p_tool, s->T[3], s->T[7], s->T[11]);
     /* Fast path: when sigma_min >= sigma_band for sure, lambda = 0 and the
      * damped inverse is the exact inverse (P = 0): one 6x6 inverse instead
      * of the SVD (about 7x cheaper). Otherwise, or if J is singular, the
      * SVD below decides. */
-    if (s->has_wrist ? cartctl_inverse_wrist(s->J, p_tool, s->wrist_m, U) == 0 : inverse6(s->J, U) == 0) {
+    if (s->has_wrist ? cartctl_inverse_wrist(s->J, s->T, s->wrist_m, U) == 0 : inverse6(s->J, U) == 0) {
         const double s_lo = s->has_wrist ? sigma_min_lower_frobenius(U) : sigma_min_lower(U);
         if (g->sigma_band <= 0.0 ? s_lo > 0.0 : s_lo >= g->sigma_band) {
             linalg_matvec(out->qdd, U, rhs, 6, 6);

@@ -255,7 +255,7 @@ static void test_fast_path_matches_svd(void **st)
 static void test_inverse_wrist(void **st)
 {
     const arm_tool tool = tool10();
-    double Ji[36], p[3];
+    double Ji[36];
     int n, i, j, k;
     (void)st;
     for (n = 0; n < 200; n++) {
@@ -265,8 +265,7 @@ static void test_inverse_wrist(void **st)
             q[i] = Q_A[i] + 0.8 * sin(2.3 * n + 1.1 * i);
         assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, QD_A, &s), 0);
         assert_int_equal(s.has_wrist, 1);
-        vec3_set(p, s.T[3], s.T[7], s.T[11]);
-        assert_int_equal(cartctl_inverse_wrist(s.J, p, s.wrist_m, Ji), 0);
+        assert_int_equal(cartctl_inverse_wrist(s.J, s.T, s.wrist_m, Ji), 0);
         for (i = 0; i < 6; i++)
             for (j = 0; j < 6; j++) {
                 double t = 0.0;
@@ -281,11 +280,10 @@ static void test_inverse_wrist(void **st)
         memcpy(q, Q_A, sizeof q);
         q[4] = 0.0;   /* z4 and z6 in line */
         assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, QD_A, &s), 0);
-        vec3_set(p, s.T[3], s.T[7], s.T[11]);
-        assert_int_equal(cartctl_inverse_wrist(s.J, p, s.wrist_m, Ji), CARTCTL_ERR_SINGULAR);
-        p[1] = NAN;
-        assert_int_equal(cartctl_inverse_wrist(s.J, p, s.wrist_m, Ji), CARTCTL_ERR_ARG);
-        assert_int_equal(cartctl_inverse_wrist(NULL, p, s.wrist_m, Ji), CARTCTL_ERR_ARG);
+        assert_int_equal(cartctl_inverse_wrist(s.J, s.T, s.wrist_m, Ji), CARTCTL_ERR_SINGULAR);
+        assert_int_equal(cartctl_inverse_wrist(NULL, s.T, s.wrist_m, Ji), CARTCTL_ERR_ARG);
+        s.T[7] = NAN;
+        assert_int_equal(cartctl_inverse_wrist(s.J, s.T, s.wrist_m, Ji), CARTCTL_ERR_ARG);
     }
 }
 
