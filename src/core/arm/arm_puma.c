@@ -15,8 +15,6 @@
 
 #include <string.h>
 
-#include "vec3.h"
-
 /* The three twist angles of the structure. */
 enum { TWIST_P90, TWIST_0, TWIST_M90 };
 
@@ -61,7 +59,7 @@ static inline void rot(int twist, double c, double s, const double v[3], double 
 /* ---- kinematics ----------------------------------------------------------- */
 
 /* Frame F (4x4 row-major) from its axes and origin. */
-static void frame_store(double F[16], const double x[3], const double y[3], const double z[3],
+static inline void frame_store(double F[16], const double x[3], const double y[3], const double z[3],
                         const double o[3])
 {
     int r;
@@ -104,14 +102,24 @@ void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
         frame_store(F[0], ex, ey, ez, o);
         frame_store(F[1], x1, ez, z1, o);
     }
-    vec3_set(x, c1 * c2, s1 * c2, s2);
-    vec3_set(y, -c1 * s2, -s1 * s2, c2);
+    x[0] = c1 * c2;
+    x[1] = s1 * c2;
+    x[2] = s2;
+    y[0] = -c1 * s2;
+    y[1] = -s1 * s2;
+    y[2] = c2;
     for (k = 0; k < 3; k++)
         o[k] += a2 * x[k];
     frame_store(F[2], x, y, z1, o);
-    vec3_set(x, c1 * c23, s1 * c23, s23);
-    vec3_set(y, -s1, c1, 0.0);
-    vec3_set(z, -c1 * s23, -s1 * s23, c23);
+    x[0] = c1 * c23;
+    x[1] = s1 * c23;
+    x[2] = s23;
+    y[0] = -s1;
+    y[1] = c1;
+    y[2] = 0.0;
+    z[0] = -c1 * s23;
+    z[1] = -s1 * s23;
+    z[2] = c23;
     for (k = 0; k < 3; k++)
         o[k] += a3 * x[k] + d3 * z1[k];   /* z2 = z1 */
     frame_store(F[3], x, y, z, o);
@@ -124,7 +132,8 @@ void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
         frame_store(F[4], x4, z, z4, o);   /* y4 = z3 */
         axis_comb(x, cs->c[4], x4, cs->s[4], z);
         axis_comb(y, -cs->s[4], x4, cs->c[4], z);   /* z5, for now in y */
-        vec3_scale(z, z4, -1.0);                     /* y5 = -z4 */
+        for (k = 0; k < 3; k++)
+            z[k] = -z4[k];                           /* y5 = -z4 */
     }
     frame_store(F[5], x, z, y, o);   /* o5 = o4 */
     {

@@ -169,15 +169,13 @@ static int inverse3(const double A[9], double Ai[9])
  * Q = [I [r]x; 0 I], so J^-1 = [A^-1 0; -C^-1 B A^-1 C^-1] Q: two 3x3
  * inverses and three 3x3 products instead of a 6x6 elimination. 0, or
  * CARTCTL_ERR_SINGULAR (A or C singular: the arm at its elbow or wrist
- * singularity). Not static: kept out of qdd_at, whose frame is on the
- * cycle's deepest stack path, and tested on its own. */
-int cartctl_inverse_wrist(const double J[36], const double T[16], const double w[3], double Ji[36])
+ * singularity). Two callers (qdd_at, with its inputs already checked, and
+ * the public cartctl_inverse_wrist) keep it out of qdd_at's frame, which
+ * is on the cycle's deepest stack path. */
+static int inverse_wrist(const double J[36], const double T[16], const double w[3], double Ji[36])
 {
     double r[3], A[9], B[9], C[9], Ai[9], Ci[9], D[9], Ar[9], Dr[9];
     int i, j;
-    if (!J || !T || !w || !Ji || !linalg_all_finite(J, 36) || !linalg_all_finite(T, 16)
-        || !linalg_all_finite(w, 3))
-        return CARTCTL_ERR_ARG;
     vec3_set(r, T[3] - w[0], T[7] - w[1], T[11] - w[2]);
     for (j = 0; j < 3; j++) {
         const double wx = J[18 + j], wy = J[24 + j], wz = J[30 + j];   /* column j, angular */
@@ -220,6 +218,14 @@ int cartctl_inverse_wrist(const double J[36], const double T[16], const double w
             Ji[18 + 6 * i + 3 + j] = Dr[3 * i + j] + Ci[3 * i + j];
         }
     return 0;
+}
+
+int cartctl_inverse_wrist(const double J[36], const double T[16], const double w[3], double Ji[36])
+{
+    if (!J || !T || !w || !Ji || !linalg_all_finite(J, 36) || !linalg_all_finite(T, 16)
+        || !linalg_all_finite(w, 3))
+        return CARTCTL_ERR_ARG;
+    return inverse_wrist(J, T, w, Ji);
 }
 
 /* Lower bound on sigma_min(J) from Ji = J^-1: ||Ji||_2 <= ||Ji||_F, so
@@ -343,7 +349,7 @@ static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM
      * damped inverse is the exact inverse (P = 0): one 6x6 inverse instead
      * of the SVD (about 7x cheaper). Otherwise, or if J is singular, the
      * SVD below decides. */
-    if (s->has_wrist ? cartctl_inverse_wrist(s->J, s->T, s->wrist_m, U) == 0 : inverse6(s->J, U) == 0) {
+    if (s->has_wrist ? inverse_wrist(s->J, s->T, s->wrist_m, U) == 0 : inverse6(s->J, U) == 0) {
         const double s_lo = s->has_wrist ? sigma_min_lower_frobenius(U) : sigma_min_lower(U);
         if (g->sigma_band <= 0.0 ? s_lo > 0.0 : s_lo >= g->sigma_band) {
             linalg_matvec(out->qdd, U, rhs, 6, 6);
