@@ -199,11 +199,15 @@ $(BIN)/bench_kdl $(BIN)/bench_tdsd_kdl: $(BIN)/%: bench/%.cpp bench/bench_pair.h
 
 # Pinocchio (PyPI pin: its C++ headers and library in the cmeel prefix of
 # the Python that make bench installs it into); only make bench builds it
+# the definitions Pinocchio's CMake config gives its users (its joint
+# variant has more types than Boost.MPL's preprocessed headers hold)
+PIN_DEFS = -DBOOST_MPL_LIMIT_LIST_SIZE=30 -DBOOST_MPL_LIMIT_VECTOR_SIZE=30 \
+           -DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS -DBOOST_FUSION_INVOKE_MAX_ARITY=12
 PIN_PREFIX = $(shell python3 -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])' 2>/dev/null)/cmeel.prefix
 $(BIN)/bench_pinocchio: bench/bench_pinocchio.cpp bench/bench_pair.hpp $(CORE_LIB)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CXX   $@';) true
-	$(Q)$(CXX) -O3 -DNDEBUG -std=c++17 $(CORE_INC) -isystem $(PIN_PREFIX)/include $< $(CORE_LIB) \
+	$(Q)$(CXX) -O3 -DNDEBUG -std=c++17 $(PIN_DEFS) $(CORE_INC) -isystem $(PIN_PREFIX)/include $$(pkg-config --cflags eigen3) $< $(CORE_LIB) \
 	    -L$(PIN_PREFIX)/lib -lpinocchio_default -Wl,-rpath,$(PIN_PREFIX)/lib -lm -o $@
 
 bench: deps deps-bench
