@@ -277,20 +277,14 @@ int arm_coriolis(const arm_model *m, const double q[ARM_NJ], const double qd[ARM
 
 /* ---- joint-space inertia ------------------------------------------------ */
 
-/* Rigid body (or composite) referred to a frame origin: mass, first moment
- * h = m c and inertia about the origin, all in that frame's axes. Sums of
- * bodies are plain sums in this form, which is why CRBA keeps it. The
- * inertia is symmetric, so only I = (xx, yy, zz, xy, yz, xz) is kept. */
-enum { XX, YY, ZZ, XY, YZ, XZ };
+/* A composite about a frame origin (arm_composite, arm_puma_internal.h):
+ * sums of bodies are plain sums in this form, which is why CRBA keeps it. */
+typedef arm_composite origin_body;
+enum { XX = ARM_I_XX, YY = ARM_I_YY, ZZ = ARM_I_ZZ, XY = ARM_I_XY, YZ = ARM_I_YZ, XZ = ARM_I_XZ };
 
-typedef struct origin_body {
-    double m;
-    double h[3];
-    double I[6];
-} origin_body;
-
-/* b += link l (COM c, inertia about c): h += m c, I += I_c + m (|c|^2 E - c c^T). */
-static void origin_body_add_link(origin_body *b, const link_ref *l)
+/* b += link l (COM c, inertia about c): h += m c, I += I_c + m (|c|^2 E - c c^T).
+ * Shared with the folded CRBA (arm_puma.c). */
+void arm_composite_add_link(arm_composite *b, const arm_link_ref *l)
 {
     const double m = l->m, *c = l->c, *Ic = l->I;
     const double mx = m * c[0], my = m * c[1], mz = m * c[2];
@@ -373,7 +367,7 @@ static void mass_matrix_cs(const arm_model *m, const arm_joint_cs *cs, const lin
     for (i = ARM_NJ - 1; i >= 0; i--) {
         double n[3], f[3];
         /* C_i = link i + C_{i+1}, both in frame i (1-based: link i+1, frame i+1) */
-        origin_body_add_link(&comp, &L[i]);
+        arm_composite_add_link(&comp, &L[i]);
         origin_body_to_parent(m, i, cs, &comp);
         /* unit rate about z through the origin: n = I z, f = z x h */
         vec3_set(n, comp.I[XZ], comp.I[YZ], comp.I[ZZ]);

@@ -382,30 +382,9 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload 
 
 /* ---- joint-space inertia (composite rigid bodies) ---------------------- */
 
-/* As in arm_dyn.c: a composite about a frame origin, I = (xx yy zz xy yz xz). */
-enum { XX, YY, ZZ, XY, YZ, XZ };
-
-typedef struct composite {
-    double m;
-    double h[3];
-    double I[6];
-} composite;
-
-static void composite_add_link(composite *b, const arm_link_ref *l)
-{
-    const double m = l->m, *c = l->c, *Ic = l->I;
-    const double mx = m * c[0], my = m * c[1], mz = m * c[2];
-    b->m += m;
-    b->h[0] += mx;
-    b->h[1] += my;
-    b->h[2] += mz;
-    b->I[XX] += Ic[0] + my * c[1] + mz * c[2];
-    b->I[YY] += Ic[4] + mx * c[0] + mz * c[2];
-    b->I[ZZ] += Ic[8] + mx * c[0] + my * c[1];
-    b->I[XY] += Ic[1] - mx * c[1];
-    b->I[YZ] += Ic[5] - my * c[2];
-    b->I[XZ] += Ic[2] - mx * c[2];
-}
+/* The composite of arm_dyn.c's CRBA (arm_composite), its entries by name */
+enum { XX = ARM_I_XX, YY = ARM_I_YY, ZZ = ARM_I_ZZ, XY = ARM_I_XY, YZ = ARM_I_YZ, XZ = ARM_I_XZ };
+typedef arm_composite composite;
 
 /* I <- Rx(alpha) I Rx(alpha)^T for alpha = +-90 deg: y and z swap, signs
  * follow (docs/method/puma.md §5). */
@@ -512,7 +491,7 @@ void arm_puma_mass_matrix(const arm_model *m, const arm_joint_cs *cs, const arm_
     for (i = ARM_NJ - 1; i >= 0; i--) {
         double n[3], f[3], p[3] = { 0.0, 0.0, 0.0 };
         const double c = cs->c[i], s = cs->s[i];
-        composite_add_link(&comp, &L[i]);
+        arm_composite_add_link(&comp, &L[i]);
         if (i == 1 || i == 2) {
             p[0] = m->a_m[i] * c;
             p[1] = m->a_m[i] * s;

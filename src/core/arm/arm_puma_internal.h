@@ -15,6 +15,19 @@ typedef struct arm_link_ref {
     const double *I;   /* about the COM, frame-i axes, row-major 3x3 */
 } arm_link_ref;
 
+/* A rigid body or composite referred to a frame origin: mass, first
+ * moment h = m c and inertia about the origin, in that frame's axes; the
+ * inertia is symmetric, so I = (xx, yy, zz, xy, yz, xz) (ARM_I_XX ...). */
+enum { ARM_I_XX, ARM_I_YY, ARM_I_ZZ, ARM_I_XY, ARM_I_YZ, ARM_I_XZ };
+typedef struct arm_composite {
+    double m;
+    double h[3];
+    double I[6];
+} arm_composite;
+
+/* b += link l (arm_dyn.c; both CRBAs use it). */
+void arm_composite_add_link(arm_composite *b, const arm_link_ref *l);
+
 /* Every frame F[0..6] as arm_link_frames gives them, F[6] the flange
  * (docs/method/puma.md §2). */
 void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16]);
