@@ -192,13 +192,29 @@ run: deps $(if $(VIEW),viewer)
 	@tools/tandem-run $(if $(DURATION),--duration $(DURATION)) $(if $(VIEW),--view) $(RUN_ARGS)
 
 # the KDL baselines (C++): only make bench builds them
-$(BIN)/bench_kdl $(BIN)/bench_tdsd_kdl: $(BIN)/%: bench/%.cpp $(CORE_LIB)
+$(BIN)/bench_kdl $(BIN)/bench_tdsd_kdl: $(BIN)/%: bench/%.cpp bench/bench_pair.hpp $(CORE_LIB)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo '  CXX   $@';) true
 	$(Q)$(CXX) -O2 -std=c++14 $(CORE_INC) $$(pkg-config --cflags orocos-kdl) $< $(CORE_LIB) $$(pkg-config --libs orocos-kdl) -lm -o $@
 
+# Pinocchio (PyPI pin: its C++ headers and library in the cmeel prefix of
+# the Python that make bench installs it into); only make bench builds it
+# the definitions Pinocchio's CMake config gives its users (its joint
+# variant has more types than Boost.MPL's preprocessed headers hold)
+PIN_DEFS = -DBOOST_MPL_LIMIT_LIST_SIZE=30 -DBOOST_MPL_LIMIT_VECTOR_SIZE=30 \
+           -DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS -DBOOST_FUSION_INVOKE_MAX_ARITY=12
+PIN_PREFIX = $(shell python3 -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])' 2>/dev/null)/cmeel.prefix
+$(BIN)/bench_pinocchio: bench/bench_pinocchio.cpp bench/bench_pair.hpp $(CORE_LIB)
+	@mkdir -p $(@D)
+	@$(if $(Q),echo '  CXX   $@';) true
+	$(Q)$(CXX) -O3 -DNDEBUG -std=c++17 $(PIN_DEFS) $(CORE_INC) -isystem $(PIN_PREFIX)/include $$(pkg-config --cflags eigen3) $< $(CORE_LIB) \
+	    -L$(PIN_PREFIX)/lib -lpinocchio_default -Wl,-rpath,$(PIN_PREFIX)/lib -lm -o $@
+
 bench: deps deps-bench
 	@$(MAKE) --no-print-directory all $(BENCH_BIN) $(BIN)/bench_kdl $(BIN)/bench_tdsd_kdl
+	@python3 -c 'import pinocchio' 2>/dev/null || python3 -m pip install --quiet pin || \
+	    echo "bench: pip install pin failed: no Pinocchio baseline"
+	@$(MAKE) --no-print-directory $(BIN)/bench_pinocchio || echo "bench: bench_pinocchio not built"
 	@tools/bench.sh $(BIN)
 
 # libFuzzer (clang): every message type's wire check + decoder + validators

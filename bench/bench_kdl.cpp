@@ -19,13 +19,14 @@
 #include <kdl/jntarray.hpp>
 #include <kdl/jntspaceinertiamatrix.hpp>
 
+#include "bench_pair.hpp"
+
 extern "C" {
 #include "arm_dyn.h"
 #include "arm_kin.h"
 #include "arm_model.h"
 }
 
-static const int NS = 64;
 static double T_set[NS][16], q_set[NS][ARM_NJ], qd_set[NS][ARM_NJ], qdd_set[NS][ARM_NJ];
 static volatile double sink;
 
@@ -48,31 +49,6 @@ static KDL::Chain make_chain(const arm_model &m)
     return c;
 }
 
-template <class F> static double time_ns(long n, F f)
-{
-    auto t0 = std::chrono::steady_clock::now();
-    for (long k = 0; k < n; k++)
-        f((int)(k % NS));
-    auto t1 = std::chrono::steady_clock::now();
-    return std::chrono::duration<double, std::nano>(t1 - t0).count() / (double)n;
-}
-
-// The machine is shared: time KDL and tandem in alternating batches and keep
-// each side's fastest batch, so a burst of load elsewhere hits both sides
-// alike and is then discarded rather than averaged in.
-static const int BATCHES = 200;
-
-template <class K, class T> static void time_pair(long n, K kdl, T tandem, double *kdl_ns,
-                                                  double *tandem_ns)
-{
-    const long nb = n / BATCHES > 0 ? n / BATCHES : 1;
-    *kdl_ns = *tandem_ns = 1e300;
-    for (int b = 0; b < BATCHES; b++) {
-        *kdl_ns = std::fmin(*kdl_ns, time_ns(nb, kdl));
-        *tandem_ns = std::fmin(*tandem_ns, time_ns(nb, tandem));
-    }
-}
-
 static void report(const char *what, double kdl_ns, double tandem_ns, double maxdiff)
 {
     if (kdl_ns > 0)
@@ -90,15 +66,7 @@ int main(int argc, char **argv)
         std::fprintf(stderr, "usage: bench_kdl [N]\n");
         return 2;
     }
-    unsigned long s = 1;
-    for (int i = 0; i < NS; i++)
-        for (int j = 0; j < ARM_NJ; j++) {
-            s = s * 6364136223846793005UL + 1442695040888963407UL;
-            double u = (double)(s >> 11) / 9007199254740992.0;
-            q_set[i][j] = m.q_min_rad[j] + (m.q_max_rad[j] - m.q_min_rad[j]) * u;
-            qd_set[i][j] = 2.0 * u - 1.0;
-            qdd_set[i][j] = 4.0 * (1.0 - u) - 2.0;
-        }
+    bench_samples(m, q_set, qd_set, qdd_set);
 
     KDL::Chain chain = make_chain(m);
     KDL::ChainFkSolverPos_recursive fk(chain);

@@ -66,6 +66,9 @@ if command -v valgrind >/dev/null && [ -x "$bin/bench_arm" ]; then
     done
 fi
 
+echo; echo "== 4b. arm core vs Pinocchio (PyPI pin; same PUMA 560, same samples, same run) =="
+if [ -x "$bin/bench_pinocchio" ]; then "$bin/bench_pinocchio" 200000; else echo "  bench_pinocchio not built (needs pip install pin)"; fi
+
 echo; echo "== 5. one TDSD step vs Orocos KDL velocity IK (wdls, pinv), same PUMA 560 chain, same run =="
 if [ -x "$bin/bench_tdsd_kdl" ]; then
     "$bin/bench_tdsd_kdl" 100000 | sed 's/^/  /'

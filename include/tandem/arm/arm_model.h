@@ -20,11 +20,24 @@
 #define ARM_MODEL_ERR_INCONSISTENT (-4)  /* cos/sin_alpha do not match
                                             alpha_rad, or an inertia is not
                                             symmetric positive definite     */
+#define ARM_MODEL_ERR_STRUCTURE (-5)     /* claims ARM_STRUCTURE_PUMA without
+                                            the PUMA's zeros and right angles,
+                                            or an unknown structure         */
 
 #define ARM_NJ 6 /* joints of every arm model */
 
+/* Which routines an arm takes (docs/method/puma.md). GENERAL: the DH
+ * recursions for any table (the reference). PUMA: the folded closed forms,
+ * valid only for a table with alpha = 90 0 -90 90 -90 0 deg, a1 = a4 = a5
+ * = a6 = 0, d1 = d2 = d5 = 0, no joint offsets and diagonal link inertias
+ * (arm_model_has_puma_structure); arm_model_validate refuses a table that
+ * claims it without having it. */
+#define ARM_STRUCTURE_GENERAL 0
+#define ARM_STRUCTURE_PUMA 1
+
 typedef struct arm_model {
     const char *name;
+    int structure;                   /* ARM_STRUCTURE_*                    */
     double base_height_m;            /* mounting surface -> frame 0 (shoulder) */
     double a_m[ARM_NJ];
     double d_m[ARM_NJ];
@@ -66,8 +79,14 @@ int  arm_tool_offset(arm_tool *tool, const double p_flange_m[3]);
 /* The table is sound: a name, every number finite, link lengths a_i and
  * the base height >= 0, q_min < q_max, speed and torque limits and masses > 0,
  * cos/sin_alpha equal to cos/sin(alpha_rad) (to 1e-12), inertias symmetric
- * positive definite. 0 or ARM_MODEL_ERR_*. For start-up checks. */
+ * positive definite, and the structure field one of ARM_STRUCTURE_* that
+ * the table has. 0 or ARM_MODEL_ERR_*. For start-up checks. */
 int arm_model_validate(const arm_model *m);
+
+/* 1 if the table has the zeros and right angles the folded PUMA routines
+ * drop (ARM_STRUCTURE_PUMA above; alpha to 1e-12 rad, the rest exactly),
+ * whatever its structure field says; 0 otherwise (also for NULL). */
+int arm_model_has_puma_structure(const arm_model *m);
 
 /* "puma560" / "seed002" -> model; NULL if unknown. */
 const arm_model *arm_model_by_name(const char *name);

@@ -47,6 +47,8 @@
 #define CARTCTL_ERR_ARG (-1)  /* NULL, non-finite input or invalid gains, or
                                  kinematics / dynamics failed below (a
                                  non-finite acceleration or torque)        */
+#define CARTCTL_ERR_SINGULAR (-2)  /* cartctl_inverse_wrist: a diagonal block
+                                     is singular (elbow or wrist singularity) */
 
 typedef struct cartctl_gains {
     double kp_rot;       /* 1/s^2: orientation stiffness            */
@@ -78,6 +80,9 @@ typedef struct cartctl_state {
     double twist[6];     /* J qd: v (m/s), w (rad/s)                */
     double jdqd[6];      /* Jdot qd (arm_kin_jdot_qd)               */
     arm_joint_cs cs;     /* cos/sin theta_i, for the RNE            */
+    int has_wrist;       /* 1: a spherical wrist (ARM_STRUCTURE_PUMA),
+                            its centre in wrist_m                  */
+    double wrist_m[3];   /* where joint axes 4, 5, 6 meet, base frame */
 } cartctl_state;
 
 typedef struct cartctl_out {
@@ -102,6 +107,14 @@ int cartctl_jdot_qd(const arm_model *m, const arm_tool *tool, const double q[ARM
 
 /* World rotation vector log(R_d R^T) (rad). */
 void cartctl_rot_error(const double R_d[9], const double R[9], double err[3]);
+
+/* Ji = J^-1 (6x6 row-major) of the tool Jacobian J at tool pose T of an
+ * arm whose last three joint axes meet at wrist_m (both in J's frame),
+ * by the wrist's block-triangular form (docs/method/puma.md §6): the fast
+ * path of cartctl_qdd for ARM_STRUCTURE_PUMA. 0, CARTCTL_ERR_SINGULAR
+ * (a 3x3 block singular) or CARTCTL_ERR_ARG (NULL, non-finite); Ji is
+ * undefined on failure. */
+int cartctl_inverse_wrist(const double J[36], const double T[16], const double wrist_m[3], double Ji[36]);
 
 /* Joint accelerations for the tool acceleration a_lin (m/s^2, base frame)
  * with the orientation held at R_d (NULL: no orientation servo, angular

@@ -15,6 +15,7 @@
  * A payload is merged into link 6 (mass, COM, parallel-axis inertia).
  */
 #include "arm_dyn.h"
+#include "arm_puma_internal.h"
 #include "linalg.h"
 #include "vec3.h"
 #include <math.h>
@@ -74,14 +75,11 @@ static void merge_mass(link_mass *a, const link_mass *b)
     vec3_copy(a->c, c);
 }
 
-/* Mass properties of link i as the recursions read them: the model's own
- * numbers, except link 6 when a payload is merged into it (then they point
- * into *merged). Pointers, not copies: most calls carry no payload. */
-typedef struct link_ref {
-    double m;
-    const double *c;
-    const double *I;
-} link_ref;
+/* Mass properties of link i as the recursions read them (arm_link_ref,
+ * arm_puma_internal.h): the model's own numbers, except link 6 when a
+ * payload is merged into it (then they point into *merged). Pointers, not
+ * copies: most calls carry no payload. */
+typedef arm_link_ref link_ref;
 
 static void link_refs(const arm_model *m, const arm_payload *p, link_mass *merged,
                       link_ref L[ARM_NJ])
@@ -147,7 +145,9 @@ static void rne_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[
                    const double qd[ARM_NJ], const double qdd[ARM_NJ], const double g[3],
                    double tau_Nm[ARM_NJ])
 {
-    double ps[ARM_NJ][3], F[ARM_NJ][3], N[ARM_NJ][3];
+    /* p*_i is recomputed inward (3 products) rather than kept: 144 bytes
+     * less on the joint cycle's stack */
+    double ps[3], F[ARM_NJ][3], N[ARM_NJ][3];
     double w[3] = { 0, 0, 0 }, wd[3] = { 0, 0, 0 }, vd[3], f[3] = { 0, 0, 0 }, n[3] = { 0, 0, 0 };
     int i, k;
 
@@ -159,7 +159,7 @@ static void rne_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[
         const double I0 = I[0], I1 = I[1], I2 = I[2], I3 = I[3], I4 = I[4], I5 = I[5];
         const double I6 = I[6], I7 = I[7], I8 = I[8];
         double t[3], u[3], Iw[3], ww, wp, wc;
-        dh_pstar(m, i, ps[i]);
+        dh_pstar(m, i, ps);
         /* wd_i = R^T (wd + z0 qdd + w x z0 qd), w x z0 = (w1, -w0, 0) */
         t[0] = wd[0] + w[1] * qd[i];
         t[1] = wd[1] - w[0] * qd[i];
@@ -171,10 +171,10 @@ static void rne_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[
         ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
         /* vd_i = R^T vd + wd x p* + w x (w x p*) */
         dh_rot_t(m, i, cs, vd, vd);
-        wp = w[0] * ps[i][0] + w[1] * ps[i][1] + w[2] * ps[i][2];
-        vec3_cross(u, wd, ps[i]);
+        wp = w[0] * ps[0] + w[1] * ps[1] + w[2] * ps[2];
+        vec3_cross(u, wd, ps);
         for (k = 0; k < 3; k++)
-            vd[k] += u[k] + w[k] * wp - ps[i][k] * ww;
+            vd[k] += u[k] + w[k] * wp - ps[k] * ww;
         /* F = m (vd + wd x c + w x (w x c)) */
         wc = w[0] * c[0] + w[1] * c[1] + w[2] * c[2];
         vec3_cross(u, wd, c);
@@ -199,7 +199,8 @@ static void rne_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[
         }
         for (k = 0; k < 3; k++)
             f[k] += F[i][k];
-        vec3_cross(pf, ps[i], f);
+        dh_pstar(m, i, ps);
+        vec3_cross(pf, ps, f);
         vec3_cross(cF, L[i].c, F[i]);
         for (k = 0; k < 3; k++)
             n[k] += pf[k] + cF[k] + N[i][k];
@@ -218,18 +219,31 @@ static int rne_inputs_valid(const double qd[ARM_NJ], const double qdd[ARM_NJ],
 
 static const double default_gravity[3] = { 0.0, 0.0, -ARM_GRAVITY_MPS2 };
 
+/* The general RNE with the payload merged into link 6; the callers take
+ * the folded PUMA routine first (the model says which), so that this
+ * recursion's arrays are not on the PUMA cycle's stack. */
+static void rne_general(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
+                        const double qdd[ARM_NJ], const double g[3], const arm_payload *payload,
+                        double tau_Nm[ARM_NJ])
+{
+    link_mass merged;
+    link_ref L[ARM_NJ];
+    link_refs(m, payload, &merged, L);
+    rne_cs(m, cs, L, qd, qdd, g, tau_Nm);
+}
+
 int arm_rne(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
             const double qdd[ARM_NJ], const double gravity_mps2[3],
             const arm_payload *payload, double tau_Nm[ARM_NJ])
 {
     arm_joint_cs cs;
-    link_mass merged;
-    link_ref L[ARM_NJ];
     if (!tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload)
         || arm_joint_cs_eval(m, q, &cs) != 0)
         return ARM_DYN_ERR_ARG;
-    link_refs(m, payload, &merged, L);
-    rne_cs(m, &cs, L, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, tau_Nm);
+    if (m->structure == ARM_STRUCTURE_PUMA)
+        arm_puma_rne(m, &cs, payload, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, tau_Nm);
+    else
+        rne_general(m, &cs, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, payload, tau_Nm);
     return 0;
 }
 
@@ -237,13 +251,13 @@ int arm_rne_cs(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_N
                const double qdd[ARM_NJ], const double gravity_mps2[3],
                const arm_payload *payload, double tau_Nm[ARM_NJ])
 {
-    link_mass merged;
-    link_ref L[ARM_NJ];
     if (!m || !cs || !tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload)
         || !linalg_all_finite(cs->c, ARM_NJ) || !linalg_all_finite(cs->s, ARM_NJ))
         return ARM_DYN_ERR_ARG;
-    link_refs(m, payload, &merged, L);
-    rne_cs(m, cs, L, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, tau_Nm);
+    if (m->structure == ARM_STRUCTURE_PUMA)
+        arm_puma_rne(m, cs, payload, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, tau_Nm);
+    else
+        rne_general(m, cs, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, payload, tau_Nm);
     return 0;
 }
 
@@ -264,20 +278,14 @@ int arm_coriolis(const arm_model *m, const double q[ARM_NJ], const double qd[ARM
 
 /* ---- joint-space inertia ------------------------------------------------ */
 
-/* Rigid body (or composite) referred to a frame origin: mass, first moment
- * h = m c and inertia about the origin, all in that frame's axes. Sums of
- * bodies are plain sums in this form, which is why CRBA keeps it. The
- * inertia is symmetric, so only I = (xx, yy, zz, xy, yz, xz) is kept. */
-enum { XX, YY, ZZ, XY, YZ, XZ };
+/* A composite about a frame origin (arm_composite, arm_puma_internal.h):
+ * sums of bodies are plain sums in this form, which is why CRBA keeps it. */
+typedef arm_composite origin_body;
+enum { XX = ARM_I_XX, YY = ARM_I_YY, ZZ = ARM_I_ZZ, XY = ARM_I_XY, YZ = ARM_I_YZ, XZ = ARM_I_XZ };
 
-typedef struct origin_body {
-    double m;
-    double h[3];
-    double I[6];
-} origin_body;
-
-/* b += link l (COM c, inertia about c): h += m c, I += I_c + m (|c|^2 E - c c^T). */
-static void origin_body_add_link(origin_body *b, const link_ref *l)
+/* b += link l (COM c, inertia about c): h += m c, I += I_c + m (|c|^2 E - c c^T).
+ * Shared with the folded CRBA (arm_puma.c). */
+void arm_composite_add_link(arm_composite *b, const arm_link_ref *l)
 {
     const double m = l->m, *c = l->c, *Ic = l->I;
     const double mx = m * c[0], my = m * c[1], mz = m * c[2];
@@ -352,11 +360,15 @@ static void mass_matrix_cs(const arm_model *m, const arm_joint_cs *cs, const lin
 {
     origin_body comp;
     int i, j;
+    if (m->structure == ARM_STRUCTURE_PUMA) {
+        arm_puma_mass_matrix(m, cs, L, M);
+        return;
+    }
     memset(&comp, 0, sizeof comp);
     for (i = ARM_NJ - 1; i >= 0; i--) {
         double n[3], f[3];
         /* C_i = link i + C_{i+1}, both in frame i (1-based: link i+1, frame i+1) */
-        origin_body_add_link(&comp, &L[i]);
+        arm_composite_add_link(&comp, &L[i]);
         origin_body_to_parent(m, i, cs, &comp);
         /* unit rate about z through the origin: n = I z, f = z x h */
         vec3_set(n, comp.I[XZ], comp.I[YZ], comp.I[ZZ]);
@@ -432,7 +444,10 @@ int arm_forward_dynamics(const arm_model *m, const double q[ARM_NJ], const doubl
         return ARM_DYN_ERR_ARG;
     /* one trig evaluation and one payload merge serve both RNE and M(q) */
     link_refs(m, payload, &merged, L);
-    rne_cs(m, &cs, L, qd, zero, gravity_mps2 ? gravity_mps2 : default_gravity, h);
+    if (m->structure == ARM_STRUCTURE_PUMA)
+        arm_puma_rne(m, &cs, payload, qd, zero, gravity_mps2 ? gravity_mps2 : default_gravity, h);
+    else
+        rne_cs(m, &cs, L, qd, zero, gravity_mps2 ? gravity_mps2 : default_gravity, h);
     mass_matrix_cs(m, &cs, L, M);
     for (i = 0; i < ARM_NJ; i++)
         rhs[i] = tau_Nm[i] - h[i];

@@ -12,6 +12,7 @@
  * from R36 = R03^T R06 with z6 in frame 3 = (-c4 s5, -s4 s5, c5).
  */
 #include "arm_kin.h"
+#include "arm_puma_internal.h"
 #include "linalg.h"
 #include "vec3.h"
 #include <math.h>
@@ -43,12 +44,25 @@ int arm_ik_branch_from_name(const char *name)
     return ARM_KIN_ERR_NO_BRANCH;
 }
 
+/* T = T6 T_flange_tool. A tool that only moves the point (arm_tool_offset,
+ * every tool of the cell) costs 9 products instead of a 4x4 product. */
 static void flange_to_tool(const arm_tool *tool, const double T6[16], double T[16])
 {
-    if (tool)
-        tf_mul(T, T6, tool->T_flange_tool);
-    else
+    const double *X = tool ? tool->T_flange_tool : NULL;
+    int r;
+    if (!X) {
         memcpy(T, T6, 16 * sizeof T[0]);
+        return;
+    }
+    if (!(X[0] == 1.0 && X[5] == 1.0 && X[10] == 1.0 && X[1] == 0.0 && X[2] == 0.0 && X[4] == 0.0
+          && X[6] == 0.0 && X[8] == 0.0 && X[9] == 0.0 && X[12] == 0.0 && X[13] == 0.0
+          && X[14] == 0.0 && X[15] == 1.0)) {
+        tf_mul(T, T6, X);
+        return;
+    }
+    memcpy(T, T6, 16 * sizeof T[0]);
+    for (r = 0; r < 12; r += 4)
+        T[r + 3] += T6[r] * X[3] + T6[r + 1] * X[7] + T6[r + 2] * X[11];
 }
 
 int arm_fk(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], double T[16])
@@ -59,6 +73,12 @@ int arm_fk(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], dou
     int i;
     if (!T || arm_joint_cs_eval(m, q, &cs) != 0)
         return ARM_KIN_ERR_ARG;
+    if (m->structure == ARM_STRUCTURE_PUMA) {
+        double F[ARM_NJ + 1][16];
+        arm_puma_chain(m, &cs, F);
+        flange_to_tool(tool, F[ARM_NJ], T);
+        return 0;
+    }
     arm_base_frame(m, Ti);
     /* in place: arm_dh_compose works row by row */
     for (i = 0; i < ARM_NJ; i++)
@@ -97,7 +117,10 @@ int arm_fk_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM
     if (!m || !T || !J || arm_link_frames(m, q, F) != 0)
         return ARM_KIN_ERR_ARG;
     flange_to_tool(tool, F[ARM_NJ], T);
-    jacobian_of_frames(F[0], T, J);
+    if (m->structure == ARM_STRUCTURE_PUMA)
+        arm_puma_jacobian((const double (*)[16])F, T, J);
+    else
+        jacobian_of_frames(F[0], T, J);
     return 0;
 }
 
@@ -110,6 +133,13 @@ int arm_kin_eval(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ
     if (!m || arm_joint_cs_eval(m, q, &k->cs) != 0) {
         memset(k, 0, sizeof *k);
         return ARM_KIN_ERR_ARG;
+    }
+    k->puma = m->structure == ARM_STRUCTURE_PUMA;
+    if (k->puma) {
+        arm_puma_chain(m, &k->cs, k->F);
+        flange_to_tool(tool, k->F[ARM_NJ], k->T);
+        arm_puma_jacobian((const double (*)[16])k->F, k->T, k->J);
+        return 0;
     }
     arm_base_frame(m, k->F[0]);
     for (i = 0; i < ARM_NJ; i++)
@@ -128,7 +158,7 @@ int arm_kin_jdot_qd(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[
 {
     double w[3] = { 0, 0, 0 }, odot[3] = { 0, 0, 0 }, pdot[3] = { 0, 0, 0 };
     double p_e[3];
-    int i, j;
+    int i, j, first = 0;
     if (!jdqd)
         return ARM_KIN_ERR_ARG;
     memset(jdqd, 0, 6 * sizeof jdqd[0]);
@@ -138,7 +168,16 @@ int arm_kin_jdot_qd(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[
         for (i = 0; i < ARM_NJ; i++)
             pdot[j] += k->J[j * 6 + i] * qd[i];
     tf_pos(p_e, k->T);
-    for (i = 0; i < ARM_NJ; i++) {
+    if (k->puma) {
+        /* docs/method/puma.md §3: joint 1 turns about the base z with
+         * w_0 = 0 and o_1 = o_0, so its term is qd_1 e_z x pdot and
+         * frame 1's origin does not move */
+        jdqd[0] = -qd[0] * pdot[1];
+        jdqd[1] = qd[0] * pdot[0];
+        w[2] = qd[0];
+        first = 1;
+    }
+    for (i = first; i < ARM_NJ; i++) {
         const double *Fi = k->F[i];
         const double z[3] = { Fi[2], Fi[6], Fi[10] };
         const double o[3] = { Fi[3], Fi[7], Fi[11] };
@@ -153,7 +192,7 @@ int arm_kin_jdot_qd(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[
             jdqd[3 + j] += qd[i] * zdot[j];
             w[j] += z[j] * qd[i];   /* now w_{i+1} */
         }
-        {
+        if (i < ARM_NJ - 1 && !(k->puma && i == 4)) {   /* the PUMA's o_5 = o_4 */
             const double *Fn = k->F[i + 1];
             const double step[3] = { Fn[3] - o[0], Fn[7] - o[1], Fn[11] - o[2] };
             double ws[3];

@@ -37,6 +37,8 @@
  *   so each COM keeps its place relative to the joint axes.
  */
 #include "arm_model.h"
+#include "arm_puma_internal.h"
+#include "trig.h"
 #include "vec3.h"
 #include <math.h>
 #include <stddef.h>
@@ -74,6 +76,7 @@
 
 const arm_model arm_model_puma560 = {
     .name = "puma560",
+    .structure = ARM_STRUCTURE_PUMA,
     .base_height_m = 0.6718,
     .a_m = { 0.0, 0.4318, 0.0203, 0.0, 0.0, 0.0 },
     .d_m = { 0.0, 0.0, 0.15005, 0.4318, 0.0, 0.0 },
@@ -87,6 +90,7 @@ const arm_model arm_model_puma560 = {
 
 const arm_model arm_model_seed002 = {
     .name = "seed002",
+    .structure = ARM_STRUCTURE_PUMA,
     .base_height_m = 0.671,
     .a_m = { 0.0, 0.433, 0.0, 0.0, 0.0, 0.0 },
     .d_m = { 0.0, 0.0, 0.0, 0.433, 0.0, 0.050 },
@@ -150,6 +154,24 @@ static int inertia_spd(const double I[9])
     return I[1] == I[3] && I[2] == I[6] && I[5] == I[7] && I[0] > 0.0 && m2 > 0.0 && m3 > 0.0;
 }
 
+int arm_model_has_puma_structure(const arm_model *m)
+{
+    static const double alpha[ARM_NJ] = { PI_2, 0.0, -PI_2, PI_2, -PI_2, 0.0 };
+    const double tol = 1e-12;
+    int i, k;
+    if (!m)
+        return 0;
+    for (i = 0; i < ARM_NJ; i++) {
+        if (!(fabs(m->alpha_rad[i] - alpha[i]) <= tol) || m->theta_offset_rad[i] != 0.0)
+            return 0;
+        for (k = 0; k < 9; k++)
+            if (k != 0 && k != 4 && k != 8 && m->inertia_kgm2[i][k] != 0.0)
+                return 0;
+    }
+    return m->a_m[0] == 0.0 && m->a_m[3] == 0.0 && m->a_m[4] == 0.0 && m->a_m[5] == 0.0
+           && m->d_m[0] == 0.0 && m->d_m[1] == 0.0 && m->d_m[4] == 0.0;
+}
+
 int arm_model_validate(const arm_model *m)
 {
     /* the tables store libm's cos/sin of the same double; 1e-12 leaves
@@ -171,6 +193,9 @@ int arm_model_validate(const arm_model *m)
             || fabs(m->sin_alpha[i] - sin(m->alpha_rad[i])) > trig_tol
             || !inertia_spd(m->inertia_kgm2[i]))
             return ARM_MODEL_ERR_INCONSISTENT;
+    if (m->structure == ARM_STRUCTURE_PUMA ? !arm_model_has_puma_structure(m)
+                                           : m->structure != ARM_STRUCTURE_GENERAL)
+        return ARM_MODEL_ERR_STRUCTURE;
     return 0;
 }
 
@@ -239,8 +264,8 @@ int arm_joint_cs_eval(const arm_model *m, const double q[ARM_NJ], arm_joint_cs *
         const double th = q[i] + m->theta_offset_rad[i];
         if (!isfinite(q[i]))
             return ARM_MODEL_ERR_ARG;
-        cs->c[i] = cos(th); /* compilers fuse the pair into one sincos call */
-        cs->s[i] = sin(th);
+        /* not libm's: on the 68040 its sin/cos trap to software */
+        trig_sincos(th, &cs->s[i], &cs->c[i]);
     }
     return 0;
 }
@@ -297,6 +322,10 @@ int arm_link_frames(const arm_model *m, const double q[ARM_NJ], double T[ARM_NJ 
     int i;
     if (!T || arm_joint_cs_eval(m, q, &cs) != 0)
         return ARM_MODEL_ERR_ARG;
+    if (m->structure == ARM_STRUCTURE_PUMA) {
+        arm_puma_chain(m, &cs, T);
+        return 0;
+    }
     arm_base_frame(m, T[0]);
     for (i = 0; i < ARM_NJ; i++)
         arm_dh_compose(m, i, cs.c[i], cs.s[i], T[i], T[i + 1]);

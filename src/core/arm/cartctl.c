@@ -45,6 +45,8 @@ int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[AR
     memcpy(s->T, k.T, sizeof s->T);
     memcpy(s->J, k.J, sizeof s->J);
     s->cs = k.cs;
+    s->has_wrist = m->structure == ARM_STRUCTURE_PUMA;
+    vec3_set(s->wrist_m, k.F[4][3], k.F[4][7], k.F[4][11]);
     linalg_matvec(s->twist, s->J, qd, 6, ARM_NJ);
     return 0;
 }
@@ -139,6 +141,106 @@ static double sigma_min_lower(const double Ji[36])
     return f2 > 0.0 ? 1.0 / sqrt(sqrt(f2)) : 0.0;
 }
 
+/* Ai = A^-1 of a 3x3 by its adjugate: 0, or SINGULAR. */
+static int inverse3(const double A[9], double Ai[9])
+{
+    const double c0 = A[4] * A[8] - A[5] * A[7], c1 = A[5] * A[6] - A[3] * A[8];
+    const double c2 = A[3] * A[7] - A[4] * A[6];
+    const double det = A[0] * c0 + A[1] * c1 + A[2] * c2;
+    double inv;
+    if (det == 0.0 || !isfinite(det))
+        return SINGULAR;
+    inv = 1.0 / det;
+    Ai[0] = c0 * inv;
+    Ai[1] = (A[2] * A[7] - A[1] * A[8]) * inv;
+    Ai[2] = (A[1] * A[5] - A[2] * A[4]) * inv;
+    Ai[3] = c1 * inv;
+    Ai[4] = (A[0] * A[8] - A[2] * A[6]) * inv;
+    Ai[5] = (A[2] * A[3] - A[0] * A[5]) * inv;
+    Ai[6] = c2 * inv;
+    Ai[7] = (A[1] * A[6] - A[0] * A[7]) * inv;
+    Ai[8] = (A[0] * A[4] - A[1] * A[3]) * inv;
+    return 0;
+}
+
+/* Ji = J^-1 for an arm whose last three axes meet at the wrist centre w
+ * (docs/method/puma.md §6). With r = p - w (p the tool point of T), the wrist centre's velocity
+ * v + r x w_ang makes the Jacobian block triangular, Q J = [A 0; B C],
+ * Q = [I [r]x; 0 I], so J^-1 = [A^-1 0; -C^-1 B A^-1 C^-1] Q: two 3x3
+ * inverses and three 3x3 products instead of a 6x6 elimination. 0, or
+ * CARTCTL_ERR_SINGULAR (A or C singular: the arm at its elbow or wrist
+ * singularity). Two callers (qdd_at, with its inputs already checked, and
+ * the public cartctl_inverse_wrist) keep it out of qdd_at's frame, which
+ * is on the cycle's deepest stack path. */
+static int inverse_wrist(const double J[36], const double T[16], const double w[3], double Ji[36])
+{
+    double r[3], A[9], B[9], C[9], Ai[9], Ci[9], D[9], Ar[9], Dr[9];
+    int i, j;
+    vec3_set(r, T[3] - w[0], T[7] - w[1], T[11] - w[2]);
+    for (j = 0; j < 3; j++) {
+        const double wx = J[18 + j], wy = J[24 + j], wz = J[30 + j];   /* column j, angular */
+        A[j] = J[j] + r[1] * wz - r[2] * wy;
+        A[3 + j] = J[6 + j] + r[2] * wx - r[0] * wz;
+        A[6 + j] = J[12 + j] + r[0] * wy - r[1] * wx;
+        for (i = 0; i < 3; i++) {
+            B[3 * i + j] = J[18 + 6 * i + j];
+            C[3 * i + j] = J[18 + 6 * i + 3 + j];
+        }
+    }
+    if (inverse3(A, Ai) != 0 || inverse3(C, Ci) != 0)
+        return CARTCTL_ERR_SINGULAR;
+    /* D = -C^-1 B A^-1 */
+    {
+        double CB[9];
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 3; j++)
+                CB[3 * i + j] = Ci[3 * i] * B[j] + Ci[3 * i + 1] * B[3 + j] + Ci[3 * i + 2] * B[6 + j];
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 3; j++)
+                D[3 * i + j] = -(CB[3 * i] * Ai[j] + CB[3 * i + 1] * Ai[3 + j] + CB[3 * i + 2] * Ai[6 + j]);
+    }
+    /* M [r]x row by row; [r]x's columns are (0, r2, -r1), (-r2, 0, r0),
+     * (r1, -r0, 0) */
+    for (i = 0; i < 3; i++) {
+        const double *a = Ai + 3 * i, *d = D + 3 * i;
+        Ar[3 * i] = r[2] * a[1] - r[1] * a[2];
+        Ar[3 * i + 1] = r[0] * a[2] - r[2] * a[0];
+        Ar[3 * i + 2] = r[1] * a[0] - r[0] * a[1];
+        Dr[3 * i] = r[2] * d[1] - r[1] * d[2];
+        Dr[3 * i + 1] = r[0] * d[2] - r[2] * d[0];
+        Dr[3 * i + 2] = r[1] * d[0] - r[0] * d[1];
+    }
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            Ji[6 * i + j] = Ai[3 * i + j];
+            Ji[6 * i + 3 + j] = Ar[3 * i + j];
+            Ji[18 + 6 * i + j] = D[3 * i + j];
+            Ji[18 + 6 * i + 3 + j] = Dr[3 * i + j] + Ci[3 * i + j];
+        }
+    return 0;
+}
+
+int cartctl_inverse_wrist(const double J[36], const double T[16], const double w[3], double Ji[36])
+{
+    if (!J || !T || !w || !Ji || !linalg_all_finite(J, 36) || !linalg_all_finite(T, 16)
+        || !linalg_all_finite(w, 3))
+        return CARTCTL_ERR_ARG;
+    return inverse_wrist(J, T, w, Ji);
+}
+
+/* Lower bound on sigma_min(J) from Ji = J^-1: ||Ji||_2 <= ||Ji||_F, so
+ * s_min >= 1/||Ji||_F. Looser than sigma_min_lower by up to sqrt 6 when
+ * the singular values are alike, within 0.2 % near the wrist singularity
+ * where one is far below the others and the bound matters. */
+static double sigma_min_lower_frobenius(const double Ji[36])
+{
+    double f2 = 0.0;
+    int i;
+    for (i = 0; i < 36; i++)
+        f2 += Ji[i] * Ji[i];
+    return f2 > 0.0 ? 1.0 / sqrt(f2) : 0.0;
+}
+
 /* Bounds of the range barrier on qdd (see cartctl.h). */
 static void range_bounds(const arm_model *m, const cartctl_gains *g, const double q[ARM_NJ],
                          const double qd[ARM_NJ], double lo[ARM_NJ], double hi[ARM_NJ])
@@ -162,7 +264,9 @@ static unsigned range_resolve(const double J[36], const double rhs[6], const dou
     unsigned held = 0;
     int pass;
     for (pass = 0; pass < ARM_NJ; pass++) {
-        double A[6 * ARM_NJ], N[ARM_NJ * ARM_NJ], L[ARM_NJ * ARM_NJ], b[6], r[ARM_NJ], x[ARM_NJ];
+        /* A holds the weighted free columns, then (dead after N and r) the
+         * Cholesky factor: one 6x6 less on the cycle's deepest stack path */
+        double A[6 * ARM_NJ], N[ARM_NJ * ARM_NJ], b[6], r[ARM_NJ], x[ARM_NJ];
         double excess = 0.0;
         int idx[ARM_NJ], nf = 0, worst = -1, i, j, k;
         for (i = 0; i < ARM_NJ; i++) {
@@ -195,9 +299,9 @@ static unsigned range_resolve(const double J[36], const double rhs[6], const dou
         linalg_tmatvec(r, A, b, 6, nf);
         for (j = 0; j < nf; j++)
             N[j * nf + j] += mu2;
-        if (linalg_cholesky(L, N, nf) != 0)
+        if (linalg_cholesky(A, N, nf) != 0)
             break;   /* the free joints keep their unconstrained values */
-        linalg_cholesky_solve(x, L, r, nf);
+        linalg_cholesky_solve(x, A, r, nf);
         for (j = 0; j < nf; j++)
             qdd[idx[j]] = x[j];
     }
@@ -245,8 +349,8 @@ static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM
      * damped inverse is the exact inverse (P = 0): one 6x6 inverse instead
      * of the SVD (about 7x cheaper). Otherwise, or if J is singular, the
      * SVD below decides. */
-    if (inverse6(s->J, U) == 0) {
-        const double s_lo = sigma_min_lower(U);
+    if (s->has_wrist ? inverse_wrist(s->J, s->T, s->wrist_m, U) == 0 : inverse6(s->J, U) == 0) {
+        const double s_lo = s->has_wrist ? sigma_min_lower_frobenius(U) : sigma_min_lower(U);
         if (g->sigma_band <= 0.0 ? s_lo > 0.0 : s_lo >= g->sigma_band) {
             linalg_matvec(out->qdd, U, rhs, 6, 6);
             out->sigma_min = s_lo;

@@ -2,6 +2,7 @@
  * Pure geometry used by every equation of docs/method/; no state, no allocation.
  */
 #include "vec3.h"
+#include "trig.h"
 #include <math.h>
 
 void vec3_set(double out[3], double x, double y, double z)
@@ -126,7 +127,7 @@ double rot_to_axis_angle(double axis[3], const double R[9])
         return 0.0;
     }
     vec3_scale(axis, q + 1, 1.0 / n);
-    return 2.0 * atan2(n, q[0]);
+    return 2.0 * trig_atan2(n, q[0]);   /* libm's traps to the 68040's FPSP three times */
 }
 
 void rot_from_quat(double R[9], const double q_wxyz[4])

@@ -8,6 +8,7 @@
 
 #include <math.h>
 
+#include "trig.h"
 #include "vec3.h"
 
 static int finite3(const double v[3])
@@ -89,8 +90,9 @@ double erlaw_channel_length(const erlaw_channel *c)
 static double bias(const erlaw_channel *c, double s)
 {
     const erlaw_gains *g = &c->g;
-    /* s is clamped to [0, s_f] so the exponent is <= k1: no overflow. */
-    return g->k0 / (1.0 + exp(g->k1 - c->k2_eff * (c->prof.s_f_m - s)));
+    /* s is clamped to [0, s_f] so the exponent is <= k1: no overflow.
+     * trig_exp, not libm's: that traps to the 68040's FPSP every cycle. */
+    return g->k0 / (1.0 + trig_exp(g->k1 - c->k2_eff * (c->prof.s_f_m - s)));
 }
 
 /* V_ref: first-order filtered difference of the external reference,

@@ -349,6 +349,7 @@ static void make_skewed(void)
     static const double off[ARM_NJ] = { 0.1, -0.3, 0.5, 0.0, -0.2, 0.4 };
     int i;
     skewed = arm_model_puma560;
+    skewed.structure = ARM_STRUCTURE_GENERAL;   /* not a PUMA any more */
     for (i = 0; i < ARM_NJ; i++) {
         skewed.alpha_rad[i] = alpha[i];
         skewed.a_m[i] = a[i];

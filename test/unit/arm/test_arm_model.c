@@ -139,6 +139,7 @@ static void test_dh_compose_general_alpha(void **state)
     prng_seed(&seed, 11);
     int n, i, e;
     (void)state;
+    m.structure = ARM_STRUCTURE_GENERAL;   /* not a PUMA any more */
     for (i = 0; i < ARM_NJ; i++) {
         m.alpha_rad[i] = alpha[i];
         m.a_m[i] += 0.01 * (i + 1);
@@ -233,8 +234,30 @@ static void test_validate(void **state)
     BROKEN(m.a_m[1] = -0.4318, ARM_MODEL_ERR_RANGE);
     BROKEN(m.base_height_m = -0.1, ARM_MODEL_ERR_RANGE);
     BROKEN(m.alpha_rad[2] = -m.alpha_rad[2], ARM_MODEL_ERR_INCONSISTENT); /* trig tables stale */
-    arm_model_refresh_alpha(&m);                                        /* ... until refreshed */
+    arm_model_refresh_alpha(&m);                                        /* ... until refreshed, */
+    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_STRUCTURE);  /* no PUMA any more ... */
+    m.structure = ARM_STRUCTURE_GENERAL;                                /* ... but a general arm */
     assert_int_equal(arm_model_validate(&m), 0);
+    /* claiming the PUMA structure without each of its zeros, one at a time */
+    BROKEN(m.a_m[0] = 0.01, ARM_MODEL_ERR_STRUCTURE);
+    BROKEN(m.a_m[3] = 0.01, ARM_MODEL_ERR_STRUCTURE);
+    BROKEN(m.a_m[4] = 0.01, ARM_MODEL_ERR_STRUCTURE);
+    BROKEN(m.a_m[5] = 0.01, ARM_MODEL_ERR_STRUCTURE);
+    BROKEN(m.d_m[0] = 0.01, ARM_MODEL_ERR_STRUCTURE);
+    BROKEN(m.d_m[1] = 0.01, ARM_MODEL_ERR_STRUCTURE);
+    BROKEN(m.d_m[4] = 0.01, ARM_MODEL_ERR_STRUCTURE);
+    BROKEN(m.theta_offset_rad[2] = 0.1, ARM_MODEL_ERR_STRUCTURE);
+    BROKEN((m.alpha_rad[1] = 0.1, arm_model_refresh_alpha(&m)), ARM_MODEL_ERR_STRUCTURE);
+    BROKEN((m.inertia_kgm2[2][1] = 1e-3, m.inertia_kgm2[2][3] = 1e-3), ARM_MODEL_ERR_STRUCTURE);
+    BROKEN(m.structure = 7, ARM_MODEL_ERR_STRUCTURE);
+    /* the lengths the folded routines keep may take any value */
+    BROKEN((m.a_m[1] = 0.5, m.a_m[2] = 0.0, m.d_m[2] = 0.0, m.d_m[3] = 0.3, m.d_m[5] = 0.07), 0);
+    {
+        int k;
+        for (k = 0; k < 2; k++)
+            assert_int_equal(arm_model_has_puma_structure(k ? &arm_model_seed002 : &arm_model_puma560), 1);
+        assert_int_equal(arm_model_has_puma_structure(NULL), 0);
+    }
     BROKEN(m.inertia_kgm2[1][1] = 0.01, ARM_MODEL_ERR_INCONSISTENT);    /* not symmetric */
     BROKEN(m.inertia_kgm2[3][8] = -1.8e-3, ARM_MODEL_ERR_INCONSISTENT); /* not positive definite */
 #undef BROKEN

@@ -192,12 +192,13 @@ static void test_damping_near_wrist_singularity(void **st)
  * right at the wrist singularity, qdd matches V diag(s/(s^2+l^2)) U^T rhs
  * - k_null V diag(l^2/(s^2+l^2)) V^T qd computed here from one SVD, and
  * the reported sigma_min never exceeds the true one. Both paths run. */
-static void test_fast_path_matches_svd(void **st)
+/* The fast path (the spherical wrist's block inverse for the PUMA, the
+ * 6x6 inverse for a general table) equals the damped SVD law. */
+static void fast_path_matches_svd(const arm_model *m)
 {
     const arm_tool tool = tool10();
     cartctl_gains g;
     int n, fast = 0, slow = 0;
-    (void)st;
     cartctl_gains_default(&g);
     for (n = 0; n < 200; n++) {
         double q[ARM_NJ], qd[ARM_NJ], a[3], R_d[9], U[36], sv[6], V[36], jd[6], rhs[6], y[6], vq[6];
@@ -211,10 +212,10 @@ static void test_fast_path_matches_svd(void **st)
         }
         q[4] = -0.6 * (double)(n % 50) / 49.0;     /* 0 .. -0.6 rad: through the band */
         vec3_set(a, 0.3 * sin(n), 0.2, -0.1 * cos(n));
-        assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, qd, &s), 0);
+        assert_int_equal(cartctl_state_at(m, &tool, q, qd, &s), 0);
         rot_from_axis_angle(R_d, a, 0.05);
-        assert_int_equal(cartctl_qdd(&arm_model_puma560, &tool, &g, q, qd, &s, a, R_d, &o), 0);
-        assert_int_equal(cartctl_jdot_qd(&arm_model_puma560, &tool, q, qd, jd), 0);
+        assert_int_equal(cartctl_qdd(m, &tool, &g, q, qd, &s, a, R_d, &o), 0);
+        assert_int_equal(cartctl_jdot_qd(m, &tool, q, qd, jd), 0);
         for (i = 0; i < 6; i++)
             rhs[i] = o.a_cmd[i] - jd[i];
         linalg_svd(U, sv, V, s.J, 6, 6);
@@ -238,6 +239,52 @@ static void test_fast_path_matches_svd(void **st)
             slow++;
     }
     assert_true(fast > 0 && slow > 0);
+}
+
+static void test_fast_path_matches_svd(void **st)
+{
+    arm_model general = arm_model_puma560;
+    (void)st;
+    general.structure = ARM_STRUCTURE_GENERAL;
+    fast_path_matches_svd(&arm_model_puma560);
+    fast_path_matches_svd(&general);
+}
+
+/* cartctl_inverse_wrist is J's inverse (J Ji = I) for random PUMA poses,
+ * says so at the wrist singularity, and refuses bad input. */
+static void test_inverse_wrist(void **st)
+{
+    const arm_tool tool = tool10();
+    double Ji[36];
+    int n, i, j, k;
+    (void)st;
+    for (n = 0; n < 200; n++) {
+        cartctl_state s;
+        double q[ARM_NJ];
+        for (i = 0; i < ARM_NJ; i++)
+            q[i] = Q_A[i] + 0.8 * sin(2.3 * n + 1.1 * i);
+        assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, QD_A, &s), 0);
+        assert_int_equal(s.has_wrist, 1);
+        assert_int_equal(cartctl_inverse_wrist(s.J, s.T, s.wrist_m, Ji), 0);
+        for (i = 0; i < 6; i++)
+            for (j = 0; j < 6; j++) {
+                double t = 0.0;
+                for (k = 0; k < 6; k++)
+                    t += s.J[6 * i + k] * Ji[6 * k + j];
+                assert_true(fabs(t - (i == j ? 1.0 : 0.0)) < 1e-9);
+            }
+    }
+    {
+        cartctl_state s;
+        double q[ARM_NJ];
+        memcpy(q, Q_A, sizeof q);
+        q[4] = 0.0;   /* z4 and z6 in line */
+        assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, QD_A, &s), 0);
+        assert_int_equal(cartctl_inverse_wrist(s.J, s.T, s.wrist_m, Ji), CARTCTL_ERR_SINGULAR);
+        assert_int_equal(cartctl_inverse_wrist(NULL, s.T, s.wrist_m, Ji), CARTCTL_ERR_ARG);
+        s.T[7] = NAN;
+        assert_int_equal(cartctl_inverse_wrist(s.J, s.T, s.wrist_m, Ji), CARTCTL_ERR_ARG);
+    }
 }
 
 /* Runs an underdamped tool servo (k_p 400, k_v 8: zeta 0.2) from Q_B to
@@ -339,6 +386,7 @@ int main(void)
         cmocka_unit_test(test_closed_loop_tracks),
         cmocka_unit_test(test_damping_near_wrist_singularity),
         cmocka_unit_test(test_fast_path_matches_svd),
+        cmocka_unit_test(test_inverse_wrist),
         cmocka_unit_test(test_range_barrier),
         cmocka_unit_test(test_bad_input),
     };

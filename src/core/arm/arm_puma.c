@@ -1,0 +1,524 @@
+/* arm_puma: forward kinematics, Jacobian, RNE torques and M(q) folded for
+ * the PUMA structure (docs/method/puma.md §2-§5): twists of 90, 0, -90,
+ * 90, -90, 0 deg, a1 = a4 = a5 = a6 = 0, d1 = d2 = d5 = 0, no joint
+ * offsets, diagonal link inertias (arm_model_has_puma_structure).
+ *
+ * Why: every R_i = Rz(theta_i) Rx(alpha_i) is then a plane rotation
+ * followed by a signed swap of two axes, every p*_i has one or two
+ * non-zero entries, and a link's inertia three; the general DH recursions
+ * (arm_kin.c, arm_dyn.c) multiply all those zeros and ones on every cycle.
+ * Written out here with the zeros dropped by hand (a compiler may not drop
+ * x * 0.0 under IEEE rules). The general routines stay the reference: the
+ * unit tests hold these to them to 1e-12.
+ */
+#include "arm_puma_internal.h"
+
+#include <string.h>
+
+/* The three twist angles of the structure. */
+enum { TWIST_P90, TWIST_0, TWIST_M90 };
+
+/* out = R^T v, R = Rz(theta) Rx(alpha): turn (x, y) back by theta, then
+ * (y, z) by alpha, here a swap with a sign. out may be v. */
+static inline void rot_t(int twist, double c, double s, const double v[3], double out[3])
+{
+    const double x = c * v[0] + s * v[1], y = c * v[1] - s * v[0], z = v[2];
+    out[0] = x;
+    if (twist == TWIST_P90) {
+        out[1] = z;
+        out[2] = -y;
+    } else if (twist == TWIST_0) {
+        out[1] = y;
+        out[2] = z;
+    } else {
+        out[1] = -z;
+        out[2] = y;
+    }
+}
+
+/* out = R v (the same two turns forwards); out may be v. */
+static inline void rot(int twist, double c, double s, const double v[3], double out[3])
+{
+    const double x = v[0];
+    double y, z;
+    if (twist == TWIST_P90) {
+        y = -v[2];
+        z = v[1];
+    } else if (twist == TWIST_0) {
+        y = v[1];
+        z = v[2];
+    } else {
+        y = v[2];
+        z = -v[1];
+    }
+    out[0] = c * x - s * y;
+    out[1] = s * x + c * y;
+    out[2] = z;
+}
+
+/* ---- kinematics ----------------------------------------------------------- */
+
+/* Frame F (4x4 row-major) from its axes and origin. */
+static inline void frame_store(double F[16], const double x[3], const double y[3], const double z[3],
+                        const double o[3])
+{
+    int r;
+    for (r = 0; r < 3; r++) {
+        F[4 * r] = x[r];
+        F[4 * r + 1] = y[r];
+        F[4 * r + 2] = z[r];
+        F[4 * r + 3] = o[r];
+    }
+    F[12] = 0.0;
+    F[13] = 0.0;
+    F[14] = 0.0;
+    F[15] = 1.0;
+}
+
+/* a = ca u + sa v (a frame axis turned by a joint) */
+static inline void axis_comb(double a[3], double ca, const double u[3], double sa, const double v[3])
+{
+    a[0] = ca * u[0] + sa * v[0];
+    a[1] = ca * u[1] + sa * v[1];
+    a[2] = ca * u[2] + sa * v[2];
+}
+
+/* docs/method/puma.md §2: R_03 = Rz(q1) Ry(-(q2 + q3)) in closed form, the
+ * wrist axes by one plane turn each, o_i = o_{i-1} + a_i x_i + d_i z_{i-1}
+ * with the zero lengths left out. Written frame by frame into F, few
+ * locals: this sits on the Cartesian cycle's deepest stack path. */
+void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
+{
+    const double c1 = cs->c[0], s1 = cs->s[0], c2 = cs->c[1], s2 = cs->s[1];
+    const double c3 = cs->c[2], s3 = cs->s[2];
+    const double c23 = c2 * c3 - s2 * s3, s23 = s2 * c3 + c2 * s3;
+    const double a2 = m->a_m[1], a3 = m->a_m[2], d3 = m->d_m[2], d4 = m->d_m[3], d6 = m->d_m[5];
+    const double z1[3] = { s1, -c1, 0.0 };
+    double x[3], y[3], z[3], o[3] = { 0.0, 0.0, m->base_height_m };
+    int k;
+    {
+        const double ex[3] = { 1.0, 0.0, 0.0 }, ey[3] = { 0.0, 1.0, 0.0 }, ez[3] = { 0.0, 0.0, 1.0 };
+        const double x1[3] = { c1, s1, 0.0 };
+        frame_store(F[0], ex, ey, ez, o);
+        frame_store(F[1], x1, ez, z1, o);
+    }
+    x[0] = c1 * c2;
+    x[1] = s1 * c2;
+    x[2] = s2;
+    y[0] = -c1 * s2;
+    y[1] = -s1 * s2;
+    y[2] = c2;
+    for (k = 0; k < 3; k++)
+        o[k] += a2 * x[k];
+    frame_store(F[2], x, y, z1, o);
+    x[0] = c1 * c23;
+    x[1] = s1 * c23;
+    x[2] = s23;
+    y[0] = -s1;
+    y[1] = c1;
+    y[2] = 0.0;
+    z[0] = -c1 * s23;
+    z[1] = -s1 * s23;
+    z[2] = c23;
+    for (k = 0; k < 3; k++)
+        o[k] += a3 * x[k] + d3 * z1[k];   /* z2 = z1 */
+    frame_store(F[3], x, y, z, o);
+    {
+        double x4[3], z4[3];
+        axis_comb(x4, cs->c[3], x, cs->s[3], y);
+        axis_comb(z4, cs->s[3], x, -cs->c[3], y);
+        for (k = 0; k < 3; k++)
+            o[k] += d4 * z[k];
+        frame_store(F[4], x4, z, z4, o);   /* y4 = z3 */
+        axis_comb(x, cs->c[4], x4, cs->s[4], z);
+        axis_comb(y, -cs->s[4], x4, cs->c[4], z);   /* z5, for now in y */
+        for (k = 0; k < 3; k++)
+            z[k] = -z4[k];                           /* y5 = -z4 */
+    }
+    frame_store(F[5], x, z, y, o);   /* o5 = o4 */
+    {
+        double x6[3], y6[3];
+        axis_comb(x6, cs->c[5], x, cs->s[5], z);
+        axis_comb(y6, -cs->s[5], x, cs->c[5], z);
+        for (k = 0; k < 3; k++)
+            o[k] += d6 * y[k];
+        frame_store(F[6], x6, y6, y, o);   /* z6 = z5 */
+    }
+}
+
+/* Column i: [z_{i-1} x (p - o_{i-1}); z_{i-1}]; z_0 = e_z makes the first
+ * one free of products. */
+void arm_puma_jacobian(const double (*F)[16], const double T[16], double J[36])
+{
+    const double p[3] = { T[3], T[7], T[11] };
+    int i;
+    J[0] = -(p[1] - F[0][7]);
+    J[6] = p[0] - F[0][3];
+    J[12] = 0.0;
+    J[18] = 0.0;
+    J[24] = 0.0;
+    J[30] = 1.0;
+    for (i = 1; i < ARM_NJ; i++) {
+        const double *Fi = F[i];
+        const double z0 = Fi[2], z1 = Fi[6], z2 = Fi[10];
+        const double r0 = p[0] - Fi[3], r1 = p[1] - Fi[7], r2 = p[2] - Fi[11];
+        J[i] = z1 * r2 - z2 * r1;
+        J[6 + i] = z2 * r0 - z0 * r2;
+        J[12 + i] = z0 * r1 - z1 * r0;
+        J[18 + i] = z0;
+        J[24 + i] = z1;
+        J[30 + i] = z2;
+    }
+}
+
+/* ---- recursive Newton-Euler ----------------------------------------------- */
+
+/* The acceleration of a point r of a body: vd + K r with
+ * K = [wd]x + [w]x^2 (docs/method/puma.md §4); one K serves p*_i and the COM.
+ * w01, w02, w12 are reused by the gyroscopic moment. */
+typedef struct accel_map {
+    double K[9];
+    double w01, w02, w12;
+} accel_map;
+
+static inline void accel_map_of(const double w[3], const double wd[3], accel_map *a)
+{
+    const double w00 = w[0] * w[0], w11 = w[1] * w[1], w22 = w[2] * w[2];
+    a->w01 = w[0] * w[1];
+    a->w02 = w[0] * w[2];
+    a->w12 = w[1] * w[2];
+    a->K[0] = -(w11 + w22);
+    a->K[1] = a->w01 - wd[2];
+    a->K[2] = a->w02 + wd[1];
+    a->K[3] = a->w01 + wd[2];
+    a->K[4] = -(w00 + w22);
+    a->K[5] = a->w12 - wd[0];
+    a->K[6] = a->w02 - wd[1];
+    a->K[7] = a->w12 + wd[0];
+    a->K[8] = -(w00 + w11);
+}
+
+/* vd += len * column col of K: the origin of the next frame at len along
+ * one axis (p*_i has one or two non-zero entries). */
+static inline void add_column(double vd[3], const accel_map *a, int col, double len)
+{
+    vd[0] += len * a->K[col];
+    vd[1] += len * a->K[3 + col];
+    vd[2] += len * a->K[6 + col];
+}
+
+/* One link outward: frame i's w, wd, vd from frame i-1's (before the
+ * p*_i terms, added by the caller), eq. of docs/method/puma.md §4. */
+static inline void outward(int twist, double c, double s, double qd, double qdd, double w[3],
+                           double wd[3], double vd[3])
+{
+    double t[3];
+    t[0] = wd[0] + w[1] * qd;
+    t[1] = wd[1] - w[0] * qd;
+    t[2] = wd[2] + qdd;
+    rot_t(twist, c, s, t, wd);
+    w[2] += qd;
+    rot_t(twist, c, s, w, w);
+    rot_t(twist, c, s, vd, vd);
+}
+
+/* Inertial force F = m (vd + K c) and moment about the COM
+ * N = I wd + w x (I w) of a link with diagonal inertia. */
+static inline void link_wrench_diag(const arm_model *m, int i, const accel_map *a, const double vd[3],
+                                    const double wd[3], double F[3], double N[3])
+{
+    const double *c = m->com_m[i], *I = m->inertia_kgm2[i], mass = m->mass_kg[i];
+    int k;
+    for (k = 0; k < 3; k++)
+        F[k] = mass * (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
+    N[0] = I[0] * wd[0] + (I[8] - I[4]) * a->w12;
+    N[1] = I[4] * wd[1] + (I[0] - I[8]) * a->w02;
+    N[2] = I[8] * wd[2] + (I[4] - I[0]) * a->w01;
+}
+
+/* A payload held at the flange, as a body of its own in frame 6 (merging
+ * it into link 6 cost more than the body: a parallel-axis sum per call):
+ * F = m (vd + K c), N = I wd + w x (I w) with a full inertia, skipped for
+ * a point mass. */
+static void payload_wrench(const arm_payload *p, const accel_map *a, const double w[3],
+                           const double vd[3], const double wd[3], double F[3], double N[3])
+{
+    const double *c = p->com_m, *I = p->inertia_kgm2;
+    int k, point = 1;
+    for (k = 0; k < 3; k++)
+        F[k] = p->mass_kg * (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
+    for (k = 0; k < 9; k++)
+        if (I[k] != 0.0)
+            point = 0;
+    if (point) {
+        N[0] = N[1] = N[2] = 0.0;
+        return;
+    }
+    {
+        double Iw[3];
+        for (k = 0; k < 3; k++)
+            Iw[k] = I[3 * k] * w[0] + I[3 * k + 1] * w[1] + I[3 * k + 2] * w[2];
+        N[0] = I[0] * wd[0] + I[1] * wd[1] + I[2] * wd[2] + w[1] * Iw[2] - w[2] * Iw[1];
+        N[1] = I[3] * wd[0] + I[4] * wd[1] + I[5] * wd[2] + w[2] * Iw[0] - w[0] * Iw[2];
+        N[2] = I[6] * wd[0] + I[7] * wd[1] + I[8] * wd[2] + w[0] * Iw[1] - w[1] * Iw[0];
+    }
+}
+
+/* n += c x F + N (the link's own moment about its frame origin) */
+static inline void add_link_moment(double n[3], const double c[3], const double F[3], const double N[3])
+{
+    n[0] += c[1] * F[2] - c[2] * F[1] + N[0];
+    n[1] += c[2] * F[0] - c[0] * F[2] + N[1];
+    n[2] += c[0] * F[1] - c[1] * F[0] + N[2];
+}
+
+/* Outward by joints, with p*_1 = 0, p*_2 = (a2, 0, 0), p*_3 = (a3, -d3, 0),
+ * p*_4 = (0, d4, 0), p*_5 = 0, p*_6 = (0, 0, d6); inward with the same
+ * zeros; tau_i = n_i . (0, sin alpha_i, cos alpha_i), a signed component. */
+void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload *payload,
+                  const double qd[ARM_NJ], const double qdd[ARM_NJ], const double g[3],
+                  double tau_Nm[ARM_NJ])
+{
+    const double a2 = m->a_m[1], a3 = m->a_m[2], d3 = m->d_m[2], d4 = m->d_m[3], d6 = m->d_m[5];
+    const double *c = cs->c, *s = cs->s;
+    double F[ARM_NJ][3], N[ARM_NJ][3], w[3], wd[3], vd[3], f[3], n[3], mg[3];
+    double Fp[3] = { 0.0, 0.0, 0.0 }, Np[3] = { 0.0, 0.0, 0.0 };
+    accel_map a;
+    int k;
+
+    /* joint 1 turns about the base z: w = (0, qd1, 0), wd = (0, qdd1, 0) in frame 1 */
+    mg[0] = -g[0];
+    mg[1] = -g[1];
+    mg[2] = -g[2];
+    w[0] = 0.0; w[1] = qd[0]; w[2] = 0.0;
+    wd[0] = 0.0; wd[1] = qdd[0]; wd[2] = 0.0;
+    rot_t(TWIST_P90, c[0], s[0], mg, vd);
+    {
+        /* link 1 adds only its moment about its joint axis (frame 1's y):
+         * (c x F)_y + N_y, with w x (I w) = 0 (w along y) */
+        const double *c1 = m->com_m[0];
+        const double w11 = w[1] * w[1];
+        F[0][0] = m->mass_kg[0] * (vd[0] - w11 * c1[0] + wd[1] * c1[2]);
+        F[0][2] = m->mass_kg[0] * (vd[2] - wd[1] * c1[0] - w11 * c1[2]);
+        N[0][1] = m->inertia_kgm2[0][4] * wd[1];
+    }
+
+    outward(TWIST_0, c[1], s[1], qd[1], qdd[1], w, wd, vd);
+    accel_map_of(w, wd, &a);
+    add_column(vd, &a, 0, a2);
+    link_wrench_diag(m, 1, &a, vd, wd, F[1], N[1]);
+
+    outward(TWIST_M90, c[2], s[2], qd[2], qdd[2], w, wd, vd);
+    accel_map_of(w, wd, &a);
+    add_column(vd, &a, 0, a3);
+    add_column(vd, &a, 1, -d3);
+    link_wrench_diag(m, 2, &a, vd, wd, F[2], N[2]);
+
+    outward(TWIST_P90, c[3], s[3], qd[3], qdd[3], w, wd, vd);
+    accel_map_of(w, wd, &a);
+    add_column(vd, &a, 1, d4);
+    link_wrench_diag(m, 3, &a, vd, wd, F[3], N[3]);
+
+    outward(TWIST_M90, c[4], s[4], qd[4], qdd[4], w, wd, vd);
+    accel_map_of(w, wd, &a);
+    link_wrench_diag(m, 4, &a, vd, wd, F[4], N[4]);
+
+    outward(TWIST_0, c[5], s[5], qd[5], qdd[5], w, wd, vd);
+    accel_map_of(w, wd, &a);
+    add_column(vd, &a, 2, d6);
+    link_wrench_diag(m, 5, &a, vd, wd, F[5], N[5]);
+    if (payload && payload->mass_kg > 0.0)
+        payload_wrench(payload, &a, w, vd, wd, Fp, Np);
+
+    /* inward: link 6, p*_6 x f = d6 (-f1, f0, 0) */
+    for (k = 0; k < 3; k++)
+        f[k] = F[5][k] + Fp[k];
+    n[0] = -d6 * f[1];
+    n[1] = d6 * f[0];
+    n[2] = 0.0;
+    add_link_moment(n, m->com_m[5], F[5], N[5]);
+    if (payload)
+        add_link_moment(n, payload->com_m, Fp, Np);
+    tau_Nm[5] = n[2];
+    /* link 5: p*_5 = 0 */
+    rot(TWIST_0, c[5], s[5], f, f);
+    rot(TWIST_0, c[5], s[5], n, n);
+    for (k = 0; k < 3; k++)
+        f[k] += F[4][k];
+    add_link_moment(n, m->com_m[4], F[4], N[4]);
+    tau_Nm[4] = -n[1];
+    /* link 4: p*_4 x f = d4 (f2, 0, -f0) */
+    rot(TWIST_M90, c[4], s[4], f, f);
+    rot(TWIST_M90, c[4], s[4], n, n);
+    for (k = 0; k < 3; k++)
+        f[k] += F[3][k];
+    n[0] += d4 * f[2];
+    n[2] -= d4 * f[0];
+    add_link_moment(n, m->com_m[3], F[3], N[3]);
+    tau_Nm[3] = n[1];
+    /* link 3: p*_3 x f = a3 (0, -f2, f1) - d3 (f2, 0, -f0) */
+    rot(TWIST_P90, c[3], s[3], f, f);
+    rot(TWIST_P90, c[3], s[3], n, n);
+    for (k = 0; k < 3; k++)
+        f[k] += F[2][k];
+    n[0] -= d3 * f[2];
+    n[1] -= a3 * f[2];
+    n[2] += a3 * f[1] + d3 * f[0];
+    add_link_moment(n, m->com_m[2], F[2], N[2]);
+    tau_Nm[2] = -n[1];
+    /* link 2: p*_2 x f = a2 (0, -f2, f1) */
+    rot(TWIST_M90, c[2], s[2], f, f);
+    rot(TWIST_M90, c[2], s[2], n, n);
+    for (k = 0; k < 3; k++)
+        f[k] += F[1][k];
+    n[1] -= a2 * f[2];
+    n[2] += a2 * f[1];
+    add_link_moment(n, m->com_m[1], F[1], N[1]);
+    tau_Nm[1] = n[2];
+    /* link 1: only the moment's y (its joint axis in frame 1) is wanted */
+    rot(TWIST_0, c[1], s[1], n, n);
+    tau_Nm[0] = n[1] + m->com_m[0][2] * F[0][0] - m->com_m[0][0] * F[0][2] + N[0][1];
+}
+
+/* ---- joint-space inertia (composite rigid bodies) ---------------------- */
+
+/* The composite of arm_dyn.c's CRBA (arm_composite), its entries by name */
+enum { XX = ARM_I_XX, YY = ARM_I_YY, ZZ = ARM_I_ZZ, XY = ARM_I_XY, YZ = ARM_I_YZ, XZ = ARM_I_XZ };
+typedef arm_composite composite;
+
+/* I <- Rx(alpha) I Rx(alpha)^T for alpha = +-90 deg: y and z swap, signs
+ * follow (docs/method/puma.md §5). */
+static inline void inertia_twist(int twist, double I[6])
+{
+    double t;
+    if (twist == TWIST_0)
+        return;
+    t = I[YY];
+    I[YY] = I[ZZ];
+    I[ZZ] = t;
+    I[YZ] = -I[YZ];
+    t = I[XY];
+    if (twist == TWIST_P90) {
+        I[XY] = -I[XZ];
+        I[XZ] = t;
+    } else {
+        I[XY] = I[XZ];
+        I[XZ] = -t;
+    }
+}
+
+/* I <- Rz(theta) I Rz(theta)^T */
+static inline void inertia_turn(double c, double s, double I[6])
+{
+    const double xx = I[XX], yy = I[YY], xy = I[XY], xz = I[XZ], yz = I[YZ];
+    const double cc = c * c, ss = s * s, cs = c * s;
+    I[XX] = cc * xx - 2.0 * cs * xy + ss * yy;
+    I[YY] = ss * xx + 2.0 * cs * xy + cc * yy;
+    I[XY] = cs * (xx - yy) + (cc - ss) * xy;
+    I[XZ] = c * xz - s * yz;
+    I[YZ] = s * xz + c * yz;
+}
+
+/* The composite in frame i+1 about its origin -> frame i about its own,
+ * p = (a ct, a st, d) the frame's origin; p = 0 for joints 1 and 5. */
+static void composite_to_parent(int twist, double c, double s, const double p[3], int has_p,
+                                composite *b)
+{
+    double *I = b->I, h[3], pp, ph;
+    int k;
+    rot(twist, c, s, b->h, h);
+    inertia_twist(twist, I);
+    inertia_turn(c, s, I);
+    if (has_p) {
+        pp = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+        ph = p[0] * h[0] + p[1] * h[1] + p[2] * h[2];
+        for (k = 0; k < 3; k++)
+            I[k] += b->m * (pp - p[k] * p[k]) + 2.0 * (ph - p[k] * h[k]);
+        I[XY] -= b->m * p[0] * p[1] + p[0] * h[1] + h[0] * p[1];
+        I[YZ] -= b->m * p[1] * p[2] + p[1] * h[2] + h[1] * p[2];
+        I[XZ] -= b->m * p[0] * p[2] + p[0] * h[2] + h[0] * p[2];
+        for (k = 0; k < 3; k++)
+            h[k] += b->m * p[k];
+    }
+    for (k = 0; k < 3; k++)
+        b->h[k] = h[k];
+}
+
+/* (n, f) of frame j+1 -> frame j: n += p*_j x f, then both turned by R_j;
+ * each case has its joint's twist and p*. */
+static void wrench_to_parent(const arm_model *m, int j, const arm_joint_cs *cs, double n[3],
+                             double f[3])
+{
+    const double c = cs->c[j], s = cs->s[j];
+    switch (j) {
+    case 0:
+        rot(TWIST_P90, c, s, n, n);
+        rot(TWIST_P90, c, s, f, f);
+        break;
+    case 1:
+        n[1] -= m->a_m[1] * f[2];
+        n[2] += m->a_m[1] * f[1];
+        rot(TWIST_0, c, s, n, n);
+        rot(TWIST_0, c, s, f, f);
+        break;
+    case 2:
+        n[0] -= m->d_m[2] * f[2];
+        n[1] -= m->a_m[2] * f[2];
+        n[2] += m->a_m[2] * f[1] + m->d_m[2] * f[0];
+        rot(TWIST_M90, c, s, n, n);
+        rot(TWIST_M90, c, s, f, f);
+        break;
+    case 3:
+        n[0] += m->d_m[3] * f[2];
+        n[2] -= m->d_m[3] * f[0];
+        rot(TWIST_P90, c, s, n, n);
+        rot(TWIST_P90, c, s, f, f);
+        break;
+    default: /* 4; joint 6's wrench is never carried further out */
+        rot(TWIST_M90, c, s, n, n);
+        rot(TWIST_M90, c, s, f, f);
+        break;
+    }
+}
+
+void arm_puma_mass_matrix(const arm_model *m, const arm_joint_cs *cs, const arm_link_ref L[ARM_NJ],
+                          double M[36])
+{
+    static const int twist[ARM_NJ] = { TWIST_P90, TWIST_0, TWIST_M90, TWIST_P90, TWIST_M90, TWIST_0 };
+    composite comp;
+    int i, j;
+    memset(&comp, 0, sizeof comp);
+    for (i = ARM_NJ - 1; i >= 0; i--) {
+        double n[3], f[3], p[3] = { 0.0, 0.0, 0.0 };
+        const double c = cs->c[i], s = cs->s[i];
+        arm_composite_add_link(&comp, &L[i]);
+        if (i == 1 || i == 2) {
+            p[0] = m->a_m[i] * c;
+            p[1] = m->a_m[i] * s;
+        }
+        p[2] = m->d_m[i];   /* d3, d4, d6; zero for the others */
+        switch (twist[i]) {
+        case TWIST_P90:
+            composite_to_parent(TWIST_P90, c, s, p, i != 0, &comp);
+            break;
+        case TWIST_0:
+            composite_to_parent(TWIST_0, c, s, p, 1, &comp);
+            break;
+        default:
+            composite_to_parent(TWIST_M90, c, s, p, i != 4, &comp);
+            break;
+        }
+        /* unit rate about z through the origin: n = I z, f = z x h */
+        n[0] = comp.I[XZ];
+        n[1] = comp.I[YZ];
+        n[2] = comp.I[ZZ];
+        f[0] = -comp.h[1];
+        f[1] = comp.h[0];
+        f[2] = 0.0;
+        M[i * 6 + i] = n[2];
+        for (j = i - 1; j >= 0; j--) {
+            wrench_to_parent(m, j, cs, n, f);
+            M[j * 6 + i] = M[i * 6 + j] = n[2];
+        }
+    }
+}
