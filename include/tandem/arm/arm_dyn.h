@@ -6,7 +6,8 @@
  *
  * Gravity is a vector in base coordinates; NULL means ARM_GRAVITY_DEFAULT
  * (0, 0, -9.81) m/s^2. A payload rigidly held at the flange is optional
- * (NULL = bare arm). Motor armature and friction are not modelled.
+ * (NULL = bare arm). The motors' reflected rotor inertia (armature_kgm2)
+ * sits on M's diagonal; friction is not modelled.
  */
 #ifndef TANDEM_ARM_DYN_H
 #define TANDEM_ARM_DYN_H

@@ -272,6 +272,15 @@ static inline void add_link_moment(double n[3], const double c[3], const double 
     n[2] += c[0] * F[1] - c[1] * F[0] + N[2];
 }
 
+/* The rotors' reflected inertia (arm_model.h armature_kgm2, Jm G^2) acts on
+ * each joint's own acceleration only: a diagonal term, as in arm_dyn.c. */
+static inline void add_armature_torque(const arm_model *m, const double qdd[ARM_NJ], double tau_Nm[ARM_NJ])
+{
+    int i;
+    for (i = 0; i < ARM_NJ; i++)
+        tau_Nm[i] += m->armature_kgm2[i] * qdd[i];
+}
+
 /* Outward by joints, with p*_1 = 0, p*_2 = (a2, 0, 0), p*_3 = (a3, -d3, 0),
  * p*_4 = (0, d4, 0), p*_5 = 0, p*_6 = (0, 0, d6); inward with the same
  * zeros; tau_i = n_i . (0, sin alpha_i, cos alpha_i), a signed component. */
@@ -378,6 +387,7 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload 
     /* link 1: only the moment's y (its joint axis in frame 1) is wanted */
     rot(TWIST_0, c[1], s[1], n, n);
     tau_Nm[0] = n[1] + m->com_m[0][2] * F[0][0] - m->com_m[0][0] * F[0][2] + N[0][1];
+    add_armature_torque(m, qdd, tau_Nm);
 }
 
 /* ---- joint-space inertia (composite rigid bodies) ---------------------- */
@@ -521,4 +531,6 @@ void arm_puma_mass_matrix(const arm_model *m, const arm_joint_cs *cs, const arm_
             M[j * 6 + i] = M[i * 6 + j] = n[2];
         }
     }
+    for (i = 0; i < ARM_NJ; i++)
+        M[i * 6 + i] += m->armature_kgm2[i]; /* the rotors' reflected inertia, as in arm_puma_rne */
 }
