@@ -17,7 +17,9 @@
     X(ARM_MODEL_ERR_ARG, "NULL model or name, or a non-finite joint or tool offset")            \
     X(ARM_MODEL_ERR_NONFINITE, "a model table entry is NaN or Inf")                             \
     X(ARM_MODEL_ERR_RANGE, "a length, joint range, speed or torque limit or mass out of range") \
-    X(ARM_MODEL_ERR_INCONSISTENT, "cos/sin_alpha do not match alpha, or an inertia is not SPD")
+    X(ARM_MODEL_ERR_INCONSISTENT, "cos/sin_alpha do not match alpha, or an inertia is not SPD") \
+    X(ARM_MODEL_ERR_STRUCTURE,                                                                  \
+      "claims the PUMA structure without its zeros and right angles, or an unknown structure")
 #define ARM_KIN_CODES(X)                                                      \
     X(0, "ok")                                                                \
     X(ARM_KIN_ERR_ARG, "NULL, or a non-finite joint vector or pose")          \
@@ -35,10 +37,12 @@
     X(0, "ok")                                                                          \
     X(JTRAJ_ERR_ARG, "non-finite q0/q1, speed fraction outside (0, 1] or qdd_max <= 0") \
     X(JTRAJ_ERR_STOP, "a stop from a non-finite q0/qd0, or a deceleration not finite and > 0")
-#define CARTCTL_CODES(X) \
-    X(0, "ok")           \
-    X(CARTCTL_ERR_ARG,   \
-      "NULL, non-finite input, invalid gains, or the kinematics or dynamics failed")
+#define CARTCTL_CODES(X)                                                             \
+    X(0, "ok")                                                                       \
+    X(CARTCTL_ERR_ARG,                                                               \
+      "NULL, non-finite input, invalid gains, or the kinematics or dynamics failed") \
+    X(CARTCTL_ERR_SINGULAR,                                                          \
+      "a diagonal block of the wrist inverse is singular (elbow or wrist singularity)")
 
 const char *arm_model_strerror(int rc);
 const char *arm_kin_strerror(int rc);
