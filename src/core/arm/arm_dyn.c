@@ -301,6 +301,25 @@ void arm_composite_add_link(arm_composite *b, const arm_link_ref *l)
     b->I[XZ] += Ic[2] - mx * c[2];
 }
 
+/* b, already turned into the parent's axes (I turned, its first moment h
+ * given turned), moved to the parent's origin p: the parallel-axis step
+ * I += m (|p|^2 E - p p^T) + 2 (p . h) E - (p h^T + h p^T), then
+ * b->h = h + m p. Shared with the folded CRBA (arm_puma.c). */
+void arm_composite_shift(arm_composite *b, const double p[3], const double h[3])
+{
+    double *I = b->I;
+    const double pp = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    const double ph = p[0] * h[0] + p[1] * h[1] + p[2] * h[2];
+    int k;
+    for (k = 0; k < 3; k++)
+        I[k] += b->m * (pp - p[k] * p[k]) + 2.0 * (ph - p[k] * h[k]);
+    I[XY] -= b->m * p[0] * p[1] + p[0] * h[1] + h[0] * p[1];
+    I[YZ] -= b->m * p[1] * p[2] + p[1] * h[2] + h[1] * p[2];
+    I[XZ] -= b->m * p[0] * p[2] + p[0] * h[2] + h[0] * p[2];
+    for (k = 0; k < 3; k++)
+        b->h[k] = h[k] + b->m * p[k];
+}
+
 /* I <- G I G^T for G the rotation by (c, s) in the plane of axes (a, b),
  * k the third axis: only the entries touching a or b change. */
 static inline void sym_rotate_plane(double *aa, double *bb, double *ab, double *ak, double *bk,
@@ -324,20 +343,11 @@ static void origin_body_to_parent(const arm_model *m, int i, const arm_joint_cs 
                                   origin_body *b)
 {
     const double p[3] = { m->a_m[i] * cs->c[i], m->a_m[i] * cs->s[i], m->d_m[i] };
-    double *I = b->I, h[3], pp, ph;
-    int k;
+    double *I = b->I, h[3];
     dh_rot(m, i, cs, b->h, h);
     sym_rotate_plane(&I[YY], &I[ZZ], &I[YZ], &I[XY], &I[XZ], m->cos_alpha[i], m->sin_alpha[i]);
     sym_rotate_plane(&I[XX], &I[YY], &I[XY], &I[XZ], &I[YZ], cs->c[i], cs->s[i]);
-    pp = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
-    ph = p[0] * h[0] + p[1] * h[1] + p[2] * h[2];
-    for (k = 0; k < 3; k++)
-        I[k] += b->m * (pp - p[k] * p[k]) + 2.0 * (ph - p[k] * h[k]);
-    I[XY] -= b->m * p[0] * p[1] + p[0] * h[1] + h[0] * p[1];
-    I[YZ] -= b->m * p[1] * p[2] + p[1] * h[2] + h[1] * p[2];
-    I[XZ] -= b->m * p[0] * p[2] + p[0] * h[2] + h[0] * p[2];
-    for (k = 0; k < 3; k++)
-        b->h[k] = h[k] + b->m * p[k];
+    arm_composite_shift(b, p, h);
 }
 
 /* (n, f) of frame i+1 -> frame i, n about the frame origin:

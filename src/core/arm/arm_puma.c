@@ -434,21 +434,14 @@ static inline void inertia_turn(double c, double s, double I[6])
 static void composite_to_parent(int twist, double c, double s, const double p[3], int has_p,
                                 composite *b)
 {
-    double *I = b->I, h[3], pp, ph;
+    double h[3];
     int k;
     rot(twist, c, s, b->h, h);
-    inertia_twist(twist, I);
-    inertia_turn(c, s, I);
+    inertia_twist(twist, b->I);
+    inertia_turn(c, s, b->I);
     if (has_p) {
-        pp = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
-        ph = p[0] * h[0] + p[1] * h[1] + p[2] * h[2];
-        for (k = 0; k < 3; k++)
-            I[k] += b->m * (pp - p[k] * p[k]) + 2.0 * (ph - p[k] * h[k]);
-        I[XY] -= b->m * p[0] * p[1] + p[0] * h[1] + h[0] * p[1];
-        I[YZ] -= b->m * p[1] * p[2] + p[1] * h[2] + h[1] * p[2];
-        I[XZ] -= b->m * p[0] * p[2] + p[0] * h[2] + h[0] * p[2];
-        for (k = 0; k < 3; k++)
-            h[k] += b->m * p[k];
+        arm_composite_shift(b, p, h);
+        return;
     }
     for (k = 0; k < 3; k++)
         b->h[k] = h[k];

@@ -27,6 +27,9 @@ typedef struct arm_composite {
 
 /* b += link l (arm_dyn.c; both CRBAs use it). */
 void arm_composite_add_link(arm_composite *b, const arm_link_ref *l);
+/* b, turned into the parent's axes (h: its first moment, turned), moved to
+ * the parent's origin p (parallel-axis step); arm_dyn.c. */
+void arm_composite_shift(arm_composite *b, const double p[3], const double h[3]);
 
 /* Every frame F[0..6] as arm_link_frames gives them, F[6] the flange
  * (docs/method/puma.md §2). */
