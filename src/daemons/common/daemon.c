@@ -351,16 +351,24 @@ static void ack(daemon *d, int64_t step, int leaving)
     lockstep_ack(d->lcm, d->name, d->ack_seq++, step, d->period_steps, leaving);
 }
 
-/* Resident memory in kB (/proc/self/statm), 0 if it cannot be read. */
+/* Resident memory in kB (/proc/self/statm), 0 if it cannot be read. Read
+ * with open/read into a stack buffer: it runs in the loop's health tick,
+ * where stdio's buffer would be an allocation. */
 static long rss_kb(void)
 {
+    char text[96];
     long size = 0, resident = 0;
-    FILE *f = fopen("/proc/self/statm", "r");
-    if (!f)
+    ssize_t n;
+    const int fd = open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
         return 0;
-    if (fscanf(f, "%ld %ld", &size, &resident) != 2)
-        resident = 0;
-    fclose(f);
+    n = read(fd, text, sizeof text - 1);
+    close(fd);
+    if (n <= 0)
+        return 0;
+    text[n] = 0;
+    if (sscanf(text, "%ld %ld", &size, &resident) != 2)
+        return 0;
     return resident * (sysconf(_SC_PAGESIZE) / 1024);
 }
 
