@@ -6,6 +6,9 @@
  *    supervisor could have written (NaN pose, next row -5) is refused:
  *    exit 1, the file, the record and why on stderr. --journal-reset
  *    starts fresh on purpose.
+ * 1b. A journal of another task -- the same net with other rows, whose
+ *    snapshots would fit -- is refused naming the record and both tasks;
+ *    tasks/carry (the shipped carry as files) is the same task.
  * 2. A journal on a full disk (/dev/full): the supervisor holds -- one
  *    HOLD line, no row sent -- while the simulator offers workpieces.
  * 3. A rover whose journal is on a full disk stops: every command it
@@ -26,10 +29,12 @@
 #include "auth_bus.h"
 #include "carry_net.h"
 #include "journal.h"
+#include "taskdef.h"
 #include "tandem_health_t.h"
 #include "tandem_rover_command_t.h"
 
-#define SNAP_HEAD 27
+#define SNAP_HEAD 32
+#define SNAP_TASK 27      /* digest (2 halves), name (3 parts of 6 bytes) */
 #define SNAP_LEN  (SNAP_HEAD + CARRY_N_PLACES + 6 * CARRY_N_TRANSITIONS)
 
 /* What the tests share (cmocka's state). */
@@ -42,10 +47,16 @@ typedef struct ctx {
 static int fresh_snapshot(double *v)
 {
     int i;
+    const uint64_t digest = taskdef_digest(&carry_net, carry_table);
+    const char *name = "carry";
     memset(v, 0, SNAP_LEN * sizeof *v);
-    v[0] = 2;           /* version */
+    v[0] = 3;           /* version */
     v[1] = 100;         /* step */
     v[4] = 1;           /* next row */
+    v[SNAP_TASK] = (double)(digest >> 32);
+    v[SNAP_TASK + 1] = (double)(digest & 0xffffffffu);
+    for (i = 0; name[i]; i++)
+        v[SNAP_TASK + 2 + i / 6] += (double)((uint64_t)(unsigned char)name[i] << (8 * (i % 6)));
     for (i = 0; i < CARRY_N_PLACES; i++)
         v[SNAP_HEAD + i] = carry_net.m0[i];
     return SNAP_LEN;
@@ -138,6 +149,47 @@ static void test_journal_refused_or_resumed(void **state)
     expect_refused(c, path, "record 2 (line 2)", "wp_pos_x = nan");
     /* --journal-reset: starts fresh on purpose */
     assert_int_equal(supervisor(c, path, "--journal-reset", err, sizeof err), -1);
+}
+
+/* A journal of the shipped carry, and a supervisor started on it with
+ * another task: refused, naming the record and both tasks, even when the
+ * other task's snapshot has the carry's size (its net, other rows) and
+ * would be taken without the check. */
+static void test_journal_of_another_task_refused(void **state)
+{
+    static char err[8192];
+    char path[400], task[400], extra[600];
+    const char *need[4];
+    double v[SNAP_LEN];
+    const journal_key key = run_key();
+    ctx *c = *state;
+    int i;
+    snprintf(path, sizeof path, "%s/task.journal", c->dir);
+    snprintf(task, sizeof task, "%s/carry_t1_fine", c->dir);
+    assert_int_equal(harness_sh("mkdir -p %s && cp tasks/carry/carry.pnml %s/ && "
+                                "sed 's/^t1,yes,FREE,/t1,yes,FINE,/' tasks/carry/rows.csv >%s/rows.csv",
+                                task, task, task), 0);
+    fresh_snapshot(v);
+    /* tasks/carry is the shipped carry as files: the same task, resumed */
+    write_journal(path, &key, v);
+    assert_int_equal(supervisor(c, path, "--task tasks/carry", err, sizeof err), -1);
+    /* the same net with t1's gains changed: another task */
+    write_journal(path, &key, v);
+    snprintf(extra, sizeof extra, "--task %s", task);
+    assert_int_equal(supervisor(c, path, extra, err, sizeof err), 1);
+    need[0] = "record 2 (line 2)";
+    need[1] = "written for task 'carry'";
+    need[2] = task;
+    need[3] = "SUPERVISOR_ERR_OTHER_TASK";
+    for (i = 0; i < 4; i++)
+        if (!strstr(err, need[i]))
+            fail_msg("the refusal does not name %s:\n%s", need[i], err);
+    if (!strstr(err, path))
+        fail_msg("the refusal does not name the journal %s:\n%s", path, err);
+    printf("%s", err);
+    /* --journal-reset: the other task starts fresh on purpose */
+    snprintf(extra, sizeof extra, "--task %s --journal-reset", task);
+    assert_int_equal(supervisor(c, path, extra, err, sizeof err), -1);
 }
 
 /* The supervisor with its journal on a full disk and the simulator
@@ -237,6 +289,7 @@ int main(void)
     static ctx c;
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_prestate(test_journal_refused_or_resumed, &c),
+        cmocka_unit_test_prestate(test_journal_of_another_task_refused, &c),
         cmocka_unit_test_prestate(test_disk_full_holds, &c),
         cmocka_unit_test_prestate(test_rover_disk_full_stops, &c),
     };

@@ -82,6 +82,15 @@ int taskdef_roles_find(const petri_net *net, taskdef_roles *r);
  * TASKDEF_ERR_*. For start-up checks. */
 int taskdef_validate(const petri_net *net, const carry_row *rows, taskdef_roles *r);
 
+/* What a task does, in 64 bits (FNV-1a): the net's sizes, N-, N+, its
+ * inhibitor arcs and initial marking, and every transition's row (arms,
+ * target poses, grippers, gains bit for bit, sync group, segments) --
+ * not the names of anything. The shipped carry and tasks/carry compiled
+ * back give the same digest; a task with another net or other rows, a
+ * different one. A journal records it (tandem-supervisor --journal), so
+ * that a restart with another task does not resume from it. */
+uint64_t taskdef_digest(const petri_net *net, const carry_row *rows);
+
 /* 1 if arm a (0, 1) sets a workpiece down in row r where no delivery is
  * (a RELEASE not at the release pose and not handed to the partner, which
  * grasps in the same row): the task needs a stand at the hand-over. */

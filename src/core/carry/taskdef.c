@@ -11,6 +11,74 @@ static int8_t entry(const int8_t *tab, const petri_net *n, int i, int j)
     return tab ? tab[i * n->n_transitions + j] : 0;
 }
 
+#define FNV_OFFSET 14695981039346656037ULL
+#define FNV_PRIME 1099511628211ULL
+
+static uint64_t fnv_byte(uint64_t h, uint8_t b)
+{
+    return (h ^ b) * FNV_PRIME;
+}
+
+/* v as 8 bytes, least significant first (the same on every host) */
+static uint64_t fnv_u64(uint64_t h, uint64_t v)
+{
+    int i;
+    for (i = 0; i < 8; i++)
+        h = fnv_byte(h, (uint8_t)(v >> (8 * i)));
+    return h;
+}
+
+static uint64_t fnv_int(uint64_t h, long v)
+{
+    return fnv_u64(h, (uint64_t)(int64_t)v);
+}
+
+static uint64_t fnv_double(uint64_t h, double d)
+{
+    union { double d; uint64_t u; } bits;
+    bits.d = d;
+    return fnv_u64(h, bits.u);
+}
+
+uint64_t taskdef_digest(const petri_net *net, const carry_row *rows)
+{
+    uint64_t h = FNV_OFFSET;
+    int i, j, a, k;
+    if (!net)
+        return 0;
+    h = fnv_int(h, net->n_places);
+    h = fnv_int(h, net->n_transitions);
+    for (i = 0; i < net->n_places; i++) {
+        h = fnv_int(h, net->m0 ? net->m0[i] : 0);
+        for (j = 0; j < net->n_transitions; j++) {
+            h = fnv_int(h, entry(net->n_minus, net, i, j));
+            h = fnv_int(h, entry(net->n_plus, net, i, j));
+            h = fnv_int(h, entry(net->n_inhibit, net, i, j));
+        }
+    }
+    for (j = 0; rows && j < net->n_transitions; j++) {
+        const carry_row *r = &rows[j];
+        const double g[8] = { r->lin.v_m, r->lin.a_m, r->lin.u_m, r->lin.k_p,
+                              r->lin.k_v, r->lin.k0,  r->lin.k1,  r->lin.k2 };
+        h = fnv_int(h, r->arms);
+        h = fnv_int(h, r->sync_group);
+        for (k = 0; k < 8; k++)
+            h = fnv_double(h, g[k]);
+        for (a = 0; a < 2; a++) {
+            const carry_arm_plan *p = &r->plan[a];
+            h = fnv_int(h, r->target_pose[a]);
+            h = fnv_int(h, r->gripper[a]);
+            h = fnv_int(h, p->n_segments);
+            h = fnv_int(h, p->after_partner);
+            for (k = 0; k < p->n_segments && k < CARRY_MAX_SEGMENTS; k++) {
+                h = fnv_int(h, p->seg[k].kind);
+                h = fnv_int(h, p->seg[k].pose);
+            }
+        }
+    }
+    return h;
+}
+
 void taskdef_bind(taskdef *t)
 {
     t->net.n_places = t->n_places;

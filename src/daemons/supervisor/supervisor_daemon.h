@@ -52,6 +52,7 @@ typedef struct supervisor_daemon {
     const carry_row *rows;          /* row t for transition t */
     taskdef_roles roles;
     int     token_bound;            /* the start-up check's bound per place */
+    uint64_t task_digest;           /* taskdef_digest of pn and rows: journalled */
     petri   net;
     sup_slot slot[PETRI_MAX_TRANSITIONS];
     int     controller;             /* action_row_t CONTROLLER_* */
@@ -110,6 +111,8 @@ typedef struct supervisor_daemon {
 #define SUPERVISOR_ERR_SNAPSHOT (-3)  /* a journal snapshot this net cannot take */
 #define SUPERVISOR_ERR_JOURNAL (-4)   /* the journal is refused or does not open (said) */
 #define SUPERVISOR_ERR_TASK (-5)      /* --task refused: a file, the net or its rows (said) */
+#define SUPERVISOR_ERR_OTHER_TASK (-6) /* the journal was written for another task
+                                          (taskdef_digest); --journal-reset */
 const char *supervisor_strerror(int rc);
 
 /* The row of transition t (t a transition of the task). */

@@ -7,7 +7,10 @@
  * wrong state would send the arms rows for a cell that is not there.
  * A journal that cannot be written holds the cell (no new rows) until it
  * can be written again: state that is not on the disk would be lost by a
- * restart. Format and policy: docs/carry.md "Recovery".
+ * restart. Every record names the task it was written for (its
+ * taskdef_digest and its name): a supervisor started on it with another
+ * task (--task) refuses it, naming both, unless --journal-reset. Format
+ * and policy: docs/carry.md "Recovery".
  */
 #include <errno.h>
 #include <math.h>
@@ -16,7 +19,7 @@
 #include "supervisor_daemon.h"
 #include "vec3.h"
 
-#define SNAP_HEAD 27
+#define SNAP_HEAD 32
 /* values in a snapshot of the task's net: the head, the marking, and
  * per transition and arm the slot's state, row id and step sent */
 #define SNAP_LEN(pn) (SNAP_HEAD + (pn)->n_places + 6 * (pn)->n_transitions)
@@ -24,11 +27,16 @@
 typedef char snap_fits_a_record[SNAP_HEAD + PETRI_MAX_PLACES + 6 * PETRI_MAX_TRANSITIONS <= JOURNAL_MAX_VALUES ? 1 : -1];
 #define RUNNING_MAX 4294967295.0   /* a uint32_t running set; petri_set_state
                                       refuses bits of transitions the task lacks */
-#define SNAP_VERSION 2
+#define SNAP_VERSION 3
 #define ID_MAX 2147483647.0        /* int32 ids and counters */
 #define COUNT_MAX 9007199254740992.0   /* 2^53: exact in a double */
 #define POS_MAX_M 10.0             /* a workpiece pose outside this is not the cell's */
 #define YAW_MAX_RAD 0.5            /* what on_vision accepts */
+#define HALF_MAX 4294967295.0      /* a 32-bit half of the task's digest */
+#define NAME_PART_MAX 281474976710655.0   /* 6 bytes of the task's name */
+#define SNAP_TASK 27               /* the task: digest (2 halves), name (3 parts) */
+#define NAME_PARTS 3
+#define NAME_BYTES 6
 
 /* The head of a snapshot: name and range of each value (integers unless
  * real), checked before anything is restored. */
@@ -53,7 +61,54 @@ static const snap_field head_fields[SNAP_HEAD] = {
     { "replans", 0, ID_MAX, 0 }, { "deadlocks", 0, ID_MAX, 0 },
     { "faults", 0, ID_MAX, 0 }, { "stalls", 0, ID_MAX, 0 },
     { "invariant_violations", 0, COUNT_MAX, 0 },
+    { "task_digest_hi", 0, HALF_MAX, 0 }, { "task_digest_lo", 0, HALF_MAX, 0 },
+    { "task_name_0", 0, NAME_PART_MAX, 0 }, { "task_name_1", 0, NAME_PART_MAX, 0 },
+    { "task_name_2", 0, NAME_PART_MAX, 0 },
 };
+
+/* The name of the running task: its net's (--task), or the shipped carry's. */
+static const char *task_name(const supervisor_daemon *sv)
+{
+    return sv->task ? sv->task->task : "carry";
+}
+
+/* The task into v[SNAP_TASK..]: the digest in two exact halves, the first
+ * NAME_PARTS * NAME_BYTES bytes of the name, NAME_BYTES to a value. */
+static void task_values(const supervisor_daemon *sv, double *v)
+{
+    const char *name = task_name(sv);
+    int p, b, end = 0;
+    v[SNAP_TASK] = (double)(sv->task_digest >> 32);
+    v[SNAP_TASK + 1] = (double)(sv->task_digest & 0xffffffffu);
+    for (p = 0; p < NAME_PARTS; p++) {
+        uint64_t part = 0;
+        for (b = 0; b < NAME_BYTES; b++) {
+            const unsigned char c = end ? 0 : (unsigned char)name[p * NAME_BYTES + b];
+            end = end || c == 0;
+            part |= (uint64_t)c << (8 * b);
+        }
+        v[SNAP_TASK + 2 + p] = (double)part;
+    }
+}
+
+/* A record's task name (checked values), printable, into out. */
+static void task_name_of(const double *v, char *out, size_t cap)
+{
+    size_t n = 0;
+    int p, b;
+    for (p = 0; p < NAME_PARTS; p++) {
+        const uint64_t part = (uint64_t)v[SNAP_TASK + 2 + p];
+        for (b = 0; b < NAME_BYTES && n + 1 < cap; b++) {
+            const unsigned char c = (unsigned char)(part >> (8 * b));
+            if (c == 0) {
+                out[n] = 0;
+                return;
+            }
+            out[n++] = (char)(c >= 0x20 && c < 0x7f ? c : '?');
+        }
+    }
+    out[n] = 0;
+}
 
 static int snapshot(supervisor_daemon *sv, double *v)
 {
@@ -67,6 +122,8 @@ static int snapshot(supervisor_daemon *sv, double *v)
     v[n++] = sv->last_fired; v[n++] = sv->blockages;
     v[n++] = sv->rows_reissued; v[n++] = sv->dones_recovered; v[n++] = sv->replans; v[n++] = sv->deadlocks;
     v[n++] = sv->faults; v[n++] = sv->stall.stalls; v[n++] = (double)sv->net.invariant_violations;
+    task_values(sv, v);
+    n += 2 + NAME_PARTS;
     for (i = 0; i < sv->pn->n_places; i++) v[n++] = sv->net.st.m[i];
     for (i = 0; i < sv->pn->n_transitions; i++)
         for (a = 0; a < 2; a++) {
@@ -161,6 +218,39 @@ static int refuse(const supervisor_daemon *sv, const journal_report *rep, const 
     return SUPERVISOR_ERR_JOURNAL;
 }
 
+/* The record's version and task before anything else: a journal of
+ * another task (or of an older supervisor) is refused naming both. 0, or
+ * SUPERVISOR_ERR_JOURNAL after saying why. */
+static int same_task(const supervisor_daemon *sv, const journal_report *rep, const double *v, int n)
+{
+    char why[400], theirs[NAME_PARTS * NAME_BYTES + 1];
+    int i;
+    uint64_t digest;
+    if (n < 1 || v[0] != SNAP_VERSION) {
+        snprintf(why, sizeof why, "version %.17g: this supervisor reads version %d (a journal of an older "
+                 "tandem-supervisor)", n < 1 ? 0.0 : v[0], SNAP_VERSION);
+        return refuse(sv, rep, supervisor_strerror(SUPERVISOR_ERR_SNAPSHOT), why);
+    }
+    if (n < SNAP_HEAD) {
+        snprintf(why, sizeof why, "%d values, fewer than a snapshot's head (%d)", n, SNAP_HEAD);
+        return refuse(sv, rep, supervisor_strerror(SUPERVISOR_ERR_SNAPSHOT), why);
+    }
+    for (i = SNAP_TASK; i < SNAP_TASK + 2 + NAME_PARTS; i++)
+        if (!in_range(v[i], head_fields[i].lo, head_fields[i].hi, 0)) {
+            snprintf(why, sizeof why, "%s = %.17g is outside [%g, %g] or not a whole number", head_fields[i].name,
+                     v[i], head_fields[i].lo, head_fields[i].hi);
+            return refuse(sv, rep, supervisor_strerror(SUPERVISOR_ERR_SNAPSHOT), why);
+        }
+    digest = ((uint64_t)v[SNAP_TASK] << 32) | (uint64_t)v[SNAP_TASK + 1];
+    if (digest == sv->task_digest)
+        return 0;
+    task_name_of(v, theirs, sizeof theirs);
+    snprintf(why, sizeof why, "written for task '%s' (digest %016llx), but this supervisor runs task '%s' from %s "
+             "(digest %016llx)", theirs, (unsigned long long)digest, task_name(sv),
+             sv->task_dir ? sv->task_dir : "the shipped carry", (unsigned long long)sv->task_digest);
+    return refuse(sv, rep, supervisor_strerror(SUPERVISOR_ERR_OTHER_TASK), why);
+}
+
 /* The last record of the journal, checked and restored: 0 (restored, or
  * no journal yet), or SUPERVISOR_ERR_JOURNAL after saying why. */
 static int resume(supervisor_daemon *sv)
@@ -178,6 +268,8 @@ static int resume(supervisor_daemon *sv)
     }
     if (n < 0)
         return refuse(sv, &rep, journal_strerror(n), rep.why);
+    if (same_task(sv, &rep, v, n) != 0)
+        return SUPERVISOR_ERR_JOURNAL;
     if (n != SNAP_LEN(sv->pn)) {
         snprintf(why, sizeof why, "%d values where a snapshot of this supervisor's task has %d", n, SNAP_LEN(sv->pn));
         return refuse(sv, &rep, supervisor_strerror(SUPERVISOR_ERR_SNAPSHOT), why);

@@ -78,6 +78,7 @@ const char *supervisor_strerror(int rc)
     case SUPERVISOR_ERR_SNAPSHOT: return "SUPERVISOR_ERR_SNAPSHOT";
     case SUPERVISOR_ERR_JOURNAL: return "SUPERVISOR_ERR_JOURNAL";
     case SUPERVISOR_ERR_TASK: return "SUPERVISOR_ERR_TASK";
+    case SUPERVISOR_ERR_OTHER_TASK: return "SUPERVISOR_ERR_OTHER_TASK";
     default: return "SUPERVISOR_ERR_?";
     }
 }
@@ -361,6 +362,7 @@ int main(int argc, char **argv)
         return 2;
     if (check_tables(sv) != 0 || check_net(sv) != 0)
         return 1;
+    sv->task_digest = taskdef_digest(sv->pn, sv->rows);
     if (petri_init(&sv->net, sv->pn) != 0 || stallwatch_init(&sv->stall, sv->stall_s) != 0 ||
         stallwatch_set_obstruct_max(&sv->stall, sv->stall_obstructed_s) != 0)
         return 1;

@@ -1,12 +1,15 @@
 /* Unit tests for taskdef (docs/tasks.md §7): the roles found from the
  * carry net's structure are the carry's own indices, the same net with
  * its places and transitions in another order gives the permuted roles,
- * and every way a net can lack a role is refused with its own code. */
+ * and every way a net can lack a role is refused with its own code. The
+ * digest a journal records (taskdef_digest) is the carry's for a copy of
+ * it, whatever its names, and another for any other arc, marking or row. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "taskdef.h"
@@ -48,6 +51,37 @@ static void test_roles_of_the_carry(void **st)
     assert_int_equal(r.source, CARRY_T_VISION);
     assert_int_equal(r.source_place, CARRY_P1);
     assert_int_equal(r.pick, CARRY_T1);
+}
+
+/* The same task, copied and renamed: the same digest; one arc, one
+ * token, one gain, one segment or a renumbering: another. */
+static void test_digest(void **st)
+{
+    static taskdef t;
+    static const int pt[NT] = { 1, 0, 2, 3, 4, 5, 6, 7 };
+    const uint64_t carry = taskdef_digest(&carry_net, carry_table);
+    (void)st;
+    assert_true(carry != 0);
+    task_from_carry(&t, ID_P, ID_T);
+    snprintf(t.task, sizeof t.task, "renamed");
+    t.rows[0].name = "another name";
+    assert_true(taskdef_digest(&t.net, t.rows) == carry);
+    /* the digest of the net alone is not the task's */
+    assert_true(taskdef_digest(&t.net, NULL) != carry);
+    t.rows[0].lin.v_m *= 1.0000001;
+    assert_true(taskdef_digest(&t.net, t.rows) != carry);
+    task_from_carry(&t, ID_P, ID_T);
+    t.rows[2].plan[1].seg[0].pose = (int8_t)(t.rows[2].plan[1].seg[0].pose + 1);
+    assert_true(taskdef_digest(&t.net, t.rows) != carry);
+    task_from_carry(&t, ID_P, ID_T);
+    t.m0[3] = (uint8_t)(t.m0[3] + 1);
+    assert_true(taskdef_digest(&t.net, t.rows) != carry);
+    task_from_carry(&t, ID_P, ID_T);
+    t.n_inhibit[0] = (int8_t)!t.n_inhibit[0];
+    assert_true(taskdef_digest(&t.net, t.rows) != carry);
+    task_from_carry(&t, ID_P, pt);
+    assert_true(taskdef_digest(&t.net, t.rows) != carry);
+    assert_true(taskdef_digest(NULL, carry_table) == 0);
 }
 
 /* The roles follow the structure, not the order of the tables. */
@@ -141,6 +175,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_roles_of_the_carry),
+        cmocka_unit_test(test_digest),
         cmocka_unit_test(test_roles_permuted),
         cmocka_unit_test(test_roles_refused),
         cmocka_unit_test(test_sets_down),
