@@ -54,6 +54,7 @@ typedef struct sim_participant {
     char    name[DAEMON_NAME_MAX];
     int32_t period_steps;
     int64_t last_ack;        /* last step answered */
+    int64_t first_ack;       /* the step it joined on (its first answer) */
     int     active;
     peer_watch peer;         /* its pid (from its acks) and when last heard */
 } sim_participant;
@@ -68,8 +69,10 @@ typedef struct sim_world {
     uint64_t      seed;
     int           lockstep;
     int           paused;
-    lcm_t        *lcm;
-    daemon        d;               /* options, counters, health, loop stats */
+    daemon        d;               /* options, counters, health, loop stats; its
+                                      LCM handle (d.lcm) is renewed under a flood
+                                      of channel names (daemon_names_watch): read
+                                      it there each time, keep no copy */
     sim_contact   contact[SIM_MAX_CONTACTS];
     int           n_contacts;
     int64_t       contacts_dropped;
@@ -159,6 +162,11 @@ extern const sim_model_ops sim_rovers_ops;       /* state: sim_rovers (sim_rover
 /* lockstep registry (sim_lockstep.c) */
 void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t period, int leaving,
                          int32_t pid);
+/* The step from which participant name's outputs at step k are owed (k
+ * rounded down to its period, if it is active and had joined by then),
+ * or -1: nothing owed (not a participant, left, dropped, or joined
+ * later). */
+int64_t sim_lockstep_owed_step(const sim_world *w, const char *name, int64_t k);
 /* 1 when every participant due at step k has answered it. */
 int  sim_lockstep_ready(const sim_world *w, int64_t k);
 /* 1 if some participant must answer step k. */

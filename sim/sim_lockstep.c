@@ -34,9 +34,10 @@ void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t p
         memset(p, 0, sizeof *p);
         snprintf(p->name, sizeof p->name, "%s", name);
         p->last_ack = -1;
+        p->first_ack = step;
         p->peer.heard_ns = rtloop_now_ns();
-        fprintf(stderr, "tandem-sim: lockstep participant '%s' joined (every %d steps)\n",
-                name, (int)period);
+        fprintf(stderr, "tandem-sim: lockstep participant '%s' joined (every %d steps)\n", name,
+                (int)period);
     }
     if (leaving) {
         if (p->active)
@@ -48,11 +49,29 @@ void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t p
      * does not bring it back; answering a new step does */
     if (!p->active && step <= p->last_ack)
         return;
+    if (!p->active)
+        p->first_ack = step; /* back (a restarted controller): owes from here */
     p->active = 1;
     peer_heard(&p->peer, pid, rtloop_now_ns());
     p->period_steps = period < 1 ? 1 : period;
     if (step > p->last_ack)
         p->last_ack = step;
+}
+
+int64_t sim_lockstep_owed_step(const sim_world *w, const char *name, int64_t k)
+{
+    int i;
+    for (i = 0; i < w->n_part; i++) {
+        const sim_participant *p = &w->part[i];
+        int64_t due;
+        if (strcmp(p->name, name) != 0)
+            continue;
+        if (!p->active)
+            return -1;
+        due = k - k % p->period_steps;
+        return due >= p->first_ack ? due : -1;
+    }
+    return -1;
 }
 
 int sim_lockstep_ready(const sim_world *w, int64_t k)
@@ -98,7 +117,9 @@ int sim_lockstep_drop_dead(sim_world *w, int64_t k)
         sim_participant *p = &w->part[i];
         if (!is_late(p, k) || !peer_dead(&p->peer, now, silent_ns))
             continue;
-        fprintf(stderr, "tandem-sim: lockstep participant '%s' (pid %ld) did not answer step %lld and is %s; dropped\n",
+        fprintf(stderr,
+                "tandem-sim: lockstep participant '%s' (pid %ld) did not answer step %lld and is "
+                "%s; dropped\n",
                 p->name, (long)p->peer.pid, (long long)k,
                 peer_proc_of(p->peer.pid) == PEER_PROC_GONE ? "gone" : "silent");
         p->active = 0;

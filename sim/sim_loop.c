@@ -113,7 +113,7 @@ static void publish_clock(sim_app *app)
     c.mode = app->w.lockstep ? TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP : TANDEM_SIM_CLOCK_T_MODE_REALTIME;
     c.paused = (int8_t)app->w.paused;
     c.seed = (int64_t)app->w.seed;
-    AUTH_PUBLISH(tandem_sim_clock_t, app->w.lcm, "SIM_CLOCK", &c);
+    AUTH_PUBLISH(tandem_sim_clock_t, app->w.d.lcm, "SIM_CLOCK", &c);
 }
 
 void sim_publish_status(sim_app *app)
@@ -136,7 +136,7 @@ void sim_publish_status(sim_app *app)
     for (i = 0; i < app->n_models; i++)
         if (app->models[i].ops->status)
             app->models[i].ops->status(app->models[i].state, &app->w, &s);
-    AUTH_PUBLISH(tandem_sim_status_t, app->w.lcm, "SIM_STATUS", &s);
+    AUTH_PUBLISH(tandem_sim_status_t, app->w.d.lcm, "SIM_STATUS", &s);
 }
 
 /* ---- the step ------------------------------------------------------------- */
@@ -272,7 +272,7 @@ static void wait_for_answers(sim_app *app)
             if (again_ns < SIM_REANNOUNCE_MAX_NS)
                 again_ns *= 2;
         }
-        lcm_handle_timeout(app->w.lcm, 1);   /* the re-announce timer's resolution */
+        lcm_handle_timeout(app->w.d.lcm, 1);   /* the re-announce timer's resolution */
         /* health goes on while waiting: a simulator held by a silent
          * controller is alive, and its health says so (a scenario takes a
          * daemon without health for hung) */
@@ -280,6 +280,10 @@ static void wait_for_answers(sim_app *app)
             app->w.d.last_health_ns = now;
             daemon_publish_health(&app->w.d);
         }
+        /* a long wait (the start, a pause) under a flood of channel names:
+         * the new handle is subscribed before the old one is read for the
+         * last time, so no answer is lost */
+        daemon_names_watch(&app->w.d);
         if (app->reset_pending)
             return;
     }
@@ -302,6 +306,11 @@ void sim_run_lockstep(sim_app *app)
         }
         if (daemon_stop_requested())
             break;
+        /* the bound on LCM's table of channel names: here, with every
+         * answer to this step in and the next step not announced yet, a
+         * renewed handle has nothing in flight to lose; the step, the
+         * participants and the held commands are the world's, not LCM's */
+        daemon_names_watch(&app->w.d);
         t0 = rtloop_now_ns();
         advance(app);
         rtloop_record(&app->w.d.loop, t0);
@@ -330,5 +339,6 @@ void sim_run_realtime(sim_app *app)
             app->w.d.last_health_ns = l->wake_ns;
             daemon_publish_health(&app->w.d);
         }
+        daemon_names_watch(&app->w.d);   /* after the step, as the daemons do */
     }
 }

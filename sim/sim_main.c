@@ -216,10 +216,8 @@ int main(int argc, char **argv)
     if (setup(app, argc, argv, &status) != 0)
         return status;
     auth_bus_identity(AUTH_ROLE_SIM, 0, 0);
-    app->w.d.keep_lcm = 1;   /* sim_world and the rover models keep copies of the handle and subscriptions */
     if (daemon_start(&app->w.d) != 0)
         return 1;
-    app->w.lcm = app->w.d.lcm;   /* a copy: so the handle is kept (keep_lcm) */
     sim_subscribe(app);
     if (sim_build_world(app) != 0)
         return 1;
@@ -227,12 +225,12 @@ int main(int argc, char **argv)
         sim_run_lockstep(app);
     else
         sim_run_realtime(app);
-    printf("tandem-sim: stopped at step %lld state_hash=%016llx rejected=%lld\n",
+    printf("tandem-sim: stopped at step %lld state_hash=%016llx rejected=%lld lcm_renewals=%lld\n",
            (long long)app->w.step, (unsigned long long)sim_state_hash(&app->w),
-           (long long)app->w.d.msgs.rejected);
+           (long long)app->w.d.msgs.rejected, (long long)app->w.d.names.renewals);
     fflush(stdout);
     sim_publish_status(app);
-    sim_destroy_world(app);    /* models unsubscribe: LCM must still be open */
+    sim_destroy_world(app);
     daemon_finish(&app->w.d);
     return 0;
 }

@@ -336,6 +336,8 @@ int main(int argc, char **argv)
     double every, next;
     int rc;
     lcm_t *lcm;
+    names_watch names;
+    names_watch_env(argv);
     S.behind_warned_s = -1.0;
     memset(S.rover_mode, -1, sizeof S.rover_mode);
     rc = options_parse(&prog, argc, argv, 1);
@@ -348,6 +350,7 @@ int main(int argc, char **argv)
     auth_bus_identity(AUTH_ROLE_MONITOR, 0, 0);   /* reads only: a monitor's key file is enough */
     if (auth_bus_start("tandem-status") != 0)
         return 1;
+    names_watch_init(&names, "tandem-status");
     if (!(lcm = lcm_create(url))) {
         fprintf(stderr, "tandem-status: cannot open LCM\n");
         return 1;
@@ -368,8 +371,12 @@ int main(int argc, char **argv)
             next += every;
             if (next < now) next = now + every;
         }
-        lcm_handle_timeout(lcm, (int)((next - now) * 1000.0) + 1);
+        /* at most 0.1 s: a flood of names that reaches no subscription
+         * wakes nothing, and the bound is looked at as often as the
+         * daemons look at theirs (DAEMON_NAMES_CHECK_NS) */
+        lcm_handle_timeout(lcm, next - now < 0.1 ? (int)((next - now) * 1000.0) + 1 : 100);
+        bus_names_watch(&names, &lcm, url); /* a flood of channel names: a new handle */
     }
-    lcm_destroy(lcm);
+    auth_bus_close(lcm);
     return 0;
 }

@@ -219,11 +219,11 @@ static int arms_create(void *model, sim_world *w, const sim_config *cfg)
         sim_arms_channel *ch = &arms->chan[k];
         if (build_arm(w, cfg, &arms->pair[k], k) != 0)
             return SIM_ERR_CREATE;
-        if (!ch->sub) {
-            ch->arms = arms;
-            ch->k = k;
-            ch->sub = daemon_subscribe(&w->d, command_channel[k], on_command, ch);
-        }
+        ch->arms = arms;
+        ch->k = k;
+        /* after a reset the same subscription (rx_subscribe); a renewed
+         * handle takes it over */
+        daemon_subscribe(&w->d, command_channel[k], on_command, ch);
     }
     return 0;
 }
@@ -449,7 +449,7 @@ static void publish_state(sim_arms *arms, sim_world *w, int k)
     sim_arm_tool(a, s.tool_position_m, NULL);
     s.gripper_closed = (int8_t)a->gripper_closed;
     s.holding_workpiece = a->holding;
-    AUTH_PUBLISH(tandem_arm_state_t, w->lcm, state_channel[k], &s);
+    AUTH_PUBLISH(tandem_arm_state_t, w->d.lcm, state_channel[k], &s);
 }
 
 static void arms_after_step(void *model, sim_world *w)
@@ -470,6 +470,28 @@ static void arms_status(const void *model, const sim_world *w, tandem_sim_status
     sim_stick_status(model, s);
 }
 
+/* Lockstep: the step moves on only with each arm's command answering it
+ * (the state step it was computed from), when the arm's controller
+ * (tandem-arm-N) takes part and owes one: a command lost on the way is
+ * asked for again by announcing the step again (the controller sends it
+ * again, its repeat), never replaced by the one before, which would make
+ * the run depend on what the network lost. */
+static int arms_ready(const void *model, const sim_world *w, int64_t k)
+{
+    const sim_arms *arms = model;
+    char name[DAEMON_NAME_MAX];
+    int i;
+    for (i = 0; i < SIM_ARMS; i++) {
+        int64_t owed;
+        snprintf(name, sizeof name, "tandem-arm-%d", i + 1);
+        owed = sim_lockstep_owed_step(w, name, k);
+        if (owed >= 0 && (!arms->pair[i].have_cmd || arms->pair[i].cmd_step < owed))
+            return 0;
+    }
+    return 1;
+}
+
 const sim_model_ops sim_arms_ops = {
-    "arms", arms_create, arms_destroy, arms_before_step, arms_after_step, arms_control, arms_status, NULL
+    "arms", arms_create, arms_destroy, arms_before_step, arms_after_step, arms_control, arms_status,
+    arms_ready
 };

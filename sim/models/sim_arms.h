@@ -47,7 +47,6 @@ typedef struct sim_arm {
 typedef struct sim_arms_channel {
     struct sim_arms    *arms;
     int                 k;             /* 0-based arm index */
-    lcm_subscription_t *sub;           /* kept over resets: subscribed once */
 } sim_arms_channel;
 
 /* The arm model's state (sim_arms_ops). The stick belongs here: it is

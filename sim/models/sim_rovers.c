@@ -200,12 +200,15 @@ static int rovers_create(void *model, sim_world *w, const sim_config *cfg)
         return SIM_ERR_CREATE;
     team_world_create(team);
     team_robots_create(team, w);
-    if (w->lcm) {
+    if (w->d.lcm) {
         /* a whole team answers in one burst: the deep queue of
-         * daemon_subscribe keeps large teams' commands */
-        team->n_sub = daemon_subscribe_numbered(&w->d, "ROVER", 1, team->n, "_COMMAND", on_command, team,
-                                                team->sub, DAEMON_EXPLICIT_MAX);
-        team->sub_batch = daemon_subscribe(&w->d, "ROVERS_COMMAND", on_commands, team);
+         * daemon_subscribe keeps large teams' commands. Subscribed once
+         * for the daemon's life: after a reset the same subscriptions
+         * (rx_subscribe), and a renewed handle takes them over. */
+        lcm_subscription_t *sub[DAEMON_EXPLICIT_MAX];
+        daemon_subscribe_numbered(&w->d, "ROVER", 1, team->n, "_COMMAND", on_command, team, sub,
+                                  DAEMON_EXPLICIT_MAX);
+        daemon_subscribe(&w->d, "ROVERS_COMMAND", on_commands, team);
     }
     fprintf(stderr, "tandem-sim: %d Pioneer robots in world '%s' (goal %.1f, %.1f)\n", team->n,
             cfg->rover_world_file ? cfg->rover_world_file : cfg->rover_world, team->layout.goal_m[0],
@@ -216,15 +219,9 @@ static int rovers_create(void *model, sim_world *w, const sim_config *cfg)
 static void rovers_destroy(void *model, sim_world *w)
 {
     sim_rovers *team = model;
-    int i;
     if (team->world)
         fprintf(stderr, "tandem-sim: rovers: %lld of %lld physics steps had chassis contacts "
                 "(QuickStep)\n", (long long)team->quick_steps, (long long)(w->step / team->phys_steps));
-    for (i = 0; i < team->n_sub; i++)
-        if (team->sub[i] && team->w && team->w->lcm) lcm_unsubscribe(team->w->lcm, team->sub[i]);
-    if (team->sub_batch && team->w && team->w->lcm) lcm_unsubscribe(team->w->lcm, team->sub_batch);
-    team->n_sub = 0;
-    team->sub_batch = NULL;
     if (team->world) {
         dJointGroupDestroy(team->contacts);
         dSpaceDestroy(team->space);

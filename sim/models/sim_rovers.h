@@ -60,9 +60,6 @@ typedef struct sim_rovers {
     dJointGroupID contacts;
     dGeomID  obst[ROVER_WORLD_MAX_OBST];
     double   sonar_angle_rad[SONAR_N];
-    lcm_subscription_t *sub[DAEMON_EXPLICIT_MAX];   /* ROVERk_COMMAND (daemon_subscribe_numbered) */
-    int    n_sub;
-    lcm_subscription_t *sub_batch;
     sim_world *w;
     int      batch;                   /* 1: ROVERS_* messages, not ROVERk_* */
     int64_t  batch_seq[2];

@@ -19,6 +19,7 @@
 #include "auth_acl.h"
 #include "auth_bus.h"
 #include "auth_child.h"
+#include "daemon.h"
 #include "tandem_arm_command_t.h"
 #include "tandem_sim_control_t.h"
 
@@ -575,6 +576,55 @@ static void test_receive_path_counts_every_refusal(void **state)
     lcm_destroy(lcm);
 }
 
+static int move_checked(void *subs, lcm_t *old, lcm_t *fresh)
+{
+    (void)subs;
+    return auth_bus_move(old, fresh);
+}
+
+/* A tool's checked subscriptions on a renewed handle (lcm_renew, as
+ * bus_names_watch does under a flood of channel names): a message the old
+ * handle still held is handed on, the new handle is subscribed as the old
+ * one was, and a subscription ends by its user after the renewal (the
+ * lcm_subscription_t the tool was given at first is gone). Runs after
+ * test_receive_path_counts_every_refusal (the bus started, secure). */
+static void test_checked_subscriptions_move(void **state)
+{
+    static int user_a, user_b;
+    tandem_sim_control_t m;
+    lcm_t *lcm, *old;
+    int a0, b0;
+    (void)state;
+    lcm = lcm_create("memq://");
+    assert_non_null(lcm);
+    assert_non_null(auth_bus_subscribe(lcm, "SIM_CONTROL", on_a, &user_a));
+    assert_non_null(auth_bus_subscribe_queue(lcm, "ARM1_COMMAND", on_b, &user_b, 8));
+    memset(&m, 0, sizeof m);
+    m.command = TANDEM_SIM_CONTROL_T_QUIT;
+    a0 = got_a;
+    b0 = got_b;
+    /* queued on the old handle, not handled yet */
+    assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, lcm, "SIM_CONTROL", &m), 0);
+    old = lcm;
+    assert_int_equal(lcm_renew(&lcm, "memq://", move_checked, NULL, 1000000000LL), DAEMON_OK);
+    assert_true(lcm != old);
+    assert_int_equal(got_a, a0 + 1);   /* the old handle's last message, handed on */
+    assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, lcm, "SIM_CONTROL", &m), 0);
+    assert_true(lcm_handle_timeout(lcm, 1000) > 0);
+    assert_int_equal(got_a, a0 + 2);
+    /* ended by its user: no more */
+    assert_int_equal(auth_bus_unsubscribe_user(lcm, &user_a), 1);
+    assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, lcm, "SIM_CONTROL", &m), 0);
+    assert_int_equal(lcm_handle_timeout(lcm, 50), 0);
+    assert_int_equal(got_a, a0 + 2);
+    assert_int_equal(got_b, b0);
+    /* a handle that cannot open: nothing changes */
+    old = lcm;
+    assert_int_equal(lcm_renew(&lcm, "nosuchprovider://", move_checked, NULL, 1000000LL), DAEMON_ERR_LCM);
+    assert_true(lcm == old);
+    auth_bus_close(lcm);
+}
+
 /* A child's command line names its principal: what its role file is made for. */
 static void test_child_principal(void **state)
 {
@@ -624,6 +674,7 @@ int main(void)
         cmocka_unit_test(test_acl_says_who_publishes_what),
         cmocka_unit_test(test_key_files),
         cmocka_unit_test(test_receive_path_counts_every_refusal),
+        cmocka_unit_test(test_checked_subscriptions_move),
         cmocka_unit_test(test_child_principal),
     };
     if (auth_init() != 0)

@@ -196,6 +196,7 @@ static void test_renewed_lcm_keeps_subscriptions(void **state)
     static const char junk[32];
     const char *chans[2] = { "ARM1_ACTION", "SIM_CLOCK" };
     lcm_t *old;
+    lcm_subscription_t *first[2];
     int64_t before[2];
     int i;
     (void)state;
@@ -204,14 +205,22 @@ static void test_renewed_lcm_keeps_subscriptions(void **state)
     d.lcm = lcm_create(d.lcm_url);
     assert_non_null(d.lcm);
     for (i = 0; i < 2; i++) {
-        assert_non_null(daemon_subscribe(&d, chans[i], on_heard, NULL));
+        first[i] = daemon_subscribe(&d, chans[i], on_heard, NULL);
+        assert_non_null(first[i]);
         before[i] = seen_on(&d, chans[i]);
         assert_true(before[i] >= 0);
     }
+    /* subscribing again (a model re-created after a reset) is the same
+     * subscription, not a second delivery */
+    assert_true(daemon_subscribe(&d, chans[0], on_heard, NULL) == first[0]);
+    assert_int_equal(d.rx.n_subs, 2);
     old = d.lcm;
     assert_int_equal(daemon_renew_lcm(&d), DAEMON_OK);
     assert_true(d.lcm != old); /* the new one opens before the old one closes */
-    assert_int_equal(d.lcm_renewals, 1);
+    assert_int_equal(d.names.renewals, 1);
+    /* again after the renewal: the renewed handle's subscription */
+    assert_non_null(daemon_subscribe(&d, chans[0], on_heard, NULL));
+    assert_int_equal(d.rx.n_subs, 2);
     for (i = 0; i < 2; i++) {
         assert_int_equal(lcm_publish(d.lcm, chans[i], junk, sizeof junk), 0);
         /* not heard: no message to handle, a timeout (0) */
@@ -223,7 +232,7 @@ static void test_renewed_lcm_keeps_subscriptions(void **state)
     d.lcm_url = "nosuchprovider://";
     assert_int_equal(daemon_renew_lcm(&d), DAEMON_ERR_LCM);
     assert_true(d.lcm == old);
-    assert_int_equal(d.lcm_renewals, 1);
+    assert_int_equal(d.names.renewals, 1);
     lcm_destroy(d.lcm);
 }
 

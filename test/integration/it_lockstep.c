@@ -18,7 +18,12 @@
 #include "tandem_sim_control_t.h"
 #include "tandem_sim_status_t.h"
 
-static unsigned long long run_and_hash(int seed, int offset)
+/* One lockstep run of 2000 steps: the simulator's state hash, and how
+ * many times it renewed its LCM handle (*renewals). flood: beside it a
+ * flood of new channel names (tandem-flood --random-channels) and a bound
+ * of 1 MB on what they may cost (TANDEM_NAMES_SLACK_KB), so that the
+ * simulator and both arms renew their handles during the run. */
+static unsigned long long run_and_hash(int seed, int offset, int flood, long *renewals)
 {
     harness h;
     char seed_s[16], out[4096];
@@ -26,20 +31,30 @@ static unsigned long long run_and_hash(int seed, int offset)
                           "--seed", seed_s, NULL };
     const char *arm1[] = { "tandem-arm", "--arm", "1", "--lockstep", NULL };
     const char *arm2[] = { "tandem-arm", "--arm", "2", "--lockstep", NULL };
+    const char *names[] = { "tandem-flood", "--kind", "junk", "--random-channels", "--rate", "30000",
+                            "--duration", "120", NULL };
     pid_t ps;
     char *p;
     unsigned long long hash = 0;
     snprintf(seed_s, sizeof seed_s, "%d", seed);
     assert_int_equal(harness_open(&h, offset), 0);
+    if (flood) {
+        setenv("TANDEM_NAMES_SLACK_KB", "1024", 1);
+        assert_true(harness_spawn(&h, names) > 0);
+    }
     ps = harness_spawn(&h, sim);
     assert_true(harness_spawn(&h, arm1) > 0);
     assert_true(harness_spawn(&h, arm2) > 0);
-    assert_int_equal(harness_wait(&h, ps, 60.0), 0);
+    unsetenv("TANDEM_NAMES_SLACK_KB");
+    assert_int_equal(harness_wait(&h, ps, 120.0), 0);
     harness_read_output(&h, ps, out, sizeof out);
     p = strstr(out, "state_hash=");
     assert_non_null(p);
     assert_true(strstr(out, "stopped at step 2000") != NULL);
     hash = strtoull(p + strlen("state_hash="), NULL, 16);
+    p = strstr(out, "lcm_renewals=");
+    assert_non_null(p);
+    *renewals = strtol(p + strlen("lcm_renewals="), NULL, 10);
     harness_close(&h);
     return hash;
 }
@@ -47,12 +62,32 @@ static unsigned long long run_and_hash(int seed, int offset)
 static void test_same_seed_same_state(void **state)
 {
     unsigned long long a, b;
+    long ra, rb;
     (void)state;
-    a = run_and_hash(7, 1);
-    b = run_and_hash(7, 2);
+    a = run_and_hash(7, 1, 0, &ra);
+    b = run_and_hash(7, 2, 0, &rb);
     printf("state hashes: %016llx %016llx\n", a, b);
     assert_true(a != 0);
     assert_true(a == b);
+    assert_int_equal(ra, 0);
+}
+
+/* A flood of channel names makes the simulator (and the arms) renew
+ * their LCM handles in the middle of the run (daemon_names_watch): the
+ * run must end exactly as without it. Fails if the simulator keeps its
+ * handle (no renewal), or if a renewal loses a subscription (the run
+ * stalls or ends elsewhere) or latches a command. */
+static void test_renewed_handles_same_state(void **state)
+{
+    unsigned long long a, b;
+    long ra, rb;
+    (void)state;
+    a = run_and_hash(7, 3, 0, &ra);
+    b = run_and_hash(7, 4, 1, &rb);
+    printf("state hashes: %016llx, under a flood of names %016llx (%ld renewals of the simulator's handle)\n",
+           a, b, rb);
+    assert_true(a == b);
+    assert_true(rb >= 1);
 }
 
 /* ---- bad input ------------------------------------------------------------ */
@@ -185,6 +220,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_same_seed_same_state),
+        cmocka_unit_test(test_renewed_handles_same_state),
         cmocka_unit_test(test_bad_messages_counted_and_ignored),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -491,6 +491,7 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
 {
     carry_state R;
     carry_daemons d;
+    names_watch names;
     const double wall0 = scenario_wall_s();
     double next_progress = wall0 + PROGRESS_EVERY_S;
     int rc = 0;
@@ -498,6 +499,7 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
     state_init(&R);
     res->exit_reason = "completed";
     daemons_argv(&d, c);
+    names_watch_init(&names, "tandem-scenario");
     R.lcm = lcm_create(d.url);
     if (!R.lcm) {
         fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", d.url);
@@ -505,13 +507,14 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
     }
     carry_subscribe(&R);
     if (daemons_start(&d, c) != 0) {
-        lcm_destroy(R.lcm);
+        auth_bus_close(R.lcm);
         return CARRY_SCEN_ERR_RUN;
     }
     hang_watch_subscribe(&d.hw, R.lcm);
     R.hw = &d.hw;
     while (!interrupted && rc == 0) {
         lcm_handle_timeout(R.lcm, 200);
+        bus_names_watch(&names, &R.lcm, d.url); /* a flood of channel names: a new handle */
         rc = run_watch(&R, c, res, &d, wall0, &next_progress);
         if (rc == 0)
             rc = run_answer(&R, c, res, &d);
@@ -526,7 +529,7 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
     res->wall_s = scenario_wall_s() - wall0;
     result_of(res, &R);
     res->ok = rc >= 0;
-    lcm_destroy(R.lcm);
+    auth_bus_close(R.lcm);
     R.lcm = NULL;
     return rc < 0 ? CARRY_SCEN_ERR_RUN : 0;
 }

@@ -147,24 +147,15 @@ AUTH_TYPED_HANDLER(tandem_rovers_state_t, raw_on_states, on_states)
 
 void fm_subscribe(fm_state *fm)
 {
-    fm->sub_clock = auth_bus_subscribe(fm->lcm, "SIM_CLOCK", raw_on_clock, fm);
-    fm->sub_truth = auth_bus_subscribe(fm->lcm, "ROVER_TRUTH", raw_on_truth, fm);
-    fm->sub_state = auth_bus_subscribe(fm->lcm, "ROVER[0-9]+_STATE", raw_on_state, fm);
-    fm->sub_states = auth_bus_subscribe(fm->lcm, "ROVERS_STATE", raw_on_states, fm);
-    fm->sub_ack = auth_bus_subscribe(fm->lcm, "SIM_ACK", raw_on_ack, fm);
-    lcm_subscription_set_queue_capacity(fm->sub_ack, 100000);
-    lcm_subscription_set_queue_capacity(fm->sub_clock, 0);
-    lcm_subscription_set_queue_capacity(fm->sub_truth, 100000);
-    lcm_subscription_set_queue_capacity(fm->sub_state, 100000);
-    lcm_subscription_set_queue_capacity(fm->sub_states, 100000);
+    auth_bus_subscribe_queue(fm->lcm, "SIM_CLOCK", raw_on_clock, fm, 0);
+    auth_bus_subscribe_queue(fm->lcm, "ROVER_TRUTH", raw_on_truth, fm, 100000);
+    auth_bus_subscribe_queue(fm->lcm, "ROVER[0-9]+_STATE", raw_on_state, fm, 100000);
+    auth_bus_subscribe_queue(fm->lcm, "ROVERS_STATE", raw_on_states, fm, 100000);
+    auth_bus_subscribe_queue(fm->lcm, "SIM_ACK", raw_on_ack, fm, 100000);
 }
 
 void fm_unsubscribe(fm_state *fm)
 {
-    lcm_unsubscribe(fm->lcm, fm->sub_clock);
-    lcm_unsubscribe(fm->lcm, fm->sub_truth);
-    lcm_unsubscribe(fm->lcm, fm->sub_state);
-    lcm_unsubscribe(fm->lcm, fm->sub_states);
-    lcm_unsubscribe(fm->lcm, fm->sub_ack);
+    auth_bus_unsubscribe_user(fm->lcm, fm);
 }
 

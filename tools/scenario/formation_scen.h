@@ -17,6 +17,7 @@
 #include <sys/types.h>
 #include <lcm/lcm.h>
 #include "auth_child.h"
+#include "daemon.h"
 #include "hang_watch.h"
 #include "rover_world.h"
 #include "world_file.h"
@@ -69,7 +70,7 @@ typedef struct fm_state {
     pid_t  rover_pid[FM_MAX + 1];     /* process hosting robot k (separate mode) */
     /* lcm */
     lcm_t *lcm;
-    lcm_subscription_t *sub_clock, *sub_truth, *sub_state, *sub_states, *sub_ack;
+    names_watch names;                 /* the bound on LCM's table of channel names */
     int64_t clock_step, answered, ack_seq, last_clock_ns;
     int    have_clock;
     world_opts wopt;                  /* --world-file, --start, --goal (world_file.h) */

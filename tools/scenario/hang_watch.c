@@ -77,7 +77,8 @@ int hang_watch_look(hang_watch *w, lcm_t *lcm, double now_s)
 
 static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
 {
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     /* a daemon's goodbye ("stopped") is its last word, not a sign of life:
      * it is about to exit, and its exit is seen as an exit */
     if (strcmp(m->status, "stopped") != 0)
@@ -89,14 +90,15 @@ AUTH_TYPED_HANDLER(tandem_health_t, raw_on_health, on_health)
 void hang_watch_subscribe(hang_watch *w, lcm_t *lcm)
 {
     if (w->hang_s > 0.0)
-        w->sub = auth_bus_subscribe(lcm, "HEALTH_.*", raw_on_health, w);
+        w->subscribed = auth_bus_subscribe(lcm, "HEALTH_.*", raw_on_health, w) != NULL;
 }
 
 void hang_watch_stop(hang_watch *w, lcm_t *lcm)
 {
-    if (w->sub)
-        lcm_unsubscribe(lcm, w->sub);
-    w->sub = NULL;
+    /* by its user, not by a subscription that a renewed handle replaced */
+    if (w->subscribed)
+        auth_bus_unsubscribe_user(lcm, w);
+    w->subscribed = 0;
 }
 
 const char *hang_watch_strerror(int err)

@@ -38,7 +38,7 @@ typedef struct hang_watch {
     int    on[HANG_WATCH_MAX];         /* 0 while the child is down on purpose */
     int    spoken[HANG_WATCH_MAX];     /* heard since its start */
     int    hung_restarts;              /* hung children killed and restarted */
-    lcm_subscription_t *sub;
+    int    subscribed;                 /* to HEALTH_.* (auth_bus_subscribe) */
 } hang_watch;
 
 void hang_watch_init(hang_watch *w, double hang_s);

@@ -258,6 +258,7 @@ static int setup(fm_state *fm)
         fm->url = fm->url_buf;
     }
     fm->type_now = fm->formation;
+    names_watch_init(&fm->names, "formation");
     fm->lcm = lcm_create(fm->url);
     if (!fm->lcm) { fprintf(stderr, "formation: cannot open LCM at %s\n", fm->url); return 1; }
     fm_subscribe(fm);
@@ -326,6 +327,7 @@ static void lockstep_loop(fm_state *fm, double wall0)
     for (;;) {
         int fault_rc = 1, due, hung_rc;
         if (lcm_handle_timeout(fm->lcm, 50) < 0) break;
+        bus_names_watch(&fm->names, &fm->lcm, fm->url); /* a flood of channel names: a new handle */
         hung_rc = fm_hung_watch(fm);
         if (hung_rc < 0) {
             if (hung_rc == FM_ERR_FAULT) fm->restart_failed = 1;
@@ -414,7 +416,7 @@ static int run(int argc, char **argv)
     fm_write_summary(fm, scenario_wall_s() - wall0);
     fm_write_plots(fm);
     fm_unsubscribe(fm);
-    lcm_destroy(fm->lcm);
+    auth_bus_close(fm->lcm);
     print_result(fm, scenario_wall_s() - wall0);
     return scenario_exit_status("formation", fm->n_failed, fm->failed);
 }

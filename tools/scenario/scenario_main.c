@@ -1,6 +1,7 @@
 /* tandem-scenario NAME [options] --out DIR: dispatch to one scenario. */
 #include <stdio.h>
 #include <string.h>
+#include "daemon.h"
 #include "run_key.h"
 #include "scenario.h"
 #include "version.h"
@@ -28,6 +29,7 @@ static void usage(FILE *f)
 int main(int argc, char **argv)
 {
     size_t i;
+    names_watch_env(argv); /* G_SLICE for the bound on LCM's names (daemon.h) */
     if (version_requested(argc, argv, "tandem-scenario"))
         return 0;
     if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {

@@ -145,6 +145,7 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
 {
     char url[96];
     proc_set ps;
+    names_watch names;
     tdsdrun_state st;
     tdsdrun_sample s;
     double q_ref[ARM_NJ], dq_prev[ARM_NJ] = { 0 }, qdd[ARM_NJ], zero[ARM_NJ] = { 0 };
@@ -155,6 +156,7 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
     memset(&O, 0, sizeof O);
     O.pending = O.answered = -1;
     snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", 33000 + (int)(getpid() % 20000));
+    names_watch_init(&names, "tandem-scenario");
     O.lcm = lcm_create(url);
     if (!O.lcm) {
         fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", url);
@@ -164,7 +166,7 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
     auth_bus_subscribe(O.lcm, "ARM1_STATE", on_state, NULL);
     if (start_children(&ps, url, c, q0_rad, o) != 0) {
         proc_kill_all(&ps, 1.0);
-        lcm_destroy(O.lcm);
+        auth_bus_close(O.lcm);
         return TDSD_ODE_ERR_RUN;
     }
     memcpy(q_ref, q0_rad, sizeof q_ref);
@@ -173,6 +175,7 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
         int64_t k;
         double t_sim;
         lcm_handle_timeout(O.lcm, 200);
+        bus_names_watch(&names, &O.lcm, url); /* a flood of channel names: a new handle */
         if (child_died(&ps, o)) {
             failed = 1;
             break;
@@ -213,7 +216,7 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
     ack(O.answered >= 0 ? O.answered : 0, 1);
     send_quit();
     proc_kill_all(&ps, 3.0);
-    lcm_destroy(O.lcm);
+    auth_bus_close(O.lcm);
     O.lcm = NULL;
     if (!failed)
         result = st.t_path_end_s >= 0.0 ? st.t_path_end_s : o->t_max_s;

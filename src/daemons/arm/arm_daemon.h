@@ -18,6 +18,7 @@
 #include "tdsd_seg.h"
 #include "tandem_action_event_t.h"
 #include "tandem_action_row_t.h"
+#include "tandem_arm_command_t.h"
 #include "tandem_arm_joint_ref_t.h"
 #include "tandem_arm_state_t.h"
 
@@ -114,6 +115,9 @@ typedef struct arm_daemon {
     int    fault;                     /* in a joint fault (braking) */
     double fault_clear_s;             /* healthy time since the fault's last sign */
     int64_t cmd_seq, ev_seq;
+    tandem_arm_command_t last_cmd;    /* the last command sent (lockstep: sent again
+                                         when the simulator announces its step again) */
+    int    have_last_cmd;
     char   state_ch[16], cmd_ch[16], action_ch[16];
     arm_row_inbox row_in;
     arm_joint_ref jref;

@@ -174,7 +174,21 @@ void arm_send_command(arm_daemon *ad, int mode, const double tau[ARM_NJ])
         memcpy(c.tau_Nm, tau, sizeof c.tau_Nm);
     c.gripper = (int8_t)arm_row_gripper_request(ad);
     arm_hold_note_command(ad);
+    ad->last_cmd = c;
+    ad->have_last_cmd = 1;
     AUTH_PUBLISH(tandem_arm_command_t, ad->d.lcm, ad->cmd_ch, &c);
+}
+
+/* lockstep: the simulator announced again a step we answered (our
+ * command or ack was lost on the way, and it waits for the command of
+ * that step: sim_arms' ready): the same command again, which the
+ * simulator takes once. */
+static void repeat_command(daemon *d, void *user)
+{
+    arm_daemon *ad = user;
+    (void)d;
+    if (ad->have_last_cmd)
+        AUTH_PUBLISH(tandem_arm_command_t, ad->d.lcm, ad->cmd_ch, &ad->last_cmd);
 }
 
 /* Joint range and speed watchdog; 1 while the arm must hold on its brakes. */
@@ -360,6 +374,7 @@ int main(int argc, char **argv)
     daemon_subscribe(d, ad->action_ch, on_action, ad);
     snprintf(ad->jref.ch, sizeof ad->jref.ch, "ARM%d_JOINT_REF", ad->arm);
     daemon_subscribe(d, ad->jref.ch, arm_on_joint_ref, ad);
+    d->repeat_fn = repeat_command;
     rc = daemon_run(d, cycle, ad);
     daemon_finish(d);
     return rc;

@@ -13,9 +13,17 @@
 
 #define AUTH_BUS_MAX_SUBS 64
 
+/* A checked subscription: what it is (handler, user, channel, queue
+ * capacity) and where it is (lcm, sub), so that a renewed handle takes it
+ * over (auth_bus_move). used = 0: a free slot. */
 typedef struct bus_sub {
     lcm_msg_handler_t handler;
     void *user;
+    char channel[AUTH_CHANNEL_MAX + 1];
+    int capacity;
+    lcm_t *lcm;
+    lcm_subscription_t *sub;
+    int used;
 } bus_sub;
 
 /* The last verdict, so a message several subscriptions of this process
@@ -591,29 +599,94 @@ static void sub_trampoline(const lcm_recv_buf_t *rb, const char *channel, void *
     s->handler(&body, channel, s->user);
 }
 
-lcm_subscription_t *auth_bus_subscribe(lcm_t *lcm, const char *channel, lcm_msg_handler_t handler,
-                                       void *user)
+lcm_subscription_t *auth_bus_subscribe_queue(lcm_t *lcm, const char *channel,
+                                             lcm_msg_handler_t handler, void *user, int capacity)
 {
     auth_bus_state *const bus = &the_bus;
-    lcm_subscription_t *sub;
-    bus_sub *s = NULL;
+    bus_sub *s = NULL, *free_slot = NULL;
     int i;
-    for (i = 0; i < bus->n_subs && !s; i++) /* a run repeated in one process subscribes again */
-        if (bus->subs[i].handler == handler && bus->subs[i].user == user)
-            s = &bus->subs[i];
+    /* a run repeated in one process subscribes again: its slot */
+    for (i = 0; i < bus->n_subs && !s; i++) {
+        bus_sub *e = &bus->subs[i];
+        if (!e->used) {
+            if (!free_slot)
+                free_slot = e;
+        } else if (e->handler == handler && e->user == user &&
+                   strncmp(e->channel, channel, AUTH_CHANNEL_MAX) == 0) {
+            s = e;
+        }
+    }
+    if (!s)
+        s = free_slot;
     if (!s) {
         if (bus->n_subs >= AUTH_BUS_MAX_SUBS) {
             fprintf(stderr, "tandem: more than %d checked subscriptions\n", AUTH_BUS_MAX_SUBS);
             return NULL;
         }
         s = &bus->subs[bus->n_subs++];
-        s->handler = handler;
-        s->user = user;
     }
-    sub = lcm_subscribe(lcm, channel, sub_trampoline, s);
-    if (sub)
-        lcm_subscription_set_queue_capacity(sub, AUTH_BUS_QUEUE_CAPACITY);
-    return sub;
+    s->handler = handler;
+    s->user = user;
+    snprintf(s->channel, sizeof s->channel, "%s", channel);
+    s->capacity = capacity;
+    s->lcm = lcm;
+    s->used = 1;
+    s->sub = lcm_subscribe(lcm, channel, sub_trampoline, s);
+    if (s->sub)
+        lcm_subscription_set_queue_capacity(s->sub, capacity);
+    return s->sub;
+}
+
+lcm_subscription_t *auth_bus_subscribe(lcm_t *lcm, const char *channel, lcm_msg_handler_t handler,
+                                       void *user)
+{
+    return auth_bus_subscribe_queue(lcm, channel, handler, user, AUTH_BUS_QUEUE_CAPACITY);
+}
+
+int auth_bus_unsubscribe_user(lcm_t *lcm, const void *user)
+{
+    auth_bus_state *const bus = &the_bus;
+    int i, n = 0;
+    for (i = 0; i < bus->n_subs; i++) {
+        bus_sub *e = &bus->subs[i];
+        if (!e->used || e->lcm != lcm || e->user != user)
+            continue;
+        if (e->sub)
+            lcm_unsubscribe(lcm, e->sub);
+        memset(e, 0, sizeof *e);
+        n++;
+    }
+    return n;
+}
+
+int auth_bus_move(lcm_t *old, lcm_t *fresh)
+{
+    auth_bus_state *const bus = &the_bus;
+    int i, n = 0;
+    for (i = 0; i < bus->n_subs; i++) {
+        bus_sub *e = &bus->subs[i];
+        if (!e->used || e->lcm != old || !e->sub)
+            continue;
+        e->lcm = fresh;
+        e->sub = lcm_subscribe(fresh, e->channel, sub_trampoline, e);
+        if (e->sub) {
+            lcm_subscription_set_queue_capacity(e->sub, e->capacity);
+            n++;
+        }
+    }
+    return n;
+}
+
+void auth_bus_close(lcm_t *lcm)
+{
+    auth_bus_state *const bus = &the_bus;
+    int i;
+    if (!lcm)
+        return;
+    for (i = 0; i < bus->n_subs; i++)
+        if (bus->subs[i].used && bus->subs[i].lcm == lcm)
+            memset(&bus->subs[i], 0, sizeof bus->subs[i]);
+    lcm_destroy(lcm);
 }
 
 const auth_bus_counts *auth_bus_counts_get(void)

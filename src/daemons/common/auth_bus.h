@@ -138,8 +138,22 @@ int  auth_bus_publish_raw(lcm_t *lcm, const char *channel, const void *buf, int 
  * any, stripped). */
 int  auth_bus_accept(const lcm_recv_buf_t *rb, const char *channel, lcm_recv_buf_t *body);
 /* lcm_subscribe through auth_bus_accept and wire_check (for tools), with
- * a queue of AUTH_BUS_QUEUE_CAPACITY messages. */
+ * a queue of AUTH_BUS_QUEUE_CAPACITY messages. The process keeps what
+ * it subscribed to, so that a renewed handle takes it over (auth_bus_move,
+ * bus_names_watch in daemon.h): a tool does not keep the returned
+ * lcm_subscription_t past a renewal, it ends its subscriptions with
+ * auth_bus_unsubscribe_user or auth_bus_close. */
 lcm_subscription_t *auth_bus_subscribe(lcm_t *lcm, const char *channel, lcm_msg_handler_t handler, void *user);
+/* The same with a queue of capacity messages (0: LCM's unbounded). */
+lcm_subscription_t *auth_bus_subscribe_queue(lcm_t *lcm, const char *channel,
+                                             lcm_msg_handler_t handler, void *user, int capacity);
+/* Ends every checked subscription on lcm handed user; how many. */
+int  auth_bus_unsubscribe_user(lcm_t *lcm, const void *user);
+/* Every checked subscription on old made again on fresh (a renewed
+ * handle); how many. */
+int  auth_bus_move(lcm_t *old, lcm_t *fresh);
+/* lcm_destroy, and the checked subscriptions on lcm forgotten. */
+void auth_bus_close(lcm_t *lcm);
 const auth_bus_counts *auth_bus_counts_get(void);
 int64_t auth_bus_rejected_total(void);
 

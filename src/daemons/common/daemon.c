@@ -95,17 +95,6 @@ void daemon_defaults(daemon *d, const char *name, double period_s)
      * the other daemons. This is the first call of every daemon's main,
      * before anything is written, as setvbuf requires. */
     setvbuf(stdout, NULL, _IOLBF, BUFSIZ);
-    /* What a renewed LCM handle frees (daemon_renew_lcm) must go back to
-     * the system, or the bound on its table of channel names is not one:
-     * what LCM's receive thread freed in a malloc arena of its own stayed
-     * resident (16 of 20 MB did); with one arena malloc_trim returns it.
-     * glib 2.74's slice allocator also keeps freed slices for itself: it
-     * reads G_SLICE as the library loads, so the launchers set
-     * G_SLICE=always-malloc for their children (DAEMON_GLIB_SLICE_ENV).
-     * Before any thread is started. */
-#ifdef __GLIBC__
-    mallopt(M_ARENA_MAX, 1);
-#endif
     memset(d, 0, sizeof *d);
     snprintf(d->name, sizeof d->name, "%s", name);
     d->lcm_url = (env && env[0]) ? env : DAEMON_DEFAULT_LCM_URL;
@@ -186,13 +175,6 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *user)
     tandem_sim_clock_t_decode_cleanup(&m);
 }
 
-/* 1 if glib was told to free what it frees (DAEMON_GLIB_SLICE_ENV). */
-static int slice_freed(void)
-{
-    const char *v = getenv(DAEMON_GLIB_SLICE_ENV);
-    return v && strstr(v, DAEMON_GLIB_SLICE_VALUE) != NULL;
-}
-
 int daemon_start(daemon *d)
 {
     struct sigaction sa;
@@ -216,6 +198,7 @@ int daemon_start(daemon *d)
     if (auth_bus_start(d->name) != 0)
         return DAEMON_ERR_AUTH;
     rx_set_drop(&d->rx, d->drop_rate, (uint64_t)d->drop_seed);
+    names_watch_init(&d->names, d->name); /* before LCM's receive thread starts */
     d->lcm = lcm_create(d->lcm_url);
     if (!d->lcm) {
         fprintf(stderr, "%s: cannot open LCM at '%s'\n", d->name, d->lcm_url);
@@ -229,12 +212,6 @@ int daemon_start(daemon *d)
         return DAEMON_ERR_RANGE;
     }
     d->last_health_ns = rtloop_now_ns();
-    if (!d->keep_lcm && !slice_freed())
-        fprintf(
-            stderr,
-            "%s: %s is not %s: glib keeps what a renewed LCM handle frees, so the bound on LCM's "
-            "table of channel names grows with each renewal (docs/security.md §5)\n",
-            d->name, DAEMON_GLIB_SLICE_ENV, DAEMON_GLIB_SLICE_VALUE);
     return 0;
 }
 
@@ -286,19 +263,26 @@ static int readable(int fd)
     return select(fd + 1, &fds, NULL, NULL, &tv) > 0;
 }
 
-void daemon_drain(daemon *d)
+/* Handles what lcm holds, without blocking, for at most DAEMON_DRAIN_MAX
+ * messages and budget_ns: 1 if some is left. */
+static int drain_lcm(lcm_t *lcm, int64_t budget_ns)
 {
-    const int fd = lcm_get_fileno(d->lcm);
-    const int64_t t0 = rtloop_now_ns(), budget = daemon_drain_budget_ns(d);
+    const int fd = lcm_get_fileno(lcm);
+    const int64_t t0 = rtloop_now_ns();
     int n;
     for (n = 0; n < DAEMON_DRAIN_MAX; n++) {
-        if (!readable(fd) || lcm_handle(d->lcm) != 0)
-            return;
-        if (rtloop_now_ns() - t0 >= budget)
+        if (!readable(fd) || lcm_handle(lcm) != 0)
+            return 0;
+        if (rtloop_now_ns() - t0 >= budget_ns)
             break;
     }
+    return readable(fd);
+}
+
+void daemon_drain(daemon *d)
+{
     /* out of budget: what is still queued waits for the next cycle */
-    if (readable(fd))
+    if (drain_lcm(d->lcm, daemon_drain_budget_ns(d)))
         d->rx.deferred++;
 }
 
@@ -372,56 +356,138 @@ static long rss_kb(void)
     return resident * (sysconf(_SC_PAGESIZE) / 1024);
 }
 
-int daemon_renew_lcm(daemon *d)
+/* 1 if glib was told to free what it frees (DAEMON_GLIB_SLICE_ENV). */
+static int slice_freed(void)
 {
-    lcm_t *fresh = lcm_create(d->lcm_url);
+    const char *v = getenv(DAEMON_GLIB_SLICE_ENV);
+    return v && strstr(v, DAEMON_GLIB_SLICE_VALUE) != NULL;
+}
+
+void names_watch_env(char **argv)
+{
+    if (slice_freed() || setenv(DAEMON_GLIB_SLICE_ENV, DAEMON_GLIB_SLICE_VALUE, 1) != 0)
+        return;
+    execv("/proc/self/exe", argv);
+    /* not run again: names_watch_init says what that costs */
+    unsetenv(DAEMON_GLIB_SLICE_ENV);
+}
+
+void names_watch_init(names_watch *w, const char *who)
+{
+    const char *env = getenv(DAEMON_NAMES_SLACK_ENV);
+    /* What a renewed LCM handle frees must go back to the system, or the
+     * bound on its table of channel names is not one: what LCM's receive
+     * thread freed in a malloc arena of its own stayed resident (16 of 20
+     * MB did); with one arena malloc_trim returns it. glib 2.74's slice
+     * allocator also keeps freed slices for itself: it reads G_SLICE as
+     * the library loads, so the launchers set G_SLICE=always-malloc for
+     * their children (DAEMON_GLIB_SLICE_ENV). */
+#ifdef __GLIBC__
+    mallopt(M_ARENA_MAX, 1);
+#endif
+    memset(w, 0, sizeof *w);
+    w->who = who;
+    w->slack_kb = DAEMON_NAMES_SLACK_KB;
+    if (env && env[0]) {
+        char *end;
+        const long v = strtol(env, &end, 10);
+        if (*end == '\0' && v >= DAEMON_NAMES_SLACK_MIN_KB && v <= DAEMON_NAMES_SLACK_MAX_KB)
+            w->slack_kb = v;
+        else
+            fprintf(stderr, "%s: %s=%s is not a number of kB in [%ld, %ld]: %ld kB\n", who,
+                    DAEMON_NAMES_SLACK_ENV, env, DAEMON_NAMES_SLACK_MIN_KB,
+                    DAEMON_NAMES_SLACK_MAX_KB, w->slack_kb);
+    }
+    if (!slice_freed())
+        fprintf(stderr,
+                "%s: %s is not %s: glib keeps what a renewed LCM handle frees, so the bound on "
+                "LCM's table of channel names grows with each renewal (docs/security.md §5)\n",
+                who, DAEMON_GLIB_SLICE_ENV, DAEMON_GLIB_SLICE_VALUE);
+}
+
+int lcm_renew(lcm_t **lcm, const char *url, lcm_move_fn move, void *subs, int64_t budget_ns)
+{
+    lcm_t *const old = *lcm, *const fresh = lcm_create(url);
     if (!fresh)
         return DAEMON_ERR_LCM;
-    rx_subscribe_all(&d->rx, fresh, DAEMON_QUEUE_CAPACITY);
-    lcm_destroy(d->lcm);
-    d->lcm = fresh;
+    move(subs, old, fresh);
+    *lcm = fresh; /* a handler that publishes, publishes on the new one */
+    drain_lcm(old, budget_ns);
+    lcm_destroy(old);
 #ifdef __GLIBC__
     malloc_trim(0); /* the freed names back to the system, not only to malloc */
 #endif
-    d->lcm_renewals++;
     return DAEMON_OK;
 }
 
-/* The bound on LCM's table of channel names (DAEMON_NAMES_SLACK_KB). */
-static void names_watch(daemon *d, int64_t now)
+int names_watch_tick(names_watch *w, int64_t now, lcm_t **lcm, const char *url, lcm_move_fn move,
+                     void *subs, int64_t budget_ns)
 {
     long rss;
-    if (d->keep_lcm || now - d->names_check_ns < DAEMON_NAMES_CHECK_NS)
-        return;
-    d->names_check_ns = now;
+    if (!*lcm || now - w->check_ns < DAEMON_NAMES_CHECK_NS)
+        return 0;
+    w->check_ns = now;
     if ((rss = rss_kb()) <= 0)
-        return;
-    if (d->rss_base_kb == 0 || rss < d->rss_base_kb) {
-        d->rss_base_kb = rss;
-        return;
+        return 0;
+    if (w->base_kb == 0 || rss < w->base_kb) {
+        w->base_kb = rss;
+        return 0;
     }
-    if (rss - d->rss_base_kb < DAEMON_NAMES_SLACK_KB)
-        return;
-    if (daemon_renew_lcm(d) != DAEMON_OK) {
+    if (rss - w->base_kb < (w->slack_kb > 0 ? w->slack_kb : DAEMON_NAMES_SLACK_KB))
+        return 0;
+    if (lcm_renew(lcm, url, move, subs, budget_ns) != DAEMON_OK) {
         fprintf(stderr,
                 "%s: resident memory %ld kB (from %ld): a new LCM handle does not open, the old "
                 "one kept\n",
-                d->name, rss, d->rss_base_kb);
-        d->rss_base_kb = rss; /* said once per slack's growth, not at 10 Hz */
-        return;
+                w->who, rss, w->base_kb);
+        w->base_kb = rss; /* said once per slack's growth, not at 10 Hz */
+        return 0;
     }
+    w->renewals++;
     fprintf(stderr,
             "%s: resident memory %ld kB, %ld kB above its base: LCM handle renewed (a flood of "
             "channel names?), ",
-            d->name, rss, rss - d->rss_base_kb);
-    d->rss_base_kb = rss_kb();
-    fprintf(stderr, "now %ld kB\n", d->rss_base_kb);
+            w->who, rss, rss - w->base_kb);
+    w->base_kb = rss_kb();
+    fprintf(stderr, "now %ld kB\n", w->base_kb);
+    return 1;
+}
+
+static int rx_move(void *subs, lcm_t *old, lcm_t *fresh)
+{
+    return rx_move_subscriptions(subs, old, fresh, DAEMON_QUEUE_CAPACITY);
+}
+
+int daemon_renew_lcm(daemon *d)
+{
+    if (lcm_renew(&d->lcm, d->lcm_url, rx_move, &d->rx, daemon_drain_budget_ns(d)) != DAEMON_OK)
+        return DAEMON_ERR_LCM;
+    d->names.renewals++;
+    return DAEMON_OK;
+}
+
+int daemon_names_watch(daemon *d)
+{
+    return names_watch_tick(&d->names, rtloop_now_ns(), &d->lcm, d->lcm_url, rx_move, &d->rx,
+                            daemon_drain_budget_ns(d));
+}
+
+static int bus_move(void *subs, lcm_t *old, lcm_t *fresh)
+{
+    (void)subs;
+    return auth_bus_move(old, fresh);
+}
+
+int bus_names_watch(names_watch *w, lcm_t **lcm, const char *url)
+{
+    /* a tool waits on the bus anyway: 50 ms for what the old handle holds */
+    return names_watch_tick(w, rtloop_now_ns(), lcm, url, bus_move, NULL, 50000000LL);
 }
 
 static void health_tick(daemon *d)
 {
     const int64_t now = rtloop_now_ns();
-    names_watch(d, now);
+    daemon_names_watch(d);
     /* lockstep: a cell waits together, but 5 s without any clock means the
      * simulator is gone: say so (the daemon holds; nothing moves anyway) */
     if (d->lockstep && d->clock_rx_ns > 0 && now - d->clock_rx_ns > DAEMON_SIM_SILENT_NS &&

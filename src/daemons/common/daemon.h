@@ -32,18 +32,35 @@
 #define DAEMON_SIM_SILENT_NS 5000000000LL  /* lockstep: no clock this long = no simulator */
 /* LCM keeps every channel name it sees, subscribed or not, for good
  * (docs/security.md §5): a flood of made-up names grows every process on
- * the bus without end. The shell bounds it: when its resident memory is
- * this much above what it was after start-up (or after the last renewal),
- * it opens a new LCM handle, subscribes it as the old one was and closes
- * the old one, whose table of names goes with it. A daemon is a few MB
- * and allocates nothing after start-up, so 16 MB is taken by a flood
- * alone (at 50,000 names/s, after some 8 s). */
+ * the bus without end. The shell bounds it (names_watch below): when a
+ * program's resident memory is this much above what it was after
+ * start-up (or after the last renewal), it opens a new LCM handle,
+ * subscribes it as the old one was, hands on what the old one still
+ * holds and closes it, whose table of names goes with it. A daemon is a
+ * few MB and allocates nothing after start-up, so 16 MB is taken by a
+ * flood alone (at 50,000 names/s, after some 8 s). */
 #define DAEMON_NAMES_SLACK_KB (16L * 1024L)
+/* The slack in kB instead (DAEMON_NAMES_SLACK_MIN_KB..MAX_KB), for tests
+ * that want renewals from a small flood (it_lockstep). */
+#define DAEMON_NAMES_SLACK_ENV "TANDEM_NAMES_SLACK_KB"
+#define DAEMON_NAMES_SLACK_MIN_KB 256L
+#define DAEMON_NAMES_SLACK_MAX_KB (4L * 1024L * 1024L)
 #define DAEMON_NAMES_CHECK_NS 100000000LL  /* resident memory read at 10 Hz */
 /* The environment a launcher gives its daemons so that glib (2.74) frees
  * what it frees instead of keeping slices (daemon_defaults, docs/security.md §5). */
 #define DAEMON_GLIB_SLICE_ENV "G_SLICE"
 #define DAEMON_GLIB_SLICE_VALUE "always-malloc"
+
+/* The bound on LCM's table of channel names of one program
+ * (DAEMON_NAMES_SLACK_KB): the daemons' (daemon.names, daemon_names_watch)
+ * and the tools' with their own handle (bus_names_watch). */
+typedef struct names_watch {
+    const char *who;                    /* what it says on stderr is said as this */
+    long     slack_kb;                  /* DAEMON_NAMES_SLACK_KB, or $TANDEM_NAMES_SLACK_KB */
+    long     base_kb;                   /* resident memory the renewal counts from, 0 unset */
+    int64_t  check_ns;                  /* last time it was read */
+    int64_t  renewals;                  /* LCM handles renewed (a flood of names) */
+} names_watch;
 
 typedef struct daemon_counters {
     int64_t received;
@@ -93,12 +110,7 @@ typedef struct daemon {
     double   drop_rate;                 /* --drop-rate: fault injection (rx.h), 0 none */
     long     drop_seed;                 /* --drop-seed: seed of the drops, 1 by default */
     rx_state rx;                        /* the receive path's tables and counts (rx.h) */
-    int      keep_lcm;                  /* 1: the LCM handle is never renewed (a
-                                           program that keeps copies of it or of
-                                           its subscriptions: tandem-sim) */
-    long     rss_base_kb;               /* resident memory the renewal counts from, 0 unset */
-    int64_t  names_check_ns;            /* last time it was read */
-    int64_t  lcm_renewals;              /* LCM handles renewed (a flood of names) */
+    names_watch names;                  /* the bound on LCM's table of channel names */
 } daemon;
 
 /* Cycle callback: read the latest inputs, call the core, publish outputs;
@@ -166,11 +178,50 @@ int daemon_subscribe_numbered(daemon *d, const char *prefix, int first, int last
 /* Answers lockstep step `step` for participant `name` on SIM_ACK (the
  * first answer registers it with its period; leaving = 1 unregisters).
  * Daemons do this in daemon_run; scenarios and tests call it directly. */
-/* A new LCM handle with the same subscriptions in place of d->lcm, whose
- * table of channel names (LCM's, never emptied) is freed with it.
- * DAEMON_OK, or DAEMON_ERR_LCM (nothing changed). Messages queued in the
- * old handle are lost (in lockstep the simulator announces the step again). */
+/* Moves every subscription made on the handle old onto fresh, each with
+ * its queue capacity, and returns how many: the receive path's
+ * (rx_move_subscriptions, the daemons) or auth_bus's (auth_bus_move,
+ * the tools). subs is its table. */
+typedef int (*lcm_move_fn)(void *subs, lcm_t *old, lcm_t *fresh);
+/* A new LCM handle at url in place of *lcm, with the same subscriptions
+ * (move). The new one is subscribed before the old one is read for the
+ * last time, so nothing that arrives meanwhile is lost (a datagram that
+ * reaches both in that moment is handed on twice: a copy, as lockstep's
+ * re-announcements make); what the old one still holds is handed on (at
+ * most DAEMON_DRAIN_MAX messages, budget_ns) and then it is closed, its
+ * table of channel names (LCM's, never emptied) with it. DAEMON_OK, or
+ * DAEMON_ERR_LCM (nothing changed). */
+int lcm_renew(lcm_t **lcm, const char *url, lcm_move_fn move, void *subs, int64_t budget_ns);
+/* The first call of a tool's main (a daemon gets it from its launcher):
+ * a program whose environment does not set G_SLICE=always-malloc is run
+ * again (execv of /proc/self/exe with the same argv) with it, since glib
+ * reads it only as it loads. Returns only when it is set, or when the
+ * program cannot be run again. */
+void names_watch_env(char **argv);
+/* Before any thread starts (LCM's receive thread): malloc with one arena,
+ * so that what a renewed handle frees goes back to the system; and w for
+ * who, with its slack (DAEMON_NAMES_SLACK_ENV, said on stderr when it is
+ * set but not a number of kB in range: then the default). A program
+ * whose glib keeps freed slices (G_SLICE not always-malloc,
+ * DAEMON_GLIB_SLICE_ENV) is told so on stderr. */
+void names_watch_init(names_watch *w, const char *who);
+/* At most every DAEMON_NAMES_CHECK_NS (now: rtloop_now_ns()): reads the
+ * resident memory, renews *lcm (lcm_renew) once it is
+ * DAEMON_NAMES_SLACK_KB above w's base, and says so on stderr. 1 when
+ * renewed, else 0. */
+int names_watch_tick(names_watch *w, int64_t now, lcm_t **lcm, const char *url, lcm_move_fn move,
+                     void *subs, int64_t budget_ns);
+/* The daemon's: names_watch_tick on d->lcm with the receive path's
+ * subscriptions. daemon_run calls it in its health tick; a program with a
+ * loop of its own (tandem-sim) calls it where a renewal is harmless.
+ * 1 when the handle was renewed. */
+int daemon_names_watch(daemon *d);
+/* daemon_names_watch's renewal, now (lcm_renew). */
 int daemon_renew_lcm(daemon *d);
+/* A tool's, with its own handle *lcm and checked subscriptions
+ * (auth_bus_subscribe): names_watch_tick with auth_bus_move. Call it in
+ * the tool's loop; *lcm may change (1 when it did). */
+int bus_names_watch(names_watch *w, lcm_t **lcm, const char *url);
 
 void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32_t period_steps, int leaving);
 /* Handles the LCM messages already queued, without blocking, for at most

@@ -59,7 +59,7 @@ int64_t rx_seq_gap(rx_channel *c, int64_t seq)
         if (c->n_streams < RX_STREAMS)
             best = c->n_streams++;
         else
-            best = (int)(c->copies % RX_STREAMS);   /* replace one, round robin */
+            best = (int)(c->copies % RX_STREAMS); /* replace one, round robin */
         c->last_seq[best] = seq;
         return 0;
     }
@@ -102,7 +102,8 @@ static void trampoline(const lcm_recv_buf_t *rb_in, const char *ch, void *u)
     if (rc != AUTH_OK) {
         /* a forged channel name must not take a slot of the table */
         c = channel_known(rx, ch);
-        if (rc == AUTH_ERR_TYPE) {   /* not a tandem type or too long: malformed, refused before any MAC */
+        if (rc ==
+            AUTH_ERR_TYPE) { /* not a tandem type or too long: malformed, refused before any MAC */
             s->d->msgs.received++;
             s->d->msgs.rejected++;
             if (c)
@@ -131,16 +132,20 @@ static void trampoline(const lcm_recv_buf_t *rb_in, const char *ch, void *u)
     s->handler(rb, ch, s->user);
 }
 
-lcm_subscription_t *rx_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler, void *user)
+lcm_subscription_t *rx_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler,
+                                 void *user)
 {
     rx_state *rx = &d->rx;
     rx_sub *s = NULL;
     int i;
-    /* a model re-created after a simulator reset subscribes again: reuse */
+    /* a model re-created after a simulator reset subscribes again: the
+     * same subscription */
     for (i = 0; i < rx->n_subs && !s; i++)
         if (rx->subs[i].handler == handler && rx->subs[i].user == user && rx->subs[i].d == d &&
             strncmp(rx->subs[i].channel, channel, RX_CHANNEL_NAME - 1) == 0)
             s = &rx->subs[i];
+    if (s && s->sub && s->lcm == d->lcm)
+        return s->sub;
     if (!s) {
         if (rx->n_subs >= RX_MAX_SUBS) {
             fprintf(stderr, "%s: more than %d subscriptions\n", d->name, RX_MAX_SUBS);
@@ -156,16 +161,22 @@ lcm_subscription_t *rx_subscribe(daemon *d, const char *channel, lcm_msg_handler
      * accepted message are counted on it too */
     if (strspn(channel, "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") == strlen(channel))
         channel_of(rx, channel);
-    return lcm_subscribe(d->lcm, channel, trampoline, s);
+    s->lcm = d->lcm;
+    s->sub = lcm_subscribe(d->lcm, channel, trampoline, s);
+    return s->sub;
 }
 
-int rx_subscribe_all(rx_state *rx, lcm_t *lcm, int capacity)
+int rx_move_subscriptions(rx_state *rx, lcm_t *old, lcm_t *fresh, int capacity)
 {
     int i, n = 0;
     for (i = 0; i < rx->n_subs; i++) {
-        lcm_subscription_t *s = lcm_subscribe(lcm, rx->subs[i].channel, trampoline, &rx->subs[i]);
-        if (s) {
-            lcm_subscription_set_queue_capacity(s, capacity);
+        rx_sub *s = &rx->subs[i];
+        if (s->lcm != old || !s->sub)
+            continue;
+        s->lcm = fresh;
+        s->sub = lcm_subscribe(fresh, s->channel, trampoline, s);
+        if (s->sub) {
+            lcm_subscription_set_queue_capacity(s->sub, capacity);
             n++;
         }
     }
@@ -209,5 +220,6 @@ void rx_fill_health(rx_state *rx, tandem_health_t *h)
     h->msgs_lost = rx_lost_total(rx);
     h->msgs_dropped = rx_dropped_total(rx);
     h->rx_deferred = rx->deferred;
-    h->loss_rate = rec + h->msgs_lost > 0 ? (double)h->msgs_lost / (double)(rec + h->msgs_lost) : 0.0;
+    h->loss_rate = rec + h->msgs_lost > 0 ? (double)h->msgs_lost / (double)(rec + h->msgs_lost)
+                                          : 0.0;
 }

@@ -44,6 +44,8 @@ typedef struct rx_sub {
     lcm_msg_handler_t handler;
     void *user;
     char channel[RX_CHANNEL_NAME];
+    lcm_t *lcm;                        /* the handle it is subscribed on, and how */
+    lcm_subscription_t *sub;
 } rx_sub;
 
 /* The receive path's state: one per daemon (daemon.rx), so nothing of it
@@ -65,11 +67,17 @@ typedef struct rx_state {
 void rx_init(rx_state *rx);
 /* Fault injection: drop received messages with probability p (0 = off). */
 void rx_set_drop(rx_state *rx, double p, uint64_t seed);
-/* lcm_subscribe through the receive path of d (daemon_subscribe calls this). */
+/* lcm_subscribe through the receive path of d (daemon_subscribe calls
+ * this). The same handler, user and channel again on the same handle
+ * (a model re-created after a simulator reset) is the subscription
+ * already made, not a second one. The subscription lives as long as
+ * the daemon: a renewed handle (daemon_renew_lcm) takes it over, so
+ * nobody keeps the lcm_subscription_t. */
 lcm_subscription_t *rx_subscribe(struct daemon *d, const char *channel, lcm_msg_handler_t handler, void *user);
-/* Every subscription of rx again on lcm, each with a queue of capacity
- * messages (a new handle: daemon_renew_lcm). The number subscribed. */
-int rx_subscribe_all(rx_state *rx, lcm_t *lcm, int capacity);
+/* Every subscription of rx made on old again on fresh, each with a queue
+ * of capacity messages (a new handle: daemon_renew_lcm, lcm_renew). The
+ * number moved. */
+int rx_move_subscriptions(rx_state *rx, lcm_t *old, lcm_t *fresh, int capacity);
 /* Adds per-channel counts, gaps, the loss rate and the deferred drains to
  * a health message; the strings and arrays point into rx. */
 void rx_fill_health(rx_state *rx, struct _tandem_health_t *h);
