@@ -232,6 +232,18 @@ static void rne_general(const arm_model *m, const arm_joint_cs *cs, const double
     rne_cs(m, cs, L, qd, qdd, g, tau_Nm);
 }
 
+/* The folded or the general RNE, as the model says (inputs checked). */
+static inline void rne_dispatch(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
+                         const double qdd[ARM_NJ], const double gravity_mps2[3],
+                         const arm_payload *payload, double tau_Nm[ARM_NJ])
+{
+    const double *g = gravity_mps2 ? gravity_mps2 : default_gravity;
+    if (m->structure == ARM_STRUCTURE_PUMA)
+        arm_puma_rne(m, cs, payload, qd, qdd, g, tau_Nm);
+    else
+        rne_general(m, cs, qd, qdd, g, payload, tau_Nm);
+}
+
 int arm_rne(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
             const double qdd[ARM_NJ], const double gravity_mps2[3],
             const arm_payload *payload, double tau_Nm[ARM_NJ])
@@ -240,10 +252,7 @@ int arm_rne(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
     if (!tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload)
         || arm_joint_cs_eval(m, q, &cs) != 0)
         return ARM_DYN_ERR_ARG;
-    if (m->structure == ARM_STRUCTURE_PUMA)
-        arm_puma_rne(m, &cs, payload, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, tau_Nm);
-    else
-        rne_general(m, &cs, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, payload, tau_Nm);
+    rne_dispatch(m, &cs, qd, qdd, gravity_mps2, payload, tau_Nm);
     return 0;
 }
 
@@ -254,11 +263,20 @@ int arm_rne_cs(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_N
     if (!m || !cs || !tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload)
         || !linalg_all_finite(cs->c, ARM_NJ) || !linalg_all_finite(cs->s, ARM_NJ))
         return ARM_DYN_ERR_ARG;
-    if (m->structure == ARM_STRUCTURE_PUMA)
-        arm_puma_rne(m, cs, payload, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, tau_Nm);
-    else
-        rne_general(m, cs, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, payload, tau_Nm);
+    rne_dispatch(m, cs, qd, qdd, gravity_mps2, payload, tau_Nm);
     return 0;
+}
+
+int arm_rne_cs_unchecked(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
+                         const double qdd[ARM_NJ], const double gravity_mps2[3],
+                         const arm_payload *payload, double tau_Nm[ARM_NJ])
+{
+    if (!payload_valid(payload))
+        return ARM_DYN_ERR_ARG;
+    rne_dispatch(m, cs, qd, qdd, gravity_mps2, payload, tau_Nm);
+    /* every input reaches every torque through products and sums (no
+     * branch, no fmin), so a NaN or Inf among them shows in tau */
+    return linalg_all_finite(tau_Nm, ARM_NJ) ? 0 : ARM_DYN_ERR_ARG;
 }
 
 int arm_gravity(const arm_model *m, const double q[ARM_NJ], const double gravity_mps2[3],

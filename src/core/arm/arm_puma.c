@@ -1,4 +1,4 @@
-/* arm_puma: forward kinematics, Jacobian, RNE torques and M(q) folded for
+/* arm_puma: forward kinematics, Jacobian, J-dot q-dot, RNE torques and M(q) folded for
  * the PUMA structure (docs/method/puma.md §2-§5): twists of 90, 0, -90,
  * 90, -90, 0 deg, a1 = a4 = a5 = a6 = 0, d1 = d2 = d5 = 0, no joint
  * offsets, diagonal link inertias (arm_model_has_puma_structure).
@@ -388,6 +388,52 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload 
     rot(TWIST_0, c[1], s[1], n, n);
     tau_Nm[0] = n[1] + m->com_m[0][2] * F[0][0] - m->com_m[0][0] * F[0][2] + N[0][1];
     add_armature_torque(m, qdd, tau_Nm);
+}
+
+/* ---- J-dot q-dot ------------------------------------------------------------ */
+
+/* docs/method/puma.md §3: J-dot q-dot is the acceleration of the point p of
+ * T and link 6's angular acceleration when qdd = 0 and g = 0, so the
+ * outward half of the RNE above, in link coordinates with its zeros
+ * (w_1 = (0, qd1, 0), wd_1 = vd_1 = 0, the p*_i), then
+ * [R_06 (vd_6 + K_6 r); R_06 wd_6] with r = R_06^T (p - o_6), the point
+ * in frame 6. */
+void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F6[16],
+                      const double T[16], const double qd[ARM_NJ], double jdqd[6])
+{
+    const double *c = cs->c, *s = cs->s;
+    double w[3], wd[3], vd[3], r[3];
+    accel_map k;
+    int i;
+    w[0] = 0.0; w[1] = qd[0]; w[2] = 0.0;
+    wd[0] = wd[1] = wd[2] = 0.0;
+    vd[0] = vd[1] = vd[2] = 0.0;
+    outward(TWIST_0, c[1], s[1], qd[1], 0.0, w, wd, vd);
+    accel_map_of(w, wd, &k);
+    add_column(vd, &k, 0, m->a_m[1]);
+    outward(TWIST_M90, c[2], s[2], qd[2], 0.0, w, wd, vd);
+    accel_map_of(w, wd, &k);
+    add_column(vd, &k, 0, m->a_m[2]);
+    add_column(vd, &k, 1, -m->d_m[2]);
+    outward(TWIST_P90, c[3], s[3], qd[3], 0.0, w, wd, vd);
+    accel_map_of(w, wd, &k);
+    add_column(vd, &k, 1, m->d_m[3]);
+    outward(TWIST_M90, c[4], s[4], qd[4], 0.0, w, wd, vd);
+    outward(TWIST_0, c[5], s[5], qd[5], 0.0, w, wd, vd);
+    accel_map_of(w, wd, &k);
+    add_column(vd, &k, 2, m->d_m[5]);
+    {
+        const double d0 = T[3] - F6[3], d1 = T[7] - F6[7], d2 = T[11] - F6[11];
+        for (i = 0; i < 3; i++)
+            r[i] = F6[i] * d0 + F6[4 + i] * d1 + F6[8 + i] * d2;
+    }
+    for (i = 0; i < 3; i++)   /* vd_6 + K_6 r: the point's acceleration */
+        vd[i] += k.K[3 * i] * r[0] + k.K[3 * i + 1] * r[1] + k.K[3 * i + 2] * r[2];
+    for (i = 0; i < 3; i++) {
+        const double *row = F6 + 4 * i;
+        jdqd[i] = row[0] * vd[0] + row[1] * vd[1] + row[2] * vd[2];
+        jdqd[3 + i] = row[0] * wd[0] + row[1] * wd[1] + row[2] * wd[2];
+    }
 }
 
 /* ---- joint-space inertia (composite rigid bodies) ---------------------- */

@@ -7,6 +7,15 @@
 #include "arm_dyn.h"
 #include "arm_model.h"
 
+/* arm_rne_cs for a caller that passes m, cs and tau_Nm non-NULL (the
+ * Cartesian cycle): the payload is validated, but instead of checking
+ * qd, qdd, gravity and cs finite one by one, the torques are checked
+ * after (a NaN or Inf in any input shows in them). 0, or ARM_DYN_ERR_ARG
+ * (tau_Nm then undefined). arm_dyn.c. */
+int arm_rne_cs_unchecked(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
+                       const double qdd[ARM_NJ], const double gravity_mps2[3],
+                       const arm_payload *payload, double tau_Nm[ARM_NJ]);
+
 /* Mass properties of link i as the dynamics read them: the model's own,
  * or link 6 merged with a payload (then I is a full 3x3). */
 typedef struct arm_link_ref {
@@ -37,6 +46,10 @@ void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
 
 /* Geometric Jacobian of the point of pose T from the frames F (§3). */
 void arm_puma_jacobian(const double (*F)[16], const double T[16], double J[36]);
+
+/* J-dot q-dot of the point of pose T (§3), F6 the flange frame. */
+void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F6[16],
+                      const double T[16], const double qd[ARM_NJ], double jdqd[6]);
 
 /* RNE torques (§4); g the gravity vector in base coordinates, payload
  * NULL or valid. */
