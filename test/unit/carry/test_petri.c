@@ -60,6 +60,28 @@ static uint32_t rnd(void)
     return rng_state >> 8;
 }
 
+/* A random net of up to full size into the given tables: arcs with odds
+ * 1 in arc_odds, inhibitor arcs 1 in 17 (used only if inhibit), no
+ * invariants, an empty initial marking. */
+static void random_net(petri_net *n, int arc_odds, int inhibit, int8_t *mi, int8_t *pl, int8_t *ih, uint8_t *m0)
+{
+    int k;
+    n->n_places = 1 + (int)(rnd() % PETRI_MAX_PLACES);
+    n->n_transitions = 1 + (int)(rnd() % PETRI_MAX_TRANSITIONS);
+    for (k = 0; k < n->n_places * n->n_transitions; k++) {
+        mi[k] = (int8_t)(rnd() % (uint32_t)arc_odds == 0);
+        pl[k] = (int8_t)(rnd() % (uint32_t)arc_odds == 0);
+        ih[k] = (int8_t)(rnd() % 17 == 0);
+    }
+    memset(m0, 0, PETRI_MAX_PLACES);
+    n->n_minus = mi;
+    n->n_plus = pl;
+    n->n_inhibit = inhibit ? ih : NULL;
+    n->m0 = m0;
+    n->n_invariants = 0;
+    n->invariants = NULL;
+}
+
 /* Random nets of full size, random markings and running sets. */
 static void test_scan_equals_mask(void **st)
 {
@@ -74,20 +96,7 @@ static void test_scan_equals_mask(void **st)
         petri_compiled c;
         petri_state s;
         int k, j, i;
-        n.n_places = 1 + (int)(rnd() % PETRI_MAX_PLACES);
-        n.n_transitions = 1 + (int)(rnd() % PETRI_MAX_TRANSITIONS);
-        for (k = 0; k < n.n_places * n.n_transitions; k++) {
-            mi[k] = (int8_t)(rnd() % 5 == 0);
-            pl[k] = (int8_t)(rnd() % 5 == 0);
-            ih[k] = (int8_t)(rnd() % 17 == 0);
-        }
-        memset(m0, 0, sizeof m0);
-        n.n_minus = mi;
-        n.n_plus = pl;
-        n.n_inhibit = (trial % 2) ? ih : NULL;
-        n.m0 = m0;
-        n.n_invariants = 0;
-        n.invariants = NULL;
+        random_net(&n, 5, trial % 2, mi, pl, ih, m0);
         assert_int_equal(petri_compile(&c, &n), 0);
         for (k = 0; k < 50; k++) {
             memset(&s, 0, sizeof s);
@@ -135,22 +144,12 @@ static void test_incremental_equals_scan(void **st)
         petri_net n;
         long viol = 0;
         int k, i;
-        n.n_places = 1 + (int)(rnd() % PETRI_MAX_PLACES);
-        n.n_transitions = 1 + (int)(rnd() % PETRI_MAX_TRANSITIONS);
-        for (k = 0; k < n.n_places * n.n_transitions; k++) {
-            mi[k] = (int8_t)(rnd() % 4 == 0);
-            pl[k] = (int8_t)(rnd() % 4 == 0);
-            ih[k] = (int8_t)(rnd() % 17 == 0);
-        }
+        random_net(&n, 4, trial % 2, mi, pl, ih, m0);
         n.n_invariants = (int)(rnd() % (PETRI_MAX_INVARIANTS + 1));
         for (k = 0; k < n.n_invariants * n.n_places; k++)
             inv[k] = (int8_t)((int)(rnd() % 4) - 1);
         for (i = 0; i < n.n_places; i++)
             m0[i] = (uint8_t)(rnd() % 3);
-        n.n_minus = mi;
-        n.n_plus = pl;
-        n.n_inhibit = (trial % 2) ? ih : NULL;
-        n.m0 = m0;
         n.invariants = inv;
         assert_int_equal(petri_init(&p, &n), 0);
         assert_sets_match_scan(&p);
