@@ -398,7 +398,8 @@ static void mass_matrix_cs(const arm_model *m, const arm_joint_cs *cs, const lin
  * joints 2-5, and 6 unless link 6 with its payload is symmetric about its
  * axis; joint 1 never (its axis is vertical: M does not depend on q1).
  * The others are set to cos 1, sin 0. q checked finite by the caller. */
-static void puma_mass_cs(const arm_model *m, const double q[ARM_NJ], const link_ref *l6, arm_joint_cs *cs)
+static void puma_mass_cs(const arm_model *m, const double q[ARM_NJ], const link_ref *l6,
+                         arm_joint_cs *cs)
 {
     const int last = arm_puma_link6_axisymmetric(l6) ? ARM_NJ - 1 : ARM_NJ;
     int i;

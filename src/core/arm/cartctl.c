@@ -69,7 +69,8 @@ void cartctl_rot_error(const double R_d[9], const double R[9], double err[3])
     int i, j;
     for (i = 0; i < 3; i++)   /* E = R_d R^T, the transpose read in place */
         for (j = 0; j < 3; j++)
-            E[3 * i + j] = R_d[3 * i] * R[3 * j] + R_d[3 * i + 1] * R[3 * j + 1] + R_d[3 * i + 2] * R[3 * j + 2];
+            E[3 * i + j] = R_d[3 * i] * R[3 * j] + R_d[3 * i + 1] * R[3 * j + 1]
+                           + R_d[3 * i + 2] * R[3 * j + 2];
     angle = rot_to_axis_angle(axis, E);
     vec3_scale(err, axis, angle);
 }
@@ -204,7 +205,8 @@ static int wrist_blocks(const double J[36], const double T[16], const double w[3
             CB[3 * i + j] = Ci[3 * i] * B[j] + Ci[3 * i + 1] * B[3 + j] + Ci[3 * i + 2] * B[6 + j];
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++)
-            D[3 * i + j] = -(CB[3 * i] * Ai[j] + CB[3 * i + 1] * Ai[3 + j] + CB[3 * i + 2] * Ai[6 + j]);
+            D[3 * i + j] = -(CB[3 * i] * Ai[j] + CB[3 * i + 1] * Ai[3 + j]
+                             + CB[3 * i + 2] * Ai[6 + j]);
     return 0;
 }
 

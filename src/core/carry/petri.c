@@ -419,7 +419,8 @@ static int running_ok(const petri *p, const petri_state *s)
 
 int petri_set_state(petri *p, const petri_state *s)
 {
-    if (!p || !p->c.net || !s || !running_ok(p, s) || petri_state_invariant_violations(&p->c, s) != 0)
+    if (!p || !p->c.net || !s || !running_ok(p, s)
+        || petri_state_invariant_violations(&p->c, s) != 0)
         return PETRI_ERR_ARG;
     p->st = *s;
     derive_sets(p);

@@ -63,7 +63,8 @@ static uint32_t rnd(void)
 /* A random net of up to full size into the given tables: arcs with odds
  * 1 in arc_odds, inhibitor arcs 1 in 17 (used only if inhibit), no
  * invariants, an empty initial marking. */
-static void random_net(petri_net *n, int arc_odds, int inhibit, int8_t *mi, int8_t *pl, int8_t *ih, uint8_t *m0)
+static void random_net(petri_net *n, int arc_odds, int inhibit, int8_t *mi, int8_t *pl, int8_t *ih,
+                       uint8_t *m0)
 {
     int k;
     n->n_places = 1 + (int)(rnd() % PETRI_MAX_PLACES);
@@ -122,7 +123,8 @@ static void assert_sets_match_scan(const petri *p)
     int j;
     for (j = 0; j < p->c.net->n_transitions; j++)
         assert_int_equal(petri_enabled(p, j), petri_state_enabled_scan(&p->c, &p->st, j));
-    assert_int_equal(petri_invariants_hold(p), petri_state_invariant_violations(&p->c, &p->st) == 0);
+    assert_int_equal(petri_invariants_hold(p),
+                     petri_state_invariant_violations(&p->c, &p->st) == 0);
     assert_int_equal(petri_dead(p), petri_state_dead(&p->c, &p->st));
 }
 
