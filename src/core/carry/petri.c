@@ -319,13 +319,15 @@ int petri_init(petri *p, const petri_net *net)
     return 0;
 }
 
+/* The lowest index of the kept enabled set: what the seed's scan
+ * (petri_state_enabled_scan over j = 0..) picks, without the scan. */
 int petri_select(const petri *p)
 {
     int j;
     if (!p)
         return PETRI_ERR_NONE_ENABLED;
-    for (j = 0; j < p->c.net->n_transitions; j++)
-        if (petri_state_enabled_scan(&p->c, &p->st, j))
+    for (j = 0; j < PETRI_MAX_TRANSITIONS && (p->enabled >> j) != 0; j++)
+        if ((p->enabled >> j) & 1u)
             return j;
     return PETRI_ERR_NONE_ENABLED;
 }
