@@ -61,6 +61,10 @@ static pin::Model make_model(const arm_model &m, pin::FrameIndex *flange)
         model.appendBodyToJoint(parent, after.act(in_link), pin::SE3::Identity());
         place = after;
     }
+    // the rotors' reflected inertia (arm_model.h armature_kgm2), which the
+    // core adds to M's diagonal and J_i qdd_i to tau_i: Pinocchio's crba
+    // and rnea do the same with model.armature
+    model.armature = Eigen::Map<const Eigen::VectorXd>(m.armature_kgm2, ARM_NJ);
     model.gravity.linear(Eigen::Vector3d(0, 0, -ARM_GRAVITY_MPS2));
     *flange = model.addFrame(pin::Frame("flange", parent, 0, place, pin::OP_FRAME));
     return model;

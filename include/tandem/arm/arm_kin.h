@@ -35,6 +35,7 @@ typedef struct arm_kin_pass {
     double F[ARM_NJ + 1][16];    /* base -> frame i (arm_link_frames)       */
     double T[16];                /* tool pose (flange if no tool)           */
     double J[36];                /* tool Jacobian, as arm_fk_jacobian       */
+    const arm_model *m;          /* the model the pass was evaluated with   */
     int puma;                    /* the model's structure is ARM_STRUCTURE_PUMA */
 } arm_kin_pass;
 

@@ -70,8 +70,16 @@ typedef struct {
     const petri_net *net;
     int n_in[PETRI_MAX_TRANSITIONS];         /* I_j of the seed        */
     uint32_t in_mask[PETRI_MAX_TRANSITIONS];
+    uint32_t out_mask[PETRI_MAX_TRANSITIONS];     /* places of N+_j    */
     uint32_t inhibit_mask[PETRI_MAX_TRANSITIONS];
+    /* bit k: t_k's enabling can change when t_j starts or completes (an
+     * input or inhibitor arc of t_k on a place of t_j's, or k = j) */
+    uint32_t touch[PETRI_MAX_TRANSITIONS];
     int inv_value[PETRI_MAX_INVARIANTS];     /* y^T gamma0             */
+    /* y_k^T N-_j (the tokens of t_j in flight) and y_k^T (N+_j - N-_j)
+     * (what completing t_j adds to y_k^T gamma) */
+    int16_t inv_in[PETRI_MAX_INVARIANTS][PETRI_MAX_TRANSITIONS];
+    int16_t inv_step[PETRI_MAX_INVARIANTS][PETRI_MAX_TRANSITIONS];
 } petri_compiled;
 
 /* Validates sizes and 0/1 entries. Returns 0 or PETRI_ERR_ARG. */
@@ -94,10 +102,19 @@ int petri_state_invariant_violations(const petri_compiled *c, const petri_state 
 /* Dead: no transition enabled and none running. */
 int petri_state_dead(const petri_compiled *c, const petri_state *s);
 
-/* ---- engine ----------------------------------------------------------- */
+/* ---- engine -----------------------------------------------------------
+ * The engine keeps, besides the state, what its queries need, updated
+ * after each start or completion instead of scanned for: the marked
+ * places, the enabled transitions (only those in touch[t] re-checked)
+ * and each invariant's y^T gamma + in-flight tokens (plus inv_step[t] on
+ * completing t; a start leaves it unchanged). st is read-only to callers:
+ * petri_set_state or petri_load_state change it. */
 typedef struct {
     petri_compiled c;
     petri_state st;
+    uint32_t marked;            /* bit i: st.m[i] > 0                      */
+    uint32_t enabled;           /* bit j: t_j enabled in st                */
+    int inv_now[PETRI_MAX_INVARIANTS];   /* y_k^T gamma + in flight        */
     long invariant_violations;  /* changes after which an invariant failed */
     int last_fired;             /* last completed transition, -1 if none   */
     long fired_count;           /* completions                             */
@@ -119,6 +136,10 @@ int petri_invariants_hold(const petri *p);
  * P-invariant (tokens of running transitions counted). 0 or PETRI_ERR_ARG,
  * and then the state is unchanged. */
 int petri_set_state(petri *p, const petri_state *s);
+/* Takes s as it is (an explorer's state, which may break an invariant of
+ * a faulty net: the checks then count it), its sets derived afresh. 0, or
+ * PETRI_ERR_ARG (NULL, or running bits of no transition). */
+int petri_load_state(petri *p, const petri_state *s);
 
 /* ---- reachability ------------------------------------------------------ */
 /* Workspace (large: make it static). BFS over states = marking + running

@@ -17,6 +17,7 @@
 #include "arm_dyn.h"
 #include "arm_puma_internal.h"
 #include "linalg.h"
+#include "trig.h"
 #include "vec3.h"
 #include <math.h>
 #include <stddef.h>
@@ -232,6 +233,18 @@ static void rne_general(const arm_model *m, const arm_joint_cs *cs, const double
     rne_cs(m, cs, L, qd, qdd, g, tau_Nm);
 }
 
+/* The folded or the general RNE, as the model says (inputs checked). */
+static inline void rne_dispatch(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
+                         const double qdd[ARM_NJ], const double gravity_mps2[3],
+                         const arm_payload *payload, double tau_Nm[ARM_NJ])
+{
+    const double *g = gravity_mps2 ? gravity_mps2 : default_gravity;
+    if (m->structure == ARM_STRUCTURE_PUMA)
+        arm_puma_rne(m, cs, payload, qd, qdd, g, tau_Nm);
+    else
+        rne_general(m, cs, qd, qdd, g, payload, tau_Nm);
+}
+
 int arm_rne(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
             const double qdd[ARM_NJ], const double gravity_mps2[3],
             const arm_payload *payload, double tau_Nm[ARM_NJ])
@@ -240,10 +253,7 @@ int arm_rne(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
     if (!tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload)
         || arm_joint_cs_eval(m, q, &cs) != 0)
         return ARM_DYN_ERR_ARG;
-    if (m->structure == ARM_STRUCTURE_PUMA)
-        arm_puma_rne(m, &cs, payload, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, tau_Nm);
-    else
-        rne_general(m, &cs, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, payload, tau_Nm);
+    rne_dispatch(m, &cs, qd, qdd, gravity_mps2, payload, tau_Nm);
     return 0;
 }
 
@@ -254,11 +264,20 @@ int arm_rne_cs(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_N
     if (!m || !cs || !tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload)
         || !linalg_all_finite(cs->c, ARM_NJ) || !linalg_all_finite(cs->s, ARM_NJ))
         return ARM_DYN_ERR_ARG;
-    if (m->structure == ARM_STRUCTURE_PUMA)
-        arm_puma_rne(m, cs, payload, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, tau_Nm);
-    else
-        rne_general(m, cs, qd, qdd, gravity_mps2 ? gravity_mps2 : default_gravity, payload, tau_Nm);
+    rne_dispatch(m, cs, qd, qdd, gravity_mps2, payload, tau_Nm);
     return 0;
+}
+
+int arm_rne_cs_unchecked(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
+                         const double qdd[ARM_NJ], const double gravity_mps2[3],
+                         const arm_payload *payload, double tau_Nm[ARM_NJ])
+{
+    if (!payload_valid(payload))
+        return ARM_DYN_ERR_ARG;
+    rne_dispatch(m, cs, qd, qdd, gravity_mps2, payload, tau_Nm);
+    /* every input reaches every torque through products and sums (no
+     * branch, no fmin), so a NaN or Inf among them shows in tau */
+    return linalg_all_finite(tau_Nm, ARM_NJ) ? 0 : ARM_DYN_ERR_ARG;
 }
 
 int arm_gravity(const arm_model *m, const double q[ARM_NJ], const double gravity_mps2[3],
@@ -282,24 +301,6 @@ int arm_coriolis(const arm_model *m, const double q[ARM_NJ], const double qd[ARM
  * sums of bodies are plain sums in this form, which is why CRBA keeps it. */
 typedef arm_composite origin_body;
 enum { XX = ARM_I_XX, YY = ARM_I_YY, ZZ = ARM_I_ZZ, XY = ARM_I_XY, YZ = ARM_I_YZ, XZ = ARM_I_XZ };
-
-/* b += link l (COM c, inertia about c): h += m c, I += I_c + m (|c|^2 E - c c^T).
- * Shared with the folded CRBA (arm_puma.c). */
-void arm_composite_add_link(arm_composite *b, const arm_link_ref *l)
-{
-    const double m = l->m, *c = l->c, *Ic = l->I;
-    const double mx = m * c[0], my = m * c[1], mz = m * c[2];
-    b->m += m;
-    b->h[0] += mx;
-    b->h[1] += my;
-    b->h[2] += mz;
-    b->I[XX] += Ic[0] + my * c[1] + mz * c[2];
-    b->I[YY] += Ic[4] + mx * c[0] + mz * c[2];
-    b->I[ZZ] += Ic[8] + mx * c[0] + my * c[1];
-    b->I[XY] += Ic[1] - mx * c[1];
-    b->I[YZ] += Ic[5] - my * c[2];
-    b->I[XZ] += Ic[2] - mx * c[2];
-}
 
 /* b, already turned into the parent's axes (I turned, its first moment h
  * given turned), moved to the parent's origin p: the parallel-axis step
@@ -393,15 +394,38 @@ static void mass_matrix_cs(const arm_model *m, const arm_joint_cs *cs, const lin
         M[i * 6 + i] += m->armature_kgm2[i];   /* the rotors' reflected inertia, as in rne_cs */
 }
 
+/* cos/sin of the joints the PUMA's M(q) reads (arm_puma_mass_matrix):
+ * joints 2-5, and 6 unless link 6 with its payload is symmetric about its
+ * axis; joint 1 never (its axis is vertical: M does not depend on q1).
+ * The others are set to cos 1, sin 0. q checked finite by the caller. */
+static void puma_mass_cs(const arm_model *m, const double q[ARM_NJ], const link_ref *l6,
+                         arm_joint_cs *cs)
+{
+    const int last = arm_puma_link6_axisymmetric(l6) ? ARM_NJ - 1 : ARM_NJ;
+    int i;
+    for (i = 0; i < ARM_NJ; i++) {
+        cs->c[i] = 1.0;
+        cs->s[i] = 0.0;
+    }
+    for (i = 1; i < last; i++)
+        trig_sincos(q[i] + m->theta_offset_rad[i], &cs->s[i], &cs->c[i]);
+}
+
 int arm_mass_matrix(const arm_model *m, const double q[ARM_NJ],
                     const arm_payload *payload, double M[36])
 {
     arm_joint_cs cs;
     link_mass merged;
     link_ref L[ARM_NJ];
-    if (!M || !payload_valid(payload) || arm_joint_cs_eval(m, q, &cs) != 0)
+    if (!M || !m || !q || !payload_valid(payload) || !linalg_all_finite(q, ARM_NJ))
         return ARM_DYN_ERR_ARG;
     link_refs(m, payload, &merged, L);
+    if (m->structure == ARM_STRUCTURE_PUMA) {
+        puma_mass_cs(m, q, &L[ARM_NJ - 1], &cs);
+        arm_puma_mass_matrix(m, &cs, L, M);
+        return 0;
+    }
+    (void)arm_joint_cs_eval(m, q, &cs);
     mass_matrix_cs(m, &cs, L, M);
     return 0;
 }

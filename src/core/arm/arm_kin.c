@@ -134,6 +134,7 @@ int arm_kin_eval(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ
         memset(k, 0, sizeof *k);
         return ARM_KIN_ERR_ARG;
     }
+    k->m = m;
     k->puma = m->structure == ARM_STRUCTURE_PUMA;
     if (k->puma) {
         arm_puma_chain(m, &k->cs, k->F);
@@ -150,34 +151,25 @@ int arm_kin_eval(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ
 }
 
 /* Why analytic: the central difference of J along qd cost two more
- * kinematics passes per cycle (and carried an O(h^2) error). Frame i's
- * z axis and origin turn with link i: zdot_i = w_i x z_i and
- * odot_{i+1} = odot_i + w_{i+1} x (o_{i+1} - o_i) (o_i lies on joint i+1's
- * axis, so it moves with link i+1 as well as with link i). */
-int arm_kin_jdot_qd(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[6])
+ * kinematics passes per cycle (and carried an O(h^2) error). The PUMA's
+ * is the RNE's outward recursion with qdd = 0 and no gravity, in link
+ * coordinates (arm_puma_jdot_qd, docs/method/puma.md §3). The general
+ * one, in base coordinates: frame i's z axis and origin turn with link i,
+ * zdot_i = w_i x z_i and odot_{i+1} = odot_i + w_{i+1} x (o_{i+1} - o_i)
+ * (o_i lies on joint i+1's axis, so it moves with link i+1 as well as
+ * with link i). */
+/* The general sum; apart so that its locals are not on the PUMA path's
+ * stack (the Cartesian cycle's deepest). */
+static void jdot_general(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[6])
 {
     double w[3] = { 0, 0, 0 }, odot[3] = { 0, 0, 0 }, pdot[3] = { 0, 0, 0 };
     double p_e[3];
-    int i, j, first = 0;
-    if (!jdqd)
-        return ARM_KIN_ERR_ARG;
-    memset(jdqd, 0, 6 * sizeof jdqd[0]);
-    if (!k || !qd || !linalg_all_finite(qd, ARM_NJ))
-        return ARM_KIN_ERR_ARG;
+    int i, j;
     for (j = 0; j < 3; j++)
         for (i = 0; i < ARM_NJ; i++)
             pdot[j] += k->J[j * 6 + i] * qd[i];
     tf_pos(p_e, k->T);
-    if (k->puma) {
-        /* docs/method/puma.md §3: joint 1 turns about the base z with
-         * w_0 = 0 and o_1 = o_0, so its term is qd_1 e_z x pdot and
-         * frame 1's origin does not move */
-        jdqd[0] = -qd[0] * pdot[1];
-        jdqd[1] = qd[0] * pdot[0];
-        w[2] = qd[0];
-        first = 1;
-    }
-    for (i = first; i < ARM_NJ; i++) {
+    for (i = 0; i < ARM_NJ; i++) {
         const double *Fi = k->F[i];
         const double z[3] = { Fi[2], Fi[6], Fi[10] };
         const double o[3] = { Fi[3], Fi[7], Fi[11] };
@@ -192,7 +184,7 @@ int arm_kin_jdot_qd(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[
             jdqd[3 + j] += qd[i] * zdot[j];
             w[j] += z[j] * qd[i];   /* now w_{i+1} */
         }
-        if (i < ARM_NJ - 1 && !(k->puma && i == 4)) {   /* the PUMA's o_5 = o_4 */
+        if (i < ARM_NJ - 1) {
             const double *Fn = k->F[i + 1];
             const double step[3] = { Fn[3] - o[0], Fn[7] - o[1], Fn[11] - o[2] };
             double ws[3];
@@ -200,6 +192,19 @@ int arm_kin_jdot_qd(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[
             vec3_add(odot, odot, ws);
         }
     }
+}
+
+int arm_kin_jdot_qd(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[6])
+{
+    if (!jdqd)
+        return ARM_KIN_ERR_ARG;
+    memset(jdqd, 0, 6 * sizeof jdqd[0]);
+    if (!k || !k->m || !qd || !linalg_all_finite(qd, ARM_NJ))
+        return ARM_KIN_ERR_ARG;
+    if (k->puma)
+        arm_puma_jdot_qd(k->m, &k->cs, k->F[ARM_NJ], k->T, qd, jdqd);
+    else
+        jdot_general(k, qd, jdqd);
     return 0;
 }
 

@@ -1,5 +1,5 @@
-/* arm_puma: forward kinematics, Jacobian, RNE torques and M(q) folded for
- * the PUMA structure (docs/method/puma.md §2-§5): twists of 90, 0, -90,
+/* arm_puma: forward kinematics, Jacobian, J-dot q-dot, RNE torques and M(q)
+ * folded for the PUMA structure (docs/method/puma.md §2-§5): twists of 90, 0, -90,
  * 90, -90, 0 deg, a1 = a4 = a5 = a6 = 0, d1 = d2 = d5 = 0, no joint
  * offsets, diagonal link inertias (arm_model_has_puma_structure).
  *
@@ -390,6 +390,52 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload 
     add_armature_torque(m, qdd, tau_Nm);
 }
 
+/* ---- J-dot q-dot ------------------------------------------------------------ */
+
+/* docs/method/puma.md §3: J-dot q-dot is the acceleration of the point p of
+ * T and link 6's angular acceleration when qdd = 0 and g = 0, so the
+ * outward half of the RNE above, in link coordinates with its zeros
+ * (w_1 = (0, qd1, 0), wd_1 = vd_1 = 0, the p*_i), then
+ * [R_06 (vd_6 + K_6 r); R_06 wd_6] with r = R_06^T (p - o_6), the point
+ * in frame 6. */
+void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F6[16],
+                      const double T[16], const double qd[ARM_NJ], double jdqd[6])
+{
+    const double *c = cs->c, *s = cs->s;
+    double w[3], wd[3], vd[3], r[3];
+    accel_map k;
+    int i;
+    w[0] = 0.0; w[1] = qd[0]; w[2] = 0.0;
+    wd[0] = wd[1] = wd[2] = 0.0;
+    vd[0] = vd[1] = vd[2] = 0.0;
+    outward(TWIST_0, c[1], s[1], qd[1], 0.0, w, wd, vd);
+    accel_map_of(w, wd, &k);
+    add_column(vd, &k, 0, m->a_m[1]);
+    outward(TWIST_M90, c[2], s[2], qd[2], 0.0, w, wd, vd);
+    accel_map_of(w, wd, &k);
+    add_column(vd, &k, 0, m->a_m[2]);
+    add_column(vd, &k, 1, -m->d_m[2]);
+    outward(TWIST_P90, c[3], s[3], qd[3], 0.0, w, wd, vd);
+    accel_map_of(w, wd, &k);
+    add_column(vd, &k, 1, m->d_m[3]);
+    outward(TWIST_M90, c[4], s[4], qd[4], 0.0, w, wd, vd);
+    outward(TWIST_0, c[5], s[5], qd[5], 0.0, w, wd, vd);
+    accel_map_of(w, wd, &k);
+    add_column(vd, &k, 2, m->d_m[5]);
+    {
+        const double d0 = T[3] - F6[3], d1 = T[7] - F6[7], d2 = T[11] - F6[11];
+        for (i = 0; i < 3; i++)
+            r[i] = F6[i] * d0 + F6[4 + i] * d1 + F6[8 + i] * d2;
+    }
+    for (i = 0; i < 3; i++)   /* vd_6 + K_6 r: the point's acceleration */
+        vd[i] += k.K[3 * i] * r[0] + k.K[3 * i + 1] * r[1] + k.K[3 * i + 2] * r[2];
+    for (i = 0; i < 3; i++) {
+        const double *row = F6 + 4 * i;
+        jdqd[i] = row[0] * vd[0] + row[1] * vd[1] + row[2] * vd[2];
+        jdqd[3 + i] = row[0] * wd[0] + row[1] * wd[1] + row[2] * wd[2];
+    }
+}
+
 /* ---- joint-space inertia (composite rigid bodies) ---------------------- */
 
 /* The composite of arm_dyn.c's CRBA (arm_composite), its entries by name */
@@ -429,101 +475,139 @@ static inline void inertia_turn(double c, double s, double I[6])
     I[YZ] = s * xz + c * yz;
 }
 
-/* The composite in frame i+1 about its origin -> frame i about its own,
- * p = (a ct, a st, d) the frame's origin; p = 0 for joints 1 and 5. */
-static void composite_to_parent(int twist, double c, double s, const double p[3], int has_p,
-                                composite *b)
+/* The composite about o_{i+1} moved to o_i, still in frame i+1's axes:
+ * the parallel-axis step (arm_composite_shift) with p = p*_{i+1}, the
+ * origin of frame i+1 seen from o_i, which has its zeros here: (px, py, 0)
+ * for joints 2, 3 and 4, (0, 0, pz) for joint 6 (docs/method/puma.md §5). */
+static inline void shift_xy(composite *b, double px, double py)
 {
-    double h[3];
-    int k;
-    rot(twist, c, s, b->h, h);
+    const double m = b->m, hx = b->h[0], hy = b->h[1], hz = b->h[2];
+    b->I[XX] += py * (m * py + 2.0 * hy);
+    b->I[YY] += px * (m * px + 2.0 * hx);
+    b->I[ZZ] += px * (m * px + 2.0 * hx) + py * (m * py + 2.0 * hy);
+    b->I[XY] -= m * px * py + px * hy + hx * py;
+    b->I[YZ] -= py * hz;
+    b->I[XZ] -= px * hz;
+    b->h[0] += m * px;
+    b->h[1] += m * py;
+}
+
+static inline void shift_z(composite *b, double pz)
+{
+    const double d = pz * (b->m * pz + 2.0 * b->h[2]);
+    b->I[XX] += d;
+    b->I[YY] += d;
+    b->I[YZ] -= b->h[1] * pz;
+    b->I[XZ] -= b->h[0] * pz;
+    b->h[2] += b->m * pz;
+}
+
+/* The composite, about o_i, turned from frame i+1's axes into frame i's:
+ * R_i = Rz(theta_i) Rx(alpha_i) on h and on I. turn = 0 skips the Rz
+ * part (a composite symmetric about z_i, on which it acts as identity). */
+static inline void composite_turn(int twist, double c, double s, int turn, composite *b)
+{
     inertia_twist(twist, b->I);
-    inertia_turn(c, s, b->I);
-    if (has_p) {
-        arm_composite_shift(b, p, h);
-        return;
-    }
-    for (k = 0; k < 3; k++)
-        b->h[k] = h[k];
+    rot(twist, turn ? c : 1.0, turn ? s : 0.0, b->h, b->h);
+    if (turn)
+        inertia_turn(c, s, b->I);
 }
 
-/* (n, f) of frame j+1 -> frame j: n += p*_j x f, then both turned by R_j;
- * each case has its joint's twist and p*. */
-static void wrench_to_parent(const arm_model *m, int j, const arm_joint_cs *cs, double n[3],
-                             double f[3])
+/* Link 6 (with its payload) symmetric about its own z axis: I diagonal
+ * with I_xx = I_yy and the COM on the axis. Then turning it by q6 changes
+ * nothing, and M does not depend on q6. */
+int arm_puma_link6_axisymmetric(const arm_link_ref *l6)
 {
-    const double c = cs->c[j], s = cs->s[j];
-    switch (j) {
-    case 0:
-        rot(TWIST_P90, c, s, n, n);
-        rot(TWIST_P90, c, s, f, f);
-        break;
-    case 1:
-        n[1] -= m->a_m[1] * f[2];
-        n[2] += m->a_m[1] * f[1];
-        rot(TWIST_0, c, s, n, n);
-        rot(TWIST_0, c, s, f, f);
-        break;
-    case 2:
-        n[0] -= m->d_m[2] * f[2];
-        n[1] -= m->a_m[2] * f[2];
-        n[2] += m->a_m[2] * f[1] + m->d_m[2] * f[0];
-        rot(TWIST_M90, c, s, n, n);
-        rot(TWIST_M90, c, s, f, f);
-        break;
-    case 3:
-        n[0] += m->d_m[3] * f[2];
-        n[2] -= m->d_m[3] * f[0];
-        rot(TWIST_P90, c, s, n, n);
-        rot(TWIST_P90, c, s, f, f);
-        break;
-    default: /* 4; joint 6's wrench is never carried further out */
-        rot(TWIST_M90, c, s, n, n);
-        rot(TWIST_M90, c, s, f, f);
-        break;
-    }
+    const double *I = l6->I, *c = l6->c;
+    return I[0] == I[4] && I[1] == 0.0 && I[2] == 0.0 && I[3] == 0.0 && I[5] == 0.0 && I[6] == 0.0
+           && I[7] == 0.0 && c[0] == 0.0 && c[1] == 0.0;
 }
 
+/* Column i's wrench for a unit qdd_i: n = I z, f = z x h; M_ii = n_z. */
+static inline void column_of(const composite *b, double n[3], double f[3], double *Mii)
+{
+    n[0] = b->I[XZ];
+    n[1] = b->I[YZ];
+    n[2] = b->I[ZZ];
+    f[0] = -b->h[1];
+    f[1] = b->h[0];
+    f[2] = 0.0;
+    *Mii = b->I[ZZ];
+}
+
+/* Composites inward (links i+1..6 about o_i in frame i: shift by p*_{i+1},
+ * then turn by R_i), each giving column i's wrench for a unit qdd_i,
+ * n = I z_i, f = z_i x h, and M_ii = n_z; then all the wrenches carried
+ * inward together, joint by joint: n += p*_{j+1} x f, both turned by R_j,
+ * M_ji = n_z. What folds beyond the zeros of p*: the z row of R_j v is
+ * v_y, v_z or -v_y, so M_ji needs no turn; joint 1 needs none at all
+ * (M_0i = n_y in frame 1, and M does not depend on q1), joint 2 only the
+ * y of n, and f is turned only while a later p* reads it. */
 void arm_puma_mass_matrix(const arm_model *m, const arm_joint_cs *cs, const arm_link_ref L[ARM_NJ],
                           double M[36])
 {
-    static const int twist[ARM_NJ] = { TWIST_P90, TWIST_0, TWIST_M90, TWIST_P90, TWIST_M90, TWIST_0 };
-    composite comp;
-    int i, j;
-    memset(&comp, 0, sizeof comp);
-    for (i = ARM_NJ - 1; i >= 0; i--) {
-        double n[3], f[3], p[3] = { 0.0, 0.0, 0.0 };
-        const double c = cs->c[i], s = cs->s[i];
-        arm_composite_add_link(&comp, &L[i]);
-        if (i == 1 || i == 2) {
-            p[0] = m->a_m[i] * c;
-            p[1] = m->a_m[i] * s;
-        }
-        p[2] = m->d_m[i];   /* d3, d4, d6; zero for the others */
-        switch (twist[i]) {
-        case TWIST_P90:
-            composite_to_parent(TWIST_P90, c, s, p, i != 0, &comp);
-            break;
-        case TWIST_0:
-            composite_to_parent(TWIST_0, c, s, p, 1, &comp);
-            break;
-        default:
-            composite_to_parent(TWIST_M90, c, s, p, i != 4, &comp);
-            break;
-        }
-        /* unit rate about z through the origin: n = I z, f = z x h */
-        n[0] = comp.I[XZ];
-        n[1] = comp.I[YZ];
-        n[2] = comp.I[ZZ];
-        f[0] = -comp.h[1];
-        f[1] = comp.h[0];
-        f[2] = 0.0;
-        M[i * 6 + i] = n[2];
-        for (j = i - 1; j >= 0; j--) {
-            wrench_to_parent(m, j, cs, n, f);
-            M[j * 6 + i] = M[i * 6 + j] = n[2];
-        }
+    const double a2 = m->a_m[1], a3 = m->a_m[2], d3 = m->d_m[2], d4 = m->d_m[3], d6 = m->d_m[5];
+    const double *c = cs->c, *s = cs->s;
+    double n[ARM_NJ][3], f[ARM_NJ][3];
+    composite b;
+    int i;
+    memset(&b, 0, sizeof b);
+
+    /* phase 1: the composites, link 6 first, written out so that the
+     * composite stays in registers */
+    arm_composite_add_link(&b, &L[5]);
+    shift_z(&b, d6);
+    composite_turn(TWIST_0, c[5], s[5], !arm_puma_link6_axisymmetric(&L[5]), &b);
+    column_of(&b, n[5], f[5], &M[5 * 6 + 5]);
+    arm_composite_add_link(&b, &L[4]);   /* p*_5 = 0 */
+    composite_turn(TWIST_M90, c[4], s[4], 1, &b);
+    column_of(&b, n[4], f[4], &M[4 * 6 + 4]);
+    arm_composite_add_link(&b, &L[3]);
+    shift_xy(&b, 0.0, d4);
+    composite_turn(TWIST_P90, c[3], s[3], 1, &b);
+    column_of(&b, n[3], f[3], &M[3 * 6 + 3]);
+    arm_composite_add_link(&b, &L[2]);
+    shift_xy(&b, a3, -d3);
+    composite_turn(TWIST_M90, c[2], s[2], 1, &b);
+    column_of(&b, n[2], f[2], &M[2 * 6 + 2]);
+    arm_composite_add_link(&b, &L[1]);
+    shift_xy(&b, a2, 0.0);
+    composite_turn(TWIST_0, c[1], s[1], 1, &b);
+    column_of(&b, n[1], f[1], &M[1 * 6 + 1]);
+    /* link 1: p*_1 = 0, and Rx(90) turns yy into zz, which Rz(q1) keeps */
+    arm_composite_add_link(&b, &L[0]);
+    M[0] = b.I[YY];
+
+    /* phase 2: the wrenches inward. Joint 5 (p*_5 = 0, twist -90) */
+    rot(TWIST_M90, c[4], s[4], n[5], n[5]);
+    rot(TWIST_M90, c[4], s[4], f[5], f[5]);
+    M[4 * 6 + 5] = n[5][2];
+    for (i = 4; i < ARM_NJ; i++) {   /* joint 4: p*_4 = (0, d4, 0), twist 90 */
+        n[i][0] += d4 * f[i][2];
+        n[i][2] -= d4 * f[i][0];
+        rot(TWIST_P90, c[3], s[3], n[i], n[i]);
+        rot(TWIST_P90, c[3], s[3], f[i], f[i]);
+        M[3 * 6 + i] = n[i][2];
     }
-    for (i = 0; i < ARM_NJ; i++)
+    for (i = 3; i < ARM_NJ; i++) {   /* joint 3: p*_3 = (a3, -d3, 0), twist -90 */
+        n[i][0] -= d3 * f[i][2];
+        n[i][1] -= a3 * f[i][2];
+        n[i][2] += a3 * f[i][1] + d3 * f[i][0];
+        rot(TWIST_M90, c[2], s[2], n[i], n[i]);
+        rot(TWIST_M90, c[2], s[2], f[i], f[i]);
+        M[2 * 6 + i] = n[i][2];
+    }
+    for (i = 2; i < ARM_NJ; i++) {   /* joint 2: p*_2 = (a2, 0, 0), twist 0; only y is read on */
+        n[i][1] -= a2 * f[i][2];
+        M[1 * 6 + i] = n[i][2] + a2 * f[i][1];
+        n[i][1] = s[1] * n[i][0] + c[1] * n[i][1];
+    }
+    for (i = 1; i < ARM_NJ; i++)     /* joint 1: the z row of Rx(90) is y */
+        M[i] = n[i][1];
+    for (i = 0; i < ARM_NJ; i++) {
+        int j;
+        for (j = 0; j < i; j++)
+            M[i * 6 + j] = M[j * 6 + i];
         M[i * 6 + i] += m->armature_kgm2[i]; /* the rotors' reflected inertia, as in arm_puma_rne */
+    }
 }

@@ -7,6 +7,15 @@
 #include "arm_dyn.h"
 #include "arm_model.h"
 
+/* arm_rne_cs for a caller that passes m, cs and tau_Nm non-NULL (the
+ * Cartesian cycle): the payload is validated, but instead of checking
+ * qd, qdd, gravity and cs finite one by one, the torques are checked
+ * after (a NaN or Inf in any input shows in them). 0, or ARM_DYN_ERR_ARG
+ * (tau_Nm then undefined). arm_dyn.c. */
+int arm_rne_cs_unchecked(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
+                       const double qdd[ARM_NJ], const double gravity_mps2[3],
+                       const arm_payload *payload, double tau_Nm[ARM_NJ]);
+
 /* Mass properties of link i as the dynamics read them: the model's own,
  * or link 6 merged with a payload (then I is a full 3x3). */
 typedef struct arm_link_ref {
@@ -25,10 +34,27 @@ typedef struct arm_composite {
     double I[6];
 } arm_composite;
 
-/* b += link l (arm_dyn.c; both CRBAs use it). */
-void arm_composite_add_link(arm_composite *b, const arm_link_ref *l);
+/* b += link l (COM c, inertia about c): h += m c, I += I_c + m (|c|^2 E - c c^T).
+ * Both CRBAs use it; inline, so that the folded one keeps its composite
+ * in registers. */
+static inline void arm_composite_add_link(arm_composite *b, const arm_link_ref *l)
+{
+    const double m = l->m, *c = l->c, *Ic = l->I;
+    const double mx = m * c[0], my = m * c[1], mz = m * c[2];
+    b->m += m;
+    b->h[0] += mx;
+    b->h[1] += my;
+    b->h[2] += mz;
+    b->I[ARM_I_XX] += Ic[0] + my * c[1] + mz * c[2];
+    b->I[ARM_I_YY] += Ic[4] + mx * c[0] + mz * c[2];
+    b->I[ARM_I_ZZ] += Ic[8] + mx * c[0] + my * c[1];
+    b->I[ARM_I_XY] += Ic[1] - mx * c[1];
+    b->I[ARM_I_YZ] += Ic[5] - my * c[2];
+    b->I[ARM_I_XZ] += Ic[2] - mx * c[2];
+}
 /* b, turned into the parent's axes (h: its first moment, turned), moved to
- * the parent's origin p (parallel-axis step); arm_dyn.c. */
+ * the parent's origin p (parallel-axis step); arm_dyn.c, for the general
+ * CRBA (the PUMA's has p's zeros folded: shift_xy, shift_z). */
 void arm_composite_shift(arm_composite *b, const double p[3], const double h[3]);
 
 /* Every frame F[0..6] as arm_link_frames gives them, F[6] the flange
@@ -38,13 +64,22 @@ void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
 /* Geometric Jacobian of the point of pose T from the frames F (§3). */
 void arm_puma_jacobian(const double (*F)[16], const double T[16], double J[36]);
 
+/* J-dot q-dot of the point of pose T (§3), F6 the flange frame. */
+void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F6[16],
+                      const double T[16], const double qd[ARM_NJ], double jdqd[6]);
+
 /* RNE torques (§4); g the gravity vector in base coordinates, payload
  * NULL or valid. */
 void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload *payload,
                   const double qd[ARM_NJ], const double qdd[ARM_NJ], const double g[3],
                   double tau_Nm[ARM_NJ]);
 
-/* Joint-space inertia M(q), 6x6 row-major (§5). */
+/* 1 if link 6 as given (with its payload) is symmetric about its own z
+ * axis; then arm_puma_mass_matrix does not read cs of joint 6 (§5). */
+int arm_puma_link6_axisymmetric(const arm_link_ref *l6);
+
+/* Joint-space inertia M(q), 6x6 row-major (§5). Reads cs of joints 2-5,
+ * and of joint 6 unless link 6 is axisymmetric; never of joint 1. */
 void arm_puma_mass_matrix(const arm_model *m, const arm_joint_cs *cs, const arm_link_ref L[ARM_NJ],
                           double M[36]);
 

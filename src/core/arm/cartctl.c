@@ -7,6 +7,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "arm_puma_internal.h"
 #include "jointctl.h"
 #include "linalg.h"
 #include "vec3.h"
@@ -38,7 +39,8 @@ int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[AR
                      const double qd[ARM_NJ], cartctl_state *s)
 {
     arm_kin_pass k;
-    if (!m || !q || !qd || !s || !linalg_all_finite(q, ARM_NJ) || !linalg_all_finite(qd, ARM_NJ))
+    /* q is checked finite by arm_kin_eval, qd by arm_kin_jdot_qd */
+    if (!m || !q || !qd || !s)
         return CARTCTL_ERR_ARG;
     if (arm_kin_eval(m, tool, q, &k) != 0 || arm_kin_jdot_qd(&k, qd, s->jdqd) != 0)
         return CARTCTL_ERR_ARG;
@@ -63,9 +65,12 @@ int cartctl_jdot_qd(const arm_model *m, const arm_tool *tool, const double q[ARM
 
 void cartctl_rot_error(const double R_d[9], const double R[9], double err[3])
 {
-    double Rt[9], E[9], axis[3], angle;
-    rot_transpose(Rt, R);
-    rot_mul(E, R_d, Rt);
+    double E[9], axis[3], angle;
+    int i, j;
+    for (i = 0; i < 3; i++)   /* E = R_d R^T, the transpose read in place */
+        for (j = 0; j < 3; j++)
+            E[3 * i + j] = R_d[3 * i] * R[3 * j] + R_d[3 * i + 1] * R[3 * j + 1]
+                           + R_d[3 * i + 2] * R[3 * j + 2];
     angle = rot_to_axis_angle(axis, E);
     vec3_scale(err, axis, angle);
 }
@@ -163,18 +168,23 @@ static int inverse3(const double A[9], double Ai[9])
     return 0;
 }
 
-/* Ji = J^-1 for an arm whose last three axes meet at the wrist centre w
- * (docs/method/puma.md §6). With r = p - w (p the tool point of T), the wrist centre's velocity
- * v + r x w_ang makes the Jacobian block triangular, Q J = [A 0; B C],
- * Q = [I [r]x; 0 I], so J^-1 = [A^-1 0; -C^-1 B A^-1 C^-1] Q: two 3x3
- * inverses and three 3x3 products instead of a 6x6 elimination. 0, or
- * CARTCTL_ERR_SINGULAR (A or C singular: the arm at its elbow or wrist
- * singularity). Two callers (qdd_at, with its inputs already checked, and
- * the public cartctl_inverse_wrist) keep it out of qdd_at's frame, which
- * is on the cycle's deepest stack path. */
-static int inverse_wrist(const double J[36], const double T[16], const double w[3], double Ji[36])
+/* J^-1 for an arm whose last three axes meet at the wrist centre w
+ * (docs/method/puma.md §6). With r = p - w (p the tool point of T), the
+ * wrist centre's velocity v + r x w_ang makes the Jacobian block
+ * triangular, Q J = [A 0; B C], Q = [I [r]x; 0 I], so
+ * J^-1 = [A^-1 0; D C^-1] Q, D = -C^-1 B A^-1: two 3x3 inverses and two
+ * 3x3 products instead of a 6x6 elimination. The blocks are kept apart,
+ * in one array (the cycle keeps them in the SVD's workspace, dead until
+ * then): the cycle applies them to one vector (wrist_solve) and never
+ * forms the 6x6. */
+enum { WB_R = 0, WB_AI = 3, WB_CI = 12, WB_D = 21, WB_N = 30 };
+
+/* b[WB_N]: r, A^-1, C^-1, D. 0, or CARTCTL_ERR_SINGULAR (A or C singular:
+ * the arm at its elbow or wrist singularity). */
+static int wrist_blocks(const double J[36], const double T[16], const double w[3], double b[WB_N])
 {
-    double r[3], A[9], B[9], C[9], Ai[9], Ci[9], D[9], Ar[9], Dr[9];
+    double A[9], B[9], C[9], CB[9];
+    double *r = b + WB_R, *Ai = b + WB_AI, *Ci = b + WB_CI, *D = b + WB_D;
     int i, j;
     vec3_set(r, T[3] - w[0], T[7] - w[1], T[11] - w[2]);
     for (j = 0; j < 3; j++) {
@@ -189,56 +199,94 @@ static int inverse_wrist(const double J[36], const double T[16], const double w[
     }
     if (inverse3(A, Ai) != 0 || inverse3(C, Ci) != 0)
         return CARTCTL_ERR_SINGULAR;
-    /* D = -C^-1 B A^-1 */
-    {
-        double CB[9];
-        for (i = 0; i < 3; i++)
-            for (j = 0; j < 3; j++)
-                CB[3 * i + j] = Ci[3 * i] * B[j] + Ci[3 * i + 1] * B[3 + j] + Ci[3 * i + 2] * B[6 + j];
-        for (i = 0; i < 3; i++)
-            for (j = 0; j < 3; j++)
-                D[3 * i + j] = -(CB[3 * i] * Ai[j] + CB[3 * i + 1] * Ai[3 + j] + CB[3 * i + 2] * Ai[6 + j]);
-    }
-    /* M [r]x row by row; [r]x's columns are (0, r2, -r1), (-r2, 0, r0),
-     * (r1, -r0, 0) */
-    for (i = 0; i < 3; i++) {
-        const double *a = Ai + 3 * i, *d = D + 3 * i;
-        Ar[3 * i] = r[2] * a[1] - r[1] * a[2];
-        Ar[3 * i + 1] = r[0] * a[2] - r[2] * a[0];
-        Ar[3 * i + 2] = r[1] * a[0] - r[0] * a[1];
-        Dr[3 * i] = r[2] * d[1] - r[1] * d[2];
-        Dr[3 * i + 1] = r[0] * d[2] - r[2] * d[0];
-        Dr[3 * i + 2] = r[1] * d[0] - r[0] * d[1];
-    }
+    /* written out rather than two rot_mul: no temporary copies */
     for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++) {
-            Ji[6 * i + j] = Ai[3 * i + j];
-            Ji[6 * i + 3 + j] = Ar[3 * i + j];
-            Ji[18 + 6 * i + j] = D[3 * i + j];
-            Ji[18 + 6 * i + 3 + j] = Dr[3 * i + j] + Ci[3 * i + j];
-        }
+        for (j = 0; j < 3; j++)
+            CB[3 * i + j] = Ci[3 * i] * B[j] + Ci[3 * i + 1] * B[3 + j] + Ci[3 * i + 2] * B[6 + j];
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            D[3 * i + j] = -(CB[3 * i] * Ai[j] + CB[3 * i + 1] * Ai[3 + j]
+                             + CB[3 * i + 2] * Ai[6 + j]);
     return 0;
+}
+
+/* Row a of a block times [r]x: a^T [r]x = (a x r)^T. */
+static void row_times_rx(const double a[3], const double r[3], double out[3])
+{
+    out[0] = a[1] * r[2] - a[2] * r[1];
+    out[1] = a[2] * r[0] - a[0] * r[2];
+    out[2] = a[0] * r[1] - a[1] * r[0];
+}
+
+/* x = J^-1 y from the blocks: u = y_v + r x y_w, x_123 = A^-1 u,
+ * x_456 = D u + C^-1 y_w. Returns ||J^-1||_F^2, from the blocks too:
+ * the rows a of A^-1 [r]x have |a x r|^2 = |a|^2 |r|^2 - (a.r)^2, the
+ * rows of D [r]x + C^-1 are formed (3 cross products). */
+static double wrist_solve(const double b[WB_N], const double y[6], double x[6])
+{
+    const double *r = b + WB_R, *yw = y + 3;
+    const double rr = vec3_dot(r, r);
+    double u[3], f2 = 0.0;
+    int i;
+    vec3_cross(u, r, yw);
+    vec3_add(u, u, y);
+    for (i = 0; i < 3; i++) {
+        const double *a = b + WB_AI + 3 * i, *d = b + WB_D + 3 * i, *c = b + WB_CI + 3 * i;
+        const double aa = vec3_dot(a, a), ar = vec3_dot(a, r);
+        double e[3];
+        row_times_rx(d, r, e);
+        vec3_add(e, e, c);
+        x[i] = vec3_dot(a, u);
+        x[3 + i] = vec3_dot(d, u) + vec3_dot(c, yw);
+        f2 += aa * (1.0 + rr) - ar * ar + vec3_dot(d, d) + vec3_dot(e, e);
+    }
+    return f2;
 }
 
 int cartctl_inverse_wrist(const double J[36], const double T[16], const double w[3], double Ji[36])
 {
+    double b[WB_N];
+    int i, k;
     if (!J || !T || !w || !Ji || !linalg_all_finite(J, 36) || !linalg_all_finite(T, 16)
         || !linalg_all_finite(w, 3))
         return CARTCTL_ERR_ARG;
-    return inverse_wrist(J, T, w, Ji);
+    if (wrist_blocks(J, T, w, b) != 0)
+        return CARTCTL_ERR_SINGULAR;
+    for (k = 0; k < 6; k++) {   /* column k: J^-1 e_k */
+        double e[6] = { 0, 0, 0, 0, 0, 0 }, x[6];
+        e[k] = 1.0;
+        (void)wrist_solve(b, e, x);
+        for (i = 0; i < 6; i++)
+            Ji[6 * i + k] = x[i];
+    }
+    return 0;
 }
 
-/* Lower bound on sigma_min(J) from Ji = J^-1: ||Ji||_2 <= ||Ji||_F, so
- * s_min >= 1/||Ji||_F. Looser than sigma_min_lower by up to sqrt 6 when
- * the singular values are alike, within 0.2 % near the wrist singularity
- * where one is far below the others and the bound matters. */
-static double sigma_min_lower_frobenius(const double Ji[36])
+/* The fast path's exact solve (lambda = 0): qdd = J^-1 rhs and a lower
+ * bound on sigma_min(J) in *s_lo. For a spherical wrist the blocks above
+ * and s_min >= 1/||J^-1||_F (||.||_2 <= ||.||_F: looser than
+ * sigma_min_lower by up to sqrt 6 when the singular values are alike,
+ * within 0.2 % near the wrist singularity where one is far below the
+ * others and the bound matters); otherwise inverse6 and sigma_min_lower.
+ * work: 36 doubles of the caller's (the SVD's, dead until then), so that
+ * the cycle's deepest stack holds no second 6x6. 0, or SINGULAR (the SVD
+ * path decides). */
+static int exact_solve(const cartctl_state *s, const double rhs[6], double qdd[6], double *s_lo,
+                       double work[36])
 {
-    double f2 = 0.0;
-    int i;
-    for (i = 0; i < 36; i++)
-        f2 += Ji[i] * Ji[i];
-    return f2 > 0.0 ? 1.0 / sqrt(f2) : 0.0;
+    if (s->has_wrist) {
+        double f2;
+        if (wrist_blocks(s->J, s->T, s->wrist_m, work) != 0)
+            return SINGULAR;
+        f2 = wrist_solve(work, rhs, qdd);
+        *s_lo = f2 > 0.0 ? 1.0 / sqrt(f2) : 0.0;
+    } else {
+        if (inverse6(s->J, work) != 0)
+            return SINGULAR;
+        *s_lo = sigma_min_lower(work);
+        linalg_matvec(qdd, work, rhs, 6, 6);
+    }
+    return 0;
 }
 
 /* Bounds of the range barrier on qdd (see cartctl.h). */
@@ -308,13 +356,11 @@ static unsigned range_resolve(const double J[36], const double rhs[6], const dou
     return held;
 }
 
-/* The range barrier on out->qdd (J qdd = rhs solved before), then the
- * finiteness check: 0 / -1. */
+/* The range barrier on out->qdd (J qdd = rhs solved before, its result
+ * checked finite by the caller), then the finiteness check: 0 / -1. */
 static int qdd_finish(const arm_model *m, const cartctl_gains *g, const double q[ARM_NJ],
                       const double qd[ARM_NJ], const double J[36], const double rhs[6], cartctl_out *out)
 {
-    if (!linalg_all_finite(out->qdd, ARM_NJ))
-        return CARTCTL_ERR_ARG;
     if (g->range_w_radps > 0.0) {
         double lo[ARM_NJ], hi[ARM_NJ];
         range_bounds(m, g, q, qd, lo, hi);
@@ -330,7 +376,7 @@ static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM
                   const double qd[ARM_NJ], const cartctl_state *s, const double a_lin[3],
                   const double R_d[9], cartctl_out *out)
 {
-    double U[36], sv[6], V[36], rhs[6], y[6], Vtqd[6], lam2;
+    double U[36], sv[6], V[36], rhs[6], y[6], Vtqd[6], lam2, s_lo;
     int i, k;
     if (!m || !q || !qd || cartctl_gains_validate(g) != 0 || !a_lin || !linalg_all_finite(a_lin, 3) ||
         (R_d && !linalg_all_finite(R_d, 9)))
@@ -346,18 +392,15 @@ static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM
     for (i = 0; i < 6; i++)
         rhs[i] = out->a_cmd[i] - s->jdqd[i];
     /* Fast path: when sigma_min >= sigma_band for sure, lambda = 0 and the
-     * damped inverse is the exact inverse (P = 0): one 6x6 inverse instead
-     * of the SVD (about 7x cheaper). Otherwise, or if J is singular, the
-     * SVD below decides. */
-    if (s->has_wrist ? inverse_wrist(s->J, s->T, s->wrist_m, U) == 0 : inverse6(s->J, U) == 0) {
-        const double s_lo = s->has_wrist ? sigma_min_lower_frobenius(U) : sigma_min_lower(U);
+     * damped inverse is the exact inverse (P = 0): the wrist's blocks or
+     * one 6x6 inverse instead of the SVD (about 7x cheaper). Otherwise, or
+     * if J is singular, the SVD below decides. */
+    if (exact_solve(s, rhs, out->qdd, &s_lo, U) == 0) {
         if (g->sigma_band <= 0.0 ? s_lo > 0.0 : s_lo >= g->sigma_band) {
-            linalg_matvec(out->qdd, U, rhs, 6, 6);
             out->sigma_min = s_lo;
             out->lambda = 0.0;
             if (linalg_all_finite(out->qdd, ARM_NJ))
                 return qdd_finish(m, g, q, qd, s->J, rhs, out);
-            memset(out->qdd, 0, sizeof out->qdd);
         }
     }
     linalg_svd(U, sv, V, s->J, 6, 6);
@@ -372,6 +415,8 @@ static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM
         y[k] = den > 0.0 ? (sv[k] * y[k] - g->k_null * lam2 * Vtqd[k]) / den : 0.0;
     }
     linalg_matvec(out->qdd, V, y, 6, 6);
+    if (!linalg_all_finite(out->qdd, ARM_NJ))
+        return CARTCTL_ERR_ARG;
     return qdd_finish(m, g, q, qd, s->J, rhs, out);
 }
 
@@ -398,7 +443,7 @@ static int torque_at(const arm_model *m, const arm_payload *payload, const cartc
 {
     if (qdd_at(m, g, q, qd, s, a_lin, R_d, o) != 0)
         return CARTCTL_ERR_ARG;
-    if (arm_rne_cs(m, &s->cs, qd, o->qdd, NULL, payload, tau_Nm) != 0) {
+    if (arm_rne_cs_unchecked(m, &s->cs, qd, o->qdd, NULL, payload, tau_Nm) != 0) {
         memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
         return CARTCTL_ERR_ARG;
     }

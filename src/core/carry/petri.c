@@ -4,6 +4,8 @@
  * reachability explorer (safe / bounded / deadlock). petri_net_validate
  * checks a definition: 0/1 tables, every transition able to act, and every
  * invariant y a P-invariant of the incidence N = N+ - N- (y^T N = 0).
+ * The engine keeps the marked places, the enabled transitions and each
+ * invariant's sum, updated per event (§5.3, §5.4) rather than scanned.
  */
 #include "petri.h"
 
@@ -27,17 +29,17 @@ static int table_ok(const int8_t *tab, const petri_net *n)
     return 1;
 }
 
+/* y_k^T gamma + sum over running t_j of y_k^T N-_j (c->inv_in) */
 static int inv_dot(const petri_compiled *c, int k, const petri_state *s)
 {
     const petri_net *n = c->net;
     const int8_t *y = n->invariants + k * n->n_places;
     int i, j, v = 0;
-    for (i = 0; i < n->n_places; i++) {
+    for (i = 0; i < n->n_places; i++)
         v += y[i] * s->m[i];
-        for (j = 0; j < n->n_transitions; j++)
-            if (s->running & (UINT32_C(1) << j))
-                v += y[i] * at(n->n_minus, n, i, j);
-    }
+    for (j = 0; j < n->n_transitions; j++)
+        if (s->running & (UINT32_C(1) << j))
+            v += c->inv_in[k][j];
     return v;
 }
 
@@ -116,9 +118,28 @@ int petri_compile(petri_compiled *c, const petri_net *n)
                 c->n_in[j]++;
                 c->in_mask[j] |= UINT32_C(1) << i;
             }
+            if (at(n->n_plus, n, i, j))
+                c->out_mask[j] |= UINT32_C(1) << i;
             if (at(n->n_inhibit, n, i, j))
                 c->inhibit_mask[j] |= UINT32_C(1) << i;
         }
+        for (k = 0; k < n->n_invariants; k++) {
+            const int8_t *y = n->invariants + k * n->n_places;
+            int in = 0, out = 0;
+            for (i = 0; i < n->n_places; i++) {
+                in += y[i] * at(n->n_minus, n, i, j);
+                out += y[i] * at(n->n_plus, n, i, j);
+            }
+            c->inv_in[k][j] = (int16_t)in;     /* |.| <= 32 * 128: fits */
+            c->inv_step[k][j] = (int16_t)(out - in);
+        }
+    }
+    for (j = 0; j < n->n_transitions; j++) {
+        const uint32_t places = c->in_mask[j] | c->out_mask[j];
+        c->touch[j] = UINT32_C(1) << j;
+        for (k = 0; k < n->n_transitions; k++)
+            if ((c->in_mask[k] | c->inhibit_mask[k]) & places)
+                c->touch[j] |= UINT32_C(1) << k;
     }
     petri_state_initial(c, &s0);
     for (k = 0; k < n->n_invariants; k++)
@@ -179,14 +200,18 @@ static uint32_t marked_mask(const petri_compiled *c, const petri_state *s)
     return m;
 }
 
+/* t not running, its inputs marked, its inhibitor places empty. */
+static int enabled_by(const petri_compiled *c, uint32_t marked, uint32_t running, int t)
+{
+    return !(running & (UINT32_C(1) << t)) && (c->in_mask[t] & ~marked) == 0 &&
+           (c->inhibit_mask[t] & marked) == 0;
+}
+
 int petri_state_enabled_mask(const petri_compiled *c, const petri_state *s, int t)
 {
-    uint32_t marked;
     if (!t_ok(c, t) || !s)
         return 0;
-    marked = marked_mask(c, s);
-    return !(s->running & (UINT32_C(1) << t)) && (c->in_mask[t] & ~marked) == 0 &&
-           (c->inhibit_mask[t] & marked) == 0;
+    return enabled_by(c, marked_mask(c, s), s->running, t);
 }
 
 int petri_state_invariant_violations(const petri_compiled *c, const petri_state *s)
@@ -209,59 +234,107 @@ int petri_state_dead(const petri_compiled *c, const petri_state *s)
     return 1;
 }
 
-/* State transitions shared by the engine and the explorer. */
-static int state_start(const petri_compiled *c, petri_state *s, int t)
+/* State transitions shared by the engine and the explorer. N- and N+
+ * are 0/1, so a start takes one token from each place of in_mask and a
+ * completion puts one on each of out_mask. */
+
+/* Start of t, enabled: returns the places it emptied. */
+static uint32_t apply_start(const petri_compiled *c, petri_state *s, int t)
 {
+    const uint32_t in = c->in_mask[t];
+    uint32_t emptied = 0;
     int i;
-    if (!petri_state_enabled_mask(c, s, t))
-        return PETRI_ERR_NOT_ENABLED;
-    for (i = 0; i < c->net->n_places; i++)
-        s->m[i] = (uint8_t)(s->m[i] - at(c->net->n_minus, c->net, i, t));
+    for (i = 0; i < PETRI_MAX_PLACES && (in >> i) != 0; i++)
+        if ((in >> i) & 1u) {
+            s->m[i] = (uint8_t)(s->m[i] - 1u);
+            if (s->m[i] == 0)
+                emptied |= UINT32_C(1) << i;
+        }
     s->running |= UINT32_C(1) << t;
-    return 0;
+    return emptied;
 }
 
-static int state_complete(const petri_compiled *c, petri_state *s, int t)
+/* Completion of t: 0, PETRI_ERR_NOT_RUNNING or PETRI_ERR_OVERFLOW (then
+ * s is unchanged). */
+static int apply_complete(const petri_compiled *c, petri_state *s, int t)
 {
+    const uint32_t out = c->out_mask[t];
     int i;
     if (!(s->running & (UINT32_C(1) << t)))
         return PETRI_ERR_NOT_RUNNING;
-    for (i = 0; i < c->net->n_places; i++)
-        if (s->m[i] + at(c->net->n_plus, c->net, i, t) > PETRI_TOKEN_MAX)
+    for (i = 0; i < PETRI_MAX_PLACES && (out >> i) != 0; i++)
+        if (((out >> i) & 1u) && s->m[i] >= PETRI_TOKEN_MAX)
             return PETRI_ERR_OVERFLOW;
-    for (i = 0; i < c->net->n_places; i++)
-        s->m[i] = (uint8_t)(s->m[i] + at(c->net->n_plus, c->net, i, t));
+    for (i = 0; i < PETRI_MAX_PLACES && (out >> i) != 0; i++)
+        if ((out >> i) & 1u)
+            s->m[i] = (uint8_t)(s->m[i] + 1u);
     s->running &= ~(UINT32_C(1) << t);
     return 0;
 }
 
+static int state_start(const petri_compiled *c, petri_state *s, int t)
+{
+    if (!petri_state_enabled_mask(c, s, t))
+        return PETRI_ERR_NOT_ENABLED;
+    (void)apply_start(c, s, t);
+    return 0;
+}
+
 /* ---- engine -------------------------------------------------------------*/
+
+/* Re-checks the enabling of the transitions in mask. */
+static void refresh_enabled(petri *p, uint32_t mask)
+{
+    int j;
+    for (j = 0; j < PETRI_MAX_TRANSITIONS && (mask >> j) != 0; j++)
+        if ((mask >> j) & 1u) {
+            if (enabled_by(&p->c, p->marked, p->st.running, j))
+                p->enabled |= UINT32_C(1) << j;
+            else
+                p->enabled &= ~(UINT32_C(1) << j);
+        }
+}
+
+/* marked, enabled and inv_now of p->st, from scratch. */
+static void derive_sets(petri *p)
+{
+    const int nt = p->c.net->n_transitions;
+    int k;
+    p->marked = marked_mask(&p->c, &p->st);
+    p->enabled = 0;
+    refresh_enabled(p, nt >= 32 ? UINT32_C(0xFFFFFFFF) : (UINT32_C(1) << nt) - 1u);
+    for (k = 0; k < p->c.net->n_invariants; k++)
+        p->inv_now[k] = inv_dot(&p->c, k, &p->st);
+}
 
 int petri_init(petri *p, const petri_net *net)
 {
     if (!p || petri_compile(&p->c, net) != 0)
         return PETRI_ERR_ARG;
     petri_state_initial(&p->c, &p->st);
+    derive_sets(p);
     p->invariant_violations = 0;
     p->last_fired = -1;
     p->fired_count = 0;
     return 0;
 }
 
+/* The lowest index of the kept enabled set: what the seed's scan
+ * (petri_state_enabled_scan over j = 0..) picks, without the scan. */
 int petri_select(const petri *p)
 {
     int j;
     if (!p)
         return PETRI_ERR_NONE_ENABLED;
-    for (j = 0; j < p->c.net->n_transitions; j++)
-        if (petri_state_enabled_scan(&p->c, &p->st, j))
+    for (j = 0; j < PETRI_MAX_TRANSITIONS && (p->enabled >> j) != 0; j++)
+        if ((p->enabled >> j) & 1u)
             return j;
     return PETRI_ERR_NONE_ENABLED;
 }
 
 int petri_enabled(const petri *p, int t)
 {
-    return p ? petri_state_enabled_mask(&p->c, &p->st, t) : 0;
+    return p && t_ok(&p->c, t) && (p->enabled & (UINT32_C(1) << t)) != 0;
 }
 
 int petri_running(const petri *p, int t)
@@ -269,35 +342,51 @@ int petri_running(const petri *p, int t)
     return p && t_ok(&p->c, t) && (p->st.running & (UINT32_C(1) << t)) != 0;
 }
 
+static int inv_hold(const petri *p)
+{
+    int k;
+    for (k = 0; k < p->c.net->n_invariants; k++)
+        if (p->inv_now[k] != p->c.inv_value[k])
+            return 0;
+    return 1;
+}
+
 static void check_invariants(petri *p)
 {
-    if (petri_state_invariant_violations(&p->c, &p->st) > 0)
+    if (!inv_hold(p))
         p->invariant_violations++;
 }
 
+/* A start leaves every y^T gamma + in flight as it was: the tokens it
+ * takes are in flight now. */
 int petri_start(petri *p, int t)
 {
-    int r;
     if (!p || !t_ok(&p->c, t))
         return PETRI_ERR_ARG;
-    r = state_start(&p->c, &p->st, t);
-    if (r == 0)
-        check_invariants(p);
-    return r;
+    if (!(p->enabled & (UINT32_C(1) << t)))
+        return PETRI_ERR_NOT_ENABLED;
+    p->marked &= ~apply_start(&p->c, &p->st, t);
+    refresh_enabled(p, p->c.touch[t]);
+    check_invariants(p);
+    return 0;
 }
 
 int petri_complete(petri *p, int t)
 {
-    int r;
+    int r, k;
     if (!p || !t_ok(&p->c, t))
         return PETRI_ERR_ARG;
-    r = state_complete(&p->c, &p->st, t);
-    if (r == 0) {
-        p->last_fired = t;
-        p->fired_count++;
-        check_invariants(p);
-    }
-    return r;
+    r = apply_complete(&p->c, &p->st, t);
+    if (r != 0)
+        return r;
+    p->marked |= p->c.out_mask[t];
+    for (k = 0; k < p->c.net->n_invariants; k++)
+        p->inv_now[k] += p->c.inv_step[k][t];
+    refresh_enabled(p, p->c.touch[t]);
+    p->last_fired = t;
+    p->fired_count++;
+    check_invariants(p);
+    return 0;
 }
 
 int petri_fire(petri *p, int t)
@@ -310,31 +399,48 @@ int petri_fire(petri *p, int t)
     r = petri_start(p, t);
     if (r == 0) {
         r = petri_complete(p, t);
-        if (r != 0)
+        if (r != 0) {
             p->st = keep;   /* all or nothing */
+            derive_sets(p);
+        }
     }
     return r;
 }
 
 int petri_dead(const petri *p)
 {
-    return p ? petri_state_dead(&p->c, &p->st) : 0;
+    return p ? p->st.running == 0 && p->enabled == 0 : 0;
+}
+
+static int running_ok(const petri *p, const petri_state *s)
+{
+    const int nt = p->c.net->n_transitions;
+    const uint32_t all = nt >= 32 ? UINT32_C(0xFFFFFFFF) : (UINT32_C(1) << nt) - 1u;
+    return (s->running & ~all) == 0;
 }
 
 int petri_set_state(petri *p, const petri_state *s)
 {
-    const int nt = p && p->c.net ? p->c.net->n_transitions : 0;
-    const uint32_t all = nt >= 32 ? UINT32_C(0xFFFFFFFF) : (UINT32_C(1) << nt) - 1u;
-    if (!p || !s || (s->running & ~all) != 0 ||
-        petri_state_invariant_violations(&p->c, s) != 0)
+    if (!p || !p->c.net || !s || !running_ok(p, s)
+        || petri_state_invariant_violations(&p->c, s) != 0)
         return PETRI_ERR_ARG;
     p->st = *s;
+    derive_sets(p);
+    return 0;
+}
+
+int petri_load_state(petri *p, const petri_state *s)
+{
+    if (!p || !p->c.net || !s || !running_ok(p, s))
+        return PETRI_ERR_ARG;
+    p->st = *s;
+    derive_sets(p);
     return 0;
 }
 
 int petri_invariants_hold(const petri *p)
 {
-    return p && petri_state_invariant_violations(&p->c, &p->st) == 0;
+    return p && inv_hold(p);
 }
 
 /* ---- reachability ---------------------------------------------------------*/
@@ -432,7 +538,7 @@ int petri_explore(petri_explore_ws *ws, const petri_net *net, int token_bound, p
             int ev = 0;
             if (state_start(&ws->c, &nx, j) == 0)
                 ev = j + 1;
-            else if (state_complete(&ws->c, &nx, j) == 0)
+            else if (apply_complete(&ws->c, &nx, j) == 0)
                 ev = -(j + 1);
             if (ev != 0 && visit(ws, &nx, head, ev) == VISIT_FULL)
                 rep->complete = 0;

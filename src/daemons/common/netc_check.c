@@ -118,11 +118,11 @@ static void build_graph(const netc_task *t, explorer *x)
     for (i = 0; i < n; i++) {
         x->can[i] = 0;
         for (j = 0; j < tau; j++) {
-            p.st = x->ws.states[i];
+            (void)petri_load_state(&p, &x->ws.states[i]);
             x->succ[i * 2 * tau + 2 * j] = petri_start(&p, j) == 0 ? lookup(x, &p.st) : -1;
             if (x->succ[i * 2 * tau + 2 * j] >= 0)
                 x->can[i] |= 1u << j;
-            p.st = x->ws.states[i];
+            (void)petri_load_state(&p, &x->ws.states[i]);
             x->succ[i * 2 * tau + 2 * j + 1] = petri_complete(&p, j) == 0 ? lookup(x, &p.st) : -1;
         }
     }

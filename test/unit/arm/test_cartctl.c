@@ -233,9 +233,18 @@ static void fast_path_matches_svd(const arm_model *m)
         assert_true(err <= 1e-9 * fmax(scale, 1.0));
         assert_int_equal(o.range_limited, 0u);   /* far from every range end */
         assert_true(o.sigma_min <= sv[5] * (1.0 + 1e-9));
-        if (lam2 == 0.0 && o.sigma_min < sv[5] * (1.0 - 1e-9))
+        if (lam2 == 0.0 && o.sigma_min < sv[5] * (1.0 - 1e-9)) {
             fast++;    /* bound, not the SVD value: the fast path ran */
-        else
+            if (s.has_wrist) {
+                /* the wrist path's bound, summed from the blocks, is
+                 * 1/||J^-1||_F of the 6x6 inverse */
+                double Ji[36], f2 = 0.0;
+                assert_int_equal(cartctl_inverse_wrist(s.J, s.T, s.wrist_m, Ji), 0);
+                for (i = 0; i < 36; i++)
+                    f2 += Ji[i] * Ji[i];
+                assert_true(fabs(o.sigma_min * sqrt(f2) - 1.0) < 1e-12);
+            }
+        } else
             slow++;
     }
     assert_true(fast > 0 && slow > 0);

@@ -1,6 +1,8 @@
 /* Unit tests for petri (docs/method/carry.md §5): eq. 11, the seed's enabling scan
- * against the bitmask test, split firing, invariants, and reachability
- * (safe, unbounded, deadlock, capacity). */
+ * against the bitmask test, split firing, invariants, the engine's kept
+ * enabled set and invariant sums against the full scans (random firings
+ * on random nets, every reachable state of the carry net), and
+ * reachability (safe, unbounded, deadlock, capacity). */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -8,6 +10,7 @@
 #include <cmocka.h>
 #include <string.h>
 
+#include "carry_net.h"
 #include "petri.h"
 
 /* Two processes sharing two resources, taken in opposite order: the
@@ -57,6 +60,29 @@ static uint32_t rnd(void)
     return rng_state >> 8;
 }
 
+/* A random net of up to full size into the given tables: arcs with odds
+ * 1 in arc_odds, inhibitor arcs 1 in 17 (used only if inhibit), no
+ * invariants, an empty initial marking. */
+static void random_net(petri_net *n, int arc_odds, int inhibit, int8_t *mi, int8_t *pl, int8_t *ih,
+                       uint8_t *m0)
+{
+    int k;
+    n->n_places = 1 + (int)(rnd() % PETRI_MAX_PLACES);
+    n->n_transitions = 1 + (int)(rnd() % PETRI_MAX_TRANSITIONS);
+    for (k = 0; k < n->n_places * n->n_transitions; k++) {
+        mi[k] = (int8_t)(rnd() % (uint32_t)arc_odds == 0);
+        pl[k] = (int8_t)(rnd() % (uint32_t)arc_odds == 0);
+        ih[k] = (int8_t)(rnd() % 17 == 0);
+    }
+    memset(m0, 0, PETRI_MAX_PLACES);
+    n->n_minus = mi;
+    n->n_plus = pl;
+    n->n_inhibit = inhibit ? ih : NULL;
+    n->m0 = m0;
+    n->n_invariants = 0;
+    n->invariants = NULL;
+}
+
 /* Random nets of full size, random markings and running sets. */
 static void test_scan_equals_mask(void **st)
 {
@@ -71,20 +97,7 @@ static void test_scan_equals_mask(void **st)
         petri_compiled c;
         petri_state s;
         int k, j, i;
-        n.n_places = 1 + (int)(rnd() % PETRI_MAX_PLACES);
-        n.n_transitions = 1 + (int)(rnd() % PETRI_MAX_TRANSITIONS);
-        for (k = 0; k < n.n_places * n.n_transitions; k++) {
-            mi[k] = (int8_t)(rnd() % 5 == 0);
-            pl[k] = (int8_t)(rnd() % 5 == 0);
-            ih[k] = (int8_t)(rnd() % 17 == 0);
-        }
-        memset(m0, 0, sizeof m0);
-        n.n_minus = mi;
-        n.n_plus = pl;
-        n.n_inhibit = (trial % 2) ? ih : NULL;
-        n.m0 = m0;
-        n.n_invariants = 0;
-        n.invariants = NULL;
+        random_net(&n, 5, trial % 2, mi, pl, ih, m0);
         assert_int_equal(petri_compile(&c, &n), 0);
         for (k = 0; k < 50; k++) {
             memset(&s, 0, sizeof s);
@@ -101,6 +114,131 @@ static void test_scan_equals_mask(void **st)
         }
     }
     assert_true(agree_enabled > 100);   /* both outcomes were exercised */
+}
+
+/* The engine's kept sets (enabled transitions, invariant sums) equal the
+ * full scans of its state, and petri_select picks the scan's first. */
+static void assert_sets_match_scan(const petri *p)
+{
+    int j, first = PETRI_ERR_NONE_ENABLED;
+    for (j = 0; j < p->c.net->n_transitions; j++) {
+        const int on = petri_state_enabled_scan(&p->c, &p->st, j);
+        assert_int_equal(petri_enabled(p, j), on);
+        if (on && first < 0)
+            first = j;
+    }
+    assert_int_equal(petri_select(p), first);   /* the seed's lowest-index pick */
+    assert_int_equal(petri_invariants_hold(p),
+                     petri_state_invariant_violations(&p->c, &p->st) == 0);
+    assert_int_equal(petri_dead(p), petri_state_dead(&p->c, &p->st));
+}
+
+/* Random nets with random (mostly not conserved, so the checks see both
+ * outcomes) invariants, 300 random starts, completions and firings each:
+ * every result code, marking and violation count as a full-scan shadow
+ * predicts, and the kept sets equal the scans after every event. */
+static void test_incremental_equals_scan(void **st)
+{
+    static int8_t mi[PETRI_MAX_PLACES * PETRI_MAX_TRANSITIONS];
+    static int8_t pl[PETRI_MAX_PLACES * PETRI_MAX_TRANSITIONS];
+    static int8_t ih[PETRI_MAX_PLACES * PETRI_MAX_TRANSITIONS];
+    static int8_t inv[PETRI_MAX_INVARIANTS * PETRI_MAX_PLACES];
+    static uint8_t m0[PETRI_MAX_PLACES];
+    static petri p;
+    int trial, fired = 0, refused = 0, broken = 0;
+    (void)st;
+    for (trial = 0; trial < 100; trial++) {
+        petri_net n;
+        long viol = 0;
+        int k, i;
+        random_net(&n, 4, trial % 2, mi, pl, ih, m0);
+        n.n_invariants = (int)(rnd() % (PETRI_MAX_INVARIANTS + 1));
+        for (k = 0; k < n.n_invariants * n.n_places; k++)
+            inv[k] = (int8_t)((int)(rnd() % 4) - 1);
+        for (i = 0; i < n.n_places; i++)
+            m0[i] = (uint8_t)(rnd() % 3);
+        n.invariants = inv;
+        assert_int_equal(petri_init(&p, &n), 0);
+        assert_sets_match_scan(&p);
+        for (k = 0; k < 300; k++) {
+            const int t = (int)(rnd() % (uint32_t)n.n_transitions), op = (int)(rnd() % 3);
+            const uint32_t bit = UINT32_C(1) << t;
+            petri_state want = p.st;
+            int r, expect = 0;
+            if (op != 1 && !petri_state_enabled_scan(&p.c, &want, t))
+                expect = PETRI_ERR_NOT_ENABLED;
+            if (op != 1 && expect == 0) {   /* start: N- taken, t running */
+                for (i = 0; i < n.n_places; i++)
+                    want.m[i] = (uint8_t)(want.m[i] - mi[i * n.n_transitions + t]);
+                want.running |= bit;
+                viol += petri_state_invariant_violations(&p.c, &want) > 0;
+            }
+            if (op != 0 && expect == 0) {   /* completion: N+ put, t done */
+                if (!(want.running & bit))
+                    expect = PETRI_ERR_NOT_RUNNING;
+                for (i = 0; i < n.n_places && expect == 0; i++)
+                    if (want.m[i] + pl[i * n.n_transitions + t] > PETRI_TOKEN_MAX)
+                        expect = PETRI_ERR_OVERFLOW;
+                if (expect == 0) {
+                    for (i = 0; i < n.n_places; i++)
+                        want.m[i] = (uint8_t)(want.m[i] + pl[i * n.n_transitions + t]);
+                    want.running &= ~bit;
+                    viol += petri_state_invariant_violations(&p.c, &want) > 0;
+                }
+            }
+            if (op == 2 && expect != 0)   /* fire: all or nothing (a start's count stays) */
+                want = p.st;
+            r = op == 0 ? petri_start(&p, t) : op == 1 ? petri_complete(&p, t) : petri_fire(&p, t);
+            assert_int_equal(r, expect);
+            assert_memory_equal(p.st.m, want.m, sizeof want.m);
+            assert_int_equal(p.st.running, want.running);
+            assert_int_equal(p.invariant_violations, viol);
+            assert_sets_match_scan(&p);
+            fired += r == 0;
+            refused += r != 0;
+            broken += !petri_invariants_hold(&p);
+        }
+    }
+    assert_true(fired > 1000 && refused > 1000 && broken > 100);
+}
+
+/* Every reachable state of the carry net and of the deadlock net, taken
+ * into the engine, then every start and completion from it. */
+static void sets_on_reachable(const petri_net *n)
+{
+    static petri p;
+    petri_report r;
+    int k, j;
+    assert_int_equal(petri_explore(&WS, n, 4, &r), 0);
+    assert_true(r.complete);
+    assert_int_equal(petri_init(&p, n), 0);
+    for (k = 0; k < WS.n_states; k++) {
+        assert_int_equal(petri_load_state(&p, &WS.states[k]), 0);
+        assert_sets_match_scan(&p);
+        for (j = 0; j < n->n_transitions; j++) {
+            assert_int_equal(petri_load_state(&p, &WS.states[k]), 0);
+            if (petri_start(&p, j) == 0)
+                assert_sets_match_scan(&p);
+            assert_int_equal(petri_load_state(&p, &WS.states[k]), 0);
+            if (petri_complete(&p, j) == 0)
+                assert_sets_match_scan(&p);
+        }
+    }
+}
+
+static void test_incremental_on_reachable(void **st)
+{
+    petri p;
+    petri_state s;
+    (void)st;
+    sets_on_reachable(&carry_net);
+    sets_on_reachable(&DL);
+    sets_on_reachable(&SRC_GUARDED);
+    assert_int_equal(petri_init(&p, &DL), 0);
+    s = p.st;
+    s.running = UINT32_C(1) << DL_T;   /* no such transition */
+    assert_int_equal(petri_load_state(&p, &s), PETRI_ERR_ARG);
+    assert_int_equal(petri_load_state(NULL, &s), PETRI_ERR_ARG);
 }
 
 /* eq. 11: gamma(k) = gamma(k-1) + (N+ - N-) t_j, and the split firing. */
@@ -284,6 +422,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_scan_equals_mask),
+        cmocka_unit_test(test_incremental_equals_scan),
+        cmocka_unit_test(test_incremental_on_reachable),
         cmocka_unit_test(test_fire_eq11_and_split),
         cmocka_unit_test(test_invariant_violation_counted),
         cmocka_unit_test(test_set_state_round_trip),
