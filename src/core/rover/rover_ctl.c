@@ -20,7 +20,8 @@
 int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id,
                    const pose2 *start_c, const double goal_m[2])
 {
-    if (!c || rover_ctl_params_validate(p) != 0 || !start_c || !vec2_pose_finite(start_c) ||
+    if (!c || rover_ctl_params_validate(p) != 0 ||
+        rover_esc_table_validate(rover_esc_table, ROVER_ESC_COUNT) != ROVER_CTL_OK || !start_c || !vec2_pose_finite(start_c) ||
         !goal_m || !isfinite(goal_m[0]) || !isfinite(goal_m[1]) || id < 0)
         return ROVER_CTL_ERR_ARG;
     memset(c, 0, sizeof *c);
@@ -235,19 +236,22 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
     /* while the formation reshapes for a passage, give it time */
     if (c->fsm.phase == FORMATION_PHASE_SHRINK || c->fsm.phase == FORMATION_PHASE_CHANGE)
         if (u.v_mps > c->p.v_change_mps) u.v_mps = c->p.v_change_mps;
-    /* a robot giving way left the formation but was not trapped itself */
-    out->mode = v->escaping ? (c->esc_yield ? ROVER_MODE_CHANGING : ROVER_MODE_DEAD_ZONE)
+    /* the escape table's mode (a robot giving way left the formation but
+     * was not trapped itself) */
+    out->mode = v->escaping ? rover_esc_table[c->esc_phase].mode
               : c->fsm.phase != FORMATION_PHASE_NORMAL ? ROVER_MODE_CHANGING
               : ROVER_MODE_FORMATION;
     if (!v->escaping && v->rc_goal == BEH_GOAL_REACHED) {
         u.v_mps = u.w_radps = 0.0;
         out->mode = ROVER_MODE_AT_GOAL;
     }
-    if (c->holding) u.v_mps = u.w_radps = 0.0;   /* a trapped mate ahead turns round */
-    if (!v->escaping) rover_ctl_guard(&u, c->range_m, &v->o, v->goal, &c->p);
-    /* no rear sonar: never back up blindly (backing out of a wedge goes
-     * the way the robot came, clear of mates) */
-    if (u.v_mps < 0.0 && !(v->escaping && c->esc_backing)) u.v_mps = 0.0;
+    /* waiting for outranking mates (method §10): stand, or back out of
+     * one's way */
+    if (c->holding != ROVER_WAIT_NONE) u = c->wait_u;
+    if (!v->escaping && !c->esc_backing) rover_ctl_guard(&u, c->range_m, &v->o, v->goal, &c->p);
+    /* no rear sonar: never back up blindly (backing out of a mate's way
+     * goes the way the robot came, clear of mates) */
+    if (u.v_mps < 0.0 && !c->esc_backing) u.v_mps = 0.0;
     unicycle_saturate(&out->u, &u, bp->v_max_mps, bp->w_max_radps, UNICYCLE_SAT_CLIP);
     out->o = v->o;
     for (i = 0; i < BEH_COUNT; i++) out->weight[i] = c->blend.weight[i];
@@ -271,7 +275,8 @@ static void team_message_out(rover_ctl_state *c, const step_view *v, double t_s,
     m->v_mps = v->self.v_mps; m->w_radps = v->self.w_radps;
     m->formation = c->fsm.type;
     m->scale = c->fsm.scale;
-    m->announce = !v->escaping ? c->ann_code : c->esc_yield ? FORMATION_ANN_GIVE_WAY : FORMATION_ANN_LEAVE;
+    /* the same announcement every mate ranks us by (rover_ctl_outranks) */
+    m->announce = rover_ctl_own_announce(c);
     m->announce_seq = c->ann_seq;
     m->t_s = t_s;
 }
