@@ -18,12 +18,15 @@
  * free (the leave rule of Bug2). The robot announces LEAVE on entry (the
  * team reference leaves it out) and REJOIN when done.
  *
- * Giving way: a trapped robot's only way out is back the way it came, past
- * the mates that followed it in. A robot that sees (camera) a mate that
- * announced LEAVE close ahead and heading its way, with walls about, leaves
- * the formation too (LEAVE), turns away from it and follows the boundary
- * out with the same leave rule; it reports MODE_CHANGING, not a dead-zone
- * entry of its own.
+ * Mates in each other's way: one total priority order (trapped, giving
+ * way, the rest; then the lower id), computed alike by every robot from
+ * the team messages; a robot waits only for outranking mates it conflicts
+ * with, so nobody waits on anybody that waits on it. A trapped robot's
+ * only way out is back the way it came: a robot waiting for a trapped mate
+ * that comes its way gives way (GIVE_WAY), turns away from it and follows
+ * the boundary out with the same leave rule; it reports MODE_CHANGING, not
+ * a dead-zone entry of its own. The escape's phases are the const table
+ * rover_esc_table (docs/method/formation.md §10).
  *
  * Announcements: a robot broadcasts the announcement it originated last
  * (code, seq) in every team message until it makes another, so a lost

@@ -1,7 +1,9 @@
-/* rover_ctl_mates: where the formation controller's mates' chassis are,
- * by the team table, for keeping clear of them while escaping or giving
- * way (docs/method/formation.md §10: never turning into a mate, backing
- * out of a wedge, the wedge turn, a follower's lane). There is no rear
+/* rover_ctl_mates: the priority order among mates and each robot's wait
+ * set (docs/method/formation.md §10: why the wait-for graph is acyclic),
+ * and where the mates' chassis are, by the team table, for keeping clear
+ * of them while escaping, giving way or waiting (never turning into a
+ * mate, whose way we are in, backing clear, the wedge turn, a follower's
+ * lane). There is no rear
  * sonar and a mate's echo is masked out of the ring the follower uses, so
  * these answers come from geometry: each chassis a box ROVER_BODY_LENGTH_M
  * x ROVER_BODY_WIDTH_M, centred ROVER_BODY_OFFSET_M ahead of the axle C.
