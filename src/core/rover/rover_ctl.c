@@ -246,9 +246,11 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
         out->mode = ROVER_MODE_AT_GOAL;
     }
     /* waiting for outranking mates (method §10): stand, or back out of
-     * one's way */
+     * one's way. Not guarded: the guard turns a stopped robot with an echo
+     * near ahead toward the freer side, and a robot standing for a mate
+     * beside it swung its nose into that mate */
     if (c->holding != ROVER_WAIT_NONE) u = c->wait_u;
-    if (!v->escaping && !c->esc_backing) rover_ctl_guard(&u, c->range_m, &v->o, v->goal, &c->p);
+    else if (!v->escaping) rover_ctl_guard(&u, c->range_m, &v->o, v->goal, &c->p);
     /* no rear sonar: never back up blindly (backing out of a mate's way
      * goes the way the robot came, clear of mates) */
     if (u.v_mps < 0.0 && !c->esc_backing) u.v_mps = 0.0;

@@ -829,6 +829,22 @@ static void test_queue_behind_standing_mate(void **state)
     at_origin(&c, &p, 1);
     for (t = 0.0; t < 1.0; t += DT) seen_step(&c, t, lane_ring, &m, 1, &out);
     assert_false(c.holding);
+    /* waiting is standing: the mate 0.75 m ahead echoes 0.45 m on the
+     * front transducers, a wall near on the right; the collision guard
+     * alone turns a stopped robot with an echo that near toward the freer
+     * side (a robot waiting beside a mate swung its nose into it) */
+    {
+        const double near_ring[8] = { 0.4, 0.8, 5, 0.45, 0.45, 5, 0.8, 0.6 };
+        m.x = 0.75;
+        at_origin(&c, &p, 3);
+        for (t = 0.0; t < 2.0; t += DT) {
+            seen_step(&c, t, near_ring, &m, 1, &out);
+            if (t > 0.2) {
+                assert_int_equal(c.holding, ROVER_WAIT_STAND);
+                assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
+            }
+        }
+    }
 }
 
 /* Queue behind a mate we are closing on: driving at 0.5 m/s between
