@@ -63,6 +63,21 @@ static void test_a_closed_or_narrow_passage_is_refused(void **state)
     assert_int_equal(worldgen_passable(&M, &s, 3, FORMATION_LINE, CLEAR), 0);
 }
 
+/* The generator's parameters for a 30 m x 20 m world of kind and seed,
+ * a team of n in line. */
+static worldgen_params gen_params(int kind, int seed, int n)
+{
+    worldgen_params p;
+    memset(&p, 0, sizeof p);
+    p.kind = kind;
+    p.seed = (uint64_t)seed;
+    p.width_m = 30.0;
+    p.height_m = 20.0;
+    p.robots = n;
+    p.formation = FORMATION_LINE;
+    return p;
+}
+
 static void test_every_kind_gives_passable_repeatable_worlds(void **state)
 {
     worldgen_params p;
@@ -71,13 +86,7 @@ static void test_every_kind_gives_passable_repeatable_worlds(void **state)
     (void)state;
     for (kind = 0; kind < WORLDGEN_KINDS; kind++)
         for (seed = 1; seed <= 4; seed++) {
-            memset(&p, 0, sizeof p);
-            p.kind = kind;
-            p.seed = (uint64_t)seed;
-            p.width_m = 30.0;
-            p.height_m = 20.0;
-            p.robots = 3;
-            p.formation = FORMATION_LINE;
+            p = gen_params(kind, seed, 3);
             assert_int_equal(worldgen_make(&M, &s, &p, &attempt), WORLDGEN_OK);
             assert_true(attempt >= 0 && attempt < WORLDGEN_ATTEMPTS);
             assert_int_equal(worldgen_passable(&M, &s, 3, FORMATION_LINE, CLEAR), 1);
@@ -127,13 +136,7 @@ static void test_the_goal_area_holds_the_team(void **state)
     for (t = 0; t < 3; t++)
         for (kind = 0; kind < WORLDGEN_KINDS; kind++)
             for (seed = 1; seed <= 3; seed++) {
-                memset(&p, 0, sizeof p);
-                p.kind = kind;
-                p.seed = (uint64_t)seed;
-                p.width_m = 30.0;
-                p.height_m = 20.0;
-                p.robots = teams[t];
-                p.formation = FORMATION_LINE;
+                p = gen_params(kind, seed, teams[t]);
                 assert_int_equal(worldgen_make(&M, &s, &p, NULL), WORLDGEN_OK);
                 assert_true(goal_slots_clear(&M, &s, teams[t]));
             }
