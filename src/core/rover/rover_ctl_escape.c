@@ -288,6 +288,28 @@ static int back_out(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_cm
     return 1;
 }
 
+/* Clear an outranking mate's way driving straight ahead, where backing
+ * cannot (no crumbs, or the way back taken by a mate): only with the
+ * front sonar groups free of walls (mates masked) beyond AHEAD_FREE_M, no
+ * mate in the lane, and the drive taking us farther from mate m. 1 with the
+ * command in *u, else 0. A robot giving way that stood beside the trapped
+ * one, its back_max_m used and unable to turn on the spot, held both there
+ * (dead zone, 3 in line, seed 1, with the lane test follow_boundary had). */
+#define AHEAD_FREE_M 0.6
+static int ahead_out(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, const team_member *m,
+                     unicycle_cmd *u)
+{
+    double xy[2];
+    if (fmin(gw->front_m, fmin(gw->left_front_m, gw->right_front_m)) < AHEAD_FREE_M) return 0;
+    if (team_position(&c->team, m->robot, xy) != 0 ||
+        cos(o->theta_rad) * (o->x_m - xy[0]) + sin(o->theta_rad) * (o->y_m - xy[1]) < 0.0 ||
+        rover_ctl_mate_in_lane(c, o, c->p.follow_mate_ahead_m))
+        return 0;
+    u->v_mps = 0.5 * c->p.follow_v_mps;
+    u->w_radps = 0.0;
+    return 1;
+}
+
 /* 1 if we lie in the way of a mate we wait for (its turning circle or
  * its lane ahead): ours to clear. */
 static int in_way_of_waited(const rover_ctl_state *c, const pose2 *o)
@@ -324,7 +346,8 @@ static void wait_step(rover_ctl_state *c, const pose2 *o, double dt_s)
  * wedge_max_s (neither could move: no crumbs, or none clear), a turn
  * whose next 0.6 rad sweeps clear of every mate's box, either way round.
  * Returns 1 if the motion was held back. */
-static int deconflict(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_cmd *u)
+static int deconflict(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double dt_s,
+                      unicycle_cmd *u)
 {
     const double w = u->w_radps;
     const team_member *m;
@@ -336,7 +359,7 @@ static int deconflict(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_
     u->w_radps = 0.0;
     m = team_find(&c->team, hit);
     if (m && rover_ctl_outranks(m->announce, m->robot, rover_ctl_own_announce(c), c->id) &&
-        back_out(c, o, dt_s, u)) {
+        (back_out(c, o, dt_s, u) || ahead_out(c, gw, o, m, u))) {
         c->esc_wedge_s = 0.0;
         return 1;
     }
@@ -369,7 +392,7 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
     if (ahead && c->esc_s < c->p.yield_max_s) {
         u->v_mps = 0.0;
         u->w_radps = c->esc_turn * c->p.follow_w_radps;
-        if (deconflict(c, o, dt_s, u)) c->esc_s -= dt_s;    /* standing is not turning */
+        if (deconflict(c, gw, o, dt_s, u)) c->esc_s -= dt_s;    /* standing is not turning */
         return 1;
     }
     enter(c, rover_esc_table[ROVER_ESC_YIELD].next);
@@ -407,12 +430,16 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
         c->esc_side = row->on_limit == c->esc_phase ? -side : side;
     }
     rover_ctl_follow(u, gw, c->esc_side, &c->p);
-    if (u->v_mps > 0.0 && rover_ctl_mate_in_lane(c, o, c->p.follow_mate_ahead_m)) {
-        /* a mate in the way: turn away from the wall as at a wall ahead */
+    if (u->v_mps > 0.0 && rover_ctl_cmd_sweeps_mate(c, o, u) != 0) {
+        /* the drive sweeps into a mate: turn away from the wall as at a
+         * wall ahead. Not a lane test from the axle forward: a mate at the
+         * flank that the drive leaves behind is not in the way (it stopped
+         * a robot giving way beside the trapped one, and the three stood
+         * wedged in the dead zone's mouth: 3 in line, seed 1) */
         u->v_mps = 0.0;
         u->w_radps = -(c->esc_side < 0 ? -1.0 : 1.0) * c->p.follow_w_radps;
     }
-    deconflict(c, o, dt_s, u);
+    deconflict(c, gw, o, dt_s, u);
     return 1;
 }
 

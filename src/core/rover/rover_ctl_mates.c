@@ -327,3 +327,42 @@ int rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reac
     }
     return 1;
 }
+
+/* Flying u for the next CMD_LOOK_S sweeps our chassis into the chassis of
+ * a mate (mate_touches: its box where the team table puts it,
+ * grown by SPIN_MARGIN_M, or its whole turning circle while it turns):
+ * that mate's id, else 0. A mate we touch already counts only if the
+ * motion brings our chassis nearer to it: driving on away from a mate
+ * alongside is allowed (a lane test from the axle forward stopped a robot
+ * giving way whose mate stood at its flank, and held three robots wedged
+ * in the dead zone's mouth, 3 in line, seed 1). */
+#define CMD_LOOK_S 1.0
+#define CMD_LOOK_STEPS 10
+int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u)
+{
+    pose2 own_c;
+    int k, s;
+    if (u->v_mps == 0.0 && u->w_radps == 0.0) return 0;
+    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
+    for (k = 0; k < c->team.n; k++) {
+        const team_member *m = &c->team.m[k];
+        const int i = k;
+        pose2 at = own_c, mc;
+        box2 own = chassis_box(&own_c, 0.0);
+        int touching;
+        double d0;
+        if (i < 0 || mate_c(c, i, &mc) != 0) continue;
+        touching = mate_touches(c, i, &own);
+        d0 = hypot(own.x_m - mc.x_m, own.y_m - mc.y_m);
+        for (s = 1; s <= CMD_LOOK_STEPS; s++) {
+            const double dt = CMD_LOOK_S / CMD_LOOK_STEPS;
+            at.x_m += u->v_mps * dt * cos(at.theta_rad);
+            at.y_m += u->v_mps * dt * sin(at.theta_rad);
+            at.theta_rad += u->w_radps * dt;
+            own = chassis_box(&at, 0.0);
+            if (!mate_touches(c, i, &own)) continue;
+            if (!touching || hypot(own.x_m - mc.x_m, own.y_m - mc.y_m) < d0) return m->robot;
+        }
+    }
+    return 0;
+}

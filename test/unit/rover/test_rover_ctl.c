@@ -883,6 +883,52 @@ static void test_queue_behind_closing_mate(void **state)
  * give-way turn is to the left (the roomier side on a tie), which would
  * swing its tail into the mate: it turns right. With a second mate
  * behind the left flank neither way is clear and it keeps standing. */
+/* No command sweeps the chassis into a mate's: a robot in formation
+ * standing beside a trapped mate (LEAVE) at its flank, walls near, the
+ * goal beyond the mate, waits hold_max_s and then flies the blend again,
+ * which turns it toward the goal: its tail or nose swung into the mate
+ * (dead zone, 3 in line, seed 1: a robot back in formation after giving
+ * way, 0.39 m from the trapped one). Checked over the wait and after it
+ * with the controller's own team table. And the escape's lane test: a
+ * drive that leaves a mate at the flank behind is not into it (the mate
+ * alongside stopped a robot giving way and three stood wedged), one that
+ * turns on the spot toward it is. */
+static void test_no_command_sweeps_into_mate(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    const pose2 s0 = { 0, 0, 0 };
+    const double goal_right[2] = { 0.0, -10.0 };
+    const hand_mate m = { 1, -0.1, -0.42, VEC2_PI, FORMATION_ANN_LEAVE, 0.0 };   /* facing away */
+    unicycle_cmd u;
+    double t;
+    int swept = 0, moved = 0;
+    (void)state;
+    rover_ctl_params_default(&p);
+    assert_int_equal(rover_ctl_init(&c, &p, 3, &s0, goal_right), 0);
+    for (t = 0.0; t < p.hold_max_s + 5.0; t += DT) {
+        seen_step(&c, t, lane_ring, &m, 1, &out);
+        if (rover_ctl_cmd_sweeps_mate(&c, &out.o, &out.u) != 0) swept = 1;
+        if (out.u.v_mps != 0.0 || out.u.w_radps != 0.0) moved = 1;
+    }
+    print_message("beside a trapped mate: wait set %d, phase %d, swept %d, moved %d\n", c.wait_n, c.esc_phase,
+                  swept, moved);
+    assert_int_equal(c.wait_n, 1);
+    assert_int_equal(c.esc_phase, ROVER_ESC_NONE);
+    assert_false(swept);
+    /* the test itself: turning on the spot there sweeps into the mate
+     * either way, driving straight on leaves it behind */
+    u.v_mps = 0.0;
+    u.w_radps = -0.6;
+    assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u), 1);
+    u.w_radps = 0.6;
+    assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u), 1);
+    u.v_mps = 0.25;
+    u.w_radps = 0.0;
+    assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u), 0);
+}
+
 static void test_wedge_turns_clear_way(void **state)
 {
     rover_ctl_state c;
@@ -1751,6 +1797,7 @@ int main(void)
         cmocka_unit_test(test_hold_while_trapped_mate_turns),
         cmocka_unit_test(test_queue_behind_standing_mate),
         cmocka_unit_test(test_queue_behind_closing_mate),
+        cmocka_unit_test(test_no_command_sweeps_into_mate),
         cmocka_unit_test(test_wedge_turns_clear_way),
         cmocka_unit_test(test_give_way_wedged),
         cmocka_unit_test(test_wait_for_graph_acyclic),
