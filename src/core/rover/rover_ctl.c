@@ -252,13 +252,12 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
      * beside it swung its nose into that mate */
     if (c->holding != ROVER_WAIT_NONE) u = c->wait_u;
     else if (!v->escaping) rover_ctl_guard(&u, c->range_m, &v->o, v->goal, &c->p);
-    /* no command sweeps the chassis into a mate's (rover_ctl_cmd_sweeps_mate):
-     * past hold_max_s a robot flies the blend again, and one standing
-     * beside a trapped mate turned toward its slot and swung its tail into
-     * it (dead zone, 3 in line, seed 1); a robot that outranks a mate it
-     * would sweep into stands too (the mate cannot always clear: it may be
-     * wedged itself) */
-    if (c->holding == ROVER_WAIT_NONE && !v->escaping && rover_ctl_cmd_sweeps_mate(c, &v->o, &u))
+    /* no command sweeps the chassis into a mate we wait for
+     * (rover_ctl_cmd_sweeps_mate): past hold_max_s a robot flies the blend
+     * again, and one standing beside a trapped mate turned toward its slot
+     * and swung its tail into it (dead zone, 3 in line, seed 1). Only the
+     * wait set: standing for a lower mate too wedged teams of 6 in the U */
+    if (c->holding == ROVER_WAIT_NONE && !v->escaping && rover_ctl_cmd_sweeps_mate(c, &v->o, &u, 1))
         u.v_mps = u.w_radps = 0.0;
     /* no rear sonar: never back up blindly (backing out of a mate's way
      * goes the way the robot came, clear of mates) */

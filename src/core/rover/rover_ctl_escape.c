@@ -430,7 +430,7 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
         c->esc_side = row->on_limit == c->esc_phase ? -side : side;
     }
     rover_ctl_follow(u, gw, c->esc_side, &c->p);
-    if (u->v_mps > 0.0 && rover_ctl_cmd_sweeps_mate(c, o, u) != 0) {
+    if (u->v_mps > 0.0 && rover_ctl_cmd_sweeps_mate(c, o, u, 0) != 0) {
         /* the drive sweeps into a mate: turn away from the wall as at a
          * wall ahead. Not a lane test from the axle forward: a mate at the
          * flank that the drive leaves behind is not in the way (it stopped

@@ -80,9 +80,10 @@ int     rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double 
 /* 1 if a mate's chassis reaches into the lane ours sweeps driving ahead_m
  * straight on. */
 int     rover_ctl_mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahead_m);
-/* The id of a mate whose chassis ours would sweep into (or come nearer
- * to, touching it already) flying u for the next second (arcs and turns on
- * the spot included), else 0. */
-int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u);
+/* The id of a mate (waited_only: of our wait set) whose chassis ours
+ * would sweep into (or come nearer to, touching it already) flying u for
+ * the next second (arcs and turns on the spot included), else 0. */
+int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u,
+                                  int waited_only);
 
 #endif

@@ -335,10 +335,22 @@ int rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reac
  * motion brings our chassis nearer to it: driving on away from a mate
  * alongside is allowed (a lane test from the axle forward stopped a robot
  * giving way whose mate stood at its flank, and held three robots wedged
- * in the dead zone's mouth, 3 in line, seed 1). */
+ * in the dead zone's mouth, 3 in line, seed 1). waited_only: only the
+ * mates of our wait set (c->wait_id), those that outrank us and conflict
+ * with us, so that standing for them keeps the wait-for graph acyclic. */
 #define CMD_LOOK_S 1.0
 #define CMD_LOOK_STEPS 10
-int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u)
+/* 1 if mate `id` is in our wait set. */
+static int waited_for(const rover_ctl_state *c, int32_t id)
+{
+    int k;
+    for (k = 0; k < c->wait_n; k++)
+        if (c->wait_id[k] == id) return 1;
+    return 0;
+}
+
+int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u,
+                                  int waited_only)
 {
     pose2 own_c;
     int k, s;
@@ -347,6 +359,7 @@ int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, cons
     for (k = 0; k < c->team.n; k++) {
         const team_member *m = &c->team.m[k];
         const int i = k;
+        if (waited_only && !waited_for(c, m->robot)) continue;
         pose2 at = own_c, mc;
         box2 own = chassis_box(&own_c, 0.0);
         int touching;

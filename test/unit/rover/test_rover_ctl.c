@@ -909,7 +909,7 @@ static void test_no_command_sweeps_into_mate(void **state)
     assert_int_equal(rover_ctl_init(&c, &p, 3, &s0, goal_right), 0);
     for (t = 0.0; t < p.hold_max_s + 5.0; t += DT) {
         seen_step(&c, t, lane_ring, &m, 1, &out);
-        if (rover_ctl_cmd_sweeps_mate(&c, &out.o, &out.u) != 0) swept = 1;
+        if (rover_ctl_cmd_sweeps_mate(&c, &out.o, &out.u, 1) != 0) swept = 1;
         if (out.u.v_mps != 0.0 || out.u.w_radps != 0.0) moved = 1;
     }
     print_message("beside a trapped mate: wait set %d, phase %d, swept %d, moved %d\n", c.wait_n, c.esc_phase,
@@ -921,12 +921,12 @@ static void test_no_command_sweeps_into_mate(void **state)
      * either way, driving straight on leaves it behind */
     u.v_mps = 0.0;
     u.w_radps = -0.6;
-    assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u), 1);
+    assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u, 0), 1);
     u.w_radps = 0.6;
-    assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u), 1);
+    assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u, 0), 1);
     u.v_mps = 0.25;
     u.w_radps = 0.0;
-    assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u), 0);
+    assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u, 0), 0);
 }
 
 static void test_wedge_turns_clear_way(void **state)
