@@ -155,8 +155,13 @@ int rover_ctl_walls_near(const sonar_groups *gw, const rover_ctl_params *p)
 }
 
 /* Mate i (which outranks us) conflicts with us, as we see it: its axle
- * within yield_near_m of ours where walls are near or either of us is out
- * of the formation (neither could turn on the spot); with walls near, a
+ * within yield_near_m of ours where either of us is out of the formation
+ * (neither could turn on the spot), or where walls are near and its axle
+ * lies ahead of ours (within 90 deg of our heading: a mate beside or
+ * behind is not in our way forward, and standing for it stood the middle
+ * of a line in a passage's mouth while the flank robot turned across it;
+ * the third, standing for the middle, was left at the wall's end and went
+ * round the outside: corridor, 3 in line, seeds 9, 11, 14, 44); with walls near, a
  * trapped mate (LEAVE) seen by the camera within give_way_m, ahead or
  * coming our way; both in formation, walls near, a mate within queue_m
  * ahead (queue_cone_rad) that stands or that we close on. In the open
@@ -170,7 +175,10 @@ static int mate_conflicts(const rover_ctl_state *c, const pose2 *o, int walls, i
     double xy[2], dist, b;
     if (mate_c(c, i, &mc) != 0 || team_position(&c->team, m->robot, xy) != 0) return 0;
     unicycle_c_from_o(&own_c, o, p->beh.d_m);
-    if (hypot(mc.x_m - own_c.x_m, mc.y_m - own_c.y_m) < p->yield_near_m && (walls || mate_out || self_out))
+    if (hypot(mc.x_m - own_c.x_m, mc.y_m - own_c.y_m) < p->yield_near_m &&
+        (mate_out || self_out ||
+         (walls && fabs(vec2_angle_diff_rad(atan2(mc.y_m - own_c.y_m, mc.x_m - own_c.x_m),
+                                            own_c.theta_rad)) < 0.5 * VEC2_PI)))
         return 1;
     if (!walls) return 0;
     dist = hypot(xy[0] - o->x_m, xy[1] - o->y_m);
