@@ -117,6 +117,10 @@ typedef struct {
     double yield_max_s;         /* giving way: turn away at most this long, then follow */
     double give_way_seen_s;     /* ... to a mate the camera saw this recently (no wall between) */
     double yield_near_m;        /* axles this near, walls near or one out of formation: a conflict */
+    double arrival_m;           /* the team's mean within the formation's half extent plus this
+                                   of the goal: slots by where the robots are (0: by id) */
+    double arrival_swap_m2;     /* two robots swap goal slots only when that shortens their summed
+                                   squared distances by more than this */
     double queue_m;             /* a mate in formation this near ahead ... */
     double queue_cone_rad;      /* ... within this of our heading ... */
     double queue_slow_mps;      /* ... slower than this, or than us by queue_closing_mps: a conflict */
@@ -207,6 +211,8 @@ typedef struct {
     int     ann_code;           /* own latest announcement */
     int32_t ann_seq;
     double  team_tx_t_s;
+    double  tx_xy_m[2];         /* own position in the last team message (the goal's slot
+                                   assignment ranks us by it, as every mate does) */
     int     formation_changes;  /* adopted changes of type (own view) */
     behaviour_blender blend;
 } rover_ctl_state;

@@ -35,6 +35,12 @@ int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id,
     if (formation_fsm_init(&c->fsm, p->formation, 1.0) != 0) return ROVER_CTL_ERR_ARG;
     behaviour_exception_init(&c->exc);
     c->team_tx_t_s = -INFINITY;
+    {
+        pose2 o;
+        unicycle_o_from_c(&o, start_c, p->beh.d_m);
+        c->tx_xy_m[0] = o.x_m;
+        c->tx_xy_m[1] = o.y_m;
+    }
     return ROVER_CTL_OK;
 }
 
@@ -139,8 +145,93 @@ typedef struct {
 } step_view;
 
 /* Own slot index in the formation flown (-1: none). */
+/* Where robot ids[j] is, from the team messages (our own last one for
+ * ourselves): the numbers every robot of the team holds alike. */
+static int sent_xy(const rover_ctl_state *c, int32_t id, double xy[2])
+{
+    const team_member *m;
+    if (id == c->id) {
+        xy[0] = c->tx_xy_m[0];
+        xy[1] = c->tx_xy_m[1];
+        return 0;
+    }
+    m = team_find(&c->team, id);
+    if (!m) return -1;
+    xy[0] = m->x_m;
+    xy[1] = m->y_m;
+    return 0;
+}
+
+/* The goal's slots by where the robots are (docs/method/formation.md
+ * §11): starting from the slots by id, any two robots swap slots while
+ * that shortens the sum of their squared distances to their slots by
+ * more than arrival_swap_m2 (a local optimum of the squared-distance
+ * assignment; on a line of slots that is the order-keeping match, so no
+ * two robots cross: a column that came out of a corridor, or robots back
+ * from an escape, by id crossed the team in the goal area and jammed
+ * there). At most n passes of n^2 pairs. Every robot computes it from the
+ * same team messages; our slot, or -1. */
+static double sq_dist(const double a[2], const double b[2])
+{
+    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
+}
+
+static int arrival_slot(const rover_ctl_state *c, const step_view *v)
+{
+    double xy[TEAM_MAX + 1][2], sl[TEAM_MAX + 1][2];
+    const double heading = atan2(c->goal_m[1], c->goal_m[0]);
+    int slot[TEAM_MAX + 1], j, q, pass, swapped = 1, mine = -1;
+    for (j = 0; j < v->n; j++) {
+        double s[2] = { 0.0, 0.0 };
+        if (sent_xy(c, v->ids[j], xy[j]) != 0) return -1;
+        formation_slot_xy(s, c->fsm.type, v->n, j, c->p.fsm.spacing_m, c->fsm.scale);
+        vec2_rotate(sl[j], s[0], s[1], heading);
+        sl[j][0] += c->goal_m[0];
+        sl[j][1] += c->goal_m[1];
+        slot[j] = rover_world_slot(c->fsm.type, v->n, j);   /* ids sorted: j is the rank */
+        if (slot[j] < 0) return -1;
+    }
+    for (pass = 0; pass < v->n && swapped; pass++) {
+        swapped = 0;
+        for (j = 0; j < v->n; j++)
+            for (q = j + 1; q < v->n; q++) {
+                const double now = sq_dist(xy[j], sl[slot[j]]) + sq_dist(xy[q], sl[slot[q]]);
+                const double then = sq_dist(xy[j], sl[slot[q]]) + sq_dist(xy[q], sl[slot[j]]);
+                if (then < now - c->p.arrival_swap_m2) {
+                    const int t = slot[j];
+                    slot[j] = slot[q];
+                    slot[q] = t;
+                    swapped = 1;
+                }
+            }
+    }
+    for (j = 0; j < v->n; j++)
+        if (v->ids[j] == c->id) mine = slot[j];
+    return mine;
+}
+
+/* The team is arriving: the mean of the sent positions within the
+ * formation's half extent plus arrival_m of the goal. */
+static int arriving(const rover_ctl_state *c, const step_view *v)
+{
+    double mx = 0.0, my = 0.0, xy[2];
+    int j;
+    if (!(c->p.arrival_m > 0.0)) return 0;
+    for (j = 0; j < v->n; j++) {
+        if (sent_xy(c, v->ids[j], xy) != 0) return 0;
+        mx += xy[0];
+        my += xy[1];
+    }
+    return hypot(mx / v->n - c->goal_m[0], my / v->n - c->goal_m[1]) <
+           0.5 * (v->n - 1) * c->p.fsm.spacing_m + c->p.arrival_m;
+}
+
 static int own_slot(const rover_ctl_state *c, const step_view *v)
 {
+    if (arriving(c, v)) {
+        const int k = arrival_slot(c, v);
+        if (k >= 0) return k;
+    }
     return rover_world_slot(c->fsm.type, v->n, formation_slot_of(v->ids, v->n, c->id));
 }
 
@@ -176,6 +267,12 @@ static void reference_and_passage(rover_ctl_state *c, double t_s, double dt_s, s
     ref_heading_to_goal(c, &v->ref);
     ref_arrive(c, &v->ref);
     passage = rover_ctl_passage_width(c, &v->o, &v->ref, &v->gw, v->masked);
+    /* arriving, the goal's slots are where the team ends: the formation
+     * flown is restored as in the open (a column that came out of a
+     * corridor into the goal area stayed a column there, its rear robot
+     * never seeing the way clear long enough, and the team stood in
+     * column slots short of the goal's line) */
+    if (arriving(c, v)) passage = INFINITY;
     if (!v->escaping) {
         const int before = c->fsm.type;
         if (formation_fsm_step(&c->fsm, &c->p.fsm, passage, v->n, dt_s, c->id,
@@ -289,6 +386,8 @@ static void team_message_out(rover_ctl_state *c, const step_view *v, double t_s,
     m->announce = rover_ctl_own_announce(c);
     m->announce_seq = c->ann_seq;
     m->t_s = t_s;
+    c->tx_xy_m[0] = m->x_m;
+    c->tx_xy_m[1] = m->y_m;
 }
 
 int rover_ctl_step(rover_ctl_state *c, double t_s, double dt_s, rover_ctl_out *out)

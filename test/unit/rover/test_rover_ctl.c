@@ -91,12 +91,28 @@ static void build_sonar(const rover_world_config *w, const pose2 *c, const int *
 
 /* Closed loop of o->n robots in world w (start poses, goal, obstacles)
  * with controller parameters p (formation and blend set in p). */
+/* The least tolerance within which robots at xy hold all n slots (any
+ * robot in any slot): bisection on formation_slots_held. */
+static double held_within(const double xy[][2], const double slot[][2], int n)
+{
+    double lo = 0.0, hi = 100.0;
+    int k;
+    if (formation_slots_held(xy, slot, n, hi) != 1) return INFINITY;
+    for (k = 0; k < 40; k++) {
+        const double mid = 0.5 * (lo + hi);
+        if (formation_slots_held(xy, slot, n, mid) == 1) hi = mid;
+        else lo = mid;
+    }
+    return hi;
+}
+
 static kin_result kin_run_world(const rover_world_config *w, const rover_ctl_params *p,
                                 const kin_opts *opt)
 {
     sonar_model sm;
     pose2 c[KN];
-    double encl[KN] = {0}, encr[KN] = {0}, goal_team[2];
+    double encl[KN] = {0}, encr[KN] = {0}, goal_team[2], at[KN][2], goal_slot[KN][2];
+    int n_at = 0;
     int alive[KN] = {0}, i, j, step, last_type = p->formation, last_esc[KN] = {0};
     const int n = opt->n;
     kin_result r;
@@ -202,15 +218,21 @@ static kin_result kin_run_world(const rover_world_config *w, const rover_ctl_par
         rover_world_from_team(w, &est, &est_w);
         r.est_err_m[i][0] = est_w.x_m - o.x_m;
         r.est_err_m[i][1] = est_w.y_m - o.y_m;
-        {   /* the nominal slot round the goal (world frame, as the scenario has it) */
-            double xy[2], rot[2];
-            const double head = atan2(goal_team[1], goal_team[0]);
-            formation_slot_xy(xy, p->formation, n, rover_world_slot(p->formation, n, i), 1.0, 1.0);
-            vec2_rotate(rot, xy[0], xy[1], head);
-            r.max_slot_err_m = fmax(r.max_slot_err_m, hypot(o.x_m - w->goal_m[0] - rot[0],
-                                                            o.y_m - w->goal_m[1] - rot[1]));
+        {   /* where the robots are, for the nominal slots round the goal (world
+             * frame, as the scenario has it): held by any robot in any slot */
+            at[n_at][0] = o.x_m;
+            at[n_at][1] = o.y_m;
+            n_at++;
         }
     }
+    for (i = 0; i < n_at; i++) {
+        double xy[2], rot[2];
+        formation_slot_xy(xy, p->formation, n_at, i, 1.0, 1.0);
+        vec2_rotate(rot, xy[0], xy[1], atan2(goal_team[1], goal_team[0]));
+        goal_slot[i][0] = w->goal_m[0] + rot[0];
+        goal_slot[i][1] = w->goal_m[1] + rot[1];
+    }
+    r.max_slot_err_m = n_at > 0 ? held_within((const double (*)[2])at, (const double (*)[2])goal_slot, n_at) : INFINITY;
     return r;
 }
 
