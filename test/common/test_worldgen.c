@@ -63,6 +63,21 @@ static void test_a_closed_or_narrow_passage_is_refused(void **state)
     assert_int_equal(worldgen_passable(&M, &s, 3, FORMATION_LINE, CLEAR), 0);
 }
 
+/* The generator's parameters for a 30 m x 20 m world of kind and seed,
+ * a team of n in line. */
+static worldgen_params gen_params(int kind, int seed, int n)
+{
+    worldgen_params p;
+    memset(&p, 0, sizeof p);
+    p.kind = kind;
+    p.seed = (uint64_t)seed;
+    p.width_m = 30.0;
+    p.height_m = 20.0;
+    p.robots = n;
+    p.formation = FORMATION_LINE;
+    return p;
+}
+
 static void test_every_kind_gives_passable_repeatable_worlds(void **state)
 {
     worldgen_params p;
@@ -71,13 +86,7 @@ static void test_every_kind_gives_passable_repeatable_worlds(void **state)
     (void)state;
     for (kind = 0; kind < WORLDGEN_KINDS; kind++)
         for (seed = 1; seed <= 4; seed++) {
-            memset(&p, 0, sizeof p);
-            p.kind = kind;
-            p.seed = (uint64_t)seed;
-            p.width_m = 30.0;
-            p.height_m = 20.0;
-            p.robots = 3;
-            p.formation = FORMATION_LINE;
+            p = gen_params(kind, seed, 3);
             assert_int_equal(worldgen_make(&M, &s, &p, &attempt), WORLDGEN_OK);
             assert_true(attempt >= 0 && attempt < WORLDGEN_ATTEMPTS);
             assert_int_equal(worldgen_passable(&M, &s, 3, FORMATION_LINE, CLEAR), 1);
@@ -90,6 +99,54 @@ static void test_every_kind_gives_passable_repeatable_worlds(void **state)
         }
     assert_int_equal(worldgen_kind("traps"), WORLDGEN_TRAPS);
     assert_int_equal(worldgen_kind("maze"), WORLDGEN_ERR_ARG);
+}
+
+/* The goal area holds the team: for teams of 3, 8 and 12 in line (the
+ * widest formation) and every kind, each slot of the formation placed at
+ * the goal (headed from the start toward it) has every cell within the
+ * inflated body's radius free. The generator cleared 1.5 m round the goal
+ * before: a line of 8 had slots inside obstacles. The way check refuses a
+ * hall whose goal slots lie in a wall. */
+static int goal_slots_clear(const rover_map *m, const rover_map_site *s, int n)
+{
+    const double heading = atan2(s->goal_m[1] - s->start.y_m, s->goal_m[0] - s->start.x_m);
+    int k, i, j;
+    for (k = 0; k < n; k++) {
+        double xy[2], x, y;
+        assert_int_equal(formation_slot_xy(xy, FORMATION_LINE, n, k, 1.0, 1.0), 0);
+        x = s->goal_m[0] + xy[0] * cos(heading) - xy[1] * sin(heading);
+        y = s->goal_m[1] + xy[0] * sin(heading) + xy[1] * cos(heading);
+        for (j = 0; j < m->height; j++)
+            for (i = 0; i < m->width; i++) {
+                const double cx = m->origin_x_m + (i + 0.5) * m->resolution_m;
+                const double cy = m->origin_y_m + (j + 0.5) * m->resolution_m;
+                if (hypot(cx - x, cy - y) < CLEAR && m->cell[j * m->width + i] != ROVER_MAP_FREE) return 0;
+            }
+    }
+    return 1;
+}
+
+static void test_the_goal_area_holds_the_team(void **state)
+{
+    static const int teams[3] = { 3, 8, 12 };
+    worldgen_params p;
+    rover_map_site s;
+    int kind, seed, t;
+    (void)state;
+    for (t = 0; t < 3; t++)
+        for (kind = 0; kind < WORLDGEN_KINDS; kind++)
+            for (seed = 1; seed <= 3; seed++) {
+                p = gen_params(kind, seed, teams[t]);
+                assert_int_equal(worldgen_make(&M, &s, &p, NULL), WORLDGEN_OK);
+                assert_true(goal_slots_clear(&M, &s, teams[t]));
+            }
+    /* a goal 0.5 m from the hall's wall across: a line of 3 across the way
+     * fits, its slots do not once the goal is against the side wall */
+    hall(2.0, &s);
+    s.goal_m[1] = 1.2;
+    assert_int_equal(worldgen_passable(&M, &s, 3, FORMATION_LINE, CLEAR), 0);
+    s.goal_m[1] = 5.0;
+    assert_int_equal(worldgen_passable(&M, &s, 3, FORMATION_LINE, CLEAR), 1);
 }
 
 static void test_sizes_that_cannot_hold_the_team_are_refused(void **state)
@@ -116,6 +173,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_a_closed_or_narrow_passage_is_refused),
         cmocka_unit_test(test_every_kind_gives_passable_repeatable_worlds),
+        cmocka_unit_test(test_the_goal_area_holds_the_team),
         cmocka_unit_test(test_sizes_that_cannot_hold_the_team_are_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -5,7 +5,8 @@
  * tandem-rover per robot in lockstep on a private bus, each reading the
  * world from the copy the run keeps in its directory; the team must reach
  * the goal through the doorway without a collision. Flown again from that
- * copy, the run is the same bit for bit. A file whose goal lies on a wall
+ * copy, the run is the same bit for bit; its summary gives the length of
+ * the way for the robot body (doorway, round the pocket). A file whose goal lies on a wall
  * is refused before anything starts (exit 2, no output directory). */
 #include <stdarg.h>
 #include <stddef.h>
@@ -62,6 +63,13 @@ static void test_room_to_the_goal_and_again_from_its_copy(void **state)
     assert_true(harness_json_value(js, "collisions") == 0.0);
     assert_true(harness_json_value(js, "min_clearance_m") > 0.05);
     assert_non_null(strstr(js, "\"world\": \"file\""));
+    /* the way for the body: start (6.5, 0) to goal (16.5, 0) through the
+     * doorway, round the pocket: no shorter than the straight 10 m, not
+     * much longer; --max-time given: that limit, not one from the way */
+    printf("way_length_m %.2f\n", harness_json_value(js, "way_length_m"));
+    assert_true(harness_json_value(js, "way_length_m") >= 10.0 - 0.2);
+    assert_true(harness_json_value(js, "way_length_m") < 12.5);
+    assert_true(harness_json_value(js, "max_time_s") == 60.0);
     snprintf(path, sizeof path, "%s/world.yaml", dir_a);
     assert_int_equal(fly(&h, path, dir_b, "line"), 0);
     snprintf(path, sizeof path, "%s/truth.csv", dir_a);

@@ -118,14 +118,20 @@ static int team_truth(fm_state *fm, const tandem_rover_truth_t *m, int n, double
 
 /* Formation error: slots of the formation the team is flying now around
  * the true centroid and mean heading; robot slots by sorted alive id.
- * *sq: sum of the squared errors, *mx: the largest. Returns 1 when every
- * robot is near its nominal slot around the goal. */
+ * *sq: sum of the squared errors, *mx: the largest. Returns 1 when the
+ * nominal slots around the goal (the slot frame headed along the goal's
+ * bearing from the team origin, as the robots place it) are held: each
+ * by its own robot within 0.75 m, whichever robot (the robots take the
+ * goal's slots in the order they arrive). */
 static int formation_error(const fm_state *fm, const tandem_rover_truth_t *m, const int32_t *ids, int n,
                            const team_pose *tp, double *sq, double *mx)
 {
-    int i, all_at = 1;
+    double at[ROVER_WORLD_MAX_ROBOTS][2], goal_slot[ROVER_WORLD_MAX_ROBOTS][2];
+    const double heading = atan2(fm->layout.goal_m[1] - fm->layout.team_origin.y_m,
+                                 fm->layout.goal_m[0] - fm->layout.team_origin.x_m);
+    int i, k = 0;
     for (i = 0; i < m->n; i++) {
-        double xy[2], r[2], e, gx, gy;
+        double xy[2], r[2], e;
         int rank;
         if (!m->alive[i]) continue;
         rank = formation_slot_of(ids, n, m->robot[i]);
@@ -134,13 +140,17 @@ static int formation_error(const fm_state *fm, const tandem_rover_truth_t *m, co
         e = hypot(m->x_m[i] - tp->cx - r[0], m->y_m[i] - tp->cy - r[1]);
         *sq += e * e;
         if (e > *mx) *mx = e;
-        /* at the goal: every robot near its nominal slot around the goal */
-        formation_slot_xy(xy, fm->formation, n, rover_world_slot(fm->formation, n, rank), 1.0, 1.0);
-        gx = fm->layout.goal_m[0] + xy[0];
-        gy = fm->layout.goal_m[1] + xy[1];
-        if (hypot(m->x_m[i] - gx, m->y_m[i] - gy) > 0.75) all_at = 0;
+        if (k >= n || k >= ROVER_WORLD_MAX_ROBOTS) return 0;
+        formation_slot_xy(xy, fm->formation, n, k, 1.0, 1.0);
+        vec2_rotate(r, xy[0], xy[1], heading);
+        goal_slot[k][0] = fm->layout.goal_m[0] + r[0];
+        goal_slot[k][1] = fm->layout.goal_m[1] + r[1];
+        at[k][0] = m->x_m[i];
+        at[k][1] = m->y_m[i];
+        k++;
     }
-    return all_at;
+    return k == n && formation_slots_held((const double (*)[2])at, (const double (*)[2])goal_slot, n,
+                                          0.75) == 1;
 }
 
 /* formation_error.csv, weights.csv (the lowest live robot's), and

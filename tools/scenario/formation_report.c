@@ -6,6 +6,7 @@
  */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include "formation_scen.h"
 #include "shared_run.h"
 #include "formation.h"
@@ -30,6 +31,88 @@ static double free_side_m(const rover_world_config *w, double x, double y, doubl
     for (d = FREE_PROBE_M; d < FREE_SIDE_M; d += FREE_PROBE_M)
         if (inside_obstacle(w, x + d * ux, y + d * uy)) return d;
     return FREE_SIDE_M;
+}
+
+/* ---- the way's length and the time limit ---------------------------------------- */
+
+#define WAY_CLEAR_M   0.32       /* the body's radius about C (WORLDGEN_BODY_RADIUS_M) */
+#define WAY_CELLS_MAX 200000L    /* grid cells at most: the cell grows on large maps */
+
+/* Geodesic distance over the free cells (d >= 0; blocked cells and the
+ * unreached hold INFINITY) by forward and backward 8-neighbour chamfer
+ * passes (steps of one cell side or a diagonal) repeated until a pair
+ * changes nothing: each pair carries the distance round one more bend. */
+static void way_sweeps(float *d, const unsigned char *blocked, long nx, long ny, float s1, float s2)
+{
+    int changed = 1, pass;
+    long i, j;
+    for (pass = 0; changed && pass < 4 * (int)(nx + ny); pass++) {
+        changed = 0;
+        for (j = 0; j < ny; j++)
+            for (i = 0; i < nx; i++) {
+                const long c = j * nx + i;
+                float best = d[c];
+                if (blocked[c]) continue;
+                if (i > 0) best = fminf(best, d[c - 1] + s1);
+                if (j > 0) best = fminf(best, d[c - nx] + s1);
+                if (i > 0 && j > 0) best = fminf(best, d[c - nx - 1] + s2);
+                if (i + 1 < nx && j > 0) best = fminf(best, d[c - nx + 1] + s2);
+                if (best < d[c]) { d[c] = best; changed = 1; }
+            }
+        for (j = ny - 1; j >= 0; j--)
+            for (i = nx - 1; i >= 0; i--) {
+                const long c = j * nx + i;
+                float best = d[c];
+                if (blocked[c]) continue;
+                if (i + 1 < nx) best = fminf(best, d[c + 1] + s1);
+                if (j + 1 < ny) best = fminf(best, d[c + nx] + s1);
+                if (i + 1 < nx && j + 1 < ny) best = fminf(best, d[c + nx + 1] + s2);
+                if (i > 0 && j + 1 < ny) best = fminf(best, d[c + nx - 1] + s2);
+                if (best < d[c]) { d[c] = best; changed = 1; }
+            }
+    }
+}
+
+double fm_way_length_m(const rover_world_config *w)
+{
+    const double wx = w->x_max_m - w->x_min_m, wy = w->y_max_m - w->y_min_m;
+    const double cell = fmax(0.1, sqrt(wx * wy / (double)WAY_CELLS_MAX));
+    const long nx = (long)ceil(wx / cell), ny = (long)ceil(wy / cell);
+    double sx = 0.0, sy = 0.0, len = NAN;
+    float *d;
+    unsigned char *blocked;
+    long i, j, from, to;
+    int k;
+    if (!(wx > 0.0 && wy > 0.0) || w->n_robots < 1) return NAN;
+    for (k = 0; k < w->n_robots; k++) { sx += w->start_c[k].x_m; sy += w->start_c[k].y_m; }
+    sx /= w->n_robots;
+    sy /= w->n_robots;
+    d = malloc(sizeof *d * (size_t)(nx * ny));
+    blocked = malloc((size_t)(nx * ny));
+    if (!d || !blocked) goto out;
+    for (j = 0; j < ny; j++)
+        for (i = 0; i < nx; i++) {
+            const double x = w->x_min_m + (i + 0.5) * cell, y = w->y_min_m + (j + 0.5) * cell;
+            blocked[j * nx + i] = 0;
+            d[j * nx + i] = INFINITY;
+            for (k = 0; k < w->n_obst && !blocked[j * nx + i]; k++)
+                blocked[j * nx + i] = rover_obstacle_distance(&w->obst[k], x, y) < WAY_CLEAR_M;
+        }
+    from = (long)((sy - w->y_min_m) / cell) * nx + (long)((sx - w->x_min_m) / cell);
+    to = (long)((w->goal_m[1] - w->y_min_m) / cell) * nx + (long)((w->goal_m[0] - w->x_min_m) / cell);
+    if (from < 0 || from >= nx * ny || to < 0 || to >= nx * ny || blocked[from] || blocked[to]) goto out;
+    d[from] = 0.0f;
+    way_sweeps(d, blocked, nx, ny, (float)cell, (float)(cell * sqrt(2.0)));
+    if (isfinite(d[to])) len = d[to];
+out:
+    free(d);
+    free(blocked);
+    return len;
+}
+
+double fm_time_limit_s(double way_m)
+{
+    return isfinite(way_m) ? FM_TIME_BASE_S + way_m / FM_TIME_SPEED_MPS : FM_TIME_DEFAULT_S;
 }
 
 /* The narrowest passage the team must drive through, narrower than
@@ -141,6 +224,8 @@ void fm_write_summary(const fm_state *fm, double wall_s)
     json_num(&j, "needed_width_m", fm_needed_width_m(fm));
     json_int(&j, "dead_zone_escapes", fm->escapes);
     json_num(&j, "path_length_m", n ? path / n : NAN);
+    json_num(&j, "way_length_m", fm->way_m);
+    json_num(&j, "max_time_s", fm->max_time_s);
     json_num(&j, "smoothness", fm->n_dw ? fm->sum_dw / fm->n_dw : NAN);
     json_num(&j, "loc_err_rms_m", fm->loc_n ? sqrt(fm->loc_sum_sq / fm->loc_n) : NAN);
     json_num(&j, "loc_err_max_m", fm->loc_n ? fm->loc_max : NAN);

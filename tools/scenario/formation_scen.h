@@ -50,7 +50,8 @@ typedef struct fm_state {
     scenario_drop drop;                        /* --drop-rate */
     const char *drop_arg;
     long   seed;
-    double max_time_s;
+    double max_time_s;                 /* --max-time; 0: fm_time_limit_s of the way */
+    double way_m;                      /* fm_way_length_m of the layout (NAN: no way found) */
     int    kill_id;
     double kill_t_s;
     scenario_fault faults[SCENARIO_MAX_FAULTS];   /* --fault kill:roverK:T[:R] */
@@ -197,6 +198,21 @@ int  fm_criteria(const fm_state *fm, char *buf, size_t cap);
 double fm_passage_width_m(const rover_world_config *w, double need_m);
 /* Width the team's formation needs (formation width + the FSM's margin). */
 double fm_needed_width_m(const fm_state *fm);
+/* The run's time limit follows from the way (--max-time not given):
+ * FM_TIME_BASE_S for the start, the formation changes and one escape,
+ * plus the way at FM_TIME_SPEED_MPS (the speed a team keeps while it
+ * reshapes or goes round a trap); FM_TIME_DEFAULT_S if no way was found.
+ * On the built-in dead-zone world (a way of 13.3 m) this is 149 s, the
+ * 150 s every world had before; its slowest 3-robot runs take 124 s. */
+#define FM_TIME_BASE_S     60.0
+#define FM_TIME_SPEED_MPS  0.15
+#define FM_TIME_DEFAULT_S  150.0
+/* Length (m) of the shortest way for the robot body (cells farther than
+ * its radius about C from every obstacle, 8-connected, on a grid of at
+ * least 0.1 m) from the team's start (the mean of its start poses) to the
+ * goal; NAN if there is none. */
+double fm_way_length_m(const rover_world_config *w);
+double fm_time_limit_s(double way_m);
 void fm_write_summary(const fm_state *fm, double wall_s);
 void fm_write_plots(const fm_state *fm);
 

@@ -121,7 +121,8 @@ static const option_entry formation_table[] = {
       .help = "robot: ROVERk_* channels per robot; batch: ROVERS_*, one message per tick for all robots. "
       "Same run either way", .def = "batch with --procs single, robot otherwise" },
     { .name = "max-time", .type = OPTION_DOUBLE, OPTION_AT(fm_state, max_time_s), .min = 0.0, .max = 3600.0,
-      .meta = "S", .help = "give up after S simulated seconds (S > 0)", .def = "150" },
+      .meta = "S", .help = "give up after S simulated seconds (S > 0); not given: 60 s plus the shortest "
+      "way for the robot body from the start to the goal at 0.2 m/s", .def = "from the way" },
     { .name = "lcm-url", .type = OPTION_STRING, OPTION_AT(fm_state, url), .meta = "URL",
       .help = "bus for the children", .def = "a private udpm port" },
     { .name = "out", .type = OPTION_STRING, OPTION_AT(fm_state, out), OPTION_SEEN(fm_state, out_given), .required = 1,
@@ -151,7 +152,7 @@ static int parse(fm_state *fm, int argc, char **argv)
     fm->timeout_ms_given = 10000;
     fm->robots = 3;
     fm->seed = 1;
-    fm->max_time_s = 150.0;
+    fm->max_time_s = -1.0;                /* not given: from the way (setup) */
     fm->hang_s = HANG_WATCH_DEFAULT_S;
     fm->kill_id = -1;
     fm->single = -1;
@@ -162,7 +163,7 @@ static int parse(fm_state *fm, int argc, char **argv)
     if (rc < 0)
         return SCENARIO_ERR_ARG;
     snprintf(fm->timeout_ms, sizeof fm->timeout_ms, "%ld", fm->timeout_ms_given);
-    if (!(fm->max_time_s > 0)) {
+    if (!(fm->max_time_s > 0) && fm->max_time_s != -1.0) {
         fprintf(stderr, "formation: --max-time: '%g'\n", fm->max_time_s);
         return SCENARIO_ERR_ARG;
     }
@@ -249,6 +250,8 @@ static int setup(fm_state *fm)
         if ((i = fm_random_world(fm)) != 0) return i;
     }
     if (world_opts_layout(&fm->layout, &fm->wopt, fm->robots, 1.0, fm->formation, "formation") != 0) return 2;
+    fm->way_m = fm_way_length_m(&fm->layout);
+    if (fm->max_time_s == -1.0) fm->max_time_s = fm_time_limit_s(fm->way_m);
     if (scenario_mkdir(fm->out) != 0) return 1;
     if (fm_keep_world(fm) != 0) return 1;
     if (find_bindir(fm) != 0) return 1;
@@ -405,6 +408,7 @@ static int run(int argc, char **argv)
     fprintf(stderr, "formation: %d robots, %s, world %s, blend %s, seed %ld on %s\n", fm->robots,
             fm_formation_name(fm->formation), rover_world_name(fm->world), fm_blend_name(fm->blend), fm->seed,
             fm->url);
+    fprintf(stderr, "formation: time limit %.0f s (the way for the body: %.1f m)\n", fm->max_time_s, fm->way_m);
     fm->last_clock_ns = fm_mono_ns();
     fm_hang_start(fm);
     register_lockstep(fm, wall0);

@@ -59,6 +59,12 @@ int formation_next_type(int type);
  * leaving or joining re-slots everyone deterministically. FORMATION_ERR_ABSENT if absent. */
 int formation_slot_of(const int32_t ids[], int n, int32_t id);
 
+/* The formation is held: every one of the n slots has its own robot
+ * within tol_m (a perfect matching of robots to slots, any robot in any
+ * slot; Kuhn's augmenting paths, at most n^3 steps). 1 held, 0 not,
+ * FORMATION_ERR_ARG on bad input. */
+int formation_slots_held(const double xy_m[][2], const double slot_m[][2], int n, double tol_m);
+
 /* ---- narrow-passage protocol ------------------------------------------- */
 typedef struct {
     int     code;          /* FORMATION_ANN_* */

@@ -18,12 +18,15 @@
  * free (the leave rule of Bug2). The robot announces LEAVE on entry (the
  * team reference leaves it out) and REJOIN when done.
  *
- * Giving way: a trapped robot's only way out is back the way it came, past
- * the mates that followed it in. A robot that sees (camera) a mate that
- * announced LEAVE close ahead and heading its way, with walls about, leaves
- * the formation too (LEAVE), turns away from it and follows the boundary
- * out with the same leave rule; it reports MODE_CHANGING, not a dead-zone
- * entry of its own.
+ * Mates in each other's way: one total priority order (trapped, giving
+ * way, the rest; then the lower id), computed alike by every robot from
+ * the team messages; a robot waits only for outranking mates it conflicts
+ * with, so nobody waits on anybody that waits on it. A trapped robot's
+ * only way out is back the way it came: a robot waiting for a trapped mate
+ * that comes its way gives way (GIVE_WAY), turns away from it and follows
+ * the boundary out with the same leave rule; it reports MODE_CHANGING, not
+ * a dead-zone entry of its own. The escape's phases are the const table
+ * rover_esc_table (docs/method/formation.md §10).
  *
  * Announcements: a robot broadcasts the announcement it originated last
  * (code, seq) in every team message until it makes another, so a lost
@@ -46,12 +49,48 @@ enum { ROVER_MODE_FORMATION = 0, ROVER_MODE_DEAD_ZONE = 1, ROVER_MODE_CHANGING =
 /* The formation behaviour flown: the seed's law (behaviour_formation_seed)
  * or Kanayama slot tracking (behaviour_slot_track), for comparison. */
 enum { ROVER_LAW_SEED = 0, ROVER_LAW_KANAYAMA = 1 };
-enum { ROVER_ESC_NONE = 0, ROVER_ESC_TURN = 1, ROVER_ESC_FOLLOW = 2, ROVER_ESC_YIELD = 3 };
+/* Escape phases, the rows of rover_esc_table (docs/method/formation.md §10):
+ * TURN eq. 2's turn, FOLLOW the boundary (both trapped, LEAVE); YIELD
+ * turning away from a trapped mate, CLEAR following the boundary out of
+ * its way (both giving way, GIVE_WAY). */
+enum { ROVER_ESC_NONE = 0, ROVER_ESC_TURN = 1, ROVER_ESC_FOLLOW = 2, ROVER_ESC_YIELD = 3,
+       ROVER_ESC_CLEAR = 4, ROVER_ESC_COUNT = 5 };
+/* What bounds the time spent in a phase: nothing (the seed's turn ends
+ * with the front free), yield_max_s, escape_max_s of boundary following. */
+enum { ROVER_ESC_LIMIT_NONE = 0, ROVER_ESC_LIMIT_YIELD = 1, ROVER_ESC_LIMIT_FOLLOW = 2 };
+/* What a phase flies: the blend (not escaping), eq. 2's turn, a turn on
+ * the spot away from the trapped mate, the boundary follower. */
+enum { ROVER_ESC_FLY_BLEND = 0, ROVER_ESC_FLY_EQ2 = 1, ROVER_ESC_FLY_SPIN = 2,
+       ROVER_ESC_FLY_FOLLOW = 3 };
+
+/* One row of the escape's state table. */
+typedef struct {
+    int phase;       /* ROVER_ESC_*: the row's own index */
+    int announce;    /* FORMATION_ANN_* broadcast while in it (NONE row: FORMATION_ANN_NONE,
+                      * the passage protocol's own announcement goes out) */
+    int mode;        /* ROVER_MODE_* reported */
+    int fly;         /* ROVER_ESC_FLY_* */
+    int limit;       /* ROVER_ESC_LIMIT_* */
+    int next;        /* phase taken when its exit condition holds */
+    int on_limit;    /* phase taken when the limit runs out (itself: the other wall side) */
+} rover_esc_row;
+
+/* The table flown (rover_ctl_escape.c) and its validator:
+ * ROVER_CTL_OK, or ROVER_CTL_ERR_ARG for a table of the wrong size, a row
+ * out of order, a target phase out of range, an escaping row that does not
+ * announce itself out of the formation, a mode that does not match its
+ * announcement, or a phase from which the exit transitions never lead
+ * back to NONE. */
+extern const rover_esc_row rover_esc_table[ROVER_ESC_COUNT];
+int rover_esc_table_validate(const rover_esc_row *t, int n);
 
 /* Status of the rover_ctl_* functions (0 ok, negative an error). */
 #define ROVER_CTL_OK 0
 #define ROVER_CTL_ERR_ARG (-1)      /* bad argument, parameter set or reading */
 #define ROVER_CTL_ERR_SNAPSHOT (-2) /* a snapshot of another robot or out of range */
+
+/* Waiting for outranking mates (rover_ctl_state.holding). */
+enum { ROVER_WAIT_NONE = 0, ROVER_WAIT_STAND = 1, ROVER_WAIT_BACK = 2 };
 
 /* Breadcrumbs of the axle's path for backing out of a wedge (there is no
  * rear sonar: the way the robot came is the only way known free of walls;
@@ -74,16 +113,27 @@ typedef struct {
     double follow_v_mps;
     double follow_w_radps;
     double escape_max_s;        /* boundary following: the other way round after this long */
-    double give_way_m;          /* a mate that announced LEAVE this near ahead: give way */
+    double give_way_m;          /* a trapped (LEAVE) mate this near conflicts; coming our way: give way */
     double yield_max_s;         /* giving way: turn away at most this long, then follow */
     double give_way_seen_s;     /* ... to a mate the camera saw this recently (no wall between) */
-    double yield_clear_m;       /* ... and let a turning lower-id mate this near (axles) turn first */
-    double yield_wait_s;        /* ... waiting at most this long */
-    double hold_max_s;          /* stand at most this long while a trapped mate ahead turns round */
-    double back_max_m;          /* wedged beside a mate: back out at most this far ... */
+    double yield_near_m;        /* axles this near, walls near or one out of formation: a conflict */
+    double arrival_m;           /* the team's mean within the formation's half extent plus this
+                                   of the goal: slots by where the robots are (0: by id) */
+    double arrival_swap_m2;     /* two robots swap goal slots only when that shortens their summed
+                                   squared distances by more than this */
+    double queue_m;             /* a mate in formation this near ahead ... */
+    double queue_cone_rad;      /* ... within this of our heading ... */
+    double queue_slow_mps;      /* ... slower than this, or than us by queue_closing_mps: a conflict */
+    double queue_closing_mps;
+    double hold_max_s;          /* wait at most this long for outranking mates in formation */
+    double back_max_m;          /* clearing an outranking mate's way: back out at most this far ... */
     double back_v_mps;          /* ... this fast */
     double wedge_max_s;         /* wedged this long (may neither turn nor back): a turn clear of mates' boxes */
     double follow_lost_s;       /* boundary following: no wall in reach this long ends it */
+    double walls_near_m;        /* a wall within follow_dist_m + this on a side: confined */
+    double leave_gain_m;        /* Bug2's leave rule: this much nearer the goal than the hit point */
+    double follow_mate_ahead_m; /* a follower turns away from a mate this short of it */
+    double follow_moving_mps;   /* slower than this a follower is not following (escape_max_s) */
     double passage_sense_max_m; /* side readings beyond: no passage wall */
     double mate_keep_m;         /* a mate's echo nearer than this stays an obstacle */
     double passage_front_min_m; /* a passage needs the front open this far */
@@ -141,23 +191,28 @@ typedef struct {
     behaviour_exception exc;
     int     esc_phase;          /* ROVER_ESC_* */
     int     esc_side;           /* -1: wall kept on the right, +1 left */
-    int     esc_yield;          /* 1: giving way to a leaving mate, not trapped */
+    int     esc_yield;          /* 1: giving way to a leaving mate, not trapped (YIELD, CLEAR) */
     int     esc_turn;           /* giving way: turn direction (+1 left) */
     double  esc_hit_dist_m, esc_s;
     double  esc_lost_s;         /* time without a wall in reach while following */
-    double  esc_wait_s;         /* giving way: time waited for a mate to turn first */
-    int     holding;            /* 1: standing while a trapped mate ahead turns round */
-    int     esc_backing;        /* 1: giving way, backing out of a wedge (V < 0 allowed) */
+    double  esc_wait_s;         /* escaping: time stood for an outranking mate in the way */
+    int     holding;            /* in formation, waiting for outranking mates: ROVER_WAIT_* */
+    int     esc_backing;        /* 1: backing out of an outranking mate's way (V < 0 allowed) */
     double  esc_back_m;         /* backed so far in this escape */
     double  esc_wedge_s;        /* standing wedged between mates this long */
     double  crumb_m[ROVER_CRUMBS][2]; /* the axle's path, a crumb every ROVER_CRUMB_STEP_M,
                                        * oldest first: the way back known free */
     int     crumb_n;            /* crumbs held (the newest is crumb_m[crumb_n - 1]) */
-    double  hold_s;             /* time held for the current trapped mate */
+    double  hold_s;             /* time waited (in formation) since the wait set was last empty */
+    unicycle_cmd wait_u;        /* the command while holding (stand, or back along the crumbs) */
+    int     wait_n;             /* the wait set's size this period */
+    int32_t wait_id[TEAM_MAX];  /* the mates waited for this period (rover_ctl_wait_set) */
     int     escapes;            /* dead-zone entries */
     int     ann_code;           /* own latest announcement */
     int32_t ann_seq;
     double  team_tx_t_s;
+    double  tx_xy_m[2];         /* own position in the last team message (the goal's slot
+                                   assignment ranks us by it, as every mate does) */
     int     formation_changes;  /* adopted changes of type (own view) */
     behaviour_blender blend;
 } rover_ctl_state;

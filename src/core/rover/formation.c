@@ -7,6 +7,7 @@
 #include "formation.h"
 
 #include <math.h>
+#include <string.h>
 
 #define FORMATION_SQRT3_2 0.86602540378443864676
 
@@ -104,6 +105,52 @@ int formation_slot_of(const int32_t ids[], int n, int32_t id)
         else if (ids[k] == id) found = 1;
     }
     return found ? rank : FORMATION_ERR_ABSENT;
+}
+
+/* ---- slots held by any robots ------------------------------------------ */
+
+typedef struct {
+    const double (*xy)[2], (*slot)[2];
+    int n;
+    double tol_m;
+    int owner[FORMATION_MAX_ROBOTS];      /* robot in slot k, or -1 */
+    unsigned char seen[FORMATION_MAX_ROBOTS];
+} slot_match;
+
+/* Robot r takes a slot within reach, moving the slot's robot on to
+ * another if it can (one augmenting path; depth at most n). */
+static int augment(slot_match *m, int r)
+{
+    int k;
+    for (k = 0; k < m->n; k++) {
+        if (m->seen[k] ||
+            hypot(m->xy[r][0] - m->slot[k][0], m->xy[r][1] - m->slot[k][1]) > m->tol_m)
+            continue;
+        m->seen[k] = 1;
+        if (m->owner[k] < 0 || augment(m, m->owner[k])) {
+            m->owner[k] = r;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+int formation_slots_held(const double xy_m[][2], const double slot_m[][2], int n, double tol_m)
+{
+    slot_match m;
+    int r;
+    if (!xy_m || !slot_m || n < 1 || n > FORMATION_MAX_ROBOTS || !(tol_m >= 0.0))
+        return FORMATION_ERR_ARG;
+    m.xy = xy_m;
+    m.slot = slot_m;
+    m.n = n;
+    m.tol_m = tol_m;
+    for (r = 0; r < n; r++) m.owner[r] = -1;
+    for (r = 0; r < n; r++) {
+        memset(m.seen, 0, sizeof m.seen);
+        if (!augment(&m, r)) return 0;
+    }
+    return 1;
 }
 
 /* ---- narrow-passage protocol ------------------------------------------- */

@@ -14,13 +14,15 @@
 #include "rover_ctl_internal.h"
 #include "rover_world.h"
 
+
 #include <math.h>
 #include <string.h>
 
 int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id,
                    const pose2 *start_c, const double goal_m[2])
 {
-    if (!c || rover_ctl_params_validate(p) != 0 || !start_c || !vec2_pose_finite(start_c) ||
+    if (!c || rover_ctl_params_validate(p) != 0 ||
+        rover_esc_table_validate(rover_esc_table, ROVER_ESC_COUNT) != ROVER_CTL_OK || !start_c || !vec2_pose_finite(start_c) ||
         !goal_m || !isfinite(goal_m[0]) || !isfinite(goal_m[1]) || id < 0)
         return ROVER_CTL_ERR_ARG;
     memset(c, 0, sizeof *c);
@@ -33,6 +35,12 @@ int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id,
     if (formation_fsm_init(&c->fsm, p->formation, 1.0) != 0) return ROVER_CTL_ERR_ARG;
     behaviour_exception_init(&c->exc);
     c->team_tx_t_s = -INFINITY;
+    {
+        pose2 o;
+        unicycle_o_from_c(&o, start_c, p->beh.d_m);
+        c->tx_xy_m[0] = o.x_m;
+        c->tx_xy_m[1] = o.y_m;
+    }
     return ROVER_CTL_OK;
 }
 
@@ -137,8 +145,93 @@ typedef struct {
 } step_view;
 
 /* Own slot index in the formation flown (-1: none). */
+/* Where robot ids[j] is, from the team messages (our own last one for
+ * ourselves): the numbers every robot of the team holds alike. */
+static int sent_xy(const rover_ctl_state *c, int32_t id, double xy[2])
+{
+    const team_member *m;
+    if (id == c->id) {
+        xy[0] = c->tx_xy_m[0];
+        xy[1] = c->tx_xy_m[1];
+        return 0;
+    }
+    m = team_find(&c->team, id);
+    if (!m) return -1;
+    xy[0] = m->x_m;
+    xy[1] = m->y_m;
+    return 0;
+}
+
+/* The goal's slots by where the robots are (docs/method/formation.md
+ * §11): starting from the slots by id, any two robots swap slots while
+ * that shortens the sum of their squared distances to their slots by
+ * more than arrival_swap_m2 (a local optimum of the squared-distance
+ * assignment; on a line of slots that is the order-keeping match, so no
+ * two robots cross: a column that came out of a corridor, or robots back
+ * from an escape, by id crossed the team in the goal area and jammed
+ * there). At most n passes of n^2 pairs. Every robot computes it from the
+ * same team messages; our slot, or -1. */
+static double sq_dist(const double a[2], const double b[2])
+{
+    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
+}
+
+static int arrival_slot(const rover_ctl_state *c, const step_view *v)
+{
+    double xy[TEAM_MAX + 1][2], sl[TEAM_MAX + 1][2];
+    const double heading = atan2(c->goal_m[1], c->goal_m[0]);
+    int slot[TEAM_MAX + 1], j, q, pass, swapped = 1, mine = -1;
+    for (j = 0; j < v->n; j++) {
+        double s[2] = { 0.0, 0.0 };
+        if (sent_xy(c, v->ids[j], xy[j]) != 0) return -1;
+        formation_slot_xy(s, c->fsm.type, v->n, j, c->p.fsm.spacing_m, c->fsm.scale);
+        vec2_rotate(sl[j], s[0], s[1], heading);
+        sl[j][0] += c->goal_m[0];
+        sl[j][1] += c->goal_m[1];
+        slot[j] = rover_world_slot(c->fsm.type, v->n, j);   /* ids sorted: j is the rank */
+        if (slot[j] < 0) return -1;
+    }
+    for (pass = 0; pass < v->n && swapped; pass++) {
+        swapped = 0;
+        for (j = 0; j < v->n; j++)
+            for (q = j + 1; q < v->n; q++) {
+                const double now = sq_dist(xy[j], sl[slot[j]]) + sq_dist(xy[q], sl[slot[q]]);
+                const double then = sq_dist(xy[j], sl[slot[q]]) + sq_dist(xy[q], sl[slot[j]]);
+                if (then < now - c->p.arrival_swap_m2) {
+                    const int t = slot[j];
+                    slot[j] = slot[q];
+                    slot[q] = t;
+                    swapped = 1;
+                }
+            }
+    }
+    for (j = 0; j < v->n; j++)
+        if (v->ids[j] == c->id) mine = slot[j];
+    return mine;
+}
+
+/* The team is arriving: the mean of the sent positions within the
+ * formation's half extent plus arrival_m of the goal. */
+static int arriving(const rover_ctl_state *c, const step_view *v)
+{
+    double mx = 0.0, my = 0.0, xy[2];
+    int j;
+    if (!(c->p.arrival_m > 0.0)) return 0;
+    for (j = 0; j < v->n; j++) {
+        if (sent_xy(c, v->ids[j], xy) != 0) return 0;
+        mx += xy[0];
+        my += xy[1];
+    }
+    return hypot(mx / v->n - c->goal_m[0], my / v->n - c->goal_m[1]) <
+           0.5 * (v->n - 1) * c->p.fsm.spacing_m + c->p.arrival_m;
+}
+
 static int own_slot(const rover_ctl_state *c, const step_view *v)
 {
+    if (arriving(c, v)) {
+        const int k = arrival_slot(c, v);
+        if (k >= 0) return k;
+    }
     return rover_world_slot(c->fsm.type, v->n, formation_slot_of(v->ids, v->n, c->id));
 }
 
@@ -174,6 +267,12 @@ static void reference_and_passage(rover_ctl_state *c, double t_s, double dt_s, s
     ref_heading_to_goal(c, &v->ref);
     ref_arrive(c, &v->ref);
     passage = rover_ctl_passage_width(c, &v->o, &v->ref, &v->gw, v->masked);
+    /* arriving, the goal's slots are where the team ends: the formation
+     * flown is restored as in the open (a column that came out of a
+     * corridor into the goal area stayed a column there, its rear robot
+     * never seeing the way clear long enough, and the team stood in
+     * column slots short of the goal's line) */
+    if (arriving(c, v)) passage = INFINITY;
     if (!v->escaping) {
         const int before = c->fsm.type;
         if (formation_fsm_step(&c->fsm, &c->p.fsm, passage, v->n, dt_s, c->id,
@@ -235,19 +334,31 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
     /* while the formation reshapes for a passage, give it time */
     if (c->fsm.phase == FORMATION_PHASE_SHRINK || c->fsm.phase == FORMATION_PHASE_CHANGE)
         if (u.v_mps > c->p.v_change_mps) u.v_mps = c->p.v_change_mps;
-    /* a robot giving way left the formation but was not trapped itself */
-    out->mode = v->escaping ? (c->esc_yield ? ROVER_MODE_CHANGING : ROVER_MODE_DEAD_ZONE)
+    /* the escape table's mode (a robot giving way left the formation but
+     * was not trapped itself) */
+    out->mode = v->escaping ? rover_esc_table[c->esc_phase].mode
               : c->fsm.phase != FORMATION_PHASE_NORMAL ? ROVER_MODE_CHANGING
               : ROVER_MODE_FORMATION;
     if (!v->escaping && v->rc_goal == BEH_GOAL_REACHED) {
         u.v_mps = u.w_radps = 0.0;
         out->mode = ROVER_MODE_AT_GOAL;
     }
-    if (c->holding) u.v_mps = u.w_radps = 0.0;   /* a trapped mate ahead turns round */
-    if (!v->escaping) rover_ctl_guard(&u, c->range_m, &v->o, v->goal, &c->p);
-    /* no rear sonar: never back up blindly (backing out of a wedge goes
-     * the way the robot came, clear of mates) */
-    if (u.v_mps < 0.0 && !(v->escaping && c->esc_backing)) u.v_mps = 0.0;
+    /* waiting for outranking mates (method §10): stand, or back out of
+     * one's way. Not guarded: the guard turns a stopped robot with an echo
+     * near ahead toward the freer side, and a robot standing for a mate
+     * beside it swung its nose into that mate */
+    if (c->holding != ROVER_WAIT_NONE) u = c->wait_u;
+    else if (!v->escaping) rover_ctl_guard(&u, c->range_m, &v->o, v->goal, &c->p);
+    /* no command sweeps the chassis into a mate we wait for
+     * (rover_ctl_cmd_sweeps_mate): past hold_max_s a robot flies the blend
+     * again, and one standing beside a trapped mate turned toward its slot
+     * and swung its tail into it (dead zone, 3 in line, seed 1). Only the
+     * wait set: standing for a lower mate too wedged teams of 6 in the U */
+    if (c->holding == ROVER_WAIT_NONE && !v->escaping && rover_ctl_cmd_sweeps_mate(c, &v->o, &u, 1))
+        u.v_mps = u.w_radps = 0.0;
+    /* no rear sonar: never back up blindly (backing out of a mate's way
+     * goes the way the robot came, clear of mates) */
+    if (u.v_mps < 0.0 && !c->esc_backing) u.v_mps = 0.0;
     unicycle_saturate(&out->u, &u, bp->v_max_mps, bp->w_max_radps, UNICYCLE_SAT_CLIP);
     out->o = v->o;
     for (i = 0; i < BEH_COUNT; i++) out->weight[i] = c->blend.weight[i];
@@ -271,9 +382,12 @@ static void team_message_out(rover_ctl_state *c, const step_view *v, double t_s,
     m->v_mps = v->self.v_mps; m->w_radps = v->self.w_radps;
     m->formation = c->fsm.type;
     m->scale = c->fsm.scale;
-    m->announce = !v->escaping ? c->ann_code : c->esc_yield ? FORMATION_ANN_GIVE_WAY : FORMATION_ANN_LEAVE;
+    /* the same announcement every mate ranks us by (rover_ctl_outranks) */
+    m->announce = rover_ctl_own_announce(c);
     m->announce_seq = c->ann_seq;
     m->t_s = t_s;
+    c->tx_xy_m[0] = m->x_m;
+    c->tx_xy_m[1] = m->y_m;
 }
 
 int rover_ctl_step(rover_ctl_state *c, double t_s, double dt_s, rover_ctl_out *out)

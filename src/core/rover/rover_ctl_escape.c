@@ -1,18 +1,79 @@
-/* rover_ctl_escape: the formation controller's dead-zone escape and giving
- * way to it (docs/method/formation.md: dead-zone escape, eq. 2's alternating
- * +-w_k turn in behaviour_exception_step; see rover_ctl.h). After the turn
- * the robot follows the obstacle boundary until Bug2's leave rule lets it
- * rejoin; a robot in the way of a mate that escapes leaves the formation
- * too, turns away from the mate and follows the boundary out the same way.
- * Own announcements (LEAVE, REJOIN) are made here.
+/* rover_ctl_escape: the formation controller's dead-zone escape, giving
+ * way to it and waiting for mates that outrank it, as one mechanism
+ * (docs/method/formation.md §10): a total priority order among mates
+ * (rover_ctl_outranks: trapped before giving way before the rest, then
+ * the lower id); a robot waits only for outranking mates it conflicts
+ * with (rover_ctl_wait_set), so the wait-for graph is acyclic and the
+ * highest-ranked robot of any conflict never waits. The escape itself
+ * (eq. 2's alternating +-w_k turn in behaviour_exception_step, then
+ * following the obstacle boundary until Bug2's leave rule lets it rejoin)
+ * runs through the const state table rover_esc_table, checked by
+ * rover_esc_table_validate. Own announcements (LEAVE, GIVE_WAY, REJOIN)
+ * are made here.
  */
 #include "rover_ctl_internal.h"
 
 #include <math.h>
 #include <stddef.h>
 
-#define FOLLOW_MATE_AHEAD_M 0.3   /* a follower stops this short of a mate in its way */
-#define FOLLOW_MOVING_MPS 0.05    /* slower than this a follower is not following */
+/* The escape's phases (rover_ctl.h: what each field means). A trapped
+ * robot turns (eq. 2) and follows the boundary; a robot in a trapped
+ * mate's way turns away from it and follows the boundary out. Both end,
+ * through `next`, in NONE: the leave rule or a lost wall. */
+const rover_esc_row rover_esc_table[ROVER_ESC_COUNT] = {
+    { ROVER_ESC_NONE,   FORMATION_ANN_NONE,     ROVER_MODE_FORMATION, ROVER_ESC_FLY_BLEND,
+      ROVER_ESC_LIMIT_NONE,   ROVER_ESC_NONE,   ROVER_ESC_NONE },
+    { ROVER_ESC_TURN,   FORMATION_ANN_LEAVE,    ROVER_MODE_DEAD_ZONE, ROVER_ESC_FLY_EQ2,
+      ROVER_ESC_LIMIT_NONE,   ROVER_ESC_FOLLOW, ROVER_ESC_TURN },
+    { ROVER_ESC_FOLLOW, FORMATION_ANN_LEAVE,    ROVER_MODE_DEAD_ZONE, ROVER_ESC_FLY_FOLLOW,
+      ROVER_ESC_LIMIT_FOLLOW, ROVER_ESC_NONE,   ROVER_ESC_FOLLOW },
+    /* giving way reports CHANGING: only real traps count as escapes */
+    { ROVER_ESC_YIELD,  FORMATION_ANN_GIVE_WAY, ROVER_MODE_CHANGING,  ROVER_ESC_FLY_SPIN,
+      ROVER_ESC_LIMIT_YIELD,  ROVER_ESC_CLEAR,  ROVER_ESC_CLEAR },
+    { ROVER_ESC_CLEAR,  FORMATION_ANN_GIVE_WAY, ROVER_MODE_CHANGING,  ROVER_ESC_FLY_FOLLOW,
+      ROVER_ESC_LIMIT_FOLLOW, ROVER_ESC_NONE,   ROVER_ESC_CLEAR },
+};
+
+static int phase_ok(int k) { return k >= ROVER_ESC_NONE && k < ROVER_ESC_COUNT; }
+
+/* Following `next` from phase k reaches NONE (within ROVER_ESC_COUNT steps). */
+static int ends_in_none(const rover_esc_row *t, int k)
+{
+    int step;
+    for (step = 0; step < ROVER_ESC_COUNT && k != ROVER_ESC_NONE; step++) k = t[k].next;
+    return k == ROVER_ESC_NONE;
+}
+
+/* One row on its own: NONE flies the blend in formation; an escaping row
+ * announces itself out of the formation (LEAVE trapped, reported as a
+ * dead-zone escape; GIVE_WAY, reported as changing) so that the team
+ * reference leaves it out and every mate ranks it the same, and flies a
+ * command of its own; a row with no limit keeps on_limit at itself. */
+static int row_ok(const rover_esc_row *r, int k)
+{
+    if (r->phase != k || !phase_ok(r->next) || !phase_ok(r->on_limit) ||
+        r->limit < ROVER_ESC_LIMIT_NONE || r->limit > ROVER_ESC_LIMIT_FOLLOW ||
+        r->fly < ROVER_ESC_FLY_BLEND || r->fly > ROVER_ESC_FLY_FOLLOW ||
+        (r->limit == ROVER_ESC_LIMIT_NONE && r->on_limit != k))
+        return 0;
+    if (k == ROVER_ESC_NONE)
+        return r->announce == FORMATION_ANN_NONE && r->mode == ROVER_MODE_FORMATION &&
+               r->fly == ROVER_ESC_FLY_BLEND && r->next == ROVER_ESC_NONE;
+    if (r->fly == ROVER_ESC_FLY_BLEND) return 0;
+    return (r->announce == FORMATION_ANN_LEAVE && r->mode == ROVER_MODE_DEAD_ZONE) ||
+           (r->announce == FORMATION_ANN_GIVE_WAY && r->mode == ROVER_MODE_CHANGING);
+}
+
+int rover_esc_table_validate(const rover_esc_row *t, int n)
+{
+    int k;
+    if (!t || n != ROVER_ESC_COUNT) return ROVER_CTL_ERR_ARG;
+    for (k = 0; k < n; k++)
+        if (!row_ok(&t[k], k)) return ROVER_CTL_ERR_ARG;
+    for (k = 0; k < n; k++)
+        if (!ends_in_none(t, k)) return ROVER_CTL_ERR_ARG;
+    return ROVER_CTL_OK;
+}
 
 /* Escape wall following: the nearer range on the wall side held at
  * follow_dist_m by a proportional turn. */
@@ -58,6 +119,7 @@ static double range_toward(const double range_m[BEH_SONAR_N], double b_rad)
     return range_m[best];
 }
 
+
 /* A new own announcement: broadcast in every team message until the next. */
 static void announce_own(rover_ctl_state *c, int code)
 {
@@ -65,63 +127,27 @@ static void announce_own(rover_ctl_state *c, int code)
     c->ann_seq = formation_fsm_next_seq(&c->fsm);
 }
 
-/* Which mates find_mate looks for (fields left 0: not asked). */
-typedef struct {
-    double cone_rad;      /* bearing from our heading within this */
-    double seen_s;        /* > 0: its beacon seen by the camera within this
-                           * (walls hide beacons: a mate behind a wall is
-                           * not coming our way) */
-    int    coming;        /* 1: only one heading our way (within 90 deg of
-                           * the line to us: one trapped facing the end of
-                           * its pocket has not turned round yet, one
-                           * following a wall past us is not coming
-                           * through) */
-    int    give_way;      /* 1: GIVE_WAY counts as well as LEAVE */
-    double slow_mps;      /* > 0: instead, a mate in formation (no
-                           * announcement) driving slower than this */
-    double range_m;       /* within this (0: give_way_m) */
-} mate_query;
-
-/* The nearest mate that matches q: by default one that announced LEAVE
- * (it is escaping a dead zone; one giving way announces GIVE_WAY and makes
- * nobody else give way), within give_way_m. 1, its bearing from our
- * heading and its position, or 0. */
-static int find_mate(const rover_ctl_state *c, const pose2 *o, const mate_query *q, double now_s,
-                        double *bearing_rad, double mate_xy_m[2])
+int rover_ctl_own_announce(const rover_ctl_state *c)
 {
-    double best = q->range_m > 0.0 ? q->range_m : c->p.give_way_m;
-    int i, found = 0;
-    for (i = 0; i < c->team.n; i++) {
-        const team_member *m = &c->team.m[i];
-        const int wanted = q->slow_mps > 0.0
-            ? formation_ann_out(m->announce) == 0 && fabs(m->v_mps) < q->slow_mps
-            : m->announce == FORMATION_ANN_LEAVE || (q->give_way && m->announce == FORMATION_ANN_GIVE_WAY);
-        double xy[2], dist, b;
-        if (!wanted ||
-            (q->seen_s > 0.0 && !(now_s - m->obs_t_s <= q->seen_s)) ||
-            team_position(&c->team, m->robot, xy) != 0)
-            continue;
-        dist = hypot(xy[0] - o->x_m, xy[1] - o->y_m);
-        b = vec2_angle_diff_rad(atan2(xy[1] - o->y_m, xy[0] - o->x_m), o->theta_rad);
-        if (q->coming &&
-            cos(m->theta_rad) * (o->x_m - xy[0]) + sin(m->theta_rad) * (o->y_m - xy[1]) <= 0.0)
-            continue;
-        if (dist < best && fabs(b) < q->cone_rad) {
-            best = dist;
-            *bearing_rad = b;
-            mate_xy_m[0] = xy[0];
-            mate_xy_m[1] = xy[1];
-            found = 1;
-        }
-    }
-    return found;
+    if (c->esc_phase > ROVER_ESC_NONE && c->esc_phase < ROVER_ESC_COUNT)
+        return rover_esc_table[c->esc_phase].announce;
+    return c->ann_code;
 }
 
-/* Walls (not mates) within reach of boundary following on some side. */
-static int confined(const sonar_groups *gw, const rover_ctl_params *p)
+/* Into phase k: its announcement if it differs from the one out (REJOIN
+ * back in NONE), and its clock restarted. */
+static void enter(rover_ctl_state *c, int k)
 {
-    return fmin(fmin(gw->left_m, gw->left_front_m), fmin(gw->right_m, gw->right_front_m)) <
-           p->follow_dist_m + 0.8;
+    const int was = c->esc_phase;
+    c->esc_phase = k;
+    c->esc_yield = rover_esc_table[k].announce == FORMATION_ANN_GIVE_WAY;
+    c->esc_s = 0.0;
+    c->esc_wait_s = 0.0;
+    if (k == ROVER_ESC_NONE) {
+        if (was != ROVER_ESC_NONE) announce_own(c, FORMATION_ANN_REJOIN);
+    } else if (c->ann_code != rover_esc_table[k].announce) {
+        announce_own(c, rover_esc_table[k].announce);
+    }
 }
 
 /* Side (-1 right, +1 left) of the nearer wall. */
@@ -130,87 +156,64 @@ static int nearer_wall_side(const sonar_groups *gw)
     return fmin(gw->left_m, gw->left_front_m) < fmin(gw->right_m, gw->right_front_m) ? 1 : -1;
 }
 
-/* Start giving way when a mate that announced LEAVE is ahead within
- * give_way_m and walls are near (the trapped robot's only way out is back
- * past us; nobody made room, it spun in its pocket and the team jammed):
- * leave the formation as well (GIVE_WAY), turn away from the mate, then
- * follow the nearer wall out and round. The leave rule's reference is the
- * trapped mate's distance to the goal, not our own: the wall we follow is
- * the one it escapes along, and we were not stopped by it. Referenced to
- * our own start, a robot that gave way already past the trap (nearer the
- * goal than the trap's far side) could never get 0.5 m nearer still along
- * the trap's wall and followed it for the rest of the run. Returns 1 if it
- * started. */
-static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
-                          const double goal[2], double t_s)
+/* The nearest waited-for mate that announced LEAVE and comes our way,
+ * within give_way_m: 1, its bearing from our heading and its position. */
+static int trapped_mate_coming(const rover_ctl_state *c, const pose2 *o, double *bearing_rad,
+                               double xy_m[2])
 {
-    const mate_query q = { .cone_rad = VEC2_PI + 0.1, .seen_s = c->p.give_way_seen_s, .coming = 1 };
+    double best = c->p.give_way_m;
+    int k, found = 0;
+    for (k = 0; k < c->wait_n; k++) {
+        const team_member *m = team_find(&c->team, c->wait_id[k]);
+        double xy[2], dist;
+        if (!m || m->announce != FORMATION_ANN_LEAVE || team_position(&c->team, m->robot, xy) != 0 ||
+            !rover_ctl_mate_coming(m, xy, o))
+            continue;
+        dist = hypot(xy[0] - o->x_m, xy[1] - o->y_m);
+        if (dist < best) {
+            best = dist;
+            *bearing_rad = vec2_angle_diff_rad(atan2(xy[1] - o->y_m, xy[0] - o->x_m), o->theta_rad);
+            xy_m[0] = xy[0];
+            xy_m[1] = xy[1];
+            found = 1;
+        }
+    }
+    return found;
+}
+
+/* Give way to a trapped mate that we wait for and that comes our way:
+ * its only way out is back past us. YIELD (turn away from it), then
+ * CLEAR (follow the nearer wall out). The leave rule's reference is the
+ * trapped mate's distance to the goal, not our own: the wall we follow is
+ * the one it escapes along, and a robot that gave way already past the
+ * trap could never get leave_gain_m nearer than its own start along the
+ * trap's wall. Returns 1 if it started. */
+static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
+                          const double goal[2])
+{
     double b, mate[2];
-    if (!find_mate(c, o, &q, t_s, &b, mate) || !confined(gw, &c->p)) return 0;
-    c->esc_phase = ROVER_ESC_YIELD;
-    c->esc_yield = 1;
+    if (!trapped_mate_coming(c, o, &b, mate)) return 0;
+    enter(c, ROVER_ESC_YIELD);
     c->esc_back_m = 0.0;
     c->esc_wedge_s = 0.0;
-    c->esc_hit_dist_m = hypot(goal[0] - mate[0], goal[1] - mate[1]);
-    c->esc_s = 0.0;
     c->esc_lost_s = 0.0;
-    c->esc_wait_s = 0.0;
+    c->esc_hit_dist_m = hypot(goal[0] - mate[0], goal[1] - mate[1]);
     /* away from the mate; one dead ahead: toward the roomier side */
     if (fabs(b) > 0.2) c->esc_turn = b > 0.0 ? -1 : 1;
     else c->esc_turn = gw->left_m + gw->left_front_m >= gw->right_m + gw->right_front_m ? 1 : -1;
-    announce_own(c, FORMATION_ANN_GIVE_WAY);
     return 1;
 }
 
-/* Hold (c->holding), with walls near, for at most hold_max_s at a time:
- *   while a mate that announced LEAVE is ahead within give_way_m, seen by
- *   the camera, but not yet coming our way: it is turning round in its
- *   pocket and will come out the way it went in. Driving on after it, the
- *   mates behind went deep into the narrowing trap, side by side with no
- *   room left to turn on the spot when it came, and the three jammed;
- *   queue: behind a mate still in formation within QUEUE_M ahead that
- *   stands (under QUEUE_SLOW_MPS) or that we close on (slower than us by
- *   QUEUE_CLOSING_MPS): usually one about to find its pocket closed, and
- *   the dead-zone time was enough for the mates to follow it into the
- *   throat; waiting for it to stand, the rear robots of a triangle, still
- *   at 0.5 m/s, stopped in the pocket's mouth right behind it. */
-#define QUEUE_CONE_RAD 0.6
-#define QUEUE_SLOW_MPS 0.1
-#define QUEUE_M 1.3
-#define QUEUE_CLOSING_MPS 0.1
-static void hold_step(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double t_s,
-                      double dt_s)
-{
-    const mate_query trapped = { .cone_rad = 0.5 * VEC2_PI, .seen_s = c->p.give_way_seen_s };
-    const mate_query queue = { .cone_rad = QUEUE_CONE_RAD, .seen_s = c->p.give_way_seen_s,
-                               .slow_mps = fmax(QUEUE_SLOW_MPS, c->v_est_mps - QUEUE_CLOSING_MPS),
-                               .range_m = QUEUE_M };
-    double b, mate[2];
-    if (!(find_mate(c, o, &trapped, t_s, &b, mate) || find_mate(c, o, &queue, t_s, &b, mate)) ||
-        !confined(gw, &c->p)) {
-        c->holding = 0;
-        c->hold_s = 0.0;
-        return;
-    }
-    c->hold_s += dt_s;
-    c->holding = c->hold_s <= c->p.hold_max_s;
-}
-
-/* A new dead-zone entry: LEAVE (once per escape), the hit point, and the
- * wall kept on the side the turn of eq. 2 turned away from. */
+/* A new dead-zone entry: LEAVE, the hit point (first entry of an escape),
+ * and the wall kept on the side the turn of eq. 2 turned away from. */
 static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, double dist)
 {
-    if (c->esc_phase == ROVER_ESC_NONE) {
-        c->esc_hit_dist_m = dist;
-        announce_own(c, FORMATION_ANN_LEAVE);
-    }
+    if (rover_esc_table[c->esc_phase].announce != FORMATION_ANN_LEAVE) c->esc_hit_dist_m = dist;
+    enter(c, ROVER_ESC_TURN);
     c->escapes++;
-    c->esc_s = 0.0;
     c->esc_back_m = 0.0;
     c->esc_wedge_s = 0.0;
     c->esc_lost_s = 0.0;
-    c->esc_wait_s = 0.0;
-    c->esc_yield = 0;
     /* turned left (+w_k): keep the wall on the right */
     c->esc_side = turn->w_radps > 0.0 ? -1 : 1;
 }
@@ -270,57 +273,96 @@ static int crumbs_back(rover_ctl_state *c, const pose2 *o, unicycle_cmd *u)
     return 1;
 }
 
-/* Which of two wedged robots backs: the higher id, or the lower if the
- * higher cannot (judged by the lane straight behind it, by the team
- * table), or if the higher has not started backing (its speed in the team
- * table) after we stood wedged BACK_WAIT_S: its crumbs are its own, and
- * one that had turned on the spot since it laid them could not back along
- * them while the lower id waited for it. Both backing only separates them
- * further. One that has started backing goes on (at most back_max_m). */
-#define BACK_WAIT_S 2.0
-#define BACKING_MPS (-0.02)
-static int my_turn_to_back(const rover_ctl_state *c, const pose2 *o, int32_t wedge, int was_backing)
+/* Clear an outranking mate's way by backing along our crumbs (at most
+ * back_max_m since the wait or escape began, only where our chassis
+ * clears every mate's): 1 with the command in *u, else 0. */
+static int back_out(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_cmd *u)
 {
-    const team_member *m = team_find(&c->team, wedge);
-    return was_backing || wedge < c->id || !rover_ctl_may_back(c, o, wedge) ||
-           (c->esc_wedge_s > BACK_WAIT_S && !(m && m->v_mps < BACKING_MPS));
+    unicycle_cmd back;
+    if (!(c->esc_back_m < c->p.back_max_m) || !crumbs_back(c, o, &back) ||
+        !rover_ctl_crumbs_clear(c, o, c->p.back_max_m - c->esc_back_m))
+        return 0;
+    *u = back;
+    c->esc_backing = 1;
+    c->esc_back_m += c->p.back_v_mps * dt_s;
+    return 1;
 }
 
-/* A turn on the spot in *u next to a mate whose chassis is inside our
- * turning circle is never made (spin_hits_mate). Wedged so, the higher id
- * of the two backs out the way it came, or the lower id if the higher
- * cannot (each judges that for the other by the lane straight behind
- * it), at most back_max_m per escape, along its own crumbs (a robot that
- * backed straight after turning on the spot hit the wall of its pocket;
- * one that could back only along a straight last stretch stood wedged in
- * a pocket's throat with no stretch left, the trapped mate behind it),
- * only where our chassis clears every mate's (rover_ctl_crumbs_clear), so
- * that the other can turn; otherwise stand. Returns 1 if the turn was held
- * back. */
-static int spin_or_back(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_cmd *u)
+/* Clear an outranking mate's way driving straight ahead, where backing
+ * cannot (no crumbs, or the way back taken by a mate): only with the
+ * front sonar groups free of walls (mates masked) beyond AHEAD_FREE_M, no
+ * mate in the lane, and the drive taking us farther from mate m. 1 with the
+ * command in *u, else 0. A robot giving way that stood beside the trapped
+ * one, its back_max_m used and unable to turn on the spot, held both there
+ * (dead zone, 3 in line, seed 1, with the lane test follow_boundary had). */
+#define AHEAD_FREE_M 0.6
+static int ahead_out(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, const team_member *m,
+                     unicycle_cmd *u)
+{
+    double xy[2];
+    if (fmin(gw->front_m, fmin(gw->left_front_m, gw->right_front_m)) < AHEAD_FREE_M) return 0;
+    if (team_position(&c->team, m->robot, xy) != 0 ||
+        cos(o->theta_rad) * (o->x_m - xy[0]) + sin(o->theta_rad) * (o->y_m - xy[1]) < 0.0 ||
+        rover_ctl_mate_in_lane(c, o, c->p.follow_mate_ahead_m))
+        return 0;
+    u->v_mps = 0.5 * c->p.follow_v_mps;
+    u->w_radps = 0.0;
+    return 1;
+}
+
+/* 1 if we lie in the way of a mate we wait for (its turning circle or
+ * its lane ahead): ours to clear. */
+static int in_way_of_waited(const rover_ctl_state *c, const pose2 *o)
+{
+    int k;
+    for (k = 0; k < c->wait_n; k++)
+        if (rover_ctl_in_way_of(c, o, c->wait_id[k], c->p.follow_mate_ahead_m)) return 1;
+    return 0;
+}
+
+/* In formation with a non-empty wait set: stand (the blend's command is
+ * replaced, c->holding), or back out of the way of a waited-for mate we
+ * are in, for at most hold_max_s since the set was last empty. */
+static void wait_step(rover_ctl_state *c, const pose2 *o, double dt_s)
+{
+    if (c->wait_n == 0) {
+        c->hold_s = 0.0;
+        c->esc_back_m = 0.0;
+        return;
+    }
+    c->hold_s += dt_s;
+    if (c->hold_s > c->p.hold_max_s) return;
+    c->wait_u.v_mps = c->wait_u.w_radps = 0.0;
+    c->holding = in_way_of_waited(c, o) && back_out(c, o, dt_s, &c->wait_u) ? ROVER_WAIT_BACK
+                                                                          : ROVER_WAIT_STAND;
+}
+
+/* The escape's own motion in *u, made only where it keeps clear of the
+ * mates. A turn on the spot that would sweep our chassis into a mate
+ * (rover_ctl_spin_hits_mate) or a drive with a mate in the lane is not
+ * made: toward a mate that outranks us we clear by backing along the
+ * crumbs; otherwise we stand: the mate is lower, waits for us and clears
+ * our way (wait_step). Standing wedged
+ * wedge_max_s (neither could move: no crumbs, or none clear), a turn
+ * whose next 0.6 rad sweeps clear of every mate's box, either way round.
+ * Returns 1 if the motion was held back. */
+static int deconflict(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double dt_s,
+                      unicycle_cmd *u)
 {
     const double w = u->w_radps;
-    unicycle_cmd back;
-    const int was_backing = c->esc_backing;
-    int32_t wedge;
-    c->esc_backing = 0;
-    if (!(u->v_mps == 0.0 && w != 0.0) || (wedge = rover_ctl_spin_hits_mate(c, o)) == 0) {
+    const team_member *m;
+    int32_t hit;
+    if (!(u->v_mps == 0.0 && w != 0.0) || (hit = rover_ctl_spin_hits_mate(c, o)) == 0) {
         c->esc_wedge_s = 0.0;
         return 0;
     }
     u->w_radps = 0.0;
-    if (c->esc_back_m < c->p.back_max_m && my_turn_to_back(c, o, wedge, was_backing) &&
-        crumbs_back(c, o, &back) && rover_ctl_crumbs_clear(c, o, c->p.back_max_m - c->esc_back_m)) {
-        *u = back;
-        c->esc_backing = 1;
-        c->esc_back_m += c->p.back_v_mps * dt_s;
+    m = team_find(&c->team, hit);
+    if (m && rover_ctl_outranks(m->announce, m->robot, rover_ctl_own_announce(c), c->id) &&
+        (back_out(c, o, dt_s, u) || ahead_out(c, gw, o, m, u))) {
         c->esc_wedge_s = 0.0;
         return 1;
     }
-    /* standing wedged for wedge_max_s (neither may turn its whole circle
-     * nor back): a turn that sweeps clear of every mate's box, either way
-     * round. Two robots in a pocket's throat stood so for the rest of the
-     * run while the trapped one behind them could not get out. */
     c->esc_wedge_s += dt_s;
     if (c->esc_wedge_s > c->p.wedge_max_s) {
         const int dir = w > 0.0 ? 1 : -1;
@@ -330,88 +372,92 @@ static int spin_or_back(rover_ctl_state *c, const pose2 *o, double dt_s, unicycl
     return u->w_radps == 0.0;
 }
 
-/* YIELD: turn on the spot (U in *u, 1) while a leaving mate is ahead, at
- * most yield_max_s of turning, a lower-id mate turning next to us first
- * (waited out after yield_wait_s) and never into a mate (spin_or_back);
- * else 0, with the nearer wall chosen to follow. */
-static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double t_s,
-                      double dt_s, unicycle_cmd *u)
+/* YIELD: turn on the spot away from the trapped mate while one that is
+ * out of the formation is ahead within give_way_m, at most yield_max_s
+ * of turning (the limit), never into a mate (deconflict); then CLEAR,
+ * following the nearer wall. 1 with the command in *u while turning. */
+static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double dt_s,
+                      unicycle_cmd *u)
 {
-    const mate_query q = { .cone_rad = 2.0 * VEC2_PI / 3.0, .give_way = 1 };
-    double b, mate[2];
-    if (find_mate(c, o, &q, t_s, &b, mate) && c->esc_s < c->p.yield_max_s) {
+    int k, ahead = 0;
+    for (k = 0; k < c->team.n && !ahead; k++) {
+        const team_member *m = &c->team.m[k];
+        double xy[2];
+        if (formation_ann_out(m->announce) && team_position(&c->team, m->robot, xy) == 0 &&
+            hypot(xy[0] - o->x_m, xy[1] - o->y_m) < c->p.give_way_m &&
+            fabs(vec2_angle_diff_rad(atan2(xy[1] - o->y_m, xy[0] - o->x_m), o->theta_rad)) <
+                2.0 * VEC2_PI / 3.0)
+            ahead = 1;
+    }
+    if (ahead && c->esc_s < c->p.yield_max_s) {
         u->v_mps = 0.0;
         u->w_radps = c->esc_turn * c->p.follow_w_radps;
-        if (c->esc_wait_s < c->p.yield_wait_s && rover_ctl_turn_blocked_by_mate(c, o)) {
-            u->w_radps = 0.0;
-            c->esc_backing = 0;
-            c->esc_wait_s += dt_s;
-            c->esc_s -= dt_s;        /* waiting does not count as turning */
-        } else if (spin_or_back(c, o, dt_s, u)) {
-            c->esc_s -= dt_s;
-        }
+        if (deconflict(c, gw, o, dt_s, u)) c->esc_s -= dt_s;    /* standing is not turning */
         return 1;
     }
+    enter(c, rover_esc_table[ROVER_ESC_YIELD].next);
     c->esc_side = nearer_wall_side(gw);
-    c->esc_s = 0.0;
-    c->esc_backing = 0;
     return 0;
 }
 
-/* FOLLOW: the boundary on esc_side (U in *u, 1) until the leave rule or
- * open floor ends the escape (REJOIN, 0); the other way round after
- * escape_max_s. dist: own distance to the goal. */
+/* FOLLOW, CLEAR: the boundary on esc_side (U in *u, 1) until the leave
+ * rule or open floor ends the escape (`next`: NONE, REJOIN, 0); the other
+ * way round after escape_max_s of following (the limit). dist: own
+ * distance to the goal. */
 static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const sonar_groups *g,
                            const pose2 *o, const double goal[2], double dist, double dt_s,
                            unicycle_cmd *u)
 {
+    const rover_esc_row *row = &rover_esc_table[c->esc_phase];
     const double b = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m),
                                          o->theta_rad);
     const int free_way = fabs(b) < 0.5 * VEC2_PI && range_toward(c->range_m, b) > 1.2 &&
                          g->front_m > 0.8;
-    c->esc_lost_s = confined(gw, &c->p) ? 0.0 : c->esc_lost_s + dt_s;
-    if ((dist < c->esc_hit_dist_m - 0.5 && free_way) || c->esc_lost_s > c->p.follow_lost_s) {
-        c->esc_phase = ROVER_ESC_NONE;
-        c->esc_yield = 0;
-        announce_own(c, FORMATION_ANN_REJOIN);
+    c->esc_lost_s = rover_ctl_walls_near(gw, &c->p) ? 0.0 : c->esc_lost_s + dt_s;
+    if ((dist < c->esc_hit_dist_m - c->p.leave_gain_m && free_way) ||
+        c->esc_lost_s > c->p.follow_lost_s) {
+        enter(c, row->next);
         return 0;
     }
     /* escape_max_s is time spent following: standing or turning on the
      * spot (in the pocket while the mates cleared its mouth) is not. A
      * robot that had spun 50 s in its pocket turned back round the U's
      * lip just where the wall it followed led on to the goal. */
-    if (!(c->v_est_mps > FOLLOW_MOVING_MPS)) c->esc_s -= dt_s;
+    if (!(c->v_est_mps > c->p.follow_moving_mps)) c->esc_s -= dt_s;
     if (c->esc_s > c->p.escape_max_s) {
-        c->esc_side = -c->esc_side;
-        c->esc_s = 0.0;
+        const int side = c->esc_side;
+        enter(c, row->on_limit);
+        c->esc_side = row->on_limit == c->esc_phase ? -side : side;
     }
     rover_ctl_follow(u, gw, c->esc_side, &c->p);
-    if (u->v_mps > 0.0 && rover_ctl_mate_in_lane(c, o, FOLLOW_MATE_AHEAD_M)) {
-        /* a mate in the way: turn away from the wall as at a wall ahead */
+    if (u->v_mps > 0.0 && rover_ctl_cmd_sweeps_mate(c, o, u, 0) != 0) {
+        /* the drive sweeps into a mate: turn away from the wall as at a
+         * wall ahead. Not a lane test from the axle forward: a mate at the
+         * flank that the drive leaves behind is not in the way (it stopped
+         * a robot giving way beside the trapped one, and the three stood
+         * wedged in the dead zone's mouth: 3 in line, seed 1) */
         u->v_mps = 0.0;
         u->w_radps = -(c->esc_side < 0 ? -1.0 : 1.0) * c->p.follow_w_radps;
     }
-    spin_or_back(c, o, dt_s, u);
+    deconflict(c, gw, o, dt_s, u);
     return 1;
 }
 
-/* Dead-zone escape and give-way state machine; returns 1 while escaping
- * (U in *u).
- *   trapped (docs/method/formation.md §10: front, left, right < d_s for the dead-zone time): LEAVE,
- *     turn +-w_k alternately per entry until the front is free (eq. 2),
- *     then FOLLOW the boundary, the wall on the side turned away from;
- *   a mate escaping right ahead (give_way_start): LEAVE, YIELD (turn on
- *     the spot until no leaving mate is ahead, at most yield_max_s of
- *     turning; a lower-id mate turning next to us goes first), then FOLLOW
- *     the nearer wall;
- *   FOLLOW ends (REJOIN) when closer to the goal than where it started
- *     by 0.5 m with the way to the goal free (Bug2's leave rule), or when
- *     no wall has been in reach for follow_lost_s (open floor: nothing to
- *     follow; the follow law would circle for ever looking for it). After
- *     escape_max_s without that it follows the other way round (the
- *     alternation of eq. 2 applied to the boundary): it never rejoins
- *     short of the leave point. Rejoining on a timeout put an escaped robot
- *     back on the straight way to the goal, through the U it had left. */
+/* The escape and the wait, one period; returns 1 while escaping (U in
+ * *u). The wait set is computed first: every robot's own, by the same
+ * order (rover_ctl_wait_set).
+ *   trapped (front, left, right < d_s for the dead-zone time): TURN,
+ *     +-w_k alternately per entry until the front is free (eq. 2), then
+ *     FOLLOW the boundary, the wall on the side turned away from;
+ *   a trapped mate we wait for coming our way: YIELD, then CLEAR (follow
+ *     the nearer wall out);
+ *   FOLLOW and CLEAR end (REJOIN) closer to the goal than the hit point by
+ *     leave_gain_m with the way to the goal free (Bug2's leave rule), or
+ *     with no wall in reach for follow_lost_s; after escape_max_s of
+ *     following, the other way round (eq. 2's alternation on the
+ *     boundary): never short of the leave point. Rejoining on a timeout put
+ *     an escaped robot back on the straight way to the goal, through the U;
+ *   in formation with a non-empty wait set: wait (wait_step). */
 int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sonar_groups *g,
                           const pose2 *o, const double goal[2], double t_s, double dt_s,
                           unicycle_cmd *u)
@@ -421,19 +467,20 @@ int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sona
     const int in_dz = behaviour_exception_step(&c->exc, &turn, gw, dt_s, &c->p.beh);
     const double dist = hypot(goal[0] - o->x_m, goal[1] - o->y_m);
     crumbs_lay(c, o);
+    c->esc_backing = 0;
+    c->holding = ROVER_WAIT_NONE;
+    c->wait_n = rover_ctl_wait_set(c, o, gw, t_s, c->wait_id);
     if (in_dz == 1) {
         if (c->exc.entries != entries) dead_zone_entry(c, &turn, dist);
-        c->esc_phase = ROVER_ESC_TURN;
         *u = turn;
         return 1;
     }
-    c->holding = 0;
-    if (c->esc_phase == ROVER_ESC_NONE && !give_way_start(c, gw, o, goal, t_s)) {
-        hold_step(c, gw, o, t_s, dt_s);
+    if (c->esc_phase == ROVER_ESC_TURN) enter(c, rover_esc_table[ROVER_ESC_TURN].next);
+    if (c->esc_phase == ROVER_ESC_NONE && !give_way_start(c, gw, o, goal)) {
+        wait_step(c, o, dt_s);
         return 0;
     }
     c->esc_s += dt_s;
-    if (c->esc_phase == ROVER_ESC_YIELD && yield_turn(c, gw, o, t_s, dt_s, u)) return 1;
-    c->esc_phase = ROVER_ESC_FOLLOW;
+    if (c->esc_phase == ROVER_ESC_YIELD && yield_turn(c, gw, o, dt_s, u)) return 1;
     return follow_boundary(c, gw, g, o, goal, dist, dt_s, u);
 }

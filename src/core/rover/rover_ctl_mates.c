@@ -1,7 +1,9 @@
-/* rover_ctl_mates: where the formation controller's mates' chassis are,
- * by the team table, for keeping clear of them while escaping or giving
- * way (docs/method/formation.md §10: never turning into a mate, backing
- * out of a wedge, the wedge turn, a follower's lane). There is no rear
+/* rover_ctl_mates: the priority order among mates and each robot's wait
+ * set (docs/method/formation.md §10: why the wait-for graph is acyclic),
+ * and where the mates' chassis are, by the team table, for keeping clear
+ * of them while escaping, giving way or waiting (never turning into a
+ * mate, whose way we are in, backing clear, the wedge turn, a follower's
+ * lane). There is no rear
  * sonar and a mate's echo is masked out of the ring the follower uses, so
  * these answers come from geometry: each chassis a box ROVER_BODY_LENGTH_M
  * x ROVER_BODY_WIDTH_M, centred ROVER_BODY_OFFSET_M ahead of the axle C.
@@ -91,34 +93,116 @@ static int mate_box(const rover_ctl_state *c, int i, double grow_m, box2 *b)
     return 0;
 }
 
+/* The lane the chassis of a robot whose axle is at c sweeps driving
+ * ahead_m straight on, from the axle forward, SPIN_MARGIN_M wider. */
+static box2 lane_box(const pose2 *c, double ahead_m)
+{
+    box2 lane;
+    lane.theta_rad = c->theta_rad;
+    lane.hx_m = 0.5 * (ROVER_BODY_OFFSET_M + 0.5 * ROVER_BODY_LENGTH_M + ahead_m);
+    lane.hy_m = 0.5 * ROVER_BODY_WIDTH_M + SPIN_MARGIN_M;
+    lane.x_m = c->x_m + lane.hx_m * cos(lane.theta_rad);
+    lane.y_m = c->y_m + lane.hx_m * sin(lane.theta_rad);
+    return lane;
+}
+
+/* The camera saw m within seen_s of t_s (walls hide beacons: a mate
+ * behind a wall is in no conflict with us). */
+static int now_seen(const team_member *m, double t_s, double seen_s)
+{
+    return t_s - m->obs_t_s <= seen_s;
+}
+
 /* A mate turning at least this fast (team table) may have its chassis at
  * any heading of its turning circle. */
 #define MATE_TURNING_RADPS 0.1
 
-/* Mate i turns on the spot (by the team table) and has the lower id:
- * where two turn side by side it turns first. */
+/* ---- the priority order (docs/method/formation.md §10) -------------------
+ * Every robot ranks every robot of the team by the same key, made only of
+ * what each one broadcasts in its team message: first its class by its
+ * announcement (escaping a dead zone, LEAVE, before giving way, GIVE_WAY,
+ * before the rest), then its id. Ids are distinct, so the order is total. */
+static int rank_class(int announce)
+{
+    return announce == FORMATION_ANN_LEAVE ? 0 : announce == FORMATION_ANN_GIVE_WAY ? 1 : 2;
+}
+
+int rover_ctl_outranks(int announce_a, int32_t id_a, int announce_b, int32_t id_b)
+{
+    const int ca = rank_class(announce_a), cb = rank_class(announce_b);
+    return ca < cb || (ca == cb && id_a < id_b);
+}
+
+/* Mate i outranks us. */
+static int mate_outranks(const rover_ctl_state *c, int i)
+{
+    return rover_ctl_outranks(c->team.m[i].announce, c->team.m[i].robot, rover_ctl_own_announce(c),
+                              c->id);
+}
+
+/* Mate i turns on the spot (by the team table) and outranks us: where two
+ * turn side by side it turns first. */
 static int mate_turning_first(const rover_ctl_state *c, int i)
 {
     const team_member *m = &c->team.m[i];
-    return m->robot < c->id && fabs(m->v_mps) <= 0.05 && fabs(m->w_radps) >= MATE_TURNING_RADPS;
+    return mate_outranks(c, i) && fabs(m->v_mps) <= 0.05 && fabs(m->w_radps) >= MATE_TURNING_RADPS;
 }
 
-/* A lower-id mate turning on the spot (not driving) with its axle within
- * yield_clear_m of ours: a robot turning on the spot sweeps a circle of
- * ~0.31 m round its axle, two side by side that both turn sweep their
- * tails into each other; the higher id waits its turn (at most
- * yield_wait_s: the other may be spinning in place until we move). */
-int rover_ctl_turn_blocked_by_mate(const rover_ctl_state *c, const pose2 *o)
+int rover_ctl_walls_near(const sonar_groups *gw, const rover_ctl_params *p)
 {
-    pose2 own_c;
-    int i;
-    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
-    for (i = 0; i < c->team.n; i++) {
-        pose2 mc;
-        if (!mate_turning_first(c, i) || mate_c(c, i, &mc) != 0) continue;
-        if (hypot(mc.x_m - own_c.x_m, mc.y_m - own_c.y_m) < c->p.yield_clear_m) return 1;
-    }
-    return 0;
+    return fmin(fmin(gw->left_m, gw->left_front_m), fmin(gw->right_m, gw->right_front_m)) <
+           p->follow_dist_m + p->walls_near_m;
+}
+
+/* Mate i (which outranks us) conflicts with us, as we see it: its axle
+ * within yield_near_m of ours where either of us is out of the formation
+ * (neither could turn on the spot), or where walls are near and its axle
+ * lies ahead of ours (within 90 deg of our heading: a mate beside or
+ * behind is not in our way forward, and standing for it stood the middle
+ * of a line in a passage's mouth while the flank robot turned across it;
+ * the third, standing for the middle, was left at the wall's end and went
+ * round the outside: corridor, 3 in line, seeds 9, 11, 14, 44); with walls near, a
+ * trapped mate (LEAVE) seen by the camera within give_way_m, ahead or
+ * coming our way; both in formation, walls near, a mate within queue_m
+ * ahead (queue_cone_rad) that stands or that we close on. In the open
+ * nothing conflicts: the formation keeps its own spacing. */
+static int mate_conflicts(const rover_ctl_state *c, const pose2 *o, int walls, int i, double t_s)
+{
+    const rover_ctl_params *p = &c->p;
+    const team_member *m = &c->team.m[i];
+    const int mate_out = rank_class(m->announce) < 2, self_out = c->esc_phase != ROVER_ESC_NONE;
+    pose2 own_c, mc;
+    double xy[2], dist, b;
+    if (mate_c(c, i, &mc) != 0 || team_position(&c->team, m->robot, xy) != 0) return 0;
+    unicycle_c_from_o(&own_c, o, p->beh.d_m);
+    if (hypot(mc.x_m - own_c.x_m, mc.y_m - own_c.y_m) < p->yield_near_m &&
+        (mate_out || self_out ||
+         (walls && fabs(vec2_angle_diff_rad(atan2(mc.y_m - own_c.y_m, mc.x_m - own_c.x_m),
+                                            own_c.theta_rad)) < 0.5 * VEC2_PI)))
+        return 1;
+    if (!walls) return 0;
+    dist = hypot(xy[0] - o->x_m, xy[1] - o->y_m);
+    b = vec2_angle_diff_rad(atan2(xy[1] - o->y_m, xy[0] - o->x_m), o->theta_rad);
+    if (m->announce == FORMATION_ANN_LEAVE)
+        return now_seen(m, t_s, p->give_way_seen_s) && dist < p->give_way_m &&
+               (fabs(b) < 0.5 * VEC2_PI || rover_ctl_mate_coming(m, xy, o));
+    return !mate_out && !self_out && dist < p->queue_m && fabs(b) < p->queue_cone_rad &&
+           fabs(m->v_mps) < fmax(p->queue_slow_mps, c->v_est_mps - p->queue_closing_mps);
+}
+
+int rover_ctl_wait_set(const rover_ctl_state *c, const pose2 *o, const sonar_groups *gw, double t_s,
+                       int32_t wait[TEAM_MAX])
+{
+    const int walls = rover_ctl_walls_near(gw, &c->p);
+    int i, n = 0;
+    for (i = 0; i < c->team.n && n < TEAM_MAX; i++)
+        if (mate_outranks(c, i) && mate_conflicts(c, o, walls, i, t_s)) wait[n++] = c->team.m[i].robot;
+    return n;
+}
+
+int rover_ctl_mate_coming(const team_member *m, const double mate_xy_m[2], const pose2 *o)
+{
+    return cos(m->theta_rad) * (o->x_m - mate_xy_m[0]) + sin(m->theta_rad) * (o->y_m - mate_xy_m[1]) > 0.0;
 }
 
 /* Turning on the spot now would sweep our chassis into a mate's: the id
@@ -172,45 +256,20 @@ int rover_ctl_turn_sweeps_mate(const rover_ctl_state *c, const pose2 *o, int dir
     return 0;
 }
 
-/* Robot `who`'s axle pose C (ourselves: from *o, a mate: where the team
- * table puts it); 0 or TEAM_ERR_UNKNOWN. */
-static int robot_c(const rover_ctl_state *c, const pose2 *o, int32_t who, pose2 *out)
+/* Our chassis (grown by SPIN_MARGIN_M) is in mate i's way: within the
+ * circle it sweeps turning on the spot, or in the lane its chassis sweeps
+ * driving ahead_m straight on. The mate cannot know where we can go; we
+ * clear its way when it outranks us (rover_ctl_escape.c). */
+int rover_ctl_in_way_of(const rover_ctl_state *c, const pose2 *o, int32_t mate, double ahead_m)
 {
-    const team_member *m;
-    if (who == c->id) {
-        unicycle_c_from_o(out, o, c->p.beh.d_m);
-        return 0;
-    }
-    if (!(m = team_find(&c->team, who))) return TEAM_ERR_UNKNOWN;
-    return mate_c(c, (int)(m - c->team.m), out);
-}
-
-/* Robot `who` may back up straight: no other robot of the team
- * (ourselves included) has its axle in the lane behind who's (0.1 m to
- * BACK_CLEAR_M back, BACK_LANE_M either side of its centre line: half its
- * width and a mate's turning reach), by the team table (there is no rear
- * sonar). A wedged robot judges by this whether the mate it is wedged
- * against can back (a mate's own path is not known to it; its own backing
- * goes by rover_ctl_crumbs_clear). */
-#define BACK_CLEAR_M 0.9
-#define BACK_LANE_M 0.55
-int rover_ctl_may_back(const rover_ctl_state *c, const pose2 *o, int32_t who)
-{
-    pose2 wc, rc;
-    int i;
-    if (robot_c(c, o, who, &wc) != 0) return 0;
-    for (i = -1; i < c->team.n; i++) {
-        const int32_t id = i < 0 ? c->id : c->team.m[i].robot;
-        double mx, my, along;
-        if (id == who || robot_c(c, o, id, &rc) != 0) continue;
-        mx = rc.x_m - wc.x_m;
-        my = rc.y_m - wc.y_m;
-        along = mx * cos(wc.theta_rad) + my * sin(wc.theta_rad);
-        if (along < -0.1 && along > -BACK_CLEAR_M &&
-            fabs(-mx * sin(wc.theta_rad) + my * cos(wc.theta_rad)) < BACK_LANE_M)
-            return 0;
-    }
-    return 1;
+    const team_member *m = team_find(&c->team, mate);
+    pose2 own_c, mc;
+    box2 own, lane;
+    if (!m || mate_c(c, (int)(m - c->team.m), &mc) != 0) return 0;
+    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
+    own = chassis_box(&own_c, SPIN_MARGIN_M);
+    lane = lane_box(&mc, ahead_m);
+    return box_gap_m(&own, mc.x_m, mc.y_m) < turn_reach_m() || boxes_touch(&own, &lane);
 }
 
 /* A mate's chassis (where the team table puts it, grown by SPIN_MARGIN_M)
@@ -226,11 +285,7 @@ int rover_ctl_mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahea
     box2 lane, mb;
     int i;
     unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
-    lane.theta_rad = own_c.theta_rad;
-    lane.hx_m = 0.5 * (ROVER_BODY_OFFSET_M + 0.5 * ROVER_BODY_LENGTH_M + ahead_m);
-    lane.hy_m = 0.5 * ROVER_BODY_WIDTH_M + SPIN_MARGIN_M;
-    lane.x_m = own_c.x_m + lane.hx_m * cos(lane.theta_rad);      /* from the axle forward */
-    lane.y_m = own_c.y_m + lane.hx_m * sin(lane.theta_rad);
+    lane = lane_box(&own_c, ahead_m);
     for (i = 0; i < c->team.n; i++)
         if (mate_box(c, i, SPIN_MARGIN_M, &mb) == 0 && boxes_touch(&lane, &mb)) return 1;
     return 0;
@@ -279,4 +334,56 @@ int rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reac
         next[1] = at.y_m;
     }
     return 1;
+}
+
+/* Flying u for the next CMD_LOOK_S sweeps our chassis into the chassis of
+ * a mate (mate_touches: its box where the team table puts it,
+ * grown by SPIN_MARGIN_M, or its whole turning circle while it turns):
+ * that mate's id, else 0. A mate we touch already counts only if the
+ * motion brings our chassis nearer to it: driving on away from a mate
+ * alongside is allowed (a lane test from the axle forward stopped a robot
+ * giving way whose mate stood at its flank, and held three robots wedged
+ * in the dead zone's mouth, 3 in line, seed 1). waited_only: only the
+ * mates of our wait set (c->wait_id), those that outrank us and conflict
+ * with us, so that standing for them keeps the wait-for graph acyclic. */
+#define CMD_LOOK_S 1.0
+#define CMD_LOOK_STEPS 10
+/* 1 if mate `id` is in our wait set. */
+static int waited_for(const rover_ctl_state *c, int32_t id)
+{
+    int k;
+    for (k = 0; k < c->wait_n; k++)
+        if (c->wait_id[k] == id) return 1;
+    return 0;
+}
+
+int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u,
+                                  int waited_only)
+{
+    pose2 own_c;
+    int k, s;
+    if (u->v_mps == 0.0 && u->w_radps == 0.0) return 0;
+    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
+    for (k = 0; k < c->team.n; k++) {
+        const team_member *m = &c->team.m[k];
+        const int i = k;
+        if (waited_only && !waited_for(c, m->robot)) continue;
+        pose2 at = own_c, mc;
+        box2 own = chassis_box(&own_c, 0.0);
+        int touching;
+        double d0;
+        if (i < 0 || mate_c(c, i, &mc) != 0) continue;
+        touching = mate_touches(c, i, &own);
+        d0 = hypot(own.x_m - mc.x_m, own.y_m - mc.y_m);
+        for (s = 1; s <= CMD_LOOK_STEPS; s++) {
+            const double dt = CMD_LOOK_S / CMD_LOOK_STEPS;
+            at.x_m += u->v_mps * dt * cos(at.theta_rad);
+            at.y_m += u->v_mps * dt * sin(at.theta_rad);
+            at.theta_rad += u->w_radps * dt;
+            own = chassis_box(&at, 0.0);
+            if (!mate_touches(c, i, &own)) continue;
+            if (!touching || hypot(own.x_m - mc.x_m, own.y_m - mc.y_m) < d0) return m->robot;
+        }
+    }
+    return 0;
 }

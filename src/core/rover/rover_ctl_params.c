@@ -39,8 +39,21 @@ void rover_ctl_params_default(rover_ctl_params *p)
     p->give_way_m = 2.0;
     p->yield_max_s = 6.0;
     p->give_way_seen_s = 1.0;
-    p->yield_clear_m = 0.75;
-    p->yield_wait_s = 5.0;
+    /* two robots turning on the spot each sweep 0.314 m round the axle:
+     * axles nearer than twice that and a little are in each other's way */
+    p->yield_near_m = 0.75;
+    /* a robot's turning circle and a body beyond the formation's extent:
+     * room for the last robots to turn toward a slot they did not expect */
+    p->arrival_m = 2.0;
+    /* a swap must gain what 0.5 m more for one robot costs at a slot 1 m
+     * away (1.5^2 - 1^2): noise in the team messages does not flip slots */
+    p->arrival_swap_m2 = 1.25;
+    /* queue: a mate in formation ahead that stands or that we close on is
+     * usually one about to find its pocket closed */
+    p->queue_m = 1.3;
+    p->queue_cone_rad = 0.6;
+    p->queue_slow_mps = 0.1;
+    p->queue_closing_mps = 0.1;
     /* a trapped robot turns round in the dead-zone time (2 s) and half a
      * turn at w_k (0.6 rad/s, 5.2 s) */
     p->hold_max_s = 10.0;
@@ -49,6 +62,10 @@ void rover_ctl_params_default(rover_ctl_params *p)
     p->back_v_mps = 0.1;
     p->wedge_max_s = 8.0;
     p->follow_lost_s = 5.0;
+    p->walls_near_m = 0.8;
+    p->leave_gain_m = 0.5;
+    p->follow_mate_ahead_m = 0.3;
+    p->follow_moving_mps = 0.05;
     p->passage_sense_max_m = 2.5;
     p->mate_keep_m = 0.45;
     p->v_change_mps = 0.25;
@@ -89,7 +106,12 @@ int rover_ctl_params_validate(const rover_ctl_params *p)
         !pos(p->wheel_radius_m) || !pos(p->axle_track_m) || !pos(p->follow_dist_m) ||
         !pos(p->follow_v_mps) || !pos(p->follow_w_radps) || !pos(p->escape_max_s) ||
         !pos(p->give_way_m) || !pos(p->yield_max_s) || !pos(p->give_way_seen_s) ||
-        !pos(p->yield_clear_m) || !pos(p->yield_wait_s) || !pos(p->hold_max_s) ||
+        !pos(p->yield_near_m) || !isfinite(p->arrival_m) || p->arrival_m < 0.0 ||
+        !isfinite(p->arrival_swap_m2) || p->arrival_swap_m2 < 0.0 ||
+        !pos(p->queue_m) || !pos(p->queue_cone_rad) ||
+        p->queue_cone_rad > VEC2_PI || !pos(p->queue_slow_mps) || !pos(p->queue_closing_mps) ||
+        !pos(p->hold_max_s) || !pos(p->walls_near_m) || !pos(p->leave_gain_m) ||
+        !pos(p->follow_mate_ahead_m) || !pos(p->follow_moving_mps) ||
         !pos(p->back_max_m) || !pos(p->back_v_mps) || !pos(p->wedge_max_s) || !pos(p->follow_lost_s) ||
         !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->v_change_mps) ||
         !pos(p->guard_m) || !pos(p->guard_stop_m) || !pos(p->guard_lane_m) ||

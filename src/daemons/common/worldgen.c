@@ -14,7 +14,7 @@
 
 #define WALL_M 0.2          /* the map's border wall */
 #define POCKET_WALL_M 0.15  /* a pocket's walls */
-#define GOAL_CLEAR_M 1.5    /* free disc round the goal */
+#define GOAL_CLEAR_M 1.5    /* free disc round the goal, at least */
 
 static const char *const kind_names[WORLDGEN_KINDS] = { "clutter", "traps", "corridor", "mixed" };
 
@@ -173,6 +173,17 @@ static double start_radius(int n)
     return n <= 10 ? 0.5 * (n - 1) + 1.2 : 0.5 * hypot(9.0, rows - 1.0) + 1.2;
 }
 
+/* The goal area: a disc that holds every robot's slot of the formation
+ * placed at the goal with the room the start area has (a team that came
+ * through a narrow leg in column must open out into its slots there; a
+ * disc of 1.5 m jammed lines that came through a corridor). */
+static double goal_radius(int n)
+{
+    /* the line (and the column) reach (n - 1) / 2 spacings of 1 m from
+     * their centre, the triangle less */
+    return fmax(GOAL_CLEAR_M, 0.5 * (n - 1) + 1.2);
+}
+
 /* A point along the way at fraction f, pushed sideways by lat_m. */
 static void along(const rover_map_site *s, double f, double lat_m, double *x, double *y)
 {
@@ -260,7 +271,7 @@ static void draw(rover_map *m, prng_state *r, const rover_map_site *s, const wor
         break;
     }
     clear_disc(m, s->start.x_m, s->start.y_m, start_radius(p->robots));
-    clear_disc(m, s->goal_m[0], s->goal_m[1], GOAL_CLEAR_M);
+    clear_disc(m, s->goal_m[0], s->goal_m[1], goal_radius(p->robots));
     border(m);
 }
 
@@ -330,6 +341,22 @@ static int flood_from(const rover_map *m, const float *d, long goal, float clear
     return 1;
 }
 
+/* Slot k of the formation placed at the goal, headed along the
+ * bearing of the goal from the start (what each robot's goal behaviour
+ * drives it to) lies on a cell the search reached: the team can take its
+ * slots, not only get one robot to the goal. */
+static int goal_slot_reached(const rover_map *m, const rover_map_site *s, int n, int formation, int k,
+                             const unsigned char *seen)
+{
+    const double heading = atan2(s->goal_m[1] - s->start.y_m, s->goal_m[0] - s->start.x_m);
+    double xy[2];
+    long c;
+    if (formation_slot_xy(xy, formation, n, k, 1.0, 1.0) != 0) return 0;
+    c = cell_of(m, s->goal_m[0] + xy[0] * cos(heading) - xy[1] * sin(heading),
+                s->goal_m[1] + xy[0] * sin(heading) + xy[1] * cos(heading));
+    return c >= 0 && seen[c];
+}
+
 int worldgen_passable(rover_map *m, const rover_map_site *s, int n, int formation, double clearance_m)
 {
     const long cells = (long)m->width * m->height;
@@ -343,7 +370,7 @@ int worldgen_passable(rover_map *m, const rover_map_site *s, int n, int formatio
         ok = flood_from(m, d, cell_of(m, s->goal_m[0], s->goal_m[1]), (float)clearance_m, seen, queue);
         for (k = 0; ok && k < n; k++) {
             const long c = cell_of(m, w->start_c[k].x_m, w->start_c[k].y_m);
-            ok = c >= 0 && seen[c];
+            ok = c >= 0 && seen[c] && goal_slot_reached(m, s, n, formation, k, seen);
         }
     }
     free(w);
@@ -361,7 +388,7 @@ static void place_site(rover_map_site *s, prng_state *r, const worldgen_params *
     memset(s, 0, sizeof *s);
     s->start.x_m = WALL_M + rs + 0.3;
     s->start.y_m = 0.5 * p->height_m + uniform(r, -0.1, 0.1) * p->height_m;
-    s->goal_m[0] = p->width_m - WALL_M - GOAL_CLEAR_M - 1.0;
+    s->goal_m[0] = p->width_m - WALL_M - goal_radius(p->robots) - 1.0;
     s->goal_m[1] = 0.5 * p->height_m + uniform(r, -0.25, 0.25) * p->height_m;
     s->start.theta_rad = atan2(s->goal_m[1] - s->start.y_m, s->goal_m[0] - s->start.x_m);
     s->n_landmarks = ROVER_MAP_LANDMARKS_AUTO;
@@ -372,8 +399,9 @@ static int params_ok(const worldgen_params *p)
     const double rs = start_radius(p->robots);
     return p->kind >= 0 && p->kind < WORLDGEN_KINDS && p->robots >= 1 && p->robots <= ROVER_WORLD_MAX_ROBOTS &&
            p->formation >= FORMATION_LINE && p->formation <= FORMATION_COLUMN && isfinite(p->width_m) &&
-           isfinite(p->height_m) && p->height_m >= 2.0 * rs + 2.0 * WALL_M + 1.0 &&
-           p->width_m >= 2.0 * rs + 2.0 * GOAL_CLEAR_M + 6.0 &&
+           isfinite(p->height_m) && p->height_m >= 2.0 * fmax(rs, goal_radius(p->robots)) + 2.0 * WALL_M + 1.0 &&
+           /* start and goal areas (placed as place_site does) do not overlap */
+           p->width_m >= 2.0 * WALL_M + 1.3 + 2.0 * (rs + goal_radius(p->robots)) &&
            p->width_m / WORLDGEN_RESOLUTION_M <= ROVER_MAP_MAX_SIDE &&
            p->height_m / WORLDGEN_RESOLUTION_M <= ROVER_MAP_MAX_SIDE;
 }

@@ -44,8 +44,9 @@ const char *worldgen_kind_name(int kind);
 int worldgen_make(rover_map *m, rover_map_site *s, const worldgen_params *p, int *attempt);
 
 /* 1 if every robot of a team of n (in `formation`) placed at s->start can
- * reach s->goal_m on m inflated by clearance_m (BFS, 8-connected), 0 if
- * not (or the layout is refused). */
+ * reach s->goal_m and every slot of the formation placed at the goal
+ * (headed along the bearing of the goal from the start) on m inflated by
+ * clearance_m (BFS, 8-connected), 0 if not (or the layout is refused). */
 int worldgen_passable(rover_map *m, const rover_map_site *s, int n, int formation, double clearance_m);
 
 #endif

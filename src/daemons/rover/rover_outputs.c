@@ -111,11 +111,12 @@ void rover_republish(daemon *d, void *user)
 static void report_escape(hosted *h, const pose2 *o, double t_s)
 {
     static const char *const phases[] = { "escape over", "turns out of the trap", "follows the wall",
-                                          "turns away from a leaving mate" };
+                                          "turns away from a leaving mate",
+                                          "follows the wall out of a leaving mate's way" };
     const rover_ctl_state *c = &h->c;
     const int esc = c->esc_phase * 4 + (c->esc_side + 1);
     const double dist_m = hypot(c->goal_m[0] - o->x_m, c->goal_m[1] - o->y_m);
-    if (esc == h->shown_esc || c->esc_phase < ROVER_ESC_NONE || c->esc_phase > ROVER_ESC_YIELD) return;
+    if (esc == h->shown_esc || c->esc_phase < ROVER_ESC_NONE || c->esc_phase >= ROVER_ESC_COUNT) return;
     if (h->shown_esc < 0 && c->esc_phase == ROVER_ESC_NONE) {
         h->shown_esc = esc;                 /* not escaping at the start: nothing to say */
         return;

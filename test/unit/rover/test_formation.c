@@ -11,6 +11,8 @@
 #include <string.h>
 
 #include "formation.h"
+#include "prng.h"
+#include "vec2.h"
 
 static double dist_slots(int type, int n, int a, int b, double s)
 {
@@ -316,12 +318,57 @@ static void test_protocol_confirm(void **state)
     assert_int_equal(formation_fsm_step(&A, &p, 1.5, 3, dt, 1, 1, &a), FORMATION_ERR_ARG);
 }
 
+/* formation_slots_held: robots in any order, each within tol of a slot of
+ * its own, hold the slots; one robot moved beyond tol of every slot, or
+ * two robots sharing one slot with another left empty, do not (random
+ * teams of every size, shuffled). */
+static void test_slots_held_any_order(void **state)
+{
+    static double slot[FORMATION_MAX_ROBOTS][2], xy[FORMATION_MAX_ROBOTS][2];
+    const double tol = 0.3;
+    prng_state r;
+    int trial, n, k;
+    (void)state;
+    prng_seed(&r, 11);
+    for (trial = 0; trial < 200; trial++) {
+        int perm[FORMATION_MAX_ROBOTS], type = trial % 3;
+        n = 1 + (int)(prng_uniform(&r) * 24.0);
+        for (k = 0; k < n; k++) {
+            assert_int_equal(formation_slot_xy(slot[k], type, n, k, 1.0, 1.0), 0);
+            perm[k] = k;
+        }
+        for (k = n - 1; k > 0; k--) {       /* Fisher-Yates */
+            const int j = (int)(prng_uniform(&r) * (k + 1)), t = perm[k];
+            perm[k] = perm[j];
+            perm[j] = t;
+        }
+        for (k = 0; k < n; k++) {
+            const double a = 2.0 * VEC2_PI * prng_uniform(&r), d = 0.99 * tol * prng_uniform(&r);
+            xy[k][0] = slot[perm[k]][0] + d * cos(a);
+            xy[k][1] = slot[perm[k]][1] + d * sin(a);
+        }
+        assert_int_equal(formation_slots_held((const double (*)[2])xy, (const double (*)[2])slot, n, tol), 1);
+        if (n < 2) continue;
+        /* two on one slot: the robot of slot perm[1] stands on slot perm[0]'s */
+        xy[1][0] = xy[0][0];
+        xy[1][1] = xy[0][1];
+        assert_int_equal(formation_slots_held((const double (*)[2])xy, (const double (*)[2])slot, n, tol), 0);
+        /* one far from every slot */
+        xy[1][0] = 100.0;
+        assert_int_equal(formation_slots_held((const double (*)[2])xy, (const double (*)[2])slot, n, tol), 0);
+    }
+    assert_int_equal(formation_slots_held(NULL, (const double (*)[2])slot, 3, tol), FORMATION_ERR_ARG);
+    assert_int_equal(formation_slots_held((const double (*)[2])xy, (const double (*)[2])slot, 0, tol),
+                     FORMATION_ERR_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_slots_centred_and_polar),
         cmocka_unit_test(test_slot_spacing_and_width),
         cmocka_unit_test(test_slot_assignment),
+        cmocka_unit_test(test_slots_held_any_order),
         cmocka_unit_test(test_protocol_sequence_and_restore),
         cmocka_unit_test(test_protocol_stops_when_it_fits),
         cmocka_unit_test(test_protocol_agreement_and_ties),

@@ -91,12 +91,28 @@ static void build_sonar(const rover_world_config *w, const pose2 *c, const int *
 
 /* Closed loop of o->n robots in world w (start poses, goal, obstacles)
  * with controller parameters p (formation and blend set in p). */
+/* The least tolerance within which robots at xy hold all n slots (any
+ * robot in any slot): bisection on formation_slots_held. */
+static double held_within(const double xy[][2], const double slot[][2], int n)
+{
+    double lo = 0.0, hi = 100.0;
+    int k;
+    if (formation_slots_held(xy, slot, n, hi) != 1) return INFINITY;
+    for (k = 0; k < 40; k++) {
+        const double mid = 0.5 * (lo + hi);
+        if (formation_slots_held(xy, slot, n, mid) == 1) hi = mid;
+        else lo = mid;
+    }
+    return hi;
+}
+
 static kin_result kin_run_world(const rover_world_config *w, const rover_ctl_params *p,
                                 const kin_opts *opt)
 {
     sonar_model sm;
     pose2 c[KN];
-    double encl[KN] = {0}, encr[KN] = {0}, goal_team[2];
+    double encl[KN] = {0}, encr[KN] = {0}, goal_team[2], at[KN][2], goal_slot[KN][2];
+    int n_at = 0;
     int alive[KN] = {0}, i, j, step, last_type = p->formation, last_esc[KN] = {0};
     const int n = opt->n;
     kin_result r;
@@ -202,15 +218,21 @@ static kin_result kin_run_world(const rover_world_config *w, const rover_ctl_par
         rover_world_from_team(w, &est, &est_w);
         r.est_err_m[i][0] = est_w.x_m - o.x_m;
         r.est_err_m[i][1] = est_w.y_m - o.y_m;
-        {   /* the nominal slot round the goal (world frame, as the scenario has it) */
-            double xy[2], rot[2];
-            const double head = atan2(goal_team[1], goal_team[0]);
-            formation_slot_xy(xy, p->formation, n, rover_world_slot(p->formation, n, i), 1.0, 1.0);
-            vec2_rotate(rot, xy[0], xy[1], head);
-            r.max_slot_err_m = fmax(r.max_slot_err_m, hypot(o.x_m - w->goal_m[0] - rot[0],
-                                                            o.y_m - w->goal_m[1] - rot[1]));
+        {   /* where the robots are, for the nominal slots round the goal (world
+             * frame, as the scenario has it): held by any robot in any slot */
+            at[n_at][0] = o.x_m;
+            at[n_at][1] = o.y_m;
+            n_at++;
         }
     }
+    for (i = 0; i < n_at; i++) {
+        double xy[2], rot[2];
+        formation_slot_xy(xy, p->formation, n_at, i, 1.0, 1.0);
+        vec2_rotate(rot, xy[0], xy[1], atan2(goal_team[1], goal_team[0]));
+        goal_slot[i][0] = w->goal_m[0] + rot[0];
+        goal_slot[i][1] = w->goal_m[1] + rot[1];
+    }
+    r.max_slot_err_m = n_at > 0 ? held_within((const double (*)[2])at, (const double (*)[2])goal_slot, n_at) : INFINITY;
     return r;
 }
 
@@ -797,8 +819,9 @@ static void test_hold_while_trapped_mate_turns(void **state)
 }
 
 /* Queue: a mate still in formation standing 1 m ahead where walls are
- * near (about to find its pocket closed): stand behind it, at most
- * hold_max_s; 2 m ahead, or in the open, drive on. */
+ * near (about to find its pocket closed) that outranks us (lower id):
+ * stand behind it, at most hold_max_s; 2 m ahead, in the open, or with
+ * us outranking it, drive on (it is the one that waits). */
 static void test_queue_behind_standing_mate(void **state)
 {
     rover_ctl_state c;
@@ -808,7 +831,7 @@ static void test_queue_behind_standing_mate(void **state)
     double t;
     int held = 1;
     (void)state;
-    at_origin(&c, &p, 1);
+    at_origin(&c, &p, 3);
     for (t = 0.0; t < p.hold_max_s - 0.5; t += DT) {
         seen_step(&c, t, lane_ring, &m, 1, &out);
         if (t > 0.2 && !(c.holding && out.u.v_mps == 0.0)) held = 0;
@@ -817,14 +840,33 @@ static void test_queue_behind_standing_mate(void **state)
     for (; t < p.hold_max_s + 1.0; t += DT) seen_step(&c, t, lane_ring, &m, 1, &out);
     assert_false(c.holding);
     m.x = 2.15;
-    at_origin(&c, &p, 1);
+    at_origin(&c, &p, 3);
     for (t = 0.0; t < 1.0; t += DT) seen_step(&c, t, lane_ring, &m, 1, &out);
     assert_false(c.holding);
     assert_true(out.u.v_mps > 0.0);
     m.x = 1.15;
-    at_origin(&c, &p, 1);
+    at_origin(&c, &p, 3);
     for (t = 0.0; t < 1.0; t += DT) seen_step(&c, t, open_ring, &m, 1, &out);
     assert_false(c.holding);
+    at_origin(&c, &p, 1);
+    for (t = 0.0; t < 1.0; t += DT) seen_step(&c, t, lane_ring, &m, 1, &out);
+    assert_false(c.holding);
+    /* waiting is standing: the mate 0.75 m ahead echoes 0.45 m on the
+     * front transducers, a wall near on the right; the collision guard
+     * alone turns a stopped robot with an echo that near toward the freer
+     * side (a robot waiting beside a mate swung its nose into it) */
+    {
+        const double near_ring[8] = { 0.4, 0.8, 5, 0.45, 0.45, 5, 0.8, 0.6 };
+        m.x = 0.75;
+        at_origin(&c, &p, 3);
+        for (t = 0.0; t < 2.0; t += DT) {
+            seen_step(&c, t, near_ring, &m, 1, &out);
+            if (t > 0.2) {
+                assert_int_equal(c.holding, ROVER_WAIT_STAND);
+                assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
+            }
+        }
+    }
 }
 
 /* Queue behind a mate we are closing on: driving at 0.5 m/s between
@@ -844,7 +886,7 @@ static void test_queue_behind_closing_mate(void **state)
         hand_mate m = { 2, 0.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 };
         double t, enc = 0.0;
         int held = 0;
-        at_origin(&c, &p, 1);
+        at_origin(&c, &p, 3);
         m.v = mate_v[k];
         for (t = 0.0; t < 1.0; t += DT) {
             enc = 0.5 * t / p.wheel_radius_m;
@@ -863,6 +905,52 @@ static void test_queue_behind_closing_mate(void **state)
  * give-way turn is to the left (the roomier side on a tie), which would
  * swing its tail into the mate: it turns right. With a second mate
  * behind the left flank neither way is clear and it keeps standing. */
+/* No command sweeps the chassis into a mate's: a robot in formation
+ * standing beside a trapped mate (LEAVE) at its flank, walls near, the
+ * goal beyond the mate, waits hold_max_s and then flies the blend again,
+ * which turns it toward the goal: its tail or nose swung into the mate
+ * (dead zone, 3 in line, seed 1: a robot back in formation after giving
+ * way, 0.39 m from the trapped one). Checked over the wait and after it
+ * with the controller's own team table. And the escape's lane test: a
+ * drive that leaves a mate at the flank behind is not into it (the mate
+ * alongside stopped a robot giving way and three stood wedged), one that
+ * turns on the spot toward it is. */
+static void test_no_command_sweeps_into_mate(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    const pose2 s0 = { 0, 0, 0 };
+    const double goal_right[2] = { 0.0, -10.0 };
+    const hand_mate m = { 1, -0.1, -0.42, VEC2_PI, FORMATION_ANN_LEAVE, 0.0 };   /* facing away */
+    unicycle_cmd u;
+    double t;
+    int swept = 0, moved = 0;
+    (void)state;
+    rover_ctl_params_default(&p);
+    assert_int_equal(rover_ctl_init(&c, &p, 3, &s0, goal_right), 0);
+    for (t = 0.0; t < p.hold_max_s + 5.0; t += DT) {
+        seen_step(&c, t, lane_ring, &m, 1, &out);
+        if (rover_ctl_cmd_sweeps_mate(&c, &out.o, &out.u, 1) != 0) swept = 1;
+        if (out.u.v_mps != 0.0 || out.u.w_radps != 0.0) moved = 1;
+    }
+    print_message("beside a trapped mate: wait set %d, phase %d, swept %d, moved %d\n", c.wait_n, c.esc_phase,
+                  swept, moved);
+    assert_int_equal(c.wait_n, 1);
+    assert_int_equal(c.esc_phase, ROVER_ESC_NONE);
+    assert_false(swept);
+    /* the test itself: turning on the spot there sweeps into the mate
+     * either way, driving straight on leaves it behind */
+    u.v_mps = 0.0;
+    u.w_radps = -0.6;
+    assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u, 0), 1);
+    u.w_radps = 0.6;
+    assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u, 0), 1);
+    u.v_mps = 0.25;
+    u.w_radps = 0.0;
+    assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u, 0), 0);
+}
+
 static void test_wedge_turns_clear_way(void **state)
 {
     rover_ctl_state c;
@@ -915,56 +1003,51 @@ static double drive_in(rover_ctl_state *c, const rover_ctl_params *p, int32_t id
 }
 
 /* Giving way wedged beside a mate whose chassis is inside our turning
- * circle: never turn into it. The higher id backs out the way it drove in
- * (at most back_max_m) so that the lower id can turn; the lower id waits
- * while the higher backs, and backs itself if the higher has not started
- * after 2 s. With the mate 0.9 m away it turns at once. A robot that has
- * not driven anywhere has no path to back along: it has no idea what is
- * behind, and stands. */
+ * circle: never turn into it. Of the two, the one the priority order
+ * ranks lower backs out the way it drove in (at most back_max_m) so that
+ * the other can turn: beside a mate also giving way (GIVE_WAY) with a
+ * lower id, we back; beside one in formation, or one giving way with a
+ * higher id, we outrank it, never back and stand (it clears our way). With
+ * the mate 0.9 m away it turns at once. A robot that has not driven
+ * anywhere has no path to back along: it has no idea what is behind, and
+ * stands. */
+static double wedged_backed(rover_ctl_state *c, rover_ctl_params *p, const hand_mate *m, double t_end)
+{
+    const pose2 s0 = { -0.6, 0, 0 };       /* drives 0.6 m straight in first */
+    rover_ctl_out out;
+    double t, backed = 0.0;
+    for (t = drive_in(c, p, 3, &s0, goal_ahead); t < t_end; t += DT) {
+        seen_step_enc(c, t, DRIVE_IN_RAD, lane_ring, m, 2, &out);
+        if (!c->esc_yield) continue;
+        assert_true(out.u.w_radps == 0.0);
+        if (out.u.v_mps < 0.0) backed += -out.u.v_mps * DT;
+    }
+    assert_true(c->esc_yield);
+    assert_true(out.u.v_mps <= 0.0);
+    return backed;
+}
+
 static void test_give_way_wedged(void **state)
 {
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    const pose2 s0 = { -0.6, 0, 0 };       /* drives 0.6 m straight in first */
+    const pose2 s0 = { -0.6, 0, 0 };
     hand_mate m[2] = { { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE, 0.0 },
-                       { 1, 0.15, 0.45, 0.0, FORMATION_ANN_NONE, 0.0 } };     /* alongside, left */
-    double t = 0.0, backed = 0.0;
-    int k, turned = 0;
+                       { 1, 0.15, 0.45, 0.0, FORMATION_ANN_GIVE_WAY, 0.0 } };     /* alongside, left */
+    double t, backed;
+    int turned = 0;
     (void)state;
     rover_ctl_params_default(&p);
-    t = drive_in(&c, &p, 3, &s0, goal_ahead);
-    for (k = 0; t < 13.0; k++, t += DT) {
-        seen_step_enc(&c, t, DRIVE_IN_RAD, lane_ring, m, 2, &out);
-        if (!c.esc_yield) continue;
-        assert_true(out.u.w_radps == 0.0);
-        if (out.u.v_mps < 0.0) backed += -out.u.v_mps * DT;
-    }
-    print_message("wedged, higher id: backed %.2f m (at most %.2f), then waits\n", backed, p.back_max_m);
-    assert_true(c.esc_yield);
+    backed = wedged_backed(&c, &p, m, 7.0);
+    print_message("wedged beside an outranking mate: backed %.2f m (at most %.2f)\n", backed, p.back_max_m);
     assert_true(backed > p.back_max_m - 0.05 && backed < p.back_max_m + 0.05);
-    assert_true(out.u.v_mps == 0.0);
-    /* the lower id waits while the higher backs out ... */
+    /* we outrank the mate: in formation, or giving way with a higher id */
+    m[1].announce = FORMATION_ANN_NONE;
+    assert_true(wedged_backed(&c, &p, m, 7.0) == 0.0);
+    m[1].announce = FORMATION_ANN_GIVE_WAY;
     m[1].id = 4;
-    m[1].v = -p.back_v_mps;
-    for (t = drive_in(&c, &p, 3, &s0, goal_ahead); t < 8.0; t += DT) {
-        seen_step_enc(&c, t, DRIVE_IN_RAD, lane_ring, m, 2, &out);
-        if (c.esc_yield) assert_true(out.u.v_mps >= 0.0 && out.u.w_radps == 0.0);
-    }
-    assert_true(c.esc_yield);
-    /* ... and backs itself once it has stood 2 s (BACK_WAIT_S) wedged
-     * with the higher id not backing (it cannot: its crumbs are its own) */
-    m[1].v = 0.0;
-    backed = 0.0;
-    for (t = drive_in(&c, &p, 3, &s0, goal_ahead); t < 10.0; t += DT) {
-        const double since = t - 3.0;
-        seen_step_enc(&c, t, DRIVE_IN_RAD, lane_ring, m, 2, &out);
-        if (c.esc_yield && since < 2.0) assert_true(out.u.v_mps >= 0.0);
-        if (out.u.v_mps < 0.0) backed += -out.u.v_mps * DT;
-    }
-    print_message("wedged, lower id, the higher not backing: backed %.2f m\n", backed);
-    assert_true(backed > p.back_max_m - 0.05 && backed < p.back_max_m + 0.05);
-    m[1].id = 4;
+    assert_true(wedged_backed(&c, &p, m, 7.0) == 0.0);
     /* the mate 0.9 m away: room to turn */
     m[1].y = 0.9;
     for (t = drive_in(&c, &p, 3, &s0, goal_ahead); t < 6.0; t += DT) {
@@ -986,7 +1069,8 @@ static void test_give_way_wedged(void **state)
 /* Backing out of a wedge goes back along the robot's own path, not
  * straight: a robot that drove in on a 0.6 m arc turning 0.8 rad (no
  * straight stretch anywhere: a straight trail would be 8 cm) and is
- * wedged beside a lower-id mate backs with its axle on that arc, turning
+ * wedged beside an outranking mate (giving way too, lower id) backs with
+ * its axle on that arc, turning
  * back along it, in closed loop (its commands drive its wheels), until the
  * mate is out of its turning circle (about 0.35 m here; at most
  * back_max_m); only then does it turn on the spot. */
@@ -1006,7 +1090,7 @@ static void test_wedge_backs_along_path(void **state)
      * lies on its centre's side of the tangent; rover_ctl_crumbs_clear
      * then says no, as test_give_way_wedged checks for a mate behind) */
     const double local[2][3] = { { 1.35, 0.0, VEC2_PI }, { 0.15, -0.45, 0.0 } };
-    hand_mate m[2] = { { 2, 0, 0, 0, FORMATION_ANN_LEAVE, 0.0 }, { 1, 0, 0, 0, FORMATION_ANN_NONE, 0.0 } };
+    hand_mate m[2] = { { 2, 0, 0, 0, FORMATION_ANN_LEAVE, 0.0 }, { 1, 0, 0, 0, FORMATION_ANN_GIVE_WAY, 0.0 } };
     double t, el = 0.0, er = 0.0, backed = 0.0, off_max = 0.0;
     int j, turned = 0;
     (void)state;
@@ -1512,6 +1596,212 @@ static void test_world_layout_and_clearance(void **state)
     assert_true(fabs(rover_obstacle_distance(&a.obst[0], 1.0, 0.0) + 0.3) < 1e-12);
 }
 
+/* ---- the priority order: no two robots ever wait on each other --------
+ * Random configurations of WN_MAX robots or fewer packed into a few
+ * square metres (so that most robots conflict with several), random
+ * headings, speeds, announcements (in formation, trapped, giving way)
+ * and walls near or not; each robot's team table holds what the others
+ * broadcast (rover_ctl_own_announce, their poses, seen by the camera).
+ * Each robot's wait set comes from the real rover_ctl_wait_set; the
+ * wait-for graph must be acyclic and the robot the order ranks first must
+ * wait for nobody. Control: one robot that believes itself in formation
+ * while its mates read LEAVE from it (a key not computed from the same
+ * data by everyone) does give cycles, which the check finds. */
+#define WN_MAX 12
+#define WAIT_TRIALS 400
+
+typedef struct {
+    int n;
+    int32_t id[WN_MAX];
+    int ann[WN_MAX];              /* what each broadcasts */
+    pose2 o[WN_MAX];
+    double v[WN_MAX], w[WN_MAX];
+    int walls[WN_MAX];
+} wait_config;
+
+static int ann_phase(int ann)
+{
+    return ann == FORMATION_ANN_LEAVE ? ROVER_ESC_FOLLOW
+         : ann == FORMATION_ANN_GIVE_WAY ? ROVER_ESC_CLEAR : ROVER_ESC_NONE;
+}
+
+static void wait_config_draw(wait_config *k, prng_state *r)
+{
+    static const int anns[3] = { FORMATION_ANN_NONE, FORMATION_ANN_LEAVE, FORMATION_ANN_GIVE_WAY };
+    int32_t pool[50];
+    int i;
+    for (i = 0; i < 50; i++) pool[i] = i + 1;
+    k->n = 2 + (int)(prng_uniform(r) * (WN_MAX - 1));
+    if (k->n > WN_MAX) k->n = WN_MAX;
+    for (i = 0; i < k->n; i++) {
+        const int pick = i + (int)(prng_uniform(r) * (50 - i));
+        const int32_t tmp = pool[i];
+        const double side_m = 1.0 + 0.35 * k->n;
+        pool[i] = pool[pick < 50 ? pick : 49];
+        pool[pick < 50 ? pick : 49] = tmp;
+        k->id[i] = pool[i];
+        k->ann[i] = anns[(int)(prng_uniform(r) * 3.0) % 3];
+        k->o[i].x_m = side_m * prng_uniform(r);
+        k->o[i].y_m = side_m * prng_uniform(r);
+        k->o[i].theta_rad = vec2_wrap_rad(2.0 * VEC2_PI * prng_uniform(r));
+        k->v[i] = prng_uniform(r) < 0.5 ? 0.0 : 0.5 * prng_uniform(r);
+        k->w[i] = prng_uniform(r) < 0.5 ? 0.0 : prng_uniform(r) - 0.5;
+        k->walls[i] = prng_uniform(r) < 0.7;
+    }
+}
+
+/* Robot i's controller as the configuration puts it; `self_ann`: the
+ * announcement it believes it makes (normally k->ann[i]). */
+static void wait_robot(rover_ctl_state *c, const wait_config *k, int i, int self_ann, double t)
+{
+    const double goal[2] = { 30.0, 0.0 };
+    rover_ctl_params p;
+    pose2 ax;
+    int j;
+    rover_ctl_params_default(&p);
+    unicycle_c_from_o(&ax, &k->o[i], p.beh.d_m);
+    assert_int_equal(rover_ctl_init(c, &p, k->id[i], &ax, goal), 0);
+    c->esc_phase = ann_phase(self_ann);
+    c->v_est_mps = k->v[i];
+    assert_int_equal(rover_ctl_own_announce(c), self_ann);
+    for (j = 0; j < k->n; j++) {
+        team_member msg;
+        const team_member *held;
+        if (j == i) continue;
+        memset(&msg, 0, sizeof msg);
+        msg.robot = k->id[j];
+        msg.x_m = k->o[j].x_m;
+        msg.y_m = k->o[j].y_m;
+        msg.theta_rad = k->o[j].theta_rad;
+        msg.v_mps = k->v[j];
+        msg.w_radps = k->w[j];
+        msg.formation = FORMATION_LINE;
+        msg.scale = 1.0;
+        msg.announce = k->ann[j];
+        msg.t_s = t;
+        assert_true(team_update(&c->team, &msg) >= 0);
+        held = team_find(&c->team, k->id[j]);
+        assert_non_null(held);
+        c->team.m[held - c->team.m].obs_t_s = t;      /* the camera sees it */
+    }
+}
+
+/* 1 if the directed graph (adj[a][b]: a waits for b) has a cycle. */
+static int wait_graph_cyclic(int n, int adj[WN_MAX][WN_MAX])
+{
+    int indeg[WN_MAX] = { 0 }, done = 0, a, b, progress = 1;
+    int gone[WN_MAX] = { 0 };
+    for (a = 0; a < n; a++)
+        for (b = 0; b < n; b++) indeg[b] += adj[a][b];
+    /* Kahn: peel nodes nobody waits on; a cycle is what is left */
+    while (progress) {
+        progress = 0;
+        for (a = 0; a < n; a++) {
+            if (gone[a] || indeg[a] != 0) continue;
+            gone[a] = 1;
+            done++;
+            progress = 1;
+            for (b = 0; b < n; b++) indeg[b] -= adj[a][b];
+        }
+    }
+    return done != n;
+}
+
+/* The wait-for graph of configuration k (robot `liar`, if >= 0, believes
+ * itself in formation); the number of edges in *edges. */
+static int wait_graph(const wait_config *k, int liar, int adj[WN_MAX][WN_MAX], int *edges)
+{
+    static rover_ctl_state c;
+    const double t = 1.0;
+    int i, j, q;
+    *edges = 0;
+    memset(adj, 0, sizeof(int) * WN_MAX * WN_MAX);
+    for (i = 0; i < k->n; i++) {
+        int32_t wait[TEAM_MAX];
+        sonar_groups gw;
+        int nw;
+        behaviour_sonar_groups(&gw, k->walls[i] ? lane_ring : open_ring);
+        wait_robot(&c, k, i, i == liar ? FORMATION_ANN_NONE : k->ann[i], t);
+        nw = rover_ctl_wait_set(&c, &k->o[i], &gw, t, wait);
+        for (q = 0; q < nw; q++)
+            for (j = 0; j < k->n; j++)
+                if (k->id[j] == wait[q]) {
+                    adj[i][j] = 1;
+                    (*edges)++;
+                }
+    }
+    return wait_graph_cyclic(k->n, adj);
+}
+
+static void test_wait_for_graph_acyclic(void **state)
+{
+    prng_state r;
+    wait_config k;
+    int adj[WN_MAX][WN_MAX], trial, edges, total = 0, most = 0, liar_cycles = 0;
+    (void)state;
+    prng_seed(&r, 2025);
+    for (trial = 0; trial < WAIT_TRIALS; trial++) {
+        int i, top = 0, j;
+        wait_config_draw(&k, &r);
+        assert_false(wait_graph(&k, -1, adj, &edges));
+        total += edges;
+        if (edges > most) most = edges;
+        for (i = 1; i < k.n; i++)
+            if (rover_ctl_outranks(k.ann[i], k.id[i], k.ann[top], k.id[top])) top = i;
+        for (j = 0; j < k.n; j++) assert_int_equal(adj[top][j], 0);
+        /* control: a robot trapped in its mates' tables that ranks itself in formation */
+        for (i = 0; i < k.n; i++)
+            if (k.ann[i] == FORMATION_ANN_LEAVE && wait_graph(&k, i, adj, &edges)) {
+                liar_cycles++;
+                break;
+            }
+    }
+    print_message("%d configurations of 2-%d robots: %d wait edges (at most %d in one), no cycle; "
+                  "control with an inconsistent key: %d cyclic\n", WAIT_TRIALS, WN_MAX, total, most,
+                  liar_cycles);
+    assert_true(total > WAIT_TRIALS);           /* robots did wait: the check had work */
+    assert_true(liar_cycles > 0);               /* and it finds a cycle where there is one */
+}
+
+/* The escape's state table: the one flown passes; a copy with any field of
+ * any row made wrong, one at a time, is refused. */
+static void test_escape_table_validate(void **state)
+{
+    rover_esc_row t[ROVER_ESC_COUNT];
+    int k, f, refused = 0, tried = 0;
+    (void)state;
+    assert_int_equal(rover_esc_table_validate(rover_esc_table, ROVER_ESC_COUNT), ROVER_CTL_OK);
+    assert_int_equal(rover_esc_table_validate(NULL, ROVER_ESC_COUNT), ROVER_CTL_ERR_ARG);
+    assert_int_equal(rover_esc_table_validate(rover_esc_table, ROVER_ESC_COUNT - 1), ROVER_CTL_ERR_ARG);
+    for (k = 0; k < ROVER_ESC_COUNT; k++)
+        for (f = 0; f < 7; f++) {
+            memcpy(t, rover_esc_table, sizeof t);
+            switch (f) {
+            case 0: t[k].phase = (k + 1) % ROVER_ESC_COUNT; break;          /* out of order */
+            case 1: t[k].announce = k == ROVER_ESC_NONE ? FORMATION_ANN_LEAVE
+                                  : FORMATION_ANN_NONE; break;            /* not out of formation */
+            case 2: t[k].mode = t[k].mode == ROVER_MODE_CHANGING ? ROVER_MODE_DEAD_ZONE
+                              : ROVER_MODE_CHANGING; break;               /* mode against announcement */
+            case 3: t[k].fly = k == ROVER_ESC_NONE ? ROVER_ESC_FLY_FOLLOW : ROVER_ESC_FLY_BLEND; break;
+            case 4: t[k].limit = 7; break;
+            case 5: t[k].next = ROVER_ESC_COUNT; break;                   /* out of range */
+            default: t[k].on_limit = -1; break;
+            }
+            tried++;
+            if (rover_esc_table_validate(t, ROVER_ESC_COUNT) != ROVER_CTL_OK) refused++;
+        }
+    assert_int_equal(refused, tried);
+    /* a phase whose exits never lead back to NONE: FOLLOW -> CLEAR -> FOLLOW */
+    memcpy(t, rover_esc_table, sizeof t);
+    t[ROVER_ESC_FOLLOW].next = ROVER_ESC_CLEAR;
+    t[ROVER_ESC_CLEAR].next = ROVER_ESC_FOLLOW;
+    assert_int_equal(rover_esc_table_validate(t, ROVER_ESC_COUNT), ROVER_CTL_ERR_ARG);
+    /* a limit on a row that has none to run out */
+    memcpy(t, rover_esc_table, sizeof t);
+    t[ROVER_ESC_TURN].on_limit = ROVER_ESC_FOLLOW;
+    assert_int_equal(rover_esc_table_validate(t, ROVER_ESC_COUNT), ROVER_CTL_ERR_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1529,8 +1819,11 @@ int main(void)
         cmocka_unit_test(test_hold_while_trapped_mate_turns),
         cmocka_unit_test(test_queue_behind_standing_mate),
         cmocka_unit_test(test_queue_behind_closing_mate),
+        cmocka_unit_test(test_no_command_sweeps_into_mate),
         cmocka_unit_test(test_wedge_turns_clear_way),
         cmocka_unit_test(test_give_way_wedged),
+        cmocka_unit_test(test_wait_for_graph_acyclic),
+        cmocka_unit_test(test_escape_table_validate),
         cmocka_unit_test(test_wedge_backs_along_path),
         cmocka_unit_test(test_deadzone_team),
         cmocka_unit_test(test_escape_timeout_and_lost_wall),
