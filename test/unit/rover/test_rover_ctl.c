@@ -1721,7 +1721,8 @@ static int wait_graph(const wait_config *k, int liar, int adj[WN_MAX][WN_MAX], i
         sonar_groups gw;
         int nw;
         behaviour_sonar_groups(&gw, k->walls[i] ? lane_ring : open_ring);
-        wait_robot(&c, k, i, i == liar ? FORMATION_ANN_NONE : k->ann[i], t);
+        const int lies = liar >= 0 && i == liar;   /* liar -1: nobody */
+        wait_robot(&c, k, i, lies ? FORMATION_ANN_NONE : k->ann[i], t);
         nw = rover_ctl_wait_set(&c, &k->o[i], &gw, t, wait);
         for (q = 0; q < nw; q++)
             for (j = 0; j < k->n; j++)
