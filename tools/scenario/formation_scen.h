@@ -52,6 +52,7 @@ typedef struct fm_state {
     long   seed;
     double max_time_s;                 /* --max-time; 0: fm_time_limit_s of the way */
     double way_m;                      /* fm_way_length_m of the layout (NAN: no way found) */
+    double passage_m;                  /* fm_passage_width_m of the layout */
     int    kill_id;
     double kill_t_s;
     scenario_fault faults[SCENARIO_MAX_FAULTS];   /* --fault kill:roverK:T[:R] */
@@ -193,9 +194,10 @@ void fm_on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_tr
 /* formation_report.c */
 /* Appends the failed success criteria to buf; returns how many failed. */
 int  fm_criteria(const fm_state *fm, char *buf, size_t cap);
-/* The narrowest passage (not a dead end) narrower than need_m on the
- * straight way start -> goal (m); 10 if none. */
-double fm_passage_width_m(const rover_world_config *w, double need_m);
+/* The widest way's bottleneck from the start to the goal (m): twice the
+ * largest clearance a disc keeps on some way; 10 when 5 m is kept, 0 when
+ * not even the robot body finds a way. */
+double fm_passage_width_m(const rover_world_config *w);
 /* Width the team's formation needs (formation width + the FSM's margin). */
 double fm_needed_width_m(const fm_state *fm);
 /* The run's time limit follows from the way (--max-time not given):

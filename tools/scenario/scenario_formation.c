@@ -251,6 +251,7 @@ static int setup(fm_state *fm)
     }
     if (world_opts_layout(&fm->layout, &fm->wopt, fm->robots, 1.0, fm->formation, "formation") != 0) return 2;
     fm->way_m = fm_way_length_m(&fm->layout);
+    fm->passage_m = fm_passage_width_m(&fm->layout);
     if (fm->max_time_s == -1.0) fm->max_time_s = fm_time_limit_s(fm->way_m);
     if (scenario_mkdir(fm->out) != 0) return 1;
     if (fm_keep_world(fm) != 0) return 1;
