@@ -200,6 +200,8 @@ int  fm_criteria(const fm_state *fm, char *buf, size_t cap);
 double fm_passage_width_m(const rover_world_config *w);
 /* Width the team's formation needs (formation width + the FSM's margin). */
 double fm_needed_width_m(const fm_state *fm);
+/* The start formation's width without that margin: below it a change is demanded. */
+double fm_formation_width_m(const fm_state *fm);
 /* The run's time limit follows from the way (--max-time not given):
  * FM_TIME_BASE_S for the start, the formation changes and one escape,
  * plus the way at FM_TIME_SPEED_MPS (the speed a team keeps while it
