@@ -102,7 +102,7 @@ static int bare_exchange(lcm_t *l, int state_size, int clock_size, int cmd_size,
     } while (0)
 
 /* tandem path: ARM1_STATE + SIM_CLOCK to tandem-arm, wait for ARM1_COMMAND. */
-static int tandem_exchange(lcm_t *l, int signed_msgs, tandem_arm_state_t *st, tandem_sim_clock_t *clk, int i,
+static int tandem_exchange(auth_bus *bus, lcm_t *l, int signed_msgs, tandem_arm_state_t *st, tandem_sim_clock_t *clk, int i,
                            loopstats *s)
 {
     int64_t t0;
@@ -113,8 +113,8 @@ static int tandem_exchange(lcm_t *l, int signed_msgs, tandem_arm_state_t *st, ta
     got = 0;
     t0 = rtloop_now_ns();
     if (signed_msgs) {
-        AUTH_PUBLISH(tandem_arm_state_t, l, "ARM1_STATE", st);
-        AUTH_PUBLISH(tandem_sim_clock_t, l, "SIM_CLOCK", clk);
+        AUTH_PUBLISH(tandem_arm_state_t, bus, l, "ARM1_STATE", st);
+        AUTH_PUBLISH(tandem_sim_clock_t, bus, l, "SIM_CLOCK", clk);
     } else {
         PUBLISH_PLAIN(tandem_arm_state_t, l, "ARM1_STATE", st);
         PUBLISH_PLAIN(tandem_sim_clock_t, l, "SIM_CLOCK", clk);
@@ -329,23 +329,24 @@ int main(int argc, char **argv)
     tandem_arm_command_t cmd0;
     loopstats bare, plain, authed;
     auth_child_keys keys;
+    static auth_bus bus;   /* this process's (the simulator's) side of the bus */
     int i, state_size, cmd_size, clock_size;
     snprintf(url_ins, sizeof url_ins, "udpm://239.255.76.67:%d?ttl=0", 40000 + (int)(getpid() % 10000));
     snprintf(url_sec, sizeof url_sec, "udpm://239.255.76.67:%d?ttl=0", 50000 + (int)(getpid() % 10000));
-    auth_child_keys_init(&keys);
+    auth_child_keys_init(&keys, &bus);
     if (auth_bus_ephemeral_key(key, sizeof key) != 0)
         return 1;
     /* a cell of three rovers; this process is its simulator and holds the
      * simulator's role file, as tandem-sim does under tandem-run */
-    auth_bus_roster(3);
+    auth_bus_roster(&bus, 3);
     {
         const char *const sim_argv[] = { "tandem-sim", NULL };
         if (auth_child_key(&keys, sim_argv, sim_key, sizeof sim_key) != AUTH_CHILD_OK ||
-            auth_bus_option("bench_roundtrip", OPT_KEY_FILE, sim_key) != 1)
+            auth_bus_option(&bus, "bench_roundtrip", OPT_KEY_FILE, sim_key) != 1)
             return 1;
     }
-    auth_bus_identity(AUTH_ROLE_SIM, 0, 0);
-    if (auth_bus_start("bench_roundtrip") != 0)
+    auth_bus_identity(&bus, AUTH_ROLE_SIM, 0, 0);
+    if (auth_bus_start(&bus, "bench_roundtrip") != 0)
         return 1;
     memset(&st, 0, sizeof st);
     st.arm = 1;
@@ -377,7 +378,7 @@ int main(int argc, char **argv)
     l_sec = lcm_create(url_sec);
     lcm_subscribe(l_ins, "BENCH_PONG", on_any, NULL);
     lcm_subscribe(l_ins, "ARM1_COMMAND", on_any, NULL);
-    auth_bus_subscribe(l_sec, "ARM1_COMMAND", on_any, NULL);   /* checked, as the simulator does */
+    auth_bus_subscribe(&bus, l_sec, "ARM1_COMMAND", on_any, NULL);   /* checked, as the simulator does */
     { struct timespec ts = { 0, 300000000L }; nanosleep(&ts, NULL); }
     loopstats_reset(&bare);
     loopstats_reset(&plain);
@@ -405,11 +406,11 @@ int main(int argc, char **argv)
                 if (bad) fprintf(stderr, "bench: no echo\n");
                 break;
             case 1:
-                bad = tandem_exchange(l_ins, 0, &st, &clk, i, k >= 0 ? &blk[1] : NULL) != 0;
+                bad = tandem_exchange(&bus, l_ins, 0, &st, &clk, i, k >= 0 ? &blk[1] : NULL) != 0;
                 if (bad) fprintf(stderr, "bench: no command from tandem-arm --insecure\n");
                 break;
             default:
-                bad = tandem_exchange(l_sec, 1, &st, &clk, i, k >= 0 ? &blk[2] : NULL) != 0;
+                bad = tandem_exchange(&bus, l_sec, 1, &st, &clk, i, k >= 0 ? &blk[2] : NULL) != 0;
                 if (bad) fprintf(stderr, "bench: no command from tandem-arm (authenticated)\n");
                 break;
             }

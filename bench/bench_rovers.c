@@ -100,7 +100,7 @@ static void lockstep_system(int n, double sim_s, const char *bin, int batch)
     snprintf(steps_s, sizeof steps_s, "%ld", (long)llround(sim_s / SIM_DT_S));
     snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0&recv_buf_size=4194304",
              20000 + (int)(getpid() % 10000));
-    proc_init(&ps, bin);
+    proc_init(&ps, NULL, bin);
     w0 = wall_s();
     if (proc_spawn(&ps, rover, url, "/dev/null", "/dev/null") < 0 ||
         (sim_pid = proc_spawn(&ps, sim, url, "/dev/null", "/dev/null")) < 0) {

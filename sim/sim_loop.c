@@ -113,7 +113,7 @@ static void publish_clock(sim_app *app)
     c.mode = app->w.lockstep ? TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP : TANDEM_SIM_CLOCK_T_MODE_REALTIME;
     c.paused = (int8_t)app->w.paused;
     c.seed = (int64_t)app->w.seed;
-    AUTH_PUBLISH(tandem_sim_clock_t, app->w.lcm, "SIM_CLOCK", &c);
+    AUTH_PUBLISH(tandem_sim_clock_t, &app->w.d.bus, app->w.lcm, "SIM_CLOCK", &c);
 }
 
 void sim_publish_status(sim_app *app)
@@ -136,7 +136,7 @@ void sim_publish_status(sim_app *app)
     for (i = 0; i < app->n_models; i++)
         if (app->models[i].ops->status)
             app->models[i].ops->status(app->models[i].state, &app->w, &s);
-    AUTH_PUBLISH(tandem_sim_status_t, app->w.lcm, "SIM_STATUS", &s);
+    AUTH_PUBLISH(tandem_sim_status_t, &app->w.d.bus, app->w.lcm, "SIM_STATUS", &s);
 }
 
 /* ---- the step ------------------------------------------------------------- */

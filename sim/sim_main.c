@@ -215,7 +215,7 @@ int main(int argc, char **argv)
     int status = 0;
     if (setup(app, argc, argv, &status) != 0)
         return status;
-    auth_bus_identity(AUTH_ROLE_SIM, 0, 0);
+    auth_bus_identity(&app->w.d.bus, AUTH_ROLE_SIM, 0, 0);
     app->w.d.keep_lcm = 1;   /* sim_world and the rover models keep copies of the handle and subscriptions */
     if (daemon_start(&app->w.d) != 0)
         return 1;

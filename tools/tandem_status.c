@@ -297,7 +297,7 @@ AUTH_TYPED_HANDLER(tandem_rover_state_t, raw_on_rover, on_rover)
 AUTH_TYPED_HANDLER(tandem_rovers_state_t, raw_on_rovers, on_rovers)
 
 typedef struct status_options {
-    const char *url;
+    options_bus net;                  /* --lcm-url, --key-file, --insecure */
     double every_s, behind_ratio;
     int loops;
     const char *heartbeat_dir;
@@ -321,7 +321,8 @@ static const option_entry status_table[] = {
 
 int main(int argc, char **argv)
 {
-    status_options o = { NULL, 1.0, 0.9, 0, NULL };
+    auth_bus bus;
+    status_options o = { { NULL, &bus }, 1.0, 0.9, 0, NULL };
     const option_program prog = {
         .name = "tandem-status",
         .usage = "usage: tandem-status [--lcm-url URL] [--every S] [--behind R] [--loops] [--key-file PATH | --insecure]\n"
@@ -330,7 +331,7 @@ int main(int argc, char **argv)
                  "workpieces delivered, rovers at the goal. Prints a WARNING line when the\n"
                  "simulation falls behind real time, a daemon holds safe or goes silent, runs\n"
                  "--insecure, or refuses unauthenticated messages.\n\n",
-        .groups = { { options_bus_tool, &o.url }, { status_table, &o } }, .n_groups = 2,
+        .groups = { { options_bus_tool, &o.net }, { status_table, &o } }, .n_groups = 2,
     };
     const char *url;
     double every, next;
@@ -338,26 +339,27 @@ int main(int argc, char **argv)
     lcm_t *lcm;
     S.behind_warned_s = -1.0;
     memset(S.rover_mode, -1, sizeof S.rover_mode);
+    auth_bus_init(&bus);
     rc = options_parse(&prog, argc, argv, 1);
     if (rc < 0)
         return options_exit_status(rc);
-    url = o.url;
+    url = o.net.url;
     every = o.every_s;
     S.behind_ratio = o.behind_ratio;
     S.loops = o.loops;
-    auth_bus_identity(AUTH_ROLE_MONITOR, 0, 0);   /* reads only: a monitor's key file is enough */
-    if (auth_bus_start("tandem-status") != 0)
+    auth_bus_identity(&bus, AUTH_ROLE_MONITOR, 0, 0);   /* reads only: a monitor's key file is enough */
+    if (auth_bus_start(&bus, "tandem-status") != 0)
         return 1;
     if (!(lcm = lcm_create(url))) {
         fprintf(stderr, "tandem-status: cannot open LCM\n");
         return 1;
     }
-    auth_bus_subscribe(lcm, "HEALTH_.*", raw_on_health, (void *)o.heartbeat_dir);
-    auth_bus_subscribe(lcm, "SIM_STATUS", raw_on_sim, NULL);
-    auth_bus_subscribe(lcm, "ARM_EVENTS", raw_on_event, NULL);
-    auth_bus_subscribe(lcm, "PETRI_MARKING", raw_on_marking, NULL);
-    auth_bus_subscribe(lcm, "ROVER[0-9]+_STATE", raw_on_rover, NULL);
-    auth_bus_subscribe(lcm, "ROVERS_STATE", raw_on_rovers, NULL);
+    auth_bus_subscribe(&bus, lcm, "HEALTH_.*", raw_on_health, (void *)o.heartbeat_dir);
+    auth_bus_subscribe(&bus, lcm, "SIM_STATUS", raw_on_sim, NULL);
+    auth_bus_subscribe(&bus, lcm, "ARM_EVENTS", raw_on_event, NULL);
+    auth_bus_subscribe(&bus, lcm, "PETRI_MARKING", raw_on_marking, NULL);
+    auth_bus_subscribe(&bus, lcm, "ROVER[0-9]+_STATE", raw_on_rover, NULL);
+    auth_bus_subscribe(&bus, lcm, "ROVERS_STATE", raw_on_rovers, NULL);
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
     next = wall_s() + every;

@@ -19,7 +19,7 @@
 #define STATUS_AFTER_S 0.25     /* a status this long after a send has seen it */
 
 typedef struct stick_options {
-    const char *url;
+    options_bus net;            /* --lcm-url, --key-file, --insecure */
     long   arm, link;
     double length_m, radius_m;
     double timeout_s;
@@ -49,13 +49,13 @@ AUTH_TYPED_HANDLER(tandem_sim_status_t, raw_on_status, on_status)
 
 /* Sends m until a SIM_STATUS from after a send shows the stick as asked:
  * 0, or 1 when timeout_s passed first (0: sent once, not waited for). */
-static int send_until_seen(lcm_t *lcm, const tandem_sim_control_t *m, int want, double timeout_s)
+static int send_until_seen(auth_bus *bus, lcm_t *lcm, const tandem_sim_control_t *m, int want, double timeout_s)
 {
     stick_seen seen = { 0, -1.0 };
     const double t0 = now_s();
     double sent = -1.0;
     int tries = 0;
-    auth_bus_subscribe(lcm, "SIM_STATUS", raw_on_status, &seen);
+    auth_bus_subscribe(bus, lcm, "SIM_STATUS", raw_on_status, &seen);
     for (;;) {
         const double t = now_s();
         if (sent >= 0.0 && seen.rx_s >= sent + STATUS_AFTER_S && seen.inserted == want)
@@ -63,7 +63,7 @@ static int send_until_seen(lcm_t *lcm, const tandem_sim_control_t *m, int want, 
         if (timeout_s > 0.0 && t - t0 > timeout_s)
             break;
         if (sent < 0.0 || t - sent > RESEND_S) {
-            if (AUTH_PUBLISH(tandem_sim_control_t, lcm, "SIM_CONTROL", m) != 0)
+            if (AUTH_PUBLISH(tandem_sim_control_t, bus, lcm, "SIM_CONTROL", m) != 0)
                 return 1;
             if (tries++ > 0)
                 fprintf(stderr, "tandem-stick: not shown by the simulator yet: sent again\n");
@@ -96,7 +96,8 @@ static const option_entry stick_table[] = {
 
 int main(int argc, char **argv)
 {
-    stick_options o = { NULL, 0, 0, 0.6, 0.02, 5.0 };
+    auth_bus bus;
+    stick_options o = { { NULL, &bus }, 0, 0, 0.6, 0.02, 5.0 };
     const option_program prog = {
         .name = "tandem-stick",
         .usage = "usage: tandem-stick insert --arm 1|2 --link 1..6 [--length M] [--radius R] [--lcm-url URL]\n"
@@ -107,7 +108,7 @@ int main(int argc, char **argv)
                  "again until the simulator shows it (--timeout).\n\n",
         .epilog = "Exit status: 0 shown by the simulator (or sent, --timeout 0), 1 LCM or key error or not\n"
                   "shown within --timeout, 2 bad arguments.\n",
-        .groups = { { stick_table, &o }, { options_bus_tool, &o.url } }, .n_groups = 2,
+        .groups = { { stick_table, &o }, { options_bus_tool, &o.net } }, .n_groups = 2,
     };
     if (version_requested(argc, argv, "tandem-stick"))
         return 0;
@@ -127,10 +128,11 @@ int main(int argc, char **argv)
         return 2;
     }
     insert = !strcmp(argv[1], "insert");
+    auth_bus_init(&bus);
     rc = options_parse(&prog, argc, argv, 2);
     if (rc < 0)
         return options_exit_status(rc);
-    url = o.url;
+    url = o.net.url;
     arm = o.arm;
     link = o.link;
     length = o.length_m;
@@ -143,8 +145,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "tandem-stick: remove takes no --arm/--link (there is one stick)\n");
         return 2;
     }
-    auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);
-    if (auth_bus_start("tandem-stick") != 0)
+    auth_bus_identity(&bus, AUTH_ROLE_TOOL, 0, 0);
+    if (auth_bus_start(&bus, "tandem-stick") != 0)
         return 1;
     lcm = lcm_create(url);
     if (!lcm) {
@@ -158,7 +160,7 @@ int main(int argc, char **argv)
     m.link = (int32_t)link;
     m.length_m = insert ? length : 0.0;
     m.radius_m = insert ? radius : 0.0;
-    if (send_until_seen(lcm, &m, insert, o.timeout_s) != 0) {
+    if (send_until_seen(&bus, lcm, &m, insert, o.timeout_s) != 0) {
         lcm_destroy(lcm);
         return 1;
     }

@@ -449,7 +449,7 @@ static void publish_state(sim_arms *arms, sim_world *w, int k)
     sim_arm_tool(a, s.tool_position_m, NULL);
     s.gripper_closed = (int8_t)a->gripper_closed;
     s.holding_workpiece = a->holding;
-    AUTH_PUBLISH(tandem_arm_state_t, w->lcm, state_channel[k], &s);
+    AUTH_PUBLISH(tandem_arm_state_t, &w->d.bus, w->lcm, state_channel[k], &s);
 }
 
 static void arms_after_step(void *model, sim_world *w)

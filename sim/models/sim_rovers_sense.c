@@ -111,15 +111,15 @@ static void publish_sensors(sim_rovers *team, sim_world *w)
         BATCH_HEADER(b, team->batch_seq[0]++, utime, w->step, n);
         b.sensors = s;
         b.sonar = m;
-        AUTH_PUBLISH(tandem_rovers_sensors_t, w->lcm, "ROVERS_SENSORS", &b);
+        AUTH_PUBLISH(tandem_rovers_sensors_t, &w->d.bus, w->lcm, "ROVERS_SENSORS", &b);
         return;
     }
     for (i = 0; i < n; i++) {
         char ch[32];
         snprintf(ch, sizeof ch, "ROVER%d_SENSORS", s[i].robot);
-        AUTH_PUBLISH(tandem_rover_sensors_t, w->lcm, ch, &s[i]);
+        AUTH_PUBLISH(tandem_rover_sensors_t, &w->d.bus, w->lcm, ch, &s[i]);
         snprintf(ch, sizeof ch, "ROVER%d_SONAR", s[i].robot);
-        AUTH_PUBLISH(tandem_sonar_scan_t, w->lcm, ch, &m[i]);
+        AUTH_PUBLISH(tandem_sonar_scan_t, &w->d.bus, w->lcm, ch, &m[i]);
     }
 }
 
@@ -192,13 +192,13 @@ static void publish_beacons(sim_rovers *team, sim_world *w, int fresh)
         tandem_rovers_beacons_t b;
         BATCH_HEADER(b, team->batch_seq[1]++, utime, w->step, *n);
         b.obs = m;
-        AUTH_PUBLISH(tandem_rovers_beacons_t, w->lcm, "ROVERS_BEACONS", &b);
+        AUTH_PUBLISH(tandem_rovers_beacons_t, &w->d.bus, w->lcm, "ROVERS_BEACONS", &b);
         return;
     }
     for (i = 0; i < *n; i++) {
         char ch[32];
         snprintf(ch, sizeof ch, "ROVER%d_BEACONS", m[i].observer);
-        AUTH_PUBLISH(tandem_beacon_obs_t, w->lcm, ch, &m[i]);
+        AUTH_PUBLISH(tandem_beacon_obs_t, &w->d.bus, w->lcm, ch, &m[i]);
     }
 }
 
@@ -232,7 +232,7 @@ static void publish_truth(sim_rovers *team, sim_world *w)
     m.n = (int16_t)team->n;
     m.robot = id; m.x_m = x; m.y_m = y; m.theta_rad = th;
     m.min_clearance_m = cl; m.collisions = col; m.alive = al;
-    AUTH_PUBLISH(tandem_rover_truth_t, w->lcm, "ROVER_TRUTH", &m);
+    AUTH_PUBLISH(tandem_rover_truth_t, &w->d.bus, w->lcm, "ROVER_TRUTH", &m);
 }
 
 void sim_rovers_after_step(void *model, sim_world *w)

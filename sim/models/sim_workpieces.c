@@ -384,7 +384,7 @@ static void publish_vision(sim_workpieces *m, sim_world *w, int fresh)
     msg.step = w->step;
     msg.n = (int16_t)n;
     msg.workpieces = det;
-    AUTH_PUBLISH(tandem_workpiece_detections_t, w->lcm, "VISION_DETECTIONS", &msg);
+    AUTH_PUBLISH(tandem_workpiece_detections_t, &w->d.bus, w->lcm, "VISION_DETECTIONS", &msg);
 }
 
 static void wp_after_step(void *model, sim_world *w)

@@ -524,27 +524,30 @@ static void capture(const lcm_recv_buf_t *rb, const char *ch, void *u)
 static void test_receive_path_counts_every_refusal(void **state)
 {
     char path[600];
-    const auth_bus_counts *c = auth_bus_counts_get();
+    auth_bus bus;
+    const auth_bus_counts *c;
     tandem_sim_control_t m;
     tandem_arm_command_t cmd;
     uint8_t plain[256];
     int n;
     lcm_t *lcm;
     (void)state;
+    auth_bus_init(&bus);
+    c = auth_bus_counts_get(&bus);
     assert_int_equal(auth_bus_ephemeral_key(path, sizeof path), 0);
-    auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);
-    assert_int_equal(auth_bus_start("test_auth"), 0);
-    assert_int_equal(auth_bus_secure(), 1);
+    auth_bus_identity(&bus, AUTH_ROLE_TOOL, 0, 0);
+    assert_int_equal(auth_bus_start(&bus, "test_auth"), 0);
+    assert_int_equal(auth_bus_secure(&bus), 1);
     lcm = lcm_create("memq://");
     assert_non_null(lcm);
     /* two checked subscriptions see one message: checked once, not a replay */
-    auth_bus_subscribe(lcm, "SIM_CONTROL", on_a, NULL);
-    auth_bus_subscribe(lcm, "SIM_CONTROL", on_b, NULL);
-    auth_bus_subscribe(lcm, "ARM1_COMMAND", on_b, NULL);
+    auth_bus_subscribe(&bus, lcm, "SIM_CONTROL", on_a, NULL);
+    auth_bus_subscribe(&bus, lcm, "SIM_CONTROL", on_b, NULL);
+    auth_bus_subscribe(&bus, lcm, "ARM1_COMMAND", on_b, NULL);
     lcm_subscribe(lcm, "SIM_CONTROL", capture, NULL);
     memset(&m, 0, sizeof m);
     m.command = TANDEM_SIM_CONTROL_T_QUIT;
-    assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, lcm, "SIM_CONTROL", &m), 0);
+    assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, &bus, lcm, "SIM_CONTROL", &m), 0);
     lcm_handle(lcm);
     assert_int_equal(got_a, 1);
     assert_int_equal(got_b, 1);
@@ -566,12 +569,12 @@ static void test_receive_path_counts_every_refusal(void **state)
     /* signed with the key, by a sender the table does not allow there (a tool
      * is not arm 1) */
     memset(&cmd, 0, sizeof cmd);
-    assert_int_equal(AUTH_PUBLISH(tandem_arm_command_t, lcm, "ARM1_COMMAND", &cmd), 0);
+    assert_int_equal(AUTH_PUBLISH(tandem_arm_command_t, &bus, lcm, "ARM1_COMMAND", &cmd), 0);
     lcm_handle(lcm);
     assert_int_equal(c->unauthorised, 1);
     assert_int_equal(got_a, 1);   /* no handler saw anything refused */
     assert_int_equal(got_b, 1);
-    assert_int_equal(auth_bus_rejected_total(), 4);
+    assert_int_equal(auth_bus_rejected_total(&bus), 4);
     lcm_destroy(lcm);
 }
 

@@ -22,27 +22,25 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static int harness_key(void)
+/* The test's key, made once per process; then h's bus on it. */
+static int harness_key(harness *h)
 {
     static int ready;
     char path[600];
-    if (ready)
-        return 0;
-    if (auth_bus_ephemeral_key(path, sizeof path) != 0)
-        return -1;
-    auth_bus_sign_as_owner(1);
-    if (auth_bus_start("harness") != 0)
+    if (!ready && auth_bus_ephemeral_key(path, sizeof path) != 0)
         return -1;
     ready = 1;
-    return 0;
+    auth_bus_init(&h->bus);
+    auth_bus_sign_as_owner(&h->bus, 1);
+    return auth_bus_start(&h->bus, "harness") != 0 ? -1 : 0;
 }
 
 int harness_open(harness *h, int port_offset)
 {
     memset(h, 0, sizeof *h);
-    if (harness_key() != 0)
+    if (harness_key(h) != 0)
         return -1;
-    proc_init(&h->procs, NULL);
+    proc_init(&h->procs, &h->bus, NULL);
     snprintf(h->url, sizeof h->url, "udpm://239.255.76.67:%d?ttl=0",
              20000 + (int)(getpid() % 20000) + port_offset);
     h->lcm = lcm_create(h->url);
@@ -206,7 +204,7 @@ AUTH_TYPED_HANDLER(tandem_health_t, raw_on_health, on_health)
 
 void harness_watch_health(harness *h)
 {
-    auth_bus_subscribe(h->lcm, "HEALTH_.*", raw_on_health, h);
+    auth_bus_subscribe(&h->bus, h->lcm, "HEALTH_.*", raw_on_health, h);
 }
 
 harness_health harness_health_of(harness *h, const char *name)
@@ -250,7 +248,7 @@ int harness_sh(const char *fmt, ...)
 
 void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps)
 {
-    lockstep_ack(h->lcm, name, 0, step, period_steps, 0);
+    lockstep_ack(&h->bus, h->lcm, name, 0, step, period_steps, 0);
 }
 
 /* unshare(2) is declared only under _GNU_SOURCE, which would also declare
@@ -292,7 +290,7 @@ void harness_send_joint_row(harness *h, int arm, int action_id, const double q[6
     row.n_segments = 1;
     row.segments = &seg;
     snprintf(ch, sizeof ch, "ARM%d_ACTION", arm);
-    AUTH_PUBLISH(tandem_action_row_t, h->lcm, ch, &row);
+    AUTH_PUBLISH(tandem_action_row_t, &h->bus, h->lcm, ch, &row);
 }
 
 int harness_slurp(const char *path, char *buf, int cap)
@@ -375,7 +373,7 @@ int harness_run_output(const char *const argv[], double timeout_s, char *buf, in
     pid_t pid;
     int st = -1, i;
     struct timespec ts = { 0, 50000000L };
-    proc_init(&ps, NULL);
+    proc_init(&ps, NULL, NULL);
     pid = proc_spawn(&ps, argv, NULL, NULL, NULL);
     if (pid <= 0)
         return -1;

@@ -21,6 +21,8 @@ typedef struct harness_health {
 typedef struct harness {
     char     url[96];
     lcm_t   *lcm;
+    auth_bus bus;            /* the test's side of the secure bus: it signs as each
+                                channel's owner (auth_bus_sign_as_owner) */
     proc_set procs;          /* the daemons under test (src/daemons/common/proc.h) */
     harness_health health[HARNESS_MAX_HEALTH];   /* harness_watch_health */
     int      n_health;
@@ -29,8 +31,9 @@ typedef struct harness {
 /* Private udpm port per test process so parallel tests never cross-talk.
  * The first call also makes a bus key for this test alone
  * (auth_bus_ephemeral_key: the daemons it starts inherit it through
- * $TANDEM_KEY_FILE) and lets the test sign every message as its channel's
- * owner, as the daemons it stands in for would. */
+ * $TANDEM_KEY_FILE); every call starts h->bus on it, signing every message
+ * as its channel's owner, as the daemons it stands in for would. h stays
+ * where it is until harness_close (subscriptions point into h->bus). */
 int   harness_open(harness *h, int port_offset);
 /* argv[0] is a program name under build/bin (e.g. "tandem-sim"); NULL-terminated.
  * stdout of the child is captured (read with harness_read_output). */

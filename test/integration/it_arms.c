@@ -125,7 +125,7 @@ static void test_rne_open_loop_tracks_within_1deg(void **state)
         c.step = k;
         c.mode = TANDEM_ARM_COMMAND_T_MODE_TORQUE;
         memcpy(c.tau_Nm, tau, sizeof tau);
-        AUTH_PUBLISH(tandem_arm_command_t, h.lcm, "ARM1_COMMAND", &c);
+        AUTH_PUBLISH(tandem_arm_command_t, &h.bus, h.lcm, "ARM1_COMMAND", &c);
         harness_ack(&h, "it_arms", k, 1);
         k = next_step(&h);
         assert_true(k >= 0);

@@ -45,7 +45,7 @@ static void test_short_carry_with_blocks(void **state)
     struct timespec ts = { 0, 50000000L };
     FILE *f;
     (void)state;
-    proc_init(&ps, NULL);
+    proc_init(&ps, NULL, NULL);
     pid = proc_spawn(&ps, argv, NULL, NULL, NULL);
     assert_true(pid > 0);
     for (i = 0; i < 2400 && proc_poll(&ps, pid, &st) == 0; i++)
@@ -109,7 +109,7 @@ static void test_stall_stops_the_run_exit_3(void **state)
     struct timespec ts = { 0, 50000000L };
     (void)state;
     snprintf(out, sizeof out, "%s_stall", dir);
-    proc_init(&ps, NULL);
+    proc_init(&ps, NULL, NULL);
     pid = proc_spawn(&ps, argv, NULL, NULL, NULL);
     assert_true(pid > 0);
     for (i = 0; i < 1200 && proc_poll(&ps, pid, &st) == 0; i++)

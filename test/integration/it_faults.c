@@ -109,9 +109,9 @@ static void send_forged_steps(harness *h)
     c.step = INT64_MAX;
     c.mode = TANDEM_ARM_COMMAND_T_MODE_TORQUE;
     c.tau_Nm[0] = 40.0;
-    AUTH_PUBLISH(tandem_arm_command_t, h->lcm, "ARM2_COMMAND", &c);
+    AUTH_PUBLISH(tandem_arm_command_t, &h->bus, h->lcm, "ARM2_COMMAND", &c);
     s.step = INT64_MAX;
-    AUTH_PUBLISH(tandem_arm_state_t, h->lcm, "ARM1_STATE", &s);
+    AUTH_PUBLISH(tandem_arm_state_t, &h->bus, h->lcm, "ARM1_STATE", &s);
 }
 
 static void send_nan_row(harness *h)
@@ -131,7 +131,7 @@ static void send_nan_row(harness *h)
     row.k_p = row.k_v = row.k0 = NAN;
     row.n_segments = 1;
     row.segments = &seg;
-    AUTH_PUBLISH(tandem_action_row_t, h->lcm, "ARM1_ACTION", &row);
+    AUTH_PUBLISH(tandem_action_row_t, &h->bus, h->lcm, "ARM1_ACTION", &row);
 }
 
 static void send_far_joint_ref(harness *h)
@@ -142,7 +142,7 @@ static void send_far_joint_ref(harness *h)
     r.step = W.last[1].step;
     memcpy(r.q_rad, W.last[1].q_rad, sizeof r.q_rad);
     r.q_rad[0] += 0.8;
-    AUTH_PUBLISH(tandem_arm_joint_ref_t, h->lcm, "ARM2_JOINT_REF", &r);
+    AUTH_PUBLISH(tandem_arm_joint_ref_t, &h->bus, h->lcm, "ARM2_JOINT_REF", &r);
 }
 
 /* Encodes a valid message, then overwrites a length field with `bad`
@@ -152,7 +152,7 @@ static void publish_patched(harness *h, const char *ch, uint8_t *buf, int len, i
     int i;
     for (i = 0; i < size; i++)
         buf[offset + i] = (uint8_t)((uint64_t)bad >> (8 * (size - 1 - i)));
-    auth_bus_publish_raw(h->lcm, ch, buf, len);
+    auth_bus_publish_raw(&h->bus, h->lcm, ch, buf, len);
 }
 
 static void send_bad_lengths(harness *h)
@@ -201,7 +201,7 @@ static void test_no_message_latches(void **state)
     sub_state = tandem_arm_state_t_subscribe(h.lcm, "ARM[12]_STATE", on_state, NULL);
     sub_status = tandem_sim_status_t_subscribe(h.lcm, "SIM_STATUS", on_status, NULL);
     sub_health = tandem_health_t_subscribe(h.lcm, "HEALTH_TANDEM_ARM_[12]", on_health, NULL);
-    auth_bus_subscribe(h.lcm, "ARM_EVENTS", on_event, NULL);
+    auth_bus_subscribe(&h.bus, h.lcm, "ARM_EVENTS", on_event, NULL);
     ps = harness_spawn(&h, sim);
     assert_true(harness_spawn(&h, arm1) > 0);
     assert_true(harness_spawn(&h, arm2) > 0);

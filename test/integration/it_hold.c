@@ -155,7 +155,7 @@ static void send_row(harness *h, motion mo, int32_t id, double goal_q[ARM_NJ], d
         row.use_tdsd = mo == MOTION_TDSD;
     }
     O.done = 0;
-    AUTH_PUBLISH(tandem_action_row_t, h->lcm, "ARM1_ACTION", &row);
+    AUTH_PUBLISH(tandem_action_row_t, &h->bus, h->lcm, "ARM1_ACTION", &row);
 }
 
 /* One motion frozen for freeze_s after run_s of it (freeze_s 0: not

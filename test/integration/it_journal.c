@@ -61,11 +61,11 @@ static void write_journal(const char *path, const journal_key *key, const double
     journal_close(&j);
 }
 
-static journal_key run_key(void)
+static journal_key run_key(const harness *h)
 {
     journal_key k;
     memset(&k, 0, sizeof k);
-    k.keyed = auth_bus_journal_key(k.bytes);
+    k.keyed = auth_bus_journal_key(&h->bus, k.bytes);
     assert_int_equal(k.keyed, 1);
     return k;
 }
@@ -101,8 +101,8 @@ static void test_journal_refused_or_resumed(void **state)
     static char err[8192], text[1 << 16];
     char path[400];
     double v[SNAP_LEN];
-    journal_key key = run_key(), other = key;
     ctx *c = *state;
+    journal_key key = run_key(&c->h), other = key;
     FILE *f;
     long n;
     snprintf(path, sizeof path, "%s/sup.journal", c->dir);
@@ -211,9 +211,9 @@ static void test_rover_disk_full_stops(void **state)
     if (access("/dev/full", W_OK) != 0)
         skip();
     memset(&w, 0, sizeof w);
-    s1 = auth_bus_subscribe(h->lcm, "ROVER1_COMMAND", raw_on_rover_cmd, &w);
-    s2 = auth_bus_subscribe(h->lcm, "ROVER2_COMMAND", raw_on_rover_cmd, &w);
-    s3 = auth_bus_subscribe(h->lcm, "HEALTH_TANDEM_ROVER_1", raw_on_rover_health, &w);
+    s1 = auth_bus_subscribe(&h->bus, h->lcm, "ROVER1_COMMAND", raw_on_rover_cmd, &w);
+    s2 = auth_bus_subscribe(&h->bus, h->lcm, "ROVER2_COMMAND", raw_on_rover_cmd, &w);
+    s3 = auth_bus_subscribe(&h->bus, h->lcm, "HEALTH_TANDEM_ROVER_1", raw_on_rover_health, &w);
     assert_true(harness_spawn(h, sim) > 0);
     assert_true(harness_spawn(h, r1) > 0);
     assert_true(harness_spawn(h, r2) > 0);

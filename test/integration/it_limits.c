@@ -117,7 +117,7 @@ static void test_limits_hold_under_torque(void **state)
         c.mode = TANDEM_ARM_COMMAND_T_MODE_TORQUE;
         for (i = 0; i < ARM_NJ; i++)
             c.tau_Nm[i] = dir * 1.5 * m->tau_max_Nm[i];   /* the simulator takes up to 2x */
-        AUTH_PUBLISH(tandem_arm_command_t, h.lcm, "ARM1_COMMAND", &c);
+        AUTH_PUBLISH(tandem_arm_command_t, &h.bus, h.lcm, "ARM1_COMMAND", &c);
         k = step_once(&h, k);
 
         for (i = 0; i < ARM_NJ; i++) {
@@ -164,7 +164,7 @@ static void stick(harness *h, int cmd, int arm, int link)
     c.link = link;
     c.length_m = 0.3;
     c.radius_m = 0.02;
-    AUTH_PUBLISH(tandem_sim_control_t, h->lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, &h->bus, h->lcm, "SIM_CONTROL", &c);
 }
 
 static double max_force(int raw)

@@ -100,39 +100,39 @@ static void publish_bad_inputs(harness *h)
     const char junk[] = "definitely not an LCM message";
     int i;
     /* 1: garbage bytes (fingerprint mismatch) to the sim and to the controller */
-    auth_bus_publish_raw(h->lcm, "ARM1_COMMAND", junk, (int)sizeof junk);
-    auth_bus_publish_raw(h->lcm, "ARM1_STATE", junk, (int)sizeof junk);
-    auth_bus_publish_raw(h->lcm, "SIM_CONTROL", junk, 4);
+    auth_bus_publish_raw(&h->bus, h->lcm, "ARM1_COMMAND", junk, (int)sizeof junk);
+    auth_bus_publish_raw(&h->bus, h->lcm, "ARM1_STATE", junk, (int)sizeof junk);
+    auth_bus_publish_raw(&h->bus, h->lcm, "SIM_CONTROL", junk, 4);
     /* 2: a command with a NaN torque */
     memset(&c, 0, sizeof c);
     c.arm = 1;
     c.step = 1000000;
     c.tau_Nm[2] = NAN;
-    AUTH_PUBLISH(tandem_arm_command_t, h->lcm, "ARM1_COMMAND", &c);
+    AUTH_PUBLISH(tandem_arm_command_t, &h->bus, h->lcm, "ARM1_COMMAND", &c);
     /* 3: torques far beyond the motor limits */
     c.tau_Nm[2] = 0.0;
     for (i = 0; i < 6; i++)
         c.tau_Nm[i] = 1e6;
-    AUTH_PUBLISH(tandem_arm_command_t, h->lcm, "ARM1_COMMAND", &c);
+    AUTH_PUBLISH(tandem_arm_command_t, &h->bus, h->lcm, "ARM1_COMMAND", &c);
     /* 4: the wrong arm id on arm 1's channel */
     memset(&c, 0, sizeof c);
     c.arm = 2;
     c.step = 1000000;
-    AUTH_PUBLISH(tandem_arm_command_t, h->lcm, "ARM1_COMMAND", &c);
+    AUTH_PUBLISH(tandem_arm_command_t, &h->bus, h->lcm, "ARM1_COMMAND", &c);
     /* 5: an unknown mode */
     c.arm = 1;
     c.mode = 42;
-    AUTH_PUBLISH(tandem_arm_command_t, h->lcm, "ARM1_COMMAND", &c);
+    AUTH_PUBLISH(tandem_arm_command_t, &h->bus, h->lcm, "ARM1_COMMAND", &c);
     /* 6: a state with NaN joints to the controller */
     memset(&s, 0, sizeof s);
     s.arm = 1;
     s.step = 1000000;
     s.q_rad[0] = NAN;
-    AUTH_PUBLISH(tandem_arm_state_t, h->lcm, "ARM1_STATE", &s);
+    AUTH_PUBLISH(tandem_arm_state_t, &h->bus, h->lcm, "ARM1_STATE", &s);
     /* 7: an out-of-range simulator command */
     memset(&sc, 0, sizeof sc);
     sc.command = 99;
-    AUTH_PUBLISH(tandem_sim_control_t, h->lcm, "SIM_CONTROL", &sc);
+    AUTH_PUBLISH(tandem_sim_control_t, &h->bus, h->lcm, "SIM_CONTROL", &sc);
 }
 
 static void test_bad_messages_counted_and_ignored(void **state)

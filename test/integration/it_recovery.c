@@ -176,7 +176,7 @@ static void test_hung_supervisor_restarted(void **state)
     int i;
     (void)state;
     snprintf(out, sizeof out, "%s/hung", dir);
-    proc_init(&ps, NULL);
+    proc_init(&ps, NULL, NULL);
     scen = proc_spawn(&ps, argv, NULL, NULL, NULL);
     assert_true(scen > 0);
     /* into the run (a few seconds of wall time), then stop the supervisor */
@@ -208,7 +208,7 @@ static void test_hung_rover_restarted(void **state)
     int i;
     (void)state;
     snprintf(out, sizeof out, "%s/hung_rover", dir);
-    proc_init(&ps, NULL);
+    proc_init(&ps, NULL, NULL);
     scen = proc_spawn(&ps, argv, NULL, NULL, NULL);
     assert_true(scen > 0);
     /* the whole run takes about a second: stop robot 2's process once
@@ -270,7 +270,7 @@ static void test_loss_visible_in_health(void **state)
         s.seq = seq;
         s.step = i;
         s.sim_time_s = i * 1e-3;
-        AUTH_PUBLISH(tandem_arm_state_t, h.lcm, "ARM1_STATE", &s);
+        AUTH_PUBLISH(tandem_arm_state_t, &h.bus, h.lcm, "ARM1_STATE", &s);
         harness_pump(&h, 2);
     }
     for (i = 0; i < 30 && !(w.heard && w.lost > 0); i++)

@@ -122,7 +122,7 @@ static void publish_signed_as(lcm_t *l, const auth_keyset *k, const auth_sender 
 
 /* ---- the process with rover 1's role file ------------------------------------------ */
 
-static void rover_round(lcm_t *l, const auth_keyset *k, int i, const double q[6])
+static void rover_round(auth_bus *bus, lcm_t *l, const auth_keyset *k, int i, const double q[6])
 {
     const auth_sender sup = { AUTH_ROLE_SUPERVISOR, 0, 0, 7u };
     tandem_arm_command_t cmd;
@@ -131,15 +131,15 @@ static void rover_round(lcm_t *l, const auth_keyset *k, int i, const double q[6]
     int n;
     /* as itself: a well-signed message of a principal that may not send it */
     n = encode_row(buf, (int)sizeof buf - AUTH_TRAILER_MAX, 900 + i, q);
-    auth_bus_publish_raw(l, "ARM1_ACTION", buf, n);
+    auth_bus_publish_raw(bus, l, "ARM1_ACTION", buf, n);
     memset(&cmd, 0, sizeof cmd);
     cmd.arm = 1;
     cmd.mode = i % 2 ? TANDEM_ARM_COMMAND_T_MODE_BRAKE : TANDEM_ARM_COMMAND_T_MODE_TORQUE;
     cmd.tau_Nm[0] = 40.0;
-    AUTH_PUBLISH(tandem_arm_command_t, l, "ARM1_COMMAND", &cmd);
+    AUTH_PUBLISH(tandem_arm_command_t, bus, l, "ARM1_COMMAND", &cmd);
     memset(&c, 0, sizeof c);
     c.command = TANDEM_SIM_CONTROL_T_QUIT;
-    AUTH_PUBLISH(tandem_sim_control_t, l, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, bus, l, "SIM_CONTROL", &c);
     /* as the supervisor: it holds none of the supervisor's keys */
     n = encode_row(buf, (int)sizeof buf - AUTH_TRAILER_MAX, 950 + i, q);
     publish_signed_as(l, k, &sup, "ARM1_ACTION", buf, n, (int)sizeof buf);
@@ -150,6 +150,7 @@ static int as_rover1(int argc, char **argv)
 {
     const auth_peer me = { AUTH_ROLE_ROVER, 1, 1 };
     const char *key = argv[2] + strlen("--key-file=");
+    auth_bus bus;
     auth_keyset *k;
     double q[6];
     char why[700];
@@ -160,14 +161,15 @@ static int as_rover1(int argc, char **argv)
     for (i = 0; i < 6; i++)
         q[i] = atof(argv[4 + i]);
     unsetenv(AUTH_BUS_KEY_ENV);   /* nothing but the role file */
-    if (auth_bus_option("it_roles", OPT_KEY_FILE, key) != 1)
+    auth_bus_init(&bus);
+    if (auth_bus_option(&bus, "it_roles", OPT_KEY_FILE, key) != 1)
         return 3;
-    auth_bus_identity(AUTH_ROLE_ROVER, 1, 1);
-    if (auth_bus_start("it_roles rover 1") != 0 || !(k = auth_keyset_new()) ||
+    auth_bus_identity(&bus, AUTH_ROLE_ROVER, 1, 1);
+    if (auth_bus_start(&bus, "it_roles rover 1") != 0 || !(k = auth_keyset_new()) ||
         auth_keyset_load(k, key, &me, why, sizeof why) != AUTH_OK || k->is_master || !(l = lcm_create(argv[3])))
         return 4;
     for (i = 0; i < ATTACKS; i++) {
-        rover_round(l, k, i, q);
+        rover_round(&bus, l, k, i, q);
         pause_ns(ATTACK_GAP_NS);
     }
     auth_keyset_free(k);
@@ -250,8 +252,8 @@ static void test_rover_key_commands_no_arm(void **state)
     int i;
     (void)state;
     memset(&v, 0, sizeof v);
-    auth_child_keys_init(&keys);
     assert_int_equal(harness_open(&h, 51), 0);
+    auth_child_keys_init(&keys, &h.bus);
     harness_watch_health(&h);
     lcm_subscribe(h.lcm, "ARM1_STATE", on_arm1, &v);
     lcm_subscribe(h.lcm, "ARM_EVENTS", on_event, &v);

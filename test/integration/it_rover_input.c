@@ -68,7 +68,7 @@ static void drive_robot2(harness *h, int64_t seq)
     b.seq = seq;
     b.n = 1;
     b.cmd = &c;
-    AUTH_PUBLISH(tandem_rovers_command_t, h->lcm, "ROVERS_COMMAND", &b);
+    AUTH_PUBLISH(tandem_rovers_command_t, &h->bus, h->lcm, "ROVERS_COMMAND", &b);
 }
 
 /* 7 rejections: junk x2, NaN, wrong channel, and a batch of three bad ones */
@@ -76,15 +76,15 @@ static void bad_commands(harness *h)
 {
     tandem_rover_command_t c, three[3];
     tandem_rovers_command_t b;
-    auth_bus_publish_raw(h->lcm, "ROVER1_COMMAND", junk, (int)sizeof junk);
-    auth_bus_publish_raw(h->lcm, "ROVERS_COMMAND", junk, (int)sizeof junk);
+    auth_bus_publish_raw(&h->bus, h->lcm, "ROVER1_COMMAND", junk, (int)sizeof junk);
+    auth_bus_publish_raw(&h->bus, h->lcm, "ROVERS_COMMAND", junk, (int)sizeof junk);
     memset(&c, 0, sizeof c);
     c.robot = 1;
     c.v_mps = NAN;
-    AUTH_PUBLISH(tandem_rover_command_t, h->lcm, "ROVER1_COMMAND", &c);
+    AUTH_PUBLISH(tandem_rover_command_t, &h->bus, h->lcm, "ROVER1_COMMAND", &c);
     c.v_mps = 0.5;
     c.robot = 2;                       /* robot 2's command on robot 1's channel */
-    AUTH_PUBLISH(tandem_rover_command_t, h->lcm, "ROVER1_COMMAND", &c);
+    AUTH_PUBLISH(tandem_rover_command_t, &h->bus, h->lcm, "ROVER1_COMMAND", &c);
     memset(three, 0, sizeof three);
     three[0].robot = 1; three[0].w_radps = INFINITY;
     three[1].robot = 99; three[1].v_mps = 0.2;   /* no such robot */
@@ -92,7 +92,7 @@ static void bad_commands(harness *h)
     memset(&b, 0, sizeof b);
     b.n = 3;
     b.cmd = three;
-    AUTH_PUBLISH(tandem_rovers_command_t, h->lcm, "ROVERS_COMMAND", &b);
+    AUTH_PUBLISH(tandem_rovers_command_t, &h->bus, h->lcm, "ROVERS_COMMAND", &b);
 }
 
 /* 4 rejections at the rover: junk batch, NaN encoder, NaN sonar, bad team */
@@ -103,7 +103,7 @@ static void bad_frames(harness *h)
     tandem_rovers_sensors_t b;
     tandem_team_msg_t t;
     double ang[8] = { 0 }, rng[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
-    auth_bus_publish_raw(h->lcm, "ROVERS_SENSORS", junk, (int)sizeof junk);
+    auth_bus_publish_raw(&h->bus, h->lcm, "ROVERS_SENSORS", junk, (int)sizeof junk);
     memset(&s, 0, sizeof s);
     memset(&sc, 0, sizeof sc);
     s.robot = sc.robot = 1;
@@ -119,12 +119,12 @@ static void bad_frames(harness *h)
     b.n = 1;
     b.sensors = &s;
     b.sonar = &sc;
-    AUTH_PUBLISH(tandem_rovers_sensors_t, h->lcm, "ROVERS_SENSORS", &b);
+    AUTH_PUBLISH(tandem_rovers_sensors_t, &h->bus, h->lcm, "ROVERS_SENSORS", &b);
     memset(&t, 0, sizeof t);
     t.robot = 3;
     t.x_m = NAN;
     t.formation_scale = 1.0;
-    AUTH_PUBLISH(tandem_team_msg_t, h->lcm, "TEAM", &t);
+    AUTH_PUBLISH(tandem_team_msg_t, &h->bus, h->lcm, "TEAM", &t);
 }
 
 static void test_bad_commands_counted_robot_stays(void **state)
@@ -182,7 +182,7 @@ static void test_bad_frames_counted_by_rover(void **state)
     memset(&w, 0, sizeof w);
     w.rover_rejected = -1;
     assert_int_equal(harness_open(&h, 42), 0);
-    auth_bus_roster(2);   /* the host of rovers 1-2 is a principal of this cell */
+    auth_bus_roster(&h.bus, 2);   /* the host of rovers 1-2 is a principal of this cell */
     s2 = tandem_health_t_subscribe(h.lcm, "HEALTH_TANDEM_ROVER_1_2", on_health, &w);
     pr = harness_spawn(&h, rover);
     assert_true(pr > 0);

@@ -100,7 +100,7 @@ AUTH_TYPED_HANDLER(tandem_sim_status_t, raw_on_status, on_status)
 static void watch(harness *h, int bus)
 {
     harness_watch_health(h);
-    auth_bus_subscribe(h->lcm, "SIM_STATUS", raw_on_status, &bus_ids[bus]);
+    auth_bus_subscribe(&h->bus, h->lcm, "SIM_STATUS", raw_on_status, &bus_ids[bus]);
 }
 
 static void pump_all(harness *h, int n, int ms)
@@ -652,7 +652,7 @@ static void test_replayed_messages_are_refused(void **state)
     capturing = 1;
     memset(&c, 0, sizeof c);
     c.command = TANDEM_SIM_CONTROL_T_REMOVE_STICK;
-    AUTH_PUBLISH(tandem_sim_control_t, h.lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, &h.bus, h.lcm, "SIM_CONTROL", &c);
     for (i = 0; i < 100 && (count_captured(sim_in, 4) < 200 || count_captured(arm2_in, 4) < 200); i++)
         harness_pump(&h, 50);   /* a loaded machine runs the simulator slower than real time */
     capturing = 0;
@@ -693,15 +693,15 @@ static void test_replayed_messages_are_refused(void **state)
     assert_in_range(fresh1.refused[3] - fresh0.refused[3], n_arm2 - n_arm2 / 50, n_arm2);
 
     /* a key holder signing as the wrong role: refused by the channel table */
-    auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);
-    auth_bus_sign_as_owner(0);
+    auth_bus_identity(&h.bus, AUTH_ROLE_TOOL, 0, 0);
+    auth_bus_sign_as_owner(&h.bus, 0);
     memset(&cmd, 0, sizeof cmd);
     cmd.arm = 1;
     cmd.mode = TANDEM_ARM_COMMAND_T_MODE_TORQUE;
     cmd.tau_Nm[0] = 40.0;
-    AUTH_PUBLISH(tandem_arm_command_t, h.lcm, "ARM1_COMMAND", &cmd);
-    AUTH_PUBLISH(tandem_arm_command_t, h.lcm, "ARM2_COMMAND", &cmd);
-    auth_bus_sign_as_owner(1);
+    AUTH_PUBLISH(tandem_arm_command_t, &h.bus, h.lcm, "ARM1_COMMAND", &cmd);
+    AUTH_PUBLISH(tandem_arm_command_t, &h.bus, h.lcm, "ARM2_COMMAND", &cmd);
+    auth_bus_sign_as_owner(&h.bus, 1);
     s0 = s1;
     s1 = latest_health(&h, "tandem-sim", 2.5);
     harness_print_refused(&s1);

@@ -34,6 +34,10 @@
 #include "tandem_rovers_state_t.h"
 #include "tandem_sim_control_t.h"
 
+/* the host of rovers 1-2 is a principal of this cell, recording and
+ * playing back: the roster of the test's bus (auth_bus_roster) */
+#define ROSTER_ROVERS 2
+
 static char dir[128], log_path[160], root[512], bin[512];
 static struct timespec recorded_at;   /* when the last message of the log was signed */
 
@@ -43,7 +47,7 @@ static int find_root(void)
 {
     proc_set p;
     char *b;
-    proc_init(&p, NULL);
+    proc_init(&p, NULL, NULL);
     snprintf(bin, sizeof bin, "%s", p.bin);
     snprintf(root, sizeof root, "%s", p.bin);
     b = strstr(root, "/build/");
@@ -81,23 +85,23 @@ static void publish_the_rest(harness *h)
     a.name = "it_signed_log";
     a.period_steps = 1;
     a.leaving = 1;
-    AUTH_PUBLISH(tandem_clock_ack_t, h->lcm, "SIM_ACK", &a);
+    AUTH_PUBLISH(tandem_clock_ack_t, &h->bus, h->lcm, "SIM_ACK", &a);
     memset(&r, 0, sizeof r);
     r.arm = 2;
     r.step = -1;   /* refused by the arm: only the log matters here */
-    AUTH_PUBLISH(tandem_arm_joint_ref_t, h->lcm, "ARM2_JOINT_REF", &r);
+    AUTH_PUBLISH(tandem_arm_joint_ref_t, &h->bus, h->lcm, "ARM2_JOINT_REF", &r);
     memset(&rs, 0, sizeof rs);
     memset(&rb, 0, sizeof rb);
     memset(&rc, 0, sizeof rc);
     memset(&rt, 0, sizeof rt);
-    AUTH_PUBLISH(tandem_rovers_sensors_t, h->lcm, "ROVERS_SENSORS", &rs);
-    AUTH_PUBLISH(tandem_rovers_beacons_t, h->lcm, "ROVERS_BEACONS", &rb);
-    AUTH_PUBLISH(tandem_rovers_command_t, h->lcm, "ROVERS_COMMAND", &rc);
-    AUTH_PUBLISH(tandem_rovers_state_t, h->lcm, "ROVERS_STATE", &rt);
+    AUTH_PUBLISH(tandem_rovers_sensors_t, &h->bus, h->lcm, "ROVERS_SENSORS", &rs);
+    AUTH_PUBLISH(tandem_rovers_beacons_t, &h->bus, h->lcm, "ROVERS_BEACONS", &rb);
+    AUTH_PUBLISH(tandem_rovers_command_t, &h->bus, h->lcm, "ROVERS_COMMAND", &rc);
+    AUTH_PUBLISH(tandem_rovers_state_t, &h->bus, h->lcm, "ROVERS_STATE", &rt);
     harness_pump(h, 200);
     memset(&c, 0, sizeof c);
     c.command = TANDEM_SIM_CONTROL_T_QUIT;
-    AUTH_PUBLISH(tandem_sim_control_t, h->lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, &h->bus, h->lcm, "SIM_CONTROL", &c);
     clock_gettime(CLOCK_MONOTONIC, &recorded_at);
 }
 
@@ -137,6 +141,7 @@ static int record(void **state)
         return -1;
     if (harness_open(&h, 15) != 0)
         return -1;
+    auth_bus_roster(&h.bus, ROSTER_ROVERS);
     logger = start_logger(h.url);
     harness_track_child(logger);
     harness_pump(&h, 300);
@@ -188,6 +193,7 @@ static void test_played_back_log_commands_nothing(void **state)
     (void)state;
     wait_past_start_slack();
     assert_int_equal(harness_open(&h, 16), 0);
+    auth_bus_roster(&h.bus, ROSTER_ROVERS);
     harness_watch_health(&h);
     ps = harness_spawn(&h, sim);
     assert_true(ps > 0);
@@ -219,7 +225,6 @@ int main(void)
     };
     if (harness_private_net() != 0)
         printf("it_signed_log: no private network namespace; using a private port on the shared one\n");
-    auth_bus_roster(2);   /* the host of rovers 1-2 is a principal of this cell, recording and playing back */
     if (record(NULL) != 0) {
         fprintf(stderr, "it_signed_log: could not record the run (lcm-logger, tandem programs)\n");
         return 1;

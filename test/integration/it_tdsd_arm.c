@@ -161,7 +161,7 @@ static void test_tdsd_row_near_wrist_singularity(void **state)
     row.k_p = 100.0; row.k_v = 20.0; row.k0 = 0.2; row.k1 = 5.0; row.k2 = 50.0;
     row.n_segments = 1;
     row.segments = &seg;
-    AUTH_PUBLISH(tandem_action_row_t, h.lcm, "ARM1_ACTION", &row);
+    AUTH_PUBLISH(tandem_action_row_t, &h.bus, h.lcm, "ARM1_ACTION", &row);
     k_start = k;
     while (k - k_start < 10000 && !O.done && !O.rejected) {
         harness_ack(&h, "it_tdsd_arm", k, 1);

@@ -180,7 +180,7 @@ void carry_send_control(carry_state *r, int cmd, int arm, int link)
     c.link = link;
     c.length_m = cmd == TANDEM_SIM_CONTROL_T_INSERT_STICK ? 0.3 : 0.0;
     c.radius_m = cmd == TANDEM_SIM_CONTROL_T_INSERT_STICK ? 0.02 : 0.0;
-    AUTH_PUBLISH(tandem_sim_control_t, r->lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, r->bus, r->lcm, "SIM_CONTROL", &c);
 }
 
 void carry_stick_command(carry_state *r, int cmd, int arm, int link)
@@ -221,7 +221,7 @@ void carry_stick_confirm(carry_state *r)
 
 void carry_ack(carry_state *r, int64_t step, int leaving)
 {
-    scenario_ack(r->lcm, &r->ack_seq, step, 1, leaving);
+    scenario_ack(r->bus, r->lcm, &r->ack_seq, step, 1, leaving);
 }
 
 int carry_t3_running(const carry_state *r)
@@ -231,11 +231,11 @@ int carry_t3_running(const carry_state *r)
 
 void carry_subscribe(carry_state *r)
 {
-    auth_bus_subscribe(r->lcm, "SIM_CLOCK", raw_on_clock, r);
-    auth_bus_subscribe(r->lcm, "ARM1_STATE", raw_on_arm, r);
-    auth_bus_subscribe(r->lcm, "ARM2_STATE", raw_on_arm, r);
-    auth_bus_subscribe(r->lcm, "ARM_EVENTS", raw_on_event, r);
-    auth_bus_subscribe(r->lcm, "PETRI_MARKING", raw_on_marking, r);
-    auth_bus_subscribe(r->lcm, "SIM_STATUS", raw_on_status, r);
-    auth_bus_subscribe(r->lcm, "SIM_ACK", raw_on_sim_ack, r);
+    auth_bus_subscribe(r->bus, r->lcm, "SIM_CLOCK", raw_on_clock, r);
+    auth_bus_subscribe(r->bus, r->lcm, "ARM1_STATE", raw_on_arm, r);
+    auth_bus_subscribe(r->bus, r->lcm, "ARM2_STATE", raw_on_arm, r);
+    auth_bus_subscribe(r->bus, r->lcm, "ARM_EVENTS", raw_on_event, r);
+    auth_bus_subscribe(r->bus, r->lcm, "PETRI_MARKING", raw_on_marking, r);
+    auth_bus_subscribe(r->bus, r->lcm, "SIM_STATUS", raw_on_status, r);
+    auth_bus_subscribe(r->bus, r->lcm, "SIM_ACK", raw_on_sim_ack, r);
 }

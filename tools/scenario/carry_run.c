@@ -16,6 +16,7 @@
 #include "carry_scen.h"
 #include "hang_watch.h"
 #include "shared_run.h"
+#include "run_key.h"
 #include "arm_model.h"
 #include "daemon.h"
 #include "proc.h"
@@ -155,7 +156,7 @@ static void daemons_argv(carry_daemons *d, const carry_cfg *c)
 static int daemons_start(carry_daemons *d, const carry_cfg *c)
 {
     int k, n_sim, n_sup;
-    proc_init(&d->ps, NULL);
+    proc_init(&d->ps, run_key_bus(), NULL);
     snprintf(d->journal, sizeof d->journal, "%s/%s_supervisor.journal", c->out, c->tag);
     remove(d->journal);               /* a fresh run; a restart reads it */
     n_sim = 10;
@@ -200,7 +201,7 @@ static int64_t clock_step(const carry_state *r)
 static void kill_daemon(carry_state *r, carry_daemons *d, int k)
 {
     proc_kill(&d->ps, d->pid[k]);
-    scenario_leave_send(&d->leave[k], r->lcm, carry_daemon_lock_name[k], clock_step(r), 1);
+    scenario_leave_send(&d->leave[k], r->bus, r->lcm, carry_daemon_lock_name[k], clock_step(r), 1);
     hang_watch_down(&d->hw, k);
 }
 
@@ -375,7 +376,7 @@ static int run_watch(carry_state *r, const carry_cfg *c, carry_result *res, carr
     if (rc != 0)
         return rc;
     for (k = 0; k < CARRY_DAEMONS; k++)
-        res->leave_resends += scenario_leave_confirm(&d->leave[k], r->lcm, clock_step(r));
+        res->leave_resends += scenario_leave_confirm(&d->leave[k], r->bus, r->lcm, clock_step(r));
     if ((k = hung_watch(r, c, res, d)) != 0) {
         if (k < 0)
             res->exit_reason = "restart_failed";
@@ -498,6 +499,7 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
     state_init(&R);
     res->exit_reason = "completed";
     daemons_argv(&d, c);
+    R.bus = run_key_bus();
     R.lcm = lcm_create(d.url);
     if (!R.lcm) {
         fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", d.url);
@@ -508,7 +510,7 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
         lcm_destroy(R.lcm);
         return CARRY_SCEN_ERR_RUN;
     }
-    hang_watch_subscribe(&d.hw, R.lcm);
+    hang_watch_subscribe(&d.hw, R.bus, R.lcm);
     R.hw = &d.hw;
     while (!interrupted && rc == 0) {
         lcm_handle_timeout(R.lcm, 200);

@@ -15,6 +15,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <lcm/lcm.h>
+#include "auth_bus.h"
 #include "hang_watch.h"
 #include "scenario.h"
 #include "petri.h"
@@ -105,6 +106,7 @@ typedef struct carry_result {
 /* What one run knows from the bus, step by step. */
 typedef struct carry_state {
     lcm_t   *lcm;
+    auth_bus *bus;               /* the process's bus (run_key_bus) */
     int64_t  pending;            /* step to answer, -1 none */
     int64_t  handled;            /* last step recorded, -1 none */
     double   t_s;

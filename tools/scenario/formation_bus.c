@@ -12,6 +12,7 @@
 #include <time.h>
 #include "formation_scen.h"
 #include "shared_run.h"
+#include "run_key.h"
 #include "daemon.h"
 #include "tandem_clock_ack_t.h"
 #include "tandem_rovers_state_t.h"
@@ -19,7 +20,7 @@
 
 void fm_ack(fm_state *fm, int64_t step)
 {
-    scenario_ack(fm->lcm, &fm->ack_seq, step, FM_PERIOD, 0);
+    scenario_ack(run_key_bus(), fm->lcm, &fm->ack_seq, step, FM_PERIOD, 0);
 }
 
 int64_t fm_mono_ns(void)
@@ -147,11 +148,11 @@ AUTH_TYPED_HANDLER(tandem_rovers_state_t, raw_on_states, on_states)
 
 void fm_subscribe(fm_state *fm)
 {
-    fm->sub_clock = auth_bus_subscribe(fm->lcm, "SIM_CLOCK", raw_on_clock, fm);
-    fm->sub_truth = auth_bus_subscribe(fm->lcm, "ROVER_TRUTH", raw_on_truth, fm);
-    fm->sub_state = auth_bus_subscribe(fm->lcm, "ROVER[0-9]+_STATE", raw_on_state, fm);
-    fm->sub_states = auth_bus_subscribe(fm->lcm, "ROVERS_STATE", raw_on_states, fm);
-    fm->sub_ack = auth_bus_subscribe(fm->lcm, "SIM_ACK", raw_on_ack, fm);
+    fm->sub_clock = auth_bus_subscribe(run_key_bus(), fm->lcm, "SIM_CLOCK", raw_on_clock, fm);
+    fm->sub_truth = auth_bus_subscribe(run_key_bus(), fm->lcm, "ROVER_TRUTH", raw_on_truth, fm);
+    fm->sub_state = auth_bus_subscribe(run_key_bus(), fm->lcm, "ROVER[0-9]+_STATE", raw_on_state, fm);
+    fm->sub_states = auth_bus_subscribe(run_key_bus(), fm->lcm, "ROVERS_STATE", raw_on_states, fm);
+    fm->sub_ack = auth_bus_subscribe(run_key_bus(), fm->lcm, "SIM_ACK", raw_on_ack, fm);
     lcm_subscription_set_queue_capacity(fm->sub_ack, 100000);
     lcm_subscription_set_queue_capacity(fm->sub_clock, 0);
     lcm_subscription_set_queue_capacity(fm->sub_truth, 100000);

@@ -15,6 +15,7 @@
 #include <unistd.h>
 #include "formation_scen.h"
 #include "shared_run.h"
+#include "run_key.h"
 #include "auth_bus.h"
 #include "daemon.h"
 #include "tandem_sim_control_t.h"
@@ -23,7 +24,9 @@ static pid_t spawn(fm_state *fm, char *const argv[])
 {
     char key[600];
     /* the child's own role file, never this process's master */
-    const int keyed = auth_child_key(&fm->keys, (const char *const *)argv, key, sizeof key);
+    int keyed;
+    fm->keys.parent = run_key_bus();   /* fm_reset zeroed it: the roster of this run's bus */
+    keyed = auth_child_key(&fm->keys, (const char *const *)argv, key, sizeof key);
     pid_t p = keyed < 0 ? -1 : fork();
     if (p == 0) {
         char path[700];
@@ -114,7 +117,7 @@ int fm_start_children(fm_state *fm)
     snprintf(seed_s, sizeof seed_s, "%ld", fm->seed);
     snprintf(expect_s, sizeof expect_s, "%d", procs + 1);
     /* the role files name this team: rovers 1..N and the host of all N */
-    auth_bus_roster(fm->robots);
+    auth_bus_roster(run_key_bus(), fm->robots);
     {
         char *sim[32] = { "tandem-sim", "--lockstep", "--no-arms", "--rovers", n_s, "--world", w_s,
                           "--formation", (char *)fm_formation_name(fm->formation),
@@ -188,7 +191,7 @@ int fm_faults_step(fm_state *fm)
             fm->rover_ack[k] = -1;
             fm->down_after[k] = fm->clock_step;
             fm->up_at[k] = INT64_MAX;
-            scenario_leave_send(&fm->leave[k], fm->lcm, name, fm->clock_step, FM_PERIOD);
+            scenario_leave_send(&fm->leave[k], run_key_bus(), fm->lcm, name, fm->clock_step, FM_PERIOD);
             hang_watch_down(&fm->hw, k);
             fprintf(stderr, "formation: fault: rover %d's process killed at t = %.2f s\n", k, fm->sim_time);
             fm->kills++;
@@ -217,7 +220,7 @@ static void send_kill_robot(fm_state *fm)
     memset(&c, 0, sizeof c);
     c.command = TANDEM_SIM_CONTROL_T_KILL_ROBOT;
     c.target = fm->kill_id;
-    AUTH_PUBLISH(tandem_sim_control_t, fm->lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, run_key_bus(), fm->lcm, "SIM_CONTROL", &c);
     fm->kill_sent_step = fm->clock_step;
 }
 
@@ -242,7 +245,7 @@ void fm_kill_robot(fm_state *fm)
         char name[64];
         kill(fm->rover_pid[fm->kill_id], SIGKILL);
         snprintf(name, sizeof name, "tandem-rover-%d", fm->kill_id);
-        scenario_leave_send(&fm->leave[fm->kill_id], fm->lcm, name, fm->clock_step, FM_PERIOD);
+        scenario_leave_send(&fm->leave[fm->kill_id], run_key_bus(), fm->lcm, name, fm->clock_step, FM_PERIOD);
         hang_watch_down(&fm->hw, fm->kill_id);
     }
     fm->killed = 1;
@@ -267,7 +270,7 @@ void fm_hang_start(fm_state *fm)
             hang_watch_add(&fm->hw, name, now);
         }
     }
-    hang_watch_subscribe(&fm->hw, fm->lcm);
+    hang_watch_subscribe(&fm->hw, run_key_bus(), fm->lcm);
 }
 
 /* 1 when pid is a child still running (a stopped one runs); a child
@@ -297,7 +300,7 @@ int fm_hung_watch(fm_state *fm)
     const double now = scenario_wall_s();
     int k;
     for (k = 0; k < fm->hw.n; k++)
-        fm->leave_resends += scenario_leave_confirm(&fm->leave[k], fm->lcm, fm->clock_step);
+        fm->leave_resends += scenario_leave_confirm(&fm->leave[k], run_key_bus(), fm->lcm, fm->clock_step);
     if (!hang_watch_look(&fm->hw, fm->lcm, now))
         return 0;                   /* messages still to read: not now */
     for (k = 0; k < fm->hw.n; k++) {
@@ -321,7 +324,7 @@ int fm_hung_watch(fm_state *fm)
         fm->down_after[k] = fm->rover_ack[k];
         fm->up_at[k] = INT64_MAX;
         fm->rover_ack[k] = -1;
-        scenario_leave_send(&fm->leave[k], fm->lcm, name, fm->clock_step, FM_PERIOD);
+        scenario_leave_send(&fm->leave[k], run_key_bus(), fm->lcm, name, fm->clock_step, FM_PERIOD);
         fm->hung_stage[k] = FM_HUNG_KILLED;
         fm->hung_step[k] = fm->clock_step;
         if (fm->clock_step <= 0) {

@@ -86,10 +86,10 @@ static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_hea
 
 AUTH_TYPED_HANDLER(tandem_health_t, raw_on_health, on_health)
 
-void hang_watch_subscribe(hang_watch *w, lcm_t *lcm)
+void hang_watch_subscribe(hang_watch *w, auth_bus *bus, lcm_t *lcm)
 {
     if (w->hang_s > 0.0)
-        w->sub = auth_bus_subscribe(lcm, "HEALTH_.*", raw_on_health, w);
+        w->sub = auth_bus_subscribe(bus, lcm, "HEALTH_.*", raw_on_health, w);
 }
 
 void hang_watch_stop(hang_watch *w, lcm_t *lcm)

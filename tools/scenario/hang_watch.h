@@ -14,6 +14,8 @@
 
 #include <lcm/lcm.h>
 
+struct auth_bus;
+
 #define HANG_WATCH_MAX 24
 #define HANG_WATCH_DEFAULT_S 5.0   /* five missed health messages */
 /* A child just started has this much more to say its first word: a
@@ -62,7 +64,7 @@ int  hang_watch_hung(const hang_watch *w, int k, double now_s);
 double hang_watch_silent_s(const hang_watch *w, int k, double now_s);
 /* Subscribes to every HEALTH_ channel (checked: auth_bus_subscribe);
  * hang_watch_stop unsubscribes. */
-void hang_watch_subscribe(hang_watch *w, lcm_t *lcm);
+void hang_watch_subscribe(hang_watch *w, struct auth_bus *bus, lcm_t *lcm);
 void hang_watch_stop(hang_watch *w, lcm_t *lcm);
 const char *hang_watch_strerror(int err);
 

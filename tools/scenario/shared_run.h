@@ -11,6 +11,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <lcm/lcm.h>
+#include "auth_bus.h"
 #include "scenario.h"
 
 /* scenario_fault.stage */
@@ -27,10 +28,10 @@ enum {
 
 /* The scenario's own answer to lockstep step `step` ("tandem-scenario",
  * every period_steps steps; leaving = 1 unregisters); *seq counts them. */
-void scenario_ack(lcm_t *lcm, int64_t *seq, int64_t step, int32_t period_steps, int leaving);
+void scenario_ack(auth_bus *bus, lcm_t *lcm, int64_t *seq, int64_t step, int32_t period_steps, int leaving);
 /* Tells the simulator that the lockstep participant `name` (a daemon just
  * killed without a goodbye) has left, so it does not wait out its timeout. */
-void scenario_daemon_left(lcm_t *lcm, const char *name, int64_t step, int32_t period_steps);
+void scenario_daemon_left(auth_bus *bus, lcm_t *lcm, const char *name, int64_t step, int32_t period_steps);
 /* A killed daemon's leave, sent again until the simulator has taken it
  * (--drop-rate drops the simulator's received messages too, and a lost
  * leave would hold the lockstep for the participant timeout): taken once
@@ -47,10 +48,10 @@ typedef struct scenario_leave {
     int     on;            /* 1 until taken or the daemon restarted */
 } scenario_leave;
 /* Sends the leave of `name` now (scenario_daemon_left) and keeps it. */
-void scenario_leave_send(scenario_leave *l, lcm_t *lcm, const char *name, int64_t step, int32_t period_steps);
+void scenario_leave_send(scenario_leave *l, auth_bus *bus, lcm_t *lcm, const char *name, int64_t step, int32_t period_steps);
 /* With the latest step the simulator announced: 1 when the leave was sent
  * again (it was not taken yet), 0 otherwise. */
-int  scenario_leave_confirm(scenario_leave *l, lcm_t *lcm, int64_t clock_step);
+int  scenario_leave_confirm(scenario_leave *l, auth_bus *bus, lcm_t *lcm, int64_t clock_step);
 /* The daemon is started again: no more leaves. */
 void scenario_leave_end(scenario_leave *l);
 /* After the fault's kill: restarting later, or left down. */

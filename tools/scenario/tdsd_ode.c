@@ -10,6 +10,7 @@
 #include "tdsd_ode.h"
 #include "scenario.h"
 #include "proc.h"
+#include "run_key.h"
 #include <libgen.h>
 #include <math.h>
 #include <stdio.h>
@@ -28,6 +29,7 @@
 
 static struct {
     lcm_t  *lcm;
+    auth_bus *bus;                /* the process's bus (run_key_bus) */
     int64_t pending;              /* SIM_CLOCK step to answer, -1 none */
     int64_t answered;             /* last step answered */
     tandem_arm_state_t st;
@@ -61,7 +63,7 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
 
 static void ack(int64_t step, int leaving)
 {
-    lockstep_ack(O.lcm, "tandem-scenario", O.ack_seq++, step, 1, leaving);
+    lockstep_ack(O.bus, O.lcm, "tandem-scenario", O.ack_seq++, step, 1, leaving);
 }
 
 static void publish_ref(int64_t step, const double q[ARM_NJ], const double qd[ARM_NJ],
@@ -75,7 +77,7 @@ static void publish_ref(int64_t step, const double q[ARM_NJ], const double qd[AR
     memcpy(r.q_rad, q, sizeof r.q_rad);
     memcpy(r.qd_radps, qd, sizeof r.qd_radps);
     memcpy(r.qdd_radps2, qdd, sizeof r.qdd_radps2);
-    AUTH_PUBLISH(tandem_arm_joint_ref_t, O.lcm, "ARM1_JOINT_REF", &r);
+    AUTH_PUBLISH(tandem_arm_joint_ref_t, O.bus, O.lcm, "ARM1_JOINT_REF", &r);
 }
 
 static void send_quit(void)
@@ -83,7 +85,7 @@ static void send_quit(void)
     tandem_sim_control_t c;
     memset(&c, 0, sizeof c);
     c.command = TANDEM_SIM_CONTROL_T_QUIT;
-    AUTH_PUBLISH(tandem_sim_control_t, O.lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, O.bus, O.lcm, "SIM_CONTROL", &c);
 }
 
 /* The programs sit beside tandem-scenario (build/bin). */
@@ -118,7 +120,7 @@ static int start_children(proc_set *ps, const char *url, const tdsdrun_cfg *c,
     snprintf(log_err, sizeof log_err, "%s/ode_stderr.log", o->out_dir);
     remove(log_err);
     bin_dir(dir, sizeof dir);
-    proc_init(ps, dir);
+    proc_init(ps, O.bus, dir);
     if (proc_spawn(ps, sim_argv, url, log_sim, log_err) < 0 ||
         proc_spawn(ps, arm_argv, url, log_arm, log_err) < 0) {
         fprintf(stderr, "tandem-scenario: cannot start tandem-sim / tandem-arm from %s\n", dir);
@@ -155,13 +157,14 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
     memset(&O, 0, sizeof O);
     O.pending = O.answered = -1;
     snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", 33000 + (int)(getpid() % 20000));
+    O.bus = run_key_bus();
     O.lcm = lcm_create(url);
     if (!O.lcm) {
         fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", url);
         return TDSD_ODE_ERR_RUN;
     }
-    auth_bus_subscribe(O.lcm, "SIM_CLOCK", on_clock, NULL);
-    auth_bus_subscribe(O.lcm, "ARM1_STATE", on_state, NULL);
+    auth_bus_subscribe(O.bus, O.lcm, "SIM_CLOCK", on_clock, NULL);
+    auth_bus_subscribe(O.bus, O.lcm, "ARM1_STATE", on_state, NULL);
     if (start_children(&ps, url, c, q0_rad, o) != 0) {
         proc_kill_all(&ps, 1.0);
         lcm_destroy(O.lcm);

@@ -49,7 +49,7 @@ static void cart_publish_event(arm_daemon *ad, int ev, const char *detail)
     e.s_m = cx->s_m;
     e.s_f_m = cx->s_f_m;
     e.s_norm = cx->k > 0.0 ? cx->s_m / cx->k : cx->s_m;
-    AUTH_PUBLISH(tandem_action_event_t, ad->d.lcm, "ARM_EVENTS", &e);
+    AUTH_PUBLISH(tandem_action_event_t, &ad->d.bus, ad->d.lcm, "ARM_EVENTS", &e);
 }
 
 static void partner_take(arm_carry *cx, const tandem_action_event_t *e)

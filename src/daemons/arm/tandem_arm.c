@@ -52,7 +52,7 @@ void arm_publish_event(arm_daemon *ad, int ev, const char *detail)
 {
     tandem_action_event_t e;
     arm_event_fill(ad, &e, ev, detail);
-    AUTH_PUBLISH(tandem_action_event_t, ad->d.lcm, "ARM_EVENTS", &e);
+    AUTH_PUBLISH(tandem_action_event_t, &ad->d.bus, ad->d.lcm, "ARM_EVENTS", &e);
 }
 
 /* ---- inputs --------------------------------------------------------------- */
@@ -123,7 +123,7 @@ static void on_action(const lcm_recv_buf_t *rb, const char *ch, void *u)
             arm_event_fill(ad, &e, TANDEM_ACTION_EVENT_T_REJECTED, ad->running ? "busy" : "invalid row");
             e.action_id = r.action_id;
             e.transition = r.transition;
-            AUTH_PUBLISH(tandem_action_event_t, ad->d.lcm, "ARM_EVENTS", &e);
+            AUTH_PUBLISH(tandem_action_event_t, &ad->d.bus, ad->d.lcm, "ARM_EVENTS", &e);
         }
         tandem_action_row_t_decode_cleanup(&r);
         return;
@@ -174,7 +174,7 @@ void arm_send_command(arm_daemon *ad, int mode, const double tau[ARM_NJ])
         memcpy(c.tau_Nm, tau, sizeof c.tau_Nm);
     c.gripper = (int8_t)arm_row_gripper_request(ad);
     arm_hold_note_command(ad);
-    AUTH_PUBLISH(tandem_arm_command_t, ad->d.lcm, ad->cmd_ch, &c);
+    AUTH_PUBLISH(tandem_arm_command_t, &ad->d.bus, ad->d.lcm, ad->cmd_ch, &c);
 }
 
 /* Joint range and speed watchdog; 1 while the arm must hold on its brakes. */
@@ -352,7 +352,7 @@ int main(int argc, char **argv)
     snprintf(ad->action_ch, sizeof ad->action_ch, "ARM%d_ACTION", ad->arm);
     if (check_tables(ad) != 0)
         return 1;
-    auth_bus_identity(AUTH_ROLE_ARM, ad->arm, ad->arm);
+    auth_bus_identity(&ad->d.bus, AUTH_ROLE_ARM, ad->arm, ad->arm);
     if (daemon_start(d) != 0)
         return 1;
     daemon_subscribe(d, "ARM_EVENTS", arm_cart_on_event, ad);

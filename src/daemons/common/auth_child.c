@@ -19,9 +19,15 @@ const char *auth_child_strerror(int rc)
     }
 }
 
-void auth_child_keys_init(auth_child_keys *c)
+void auth_child_keys_init(auth_child_keys *c, const auth_bus *parent)
 {
     memset(c, 0, sizeof *c);
+    c->parent = parent;
+}
+
+static int roster_rovers(const auth_child_keys *c)
+{
+    return c->parent ? auth_bus_roster_rovers(c->parent) : AUTH_ROSTER_ROVERS;
 }
 
 /* The value of option --name in argv (--name V or --name=V), or NULL. */
@@ -148,11 +154,11 @@ int auth_child_key(auth_child_keys *c, const char *const argv[], char *path, siz
         return rc == AUTH_OK ? AUTH_CHILD_INHERIT : AUTH_CHILD_ERR_KEY;
     }
     auth_child_principal(argv, &who);
-    n = auth_roster(auth_bus_roster_rovers(), roster, AUTH_MAX_TAGS);
+    n = auth_roster(roster_rovers(c), roster, AUTH_MAX_TAGS);
     if (!in_roster(&who, roster, n)) {
         fprintf(stderr, "tandem: %s: principal %d %d-%d is in no role file of this cell (rovers 1..%d and "
                         "the host of all of them)\n", argv[0], who.role, who.first, who.last,
-                auth_bus_roster_rovers());
+                roster_rovers(c));
         auth_keyset_free(m);
         return AUTH_CHILD_ERR_PRINCIPAL;
     }

@@ -16,7 +16,7 @@
  *                       own children's role files)
  *   anything else       a tool
  *
- * The roster is the parent's (auth_bus_roster): rovers 1..N and the host
+ * The roster is the parent's bus's (auth_bus_roster; auth_child_keys.parent): rovers 1..N and the host
  * of all N; a rover host of another range is in no role file and is
  * refused (AUTH_CHILD_ERR_PRINCIPAL). With --insecure, or a key file that
  * is itself a role file, the child inherits the environment as it is.
@@ -36,12 +36,16 @@
 #define AUTH_CHILD_ERR_ARG (-204)       /* no argv[0], or the path does not fit */
 const char *auth_child_strerror(int rc);
 
+struct auth_bus;
 typedef struct auth_child_keys {
     char dir[512];      /* the role files' directory; "" until the first is made */
     int  files;         /* role files written (their names are numbered) */
+    const struct auth_bus *parent;   /* the parent's bus: its roster (NULL: the
+                                        default roster, AUTH_ROSTER_ROVERS) */
 } auth_child_keys;
 
-void auth_child_keys_init(auth_child_keys *c);
+/* parent: the bus whose roster the role files list (NULL: the default). */
+void auth_child_keys_init(auth_child_keys *c, const struct auth_bus *parent);
 /* The principal a command line names (the table above). */
 void auth_child_principal(const char *const argv[], auth_peer *who);
 /* Writes the role file for argv's principal from the master in

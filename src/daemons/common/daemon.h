@@ -93,6 +93,8 @@ typedef struct daemon {
     double   drop_rate;                 /* --drop-rate: fault injection (rx.h), 0 none */
     long     drop_seed;                 /* --drop-seed: seed of the drops, 1 by default */
     rx_state rx;                        /* the receive path's tables and counts (rx.h) */
+    auth_bus bus;                       /* this daemon's side of the secure bus (auth_bus.h):
+                                           its identity, keys, counts, publish buffer */
     int      keep_lcm;                  /* 1: the LCM handle is never renewed (a
                                            program that keeps copies of it or of
                                            its subscriptions: tandem-sim) */
@@ -131,8 +133,8 @@ void daemon_defaults(daemon *d, const char *name, double period_s);
  * DAEMON_ERR_TABLE (the daemon then exits 1 without running). */
 int  daemon_check_table(const char *prog, const char *table, const char *validator, int rc,
                         const char *(*strerror_fn)(int));
-/* Loads the bus key (auth_bus_start; the daemon has set its identity with
- * auth_bus_identity), hands --drop-rate / --drop-seed to the receive path
+/* Loads the bus key (auth_bus_start on d->bus; the daemon has set its
+ * identity with auth_bus_identity), hands --drop-rate / --drop-seed to the receive path
  * (rx_set_drop), opens LCM, installs SIGINT/SIGTERM handlers,
  * applies --rt. DAEMON_OK, or DAEMON_ERR_AUTH / _LCM / _RANGE (said). */
 int  daemon_start(daemon *d);
@@ -172,7 +174,7 @@ int daemon_subscribe_numbered(daemon *d, const char *prefix, int first, int last
  * old handle are lost (in lockstep the simulator announces the step again). */
 int daemon_renew_lcm(daemon *d);
 
-void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32_t period_steps, int leaving);
+void lockstep_ack(auth_bus *bus, lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32_t period_steps, int leaving);
 /* Handles the LCM messages already queued, without blocking, for at most
  * DAEMON_DRAIN_MAX messages and a quarter of the period
  * (daemon_drain_budget_ns): a flood, even of messages refused at once,

@@ -225,10 +225,10 @@ int journal_load_last(const char *path, const journal_key *key, double *v, int c
     return best;
 }
 
-void journal_key_from_bus(journal_key *key, const char *prog)
+void journal_key_from_bus(const auth_bus *bus, journal_key *key, const char *prog)
 {
     memset(key, 0, sizeof *key);
-    key->keyed = auth_bus_journal_key(key->bytes);
+    key->keyed = auth_bus_journal_key(bus, key->bytes);
     if (!key->keyed)
         fprintf(stderr, "%s: --insecure: journal records are checksummed, not authenticated "
                         "(an edited journal cannot be told from a good one)\n", prog);

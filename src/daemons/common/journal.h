@@ -81,10 +81,11 @@ const char *journal_strerror(int rc);
  * j->seq must then be set to the last seq read (journal_report.last_seq)
  * when appending to an existing journal. JOURNAL_OK or JOURNAL_ERR_OPEN
  * (j->err_no). */
-/* The journal key of this process (auth_bus_journal_key); without one
+struct auth_bus;
+/* The journal key of this process's bus (auth_bus_journal_key); without one
  * (--insecure) says on stderr, as prog, that records are only
  * checksummed. */
-void journal_key_from_bus(journal_key *key, const char *prog);
+void journal_key_from_bus(const struct auth_bus *bus, journal_key *key, const char *prog);
 int  journal_open(journal *j, const char *path, const journal_key *key, int how);
 /* One record of n values, written and fsynced: JOURNAL_OK, or
  * JOURNAL_ERR_WRITE / JOURNAL_ERR_SYNC (j->err_no; nothing of the record

@@ -531,19 +531,34 @@ const char *const options_arm_model_names[] = { "puma560", "seed002", NULL };
 const char *const options_on_off[] = { "on", "off", NULL };
 const int options_on_off_flags[] = { 1, 0 };
 
-static int key_file(const char *prog, void *dest, char *value)
+/* --key-file and --insecure onto the bus of the group's destination: a
+ * daemon's (options_daemon_common) or a tool's (options_bus_tool) */
+static int bus_option(auth_bus *bus, const char *prog, int opt, const char *value)
 {
-    (void)dest;
-    return auth_bus_option(prog, OPT_KEY_FILE, value) > 0 ? 0 : OPTIONS_ERR_SAID;
+    return auth_bus_option(bus, prog, opt, value) > 0 ? 0 : OPTIONS_ERR_SAID;
 }
 
-static int insecure(const char *prog, void *dest, char *value)
+static int daemon_key_file(const char *prog, void *dest, char *value)
 {
-    (void)dest;
-    return auth_bus_option(prog, OPT_INSECURE, value) > 0 ? 0 : OPTIONS_ERR_SAID;
+    return bus_option(&((daemon *)dest)->bus, prog, OPT_KEY_FILE, value);
 }
 
-#define BUS_KEY_ENTRIES \
+static int daemon_insecure(const char *prog, void *dest, char *value)
+{
+    return bus_option(&((daemon *)dest)->bus, prog, OPT_INSECURE, value);
+}
+
+static int tool_key_file(const char *prog, void *dest, char *value)
+{
+    return bus_option(((options_bus *)dest)->bus, prog, OPT_KEY_FILE, value);
+}
+
+static int tool_insecure(const char *prog, void *dest, char *value)
+{
+    return bus_option(((options_bus *)dest)->bus, prog, OPT_INSECURE, value);
+}
+
+#define BUS_KEY_ENTRIES(key_file, insecure) \
     { .name = "key-file", .type = OPTION_CALL, .call = key_file, .repeatable = 1, .meta = "PATH", \
       .help = "bus key (default $" AUTH_BUS_KEY_ENV ", else ${XDG_CONFIG_HOME:-~/.config}/tandem/bus.key " \
               "if it exists); twice while rotating: the first signs, both verify" }, \
@@ -561,7 +576,7 @@ const option_entry options_daemon_common[] = {
       .scale = 1e-3, .meta = "MS", .help = "control period" },
     { .name = "help", .type = OPTION_HELP, .help = "this text" },
     { .name = "version", .type = OPTION_VERSION, .help = "program version (git describe at build time)" },
-    BUS_KEY_ENTRIES,
+    BUS_KEY_ENTRIES(daemon_key_file, daemon_insecure),
     { .name = "drop-rate", .type = OPTION_DOUBLE, OPTION_AT(daemon, drop_rate), .min = 0.0, .max = 0.9,
       .meta = "P", .help = "fault injection: drop received messages with probability P" },
     { .name = "drop-seed", .type = OPTION_INT, OPTION_AT(daemon, drop_seed), .min = 0, .max = 2147483647.0,
@@ -570,8 +585,8 @@ const option_entry options_daemon_common[] = {
 };
 
 const option_entry options_bus_tool[] = {
-    { .name = "lcm-url", .type = OPTION_STRING, .offset = 0, .size = sizeof(const char *), .meta = "URL",
+    { .name = "lcm-url", .type = OPTION_STRING, OPTION_AT(options_bus, url), .meta = "URL",
       .help = "LCM provider", .def = "$LCM_DEFAULT_URL or " DAEMON_DEFAULT_LCM_URL },
-    BUS_KEY_ENTRIES,
+    BUS_KEY_ENTRIES(tool_key_file, tool_insecure),
     { .name = NULL }
 };

@@ -133,8 +133,13 @@ int  options_table_validate(const option_entry *table);
  * --lcm-url --rt --lockstep --period-ms --help --version --key-file
  * --insecure --drop-rate --drop-seed. */
 extern const option_entry options_daemon_common[];
-/* --lcm-url, --key-file and --insecure alone, for the bus tools: the URL
- * goes to a const char * (base of the group: its address). */
+/* --lcm-url, --key-file and --insecure alone, for the bus tools, into an
+ * options_bus (the base of the group): the URL, and the tool's bus the
+ * key options go to (set before parsing). */
+typedef struct options_bus {
+    const char *url;
+    struct auth_bus *bus;
+} options_bus;
 extern const option_entry options_bus_tool[];
 
 /* Choice lists several programs share (values: the core's enum ids). */

@@ -39,11 +39,11 @@ static int own_dir(char *out, size_t cap)
     return 0;
 }
 
-void proc_init(proc_set *p, const char *bin_dir)
+void proc_init(proc_set *p, const auth_bus *bus, const char *bin_dir)
 {
     const char *env = getenv("TANDEM_BIN");
     memset(p, 0, sizeof *p);
-    auth_child_keys_init(&p->keys);
+    auth_child_keys_init(&p->keys, bus);
     if (bin_dir || env)
         snprintf(p->bin, sizeof p->bin, "%s", bin_dir ? bin_dir : env);
     else if (own_dir(p->bin, sizeof p->bin) != 0)

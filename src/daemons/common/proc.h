@@ -24,8 +24,10 @@ typedef struct proc_set {
     auth_child_keys keys;    /* the children's role files (auth_child.h) */
 } proc_set;
 
-/* bin_dir NULL: $TANDEM_BIN, else the running program's own directory. */
-void  proc_init(proc_set *p, const char *bin_dir);
+/* bin_dir NULL: $TANDEM_BIN, else the running program's own directory;
+ * bus: this process's, whose roster the children's role files list (NULL:
+ * the default roster; auth_child.h). */
+void  proc_init(proc_set *p, const struct auth_bus *bus, const char *bin_dir);
 /* argv[0] is a program name under bin (NULL-terminated argv). The child
  * gets LCM_DEFAULT_URL = lcm_url (if not NULL) and, when this process
  * holds the cell's master, the role file of the principal argv names in

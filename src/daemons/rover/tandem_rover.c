@@ -318,7 +318,7 @@ int main(int argc, char **argv)
         h->shown_mode = h->shown_type = h->shown_yield = h->shown_esc = -1;
         h->sens_step = h->sonar_step = h->camera_step = -1;
     }
-    auth_bus_identity(AUTH_ROLE_ROVER, rd->id_lo, rd->id_hi);
+    auth_bus_identity(&rd->d.bus, AUTH_ROLE_ROVER, rd->id_lo, rd->id_hi);
     if (daemon_start(d) != 0) return 1;
     /* its own robots' channels by name (daemon_subscribe_numbered) */
     daemon_subscribe_numbered(d, "ROVER", rd->id_lo, rd->id_hi, "_SENSORS", rover_on_sensors, rd, subs, DAEMON_EXPLICIT_MAX);

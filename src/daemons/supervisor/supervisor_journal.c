@@ -198,7 +198,7 @@ int sup_journal_start(supervisor_daemon *sv)
     int rc;
     if (!sv->journal_path)
         return 0;
-    journal_key_from_bus(&key, "tandem-supervisor");
+    journal_key_from_bus(&sv->d.bus, &key, "tandem-supervisor");
     sv->jr.key = key;
     if (sv->journal_reset)
         printf("tandem-supervisor: --journal-reset: starting fresh; %s emptied\n", sv->journal_path);

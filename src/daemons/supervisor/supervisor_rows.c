@@ -106,7 +106,7 @@ static void send_row(supervisor_daemon *sv, int t, int a)
     sv->slot[t].action_id[a] = row.action_id;
     sv->slot[t].sent_step[a] = sv->d.step;
     sv->dirty = 1;
-    AUTH_PUBLISH(tandem_action_row_t, sv->d.lcm, a == 0 ? "ARM1_ACTION" : "ARM2_ACTION", &row);
+    AUTH_PUBLISH(tandem_action_row_t, &sv->d.bus, sv->d.lcm, a == 0 ? "ARM1_ACTION" : "ARM2_ACTION", &row);
     printf("[%9.3f] t%d %-46s row %d -> arm %d\n", sv->d.sim_time_s, t + 1, "", (int)row.action_id, a + 1);
 }
 

@@ -51,7 +51,7 @@ void sup_publish_marking(supervisor_daemon *sv)
     m.rows_reissued = sv->rows_reissued;
     m.dones_recovered = sv->dones_recovered;
     m.resumed = (int8_t)sv->resumed;
-    AUTH_PUBLISH(tandem_petri_marking_t, sv->d.lcm, "PETRI_MARKING", &m);
+    AUTH_PUBLISH(tandem_petri_marking_t, &sv->d.bus, sv->d.lcm, "PETRI_MARKING", &m);
 }
 
 /* ---- watchdogs ---------------------------------------------------------------- */

@@ -365,7 +365,7 @@ int main(int argc, char **argv)
         stallwatch_set_obstruct_max(&sv->stall, sv->stall_obstructed_s) != 0)
         return 1;
     fflush(stdout);
-    auth_bus_identity(AUTH_ROLE_SUPERVISOR, 0, 0);
+    auth_bus_identity(&sv->d.bus, AUTH_ROLE_SUPERVISOR, 0, 0);
     if (daemon_start(d) != 0)
         return 1;
     /* after daemon_start: the journal's key comes from the bus key */
