@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "netc.h"
+#include "status.h"
 #include "equal_carry.h"
 
 #define CARRY_PNML "tasks/carry/carry.pnml"
@@ -205,7 +206,7 @@ static void test_strerror_distinct(void **st)
     for (a = NETC_ERR_ROLES; a <= NETC_OK; a++)
         for (b = a + 1; b <= NETC_OK; b++)
             assert_string_not_equal(netc_strerror(a), netc_strerror(b));
-    assert_string_equal(netc_strerror(NETC_ERR_ROLES - 1), "unknown error");
+    assert_string_equal(netc_strerror(NETC_ERR_ROLES - 1), STATUS_UNKNOWN_TEXT);
 }
 
 int main(void)

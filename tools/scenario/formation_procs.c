@@ -359,14 +359,3 @@ int fm_hung_step(fm_state *fm)
     }
     return 1;
 }
-
-const char *fm_strerror(int err)
-{
-    switch (err) {
-    case 0: return "ok";
-    case FM_ERR_START: return "FM_ERR_START: the simulator or a rover process did not start";
-    case FM_ERR_FAULT: return "FM_ERR_FAULT: a rover not restarted, or not back within 60 s";
-    case FM_ERR_HUNG: return "FM_ERR_HUNG: the simulator or the one process of all rovers hung";
-    default: return "unknown formation error";
-    }
-}

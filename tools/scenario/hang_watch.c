@@ -98,13 +98,3 @@ void hang_watch_stop(hang_watch *w, lcm_t *lcm)
         lcm_unsubscribe(lcm, w->sub);
     w->sub = NULL;
 }
-
-const char *hang_watch_strerror(int err)
-{
-    switch (err) {
-    case 0: return "ok";
-    case HANG_WATCH_ERR_FULL: return "HANG_WATCH_ERR_FULL: too many children watched";
-    case HANG_WATCH_ERR_NAME: return "HANG_WATCH_ERR_NAME: empty or too long a daemon name";
-    default: return "unknown hang_watch error";
-    }
-}

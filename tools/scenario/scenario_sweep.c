@@ -27,6 +27,7 @@
 #include <unistd.h>
 #include "options.h"
 #include "scenario.h"
+#include "scen_status.h"
 #include "sweep_worlds.h"
 
 #define SWEEP_MAX_SEEDS 10000
@@ -34,9 +35,6 @@
 #define SWEEP_MAX_ARGS 128
 
 /* Failures of the sweep's own steps (0 = ok) */
-#define SWEEP_ERR_USAGE (-1)  /* no NAME, a bad option, or too many keys (said) */
-#define SWEEP_ERR_FULL (-1)   /* more --keys than SWEEP_MAX_KEYS */
-#define SWEEP_ERR_RUN (-1)    /* a seed's directory not made, fork or waitpid failed */
 #define SWEEP_NOT_RUN (-1)    /* sweep_run.status: not run, or ended by a signal */
 
 /* Default columns per scenario (summary.json keys). */

@@ -12,21 +12,6 @@
 /* A cell taken into a box during rover_map_merge (restored to OCCUPIED). */
 #define CELL_TAKEN 2
 
-const char *rover_map_strerror(int rc)
-{
-    switch (rc) {
-    case ROVER_MAP_OK:             return "ok";
-    case ROVER_MAP_ERR_ARG:        return "bad argument";
-    case ROVER_MAP_ERR_SIZE:       return "width and height must be 1..2048 cells (ROVER_MAP_MAX_SIDE)";
-    case ROVER_MAP_ERR_RESOLUTION: return "resolution must be finite and > 0, origin finite";
-    case ROVER_MAP_ERR_BOXES:      return "the occupied cells merge into more than 2048 boxes (ROVER_WORLD_MAX_OBST)";
-    case ROVER_MAP_ERR_START:      return "a robot's start is off the map or on an obstacle";
-    case ROVER_MAP_ERR_GOAL:       return "the goal is off the map or on an obstacle";
-    case ROVER_MAP_ERR_LANDMARKS:  return "landmarks: not finite, or more than 64 (ROVER_WORLD_MAX_LANDMARKS)";
-    case ROVER_MAP_ERR_CELL:       return "a cell is neither free nor occupied";
-    default:                       return "unknown rover_map code";
-    }
-}
 
 static int dims_ok(const rover_map *m)
 {

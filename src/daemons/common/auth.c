@@ -18,25 +18,6 @@ static const uint8_t role_file_magic[4] = { 'T', 'K', 'S', '2' };
 #define ROLE_FILE_PAIR (1 + AUTH_PEER_BYTES + AUTH_KEY_BYTES)
 #define ROLE_FILE_MAX  (ROLE_FILE_HEAD + AUTH_MAX_PAIRS * ROLE_FILE_PAIR)
 
-const char *auth_strerror(int rc)
-{
-    switch (rc) {
-    case AUTH_OK: return "accepted";
-    case AUTH_ERR_UNSIGNED: return "unsigned or not this trailer version";
-    case AUTH_ERR_MAC: return "no tag for this receiver, or it does not verify";
-    case AUTH_ERR_SENDER: return "unknown sender, or no key with it (revoked)";
-    case AUTH_ERR_REPLAY: return "replayed or outside the time window";
-    case AUTH_ERR_ACL: return "sender not allowed on this channel";
-    case AUTH_ERR_ARG: return "bad argument";
-    case AUTH_ERR_KEY: return "key file error";
-    case AUTH_ERR_INIT: return "libsodium does not start";
-    case AUTH_ERR_CELL: return "message of another cell";
-    case AUTH_ERR_TYPE: return "not a tandem type, or over its size";
-    case AUTH_ERR_CHANNEL: return "channel not in the table";
-    default: return "unknown auth result";
-    }
-}
-
 int auth_init(void)
 {
     return sodium_init() < 0 ? AUTH_ERR_INIT : AUTH_OK;

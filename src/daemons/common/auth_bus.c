@@ -11,23 +11,6 @@
 #include "wire.h"
 #include "tandem_health_t.h"
 
-const char *auth_bus_strerror(int rc)
-{
-    switch (rc) {
-    case AUTH_BUS_OK: return "ok";
-    case AUTH_BUS_ERR_OPTION: return "bad --key-file / --insecure option";
-    case AUTH_BUS_ERR_NO_HOME: return "no HOME or XDG_CONFIG_HOME for the default key";
-    case AUTH_BUS_ERR_START: return "the secure bus does not start";
-    case AUTH_BUS_ERR_KEY: return "no usable key file";
-    case AUTH_BUS_ERR_ARG: return "bad argument (failed encode?)";
-    case AUTH_BUS_ERR_MEMORY: return "out of memory for the transmit buffer";
-    case AUTH_BUS_ERR_NOT_STARTED: return "publishing before auth_bus_start";
-    case AUTH_BUS_ERR_SIGN: return "the message cannot be signed";
-    case AUTH_BUS_ERR_SEND: return "lcm_publish failed";
-    default: return auth_strerror(rc);
-    }
-}
-
 void auth_bus_init(auth_bus *bus)
 {
     memset(bus, 0, sizeof *bus);

@@ -6,19 +6,6 @@
 #include <unistd.h>
 #include "auth_bus.h"
 
-const char *auth_child_strerror(int rc)
-{
-    switch (rc) {
-    case AUTH_CHILD_INHERIT: return "the child inherits the key environment";
-    case AUTH_CHILD_OK: return "ok";
-    case AUTH_CHILD_ERR_DIR: return "no directory for the children's role files";
-    case AUTH_CHILD_ERR_KEY: return "the master does not load or a role file cannot be written";
-    case AUTH_CHILD_ERR_PRINCIPAL: return "the child's principal is not in the cell's roster";
-    case AUTH_CHILD_ERR_ARG: return "bad argument";
-    default: return "unknown auth_child result";
-    }
-}
-
 void auth_child_keys_init(auth_child_keys *c, const auth_bus *parent)
 {
     memset(c, 0, sizeof *c);

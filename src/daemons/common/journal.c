@@ -15,25 +15,6 @@
 #define JOURNAL_LINE_MAX (JOURNAL_MAX_VALUES * 26 + 96)
 #define MAC_HEX (2 * JOURNAL_MAC_BYTES)
 
-const char *journal_strerror(int rc)
-{
-    switch (rc) {
-    case JOURNAL_OK: return "JOURNAL_OK";
-    case JOURNAL_ERR_OPEN: return "JOURNAL_ERR_OPEN";
-    case JOURNAL_ERR_WRITE: return "JOURNAL_ERR_WRITE";
-    case JOURNAL_ERR_NONE: return "JOURNAL_ERR_NONE";
-    case JOURNAL_ERR_ARG: return "JOURNAL_ERR_ARG";
-    case JOURNAL_ERR_SYNC: return "JOURNAL_ERR_SYNC";
-    case JOURNAL_ERR_READ: return "JOURNAL_ERR_READ";
-    case JOURNAL_ERR_FORMAT: return "JOURNAL_ERR_FORMAT";
-    case JOURNAL_ERR_TORN: return "JOURNAL_ERR_TORN";
-    case JOURNAL_ERR_MAC: return "JOURNAL_ERR_MAC";
-    case JOURNAL_ERR_SEQUENCE: return "JOURNAL_ERR_SEQUENCE";
-    case JOURNAL_ERR_MODE: return "JOURNAL_ERR_MODE";
-    default: return "JOURNAL_ERR_?";
-    }
-}
-
 /* The mac of a record's text (everything before " <mac>") as hex. */
 static void record_mac(const journal_key *k, const char *text, size_t n, char hex[MAC_HEX + 1])
 {

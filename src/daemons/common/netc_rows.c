@@ -26,26 +26,6 @@ static const named_gains GAINS[] = {
     { "FREE", CARRY_T1 }, { "FINE", CARRY_T2 }, { "SYNC", CARRY_T3 },
 };
 
-const char *netc_strerror(int rc)
-{
-    switch (rc) {
-    case NETC_OK: return "ok";
-    case NETC_ERR_IO: return "a file cannot be read or written";
-    case NETC_ERR_PNML: return "not a PNML place/transition net this tool reads";
-    case NETC_ERR_ROWS: return "the rows file is malformed";
-    case NETC_ERR_CAPACITY: return "beyond a fixed capacity of the supervisor";
-    case NETC_ERR_TABLE: return "the tables are refused by their validators";
-    case NETC_ERR_UNBOUNDED: return "a place exceeds its token bound";
-    case NETC_ERR_DEADLOCK: return "a dead marking is reachable";
-    case NETC_ERR_DEAD_TRANSITION: return "a transition never fires";
-    case NETC_ERR_NOT_LIVE: return "a transition that must stay live can be lost";
-    case NETC_ERR_STATES: return "the reachable set exceeds PETRI_MAX_STATES";
-    case NETC_ERR_INVARIANT: return "P-invariants beyond their capacity";
-    case NETC_ERR_ROLES: return "the net lacks a role the supervisor needs (source, its place, the pick)";
-    default: return "unknown error";
-    }
-}
-
 int netc_pose_from_name(const char *s)
 {
     int p;

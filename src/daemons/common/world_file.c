@@ -16,22 +16,6 @@
 #define PGM_BYTES_MAX (64L * 1024L * 1024L)
 #define PATH_MAX_LEN 4096
 
-const char *world_file_strerror(int rc)
-{
-    switch (rc) {
-    case WORLD_FILE_OK:         return "ok";
-    case WORLD_FILE_ERR_OPEN:   return "cannot read the YAML file";
-    case WORLD_FILE_ERR_YAML:   return "not a YAML mapping";
-    case WORLD_FILE_ERR_FIELD:  return "a key missing or wrong";
-    case WORLD_FILE_ERR_IMAGE:  return "the image is missing or not a PGM of the stated size";
-    case WORLD_FILE_ERR_MAP:    return "the map is refused";
-    case WORLD_FILE_ERR_OPTION: return "bad --start or --goal";
-    case WORLD_FILE_ERR_MEMORY: return "out of memory";
-    case WORLD_FILE_ERR_WRITE:  return "cannot write the world";
-    default:                    return "unknown world_file code";
-    }
-}
-
 static int say(char *why, size_t n, int rc, const char *fmt, ...)
 {
     va_list ap;

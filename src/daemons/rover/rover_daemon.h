@@ -25,6 +25,11 @@
 /* Failures of tandem-rover's own steps (0 = ok). */
 #define ROVER_DAEMON_ERR_IDS (-1)      /* --id is not K or A-B inside 1..HOST_MAX robots */
 #define ROVER_DAEMON_ERR_JOURNAL (-2)  /* a robot's journal is refused or does not open (said) */
+/* their texts are their names (what tandem-rover prints; status.h) */
+#define ROVER_DAEMON_CODES(X)                                 \
+    X(0, "ok")                                                \
+    X(ROVER_DAEMON_ERR_IDS, "ROVER_DAEMON_ERR_IDS")           \
+    X(ROVER_DAEMON_ERR_JOURNAL, "ROVER_DAEMON_ERR_JOURNAL")
 const char *rover_daemon_strerror(int rc);
 
 typedef struct hosted {

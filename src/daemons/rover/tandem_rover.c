@@ -147,15 +147,7 @@ static const option_entry rover_options[] = {
     { .name = NULL }
 };
 
-const char *rover_daemon_strerror(int rc)
-{
-    switch (rc) {
-    case 0: return "ok";
-    case ROVER_DAEMON_ERR_IDS: return "ROVER_DAEMON_ERR_IDS";
-    case ROVER_DAEMON_ERR_JOURNAL: return "ROVER_DAEMON_ERR_JOURNAL";
-    default: return "ROVER_DAEMON_ERR_?";
-    }
-}
+STATUS_STRERROR(rover_daemon_strerror, ROVER_DAEMON_CODES)
 
 /* 0, or a negative options_parse result (--help, --version, bad options). */
 static int parse_args(rover_daemon *rd, int argc, char **argv)

@@ -110,6 +110,14 @@ typedef struct supervisor_daemon {
 #define SUPERVISOR_ERR_SNAPSHOT (-3)  /* a journal snapshot this net cannot take */
 #define SUPERVISOR_ERR_JOURNAL (-4)   /* the journal is refused or does not open (said) */
 #define SUPERVISOR_ERR_TASK (-5)      /* --task refused: a file, the net or its rows (said) */
+/* their texts are their names (what the supervisor prints; status.h) */
+#define SUPERVISOR_CODES(X)                               \
+    X(0, "ok")                                            \
+    X(SUPERVISOR_ERR_NET, "SUPERVISOR_ERR_NET")           \
+    X(SUPERVISOR_ERR_POSE, "SUPERVISOR_ERR_POSE")         \
+    X(SUPERVISOR_ERR_SNAPSHOT, "SUPERVISOR_ERR_SNAPSHOT") \
+    X(SUPERVISOR_ERR_JOURNAL, "SUPERVISOR_ERR_JOURNAL")   \
+    X(SUPERVISOR_ERR_TASK, "SUPERVISOR_ERR_TASK")
 const char *supervisor_strerror(int rc);
 
 /* The row of transition t (t a transition of the task). */

@@ -69,18 +69,7 @@
 
 #define PICK_ACCEPT_RADIUS_M 0.15
 
-const char *supervisor_strerror(int rc)
-{
-    switch (rc) {
-    case 0: return "ok";
-    case SUPERVISOR_ERR_NET: return "SUPERVISOR_ERR_NET";
-    case SUPERVISOR_ERR_POSE: return "SUPERVISOR_ERR_POSE";
-    case SUPERVISOR_ERR_SNAPSHOT: return "SUPERVISOR_ERR_SNAPSHOT";
-    case SUPERVISOR_ERR_JOURNAL: return "SUPERVISOR_ERR_JOURNAL";
-    case SUPERVISOR_ERR_TASK: return "SUPERVISOR_ERR_TASK";
-    default: return "SUPERVISOR_ERR_?";
-    }
-}
+STATUS_STRERROR(supervisor_strerror, SUPERVISOR_CODES)
 
 /* ---- start-up check ------------------------------------------------------- */
 
