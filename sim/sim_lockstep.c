@@ -35,8 +35,8 @@ void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t p
         snprintf(p->name, sizeof p->name, "%s", name);
         p->last_ack = -1;
         p->peer.heard_ns = rtloop_now_ns();
-        fprintf(stderr, "tandem-sim: lockstep participant '%s' joined (every %d steps)\n",
-                name, (int)period);
+        fprintf(stderr, "tandem-sim: lockstep participant '%s' joined (every %d steps)\n", name,
+                (int)period);
     }
     if (leaving) {
         if (p->active)
@@ -98,9 +98,11 @@ int sim_lockstep_drop_dead(sim_world *w, int64_t k)
         sim_participant *p = &w->part[i];
         if (!is_late(p, k) || !peer_dead(&p->peer, now, silent_ns))
             continue;
-        fprintf(stderr, "tandem-sim: lockstep participant '%s' (pid %ld) did not answer step %lld and is %s; dropped\n",
-                p->name, (long)p->peer.pid, (long long)k,
-                peer_proc_of(p->peer.pid) == PEER_PROC_GONE ? "gone" : "silent");
+        fprintf(
+            stderr,
+            "tandem-sim: lockstep participant '%s' (pid %ld) did not answer step %lld and is %s; dropped\n",
+            p->name, (long)p->peer.pid, (long long)k,
+            peer_proc_of(p->peer.pid) == PEER_PROC_GONE ? "gone" : "silent");
         p->active = 0;
         w->lockstep_timeouts++;
         n++;

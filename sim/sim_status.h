@@ -9,9 +9,9 @@
 #include "sim.h"
 #include "sim_rovers.h"
 
-#define SIM_CODES(X)                                                                  \
-    X(SIM_OK, "ok")                                                                   \
-    X(SIM_ERR_CREATE, "the world or a model cannot be built (said on stderr)")       \
+#define SIM_CODES(X)                                                           \
+    X(SIM_OK, "ok")                                                            \
+    X(SIM_ERR_CREATE, "the world or a model cannot be built (said on stderr)") \
     X(SIM_ERR_CONTROL, "a control message for this model, but invalid (refused)")
 #define SIM_ROVERS_CODES(X) \
     X(0, "ok")              \

@@ -1,7 +1,7 @@
 # The checks beside the compiler, included by the Makefile:
 #   make lint          (also) no mutable state at file scope in src/ (tools/lint-state.sh)
 #   make analyze       cppcheck over every C file of the tree, zero findings
-#   make format-check  clang-format (.clang-format) on the files of .clang-format-files
+#   make format-check  clang-format (.clang-format) on every C file .clang-format-files names
 #   make format        rewrites those files in that style
 # analyze and format-check install their Debian package if missing
 # (tools/deps.sh analyze); .ci/run calls both after make test.
@@ -33,14 +33,16 @@ analyze: $(GEN_STAMP) $(GEN)/c/tandem_version.h
 	@echo "analyze: cppcheck finds nothing"
 
 # ---- clang-format ---------------------------------------------------------------
-FORMAT_FILES = $(shell sed -e 's/\#.*//' -e '/^[[:space:]]*$$/d' .clang-format-files)
+# .clang-format-files holds git pathspecs (every C file but those it leaves out)
+FORMAT_FILES = $(shell sed -e 's/\#.*//' -e '/^[[:space:]]*$$/d' -e "s/.*/'&'/" .clang-format-files | \
+                 xargs git ls-files --)
 format-check:
 	@tools/deps.sh analyze
 	@bad=0; for f in $(FORMAT_FILES); do \
 	  clang-format --style=file "$$f" | diff -u --label "$$f" --label "$$f (clang-format)" "$$f" - || bad=1; \
 	done; \
 	[ $$bad -eq 0 ] && echo "format-check: $(words $(FORMAT_FILES)) files in the style of .clang-format" || \
-	{ echo "format-check: make format rewrites them (files listed in .clang-format-files)"; exit 1; }
+	{ echo "format-check: make format rewrites them (the files .clang-format-files names)"; exit 1; }
 format:
 	@tools/deps.sh analyze
 	$(Q)clang-format --style=file -i $(FORMAT_FILES)

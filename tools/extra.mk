@@ -46,7 +46,7 @@ help:
 	@echo '  make lint          core layering (src/core/layers.mk), no POSIX/stdio in the core, no outside references,'
 	@echo '                    error codes distinct and named, docs and figures current, no hidden state in src/'
 	@echo '  make analyze       cppcheck over every C file (tools/cppcheck-suppressions.xml): zero findings'
-	@echo '  make format-check  clang-format on the files of .clang-format-files (make format rewrites them)'
+	@echo '  make format-check  clang-format on every C file .clang-format-files names (make format rewrites them)'
 	@echo '  make unit | integration   one of the two test sets'
 	@echo '  make view          browser viewer attached to a running bus (VIEW_ARGS="--help")'
 	@echo '  make view-test     headless-Chromium test of the viewer (UPDATE_DOCS=1 writes docs/viewer.png)'

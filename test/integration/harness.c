@@ -69,7 +69,7 @@ static int parent_of(long pid)
     snprintf(path, sizeof path, "/proc/%ld/stat", pid);
     if (!(f = fopen(path, "r")))
         return -1;
-    p = fgets(buf, sizeof buf, f) ? strrchr(buf, ')') : NULL;   /* the name may hold spaces */
+    p = fgets(buf, sizeof buf, f) ? strrchr(buf, ')') : NULL; /* the name may hold spaces */
     fclose(f);
     if (!p || sscanf(p + 1, " %*c %d", &ppid) != 1)
         return -1;
@@ -100,7 +100,7 @@ static void kill_leftovers(void)
         if (running_child(spawned[i])) {
             /* a scenario's daemons: found now, while they are still its children */
             n_grand += children_of(spawned[i], grand + n_grand, 256 - n_grand);
-            kill(spawned[i], SIGTERM);   /* a scenario stops its own daemons */
+            kill(spawned[i], SIGTERM); /* a scenario stops its own daemons */
             left++;
         }
     for (k = 0; k < 30 && left > 0; k++) {
@@ -115,7 +115,7 @@ static void kill_leftovers(void)
             waitpid(spawned[i], NULL, 0);
         }
     for (i = 0; i < n_grand; i++)
-        if (parent_of(grand[i]) == 1)   /* our grandchild left behind (reparented to init) */
+        if (parent_of(grand[i]) == 1) /* our grandchild left behind (reparented to init) */
             kill(grand[i], SIGKILL);
 }
 
@@ -190,7 +190,8 @@ static harness_health *health_slot(harness *h, const char *name)
 static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
 {
     harness_health *d = health_slot(u, m->name);
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     if (!d)
         return;
     d->pid = m->pid;
@@ -229,11 +230,12 @@ int64_t harness_refused(const harness_health *d)
 
 void harness_print_refused(const harness_health *d)
 {
-    printf("  %-18s refused %6lld: unsigned %lld, bad MAC %lld, unknown sender %lld, replayed %lld, "
-           "not allowed %lld, other cell %lld, before the MAC %lld (lost on the way in: %lld)\n", d->name,
-           (long long)harness_refused(d), (long long)d->refused[0], (long long)d->refused[1],
-           (long long)d->refused[2], (long long)d->refused[3], (long long)d->refused[4], (long long)d->refused[5],
-           (long long)d->refused[6], (long long)d->msgs_lost);
+    printf(
+        "  %-18s refused %6lld: unsigned %lld, bad MAC %lld, unknown sender %lld, replayed %lld, "
+        "not allowed %lld, other cell %lld, before the MAC %lld (lost on the way in: %lld)\n",
+        d->name, (long long)harness_refused(d), (long long)d->refused[0], (long long)d->refused[1],
+        (long long)d->refused[2], (long long)d->refused[3], (long long)d->refused[4],
+        (long long)d->refused[5], (long long)d->refused[6], (long long)d->msgs_lost);
 }
 
 int harness_sh(const char *fmt, ...)
@@ -355,7 +357,7 @@ pid_t harness_child_named(pid_t parent, const char *prog, const char *opt, const
             continue;
         n = fread(cmd, 1, sizeof cmd - 1, f);
         fclose(f);
-        cmd[n] = '\0';              /* argv[0] ends at its NUL */
+        cmd[n] = '\0'; /* argv[0] ends at its NUL */
         base = strrchr(cmd, '/');
         if (!strcmp(base ? base + 1 : cmd, prog) && (!opt || has_option(cmd, n, opt, value)))
             return (pid_t)pid;

@@ -30,7 +30,7 @@
 #include "tandem_rover_command_t.h"
 
 #define SNAP_HEAD 27
-#define SNAP_LEN  (SNAP_HEAD + CARRY_N_PLACES + 6 * CARRY_N_TRANSITIONS)
+#define SNAP_LEN (SNAP_HEAD + CARRY_N_PLACES + 6 * CARRY_N_TRANSITIONS)
 
 /* What the tests share (cmocka's state). */
 typedef struct ctx {
@@ -43,9 +43,9 @@ static int fresh_snapshot(double *v)
 {
     int i;
     memset(v, 0, SNAP_LEN * sizeof *v);
-    v[0] = 2;           /* version */
-    v[1] = 100;         /* step */
-    v[4] = 1;           /* next row */
+    v[0] = 2;   /* version */
+    v[1] = 100; /* step */
+    v[4] = 1;   /* next row */
     for (i = 0; i < CARRY_N_PLACES; i++)
         v[SNAP_HEAD + i] = carry_net.m0[i];
     return SNAP_LEN;
@@ -80,8 +80,9 @@ static int supervisor(ctx *c, const char *path, const char *extra, char *err, in
     int rc;
     snprintf(errf, sizeof errf, "%s/sup.err", dir);
     snprintf(outf, sizeof outf, "%s/sup.out", dir);
-    rc = harness_sh("timeout -s TERM 3 %s/tandem-supervisor --lcm-url '%s' --journal '%s' %s >'%s' 2>'%s'", bin,
-                    c->h.url, path, extra ? extra : "", outf, errf);
+    rc = harness_sh(
+        "timeout -s TERM 3 %s/tandem-supervisor --lcm-url '%s' --journal '%s' %s >'%s' 2>'%s'", bin,
+        c->h.url, path, extra ? extra : "", outf, errf);
     harness_slurp(errf, err, cap);
     if (WIFEXITED(rc) && WEXITSTATUS(rc) == 124)
         return -1;
@@ -121,7 +122,9 @@ static void test_journal_refused_or_resumed(void **state)
     expect_refused(c, path, "record 2 (line 2)", "JOURNAL_ERR_TORN");
     /* garbage */
     assert_non_null(f = fopen(path, "w"));
-    fputs("\x7f" "ELF garbage\n", f);
+    fputs("\x7f"
+          "ELF garbage\n",
+          f);
     fclose(f);
     expect_refused(c, path, "record 1 (line 1)", "JOURNAL_ERR_FORMAT");
     /* edited, its checksum recomputed without the key */
@@ -170,26 +173,30 @@ static void test_disk_full_holds(void **state)
 
 /* What the rovers sent: commands per robot, robot 1's last health. */
 typedef struct rover_seen {
-    int    cmds[3];
-    double max_speed[3];          /* |v| + |w| */
-    int    held, health;
-    char   status[128];
+    int cmds[3];
+    double max_speed[3]; /* |v| + |w| */
+    int held, health;
+    char status[128];
 } rover_seen;
 
-static void on_rover_cmd(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_command_t *m, void *u)
+static void on_rover_cmd(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_command_t *m,
+                         void *u)
 {
     rover_seen *w = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     if (m->robot == 1 || m->robot == 2) {
         w->cmds[m->robot]++;
         w->max_speed[m->robot] = fmax(w->max_speed[m->robot], fabs(m->v_mps) + fabs(m->w_radps));
     }
 }
 
-static void on_rover_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
+static void on_rover_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m,
+                            void *u)
 {
     rover_seen *w = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     w->health++;
     w->held = m->safe_hold;
     snprintf(w->status, sizeof w->status, "%s", m->status);
@@ -201,8 +208,8 @@ AUTH_TYPED_HANDLER(tandem_health_t, raw_on_rover_health, on_rover_health)
 static void test_rover_disk_full_stops(void **state)
 {
     const char *sim[] = { "tandem-sim", "--no-arms", "--rovers", "2", "--world", "open", NULL };
-    const char *r1[] = { "tandem-rover", "--id", "1", "--robots", "2", "--journal", "/dev/full", "--journal-reset",
-                         NULL };
+    const char *r1[] = { "tandem-rover",    "--id", "1", "--robots", "2", "--journal", "/dev/full",
+                         "--journal-reset", NULL };
     const char *r2[] = { "tandem-rover", "--id", "2", "--robots", "2", NULL };
     rover_seen w;
     lcm_subscription_t *s1, *s2, *s3;
@@ -218,9 +225,10 @@ static void test_rover_disk_full_stops(void **state)
     assert_true(harness_spawn(h, r1) > 0);
     assert_true(harness_spawn(h, r2) > 0);
     harness_pump(h, 6000);
-    printf("robot 1 (journal on /dev/full): %d commands, max |v|+|w| %.3f; robot 2: %d commands, max %.3f; "
-           "robot 1's health: safe_hold %d, \"%s\"\n", w.cmds[1], w.max_speed[1], w.cmds[2], w.max_speed[2],
-           w.held, w.status);
+    printf(
+        "robot 1 (journal on /dev/full): %d commands, max |v|+|w| %.3f; robot 2: %d commands, max %.3f; "
+        "robot 1's health: safe_hold %d, \"%s\"\n",
+        w.cmds[1], w.max_speed[1], w.cmds[2], w.max_speed[2], w.held, w.status);
     assert_true(w.cmds[1] > 20 && w.cmds[2] > 20);
     assert_true(w.max_speed[1] == 0.0);
     assert_true(w.max_speed[2] > 0.05);

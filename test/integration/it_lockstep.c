@@ -22,8 +22,8 @@ static unsigned long long run_and_hash(int seed, int offset)
 {
     harness h;
     char seed_s[16], out[4096];
-    const char *sim[] = { "tandem-sim", "--lockstep", "--expect", "2", "--steps", "2000",
-                          "--seed", seed_s, NULL };
+    const char *sim[] = { "tandem-sim", "--lockstep", "--expect", "2", "--steps",
+                          "2000",       "--seed",     seed_s,     NULL };
     const char *arm1[] = { "tandem-arm", "--arm", "1", "--lockstep", NULL };
     const char *arm2[] = { "tandem-arm", "--arm", "2", "--lockstep", NULL };
     pid_t ps;
@@ -66,10 +66,12 @@ typedef struct watch {
     int64_t last_step;
 } watch;
 
-static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *m, void *u)
+static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *m,
+                      void *u)
 {
     watch *w = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     w->status = *m;
     w->have_status = 1;
 }
@@ -77,14 +79,16 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim
 static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
 {
     watch *w = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     w->arm1_rejected = m->msgs_rejected;
 }
 
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_state_t *m, void *u)
 {
     watch *w = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     if (!w->have_q)
         memcpy(w->q_first, m->q_rad, sizeof w->q_first);
     memcpy(w->q_last, m->q_rad, sizeof w->q_last);
@@ -164,9 +168,10 @@ static void test_bad_messages_counted_and_ignored(void **state)
     memcpy(w.q_first, w.q_last, sizeof w.q_first);
     publish_bad_inputs(&h);
     assert_int_equal(harness_wait(&h, ps, 60.0), 0);
-    harness_pump(&h, 1200);   /* the arm's next health message */
+    harness_pump(&h, 1200); /* the arm's next health message */
     assert_true(w.have_status);
-    printf("sim rejected %lld, arm 1 rejected %lld\n", (long long)w.status.msgs_rejected, w.arm1_rejected);
+    printf("sim rejected %lld, arm 1 rejected %lld\n", (long long)w.status.msgs_rejected,
+           w.arm1_rejected);
     /* sim: 2 garbage + NaN + huge + wrong arm + bad mode + bad control = 7 */
     assert_true(w.status.msgs_rejected >= 7);
     /* controller: garbage + NaN state = 2 */

@@ -77,7 +77,8 @@ int hang_watch_look(hang_watch *w, lcm_t *lcm, double now_s)
 
 static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
 {
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     /* a daemon's goodbye ("stopped") is its last word, not a sign of life:
      * it is about to exit, and its exit is seen as an exit */
     if (strcmp(m->status, "stopped") != 0)

@@ -47,10 +47,11 @@ static int strip_options(int *argc, char **argv)
             i++;
             continue;
         }
-        if (auth_bus_option(&scenario_bus, PROG, kind == 1 ? OPT_KEY_FILE : OPT_INSECURE, value) < 0)
+        if (auth_bus_option(&scenario_bus, PROG, kind == 1 ? OPT_KEY_FILE : OPT_INSECURE, value) <
+            0)
             return RUN_KEY_ERR_OPTION;
         if (kind == 1 && keys++ == 0) {
-            setenv(AUTH_BUS_KEY_ENV, value, 1);   /* the children sign with the first key */
+            setenv(AUTH_BUS_KEY_ENV, value, 1); /* the children sign with the first key */
             unsetenv(AUTH_BUS_INSECURE_ENV);
         } else if (kind == 2) {
             setenv(AUTH_BUS_INSECURE_ENV, "1", 1);

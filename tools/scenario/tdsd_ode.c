@@ -28,19 +28,20 @@
 #define ODE_DT_S 0.001
 
 static struct {
-    lcm_t  *lcm;
-    auth_bus *bus;                /* the process's bus (run_key_bus) */
-    int64_t pending;              /* SIM_CLOCK step to answer, -1 none */
-    int64_t answered;             /* last step answered */
+    lcm_t *lcm;
+    auth_bus *bus;    /* the process's bus (run_key_bus) */
+    int64_t pending;  /* SIM_CLOCK step to answer, -1 none */
+    int64_t answered; /* last step answered */
     tandem_arm_state_t st;
-    int     have_state;
+    int have_state;
     int64_t ack_seq, ref_seq;
 } O;
 
 static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     tandem_sim_clock_t m;
-    (void)ch; (void)u;
+    (void)ch;
+    (void)u;
     if (tandem_sim_clock_t_decode(rb->data, 0, rb->data_size, &m) < 0)
         return;
     if (m.mode == TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP && m.step > O.answered)
@@ -51,7 +52,8 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *u)
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     tandem_arm_state_t m;
-    (void)ch; (void)u;
+    (void)ch;
+    (void)u;
     if (tandem_arm_state_t_decode(rb->data, 0, rb->data_size, &m) < 0)
         return;
     if (m.arm == 1 && arm_q_finite(m.q_rad) == 0 && (!O.have_state || m.step >= O.st.step)) {
@@ -108,12 +110,13 @@ static int start_children(proc_set *ps, const char *url, const tdsdrun_cfg *c,
                           const double q0[ARM_NJ], const tdsd_ode_opts *o)
 {
     char q0s[256], hz[32], dir[512], log_sim[1024], log_arm[1024], log_err[1024];
-    const char *sim_argv[] = { "tandem-sim", "--lockstep", "--expect", "2", "--timeout-ms", "20000",
-                               "--arm-model", c->model->name, "--arm-q0", q0s, NULL };
-    const char *arm_argv[] = { "tandem-arm", "--arm", "1", "--lockstep", "--arm-model", c->model->name,
-                               "--wn", hz, NULL };
-    snprintf(q0s, sizeof q0s, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g",
-             q0[0], q0[1], q0[2], q0[3], q0[4], q0[5]);
+    const char *sim_argv[] = { "tandem-sim",   "--lockstep", "--expect",    "2",
+                               "--timeout-ms", "20000",      "--arm-model", c->model->name,
+                               "--arm-q0",     q0s,          NULL };
+    const char *arm_argv[] = { "tandem-arm",   "--arm", "1", "--lockstep", "--arm-model",
+                               c->model->name, "--wn",  hz,  NULL };
+    snprintf(q0s, sizeof q0s, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", q0[0], q0[1], q0[2], q0[3],
+             q0[4], q0[5]);
     snprintf(hz, sizeof hz, "%g", o->servo_hz);
     snprintf(log_sim, sizeof log_sim, "%s/ode_sim.log", o->out_dir);
     snprintf(log_arm, sizeof log_arm, "%s/ode_arm.log", o->out_dir);
@@ -134,7 +137,8 @@ static int child_died(proc_set *ps, const tdsd_ode_opts *o)
     int k, st;
     for (k = 0; k < ps->n; k++)
         if (ps->alive[k] && proc_poll(ps, ps->pid[k], &st) == 1) {
-            fprintf(stderr, "tandem-scenario: a child exited early (status %d); see %s/ode_stderr.log\n",
+            fprintf(stderr,
+                    "tandem-scenario: a child exited early (status %d); see %s/ode_stderr.log\n",
                     st, o->out_dir);
             return 1;
         }
@@ -191,7 +195,7 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
         k = O.pending;
         t_sim = O.st.sim_time_s;
         if (t_sim < o->settle_s) {
-            publish_ref(k, q_ref, zero, zero);      /* hold q0 while the servo settles */
+            publish_ref(k, q_ref, zero, zero); /* hold q0 while the servo settles */
         } else {
             if (t_start < 0.0)
                 t_start = t_sim;

@@ -11,8 +11,8 @@
  * or link 6 merged with a payload (then I is a full 3x3). */
 typedef struct arm_link_ref {
     double m;
-    const double *c;   /* COM in frame i */
-    const double *I;   /* about the COM, frame-i axes, row-major 3x3 */
+    const double *c; /* COM in frame i */
+    const double *I; /* about the COM, frame-i axes, row-major 3x3 */
 } arm_link_ref;
 
 /* A rigid body or composite referred to a frame origin: mass, first

@@ -311,7 +311,7 @@ int petri_fire(petri *p, int t)
     if (r == 0) {
         r = petri_complete(p, t);
         if (r != 0)
-            p->st = keep;   /* all or nothing */
+            p->st = keep; /* all or nothing */
     }
     return r;
 }
@@ -325,8 +325,7 @@ int petri_set_state(petri *p, const petri_state *s)
 {
     const int nt = p && p->c.net ? p->c.net->n_transitions : 0;
     const uint32_t all = nt >= 32 ? UINT32_C(0xFFFFFFFF) : (UINT32_C(1) << nt) - 1u;
-    if (!p || !s || (s->running & ~all) != 0 ||
-        petri_state_invariant_violations(&p->c, s) != 0)
+    if (!p || !s || (s->running & ~all) != 0 || petri_state_invariant_violations(&p->c, s) != 0)
         return PETRI_ERR_ARG;
     p->st = *s;
     return 0;

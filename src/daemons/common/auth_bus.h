@@ -38,23 +38,26 @@
 #include "auth.h"
 
 #define AUTH_BUS_KEY_ENV "TANDEM_KEY_FILE"
-#define AUTH_BUS_INSECURE_ENV "TANDEM_INSECURE"   /* "1": as --insecure (for child processes) */
+#define AUTH_BUS_INSECURE_ENV "TANDEM_INSECURE" /* "1": as --insecure (for child processes) */
 
 /* Failures (0 = ok), distinct values; the ones marked (said) have printed
  * why on stderr. auth_bus_strerror names them. */
 #define AUTH_BUS_OK 0
-#define AUTH_BUS_ERR_OPTION (-101)     /* --key-file empty, or a third one (said) */
-#define AUTH_BUS_ERR_NO_HOME (-102)    /* no $XDG_CONFIG_HOME or $HOME, or the path does
+#define AUTH_BUS_ERR_OPTION (-101) /* --key-file empty, or a third one (said) */
+#define AUTH_BUS_ERR_NO_HOME \
+    (-102) /* no $XDG_CONFIG_HOME or $HOME, or the path does
                                           not fit the buffer */
-#define AUTH_BUS_ERR_START (-103)      /* auth_bus_start: channel table unsound, --insecure
+#define AUTH_BUS_ERR_START \
+    (-103) /* auth_bus_start: channel table unsound, --insecure
                                           with --key-file, libsodium, no identity (said) */
-#define AUTH_BUS_ERR_KEY (-104)        /* no key file, one that does not load (said), or
+#define AUTH_BUS_ERR_KEY \
+    (-104)                              /* no key file, one that does not load (said), or
                                           no temporary key made (auth_bus_ephemeral_key) */
-#define AUTH_BUS_ERR_ARG (-105)        /* body_len < 0 (a failed encode), no buffer */
-#define AUTH_BUS_ERR_MEMORY (-106)     /* the transmit buffer cannot grow */
+#define AUTH_BUS_ERR_ARG (-105)         /* body_len < 0 (a failed encode), no buffer */
+#define AUTH_BUS_ERR_MEMORY (-106)      /* the transmit buffer cannot grow */
 #define AUTH_BUS_ERR_NOT_STARTED (-107) /* publishing before auth_bus_start (said) */
-#define AUTH_BUS_ERR_SIGN (-108)       /* auth_sign refused the message */
-#define AUTH_BUS_ERR_SEND (-109)       /* lcm_publish did not send it */
+#define AUTH_BUS_ERR_SIGN (-108)        /* auth_sign refused the message */
+#define AUTH_BUS_ERR_SEND (-109)        /* lcm_publish did not send it */
 const char *auth_bus_strerror(int rc);
 
 /* Receive bounds (docs/method/lockstep.md §5): a subscription queues at
@@ -62,7 +65,7 @@ const char *auth_bus_strerror(int rc);
  * messages are few per cycle), and a datagram longer than this is never
  * a tandem message. */
 #define AUTH_BUS_QUEUE_CAPACITY 256
-#define AUTH_BUS_MAX_DATAGRAM   65536
+#define AUTH_BUS_MAX_DATAGRAM 65536
 
 /* Options every program that talks on the bus takes. */
 enum { OPT_KEY_FILE = 1200, OPT_INSECURE };
@@ -72,13 +75,13 @@ enum { OPT_KEY_FILE = 1200, OPT_INSECURE };
 /* Refusals counted by kind (HEALTH_* auth_* fields). */
 typedef struct auth_bus_counts {
     int64_t accepted;
-    int64_t unsigned_msgs;     /* AUTH_ERR_UNSIGNED */
-    int64_t bad_mac;           /* AUTH_ERR_MAC */
-    int64_t unknown_sender;    /* AUTH_ERR_SENDER */
-    int64_t replayed;          /* AUTH_ERR_REPLAY */
-    int64_t unauthorised;      /* AUTH_ERR_ACL */
-    int64_t other_cell;        /* AUTH_ERR_CELL */
-    int64_t precheck;          /* AUTH_ERR_TYPE / AUTH_ERR_CHANNEL: refused before any MAC */
+    int64_t unsigned_msgs;  /* AUTH_ERR_UNSIGNED */
+    int64_t bad_mac;        /* AUTH_ERR_MAC */
+    int64_t unknown_sender; /* AUTH_ERR_SENDER */
+    int64_t replayed;       /* AUTH_ERR_REPLAY */
+    int64_t unauthorised;   /* AUTH_ERR_ACL */
+    int64_t other_cell;     /* AUTH_ERR_CELL */
+    int64_t precheck;       /* AUTH_ERR_TYPE / AUTH_ERR_CHANNEL: refused before any MAC */
 } auth_bus_counts;
 
 #define AUTH_BUS_MAX_SUBS 64
@@ -153,7 +156,7 @@ void auth_bus_init(auth_bus *bus);
 
 /* Handles OPT_KEY_FILE / OPT_INSECURE: 1 handled, 0 not ours,
  * AUTH_BUS_ERR_OPTION. */
-int  auth_bus_option(auth_bus *bus, const char *prog, int opt, const char *arg);
+int auth_bus_option(auth_bus *bus, const char *prog, int opt, const char *arg);
 /* Who this process is (before auth_bus_start): the principal whose key
  * file it holds (a master holder may be anyone). */
 void auth_bus_identity(auth_bus *bus, int role, int first, int last);
@@ -162,7 +165,7 @@ void auth_bus_identity(auth_bus *bus, int role, int first, int last);
  * A master holder tags for these, and the role files it makes for its
  * children (auth_child.h) list them; set it before the first child starts. */
 void auth_bus_roster(auth_bus *bus, int rovers);
-int  auth_bus_roster_rovers(const auth_bus *bus);
+int auth_bus_roster_rovers(const auth_bus *bus);
 /* A process standing in for several publishers (integration tests, the
  * round-trip bench) signs each message as its channel's owner
  * (auth_acl_owner) -- what only a holder of the cell's master can do
@@ -172,52 +175,54 @@ void auth_bus_sign_as_owner(auth_bus *bus, int on);
 /* Loads the key(s) the options and environment name and prints the
  * --insecure warning; 0, or AUTH_BUS_ERR_START / _KEY after printing why
  * (then exit 1). */
-int  auth_bus_start(auth_bus *bus, const char *prog);
+int auth_bus_start(auth_bus *bus, const char *prog);
 /* 1 when messages are signed and checked, 0 with --insecure. */
-int  auth_bus_secure(const auth_bus *bus);
+int auth_bus_secure(const auth_bus *bus);
 /* After auth_bus_start: the key journals authenticate their records with
  * (journal.h), derived from the signing key (keyed BLAKE2b of a "tandem
  * journal" context): 1, or 0 with --insecure (out untouched). */
-int  auth_bus_journal_key(const auth_bus *bus, uint8_t out[32]);
+int auth_bus_journal_key(const auth_bus *bus, uint8_t out[32]);
 /* ${XDG_CONFIG_HOME:-$HOME/.config}/tandem/bus.key; AUTH_BUS_ERR_NO_HOME. */
-int  auth_bus_default_key_path(char *out, size_t cap);
+int auth_bus_default_key_path(char *out, size_t cap);
 /* Creates a key for this run alone in a fresh 0700 temporary directory
  * (both removed at exit) and exports it as $TANDEM_KEY_FILE, so child
  * processes use it too (tandem-scenario, the integration tests); a bus
  * then loads it at auth_bus_start. The process's, not a bus's.
  * 0, or AUTH_BUS_ERR_KEY. */
-int  auth_bus_ephemeral_key(char *path, size_t cap);
+int auth_bus_ephemeral_key(char *path, size_t cap);
 
 /* The transmit buffer AUTH_PUBLISH encodes into; reserve: 0, or
  * AUTH_BUS_ERR_ARG / AUTH_BUS_ERR_MEMORY. */
-int      auth_bus_tx_reserve(auth_bus *bus, int body_len);
+int auth_bus_tx_reserve(auth_bus *bus, int body_len);
 uint8_t *auth_bus_tx(const auth_bus *bus);
-int      auth_bus_tx_cap(const auth_bus *bus);
+int auth_bus_tx_cap(const auth_bus *bus);
 /* Signs the body_len bytes in auth_bus_tx() for channel and publishes
  * them: what lcm_publish returns (0 sent, -1 not), or AUTH_BUS_ERR_ARG
  * (body_len < 0: a failed encode), AUTH_BUS_ERR_NOT_STARTED or
  * AUTH_BUS_ERR_SIGN. */
-int  auth_bus_publish_tx(auth_bus *bus, lcm_t *lcm, const char *channel, int body_len);
+int auth_bus_publish_tx(auth_bus *bus, lcm_t *lcm, const char *channel, int body_len);
 /* Copies buf into the transmit buffer, signs, publishes (raw bytes, e.g.
  * the malformed messages of the fault tests). */
-int  auth_bus_publish_raw(auth_bus *bus, lcm_t *lcm, const char *channel, const void *buf, int len);
+int auth_bus_publish_raw(auth_bus *bus, lcm_t *lcm, const char *channel, const void *buf, int len);
 /* AUTH_PUBLISH(type, bus, lcm, channel, &msg): msg encoded into bus's
  * transmit buffer (AUTH_BUS_ENCODE: its length, or AUTH_BUS_ERR_ARG), signed,
  * published. bus is evaluated more than once. */
-#define AUTH_BUS_ENCODE(type, bus, msg) \
-    (auth_bus_tx_reserve((bus), type##_encoded_size(msg)) == 0 ? \
-     type##_encode(auth_bus_tx(bus), 0, auth_bus_tx_cap(bus), (msg)) : AUTH_BUS_ERR_ARG)
+#define AUTH_BUS_ENCODE(type, bus, msg)                                    \
+    (auth_bus_tx_reserve((bus), type##_encoded_size(msg)) == 0             \
+         ? type##_encode(auth_bus_tx(bus), 0, auth_bus_tx_cap(bus), (msg)) \
+         : AUTH_BUS_ERR_ARG)
 #define AUTH_PUBLISH(type, bus, lcm, channel, msg) \
     auth_bus_publish_tx((bus), (lcm), (channel), AUTH_BUS_ENCODE(type, bus, msg))
 
 /* The receive check: AUTH_OK with *body = rb without the trailer, or the
  * refusal (counted). With --insecure every message passes (a trailer, if
  * any, stripped). */
-int  auth_bus_accept(auth_bus *bus, const lcm_recv_buf_t *rb, const char *channel, lcm_recv_buf_t *body);
+int auth_bus_accept(auth_bus *bus, const lcm_recv_buf_t *rb, const char *channel,
+                    lcm_recv_buf_t *body);
 /* lcm_subscribe through auth_bus_accept and wire_check (for tools), with
  * a queue of AUTH_BUS_QUEUE_CAPACITY messages. */
-lcm_subscription_t *auth_bus_subscribe(auth_bus *bus, lcm_t *lcm, const char *channel, lcm_msg_handler_t handler,
-                                       void *user);
+lcm_subscription_t *auth_bus_subscribe(auth_bus *bus, lcm_t *lcm, const char *channel,
+                                       lcm_msg_handler_t handler, void *user);
 const auth_bus_counts *auth_bus_counts_get(const auth_bus *bus);
 int64_t auth_bus_rejected_total(const auth_bus *bus);
 
@@ -232,14 +237,14 @@ int64_t auth_bus_health_refusals(const struct _tandem_health_t *h, int64_t kinds
 
 /* A raw handler that decodes `type` and calls typed(rb, ch, &msg, user):
  * for a typed handler on auth_bus_subscribe. */
-#define AUTH_TYPED_HANDLER(type, name, typed) \
+#define AUTH_TYPED_HANDLER(type, name, typed)                                 \
     static void name(const lcm_recv_buf_t *rb_, const char *ch_, void *user_) \
-    { \
-        type m_; \
-        if (type##_decode(rb_->data, 0, (int)rb_->data_size, &m_) < 0) \
-            return; \
-        typed(rb_, ch_, &m_, user_); \
-        type##_decode_cleanup(&m_); \
+    {                                                                         \
+        type m_;                                                              \
+        if (type##_decode(rb_->data, 0, (int)rb_->data_size, &m_) < 0)        \
+            return;                                                           \
+        typed(rb_, ch_, &m_, user_);                                          \
+        type##_decode_cleanup(&m_);                                           \
     }
 
 #endif

@@ -59,7 +59,7 @@ int64_t rx_seq_gap(rx_channel *c, int64_t seq)
         if (c->n_streams < RX_STREAMS)
             best = c->n_streams++;
         else
-            best = (int)(c->copies % RX_STREAMS);   /* replace one, round robin */
+            best = (int)(c->copies % RX_STREAMS); /* replace one, round robin */
         c->last_seq[best] = seq;
         return 0;
     }
@@ -102,7 +102,8 @@ static void trampoline(const lcm_recv_buf_t *rb_in, const char *ch, void *u)
     if (rc != AUTH_OK) {
         /* a forged channel name must not take a slot of the table */
         c = channel_known(rx, ch);
-        if (rc == AUTH_ERR_TYPE) {   /* not a tandem type or too long: malformed, refused before any MAC */
+        if (rc ==
+            AUTH_ERR_TYPE) { /* not a tandem type or too long: malformed, refused before any MAC */
             s->d->msgs.received++;
             s->d->msgs.rejected++;
             if (c)
@@ -131,7 +132,8 @@ static void trampoline(const lcm_recv_buf_t *rb_in, const char *ch, void *u)
     s->handler(rb, ch, s->user);
 }
 
-lcm_subscription_t *rx_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler, void *user)
+lcm_subscription_t *rx_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler,
+                                 void *user)
 {
     rx_state *rx = &d->rx;
     rx_sub *s = NULL;
@@ -209,5 +211,6 @@ void rx_fill_health(rx_state *rx, tandem_health_t *h)
     h->msgs_lost = rx_lost_total(rx);
     h->msgs_dropped = rx_dropped_total(rx);
     h->rx_deferred = rx->deferred;
-    h->loss_rate = rec + h->msgs_lost > 0 ? (double)h->msgs_lost / (double)(rec + h->msgs_lost) : 0.0;
+    h->loss_rate = rec + h->msgs_lost > 0 ? (double)h->msgs_lost / (double)(rec + h->msgs_lost)
+                                          : 0.0;
 }
