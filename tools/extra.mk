@@ -47,6 +47,7 @@ help:
 	@echo '                    error codes distinct and named, docs and figures current, no hidden state in src/'
 	@echo '  make analyze       cppcheck over every C file (tools/cppcheck-suppressions.xml): zero findings'
 	@echo '  make format-check  clang-format on every C file .clang-format-files names (make format rewrites them)'
+	@echo '  make tidy          clang-tidy (.clang-tidy) over every C file: zero findings'
 	@echo '  make unit | integration   one of the two test sets'
 	@echo '  make view          browser viewer attached to a running bus (VIEW_ARGS="--help")'
 	@echo '  make view-test     headless-Chromium test of the viewer (UPDATE_DOCS=1 writes docs/viewer.png)'

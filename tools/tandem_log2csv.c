@@ -141,7 +141,7 @@ static void list_channels(lcm_eventlog_t *log)
     lcm_eventlog_event_t *ev;
     while ((ev = lcm_eventlog_read_next_event(log)) != NULL) {
         const tandem_csv_type *t = tandem_csv_find(fingerprint(ev));
-        for (i = 0; i < n && strcmp(c[i].name, ev->channel); i++) {
+        for (i = 0; i < n && strcmp(c[i].name, ev->channel) != 0; i++) {
         }
         if (i == n && n < 512) {
             snprintf(c[n].name, sizeof c[n].name, "%s", ev->channel);

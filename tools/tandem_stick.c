@@ -157,7 +157,7 @@ int main(int argc, char **argv)
         options_print_help(&prog, stdout);
         return 0;
     }
-    if (argc < 2 || (strcmp(argv[1], "insert") && strcmp(argv[1], "remove"))) {
+    if (argc < 2 || (strcmp(argv[1], "insert") != 0 && strcmp(argv[1], "remove") != 0)) {
         fprintf(stderr, "tandem-stick: first argument must be 'insert' or 'remove'\n");
         options_print_help(&prog, stderr);
         return 2;

@@ -64,8 +64,8 @@ static int option_fault(const char *prog, void *dest, char *value)
     if (cfg->n_faults >= SCENARIO_MAX_FAULTS ||
         scenario_parse_fault(&cfg->faults[cfg->n_faults], value) != 0)
         return OPTIONS_ERR_SAID;
-    for (i = 1;
-         i < CARRY_DAEMONS && strcmp(cfg->faults[cfg->n_faults].daemon, carry_daemon_fault_name[i]);
+    for (i = 1; i < CARRY_DAEMONS &&
+                strcmp(cfg->faults[cfg->n_faults].daemon, carry_daemon_fault_name[i]) != 0;
          i++)
         ;
     if (i == CARRY_DAEMONS) {

@@ -310,6 +310,8 @@ static const option_entry arm_options[] = {
       .def = "0.5" },
     { .name = "arm-model",
       .type = OPTION_CALL,
+      /* the option stores a pointer: its size is a pointer's */
+      /* NOLINTNEXTLINE(bugprone-sizeof-expression) */
       OPTION_AT(arm_daemon, model),
       .call = parse_model,
       .meta = "NAME",

@@ -560,14 +560,14 @@ static int tool_insecure(const char *prog, void *dest, char *value)
 #define BUS_KEY_ENTRIES(key_file, insecure)                                          \
     { .name = "key-file",                                                            \
       .type = OPTION_CALL,                                                           \
-      .call = key_file,                                                              \
+      .call = (key_file),                                                            \
       .repeatable = 1,                                                               \
       .meta = "PATH",                                                                \
       .help = "bus key (default $" AUTH_BUS_KEY_ENV                                  \
               ", else ${XDG_CONFIG_HOME:-~/.config}/tandem/bus.key "                 \
               "if it exists); twice while rotating: the first signs, both verify" }, \
     {                                                                                \
-        .name = "insecure", .type = OPTION_FLAG, .call = insecure,                   \
+        .name = "insecure", .type = OPTION_FLAG, .call = (insecure),                 \
         .help = "no authentication: nothing signed, nothing checked"                 \
     }
 

@@ -80,6 +80,8 @@ static void test_scan_equals_mask(void **st)
             memset(&s, 0, sizeof s);
             for (i = 0; i < n.n_places; i++)
                 s.m[i] = (uint8_t)(rnd() % 4 ? 1 + rnd() % 2 : 0);
+            /* three draws: about one bit in eight set */
+            /* NOLINTNEXTLINE(misc-redundant-expression) */
             s.running = (uint32_t)(rnd() & rnd() & rnd());
             if (n.n_transitions < 32)
                 s.running &= (UINT32_C(1) << n.n_transitions) - 1;
