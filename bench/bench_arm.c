@@ -31,8 +31,8 @@ static void make_samples(const arm_model *m)
     for (i = 0; i < NSAMPLES; i++) {
         for (j = 0; j < ARM_NJ; j++) {
             s = s * 6364136223846793005UL + 1442695040888963407UL;
-            q_set[i][j] = m->q_min_rad[j] + (m->q_max_rad[j] - m->q_min_rad[j])
-                          * (double)(s >> 11) / 9007199254740992.0;
+            q_set[i][j] = m->q_min_rad[j] + (m->q_max_rad[j] - m->q_min_rad[j]) *
+                                                (double)(s >> 11) / 9007199254740992.0;
             qd_set[i][j] = 0.5 * (double)((long)(s >> 40) % 7 - 3);
         }
         arm_fk(m, NULL, q_set[i], T_set[i]);
@@ -61,7 +61,8 @@ static double run(const arm_model *m, const char *name, long n)
         else if (strcmp(name, "grav") == 0)
             arm_gravity(m, q_set[i], NULL, NULL, out);
         else if (strcmp(name, "fd") == 0)
-            arm_forward_dynamics(m, q_set[i], qd_set[i], qd_set[(i + 1) % NSAMPLES], NULL, NULL, out);
+            arm_forward_dynamics(m, q_set[i], qd_set[i], qd_set[(i + 1) % NSAMPLES], NULL, NULL,
+                                 out);
         else
             return -1.0;
         sink += out[0];

@@ -17,7 +17,11 @@ typedef struct bare {
 } bare;
 
 static volatile sig_atomic_t stop;
-static void on_signal(int sig) { (void)sig; stop = 1; }
+static void on_signal(int sig)
+{
+    (void)sig;
+    stop = 1;
+}
 
 static void on_msg(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
@@ -63,7 +67,7 @@ int main(int argc, char **argv)
     fflush(stdout);
     t0 = now_s();
     signal(SIGINT, on_signal);
-    signal(SIGTERM, on_signal);   /* stopped early: still says what it saw */
+    signal(SIGTERM, on_signal); /* stopped early: still says what it saw */
     while (!stop && now_s() - t0 < seconds)
         lcm_handle_timeout(lcm, 100);
     printf("bench_bare_sub: %ld messages (%.1f MB) in %.0f s, rss %ld kB at the end\n", b.messages,

@@ -92,9 +92,12 @@ static int setup(void)
     if (arm_ik(&arm_model_puma560, &tool, T, &r) != 0)
         return -1;
     memcpy(q0, r.branch[arm_ik_nearest(&r, q_ref)].q_rad, sizeof q0);
-    vec3_set(R1, 1, 0, 0); vec3_set(R1 + 3, 0, -1, 0); vec3_set(R1 + 6, 0, 0, -1);
+    vec3_set(R1, 1, 0, 0);
+    vec3_set(R1 + 3, 0, -1, 0);
+    vec3_set(R1 + 6, 0, 0, -1);
     vec3_copy(p1, cell_default.home_tool_m[0]);
-    p1[0] -= 0.2; p1[2] -= 0.1;
+    p1[0] -= 0.2;
+    p1[2] -= 0.1;
     if (cartseg_start(&seg, &arm_model_puma560, &tool, T_wb, q0, p1, R1, &carry_table[0].lin,
                       ERLAW_REF_MEASURED) != 0)
         return -1;
@@ -158,7 +161,7 @@ static double ns_per_call(const char *mode, long n)
     const long batch = n / 20;
     double best = 1e30;
     int b;
-    run(mode, batch);   /* warm-up */
+    run(mode, batch); /* warm-up */
     for (b = 0; b < 20; b++) {
         const double t0 = now_s();
         run(mode, batch);
@@ -175,7 +178,8 @@ static long instr_per_call(const char *self, const char *mode, long n)
     for (r = 0; r < 2; r++) {
         char cmd[1024], line[512];
         FILE *p;
-        snprintf(cmd, sizeof cmd, "valgrind --tool=callgrind --callgrind-out-file=/dev/null '%s' %s %ld 2>&1", self,
+        snprintf(cmd, sizeof cmd,
+                 "valgrind --tool=callgrind --callgrind-out-file=/dev/null '%s' %s %ld 2>&1", self,
                  mode, n * (r + 1));
         p = popen(cmd, "r");
         if (!p)

@@ -48,7 +48,9 @@ static volatile int got;
 
 static void on_any(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     got = 1;
 }
 
@@ -95,15 +97,17 @@ static int bare_exchange(lcm_t *l, int state_size, int clock_size, int cmd_size,
 }
 
 /* Encodes and publishes without authentication (to the --insecure arm). */
-#define PUBLISH_PLAIN(type, l, ch, msg) do { \
-        uint8_t b_[512]; \
+#define PUBLISH_PLAIN(type, l, ch, msg)                             \
+    do {                                                            \
+        uint8_t b_[512];                                            \
         const int n_ = type##_encode(b_, 0, (int)sizeof b_, (msg)); \
-        if (n_ > 0) lcm_publish((l), (ch), b_, (unsigned)n_); \
+        if (n_ > 0)                                                 \
+            lcm_publish((l), (ch), b_, (unsigned)n_);               \
     } while (0)
 
 /* tandem path: ARM1_STATE + SIM_CLOCK to tandem-arm, wait for ARM1_COMMAND. */
-static int tandem_exchange(lcm_t *l, int signed_msgs, tandem_arm_state_t *st, tandem_sim_clock_t *clk, int i,
-                           loopstats *s)
+static int tandem_exchange(auth_bus *bus, lcm_t *l, int signed_msgs, tandem_arm_state_t *st,
+                           tandem_sim_clock_t *clk, int i, loopstats *s)
 {
     int64_t t0;
     st->step = i;
@@ -113,8 +117,8 @@ static int tandem_exchange(lcm_t *l, int signed_msgs, tandem_arm_state_t *st, ta
     got = 0;
     t0 = rtloop_now_ns();
     if (signed_msgs) {
-        AUTH_PUBLISH(tandem_arm_state_t, l, "ARM1_STATE", st);
-        AUTH_PUBLISH(tandem_sim_clock_t, l, "SIM_CLOCK", clk);
+        AUTH_PUBLISH(tandem_arm_state_t, bus, l, "ARM1_STATE", st);
+        AUTH_PUBLISH(tandem_sim_clock_t, bus, l, "SIM_CLOCK", clk);
     } else {
         PUBLISH_PLAIN(tandem_arm_state_t, l, "ARM1_STATE", st);
         PUBLISH_PLAIN(tandem_sim_clock_t, l, "SIM_CLOCK", clk);
@@ -129,7 +133,8 @@ static int tandem_exchange(lcm_t *l, int signed_msgs, tandem_arm_state_t *st, ta
 static void print_row(const char *name, const loopstats *s)
 {
     printf("  %-34s p50 %7.1f us   p99 %7.1f us   max %8.1f us   (n=%lld)\n", name,
-           loopstats_percentile(s, 0.50), loopstats_percentile(s, 0.99), s->max_us, (long long)s->count);
+           loopstats_percentile(s, 0.50), loopstats_percentile(s, 0.99), s->max_us,
+           (long long)s->count);
 }
 
 static void print_ratio(const char *name, const loopstats *a, const loopstats *b, const char *note)
@@ -180,7 +185,8 @@ static void print_block_ratio(const char *name, double *r, int n, const char *no
     qsort(r, (size_t)n, sizeof r[0], cmp_double);
     lo = r[0];
     hi = r[n - 1];
-    printf("  %-34s p50 %.2fx median of %d blocks (blocks %.2f-%.2fx)%s\n", name, median(r, n), n, lo, hi, note);
+    printf("  %-34s p50 %.2fx median of %d blocks (blocks %.2f-%.2fx)%s\n", name, median(r, n), n,
+           lo, hi, note);
 }
 
 static double wall_s(void)
@@ -213,7 +219,8 @@ static auth_keyset *role_set(const uint8_t m[AUTH_KEY_BYTES], const auth_peer *p
  * table, the replay table) of a body_len-byte message; beside them an
  * Ed25519 signature (crypto_sign) of the same body: one signature every
  * receiver checks with the sender's public key. */
-static void time_sign_verify(const char *channel, const auth_peer *reader, int body_len, int reps, int ed_reps)
+static void time_sign_verify(const char *channel, const auth_peer *reader, int body_len, int reps,
+                             int ed_reps)
 {
     static uint8_t buf[2048], ed_sig[crypto_sign_BYTES], ed_pk[crypto_sign_PUBLICKEYBYTES],
         ed_sk[crypto_sign_SECRETKEYBYTES];
@@ -248,8 +255,8 @@ static void time_sign_verify(const char *channel, const auth_peer *reader, int b
     n_to = auth_receivers(ks, channel, AUTH_ROLES_ALL, bench_wants, to);
     t0 = wall_s();
     for (i = 0; i < reps; i++)
-        auth_sign_to(ks, &s, 1000000000000000ULL + (uint64_t)i, channel, to, n_to, buf, (size_t)body_len,
-                     sizeof buf, &len);
+        auth_sign_to(ks, &s, 1000000000000000ULL + (uint64_t)i, channel, to, n_to, buf,
+                     (size_t)body_len, sizeof buf, &len);
     sign_us = (wall_s() - t0) * 1e6 / reps;
     t0 = wall_s();
     for (i = 0; i < reps; i++) {
@@ -270,8 +277,9 @@ static void time_sign_verify(const char *channel, const auth_peer *reader, int b
         bad += crypto_sign_verify_detached(ed_sig, buf, (unsigned long long)body_len, ed_pk) != 0;
     ed_verify_us = ed_reps > 0 ? (wall_s() - t0) * 1e6 / ed_reps : 0.0;
     printf("  %-13s %4d B + %3d B trailer (%d tags): sign %.2f us, check %.2f us | Ed25519 + 64 B: "
-           "sign %.1f us, verify %.1f us%s\n", channel, body_len, (int)t.len, t.n_tags, sign_us, check_us,
-           ed_sign_us, ed_verify_us, bad ? "  (CHECK FAILED)" : "");
+           "sign %.1f us, verify %.1f us%s\n",
+           channel, body_len, (int)t.len, t.n_tags, sign_us, check_us, ed_sign_us, ed_verify_us,
+           bad ? "  (CHECK FAILED)" : "");
     auth_keyset_free(ks);
     auth_keyset_free(kr);
 }
@@ -285,7 +293,7 @@ static pid_t start_arm(const char *path, const char *url, int insecure, auth_chi
     if (pid == 0) {
         setenv("LCM_DEFAULT_URL", url, 1);
         if (keyed == AUTH_CHILD_OK)
-            setenv(AUTH_BUS_KEY_ENV, key, 1);   /* arm 1's role file, as tandem-run gives it */
+            setenv(AUTH_BUS_KEY_ENV, key, 1); /* arm 1's role file, as tandem-run gives it */
         if (insecure)
             execl(path, "tandem-arm", "--arm", "1", "--lockstep", "--insecure", (char *)NULL);
         else
@@ -301,8 +309,10 @@ static pid_t start_arm(const char *path, const char *url, int insecure, auth_chi
 static void time_auth(int reps, int ed_reps, int state_size, int cmd_size, int clock_size)
 {
     const auth_peer arm1 = { AUTH_ROLE_ARM, 1, 1 }, sim = { AUTH_ROLE_SIM, 0, 0 };
-    printf("authentication, per-role keys (keyed BLAKE2b-128 tag per reader, libsodium), cell of 3 rovers,\n"
-           "%d messages each (Ed25519: %d), one core:\n", reps, ed_reps);
+    printf(
+        "authentication, per-role keys (keyed BLAKE2b-128 tag per reader, libsodium), cell of 3 rovers,\n"
+        "%d messages each (Ed25519: %d), one core:\n",
+        reps, ed_reps);
     time_sign_verify("ARM1_STATE", &arm1, state_size, reps, ed_reps);
     time_sign_verify("ARM1_COMMAND", &sim, cmd_size, reps, ed_reps);
     time_sign_verify("SIM_CLOCK", &arm1, clock_size, reps, ed_reps);
@@ -313,7 +323,7 @@ int main(int argc, char **argv)
     const int ed_only = argc > 2 && strcmp(argv[1], "ed25519") == 0;
     const int auth_only = ed_only || (argc > 2 && strcmp(argv[1], "auth") == 0);
     const int rt_only = argc > 2 && strcmp(argv[1], "roundtrip") == 0;
-    const int a0 = rt_only ? 2 : 1;   /* N [BIN_DIR [REPS]] from here */
+    const int a0 = rt_only ? 2 : 1; /* N [BIN_DIR [REPS]] from here */
     const int n = auth_only ? atoi(argv[2]) : argc > a0 ? atoi(argv[a0]) : 10000;
     const char *bin = !auth_only && argc > a0 + 1 ? argv[a0 + 1] : "build/bin";
     const int reps_arg = rt_only && argc > a0 + 2 ? atoi(argv[a0 + 2]) : 10;
@@ -329,27 +339,32 @@ int main(int argc, char **argv)
     tandem_arm_command_t cmd0;
     loopstats bare, plain, authed;
     auth_child_keys keys;
+    static auth_bus bus; /* this process's (the simulator's) side of the bus */
     int i, state_size, cmd_size, clock_size;
-    snprintf(url_ins, sizeof url_ins, "udpm://239.255.76.67:%d?ttl=0", 40000 + (int)(getpid() % 10000));
-    snprintf(url_sec, sizeof url_sec, "udpm://239.255.76.67:%d?ttl=0", 50000 + (int)(getpid() % 10000));
-    auth_child_keys_init(&keys);
+    snprintf(url_ins, sizeof url_ins, "udpm://239.255.76.67:%d?ttl=0",
+             40000 + (int)(getpid() % 10000));
+    snprintf(url_sec, sizeof url_sec, "udpm://239.255.76.67:%d?ttl=0",
+             50000 + (int)(getpid() % 10000));
+    auth_child_keys_init(&keys, &bus);
     if (auth_bus_ephemeral_key(key, sizeof key) != 0)
         return 1;
     /* a cell of three rovers; this process is its simulator and holds the
      * simulator's role file, as tandem-sim does under tandem-run */
-    auth_bus_roster(3);
+    auth_bus_roster(&bus, 3);
     {
         const char *const sim_argv[] = { "tandem-sim", NULL };
         if (auth_child_key(&keys, sim_argv, sim_key, sizeof sim_key) != AUTH_CHILD_OK ||
-            auth_bus_option("bench_roundtrip", OPT_KEY_FILE, sim_key) != 1)
+            auth_bus_option(&bus, "bench_roundtrip", OPT_KEY_FILE, sim_key) != 1)
             return 1;
     }
-    auth_bus_identity(AUTH_ROLE_SIM, 0, 0);
-    if (auth_bus_start("bench_roundtrip") != 0)
+    auth_bus_identity(&bus, AUTH_ROLE_SIM, 0, 0);
+    if (auth_bus_start(&bus, "bench_roundtrip") != 0)
         return 1;
     memset(&st, 0, sizeof st);
     st.arm = 1;
-    st.q_rad[1] = 0.6; st.q_rad[2] = 2.9; st.q_rad[4] = -0.4;
+    st.q_rad[1] = 0.6;
+    st.q_rad[2] = 2.9;
+    st.q_rad[4] = -0.4;
     state_size = tandem_arm_state_t_encoded_size(&st);
     memset(&cmd0, 0, sizeof cmd0);
     cmd_size = tandem_arm_command_t_encoded_size(&cmd0);
@@ -358,8 +373,13 @@ int main(int argc, char **argv)
     clock_size = tandem_sim_clock_t_encoded_size(&clk);
 
     if (!rt_only)
-        time_auth(ed_only ? 0 : auth_only ? n : 100000, ed_only ? n : auth_only ? 0 : 10000, state_size, cmd_size,
-                  clock_size);
+        time_auth(ed_only     ? 0
+                  : auth_only ? n
+                              : 100000,
+                  ed_only     ? n
+                  : auth_only ? 0
+                              : 10000,
+                  state_size, cmd_size, clock_size);
     if (auth_only)
         return 0;
 
@@ -377,15 +397,20 @@ int main(int argc, char **argv)
     l_sec = lcm_create(url_sec);
     lcm_subscribe(l_ins, "BENCH_PONG", on_any, NULL);
     lcm_subscribe(l_ins, "ARM1_COMMAND", on_any, NULL);
-    auth_bus_subscribe(l_sec, "ARM1_COMMAND", on_any, NULL);   /* checked, as the simulator does */
-    { struct timespec ts = { 0, 300000000L }; nanosleep(&ts, NULL); }
+    auth_bus_subscribe(&bus, l_sec, "ARM1_COMMAND", on_any,
+                       NULL); /* checked, as the simulator does */
+    {
+        struct timespec ts = { 0, 300000000L };
+        nanosleep(&ts, NULL);
+    }
     loopstats_reset(&bare);
     loopstats_reset(&plain);
     loopstats_reset(&authed);
     per_block = n / reps > 0 ? n / reps : 1;
-    printf("round trip over LCM, %d exchanges of each kind in %d blocks, state %d B, command %d B (+ a trailer of a\n"
-           "tag per reader when authenticated; the arm holds its role file)\n", per_block * reps, reps, state_size,
-           cmd_size);
+    printf(
+        "round trip over LCM, %d exchanges of each kind in %d blocks, state %d B, command %d B (+ a trailer of a\n"
+        "tag per reader when authenticated; the arm holds its role file)\n",
+        per_block * reps, reps, state_size, cmd_size);
 
     /* Exchanges alternate bare / insecure / authenticated, each kind first
      * in turn, so all see the same machine load and none always follows
@@ -401,23 +426,28 @@ int main(int argc, char **argv)
         for (j = 0; j < 3 && !bad; j++) {
             switch ((i + j) % 3) {
             case 0:
-                bad = bare_exchange(l_ins, state_size, clock_size, cmd_size, k >= 0 ? &blk[0] : NULL) != 0;
-                if (bad) fprintf(stderr, "bench: no echo\n");
+                bad = bare_exchange(l_ins, state_size, clock_size, cmd_size,
+                                    k >= 0 ? &blk[0] : NULL) != 0;
+                if (bad)
+                    fprintf(stderr, "bench: no echo\n");
                 break;
             case 1:
-                bad = tandem_exchange(l_ins, 0, &st, &clk, i, k >= 0 ? &blk[1] : NULL) != 0;
-                if (bad) fprintf(stderr, "bench: no command from tandem-arm --insecure\n");
+                bad = tandem_exchange(&bus, l_ins, 0, &st, &clk, i, k >= 0 ? &blk[1] : NULL) != 0;
+                if (bad)
+                    fprintf(stderr, "bench: no command from tandem-arm --insecure\n");
                 break;
             default:
-                bad = tandem_exchange(l_sec, 1, &st, &clk, i, k >= 0 ? &blk[2] : NULL) != 0;
-                if (bad) fprintf(stderr, "bench: no command from tandem-arm (authenticated)\n");
+                bad = tandem_exchange(&bus, l_sec, 1, &st, &clk, i, k >= 0 ? &blk[2] : NULL) != 0;
+                if (bad)
+                    fprintf(stderr, "bench: no command from tandem-arm (authenticated)\n");
                 break;
             }
         }
         if (bad)
             break;
         if (k >= 0 && k % per_block == per_block - 1) {
-            const double b = loopstats_percentile(&blk[0], 0.5), p = loopstats_percentile(&blk[1], 0.5),
+            const double b = loopstats_percentile(&blk[0], 0.5),
+                         p = loopstats_percentile(&blk[1], 0.5),
                          a = loopstats_percentile(&blk[2], 0.5);
             stats_merge(&bare, &blk[0]);
             stats_merge(&plain, &blk[1]);

@@ -18,7 +18,7 @@
 #include "sim_rovers_sense.c"
 #include <time.h>
 #include <sys/resource.h>
-#include <unistd.h>   /* getpid */
+#include <unistd.h> /* getpid */
 #include "proc.h"
 
 static double cpu_s(void)
@@ -59,13 +59,15 @@ static void in_process(int n, double sim_s)
     cfg.rovers = n;
     snprintf(cfg.rover_world, sizeof cfg.rover_world, "obstacles");
     sim_world_create(&w);
-    if (sim_rovers_ops.create(&team, &w, &cfg) != 0) return;
+    if (sim_rovers_ops.create(&team, &w, &cfg) != 0)
+        return;
     t0 = wall_s();
     c0 = cpu_s();
     for (k = 0; k < steps; k++) {
-        if (k % 50 == 0)   /* a 20 Hz "controller": drive and weave */
+        if (k % 50 == 0) /* a 20 Hz "controller": drive and weave */
             for (i = 1; i <= n; i++)
-                sim_rovers_set_command(&team, i, 0.4, 0.5 * sin(0.5 * (double)k * SIM_DT_S + i), w.step);
+                sim_rovers_set_command(&team, i, 0.4, 0.5 * sin(0.5 * (double)k * SIM_DT_S + i),
+                                       w.step);
         sim_rovers_ops.before_step(&team, &w);
         sim_world_step(&w);
         sim_rovers_ops.after_step(&team, &w);
@@ -86,11 +88,14 @@ static void in_process(int n, double sim_s)
 static void lockstep_system(int n, double sim_s, const char *bin, int batch)
 {
     char n_s[16], ids[32], steps_s[32], url[128];
-    const char *sim[] = { "tandem-sim", "--lockstep", "--no-arms", "--rovers", n_s,
-                          "--world", "open", "--expect", "1", "--steps", steps_s,
-                          batch ? "--rover-batch" : NULL, NULL };
-    const char *rover[] = { "tandem-rover", "--id", ids, "--robots", n_s, "--world", "open",
-                            "--lockstep", batch ? "--batch" : NULL, NULL };
+    const char *sim[] = { "tandem-sim", "--lockstep", "--no-arms", "--rovers",
+                          n_s,          "--world",    "open",      "--expect",
+                          "1",          "--steps",    steps_s,     batch ? "--rover-batch" : NULL,
+                          NULL };
+    const char *rover[] = {
+        "tandem-rover",           "--id", ids, "--robots", n_s, "--world", "open", "--lockstep",
+        batch ? "--batch" : NULL, NULL
+    };
     proc_set ps;
     pid_t sim_pid;
     int status = -1, k;
@@ -100,7 +105,7 @@ static void lockstep_system(int n, double sim_s, const char *bin, int batch)
     snprintf(steps_s, sizeof steps_s, "%ld", (long)llround(sim_s / SIM_DT_S));
     snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0&recv_buf_size=4194304",
              20000 + (int)(getpid() % 10000));
-    proc_init(&ps, bin);
+    proc_init(&ps, NULL, bin);
     w0 = wall_s();
     if (proc_spawn(&ps, rover, url, "/dev/null", "/dev/null") < 0 ||
         (sim_pid = proc_spawn(&ps, sim, url, "/dev/null", "/dev/null")) < 0) {
@@ -119,8 +124,8 @@ static void lockstep_system(int n, double sim_s, const char *bin, int batch)
         return;
     }
     printf("  N = %3d, %-9s: %5.1f s simulated: %6.2f s CPU in both = %6.1fx real time per core "
-           "(%6.2f s wall = %5.1fx)\n", n, batch ? "batched" : "per robot", sim_s, cpu,
-           sim_s / cpu, w1 - w0, sim_s / (w1 - w0));
+           "(%6.2f s wall = %5.1fx)\n",
+           n, batch ? "batched" : "per robot", sim_s, cpu, sim_s / cpu, w1 - w0, sim_s / (w1 - w0));
 }
 
 int main(int argc, char **argv)
@@ -130,7 +135,8 @@ int main(int argc, char **argv)
     const char *bin = argc > 2 ? argv[2] : "build/bin";
     size_t i;
     printf("rover simulation, in process (physics + sonar rings + camera, no LCM), one core:\n");
-    for (i = 0; i < sizeof ns / sizeof ns[0]; i++) in_process(ns[i], sim_s);
+    for (i = 0; i < sizeof ns / sizeof ns[0]; i++)
+        in_process(ns[i], sim_s);
     printf("whole system in lockstep over LCM (tandem-sim + tandem-rover --id 1-N), sensor link\n"
            "per robot (ROVERk_*) and batched (ROVERS_*, --rover-batch / --batch) in turn:\n");
     for (i = 0; i < sizeof ns / sizeof ns[0]; i++) {

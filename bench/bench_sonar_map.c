@@ -28,7 +28,8 @@ static void add_obstacles(const rover_obstacle *o, int n)
         if (o[k].kind == ROVER_OBST_CIRCLE)
             sonar_world_add_circle(&SW, o[k].cx_m, o[k].cy_m, o[k].r_m, 0.0, o[k].height_m);
         else
-            sonar_world_add_box(&SW, o[k].cx_m, o[k].cy_m, o[k].hx_m, o[k].hy_m, o[k].angle_rad, 0.0, o[k].height_m);
+            sonar_world_add_box(&SW, o[k].cx_m, o[k].cy_m, o[k].hx_m, o[k].hy_m, o[k].angle_rad,
+                                0.0, o[k].height_m);
     }
     sonar_world_build(&SW);
 }
@@ -37,13 +38,14 @@ static int inside_any(const rover_obstacle *o, int n, double x, double y)
 {
     int k;
     for (k = 0; k < n; k++)
-        if (rover_obstacle_distance(&o[k], x, y) <= 0.0) return 1;
+        if (rover_obstacle_distance(&o[k], x, y) <= 0.0)
+            return 1;
     return 0;
 }
 
 /* Rays per CPU second from free points in [x0, x1] x [y0, y1]. */
-static double rays_per_cpu_s(const rover_obstacle *o, int n, double x0, double y0, double x1, double y1, long rays,
-                             long *hits)
+static double rays_per_cpu_s(const rover_obstacle *o, int n, double x0, double y0, double x1,
+                             double y1, long rays, long *hits)
 {
     enum { STARTS = 4096 };
     static double sx[STARTS], sy[STARTS], dir[STARTS];
@@ -64,7 +66,8 @@ static double rays_per_cpu_s(const rover_obstacle *o, int n, double x0, double y
     for (q = 0; q < rays; q++) {
         sonar_hit h;
         const int k2 = (int)(q % STARTS);
-        *hits += sonar_cast(&h, &SW, sx[k2], sy[k2], 0.2, dir[k2] + 1e-3 * (double)(q / STARTS), 5.0) == 1;
+        *hits += sonar_cast(&h, &SW, sx[k2], sy[k2], 0.2, dir[k2] + 1e-3 * (double)(q / STARTS),
+                            5.0) == 1;
     }
     c1 = clock();
     return (double)rays / ((double)(c1 - c0) / CLOCKS_PER_SEC);
@@ -86,9 +89,11 @@ static int big_map(void)
             const int i0 = (int)((gi * cell_m + prng_uniform(&r) * (cell_m - 1.3)) / 0.1);
             const int j0 = (int)((gj * cell_m + prng_uniform(&r) * (cell_m - 1.3)) / 0.1);
             for (j = j0; j < j0 + h; j++)
-                for (i = i0; i < i0 + w; i++) M.cell[(long)j * 1000 + i] = ROVER_MAP_OCCUPIED;
+                for (i = i0; i < i0 + w; i++)
+                    M.cell[(long)j * 1000 + i] = ROVER_MAP_OCCUPIED;
         }
-    if (rover_map_merge(&M, BOX, ROVER_WORLD_MAX_OBST, &n) != ROVER_MAP_OK) return -1;
+    if (rover_map_merge(&M, BOX, ROVER_WORLD_MAX_OBST, &n) != ROVER_MAP_OK)
+        return -1;
     return n;
 }
 
@@ -102,10 +107,12 @@ int main(int argc, char **argv)
     for (world = 0; world < ROVER_WORLD_COUNT; world++) {
         rover_world_layout(&W, world, 3, 1.0, 0);
         add_obstacles(W.obst, W.n_obst);
-        v = rays_per_cpu_s(W.obst, W.n_obst, W.x_min_m, W.y_min_m, W.x_max_m, W.y_max_m, rays, &hits);
-        printf("  %-10s %5d prims  %12.0f rays/s  (%4.1f %% hit)\n", rover_world_name(world), W.n_obst, v,
-               100.0 * hits / rays);
-        if (world == 0 || v < built_in_worst) built_in_worst = v;
+        v = rays_per_cpu_s(W.obst, W.n_obst, W.x_min_m, W.y_min_m, W.x_max_m, W.y_max_m, rays,
+                           &hits);
+        printf("  %-10s %5d prims  %12.0f rays/s  (%4.1f %% hit)\n", rover_world_name(world),
+               W.n_obst, v, 100.0 * hits / rays);
+        if (world == 0 || v < built_in_worst)
+            built_in_worst = v;
     }
     n = big_map();
     if (n < 0) {
@@ -114,8 +121,9 @@ int main(int argc, char **argv)
     }
     add_obstacles(BOX, n);
     v = rays_per_cpu_s(BOX, n, 0.0, 0.0, 100.0, 100.0, rays, &hits);
-    printf("  100x100 m  %5d boxes %12.0f rays/s  (%4.1f %% hit; grid %dx%d cells of %.2f m)\n", n, v,
-           100.0 * hits / rays, SW.nx, SW.ny, SW.cell_m);
-    printf("  100 m map / slowest built-in world: %.2f (the bound: within 2x, i.e. >= 0.5)\n", v / built_in_worst);
+    printf("  100x100 m  %5d boxes %12.0f rays/s  (%4.1f %% hit; grid %dx%d cells of %.2f m)\n", n,
+           v, 100.0 * hits / rays, SW.nx, SW.ny, SW.cell_m);
+    printf("  100 m map / slowest built-in world: %.2f (the bound: within 2x, i.e. >= 0.5)\n",
+           v / built_in_worst);
     return 0;
 }

@@ -29,14 +29,14 @@
 #include "auth_acl.h"
 
 #define FUZZ_MAX_BODY 65536
-#define FUZZ_NOW_US   1800000000000000ULL   /* a fixed wall clock: deterministic runs */
+#define FUZZ_NOW_US 1800000000000000ULL /* a fixed wall clock: deterministic runs */
 
 typedef struct fuzz_ctx {
     auth_keyring ring;
-    auth_replay  replay;
+    auth_replay replay;
 } fuzz_ctx;
 
-static const auth_peer fuzz_me = { AUTH_ROLE_TOOL, 0, 0 };   /* the receiver */
+static const auth_peer fuzz_me = { AUTH_ROLE_TOOL, 0, 0 }; /* the receiver */
 
 static fuzz_ctx *ctx(void)
 {
@@ -75,7 +75,8 @@ static int admit(fuzz_ctx *c, const char *channel, const auth_trailer *t)
     if (rc == AUTH_OK)
         rc = auth_acl_check(auth_acl_table, auth_acl_table_n, channel, &t->sender);
     if (rc == AUTH_OK)
-        rc = auth_replay_check(&c->replay, &t->sender, auth_channel_hash(channel), t->counter, FUZZ_NOW_US);
+        rc = auth_replay_check(&c->replay, &t->sender, auth_channel_hash(channel), t->counter,
+                               FUZZ_NOW_US);
     return rc;
 }
 
@@ -83,7 +84,7 @@ static void as_received(fuzz_ctx *c, const char *channel, const uint8_t *d, size
 {
     auth_trailer t;
     if (auth_verify(&c->ring, &fuzz_me, channel, d, n, &t) == AUTH_OK)
-        abort();   /* a MAC nobody here computed verified */
+        abort(); /* a MAC nobody here computed verified */
 }
 
 static void signed_here(fuzz_ctx *c, const char *channel, const uint8_t *d, size_t n)
@@ -104,20 +105,21 @@ static void signed_here(fuzz_ctx *c, const char *channel, const uint8_t *d, size
     s.session = (uint32_t)be(d + body + 5, 4);
     counter = be(d + body + 9, 8);
     memcpy(buf, d, body);
-    if (auth_sign(c->ring.set[0], &s, counter, channel, AUTH_ROLES_ALL, NULL, buf, body, sizeof buf, &len) != AUTH_OK)
+    if (auth_sign(c->ring.set[0], &s, counter, channel, AUTH_ROLES_ALL, NULL, buf, body, sizeof buf,
+                  &len) != AUTH_OK)
         return;
     if (auth_verify(&c->ring, &fuzz_me, channel, buf, len, &t) != AUTH_OK)
-        abort();   /* signed and refused */
+        abort(); /* signed and refused */
     if (t.sender.role != s.role || t.sender.first != s.first || t.sender.last != s.last ||
         t.sender.session != s.session || t.counter != counter || t.key_id != c->ring.set[0]->id)
-        abort();   /* the trailer does not read back what was written */
+        abort(); /* the trailer does not read back what was written */
     rc = admit(c, channel, &t);
     if (rc == AUTH_OK && admit(c, channel, &t) != AUTH_ERR_REPLAY)
-        abort();   /* the same counter taken twice */
-    flip = d[0] % (body + AUTH_FIXED_BYTES);   /* a byte of the body or of the fixed part */
+        abort();                             /* the same counter taken twice */
+    flip = d[0] % (body + AUTH_FIXED_BYTES); /* a byte of the body or of the fixed part */
     buf[flip < body ? flip : len - AUTH_FIXED_BYTES + (flip - body)] ^= 0x01;
     if (auth_verify(&c->ring, &fuzz_me, channel, buf, len, &t) == AUTH_OK)
-        abort();   /* a flipped bit of the body or trailer head still verifies */
+        abort(); /* a flipped bit of the body or trailer head still verifies */
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -133,7 +135,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (size < 2 + len)
         return 0;
     memcpy(channel, data + 2, len);
-    channel[len] = '\0';   /* an embedded NUL shortens it, as in a C string */
+    channel[len] = '\0'; /* an embedded NUL shortens it, as in a C string */
     if (data[0] & 1)
         signed_here(c, channel, data + 2 + len, size - 2 - len);
     else

@@ -21,7 +21,7 @@
 #define DECODE XCAT3(FUZZ_TYPE, _decode, )
 #define ENCODE XCAT3(FUZZ_TYPE, _encode, )
 #define CLEANUP XCAT3(FUZZ_TYPE, _decode_cleanup, )
-#include FUZZ_HEADER   /* "tandem_<name>_t.h", from tools/fuzz.sh */
+#include FUZZ_HEADER /* "tandem_<name>_t.h", from tools/fuzz.sh */
 
 /* The validators tandem-arm applies to the types that can move an arm. */
 static void validate(const void *m)
@@ -46,14 +46,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     (void)wire_find(data, size);
     (void)wire_seq(data, size);
     if (wire_check(&WIRE_T, data, size) != WIRE_OK || size > sizeof again)
-        return 0;   /* what every daemon drops before decoding */
+        return 0; /* what every daemon drops before decoding */
     memset(&m, 0, sizeof m);
     if (DECODE(data, 0, (int)size, &m) != (int)size)
-        abort();    /* accepted by the checker, refused by lcm-gen */
+        abort(); /* accepted by the checker, refused by lcm-gen */
     validate(&m);
     n = ENCODE(again, 0, (int)sizeof again, &m);
     if (n != (int)size || memcmp(again, data, size) != 0)
-        abort();    /* the two disagree about the layout */
+        abort(); /* the two disagree about the layout */
     CLEANUP(&m);
     return 0;
 }

@@ -17,14 +17,15 @@
 
 #define FUZZ_MAX_BYTES (1 << 20)
 
-static netc_task task;   /* large: one, reused */
+static netc_task task; /* large: one, reused */
 
 static void check_taken(const netc_task *t)
 {
     int k;
     if (t->n_places < 1 || t->n_places > PETRI_MAX_PLACES || t->n_transitions < 1 ||
-        t->n_transitions > PETRI_MAX_TRANSITIONS || t->net.n_minus != t->n_minus || t->net.m0 != t->m0 ||
-        t->net.n_places != t->n_places || t->net.n_transitions != t->n_transitions)
+        t->n_transitions > PETRI_MAX_TRANSITIONS || t->net.n_minus != t->n_minus ||
+        t->net.m0 != t->m0 || t->net.n_places != t->n_places ||
+        t->net.n_transitions != t->n_transitions)
         abort();
     for (k = 0; k < t->n_places * t->n_transitions; k++)
         if ((t->n_minus[k] | t->n_plus[k] | t->n_inhibit[k]) & ~1)

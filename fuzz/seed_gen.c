@@ -39,7 +39,8 @@ static size_t emit(const wire_type *t, unsigned char *b, size_t pos, int n)
             } else if (f->kind == WIRE_STRUCT) {
                 pos = emit(f->nested, b, pos, n);
             } else {
-                pos = put_int(b, pos, f->size, f->kind == WIRE_INT && is_length_field(t, i) ? n : 0);
+                pos = put_int(b, pos, f->size,
+                              f->kind == WIRE_INT && is_length_field(t, i) ? n : 0);
             }
         }
     }
@@ -63,8 +64,9 @@ int main(int argc, char **argv)
             FILE *f;
             n = emit(t, buf, n, counts[c]);
             if (wire_check(t, buf, n) != WIRE_OK)
-                continue;   /* a nested-only type, or arrays this short are refused */
-            snprintf(path, sizeof path, "%s/%s/seed-%d", argv[1], t->name + strlen("tandem_"), counts[c]);
+                continue; /* a nested-only type, or arrays this short are refused */
+            snprintf(path, sizeof path, "%s/%s/seed-%d", argv[1], t->name + strlen("tandem_"),
+                     counts[c]);
             if (!(f = fopen(path, "wb")) || fwrite(buf, 1, n, f) != n)
                 return 1;
             fclose(f);

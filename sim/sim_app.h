@@ -14,27 +14,27 @@
 #include "sim_workpieces.h"
 #include "world_file.h"
 
-#define SIM_MODELS_MAX 3   /* arms, workpieces, rovers */
+#define SIM_MODELS_MAX 3 /* arms, workpieces, rovers */
 
 typedef struct sim_app {
-    sim_world  w;
+    sim_world w;
     sim_config cfg;
-    int64_t    max_steps;      /* 0 = run forever */
-    int        expect;         /* lockstep: participants to wait for at start */
-    sim_model  models[SIM_MODELS_MAX];   /* in step order */
-    int        n_models;
-    int        reset_pending;
-    uint64_t   next_seed;
-    int64_t    answer_ns_avg;  /* lockstep: typical wall time to an answered step */
+    int64_t max_steps;                /* 0 = run forever */
+    int expect;                       /* lockstep: participants to wait for at start */
+    sim_model models[SIM_MODELS_MAX]; /* in step order */
+    int n_models;
+    int reset_pending;
+    uint64_t next_seed;
+    int64_t answer_ns_avg; /* lockstep: typical wall time to an answered step */
     /* options that are not stored as given */
-    int        no_arms;        /* --no-arms: cfg.arms = 0 */
-    int        world;          /* --world: index in options_world_names */
-    world_opts wopt;           /* --world-file, --start, --goal (world_file.h) */
-    int        arm_model;      /* --arm-model: index in options_arm_model_names, -1 not given */
+    int no_arms;     /* --no-arms: cfg.arms = 0 */
+    int world;       /* --world: index in options_world_names */
+    world_opts wopt; /* --world-file, --start, --goal (world_file.h) */
+    int arm_model;   /* --arm-model: index in options_arm_model_names, -1 not given */
     /* the models' states */
-    sim_arms       arms;
+    sim_arms arms;
     sim_workpieces workpieces;
-    sim_rovers     rovers;
+    sim_rovers rovers;
 } sim_app;
 
 /* sim_loop.c */
@@ -42,7 +42,7 @@ typedef struct sim_app {
 void sim_subscribe(sim_app *app);
 /* The world with every model in it; SIM_ERR_CREATE (said) if a model
  * cannot be built. */
-int  sim_build_world(sim_app *app);
+int sim_build_world(sim_app *app);
 void sim_destroy_world(sim_app *app);
 void sim_run_lockstep(sim_app *app);
 void sim_run_realtime(sim_app *app);

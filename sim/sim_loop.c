@@ -16,8 +16,8 @@
 
 /* Lockstep: how long to wait for the answers before publishing the step
  * again (a datagram lost on a loaded host, not a dead participant). */
-#define SIM_REANNOUNCE_NS 1000000LL       /* first repeat of an unanswered step */
-#define SIM_REANNOUNCE_MAX_NS 32000000LL  /* back-off cap */
+#define SIM_REANNOUNCE_NS 1000000LL      /* first repeat of an unanswered step */
+#define SIM_REANNOUNCE_MAX_NS 32000000LL /* back-off cap */
 /* Lockstep: how often a late participant's process is looked at (alive,
  * stopped, gone: sim_lockstep_drop_dead). */
 #define SIM_LIVENESS_CHECK_NS 50000000LL
@@ -68,10 +68,22 @@ static void on_control(const lcm_recv_buf_t *rb, const char *ch, void *u)
         goto out;
     }
     switch (m.command) {
-    case TANDEM_SIM_CONTROL_T_PAUSE:  app->w.paused = 1; handled = 1; break;
-    case TANDEM_SIM_CONTROL_T_RESUME: app->w.paused = 0; handled = 1; break;
-    case TANDEM_SIM_CONTROL_T_QUIT:   daemon_request_stop(); handled = 1; break;
-    case TANDEM_SIM_CONTROL_T_SET_SEED: app->next_seed = (uint64_t)m.seed; handled = 1; break;
+    case TANDEM_SIM_CONTROL_T_PAUSE:
+        app->w.paused = 1;
+        handled = 1;
+        break;
+    case TANDEM_SIM_CONTROL_T_RESUME:
+        app->w.paused = 0;
+        handled = 1;
+        break;
+    case TANDEM_SIM_CONTROL_T_QUIT:
+        daemon_request_stop();
+        handled = 1;
+        break;
+    case TANDEM_SIM_CONTROL_T_SET_SEED:
+        app->next_seed = (uint64_t)m.seed;
+        handled = 1;
+        break;
     case TANDEM_SIM_CONTROL_T_RESET:
         app->next_seed = (uint64_t)m.seed;
         app->reset_pending = 1;
@@ -113,7 +125,7 @@ static void publish_clock(sim_app *app)
     c.mode = app->w.lockstep ? TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP : TANDEM_SIM_CLOCK_T_MODE_REALTIME;
     c.paused = (int8_t)app->w.paused;
     c.seed = (int64_t)app->w.seed;
-    AUTH_PUBLISH(tandem_sim_clock_t, app->w.d.lcm, "SIM_CLOCK", &c);
+    AUTH_PUBLISH(tandem_sim_clock_t, &app->w.d.bus, app->w.d.lcm, "SIM_CLOCK", &c);
 }
 
 void sim_publish_status(sim_app *app)
@@ -136,7 +148,7 @@ void sim_publish_status(sim_app *app)
     for (i = 0; i < app->n_models; i++)
         if (app->models[i].ops->status)
             app->models[i].ops->status(app->models[i].state, &app->w, &s);
-    AUTH_PUBLISH(tandem_sim_status_t, app->w.d.lcm, "SIM_STATUS", &s);
+    AUTH_PUBLISH(tandem_sim_status_t, &app->w.d.bus, app->w.d.lcm, "SIM_STATUS", &s);
 }
 
 /* ---- the step ------------------------------------------------------------- */
@@ -168,7 +180,8 @@ static int models_ready(const sim_app *app, int64_t k)
 {
     int i;
     for (i = 0; i < app->n_models; i++)
-        if (app->models[i].ops->ready && !app->models[i].ops->ready(app->models[i].state, &app->w, k))
+        if (app->models[i].ops->ready &&
+            !app->models[i].ops->ready(app->models[i].state, &app->w, k))
             return 0;
     return 1;
 }
@@ -233,14 +246,17 @@ static void wait_for_answers(sim_app *app)
     /* the first repeat comes after a few typical answer times (at least
      * SIM_REANNOUNCE_NS): on a loaded machine a slow answer is not a lost one */
     int64_t last_pub = t0, again_ns = 4 * app->answer_ns_avg, last_check = t0, answered_ns = -1;
-    if (again_ns < SIM_REANNOUNCE_NS) again_ns = SIM_REANNOUNCE_NS;
-    if (again_ns > SIM_REANNOUNCE_MAX_NS) again_ns = SIM_REANNOUNCE_MAX_NS;
+    if (again_ns < SIM_REANNOUNCE_NS)
+        again_ns = SIM_REANNOUNCE_NS;
+    if (again_ns > SIM_REANNOUNCE_MAX_NS)
+        again_ns = SIM_REANNOUNCE_MAX_NS;
     while (!daemon_stop_requested()) {
         const int64_t now = rtloop_now_ns();
         const int starting = app->w.step == 0 && active_participants(&app->w) < app->expect;
         const int waiting = !starting && !app->w.paused;
         const int late = sim_lockstep_late(&app->w, app->w.step);
-        if (waiting && !late && (active_participants(&app->w) == 0 || models_ready(app, app->w.step))) {
+        if (waiting && !late &&
+            (active_participants(&app->w) == 0 || models_ready(app, app->w.step))) {
             /* answer time, averaged over ~64 waits, only of those answered
              * without a repeat (a lost message is not the machine's speed) */
             if (last_pub == t0)
@@ -272,7 +288,7 @@ static void wait_for_answers(sim_app *app)
             if (again_ns < SIM_REANNOUNCE_MAX_NS)
                 again_ns *= 2;
         }
-        lcm_handle_timeout(app->w.d.lcm, 1);   /* the re-announce timer's resolution */
+        lcm_handle_timeout(app->w.d.lcm, 1); /* the re-announce timer's resolution */
         /* health goes on while waiting: a simulator held by a silent
          * controller is alive, and its health says so (a scenario takes a
          * daemon without health for hung) */
@@ -339,6 +355,6 @@ void sim_run_realtime(sim_app *app)
             app->w.d.last_health_ns = l->wake_ns;
             daemon_publish_health(&app->w.d);
         }
-        daemon_names_watch(&app->w.d);   /* after the step, as the daemons do */
+        daemon_names_watch(&app->w.d); /* after the step, as the daemons do */
     }
 }

@@ -26,8 +26,10 @@ static int parse_friction(const char *prog, void *dest, char *value)
         return OPTIONS_ERR_SAID;
     }
     *comma = '\0';
-    if (parse_double_opt(prog, "--friction (viscous)", value, 0.0, 100.0, &cfg->arm_friction_viscous) < 0 ||
-        parse_double_opt(prog, "--friction (Coulomb)", comma + 1, 0.0, 100.0, &cfg->arm_friction_coulomb) < 0)
+    if (parse_double_opt(prog, "--friction (viscous)", value, 0.0, 100.0,
+                         &cfg->arm_friction_viscous) < 0 ||
+        parse_double_opt(prog, "--friction (Coulomb)", comma + 1, 0.0, 100.0,
+                         &cfg->arm_friction_coulomb) < 0)
         return OPTIONS_ERR_SAID;
     return 0;
 }
@@ -40,7 +42,8 @@ static int parse_q0(const char *prog, void *dest, char *value)
     char *tok = strtok(value, ",");
     int i;
     for (i = 0; i < ARM_NJ; i++, tok = strtok(NULL, ","))
-        if (!tok || parse_double_opt(prog, "--arm-q0", tok, -10.0, 10.0, &cfg->arm1_q0_rad[i]) < 0) {
+        if (!tok ||
+            parse_double_opt(prog, "--arm-q0", tok, -10.0, 10.0, &cfg->arm1_q0_rad[i]) < 0) {
             if (!tok)
                 fprintf(stderr, "%s: --arm-q0: expected 6 comma-separated angles (rad)\n", prog);
             return OPTIONS_ERR_SAID;
@@ -54,38 +57,107 @@ static int parse_q0(const char *prog, void *dest, char *value)
 }
 
 static const option_entry sim_options[] = {
-    { .name = "seed", .type = OPTION_INT, OPTION_AT(sim_app, w.seed), .min = 0, .max = 2147483647.0, .meta = "S",
-      .help = "random seed (noise, workpiece stream)", .def = "1" },
-    { .name = "steps", .type = OPTION_INT, OPTION_AT(sim_app, max_steps), .min = 0, .max = 2000000000.0,
-      .meta = "N", .help = "stop after N steps (0 = run until stopped)", .def = "0" },
-    { .name = "expect", .type = OPTION_INT, OPTION_AT(sim_app, expect), .min = 0, .max = SIM_MAX_PARTICIPANTS,
-      .meta = "N", .help = "lockstep: wait for N controllers before the first step", .def = "0" },
-    { .name = "timeout-ms", .type = OPTION_DOUBLE, OPTION_AT(sim_app, w.lockstep_timeout_s), .min = 10.0,
-      .max = 600000.0, .scale = 1e-3, .meta = "MS", .help = "lockstep: drop a controller silent this long whose process is gone or "
-      "ran without answering (a live, slow or stopped one is waited for)",
+    { .name = "seed",
+      .type = OPTION_INT,
+      OPTION_AT(sim_app, w.seed),
+      .min = 0,
+      .max = 2147483647.0,
+      .meta = "S",
+      .help = "random seed (noise, workpiece stream)",
+      .def = "1" },
+    { .name = "steps",
+      .type = OPTION_INT,
+      OPTION_AT(sim_app, max_steps),
+      .min = 0,
+      .max = 2000000000.0,
+      .meta = "N",
+      .help = "stop after N steps (0 = run until stopped)",
+      .def = "0" },
+    { .name = "expect",
+      .type = OPTION_INT,
+      OPTION_AT(sim_app, expect),
+      .min = 0,
+      .max = SIM_MAX_PARTICIPANTS,
+      .meta = "N",
+      .help = "lockstep: wait for N controllers before the first step",
+      .def = "0" },
+    { .name = "timeout-ms",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(sim_app, w.lockstep_timeout_s),
+      .min = 10.0,
+      .max = 600000.0,
+      .scale = 1e-3,
+      .meta = "MS",
+      .help = "lockstep: drop a controller silent this long whose process is gone or "
+              "ran without answering (a live, slow or stopped one is waited for)",
       .def = "2000" },
-    { .name = "no-arms", .type = OPTION_FLAG, OPTION_AT(sim_app, no_arms), .help = "leave the PUMA pair out" },
-    { .name = "workpieces", .type = OPTION_INT, OPTION_AT(sim_app, cfg.workpieces), .min = 0, .max = 100000,
-      .meta = "N", .help = "workpieces to feed (0 = endless)", .def = "0" },
-    { .name = "handover-stand", .type = OPTION_FLAG, OPTION_AT(sim_app, cfg.handover_stand),
-      .help = "a stand on the table under the hand-over: a workpiece set down there rests on it until an arm "
-              "takes it (the buffer of tasks/carry_buffer, docs/tasks.md §6)" },
-    { .name = "friction", .type = OPTION_CALL, OPTION_AT(sim_app, cfg), .call = parse_friction, .meta = "V,C",
-      .help = "arm joint viscous (N m s/rad) and Coulomb (N m) friction, each 0..100", .def = "0,0" },
-    { .name = "rovers", .type = OPTION_INT, OPTION_AT(sim_app, cfg.rovers), .min = 0, .max = 1000, .meta = "N",
-      .help = "number of Pioneer robots", .def = "0" },
-    { .name = "world", .type = OPTION_CHOICE, OPTION_AT(sim_app, world), .choices = options_world_names,
-      .meta = "NAME", .help = "rover world", .def = "open" },
+    { .name = "no-arms",
+      .type = OPTION_FLAG,
+      OPTION_AT(sim_app, no_arms),
+      .help = "leave the PUMA pair out" },
+    { .name = "workpieces",
+      .type = OPTION_INT,
+      OPTION_AT(sim_app, cfg.workpieces),
+      .min = 0,
+      .max = 100000,
+      .meta = "N",
+      .help = "workpieces to feed (0 = endless)",
+      .def = "0" },
+    { .name = "handover-stand",
+      .type = OPTION_FLAG,
+      OPTION_AT(sim_app, cfg.handover_stand),
+      .help =
+          "a stand on the table under the hand-over: a workpiece set down there rests on it until an arm "
+          "takes it (the buffer of tasks/carry_buffer, docs/tasks.md §6)" },
+    { .name = "friction",
+      .type = OPTION_CALL,
+      OPTION_AT(sim_app, cfg),
+      .call = parse_friction,
+      .meta = "V,C",
+      .help = "arm joint viscous (N m s/rad) and Coulomb (N m) friction, each 0..100",
+      .def = "0,0" },
+    { .name = "rovers",
+      .type = OPTION_INT,
+      OPTION_AT(sim_app, cfg.rovers),
+      .min = 0,
+      .max = 1000,
+      .meta = "N",
+      .help = "number of Pioneer robots",
+      .def = "0" },
+    { .name = "world",
+      .type = OPTION_CHOICE,
+      OPTION_AT(sim_app, world),
+      .choices = options_world_names,
+      .meta = "NAME",
+      .help = "rover world",
+      .def = "open" },
     WORLD_FILE_OPTIONS(sim_app, wopt),
-    { .name = "formation", .type = OPTION_CHOICE, OPTION_AT(sim_app, cfg.rover_formation),
-      .choices = options_formation_names, .values = options_formation_values, .meta = "F",
-      .help = "rover team's start formation", .def = "line" },
-    { .name = "rover-batch", .type = OPTION_FLAG, OPTION_AT(sim_app, cfg.rover_batch),
-      .help = "all robots' sensors in one message per tick (ROVERS_SENSORS, ROVERS_BEACONS) instead of "
-              "ROVERk_SENSORS/_SONAR/_BEACONS" },
-    { .name = "arm-model", .type = OPTION_CHOICE, OPTION_AT(sim_app, arm_model), .choices = options_arm_model_names,
-      .meta = "NAME", .help = "arm 1's model (seed002: seed 002's arm)", .def = "puma560" },
-    { .name = "arm-q0", .type = OPTION_CALL, OPTION_AT(sim_app, cfg), .call = parse_q0, .meta = "Q1,..,Q6",
+    { .name = "formation",
+      .type = OPTION_CHOICE,
+      OPTION_AT(sim_app, cfg.rover_formation),
+      .choices = options_formation_names,
+      .values = options_formation_values,
+      .meta = "F",
+      .help = "rover team's start formation",
+      .def = "line" },
+    { .name = "rover-batch",
+      .type = OPTION_FLAG,
+      OPTION_AT(sim_app, cfg.rover_batch),
+      .help =
+          "all robots' sensors in one message per tick (ROVERS_SENSORS, ROVERS_BEACONS) instead of "
+          "ROVERk_SENSORS/_SONAR/_BEACONS" },
+    { .name = "arm-model",
+      .type = OPTION_CHOICE,
+      OPTION_AT(sim_app, arm_model),
+      .choices = options_arm_model_names,
+      .meta = "NAME",
+      .help = "arm 1's model (seed002: seed 002's arm)",
+      .def = "puma560" },
+    { .name = "arm-q0",
+      .type = OPTION_CALL,
+      OPTION_AT(sim_app, cfg),
+      .call = parse_q0,
+      .meta = "Q1,..,Q6",
       .help = "arm 1 starts at these joint angles (rad, -10..10) instead of home" },
     { .name = NULL }
 };
@@ -106,14 +178,16 @@ static int parse_args(sim_app *app, int argc, char **argv)
         return rc;
     if (app->no_arms)
         app->cfg.arms = 0;
-    snprintf(app->cfg.rover_world, sizeof app->cfg.rover_world, "%s", options_world_names[app->world]);
+    snprintf(app->cfg.rover_world, sizeof app->cfg.rover_world, "%s",
+             options_world_names[app->world]);
     app->cfg.rover_world_file = app->wopt.file;
     app->cfg.rover_start = app->wopt.start;
     app->cfg.rover_goal = app->wopt.goal;
     if (app->arm_model >= 0)
         app->cfg.arm1_model = arm_model_by_name(options_arm_model_names[app->arm_model]);
     if (app->cfg.arm1_q0_set &&
-        arm_q_outside_limits(app->cfg.arm1_model ? app->cfg.arm1_model : &arm_model_puma560, app->cfg.arm1_q0_rad)) {
+        arm_q_outside_limits(app->cfg.arm1_model ? app->cfg.arm1_model : &arm_model_puma560,
+                             app->cfg.arm1_q0_rad)) {
         fprintf(stderr, "tandem-sim: --arm-q0: outside arm 1's joint ranges\n");
         return OPTIONS_ERR_ARG;
     }
@@ -128,7 +202,8 @@ static int table_refused(const char *table, const char *module, int n_codes, int
 {
     static const char *const why[] = { "ARG", "NONFINITE", "RANGE", "INCONSISTENT" };
     const char *name = rc <= -1 && rc >= -n_codes ? why[-rc - 1] : "?";
-    fprintf(stderr, "tandem-sim: %s refused by its validator: %s_ERR_%s (%d)\n", table, module, name, rc);
+    fprintf(stderr, "tandem-sim: %s refused by its validator: %s_ERR_%s (%d)\n", table, module,
+            name, rc);
     return rc;
 }
 
@@ -160,8 +235,10 @@ static int world_refused(sim_app *app)
     rover_world_config *w = malloc(sizeof *w);
     int rc;
     app->wopt.world = rover_world_id(app->cfg.rover_world);
-    if (!w) return 1;
-    rc = world_opts_layout(w, &app->wopt, app->cfg.rovers, 1.0, app->cfg.rover_formation, "tandem-sim");
+    if (!w)
+        return 1;
+    rc = world_opts_layout(w, &app->wopt, app->cfg.rovers, 1.0, app->cfg.rover_formation,
+                           "tandem-sim");
     free(w);
     return rc != 0;
 }
@@ -210,12 +287,12 @@ static int setup(sim_app *app, int argc, char **argv, int *status)
 
 int main(int argc, char **argv)
 {
-    static sim_app the_app;    /* static: too large for the stack */
+    static sim_app the_app; /* static: too large for the stack */
     sim_app *app = &the_app;
     int status = 0;
     if (setup(app, argc, argv, &status) != 0)
         return status;
-    auth_bus_identity(AUTH_ROLE_SIM, 0, 0);
+    auth_bus_identity(&app->w.d.bus, AUTH_ROLE_SIM, 0, 0);
     if (daemon_start(&app->w.d) != 0)
         return 1;
     sim_subscribe(app);

@@ -33,7 +33,8 @@ static void near_callback(void *data, dGeomID g1, dGeomID g2)
         c[i].surface.mode = dContactSoftERP | dContactSoftCFM | dContactApprox1;
         c[i].surface.mu = 0.8;
         if (stick)
-            sim_surface_spring(&c[i].surface, SIM_STICK_STIFFNESS_NPM / n, SIM_STICK_DAMPING_NSPM / n);
+            sim_surface_spring(&c[i].surface, SIM_STICK_STIFFNESS_NPM / n,
+                               SIM_STICK_DAMPING_NSPM / n);
         else {
             c[i].surface.soft_erp = 0.2;
             c[i].surface.soft_cfm = 1e-5;
@@ -116,9 +117,13 @@ double sim_contact_force_on(const sim_world *w, dBodyID b)
     for (i = 0; i < w->n_contacts; i++) {
         const sim_contact *c = &w->contact[i];
         if (c->b1 == b) {
-            fx += c->fb.f1[0]; fy += c->fb.f1[1]; fz += c->fb.f1[2];
+            fx += c->fb.f1[0];
+            fy += c->fb.f1[1];
+            fz += c->fb.f1[2];
         } else if (c->b2 == b) {
-            fx += c->fb.f2[0]; fy += c->fb.f2[1]; fz += c->fb.f2[2];
+            fx += c->fb.f2[0];
+            fy += c->fb.f2[1];
+            fz += c->fb.f2[2];
         }
     }
     return dSqrt(fx * fx + fy * fy + fz * fz);
@@ -175,7 +180,7 @@ void sim_rot_z_to(double R[9], const double axis[3])
     const double z[3] = { 0.0, 0.0, 1.0 };
     double k[3];
     vec3_cross(k, z, axis);
-    if (vec3_norm(k) < 1e-12)   /* parallel or antiparallel: turn about x */
+    if (vec3_norm(k) < 1e-12) /* parallel or antiparallel: turn about x */
         vec3_set(k, 1.0, 0.0, 0.0);
     rot_from_axis_angle(R, k, atan2(vec3_norm(k), vec3_dot(z, axis)));
 }

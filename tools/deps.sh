@@ -7,6 +7,7 @@
 #                         test-cross, budget; make test installs them too)
 #   tools/deps.sh fuzz    clang and its runtimes (libFuzzer, sanitizers) for make fuzz
 #   tools/deps.sh analyze cppcheck and clang-format (make analyze, format-check)
+#   tools/deps.sh tidy    clang-tidy (make tidy)
 #   tools/deps.sh view    the viewer's Python venv; view-test: also Chromium and tesseract (OCR)
 #   tools/deps.sh install man pages (help2man)
 set -euo pipefail
@@ -23,6 +24,7 @@ case ${1:-run} in
     fuzz) pkgs=(clang libclang-rt-14-dev) ;;   # libFuzzer and the sanitizers' runtimes
     coverage) pkgs=(gcovr) ;;
     analyze) pkgs=(cppcheck clang-format) ;;
+    tidy) pkgs=(clang-tidy) ;;
     view) pkgs=(python3-venv) ;;
     view-test) pkgs=(python3-venv chromium fonts-dejavu-core iproute2 tesseract-ocr tesseract-ocr-eng) ;;
     install) pkgs=(help2man man-db) ;;

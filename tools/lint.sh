@@ -82,13 +82,15 @@ if git rev-parse --git-dir >/dev/null 2>&1; then
         echo "$dups" | sed 's/$/   <- error codes must be distinct/'; bad=1
     fi
 fi
-# 5. ... and say it in words: every *_ERR_* name a header of include/tandem
-#    or src/ defines has a text, in a code list (X(NAME, "text"),
-#    include/tandem/base/status.h) or a strerror's switch (case NAME:)
+# 5. ... and say it in words: every *_ERR_* name a header of include/tandem,
+#    src/, sim/ or tools/scenario defines has a text, in a code list
+#    (X(NAME, "text"), include/tandem/base/status.h) or a strerror's switch
+#    (case NAME:)
 if git rev-parse --git-dir >/dev/null 2>&1; then
-    texts=$(git grep -hoE '(X\(|case )[A-Z][A-Z0-9_]*_ERR_[A-Z0-9_]+' -- 'include/*.[ch]' 'src/*.[ch]' |
-            sed -E 's/^(X\(|case )//' | sort -u)
-    for h in $(git ls-files 'include/*.h' 'src/*.h'); do
+    coded=('include/*.h' 'src/*.h' 'sim/*.h' 'tools/scenario/*.h')
+    texts=$(git grep -hoE '(X\(|case )[A-Z][A-Z0-9_]*_ERR_[A-Z0-9_]+' -- 'include/*.[ch]' 'src/*.[ch]' \
+                'sim/*.[ch]' 'tools/scenario/*.[ch]' | sed -E 's/^(X\(|case )//' | sort -u)
+    for h in $(git ls-files "${coded[@]}"); do
         for name in $(sed -nE 's/^(#define[[:space:]]+|[[:space:]]+)([A-Z][A-Z0-9_]*_ERR_[A-Z0-9_]+)[[:space:]]*(=[[:space:]]*-?[0-9]+|\(?-[0-9]+\)?).*/\2/p' "$h"); do
             grep -qx "$name" <<<"$texts" ||
                 { echo "$h: $name has no text: add it to its module's code list (<domain>_status.h) or strerror"; bad=1; }

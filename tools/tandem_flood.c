@@ -33,17 +33,17 @@
 #include "tandem_action_row_t.h"
 
 #define PROG "tandem-flood"
-#define FLOOD_MAX_DATAGRAM 65000     /* one UDP datagram, headers included, under 64 KiB */
-#define LCM_SHORT_MAX 1400           /* LCM sends longer messages in the fragment form */
-#define LCM_MAGIC_SHORT 0x4c433032u  /* "LC02" */
-#define LCM_MAGIC_LONG  0x4c433033u  /* "LC03" */
-#define BATCH_NS 1000000LL           /* the rate is kept per millisecond */
+#define FLOOD_MAX_DATAGRAM 65000    /* one UDP datagram, headers included, under 64 KiB */
+#define LCM_SHORT_MAX 1400          /* LCM sends longer messages in the fragment form */
+#define LCM_MAGIC_SHORT 0x4c433032u /* "LC02" */
+#define LCM_MAGIC_LONG 0x4c433033u  /* "LC03" */
+#define BATCH_NS 1000000LL          /* the rate is kept per millisecond */
 
 /* Results (distinct values). */
 #define FLOOD_OK 0
-#define FLOOD_ERR_URL (-1)           /* not udpm://ADDR:PORT[?ttl=N] */
-#define FLOOD_ERR_SOCKET (-2)        /* the socket cannot be made */
-#define FLOOD_ERR_OPTION (-3)        /* a bad combination of options */
+#define FLOOD_ERR_URL (-1)    /* not udpm://ADDR:PORT[?ttl=N] */
+#define FLOOD_ERR_SOCKET (-2) /* the socket cannot be made */
+#define FLOOD_ERR_OPTION (-3) /* a bad combination of options */
 
 enum { KIND_JUNK, KIND_FORGE, KIND_RAW };
 static const char *const kind_names[] = { "junk", "forge", "raw", NULL };
@@ -51,8 +51,8 @@ static const char *const kind_names[] = { "junk", "forge", "raw", NULL };
 typedef struct flood_options {
     const char *url;
     int kind;
-    double rate;            /* datagrams per second, 0: as fast as possible */
-    int size;               /* payload bytes */
+    double rate; /* datagrams per second, 0: as fast as possible */
+    int size;    /* payload bytes */
     double duration_s;
     const char *channel;
     int random_channels;
@@ -70,24 +70,64 @@ typedef struct flood {
 } flood;
 
 static volatile sig_atomic_t stop;
-static void on_signal(int sig) { (void)sig; stop = 1; }
+static void on_signal(int sig)
+{
+    (void)sig;
+    stop = 1;
+}
 
 static const option_entry flood_table[] = {
-    { .name = "lcm-url", .type = OPTION_STRING, OPTION_AT(flood_options, url), .meta = "URL",
-      .help = "the bus", .def = "$LCM_DEFAULT_URL or " DAEMON_DEFAULT_LCM_URL },
-    { .name = "kind", .type = OPTION_CHOICE, OPTION_AT(flood_options, kind), .choices = kind_names,
-      .meta = "K", .help = "junk (LCM framing, random bytes) | forge (tandem-looking messages with a trailer) | "
-                           "raw (no LCM framing)", .def = "junk" },
-    { .name = "rate", .type = OPTION_DOUBLE, OPTION_AT(flood_options, rate), .min = 0.0, .max = 1e7,
-      .meta = "N", .help = "datagrams per second (0: as fast as the socket takes them)", .def = "50000" },
-    { .name = "size", .type = OPTION_INT, OPTION_AT(flood_options, size), .min = 16, .max = 60000,
-      .meta = "BYTES", .help = "message bytes (junk, raw, forge)", .def = "100" },
-    { .name = "duration", .type = OPTION_DOUBLE, OPTION_AT(flood_options, duration_s), .min = 0.0, .max = 86400.0,
-      .meta = "S", .help = "stop after S seconds (0: until Ctrl-C)", .def = "10" },
-    { .name = "channel", .type = OPTION_STRING, OPTION_AT(flood_options, channel), .min = 1,
-      .max = AUTH_CHANNEL_MAX, .meta = "NAME", .help = "the channel", .def = "ARM1_ACTION" },
-    { .name = "random-channels", .type = OPTION_FLAG, OPTION_AT(flood_options, random_channels),
-      .help = "a new random channel name for every datagram (what LCM remembers of each name it sees)" },
+    { .name = "lcm-url",
+      .type = OPTION_STRING,
+      OPTION_AT(flood_options, url),
+      .meta = "URL",
+      .help = "the bus",
+      .def = "$LCM_DEFAULT_URL or " DAEMON_DEFAULT_LCM_URL },
+    { .name = "kind",
+      .type = OPTION_CHOICE,
+      OPTION_AT(flood_options, kind),
+      .choices = kind_names,
+      .meta = "K",
+      .help = "junk (LCM framing, random bytes) | forge (tandem-looking messages with a trailer) | "
+              "raw (no LCM framing)",
+      .def = "junk" },
+    { .name = "rate",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(flood_options, rate),
+      .min = 0.0,
+      .max = 1e7,
+      .meta = "N",
+      .help = "datagrams per second (0: as fast as the socket takes them)",
+      .def = "50000" },
+    { .name = "size",
+      .type = OPTION_INT,
+      OPTION_AT(flood_options, size),
+      .min = 16,
+      .max = 60000,
+      .meta = "BYTES",
+      .help = "message bytes (junk, raw, forge)",
+      .def = "100" },
+    { .name = "duration",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(flood_options, duration_s),
+      .min = 0.0,
+      .max = 86400.0,
+      .meta = "S",
+      .help = "stop after S seconds (0: until Ctrl-C)",
+      .def = "10" },
+    { .name = "channel",
+      .type = OPTION_STRING,
+      OPTION_AT(flood_options, channel),
+      .min = 1,
+      .max = AUTH_CHANNEL_MAX,
+      .meta = "NAME",
+      .help = "the channel",
+      .def = "ARM1_ACTION" },
+    { .name = "random-channels",
+      .type = OPTION_FLAG,
+      OPTION_AT(flood_options, random_channels),
+      .help =
+          "a new random channel name for every datagram (what LCM remembers of each name it sees)" },
     { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
     { .name = "version", .type = OPTION_VERSION, .help = "program version" },
     { .name = NULL }
@@ -223,11 +263,11 @@ static int frame(flood *f, const char *channel, const uint8_t *msg, int len)
     } else {
         put32(p, LCM_MAGIC_LONG);
         put32(p + 4, f->seq++);
-        put32(p + 8, (uint32_t)len);   /* message size */
-        put32(p + 12, 0);              /* fragment offset */
-        p[16] = p[17] = 0;             /* fragment 0 */
+        put32(p + 8, (uint32_t)len); /* message size */
+        put32(p + 12, 0);            /* fragment offset */
+        p[16] = p[17] = 0;           /* fragment 0 */
         p[18] = 0;
-        p[19] = 1;                     /* of 1 */
+        p[19] = 1; /* of 1 */
         head = 20;
     }
     if (head + ch + len > FLOOD_MAX_DATAGRAM)
@@ -264,7 +304,8 @@ static void send_one(flood *f)
 
 static void run(flood *f)
 {
-    const int64_t t0 = now_ns(), end = f->o.duration_s > 0.0 ? t0 + (int64_t)(f->o.duration_s * 1e9) : INT64_MAX;
+    const int64_t t0 = now_ns(),
+                  end = f->o.duration_s > 0.0 ? t0 + (int64_t)(f->o.duration_s * 1e9) : INT64_MAX;
     int64_t now = t0, due = 0;
     while (!stop && now < end) {
         if (f->o.rate <= 0.0) {
@@ -283,8 +324,9 @@ static void run(flood *f)
     }
     {
         const double s = (double)(now_ns() - t0) * 1e-9;
-        printf(PROG ": %s: %lld datagrams (%.0f/s, %.1f MB/s), %lld not sent, in %.1f s\n", kind_names[f->o.kind],
-               (long long)f->sent, (double)f->sent / s, (double)f->bytes / s * 1e-6, (long long)f->failed, s);
+        printf(PROG ": %s: %lld datagrams (%.0f/s, %.1f MB/s), %lld not sent, in %.1f s\n",
+               kind_names[f->o.kind], (long long)f->sent, (double)f->sent / s,
+               (double)f->bytes / s * 1e-6, (long long)f->failed, s);
     }
 }
 
@@ -293,13 +335,15 @@ int main(int argc, char **argv)
     static flood f;
     const option_program prog = {
         .name = PROG,
-        .usage = "usage: tandem-flood [--kind junk|forge|raw] [--rate N] [--size BYTES] [--duration S]\n"
-                 "                    [--channel NAME | --random-channels] [--lcm-url URL]\n"
-                 "Floods the bus without any key, to measure what refusing costs the daemons\n"
-                 "(docs/security.md). junk: LCM datagrams of random bytes; forge: messages that\n"
-                 "look like tandem's (a type's fingerprint, a trailer of the right form) of\n"
-                 "--size bytes; raw: datagrams without LCM's framing.\n\n",
-        .groups = { { flood_table, &f.o } }, .n_groups = 1,
+        .usage =
+            "usage: tandem-flood [--kind junk|forge|raw] [--rate N] [--size BYTES] [--duration S]\n"
+            "                    [--channel NAME | --random-channels] [--lcm-url URL]\n"
+            "Floods the bus without any key, to measure what refusing costs the daemons\n"
+            "(docs/security.md). junk: LCM datagrams of random bytes; forge: messages that\n"
+            "look like tandem's (a type's fingerprint, a trailer of the right form) of\n"
+            "--size bytes; raw: datagrams without LCM's framing.\n\n",
+        .groups = { { flood_table, &f.o } },
+        .n_groups = 1,
     };
     int rc;
     f.o.kind = KIND_JUNK;

@@ -31,25 +31,45 @@
 typedef struct keygen_options {
     int rotate, show;
     int rovers;
-    const char *cell;     /* --cell DIR */
-    const char *revoke;   /* --revoke NAME */
-    const char *path;     /* the one PATH argument, NULL: the default */
+    const char *cell;   /* --cell DIR */
+    const char *revoke; /* --revoke NAME */
+    const char *path;   /* the one PATH argument, NULL: the default */
 } keygen_options;
 
 static const option_entry keygen_table[] = {
-    { .name = "rotate", .type = OPTION_FLAG, OPTION_AT(keygen_options, rotate),
-      .help = "make a new key; the old one is kept as PATH.prev: restart the daemons with --key-file PATH "
-              "--key-file PATH.prev while some still sign with the old key, then with --key-file PATH alone" },
-    { .name = "show", .type = OPTION_FLAG, OPTION_AT(keygen_options, show),
+    { .name = "rotate",
+      .type = OPTION_FLAG,
+      OPTION_AT(keygen_options, rotate),
+      .help =
+          "make a new key; the old one is kept as PATH.prev: restart the daemons with --key-file PATH "
+          "--key-file PATH.prev while some still sign with the old key, then with --key-file PATH alone" },
+    { .name = "show",
+      .type = OPTION_FLAG,
+      OPTION_AT(keygen_options, show),
       .help = "print the key id byte of PATH (which key signed a message)" },
-    { .name = "cell", .type = OPTION_STRING, OPTION_AT(keygen_options, cell), .min = 1, .meta = "DIR",
-      .help = "write the role files of a cell into DIR (0700): DIR/sim.key, arm1.key, arm2.key, supervisor.key, "
-              "tool.key, monitor.key, rover1.key ... and rover1-N.key (a process hosting the whole team)" },
-    { .name = "rovers", .type = OPTION_INT, OPTION_AT(keygen_options, rovers), .min = 0, .max = AUTH_MAX_TAGS - AUTH_ROSTER_FIXED, .meta = "N",
+    { .name = "cell",
+      .type = OPTION_STRING,
+      OPTION_AT(keygen_options, cell),
+      .min = 1,
+      .meta = "DIR",
+      .help =
+          "write the role files of a cell into DIR (0700): DIR/sim.key, arm1.key, arm2.key, supervisor.key, "
+          "tool.key, monitor.key, rover1.key ... and rover1-N.key (a process hosting the whole team)" },
+    { .name = "rovers",
+      .type = OPTION_INT,
+      OPTION_AT(keygen_options, rovers),
+      .min = 0,
+      .max = AUTH_MAX_TAGS - AUTH_ROSTER_FIXED,
+      .meta = "N",
       .help = "with --cell: rovers in the cell (default 8)" },
-    { .name = "revoke", .type = OPTION_STRING, OPTION_AT(keygen_options, revoke), .min = 1, .meta = "NAME",
-      .help = "with --cell: leave principal NAME (e.g. rover2) out of every role file; restart the others with "
-              "their new files and NAME is refused" },
+    { .name = "revoke",
+      .type = OPTION_STRING,
+      OPTION_AT(keygen_options, revoke),
+      .min = 1,
+      .meta = "NAME",
+      .help =
+          "with --cell: leave principal NAME (e.g. rover2) out of every role file; restart the others with "
+          "their new files and NAME is refused" },
     { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
     { .name = "version", .type = OPTION_VERSION, .help = "program version" },
     { .name = NULL }
@@ -95,8 +115,8 @@ static int show(const char *path)
     printf("%s: %s, ", path, k->is_master ? "master" : "role file");
     print_cell(k);
     if (!k->is_master)
-        printf(", holder role %d instances %d-%d, %d pairwise keys", k->holder.role, k->holder.first,
-               k->holder.last, k->n);
+        printf(", holder role %d instances %d-%d, %d pairwise keys", k->holder.role,
+               k->holder.first, k->holder.last, k->n);
     printf("\n");
     auth_keyset_free(k);
     return 0;
@@ -106,7 +126,9 @@ static int show(const char *path)
  * rover3, and rover1-3 for the host of a whole team of three. */
 static void peer_name(const auth_peer *p, char *out, size_t cap)
 {
-    static const char *const names[] = { "?", "sim", "arm", "supervisor", "rover", "tool", "monitor" };
+    static const char *const names[] = {
+        "?", "sim", "arm", "supervisor", "rover", "tool", "monitor"
+    };
     const char *n = p->role <= AUTH_ROLE_LAST ? names[p->role] : "?";
     if (p->role == AUTH_ROLE_ROVER && p->first != p->last)
         snprintf(out, cap, "%s%d-%d", n, p->first, p->last);
@@ -176,8 +198,8 @@ static int make_cell(const keygen_options *o)
         rc = write_cell(o->cell, master, o->rovers, o->revoke);
     sodium_free(master);
     if (rc == 0 && !o->revoke)
-        printf("cell key set in %s (master %s): give each daemon --key-file %s/<name>.key\n", o->cell, o->path,
-               o->cell);
+        printf("cell key set in %s (master %s): give each daemon --key-file %s/<name>.key\n",
+               o->cell, o->path, o->cell);
     return rc == 0 ? 0 : 1;
 }
 
@@ -212,21 +234,27 @@ int main(int argc, char **argv)
     char def[1024] = "~/.config/tandem/bus.key", usage[1400];
     keygen_options o = { 0, 0, AUTH_ROSTER_ROVERS, NULL, NULL, NULL };
     const option_program prog = {
-        .name = PROG, .usage = usage,
-        .epilog = "\nWithout an option it makes a new key; an existing file is left alone (exit 1).\n"
-                  "Exit status: 0 done, 1 key error, 2 bad arguments.\n",
-        .groups = { { keygen_table, &o } }, .n_groups = 1,
-        .other = path_word, .other_user = &o,   /* exact option names, as before */
+        .name = PROG,
+        .usage = usage,
+        .epilog =
+            "\nWithout an option it makes a new key; an existing file is left alone (exit 1).\n"
+            "Exit status: 0 done, 1 key error, 2 bad arguments.\n",
+        .groups = { { keygen_table, &o } },
+        .n_groups = 1,
+        .other = path_word,
+        .other_user = &o, /* exact option names, as before */
     };
     int rc;
     if (version_requested(argc, argv, PROG))
         return 0;
     auth_bus_default_key_path(def, sizeof def);
-    snprintf(usage, sizeof usage,
-             "usage: tandem-keygen [--rotate | --show | --cell DIR [--rovers N] [--revoke NAME]] [PATH]\n"
-             "Makes the master key of a tandem cell: 32 random bytes (libsodium), mode 0600;\n"
-             "with --cell, the role files of the cell's daemons and tools from it.\n"
-             "PATH defaults to %s.\n\n", def);
+    snprintf(
+        usage, sizeof usage,
+        "usage: tandem-keygen [--rotate | --show | --cell DIR [--rovers N] [--revoke NAME]] [PATH]\n"
+        "Makes the master key of a tandem cell: 32 random bytes (libsodium), mode 0600;\n"
+        "with --cell, the role files of the cell's daemons and tools from it.\n"
+        "PATH defaults to %s.\n\n",
+        def);
     if ((rc = options_parse(&prog, argc, argv, 1)) < 0)
         return options_exit_status(rc);
     if (o.rotate && o.show) {
@@ -241,7 +269,8 @@ int main(int argc, char **argv)
         o.path = def;
     }
     if (o.rovers < 0 || o.rovers > AUTH_MAX_TAGS - AUTH_ROSTER_FIXED || (o.revoke && !o.cell)) {
-        fprintf(stderr, PROG ": --rovers 0..%d; --revoke needs --cell\n", AUTH_MAX_TAGS - AUTH_ROSTER_FIXED);
+        fprintf(stderr, PROG ": --rovers 0..%d; --revoke needs --cell\n",
+                AUTH_MAX_TAGS - AUTH_ROSTER_FIXED);
         return OPTIONS_EXIT_BAD_ARGS;
     }
     if (o.cell)

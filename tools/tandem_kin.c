@@ -21,24 +21,43 @@
 #define EXIT_BAD_ARGS 2
 
 typedef struct kin_options {
-    int    arm;             /* index in options_arm_model_names */
-    int    deg;
+    int arm; /* index in options_arm_model_names */
+    int deg;
     double tool_p[3];
-    int    have_tool;
+    int have_tool;
     double payload_kg;
 } kin_options;
 
 static const option_entry kin_table[] = {
-    { .name = "arm", .type = OPTION_CHOICE, OPTION_AT(kin_options, arm), .choices = options_arm_model_names,
-      .meta = "NAME", .help = "arm model", .def = "puma560" },
-    { .name = "deg", .type = OPTION_FLAG, OPTION_AT(kin_options, deg),
+    { .name = "arm",
+      .type = OPTION_CHOICE,
+      OPTION_AT(kin_options, arm),
+      .choices = options_arm_model_names,
+      .meta = "NAME",
+      .help = "arm model",
+      .def = "puma560" },
+    { .name = "deg",
+      .type = OPTION_FLAG,
+      OPTION_AT(kin_options, deg),
       .help = "joint angles in and out in degrees (default rad)" },
-    { .name = "tool", .type = OPTION_DOUBLE, OPTION_AT(kin_options, tool_p), .nargs = 3, .min = -HUGE_VAL,
-      .max = HUGE_VAL, OPTION_SEEN(kin_options, have_tool), .meta = "X Y Z",
+    { .name = "tool",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(kin_options, tool_p),
+      .nargs = 3,
+      .min = -HUGE_VAL,
+      .max = HUGE_VAL,
+      OPTION_SEEN(kin_options, have_tool),
+      .meta = "X Y Z",
       .help = "tool point offset from the flange, flange axes, m" },
-    { .name = "payload", .type = OPTION_DOUBLE, OPTION_AT(kin_options, payload_kg), .min = 0.0, .max = HUGE_VAL,
-      .meta = "KG", .help = "point mass held at the tool point (the flange origin without --tool); "
-                            "used by grav only", .def = "0" },
+    { .name = "payload",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(kin_options, payload_kg),
+      .min = 0.0,
+      .max = HUGE_VAL,
+      .meta = "KG",
+      .help = "point mass held at the tool point (the flange origin without --tool); "
+              "used by grav only",
+      .def = "0" },
     { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
     { .name = NULL }
 };
@@ -127,8 +146,9 @@ static int is_rigid(const double T[16])
             return 0;
     if (fabs(T[12]) > 1e-9 || fabs(T[13]) > 1e-9 || fabs(T[14]) > 1e-9 || fabs(T[15] - 1.0) > 1e-9)
         return 0;
-    return R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6])
-           + R[2] * (R[3] * R[7] - R[4] * R[6]) > 0.0;
+    return R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) +
+               R[2] * (R[3] * R[7] - R[4] * R[6]) >
+           0.0;
 }
 
 static int cmd_ik(const arm_model *m, const arm_tool *tool, int deg, const double T[16])
@@ -164,9 +184,13 @@ int main(int argc, char **argv)
 {
     kin_options o = { 0, 0, { 0, 0, 0 }, 0, 0.0 };
     const option_program prog = {
-        .name = "tandem-kin", .usage = usage_text, .epilog = epilog_text,
-        .groups = { { kin_table, &o } }, .n_groups = 1,
-        .args = OPTIONS_ARGS_STOP,   /* the command ends the options: negative numbers are never options */
+        .name = "tandem-kin",
+        .usage = usage_text,
+        .epilog = epilog_text,
+        .groups = { { kin_table, &o } },
+        .n_groups = 1,
+        .args =
+            OPTIONS_ARGS_STOP, /* the command ends the options: negative numbers are never options */
     };
     if (version_requested(argc, argv, "tandem-kin"))
         return 0;

@@ -39,8 +39,8 @@ static int arm_row(const lcm_eventlog_event_t *ev, int header)
     printf("%.4f", s.sim_time_s);
     for (i = 0; i < 6; i++)
         printf(",%.6f", s.q_rad[i]);
-    printf(",%.5f,%.5f,%.5f,%.3f,%d\n", s.tool_position_m[0], s.tool_position_m[1], s.tool_position_m[2],
-           s.max_contact_force_N, (int)s.holding_workpiece);
+    printf(",%.5f,%.5f,%.5f,%.3f,%d\n", s.tool_position_m[0], s.tool_position_m[1],
+           s.tool_position_m[2], s.max_contact_force_N, (int)s.holding_workpiece);
     return 0;
 }
 
@@ -73,7 +73,8 @@ static int truth_row(const lcm_eventlog_event_t *ev, int header)
     if (tandem_rover_truth_t_decode(ev->data, 0, ev->datalen, &t) < 0)
         return ROW_UNDECODABLE;
     for (i = 0; i < t.n; i++)
-        printf("%.3f,%d,%.4f,%.4f,%.4f\n", t.sim_time_s, (int)t.robot[i], t.x_m[i], t.y_m[i], t.theta_rad[i]);
+        printf("%.3f,%d,%.4f,%.4f,%.4f\n", t.sim_time_s, (int)t.robot[i], t.x_m[i], t.y_m[i],
+               t.theta_rad[i]);
     tandem_rover_truth_t_decode_cleanup(&t);
     return 0;
 }
@@ -81,9 +82,12 @@ static int truth_row(const lcm_eventlog_event_t *ev, int header)
 /* The curated layout of a channel, or NULL for the generic one. */
 static row_fn curated(const char *channel)
 {
-    if (!strcmp(channel, "ARM1_STATE") || !strcmp(channel, "ARM2_STATE")) return arm_row;
-    if (!strcmp(channel, "PETRI_MARKING")) return marking_row;
-    if (!strcmp(channel, "ROVER_TRUTH")) return truth_row;
+    if (!strcmp(channel, "ARM1_STATE") || !strcmp(channel, "ARM2_STATE"))
+        return arm_row;
+    if (!strcmp(channel, "PETRI_MARKING"))
+        return marking_row;
+    if (!strcmp(channel, "ROVER_TRUTH"))
+        return truth_row;
     return NULL;
 }
 
@@ -92,8 +96,10 @@ static int64_t fingerprint(const lcm_eventlog_event_t *ev)
     const unsigned char *b = ev->data;
     uint64_t h = 0;
     int i;
-    if (ev->datalen < 8) return 0;
-    for (i = 0; i < 8; i++) h = (h << 8) | b[i];
+    if (ev->datalen < 8)
+        return 0;
+    for (i = 0; i < 8; i++)
+        h = (h << 8) | b[i];
     return (int64_t)h;
 }
 
@@ -103,7 +109,8 @@ static int is_lcm_log(const char *path)
     unsigned char m[4];
     FILE *f = fopen(path, "rb");
     size_t n;
-    if (!f) return LOG_UNREADABLE;
+    if (!f)
+        return LOG_UNREADABLE;
     n = fread(m, 1, 4, f);
     fclose(f);
     return n == 4 && m[0] == 0xED && m[1] == 0xA1 && m[2] == 0xDA && m[3] == 0x01;
@@ -121,7 +128,11 @@ static int generic_row(const tandem_csv_type *t, const lcm_eventlog_event_t *ev,
     return 0;
 }
 
-typedef struct { char name[256]; const char *type; long count; } chan_count;
+typedef struct {
+    char name[256];
+    const char *type;
+    long count;
+} chan_count;
 
 static void list_channels(lcm_eventlog_t *log)
 {
@@ -130,16 +141,19 @@ static void list_channels(lcm_eventlog_t *log)
     lcm_eventlog_event_t *ev;
     while ((ev = lcm_eventlog_read_next_event(log)) != NULL) {
         const tandem_csv_type *t = tandem_csv_find(fingerprint(ev));
-        for (i = 0; i < n && strcmp(c[i].name, ev->channel); i++) {}
+        for (i = 0; i < n && strcmp(c[i].name, ev->channel) != 0; i++) {
+        }
         if (i == n && n < 512) {
             snprintf(c[n].name, sizeof c[n].name, "%s", ev->channel);
             c[n].type = t ? t->name : "(not a tandem type)";
             c[n++].count = 0;
         }
-        if (i < n) c[i].count++;
+        if (i < n)
+            c[i].count++;
         lcm_eventlog_free_event(ev);
     }
-    for (i = 0; i < n; i++) printf("%-24s %-28s %ld\n", c[i].name, c[i].type, c[i].count);
+    for (i = 0; i < n; i++)
+        printf("%-24s %-28s %ld\n", c[i].name, c[i].type, c[i].count);
 }
 
 typedef struct log2csv_options {
@@ -147,9 +161,13 @@ typedef struct log2csv_options {
 } log2csv_options;
 
 static const option_entry log2csv_table[] = {
-    { .name = "list", .type = OPTION_FLAG, OPTION_AT(log2csv_options, list),
+    { .name = "list",
+      .type = OPTION_FLAG,
+      OPTION_AT(log2csv_options, list),
       .help = "the channels in the log, their types and message counts" },
-    { .name = "all-fields", .type = OPTION_FLAG, OPTION_AT(log2csv_options, all_fields),
+    { .name = "all-fields",
+      .type = OPTION_FLAG,
+      OPTION_AT(log2csv_options, all_fields),
       .help = "the generic layout for every channel" },
     { .name = "help", .type = OPTION_HELP, .help = "this text" },
     { .name = "version", .type = OPTION_VERSION, .help = "program version" },
@@ -164,29 +182,41 @@ static int convert(lcm_eventlog_t *log, const char *channel, int all_fields)
     long rows = 0, bad = 0, other = 0;
     int64_t t0 = -1;
     while ((ev = lcm_eventlog_read_next_event(log)) != NULL) {
-        if (t0 < 0) t0 = ev->timestamp;
+        if (t0 < 0)
+            t0 = ev->timestamp;
         if (strcmp(ev->channel, channel) == 0) {
             const tandem_csv_type *t = fn ? NULL : tandem_csv_find(fingerprint(ev));
             if (!fn && !t) {
                 other++;
             } else {
                 if (rows + bad == 0) {
-                    if (fn) fn(NULL, 1);
-                    else { fputs("log_time_s,", stdout); t->header(); putchar('\n'); }
+                    if (fn)
+                        fn(NULL, 1);
+                    else {
+                        fputs("log_time_s,", stdout);
+                        t->header();
+                        putchar('\n');
+                    }
                     type = t;
                 }
-                if (fn ? fn(ev, 0) : (t == type ? generic_row(t, ev, t0) : ROW_UNDECODABLE)) bad++;
-                else rows++;
+                if (fn ? fn(ev, 0) : (t == type ? generic_row(t, ev, t0) : ROW_UNDECODABLE))
+                    bad++;
+                else
+                    rows++;
             }
         }
         lcm_eventlog_free_event(ev);
     }
-    fprintf(stderr, "tandem-log2csv: %s: %ld rows, %ld undecodable events skipped", channel, rows, bad);
-    if (other) fprintf(stderr, ", %ld of an unknown type", other);
+    fprintf(stderr, "tandem-log2csv: %s: %ld rows, %ld undecodable events skipped", channel, rows,
+            bad);
+    if (other)
+        fprintf(stderr, ", %ld of an unknown type", other);
     fputc('\n', stderr);
     if (rows + bad == 0) {
-        fprintf(stderr, "tandem-log2csv: no %s messages %s (tandem-log2csv --list LOGFILE shows the channels)\n",
-                channel, other ? "of a tandem type" : "in the log");
+        fprintf(
+            stderr,
+            "tandem-log2csv: no %s messages %s (tandem-log2csv --list LOGFILE shows the channels)\n",
+            channel, other ? "of a tandem type" : "in the log");
         return 1;
     }
     return 0;
@@ -208,19 +238,28 @@ int main(int argc, char **argv)
                  "have short plotting layouts unless --all-fields is given.\n\n",
         .epilog = "Exit status: 0 rows written, 1 not an LCM log / unreadable / channel absent\n"
                   "or of an unknown type, 2 bad arguments.\n",
-        .groups = { { log2csv_table, &o } }, .n_groups = 1,
-        .args = OPTIONS_ARGS_STOP,   /* options before LOGFILE, as always */
+        .groups = { { log2csv_table, &o } },
+        .n_groups = 1,
+        .args = OPTIONS_ARGS_STOP, /* options before LOGFILE, as always */
     };
     int first, rc;
-    if (version_requested(argc, argv, "tandem-log2csv")) return 0;
+    if (version_requested(argc, argv, "tandem-log2csv"))
+        return 0;
     first = options_parse(&prog, argc, argv, 1);
-    if (first < 0) return options_exit_status(first);
-    if (argc - first != (o.list ? 1 : 2)) { options_print_help(&prog, stderr); return 2; }
+    if (first < 0)
+        return options_exit_status(first);
+    if (argc - first != (o.list ? 1 : 2)) {
+        options_print_help(&prog, stderr);
+        return 2;
+    }
     rc = is_lcm_log(argv[first]);
     if (rc <= 0) {
-        fprintf(stderr, rc < 0 ? "tandem-log2csv: cannot open '%s'\n"
-                               : "tandem-log2csv: '%s' is not an LCM log (it does not start with an LCM event)\n",
-                argv[first]);
+        fprintf(
+            stderr,
+            rc < 0
+                ? "tandem-log2csv: cannot open '%s'\n"
+                : "tandem-log2csv: '%s' is not an LCM log (it does not start with an LCM event)\n",
+            argv[first]);
         return 1;
     }
     if (!(log = lcm_eventlog_create(argv[first], "r"))) {
@@ -228,8 +267,10 @@ int main(int argc, char **argv)
         return 1;
     }
     rc = 0;
-    if (o.list) list_channels(log);
-    else rc = convert(log, argv[first + 1], o.all_fields);
+    if (o.list)
+        list_channels(log);
+    else
+        rc = convert(log, argv[first + 1], o.all_fields);
     lcm_eventlog_destroy(log);
     return rc;
 }

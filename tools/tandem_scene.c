@@ -78,12 +78,13 @@ static void print_obstacle(const rover_obstacle *o, const char *sep)
 static void print_rover_world(const rover_world_config *w)
 {
     int i;
-    printf("\"rover_world\": {\"name\": \"%s\", \"n_robots\": %d, ", rover_world_name(w->world), w->n_robots);
+    printf("\"rover_world\": {\"name\": \"%s\", \"n_robots\": %d, ", rover_world_name(w->world),
+           w->n_robots);
     json_array("goal_m", w->goal_m, 2, ", ");
     printf("\"team_origin\": [%.10g, %.10g, %.10g], ", w->team_origin.x_m, w->team_origin.y_m,
            w->team_origin.theta_rad);
-    printf("\"extent_m\": [%.10g, %.10g, %.10g, %.10g],\n  \"landmarks_m\": [", w->x_min_m, w->y_min_m,
-           w->x_max_m, w->y_max_m);
+    printf("\"extent_m\": [%.10g, %.10g, %.10g, %.10g],\n  \"landmarks_m\": [", w->x_min_m,
+           w->y_min_m, w->x_max_m, w->y_max_m);
     for (i = 0; i < w->n_landmarks; i++)
         printf("%s[%.10g, %.10g]", i ? ", " : "", w->landmark_m[i][0], w->landmark_m[i][1]);
     printf("],\n  \"starts\": [");
@@ -101,13 +102,15 @@ static void print_rover_body(void)
     sonar_model sm;
     int k;
     sonar_model_default(&sm);
-    printf("\"rover\": {\"body_length_m\": %.10g, \"body_width_m\": %.10g, \"body_offset_m\": %.10g, "
-           "\"beacon_d_m\": %.10g,\n  \"sonar_cone_rad\": %.10g, \"sonar_range_max_m\": %.10g, "
-           "\"sonar\": [", ROVER_BODY_LENGTH_M, ROVER_BODY_WIDTH_M, ROVER_BODY_OFFSET_M, ROVER_BEACON_D_M,
-           sm.cone_rad, sm.range_max_m);
+    printf(
+        "\"rover\": {\"body_length_m\": %.10g, \"body_width_m\": %.10g, \"body_offset_m\": %.10g, "
+        "\"beacon_d_m\": %.10g,\n  \"sonar_cone_rad\": %.10g, \"sonar_range_max_m\": %.10g, "
+        "\"sonar\": [",
+        ROVER_BODY_LENGTH_M, ROVER_BODY_WIDTH_M, ROVER_BODY_OFFSET_M, ROVER_BEACON_D_M, sm.cone_rad,
+        sm.range_max_m);
     for (k = 0; k < SONAR_N; k++)
-        printf("%s[%.10g, %.10g, %.10g]", k ? ", " : "", sonar_p2dx_front[k].x_m, sonar_p2dx_front[k].y_m,
-               sonar_p2dx_front[k].angle_rad);
+        printf("%s[%.10g, %.10g, %.10g]", k ? ", " : "", sonar_p2dx_front[k].x_m,
+               sonar_p2dx_front[k].y_m, sonar_p2dx_front[k].angle_rad);
     printf("]},\n");
 }
 
@@ -151,58 +154,72 @@ static void rpy_of(const double T[16], double rpy[3])
 
 static void urdf_origin(double x, double y, double z, double r, double p, double yw)
 {
-    printf("    <origin xyz=\"%.17g %.17g %.17g\" rpy=\"%.17g %.17g %.17g\"/>\n", x, y, z, r, p, yw);
+    printf("    <origin xyz=\"%.17g %.17g %.17g\" rpy=\"%.17g %.17g %.17g\"/>\n", x, y, z, r, p,
+           yw);
 }
 
 static void urdf_fixed(const char *parent, const char *child, const char *name, const double T[16])
 {
     double rpy[3];
     rpy_of(T, rpy);
-    printf("  <joint name=\"%s\" type=\"fixed\">\n    <parent link=\"%s\"/>\n    <child link=\"%s\"/>\n",
-           name, parent, child);
+    printf(
+        "  <joint name=\"%s\" type=\"fixed\">\n    <parent link=\"%s\"/>\n    <child link=\"%s\"/>\n",
+        name, parent, child);
     urdf_origin(T[3], T[7], T[11], rpy[0], rpy[1], rpy[2]);
     printf("  </joint>\n");
 }
 
-static void urdf_box_link(const char *name, double mass_kg, const double at[3], const double size[3],
-                          const char *material)
+static void urdf_box_link(const char *name, double mass_kg, const double at[3],
+                          const double size[3], const char *material)
 {
     const double k = mass_kg / 12.0;
     printf("  <link name=\"%s\">\n", name);
     printf("    <inertial>\n  ");
     urdf_origin(at[0], at[1], at[2], 0, 0, 0);
     printf("      <mass value=\"%.17g\"/>\n", mass_kg);
-    printf("      <inertia ixx=\"%.17g\" ixy=\"0\" ixz=\"0\" iyy=\"%.17g\" iyz=\"0\" izz=\"%.17g\"/>\n",
-           k * (size[1] * size[1] + size[2] * size[2]), k * (size[0] * size[0] + size[2] * size[2]),
-           k * (size[0] * size[0] + size[1] * size[1]));
+    printf(
+        "      <inertia ixx=\"%.17g\" ixy=\"0\" ixz=\"0\" iyy=\"%.17g\" iyz=\"0\" izz=\"%.17g\"/>\n",
+        k * (size[1] * size[1] + size[2] * size[2]), k * (size[0] * size[0] + size[2] * size[2]),
+        k * (size[0] * size[0] + size[1] * size[1]));
     printf("    </inertial>\n");
     printf("    <visual>\n  ");
     urdf_origin(at[0], at[1], at[2], 0, 0, 0);
     printf("      <geometry><box size=\"%.17g %.17g %.17g\"/></geometry>\n"
-           "      <material name=\"%s\"/>\n    </visual>\n", size[0], size[1], size[2], material);
+           "      <material name=\"%s\"/>\n    </visual>\n",
+           size[0], size[1], size[2], material);
     printf("    <collision>\n  ");
     urdf_origin(at[0], at[1], at[2], 0, 0, 0);
-    printf("      <geometry><box size=\"%.17g %.17g %.17g\"/></geometry>\n    </collision>\n", size[0],
-           size[1], size[2]);
+    printf("      <geometry><box size=\"%.17g %.17g %.17g\"/></geometry>\n    </collision>\n",
+           size[0], size[1], size[2]);
     printf("  </link>\n");
 }
 
 /* A cylinder of a link's visual body: centre xyz, axis z turned by roll then pitch. */
-static void urdf_cylinder(double x, double y, double z, double roll, double pitch, double radius, double length,
-                          const char *material)
+static void urdf_cylinder(double x, double y, double z, double roll, double pitch, double radius,
+                          double length, const char *material)
 {
     printf("    <visual>\n  ");
     urdf_origin(x, y, z, roll, pitch, 0);
     printf("      <geometry><cylinder radius=\"%.17g\" length=\"%.17g\"/></geometry>\n"
-           "      <material name=\"%s\"/>\n    </visual>\n", radius, length, material);
+           "      <material name=\"%s\"/>\n    </visual>\n",
+           radius, length, material);
 }
 
 /* Display sizes of the arms' bodies (no controller uses them): the
  * shoulder and elbow joints and links, then the wrist's. */
-#define URDF_HOUSING_R_M   { 0.075, 0.075, 0.065, 0.05, 0.045, 0.04 }
-#define URDF_HOUSING_L_M   { 0.18, 0.18, 0.16, 0.11, 0.10, 0.08 }
-#define URDF_LINK_R_M      { 0.05, 0.05, 0.045, 0.04, 0.035, 0.03 }
-#define URDF_PEDESTAL_R_M  0.09
+#define URDF_HOUSING_R_M                       \
+    {                                          \
+        0.075, 0.075, 0.065, 0.05, 0.045, 0.04 \
+    }
+#define URDF_HOUSING_L_M                   \
+    {                                      \
+        0.18, 0.18, 0.16, 0.11, 0.10, 0.08 \
+    }
+#define URDF_LINK_R_M                        \
+    {                                        \
+        0.05, 0.05, 0.045, 0.04, 0.035, 0.03 \
+    }
+#define URDF_PEDESTAL_R_M 0.09
 #define URDF_MIN_SEGMENT_M 1e-6
 
 /* Link i's body, in frame i: the housing of joint i on its axis (z of
@@ -220,8 +237,9 @@ static void urdf_dh_link(int k, int i, const arm_model *m)
     printf("  <link name=\"arm%d_link%d\">\n    <inertial>\n  ", k, i + 1);
     urdf_origin(c[0], c[1], c[2], 0, 0, 0);
     printf("      <mass value=\"%.17g\"/>\n", m->mass_kg[i]);
-    printf("      <inertia ixx=\"%.17g\" ixy=\"%.17g\" ixz=\"%.17g\" iyy=\"%.17g\" iyz=\"%.17g\" izz=\"%.17g\"/>\n",
-           I[0], I[1], I[2], I[4], I[5], I[8]);
+    printf(
+        "      <inertia ixx=\"%.17g\" ixy=\"%.17g\" ixz=\"%.17g\" iyy=\"%.17g\" iyz=\"%.17g\" izz=\"%.17g\"/>\n",
+        I[0], I[1], I[2], I[4], I[5], I[8]);
     printf("    </inertial>\n");
     urdf_cylinder(-a, -sa * d, -ca * d, -al, 0, housing_r[i], housing_l[i], "joint");
     if (fabs(d) > URDF_MIN_SEGMENT_M)
@@ -240,7 +258,8 @@ static void urdf_arm(int k, const arm_model *m, const double base_T[16])
     snprintf(material, sizeof material, "arm%d", k);
     /* the pedestal from the mounting surface up to frame 0 */
     printf("  <link name=\"arm%d_base\">\n", k);
-    urdf_cylinder(0, 0, 0.5 * m->base_height_m, 0, 0, URDF_PEDESTAL_R_M, m->base_height_m, material);
+    urdf_cylinder(0, 0, 0.5 * m->base_height_m, 0, 0, URDF_PEDESTAL_R_M, m->base_height_m,
+                  material);
     printf("  </link>\n  <link name=\"arm%d_link0\"/>\n", k);
     snprintf(child, sizeof child, "arm%d_base", k);
     snprintf(name, sizeof name, "arm%d_mount", k);
@@ -257,11 +276,13 @@ static void urdf_arm(int k, const arm_model *m, const double base_T[16])
                "    <parent link=\"arm%d_link%d\"/>\n    <child link=\"arm%d_q%d\"/>\n",
                k, i + 1, k, i, k, i + 1);
         urdf_origin(0, 0, 0, 0, 0, m->theta_offset_rad[i]);
-        printf("    <axis xyz=\"0 0 1\"/>\n"
-               "    <limit lower=\"%.17g\" upper=\"%.17g\" effort=\"%.17g\" velocity=\"%.17g\"/>\n  </joint>\n",
-               m->q_min_rad[i], m->q_max_rad[i], m->tau_max_Nm[i], m->qd_max_radps[i]);
+        printf(
+            "    <axis xyz=\"0 0 1\"/>\n"
+            "    <limit lower=\"%.17g\" upper=\"%.17g\" effort=\"%.17g\" velocity=\"%.17g\"/>\n  </joint>\n",
+            m->q_min_rad[i], m->q_max_rad[i], m->tau_max_Nm[i], m->qd_max_radps[i]);
         printf("  <joint name=\"arm%d_dh%d\" type=\"fixed\">\n"
-               "    <parent link=\"arm%d_q%d\"/>\n    <child link=\"arm%d_link%d\"/>\n", k, i + 1, k, i + 1, k, i + 1);
+               "    <parent link=\"arm%d_q%d\"/>\n    <child link=\"arm%d_link%d\"/>\n",
+               k, i + 1, k, i + 1, k, i + 1);
         urdf_origin(m->a_m[i], 0, m->d_m[i], m->alpha_rad[i], 0, 0);
         printf("  </joint>\n");
     }
@@ -276,11 +297,11 @@ static void urdf_arm(int k, const arm_model *m, const double base_T[16])
 
 /* Sim-only numbers of the Pioneer's bodies (sim/models/sim_rovers.c: the
  * controllers never use them); its sizes are the core's. */
-#define PIONEER_CHASSIS_KG  8.0
+#define PIONEER_CHASSIS_KG 8.0
 #define PIONEER_CHASSIS_H_M 0.20
 #define PIONEER_CHASSIS_Z_M 0.15
-#define PIONEER_WHEEL_KG    0.5
-#define PIONEER_WHEEL_W_M   0.04
+#define PIONEER_WHEEL_KG 0.5
+#define PIONEER_WHEEL_W_M 0.04
 
 /* One Pioneer at the team frame's origin: pioneer_base is its axle centre C
  * on the floor, the chassis box ahead of it, two wheels on continuous joints. */
@@ -290,23 +311,27 @@ static void urdf_pioneer(const rover_world_config *w)
     const double at[3] = { ROVER_BODY_OFFSET_M, 0.0, PIONEER_CHASSIS_Z_M };
     const double size[3] = { ROVER_BODY_LENGTH_M, ROVER_BODY_WIDTH_M, PIONEER_CHASSIS_H_M };
     const double c = cos(w->team_origin.theta_rad), s = sin(w->team_origin.theta_rad);
-    const double T[16] = { c, -s, 0, w->team_origin.x_m, s, c, 0, w->team_origin.y_m, 0, 0, 1, 0, 0, 0, 0, 1 };
+    const double T[16] = { c, -s, 0, w->team_origin.x_m, s, c, 0, w->team_origin.y_m, 0, 0, 1, 0, 0,
+                           0, 0,  1 };
     const double k = PIONEER_WHEEL_KG / 12.0;
     int side;
     urdf_box_link("pioneer_base", PIONEER_CHASSIS_KG, at, size, "pioneer");
     urdf_fixed("world", "pioneer_base", "pioneer_start", T);
     for (side = 0; side < 2; side++) {
         const char *nm = side == 0 ? "left" : "right";
-        printf("  <link name=\"pioneer_%s_wheel\">\n    <inertial>\n      <mass value=\"%.17g\"/>\n"
-               "      <inertia ixx=\"%.17g\" ixy=\"0\" ixz=\"0\" iyy=\"%.17g\" iyz=\"0\" izz=\"%.17g\"/>\n"
-               "    </inertial>\n    <visual>\n  ", nm, PIONEER_WHEEL_KG,
-               k * (3 * r * r + PIONEER_WHEEL_W_M * PIONEER_WHEEL_W_M), k * 6 * r * r,
-               k * (3 * r * r + PIONEER_WHEEL_W_M * PIONEER_WHEEL_W_M));
+        printf(
+            "  <link name=\"pioneer_%s_wheel\">\n    <inertial>\n      <mass value=\"%.17g\"/>\n"
+            "      <inertia ixx=\"%.17g\" ixy=\"0\" ixz=\"0\" iyy=\"%.17g\" iyz=\"0\" izz=\"%.17g\"/>\n"
+            "    </inertial>\n    <visual>\n  ",
+            nm, PIONEER_WHEEL_KG, k * (3 * r * r + PIONEER_WHEEL_W_M * PIONEER_WHEEL_W_M),
+            k * 6 * r * r, k * (3 * r * r + PIONEER_WHEEL_W_M * PIONEER_WHEEL_W_M));
         urdf_origin(0, 0, 0, -1.5707963267948966, 0, 0);
         printf("      <geometry><cylinder radius=\"%.17g\" length=\"%.17g\"/></geometry>\n"
-               "      <material name=\"wheel\"/>\n    </visual>\n  </link>\n", r, PIONEER_WHEEL_W_M);
+               "      <material name=\"wheel\"/>\n    </visual>\n  </link>\n",
+               r, PIONEER_WHEEL_W_M);
         printf("  <joint name=\"pioneer_%s_wheel_joint\" type=\"continuous\">\n"
-               "    <parent link=\"pioneer_base\"/>\n    <child link=\"pioneer_%s_wheel\"/>\n", nm, nm);
+               "    <parent link=\"pioneer_base\"/>\n    <child link=\"pioneer_%s_wheel\"/>\n",
+               nm, nm);
         urdf_origin(0, side == 0 ? 0.5 * track : -0.5 * track, r, 0, 0, 0);
         printf("    <axis xyz=\"0 1 0\"/>\n  </joint>\n");
     }
@@ -316,15 +341,18 @@ static void urdf_pioneer(const rover_world_config *w)
  * its pixel check (tools/viewer/view_check.py) match whatever a URDF names. */
 static void print_urdf_materials(void)
 {
-    static const struct { const char *name; double rgba[4]; } mats[] = {
-        { "arm1", { 1.0, 0.502, 0.0, 1.0 } },       { "arm2", { 0.118, 0.431, 1.0, 1.0 } },
-        { "joint", { 0.3, 0.3, 0.3, 1.0 } },        { "table", { 0.588, 0.471, 0.353, 1.0 } },
-        { "pioneer", { 0.75, 0.1, 0.1, 1.0 } },     { "wheel", { 0.1, 0.1, 0.1, 1.0 } },
+    static const struct {
+        const char *name;
+        double rgba[4];
+    } mats[] = {
+        { "arm1", { 1.0, 0.502, 0.0, 1.0 } },   { "arm2", { 0.118, 0.431, 1.0, 1.0 } },
+        { "joint", { 0.3, 0.3, 0.3, 1.0 } },    { "table", { 0.588, 0.471, 0.353, 1.0 } },
+        { "pioneer", { 0.75, 0.1, 0.1, 1.0 } }, { "wheel", { 0.1, 0.1, 0.1, 1.0 } },
     };
     size_t i;
     for (i = 0; i < sizeof mats / sizeof mats[0]; i++)
-        printf("  <material name=\"%s\"><color rgba=\"%.4g %.4g %.4g %.4g\"/></material>\n", mats[i].name,
-               mats[i].rgba[0], mats[i].rgba[1], mats[i].rgba[2], mats[i].rgba[3]);
+        printf("  <material name=\"%s\"><color rgba=\"%.4g %.4g %.4g %.4g\"/></material>\n",
+               mats[i].name, mats[i].rgba[0], mats[i].rgba[1], mats[i].rgba[2], mats[i].rgba[3]);
 }
 
 static void print_urdf(const arm_model *arm1, const cell_layout *c, const rover_world_config *w)
@@ -333,8 +361,9 @@ static void print_urdf(const arm_model *arm1, const cell_layout *c, const rover_
     const double *tc = c->table_center_m, zero[3] = { 0.0, 0.0, 0.0 };
     const double T_table[16] = { 1, 0, 0, tc[0], 0, 1, 0, tc[1], 0, 0, 1, tc[2], 0, 0, 0, 1 };
     int a;
-    printf("<?xml version=\"1.0\"?>\n<!-- Generated by tandem-scene (option urdf) from the core's tables "
-           "(arm_model, cell, rover_world): do not edit. -->\n<robot name=\"tandem_cell\">\n");
+    printf(
+        "<?xml version=\"1.0\"?>\n<!-- Generated by tandem-scene (option urdf) from the core's tables "
+        "(arm_model, cell, rover_world): do not edit. -->\n<robot name=\"tandem_cell\">\n");
     print_urdf_materials();
     printf("  <link name=\"world\"/>\n");
     for (a = 0; a < CELL_ARMS; a++) {
@@ -350,24 +379,47 @@ static void print_urdf(const arm_model *arm1, const cell_layout *c, const rover_
 }
 
 typedef struct scene_options {
-    int  world, formation, arm1;   /* indices in the options_*_names lists */
+    int world, formation, arm1; /* indices in the options_*_names lists */
     long n;
     world_opts wopt;
-    int  urdf;
+    int urdf;
 } scene_options;
 
 static const option_entry scene_table[] = {
-    { .name = "world", .type = OPTION_CHOICE, OPTION_AT(scene_options, world), .choices = options_world_names,
-      .meta = "NAME", .help = "rover world", .def = "open" },
+    { .name = "world",
+      .type = OPTION_CHOICE,
+      OPTION_AT(scene_options, world),
+      .choices = options_world_names,
+      .meta = "NAME",
+      .help = "rover world",
+      .def = "open" },
     WORLD_FILE_OPTIONS(scene_options, wopt),
-    { .name = "rovers", .type = OPTION_INT, OPTION_AT(scene_options, n), .min = 1, .max = ROVER_WORLD_MAX_ROBOTS,
-      .meta = "N", .help = "robots in the team", .def = "3" },
-    { .name = "formation", .type = OPTION_CHOICE, OPTION_AT(scene_options, formation),
-      .choices = options_formation_names, .values = options_formation_values, .meta = "F",
-      .help = "formation of the slots' team", .def = "line" },
-    { .name = "arm1", .type = OPTION_CHOICE, OPTION_AT(scene_options, arm1), .choices = options_arm_model_names,
-      .meta = "MODEL", .help = "arm 1's tables", .def = "puma560" },
-    { .name = "urdf", .type = OPTION_FLAG, OPTION_AT(scene_options, urdf),
+    { .name = "rovers",
+      .type = OPTION_INT,
+      OPTION_AT(scene_options, n),
+      .min = 1,
+      .max = ROVER_WORLD_MAX_ROBOTS,
+      .meta = "N",
+      .help = "robots in the team",
+      .def = "3" },
+    { .name = "formation",
+      .type = OPTION_CHOICE,
+      OPTION_AT(scene_options, formation),
+      .choices = options_formation_names,
+      .values = options_formation_values,
+      .meta = "F",
+      .help = "formation of the slots' team",
+      .def = "line" },
+    { .name = "arm1",
+      .type = OPTION_CHOICE,
+      OPTION_AT(scene_options, arm1),
+      .choices = options_arm_model_names,
+      .meta = "MODEL",
+      .help = "arm 1's tables",
+      .def = "puma560" },
+    { .name = "urdf",
+      .type = OPTION_FLAG,
+      OPTION_AT(scene_options, urdf),
       .help = "write the cell as URDF (both arms' DH chains with limits, masses and inertias, "
               "the table, a Pioneer at the team's start) instead of JSON" },
     { .name = "help", .type = OPTION_HELP, .help = "this text" },
@@ -380,18 +432,20 @@ int main(int argc, char **argv)
     scene_options o = { 0, FORMATION_LINE, 0, 3, { 0, NULL, NULL, NULL }, 0 };
     const option_program prog = {
         .name = "tandem-scene",
-        .usage = "usage: tandem-scene [--world NAME | --world-file PATH] [--rovers N] [--formation F] [--arm1 MODEL] [--urdf]\n"
-                 "Prints the static geometry of the tandem world as JSON on stdout: the arm\n"
-                 "DH tables, the work cell (arm bases, table, workpieces), the rover world\n"
-                 "(obstacles, goal, team frame), the Pioneer body and sonar ring and the\n"
-                 "formation slots, all from the same tables the controllers use.\n"
-                 "With --urdf: the cell as URDF (arms, table, a Pioneer) instead.\n\n",
-        .groups = { { scene_table, &o } }, .n_groups = 1,
+        .usage =
+            "usage: tandem-scene [--world NAME | --world-file PATH] [--rovers N] [--formation F] [--arm1 MODEL] [--urdf]\n"
+            "Prints the static geometry of the tandem world as JSON on stdout: the arm\n"
+            "DH tables, the work cell (arm bases, table, workpieces), the rover world\n"
+            "(obstacles, goal, team frame), the Pioneer body and sonar ring and the\n"
+            "formation slots, all from the same tables the controllers use.\n"
+            "With --urdf: the cell as URDF (arms, table, a Pioneer) instead.\n\n",
+        .groups = { { scene_table, &o } },
+        .n_groups = 1,
     };
     const arm_model *arm1;
     int world, formation, rc;
     long n;
-    static rover_world_config w;   /* large: keep it off the stack */
+    static rover_world_config w; /* large: keep it off the stack */
     rc = options_parse(&prog, argc, argv, 1);
     if (rc < 0)
         return options_exit_status(rc);
@@ -400,7 +454,8 @@ int main(int argc, char **argv)
     arm1 = arm_model_by_name(options_arm_model_names[o.arm1]);
     n = o.n;
     o.wopt.world = world;
-    if (world_opts_layout(&w, &o.wopt, (int)n, 1.0, formation, "tandem-scene") != 0) return 2;
+    if (world_opts_layout(&w, &o.wopt, (int)n, 1.0, formation, "tandem-scene") != 0)
+        return 2;
     if (o.urdf) {
         print_urdf(arm1, &cell_default, &w);
         return 0;

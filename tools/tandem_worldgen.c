@@ -27,22 +27,56 @@ typedef struct gen_options {
 } gen_options;
 
 static const option_entry gen_table[] = {
-    { .name = "kind", .type = OPTION_STRING, OPTION_AT(gen_options, kind), .meta = "K",
-      .help = "clutter (convex obstacles) | traps (U, V, L pockets) | corridor (bends, narrowings) | mixed",
+    { .name = "kind",
+      .type = OPTION_STRING,
+      OPTION_AT(gen_options, kind),
+      .meta = "K",
+      .help =
+          "clutter (convex obstacles) | traps (U, V, L pockets) | corridor (bends, narrowings) | mixed",
       .def = "mixed" },
-    { .name = "seed", .type = OPTION_INT, OPTION_AT(gen_options, seed), OPTION_SEEN(gen_options, seed_given),
-      .min = 0, .max = 2147483647.0, .meta = "W", .help = "the world's seed (the same seed, the same world)" },
-    { .name = "size", .type = OPTION_STRING, OPTION_AT(gen_options, size), .meta = "WxH",
-      .help = "map size in metres", .def = "30x20" },
-    { .name = "robots", .type = OPTION_INT, OPTION_AT(gen_options, robots), .min = 1, .max = ROVER_WORLD_MAX_ROBOTS,
-      .meta = "N", .help = "team size: the start area holds it, the check places it", .def = "3" },
-    { .name = "formation", .type = OPTION_CHOICE, OPTION_AT(gen_options, formation),
-      .choices = options_formation_names, .values = options_formation_values, .meta = "F",
-      .help = "the team's start formation", .def = "line" },
-    { .name = "export", .type = OPTION_STRING, OPTION_AT(gen_options, exported), .meta = "NAME",
-      .help = "write built-in world NAME (open, obstacles, corridor, deadzone; 3 robots) as a map instead" },
-    { .name = "out", .type = OPTION_STRING, OPTION_AT(gen_options, out), OPTION_SEEN(gen_options, out_given),
-      .required = 1, .meta = "DIR", .help = "writes DIR/world.yaml, world.pgm and world.svg" },
+    { .name = "seed",
+      .type = OPTION_INT,
+      OPTION_AT(gen_options, seed),
+      OPTION_SEEN(gen_options, seed_given),
+      .min = 0,
+      .max = 2147483647.0,
+      .meta = "W",
+      .help = "the world's seed (the same seed, the same world)" },
+    { .name = "size",
+      .type = OPTION_STRING,
+      OPTION_AT(gen_options, size),
+      .meta = "WxH",
+      .help = "map size in metres",
+      .def = "30x20" },
+    { .name = "robots",
+      .type = OPTION_INT,
+      OPTION_AT(gen_options, robots),
+      .min = 1,
+      .max = ROVER_WORLD_MAX_ROBOTS,
+      .meta = "N",
+      .help = "team size: the start area holds it, the check places it",
+      .def = "3" },
+    { .name = "formation",
+      .type = OPTION_CHOICE,
+      OPTION_AT(gen_options, formation),
+      .choices = options_formation_names,
+      .values = options_formation_values,
+      .meta = "F",
+      .help = "the team's start formation",
+      .def = "line" },
+    { .name = "export",
+      .type = OPTION_STRING,
+      OPTION_AT(gen_options, exported),
+      .meta = "NAME",
+      .help =
+          "write built-in world NAME (open, obstacles, corridor, deadzone; 3 robots) as a map instead" },
+    { .name = "out",
+      .type = OPTION_STRING,
+      OPTION_AT(gen_options, out),
+      OPTION_SEEN(gen_options, out_given),
+      .required = 1,
+      .meta = "DIR",
+      .help = "writes DIR/world.yaml, world.pgm and world.svg" },
     { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
     { .name = NULL }
 };
@@ -59,10 +93,12 @@ static void rasterise(rover_map *m, rover_map_site *s, const rover_world_config 
     m->height = (int)ceil((w->y_max_m - w->y_min_m) / m->resolution_m);
     for (j = 0; j < m->height; j++)
         for (i = 0; i < m->width; i++) {
-            const double x = m->origin_x_m + (i + 0.5) * m->resolution_m, y = m->origin_y_m + (j + 0.5) * m->resolution_m;
+            const double x = m->origin_x_m + (i + 0.5) * m->resolution_m,
+                         y = m->origin_y_m + (j + 0.5) * m->resolution_m;
             unsigned char v = ROVER_MAP_FREE;
             for (k = 0; k < w->n_obst && v == ROVER_MAP_FREE; k++)
-                if (rover_obstacle_distance(&w->obst[k], x, y) <= 0.0) v = ROVER_MAP_OCCUPIED;
+                if (rover_obstacle_distance(&w->obst[k], x, y) <= 0.0)
+                    v = ROVER_MAP_OCCUPIED;
             m->cell[j * m->width + i] = v;
         }
     memset(s, 0, sizeof *s);
@@ -73,17 +109,18 @@ static void rasterise(rover_map *m, rover_map_site *s, const rover_world_config 
     memcpy(s->landmark_m, w->landmark_m, sizeof s->landmark_m);
 }
 
-
 static int parse_size(const char *v, double *w, double *h)
 {
     char *end;
     *w = strtod(v, &end);
-    if (end == v || *end != 'x') return 0;
+    if (end == v || *end != 'x')
+        return 0;
     *h = strtod(end + 1, &end);
     return *end == '\0' && isfinite(*w) && isfinite(*h) && *w > 0.0 && *h > 0.0;
 }
 
-static int write_all(const char *dir, rover_map *m, const rover_map_site *s, int robots, int formation)
+static int write_all(const char *dir, rover_map *m, const rover_map_site *s, int robots,
+                     int formation)
 {
     static rover_world_config w;
     char why[WORLD_FILE_WHY_MAX];
@@ -97,8 +134,9 @@ static int write_all(const char *dir, rover_map *m, const rover_map_site *s, int
         fprintf(stderr, "tandem-worldgen: %s\n", why);
         return 1;
     }
-    printf("tandem-worldgen: %s/world.yaml (%dx%d cells of %.2f m, %d boxes, %d landmarks), world.pgm, world.svg\n",
-           dir, m->width, m->height, m->resolution_m, w.n_obst, w.n_landmarks);
+    printf(
+        "tandem-worldgen: %s/world.yaml (%dx%d cells of %.2f m, %d boxes, %d landmarks), world.pgm, world.svg\n",
+        dir, m->width, m->height, m->resolution_m, w.n_obst, w.n_landmarks);
     return 0;
 }
 
@@ -107,23 +145,26 @@ int main(int argc, char **argv)
     gen_options o = { "mixed", NULL, NULL, "30x20", 0, 3, FORMATION_LINE, 0, 0 };
     const option_program prog = {
         .name = "tandem-worldgen",
-        .usage = "usage: tandem-worldgen --kind clutter|traps|corridor|mixed --seed W [--size WxH] [--robots N]\n"
-                 "                       [--formation F] --out DIR\n"
-                 "       tandem-worldgen --export NAME --out DIR\n"
-                 "Writes a rover world as a map_server YAML + PGM with tandem's start, goal and\n"
-                 "landmarks (docs/formation.md, \"Worlds from files\") and a preview world.svg.\n"
-                 "A random world is kept only if a search finds a way for the robot body from\n"
-                 "every robot's start to the goal on the map inflated by the body radius plus a\n"
-                 "margin (0.32 + 0.25 m); otherwise the next sub-seed of W is tried (at most 64).\n\n",
+        .usage =
+            "usage: tandem-worldgen --kind clutter|traps|corridor|mixed --seed W [--size WxH] [--robots N]\n"
+            "                       [--formation F] --out DIR\n"
+            "       tandem-worldgen --export NAME --out DIR\n"
+            "Writes a rover world as a map_server YAML + PGM with tandem's start, goal and\n"
+            "landmarks (docs/formation.md, \"Worlds from files\") and a preview world.svg.\n"
+            "A random world is kept only if a search finds a way for the robot body from\n"
+            "every robot's start to the goal on the map inflated by the body radius plus a\n"
+            "margin (0.32 + 0.25 m); otherwise the next sub-seed of W is tried (at most 64).\n\n",
         .epilog = "Exit status: 0 written, 1 no passable world or a write failed, 2 bad options.\n",
-        .groups = { { gen_table, &o } }, .n_groups = 1,
+        .groups = { { gen_table, &o } },
+        .n_groups = 1,
     };
     static rover_map m;
     rover_map_site s;
     worldgen_params p;
     int rc, attempt = 0;
     rc = options_parse(&prog, argc, argv, 1);
-    if (rc < 0) return options_exit_status(rc);
+    if (rc < 0)
+        return options_exit_status(rc);
     if (proc_mkdir_p(o.out) != 0) {
         fprintf(stderr, "tandem-worldgen: cannot create '%s': %s\n", o.out, strerror(errno));
         return 1;
@@ -132,23 +173,28 @@ int main(int argc, char **argv)
         static rover_world_config w;
         const int id = rover_world_id(o.exported);
         if (id < 0 || rover_world_layout(&w, id, 3, 1.0, FORMATION_LINE) != 0) {
-            fprintf(stderr, "tandem-worldgen: --export: '%s' is not open|obstacles|corridor|deadzone\n", o.exported);
+            fprintf(stderr,
+                    "tandem-worldgen: --export: '%s' is not open|obstacles|corridor|deadzone\n",
+                    o.exported);
             return 2;
         }
         rasterise(&m, &s, &w);
         return write_all(o.out, &m, &s, 3, FORMATION_LINE);
     }
     memset(&p, 0, sizeof p);
-    if ((p.kind = worldgen_kind(o.kind)) < 0 || !o.seed_given || !parse_size(o.size, &p.width_m, &p.height_m)) {
-        fprintf(stderr, "tandem-worldgen: need --kind clutter|traps|corridor|mixed, --seed W and --size WxH (m)\n");
+    if ((p.kind = worldgen_kind(o.kind)) < 0 || !o.seed_given ||
+        !parse_size(o.size, &p.width_m, &p.height_m)) {
+        fprintf(
+            stderr,
+            "tandem-worldgen: need --kind clutter|traps|corridor|mixed, --seed W and --size WxH (m)\n");
         return 2;
     }
     p.seed = (uint64_t)o.seed;
     p.robots = (int)o.robots;
     p.formation = o.formation;
     if ((rc = worldgen_make(&m, &s, &p, &attempt)) != WORLDGEN_OK) {
-        fprintf(stderr, "tandem-worldgen: --kind %s --seed %ld --size %s --robots %ld: %s\n", o.kind, o.seed, o.size,
-                o.robots, worldgen_strerror(rc));
+        fprintf(stderr, "tandem-worldgen: --kind %s --seed %ld --size %s --robots %ld: %s\n",
+                o.kind, o.seed, o.size, o.robots, worldgen_strerror(rc));
         return rc == WORLDGEN_ERR_ARG ? 2 : 1;
     }
     printf("tandem-worldgen: %s world, seed %ld (sub-seed %d)\n", o.kind, o.seed, attempt);

@@ -53,7 +53,7 @@ static int arm_setup(budget_arm *a)
     int j;
     memset(a, 0, sizeof *a);
     a->model = &arm_model_puma560;
-    a->gains.wn_radps = 2.0 * 3.141592653589793 * 8.0;   /* tandem-arm's default --wn 8 */
+    a->gains.wn_radps = 2.0 * 3.141592653589793 * 8.0; /* tandem-arm's default --wn 8 */
     a->gains.zeta = 1.0;
     arm_tool_offset(&a->tool, off);
     arm_payload_point(&a->bar, cell_default.workpiece_mass_kg, com);
@@ -61,7 +61,9 @@ static int arm_setup(budget_arm *a)
     tf_inverse(Tinv, a->T_world_base);
     tf_rot(Rinv, Tinv);
     rot_apply(p, Rinv, cell_default.home_tool_m[0]);
-    p[0] += Tinv[3]; p[1] += Tinv[7]; p[2] += Tinv[11];
+    p[0] += Tinv[3];
+    p[1] += Tinv[7];
+    p[2] += Tinv[11];
     cell_tool_down_R(&cell_default, 0, Rb);
     tf_from_rot_pos(T, Rb, p);
     if (arm_ik(a->model, &a->tool, T, &r) != 0)
@@ -71,16 +73,20 @@ static int arm_setup(budget_arm *a)
         a->qd[j] = 0.05 * (double)(j + 1);
         q1[j] = a->q[j] + 0.3;
     }
-    vec3_set(R1, 1, 0, 0); vec3_set(R1 + 3, 0, -1, 0); vec3_set(R1 + 6, 0, 0, -1);
+    vec3_set(R1, 1, 0, 0);
+    vec3_set(R1 + 3, 0, -1, 0);
+    vec3_set(R1 + 6, 0, 0, -1);
     vec3_copy(p1, cell_default.home_tool_m[0]);
-    p1[0] -= 0.2; p1[2] -= 0.1;
+    p1[0] -= 0.2;
+    p1[2] -= 0.1;
     if (jtraj_plan(&a->traj, a->model, a->q, q1, 0.5, 2.0) != 0 ||
-        cartseg_start(&a->cart, a->model, &a->tool, a->T_world_base, a->q, p1, R1, &carry_table[0].lin,
-                      ERLAW_REF_MEASURED) != 0)
+        cartseg_start(&a->cart, a->model, &a->tool, a->T_world_base, a->q, p1, R1,
+                      &carry_table[0].lin, ERLAW_REF_MEASURED) != 0)
         return -1;
     {
         tdsd_seg_params par;
-        tdsd_seg_default_params(&par, carry_table[0].lin.v_m, carry_table[0].lin.a_m, carry_table[0].lin.u_m);
+        tdsd_seg_default_params(&par, carry_table[0].lin.v_m, carry_table[0].lin.a_m,
+                                carry_table[0].lin.u_m);
         if (tdsd_seg_start(&a->tdsd, a->model, &a->tool, a->T_world_base, a->q, p1, R1, &par) != 0)
             return -1;
     }
@@ -133,19 +139,22 @@ static void rover_sonar_world(const rover_world_config *w, const pose2 *c, int s
         if (o->kind == ROVER_OBST_CIRCLE)
             sonar_world_add_circle(&sw, o->cx_m, o->cy_m, o->r_m, 0.0, o->height_m);
         else
-            sonar_world_add_box(&sw, o->cx_m, o->cy_m, o->hx_m, o->hy_m, o->angle_rad, 0.0, o->height_m);
+            sonar_world_add_box(&sw, o->cx_m, o->cy_m, o->hx_m, o->hy_m, o->angle_rad, 0.0,
+                                o->height_m);
     }
     for (i = 0; i < w->n_robots; i++)
         if (i != self)
             sonar_world_add_box(&sw, c[i].x_m + ROVER_BODY_OFFSET_M * cos(c[i].theta_rad),
                                 c[i].y_m + ROVER_BODY_OFFSET_M * sin(c[i].theta_rad),
-                                0.5 * ROVER_BODY_LENGTH_M, 0.5 * ROVER_BODY_WIDTH_M, c[i].theta_rad, 0.03, 0.25);
+                                0.5 * ROVER_BODY_LENGTH_M, 0.5 * ROVER_BODY_WIDTH_M, c[i].theta_rad,
+                                0.03, 0.25);
     sonar_world_build(&sw);
 }
 
 /* Robot 1 drives under its controller; its two mates drive straight at
  * 0.3 m/s and report their true pose every period. */
-static int rover_plant_step(budget_rover *r, const rover_world_config *w, pose2 *c, const sonar_model *sm)
+static int rover_plant_step(budget_rover *r, const rover_world_config *w, pose2 *c,
+                            const sonar_model *sm)
 {
     const double b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
     int i;
@@ -219,12 +228,14 @@ int main(void)
         printf("region %u: %s\n", (unsigned)k + 1, names[k]);
     fflush(stdout);
     if (arm_region(1, budget_arm_joint_cycle) != 0 || arm_region(2, budget_arm_cart_cycle) != 0 ||
-        arm_region(3, budget_arm_tdsd_cycle) != 0 || supervisor_region(4) != 0 || rover_region(5) != 0) {
+        arm_region(3, budget_arm_tdsd_cycle) != 0 || supervisor_region(4) != 0 ||
+        rover_region(5) != 0) {
         fprintf(stderr, "budget: a cycle failed in its set-up state\n");
         return 1;
     }
-    printf("budget: arm tau %.3f %.3f %.3f Nm, rover v %.3f m/s w %.3f rad/s mode %d, net fired %ld\n",
-           arm.tau_Nm[0], arm.tau_Nm[1], arm.tau_Nm[2], rov.out.u.v_mps, rov.out.u.w_radps, rov.out.mode,
-           sup.net.fired_count);
+    printf(
+        "budget: arm tau %.3f %.3f %.3f Nm, rover v %.3f m/s w %.3f rad/s mode %d, net fired %ld\n",
+        arm.tau_Nm[0], arm.tau_Nm[1], arm.tau_Nm[2], rov.out.u.v_mps, rov.out.u.w_radps,
+        rov.out.mode, sup.net.fired_count);
     return 0;
 }

@@ -8,7 +8,8 @@ int budget_arm_joint_cycle(budget_arm *a)
     double q_d[ARM_NJ], qd_d[ARM_NJ], qdd_d[ARM_NJ];
     jtraj_at(&a->traj, a->t_s, q_d, qd_d, qdd_d);
     a->t_s += BUDGET_ARM_DT_S;
-    return jointctl_torque(a->model, &a->bar, &a->gains, a->q, a->qd, q_d, qd_d, qdd_d, a->tau_Nm, NULL);
+    return jointctl_torque(a->model, &a->bar, &a->gains, a->q, a->qd, q_d, qd_d, qdd_d, a->tau_Nm,
+                           NULL);
 }
 
 int budget_arm_cart_cycle(budget_arm *a)
@@ -26,7 +27,8 @@ int budget_arm_cart_cycle(budget_arm *a)
     l[1] = a->partner_s_f_m;
     if (sync_ref_init(&r, 2, l) != 0 || sync_ref_update(&r, s, &s_star, s_ref) != 0)
         return -1;
-    if (cartseg_step_at(&a->cart, a->model, &a->tool, &a->bar, &kin, a->q, a->qd, s_ref[0], BUDGET_ARM_DT_S, &o) != 0)
+    if (cartseg_step_at(&a->cart, a->model, &a->tool, &a->bar, &kin, a->q, a->qd, s_ref[0],
+                        BUDGET_ARM_DT_S, &o) != 0)
         return -1;
     memcpy(a->tau_Nm, o.tau_Nm, sizeof a->tau_Nm);
     return o.done;
@@ -39,7 +41,8 @@ int budget_arm_tdsd_cycle(budget_arm *a)
         return -1;
     if (tdsd_servo_vlimit(&a->gains, a->model->qd_max_radps, a->q, o.q_d, o.qd_d, o.qdd_d) < 0)
         return -1;
-    if (jointctl_torque(a->model, &a->bar, &a->gains, a->q, a->qd, o.q_d, o.qd_d, o.qdd_d, a->tau_Nm, NULL) != 0)
+    if (jointctl_torque(a->model, &a->bar, &a->gains, a->q, a->qd, o.q_d, o.qd_d, o.qdd_d,
+                        a->tau_Nm, NULL) != 0)
         return -1;
     return tdsd_seg_done(&a->tdsd, a->q, a->qd);
 }
@@ -58,7 +61,7 @@ int budget_supervisor_step(budget_supervisor *s)
         if (petri_enabled(&s->net, t))
             (void)petri_start(&s->net, t);
     if (petri_enabled(&s->net, CARRY_T_VISION))
-        (void)petri_fire(&s->net, CARRY_T_VISION);   /* a workpiece is always in view */
+        (void)petri_fire(&s->net, CARRY_T_VISION); /* a workpiece is always in view */
     if (!petri_invariants_hold(&s->net))
         return -1;
     return petri_dead(&s->net);

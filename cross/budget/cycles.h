@@ -37,18 +37,18 @@ typedef struct budget_arm {
     arm_tool tool;
     arm_payload bar;
     double T_world_base[16];
-    double q[ARM_NJ], qd[ARM_NJ];   /* measured state fed to the cycle */
+    double q[ARM_NJ], qd[ARM_NJ]; /* measured state fed to the cycle */
     jtraj traj;
-    double t_s;                     /* time into the joint segment */
+    double t_s; /* time into the joint segment */
     cartseg cart;
     double s_f_m, partner_s_m, partner_s_f_m;
     tdsd_seg tdsd;
-    double tau_Nm[ARM_NJ];          /* last command */
+    double tau_Nm[ARM_NJ]; /* last command */
 } budget_arm;
 
 typedef struct budget_supervisor {
     petri net;
-    int completed;                  /* the last event's transition */
+    int completed; /* the last event's transition */
 } budget_supervisor;
 
 typedef struct budget_rover {

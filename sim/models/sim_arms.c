@@ -38,8 +38,8 @@
 #include "tandem_sim_control_t.h"
 #include "tandem_sim_status_t.h"
 
-#define ARM_STALE_STEPS 20          /* 20 ms: docs/method/lockstep.md §6 bounded safe hold */
-#define ARM_TAU_REJECT_FACTOR 2.0   /* |tau| beyond 2x the motor limit = bad data */
+#define ARM_STALE_STEPS 20        /* 20 ms: docs/method/lockstep.md §6 bounded safe hold */
+#define ARM_TAU_REJECT_FACTOR 2.0 /* |tau| beyond 2x the motor limit = bad data */
 /* A range end gets a stop once it lies within this of the joint (ODE's
  * rotational stops act inside (-pi, pi) of the motor's angle); a joint
  * cannot cover the rest in one 1 ms step. */
@@ -80,8 +80,8 @@ static void set_body_pose(dBodyID b, const double R[9], const double p[3])
 
 /* A capsule from point p0 to p1, both in link-frame coordinates, attached to
  * the link body whose origin is the COM. */
-static dGeomID link_capsule(sim_world *w, dBodyID body, const double com[3],
-                            const double p0[3], const double p1[3], double radius)
+static dGeomID link_capsule(sim_world *w, dBodyID body, const double com[3], const double p0[3],
+                            const double p1[3], double radius)
 {
     double axis[3], mid[3], R[9];
     dMatrix3 Rm;
@@ -125,8 +125,13 @@ static void build_link(sim_world *w, sim_arm *a, int i, double Tl[ARM_NJ + 1][16
      * on along z_i by d_{i+1} (the part of the next offset fixed in link i). */
     tf_inverse(Tinv, Tl[i + 1]);
     tf_pos(origin_prev, Tl[i]);
-    rot_apply(p0, (double[9]){ Tinv[0], Tinv[1], Tinv[2], Tinv[4], Tinv[5], Tinv[6], Tinv[8], Tinv[9], Tinv[10] }, origin_prev);
-    p0[0] += Tinv[3]; p0[1] += Tinv[7]; p0[2] += Tinv[11];
+    rot_apply(p0,
+              (double[9]){ Tinv[0], Tinv[1], Tinv[2], Tinv[4], Tinv[5], Tinv[6], Tinv[8], Tinv[9],
+                           Tinv[10] },
+              origin_prev);
+    p0[0] += Tinv[3];
+    p0[1] += Tinv[7];
+    p0[2] += Tinv[11];
     vec3_set(p1, 0.0, 0.0, 0.0);
     a->geom[i][0] = link_capsule(w, a->link[i], m->com_m[i], p0, p1, sim_arm_link_radius_m[i]);
     vec3_set(p0, 0.0, 0.0, i + 1 < ARM_NJ ? m->d_m[i + 1] : CELL_TOOL_LENGTH_M);
@@ -139,7 +144,7 @@ static void build_joint(sim_world *w, sim_arm *a, int i, double Tl[ARM_NJ + 1][1
     dJointID j = dJointCreateHinge(w->world, 0);
     world_from_link(a, Tl[i], T);
     tf_pos(anchor, T);
-    vec3_set(axis, T[2], T[6], T[10]);          /* z_{i-1} */
+    vec3_set(axis, T[2], T[6], T[10]); /* z_{i-1} */
     /* body1 = the link, body2 = its parent: the hinge angle then grows with
      * the link turning positively about z_{i-1}, as q_i does. */
     dJointAttach(j, a->link[i], i > 0 ? a->link[i - 1] : 0);
@@ -169,8 +174,13 @@ static int home_q(const sim_arm *a, int idx, double q[ARM_NJ])
     cell_world_from_arm(&cell_default, idx, Tw);
     tf_inverse(Tinv, Tw);
     vec3_copy(pw, cell_default.home_tool_m[idx]);
-    rot_apply(p_arm, (double[9]){ Tinv[0], Tinv[1], Tinv[2], Tinv[4], Tinv[5], Tinv[6], Tinv[8], Tinv[9], Tinv[10] }, pw);
-    p_arm[0] += Tinv[3]; p_arm[1] += Tinv[7]; p_arm[2] += Tinv[11];
+    rot_apply(p_arm,
+              (double[9]){ Tinv[0], Tinv[1], Tinv[2], Tinv[4], Tinv[5], Tinv[6], Tinv[8], Tinv[9],
+                           Tinv[10] },
+              pw);
+    p_arm[0] += Tinv[3];
+    p_arm[1] += Tinv[7];
+    p_arm[2] += Tinv[11];
     cell_tool_down_R(&cell_default, idx, R);
     tf_from_rot_pos(T, R, p_arm);
     if (arm_ik(a->model, &tool, T, &r) != 0 || r.unreachable)
@@ -249,7 +259,8 @@ static int command_valid(const sim_arm *a, int idx, const tandem_arm_command_t *
     if (c->gripper < TANDEM_ARM_COMMAND_T_GRIP_KEEP || c->gripper > TANDEM_ARM_COMMAND_T_GRIP_OPEN)
         return 0;
     for (i = 0; i < ARM_NJ; i++)
-        if (!isfinite(c->tau_Nm[i]) || fabs(c->tau_Nm[i]) > ARM_TAU_REJECT_FACTOR * a->model->tau_max_Nm[i])
+        if (!isfinite(c->tau_Nm[i]) ||
+            fabs(c->tau_Nm[i]) > ARM_TAU_REJECT_FACTOR * a->model->tau_max_Nm[i])
             return 0;
     return 1;
 }
@@ -449,7 +460,7 @@ static void publish_state(sim_arms *arms, sim_world *w, int k)
     sim_arm_tool(a, s.tool_position_m, NULL);
     s.gripper_closed = (int8_t)a->gripper_closed;
     s.holding_workpiece = a->holding;
-    AUTH_PUBLISH(tandem_arm_state_t, w->d.lcm, state_channel[k], &s);
+    AUTH_PUBLISH(tandem_arm_state_t, &w->d.bus, w->d.lcm, state_channel[k], &s);
 }
 
 static void arms_after_step(void *model, sim_world *w)
@@ -491,7 +502,5 @@ static int arms_ready(const void *model, const sim_world *w, int64_t k)
     return 1;
 }
 
-const sim_model_ops sim_arms_ops = {
-    "arms", arms_create, arms_destroy, arms_before_step, arms_after_step, arms_control, arms_status,
-    arms_ready
-};
+const sim_model_ops sim_arms_ops = { "arms",          arms_create,  arms_destroy, arms_before_step,
+                                     arms_after_step, arms_control, arms_status,  arms_ready };

@@ -31,15 +31,15 @@
 #include "tandem_rover_command_t.h"
 #include "tandem_rovers_command_t.h"
 
-#define RV_WHEEL_R        0.0825
-#define RV_TRACK          0.33
-#define RV_CHASSIS_H      0.20
-#define RV_CHASSIS_Z      0.15
-#define RV_CASTER_R       0.04
-#define RV_SLIP_SD        0.005
-#define RV_SLIP_TAU_S     0.5
-#define RV_ACCEL_V        1.0     /* m/s^2 */
-#define RV_ACCEL_W        3.0     /* rad/s^2 */
+#define RV_WHEEL_R 0.0825
+#define RV_TRACK 0.33
+#define RV_CHASSIS_H 0.20
+#define RV_CHASSIS_Z 0.15
+#define RV_CASTER_R 0.04
+#define RV_SLIP_SD 0.005
+#define RV_SLIP_TAU_S 0.5
+#define RV_ACCEL_V 1.0 /* m/s^2 */
+#define RV_ACCEL_W 3.0 /* rad/s^2 */
 
 /* tunables from the environment (the sim's command line belongs to sim_main) */
 static double env_num(const char *name, double def, double lo, double hi)
@@ -47,7 +47,8 @@ static double env_num(const char *name, double def, double lo, double hi)
     const char *s = getenv(name);
     char *end;
     double v;
-    if (!s || !*s) return def;
+    if (!s || !*s)
+        return def;
     v = strtod(s, &end);
     if (*end || !isfinite(v) || v < lo || v > hi) {
         fprintf(stderr, "tandem-sim: %s='%s' ignored (expected %g..%g)\n", name, s, lo, hi);
@@ -97,7 +98,7 @@ static void build_robot(sim_rovers *team, sim_rover *r, const pose2 *c, sim_worl
     dGeomSetCategoryBits(r->box, SIM_CAT_ROVER);
     dGeomSetCollideBits(r->box, SIM_CAT_ROVER | SIM_CAT_OBSTACLE);
     for (s = 0; s < 2; s++) {
-        const double side = s == 0 ? 0.5 * RV_TRACK : -0.5 * RV_TRACK;  /* 0 left, 1 right */
+        const double side = s == 0 ? 0.5 * RV_TRACK : -0.5 * RV_TRACK; /* 0 left, 1 right */
         r->wheel[s] = dBodyCreate(team->world);
         dMassSetSphereTotal(&m, 0.5, RV_WHEEL_R);
         dBodySetMass(r->wheel[s], &m);
@@ -107,7 +108,8 @@ static void build_robot(sim_rovers *team, sim_rover *r, const pose2 *c, sim_worl
         r->hinge[s] = dJointCreateHinge(team->world, 0);
         dJointAttach(r->hinge[s], r->chassis, r->wheel[s]);
         dJointSetHingeAnchor(r->hinge[s], c->x_m - side * st, c->y_m + side * ct, RV_WHEEL_R);
-        dJointSetHingeAxis(r->hinge[s], st, -ct, 0.0);   /* ODE measures body1 vs body2: +rate rolls forward */
+        dJointSetHingeAxis(r->hinge[s], st, -ct,
+                           0.0); /* ODE measures body1 vs body2: +rate rolls forward */
         dJointSetHingeParam(r->hinge[s], dParamFMax, 1.5);
         dJointSetHingeParam(r->hinge[s], dParamVel, 0.0);
     }
@@ -123,10 +125,10 @@ static void build_robot(sim_rovers *team, sim_rover *r, const pose2 *c, sim_worl
  * cannot hold. */
 static int team_layout(sim_rovers *team, const sim_config *cfg)
 {
-    const world_opts wo = { rover_world_id(cfg->rover_world), cfg->rover_world_file, cfg->rover_start,
-                            cfg->rover_goal };
+    const world_opts wo = { rover_world_id(cfg->rover_world), cfg->rover_world_file,
+                            cfg->rover_start, cfg->rover_goal };
     int i;
-    team->formation = cfg->rover_formation;   /* the rovers get the same --formation */
+    team->formation = cfg->rover_formation; /* the rovers get the same --formation */
     if (cfg->rovers < 1 || cfg->rovers > RV_MAX || (wo.world < 0 && !wo.file)) {
         fprintf(stderr, "tandem-sim: --rovers %d --world %s: not a valid team (1..%d robots)\n",
                 cfg->rovers, cfg->rover_world, RV_MAX);
@@ -142,7 +144,8 @@ static int team_layout(sim_rovers *team, const sim_config *cfg)
     team->stale_s = env_num("TANDEM_ROVER_STALE_S", 0.5, 0.01, 10.0);
     team->phys_steps = (int)env_num("TANDEM_ROVER_PHYS_STEPS", 4, 1, 10);
     sim_rovers_sonar_model(&team->sm);
-    for (i = 0; i < SONAR_N; i++) team->sonar_angle_rad[i] = sonar_p2dx_front[i].angle_rad;
+    for (i = 0; i < SONAR_N; i++)
+        team->sonar_angle_rad[i] = sonar_p2dx_front[i].angle_rad;
     return 0;
 }
 
@@ -187,7 +190,8 @@ static void team_robots_create(sim_rovers *team, sim_world *w)
         r->min_clear = INFINITY;
         prng_seed(&r->rng, w->seed * 1000003ULL + (uint64_t)r->id);
         build_robot(team, r, &team->layout.start_c[i], w);
-        for (k = 0; k < SONAR_N; k++) r->range[k] = team->sm.range_max_m;
+        for (k = 0; k < SONAR_N; k++)
+            r->range[k] = team->sm.range_max_m;
     }
 }
 
@@ -211,8 +215,8 @@ static int rovers_create(void *model, sim_world *w, const sim_config *cfg)
         daemon_subscribe(&w->d, "ROVERS_COMMAND", on_commands, team);
     }
     fprintf(stderr, "tandem-sim: %d Pioneer robots in world '%s' (goal %.1f, %.1f)\n", team->n,
-            cfg->rover_world_file ? cfg->rover_world_file : cfg->rover_world, team->layout.goal_m[0],
-            team->layout.goal_m[1]);
+            cfg->rover_world_file ? cfg->rover_world_file : cfg->rover_world,
+            team->layout.goal_m[0], team->layout.goal_m[1]);
     return 0;
 }
 
@@ -220,8 +224,10 @@ static void rovers_destroy(void *model, sim_world *w)
 {
     sim_rovers *team = model;
     if (team->world)
-        fprintf(stderr, "tandem-sim: rovers: %lld of %lld physics steps had chassis contacts "
-                "(QuickStep)\n", (long long)team->quick_steps, (long long)(w->step / team->phys_steps));
+        fprintf(stderr,
+                "tandem-sim: rovers: %lld of %lld physics steps had chassis contacts "
+                "(QuickStep)\n",
+                (long long)team->quick_steps, (long long)(w->step / team->phys_steps));
     if (team->world) {
         dJointGroupDestroy(team->contacts);
         dSpaceDestroy(team->space);
@@ -239,8 +245,8 @@ static void take_command(sim_rovers *team, const tandem_rover_command_t *m, int 
     const int idx = rover_index(team, m->robot);
     sim_rover *r;
     if (idx < 0 || (chan_id >= 0 && chan_id != m->robot) || !isfinite(m->v_mps) ||
-        !isfinite(m->w_radps) || fabs(m->v_mps) > 5.0 || fabs(m->w_radps) > 20.0 ||
-        m->step < 0 || m->step > team->w->step) {   /* an answer to a step not taken yet */
+        !isfinite(m->w_radps) || fabs(m->v_mps) > 5.0 || fabs(m->w_radps) > 20.0 || m->step < 0 ||
+        m->step > team->w->step) { /* an answer to a step not taken yet */
         team->w->d.msgs.rejected++;
         team->rejected++;
         return;
@@ -278,20 +284,26 @@ static void on_commands(const lcm_recv_buf_t *rb, const char *ch, void *u)
     (void)ch;
     if (!DAEMON_DECODE(&team->w->d.msgs, tandem_rovers_command_t, rb, &m))
         return;
-    for (i = 0; i < m.n; i++) take_command(team, &m.cmd[i], -1);
+    for (i = 0; i < m.n; i++)
+        take_command(team, &m.cmd[i], -1);
     tandem_rovers_command_t_decode_cleanup(&m);
 }
 
 static double ramp(double cur, double target, double max_step)
 {
-    if (target > cur + max_step) return cur + max_step;
-    if (target < cur - max_step) return cur - max_step;
+    if (target > cur + max_step)
+        return cur + max_step;
+    if (target < cur - max_step)
+        return cur - max_step;
     return target;
 }
 
 /* ---- physics ---------------------------------------------------------------- */
 
-static sim_rover *rover_of_body(dBodyID b) { return b ? (sim_rover *)dBodyGetData(b) : NULL; }
+static sim_rover *rover_of_body(dBodyID b)
+{
+    return b ? (sim_rover *)dBodyGetData(b) : NULL;
+}
 
 static void near_cb(void *data, dGeomID g1, dGeomID g2)
 {
@@ -299,14 +311,18 @@ static void near_cb(void *data, dGeomID g1, dGeomID g2)
     sim_rovers *team = data;
     dBodyID b1 = dGeomGetBody(g1), b2 = dGeomGetBody(g2);
     int n, i;
-    if (b1 && b2 && dAreConnected(b1, b2)) return;
+    if (b1 && b2 && dAreConnected(b1, b2))
+        return;
     n = dCollide(g1, g2, 4, &c[0].geom, sizeof(dContact));
-    if (n <= 0) return;
+    if (n <= 0)
+        return;
     /* chassis against an obstacle or another chassis: a collision */
     {
         sim_rover *r1 = rover_of_body(b1), *r2 = rover_of_body(b2);
-        if (r1) r1->bump_now = 1;
-        if (r2) r2->bump_now = 1;
+        if (r1)
+            r1->bump_now = 1;
+        if (r2)
+            r2->bump_now = 1;
         team->chassis_contacts += n;
     }
     for (i = 0; i < n; i++) {
@@ -325,12 +341,14 @@ static void near_cb(void *data, dGeomID g1, dGeomID g2)
  * spheres on the plane z = 0, so each is one contact when it touches.
  * Wheels grip along their rolling direction, with the slip noise as a
  * surface velocity; the caster is frictionless. */
-static void floor_contact(sim_rovers *team, sim_rover *r, dBodyID b, const dVector3 p, double radius, int wheel)
+static void floor_contact(sim_rovers *team, sim_rover *r, dBodyID b, const dVector3 p,
+                          double radius, int wheel)
 {
     dContact c;
     dJointID j;
     const double depth = radius - p[2];
-    if (depth < -0.001) return;
+    if (depth < -0.001)
+        return;
     memset(&c, 0, sizeof c);
     c.geom.pos[0] = p[0];
     c.geom.pos[1] = p[1];
@@ -345,7 +363,9 @@ static void floor_contact(sim_rovers *team, sim_rover *r, dBodyID b, const dVect
         const double rim = dJointGetHingeAngleRate(r->hinge[wheel]) * RV_WHEEL_R;
         c.surface.mode |= dContactFDir1 | dContactMotion1;
         c.surface.mu = 1.0;
-        c.fdir1[0] = m[0]; c.fdir1[1] = m[4]; c.fdir1[2] = 0.0;
+        c.fdir1[0] = m[0];
+        c.fdir1[1] = m[4];
+        c.fdir1[2] = 0.0;
         /* slip: the floor under the wheel gives way a little */
         c.surface.motion1 = -r->slip[wheel] * rim;
     } else {
@@ -361,10 +381,13 @@ static void floor_contacts(sim_rovers *team)
     for (i = 0; i < team->n; i++) {
         sim_rover *r = &team->r[i];
         dVector3 p;
-        if (!r->alive) continue;
+        if (!r->alive)
+            continue;
         for (s = 0; s < 2; s++) {
             const dReal *q = dBodyGetPosition(r->wheel[s]);
-            p[0] = q[0]; p[1] = q[1]; p[2] = q[2];
+            p[0] = q[0];
+            p[1] = q[1];
+            p[2] = q[2];
             floor_contact(team, r, r->wheel[s], p, RV_WHEEL_R, s);
         }
         dBodyGetRelPointPos(r->chassis, -0.18 - ROVER_BODY_OFFSET_M, 0.0,
@@ -381,7 +404,8 @@ static void drive(sim_rovers *team, sim_rover *r, sim_world *w, double dt)
     double v, wr;
     int s;
     r->stale = !r->have_cmd || (double)(w->step - r->cmd_rx_step) * SIM_DT_S > team->stale_s;
-    if (r->stale && !was && r->have_cmd) w->stale_commands++;
+    if (r->stale && !was && r->have_cmd)
+        w->stale_commands++;
     v = r->stale ? 0.0 : r->cmd_v;
     wr = r->stale ? 0.0 : r->cmd_w;
     r->v_ref = ramp(r->v_ref, v, RV_ACCEL_V * dt);
@@ -411,7 +435,8 @@ static void team_world_step(sim_rovers *team, double dt)
      * friction) make the exact solver's cost grow steeply, and robots
      * pushing each other join islands (cost ~ island size cubed): in a
      * step with any chassis contact, QuickStep bounds the cost. */
-    if (team->chassis_contacts == 0) dWorldStep(team->world, dt);
+    if (team->chassis_contacts == 0)
+        dWorldStep(team->world, dt);
     else {
         dWorldQuickStep(team->world, dt);
         team->quick_steps++;
@@ -429,15 +454,20 @@ static void rovers_before_step(void *model, sim_world *w)
      * 0.02 % and the pose differs by less than the wheel slip scatters it
      * between seeds (1-2 cm along the path); it quarters the cost of
      * large teams) */
-    if (w->step % team->phys_steps != 0) return;
+    if (w->step % team->phys_steps != 0)
+        return;
     for (i = 0; i < team->n; i++)
-        if (team->r[i].alive) drive(team, &team->r[i], w, dt);
+        if (team->r[i].alive)
+            drive(team, &team->r[i], w, dt);
     team_world_step(team, dt);
     for (i = 0; i < team->n; i++) {
         sim_rover *r = &team->r[i];
-        if (!r->alive) continue;
-        for (s = 0; s < 2; s++) r->enc[s] += dJointGetHingeAngleRate(r->hinge[s]) * dt;
-        if (r->bump_now && !r->bump_prev) r->collisions++;
+        if (!r->alive)
+            continue;
+        for (s = 0; s < 2; s++)
+            r->enc[s] += dJointGetHingeAngleRate(r->hinge[s]) * dt;
+        if (r->bump_now && !r->bump_prev)
+            r->collisions++;
     }
 }
 
@@ -451,11 +481,13 @@ static int rovers_ready(const void *model, const sim_world *w, int64_t k)
     const sim_rovers *team = model;
     const int64_t p = RV_SENSORS_STEPS;
     int i;
-    if (k % p != 0 || k < p) return 1;
+    if (k % p != 0 || k < p)
+        return 1;
     for (i = 0; i < team->n; i++) {
         const sim_rover *r = &team->r[i];
         const int commanded = k == p || r->cmd_step >= k - 2 * p;
-        if (r->alive && commanded && r->cmd_step < k && sim_lockstep_robot_hosted(w, r->id)) return 0;
+        if (r->alive && commanded && r->cmd_step < k && sim_lockstep_robot_hosted(w, r->id))
+            return 0;
     }
     return 1;
 }
@@ -465,10 +497,13 @@ static int rovers_control(void *model, sim_world *w, const tandem_sim_control_t 
     sim_rovers *team = model;
     const int idx = rover_index(team, c->target);
     sim_rover *r;
-    if (c->command != TANDEM_SIM_CONTROL_T_KILL_ROBOT) return 0;
-    if (idx < 0) return SIM_ERR_CONTROL;
+    if (c->command != TANDEM_SIM_CONTROL_T_KILL_ROBOT)
+        return 0;
+    if (idx < 0)
+        return SIM_ERR_CONTROL;
     r = &team->r[idx];
-    if (!r->alive) return 1;
+    if (!r->alive)
+        return 1;
     r->alive = 0;
     dBodyDisable(r->chassis);
     dBodyDisable(r->wheel[0]);
@@ -480,12 +515,16 @@ static int rovers_control(void *model, sim_world *w, const tandem_sim_control_t 
 
 /* Benchmarks read the ray count and drive the robots through these
  * (declared in sim_rovers.h). */
-int64_t sim_rovers_rays_cast(const sim_rovers *team) { return team->rays; }
+int64_t sim_rovers_rays_cast(const sim_rovers *team)
+{
+    return team->rays;
+}
 
 int sim_rovers_set_command(sim_rovers *team, int32_t id, double v_mps, double w_radps, int64_t step)
 {
     const int idx = rover_index(team, id);
-    if (idx < 0 || !isfinite(v_mps) || !isfinite(w_radps)) return SIM_ROVERS_ERR_ARG;
+    if (idx < 0 || !isfinite(v_mps) || !isfinite(w_radps))
+        return SIM_ROVERS_ERR_ARG;
     team->r[idx].cmd_v = fmax(-team->v_max, fmin(team->v_max, v_mps));
     team->r[idx].cmd_w = fmax(-team->w_max, fmin(team->w_max, w_radps));
     team->r[idx].cmd_rx_step = step;
@@ -494,6 +533,6 @@ int sim_rovers_set_command(sim_rovers *team, int32_t id, double v_mps, double w_
 }
 
 const sim_model_ops sim_rovers_ops = {
-    "rovers", rovers_create, rovers_destroy, rovers_before_step, sim_rovers_after_step,
-    rovers_control, NULL, rovers_ready
+    "rovers",       rovers_create, rovers_destroy, rovers_before_step, sim_rovers_after_step,
+    rovers_control, NULL,          rovers_ready
 };

@@ -14,63 +14,63 @@
 #include "vec2.h"
 #include "tandem_beacon_obs_t.h"
 
-#define RV_MAX            ROVER_WORLD_MAX_ROBOTS
-#define RV_SENSORS_STEPS  ROVER_SENSOR_PERIOD_STEPS   /* the control tick */
-#define RV_SEEN_MAX       (RV_MAX + ROVER_WORLD_MAX_LANDMARKS)   /* LEDs one camera frame can hold */
+#define RV_MAX ROVER_WORLD_MAX_ROBOTS
+#define RV_SENSORS_STEPS ROVER_SENSOR_PERIOD_STEPS       /* the control tick */
+#define RV_SEEN_MAX (RV_MAX + ROVER_WORLD_MAX_LANDMARKS) /* LEDs one camera frame can hold */
 
 typedef struct sim_rover {
     int32_t id;
-    int     alive;
+    int alive;
     dBodyID chassis, wheel[2];
     dJointID hinge[2];
     dGeomID box;
-    double  cmd_v, cmd_w;             /* held (clipped) command */
-    double  v_ref, w_ref;             /* after the acceleration ramp */
+    double cmd_v, cmd_w; /* held (clipped) command */
+    double v_ref, w_ref; /* after the acceleration ramp */
     int64_t cmd_rx_step;
-    int64_t cmd_step;         /* the step the held command answers (-1 none) */
-    int     have_cmd, stale;
-    double  slip[2];
-    double  enc[2];                   /* accumulated wheel angles */
-    double  range[SONAR_N];
-    int     bump_now, bump_prev, collisions;
-    double  min_clear;
-    prng_state  rng;
-    int     prim;                     /* its box in the sonar world */
-    int     fired;                    /* transducer fired last */
+    int64_t cmd_step; /* the step the held command answers (-1 none) */
+    int have_cmd, stale;
+    double slip[2];
+    double enc[2]; /* accumulated wheel angles */
+    double range[SONAR_N];
+    int bump_now, bump_prev, collisions;
+    double min_clear;
+    prng_state rng;
+    int prim;  /* its box in the sonar world */
+    int fired; /* transducer fired last */
     int64_t seq_sens, seq_sonar, seq_beacon;
 } sim_rover;
 
 /* The camera frames last drawn: a re-announced step publishes them again. */
 typedef struct sim_rovers_frames {
-    int     n;
+    int n;
     tandem_beacon_obs_t obs[RV_MAX];
     int32_t target[RV_MAX][RV_SEEN_MAX];
-    double  range_m[RV_MAX][RV_SEEN_MAX];
-    double  bearing_rad[RV_MAX][RV_SEEN_MAX];
+    double range_m[RV_MAX][RV_SEEN_MAX];
+    double bearing_rad[RV_MAX][RV_SEEN_MAX];
 } sim_rovers_frames;
 
 typedef struct sim_rovers {
-    int      n;
+    int n;
     sim_rover r[RV_MAX];
     rover_world_config layout;
     sonar_world sw;
     sonar_model sm;
-    dWorldID world;                   /* the rovers' own ODE world (sim_rovers.c) */
+    dWorldID world; /* the rovers' own ODE world (sim_rovers.c) */
     dSpaceID space;
     dJointGroupID contacts;
-    dGeomID  obst[ROVER_WORLD_MAX_OBST];
-    double   sonar_angle_rad[SONAR_N];
+    dGeomID obst[ROVER_WORLD_MAX_OBST];
+    double sonar_angle_rad[SONAR_N];
     sim_world *w;
-    int      batch;                   /* 1: ROVERS_* messages, not ROVERk_* */
-    int64_t  batch_seq[2];
-    double   v_max, w_max, stale_s;
-    int      phys_steps;
-    int      chassis_contacts;        /* chassis contact joints this step */
-    int64_t  quick_steps;             /* steps that fell back to QuickStep */
-    int64_t  last_after_step;
+    int batch; /* 1: ROVERS_* messages, not ROVERk_* */
+    int64_t batch_seq[2];
+    double v_max, w_max, stale_s;
+    int phys_steps;
+    int chassis_contacts; /* chassis contact joints this step */
+    int64_t quick_steps;  /* steps that fell back to QuickStep */
+    int64_t last_after_step;
     sim_rovers_frames frames;
-    int64_t  truth_seq, rejected, rays;
-    int      formation;
+    int64_t truth_seq, rejected, rays;
+    int formation;
 } sim_rovers;
 
 /* Sonar rays cast since the rover model was created. */
@@ -78,8 +78,9 @@ int64_t sim_rovers_rays_cast(const sim_rovers *team);
 
 /* Hold command (V, w) for robot id as if received at sim step `step`
  * (benchmarks drive the robots without LCM). 0, or SIM_ROVERS_ERR_ARG. */
-#define SIM_ROVERS_ERR_ARG (-1)  /* no such robot, or a speed not finite */
-int sim_rovers_set_command(sim_rovers *team, int32_t id, double v_mps, double w_radps, int64_t step);
+#define SIM_ROVERS_ERR_ARG (-1) /* no such robot, or a speed not finite */
+int sim_rovers_set_command(sim_rovers *team, int32_t id, double v_mps, double w_radps,
+                           int64_t step);
 
 /* The sonar model the robots carry (the Pioneer P2DX default). */
 void sim_rovers_sonar_model(sonar_model *m);

@@ -22,11 +22,11 @@
 #include "tandem_rovers_sensors_t.h"
 #include "tandem_sonar_scan_t.h"
 
-#define RV_BEACON_STEPS   ROVER_CAMERA_PERIOD_STEPS
-#define RV_TRUTH_STEPS    50
-#define RV_CAM_RANGE_M    6.0
-#define RV_CAM_HALF_FOV   (60.0 * VEC2_PI / 180.0)
-#define RV_BEACON_Z_M     0.30
+#define RV_BEACON_STEPS ROVER_CAMERA_PERIOD_STEPS
+#define RV_TRUTH_STEPS 50
+#define RV_CAM_RANGE_M 6.0
+#define RV_CAM_HALF_FOV (60.0 * VEC2_PI / 180.0)
+#define RV_BEACON_Z_M 0.30
 
 static void rebuild_sonar_world(sim_rovers *team)
 {
@@ -44,7 +44,8 @@ static void rebuild_sonar_world(sim_rovers *team)
         sim_rover *r = &team->r[i];
         pose2 c;
         r->prim = -1;
-        if (!r->alive) continue;
+        if (!r->alive)
+            continue;
         sim_rover_pose_c(r, &c);
         r->prim = sonar_world_add_box(&team->sw, c.x_m + ROVER_BODY_OFFSET_M * cos(c.theta_rad),
                                       c.y_m + ROVER_BODY_OFFSET_M * sin(c.theta_rad),
@@ -63,15 +64,22 @@ static void fire_sonars(sim_rovers *team, const sim_world *w)
     for (i = 0; i < team->n; i++) {
         sim_rover *r = &team->r[i];
         pose2 c;
-        if (!r->alive) continue;
+        if (!r->alive)
+            continue;
         sim_rover_pose_c(r, &c);
         /* a transducer does not hear its own chassis: lift the robot's own
          * box out of the ray plane for its firing */
-        if (r->prim >= 0) { team->sw.p[r->prim].z_min = -2.0; team->sw.p[r->prim].z_max = -1.0; }
+        if (r->prim >= 0) {
+            team->sw.p[r->prim].z_min = -2.0;
+            team->sw.p[r->prim].z_max = -1.0;
+        }
         sonar_fire(&r->range[k], &team->sw, &team->sm, &c, k, &r->rng);
         team->rays += team->sm.rays_per_cone;
         r->fired = k;
-        if (r->prim >= 0) { team->sw.p[r->prim].z_min = 0.05; team->sw.p[r->prim].z_max = 0.25; }
+        if (r->prim >= 0) {
+            team->sw.p[r->prim].z_min = 0.05;
+            team->sw.p[r->prim].z_max = 0.25;
+        }
     }
 }
 
@@ -105,21 +113,22 @@ static void publish_sensors(sim_rovers *team, sim_world *w)
     const int64_t utime = daemon_utime_now();
     int i, n = 0;
     for (i = 0; i < team->n; i++)
-        if (team->r[i].alive) fill_sensors(team, &team->r[i], w->step, utime, &s[n], &m[n]), n++;
+        if (team->r[i].alive)
+            fill_sensors(team, &team->r[i], w->step, utime, &s[n], &m[n]), n++;
     if (team->batch) {
         tandem_rovers_sensors_t b;
         BATCH_HEADER(b, team->batch_seq[0]++, utime, w->step, n);
         b.sensors = s;
         b.sonar = m;
-        AUTH_PUBLISH(tandem_rovers_sensors_t, w->d.lcm, "ROVERS_SENSORS", &b);
+        AUTH_PUBLISH(tandem_rovers_sensors_t, &w->d.bus, w->d.lcm, "ROVERS_SENSORS", &b);
         return;
     }
     for (i = 0; i < n; i++) {
         char ch[32];
         snprintf(ch, sizeof ch, "ROVER%d_SENSORS", s[i].robot);
-        AUTH_PUBLISH(tandem_rover_sensors_t, w->d.lcm, ch, &s[i]);
+        AUTH_PUBLISH(tandem_rover_sensors_t, &w->d.bus, w->d.lcm, ch, &s[i]);
         snprintf(ch, sizeof ch, "ROVER%d_SONAR", s[i].robot);
-        AUTH_PUBLISH(tandem_sonar_scan_t, w->d.lcm, ch, &m[i]);
+        AUTH_PUBLISH(tandem_sonar_scan_t, &w->d.bus, w->d.lcm, ch, &m[i]);
     }
 }
 
@@ -127,15 +136,16 @@ static void publish_sensors(sim_rovers *team, sim_world *w)
  * with noisy range and bearing if in view (6 m, the pan's field of view)
  * and not hidden by an obstacle taller than the LED (robots, 0.25 m, do
  * not hide it). */
-static int see_led(const sim_rovers *team, sim_rover *r, const pose2 *o, double pan, double x, double y, int32_t id,
-                   int32_t *tgt, double *rng, double *brg, int n)
+static int see_led(const sim_rovers *team, sim_rover *r, const pose2 *o, double pan, double x,
+                   double y, int32_t id, int32_t *tgt, double *rng, double *brg, int n)
 {
     const double dx = x - o->x_m, dy = y - o->y_m, d = hypot(dx, dy);
     const double b = vec2_angle_diff_rad(atan2(dy, dx), o->theta_rad);
     sonar_hit hit;
     if (d > RV_CAM_RANGE_M || d < 0.05 || fabs(vec2_angle_diff_rad(b, pan)) > RV_CAM_HALF_FOV)
         return n;
-    if (sonar_cast(&hit, &team->sw, o->x_m, o->y_m, RV_BEACON_Z_M, atan2(dy, dx), d) == 1) return n;
+    if (sonar_cast(&hit, &team->sw, o->x_m, o->y_m, RV_BEACON_Z_M, atan2(dy, dx), d) == 1)
+        return n;
     tgt[n] = id;
     rng[n] = d + (0.01 + 0.02 * d) * prng_gauss(&r->rng);
     brg[n] = b + 0.01 * prng_gauss(&r->rng);
@@ -144,8 +154,9 @@ static int see_led(const sim_rovers *team, sim_rover *r, const pose2 *o, double 
 
 /* Robot i's camera frame: mates' LED beacons and the world's LED landmarks
  * (target ROVER_LANDMARK_ID_BASE + k) in view (range, bearing). */
-static void observe_beacons(sim_rovers *team, int i, const pose2 o[], double pan, int64_t step, int64_t utime,
-                            int32_t *tgt, double *rng, double *brg, tandem_beacon_obs_t *m)
+static void observe_beacons(sim_rovers *team, int i, const pose2 o[], double pan, int64_t step,
+                            int64_t utime, int32_t *tgt, double *rng, double *brg,
+                            tandem_beacon_obs_t *m)
 {
     sim_rover *r = &team->r[i];
     int j, n = 0;
@@ -153,8 +164,8 @@ static void observe_beacons(sim_rovers *team, int i, const pose2 o[], double pan
         if (j != i && team->r[j].alive)
             n = see_led(team, r, &o[i], pan, o[j].x_m, o[j].y_m, team->r[j].id, tgt, rng, brg, n);
     for (j = 0; j < team->layout.n_landmarks; j++)
-        n = see_led(team, r, &o[i], pan, team->layout.landmark_m[j][0], team->layout.landmark_m[j][1],
-                    ROVER_LANDMARK_ID_BASE + j, tgt, rng, brg, n);
+        n = see_led(team, r, &o[i], pan, team->layout.landmark_m[j][0],
+                    team->layout.landmark_m[j][1], ROVER_LANDMARK_ID_BASE + j, tgt, rng, brg, n);
     m->seq = r->seq_beacon++;
     m->utime = utime;
     m->step = step;
@@ -179,26 +190,29 @@ static void publish_beacons(sim_rovers *team, sim_world *w, int fresh)
     pose2 o[RV_MAX], c;
     int i;
     for (i = 0; fresh && i < team->n; i++) {
-        if (!team->r[i].alive) continue;
+        if (!team->r[i].alive)
+            continue;
         sim_rover_pose_c(&team->r[i], &c);
         unicycle_o_from_c(&o[i], &c, ROVER_BEACON_D_M);
     }
-    if (fresh) *n = 0;
+    if (fresh)
+        *n = 0;
     for (i = 0; fresh && i < team->n; i++)
         if (team->r[i].alive)
             observe_beacons(team, i, o, pan, w->step, utime, f->target[*n], f->range_m[*n],
-                            f->bearing_rad[*n], &m[*n]), (*n)++;
+                            f->bearing_rad[*n], &m[*n]),
+                (*n)++;
     if (team->batch) {
         tandem_rovers_beacons_t b;
         BATCH_HEADER(b, team->batch_seq[1]++, utime, w->step, *n);
         b.obs = m;
-        AUTH_PUBLISH(tandem_rovers_beacons_t, w->d.lcm, "ROVERS_BEACONS", &b);
+        AUTH_PUBLISH(tandem_rovers_beacons_t, &w->d.bus, w->d.lcm, "ROVERS_BEACONS", &b);
         return;
     }
     for (i = 0; i < *n; i++) {
         char ch[32];
         snprintf(ch, sizeof ch, "ROVER%d_BEACONS", m[i].observer);
-        AUTH_PUBLISH(tandem_beacon_obs_t, w->d.lcm, ch, &m[i]);
+        AUTH_PUBLISH(tandem_beacon_obs_t, &w->d.bus, w->d.lcm, ch, &m[i]);
     }
 }
 
@@ -223,16 +237,22 @@ static void publish_truth(sim_rovers *team, sim_world *w)
         th[i] = o.theta_rad;
         col[i] = team->r[i].collisions;
         al[i] = (int8_t)team->r[i].alive;
-        if (!isfinite(cl[i])) cl[i] = 1e3;
+        if (!isfinite(cl[i]))
+            cl[i] = 1e3;
     }
     m.seq = team->truth_seq++;
     m.utime = daemon_utime_now();
     m.step = w->step;
     m.sim_time_s = w->time_s;
     m.n = (int16_t)team->n;
-    m.robot = id; m.x_m = x; m.y_m = y; m.theta_rad = th;
-    m.min_clearance_m = cl; m.collisions = col; m.alive = al;
-    AUTH_PUBLISH(tandem_rover_truth_t, w->d.lcm, "ROVER_TRUTH", &m);
+    m.robot = id;
+    m.x_m = x;
+    m.y_m = y;
+    m.theta_rad = th;
+    m.min_clearance_m = cl;
+    m.collisions = col;
+    m.alive = al;
+    AUTH_PUBLISH(tandem_rover_truth_t, &w->d.bus, w->d.lcm, "ROVER_TRUTH", &m);
 }
 
 void sim_rovers_after_step(void *model, sim_world *w)
@@ -244,10 +264,14 @@ void sim_rovers_after_step(void *model, sim_world *w)
     const int repeat = w->step == team->last_after_step;
     team->last_after_step = w->step;
     const int64_t fire_steps = (int64_t)llround(team->sm.fire_period_s / SIM_DT_S);
-    if (w->step % fire_steps == 0 && !repeat) fire_sonars(team, w);
-    if (!w->d.lcm) return;
-    if (w->step % RV_SENSORS_STEPS == 0) publish_sensors(team, w);
-    if (w->step % RV_BEACON_STEPS == 0) publish_beacons(team, w, !repeat);
-    if (w->step % RV_TRUTH_STEPS == 0) publish_truth(team, w);
+    if (w->step % fire_steps == 0 && !repeat)
+        fire_sonars(team, w);
+    if (!w->d.lcm)
+        return;
+    if (w->step % RV_SENSORS_STEPS == 0)
+        publish_sensors(team, w);
+    if (w->step % RV_BEACON_STEPS == 0)
+        publish_beacons(team, w, !repeat);
+    if (w->step % RV_TRUTH_STEPS == 0)
+        publish_truth(team, w);
 }
-

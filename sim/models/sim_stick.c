@@ -24,14 +24,15 @@ void sim_stick_remove(sim_arms *arms)
  * candidate poses are built in. "The link" is its longest capsule (the
  * forearm of link 3 lies along z3, not x3). */
 typedef struct stick_frame {
-    double p[3];        /* capsule centre of the target link */
-    double dir[3];      /* unit motion of that point across the link */
-    double along[3];    /* unit capsule axis */
-    double across[3];   /* dir x along: the rod's axis in the first candidate */
-    double reach_m;     /* link radius + rod radius: touching distance */
+    double p[3];      /* capsule centre of the target link */
+    double dir[3];    /* unit motion of that point across the link */
+    double along[3];  /* unit capsule axis */
+    double across[3]; /* dir x along: the rod's axis in the first candidate */
+    double reach_m;   /* link radius + rod radius: touching distance */
 } stick_frame;
 
-static void stick_frame_for_link(const sim_arms *arms, const tandem_sim_control_t *c, stick_frame *f)
+static void stick_frame_for_link(const sim_arms *arms, const tandem_sim_control_t *c,
+                                 stick_frame *f)
 {
     const sim_arm *a = &arms->pair[c->target - 1];
     const int i = c->link - 1;
@@ -49,10 +50,10 @@ static void stick_frame_for_link(const sim_arms *arms, const tandem_sim_control_
     p = g ? dGeomGetPosition(g) : dBodyGetPosition(b);
     R = g ? dGeomGetRotation(g) : dBodyGetRotation(b);
     vec3_set(f->p, p[0], p[1], p[2]);
-    vec3_set(f->along, R[2], R[6], R[10]);        /* capsule axis (its z) */
+    vec3_set(f->along, R[2], R[6], R[10]); /* capsule axis (its z) */
     dBodyGetPointVel(b, p[0], p[1], p[2], v);
     vec3_set(f->dir, v[0], v[1], v[2]);
-    vec3_axpy(f->dir, f->dir, -vec3_dot(f->dir, f->along), f->along);   /* across the link */
+    vec3_axpy(f->dir, f->dir, -vec3_dot(f->dir, f->along), f->along); /* across the link */
     if (vec3_normalize(f->dir, f->dir) < 1e-3) {
         /* not moving: above the link, where a lift would go */
         vec3_set(f->dir, 0.0, 0.0, 1.0);
@@ -84,7 +85,7 @@ static void stick_set_pose(dGeomID stick, const double centre[3], const double a
 {
     double R[9];
     dMatrix3 Rm;
-    sim_rot_z_to(R, axis);     /* ODE capsules lie along their z axis */
+    sim_rot_z_to(R, axis); /* ODE capsules lie along their z axis */
     sim_ode_rotation(Rm, R);
     dGeomSetRotation(stick, Rm);
     dGeomSetPosition(stick, centre[0], centre[1], centre[2]);
@@ -97,8 +98,9 @@ static void stick_set_pose(dGeomID stick, const double centre[3], const double a
  * that touches no link of either arm is taken: a rod that went in inside
  * the geometry would throw the arm with the penetration spring. */
 static const double stick_gap_m[] = { 0.005, 0.010, 0.020, 0.040, 0.080 };
-static const double stick_tilt_rad[] = { 0.0, 0.2618, -0.2618, 0.5236, -0.5236, 0.7854, -0.7854, 1.0472, -1.0472 };
-static const double stick_shift_share[] = { 0.0, 0.33, -0.33 };   /* of the rod's half length */
+static const double stick_tilt_rad[] = { 0.0,    0.2618,  -0.2618, 0.5236, -0.5236,
+                                         0.7854, -0.7854, 1.0472,  -1.0472 };
+static const double stick_shift_share[] = { 0.0, 0.33, -0.33 }; /* of the rod's half length */
 #define NELEM(x) ((int)(sizeof(x) / sizeof((x)[0])))
 
 /* stick_place_for_link: every candidate pose touches an arm */
@@ -165,8 +167,10 @@ int sim_stick_control(sim_arms *arms, sim_world *w, const tandem_sim_control_t *
         vec3_copy(centre, c->position_m);
         stick_set_pose(arms->stick, centre, axis);
     } else if (stick_place_for_link(arms, c, centre, axis) != 0) {
-        fprintf(stderr, "tandem-sim: no stick pose ahead of arm %d link %d clears both arms: not inserted\n",
-                c->target, c->link);
+        fprintf(
+            stderr,
+            "tandem-sim: no stick pose ahead of arm %d link %d clears both arms: not inserted\n",
+            c->target, c->link);
         return stick_refused(arms, w);
     }
     if (stick_touches_arms(arms)) {
@@ -176,8 +180,8 @@ int sim_stick_control(sim_arms *arms, sim_world *w, const tandem_sim_control_t *
     }
     arms->stick_target = c->target;
     arms->stick_link = c->link;
-    fprintf(stderr, "tandem-sim: stick in at (%.3f %.3f %.3f) for arm %d link %d\n",
-            centre[0], centre[1], centre[2], c->target, c->link);
+    fprintf(stderr, "tandem-sim: stick in at (%.3f %.3f %.3f) for arm %d link %d\n", centre[0],
+            centre[1], centre[2], c->target, c->link);
     return 1;
 }
 

@@ -46,7 +46,7 @@
 #define WP_STAND_SIZE_X_M 0.08
 #define WP_STAND_SIZE_Y_M 0.04
 #define WP_STAND_DROP_M 0.002
-#define WP_STAND_RADIUS_M 0.05   /* a bar this near the stand's axis rests on it */
+#define WP_STAND_RADIUS_M 0.05 /* a bar this near the stand's axis rests on it */
 #define WP_YAW_SPREAD_RAD 0.05
 #define VISION_PERIOD_STEPS 50
 #define VISION_SIGMA_M 0.001
@@ -107,7 +107,7 @@ static int wp_create(void *model, sim_world *w, const sim_config *cfg)
     m->clear_s = 0.0;
     m->spawn_requests = 0;
     m->table_geom = dCreateBox(w->space, cell_default.table_size_m[0], cell_default.table_size_m[1],
-                            cell_default.table_size_m[2]);
+                               cell_default.table_size_m[2]);
     dGeomSetPosition(m->table_geom, cell_default.table_center_m[0], cell_default.table_center_m[1],
                      cell_default.table_center_m[2]);
     dGeomSetCategoryBits(m->table_geom, SIM_CAT_TABLE);
@@ -129,7 +129,7 @@ static int wp_create(void *model, sim_world *w, const sim_config *cfg)
 static void wp_destroy(void *model, sim_world *w)
 {
     sim_workpieces *m = model;
-    (void)w;   /* bodies, geoms and joints go with the ODE world */
+    (void)w; /* bodies, geoms and joints go with the ODE world */
     memset(m->pool, 0, sizeof m->pool);
     m->table_geom = NULL;
     m->stand_geom = NULL;
@@ -158,7 +158,9 @@ static void grasp_point(const sim_workpiece *p, int k, double g[3])
     body_R(p->body, R);
     vec3_set(off, (k == 0 ? -1.0 : 1.0) * cell_default.grasp_offset_m, 0.0, 0.0);
     rot_apply(g, R, off);
-    g[0] += c[0]; g[1] += c[1]; g[2] += c[2];
+    g[0] += c[0];
+    g[1] += c[1];
+    g[2] += c[2];
 }
 
 static double xy_dist(const dReal *p, const double c[3])
@@ -190,7 +192,8 @@ static int pick_zone_clear(const sim_workpieces *m)
     for (i = 0; i < WP_POOL; i++) {
         if (m->pool[i].state == WP_PARKED || m->pool[i].state == WP_HELD)
             continue;
-        if (xy_dist(dBodyGetPosition(m->pool[i].body), cell_default.pick_center_m) < WP_PICK_RADIUS_M)
+        if (xy_dist(dBodyGetPosition(m->pool[i].body), cell_default.pick_center_m) <
+            WP_PICK_RADIUS_M)
             return 0;
     }
     return 1;
@@ -338,17 +341,22 @@ static void settle(sim_workpieces *m, int i)
     p->rest_s += SIM_DT_S;
     if (p->rest_s < WP_REST_TIME_S)
         return;
-    if (p->state == WP_FREE && !on_floor && xy_dist(c, cell_default.deliver_center_m) < WP_DELIVER_RADIUS_M) {
+    if (p->state == WP_FREE && !on_floor &&
+        xy_dist(c, cell_default.deliver_center_m) < WP_DELIVER_RADIUS_M) {
         m->delivered++;
         fprintf(stderr, "tandem-sim: workpiece %d delivered\n", (int)p->id);
         park(m, i);
-    } else if (on_floor || (p->state == WP_FREE && xy_dist(c, cell_default.pick_center_m) >= WP_PICK_RADIUS_M) ||
-               (p->state == WP_ON_PICK && xy_dist(c, cell_default.pick_center_m) >= WP_PICK_RADIUS_M)) {
+    } else if (on_floor ||
+               (p->state == WP_FREE &&
+                xy_dist(c, cell_default.pick_center_m) >= WP_PICK_RADIUS_M) ||
+               (p->state == WP_ON_PICK &&
+                xy_dist(c, cell_default.pick_center_m) >= WP_PICK_RADIUS_M)) {
         m->dropped++;
-        fprintf(stderr, "tandem-sim: workpiece %d dropped at (%.3f %.3f %.3f)\n", (int)p->id, c[0], c[1], c[2]);
+        fprintf(stderr, "tandem-sim: workpiece %d dropped at (%.3f %.3f %.3f)\n", (int)p->id, c[0],
+                c[1], c[2]);
         park(m, i);
     } else if (p->state == WP_FREE) {
-        p->state = WP_ON_PICK;    /* put back down in the pick zone: pick it again */
+        p->state = WP_ON_PICK; /* put back down in the pick zone: pick it again */
     }
 }
 
@@ -384,7 +392,7 @@ static void publish_vision(sim_workpieces *m, sim_world *w, int fresh)
     msg.step = w->step;
     msg.n = (int16_t)n;
     msg.workpieces = det;
-    AUTH_PUBLISH(tandem_workpiece_detections_t, w->d.lcm, "VISION_DETECTIONS", &msg);
+    AUTH_PUBLISH(tandem_workpiece_detections_t, &w->d.bus, w->d.lcm, "VISION_DETECTIONS", &msg);
 }
 
 static void wp_after_step(void *model, sim_world *w)
@@ -422,6 +430,5 @@ static void wp_status(const void *model, const sim_world *w, tandem_sim_status_t
     s->workpieces_dropped = m->dropped;
 }
 
-const sim_model_ops sim_workpieces_ops = {
-    "workpieces", wp_create, wp_destroy, wp_before_step, wp_after_step, wp_control, wp_status, NULL
-};
+const sim_model_ops sim_workpieces_ops = { "workpieces",  wp_create,  wp_destroy, wp_before_step,
+                                           wp_after_step, wp_control, wp_status,  NULL };

@@ -19,26 +19,26 @@ enum { WP_PARKED = 0, WP_ON_PICK, WP_HELD, WP_FREE };
 typedef struct sim_workpiece {
     dBodyID body;
     dGeomID geom;
-    int     state;
+    int state;
     int32_t id;
-    dJointID hold[SIM_ARMS];     /* fixed joint to arm k's flange, or 0 */
-    double  rest_s;
+    dJointID hold[SIM_ARMS]; /* fixed joint to arm k's flange, or 0 */
+    double rest_s;
 } sim_workpiece;
 
 typedef struct sim_workpieces {
-    sim_arms *arms;                       /* the grippers: set by the owner before create */
+    sim_arms *arms; /* the grippers: set by the owner before create */
     sim_workpiece pool[WP_POOL];
     dGeomID table_geom;
-    dGeomID stand_geom;                   /* --handover-stand, or NULL */
+    dGeomID stand_geom; /* --handover-stand, or NULL */
     prng_state rng;
     const sim_config *cfg;
     int32_t spawned, delivered, dropped, next_id;
-    double  clear_s;                      /* the pick zone has been clear this long */
+    double clear_s; /* the pick zone has been clear this long */
     int64_t vision_seq;
     int64_t last_after_step;              /* the step wp_after_step last ran for */
     tandem_workpiece_t last_det[WP_POOL]; /* the detections of the last camera frame */
-    int     last_n_det;
-    int     spawn_requests;               /* SPAWN_WORKPIECE requests not served yet */
+    int last_n_det;
+    int spawn_requests; /* SPAWN_WORKPIECE requests not served yet */
 } sim_workpieces;
 
 #endif

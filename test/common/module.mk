@@ -3,4 +3,7 @@ DUNIT_SRC := $(wildcard test/common/test_*.c)
 $(OBJ)/test/common/%.o: DIR_CPPFLAGS = $(APP_CPPFLAGS)
 # the scenario's hang watch is tested here too (it needs the bus, as these do)
 $(OBJ)/test/common/test_hang_watch.o: DIR_CPPFLAGS += -Itools/scenario
-$(BIN)/test_hang_watch: $(OBJ)/tools/scenario/hang_watch.o $(OBJ)/tools/scenario/scenario_util.o
+$(BIN)/test_hang_watch: $(OBJ)/tools/scenario/hang_watch.o $(OBJ)/tools/scenario/scenario_util.o $(OBJ)/tools/scenario/scen_status.o
+# the status texts of tandem-sim and tandem-scenario (their code lists)
+$(OBJ)/test/common/test_tool_status.o: DIR_CPPFLAGS += -Itools/scenario
+$(BIN)/test_tool_status: $(OBJ)/sim/sim_status.o $(OBJ)/tools/scenario/scen_status.o

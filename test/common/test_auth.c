@@ -23,7 +23,7 @@
 #include "tandem_arm_command_t.h"
 #include "tandem_sim_control_t.h"
 
-#define NOW_US 1700000000000000ULL   /* a fixed "local clock" for the table tests */
+#define NOW_US 1700000000000000ULL /* a fixed "local clock" for the table tests */
 
 static const auth_sender ARM1 = { AUTH_ROLE_ARM, 1, 1, 0x01020304u };
 
@@ -78,11 +78,13 @@ static void test_blake2b_reference_vectors(void **state)
     for (i = 0; i < 64; i++)
         key[i] = (uint8_t)i;
     hex("10ebb67700b1868efb4417987acf4690ae9d972fb7a590c2f02871799aaa4786"
-        "b5e996e8f0f4eb981fc214b005f42d2ff4233499391653df7aefcbc13fc51568", want, 64);
+        "b5e996e8f0f4eb981fc214b005f42d2ff4233499391653df7aefcbc13fc51568",
+        want, 64);
     crypto_generichash(out, 64, NULL, 0, key, 64);
     assert_memory_equal(out, want, 64);
     hex("961f6dd1e4dd30f63901690c512e78e4b45e4742ed197c3c5e45c549fd25f2e4"
-        "187b0bc9fe30492b16b0d0bc4ef9b0f34c7003fac09a5ef1532e69430234cebd", want, 64);
+        "187b0bc9fe30492b16b0d0bc4ef9b0f34c7003fac09a5ef1532e69430234cebd",
+        want, 64);
     crypto_generichash(out, 64, &in, 1, key, 64);
     assert_memory_equal(out, want, 64);
 }
@@ -95,31 +97,36 @@ static void test_kdf_is_keyed_blake2b_of_the_documented_input(void **state)
     (void)state;
     test_master(m, 3);
     auth_cell_id(m, cell);
-    crypto_generichash(want, AUTH_CELL_BYTES, (const uint8_t *)"tandem-cell-id", 14, m, AUTH_KEY_BYTES);
+    crypto_generichash(want, AUTH_CELL_BYTES, (const uint8_t *)"tandem-cell-id", 14, m,
+                       AUTH_KEY_BYTES);
     assert_memory_equal(cell, want, AUTH_CELL_BYTES);
     memcpy(in, "tandem-pair-v2", 14);
     n = 14;
     memcpy(in + n, cell, AUTH_CELL_BYTES);
     n += AUTH_CELL_BYTES;
-    memcpy(in + n, "\x03\x00\x00\x00\x00" "\x02\x00\x01\x00\x01", 10);   /* supervisor -> arm 1 */
+    memcpy(in + n,
+           "\x03\x00\x00\x00\x00"
+           "\x02\x00\x01\x00\x01",
+           10); /* supervisor -> arm 1 */
     n += 10;
     crypto_generichash(want, 32, in, n, m, AUTH_KEY_BYTES);
     auth_pair_key(m, cell, &P_SUP, &P_ARM1, key);
     assert_memory_equal(key, want, 32);
-    auth_pair_key(m, cell, &P_ARM1, &P_SUP, key);   /* the other direction differs */
+    auth_pair_key(m, cell, &P_ARM1, &P_SUP, key); /* the other direction differs */
     assert_memory_not_equal(key, want, 32);
     crypto_generichash(want, 16, (const uint8_t *)"tandem-key-id", 13, m, AUTH_KEY_BYTES);
     assert_int_equal(auth_key_id(m), want[0]);
 }
 
-static size_t signed_message(const auth_keyset *k, const auth_sender *s, const char *ch, uint8_t *buf, size_t cap,
-                             uint64_t counter)
+static size_t signed_message(const auth_keyset *k, const auth_sender *s, const char *ch,
+                             uint8_t *buf, size_t cap, uint64_t counter)
 {
     const size_t body = 83;
     size_t i, len = 0;
     for (i = 0; i < body; i++)
         buf[i] = (uint8_t)(i ^ 0x5a);
-    assert_int_equal(auth_sign(k, s, counter, ch, AUTH_ROLES_ALL, NULL, buf, body, cap, &len), AUTH_OK);
+    assert_int_equal(auth_sign(k, s, counter, ch, AUTH_ROLES_ALL, NULL, buf, body, cap, &len),
+                     AUTH_OK);
     return len;
 }
 
@@ -142,12 +149,15 @@ static void test_sign_then_verify_gives_back_the_fields(void **state)
     assert_int_equal(t.key_id, sim->id);
     assert_int_equal(n - t.len, 83);
     for (i = 0; i < 83; i++)
-        assert_int_equal(buf[i], (uint8_t)(i ^ 0x5a));   /* the body is untouched */
+        assert_int_equal(buf[i], (uint8_t)(i ^ 0x5a)); /* the body is untouched */
     /* too little room for the trailer, or a channel over LCM's limit */
-    assert_int_equal(auth_sign(a1, &ARM1, 1, "X", AUTH_ROLES_ALL, NULL, buf, 83, 83 + AUTH_FIXED_BYTES, &len),
+    assert_int_equal(
+        auth_sign(a1, &ARM1, 1, "X", AUTH_ROLES_ALL, NULL, buf, 83, 83 + AUTH_FIXED_BYTES, &len),
+        AUTH_ERR_ARG);
+    assert_int_equal(auth_sign(a1, &ARM1, 1,
+                               "0123456789012345678901234567890123456789012345678901234567890123",
+                               AUTH_ROLES_ALL, NULL, buf, 83, sizeof buf, &len),
                      AUTH_ERR_ARG);
-    assert_int_equal(auth_sign(a1, &ARM1, 1, "0123456789012345678901234567890123456789012345678901234567890123",
-                               AUTH_ROLES_ALL, NULL, buf, 83, sizeof buf, &len), AUTH_ERR_ARG);
     auth_keyset_free(a1);
     auth_keyset_free(sim);
 }
@@ -156,7 +166,8 @@ static void test_sign_then_verify_gives_back_the_fields(void **state)
 static void test_any_change_is_refused(void **state)
 {
     uint8_t buf[2048];
-    auth_keyset *a1 = role_set(1, &P_ARM1), *sim = role_set(1, &P_SIM), *other = role_set(2, &P_SIM);
+    auth_keyset *a1 = role_set(1, &P_ARM1), *sim = role_set(1, &P_SIM),
+                *other = role_set(2, &P_SIM);
     auth_keyring ring;
     auth_trailer t;
     size_t n, i;
@@ -172,13 +183,14 @@ static void test_any_change_is_refused(void **state)
             /* only another receiver's tag is not this receiver's business */
             if (rc == AUTH_OK) {
                 const size_t e = (i - 83) % AUTH_TAG_ENTRY_BYTES;
-                assert_true(i >= 83 && i < n - AUTH_FIXED_BYTES && e >= AUTH_PEER_BYTES && buf[i - e] != AUTH_ROLE_SIM);
+                assert_true(i >= 83 && i < n - AUTH_FIXED_BYTES && e >= AUTH_PEER_BYTES &&
+                            buf[i - e] != AUTH_ROLE_SIM);
             }
             buf[i] ^= (uint8_t)(1u << bit);
         }
     assert_int_equal(auth_verify(&ring, &P_SIM, "ARM1_COMMAND", buf, n, &t), AUTH_OK);
     assert_int_equal(auth_verify(&ring, &P_SIM, "ARM2_COMMAND", buf, n, &t), AUTH_ERR_MAC);
-    ring_of(&ring, other, NULL);   /* another cell */
+    ring_of(&ring, other, NULL); /* another cell */
     assert_int_equal(auth_verify(&ring, &P_SIM, "ARM1_COMMAND", buf, n, &t), AUTH_ERR_CELL);
     /* while rotating, a ring of the new and the old key set takes both */
     ring_of(&ring, other, sim);
@@ -192,9 +204,10 @@ static void test_any_change_is_refused(void **state)
 static void test_a_role_file_signs_only_as_its_role(void **state)
 {
     uint8_t buf[2048];
-    const auth_sender as_sup = { AUTH_ROLE_SUPERVISOR, 0, 0, 5 }, as_rover1 = { AUTH_ROLE_ROVER, 1, 1, 5 };
-    auth_keyset *rv = role_set(1, &P_ROVER1), *a1 = role_set(1, &P_ARM1), *a2 = role_set(1, &P_ARM2),
-                *mon = role_set(1, &P_MON), *sup = role_set(1, &P_SUP);
+    const auth_sender as_sup = { AUTH_ROLE_SUPERVISOR, 0, 0, 5 },
+                      as_rover1 = { AUTH_ROLE_ROVER, 1, 1, 5 };
+    auth_keyset *rv = role_set(1, &P_ROVER1), *a1 = role_set(1, &P_ARM1),
+                *a2 = role_set(1, &P_ARM2), *mon = role_set(1, &P_MON), *sup = role_set(1, &P_SUP);
     auth_keyring r1, r2, rm;
     auth_trailer t;
     size_t n;
@@ -239,7 +252,7 @@ static void test_truncated_and_garbage_buffers(void **state)
     ring_of(&ring, sim, NULL);
     n = signed_message(a1, &ARM1, "SIM_CONTROL", buf, sizeof buf, NOW_US);
     for (len = 0; len < n; len++) {
-        uint8_t *copy = malloc(len ? len : 1);   /* exact size: ASan sees any overread */
+        uint8_t *copy = malloc(len ? len : 1); /* exact size: ASan sees any overread */
         memcpy(copy, buf, len);
         assert_int_not_equal(auth_verify(&ring, &P_SIM, "SIM_CONTROL", copy, len, &t), AUTH_OK);
         free(copy);
@@ -251,7 +264,7 @@ static void test_truncated_and_garbage_buffers(void **state)
             x = x * 1664525u + 1013904223u;
             junk[i] = (uint8_t)(x >> 24);
         }
-        if (round % 2 && len >= AUTH_FIXED_BYTES) {   /* a plausible fixed part */
+        if (round % 2 && len >= AUTH_FIXED_BYTES) { /* a plausible fixed part */
             uint8_t *f = junk + len - AUTH_FIXED_BYTES;
             f[0] = 'T';
             f[1] = 'A';
@@ -283,7 +296,7 @@ static void test_sender_ids(void **state)
     assert_int_equal(auth_sender_check(&s), AUTH_ERR_SENDER);
 }
 
-static auth_replay R;   /* large: not on the stack */
+static auth_replay R; /* large: not on the stack */
 
 static void test_counter_window(void **state)
 {
@@ -309,12 +322,16 @@ static void test_replay_is_refused_and_changes_nothing(void **state)
     (void)state;
     auth_replay_init(&R, AUTH_WINDOW_US, 0);
     assert_int_equal(auth_replay_check(&R, &ARM1, h1, NOW_US, NOW_US), AUTH_OK);
-    assert_int_equal(auth_replay_check(&R, &ARM1, h1, NOW_US, NOW_US + 5), AUTH_ERR_REPLAY);       /* again */
-    assert_int_equal(auth_replay_check(&R, &ARM1, h1, NOW_US - 1000, NOW_US + 5), AUTH_ERR_REPLAY); /* older */
-    assert_int_equal(auth_replay_check(&R, &ARM1, h2, NOW_US, NOW_US + 5), AUTH_OK);   /* own stream per channel */
+    assert_int_equal(auth_replay_check(&R, &ARM1, h1, NOW_US, NOW_US + 5),
+                     AUTH_ERR_REPLAY); /* again */
+    assert_int_equal(auth_replay_check(&R, &ARM1, h1, NOW_US - 1000, NOW_US + 5),
+                     AUTH_ERR_REPLAY); /* older */
+    assert_int_equal(auth_replay_check(&R, &ARM1, h2, NOW_US, NOW_US + 5),
+                     AUTH_OK); /* own stream per channel */
     assert_int_equal(auth_replay_check(&R, &ARM1, h1, NOW_US + 1, NOW_US + 5), AUTH_OK);
     /* a refused counter did not move the stream on */
-    assert_int_equal(auth_replay_check(&R, &ARM1, h1, NOW_US + 10 * AUTH_WINDOW_US, NOW_US + 5), AUTH_ERR_REPLAY);
+    assert_int_equal(auth_replay_check(&R, &ARM1, h1, NOW_US + 10 * AUTH_WINDOW_US, NOW_US + 5),
+                     AUTH_ERR_REPLAY);
     assert_int_equal(auth_replay_check(&R, &ARM1, h1, NOW_US + 2, NOW_US + 5), AUTH_OK);
     /* the sender restarted (new session, counter = its clock): taken at once */
     restarted.session++;
@@ -335,7 +352,8 @@ static void test_nothing_older_than_the_receiver(void **state)
     auth_sender sim = { AUTH_ROLE_SIM, 0, 0, 9 };
     (void)state;
     auth_replay_init(&R, AUTH_WINDOW_US, NOW_US);
-    assert_int_equal(auth_replay_check(&R, &sim, h, NOW_US - slack - 1, NOW_US + 10), AUTH_ERR_REPLAY);
+    assert_int_equal(auth_replay_check(&R, &sim, h, NOW_US - slack - 1, NOW_US + 10),
+                     AUTH_ERR_REPLAY);
     sim.session++;
     assert_int_equal(auth_replay_check(&R, &sim, h, NOW_US - slack, NOW_US + 10), AUTH_OK);
     sim.session++;
@@ -355,8 +373,10 @@ static void test_replay_table_overflow(void **state)
         s.session = i;
         assert_int_equal(auth_replay_check(&R, &s, h, NOW_US + i, NOW_US + i), AUTH_OK);
     }
-    s.session = 4 * AUTH_REPLAY_SLOTS - 1;   /* the newest is remembered */
-    assert_int_equal(auth_replay_check(&R, &s, h, NOW_US + 4 * AUTH_REPLAY_SLOTS - 1, NOW_US + 5000), AUTH_ERR_REPLAY);
+    s.session = 4 * AUTH_REPLAY_SLOTS - 1; /* the newest is remembered */
+    assert_int_equal(
+        auth_replay_check(&R, &s, h, NOW_US + 4 * AUTH_REPLAY_SLOTS - 1, NOW_US + 5000),
+        AUTH_ERR_REPLAY);
 }
 
 static void test_acl_table_is_valid(void **state)
@@ -372,21 +392,28 @@ static void test_acl_validator_catches_corruption(void **state)
     const int n = auth_acl_table_n;
     (void)state;
     assert_true(n + 1 <= 128);
-#define CORRUPT(stmt, want) do { memcpy(t, auth_acl_table, sizeof t[0] * (size_t)n); stmt; \
-                                 assert_int_equal(auth_acl_validate(t, n + 1), want); } while (0)
+#define CORRUPT(stmt, want)                                  \
+    do {                                                     \
+        memcpy(t, auth_acl_table, sizeof t[0] * (size_t)n);  \
+        stmt;                                                \
+        assert_int_equal(auth_acl_validate(t, n + 1), want); \
+    } while (0)
     memcpy(t, auth_acl_table, sizeof t[0] * (size_t)n);
-    t[n] = t[0];                                                         /* a duplicate row */
+    t[n] = t[0]; /* a duplicate row */
     assert_int_equal(auth_acl_validate(t, n + 1), AUTH_ACL_ERR_OVERLAP);
-    CORRUPT((t[n] = t[4], t[n].match = AUTH_ACL_RANGE), AUTH_ACL_ERR_OVERLAP);   /* ARMk_STATE twice */
+    CORRUPT((t[n] = t[4], t[n].match = AUTH_ACL_RANGE),
+            AUTH_ACL_ERR_OVERLAP); /* ARMk_STATE twice */
     CORRUPT((t[n] = t[0], t[n].prefix = "SIM_clock"), AUTH_ACL_ERR_NAME);
     CORRUPT((t[n] = t[0], t[n].prefix = ""), AUTH_ACL_ERR_NAME);
     CORRUPT((t[n] = t[0], t[n].prefix = "NEW", t[n].suffix = NULL), AUTH_ACL_ERR_NAME);
     CORRUPT((t[n] = t[0], t[n].prefix = "NEW", t[n].suffix = "_X"), AUTH_ACL_ERR_MATCH);
     CORRUPT((t[n] = t[0], t[n].prefix = "NEW", t[n].match = 7), AUTH_ACL_ERR_MATCH);
     CORRUPT((t[n] = t[0], t[n].prefix = "NEW", t[n].roles = 0), AUTH_ACL_ERR_ROLES);
-    CORRUPT((t[n] = t[0], t[n].prefix = "NEW", t[n].roles = AUTH_ROLE_BIT(AUTH_ROLE_LAST + 1)), AUTH_ACL_ERR_ROLES);
+    CORRUPT((t[n] = t[0], t[n].prefix = "NEW", t[n].roles = AUTH_ROLE_BIT(AUTH_ROLE_LAST + 1)),
+            AUTH_ACL_ERR_ROLES);
     CORRUPT((t[n] = t[0], t[n].prefix = "NEW", t[n].own = 1), AUTH_ACL_ERR_OWN);
-    CORRUPT((t[n] = t[0], t[n].prefix = "NEW"), AUTH_ACL_OK);            /* the control: a new channel is fine */
+    CORRUPT((t[n] = t[0], t[n].prefix = "NEW"),
+            AUTH_ACL_OK); /* the control: a new channel is fine */
 #undef CORRUPT
     assert_int_equal(auth_acl_validate(t, 0), AUTH_ACL_ERR_EMPTY);
     assert_int_equal(auth_acl_validate(NULL, 3), AUTH_ACL_ERR_EMPTY);
@@ -452,7 +479,7 @@ static void test_key_files(void **state)
     assert_int_equal(stat(path, &st), 0);
     assert_int_equal(st.st_mode & 0777, 0600);
     assert_int_equal((int)st.st_size, AUTH_KEY_BYTES);
-    assert_int_equal(auth_key_create(path, why, sizeof why), AUTH_ERR_KEY);   /* never over a key */
+    assert_int_equal(auth_key_create(path, why, sizeof why), AUTH_ERR_KEY); /* never over a key */
     assert_int_equal(auth_keyset_load(a, path, &P_ARM1, why, sizeof why), AUTH_OK);
     assert_true(a->is_master);
     chmod(path, 0644);
@@ -468,9 +495,11 @@ static void test_key_files(void **state)
     f = fopen(path, "ab");
     fputc(0, f);
     fclose(f);
-    assert_int_equal(auth_keyset_load(b, path, &P_ARM1, why, sizeof why), AUTH_ERR_KEY);  /* 33 bytes */
+    assert_int_equal(auth_keyset_load(b, path, &P_ARM1, why, sizeof why),
+                     AUTH_ERR_KEY); /* 33 bytes */
     remove(path);
-    assert_int_equal(auth_keyset_load(b, path, &P_ARM1, why, sizeof why), AUTH_ERR_KEY);  /* missing */
+    assert_int_equal(auth_keyset_load(b, path, &P_ARM1, why, sizeof why),
+                     AUTH_ERR_KEY); /* missing */
     /* a role file goes round and holds only its own pairs */
     assert_int_equal(auth_keyset_write(r, path, why, sizeof why), AUTH_OK);
     assert_int_equal(auth_keyset_load(b, path, &P_ARM1, why, sizeof why), AUTH_OK);
@@ -500,22 +529,27 @@ static int captured_len;
 static void on_a(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     tandem_sim_control_t m;
-    (void)ch; (void)u;
+    (void)ch;
+    (void)u;
     /* the handler sees the message without its trailer */
-    assert_int_equal(tandem_sim_control_t_decode(rb->data, 0, (int)rb->data_size, &m), (int)rb->data_size);
+    assert_int_equal(tandem_sim_control_t_decode(rb->data, 0, (int)rb->data_size, &m),
+                     (int)rb->data_size);
     tandem_sim_control_t_decode_cleanup(&m);
     got_a++;
 }
 
 static void on_b(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     got_b++;
 }
 
 static void capture(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
-    (void)ch; (void)u;
+    (void)ch;
+    (void)u;
     if (rb->data_size <= sizeof captured) {
         memcpy(captured, rb->data, rb->data_size);
         captured_len = (int)rb->data_size;
@@ -525,27 +559,30 @@ static void capture(const lcm_recv_buf_t *rb, const char *ch, void *u)
 static void test_receive_path_counts_every_refusal(void **state)
 {
     char path[600];
-    const auth_bus_counts *c = auth_bus_counts_get();
+    auth_bus bus;
+    const auth_bus_counts *c;
     tandem_sim_control_t m;
     tandem_arm_command_t cmd;
     uint8_t plain[256];
     int n;
     lcm_t *lcm;
     (void)state;
+    auth_bus_init(&bus);
+    c = auth_bus_counts_get(&bus);
     assert_int_equal(auth_bus_ephemeral_key(path, sizeof path), 0);
-    auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);
-    assert_int_equal(auth_bus_start("test_auth"), 0);
-    assert_int_equal(auth_bus_secure(), 1);
+    auth_bus_identity(&bus, AUTH_ROLE_TOOL, 0, 0);
+    assert_int_equal(auth_bus_start(&bus, "test_auth"), 0);
+    assert_int_equal(auth_bus_secure(&bus), 1);
     lcm = lcm_create("memq://");
     assert_non_null(lcm);
     /* two checked subscriptions see one message: checked once, not a replay */
-    auth_bus_subscribe(lcm, "SIM_CONTROL", on_a, NULL);
-    auth_bus_subscribe(lcm, "SIM_CONTROL", on_b, NULL);
-    auth_bus_subscribe(lcm, "ARM1_COMMAND", on_b, NULL);
+    auth_bus_subscribe(&bus, lcm, "SIM_CONTROL", on_a, NULL);
+    auth_bus_subscribe(&bus, lcm, "SIM_CONTROL", on_b, NULL);
+    auth_bus_subscribe(&bus, lcm, "ARM1_COMMAND", on_b, NULL);
     lcm_subscribe(lcm, "SIM_CONTROL", capture, NULL);
     memset(&m, 0, sizeof m);
     m.command = TANDEM_SIM_CONTROL_T_QUIT;
-    assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, lcm, "SIM_CONTROL", &m), 0);
+    assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, &bus, lcm, "SIM_CONTROL", &m), 0);
     lcm_handle(lcm);
     assert_int_equal(got_a, 1);
     assert_int_equal(got_b, 1);
@@ -567,19 +604,18 @@ static void test_receive_path_counts_every_refusal(void **state)
     /* signed with the key, by a sender the table does not allow there (a tool
      * is not arm 1) */
     memset(&cmd, 0, sizeof cmd);
-    assert_int_equal(AUTH_PUBLISH(tandem_arm_command_t, lcm, "ARM1_COMMAND", &cmd), 0);
+    assert_int_equal(AUTH_PUBLISH(tandem_arm_command_t, &bus, lcm, "ARM1_COMMAND", &cmd), 0);
     lcm_handle(lcm);
     assert_int_equal(c->unauthorised, 1);
-    assert_int_equal(got_a, 1);   /* no handler saw anything refused */
+    assert_int_equal(got_a, 1); /* no handler saw anything refused */
     assert_int_equal(got_b, 1);
-    assert_int_equal(auth_bus_rejected_total(), 4);
+    assert_int_equal(auth_bus_rejected_total(&bus), 4);
     lcm_destroy(lcm);
 }
 
 static int move_checked(void *subs, lcm_t *old, lcm_t *fresh)
 {
-    (void)subs;
-    return auth_bus_move(old, fresh);
+    return auth_bus_move(subs, old, fresh);
 }
 
 /* A tool's checked subscriptions on a renewed handle (lcm_renew, as
@@ -587,42 +623,49 @@ static int move_checked(void *subs, lcm_t *old, lcm_t *fresh)
  * handle still held is handed on, the new handle is subscribed as the old
  * one was, and a subscription ends by its user after the renewal (the
  * lcm_subscription_t the tool was given at first is gone). Runs after
- * test_receive_path_counts_every_refusal (the bus started, secure). */
+ * test_receive_path_counts_every_refusal (its ephemeral key in the
+ * environment). */
 static void test_checked_subscriptions_move(void **state)
 {
     static int user_a, user_b;
+    auth_bus bus;
     tandem_sim_control_t m;
     lcm_t *lcm, *old;
     int a0, b0;
     (void)state;
+    auth_bus_init(&bus);
+    auth_bus_identity(&bus, AUTH_ROLE_TOOL, 0, 0);
+    assert_int_equal(auth_bus_start(&bus, "test_auth"), 0);
+    assert_int_equal(auth_bus_secure(&bus), 1);
     lcm = lcm_create("memq://");
     assert_non_null(lcm);
-    assert_non_null(auth_bus_subscribe(lcm, "SIM_CONTROL", on_a, &user_a));
-    assert_non_null(auth_bus_subscribe_queue(lcm, "ARM1_COMMAND", on_b, &user_b, 8));
+    assert_non_null(auth_bus_subscribe(&bus, lcm, "SIM_CONTROL", on_a, &user_a));
+    assert_non_null(auth_bus_subscribe_queue(&bus, lcm, "ARM1_COMMAND", on_b, &user_b, 8));
     memset(&m, 0, sizeof m);
     m.command = TANDEM_SIM_CONTROL_T_QUIT;
     a0 = got_a;
     b0 = got_b;
     /* queued on the old handle, not handled yet */
-    assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, lcm, "SIM_CONTROL", &m), 0);
+    assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, &bus, lcm, "SIM_CONTROL", &m), 0);
     old = lcm;
-    assert_int_equal(lcm_renew(&lcm, "memq://", move_checked, NULL, 1000000000LL), DAEMON_OK);
+    assert_int_equal(lcm_renew(&lcm, "memq://", move_checked, &bus, 1000000000LL), DAEMON_OK);
     assert_true(lcm != old);
-    assert_int_equal(got_a, a0 + 1);   /* the old handle's last message, handed on */
-    assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, lcm, "SIM_CONTROL", &m), 0);
+    assert_int_equal(got_a, a0 + 1); /* the old handle's last message, handed on */
+    assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, &bus, lcm, "SIM_CONTROL", &m), 0);
     assert_true(lcm_handle_timeout(lcm, 1000) > 0);
     assert_int_equal(got_a, a0 + 2);
     /* ended by its user: no more */
-    assert_int_equal(auth_bus_unsubscribe_user(lcm, &user_a), 1);
-    assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, lcm, "SIM_CONTROL", &m), 0);
+    assert_int_equal(auth_bus_unsubscribe_user(&bus, lcm, &user_a), 1);
+    assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, &bus, lcm, "SIM_CONTROL", &m), 0);
     assert_int_equal(lcm_handle_timeout(lcm, 50), 0);
     assert_int_equal(got_a, a0 + 2);
     assert_int_equal(got_b, b0);
     /* a handle that cannot open: nothing changes */
     old = lcm;
-    assert_int_equal(lcm_renew(&lcm, "nosuchprovider://", move_checked, NULL, 1000000LL), DAEMON_ERR_LCM);
+    assert_int_equal(lcm_renew(&lcm, "nosuchprovider://", move_checked, &bus, 1000000LL),
+                     DAEMON_ERR_LCM);
     assert_true(lcm == old);
-    auth_bus_close(lcm);
+    auth_bus_close(&bus, lcm);
 }
 
 /* A child's command line names its principal: what its role file is made for. */

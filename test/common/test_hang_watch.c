@@ -36,7 +36,7 @@ static void test_start_grace(void **state)
     k = hang_watch_add(&w, "tandem-rover-2", 0.0);
     assert_false(hang_watch_hung(&w, k, 2.0 + HANG_WATCH_START_S - 0.1));
     assert_true(hang_watch_hung(&w, k, 2.0 + HANG_WATCH_START_S + 0.1));
-    hang_watch_started(&w, k, 50.0);             /* restarted: the grace again */
+    hang_watch_started(&w, k, 50.0); /* restarted: the grace again */
     assert_false(hang_watch_hung(&w, k, 53.0));
 }
 
@@ -92,7 +92,7 @@ static void test_look_forgives_own_absence(void **state)
     k = hang_watch_add(&w, "tandem-sim", 0.0);
     hang_watch_heard(&w, "tandem-sim", 1.0);
     assert_int_equal(hang_watch_look(&w, lcm, 1.2), 1);
-    assert_int_equal(hang_watch_look(&w, lcm, 9.2), 1);   /* away 8 s */
+    assert_int_equal(hang_watch_look(&w, lcm, 9.2), 1); /* away 8 s */
     assert_false(hang_watch_hung(&w, k, 9.3));
     assert_true(hang_watch_hung(&w, k, 11.3));
     lcm_destroy(lcm);

@@ -94,7 +94,7 @@ static void test_round_trip_and_append_on(void **state)
     assert_int_equal(journal_append(&j, more, 2), JOURNAL_OK);
     journal_close(&j);
     assert_int_equal(journal_load_last(f->path, &f->key, v, 8, &rep), 2);
-    assert_true(v[0] == 1e-300 && v[1] == 0.1 + 0.2);     /* exact */
+    assert_true(v[0] == 1e-300 && v[1] == 0.1 + 0.2); /* exact */
     assert_int_equal(rep.last_seq, 4);
 }
 
@@ -103,9 +103,10 @@ static void test_missing_and_empty_are_none(void **state)
     fixture *f = *state;
     double v[4];
     journal_report rep;
-    assert_int_equal(journal_load_last(f->path, &f->key, v, 4, &rep), JOURNAL_ERR_NONE);   /* empty */
+    assert_int_equal(journal_load_last(f->path, &f->key, v, 4, &rep), JOURNAL_ERR_NONE); /* empty */
     remove(f->path);
-    assert_int_equal(journal_load_last(f->path, &f->key, v, 4, &rep), JOURNAL_ERR_NONE);   /* missing */
+    assert_int_equal(journal_load_last(f->path, &f->key, v, 4, &rep),
+                     JOURNAL_ERR_NONE); /* missing */
 }
 
 static void test_torn_tail_refused(void **state)
@@ -117,10 +118,10 @@ static void test_torn_tail_refused(void **state)
     char *buf;
     write_three(f, &f->key);
     buf = slurp(f->path, &len);
-    spit(f->path, buf, len - 7);        /* the last record cut off mid-mac */
+    spit(f->path, buf, len - 7); /* the last record cut off mid-mac */
     assert_int_equal(journal_load_last(f->path, &f->key, v, 4, &rep), JOURNAL_ERR_TORN);
     assert_int_equal(rep.line, 3);
-    spit(f->path, buf, len - 1);        /* only its end of line missing */
+    spit(f->path, buf, len - 1); /* only its end of line missing */
     assert_int_equal(journal_load_last(f->path, &f->key, v, 4, &rep), JOURNAL_ERR_TORN);
     assert_int_equal(rep.line, 3);
     free(buf);
@@ -163,7 +164,7 @@ static void test_edited_record_refused(void **state)
     buf = slurp(f->path, &len);
     p = strstr(buf, "J2 K 2 3 2 ");
     assert_non_null(p);
-    p[9] = '7';                          /* 2 -> 7, mac left */
+    p[9] = '7'; /* 2 -> 7, mac left */
     spit(f->path, buf, len);
     assert_int_equal(journal_load_last(f->path, &f->key, v, 4, &rep), JOURNAL_ERR_MAC);
     assert_int_equal(rep.line, 2);
@@ -184,7 +185,7 @@ static void test_mode_mismatch_refused(void **state)
     journal_report rep;
     journal_key none;
     memset(&none, 0, sizeof none);
-    write_three(f, &none);               /* --insecure wrote it */
+    write_three(f, &none); /* --insecure wrote it */
     assert_int_equal(journal_load_last(f->path, &none, v, 4, &rep), 3);
     assert_int_equal(journal_load_last(f->path, &f->key, v, 4, &rep), JOURNAL_ERR_MODE);
     assert_int_equal(rep.line, 1);
@@ -204,7 +205,7 @@ static void test_missing_record_refused(void **state)
     second = strchr(buf, '\n') + 1;
     third = strchr(second, '\n') + 1;
     memmove(second, third, (size_t)(buf + len - third));
-    spit(f->path, buf, len - (third - second));   /* record 2 deleted */
+    spit(f->path, buf, len - (third - second)); /* record 2 deleted */
     assert_int_equal(journal_load_last(f->path, &f->key, v, 4, &rep), JOURNAL_ERR_SEQUENCE);
     assert_int_equal(rep.line, 2);
     free(buf);
@@ -218,10 +219,11 @@ static void test_disk_full_says_so(void **state)
     if (access("/dev/full", W_OK) != 0)
         skip();
     memset(&j, 0, sizeof j);
-    assert_int_equal(journal_open(&j, "/dev/full", &((fixture *)*state)->key, JOURNAL_APPEND), JOURNAL_OK);
+    assert_int_equal(journal_open(&j, "/dev/full", &((fixture *)*state)->key, JOURNAL_APPEND),
+                     JOURNAL_OK);
     assert_int_equal(journal_append(&j, v, 2), JOURNAL_ERR_WRITE);
     assert_int_equal(j.err_no, ENOSPC);
-    assert_int_equal(j.seq, 0);          /* not counted: the next try has the same seq */
+    assert_int_equal(j.seq, 0); /* not counted: the next try has the same seq */
     assert_int_equal(journal_append(&j, v, 2), JOURNAL_ERR_WRITE);
     journal_close(&j);
 }
@@ -237,15 +239,17 @@ static void test_bad_arguments(void **state)
     assert_int_equal(journal_append(&j, v, JOURNAL_MAX_VALUES + 1), JOURNAL_ERR_ARG);
     assert_int_equal(journal_append(&j, v, JOURNAL_MAX_VALUES), JOURNAL_OK);
     journal_close(&j);
-    assert_int_equal(journal_append(&j, v, 1), JOURNAL_ERR_ARG);    /* closed */
-    assert_int_equal(journal_open(&j, "/nonexistent-dir/j", &f->key, JOURNAL_APPEND), JOURNAL_ERR_OPEN);
+    assert_int_equal(journal_append(&j, v, 1), JOURNAL_ERR_ARG); /* closed */
+    assert_int_equal(journal_open(&j, "/nonexistent-dir/j", &f->key, JOURNAL_APPEND),
+                     JOURNAL_ERR_OPEN);
 }
 
 static void test_strerror_names_distinct(void **state)
 {
-    static const int codes[] = { JOURNAL_OK, JOURNAL_ERR_OPEN, JOURNAL_ERR_WRITE, JOURNAL_ERR_NONE,
-                                 JOURNAL_ERR_ARG, JOURNAL_ERR_SYNC, JOURNAL_ERR_READ, JOURNAL_ERR_FORMAT,
-                                 JOURNAL_ERR_TORN, JOURNAL_ERR_MAC, JOURNAL_ERR_SEQUENCE, JOURNAL_ERR_MODE };
+    static const int codes[] = { JOURNAL_OK,       JOURNAL_ERR_OPEN,     JOURNAL_ERR_WRITE,
+                                 JOURNAL_ERR_NONE, JOURNAL_ERR_ARG,      JOURNAL_ERR_SYNC,
+                                 JOURNAL_ERR_READ, JOURNAL_ERR_FORMAT,   JOURNAL_ERR_TORN,
+                                 JOURNAL_ERR_MAC,  JOURNAL_ERR_SEQUENCE, JOURNAL_ERR_MODE };
     const int n = (int)(sizeof codes / sizeof codes[0]);
     int i, k;
     (void)state;

@@ -15,23 +15,23 @@
 #include "options.h"
 
 typedef struct test_opts {
-    int     flag;
-    int     count_i;
-    long    count_l;
+    int flag;
+    int count_i;
+    long count_l;
     int64_t count_64;
-    double  gain;
-    double  period_s;
-    double  xyz[3];
-    int     have_xyz;
+    double gain;
+    double period_s;
+    double xyz[3];
+    int have_xyz;
     const char *path;
-    int     mode;
-    int     side;
+    int mode;
+    int side;
     const char *tags[3];
-    int     n_tags;
-    int     calls;
-    char    last_call[16];
+    int n_tags;
+    int calls;
+    char last_call[16];
     const char *out;
-    int     out_given;
+    int out_given;
 } test_opts;
 
 static const char *const modes[] = { "slow", "fast", "off", NULL };
@@ -51,30 +51,97 @@ static int record_call(const char *prog, void *dest, char *value)
 }
 
 static const option_entry table[] = {
-    { .name = "flag", .letter = 'f', .type = OPTION_FLAG, OPTION_AT(test_opts, flag), .help = "a flag" },
-    { .name = "count", .type = OPTION_INT, OPTION_AT(test_opts, count_i), .min = -5, .max = 10, .meta = "N",
-      .help = "an int", .def = "0" },
-    { .name = "count-long", .type = OPTION_INT, OPTION_AT(test_opts, count_l), .min = 0, .max = 2147483647.0,
-      .meta = "N", .help = "a long" },
-    { .name = "count-64", .type = OPTION_INT, OPTION_AT(test_opts, count_64), .min = 0, .max = 1e15,
-      .meta = "N", .help = "an int64_t" },
-    { .name = "gain", .type = OPTION_DOUBLE, OPTION_AT(test_opts, gain), .min = 0.5, .max = 2.0, .meta = "G",
+    { .name = "flag",
+      .letter = 'f',
+      .type = OPTION_FLAG,
+      OPTION_AT(test_opts, flag),
+      .help = "a flag" },
+    { .name = "count",
+      .type = OPTION_INT,
+      OPTION_AT(test_opts, count_i),
+      .min = -5,
+      .max = 10,
+      .meta = "N",
+      .help = "an int",
+      .def = "0" },
+    { .name = "count-long",
+      .type = OPTION_INT,
+      OPTION_AT(test_opts, count_l),
+      .min = 0,
+      .max = 2147483647.0,
+      .meta = "N",
+      .help = "a long" },
+    { .name = "count-64",
+      .type = OPTION_INT,
+      OPTION_AT(test_opts, count_64),
+      .min = 0,
+      .max = 1e15,
+      .meta = "N",
+      .help = "an int64_t" },
+    { .name = "gain",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(test_opts, gain),
+      .min = 0.5,
+      .max = 2.0,
+      .meta = "G",
       .help = "a double" },
-    { .name = "interval-ms", .type = OPTION_DOUBLE, OPTION_AT(test_opts, period_s), .min = 1.0, .max = 100.0,
-      .scale = 1e-3, .meta = "MS", .help = "a scaled double" },
-    { .name = "xyz", .type = OPTION_DOUBLE, OPTION_AT(test_opts, xyz), .nargs = 3, .min = -1.0, .max = 1.0,
-      OPTION_SEEN(test_opts, have_xyz), .meta = "X Y Z", .help = "three words" },
-    { .name = "path", .type = OPTION_STRING, OPTION_AT(test_opts, path), .min = 1, .max = 8, .meta = "P",
+    { .name = "interval-ms",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(test_opts, period_s),
+      .min = 1.0,
+      .max = 100.0,
+      .scale = 1e-3,
+      .meta = "MS",
+      .help = "a scaled double" },
+    { .name = "xyz",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(test_opts, xyz),
+      .nargs = 3,
+      .min = -1.0,
+      .max = 1.0,
+      OPTION_SEEN(test_opts, have_xyz),
+      .meta = "X Y Z",
+      .help = "three words" },
+    { .name = "path",
+      .type = OPTION_STRING,
+      OPTION_AT(test_opts, path),
+      .min = 1,
+      .max = 8,
+      .meta = "P",
       .help = "a string" },
-    { .name = "mode", .type = OPTION_CHOICE, OPTION_AT(test_opts, mode), .choices = modes, .help = "a choice" },
-    { .name = "side", .type = OPTION_CHOICE, OPTION_AT(test_opts, side), .choices = sides, .values = side_values,
-      .meta = "S", .help = "a mapped choice" },
-    { .name = "tag", .type = OPTION_LIST, OPTION_AT(test_opts, tags), .max = 3,
-      .count = offsetof(test_opts, n_tags), .meta = "T", .help = "a list" },
-    { .name = "call", .type = OPTION_CALL, OPTION_ALL(test_opts), .call = record_call, .repeatable = 1,
-      .meta = "WORD", .help = "a handler" },
-    { .name = "out", .type = OPTION_STRING, OPTION_AT(test_opts, out), OPTION_SEEN(test_opts, out_given),
-      .required = 1, .meta = "DIR", .help = "required" },
+    { .name = "mode",
+      .type = OPTION_CHOICE,
+      OPTION_AT(test_opts, mode),
+      .choices = modes,
+      .help = "a choice" },
+    { .name = "side",
+      .type = OPTION_CHOICE,
+      OPTION_AT(test_opts, side),
+      .choices = sides,
+      .values = side_values,
+      .meta = "S",
+      .help = "a mapped choice" },
+    { .name = "tag",
+      .type = OPTION_LIST,
+      OPTION_AT(test_opts, tags),
+      .max = 3,
+      .count = offsetof(test_opts, n_tags),
+      .meta = "T",
+      .help = "a list" },
+    { .name = "call",
+      .type = OPTION_CALL,
+      OPTION_ALL(test_opts),
+      .call = record_call,
+      .repeatable = 1,
+      .meta = "WORD",
+      .help = "a handler" },
+    { .name = "out",
+      .type = OPTION_STRING,
+      OPTION_AT(test_opts, out),
+      OPTION_SEEN(test_opts, out_given),
+      .required = 1,
+      .meta = "DIR",
+      .help = "required" },
     { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
     { .name = NULL }
 };
@@ -120,11 +187,9 @@ static void test_table_valid(void **state)
 
 static void test_validate_refuses_bad_tables(void **state)
 {
-    const option_entry twice[] = {
-        { .name = "a", .type = OPTION_FLAG, OPTION_AT(test_opts, flag) },
-        { .name = "a", .type = OPTION_FLAG, OPTION_AT(test_opts, flag) },
-        { .name = NULL }
-    };
+    const option_entry twice[] = { { .name = "a", .type = OPTION_FLAG, OPTION_AT(test_opts, flag) },
+                                   { .name = "a", .type = OPTION_FLAG, OPTION_AT(test_opts, flag) },
+                                   { .name = NULL } };
     const option_entry wrong_size[] = {
         { .name = "g", .type = OPTION_DOUBLE, OPTION_AT(test_opts, count_i), .min = 0, .max = 1 },
         { .name = NULL }
@@ -149,16 +214,16 @@ static void test_types_land_in_their_fields(void **state)
     const option_program p = program();
     char big[] = "123456789012";
     (void)state;
-    assert_int_equal(PARSE("--flag", "--count", "-5", "--count-long=2147483647", "--count-64", big, "--gain", "2",
-                           "--interval-ms", "20", "--xyz", "-1", "0.5", "1", "--path", "a/b", "--mode", "off",
-                           "--side", "left", "--out", "d"),
+    assert_int_equal(PARSE("--flag", "--count", "-5", "--count-long=2147483647", "--count-64", big,
+                           "--gain", "2", "--interval-ms", "20", "--xyz", "-1", "0.5", "1",
+                           "--path", "a/b", "--mode", "off", "--side", "left", "--out", "d"),
                      23);
     assert_int_equal(O.flag, 1);
     assert_int_equal(O.count_i, -5);
     assert_int_equal(O.count_l, 2147483647L);
     assert_true(O.count_64 == INT64_C(123456789012));
     assert_true(O.gain == 2.0);
-    assert_true(O.period_s == 20.0 * 1e-3);   /* the same product the programs computed */
+    assert_true(O.period_s == 20.0 * 1e-3); /* the same product the programs computed */
     assert_true(O.xyz[0] == -1.0 && O.xyz[1] == 0.5 && O.xyz[2] == 1.0);
     assert_int_equal(O.have_xyz, 1);
     assert_string_equal(O.path, "a/b");
@@ -171,7 +236,8 @@ static void test_short_letter_prefix_and_last_wins(void **state)
 {
     const option_program p = program();
     (void)state;
-    assert_int_equal(PARSE("-f", "--gai", "1", "--count", "3", "--count", "4", "--pa", "x", "--out", "d"), 12);
+    assert_int_equal(
+        PARSE("-f", "--gai", "1", "--count", "3", "--count", "4", "--pa", "x", "--out", "d"), 12);
     assert_true(O.gain == 1.0);
     assert_int_equal(O.flag, 1);
     assert_int_equal(O.count_i, 4);
@@ -206,7 +272,7 @@ static void test_choices_enforced(void **state)
     const option_program p = program();
     (void)state;
     assert_int_equal(PARSE("--mode", "medium", "--out", "d"), OPTIONS_ERR_ARG);
-    assert_int_equal(PARSE("--mode", "fas", "--out", "d"), OPTIONS_ERR_ARG);   /* words are exact */
+    assert_int_equal(PARSE("--mode", "fas", "--out", "d"), OPTIONS_ERR_ARG); /* words are exact */
     assert_int_equal(PARSE("--side", "right", "--out", "d"), 5);
     assert_int_equal(O.side, 1);
 }
@@ -215,13 +281,15 @@ static void test_repeatable(void **state)
 {
     const option_program p = program();
     (void)state;
-    assert_int_equal(PARSE("--tag", "a", "--call", "one", "--tag", "b", "--call", "two", "--out", "d"), 11);
+    assert_int_equal(
+        PARSE("--tag", "a", "--call", "one", "--tag", "b", "--call", "two", "--out", "d"), 11);
     assert_int_equal(O.n_tags, 2);
     assert_string_equal(O.tags[0], "a");
     assert_string_equal(O.tags[1], "b");
     assert_int_equal(O.calls, 2);
     assert_string_equal(O.last_call, "two");
-    assert_int_equal(PARSE("--tag", "a", "--tag", "b", "--tag", "c", "--tag", "d", "--out", "d"), OPTIONS_ERR_ARG);
+    assert_int_equal(PARSE("--tag", "a", "--tag", "b", "--tag", "c", "--tag", "d", "--out", "d"),
+                     OPTIONS_ERR_ARG);
     assert_int_equal(PARSE("--call", "xyz", "--out", "d"), OPTIONS_ERR_ARG);
 }
 
@@ -235,7 +303,7 @@ static void test_unknown_missing_and_extra_refused(void **state)
     assert_int_equal(PARSE("--out", "d", "--xyz", "1", "2"), OPTIONS_ERR_ARG);
     assert_int_equal(PARSE("--out", "d", "stray"), OPTIONS_ERR_ARG);
     assert_int_equal(PARSE("--flag=1", "--out", "d"), OPTIONS_ERR_ARG);
-    assert_int_equal(PARSE("--count", "1"), OPTIONS_ERR_ARG);   /* --out is required */
+    assert_int_equal(PARSE("--count", "1"), OPTIONS_ERR_ARG); /* --out is required */
 }
 
 static void test_values_may_start_with_a_dash(void **state)
@@ -311,9 +379,9 @@ static void test_help_lists_every_option(void **state)
         }
     }
     assert_non_null(strstr(text, "-h, --help"));
-    assert_non_null(strstr(text, "-5..10"));           /* range */
-    assert_non_null(strstr(text, "default 0"));        /* default */
-    assert_non_null(strstr(text, "slow|fast|off"));    /* choices */
+    assert_non_null(strstr(text, "-5..10"));        /* range */
+    assert_non_null(strstr(text, "default 0"));     /* default */
+    assert_non_null(strstr(text, "slow|fast|off")); /* choices */
     assert_non_null(strstr(text, "left | right"));
     assert_non_null(strstr(text, "repeatable"));
     assert_non_null(strstr(text, "(required)"));
@@ -337,7 +405,8 @@ static void test_daemon_common_group(void **state)
     p.groups[1].table = options_daemon_common;
     p.groups[1].base = &d;
     p.n_groups = 2;
-    assert_int_equal(PARSE("--lockstep", "--period-ms", "50", "--rt", "10", "--lcm-url", "udpm://x", "--out", "d"),
+    assert_int_equal(PARSE("--lockstep", "--period-ms", "50", "--rt", "10", "--lcm-url", "udpm://x",
+                           "--out", "d"),
                      10);
     assert_int_equal(d.lockstep, 1);
     assert_true(d.period_s == 50 * 1e-3);
@@ -348,7 +417,7 @@ static void test_daemon_common_group(void **state)
     assert_int_equal(PARSE("--drop-rate", "0.95", "--out", "d"), OPTIONS_ERR_ARG);
     assert_int_equal(PARSE("--drop-seed", "-1", "--out", "d"), OPTIONS_ERR_ARG);
     assert_true(d.drop_rate == 0.0);
-    assert_int_equal(d.drop_seed, 1);   /* daemon_defaults */
+    assert_int_equal(d.drop_seed, 1); /* daemon_defaults */
     assert_int_equal(PARSE("--drop-rate", "0.25", "--drop-seed", "7", "--out", "d"), 7);
     assert_true(d.drop_rate == 0.25);
     assert_int_equal(d.drop_seed, 7);

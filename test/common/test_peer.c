@@ -21,7 +21,8 @@ static pid_t child_sleeping(void)
 {
     const pid_t p = fork();
     if (p == 0) {
-        for (;;) pause();
+        for (;;)
+            pause();
     }
     assert_true(p > 0);
     return p;
@@ -32,7 +33,8 @@ static pid_t child_spinning(void)
     const pid_t p = fork();
     if (p == 0) {
         volatile unsigned long n = 0;
-        for (;;) n++;
+        for (;;)
+            n++;
     }
     assert_true(p > 0);
     return p;
@@ -64,14 +66,14 @@ static void test_stopped_is_waited_for(void **state)
     peer_heard(&w, (int32_t)p, 0);
     kill(p, SIGSTOP);
     wait_state(p, PEER_PROC_STOPPED);
-    assert_int_equal(peer_dead(&w, 1000 * SEC, SEC), 0);   /* silent 1000 timeouts: still alive */
+    assert_int_equal(peer_dead(&w, 1000 * SEC, SEC), 0); /* silent 1000 timeouts: still alive */
     kill(p, SIGCONT);
     wait_state(p, PEER_PROC_RUNNING);
     /* sleeping, no CPU used since heard: slow (or waiting), not hung */
     assert_int_equal(peer_dead(&w, 1000 * SEC, SEC), 0);
     kill(p, SIGKILL);
-    wait_state(p, PEER_PROC_GONE);                            /* a zombie is gone */
-    assert_int_equal(peer_dead(&w, 0, SEC), 1);               /* at once, not after the timeout */
+    wait_state(p, PEER_PROC_GONE);              /* a zombie is gone */
+    assert_int_equal(peer_dead(&w, 0, SEC), 1); /* at once, not after the timeout */
     waitpid(p, NULL, 0);
     assert_int_equal(peer_proc_of((int32_t)p), PEER_PROC_GONE);
 }
@@ -89,8 +91,8 @@ static void test_running_silent_hangs(void **state)
         struct timespec ts = { 0, 10000000L };
         nanosleep(&ts, NULL);
     }
-    early = peer_dead(&w, SEC / 10, SEC / 5);           /* not yet silent for the timeout */
-    hung = peer_dead(&w, 1000 * SEC, SEC / 5);          /* silent, and had > 50 ms of CPU */
+    early = peer_dead(&w, SEC / 10, SEC / 5);            /* not yet silent for the timeout */
+    hung = peer_dead(&w, 1000 * SEC, SEC / 5);           /* silent, and had > 50 ms of CPU */
     long_timeout = peer_dead(&w, 1000 * SEC, 100 * SEC); /* had far less than 25 s of CPU */
     kill(p, SIGKILL);
     waitpid(p, NULL, 0);
@@ -125,10 +127,8 @@ static void test_rover_range(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_own_process_runs),
-        cmocka_unit_test(test_stopped_is_waited_for),
-        cmocka_unit_test(test_running_silent_hangs),
-        cmocka_unit_test(test_unknown_pid_wall_clock),
+        cmocka_unit_test(test_own_process_runs),     cmocka_unit_test(test_stopped_is_waited_for),
+        cmocka_unit_test(test_running_silent_hangs), cmocka_unit_test(test_unknown_pid_wall_clock),
         cmocka_unit_test(test_rover_range),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -114,11 +114,11 @@ static void test_array_lengths_checked(void **state)
     assert_int_equal(buf[at], 0);
     assert_int_equal(buf[at + 1], 2);
     memcpy(bad, buf, (size_t)n);
-    bad[at] = 0xff;   /* -255 channels: lcm-gen's decoder would ask for a huge allocation */
+    bad[at] = 0xff; /* -255 channels: lcm-gen's decoder would ask for a huge allocation */
     bad[at + 1] = 0x01;
     assert_int_not_equal(wire_check(&wire_t_tandem_health_t, bad, (size_t)n), WIRE_OK);
     memcpy(bad, buf, (size_t)n);
-    bad[at + 1] = 33;   /* above the capacity (lcmtypes/capacities: 32) */
+    bad[at + 1] = 33; /* above the capacity (lcmtypes/capacities: 32) */
     assert_int_not_equal(wire_check(&wire_t_tandem_health_t, bad, (size_t)n), WIRE_OK);
 }
 

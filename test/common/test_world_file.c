@@ -51,16 +51,19 @@ static void write_images(void)
     assert_non_null(f);
     fprintf(f, "P5\n# a comment\n4 3\n255\n");
     for (r = 0; r < 3; r++)
-        for (c = 0; c < 4; c++) fputc(pix[r][c], f);
+        for (c = 0; c < 4; c++)
+            fputc(pix[r][c], f);
     fclose(f);
     f = fopen(path("m2.pgm"), "w");
     fprintf(f, "P2\n4 3\n# comment between\n255\n");
     for (r = 0; r < 3; r++)
-        for (c = 0; c < 4; c++) fprintf(f, "%d%c", pix[r][c], c == 3 ? '\n' : ' ');
+        for (c = 0; c < 4; c++)
+            fprintf(f, "%d%c", pix[r][c], c == 3 ? '\n' : ' ');
     fclose(f);
     f = fopen(path("short.pgm"), "wb");
     fprintf(f, "P5\n4 3\n255\n");
-    for (r = 0; r < 11; r++) fputc(254, f);
+    for (r = 0; r < 11; r++)
+        fputc(254, f);
     fclose(f);
     write_text("text.pgm", "this is not an image\n");
 }
@@ -81,11 +84,12 @@ static int setup(void **state)
 
 static int teardown(void **state)
 {
-    static const char *const names[] = { "m5.pgm", "m2.pgm", "short.pgm", "text.pgm", "w.yaml",
-                                         "out.yaml", "out.pgm", NULL };
+    static const char *const names[] = { "m5.pgm", "m2.pgm",   "short.pgm", "text.pgm",
+                                         "w.yaml", "out.yaml", "out.pgm",   NULL };
     int k;
     (void)state;
-    for (k = 0; names[k]; k++) remove(path(names[k]));
+    for (k = 0; names[k]; k++)
+        remove(path(names[k]));
     rmdir(dir);
     return 0;
 }
@@ -94,9 +98,10 @@ static int teardown(void **state)
 static int read_variant(const char *from, const char *to)
 {
     char text[1024];
-    const char *at = strstr(good, from ? from : good);   /* NULL: the whole file */
+    const char *at = strstr(good, from ? from : good); /* NULL: the whole file */
     assert_non_null(at);
-    snprintf(text, sizeof text, "%.*s%s%s", (int)(at - good), good, to, at + strlen(from ? from : good));
+    snprintf(text, sizeof text, "%.*s%s%s", (int)(at - good), good, to,
+             at + strlen(from ? from : good));
     write_text("w.yaml", text);
     why[0] = '\0';
     return world_file_read(path("w.yaml"), &M, &(rover_map_site){ 0 }, why, sizeof why);
@@ -123,8 +128,8 @@ static void test_p5_and_p2_give_the_same_grid(void **state)
             const double p = (255.0 - pix[2 - j][i]) / 255.0;
             assert_int_equal(M.cell[j * 4 + i], p < 0.196 ? ROVER_MAP_FREE : ROVER_MAP_OCCUPIED);
         }
-    assert_int_equal(rover_map_blocked(&M, 1.1, -1.9), 0);    /* bottom-left: free */
-    assert_int_equal(rover_map_blocked(&M, 1.1, -0.6), 1);    /* top row: the wall */
+    assert_int_equal(rover_map_blocked(&M, 1.1, -1.9), 0); /* bottom-left: free */
+    assert_int_equal(rover_map_blocked(&M, 1.1, -0.6), 1); /* top row: the wall */
     assert_true(s.start.x_m == 1.5 && s.start.y_m == -1.25 && s.start.theta_rad == 0.3);
     assert_true(s.goal_m[0] == 2.5 && s.goal_m[1] == -1.75);
     assert_int_equal(s.n_landmarks, 2);
@@ -139,7 +144,7 @@ static void test_p5_and_p2_give_the_same_grid(void **state)
 typedef struct broken {
     const char *from, *to;
     int rc;
-    const char *field;    /* the message names it */
+    const char *field; /* the message names it */
 } broken;
 
 static void test_each_broken_field_is_refused_with_its_reason(void **state)
@@ -151,20 +156,27 @@ static void test_each_broken_field_is_refused_with_its_reason(void **state)
         { "image: m5.pgm\n", "", WORLD_FILE_ERR_FIELD, "image: missing" },
         { "resolution: 0.5", "resolution: 0", WORLD_FILE_ERR_FIELD, "resolution: must be > 0" },
         { "resolution: 0.5", "resolution: -0.5", WORLD_FILE_ERR_FIELD, "resolution: must be > 0" },
-        { "resolution: 0.5", "resolution: fine", WORLD_FILE_ERR_FIELD, "resolution: not a finite number" },
+        { "resolution: 0.5", "resolution: fine", WORLD_FILE_ERR_FIELD,
+          "resolution: not a finite number" },
         { "resolution: 0.5\n", "", WORLD_FILE_ERR_FIELD, "resolution: missing" },
-        { "origin: [1.0, -2.0, 0.0]", "origin: [1.0, -2.0]", WORLD_FILE_ERR_FIELD, "origin: 2 numbers, need 3" },
-        { "origin: [1.0, -2.0, 0.0]", "origin: [1.0, -2.0, 0.5]", WORLD_FILE_ERR_FIELD, "origin: yaw must be 0" },
+        { "origin: [1.0, -2.0, 0.0]", "origin: [1.0, -2.0]", WORLD_FILE_ERR_FIELD,
+          "origin: 2 numbers, need 3" },
+        { "origin: [1.0, -2.0, 0.0]", "origin: [1.0, -2.0, 0.5]", WORLD_FILE_ERR_FIELD,
+          "origin: yaw must be 0" },
         { "negate: 0", "negate: 2", WORLD_FILE_ERR_FIELD, "negate: must be 0 or 1" },
-        { "occupied_thresh: 0.65", "occupied_thresh: 0.1", WORLD_FILE_ERR_FIELD, "free_thresh, occupied_thresh" },
-        { "free_thresh: 0.196", "free_thresh: -1", WORLD_FILE_ERR_FIELD, "free_thresh, occupied_thresh" },
+        { "occupied_thresh: 0.65", "occupied_thresh: 0.1", WORLD_FILE_ERR_FIELD,
+          "free_thresh, occupied_thresh" },
+        { "free_thresh: 0.196", "free_thresh: -1", WORLD_FILE_ERR_FIELD,
+          "free_thresh, occupied_thresh" },
         { "occupied_thresh: 0.65\n", "", WORLD_FILE_ERR_FIELD, "occupied_thresh: missing" },
         { "negate: 0", "negate: 0\nmode: raw", WORLD_FILE_ERR_FIELD, "mode: only trinary" },
         { "tandem:", "tandom:", WORLD_FILE_ERR_FIELD, "tandem: missing" },
         { "start: [1.5, -1.25, 0.3]", "start: [1.5, -1.25]", WORLD_FILE_ERR_FIELD, "tandem.start" },
         { "goal: [2.5, -1.75]", "goal: [2.5, north]", WORLD_FILE_ERR_FIELD, "tandem.goal" },
-        { "landmarks: [[0, 0], [3, 1]]", "landmarks: [[0, 0], [3]]", WORLD_FILE_ERR_FIELD, "tandem.landmarks[1]" },
-        { "landmarks: [[0, 0], [3, 1]]", "landmarks: some", WORLD_FILE_ERR_FIELD, "tandem.landmarks" },
+        { "landmarks: [[0, 0], [3, 1]]", "landmarks: [[0, 0], [3]]", WORLD_FILE_ERR_FIELD,
+          "tandem.landmarks[1]" },
+        { "landmarks: [[0, 0], [3, 1]]", "landmarks: some", WORLD_FILE_ERR_FIELD,
+          "tandem.landmarks" },
         { "image: m5.pgm", "image: [m5.pgm", WORLD_FILE_ERR_YAML, "line" },
         { NULL, "- a list\n- not a mapping\n", WORLD_FILE_ERR_YAML, "not a YAML mapping" },
     };
@@ -173,11 +185,12 @@ static void test_each_broken_field_is_refused_with_its_reason(void **state)
     for (k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         const int rc = read_variant(cases[k].from, cases[k].to);
         if (rc != cases[k].rc || !strstr(why, cases[k].field) || !strstr(why, "w.yaml"))
-            fail_msg("case %zu (%s): rc %d, want %d; message '%s' should name '%s'", k, cases[k].to, rc, cases[k].rc,
-                     why, cases[k].field);
+            fail_msg("case %zu (%s): rc %d, want %d; message '%s' should name '%s'", k, cases[k].to,
+                     rc, cases[k].rc, why, cases[k].field);
     }
-    assert_int_equal(world_file_read(path("none.yaml"), &M, &(rover_map_site){ 0 }, why, sizeof why),
-                     WORLD_FILE_ERR_OPEN);
+    assert_int_equal(
+        world_file_read(path("none.yaml"), &M, &(rover_map_site){ 0 }, why, sizeof why),
+        WORLD_FILE_ERR_OPEN);
     assert_non_null(strstr(why, "none.yaml"));
 }
 

@@ -90,8 +90,9 @@ static void test_every_kind_gives_passable_repeatable_worlds(void **state)
             assert_int_equal(worldgen_make(&M, &s, &p, &attempt), WORLDGEN_OK);
             assert_true(attempt >= 0 && attempt < WORLDGEN_ATTEMPTS);
             assert_int_equal(worldgen_passable(&M, &s, 3, FORMATION_LINE, CLEAR), 1);
-            assert_int_equal(rover_world_from_map(&W, &M, &s, 3, 1.0, FORMATION_LINE), ROVER_MAP_OK);
-            assert_true(W.n_obst > 4);   /* more than the border */
+            assert_int_equal(rover_world_from_map(&W, &M, &s, 3, 1.0, FORMATION_LINE),
+                             ROVER_MAP_OK);
+            assert_true(W.n_obst > 4); /* more than the border */
             memcpy(&M2, &M, sizeof M);
             assert_int_equal(worldgen_make(&M, &s2, &p, NULL), WORLDGEN_OK);
             assert_memory_equal(M.cell, M2.cell, (size_t)M.width * (size_t)M.height);
@@ -120,7 +121,8 @@ static int goal_slots_clear(const rover_map *m, const rover_map_site *s, int n)
             for (i = 0; i < m->width; i++) {
                 const double cx = m->origin_x_m + (i + 0.5) * m->resolution_m;
                 const double cy = m->origin_y_m + (j + 0.5) * m->resolution_m;
-                if (hypot(cx - x, cy - y) < CLEAR && m->cell[j * m->width + i] != ROVER_MAP_FREE) return 0;
+                if (hypot(cx - x, cy - y) < CLEAR && m->cell[j * m->width + i] != ROVER_MAP_FREE)
+                    return 0;
             }
     }
     return 1;
@@ -157,11 +159,11 @@ static void test_sizes_that_cannot_hold_the_team_are_refused(void **state)
     memset(&p, 0, sizeof p);
     p.kind = WORLDGEN_CLUTTER;
     p.width_m = 30.0;
-    p.height_m = 3.0;          /* a 3-robot line needs more */
+    p.height_m = 3.0; /* a 3-robot line needs more */
     p.robots = 3;
     assert_int_equal(worldgen_make(&M, &s, &p, NULL), WORLDGEN_ERR_ARG);
     p.height_m = 20.0;
-    p.width_m = 500.0;         /* beyond ROVER_MAP_MAX_SIDE cells */
+    p.width_m = 500.0; /* beyond ROVER_MAP_MAX_SIDE cells */
     assert_int_equal(worldgen_make(&M, &s, &p, NULL), WORLDGEN_ERR_ARG);
     p.width_m = 30.0;
     p.kind = WORLDGEN_KINDS;

@@ -22,27 +22,25 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static int harness_key(void)
+/* The test's key, made once per process; then h's bus on it. */
+static int harness_key(harness *h)
 {
     static int ready;
     char path[600];
-    if (ready)
-        return 0;
-    if (auth_bus_ephemeral_key(path, sizeof path) != 0)
-        return -1;
-    auth_bus_sign_as_owner(1);
-    if (auth_bus_start("harness") != 0)
+    if (!ready && auth_bus_ephemeral_key(path, sizeof path) != 0)
         return -1;
     ready = 1;
-    return 0;
+    auth_bus_init(&h->bus);
+    auth_bus_sign_as_owner(&h->bus, 1);
+    return auth_bus_start(&h->bus, "harness") != 0 ? -1 : 0;
 }
 
 int harness_open(harness *h, int port_offset)
 {
     memset(h, 0, sizeof *h);
-    if (harness_key() != 0)
+    if (harness_key(h) != 0)
         return -1;
-    proc_init(&h->procs, NULL);
+    proc_init(&h->procs, &h->bus, NULL);
     snprintf(h->url, sizeof h->url, "udpm://239.255.76.67:%d?ttl=0",
              20000 + (int)(getpid() % 20000) + port_offset);
     h->lcm = lcm_create(h->url);
@@ -71,7 +69,7 @@ static int parent_of(long pid)
     snprintf(path, sizeof path, "/proc/%ld/stat", pid);
     if (!(f = fopen(path, "r")))
         return -1;
-    p = fgets(buf, sizeof buf, f) ? strrchr(buf, ')') : NULL;   /* the name may hold spaces */
+    p = fgets(buf, sizeof buf, f) ? strrchr(buf, ')') : NULL; /* the name may hold spaces */
     fclose(f);
     if (!p || sscanf(p + 1, " %*c %d", &ppid) != 1)
         return -1;
@@ -102,7 +100,7 @@ static void kill_leftovers(void)
         if (running_child(spawned[i])) {
             /* a scenario's daemons: found now, while they are still its children */
             n_grand += children_of(spawned[i], grand + n_grand, 256 - n_grand);
-            kill(spawned[i], SIGTERM);   /* a scenario stops its own daemons */
+            kill(spawned[i], SIGTERM); /* a scenario stops its own daemons */
             left++;
         }
     for (k = 0; k < 30 && left > 0; k++) {
@@ -117,7 +115,7 @@ static void kill_leftovers(void)
             waitpid(spawned[i], NULL, 0);
         }
     for (i = 0; i < n_grand; i++)
-        if (parent_of(grand[i]) == 1)   /* our grandchild left behind (reparented to init) */
+        if (parent_of(grand[i]) == 1) /* our grandchild left behind (reparented to init) */
             kill(grand[i], SIGKILL);
 }
 
@@ -192,7 +190,8 @@ static harness_health *health_slot(harness *h, const char *name)
 static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
 {
     harness_health *d = health_slot(u, m->name);
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     if (!d)
         return;
     d->pid = m->pid;
@@ -206,7 +205,7 @@ AUTH_TYPED_HANDLER(tandem_health_t, raw_on_health, on_health)
 
 void harness_watch_health(harness *h)
 {
-    auth_bus_subscribe(h->lcm, "HEALTH_.*", raw_on_health, h);
+    auth_bus_subscribe(&h->bus, h->lcm, "HEALTH_.*", raw_on_health, h);
 }
 
 harness_health harness_health_of(harness *h, const char *name)
@@ -231,11 +230,12 @@ int64_t harness_refused(const harness_health *d)
 
 void harness_print_refused(const harness_health *d)
 {
-    printf("  %-18s refused %6lld: unsigned %lld, bad MAC %lld, unknown sender %lld, replayed %lld, "
-           "not allowed %lld, other cell %lld, before the MAC %lld (lost on the way in: %lld)\n", d->name,
-           (long long)harness_refused(d), (long long)d->refused[0], (long long)d->refused[1],
-           (long long)d->refused[2], (long long)d->refused[3], (long long)d->refused[4], (long long)d->refused[5],
-           (long long)d->refused[6], (long long)d->msgs_lost);
+    printf(
+        "  %-18s refused %6lld: unsigned %lld, bad MAC %lld, unknown sender %lld, replayed %lld, "
+        "not allowed %lld, other cell %lld, before the MAC %lld (lost on the way in: %lld)\n",
+        d->name, (long long)harness_refused(d), (long long)d->refused[0], (long long)d->refused[1],
+        (long long)d->refused[2], (long long)d->refused[3], (long long)d->refused[4],
+        (long long)d->refused[5], (long long)d->refused[6], (long long)d->msgs_lost);
 }
 
 int harness_sh(const char *fmt, ...)
@@ -250,7 +250,7 @@ int harness_sh(const char *fmt, ...)
 
 void harness_ack(harness *h, const char *name, int64_t step, int32_t period_steps)
 {
-    lockstep_ack(h->lcm, name, 0, step, period_steps, 0);
+    lockstep_ack(&h->bus, h->lcm, name, 0, step, period_steps, 0);
 }
 
 /* unshare(2) is declared only under _GNU_SOURCE, which would also declare
@@ -292,7 +292,7 @@ void harness_send_joint_row(harness *h, int arm, int action_id, const double q[6
     row.n_segments = 1;
     row.segments = &seg;
     snprintf(ch, sizeof ch, "ARM%d_ACTION", arm);
-    AUTH_PUBLISH(tandem_action_row_t, h->lcm, ch, &row);
+    AUTH_PUBLISH(tandem_action_row_t, &h->bus, h->lcm, ch, &row);
 }
 
 int harness_slurp(const char *path, char *buf, int cap)
@@ -357,7 +357,7 @@ pid_t harness_child_named(pid_t parent, const char *prog, const char *opt, const
             continue;
         n = fread(cmd, 1, sizeof cmd - 1, f);
         fclose(f);
-        cmd[n] = '\0';              /* argv[0] ends at its NUL */
+        cmd[n] = '\0'; /* argv[0] ends at its NUL */
         base = strrchr(cmd, '/');
         if (!strcmp(base ? base + 1 : cmd, prog) && (!opt || has_option(cmd, n, opt, value)))
             return (pid_t)pid;
@@ -375,7 +375,7 @@ int harness_run_output(const char *const argv[], double timeout_s, char *buf, in
     pid_t pid;
     int st = -1, i;
     struct timespec ts = { 0, 50000000L };
-    proc_init(&ps, NULL);
+    proc_init(&ps, NULL, NULL);
     pid = proc_spawn(&ps, argv, NULL, NULL, NULL);
     if (pid <= 0)
         return -1;

@@ -12,42 +12,43 @@
 /* The last health message of one daemon: what the secure bus refused. */
 #define HARNESS_MAX_HEALTH 16
 typedef struct harness_health {
-    char    name[64];
-    int     pid, auth_on;
-    int64_t refused[AUTH_BUS_KINDS];   /* auth_bus_health_refusals */
+    char name[64];
+    int pid, auth_on;
+    int64_t refused[AUTH_BUS_KINDS]; /* auth_bus_health_refusals */
     int64_t msgs_rejected, msgs_lost;
 } harness_health;
 
 typedef struct harness {
-    char     url[96];
-    lcm_t   *lcm;
-    proc_set procs;          /* the daemons under test (src/daemons/common/proc.h) */
-    harness_health health[HARNESS_MAX_HEALTH];   /* harness_watch_health */
-    int      n_health;
+    char url[96];
+    lcm_t *lcm;
+    auth_bus bus;   /* the test's side of the secure bus: it signs as each
+                                channel's owner (auth_bus_sign_as_owner) */
+    proc_set procs; /* the daemons under test (src/daemons/common/proc.h) */
+    harness_health health[HARNESS_MAX_HEALTH]; /* harness_watch_health */
+    int n_health;
 } harness;
 
 /* Private udpm port per test process so parallel tests never cross-talk.
  * The first call also makes a bus key for this test alone
  * (auth_bus_ephemeral_key: the daemons it starts inherit it through
- * $TANDEM_KEY_FILE) and lets the test sign every message as its channel's
- * owner, as the daemons it stands in for would. */
-int   harness_open(harness *h, int port_offset);
+ * $TANDEM_KEY_FILE); every call starts h->bus on it, signing every message
+ * as its channel's owner, as the daemons it stands in for would. h stays
+ * where it is until harness_close (subscriptions point into h->bus). */
+int harness_open(harness *h, int port_offset);
 /* argv[0] is a program name under build/bin (e.g. "tandem-sim"); NULL-terminated.
  * stdout of the child is captured (read with harness_read_output). */
 pid_t harness_spawn(harness *h, const char *const argv[]);
 /* Children started otherwise (fork) that must not outlive the test: killed
  * at exit if still running (harness_spawn does this for its own). */
-void  harness_track_child(pid_t pid);
+void harness_track_child(pid_t pid);
 /* Waits for the child to exit within timeout_s; returns its exit status or -1. */
-int   harness_wait(harness *h, pid_t pid, double timeout_s);
+int harness_wait(harness *h, pid_t pid, double timeout_s);
 /* Reads all captured stdout of child pid into buf (NUL terminated). */
-int   harness_read_output(harness *h, pid_t pid, char *buf, int cap);
-void  harness_kill_all(harness *h);
-void  harness_close(harness *h);
+int harness_read_output(harness *h, pid_t pid, char *buf, int cap);
+void harness_kill_all(harness *h);
+void harness_close(harness *h);
 /* Handle LCM messages for ms milliseconds. */
-void  harness_pump(harness *h, int ms);
-
-
+void harness_pump(harness *h, int ms);
 
 /* Moves this test (and the daemons it will start) into a network namespace
  * of its own, so nothing else on the machine shares its bus (needs root or

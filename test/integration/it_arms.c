@@ -27,10 +27,10 @@
 
 typedef struct obs {
     tandem_arm_state_t arm[2];
-    int     have[2];
+    int have[2];
     int64_t clock_step;
-    int     clock_new;
-    int     done[2];
+    int clock_new;
+    int done[2];
 } obs;
 
 static obs O;
@@ -40,7 +40,9 @@ static tandem_action_event_t_subscription_t *sub_event;
 
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_state_t *m, void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     if (m->arm == 1 || m->arm == 2) {
         O.arm[m->arm - 1] = *m;
         O.have[m->arm - 1] = 1;
@@ -49,14 +51,19 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_
 
 static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_clock_t *m, void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     O.clock_step = m->step;
     O.clock_new = 1;
 }
 
-static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_action_event_t *m, void *u)
+static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_action_event_t *m,
+                     void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     if (m->event == TANDEM_ACTION_EVENT_T_DONE && (m->arm == 1 || m->arm == 2))
         O.done[m->arm - 1] = 1;
 }
@@ -125,12 +132,13 @@ static void test_rne_open_loop_tracks_within_1deg(void **state)
         c.step = k;
         c.mode = TANDEM_ARM_COMMAND_T_MODE_TORQUE;
         memcpy(c.tau_Nm, tau, sizeof tau);
-        AUTH_PUBLISH(tandem_arm_command_t, h.lcm, "ARM1_COMMAND", &c);
+        AUTH_PUBLISH(tandem_arm_command_t, &h.bus, h.lcm, "ARM1_COMMAND", &c);
         harness_ack(&h, "it_arms", k, 1);
         k = next_step(&h);
         assert_true(k >= 0);
     }
-    printf("open-loop RNE torques vs ODE arm: max joint error over 2 s = %.4f deg\n", err_max * 57.29577951308232);
+    printf("open-loop RNE torques vs ODE arm: max joint error over 2 s = %.4f deg\n",
+           err_max * 57.29577951308232);
     assert_true(err_max * 57.29577951308232 < 1.0);
     close_all(&h);
 }

@@ -44,7 +44,7 @@ typedef struct watch {
     long long arm_rejected[2];
     int health_after[2], safe_hold_after[2];
     int rejected_event;
-    int arm1_state_channel;    /* ARM1_STATE listed in arm 1's health, received > 0 */
+    int arm1_state_channel; /* ARM1_STATE listed in arm 1's health, received > 0 */
 } watch;
 
 static watch W;
@@ -53,9 +53,11 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_
 {
     const int k = m->arm - 1;
     int i;
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     if (k < 0 || k > 1 || m->step > 100000000)
-        return;   /* the forged one */
+        return; /* the forged one */
     W.last[k] = *m;
     W.have[k] = 1;
     if (W.injected)
@@ -63,9 +65,12 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_
             W.drift[k] = fmax(W.drift[k], fabs(m->q_rad[i] - W.q_at_inject[k][i]));
 }
 
-static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *m, void *u)
+static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *m,
+                      void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     W.sim_rejected = m->msgs_rejected;
     W.sim_stale_commands = m->stale_commands;
 }
@@ -74,7 +79,8 @@ static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_hea
 {
     const int k = strcmp(ch, "HEALTH_TANDEM_ARM_1") == 0 ? 0 : 1;
     int i;
-    (void)rb; (void)u;
+    (void)rb;
+    (void)u;
     W.arm_rejected[k] = m->msgs_rejected;
     if (W.injected) {
         W.health_after[k]++;
@@ -91,7 +97,8 @@ static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_hea
 static void on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     tandem_action_event_t m;
-    (void)ch; (void)u;
+    (void)ch;
+    (void)u;
     if (wire_check(&wire_t_tandem_action_event_t, rb->data, rb->data_size) != WIRE_OK ||
         tandem_action_event_t_decode(rb->data, 0, (int)rb->data_size, &m) < 0)
         return;
@@ -109,9 +116,9 @@ static void send_forged_steps(harness *h)
     c.step = INT64_MAX;
     c.mode = TANDEM_ARM_COMMAND_T_MODE_TORQUE;
     c.tau_Nm[0] = 40.0;
-    AUTH_PUBLISH(tandem_arm_command_t, h->lcm, "ARM2_COMMAND", &c);
+    AUTH_PUBLISH(tandem_arm_command_t, &h->bus, h->lcm, "ARM2_COMMAND", &c);
     s.step = INT64_MAX;
-    AUTH_PUBLISH(tandem_arm_state_t, h->lcm, "ARM1_STATE", &s);
+    AUTH_PUBLISH(tandem_arm_state_t, &h->bus, h->lcm, "ARM1_STATE", &s);
 }
 
 static void send_nan_row(harness *h)
@@ -131,7 +138,7 @@ static void send_nan_row(harness *h)
     row.k_p = row.k_v = row.k0 = NAN;
     row.n_segments = 1;
     row.segments = &seg;
-    AUTH_PUBLISH(tandem_action_row_t, h->lcm, "ARM1_ACTION", &row);
+    AUTH_PUBLISH(tandem_action_row_t, &h->bus, h->lcm, "ARM1_ACTION", &row);
 }
 
 static void send_far_joint_ref(harness *h)
@@ -142,17 +149,18 @@ static void send_far_joint_ref(harness *h)
     r.step = W.last[1].step;
     memcpy(r.q_rad, W.last[1].q_rad, sizeof r.q_rad);
     r.q_rad[0] += 0.8;
-    AUTH_PUBLISH(tandem_arm_joint_ref_t, h->lcm, "ARM2_JOINT_REF", &r);
+    AUTH_PUBLISH(tandem_arm_joint_ref_t, &h->bus, h->lcm, "ARM2_JOINT_REF", &r);
 }
 
 /* Encodes a valid message, then overwrites a length field with `bad`
  * (big-endian, `size` bytes at `offset`) and publishes the bytes. */
-static void publish_patched(harness *h, const char *ch, uint8_t *buf, int len, int offset, int size, int64_t bad)
+static void publish_patched(harness *h, const char *ch, uint8_t *buf, int len, int offset, int size,
+                            int64_t bad)
 {
     int i;
     for (i = 0; i < size; i++)
         buf[offset + i] = (uint8_t)((uint64_t)bad >> (8 * (size - 1 - i)));
-    auth_bus_publish_raw(h->lcm, ch, buf, len);
+    auth_bus_publish_raw(&h->bus, h->lcm, ch, buf, len);
 }
 
 static void send_bad_lengths(harness *h)
@@ -175,18 +183,18 @@ static void send_bad_lengths(harness *h)
     a.name = "x";
     a.period_steps = 1;
     n = tandem_clock_ack_t_encode(buf, 0, sizeof buf, &a);
-    publish_patched(h, "SIM_ACK", buf, n, 32, 4, INT32_MAX);   /* name's length */
+    publish_patched(h, "SIM_ACK", buf, n, 32, 4, INT32_MAX); /* name's length */
     memset(&e, 0, sizeof e);
     e.detail = "";
     n = tandem_action_event_t_encode(buf, 0, sizeof buf, &e);
-    publish_patched(h, "ARM_EVENTS", buf, n, 71, 4, -5);       /* detail's length */
+    publish_patched(h, "ARM_EVENTS", buf, n, 71, 4, -5); /* detail's length */
 }
 
 static void test_no_message_latches(void **state)
 {
     harness h;
-    const char *sim[] = { "tandem-sim", "--lockstep", "--expect", "2", "--steps", "14000",
-                          "--timeout-ms", "30000", NULL };   /* a loaded machine */
+    const char *sim[] = { "tandem-sim", "--lockstep",   "--expect", "2", "--steps",
+                          "14000",      "--timeout-ms", "30000",    NULL }; /* a loaded machine */
     const char *arm1[] = { "tandem-arm", "--arm", "1", "--lockstep", NULL };
     const char *arm2[] = { "tandem-arm", "--arm", "2", "--lockstep", NULL };
     pid_t ps;
@@ -201,14 +209,14 @@ static void test_no_message_latches(void **state)
     sub_state = tandem_arm_state_t_subscribe(h.lcm, "ARM[12]_STATE", on_state, NULL);
     sub_status = tandem_sim_status_t_subscribe(h.lcm, "SIM_STATUS", on_status, NULL);
     sub_health = tandem_health_t_subscribe(h.lcm, "HEALTH_TANDEM_ARM_[12]", on_health, NULL);
-    auth_bus_subscribe(h.lcm, "ARM_EVENTS", on_event, NULL);
+    auth_bus_subscribe(&h.bus, h.lcm, "ARM_EVENTS", on_event, NULL);
     ps = harness_spawn(&h, sim);
     assert_true(harness_spawn(&h, arm1) > 0);
     assert_true(harness_spawn(&h, arm2) > 0);
     for (i = 0; i < 500 && !(W.have[0] && W.have[1] && W.last[0].step >= 1500); i++)
         harness_pump(&h, 20);
     assert_true(W.last[0].step >= 1500);
-    harness_pump(&h, 1100);   /* a health message before the injection */
+    harness_pump(&h, 1100); /* a health message before the injection */
     rej0[0] = W.arm_rejected[0];
     rej0[1] = W.arm_rejected[1];
     memcpy(W.q_at_inject[0], W.last[0].q_rad, sizeof W.q_at_inject[0]);
@@ -220,11 +228,12 @@ static void test_no_message_latches(void **state)
     send_bad_lengths(&h);
     assert_int_equal(harness_wait(&h, ps, 120.0), 0);
     harness_pump(&h, 300);
-    printf("drift arm 1 %.2e rad, arm 2 %.2e rad; rejected: sim %lld, arm 1 %lld (+%lld), arm 2 %lld (+%lld); "
-           "stale commands %lld; health after: %d, %d (safe hold %d, %d)\n",
-           W.drift[0], W.drift[1], W.sim_rejected, W.arm_rejected[0], W.arm_rejected[0] - rej0[0],
-           W.arm_rejected[1], W.arm_rejected[1] - rej0[1], W.sim_stale_commands,
-           W.health_after[0], W.health_after[1], W.safe_hold_after[0], W.safe_hold_after[1]);
+    printf(
+        "drift arm 1 %.2e rad, arm 2 %.2e rad; rejected: sim %lld, arm 1 %lld (+%lld), arm 2 %lld (+%lld); "
+        "stale commands %lld; health after: %d, %d (safe hold %d, %d)\n",
+        W.drift[0], W.drift[1], W.sim_rejected, W.arm_rejected[0], W.arm_rejected[0] - rej0[0],
+        W.arm_rejected[1], W.arm_rejected[1] - rej0[1], W.sim_stale_commands, W.health_after[0],
+        W.health_after[1], W.safe_hold_after[0], W.safe_hold_after[1]);
     assert_true(W.drift[0] < 1e-3);
     assert_true(W.drift[1] < 1e-3);
     /* sim: the forged command and the malformed ack */
@@ -233,7 +242,7 @@ static void test_no_message_latches(void **state)
      * does not go on rejecting the real states (1000 a second when latched) */
     assert_true(W.arm_rejected[0] - rej0[0] >= 4);
     assert_true(W.arm_rejected[0] - rej0[0] < 20);
-    assert_true(W.arm_rejected[1] - rej0[1] >= 1);   /* the far joint reference */
+    assert_true(W.arm_rejected[1] - rej0[1] >= 1); /* the far joint reference */
     assert_true(W.rejected_event);
     assert_true(W.health_after[0] >= 1);
     assert_int_equal(W.safe_hold_after[0], 0);

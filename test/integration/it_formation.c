@@ -29,9 +29,12 @@ static void test_kill_one_rover_mid_run(void **state)
 {
     harness h;
     char dir[64], out[8192], js[4096], path[128];
-    const char *argv[] = { "tandem-scenario", "formation", "--world", "open", "--formation", "line",
-                           "--robots", "3", "--seed", "4", "--procs", "separate", "--kill", "3:8",
-                           "--max-time", "60", "--lcm-url", NULL, "--out", dir, NULL };
+    const char *argv[] = {
+        "tandem-scenario", "formation", "--world",    "open", "--formation", "line",
+        "--robots",        "3",         "--seed",     "4",    "--procs",     "separate",
+        "--kill",          "3:8",       "--max-time", "60",   "--lcm-url",   NULL,
+        "--out",           dir,         NULL
+    };
     pid_t p;
     FILE *f;
     size_t n;
@@ -68,24 +71,29 @@ static pid_t rover_child(pid_t p, int k)
     FILE *f;
     size_t n;
     snprintf(path, sizeof path, "/proc/%d/task/%d/children", (int)p, (int)p);
-    if (!(f = fopen(path, "r"))) return -1;
+    if (!(f = fopen(path, "r")))
+        return -1;
     n = fread(kids, 1, sizeof kids - 1, f);
     fclose(f);
     kids[n] = '\0';
     snprintf(want, sizeof want, "%d", k);
-    for (c = kids; *c; ) {
+    for (c = kids; *c;) {
         const long kid = strtol(c, (char **)&c, 10);
         const char *a;
         int id_next = 0, rover = 0;
-        if (kid <= 0) break;
+        if (kid <= 0)
+            break;
         snprintf(path, sizeof path, "/proc/%ld/cmdline", kid);
-        if (!(f = fopen(path, "r"))) continue;
+        if (!(f = fopen(path, "r")))
+            continue;
         n = fread(cmd, 1, sizeof cmd - 1, f);
         fclose(f);
         cmd[n] = '\0';
         for (a = cmd; a < cmd + n; a += strlen(a) + 1) {
-            if (strstr(a, "tandem-rover")) rover = 1;
-            if (id_next && rover && strcmp(a, want) == 0) return (pid_t)kid;
+            if (strstr(a, "tandem-rover"))
+                rover = 1;
+            if (id_next && rover && strcmp(a, want) == 0)
+                return (pid_t)kid;
             id_next = strcmp(a, "--id") == 0;
         }
     }
@@ -109,7 +117,8 @@ static void stop_rover_2(pid_t scen, const char *truth, double stop_s)
     int i;
     for (i = 0; i < 2000 && (r < 0 || stat(truth, &st) != 0 || st.st_size < 5000); i++) {
         sleep_s(0.005);
-        if (r < 0) r = rover_child(scen, 2);
+        if (r < 0)
+            r = rover_child(scen, 2);
     }
     assert_true(r > 0);
     assert_int_equal(kill(r, SIGSTOP), 0);
@@ -119,17 +128,37 @@ static void stop_rover_2(pid_t scen, const char *truth, double stop_s)
 
 /* Runs the obstacles world for 20 s; returns truth.csv's size and hash.
  * stop_s > 0: robot 2's process is stopped that long in the run. */
-static uint64_t run_truth_hash(harness *h, const char *procs, const char *link, double stop_s, long *size)
+static uint64_t run_truth_hash(harness *h, const char *procs, const char *link, double stop_s,
+                               long *size)
 {
     char dir[64], path[128];
-    const char *argv[] = { "tandem-scenario", "formation", "--world", "obstacles", "--robots", "3",
-                           "--seed", "2", "--procs", procs, "--link", link, "--max-time", "20",
-                           "--lockstep-timeout-ms", "300", "--lcm-url", h->url, "--out", dir, NULL };
+    const char *argv[] = { "tandem-scenario",
+                           "formation",
+                           "--world",
+                           "obstacles",
+                           "--robots",
+                           "3",
+                           "--seed",
+                           "2",
+                           "--procs",
+                           procs,
+                           "--link",
+                           link,
+                           "--max-time",
+                           "20",
+                           "--lockstep-timeout-ms",
+                           "300",
+                           "--lcm-url",
+                           h->url,
+                           "--out",
+                           dir,
+                           NULL };
     uint64_t hash = 1469598103934665603ULL;
     pid_t p;
     FILE *f;
     int c;
-    snprintf(dir, sizeof dir, "/tmp/it_formation_%s%s_%d", link, stop_s > 0.0 ? "_stop" : "", (int)getpid());
+    snprintf(dir, sizeof dir, "/tmp/it_formation_%s%s_%d", link, stop_s > 0.0 ? "_stop" : "",
+             (int)getpid());
     snprintf(path, sizeof path, "%s/truth.csv", dir);
     remove(path);
     p = harness_spawn(h, argv);
@@ -159,9 +188,9 @@ static void test_batched_link_is_the_same_run(void **state)
     assert_int_equal(harness_open(&h, 8), 0);
     robot = run_truth_hash(&h, "separate", "robot", 0.0, &size_robot);
     batch = run_truth_hash(&h, "single", "batch", 0.0, &size_batch);
-    printf("truth.csv: %ld bytes per robot link, %ld batched; hashes %016llx %016llx\n",
-           size_robot, size_batch, (unsigned long long)robot, (unsigned long long)batch);
-    assert_true(size_robot > 10000);   /* 20 s of 20 Hz truth for 3 robots */
+    printf("truth.csv: %ld bytes per robot link, %ld batched; hashes %016llx %016llx\n", size_robot,
+           size_batch, (unsigned long long)robot, (unsigned long long)batch);
+    assert_true(size_robot > 10000); /* 20 s of 20 Hz truth for 3 robots */
     assert_int_equal(size_robot, size_batch);
     assert_true(robot == batch);
     harness_close(&h);
@@ -178,8 +207,9 @@ static void test_stopped_rover_is_waited_for(void **state)
     assert_int_equal(harness_open(&h, 9), 0);
     plain = run_truth_hash(&h, "separate", "robot", 0.0, &size_plain);
     stopped = run_truth_hash(&h, "separate", "robot", 1.5, &size_stop);
-    printf("truth.csv: %ld bytes undisturbed, %ld with robot 2 stopped 1.5 s; hashes %016llx %016llx\n",
-           size_plain, size_stop, (unsigned long long)plain, (unsigned long long)stopped);
+    printf(
+        "truth.csv: %ld bytes undisturbed, %ld with robot 2 stopped 1.5 s; hashes %016llx %016llx\n",
+        size_plain, size_stop, (unsigned long long)plain, (unsigned long long)stopped);
     assert_true(size_plain > 10000);
     assert_int_equal(size_plain, size_stop);
     assert_true(plain == stopped);

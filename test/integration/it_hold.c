@@ -45,23 +45,28 @@ static const char *const MOTION_NAMES[] = { "joint move", "Cartesian segment", "
 
 static struct {
     tandem_arm_state_t st;
-    int     have;
-    int     done;
+    int have;
+    int done;
     int32_t done_id;
 } O;
 
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_state_t *m, void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     if (m->arm == 1) {
         O.st = *m;
         O.have = 1;
     }
 }
 
-static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_action_event_t *m, void *u)
+static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_action_event_t *m,
+                     void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     if (m->arm == 1 && m->event == TANDEM_ACTION_EVENT_T_DONE) {
         O.done = 1;
         O.done_id = m->action_id;
@@ -71,23 +76,26 @@ static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_acti
 /* What one run saw, before and after the freeze. */
 typedef struct {
     double qd_before[ARM_NJ], qd_after[ARM_NJ];
-    double tau_share_max;       /* max |tau| / tau_max after the freeze */
-    double overshoot;           /* past the goal: rad (joint 0) or m (tool) */
-    int    done;
+    double tau_share_max; /* max |tau| / tau_max after the freeze */
+    double overshoot;     /* past the goal: rad (joint 0) or m (tool) */
+    int done;
 } hold_obs;
 
-static void observe(hold_obs *o, int after, const double *goal_q, const double goal_x[3], const double dir_x[3])
+static void observe(hold_obs *o, int after, const double *goal_q, const double goal_x[3],
+                    const double dir_x[3])
 {
     const arm_model *m = &arm_model_puma560;
     int i;
     for (i = 0; i < ARM_NJ; i++) {
         double *qd = after ? o->qd_after : o->qd_before;
         qd[i] = fmax(qd[i], fabs(O.st.qd_radps[i]));
-        if (after && getenv("IT_HOLD_TRACE") && fabs(O.st.tau_applied_Nm[i]) / m->tau_max_Nm[i] > 0.5)
-            printf("  t %.3f joint %d tau %.1f qd %.3f q %.4f\n", O.st.sim_time_s, i + 1, O.st.tau_applied_Nm[i],
-                   O.st.qd_radps[i], O.st.q_rad[i]);
+        if (after && getenv("IT_HOLD_TRACE") &&
+            fabs(O.st.tau_applied_Nm[i]) / m->tau_max_Nm[i] > 0.5)
+            printf("  t %.3f joint %d tau %.1f qd %.3f q %.4f\n", O.st.sim_time_s, i + 1,
+                   O.st.tau_applied_Nm[i], O.st.qd_radps[i], O.st.q_rad[i]);
         if (after)
-            o->tau_share_max = fmax(o->tau_share_max, fabs(O.st.tau_applied_Nm[i]) / m->tau_max_Nm[i]);
+            o->tau_share_max = fmax(o->tau_share_max,
+                                    fabs(O.st.tau_applied_Nm[i]) / m->tau_max_Nm[i]);
     }
     if (goal_q)
         o->overshoot = fmax(o->overshoot, O.st.q_rad[0] - goal_q[0]);
@@ -106,8 +114,8 @@ static double now_s(void)
 }
 
 /* Pumps the bus for dur_s, observing. */
-static void watch(harness *h, hold_obs *o, int after, double dur_s, const double *goal_q, const double goal_x[3],
-                  const double dir_x[3])
+static void watch(harness *h, hold_obs *o, int after, double dur_s, const double *goal_q,
+                  const double goal_x[3], const double dir_x[3])
 {
     const double t_end = now_s() + dur_s;
     while (now_s() < t_end && !(after && O.done)) {
@@ -119,7 +127,8 @@ static void watch(harness *h, hold_obs *o, int after, double dur_s, const double
 
 /* The row of one motion from where arm 1 stands: joint 1 over 1 rad, or
  * the tool 0.25 m sideways at its present orientation. */
-static void send_row(harness *h, motion mo, int32_t id, double goal_q[ARM_NJ], double goal_x[3], double dir_x[3])
+static void send_row(harness *h, motion mo, int32_t id, double goal_q[ARM_NJ], double goal_x[3],
+                     double dir_x[3])
 {
     tandem_action_row_t row;
     tandem_action_segment_t seg;
@@ -130,8 +139,14 @@ static void send_row(harness *h, motion mo, int32_t id, double goal_q[ARM_NJ], d
     row.action_id = id;
     row.transition = 1;
     row.arm = 1;
-    row.v_m = 0.25; row.a_m = 0.5; row.u_m = 4.0;   /* carry_net's FREE row */
-    row.k_p = 100.0; row.k_v = 20.0; row.k0 = 0.2; row.k1 = 5.0; row.k2 = 50.0;
+    row.v_m = 0.25;
+    row.a_m = 0.5;
+    row.u_m = 4.0; /* carry_net's FREE row */
+    row.k_p = 100.0;
+    row.k_v = 20.0;
+    row.k0 = 0.2;
+    row.k1 = 5.0;
+    row.k2 = 50.0;
     row.n_segments = 1;
     row.segments = &seg;
     memcpy(goal_q, O.st.q_rad, sizeof(double) * ARM_NJ);
@@ -155,12 +170,13 @@ static void send_row(harness *h, motion mo, int32_t id, double goal_q[ARM_NJ], d
         row.use_tdsd = mo == MOTION_TDSD;
     }
     O.done = 0;
-    AUTH_PUBLISH(tandem_action_row_t, h->lcm, "ARM1_ACTION", &row);
+    AUTH_PUBLISH(tandem_action_row_t, &h->bus, h->lcm, "ARM1_ACTION", &row);
 }
 
 /* One motion frozen for freeze_s after run_s of it (freeze_s 0: not
  * frozen; its joint speeds into qd_plan). */
-static int one_hold(harness *h, pid_t arm, motion mo, double freeze_s, int32_t id, double qd_plan[ARM_NJ])
+static int one_hold(harness *h, pid_t arm, motion mo, double freeze_s, int32_t id,
+                    double qd_plan[ARM_NJ])
 {
     hold_obs o;
     double goal_q[ARM_NJ], goal_x[3] = { 0 }, dir_x[3] = { 0 };
@@ -185,9 +201,10 @@ static int one_hold(harness *h, pid_t arm, motion mo, double freeze_s, int32_t i
     }
     ok = o.done && ratio <= SPEED_RATIO_MAX && o.tau_share_max < TAU_LIMIT_SHARE &&
          o.overshoot <= (mo == MOTION_JOINT ? JOINT_OVERSHOOT_RAD : TOOL_OVERSHOOT_M);
-    printf("%-17s frozen %.2f s: speed after / planned %.2f, peak torque %.0f %% of limit, overshoot %.4f %s, %s%s\n",
-           MOTION_NAMES[mo], freeze_s, ratio, 100.0 * o.tau_share_max, o.overshoot,
-           mo == MOTION_JOINT ? "rad" : "m", o.done ? "DONE" : "not done", ok ? "" : "  <- FAILS");
+    printf(
+        "%-17s frozen %.2f s: speed after / planned %.2f, peak torque %.0f %% of limit, overshoot %.4f %s, %s%s\n",
+        MOTION_NAMES[mo], freeze_s, ratio, 100.0 * o.tau_share_max, o.overshoot,
+        mo == MOTION_JOINT ? "rad" : "m", o.done ? "DONE" : "not done", ok ? "" : "  <- FAILS");
     return ok;
 }
 
@@ -230,10 +247,10 @@ static void test_no_lurch_after_a_freeze(void **state)
     /* IT_HOLD_MOTION=0|1|2: one kind only (to look at it) */
     for (mo = MOTION_JOINT; mo <= MOTION_TDSD; mo++)
         if (!getenv("IT_HOLD_MOTION") || atoi(getenv("IT_HOLD_MOTION")) == mo)
-        for (f = 0; f < 4; f++) {
-            failed += !one_hold(&h, arm_pid, (motion)mo, FREEZE_S[f], id++, qd_plan);
-            go_home(&h, q_home, id++);
-        }
+            for (f = 0; f < 4; f++) {
+                failed += !one_hold(&h, arm_pid, (motion)mo, FREEZE_S[f], id++, qd_plan);
+                go_home(&h, q_home, id++);
+            }
     tandem_arm_state_t_unsubscribe(h.lcm, s_state);
     tandem_action_event_t_unsubscribe(h.lcm, s_event);
     harness_close(&h);

@@ -34,8 +34,8 @@
 #include "tandem_rover_command_t.h"
 
 #define SNAP_HEAD 32
-#define SNAP_TASK 27      /* digest (2 halves), name (3 parts of 6 bytes) */
-#define SNAP_LEN  (SNAP_HEAD + CARRY_N_PLACES + 6 * CARRY_N_TRANSITIONS)
+#define SNAP_TASK 27 /* digest (2 halves), name (3 parts of 6 bytes) */
+#define SNAP_LEN (SNAP_HEAD + CARRY_N_PLACES + 6 * CARRY_N_TRANSITIONS)
 
 /* What the tests share (cmocka's state). */
 typedef struct ctx {
@@ -50,9 +50,9 @@ static int fresh_snapshot(double *v)
     const uint64_t digest = taskdef_digest(&carry_net, carry_table);
     const char *name = "carry";
     memset(v, 0, SNAP_LEN * sizeof *v);
-    v[0] = 3;           /* version */
-    v[1] = 100;         /* step */
-    v[4] = 1;           /* next row */
+    v[0] = 3;   /* version */
+    v[1] = 100; /* step */
+    v[4] = 1;   /* next row */
     v[SNAP_TASK] = (double)(digest >> 32);
     v[SNAP_TASK + 1] = (double)(digest & 0xffffffffu);
     for (i = 0; name[i]; i++)
@@ -72,11 +72,11 @@ static void write_journal(const char *path, const journal_key *key, const double
     journal_close(&j);
 }
 
-static journal_key run_key(void)
+static journal_key run_key(const harness *h)
 {
     journal_key k;
     memset(&k, 0, sizeof k);
-    k.keyed = auth_bus_journal_key(k.bytes);
+    k.keyed = auth_bus_journal_key(&h->bus, k.bytes);
     assert_int_equal(k.keyed, 1);
     return k;
 }
@@ -91,8 +91,9 @@ static int supervisor(ctx *c, const char *path, const char *extra, char *err, in
     int rc;
     snprintf(errf, sizeof errf, "%s/sup.err", dir);
     snprintf(outf, sizeof outf, "%s/sup.out", dir);
-    rc = harness_sh("timeout -s TERM 3 %s/tandem-supervisor --lcm-url '%s' --journal '%s' %s >'%s' 2>'%s'", bin,
-                    c->h.url, path, extra ? extra : "", outf, errf);
+    rc = harness_sh(
+        "timeout -s TERM 3 %s/tandem-supervisor --lcm-url '%s' --journal '%s' %s >'%s' 2>'%s'", bin,
+        c->h.url, path, extra ? extra : "", outf, errf);
     harness_slurp(errf, err, cap);
     if (WIFEXITED(rc) && WEXITSTATUS(rc) == 124)
         return -1;
@@ -112,8 +113,8 @@ static void test_journal_refused_or_resumed(void **state)
     static char err[8192], text[1 << 16];
     char path[400];
     double v[SNAP_LEN];
-    journal_key key = run_key(), other = key;
     ctx *c = *state;
+    journal_key key = run_key(&c->h), other = key;
     FILE *f;
     long n;
     snprintf(path, sizeof path, "%s/sup.journal", c->dir);
@@ -132,7 +133,9 @@ static void test_journal_refused_or_resumed(void **state)
     expect_refused(c, path, "record 2 (line 2)", "JOURNAL_ERR_TORN");
     /* garbage */
     assert_non_null(f = fopen(path, "w"));
-    fputs("\x7f" "ELF garbage\n", f);
+    fputs("\x7f"
+          "ELF garbage\n",
+          f);
     fclose(f);
     expect_refused(c, path, "record 1 (line 1)", "JOURNAL_ERR_FORMAT");
     /* edited, its checksum recomputed without the key */
@@ -161,14 +164,16 @@ static void test_journal_of_another_task_refused(void **state)
     char path[400], task[400], extra[600];
     const char *need[4];
     double v[SNAP_LEN];
-    const journal_key key = run_key();
     ctx *c = *state;
+    const journal_key key = run_key(&c->h);
     int i;
     snprintf(path, sizeof path, "%s/task.journal", c->dir);
     snprintf(task, sizeof task, "%s/carry_t1_fine", c->dir);
-    assert_int_equal(harness_sh("mkdir -p %s && cp tasks/carry/carry.pnml %s/ && "
-                                "sed 's/^t1,yes,FREE,/t1,yes,FINE,/' tasks/carry/rows.csv >%s/rows.csv",
-                                task, task, task), 0);
+    assert_int_equal(
+        harness_sh("mkdir -p %s && cp tasks/carry/carry.pnml %s/ && "
+                   "sed 's/^t1,yes,FREE,/t1,yes,FINE,/' tasks/carry/rows.csv >%s/rows.csv",
+                   task, task, task),
+        0);
     fresh_snapshot(v);
     /* tasks/carry is the shipped carry as files: the same task, resumed */
     write_journal(path, &key, v);
@@ -222,26 +227,30 @@ static void test_disk_full_holds(void **state)
 
 /* What the rovers sent: commands per robot, robot 1's last health. */
 typedef struct rover_seen {
-    int    cmds[3];
-    double max_speed[3];          /* |v| + |w| */
-    int    held, health;
-    char   status[128];
+    int cmds[3];
+    double max_speed[3]; /* |v| + |w| */
+    int held, health;
+    char status[128];
 } rover_seen;
 
-static void on_rover_cmd(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_command_t *m, void *u)
+static void on_rover_cmd(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_command_t *m,
+                         void *u)
 {
     rover_seen *w = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     if (m->robot == 1 || m->robot == 2) {
         w->cmds[m->robot]++;
         w->max_speed[m->robot] = fmax(w->max_speed[m->robot], fabs(m->v_mps) + fabs(m->w_radps));
     }
 }
 
-static void on_rover_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
+static void on_rover_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m,
+                            void *u)
 {
     rover_seen *w = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     w->health++;
     w->held = m->safe_hold;
     snprintf(w->status, sizeof w->status, "%s", m->status);
@@ -253,8 +262,8 @@ AUTH_TYPED_HANDLER(tandem_health_t, raw_on_rover_health, on_rover_health)
 static void test_rover_disk_full_stops(void **state)
 {
     const char *sim[] = { "tandem-sim", "--no-arms", "--rovers", "2", "--world", "open", NULL };
-    const char *r1[] = { "tandem-rover", "--id", "1", "--robots", "2", "--journal", "/dev/full", "--journal-reset",
-                         NULL };
+    const char *r1[] = { "tandem-rover",    "--id", "1", "--robots", "2", "--journal", "/dev/full",
+                         "--journal-reset", NULL };
     const char *r2[] = { "tandem-rover", "--id", "2", "--robots", "2", NULL };
     rover_seen w;
     lcm_subscription_t *s1, *s2, *s3;
@@ -263,16 +272,17 @@ static void test_rover_disk_full_stops(void **state)
     if (access("/dev/full", W_OK) != 0)
         skip();
     memset(&w, 0, sizeof w);
-    s1 = auth_bus_subscribe(h->lcm, "ROVER1_COMMAND", raw_on_rover_cmd, &w);
-    s2 = auth_bus_subscribe(h->lcm, "ROVER2_COMMAND", raw_on_rover_cmd, &w);
-    s3 = auth_bus_subscribe(h->lcm, "HEALTH_TANDEM_ROVER_1", raw_on_rover_health, &w);
+    s1 = auth_bus_subscribe(&h->bus, h->lcm, "ROVER1_COMMAND", raw_on_rover_cmd, &w);
+    s2 = auth_bus_subscribe(&h->bus, h->lcm, "ROVER2_COMMAND", raw_on_rover_cmd, &w);
+    s3 = auth_bus_subscribe(&h->bus, h->lcm, "HEALTH_TANDEM_ROVER_1", raw_on_rover_health, &w);
     assert_true(harness_spawn(h, sim) > 0);
     assert_true(harness_spawn(h, r1) > 0);
     assert_true(harness_spawn(h, r2) > 0);
     harness_pump(h, 6000);
-    printf("robot 1 (journal on /dev/full): %d commands, max |v|+|w| %.3f; robot 2: %d commands, max %.3f; "
-           "robot 1's health: safe_hold %d, \"%s\"\n", w.cmds[1], w.max_speed[1], w.cmds[2], w.max_speed[2],
-           w.held, w.status);
+    printf(
+        "robot 1 (journal on /dev/full): %d commands, max |v|+|w| %.3f; robot 2: %d commands, max %.3f; "
+        "robot 1's health: safe_hold %d, \"%s\"\n",
+        w.cmds[1], w.max_speed[1], w.cmds[2], w.max_speed[2], w.held, w.status);
     assert_true(w.cmds[1] > 20 && w.cmds[2] > 20);
     assert_true(w.max_speed[1] == 0.0);
     assert_true(w.max_speed[2] > 0.05);

@@ -32,16 +32,18 @@
 
 static struct {
     tandem_arm_state_t arm[2];
-    int     have[2];
+    int have[2];
     int64_t clock_step;
-    int     clock_new;
+    int clock_new;
 } O;
 static tandem_arm_state_t_subscription_t *sub_state[2];
 static tandem_sim_clock_t_subscription_t *sub_clock;
 
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_state_t *m, void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     if (m->arm == 1 || m->arm == 2) {
         O.arm[m->arm - 1] = *m;
         O.have[m->arm - 1] = 1;
@@ -50,7 +52,9 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_
 
 static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_clock_t *m, void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     O.clock_step = m->step;
     O.clock_new = 1;
 }
@@ -116,8 +120,8 @@ static void test_limits_hold_under_torque(void **state)
         c.step = k;
         c.mode = TANDEM_ARM_COMMAND_T_MODE_TORQUE;
         for (i = 0; i < ARM_NJ; i++)
-            c.tau_Nm[i] = dir * 1.5 * m->tau_max_Nm[i];   /* the simulator takes up to 2x */
-        AUTH_PUBLISH(tandem_arm_command_t, h.lcm, "ARM1_COMMAND", &c);
+            c.tau_Nm[i] = dir * 1.5 * m->tau_max_Nm[i]; /* the simulator takes up to 2x */
+        AUTH_PUBLISH(tandem_arm_command_t, &h.bus, h.lcm, "ARM1_COMMAND", &c);
         k = step_once(&h, k);
 
         for (i = 0; i < ARM_NJ; i++) {
@@ -143,12 +147,13 @@ static void test_limits_hold_under_torque(void **state)
             q_hi[i] = fmax(q_hi[i], q);
         }
     }
-    printf("1.5x peak torque on every joint, 12 s: furthest past a range end %.2f mrad, max |qd|/qd_max %.3f "
-           "(q%d at step %lld); within 10 ms of a stop impact %.3f\n", past * 1e3, speed_ratio, j_fast,
-           (long long)k_fast, spike);
+    printf(
+        "1.5x peak torque on every joint, 12 s: furthest past a range end %.2f mrad, max |qd|/qd_max %.3f "
+        "(q%d at step %lld); within 10 ms of a stop impact %.3f\n",
+        past * 1e3, speed_ratio, j_fast, (long long)k_fast, spike);
     for (i = 0; i < ARM_NJ; i++) {
-        printf("  q%d reached [%.1f, %.1f] deg of [%.0f, %.0f]\n", i + 1, q_lo[i] * 57.29578, q_hi[i] * 57.29578,
-               m->q_min_rad[i] * 57.29578, m->q_max_rad[i] * 57.29578);
+        printf("  q%d reached [%.1f, %.1f] deg of [%.0f, %.0f]\n", i + 1, q_lo[i] * 57.29578,
+               q_hi[i] * 57.29578, m->q_min_rad[i] * 57.29578, m->q_max_rad[i] * 57.29578);
         assert_true(q_lo[i] < m->q_min_rad[i] + 0.02 && q_hi[i] > m->q_max_rad[i] - 0.02);
     }
     assert_true(past <= ARM_RANGE_TOL_RAD);
@@ -164,7 +169,7 @@ static void stick(harness *h, int cmd, int arm, int link)
     c.link = link;
     c.length_m = 0.3;
     c.radius_m = 0.02;
-    AUTH_PUBLISH(tandem_sim_control_t, h->lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, &h->bus, h->lcm, "SIM_CONTROL", &c);
 }
 
 static double max_force(int raw)
@@ -201,11 +206,11 @@ static void test_stick_goes_in_clear_of_the_arms(void **state)
             int64_t k0 = k;
             int contact = 0;
             harness_send_joint_row(&h, a + 1, 10 * (a * ARM_NJ + link), out ? q_out[a] : q_home[a]);
-            while (k - k0 < 400)          /* under way */
+            while (k - k0 < 400) /* under way */
                 k = step_once(&h, k);
             stick(&h, TANDEM_SIM_CONTROL_T_INSERT_STICK, a + 1, link);
-            k = step_once(&h, k);         /* the stick is placed at this step ... */
-            k = step_once(&h, k);         /* ... and this step's state has its contacts */
+            k = step_once(&h, k); /* the stick is placed at this step ... */
+            k = step_once(&h, k); /* ... and this step's state has its contacts */
             tried++;
             if (max_force(1) > 0.0)
                 printf("arm %d link %d: contact %.1f N at insertion\n", a + 1, link, max_force(1));
@@ -217,12 +222,13 @@ static void test_stick_goes_in_clear_of_the_arms(void **state)
             }
             touched += contact;
             stick(&h, TANDEM_SIM_CONTROL_T_REMOVE_STICK, 0, 0);
-            for (k0 = k; k - k0 < 2500;)  /* let the move finish */
+            for (k0 = k; k - k0 < 2500;) /* let the move finish */
                 k = step_once(&h, k);
         }
     printf("stick inserted %d times, never touching an arm at insertion; %d links ran into it; "
-           "max 10 ms contact force %.1f N\n", tried, touched, f10_max);
-    assert_true(touched >= 1);           /* placed in the paths: some links meet it */
+           "max 10 ms contact force %.1f N\n",
+           tried, touched, f10_max);
+    assert_true(touched >= 1); /* placed in the paths: some links meet it */
     assert_true(f10_max <= 1000.0);
     close_bus(&h);
 }

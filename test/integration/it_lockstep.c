@@ -27,12 +27,13 @@ static unsigned long long run_and_hash(int seed, int offset, int flood, long *re
 {
     harness h;
     char seed_s[16], out[4096];
-    const char *sim[] = { "tandem-sim", "--lockstep", "--expect", "2", "--steps", "2000",
-                          "--seed", seed_s, NULL };
+    const char *sim[] = { "tandem-sim", "--lockstep", "--expect", "2", "--steps",
+                          "2000",       "--seed",     seed_s,     NULL };
     const char *arm1[] = { "tandem-arm", "--arm", "1", "--lockstep", NULL };
     const char *arm2[] = { "tandem-arm", "--arm", "2", "--lockstep", NULL };
-    const char *names[] = { "tandem-flood", "--kind", "junk", "--random-channels", "--rate", "30000",
-                            "--duration", "120", NULL };
+    const char *names[] = { "tandem-flood",      "--kind", "junk",
+                            "--random-channels", "--rate", "30000",
+                            "--duration",        "120",    NULL };
     pid_t ps;
     char *p;
     unsigned long long hash = 0;
@@ -84,8 +85,9 @@ static void test_renewed_handles_same_state(void **state)
     (void)state;
     a = run_and_hash(7, 3, 0, &ra);
     b = run_and_hash(7, 4, 1, &rb);
-    printf("state hashes: %016llx, under a flood of names %016llx (%ld renewals of the simulator's handle)\n",
-           a, b, rb);
+    printf(
+        "state hashes: %016llx, under a flood of names %016llx (%ld renewals of the simulator's handle)\n",
+        a, b, rb);
     assert_true(a == b);
     assert_true(rb >= 1);
 }
@@ -101,10 +103,12 @@ typedef struct watch {
     int64_t last_step;
 } watch;
 
-static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *m, void *u)
+static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *m,
+                      void *u)
 {
     watch *w = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     w->status = *m;
     w->have_status = 1;
 }
@@ -112,14 +116,16 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim
 static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
 {
     watch *w = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     w->arm1_rejected = m->msgs_rejected;
 }
 
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_state_t *m, void *u)
 {
     watch *w = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     if (!w->have_q)
         memcpy(w->q_first, m->q_rad, sizeof w->q_first);
     memcpy(w->q_last, m->q_rad, sizeof w->q_last);
@@ -135,39 +141,39 @@ static void publish_bad_inputs(harness *h)
     const char junk[] = "definitely not an LCM message";
     int i;
     /* 1: garbage bytes (fingerprint mismatch) to the sim and to the controller */
-    auth_bus_publish_raw(h->lcm, "ARM1_COMMAND", junk, (int)sizeof junk);
-    auth_bus_publish_raw(h->lcm, "ARM1_STATE", junk, (int)sizeof junk);
-    auth_bus_publish_raw(h->lcm, "SIM_CONTROL", junk, 4);
+    auth_bus_publish_raw(&h->bus, h->lcm, "ARM1_COMMAND", junk, (int)sizeof junk);
+    auth_bus_publish_raw(&h->bus, h->lcm, "ARM1_STATE", junk, (int)sizeof junk);
+    auth_bus_publish_raw(&h->bus, h->lcm, "SIM_CONTROL", junk, 4);
     /* 2: a command with a NaN torque */
     memset(&c, 0, sizeof c);
     c.arm = 1;
     c.step = 1000000;
     c.tau_Nm[2] = NAN;
-    AUTH_PUBLISH(tandem_arm_command_t, h->lcm, "ARM1_COMMAND", &c);
+    AUTH_PUBLISH(tandem_arm_command_t, &h->bus, h->lcm, "ARM1_COMMAND", &c);
     /* 3: torques far beyond the motor limits */
     c.tau_Nm[2] = 0.0;
     for (i = 0; i < 6; i++)
         c.tau_Nm[i] = 1e6;
-    AUTH_PUBLISH(tandem_arm_command_t, h->lcm, "ARM1_COMMAND", &c);
+    AUTH_PUBLISH(tandem_arm_command_t, &h->bus, h->lcm, "ARM1_COMMAND", &c);
     /* 4: the wrong arm id on arm 1's channel */
     memset(&c, 0, sizeof c);
     c.arm = 2;
     c.step = 1000000;
-    AUTH_PUBLISH(tandem_arm_command_t, h->lcm, "ARM1_COMMAND", &c);
+    AUTH_PUBLISH(tandem_arm_command_t, &h->bus, h->lcm, "ARM1_COMMAND", &c);
     /* 5: an unknown mode */
     c.arm = 1;
     c.mode = 42;
-    AUTH_PUBLISH(tandem_arm_command_t, h->lcm, "ARM1_COMMAND", &c);
+    AUTH_PUBLISH(tandem_arm_command_t, &h->bus, h->lcm, "ARM1_COMMAND", &c);
     /* 6: a state with NaN joints to the controller */
     memset(&s, 0, sizeof s);
     s.arm = 1;
     s.step = 1000000;
     s.q_rad[0] = NAN;
-    AUTH_PUBLISH(tandem_arm_state_t, h->lcm, "ARM1_STATE", &s);
+    AUTH_PUBLISH(tandem_arm_state_t, &h->bus, h->lcm, "ARM1_STATE", &s);
     /* 7: an out-of-range simulator command */
     memset(&sc, 0, sizeof sc);
     sc.command = 99;
-    AUTH_PUBLISH(tandem_sim_control_t, h->lcm, "SIM_CONTROL", &sc);
+    AUTH_PUBLISH(tandem_sim_control_t, &h->bus, h->lcm, "SIM_CONTROL", &sc);
 }
 
 static void test_bad_messages_counted_and_ignored(void **state)
@@ -199,9 +205,10 @@ static void test_bad_messages_counted_and_ignored(void **state)
     memcpy(w.q_first, w.q_last, sizeof w.q_first);
     publish_bad_inputs(&h);
     assert_int_equal(harness_wait(&h, ps, 60.0), 0);
-    harness_pump(&h, 1200);   /* the arm's next health message */
+    harness_pump(&h, 1200); /* the arm's next health message */
     assert_true(w.have_status);
-    printf("sim rejected %lld, arm 1 rejected %lld\n", (long long)w.status.msgs_rejected, w.arm1_rejected);
+    printf("sim rejected %lld, arm 1 rejected %lld\n", (long long)w.status.msgs_rejected,
+           w.arm1_rejected);
     /* sim: 2 garbage + NaN + huge + wrong arm + bad mode + bad control = 7 */
     assert_true(w.status.msgs_rejected >= 7);
     /* controller: garbage + NaN state = 2 */

@@ -33,12 +33,13 @@ static void write_event(lcm_eventlog_t *log, const char *channel, void *data, in
     assert_int_equal(lcm_eventlog_write_event(log, &ev), 0);
 }
 
-#define WRITE_MSG(log, type, channel, msg, t_us) do { \
-        int len_ = type##_encoded_size(msg); \
-        char *buf_ = malloc((size_t)len_); \
+#define WRITE_MSG(log, type, channel, msg, t_us)                \
+    do {                                                        \
+        int len_ = type##_encoded_size(msg);                    \
+        char *buf_ = malloc((size_t)len_);                      \
         assert_true(type##_encode(buf_, 0, len_, msg) == len_); \
-        write_event(log, channel, buf_, len_, t_us); \
-        free(buf_); \
+        write_event(log, channel, buf_, len_, t_us);            \
+        free(buf_);                                             \
     } while (0)
 
 static int write_log(void **state)
@@ -58,8 +59,10 @@ static int write_log(void **state)
     st.workpieces_delivered = 3;
     WRITE_MSG(log, tandem_sim_status_t, "SIM_STATUS", &st, 1000000);
     memset(rs, 0, sizeof rs);
-    rs[0].robot = 4; rs[0].formation_err_m = 0.25;
-    rs[1].robot = 7; rs[1].formation_err_m = 0.5;
+    rs[0].robot = 4;
+    rs[0].formation_err_m = 0.25;
+    rs[1].robot = 7;
+    rs[1].formation_err_m = 0.5;
     memset(&batch, 0, sizeof batch);
     batch.n = 2;
     batch.state = rs;

@@ -43,12 +43,22 @@ static char dir[256];
 
 static int formation_fault(const char *out, const char *drop, const char *kill, const char *fault)
 {
-    const char *argv[20] = { "tandem-scenario", "formation", "--formation", "line", "--world", "obstacles",
-                             "--robots", "3", "--seed", "2", "--out", out };
+    const char *argv[20] = { "tandem-scenario", "formation", "--formation", "line",
+                             "--world",         "obstacles", "--robots",    "3",
+                             "--seed",          "2",         "--out",       out };
     int n = 12;
-    if (drop) { argv[n++] = "--drop-rate"; argv[n++] = drop; }
-    if (kill) { argv[n++] = "--kill"; argv[n++] = kill; }
-    if (fault) { argv[n++] = "--fault"; argv[n++] = fault; }
+    if (drop) {
+        argv[n++] = "--drop-rate";
+        argv[n++] = drop;
+    }
+    if (kill) {
+        argv[n++] = "--kill";
+        argv[n++] = kill;
+    }
+    if (fault) {
+        argv[n++] = "--fault";
+        argv[n++] = fault;
+    }
     argv[n] = NULL;
     return harness_run(argv, 120.0);
 }
@@ -81,9 +91,10 @@ static void test_loss_leaves_the_run_unchanged(void **state)
 static void test_killed_arm_and_supervisor_recover(void **state)
 {
     char out[300], path[400], text[16384];
-    const char *argv[] = { "tandem-scenario", "carry", "--workpieces", "1", "--no-serial",
-                           "--fault", "kill:arm1:2.5:3.5", "--fault", "kill:supervisor:9:10",
-                           "--out", out, NULL };
+    const char *argv[] = {
+        "tandem-scenario",   "carry",   "--workpieces",         "1",     "--no-serial", "--fault",
+        "kill:arm1:2.5:3.5", "--fault", "kill:supervisor:9:10", "--out", out,           NULL
+    };
     (void)state;
     snprintf(out, sizeof out, "%s/restart", dir);
     assert_int_equal(harness_run(argv, 240.0), 0);
@@ -133,7 +144,7 @@ static void test_killed_rover_process_resumes(void **state)
     assert_true(harness_slurp(path, text, sizeof text) > 0);
     assert_true(harness_json_value(text, "kills") == 1.0);
     assert_true(harness_json_value(text, "restarts") == 1.0);
-    assert_true(harness_json_value(text, "loc_err_max_m") < 0.1);   /* it knew where it was */
+    assert_true(harness_json_value(text, "loc_err_max_m") < 0.1); /* it knew where it was */
     assert_non_null(strstr(text, "\"reached_goal\": true"));
     snprintf(path, sizeof path, "%s/children.log", out0);
     assert_true(harness_slurp(path, log, sizeof log) > 0);
@@ -151,8 +162,8 @@ static void test_killed_rover_process_resumes(void **state)
 
 /* Waits (at most n ticks) for the scenario to end, killing what is left
  * if it does not; reads its summary.json into text. Returns its status. */
-static int scenario_end(proc_set *ps, pid_t scen, int n, const struct timespec *tick, const char *out, char *text,
-                        int cap)
+static int scenario_end(proc_set *ps, pid_t scen, int n, const struct timespec *tick,
+                        const char *out, char *text, int cap)
 {
     char path[400];
     int st = -1, i;
@@ -168,28 +179,29 @@ static int scenario_end(proc_set *ps, pid_t scen, int n, const struct timespec *
 static void test_hung_supervisor_restarted(void **state)
 {
     char out[300], text[16384];
-    const char *argv[] = { "tandem-scenario", "carry", "--workpieces", "1", "--no-serial", "--hang-s", "3",
-                           "--out", out, NULL };
+    const char *argv[] = { "tandem-scenario", "carry", "--workpieces", "1", "--no-serial",
+                           "--hang-s",        "3",     "--out",        out, NULL };
     const struct timespec tick = { 0, 100000000L };
     proc_set ps;
     pid_t scen, sup = -1;
     int i;
     (void)state;
     snprintf(out, sizeof out, "%s/hung", dir);
-    proc_init(&ps, NULL);
+    proc_init(&ps, NULL, NULL);
     scen = proc_spawn(&ps, argv, NULL, NULL, NULL);
     assert_true(scen > 0);
     /* into the run (a few seconds of wall time), then stop the supervisor */
     for (i = 0; i < 40; i++)
         nanosleep(&tick, NULL);
-    for (i = 0; i < 100 && (sup = harness_child_named(scen, "tandem-supervisor", NULL, NULL)) <= 0; i++)
+    for (i = 0; i < 100 && (sup = harness_child_named(scen, "tandem-supervisor", NULL, NULL)) <= 0;
+         i++)
         nanosleep(&tick, NULL);
     assert_true(sup > 0);
     assert_int_equal(kill(sup, SIGSTOP), 0);
     assert_int_equal(scenario_end(&ps, scen, 2400, &tick, out, text, sizeof text), 0);
-    printf("hung restarts %.0f kills %.0f restarts %.0f delivered %.0f\n", harness_json_value(text, "hung_restarts"),
-           harness_json_value(text, "kills"), harness_json_value(text, "restarts"),
-           harness_json_value(text, "workpieces_delivered"));
+    printf("hung restarts %.0f kills %.0f restarts %.0f delivered %.0f\n",
+           harness_json_value(text, "hung_restarts"), harness_json_value(text, "kills"),
+           harness_json_value(text, "restarts"), harness_json_value(text, "workpieces_delivered"));
     assert_true(harness_json_value(text, "hung_restarts") == 1.0);
     assert_true(harness_json_value(text, "workpieces_delivered") == 1.0);
     assert_true(harness_json_value(text, "workpieces_dropped") == 0.0);
@@ -200,15 +212,16 @@ static void test_hung_supervisor_restarted(void **state)
 static void test_hung_rover_restarted(void **state)
 {
     char out[300], path[400], text[16384];
-    const char *argv[] = { "tandem-scenario", "formation", "--formation", "line", "--world", "obstacles",
-                           "--robots", "3", "--seed", "2", "--hang-s", "2", "--out", out, NULL };
+    const char *argv[] = { "tandem-scenario", "formation", "--formation", "line",   "--world",
+                           "obstacles",       "--robots",  "3",           "--seed", "2",
+                           "--hang-s",        "2",         "--out",       out,      NULL };
     const struct timespec tick = { 0, 10000000L };
     proc_set ps;
     pid_t scen, rover = -1;
     int i;
     (void)state;
     snprintf(out, sizeof out, "%s/hung_rover", dir);
-    proc_init(&ps, NULL);
+    proc_init(&ps, NULL, NULL);
     scen = proc_spawn(&ps, argv, NULL, NULL, NULL);
     assert_true(scen > 0);
     /* the whole run takes about a second: stop robot 2's process once
@@ -229,15 +242,16 @@ static void test_hung_rover_restarted(void **state)
 
 typedef struct loss_seen {
     int64_t lost;
-    double  rate;
-    int     heard;
+    double rate;
+    int heard;
 } loss_seen;
 
 static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
 {
     loss_seen *w = u;
     int i;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     for (i = 0; i < m->n_channels; i++)
         if (!strcmp(m->channel[i], "ARM1_STATE")) {
             w->lost = m->channel_lost[i];
@@ -266,18 +280,18 @@ static void test_loss_visible_in_health(void **state)
     s.holding_workpiece = -1;
     for (seq = 0, i = 0; i < 40; i++, seq++) {
         if (i == 20)
-            seq += 10;                /* ten states lost on the way */
+            seq += 10; /* ten states lost on the way */
         s.seq = seq;
         s.step = i;
         s.sim_time_s = i * 1e-3;
-        AUTH_PUBLISH(tandem_arm_state_t, h.lcm, "ARM1_STATE", &s);
+        AUTH_PUBLISH(tandem_arm_state_t, &h.bus, h.lcm, "ARM1_STATE", &s);
         harness_pump(&h, 2);
     }
     for (i = 0; i < 30 && !(w.heard && w.lost > 0); i++)
         harness_pump(&h, 100);
     printf("ARM1_STATE lost %lld, loss rate %.3f\n", (long long)w.lost, w.rate);
     assert_int_equal(w.lost, 10);
-    assert_true(w.rate > 0.1 && w.rate < 0.3);   /* 10 of 50 */
+    assert_true(w.rate > 0.1 && w.rate < 0.3); /* 10 of 50 */
     tandem_health_t_unsubscribe(h.lcm, sub);
     harness_close(&h);
 }

@@ -39,15 +39,15 @@
 #include "tandem_health_t.h"
 #include "tandem_sim_control_t.h"
 
-#define ATTACKS 20                 /* each kind of message, 30 ms apart */
+#define ATTACKS 20 /* each kind of message, 30 ms apart */
 #define ATTACK_GAP_NS 30000000L
-#define MOVE_RAD 0.5               /* what the forged rows ask of joint 1 */
-#define STILL_RAD 0.02             /* arm 1 stood still: joint 1 moved less */
+#define MOVE_RAD 0.5   /* what the forged rows ask of joint 1 */
+#define STILL_RAD 0.02 /* arm 1 stood still: joint 1 moved less */
 
 typedef struct arm_view {
     double q[6];
-    int    seen;
-    int    events[16];     /* ARM_EVENTS of arm 1 by kind, rows of ours (900..999) only */
+    int seen;
+    int events[16]; /* ARM_EVENTS of arm 1 by kind, rows of ours (900..999) only */
 } arm_view;
 
 static uint64_t now_us(void)
@@ -115,14 +115,14 @@ static void publish_signed_as(lcm_t *l, const auth_keyset *k, const auth_sender 
 {
     size_t out = 0;
     uint64_t last = 0;
-    if (auth_sign(k, as, auth_next_counter(&last, now_us()), ch, AUTH_ROLES_ALL, NULL, buf, (size_t)len,
-                  (size_t)cap, &out) == AUTH_OK)
+    if (auth_sign(k, as, auth_next_counter(&last, now_us()), ch, AUTH_ROLES_ALL, NULL, buf,
+                  (size_t)len, (size_t)cap, &out) == AUTH_OK)
         lcm_publish(l, ch, buf, (unsigned)out);
 }
 
 /* ---- the process with rover 1's role file ------------------------------------------ */
 
-static void rover_round(lcm_t *l, const auth_keyset *k, int i, const double q[6])
+static void rover_round(auth_bus *bus, lcm_t *l, const auth_keyset *k, int i, const double q[6])
 {
     const auth_sender sup = { AUTH_ROLE_SUPERVISOR, 0, 0, 7u };
     tandem_arm_command_t cmd;
@@ -131,15 +131,15 @@ static void rover_round(lcm_t *l, const auth_keyset *k, int i, const double q[6]
     int n;
     /* as itself: a well-signed message of a principal that may not send it */
     n = encode_row(buf, (int)sizeof buf - AUTH_TRAILER_MAX, 900 + i, q);
-    auth_bus_publish_raw(l, "ARM1_ACTION", buf, n);
+    auth_bus_publish_raw(bus, l, "ARM1_ACTION", buf, n);
     memset(&cmd, 0, sizeof cmd);
     cmd.arm = 1;
     cmd.mode = i % 2 ? TANDEM_ARM_COMMAND_T_MODE_BRAKE : TANDEM_ARM_COMMAND_T_MODE_TORQUE;
     cmd.tau_Nm[0] = 40.0;
-    AUTH_PUBLISH(tandem_arm_command_t, l, "ARM1_COMMAND", &cmd);
+    AUTH_PUBLISH(tandem_arm_command_t, bus, l, "ARM1_COMMAND", &cmd);
     memset(&c, 0, sizeof c);
     c.command = TANDEM_SIM_CONTROL_T_QUIT;
-    AUTH_PUBLISH(tandem_sim_control_t, l, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, bus, l, "SIM_CONTROL", &c);
     /* as the supervisor: it holds none of the supervisor's keys */
     n = encode_row(buf, (int)sizeof buf - AUTH_TRAILER_MAX, 950 + i, q);
     publish_signed_as(l, k, &sup, "ARM1_ACTION", buf, n, (int)sizeof buf);
@@ -150,6 +150,7 @@ static int as_rover1(int argc, char **argv)
 {
     const auth_peer me = { AUTH_ROLE_ROVER, 1, 1 };
     const char *key = argv[2] + strlen("--key-file=");
+    auth_bus bus;
     auth_keyset *k;
     double q[6];
     char why[700];
@@ -159,15 +160,17 @@ static int as_rover1(int argc, char **argv)
         return 2;
     for (i = 0; i < 6; i++)
         q[i] = atof(argv[4 + i]);
-    unsetenv(AUTH_BUS_KEY_ENV);   /* nothing but the role file */
-    if (auth_bus_option("it_roles", OPT_KEY_FILE, key) != 1)
+    unsetenv(AUTH_BUS_KEY_ENV); /* nothing but the role file */
+    auth_bus_init(&bus);
+    if (auth_bus_option(&bus, "it_roles", OPT_KEY_FILE, key) != 1)
         return 3;
-    auth_bus_identity(AUTH_ROLE_ROVER, 1, 1);
-    if (auth_bus_start("it_roles rover 1") != 0 || !(k = auth_keyset_new()) ||
-        auth_keyset_load(k, key, &me, why, sizeof why) != AUTH_OK || k->is_master || !(l = lcm_create(argv[3])))
+    auth_bus_identity(&bus, AUTH_ROLE_ROVER, 1, 1);
+    if (auth_bus_start(&bus, "it_roles rover 1") != 0 || !(k = auth_keyset_new()) ||
+        auth_keyset_load(k, key, &me, why, sizeof why) != AUTH_OK || k->is_master ||
+        !(l = lcm_create(argv[3])))
         return 4;
     for (i = 0; i < ATTACKS; i++) {
-        rover_round(l, k, i, q);
+        rover_round(&bus, l, k, i, q);
         pause_ns(ATTACK_GAP_NS);
     }
     auth_keyset_free(k);
@@ -202,7 +205,8 @@ static void rover1_key(auth_child_keys *keys, char *path, size_t cap)
 static void run_rover1(harness *h, const char *key, const double q[6])
 {
     char key_opt[700], qs[6][32];
-    const char *argv[] = { "it_roles", "--as-rover1", key_opt, h->url, qs[0], qs[1], qs[2], qs[3], qs[4], qs[5], NULL };
+    const char *argv[] = { "it_roles", "--as-rover1", key_opt, h->url, qs[0], qs[1],
+                           qs[2],      qs[3],         qs[4],   qs[5],  NULL };
     pid_t p;
     int i, st = -1;
     snprintf(key_opt, sizeof key_opt, "--key-file=%s", key);
@@ -250,8 +254,8 @@ static void test_rover_key_commands_no_arm(void **state)
     int i;
     (void)state;
     memset(&v, 0, sizeof v);
-    auth_child_keys_init(&keys);
     assert_int_equal(harness_open(&h, 51), 0);
+    auth_child_keys_init(&keys, &h.bus);
     harness_watch_health(&h);
     lcm_subscribe(h.lcm, "ARM1_STATE", on_arm1, &v);
     lcm_subscribe(h.lcm, "ARM_EVENTS", on_event, &v);
@@ -282,10 +286,13 @@ static void test_rover_key_commands_no_arm(void **state)
     printf("arm 1 joint 1: %.4f rad before, %.4f after rover 1's rows\n", q0[0], v.q[0]);
     assert_true(fabs(v.q[0] - q0[0]) < STILL_RAD);
     assert_int_equal(v.events[TANDEM_ACTION_EVENT_T_STARTED], 0);
-    assert_int_equal(proc_poll(&h.procs, p_sim, NULL), 0);   /* the QUITs were not obeyed */
-    assert_in_range(a1.refused[4] - a0.refused[4], ATTACKS - ATTACKS / 10, ATTACKS);   /* rows as rover 1 */
-    assert_in_range(a1.refused[1] - a0.refused[1], ATTACKS - ATTACKS / 10, ATTACKS);   /* rows "as the supervisor" */
-    assert_in_range(s1.refused[4] - s0.refused[4], 2 * (ATTACKS - ATTACKS / 10), 2 * ATTACKS);   /* commands, QUITs */
+    assert_int_equal(proc_poll(&h.procs, p_sim, NULL), 0); /* the QUITs were not obeyed */
+    assert_in_range(a1.refused[4] - a0.refused[4], ATTACKS - ATTACKS / 10,
+                    ATTACKS); /* rows as rover 1 */
+    assert_in_range(a1.refused[1] - a0.refused[1], ATTACKS - ATTACKS / 10,
+                    ATTACKS); /* rows "as the supervisor" */
+    assert_in_range(s1.refused[4] - s0.refused[4], 2 * (ATTACKS - ATTACKS / 10),
+                    2 * ATTACKS); /* commands, QUITs */
 
     /* 2: a row of another cell */
     relay_other_cell(&h, target);
@@ -303,7 +310,8 @@ static void test_rover_key_commands_no_arm(void **state)
     a2 = harness_health_of(&h, "tandem-arm-1");
     harness_print_refused(&a2);
     assert_int_equal(v.events[TANDEM_ACTION_EVENT_T_STARTED], 1);
-    printf("arm 1 joint 1: %.4f rad after this cell's supervisor's row (asked %.4f)\n", v.q[0], target[0]);
+    printf("arm 1 joint 1: %.4f rad after this cell's supervisor's row (asked %.4f)\n", v.q[0],
+           target[0]);
     assert_true(fabs(v.q[0] - q0[0]) > MOVE_RAD / 2);
     auth_child_keys_remove(&keys);
     harness_close(&h);

@@ -28,29 +28,38 @@ static const char junk[] = "definitely not an LCM message";
 typedef struct watch {
     long long sim_rejected, rover_rejected;
     int have_truth;
-    double first[2][2], last[2][2];   /* robot 1, 2: x, y of O */
+    double first[2][2], last[2][2]; /* robot 1, 2: x, y of O */
 } watch;
 
-static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *m, void *u)
+static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *m,
+                      void *u)
 {
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     ((watch *)u)->sim_rejected = m->msgs_rejected;
 }
 
 static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_health_t *m, void *u)
 {
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     ((watch *)u)->rover_rejected = m->msgs_rejected;
 }
 
-static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_truth_t *m, void *u)
+static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_truth_t *m,
+                     void *u)
 {
     watch *w = u;
     int i;
-    (void)rb; (void)ch;
-    if (m->n != 2) return;
+    (void)rb;
+    (void)ch;
+    if (m->n != 2)
+        return;
     for (i = 0; i < 2; i++) {
-        if (!w->have_truth) { w->first[i][0] = m->x_m[i]; w->first[i][1] = m->y_m[i]; }
+        if (!w->have_truth) {
+            w->first[i][0] = m->x_m[i];
+            w->first[i][1] = m->y_m[i];
+        }
         w->last[i][0] = m->x_m[i];
         w->last[i][1] = m->y_m[i];
     }
@@ -68,7 +77,7 @@ static void drive_robot2(harness *h, int64_t seq)
     b.seq = seq;
     b.n = 1;
     b.cmd = &c;
-    AUTH_PUBLISH(tandem_rovers_command_t, h->lcm, "ROVERS_COMMAND", &b);
+    AUTH_PUBLISH(tandem_rovers_command_t, &h->bus, h->lcm, "ROVERS_COMMAND", &b);
 }
 
 /* 7 rejections: junk x2, NaN, wrong channel, and a batch of three bad ones */
@@ -76,23 +85,26 @@ static void bad_commands(harness *h)
 {
     tandem_rover_command_t c, three[3];
     tandem_rovers_command_t b;
-    auth_bus_publish_raw(h->lcm, "ROVER1_COMMAND", junk, (int)sizeof junk);
-    auth_bus_publish_raw(h->lcm, "ROVERS_COMMAND", junk, (int)sizeof junk);
+    auth_bus_publish_raw(&h->bus, h->lcm, "ROVER1_COMMAND", junk, (int)sizeof junk);
+    auth_bus_publish_raw(&h->bus, h->lcm, "ROVERS_COMMAND", junk, (int)sizeof junk);
     memset(&c, 0, sizeof c);
     c.robot = 1;
     c.v_mps = NAN;
-    AUTH_PUBLISH(tandem_rover_command_t, h->lcm, "ROVER1_COMMAND", &c);
+    AUTH_PUBLISH(tandem_rover_command_t, &h->bus, h->lcm, "ROVER1_COMMAND", &c);
     c.v_mps = 0.5;
-    c.robot = 2;                       /* robot 2's command on robot 1's channel */
-    AUTH_PUBLISH(tandem_rover_command_t, h->lcm, "ROVER1_COMMAND", &c);
+    c.robot = 2; /* robot 2's command on robot 1's channel */
+    AUTH_PUBLISH(tandem_rover_command_t, &h->bus, h->lcm, "ROVER1_COMMAND", &c);
     memset(three, 0, sizeof three);
-    three[0].robot = 1; three[0].w_radps = INFINITY;
-    three[1].robot = 99; three[1].v_mps = 0.2;   /* no such robot */
-    three[2].robot = 1; three[2].v_mps = 40.0;   /* not physically sane */
+    three[0].robot = 1;
+    three[0].w_radps = INFINITY;
+    three[1].robot = 99;
+    three[1].v_mps = 0.2; /* no such robot */
+    three[2].robot = 1;
+    three[2].v_mps = 40.0; /* not physically sane */
     memset(&b, 0, sizeof b);
     b.n = 3;
     b.cmd = three;
-    AUTH_PUBLISH(tandem_rovers_command_t, h->lcm, "ROVERS_COMMAND", &b);
+    AUTH_PUBLISH(tandem_rovers_command_t, &h->bus, h->lcm, "ROVERS_COMMAND", &b);
 }
 
 /* 4 rejections at the rover: junk batch, NaN encoder, NaN sonar, bad team */
@@ -103,7 +115,7 @@ static void bad_frames(harness *h)
     tandem_rovers_sensors_t b;
     tandem_team_msg_t t;
     double ang[8] = { 0 }, rng[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
-    auth_bus_publish_raw(h->lcm, "ROVERS_SENSORS", junk, (int)sizeof junk);
+    auth_bus_publish_raw(&h->bus, h->lcm, "ROVERS_SENSORS", junk, (int)sizeof junk);
     memset(&s, 0, sizeof s);
     memset(&sc, 0, sizeof sc);
     s.robot = sc.robot = 1;
@@ -119,20 +131,20 @@ static void bad_frames(harness *h)
     b.n = 1;
     b.sensors = &s;
     b.sonar = &sc;
-    AUTH_PUBLISH(tandem_rovers_sensors_t, h->lcm, "ROVERS_SENSORS", &b);
+    AUTH_PUBLISH(tandem_rovers_sensors_t, &h->bus, h->lcm, "ROVERS_SENSORS", &b);
     memset(&t, 0, sizeof t);
     t.robot = 3;
     t.x_m = NAN;
     t.formation_scale = 1.0;
-    AUTH_PUBLISH(tandem_team_msg_t, h->lcm, "TEAM", &t);
+    AUTH_PUBLISH(tandem_team_msg_t, &h->bus, h->lcm, "TEAM", &t);
 }
 
 static void test_bad_commands_counted_robot_stays(void **state)
 {
     harness h;
     watch w;
-    const char *sim[] = { "tandem-sim", "--no-arms", "--rovers", "2", "--world", "open",
-                          "--steps", "4000", NULL };
+    const char *sim[] = { "tandem-sim", "--no-arms", "--rovers", "2", "--world",
+                          "open",       "--steps",   "4000",     NULL };
     tandem_sim_status_t_subscription_t *s1;
     tandem_rover_truth_t_subscription_t *s3;
     pid_t ps;
@@ -145,18 +157,20 @@ static void test_bad_commands_counted_robot_stays(void **state)
     s3 = tandem_rover_truth_t_subscribe(h.lcm, "ROVER_TRUTH", on_truth, &w);
     ps = harness_spawn(&h, sim);
     assert_true(ps > 0);
-    for (i = 0; i < 100 && !w.have_truth; i++) harness_pump(&h, 20);
+    for (i = 0; i < 100 && !w.have_truth; i++)
+        harness_pump(&h, 20);
     assert_true(w.have_truth);
-    harness_pump(&h, 500);             /* let the robots settle on their wheels */
+    harness_pump(&h, 500); /* let the robots settle on their wheels */
     w.have_truth = 0;
     harness_pump(&h, 100);
     assert_true(w.have_truth);
-    if (!getenv("NOBAD")) bad_commands(&h);
-    for (i = 0; i < 25; i++) {        /* 2.5 s of valid commands for robot 2 */
+    if (!getenv("NOBAD"))
+        bad_commands(&h);
+    for (i = 0; i < 25; i++) { /* 2.5 s of valid commands for robot 2 */
         drive_robot2(&h, i);
         harness_pump(&h, 100);
     }
-    harness_pump(&h, 1200);            /* the next status */
+    harness_pump(&h, 1200); /* the next status */
     for (i = 0; i < 2; i++)
         moved[i] = hypot(w.last[i][0] - w.first[i][0], w.last[i][1] - w.first[i][1]);
     printf("sim rejected %lld; robot 1 moved %.4f m, robot 2 (valid batched commands) %.3f m\n",
@@ -182,13 +196,13 @@ static void test_bad_frames_counted_by_rover(void **state)
     memset(&w, 0, sizeof w);
     w.rover_rejected = -1;
     assert_int_equal(harness_open(&h, 42), 0);
-    auth_bus_roster(2);   /* the host of rovers 1-2 is a principal of this cell */
+    auth_bus_roster(&h.bus, 2); /* the host of rovers 1-2 is a principal of this cell */
     s2 = tandem_health_t_subscribe(h.lcm, "HEALTH_TANDEM_ROVER_1_2", on_health, &w);
     pr = harness_spawn(&h, rover);
     assert_true(pr > 0);
     harness_pump(&h, 500);
     bad_frames(&h);
-    harness_pump(&h, 2200);            /* at least one health message after */
+    harness_pump(&h, 2200); /* at least one health message after */
     printf("rover rejected %lld\n", w.rover_rejected);
     assert_true(w.rover_rejected >= 4);
     tandem_health_t_unsubscribe(h.lcm, s2);

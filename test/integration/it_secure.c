@@ -60,7 +60,7 @@ extern int setgroups(size_t size, const gid_t *list);
 #define IT_CLONE_NEWNET 0x40000000
 #endif
 
-#define N_BUS 2            /* 0: carry, 1: formation */
+#define N_BUS 2 /* 0: carry, 1: formation */
 #define MAX_HASHES 4096
 #define NOBODY 65534
 /* One round of forgeries (48 messages per bus) every 20 ms: an attack, not
@@ -77,17 +77,19 @@ extern int setgroups(size_t size, const gid_t *list);
 /* The simulator's state hash every 100 steps (SIM_STATUS). */
 typedef struct bus_view {
     int64_t hash_step[MAX_HASHES], hash[MAX_HASHES];
-    int     n_hash;
+    int n_hash;
 } bus_view;
 
 static bus_view V[N_BUS];
 static int bus_ids[N_BUS] = { 0, 1 };
-static int netns;          /* 1: the attacker has a network namespace of its own */
+static int netns; /* 1: the attacker has a network namespace of its own */
 
-static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *s, void *u)
+static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *s,
+                      void *u)
 {
     bus_view *v = &V[*(int *)u];
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     if (s->step % 100 != 0 || v->n_hash == MAX_HASHES ||
         (v->n_hash > 0 && v->hash_step[v->n_hash - 1] >= s->step))
         return;
@@ -100,7 +102,7 @@ AUTH_TYPED_HANDLER(tandem_sim_status_t, raw_on_status, on_status)
 static void watch(harness *h, int bus)
 {
     harness_watch_health(h);
-    auth_bus_subscribe(h->lcm, "SIM_STATUS", raw_on_status, &bus_ids[bus]);
+    auth_bus_subscribe(&h->bus, h->lcm, "SIM_STATUS", raw_on_status, &bus_ids[bus]);
 }
 
 static void pump_all(harness *h, int n, int ms)
@@ -151,9 +153,9 @@ static void publish_forged(lcm_t *l, const char *ch, uint8_t *buf, int n)
         t[i] = (uint8_t)next_rand();
     for (i = 14; i < 22; i++)
         t[i] = (uint8_t)(c >> (8 * (21 - i)));
-    for (i = 22; i < 38; i++)   /* a cell id */
+    for (i = 22; i < 38; i++) /* a cell id */
         t[i] = (uint8_t)next_rand();
-    t[38] = t[39] = 0;          /* no tag for anyone */
+    t[38] = t[39] = 0; /* no tag for anyone */
     lcm_publish(l, ch, buf, (unsigned)(n + AUTH_FIXED_BYTES));
     for (i = 0; i < AUTH_FIXED_BYTES; i++)
         t[i] = (uint8_t)next_rand();
@@ -161,8 +163,9 @@ static void publish_forged(lcm_t *l, const char *ch, uint8_t *buf, int n)
 }
 
 static uint8_t fbuf[4096];
-#define FORGE(type, l, ch, msg) \
-    publish_forged((l), (ch), fbuf, type##_encode(fbuf, 0, (int)sizeof fbuf - AUTH_TRAILER_MAX, (msg)))
+#define FORGE(type, l, ch, msg)     \
+    publish_forged((l), (ch), fbuf, \
+                   type##_encode(fbuf, 0, (int)sizeof fbuf - AUTH_TRAILER_MAX, (msg)))
 
 static void forge_control(lcm_t *l, int cmd, int target, int link)
 {
@@ -221,10 +224,10 @@ static void forge_lockstep(lcm_t *l)
     memset(&a, 0, sizeof a);
     a.name = "intruder";
     a.period_steps = 1;
-    FORGE(tandem_clock_ack_t, l, "SIM_ACK", &a);   /* would stall the lockstep */
+    FORGE(tandem_clock_ack_t, l, "SIM_ACK", &a); /* would stall the lockstep */
     a.name = "tandem-arm-1";
     a.leaving = 1;
-    FORGE(tandem_clock_ack_t, l, "SIM_ACK", &a);   /* would drop arm 1 from it */
+    FORGE(tandem_clock_ack_t, l, "SIM_ACK", &a); /* would drop arm 1 from it */
     a.name = "tandem-rover-1";
     FORGE(tandem_clock_ack_t, l, "SIM_ACK", &a);
     memset(&c, 0, sizeof c);
@@ -264,7 +267,7 @@ static int attack(int argc, char **argv)
            fd < 0 ? strerror(errno) : "IS READABLE (running without privileges to drop)");
     fflush(stdout);
     if (fd >= 0)
-        close(fd);   /* not used either way */
+        close(fd); /* not used either way */
     for (i = 3; i < argc && n < 4; i++)
         if ((l[n] = lcm_create(argv[i])) != NULL)
             n++;
@@ -277,7 +280,10 @@ static int attack(int argc, char **argv)
         for (i = 0; i < n; i++) {
             forge_control(l[i], TANDEM_SIM_CONTROL_T_QUIT, 0, 0);
             forge_control(l[i], TANDEM_SIM_CONTROL_T_KILL_ROBOT, 2, 0);
-            forge_control(l[i], round % 2 ? TANDEM_SIM_CONTROL_T_INSERT_STICK : TANDEM_SIM_CONTROL_T_REMOVE_STICK, 2, 2);
+            forge_control(l[i],
+                          round % 2 ? TANDEM_SIM_CONTROL_T_INSERT_STICK
+                                    : TANDEM_SIM_CONTROL_T_REMOVE_STICK,
+                          2, 2);
             forge_control(l[i], TANDEM_SIM_CONTROL_T_PAUSE, 0, 0);
             forge_arms(l[i], round * 4);
             forge_lockstep(l[i]);
@@ -298,7 +304,6 @@ static void attacker_url(const char *url, char *out, size_t cap)
         snprintf(out, cap, "%s", url);
 }
 
-
 /* Starts the attacker: in its own namespace (netns) joined by the veth
  * pair, as nobody, or as a plain child. It re-executes this program, so
  * it holds nothing of ours in memory. */
@@ -317,18 +322,22 @@ static pid_t start_attacker(char (*bus_url)[160], int n, const char *key)
         /* opened while still root: nobody may not be allowed to walk the
          * path to this program (a checkout under a 0700 directory) */
         const int exe = open("/proc/self/exe", O_RDONLY);
-        char *const args[] = { "it_secure", "--attack", (char *)key, urls[0], n > 1 ? urls[1] : NULL, NULL };
+        char *const args[] = {
+            "it_secure", "--attack", (char *)key, urls[0], n > 1 ? urls[1] : NULL, NULL
+        };
         extern char **environ;
         if (netns) {
             if (unshare(IT_CLONE_NEWNET) != 0)
                 _exit(126);
             if (write(ready[1], &c, 1) != 1 || read(go[0], &c, 1) != 1)
                 _exit(126);
-            if (harness_sh("ip link set lo up && ip addr add 10.213.0.2/24 dev ta0 && ip link set ta0 up && "
-                   "ip route add 224.0.0.0/4 dev ta0") != 0)
+            if (harness_sh(
+                    "ip link set lo up && ip addr add 10.213.0.2/24 dev ta0 && ip link set ta0 up && "
+                    "ip route add 224.0.0.0/4 dev ta0") != 0)
                 _exit(126);
         }
-        if (geteuid() == 0 && (setgroups(0, NULL) != 0 || setgid(NOBODY) != 0 || setuid(NOBODY) != 0))
+        if (geteuid() == 0 &&
+            (setgroups(0, NULL) != 0 || setgid(NOBODY) != 0 || setuid(NOBODY) != 0))
             _exit(126);
         if (exe < 0)
             _exit(127);
@@ -337,7 +346,8 @@ static pid_t start_attacker(char (*bus_url)[160], int n, const char *key)
     }
     harness_track_child(pid);
     if (pid > 0 && netns) {
-        if (read(ready[0], &c, 1) != 1 || harness_sh("ip link set ta0 netns %d", (int)pid) != 0 || write(go[1], &c, 1) != 1) {
+        if (read(ready[0], &c, 1) != 1 || harness_sh("ip link set ta0 netns %d", (int)pid) != 0 ||
+            write(go[1], &c, 1) != 1) {
             kill(pid, SIGKILL);
             waitpid(pid, NULL, 0);
             pid = -1;
@@ -354,7 +364,8 @@ static pid_t start_attacker(char (*bus_url)[160], int n, const char *key)
  * namespace, and the veth pair with it, would go away otherwise). */
 static void stop_attacker(pid_t pid)
 {
-    if (netns && harness_sh("nsenter -t %d -n ip link set ta0 netns %d", (int)pid, (int)getpid()) != 0)
+    if (netns &&
+        harness_sh("nsenter -t %d -n ip link set ta0 netns %d", (int)pid, (int)getpid()) != 0)
         fprintf(stderr, "it_secure: could not take the veth end back\n");
     kill(pid, SIGKILL);
     waitpid(pid, NULL, 0);
@@ -366,11 +377,12 @@ static void stop_attacker(pid_t pid)
 static int bus_namespace(void)
 {
 #ifdef __linux__
-    if (geteuid() != 0 || getenv("TANDEM_SHARED_NET") || system("command -v nsenter >/dev/null") != 0 ||
-        unshare(IT_CLONE_NEWNET) != 0)
+    if (geteuid() != 0 || getenv("TANDEM_SHARED_NET") ||
+        system("command -v nsenter >/dev/null") != 0 || unshare(IT_CLONE_NEWNET) != 0)
         return -1;
-    if (harness_sh("ip link set lo up && ip link add tb0 type veth peer name ta0 && ip addr add 10.213.0.1/24 dev tb0 && "
-           "ip link set tb0 up && ip route add 224.0.0.0/4 dev tb0") != 0) {
+    if (harness_sh(
+            "ip link set lo up && ip link add tb0 type veth peer name ta0 && ip addr add 10.213.0.1/24 dev tb0 && "
+            "ip link set tb0 up && ip route add 224.0.0.0/4 dev tb0") != 0) {
         fprintf(stderr, "it_secure: cannot set up the veth pair\n");
         return -1;
     }
@@ -385,9 +397,9 @@ static int bus_namespace(void)
 typedef struct run_out {
     char url[N_BUS][160];
     char dir[N_BUS][256];
-    int  status[N_BUS];
+    int status[N_BUS];
     bus_view view[N_BUS];
-    harness health[N_BUS];     /* the daemons' last health of the run */
+    harness health[N_BUS]; /* the daemons' last health of the run */
 } run_out;
 
 static void run_pair(harness *h, const char *tag, int attacked, run_out *o)
@@ -404,34 +416,39 @@ static void run_pair(harness *h, const char *tag, int attacked, run_out *o)
         h[i].n_health = 0;
     }
     {
-        const char *carry[] = { "tandem-scenario", "carry", "--workpieces", "1", "--block", "1:3:1:1", "--no-serial",
-                                "--lcm-url", o->url[0], "--key-file", key, "--out", o->dir[0], NULL };
-        const char *formation[] = { "tandem-scenario", "formation", "--world", "obstacles", "--robots", "3", "--seed", "2",
-                                    "--procs", "separate", "--max-time", "20", "--lcm-url", o->url[1], "--key-file", key,
-                                    "--out", o->dir[1], NULL };
+        const char *carry[] = {
+            "tandem-scenario", "carry",   "--workpieces", "1", "--block", "1:3:1:1", "--no-serial",
+            "--lcm-url",       o->url[0], "--key-file",   key, "--out",   o->dir[0], NULL
+        };
+        const char *formation[] = { "tandem-scenario", "formation", "--world",    "obstacles",
+                                    "--robots",        "3",         "--seed",     "2",
+                                    "--procs",         "separate",  "--max-time", "20",
+                                    "--lcm-url",       o->url[1],   "--key-file", key,
+                                    "--out",           o->dir[1],   NULL };
         if (attacked && !getenv("IT_SECURE_DEBUG_NO_ATTACK")) {
             att = start_attacker(o->url, N_BUS, key);
             assert_true(att > 0);
-            pump_all(h, N_BUS, 300);   /* it is sending before the runs start */
+            pump_all(h, N_BUS, 300); /* it is sending before the runs start */
         }
         p[0] = harness_spawn(&h[0], carry);
         p[1] = harness_spawn(&h[1], formation);
     }
     assert_true(p[0] > 0 && p[1] > 0);
     o->status[0] = o->status[1] = -1;
-    for (k = 0, left = N_BUS; left > 0 && k < 60000; k++) {   /* at most ~20 min under the sanitizers */
+    for (k = 0, left = N_BUS; left > 0 && k < 60000;
+         k++) { /* at most ~20 min under the sanitizers */
         pump_all(h, N_BUS, 10);
         for (i = 0, left = 0; i < N_BUS; i++)
             if (o->status[i] < 0 && proc_poll(&h[i].procs, p[i], &o->status[i]) != 1)
                 left++;
     }
-    pump_all(h, N_BUS, 300);   /* the daemons' last health */
+    pump_all(h, N_BUS, 300); /* the daemons' last health */
     if (att > 0)
         stop_attacker(att);
     memcpy(o->view, V, sizeof V);
     memcpy(o->health, h, sizeof o->health);
-    printf("%s: carry exit %d, formation exit %d; state hashes seen %d, %d\n", tag, o->status[0], o->status[1],
-           V[0].n_hash, V[1].n_hash);
+    printf("%s: carry exit %d, formation exit %d; state hashes seen %d, %d\n", tag, o->status[0],
+           o->status[1], V[0].n_hash, V[1].n_hash);
 }
 
 /* ---- comparisons ------------------------------------------------------------------ */
@@ -453,7 +470,7 @@ static char *slurp(const char *dir, const char *file, const char *skip, long *le
             continue;
         if (n + l + 1 > cap) {
             char *grown = realloc(out, 2 * (n + l + 1));
-            if (!grown) {   /* the comparison fails on NULL; the file read so far is not leaked */
+            if (!grown) { /* the comparison fails on NULL; the file read so far is not leaked */
                 free(out);
                 fclose(f);
                 return NULL;
@@ -472,11 +489,13 @@ static char *slurp(const char *dir, const char *file, const char *skip, long *le
     return out;
 }
 
-static void assert_same_file(const run_out *a, const run_out *b, int bus, const char *file, const char *skip)
+static void assert_same_file(const run_out *a, const run_out *b, int bus, const char *file,
+                             const char *skip)
 {
     long la = -1, lb = -2;
     char *fa = slurp(a->dir[bus], file, skip, &la), *fb = slurp(b->dir[bus], file, skip, &lb);
-    printf("  %-9s %-16s %7ld bytes quiet, %7ld attacked: %s\n", bus == 0 ? "carry" : "formation", file, la, lb,
+    printf("  %-9s %-16s %7ld bytes quiet, %7ld attacked: %s\n", bus == 0 ? "carry" : "formation",
+           file, la, lb,
            fa && fb && la == lb && memcmp(fa, fb, (size_t)la) == 0 ? "identical" : "DIFFERENT");
     assert_non_null(fa);
     assert_non_null(fb);
@@ -503,7 +522,8 @@ static void assert_same_hashes(const bus_view *a, const bus_view *b, const char 
             j++;
         }
     }
-    printf("  %-9s state hash equal at %d of the %d steps seen in both runs\n", what, common - differ, common);
+    printf("  %-9s state hash equal at %d of the %d steps seen in both runs\n", what,
+           common - differ, common);
     assert_true(common >= 50);
     assert_int_equal(differ, 0);
 }
@@ -520,8 +540,10 @@ static harness_health expect_daemon(harness *h, const char *name)
 
 static void test_attacker_without_key_changes_nothing(void **state)
 {
-    static const char *const carry_daemons[] = { "tandem-sim", "tandem-arm-1", "tandem-arm-2", "tandem-supervisor" };
-    static const char *const team_daemons[] = { "tandem-sim", "tandem-rover-1", "tandem-rover-2", "tandem-rover-3" };
+    static const char *const carry_daemons[] = { "tandem-sim", "tandem-arm-1", "tandem-arm-2",
+                                                 "tandem-supervisor" };
+    static const char *const team_daemons[] = { "tandem-sim", "tandem-rover-1", "tandem-rover-2",
+                                                "tandem-rover-3" };
     static run_out quiet, attacked;
     harness h[N_BUS];
     int i, b;
@@ -534,7 +556,7 @@ static void test_attacker_without_key_changes_nothing(void **state)
     run_pair(h, "attacked", 1, &attacked);
     for (i = 0; i < N_BUS; i++)
         harness_close(&h[i]);
-    assert_int_equal(quiet.status[0], 0);            /* the carry met its criteria */
+    assert_int_equal(quiet.status[0], 0); /* the carry met its criteria */
     assert_int_equal(attacked.status[0], quiet.status[0]);
     assert_int_equal(attacked.status[1], quiet.status[1]);
     for (b = 0; b < N_BUS; b++)
@@ -553,10 +575,10 @@ static void test_attacker_without_key_changes_nothing(void **state)
             const harness_health q = expect_daemon(&quiet.health[b], name);
             const harness_health a = expect_daemon(&attacked.health[b], name);
             assert_int_equal(q.auth_on, 1);
-            assert_int_equal(harness_refused(&q), 0);      /* nothing legitimate was refused */
+            assert_int_equal(harness_refused(&q), 0); /* nothing legitimate was refused */
             assert_int_equal(a.auth_on, 1);
-            assert_true(harness_refused(&a) > 0);          /* every daemon saw the attacker */
-            assert_int_equal(a.refused[3] + a.refused[4], 0);   /* it cannot replay or sign */
+            assert_true(harness_refused(&a) > 0);             /* every daemon saw the attacker */
+            assert_int_equal(a.refused[3] + a.refused[4], 0); /* it cannot replay or sign */
         }
 }
 
@@ -565,9 +587,9 @@ static void test_attacker_without_key_changes_nothing(void **state)
 #define MAX_CAPTURE 4000
 
 typedef struct captured {
-    char    ch[32];
+    char ch[32];
     uint8_t *data;
-    int     len;
+    int len;
 } captured;
 
 static captured CAP[MAX_CAPTURE];
@@ -625,7 +647,8 @@ static harness_health latest_health(harness *h, const char *name, double seconds
 
 static void test_replayed_messages_are_refused(void **state)
 {
-    static const char *const sim_in[] = { "ARM1_COMMAND", "ARM2_COMMAND", "SIM_ACK", "SIM_CONTROL" };
+    static const char *const sim_in[] = { "ARM1_COMMAND", "ARM2_COMMAND", "SIM_ACK",
+                                          "SIM_CONTROL" };
     static const char *const arm2_in[] = { "ARM2_STATE", "SIM_CLOCK", "ARM_EVENTS", "ARM2_ACTION" };
     harness h;
     const char *sim[] = { "tandem-sim", NULL };
@@ -639,9 +662,10 @@ static void test_replayed_messages_are_refused(void **state)
     (void)state;
     memset(V, 0, sizeof V);
     assert_int_equal(harness_open(&h, 13), 0);
-    strncat(h.url, BUS_OPTIONS, sizeof h.url - strlen(h.url) - 1);   /* the daemons' sockets */
+    strncat(h.url, BUS_OPTIONS, sizeof h.url - strlen(h.url) - 1); /* the daemons' sockets */
     watch(&h, 0);
-    lcm_subscribe(h.lcm, "(ARM[12]_STATE|ARM[12]_COMMAND|SIM_CLOCK|ARM_EVENTS|SIM_CONTROL)", capture, NULL);
+    lcm_subscribe(h.lcm, "(ARM[12]_STATE|ARM[12]_COMMAND|SIM_CLOCK|ARM_EVENTS|SIM_CONTROL)",
+                  capture, NULL);
     assert_true(harness_spawn(&h, sim) > 0);
     harness_pump(&h, 300);
     assert_true(harness_spawn(&h, arm1) > 0);
@@ -652,16 +676,18 @@ static void test_replayed_messages_are_refused(void **state)
     capturing = 1;
     memset(&c, 0, sizeof c);
     c.command = TANDEM_SIM_CONTROL_T_REMOVE_STICK;
-    AUTH_PUBLISH(tandem_sim_control_t, h.lcm, "SIM_CONTROL", &c);
-    for (i = 0; i < 100 && (count_captured(sim_in, 4) < 200 || count_captured(arm2_in, 4) < 200); i++)
-        harness_pump(&h, 50);   /* a loaded machine runs the simulator slower than real time */
+    AUTH_PUBLISH(tandem_sim_control_t, &h.bus, h.lcm, "SIM_CONTROL", &c);
+    for (i = 0; i < 100 && (count_captured(sim_in, 4) < 200 || count_captured(arm2_in, 4) < 200);
+         i++)
+        harness_pump(&h, 50); /* a loaded machine runs the simulator slower than real time */
     capturing = 0;
     s0 = latest_health(&h, "tandem-sim", 1.2);
     a0 = latest_health(&h, "tandem-arm-2", 0.0);
     n_sim = count_captured(sim_in, 4);
     n_arm2 = count_captured(arm2_in, 4);
-    printf("captured %d messages (%d for the simulator, %d for arm 2); refused so far: sim %lld, arm 2 %lld\n",
-           n_cap, n_sim, n_arm2, (long long)harness_refused(&s0), (long long)harness_refused(&a0));
+    printf(
+        "captured %d messages (%d for the simulator, %d for arm 2); refused so far: sim %lld, arm 2 %lld\n",
+        n_cap, n_sim, n_arm2, (long long)harness_refused(&s0), (long long)harness_refused(&a0));
     assert_true(n_sim >= 200 && n_arm2 >= 200);
     assert_int_equal(harness_refused(&s0), 0);
     assert_int_equal(harness_refused(&a0), 0);
@@ -681,7 +707,7 @@ static void test_replayed_messages_are_refused(void **state)
     harness_pump(&h, 500);
     p_arm2 = harness_spawn(&h, arm2);
     assert_true(p_arm2 > 0);
-    for (i = 0; i < 100; i++) {   /* its first health: it listens */
+    for (i = 0; i < 100; i++) { /* its first health: it listens */
         fresh0 = latest_health(&h, "tandem-arm-2", 0.1);
         if (fresh0.pid == (int)p_arm2)
             break;
@@ -693,15 +719,15 @@ static void test_replayed_messages_are_refused(void **state)
     assert_in_range(fresh1.refused[3] - fresh0.refused[3], n_arm2 - n_arm2 / 50, n_arm2);
 
     /* a key holder signing as the wrong role: refused by the channel table */
-    auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);
-    auth_bus_sign_as_owner(0);
+    auth_bus_identity(&h.bus, AUTH_ROLE_TOOL, 0, 0);
+    auth_bus_sign_as_owner(&h.bus, 0);
     memset(&cmd, 0, sizeof cmd);
     cmd.arm = 1;
     cmd.mode = TANDEM_ARM_COMMAND_T_MODE_TORQUE;
     cmd.tau_Nm[0] = 40.0;
-    AUTH_PUBLISH(tandem_arm_command_t, h.lcm, "ARM1_COMMAND", &cmd);
-    AUTH_PUBLISH(tandem_arm_command_t, h.lcm, "ARM2_COMMAND", &cmd);
-    auth_bus_sign_as_owner(1);
+    AUTH_PUBLISH(tandem_arm_command_t, &h.bus, h.lcm, "ARM1_COMMAND", &cmd);
+    AUTH_PUBLISH(tandem_arm_command_t, &h.bus, h.lcm, "ARM2_COMMAND", &cmd);
+    auth_bus_sign_as_owner(&h.bus, 1);
     s0 = s1;
     s1 = latest_health(&h, "tandem-sim", 2.5);
     harness_print_refused(&s1);
@@ -721,10 +747,12 @@ int main(int argc, char **argv)
         return attack(argc, argv);
     netns = bus_namespace() == 0;
     if (netns)
-        printf("it_secure: the attacker gets a network namespace of its own, joined by a veth pair, as nobody\n");
+        printf(
+            "it_secure: the attacker gets a network namespace of its own, joined by a veth pair, as nobody\n");
     else
-        printf("it_secure: no network namespaces here (needs root): the attacker is a keyless process on this "
-               "host, on the same private ports\n");
+        printf(
+            "it_secure: no network namespaces here (needs root): the attacker is a keyless process on this "
+            "host, on the same private ports\n");
     fflush(stdout);
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

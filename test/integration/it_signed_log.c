@@ -34,16 +34,19 @@
 #include "tandem_rovers_state_t.h"
 #include "tandem_sim_control_t.h"
 
-static char dir[128], log_path[160], root[512], bin[512];
-static struct timespec recorded_at;   /* when the last message of the log was signed */
+/* the host of rovers 1-2 is a principal of this cell, recording and
+ * playing back: the roster of the test's bus (auth_bus_roster) */
+#define ROSTER_ROVERS 2
 
+static char dir[128], log_path[160], root[512], bin[512];
+static struct timespec recorded_at; /* when the last message of the log was signed */
 
 /* The source tree: the programs are in ROOT/build/bin (or build/san/bin). */
 static int find_root(void)
 {
     proc_set p;
     char *b;
-    proc_init(&p, NULL);
+    proc_init(&p, NULL, NULL);
     snprintf(bin, sizeof bin, "%s", p.bin);
     snprintf(root, sizeof root, "%s", p.bin);
     b = strstr(root, "/build/");
@@ -51,7 +54,8 @@ static int find_root(void)
         *b = '\0';
     else if (!strcmp(root, "build/bin") || !strcmp(root, "build/san/bin"))
         snprintf(root, sizeof root, ".");
-    return harness_sh("test -d '%s/lcmtypes' && test -d '%s/tools/logcheck'", root, root) == 0 ? 0 : -1;
+    return harness_sh("test -d '%s/lcmtypes' && test -d '%s/tools/logcheck'", root, root) == 0 ? 0
+                                                                                               : -1;
 }
 
 static pid_t start_logger(const char *url)
@@ -81,23 +85,23 @@ static void publish_the_rest(harness *h)
     a.name = "it_signed_log";
     a.period_steps = 1;
     a.leaving = 1;
-    AUTH_PUBLISH(tandem_clock_ack_t, h->lcm, "SIM_ACK", &a);
+    AUTH_PUBLISH(tandem_clock_ack_t, &h->bus, h->lcm, "SIM_ACK", &a);
     memset(&r, 0, sizeof r);
     r.arm = 2;
-    r.step = -1;   /* refused by the arm: only the log matters here */
-    AUTH_PUBLISH(tandem_arm_joint_ref_t, h->lcm, "ARM2_JOINT_REF", &r);
+    r.step = -1; /* refused by the arm: only the log matters here */
+    AUTH_PUBLISH(tandem_arm_joint_ref_t, &h->bus, h->lcm, "ARM2_JOINT_REF", &r);
     memset(&rs, 0, sizeof rs);
     memset(&rb, 0, sizeof rb);
     memset(&rc, 0, sizeof rc);
     memset(&rt, 0, sizeof rt);
-    AUTH_PUBLISH(tandem_rovers_sensors_t, h->lcm, "ROVERS_SENSORS", &rs);
-    AUTH_PUBLISH(tandem_rovers_beacons_t, h->lcm, "ROVERS_BEACONS", &rb);
-    AUTH_PUBLISH(tandem_rovers_command_t, h->lcm, "ROVERS_COMMAND", &rc);
-    AUTH_PUBLISH(tandem_rovers_state_t, h->lcm, "ROVERS_STATE", &rt);
+    AUTH_PUBLISH(tandem_rovers_sensors_t, &h->bus, h->lcm, "ROVERS_SENSORS", &rs);
+    AUTH_PUBLISH(tandem_rovers_beacons_t, &h->bus, h->lcm, "ROVERS_BEACONS", &rb);
+    AUTH_PUBLISH(tandem_rovers_command_t, &h->bus, h->lcm, "ROVERS_COMMAND", &rc);
+    AUTH_PUBLISH(tandem_rovers_state_t, &h->bus, h->lcm, "ROVERS_STATE", &rt);
     harness_pump(h, 200);
     memset(&c, 0, sizeof c);
     c.command = TANDEM_SIM_CONTROL_T_QUIT;
-    AUTH_PUBLISH(tandem_sim_control_t, h->lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, &h->bus, h->lcm, "SIM_CONTROL", &c);
     clock_gettime(CLOCK_MONOTONIC, &recorded_at);
 }
 
@@ -110,7 +114,8 @@ static void wait_past_start_slack(void)
     struct timespec now;
     double age_s;
     clock_gettime(CLOCK_MONOTONIC, &now);
-    age_s = (double)(now.tv_sec - recorded_at.tv_sec) + 1e-9 * (double)(now.tv_nsec - recorded_at.tv_nsec);
+    age_s = (double)(now.tv_sec - recorded_at.tv_sec) +
+            1e-9 * (double)(now.tv_nsec - recorded_at.tv_nsec);
     if (age_s < 1e-6 * (double)AUTH_START_SLACK_US + 0.5) {
         const double wait_s = 1e-6 * (double)AUTH_START_SLACK_US + 0.5 - age_s;
         struct timespec ts;
@@ -137,6 +142,7 @@ static int record(void **state)
         return -1;
     if (harness_open(&h, 15) != 0)
         return -1;
+    auth_bus_roster(&h.bus, ROSTER_ROVERS);
     logger = start_logger(h.url);
     harness_track_child(logger);
     harness_pump(&h, 300);
@@ -148,7 +154,7 @@ static int record(void **state)
     harness_spawn(&h, rovers);
     harness_pump(&h, 3000);
     publish_the_rest(&h);
-    rc = harness_wait(&h, ps, 10.0);   /* 0: the QUIT was obeyed (it was signed) */
+    rc = harness_wait(&h, ps, 10.0); /* 0: the QUIT was obeyed (it was signed) */
     harness_pump(&h, 300);
     harness_close(&h);
     kill(logger, SIGINT);
@@ -158,20 +164,28 @@ static int record(void **state)
 
 static void test_every_event_decodes(void **state)
 {
-    const char *cp_extra = access("/usr/share/java/jchart2d.jar", R_OK) == 0 ? ":/usr/share/java/jchart2d.jar" : "";
+    const char *cp_extra = access("/usr/share/java/jchart2d.jar", R_OK) == 0
+                               ? ":/usr/share/java/jchart2d.jar"
+                               : "";
     (void)state;
     assert_int_equal(harness_sh("'%s/tandem-log2csv' --list '%s'", bin, log_path), 0);
     if (harness_sh("command -v java >/dev/null && command -v javac >/dev/null") == 0) {
-        assert_int_equal(harness_sh("javac -nowarn -d '%s/java' -cp /usr/share/java/lcm.jar '%s/tools/logcheck/SpyDecodeCheck.java' "
-                            "2>&1 | grep -v '^Note:'; java -cp '/usr/share/java/lcm.jar:%s/build/lib/tandem_types.jar:%s/java%s' "
-                            "SpyDecodeCheck '%s' 2>/dev/null", dir, root, root, dir, cp_extra, log_path), 0);
+        assert_int_equal(
+            harness_sh(
+                "javac -nowarn -d '%s/java' -cp /usr/share/java/lcm.jar '%s/tools/logcheck/SpyDecodeCheck.java' "
+                "2>&1 | grep -v '^Note:'; java -cp '/usr/share/java/lcm.jar:%s/build/lib/tandem_types.jar:%s/java%s' "
+                "SpyDecodeCheck '%s' 2>/dev/null",
+                dir, root, root, dir, cp_extra, log_path),
+            0);
     } else {
         printf("it_signed_log: no java/javac here: lcm-spy's decoding not checked\n");
     }
     if (harness_sh("command -v python3 >/dev/null") == 0) {
-        assert_int_equal(harness_sh("mkdir -p '%s/py' && lcm-gen -p --ppath '%s/py' '%s'/lcmtypes/*.lcm && "
-                            "python3 '%s/tools/logcheck/decode_check.py' '%s/py' '%s'", dir, dir, root, root, dir,
-                            log_path), 0);
+        assert_int_equal(
+            harness_sh("mkdir -p '%s/py' && lcm-gen -p --ppath '%s/py' '%s'/lcmtypes/*.lcm && "
+                       "python3 '%s/tools/logcheck/decode_check.py' '%s/py' '%s'",
+                       dir, dir, root, root, dir, log_path),
+            0);
     } else {
         printf("it_signed_log: no python3 here: the viewer's decoding not checked\n");
     }
@@ -188,6 +202,7 @@ static void test_played_back_log_commands_nothing(void **state)
     (void)state;
     wait_past_start_slack();
     assert_int_equal(harness_open(&h, 16), 0);
+    auth_bus_roster(&h.bus, ROSTER_ROVERS);
     harness_watch_health(&h);
     ps = harness_spawn(&h, sim);
     assert_true(ps > 0);
@@ -203,9 +218,9 @@ static void test_played_back_log_commands_nothing(void **state)
     a1 = harness_health_of(&h, "tandem-arm-1");
     harness_print_refused(&s1);
     harness_print_refused(&a1);
-    assert_int_equal(proc_poll(&h.procs, ps, &st), 0);   /* the logged QUIT did not stop it */
-    assert_true(s1.refused[3] - s0.refused[3] > 100);   /* commands, acks, the QUIT: replays */
-    assert_true(a1.refused[3] - a0.refused[3] > 100);   /* states, clocks, rows, events */
+    assert_int_equal(proc_poll(&h.procs, ps, &st), 0); /* the logged QUIT did not stop it */
+    assert_true(s1.refused[3] - s0.refused[3] > 100);  /* commands, acks, the QUIT: replays */
+    assert_true(a1.refused[3] - a0.refused[3] > 100);  /* states, clocks, rows, events */
     assert_int_equal(harness_refused(&s1) - harness_refused(&s0), s1.refused[3] - s0.refused[3]);
     assert_int_equal(harness_refused(&a1) - harness_refused(&a0), a1.refused[3] - a0.refused[3]);
     harness_close(&h);
@@ -218,8 +233,8 @@ int main(void)
         cmocka_unit_test(test_played_back_log_commands_nothing),
     };
     if (harness_private_net() != 0)
-        printf("it_signed_log: no private network namespace; using a private port on the shared one\n");
-    auth_bus_roster(2);   /* the host of rovers 1-2 is a principal of this cell, recording and playing back */
+        printf(
+            "it_signed_log: no private network namespace; using a private port on the shared one\n");
     if (record(NULL) != 0) {
         fprintf(stderr, "it_signed_log: could not record the run (lcm-logger, tandem programs)\n");
         return 1;

@@ -36,8 +36,16 @@ static int run(const char *const argv[], double timeout_s, char *text, int cap)
 static void test_buffer_task_delivers_every_workpiece(void **state)
 {
     char path[512], text[8192], log[65536];
-    const char *argv[] = { "tandem-scenario", "carry", "--task", "tasks/carry_buffer", "--workpieces", "2",
-                           "--no-serial", "--out", dir, NULL };
+    const char *argv[] = { "tandem-scenario",
+                           "carry",
+                           "--task",
+                           "tasks/carry_buffer",
+                           "--workpieces",
+                           "2",
+                           "--no-serial",
+                           "--out",
+                           dir,
+                           NULL };
     (void)state;
     assert_int_equal(run(argv, 300.0, text, sizeof text), 0);
     snprintf(path, sizeof path, "%s/summary.json", dir);
@@ -54,7 +62,8 @@ static void test_buffer_task_delivers_every_workpiece(void **state)
      * transitions fired (t3 into the buffer, t4 out of it) */
     snprintf(path, sizeof path, "%s/run_supervisor.log", dir);
     assert_true(harness_slurp(path, log, sizeof log) > 0);
-    assert_non_null(strstr(log, "task carry_buffer (tasks/carry_buffer): 9 places, 7 transitions, token bound 2"));
+    assert_non_null(strstr(
+        log, "task carry_buffer (tasks/carry_buffer): 9 places, 7 transitions, token bound 2"));
     assert_non_null(strstr(log, "complete t3 arm 1 puts it in the buffer"));
     assert_non_null(strstr(log, "complete t4 arm 2 takes it from the buffer"));
 }
@@ -68,7 +77,7 @@ static int run_logged(const char *cmd, const char *log, char *text, int cap)
     int st;
     assert_true(n > 0);
     exe[n] = '\0';
-    *strrchr(exe, '/') = '\0';   /* the build's bin, where this test is */
+    *strrchr(exe, '/') = '\0'; /* the build's bin, where this test is */
     st = harness_sh("%s/%s > %s 2>&1", exe, cmd, log);
     assert_true(harness_slurp(log, text, cap) > 0);
     printf("%s", text);
@@ -95,7 +104,8 @@ static void test_broken_task_refused_before_anything_moves(void **state)
     assert_non_null(strstr(text, "firing sequence from the initial marking"));
     assert_non_null(strstr(text, "22. complete tv"));
     assert_non_null(strstr(text, "refused: a dead marking is reachable (SUPERVISOR_ERR_TASK)"));
-    snprintf(cmd, sizeof cmd, "tandem-scenario carry --task %s --workpieces 1 --no-serial --out %s", task, out);
+    snprintf(cmd, sizeof cmd, "tandem-scenario carry --task %s --workpieces 1 --no-serial --out %s",
+             task, out);
     snprintf(path, sizeof path, "%s_scenario.log", dir);
     assert_int_equal(run_logged(cmd, path, text, sizeof text), 2);
     assert_non_null(strstr(text, "--task"));

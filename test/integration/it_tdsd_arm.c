@@ -27,15 +27,17 @@
 
 static struct {
     tandem_arm_state_t arm;
-    int     have;
+    int have;
     int64_t clock_step;
-    int     clock_new;
-    int     done, rejected;
+    int clock_new;
+    int done, rejected;
 } O;
 
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_state_t *m, void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     if (m->arm == 1) {
         O.arm = *m;
         O.have = 1;
@@ -44,14 +46,19 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_
 
 static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_clock_t *m, void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     O.clock_step = m->step;
     O.clock_new = 1;
 }
 
-static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_action_event_t *m, void *u)
+static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_action_event_t *m,
+                     void *u)
 {
-    (void)rb; (void)ch; (void)u;
+    (void)rb;
+    (void)ch;
+    (void)u;
     if (m->arm != 1)
         return;
     if (m->event == TANDEM_ACTION_EVENT_T_DONE)
@@ -130,7 +137,8 @@ static void test_tdsd_row_near_wrist_singularity(void **state)
     to_world(Tw, B, Bw);
     tf_rot(Rwb, Tw);
     rot_mul(Rw, Rwb, R1);
-    snprintf(q0s, sizeof q0s, "%.9f,%.9f,%.9f,%.9f,%.9f,%.9f", q0[0], q0[1], q0[2], q0[3], q0[4], q0[5]);
+    snprintf(q0s, sizeof q0s, "%.9f,%.9f,%.9f,%.9f,%.9f,%.9f", q0[0], q0[1], q0[2], q0[3], q0[4],
+             q0[5]);
 
     assert_int_equal(harness_open(&h, 31), 0);
     memset(&O, 0, sizeof O);
@@ -157,11 +165,17 @@ static void test_tdsd_row_near_wrist_singularity(void **state)
     row.transition = 1;
     row.arm = 1;
     row.use_tdsd = 1;
-    row.v_m = 0.25; row.a_m = 0.5; row.u_m = 4.0;   /* carry_net's FREE row */
-    row.k_p = 100.0; row.k_v = 20.0; row.k0 = 0.2; row.k1 = 5.0; row.k2 = 50.0;
+    row.v_m = 0.25;
+    row.a_m = 0.5;
+    row.u_m = 4.0; /* carry_net's FREE row */
+    row.k_p = 100.0;
+    row.k_v = 20.0;
+    row.k0 = 0.2;
+    row.k1 = 5.0;
+    row.k2 = 50.0;
     row.n_segments = 1;
     row.segments = &seg;
-    AUTH_PUBLISH(tandem_action_row_t, h.lcm, "ARM1_ACTION", &row);
+    AUTH_PUBLISH(tandem_action_row_t, &h.bus, h.lcm, "ARM1_ACTION", &row);
     k_start = k;
     while (k - k_start < 10000 && !O.done && !O.rejected) {
         harness_ack(&h, "it_tdsd_arm", k, 1);
@@ -190,7 +204,7 @@ static void test_tdsd_row_near_wrist_singularity(void **state)
     tandem_arm_state_t_unsubscribe(h.lcm, s_state);
     tandem_sim_clock_t_unsubscribe(h.lcm, s_clock);
     tandem_action_event_t_unsubscribe(h.lcm, s_event);
-    harness_close(&h);   /* before the checks: a failed one would leave the children */
+    harness_close(&h); /* before the checks: a failed one would leave the children */
     assert_false(O.rejected);
     assert_true(O.done);
     assert_true(vec3_norm(d) < 3e-3);

@@ -24,7 +24,8 @@ static long read_file(const char *path, char *buf, long cap)
 {
     FILE *f = fopen(path, "rb");
     long n;
-    if (!f) return -1;
+    if (!f)
+        return -1;
     n = (long)fread(buf, 1, (size_t)cap - 1, f);
     fclose(f);
     buf[n] = '\0';
@@ -33,9 +34,11 @@ static long read_file(const char *path, char *buf, long cap)
 
 static int fly(harness *h, const char *world, const char *dir, const char *formation)
 {
-    const char *argv[] = { "tandem-scenario", "formation", "--world-file", world, "--formation", formation,
-                           "--robots", "3", "--seed", "3", "--max-time", "60", "--lcm-url", h->url,
-                           "--out", dir, NULL };
+    const char *argv[] = {
+        "tandem-scenario", "formation", "--world-file", world, "--formation", formation,
+        "--robots",        "3",         "--seed",       "3",   "--max-time",  "60",
+        "--lcm-url",       h->url,      "--out",        dir,   NULL
+    };
     char out[8192];
     pid_t p = harness_spawn(h, argv);
     int rc;
@@ -86,8 +89,17 @@ static void test_goal_on_a_wall_is_refused_before_start(void **state)
 {
     harness h;
     char dir[64], out[4096];
-    const char *argv[] = { "tandem-scenario", "formation", "--world-file", "test/data/worlds/room.yaml",
-                           "--goal", "11.0,3.0", "--lcm-url", NULL, "--out", dir, NULL };
+    const char *argv[] = { "tandem-scenario",
+                           "formation",
+                           "--world-file",
+                           "test/data/worlds/room.yaml",
+                           "--goal",
+                           "11.0,3.0",
+                           "--lcm-url",
+                           NULL,
+                           "--out",
+                           dir,
+                           NULL };
     struct stat st;
     pid_t p;
     (void)state;
@@ -98,7 +110,7 @@ static void test_goal_on_a_wall_is_refused_before_start(void **state)
     assert_true(p > 0);
     assert_int_equal(harness_wait(&h, p, 30.0), 2);
     harness_read_output(&h, p, out, sizeof out);
-    printf("%s", out);    /* the reason goes to stderr: "...: tandem.goal: ..." */
+    printf("%s", out); /* the reason goes to stderr: "...: tandem.goal: ..." */
     assert_true(stat(dir, &st) != 0);
     harness_close(&h);
 }

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "netc.h"
+#include "status.h"
 #include "equal_carry.h"
 
 #define CARRY_PNML "tasks/carry/carry.pnml"
@@ -82,8 +83,10 @@ static const struct {
     { "    name: \"t6 arm 1 back home\"", "", "name: missing" },
     { "gains: SYNC", "gains: {a: 1}", "gains: not a value or a list of values" },
     { "rows:", "rows: [", "not YAML" },
-    { "name: \"t6 arm 1 back home\"", "name: \"t6 arm 1 back home, the long way round: past the hand-over, "
-      "behind the table, along the wall and past the camera\"", "name: longer than the tables hold" },
+    { "name: \"t6 arm 1 back home\"",
+      "name: \"t6 arm 1 back home, the long way round: past the hand-over, "
+      "behind the table, along the wall and past the camera\"",
+      "name: longer than the tables hold" },
 };
 
 static void test_yaml_rows(void **st)
@@ -91,7 +94,8 @@ static void test_yaml_rows(void **st)
     const char *path = "build/test_netc_rows.yaml";
     size_t k;
     (void)st;
-    assert_int_equal(compile(&TASK, CARRY_PNML, "test/netc/carry_rows.yaml", 1, MSG, sizeof MSG), NETC_OK);
+    assert_int_equal(compile(&TASK, CARRY_PNML, "test/netc/carry_rows.yaml", 1, MSG, sizeof MSG),
+                     NETC_OK);
     assert_carry_equal(&TASK.net, TASK.rows);
     for (k = 0; k < sizeof BAD_YAML / sizeof BAD_YAML[0]; k++) {
         edit_copy("test/netc/carry_rows.yaml", path, BAD_YAML[k].find, BAD_YAML[k].repl);
@@ -108,21 +112,24 @@ static void test_buffer_task_is_bounded_not_safe(void **st)
     assert_int_equal(TASK.n_invariants, 3);
     assert_int_equal(carry_table_validate(TASK.rows, TASK.n_transitions, &TASK.net), 0);
     /* the two buffer slots are two tokens in pf at the start */
-    assert_int_equal(compile(&TASK, BUFFER_PNML, BUFFER_ROWS, 1, MSG, sizeof MSG), NETC_ERR_UNBOUNDED);
+    assert_int_equal(compile(&TASK, BUFFER_PNML, BUFFER_ROWS, 1, MSG, sizeof MSG),
+                     NETC_ERR_UNBOUNDED);
     assert_non_null(strstr(MSG, "the net must be safe"));
 }
 
 static void test_deadlock_refused_with_counterexample(void **st)
 {
     (void)st;
-    assert_int_equal(compile(&TASK, "test/netc/carry_deadlock.pnml", CARRY_ROWS, 1, MSG, sizeof MSG),
-                     NETC_ERR_DEADLOCK);
+    assert_int_equal(
+        compile(&TASK, "test/netc/carry_deadlock.pnml", CARRY_ROWS, 1, MSG, sizeof MSG),
+        NETC_ERR_DEADLOCK);
     assert_non_null(strstr(MSG, "deadlock"));
     /* arm 2 delivered one workpiece and never came home: the path goes
      * through t7's completion and ends with arm 1 holding the next one */
     assert_non_null(strstr(MSG, "complete t7"));
     assert_non_null(strstr(MSG, "22. complete tv"));
-    assert_non_null(strstr(MSG, "    1     0     0     0     1     0     0     0     0   running:\n"));
+    assert_non_null(
+        strstr(MSG, "    1     0     0     0     1     0     0     0     0   running:\n"));
 }
 
 static void test_dead_transition_refused(void **st)
@@ -164,7 +171,8 @@ static void test_bad_rows_refused(void **st)
     edit_copy(CARRY_ROWS, path, "tv,yes,FREE,0,-,-", "tv,yes,FREE,0,MOVE HOME_1,-");
     assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_TABLE);
     /* arm 2 sent to a pose of arm 1's side of the cell */
-    edit_copy(CARRY_ROWS, path, "-,MOVE ABOVE_RELEASE; MOVE RELEASE_POSE", "-,MOVE ABOVE_RELEASE; MOVE HOME_1");
+    edit_copy(CARRY_ROWS, path, "-,MOVE ABOVE_RELEASE; MOVE RELEASE_POSE",
+              "-,MOVE ABOVE_RELEASE; MOVE HOME_1");
     assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_TABLE);
     assert_non_null(strstr(MSG, "arm 2 cannot go to HOME_1"));
     /* a transition without its row */
@@ -186,7 +194,8 @@ static void test_bad_pnml_refused(void **st)
 {
     const char *path = "build/test_netc_bad.pnml";
     (void)st;
-    assert_int_equal(compile(&TASK, "build/no-such.pnml", CARRY_ROWS, 1, MSG, sizeof MSG), NETC_ERR_IO);
+    assert_int_equal(compile(&TASK, "build/no-such.pnml", CARRY_ROWS, 1, MSG, sizeof MSG),
+                     NETC_ERR_IO);
     edit_copy(CARRY_PNML, path, "<inscription><text>1</text></inscription>",
               "<inscription><text>2</text></inscription>");
     assert_int_equal(compile(&TASK, path, CARRY_ROWS, 1, MSG, sizeof MSG), NETC_ERR_CAPACITY);
@@ -205,7 +214,7 @@ static void test_strerror_distinct(void **st)
     for (a = NETC_ERR_ROLES; a <= NETC_OK; a++)
         for (b = a + 1; b <= NETC_OK; b++)
             assert_string_not_equal(netc_strerror(a), netc_strerror(b));
-    assert_string_equal(netc_strerror(NETC_ERR_ROLES - 1), "unknown error");
+    assert_string_equal(netc_strerror(NETC_ERR_ROLES - 1), STATUS_UNKNOWN_TEXT);
 }
 
 int main(void)

@@ -80,7 +80,8 @@ static const char *task_dir(const char *pnml, const char *name, const char *find
     if (find) {
         char *at = strstr(text, find);
         assert_non_null(at);
-        snprintf(edited, sizeof edited, "%.*s%s%s", (int)(at - text), text, repl, at + strlen(find));
+        snprintf(edited, sizeof edited, "%.*s%s%s", (int)(at - text), text, repl,
+                 at + strlen(find));
     } else {
         snprintf(edited, sizeof edited, "%s", text);
     }
@@ -117,7 +118,7 @@ static void test_buffer_loads_with_bound_two(void **st)
     int bound = 0;
     (void)st;
     assert_int_equal(load("tasks/carry_buffer", &bound), NETC_OK);
-    assert_int_equal(bound, 2);   /* pb + pf = 2 */
+    assert_int_equal(bound, 2); /* pb + pf = 2 */
     assert_int_equal(TASK.n_invariants, 3);
     assert_int_equal(taskdef_validate(&TASK.net, TASK.rows, &r), TASKDEF_OK);
     assert_string_equal(TASK.trans_name[r.source], "tv");
@@ -154,7 +155,8 @@ static void test_files_refused(void **st)
     assert_carry_equal(&TASK.net, TASK.rows);
     /* bad arguments */
     assert_int_equal(netc_task_load(&TASK, NULL, 0, NULL, stdout, stderr), NETC_ERR_CAPACITY);
-    assert_int_equal(netc_task_load(&TASK, "tasks/carry", PETRI_TOKEN_MAX, NULL, stdout, stderr), NETC_ERR_CAPACITY);
+    assert_int_equal(netc_task_load(&TASK, "tasks/carry", PETRI_TOKEN_MAX, NULL, stdout, stderr),
+                     NETC_ERR_CAPACITY);
 }
 
 /* One place more than the supervisor's tables hold: refused naming the
@@ -167,13 +169,18 @@ static void test_capacity_refused(void **st)
     (void)st;
     for (i = 0; i < PETRI_MAX_PLACES; i++)
         n += (size_t)snprintf(places + n, sizeof places - n, "<place id=\"x%d\"/>\n", i);
-    assert_int_equal(load(carry_variant("big", "</page>", strcat(places, "</page>")), NULL), NETC_ERR_CAPACITY);
+    assert_int_equal(load(carry_variant("big", "</page>", strcat(places, "</page>")), NULL),
+                     NETC_ERR_CAPACITY);
     assert_non_null(strstr(MSG, "PETRI_MAX_PLACES"));
     assert_non_null(strstr(MSG, "task.pnml"));
     /* a name longer than the tables hold: refused, not cut */
-    assert_int_equal(load(carry_variant("longname", "<text>p5</text>",
-                                        "<text>p5 arm 1 holds the workpiece it took from the pick zone, on its way</text>"),
-                          NULL), NETC_ERR_CAPACITY);
+    assert_int_equal(
+        load(
+            carry_variant(
+                "longname", "<text>p5</text>",
+                "<text>p5 arm 1 holds the workpiece it took from the pick zone, on its way</text>"),
+            NULL),
+        NETC_ERR_CAPACITY);
     assert_non_null(strstr(MSG, "the name of p5 longer than 63 characters (TASKDEF_MAX_NAME)"));
 }
 
@@ -184,7 +191,8 @@ static void test_roles_refused(void **st)
 {
     (void)st;
     assert_int_equal(load(carry_variant("twopicks", "</page>",
-                                        "<arc id=\"x\" source=\"p1\" target=\"t2\"/>\n</page>"), NULL),
+                                        "<arc id=\"x\" source=\"p1\" target=\"t2\"/>\n</page>"),
+                          NULL),
                      NETC_ERR_ROLES);
     assert_non_null(strstr(MSG, "source transition tv"));
     assert_non_null(strstr(MSG, "TASKDEF_ERR_PICK"));
@@ -196,7 +204,8 @@ static void test_roles_refused(void **st)
 static void test_deadlock_refused(void **st)
 {
     (void)st;
-    assert_int_equal(load(task_dir("test/netc/carry_deadlock.pnml", "dead", NULL, NULL), NULL), NETC_ERR_DEADLOCK);
+    assert_int_equal(load(task_dir("test/netc/carry_deadlock.pnml", "dead", NULL, NULL), NULL),
+                     NETC_ERR_DEADLOCK);
     assert_non_null(strstr(MSG, "firing sequence from the initial marking"));
     assert_non_null(strstr(MSG, "22. complete tv"));
 }

@@ -9,7 +9,8 @@
 
 static void usage(FILE *f)
 {
-    fprintf(f,
+    fprintf(
+        f,
         "usage: tandem-netc TASK.pnml ROWS.csv|ROWS.yaml [--out DIR] [--name NAME] [--bound K] [--sim-args]\n"
         "  Reads a place/transition net (PNML; PIPE's inhibitor arcs) and its\n"
         "  lookup rows, checks it (validators, reachability within %d states:\n"
@@ -23,7 +24,8 @@ static void usage(FILE *f)
         "  --sim-args   last line: the tandem-sim options the cell needs for the task\n"
         "               (--handover-stand when a row sets a workpiece down at the hand-over)\n"
         "  exit 0 ok, 1 refused (with a counterexample), 2 usage or files\n"
-        "  docs/tasks.md\n", PETRI_MAX_STATES);
+        "  docs/tasks.md\n",
+        PETRI_MAX_STATES);
 }
 
 static int name_ok(const char *s)
@@ -32,7 +34,8 @@ static int name_ok(const char *s)
     if (!*s || (*s >= '0' && *s <= '9'))
         return 0;
     for (p = s; *p; p++)
-        if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') || *p == '_'))
+        if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') ||
+              *p == '_'))
             return 0;
     return 1;
 }

@@ -25,13 +25,13 @@
 #include "tandem_action_event_t.h"
 #include "tandem_sim_control_t.h"
 
-#define MOVING_MPS 0.03          /* a block waits for its arm to move this fast ... */
-#define MOVING_T3_MPS 0.10       /* ... or, in t3, this fast (cruise) */
+#define MOVING_MPS 0.03    /* a block waits for its arm to move this fast ... */
+#define MOVING_T3_MPS 0.10 /* ... or, in t3, this fast (cruise) */
 #define CONTACT_N 0.5
 #define LURCH_WINDOW_S 2.0
 #define STOP_MPS 0.01
-#define BLOCK_SETTLED_S 0.5      /* contact force "settled": this long after contact */
-#define RESUME_MOVE_M 0.005      /* resumed: the tool is this far from where it was at removal */
+#define BLOCK_SETTLED_S 0.5 /* contact force "settled": this long after contact */
+#define RESUME_MOVE_M 0.005 /* resumed: the tool is this far from where it was at removal */
 
 int carry_block_parse(const char *s, block *b)
 {
@@ -81,7 +81,7 @@ static void block_arm(carry_state *r, carry_blocks *bl, block *b)
         b->in_s = r->t_s;
         b->during_t3 = carry_t3_running(r);
     } else if (r->t_s > b->start_s + 300.0) {
-        b->done = 1;          /* never met a moving arm: skipped */
+        b->done = 1; /* never met a moving arm: skipped */
         bl->cur++;
     }
 }
@@ -125,8 +125,8 @@ static void block_in(carry_state *r, block *b)
         b->force_late_sum_N += f;
         b->force_late_n++;
     }
-    if (b->during_t3 && b->contact_s >= 0.0 && r->tr[0] == 3 && r->tr[1] == 3 &&
-        r->s_f[0] > 0.0 && r->s_f[1] > 0.0)
+    if (b->during_t3 && b->contact_s >= 0.0 && r->tr[0] == 3 && r->tr[1] == 3 && r->s_f[0] > 0.0 &&
+        r->s_f[1] > 0.0)
         block_t3_stops(r, b);
     if (r->t_s >= b->in_s + b->dur_s) {
         carry_stick_command(r, TANDEM_SIM_CONTROL_T_REMOVE_STICK, 0, 0);

@@ -18,14 +18,16 @@
 #include "tandem_sim_status_t.h"
 
 const char *const carry_daemon_fault_name[CARRY_DAEMONS] = { "sim", "arm1", "arm2", "supervisor" };
-const char *const carry_daemon_lock_name[CARRY_DAEMONS] = { "tandem-sim", "tandem-arm-1", "tandem-arm-2",
-                                                            "tandem-supervisor" };
+const char *const carry_daemon_lock_name[CARRY_DAEMONS] = { "tandem-sim", "tandem-arm-1",
+                                                            "tandem-arm-2", "tandem-supervisor" };
 
-static void on_sim_ack(const lcm_recv_buf_t *rb, const char *ch, const tandem_clock_ack_t *m, void *u)
+static void on_sim_ack(const lcm_recv_buf_t *rb, const char *ch, const tandem_clock_ack_t *m,
+                       void *u)
 {
     int k;
     carry_state *r = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     for (k = 0; k < CARRY_DAEMONS; k++)
         if (!m->leaving && !strcmp(m->name, carry_daemon_lock_name[k]) && m->step > r->ack_step[k])
             r->ack_step[k] = m->step;
@@ -36,7 +38,8 @@ static void on_sim_ack(const lcm_recv_buf_t *rb, const char *ch, const tandem_cl
 static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_clock_t *m, void *u)
 {
     carry_state *r = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     if (m->mode == TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP && m->step >= 0) {
         r->pending = m->step;
         r->t_s = m->sim_time_s;
@@ -75,7 +78,8 @@ static void on_arm(const lcm_recv_buf_t *rb, const char *ch, const tandem_arm_st
 {
     int a;
     carry_state *r = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     a = m->arm - 1;
     if (a == 0 || a == 1) {
         if (r->have_arm[a] && m->step > r->arm[a].step) {
@@ -111,13 +115,16 @@ static void sync_backtrack(carry_state *r, int a, const tandem_action_event_t *e
     if (r->status_stick)
         r->sync_frac_max[a] = frac;
     r->sync_frac_max[a] = fmax(r->sync_frac_max[a], frac);
-    r->max_sync_backtrack_m = fmax(r->max_sync_backtrack_m, (r->sync_frac_max[a] - frac) * e->s_f_m);
+    r->max_sync_backtrack_m = fmax(r->max_sync_backtrack_m,
+                                   (r->sync_frac_max[a] - frac) * e->s_f_m);
 }
 
-static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_action_event_t *e, void *u)
+static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_action_event_t *e,
+                     void *u)
 {
     carry_state *r = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     if ((e->arm == 1 || e->arm == 2) && e->event == TANDEM_ACTION_EVENT_T_PROGRESS) {
         r->s[e->arm - 1] = e->s_m;
         r->s_f[e->arm - 1] = e->s_f_m;
@@ -133,11 +140,13 @@ static void on_event(const lcm_recv_buf_t *rb, const char *ch, const tandem_acti
     }
 }
 
-static void on_marking(const lcm_recv_buf_t *rb, const char *ch, const tandem_petri_marking_t *m, void *u)
+static void on_marking(const lcm_recv_buf_t *rb, const char *ch, const tandem_petri_marking_t *m,
+                       void *u)
 {
     int i;
     carry_state *r = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     if (m->n_places <= PETRI_MAX_PLACES && m->n_transitions <= PETRI_MAX_TRANSITIONS) {
         r->mk = *m;
         for (i = 0; i < m->n_places; i++)
@@ -150,10 +159,12 @@ static void on_marking(const lcm_recv_buf_t *rb, const char *ch, const tandem_pe
     }
 }
 
-static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *m, void *u)
+static void on_status(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_status_t *m,
+                      void *u)
 {
     carry_state *r = u;
-    (void)rb; (void)ch;
+    (void)rb;
+    (void)ch;
     if (m->step > r->status_step) {
         r->status_step = m->step;
         r->status_stick = m->stick_inserted != 0;
@@ -180,7 +191,7 @@ void carry_send_control(carry_state *r, int cmd, int arm, int link)
     c.link = link;
     c.length_m = cmd == TANDEM_SIM_CONTROL_T_INSERT_STICK ? 0.3 : 0.0;
     c.radius_m = cmd == TANDEM_SIM_CONTROL_T_INSERT_STICK ? 0.02 : 0.0;
-    AUTH_PUBLISH(tandem_sim_control_t, r->lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, r->bus, r->lcm, "SIM_CONTROL", &c);
 }
 
 void carry_stick_command(carry_state *r, int cmd, int arm, int link)
@@ -206,22 +217,27 @@ void carry_stick_confirm(carry_state *r)
         r->status_stick == r->stick_want)
         return;
     if (++r->stick_tries > STICK_MAX_TRIES) {
-        fprintf(stderr, "tandem-scenario: the simulator does not take the stick command (%s) after %d tries: "
-                        "given up\n", r->stick_want ? "in" : "out", STICK_MAX_TRIES);
+        fprintf(
+            stderr,
+            "tandem-scenario: the simulator does not take the stick command (%s) after %d tries: "
+            "given up\n",
+            r->stick_want ? "in" : "out", STICK_MAX_TRIES);
         r->stick_want = -1;
         return;
     }
     r->stick_resends++;
-    fprintf(stderr, "tandem-scenario: the stick command (%s) was lost at %.3f s: sending it again\n",
+    fprintf(stderr,
+            "tandem-scenario: the stick command (%s) was lost at %.3f s: sending it again\n",
             r->stick_want ? "in" : "out", r->t_s);
     r->stick_sent_step = r->pending;
-    carry_send_control(r, r->stick_want ? TANDEM_SIM_CONTROL_T_INSERT_STICK : TANDEM_SIM_CONTROL_T_REMOVE_STICK,
-                       r->stick_arm, r->stick_link);
+    carry_send_control(
+        r, r->stick_want ? TANDEM_SIM_CONTROL_T_INSERT_STICK : TANDEM_SIM_CONTROL_T_REMOVE_STICK,
+        r->stick_arm, r->stick_link);
 }
 
 void carry_ack(carry_state *r, int64_t step, int leaving)
 {
-    scenario_ack(r->lcm, &r->ack_seq, step, 1, leaving);
+    scenario_ack(r->bus, r->lcm, &r->ack_seq, step, 1, leaving);
 }
 
 int carry_t3_running(const carry_state *r)
@@ -231,11 +247,11 @@ int carry_t3_running(const carry_state *r)
 
 void carry_subscribe(carry_state *r)
 {
-    auth_bus_subscribe(r->lcm, "SIM_CLOCK", raw_on_clock, r);
-    auth_bus_subscribe(r->lcm, "ARM1_STATE", raw_on_arm, r);
-    auth_bus_subscribe(r->lcm, "ARM2_STATE", raw_on_arm, r);
-    auth_bus_subscribe(r->lcm, "ARM_EVENTS", raw_on_event, r);
-    auth_bus_subscribe(r->lcm, "PETRI_MARKING", raw_on_marking, r);
-    auth_bus_subscribe(r->lcm, "SIM_STATUS", raw_on_status, r);
-    auth_bus_subscribe(r->lcm, "SIM_ACK", raw_on_sim_ack, r);
+    auth_bus_subscribe(r->bus, r->lcm, "SIM_CLOCK", raw_on_clock, r);
+    auth_bus_subscribe(r->bus, r->lcm, "ARM1_STATE", raw_on_arm, r);
+    auth_bus_subscribe(r->bus, r->lcm, "ARM2_STATE", raw_on_arm, r);
+    auth_bus_subscribe(r->bus, r->lcm, "ARM_EVENTS", raw_on_event, r);
+    auth_bus_subscribe(r->bus, r->lcm, "PETRI_MARKING", raw_on_marking, r);
+    auth_bus_subscribe(r->bus, r->lcm, "SIM_STATUS", raw_on_status, r);
+    auth_bus_subscribe(r->bus, r->lcm, "SIM_ACK", raw_on_sim_ack, r);
 }

@@ -25,14 +25,18 @@ void carry_block_figures_of(carry_block_figures *f, const carry_blocks *bl, doub
         fn += b->force_n;
         if (b->in_s < 0.0)
             f->skipped++;
-        if (b->out_s >= 0.0)   /* not resumed by the end: counted to the end */
-            f->resume_max_s = fmax(f->resume_max_s, (b->resume_s >= 0.0 ? b->resume_s : sim_s) - b->out_s);
+        if (b->out_s >= 0.0) /* not resumed by the end: counted to the end */
+            f->resume_max_s = fmax(f->resume_max_s,
+                                   (b->resume_s >= 0.0 ? b->resume_s : sim_s) - b->out_s);
         if (b->force_late_n)
-            f->settled_max_N = fmax(f->settled_max_N, b->force_late_sum_N / (double)b->force_late_n);
+            f->settled_max_N = fmax(f->settled_max_N,
+                                    b->force_late_sum_N / (double)b->force_late_n);
         if (b->during_t3 && b->partner_stop_s >= 0.0) {
-            f->latency_max_s = isnan(f->latency_max_s) ? b->partner_stop_s - b->self_stop_s
-                                                       : fmax(f->latency_max_s, b->partner_stop_s - b->self_stop_s);
-            f->lead_max_m = isnan(f->lead_max_m) ? b->lead_max_m : fmax(f->lead_max_m, b->lead_max_m);
+            f->latency_max_s = isnan(f->latency_max_s)
+                                   ? b->partner_stop_s - b->self_stop_s
+                                   : fmax(f->latency_max_s, b->partner_stop_s - b->self_stop_s);
+            f->lead_max_m = isnan(f->lead_max_m) ? b->lead_max_m
+                                                 : fmax(f->lead_max_m, b->lead_max_m);
         }
     }
     f->mean_force_N = fn ? fsum / (double)fn : 0.0;
@@ -59,7 +63,8 @@ static void summary_blocks(json_out *j, const carry_blocks *bl)
 }
 
 /* The net's counts, the cycle times against the serial run, the run's health. */
-static void summary_run(json_out *j, const carry_cfg *c, const carry_result *res, const carry_result *ser)
+static void summary_run(json_out *j, const carry_cfg *c, const carry_result *res,
+                        const carry_result *ser)
 {
     json_int(j, "invariant_violations", res->invariant_violations);
     json_int(j, "deadlocks", res->deadlocks);
@@ -81,8 +86,8 @@ static void summary_run(json_out *j, const carry_cfg *c, const carry_result *res
     json_int(j, "stick_resends", res->stick_resends);
 }
 
-int carry_write_summary(const carry_cfg *c, long seed, const carry_result *res, const carry_result *ser,
-                        const carry_block_figures *f, const char *failed)
+int carry_write_summary(const carry_cfg *c, long seed, const carry_result *res,
+                        const carry_result *ser, const carry_block_figures *f, const char *failed)
 {
     json_out j;
     if (json_open(&j, c->out, "summary.json") != 0)
@@ -129,14 +134,16 @@ void carry_write_blocks_csv(const char *dir, const carry_blocks *bl)
     int i;
     if (!f)
         return;
-    fprintf(f, "arm,link,armed_s,in_s,out_s,duration_s,during_t3,contact_s,max_force_N,mean_force_N,"
-               "blocked_stop_s,partner_stop_latency_s,partner_lead_max_m,lurch_mps,mean_force_settled_N\n");
+    fprintf(
+        f,
+        "arm,link,armed_s,in_s,out_s,duration_s,during_t3,contact_s,max_force_N,mean_force_N,"
+        "blocked_stop_s,partner_stop_latency_s,partner_lead_max_m,lurch_mps,mean_force_settled_N\n");
     for (i = 0; i < bl->n; i++) {
         const block *b = &bl->b[i];
-        fprintf(f, "%d,%d,%.3f,%.3f,%.3f,%.3f,%d,%.3f,%.2f,%.2f,%.3f,%.4f,%.4f,%.3f,%.2f\n", b->arm, b->link, b->start_s,
-                b->in_s, b->out_s, b->dur_s, b->during_t3, b->contact_s, b->max_force_N,
-                b->force_n ? b->force_sum_N / (double)b->force_n : 0.0, b->self_stop_s,
-                b->partner_stop_s >= 0.0 ? b->partner_stop_s - b->self_stop_s : NAN,
+        fprintf(f, "%d,%d,%.3f,%.3f,%.3f,%.3f,%d,%.3f,%.2f,%.2f,%.3f,%.4f,%.4f,%.3f,%.2f\n", b->arm,
+                b->link, b->start_s, b->in_s, b->out_s, b->dur_s, b->during_t3, b->contact_s,
+                b->max_force_N, b->force_n ? b->force_sum_N / (double)b->force_n : 0.0,
+                b->self_stop_s, b->partner_stop_s >= 0.0 ? b->partner_stop_s - b->self_stop_s : NAN,
                 b->lead_max_m, b->lurch_mps,
                 b->force_late_n ? b->force_late_sum_N / (double)b->force_late_n : NAN);
     }
@@ -153,31 +160,39 @@ void carry_write_plots(const char *dir, const carry_blocks *bl)
     fprintf(g, "set key outside\n");
     for (i = 0; i < bl->n; i++)
         if (b[i].in_s >= 0.0)
-            fprintf(g, "set object %d rect from %.3f, graph 0 to %.3f, graph 1 fc rgb '%s' fs solid 0.25 noborder\n",
-                    i + 1, b[i].in_s, b[i].out_s >= 0 ? b[i].out_s : b[i].in_s + b[i].dur_s,
-                    b[i].arm == 1 ? "#ff8080" : "#8080ff");
-    fprintf(g, "set output 's.png'\nset title 'path length s(t) of the running segment per arm (shaded: stick in, "
-               "in the colour of the arm it blocks)'\n"
-               "set xlabel 'sim time (s)'\nset ylabel 's (m)'\n"
-               "plot 'timeseries.csv' every ::1 using 1:2 with lines lw 1.5 lc rgb '#c00000' title 'arm 1', "
-               "'' every ::1 using 1:5 with lines lw 1.5 lc rgb '#0000c0' title 'arm 2'\n");
+            fprintf(
+                g,
+                "set object %d rect from %.3f, graph 0 to %.3f, graph 1 fc rgb '%s' fs solid 0.25 noborder\n",
+                i + 1, b[i].in_s, b[i].out_s >= 0 ? b[i].out_s : b[i].in_s + b[i].dur_s,
+                b[i].arm == 1 ? "#ff8080" : "#8080ff");
+    fprintf(
+        g,
+        "set output 's.png'\nset title 'path length s(t) of the running segment per arm (shaded: stick in, "
+        "in the colour of the arm it blocks)'\n"
+        "set xlabel 'sim time (s)'\nset ylabel 's (m)'\n"
+        "plot 'timeseries.csv' every ::1 using 1:2 with lines lw 1.5 lc rgb '#c00000' title 'arm 1', "
+        "'' every ::1 using 1:5 with lines lw 1.5 lc rgb '#0000c0' title 'arm 2'\n");
     /* the force sensor's 10 ms average, as a real stick's sensor reads it
      * (the raw 1 ms maximum is in the CSV) */
-    fprintf(g, "set output 'force.png'\nset title 'largest link contact force, 10 ms average'\n"
-               "set ylabel 'force (N)'\nset yrange [0:*]\n"
-               "plot 'timeseries.csv' every ::1 using 1:15 with lines lc rgb '#c00000' title 'arm 1', "
-               "'' every ::1 using 1:16 with lines lc rgb '#0000c0' title 'arm 2'\nset autoscale y\n");
-    fprintf(g, "unset object\nset output 'gantt.png'\nset title 'transitions per arm (running intervals; t3, t4 involve both arms)'\n"
-               "set ylabel ''\nset ytics ('arm 1' 1, 'arm 2' 2)\nset yrange [0.3:2.9]\nset xlabel 'sim time (s)'\n"
-               "a1(t) = (t==1||t==2||t==3||t==4||t==6)\na2(t) = (t==3||t==4||t==5||t==7)\n"
-               "plot 'transitions.csv' every ::1 using 2:(a1($1)?1:1/0):($3-$2):(0):1 with vectors nohead lw 14 lc variable notitle, "
-               "'' every ::1 using 2:(a2($1)?2:1/0):($3-$2):(0):1 with vectors nohead lw 14 lc variable notitle, "
-               "'' every ::1 using (($2+$3)/2):(a1($1)?1.3:1/0):(sprintf('t%%d',$1)) with labels font ',8' notitle, "
-               "'' every ::1 using (($2+$3)/2):(a2($1)?2.3:1/0):(sprintf('t%%d',$1)) with labels font ',8' notitle\n");
+    fprintf(g,
+            "set output 'force.png'\nset title 'largest link contact force, 10 ms average'\n"
+            "set ylabel 'force (N)'\nset yrange [0:*]\n"
+            "plot 'timeseries.csv' every ::1 using 1:15 with lines lc rgb '#c00000' title 'arm 1', "
+            "'' every ::1 using 1:16 with lines lc rgb '#0000c0' title 'arm 2'\nset autoscale y\n");
+    fprintf(
+        g,
+        "unset object\nset output 'gantt.png'\nset title 'transitions per arm (running intervals; t3, t4 involve both arms)'\n"
+        "set ylabel ''\nset ytics ('arm 1' 1, 'arm 2' 2)\nset yrange [0.3:2.9]\nset xlabel 'sim time (s)'\n"
+        "a1(t) = (t==1||t==2||t==3||t==4||t==6)\na2(t) = (t==3||t==4||t==5||t==7)\n"
+        "plot 'transitions.csv' every ::1 using 2:(a1($1)?1:1/0):($3-$2):(0):1 with vectors nohead lw 14 lc variable notitle, "
+        "'' every ::1 using 2:(a2($1)?2:1/0):($3-$2):(0):1 with vectors nohead lw 14 lc variable notitle, "
+        "'' every ::1 using (($2+$3)/2):(a1($1)?1.3:1/0):(sprintf('t%%d',$1)) with labels font ',8' notitle, "
+        "'' every ::1 using (($2+$3)/2):(a2($1)?2.3:1/0):(sprintf('t%%d',$1)) with labels font ',8' notitle\n");
     scenario_plot_run(dir, g);
 }
 
-int carry_criteria(const carry_cfg *c, const carry_result *r, double resume_max_s, char *buf, size_t cap)
+int carry_criteria(const carry_cfg *c, const carry_result *r, double resume_max_s, char *buf,
+                   size_t cap)
 {
     const scenario_criterion k[] = {
         { strcmp(r->exit_reason, "completed") != 0, "exit_reason" },

@@ -16,13 +16,14 @@
 #include "carry_scen.h"
 #include "hang_watch.h"
 #include "shared_run.h"
+#include "run_key.h"
 #include "arm_model.h"
 #include "daemon.h"
 #include "proc.h"
 #include "tandem_action_event_t.h"
 #include "tandem_sim_control_t.h"
 
-#define PROGRESS_EVERY_S 5.0     /* wall time between progress lines */
+#define PROGRESS_EVERY_S 5.0 /* wall time between progress lines */
 /* The simulator drops a lockstep participant that has not answered for
  * this long. A run with a dropped controller is not the seed's run, and a
  * daemon that really died is seen by its exit: so only after 10 minutes
@@ -40,8 +41,8 @@ typedef struct carry_daemons {
     /* --hang-s: silent daemons; a hung one's restart (HUNG_*), the step
      * announced when it was killed, and the leaves of killed daemons */
     hang_watch hw;
-    int      hung_stage[CARRY_DAEMONS];
-    int64_t  hung_step[CARRY_DAEMONS];
+    int hung_stage[CARRY_DAEMONS];
+    int64_t hung_step[CARRY_DAEMONS];
     scenario_leave leave[CARRY_DAEMONS];
 } carry_daemons;
 
@@ -49,7 +50,11 @@ typedef struct carry_daemons {
 enum { HUNG_NONE = 0, HUNG_KILLED = 1, HUNG_RESTARTING = 2 };
 
 static volatile sig_atomic_t interrupted;
-static void on_sigint(int s) { (void)s; interrupted = 1; }
+static void on_sigint(int s)
+{
+    (void)s;
+    interrupted = 1;
+}
 
 void carry_catch_signals(void)
 {
@@ -81,9 +86,10 @@ static void record_step(carry_state *r, const carry_cfg *c, int64_t step)
     }
     if (c->ts_csv && step % 10 == 0) {
         int stick = carry_stick_in(bl);
-        fprintf(c->ts_csv, "%.3f,%.5f,%.5f,%d,%.5f,%.5f,%d,%.4f,%.4f,%.3f,%.3f,%d,%d,%d,%.3f,%.3f\n", r->t_s,
-                r->s[0], r->s_f[0], r->tr[0], r->s[1], r->s_f[1], r->tr[1], r->speed[0], r->speed[1],
-                r->arm[0].max_contact_force_N, r->arm[1].max_contact_force_N,
+        fprintf(c->ts_csv,
+                "%.3f,%.5f,%.5f,%d,%.5f,%.5f,%d,%.4f,%.4f,%.3f,%.3f,%d,%d,%d,%.3f,%.3f\n", r->t_s,
+                r->s[0], r->s_f[0], r->tr[0], r->s[1], r->s_f[1], r->tr[1], r->speed[0],
+                r->speed[1], r->arm[0].max_contact_force_N, r->arm[1].max_contact_force_N,
                 stick ? bl->b[bl->cur].arm : 0, r->delivered, r->dropped,
                 r->arm[0].max_contact_force_10ms_N, r->arm[1].max_contact_force_10ms_N);
     }
@@ -108,10 +114,13 @@ static void progress_line(const carry_state *r, const carry_cfg *c, double wall0
                  bl->b[bl->cur].arm, bl->b[bl->cur].link);
     else if (bl->cur < bl->n)
         snprintf(blk, sizeof blk, "block %d/%d armed", bl->cur + 1, bl->n);
-    fprintf(stderr, "tandem-scenario carry %s: t %.1f s (%.1fx real time), delivered %d/%d, dropped %d, %s, "
-                    "max contact %.0f N (10 ms)%s\n", c->tag, r->t_s, scenario_realtime_factor(r->t_s, wall),
-            r->delivered, c->workpieces, r->dropped, blk, r->max_force_10ms_N,
-            r->max_force_10ms_N > CRIT_FORCE_10MS_N ? " IMPLAUSIBLE" : "");
+    fprintf(
+        stderr,
+        "tandem-scenario carry %s: t %.1f s (%.1fx real time), delivered %d/%d, dropped %d, %s, "
+        "max contact %.0f N (10 ms)%s\n",
+        c->tag, r->t_s, scenario_realtime_factor(r->t_s, wall), r->delivered, c->workpieces,
+        r->dropped, blk, r->max_force_10ms_N,
+        r->max_force_10ms_N > CRIT_FORCE_10MS_N ? " IMPLAUSIBLE" : "");
 }
 
 /* ---- the daemons --------------------------------------------------------------- */
@@ -126,12 +135,18 @@ static void daemon_argv_finish(const carry_cfg *c, const char **argv, int n, int
 /* The four command lines and the bus of run c. */
 static void daemons_argv(carry_daemons *d, const carry_cfg *c)
 {
-    const char *const sim[] = { "tandem-sim", "--lockstep", "--expect", "4", "--workpieces", d->nbuf,
-                                "--seed", d->sbuf, "--timeout-ms", LOCKSTEP_TIMEOUT_MS };
-    const char *const a1[] = { "tandem-arm", "--arm", "1", "--lockstep", "--block-detect", c->block_detect };
-    const char *const a2[] = { "tandem-arm", "--arm", "2", "--lockstep", "--block-detect", c->block_detect };
-    const char *const sup[] = { "tandem-supervisor", "--lockstep", "--stall-s", c->stall_s, "--controller",
-                                c->controller_time ? "time" : "event", "--journal", d->journal };
+    const char *const sim[] = {
+        "tandem-sim", "--lockstep",   "--expect",         "4", "--workpieces", d->nbuf, "--seed",
+        d->sbuf,      "--timeout-ms", LOCKSTEP_TIMEOUT_MS
+    };
+    const char *const a1[] = { "tandem-arm", "--arm",          "1",
+                               "--lockstep", "--block-detect", c->block_detect };
+    const char *const a2[] = { "tandem-arm", "--arm",          "2",
+                               "--lockstep", "--block-detect", c->block_detect };
+    const char *const sup[] = { "tandem-supervisor", "--lockstep",
+                                "--stall-s",         c->stall_s,
+                                "--controller",      c->controller_time ? "time" : "event",
+                                "--journal",         d->journal };
     memset(d, 0, sizeof *d);
     memcpy(d->sim_argv, sim, sizeof sim);
     memcpy(d->a1_argv, a1, sizeof a1);
@@ -155,9 +170,9 @@ static void daemons_argv(carry_daemons *d, const carry_cfg *c)
 static int daemons_start(carry_daemons *d, const carry_cfg *c)
 {
     int k, n_sim, n_sup;
-    proc_init(&d->ps, NULL);
+    proc_init(&d->ps, run_key_bus(), NULL);
     snprintf(d->journal, sizeof d->journal, "%s/%s_supervisor.journal", c->out, c->tag);
-    remove(d->journal);               /* a fresh run; a restart reads it */
+    remove(d->journal); /* a fresh run; a restart reads it */
     n_sim = 10;
     if (c->handover_stand)
         d->sim_argv[n_sim++] = "--handover-stand";
@@ -175,7 +190,8 @@ static int daemons_start(carry_daemons *d, const carry_cfg *c)
     snprintf(d->err, sizeof d->err, "%s/%s_stderr.log", c->out, c->tag);
     remove(d->err);
     for (k = 0; k < CARRY_DAEMONS; k++) {
-        snprintf(d->path[k], sizeof d->path[k], "%s/%s_%s.log", c->out, c->tag, carry_daemon_fault_name[k]);
+        snprintf(d->path[k], sizeof d->path[k], "%s/%s_%s.log", c->out, c->tag,
+                 carry_daemon_fault_name[k]);
         if ((d->pid[k] = proc_spawn(&d->ps, d->argvs[k], d->url, d->path[k], d->err)) < 0) {
             fprintf(stderr, "tandem-scenario: cannot start %s\n", d->argvs[k][0]);
             proc_kill_all(&d->ps, 1.0);
@@ -200,7 +216,7 @@ static int64_t clock_step(const carry_state *r)
 static void kill_daemon(carry_state *r, carry_daemons *d, int k)
 {
     proc_kill(&d->ps, d->pid[k]);
-    scenario_leave_send(&d->leave[k], r->lcm, carry_daemon_lock_name[k], clock_step(r), 1);
+    scenario_leave_send(&d->leave[k], r->bus, r->lcm, carry_daemon_lock_name[k], clock_step(r), 1);
     hang_watch_down(&d->hw, k);
 }
 
@@ -244,7 +260,8 @@ static int faults_step(carry_state *r, const carry_cfg *c, carry_result *res, ca
         if (f->stage == SCENARIO_FAULT_RESTARTING) {
             if (r->ack_step[f->slot] < r->pending) {
                 if (scenario_rejoin_overdue(r->hold_since_s)) {
-                    fprintf(stderr, "tandem-scenario: fault: %s did not rejoin within 60 s\n", f->daemon);
+                    fprintf(stderr, "tandem-scenario: fault: %s did not rejoin within 60 s\n",
+                            f->daemon);
                     return CARRY_SCEN_ERR_FAULT;
                 }
                 return 0;
@@ -258,21 +275,24 @@ static int faults_step(carry_state *r, const carry_cfg *c, carry_result *res, ca
 
 /* A hung daemon k started again (log DIR/TAG_NAME_hungN.log) and said so;
  * 0, or CARRY_SCEN_ERR_FAULT. */
-static int restart_hung(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d, int k)
+static int restart_hung(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d,
+                        int k)
 {
     char log[700];
     snprintf(log, sizeof log, "%s/%s_%s_hung%d.log", c->out, c->tag, carry_daemon_fault_name[k],
              res->hung_restarts + 1);
     if (restart_daemon(r, d, k, log) != 0)
         return CARRY_SCEN_ERR_FAULT;
-    fprintf(stderr, "tandem-scenario: hung: %s restarted at %.3f s\n", carry_daemon_lock_name[k], r->t_s);
+    fprintf(stderr, "tandem-scenario: hung: %s restarted at %.3f s\n", carry_daemon_lock_name[k],
+            r->t_s);
     return 0;
 }
 
 /* Hung before the first step: the simulator waits at step 0 for every
  * daemon to join, so there is no step to hold; the new process joins as
  * the first one would have. 0, or CARRY_SCEN_ERR_FAULT. */
-static int restart_before_start(carry_state *r, const carry_cfg *c, carry_result *res, carry_daemons *d, int k)
+static int restart_before_start(carry_state *r, const carry_cfg *c, carry_result *res,
+                                carry_daemons *d, int k)
 {
     if (restart_hung(r, c, res, d, k) != 0)
         return CARRY_SCEN_ERR_FAULT;
@@ -292,14 +312,17 @@ static int hung_watch(carry_state *r, const carry_cfg *c, carry_result *res, car
     const double now = scenario_wall_s();
     int k;
     if (!hang_watch_look(&d->hw, r->lcm, now))
-        return 0;                   /* messages still to read: not now */
+        return 0; /* messages still to read: not now */
     for (k = 0; k < CARRY_DAEMONS; k++) {
         if (d->hung_stage[k] != HUNG_NONE || !hang_watch_hung(&d->hw, k, now) ||
             proc_poll(&d->ps, d->pid[k], NULL) != 0)
-            continue;               /* not hung, or exited (said as an exit) */
-        fprintf(stderr, "tandem-scenario: hung: %s alive but without health for %.1f s (--hang-s %g): killed at "
-                        "%.3f s%s\n", carry_daemon_lock_name[k], hang_watch_silent_s(&d->hw, k, now),
-                d->hw.hang_s, r->t_s, k == 0 ? "; the world cannot be restarted: run stopped" : ", restarting");
+            continue; /* not hung, or exited (said as an exit) */
+        fprintf(
+            stderr,
+            "tandem-scenario: hung: %s alive but without health for %.1f s (--hang-s %g): killed at "
+            "%.3f s%s\n",
+            carry_daemon_lock_name[k], hang_watch_silent_s(&d->hw, k, now), d->hw.hang_s, r->t_s,
+            k == 0 ? "; the world cannot be restarted: run stopped" : ", restarting");
         res->kills++;
         kill_daemon(r, d, k);
         if (k == 0) {
@@ -322,7 +345,8 @@ static int hung_step(carry_state *r, const carry_cfg *c, carry_result *res, carr
 {
     int k;
     for (k = 1; k < CARRY_DAEMONS; k++) {
-        if (d->hung_stage[k] == HUNG_KILLED && r->pending > d->hung_step[k] && r->pending % 20 == 0) {
+        if (d->hung_stage[k] == HUNG_KILLED && r->pending > d->hung_step[k] &&
+            r->pending % 20 == 0) {
             if (restart_hung(r, c, res, d, k) != 0)
                 return CARRY_SCEN_ERR_FAULT;
             d->hung_stage[k] = HUNG_RESTARTING;
@@ -351,7 +375,7 @@ static void state_init(carry_state *r)
     memset(r, 0, sizeof *r);
     r->pending = r->handled = -1;
     r->min_range_margin_rad = INFINITY;
-    r->last_event[0] = r->last_event[1] = TANDEM_ACTION_EVENT_T_DONE;   /* idle until a row starts */
+    r->last_event[0] = r->last_event[1] = TANDEM_ACTION_EVENT_T_DONE; /* idle until a row starts */
     r->unblocked_step[0] = r->unblocked_step[1] = r->done_step[0] = r->done_step[1] = -1;
     r->t_deliv_first = r->t_deliv_last = r->end_at = -1.0;
     r->status_step = -1;
@@ -367,7 +391,8 @@ static int run_watch(carry_state *r, const carry_cfg *c, carry_result *res, carr
     for (k = 0; k < d->ps.n; k++) {
         int st;
         if (d->ps.alive[k] && proc_poll(&d->ps, d->ps.pid[k], &st) == 1) {
-            fprintf(stderr, "tandem-scenario: a daemon exited early (status %d); see %s\n", st, d->err);
+            fprintf(stderr, "tandem-scenario: a daemon exited early (status %d); see %s\n", st,
+                    d->err);
             res->exit_reason = "daemon_exited";
             rc = CARRY_SCEN_ERR_RUN;
         }
@@ -375,7 +400,7 @@ static int run_watch(carry_state *r, const carry_cfg *c, carry_result *res, carr
     if (rc != 0)
         return rc;
     for (k = 0; k < CARRY_DAEMONS; k++)
-        res->leave_resends += scenario_leave_confirm(&d->leave[k], r->lcm, clock_step(r));
+        res->leave_resends += scenario_leave_confirm(&d->leave[k], r->bus, r->lcm, clock_step(r));
     if ((k = hung_watch(r, c, res, d)) != 0) {
         if (k < 0)
             res->exit_reason = "restart_failed";
@@ -389,9 +414,11 @@ static int run_watch(carry_state *r, const carry_cfg *c, carry_result *res, carr
     if (scenario_progress_due(next_progress, PROGRESS_EVERY_S))
         progress_line(r, c, wall0);
     if (r->have_mk && r->mk.stalled) {
-        fprintf(stderr, "tandem-scenario: the supervisor reports a stall at %.2f s (no transition completed "
-                        "for %.1f s, stick %s): run stopped\n", r->t_s, r->mk.since_progress_s,
-                r->status_stick ? "in" : "out");
+        fprintf(
+            stderr,
+            "tandem-scenario: the supervisor reports a stall at %.2f s (no transition completed "
+            "for %.1f s, stick %s): run stopped\n",
+            r->t_s, r->mk.since_progress_s, r->status_stick ? "in" : "out");
         res->exit_reason = "stalled";
         return 1;
     }
@@ -436,7 +463,7 @@ static int run_answer(carry_state *r, const carry_cfg *c, carry_result *res, car
         return CARRY_SCEN_ERR_FAULT;
     }
     if (k == 0)
-        return 0;                     /* hold the step: a restarted daemon joins */
+        return 0; /* hold the step: a restarted daemon joins */
     r->handled = r->pending;
     if (!c->serial) {
         carry_stick_confirm(r);
@@ -483,8 +510,9 @@ static void result_of(carry_result *res, const carry_state *r)
     res->max_force_10ms_N = r->max_force_10ms_N;
     res->first_delivery_s = r->t_deliv_first;
     res->last_delivery_s = r->t_deliv_last;
-    res->mean_cycle_s = r->last_delivered >= 2 ?
-        (r->t_deliv_last - r->t_deliv_first) / (r->last_delivered - 1) : NAN;
+    res->mean_cycle_s = r->last_delivered >= 2
+                            ? (r->t_deliv_last - r->t_deliv_first) / (r->last_delivered - 1)
+                            : NAN;
 }
 
 int carry_run_once(const carry_cfg *c, carry_result *res)
@@ -500,6 +528,7 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
     res->exit_reason = "completed";
     daemons_argv(&d, c);
     names_watch_init(&names, "tandem-scenario");
+    R.bus = run_key_bus();
     R.lcm = lcm_create(d.url);
     if (!R.lcm) {
         fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", d.url);
@@ -507,14 +536,14 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
     }
     carry_subscribe(&R);
     if (daemons_start(&d, c) != 0) {
-        auth_bus_close(R.lcm);
+        auth_bus_close(R.bus, R.lcm);
         return CARRY_SCEN_ERR_RUN;
     }
-    hang_watch_subscribe(&d.hw, R.lcm);
+    hang_watch_subscribe(&d.hw, R.bus, R.lcm);
     R.hw = &d.hw;
     while (!interrupted && rc == 0) {
         lcm_handle_timeout(R.lcm, 200);
-        bus_names_watch(&names, &R.lcm, d.url); /* a flood of channel names: a new handle */
+        bus_names_watch(&names, R.bus, &R.lcm, d.url); /* a flood of channel names: a new handle */
         rc = run_watch(&R, c, res, &d, wall0, &next_progress);
         if (rc == 0)
             rc = run_answer(&R, c, res, &d);
@@ -529,7 +558,7 @@ int carry_run_once(const carry_cfg *c, carry_result *res)
     res->wall_s = scenario_wall_s() - wall0;
     result_of(res, &R);
     res->ok = rc >= 0;
-    auth_bus_close(R.lcm);
+    auth_bus_close(R.bus, R.lcm);
     R.lcm = NULL;
     return rc < 0 ? CARRY_SCEN_ERR_RUN : 0;
 }

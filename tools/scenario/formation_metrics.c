@@ -20,7 +20,9 @@ typedef struct team_pose {
 static int alive_ids(const tandem_rover_truth_t *m, int32_t *ids)
 {
     int i, n = 0;
-    for (i = 0; i < m->n; i++) if (m->alive[i]) ids[n++] = m->robot[i];
+    for (i = 0; i < m->n; i++)
+        if (m->alive[i])
+            ids[n++] = m->robot[i];
     return n;
 }
 
@@ -39,7 +41,9 @@ static void robot_truth(fm_state *fm, const tandem_rover_truth_t *m, int i, doub
         fm->prev_w[i] = w;
         fm->have_prev_w[i] = 1;
     }
-    fm->prev_x[i] = m->x_m[i]; fm->prev_y[i] = m->y_m[i]; fm->prev_th[i] = m->theta_rad[i];
+    fm->prev_x[i] = m->x_m[i];
+    fm->prev_y[i] = m->y_m[i];
+    fm->prev_th[i] = m->theta_rad[i];
     fm->have_prev[i] = 1;
     if (fm->have_state[i] && !fm_process_down(fm, m->robot[i], m->step - FM_PERIOD)) {
         /* localization error: the robot's own estimate of O against
@@ -47,7 +51,8 @@ static void robot_truth(fm_state *fm, const tandem_rover_truth_t *m, int i, doub
         const double e = hypot(fm->est[i].x_m - m->x_m[i], fm->est[i].y_m - m->y_m[i]);
         fm->loc_sum_sq += e * e;
         fm->loc_n++;
-        if (e > fm->loc_max) fm->loc_max = e;
+        if (e > fm->loc_max)
+            fm->loc_max = e;
     }
     if (fm->truth_csv)
         fprintf(fm->truth_csv, "%.3f,%d,%.4f,%.4f,%.4f,%.4f,%d,%.4f,%.4f,%.4f\n", t, m->robot[i],
@@ -74,9 +79,11 @@ static int mate_within_reach(const tandem_rover_truth_t *m, int i)
     int j;
     body_centre(m, i, &xi, &yi);
     for (j = 0; j < m->n; j++) {
-        if (j == i || !m->alive[j]) continue;
+        if (j == i || !m->alive[j])
+            continue;
         body_centre(m, j, &xj, &yj);
-        if (hypot(xj - xi, yj - yi) < reach_m) return 1;
+        if (hypot(xj - xi, yj - yi) < reach_m)
+            return 1;
     }
     return 0;
 }
@@ -88,10 +95,13 @@ static void split_contacts(fm_state *fm, const tandem_rover_truth_t *m)
     int i;
     for (i = 0; i < m->n && i < FM_MAX; i++) {
         const int d = m->collisions[i] - fm->coll_prev[i];
-        if (d <= 0) continue;
+        if (d <= 0)
+            continue;
         fm->coll_prev[i] = m->collisions[i];
-        if (mate_within_reach(m, i)) fm->collisions_mates += d;
-        else fm->collisions_walls += d;
+        if (mate_within_reach(m, i))
+            fm->collisions_mates += d;
+        else
+            fm->collisions_walls += d;
     }
 }
 
@@ -102,14 +112,20 @@ static int team_truth(fm_state *fm, const tandem_rover_truth_t *m, int n, double
     double cx = 0, cy = 0, s = 0, c = 0;
     int i, lowest = -1;
     for (i = 0; i < m->n; i++) {
-        if (!m->alive[i]) continue;
-        if (lowest < 0) lowest = i;
-        cx += m->x_m[i]; cy += m->y_m[i];
-        s += sin(m->theta_rad[i]); c += cos(m->theta_rad[i]);
-        if (m->min_clearance_m[i] < fm->min_clear) fm->min_clear = m->min_clearance_m[i];
+        if (!m->alive[i])
+            continue;
+        if (lowest < 0)
+            lowest = i;
+        cx += m->x_m[i];
+        cy += m->y_m[i];
+        s += sin(m->theta_rad[i]);
+        c += cos(m->theta_rad[i]);
+        if (m->min_clearance_m[i] < fm->min_clear)
+            fm->min_clear = m->min_clearance_m[i];
         robot_truth(fm, m, i, t);
     }
-    cx /= n; cy /= n;
+    cx /= n;
+    cy /= n;
     tp->cx = cx;
     tp->cy = cy;
     tp->th0 = atan2(s, c);
@@ -123,8 +139,8 @@ static int team_truth(fm_state *fm, const tandem_rover_truth_t *m, int n, double
  * bearing from the team origin, as the robots place it) are held: each
  * by its own robot within 0.75 m, whichever robot (the robots take the
  * goal's slots in the order they arrive). */
-static int formation_error(const fm_state *fm, const tandem_rover_truth_t *m, const int32_t *ids, int n,
-                           const team_pose *tp, double *sq, double *mx)
+static int formation_error(const fm_state *fm, const tandem_rover_truth_t *m, const int32_t *ids,
+                           int n, const team_pose *tp, double *sq, double *mx)
 {
     double at[ROVER_WORLD_MAX_ROBOTS][2], goal_slot[ROVER_WORLD_MAX_ROBOTS][2];
     const double heading = atan2(fm->layout.goal_m[1] - fm->layout.team_origin.y_m,
@@ -133,14 +149,18 @@ static int formation_error(const fm_state *fm, const tandem_rover_truth_t *m, co
     for (i = 0; i < m->n; i++) {
         double xy[2], r[2], e;
         int rank;
-        if (!m->alive[i]) continue;
+        if (!m->alive[i])
+            continue;
         rank = formation_slot_of(ids, n, m->robot[i]);
-        formation_slot_xy(xy, fm->type_now, n, rover_world_slot(fm->type_now, n, rank), 1.0, fm->scale_now);
+        formation_slot_xy(xy, fm->type_now, n, rover_world_slot(fm->type_now, n, rank), 1.0,
+                          fm->scale_now);
         vec2_rotate(r, xy[0], xy[1], tp->th0);
         e = hypot(m->x_m[i] - tp->cx - r[0], m->y_m[i] - tp->cy - r[1]);
         *sq += e * e;
-        if (e > *mx) *mx = e;
-        if (k >= n || k >= ROVER_WORLD_MAX_ROBOTS) return 0;
+        if (e > *mx)
+            *mx = e;
+        if (k >= n || k >= ROVER_WORLD_MAX_ROBOTS)
+            return 0;
         formation_slot_xy(xy, fm->formation, n, k, 1.0, 1.0);
         vec2_rotate(r, xy[0], xy[1], heading);
         goal_slot[k][0] = fm->layout.goal_m[0] + r[0];
@@ -149,25 +169,29 @@ static int formation_error(const fm_state *fm, const tandem_rover_truth_t *m, co
         at[k][1] = m->y_m[i];
         k++;
     }
-    return k == n && formation_slots_held((const double (*)[2])at, (const double (*)[2])goal_slot, n,
+    return k == n && formation_slots_held((const double(*)[2])at, (const double(*)[2])goal_slot, n,
                                           0.75) == 1;
 }
 
 /* formation_error.csv, weights.csv (the lowest live robot's), and
  * snapshots.csv every 5 s. */
-static void truth_series(fm_state *fm, const tandem_rover_truth_t *m, double t, double sq, double mx, int n,
-                         int lowest)
+static void truth_series(fm_state *fm, const tandem_rover_truth_t *m, double t, double sq,
+                         double mx, int n, int lowest)
 {
     int i;
-    if (fm->err_csv) fprintf(fm->err_csv, "%.3f,%.4f,%.4f,%d\n", t, sqrt(sq / n), mx, fm->type_now);
+    if (fm->err_csv)
+        fprintf(fm->err_csv, "%.3f,%.4f,%.4f,%d\n", t, sqrt(sq / n), mx, fm->type_now);
     if (fm->w_csv && lowest >= 0)
-        fprintf(fm->w_csv, "%.3f,%.3f,%.3f,%.3f,%.3f,%d\n", t, fm->weight[lowest][0], fm->weight[lowest][1],
-                fm->weight[lowest][2], fm->weight[lowest][3], fm->mode[lowest]);
+        fprintf(fm->w_csv, "%.3f,%.3f,%.3f,%.3f,%.3f,%d\n", t, fm->weight[lowest][0],
+                fm->weight[lowest][1], fm->weight[lowest][2], fm->weight[lowest][3],
+                fm->mode[lowest]);
     if (fm->snap_csv && t - fm->last_snap_t >= 5.0 - 1e-9) {
         fm->last_snap_t = t;
         for (i = 0; i < m->n; i++)
-            if (m->alive[i]) fprintf(fm->snap_csv, "%.4f,%.4f\n", m->x_m[i], m->y_m[i]);
-        if (lowest >= 0) fprintf(fm->snap_csv, "%.4f,%.4f\n", m->x_m[lowest], m->y_m[lowest]);
+            if (m->alive[i])
+                fprintf(fm->snap_csv, "%.4f,%.4f\n", m->x_m[i], m->y_m[i]);
+        if (lowest >= 0)
+            fprintf(fm->snap_csv, "%.4f,%.4f\n", m->x_m[lowest], m->y_m[lowest]);
         fprintf(fm->snap_csv, "\n");
     }
 }
@@ -179,28 +203,38 @@ void fm_on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_tr
     int i, n, lowest, all_at;
     double sq = 0, mx = 0, t = m->sim_time_s;
     team_pose tp;
-    (void)rb; (void)ch;
-    for (i = 0; i < m->n && fm->killed; i++)       /* the --kill taken (fm_kill_robot) */
-        if (m->robot[i] == fm->kill_id && !m->alive[i]) fm->kill_seen = 1;
-    if (m->n != fm->robots || m->step <= fm->last_truth_step || !fm_states_for_truth(fm, m)) return;
+    (void)rb;
+    (void)ch;
+    for (i = 0; i < m->n && fm->killed; i++) /* the --kill taken (fm_kill_robot) */
+        if (m->robot[i] == fm->kill_id && !m->alive[i])
+            fm->kill_seen = 1;
+    if (m->n != fm->robots || m->step <= fm->last_truth_step || !fm_states_for_truth(fm, m))
+        return;
     fm->last_truth_step = m->step;
     n = alive_ids(m, ids);
-    if (n == 0) return;
+    if (n == 0)
+        return;
     lowest = team_truth(fm, m, n, t, &tp);
-    if (lowest >= 0 && fm->have_state[lowest]) fm->type_now = fm->state_type[lowest];
-    if (lowest >= 0 && fm->have_state[lowest]) fm->scale_now = fm->state_scale[lowest];
+    if (lowest >= 0 && fm->have_state[lowest])
+        fm->type_now = fm->state_type[lowest];
+    if (lowest >= 0 && fm->have_state[lowest])
+        fm->scale_now = fm->state_scale[lowest];
     all_at = formation_error(fm, m, ids, n, &tp, &sq, &mx);
     if (!fm->reached) {
         fm->samples++;
         fm->sum_sq_err += sq / n;
-        if (mx > fm->max_err) fm->max_err = mx;
-        if (mx > FM_OUT_TOL) fm->out_samples++;
+        if (mx > fm->max_err)
+            fm->max_err = mx;
+        if (mx > FM_OUT_TOL)
+            fm->out_samples++;
     }
     truth_series(fm, m, t, sq, mx, n, lowest);
     fm->collisions = 0;
-    for (i = 0; i < m->n; i++) fm->collisions += m->collisions[i];
+    for (i = 0; i < m->n; i++)
+        fm->collisions += m->collisions[i];
     split_contacts(fm, m);
-    if (!fm->reached && all_at && hypot(tp.cx - fm->layout.goal_m[0], tp.cy - fm->layout.goal_m[1]) < 0.5) {
+    if (!fm->reached && all_at &&
+        hypot(tp.cx - fm->layout.goal_m[0], tp.cy - fm->layout.goal_m[1]) < 0.5) {
         fm->reached = 1;
         fm->time_to_goal = t;
     }

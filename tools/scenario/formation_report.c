@@ -11,12 +11,12 @@
 #include "shared_run.h"
 #include "formation.h"
 
-#define FREE_SIDE_M  5.0    /* a way this clear on both sides is open */
+#define FREE_SIDE_M 5.0 /* a way this clear on both sides is open */
 
 /* ---- the way's length and the time limit ---------------------------------------- */
 
-#define WAY_CLEAR_M   0.32       /* the body's radius about C (WORLDGEN_BODY_RADIUS_M) */
-#define WAY_CELLS_MAX 200000L    /* grid cells at most: the cell grows on large maps */
+#define WAY_CLEAR_M 0.32      /* the body's radius about C (WORLDGEN_BODY_RADIUS_M) */
+#define WAY_CELLS_MAX 200000L /* grid cells at most: the cell grows on large maps */
 
 /* Geodesic distance over the free cells (d >= 0; blocked cells and the
  * unreached hold INFINITY) by forward and backward 8-neighbour chamfer
@@ -32,23 +32,39 @@ static void way_sweeps(float *d, const unsigned char *blocked, long nx, long ny,
             for (i = 0; i < nx; i++) {
                 const long c = j * nx + i;
                 float best = d[c];
-                if (blocked[c]) continue;
-                if (i > 0) best = fminf(best, d[c - 1] + s1);
-                if (j > 0) best = fminf(best, d[c - nx] + s1);
-                if (i > 0 && j > 0) best = fminf(best, d[c - nx - 1] + s2);
-                if (i + 1 < nx && j > 0) best = fminf(best, d[c - nx + 1] + s2);
-                if (best < d[c]) { d[c] = best; changed = 1; }
+                if (blocked[c])
+                    continue;
+                if (i > 0)
+                    best = fminf(best, d[c - 1] + s1);
+                if (j > 0)
+                    best = fminf(best, d[c - nx] + s1);
+                if (i > 0 && j > 0)
+                    best = fminf(best, d[c - nx - 1] + s2);
+                if (i + 1 < nx && j > 0)
+                    best = fminf(best, d[c - nx + 1] + s2);
+                if (best < d[c]) {
+                    d[c] = best;
+                    changed = 1;
+                }
             }
         for (j = ny - 1; j >= 0; j--)
             for (i = nx - 1; i >= 0; i--) {
                 const long c = j * nx + i;
                 float best = d[c];
-                if (blocked[c]) continue;
-                if (i + 1 < nx) best = fminf(best, d[c + 1] + s1);
-                if (j + 1 < ny) best = fminf(best, d[c + nx] + s1);
-                if (i + 1 < nx && j + 1 < ny) best = fminf(best, d[c + nx + 1] + s2);
-                if (i > 0 && j + 1 < ny) best = fminf(best, d[c + nx - 1] + s2);
-                if (best < d[c]) { d[c] = best; changed = 1; }
+                if (blocked[c])
+                    continue;
+                if (i + 1 < nx)
+                    best = fminf(best, d[c + 1] + s1);
+                if (j + 1 < ny)
+                    best = fminf(best, d[c + nx] + s1);
+                if (i + 1 < nx && j + 1 < ny)
+                    best = fminf(best, d[c + nx + 1] + s2);
+                if (i > 0 && j + 1 < ny)
+                    best = fminf(best, d[c + nx - 1] + s2);
+                if (best < d[c]) {
+                    d[c] = best;
+                    changed = 1;
+                }
             }
     }
 }
@@ -67,13 +83,18 @@ static double way_length_clear_m(const rover_world_config *w, double clear_m)
     unsigned char *blocked;
     long i, j, from, to;
     int k;
-    if (!(wx > 0.0 && wy > 0.0) || w->n_robots < 1) return NAN;
-    for (k = 0; k < w->n_robots; k++) { sx += w->start_c[k].x_m; sy += w->start_c[k].y_m; }
+    if (!(wx > 0.0 && wy > 0.0) || w->n_robots < 1)
+        return NAN;
+    for (k = 0; k < w->n_robots; k++) {
+        sx += w->start_c[k].x_m;
+        sy += w->start_c[k].y_m;
+    }
     sx /= w->n_robots;
     sy /= w->n_robots;
     d = malloc(sizeof *d * (size_t)(nx * ny));
     blocked = malloc((size_t)(nx * ny));
-    if (!d || !blocked) goto out;
+    if (!d || !blocked)
+        goto out;
     for (j = 0; j < ny; j++)
         for (i = 0; i < nx; i++) {
             const double x = w->x_min_m + (i + 0.5) * cell, y = w->y_min_m + (j + 0.5) * cell;
@@ -83,11 +104,14 @@ static double way_length_clear_m(const rover_world_config *w, double clear_m)
                 blocked[j * nx + i] = rover_obstacle_distance(&w->obst[k], x, y) < clear_m;
         }
     from = (long)((sy - w->y_min_m) / cell) * nx + (long)((sx - w->x_min_m) / cell);
-    to = (long)((w->goal_m[1] - w->y_min_m) / cell) * nx + (long)((w->goal_m[0] - w->x_min_m) / cell);
-    if (from < 0 || from >= nx * ny || to < 0 || to >= nx * ny || blocked[from] || blocked[to]) goto out;
+    to = (long)((w->goal_m[1] - w->y_min_m) / cell) * nx +
+         (long)((w->goal_m[0] - w->x_min_m) / cell);
+    if (from < 0 || from >= nx * ny || to < 0 || to >= nx * ny || blocked[from] || blocked[to])
+        goto out;
     d[from] = 0.0f;
     way_sweeps(d, blocked, nx, ny, (float)cell, (float)(cell * sqrt(2.0)));
-    if (isfinite(d[to])) len = d[to];
+    if (isfinite(d[to]))
+        len = d[to];
 out:
     free(d);
     free(blocked);
@@ -118,12 +142,16 @@ double fm_time_limit_s(double way_m)
 double fm_passage_width_m(const rover_world_config *w)
 {
     double lo = WAY_CLEAR_M, hi = FREE_SIDE_M;
-    if (!isfinite(way_length_clear_m(w, lo))) return 0.0;
-    if (isfinite(way_length_clear_m(w, hi))) return 2.0 * FREE_SIDE_M;
+    if (!isfinite(way_length_clear_m(w, lo)))
+        return 0.0;
+    if (isfinite(way_length_clear_m(w, hi)))
+        return 2.0 * FREE_SIDE_M;
     while (hi - lo > PASSAGE_TOL_M) {
         const double mid = 0.5 * (lo + hi);
-        if (isfinite(way_length_clear_m(w, mid))) lo = mid;
-        else hi = mid;
+        if (isfinite(way_length_clear_m(w, mid)))
+            lo = mid;
+        else
+            hi = mid;
     }
     return 2.0 * lo;
 }
@@ -178,9 +206,13 @@ void fm_write_summary(const fm_state *fm, double wall_s)
     json_out j;
     double path = 0.0;
     int i, n = 0;
-    if (json_open(&j, fm->out, "summary.json") != 0) return;
+    if (json_open(&j, fm->out, "summary.json") != 0)
+        return;
     for (i = 0; i < fm->robots; i++)
-        if (fm->have_prev[i] && i + 1 != fm->kill_id) { path += fm->path[i]; n++; }
+        if (fm->have_prev[i] && i + 1 != fm->kill_id) {
+            path += fm->path[i];
+            n++;
+        }
     json_str(&j, "scenario", "formation");
     json_str(&j, "formation", fm_formation_name(fm->formation));
     json_str(&j, "world", rover_world_name(fm->world));
@@ -196,7 +228,8 @@ void fm_write_summary(const fm_state *fm, double wall_s)
     json_num(&j, "time_to_goal_s", fm->reached ? fm->time_to_goal : NAN);
     json_num(&j, "rms_formation_err_m", fm->samples ? sqrt(fm->sum_sq_err / fm->samples) : NAN);
     json_num(&j, "max_formation_err_m", fm->max_err);
-    json_num(&j, "time_out_of_formation_frac", fm->samples ? (double)fm->out_samples / fm->samples : NAN);
+    json_num(&j, "time_out_of_formation_frac",
+             fm->samples ? (double)fm->out_samples / fm->samples : NAN);
     json_num(&j, "min_clearance_m", fm->min_clear);
     json_int(&j, "collisions", fm->collisions);
     json_int(&j, "collisions_walls", fm->collisions_walls);
@@ -220,8 +253,12 @@ void fm_write_summary(const fm_state *fm, double wall_s)
     json_num(&j, "loc_err_max_m", fm->loc_n ? fm->loc_max : NAN);
     json_num(&j, "sim_time_s", fm->sim_time);
     json_num(&j, "wall_time_s", wall_s);
-    json_str(&j, "exit_reason", fm->hung_stopped ? "hung" : fm->restart_failed ? "restart_failed" : fm->lost_lockstep ? "lockstep_lost" :
-                                fm->reached ? "completed" : "goal_not_reached");
+    json_str(&j, "exit_reason",
+             fm->hung_stopped     ? "hung"
+             : fm->restart_failed ? "restart_failed"
+             : fm->lost_lockstep  ? "lockstep_lost"
+             : fm->reached        ? "completed"
+                                  : "goal_not_reached");
     json_str(&j, "failed_criteria", fm->failed);
     json_close(&j);
 }
@@ -230,13 +267,17 @@ void fm_write_plots(const fm_state *fm)
 {
     FILE *g = scenario_plot_open(fm->out, 1100, 700);
     int i;
-    if (!g) return;
-    fprintf(g, "set output 'paths.png'\nset size ratio -1\nset title 'formation %s, world %s, blend %s: paths (ground truth), snapshots every 5 s'\n",
-            fm_formation_name(fm->formation), rover_world_name(fm->world), fm_blend_name(fm->blend));
+    if (!g)
+        return;
+    fprintf(
+        g,
+        "set output 'paths.png'\nset size ratio -1\nset title 'formation %s, world %s, blend %s: paths (ground truth), snapshots every 5 s'\n",
+        fm_formation_name(fm->formation), rover_world_name(fm->world), fm_blend_name(fm->blend));
     /* the whole world with the goal disc inside it; the key below the plot,
      * where it covers nothing */
-    fprintf(g, "set xlabel 'x (m)'\nset ylabel 'y (m)'\nset key below horizontal\n"
-               "set xrange [%g:%g]\nset yrange [%g:%g]\n",
+    fprintf(g,
+            "set xlabel 'x (m)'\nset ylabel 'y (m)'\nset key below horizontal\n"
+            "set xrange [%g:%g]\nset yrange [%g:%g]\n",
             fm->layout.x_min_m, fm->layout.x_max_m, fm->layout.y_min_m, fm->layout.y_max_m);
     for (i = 0; i < fm->layout.n_obst; i++) {
         const rover_obstacle *o = &fm->layout.obst[i];
@@ -245,32 +286,41 @@ void fm_write_plots(const fm_state *fm)
                     o->cx_m, o->cy_m, o->r_m);
         } else {
             const double c = cos(o->angle_rad), s = sin(o->angle_rad);
-            fprintf(g, "set object %d polygon from %g,%g to %g,%g to %g,%g to %g,%g to %g,%g fc rgb 'gray40' fs solid\n",
-                    i + 1,
-                    o->cx_m + o->hx_m * c - o->hy_m * s, o->cy_m + o->hx_m * s + o->hy_m * c,
-                    o->cx_m - o->hx_m * c - o->hy_m * s, o->cy_m - o->hx_m * s + o->hy_m * c,
-                    o->cx_m - o->hx_m * c + o->hy_m * s, o->cy_m - o->hx_m * s - o->hy_m * c,
-                    o->cx_m + o->hx_m * c + o->hy_m * s, o->cy_m + o->hx_m * s - o->hy_m * c,
-                    o->cx_m + o->hx_m * c - o->hy_m * s, o->cy_m + o->hx_m * s + o->hy_m * c);
+            fprintf(
+                g,
+                "set object %d polygon from %g,%g to %g,%g to %g,%g to %g,%g to %g,%g fc rgb 'gray40' fs solid\n",
+                i + 1, o->cx_m + o->hx_m * c - o->hy_m * s, o->cy_m + o->hx_m * s + o->hy_m * c,
+                o->cx_m - o->hx_m * c - o->hy_m * s, o->cy_m - o->hx_m * s + o->hy_m * c,
+                o->cx_m - o->hx_m * c + o->hy_m * s, o->cy_m - o->hx_m * s - o->hy_m * c,
+                o->cx_m + o->hx_m * c + o->hy_m * s, o->cy_m + o->hx_m * s - o->hy_m * c,
+                o->cx_m + o->hx_m * c - o->hy_m * s, o->cy_m + o->hx_m * s + o->hy_m * c);
         }
     }
     fprintf(g, "set object %d circle at %g,%g size 0.3 fc rgb 'green' fs transparent solid 0.4\n",
             fm->layout.n_obst + 1, fm->layout.goal_m[0], fm->layout.goal_m[1]);
     fprintf(g, "plot ");
     for (i = 1; i <= fm->robots && i <= 12; i++)
-        fprintf(g, "'truth.csv' using ($2==%d?$3:1/0):4 with points pt 7 ps 0.25 title 'robot %d', ", i, i);
-    fprintf(g, "'snapshots.csv' using 1:2 with linespoints lc rgb 'black' pt 7 ps 0.6 dt 2 title 'formation every 5 s'\n");
+        fprintf(g,
+                "'truth.csv' using ($2==%d?$3:1/0):4 with points pt 7 ps 0.25 title 'robot %d', ",
+                i, i);
+    fprintf(
+        g,
+        "'snapshots.csv' using 1:2 with linespoints lc rgb 'black' pt 7 ps 0.6 dt 2 title 'formation every 5 s'\n");
     /* the time plots carry none of the world's discs and their own ranges */
     fprintf(g, "unset object\nset autoscale xy\nset key default\n");
-    fprintf(g, "set output 'formation_error.png'\nset size noratio\nset title 'formation error (ground truth)'\n"
-               "set xlabel 't (s)'\nset ylabel 'formation error (m)'\n"
-               "set y2label 'formation type (0 line, 1 triangle, 2 column)'\n"
-               "set y2range [-0.2:2.2]\nset y2tics 0,1,2\n"
-               "plot 'formation_error.csv' using 1:2 with lines lw 2 title 'rms over robots', "
-               "'' using 1:3 with lines title 'max over robots', '' using 1:4 axes x1y2 with steps title 'formation type'\n");
-    fprintf(g, "set output 'weights.png'\nunset y2label\nunset y2tics\nset title 'behaviour weights of the lowest-id robot (normalised)'\n"
-               "set ylabel 'normalised weight (1)'\nset yrange [-0.05:1.05]\n"
-               "plot 'weights.csv' using 1:2 with lines title 'goal', '' using 1:3 with lines title 'formation', "
-               "'' using 1:4 with lines title 'avoid', '' using 1:5 with lines title 'exception'\n");
+    fprintf(
+        g,
+        "set output 'formation_error.png'\nset size noratio\nset title 'formation error (ground truth)'\n"
+        "set xlabel 't (s)'\nset ylabel 'formation error (m)'\n"
+        "set y2label 'formation type (0 line, 1 triangle, 2 column)'\n"
+        "set y2range [-0.2:2.2]\nset y2tics 0,1,2\n"
+        "plot 'formation_error.csv' using 1:2 with lines lw 2 title 'rms over robots', "
+        "'' using 1:3 with lines title 'max over robots', '' using 1:4 axes x1y2 with steps title 'formation type'\n");
+    fprintf(
+        g,
+        "set output 'weights.png'\nunset y2label\nunset y2tics\nset title 'behaviour weights of the lowest-id robot (normalised)'\n"
+        "set ylabel 'normalised weight (1)'\nset yrange [-0.05:1.05]\n"
+        "plot 'weights.csv' using 1:2 with lines title 'goal', '' using 1:3 with lines title 'formation', "
+        "'' using 1:4 with lines title 'avoid', '' using 1:5 with lines title 'exception'\n");
     scenario_plot_run(fm->out, g);
 }

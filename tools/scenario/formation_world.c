@@ -13,16 +13,19 @@
 #include <string.h>
 #include "worldgen.h"
 
-const char *const fm_world_names[] = { "open", "obstacles", "corridor", "deadzone", "random", NULL };
-const int fm_world_values[] = { ROVER_WORLD_OPEN, ROVER_WORLD_OBSTACLES, ROVER_WORLD_CORRIDOR, ROVER_WORLD_DEADZONE,
-                                FM_WORLD_RANDOM };
+const char *const fm_world_names[] = {
+    "open", "obstacles", "corridor", "deadzone", "random", NULL
+};
+const int fm_world_values[] = { ROVER_WORLD_OPEN, ROVER_WORLD_OBSTACLES, ROVER_WORLD_CORRIDOR,
+                                ROVER_WORLD_DEADZONE, FM_WORLD_RANDOM };
 const char *const fm_world_kinds[] = { "clutter", "traps", "corridor", "mixed", NULL };
 
 static int parse_size(const char *v, double *w, double *h)
 {
     char *end;
     *w = strtod(v, &end);
-    if (end == v || *end != 'x') return 0;
+    if (end == v || *end != 'x')
+        return 0;
     *h = strtod(end + 1, &end);
     return *end == '\0' && *w > 0.0 && *h > 0.0 && *w < 1e6 && *h < 1e6;
 }
@@ -43,7 +46,8 @@ int fm_random_world(fm_state *fm)
         fprintf(stderr, "formation: --world-size: '%s' is not WxH (m)\n", fm->world_size);
         return 2;
     }
-    if (!(m = malloc(sizeof *m))) return 1;
+    if (!(m = malloc(sizeof *m)))
+        return 1;
     rc = worldgen_make(m, &s, &p, &attempt);
     if (rc != WORLDGEN_OK) {
         fprintf(stderr, "formation: --world random --world-kind %s --world-seed %ld: %s\n",
@@ -51,14 +55,16 @@ int fm_random_world(fm_state *fm)
         free(m);
         return rc == WORLDGEN_ERR_ARG ? 2 : 1;
     }
-    if (scenario_mkdir(fm->out) != 0 || world_file_write(fm->out, "world", m, &s, why, sizeof why) != 0) {
-        if (why[0]) fprintf(stderr, "formation: %s\n", why);
+    if (scenario_mkdir(fm->out) != 0 ||
+        world_file_write(fm->out, "world", m, &s, why, sizeof why) != 0) {
+        if (why[0])
+            fprintf(stderr, "formation: %s\n", why);
         free(m);
         return 1;
     }
     free(m);
-    fprintf(stderr, "formation: %s world of seed %ld (sub-seed %d) in %s/world.yaml\n", worldgen_kind_name(p.kind),
-            fm->world_seed, attempt, fm->out);
+    fprintf(stderr, "formation: %s world of seed %ld (sub-seed %d) in %s/world.yaml\n",
+            worldgen_kind_name(p.kind), fm->world_seed, attempt, fm->out);
     snprintf(fm->world_copy, sizeof fm->world_copy, "%s/world.yaml", fm->out);
     fm->wopt.file = fm->world_copy;
     return 0;
@@ -68,10 +74,12 @@ int fm_keep_world(fm_state *fm)
 {
     char why[WORLD_FILE_WHY_MAX];
     fm->child_world = fm->wopt;
-    if (!fm->wopt.file) return 0;
-    if (fm->world != FM_WORLD_RANDOM && world_opts_save(&fm->wopt, fm->out, "formation") != 0) return 1;
+    if (!fm->wopt.file)
+        return 0;
+    if (fm->world != FM_WORLD_RANDOM && world_opts_save(&fm->wopt, fm->out, "formation") != 0)
+        return 1;
     if (world_file_write_svg(fm->out, "world", &fm->layout, why, sizeof why) != 0)
-        fprintf(stderr, "formation: %s\n", why);    /* the picture only: the run goes on */
+        fprintf(stderr, "formation: %s\n", why); /* the picture only: the run goes on */
     snprintf(fm->world_copy, sizeof fm->world_copy, "%s/world.yaml", fm->out);
     fm->child_world.file = fm->world_copy;
     fm->child_world.start = NULL;

@@ -87,26 +87,17 @@ static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_hea
 
 AUTH_TYPED_HANDLER(tandem_health_t, raw_on_health, on_health)
 
-void hang_watch_subscribe(hang_watch *w, lcm_t *lcm)
+void hang_watch_subscribe(hang_watch *w, auth_bus *bus, lcm_t *lcm)
 {
+    w->bus = bus;
     if (w->hang_s > 0.0)
-        w->subscribed = auth_bus_subscribe(lcm, "HEALTH_.*", raw_on_health, w) != NULL;
+        w->subscribed = auth_bus_subscribe(bus, lcm, "HEALTH_.*", raw_on_health, w) != NULL;
 }
 
 void hang_watch_stop(hang_watch *w, lcm_t *lcm)
 {
     /* by its user, not by a subscription that a renewed handle replaced */
-    if (w->subscribed)
-        auth_bus_unsubscribe_user(lcm, w);
+    if (w->subscribed && w->bus)
+        auth_bus_unsubscribe_user(w->bus, lcm, w);
     w->subscribed = 0;
-}
-
-const char *hang_watch_strerror(int err)
-{
-    switch (err) {
-    case 0: return "ok";
-    case HANG_WATCH_ERR_FULL: return "HANG_WATCH_ERR_FULL: too many children watched";
-    case HANG_WATCH_ERR_NAME: return "HANG_WATCH_ERR_NAME: empty or too long a daemon name";
-    default: return "unknown hang_watch error";
-    }
 }

@@ -14,15 +14,17 @@
 
 #include <lcm/lcm.h>
 
+struct auth_bus;
+
 #define HANG_WATCH_MAX 24
-#define HANG_WATCH_DEFAULT_S 5.0   /* five missed health messages */
+#define HANG_WATCH_DEFAULT_S 5.0 /* five missed health messages */
 /* A child just started has this much more to say its first word: a
  * loaded machine can take seconds to start a program. */
 #define HANG_WATCH_START_S 10.0
 
 /* Failures of hang_watch_add (0 = ok). */
-#define HANG_WATCH_ERR_FULL (-1)   /* HANG_WATCH_MAX children watched already */
-#define HANG_WATCH_ERR_NAME (-2)   /* empty or too long a daemon name */
+#define HANG_WATCH_ERR_FULL (-1) /* HANG_WATCH_MAX children watched already */
+#define HANG_WATCH_ERR_NAME (-2) /* empty or too long a daemon name */
 
 /* The scenario itself away (descheduled on a loaded machine) for longer
  * than this between two looks: the children's silence meanwhile is not
@@ -30,21 +32,22 @@
 #define HANG_WATCH_AWAY_S 0.5
 
 typedef struct hang_watch {
-    double hang_s;                     /* 0: off */
-    double looked_s;                   /* wall time of the last hang_watch_look, 0 none */
-    int    n;
-    char   name[HANG_WATCH_MAX][48];   /* the daemon's name (its health's name) */
-    double last_s[HANG_WATCH_MAX];     /* wall time of its last health, or of its start */
-    int    on[HANG_WATCH_MAX];         /* 0 while the child is down on purpose */
-    int    spoken[HANG_WATCH_MAX];     /* heard since its start */
-    int    hung_restarts;              /* hung children killed and restarted */
-    int    subscribed;                 /* to HEALTH_.* (auth_bus_subscribe) */
+    double hang_s;   /* 0: off */
+    double looked_s; /* wall time of the last hang_watch_look, 0 none */
+    int n;
+    char name[HANG_WATCH_MAX][48]; /* the daemon's name (its health's name) */
+    double last_s[HANG_WATCH_MAX]; /* wall time of its last health, or of its start */
+    int on[HANG_WATCH_MAX];        /* 0 while the child is down on purpose */
+    int spoken[HANG_WATCH_MAX];    /* heard since its start */
+    int hung_restarts;             /* hung children killed and restarted */
+    int subscribed;                /* to HEALTH_.* (auth_bus_subscribe) */
+    struct auth_bus *bus;          /* the bus it subscribed on (hang_watch_subscribe) */
 } hang_watch;
 
 void hang_watch_init(hang_watch *w, double hang_s);
 /* Watches daemon `name` from wall time now_s; its slot (>= 0), or
  * HANG_WATCH_ERR_FULL / HANG_WATCH_ERR_NAME. */
-int  hang_watch_add(hang_watch *w, const char *name, double now_s);
+int hang_watch_add(hang_watch *w, const char *name, double now_s);
 /* The child of slot k was (re)started at now_s (it has hang_s to speak),
  * or is down on purpose (on = 0: not watched until started again). */
 void hang_watch_started(hang_watch *w, int k, double now_s);
@@ -55,14 +58,14 @@ void hang_watch_heard(hang_watch *w, const char *name, double now_s);
 /* Before judging at now_s: 1 when every message that arrived on lcm has
  * been read (a scenario behind its bus would take the unread for silence),
  * and a gap since the last look longer than HANG_WATCH_AWAY_S forgiven. */
-int  hang_watch_look(hang_watch *w, lcm_t *lcm, double now_s);
+int hang_watch_look(hang_watch *w, lcm_t *lcm, double now_s);
 /* 1 when the child of slot k is watched and silent for hang_s at now_s. */
-int  hang_watch_hung(const hang_watch *w, int k, double now_s);
+int hang_watch_hung(const hang_watch *w, int k, double now_s);
 /* Seconds the child of slot k has been silent at now_s. */
 double hang_watch_silent_s(const hang_watch *w, int k, double now_s);
 /* Subscribes to every HEALTH_ channel (checked: auth_bus_subscribe);
  * hang_watch_stop unsubscribes. */
-void hang_watch_subscribe(hang_watch *w, lcm_t *lcm);
+void hang_watch_subscribe(hang_watch *w, struct auth_bus *bus, lcm_t *lcm);
 void hang_watch_stop(hang_watch *w, lcm_t *lcm);
 const char *hang_watch_strerror(int err);
 

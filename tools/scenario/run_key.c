@@ -7,6 +7,14 @@
 
 #define PROG "tandem-scenario"
 
+/* tandem-scenario's one bus (run_key_bus) */
+static auth_bus scenario_bus;
+
+auth_bus *run_key_bus(void)
+{
+    return &scenario_bus;
+}
+
 /* 1 and the option's value if argv[i] is --key-file PATH or --key-file=PATH
  * (*used: how many words it took); 2 for --insecure; 0 otherwise. */
 static int key_option(int argc, char **argv, int i, const char **value, int *used)
@@ -39,10 +47,11 @@ static int strip_options(int *argc, char **argv)
             i++;
             continue;
         }
-        if (auth_bus_option(PROG, kind == 1 ? OPT_KEY_FILE : OPT_INSECURE, value) < 0)
+        if (auth_bus_option(&scenario_bus, PROG, kind == 1 ? OPT_KEY_FILE : OPT_INSECURE, value) <
+            0)
             return RUN_KEY_ERR_OPTION;
         if (kind == 1 && keys++ == 0) {
-            setenv(AUTH_BUS_KEY_ENV, value, 1);   /* the children sign with the first key */
+            setenv(AUTH_BUS_KEY_ENV, value, 1); /* the children sign with the first key */
             unsetenv(AUTH_BUS_INSECURE_ENV);
         } else if (kind == 2) {
             setenv(AUTH_BUS_INSECURE_ENV, "1", 1);
@@ -69,6 +78,6 @@ int run_key_setup(int *argc, char **argv)
             return RUN_KEY_ERR_KEY;
         }
     }
-    auth_bus_identity(AUTH_ROLE_TOOL, 0, 0);
-    return auth_bus_start(PROG);
+    auth_bus_identity(&scenario_bus, AUTH_ROLE_TOOL, 0, 0);
+    return auth_bus_start(&scenario_bus, PROG);
 }

@@ -10,18 +10,28 @@
 #ifndef TANDEM_RUN_KEY_H
 #define TANDEM_RUN_KEY_H
 
-#define RUN_KEY_HELP \
-    "\nbus authentication (every scenario):\n" \
+#include "auth_bus.h"
+
+#define RUN_KEY_HELP                                                                \
+    "\nbus authentication (every scenario):\n"                                      \
     "  --key-file PATH   sign and check with this key (default $TANDEM_KEY_FILE,\n" \
-    "                    else a key made for this run alone)\n" \
+    "                    else a key made for this run alone)\n"                     \
     "  --insecure        no authentication for this run and its daemons\n"
 
 /* Removes the options from argv (updating *argc), sets up the key for this
  * process (a tool: it sends SIM_CONTROL, SIM_ACK, joint references) and
  * its children. 0, or RUN_KEY_ERR_OPTION, RUN_KEY_ERR_KEY or
  * auth_bus_start's AUTH_BUS_ERR_* after printing why. */
-#define RUN_KEY_ERR_OPTION (-301)  /* a --key-file auth_bus_option refuses */
-#define RUN_KEY_ERR_KEY (-302)     /* no key made for this run */
+#define RUN_KEY_ERR_OPTION (-301) /* a --key-file auth_bus_option refuses */
+#define RUN_KEY_ERR_KEY (-302)    /* no key made for this run */
 int run_key_setup(int *argc, char **argv);
+/* The bus of this tandem-scenario process (the program holds it here, as
+ * a daemon holds its own in its `daemon`): run_key_setup starts it; each
+ * scenario takes it at its set-up and passes it on (the carry run in
+ * carry_state.bus, the TDSD run in its state). The formation run, whose
+ * driver and state (scenario_formation.c, formation_scen.h) are being
+ * reworked on another branch, asks here in each of its files until its
+ * state holds the bus. */
+auth_bus *run_key_bus(void);
 
 #endif

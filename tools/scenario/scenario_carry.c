@@ -30,15 +30,15 @@
 
 /* What the command line sets; run() copies it out. */
 typedef struct carry_options {
-    carry_cfg cfg;             /* workpieces, controller_time, out, url, n_faults */
-    carry_blocks blocks;       /* --block, then --random-blocks */
+    carry_cfg cfg;       /* workpieces, controller_time, out, url, n_faults */
+    carry_blocks blocks; /* --block, then --random-blocks */
     scenario_fault faults[SCENARIO_MAX_FAULTS];
-    int    block_detect;       /* index in options_on_off */
-    int    n_random, no_serial, serial_n;
-    long   seed;
+    int block_detect; /* index in options_on_off */
+    int n_random, no_serial, serial_n;
+    long seed;
     double stall_s;
     const char *drop_arg;
-    int    out_given;
+    int out_given;
 } carry_options;
 
 /* --block A:L:S:D[:t3], repeatable: into the blocks */
@@ -46,8 +46,10 @@ static int option_block(const char *prog, void *dest, char *value)
 {
     carry_blocks *bl = dest;
     if (bl->n >= MAX_BLOCKS || carry_block_parse(value, &bl->b[bl->n]) != 0) {
-        fprintf(stderr, "%s: --block: '%s' is not ARM:LINK:START_S:DURATION_S[:t3] "
-                        "(arm 1-2, link 1-6, start >= 0, 0 < duration <= 3600)\n", prog, value);
+        fprintf(stderr,
+                "%s: --block: '%s' is not ARM:LINK:START_S:DURATION_S[:t3] "
+                "(arm 1-2, link 1-6, start >= 0, 0 < duration <= 3600)\n",
+                prog, value);
         return OPTIONS_ERR_SAID;
     }
     bl->n++;
@@ -59,12 +61,16 @@ static int option_fault(const char *prog, void *dest, char *value)
 {
     carry_cfg *cfg = dest;
     int i;
-    if (cfg->n_faults >= SCENARIO_MAX_FAULTS || scenario_parse_fault(&cfg->faults[cfg->n_faults], value) != 0)
+    if (cfg->n_faults >= SCENARIO_MAX_FAULTS ||
+        scenario_parse_fault(&cfg->faults[cfg->n_faults], value) != 0)
         return OPTIONS_ERR_SAID;
-    for (i = 1; i < CARRY_DAEMONS && strcmp(cfg->faults[cfg->n_faults].daemon, carry_daemon_fault_name[i]); i++)
+    for (i = 1; i < CARRY_DAEMONS &&
+                strcmp(cfg->faults[cfg->n_faults].daemon, carry_daemon_fault_name[i]) != 0;
+         i++)
         ;
     if (i == CARRY_DAEMONS) {
-        fprintf(stderr, "%s: --fault: '%s' is not arm1|arm2|supervisor\n", prog, cfg->faults[cfg->n_faults].daemon);
+        fprintf(stderr, "%s: --fault: '%s' is not arm1|arm2|supervisor\n", prog,
+                cfg->faults[cfg->n_faults].daemon);
         return OPTIONS_ERR_SAID;
     }
     cfg->faults[cfg->n_faults++].slot = i;
@@ -74,61 +80,137 @@ static int option_fault(const char *prog, void *dest, char *value)
 static const char *const controllers[] = { "event", "time", NULL };
 
 static const option_entry carry_option_table[] = {
-    { .name = "workpieces", .type = OPTION_INT, OPTION_AT(carry_options, cfg.workpieces), .min = 1, .max = 1000,
-      .meta = "N", .help = "workpieces to carry", .def = "3" },
-    { .name = "controller", .type = OPTION_CHOICE, OPTION_AT(carry_options, cfg.controller_time),
-      .choices = controllers, .help = "time: the time-referenced baseline",
+    { .name = "workpieces",
+      .type = OPTION_INT,
+      OPTION_AT(carry_options, cfg.workpieces),
+      .min = 1,
+      .max = 1000,
+      .meta = "N",
+      .help = "workpieces to carry",
+      .def = "3" },
+    { .name = "controller",
+      .type = OPTION_CHOICE,
+      OPTION_AT(carry_options, cfg.controller_time),
+      .choices = controllers,
+      .help = "time: the time-referenced baseline",
       .def = "event" },
-    { .name = "block", .type = OPTION_CALL, OPTION_AT(carry_options, blocks), .call = option_block, .repeatable = 1, .meta = "A:L:S:D[:t3]",
-      .help = "push the stick into arm A (1-2), link L (1-6) at the first step after S s (>= 0) at which arm A "
-              "moves (with :t3, during t3), for D s (0 < D <= 3600); run one after the other" },
-    { .name = "random-blocks", .type = OPTION_INT, OPTION_AT(carry_options, n_random), .min = 0,
-      .max = MAX_BLOCKS, .meta = "K", .help = "K seeded random blocks (links 2-5, 0.2-60 s, every third during t3)",
+    { .name = "block",
+      .type = OPTION_CALL,
+      OPTION_AT(carry_options, blocks),
+      .call = option_block,
+      .repeatable = 1,
+      .meta = "A:L:S:D[:t3]",
+      .help =
+          "push the stick into arm A (1-2), link L (1-6) at the first step after S s (>= 0) at which arm A "
+          "moves (with :t3, during t3), for D s (0 < D <= 3600); run one after the other" },
+    { .name = "random-blocks",
+      .type = OPTION_INT,
+      OPTION_AT(carry_options, n_random),
+      .min = 0,
+      .max = MAX_BLOCKS,
+      .meta = "K",
+      .help = "K seeded random blocks (links 2-5, 0.2-60 s, every third during t3)",
       .def = "0" },
-    { .name = "seed", .type = OPTION_INT, OPTION_AT(carry_options, seed), .min = 0, .max = 2147483647.0,
-      .meta = "S", .help = "seed of the sim and the random blocks", .def = "1" },
-    { .name = "no-serial", .type = OPTION_FLAG, OPTION_AT(carry_options, no_serial),
+    { .name = "seed",
+      .type = OPTION_INT,
+      OPTION_AT(carry_options, seed),
+      .min = 0,
+      .max = 2147483647.0,
+      .meta = "S",
+      .help = "seed of the sim and the random blocks",
+      .def = "1" },
+    { .name = "no-serial",
+      .type = OPTION_FLAG,
+      OPTION_AT(carry_options, no_serial),
       .help = "skip the serial reference run (serial_cycle_s = null)" },
-    { .name = "serial-workpieces", .type = OPTION_INT, OPTION_AT(carry_options, serial_n), .min = 2, .max = 1000,
-      .meta = "M", .help = "workpieces of the serial run", .def = "min(N, 3)" },
-    { .name = "block-detect", .type = OPTION_CHOICE, OPTION_AT(carry_options, block_detect),
-      .choices = options_on_off, .help = "off: the arms run eq. 6-7 alone (no blocked detector)", .def = "on" },
-    { .name = "stall-s", .type = OPTION_DOUBLE, OPTION_AT(carry_options, stall_s), .min = 0.1, .max = 1e6,
-      .meta = "S", .help = "the supervisor's stall limit (s); a stall stops the run", .def = "30" },
-    { .name = "fault", .type = OPTION_CALL, OPTION_AT(carry_options, cfg), .call = option_fault, .repeatable = 1,
-      .meta = "kill:D:T[:R]", .help = "kill daemon D (arm1, arm2, supervisor) at T s of simulated time, "
-                                      "restart it at R s" },
-    { .name = "hang-s", .type = OPTION_DOUBLE, OPTION_AT(carry_options, cfg.hang_s), .min = 0.0, .max = 3600.0,
-      .meta = "S", .help = "a daemon alive but without health messages for S s of wall time is hung: killed "
-                           "(SIGKILL) and restarted (the simulator: the run stops); 0: not watched", .def = "5" },
-    { .name = "drop-rate", .type = OPTION_STRING, OPTION_AT(carry_options, drop_arg), .meta = "P",
-      .help = "every daemon drops received messages with probability P (0 <= P < 1)", .def = "0" },
-    { .name = "task", .type = OPTION_STRING, OPTION_AT(carry_options, cfg.task), .meta = "DIR",
-      .help = "run the task in DIR (tandem-supervisor --task: one *.pnml and rows.csv, docs/tasks.md); "
-              "checked here first, and the simulator gets the hand-over stand when the task sets "
-              "workpieces down there", .def = "the shipped carry" },
-    { .name = "lcm-url", .type = OPTION_STRING, OPTION_AT(carry_options, cfg.url), .min = 1, .max = 95,
-      .meta = "URL", .help = "bus of the run", .def = "a private udpm port" },
-    { .name = "out", .type = OPTION_STRING, OPTION_AT(carry_options, cfg.out), OPTION_SEEN(carry_options, out_given),
-      .required = 1, .meta = "DIR", .help = "output directory" },
+    { .name = "serial-workpieces",
+      .type = OPTION_INT,
+      OPTION_AT(carry_options, serial_n),
+      .min = 2,
+      .max = 1000,
+      .meta = "M",
+      .help = "workpieces of the serial run",
+      .def = "min(N, 3)" },
+    { .name = "block-detect",
+      .type = OPTION_CHOICE,
+      OPTION_AT(carry_options, block_detect),
+      .choices = options_on_off,
+      .help = "off: the arms run eq. 6-7 alone (no blocked detector)",
+      .def = "on" },
+    { .name = "stall-s",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(carry_options, stall_s),
+      .min = 0.1,
+      .max = 1e6,
+      .meta = "S",
+      .help = "the supervisor's stall limit (s); a stall stops the run",
+      .def = "30" },
+    { .name = "fault",
+      .type = OPTION_CALL,
+      OPTION_AT(carry_options, cfg),
+      .call = option_fault,
+      .repeatable = 1,
+      .meta = "kill:D:T[:R]",
+      .help = "kill daemon D (arm1, arm2, supervisor) at T s of simulated time, "
+              "restart it at R s" },
+    { .name = "hang-s",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(carry_options, cfg.hang_s),
+      .min = 0.0,
+      .max = 3600.0,
+      .meta = "S",
+      .help = "a daemon alive but without health messages for S s of wall time is hung: killed "
+              "(SIGKILL) and restarted (the simulator: the run stops); 0: not watched",
+      .def = "5" },
+    { .name = "drop-rate",
+      .type = OPTION_STRING,
+      OPTION_AT(carry_options, drop_arg),
+      .meta = "P",
+      .help = "every daemon drops received messages with probability P (0 <= P < 1)",
+      .def = "0" },
+    { .name = "task",
+      .type = OPTION_STRING,
+      OPTION_AT(carry_options, cfg.task),
+      .meta = "DIR",
+      .help =
+          "run the task in DIR (tandem-supervisor --task: one *.pnml and rows.csv, docs/tasks.md); "
+          "checked here first, and the simulator gets the hand-over stand when the task sets "
+          "workpieces down there",
+      .def = "the shipped carry" },
+    { .name = "lcm-url",
+      .type = OPTION_STRING,
+      OPTION_AT(carry_options, cfg.url),
+      .min = 1,
+      .max = 95,
+      .meta = "URL",
+      .help = "bus of the run",
+      .def = "a private udpm port" },
+    { .name = "out",
+      .type = OPTION_STRING,
+      OPTION_AT(carry_options, cfg.out),
+      OPTION_SEEN(carry_options, out_given),
+      .required = 1,
+      .meta = "DIR",
+      .help = "output directory" },
     { .name = "help", .type = OPTION_HELP, .help = "this text" },
     { .name = NULL }
 };
 
 static const option_program carry_program = {
     .name = "tandem-scenario carry",
-    .usage = "usage: tandem-scenario carry [--workpieces N] [--controller event|time]\n"
-             "         [--block ARM:LINK:START_S:DURATION_S[:t3]]... [--random-blocks K]\n"
-             "         [--seed S] [--no-serial] [--serial-workpieces M]\n"
-             "         [--block-detect on|off] [--stall-s S] [--fault kill:D:T[:R]]...\n"
-             "         [--hang-s S] [--drop-rate P] [--task DIR] [--lcm-url URL] --out DIR\n"
-             "Two-arm carry in lockstep with the stick pushed into the arms (docs/method/carry.md §8).\n\n",
+    .usage =
+        "usage: tandem-scenario carry [--workpieces N] [--controller event|time]\n"
+        "         [--block ARM:LINK:START_S:DURATION_S[:t3]]... [--random-blocks K]\n"
+        "         [--seed S] [--no-serial] [--serial-workpieces M]\n"
+        "         [--block-detect on|off] [--stall-s S] [--fault kill:D:T[:R]]...\n"
+        "         [--hang-s S] [--drop-rate P] [--task DIR] [--lcm-url URL] --out DIR\n"
+        "Two-arm carry in lockstep with the stick pushed into the arms (docs/method/carry.md §8).\n\n",
     .epilog = "Exit status: 0 when the run met every success criterion (all delivered,\n"
               "none dropped, no joint-limit violation, speeds within the motor limits,\n"
               "10 ms contact force <= 1000 N, resumed within 1 s of every removal, no\n"
               "stall, no invariant violation or deadlock, completed); 3 otherwise, with\n"
               "the failed criteria on the last line; 1 on errors, 2 on bad options.\n",
-    .groups = { { carry_option_table, NULL } },   /* the base is parse()'s carry_options */
+    .groups = { { carry_option_table, NULL } }, /* the base is parse()'s carry_options */
     .n_groups = 1,
 };
 
@@ -170,11 +252,13 @@ static int task_setup(carry_cfg *cfg)
     netc_set_program("tandem-scenario carry");
     rc = netc_task_load(&task, cfg->task, NETC_BOUND_FROM_INVARIANTS, NULL, stderr, stderr);
     if (rc != NETC_OK) {
-        fprintf(stderr, "tandem-scenario carry: --task %s refused: %s\n", cfg->task, netc_strerror(rc));
+        fprintf(stderr, "tandem-scenario carry: --task %s refused: %s\n", cfg->task,
+                netc_strerror(rc));
         return 2;
     }
     for (t = 0; t < task.n_transitions; t++)
-        cfg->handover_stand |= carry_row_sets_down(&task.rows[t], 0) || carry_row_sets_down(&task.rows[t], 1);
+        cfg->handover_stand |= carry_row_sets_down(&task.rows[t], 0) ||
+                               carry_row_sets_down(&task.rows[t], 1);
     return SCENARIO_GO_ON;
 }
 
@@ -190,7 +274,8 @@ static int setup(carry_cfg *cfg, carry_options *o, char *stall_buf, size_t stall
     cfg->block_detect = options_on_off[o->block_detect];
     carry_random_blocks(bl, o->n_random, (uint64_t)o->seed);
     for (i = 0; i < bl->n; i++) {
-        bl->b[i].in_s = bl->b[i].out_s = bl->b[i].contact_s = bl->b[i].self_stop_s = bl->b[i].partner_stop_s = -1.0;
+        bl->b[i].in_s = bl->b[i].out_s = bl->b[i].contact_s = bl->b[i].self_stop_s =
+            bl->b[i].partner_stop_s = -1.0;
         bl->b[i].resume_s = -1.0;
         total_block_s += bl->b[i].dur_s;
     }
@@ -221,8 +306,9 @@ static int open_csvs(carry_cfg *cfg)
     if (!cfg->ts_csv || !cfg->tr_csv || !cfg->q_csv)
         return SCENARIO_ERR_IO;
     fprintf(cfg->q_csv, "t_s,q1_1,q1_2,q1_3,q1_4,q1_5,q1_6,q2_1,q2_2,q2_3,q2_4,q2_5,q2_6\n");
-    fprintf(cfg->ts_csv, "t_s,s1_m,sf1_m,tr1,s2_m,sf2_m,tr2,speed1_mps,speed2_mps,force1_N,force2_N,stick_arm,"
-                         "delivered,dropped,force1_10ms_N,force2_10ms_N\n");
+    fprintf(cfg->ts_csv,
+            "t_s,s1_m,sf1_m,tr1,s2_m,sf2_m,tr2,speed1_mps,speed2_mps,force1_N,force2_N,stick_arm,"
+            "delivered,dropped,force1_10ms_N,force2_10ms_N\n");
     fprintf(cfg->tr_csv, "transition,start_s,end_s\n");
     return 0;
 }
@@ -243,9 +329,11 @@ static void run_serial(const carry_cfg *cfg, int serial_n, carry_result *ser)
     carry_cfg s = *cfg;
     s.serial = 1;
     s.tag = "serial";
-    s.n_faults = 0;                 /* the reference runs without faults */
+    s.n_faults = 0; /* the reference runs without faults */
     s.blocks = &no_blocks;
-    s.workpieces = serial_n > 0 ? serial_n : (cfg->workpieces < 3 ? (cfg->workpieces < 2 ? 2 : cfg->workpieces) : 3);
+    s.workpieces = serial_n > 0
+                       ? serial_n
+                       : (cfg->workpieces < 3 ? (cfg->workpieces < 2 ? 2 : cfg->workpieces) : 3);
     s.max_sim_s = 80.0 * s.workpieces + 60.0;
     fprintf(stderr, "tandem-scenario carry: serial reference run, %d workpieces\n", s.workpieces);
     carry_run_once(&s, ser);
@@ -259,12 +347,13 @@ static int run(int argc, char **argv)
     carry_block_figures fig;
     char stall_buf[32], failed[512];
     int rc, n_failed;
-    if ((rc = parse(&o, argc, argv)) >= 0 || (rc = setup(&cfg, &o, stall_buf, sizeof stall_buf)) >= 0)
+    if ((rc = parse(&o, argc, argv)) >= 0 ||
+        (rc = setup(&cfg, &o, stall_buf, sizeof stall_buf)) >= 0)
         return rc;
     if (open_csvs(&cfg) != 0)
         return 1;
-    fprintf(stderr, "tandem-scenario carry: %d workpieces, %s controller, %d blocks, seed %ld\n", cfg.workpieces,
-            cfg.controller_time ? "time" : "event", cfg.blocks->n, o.seed);
+    fprintf(stderr, "tandem-scenario carry: %d workpieces, %s controller, %d blocks, seed %ld\n",
+            cfg.workpieces, cfg.controller_time ? "time" : "event", cfg.blocks->n, o.seed);
     if (carry_run_once(&cfg, &res) != 0 && !res.sim_s) {
         fprintf(stderr, "tandem-scenario carry: the run did not start\n");
         return 1;
@@ -280,11 +369,12 @@ static int run(int argc, char **argv)
     if (carry_write_summary(&cfg, o.seed, &res, &ser, &fig, failed) != 0)
         return 1;
     carry_write_plots(cfg.out, cfg.blocks);
-    printf("carry (%s): delivered %d/%d, dropped %d, blockages %d, max contact %.1f N, lurch %.3f m/s, "
-           "invariant violations %ld, deadlocks %d, replans %d, mean cycle %.2f s, serial %.2f s\n",
-           cfg.controller_time ? "time" : "event", res.delivered, cfg.workpieces, res.dropped, res.blockages,
-           fig.max_force_N, fig.max_lurch_mps, res.invariant_violations, res.deadlocks, res.replans,
-           res.mean_cycle_s, ser.mean_cycle_s);
+    printf(
+        "carry (%s): delivered %d/%d, dropped %d, blockages %d, max contact %.1f N, lurch %.3f m/s, "
+        "invariant violations %ld, deadlocks %d, replans %d, mean cycle %.2f s, serial %.2f s\n",
+        cfg.controller_time ? "time" : "event", res.delivered, cfg.workpieces, res.dropped,
+        res.blockages, fig.max_force_N, fig.max_lurch_mps, res.invariant_violations, res.deadlocks,
+        res.replans, res.mean_cycle_s, ser.mean_cycle_s);
     return scenario_exit_status("carry", n_failed, failed);
 }
 

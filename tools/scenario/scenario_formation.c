@@ -17,6 +17,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "formation_scen.h"
+#include "run_key.h"
 #include "shared_run.h"
 #include "formation.h"
 #include "rover_ctl.h"
@@ -69,64 +70,173 @@ static const char *const procs[] = { "separate", "single", NULL };
 static const char *const links[] = { "robot", "batch", NULL };
 
 static const option_entry formation_table[] = {
-    { .name = "formation", .type = OPTION_CHOICE, OPTION_AT(fm_state, formation), .choices = options_formation_names,
-      .values = options_formation_values, .help = "the team's formation", .def = "line" },
-    { .name = "world", .type = OPTION_CHOICE, OPTION_AT(fm_state, world), .choices = fm_world_names,
-      .values = fm_world_values, .help = "the rover world (random: generated, see --world-kind, --world-seed)",
+    { .name = "formation",
+      .type = OPTION_CHOICE,
+      OPTION_AT(fm_state, formation),
+      .choices = options_formation_names,
+      .values = options_formation_values,
+      .help = "the team's formation",
+      .def = "line" },
+    { .name = "world",
+      .type = OPTION_CHOICE,
+      OPTION_AT(fm_state, world),
+      .choices = fm_world_names,
+      .values = fm_world_values,
+      .help = "the rover world (random: generated, see --world-kind, --world-seed)",
       .def = "open" },
-    { .name = "world-kind", .type = OPTION_CHOICE, OPTION_AT(fm_state, world_kind), .choices = fm_world_kinds,
-      .help = "--world random: clutter, traps (U, V, L pockets), corridor or a mix", .def = "mixed" },
-    { .name = "world-seed", .type = OPTION_INT, OPTION_AT(fm_state, world_seed), .min = 0, .max = 2147483647.0,
-      .meta = "W", .help = "--world random: the world's seed (the noise has --seed)", .def = "1" },
-    { .name = "world-size", .type = OPTION_STRING, OPTION_AT(fm_state, world_size), .meta = "WxH",
-      .help = "--world random: the map's size (m)", .def = "30x20" },
+    { .name = "world-kind",
+      .type = OPTION_CHOICE,
+      OPTION_AT(fm_state, world_kind),
+      .choices = fm_world_kinds,
+      .help = "--world random: clutter, traps (U, V, L pockets), corridor or a mix",
+      .def = "mixed" },
+    { .name = "world-seed",
+      .type = OPTION_INT,
+      OPTION_AT(fm_state, world_seed),
+      .min = 0,
+      .max = 2147483647.0,
+      .meta = "W",
+      .help = "--world random: the world's seed (the noise has --seed)",
+      .def = "1" },
+    { .name = "world-size",
+      .type = OPTION_STRING,
+      OPTION_AT(fm_state, world_size),
+      .meta = "WxH",
+      .help = "--world random: the map's size (m)",
+      .def = "30x20" },
     WORLD_FILE_OPTIONS(fm_state, wopt),
-    { .name = "blend", .type = OPTION_CHOICE, OPTION_AT(fm_state, blend), .choices = blends,
-      .help = "how the behaviours' outputs are blended", .def = "weighted" },
-    { .name = "formation-law", .type = OPTION_CHOICE, OPTION_AT(fm_state, law_kanayama), .choices = laws,
-      .help = "the formation behaviour flown", .def = "seed" },
-    { .name = "ref-heading", .type = OPTION_CHOICE, OPTION_AT(fm_state, ref_goal), .choices = ref_headings,
-      .help = "the team reference heading: goal (bearing of the goal) or mean (the seed's mean of the headings)",
+    { .name = "blend",
+      .type = OPTION_CHOICE,
+      OPTION_AT(fm_state, blend),
+      .choices = blends,
+      .help = "how the behaviours' outputs are blended",
+      .def = "weighted" },
+    { .name = "formation-law",
+      .type = OPTION_CHOICE,
+      OPTION_AT(fm_state, law_kanayama),
+      .choices = laws,
+      .help = "the formation behaviour flown",
+      .def = "seed" },
+    { .name = "ref-heading",
+      .type = OPTION_CHOICE,
+      OPTION_AT(fm_state, ref_goal),
+      .choices = ref_headings,
+      .help =
+          "the team reference heading: goal (bearing of the goal) or mean (the seed's mean of the headings)",
       .def = "goal" },
-    { .name = "ref-arrive", .type = OPTION_DOUBLE, OPTION_AT(fm_state, ref_arrive_m), .min = 0.0, .max = 100.0,
-      .meta = "M", .help = "within M of the goal the team reference turns onto the goal's slot frame and its "
-      "speed fades (0: off)", .def = "0" },
-    { .name = "localize", .type = OPTION_CHOICE, OPTION_AT(fm_state, localize_off), .choices = options_on_off,
-      .help = "robots fuse the world's LED landmarks", .def = "on" },
-    { .name = "lockstep-timeout-ms", .type = OPTION_INT, OPTION_AT(fm_state, timeout_ms_given), .min = 100,
-      .max = 3600000, .meta = "MS", .help = "the simulator drops a participant silent this long (wall) "
-      "whose process is gone or hangs; one alive and slow (a loaded machine) or stopped is waited for, so the run "
-      "stays the deterministic one", .def = "10000" },
-    { .name = "robots", .type = OPTION_INT, OPTION_AT(fm_state, robots), .min = 1, .max = FM_MAX, .meta = "N",
-      .help = "team size", .def = "3" },
-    { .name = "seed", .type = OPTION_INT, OPTION_AT(fm_state, seed), .min = 0, .max = 2147483647.0, .meta = "S",
-      .help = "noise seed", .def = "1" },
-    { .name = "kill", .type = OPTION_CALL, OPTION_ALL(fm_state), .call = option_kill, .meta = "K:T",
+    { .name = "ref-arrive",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(fm_state, ref_arrive_m),
+      .min = 0.0,
+      .max = 100.0,
+      .meta = "M",
+      .help = "within M of the goal the team reference turns onto the goal's slot frame and its "
+              "speed fades (0: off)",
+      .def = "0" },
+    { .name = "localize",
+      .type = OPTION_CHOICE,
+      OPTION_AT(fm_state, localize_off),
+      .choices = options_on_off,
+      .help = "robots fuse the world's LED landmarks",
+      .def = "on" },
+    { .name = "lockstep-timeout-ms",
+      .type = OPTION_INT,
+      OPTION_AT(fm_state, timeout_ms_given),
+      .min = 100,
+      .max = 3600000,
+      .meta = "MS",
+      .help =
+          "the simulator drops a participant silent this long (wall) "
+          "whose process is gone or hangs; one alive and slow (a loaded machine) or stopped is waited for, so the run "
+          "stays the deterministic one",
+      .def = "10000" },
+    { .name = "robots",
+      .type = OPTION_INT,
+      OPTION_AT(fm_state, robots),
+      .min = 1,
+      .max = FM_MAX,
+      .meta = "N",
+      .help = "team size",
+      .def = "3" },
+    { .name = "seed",
+      .type = OPTION_INT,
+      OPTION_AT(fm_state, seed),
+      .min = 0,
+      .max = 2147483647.0,
+      .meta = "S",
+      .help = "noise seed",
+      .def = "1" },
+    { .name = "kill",
+      .type = OPTION_CALL,
+      OPTION_ALL(fm_state),
+      .call = option_kill,
+      .meta = "K:T",
       .help = "kill robot K (its process and its body) at sim time T s" },
-    { .name = "fault", .type = OPTION_CALL, OPTION_ALL(fm_state), .call = option_fault, .repeatable = 1,
-      .meta = "kill:roverK:T[:R]", .help = "kill robot K's process (SIGKILL; its body stands) at T s of "
-      "simulated time and, with R, start it again at R s: it resumes from its journal. Deterministic (the "
-      "lockstep is held while it rejoins)" },
-    { .name = "hang-s", .type = OPTION_DOUBLE, OPTION_AT(fm_state, hang_s), .min = 0.0, .max = 3600.0,
-      .meta = "S", .help = "a child alive but without health messages for S s of wall time is hung: killed "
-      "(SIGKILL); a rover's process is restarted from its journal (every robot keeps one), the simulator or "
-      "the one process of --procs single stops the run; 0: not watched", .def = "5" },
-    { .name = "drop-rate", .type = OPTION_STRING, OPTION_AT(fm_state, drop_arg), .meta = "P",
-      .help = "fault injection: every daemon drops received messages with probability P (0 <= P < 1, "
-      "deterministic for the seed); the run is the same as without loss, only slower", .def = "0" },
-    { .name = "procs", .type = OPTION_CHOICE, OPTION_AT(fm_state, single), .choices = procs,
+    { .name = "fault",
+      .type = OPTION_CALL,
+      OPTION_ALL(fm_state),
+      .call = option_fault,
+      .repeatable = 1,
+      .meta = "kill:roverK:T[:R]",
+      .help =
+          "kill robot K's process (SIGKILL; its body stands) at T s of "
+          "simulated time and, with R, start it again at R s: it resumes from its journal. Deterministic (the "
+          "lockstep is held while it rejoins)" },
+    { .name = "hang-s",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(fm_state, hang_s),
+      .min = 0.0,
+      .max = 3600.0,
+      .meta = "S",
+      .help =
+          "a child alive but without health messages for S s of wall time is hung: killed "
+          "(SIGKILL); a rover's process is restarted from its journal (every robot keeps one), the simulator or "
+          "the one process of --procs single stops the run; 0: not watched",
+      .def = "5" },
+    { .name = "drop-rate",
+      .type = OPTION_STRING,
+      OPTION_AT(fm_state, drop_arg),
+      .meta = "P",
+      .help =
+          "fault injection: every daemon drops received messages with probability P (0 <= P < 1, "
+          "deterministic for the seed); the run is the same as without loss, only slower",
+      .def = "0" },
+    { .name = "procs",
+      .type = OPTION_CHOICE,
+      OPTION_AT(fm_state, single),
+      .choices = procs,
       .help = "separate: one tandem-rover per robot; single: one process hosting all",
       .def = "separate up to 10 robots" },
-    { .name = "link", .type = OPTION_CHOICE, OPTION_AT(fm_state, batch), .choices = links,
-      .help = "robot: ROVERk_* channels per robot; batch: ROVERS_*, one message per tick for all robots. "
-      "Same run either way", .def = "batch with --procs single, robot otherwise" },
-    { .name = "max-time", .type = OPTION_DOUBLE, OPTION_AT(fm_state, max_time_s), .min = 0.0, .max = 3600.0,
-      .meta = "S", .help = "give up after S simulated seconds (S > 0); not given: 60 s plus the shortest "
-      "way for the robot body from the start to the goal at 0.2 m/s", .def = "from the way" },
-    { .name = "lcm-url", .type = OPTION_STRING, OPTION_AT(fm_state, url), .meta = "URL",
-      .help = "bus for the children", .def = "a private udpm port" },
-    { .name = "out", .type = OPTION_STRING, OPTION_AT(fm_state, out), OPTION_SEEN(fm_state, out_given), .required = 1,
-      .meta = "DIR", .help = "output directory" },
+    { .name = "link",
+      .type = OPTION_CHOICE,
+      OPTION_AT(fm_state, batch),
+      .choices = links,
+      .help =
+          "robot: ROVERk_* channels per robot; batch: ROVERS_*, one message per tick for all robots. "
+          "Same run either way",
+      .def = "batch with --procs single, robot otherwise" },
+    { .name = "max-time",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(fm_state, max_time_s),
+      .min = 0.0,
+      .max = 3600.0,
+      .meta = "S",
+      .help = "give up after S simulated seconds (S > 0); not given: 60 s plus the shortest "
+              "way for the robot body from the start to the goal at 0.2 m/s",
+      .def = "from the way" },
+    { .name = "lcm-url",
+      .type = OPTION_STRING,
+      OPTION_AT(fm_state, url),
+      .meta = "URL",
+      .help = "bus for the children",
+      .def = "a private udpm port" },
+    { .name = "out",
+      .type = OPTION_STRING,
+      OPTION_AT(fm_state, out),
+      OPTION_SEEN(fm_state, out_given),
+      .required = 1,
+      .meta = "DIR",
+      .help = "output directory" },
     { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
     { .name = NULL }
 };
@@ -135,24 +245,26 @@ static int parse(fm_state *fm, int argc, char **argv)
 {
     const option_program prog = {
         .name = "tandem-scenario formation",
-        .usage = "usage: tandem-scenario formation [options] --out DIR\n"
-                 "Pioneer team to the goal in formation (seed 003), lockstep, ground-truth metrics.\n\n",
-        .groups = { { formation_table, fm } }, .n_groups = 1,
+        .usage =
+            "usage: tandem-scenario formation [options] --out DIR\n"
+            "Pioneer team to the goal in formation (seed 003), lockstep, ground-truth metrics.\n\n",
+        .groups = { { formation_table, fm } },
+        .n_groups = 1,
     };
     rover_ctl_params rp;
     int i, rc;
     fm->formation = FORMATION_LINE;
     fm->world = ROVER_WORLD_OPEN;
-    fm->world_kind = 3;       /* mixed */
+    fm->world_kind = 3; /* mixed */
     fm->world_seed = 1;
     fm->blend = 0;
     fm->ref_goal = 1;
-    rover_ctl_params_default(&rp);        /* the rovers' own default */
+    rover_ctl_params_default(&rp); /* the rovers' own default */
     fm->ref_arrive_m = rp.arrive_m;
     fm->timeout_ms_given = 10000;
     fm->robots = 3;
     fm->seed = 1;
-    fm->max_time_s = -1.0;                /* not given: from the way (setup) */
+    fm->max_time_s = -1.0; /* not given: from the way (setup) */
     fm->hang_s = HANG_WATCH_DEFAULT_S;
     fm->kill_id = -1;
     fm->single = -1;
@@ -176,18 +288,28 @@ static int parse(fm_state *fm, int argc, char **argv)
             fprintf(stderr, "formation: --fault: robot %d not in the team\n", fm->faults[i].slot);
             return SCENARIO_ERR_ARG;
         }
-    if (scenario_parse_drop(&fm->drop, fm->drop_arg ? fm->drop_arg : "0", fm->seed) != 0) return SCENARIO_ERR_ARG;
-    if (fm->single < 0) fm->single = fm->robots > 10;
-    if (fm->batch < 0) fm->batch = fm->single;
+    if (scenario_parse_drop(&fm->drop, fm->drop_arg ? fm->drop_arg : "0", fm->seed) != 0)
+        return SCENARIO_ERR_ARG;
+    if (fm->single < 0)
+        fm->single = fm->robots > 10;
+    if (fm->batch < 0)
+        fm->batch = fm->single;
     if (fm->n_faults > 0 && fm->single) {
-        fprintf(stderr, "formation: --fault kill:roverK needs one process per robot (--procs separate)\n");
+        fprintf(stderr,
+                "formation: --fault kill:roverK needs one process per robot (--procs separate)\n");
         return SCENARIO_ERR_ARG;
     }
     return 0;
 }
 
-const char *fm_formation_name(int f) { return f == 0 ? "line" : f == 1 ? "triangle" : "column"; }
-const char *fm_blend_name(int b) { return b == 0 ? "weighted" : b == 1 ? "subsumption" : "vecsum"; }
+const char *fm_formation_name(int f)
+{
+    return f == 0 ? "line" : f == 1 ? "triangle" : "column";
+}
+const char *fm_blend_name(int b)
+{
+    return b == 0 ? "weighted" : b == 1 ? "subsumption" : "vecsum";
+}
 
 /* ---- set-up ----------------------------------------------------------------------- */
 
@@ -211,10 +333,14 @@ static int find_bindir(fm_state *fm)
 {
     char self[512];
     ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);
-    if (len <= 0) { fprintf(stderr, "formation: cannot find my own binary\n"); return BINDIR_UNKNOWN; }
+    if (len <= 0) {
+        fprintf(stderr, "formation: cannot find my own binary\n");
+        return BINDIR_UNKNOWN;
+    }
     self[len] = '\0';
     snprintf(fm->bindir, sizeof fm->bindir, "%s", self);
-    if (strrchr(fm->bindir, '/')) *strrchr(fm->bindir, '/') = '\0';
+    if (strrchr(fm->bindir, '/'))
+        *strrchr(fm->bindir, '/') = '\0';
     return 0;
 }
 
@@ -247,24 +373,34 @@ static int setup(fm_state *fm)
             fprintf(stderr, "formation: --world random and --world-file exclude each other\n");
             return 2;
         }
-        if ((i = fm_random_world(fm)) != 0) return i;
+        if ((i = fm_random_world(fm)) != 0)
+            return i;
     }
-    if (world_opts_layout(&fm->layout, &fm->wopt, fm->robots, 1.0, fm->formation, "formation") != 0) return 2;
+    if (world_opts_layout(&fm->layout, &fm->wopt, fm->robots, 1.0, fm->formation, "formation") != 0)
+        return 2;
     fm->way_m = fm_way_length_m(&fm->layout);
     fm->passage_m = fm_passage_width_m(&fm->layout);
-    if (fm->max_time_s == -1.0) fm->max_time_s = fm_time_limit_s(fm->way_m);
-    if (scenario_mkdir(fm->out) != 0) return 1;
-    if (fm_keep_world(fm) != 0) return 1;
-    if (find_bindir(fm) != 0) return 1;
+    if (fm->max_time_s == -1.0)
+        fm->max_time_s = fm_time_limit_s(fm->way_m);
+    if (scenario_mkdir(fm->out) != 0)
+        return 1;
+    if (fm_keep_world(fm) != 0)
+        return 1;
+    if (find_bindir(fm) != 0)
+        return 1;
     if (!fm->url) {
-        snprintf(fm->url_buf, sizeof fm->url_buf, "udpm://239.255.76.67:%d?ttl=0&recv_buf_size=4194304",
+        snprintf(fm->url_buf, sizeof fm->url_buf,
+                 "udpm://239.255.76.67:%d?ttl=0&recv_buf_size=4194304",
                  20000 + (int)(getpid() % 20000));
         fm->url = fm->url_buf;
     }
     fm->type_now = fm->formation;
     names_watch_init(&fm->names, "formation");
     fm->lcm = lcm_create(fm->url);
-    if (!fm->lcm) { fprintf(stderr, "formation: cannot open LCM at %s\n", fm->url); return 1; }
+    if (!fm->lcm) {
+        fprintf(stderr, "formation: cannot open LCM at %s\n", fm->url);
+        return 1;
+    }
     fm_subscribe(fm);
     open_outputs(fm);
     for (i = 0; i <= FM_MAX; i++) {
@@ -277,7 +413,10 @@ static int setup(fm_state *fm)
 
 /* ---- the lockstep loop ---------------------------------------------------------------- */
 
-static void on_sig(int s) { (void)s; }
+static void on_sig(int s)
+{
+    (void)s;
+}
 
 /* A step every participant answers, its truth in, not answered yet. */
 static int cycle_due(const fm_state *fm)
@@ -293,14 +432,19 @@ static int answer_cycle(fm_state *fm)
 {
     int i, lo = -1;
     for (i = 0; i < fm->robots; i++)
-        if (fm->have_state[i] && (i + 1 != fm->kill_id || !fm->killed)) { lo = i; break; }
+        if (fm->have_state[i] && (i + 1 != fm->kill_id || !fm->killed)) {
+            lo = i;
+            break;
+        }
     if (lo >= 0) {
-        if (fm->last_type >= 0 && fm->state_type[lo] != fm->last_type) fm->formation_changes++;
+        if (fm->last_type >= 0 && fm->state_type[lo] != fm->last_type)
+            fm->formation_changes++;
         fm->last_type = fm->state_type[lo];
     }
     fm_kill_robot(fm);
     fm->answered = fm->clock_step;
-    if (fm->reached || fm->sim_time >= fm->max_time_s) return 1;
+    if (fm->reached || fm->sim_time >= fm->max_time_s)
+        return 1;
     fm_ack(fm, fm->clock_step);
     return 0;
 }
@@ -309,9 +453,11 @@ static int answer_cycle(fm_state *fm)
 static void progress_line(const fm_state *fm, double wall0)
 {
     const double wall = scenario_wall_s() - wall0;
-    fprintf(stderr, "formation: t %.1f s (%.1fx real time), collisions %d, formation changes %d, "
-                    "dead-zone escapes %d%s\n", fm->sim_time, scenario_realtime_factor(fm->sim_time, wall),
-            fm->collisions, fm->formation_changes, fm->escapes, fm->reached ? ", at the goal" : "");
+    fprintf(stderr,
+            "formation: t %.1f s (%.1fx real time), collisions %d, formation changes %d, "
+            "dead-zone escapes %d%s\n",
+            fm->sim_time, scenario_realtime_factor(fm->sim_time, wall), fm->collisions,
+            fm->formation_changes, fm->escapes, fm->reached ? ", at the goal" : "");
 }
 
 /* Registers before the first step (the sim waits for --expect participants). */
@@ -320,7 +466,8 @@ static void register_lockstep(fm_state *fm, double wall0)
     while (scenario_wall_s() - wall0 < 30.0) {
         fm_ack(fm, 0);
         lcm_handle_timeout(fm->lcm, 100);
-        if (fm->have_clock) break;
+        if (fm->have_clock)
+            break;
     }
 }
 
@@ -330,16 +477,20 @@ static void lockstep_loop(fm_state *fm, double wall0)
     double next_progress = wall0 + 5.0;
     for (;;) {
         int fault_rc = 1, due, hung_rc;
-        if (lcm_handle_timeout(fm->lcm, 50) < 0) break;
-        bus_names_watch(&fm->names, &fm->lcm, fm->url); /* a flood of channel names: a new handle */
+        if (lcm_handle_timeout(fm->lcm, 50) < 0)
+            break;
+        /* a flood of channel names: a new handle */
+        bus_names_watch(&fm->names, run_key_bus(), &fm->lcm, fm->url);
         hung_rc = fm_hung_watch(fm);
         if (hung_rc < 0) {
-            if (hung_rc == FM_ERR_FAULT) fm->restart_failed = 1;
+            if (hung_rc == FM_ERR_FAULT)
+                fm->restart_failed = 1;
             break;
         }
         if (fm->clock_repeat) {
-            fm->clock_repeat = 0;          /* our ack was lost: answer again */
-            if (fm->answered >= 0) fm_ack(fm, fm->answered);
+            fm->clock_repeat = 0; /* our ack was lost: answer again */
+            if (fm->answered >= 0)
+                fm_ack(fm, fm->answered);
         }
         due = cycle_due(fm);
         if (due && (fault_rc = fm_faults_step(fm)) == 1)
@@ -349,7 +500,8 @@ static void lockstep_loop(fm_state *fm, double wall0)
             break;
         }
         if (fault_rc == 1 && due) {
-            if (answer_cycle(fm)) break;
+            if (answer_cycle(fm))
+                break;
         } else if (fm->have_clock && fm_mono_ns() - fm->last_clock_ns > 500000000LL) {
             fm_nudge(fm);
             fm->last_clock_ns = fm_mono_ns();
@@ -359,7 +511,9 @@ static void lockstep_loop(fm_state *fm, double wall0)
         if (fm->sim_time > fm->max_time_s + 5.0) {
             /* the world ran past the limit without us: every participant
              * was dropped (dead or hung, docs/method/lockstep.md §3) */
-            fprintf(stderr, "formation: the simulator went on without the lockstep participants; giving up\n");
+            fprintf(
+                stderr,
+                "formation: the simulator went on without the lockstep participants; giving up\n");
             fm->lost_lockstep = 1;
             break;
         }
@@ -374,24 +528,29 @@ static void lockstep_loop(fm_state *fm, double wall0)
 
 static void close_outputs(fm_state *fm)
 {
-    if (fm->truth_csv) fclose(fm->truth_csv);
-    if (fm->err_csv) fclose(fm->err_csv);
-    if (fm->w_csv) fclose(fm->w_csv);
-    if (fm->snap_csv) fclose(fm->snap_csv);
+    if (fm->truth_csv)
+        fclose(fm->truth_csv);
+    if (fm->err_csv)
+        fclose(fm->err_csv);
+    if (fm->w_csv)
+        fclose(fm->w_csv);
+    if (fm->snap_csv)
+        fclose(fm->snap_csv);
     fm->truth_csv = fm->err_csv = fm->w_csv = fm->snap_csv = NULL;
 }
 
 static void print_result(const fm_state *fm, double wall_s)
 {
-    printf("formation %s world %s blend %s law %s robots %d seed %ld: reached_goal=%d time_to_goal_s=%.2f "
-           "rms_formation_err_m=%.3f max_formation_err_m=%.3f min_clearance_m=%.3f collisions=%d "
-           "formation_changes=%d dead_zone_escapes=%d loc_err_max_m=%.3f sim_time_s=%.1f wall_time_s=%.1f\n",
-           fm_formation_name(fm->formation), rover_world_name(fm->world), fm_blend_name(fm->blend),
-           fm->law_kanayama ? "kanayama" : "seed", fm->robots, fm->seed,
-           fm->reached, fm->reached ? fm->time_to_goal : NAN,
-           fm->samples ? sqrt(fm->sum_sq_err / fm->samples) : NAN, fm->max_err, fm->min_clear,
-           fm->collisions, fm->formation_changes, fm->escapes, fm->loc_n ? fm->loc_max : NAN, fm->sim_time,
-           wall_s);
+    printf(
+        "formation %s world %s blend %s law %s robots %d seed %ld: reached_goal=%d time_to_goal_s=%.2f "
+        "rms_formation_err_m=%.3f max_formation_err_m=%.3f min_clearance_m=%.3f collisions=%d "
+        "formation_changes=%d dead_zone_escapes=%d loc_err_max_m=%.3f sim_time_s=%.1f wall_time_s=%.1f\n",
+        fm_formation_name(fm->formation), rover_world_name(fm->world), fm_blend_name(fm->blend),
+        fm->law_kanayama ? "kanayama" : "seed", fm->robots, fm->seed, fm->reached,
+        fm->reached ? fm->time_to_goal : NAN,
+        fm->samples ? sqrt(fm->sum_sq_err / fm->samples) : NAN, fm->max_err, fm->min_clear,
+        fm->collisions, fm->formation_changes, fm->escapes, fm->loc_n ? fm->loc_max : NAN,
+        fm->sim_time, wall_s);
 }
 
 static int run(int argc, char **argv)
@@ -400,16 +559,22 @@ static int run(int argc, char **argv)
     double wall0;
     int rc;
     fm_reset(fm);
-    if (parse(fm, argc, argv) != 0) return 2;
-    if ((rc = setup(fm)) >= 0) return rc;
+    if (parse(fm, argc, argv) != 0)
+        return 2;
+    if ((rc = setup(fm)) >= 0)
+        return rc;
     signal(SIGPIPE, SIG_IGN);
     signal(SIGINT, on_sig);
     wall0 = scenario_wall_s();
-    if (fm_start_children(fm) != 0) { fm_stop_children(fm); return 1; }
+    if (fm_start_children(fm) != 0) {
+        fm_stop_children(fm);
+        return 1;
+    }
     fprintf(stderr, "formation: %d robots, %s, world %s, blend %s, seed %ld on %s\n", fm->robots,
-            fm_formation_name(fm->formation), rover_world_name(fm->world), fm_blend_name(fm->blend), fm->seed,
-            fm->url);
-    fprintf(stderr, "formation: time limit %.0f s (the way for the body: %.1f m)\n", fm->max_time_s, fm->way_m);
+            fm_formation_name(fm->formation), rover_world_name(fm->world), fm_blend_name(fm->blend),
+            fm->seed, fm->url);
+    fprintf(stderr, "formation: time limit %.0f s (the way for the body: %.1f m)\n", fm->max_time_s,
+            fm->way_m);
     fm->last_clock_ns = fm_mono_ns();
     fm_hang_start(fm);
     register_lockstep(fm, wall0);
@@ -421,13 +586,11 @@ static int run(int argc, char **argv)
     fm_write_summary(fm, scenario_wall_s() - wall0);
     fm_write_plots(fm);
     fm_unsubscribe(fm);
-    auth_bus_close(fm->lcm);
+    auth_bus_close(run_key_bus(), fm->lcm);
     print_result(fm, scenario_wall_s() - wall0);
     return scenario_exit_status("formation", fm->n_failed, fm->failed);
 }
 
 const scenario_def scenario_formation = {
-    "formation",
-    "Pioneer team in line/triangle/column formation to a goal (seed 003)",
-    run
+    "formation", "Pioneer team in line/triangle/column formation to a goal (seed 003)", run
 };

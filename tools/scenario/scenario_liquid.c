@@ -59,14 +59,12 @@ static int run(int argc, char **argv)
     tdsd_scen_plots(&s, "S2 liquid transport");
     printf("liquid %s (%s): max_tilt %.3f deg, joint_limit_violations %ld, q6 %.1f..%.1f deg "
            "(q6 excess %.1f deg), max_pos_err %.3f mm, speed ratio %.3f -> %s\n",
-           s.method, s.plant_ode ? "ode" : "kin", s.m.max_tilt_rad / DEG, s.m.joint_limit_violations,
-           s.m.q_lo_rad[5] / DEG, s.m.q_hi_rad[5] / DEG, s.m.max_excess_rad[5] / DEG,
-           s.m.max_pos_err_m * 1e3, s.m.max_speed_ratio, s.out);
+           s.method, s.plant_ode ? "ode" : "kin", s.m.max_tilt_rad / DEG,
+           s.m.joint_limit_violations, s.m.q_lo_rad[5] / DEG, s.m.q_hi_rad[5] / DEG,
+           s.m.max_excess_rad[5] / DEG, s.m.max_pos_err_m * 1e3, s.m.max_speed_ratio, s.out);
     return tdsd_scen_exit(&s);
 }
 
 const scenario_def scenario_liquid = {
-    "liquid",
-    "seed 002 S2: bucket carried upright a -> b -> c, joints in range (tdsd|full)",
-    run
+    "liquid", "seed 002 S2: bucket carried upright a -> b -> c, joints in range (tdsd|full)", run
 };

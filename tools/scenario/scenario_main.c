@@ -11,9 +11,7 @@
 extern const scenario_def scenario_carry, scenario_singularity, scenario_liquid, scenario_formation,
     scenario_sweep;
 
-static const scenario_def *const all[] = {
-    SCENARIO_LIST
-};
+static const scenario_def *const all[] = { SCENARIO_LIST };
 
 static void usage(FILE *f)
 {

@@ -21,8 +21,7 @@ static const tdsd_scen_usage usage = {
     "                                   [--servo-hz HZ] --out DIR\n"
     "Seed-002 arm, straight tool path A -> B whose wrist centre passes 3 mm from\n"
     "the joint-1 axis (shoulder singularity), 3.5 s, position + full orientation.\n\n",
-    methods,
-    "tdsd: the seed's method (tdsd_step); pinv: clipped pseudo-inverse; dls: damped",
+    methods, "tdsd: the seed's method (tdsd_step); pinv: clipped pseudo-inverse; dls: damped",
     "Writes DIR/summary.json, series.csv, fig4_errors.png, fig5_joints.png,\n"
     "fig6_q1.png, fig8_joint_ranges.png.\n"
 };
@@ -59,7 +58,6 @@ static int run(int argc, char **argv)
 }
 
 const scenario_def scenario_singularity = {
-    "singularity",
-    "seed 002 S1: straight path through the shoulder singularity (tdsd|pinv|dls)",
+    "singularity", "seed 002 S1: straight path through the shoulder singularity (tdsd|pinv|dls)",
     run
 };

@@ -27,6 +27,7 @@
 #include <unistd.h>
 #include "options.h"
 #include "scenario.h"
+#include "scen_status.h"
 #include "sweep_worlds.h"
 
 #define SWEEP_MAX_SEEDS 10000
@@ -34,15 +35,15 @@
 #define SWEEP_MAX_ARGS 128
 
 /* Failures of the sweep's own steps (0 = ok) */
-#define SWEEP_ERR_USAGE (-1)  /* no NAME, a bad option, or too many keys (said) */
-#define SWEEP_ERR_FULL (-1)   /* more --keys than SWEEP_MAX_KEYS */
-#define SWEEP_ERR_RUN (-1)    /* a seed's directory not made, fork or waitpid failed */
-#define SWEEP_NOT_RUN (-1)    /* sweep_run.status: not run, or ended by a signal */
+#define SWEEP_NOT_RUN (-1) /* sweep_run.status: not run, or ended by a signal */
 
 /* Default columns per scenario (summary.json keys). */
-static const struct { const char *scenario, *keys; } default_keys[] = {
-    { "carry", "workpieces_delivered,workpieces_dropped,joint_limit_violations,max_joint_speed_ratio,"
-               "max_contact_force_10ms_N,settled_force_max_N,resume_latency_max_s,stalls,sim_time_s,exit_reason" },
+static const struct {
+    const char *scenario, *keys;
+} default_keys[] = {
+    { "carry",
+      "workpieces_delivered,workpieces_dropped,joint_limit_violations,max_joint_speed_ratio,"
+      "max_contact_force_10ms_N,settled_force_max_N,resume_latency_max_s,stalls,sim_time_s,exit_reason" },
     { "formation", "reached_goal,time_to_goal_s,collisions,formation_changes,dead_zone_escapes,"
                    "max_formation_err_m,loc_err_max_m,exit_reason" },
     { "singularity", "max_pos_err_m,exit_reason" },
@@ -51,24 +52,28 @@ static const struct { const char *scenario, *keys; } default_keys[] = {
 
 typedef struct sweep {
     const char *name, *out;
-    long  seed_a, seed_b;
-    long  world_a, world_b;             /* --world-seeds */
-    int   worlds_given;
-    int   jobs;
-    const char *keys_arg;               /* --keys, NULL: the scenario's default */
-    int   seeds_given, out_given;
-    char  keys_buf[1024];
+    long seed_a, seed_b;
+    long world_a, world_b; /* --world-seeds */
+    int worlds_given;
+    int jobs;
+    const char *keys_arg; /* --keys, NULL: the scenario's default */
+    int seeds_given, out_given;
+    char keys_buf[1024];
     const char *key[SWEEP_MAX_KEYS];
-    int   n_keys;
-    const char *pass[SWEEP_MAX_ARGS];   /* NAME's own options, passed through */
-    int   n_pass;
-    char  self[1024];
+    int n_keys;
+    const char *pass[SWEEP_MAX_ARGS]; /* NAME's own options, passed through */
+    int n_pass;
+    char self[1024];
     sweep_run *run;
-    int   n_run;
+    int n_run;
 } sweep;
 
 static volatile sig_atomic_t sweep_interrupted;
-static void sweep_on_sigint(int s) { (void)s; sweep_interrupted = 1; }
+static void sweep_on_sigint(int s)
+{
+    (void)s;
+    sweep_interrupted = 1;
+}
 
 static int split_keys(sweep *w, const char *list)
 {
@@ -125,7 +130,8 @@ static int pass_on(void *user, const char *word)
 {
     sweep *w = user;
     if (w->n_pass >= SWEEP_MAX_ARGS - 8) {
-        fprintf(stderr, "tandem-scenario sweep: more than %d arguments for the scenario\n", SWEEP_MAX_ARGS - 8);
+        fprintf(stderr, "tandem-scenario sweep: more than %d arguments for the scenario\n",
+                SWEEP_MAX_ARGS - 8);
         return OPTIONS_ERR_VALUE;
     }
     w->pass[w->n_pass++] = word;
@@ -133,34 +139,63 @@ static int pass_on(void *user, const char *word)
 }
 
 static const option_entry sweep_table[] = {
-    { .name = "seeds", .type = OPTION_CALL, OPTION_ALL(sweep), .call = option_seeds, .meta = "A-B",
-      .help = "run NAME for every seed A..B (0 <= A <= B, at most 10000 seeds) with --seed S --out DIR/seed-S "
-              "(with --world-seeds: the one noise seed of every run, default 1)",
+    { .name = "seeds",
+      .type = OPTION_CALL,
+      OPTION_ALL(sweep),
+      .call = option_seeds,
+      .meta = "A-B",
+      .help =
+          "run NAME for every seed A..B (0 <= A <= B, at most 10000 seeds) with --seed S --out DIR/seed-S "
+          "(with --world-seeds: the one noise seed of every run, default 1)",
       OPTION_SEEN(sweep, seeds_given) },
-    { .name = "world-seeds", .type = OPTION_CALL, OPTION_ALL(sweep), .call = option_world_seeds, .meta = "A-B",
-      .help = "formation --world random: run every world seed A..B with --world-seed W --out DIR/world-W; "
-              "the failing worlds go to DIR/failing_worlds.txt with the command that flies each again" },
-    { .name = "jobs", .type = OPTION_INT, OPTION_AT(sweep, jobs), .min = 1, .max = SWEEP_MAX_JOBS, .meta = "J",
-      .help = "runs at a time", .def = "1" },
-    { .name = "keys", .type = OPTION_STRING, OPTION_AT(sweep, keys_arg), .meta = "K1,K2,..",
-      .help = "summary.json keys to tabulate", .def = "per scenario" },
-    { .name = "out", .type = OPTION_STRING, OPTION_AT(sweep, out), OPTION_SEEN(sweep, out_given), .required = 1,
-      .meta = "DIR", .help = "output directory: DIR/seed-S per run, DIR/sweep.csv" },
-    { .name = "seed", .type = OPTION_CALL, .call = option_seed, .meta = "S",
+    { .name = "world-seeds",
+      .type = OPTION_CALL,
+      OPTION_ALL(sweep),
+      .call = option_world_seeds,
+      .meta = "A-B",
+      .help =
+          "formation --world random: run every world seed A..B with --world-seed W --out DIR/world-W; "
+          "the failing worlds go to DIR/failing_worlds.txt with the command that flies each again" },
+    { .name = "jobs",
+      .type = OPTION_INT,
+      OPTION_AT(sweep, jobs),
+      .min = 1,
+      .max = SWEEP_MAX_JOBS,
+      .meta = "J",
+      .help = "runs at a time",
+      .def = "1" },
+    { .name = "keys",
+      .type = OPTION_STRING,
+      OPTION_AT(sweep, keys_arg),
+      .meta = "K1,K2,..",
+      .help = "summary.json keys to tabulate",
+      .def = "per scenario" },
+    { .name = "out",
+      .type = OPTION_STRING,
+      OPTION_AT(sweep, out),
+      OPTION_SEEN(sweep, out_given),
+      .required = 1,
+      .meta = "DIR",
+      .help = "output directory: DIR/seed-S per run, DIR/sweep.csv" },
+    { .name = "seed",
+      .type = OPTION_CALL,
+      .call = option_seed,
+      .meta = "S",
       .help = "refused: the sweep sets it per run" },
     { .name = NULL }
 };
 
 static const option_program sweep_program = {
     .name = "tandem-scenario sweep",
-    .usage = "usage: tandem-scenario sweep NAME --seeds A-B [--jobs J] [--keys K1,K2,..]\n"
-             "         --out DIR [NAME's options]\n"
-             "       tandem-scenario sweep formation --world random --world-seeds A-B [--seeds S] ...\n"
-             "Runs scenario NAME for every seed A..B (J at a time, default 1), each with\n"
-             "--seed S --out DIR/seed-S, and prints one row per seed (exit status and\n"
-             "summary.json keys), totals and DIR/sweep.csv. Exit 0 when every run\n"
-             "exited 0, 3 otherwise. Every other option goes to NAME.\n\n",
-    .groups = { { sweep_table, NULL } },   /* the base is the caller's sweep */
+    .usage =
+        "usage: tandem-scenario sweep NAME --seeds A-B [--jobs J] [--keys K1,K2,..]\n"
+        "         --out DIR [NAME's options]\n"
+        "       tandem-scenario sweep formation --world random --world-seeds A-B [--seeds S] ...\n"
+        "Runs scenario NAME for every seed A..B (J at a time, default 1), each with\n"
+        "--seed S --out DIR/seed-S, and prints one row per seed (exit status and\n"
+        "summary.json keys), totals and DIR/sweep.csv. Exit 0 when every run\n"
+        "exited 0, 3 otherwise. Every other option goes to NAME.\n\n",
+    .groups = { { sweep_table, NULL } }, /* the base is the caller's sweep */
     .n_groups = 1,
 };
 
@@ -186,7 +221,8 @@ static int parse(sweep *w, int argc, char **argv)
         fprintf(stderr, "tandem-scenario sweep: with --world-seeds, --seeds is one noise seed\n");
         return SWEEP_ERR_USAGE;
     }
-    if (w->worlds_given && !w->seeds_given) w->seed_a = w->seed_b = 1;
+    if (w->worlds_given && !w->seeds_given)
+        w->seed_a = w->seed_b = 1;
     keys = w->keys_arg;
     for (k = 0; !keys && k < sizeof default_keys / sizeof default_keys[0]; k++)
         if (!strcmp(default_keys[k].scenario, w->name))
@@ -306,15 +342,23 @@ static void print_totals(const sweep *w, int passed, int ran)
             const double v = strtod(w->run[i].val[k], &end);
             if (!w->run[i].done || end == w->run[i].val[k] || *end)
                 continue;
-            if (v < lo) { lo = v; i_lo = i; }
-            if (v > hi) { hi = v; i_hi = i; }
+            if (v < lo) {
+                lo = v;
+                i_lo = i;
+            }
+            if (v > hi) {
+                hi = v;
+                i_hi = i;
+            }
             sum += v;
             n++;
         }
         /* the worst cases: which run had the min and the max */
         if (n)
-            printf("  %-28s min %-12.4g mean %-12.4g max %-12.4g (%d runs; min at %s %ld, max at %ld)\n", w->key[k],
-                   lo, sum / n, hi, n, w->worlds_given ? "world" : "seed", w->run[i_lo].seed, w->run[i_hi].seed);
+            printf(
+                "  %-28s min %-12.4g mean %-12.4g max %-12.4g (%d runs; min at %s %ld, max at %ld)\n",
+                w->key[k], lo, sum / n, hi, n, w->worlds_given ? "world" : "seed",
+                w->run[i_lo].seed, w->run[i_hi].seed);
     }
 }
 
@@ -356,9 +400,11 @@ static int run_all(sweep *w, double wall0)
                 running--;
                 finished++;
                 passed += r->status == 0;
-                fprintf(stderr, "sweep %s: seed %ld exit %d | %d/%d done, %d passed, %.0f s elapsed, ~%.0f s left\n",
-                        w->name, r->seed, r->status, finished, w->n_run, passed, el,
-                        el / finished * (w->n_run - finished));
+                fprintf(
+                    stderr,
+                    "sweep %s: seed %ld exit %d | %d/%d done, %d passed, %.0f s elapsed, ~%.0f s left\n",
+                    w->name, r->seed, r->status, finished, w->n_run, passed, el,
+                    el / finished * (w->n_run - finished));
             }
     }
     return finished;
@@ -401,11 +447,11 @@ static int run(int argc, char **argv)
     signal(SIGINT, sweep_on_sigint);
     signal(SIGTERM, sweep_on_sigint);
     if (w.worlds_given)
-        fprintf(stderr, "sweep %s: worlds %ld-%ld (noise seed %ld), %d at a time, into %s\n", w.name, w.world_a,
-                w.world_b, w.seed_a, w.jobs, w.out);
+        fprintf(stderr, "sweep %s: worlds %ld-%ld (noise seed %ld), %d at a time, into %s\n",
+                w.name, w.world_a, w.world_b, w.seed_a, w.jobs, w.out);
     else
-        fprintf(stderr, "sweep %s: seeds %ld-%ld, %d at a time, into %s\n", w.name, w.seed_a, w.seed_b, w.jobs,
-                w.out);
+        fprintf(stderr, "sweep %s: seeds %ld-%ld, %d at a time, into %s\n", w.name, w.seed_a,
+                w.seed_b, w.jobs, w.out);
     ran = run_all(&w, wall0);
     if (ran < 0) {
         fprintf(stderr, "tandem-scenario sweep: cannot run the scenario\n");
@@ -429,7 +475,8 @@ static int run(int argc, char **argv)
     print_totals(&w, passed, ran);
     if (w.worlds_given)
         sweep_list_failing(w.out, w.run, w.n_run, w.seed_a, w.pass, w.n_pass);
-    printf("sweep %s: %d/%d runs passed, %.0f s\n", w.name, passed, w.n_run, scenario_wall_s() - wall0);
+    printf("sweep %s: %d/%d runs passed, %.0f s\n", w.name, passed, w.n_run,
+           scenario_wall_s() - wall0);
     free(w.run);
     return passed == w.n_run ? 0 : 3;
 }

@@ -14,7 +14,8 @@ int scenario_failed_criteria(const scenario_criterion *k, int n, char *buf, size
     buf[0] = '\0';
     for (i = 0; i < n; i++)
         if (k[i].failed) {
-            const int w = snprintf(buf + used, used < cap ? cap - used : 0, "%s%s", failed ? " " : "", k[i].what);
+            const int w = snprintf(buf + used, used < cap ? cap - used : 0, "%s%s",
+                                   failed ? " " : "", k[i].what);
             used += w > 0 ? (size_t)w : 0;
             failed++;
         }
@@ -157,7 +158,8 @@ int scenario_parse_fault(scenario_fault *f, const char *v)
     char *e;
     memset(f, 0, sizeof *f);
     f->restart_s = -1.0;
-    if (strncmp(v, "kill:", 5) != 0 || !colon || colon == name || (size_t)(colon - name) >= sizeof f->daemon)
+    if (strncmp(v, "kill:", 5) != 0 || !colon || colon == name ||
+        (size_t)(colon - name) >= sizeof f->daemon)
         goto bad;
     memcpy(f->daemon, name, (size_t)(colon - name));
     f->kill_s = strtod(colon + 1, &e);
@@ -173,6 +175,7 @@ int scenario_parse_fault(scenario_fault *f, const char *v)
         goto bad;
     return 0;
 bad:
-    fprintf(stderr, "tandem-scenario: --fault: '%s' is not kill:DAEMON:T[:RESTART_T] (RESTART_T > T)\n", v);
+    fprintf(stderr,
+            "tandem-scenario: --fault: '%s' is not kill:DAEMON:T[:RESTART_T] (RESTART_T > T)\n", v);
     return SCENARIO_ERR_ARG;
 }

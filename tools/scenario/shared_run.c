@@ -3,27 +3,30 @@
 #include "shared_run.h"
 #include "daemon.h"
 
-void scenario_ack(lcm_t *lcm, int64_t *seq, int64_t step, int32_t period_steps, int leaving)
+void scenario_ack(auth_bus *bus, lcm_t *lcm, int64_t *seq, int64_t step, int32_t period_steps,
+                  int leaving)
 {
-    lockstep_ack(lcm, "tandem-scenario", (*seq)++, step, period_steps, leaving);
+    lockstep_ack(bus, lcm, "tandem-scenario", (*seq)++, step, period_steps, leaving);
 }
 
-void scenario_daemon_left(lcm_t *lcm, const char *name, int64_t step, int32_t period_steps)
+void scenario_daemon_left(auth_bus *bus, lcm_t *lcm, const char *name, int64_t step,
+                          int32_t period_steps)
 {
-    lockstep_ack(lcm, name, 0, step, period_steps, 1);
+    lockstep_ack(bus, lcm, name, 0, step, period_steps, 1);
 }
 
-void scenario_leave_send(scenario_leave *l, lcm_t *lcm, const char *name, int64_t step, int32_t period_steps)
+void scenario_leave_send(scenario_leave *l, auth_bus *bus, lcm_t *lcm, const char *name,
+                         int64_t step, int32_t period_steps)
 {
     snprintf(l->name, sizeof l->name, "%s", name);
     l->step = step;
     l->period_steps = period_steps;
     l->sent_s = scenario_wall_s();
     l->on = 1;
-    scenario_daemon_left(lcm, name, step, period_steps);
+    scenario_daemon_left(bus, lcm, name, step, period_steps);
 }
 
-int scenario_leave_confirm(scenario_leave *l, lcm_t *lcm, int64_t clock_step)
+int scenario_leave_confirm(scenario_leave *l, auth_bus *bus, lcm_t *lcm, int64_t clock_step)
 {
     if (!l->on)
         return 0;
@@ -34,9 +37,12 @@ int scenario_leave_confirm(scenario_leave *l, lcm_t *lcm, int64_t clock_step)
     if (scenario_wall_s() - l->sent_s < SCENARIO_LEAVE_AGAIN_S)
         return 0;
     l->sent_s = scenario_wall_s();
-    fprintf(stderr, "tandem-scenario: %s's leave was lost (the simulator still waits at step %lld): sending it "
-                    "again\n", l->name, (long long)clock_step);
-    scenario_daemon_left(lcm, l->name, l->step, l->period_steps);
+    fprintf(
+        stderr,
+        "tandem-scenario: %s's leave was lost (the simulator still waits at step %lld): sending it "
+        "again\n",
+        l->name, (long long)clock_step);
+    scenario_daemon_left(bus, lcm, l->name, l->step, l->period_steps);
     return 1;
 }
 

@@ -11,6 +11,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <lcm/lcm.h>
+#include "auth_bus.h"
 #include "scenario.h"
 
 /* scenario_fault.stage */
@@ -27,10 +28,12 @@ enum {
 
 /* The scenario's own answer to lockstep step `step` ("tandem-scenario",
  * every period_steps steps; leaving = 1 unregisters); *seq counts them. */
-void scenario_ack(lcm_t *lcm, int64_t *seq, int64_t step, int32_t period_steps, int leaving);
+void scenario_ack(auth_bus *bus, lcm_t *lcm, int64_t *seq, int64_t step, int32_t period_steps,
+                  int leaving);
 /* Tells the simulator that the lockstep participant `name` (a daemon just
  * killed without a goodbye) has left, so it does not wait out its timeout. */
-void scenario_daemon_left(lcm_t *lcm, const char *name, int64_t step, int32_t period_steps);
+void scenario_daemon_left(auth_bus *bus, lcm_t *lcm, const char *name, int64_t step,
+                          int32_t period_steps);
 /* A killed daemon's leave, sent again until the simulator has taken it
  * (--drop-rate drops the simulator's received messages too, and a lost
  * leave would hold the lockstep for the participant timeout): taken once
@@ -40,28 +43,29 @@ void scenario_daemon_left(lcm_t *lcm, const char *name, int64_t step, int32_t pe
  * (the new process's answers make it a participant again). */
 #define SCENARIO_LEAVE_AGAIN_S 0.3
 typedef struct scenario_leave {
-    char    name[48];
-    int64_t step;          /* the step announced at the kill */
+    char name[48];
+    int64_t step; /* the step announced at the kill */
     int32_t period_steps;
-    double  sent_s;        /* wall time of the last send */
-    int     on;            /* 1 until taken or the daemon restarted */
+    double sent_s; /* wall time of the last send */
+    int on;        /* 1 until taken or the daemon restarted */
 } scenario_leave;
 /* Sends the leave of `name` now (scenario_daemon_left) and keeps it. */
-void scenario_leave_send(scenario_leave *l, lcm_t *lcm, const char *name, int64_t step, int32_t period_steps);
+void scenario_leave_send(scenario_leave *l, auth_bus *bus, lcm_t *lcm, const char *name,
+                         int64_t step, int32_t period_steps);
 /* With the latest step the simulator announced: 1 when the leave was sent
  * again (it was not taken yet), 0 otherwise. */
-int  scenario_leave_confirm(scenario_leave *l, lcm_t *lcm, int64_t clock_step);
+int scenario_leave_confirm(scenario_leave *l, auth_bus *bus, lcm_t *lcm, int64_t clock_step);
 /* The daemon is started again: no more leaves. */
 void scenario_leave_end(scenario_leave *l);
 /* After the fault's kill: restarting later, or left down. */
 void scenario_fault_killed(scenario_fault *f);
 /* 1 when a restart begun at wall time hold_since_s has waited longer than
  * SCENARIO_REJOIN_WALL_S. */
-int  scenario_rejoin_overdue(double hold_since_s);
+int scenario_rejoin_overdue(double hold_since_s);
 
 /* 1 (and *next_s advanced by every_s) when the wall clock has reached
  * *next_s: time for the next progress line. */
-int    scenario_progress_due(double *next_s, double every_s);
+int scenario_progress_due(double *next_s, double every_s);
 /* Simulated seconds per wall second, 0 before any wall time has passed. */
 double scenario_realtime_factor(double sim_s, double wall_s);
 
@@ -69,7 +73,7 @@ double scenario_realtime_factor(double sim_s, double wall_s);
  * input, PNG output of width x height pixels); NULL on failure. */
 FILE *scenario_plot_open(const char *dir, int width, int height);
 /* Closes the script and runs gnuplot on it (scenario_gnuplot). */
-void  scenario_plot_run(const char *dir, FILE *g);
+void scenario_plot_run(const char *dir, FILE *g);
 
 /* The last line of a run: "NAME: FAILED n criteria: ..." or "NAME: all
  * criteria met". Returns the exit status, 3 or 0. */

@@ -17,24 +17,28 @@ void sweep_run_dir(char *buf, size_t cap, const char *out, int worlds, long seed
  * is the file now. */
 static int generator_option(const char *word)
 {
-    return !strcmp(word, "--world") || !strcmp(word, "--world-kind") || !strcmp(word, "--world-size");
+    return !strcmp(word, "--world") || !strcmp(word, "--world-kind") ||
+           !strcmp(word, "--world-size");
 }
 
-void sweep_list_failing(const char *out, const sweep_run *run, int n_run, long noise_seed, const char *const *pass,
-                        int n_pass)
+void sweep_list_failing(const char *out, const sweep_run *run, int n_run, long noise_seed,
+                        const char *const *pass, int n_pass)
 {
     FILE *f = scenario_fopen(out, "failing_worlds.txt");
     char dir[1024], yaml[1100];
     int i, k, failing = 0;
-    if (!f) return;
+    if (!f)
+        return;
     fprintf(f, "# worlds whose run did not exit 0; each flies again with the command below it\n");
     for (i = 0; i < n_run; i++) {
-        if (!run[i].done || run[i].status == 0) continue;
+        if (!run[i].done || run[i].status == 0)
+            continue;
         failing++;
         sweep_run_dir(dir, sizeof dir, out, 1, run[i].seed);
         snprintf(yaml, sizeof yaml, "%s/world.yaml", dir);
-        fprintf(f, "# world %ld: exit %d%s\ntandem-scenario formation --world-file %s --seed %ld", run[i].seed,
-                run[i].status, access(yaml, R_OK) == 0 ? "" : " (no world was written)", yaml, noise_seed);
+        fprintf(f, "# world %ld: exit %d%s\ntandem-scenario formation --world-file %s --seed %ld",
+                run[i].seed, run[i].status,
+                access(yaml, R_OK) == 0 ? "" : " (no world was written)", yaml, noise_seed);
         for (k = 0; k < n_pass; k++) {
             if (generator_option(pass[k])) {
                 k++;

@@ -12,11 +12,11 @@
 #define SWEEP_VAL 48
 
 typedef struct sweep_run {
-    long  seed;                /* the noise seed, or the world seed in a sweep over worlds */
+    long seed; /* the noise seed, or the world seed in a sweep over worlds */
     pid_t pid;
-    int   status;              /* exit status, or SWEEP_NOT_RUN */
-    int   done;
-    char  val[SWEEP_MAX_KEYS][SWEEP_VAL];
+    int status; /* exit status, or SWEEP_NOT_RUN */
+    int done;
+    char val[SWEEP_MAX_KEYS][SWEEP_VAL];
 } sweep_run;
 
 /* DIR/seed-S, or DIR/world-W when over worlds. */
@@ -26,7 +26,7 @@ void sweep_run_dir(char *buf, size_t cap, const char *out, int worlds, long seed
  * file and the command that flies it again (the sweep's options for the
  * scenario with the generator's replaced by --world-file); a line on
  * stdout says how many. */
-void sweep_list_failing(const char *out, const sweep_run *run, int n_run, long noise_seed, const char *const *pass,
-                        int n_pass);
+void sweep_list_failing(const char *out, const sweep_run *run, int n_run, long noise_seed,
+                        const char *const *pass, int n_pass);
 
 #endif

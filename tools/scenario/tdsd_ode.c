@@ -10,6 +10,7 @@
 #include "tdsd_ode.h"
 #include "scenario.h"
 #include "proc.h"
+#include "run_key.h"
 #include <libgen.h>
 #include <math.h>
 #include <stdio.h>
@@ -27,18 +28,20 @@
 #define ODE_DT_S 0.001
 
 static struct {
-    lcm_t  *lcm;
-    int64_t pending;              /* SIM_CLOCK step to answer, -1 none */
-    int64_t answered;             /* last step answered */
+    lcm_t *lcm;
+    auth_bus *bus;    /* the process's bus (run_key_bus) */
+    int64_t pending;  /* SIM_CLOCK step to answer, -1 none */
+    int64_t answered; /* last step answered */
     tandem_arm_state_t st;
-    int     have_state;
+    int have_state;
     int64_t ack_seq, ref_seq;
 } O;
 
 static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     tandem_sim_clock_t m;
-    (void)ch; (void)u;
+    (void)ch;
+    (void)u;
     if (tandem_sim_clock_t_decode(rb->data, 0, rb->data_size, &m) < 0)
         return;
     if (m.mode == TANDEM_SIM_CLOCK_T_MODE_LOCKSTEP && m.step > O.answered)
@@ -49,7 +52,8 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *u)
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     tandem_arm_state_t m;
-    (void)ch; (void)u;
+    (void)ch;
+    (void)u;
     if (tandem_arm_state_t_decode(rb->data, 0, rb->data_size, &m) < 0)
         return;
     if (m.arm == 1 && arm_q_finite(m.q_rad) == 0 && (!O.have_state || m.step >= O.st.step)) {
@@ -61,7 +65,7 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
 
 static void ack(int64_t step, int leaving)
 {
-    lockstep_ack(O.lcm, "tandem-scenario", O.ack_seq++, step, 1, leaving);
+    lockstep_ack(O.bus, O.lcm, "tandem-scenario", O.ack_seq++, step, 1, leaving);
 }
 
 static void publish_ref(int64_t step, const double q[ARM_NJ], const double qd[ARM_NJ],
@@ -75,7 +79,7 @@ static void publish_ref(int64_t step, const double q[ARM_NJ], const double qd[AR
     memcpy(r.q_rad, q, sizeof r.q_rad);
     memcpy(r.qd_radps, qd, sizeof r.qd_radps);
     memcpy(r.qdd_radps2, qdd, sizeof r.qdd_radps2);
-    AUTH_PUBLISH(tandem_arm_joint_ref_t, O.lcm, "ARM1_JOINT_REF", &r);
+    AUTH_PUBLISH(tandem_arm_joint_ref_t, O.bus, O.lcm, "ARM1_JOINT_REF", &r);
 }
 
 static void send_quit(void)
@@ -83,7 +87,7 @@ static void send_quit(void)
     tandem_sim_control_t c;
     memset(&c, 0, sizeof c);
     c.command = TANDEM_SIM_CONTROL_T_QUIT;
-    AUTH_PUBLISH(tandem_sim_control_t, O.lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, O.bus, O.lcm, "SIM_CONTROL", &c);
 }
 
 /* The programs sit beside tandem-scenario (build/bin). */
@@ -106,19 +110,20 @@ static int start_children(proc_set *ps, const char *url, const tdsdrun_cfg *c,
                           const double q0[ARM_NJ], const tdsd_ode_opts *o)
 {
     char q0s[256], hz[32], dir[512], log_sim[1024], log_arm[1024], log_err[1024];
-    const char *sim_argv[] = { "tandem-sim", "--lockstep", "--expect", "2", "--timeout-ms", "20000",
-                               "--arm-model", c->model->name, "--arm-q0", q0s, NULL };
-    const char *arm_argv[] = { "tandem-arm", "--arm", "1", "--lockstep", "--arm-model", c->model->name,
-                               "--wn", hz, NULL };
-    snprintf(q0s, sizeof q0s, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g",
-             q0[0], q0[1], q0[2], q0[3], q0[4], q0[5]);
+    const char *sim_argv[] = { "tandem-sim",   "--lockstep", "--expect",    "2",
+                               "--timeout-ms", "20000",      "--arm-model", c->model->name,
+                               "--arm-q0",     q0s,          NULL };
+    const char *arm_argv[] = { "tandem-arm",   "--arm", "1", "--lockstep", "--arm-model",
+                               c->model->name, "--wn",  hz,  NULL };
+    snprintf(q0s, sizeof q0s, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", q0[0], q0[1], q0[2], q0[3],
+             q0[4], q0[5]);
     snprintf(hz, sizeof hz, "%g", o->servo_hz);
     snprintf(log_sim, sizeof log_sim, "%s/ode_sim.log", o->out_dir);
     snprintf(log_arm, sizeof log_arm, "%s/ode_arm.log", o->out_dir);
     snprintf(log_err, sizeof log_err, "%s/ode_stderr.log", o->out_dir);
     remove(log_err);
     bin_dir(dir, sizeof dir);
-    proc_init(ps, dir);
+    proc_init(ps, O.bus, dir);
     if (proc_spawn(ps, sim_argv, url, log_sim, log_err) < 0 ||
         proc_spawn(ps, arm_argv, url, log_arm, log_err) < 0) {
         fprintf(stderr, "tandem-scenario: cannot start tandem-sim / tandem-arm from %s\n", dir);
@@ -132,7 +137,8 @@ static int child_died(proc_set *ps, const tdsd_ode_opts *o)
     int k, st;
     for (k = 0; k < ps->n; k++)
         if (ps->alive[k] && proc_poll(ps, ps->pid[k], &st) == 1) {
-            fprintf(stderr, "tandem-scenario: a child exited early (status %d); see %s/ode_stderr.log\n",
+            fprintf(stderr,
+                    "tandem-scenario: a child exited early (status %d); see %s/ode_stderr.log\n",
                     st, o->out_dir);
             return 1;
         }
@@ -157,16 +163,17 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
     O.pending = O.answered = -1;
     snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", 33000 + (int)(getpid() % 20000));
     names_watch_init(&names, "tandem-scenario");
+    O.bus = run_key_bus();
     O.lcm = lcm_create(url);
     if (!O.lcm) {
         fprintf(stderr, "tandem-scenario: cannot open LCM at %s\n", url);
         return TDSD_ODE_ERR_RUN;
     }
-    auth_bus_subscribe(O.lcm, "SIM_CLOCK", on_clock, NULL);
-    auth_bus_subscribe(O.lcm, "ARM1_STATE", on_state, NULL);
+    auth_bus_subscribe(O.bus, O.lcm, "SIM_CLOCK", on_clock, NULL);
+    auth_bus_subscribe(O.bus, O.lcm, "ARM1_STATE", on_state, NULL);
     if (start_children(&ps, url, c, q0_rad, o) != 0) {
         proc_kill_all(&ps, 1.0);
-        auth_bus_close(O.lcm);
+        auth_bus_close(O.bus, O.lcm);
         return TDSD_ODE_ERR_RUN;
     }
     memcpy(q_ref, q0_rad, sizeof q_ref);
@@ -175,7 +182,7 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
         int64_t k;
         double t_sim;
         lcm_handle_timeout(O.lcm, 200);
-        bus_names_watch(&names, &O.lcm, url); /* a flood of channel names: a new handle */
+        bus_names_watch(&names, O.bus, &O.lcm, url); /* a flood of channel names: a new handle */
         if (child_died(&ps, o)) {
             failed = 1;
             break;
@@ -191,7 +198,7 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
         k = O.pending;
         t_sim = O.st.sim_time_s;
         if (t_sim < o->settle_s) {
-            publish_ref(k, q_ref, zero, zero);      /* hold q0 while the servo settles */
+            publish_ref(k, q_ref, zero, zero); /* hold q0 while the servo settles */
         } else {
             if (t_start < 0.0)
                 t_start = t_sim;
@@ -216,7 +223,7 @@ double tdsd_ode_run(const tdsdrun_cfg *c, const tdsdrun_path *p, const double q0
     ack(O.answered >= 0 ? O.answered : 0, 1);
     send_quit();
     proc_kill_all(&ps, 3.0);
-    auth_bus_close(O.lcm);
+    auth_bus_close(O.bus, O.lcm);
     O.lcm = NULL;
     if (!failed)
         result = st.t_path_end_s >= 0.0 ? st.t_path_end_s : o->t_max_s;

@@ -116,8 +116,8 @@ int tdsdrun_step(const tdsdrun_cfg *c, const tdsdrun_path *p, tdsdrun_state *st,
 
     switch (c->method) {
     case TDSDRUN_PINV: rc = rr_pinv_step(&in, &o); break;
-    case TDSDRUN_DLS:  rc = rr_dls_step(&in, &c->dls, &o); break;
-    default:           rc = tdsd_step(&in, &o); break;
+    case TDSDRUN_DLS: rc = rr_dls_step(&in, &c->dls, &o); break;
+    default: rc = tdsd_step(&in, &o); break;
     }
     out->status = rc;
     out->lambda = rc == TDSD_OK ? o.lambda : 0.0;

@@ -13,21 +13,43 @@ static const char *const plants[] = { "kin", "ode", NULL };
 int tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const tdsd_scen_usage *u)
 {
     const option_entry table[] = {
-        { .name = "method", .type = OPTION_CHOICE, OPTION_AT(tdsd_scen, method_index), .choices = u->methods,
-          .help = u->method_help, .def = u->methods[0] },
-        { .name = "plant", .type = OPTION_CHOICE, OPTION_AT(tdsd_scen, plant_ode), .choices = plants,
-          .help = "kin: integrate dq at 1 kHz; ode: tandem-sim + tandem-arm tracking ARM1_JOINT_REF in lockstep",
+        { .name = "method",
+          .type = OPTION_CHOICE,
+          OPTION_AT(tdsd_scen, method_index),
+          .choices = u->methods,
+          .help = u->method_help,
+          .def = u->methods[0] },
+        { .name = "plant",
+          .type = OPTION_CHOICE,
+          OPTION_AT(tdsd_scen, plant_ode),
+          .choices = plants,
+          .help =
+              "kin: integrate dq at 1 kHz; ode: tandem-sim + tandem-arm tracking ARM1_JOINT_REF in lockstep",
           .def = "kin" },
-        { .name = "servo-hz", .type = OPTION_DOUBLE, OPTION_AT(tdsd_scen, servo_hz), .min = 0.5, .max = 50.0,
-          .meta = "HZ", .help = "ode: tandem-arm joint servo bandwidth", .def = "15" },
-        { .name = "out", .type = OPTION_STRING, OPTION_AT(tdsd_scen, out), OPTION_SEEN(tdsd_scen, out_given),
-          .required = 1, .meta = "DIR", .help = "output directory" },
+        { .name = "servo-hz",
+          .type = OPTION_DOUBLE,
+          OPTION_AT(tdsd_scen, servo_hz),
+          .min = 0.5,
+          .max = 50.0,
+          .meta = "HZ",
+          .help = "ode: tandem-arm joint servo bandwidth",
+          .def = "15" },
+        { .name = "out",
+          .type = OPTION_STRING,
+          OPTION_AT(tdsd_scen, out),
+          OPTION_SEEN(tdsd_scen, out_given),
+          .required = 1,
+          .meta = "DIR",
+          .help = "output directory" },
         { .name = "help", .type = OPTION_HELP, .help = "this text" },
         { .name = NULL }
     };
     char name[64];
-    option_program prog = { .name = name, .usage = u->usage, .epilog = u->epilog,
-                            .groups = { { table, s } }, .n_groups = 1 };
+    option_program prog = { .name = name,
+                            .usage = u->usage,
+                            .epilog = u->epilog,
+                            .groups = { { table, s } },
+                            .n_groups = 1 };
     int rc;
     snprintf(name, sizeof name, "tandem-scenario %s", s->name);
     s->method_index = 0;
@@ -177,7 +199,8 @@ void tdsd_scen_summary(const tdsd_scen *s, json_out *j)
     for (i = 0; i < ARM_NJ; i++) {
         snprintf(key, sizeof key, "q%d_excess_deg", i + 1);
         json_num(j, key, m->max_excess_rad[i] * RAD2DEG);
-        if (m->max_excess_rad[i] > 0.0 && (worst < 0 || m->max_excess_rad[i] > m->max_excess_rad[worst]))
+        if (m->max_excess_rad[i] > 0.0 &&
+            (worst < 0 || m->max_excess_rad[i] > m->max_excess_rad[worst]))
             worst = i;
     }
     if (worst >= 0) {
@@ -214,37 +237,45 @@ int tdsd_scen_plots(const tdsd_scen *s, const char *title)
     fprintf(f, "set datafile separator ','\nset key outside right\nset grid\n"
                "set xlabel 't (s)'\n");
     /* Fig. 4: tool position and orientation errors */
-    fprintf(f, "set terminal pngcairo size 900,700\nset output 'fig4_errors.png'\n"
-               "set multiplot layout 2,1 title '%s: tool errors (%s, %s plant)'\n"
-               "set ylabel 'position error (mm)'\n"
-               "plot 'series.csv' u 1:7 w l t 'e_x', '' u 1:8 w l t 'e_y', '' u 1:9 w l t 'e_z', "
-               "'' u 1:6 w l lw 2 t '|e_p|'\n"
-               "set ylabel 'orientation error (deg)'\n"
-               "plot 'series.csv' u 1:10 w l lw 2 t 'angle(R_d R^T)', '' u 1:11 w l t 'tool-axis tilt'\n"
-               "unset multiplot\n", title, s->method, s->plant_ode ? "ode" : "kin");
+    fprintf(
+        f,
+        "set terminal pngcairo size 900,700\nset output 'fig4_errors.png'\n"
+        "set multiplot layout 2,1 title '%s: tool errors (%s, %s plant)'\n"
+        "set ylabel 'position error (mm)'\n"
+        "plot 'series.csv' u 1:7 w l t 'e_x', '' u 1:8 w l t 'e_y', '' u 1:9 w l t 'e_z', "
+        "'' u 1:6 w l lw 2 t '|e_p|'\n"
+        "set ylabel 'orientation error (deg)'\n"
+        "plot 'series.csv' u 1:10 w l lw 2 t 'angle(R_d R^T)', '' u 1:11 w l t 'tool-axis tilt'\n"
+        "unset multiplot\n",
+        title, s->method, s->plant_ode ? "ode" : "kin");
     /* Fig. 5: joint angles */
-    fprintf(f, "set terminal pngcairo size 900,500\nset output 'fig5_joints.png'\n"
-               "set title '%s: joint angles (%s, %s plant)'\nset ylabel 'q (deg)'\nplot ",
+    fprintf(f,
+            "set terminal pngcairo size 900,500\nset output 'fig5_joints.png'\n"
+            "set title '%s: joint angles (%s, %s plant)'\nset ylabel 'q (deg)'\nplot ",
             title, s->method, s->plant_ode ? "ode" : "kin");
     for (i = 0; i < ARM_NJ; i++)
         fprintf(f, "%s'series.csv' u 1:%d w l lw 2 t 'q%d'", i ? ", " : "", 12 + i, i + 1);
     /* Fig. 6: Q1 (and the path rate) */
-    fprintf(f, "\nset output 'fig6_q1.png'\nset title '%s: speed distribution (%s, %s plant)'\n"
-               "set ylabel 'factor'\nset yrange [-0.05:1.1]\n"
-               "set y2label 'wrist centre to joint-1 axis (mm)'\nset y2tics\n"
-               "plot 'series.csv' u 1:4 w l lw 2 t 'Q1', '' u 1:3 w l t 'path rate lambda', "
-               "'' u 1:25 axes x1y2 w l dt 2 t 'wrist-axis distance'\n"
-               "unset y2label\nunset y2tics\nset autoscale y\n",
+    fprintf(f,
+            "\nset output 'fig6_q1.png'\nset title '%s: speed distribution (%s, %s plant)'\n"
+            "set ylabel 'factor'\nset yrange [-0.05:1.1]\n"
+            "set y2label 'wrist centre to joint-1 axis (mm)'\nset y2tics\n"
+            "plot 'series.csv' u 1:4 w l lw 2 t 'Q1', '' u 1:3 w l t 'path rate lambda', "
+            "'' u 1:25 axes x1y2 w l dt 2 t 'wrist-axis distance'\n"
+            "unset y2label\nunset y2tics\nset autoscale y\n",
             title, s->method, s->plant_ode ? "ode" : "kin");
     /* Fig. 8: every joint against its range */
-    fprintf(f, "set terminal pngcairo size 1000,900\nset output 'fig8_joint_ranges.png'\nunset title\n"
-               "set multiplot layout 3,2 title '%s: joints against their ranges (%s, %s plant)'\n",
+    fprintf(f,
+            "set terminal pngcairo size 1000,900\nset output 'fig8_joint_ranges.png'\nunset title\n"
+            "set multiplot layout 3,2 title '%s: joints against their ranges (%s, %s plant)'\n",
             title, s->method, s->plant_ode ? "ode" : "kin");
     for (i = 0; i < ARM_NJ; i++) {
-        const double lo = s->cfg.model->q_min_rad[i] * RAD2DEG, hi = s->cfg.model->q_max_rad[i] * RAD2DEG;
-        fprintf(f, "set ylabel 'q%d (deg)'\nset yrange [%g:%g]\n"
-                   "plot 'series.csv' u 1:%d w l lw 2 t 'q%d', %g w l dt 2 lc rgb 'red' t 'min', "
-                   "%g w l dt 2 lc rgb 'red' t 'max'\n",
+        const double lo = s->cfg.model->q_min_rad[i] * RAD2DEG,
+                     hi = s->cfg.model->q_max_rad[i] * RAD2DEG;
+        fprintf(f,
+                "set ylabel 'q%d (deg)'\nset yrange [%g:%g]\n"
+                "plot 'series.csv' u 1:%d w l lw 2 t 'q%d', %g w l dt 2 lc rgb 'red' t 'min', "
+                "%g w l dt 2 lc rgb 'red' t 'max'\n",
                 i + 1, lo - 0.25 * (hi - lo), hi + 0.25 * (hi - lo), 12 + i, i + 1, lo, hi);
     }
     fprintf(f, "unset multiplot\n");

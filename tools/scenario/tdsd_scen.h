@@ -11,18 +11,18 @@
 #include "tdsd_run.h"
 
 typedef struct tdsd_scen {
-    const char *name;            /* "singularity" | "liquid" */
-    const char *method;          /* the --method name */
-    int    method_index;         /* index into the scenario's method list */
-    int    plant_ode;
+    const char *name;   /* "singularity" | "liquid" */
+    const char *method; /* the --method name */
+    int method_index;   /* index into the scenario's method list */
+    int plant_ode;
     const char *out;
-    int    out_given;            /* --out seen */
-    double servo_hz;             /* --plant ode: tandem-arm --wn */
+    int out_given;   /* --out seen */
+    double servo_hz; /* --plant ode: tandem-arm --wn */
     tdsdrun_cfg cfg;
     tdsdrun_path path;
     double q0_rad[ARM_NJ];
     tdsdrun_metrics m;
-    double duration_s;           /* path duration (time scaling included) */
+    double duration_s; /* path duration (time scaling included) */
     double wall_s;
 } tdsd_scen;
 
@@ -37,17 +37,17 @@ typedef struct tdsd_scen_usage {
 } tdsd_scen_usage;
 
 /* Failures of a TDSD scenario's steps (0 = ok; each said on stderr). */
-#define TDSD_SCEN_ERR_ARG (-1)  /* bad usage */
-#define TDSD_SCEN_ERR_IO (-2)   /* DIR or a file in it not made */
-#define TDSD_SCEN_ERR_RUN (-3)  /* the plant did not run (--plant ode: the children) */
+#define TDSD_SCEN_ERR_ARG (-1) /* bad usage */
+#define TDSD_SCEN_ERR_IO (-2)  /* DIR or a file in it not made */
+#define TDSD_SCEN_ERR_RUN (-3) /* the plant did not run (--plant ode: the children) */
 
 /* Parses --method M --plant kin|ode --out DIR [--servo-hz HZ] into s and
  * creates DIR. Returns 0 ok, 1 if --help was printed, TDSD_SCEN_ERR_ARG
  * or TDSD_SCEN_ERR_IO. */
-int  tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const tdsd_scen_usage *u);
+int tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const tdsd_scen_usage *u);
 /* Runs the chosen plant from s->q0_rad, writing DIR/series.csv. 0 ok,
  * TDSD_SCEN_ERR_IO or TDSD_SCEN_ERR_RUN. */
-int  tdsd_scen_run(tdsd_scen *s);
+int tdsd_scen_run(tdsd_scen *s);
 /* The keys both scenarios report (summary.json is left open for more). */
 /* Success criteria of a TDSD scenario run: tool position error within
  * TDSD_POS_TOL_* (kinematic plant: 0.1 mm; ODE plant: 2 mm), no joint
@@ -68,5 +68,5 @@ int tdsd_scen_exit(const tdsd_scen *s);
 void tdsd_scen_summary(const tdsd_scen *s, json_out *j);
 /* DIR/plots.gp -> fig4_errors.png, fig5_joints.png, fig6_q1.png,
  * fig8_joint_ranges.png. 0 ok, TDSD_SCEN_ERR_IO, or SCENARIO_ERR_IO (gnuplot). */
-int  tdsd_scen_plots(const tdsd_scen *s, const char *title);
+int tdsd_scen_plots(const tdsd_scen *s, const char *title);
 #endif

@@ -38,9 +38,9 @@ static int start_pose(const tdsdrun_cfg *c, const tdsdrun_path *p, const char *b
 int tdsd_setup_singularity(tdsdrun_cfg *c, tdsdrun_path *p, tdsdrun_method method,
                            double q0_rad[ARM_NJ])
 {
-    static const double R_d[9] = { 0, 0, -1,
-                                   0, 1, 0,
-                                   1, 0, 0 };   /* columns n = +z, o = +y, a = -x */
+    static const double R_d[9] = {
+        0, 0, -1, 0, 1, 0, 1, 0, 0
+    }; /* columns n = +z, o = +y, a = -x */
     memset(c, 0, sizeof *c);
     memset(p, 0, sizeof *p);
     c->model = &arm_model_seed002;
@@ -49,12 +49,12 @@ int tdsd_setup_singularity(tdsdrun_cfg *c, tdsdrun_path *p, tdsdrun_method metho
     c->orient = TDSD_ORIENT_FULL;
     c->K_p = 20.0;
     c->K_o = 10.0;
-    c->dls.lambda0 = 0.05;                      /* m/rad, the scale of the position rows */
+    c->dls.lambda0 = 0.05; /* m/rad, the scale of the position rows */
     c->dls.eps = 0.05;
     c->T_recover_s = 0.5;
     c->dt_s = 0.001;
     c->settle_s = 1.0;
-    c->region_m = 0.05;                         /* = lg: inside, the wrist's lever rivals q1's */
+    c->region_m = 0.05; /* = lg: inside, the wrist's lever rivals q1's */
     p->n_wp = 2;
     vec3_set(p->wp_m[0], -0.047, -0.25, 0.40);
     vec3_set(p->wp_m[1], -0.047, 0.25, 0.40);
@@ -84,7 +84,7 @@ int tdsd_setup_liquid(tdsdrun_cfg *c, tdsdrun_path *p, int full, double q0_rad[A
     if (!full) {
         c->method = TDSDRUN_TDSD;
         c->orient = TDSD_ORIENT_AXIS;
-        c->criterion_mask = 0x38;               /* q4, q5, q6 */
+        c->criterion_mask = 0x38; /* q4, q5, q6 */
         c->k_V = 50.0;
     } else {
         c->method = TDSDRUN_PINV;
@@ -95,13 +95,19 @@ int tdsd_setup_liquid(tdsdrun_cfg *c, tdsdrun_path *p, int full, double q0_rad[A
     c->T_recover_s = 0.5;
     c->dt_s = 0.001;
     c->settle_s = 0.5;
-    c->region_m = 0.0;                          /* no singular region on this path */
+    c->region_m = 0.0; /* no singular region on this path */
     p->n_wp = 3;
     for (i = 0; i < 3; i++)
         vec3_set(p->wp_m[i], 0.55 * cos(az_deg[i] * DEG), 0.55 * sin(az_deg[i] * DEG), 0.60);
     p->seg_s[0] = p->seg_s[1] = 3.0;
-    p->R_d[0] = cy; p->R_d[1] = -sy; p->R_d[2] = 0.0;
-    p->R_d[3] = sy; p->R_d[4] = cy;  p->R_d[5] = 0.0;
-    p->R_d[6] = 0.0; p->R_d[7] = 0.0; p->R_d[8] = 1.0;
+    p->R_d[0] = cy;
+    p->R_d[1] = -sy;
+    p->R_d[2] = 0.0;
+    p->R_d[3] = sy;
+    p->R_d[4] = cy;
+    p->R_d[5] = 0.0;
+    p->R_d[6] = 0.0;
+    p->R_d[7] = 0.0;
+    p->R_d[8] = 1.0;
     return start_pose(c, p, "right-down-noflip", q0_rad);
 }

@@ -7,7 +7,7 @@
 
 #include "tdsd_run.h"
 
-#define TDSD_SETUP_ERR_START (-1)  /* the start pose is not reachable inside the ranges */
+#define TDSD_SETUP_ERR_START (-1) /* the start pose is not reachable inside the ranges */
 
 /* S1, shoulder singularity (seed-002 arm). method: TDSDRUN_TDSD | PINV | DLS.
  * Fills c, p and the start pose q0 (IK of A on branch right-up-noflip).

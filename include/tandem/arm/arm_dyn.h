@@ -14,16 +14,17 @@
 
 #include "arm_model.h"
 
-#define ARM_DYN_ERR_ARG (-1)     /* NULL, non-finite input, negative payload */
-#define ARM_DYN_ERR_NOT_PD (-2)  /* mass matrix not positive definite
+#define ARM_DYN_ERR_ARG (-1) /* NULL, non-finite input, negative payload */
+#define ARM_DYN_ERR_NOT_PD \
+    (-2) /* mass matrix not positive definite
                                     (cannot happen for a valid model)      */
 
 #define ARM_GRAVITY_MPS2 9.81
 
 typedef struct arm_payload {
     double mass_kg;
-    double com_m[3];          /* in the flange frame (frame 6) */
-    double inertia_kgm2[9];   /* about its COM, flange axes; zeros = point mass */
+    double com_m[3];        /* in the flange frame (frame 6) */
+    double inertia_kgm2[9]; /* about its COM, flange axes; zeros = point mass */
 } arm_payload;
 
 /* Point-mass payload at com (flange frame). 0 ok, ARM_DYN_ERR_ARG bad input. */
@@ -32,19 +33,19 @@ int arm_payload_point(arm_payload *p, double mass_kg, const double com_m[3]);
 /* Recursive Newton-Euler (Luh, Walker & Paul 1980): tau for (q, qd, qdd).
  * 0 ok, ARM_DYN_ERR_ARG bad input (NULL, non-finite, negative payload mass). */
 int arm_rne(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
-            const double qdd[ARM_NJ], const double gravity_mps2[3],
-            const arm_payload *payload, double tau_Nm[ARM_NJ]);
+            const double qdd[ARM_NJ], const double gravity_mps2[3], const arm_payload *payload,
+            double tau_Nm[ARM_NJ]);
 
 /* arm_rne with the joint sines and cosines already evaluated (cs from
  * arm_joint_cs_eval or an arm_kin_pass of the same q): the cycle's one
  * kinematics pass feeds the dynamics too. Same results and codes as arm_rne. */
 int arm_rne_cs(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
-               const double qdd[ARM_NJ], const double gravity_mps2[3],
-               const arm_payload *payload, double tau_Nm[ARM_NJ]);
+               const double qdd[ARM_NJ], const double gravity_mps2[3], const arm_payload *payload,
+               double tau_Nm[ARM_NJ]);
 
 /* Joint-space inertia M(q), 6x6 row-major, composite rigid body algorithm. */
-int arm_mass_matrix(const arm_model *m, const double q[ARM_NJ],
-                    const arm_payload *payload, double M[36]);
+int arm_mass_matrix(const arm_model *m, const double q[ARM_NJ], const arm_payload *payload,
+                    double M[36]);
 
 /* g(q): torques that hold the arm still against gravity. */
 int arm_gravity(const arm_model *m, const double q[ARM_NJ], const double gravity_mps2[3],

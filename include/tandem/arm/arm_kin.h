@@ -9,9 +9,10 @@
 
 #include "arm_model.h"
 
-#define ARM_KIN_ERR_ARG (-1)        /* NULL, non-finite q or pose           */
-#define ARM_KIN_ERR_GEOMETRY (-2)   /* arm_ik: the model is not PUMA-type   */
-#define ARM_KIN_ERR_NO_BRANCH (-3)  /* no IK branch: unknown name, or none
+#define ARM_KIN_ERR_ARG (-1)      /* NULL, non-finite q or pose           */
+#define ARM_KIN_ERR_GEOMETRY (-2) /* arm_ik: the model is not PUMA-type   */
+#define ARM_KIN_ERR_NO_BRANCH \
+    (-3) /* no IK branch: unknown name, or none
                                        inside the limits                    */
 
 /* Pose of the flange (tool == NULL) or of the tool. 0 ok, ARM_KIN_ERR_ARG bad input. */
@@ -22,8 +23,8 @@ int arm_fk(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], dou
 int arm_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], double J[36]);
 
 /* Same, also returning the pose (saves a second FK). */
-int arm_fk_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
-                    double T[16], double J[36]);
+int arm_fk_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], double T[16],
+                    double J[36]);
 
 /* ---- one kinematics pass per control cycle ----------------------------------
  * The cycle's kinematics from one evaluation of the joint sines and cosines
@@ -31,17 +32,16 @@ int arm_fk_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM
  * that J-dot q-dot (arm_kin_jdot_qd) and the dynamics (arm_rne_cs, with
  * k.cs) reuse them instead of evaluating the chain again. */
 typedef struct arm_kin_pass {
-    arm_joint_cs cs;             /* cos/sin theta_i                         */
-    double F[ARM_NJ + 1][16];    /* base -> frame i (arm_link_frames)       */
-    double T[16];                /* tool pose (flange if no tool)           */
-    double J[36];                /* tool Jacobian, as arm_fk_jacobian       */
-    const arm_model *m;          /* the model the pass was evaluated with   */
-    int puma;                    /* the model's structure is ARM_STRUCTURE_PUMA */
+    arm_joint_cs cs;          /* cos/sin theta_i                         */
+    double F[ARM_NJ + 1][16]; /* base -> frame i (arm_link_frames)       */
+    double T[16];             /* tool pose (flange if no tool)           */
+    double J[36];             /* tool Jacobian, as arm_fk_jacobian       */
+    const arm_model *m;       /* the model the pass was evaluated with   */
+    int puma;                 /* the model's structure is ARM_STRUCTURE_PUMA */
 } arm_kin_pass;
 
 /* 0 ok, ARM_KIN_ERR_ARG bad input (k zeroed). */
-int arm_kin_eval(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
-                 arm_kin_pass *k);
+int arm_kin_eval(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], arm_kin_pass *k);
 
 /* J-dot q-dot (6: m/s^2, rad/s^2) at the pass's q, analytic (docs/method/carry.md
  * §3, eq. for Jdot qd): sum_i qd_i [ (w_i x z_i) x (p - o_i) + z_i x (pdot - odot_i);
@@ -62,20 +62,20 @@ int arm_kin_jdot_qd(const arm_kin_pass *k, const double qd[ARM_NJ], double jdqd[
 
 enum {
     ARM_IK_OK = 0,
-    ARM_IK_UNREACHABLE = 1,     /* the pose has no solution on this branch */
-    ARM_IK_OUTSIDE_LIMITS = 2   /* a solution, but some joint is out of range */
+    ARM_IK_UNREACHABLE = 1,   /* the pose has no solution on this branch */
+    ARM_IK_OUTSIDE_LIMITS = 2 /* a solution, but some joint is out of range */
 };
 
 typedef struct arm_ik_branch {
-    double q_rad[ARM_NJ];   /* valid unless status has ARM_IK_UNREACHABLE */
-    int status;             /* ARM_IK_* flags */
-    unsigned limit_bits;    /* bit i: joint i+1 outside its range */
+    double q_rad[ARM_NJ]; /* valid unless status has ARM_IK_UNREACHABLE */
+    int status;           /* ARM_IK_* flags */
+    unsigned limit_bits;  /* bit i: joint i+1 outside its range */
 } arm_ik_branch;
 
 typedef struct arm_ik_result {
     arm_ik_branch branch[ARM_IK_NBRANCH];
-    int unreachable;        /* 1: no branch reaches the pose */
-    int n_valid;            /* branches reachable and inside the limits */
+    int unreachable; /* 1: no branch reaches the pose */
+    int n_valid;     /* branches reachable and inside the limits */
 } arm_ik_result;
 
 const char *arm_ik_branch_name(int b);

@@ -10,17 +10,21 @@
 #ifndef TANDEM_ARM_MODEL_H
 #define TANDEM_ARM_MODEL_H
 
-#define ARM_MODEL_ERR_ARG (-1)           /* NULL (a table without name too),
+#define ARM_MODEL_ERR_ARG \
+    (-1) /* NULL (a table without name too),
                                             a non-finite joint or tool offset */
 /* arm_model_validate only: */
-#define ARM_MODEL_ERR_NONFINITE (-2)     /* a table entry is NaN or Inf      */
-#define ARM_MODEL_ERR_RANGE (-3)         /* a length, joint range, speed or
+#define ARM_MODEL_ERR_NONFINITE (-2) /* a table entry is NaN or Inf      */
+#define ARM_MODEL_ERR_RANGE \
+    (-3) /* a length, joint range, speed or
                                             torque limit or mass outside its
                                             physical range                  */
-#define ARM_MODEL_ERR_INCONSISTENT (-4)  /* cos/sin_alpha do not match
+#define ARM_MODEL_ERR_INCONSISTENT \
+    (-4) /* cos/sin_alpha do not match
                                             alpha_rad, or an inertia is not
                                             symmetric positive definite     */
-#define ARM_MODEL_ERR_STRUCTURE (-5)     /* claims ARM_STRUCTURE_PUMA without
+#define ARM_MODEL_ERR_STRUCTURE \
+    (-5) /* claims ARM_STRUCTURE_PUMA without
                                             the PUMA's zeros and right angles,
                                             or an unknown structure         */
 
@@ -37,8 +41,8 @@
 
 typedef struct arm_model {
     const char *name;
-    int structure;                   /* ARM_STRUCTURE_*                    */
-    double base_height_m;            /* mounting surface -> frame 0 (shoulder) */
+    int structure;        /* ARM_STRUCTURE_*                    */
+    double base_height_m; /* mounting surface -> frame 0 (shoulder) */
     double a_m[ARM_NJ];
     double d_m[ARM_NJ];
     double alpha_rad[ARM_NJ];
@@ -50,11 +54,11 @@ typedef struct arm_model {
     double theta_offset_rad[ARM_NJ];
     double q_min_rad[ARM_NJ];
     double q_max_rad[ARM_NJ];
-    double qd_max_radps[ARM_NJ];     /* motor speed limit at the joint */
-    double tau_max_Nm[ARM_NJ];       /* peak joint torque */
+    double qd_max_radps[ARM_NJ]; /* motor speed limit at the joint */
+    double tau_max_Nm[ARM_NJ];   /* peak joint torque */
     double mass_kg[ARM_NJ];
-    double com_m[ARM_NJ][3];         /* centre of mass of link i in frame i */
-    double inertia_kgm2[ARM_NJ][9];  /* about the COM, frame-i axes, row-major */
+    double com_m[ARM_NJ][3];        /* centre of mass of link i in frame i */
+    double inertia_kgm2[ARM_NJ][9]; /* about the COM, frame-i axes, row-major */
     /* The motor's rotor inertia reflected through the gear, Jm G^2, at
      * joint i: it adds to M(q)'s diagonal only (the couplings it makes
      * are G times smaller and neglected, as in Corke's rne). */
@@ -74,7 +78,7 @@ typedef struct arm_tool {
 /* Identity tool (the flange itself). */
 void arm_tool_none(arm_tool *tool);
 /* Pure translation of the tool point, flange axes kept. 0 or ARM_MODEL_ERR_ARG. */
-int  arm_tool_offset(arm_tool *tool, const double p_flange_m[3]);
+int arm_tool_offset(arm_tool *tool, const double p_flange_m[3]);
 
 /* The table is sound: a name, every number finite, link lengths a_i and
  * the base height >= 0, q_min < q_max, speed and torque limits and masses > 0,
@@ -98,11 +102,11 @@ unsigned arm_q_outside_limits(const arm_model *m, const double q[ARM_NJ]);
 
 /* An arm is outside its range when a joint is past a range end by more
  * than this (a joint resting on its mechanical stop is inside). */
-#define ARM_RANGE_TOL_RAD 0.0087   /* 0.5 deg */
+#define ARM_RANGE_TOL_RAD 0.0087 /* 0.5 deg */
 /* Joint faults of a measured state: bit i (0..5) joint i past its range by
  * more than ARM_RANGE_TOL_RAD, bit 6 + i joint i faster than its speed
  * limit; non-finite values count as both. 0 = healthy. */
-#define ARM_FAULT_RANGE(bits) ((bits) & 0x3fu)
+#define ARM_FAULT_RANGE(bits) ((bits)&0x3fu)
 #define ARM_FAULT_SPEED(bits) (((bits) >> ARM_NJ) & 0x3fu)
 unsigned arm_joint_faults(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ]);
 

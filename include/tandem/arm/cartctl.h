@@ -44,18 +44,20 @@
 #include "arm_dyn.h"
 #include "arm_kin.h"
 
-#define CARTCTL_ERR_ARG (-1)  /* NULL, non-finite input or invalid gains, or
+#define CARTCTL_ERR_ARG \
+    (-1) /* NULL, non-finite input or invalid gains, or
                                  kinematics / dynamics failed below (a
                                  non-finite acceleration or torque)        */
-#define CARTCTL_ERR_SINGULAR (-2)  /* cartctl_inverse_wrist: a diagonal block
+#define CARTCTL_ERR_SINGULAR \
+    (-2) /* cartctl_inverse_wrist: a diagonal block
                                      is singular (elbow or wrist singularity) */
 
 typedef struct cartctl_gains {
-    double kp_rot;       /* 1/s^2: orientation stiffness            */
-    double kv_rot;       /* 1/s:   orientation damping              */
-    double lambda_max;   /* DLS damping at s_min = 0                */
-    double sigma_band;   /* damping fades in below this s_min       */
-    double k_null;       /* 1/s: null-space joint damping           */
+    double kp_rot;           /* 1/s^2: orientation stiffness            */
+    double kv_rot;           /* 1/s:   orientation damping              */
+    double lambda_max;       /* DLS damping at s_min = 0                */
+    double sigma_band;       /* damping fades in below this s_min       */
+    double k_null;           /* 1/s: null-space joint damping           */
     double range_margin_rad; /* joints come to rest this far inside their ranges */
     double range_w_radps;    /* range barrier bandwidth; 0: no barrier  */
 } cartctl_gains;
@@ -72,28 +74,28 @@ typedef struct cartctl_gains {
  * carry's planned moves, whose joints stay >= 3.6 deg from their ends). */
 void cartctl_gains_default(cartctl_gains *g);
 /* 0 if every gain is finite and >= 0, else CARTCTL_ERR_ARG. */
-int  cartctl_gains_validate(const cartctl_gains *g);
+int cartctl_gains_validate(const cartctl_gains *g);
 
 typedef struct cartctl_state {
-    double T[16];        /* tool pose, base frame                   */
-    double J[36];        /* tool Jacobian                           */
-    double twist[6];     /* J qd: v (m/s), w (rad/s)                */
-    double jdqd[6];      /* Jdot qd (arm_kin_jdot_qd)               */
-    arm_joint_cs cs;     /* cos/sin theta_i, for the RNE            */
-    int has_wrist;       /* 1: a spherical wrist (ARM_STRUCTURE_PUMA),
+    double T[16];      /* tool pose, base frame                   */
+    double J[36];      /* tool Jacobian                           */
+    double twist[6];   /* J qd: v (m/s), w (rad/s)                */
+    double jdqd[6];    /* Jdot qd (arm_kin_jdot_qd)               */
+    arm_joint_cs cs;   /* cos/sin theta_i, for the RNE            */
+    int has_wrist;     /* 1: a spherical wrist (ARM_STRUCTURE_PUMA),
                             its centre in wrist_m                  */
-    double wrist_m[3];   /* where joint axes 4, 5, 6 meet, base frame */
+    double wrist_m[3]; /* where joint axes 4, 5, 6 meet, base frame */
 } cartctl_state;
 
 typedef struct cartctl_out {
-    double qdd[ARM_NJ];      /* commanded joint accelerations        */
-    double a_cmd[6];         /* tool acceleration asked of J#        */
-    double rot_err[3];       /* log(R_d R^T), rad                    */
-    double sigma_min;        /* from the SVD; on the fast path (see
+    double qdd[ARM_NJ]; /* commanded joint accelerations        */
+    double a_cmd[6];    /* tool acceleration asked of J#        */
+    double rot_err[3];  /* log(R_d R^T), rad                    */
+    double sigma_min;   /* from the SVD; on the fast path (see
                                 cartctl_qdd) a lower bound >= sigma_band */
     double lambda;
-    int    saturated;        /* 1 if a torque hit its limit          */
-    unsigned range_limited;  /* bit i: joint i held at its range barrier */
+    int saturated;          /* 1 if a torque hit its limit          */
+    unsigned range_limited; /* bit i: joint i held at its range barrier */
 } cartctl_out;
 
 /* Tool pose, Jacobian, twist and Jdot qd at (q, qd), from one kinematics
@@ -114,7 +116,8 @@ void cartctl_rot_error(const double R_d[9], const double R[9], double err[3]);
  * path of cartctl_qdd for ARM_STRUCTURE_PUMA. 0, CARTCTL_ERR_SINGULAR
  * (a 3x3 block singular) or CARTCTL_ERR_ARG (NULL, non-finite); Ji is
  * undefined on failure. */
-int cartctl_inverse_wrist(const double J[36], const double T[16], const double wrist_m[3], double Ji[36]);
+int cartctl_inverse_wrist(const double J[36], const double T[16], const double wrist_m[3],
+                          double Ji[36]);
 
 /* Joint accelerations for the tool acceleration a_lin (m/s^2, base frame)
  * with the orientation held at R_d (NULL: no orientation servo, angular

@@ -11,9 +11,11 @@
 
 #include "arm_model.h"
 
-#define JTRAJ_ERR_ARG (-1)    /* non-finite q0/q1, speed_frac outside (0, 1]
+#define JTRAJ_ERR_ARG \
+    (-1) /* non-finite q0/q1, speed_frac outside (0, 1]
                                  or qdd_max <= 0                          */
-#define JTRAJ_ERR_STOP (-2)   /* jtraj_stop_plan: non-finite q0/qd0, or the
+#define JTRAJ_ERR_STOP \
+    (-2) /* jtraj_stop_plan: non-finite q0/qd0, or the
                                  deceleration not finite and > 0          */
 
 /* The joint moves' acceleration budget: tandem-arm plans every joint move
@@ -29,8 +31,8 @@ typedef struct jtraj {
 
 /* Plans q0 -> q1 with peak speed <= speed_frac * qd_max and peak
  * acceleration <= qdd_max_radps2 on every joint. 0 ok, JTRAJ_ERR_ARG bad input. */
-int  jtraj_plan(jtraj *t, const arm_model *m, const double q0[ARM_NJ], const double q1[ARM_NJ],
-                double speed_frac, double qdd_max_radps2);
+int jtraj_plan(jtraj *t, const arm_model *m, const double q0[ARM_NJ], const double q1[ARM_NJ],
+               double speed_frac, double qdd_max_radps2);
 /* Position, velocity, acceleration at time t_s (clamped to [0, duration]). */
 void jtraj_at(const jtraj *t, double t_s, double q[ARM_NJ], double qd[ARM_NJ], double qdd[ARM_NJ]);
 
@@ -42,17 +44,18 @@ typedef struct jtraj_stop {
     double q0_rad[ARM_NJ];
     double qd0_radps[ARM_NJ];
     double decel_radps2;
-    double duration_s;        /* max_i t_i: every joint at rest from then on */
+    double duration_s; /* max_i t_i: every joint at rest from then on */
 } jtraj_stop;
 
 /* 0 ok; JTRAJ_ERR_STOP bad input (then s is a stop at rest at q0 if q0 is
  * finite, else zeroed). */
-int  jtraj_stop_plan(jtraj_stop *s, const double q0_rad[ARM_NJ], const double qd0_radps[ARM_NJ],
-                     double decel_radps2);
+int jtraj_stop_plan(jtraj_stop *s, const double q0_rad[ARM_NJ], const double qd0_radps[ARM_NJ],
+                    double decel_radps2);
 /* Position, velocity, acceleration of the stop at t_s >= 0 after it began
  * (t_s < 0 is taken as 0). */
-void jtraj_stop_at(const jtraj_stop *s, double t_s, double q[ARM_NJ], double qd[ARM_NJ], double qdd[ARM_NJ]);
+void jtraj_stop_at(const jtraj_stop *s, double t_s, double q[ARM_NJ], double qd[ARM_NJ],
+                   double qdd[ARM_NJ]);
 /* 1 if every |qd_i| < tol_radps: the arm counts as at rest this cycle. */
-int  jtraj_at_rest(const double qd_radps[ARM_NJ], double tol_radps);
+int jtraj_at_rest(const double qd_radps[ARM_NJ], double tol_radps);
 
 #endif

@@ -49,10 +49,10 @@
 enum {
     LINALG_OK = 0,
     LINALG_ERR_SIZE = -1,      /* a dimension outside 1..LINALG_MAX */
-    LINALG_ERR_NONFINITE = -2,/* NaN or Inf in an input */
-    LINALG_ERR_ARG = -3,      /* bad scalar argument (negative tolerance, ...) */
+    LINALG_ERR_NONFINITE = -2, /* NaN or Inf in an input */
+    LINALG_ERR_ARG = -3,       /* bad scalar argument (negative tolerance, ...) */
     LINALG_ERR_NOT_PD = -4,    /* Cholesky: matrix not positive definite */
-    LINALG_ERR_NOCONV = -5    /* SVD: sweep cap reached (result still usable) */
+    LINALG_ERR_NOCONV = -5     /* SVD: sweep cap reached (result still usable) */
 };
 
 void linalg_identity(double *I, int n);
@@ -81,10 +81,10 @@ int linalg_all_finite(const double *A, int count);
 int linalg_svd(double *U, double *s, double *V, const double *A, int m, int n);
 
 typedef struct {
-    int    rank;       /* singular values kept */
-    double sigma_max;  /* largest singular value */
-    double sigma_min;  /* smallest of the min(m,n) singular values (kept or not) */
-    double tol;        /* absolute cut actually used: rtol * sigma_max */
+    int rank;         /* singular values kept */
+    double sigma_max; /* largest singular value */
+    double sigma_min; /* smallest of the min(m,n) singular values (kept or not) */
+    double tol;       /* absolute cut actually used: rtol * sigma_max */
 } linalg_pinv_info;
 
 /* Moore-Penrose pseudo-inverse Ap (n x m) of A (m x n) by SVD. Singular
@@ -93,8 +93,8 @@ typedef struct {
  * Optional outputs (NULL to skip): Pnull (n x n) = I - Ap A, the orthogonal
  * projector onto the null space of A, computed from V as I - V_r V_r^T so it
  * is symmetric and idempotent to rounding; info. */
-int linalg_pinv(double *Ap, double *Pnull, linalg_pinv_info *info,
-                const double *A, int m, int n, double rtol);
+int linalg_pinv(double *Ap, double *Pnull, linalg_pinv_info *info, const double *A, int m, int n,
+                double rtol);
 
 /* The pseudo-inverse kept as its SVD factors, A+ = V_r diag(1/s_r) U_r^T
  * (r = info.rank, the same cut as linalg_pinv), for callers that apply A+

@@ -10,22 +10,22 @@
 
 #include <stdint.h>
 
-#define LOOPSTATS_ERR_ARG (-1)  /* sample negative or not finite (ignored) */
+#define LOOPSTATS_ERR_ARG (-1) /* sample negative or not finite (ignored) */
 
-#define LOOPSTATS_BINS   2048
-#define LOOPSTATS_BIN_US 1.0    /* 1 us resolution up to ~2 ms, then overflow */
+#define LOOPSTATS_BINS 2048
+#define LOOPSTATS_BIN_US 1.0 /* 1 us resolution up to ~2 ms, then overflow */
 
 typedef struct loopstats {
     uint32_t hist[LOOPSTATS_BINS];
-    int64_t  count;
-    double   sum_us;
-    double   min_us;
-    double   max_us;
+    int64_t count;
+    double sum_us;
+    double min_us;
+    double max_us;
 } loopstats;
 
-void   loopstats_reset(loopstats *s);
+void loopstats_reset(loopstats *s);
 /* Negative or non-finite samples are ignored (returns LOOPSTATS_ERR_ARG). */
-int    loopstats_add(loopstats *s, double sample_us);
+int loopstats_add(loopstats *s, double sample_us);
 double loopstats_mean(const loopstats *s);
 /* Upper edge of the bin holding the p-quantile, p in [0, 1]; 0 if empty.
  * Clamped to max_us, so it never overstates the largest sample. */

@@ -11,11 +11,11 @@ typedef struct {
     uint64_t s;
 } prng_state;
 
-void     prng_seed(prng_state *r, uint64_t seed);
+void prng_seed(prng_state *r, uint64_t seed);
 uint64_t prng_u64(prng_state *r);
 /* Uniform in [0, 1), 53-bit resolution. */
-double   prng_uniform(prng_state *r);
+double prng_uniform(prng_state *r);
 /* Standard normal N(0, 1) (Box-Muller, one value per call). */
-double   prng_gauss(prng_state *r);
+double prng_gauss(prng_state *r);
 
 #endif

@@ -24,6 +24,6 @@
 #include <stdint.h>
 
 int64_t rtclock_now_ns(void);
-void    rtclock_sleep_until_ns(int64_t t_ns);
+void rtclock_sleep_until_ns(int64_t t_ns);
 
 #endif

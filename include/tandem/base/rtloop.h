@@ -18,25 +18,25 @@
 #include <stdint.h>
 #include "loopstats.h"
 
-#define RTLOOP_ERR_RANGE (-1)  /* period outside [RTLOOP_MIN_PERIOD_NS, RTLOOP_MAX_PERIOD_NS] */
+#define RTLOOP_ERR_RANGE (-1) /* period outside [RTLOOP_MIN_PERIOD_NS, RTLOOP_MAX_PERIOD_NS] */
 
-#define RTLOOP_MIN_PERIOD_NS 50000LL        /* 20 kHz */
-#define RTLOOP_MAX_PERIOD_NS 10000000000LL  /* 10 s */
+#define RTLOOP_MIN_PERIOD_NS 50000LL       /* 20 kHz */
+#define RTLOOP_MAX_PERIOD_NS 10000000000LL /* 10 s */
 
 typedef struct rtloop {
-    int64_t   period_ns;
-    int64_t   next_ns;        /* next absolute deadline */
-    int64_t   wake_ns;        /* when the current cycle woke */
-    int64_t   cycles;
-    int64_t   overruns;
-    loopstats cycle;          /* wake-up to rtloop_end_cycle, us */
-    loopstats latency;        /* deadline to wake-up, us */
+    int64_t period_ns;
+    int64_t next_ns; /* next absolute deadline */
+    int64_t wake_ns; /* when the current cycle woke */
+    int64_t cycles;
+    int64_t overruns;
+    loopstats cycle;   /* wake-up to rtloop_end_cycle, us */
+    loopstats latency; /* deadline to wake-up, us */
 } rtloop;
 
 int64_t rtloop_now_ns(void);
 /* 0, or RTLOOP_ERR_RANGE if the period is outside
  * [RTLOOP_MIN_PERIOD_NS, RTLOOP_MAX_PERIOD_NS]. */
-int  rtloop_init(rtloop *l, int64_t period_ns);
+int rtloop_init(rtloop *l, int64_t period_ns);
 /* Sleeps until the next deadline and records the wake-up latency. */
 void rtloop_wait(rtloop *l);
 /* Records the cycle time, counts an overrun and skips missed deadlines. */

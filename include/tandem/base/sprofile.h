@@ -18,14 +18,14 @@
 #ifndef TANDEM_SPROFILE_H
 #define TANDEM_SPROFILE_H
 
-#define SPROFILE_ERR_ARG (-1)  /* NULL, not finite, s_f < 0 or a limit <= 0 */
+#define SPROFILE_ERR_ARG (-1) /* NULL, not finite, s_f < 0 or a limit <= 0 */
 
 typedef struct {
-    double s_f_m;       /* segment length                                 */
-    double u_m;         /* da/ds limit                                    */
-    double a_peak;      /* peak |a| actually used (<= a_m)                */
-    double w_peak;      /* peak v^2 actually used (<= v_m^2)              */
-    double d_acc_m;     /* length of the acceleration (and deceleration)
+    double s_f_m;   /* segment length                                 */
+    double u_m;     /* da/ds limit                                    */
+    double a_peak;  /* peak |a| actually used (<= a_m)                */
+    double w_peak;  /* peak v^2 actually used (<= v_m^2)              */
+    double d_acc_m; /* length of the acceleration (and deceleration)
                            phase; s3 - s0 in eq. 4                        */
 } sprofile;
 

@@ -19,9 +19,9 @@ double vec2_wrap_rad(double a_rad);
 double vec2_angle_diff_rad(double a_rad, double b_rad);
 double vec2_norm(double x, double y);
 /* Rotate (x, y) by angle a: out = R(a) (x, y). */
-void   vec2_rotate(double out[2], double x, double y, double a_rad);
+void vec2_rotate(double out[2], double x, double y, double a_rad);
 /* 1 if every value is finite. */
-int    vec2_finite3(double a, double b, double c);
-int    vec2_pose_finite(const pose2 *p);
+int vec2_finite3(double a, double b, double c);
+int vec2_pose_finite(const pose2 *p);
 
 #endif

@@ -27,20 +27,25 @@
 #include "erlaw.h"
 #include "petri.h"
 
-#define CARRY_NET_ERR_NO_GAINS (-1)     /* carry_gains_bounds: no row moves an
+#define CARRY_NET_ERR_NO_GAINS \
+    (-1) /* carry_gains_bounds: no row moves an
                                            arm, so there are no bounds    */
 /* carry_table_validate only: */
-#define CARRY_NET_ERR_ARG (-2)          /* NULL rows or net                */
-#define CARRY_NET_ERR_SIZE (-3)         /* not one row per transition, or a
+#define CARRY_NET_ERR_ARG (-2) /* NULL rows or net                */
+#define CARRY_NET_ERR_SIZE \
+    (-3) /* not one row per transition, or a
                                            plan longer than
                                            CARRY_MAX_SEGMENTS or negative */
-#define CARRY_NET_ERR_RANGE (-4)        /* a field outside its set: no name,
+#define CARRY_NET_ERR_RANGE \
+    (-4) /* a field outside its set: no name,
                                            arms, pose, gripper, segment
                                            kind, after_partner not 0/1,
                                            sync_group < 0                 */
-#define CARRY_NET_ERR_GAINS (-5)        /* a row that moves an arm has gains
+#define CARRY_NET_ERR_GAINS \
+    (-5) /* a row that moves an arm has gains
                                            erlaw_gains_validate refuses   */
-#define CARRY_NET_ERR_INCONSISTENT (-6) /* a row contradicts itself: an arm
+#define CARRY_NET_ERR_INCONSISTENT \
+    (-6) /* a row contradicts itself: an arm
                                            in arms without segments or the
                                            reverse, a move without pose or
                                            a grasp with one, target pose or
@@ -48,7 +53,8 @@
                                            with, after_partner without a
                                            partner that goes first, a sync
                                            group of one arm               */
-#define CARRY_NET_ERR_NET (-7)          /* the net is not sound
+#define CARRY_NET_ERR_NET \
+    (-7) /* the net is not sound
                                            (petri_net_validate), or a row
                                            contradicts its transition: a
                                            source (no input place) that
@@ -69,13 +75,13 @@ enum {
 };
 
 enum {
-    CARRY_T1 = 0, /* arm 1 home -> above workpiece    */
-    CARRY_T2,     /* arm 1 grasps                     */
-    CARRY_T3,     /* both to the hand-over, synced    */
-    CARRY_T4,     /* hand-over                        */
-    CARRY_T5,     /* arm 2 to the release pose        */
-    CARRY_T6,     /* arm 1 back home                  */
-    CARRY_T7,     /* arm 2 releases and goes home     */
+    CARRY_T1 = 0,   /* arm 1 home -> above workpiece    */
+    CARRY_T2,       /* arm 1 grasps                     */
+    CARRY_T3,       /* both to the hand-over, synced    */
+    CARRY_T4,       /* hand-over                        */
+    CARRY_T5,       /* arm 2 to the release pose        */
+    CARRY_T6,       /* arm 1 back home                  */
+    CARRY_T7,       /* arm 2 releases and goes home     */
     CARRY_T_VISION, /* source: a workpiece located    */
     CARRY_N_TRANSITIONS
 };
@@ -85,10 +91,10 @@ enum {
 typedef enum {
     CARRY_POSE_NONE = 0,
     CARRY_POSE_HOME_1,
-    CARRY_POSE_ABOVE_WORKPIECE,   /* from vision */
-    CARRY_POSE_AT_WORKPIECE,      /* from vision */
+    CARRY_POSE_ABOVE_WORKPIECE, /* from vision */
+    CARRY_POSE_AT_WORKPIECE,    /* from vision */
     CARRY_POSE_HANDOVER_1,
-    CARRY_POSE_CLEAR_1,           /* arm 1 backed off the hand-over */
+    CARRY_POSE_CLEAR_1, /* arm 1 backed off the hand-over */
     CARRY_POSE_HOME_2,
     CARRY_POSE_HANDOVER_2,
     CARRY_POSE_ABOVE_RELEASE,
@@ -112,25 +118,25 @@ typedef enum { CARRY_SEG_MOVE = 0, CARRY_SEG_GRASP = 2, CARRY_SEG_RELEASE = 3 } 
 #define CARRY_MAX_SEGMENTS 4
 
 typedef struct {
-    int8_t kind;   /* carry_seg_kind */
-    int8_t pose;   /* carry_pose, for CARRY_SEG_MOVE */
+    int8_t kind; /* carry_seg_kind */
+    int8_t pose; /* carry_pose, for CARRY_SEG_MOVE */
 } carry_segment;
 
 typedef struct {
     int8_t n_segments;
-    int8_t after_partner;   /* 1: start once the partner arm has finished
+    int8_t after_partner; /* 1: start once the partner arm has finished
                                its segments of this transition            */
     carry_segment seg[CARRY_MAX_SEGMENTS];
 } carry_arm_plan;
 
 typedef struct {
     const char *name;
-    uint8_t arms;              /* CARRY_ARM1 | CARRY_ARM2, 0 for vision    */
-    int8_t target_pose[2];     /* final pose of arm 1 / arm 2 (NONE: stays) */
-    int8_t gripper[2];         /* net gripper action of arm 1 / arm 2      */
-    erlaw_gains lin;           /* v_m a_m u_m k_p k_v k0 k1 k2 (m, s)      */
-    int32_t sync_group;        /* 0 alone, > 0 arms sharing s*             */
-    carry_arm_plan plan[2];    /* arm 1, arm 2                             */
+    uint8_t arms;           /* CARRY_ARM1 | CARRY_ARM2, 0 for vision    */
+    int8_t target_pose[2];  /* final pose of arm 1 / arm 2 (NONE: stays) */
+    int8_t gripper[2];      /* net gripper action of arm 1 / arm 2      */
+    erlaw_gains lin;        /* v_m a_m u_m k_p k_v k0 k1 k2 (m, s)      */
+    int32_t sync_group;     /* 0 alone, > 0 arms sharing s*             */
+    carry_arm_plan plan[2]; /* arm 1, arm 2                             */
 } carry_row;
 
 /* The net: N-, N+, inhibitor, gamma0 = [1 1 1 0 0 0 0 0 0], invariants

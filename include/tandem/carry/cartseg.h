@@ -15,19 +15,21 @@
 #include "cartctl.h"
 #include "erlaw.h"
 
-#define CARTSEG_ERR_ARG (-1)     /* NULL, non-finite input or bad reference
+#define CARTSEG_ERR_ARG \
+    (-1) /* NULL, non-finite input or bad reference
                                     mode, or a failure below (kinematics,
                                     erlaw, cartctl)                        */
-#define CARTSEG_ERR_NO_GOAL (-2) /* cartseg_joint_goal: no IK solution keeps
+#define CARTSEG_ERR_NO_GOAL \
+    (-2) /* cartseg_joint_goal: no IK solution keeps
                                     the margin (the pose unreachable or the
                                     arm's configuration unknown)           */
 
-#define CARTSEG_DONE_TOL_M 0.004       /* s within 4 mm of s_f ...            */
-#define CARTSEG_DONE_SPEED_MPS 0.008   /* ... and the tool slower than 8 mm/s */
-#define CARTSEG_BLOCK_EPS_M 0.001      /* s must gain 1 mm ...                */
-#define CARTSEG_BLOCK_TIME_S 0.30      /* ... within 300 ms, else blocked     */
+#define CARTSEG_DONE_TOL_M 0.004        /* s within 4 mm of s_f ...            */
+#define CARTSEG_DONE_SPEED_MPS 0.008    /* ... and the tool slower than 8 mm/s */
+#define CARTSEG_BLOCK_EPS_M 0.001       /* s must gain 1 mm ...                */
+#define CARTSEG_BLOCK_TIME_S 0.30       /* ... within 300 ms, else blocked     */
 #define CARTSEG_BLOCK_NEAR_GOAL_M 0.010 /* no block detection in the last 1 cm */
-#define CARTSEG_BLOCK_DEV_M 0.010      /* or pushed 1 cm off the line: blocked */
+#define CARTSEG_BLOCK_DEV_M 0.010       /* or pushed 1 cm off the line: blocked */
 /* A blocked arm is released when s gains 5 mm: held by the servos at the
  * pose where the block was met, the bias alone can move the tool along
  * the path by about k0 / k_p (2 mm with the carry rows) against a pinned
@@ -59,7 +61,7 @@
 #define CARTSEG_CONTACT_N 0.05
 #define CARTSEG_FREE_S 0.05
 /* Joint-space goals keep every joint this far inside its range. */
-#define CARTSEG_GOAL_MARGIN_RAD 0.0262   /* 1.5 deg */
+#define CARTSEG_GOAL_MARGIN_RAD 0.0262 /* 1.5 deg */
 /* Filter of the free servo's cross-track error (its static part, model
  * error / k_p, is kept up while blocked). */
 #define CARTSEG_STATIC_ERR_TAU_S 0.5
@@ -71,36 +73,36 @@ typedef struct cartseg {
     cartctl_gains cg;
     erlaw_ref ref;
     double T_world_base[16];
-    double R_d_base[9];        /* orientation held, base frame */
-    double R_hold_base[9];     /* orientation held while blocked   */
+    double R_d_base[9];    /* orientation held, base frame */
+    double R_hold_base[9]; /* orientation held while blocked   */
     double p1_world[3];
-    double dev_ref_m;          /* least line deviation since the last block */
-    double hold_off_m[3];      /* static cross-track error, 0.25-0.5 s old  */
-    double err_filt_m[3], err_snap_m[3], t_snap_s;   /* its filter      */
-    double t_rest_s;           /* blocked: time at rest ahead of the hold point */
-    double rest_pos_m[3];      /* tool where the hold last moved after a rest */
-    int    rest_steps;         /* such moves in this block */
-    int    blocked;
-    int    block_detect;       /* 1 (cartseg_start's default): detector on; 0: eq. 6-7 alone */
-    double contact_N;          /* measured contact force on the arm, < 0: no sensor */
-    double t_no_contact_s;     /* time since the arm last touched something */
+    double dev_ref_m;                              /* least line deviation since the last block */
+    double hold_off_m[3];                          /* static cross-track error, 0.25-0.5 s old  */
+    double err_filt_m[3], err_snap_m[3], t_snap_s; /* its filter      */
+    double t_rest_s;      /* blocked: time at rest ahead of the hold point */
+    double rest_pos_m[3]; /* tool where the hold last moved after a rest */
+    int rest_steps;       /* such moves in this block */
+    int blocked;
+    int block_detect;      /* 1 (cartseg_start's default): detector on; 0: eq. 6-7 alone */
+    double contact_N;      /* measured contact force on the arm, < 0: no sensor */
+    double t_no_contact_s; /* time since the arm last touched something */
 } cartseg;
 
 typedef struct cartseg_out {
     double tau_Nm[ARM_NJ];
-    double x_world[3];         /* tool point */
-    double u_world[3];         /* commanded tool acceleration (eq. 6) */
-    double v_world[3];         /* tool velocity */
+    double x_world[3]; /* tool point */
+    double u_world[3]; /* commanded tool acceleration (eq. 6) */
+    double v_world[3]; /* tool velocity */
     double s_m, s_f_m, s_ref_m;
-    double deviation_m;        /* distance of the tool from the line */
+    double deviation_m; /* distance of the tool from the line */
     double bias;
-    int    done;
-    int    blocked;
-    int    block_changed;      /* blocked flipped this cycle */
-    int    saturated;
-    int    stuck;              /* stalled with nothing touching the arm (event law,
+    int done;
+    int blocked;
+    int block_changed; /* blocked flipped this cycle */
+    int saturated;
+    int stuck;              /* stalled with nothing touching the arm (event law,
                                   contact sensed): re-plan, see CARTSEG_CONTACT_N */
-    unsigned range_limited;    /* joints held at their range barrier (cartctl) */
+    unsigned range_limited; /* joints held at their range barrier (cartctl) */
 } cartseg_out;
 
 /* Tool point and velocity in the world. 0 / CARTSEG_ERR_ARG. */
@@ -115,9 +117,9 @@ int cartseg_tool_world_at(const cartctl_state *st, const double T_world_base[16]
  * orientation R1_world held. ref: ERLAW_REF_MEASURED (event law; also used
  * with an external s* by passing s_ext to cartseg_step) or ERLAW_REF_TIME.
  * 0 / CARTSEG_ERR_ARG (bad input). */
-int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool, const double T_world_base[16],
-                  const double q[ARM_NJ], const double p1_world[3], const double R1_world[9],
-                  const erlaw_gains *g, erlaw_ref ref);
+int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool,
+                  const double T_world_base[16], const double q[ARM_NJ], const double p1_world[3],
+                  const double R1_world[9], const erlaw_gains *g, erlaw_ref ref);
 
 /* Protective-stop resume at the measured tool point x_world: the law
  * takes the motion up from there as from a start (erlaw_channel_resume);
@@ -160,8 +162,8 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
                  cartseg_out *out);
 /* The same cycle with the kinematics st = cartctl_state_at(m, tool, q, qd)
  * already evaluated (the caller's one pass of the cycle). */
-int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool, const arm_payload *payload,
-                    const cartctl_state *st, const double q[ARM_NJ], const double qd[ARM_NJ],
-                    double s_ext_m, double dt_s, cartseg_out *out);
+int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool,
+                    const arm_payload *payload, const cartctl_state *st, const double q[ARM_NJ],
+                    const double qd[ARM_NJ], double s_ext_m, double dt_s, cartseg_out *out);
 
 #endif

@@ -12,18 +12,20 @@
 #ifndef TANDEM_CELL_H
 #define TANDEM_CELL_H
 
-#define CELL_ERR_ARG (-1)           /* NULL layout                       */
-#define CELL_ERR_NONFINITE (-2)     /* a number is NaN or Inf            */
-#define CELL_ERR_RANGE (-3)         /* a size, mass, offset or clearance
+#define CELL_ERR_ARG (-1)       /* NULL layout                       */
+#define CELL_ERR_NONFINITE (-2) /* a number is NaN or Inf            */
+#define CELL_ERR_RANGE \
+    (-3) /* a size, mass, offset or clearance
                                        <= 0, or a spread < 0             */
-#define CELL_ERR_INCONSISTENT (-4)  /* parts that do not fit together:
+#define CELL_ERR_INCONSISTENT \
+    (-4) /* parts that do not fit together:
                                        grasp points off the bar, a
                                        workpiece pose not resting on the
                                        table or outside it, the hand-over
                                        not above it, the arms on one spot */
 
 #define CELL_ARMS 2
-#define CELL_TOOL_LENGTH_M 0.10        /* flange -> point between the fingers */
+#define CELL_TOOL_LENGTH_M 0.10 /* flange -> point between the fingers */
 /* ABOVE_HANDOVER_1, _2: this far above the hand-over, where a bar set down
  * on a stand (tandem-sim --handover-stand) is approached and left
  * vertically. Not approach_height_m: 0.13 m above the hand-over is out of
@@ -31,20 +33,20 @@
 #define CELL_STAND_CLEARANCE_M 0.06
 
 typedef struct cell_layout {
-    double base_xyz_m[CELL_ARMS][3];   /* mounting surface of each arm */
+    double base_xyz_m[CELL_ARMS][3]; /* mounting surface of each arm */
     double base_yaw_rad[CELL_ARMS];
-    double table_center_m[3];          /* table box centre */
+    double table_center_m[3]; /* table box centre */
     double table_size_m[3];
-    double workpiece_size_m[3];        /* a bar, long axis along world x */
+    double workpiece_size_m[3]; /* a bar, long axis along world x */
     double workpiece_mass_kg;
-    double grasp_offset_m;             /* grasp points at +- this along the bar */
-    double grasp_tolerance_m;          /* gripper closes on a grasp point this near */
-    double pick_center_m[3];           /* workpiece centre, middle of the pick zone */
-    double pick_spread_m[2];           /* +- uniform spread of new workpieces in x, y */
-    double deliver_center_m[3];        /* where arm 2 puts the workpiece down */
-    double handover_center_m[3];       /* workpiece centre at the hand-over */
-    double approach_height_m;          /* above-workpiece clearance */
-    double home_tool_m[CELL_ARMS][3];  /* tool point at home */
+    double grasp_offset_m;            /* grasp points at +- this along the bar */
+    double grasp_tolerance_m;         /* gripper closes on a grasp point this near */
+    double pick_center_m[3];          /* workpiece centre, middle of the pick zone */
+    double pick_spread_m[2];          /* +- uniform spread of new workpieces in x, y */
+    double deliver_center_m[3];       /* where arm 2 puts the workpiece down */
+    double handover_center_m[3];      /* workpiece centre at the hand-over */
+    double approach_height_m;         /* above-workpiece clearance */
+    double home_tool_m[CELL_ARMS][3]; /* tool point at home */
 } cell_layout;
 
 extern const cell_layout cell_default;

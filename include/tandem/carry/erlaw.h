@@ -87,27 +87,28 @@
 
 #include "sprofile.h"
 
-#define ERLAW_ERR_ARG (-1)  /* NULL, non-finite input, invalid gains, bad
+#define ERLAW_ERR_ARG \
+    (-1) /* NULL, non-finite input, invalid gains, bad
                                reference mode, or dt < 0                  */
 
 /* One set of limits and gains (one row of the lookup table, docs/method/carry.md §6).
  * For the orientation channel read m as rad. */
 typedef struct {
-    double v_m;   /* m/s                       */
-    double a_m;   /* m/s^2                     */
-    double u_m;   /* da/ds limit, 1/s^2        */
-    double k_p;   /* 1/s^2                     */
-    double k_v;   /* 1/s                       */
-    double k0;    /* m/s^2: bias magnitude     */
-    double k1;    /* -: bias turn-off offset   */
-    double k2;    /* 1/m: bias turn-off slope  */
+    double v_m; /* m/s                       */
+    double a_m; /* m/s^2                     */
+    double u_m; /* da/ds limit, 1/s^2        */
+    double k_p; /* 1/s^2                     */
+    double k_v; /* 1/s                       */
+    double k0;  /* m/s^2: bias magnitude     */
+    double k1;  /* -: bias turn-off offset   */
+    double k2;  /* 1/m: bias turn-off slope  */
 } erlaw_gains;
 
 typedef enum {
     ERLAW_REF_MEASURED = 0,
     ERLAW_REF_EXTERNAL = 1,
     ERLAW_REF_TIME = 2,
-    ERLAW_REF_BLOCKED = 3     /* detected block: start-up form at s */
+    ERLAW_REF_BLOCKED = 3 /* detected block: start-up form at s */
 } erlaw_ref;
 
 /* Follower of an external reference: tracking bandwidth (rad/s) and the
@@ -125,15 +126,15 @@ typedef enum {
 typedef struct {
     sprofile prof;
     erlaw_gains g;
-    double k2_eff;      /* k2, raised to 2 k1 / s_f on short segments  */
-    double e[3];        /* unit direction / rotation axis              */
-    double s_time_m;    /* s_d(t) of the time-referenced baseline      */
-    double t_s;         /* time since the segment start                */
-    double s_ext_prev;  /* last external reference (clamped)           */
-    double v_ext;       /* its filtered rate V_ref                     */
-    int    ext_seen;    /* s_ext_prev holds a value                    */
-    double s_resume_m;  /* erlaw_channel_resume: where the arm stood   */
-    int    resumed;     /* the resume ramp caps V_d and A_d            */
+    double k2_eff;     /* k2, raised to 2 k1 / s_f on short segments  */
+    double e[3];       /* unit direction / rotation axis              */
+    double s_time_m;   /* s_d(t) of the time-referenced baseline      */
+    double t_s;        /* time since the segment start                */
+    double s_ext_prev; /* last external reference (clamped)           */
+    double v_ext;      /* its filtered rate V_ref                     */
+    int ext_seen;      /* s_ext_prev holds a value                    */
+    double s_resume_m; /* erlaw_channel_resume: where the arm stood   */
+    int resumed;       /* the resume ramp caps V_d and A_d            */
 } erlaw_channel;
 
 typedef struct {
@@ -145,18 +146,18 @@ typedef struct {
 typedef struct {
     erlaw_channel ch;
     double R0[9];
-    double R_hold[9];   /* orientation held while blocked (init: R0)   */
+    double R_hold[9]; /* orientation held while blocked (init: R0)   */
 } erlaw_rot;
 
 typedef struct {
-    double u[3];        /* commanded acceleration (m/s^2 or rad/s^2)  */
-    double s_m;         /* measured progress                          */
-    double s_ref_m;     /* reference progress used                    */
-    double x_err[3];    /* X_d - X (or log(R_d R^T))                  */
-    double a_d, v_d;    /* reference acceleration and speed used
+    double u[3];     /* commanded acceleration (m/s^2 or rad/s^2)  */
+    double s_m;      /* measured progress                          */
+    double s_ref_m;  /* reference progress used                    */
+    double x_err[3]; /* X_d - X (or log(R_d R^T))                  */
+    double a_d, v_d; /* reference acceleration and speed used
                            (planned at s_ref; A_ref, V_ref for a follower) */
-    double bias;        /* |p_bias|                                   */
-    int    follower;    /* 1: tracking an external reference ahead of it */
+    double bias;     /* |p_bias|                                   */
+    int follower;    /* 1: tracking an external reference ahead of it */
 } erlaw_out;
 
 /* 0 if every field is finite, the limits > 0 and k_p, k_v, k0, k2 >= 0;
@@ -175,18 +176,17 @@ int erlaw_line_hold(erlaw_line *l, const double x_m[3]);
  * clamped to [0, s_f], then to the measured s); dt_s advances the baseline
  * clock (ERLAW_REF_TIME), the reference-rate estimate and the segment
  * time. Returns 0, or ERLAW_ERR_ARG on bad input (out->u is then 0). */
-int erlaw_line_step(erlaw_line *l, const double x_m[3], const double v_mps[3],
-                    erlaw_ref ref, double s_ext_m, double dt_s, erlaw_out *out);
+int erlaw_line_step(erlaw_line *l, const double x_m[3], const double v_mps[3], erlaw_ref ref,
+                    double s_ext_m, double dt_s, erlaw_out *out);
 
 /* Orientation move R0 -> R1 (rotation matrices, row-major). 0 / ERLAW_ERR_ARG. */
-int erlaw_rot_init(erlaw_rot *r, const double R0[9], const double R1[9],
-                   const erlaw_gains *g);
+int erlaw_rot_init(erlaw_rot *r, const double R0[9], const double R1[9], const erlaw_gains *g);
 /* Measured rotated angle about the move's axis, clamped to [0, theta_f]. */
 double erlaw_rot_angle(const erlaw_rot *r, const double R[9]);
 /* Orientation held (across the move's axis) under ERLAW_REF_BLOCKED. */
 int erlaw_rot_hold(erlaw_rot *r, const double R[9]);
-int erlaw_rot_step(erlaw_rot *r, const double R[9], const double w_radps[3],
-                   erlaw_ref ref, double s_ext_rad, double dt_s, erlaw_out *out);
+int erlaw_rot_step(erlaw_rot *r, const double R[9], const double w_radps[3], erlaw_ref ref,
+                   double s_ext_rad, double dt_s, erlaw_out *out);
 
 /* Protective-stop resume (docs/method/carry.md §7.4): the arm stands at
  * measured progress s_r after a hold (a block released, a frozen or late
@@ -214,7 +214,7 @@ typedef struct {
 void erlaw_block_reset(erlaw_block *b, double s_m);
 /* Returns 1 while blocked, 0 otherwise. commanding = 0 (e.g. at the goal)
  * resets the still timer. */
-int erlaw_block_update(erlaw_block *b, double s_m, int commanding, double dt_s,
-                       double eps_s, double t_block_s);
+int erlaw_block_update(erlaw_block *b, double s_m, int commanding, double dt_s, double eps_s,
+                       double t_block_s);
 
 #endif

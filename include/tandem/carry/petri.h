@@ -24,12 +24,12 @@
 
 #include <stdint.h>
 
-#define PETRI_MAX_PLACES 32        /* one bit each in a uint32_t mask */
-#define PETRI_MAX_TRANSITIONS 32   /* running set is a uint32_t mask  */
+#define PETRI_MAX_PLACES 32      /* one bit each in a uint32_t mask */
+#define PETRI_MAX_TRANSITIONS 32 /* running set is a uint32_t mask  */
 #define PETRI_MAX_INVARIANTS 8
 #define PETRI_TOKEN_MAX 255
-#define PETRI_MAX_STATES 4096      /* reachability: visited-set capacity */
-#define PETRI_HASH_SIZE 8192       /* power of two, > PETRI_MAX_STATES   */
+#define PETRI_MAX_STATES 4096 /* reachability: visited-set capacity */
+#define PETRI_HASH_SIZE 8192  /* power of two, > PETRI_MAX_STATES   */
 
 #define PETRI_ERR_ARG (-1)          /* bad argument / index            */
 #define PETRI_ERR_NOT_ENABLED (-2)  /* start of a transition not enabled */
@@ -38,44 +38,47 @@
 #define PETRI_ERR_NONE_ENABLED (-9) /* petri_select: no transition enabled */
 /* petri_net_validate only (petri_compile returns PETRI_ERR_ARG for the
  * first two): */
-#define PETRI_ERR_SIZE (-5)         /* places / transitions / invariants
+#define PETRI_ERR_SIZE \
+    (-5)                     /* places / transitions / invariants
                                        outside 1..PETRI_MAX_* (0.. for
                                        invariants)                     */
-#define PETRI_ERR_ENTRY (-6)        /* an N-, N+ or inhibitor entry not 0/1 */
-#define PETRI_ERR_TRANSITION (-7)   /* a transition that can never act: no
+#define PETRI_ERR_ENTRY (-6) /* an N-, N+ or inhibitor entry not 0/1 */
+#define PETRI_ERR_TRANSITION \
+    (-7) /* a transition that can never act: no
                                        arc at all, or an inhibitor arc on
                                        one of its own input places      */
-#define PETRI_ERR_INVARIANT (-8)    /* an invariant y that is zero or not a
+#define PETRI_ERR_INVARIANT \
+    (-8) /* an invariant y that is zero or not a
                                        P-invariant (y^T N != 0, N = N+ - N-) */
 
 typedef struct {
     int n_places;
     int n_transitions;
-    const int8_t *n_minus;      /* rho x tau, 0/1                     */
-    const int8_t *n_plus;       /* rho x tau, 0/1                     */
-    const int8_t *n_inhibit;    /* rho x tau, 0/1, or NULL (none)     */
-    const uint8_t *m0;          /* initial marking, rho entries       */
+    const int8_t *n_minus;   /* rho x tau, 0/1                     */
+    const int8_t *n_plus;    /* rho x tau, 0/1                     */
+    const int8_t *n_inhibit; /* rho x tau, 0/1, or NULL (none)     */
+    const uint8_t *m0;       /* initial marking, rho entries       */
     int n_invariants;
-    const int8_t *invariants;   /* n_invariants x rho, or NULL        */
+    const int8_t *invariants; /* n_invariants x rho, or NULL        */
 } petri_net;
 
 /* Marking plus running set: the full discrete state. */
 typedef struct {
     uint8_t m[PETRI_MAX_PLACES];
-    uint32_t running;           /* bit j: t_j started, not completed  */
+    uint32_t running; /* bit j: t_j started, not completed  */
 } petri_state;
 
 /* Per-net data derived once from the tables. */
 typedef struct {
     const petri_net *net;
-    int n_in[PETRI_MAX_TRANSITIONS];         /* I_j of the seed        */
+    int n_in[PETRI_MAX_TRANSITIONS]; /* I_j of the seed        */
     uint32_t in_mask[PETRI_MAX_TRANSITIONS];
-    uint32_t out_mask[PETRI_MAX_TRANSITIONS];     /* places of N+_j    */
+    uint32_t out_mask[PETRI_MAX_TRANSITIONS]; /* places of N+_j    */
     uint32_t inhibit_mask[PETRI_MAX_TRANSITIONS];
     /* bit k: t_k's enabling can change when t_j starts or completes (an
      * input or inhibitor arc of t_k on a place of t_j's, or k = j) */
     uint32_t touch[PETRI_MAX_TRANSITIONS];
-    int inv_value[PETRI_MAX_INVARIANTS];     /* y^T gamma0             */
+    int inv_value[PETRI_MAX_INVARIANTS]; /* y^T gamma0             */
     /* y_k^T N-_j (the tokens of t_j in flight) and y_k^T (N+_j - N-_j)
      * (what completing t_j adds to y_k^T gamma) */
     int16_t inv_in[PETRI_MAX_INVARIANTS][PETRI_MAX_TRANSITIONS];
@@ -112,12 +115,12 @@ int petri_state_dead(const petri_compiled *c, const petri_state *s);
 typedef struct {
     petri_compiled c;
     petri_state st;
-    uint32_t marked;            /* bit i: st.m[i] > 0                      */
-    uint32_t enabled;           /* bit j: t_j enabled in st                */
-    int inv_now[PETRI_MAX_INVARIANTS];   /* y_k^T gamma + in flight        */
-    long invariant_violations;  /* changes after which an invariant failed */
-    int last_fired;             /* last completed transition, -1 if none   */
-    long fired_count;           /* completions                             */
+    uint32_t marked;                   /* bit i: st.m[i] > 0                      */
+    uint32_t enabled;                  /* bit j: t_j enabled in st                */
+    int inv_now[PETRI_MAX_INVARIANTS]; /* y_k^T gamma + in flight        */
+    long invariant_violations;         /* changes after which an invariant failed */
+    int last_fired;                    /* last completed transition, -1 if none   */
+    long fired_count;                  /* completions                             */
 } petri;
 
 int petri_init(petri *p, const petri_net *net);
@@ -148,19 +151,19 @@ int petri_load_state(petri *p, const petri_state *s);
 typedef struct {
     petri_compiled c;
     petri_state states[PETRI_MAX_STATES];
-    int16_t parent[PETRI_MAX_STATES];   /* predecessor index, -1 at root  */
-    int8_t event[PETRI_MAX_STATES];     /* +(t+1) start, -(t+1) complete   */
-    int16_t hash[PETRI_HASH_SIZE];      /* index + 1, 0 = empty           */
+    int16_t parent[PETRI_MAX_STATES]; /* predecessor index, -1 at root  */
+    int8_t event[PETRI_MAX_STATES];   /* +(t+1) start, -(t+1) complete   */
+    int16_t hash[PETRI_HASH_SIZE];    /* index + 1, 0 = empty           */
     int n_states;
 } petri_explore_ws;
 
 typedef struct {
     int n_states;
-    int complete;          /* 1: whole reachable set fitted the capacity */
-    int safe;              /* every place <= 1 in every visited state     */
-    int bounded;           /* no place exceeded token_bound               */
-    int deadlock;          /* a dead state is reachable                   */
-    int invariant_states;  /* visited states violating some invariant     */
+    int complete;         /* 1: whole reachable set fitted the capacity */
+    int safe;             /* every place <= 1 in every visited state     */
+    int bounded;          /* no place exceeded token_bound               */
+    int deadlock;         /* a dead state is reachable                   */
+    int invariant_states; /* visited states violating some invariant     */
     int max_tokens;
     /* first offending states (index into ws->states, -1 if none) */
     int unsafe_index, unbounded_index, dead_index, invariant_index;

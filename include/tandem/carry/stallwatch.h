@@ -22,8 +22,8 @@ typedef struct stallwatch {
     double obstructed_s;   /* length of the obstruction going on */
     double idle_s;         /* time counted so far */
     double last_t_s;       /* time of the previous update, < 0 before the first */
-    int    stalled;        /* 1 while stalled */
-    int    stalls;         /* stalls begun */
+    int stalled;           /* 1 while stalled */
+    int stalls;            /* stalls begun */
 } stallwatch;
 
 enum { STALLWATCH_OK = 0, STALLWATCH_ERR_ARG = -1 };

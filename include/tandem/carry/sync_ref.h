@@ -13,7 +13,8 @@
 #ifndef TANDEM_SYNC_REF_H
 #define TANDEM_SYNC_REF_H
 
-#define SYNC_REF_ERR_ARG (-1)  /* NULL, n outside 1..SYNC_MAX, a length
+#define SYNC_REF_ERR_ARG \
+    (-1) /* NULL, n outside 1..SYNC_MAX, a length
                                   < 0 or a non-finite number             */
 
 #define SYNC_MAX 4

@@ -25,25 +25,28 @@
 #include "carry_net.h"
 #include "petri.h"
 
-#define TASKDEF_MAX_NAME 64       /* a task, place or transition name, with its NUL */
-#define TASKDEF_MAX_ROW_NAME 96   /* a row's name in the logs, with its NUL */
+#define TASKDEF_MAX_NAME 64     /* a task, place or transition name, with its NUL */
+#define TASKDEF_MAX_ROW_NAME 96 /* a row's name in the logs, with its NUL */
 
 #define TASKDEF_OK 0
-#define TASKDEF_ERR_ARG (-1)          /* NULL net or roles                   */
-#define TASKDEF_ERR_SOURCE (-2)       /* not exactly one source transition
+#define TASKDEF_ERR_ARG (-1) /* NULL net or roles                   */
+#define TASKDEF_ERR_SOURCE \
+    (-2) /* not exactly one source transition
                                             (no input place)                    */
-#define TASKDEF_ERR_SOURCE_PLACE (-3) /* the source fills not exactly one
+#define TASKDEF_ERR_SOURCE_PLACE \
+    (-3) /* the source fills not exactly one
                                             place, or that place does not
                                             inhibit it                          */
-#define TASKDEF_ERR_PICK (-4)         /* not exactly one transition takes the
+#define TASKDEF_ERR_PICK \
+    (-4)                       /* not exactly one transition takes the
                                             source's token                      */
-#define TASKDEF_ERR_NET (-5)          /* petri_net_validate refuses the net  */
-#define TASKDEF_ERR_TABLE (-6)        /* carry_table_validate refuses the rows */
+#define TASKDEF_ERR_NET (-5)   /* petri_net_validate refuses the net  */
+#define TASKDEF_ERR_TABLE (-6) /* carry_table_validate refuses the rows */
 
 typedef struct {
-    int source;         /* transition index */
-    int source_place;   /* place index      */
-    int pick;           /* transition index */
+    int source;       /* transition index */
+    int source_place; /* place index      */
+    int pick;         /* transition index */
 } taskdef_roles;
 
 /* A task in fixed tables; net and rows point into the arrays (taskdef_bind). */
@@ -66,7 +69,7 @@ typedef struct {
     carry_row rows[PETRI_MAX_TRANSITIONS];
     char row_name[PETRI_MAX_TRANSITIONS][TASKDEF_MAX_ROW_NAME];
     int has_row[PETRI_MAX_TRANSITIONS];
-    int live[PETRI_MAX_TRANSITIONS];   /* the rows file asks for liveness */
+    int live[PETRI_MAX_TRANSITIONS]; /* the rows file asks for liveness */
 } taskdef;
 
 /* t->net points into t's arrays, with t's sizes and invariants. */

@@ -21,7 +21,8 @@
 #include "unicycle.h"
 #include "vec2.h"
 
-#define BEHAVIOUR_ERR_ARG (-1)  /* NULL, non-finite input, bad mode or a
+#define BEHAVIOUR_ERR_ARG \
+    (-1) /* NULL, non-finite input, bad mode or a
                                    parameter out of range; also the pose too
                                    near eq. 5's singularity (r cos phi = d)
                                    and weights that do not sum above 0     */
@@ -37,12 +38,12 @@ enum {
 #define BEH_SONAR_N 8
 
 typedef struct {
-    double d_m;                /* O behind C, signed (< 0: ahead); |d| > 0 */
-    double v_max_mps;          /* eq. 6 (goal) and avoid/exception limits */
+    double d_m;       /* O behind C, signed (< 0: ahead); |d| > 0 */
+    double v_max_mps; /* eq. 6 (goal) and avoid/exception limits */
     double w_max_radps;
-    double v_fm_max_mps;       /* eq. 10 (formation) */
+    double v_fm_max_mps; /* eq. 10 (formation) */
     double w_fm_max_radps;
-    int    sat_mode;           /* UNICYCLE_SAT_*; default CLIP (the seed) */
+    int sat_mode;              /* UNICYCLE_SAT_*; default CLIP (the seed) */
     double a1, a2;             /* move-to-goal closed loop r' = -a1 r, phi' = -a2 phi */
     double goal_tol_m;         /* r below this: at goal, stop */
     double goal_margin_m;      /* keep r cos phi - d above this (eq. 5 singular at 0) */
@@ -50,13 +51,13 @@ typedef struct {
     double d_s_m;              /* single-robot safety distance */
     double k_v;                /* avoid: V = k S_F (1/s) */
     double k_s;                /* avoid: w = k_s (S_LF - S_RF) (rad/s per m) */
-    int    d_st_lateral;       /* 0: the seed's d_st (l_d cos phi_d); 1: lateral |l_d sin phi_d| */
+    int d_st_lateral;          /* 0: the seed's d_st (l_d cos phi_d); 1: lateral |l_d sin phi_d| */
     double v_k_mps, w_k_radps; /* dead-zone escape, eq. 2 */
     double dead_zone_time_s;   /* dead-zone condition must hold this long */
     double passage_safety_m;   /* narrow passage: L + R + width < D + this */
     double robot_width_m;
-    double k2, k3, k4;         /* eq. 11 weights */
-    double d_r_m;              /* allowed deviation from the slot */
+    double k2, k3, k4;              /* eq. 11 weights */
+    double d_r_m;                   /* allowed deviation from the slot */
     double form_near_m, form_far_m; /* slot distance band over which slot tracking
                                      * hands over from pose tracking to pursuit
                                      * (behaviour_slot_track) */
@@ -70,11 +71,11 @@ typedef struct {
  *   form_near 0.3 m, form_far 0.8 m. */
 void behaviour_params_default(behaviour_params *p);
 /* 0 if every parameter is finite and in range, else BEHAVIOUR_ERR_ARG. */
-int  behaviour_params_validate(const behaviour_params *p);
+int behaviour_params_validate(const behaviour_params *p);
 
 typedef struct {
     double front_m, left_front_m, right_front_m, left_m, right_m;
-    double min_m;              /* minimum over all eight */
+    double min_m; /* minimum over all eight */
 } sonar_groups;
 
 /* Group the eight ranges (non-finite or negative ranges read as 0, i.e.
@@ -84,17 +85,16 @@ void behaviour_sonar_groups(sonar_groups *g, const double range_m[BEH_SONAR_N]);
 /* ---- move to goal (eq. 5 corrected, eq. 6) ---------------------------- */
 enum { BEH_GOAL_DRIVE = 0, BEH_GOAL_TURN = 1, BEH_GOAL_REACHED = 2 };
 /* r = |G - O|, phi = bearing of G from O minus heading. */
-void behaviour_goal_polar(double *r_m, double *phi_rad, const pose2 *o,
-                          const double goal_m[2]);
+void behaviour_goal_polar(double *r_m, double *phi_rad, const pose2 *o, const double goal_m[2]);
 /* Unsaturated eq. 5: requires r cos phi - d != 0 (returns BEHAVIOUR_ERR_ARG if too near). */
-int  behaviour_goal_raw(unicycle_cmd *u, double r_m, double phi_rad,
-                        double d_m, double a1, double a2);
+int behaviour_goal_raw(unicycle_cmd *u, double r_m, double phi_rad, double d_m, double a1,
+                       double a2);
 /* Saturated move-to-goal. Returns BEH_GOAL_DRIVE (eq. 5 + 6),
  * BEH_GOAL_TURN (r cos phi - d <= margin but r > goal_tol: turn in place
  * toward the goal, V = 0, w = sat(a2 phi)), BEH_GOAL_REACHED (r <= goal_tol:
  * U = 0), or BEHAVIOUR_ERR_ARG on bad input (U = 0). */
-int  behaviour_goal(unicycle_cmd *u, const pose2 *o, const double goal_m[2],
-                    const behaviour_params *p);
+int behaviour_goal(unicycle_cmd *u, const pose2 *o, const double goal_m[2],
+                   const behaviour_params *p);
 
 /* ---- keep formation (docs/method/formation.md §3: A, B, gamma; eq. 10) ------------------------ */
 /* (l, phi) of O_i relative to O_0 in R0's frame. */
@@ -103,15 +103,13 @@ void behaviour_formation_polar(double *l_m, double *phi_rad, const pose2 *o,
 /* Distance from the ideal slot, R_d = sqrt(l^2 + l_d^2 - 2 l l_d cos(phi - phi_d)). */
 double behaviour_slot_error(double l_m, double phi_rad, double l_d_m, double phi_d_rad);
 /* Unsaturated V_i, w_i. */
-void behaviour_formation_raw(unicycle_cmd *u, double l_m, double phi_rad,
-                             double gamma_rad, double l_d_m, double phi_d_rad,
-                             double v0_mps, double w0_radps, double d_m,
-                             double b1, double b2);
+void behaviour_formation_raw(unicycle_cmd *u, double l_m, double phi_rad, double gamma_rad,
+                             double l_d_m, double phi_d_rad, double v0_mps, double w0_radps,
+                             double d_m, double b1, double b2);
 /* Saturated keep-formation; R_d_m (may be NULL) receives the slot error.
  * BEHAVIOUR_ERR_ARG on bad input (U = 0). */
-int  behaviour_formation(unicycle_cmd *u, double *R_d_m, const pose2 *o,
-                         const unicycle_state *ref, double l_d_m,
-                         double phi_d_rad, const behaviour_params *p);
+int behaviour_formation(unicycle_cmd *u, double *R_d_m, const pose2 *o, const unicycle_state *ref,
+                        double l_d_m, double phi_d_rad, const behaviour_params *p);
 
 /* The seed's law as flown (ROVER_LAW_SEED): behaviour_formation with V
  * floored at 0 (the Pioneer has no rear sonar; a robot ahead of its slot
@@ -120,9 +118,9 @@ int  behaviour_formation(unicycle_cmd *u, double *R_d_m, const pose2 *o,
  * -(V0 / |d|) sin(theta_i - theta0) on the slot; with O behind (d > 0)
  * they are the mirror image and unstable (docs/formation.md). R_d_m as in
  * behaviour_formation. BEHAVIOUR_ERR_ARG on bad input (U = 0). */
-int  behaviour_formation_seed(unicycle_cmd *u, double *R_d_m, const pose2 *o,
-                              const unicycle_state *ref, double l_d_m,
-                              double phi_d_rad, const behaviour_params *p);
+int behaviour_formation_seed(unicycle_cmd *u, double *R_d_m, const pose2 *o,
+                             const unicycle_state *ref, double l_d_m, double phi_d_rad,
+                             const behaviour_params *p);
 
 /* Slot tracking (the comparison law, ROVER_LAW_KANAYAMA). With O behind
  * the axle the seed law swings the tail to move O sideways and, with
@@ -135,29 +133,28 @@ int  behaviour_formation_seed(unicycle_cmd *u, double *R_d_m, const pose2 *o,
  * when the slot is ahead (V = (V0 + b1 dist) cos(bearing),
  * w = w0 + b2 bearing). V is never negative: a robot ahead of its slot
  * waits for it. Saturated as eq. 10. BEHAVIOUR_ERR_ARG on bad input (U = 0). */
-int  behaviour_slot_track(unicycle_cmd *u, const pose2 *o, const unicycle_state *ref,
-                          double l_d_m, double phi_d_rad, const behaviour_params *p);
+int behaviour_slot_track(unicycle_cmd *u, const pose2 *o, const unicycle_state *ref, double l_d_m,
+                         double phi_d_rad, const behaviour_params *p);
 /* behaviour_slot_track, with R_d_m (may be NULL) the seed law's slot error
  * (used by the eq. 11 weight). */
-int  behaviour_formation_track(unicycle_cmd *u, double *R_d_m, const pose2 *o,
-                               const unicycle_state *ref, double l_d_m,
-                               double phi_d_rad, const behaviour_params *p);
+int behaviour_formation_track(unicycle_cmd *u, double *R_d_m, const pose2 *o,
+                              const unicycle_state *ref, double l_d_m, double phi_d_rad,
+                              const behaviour_params *p);
 
 /* ---- avoid obstacles -------------------------------------------------- */
 /* d_st = d_s + (D/2 - l_d cos phi_d), never below d_s. */
-double behaviour_d_st(const behaviour_params *p, double width_D_m,
-                      double l_d_m, double phi_d_rad);
+double behaviour_d_st(const behaviour_params *p, double width_D_m, double l_d_m, double phi_d_rad);
 /* If min(F, LF, RF) > d_st: (v_now, 0), returns 0. Else V = k S_F,
  * w = k_s (S_LF - S_RF) limited to +-w_max (the seed writes min(., w_max),
  * we clamp both signs), V limited to V_max; returns 1. */
-int  behaviour_avoid(unicycle_cmd *u, const sonar_groups *g, double v_now_mps,
-                     double d_st_m, const behaviour_params *p);
+int behaviour_avoid(unicycle_cmd *u, const sonar_groups *g, double v_now_mps, double d_st_m,
+                    const behaviour_params *p);
 
 /* ---- exceptions (eq. 2) ------------------------------------------------ */
 typedef struct {
-    double blocked_s;          /* time the dead-zone condition has held */
-    int    active;             /* escaping */
-    int    entries;            /* n: number of dead-zone entries so far */
+    double blocked_s; /* time the dead-zone condition has held */
+    int active;       /* escaping */
+    int entries;      /* n: number of dead-zone entries so far */
 } behaviour_exception;
 
 void behaviour_exception_init(behaviour_exception *e);
@@ -167,28 +164,26 @@ void behaviour_exception_init(behaviour_exception *e);
  * the timer) as soon as the front reads > d_s (the heading is free); when
  * not active, any direction > d_s clears the timer. Returns 1 while active
  * (announce ANNOUNCE_LEAVE), 0 otherwise, BEHAVIOUR_ERR_ARG on bad input. */
-int  behaviour_exception_step(behaviour_exception *e, unicycle_cmd *u,
-                              const sonar_groups *g, double dt_s,
-                              const behaviour_params *p);
+int behaviour_exception_step(behaviour_exception *e, unicycle_cmd *u, const sonar_groups *g,
+                             double dt_s, const behaviour_params *p);
 /* Narrow passage: left + right + robot width < formation width D + safety. */
-int  behaviour_passage_narrow(const sonar_groups *g, double width_D_m,
-                              const behaviour_params *p);
+int behaviour_passage_narrow(const sonar_groups *g, double width_D_m, const behaviour_params *p);
 
 /* ---- blending (eq. 11) and baselines ------------------------------------ */
 typedef struct {
-    unicycle_cmd u[BEH_COUNT];  /* each behaviour's command */
-    int    exception_active;
-    int    avoid_active;          /* obstacle within d_st (min(F,LF,RF) <= d_st) */
-    double R_d_m;                 /* slot error */
+    unicycle_cmd u[BEH_COUNT]; /* each behaviour's command */
+    int exception_active;
+    int avoid_active; /* obstacle within d_st (min(F,LF,RF) <= d_st) */
+    double R_d_m;     /* slot error */
     double d_st_m;
-    double min_range_m;           /* min of all sonar ranges */
+    double min_range_m; /* min of all sonar ranges */
 } behaviour_inputs;
 
 typedef struct {
-    unicycle_cmd u;             /* blended command */
+    unicycle_cmd u;               /* blended command */
     double weight_raw[BEH_COUNT]; /* W_i before normalisation */
     double weight[BEH_COUNT];     /* W_i / sum W (sums to 1; log these) */
-    int    winner;                /* largest normalised weight (lowest index on ties) */
+    int winner;                   /* largest normalised weight (lowest index on ties) */
 } behaviour_blender;
 
 /* Weighted (eq. 11): exception -> W = (0,0,0,1); else W_goal = k2,
@@ -197,7 +192,7 @@ typedef struct {
  * (if R_d > d_r) > goal, one-hot. Vecsum: exception alone if active, else
  * goal, formation and avoid with equal weights. Returns BEHAVIOUR_ERR_ARG on bad mode or
  * non-finite input (U = 0). */
-int  behaviour_blend(behaviour_blender *out, const behaviour_inputs *in,
-                     int mode, const behaviour_params *p);
+int behaviour_blend(behaviour_blender *out, const behaviour_inputs *in, int mode,
+                    const behaviour_params *p);
 
 #endif

@@ -18,34 +18,39 @@
 
 #include <stdint.h>
 
-#define FORMATION_ERR_ARG (-1)     /* bad type, n, k, spacing, scale or
+#define FORMATION_ERR_ARG \
+    (-1)                          /* bad type, n, k, spacing, scale or
                                       announcement content               */
-#define FORMATION_ERR_ABSENT (-2)  /* formation_slot_of: id not in the team */
+#define FORMATION_ERR_ABSENT (-2) /* formation_slot_of: id not in the team */
 
 #define FORMATION_MAX_ROBOTS 128
 
 /* Values match team_msg_t FORMATION_* and ANNOUNCE_*. */
 enum { FORMATION_LINE = 0, FORMATION_TRIANGLE = 1, FORMATION_COLUMN = 2 };
 enum {
-    FORMATION_ANN_NONE = 0, FORMATION_ANN_LEAVE = 1, FORMATION_ANN_REJOIN = 2,
-    FORMATION_ANN_SHRINK = 3, FORMATION_ANN_CHANGE = 4, FORMATION_ANN_RESTORE = 5,
-    FORMATION_ANN_GIVE_WAY = 6      /* out of the formation making room for a LEAVE, not trapped */
+    FORMATION_ANN_NONE = 0,
+    FORMATION_ANN_LEAVE = 1,
+    FORMATION_ANN_REJOIN = 2,
+    FORMATION_ANN_SHRINK = 3,
+    FORMATION_ANN_CHANGE = 4,
+    FORMATION_ANN_RESTORE = 5,
+    FORMATION_ANN_GIVE_WAY = 6 /* out of the formation making room for a LEAVE, not trapped */
 };
 enum {
-    FORMATION_PHASE_NORMAL = 0, FORMATION_PHASE_SHRINK = 1,
-    FORMATION_PHASE_CHANGE = 2, FORMATION_PHASE_RESTORE = 3
+    FORMATION_PHASE_NORMAL = 0,
+    FORMATION_PHASE_SHRINK = 1,
+    FORMATION_PHASE_CHANGE = 2,
+    FORMATION_PHASE_RESTORE = 3
 };
 
 /* Slot k of n (0 <= k < n <= FORMATION_MAX_ROBOTS) as (x, y) and as
  * (l_d, phi_d). FORMATION_ERR_ARG on bad type, n, k, or non-positive spacing/scale. */
-int formation_slot_xy(double xy_m[2], int type, int n, int k, double spacing_m,
-                      double scale);
-int formation_slot(double *l_d_m, double *phi_d_rad, int type, int n, int k,
-                   double spacing_m, double scale);
+int formation_slot_xy(double xy_m[2], int type, int n, int k, double spacing_m, double scale);
+int formation_slot(double *l_d_m, double *phi_d_rad, int type, int n, int k, double spacing_m,
+                   double scale);
 /* Width D across the heading: lateral extent of the slots + robot width.
  * Returns a negative value on bad input. */
-double formation_width(int type, int n, double spacing_m, double scale,
-                       double robot_width_m);
+double formation_width(int type, int n, double spacing_m, double scale, double robot_width_m);
 /* 1 for a known announcement code (FORMATION_ANN_*). */
 int formation_ann_valid(int code);
 /* 1 for a robot that announced it is out of the formation (LEAVE: trapped
@@ -67,23 +72,23 @@ int formation_slots_held(const double xy_m[][2], const double slot_m[][2], int n
 
 /* ---- narrow-passage protocol ------------------------------------------- */
 typedef struct {
-    int     code;          /* FORMATION_ANN_* */
-    int32_t seq;           /* team_msg_t announce_seq */
-    int32_t origin;        /* robot that made the announcement */
-    int     type;          /* formation after the announcement */
-    double  scale;
+    int code;       /* FORMATION_ANN_* */
+    int32_t seq;    /* team_msg_t announce_seq */
+    int32_t origin; /* robot that made the announcement */
+    int type;       /* formation after the announcement */
+    double scale;
 } formation_announce;
 
 typedef struct {
-    double spacing_m;      /* nominal neighbour spacing (scale 1) */
+    double spacing_m; /* nominal neighbour spacing (scale 1) */
     double robot_width_m;
-    double safety_m;       /* narrow: passage < D + safety */
-    double shrink_scale;   /* scale used by SHRINK, in (0, 1] */
-    double dwell_s;        /* minimum time between two protocol steps */
-    double clear_hold_s;   /* passage clear for the nominal formation this
+    double safety_m;     /* narrow: passage < D + safety */
+    double shrink_scale; /* scale used by SHRINK, in (0, 1] */
+    double dwell_s;      /* minimum time between two protocol steps */
+    double clear_hold_s; /* passage clear for the nominal formation this
                             * long before RESTORE; set it >= the time the
                             * whole column needs to leave the passage */
-    double confirm_s;      /* a passage must read narrow this long (sensed
+    double confirm_s;    /* a passage must read narrow this long (sensed
                             * narrow, unknown readings in between hold the
                             * count, a wider one resets it) before SHRINK
                             * or CHANGE */
@@ -94,19 +99,19 @@ typedef struct {
 void formation_fsm_params_default(formation_fsm_params *p);
 
 typedef struct {
-    int     type_nominal;
-    double  scale_nominal;
-    int     type;          /* current formation */
-    double  scale;
-    int     phase;         /* FORMATION_PHASE_* */
-    int32_t seq;           /* adopted announcement (seq, origin) */
+    int type_nominal;
+    double scale_nominal;
+    int type; /* current formation */
+    double scale;
+    int phase;   /* FORMATION_PHASE_* */
+    int32_t seq; /* adopted announcement (seq, origin) */
     int32_t origin;
-    int     code;          /* its code */
-    int32_t seq_max_seen;  /* highest announce_seq heard (any code) */
-    double  phase_s;       /* time since the last protocol step */
-    double  clear_s;       /* time the passage has been clear */
-    double  narrow_s;      /* time it has read narrow for the current formation */
-    int     witnessed;     /* this robot sensed the narrow passage this episode */
+    int code;             /* its code */
+    int32_t seq_max_seen; /* highest announce_seq heard (any code) */
+    double phase_s;       /* time since the last protocol step */
+    double clear_s;       /* time the passage has been clear */
+    double narrow_s;      /* time it has read narrow for the current formation */
+    int witnessed;        /* this robot sensed the narrow passage this episode */
 } formation_fsm;
 
 int formation_fsm_init(formation_fsm *f, int type, double scale);
@@ -127,9 +132,8 @@ int formation_fsm_init(formation_fsm *f, int type, double scale);
  *       pulled the others back to the line inside the passage, they shrank
  *       again, and the team flip-flopped)
  *   RESTORE: narrow again -> SHRINK; after dwell -> NORMAL (silently). */
-int formation_fsm_step(formation_fsm *f, const formation_fsm_params *p,
-                       double passage_width_m, int n, double dt_s,
-                       int32_t self_id, int rearmost, formation_announce *out);
+int formation_fsm_step(formation_fsm *f, const formation_fsm_params *p, double passage_width_m,
+                       int n, double dt_s, int32_t self_id, int rearmost, formation_announce *out);
 
 /* A team-mate's announcement. Adopted (returns 1) if it is newer than the
  * adopted one: higher seq, or equal seq from a lower robot id (so two

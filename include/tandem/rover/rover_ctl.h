@@ -44,8 +44,13 @@
 #include "team.h"
 
 /* Values match rover_state_t MODE_*. */
-enum { ROVER_MODE_FORMATION = 0, ROVER_MODE_DEAD_ZONE = 1, ROVER_MODE_CHANGING = 2,
-       ROVER_MODE_AT_GOAL = 3, ROVER_MODE_SAFE_STOP = 4 };
+enum {
+    ROVER_MODE_FORMATION = 0,
+    ROVER_MODE_DEAD_ZONE = 1,
+    ROVER_MODE_CHANGING = 2,
+    ROVER_MODE_AT_GOAL = 3,
+    ROVER_MODE_SAFE_STOP = 4
+};
 /* The formation behaviour flown: the seed's law (behaviour_formation_seed)
  * or Kanayama slot tracking (behaviour_slot_track), for comparison. */
 enum { ROVER_LAW_SEED = 0, ROVER_LAW_KANAYAMA = 1 };
@@ -53,26 +58,36 @@ enum { ROVER_LAW_SEED = 0, ROVER_LAW_KANAYAMA = 1 };
  * TURN eq. 2's turn, FOLLOW the boundary (both trapped, LEAVE); YIELD
  * turning away from a trapped mate, CLEAR following the boundary out of
  * its way (both giving way, GIVE_WAY). */
-enum { ROVER_ESC_NONE = 0, ROVER_ESC_TURN = 1, ROVER_ESC_FOLLOW = 2, ROVER_ESC_YIELD = 3,
-       ROVER_ESC_CLEAR = 4, ROVER_ESC_COUNT = 5 };
+enum {
+    ROVER_ESC_NONE = 0,
+    ROVER_ESC_TURN = 1,
+    ROVER_ESC_FOLLOW = 2,
+    ROVER_ESC_YIELD = 3,
+    ROVER_ESC_CLEAR = 4,
+    ROVER_ESC_COUNT = 5
+};
 /* What bounds the time spent in a phase: nothing (the seed's turn ends
  * with the front free), yield_max_s, escape_max_s of boundary following. */
 enum { ROVER_ESC_LIMIT_NONE = 0, ROVER_ESC_LIMIT_YIELD = 1, ROVER_ESC_LIMIT_FOLLOW = 2 };
 /* What a phase flies: the blend (not escaping), eq. 2's turn, a turn on
  * the spot away from the trapped mate, the boundary follower. */
-enum { ROVER_ESC_FLY_BLEND = 0, ROVER_ESC_FLY_EQ2 = 1, ROVER_ESC_FLY_SPIN = 2,
-       ROVER_ESC_FLY_FOLLOW = 3 };
+enum {
+    ROVER_ESC_FLY_BLEND = 0,
+    ROVER_ESC_FLY_EQ2 = 1,
+    ROVER_ESC_FLY_SPIN = 2,
+    ROVER_ESC_FLY_FOLLOW = 3
+};
 
 /* One row of the escape's state table. */
 typedef struct {
-    int phase;       /* ROVER_ESC_*: the row's own index */
-    int announce;    /* FORMATION_ANN_* broadcast while in it (NONE row: FORMATION_ANN_NONE,
+    int phase;    /* ROVER_ESC_*: the row's own index */
+    int announce; /* FORMATION_ANN_* broadcast while in it (NONE row: FORMATION_ANN_NONE,
                       * the passage protocol's own announcement goes out) */
-    int mode;        /* ROVER_MODE_* reported */
-    int fly;         /* ROVER_ESC_FLY_* */
-    int limit;       /* ROVER_ESC_LIMIT_* */
-    int next;        /* phase taken when its exit condition holds */
-    int on_limit;    /* phase taken when the limit runs out (itself: the other wall side) */
+    int mode;     /* ROVER_MODE_* reported */
+    int fly;      /* ROVER_ESC_FLY_* */
+    int limit;    /* ROVER_ESC_LIMIT_* */
+    int next;     /* phase taken when its exit condition holds */
+    int on_limit; /* phase taken when the limit runs out (itself: the other wall side) */
 } rover_esc_row;
 
 /* The table flown (rover_ctl_escape.c) and its validator:
@@ -101,148 +116,149 @@ enum { ROVER_WAIT_NONE = 0, ROVER_WAIT_STAND = 1, ROVER_WAIT_BACK = 2 };
 typedef struct {
     behaviour_params beh;
     formation_fsm_params fsm;
-    int    blend_mode;          /* BEH_BLEND_* */
-    int    formation_law;       /* ROVER_LAW_* */
-    int    formation;           /* nominal FORMATION_* */
-    double team_timeout_s;      /* heartbeat: 1 s */
-    double beacon_alpha;        /* team_observe gain */
-    double stale_s;             /* sensors older than this: safe stop */
-    double team_period_s;       /* team messages: 0.1 s (10 Hz) */
+    int blend_mode;        /* BEH_BLEND_* */
+    int formation_law;     /* ROVER_LAW_* */
+    int formation;         /* nominal FORMATION_* */
+    double team_timeout_s; /* heartbeat: 1 s */
+    double beacon_alpha;   /* team_observe gain */
+    double stale_s;        /* sensors older than this: safe stop */
+    double team_period_s;  /* team messages: 0.1 s (10 Hz) */
     double wheel_radius_m, axle_track_m;
-    double follow_dist_m;       /* escape: wall distance kept */
+    double follow_dist_m; /* escape: wall distance kept */
     double follow_v_mps;
     double follow_w_radps;
-    double escape_max_s;        /* boundary following: the other way round after this long */
-    double give_way_m;          /* a trapped (LEAVE) mate this near conflicts; coming our way: give way */
-    double yield_max_s;         /* giving way: turn away at most this long, then follow */
-    double give_way_seen_s;     /* ... to a mate the camera saw this recently (no wall between) */
-    double yield_near_m;        /* axles this near, walls near or one out of formation: a conflict */
-    double arrival_m;           /* the team's mean within the formation's half extent plus this
+    double escape_max_s; /* boundary following: the other way round after this long */
+    double give_way_m;   /* a trapped (LEAVE) mate this near conflicts; coming our way: give way */
+    double yield_max_s;  /* giving way: turn away at most this long, then follow */
+    double give_way_seen_s; /* ... to a mate the camera saw this recently (no wall between) */
+    double yield_near_m;    /* axles this near, walls near or one out of formation: a conflict */
+    double arrival_m;       /* the team's mean within the formation's half extent plus this
                                    of the goal: slots by where the robots are (0: by id) */
-    double arrival_swap_m2;     /* two robots swap goal slots only when that shortens their summed
+    double arrival_swap_m2; /* two robots swap goal slots only when that shortens their summed
                                    squared distances by more than this */
-    double queue_m;             /* a mate in formation this near ahead ... */
-    double queue_cone_rad;      /* ... within this of our heading ... */
-    double queue_slow_mps;      /* ... slower than this, or than us by queue_closing_mps: a conflict */
+    double queue_m;         /* a mate in formation this near ahead ... */
+    double queue_cone_rad;  /* ... within this of our heading ... */
+    double queue_slow_mps;  /* ... slower than this, or than us by queue_closing_mps: a conflict */
     double queue_closing_mps;
-    double hold_max_s;          /* wait at most this long for outranking mates in formation */
-    double back_max_m;          /* clearing an outranking mate's way: back out at most this far ... */
-    double back_v_mps;          /* ... this fast */
-    double wedge_max_s;         /* wedged this long (may neither turn nor back): a turn clear of mates' boxes */
-    double follow_lost_s;       /* boundary following: no wall in reach this long ends it */
-    double walls_near_m;        /* a wall within follow_dist_m + this on a side: confined */
-    double leave_gain_m;        /* Bug2's leave rule: this much nearer the goal than the hit point */
-    double follow_mate_ahead_m; /* a follower turns away from a mate this short of it */
-    double follow_moving_mps;   /* slower than this a follower is not following (escape_max_s) */
-    double passage_sense_max_m; /* side readings beyond: no passage wall */
-    double mate_keep_m;         /* a mate's echo nearer than this stays an obstacle */
-    double passage_front_min_m; /* a passage needs the front open this far */
-    double v_change_mps;        /* speed cap while shrinking / changing type */
+    double hold_max_s; /* wait at most this long for outranking mates in formation */
+    double back_max_m; /* clearing an outranking mate's way: back out at most this far ... */
+    double back_v_mps; /* ... this fast */
+    double
+        wedge_max_s; /* wedged this long (may neither turn nor back): a turn clear of mates' boxes */
+    double follow_lost_s; /* boundary following: no wall in reach this long ends it */
+    double walls_near_m;  /* a wall within follow_dist_m + this on a side: confined */
+    double leave_gain_m;  /* Bug2's leave rule: this much nearer the goal than the hit point */
+    double follow_mate_ahead_m;   /* a follower turns away from a mate this short of it */
+    double follow_moving_mps;     /* slower than this a follower is not following (escape_max_s) */
+    double passage_sense_max_m;   /* side readings beyond: no passage wall */
+    double mate_keep_m;           /* a mate's echo nearer than this stays an obstacle */
+    double passage_front_min_m;   /* a passage needs the front open this far */
+    double v_change_mps;          /* speed cap while shrinking / changing type */
     double guard_m, guard_stop_m; /* collision guard: slow below, stop at (echo in the way) */
-    double guard_lane_m;        /* an echo this far outside the swept lane is not in the way */
-    double side_guard_m;        /* an echo alongside this near: turn away ... */
-    double side_turn_radps;     /* ... at least this fast */
-    double goal_heading_gain;   /* R0 heading toward the goal bearing, 0..1 (see .c) */
-    double arrive_m;            /* R0 drawn onto the goal frame within this of it (0: off) */
-    double sonar_max_m;         /* range reported for a masked (mate) echo */
-    double consensus_gain;      /* frame consensus rate, 1/s (0: own odometry only) */
-    double consensus_age_s;     /* only mates seen this recently count */
-    double consensus_max_mps;   /* at most this much correction per second */
-    double consensus_range_m;   /* only mates seen this near count (own heading error) */
-    int    localize;            /* 1: fuse landmarks (rover_ctl_set_landmarks); 0: odometry
+    double guard_lane_m;          /* an echo this far outside the swept lane is not in the way */
+    double side_guard_m;          /* an echo alongside this near: turn away ... */
+    double side_turn_radps;       /* ... at least this fast */
+    double goal_heading_gain;     /* R0 heading toward the goal bearing, 0..1 (see .c) */
+    double arrive_m;              /* R0 drawn onto the goal frame within this of it (0: off) */
+    double sonar_max_m;           /* range reported for a masked (mate) echo */
+    double consensus_gain;        /* frame consensus rate, 1/s (0: own odometry only) */
+    double consensus_age_s;       /* only mates seen this recently count */
+    double consensus_max_mps;     /* at most this much correction per second */
+    double consensus_range_m;     /* only mates seen this near count (own heading error) */
+    int localize;                 /* 1: fuse landmarks (rover_ctl_set_landmarks); 0: odometry
                                  * and frame consensus */
-    localize_params loc;      /* its d_m is taken from beh.d_m */
+    localize_params loc;          /* its d_m is taken from beh.d_m */
     double loc_sd0_xy_m, loc_sd0_theta_rad; /* start pose uncertainty */
 } rover_ctl_params;
 
 /* One received team message (fields of team_msg_t). */
 typedef struct {
-    team_member m;            /* robot .. announce_seq; t_s = receive time */
+    team_member m; /* robot .. announce_seq; t_s = receive time */
     double goal_m[2];
 } rover_team_msg;
 
 typedef struct {
-    unicycle_cmd u;           /* drive command */
-    int    mode;                /* ROVER_MODE_* */
-    int    send_team;           /* 1: publish `team` now */
-    team_member team;         /* own team message (x, y, theta of O) */
-    pose2 o;                  /* own O pose (odometry, team frame) */
+    unicycle_cmd u;   /* drive command */
+    int mode;         /* ROVER_MODE_* */
+    int send_team;    /* 1: publish `team` now */
+    team_member team; /* own team message (x, y, theta of O) */
+    pose2 o;          /* own O pose (odometry, team frame) */
     double weight[BEH_COUNT];
-    double slot_err_m;          /* own estimate */
-    int    team_size;           /* including self */
+    double slot_err_m; /* own estimate */
+    int team_size;     /* including self */
 } rover_ctl_out;
 
 typedef struct {
     int32_t id;
     rover_ctl_params p;
     odometer odo;
-    double  corr_m[2];          /* frame consensus: added to the odometry position */
-    localizer loc;             /* own pose when p.localize (started with the odometry) */
-    int     n_lm;               /* landmarks known (team frame) */
-    double  lm_m[LOCALIZE_LANDMARKS_MAX][2];
-    int     have_enc, have_sonar;
+    double corr_m[2]; /* frame consensus: added to the odometry position */
+    localizer loc;    /* own pose when p.localize (started with the odometry) */
+    int n_lm;         /* landmarks known (team frame) */
+    double lm_m[LOCALIZE_LANDMARKS_MAX][2];
+    int have_enc, have_sonar;
     pose2 start_c;
-    double  enc_t_s, sonar_t_s, prev_enc_t_s;
-    double  v_est_mps, w_est_radps;
-    double  range_m[BEH_SONAR_N];
-    double  goal_m[2];          /* team goal, team frame */
-    team_table  team;
+    double enc_t_s, sonar_t_s, prev_enc_t_s;
+    double v_est_mps, w_est_radps;
+    double range_m[BEH_SONAR_N];
+    double goal_m[2]; /* team goal, team frame */
+    team_table team;
     formation_fsm fsm;
     behaviour_exception exc;
-    int     esc_phase;          /* ROVER_ESC_* */
-    int     esc_side;           /* -1: wall kept on the right, +1 left */
-    int     esc_yield;          /* 1: giving way to a leaving mate, not trapped (YIELD, CLEAR) */
-    int     esc_turn;           /* giving way: turn direction (+1 left) */
-    double  esc_hit_dist_m, esc_s;
-    double  esc_lost_s;         /* time without a wall in reach while following */
-    double  esc_wait_s;         /* escaping: time stood for an outranking mate in the way */
-    int     holding;            /* in formation, waiting for outranking mates: ROVER_WAIT_* */
-    int     esc_backing;        /* 1: backing out of an outranking mate's way (V < 0 allowed) */
-    double  esc_back_m;         /* backed so far in this escape */
-    double  esc_wedge_s;        /* standing wedged between mates this long */
-    double  crumb_m[ROVER_CRUMBS][2]; /* the axle's path, a crumb every ROVER_CRUMB_STEP_M,
+    int esc_phase; /* ROVER_ESC_* */
+    int esc_side;  /* -1: wall kept on the right, +1 left */
+    int esc_yield; /* 1: giving way to a leaving mate, not trapped (YIELD, CLEAR) */
+    int esc_turn;  /* giving way: turn direction (+1 left) */
+    double esc_hit_dist_m, esc_s;
+    double esc_lost_s;  /* time without a wall in reach while following */
+    double esc_wait_s;  /* escaping: time stood for an outranking mate in the way */
+    int holding;        /* in formation, waiting for outranking mates: ROVER_WAIT_* */
+    int esc_backing;    /* 1: backing out of an outranking mate's way (V < 0 allowed) */
+    double esc_back_m;  /* backed so far in this escape */
+    double esc_wedge_s; /* standing wedged between mates this long */
+    double crumb_m[ROVER_CRUMBS][2]; /* the axle's path, a crumb every ROVER_CRUMB_STEP_M,
                                        * oldest first: the way back known free */
-    int     crumb_n;            /* crumbs held (the newest is crumb_m[crumb_n - 1]) */
-    double  hold_s;             /* time waited (in formation) since the wait set was last empty */
-    unicycle_cmd wait_u;        /* the command while holding (stand, or back along the crumbs) */
-    int     wait_n;             /* the wait set's size this period */
-    int32_t wait_id[TEAM_MAX];  /* the mates waited for this period (rover_ctl_wait_set) */
-    int     escapes;            /* dead-zone entries */
-    int     ann_code;           /* own latest announcement */
+    int crumb_n;                     /* crumbs held (the newest is crumb_m[crumb_n - 1]) */
+    double hold_s;             /* time waited (in formation) since the wait set was last empty */
+    unicycle_cmd wait_u;       /* the command while holding (stand, or back along the crumbs) */
+    int wait_n;                /* the wait set's size this period */
+    int32_t wait_id[TEAM_MAX]; /* the mates waited for this period (rover_ctl_wait_set) */
+    int escapes;               /* dead-zone entries */
+    int ann_code;              /* own latest announcement */
     int32_t ann_seq;
-    double  team_tx_t_s;
-    double  tx_xy_m[2];         /* own position in the last team message (the goal's slot
+    double team_tx_t_s;
+    double tx_xy_m[2];     /* own position in the last team message (the goal's slot
                                    assignment ranks us by it, as every mate does) */
-    int     formation_changes;  /* adopted changes of type (own view) */
+    int formation_changes; /* adopted changes of type (own view) */
     behaviour_blender blend;
 } rover_ctl_state;
 
 void rover_ctl_params_default(rover_ctl_params *p);
 /* ROVER_CTL_OK or ROVER_CTL_ERR_ARG. */
-int  rover_ctl_params_validate(const rover_ctl_params *p);
+int rover_ctl_params_validate(const rover_ctl_params *p);
 
 /* start_c: pose of C in the team frame; goal in the team frame.
  * ROVER_CTL_ERR_ARG on bad input or parameters. */
-int  rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id,
-                    const pose2 *start_c, const double goal_m[2]);
+int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id, const pose2 *start_c,
+                   const double goal_m[2]);
 /* The world's LED landmarks in the team frame (landmark k is camera
  * target ROVER_LANDMARK_ID_BASE + k); call before the first encoder
  * reading. ROVER_CTL_ERR_ARG on bad input or too many. */
-int  rover_ctl_set_landmarks(rover_ctl_state *c, const double (*lm_m)[2], int n);
+int rover_ctl_set_landmarks(rover_ctl_state *c, const double (*lm_m)[2], int n);
 /* Accumulated wheel angles at time t_s. The first reading anchors the
  * odometry at start_c. ROVER_CTL_ERR_ARG on non-finite input. */
-int  rover_ctl_encoders(rover_ctl_state *c, double left_rad, double right_rad, double t_s);
+int rover_ctl_encoders(rover_ctl_state *c, double left_rad, double right_rad, double t_s);
 /* The latest range of each transducer (table order). ROVER_CTL_ERR_ARG on
  * bad input. */
-int  rover_ctl_sonar(rover_ctl_state *c, const double range_m[BEH_SONAR_N], double t_s);
+int rover_ctl_sonar(rover_ctl_state *c, const double range_m[BEH_SONAR_N], double t_s);
 /* A team-mate's message heard at t_s. Returns team_update's result
  * (1 new member, 0 refreshed), ROVER_CTL_ERR_ARG invalid. */
-int  rover_ctl_team_msg(rover_ctl_state *c, const rover_team_msg *msg, double t_s);
+int rover_ctl_team_msg(rover_ctl_state *c, const rover_team_msg *msg, double t_s);
 /* Camera: beacon of `target` (a mate, or a landmark: ROVER_LANDMARK_ID_BASE
  * + k) at range / bearing. ROVER_CTL_ERR_ARG unknown or bad (team_observe's
  * and localize_landmark's -1 alike); for a landmark 1 fused, 0 gated out
  * or localization off. */
-int  rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double bearing_rad);
+int rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double bearing_rad);
 /* ---- restart (tandem-rover --journal) ------------------------------------
  * What a controller restarted after a crash or a kill takes back from its
  * last snapshot: its own pose (odometry with the encoder readings it
@@ -255,17 +271,17 @@ int  rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double
  * numbers, id first. */
 #define ROVER_CTL_SNAPSHOT_VALUES 78
 /* ROVER_CTL_ERR_ARG before the first encoder reading (nothing to keep). */
-int  rover_ctl_snapshot(const rover_ctl_state *c, double v[ROVER_CTL_SNAPSHOT_VALUES]);
+int rover_ctl_snapshot(const rover_ctl_state *c, double v[ROVER_CTL_SNAPSHOT_VALUES]);
 /* c as made by rover_ctl_init (same id) and rover_ctl_set_landmarks;
  * ROVER_CTL_ERR_SNAPSHOT (c unchanged) for another robot's snapshot or
  * values out of range. */
-int  rover_ctl_resume(rover_ctl_state *c, const double v[ROVER_CTL_SNAPSHOT_VALUES]);
+int rover_ctl_resume(rover_ctl_state *c, const double v[ROVER_CTL_SNAPSHOT_VALUES]);
 /* ROVER_CTL_OK if the snapshot's field table is sound (rover_snapshot.c). */
-int  rover_snapshot_validate(void);
+int rover_snapshot_validate(void);
 
 /* One control period ending at t_s. ROVER_CTL_ERR_ARG on bad input
  * (out->u = 0). */
-int  rover_ctl_step(rover_ctl_state *c, double t_s, double dt_s, rover_ctl_out *out);
+int rover_ctl_step(rover_ctl_state *c, double t_s, double dt_s, rover_ctl_out *out);
 
 /* The ranges with every echo the team table explains as a mate (its
  * chassis where the table puts it) replaced by sonar_max_m, except echoes
@@ -283,7 +299,6 @@ void rover_ctl_guard(unicycle_cmd *u, const double range_m[BEH_SONAR_N], const p
 
 /* Escape wall following (exposed for tests): command that keeps the
  * obstacle on `side` (-1 right, +1 left) at follow_dist_m. */
-void rover_ctl_follow(unicycle_cmd *u, const sonar_groups *g, int side,
-                      const rover_ctl_params *p);
+void rover_ctl_follow(unicycle_cmd *u, const sonar_groups *g, int side, const rover_ctl_params *p);
 
 #endif

@@ -16,35 +16,37 @@
 #include "rover_world.h"
 #include "vec2.h"
 
-#define ROVER_MAP_OK              0
-#define ROVER_MAP_ERR_ARG       (-1)  /* NULL, n, spacing or formation out of range */
-#define ROVER_MAP_ERR_SIZE      (-2)  /* width or height < 1 or > ROVER_MAP_MAX_SIDE */
+#define ROVER_MAP_OK 0
+#define ROVER_MAP_ERR_ARG (-1)        /* NULL, n, spacing or formation out of range */
+#define ROVER_MAP_ERR_SIZE (-2)       /* width or height < 1 or > ROVER_MAP_MAX_SIDE */
 #define ROVER_MAP_ERR_RESOLUTION (-3) /* resolution not finite and > 0, origin not finite */
-#define ROVER_MAP_ERR_BOXES     (-4)  /* the occupied cells need more than the box capacity */
-#define ROVER_MAP_ERR_START     (-5)  /* start not finite, or a robot's body off the map or on an obstacle */
-#define ROVER_MAP_ERR_GOAL      (-6)  /* goal not finite, off the map or in an occupied cell */
-#define ROVER_MAP_ERR_LANDMARKS (-7)  /* a landmark not finite, or more than ROVER_WORLD_MAX_LANDMARKS */
-#define ROVER_MAP_ERR_CELL      (-8)  /* a cell value other than FREE or OCCUPIED */
+#define ROVER_MAP_ERR_BOXES (-4)      /* the occupied cells need more than the box capacity */
+#define ROVER_MAP_ERR_START \
+    (-5) /* start not finite, or a robot's body off the map or on an obstacle */
+#define ROVER_MAP_ERR_GOAL (-6) /* goal not finite, off the map or in an occupied cell */
+#define ROVER_MAP_ERR_LANDMARKS \
+    (-7)                        /* a landmark not finite, or more than ROVER_WORLD_MAX_LANDMARKS */
+#define ROVER_MAP_ERR_CELL (-8) /* a cell value other than FREE or OCCUPIED */
 
-#define ROVER_MAP_MAX_SIDE  2048                       /* cells along x or y */
+#define ROVER_MAP_MAX_SIDE 2048 /* cells along x or y */
 #define ROVER_MAP_MAX_CELLS (2048L * 2048L)
-#define ROVER_MAP_WALL_HEIGHT_M 0.5                    /* the boxes' height (the built-in walls') */
+#define ROVER_MAP_WALL_HEIGHT_M 0.5 /* the boxes' height (the built-in walls') */
 #define ROVER_MAP_LANDMARKS_AUTO (-1)
 
 enum { ROVER_MAP_FREE = 0, ROVER_MAP_OCCUPIED = 1 };
 
 typedef struct {
-    int    width, height;          /* cells */
-    double resolution_m;           /* cell side */
-    double origin_x_m, origin_y_m; /* lower-left corner of cell (0, 0) */
-    unsigned char cell[ROVER_MAP_MAX_CELLS];   /* [j * width + i], ROVER_MAP_FREE/OCCUPIED */
+    int width, height;                       /* cells */
+    double resolution_m;                     /* cell side */
+    double origin_x_m, origin_y_m;           /* lower-left corner of cell (0, 0) */
+    unsigned char cell[ROVER_MAP_MAX_CELLS]; /* [j * width + i], ROVER_MAP_FREE/OCCUPIED */
 } rover_map;
 
 /* What the file adds to the grid (its tandem: section, or the options). */
 typedef struct {
-    pose2  start;                  /* the team reference's start (mean of the O points), heading */
+    pose2 start; /* the team reference's start (mean of the O points), heading */
     double goal_m[2];
-    int    n_landmarks;            /* ROVER_MAP_LANDMARKS_AUTO: placed by rover_world_from_map */
+    int n_landmarks; /* ROVER_MAP_LANDMARKS_AUTO: placed by rover_world_from_map */
     double landmark_m[ROVER_WORLD_MAX_LANDMARKS][2];
 } rover_map_site;
 
@@ -72,8 +74,8 @@ int rover_map_merge(rover_map *m, rover_obstacle *box, int cap, int *n);
  * landmarks from s (auto: see rover_map_auto_landmarks). Every robot's
  * body must lie on the map clear of the boxes and the goal on a free
  * cell. w->world is ROVER_WORLD_FILE. ROVER_MAP_OK or the code (w zeroed). */
-int rover_world_from_map(rover_world_config *w, rover_map *m, const rover_map_site *s,
-                         int n, double spacing_m, int formation);
+int rover_world_from_map(rover_world_config *w, rover_map *m, const rover_map_site *s, int n,
+                         double spacing_m, int formation);
 
 /* LED posts along the way: pairs 3.5 m either side of the straight line
  * from start to goal, every 3 m from 3 m behind the start to 3 m past the

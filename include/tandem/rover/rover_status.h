@@ -1,7 +1,6 @@
 /* The status codes of the rover domain's modules and the text of each
  * (status.h): <module>_strerror(rc) returns it, STATUS_UNKNOWN_TEXT for a
- * value that is no code of the module. Never NULL. (rover_map has its own,
- * rover_map_strerror.) */
+ * value that is no code of the module. Never NULL. */
 #ifndef TANDEM_ROVER_STATUS_H
 #define TANDEM_ROVER_STATUS_H
 
@@ -15,6 +14,7 @@
 #include "team.h"
 #include "rover_world.h"
 #include "rover_ctl.h"
+#include "rover_map.h"
 
 #define UNICYCLE_CODES(X) \
     X(0, "ok")            \
@@ -52,6 +52,18 @@
     X(ROVER_CTL_OK, "ok")                                          \
     X(ROVER_CTL_ERR_ARG, "bad argument, parameter set or reading") \
     X(ROVER_CTL_ERR_SNAPSHOT, "a snapshot of another robot or out of range")
+#define ROVER_MAP_CODES(X)                                                               \
+    X(ROVER_MAP_OK, "ok")                                                                \
+    X(ROVER_MAP_ERR_ARG, "bad argument")                                                 \
+    X(ROVER_MAP_ERR_SIZE, "width and height must be 1..2048 cells (ROVER_MAP_MAX_SIDE)") \
+    X(ROVER_MAP_ERR_RESOLUTION, "resolution must be finite and > 0, origin finite")      \
+    X(ROVER_MAP_ERR_BOXES,                                                               \
+      "the occupied cells merge into more than 2048 boxes (ROVER_WORLD_MAX_OBST)")       \
+    X(ROVER_MAP_ERR_START, "a robot's start is off the map or on an obstacle")           \
+    X(ROVER_MAP_ERR_GOAL, "the goal is off the map or on an obstacle")                   \
+    X(ROVER_MAP_ERR_LANDMARKS,                                                           \
+      "landmarks: not finite, or more than 64 (ROVER_WORLD_MAX_LANDMARKS)")              \
+    X(ROVER_MAP_ERR_CELL, "a cell is neither free nor occupied")
 
 const char *unicycle_strerror(int rc);
 const char *odometry_strerror(int rc);

@@ -19,65 +19,71 @@
 
 #include "vec2.h"
 
-#define ROVER_WORLD_ERR_ARG (-1)      /* NULL, n, spacing or formation out of
+#define ROVER_WORLD_ERR_ARG \
+    (-1)                             /* NULL, n, spacing or formation out of
                                          range, a non-finite pose          */
-#define ROVER_WORLD_ERR_UNKNOWN (-2)  /* rover_world_id: no such world name */
+#define ROVER_WORLD_ERR_UNKNOWN (-2) /* rover_world_id: no such world name */
 
 #define ROVER_WORLD_MAX_ROBOTS 128
-#define ROVER_WORLD_MAX_OBST   2048   /* a map's merged boxes (rover_map.h) */
-#define ROVER_WORLD_ROW_MAX    10      /* robots per start row */
-#define ROVER_WORLD_MAX_LANDMARKS 64   /* = LOCALIZE_LANDMARKS_MAX */
+#define ROVER_WORLD_MAX_OBST 2048    /* a map's merged boxes (rover_map.h) */
+#define ROVER_WORLD_ROW_MAX 10       /* robots per start row */
+#define ROVER_WORLD_MAX_LANDMARKS 64 /* = LOCALIZE_LANDMARKS_MAX */
 /* The camera reports landmark k (rover_world_config.landmark_m[k]) as beacon
  * target ROVER_LANDMARK_ID_BASE + k (robot ids stay below it). */
 #define ROVER_LANDMARK_ID_BASE 1000
 
 /* Pioneer 2 DX body (the chassis box, relative to the axle centre C). */
-#define ROVER_BODY_LENGTH_M   0.44
-#define ROVER_BODY_WIDTH_M    0.38
-#define ROVER_BODY_OFFSET_M  (-0.03)  /* box centre is this far ahead of C */
+#define ROVER_BODY_LENGTH_M 0.44
+#define ROVER_BODY_WIDTH_M 0.38
+#define ROVER_BODY_OFFSET_M (-0.03) /* box centre is this far ahead of C */
 /* O (the LED beacon, the camera) lies d behind C, signed: -0.15 puts it
  * 0.15 m AHEAD of the axle, where the seed's formation law has stable
  * heading dynamics in forward motion (docs/formation.md) */
-#define ROVER_BEACON_D_M    (-0.15)
+#define ROVER_BEACON_D_M (-0.15)
 /* The robot's hardware schedule, in simulator steps (1 ms): one frame of
  * encoders + sonar every 50 ms, one camera frame every 100 ms. A lockstep
  * controller at step k expects the frames of the last multiple of each. */
 #define ROVER_SENSOR_PERIOD_STEPS 50
 #define ROVER_CAMERA_PERIOD_STEPS 100
 
-enum { ROVER_WORLD_OPEN = 0, ROVER_WORLD_OBSTACLES = 1, ROVER_WORLD_CORRIDOR = 2,
-       ROVER_WORLD_DEADZONE = 3, ROVER_WORLD_COUNT = 4 };
+enum {
+    ROVER_WORLD_OPEN = 0,
+    ROVER_WORLD_OBSTACLES = 1,
+    ROVER_WORLD_CORRIDOR = 2,
+    ROVER_WORLD_DEADZONE = 3,
+    ROVER_WORLD_COUNT = 4
+};
 /* A world read from a map file (rover_map.h): not one of the built-ins. */
 #define ROVER_WORLD_FILE 100
 enum { ROVER_OBST_BOX = 0, ROVER_OBST_CIRCLE = 1 };
 
 typedef struct {
-    int    kind;          /* ROVER_OBST_* */
-    double cx_m, cy_m;    /* centre */
-    double hx_m, hy_m;    /* box half extents (box frame) */
-    double angle_rad;     /* box orientation */
-    double r_m;           /* circle radius */
-    double height_m;      /* from the floor up */
+    int kind;          /* ROVER_OBST_* */
+    double cx_m, cy_m; /* centre */
+    double hx_m, hy_m; /* box half extents (box frame) */
+    double angle_rad;  /* box orientation */
+    double r_m;        /* circle radius */
+    double height_m;   /* from the floor up */
 } rover_obstacle;
 
 typedef struct {
-    int     world;                                /* ROVER_WORLD_* */
-    int     n_robots;
-    double  spacing_m;                            /* start grid spacing */
-    pose2 start_c[ROVER_WORLD_MAX_ROBOTS];      /* robot id k is index k-1 */
-    double  goal_m[2];                            /* world frame */
-    pose2 team_origin;                          /* team frame in the world */
-    int     n_obst;
+    int world; /* ROVER_WORLD_* */
+    int n_robots;
+    double spacing_m;                      /* start grid spacing */
+    pose2 start_c[ROVER_WORLD_MAX_ROBOTS]; /* robot id k is index k-1 */
+    double goal_m[2];                      /* world frame */
+    pose2 team_origin;                     /* team frame in the world */
+    int n_obst;
     rover_obstacle obst[ROVER_WORLD_MAX_OBST];
-    double  x_min_m, y_min_m, x_max_m, y_max_m;   /* extent for plots/grids */
+    double x_min_m, y_min_m, x_max_m, y_max_m; /* extent for plots/grids */
     /* LED landmarks at known places (world frame), at the height of the
      * robots' beacons: pairs 3.5 m either side of the way every 3 m from
      * behind the start to past the goal, and in the corridor world two
      * pairs on the corridor's inner faces (the funnel walls hide the
      * outer ones there). Not obstacles: the posts stand outside the space
      * the team drives through (sim/models/sim_rovers.c sees them as LEDs only). */
-    int     n_landmarks;
-    double  landmark_m[ROVER_WORLD_MAX_LANDMARKS][2];
+    int n_landmarks;
+    double landmark_m[ROVER_WORLD_MAX_LANDMARKS][2];
 } rover_world_config;
 
 /* "open" | "obstacles" | "corridor" | "deadzone" -> ROVER_WORLD_*, else
@@ -113,7 +119,7 @@ double rover_obstacle_distance(const rover_obstacle *o, double x_m, double y_m);
  * alive robot's footprint (negative: overlapping). Footprint outlines are
  * sampled at corners and edge midpoints; the box-to-box distance is the
  * minimum of both directions. Dead robots get INFINITY. 0 ok, ROVER_WORLD_ERR_ARG bad. */
-int rover_world_clearance(const rover_world_config *w, const pose2 *c, const int *alive,
-                          int n, double *clearance_m);
+int rover_world_clearance(const rover_world_config *w, const pose2 *c, const int *alive, int n,
+                          double *clearance_m);
 
 #endif

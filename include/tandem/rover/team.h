@@ -22,34 +22,34 @@
 #include "unicycle.h"
 #include "vec2.h"
 
-#define TEAM_ERR_ARG (-1)      /* NULL, non-finite input or invalid message */
-#define TEAM_ERR_FULL (-2)     /* a new mate but TEAM_MAX are held          */
-#define TEAM_ERR_UNKNOWN (-3)  /* no such mate, or none to average          */
+#define TEAM_ERR_ARG (-1)     /* NULL, non-finite input or invalid message */
+#define TEAM_ERR_FULL (-2)    /* a new mate but TEAM_MAX are held          */
+#define TEAM_ERR_UNKNOWN (-3) /* no such mate, or none to average          */
 
 #define TEAM_MAX 128
 #define TEAM_TIMEOUT_S_DEFAULT 1.0
-#define TEAM_STILL_MPS 0.05      /* a mate slower than this counts as standing */
+#define TEAM_STILL_MPS 0.05 /* a mate slower than this counts as standing */
 
 typedef struct {
     int32_t robot;
-    double  x_m, y_m, theta_rad;  /* reported pose of O */
-    double  v_mps, w_radps;
-    int     formation;            /* FORMATION_* */
-    double  scale;
-    int     announce;             /* FORMATION_ANN_* */
+    double x_m, y_m, theta_rad; /* reported pose of O */
+    double v_mps, w_radps;
+    int formation; /* FORMATION_* */
+    double scale;
+    int announce; /* FORMATION_ANN_* */
     int32_t announce_seq;
-    double  t_s;                  /* time heard, caller's clock */
-    double  off_x_m, off_y_m;     /* camera correction (see above) */
-    int     observed;             /* number of beacon observations fused */
-    double  obs_t_s;              /* time of the last one */
-    double  obs_range_m;          /* and its range */
+    double t_s;              /* time heard, caller's clock */
+    double off_x_m, off_y_m; /* camera correction (see above) */
+    int observed;            /* number of beacon observations fused */
+    double obs_t_s;          /* time of the last one */
+    double obs_range_m;      /* and its range */
 } team_member;
 
 typedef struct {
     int32_t self_id;
-    double  timeout_s;
-    int     n;                    /* team-mates held (self not included) */
-    team_member m[TEAM_MAX];    /* sorted by robot id */
+    double timeout_s;
+    int n;                   /* team-mates held (self not included) */
+    team_member m[TEAM_MAX]; /* sorted by robot id */
 } team_table;
 
 int team_init(team_table *t, int32_t self_id, double timeout_s);
@@ -90,16 +90,15 @@ int team_observe(team_table *t, int32_t robot, const pose2 *own_o, double range_
  * A robot that moves its own estimate by (dx, dy) calls team_shift_offsets
  * with the same (dx, dy): every sighting it makes from now on moves with
  * it, so the offsets it holds must too. */
-int  team_mean_offset(const team_table *t, double now_s, double max_age_s, double max_range_m,
-                      double off_m[2]);
+int team_mean_offset(const team_table *t, double now_s, double max_age_s, double max_range_m,
+                     double off_m[2]);
 void team_shift_offsets(team_table *t, double dx_m, double dy_m);
 
 /* Team-average reference R0 at now_s. self may be NULL (not counted);
  * self_left = 1 leaves self out of the average (own dead-zone escape).
  * Returns the number of robots averaged; TEAM_ERR_UNKNOWN if
  * none, TEAM_ERR_ARG on bad input. */
-int team_reference(unicycle_state *ref, const team_table *t,
-                   const unicycle_state *self, int self_left, double d_m,
-                   double now_s);
+int team_reference(unicycle_state *ref, const team_table *t, const unicycle_state *self,
+                   int self_left, double d_m, double now_s);
 
 #endif

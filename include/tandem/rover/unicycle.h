@@ -22,7 +22,7 @@
 
 #include "vec2.h"
 
-#define UNICYCLE_ERR_ARG (-1)  /* non-finite input (the output is then 0) */
+#define UNICYCLE_ERR_ARG (-1) /* non-finite input (the output is then 0) */
 
 /* A control (V, w). */
 typedef struct {
@@ -41,8 +41,8 @@ typedef struct {
 } unicycle_state;
 
 enum {
-    UNICYCLE_SAT_CLIP = 0,   /* seed eq. 6 / 10: per component */
-    UNICYCLE_SAT_SCALE = 1   /* one factor for both: keeps V / w */
+    UNICYCLE_SAT_CLIP = 0, /* seed eq. 6 / 10: per component */
+    UNICYCLE_SAT_SCALE = 1 /* one factor for both: keeps V / w */
 };
 
 /* Pose of O from pose of C (and back); same heading. d_m signed (above). */
@@ -50,8 +50,7 @@ void unicycle_o_from_c(pose2 *o, const pose2 *c, double d_m);
 void unicycle_c_from_o(pose2 *c, const pose2 *o, double d_m);
 
 /* Velocity of O for controls (V, w) at heading theta. */
-void unicycle_o_velocity(double out[2], double theta_rad, double v_mps,
-                         double w_radps, double d_m);
+void unicycle_o_velocity(double out[2], double theta_rad, double v_mps, double w_radps, double d_m);
 
 /* Exact integration of C over dt with constant (V, w): a circular arc
  * (straight line when |w dt| is tiny). Returns UNICYCLE_ERR_ARG on non-finite input. */
@@ -62,7 +61,7 @@ int unicycle_step_rk4(pose2 *c, double v_mps, double w_radps, double dt_s);
 
 /* Saturate (V, w) to (v_max, w_max) with mode UNICYCLE_SAT_*. Non-finite
  * input gives (0, 0) and UNICYCLE_ERR_ARG. Returns 1 if anything was limited, else 0. */
-int unicycle_saturate(unicycle_cmd *out, const unicycle_cmd *in,
-                      double v_max_mps, double w_max_radps, int mode);
+int unicycle_saturate(unicycle_cmd *out, const unicycle_cmd *in, double v_max_mps,
+                      double w_max_radps, int mode);
 
 #endif

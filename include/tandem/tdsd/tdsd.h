@@ -24,8 +24,8 @@
 
 enum {
     TDSD_OK = 0,
-    TDSD_ERR_ARG = -1,   /* non-finite or out-of-range input; out->dq is zeroed */
-    TDSD_ERR_NUMERIC = -2      /* linear algebra failure (should not happen); dq zeroed */
+    TDSD_ERR_ARG = -1,    /* non-finite or out-of-range input; out->dq is zeroed */
+    TDSD_ERR_NUMERIC = -2 /* linear algebra failure (should not happen); dq zeroed */
 };
 
 /* Second-priority task. */
@@ -38,50 +38,50 @@ typedef enum {
 } tdsd_orient_mode;
 
 typedef struct {
-    double J1[3 * TDSD_NJ];      /* position Jacobian, rows vx vy vz (m/rad) */
-    double Jw[3 * TDSD_NJ];      /* angular Jacobian, rows wx wy wz (1) */
+    double J1[3 * TDSD_NJ]; /* position Jacobian, rows vx vy vz (m/rad) */
+    double Jw[3 * TDSD_NJ]; /* angular Jacobian, rows wx wy wz (1) */
     tdsd_orient_mode orient;
-    double v_d_mps[3];           /* p_d' at path rate 1 */
-    double p_d_m[3];             /* desired tool position p_d */
-    double p_m[3];               /* actual tool position p */
-    double w_d_radps[3];         /* desired angular velocity at path rate 1 */
-    double R_d[9];               /* desired tool frame, row-major, columns n_d o_d a_d */
-    double R[9];                 /* actual tool frame, columns n o a */
-    double K_p;                  /* position feedback gain (1/s), >= 0 */
-    double K_o;                  /* orientation feedback gain (1/s), >= 0 */
-    double grad_V[TDSD_NJ];      /* gradient of the criterion V(q) (priority 3) */
-    double k_V;                  /* criterion gain k (dq3 ascends V for k > 0) */
-    double dq_max_radps[TDSD_NJ];/* joint speed limits, > 0 */
-    double rate_cap;             /* path-rate input in [0, 1] (see above) */
-    double pinv_rtol;            /* rank cut of every pseudo-inverse, [0,1);
+    double v_d_mps[3];            /* p_d' at path rate 1 */
+    double p_d_m[3];              /* desired tool position p_d */
+    double p_m[3];                /* actual tool position p */
+    double w_d_radps[3];          /* desired angular velocity at path rate 1 */
+    double R_d[9];                /* desired tool frame, row-major, columns n_d o_d a_d */
+    double R[9];                  /* actual tool frame, columns n o a */
+    double K_p;                   /* position feedback gain (1/s), >= 0 */
+    double K_o;                   /* orientation feedback gain (1/s), >= 0 */
+    double grad_V[TDSD_NJ];       /* gradient of the criterion V(q) (priority 3) */
+    double k_V;                   /* criterion gain k (dq3 ascends V for k > 0) */
+    double dq_max_radps[TDSD_NJ]; /* joint speed limits, > 0 */
+    double rate_cap;              /* path-rate input in [0, 1] (see above) */
+    double pinv_rtol;             /* rank cut of every pseudo-inverse, [0,1);
                                     0 selects LINALG_PINV_RTOL */
 } tdsd_input;
 
 typedef struct {
-    double dq_radps[TDSD_NJ];    /* the command: dq1 + Q1 dq2 + Q2 dq3 */
-    double dq1[TDSD_NJ];         /* J1+ y1' (after time scaling) */
-    double dq2[TDSD_NJ];         /* (J2 P1)+ (y2' - J2 dq1), before Q1 */
-    double dq3[TDSD_NJ];         /* (P1 - (J2P1)+(J2P1)) k grad V, before Q2 */
-    double Q1, Q2;               /* speed-distribution factors in [0, 1] */
-    double lambda;               /* path rate used, in [0, rate_cap] */
-    double fb_scale;             /* 1, or < 1 when even lambda = 0 could not
+    double dq_radps[TDSD_NJ]; /* the command: dq1 + Q1 dq2 + Q2 dq3 */
+    double dq1[TDSD_NJ];      /* J1+ y1' (after time scaling) */
+    double dq2[TDSD_NJ];      /* (J2 P1)+ (y2' - J2 dq1), before Q1 */
+    double dq3[TDSD_NJ];      /* (P1 - (J2P1)+(J2P1)) k grad V, before Q2 */
+    double Q1, Q2;            /* speed-distribution factors in [0, 1] */
+    double lambda;            /* path rate used, in [0, rate_cap] */
+    double fb_scale;          /* 1, or < 1 when even lambda = 0 could not
                                     keep J1+ K_p e_p inside the limits: then
                                     dq1 = fb_scale J1+ K_p e_p (direction kept) */
-    int    time_scaled;          /* lambda < rate_cap or fb_scale < 1 */
-    int    n_clipped;            /* baselines: joints saturated. TDSD: joints
+    int time_scaled;          /* lambda < rate_cap or fb_scale < 1 */
+    int n_clipped;            /* baselines: joints saturated. TDSD: joints
                                     the final exact-limit guard cut by more
                                     than 1e-6 relative (rounding stays below;
                                     nonzero means a bug) */
-    double sigma_min_J1;         /* smallest singular value of J1 */
+    double sigma_min_J1;      /* smallest singular value of J1 */
     double sigma_max_J1;
-    int    rank_J1;              /* under the pinv tolerance */
-    int    rank_J2P1;            /* TDSD: rank of J2 P1; baselines: of [J1;J2] */
-    int    n2;                   /* rows of task 2 (0, 2 or 3) */
-    double e_p[3];               /* p_d - p */
-    double e_o[3];               /* first n2 entries: orientation error used */
-    double y1[3];                /* y1' demanded (after scaling) */
-    double y2[3];                /* y2' demanded (first n2 entries) */
-    double damping;              /* rr_dls_step: damping lambda used; else 0 */
+    int rank_J1;    /* under the pinv tolerance */
+    int rank_J2P1;  /* TDSD: rank of J2 P1; baselines: of [J1;J2] */
+    int n2;         /* rows of task 2 (0, 2 or 3) */
+    double e_p[3];  /* p_d - p */
+    double e_o[3];  /* first n2 entries: orientation error used */
+    double y1[3];   /* y1' demanded (after scaling) */
+    double y2[3];   /* y2' demanded (first n2 entries) */
+    double damping; /* rr_dls_step: damping lambda used; else 0 */
 } tdsd_output;
 
 /* One control cycle of TDSD. Returns TDSD_OK, or a negative code with
@@ -96,8 +96,7 @@ void tdsd_orientation_error(double e_o[3], const double R_d[9], const double R[9
 void tdsd_axis_error(double e2[2], const double R_d[9], const double R[9]);
 /* The 2 x 6 tool-axis Jacobian J2 = [n^T Jw; o^T Jw]: the rates of the
  * angular velocity components that tilt the tool axis a. */
-void tdsd_axis_jacobian(double J2[2 * TDSD_NJ], const double Jw[3 * TDSD_NJ],
-                        const double R[9]);
+void tdsd_axis_jacobian(double J2[2 * TDSD_NJ], const double Jw[3 * TDSD_NJ], const double R[9]);
 
 /* Criterion of docs/method/tdsd.md §8 S2, for the joints whose bit is set in joint_mask
  * (bit i = joint i+1; S2 uses 0x38 = joints 4..6):
@@ -122,8 +121,8 @@ int rr_pinv_step(const tdsd_input *in, tdsd_output *out);
  * sigma_min = smallest singular value of the stacked J. eps <= 0 selects
  * constant damping lambda = lambda0 (Wampler 1986). */
 typedef struct {
-    double lambda0;   /* >= 0, same units as sigma (m/rad for position rows) */
-    double eps;       /* singular-region size */
+    double lambda0; /* >= 0, same units as sigma (m/rad for position rows) */
+    double eps;     /* singular-region size */
 } rr_dls_params;
 
 /* Baseline 2: dq = J^T (J J^T + lambda^2 I)^-1 [y1'; y2'], then the same

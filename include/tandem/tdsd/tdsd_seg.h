@@ -30,15 +30,16 @@
 #include "sprofile.h"
 #include "tdsd.h"
 
-#define TDSD_SEG_ERR_ARG (-1)  /* NULL, non-finite input, invalid parameters
+#define TDSD_SEG_ERR_ARG \
+    (-1) /* NULL, non-finite input, invalid parameters
                                   or gains, a joint speed limit <= 0, or FK /
                                   the speed profile refused the segment     */
 
-#define TDSD_SEG_DONE_POS_M 0.0005       /* reference on the target within 0.5 mm */
-#define TDSD_SEG_DONE_ORI_RAD 0.008727   /* ... and 0.5 deg */
-#define TDSD_SEG_DONE_Q_RAD 0.005        /* arm within 5 mrad of the reference */
-#define TDSD_SEG_DONE_QD_RADPS 0.02      /* ... and slower than 0.02 rad/s */
-#define TDSD_SEG_SETTLE_MAX_S 2.0        /* after the path: give up settling */
+#define TDSD_SEG_DONE_POS_M 0.0005     /* reference on the target within 0.5 mm */
+#define TDSD_SEG_DONE_ORI_RAD 0.008727 /* ... and 0.5 deg */
+#define TDSD_SEG_DONE_Q_RAD 0.005      /* arm within 5 mrad of the reference */
+#define TDSD_SEG_DONE_QD_RADPS 0.02    /* ... and slower than 0.02 rad/s */
+#define TDSD_SEG_SETTLE_MAX_S 2.0      /* after the path: give up settling */
 
 typedef struct tdsd_seg_params {
     double v_m, a_m, u_m;    /* profile: peak speed (m/s), acceleration
@@ -62,36 +63,35 @@ typedef struct tdsd_seg {
     tdsd_seg_params par;
     arm_tool tool;
     double T_world_base[16];
-    double p0[3], p1[3];           /* base frame */
+    double p0[3], p1[3]; /* base frame */
     double R0[9], R1[9];
-    double rot_axis[3], rot_rad;   /* R1 R0^T */
-    double L_m;                    /* profile length */
+    double rot_axis[3], rot_rad; /* R1 R0^T */
+    double L_m;                  /* profile length */
     sprofile prof;
-    double s_m;                    /* path parameter, 0 .. L */
-    double lambda;                 /* last path rate */
+    double s_m;    /* path parameter, 0 .. L */
+    double lambda; /* last path rate */
     double q_ref[ARM_NJ], dq_ref[ARM_NJ], ddq_ref[ARM_NJ];
-    double t_s;                    /* since the start */
-    double t_path_end_s;           /* when s reached L, -1 before */
-    int    settled;                /* reference on the target (see DONE_*) */
+    double t_s;          /* since the start */
+    double t_path_end_s; /* when s reached L, -1 before */
+    int settled;         /* reference on the target (see DONE_*) */
 } tdsd_seg;
 
 typedef struct tdsd_seg_out {
     double q_d[ARM_NJ], qd_d[ARM_NJ], qdd_d[ARM_NJ]; /* servo reference */
     double s_m, L_m, lambda, Q1, Q2;
-    double pos_err_m;              /* reference tool vs path point (model) */
-    double ori_err_rad;            /* |e_o| of eq. 13 (sin of the angle) */
-    double p_d_world[3];           /* path point */
-    int    path_done;              /* s reached L */
-    int    status;                 /* tdsd_step status (dq = 0 on error) */
+    double pos_err_m;    /* reference tool vs path point (model) */
+    double ori_err_rad;  /* |e_o| of eq. 13 (sin of the angle) */
+    double p_d_world[3]; /* path point */
+    int path_done;       /* s reached L */
+    int status;          /* tdsd_step status (dq = 0 on error) */
 } tdsd_seg_out;
 
 /* Segment from the pose at q (the arm's current joints, also the first
  * reference) to p1_world with tool orientation R1_world. 0 ok, TDSD_SEG_ERR_ARG bad
  * input (non-finite, params out of range, FK failure). */
 int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
-                   const double T_world_base[16], const double q[ARM_NJ],
-                   const double p1_world[3], const double R1_world[9],
-                   const tdsd_seg_params *par);
+                   const double T_world_base[16], const double q[ARM_NJ], const double p1_world[3],
+                   const double R1_world[9], const tdsd_seg_params *par);
 
 /* One cycle of dt_s: resolve at q_ref, advance s, integrate. After the
  * path the resolver keeps running with s = L (the errors decay with K_p,

@@ -42,8 +42,8 @@ int arm_payload_point(arm_payload *p, double mass_kg, const double com_m[3])
 
 static int payload_valid(const arm_payload *p)
 {
-    return !p || (isfinite(p->mass_kg) && p->mass_kg >= 0.0 && linalg_all_finite(p->com_m, 3)
-                  && linalg_all_finite(p->inertia_kgm2, 9));
+    return !p || (isfinite(p->mass_kg) && p->mass_kg >= 0.0 && linalg_all_finite(p->com_m, 3) &&
+                  linalg_all_finite(p->inertia_kgm2, 9));
 }
 
 /* I += m (|r|^2 E - r r^T): inertia of mass m at offset r (parallel axis). */
@@ -111,7 +111,7 @@ static void link_refs(const arm_model *m, const arm_payload *p, link_mass *merge
  * (x, y) by theta; 8 multiplications instead of 9 and no matrix. out may
  * be v. */
 static inline void dh_rot(const arm_model *m, int i, const arm_joint_cs *cs, const double v[3],
-                   double out[3])
+                          double out[3])
 {
     const double ca = m->cos_alpha[i], sa = m->sin_alpha[i], ct = cs->c[i], st = cs->s[i];
     const double x = v[0], y = ca * v[1] - sa * v[2];
@@ -122,7 +122,7 @@ static inline void dh_rot(const arm_model *m, int i, const arm_joint_cs *cs, con
 
 /* out = R_i^T v: the same two plane rotations, backwards; out may be v. */
 static inline void dh_rot_t(const arm_model *m, int i, const arm_joint_cs *cs, const double v[3],
-                     double out[3])
+                            double out[3])
 {
     const double ca = m->cos_alpha[i], sa = m->sin_alpha[i], ct = cs->c[i], st = cs->s[i];
     const double x = ct * v[0] + st * v[1], y = ct * v[1] - st * v[0];
@@ -214,8 +214,8 @@ static void rne_cs(const arm_model *m, const arm_joint_cs *cs, const link_ref L[
 static int rne_inputs_valid(const double qd[ARM_NJ], const double qdd[ARM_NJ],
                             const double gravity_mps2[3], const arm_payload *payload)
 {
-    return qd && qdd && linalg_all_finite(qd, ARM_NJ) && linalg_all_finite(qdd, ARM_NJ)
-           && (!gravity_mps2 || linalg_all_finite(gravity_mps2, 3)) && payload_valid(payload);
+    return qd && qdd && linalg_all_finite(qd, ARM_NJ) && linalg_all_finite(qdd, ARM_NJ) &&
+           (!gravity_mps2 || linalg_all_finite(gravity_mps2, 3)) && payload_valid(payload);
 }
 
 static const double default_gravity[3] = { 0.0, 0.0, -ARM_GRAVITY_MPS2 };
@@ -235,8 +235,8 @@ static void rne_general(const arm_model *m, const arm_joint_cs *cs, const double
 
 /* The folded or the general RNE, as the model says (inputs checked). */
 static inline void rne_dispatch(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
-                         const double qdd[ARM_NJ], const double gravity_mps2[3],
-                         const arm_payload *payload, double tau_Nm[ARM_NJ])
+                                const double qdd[ARM_NJ], const double gravity_mps2[3],
+                                const arm_payload *payload, double tau_Nm[ARM_NJ])
 {
     const double *g = gravity_mps2 ? gravity_mps2 : default_gravity;
     if (m->structure == ARM_STRUCTURE_PUMA)
@@ -246,23 +246,23 @@ static inline void rne_dispatch(const arm_model *m, const arm_joint_cs *cs, cons
 }
 
 int arm_rne(const arm_model *m, const double q[ARM_NJ], const double qd[ARM_NJ],
-            const double qdd[ARM_NJ], const double gravity_mps2[3],
-            const arm_payload *payload, double tau_Nm[ARM_NJ])
+            const double qdd[ARM_NJ], const double gravity_mps2[3], const arm_payload *payload,
+            double tau_Nm[ARM_NJ])
 {
     arm_joint_cs cs;
-    if (!tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload)
-        || arm_joint_cs_eval(m, q, &cs) != 0)
+    if (!tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload) ||
+        arm_joint_cs_eval(m, q, &cs) != 0)
         return ARM_DYN_ERR_ARG;
     rne_dispatch(m, &cs, qd, qdd, gravity_mps2, payload, tau_Nm);
     return 0;
 }
 
 int arm_rne_cs(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
-               const double qdd[ARM_NJ], const double gravity_mps2[3],
-               const arm_payload *payload, double tau_Nm[ARM_NJ])
+               const double qdd[ARM_NJ], const double gravity_mps2[3], const arm_payload *payload,
+               double tau_Nm[ARM_NJ])
 {
-    if (!m || !cs || !tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload)
-        || !linalg_all_finite(cs->c, ARM_NJ) || !linalg_all_finite(cs->s, ARM_NJ))
+    if (!m || !cs || !tau_Nm || !rne_inputs_valid(qd, qdd, gravity_mps2, payload) ||
+        !linalg_all_finite(cs->c, ARM_NJ) || !linalg_all_finite(cs->s, ARM_NJ))
         return ARM_DYN_ERR_ARG;
     rne_dispatch(m, cs, qd, qdd, gravity_mps2, payload, tau_Nm);
     return 0;
@@ -340,8 +340,7 @@ static inline void sym_rotate_plane(double *aa, double *bb, double *ab, double *
  * I' = R I R^T + m (|p|^2 E - p p^T) + 2 (p . h') E - (p h'^T + h' p^T)
  * with h' = R h, then h' += m p (parallel-axis theorem with a first moment).
  * R I R^T = Rz (Rx I Rx^T) Rz^T: two plane rotations, no 3x3 products. */
-static void origin_body_to_parent(const arm_model *m, int i, const arm_joint_cs *cs,
-                                  origin_body *b)
+static void origin_body_to_parent(const arm_model *m, int i, const arm_joint_cs *cs, origin_body *b)
 {
     const double p[3] = { m->a_m[i] * cs->c[i], m->a_m[i] * cs->s[i], m->d_m[i] };
     double *I = b->I, h[3];
@@ -391,7 +390,7 @@ static void mass_matrix_cs(const arm_model *m, const arm_joint_cs *cs, const lin
         }
     }
     for (i = 0; i < ARM_NJ; i++)
-        M[i * 6 + i] += m->armature_kgm2[i];   /* the rotors' reflected inertia, as in rne_cs */
+        M[i * 6 + i] += m->armature_kgm2[i]; /* the rotors' reflected inertia, as in rne_cs */
 }
 
 /* cos/sin of the joints the PUMA's M(q) reads (arm_puma_mass_matrix):
@@ -411,8 +410,8 @@ static void puma_mass_cs(const arm_model *m, const double q[ARM_NJ], const link_
         trig_sincos(q[i] + m->theta_offset_rad[i], &cs->s[i], &cs->c[i]);
 }
 
-int arm_mass_matrix(const arm_model *m, const double q[ARM_NJ],
-                    const arm_payload *payload, double M[36])
+int arm_mass_matrix(const arm_model *m, const double q[ARM_NJ], const arm_payload *payload,
+                    double M[36])
 {
     arm_joint_cs cs;
     link_mass merged;
@@ -473,8 +472,8 @@ int arm_forward_dynamics(const arm_model *m, const double q[ARM_NJ], const doubl
     link_ref L[ARM_NJ];
     double M[36], h[ARM_NJ], rhs[ARM_NJ];
     int i;
-    if (!tau_Nm || !qdd || !linalg_all_finite(tau_Nm, ARM_NJ)
-        || !rne_inputs_valid(qd, zero, gravity_mps2, payload) || arm_joint_cs_eval(m, q, &cs) != 0)
+    if (!tau_Nm || !qdd || !linalg_all_finite(tau_Nm, ARM_NJ) ||
+        !rne_inputs_valid(qd, zero, gravity_mps2, payload) || arm_joint_cs_eval(m, q, &cs) != 0)
         return ARM_DYN_ERR_ARG;
     /* one trig evaluation and one payload merge serve both RNE and M(q) */
     link_refs(m, payload, &merged, L);

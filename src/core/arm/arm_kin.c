@@ -21,11 +21,11 @@
 
 #define PI 3.14159265358979323846
 #define TWO_PI (2.0 * PI)
-#define IK_REACH_EPS 1e-12  /* relative slack on the reach tests */
+#define IK_REACH_EPS 1e-12 /* relative slack on the reach tests */
 
 static const char *const branch_names[ARM_IK_NBRANCH] = {
-    "left-up-noflip",  "right-up-noflip",  "left-down-noflip",  "right-down-noflip",
-    "left-up-flip",    "right-up-flip",    "left-down-flip",    "right-down-flip",
+    "left-up-noflip", "right-up-noflip", "left-down-noflip", "right-down-noflip",
+    "left-up-flip",   "right-up-flip",   "left-down-flip",   "right-down-flip",
 };
 
 const char *arm_ik_branch_name(int b)
@@ -54,9 +54,9 @@ static void flange_to_tool(const arm_tool *tool, const double T6[16], double T[1
         memcpy(T, T6, 16 * sizeof T[0]);
         return;
     }
-    if (!(X[0] == 1.0 && X[5] == 1.0 && X[10] == 1.0 && X[1] == 0.0 && X[2] == 0.0 && X[4] == 0.0
-          && X[6] == 0.0 && X[8] == 0.0 && X[9] == 0.0 && X[12] == 0.0 && X[13] == 0.0
-          && X[14] == 0.0 && X[15] == 1.0)) {
+    if (!(X[0] == 1.0 && X[5] == 1.0 && X[10] == 1.0 && X[1] == 0.0 && X[2] == 0.0 && X[4] == 0.0 &&
+          X[6] == 0.0 && X[8] == 0.0 && X[9] == 0.0 && X[12] == 0.0 && X[13] == 0.0 &&
+          X[14] == 0.0 && X[15] == 1.0)) {
         tf_mul(T, T6, X);
         return;
     }
@@ -110,22 +110,21 @@ static void jacobian_of_frames(const double *F, const double T[16], double J[36]
     }
 }
 
-int arm_fk_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
-                    double T[16], double J[36])
+int arm_fk_jacobian(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], double T[16],
+                    double J[36])
 {
     double F[ARM_NJ + 1][16];
     if (!m || !T || !J || arm_link_frames(m, q, F) != 0)
         return ARM_KIN_ERR_ARG;
     flange_to_tool(tool, F[ARM_NJ], T);
     if (m->structure == ARM_STRUCTURE_PUMA)
-        arm_puma_jacobian((const double (*)[16])F, T, J);
+        arm_puma_jacobian((const double(*)[16])F, T, J);
     else
         jacobian_of_frames(F[0], T, J);
     return 0;
 }
 
-int arm_kin_eval(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
-                 arm_kin_pass *k)
+int arm_kin_eval(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ], arm_kin_pass *k)
 {
     int i;
     if (!k)
@@ -139,7 +138,7 @@ int arm_kin_eval(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ
     if (k->puma) {
         arm_puma_chain(m, &k->cs, k->F);
         flange_to_tool(tool, k->F[ARM_NJ], k->T);
-        arm_puma_jacobian((const double (*)[16])k->F, k->T, k->J);
+        arm_puma_jacobian((const double(*)[16])k->F, k->T, k->J);
         return 0;
     }
     arm_base_frame(m, k->F[0]);
@@ -182,7 +181,7 @@ static void jdot_general(const arm_kin_pass *k, const double qd[ARM_NJ], double 
         for (j = 0; j < 3; j++) {
             jdqd[j] += qd[i] * (a[j] + b[j]);
             jdqd[3 + j] += qd[i] * zdot[j];
-            w[j] += z[j] * qd[i];   /* now w_{i+1} */
+            w[j] += z[j] * qd[i]; /* now w_{i+1} */
         }
         if (i < ARM_NJ - 1) {
             const double *Fn = k->F[i + 1];
@@ -224,8 +223,8 @@ static int ik_geometry_supported(const arm_model *m)
     for (i = 0; i < ARM_NJ; i++)
         if (fabs(m->alpha_rad[i] - alpha[i]) > tol)
             return 0;
-    if (fabs(m->a_m[0]) > tol || fabs(m->a_m[3]) > tol || fabs(m->a_m[4]) > tol
-        || fabs(m->a_m[5]) > tol || fabs(m->d_m[4]) > tol)
+    if (fabs(m->a_m[0]) > tol || fabs(m->a_m[3]) > tol || fabs(m->a_m[4]) > tol ||
+        fabs(m->a_m[5]) > tol || fabs(m->d_m[4]) > tol)
         return 0;
     /* a two-link arm plane needs both lengths */
     return m->a_m[1] > tol && hypot(m->a_m[2], m->d_m[3]) > tol;

@@ -51,28 +51,28 @@
 #define COS_PI_2 6.123233995736766e-17
 
 /* alpha = 90 0 -90 90 -90 0 deg, shared by both tables */
-#define PUMA_ALPHA \
-    .alpha_rad = { PI_2, 0.0, -PI_2, PI_2, -PI_2, 0.0 }, \
+#define PUMA_ALPHA                                                     \
+    .alpha_rad = { PI_2, 0.0, -PI_2, PI_2, -PI_2, 0.0 },               \
     .cos_alpha = { COS_PI_2, 1.0, COS_PI_2, COS_PI_2, COS_PI_2, 1.0 }, \
     .sin_alpha = { 1.0, 0.0, -1.0, 1.0, -1.0, 0.0 }
 
-#define DIAG(x, y, z) { (x), 0.0, 0.0, 0.0, (y), 0.0, 0.0, 0.0, (z) }
+#define DIAG(x, y, z)                               \
+    {                                               \
+        (x), 0.0, 0.0, 0.0, (y), 0.0, 0.0, 0.0, (z) \
+    }
 
-#define PUMA_LIMITS \
+#define PUMA_LIMITS                                                                         \
     .q_min_rad = { -160 * DEG, -225 * DEG, -45 * DEG, -110 * DEG, -100 * DEG, -266 * DEG }, \
-    .q_max_rad = {  160 * DEG,   45 * DEG, 225 * DEG,  170 * DEG,  100 * DEG,  266 * DEG }, \
-    .qd_max_radps = { 2.0, 1.75, 2.2, 4.0, 3.6, 4.6 }, \
-    .tau_max_Nm = { 97.6, 186.4, 89.4, 24.2, 20.1, 21.3 }, \
-    .mass_kg = { 13.0, 17.4, 4.8, 0.82, 0.34, 0.09 }, \
+    .q_max_rad = { 160 * DEG, 45 * DEG, 225 * DEG, 170 * DEG, 100 * DEG, 266 * DEG },       \
+    .qd_max_radps = { 2.0, 1.75, 2.2, 4.0, 3.6, 4.6 },                                      \
+    .tau_max_Nm = { 97.6, 186.4, 89.4, 24.2, 20.1, 21.3 },                                  \
+    .mass_kg = { 13.0, 17.4, 4.8, 0.82, 0.34, 0.09 },                                       \
     .armature_kgm2 = { 0.78403, 2.32481, 0.57687, 0.19079, 0.17071, 0.19406 }
 
-#define PUMA_INERTIA \
-    .inertia_kgm2 = { DIAG(0.30, 0.35, 0.30), \
-                      DIAG(0.13, 0.524, 0.539), \
-                      DIAG(0.066, 0.086, 0.0125), \
-                      DIAG(1.8e-3, 1.3e-3, 1.8e-3), \
-                      DIAG(0.3e-3, 0.4e-3, 0.3e-3), \
-                      DIAG(0.15e-3, 0.15e-3, 0.04e-3) }
+#define PUMA_INERTIA                                                              \
+    .inertia_kgm2 = { DIAG(0.30, 0.35, 0.30),       DIAG(0.13, 0.524, 0.539),     \
+                      DIAG(0.066, 0.086, 0.0125),   DIAG(1.8e-3, 1.3e-3, 1.8e-3), \
+                      DIAG(0.3e-3, 0.4e-3, 0.3e-3), DIAG(0.15e-3, 0.15e-3, 0.04e-3) }
 
 const arm_model arm_model_puma560 = {
     .name = "puma560",
@@ -83,8 +83,12 @@ const arm_model arm_model_puma560 = {
     PUMA_ALPHA,
     .theta_offset_rad = { 0, 0, 0, 0, 0, 0 },
     PUMA_LIMITS,
-    .com_m = { { 0, 0, 0 }, { -0.3638, 0.006, 0.2275 }, { -0.0203, -0.0141, 0.070 },
-               { 0, 0.019, 0 }, { 0, 0, 0 }, { 0, 0, 0.032 } },
+    .com_m = { { 0, 0, 0 },
+               { -0.3638, 0.006, 0.2275 },
+               { -0.0203, -0.0141, 0.070 },
+               { 0, 0.019, 0 },
+               { 0, 0, 0 },
+               { 0, 0, 0.032 } },
     PUMA_INERTIA,
 };
 
@@ -97,8 +101,12 @@ const arm_model arm_model_seed002 = {
     PUMA_ALPHA,
     .theta_offset_rad = { 0, 0, 0, 0, 0, 0 },
     PUMA_LIMITS,
-    .com_m = { { 0, 0, 0 }, { -0.3638, 0.006, 0.2275 }, { 0.0, -0.0141, 0.070 },
-               { 0, 0.019, 0 }, { 0, 0, 0 }, { 0, 0, 0.032 - 0.050 } },
+    .com_m = { { 0, 0, 0 },
+               { -0.3638, 0.006, 0.2275 },
+               { 0.0, -0.0141, 0.070 },
+               { 0, 0.019, 0 },
+               { 0, 0, 0 },
+               { 0, 0, 0.032 - 0.050 } },
     PUMA_INERTIA,
 };
 
@@ -110,8 +118,8 @@ void arm_tool_none(arm_tool *tool)
 
 int arm_tool_offset(arm_tool *tool, const double p_flange_m[3])
 {
-    if (!tool || !p_flange_m || !isfinite(p_flange_m[0]) || !isfinite(p_flange_m[1])
-        || !isfinite(p_flange_m[2]))
+    if (!tool || !p_flange_m || !isfinite(p_flange_m[0]) || !isfinite(p_flange_m[1]) ||
+        !isfinite(p_flange_m[2]))
         return ARM_MODEL_ERR_ARG;
     tf_identity(tool->T_flange_tool);
     tool->T_flange_tool[3] = p_flange_m[0];
@@ -123,9 +131,10 @@ int arm_tool_offset(arm_tool *tool, const double p_flange_m[3])
 /* The per-joint rows of the table, for the finiteness check. */
 static int rows_finite(const arm_model *m)
 {
-    const double *rows[] = { m->a_m, m->d_m, m->alpha_rad, m->cos_alpha, m->sin_alpha,
-                             m->theta_offset_rad, m->q_min_rad, m->q_max_rad,
-                             m->qd_max_radps, m->tau_max_Nm, m->mass_kg, m->armature_kgm2 };
+    const double *rows[] = { m->a_m,        m->d_m,       m->alpha_rad,
+                             m->cos_alpha,  m->sin_alpha, m->theta_offset_rad,
+                             m->q_min_rad,  m->q_max_rad, m->qd_max_radps,
+                             m->tau_max_Nm, m->mass_kg,   m->armature_kgm2 };
     size_t r;
     int i, k;
     if (!isfinite(m->base_height_m))
@@ -149,8 +158,8 @@ static int rows_finite(const arm_model *m)
 static int inertia_spd(const double I[9])
 {
     const double m2 = I[0] * I[4] - I[1] * I[3];
-    const double m3 = I[0] * (I[4] * I[8] - I[5] * I[7]) - I[1] * (I[3] * I[8] - I[5] * I[6])
-                      + I[2] * (I[3] * I[7] - I[4] * I[6]);
+    const double m3 = I[0] * (I[4] * I[8] - I[5] * I[7]) - I[1] * (I[3] * I[8] - I[5] * I[6]) +
+                      I[2] * (I[3] * I[7] - I[4] * I[6]);
     return I[1] == I[3] && I[2] == I[6] && I[5] == I[7] && I[0] > 0.0 && m2 > 0.0 && m3 > 0.0;
 }
 
@@ -168,8 +177,8 @@ int arm_model_has_puma_structure(const arm_model *m)
             if (k != 0 && k != 4 && k != 8 && m->inertia_kgm2[i][k] != 0.0)
                 return 0;
     }
-    return m->a_m[0] == 0.0 && m->a_m[3] == 0.0 && m->a_m[4] == 0.0 && m->a_m[5] == 0.0
-           && m->d_m[0] == 0.0 && m->d_m[1] == 0.0 && m->d_m[4] == 0.0;
+    return m->a_m[0] == 0.0 && m->a_m[3] == 0.0 && m->a_m[4] == 0.0 && m->a_m[5] == 0.0 &&
+           m->d_m[0] == 0.0 && m->d_m[1] == 0.0 && m->d_m[4] == 0.0;
 }
 
 int arm_model_validate(const arm_model *m)
@@ -185,13 +194,14 @@ int arm_model_validate(const arm_model *m)
     if (m->base_height_m < 0.0)
         return ARM_MODEL_ERR_RANGE;
     for (i = 0; i < ARM_NJ; i++)
-        if (m->a_m[i] < 0.0 || !(m->q_min_rad[i] < m->q_max_rad[i]) || !(m->qd_max_radps[i] > 0.0)
-            || !(m->tau_max_Nm[i] > 0.0) || !(m->mass_kg[i] > 0.0) || m->armature_kgm2[i] < 0.0)
+        if (m->a_m[i] < 0.0 || !(m->q_min_rad[i] < m->q_max_rad[i]) ||
+            !(m->qd_max_radps[i] > 0.0) || !(m->tau_max_Nm[i] > 0.0) || !(m->mass_kg[i] > 0.0) ||
+            m->armature_kgm2[i] < 0.0)
             return ARM_MODEL_ERR_RANGE;
     for (i = 0; i < ARM_NJ; i++)
-        if (fabs(m->cos_alpha[i] - cos(m->alpha_rad[i])) > trig_tol
-            || fabs(m->sin_alpha[i] - sin(m->alpha_rad[i])) > trig_tol
-            || !inertia_spd(m->inertia_kgm2[i]))
+        if (fabs(m->cos_alpha[i] - cos(m->alpha_rad[i])) > trig_tol ||
+            fabs(m->sin_alpha[i] - sin(m->alpha_rad[i])) > trig_tol ||
+            !inertia_spd(m->inertia_kgm2[i]))
             return ARM_MODEL_ERR_INCONSISTENT;
     if (m->structure == ARM_STRUCTURE_PUMA ? !arm_model_has_puma_structure(m)
                                            : m->structure != ARM_STRUCTURE_GENERAL)
@@ -236,7 +246,8 @@ unsigned arm_joint_faults(const arm_model *m, const double q[ARM_NJ], const doub
     unsigned bits = 0;
     int i;
     for (i = 0; i < ARM_NJ; i++) {
-        if (!(q[i] >= m->q_min_rad[i] - ARM_RANGE_TOL_RAD && q[i] <= m->q_max_rad[i] + ARM_RANGE_TOL_RAD))
+        if (!(q[i] >= m->q_min_rad[i] - ARM_RANGE_TOL_RAD &&
+              q[i] <= m->q_max_rad[i] + ARM_RANGE_TOL_RAD))
             bits |= 1u << i;
         if (!(fabs(qd[i]) <= m->qd_max_radps[i]))
             bits |= 1u << (ARM_NJ + i);
@@ -276,10 +287,22 @@ void arm_dh_transform(const arm_model *m, int i, double q_i, double A[16])
     const double ct = cos(th), st = sin(th);
     const double ca = m->cos_alpha[i], sa = m->sin_alpha[i];
     const double a = m->a_m[i], d = m->d_m[i];
-    A[0] = ct;  A[1] = -st * ca; A[2] = st * sa;   A[3] = a * ct;
-    A[4] = st;  A[5] = ct * ca;  A[6] = -ct * sa;  A[7] = a * st;
-    A[8] = 0.0; A[9] = sa;       A[10] = ca;       A[11] = d;
-    A[12] = 0.0; A[13] = 0.0;    A[14] = 0.0;      A[15] = 1.0;
+    A[0] = ct;
+    A[1] = -st * ca;
+    A[2] = st * sa;
+    A[3] = a * ct;
+    A[4] = st;
+    A[5] = ct * ca;
+    A[6] = -ct * sa;
+    A[7] = a * st;
+    A[8] = 0.0;
+    A[9] = sa;
+    A[10] = ca;
+    A[11] = d;
+    A[12] = 0.0;
+    A[13] = 0.0;
+    A[14] = 0.0;
+    A[15] = 1.0;
 }
 
 void arm_base_frame(const arm_model *m, double T[16])
@@ -303,8 +326,8 @@ void arm_dh_compose(const arm_model *m, int i, double ct, double st, const doubl
     int r;
     for (r = 0; r < 12; r += 4) {
         const double x = T[r], y = T[r + 1], z = T[r + 2], p = T[r + 3];
-        const double u = x * ct + y * st;   /* row . Rz x-axis */
-        const double v = y * ct - x * st;   /* row . Rz y-axis */
+        const double u = x * ct + y * st; /* row . Rz x-axis */
+        const double v = y * ct - x * st; /* row . Rz y-axis */
         out[r] = u;
         out[r + 1] = v * ca + z * sa;
         out[r + 2] = z * ca - v * sa;

@@ -59,8 +59,8 @@ static inline void rot(int twist, double c, double s, const double v[3], double 
 /* ---- kinematics ----------------------------------------------------------- */
 
 /* Frame F (4x4 row-major) from its axes and origin. */
-static inline void frame_store(double F[16], const double x[3], const double y[3], const double z[3],
-                        const double o[3])
+static inline void frame_store(double F[16], const double x[3], const double y[3],
+                               const double z[3], const double o[3])
 {
     int r;
     for (r = 0; r < 3; r++) {
@@ -76,7 +76,8 @@ static inline void frame_store(double F[16], const double x[3], const double y[3
 }
 
 /* a = ca u + sa v (a frame axis turned by a joint) */
-static inline void axis_comb(double a[3], double ca, const double u[3], double sa, const double v[3])
+static inline void axis_comb(double a[3], double ca, const double u[3], double sa,
+                             const double v[3])
 {
     a[0] = ca * u[0] + sa * v[0];
     a[1] = ca * u[1] + sa * v[1];
@@ -97,7 +98,8 @@ void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
     double x[3], y[3], z[3], o[3] = { 0.0, 0.0, m->base_height_m };
     int k;
     {
-        const double ex[3] = { 1.0, 0.0, 0.0 }, ey[3] = { 0.0, 1.0, 0.0 }, ez[3] = { 0.0, 0.0, 1.0 };
+        const double ex[3] = { 1.0, 0.0, 0.0 }, ey[3] = { 0.0, 1.0, 0.0 },
+                     ez[3] = { 0.0, 0.0, 1.0 };
         const double x1[3] = { c1, s1, 0.0 };
         frame_store(F[0], ex, ey, ez, o);
         frame_store(F[1], x1, ez, z1, o);
@@ -121,7 +123,7 @@ void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
     z[1] = -s1 * s23;
     z[2] = c23;
     for (k = 0; k < 3; k++)
-        o[k] += a3 * x[k] + d3 * z1[k];   /* z2 = z1 */
+        o[k] += a3 * x[k] + d3 * z1[k]; /* z2 = z1 */
     frame_store(F[3], x, y, z, o);
     {
         double x4[3], z4[3];
@@ -129,20 +131,20 @@ void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
         axis_comb(z4, cs->s[3], x, -cs->c[3], y);
         for (k = 0; k < 3; k++)
             o[k] += d4 * z[k];
-        frame_store(F[4], x4, z, z4, o);   /* y4 = z3 */
+        frame_store(F[4], x4, z, z4, o); /* y4 = z3 */
         axis_comb(x, cs->c[4], x4, cs->s[4], z);
-        axis_comb(y, -cs->s[4], x4, cs->c[4], z);   /* z5, for now in y */
+        axis_comb(y, -cs->s[4], x4, cs->c[4], z); /* z5, for now in y */
         for (k = 0; k < 3; k++)
-            z[k] = -z4[k];                           /* y5 = -z4 */
+            z[k] = -z4[k]; /* y5 = -z4 */
     }
-    frame_store(F[5], x, z, y, o);   /* o5 = o4 */
+    frame_store(F[5], x, z, y, o); /* o5 = o4 */
     {
         double x6[3], y6[3];
         axis_comb(x6, cs->c[5], x, cs->s[5], z);
         axis_comb(y6, -cs->s[5], x, cs->c[5], z);
         for (k = 0; k < 3; k++)
             o[k] += d6 * y[k];
-        frame_store(F[6], x6, y6, y, o);   /* z6 = z5 */
+        frame_store(F[6], x6, y6, y, o); /* z6 = z5 */
     }
 }
 
@@ -224,13 +226,15 @@ static inline void outward(int twist, double c, double s, double qd, double qdd,
 
 /* Inertial force F = m (vd + K c) and moment about the COM
  * N = I wd + w x (I w) of a link with diagonal inertia. */
-static inline void link_wrench_diag(const arm_model *m, int i, const accel_map *a, const double vd[3],
-                                    const double wd[3], double F[3], double N[3])
+static inline void link_wrench_diag(const arm_model *m, int i, const accel_map *a,
+                                    const double vd[3], const double wd[3], double F[3],
+                                    double N[3])
 {
     const double *c = m->com_m[i], *I = m->inertia_kgm2[i], mass = m->mass_kg[i];
     int k;
     for (k = 0; k < 3; k++)
-        F[k] = mass * (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
+        F[k] = mass *
+               (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
     N[0] = I[0] * wd[0] + (I[8] - I[4]) * a->w12;
     N[1] = I[4] * wd[1] + (I[0] - I[8]) * a->w02;
     N[2] = I[8] * wd[2] + (I[4] - I[0]) * a->w01;
@@ -246,7 +250,8 @@ static void payload_wrench(const arm_payload *p, const accel_map *a, const doubl
     const double *c = p->com_m, *I = p->inertia_kgm2;
     int k, point = 1;
     for (k = 0; k < 3; k++)
-        F[k] = p->mass_kg * (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
+        F[k] = p->mass_kg *
+               (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
     for (k = 0; k < 9; k++)
         if (I[k] != 0.0)
             point = 0;
@@ -265,7 +270,8 @@ static void payload_wrench(const arm_payload *p, const accel_map *a, const doubl
 }
 
 /* n += c x F + N (the link's own moment about its frame origin) */
-static inline void add_link_moment(double n[3], const double c[3], const double F[3], const double N[3])
+static inline void add_link_moment(double n[3], const double c[3], const double F[3],
+                                   const double N[3])
 {
     n[0] += c[1] * F[2] - c[2] * F[1] + N[0];
     n[1] += c[2] * F[0] - c[0] * F[2] + N[1];
@@ -274,7 +280,8 @@ static inline void add_link_moment(double n[3], const double c[3], const double 
 
 /* The rotors' reflected inertia (arm_model.h armature_kgm2, Jm G^2) acts on
  * each joint's own acceleration only: a diagonal term, as in arm_dyn.c. */
-static inline void add_armature_torque(const arm_model *m, const double qdd[ARM_NJ], double tau_Nm[ARM_NJ])
+static inline void add_armature_torque(const arm_model *m, const double qdd[ARM_NJ],
+                                       double tau_Nm[ARM_NJ])
 {
     int i;
     for (i = 0; i < ARM_NJ; i++)
@@ -299,8 +306,12 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload 
     mg[0] = -g[0];
     mg[1] = -g[1];
     mg[2] = -g[2];
-    w[0] = 0.0; w[1] = qd[0]; w[2] = 0.0;
-    wd[0] = 0.0; wd[1] = qdd[0]; wd[2] = 0.0;
+    w[0] = 0.0;
+    w[1] = qd[0];
+    w[2] = 0.0;
+    wd[0] = 0.0;
+    wd[1] = qdd[0];
+    wd[2] = 0.0;
     rot_t(TWIST_P90, c[0], s[0], mg, vd);
     {
         /* link 1 adds only its moment about its joint axis (frame 1's y):
@@ -405,7 +416,9 @@ void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F
     double w[3], wd[3], vd[3], r[3];
     accel_map k;
     int i;
-    w[0] = 0.0; w[1] = qd[0]; w[2] = 0.0;
+    w[0] = 0.0;
+    w[1] = qd[0];
+    w[2] = 0.0;
     wd[0] = wd[1] = wd[2] = 0.0;
     vd[0] = vd[1] = vd[2] = 0.0;
     outward(TWIST_0, c[1], s[1], qd[1], 0.0, w, wd, vd);
@@ -427,7 +440,7 @@ void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F
         for (i = 0; i < 3; i++)
             r[i] = F6[i] * d0 + F6[4 + i] * d1 + F6[8 + i] * d2;
     }
-    for (i = 0; i < 3; i++)   /* vd_6 + K_6 r: the point's acceleration */
+    for (i = 0; i < 3; i++) /* vd_6 + K_6 r: the point's acceleration */
         vd[i] += k.K[3 * i] * r[0] + k.K[3 * i + 1] * r[1] + k.K[3 * i + 2] * r[2];
     for (i = 0; i < 3; i++) {
         const double *row = F6 + 4 * i;
@@ -519,8 +532,8 @@ static inline void composite_turn(int twist, double c, double s, int turn, compo
 int arm_puma_link6_axisymmetric(const arm_link_ref *l6)
 {
     const double *I = l6->I, *c = l6->c;
-    return I[0] == I[4] && I[1] == 0.0 && I[2] == 0.0 && I[3] == 0.0 && I[5] == 0.0 && I[6] == 0.0
-           && I[7] == 0.0 && c[0] == 0.0 && c[1] == 0.0;
+    return I[0] == I[4] && I[1] == 0.0 && I[2] == 0.0 && I[3] == 0.0 && I[5] == 0.0 &&
+           I[6] == 0.0 && I[7] == 0.0 && c[0] == 0.0 && c[1] == 0.0;
 }
 
 /* Column i's wrench for a unit qdd_i: n = I z, f = z x h; M_ii = n_z. */
@@ -559,7 +572,7 @@ void arm_puma_mass_matrix(const arm_model *m, const arm_joint_cs *cs, const arm_
     shift_z(&b, d6);
     composite_turn(TWIST_0, c[5], s[5], !arm_puma_link6_axisymmetric(&L[5]), &b);
     column_of(&b, n[5], f[5], &M[5 * 6 + 5]);
-    arm_composite_add_link(&b, &L[4]);   /* p*_5 = 0 */
+    arm_composite_add_link(&b, &L[4]); /* p*_5 = 0 */
     composite_turn(TWIST_M90, c[4], s[4], 1, &b);
     column_of(&b, n[4], f[4], &M[4 * 6 + 4]);
     arm_composite_add_link(&b, &L[3]);
@@ -582,14 +595,14 @@ void arm_puma_mass_matrix(const arm_model *m, const arm_joint_cs *cs, const arm_
     rot(TWIST_M90, c[4], s[4], n[5], n[5]);
     rot(TWIST_M90, c[4], s[4], f[5], f[5]);
     M[4 * 6 + 5] = n[5][2];
-    for (i = 4; i < ARM_NJ; i++) {   /* joint 4: p*_4 = (0, d4, 0), twist 90 */
+    for (i = 4; i < ARM_NJ; i++) { /* joint 4: p*_4 = (0, d4, 0), twist 90 */
         n[i][0] += d4 * f[i][2];
         n[i][2] -= d4 * f[i][0];
         rot(TWIST_P90, c[3], s[3], n[i], n[i]);
         rot(TWIST_P90, c[3], s[3], f[i], f[i]);
         M[3 * 6 + i] = n[i][2];
     }
-    for (i = 3; i < ARM_NJ; i++) {   /* joint 3: p*_3 = (a3, -d3, 0), twist -90 */
+    for (i = 3; i < ARM_NJ; i++) { /* joint 3: p*_3 = (a3, -d3, 0), twist -90 */
         n[i][0] -= d3 * f[i][2];
         n[i][1] -= a3 * f[i][2];
         n[i][2] += a3 * f[i][1] + d3 * f[i][0];
@@ -597,12 +610,12 @@ void arm_puma_mass_matrix(const arm_model *m, const arm_joint_cs *cs, const arm_
         rot(TWIST_M90, c[2], s[2], f[i], f[i]);
         M[2 * 6 + i] = n[i][2];
     }
-    for (i = 2; i < ARM_NJ; i++) {   /* joint 2: p*_2 = (a2, 0, 0), twist 0; only y is read on */
+    for (i = 2; i < ARM_NJ; i++) { /* joint 2: p*_2 = (a2, 0, 0), twist 0; only y is read on */
         n[i][1] -= a2 * f[i][2];
         M[1 * 6 + i] = n[i][2] + a2 * f[i][1];
         n[i][1] = s[1] * n[i][0] + c[1] * n[i][1];
     }
-    for (i = 1; i < ARM_NJ; i++)     /* joint 1: the z row of Rx(90) is y */
+    for (i = 1; i < ARM_NJ; i++) /* joint 1: the z row of Rx(90) is y */
         M[i] = n[i][1];
     for (i = 0; i < ARM_NJ; i++) {
         int j;

@@ -13,15 +13,15 @@
  * after (a NaN or Inf in any input shows in them). 0, or ARM_DYN_ERR_ARG
  * (tau_Nm then undefined). arm_dyn.c. */
 int arm_rne_cs_unchecked(const arm_model *m, const arm_joint_cs *cs, const double qd[ARM_NJ],
-                       const double qdd[ARM_NJ], const double gravity_mps2[3],
-                       const arm_payload *payload, double tau_Nm[ARM_NJ]);
+                         const double qdd[ARM_NJ], const double gravity_mps2[3],
+                         const arm_payload *payload, double tau_Nm[ARM_NJ]);
 
 /* Mass properties of link i as the dynamics read them: the model's own,
  * or link 6 merged with a payload (then I is a full 3x3). */
 typedef struct arm_link_ref {
     double m;
-    const double *c;   /* COM in frame i */
-    const double *I;   /* about the COM, frame-i axes, row-major 3x3 */
+    const double *c; /* COM in frame i */
+    const double *I; /* about the COM, frame-i axes, row-major 3x3 */
 } arm_link_ref;
 
 /* A rigid body or composite referred to a frame origin: mass, first

@@ -12,8 +12,8 @@
 #include "linalg.h"
 #include "vec3.h"
 
-#define RANGE_MARGIN_DEFAULT_RAD 0.017453293   /* 1 deg */
-#define SINGULAR (-1)   /* inverse6: zero pivot; the SVD path takes over */
+#define RANGE_MARGIN_DEFAULT_RAD 0.017453293 /* 1 deg */
+#define SINGULAR (-1)                        /* inverse6: zero pivot; the SVD path takes over */
 
 void cartctl_gains_default(cartctl_gains *g)
 {
@@ -29,10 +29,12 @@ void cartctl_gains_default(cartctl_gains *g)
 int cartctl_gains_validate(const cartctl_gains *g)
 {
     return (g && isfinite(g->kp_rot) && isfinite(g->kv_rot) && isfinite(g->lambda_max) &&
-           isfinite(g->sigma_band) && isfinite(g->k_null) && g->kp_rot >= 0.0 && g->kv_rot >= 0.0 &&
-           g->lambda_max >= 0.0 && g->sigma_band >= 0.0 && g->k_null >= 0.0 &&
-           isfinite(g->range_margin_rad) && isfinite(g->range_w_radps) && g->range_margin_rad >= 0.0 &&
-           g->range_w_radps >= 0.0) ? 0 : CARTCTL_ERR_ARG;
+            isfinite(g->sigma_band) && isfinite(g->k_null) && g->kp_rot >= 0.0 &&
+            g->kv_rot >= 0.0 && g->lambda_max >= 0.0 && g->sigma_band >= 0.0 && g->k_null >= 0.0 &&
+            isfinite(g->range_margin_rad) && isfinite(g->range_w_radps) &&
+            g->range_margin_rad >= 0.0 && g->range_w_radps >= 0.0)
+               ? 0
+               : CARTCTL_ERR_ARG;
 }
 
 int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
@@ -67,10 +69,10 @@ void cartctl_rot_error(const double R_d[9], const double R[9], double err[3])
 {
     double E[9], axis[3], angle;
     int i, j;
-    for (i = 0; i < 3; i++)   /* E = R_d R^T, the transpose read in place */
+    for (i = 0; i < 3; i++) /* E = R_d R^T, the transpose read in place */
         for (j = 0; j < 3; j++)
-            E[3 * i + j] = R_d[3 * i] * R[3 * j] + R_d[3 * i + 1] * R[3 * j + 1]
-                           + R_d[3 * i + 2] * R[3 * j + 2];
+            E[3 * i + j] = R_d[3 * i] * R[3 * j] + R_d[3 * i + 1] * R[3 * j + 1] +
+                           R_d[3 * i + 2] * R[3 * j + 2];
     angle = rot_to_axis_angle(axis, E);
     vec3_scale(err, axis, angle);
 }
@@ -188,7 +190,7 @@ static int wrist_blocks(const double J[36], const double T[16], const double w[3
     int i, j;
     vec3_set(r, T[3] - w[0], T[7] - w[1], T[11] - w[2]);
     for (j = 0; j < 3; j++) {
-        const double wx = J[18 + j], wy = J[24 + j], wz = J[30 + j];   /* column j, angular */
+        const double wx = J[18 + j], wy = J[24 + j], wz = J[30 + j]; /* column j, angular */
         A[j] = J[j] + r[1] * wz - r[2] * wy;
         A[3 + j] = J[6 + j] + r[2] * wx - r[0] * wz;
         A[6 + j] = J[12 + j] + r[0] * wy - r[1] * wx;
@@ -205,8 +207,8 @@ static int wrist_blocks(const double J[36], const double T[16], const double w[3
             CB[3 * i + j] = Ci[3 * i] * B[j] + Ci[3 * i + 1] * B[3 + j] + Ci[3 * i + 2] * B[6 + j];
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++)
-            D[3 * i + j] = -(CB[3 * i] * Ai[j] + CB[3 * i + 1] * Ai[3 + j]
-                             + CB[3 * i + 2] * Ai[6 + j]);
+            D[3 * i + j] = -(CB[3 * i] * Ai[j] + CB[3 * i + 1] * Ai[3 + j] +
+                             CB[3 * i + 2] * Ai[6 + j]);
     return 0;
 }
 
@@ -247,12 +249,12 @@ int cartctl_inverse_wrist(const double J[36], const double T[16], const double w
 {
     double b[WB_N];
     int i, k;
-    if (!J || !T || !w || !Ji || !linalg_all_finite(J, 36) || !linalg_all_finite(T, 16)
-        || !linalg_all_finite(w, 3))
+    if (!J || !T || !w || !Ji || !linalg_all_finite(J, 36) || !linalg_all_finite(T, 16) ||
+        !linalg_all_finite(w, 3))
         return CARTCTL_ERR_ARG;
     if (wrist_blocks(J, T, w, b) != 0)
         return CARTCTL_ERR_SINGULAR;
-    for (k = 0; k < 6; k++) {   /* column k: J^-1 e_k */
+    for (k = 0; k < 6; k++) { /* column k: J^-1 e_k */
         double e[6] = { 0, 0, 0, 0, 0, 0 }, x[6];
         e[k] = 1.0;
         (void)wrist_solve(b, e, x);
@@ -298,8 +300,11 @@ static void range_bounds(const arm_model *m, const cartctl_gains *g, const doubl
     for (i = 0; i < ARM_NJ; i++) {
         const double d_lo = q[i] - (m->q_min_rad[i] + g->range_margin_rad);
         const double d_hi = (m->q_max_rad[i] - g->range_margin_rad) - q[i];
-        lo[i] = d_lo + g->range_margin_rad < CARTCTL_RANGE_BAND_RAD ? -w * w * d_lo - 2.0 * w * qd[i] : -HUGE_VAL;
-        hi[i] = d_hi + g->range_margin_rad < CARTCTL_RANGE_BAND_RAD ? w * w * d_hi - 2.0 * w * qd[i] : HUGE_VAL;
+        lo[i] = d_lo + g->range_margin_rad < CARTCTL_RANGE_BAND_RAD
+                    ? -w * w * d_lo - 2.0 * w * qd[i]
+                    : -HUGE_VAL;
+        hi[i] = d_hi + g->range_margin_rad < CARTCTL_RANGE_BAND_RAD ? w * w * d_hi - 2.0 * w * qd[i]
+                                                                    : HUGE_VAL;
     }
 }
 
@@ -318,7 +323,8 @@ static unsigned range_resolve(const double J[36], const double rhs[6], const dou
         double excess = 0.0;
         int idx[ARM_NJ], nf = 0, worst = -1, i, j, k;
         for (i = 0; i < ARM_NJ; i++) {
-            const double e = qdd[i] < lo[i] ? lo[i] - qdd[i] : (qdd[i] > hi[i] ? qdd[i] - hi[i] : 0.0);
+            const double e = qdd[i] < lo[i] ? lo[i] - qdd[i]
+                                            : (qdd[i] > hi[i] ? qdd[i] - hi[i] : 0.0);
             if (!(held & (1u << i)) && e > excess) {
                 excess = e;
                 worst = i;
@@ -348,7 +354,7 @@ static unsigned range_resolve(const double J[36], const double rhs[6], const dou
         for (j = 0; j < nf; j++)
             N[j * nf + j] += mu2;
         if (linalg_cholesky(A, N, nf) != 0)
-            break;   /* the free joints keep their unconstrained values */
+            break; /* the free joints keep their unconstrained values */
         linalg_cholesky_solve(x, A, r, nf);
         for (j = 0; j < nf; j++)
             qdd[idx[j]] = x[j];
@@ -359,12 +365,14 @@ static unsigned range_resolve(const double J[36], const double rhs[6], const dou
 /* The range barrier on out->qdd (J qdd = rhs solved before, its result
  * checked finite by the caller), then the finiteness check: 0 / -1. */
 static int qdd_finish(const arm_model *m, const cartctl_gains *g, const double q[ARM_NJ],
-                      const double qd[ARM_NJ], const double J[36], const double rhs[6], cartctl_out *out)
+                      const double qd[ARM_NJ], const double J[36], const double rhs[6],
+                      cartctl_out *out)
 {
     if (g->range_w_radps > 0.0) {
         double lo[ARM_NJ], hi[ARM_NJ];
         range_bounds(m, g, q, qd, lo, hi);
-        out->range_limited = range_resolve(J, rhs, lo, hi, g->lambda_max * g->lambda_max + 1e-12, out->qdd);
+        out->range_limited = range_resolve(J, rhs, lo, hi, g->lambda_max * g->lambda_max + 1e-12,
+                                           out->qdd);
     }
     return linalg_all_finite(out->qdd, ARM_NJ) ? 0 : CARTCTL_ERR_ARG;
 }
@@ -378,8 +386,8 @@ static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM
 {
     double U[36], sv[6], V[36], rhs[6], y[6], Vtqd[6], lam2, s_lo;
     int i, k;
-    if (!m || !q || !qd || cartctl_gains_validate(g) != 0 || !a_lin || !linalg_all_finite(a_lin, 3) ||
-        (R_d && !linalg_all_finite(R_d, 9)))
+    if (!m || !q || !qd || cartctl_gains_validate(g) != 0 || !a_lin ||
+        !linalg_all_finite(a_lin, 3) || (R_d && !linalg_all_finite(R_d, 9)))
         return CARTCTL_ERR_ARG;
     vec3_copy(out->a_cmd, a_lin);
     if (R_d) {
@@ -439,7 +447,8 @@ int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g
 /* cartctl_torque with the kinematics s given (tau and out zeroed by the caller). */
 static int torque_at(const arm_model *m, const arm_payload *payload, const cartctl_gains *g,
                      const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s,
-                     const double a_lin[3], const double R_d[9], double tau_Nm[ARM_NJ], cartctl_out *o)
+                     const double a_lin[3], const double R_d[9], double tau_Nm[ARM_NJ],
+                     cartctl_out *o)
 {
     if (qdd_at(m, g, q, qd, s, a_lin, R_d, o) != 0)
         return CARTCTL_ERR_ARG;

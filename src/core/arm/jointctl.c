@@ -12,16 +12,22 @@ int jointctl_saturate(const arm_model *m, double tau_Nm[ARM_NJ])
     int i, hit = 0;
     for (i = 0; i < ARM_NJ; i++) {
         const double lim = m->tau_max_Nm[i];
-        if (tau_Nm[i] > lim) { tau_Nm[i] = lim; hit = 1; }
-        if (tau_Nm[i] < -lim) { tau_Nm[i] = -lim; hit = 1; }
+        if (tau_Nm[i] > lim) {
+            tau_Nm[i] = lim;
+            hit = 1;
+        }
+        if (tau_Nm[i] < -lim) {
+            tau_Nm[i] = -lim;
+            hit = 1;
+        }
     }
     return hit;
 }
 
 int jointctl_torque(const arm_model *m, const arm_payload *payload, const jointctl_gains *g,
-                    const double q[ARM_NJ], const double qd[ARM_NJ],
-                    const double q_d[ARM_NJ], const double qd_d[ARM_NJ], const double qdd_d[ARM_NJ],
-                    double tau_Nm[ARM_NJ], int *saturated)
+                    const double q[ARM_NJ], const double qd[ARM_NJ], const double q_d[ARM_NJ],
+                    const double qd_d[ARM_NJ], const double qdd_d[ARM_NJ], double tau_Nm[ARM_NJ],
+                    int *saturated)
 {
     double a[ARM_NJ];
     const double kp = g->wn_radps * g->wn_radps, kv = 2.0 * g->zeta * g->wn_radps;

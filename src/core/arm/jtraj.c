@@ -20,15 +20,18 @@ int jtraj_plan(jtraj *t, const arm_model *m, const double q0[ARM_NJ], const doub
 {
     int i;
     double T = 0.0;
-    if (arm_q_finite(q0) != 0 || arm_q_finite(q1) != 0 || !(speed_frac > 0.0 && speed_frac <= 1.0) ||
-        !(qdd_max_radps2 > 0.0) || !isfinite(qdd_max_radps2))
+    if (arm_q_finite(q0) != 0 || arm_q_finite(q1) != 0 ||
+        !(speed_frac > 0.0 && speed_frac <= 1.0) || !(qdd_max_radps2 > 0.0) ||
+        !isfinite(qdd_max_radps2))
         return JTRAJ_ERR_ARG;
     for (i = 0; i < ARM_NJ; i++) {
         const double dq = fabs(q1[i] - q0[i]);
         const double t_vel = QUINTIC_PEAK_VEL * dq / (speed_frac * m->qd_max_radps[i]);
         const double t_acc = sqrt(QUINTIC_PEAK_ACC * dq / qdd_max_radps2);
-        if (t_vel > T) T = t_vel;
-        if (t_acc > T) T = t_acc;
+        if (t_vel > T)
+            T = t_vel;
+        if (t_acc > T)
+            T = t_acc;
         t->q0[i] = q0[i];
         t->q1[i] = q1[i];
     }
@@ -87,7 +90,8 @@ int jtraj_stop_plan(jtraj_stop *s, const double q0_rad[ARM_NJ], const double qd0
     return 0;
 }
 
-void jtraj_stop_at(const jtraj_stop *s, double t_s, double q[ARM_NJ], double qd[ARM_NJ], double qdd[ARM_NJ])
+void jtraj_stop_at(const jtraj_stop *s, double t_s, double q[ARM_NJ], double qd[ARM_NJ],
+                   double qdd[ARM_NJ])
 {
     const double t = t_s > 0.0 ? t_s : 0.0;
     int i;

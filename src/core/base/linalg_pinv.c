@@ -84,8 +84,8 @@ void linalg_pinv_null_rows(double *M, const double *B, int k, const linalg_pinv_
     }
 }
 
-int linalg_pinv(double *Ap, double *Pnull, linalg_pinv_info *info,
-                const double *A, int m, int n, double rtol)
+int linalg_pinv(double *Ap, double *Pnull, linalg_pinv_info *info, const double *A, int m, int n,
+                double rtol)
 {
     linalg_pinv_svd F;
     const int p = m < n ? m : n;
@@ -134,8 +134,7 @@ static int dls_svd(double *Ad, const double *A, int m, int n, double lambda)
             double acc = 0.0;
             for (k = 0; k < p; k++)
                 if (s[k] > tol)
-                    acc += V[i * p + k] * U[j * p + k] * s[k]
-                           / (s[k] * s[k] + lambda * lambda);
+                    acc += V[i * p + k] * U[j * p + k] * s[k] / (s[k] * s[k] + lambda * lambda);
             Ad[i * m + j] = acc;
         }
     return rc;

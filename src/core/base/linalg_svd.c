@@ -9,7 +9,7 @@
 #include <float.h>
 #include <math.h>
 
-#define GRAM_DECLINED 1 /* svd_wide_gram: guard failed, nothing computed */
+#define GRAM_DECLINED 1    /* svd_wide_gram: guard failed, nothing computed */
 #define SWEEP_CAP_HIT (-1) /* jacobi_rows: LINALG_SVD_MAX_SWEEPS used up */
 
 /* Jacobi rotation that zeroes the off-diagonal of the symmetric 2x2
@@ -25,8 +25,7 @@
  * while d^2 + h^2 lies in [1e-300, 1e300] (one of them underflowing is
  * harmless); outside that (never for arm Jacobians) the zeta form runs,
  * with sqrt(1 + zeta^2) = |zeta| past |zeta| = 1e150. */
-static void jacobi_rot(double alpha, double beta, double gamma, double *c, double *s,
-                       double *t)
+static void jacobi_rot(double alpha, double beta, double gamma, double *c, double *s, double *t)
 {
     const double d = beta - alpha, h = 2.0 * gamma;
     const double r2 = d * d + h * h;
@@ -178,8 +177,8 @@ static void complete_column(double *Q, int rows, int cols, int j)
 /* From B Vf = X^T with mutually orthogonal rows of X (k x len, squared
  * norms nrm2) to the thin SVD B = U diag(s) V^T of the len x k matrix B:
  * s = row norms sorted descending, U (len x k), V (k x k). */
-static void svd_from_rows(double *U, double *s, double *V, const double *X,
-                          const double *Vf, const double nrm2[], int k, int len)
+static void svd_from_rows(double *U, double *s, double *V, const double *X, const double *Vf,
+                          const double nrm2[], int k, int len)
 {
     int order[LINALG_MAX];
     double ss[LINALG_MAX];

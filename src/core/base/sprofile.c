@@ -13,7 +13,10 @@
 
 #include <math.h>
 
-static int finite_pos(double x) { return isfinite(x) && x > 0.0; }
+static int finite_pos(double x)
+{
+    return isfinite(x) && x > 0.0;
+}
 
 static void zero(sprofile *p)
 {

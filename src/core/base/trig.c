@@ -14,7 +14,7 @@
 
 #include <math.h>
 
-static const double PIO4 = 7.85398163397448278999e-01;   /* pi/4 rounded down */
+static const double PIO4 = 7.85398163397448278999e-01; /* pi/4 rounded down */
 static const double invpio2 = 6.36619772367581382433e-01;
 static const double pio2_1 = 1.57079632673412561417e+00;
 static const double pio2_1t = 6.07710050650619224932e-11;
@@ -65,7 +65,7 @@ void trig_sincos(double x_rad, double *s, double *c)
     /* nearest n; the cast truncates (fmove.l in round-to-zero on the 68040, no trap) */
     n = (long)(x_rad * invpio2 + (x_rad >= 0.0 ? 0.5 : -0.5));
     fn = (double)n;
-    r = x_rad - fn * pio2_1;   /* exact */
+    r = x_rad - fn * pio2_1; /* exact */
     w = fn * pio2_1t;
     y = r - w;
     if (n != 0 && fabs(y) < fabs(x_rad) * 0x1p-16) {
@@ -80,10 +80,22 @@ void trig_sincos(double x_rad, double *s, double *c)
     sk = kernel_sin(y, z);
     ck = kernel_cos(z);
     switch (n & 3) {
-    case 0: *s = sk;  *c = ck;  break;
-    case 1: *s = ck;  *c = -sk; break;
-    case 2: *s = -sk; *c = -ck; break;
-    default: *s = -ck; *c = sk; break;
+    case 0:
+        *s = sk;
+        *c = ck;
+        break;
+    case 1:
+        *s = ck;
+        *c = -sk;
+        break;
+    case 2:
+        *s = -sk;
+        *c = -ck;
+        break;
+    default:
+        *s = -ck;
+        *c = sk;
+        break;
     }
 }
 
@@ -164,7 +176,7 @@ double trig_exp(double x)
     if (!(fabs(x) <= 700.0))
         return exp(x);
     k = (long)(x * inv_ln2 + (x >= 0.0 ? 0.5 : -0.5));
-    hi = x - (double)k * ln2_hi;   /* exact */
+    hi = x - (double)k * ln2_hi; /* exact */
     lo = (double)k * ln2_lo;
     r = hi - lo;
     t = r * r;

@@ -9,8 +9,10 @@ double vec2_wrap_rad(double a_rad)
 {
     const double two_pi = 2.0 * VEC2_PI;
     double a = fmod(a_rad, two_pi);
-    if (a <= -VEC2_PI) a += two_pi;
-    else if (a > VEC2_PI) a -= two_pi;
+    if (a <= -VEC2_PI)
+        a += two_pi;
+    else if (a > VEC2_PI)
+        a -= two_pi;
     return a;
 }
 

@@ -7,31 +7,43 @@
 
 void vec3_set(double out[3], double x, double y, double z)
 {
-    out[0] = x; out[1] = y; out[2] = z;
+    out[0] = x;
+    out[1] = y;
+    out[2] = z;
 }
 
 void vec3_copy(double out[3], const double a[3])
 {
-    out[0] = a[0]; out[1] = a[1]; out[2] = a[2];
+    out[0] = a[0];
+    out[1] = a[1];
+    out[2] = a[2];
 }
 
-void vec3_add(double out[3], const double a[3], const double b[3]);   /* the external definition of the inline one in vec3.h */
+void vec3_add(double out[3], const double a[3],
+              const double b[3]); /* the external definition of the inline one in vec3.h */
 
-void vec3_sub(double out[3], const double a[3], const double b[3]);   /* the external definition of the inline one in vec3.h */
+void vec3_sub(double out[3], const double a[3],
+              const double b[3]); /* the external definition of the inline one in vec3.h */
 
 void vec3_scale(double out[3], const double a[3], double k)
 {
-    out[0] = k * a[0]; out[1] = k * a[1]; out[2] = k * a[2];
+    out[0] = k * a[0];
+    out[1] = k * a[1];
+    out[2] = k * a[2];
 }
 
 void vec3_axpy(double out[3], const double a[3], double k, const double b[3])
 {
-    out[0] = a[0] + k * b[0]; out[1] = a[1] + k * b[1]; out[2] = a[2] + k * b[2];
+    out[0] = a[0] + k * b[0];
+    out[1] = a[1] + k * b[1];
+    out[2] = a[2] + k * b[2];
 }
 
-double vec3_dot(const double a[3], const double b[3]);   /* the external definition of the inline one in vec3.h */
+double vec3_dot(const double a[3],
+                const double b[3]); /* the external definition of the inline one in vec3.h */
 
-void vec3_cross(double out[3], const double a[3], const double b[3]);   /* the external definition of the inline one in vec3.h */
+void vec3_cross(double out[3], const double a[3],
+                const double b[3]); /* the external definition of the inline one in vec3.h */
 
 double vec3_norm(const double a[3])
 {
@@ -78,7 +90,9 @@ void rot_apply(double out[3], const double R[9], const double v[3])
     const double x = R[0] * v[0] + R[1] * v[1] + R[2] * v[2];
     const double y = R[3] * v[0] + R[4] * v[1] + R[5] * v[2];
     const double z = R[6] * v[0] + R[7] * v[1] + R[8] * v[2];
-    out[0] = x; out[1] = y; out[2] = z;
+    out[0] = x;
+    out[1] = y;
+    out[2] = z;
 }
 
 void rot_tapply(double out[3], const double R[9], const double v[3])
@@ -86,7 +100,9 @@ void rot_tapply(double out[3], const double R[9], const double v[3])
     const double x = R[0] * v[0] + R[3] * v[1] + R[6] * v[2];
     const double y = R[1] * v[0] + R[4] * v[1] + R[7] * v[2];
     const double z = R[2] * v[0] + R[5] * v[1] + R[8] * v[2];
-    out[0] = x; out[1] = y; out[2] = z;
+    out[0] = x;
+    out[1] = y;
+    out[2] = z;
 }
 
 void rot_transpose(double out[9], const double R[9])
@@ -108,9 +124,15 @@ void rot_from_axis_angle(double R[9], const double axis[3], double angle_rad)
         rot_identity(R);
         return;
     }
-    R[0] = k[0] * k[0] * v + c;        R[1] = k[0] * k[1] * v - k[2] * s; R[2] = k[0] * k[2] * v + k[1] * s;
-    R[3] = k[1] * k[0] * v + k[2] * s; R[4] = k[1] * k[1] * v + c;        R[5] = k[1] * k[2] * v - k[0] * s;
-    R[6] = k[2] * k[0] * v - k[1] * s; R[7] = k[2] * k[1] * v + k[0] * s; R[8] = k[2] * k[2] * v + c;
+    R[0] = k[0] * k[0] * v + c;
+    R[1] = k[0] * k[1] * v - k[2] * s;
+    R[2] = k[0] * k[2] * v + k[1] * s;
+    R[3] = k[1] * k[0] * v + k[2] * s;
+    R[4] = k[1] * k[1] * v + c;
+    R[5] = k[1] * k[2] * v - k[0] * s;
+    R[6] = k[2] * k[0] * v - k[1] * s;
+    R[7] = k[2] * k[1] * v + k[0] * s;
+    R[8] = k[2] * k[2] * v + c;
 }
 
 double rot_to_axis_angle(double axis[3], const double R[9])
@@ -119,7 +141,10 @@ double rot_to_axis_angle(double axis[3], const double R[9])
     double q[4], n;
     rot_to_quat(q, R);
     if (q[0] < 0.0) {
-        q[0] = -q[0]; q[1] = -q[1]; q[2] = -q[2]; q[3] = -q[3];
+        q[0] = -q[0];
+        q[1] = -q[1];
+        q[2] = -q[2];
+        q[3] = -q[3];
     }
     n = vec3_norm(q + 1);
     if (n < 1e-15) {
@@ -127,14 +152,15 @@ double rot_to_axis_angle(double axis[3], const double R[9])
         return 0.0;
     }
     vec3_scale(axis, q + 1, 1.0 / n);
-    return 2.0 * trig_atan2(n, q[0]);   /* libm's traps to the 68040's FPSP three times */
+    return 2.0 * trig_atan2(n, q[0]); /* libm's traps to the 68040's FPSP three times */
 }
 
 void rot_from_quat(double R[9], const double q_wxyz[4])
 {
     double q[4], n;
     int i;
-    n = sqrt(q_wxyz[0] * q_wxyz[0] + q_wxyz[1] * q_wxyz[1] + q_wxyz[2] * q_wxyz[2] + q_wxyz[3] * q_wxyz[3]);
+    n = sqrt(q_wxyz[0] * q_wxyz[0] + q_wxyz[1] * q_wxyz[1] + q_wxyz[2] * q_wxyz[2] +
+             q_wxyz[3] * q_wxyz[3]);
     if (n == 0.0) {
         rot_identity(R);
         return;
@@ -210,23 +236,32 @@ void tf_from_rot_pos(double T[16], const double R[9], const double p[3])
 {
     int r;
     for (r = 0; r < 3; r++) {
-        T[4 * r] = R[3 * r]; T[4 * r + 1] = R[3 * r + 1]; T[4 * r + 2] = R[3 * r + 2];
+        T[4 * r] = R[3 * r];
+        T[4 * r + 1] = R[3 * r + 1];
+        T[4 * r + 2] = R[3 * r + 2];
         T[4 * r + 3] = p[r];
     }
-    T[12] = 0.0; T[13] = 0.0; T[14] = 0.0; T[15] = 1.0;
+    T[12] = 0.0;
+    T[13] = 0.0;
+    T[14] = 0.0;
+    T[15] = 1.0;
 }
 
 void tf_rot(double R[9], const double T[16])
 {
     int r;
     for (r = 0; r < 3; r++) {
-        R[3 * r] = T[4 * r]; R[3 * r + 1] = T[4 * r + 1]; R[3 * r + 2] = T[4 * r + 2];
+        R[3 * r] = T[4 * r];
+        R[3 * r + 1] = T[4 * r + 1];
+        R[3 * r + 2] = T[4 * r + 2];
     }
 }
 
 void tf_pos(double p[3], const double T[16])
 {
-    p[0] = T[3]; p[1] = T[7]; p[2] = T[11];
+    p[0] = T[3];
+    p[1] = T[7];
+    p[2] = T[11];
 }
 
 void tf_apply(double out[3], const double T[16], const double p[3])

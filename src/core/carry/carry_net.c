@@ -13,49 +13,43 @@
 #define T CARRY_N_TRANSITIONS
 /*                                   t1 t2 t3 t4 t5 t6 t7 tv */
 static const int8_t N_MINUS[CARRY_N_PLACES * T] = {
-    /* p1 */                          1, 0, 0, 0, 0, 0, 0, 0,
-    /* p2 */                          0, 0, 1, 0, 0, 0, 0, 0,
-    /* p3 */                          1, 0, 0, 0, 0, 0, 0, 0,
-    /* p4 */                          0, 1, 0, 0, 0, 0, 0, 0,
-    /* p5 */                          0, 0, 1, 0, 0, 0, 0, 0,
-    /* p6 */                          0, 0, 0, 1, 0, 0, 0, 0,
-    /* p7 */                          0, 0, 0, 0, 0, 1, 0, 0,
-    /* p8 */                          0, 0, 0, 0, 1, 0, 0, 0,
-    /* p9 */                          0, 0, 0, 0, 0, 0, 1, 0,
+    /* p1 */ 1, 0, 0, 0, 0, 0, 0, 0,
+    /* p2 */ 0, 0, 1, 0, 0, 0, 0, 0,
+    /* p3 */ 1, 0, 0, 0, 0, 0, 0, 0,
+    /* p4 */ 0, 1, 0, 0, 0, 0, 0, 0,
+    /* p5 */ 0, 0, 1, 0, 0, 0, 0, 0,
+    /* p6 */ 0, 0, 0, 1, 0, 0, 0, 0,
+    /* p7 */ 0, 0, 0, 0, 0, 1, 0, 0,
+    /* p8 */ 0, 0, 0, 0, 1, 0, 0, 0,
+    /* p9 */ 0, 0, 0, 0, 0, 0, 1, 0,
 };
 static const int8_t N_PLUS[CARRY_N_PLACES * T] = {
-    /* p1 */                          0, 0, 0, 0, 0, 0, 0, 1,
-    /* p2 */                          0, 0, 0, 0, 0, 0, 1, 0,
-    /* p3 */                          0, 0, 0, 0, 0, 1, 0, 0,
-    /* p4 */                          1, 0, 0, 0, 0, 0, 0, 0,
-    /* p5 */                          0, 1, 0, 0, 0, 0, 0, 0,
-    /* p6 */                          0, 0, 1, 0, 0, 0, 0, 0,
-    /* p7 */                          0, 0, 0, 1, 0, 0, 0, 0,
-    /* p8 */                          0, 0, 0, 1, 0, 0, 0, 0,
-    /* p9 */                          0, 0, 0, 0, 1, 0, 0, 0,
+    /* p1 */ 0, 0, 0, 0, 0, 0, 0, 1,
+    /* p2 */ 0, 0, 0, 0, 0, 0, 1, 0,
+    /* p3 */ 0, 0, 0, 0, 0, 1, 0, 0,
+    /* p4 */ 1, 0, 0, 0, 0, 0, 0, 0,
+    /* p5 */ 0, 1, 0, 0, 0, 0, 0, 0,
+    /* p6 */ 0, 0, 1, 0, 0, 0, 0, 0,
+    /* p7 */ 0, 0, 0, 1, 0, 0, 0, 0,
+    /* p8 */ 0, 0, 0, 1, 0, 0, 0, 0,
+    /* p9 */ 0, 0, 0, 0, 1, 0, 0, 0,
 };
 /* vision may add a token to p1 only while p1 is empty */
 static const int8_t N_INHIBIT[CARRY_N_PLACES * T] = {
-    /* p1 */                          0, 0, 0, 0, 0, 0, 0, 1,
-    0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0,
+    /* p1 */ 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    0,          0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    0,          0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
 };
 #undef T
 static const uint8_t GAMMA0[CARRY_N_PLACES] = { 1, 1, 1, 0, 0, 0, 0, 0, 0 };
 static const int8_t INVARIANTS[CARRY_N_INVARIANTS * CARRY_N_PLACES] = {
-    0, 0, 1, 1, 1, 1, 1, 0, 0,   /* arm 1: p3+p4+p5+p6+p7 = 1 */
-    0, 1, 0, 0, 0, 1, 0, 1, 1,   /* arm 2: p2+p6+p8+p9 = 1    */
+    0, 0, 1, 1, 1, 1, 1, 0, 0, /* arm 1: p3+p4+p5+p6+p7 = 1 */
+    0, 1, 0, 0, 0, 1, 0, 1, 1, /* arm 2: p2+p6+p8+p9 = 1    */
 };
 
 const petri_net carry_net = {
-    CARRY_N_PLACES, CARRY_N_TRANSITIONS, N_MINUS, N_PLUS, N_INHIBIT, GAMMA0,
-    CARRY_N_INVARIANTS, INVARIANTS,
+    CARRY_N_PLACES, CARRY_N_TRANSITIONS, N_MINUS,    N_PLUS, N_INHIBIT,
+    GAMMA0,         CARRY_N_INVARIANTS,  INVARIANTS,
 };
 
 /* Gains: free moves at 0.25 m/s; fine moves near the workpiece slower,
@@ -64,48 +58,107 @@ const petri_net carry_net = {
  * acceleration error of a good computed-torque model; a synchronised
  * partner of a blocked arm leads it by at most
  * (a_m + k_v v_m + k0)/k_p (about 7 cm at cruise, k0/k_p = 2 mm at rest). */
-#define FREE  { 0.25, 0.5, 4.0, 100.0, 20.0, 0.2, 5.0, 50.0 }
-#define FINE  { 0.10, 0.3, 4.0, 100.0, 20.0, 0.15, 5.0, 100.0 }
-#define SYNC  { 0.20, 0.4, 4.0, 100.0, 20.0, 0.2, 5.0, 50.0 }
+#define FREE                                        \
+    {                                               \
+        0.25, 0.5, 4.0, 100.0, 20.0, 0.2, 5.0, 50.0 \
+    }
+#define FINE                                          \
+    {                                                 \
+        0.10, 0.3, 4.0, 100.0, 20.0, 0.15, 5.0, 100.0 \
+    }
+#define SYNC                                        \
+    {                                               \
+        0.20, 0.4, 4.0, 100.0, 20.0, 0.2, 5.0, 50.0 \
+    }
 
-#define MOVE(p) { CARRY_SEG_MOVE, CARRY_POSE_##p }
-#define GRASP { CARRY_SEG_GRASP, CARRY_POSE_NONE }
-#define RELEASE { CARRY_SEG_RELEASE, CARRY_POSE_NONE }
-#define IDLE { 0, 0, { { 0, 0 } } }
+#define MOVE(p)                        \
+    {                                  \
+        CARRY_SEG_MOVE, CARRY_POSE_##p \
+    }
+#define GRASP                            \
+    {                                    \
+        CARRY_SEG_GRASP, CARRY_POSE_NONE \
+    }
+#define RELEASE                            \
+    {                                      \
+        CARRY_SEG_RELEASE, CARRY_POSE_NONE \
+    }
+#define IDLE         \
+    {                \
+        0, 0,        \
+        {            \
+            {        \
+                0, 0 \
+            }        \
+        }            \
+    }
 #define NOPOSE CARRY_POSE_NONE
 
 const erlaw_gains carry_rot_gains = { 0.5, 1.0, 8.0, 100.0, 20.0, 0.2, 5.0, 20.0 };
 
 const carry_row carry_table[CARRY_N_TRANSITIONS] = {
-    { "t1 arm 1 home -> above workpiece", CARRY_ARM1,
-      { CARRY_POSE_ABOVE_WORKPIECE, NOPOSE }, { CARRY_GRIP_NONE, CARRY_GRIP_NONE }, FREE, 0,
+    { "t1 arm 1 home -> above workpiece",
+      CARRY_ARM1,
+      { CARRY_POSE_ABOVE_WORKPIECE, NOPOSE },
+      { CARRY_GRIP_NONE, CARRY_GRIP_NONE },
+      FREE,
+      0,
       { { 1, 0, { MOVE(ABOVE_WORKPIECE) } }, IDLE } },
-    { "t2 arm 1 descends, grasps, lifts", CARRY_ARM1,
-      { CARRY_POSE_ABOVE_WORKPIECE, NOPOSE }, { CARRY_GRIP_CLOSE, CARRY_GRIP_NONE }, FINE, 0,
+    { "t2 arm 1 descends, grasps, lifts",
+      CARRY_ARM1,
+      { CARRY_POSE_ABOVE_WORKPIECE, NOPOSE },
+      { CARRY_GRIP_CLOSE, CARRY_GRIP_NONE },
+      FINE,
+      0,
       { { 3, 0, { MOVE(AT_WORKPIECE), GRASP, MOVE(ABOVE_WORKPIECE) } }, IDLE } },
-    { "t3 both arms to the hand-over (synchronised)", CARRY_ARM1 | CARRY_ARM2,
-      { CARRY_POSE_HANDOVER_1, CARRY_POSE_HANDOVER_2 }, { CARRY_GRIP_NONE, CARRY_GRIP_NONE },
-      SYNC, 1,
+    { "t3 both arms to the hand-over (synchronised)",
+      CARRY_ARM1 | CARRY_ARM2,
+      { CARRY_POSE_HANDOVER_1, CARRY_POSE_HANDOVER_2 },
+      { CARRY_GRIP_NONE, CARRY_GRIP_NONE },
+      SYNC,
+      1,
       { { 1, 0, { MOVE(HANDOVER_1) } }, { 1, 0, { MOVE(HANDOVER_2) } } } },
-    { "t4 hand-over: arm 2 grasps, then arm 1 releases", CARRY_ARM1 | CARRY_ARM2,
-      { NOPOSE, NOPOSE }, { CARRY_GRIP_OPEN, CARRY_GRIP_CLOSE }, FINE, 0,
+    { "t4 hand-over: arm 2 grasps, then arm 1 releases",
+      CARRY_ARM1 | CARRY_ARM2,
+      { NOPOSE, NOPOSE },
+      { CARRY_GRIP_OPEN, CARRY_GRIP_CLOSE },
+      FINE,
+      0,
       { { 1, 1, { RELEASE } }, { 1, 0, { GRASP } } } },
-    { "t5 arm 2 to the release pose", CARRY_ARM2,
-      { NOPOSE, CARRY_POSE_RELEASE_POSE }, { CARRY_GRIP_NONE, CARRY_GRIP_NONE }, FREE, 0,
+    { "t5 arm 2 to the release pose",
+      CARRY_ARM2,
+      { NOPOSE, CARRY_POSE_RELEASE_POSE },
+      { CARRY_GRIP_NONE, CARRY_GRIP_NONE },
+      FREE,
+      0,
       { IDLE, { 2, 0, { MOVE(ABOVE_RELEASE), MOVE(RELEASE_POSE) } } } },
-    { "t6 arm 1 back home", CARRY_ARM1,
-      { CARRY_POSE_HOME_1, NOPOSE }, { CARRY_GRIP_NONE, CARRY_GRIP_NONE }, FREE, 0,
+    { "t6 arm 1 back home",
+      CARRY_ARM1,
+      { CARRY_POSE_HOME_1, NOPOSE },
+      { CARRY_GRIP_NONE, CARRY_GRIP_NONE },
+      FREE,
+      0,
       { { 2, 0, { MOVE(CLEAR_1), MOVE(HOME_1) } }, IDLE } },
-    { "t7 arm 2 releases and goes home", CARRY_ARM2,
-      { NOPOSE, CARRY_POSE_HOME_2 }, { CARRY_GRIP_NONE, CARRY_GRIP_OPEN }, FREE, 0,
+    { "t7 arm 2 releases and goes home",
+      CARRY_ARM2,
+      { NOPOSE, CARRY_POSE_HOME_2 },
+      { CARRY_GRIP_NONE, CARRY_GRIP_OPEN },
+      FREE,
+      0,
       { IDLE, { 3, 0, { RELEASE, MOVE(ABOVE_RELEASE), MOVE(HOME_2) } } } },
-    { "vision locates a workpiece", 0u,
-      { NOPOSE, NOPOSE }, { CARRY_GRIP_NONE, CARRY_GRIP_NONE }, FREE, 0, { IDLE, IDLE } },
+    { "vision locates a workpiece",
+      0u,
+      { NOPOSE, NOPOSE },
+      { CARRY_GRIP_NONE, CARRY_GRIP_NONE },
+      FREE,
+      0,
+      { IDLE, IDLE } },
 };
 
 static const char *const POSE_NAMES[CARRY_N_POSES] = {
-    "NONE", "HOME_1", "ABOVE_WORKPIECE", "AT_WORKPIECE", "HANDOVER_1", "CLEAR_1",
-    "HOME_2", "HANDOVER_2", "ABOVE_RELEASE", "RELEASE_POSE", "ABOVE_HANDOVER_1", "ABOVE_HANDOVER_2",
+    "NONE",          "HOME_1",       "ABOVE_WORKPIECE",  "AT_WORKPIECE",
+    "HANDOVER_1",    "CLEAR_1",      "HOME_2",           "HANDOVER_2",
+    "ABOVE_RELEASE", "RELEASE_POSE", "ABOVE_HANDOVER_1", "ABOVE_HANDOVER_2",
 };
 
 const carry_row *carry_row_of(int t)
@@ -126,7 +179,7 @@ int carry_gains_bounds(double lo[CARRY_N_GAINS], double hi[CARRY_N_GAINS])
     for (t = 0; t < CARRY_N_TRANSITIONS; t++) {
         const erlaw_gains *g = &carry_table[t].lin;
         if (erlaw_gains_validate(g) != 0)
-            continue;   /* the vision transition moves no arm */
+            continue; /* the vision transition moves no arm */
         for (i = 0; i < CARRY_N_GAINS; i++) {
             const double v = gain_field(g, i);
             lo[i] = (n == 0 || v < lo[i]) ? v : lo[i];
@@ -168,13 +221,10 @@ static int segment_check(const carry_segment *s)
     if (!pose_ok(s->pose))
         return CARRY_NET_ERR_RANGE;
     switch (s->kind) {
-    case CARRY_SEG_MOVE:
-        return s->pose != CARRY_POSE_NONE ? 0 : CARRY_NET_ERR_INCONSISTENT;
+    case CARRY_SEG_MOVE: return s->pose != CARRY_POSE_NONE ? 0 : CARRY_NET_ERR_INCONSISTENT;
     case CARRY_SEG_GRASP:
-    case CARRY_SEG_RELEASE:
-        return s->pose == CARRY_POSE_NONE ? 0 : CARRY_NET_ERR_INCONSISTENT;
-    default:
-        return CARRY_NET_ERR_RANGE;
+    case CARRY_SEG_RELEASE: return s->pose == CARRY_POSE_NONE ? 0 : CARRY_NET_ERR_INCONSISTENT;
+    default: return CARRY_NET_ERR_RANGE;
     }
 }
 
@@ -189,8 +239,8 @@ static int plan_check(const carry_row *r, int a, int *moves)
     int k, last_pose = CARRY_POSE_NONE, last_grip = CARRY_GRIP_NONE;
     if (pl->n_segments < 0 || pl->n_segments > CARRY_MAX_SEGMENTS)
         return CARRY_NET_ERR_SIZE;
-    if (!pose_ok(r->target_pose[a]) || !grip_ok(r->gripper[a])
-        || (pl->after_partner != 0 && pl->after_partner != 1))
+    if (!pose_ok(r->target_pose[a]) || !grip_ok(r->gripper[a]) ||
+        (pl->after_partner != 0 && pl->after_partner != 1))
         return CARRY_NET_ERR_RANGE;
     for (k = 0; k < pl->n_segments; k++) {
         const int rc = segment_check(&pl->seg[k]);
@@ -203,9 +253,9 @@ static int plan_check(const carry_row *r, int a, int *moves)
             last_grip = pl->seg[k].kind == CARRY_SEG_GRASP ? CARRY_GRIP_CLOSE : CARRY_GRIP_OPEN;
         }
     }
-    if (in_row != (pl->n_segments > 0) || r->target_pose[a] != last_pose
-        || r->gripper[a] != last_grip
-        || (pl->after_partner && (partner->n_segments == 0 || partner->after_partner)))
+    if (in_row != (pl->n_segments > 0) || r->target_pose[a] != last_pose ||
+        r->gripper[a] != last_grip ||
+        (pl->after_partner && (partner->n_segments == 0 || partner->after_partner)))
         return CARRY_NET_ERR_INCONSISTENT;
     return 0;
 }

@@ -39,9 +39,9 @@ int cartseg_tool_world_at(const cartctl_state *st, const double T_world_base[16]
     return 0;
 }
 
-int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool, const double T_world_base[16],
-                  const double q[ARM_NJ], const double p1_world[3], const double R1_world[9],
-                  const erlaw_gains *g, erlaw_ref ref)
+int cartseg_start(cartseg *c, const arm_model *m, const arm_tool *tool,
+                  const double T_world_base[16], const double q[ARM_NJ], const double p1_world[3],
+                  const double R1_world[9], const erlaw_gains *g, erlaw_ref ref)
 {
     double x[3], v[3], Rwb[9];
     const double qd0[ARM_NJ] = { 0 };
@@ -138,7 +138,8 @@ int cartseg_joint_goal(const arm_model *m, const arm_tool *tool, const double T_
                        const double q[ARM_NJ], const double p1_world[3], const double R1_world[9],
                        double q_goal[ARM_NJ])
 {
-    double Tw[16], Tinv[16], T[16], cont[ARM_NJ], best[ARM_NJ], d_cont = HUGE_VAL, d_best = HUGE_VAL;
+    double Tw[16], Tinv[16], T[16], cont[ARM_NJ], best[ARM_NJ], d_cont = HUGE_VAL,
+                                                                d_best = HUGE_VAL;
     arm_ik_result r;
     int b, j, arm_cfg, best_same = 0, inside = 0;
     if (!m || !T_world_base || !p1_world || !R1_world || !q_goal || arm_q_finite(q) != 0)
@@ -156,20 +157,21 @@ int cartseg_joint_goal(const arm_model *m, const arm_tool *tool, const double T_
         if (r.branch[b].status & ARM_IK_UNREACHABLE)
             continue;
         for (j = 0; j < ARM_NJ; j++) {
-            const double lo = m->q_min_rad[j] + CARTSEG_GOAL_MARGIN_RAD, hi = m->q_max_rad[j] - CARTSEG_GOAL_MARGIN_RAD;
+            const double lo = m->q_min_rad[j] + CARTSEG_GOAL_MARGIN_RAD,
+                         hi = m->q_max_rad[j] - CARTSEG_GOAL_MARGIN_RAD;
             qc[j] = angle_near(r.branch[b].q_rad[j], q[j], 1.0, 0.0);
             qr[j] = angle_near(r.branch[b].q_rad[j], q[j], lo, hi);
             ok = ok && !isnan(qr[j]);
         }
         d = joint_dist(qc, q);
-        if (d < d_cont) {   /* where a continuous move ends */
+        if (d < d_cont) { /* where a continuous move ends */
             d_cont = d;
             memcpy(cont, qc, sizeof cont);
         }
         if (!ok)
             continue;
         d = joint_dist(qr, q);
-        same = (b & 3) == (arm_cfg & 3);   /* shoulder and elbow as now */
+        same = (b & 3) == (arm_cfg & 3); /* shoulder and elbow as now */
         if (!inside || (same && !best_same) || (same == best_same && d < d_best)) {
             inside = 1;
             best_same = same;
@@ -178,7 +180,8 @@ int cartseg_joint_goal(const arm_model *m, const arm_tool *tool, const double T_
         }
     }
     for (j = 0; j < ARM_NJ; j++)
-        if (!(cont[j] >= m->q_min_rad[j] + CARTSEG_GOAL_MARGIN_RAD && cont[j] <= m->q_max_rad[j] - CARTSEG_GOAL_MARGIN_RAD))
+        if (!(cont[j] >= m->q_min_rad[j] + CARTSEG_GOAL_MARGIN_RAD &&
+              cont[j] <= m->q_max_rad[j] - CARTSEG_GOAL_MARGIN_RAD))
             break;
     if (d_cont < HUGE_VAL && j == ARM_NJ) {
         memcpy(q_goal, cont, sizeof cont);
@@ -255,7 +258,8 @@ static void hold_ratchet(cartseg *c, const double x[3], const double v[3], doubl
      * pushes it: hold_off short of the hold point */
     vec3_add(side_x, side_x, c->hold_off_m);
     vec3_axpy(side_x, side_x, -vec3_dot(side_x, e), e);
-    moving_along = v_along >= CARTSEG_HOLD_V_MPS && vec3_norm(side_v) <= CARTSEG_HOLD_SIDE_FRAC * v_along;
+    moving_along = v_along >= CARTSEG_HOLD_V_MPS &&
+                   vec3_norm(side_v) <= CARTSEG_HOLD_SIDE_FRAC * v_along;
     near = vec3_norm(side_x) < CARTSEG_HOLD_SLIP_M;
     if (along > 0.0 && (moving_along || near || hold_rest_step(c, x, v, along, dt)))
         vec3_axpy(c->line.x_hold_m, c->line.x_hold_m, along, e);
@@ -285,7 +289,7 @@ static int block_update(cartseg *c, double s, double v_along, double dev, int co
                                  c->blocked ? CARTSEG_UNBLOCK_EPS_M : CARTSEG_BLOCK_EPS_M,
                                  CARTSEG_BLOCK_TIME_S);
     if (c->blocked && !blocked)
-        c->dev_ref_m = dev;   /* rejoining the line from here is not a new block */
+        c->dev_ref_m = dev; /* rejoining the line from here is not a new block */
     return blocked;
 }
 
@@ -335,9 +339,9 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
     return cartseg_step_at(c, m, tool, payload, &st, q, qd, s_ext_m, dt_s, out);
 }
 
-int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool, const arm_payload *payload,
-                    const cartctl_state *stp, const double q[ARM_NJ], const double qd[ARM_NJ],
-                    double s_ext_m, double dt_s, cartseg_out *out)
+int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool,
+                    const arm_payload *payload, const cartctl_state *stp, const double q[ARM_NJ],
+                    const double qd[ARM_NJ], double s_ext_m, double dt_s, cartseg_out *out)
 {
     cartctl_out co;
     erlaw_out eo;
@@ -346,10 +350,11 @@ int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool, const 
     erlaw_ref ref;
     if (!c || !out)
         return CARTSEG_ERR_ARG;
-    sync = s_ext_m >= 0.0 && c->ref == ERLAW_REF_MEASURED;   /* c is checked first */
+    sync = s_ext_m >= 0.0 && c->ref == ERLAW_REF_MEASURED; /* c is checked first */
     ref = sync ? ERLAW_REF_EXTERNAL : c->ref;
     memset(out, 0, sizeof *out);
-    if (!isfinite(dt_s) || dt_s < 0.0 || !stp || cartseg_tool_world_at(stp, c->T_world_base, out->x_world, out->v_world) != 0)
+    if (!isfinite(dt_s) || dt_s < 0.0 || !stp ||
+        cartseg_tool_world_at(stp, c->T_world_base, out->x_world, out->v_world) != 0)
         return CARTSEG_ERR_ARG;
     if (c->contact_N >= 0.0)
         c->t_no_contact_s = c->contact_N >= CARTSEG_CONTACT_N ? 0.0 : c->t_no_contact_s + dt_s;
@@ -367,7 +372,8 @@ int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool, const 
     out->s_f_m = erlaw_channel_length(&c->line.ch);
     out->bias = eo.bias;
     vec3_copy(out->u_world, eo.u);
-    out->done = erlaw_done(eo.s_m, out->s_f_m, vec3_norm(out->v_world), CARTSEG_DONE_TOL_M, CARTSEG_DONE_SPEED_MPS);
+    out->done = erlaw_done(eo.s_m, out->s_f_m, vec3_norm(out->v_world), CARTSEG_DONE_TOL_M,
+                           CARTSEG_DONE_SPEED_MPS);
     /* motion is asked while not done; a synchronised arm whose reference
      * k_i s* is behind its own s is held by its partner (a follower rests
      * ERLAW_FOLLOW_GAP_M ahead of it): waiting, not blocked. The laggard has k_i s* = s. Near
@@ -377,7 +383,9 @@ int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool, const 
     commanding = !out->done && out->s_f_m - eo.s_m > CARTSEG_BLOCK_NEAR_GOAL_M && !held;
     dev = line_deviation(&c->line, out->x_world);
     out->deviation_m = dev;
-    blocked = c->block_detect ? block_update(c, eo.s_m, vec3_dot(out->v_world, c->line.ch.e), dev, commanding, dt_s) : 0;
+    blocked = c->block_detect ? block_update(c, eo.s_m, vec3_dot(out->v_world, c->line.ch.e), dev,
+                                             commanding, dt_s)
+                              : 0;
     if (blocked && c->contact_N >= 0.0 && c->ref == ERLAW_REF_MEASURED &&
         c->t_no_contact_s > (c->blocked ? CARTSEG_FREE_S : CARTSEG_BLOCK_TIME_S)) {
         /* nothing touches the arm: a new stall is not an obstacle (stuck),
@@ -395,12 +403,13 @@ int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool, const 
     if (blocked && !c->blocked)
         block_enter(c, out->x_world, stp->T);
     if (!blocked && c->blocked)
-        erlaw_channel_resume(&c->line.ch, eo.s_m);   /* released: from rest, as a start */
+        erlaw_channel_resume(&c->line.ch, eo.s_m); /* released: from rest, as a start */
     c->blocked = blocked;
     out->blocked = blocked;
     rot_tapply(u_base, Rwb, eo.u);
     if (cartctl_torque(m, tool, payload, &c->cg, q, qd, stp, u_base,
-                       ref == ERLAW_REF_BLOCKED ? c->R_hold_base : c->R_d_base, out->tau_Nm, &co) != 0)
+                       ref == ERLAW_REF_BLOCKED ? c->R_hold_base : c->R_d_base, out->tau_Nm,
+                       &co) != 0)
         return CARTSEG_ERR_ARG;
     out->saturated = co.saturated;
     out->range_limited = co.range_limited;

@@ -13,7 +13,7 @@ const cell_layout cell_default = {
     .base_xyz_m = { { -0.60, 0.0, 0.0 }, { 0.60, 0.0, 0.0 } },
     .base_yaw_rad = { 0.0, PI },
     .table_center_m = { 0.0, 0.55, 0.175 },
-    .table_size_m = { 1.80, 0.50, 0.05 },        /* top at z = 0.20 */
+    .table_size_m = { 1.80, 0.50, 0.05 }, /* top at z = 0.20 */
     .workpiece_size_m = { 0.30, 0.04, 0.04 },
     .workpiece_mass_kg = 0.5,
     .grasp_offset_m = 0.10,
@@ -29,11 +29,11 @@ const cell_layout cell_default = {
 /* Every number of the layout, group by group. */
 static int numbers_finite(const cell_layout *c)
 {
-    const double *groups[] = { c->base_xyz_m[0], c->base_xyz_m[1], c->base_yaw_rad,
-                               c->table_center_m, c->table_size_m, c->workpiece_size_m,
-                               &c->workpiece_mass_kg, &c->grasp_offset_m, &c->grasp_tolerance_m,
-                               c->pick_center_m, c->pick_spread_m, c->deliver_center_m,
-                               c->handover_center_m, &c->approach_height_m, c->home_tool_m[0],
+    const double *groups[] = { c->base_xyz_m[0],      c->base_xyz_m[1],      c->base_yaw_rad,
+                               c->table_center_m,     c->table_size_m,       c->workpiece_size_m,
+                               &c->workpiece_mass_kg, &c->grasp_offset_m,    &c->grasp_tolerance_m,
+                               c->pick_center_m,      c->pick_spread_m,      c->deliver_center_m,
+                               c->handover_center_m,  &c->approach_height_m, c->home_tool_m[0],
                                c->home_tool_m[1] };
     const int len[] = { 3, 3, CELL_ARMS, 3, 3, 3, 1, 1, 1, 3, 2, 3, 3, 1, 3, 3 };
     size_t g;
@@ -64,8 +64,8 @@ static int rests_on_table(const cell_layout *c, const double p[3], const double 
     if (fabs(p[2] - 0.5 * c->workpiece_size_m[2] - top) > 1e-9)
         return 0;
     for (k = 0; k < 2; k++)
-        if (fabs(p[k] - c->table_center_m[k]) + spread[k] + 0.5 * c->workpiece_size_m[k]
-            > 0.5 * c->table_size_m[k])
+        if (fabs(p[k] - c->table_center_m[k]) + spread[k] + 0.5 * c->workpiece_size_m[k] >
+            0.5 * c->table_size_m[k])
             return 0;
     return 1;
 }
@@ -78,16 +78,16 @@ int cell_layout_validate(const cell_layout *c)
         return CELL_ERR_ARG;
     if (!numbers_finite(c))
         return CELL_ERR_NONFINITE;
-    if (!positive(c->table_size_m, 3) || !positive(c->workpiece_size_m, 3)
-        || !positive(&c->workpiece_mass_kg, 1) || !positive(&c->grasp_offset_m, 1)
-        || !positive(&c->grasp_tolerance_m, 1) || !positive(&c->approach_height_m, 1)
-        || c->pick_spread_m[0] < 0.0 || c->pick_spread_m[1] < 0.0)
+    if (!positive(c->table_size_m, 3) || !positive(c->workpiece_size_m, 3) ||
+        !positive(&c->workpiece_mass_kg, 1) || !positive(&c->grasp_offset_m, 1) ||
+        !positive(&c->grasp_tolerance_m, 1) || !positive(&c->approach_height_m, 1) ||
+        c->pick_spread_m[0] < 0.0 || c->pick_spread_m[1] < 0.0)
         return CELL_ERR_RANGE;
-    if (c->grasp_offset_m + c->grasp_tolerance_m > 0.5 * c->workpiece_size_m[0]
-        || !rests_on_table(c, c->pick_center_m, c->pick_spread_m)
-        || !rests_on_table(c, c->deliver_center_m, no_spread)
-        || !(c->handover_center_m[2] - 0.5 * c->workpiece_size_m[2]
-             > c->table_center_m[2] + 0.5 * c->table_size_m[2]))
+    if (c->grasp_offset_m + c->grasp_tolerance_m > 0.5 * c->workpiece_size_m[0] ||
+        !rests_on_table(c, c->pick_center_m, c->pick_spread_m) ||
+        !rests_on_table(c, c->deliver_center_m, no_spread) ||
+        !(c->handover_center_m[2] - 0.5 * c->workpiece_size_m[2] >
+          c->table_center_m[2] + 0.5 * c->table_size_m[2]))
         return CELL_ERR_INCONSISTENT;
     vec3_sub(arms_apart, c->base_xyz_m[1], c->base_xyz_m[0]);
     if (!(vec3_norm(arms_apart) > 0.0))

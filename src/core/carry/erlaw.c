@@ -29,7 +29,9 @@ int erlaw_gains_validate(const erlaw_gains *g)
           isfinite(g->k_v) && isfinite(g->k0) && isfinite(g->k1) && isfinite(g->k2)))
         return ERLAW_ERR_ARG;
     return (g->v_m > 0.0 && g->a_m > 0.0 && g->u_m > 0.0 && g->k_p >= 0.0 && g->k_v >= 0.0 &&
-            g->k0 >= 0.0 && g->k2 >= 0.0) ? 0 : ERLAW_ERR_ARG;
+            g->k0 >= 0.0 && g->k2 >= 0.0)
+               ? 0
+               : ERLAW_ERR_ARG;
 }
 
 static int channel_init(erlaw_channel *c, const double e[3], double s_f, const erlaw_gains *g)
@@ -125,9 +127,7 @@ static int channel_ref(erlaw_channel *c, double s, erlaw_ref ref, double s_ext, 
     if (ref != ERLAW_REF_EXTERNAL)
         c->ext_seen = 0;
     switch (ref) {
-    case ERLAW_REF_MEASURED:
-        *s_ref = s;
-        return 0;
+    case ERLAW_REF_MEASURED: *s_ref = s; return 0;
     case ERLAW_REF_BLOCKED:
         /* no reference motion along e (the error across it is taken from
          * the hold pose by the caller) */
@@ -210,8 +210,7 @@ static void out_zero(erlaw_out *out)
 
 /* ---- line ---------------------------------------------------------------*/
 
-int erlaw_line_init(erlaw_line *l, const double p0_m[3], const double p1_m[3],
-                    const erlaw_gains *g)
+int erlaw_line_init(erlaw_line *l, const double p0_m[3], const double p1_m[3], const erlaw_gains *g)
 {
     double d[3], e[3], s_f;
     if (!l || !finite3(p0_m) || !finite3(p1_m))
@@ -242,8 +241,8 @@ double erlaw_line_s(const erlaw_line *l, const double x_m[3])
     return clamp(vec3_dot(d, l->ch.e), 0.0, l->ch.prof.s_f_m);
 }
 
-int erlaw_line_step(erlaw_line *l, const double x_m[3], const double v_mps[3],
-                    erlaw_ref ref, double s_ext_m, double dt_s, erlaw_out *out)
+int erlaw_line_step(erlaw_line *l, const double x_m[3], const double v_mps[3], erlaw_ref ref,
+                    double s_ext_m, double dt_s, erlaw_out *out)
 {
     double s, s_ref, x_d[3], err[3];
     out_zero(out);
@@ -321,8 +320,8 @@ int erlaw_rot_hold(erlaw_rot *r, const double R[9])
     return 0;
 }
 
-int erlaw_rot_step(erlaw_rot *r, const double R[9], const double w_radps[3],
-                   erlaw_ref ref, double s_ext_rad, double dt_s, erlaw_out *out)
+int erlaw_rot_step(erlaw_rot *r, const double R[9], const double w_radps[3], erlaw_ref ref,
+                   double s_ext_rad, double dt_s, erlaw_out *out)
 {
     double th, th_ref, Rs[9], Rd[9], err[3];
     out_zero(out);
@@ -359,8 +358,8 @@ void erlaw_block_reset(erlaw_block *b, double s_m)
     b->t_still_s = 0.0;
 }
 
-int erlaw_block_update(erlaw_block *b, double s_m, int commanding, double dt_s,
-                       double eps_s, double t_block_s)
+int erlaw_block_update(erlaw_block *b, double s_m, int commanding, double dt_s, double eps_s,
+                       double t_block_s)
 {
     if (!b || !isfinite(s_m) || !isfinite(dt_s) || dt_s < 0.0)
         return 0;

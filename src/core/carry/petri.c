@@ -130,7 +130,7 @@ int petri_compile(petri_compiled *c, const petri_net *n)
                 in += y[i] * at(n->n_minus, n, i, j);
                 out += y[i] * at(n->n_plus, n, i, j);
             }
-            c->inv_in[k][j] = (int16_t)in;     /* |.| <= 32 * 128: fits */
+            c->inv_in[k][j] = (int16_t)in; /* |.| <= 32 * 128: fits */
             c->inv_step[k][j] = (int16_t)(out - in);
         }
     }
@@ -400,7 +400,7 @@ int petri_fire(petri *p, int t)
     if (r == 0) {
         r = petri_complete(p, t);
         if (r != 0) {
-            p->st = keep;   /* all or nothing */
+            p->st = keep; /* all or nothing */
             derive_sets(p);
         }
     }
@@ -421,8 +421,8 @@ static int running_ok(const petri *p, const petri_state *s)
 
 int petri_set_state(petri *p, const petri_state *s)
 {
-    if (!p || !p->c.net || !s || !running_ok(p, s)
-        || petri_state_invariant_violations(&p->c, s) != 0)
+    if (!p || !p->c.net || !s || !running_ok(p, s) ||
+        petri_state_invariant_violations(&p->c, s) != 0)
         return PETRI_ERR_ARG;
     p->st = *s;
     derive_sets(p);

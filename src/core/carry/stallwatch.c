@@ -37,7 +37,7 @@ int stallwatch_update(stallwatch *w, double t_s, int completed, int work_pending
     w->last_t_s = t_s;
     w->obstructed_s = obstructed && !completed && work_pending ? w->obstructed_s + dt : 0.0;
     if (obstructed && w->obstructed_s > w->obstruct_max_s)
-        obstructed = 0;         /* too long: no longer an excuse */
+        obstructed = 0; /* too long: no longer an excuse */
     if (completed || obstructed || !work_pending) {
         /* progress, an obstruction to wait for, or nothing to do */
         w->idle_s = 0.0;

@@ -35,7 +35,10 @@ static uint64_t fnv_int(uint64_t h, long v)
 
 static uint64_t fnv_double(uint64_t h, double d)
 {
-    union { double d; uint64_t u; } bits;
+    union {
+        double d;
+        uint64_t u;
+    } bits;
     bits.d = d;
     return fnv_u64(h, bits.u);
 }
@@ -121,8 +124,9 @@ int taskdef_roles_find(const petri_net *net, taskdef_roles *r)
     if (!r)
         return TASKDEF_ERR_ARG;
     r->source = r->source_place = r->pick = -1;
-    if (!net || !net->n_minus || !net->n_plus || net->n_places < 1 || net->n_places > PETRI_MAX_PLACES ||
-        net->n_transitions < 1 || net->n_transitions > PETRI_MAX_TRANSITIONS)
+    if (!net || !net->n_minus || !net->n_plus || net->n_places < 1 ||
+        net->n_places > PETRI_MAX_PLACES || net->n_transitions < 1 ||
+        net->n_transitions > PETRI_MAX_TRANSITIONS)
         return TASKDEF_ERR_ARG;
     for (j = 0; j < net->n_transitions; j++)
         if (column_count(net, net->n_minus, j, &unused) == 0) {
@@ -174,7 +178,8 @@ int carry_row_sets_down(const carry_row *r, int a)
     for (k = 0; k < pl->n_segments && k < CARRY_MAX_SEGMENTS; k++) {
         if (pl->seg[k].kind == CARRY_SEG_MOVE)
             at = pl->seg[k].pose;
-        else if (pl->seg[k].kind == CARRY_SEG_RELEASE && at != CARRY_POSE_RELEASE_POSE && at != CARRY_POSE_NONE)
+        else if (pl->seg[k].kind == CARRY_SEG_RELEASE && at != CARRY_POSE_RELEASE_POSE &&
+                 at != CARRY_POSE_NONE)
             releases = 1;
     }
     return releases && !partner_grasps;

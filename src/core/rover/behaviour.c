@@ -9,13 +9,13 @@
 #include <math.h>
 #include <stddef.h>
 
-#define BEH_MIN_RANGE_FLOOR_M 1e-3   /* keeps W4 finite for a zero echo */
-#define BEH_L_EPS_M 1e-9             /* below this phi of a slot is undefined */
-#define BEH_WAIT_V_MPS 0.1           /* a team this fast brings the slot to a robot that waits */
+#define BEH_MIN_RANGE_FLOOR_M 1e-3 /* keeps W4 finite for a zero echo */
+#define BEH_L_EPS_M 1e-9           /* below this phi of a slot is undefined */
+#define BEH_WAIT_V_MPS 0.1         /* a team this fast brings the slot to a robot that waits */
 
 void behaviour_params_default(behaviour_params *p)
 {
-    p->d_m = -0.15;   /* O ahead of the axle: behaviour.h */
+    p->d_m = -0.15; /* O ahead of the axle: behaviour.h */
     p->v_max_mps = 0.5;
     p->w_max_radps = 1.0;
     p->v_fm_max_mps = 0.5;
@@ -46,19 +46,34 @@ void behaviour_params_default(behaviour_params *p)
 
 static int params_check_values(const behaviour_params *p)
 {
-    const double pos[] = { fabs(p->d_m), p->v_max_mps, p->w_max_radps, p->v_fm_max_mps,
-                           p->w_fm_max_radps, p->d_r_m };
-    const double nonneg[] = { p->a1, p->a2, p->goal_tol_m, p->goal_margin_m,
-                              p->b1, p->b2, p->d_s_m, p->k_v, p->k_s,
-                              p->v_k_mps, p->w_k_radps, p->dead_zone_time_s,
-                              p->passage_safety_m, p->robot_width_m,
-                              p->k2, p->k3, p->k4 };
+    const double pos[] = { fabs(p->d_m),    p->v_max_mps,      p->w_max_radps,
+                           p->v_fm_max_mps, p->w_fm_max_radps, p->d_r_m };
+    const double nonneg[] = { p->a1,
+                              p->a2,
+                              p->goal_tol_m,
+                              p->goal_margin_m,
+                              p->b1,
+                              p->b2,
+                              p->d_s_m,
+                              p->k_v,
+                              p->k_s,
+                              p->v_k_mps,
+                              p->w_k_radps,
+                              p->dead_zone_time_s,
+                              p->passage_safety_m,
+                              p->robot_width_m,
+                              p->k2,
+                              p->k3,
+                              p->k4 };
     size_t i;
     for (i = 0; i < sizeof pos / sizeof pos[0]; i++)
-        if (!isfinite(pos[i]) || !(pos[i] > 0.0)) return BEHAVIOUR_ERR_ARG;
+        if (!isfinite(pos[i]) || !(pos[i] > 0.0))
+            return BEHAVIOUR_ERR_ARG;
     for (i = 0; i < sizeof nonneg / sizeof nonneg[0]; i++)
-        if (!isfinite(nonneg[i]) || nonneg[i] < 0.0) return BEHAVIOUR_ERR_ARG;
-    if (p->sat_mode != UNICYCLE_SAT_CLIP && p->sat_mode != UNICYCLE_SAT_SCALE) return BEHAVIOUR_ERR_ARG;
+        if (!isfinite(nonneg[i]) || nonneg[i] < 0.0)
+            return BEHAVIOUR_ERR_ARG;
+    if (p->sat_mode != UNICYCLE_SAT_CLIP && p->sat_mode != UNICYCLE_SAT_SCALE)
+        return BEHAVIOUR_ERR_ARG;
     if (!isfinite(p->form_near_m) || p->form_near_m < 0.0 || !isfinite(p->form_far_m) ||
         !(p->form_far_m > p->form_near_m))
         return BEHAVIOUR_ERR_ARG;
@@ -75,20 +90,25 @@ static double range_ok(double r)
     return (isfinite(r) && r > 0.0) ? r : 0.0;
 }
 
-static double min2(double a, double b) { return a < b ? a : b; }
+static double min2(double a, double b)
+{
+    return a < b ? a : b;
+}
 
 void behaviour_sonar_groups(sonar_groups *g, const double range_m[BEH_SONAR_N])
 {
     double r[BEH_SONAR_N];
     int i;
-    for (i = 0; i < BEH_SONAR_N; i++) r[i] = range_ok(range_m[i]);
+    for (i = 0; i < BEH_SONAR_N; i++)
+        r[i] = range_ok(range_m[i]);
     g->right_m = r[0];
     g->right_front_m = min2(r[1], r[2]);
     g->front_m = min2(r[3], r[4]);
     g->left_front_m = min2(r[5], r[6]);
     g->left_m = r[7];
     g->min_m = r[0];
-    for (i = 1; i < BEH_SONAR_N; i++) g->min_m = min2(g->min_m, r[i]);
+    for (i = 1; i < BEH_SONAR_N; i++)
+        g->min_m = min2(g->min_m, r[i]);
 }
 
 static void cmd_zero(unicycle_cmd *u)
@@ -99,16 +119,15 @@ static void cmd_zero(unicycle_cmd *u)
 
 /* ---- move to goal ------------------------------------------------------ */
 
-void behaviour_goal_polar(double *r_m, double *phi_rad, const pose2 *o,
-                          const double goal_m[2])
+void behaviour_goal_polar(double *r_m, double *phi_rad, const pose2 *o, const double goal_m[2])
 {
     const double ex = goal_m[0] - o->x_m, ey = goal_m[1] - o->y_m;
     *r_m = hypot(ex, ey);
     *phi_rad = vec2_wrap_rad(atan2(ey, ex) - o->theta_rad);
 }
 
-int behaviour_goal_raw(unicycle_cmd *u, double r_m, double phi_rad,
-                       double d_m, double a1, double a2)
+int behaviour_goal_raw(unicycle_cmd *u, double r_m, double phi_rad, double d_m, double a1,
+                       double a2)
 {
     const double c = cos(phi_rad), s = sin(phi_rad);
     const double den = r_m * c - d_m;
@@ -130,7 +149,8 @@ int behaviour_goal(unicycle_cmd *u, const pose2 *o, const double goal_m[2],
     if (!vec2_pose_finite(o) || !isfinite(goal_m[0]) || !isfinite(goal_m[1]))
         return BEHAVIOUR_ERR_ARG;
     behaviour_goal_polar(&r, &phi, o, goal_m);
-    if (r <= p->goal_tol_m) return BEH_GOAL_REACHED;
+    if (r <= p->goal_tol_m)
+        return BEH_GOAL_REACHED;
     if (r * cos(phi) - p->d_m <= p->goal_margin_m) {
         /* Eq. 5 is singular at r cos phi = d; face the goal first. */
         raw.v_mps = 0.0;
@@ -160,10 +180,9 @@ double behaviour_slot_error(double l_m, double phi_rad, double l_d_m, double phi
     return q > 0.0 ? sqrt(q) : 0.0;
 }
 
-void behaviour_formation_raw(unicycle_cmd *u, double l_m, double phi_rad,
-                             double gamma_rad, double l_d_m, double phi_d_rad,
-                             double v0_mps, double w0_radps, double d_m,
-                             double b1, double b2)
+void behaviour_formation_raw(unicycle_cmd *u, double l_m, double phi_rad, double gamma_rad,
+                             double l_d_m, double phi_d_rad, double v0_mps, double w0_radps,
+                             double d_m, double b1, double b2)
 {
     const double cp = cos(phi_rad), sp = sin(phi_rad);
     const double cg = cos(gamma_rad), sg = sin(gamma_rad);
@@ -174,14 +193,14 @@ void behaviour_formation_raw(unicycle_cmd *u, double l_m, double phi_rad,
     u->w_radps = (B * cg - A * sg) / d_m;
 }
 
-int behaviour_formation(unicycle_cmd *u, double *R_d_m, const pose2 *o,
-                        const unicycle_state *ref, double l_d_m,
-                        double phi_d_rad, const behaviour_params *p)
+int behaviour_formation(unicycle_cmd *u, double *R_d_m, const pose2 *o, const unicycle_state *ref,
+                        double l_d_m, double phi_d_rad, const behaviour_params *p)
 {
     double l, phi, gamma;
     unicycle_cmd raw;
     cmd_zero(u);
-    if (R_d_m) *R_d_m = 0.0;
+    if (R_d_m)
+        *R_d_m = 0.0;
     if (!vec2_pose_finite(o) || !ref || !vec2_finite3(ref->x_m, ref->y_m, ref->theta_rad) ||
         !isfinite(ref->v_mps) || !isfinite(ref->w_radps) || !isfinite(l_d_m) ||
         !isfinite(phi_d_rad) || l_d_m < 0.0 || !(fabs(p->d_m) > 0.0))
@@ -189,18 +208,20 @@ int behaviour_formation(unicycle_cmd *u, double *R_d_m, const pose2 *o,
     behaviour_formation_polar(&l, &phi, o, ref);
     /* At l = 0 the bearing is undefined; any value works since l multiplies
      * the phi error, so take the demanded one. */
-    if (l < BEH_L_EPS_M) phi = phi_d_rad;
+    if (l < BEH_L_EPS_M)
+        phi = phi_d_rad;
     gamma = vec2_wrap_rad(phi + ref->theta_rad - o->theta_rad);
-    behaviour_formation_raw(&raw, l, phi, gamma, l_d_m, phi_d_rad, ref->v_mps,
-                            ref->w_radps, p->d_m, p->b1, p->b2);
+    behaviour_formation_raw(&raw, l, phi, gamma, l_d_m, phi_d_rad, ref->v_mps, ref->w_radps, p->d_m,
+                            p->b1, p->b2);
     unicycle_saturate(u, &raw, p->v_fm_max_mps, p->w_fm_max_radps, p->sat_mode);
-    if (R_d_m) *R_d_m = behaviour_slot_error(l, phi, l_d_m, phi_d_rad);
+    if (R_d_m)
+        *R_d_m = behaviour_slot_error(l, phi, l_d_m, phi_d_rad);
     return 0;
 }
 
 int behaviour_formation_seed(unicycle_cmd *u, double *R_d_m, const pose2 *o,
-                              const unicycle_state *ref, double l_d_m,
-                              double phi_d_rad, const behaviour_params *p)
+                             const unicycle_state *ref, double l_d_m, double phi_d_rad,
+                             const behaviour_params *p)
 {
     const int rc = behaviour_formation(u, R_d_m, o, ref, l_d_m, phi_d_rad, p);
     /* No rear sonar: a robot whose O would have to move backward (it is
@@ -218,8 +239,10 @@ int behaviour_formation_seed(unicycle_cmd *u, double *R_d_m, const pose2 *o,
     if (rc == 0 && u->v_mps < 0.0) {
         double mu = ref->v_mps / BEH_WAIT_V_MPS;
         unicycle_cmd raw;
-        if (mu < 0.0) mu = 0.0;
-        if (mu > 1.0) mu = 1.0;
+        if (mu < 0.0)
+            mu = 0.0;
+        if (mu > 1.0)
+            mu = 1.0;
         raw.v_mps = 0.0;
         raw.w_radps = mu * p->b2 * vec2_angle_diff_rad(ref->theta_rad, o->theta_rad) +
                       (1.0 - mu) * u->w_radps;
@@ -229,8 +252,8 @@ int behaviour_formation_seed(unicycle_cmd *u, double *R_d_m, const pose2 *o,
 }
 
 /* Slot position and the slot's offset seen from O in the robot frame. */
-static void slot_in_robot_frame(double *ex, double *ey, const pose2 *o,
-                                const unicycle_state *ref, double l_d_m, double phi_d_rad)
+static void slot_in_robot_frame(double *ex, double *ey, const pose2 *o, const unicycle_state *ref,
+                                double l_d_m, double phi_d_rad)
 {
     double s[2];
     const double c = cos(o->theta_rad), sn = sin(o->theta_rad);
@@ -249,13 +272,14 @@ static int formation_inputs_ok(const pose2 *o, const unicycle_state *ref, double
            isfinite(phi_d_rad) && l_d_m >= 0.0 && fabs(p->d_m) > 0.0;
 }
 
-int behaviour_slot_track(unicycle_cmd *u, const pose2 *o, const unicycle_state *ref,
-                         double l_d_m, double phi_d_rad, const behaviour_params *p)
+int behaviour_slot_track(unicycle_cmd *u, const pose2 *o, const unicycle_state *ref, double l_d_m,
+                         double phi_d_rad, const behaviour_params *p)
 {
     double ex, ey, dist, mu, kv, kw;
     unicycle_cmd raw;
     cmd_zero(u);
-    if (!formation_inputs_ok(o, ref, l_d_m, phi_d_rad, p)) return BEHAVIOUR_ERR_ARG;
+    if (!formation_inputs_ok(o, ref, l_d_m, phi_d_rad, p))
+        return BEHAVIOUR_ERR_ARG;
     slot_in_robot_frame(&ex, &ey, o, ref, l_d_m, phi_d_rad);
     dist = hypot(ex, ey);
     {
@@ -269,8 +293,10 @@ int behaviour_slot_track(unicycle_cmd *u, const pose2 *o, const unicycle_state *
     }
     /* far with the slot ahead: pursue the slot point (nose toward it) */
     mu = ex > 0.0 ? (dist - p->form_near_m) / (p->form_far_m - p->form_near_m) : 0.0;
-    if (mu < 0.0) mu = 0.0;
-    if (mu > 1.0) mu = 1.0;
+    if (mu < 0.0)
+        mu = 0.0;
+    if (mu > 1.0)
+        mu = 1.0;
     if (mu > 0.0) {
         const double b = atan2(ey, ex);
         const double v0 = ref->v_mps > 0.0 ? ref->v_mps : 0.0;
@@ -284,32 +310,34 @@ int behaviour_slot_track(unicycle_cmd *u, const pose2 *o, const unicycle_state *
 }
 
 int behaviour_formation_track(unicycle_cmd *u, double *R_d_m, const pose2 *o,
-                              const unicycle_state *ref, double l_d_m,
-                              double phi_d_rad, const behaviour_params *p)
+                              const unicycle_state *ref, double l_d_m, double phi_d_rad,
+                              const behaviour_params *p)
 {
     unicycle_cmd seed;
     double R_d = 0.0;
     cmd_zero(u);
-    if (R_d_m) *R_d_m = 0.0;
-    if (behaviour_formation(&seed, &R_d, o, ref, l_d_m, phi_d_rad, p) != 0) return BEHAVIOUR_ERR_ARG;
-    if (behaviour_slot_track(u, o, ref, l_d_m, phi_d_rad, p) != 0) return BEHAVIOUR_ERR_ARG;
-    if (R_d_m) *R_d_m = R_d;
+    if (R_d_m)
+        *R_d_m = 0.0;
+    if (behaviour_formation(&seed, &R_d, o, ref, l_d_m, phi_d_rad, p) != 0)
+        return BEHAVIOUR_ERR_ARG;
+    if (behaviour_slot_track(u, o, ref, l_d_m, phi_d_rad, p) != 0)
+        return BEHAVIOUR_ERR_ARG;
+    if (R_d_m)
+        *R_d_m = R_d;
     return 0;
 }
 
 /* ---- avoid obstacles --------------------------------------------------- */
 
-double behaviour_d_st(const behaviour_params *p, double width_D_m,
-                      double l_d_m, double phi_d_rad)
+double behaviour_d_st(const behaviour_params *p, double width_D_m, double l_d_m, double phi_d_rad)
 {
-    const double off = p->d_st_lateral ? fabs(l_d_m * sin(phi_d_rad))
-                                       : l_d_m * cos(phi_d_rad);
+    const double off = p->d_st_lateral ? fabs(l_d_m * sin(phi_d_rad)) : l_d_m * cos(phi_d_rad);
     const double d_st = p->d_s_m + (0.5 * width_D_m - off);
     return (isfinite(d_st) && d_st > p->d_s_m) ? d_st : p->d_s_m;
 }
 
-int behaviour_avoid(unicycle_cmd *u, const sonar_groups *g, double v_now_mps,
-                    double d_st_m, const behaviour_params *p)
+int behaviour_avoid(unicycle_cmd *u, const sonar_groups *g, double v_now_mps, double d_st_m,
+                    const behaviour_params *p)
 {
     const double near = min2(g->front_m, min2(g->left_front_m, g->right_front_m));
     unicycle_cmd raw;
@@ -334,14 +362,14 @@ void behaviour_exception_init(behaviour_exception *e)
     e->entries = 0;
 }
 
-int behaviour_exception_step(behaviour_exception *e, unicycle_cmd *u,
-                             const sonar_groups *g, double dt_s,
-                             const behaviour_params *p)
+int behaviour_exception_step(behaviour_exception *e, unicycle_cmd *u, const sonar_groups *g,
+                             double dt_s, const behaviour_params *p)
 {
     const double ds = p->d_s_m;
     const int blocked = g->front_m < ds && g->left_m < ds && g->right_m < ds;
     cmd_zero(u);
-    if (!isfinite(dt_s) || dt_s < 0.0) return BEHAVIOUR_ERR_ARG;
+    if (!isfinite(dt_s) || dt_s < 0.0)
+        return BEHAVIOUR_ERR_ARG;
     if (e->active) {
         if (g->front_m > ds) {
             e->active = 0;
@@ -353,7 +381,8 @@ int behaviour_exception_step(behaviour_exception *e, unicycle_cmd *u,
         return 0;
     } else {
         e->blocked_s += dt_s;
-        if (e->blocked_s < p->dead_zone_time_s) return 0;
+        if (e->blocked_s < p->dead_zone_time_s)
+            return 0;
         e->active = 1;
         e->entries++;
     }
@@ -364,8 +393,7 @@ int behaviour_exception_step(behaviour_exception *e, unicycle_cmd *u,
     return 1;
 }
 
-int behaviour_passage_narrow(const sonar_groups *g, double width_D_m,
-                             const behaviour_params *p)
+int behaviour_passage_narrow(const sonar_groups *g, double width_D_m, const behaviour_params *p)
 {
     return g->left_m + g->right_m + p->robot_width_m < width_D_m + p->passage_safety_m;
 }
@@ -376,7 +404,8 @@ static int inputs_finite(const behaviour_inputs *in)
 {
     int i;
     for (i = 0; i < BEH_COUNT; i++)
-        if (!isfinite(in->u[i].v_mps) || !isfinite(in->u[i].w_radps)) return 0;
+        if (!isfinite(in->u[i].v_mps) || !isfinite(in->u[i].w_radps))
+            return 0;
     return isfinite(in->R_d_m) && isfinite(in->d_st_m) && isfinite(in->min_range_m);
 }
 
@@ -384,45 +413,53 @@ static void raw_weights(double W[BEH_COUNT], const behaviour_inputs *in, int mod
                         const behaviour_params *p)
 {
     int i;
-    for (i = 0; i < BEH_COUNT; i++) W[i] = 0.0;
+    for (i = 0; i < BEH_COUNT; i++)
+        W[i] = 0.0;
     if (in->exception_active) {
         W[BEH_EXCEPTION] = 1.0;
         return;
     }
     if (mode == BEH_BLEND_SUBSUMPTION) {
-        if (in->avoid_active) W[BEH_AVOID] = 1.0;
-        else if (in->R_d_m > p->d_r_m) W[BEH_FORMATION] = 1.0;
-        else W[BEH_GOAL] = 1.0;
+        if (in->avoid_active)
+            W[BEH_AVOID] = 1.0;
+        else if (in->R_d_m > p->d_r_m)
+            W[BEH_FORMATION] = 1.0;
+        else
+            W[BEH_GOAL] = 1.0;
     } else if (mode == BEH_BLEND_VECSUM) {
         W[BEH_GOAL] = W[BEH_FORMATION] = W[BEH_AVOID] = 1.0;
     } else {
         const double mr = in->min_range_m > BEH_MIN_RANGE_FLOOR_M ? in->min_range_m
-                                                                   : BEH_MIN_RANGE_FLOOR_M;
+                                                                  : BEH_MIN_RANGE_FLOOR_M;
         W[BEH_GOAL] = p->k2;
         W[BEH_FORMATION] = p->k3 * fabs(in->R_d_m) / p->d_r_m;
         W[BEH_AVOID] = p->k4 * fabs(in->d_st_m) / mr;
     }
 }
 
-int behaviour_blend(behaviour_blender *out, const behaviour_inputs *in,
-                    int mode, const behaviour_params *p)
+int behaviour_blend(behaviour_blender *out, const behaviour_inputs *in, int mode,
+                    const behaviour_params *p)
 {
     double sum = 0.0, v = 0.0, w = 0.0;
     int i;
-    for (i = 0; i < BEH_COUNT; i++) out->weight_raw[i] = out->weight[i] = 0.0;
+    for (i = 0; i < BEH_COUNT; i++)
+        out->weight_raw[i] = out->weight[i] = 0.0;
     cmd_zero(&out->u);
     out->winner = BEH_GOAL;
-    if ((mode != BEH_BLEND_WEIGHTED && mode != BEH_BLEND_SUBSUMPTION &&
-         mode != BEH_BLEND_VECSUM) || !inputs_finite(in))
+    if ((mode != BEH_BLEND_WEIGHTED && mode != BEH_BLEND_SUBSUMPTION && mode != BEH_BLEND_VECSUM) ||
+        !inputs_finite(in))
         return BEHAVIOUR_ERR_ARG;
     raw_weights(out->weight_raw, in, mode, p);
-    for (i = 0; i < BEH_COUNT; i++) sum += out->weight_raw[i];
-    if (!(sum > 0.0) || !isfinite(sum)) return BEHAVIOUR_ERR_ARG;
+    for (i = 0; i < BEH_COUNT; i++)
+        sum += out->weight_raw[i];
+    if (!(sum > 0.0) || !isfinite(sum))
+        return BEHAVIOUR_ERR_ARG;
     for (i = 0; i < BEH_COUNT; i++) {
         out->weight[i] = out->weight_raw[i] / sum;
         v += out->weight[i] * in->u[i].v_mps;
         w += out->weight[i] * in->u[i].w_radps;
-        if (out->weight[i] > out->weight[out->winner]) out->winner = i;
+        if (out->weight[i] > out->weight[out->winner])
+            out->winner = i;
     }
     out->u.v_mps = v;
     out->u.w_radps = w;

@@ -41,15 +41,16 @@ int localize_params_validate(const localize_params *p)
         !(p->reset_sd_theta_rad > 0.0))
         return LOCALIZE_ERR_ARG;
     for (i = 0; i < sizeof nonneg / sizeof nonneg[0]; i++)
-        if (!isfinite(nonneg[i]) || nonneg[i] < 0.0) return LOCALIZE_ERR_ARG;
+        if (!isfinite(nonneg[i]) || nonneg[i] < 0.0)
+            return LOCALIZE_ERR_ARG;
     if (!isfinite(p->range_sd0_m) || !(p->range_sd0_m > 0.0) || !isfinite(p->bearing_sd_rad) ||
         !(p->bearing_sd_rad > 0.0) || !isfinite(p->gate_chi2) || !(p->gate_chi2 > 0.0))
         return LOCALIZE_ERR_ARG;
     return 0;
 }
 
-int localize_init(localizer *l, const localize_params *p, const pose2 *c0,
-                  double sd_xy_m, double sd_theta_rad, const double (*lm)[2], int n)
+int localize_init(localizer *l, const localize_params *p, const pose2 *c0, double sd_xy_m,
+                  double sd_theta_rad, const double (*lm)[2], int n)
 {
     int k;
     if (!l || localize_params_validate(p) != 0 || !c0 || !vec2_pose_finite(c0) ||
@@ -57,7 +58,8 @@ int localize_init(localizer *l, const localize_params *p, const pose2 *c0,
         n < 0 || n > LOCALIZE_LANDMARKS_MAX || (n > 0 && !lm))
         return LOCALIZE_ERR_ARG;
     for (k = 0; k < n; k++)
-        if (!isfinite(lm[k][0]) || !isfinite(lm[k][1])) return LOCALIZE_ERR_ARG;
+        if (!isfinite(lm[k][0]) || !isfinite(lm[k][1]))
+            return LOCALIZE_ERR_ARG;
     memset(l, 0, sizeof *l);
     l->p = *p;
     l->s[0] = c0->x_m;
@@ -78,7 +80,8 @@ static void symmetrize(double P[9])
 {
     int i, j;
     for (i = 0; i < 3; i++)
-        for (j = i + 1; j < 3; j++) P[3 * i + j] = P[3 * j + i] = 0.5 * (P[3 * i + j] + P[3 * j + i]);
+        for (j = i + 1; j < 3; j++)
+            P[3 * i + j] = P[3 * j + i] = 0.5 * (P[3 * i + j] + P[3 * j + i]);
 }
 
 int localize_predict(localizer *l, double ds_m, double dtheta_rad)
@@ -90,9 +93,11 @@ int localize_predict(localizer *l, double ds_m, double dtheta_rad)
     const double G[6] = { ca, -0.5 * ds_m * sa, sa, 0.5 * ds_m * ca, 0, 1 };
     double q[2], FP[9], GQ[6], Q[9];
     int i;
-    if (!isfinite(ds_m) || !isfinite(dtheta_rad)) return LOCALIZE_ERR_ARG;
+    if (!isfinite(ds_m) || !isfinite(dtheta_rad))
+        return LOCALIZE_ERR_ARG;
     q[0] = l->p.k_ds * l->p.k_ds * fabs(ds_m);
-    q[1] = l->p.k_th_ds * l->p.k_th_ds * fabs(ds_m) + l->p.k_th_dth * l->p.k_th_dth * fabs(dtheta_rad);
+    q[1] = l->p.k_th_ds * l->p.k_th_ds * fabs(ds_m) +
+           l->p.k_th_dth * l->p.k_th_dth * fabs(dtheta_rad);
     l->s[0] += ds_m * ca;
     l->s[1] += ds_m * sa;
     l->s[2] = vec2_wrap_rad(l->s[2] + dtheta_rad);
@@ -103,7 +108,8 @@ int localize_predict(localizer *l, double ds_m, double dtheta_rad)
         GQ[2 * i + 1] = G[2 * i + 1] * q[1];
     }
     linalg_mul_t(Q, GQ, G, 3, 2, 3);
-    for (i = 0; i < 9; i++) l->P[i] += Q[i];
+    for (i = 0; i < 9; i++)
+        l->P[i] += Q[i];
     symmetrize(l->P);
     return 0;
 }
@@ -112,11 +118,13 @@ int localize_measure(const localizer *l, const double s[3], int k, double z[2], 
 {
     const double c = cos(s[2]), sn = sin(s[2]), d = l->p.d_m;
     double dx, dy, r2, r, dO_dth[2];
-    if (k < 0 || k >= l->n_lm) return LOCALIZE_ERR_ARG;
+    if (k < 0 || k >= l->n_lm)
+        return LOCALIZE_ERR_ARG;
     dx = l->lm[k][0] - (s[0] - d * c);
     dy = l->lm[k][1] - (s[1] - d * sn);
     r2 = dx * dx + dy * dy;
-    if (!(r2 > 1e-12)) return LOCALIZE_ERR_ARG;
+    if (!(r2 > 1e-12))
+        return LOCALIZE_ERR_ARG;
     r = sqrt(r2);
     z[0] = r;
     z[1] = vec2_wrap_rad(atan2(dy, dx) - s[2]);
@@ -143,13 +151,20 @@ int localize_landmark(localizer *l, int k, double range_m, double bearing_rad)
     nu[0] = range_m - z[0];
     nu[1] = vec2_wrap_rad(bearing_rad - z[1]);
     sr = l->p.range_sd0_m + l->p.range_sd1 * range_m;
-    R[0] = sr * sr; R[1] = R[2] = 0.0; R[3] = l->p.bearing_sd_rad * l->p.bearing_sd_rad;
+    R[0] = sr * sr;
+    R[1] = R[2] = 0.0;
+    R[3] = l->p.bearing_sd_rad * l->p.bearing_sd_rad;
     linalg_mul(HP, H, l->P, 2, 3, 3);
     linalg_mul_t(S, HP, H, 2, 3, 2);
-    for (i = 0; i < 4; i++) S[i] += R[i];
+    for (i = 0; i < 4; i++)
+        S[i] += R[i];
     det = S[0] * S[3] - S[1] * S[2];
-    if (!(det > 0.0)) return LOCALIZE_ERR_ARG;
-    Si[0] = S[3] / det; Si[1] = -S[1] / det; Si[2] = -S[2] / det; Si[3] = S[0] / det;
+    if (!(det > 0.0))
+        return LOCALIZE_ERR_ARG;
+    Si[0] = S[3] / det;
+    Si[1] = -S[1] / det;
+    Si[2] = -S[2] / det;
+    Si[3] = S[0] / det;
     if (nu[0] * (Si[0] * nu[0] + Si[1] * nu[1]) + nu[1] * (Si[2] * nu[0] + Si[3] * nu[1]) >
         l->p.gate_chi2) {
         l->rejected++;
@@ -165,17 +180,21 @@ int localize_landmark(localizer *l, int k, double range_m, double bearing_rad)
     l->rejected_run = 0;
     /* K = P H^T S^-1 = (HP)^T S^-1 */
     for (i = 0; i < 3; i++)
-        for (j = 0; j < 2; j++) K[2 * i + j] = HP[i] * Si[j] + HP[3 + i] * Si[2 + j];
-    for (i = 0; i < 3; i++) l->s[i] += K[2 * i] * nu[0] + K[2 * i + 1] * nu[1];
+        for (j = 0; j < 2; j++)
+            K[2 * i + j] = HP[i] * Si[j] + HP[3 + i] * Si[2 + j];
+    for (i = 0; i < 3; i++)
+        l->s[i] += K[2 * i] * nu[0] + K[2 * i + 1] * nu[1];
     l->s[2] = vec2_wrap_rad(l->s[2]);
     /* Joseph form: P = (I - KH) P (I - KH)^T + K R K^T */
     linalg_mul(IKH, K, H, 3, 2, 3);
-    for (i = 0; i < 9; i++) IKH[i] = (i % 4 == 0 ? 1.0 : 0.0) - IKH[i];
+    for (i = 0; i < 9; i++)
+        IKH[i] = (i % 4 == 0 ? 1.0 : 0.0) - IKH[i];
     linalg_mul(A, IKH, l->P, 3, 3, 3);
     linalg_mul_t(B, A, IKH, 3, 3, 3);
     linalg_mul(KR, K, R, 3, 2, 2);
     linalg_mul_t(A, KR, K, 3, 2, 3);
-    for (i = 0; i < 9; i++) l->P[i] = B[i] + A[i];
+    for (i = 0; i < 9; i++)
+        l->P[i] = B[i] + A[i];
     symmetrize(l->P);
     l->accepted++;
     return 1;

@@ -14,16 +14,16 @@
 #include "rover_ctl_internal.h"
 #include "rover_world.h"
 
-
 #include <math.h>
 #include <string.h>
 
-int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id,
-                   const pose2 *start_c, const double goal_m[2])
+int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id, const pose2 *start_c,
+                   const double goal_m[2])
 {
     if (!c || rover_ctl_params_validate(p) != 0 ||
-        rover_esc_table_validate(rover_esc_table, ROVER_ESC_COUNT) != ROVER_CTL_OK || !start_c || !vec2_pose_finite(start_c) ||
-        !goal_m || !isfinite(goal_m[0]) || !isfinite(goal_m[1]) || id < 0)
+        rover_esc_table_validate(rover_esc_table, ROVER_ESC_COUNT) != ROVER_CTL_OK || !start_c ||
+        !vec2_pose_finite(start_c) || !goal_m || !isfinite(goal_m[0]) || !isfinite(goal_m[1]) ||
+        id < 0)
         return ROVER_CTL_ERR_ARG;
     memset(c, 0, sizeof *c);
     c->id = id;
@@ -31,8 +31,10 @@ int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id,
     c->start_c = *start_c;
     c->goal_m[0] = goal_m[0];
     c->goal_m[1] = goal_m[1];
-    if (team_init(&c->team, id, p->team_timeout_s) != 0) return ROVER_CTL_ERR_ARG;
-    if (formation_fsm_init(&c->fsm, p->formation, 1.0) != 0) return ROVER_CTL_ERR_ARG;
+    if (team_init(&c->team, id, p->team_timeout_s) != 0)
+        return ROVER_CTL_ERR_ARG;
+    if (formation_fsm_init(&c->fsm, p->formation, 1.0) != 0)
+        return ROVER_CTL_ERR_ARG;
     behaviour_exception_init(&c->exc);
     c->team_tx_t_s = -INFINITY;
     {
@@ -60,7 +62,8 @@ static void ref_heading_to_goal(const rover_ctl_state *c, unicycle_state *ref)
     const double g = c->p.goal_heading_gain;
     const double dx = c->goal_m[0] - ref->x_m, dy = c->goal_m[1] - ref->y_m;
     const double to = hypot(dx, dy) < 1.0 ? atan2(c->goal_m[1], c->goal_m[0]) : atan2(dy, dx);
-    if (!(g > 0.0)) return;
+    if (!(g > 0.0))
+        return;
     ref->theta_rad = vec2_wrap_rad(ref->theta_rad + g * vec2_angle_diff_rad(to, ref->theta_rad));
     ref->w_radps *= 1.0 - g;
 }
@@ -91,7 +94,8 @@ static void ref_arrive(const rover_ctl_state *c, unicycle_state *ref)
     const double dx = c->goal_m[0] - ref->x_m, dy = c->goal_m[1] - ref->y_m;
     const double dist = hypot(dx, dy), frame = atan2(c->goal_m[1], c->goal_m[0]);
     double lam, s;
-    if (!(c->p.arrive_m > 0.0) || !(dist < c->p.arrive_m)) return;
+    if (!(c->p.arrive_m > 0.0) || !(dist < c->p.arrive_m))
+        return;
     lam = 1.0 - dist / c->p.arrive_m;
     s = dist > 0.0 ? 2.0 * (dx * cos(frame) + dy * sin(frame)) / dist : 1.0;
     s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
@@ -107,7 +111,8 @@ static void own_goal(const rover_ctl_state *c, int n, int k, double g[2])
 {
     double xy[2] = { 0.0, 0.0 }, r[2];
     const double heading = atan2(c->goal_m[1], c->goal_m[0]);
-    if (k >= 0) formation_slot_xy(xy, c->fsm.type, n, k, c->p.fsm.spacing_m, c->fsm.scale);
+    if (k >= 0)
+        formation_slot_xy(xy, c->fsm.type, n, k, c->p.fsm.spacing_m, c->fsm.scale);
     vec2_rotate(r, xy[0], xy[1], heading);
     g[0] = c->goal_m[0] + r[0];
     g[1] = c->goal_m[1] + r[1];
@@ -129,19 +134,19 @@ static int sensors_stale(const rover_ctl_state *c, double t_s)
 /* What one control period works from, filled in by the steps of
  * rover_ctl_step in their order. */
 typedef struct {
-    pose2 o;                      /* own O pose */
-    unicycle_state self;          /* own pose and measured speeds */
-    unicycle_state ref;           /* team reference R0 */
-    int32_t ids[TEAM_MAX + 1];    /* the team's ids, own included */
-    int n;                        /* team size, self included */
-    sonar_groups g;               /* near mates kept (avoidance) */
-    sonar_groups gw;              /* every mate masked (walls only) */
-    double masked[BEH_SONAR_N];   /* the ranges gw is made of */
-    double goal[2];               /* own goal slot */
-    int escaping;                 /* rover_ctl_escape_step's verdict */
-    behaviour_inputs in;          /* the behaviours' commands for the blend */
-    double R_d;                   /* own slot error */
-    int rc_goal;                  /* behaviour_goal's result */
+    pose2 o;                    /* own O pose */
+    unicycle_state self;        /* own pose and measured speeds */
+    unicycle_state ref;         /* team reference R0 */
+    int32_t ids[TEAM_MAX + 1];  /* the team's ids, own included */
+    int n;                      /* team size, self included */
+    sonar_groups g;             /* near mates kept (avoidance) */
+    sonar_groups gw;            /* every mate masked (walls only) */
+    double masked[BEH_SONAR_N]; /* the ranges gw is made of */
+    double goal[2];             /* own goal slot */
+    int escaping;               /* rover_ctl_escape_step's verdict */
+    behaviour_inputs in;        /* the behaviours' commands for the blend */
+    double R_d;                 /* own slot error */
+    int rc_goal;                /* behaviour_goal's result */
 } step_view;
 
 /* Own slot index in the formation flown (-1: none). */
@@ -156,7 +161,8 @@ static int sent_xy(const rover_ctl_state *c, int32_t id, double xy[2])
         return 0;
     }
     m = team_find(&c->team, id);
-    if (!m) return -1;
+    if (!m)
+        return -1;
     xy[0] = m->x_m;
     xy[1] = m->y_m;
     return 0;
@@ -183,13 +189,15 @@ static int arrival_slot(const rover_ctl_state *c, const step_view *v)
     int slot[TEAM_MAX + 1], j, q, pass, swapped = 1, mine = -1;
     for (j = 0; j < v->n; j++) {
         double s[2] = { 0.0, 0.0 };
-        if (sent_xy(c, v->ids[j], xy[j]) != 0) return -1;
+        if (sent_xy(c, v->ids[j], xy[j]) != 0)
+            return -1;
         formation_slot_xy(s, c->fsm.type, v->n, j, c->p.fsm.spacing_m, c->fsm.scale);
         vec2_rotate(sl[j], s[0], s[1], heading);
         sl[j][0] += c->goal_m[0];
         sl[j][1] += c->goal_m[1];
-        slot[j] = rover_world_slot(c->fsm.type, v->n, j);   /* ids sorted: j is the rank */
-        if (slot[j] < 0) return -1;
+        slot[j] = rover_world_slot(c->fsm.type, v->n, j); /* ids sorted: j is the rank */
+        if (slot[j] < 0)
+            return -1;
     }
     for (pass = 0; pass < v->n && swapped; pass++) {
         swapped = 0;
@@ -206,7 +214,8 @@ static int arrival_slot(const rover_ctl_state *c, const step_view *v)
             }
     }
     for (j = 0; j < v->n; j++)
-        if (v->ids[j] == c->id) mine = slot[j];
+        if (v->ids[j] == c->id)
+            mine = slot[j];
     return mine;
 }
 
@@ -216,9 +225,11 @@ static int arriving(const rover_ctl_state *c, const step_view *v)
 {
     double mx = 0.0, my = 0.0, xy[2];
     int j;
-    if (!(c->p.arrival_m > 0.0)) return 0;
+    if (!(c->p.arrival_m > 0.0))
+        return 0;
     for (j = 0; j < v->n; j++) {
-        if (sent_xy(c, v->ids[j], xy) != 0) return 0;
+        if (sent_xy(c, v->ids[j], xy) != 0)
+            return 0;
         mx += xy[0];
         my += xy[1];
     }
@@ -230,7 +241,8 @@ static int own_slot(const rover_ctl_state *c, const step_view *v)
 {
     if (arriving(c, v)) {
         const int k = arrival_slot(c, v);
-        if (k >= 0) return k;
+        if (k >= 0)
+            return k;
     }
     return rover_world_slot(c->fsm.type, v->n, formation_slot_of(v->ids, v->n, c->id));
 }
@@ -242,8 +254,11 @@ static void perceive(rover_ctl_state *c, double t_s, double dt_s, step_view *v)
     team_expire(&c->team, t_s);
     rover_ctl_frame_consensus(c, t_s, dt_s);
     rover_ctl_own_pose(c, &v->o);
-    v->self.x_m = v->o.x_m; v->self.y_m = v->o.y_m; v->self.theta_rad = v->o.theta_rad;
-    v->self.v_mps = c->v_est_mps; v->self.w_radps = c->w_est_radps;
+    v->self.x_m = v->o.x_m;
+    v->self.y_m = v->o.y_m;
+    v->self.theta_rad = v->o.theta_rad;
+    v->self.v_mps = c->v_est_mps;
+    v->self.w_radps = c->w_est_radps;
     v->n = team_ids(&c->team, v->ids, TEAM_MAX + 1);
     k = own_slot(c, v);
     /* avoid sees mates that come too near; the passage and dead-zone
@@ -272,14 +287,16 @@ static void reference_and_passage(rover_ctl_state *c, double t_s, double dt_s, s
      * corridor into the goal area stayed a column there, its rear robot
      * never seeing the way clear long enough, and the team stood in
      * column slots short of the goal's line) */
-    if (arriving(c, v)) passage = INFINITY;
+    if (arriving(c, v))
+        passage = INFINITY;
     if (!v->escaping) {
         const int before = c->fsm.type;
         if (formation_fsm_step(&c->fsm, &c->p.fsm, passage, v->n, dt_s, c->id,
                                rover_ctl_is_rearmost(c, &v->o), &ann) == 1) {
             c->ann_code = ann.code;
             c->ann_seq = ann.seq;
-            if (c->fsm.type != before) c->formation_changes++;
+            if (c->fsm.type != before)
+                c->formation_changes++;
         }
     }
 }
@@ -290,10 +307,10 @@ static void reference_and_passage(rover_ctl_state *c, double t_s, double dt_s, s
 static int blend_behaviours(rover_ctl_state *c, step_view *v)
 {
     const behaviour_params *bp = &c->p.beh;
-    const int k = own_slot(c, v);                /* type may have changed */
+    const int k = own_slot(c, v); /* type may have changed */
     double l_d, phi_d, D;
-    if (k < 0 || formation_slot(&l_d, &phi_d, c->fsm.type, v->n, k, c->p.fsm.spacing_m,
-                                c->fsm.scale) != 0) {
+    if (k < 0 ||
+        formation_slot(&l_d, &phi_d, c->fsm.type, v->n, k, c->p.fsm.spacing_m, c->fsm.scale) != 0) {
         l_d = 0.0;
         phi_d = 0.0;
     }
@@ -301,16 +318,15 @@ static int blend_behaviours(rover_ctl_state *c, step_view *v)
     v->R_d = 0.0;
     v->rc_goal = behaviour_goal(&v->in.u[BEH_GOAL], &v->o, v->goal, bp);
     if (c->p.formation_law == ROVER_LAW_KANAYAMA)
-        behaviour_formation_track(&v->in.u[BEH_FORMATION], &v->R_d, &v->o, &v->ref, l_d, phi_d,
-                                  bp);
+        behaviour_formation_track(&v->in.u[BEH_FORMATION], &v->R_d, &v->o, &v->ref, l_d, phi_d, bp);
     else
-        behaviour_formation_seed(&v->in.u[BEH_FORMATION], &v->R_d, &v->o, &v->ref, l_d, phi_d,
-                                 bp);
+        behaviour_formation_seed(&v->in.u[BEH_FORMATION], &v->R_d, &v->o, &v->ref, l_d, phi_d, bp);
     v->in.d_st_m = behaviour_d_st(bp, D, l_d, phi_d);
-    v->in.avoid_active = behaviour_avoid(&v->in.u[BEH_AVOID], &v->g, v->self.v_mps,
-                                         v->in.d_st_m, bp);
+    v->in.avoid_active = behaviour_avoid(&v->in.u[BEH_AVOID], &v->g, v->self.v_mps, v->in.d_st_m,
+                                         bp);
     v->in.exception_active = v->escaping;
-    if (!v->escaping) v->in.u[BEH_EXCEPTION].v_mps = v->in.u[BEH_EXCEPTION].w_radps = 0.0;
+    if (!v->escaping)
+        v->in.u[BEH_EXCEPTION].v_mps = v->in.u[BEH_EXCEPTION].w_radps = 0.0;
     v->in.R_d_m = v->R_d;
     /* avoidance's weight grows with what its law answers, the echoes ahead
      * (front, left-front, right-front): a mate alongside (side transducer)
@@ -333,12 +349,13 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
     int i;
     /* while the formation reshapes for a passage, give it time */
     if (c->fsm.phase == FORMATION_PHASE_SHRINK || c->fsm.phase == FORMATION_PHASE_CHANGE)
-        if (u.v_mps > c->p.v_change_mps) u.v_mps = c->p.v_change_mps;
+        if (u.v_mps > c->p.v_change_mps)
+            u.v_mps = c->p.v_change_mps;
     /* the escape table's mode (a robot giving way left the formation but
      * was not trapped itself) */
-    out->mode = v->escaping ? rover_esc_table[c->esc_phase].mode
-              : c->fsm.phase != FORMATION_PHASE_NORMAL ? ROVER_MODE_CHANGING
-              : ROVER_MODE_FORMATION;
+    out->mode = v->escaping                              ? rover_esc_table[c->esc_phase].mode
+                : c->fsm.phase != FORMATION_PHASE_NORMAL ? ROVER_MODE_CHANGING
+                                                         : ROVER_MODE_FORMATION;
     if (!v->escaping && v->rc_goal == BEH_GOAL_REACHED) {
         u.v_mps = u.w_radps = 0.0;
         out->mode = ROVER_MODE_AT_GOAL;
@@ -347,8 +364,10 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
      * one's way. Not guarded: the guard turns a stopped robot with an echo
      * near ahead toward the freer side, and a robot standing for a mate
      * beside it swung its nose into that mate */
-    if (c->holding != ROVER_WAIT_NONE) u = c->wait_u;
-    else if (!v->escaping) rover_ctl_guard(&u, c->range_m, &v->o, v->goal, &c->p);
+    if (c->holding != ROVER_WAIT_NONE)
+        u = c->wait_u;
+    else if (!v->escaping)
+        rover_ctl_guard(&u, c->range_m, &v->o, v->goal, &c->p);
     /* no command sweeps the chassis into a mate we wait for
      * (rover_ctl_cmd_sweeps_mate): past hold_max_s a robot flies the blend
      * again, and one standing beside a trapped mate turned toward its slot
@@ -358,10 +377,12 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
         u.v_mps = u.w_radps = 0.0;
     /* no rear sonar: never back up blindly (backing out of a mate's way
      * goes the way the robot came, clear of mates) */
-    if (u.v_mps < 0.0 && !c->esc_backing) u.v_mps = 0.0;
+    if (u.v_mps < 0.0 && !c->esc_backing)
+        u.v_mps = 0.0;
     unicycle_saturate(&out->u, &u, bp->v_max_mps, bp->w_max_radps, UNICYCLE_SAT_CLIP);
     out->o = v->o;
-    for (i = 0; i < BEH_COUNT; i++) out->weight[i] = c->blend.weight[i];
+    for (i = 0; i < BEH_COUNT; i++)
+        out->weight[i] = c->blend.weight[i];
     out->slot_err_m = v->R_d;
     out->team_size = v->n;
 }
@@ -369,17 +390,20 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
 /* Own team message, every team_period_s: pose, speeds, the formation
  * flown and the own announcement (LEAVE throughout an escape, GIVE_WAY
  * while making room for one). */
-static void team_message_out(rover_ctl_state *c, const step_view *v, double t_s,
-                             rover_ctl_out *out)
+static void team_message_out(rover_ctl_state *c, const step_view *v, double t_s, rover_ctl_out *out)
 {
     team_member *m = &out->team;
-    if (!(t_s - c->team_tx_t_s >= c->p.team_period_s - 1e-9)) return;
+    if (!(t_s - c->team_tx_t_s >= c->p.team_period_s - 1e-9))
+        return;
     c->team_tx_t_s = t_s;
     out->send_team = 1;
     memset(m, 0, sizeof *m);
     m->robot = c->id;
-    m->x_m = v->o.x_m; m->y_m = v->o.y_m; m->theta_rad = v->o.theta_rad;
-    m->v_mps = v->self.v_mps; m->w_radps = v->self.w_radps;
+    m->x_m = v->o.x_m;
+    m->y_m = v->o.y_m;
+    m->theta_rad = v->o.theta_rad;
+    m->v_mps = v->self.v_mps;
+    m->w_radps = v->self.w_radps;
     m->formation = c->fsm.type;
     m->scale = c->fsm.scale;
     /* the same announcement every mate ranks us by (rover_ctl_outranks) */
@@ -394,13 +418,15 @@ int rover_ctl_step(rover_ctl_state *c, double t_s, double dt_s, rover_ctl_out *o
 {
     step_view v;
     if (!c || !out || !isfinite(t_s) || !isfinite(dt_s) || dt_s < 0.0) {
-        if (out) stop_out(out, ROVER_MODE_SAFE_STOP);
+        if (out)
+            stop_out(out, ROVER_MODE_SAFE_STOP);
         return ROVER_CTL_ERR_ARG;
     }
     if (sensors_stale(c, t_s)) {
         /* docs/method/lockstep.md §6: stop, and stay silent so the mates re-slot without us */
         stop_out(out, ROVER_MODE_SAFE_STOP);
-        if (c->have_enc) rover_ctl_own_pose(c, &out->o);
+        if (c->have_enc)
+            rover_ctl_own_pose(c, &out->o);
         return ROVER_CTL_OK;
     }
     memset(out, 0, sizeof *out);

@@ -21,26 +21,30 @@
  * mate's way turns away from it and follows the boundary out. Both end,
  * through `next`, in NONE: the leave rule or a lost wall. */
 const rover_esc_row rover_esc_table[ROVER_ESC_COUNT] = {
-    { ROVER_ESC_NONE,   FORMATION_ANN_NONE,     ROVER_MODE_FORMATION, ROVER_ESC_FLY_BLEND,
-      ROVER_ESC_LIMIT_NONE,   ROVER_ESC_NONE,   ROVER_ESC_NONE },
-    { ROVER_ESC_TURN,   FORMATION_ANN_LEAVE,    ROVER_MODE_DEAD_ZONE, ROVER_ESC_FLY_EQ2,
-      ROVER_ESC_LIMIT_NONE,   ROVER_ESC_FOLLOW, ROVER_ESC_TURN },
-    { ROVER_ESC_FOLLOW, FORMATION_ANN_LEAVE,    ROVER_MODE_DEAD_ZONE, ROVER_ESC_FLY_FOLLOW,
-      ROVER_ESC_LIMIT_FOLLOW, ROVER_ESC_NONE,   ROVER_ESC_FOLLOW },
+    { ROVER_ESC_NONE, FORMATION_ANN_NONE, ROVER_MODE_FORMATION, ROVER_ESC_FLY_BLEND,
+      ROVER_ESC_LIMIT_NONE, ROVER_ESC_NONE, ROVER_ESC_NONE },
+    { ROVER_ESC_TURN, FORMATION_ANN_LEAVE, ROVER_MODE_DEAD_ZONE, ROVER_ESC_FLY_EQ2,
+      ROVER_ESC_LIMIT_NONE, ROVER_ESC_FOLLOW, ROVER_ESC_TURN },
+    { ROVER_ESC_FOLLOW, FORMATION_ANN_LEAVE, ROVER_MODE_DEAD_ZONE, ROVER_ESC_FLY_FOLLOW,
+      ROVER_ESC_LIMIT_FOLLOW, ROVER_ESC_NONE, ROVER_ESC_FOLLOW },
     /* giving way reports CHANGING: only real traps count as escapes */
-    { ROVER_ESC_YIELD,  FORMATION_ANN_GIVE_WAY, ROVER_MODE_CHANGING,  ROVER_ESC_FLY_SPIN,
-      ROVER_ESC_LIMIT_YIELD,  ROVER_ESC_CLEAR,  ROVER_ESC_CLEAR },
-    { ROVER_ESC_CLEAR,  FORMATION_ANN_GIVE_WAY, ROVER_MODE_CHANGING,  ROVER_ESC_FLY_FOLLOW,
-      ROVER_ESC_LIMIT_FOLLOW, ROVER_ESC_NONE,   ROVER_ESC_CLEAR },
+    { ROVER_ESC_YIELD, FORMATION_ANN_GIVE_WAY, ROVER_MODE_CHANGING, ROVER_ESC_FLY_SPIN,
+      ROVER_ESC_LIMIT_YIELD, ROVER_ESC_CLEAR, ROVER_ESC_CLEAR },
+    { ROVER_ESC_CLEAR, FORMATION_ANN_GIVE_WAY, ROVER_MODE_CHANGING, ROVER_ESC_FLY_FOLLOW,
+      ROVER_ESC_LIMIT_FOLLOW, ROVER_ESC_NONE, ROVER_ESC_CLEAR },
 };
 
-static int phase_ok(int k) { return k >= ROVER_ESC_NONE && k < ROVER_ESC_COUNT; }
+static int phase_ok(int k)
+{
+    return k >= ROVER_ESC_NONE && k < ROVER_ESC_COUNT;
+}
 
 /* Following `next` from phase k reaches NONE (within ROVER_ESC_COUNT steps). */
 static int ends_in_none(const rover_esc_row *t, int k)
 {
     int step;
-    for (step = 0; step < ROVER_ESC_COUNT && k != ROVER_ESC_NONE; step++) k = t[k].next;
+    for (step = 0; step < ROVER_ESC_COUNT && k != ROVER_ESC_NONE; step++)
+        k = t[k].next;
     return k == ROVER_ESC_NONE;
 }
 
@@ -59,7 +63,8 @@ static int row_ok(const rover_esc_row *r, int k)
     if (k == ROVER_ESC_NONE)
         return r->announce == FORMATION_ANN_NONE && r->mode == ROVER_MODE_FORMATION &&
                r->fly == ROVER_ESC_FLY_BLEND && r->next == ROVER_ESC_NONE;
-    if (r->fly == ROVER_ESC_FLY_BLEND) return 0;
+    if (r->fly == ROVER_ESC_FLY_BLEND)
+        return 0;
     return (r->announce == FORMATION_ANN_LEAVE && r->mode == ROVER_MODE_DEAD_ZONE) ||
            (r->announce == FORMATION_ANN_GIVE_WAY && r->mode == ROVER_MODE_CHANGING);
 }
@@ -67,21 +72,24 @@ static int row_ok(const rover_esc_row *r, int k)
 int rover_esc_table_validate(const rover_esc_row *t, int n)
 {
     int k;
-    if (!t || n != ROVER_ESC_COUNT) return ROVER_CTL_ERR_ARG;
+    if (!t || n != ROVER_ESC_COUNT)
+        return ROVER_CTL_ERR_ARG;
     for (k = 0; k < n; k++)
-        if (!row_ok(&t[k], k)) return ROVER_CTL_ERR_ARG;
+        if (!row_ok(&t[k], k))
+            return ROVER_CTL_ERR_ARG;
     for (k = 0; k < n; k++)
-        if (!ends_in_none(t, k)) return ROVER_CTL_ERR_ARG;
+        if (!ends_in_none(t, k))
+            return ROVER_CTL_ERR_ARG;
     return ROVER_CTL_OK;
 }
 
 /* Escape wall following: the nearer range on the wall side held at
  * follow_dist_m by a proportional turn. */
-void rover_ctl_follow(unicycle_cmd *u, const sonar_groups *g, int side,
-                      const rover_ctl_params *p)
+void rover_ctl_follow(unicycle_cmd *u, const sonar_groups *g, int side, const rover_ctl_params *p)
 {
     const double s = side < 0 ? -1.0 : 1.0;
-    const double right = fmin(g->right_m, g->right_front_m), left = fmin(g->left_m, g->left_front_m);
+    const double right = fmin(g->right_m, g->right_front_m),
+                 left = fmin(g->left_m, g->left_front_m);
     const double near_side = s < 0 ? right : left;
     /* in a passage narrower than twice follow_dist_m, its middle: held at
      * follow_dist_m from one wall, a robot in a 1 m dead end steered into
@@ -101,8 +109,10 @@ void rover_ctl_follow(unicycle_cmd *u, const sonar_groups *g, int side,
         u->w_radps = s * 0.8 * wmax;
     } else {
         double w = -s * 2.0 * (keep_m - near_side);
-        if (w > wmax) w = wmax;
-        if (w < -wmax) w = -wmax;
+        if (w > wmax)
+            w = wmax;
+        if (w < -wmax)
+            w = -wmax;
         u->v_mps = p->follow_v_mps;
         u->w_radps = w;
     }
@@ -118,7 +128,6 @@ static double range_toward(const double range_m[BEH_SONAR_N], double b_rad)
             best = i;
     return range_m[best];
 }
-
 
 /* A new own announcement: broadcast in every team message until the next. */
 static void announce_own(rover_ctl_state *c, int code)
@@ -144,7 +153,8 @@ static void enter(rover_ctl_state *c, int k)
     c->esc_s = 0.0;
     c->esc_wait_s = 0.0;
     if (k == ROVER_ESC_NONE) {
-        if (was != ROVER_ESC_NONE) announce_own(c, FORMATION_ANN_REJOIN);
+        if (was != ROVER_ESC_NONE)
+            announce_own(c, FORMATION_ANN_REJOIN);
     } else if (c->ann_code != rover_esc_table[k].announce) {
         announce_own(c, rover_esc_table[k].announce);
     }
@@ -166,8 +176,8 @@ static int trapped_mate_coming(const rover_ctl_state *c, const pose2 *o, double 
     for (k = 0; k < c->wait_n; k++) {
         const team_member *m = team_find(&c->team, c->wait_id[k]);
         double xy[2], dist;
-        if (!m || m->announce != FORMATION_ANN_LEAVE || team_position(&c->team, m->robot, xy) != 0 ||
-            !rover_ctl_mate_coming(m, xy, o))
+        if (!m || m->announce != FORMATION_ANN_LEAVE ||
+            team_position(&c->team, m->robot, xy) != 0 || !rover_ctl_mate_coming(m, xy, o))
             continue;
         dist = hypot(xy[0] - o->x_m, xy[1] - o->y_m);
         if (dist < best) {
@@ -192,15 +202,18 @@ static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose
                           const double goal[2])
 {
     double b, mate[2];
-    if (!trapped_mate_coming(c, o, &b, mate)) return 0;
+    if (!trapped_mate_coming(c, o, &b, mate))
+        return 0;
     enter(c, ROVER_ESC_YIELD);
     c->esc_back_m = 0.0;
     c->esc_wedge_s = 0.0;
     c->esc_lost_s = 0.0;
     c->esc_hit_dist_m = hypot(goal[0] - mate[0], goal[1] - mate[1]);
     /* away from the mate; one dead ahead: toward the roomier side */
-    if (fabs(b) > 0.2) c->esc_turn = b > 0.0 ? -1 : 1;
-    else c->esc_turn = gw->left_m + gw->left_front_m >= gw->right_m + gw->right_front_m ? 1 : -1;
+    if (fabs(b) > 0.2)
+        c->esc_turn = b > 0.0 ? -1 : 1;
+    else
+        c->esc_turn = gw->left_m + gw->left_front_m >= gw->right_m + gw->right_front_m ? 1 : -1;
     return 1;
 }
 
@@ -208,7 +221,8 @@ static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose
  * and the wall kept on the side the turn of eq. 2 turned away from. */
 static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, double dist)
 {
-    if (rover_esc_table[c->esc_phase].announce != FORMATION_ANN_LEAVE) c->esc_hit_dist_m = dist;
+    if (rover_esc_table[c->esc_phase].announce != FORMATION_ANN_LEAVE)
+        c->esc_hit_dist_m = dist;
     enter(c, ROVER_ESC_TURN);
     c->escapes++;
     c->esc_back_m = 0.0;
@@ -253,7 +267,7 @@ static void crumbs_lay(rover_ctl_state *c, const pose2 *o)
  * BACK_AIM_MAX_RAD off the tail (a robot that turned on the spot since:
  * the chassis would swing out of the path). */
 #define BACK_AIM_MAX_RAD 0.6
-#define BACK_AIM_GAIN 1.5       /* 1/s: heading error to turn rate while backing */
+#define BACK_AIM_GAIN 1.5 /* 1/s: heading error to turn rate while backing */
 #define CRUMB_REACHED_M 0.05
 static int crumbs_back(rover_ctl_state *c, const pose2 *o, unicycle_cmd *u)
 {
@@ -264,10 +278,12 @@ static int crumbs_back(rover_ctl_state *c, const pose2 *o, unicycle_cmd *u)
     while (c->crumb_n > 0 && hypot(ax.x_m - c->crumb_m[c->crumb_n - 1][0],
                                    ax.y_m - c->crumb_m[c->crumb_n - 1][1]) < CRUMB_REACHED_M)
         c->crumb_n--;
-    if (c->crumb_n == 0) return 0;
+    if (c->crumb_n == 0)
+        return 0;
     aim = c->crumb_m[c->crumb_n - 1];
     err = vec2_angle_diff_rad(atan2(ax.y_m - aim[1], ax.x_m - aim[0]), ax.theta_rad);
-    if (fabs(err) > BACK_AIM_MAX_RAD) return 0;
+    if (fabs(err) > BACK_AIM_MAX_RAD)
+        return 0;
     u->v_mps = -c->p.back_v_mps;
     u->w_radps = BACK_AIM_GAIN * err;
     return 1;
@@ -296,11 +312,12 @@ static int back_out(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_cm
  * one, its back_max_m used and unable to turn on the spot, held both there
  * (dead zone, 3 in line, seed 1, with the lane test follow_boundary had). */
 #define AHEAD_FREE_M 0.6
-static int ahead_out(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, const team_member *m,
-                     unicycle_cmd *u)
+static int ahead_out(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
+                     const team_member *m, unicycle_cmd *u)
 {
     double xy[2];
-    if (fmin(gw->front_m, fmin(gw->left_front_m, gw->right_front_m)) < AHEAD_FREE_M) return 0;
+    if (fmin(gw->front_m, fmin(gw->left_front_m, gw->right_front_m)) < AHEAD_FREE_M)
+        return 0;
     if (team_position(&c->team, m->robot, xy) != 0 ||
         cos(o->theta_rad) * (o->x_m - xy[0]) + sin(o->theta_rad) * (o->y_m - xy[1]) < 0.0 ||
         rover_ctl_mate_in_lane(c, o, c->p.follow_mate_ahead_m))
@@ -316,7 +333,8 @@ static int in_way_of_waited(const rover_ctl_state *c, const pose2 *o)
 {
     int k;
     for (k = 0; k < c->wait_n; k++)
-        if (rover_ctl_in_way_of(c, o, c->wait_id[k], c->p.follow_mate_ahead_m)) return 1;
+        if (rover_ctl_in_way_of(c, o, c->wait_id[k], c->p.follow_mate_ahead_m))
+            return 1;
     return 0;
 }
 
@@ -331,10 +349,11 @@ static void wait_step(rover_ctl_state *c, const pose2 *o, double dt_s)
         return;
     }
     c->hold_s += dt_s;
-    if (c->hold_s > c->p.hold_max_s) return;
+    if (c->hold_s > c->p.hold_max_s)
+        return;
     c->wait_u.v_mps = c->wait_u.w_radps = 0.0;
     c->holding = in_way_of_waited(c, o) && back_out(c, o, dt_s, &c->wait_u) ? ROVER_WAIT_BACK
-                                                                          : ROVER_WAIT_STAND;
+                                                                            : ROVER_WAIT_STAND;
 }
 
 /* The escape's own motion in *u, made only where it keeps clear of the
@@ -366,8 +385,10 @@ static int deconflict(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
     c->esc_wedge_s += dt_s;
     if (c->esc_wedge_s > c->p.wedge_max_s) {
         const int dir = w > 0.0 ? 1 : -1;
-        if (!rover_ctl_turn_sweeps_mate(c, o, dir)) u->w_radps = w;
-        else if (!rover_ctl_turn_sweeps_mate(c, o, -dir)) u->w_radps = -w;
+        if (!rover_ctl_turn_sweeps_mate(c, o, dir))
+            u->w_radps = w;
+        else if (!rover_ctl_turn_sweeps_mate(c, o, -dir))
+            u->w_radps = -w;
     }
     return u->w_radps == 0.0;
 }
@@ -392,7 +413,8 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
     if (ahead && c->esc_s < c->p.yield_max_s) {
         u->v_mps = 0.0;
         u->w_radps = c->esc_turn * c->p.follow_w_radps;
-        if (deconflict(c, gw, o, dt_s, u)) c->esc_s -= dt_s;    /* standing is not turning */
+        if (deconflict(c, gw, o, dt_s, u))
+            c->esc_s -= dt_s; /* standing is not turning */
         return 1;
     }
     enter(c, rover_esc_table[ROVER_ESC_YIELD].next);
@@ -409,8 +431,7 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
                            unicycle_cmd *u)
 {
     const rover_esc_row *row = &rover_esc_table[c->esc_phase];
-    const double b = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m),
-                                         o->theta_rad);
+    const double b = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m), o->theta_rad);
     const int free_way = fabs(b) < 0.5 * VEC2_PI && range_toward(c->range_m, b) > 1.2 &&
                          g->front_m > 0.8;
     c->esc_lost_s = rover_ctl_walls_near(gw, &c->p) ? 0.0 : c->esc_lost_s + dt_s;
@@ -423,7 +444,8 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
      * spot (in the pocket while the mates cleared its mouth) is not. A
      * robot that had spun 50 s in its pocket turned back round the U's
      * lip just where the wall it followed led on to the goal. */
-    if (!(c->v_est_mps > c->p.follow_moving_mps)) c->esc_s -= dt_s;
+    if (!(c->v_est_mps > c->p.follow_moving_mps))
+        c->esc_s -= dt_s;
     if (c->esc_s > c->p.escape_max_s) {
         const int side = c->esc_side;
         enter(c, row->on_limit);
@@ -471,16 +493,19 @@ int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sona
     c->holding = ROVER_WAIT_NONE;
     c->wait_n = rover_ctl_wait_set(c, o, gw, t_s, c->wait_id);
     if (in_dz == 1) {
-        if (c->exc.entries != entries) dead_zone_entry(c, &turn, dist);
+        if (c->exc.entries != entries)
+            dead_zone_entry(c, &turn, dist);
         *u = turn;
         return 1;
     }
-    if (c->esc_phase == ROVER_ESC_TURN) enter(c, rover_esc_table[ROVER_ESC_TURN].next);
+    if (c->esc_phase == ROVER_ESC_TURN)
+        enter(c, rover_esc_table[ROVER_ESC_TURN].next);
     if (c->esc_phase == ROVER_ESC_NONE && !give_way_start(c, gw, o, goal)) {
         wait_step(c, o, dt_s);
         return 0;
     }
     c->esc_s += dt_s;
-    if (c->esc_phase == ROVER_ESC_YIELD && yield_turn(c, gw, o, dt_s, u)) return 1;
+    if (c->esc_phase == ROVER_ESC_YIELD && yield_turn(c, gw, o, dt_s, u))
+        return 1;
     return follow_boundary(c, gw, g, o, goal, dist, dt_s, u);
 }

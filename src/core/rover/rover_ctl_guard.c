@@ -43,8 +43,10 @@ double rover_ctl_guard_speed(unicycle_cmd *u, const double range_m[BEH_SONAR_N],
     const double near = range_in_way(range_m, p);
     if (near < p->guard_m) {
         double vmax = p->beh.k_v * (near - p->guard_stop_m);
-        if (vmax < 0.0) vmax = 0.0;
-        if (u->v_mps > vmax) u->v_mps = vmax;
+        if (vmax < 0.0)
+            vmax = 0.0;
+        if (u->v_mps > vmax)
+            u->v_mps = vmax;
     }
     return near;
 }
@@ -76,8 +78,7 @@ void rover_ctl_guard(unicycle_cmd *u, const double range_m[BEH_SONAR_N], const p
         side = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m), o->theta_rad);
     if (fmin(g.left_front_m, g.right_front_m) < p->guard_m && u->w_radps * side < 0.0)
         u->w_radps = 0.0;
-    if (near < p->guard_m && fabs(u->w_radps) < 0.2 &&
-        (g.front_m < p->guard_m || u->v_mps < 0.05))
+    if (near < p->guard_m && fabs(u->w_radps) < 0.2 && (g.front_m < p->guard_m || u->v_mps < 0.05))
         u->w_radps = side >= 0.0 ? 0.5 : -0.5;
     {
         /* something alongside within side_guard_m (a mate squeezed toward
@@ -119,13 +120,16 @@ static int side_wall(const rover_ctl_state *c, const pose2 *cpos, const unicycle
     const double a = cpos->theta_rad + tr->angle_rad;
     double lat;
     int i;
-    if (masked[k] != r) return SIDE_UNKNOWN;
-    if (r >= c->p.passage_sense_max_m) return SIDE_OPEN;
+    if (masked[k] != r)
+        return SIDE_UNKNOWN;
+    if (r >= c->p.passage_sense_max_m)
+        return SIDE_OPEN;
     lat = lateral_m(ref, cpos->x_m + tr->x_m * ct - tr->y_m * st + r * cos(a),
                     cpos->y_m + tr->x_m * st + tr->y_m * ct + r * sin(a));
     for (i = 0; i < c->team.n; i++) {
         double xy[2];
-        if (team_position(&c->team, c->team.m[i].robot, xy) != 0) continue;
+        if (team_position(&c->team, c->team.m[i].robot, xy) != 0)
+            continue;
         if (side * (lateral_m(ref, xy[0], xy[1]) - lat) > -0.5 * ROVER_BODY_WIDTH_M)
             return SIDE_UNKNOWN;
     }
@@ -140,9 +144,8 @@ static int side_wall(const rover_ctl_state *c, const pose2 *cpos, const unicycle
  * sides are a trap, the dead-zone exception's business, not a passage; or
  * the robot turned more than 45 deg off the team's heading, its side
  * transducers no longer looking across the way). */
-double rover_ctl_passage_width(const rover_ctl_state *c, const pose2 *o,
-                               const unicycle_state *ref, const sonar_groups *gw,
-                               const double masked[BEH_SONAR_N])
+double rover_ctl_passage_width(const rover_ctl_state *c, const pose2 *o, const unicycle_state *ref,
+                               const sonar_groups *gw, const double masked[BEH_SONAR_N])
 {
     pose2 cpos;
     int right, left;
@@ -152,7 +155,8 @@ double rover_ctl_passage_width(const rover_ctl_state *c, const pose2 *o,
     unicycle_c_from_o(&cpos, o, c->p.beh.d_m);
     right = side_wall(c, &cpos, ref, masked, 0);
     left = side_wall(c, &cpos, ref, masked, BEH_SONAR_N - 1);
-    if (right == SIDE_OPEN || left == SIDE_OPEN) return INFINITY;
+    if (right == SIDE_OPEN || left == SIDE_OPEN)
+        return INFINITY;
     if (right == SIDE_WALL && left == SIDE_WALL)
         return c->range_m[0] + c->range_m[BEH_SONAR_N - 1] + c->p.beh.robot_width_m;
     return NAN;
@@ -187,14 +191,16 @@ int rover_ctl_is_rearmost(const rover_ctl_state *c, const pose2 *o)
     ex = c->goal_m[0] - mx;
     ey = c->goal_m[1] - my;
     len = hypot(ex, ey);
-    if (!(len > 1e-6)) return 1;
+    if (!(len > 1e-6))
+        return 1;
     own = (o->x_m * ex + o->y_m * ey) / len;
     for (i = 0; i < c->team.n; i++) {
         double xy[2];
         if (!counts_in_formation(&c->team.m[i]) ||
             team_position(&c->team, c->team.m[i].robot, xy) != 0)
             continue;
-        if ((xy[0] * ex + xy[1] * ey) / len < own - 0.1) return 0;
+        if ((xy[0] * ex + xy[1] * ey) / len < own - 0.1)
+            return 0;
     }
     return 1;
 }

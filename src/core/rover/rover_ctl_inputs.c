@@ -20,7 +20,8 @@ int rover_ctl_set_landmarks(rover_ctl_state *c, const double (*lm_m)[2], int n)
     if (!c || n < 0 || n > LOCALIZE_LANDMARKS_MAX || (n > 0 && !lm_m) || c->have_enc)
         return ROVER_CTL_ERR_ARG;
     for (k = 0; k < n; k++) {
-        if (!isfinite(lm_m[k][0]) || !isfinite(lm_m[k][1])) return ROVER_CTL_ERR_ARG;
+        if (!isfinite(lm_m[k][0]) || !isfinite(lm_m[k][1]))
+            return ROVER_CTL_ERR_ARG;
         c->lm_m[k][0] = lm_m[k][0];
         c->lm_m[k][1] = lm_m[k][1];
     }
@@ -34,13 +35,14 @@ static int localize_start(rover_ctl_state *c)
     localize_params lp = c->p.loc;
     lp.d_m = c->p.beh.d_m;
     return localize_init(&c->loc, &lp, &c->start_c, c->p.loc_sd0_xy_m, c->p.loc_sd0_theta_rad,
-                         (const double (*)[2])c->lm_m, c->n_lm);
+                         (const double(*)[2])c->lm_m, c->n_lm);
 }
 
 int rover_ctl_encoders(rover_ctl_state *c, double left_rad, double right_rad, double t_s)
 {
     double ds, dth;
-    if (!isfinite(left_rad) || !isfinite(right_rad) || !isfinite(t_s)) return ROVER_CTL_ERR_ARG;
+    if (!isfinite(left_rad) || !isfinite(right_rad) || !isfinite(t_s))
+        return ROVER_CTL_ERR_ARG;
     if (!c->have_enc) {
         if (odometry_init(&c->odo, c->p.wheel_radius_m, c->p.axle_track_m, c->p.beh.d_m,
                           &c->start_c, left_rad, right_rad) != 0 ||
@@ -50,7 +52,8 @@ int rover_ctl_encoders(rover_ctl_state *c, double left_rad, double right_rad, do
         c->enc_t_s = c->prev_enc_t_s = t_s;
         return ROVER_CTL_OK;
     }
-    if (t_s < c->enc_t_s) return ROVER_CTL_ERR_ARG;
+    if (t_s < c->enc_t_s)
+        return ROVER_CTL_ERR_ARG;
     if (odometry_update(&c->odo, left_rad, right_rad, &ds, &dth) != 0 ||
         localize_predict(&c->loc, ds, dth) != 0)
         return ROVER_CTL_ERR_ARG;
@@ -67,9 +70,11 @@ int rover_ctl_encoders(rover_ctl_state *c, double left_rad, double right_rad, do
 int rover_ctl_sonar(rover_ctl_state *c, const double range_m[BEH_SONAR_N], double t_s)
 {
     int i;
-    if (!range_m || !isfinite(t_s)) return ROVER_CTL_ERR_ARG;
+    if (!range_m || !isfinite(t_s))
+        return ROVER_CTL_ERR_ARG;
     for (i = 0; i < BEH_SONAR_N; i++)
-        if (!isfinite(range_m[i]) || range_m[i] < 0.0) return ROVER_CTL_ERR_ARG;
+        if (!isfinite(range_m[i]) || range_m[i] < 0.0)
+            return ROVER_CTL_ERR_ARG;
     memcpy(c->range_m, range_m, sizeof c->range_m);
     c->have_sonar = 1;
     c->sonar_t_s = t_s;
@@ -80,11 +85,13 @@ int rover_ctl_team_msg(rover_ctl_state *c, const rover_team_msg *msg, double t_s
 {
     team_member m;
     int rc;
-    if (!msg || !isfinite(t_s) || msg->m.robot == c->id) return ROVER_CTL_ERR_ARG;
+    if (!msg || !isfinite(t_s) || msg->m.robot == c->id)
+        return ROVER_CTL_ERR_ARG;
     m = msg->m;
     m.t_s = t_s;
     rc = team_update(&c->team, &m);
-    if (rc < 0) return ROVER_CTL_ERR_ARG;
+    if (rc < 0)
+        return ROVER_CTL_ERR_ARG;
     if (m.announce >= FORMATION_ANN_SHRINK && m.announce <= FORMATION_ANN_RESTORE) {
         formation_announce a;
         const int before = c->fsm.type;
@@ -117,8 +124,10 @@ static int localizing(const rover_ctl_state *c)
  * frame-consensus correction (zero when localizing). */
 void rover_ctl_own_pose(const rover_ctl_state *c, pose2 *o)
 {
-    if (localizing(c)) localize_pose_o(&c->loc, o);
-    else odometry_pose_o(&c->odo, o);
+    if (localizing(c))
+        localize_pose_o(&c->loc, o);
+    else
+        odometry_pose_o(&c->odo, o);
     o->x_m += c->corr_m[0];
     o->y_m += c->corr_m[1];
 }
@@ -126,15 +135,16 @@ void rover_ctl_own_pose(const rover_ctl_state *c, pose2 *o)
 int rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double bearing_rad)
 {
     pose2 o;
-    if (!c->have_enc) return ROVER_CTL_ERR_ARG;
+    if (!c->have_enc)
+        return ROVER_CTL_ERR_ARG;
     if (target >= ROVER_LANDMARK_ID_BASE) {
         /* a landmark: the localizer's business (ignored with it off) */
-        if (!localizing(c)) return 0;
+        if (!localizing(c))
+            return 0;
         return localize_landmark(&c->loc, target - ROVER_LANDMARK_ID_BASE, range_m, bearing_rad);
     }
     rover_ctl_own_pose(c, &o);
-    return team_observe(&c->team, target, &o, range_m, bearing_rad, c->p.beacon_alpha,
-                        c->enc_t_s);
+    return team_observe(&c->team, target, &o, range_m, bearing_rad, c->p.beacon_alpha, c->enc_t_s);
 }
 
 /* Frame consensus (team.h): every robot dead-reckons with its own drift,
@@ -150,9 +160,11 @@ void rover_ctl_frame_consensus(rover_ctl_state *c, double t_s, double dt_s)
     double off[2], k, dx, dy, len;
     int n;
     /* with landmarks every robot's frame is the world's: nothing to agree on */
-    if (localizing(c)) return;
+    if (localizing(c))
+        return;
     n = team_mean_offset(&c->team, t_s, c->p.consensus_age_s, c->p.consensus_range_m, off);
-    if (n == 0) return;
+    if (n == 0)
+        return;
     k = c->p.consensus_gain * dt_s * n / (n + 1.0);
     dx = -k * off[0];
     dy = -k * off[1];
@@ -169,11 +181,12 @@ void rover_ctl_frame_consensus(rover_ctl_state *c, double t_s, double dt_s)
 /* Entry and exit distances along a ray from (px, py) with direction
  * (dx, dy) through a box (centre, half extents, heading as cos c, sin s);
  * 0 if it misses, 1 if it meets it (entry 0 when the ray starts inside). */
-static int ray_box_m(double px, double py, double dx, double dy, double bx, double by,
-                     double hx, double hy, double c, double s, double *t_in, double *t_out)
+static int ray_box_m(double px, double py, double dx, double dy, double bx, double by, double hx,
+                     double hy, double c, double s, double *t_in, double *t_out)
 {
     double n_in[2];
-    if (!sonar_line_box(px, py, dx, dy, bx, by, hx, hy, c, s, t_in, t_out, n_in)) return 0;
+    if (!sonar_line_box(px, py, dx, dy, bx, by, hx, hy, c, s, t_in, t_out, n_in))
+        return 0;
     *t_in = fmax(*t_in, 0.0);
     return *t_in <= *t_out;
 }
@@ -210,11 +223,13 @@ static int mate_echo_m(const pose2 *c, int k, const double xy[2], double th, dou
     for (j = 0; j < MASK_RAYS; j++) {
         const double nx = dx * cs - dy * ss;
         double t_in, t_out;
-        if (ray_box_m(px, py, dx, dy, bx, by, hx + MASK_GROW_M, hy + MASK_GROW_M, cth, sth,
-                      &t_in, &t_out)) {
+        if (ray_box_m(px, py, dx, dy, bx, by, hx + MASK_GROW_M, hy + MASK_GROW_M, cth, sth, &t_in,
+                      &t_out)) {
             hit = 1;
-            if (t_in < *near_m) *near_m = t_in;
-            if (t_out > *far_m) *far_m = t_out;
+            if (t_in < *near_m)
+                *near_m = t_in;
+            if (t_out > *far_m)
+                *far_m = t_out;
         }
         dy = dx * ss + dy * cs;
         dx = nx;
@@ -261,7 +276,8 @@ void rover_ctl_mask_mates(const rover_ctl_state *c, const pose2 *o, double keep_
     for (i = 0; i < c->team.n; i++) {
         const team_member *m = &c->team.m[i];
         double xy[2];
-        if (team_position(&c->team, m->robot, xy) != 0) continue;
+        if (team_position(&c->team, m->robot, xy) != 0)
+            continue;
         /* a mate whose grown chassis lies beyond every echo explains none:
          * skip the ray casts (a large team is mostly such mates) */
         if (mate_min_echo_m(&cpos, xy, m->theta_rad, c->p.beh.d_m, reach_m) > far_echo_m + 0.05)
@@ -275,5 +291,6 @@ void rover_ctl_mask_mates(const rover_ctl_state *c, const pose2 *o, double keep_
         }
     }
     for (k = 0; k < BEH_SONAR_N; k++)
-        if (isinf(masked[k])) masked[k] = c->p.sonar_max_m;
+        if (isinf(masked[k]))
+            masked[k] = c->p.sonar_max_m;
 }

@@ -18,10 +18,10 @@
 #include "rover_ctl.h"
 
 /* Own pose of O, localized or dead-reckoned (rover_ctl_inputs.c). */
-void   rover_ctl_own_pose(const rover_ctl_state *c, pose2 *o);
+void rover_ctl_own_pose(const rover_ctl_state *c, pose2 *o);
 
 /* Moves the own frame toward the team's (rover_ctl_inputs.c). */
-void   rover_ctl_frame_consensus(rover_ctl_state *c, double t_s, double dt_s);
+void rover_ctl_frame_consensus(rover_ctl_state *c, double t_s, double dt_s);
 
 /* The collision guard's speed rule alone; returns the nearest echo in the
  * way (rover_ctl_guard.c). */
@@ -30,56 +30,55 @@ double rover_ctl_guard_speed(unicycle_cmd *u, const double range_m[BEH_SONAR_N],
 
 /* Passage width for the passage protocol: INFINITY open, NAN unknown
  * (rover_ctl_guard.c). masked: the ranges with mates masked (keep_m 0). */
-double rover_ctl_passage_width(const rover_ctl_state *c, const pose2 *o,
-                               const unicycle_state *ref, const sonar_groups *gw,
-                               const double masked[BEH_SONAR_N]);
+double rover_ctl_passage_width(const rover_ctl_state *c, const pose2 *o, const unicycle_state *ref,
+                               const sonar_groups *gw, const double masked[BEH_SONAR_N]);
 
 /* 1 if this robot is the last of the team toward the goal (it alone may
  * restore the formation after a passage). */
-int    rover_ctl_is_rearmost(const rover_ctl_state *c, const pose2 *o);
+int rover_ctl_is_rearmost(const rover_ctl_state *c, const pose2 *o);
 
 /* Dead-zone escape and give-way state machine: 1 while escaping, with its
  * command in *u (rover_ctl_escape.c). gw: sonar groups with mates masked
  * (walls only), g: with near mates kept (avoidance). */
-int    rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sonar_groups *g,
-                             const pose2 *o, const double goal[2], double t_s, double dt_s,
-                             unicycle_cmd *u);
+int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sonar_groups *g,
+                          const pose2 *o, const double goal[2], double t_s, double dt_s,
+                          unicycle_cmd *u);
 
 /* The announcement own team messages carry now: the escape table's for
  * the phase, else the passage protocol's (rover_ctl_escape.c). */
-int     rover_ctl_own_announce(const rover_ctl_state *c);
+int rover_ctl_own_announce(const rover_ctl_state *c);
 
 /* The priority order and the mates' chassis by the team table
  * (rover_ctl_mates.c); o: own O pose. */
 /* 1 if robot (announce_a, id_a) outranks robot (announce_b, id_b): LEAVE
  * before GIVE_WAY before the rest, then the lower id. A strict total
  * order on distinct ids. */
-int     rover_ctl_outranks(int announce_a, int32_t id_a, int announce_b, int32_t id_b);
+int rover_ctl_outranks(int announce_a, int32_t id_a, int announce_b, int32_t id_b);
 /* 1 if walls (gw: mates masked) are within follow_dist_m + walls_near_m
  * on some side. */
-int     rover_ctl_walls_near(const sonar_groups *gw, const rover_ctl_params *p);
+int rover_ctl_walls_near(const sonar_groups *gw, const rover_ctl_params *p);
 /* The mates this robot waits for: those that outrank it and conflict with
  * it (docs/method/formation.md §10); their ids in wait[], the count
  * returned. */
-int     rover_ctl_wait_set(const rover_ctl_state *c, const pose2 *o, const sonar_groups *gw,
-                           double t_s, int32_t wait[TEAM_MAX]);
+int rover_ctl_wait_set(const rover_ctl_state *c, const pose2 *o, const sonar_groups *gw, double t_s,
+                       int32_t wait[TEAM_MAX]);
 /* 1 if mate m at mate_xy_m heads our way (we lie ahead of its heading). */
-int     rover_ctl_mate_coming(const team_member *m, const double mate_xy_m[2], const pose2 *o);
+int rover_ctl_mate_coming(const team_member *m, const double mate_xy_m[2], const pose2 *o);
 /* The id of a mate whose chassis lies within our turning circle, or whose
  * circle meets ours while it turns on the spot and outranks us; else 0. */
 int32_t rover_ctl_spin_hits_mate(const rover_ctl_state *c, const pose2 *o);
 /* 1 if turning the way dir (+1 left) sweeps our chassis into a mate's
  * within the next 0.6 rad. */
-int     rover_ctl_turn_sweeps_mate(const rover_ctl_state *c, const pose2 *o, int dir);
+int rover_ctl_turn_sweeps_mate(const rover_ctl_state *c, const pose2 *o, int dir);
 /* 1 if our chassis lies in mate's way: its turning circle or the lane it
  * sweeps driving ahead_m on. */
-int     rover_ctl_in_way_of(const rover_ctl_state *c, const pose2 *o, int32_t mate, double ahead_m);
+int rover_ctl_in_way_of(const rover_ctl_state *c, const pose2 *o, int32_t mate, double ahead_m);
 /* 1 if backing reach_m along our crumbs keeps our chassis clear of every
  * mate's. */
-int     rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reach_m);
+int rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reach_m);
 /* 1 if a mate's chassis reaches into the lane ours sweeps driving ahead_m
  * straight on. */
-int     rover_ctl_mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahead_m);
+int rover_ctl_mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahead_m);
 /* The id of a mate (waited_only: of our wait set) whose chassis ours
  * would sweep into (or come nearer to, touching it already) flying u for
  * the next second (arcs and turns on the spot included), else 0. */

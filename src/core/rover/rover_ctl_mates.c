@@ -20,10 +20,12 @@ static double turn_reach_m(void)
     return hypot(0.5 * ROVER_BODY_LENGTH_M + fabs(ROVER_BODY_OFFSET_M), 0.5 * ROVER_BODY_WIDTH_M);
 }
 
-#define SPIN_MARGIN_M 0.03   /* what the team table's positions may be off by at contact range */
+#define SPIN_MARGIN_M 0.03 /* what the team table's positions may be off by at contact range */
 
 /* A box: centre, heading, half sizes. */
-typedef struct { double x_m, y_m, theta_rad, hx_m, hy_m; } box2;
+typedef struct {
+    double x_m, y_m, theta_rad, hx_m, hy_m;
+} box2;
 
 /* Distance from (px, py) to box b (0 inside or on it). */
 static double box_gap_m(const box2 *b, double px, double py)
@@ -49,8 +51,9 @@ static int boxes_touch(const box2 *a, const box2 *b)
         const box2 *p = pass ? b : a, *q = pass ? a : b;
         const double cp = cos(p->theta_rad), sp = sin(p->theta_rad);
         for (k = 0; k < 9; k++) {
-            const double u = (k % 3 - 1) * p->hx_m, v = (k / 3 - 1) * p->hy_m;   /* -1, 0, 1 each */
-            if (in_box(p->x_m + u * cp - v * sp, p->y_m + u * sp + v * cp, q)) return 1;
+            const double u = (k % 3 - 1) * p->hx_m, v = (k / 3 - 1) * p->hy_m; /* -1, 0, 1 each */
+            if (in_box(p->x_m + u * cp - v * sp, p->y_m + u * sp + v * cp, q))
+                return 1;
         }
     }
     return 0;
@@ -75,7 +78,8 @@ static int mate_c(const rover_ctl_state *c, int i, pose2 *mc)
     const team_member *m = &c->team.m[i];
     double xy[2];
     pose2 mo;
-    if (team_position(&c->team, m->robot, xy) != 0) return TEAM_ERR_UNKNOWN;
+    if (team_position(&c->team, m->robot, xy) != 0)
+        return TEAM_ERR_UNKNOWN;
     mo.x_m = xy[0];
     mo.y_m = xy[1];
     mo.theta_rad = m->theta_rad;
@@ -88,7 +92,8 @@ static int mate_c(const rover_ctl_state *c, int i, pose2 *mc)
 static int mate_box(const rover_ctl_state *c, int i, double grow_m, box2 *b)
 {
     pose2 mc;
-    if (mate_c(c, i, &mc) != 0) return TEAM_ERR_UNKNOWN;
+    if (mate_c(c, i, &mc) != 0)
+        return TEAM_ERR_UNKNOWN;
     *b = chassis_box(&mc, grow_m);
     return 0;
 }
@@ -173,14 +178,16 @@ static int mate_conflicts(const rover_ctl_state *c, const pose2 *o, int walls, i
     const int mate_out = rank_class(m->announce) < 2, self_out = c->esc_phase != ROVER_ESC_NONE;
     pose2 own_c, mc;
     double xy[2], dist, b;
-    if (mate_c(c, i, &mc) != 0 || team_position(&c->team, m->robot, xy) != 0) return 0;
+    if (mate_c(c, i, &mc) != 0 || team_position(&c->team, m->robot, xy) != 0)
+        return 0;
     unicycle_c_from_o(&own_c, o, p->beh.d_m);
     if (hypot(mc.x_m - own_c.x_m, mc.y_m - own_c.y_m) < p->yield_near_m &&
         (mate_out || self_out ||
          (walls && fabs(vec2_angle_diff_rad(atan2(mc.y_m - own_c.y_m, mc.x_m - own_c.x_m),
                                             own_c.theta_rad)) < 0.5 * VEC2_PI)))
         return 1;
-    if (!walls) return 0;
+    if (!walls)
+        return 0;
     dist = hypot(xy[0] - o->x_m, xy[1] - o->y_m);
     b = vec2_angle_diff_rad(atan2(xy[1] - o->y_m, xy[0] - o->x_m), o->theta_rad);
     if (m->announce == FORMATION_ANN_LEAVE)
@@ -196,13 +203,16 @@ int rover_ctl_wait_set(const rover_ctl_state *c, const pose2 *o, const sonar_gro
     const int walls = rover_ctl_walls_near(gw, &c->p);
     int i, n = 0;
     for (i = 0; i < c->team.n && n < TEAM_MAX; i++)
-        if (mate_outranks(c, i) && mate_conflicts(c, o, walls, i, t_s)) wait[n++] = c->team.m[i].robot;
+        if (mate_outranks(c, i) && mate_conflicts(c, o, walls, i, t_s))
+            wait[n++] = c->team.m[i].robot;
     return n;
 }
 
 int rover_ctl_mate_coming(const team_member *m, const double mate_xy_m[2], const pose2 *o)
 {
-    return cos(m->theta_rad) * (o->x_m - mate_xy_m[0]) + sin(m->theta_rad) * (o->y_m - mate_xy_m[1]) > 0.0;
+    return cos(m->theta_rad) * (o->x_m - mate_xy_m[0]) +
+               sin(m->theta_rad) * (o->y_m - mate_xy_m[1]) >
+           0.0;
 }
 
 /* Turning on the spot now would sweep our chassis into a mate's: the id
@@ -220,7 +230,8 @@ int32_t rover_ctl_spin_hits_mate(const rover_ctl_state *c, const pose2 *o)
     int i;
     unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
     for (i = 0; i < c->team.n; i++) {
-        if (mate_c(c, i, &mc) != 0) continue;
+        if (mate_c(c, i, &mc) != 0)
+            continue;
         mb = chassis_box(&mc, 0.0);
         if (box_gap_m(&mb, own_c.x_m, own_c.y_m) < reach ||
             (mate_turning_first(c, i) &&
@@ -244,13 +255,15 @@ int rover_ctl_turn_sweeps_mate(const rover_ctl_state *c, const pose2 *o, int dir
     int i, k;
     unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
     for (i = 0; i < c->team.n; i++) {
-        if (mate_box(c, i, SPIN_MARGIN_M, &mb) != 0) continue;
+        if (mate_box(c, i, SPIN_MARGIN_M, &mb) != 0)
+            continue;
         for (k = 0; k <= SPIN_LOOK_STEPS; k++) {
             pose2 turned = own_c;
             box2 own;
             turned.theta_rad += dir * SPIN_LOOK_RAD * k / SPIN_LOOK_STEPS;
             own = chassis_box(&turned, 0.0);
-            if (boxes_touch(&own, &mb)) return 1;
+            if (boxes_touch(&own, &mb))
+                return 1;
         }
     }
     return 0;
@@ -265,7 +278,8 @@ int rover_ctl_in_way_of(const rover_ctl_state *c, const pose2 *o, int32_t mate, 
     const team_member *m = team_find(&c->team, mate);
     pose2 own_c, mc;
     box2 own, lane;
-    if (!m || mate_c(c, (int)(m - c->team.m), &mc) != 0) return 0;
+    if (!m || mate_c(c, (int)(m - c->team.m), &mc) != 0)
+        return 0;
     unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
     own = chassis_box(&own_c, SPIN_MARGIN_M);
     lane = lane_box(&mc, ahead_m);
@@ -287,7 +301,8 @@ int rover_ctl_mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahea
     unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
     lane = lane_box(&own_c, ahead_m);
     for (i = 0; i < c->team.n; i++)
-        if (mate_box(c, i, SPIN_MARGIN_M, &mb) == 0 && boxes_touch(&lane, &mb)) return 1;
+        if (mate_box(c, i, SPIN_MARGIN_M, &mb) == 0 && boxes_touch(&lane, &mb))
+            return 1;
     return 0;
 }
 
@@ -299,7 +314,8 @@ static int mate_touches(const rover_ctl_state *c, int i, const box2 *b)
     const team_member *m = &c->team.m[i];
     pose2 mc;
     box2 mb;
-    if (mate_c(c, i, &mc) != 0) return 0;
+    if (mate_c(c, i, &mc) != 0)
+        return 0;
     if (fabs(m->w_radps) >= MATE_TURNING_RADPS)
         return box_gap_m(b, mc.x_m, mc.y_m) < turn_reach_m() + SPIN_MARGIN_M;
     mb = chassis_box(&mc, SPIN_MARGIN_M);
@@ -329,7 +345,8 @@ int rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reac
         at.theta_rad = seg_m > 1e-6 ? atan2(next[1] - at.y_m, next[0] - at.x_m) : own_c.theta_rad;
         own = chassis_box(&at, 0.0);
         for (i = 0; i < c->team.n; i++)
-            if (mate_touches(c, i, &own)) return 0;
+            if (mate_touches(c, i, &own))
+                return 0;
         next[0] = at.x_m;
         next[1] = at.y_m;
     }
@@ -353,7 +370,8 @@ static int waited_for(const rover_ctl_state *c, int32_t id)
 {
     int k;
     for (k = 0; k < c->wait_n; k++)
-        if (c->wait_id[k] == id) return 1;
+        if (c->wait_id[k] == id)
+            return 1;
     return 0;
 }
 
@@ -362,17 +380,20 @@ int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, cons
 {
     pose2 own_c;
     int k, s;
-    if (u->v_mps == 0.0 && u->w_radps == 0.0) return 0;
+    if (u->v_mps == 0.0 && u->w_radps == 0.0)
+        return 0;
     unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
     for (k = 0; k < c->team.n; k++) {
         const team_member *m = &c->team.m[k];
         const int i = k;
-        if (waited_only && !waited_for(c, m->robot)) continue;
+        if (waited_only && !waited_for(c, m->robot))
+            continue;
         pose2 at = own_c, mc;
         box2 own = chassis_box(&own_c, 0.0);
         int touching;
         double d0;
-        if (i < 0 || mate_c(c, i, &mc) != 0) continue;
+        if (i < 0 || mate_c(c, i, &mc) != 0)
+            continue;
         touching = mate_touches(c, i, &own);
         d0 = hypot(own.x_m - mc.x_m, own.y_m - mc.y_m);
         for (s = 1; s <= CMD_LOOK_STEPS; s++) {
@@ -381,8 +402,10 @@ int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, cons
             at.y_m += u->v_mps * dt * sin(at.theta_rad);
             at.theta_rad += u->w_radps * dt;
             own = chassis_box(&at, 0.0);
-            if (!mate_touches(c, i, &own)) continue;
-            if (!touching || hypot(own.x_m - mc.x_m, own.y_m - mc.y_m) < d0) return m->robot;
+            if (!mate_touches(c, i, &own))
+                continue;
+            if (!touching || hypot(own.x_m - mc.x_m, own.y_m - mc.y_m) < d0)
+                return m->robot;
         }
     }
     return 0;

@@ -22,7 +22,7 @@ void rover_ctl_params_default(rover_ctl_params *p)
     p->beh.goal_tol_m = 0.22;
     formation_fsm_params_default(&p->fsm);
     p->fsm.shrink_scale = 0.8;
-    p->fsm.clear_hold_s = 4.0;   /* 10 s (the whole column out) did worse in the corridor runs */
+    p->fsm.clear_hold_s = 4.0; /* 10 s (the whole column out) did worse in the corridor runs */
     p->blend_mode = BEH_BLEND_WEIGHTED;
     p->formation_law = ROVER_LAW_SEED;
     p->formation = FORMATION_LINE;
@@ -92,35 +92,39 @@ void rover_ctl_params_default(rover_ctl_params *p)
     p->loc_sd0_theta_rad = 0.01;
 }
 
-static int pos(double v) { return isfinite(v) && v > 0.0; }
+static int pos(double v)
+{
+    return isfinite(v) && v > 0.0;
+}
 
 int rover_ctl_params_validate(const rover_ctl_params *p)
 {
-    if (!p || behaviour_params_validate(&p->beh) != 0) return ROVER_CTL_ERR_ARG;
+    if (!p || behaviour_params_validate(&p->beh) != 0)
+        return ROVER_CTL_ERR_ARG;
     if (p->blend_mode < BEH_BLEND_WEIGHTED || p->blend_mode > BEH_BLEND_VECSUM)
         return ROVER_CTL_ERR_ARG;
     if (p->formation_law != ROVER_LAW_SEED && p->formation_law != ROVER_LAW_KANAYAMA)
         return ROVER_CTL_ERR_ARG;
-    if (p->formation < FORMATION_LINE || p->formation > FORMATION_COLUMN) return ROVER_CTL_ERR_ARG;
+    if (p->formation < FORMATION_LINE || p->formation > FORMATION_COLUMN)
+        return ROVER_CTL_ERR_ARG;
     if (!pos(p->team_timeout_s) || !pos(p->stale_s) || !pos(p->team_period_s) ||
         !pos(p->wheel_radius_m) || !pos(p->axle_track_m) || !pos(p->follow_dist_m) ||
         !pos(p->follow_v_mps) || !pos(p->follow_w_radps) || !pos(p->escape_max_s) ||
         !pos(p->give_way_m) || !pos(p->yield_max_s) || !pos(p->give_way_seen_s) ||
         !pos(p->yield_near_m) || !isfinite(p->arrival_m) || p->arrival_m < 0.0 ||
-        !isfinite(p->arrival_swap_m2) || p->arrival_swap_m2 < 0.0 ||
-        !pos(p->queue_m) || !pos(p->queue_cone_rad) ||
-        p->queue_cone_rad > VEC2_PI || !pos(p->queue_slow_mps) || !pos(p->queue_closing_mps) ||
-        !pos(p->hold_max_s) || !pos(p->walls_near_m) || !pos(p->leave_gain_m) ||
-        !pos(p->follow_mate_ahead_m) || !pos(p->follow_moving_mps) ||
-        !pos(p->back_max_m) || !pos(p->back_v_mps) || !pos(p->wedge_max_s) || !pos(p->follow_lost_s) ||
-        !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->v_change_mps) ||
-        !pos(p->guard_m) || !pos(p->guard_stop_m) || !pos(p->guard_lane_m) ||
-        !pos(p->side_guard_m) || !pos(p->side_turn_radps) || !isfinite(p->goal_heading_gain) ||
-        p->goal_heading_gain < 0.0 || p->goal_heading_gain > 1.0 ||
-        !isfinite(p->arrive_m) || p->arrive_m < 0.0 ||
-        !pos(p->passage_front_min_m) || !pos(p->sonar_max_m) ||
-        !(p->consensus_gain >= 0.0) || !isfinite(p->consensus_gain) || !pos(p->consensus_age_s) ||
-        !pos(p->consensus_max_mps) || !pos(p->consensus_range_m) || !pos(p->fsm.spacing_m) ||
+        !isfinite(p->arrival_swap_m2) || p->arrival_swap_m2 < 0.0 || !pos(p->queue_m) ||
+        !pos(p->queue_cone_rad) || p->queue_cone_rad > VEC2_PI || !pos(p->queue_slow_mps) ||
+        !pos(p->queue_closing_mps) || !pos(p->hold_max_s) || !pos(p->walls_near_m) ||
+        !pos(p->leave_gain_m) || !pos(p->follow_mate_ahead_m) || !pos(p->follow_moving_mps) ||
+        !pos(p->back_max_m) || !pos(p->back_v_mps) || !pos(p->wedge_max_s) ||
+        !pos(p->follow_lost_s) || !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) ||
+        !pos(p->v_change_mps) || !pos(p->guard_m) || !pos(p->guard_stop_m) ||
+        !pos(p->guard_lane_m) || !pos(p->side_guard_m) || !pos(p->side_turn_radps) ||
+        !isfinite(p->goal_heading_gain) || p->goal_heading_gain < 0.0 ||
+        p->goal_heading_gain > 1.0 || !isfinite(p->arrive_m) || p->arrive_m < 0.0 ||
+        !pos(p->passage_front_min_m) || !pos(p->sonar_max_m) || !(p->consensus_gain >= 0.0) ||
+        !isfinite(p->consensus_gain) || !pos(p->consensus_age_s) || !pos(p->consensus_max_mps) ||
+        !pos(p->consensus_range_m) || !pos(p->fsm.spacing_m) ||
         !(p->fsm.shrink_scale > 0.0 && p->fsm.shrink_scale <= 1.0))
         return ROVER_CTL_ERR_ARG;
     if (!isfinite(p->beacon_alpha) || p->beacon_alpha < 0.0 || p->beacon_alpha > 1.0)

@@ -12,22 +12,6 @@
 /* A cell taken into a box during rover_map_merge (restored to OCCUPIED). */
 #define CELL_TAKEN 2
 
-const char *rover_map_strerror(int rc)
-{
-    switch (rc) {
-    case ROVER_MAP_OK:             return "ok";
-    case ROVER_MAP_ERR_ARG:        return "bad argument";
-    case ROVER_MAP_ERR_SIZE:       return "width and height must be 1..2048 cells (ROVER_MAP_MAX_SIDE)";
-    case ROVER_MAP_ERR_RESOLUTION: return "resolution must be finite and > 0, origin finite";
-    case ROVER_MAP_ERR_BOXES:      return "the occupied cells merge into more than 2048 boxes (ROVER_WORLD_MAX_OBST)";
-    case ROVER_MAP_ERR_START:      return "a robot's start is off the map or on an obstacle";
-    case ROVER_MAP_ERR_GOAL:       return "the goal is off the map or on an obstacle";
-    case ROVER_MAP_ERR_LANDMARKS:  return "landmarks: not finite, or more than 64 (ROVER_WORLD_MAX_LANDMARKS)";
-    case ROVER_MAP_ERR_CELL:       return "a cell is neither free nor occupied";
-    default:                       return "unknown rover_map code";
-    }
-}
-
 static int dims_ok(const rover_map *m)
 {
     return m->width >= 1 && m->height >= 1 && m->width <= ROVER_MAP_MAX_SIDE &&
@@ -38,14 +22,17 @@ static int dims_ok(const rover_map *m)
 int rover_map_validate(const rover_map *m)
 {
     long k, cells;
-    if (!m) return ROVER_MAP_ERR_ARG;
-    if (!dims_ok(m)) return ROVER_MAP_ERR_SIZE;
+    if (!m)
+        return ROVER_MAP_ERR_ARG;
+    if (!dims_ok(m))
+        return ROVER_MAP_ERR_SIZE;
     if (!isfinite(m->resolution_m) || !(m->resolution_m > 0.0) || !isfinite(m->origin_x_m) ||
         !isfinite(m->origin_y_m))
         return ROVER_MAP_ERR_RESOLUTION;
     cells = (long)m->width * (long)m->height;
     for (k = 0; k < cells; k++)
-        if (m->cell[k] != ROVER_MAP_FREE && m->cell[k] != ROVER_MAP_OCCUPIED) return ROVER_MAP_ERR_CELL;
+        if (m->cell[k] != ROVER_MAP_FREE && m->cell[k] != ROVER_MAP_OCCUPIED)
+            return ROVER_MAP_ERR_CELL;
     return ROVER_MAP_OK;
 }
 
@@ -54,7 +41,8 @@ int rover_map_blocked(const rover_map *m, double x_m, double y_m)
     const double u = (x_m - m->origin_x_m) / m->resolution_m;
     const double v = (y_m - m->origin_y_m) / m->resolution_m;
     long i, j;
-    if (!(u >= 0.0 && v >= 0.0 && u < m->width && v < m->height)) return 1;
+    if (!(u >= 0.0 && v >= 0.0 && u < m->width && v < m->height))
+        return 1;
     i = (long)u;
     j = (long)v;
     return m->cell[j * m->width + i] != ROVER_MAP_FREE;
@@ -83,11 +71,14 @@ static void box_of_cells(const rover_map *m, int i0, int j0, int i1, int j1, rov
 static void grow_box(rover_map *m, int i0, int j0, int *i1, int *j1)
 {
     int i, j, ok = 1;
-    for (i = i0; i + 1 < m->width && *cell_at(m, i + 1, j0) == ROVER_MAP_OCCUPIED; i++) {}
+    for (i = i0; i + 1 < m->width && *cell_at(m, i + 1, j0) == ROVER_MAP_OCCUPIED; i++) {
+    }
     *i1 = i;
     for (j = j0 + 1; j < m->height && ok; j++) {
-        for (i = i0; i <= *i1 && ok; i++) ok = *cell_at(m, i, j) == ROVER_MAP_OCCUPIED;
-        if (!ok) break;
+        for (i = i0; i <= *i1 && ok; i++)
+            ok = *cell_at(m, i, j) == ROVER_MAP_OCCUPIED;
+        if (!ok)
+            break;
     }
     *j1 = j - 1;
 }
@@ -96,7 +87,8 @@ static void mark_cells(rover_map *m, int i0, int j0, int i1, int j1, unsigned ch
 {
     int i, j;
     for (j = j0; j <= j1; j++)
-        for (i = i0; i <= i1; i++) *cell_at(m, i, j) = v;
+        for (i = i0; i <= i1; i++)
+            *cell_at(m, i, j) = v;
 }
 
 static void restore_cells(rover_map *m)
@@ -104,18 +96,22 @@ static void restore_cells(rover_map *m)
     const long cells = (long)m->width * (long)m->height;
     long k;
     for (k = 0; k < cells; k++)
-        if (m->cell[k] == CELL_TAKEN) m->cell[k] = ROVER_MAP_OCCUPIED;
+        if (m->cell[k] == CELL_TAKEN)
+            m->cell[k] = ROVER_MAP_OCCUPIED;
 }
 
 int rover_map_merge(rover_map *m, rover_obstacle *box, int cap, int *n)
 {
     int i, j, i1, j1, rc;
-    if (!box || !n || cap < 0) return ROVER_MAP_ERR_ARG;
+    if (!box || !n || cap < 0)
+        return ROVER_MAP_ERR_ARG;
     *n = 0;
-    if ((rc = rover_map_validate(m)) != ROVER_MAP_OK) return rc;
+    if ((rc = rover_map_validate(m)) != ROVER_MAP_OK)
+        return rc;
     for (j = 0; j < m->height; j++)
         for (i = 0; i < m->width; i++) {
-            if (*cell_at(m, i, j) != ROVER_MAP_OCCUPIED) continue;
+            if (*cell_at(m, i, j) != ROVER_MAP_OCCUPIED)
+                continue;
             if (*n >= cap) {
                 restore_cells(m);
                 return ROVER_MAP_ERR_BOXES;
@@ -131,7 +127,7 @@ int rover_map_merge(rover_map *m, rover_obstacle *box, int cap, int *n)
 int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const double goal_m[2],
                              double lm[ROVER_WORLD_MAX_LANDMARKS][2])
 {
-    static const double out_frac[4] = { 1.0, 0.7, 0.43, 0.23 };   /* 3.5, 2.45, 1.5, 0.8 m */
+    static const double out_frac[4] = { 1.0, 0.7, 0.43, 0.23 }; /* 3.5, 2.45, 1.5, 0.8 m */
     const double side_m = 3.5, margin_m = 3.0;
     const double dx = goal_m[0] - start->x_m, dy = goal_m[1] - start->y_m;
     const double len = hypot(dx, dy);
@@ -141,9 +137,11 @@ int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const doubl
     const double span = len + 2.0 * margin_m;
     double step_m = 3.0;
     int k, n = 0, pairs;
-    if (span / step_m + 1.0 > ROVER_WORLD_MAX_LANDMARKS / 2) step_m = span / (ROVER_WORLD_MAX_LANDMARKS / 2 - 1);
+    if (span / step_m + 1.0 > ROVER_WORLD_MAX_LANDMARKS / 2)
+        step_m = span / (ROVER_WORLD_MAX_LANDMARKS / 2 - 1);
     pairs = (int)floor(span / step_m + 1e-9) + 1;
-    if (pairs > ROVER_WORLD_MAX_LANDMARKS / 2) pairs = ROVER_WORLD_MAX_LANDMARKS / 2;
+    if (pairs > ROVER_WORLD_MAX_LANDMARKS / 2)
+        pairs = ROVER_WORLD_MAX_LANDMARKS / 2;
     for (k = 0; k < pairs; k++) {
         const double s = -margin_m + step_m * k;
         const double cx = start->x_m + s * ux, cy = start->y_m + s * uy;
@@ -154,7 +152,8 @@ int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const doubl
             for (q = 0; q < 4; q++) {
                 const double off = side_m * out_frac[q];
                 const double x = cx - side * off * uy, y = cy + side * off * ux;
-                if (rover_map_blocked(m, x, y)) continue;
+                if (rover_map_blocked(m, x, y))
+                    continue;
                 lm[n][0] = x;
                 lm[n][1] = y;
                 n++;
@@ -169,15 +168,17 @@ int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const doubl
 static int place_team(rover_world_config *w, const pose2 *start, int n, double spacing_m,
                       int formation)
 {
-    rover_world_config *open = w;   /* built in place, then re-framed */
+    rover_world_config *open = w; /* built in place, then re-framed */
     pose2 team[ROVER_WORLD_MAX_ROBOTS];
     int k;
     if (rover_world_layout(open, ROVER_WORLD_OPEN, n, spacing_m, formation) != 0)
         return ROVER_MAP_ERR_ARG;
-    for (k = 0; k < n; k++) rover_world_to_team(open, &open->start_c[k], &team[k]);
+    for (k = 0; k < n; k++)
+        rover_world_to_team(open, &open->start_c[k], &team[k]);
     w->team_origin = *start;
     w->team_origin.theta_rad = vec2_wrap_rad(start->theta_rad);
-    for (k = 0; k < n; k++) rover_world_from_team(w, &team[k], &w->start_c[k]);
+    for (k = 0; k < n; k++)
+        rover_world_from_team(w, &team[k], &w->start_c[k]);
     return ROVER_MAP_OK;
 }
 
@@ -187,12 +188,16 @@ static int starts_clear(const rover_world_config *w, const rover_map *m)
 {
     int alive[ROVER_WORLD_MAX_ROBOTS], k, q;
     double cl[ROVER_WORLD_MAX_ROBOTS];
-    const double reach = 0.5 * hypot(ROVER_BODY_LENGTH_M, ROVER_BODY_WIDTH_M) + fabs(ROVER_BODY_OFFSET_M);
-    for (k = 0; k < w->n_robots; k++) alive[k] = 1;
-    if (rover_world_clearance(w, w->start_c, alive, w->n_robots, cl) != 0) return 0;
+    const double reach = 0.5 * hypot(ROVER_BODY_LENGTH_M, ROVER_BODY_WIDTH_M) +
+                         fabs(ROVER_BODY_OFFSET_M);
+    for (k = 0; k < w->n_robots; k++)
+        alive[k] = 1;
+    if (rover_world_clearance(w, w->start_c, alive, w->n_robots, cl) != 0)
+        return 0;
     for (k = 0; k < w->n_robots; k++) {
         const pose2 *c = &w->start_c[k];
-        if (!(cl[k] > 0.0)) return 0;
+        if (!(cl[k] > 0.0))
+            return 0;
         for (q = 0; q < 8; q++) {
             const double a = q * 0.7853981633974483;
             if (rover_map_blocked(m, c->x_m + reach * cos(a), c->y_m + reach * sin(a))) {
@@ -208,21 +213,25 @@ static int starts_clear(const rover_world_config *w, const rover_map *m)
 static int site_finite(const rover_map_site *s)
 {
     int k;
-    if (!vec2_pose_finite(&s->start)) return ROVER_MAP_ERR_START;
-    if (!isfinite(s->goal_m[0]) || !isfinite(s->goal_m[1])) return ROVER_MAP_ERR_GOAL;
+    if (!vec2_pose_finite(&s->start))
+        return ROVER_MAP_ERR_START;
+    if (!isfinite(s->goal_m[0]) || !isfinite(s->goal_m[1]))
+        return ROVER_MAP_ERR_GOAL;
     if (s->n_landmarks != ROVER_MAP_LANDMARKS_AUTO &&
         (s->n_landmarks < 0 || s->n_landmarks > ROVER_WORLD_MAX_LANDMARKS))
         return ROVER_MAP_ERR_LANDMARKS;
     for (k = 0; k < s->n_landmarks; k++)
-        if (!isfinite(s->landmark_m[k][0]) || !isfinite(s->landmark_m[k][1])) return ROVER_MAP_ERR_LANDMARKS;
+        if (!isfinite(s->landmark_m[k][0]) || !isfinite(s->landmark_m[k][1]))
+            return ROVER_MAP_ERR_LANDMARKS;
     return ROVER_MAP_OK;
 }
 
-int rover_world_from_map(rover_world_config *w, rover_map *m, const rover_map_site *s,
-                         int n, double spacing_m, int formation)
+int rover_world_from_map(rover_world_config *w, rover_map *m, const rover_map_site *s, int n,
+                         double spacing_m, int formation)
 {
     int rc;
-    if (!w || !m || !s) return ROVER_MAP_ERR_ARG;
+    if (!w || !m || !s)
+        return ROVER_MAP_ERR_ARG;
     if ((rc = rover_map_validate(m)) != ROVER_MAP_OK || (rc = site_finite(s)) != ROVER_MAP_OK) {
         memset(w, 0, sizeof *w);
         return rc;
@@ -239,8 +248,10 @@ int rover_world_from_map(rover_world_config *w, rover_map *m, const rover_map_si
     w->x_max_m = m->origin_x_m + m->resolution_m * m->width;
     w->y_max_m = m->origin_y_m + m->resolution_m * m->height;
     rc = rover_map_merge(m, w->obst, ROVER_WORLD_MAX_OBST, &w->n_obst);
-    if (rc == ROVER_MAP_OK && rover_map_blocked(m, s->goal_m[0], s->goal_m[1])) rc = ROVER_MAP_ERR_GOAL;
-    if (rc == ROVER_MAP_OK && !starts_clear(w, m)) rc = ROVER_MAP_ERR_START;
+    if (rc == ROVER_MAP_OK && rover_map_blocked(m, s->goal_m[0], s->goal_m[1]))
+        rc = ROVER_MAP_ERR_GOAL;
+    if (rc == ROVER_MAP_OK && !starts_clear(w, m))
+        rc = ROVER_MAP_ERR_START;
     if (rc != ROVER_MAP_OK) {
         memset(w, 0, sizeof *w);
         return rc;

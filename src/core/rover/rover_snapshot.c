@@ -15,40 +15,103 @@ enum { SNAP_DOUBLE, SNAP_INT, SNAP_INT32, SNAP_LONG };
 
 typedef struct {
     size_t offset;
-    int    kind;
+    int kind;
     size_t size;
 } snap_field;
 
-#define F_D(m)   { offsetof(rover_ctl_state, m), SNAP_DOUBLE, sizeof(((rover_ctl_state *)0)->m) }
-#define F_I(m)   { offsetof(rover_ctl_state, m), SNAP_INT, sizeof(((rover_ctl_state *)0)->m) }
-#define F_I32(m) { offsetof(rover_ctl_state, m), SNAP_INT32, sizeof(((rover_ctl_state *)0)->m) }
+#define F_D(m)                                                                       \
+    {                                                                                \
+        offsetof(rover_ctl_state, m), SNAP_DOUBLE, sizeof(((rover_ctl_state *)0)->m) \
+    }
+#define F_I(m)                                                                    \
+    {                                                                             \
+        offsetof(rover_ctl_state, m), SNAP_INT, sizeof(((rover_ctl_state *)0)->m) \
+    }
+#define F_I32(m)                                                                    \
+    {                                                                               \
+        offsetof(rover_ctl_state, m), SNAP_INT32, sizeof(((rover_ctl_state *)0)->m) \
+    }
 #define F_CRUMB(k) F_D(crumb_m[k][0]), F_D(crumb_m[k][1])
-#define F_L(m)   { offsetof(rover_ctl_state, m), SNAP_LONG, sizeof(((rover_ctl_state *)0)->m) }
+#define F_L(m)                                                                     \
+    {                                                                              \
+        offsetof(rover_ctl_state, m), SNAP_LONG, sizeof(((rover_ctl_state *)0)->m) \
+    }
 
 /* The id first (a snapshot names its robot), then have_enc. */
 static const snap_field snap_table[] = {
-    F_I32(id), F_I(have_enc),
+    F_I32(id),
+    F_I(have_enc),
     /* own pose */
-    F_D(odo.last_left_rad), F_D(odo.last_right_rad), F_D(odo.dist_m),
-    F_D(odo.c.x_m), F_D(odo.c.y_m), F_D(odo.c.theta_rad),
-    F_D(corr_m[0]), F_D(corr_m[1]),
-    F_D(loc.s[0]), F_D(loc.s[1]), F_D(loc.s[2]),
-    F_D(loc.P[0]), F_D(loc.P[1]), F_D(loc.P[2]), F_D(loc.P[3]), F_D(loc.P[4]),
-    F_D(loc.P[5]), F_D(loc.P[6]), F_D(loc.P[7]), F_D(loc.P[8]),
-    F_L(loc.accepted), F_L(loc.rejected), F_L(loc.resets), F_I(loc.rejected_run),
-    F_D(enc_t_s), F_D(prev_enc_t_s), F_D(v_est_mps), F_D(w_est_radps),
+    F_D(odo.last_left_rad),
+    F_D(odo.last_right_rad),
+    F_D(odo.dist_m),
+    F_D(odo.c.x_m),
+    F_D(odo.c.y_m),
+    F_D(odo.c.theta_rad),
+    F_D(corr_m[0]),
+    F_D(corr_m[1]),
+    F_D(loc.s[0]),
+    F_D(loc.s[1]),
+    F_D(loc.s[2]),
+    F_D(loc.P[0]),
+    F_D(loc.P[1]),
+    F_D(loc.P[2]),
+    F_D(loc.P[3]),
+    F_D(loc.P[4]),
+    F_D(loc.P[5]),
+    F_D(loc.P[6]),
+    F_D(loc.P[7]),
+    F_D(loc.P[8]),
+    F_L(loc.accepted),
+    F_L(loc.rejected),
+    F_L(loc.resets),
+    F_I(loc.rejected_run),
+    F_D(enc_t_s),
+    F_D(prev_enc_t_s),
+    F_D(v_est_mps),
+    F_D(w_est_radps),
     /* formation protocol */
-    F_I(fsm.type), F_D(fsm.scale), F_I(fsm.phase), F_I32(fsm.seq), F_I32(fsm.origin),
-    F_I(fsm.code), F_I32(fsm.seq_max_seen), F_D(fsm.phase_s), F_D(fsm.clear_s),
-    F_D(fsm.narrow_s), F_I(fsm.witnessed),
-    F_I(ann_code), F_I32(ann_seq), F_D(team_tx_t_s), F_I(formation_changes),
+    F_I(fsm.type),
+    F_D(fsm.scale),
+    F_I(fsm.phase),
+    F_I32(fsm.seq),
+    F_I32(fsm.origin),
+    F_I(fsm.code),
+    F_I32(fsm.seq_max_seen),
+    F_D(fsm.phase_s),
+    F_D(fsm.clear_s),
+    F_D(fsm.narrow_s),
+    F_I(fsm.witnessed),
+    F_I(ann_code),
+    F_I32(ann_seq),
+    F_D(team_tx_t_s),
+    F_I(formation_changes),
     /* dead-zone escape */
-    F_D(exc.blocked_s), F_I(exc.active), F_I(exc.entries),
-    F_I(esc_phase), F_I(esc_side), F_I(esc_yield), F_I(esc_turn),
-    F_D(esc_hit_dist_m), F_D(esc_s), F_D(esc_lost_s), F_D(esc_wait_s), F_I(escapes),
-    F_D(hold_s), F_D(esc_back_m), F_I(holding), F_D(esc_wedge_s),
-    F_I(crumb_n), F_CRUMB(0), F_CRUMB(1), F_CRUMB(2), F_CRUMB(3), F_CRUMB(4), F_CRUMB(5),
-    F_CRUMB(6), F_CRUMB(7),
+    F_D(exc.blocked_s),
+    F_I(exc.active),
+    F_I(exc.entries),
+    F_I(esc_phase),
+    F_I(esc_side),
+    F_I(esc_yield),
+    F_I(esc_turn),
+    F_D(esc_hit_dist_m),
+    F_D(esc_s),
+    F_D(esc_lost_s),
+    F_D(esc_wait_s),
+    F_I(escapes),
+    F_D(hold_s),
+    F_D(esc_back_m),
+    F_I(holding),
+    F_D(esc_wedge_s),
+    F_I(crumb_n),
+    F_CRUMB(0),
+    F_CRUMB(1),
+    F_CRUMB(2),
+    F_CRUMB(3),
+    F_CRUMB(4),
+    F_CRUMB(5),
+    F_CRUMB(6),
+    F_CRUMB(7),
 };
 #define SNAP_N ((int)(sizeof snap_table / sizeof snap_table[0]))
 /* the table above lists crumbs 0..7: it must list every one */
@@ -58,10 +121,10 @@ static int size_fits(const snap_field *f)
 {
     switch (f->kind) {
     case SNAP_DOUBLE: return f->size == sizeof(double);
-    case SNAP_INT:    return f->size == sizeof(int);
-    case SNAP_INT32:  return f->size == sizeof(int32_t);
-    case SNAP_LONG:   return f->size == sizeof(long);
-    default:          return 0;
+    case SNAP_INT: return f->size == sizeof(int);
+    case SNAP_INT32: return f->size == sizeof(int32_t);
+    case SNAP_LONG: return f->size == sizeof(long);
+    default: return 0;
     }
 }
 
@@ -71,7 +134,8 @@ int rover_snapshot_validate(void)
     if (SNAP_N != ROVER_CTL_SNAPSHOT_VALUES)
         return ROVER_CTL_ERR_SNAPSHOT;
     for (i = 0; i < SNAP_N; i++) {
-        if (!size_fits(&snap_table[i]) || snap_table[i].offset + snap_table[i].size > sizeof(rover_ctl_state))
+        if (!size_fits(&snap_table[i]) ||
+            snap_table[i].offset + snap_table[i].size > sizeof(rover_ctl_state))
             return ROVER_CTL_ERR_SNAPSHOT;
         for (k = 0; k < i; k++)
             if (snap_table[k].offset == snap_table[i].offset)
@@ -85,9 +149,9 @@ static double get(const rover_ctl_state *c, const snap_field *f)
     const char *p = (const char *)c + f->offset;
     switch (f->kind) {
     case SNAP_DOUBLE: return *(const double *)(const void *)p;
-    case SNAP_INT:    return (double)*(const int *)(const void *)p;
-    case SNAP_INT32:  return (double)*(const int32_t *)(const void *)p;
-    default:          return (double)*(const long *)(const void *)p;
+    case SNAP_INT: return (double)*(const int *)(const void *)p;
+    case SNAP_INT32: return (double)*(const int32_t *)(const void *)p;
+    default: return (double)*(const long *)(const void *)p;
     }
 }
 

@@ -9,22 +9,24 @@
 #include <math.h>
 #include <string.h>
 
-static const char *const world_names[ROVER_WORLD_COUNT] = {
-    "open", "obstacles", "corridor", "deadzone"
-};
+static const char *const world_names[ROVER_WORLD_COUNT] = { "open", "obstacles", "corridor",
+                                                            "deadzone" };
 
 int rover_world_id(const char *name)
 {
     int i;
-    if (!name) return ROVER_WORLD_ERR_ARG;
+    if (!name)
+        return ROVER_WORLD_ERR_ARG;
     for (i = 0; i < ROVER_WORLD_COUNT; i++)
-        if (strcmp(name, world_names[i]) == 0) return i;
+        if (strcmp(name, world_names[i]) == 0)
+            return i;
     return ROVER_WORLD_ERR_UNKNOWN;
 }
 
 const char *rover_world_name(int world)
 {
-    if (world == ROVER_WORLD_FILE) return "file";
+    if (world == ROVER_WORLD_FILE)
+        return "file";
     return (world >= 0 && world < ROVER_WORLD_COUNT) ? world_names[world] : "?";
 }
 
@@ -32,11 +34,15 @@ static void add_box(rover_world_config *w, double cx, double cy, double hx, doub
                     double angle_rad, double height_m)
 {
     rover_obstacle *o;
-    if (w->n_obst >= ROVER_WORLD_MAX_OBST) return;
+    if (w->n_obst >= ROVER_WORLD_MAX_OBST)
+        return;
     o = &w->obst[w->n_obst++];
     memset(o, 0, sizeof *o);
     o->kind = ROVER_OBST_BOX;
-    o->cx_m = cx; o->cy_m = cy; o->hx_m = hx; o->hy_m = hy;
+    o->cx_m = cx;
+    o->cy_m = cy;
+    o->hx_m = hx;
+    o->hy_m = hy;
     o->angle_rad = angle_rad;
     o->height_m = height_m;
 }
@@ -46,18 +52,21 @@ static void add_wall(rover_world_config *w, double ax, double ay, double bx, dou
                      double thick_m)
 {
     const double len = hypot(bx - ax, by - ay);
-    add_box(w, 0.5 * (ax + bx), 0.5 * (ay + by), 0.5 * len, 0.5 * thick_m,
-            atan2(by - ay, bx - ax), 0.5);
+    add_box(w, 0.5 * (ax + bx), 0.5 * (ay + by), 0.5 * len, 0.5 * thick_m, atan2(by - ay, bx - ax),
+            0.5);
 }
 
 static void add_circle(rover_world_config *w, double cx, double cy, double r)
 {
     rover_obstacle *o;
-    if (w->n_obst >= ROVER_WORLD_MAX_OBST) return;
+    if (w->n_obst >= ROVER_WORLD_MAX_OBST)
+        return;
     o = &w->obst[w->n_obst++];
     memset(o, 0, sizeof *o);
     o->kind = ROVER_OBST_CIRCLE;
-    o->cx_m = cx; o->cy_m = cy; o->r_m = r;
+    o->cx_m = cx;
+    o->cy_m = cy;
+    o->r_m = r;
     o->height_m = 0.6;
 }
 
@@ -66,11 +75,9 @@ static void add_circle(rover_world_config *w, double cx, double cy, double r)
  * and scale with nothing else: larger teams meet the same features. */
 static void build_features(rover_world_config *w, double xf)
 {
-    const double t = 0.1;                       /* wall thickness */
+    const double t = 0.1; /* wall thickness */
     switch (w->world) {
-    case ROVER_WORLD_OPEN:
-        w->goal_m[0] = xf + 12.0;
-        break;
+    case ROVER_WORLD_OPEN: w->goal_m[0] = xf + 12.0; break;
     case ROVER_WORLD_OBSTACLES:
         w->goal_m[0] = xf + 14.0;
         add_circle(w, xf + 4.0, 0.5, 0.25);
@@ -122,7 +129,8 @@ static void build_features(rover_world_config *w, double xf)
 
 static void add_landmark(rover_world_config *w, double x, double y)
 {
-    if (w->n_landmarks >= ROVER_WORLD_MAX_LANDMARKS) return;
+    if (w->n_landmarks >= ROVER_WORLD_MAX_LANDMARKS)
+        return;
     w->landmark_m[w->n_landmarks][0] = x;
     w->landmark_m[w->n_landmarks][1] = y;
     w->n_landmarks++;
@@ -153,9 +161,8 @@ int rover_world_layout(rover_world_config *w, int world, int n, double spacing_m
 {
     int k, rows;
     double xf, sx = 0.0, sy = 0.0;
-    if (!w || world < 0 || world >= ROVER_WORLD_COUNT || n < 1 ||
-        n > ROVER_WORLD_MAX_ROBOTS || !isfinite(spacing_m) ||
-        spacing_m <= ROVER_BODY_LENGTH_M || spacing_m > 10.0 ||
+    if (!w || world < 0 || world >= ROVER_WORLD_COUNT || n < 1 || n > ROVER_WORLD_MAX_ROBOTS ||
+        !isfinite(spacing_m) || spacing_m <= ROVER_BODY_LENGTH_M || spacing_m > 10.0 ||
         formation < FORMATION_LINE || formation > FORMATION_COLUMN)
         return ROVER_WORLD_ERR_ARG;
     memset(w, 0, sizeof *w);
@@ -177,7 +184,8 @@ int rover_world_layout(rover_world_config *w, int world, int n, double spacing_m
             int q;
             for (q = 0; q < n; q++) {
                 formation_slot_xy(xy, formation, n, q, spacing_m, 1.0);
-                if (q == 0 || xy[0] > x_top) x_top = xy[0];
+                if (q == 0 || xy[0] > x_top)
+                    x_top = xy[0];
             }
             formation_slot_xy(xy, formation, n, rover_world_slot(formation, n, k), spacing_m, 1.0);
             c->x_m = xf + xy[0] - x_top;
@@ -200,7 +208,8 @@ int rover_world_layout(rover_world_config *w, int world, int n, double spacing_m
     w->x_max_m = w->goal_m[0] + 3.0;
     build_landmarks(w, w->x_min_m - 1.0, xf);
     w->y_max_m = 0.5 * spacing_m * ROVER_WORLD_ROW_MAX + 1.0;
-    if (w->y_max_m < 4.0) w->y_max_m = 4.0;
+    if (w->y_max_m < 4.0)
+        w->y_max_m = 4.0;
     w->y_min_m = -w->y_max_m;
     return 0;
 }
@@ -210,21 +219,25 @@ int rover_world_slot(int type, int n, int rank)
     int mid, j, k = 0;
     if (n < 1 || rank < 0 || rank >= n || type < FORMATION_LINE || type > FORMATION_COLUMN)
         return ROVER_WORLD_ERR_ARG;
-    if (type == FORMATION_LINE) return rank;
+    if (type == FORMATION_LINE)
+        return rank;
     /* the left side (ranks below mid) takes the odd triangle slots, which
      * are one more than the even ones when n is even: mid = n / 2 keeps
      * every robot on its own side */
     mid = n / 2;
-    if (rank == mid) return 0;
+    if (rank == mid)
+        return 0;
     /* order: mid, mid-1, mid+1, mid-2, mid+2, ... (skipping the ends) */
     for (j = 1; j < n; j++) {
         if (mid - j >= 0) {
             k++;
-            if (rank == mid - j) return k;
+            if (rank == mid - j)
+                return k;
         }
         if (mid + j < n) {
             k++;
-            if (rank == mid + j) return k;
+            if (rank == mid + j)
+                return k;
         }
     }
     return ROVER_WORLD_ERR_ARG;
@@ -250,8 +263,7 @@ void rover_world_from_team(const rover_world_config *w, const pose2 *team_p, pos
 }
 
 /* Signed distance from (x, y) to a box with centre, half extents, angle. */
-static double box_distance(double cx, double cy, double hx, double hy, double a,
-                           double x, double y)
+static double box_distance(double cx, double cy, double hx, double hy, double a, double x, double y)
 {
     double l[2], qx, qy, ox, oy;
     vec2_rotate(l, x - cx, y - cy, -a);
@@ -272,8 +284,8 @@ double rover_obstacle_distance(const rover_obstacle *o, double x_m, double y_m)
 #define FOOT_PTS 8
 
 /* Footprint outline samples (corners and edge midpoints) of a robot at c. */
-static void footprint(const pose2 *c, double px[FOOT_PTS], double py[FOOT_PTS],
-                      double *bx, double *by)
+static void footprint(const pose2 *c, double px[FOOT_PTS], double py[FOOT_PTS], double *bx,
+                      double *by)
 {
     static const double u[FOOT_PTS] = { 1, 1, 1, 0, -1, -1, -1, 0 };
     static const double v[FOOT_PTS] = { 1, 0, -1, -1, -1, 0, 1, 1 };
@@ -288,35 +300,47 @@ static void footprint(const pose2 *c, double px[FOOT_PTS], double py[FOOT_PTS],
     }
 }
 
-int rover_world_clearance(const rover_world_config *w, const pose2 *c, const int *alive,
-                          int n, double *clearance_m)
+int rover_world_clearance(const rover_world_config *w, const pose2 *c, const int *alive, int n,
+                          double *clearance_m)
 {
-    static const double reach = 0.6;   /* two half-diagonals, rounded up */
+    static const double reach = 0.6; /* two half-diagonals, rounded up */
     double px[FOOT_PTS], py[FOOT_PTS], bx, by, qx[FOOT_PTS], qy[FOOT_PTS], cx2, cy2;
     int i, j, k, p;
-    if (!w || !c || !alive || !clearance_m || n < 0 || n > ROVER_WORLD_MAX_ROBOTS) return ROVER_WORLD_ERR_ARG;
+    if (!w || !c || !alive || !clearance_m || n < 0 || n > ROVER_WORLD_MAX_ROBOTS)
+        return ROVER_WORLD_ERR_ARG;
     for (i = 0; i < n; i++)
-        if (alive[i] && !vec2_pose_finite(&c[i])) return ROVER_WORLD_ERR_ARG;
+        if (alive[i] && !vec2_pose_finite(&c[i]))
+            return ROVER_WORLD_ERR_ARG;
     for (i = 0; i < n; i++) {
         double best = INFINITY;
-        if (!alive[i]) { clearance_m[i] = INFINITY; continue; }
+        if (!alive[i]) {
+            clearance_m[i] = INFINITY;
+            continue;
+        }
         footprint(&c[i], px, py, &bx, &by);
         for (k = 0; k < w->n_obst; k++)
             for (p = 0; p < FOOT_PTS; p++) {
                 const double d = rover_obstacle_distance(&w->obst[k], px[p], py[p]);
-                if (d < best) best = d;
+                if (d < best)
+                    best = d;
             }
         for (j = 0; j < n; j++) {
-            if (j == i || !alive[j]) continue;
+            if (j == i || !alive[j])
+                continue;
             footprint(&c[j], qx, qy, &cx2, &cy2);
-            if (hypot(cx2 - bx, cy2 - by) - reach > best) continue;
+            if (hypot(cx2 - bx, cy2 - by) - reach > best)
+                continue;
             for (p = 0; p < FOOT_PTS; p++) {
                 const double d1 = box_distance(cx2, cy2, 0.5 * ROVER_BODY_LENGTH_M,
-                                               0.5 * ROVER_BODY_WIDTH_M, c[j].theta_rad, px[p], py[p]);
+                                               0.5 * ROVER_BODY_WIDTH_M, c[j].theta_rad, px[p],
+                                               py[p]);
                 const double d2 = box_distance(bx, by, 0.5 * ROVER_BODY_LENGTH_M,
-                                               0.5 * ROVER_BODY_WIDTH_M, c[i].theta_rad, qx[p], qy[p]);
-                if (d1 < best) best = d1;
-                if (d2 < best) best = d2;
+                                               0.5 * ROVER_BODY_WIDTH_M, c[i].theta_rad, qx[p],
+                                               qy[p]);
+                if (d1 < best)
+                    best = d1;
+                if (d2 < best)
+                    best = d2;
             }
         }
         clearance_m[i] = best;

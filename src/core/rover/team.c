@@ -10,7 +10,8 @@
 
 int team_init(team_table *t, int32_t self_id, double timeout_s)
 {
-    if (!t || !isfinite(timeout_s) || !(timeout_s > 0.0)) return TEAM_ERR_ARG;
+    if (!t || !isfinite(timeout_s) || !(timeout_s > 0.0))
+        return TEAM_ERR_ARG;
     t->self_id = self_id;
     t->timeout_s = timeout_s;
     t->n = 0;
@@ -22,19 +23,22 @@ static int index_of(const team_table *t, int32_t robot, int *ins)
     int lo = 0, hi = t->n;
     while (lo < hi) {
         const int mid = (lo + hi) / 2;
-        if (t->m[mid].robot < robot) lo = mid + 1;
-        else hi = mid;
+        if (t->m[mid].robot < robot)
+            lo = mid + 1;
+        else
+            hi = mid;
     }
-    if (ins) *ins = lo;
+    if (ins)
+        *ins = lo;
     return (lo < t->n && t->m[lo].robot == robot) ? lo : TEAM_ERR_UNKNOWN;
 }
 
 static int msg_ok(const team_table *t, const team_member *m)
 {
     return m->robot != t->self_id && vec2_finite3(m->x_m, m->y_m, m->theta_rad) &&
-           isfinite(m->v_mps) && isfinite(m->w_radps) && isfinite(m->t_s) &&
-           isfinite(m->scale) && m->scale > 0.0 && m->formation >= FORMATION_LINE &&
-           m->formation <= FORMATION_COLUMN && formation_ann_valid(m->announce);
+           isfinite(m->v_mps) && isfinite(m->w_radps) && isfinite(m->t_s) && isfinite(m->scale) &&
+           m->scale > 0.0 && m->formation >= FORMATION_LINE && m->formation <= FORMATION_COLUMN &&
+           formation_ann_valid(m->announce);
 }
 
 int team_update(team_table *t, const team_member *msg)
@@ -42,17 +46,20 @@ int team_update(team_table *t, const team_member *msg)
     int ins, i;
     double ox = 0.0, oy = 0.0, ot = -INFINITY, orng = INFINITY;
     int obs = 0, added = 0;
-    if (!t || !msg || !msg_ok(t, msg)) return TEAM_ERR_ARG;
+    if (!t || !msg || !msg_ok(t, msg))
+        return TEAM_ERR_ARG;
     i = index_of(t, msg->robot, &ins);
     if (i >= 0) {
-        if (msg->t_s < t->m[i].t_s) return 0;      /* out of order */
+        if (msg->t_s < t->m[i].t_s)
+            return 0; /* out of order */
         ox = t->m[i].off_x_m;
         oy = t->m[i].off_y_m;
         obs = t->m[i].observed;
         ot = t->m[i].obs_t_s;
         orng = t->m[i].obs_range_m;
     } else {
-        if (t->n >= TEAM_MAX) return TEAM_ERR_FULL;
+        if (t->n >= TEAM_MAX)
+            return TEAM_ERR_FULL;
         memmove(&t->m[ins + 1], &t->m[ins], (size_t)(t->n - ins) * sizeof t->m[0]);
         t->n++;
         i = ins;
@@ -71,9 +78,11 @@ int team_update(team_table *t, const team_member *msg)
 int team_expire(team_table *t, double now_s)
 {
     int i, j = 0, dropped;
-    if (!isfinite(now_s)) return 0;
+    if (!isfinite(now_s))
+        return 0;
     for (i = 0; i < t->n; i++)
-        if (!(now_s - t->m[i].t_s > t->timeout_s)) t->m[j++] = t->m[i];
+        if (!(now_s - t->m[i].t_s > t->timeout_s))
+            t->m[j++] = t->m[i];
     dropped = t->n - j;
     t->n = j;
     return dropped;
@@ -102,7 +111,8 @@ int team_ids(const team_table *t, int32_t *ids, int cap)
 int team_position(const team_table *t, int32_t robot, double xy_m[2])
 {
     const team_member *m = team_find(t, robot);
-    if (!m) return TEAM_ERR_UNKNOWN;
+    if (!m)
+        return TEAM_ERR_UNKNOWN;
     xy_m[0] = m->x_m + m->off_x_m;
     xy_m[1] = m->y_m + m->off_y_m;
     return 0;
@@ -122,7 +132,8 @@ int team_observe(team_table *t, int32_t robot, const pose2 *own_o, double range_
     ox = own_o->x_m + range_m * cos(own_o->theta_rad + bearing_rad) - m->x_m;
     oy = own_o->y_m + range_m * sin(own_o->theta_rad + bearing_rad) - m->y_m;
     /* First sighting: take it whole so the filter does not start from 0. */
-    if (m->observed == 0) alpha = 1.0;
+    if (m->observed == 0)
+        alpha = 1.0;
     m->off_x_m += alpha * (ox - m->off_x_m);
     m->off_y_m += alpha * (oy - m->off_y_m);
     m->observed++;
@@ -197,13 +208,13 @@ static void acc_add(ref_acc_t *a, const pose2 *o, double v, double w)
     a->n++;
 }
 
-int team_reference(unicycle_state *ref, const team_table *t,
-                   const unicycle_state *self, int self_left, double d_m,
-                   double now_s)
+int team_reference(unicycle_state *ref, const team_table *t, const unicycle_state *self,
+                   int self_left, double d_m, double now_s)
 {
-    ref_acc_t a = {0, 0, 0, 0, 0, 0, 0};
+    ref_acc_t a = { 0, 0, 0, 0, 0, 0, 0 };
     int i;
-    if (!ref || !t || !isfinite(now_s) || !isfinite(d_m)) return TEAM_ERR_ARG;
+    if (!ref || !t || !isfinite(now_s) || !isfinite(d_m))
+        return TEAM_ERR_ARG;
     if (self && !self_left) {
         const pose2 o = { self->x_m, self->y_m, self->theta_rad };
         if (!vec2_pose_finite(&o) || !isfinite(self->v_mps) || !isfinite(self->w_radps))
@@ -214,20 +225,25 @@ int team_reference(unicycle_state *ref, const team_table *t,
         const team_member *m = &t->m[i];
         double age = now_s - m->t_s;
         pose2 o;
-        if (age > t->timeout_s || formation_ann_out(m->announce)) continue;
-        if (age < 0.0) age = 0.0;
+        if (age > t->timeout_s || formation_ann_out(m->announce))
+            continue;
+        if (age < 0.0)
+            age = 0.0;
         o.x_m = m->x_m + m->off_x_m;
         o.y_m = m->y_m + m->off_y_m;
         o.theta_rad = m->theta_rad;
         extrapolate(&o, m->v_mps, m->w_radps, d_m, age);
         acc_add(&a, &o, m->v_mps, m->w_radps);
     }
-    if (a.n == 0) return TEAM_ERR_UNKNOWN;
+    if (a.n == 0)
+        return TEAM_ERR_UNKNOWN;
     ref->x_m = a.x / a.n;
     ref->y_m = a.y / a.n;
     /* Opposed headings have no mean; keep self's (or 0) rather than noise. */
-    if (hypot(a.s, a.c) > 1e-9 * a.n) ref->theta_rad = atan2(a.s, a.c);
-    else ref->theta_rad = self ? vec2_wrap_rad(self->theta_rad) : 0.0;
+    if (hypot(a.s, a.c) > 1e-9 * a.n)
+        ref->theta_rad = atan2(a.s, a.c);
+    else
+        ref->theta_rad = self ? vec2_wrap_rad(self->theta_rad) : 0.0;
     ref->v_mps = a.v / a.n;
     ref->w_radps = a.w / a.n;
     return a.n;

@@ -23,8 +23,7 @@ void unicycle_c_from_o(pose2 *c, const pose2 *o, double d_m)
     c->theta_rad = th;
 }
 
-void unicycle_o_velocity(double out[2], double theta_rad, double v_mps,
-                         double w_radps, double d_m)
+void unicycle_o_velocity(double out[2], double theta_rad, double v_mps, double w_radps, double d_m)
 {
     const double c = cos(theta_rad), s = sin(theta_rad);
     out[0] = v_mps * c + d_m * w_radps * s;
@@ -36,7 +35,8 @@ int unicycle_step_exact(pose2 *c, double v_mps, double w_radps, double dt_s)
     const double th = c->theta_rad;
     const double dth = w_radps * dt_s;
     double fwd, side;
-    if (!vec2_pose_finite(c) || !vec2_finite3(v_mps, w_radps, dt_s)) return UNICYCLE_ERR_ARG;
+    if (!vec2_pose_finite(c) || !vec2_finite3(v_mps, w_radps, dt_s))
+        return UNICYCLE_ERR_ARG;
     if (fabs(dth) < 1e-9) {
         /* Second-order series of the arc: avoids 0/0 and loses nothing. */
         fwd = v_mps * dt_s * (1.0 - dth * dth / 6.0);
@@ -63,7 +63,8 @@ int unicycle_step_rk4(pose2 *c, double v_mps, double w_radps, double dt_s)
 {
     double k1[3], k2[3], k3[3], k4[3];
     const double th = c->theta_rad;
-    if (!vec2_pose_finite(c) || !vec2_finite3(v_mps, w_radps, dt_s)) return UNICYCLE_ERR_ARG;
+    if (!vec2_pose_finite(c) || !vec2_finite3(v_mps, w_radps, dt_s))
+        return UNICYCLE_ERR_ARG;
     unicycle_deriv(k1, th, v_mps, w_radps);
     unicycle_deriv(k2, th + 0.5 * dt_s * k1[2], v_mps, w_radps);
     unicycle_deriv(k3, th + 0.5 * dt_s * k2[2], v_mps, w_radps);
@@ -79,8 +80,8 @@ static double clampd(double x, double lim)
     return x > lim ? lim : (x < -lim ? -lim : x);
 }
 
-int unicycle_saturate(unicycle_cmd *out, const unicycle_cmd *in,
-                      double v_max_mps, double w_max_radps, int mode)
+int unicycle_saturate(unicycle_cmd *out, const unicycle_cmd *in, double v_max_mps,
+                      double w_max_radps, int mode)
 {
     const double v = in->v_mps, w = in->w_radps;
     const double vm = fabs(v_max_mps), wm = fabs(w_max_radps);
@@ -91,8 +92,10 @@ int unicycle_saturate(unicycle_cmd *out, const unicycle_cmd *in,
     }
     if (mode == UNICYCLE_SAT_SCALE) {
         double k = 1.0;
-        if (fabs(v) > vm) k = vm / fabs(v);
-        if (fabs(w) * k > wm) k = wm / fabs(w);
+        if (fabs(v) > vm)
+            k = vm / fabs(v);
+        if (fabs(w) * k > wm)
+            k = wm / fabs(w);
         out->v_mps = v * k;
         out->w_radps = w * k;
         return k < 1.0;

@@ -69,8 +69,7 @@ void tdsd_axis_jacobian(double J2[2 * NJ], const double Jw[3 * NJ], const double
 }
 
 int tdsd_midrange_grad(double grad_V[NJ], double *V, const double q_rad[NJ],
-                       const double q_min_rad[NJ], const double q_max_rad[NJ],
-                       unsigned joint_mask)
+                       const double q_min_rad[NJ], const double q_max_rad[NJ], unsigned joint_mask)
 {
     double v = 0.0;
     int i;
@@ -78,8 +77,8 @@ int tdsd_midrange_grad(double grad_V[NJ], double *V, const double q_rad[NJ],
         grad_V[i] = 0.0;
         if (!(joint_mask & (1u << i)))
             continue;
-        if (!isfinite(q_rad[i]) || !isfinite(q_min_rad[i]) || !isfinite(q_max_rad[i])
-            || !(q_max_rad[i] > q_min_rad[i]))
+        if (!isfinite(q_rad[i]) || !isfinite(q_min_rad[i]) || !isfinite(q_max_rad[i]) ||
+            !(q_max_rad[i] > q_min_rad[i]))
             return TDSD_ERR_ARG;
     }
     for (i = 0; i < NJ; i++) {
@@ -99,14 +98,14 @@ int tdsd_midrange_grad(double grad_V[NJ], double *V, const double q_rad[NJ],
 static int input_valid(const tdsd_input *in)
 {
     int i;
-    if (!linalg_all_finite(in->J1, 3 * NJ) || !linalg_all_finite(in->Jw, 3 * NJ)
-        || !linalg_all_finite(in->v_d_mps, 3) || !linalg_all_finite(in->p_d_m, 3)
-        || !linalg_all_finite(in->p_m, 3) || !linalg_all_finite(in->w_d_radps, 3)
-        || !linalg_all_finite(in->R_d, 9) || !linalg_all_finite(in->R, 9)
-        || !linalg_all_finite(in->grad_V, NJ) || !isfinite(in->k_V))
+    if (!linalg_all_finite(in->J1, 3 * NJ) || !linalg_all_finite(in->Jw, 3 * NJ) ||
+        !linalg_all_finite(in->v_d_mps, 3) || !linalg_all_finite(in->p_d_m, 3) ||
+        !linalg_all_finite(in->p_m, 3) || !linalg_all_finite(in->w_d_radps, 3) ||
+        !linalg_all_finite(in->R_d, 9) || !linalg_all_finite(in->R, 9) ||
+        !linalg_all_finite(in->grad_V, NJ) || !isfinite(in->k_V))
         return 0;
-    if (in->orient != TDSD_ORIENT_NONE && in->orient != TDSD_ORIENT_FULL
-        && in->orient != TDSD_ORIENT_AXIS)
+    if (in->orient != TDSD_ORIENT_NONE && in->orient != TDSD_ORIENT_FULL &&
+        in->orient != TDSD_ORIENT_AXIS)
         return 0;
     if (!(in->K_p >= 0.0) || !isfinite(in->K_p) || !(in->K_o >= 0.0) || !isfinite(in->K_o))
         return 0;
@@ -159,16 +158,15 @@ static int task2_setup(const tdsd_input *in, double J2[3 * NJ], double e2[3], do
         w2[1] = vec3_dot(o, in->w_d_radps);
         return 2;
     }
-    default:
-        return 0;
+    default: return 0;
     }
 }
 
 /* Largest lambda in [0, cap] with |lambda a_i + b_i| <= m_i for all i.
  * Each joint admits an interval of lambda; returns 0 and sets *lambda if
  * the intersection with [0, cap] is non-empty, RATE_INFEASIBLE otherwise. */
-static int max_path_rate(double *lambda, const double a[NJ], const double b[NJ],
-                         const double m[NJ], double cap)
+static int max_path_rate(double *lambda, const double a[NJ], const double b[NJ], const double m[NJ],
+                         double cap)
 {
     double lo = 0.0, hi = cap;
     int i;
@@ -290,7 +288,7 @@ int tdsd_step(const tdsd_input *in, tdsd_output *out)
     if (n2 > 0) {
         linalg_pinv_svd F2;
         double M[3 * NJ], r[3], s[NJ];
-        linalg_pinv_null_rows(M, J2, n2, &F1);  /* J2 P1 */
+        linalg_pinv_null_rows(M, J2, n2, &F1); /* J2 P1 */
         if (!la_ok(linalg_pinv_factor(&F2, M, n2, NJ, in->pinv_rtol))) {
             output_reset(out);
             return TDSD_ERR_NUMERIC;
@@ -407,8 +405,8 @@ int rr_dls_step(const tdsd_input *in, const rr_dls_params *dls, tdsd_output *out
     int m;
 
     output_reset(out);
-    if (!input_valid(in) || !dls || !(dls->lambda0 >= 0.0) || !isfinite(dls->lambda0)
-        || !isfinite(dls->eps))
+    if (!input_valid(in) || !dls || !(dls->lambda0 >= 0.0) || !isfinite(dls->lambda0) ||
+        !isfinite(dls->eps))
         return TDSD_ERR_ARG;
     /* sigma_min of the stacked J drives the variable damping */
     m = rr_stack_pinv(in, out, J, Jp, y, &info);

@@ -47,9 +47,8 @@ static void to_base(double out[3], const double T_world_base[16], const double p
 }
 
 int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
-                   const double T_world_base[16], const double q[ARM_NJ],
-                   const double p1_world[3], const double R1_world[9],
-                   const tdsd_seg_params *par)
+                   const double T_world_base[16], const double q[ARM_NJ], const double p1_world[3],
+                   const double R1_world[9], const tdsd_seg_params *par)
 {
     double T[16], Rwb[9], dR[9], d[3];
     if (!g || !m || !tool || !T_world_base || !q || !p1_world || !R1_world || !par ||
@@ -92,7 +91,7 @@ static void path_at(const tdsd_seg *g, double s, double p[3], double R[9], doubl
         f = s / g->L_m;
         if (s < g->L_m) {
             sprofile_at(&g->prof, s, NULL, &vs);
-            vs = fmax(vs, g->par.v_floor_mps) / g->L_m;   /* df/dt */
+            vs = fmax(vs, g->par.v_floor_mps) / g->L_m; /* df/dt */
         }
     }
     vec3_sub(d, g->p1, g->p0);
@@ -124,15 +123,14 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
     in.K_p = g->par.K_p;
     in.K_o = g->par.K_o;
     in.k_V = g->par.k_V;
-    if (g->par.criterion_mask &&
-        tdsd_midrange_grad(in.grad_V, NULL, g->q_ref, m->q_min_rad, m->q_max_rad,
-                           g->par.criterion_mask) != TDSD_OK)
+    if (g->par.criterion_mask && tdsd_midrange_grad(in.grad_V, NULL, g->q_ref, m->q_min_rad,
+                                                    m->q_max_rad, g->par.criterion_mask) != TDSD_OK)
         return TDSD_ERR_ARG;
     for (i = 0; i < ARM_NJ; i++)
         in.dq_max_radps[i] = g->par.speed_frac * m->qd_max_radps[i];
     /* re-accelerate smoothly after a slow-down (tdsd.h, rate_cap) */
     in.rate_cap = fmin(1.0, g->lambda + dt_s / g->par.T_recover_s);
-    rc = tdsd_step(&in, &o);   /* on error o.dq is zero: the reference holds */
+    rc = tdsd_step(&in, &o); /* on error o.dq is zero: the reference holds */
 
     for (i = 0; i < ARM_NJ; i++) {
         g->ddq_ref[i] = (o.dq_radps[i] - g->dq_ref[i]) / dt_s;
@@ -176,7 +174,8 @@ int tdsd_seg_done(const tdsd_seg *g, const double q[ARM_NJ], const double qd[ARM
     if (!g->settled && g->t_s - g->t_path_end_s < TDSD_SEG_SETTLE_MAX_S)
         return 0;
     for (i = 0; i < ARM_NJ; i++)
-        if (!(fabs(q[i] - g->q_ref[i]) <= TDSD_SEG_DONE_Q_RAD) || !(fabs(qd[i]) <= TDSD_SEG_DONE_QD_RADPS))
+        if (!(fabs(q[i] - g->q_ref[i]) <= TDSD_SEG_DONE_Q_RAD) ||
+            !(fabs(qd[i]) <= TDSD_SEG_DONE_QD_RADPS))
             return 0;
     return 1;
 }
@@ -194,7 +193,7 @@ int tdsd_servo_vlimit(const jointctl_gains *gains, const double qd_lim[ARM_NJ],
     for (i = 0; i < ARM_NJ; i++)
         if (!(qd_lim[i] > 0.0))
             return TDSD_SEG_ERR_ARG;
-    k = gains->wn_radps / (2.0 * gains->zeta);   /* Kp / Kv */
+    k = gains->wn_radps / (2.0 * gains->zeta); /* Kp / Kv */
     for (i = 0; i < ARM_NJ; i++) {
         const double v_c = qd_d[i] + k * (q_d[i] - q[i]);
         if (fabs(v_c) > qd_lim[i]) {

@@ -27,8 +27,9 @@
 #include "vec3.h"
 #include "tandem_arm_command_t.h"
 
-#define CART_PROGRESS_EVERY 100       /* unsynchronised: 10 Hz */
-#define CART_PARTNER_WINDOW_STEPS 500 /* partner progress older than the
+#define CART_PROGRESS_EVERY 100 /* unsynchronised: 10 Hz */
+#define CART_PARTNER_WINDOW_STEPS \
+    500 /* partner progress older than the
                                          segment start by more: a past one */
 
 void arm_cart_row_accept(arm_daemon *ad, const tandem_action_row_t *r)
@@ -49,7 +50,7 @@ static void cart_publish_event(arm_daemon *ad, int ev, const char *detail)
     e.s_m = cx->s_m;
     e.s_f_m = cx->s_f_m;
     e.s_norm = cx->k > 0.0 ? cx->s_m / cx->k : cx->s_m;
-    AUTH_PUBLISH(tandem_action_event_t, ad->d.lcm, "ARM_EVENTS", &e);
+    AUTH_PUBLISH(tandem_action_event_t, &ad->d.bus, ad->d.lcm, "ARM_EVENTS", &e);
 }
 
 static void partner_take(arm_carry *cx, const tandem_action_event_t *e)
@@ -92,7 +93,8 @@ void arm_cart_on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
     if (e.arm != ad->arm && e.arm >= 1 && e.arm <= 2 && e.event == TANDEM_ACTION_EVENT_T_PROGRESS &&
         e.sync_group > 0) {
         ad->d.msgs.received++;
-        if (!isfinite(e.s_m) || !isfinite(e.s_f_m) || e.s_f_m < 0.0 || e.s_m < 0.0 || e.s_m > e.s_f_m + 1e-6) {
+        if (!isfinite(e.s_m) || !isfinite(e.s_f_m) || e.s_f_m < 0.0 || e.s_m < 0.0 ||
+            e.s_m > e.s_f_m + 1e-6) {
             ad->d.msgs.rejected++;
         } else {
             tandem_action_event_t *slot = &cx->partner_ring[(e.step & 3)];
@@ -116,10 +118,12 @@ static void cart_joint_fallback(arm_daemon *ad, int at_start)
     double R1[9], q_goal[ARM_NJ];
     int rc;
     rot_from_quat(R1, g->orientation_quat);
-    rc = cartseg_joint_goal(ad->model, &cx->tool, cx->T_world_base, ad->st.q_rad, g->position_m, R1, q_goal);
+    rc = cartseg_joint_goal(ad->model, &cx->tool, cx->T_world_base, ad->st.q_rad, g->position_m, R1,
+                            q_goal);
     if (at_start ? rc != 1 : rc < 0) {
         if (rc < 0)
-            fprintf(stderr, "%s: segment %d: no goal solution inside the joint ranges\n", ad->d.name, ad->cur_seg);
+            fprintf(stderr, "%s: segment %d: no goal solution inside the joint ranges\n",
+                    ad->d.name, ad->cur_seg);
         return;
     }
     cx->cart_seg = *g;
@@ -130,10 +134,12 @@ static void cart_joint_fallback(arm_daemon *ad, int at_start)
     arm_row_replace_segment(ad, &joint);
     arm_row_hold_at(ad, ad->st.q_rad);
     arm_row_plan_joint(ad, ad->hold_q, q_goal);
-    fprintf(stderr, "%s: t %.3f s: action %d segment %d %s: joint-space move to q = [%.3f %.3f %.3f %.3f %.3f %.3f]\n",
-            ad->d.name, ad->st.sim_time_s, (int)ad->action_id, ad->cur_seg,
-            at_start ? "would end near a joint range end" : "stalled with no contact", q_goal[0], q_goal[1],
-            q_goal[2], q_goal[3], q_goal[4], q_goal[5]);
+    fprintf(
+        stderr,
+        "%s: t %.3f s: action %d segment %d %s: joint-space move to q = [%.3f %.3f %.3f %.3f %.3f %.3f]\n",
+        ad->d.name, ad->st.sim_time_s, (int)ad->action_id, ad->cur_seg,
+        at_start ? "would end near a joint range end" : "stalled with no contact", q_goal[0],
+        q_goal[1], q_goal[2], q_goal[3], q_goal[4], q_goal[5]);
 }
 
 /* While a fallback joint move runs: s along the segment for PROGRESS
@@ -146,7 +152,8 @@ int arm_cart_fallback_cycle(arm_daemon *ad, int done)
     double x[3], v[3];
     if (!cx->fallback || !ad->running || ad->cur_seg < 0 || ad->cur_seg >= ad->n_seg)
         return 0;
-    if (cartseg_tool_world(ad->model, &cx->tool, cx->T_world_base, ad->st.q_rad, ad->st.qd_radps, x, v) == 0)
+    if (cartseg_tool_world(ad->model, &cx->tool, cx->T_world_base, ad->st.q_rad, ad->st.qd_radps, x,
+                           v) == 0)
         cx->s_m = erlaw_line_s(&cx->seg.line, x);
     if (done)
         cx->s_m = cx->s_f_m;
@@ -159,8 +166,9 @@ int arm_cart_fallback_cycle(arm_daemon *ad, int done)
         arm_row_replace_segment(ad, &cx->cart_seg);
         cx->fallback = 0;
         erlaw_block_reset(&cx->seg.blk, cx->s_m);
-        fprintf(stderr, "%s: t %.3f s: contact during the joint-space move: back to the Cartesian law\n", ad->d.name,
-                ad->st.sim_time_s);
+        fprintf(stderr,
+                "%s: t %.3f s: contact during the joint-space move: back to the Cartesian law\n",
+                ad->d.name, ad->st.sim_time_s);
         return 1;
     }
     return 0;
@@ -190,8 +198,10 @@ static void cart_take_up(arm_daemon *ad)
     if (frac < CART_TAKE_UP_MIN || cartseg_take_up(&cx->seg, frac) != 0)
         return;
     cx->s_m = frac * erlaw_channel_length(&cx->seg.line.ch);
-    fprintf(stderr, "%s: t %.3f s: action %d segment %d taken up at the partner's progress (%.0f %% of the way)\n",
-            ad->d.name, ad->st.sim_time_s, (int)ad->action_id, ad->cur_seg, 100.0 * frac);
+    fprintf(
+        stderr,
+        "%s: t %.3f s: action %d segment %d taken up at the partner's progress (%.0f %% of the way)\n",
+        ad->d.name, ad->st.sim_time_s, (int)ad->action_id, ad->cur_seg, 100.0 * frac);
 }
 
 void arm_cart_start(arm_daemon *ad, const tandem_action_segment_t *g)
@@ -199,11 +209,14 @@ void arm_cart_start(arm_daemon *ad, const tandem_action_segment_t *g)
     arm_carry *cx = &ad->cart;
     const double off[3] = { 0.0, 0.0, CELL_TOOL_LENGTH_M };
     double R1[9];
-    const erlaw_ref ref = cx->controller == TANDEM_ACTION_ROW_T_CONTROLLER_TIME ? ERLAW_REF_TIME : ERLAW_REF_MEASURED;
+    const erlaw_ref ref = cx->controller == TANDEM_ACTION_ROW_T_CONTROLLER_TIME
+                              ? ERLAW_REF_TIME
+                              : ERLAW_REF_MEASURED;
     arm_tool_offset(&cx->tool, off);
     cell_world_from_arm(&cell_default, ad->arm - 1, cx->T_world_base);
     rot_from_quat(R1, g->orientation_quat);
-    if (cartseg_start(&cx->seg, ad->model, &cx->tool, cx->T_world_base, ad->st.q_rad, g->position_m, R1, &cx->g, ref) != 0) {
+    if (cartseg_start(&cx->seg, ad->model, &cx->tool, cx->T_world_base, ad->st.q_rad, g->position_m,
+                      R1, &cx->g, ref) != 0) {
         /* cannot plan it (bad gains): hold here and skip the segment */
         arm_row_abandon(ad);
         cart_publish_event(ad, TANDEM_ACTION_EVENT_T_REJECTED, "bad segment");
@@ -228,7 +241,8 @@ void arm_cart_resume(arm_daemon *ad)
 {
     arm_carry *cx = &ad->cart;
     double x[3], v[3];
-    if (cx->fallback || cartseg_tool_world(ad->model, &cx->tool, cx->T_world_base, ad->st.q_rad, ad->st.qd_radps, x, v) != 0)
+    if (cx->fallback || cartseg_tool_world(ad->model, &cx->tool, cx->T_world_base, ad->st.q_rad,
+                                           ad->st.qd_radps, x, v) != 0)
         return;
     cartseg_resume(&cx->seg, x);
 }
@@ -245,11 +259,12 @@ static double cart_sync_ref(arm_daemon *ad)
     double l[2], s[2], s_star, ref[2];
     if (cx->sync_group <= 0 || cx->controller == TANDEM_ACTION_ROW_T_CONTROLLER_TIME)
         return CART_REF_OWN;
-    if (!cx->partner_valid || cx->partner_transition != ad->transition || cx->partner_group != cx->sync_group ||
+    if (!cx->partner_valid || cx->partner_transition != ad->transition ||
+        cx->partner_group != cx->sync_group ||
         cx->partner_step < cx->start_step - CART_PARTNER_WINDOW_STEPS)
         return 0.0;
     if (cx->partner_s_f_m <= 0.0)
-        return CART_REF_OWN;   /* a partner's zero-length segment: it is done */
+        return CART_REF_OWN; /* a partner's zero-length segment: it is done */
     l[0] = cx->s_f_m;
     l[1] = cx->partner_s_f_m;
     s[0] = cx->s_m;
@@ -281,7 +296,7 @@ int arm_cart_cycle(arm_daemon *ad)
     arm_carry *cx = &ad->cart;
     arm_payload pl;
     cartseg_out o;
-    cartctl_state kin;   /* the cycle's one kinematics pass */
+    cartctl_state kin; /* the cycle's one kinematics pass */
     double x[3], v[3], s_ext;
     if (ad->running && ad->cur_seg < 0)
         arm_start_segment(ad);
@@ -294,25 +309,26 @@ int arm_cart_cycle(arm_daemon *ad)
     cx->s_m = erlaw_line_s(&cx->seg.line, x);
     s_ext = cart_sync_ref(ad);
     cartseg_set_contact(&cx->seg, ad->st.max_contact_force_10ms_N);
-    if (cartseg_step_at(&cx->seg, ad->model, &cx->tool, arm_cart_payload(ad, &pl), &kin, ad->st.q_rad,
-                        ad->st.qd_radps, s_ext, ad->d.period_s, &o) != 0)
-        return 0;   /* joint-space hold at hold_q this cycle */
+    if (cartseg_step_at(&cx->seg, ad->model, &cx->tool, arm_cart_payload(ad, &pl), &kin,
+                        ad->st.q_rad, ad->st.qd_radps, s_ext, ad->d.period_s, &o) != 0)
+        return 0; /* joint-space hold at hold_q this cycle */
     /* done (within CARTSEG_DONE_TOL_M of s_f, at rest): the last PROGRESS
      * says s_f, so a synchronised partner's s* is not held up to 4 mm short
      * of its own goal, where it would wait for good */
     cx->s_m = o.done ? cx->s_f_m : o.s_m;
     if (o.block_changed)
-        cart_publish_event(ad, o.blocked ? TANDEM_ACTION_EVENT_T_BLOCKED : TANDEM_ACTION_EVENT_T_UNBLOCKED, "");
+        cart_publish_event(
+            ad, o.blocked ? TANDEM_ACTION_EVENT_T_BLOCKED : TANDEM_ACTION_EVENT_T_UNBLOCKED, "");
     if (o.stuck) {
         cart_joint_fallback(ad, 0);
         if (cx->fallback)
-            return 0;   /* the joint-space path runs it from this cycle */
+            return 0; /* the joint-space path runs it from this cycle */
     }
     if (cx->sync_group > 0 || cx->cycles % CART_PROGRESS_EVERY == 0 || o.done)
         cart_publish_event(ad, TANDEM_ACTION_EVENT_T_PROGRESS, "");
     cx->cycles++;
-    snprintf(ad->d.status, sizeof ad->d.status, "action %d seg %d s %.3f/%.3f%s", (int)ad->action_id, ad->cur_seg,
-             o.s_m, o.s_f_m, o.blocked ? " BLOCKED" : "");
+    snprintf(ad->d.status, sizeof ad->d.status, "action %d seg %d s %.3f/%.3f%s",
+             (int)ad->action_id, ad->cur_seg, o.s_m, o.s_f_m, o.blocked ? " BLOCKED" : "");
     arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_TORQUE, o.tau_Nm);
     if (o.done) {
         if (o.blocked)
@@ -322,4 +338,3 @@ int arm_cart_cycle(arm_daemon *ad)
     }
     return 1;
 }
-

@@ -77,7 +77,8 @@ int arm_hold_check_gap(arm_daemon *ad)
     arm_hold *h = &ad->hold;
     const int burst = h->states_in_cycle > HOLD_BURST_STATES;
     h->states_in_cycle = 0;
-    if (h->last_cmd_step >= 0 && (double)(ad->st.step - h->last_cmd_step) * DAEMON_SIM_DT_S > HOLD_GAP_S)
+    if (h->last_cmd_step >= 0 &&
+        (double)(ad->st.step - h->last_cmd_step) * DAEMON_SIM_DT_S > HOLD_GAP_S)
         arm_hold_begin(ad, "commands interrupted");
     if (!burst)
         return 0;
@@ -128,12 +129,14 @@ int arm_hold_cycle(arm_daemon *ad)
     if (h->rest_s >= HOLD_REST_S) {
         h->active = 0;
         motion_resume(ad);
-        fprintf(stderr, "%s: t %.3f s: at rest after the protective stop; motion planned again from here\n",
+        fprintf(stderr,
+                "%s: t %.3f s: at rest after the protective stop; motion planned again from here\n",
                 ad->d.name, ad->st.sim_time_s);
     }
-    snprintf(ad->d.status, sizeof ad->d.status, "protective stop (%s)%s", h->why, h->active ? "" : ": resuming");
-    if (jointctl_torque(ad->model, arm_cart_payload(ad, &payload), &ad->gains, ad->st.q_rad, ad->st.qd_radps,
-                        q, qd, qdd, tau, NULL) != 0) {
+    snprintf(ad->d.status, sizeof ad->d.status, "protective stop (%s)%s", h->why,
+             h->active ? "" : ": resuming");
+    if (jointctl_torque(ad->model, arm_cart_payload(ad, &payload), &ad->gains, ad->st.q_rad,
+                        ad->st.qd_radps, q, qd, qdd, tau, NULL) != 0) {
         arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
         return 1;
     }

@@ -30,7 +30,7 @@ void arm_on_joint_ref(const lcm_recv_buf_t *rb, const char *ch, void *u)
     ad->jref.ref = r;
     ad->jref.have = 1;
     ad->jref.rx_ns = rtloop_now_ns();
-    arm_row_hold_at(ad, r.q_rad);   /* stale refs: hold the last one */
+    arm_row_hold_at(ad, r.q_rad); /* stale refs: hold the last one */
 }
 
 static int joint_ref_fresh(const arm_daemon *ad)
@@ -45,7 +45,8 @@ static int joint_ref_fresh(const arm_daemon *ad)
 /* The joint servo's velocity command is held to SERVO_SPEED_SHARE of the
  * motor limits: the drives stop at the limit, and a servo asking for all
  * of it has no headroom left to catch up with a lagging reference. */
-static void servo_vlimit(const arm_daemon *ad, double q_d[ARM_NJ], double qd_d[ARM_NJ], double qdd_d[ARM_NJ])
+static void servo_vlimit(const arm_daemon *ad, double q_d[ARM_NJ], double qd_d[ARM_NJ],
+                         double qdd_d[ARM_NJ])
 {
     double lim[ARM_NJ];
     int i;
@@ -67,7 +68,8 @@ void arm_joint_resume(arm_daemon *ad)
 }
 
 /* Reference for this cycle; returns 1 when the segment is complete. */
-static int segment_reference(arm_daemon *ad, double q_d[ARM_NJ], double qd_d[ARM_NJ], double qdd_d[ARM_NJ])
+static int segment_reference(arm_daemon *ad, double q_d[ARM_NJ], double qd_d[ARM_NJ],
+                             double qdd_d[ARM_NJ])
 {
     const tandem_action_segment_t *g = &ad->seg[ad->cur_seg];
     const double t = ad->st.sim_time_s - ad->seg_t0_s;
@@ -84,7 +86,8 @@ static int segment_reference(arm_daemon *ad, double q_d[ARM_NJ], double qd_d[ARM
     if (t < ad->traj.duration_s)
         return 0;
     for (i = 0; i < ARM_NJ; i++)
-        if (fabs(ad->st.q_rad[i] - q_d[i]) > JOINT_DONE_TOL_RAD || fabs(ad->st.qd_radps[i]) > JOINT_DONE_SPEED_RADPS)
+        if (fabs(ad->st.q_rad[i] - q_d[i]) > JOINT_DONE_TOL_RAD ||
+            fabs(ad->st.qd_radps[i]) > JOINT_DONE_SPEED_RADPS)
             done = 0;
     if (done)
         arm_row_hold_at(ad, q_d);
@@ -118,7 +121,8 @@ void arm_joint_cycle(arm_daemon *ad)
     /* the held bar as the Cartesian law models it: a joint move that
      * finishes a Cartesian segment must meet the joint done tolerance */
     pl = arm_cart_payload(ad, &payload);
-    if (jointctl_torque(ad->model, pl, &ad->gains, ad->st.q_rad, ad->st.qd_radps, q_d, qd_d, qdd_d, tau, NULL) != 0) {
+    if (jointctl_torque(ad->model, pl, &ad->gains, ad->st.q_rad, ad->st.qd_radps, q_d, qd_d, qdd_d,
+                        tau, NULL) != 0) {
         arm_hold_begin(ad, "servo failed");
         arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
         return;

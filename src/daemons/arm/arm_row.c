@@ -80,9 +80,11 @@ void arm_row_replace_segment(arm_daemon *ad, const tandem_action_segment_t *g)
 int arm_row_gripper_request(const arm_daemon *ad)
 {
     const tandem_action_segment_t *g = arm_row_segment(ad);
-    if (!g || (g->kind != TANDEM_ACTION_SEGMENT_T_GRASP && g->kind != TANDEM_ACTION_SEGMENT_T_RELEASE) ||
-        !ad->have_state || (ad->st.gripper_closed != 0) == (g->kind == TANDEM_ACTION_SEGMENT_T_GRASP))
+    if (!g ||
+        (g->kind != TANDEM_ACTION_SEGMENT_T_GRASP && g->kind != TANDEM_ACTION_SEGMENT_T_RELEASE) ||
+        !ad->have_state ||
+        (ad->st.gripper_closed != 0) == (g->kind == TANDEM_ACTION_SEGMENT_T_GRASP))
         return TANDEM_ARM_COMMAND_T_GRIP_KEEP;
     return g->kind == TANDEM_ACTION_SEGMENT_T_GRASP ? TANDEM_ARM_COMMAND_T_GRIP_CLOSE
-                                                   : TANDEM_ARM_COMMAND_T_GRIP_OPEN;
+                                                    : TANDEM_ARM_COMMAND_T_GRIP_OPEN;
 }

@@ -25,7 +25,7 @@ void arm_tdsd_row_accept(arm_daemon *ad, const tandem_action_row_t *r)
 
 void arm_tdsd_resume(arm_daemon *ad)
 {
-    ad->tdsd.seg_index = -1;   /* tdsd_start again, from the measured pose */
+    ad->tdsd.seg_index = -1; /* tdsd_start again, from the measured pose */
 }
 
 static void tdsd_start(arm_daemon *ad, const tandem_action_segment_t *g)
@@ -39,7 +39,8 @@ static void tdsd_start(arm_daemon *ad, const tandem_action_segment_t *g)
     rot_from_quat(R1, g->orientation_quat);
     td->action_id = ad->action_id;
     td->seg_index = ad->cur_seg;
-    if (tdsd_seg_start(&td->seg, ad->model, &tool, T_world_base, ad->st.q_rad, g->position_m, R1, &td->par) != 0) {
+    if (tdsd_seg_start(&td->seg, ad->model, &tool, T_world_base, ad->st.q_rad, g->position_m, R1,
+                       &td->par) != 0) {
         arm_row_abandon(ad);
         td->seg_index = -1;
         arm_publish_event(ad, TANDEM_ACTION_EVENT_T_REJECTED, "bad tdsd segment");
@@ -66,7 +67,7 @@ int arm_tdsd_cycle(arm_daemon *ad)
         if (!ad->running)
             return 0;
     }
-    tdsd_seg_step(&td->seg, ad->model, ad->d.period_s, &o);   /* error: the reference holds */
+    tdsd_seg_step(&td->seg, ad->model, ad->d.period_s, &o); /* error: the reference holds */
     memcpy(qd_lim, ad->model->qd_max_radps, sizeof qd_lim);
     tdsd_servo_vlimit(&ad->gains, qd_lim, ad->st.q_rad, o.q_d, o.qd_d, o.qdd_d);
     if (ad->st.holding_workpiece >= 0) {
@@ -74,13 +75,14 @@ int arm_tdsd_cycle(arm_daemon *ad)
         arm_payload_point(&payload, 0.5, com);
         pl = &payload;
     }
-    if (jointctl_torque(ad->model, pl, &ad->gains, ad->st.q_rad, ad->st.qd_radps, o.q_d, o.qd_d, o.qdd_d, tau, NULL) != 0) {
+    if (jointctl_torque(ad->model, pl, &ad->gains, ad->st.q_rad, ad->st.qd_radps, o.q_d, o.qd_d,
+                        o.qdd_d, tau, NULL) != 0) {
         arm_hold_begin(ad, "servo failed");
         arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_BRAKE, NULL);
         return 1;
     }
-    snprintf(ad->d.status, sizeof ad->d.status, "action %d seg %d tdsd s %.3f/%.3f Q1 %.2f", (int)ad->action_id,
-             ad->cur_seg, o.s_m, o.L_m, o.Q1);
+    snprintf(ad->d.status, sizeof ad->d.status, "action %d seg %d tdsd s %.3f/%.3f Q1 %.2f",
+             (int)ad->action_id, ad->cur_seg, o.s_m, o.L_m, o.Q1);
     arm_send_command(ad, TANDEM_ARM_COMMAND_T_MODE_TORQUE, tau);
     if (tdsd_seg_done(&td->seg, ad->st.q_rad, ad->st.qd_radps)) {
         arm_row_hold_at(ad, td->seg.q_ref);
@@ -89,4 +91,3 @@ int arm_tdsd_cycle(arm_daemon *ad)
     }
     return 1;
 }
-

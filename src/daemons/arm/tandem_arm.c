@@ -52,7 +52,7 @@ void arm_publish_event(arm_daemon *ad, int ev, const char *detail)
 {
     tandem_action_event_t e;
     arm_event_fill(ad, &e, ev, detail);
-    AUTH_PUBLISH(tandem_action_event_t, ad->d.lcm, "ARM_EVENTS", &e);
+    AUTH_PUBLISH(tandem_action_event_t, &ad->d.bus, ad->d.lcm, "ARM_EVENTS", &e);
 }
 
 /* ---- inputs --------------------------------------------------------------- */
@@ -70,7 +70,8 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, void *u)
     (void)ch;
     if (!DAEMON_DECODE(&ad->d.msgs, tandem_arm_state_t, rb, &s))
         return;
-    if (!state_valid(ad, &s) || step_gate_pass(&ad->state_gate, s.step, rtloop_now_ns()) != GUARD_OK) {
+    if (!state_valid(ad, &s) ||
+        step_gate_pass(&ad->state_gate, s.step, rtloop_now_ns()) != GUARD_OK) {
         ad->d.msgs.rejected++;
         return;
     }
@@ -90,15 +91,15 @@ static int segment_valid(const arm_daemon *ad, const tandem_action_segment_t *g)
     switch (g->kind) {
     case TANDEM_ACTION_SEGMENT_T_MOVE_CARTESIAN:
         return linalg_all_finite(g->position_m, 3) && linalg_all_finite(g->orientation_quat, 4) &&
-               fabs(g->orientation_quat[0] * g->orientation_quat[0] + g->orientation_quat[1] * g->orientation_quat[1] +
-                    g->orientation_quat[2] * g->orientation_quat[2] + g->orientation_quat[3] * g->orientation_quat[3] - 1.0) < 1e-3;
+               fabs(g->orientation_quat[0] * g->orientation_quat[0] +
+                    g->orientation_quat[1] * g->orientation_quat[1] +
+                    g->orientation_quat[2] * g->orientation_quat[2] +
+                    g->orientation_quat[3] * g->orientation_quat[3] - 1.0) < 1e-3;
     case TANDEM_ACTION_SEGMENT_T_MOVE_JOINT:
         return arm_q_finite(g->q_rad) == 0 && arm_q_outside_limits(ad->model, g->q_rad) == 0;
     case TANDEM_ACTION_SEGMENT_T_GRASP:
-    case TANDEM_ACTION_SEGMENT_T_RELEASE:
-        return 1;
-    default:
-        return 0;   /* Cartesian segments: see the event-referenced controller */
+    case TANDEM_ACTION_SEGMENT_T_RELEASE: return 1;
+    default: return 0; /* Cartesian segments: see the event-referenced controller */
     }
 }
 
@@ -112,7 +113,8 @@ static void on_action(const lcm_recv_buf_t *rb, const char *ch, void *u)
     (void)ch;
     if (!DAEMON_DECODE(&ad->d.msgs, tandem_action_row_t, rb, &r))
         return;
-    ok = action_row_check(&r, ad->arm, ROW_MAX_SEGMENTS) == MSG_OK && !ad->running && !ad->row_in.have;
+    ok = action_row_check(&r, ad->arm, ROW_MAX_SEGMENTS) == MSG_OK && !ad->running &&
+         !ad->row_in.have;
     for (i = 0; ok && i < r.n_segments; i++)
         ok = segment_valid(ad, &r.segments[i]);
     if (!ok) {
@@ -120,10 +122,11 @@ static void on_action(const lcm_recv_buf_t *rb, const char *ch, void *u)
         if (r.arm == ad->arm) {
             /* the refusal names the refused row, not the one running */
             tandem_action_event_t e;
-            arm_event_fill(ad, &e, TANDEM_ACTION_EVENT_T_REJECTED, ad->running ? "busy" : "invalid row");
+            arm_event_fill(ad, &e, TANDEM_ACTION_EVENT_T_REJECTED,
+                           ad->running ? "busy" : "invalid row");
             e.action_id = r.action_id;
             e.transition = r.transition;
-            AUTH_PUBLISH(tandem_action_event_t, ad->d.lcm, "ARM_EVENTS", &e);
+            AUTH_PUBLISH(tandem_action_event_t, &ad->d.bus, ad->d.lcm, "ARM_EVENTS", &e);
         }
         tandem_action_row_t_decode_cleanup(&r);
         return;
@@ -176,7 +179,7 @@ void arm_send_command(arm_daemon *ad, int mode, const double tau[ARM_NJ])
     arm_hold_note_command(ad);
     ad->last_cmd = c;
     ad->have_last_cmd = 1;
-    AUTH_PUBLISH(tandem_arm_command_t, ad->d.lcm, ad->cmd_ch, &c);
+    AUTH_PUBLISH(tandem_arm_command_t, &ad->d.bus, ad->d.lcm, ad->cmd_ch, &c);
 }
 
 /* lockstep: the simulator announced again a step we answered (our
@@ -188,7 +191,7 @@ static void repeat_command(daemon *d, void *user)
     arm_daemon *ad = user;
     (void)d;
     if (ad->have_last_cmd)
-        AUTH_PUBLISH(tandem_arm_command_t, ad->d.lcm, ad->cmd_ch, &ad->last_cmd);
+        AUTH_PUBLISH(tandem_arm_command_t, &ad->d.bus, ad->d.lcm, ad->cmd_ch, &ad->last_cmd);
 }
 
 /* Joint range and speed watchdog; 1 while the arm must hold on its brakes. */
@@ -200,7 +203,8 @@ static int joint_fault(arm_daemon *ad)
         ad->fault_clear_s = 0.0;
         arm_hold_begin(ad, "joint fault");
         if (!ad->fault) {
-            snprintf(detail, sizeof detail, "range 0x%02x speed 0x%02x", ARM_FAULT_RANGE(bits), ARM_FAULT_SPEED(bits));
+            snprintf(detail, sizeof detail, "range 0x%02x speed 0x%02x", ARM_FAULT_RANGE(bits),
+                     ARM_FAULT_SPEED(bits));
             arm_publish_event(ad, TANDEM_ACTION_EVENT_T_FAULT, detail);
             fprintf(stderr, "%s: FAULT %s: safe hold on the brakes\n", ad->d.name, detail);
         }
@@ -208,7 +212,7 @@ static int joint_fault(arm_daemon *ad)
     } else if (ad->fault) {
         ad->fault_clear_s += ad->d.period_s;
         if (ad->fault_clear_s >= FAULT_CLEAR_S) {
-            ad->fault = 0;   /* the protective stop (arm_hold.c) resumes the motion */
+            ad->fault = 0; /* the protective stop (arm_hold.c) resumes the motion */
             arm_publish_event(ad, TANDEM_ACTION_EVENT_T_FAULT_CLEARED, "");
             fprintf(stderr, "%s: fault cleared\n", ad->d.name);
         }
@@ -261,7 +265,9 @@ static int cycle(daemon *d, void *user)
         row_take(ad);
     if (d->lockstep)
         arm_cart_partner_at(ad, d->pending_step);
-    if (brakes(ad, joint_fault(ad) ? "joint FAULT" : NULL) || arm_hold_cycle(ad) || arm_tdsd_cycle(ad) || arm_cart_cycle(ad) || (arm_cart_fallback_cycle(ad, 0) && arm_cart_cycle(ad)))
+    if (brakes(ad, joint_fault(ad) ? "joint FAULT" : NULL) || arm_hold_cycle(ad) ||
+        arm_tdsd_cycle(ad) || arm_cart_cycle(ad) ||
+        (arm_cart_fallback_cycle(ad, 0) && arm_cart_cycle(ad)))
         return DAEMON_CONTINUE;
     arm_joint_cycle(ad);
     return DAEMON_CONTINUE;
@@ -283,19 +289,55 @@ static int parse_model(const char *prog, void *dest, char *value)
 /* Into the arm_daemon main made; the values it holds before are the
  * defaults. --wn is stored as rad/s (times 2 pi), --stale-ms as s. */
 static const option_entry arm_options[] = {
-    { .name = "arm", .type = OPTION_INT, OPTION_AT(arm_daemon, arm), .min = 1, .max = 2, .meta = "N",
+    { .name = "arm",
+      .type = OPTION_INT,
+      OPTION_AT(arm_daemon, arm),
+      .min = 1,
+      .max = 2,
+      .meta = "N",
       .help = "which arm (required)" },
-    { .name = "wn", .type = OPTION_DOUBLE, OPTION_AT(arm_daemon, gains.wn_radps), .min = 0.5, .max = 50.0,
-      .scale = 6.283185307179586, .meta = "HZ", .help = "joint servo natural frequency in Hz", .def = "8" },
-    { .name = "stale-ms", .type = OPTION_DOUBLE, OPTION_AT(arm_daemon, stale_s), .min = 1.0, .max = 1000.0,
-      .scale = 1e-3, .meta = "MS", .help = "state older than this engages the brakes", .def = "20" },
-    { .name = "speed-frac", .type = OPTION_DOUBLE, OPTION_AT(arm_daemon, speed_frac), .min = 0.01, .max = 1.0,
-      .meta = "F", .help = "joint moves use this fraction of the motor speed", .def = "0.5" },
-    { .name = "arm-model", .type = OPTION_CALL, OPTION_AT(arm_daemon, model), .call = parse_model, .meta = "NAME",
-      .help = "puma560 or seed002 (must match tandem-sim's)", .def = "puma560" },
-    { .name = "block-detect", .type = OPTION_CHOICE, OPTION_AT(arm_daemon, block_detect), .choices = options_on_off,
+    { .name = "wn",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(arm_daemon, gains.wn_radps),
+      .min = 0.5,
+      .max = 50.0,
+      .scale = 6.283185307179586,
+      .meta = "HZ",
+      .help = "joint servo natural frequency in Hz",
+      .def = "8" },
+    { .name = "stale-ms",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(arm_daemon, stale_s),
+      .min = 1.0,
+      .max = 1000.0,
+      .scale = 1e-3,
+      .meta = "MS",
+      .help = "state older than this engages the brakes",
+      .def = "20" },
+    { .name = "speed-frac",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(arm_daemon, speed_frac),
+      .min = 0.01,
+      .max = 1.0,
+      .meta = "F",
+      .help = "joint moves use this fraction of the motor speed",
+      .def = "0.5" },
+    { .name = "arm-model",
+      .type = OPTION_CALL,
+      /* the option stores a pointer: its size is a pointer's */
+      /* NOLINTNEXTLINE(bugprone-sizeof-expression) */
+      OPTION_AT(arm_daemon, model),
+      .call = parse_model,
+      .meta = "NAME",
+      .help = "puma560 or seed002 (must match tandem-sim's)",
+      .def = "puma560" },
+    { .name = "block-detect",
+      .type = OPTION_CHOICE,
+      OPTION_AT(arm_daemon, block_detect),
+      .choices = options_on_off,
       .values = options_on_off_flags,
-      .help = "off: the event-referenced law (eq. 6-7) alone, no blocked detector and no BLOCKED events",
+      .help =
+          "off: the event-referenced law (eq. 6-7) alone, no blocked detector and no BLOCKED events",
       .def = "on" },
     { .name = NULL }
 };
@@ -332,11 +374,15 @@ static int check_tables(const arm_daemon *ad)
     const char *prog = ad->d.name;
     cartctl_gains cg;
     cartctl_gains_default(&cg);
-    if (daemon_check_table(prog, ad->model == &arm_model_seed002 ? "arm_model_seed002" : "arm_model_puma560",
-                           "arm_model_validate", arm_model_validate(ad->model), arm_model_strerror) != 0 ||
-        daemon_check_table(prog, "cell_default", "cell_layout_validate", cell_layout_validate(&cell_default), cell_strerror) != 0 ||
-        daemon_check_table(prog, "cartctl_gains_default", "cartctl_gains_validate", cartctl_gains_validate(&cg), cartctl_strerror) != 0 ||
-        daemon_check_table(prog, "arm_options", "options_table_validate", options_table_validate(arm_options), options_strerror) != 0)
+    if (daemon_check_table(
+            prog, ad->model == &arm_model_seed002 ? "arm_model_seed002" : "arm_model_puma560",
+            "arm_model_validate", arm_model_validate(ad->model), arm_model_strerror) != 0 ||
+        daemon_check_table(prog, "cell_default", "cell_layout_validate",
+                           cell_layout_validate(&cell_default), cell_strerror) != 0 ||
+        daemon_check_table(prog, "cartctl_gains_default", "cartctl_gains_validate",
+                           cartctl_gains_validate(&cg), cartctl_strerror) != 0 ||
+        daemon_check_table(prog, "arm_options", "options_table_validate",
+                           options_table_validate(arm_options), options_strerror) != 0)
         return DAEMON_ERR_TABLE;
     return 0;
 }
@@ -366,7 +412,7 @@ int main(int argc, char **argv)
     snprintf(ad->action_ch, sizeof ad->action_ch, "ARM%d_ACTION", ad->arm);
     if (check_tables(ad) != 0)
         return 1;
-    auth_bus_identity(AUTH_ROLE_ARM, ad->arm, ad->arm);
+    auth_bus_identity(&ad->d.bus, AUTH_ROLE_ARM, ad->arm, ad->arm);
     if (daemon_start(d) != 0)
         return 1;
     daemon_subscribe(d, "ARM_EVENTS", arm_cart_on_event, ad);

@@ -16,26 +16,7 @@ static const uint8_t role_file_magic[4] = { 'T', 'K', 'S', '2' };
 
 #define ROLE_FILE_HEAD (4 + 1 + AUTH_PEER_BYTES + AUTH_CELL_BYTES + 2)
 #define ROLE_FILE_PAIR (1 + AUTH_PEER_BYTES + AUTH_KEY_BYTES)
-#define ROLE_FILE_MAX  (ROLE_FILE_HEAD + AUTH_MAX_PAIRS * ROLE_FILE_PAIR)
-
-const char *auth_strerror(int rc)
-{
-    switch (rc) {
-    case AUTH_OK: return "accepted";
-    case AUTH_ERR_UNSIGNED: return "unsigned or not this trailer version";
-    case AUTH_ERR_MAC: return "no tag for this receiver, or it does not verify";
-    case AUTH_ERR_SENDER: return "unknown sender, or no key with it (revoked)";
-    case AUTH_ERR_REPLAY: return "replayed or outside the time window";
-    case AUTH_ERR_ACL: return "sender not allowed on this channel";
-    case AUTH_ERR_ARG: return "bad argument";
-    case AUTH_ERR_KEY: return "key file error";
-    case AUTH_ERR_INIT: return "libsodium does not start";
-    case AUTH_ERR_CELL: return "message of another cell";
-    case AUTH_ERR_TYPE: return "not a tandem type, or over its size";
-    case AUTH_ERR_CHANNEL: return "channel not in the table";
-    default: return "unknown auth result";
-    }
-}
+#define ROLE_FILE_MAX (ROLE_FILE_HEAD + AUTH_MAX_PAIRS * ROLE_FILE_PAIR)
 
 int auth_init(void)
 {
@@ -82,15 +63,15 @@ int auth_peer_equal(const auth_peer *a, const auth_peer *b)
 uint8_t auth_key_id(const uint8_t master[AUTH_KEY_BYTES])
 {
     uint8_t out[16];
-    crypto_generichash(out, sizeof out, (const unsigned char *)key_id_domain, sizeof key_id_domain - 1,
-                       master, AUTH_KEY_BYTES);
+    crypto_generichash(out, sizeof out, (const unsigned char *)key_id_domain,
+                       sizeof key_id_domain - 1, master, AUTH_KEY_BYTES);
     return out[0];
 }
 
 void auth_cell_id(const uint8_t master[AUTH_KEY_BYTES], uint8_t cell[AUTH_CELL_BYTES])
 {
-    crypto_generichash(cell, AUTH_CELL_BYTES, (const unsigned char *)cell_domain, sizeof cell_domain - 1,
-                       master, AUTH_KEY_BYTES);
+    crypto_generichash(cell, AUTH_CELL_BYTES, (const unsigned char *)cell_domain,
+                       sizeof cell_domain - 1, master, AUTH_KEY_BYTES);
 }
 
 void auth_pair_key(const uint8_t master[AUTH_KEY_BYTES], const uint8_t cell[AUTH_CELL_BYTES],
@@ -120,13 +101,13 @@ auth_keyset *auth_keyset_new(void)
 
 void auth_keyset_free(auth_keyset *k)
 {
-    sodium_free(k);   /* wipes before unlocking */
+    sodium_free(k); /* wipes before unlocking */
 }
 
 int auth_roster(int rovers, auth_peer *out, int cap)
 {
     static const auth_peer fixed[] = {
-        { AUTH_ROLE_SIM, 0, 0 }, { AUTH_ROLE_ARM, 1, 1 }, { AUTH_ROLE_ARM, 2, 2 },
+        { AUTH_ROLE_SIM, 0, 0 },        { AUTH_ROLE_ARM, 1, 1 },  { AUTH_ROLE_ARM, 2, 2 },
         { AUTH_ROLE_SUPERVISOR, 0, 0 }, { AUTH_ROLE_TOOL, 0, 0 }, { AUTH_ROLE_MONITOR, 0, 0 },
     };
     int i, n = 0;
@@ -156,7 +137,8 @@ static void set_head(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES], const
     k->n = 0;
 }
 
-static void add_pair(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES], const auth_peer *peer, uint8_t dir)
+static void add_pair(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES], const auth_peer *peer,
+                     uint8_t dir)
 {
     auth_pair *p;
     if (k->n >= AUTH_MAX_PAIRS)
@@ -190,11 +172,12 @@ void auth_keyset_role(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES], cons
     }
 }
 
-void auth_keyset_master(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES], const auth_peer *holder, int rovers)
+void auth_keyset_master(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES],
+                        const auth_peer *holder, int rovers)
 {
     auth_peer roster[AUTH_MAX_TAGS];
     const int n = auth_roster(rovers, roster, AUTH_MAX_TAGS);
-    auth_keyset_role(k, master, holder, roster, n);   /* the usual pairs, precomputed */
+    auth_keyset_role(k, master, holder, roster, n); /* the usual pairs, precomputed */
     k->is_master = 1;
     k->rovers = rovers;
     memcpy(k->master, master, AUTH_KEY_BYTES);
@@ -213,7 +196,8 @@ static int open_key_file(const char *path, off_t *size, char *why, size_t why_ca
     struct stat st;
     int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NOCTTY);
     if (fd < 0) {
-        key_error(why, why_cap, path, errno == ELOOP ? "is a symbolic link (refused)" : strerror(errno));
+        key_error(why, why_cap, path,
+                  errno == ELOOP ? "is a symbolic link (refused)" : strerror(errno));
         return -1;
     }
     if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
@@ -269,7 +253,8 @@ static int parse_role_file(auth_keyset *k, const uint8_t *b, int n)
     return AUTH_OK;
 }
 
-int auth_keyset_load(auth_keyset *k, const char *path, const auth_peer *holder, char *why, size_t why_cap)
+int auth_keyset_load(auth_keyset *k, const char *path, const auth_peer *holder, char *why,
+                     size_t why_cap)
 {
     uint8_t *buf = sodium_malloc(ROLE_FILE_MAX + 1);
     off_t size = 0;
@@ -286,7 +271,8 @@ int auth_keyset_load(auth_keyset *k, const char *path, const auth_peer *holder, 
         } else if (n > 0 && parse_role_file(k, buf, n) == AUTH_OK) {
             rc = AUTH_OK;
         } else {
-            key_error(why, why_cap, path, "not a tandem key (a 32-byte master or a tandem-keygen role file)");
+            key_error(why, why_cap, path,
+                      "not a tandem key (a 32-byte master or a tandem-keygen role file)");
         }
     }
     sodium_free(buf);
@@ -385,7 +371,8 @@ int auth_keyset_write(const auth_keyset *k, const char *path, char *why, size_t 
 
 /* The tag hash of pair (from -> to), keyed: the set's own, or for a
  * master a key derived now. */
-static int pair_mac(const auth_keyset *k, const auth_peer *from, const auth_peer *to, crypto_generichash_state *st)
+static int pair_mac(const auth_keyset *k, const auth_peer *from, const auth_peer *to,
+                    crypto_generichash_state *st)
 {
     const int send = auth_peer_equal(from, &k->holder), recv = auth_peer_equal(to, &k->holder);
     uint8_t key[AUTH_KEY_BYTES];
@@ -406,7 +393,8 @@ static int pair_mac(const auth_keyset *k, const auth_peer *from, const auth_peer
     return AUTH_OK;
 }
 
-static void write_fixed(uint8_t *h, const auth_keyset *k, const auth_sender *s, uint64_t counter, int n_tags)
+static void write_fixed(uint8_t *h, const auth_keyset *k, const auth_sender *s, uint64_t counter,
+                        int n_tags)
 {
     h[0] = 'T';
     h[1] = 'A';
@@ -424,8 +412,8 @@ static void write_fixed(uint8_t *h, const auth_keyset *k, const auth_sender *s, 
 }
 
 /* D over channel, body, the receivers of the tag list and the fixed part. */
-static void digest(const char *channel, const uint8_t *body, size_t body_len, const uint8_t *tags, int n_tags,
-                   const uint8_t *fixed, uint8_t d[32])
+static void digest(const char *channel, const uint8_t *body, size_t body_len, const uint8_t *tags,
+                   int n_tags, const uint8_t *fixed, uint8_t d[32])
 {
     crypto_generichash_state st;
     const size_t ch_len = strlen(channel);
@@ -480,18 +468,20 @@ int auth_sign(const auth_keyset *k, const auth_sender *s, uint64_t counter, cons
     auth_peer to[AUTH_MAX_TAGS];
     if (!k || strlen(channel) > AUTH_CHANNEL_MAX)
         return AUTH_ERR_ARG;
-    return auth_sign_to(k, s, counter, channel, to, auth_receivers(k, channel, readers, wants, to), buf,
-                        body_len, cap, out_len);
+    return auth_sign_to(k, s, counter, channel, to, auth_receivers(k, channel, readers, wants, to),
+                        buf, body_len, cap, out_len);
 }
 
 int auth_sign_to(const auth_keyset *k, const auth_sender *s, uint64_t counter, const char *channel,
-                 const auth_peer *to, int n, uint8_t *buf, size_t body_len, size_t cap, size_t *out_len)
+                 const auth_peer *to, int n, uint8_t *buf, size_t body_len, size_t cap,
+                 size_t *out_len)
 {
     const auth_peer from = { s->role, s->first, s->last };
     crypto_generichash_state st;
     uint8_t d[32], *tags, *fixed;
     int i;
-    if (!buf || !k || strlen(channel) > AUTH_CHANNEL_MAX || cap < body_len || n < 0 || n > AUTH_MAX_TAGS)
+    if (!buf || !k || strlen(channel) > AUTH_CHANNEL_MAX || cap < body_len || n < 0 ||
+        n > AUTH_MAX_TAGS)
         return AUTH_ERR_ARG;
     if (cap - body_len < AUTH_FIXED_BYTES + (size_t)n * AUTH_TAG_ENTRY_BYTES)
         return AUTH_ERR_ARG;
@@ -504,7 +494,8 @@ int auth_sign_to(const auth_keyset *k, const auth_sender *s, uint64_t counter, c
     for (i = 0; i < n; i++) {
         uint8_t *e = tags + (size_t)i * AUTH_TAG_ENTRY_BYTES;
         if (pair_mac(k, &from, &to[i], &st) != AUTH_OK)
-            memset(e + AUTH_PEER_BYTES, 0, AUTH_MAC_BYTES);   /* no key with it: a tag that cannot verify */
+            memset(e + AUTH_PEER_BYTES, 0,
+                   AUTH_MAC_BYTES); /* no key with it: a tag that cannot verify */
         else
             tag_of(&st, d, e + AUTH_PEER_BYTES);
     }
@@ -520,7 +511,8 @@ int auth_parse(const uint8_t *buf, size_t len, auth_trailer *out)
     if (!buf || len < AUTH_FIXED_BYTES)
         return AUTH_ERR_UNSIGNED;
     t = buf + len - AUTH_FIXED_BYTES;
-    if (t[0] != 'T' || t[1] != 'A' || t[2] != AUTH_VERSION || t[5] != 0 || t[39] != 0 || t[38] > AUTH_MAX_TAGS)
+    if (t[0] != 'T' || t[1] != 'A' || t[2] != AUTH_VERSION || t[5] != 0 || t[39] != 0 ||
+        t[38] > AUTH_MAX_TAGS)
         return AUTH_ERR_UNSIGNED;
     need = AUTH_FIXED_BYTES + (size_t)t[38] * AUTH_TAG_ENTRY_BYTES;
     if (len < need)
@@ -546,8 +538,8 @@ static const auth_keyset *set_of_cell(const auth_keyring *ring, const uint8_t ce
     return NULL;
 }
 
-int auth_verify(const auth_keyring *ring, const auth_peer *me, const char *channel, const uint8_t *buf,
-                size_t len, auth_trailer *t)
+int auth_verify(const auth_keyring *ring, const auth_peer *me, const char *channel,
+                const uint8_t *buf, size_t len, auth_trailer *t)
 {
     const auth_keyset *k;
     const uint8_t *tags, *mine = NULL;
@@ -594,7 +586,9 @@ void auth_replay_init(auth_replay *r, int64_t window_us, uint64_t start_us)
 {
     memset(r, 0, sizeof *r);
     r->window_us = window_us;
-    r->oldest_us = start_us > (uint64_t)AUTH_START_SLACK_US ? start_us - (uint64_t)AUTH_START_SLACK_US : 0;
+    r->oldest_us = start_us > (uint64_t)AUTH_START_SLACK_US
+                       ? start_us - (uint64_t)AUTH_START_SLACK_US
+                       : 0;
 }
 
 uint64_t auth_channel_hash(const char *channel)
@@ -607,7 +601,8 @@ uint64_t auth_channel_hash(const char *channel)
 
 static int same_sender(const auth_sender *a, const auth_sender *b)
 {
-    return a->role == b->role && a->first == b->first && a->last == b->last && a->session == b->session;
+    return a->role == b->role && a->first == b->first && a->last == b->last &&
+           a->session == b->session;
 }
 
 static size_t set_of(const auth_sender *s, uint64_t channel_hash)
@@ -626,8 +621,8 @@ static int within_window(uint64_t counter, uint64_t now_us, int64_t window_us)
     return counter <= now_us + w && counter + w >= now_us;
 }
 
-int auth_replay_check(auth_replay *r, const auth_sender *s, uint64_t channel_hash,
-                      uint64_t counter, uint64_t now_us)
+int auth_replay_check(auth_replay *r, const auth_sender *s, uint64_t channel_hash, uint64_t counter,
+                      uint64_t now_us)
 {
     const size_t base = set_of(s, channel_hash);
     auth_stream *victim = &r->slot[base];

@@ -68,70 +68,72 @@
 #include <stdint.h>
 #include <sodium.h>
 
-#define AUTH_VERSION        2
-#define AUTH_KEY_BYTES      32
-#define AUTH_MAC_BYTES      16
-#define AUTH_CELL_BYTES     16
-#define AUTH_PEER_BYTES     5           /* role, first, last */
+#define AUTH_VERSION 2
+#define AUTH_KEY_BYTES 32
+#define AUTH_MAC_BYTES 16
+#define AUTH_CELL_BYTES 16
+#define AUTH_PEER_BYTES 5 /* role, first, last */
 #define AUTH_TAG_ENTRY_BYTES (AUTH_PEER_BYTES + AUTH_MAC_BYTES)
-#define AUTH_FIXED_BYTES    40
-#define AUTH_HEAD_BYTES     AUTH_FIXED_BYTES
-#define AUTH_MAX_TAGS       48          /* receivers of one message */
-#define AUTH_TRAILER_MIN    AUTH_FIXED_BYTES
-#define AUTH_TRAILER_MAX    (AUTH_FIXED_BYTES + AUTH_MAX_TAGS * AUTH_TAG_ENTRY_BYTES)
-#define AUTH_CHANNEL_MAX    63          /* LCM's channel name limit */
-#define AUTH_MAX_KEYS       2           /* the current key set and, while rotating, the previous one */
-#define AUTH_MAX_PAIRS      (2 * AUTH_MAX_TAGS)  /* pairwise keys in one key file */
-#define AUTH_ROSTER_ROVERS  8           /* rovers a master holder tags for (role files list their own) */
-#define AUTH_ROSTER_FIXED   7           /* principals of a roster besides the single rovers (host included) */
-#define AUTH_WINDOW_US      60000000LL  /* a counter this far from the local clock is refused */
-#define AUTH_START_SLACK_US 2000000LL   /* how much older than the receiver a message may be:
+#define AUTH_FIXED_BYTES 40
+#define AUTH_HEAD_BYTES AUTH_FIXED_BYTES
+#define AUTH_MAX_TAGS 48 /* receivers of one message */
+#define AUTH_TRAILER_MIN AUTH_FIXED_BYTES
+#define AUTH_TRAILER_MAX (AUTH_FIXED_BYTES + AUTH_MAX_TAGS * AUTH_TAG_ENTRY_BYTES)
+#define AUTH_CHANNEL_MAX 63 /* LCM's channel name limit */
+#define AUTH_MAX_KEYS 2     /* the current key set and, while rotating, the previous one */
+#define AUTH_MAX_PAIRS (2 * AUTH_MAX_TAGS) /* pairwise keys in one key file */
+#define AUTH_ROSTER_ROVERS 8 /* rovers a master holder tags for (role files list their own) */
+#define AUTH_ROSTER_FIXED 7  /* principals of a roster besides the single rovers (host included) */
+#define AUTH_WINDOW_US 60000000LL /* a counter this far from the local clock is refused */
+#define AUTH_START_SLACK_US \
+    2000000LL                  /* how much older than the receiver a message may be:
                                            the clock difference allowed between hosts */
-#define AUTH_REPLAY_SLOTS   1024        /* (sender, channel) streams remembered */
-#define AUTH_REPLAY_WAYS    8           /* a stream lives in one set of this many slots */
+#define AUTH_REPLAY_SLOTS 1024 /* (sender, channel) streams remembered */
+#define AUTH_REPLAY_WAYS 8     /* a stream lives in one set of this many slots */
 
 /* Named results (0 = accepted); distinct values. */
 enum {
     AUTH_OK = 0,
-    AUTH_ERR_UNSIGNED = -1,     /* no trailer, or not this format/version */
-    AUTH_ERR_MAC = -2,          /* no tag for this receiver, or it does not verify */
-    AUTH_ERR_SENDER = -3,       /* sender of no known role, or no key with it (revoked) */
-    AUTH_ERR_REPLAY = -4,       /* counter not above the last, or outside the window */
-    AUTH_ERR_ACL = -5,          /* sender not allowed to publish on the channel */
-    AUTH_ERR_ARG = -6,          /* bad argument (buffer too small, channel too long) */
-    AUTH_ERR_KEY = -7,          /* key file missing, unreadable, wrong size, mode or owner */
-    AUTH_ERR_INIT = -8,         /* auth_init: libsodium does not start */
-    AUTH_ERR_CELL = -9,         /* the message belongs to another cell (key set) */
-    AUTH_ERR_TYPE = -10,        /* before any MAC: not a tandem type, or over its size */
-    AUTH_ERR_CHANNEL = -11      /* before any MAC: a channel the table does not name */
+    AUTH_ERR_UNSIGNED = -1, /* no trailer, or not this format/version */
+    AUTH_ERR_MAC = -2,      /* no tag for this receiver, or it does not verify */
+    AUTH_ERR_SENDER = -3,   /* sender of no known role, or no key with it (revoked) */
+    AUTH_ERR_REPLAY = -4,   /* counter not above the last, or outside the window */
+    AUTH_ERR_ACL = -5,      /* sender not allowed to publish on the channel */
+    AUTH_ERR_ARG = -6,      /* bad argument (buffer too small, channel too long) */
+    AUTH_ERR_KEY = -7,      /* key file missing, unreadable, wrong size, mode or owner */
+    AUTH_ERR_INIT = -8,     /* auth_init: libsodium does not start */
+    AUTH_ERR_CELL = -9,     /* the message belongs to another cell (key set) */
+    AUTH_ERR_TYPE = -10,    /* before any MAC: not a tandem type, or over its size */
+    AUTH_ERR_CHANNEL = -11  /* before any MAC: a channel the table does not name */
 };
 /* A name for an AUTH_* result. */
 const char *auth_strerror(int rc);
 
 /* Who publishes: the roles of auth_acl.c's table. */
 enum {
-    AUTH_ROLE_SIM = 1,          /* tandem-sim */
-    AUTH_ROLE_ARM = 2,          /* tandem-arm, instance = arm */
-    AUTH_ROLE_SUPERVISOR = 3,   /* tandem-supervisor */
-    AUTH_ROLE_ROVER = 4,        /* tandem-rover, instances = the robots it hosts */
-    AUTH_ROLE_TOOL = 5,         /* tandem-scenario, tandem-stick, tests holding the key */
-    AUTH_ROLE_MONITOR = 6,      /* tandem-status, viewer, recorders: receive keys only */
+    AUTH_ROLE_SIM = 1,        /* tandem-sim */
+    AUTH_ROLE_ARM = 2,        /* tandem-arm, instance = arm */
+    AUTH_ROLE_SUPERVISOR = 3, /* tandem-supervisor */
+    AUTH_ROLE_ROVER = 4,      /* tandem-rover, instances = the robots it hosts */
+    AUTH_ROLE_TOOL = 5,       /* tandem-scenario, tandem-stick, tests holding the key */
+    AUTH_ROLE_MONITOR = 6,    /* tandem-status, viewer, recorders: receive keys only */
     AUTH_ROLE_LAST = AUTH_ROLE_MONITOR
 };
 #define AUTH_ROLE_BIT(r) (1u << (r))
-#define AUTH_ROLES_ALL   (AUTH_ROLE_BIT(AUTH_ROLE_SIM) | AUTH_ROLE_BIT(AUTH_ROLE_ARM) | \
-                          AUTH_ROLE_BIT(AUTH_ROLE_SUPERVISOR) | AUTH_ROLE_BIT(AUTH_ROLE_ROVER) | \
-                          AUTH_ROLE_BIT(AUTH_ROLE_TOOL) | AUTH_ROLE_BIT(AUTH_ROLE_MONITOR))
+#define AUTH_ROLES_ALL                                                      \
+    (AUTH_ROLE_BIT(AUTH_ROLE_SIM) | AUTH_ROLE_BIT(AUTH_ROLE_ARM) |          \
+     AUTH_ROLE_BIT(AUTH_ROLE_SUPERVISOR) | AUTH_ROLE_BIT(AUTH_ROLE_ROVER) | \
+     AUTH_ROLE_BIT(AUTH_ROLE_TOOL) | AUTH_ROLE_BIT(AUTH_ROLE_MONITOR))
 
 /* A principal: role and the instances it covers. */
 typedef struct auth_peer {
-    uint8_t  role;
+    uint8_t role;
     uint16_t first, last;
 } auth_peer;
 
 typedef struct auth_sender {
-    uint8_t  role;
-    uint16_t first, last;       /* instances covered, first <= last */
+    uint8_t role;
+    uint16_t first, last; /* instances covered, first <= last */
     uint32_t session;
 } auth_sender;
 
@@ -139,8 +141,8 @@ typedef struct auth_sender {
 enum { AUTH_DIR_SEND = 'S', AUTH_DIR_RECV = 'R' };
 typedef struct auth_pair {
     auth_peer peer;
-    uint8_t   dir;              /* AUTH_DIR_SEND: holder -> peer; RECV: peer -> holder */
-    uint8_t   key[AUTH_KEY_BYTES];
+    uint8_t dir; /* AUTH_DIR_SEND: holder -> peer; RECV: peer -> holder */
+    uint8_t key[AUTH_KEY_BYTES];
     /* BLAKE2b-128 already keyed with key: a tag then costs one compression,
      * not two (the key block is done once, at load) */
     crypto_generichash_state keyed;
@@ -148,48 +150,49 @@ typedef struct auth_pair {
 
 /* What one key file gives a process (always in sodium_malloc'd memory). */
 typedef struct auth_keyset {
-    uint8_t   id;               /* auth_key_id of the master */
-    uint8_t   cell[AUTH_CELL_BYTES];
+    uint8_t id; /* auth_key_id of the master */
+    uint8_t cell[AUTH_CELL_BYTES];
     auth_peer holder;
-    int       is_master;        /* 1: master below, every pair derivable */
-    uint8_t   master[AUTH_KEY_BYTES];
-    int       rovers;           /* a master holder's roster: rovers 1..rovers */
-    int       n;
+    int is_master; /* 1: master below, every pair derivable */
+    uint8_t master[AUTH_KEY_BYTES];
+    int rovers; /* a master holder's roster: rovers 1..rovers */
+    int n;
     auth_pair pair[AUTH_MAX_PAIRS];
 } auth_keyset;
 
 typedef struct auth_keyring {
-    auth_keyset *set[AUTH_MAX_KEYS];   /* set[0] signs; every set verifies */
-    int          n;
+    auth_keyset *set[AUTH_MAX_KEYS]; /* set[0] signs; every set verifies */
+    int n;
 } auth_keyring;
 
 typedef struct auth_trailer {
-    uint8_t     key_id;
+    uint8_t key_id;
     auth_sender sender;
-    uint64_t    counter;
-    uint8_t     cell[AUTH_CELL_BYTES];
-    int         n_tags;
-    size_t      len;            /* bytes of the whole trailer */
+    uint64_t counter;
+    uint8_t cell[AUTH_CELL_BYTES];
+    int n_tags;
+    size_t len; /* bytes of the whole trailer */
 } auth_trailer;
 
 /* 0 once libsodium is ready (idempotent), AUTH_ERR_INIT if it cannot start. */
-int  auth_init(void);
+int auth_init(void);
 /* The key set's id byte: the first byte of BLAKE2b("tandem-key-id") keyed with the master. */
 uint8_t auth_key_id(const uint8_t master[AUTH_KEY_BYTES]);
 void auth_cell_id(const uint8_t master[AUTH_KEY_BYTES], uint8_t cell[AUTH_CELL_BYTES]);
 void auth_pair_key(const uint8_t master[AUTH_KEY_BYTES], const uint8_t cell[AUTH_CELL_BYTES],
                    const auth_peer *from, const auth_peer *to, uint8_t key[AUTH_KEY_BYTES]);
-int  auth_peer_equal(const auth_peer *a, const auth_peer *b);
+int auth_peer_equal(const auth_peer *a, const auth_peer *b);
 
 /* A key set in locked memory: auth_keyset_free releases (and wipes) it. */
 auth_keyset *auth_keyset_new(void);
 void auth_keyset_free(auth_keyset *k);
 /* A master holder's set (holder = who it is, rovers = its roster). */
-void auth_keyset_master(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES], const auth_peer *holder, int rovers);
+void auth_keyset_master(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES],
+                        const auth_peer *holder, int rovers);
 /* The roster of a cell with `rovers` single rovers: sim, arms 1-2,
  * supervisor, tool, monitor, rovers 1..rovers and, for two or more, the
  * host of them all (rover 1-rovers); returns how many (<= cap). */
-int  auth_roster(int rovers, auth_peer *out, int cap);
+int auth_roster(int rovers, auth_peer *out, int cap);
 /* The role file of `holder` in the cell of master with the given roster:
  * a send key to every other principal but the monitor (monitors only
  * receive), a receive key from every other one. */
@@ -199,65 +202,67 @@ void auth_keyset_role(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES], cons
  * Opened with O_NOFOLLOW; a regular file of this user that nobody else
  * may read or write (mode 0600 or stricter). On failure AUTH_ERR_KEY with
  * the reason in why. holder: who a master holder is. */
-int  auth_keyset_load(auth_keyset *k, const char *path, const auth_peer *holder, char *why, size_t why_cap);
+int auth_keyset_load(auth_keyset *k, const char *path, const auth_peer *holder, char *why,
+                     size_t why_cap);
 /* Writes k as a role file, mode 0600, never over an existing file. */
-int  auth_keyset_write(const auth_keyset *k, const char *path, char *why, size_t why_cap);
+int auth_keyset_write(const auth_keyset *k, const char *path, char *why, size_t why_cap);
 /* Creates a new master file (32 random bytes), mode 0600, never over an
  * existing file (O_EXCL); its directory is created 0700 if missing.
  * AUTH_ERR_KEY with the reason in why on failure. */
-int  auth_key_create(const char *path, char *why, size_t why_cap);
+int auth_key_create(const char *path, char *why, size_t why_cap);
 /* Reads exactly 32 bytes of a master file (checks as auth_keyset_load). */
-int  auth_master_load(uint8_t master[AUTH_KEY_BYTES], const char *path, char *why, size_t why_cap);
+int auth_master_load(uint8_t master[AUTH_KEY_BYTES], const char *path, char *why, size_t why_cap);
 
 /* Appends the trailer to buf[0, body_len) (cap bytes available) with one
  * tag for each receiver of the set whose role bit is in readers and which
  * `wants` (NULL: all) accepts; AUTH_OK or AUTH_ERR_ARG. *out_len: the
  * signed message's length. */
 typedef int (*auth_wants_fn)(const auth_peer *receiver, const char *channel);
-int  auth_sign(const auth_keyset *k, const auth_sender *s, uint64_t counter, const char *channel,
-               unsigned readers, auth_wants_fn wants, uint8_t *buf, size_t body_len, size_t cap,
-               size_t *out_len);
+int auth_sign(const auth_keyset *k, const auth_sender *s, uint64_t counter, const char *channel,
+              unsigned readers, auth_wants_fn wants, uint8_t *buf, size_t body_len, size_t cap,
+              size_t *out_len);
 /* The receivers auth_sign would tag (at most AUTH_MAX_TAGS into out): a
  * sender that publishes often on a channel keeps them (auth_bus does). */
-int  auth_receivers(const auth_keyset *k, const char *channel, unsigned readers, auth_wants_fn wants,
-                    auth_peer out[AUTH_MAX_TAGS]);
+int auth_receivers(const auth_keyset *k, const char *channel, unsigned readers, auth_wants_fn wants,
+                   auth_peer out[AUTH_MAX_TAGS]);
 /* auth_sign with the receivers given: a tag for each of to[0, n). */
-int  auth_sign_to(const auth_keyset *k, const auth_sender *s, uint64_t counter, const char *channel,
-                  const auth_peer *to, int n, uint8_t *buf, size_t body_len, size_t cap, size_t *out_len);
+int auth_sign_to(const auth_keyset *k, const auth_sender *s, uint64_t counter, const char *channel,
+                 const auth_peer *to, int n, uint8_t *buf, size_t body_len, size_t cap,
+                 size_t *out_len);
 /* Reads the trailer at the end of buf[0, len): AUTH_OK or AUTH_ERR_UNSIGNED. */
-int  auth_parse(const uint8_t *buf, size_t len, auth_trailer *t);
+int auth_parse(const uint8_t *buf, size_t len, auth_trailer *t);
 /* auth_parse, then the tag for receiver me with the ring's key of the
  * message's cell: AUTH_OK, AUTH_ERR_UNSIGNED, AUTH_ERR_CELL, AUTH_ERR_SENDER
  * (no key with that sender) or AUTH_ERR_MAC. On AUTH_OK the body is
  * buf[0, len - t->len). */
-int  auth_verify(const auth_keyring *ring, const auth_peer *me, const char *channel, const uint8_t *buf,
-                 size_t len, auth_trailer *t);
+int auth_verify(const auth_keyring *ring, const auth_peer *me, const char *channel,
+                const uint8_t *buf, size_t len, auth_trailer *t);
 /* AUTH_OK if the sender id names a known role and a valid instance range. */
-int  auth_sender_check(const auth_sender *s);
+int auth_sender_check(const auth_sender *s);
 
 /* The last counter of every (sender, session, channel) stream seen. */
 typedef struct auth_stream {
     auth_sender sender;
-    uint64_t    channel_hash;
-    uint64_t    last_counter;
-    uint64_t    last_seen_us;   /* for eviction: the stream quiet longest goes */
-    int         used;
+    uint64_t channel_hash;
+    uint64_t last_counter;
+    uint64_t last_seen_us; /* for eviction: the stream quiet longest goes */
+    int used;
 } auth_stream;
 
 typedef struct auth_replay {
     auth_stream slot[AUTH_REPLAY_SLOTS];
-    int64_t     window_us;
-    uint64_t    oldest_us;     /* the receiver's start less AUTH_START_SLACK_US */
+    int64_t window_us;
+    uint64_t oldest_us; /* the receiver's start less AUTH_START_SLACK_US */
 } auth_replay;
 
 /* A receiver started at start_us (its wall clock, microseconds). */
-void     auth_replay_init(auth_replay *r, int64_t window_us, uint64_t start_us);
+void auth_replay_init(auth_replay *r, int64_t window_us, uint64_t start_us);
 uint64_t auth_channel_hash(const char *channel);
 /* Accepts (AUTH_OK, and remembers the counter) a counter within window of
  * now_us, not older than the receiver, and larger than the last one of its
  * stream; AUTH_ERR_REPLAY otherwise (the table is left as it was). */
-int      auth_replay_check(auth_replay *r, const auth_sender *s, uint64_t channel_hash,
-                           uint64_t counter, uint64_t now_us);
+int auth_replay_check(auth_replay *r, const auth_sender *s, uint64_t channel_hash, uint64_t counter,
+                      uint64_t now_us);
 /* The next counter of a sender: now_us, or one more than the last if the
  * clock has not moved on (or went back). */
 uint64_t auth_next_counter(uint64_t *last, uint64_t now_us);

@@ -4,13 +4,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SIM   AUTH_ROLE_BIT(AUTH_ROLE_SIM)
-#define ARM   AUTH_ROLE_BIT(AUTH_ROLE_ARM)
-#define SUP   AUTH_ROLE_BIT(AUTH_ROLE_SUPERVISOR)
+#define SIM AUTH_ROLE_BIT(AUTH_ROLE_SIM)
+#define ARM AUTH_ROLE_BIT(AUTH_ROLE_ARM)
+#define SUP AUTH_ROLE_BIT(AUTH_ROLE_SUPERVISOR)
 #define ROVER AUTH_ROLE_BIT(AUTH_ROLE_ROVER)
-#define TOOL  AUTH_ROLE_BIT(AUTH_ROLE_TOOL)
-#define MON   AUTH_ROLE_BIT(AUTH_ROLE_MONITOR)
-#define ALL   AUTH_ROLES_ALL
+#define TOOL AUTH_ROLE_BIT(AUTH_ROLE_TOOL)
+#define MON AUTH_ROLE_BIT(AUTH_ROLE_MONITOR)
+#define ALL AUTH_ROLES_ALL
 
 /* README "Channels" lists the same; the first role is the owner
  * auth_acl_owner signs as. Columns: channel, writers, own (a writer's
@@ -27,7 +27,8 @@ const auth_acl_rule auth_acl_table[] = {
     { "ARM", "_STATE", AUTH_ACL_NUMBER, SIM, 0, ARM | TOOL | MON, 1 },
     { "ARM", "_COMMAND", AUTH_ACL_NUMBER, ARM, 1, SIM | TOOL | MON, 0 },
     { "ARM", "_ACTION", AUTH_ACL_NUMBER, SUP, 0, ARM | TOOL | MON, 1 },
-    { "ARM", "_JOINT_REF", AUTH_ACL_NUMBER, TOOL, 0, ARM | TOOL | MON, 1 },   /* an external resolver (TDSD scenarios) */
+    { "ARM", "_JOINT_REF", AUTH_ACL_NUMBER, TOOL, 0, ARM | TOOL | MON,
+      1 }, /* an external resolver (TDSD scenarios) */
     { "ARM_EVENTS", "", AUTH_ACL_EXACT, ARM, 0, ALL, 0 },
     { "PETRI_MARKING", "", AUTH_ACL_EXACT, SUP, 0, ALL, 0 },
     { "VISION_DETECTIONS", "", AUTH_ACL_EXACT, SIM, 0, ALL, 0 },
@@ -92,7 +93,8 @@ static int rule_matches(const auth_acl_rule *r, const char *channel, long *lo, l
     return strcmp(p, r->suffix) == 0;
 }
 
-const auth_acl_rule *auth_acl_find(const auth_acl_rule *t, int n, const char *channel, long *lo, long *hi)
+const auth_acl_rule *auth_acl_find(const auth_acl_rule *t, int n, const char *channel, long *lo,
+                                   long *hi)
 {
     int i;
     for (i = 0; i < n; i++)
@@ -162,7 +164,8 @@ static int rule_ok(const auth_acl_rule *r)
 {
     if (!name_ok(r->prefix, 0) || !name_ok(r->suffix, 1))
         return AUTH_ACL_ERR_NAME;
-    if (r->match < AUTH_ACL_EXACT || r->match > AUTH_ACL_RANGE || (r->match == AUTH_ACL_EXACT && r->suffix[0]))
+    if (r->match < AUTH_ACL_EXACT || r->match > AUTH_ACL_RANGE ||
+        (r->match == AUTH_ACL_EXACT && r->suffix[0]))
         return AUTH_ACL_ERR_MATCH;
     if (r->roles == 0 || (r->roles & ~AUTH_ROLES_ALL) != 0)
         return AUTH_ACL_ERR_ROLES;
@@ -170,7 +173,8 @@ static int rule_ok(const auth_acl_rule *r)
         return AUTH_ACL_ERR_OWN;
     if (r->readers == 0 || (r->readers & ~AUTH_ROLES_ALL) != 0)
         return AUTH_ACL_ERR_READERS;
-    if ((r->readers_own != 0 && r->readers_own != 1) || (r->readers_own && r->match == AUTH_ACL_EXACT))
+    if ((r->readers_own != 0 && r->readers_own != 1) ||
+        (r->readers_own && r->match == AUTH_ACL_EXACT))
         return AUTH_ACL_ERR_OWN;
     return AUTH_ACL_OK;
 }
@@ -178,7 +182,11 @@ static int rule_ok(const auth_acl_rule *r)
 /* A channel the rule matches: numbers 7 (and 7_9 for a range). */
 static void sample_channel(const auth_acl_rule *r, int range, char *out, size_t cap)
 {
-    snprintf(out, cap, "%s%s%s", r->prefix, r->match == AUTH_ACL_EXACT ? "" : range ? "7_9" : "7", r->suffix);
+    snprintf(out, cap, "%s%s%s", r->prefix,
+             r->match == AUTH_ACL_EXACT ? ""
+             : range                    ? "7_9"
+                                        : "7",
+             r->suffix);
 }
 
 static int matched_by_one(const auth_acl_rule *t, int n, const char *channel)

@@ -16,21 +16,21 @@
 
 /* How the channel name is matched. */
 enum {
-    AUTH_ACL_EXACT = 0,   /* channel == prefix */
-    AUTH_ACL_NUMBER = 1,  /* prefix, a number K, suffix */
-    AUTH_ACL_RANGE = 2    /* prefix, K or K_L, suffix (a rover host's health) */
+    AUTH_ACL_EXACT = 0,  /* channel == prefix */
+    AUTH_ACL_NUMBER = 1, /* prefix, a number K, suffix */
+    AUTH_ACL_RANGE = 2   /* prefix, K or K_L, suffix (a rover host's health) */
 };
 
-#define AUTH_ACL_NUMBER_MAX 65535   /* instances are 16-bit */
+#define AUTH_ACL_NUMBER_MAX 65535 /* instances are 16-bit */
 
 typedef struct auth_acl_rule {
     const char *prefix;
-    const char *suffix;       /* "" for AUTH_ACL_EXACT */
-    int         match;        /* AUTH_ACL_* */
-    unsigned    roles;        /* AUTH_ROLE_BIT of every role allowed */
-    int         own;          /* 1: the sender's [first, last] must cover K..L */
-    unsigned    readers;      /* AUTH_ROLE_BIT of every role a message is tagged for */
-    int         readers_own;  /* 1: of the arms, only those covering K..L */
+    const char *suffix; /* "" for AUTH_ACL_EXACT */
+    int match;          /* AUTH_ACL_* */
+    unsigned roles;     /* AUTH_ROLE_BIT of every role allowed */
+    int own;            /* 1: the sender's [first, last] must cover K..L */
+    unsigned readers;   /* AUTH_ROLE_BIT of every role a message is tagged for */
+    int readers_own;    /* 1: of the arms, only those covering K..L */
 } auth_acl_rule;
 
 extern const auth_acl_rule auth_acl_table[];
@@ -39,13 +39,13 @@ extern const int auth_acl_table_n;
 /* Named results of the validator. */
 enum {
     AUTH_ACL_OK = 0,
-    AUTH_ACL_ERR_EMPTY = -1,      /* no rules */
-    AUTH_ACL_ERR_NAME = -2,       /* prefix/suffix missing or not [A-Z0-9_] */
-    AUTH_ACL_ERR_MATCH = -3,      /* unknown match kind, or an exact rule with a suffix */
-    AUTH_ACL_ERR_ROLES = -4,      /* no role, or an unknown role bit */
-    AUTH_ACL_ERR_OWN = -5,        /* own on a channel without a number */
-    AUTH_ACL_ERR_OVERLAP = -6,    /* a channel two rules match */
-    AUTH_ACL_ERR_READERS = -7     /* no reader, or an unknown reader role bit */
+    AUTH_ACL_ERR_EMPTY = -1,   /* no rules */
+    AUTH_ACL_ERR_NAME = -2,    /* prefix/suffix missing or not [A-Z0-9_] */
+    AUTH_ACL_ERR_MATCH = -3,   /* unknown match kind, or an exact rule with a suffix */
+    AUTH_ACL_ERR_ROLES = -4,   /* no role, or an unknown role bit */
+    AUTH_ACL_ERR_OWN = -5,     /* own on a channel without a number */
+    AUTH_ACL_ERR_OVERLAP = -6, /* a channel two rules match */
+    AUTH_ACL_ERR_READERS = -7  /* no reader, or an unknown reader role bit */
 };
 
 /* AUTH_ACL_OK if the table is well-formed: names, match kinds, roles,
@@ -53,7 +53,8 @@ enum {
 int auth_acl_validate(const auth_acl_rule *t, int n);
 /* The rule matching channel (and its K..L in lo, hi; 0 when unnumbered),
  * or NULL. */
-const auth_acl_rule *auth_acl_find(const auth_acl_rule *t, int n, const char *channel, long *lo, long *hi);
+const auth_acl_rule *auth_acl_find(const auth_acl_rule *t, int n, const char *channel, long *lo,
+                                   long *hi);
 /* AUTH_OK if the table lets sender s publish on channel, else AUTH_ERR_ACL. */
 int auth_acl_check(const auth_acl_rule *t, int n, const char *channel, const auth_sender *s);
 /* The reader roles of channel (0: not in the table). */

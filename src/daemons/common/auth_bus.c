@@ -11,102 +11,9 @@
 #include "wire.h"
 #include "tandem_health_t.h"
 
-#define AUTH_BUS_MAX_SUBS 64
-
-/* A checked subscription: what it is (handler, user, channel, queue
- * capacity) and where it is (lcm, sub), so that a renewed handle takes it
- * over (auth_bus_move). used = 0: a free slot. */
-typedef struct bus_sub {
-    lcm_msg_handler_t handler;
-    void *user;
-    char channel[AUTH_CHANNEL_MAX + 1];
-    int capacity;
-    lcm_t *lcm;
-    lcm_subscription_t *sub;
-    int used;
-} bus_sub;
-
-/* The last verdict, so a message several subscriptions of this process
- * match is checked (and counted) once: a second check would see its own
- * counter again and call it a replay. A delivery is the same when LCM
- * hands over the same buffer with the same receive time, size, channel
- * and MAC; a copy sent again by someone else arrives in a buffer of its
- * own, received later. */
-typedef struct last_verdict {
-    const void *data;
-    int64_t recv_utime;
-    uint32_t size;
-    uint64_t channel_hash;
-    uint8_t mac[AUTH_MAC_BYTES]; /* delivery_mark */
-    size_t trailer;              /* its trailer's length when accepted */
-    int rc;
-    int valid;
-} last_verdict;
-
-/* Who a channel's messages are signed as and tagged for: worked out from
- * the channel table once per channel, not per message (a 1 kHz loop
- * publishes the same few channels all the time). */
-#define AUTH_BUS_ROUTES 64
-typedef struct tx_route {
-    uint64_t channel_hash;
-    char channel[AUTH_CHANNEL_MAX + 1];
-    auth_sender sender;
-    int n;
-    auth_peer to[AUTH_MAX_TAGS];
-} tx_route;
-
-/* Everything the bus keeps for this process: who it is, its keys, the
- * replay window, what it has counted, its publish buffer and routes. One
- * struct, so the functions below say what they touch (they take it as
- * bus); the public API works on the process's one bus (the_bus). */
-typedef struct auth_bus_state {
-    const char *key_file[AUTH_MAX_KEYS];
-    int n_key_files;
-    int insecure;
-    int have_identity, as_owner;
-    int rovers; /* the roster's rovers, 0: AUTH_ROSTER_ROVERS */
-    auth_sender me;
-    auth_peer me_peer;
-    auth_keyring ring;
-    int started, secure;
-    uint64_t last_counter;
-    auth_replay replay;
-    auth_bus_counts counts;
-    last_verdict last;
-    uint8_t *tx;
-    int tx_cap;
-    bus_sub subs[AUTH_BUS_MAX_SUBS];
-    int n_subs;
-    char prog[64];
-    tx_route routes[AUTH_BUS_ROUTES];
-    int n_routes; /* 0 after anything a route depends on changed */
-    /* the ephemeral key (auth_bus_ephemeral_key), removed at exit by the
-     * process that made it */
-    char eph_dir[512], eph_file[600];
-    pid_t eph_owner;
-} auth_bus_state;
-
-/* The process's bus: LCM calls a handler with no context of ours, and
- * AUTH_PUBLISH and every program use the bus of the process, so there is
- * one (the one mutable file-scope variable of the daemon shell besides
- * the stop flag; tools/lint-state.allow). */
-static auth_bus_state the_bus;
-
-const char *auth_bus_strerror(int rc)
+void auth_bus_init(auth_bus *bus)
 {
-    switch (rc) {
-    case AUTH_BUS_OK: return "ok";
-    case AUTH_BUS_ERR_OPTION: return "bad --key-file / --insecure option";
-    case AUTH_BUS_ERR_NO_HOME: return "no HOME or XDG_CONFIG_HOME for the default key";
-    case AUTH_BUS_ERR_START: return "the secure bus does not start";
-    case AUTH_BUS_ERR_KEY: return "no usable key file";
-    case AUTH_BUS_ERR_ARG: return "bad argument (failed encode?)";
-    case AUTH_BUS_ERR_MEMORY: return "out of memory for the transmit buffer";
-    case AUTH_BUS_ERR_NOT_STARTED: return "publishing before auth_bus_start";
-    case AUTH_BUS_ERR_SIGN: return "the message cannot be signed";
-    case AUTH_BUS_ERR_SEND: return "lcm_publish failed";
-    default: return auth_strerror(rc);
-    }
+    memset(bus, 0, sizeof *bus);
 }
 
 static uint64_t wall_us(void)
@@ -116,9 +23,8 @@ static uint64_t wall_us(void)
     return (uint64_t)tv.tv_sec * 1000000u + (uint64_t)tv.tv_usec;
 }
 
-int auth_bus_option(const char *prog, int opt, const char *arg)
+int auth_bus_option(auth_bus *bus, const char *prog, int opt, const char *arg)
 {
-    auth_bus_state *const bus = &the_bus;
     switch (opt) {
     case OPT_KEY_FILE:
         if (!arg[0] || bus->n_key_files >= AUTH_MAX_KEYS) {
@@ -133,9 +39,8 @@ int auth_bus_option(const char *prog, int opt, const char *arg)
     }
 }
 
-void auth_bus_identity(int role, int first, int last)
+void auth_bus_identity(auth_bus *bus, int role, int first, int last)
 {
-    auth_bus_state *const bus = &the_bus;
     bus->me.role = (uint8_t)role;
     bus->me.first = (uint16_t)first;
     bus->me.last = (uint16_t)last;
@@ -146,9 +51,8 @@ void auth_bus_identity(int role, int first, int last)
     bus->n_routes = 0;
 }
 
-void auth_bus_roster(int rovers)
+void auth_bus_roster(auth_bus *bus, int rovers)
 {
-    auth_bus_state *const bus = &the_bus;
     int i;
     bus->rovers = rovers < 0                                   ? 0
                   : rovers > AUTH_MAX_TAGS - AUTH_ROSTER_FIXED ? AUTH_MAX_TAGS - AUTH_ROSTER_FIXED
@@ -156,25 +60,22 @@ void auth_bus_roster(int rovers)
     bus->n_routes = 0;
     for (i = 0; i < bus->ring.n; i++) /* a master holder tags for the new roster at once */
         if (bus->ring.set[i] && bus->ring.set[i]->is_master)
-            bus->ring.set[i]->rovers = auth_bus_roster_rovers();
+            bus->ring.set[i]->rovers = auth_bus_roster_rovers(bus);
 }
 
-int auth_bus_roster_rovers(void)
+int auth_bus_roster_rovers(const auth_bus *bus)
 {
-    const auth_bus_state *const bus = &the_bus;
     return bus->rovers > 0 ? bus->rovers : AUTH_ROSTER_ROVERS;
 }
 
-void auth_bus_sign_as_owner(int on)
+void auth_bus_sign_as_owner(auth_bus *bus, int on)
 {
-    auth_bus_state *const bus = &the_bus;
     bus->as_owner = on != 0;
     bus->n_routes = 0;
 }
 
-int auth_bus_secure(void)
+int auth_bus_secure(const auth_bus *bus)
 {
-    const auth_bus_state *const bus = &the_bus;
     return bus->secure;
 }
 
@@ -183,9 +84,8 @@ int auth_bus_secure(void)
  * whole role file (or the master) has them all: a peer that shares one
  * pair with this process cannot forge its journal. Stable across restarts
  * of the same role. */
-int auth_bus_journal_key(uint8_t out[32])
+int auth_bus_journal_key(const auth_bus *bus, uint8_t out[32])
 {
-    const auth_bus_state *const bus = &the_bus;
     static const char ctx[] = "tandem journal key v2";
     const auth_keyset *ks;
     crypto_generichash_state h;
@@ -216,7 +116,7 @@ int auth_bus_default_key_path(char *out, size_t cap)
     return n > 0 && (size_t)n < cap ? AUTH_BUS_OK : AUTH_BUS_ERR_NO_HOME;
 }
 
-static void warn_insecure(const auth_bus_state *bus)
+static void warn_insecure(const auth_bus *bus)
 {
     fprintf(stderr,
             "%s: WARNING: --insecure: bus messages are NOT authenticated. Nothing this process\n"
@@ -227,7 +127,7 @@ static void warn_insecure(const auth_bus_state *bus)
 
 /* The key files to load: the options, else $TANDEM_KEY_FILE, else the
  * default file if it exists. 0, or AUTH_BUS_ERR_KEY when there is none. */
-static int key_files(const auth_bus_state *bus, const char *files[AUTH_MAX_KEYS], int *n, char *def,
+static int key_files(const auth_bus *bus, const char *files[AUTH_MAX_KEYS], int *n, char *def,
                      size_t cap)
 {
     const char *env = getenv(AUTH_BUS_KEY_ENV);
@@ -248,7 +148,7 @@ static int key_files(const auth_bus_state *bus, const char *files[AUTH_MAX_KEYS]
     return AUTH_BUS_ERR_KEY;
 }
 
-static int load_keys(auth_bus_state *bus)
+static int load_keys(auth_bus *bus)
 {
     const char *files[AUTH_MAX_KEYS];
     char def[1024] = "", why[1200];
@@ -273,7 +173,7 @@ static int load_keys(auth_bus_state *bus)
             return AUTH_BUS_ERR_KEY;
         }
         if (bus->ring.set[i]->is_master)
-            bus->ring.set[i]->rovers = auth_bus_roster_rovers();
+            bus->ring.set[i]->rovers = auth_bus_roster_rovers(bus);
         if (!bus->ring.set[i]->is_master &&
             !auth_peer_equal(&bus->ring.set[i]->holder, &bus->me_peer)) {
             fprintf(stderr,
@@ -289,15 +189,14 @@ static int load_keys(auth_bus_state *bus)
 }
 
 /* $TANDEM_INSECURE=1 without any key option or $TANDEM_KEY_FILE. */
-static int insecure_from_env(const auth_bus_state *bus)
+static int insecure_from_env(const auth_bus *bus)
 {
     const char *ins = getenv(AUTH_BUS_INSECURE_ENV), *key = getenv(AUTH_BUS_KEY_ENV);
     return bus->n_key_files == 0 && !(key && key[0]) && ins && strcmp(ins, "1") == 0;
 }
 
-int auth_bus_start(const char *prog)
+int auth_bus_start(auth_bus *bus, const char *prog)
 {
-    auth_bus_state *const bus = &the_bus;
     int rc;
     snprintf(bus->prog, sizeof bus->prog, "%s", prog);
     /* a channel table that lets two rules claim one channel, or names none,
@@ -329,7 +228,7 @@ int auth_bus_start(const char *prog)
         return AUTH_BUS_ERR_START;
     }
     if (!bus->have_identity)
-        auth_bus_identity(AUTH_ROLE_TOOL, 0, 0); /* a stand-in receives as a tool */
+        auth_bus_identity(bus, AUTH_ROLE_TOOL, 0, 0); /* a stand-in receives as a tool */
     bus->n_routes = 0;
     if (load_keys(bus) != 0)
         return AUTH_BUS_ERR_KEY;
@@ -341,42 +240,47 @@ int auth_bus_start(const char *prog)
 
 /* ---- ephemeral key ------------------------------------------------------------- */
 
+/* The temporary key of auth_bus_ephemeral_key: a resource of the process,
+ * not of a bus, removed at its exit by an atexit handler, which gets no
+ * context (tools/lint-state.allow). */
+static struct ephemeral_key {
+    char dir[512], file[600];
+    pid_t owner;
+} ephemeral;
+
 static void remove_ephemeral(void)
 {
-    auth_bus_state *const bus = &the_bus;
-    if (getpid() != bus->eph_owner)
+    if (getpid() != ephemeral.owner)
         return; /* a forked child that did not exec must not take the key away */
-    unlink(bus->eph_file);
-    rmdir(bus->eph_dir);
+    unlink(ephemeral.file);
+    rmdir(ephemeral.dir);
 }
 
 int auth_bus_ephemeral_key(char *path, size_t cap)
 {
-    auth_bus_state *const bus = &the_bus;
     const char *tmp = getenv("TMPDIR");
     char why[700];
-    snprintf(bus->eph_dir, sizeof bus->eph_dir, "%s/tandem-key-XXXXXX",
+    snprintf(ephemeral.dir, sizeof ephemeral.dir, "%s/tandem-key-XXXXXX",
              tmp && tmp[0] == '/' ? tmp : "/tmp");
-    if (!mkdtemp(bus->eph_dir))
+    if (!mkdtemp(ephemeral.dir))
         return AUTH_BUS_ERR_KEY;
-    snprintf(bus->eph_file, sizeof bus->eph_file, "%s/bus.key", bus->eph_dir);
-    if (auth_key_create(bus->eph_file, why, sizeof why) != AUTH_OK) {
+    snprintf(ephemeral.file, sizeof ephemeral.file, "%s/bus.key", ephemeral.dir);
+    if (auth_key_create(ephemeral.file, why, sizeof why) != AUTH_OK) {
         fprintf(stderr, "tandem: %s\n", why);
-        rmdir(bus->eph_dir);
+        rmdir(ephemeral.dir);
         return AUTH_BUS_ERR_KEY;
     }
-    bus->eph_owner = getpid();
+    ephemeral.owner = getpid();
     atexit(remove_ephemeral);
-    setenv(AUTH_BUS_KEY_ENV, bus->eph_file, 1);
-    snprintf(path, cap, "%s", bus->eph_file);
+    setenv(AUTH_BUS_KEY_ENV, ephemeral.file, 1);
+    snprintf(path, cap, "%s", ephemeral.file);
     return 0;
 }
 
 /* ---- publishing ---------------------------------------------------------------- */
 
-int auth_bus_tx_reserve(int body_len)
+int auth_bus_tx_reserve(auth_bus *bus, int body_len)
 {
-    auth_bus_state *const bus = &the_bus;
     const int need = body_len + AUTH_TRAILER_MAX;
     if (body_len < 0)
         return AUTH_BUS_ERR_ARG;
@@ -390,19 +294,17 @@ int auth_bus_tx_reserve(int body_len)
     return 0;
 }
 
-uint8_t *auth_bus_tx(void)
+uint8_t *auth_bus_tx(const auth_bus *bus)
 {
-    const auth_bus_state *const bus = &the_bus;
     return bus->tx;
 }
 
-int auth_bus_tx_cap(void)
+int auth_bus_tx_cap(const auth_bus *bus)
 {
-    auth_bus_state *const bus = &the_bus;
     return bus->tx_cap - AUTH_TRAILER_MAX;
 }
 
-static int sender_for(const auth_bus_state *bus, const char *channel, auth_sender *s)
+static int sender_for(const auth_bus *bus, const char *channel, auth_sender *s)
 {
     *s = bus->me;
     if (bus->as_owner && auth_acl_owner(auth_acl_table, auth_acl_table_n, channel, s) != AUTH_OK) {
@@ -431,7 +333,7 @@ static int wants(const auth_peer *r, const char *channel)
 
 /* The route of channel: from the cache, or worked out (and kept while
  * there is room). */
-static const tx_route *route_of(auth_bus_state *bus, const char *channel, tx_route *scratch)
+static const tx_route *route_of(auth_bus *bus, const char *channel, tx_route *scratch)
 {
     const uint64_t h = auth_channel_hash(channel);
     tx_route *r;
@@ -447,9 +349,8 @@ static const tx_route *route_of(auth_bus_state *bus, const char *channel, tx_rou
     return r;
 }
 
-int auth_bus_publish_tx(lcm_t *lcm, const char *channel, int body_len)
+int auth_bus_publish_tx(auth_bus *bus, lcm_t *lcm, const char *channel, int body_len)
 {
-    auth_bus_state *const bus = &the_bus;
     tx_route scratch;
     const tx_route *r;
     size_t len;
@@ -471,19 +372,18 @@ int auth_bus_publish_tx(lcm_t *lcm, const char *channel, int body_len)
     return lcm_publish(lcm, channel, bus->tx, (unsigned)len);
 }
 
-int auth_bus_publish_raw(lcm_t *lcm, const char *channel, const void *buf, int len)
+int auth_bus_publish_raw(auth_bus *bus, lcm_t *lcm, const char *channel, const void *buf, int len)
 {
-    auth_bus_state *const bus = &the_bus;
-    const int rc = auth_bus_tx_reserve(len);
+    const int rc = auth_bus_tx_reserve(bus, len);
     if (rc != AUTH_BUS_OK)
         return rc;
     memcpy(bus->tx, buf, (size_t)len);
-    return auth_bus_publish_tx(lcm, channel, len);
+    return auth_bus_publish_tx(bus, lcm, channel, len);
 }
 
 /* ---- receiving ----------------------------------------------------------------- */
 
-static void count(auth_bus_state *bus, int rc)
+static void count(auth_bus *bus, int rc)
 {
     switch (rc) {
     case AUTH_OK: bus->counts.accepted++; break;
@@ -499,7 +399,7 @@ static void count(auth_bus_state *bus, int rc)
     }
 }
 
-static int same_delivery(const auth_bus_state *bus, const lcm_recv_buf_t *rb, uint64_t ch_hash,
+static int same_delivery(const auth_bus *bus, const lcm_recv_buf_t *rb, uint64_t ch_hash,
                          const uint8_t *mac)
 {
     return bus->last.valid && bus->last.data == rb->data &&
@@ -533,7 +433,7 @@ static void delivery_mark(const uint8_t *data, uint32_t size, uint8_t mark[AUTH_
                AUTH_MAC_BYTES); /* instances, session, counter */
 }
 
-static int check(auth_bus_state *bus, const uint8_t *data, uint32_t size, const char *channel,
+static int check(auth_bus *bus, const uint8_t *data, uint32_t size, const char *channel,
                  uint64_t ch_hash, auth_trailer *t)
 {
     int rc = precheck(data, size, channel);
@@ -549,9 +449,9 @@ static int check(auth_bus_state *bus, const uint8_t *data, uint32_t size, const 
     return rc;
 }
 
-int auth_bus_accept(const lcm_recv_buf_t *rb, const char *channel, lcm_recv_buf_t *body)
+int auth_bus_accept(auth_bus *bus, const lcm_recv_buf_t *rb, const char *channel,
+                    lcm_recv_buf_t *body)
 {
-    auth_bus_state *const bus = &the_bus;
     const uint8_t *data = rb->data;
     const uint64_t ch_hash = auth_channel_hash(channel);
     uint8_t mark[AUTH_MAC_BYTES];
@@ -591,7 +491,7 @@ static void sub_trampoline(const lcm_recv_buf_t *rb, const char *channel, void *
     const bus_sub *s = u;
     lcm_recv_buf_t body;
     const wire_type *w;
-    if (auth_bus_accept(rb, channel, &body) != AUTH_OK)
+    if (auth_bus_accept(s->bus, rb, channel, &body) != AUTH_OK)
         return;
     w = wire_find(body.data, body.data_size);
     if (!w || wire_check(w, body.data, body.data_size) != WIRE_OK)
@@ -599,10 +499,9 @@ static void sub_trampoline(const lcm_recv_buf_t *rb, const char *channel, void *
     s->handler(&body, channel, s->user);
 }
 
-lcm_subscription_t *auth_bus_subscribe_queue(lcm_t *lcm, const char *channel,
+lcm_subscription_t *auth_bus_subscribe_queue(auth_bus *bus, lcm_t *lcm, const char *channel,
                                              lcm_msg_handler_t handler, void *user, int capacity)
 {
-    auth_bus_state *const bus = &the_bus;
     bus_sub *s = NULL, *free_slot = NULL;
     int i;
     /* a run repeated in one process subscribes again: its slot */
@@ -625,6 +524,7 @@ lcm_subscription_t *auth_bus_subscribe_queue(lcm_t *lcm, const char *channel,
         }
         s = &bus->subs[bus->n_subs++];
     }
+    s->bus = bus;
     s->handler = handler;
     s->user = user;
     snprintf(s->channel, sizeof s->channel, "%s", channel);
@@ -637,15 +537,14 @@ lcm_subscription_t *auth_bus_subscribe_queue(lcm_t *lcm, const char *channel,
     return s->sub;
 }
 
-lcm_subscription_t *auth_bus_subscribe(lcm_t *lcm, const char *channel, lcm_msg_handler_t handler,
-                                       void *user)
+lcm_subscription_t *auth_bus_subscribe(auth_bus *bus, lcm_t *lcm, const char *channel,
+                                       lcm_msg_handler_t handler, void *user)
 {
-    return auth_bus_subscribe_queue(lcm, channel, handler, user, AUTH_BUS_QUEUE_CAPACITY);
+    return auth_bus_subscribe_queue(bus, lcm, channel, handler, user, AUTH_BUS_QUEUE_CAPACITY);
 }
 
-int auth_bus_unsubscribe_user(lcm_t *lcm, const void *user)
+int auth_bus_unsubscribe_user(auth_bus *bus, lcm_t *lcm, const void *user)
 {
-    auth_bus_state *const bus = &the_bus;
     int i, n = 0;
     for (i = 0; i < bus->n_subs; i++) {
         bus_sub *e = &bus->subs[i];
@@ -659,9 +558,8 @@ int auth_bus_unsubscribe_user(lcm_t *lcm, const void *user)
     return n;
 }
 
-int auth_bus_move(lcm_t *old, lcm_t *fresh)
+int auth_bus_move(auth_bus *bus, lcm_t *old, lcm_t *fresh)
 {
-    auth_bus_state *const bus = &the_bus;
     int i, n = 0;
     for (i = 0; i < bus->n_subs; i++) {
         bus_sub *e = &bus->subs[i];
@@ -677,9 +575,8 @@ int auth_bus_move(lcm_t *old, lcm_t *fresh)
     return n;
 }
 
-void auth_bus_close(lcm_t *lcm)
+void auth_bus_close(auth_bus *bus, lcm_t *lcm)
 {
-    auth_bus_state *const bus = &the_bus;
     int i;
     if (!lcm)
         return;
@@ -689,15 +586,13 @@ void auth_bus_close(lcm_t *lcm)
     lcm_destroy(lcm);
 }
 
-const auth_bus_counts *auth_bus_counts_get(void)
+const auth_bus_counts *auth_bus_counts_get(const auth_bus *bus)
 {
-    auth_bus_state *const bus = &the_bus;
     return &bus->counts;
 }
 
-int64_t auth_bus_rejected_total(void)
+int64_t auth_bus_rejected_total(const auth_bus *bus)
 {
-    const auth_bus_state *const bus = &the_bus;
     return bus->counts.unsigned_msgs + bus->counts.bad_mac + bus->counts.unknown_sender +
            bus->counts.replayed + bus->counts.unauthorised + bus->counts.other_cell +
            bus->counts.precheck;
@@ -715,9 +610,8 @@ int64_t auth_bus_health_refusals(const tandem_health_t *h, int64_t kinds[AUTH_BU
     return kinds[0] + kinds[1] + kinds[2] + kinds[3] + kinds[4] + kinds[5] + kinds[6];
 }
 
-void auth_bus_fill_health(tandem_health_t *h)
+void auth_bus_fill_health(const auth_bus *bus, tandem_health_t *h)
 {
-    auth_bus_state *const bus = &the_bus;
     h->auth_on = (int8_t)bus->secure;
     h->auth_unsigned = bus->counts.unsigned_msgs;
     h->auth_bad_mac = bus->counts.bad_mac;

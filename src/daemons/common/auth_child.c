@@ -6,22 +6,15 @@
 #include <unistd.h>
 #include "auth_bus.h"
 
-const char *auth_child_strerror(int rc)
-{
-    switch (rc) {
-    case AUTH_CHILD_INHERIT: return "the child inherits the key environment";
-    case AUTH_CHILD_OK: return "ok";
-    case AUTH_CHILD_ERR_DIR: return "no directory for the children's role files";
-    case AUTH_CHILD_ERR_KEY: return "the master does not load or a role file cannot be written";
-    case AUTH_CHILD_ERR_PRINCIPAL: return "the child's principal is not in the cell's roster";
-    case AUTH_CHILD_ERR_ARG: return "bad argument";
-    default: return "unknown auth_child result";
-    }
-}
-
-void auth_child_keys_init(auth_child_keys *c)
+void auth_child_keys_init(auth_child_keys *c, const auth_bus *parent)
 {
     memset(c, 0, sizeof *c);
+    c->parent = parent;
+}
+
+static int roster_rovers(const auth_child_keys *c)
+{
+    return c->parent ? auth_bus_roster_rovers(c->parent) : AUTH_ROSTER_ROVERS;
 }
 
 /* The value of option --name in argv (--name V or --name=V), or NULL. */
@@ -101,7 +94,7 @@ static int make_dir(auth_child_keys *c)
     if (c->dir[0])
         return AUTH_CHILD_OK;
     snprintf(c->dir, sizeof c->dir, "%s/tandem-roles-XXXXXX", tmp && tmp[0] == '/' ? tmp : "/tmp");
-    if (!mkdtemp(c->dir)) {   /* mkdtemp makes it 0700 */
+    if (!mkdtemp(c->dir)) { /* mkdtemp makes it 0700 */
         perror("tandem: role file directory");
         c->dir[0] = '\0';
         return AUTH_CHILD_ERR_DIR;
@@ -119,7 +112,7 @@ static int write_role(const auth_keyset *m, const auth_peer *who, const auth_pee
     if (!k)
         return rc;
     auth_keyset_role(k, m->master, who, roster, n);
-    unlink(path);   /* a restarted child gets a fresh file */
+    unlink(path); /* a restarted child gets a fresh file */
     if (auth_keyset_write(k, path, why, sizeof why) == AUTH_OK)
         rc = AUTH_CHILD_OK;
     else
@@ -143,23 +136,25 @@ int auth_child_key(auth_child_keys *c, const char *const argv[], char *path, siz
     if (!(m = auth_keyset_new()))
         return AUTH_CHILD_ERR_KEY;
     rc = auth_keyset_load(m, env, &tool, why, sizeof why);
-    if (rc != AUTH_OK || !m->is_master) {   /* a role file is handed on as it is */
+    if (rc != AUTH_OK || !m->is_master) { /* a role file is handed on as it is */
         auth_keyset_free(m);
         return rc == AUTH_OK ? AUTH_CHILD_INHERIT : AUTH_CHILD_ERR_KEY;
     }
     auth_child_principal(argv, &who);
-    n = auth_roster(auth_bus_roster_rovers(), roster, AUTH_MAX_TAGS);
+    n = auth_roster(roster_rovers(c), roster, AUTH_MAX_TAGS);
     if (!in_roster(&who, roster, n)) {
-        fprintf(stderr, "tandem: %s: principal %d %d-%d is in no role file of this cell (rovers 1..%d and "
-                        "the host of all of them)\n", argv[0], who.role, who.first, who.last,
-                auth_bus_roster_rovers());
+        fprintf(stderr,
+                "tandem: %s: principal %d %d-%d is in no role file of this cell (rovers 1..%d and "
+                "the host of all of them)\n",
+                argv[0], who.role, who.first, who.last, roster_rovers(c));
         auth_keyset_free(m);
         return AUTH_CHILD_ERR_PRINCIPAL;
     }
     rc = make_dir(c);
     if (rc == AUTH_CHILD_OK) {
         const int len = snprintf(path, cap, "%s/role%d.key", c->dir, c->files++);
-        rc = len > 0 && (size_t)len < cap ? write_role(m, &who, roster, n, path) : AUTH_CHILD_ERR_ARG;
+        rc = len > 0 && (size_t)len < cap ? write_role(m, &who, roster, n, path)
+                                          : AUTH_CHILD_ERR_ARG;
     }
     auth_keyset_free(m);
     return rc;

@@ -195,7 +195,7 @@ int daemon_start(daemon *d)
                                           ? '_'
                                           : toupper((unsigned char)d->health_channel[i]));
 
-    if (auth_bus_start(d->name) != 0)
+    if (auth_bus_start(&d->bus, d->name) != 0)
         return DAEMON_ERR_AUTH;
     rx_set_drop(&d->rx, d->drop_rate, (uint64_t)d->drop_seed);
     names_watch_init(&d->names, d->name); /* before LCM's receive thread starts */
@@ -312,12 +312,12 @@ void daemon_publish_health(daemon *d)
     h.lockstep_input_waits = d->input_waits;
     h.msgs_duplicate = d->msgs.duplicate;
     rx_fill_health(&d->rx, &h);
-    auth_bus_fill_health(&h);
-    AUTH_PUBLISH(tandem_health_t, d->lcm, d->health_channel, &h);
+    auth_bus_fill_health(&d->bus, &h);
+    AUTH_PUBLISH(tandem_health_t, &d->bus, d->lcm, d->health_channel, &h);
 }
 
-void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32_t period_steps,
-                  int leaving)
+void lockstep_ack(auth_bus *bus, lcm_t *lcm, const char *name, int64_t seq, int64_t step,
+                  int32_t period_steps, int leaving)
 {
     tandem_clock_ack_t a;
     a.seq = seq;
@@ -327,12 +327,12 @@ void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32
     a.period_steps = period_steps;
     a.leaving = (int8_t)leaving;
     a.pid = (int32_t)getpid();
-    AUTH_PUBLISH(tandem_clock_ack_t, lcm, "SIM_ACK", &a);
+    AUTH_PUBLISH(tandem_clock_ack_t, bus, lcm, "SIM_ACK", &a);
 }
 
 static void ack(daemon *d, int64_t step, int leaving)
 {
-    lockstep_ack(d->lcm, d->name, d->ack_seq++, step, d->period_steps, leaving);
+    lockstep_ack(&d->bus, d->lcm, d->name, d->ack_seq++, step, d->period_steps, leaving);
 }
 
 /* Resident memory in kB (/proc/self/statm), 0 if it cannot be read. Read
@@ -474,14 +474,13 @@ int daemon_names_watch(daemon *d)
 
 static int bus_move(void *subs, lcm_t *old, lcm_t *fresh)
 {
-    (void)subs;
-    return auth_bus_move(old, fresh);
+    return auth_bus_move(subs, old, fresh);
 }
 
-int bus_names_watch(names_watch *w, lcm_t **lcm, const char *url)
+int bus_names_watch(names_watch *w, auth_bus *bus, lcm_t **lcm, const char *url)
 {
     /* a tool waits on the bus anyway: 50 ms for what the old handle holds */
-    return names_watch_tick(w, rtloop_now_ns(), lcm, url, bus_move, NULL, 50000000LL);
+    return names_watch_tick(w, rtloop_now_ns(), lcm, url, bus_move, bus, 50000000LL);
 }
 
 static void health_tick(daemon *d)

@@ -20,7 +20,7 @@
 #include "version.h"
 
 #define DAEMON_DEFAULT_LCM_URL "udpm://239.255.76.67:7667?ttl=0"
-#define DAEMON_SIM_DT_S 0.001          /* the simulator's fixed step */
+#define DAEMON_SIM_DT_S 0.001 /* the simulator's fixed step */
 #define DAEMON_NAME_MAX 64
 /* Messages LCM keeps per subscription until the daemon handles them. LCM
  * keeps a fragmented message (over 1400 bytes) in memory of its own, so
@@ -29,7 +29,7 @@
  * It still takes a burst of a whole team's messages (TEAM, SIM_ACK: one
  * per robot and step, 128 robots at most) twice over. */
 #define DAEMON_QUEUE_CAPACITY 256
-#define DAEMON_SIM_SILENT_NS 5000000000LL  /* lockstep: no clock this long = no simulator */
+#define DAEMON_SIM_SILENT_NS 5000000000LL /* lockstep: no clock this long = no simulator */
 /* LCM keeps every channel name it sees, subscribed or not, for good
  * (docs/security.md §5): a flood of made-up names grows every process on
  * the bus without end. The shell bounds it (names_watch below): when a
@@ -45,7 +45,7 @@
 #define DAEMON_NAMES_SLACK_ENV "TANDEM_NAMES_SLACK_KB"
 #define DAEMON_NAMES_SLACK_MIN_KB 256L
 #define DAEMON_NAMES_SLACK_MAX_KB (4L * 1024L * 1024L)
-#define DAEMON_NAMES_CHECK_NS 100000000LL  /* resident memory read at 10 Hz */
+#define DAEMON_NAMES_CHECK_NS 100000000LL /* resident memory read at 10 Hz */
 /* The environment a launcher gives its daemons so that glib (2.74) frees
  * what it frees instead of keeping slices (daemon_defaults, docs/security.md §5). */
 #define DAEMON_GLIB_SLICE_ENV "G_SLICE"
@@ -55,62 +55,64 @@
  * (DAEMON_NAMES_SLACK_KB): the daemons' (daemon.names, daemon_names_watch)
  * and the tools' with their own handle (bus_names_watch). */
 typedef struct names_watch {
-    const char *who;                    /* what it says on stderr is said as this */
-    long     slack_kb;                  /* DAEMON_NAMES_SLACK_KB, or $TANDEM_NAMES_SLACK_KB */
-    long     base_kb;                   /* resident memory the renewal counts from, 0 unset */
-    int64_t  check_ns;                  /* last time it was read */
-    int64_t  renewals;                  /* LCM handles renewed (a flood of names) */
+    const char *who;  /* what it says on stderr is said as this */
+    long slack_kb;    /* DAEMON_NAMES_SLACK_KB, or $TANDEM_NAMES_SLACK_KB */
+    long base_kb;     /* resident memory the renewal counts from, 0 unset */
+    int64_t check_ns; /* last time it was read */
+    int64_t renewals; /* LCM handles renewed (a flood of names) */
 } names_watch;
 
 typedef struct daemon_counters {
     int64_t received;
-    int64_t rejected;   /* failed decoding or validation: dropped */
-    int64_t stale;      /* valid but too old to use */
-    int64_t duplicate;  /* a copy of a message already taken (lockstep
+    int64_t rejected;  /* failed decoding or validation: dropped */
+    int64_t stale;     /* valid but too old to use */
+    int64_t duplicate; /* a copy of a message already taken (lockstep
                            re-announcement): ignored, changes nothing */
 } daemon_counters;
 
 typedef struct daemon {
-    char     name[DAEMON_NAME_MAX];     /* e.g. tandem-arm-1 */
-    char     health_channel[DAEMON_NAME_MAX + 8];
+    char name[DAEMON_NAME_MAX]; /* e.g. tandem-arm-1 */
+    char health_channel[DAEMON_NAME_MAX + 8];
     const char *lcm_url;
-    int      rt_prio;                   /* 0 = normal scheduling */
-    int      dma_latency_fd;            /* /dev/cpu_dma_latency, held open while we run (-1: none) */
-    int      lockstep;
-    double   period_s;
-    int32_t  period_steps;              /* lockstep: answer every n-th step */
-    lcm_t   *lcm;
-    rtloop   loop;
+    int rt_prio;        /* 0 = normal scheduling */
+    int dma_latency_fd; /* /dev/cpu_dma_latency, held open while we run (-1: none) */
+    int lockstep;
+    double period_s;
+    int32_t period_steps; /* lockstep: answer every n-th step */
+    lcm_t *lcm;
+    rtloop loop;
     daemon_counters msgs;
-    int64_t  step;                      /* last SIM_CLOCK step seen */
-    double   sim_time_s;
-    int64_t  pending_step;              /* lockstep: step to answer, -1 none */
-    int64_t  health_seq;
-    int64_t  ack_seq;
-    int64_t  last_health_ns;
-    int      safe_hold;
-    int      clock_source;              /* 1 for tandem-sim: it publishes SIM_CLOCK,
+    int64_t step; /* last SIM_CLOCK step seen */
+    double sim_time_s;
+    int64_t pending_step; /* lockstep: step to answer, -1 none */
+    int64_t health_seq;
+    int64_t ack_seq;
+    int64_t last_health_ns;
+    int safe_hold;
+    int clock_source; /* 1 for tandem-sim: it publishes SIM_CLOCK,
                                            so it does not listen to it */
-    int      skip_ack;                  /* lockstep: set by a cycle whose inputs
+    int skip_ack;     /* lockstep: set by a cycle whose inputs
                                            have not arrived yet (no answer, so the
                                            simulator does not count on it yet) */
-    char     status[96];
-    step_gate clock_gate;               /* SIM_CLOCK steps (guard.h) */
-    int64_t  answered_step;             /* lockstep: last step acked, -1 none */
+    char status[96];
+    step_gate clock_gate;  /* SIM_CLOCK steps (guard.h) */
+    int64_t answered_step; /* lockstep: last step acked, -1 none */
     /* lockstep: called when the simulator announces again a step this
      * daemon has already answered (its ack, or one of its outputs, was
      * lost on the way): publish the last outputs again, then the ack goes
      * out again; also while a cycle waits for a missing input (a mate
      * may be waiting for ours). NULL: only the ack is repeated. */
-    void   (*repeat_fn)(struct daemon *d, void *user);
-    int64_t  repeats;                   /* lockstep: steps answered again */
-    int64_t  clock_rx_ns;               /* wall time of the last SIM_CLOCK (0 none) */
-    int64_t  input_waits;               /* lockstep: announcements not answered
+    void (*repeat_fn)(struct daemon *d, void *user);
+    int64_t repeats;     /* lockstep: steps answered again */
+    int64_t clock_rx_ns; /* wall time of the last SIM_CLOCK (0 none) */
+    int64_t input_waits; /* lockstep: announcements not answered
                                            yet because an input was missing */
-    double   drop_rate;                 /* --drop-rate: fault injection (rx.h), 0 none */
-    long     drop_seed;                 /* --drop-seed: seed of the drops, 1 by default */
-    rx_state rx;                        /* the receive path's tables and counts (rx.h) */
-    names_watch names;                  /* the bound on LCM's table of channel names */
+    double drop_rate;    /* --drop-rate: fault injection (rx.h), 0 none */
+    long drop_seed;      /* --drop-seed: seed of the drops, 1 by default */
+    rx_state rx;         /* the receive path's tables and counts (rx.h) */
+    auth_bus bus;        /* this daemon's side of the secure bus (auth_bus.h):
+                            its identity, keys, counts, publish buffer */
+    names_watch names;   /* the bound on LCM's table of channel names */
 } daemon;
 
 /* Cycle callback: read the latest inputs, call the core, publish outputs;
@@ -122,18 +124,20 @@ typedef int (*daemon_cycle_fn)(daemon *d, void *user);
 /* Status codes of daemon_check_table, daemon_start and the option parsers
  * below (each has printed why on stderr). */
 #define DAEMON_OK 0
-#define DAEMON_ERR_NUMBER (-1)  /* parse_*_opt: not a finite number / not an integer */
-#define DAEMON_ERR_RANGE (-2)   /* parse_*_opt: outside [lo, hi]; daemon_start: period
+#define DAEMON_ERR_NUMBER (-1) /* parse_*_opt: not a finite number / not an integer */
+#define DAEMON_ERR_RANGE \
+    (-2)                      /* parse_*_opt: outside [lo, hi]; daemon_start: period
                                    outside rtloop's range */
-#define DAEMON_ERR_TABLE (-3)   /* daemon_check_table: the validator refused the table */
-#define DAEMON_ERR_AUTH (-4)    /* daemon_start: auth_bus_start refused (no key, ...) */
-#define DAEMON_ERR_LCM (-5)     /* daemon_start: LCM does not open at the URL;
+#define DAEMON_ERR_TABLE (-3) /* daemon_check_table: the validator refused the table */
+#define DAEMON_ERR_AUTH (-4)  /* daemon_start: auth_bus_start refused (no key, ...) */
+#define DAEMON_ERR_LCM \
+    (-5) /* daemon_start: LCM does not open at the URL;
                                    daemon_renew_lcm: a new handle does not open
                                    (the old one is kept) */
 
-#define DAEMON_CONTINUE 0      /* cycle: go on */
-#define DAEMON_STOPPED 0       /* daemon_run: stopped by SIGINT/SIGTERM (exit 0) */
-#define DAEMON_STOP_FAILED 1   /* cycle: stop, the daemon cannot go on (exit 1) */
+#define DAEMON_CONTINUE 0    /* cycle: go on */
+#define DAEMON_STOPPED 0     /* daemon_run: stopped by SIGINT/SIGTERM (exit 0) */
+#define DAEMON_STOP_FAILED 1 /* cycle: stop, the daemon cannot go on (exit 1) */
 
 void daemon_defaults(daemon *d, const char *name, double period_s);
 /* Start-up check of one constant table: rc is what its validator returned
@@ -141,13 +145,13 @@ void daemon_defaults(daemon *d, const char *name, double period_s);
  * text of it (petri_strerror, ...). 0 when rc is 0; else prints
  * "PROG: TABLE is invalid (VALIDATOR: TEXT, RC)" on stderr and returns
  * DAEMON_ERR_TABLE (the daemon then exits 1 without running). */
-int  daemon_check_table(const char *prog, const char *table, const char *validator, int rc,
-                        const char *(*strerror_fn)(int));
-/* Loads the bus key (auth_bus_start; the daemon has set its identity with
- * auth_bus_identity), hands --drop-rate / --drop-seed to the receive path
+int daemon_check_table(const char *prog, const char *table, const char *validator, int rc,
+                       const char *(*strerror_fn)(int));
+/* Loads the bus key (auth_bus_start on d->bus; the daemon has set its
+ * identity with auth_bus_identity), hands --drop-rate / --drop-seed to the receive path
  * (rx_set_drop), opens LCM, installs SIGINT/SIGTERM handlers,
  * applies --rt. DAEMON_OK, or DAEMON_ERR_AUTH / _LCM / _RANGE (said). */
-int  daemon_start(daemon *d);
+int daemon_start(daemon *d);
 /* Minimal timer slack always (Linux); with prio > 0 also SCHED_FIFO at
  * prio, mlockall and the CPU latency hint; warns and goes on when not
  * permitted. *dma_latency_fd holds the latency hint's file, which must
@@ -156,15 +160,16 @@ void daemon_rt_setup(const char *name, int prio, int *dma_latency_fd);
 /* Runs the cycle until SIGINT/SIGTERM (returns DAEMON_STOPPED) or until
  * the cycle returns a status other than DAEMON_CONTINUE (returns that
  * status): the process exit code. */
-int  daemon_run(daemon *d, daemon_cycle_fn fn, void *user);
+int daemon_run(daemon *d, daemon_cycle_fn fn, void *user);
 void daemon_finish(daemon *d);
-int  daemon_stop_requested(void);
+int daemon_stop_requested(void);
 void daemon_request_stop(void);
 /* Publishes the health message now (daemon_run does it once a second). */
 void daemon_publish_health(daemon *d);
 /* lcm_subscribe through the receive path (rx.h) with a queue of
  * DAEMON_QUEUE_CAPACITY messages. */
-lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler, void *user);
+lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler,
+                                     void *user);
 /* Subscribes handler to PREFIX<k>SUFFIX for k = first..last, each by its
  * name, or, for more than DAEMON_EXPLICIT_MAX of them, to the one pattern
  * PREFIX[0-9]+SUFFIX. By name, a made-up channel (ROVER99999_SENSORS)
@@ -173,8 +178,9 @@ lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_han
  * keeps the pattern. Up to cap subscriptions go into subs; returns how
  * many were made. */
 #define DAEMON_EXPLICIT_MAX 8
-int daemon_subscribe_numbered(daemon *d, const char *prefix, int first, int last, const char *suffix,
-                              lcm_msg_handler_t handler, void *user, lcm_subscription_t **subs, int cap);
+int daemon_subscribe_numbered(daemon *d, const char *prefix, int first, int last,
+                              const char *suffix, lcm_msg_handler_t handler, void *user,
+                              lcm_subscription_t **subs, int cap);
 /* Answers lockstep step `step` for participant `name` on SIM_ACK (the
  * first answer registers it with its period; leaving = 1 unregisters).
  * Daemons do this in daemon_run; scenarios and tests call it directly. */
@@ -221,9 +227,10 @@ int daemon_renew_lcm(daemon *d);
 /* A tool's, with its own handle *lcm and checked subscriptions
  * (auth_bus_subscribe): names_watch_tick with auth_bus_move. Call it in
  * the tool's loop; *lcm may change (1 when it did). */
-int bus_names_watch(names_watch *w, lcm_t **lcm, const char *url);
+int bus_names_watch(names_watch *w, auth_bus *bus, lcm_t **lcm, const char *url);
 
-void lockstep_ack(lcm_t *lcm, const char *name, int64_t seq, int64_t step, int32_t period_steps, int leaving);
+void lockstep_ack(auth_bus *bus, lcm_t *lcm, const char *name, int64_t seq, int64_t step,
+                  int32_t period_steps, int leaving);
 /* Handles the LCM messages already queued, without blocking, for at most
  * DAEMON_DRAIN_MAX messages and a quarter of the period
  * (daemon_drain_budget_ns): a flood, even of messages refused at once,
@@ -239,7 +246,7 @@ int64_t daemon_utime_now(void);
  * when it does not decode (wrong fingerprint, truncated), as rejected.
  * 1 on success (then call TYPE_decode_cleanup), 0 if dropped. */
 #define DAEMON_DECODE(counters, type, rb, msg) \
-    ((counters)->received++, \
+    ((counters)->received++,                   \
      type##_decode((rb)->data, 0, (rb)->data_size, (msg)) >= 0 ? 1 : ((counters)->rejected++, 0))
 
 /* The common head of the rovers_*_t batch messages (several robots' frames
@@ -250,10 +257,8 @@ int64_t daemon_utime_now(void);
 /* Strict number parsing for command-line values: the whole string must be
  * a finite number inside [lo, hi]; prints "NAME: --OPT: why" and returns
  * DAEMON_ERR_NUMBER or DAEMON_ERR_RANGE otherwise. */
-int parse_double_opt(const char *prog, const char *opt, const char *s,
-                     double lo, double hi, double *out);
-int parse_int_opt(const char *prog, const char *opt, const char *s,
-                  long lo, long hi, long *out);
-
+int parse_double_opt(const char *prog, const char *opt, const char *s, double lo, double hi,
+                     double *out);
+int parse_int_opt(const char *prog, const char *opt, const char *s, long lo, long hi, long *out);
 
 #endif

@@ -15,25 +15,6 @@
 #define JOURNAL_LINE_MAX (JOURNAL_MAX_VALUES * 26 + 96)
 #define MAC_HEX (2 * JOURNAL_MAC_BYTES)
 
-const char *journal_strerror(int rc)
-{
-    switch (rc) {
-    case JOURNAL_OK: return "JOURNAL_OK";
-    case JOURNAL_ERR_OPEN: return "JOURNAL_ERR_OPEN";
-    case JOURNAL_ERR_WRITE: return "JOURNAL_ERR_WRITE";
-    case JOURNAL_ERR_NONE: return "JOURNAL_ERR_NONE";
-    case JOURNAL_ERR_ARG: return "JOURNAL_ERR_ARG";
-    case JOURNAL_ERR_SYNC: return "JOURNAL_ERR_SYNC";
-    case JOURNAL_ERR_READ: return "JOURNAL_ERR_READ";
-    case JOURNAL_ERR_FORMAT: return "JOURNAL_ERR_FORMAT";
-    case JOURNAL_ERR_TORN: return "JOURNAL_ERR_TORN";
-    case JOURNAL_ERR_MAC: return "JOURNAL_ERR_MAC";
-    case JOURNAL_ERR_SEQUENCE: return "JOURNAL_ERR_SEQUENCE";
-    case JOURNAL_ERR_MODE: return "JOURNAL_ERR_MODE";
-    default: return "JOURNAL_ERR_?";
-    }
-}
-
 /* The mac of a record's text (everything before " <mac>") as hex. */
 static void record_mac(const journal_key *k, const char *text, size_t n, char hex[MAC_HEX + 1])
 {
@@ -51,7 +32,8 @@ int journal_open(journal *j, const char *path, const journal_key *key, int how)
     if (!path || !key || sodium_init() < 0)
         return JOURNAL_ERR_ARG;
     j->key = *key;
-    j->fd = open(path, O_WRONLY | O_APPEND | O_CREAT | (how == JOURNAL_TRUNCATE ? O_TRUNC : 0), 0644);
+    j->fd = open(path, O_WRONLY | O_APPEND | O_CREAT | (how == JOURNAL_TRUNCATE ? O_TRUNC : 0),
+                 0644);
     if (j->fd < 0) {
         j->err_no = errno;
         return JOURNAL_ERR_OPEN;
@@ -66,8 +48,8 @@ int journal_open(journal *j, const char *path, const journal_key *key, int how)
 static size_t format_record(const journal *j, const double *v, int n, char *line, size_t cap)
 {
     char hex[MAC_HEX + 1];
-    size_t used = (size_t)snprintf(line, cap, "%s %c %ld %d", JOURNAL_VERSION_TAG, j->key.keyed ? 'K' : 'U',
-                                   j->seq + 1, n);
+    size_t used = (size_t)snprintf(line, cap, "%s %c %ld %d", JOURNAL_VERSION_TAG,
+                                   j->key.keyed ? 'K' : 'U', j->seq + 1, n);
     int i;
     for (i = 0; i < n && used < cap; i++)
         used += (size_t)snprintf(line + used, cap - used, " %.17g", v[i]);
@@ -83,7 +65,8 @@ static size_t format_record(const journal *j, const double *v, int n, char *line
 static int write_failed(journal *j, int rc)
 {
     j->err_no = errno;
-    if (ftruncate(j->fd, (off_t)j->size) != 0) { /* nothing more to do: said by rc */ }
+    if (ftruncate(j->fd, (off_t)j->size) != 0) { /* nothing more to do: said by rc */
+    }
     return rc;
 }
 
@@ -136,7 +119,8 @@ static int parse_values(const char *p, const char *mac_at, double *v, int n, jou
         char *end;
         v[i] = strtod(p, &end);
         if (end == p || end > mac_at || (*end != ' '))
-            return refuse(rep, JOURNAL_ERR_FORMAT, "a value is not a number, or fewer values than it says");
+            return refuse(rep, JOURNAL_ERR_FORMAT,
+                          "a value is not a number, or fewer values than it says");
         p = end;
     }
     if (p != mac_at)
@@ -153,21 +137,24 @@ static int parse_record(const char *line, const journal_key *key, long want_seq,
     long seq = 0;
     int n = 0, head = 0;
     if (len < MAC_HEX + 2 || strncmp(line, JOURNAL_VERSION_TAG " ", 3) != 0 ||
-        sscanf(line, "J2 %c %ld %d%n", &mode, &seq, &n, &head) != 3 || line[len - MAC_HEX - 1] != ' ')
+        sscanf(line, "J2 %c %ld %d%n", &mode, &seq, &n, &head) != 3 ||
+        line[len - MAC_HEX - 1] != ' ')
         return refuse(rep, JOURNAL_ERR_FORMAT, "not a journal record (garbage, or another format)");
     if (mode != 'K' && mode != 'U')
         return refuse(rep, JOURNAL_ERR_FORMAT, "unknown mode (neither K nor U)");
     if ((mode == 'K') != (key->keyed != 0))
-        return refuse(rep, JOURNAL_ERR_MODE, mode == 'K' ? "written with a journal key, and this process has none "
-                                                           "(--insecure)"
-                                                         : "written unkeyed (--insecure), and this process has a key");
+        return refuse(rep, JOURNAL_ERR_MODE,
+                      mode == 'K' ? "written with a journal key, and this process has none "
+                                    "(--insecure)"
+                                  : "written unkeyed (--insecure), and this process has a key");
     record_mac(key, line, len - MAC_HEX - 1, hex);
     if (sodium_memcmp(hex, line + len - MAC_HEX, MAC_HEX) != 0)
-        return refuse(rep, JOURNAL_ERR_MAC, key->keyed ? "mac does not match: edited, corrupt, or another key"
-                                                       : "checksum does not match: corrupt or edited");
+        return refuse(rep, JOURNAL_ERR_MAC,
+                      key->keyed ? "mac does not match: edited, corrupt, or another key"
+                                 : "checksum does not match: corrupt or edited");
     if (seq != want_seq) {
-        snprintf(rep->why, sizeof rep->why, "sequence %ld where %ld was due: records missing or out of order",
-                 seq, want_seq);
+        snprintf(rep->why, sizeof rep->why,
+                 "sequence %ld where %ld was due: records missing or out of order", seq, want_seq);
         return JOURNAL_ERR_SEQUENCE;
     }
     if (n < 1 || n > cap)
@@ -175,7 +162,8 @@ static int parse_record(const char *line, const journal_key *key, long want_seq,
     return parse_values(line + head, line + len - MAC_HEX - 1, v, n, rep);
 }
 
-int journal_load_last(const char *path, const journal_key *key, double *v, int cap, journal_report *rep)
+int journal_load_last(const char *path, const journal_key *key, double *v, int cap,
+                      journal_report *rep)
 {
     char line[JOURNAL_LINE_MAX + 2];
     double tmp[JOURNAL_MAX_VALUES];
@@ -201,7 +189,8 @@ int journal_load_last(const char *path, const journal_key *key, double *v, int c
             /* a record's beginning with no end is torn; anything else is garbage */
             best = feof(f) && strncmp(line, JOURNAL_VERSION_TAG " ", 3) == 0
                        ? refuse(rep, JOURNAL_ERR_TORN, "no end of line: the record was cut off")
-                       : refuse(rep, JOURNAL_ERR_FORMAT, "not a journal record (garbage, or longer than any record)");
+                       : refuse(rep, JOURNAL_ERR_FORMAT,
+                                "not a journal record (garbage, or longer than any record)");
             break;
         }
         line[len - 1] = '\0';
@@ -225,11 +214,13 @@ int journal_load_last(const char *path, const journal_key *key, double *v, int c
     return best;
 }
 
-void journal_key_from_bus(journal_key *key, const char *prog)
+void journal_key_from_bus(const auth_bus *bus, journal_key *key, const char *prog)
 {
     memset(key, 0, sizeof *key);
-    key->keyed = auth_bus_journal_key(key->bytes);
+    key->keyed = auth_bus_journal_key(bus, key->bytes);
     if (!key->keyed)
-        fprintf(stderr, "%s: --insecure: journal records are checksummed, not authenticated "
-                        "(an edited journal cannot be told from a good one)\n", prog);
+        fprintf(stderr,
+                "%s: --insecure: journal records are checksummed, not authenticated "
+                "(an edited journal cannot be told from a good one)\n",
+                prog);
 }

@@ -29,8 +29,8 @@
 #include <stdint.h>
 
 #define JOURNAL_MAX_VALUES 256
-#define JOURNAL_KEY_BYTES  32
-#define JOURNAL_MAC_BYTES  16
+#define JOURNAL_KEY_BYTES 32
+#define JOURNAL_MAC_BYTES 16
 
 /* Distinct codes; journal_strerror names them. */
 enum {
@@ -51,25 +51,25 @@ enum {
 /* The key records are authenticated with; keyed = 0: unkeyed (--insecure). */
 typedef struct journal_key {
     uint8_t bytes[JOURNAL_KEY_BYTES];
-    int     keyed;
+    int keyed;
 } journal_key;
 
 typedef struct journal {
-    int      fd;                /* -1 when closed */
-    long     seq;               /* last record's seq: the next is seq + 1 */
-    long     size;              /* bytes of whole records: a failed write is cut back to it */
-    long     appended;
-    int      err_no;            /* errno of the last failure, 0 none */
+    int fd;    /* -1 when closed */
+    long seq;  /* last record's seq: the next is seq + 1 */
+    long size; /* bytes of whole records: a failed write is cut back to it */
+    long appended;
+    int err_no; /* errno of the last failure, 0 none */
     journal_key key;
 } journal;
 
 /* Where and why reading stopped. */
 typedef struct journal_report {
-    long line;                  /* line of the offending record (1-based), or of the last one */
-    long records;               /* whole records read */
-    long last_seq;              /* seq of the last record */
-    int  err_no;                /* JOURNAL_ERR_READ: errno */
-    char why[160];              /* what is wrong with that record */
+    long line;     /* line of the offending record (1-based), or of the last one */
+    long records;  /* whole records read */
+    long last_seq; /* seq of the last record */
+    int err_no;    /* JOURNAL_ERR_READ: errno */
+    char why[160]; /* what is wrong with that record */
 } journal_report;
 
 enum { JOURNAL_APPEND = 0, JOURNAL_TRUNCATE = 1 };
@@ -81,20 +81,22 @@ const char *journal_strerror(int rc);
  * j->seq must then be set to the last seq read (journal_report.last_seq)
  * when appending to an existing journal. JOURNAL_OK or JOURNAL_ERR_OPEN
  * (j->err_no). */
-/* The journal key of this process (auth_bus_journal_key); without one
+struct auth_bus;
+/* The journal key of this process's bus (auth_bus_journal_key); without one
  * (--insecure) says on stderr, as prog, that records are only
  * checksummed. */
-void journal_key_from_bus(journal_key *key, const char *prog);
-int  journal_open(journal *j, const char *path, const journal_key *key, int how);
+void journal_key_from_bus(const struct auth_bus *bus, journal_key *key, const char *prog);
+int journal_open(journal *j, const char *path, const journal_key *key, int how);
 /* One record of n values, written and fsynced: JOURNAL_OK, or
  * JOURNAL_ERR_WRITE / JOURNAL_ERR_SYNC (j->err_no; nothing of the record
  * left in the file, retry later) or JOURNAL_ERR_ARG. */
-int  journal_append(journal *j, const double *v, int n);
+int journal_append(journal *j, const double *v, int n);
 void journal_close(journal *j);
 /* Reads every record of path, checking each: the last one's values into
  * v (capacity cap) and its length; JOURNAL_ERR_NONE when the file is
  * missing or empty; any other JOURNAL_ERR_* refuses the journal, with the
  * record and why in *rep. */
-int  journal_load_last(const char *path, const journal_key *key, double *v, int cap, journal_report *rep);
+int journal_load_last(const char *path, const journal_key *key, double *v, int cap,
+                      journal_report *rep);
 
 #endif

@@ -39,12 +39,14 @@ int joint_ref_check(const tandem_arm_joint_ref_t *r, int arm, const arm_model *m
         return MSG_ERR_ARM;
     if (r->step < 0 || r->step > state_step + 1 || r->step < state_step - stale_steps)
         return MSG_ERR_STEP;
-    if (arm_q_finite(r->q_rad) != 0 || !linalg_all_finite(r->qd_radps, ARM_NJ) || !linalg_all_finite(r->qdd_radps2, ARM_NJ))
+    if (arm_q_finite(r->q_rad) != 0 || !linalg_all_finite(r->qd_radps, ARM_NJ) ||
+        !linalg_all_finite(r->qdd_radps2, ARM_NJ))
         return MSG_ERR_NUMBER;
     if (arm_q_outside_limits(m, r->q_rad) != 0)
         return MSG_ERR_RANGE;
     for (i = 0; i < ARM_NJ; i++) {
-        if (fabs(r->qd_radps[i]) > JOINT_REF_QD_MARGIN * m->qd_max_radps[i] || fabs(r->qdd_radps2[i]) > JOINT_REF_QDD_MAX)
+        if (fabs(r->qd_radps[i]) > JOINT_REF_QD_MARGIN * m->qd_max_radps[i] ||
+            fabs(r->qdd_radps2[i]) > JOINT_REF_QDD_MAX)
             return MSG_ERR_RANGE;
         if (fabs(r->q_rad[i] - q_meas[i]) > JOINT_REF_TRACK_RAD)
             return MSG_ERR_FAR;

@@ -17,21 +17,24 @@
 #include "petri.h"
 
 #define NETC_OK 0
-#define NETC_ERR_IO (-1)          /* a file cannot be read or written     */
-#define NETC_ERR_PNML (-2)        /* the PNML is not a net this tool reads */
-#define NETC_ERR_ROWS (-3)        /* the rows file is malformed            */
-#define NETC_ERR_CAPACITY (-4)    /* more than a PETRI_* or NETC_* maximum */
-#define NETC_ERR_TABLE (-5)       /* petri_net_validate / carry_table_validate
+#define NETC_ERR_IO (-1)       /* a file cannot be read or written     */
+#define NETC_ERR_PNML (-2)     /* the PNML is not a net this tool reads */
+#define NETC_ERR_ROWS (-3)     /* the rows file is malformed            */
+#define NETC_ERR_CAPACITY (-4) /* more than a PETRI_* or NETC_* maximum */
+#define NETC_ERR_TABLE \
+    (-5)                              /* petri_net_validate / carry_table_validate
                                      or the cell refuse the tables        */
-#define NETC_ERR_UNBOUNDED (-6)   /* a place exceeds the bound            */
-#define NETC_ERR_DEADLOCK (-7)    /* a dead marking is reachable          */
+#define NETC_ERR_UNBOUNDED (-6)       /* a place exceeds the bound            */
+#define NETC_ERR_DEADLOCK (-7)        /* a dead marking is reachable          */
 #define NETC_ERR_DEAD_TRANSITION (-8) /* a transition never fires         */
-#define NETC_ERR_NOT_LIVE (-9)    /* a live transition can be lost for good */
-#define NETC_ERR_STATES (-10)     /* the reachable set exceeds PETRI_MAX_STATES */
-#define NETC_ERR_INVARIANT (-11)  /* more P-invariants than
+#define NETC_ERR_NOT_LIVE (-9)        /* a live transition can be lost for good */
+#define NETC_ERR_STATES (-10)         /* the reachable set exceeds PETRI_MAX_STATES */
+#define NETC_ERR_INVARIANT \
+    (-11) /* more P-invariants than
                                      PETRI_MAX_INVARIANTS, or Farkas rows
                                      beyond NETC_MAX_FARKAS_ROWS         */
-#define NETC_ERR_ROLES (-12)      /* the net lacks a role the supervisor
+#define NETC_ERR_ROLES \
+    (-12) /* the net lacks a role the supervisor
                                      needs (taskdef_roles_find)        */
 
 #define NETC_MAX_NAME TASKDEF_MAX_NAME
@@ -91,7 +94,7 @@ int netc_emit(const netc_task *t, const char *dir, const char *pnml, const char 
 int netc_task_load(netc_task *t, const char *dir, int bound, int *bound_out, FILE *out, FILE *err);
 
 /* Helpers shared by the modules. */
-#define netc_task_bind taskdef_bind   /* t->net points into t's arrays */
+#define netc_task_bind taskdef_bind /* t->net points into t's arrays */
 int netc_pose_from_name(const char *s);
 
 #endif

@@ -14,7 +14,7 @@
 #include "netc.h"
 
 #define MAX_TRACE 512
-#define NETC_LOOKUP_SIZE (2 * PETRI_MAX_STATES)   /* power of two, half full at most */
+#define NETC_LOOKUP_SIZE (2 * PETRI_MAX_STATES) /* power of two, half full at most */
 
 typedef struct {
     petri_explore_ws ws;
@@ -49,9 +49,11 @@ static void print_trace(const netc_task *t, const explorer *x, int index, FILE *
         fprintf(f, "  (the path is longer than %d events)\n", MAX_TRACE);
         return;
     }
-    fprintf(f, "  firing sequence from the initial marking:%s", n ? "" : " none, it is the initial marking");
+    fprintf(f, "  firing sequence from the initial marking:%s",
+            n ? "" : " none, it is the initial marking");
     for (k = 0; k < n; k++)
-        fprintf(f, "%s %s %s", k ? "," : "", ev[k] > 0 ? "start" : "complete", t->trans_name[abs(ev[k]) - 1]);
+        fprintf(f, "%s %s %s", k ? "," : "", ev[k] > 0 ? "start" : "complete",
+                t->trans_name[abs(ev[k]) - 1]);
     fprintf(f, "\n  %-34s", "marking");
     for (i = 0; i < t->n_places; i++)
         fprintf(f, " %5.5s", t->place_name[i]);
@@ -63,7 +65,8 @@ static void print_trace(const netc_task *t, const explorer *x, int index, FILE *
             petri_start(&p, j);
         else
             petri_complete(&p, j);
-        snprintf(step, sizeof step, "%d. %s %.20s", k + 1, ev[k] > 0 ? "start" : "complete", t->trans_name[j]);
+        snprintf(step, sizeof step, "%d. %s %.20s", k + 1, ev[k] > 0 ? "start" : "complete",
+                 t->trans_name[j]);
         print_marking_row(t, f, step, &p.st);
     }
 }
@@ -151,13 +154,18 @@ static void close_can(const netc_task *t, explorer *x)
 
 static int gcd(int a, int b)
 {
-    a = abs(a); b = abs(b);
-    while (b) { const int r = a % b; a = b; b = r; }
+    a = abs(a);
+    b = abs(b);
+    while (b) {
+        const int r = a % b;
+        a = b;
+        b = r;
+    }
     return a;
 }
 
 typedef struct {
-    int n, w;                          /* rows, width = tau + rho */
+    int n, w; /* rows, width = tau + rho */
     int v[NETC_MAX_FARKAS_ROWS][2 * PETRI_MAX_PLACES + PETRI_MAX_TRANSITIONS];
 } farkas;
 
@@ -259,8 +267,10 @@ static int find_invariants(netc_task *t, FILE *err)
     if (rc == 0 && n > PETRI_MAX_INVARIANTS)
         rc = NETC_ERR_INVARIANT;
     if (rc != 0)
-        netc_say(err, "the P-invariants exceed PETRI_MAX_INVARIANTS = %d or "
-                "NETC_MAX_FARKAS_ROWS = %d\n", PETRI_MAX_INVARIANTS, NETC_MAX_FARKAS_ROWS);
+        netc_say(err,
+                 "the P-invariants exceed PETRI_MAX_INVARIANTS = %d or "
+                 "NETC_MAX_FARKAS_ROWS = %d\n",
+                 PETRI_MAX_INVARIANTS, NETC_MAX_FARKAS_ROWS);
     else {
         qsort(found, (size_t)n, sizeof found[0], inv_cmp);
         for (i = 0; i < n; i++)
@@ -301,10 +311,17 @@ static void print_invariants(const netc_task *t, FILE *out)
  * that arm's joint ranges; the other arm is not known to reach it. */
 static const int8_t POSE_ARM[CARRY_N_POSES] = {
     [CARRY_POSE_NONE] = -1,
-    [CARRY_POSE_HOME_1] = 0, [CARRY_POSE_ABOVE_WORKPIECE] = 0, [CARRY_POSE_AT_WORKPIECE] = 0,
-    [CARRY_POSE_HANDOVER_1] = 0, [CARRY_POSE_CLEAR_1] = 0,
-    [CARRY_POSE_HOME_2] = 1, [CARRY_POSE_HANDOVER_2] = 1, [CARRY_POSE_ABOVE_RELEASE] = 1,
-    [CARRY_POSE_RELEASE_POSE] = 1, [CARRY_POSE_ABOVE_HANDOVER_1] = 0, [CARRY_POSE_ABOVE_HANDOVER_2] = 1,
+    [CARRY_POSE_HOME_1] = 0,
+    [CARRY_POSE_ABOVE_WORKPIECE] = 0,
+    [CARRY_POSE_AT_WORKPIECE] = 0,
+    [CARRY_POSE_HANDOVER_1] = 0,
+    [CARRY_POSE_CLEAR_1] = 0,
+    [CARRY_POSE_HOME_2] = 1,
+    [CARRY_POSE_HANDOVER_2] = 1,
+    [CARRY_POSE_ABOVE_RELEASE] = 1,
+    [CARRY_POSE_RELEASE_POSE] = 1,
+    [CARRY_POSE_ABOVE_HANDOVER_1] = 0,
+    [CARRY_POSE_ABOVE_HANDOVER_2] = 1,
 };
 
 /* Every move of row j goes to a pose of its own arm. */
@@ -316,7 +333,7 @@ static int check_poses(const netc_task *t, int j, FILE *err)
             const carry_segment *s = &t->rows[j].plan[a].seg[k];
             if (s->kind == CARRY_SEG_MOVE && POSE_ARM[s->pose] != a) {
                 netc_say(err, "row %s: arm %d cannot go to %s, a pose of arm %d in the cell\n",
-                        t->trans_name[j], a + 1, carry_pose_name(s->pose), POSE_ARM[s->pose] + 1);
+                         t->trans_name[j], a + 1, carry_pose_name(s->pose), POSE_ARM[s->pose] + 1);
                 return NETC_ERR_TABLE;
             }
         }
@@ -345,15 +362,23 @@ static int check_roles(const netc_task *t, FILE *err)
     if (rc == TASKDEF_OK)
         return NETC_OK;
     if (rc == TASKDEF_ERR_SOURCE)
-        netc_say(err, "refused: %s source transition (one without input places: the vision system adding a "
-                 "workpiece) where the supervisor needs exactly one (TASKDEF_ERR_SOURCE)\n",
-                 src < 0 ? "no" : "more than one");
+        netc_say(
+            err,
+            "refused: %s source transition (one without input places: the vision system adding a "
+            "workpiece) where the supervisor needs exactly one (TASKDEF_ERR_SOURCE)\n",
+            src < 0 ? "no" : "more than one");
     else if (rc == TASKDEF_ERR_SOURCE_PLACE)
-        netc_say(err, "refused: source transition %s: it must fill exactly one place, and that place must "
-                 "inhibit it (one detection at a time) (TASKDEF_ERR_SOURCE_PLACE)\n", t->trans_name[src]);
+        netc_say(
+            err,
+            "refused: source transition %s: it must fill exactly one place, and that place must "
+            "inhibit it (one detection at a time) (TASKDEF_ERR_SOURCE_PLACE)\n",
+            t->trans_name[src]);
     else
-        netc_say(err, "refused: source transition %s: not exactly one transition takes the workpiece from the "
-                 "place it fills (TASKDEF_ERR_PICK)\n", t->trans_name[src]);
+        netc_say(
+            err,
+            "refused: source transition %s: not exactly one transition takes the workpiece from the "
+            "place it fills (TASKDEF_ERR_PICK)\n",
+            t->trans_name[src]);
     return NETC_ERR_ROLES;
 }
 
@@ -361,19 +386,25 @@ static int check_tables(netc_task *t, FILE *err)
 {
     int j, rc = petri_net_validate(&t->net);
     if (rc != 0) {
-        netc_say(err, "petri_net_validate refuses the net (%d): a transition without "
-                "arcs or inhibited by its own input\n", rc);
+        netc_say(err,
+                 "petri_net_validate refuses the net (%d): a transition without "
+                 "arcs or inhibited by its own input\n",
+                 rc);
         return NETC_ERR_TABLE;
     }
     if ((rc = carry_table_validate(t->rows, t->n_transitions, &t->net)) != 0) {
-        netc_say(err, "carry_table_validate refuses the rows (%d, CARRY_NET_ERR_*: "
-                "include/tandem/carry/carry_net.h)\n", rc);
+        netc_say(err,
+                 "carry_table_validate refuses the rows (%d, CARRY_NET_ERR_*: "
+                 "include/tandem/carry/carry_net.h)\n",
+                 rc);
         return NETC_ERR_TABLE;
     }
     for (j = 0; j < t->n_transitions; j++)
         if (t->rows[j].arms && !carry_gains_within_table(&t->rows[j].lin, 0)) {
-            netc_say(err, "row %s: gains outside what the arms accept "
-                    "(carry_gains_within_table: the shipped table's range)\n", t->trans_name[j]);
+            netc_say(err,
+                     "row %s: gains outside what the arms accept "
+                     "(carry_gains_within_table: the shipped table's range)\n",
+                     t->trans_name[j]);
             return NETC_ERR_TABLE;
         }
     for (j = 0; j < t->n_transitions; j++)
@@ -382,7 +413,8 @@ static int check_tables(netc_task *t, FILE *err)
     return NETC_OK;
 }
 
-static int refuse(const netc_task *t, const explorer *x, int index, int rc, const char *what, FILE *err)
+static int refuse(const netc_task *t, const explorer *x, int index, int rc, const char *what,
+                  FILE *err)
 {
     netc_say(err, "refused: %s\n", what);
     print_trace(t, x, index, err);
@@ -398,34 +430,44 @@ static int check_graph(netc_task *t, explorer *x, int bound, FILE *out, FILE *er
     if (petri_explore(&x->ws, &t->net, bound, &r) != 0)
         return NETC_ERR_TABLE;
     if (!r.complete) {
-        netc_say(err, "refused: more than PETRI_MAX_STATES = %d reachable states\n", PETRI_MAX_STATES);
+        netc_say(err, "refused: more than PETRI_MAX_STATES = %d reachable states\n",
+                 PETRI_MAX_STATES);
         return NETC_ERR_STATES;
     }
     if (!r.bounded || (bound == 1 && !r.safe)) {
         snprintf(what, sizeof what, "a place holds more than %d token%s (bound %d%s)", bound,
                  bound == 1 ? "" : "s", bound, bound == 1 ? ": the net must be safe" : "");
-        return refuse(t, x, r.unbounded_index >= 0 ? r.unbounded_index : r.unsafe_index, NETC_ERR_UNBOUNDED, what, err);
+        return refuse(t, x, r.unbounded_index >= 0 ? r.unbounded_index : r.unsafe_index,
+                      NETC_ERR_UNBOUNDED, what, err);
     }
     if (r.deadlock)
-        return refuse(t, x, r.dead_index, NETC_ERR_DEADLOCK, "deadlock: a reachable marking enables no transition and none is running", err);
+        return refuse(t, x, r.dead_index, NETC_ERR_DEADLOCK,
+                      "deadlock: a reachable marking enables no transition and none is running",
+                      err);
     build_graph(t, x);
     for (i = 0; i < x->ws.n_states; i++)
         fired |= x->can[i];
     for (j = 0; j < t->n_transitions; j++)
         if (!(fired & (1u << j))) {
-            netc_say(err, "refused: transition %s never fires (enabled in none of the %d reachable states)\n",
-                    t->trans_name[j], x->ws.n_states);
+            netc_say(
+                err,
+                "refused: transition %s never fires (enabled in none of the %d reachable states)\n",
+                t->trans_name[j], x->ws.n_states);
             return NETC_ERR_DEAD_TRANSITION;
         }
     close_can(t, x);
     for (j = 0; j < t->n_transitions; j++)
         for (i = 0; t->live[j] && i < x->ws.n_states; i++)
             if (!(x->can[i] & (1u << j))) {
-                snprintf(what, sizeof what, "transition %s is not live: after this it can never fire again", t->trans_name[j]);
+                snprintf(what, sizeof what,
+                         "transition %s is not live: after this it can never fire again",
+                         t->trans_name[j]);
                 return refuse(t, x, i, NETC_ERR_NOT_LIVE, what, err);
             }
-    fprintf(out, "reachability: %d states (split firing: start and completion), bound %d: %s, "
-            "deadlock-free, every transition fires, live:", r.n_states, bound, r.safe ? "safe" : "bounded");
+    fprintf(out,
+            "reachability: %d states (split firing: start and completion), bound %d: %s, "
+            "deadlock-free, every transition fires, live:",
+            r.n_states, bound, r.safe ? "safe" : "bounded");
     for (j = 0; j < t->n_transitions; j++)
         if (t->live[j])
             fprintf(out, " %s", t->trans_name[j]);

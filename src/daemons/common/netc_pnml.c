@@ -73,12 +73,14 @@ static int copy_attr(const xmlNode *n, const char *name, char *out, size_t size)
 /* A name or id longer than the tables hold: refused naming the limit. */
 static void too_long(pnml_reader *r, const char *what)
 {
-    netc_say(r->err, "%s: %s longer than %d characters (TASKDEF_MAX_NAME)\n", r->path, what, NETC_MAX_NAME - 1);
+    netc_say(r->err, "%s: %s longer than %d characters (TASKDEF_MAX_NAME)\n", r->path, what,
+             NETC_MAX_NAME - 1);
     r->rc = NETC_ERR_CAPACITY;
 }
 
 /* An integer label: "3", or PIPE's "Default,3"; `dflt` when absent. */
-static int label_int(pnml_reader *r, const xmlNode *n, const char *label, int dflt, const char *what)
+static int label_int(pnml_reader *r, const xmlNode *n, const char *label, int dflt,
+                     const char *what)
 {
     char buf[64], *p, *end;
     long v;
@@ -91,7 +93,8 @@ static int label_int(pnml_reader *r, const xmlNode *n, const char *label, int df
     while (*end == ' ' || *end == '\n' || *end == '\t' || *end == '\r')
         end++;
     if (got == TEXT_TOO_LONG || end == p || *end || v < 0 || v > PETRI_TOKEN_MAX) {
-        netc_say(r->err, "%s: %s \"%s\": not an integer 0..%d\n", r->path, what, buf, PETRI_TOKEN_MAX);
+        netc_say(r->err, "%s: %s \"%s\": not an integer 0..%d\n", r->path, what, buf,
+                 PETRI_TOKEN_MAX);
         r->rc = NETC_ERR_PNML;
         return 0;
     }
@@ -106,7 +109,7 @@ static void add_node(pnml_reader *r, const xmlNode *n, int is_place)
     char *id, *name;
     if (*count >= max) {
         netc_say(r->err, "%s: more than %d %s (PETRI_MAX_%s)\n", r->path, max,
-                is_place ? "places" : "transitions", is_place ? "PLACES" : "TRANSITIONS");
+                 is_place ? "places" : "transitions", is_place ? "PLACES" : "TRANSITIONS");
         r->rc = NETC_ERR_CAPACITY;
         return;
     }
@@ -123,9 +126,7 @@ static void add_node(pnml_reader *r, const xmlNode *n, int is_place)
         too_long(r, what);
         return;
     }
-    case 0:
-        snprintf(name, NETC_MAX_NAME, "%s", id);
-        break;
+    case 0: snprintf(name, NETC_MAX_NAME, "%s", id); break;
     default:
         if (!name[0])
             snprintf(name, NETC_MAX_NAME, "%s", id);
@@ -154,11 +155,12 @@ static void add_arc(pnml_reader *r, const xmlNode *n)
     a->inhibitor = 0;
     if (ty) {
         char v[32];
-        (void)copy_attr(ty, "value", v, sizeof v);   /* a longer one is no type we read either */
+        (void)copy_attr(ty, "value", v, sizeof v); /* a longer one is no type we read either */
         if (strcmp(v, "inhibitor") == 0)
             a->inhibitor = 1;
         else if (strcmp(v, "normal") != 0 && v[0]) {
-            netc_say(r->err, "%s: arc %s -> %s: type \"%s\" not read (normal, inhibitor)\n", r->path, a->src, a->dst, v);
+            netc_say(r->err, "%s: arc %s -> %s: type \"%s\" not read (normal, inhibitor)\n",
+                     r->path, a->src, a->dst, v);
             r->rc = NETC_ERR_PNML;
         }
     }
@@ -198,19 +200,23 @@ static void resolve_arc(pnml_reader *r, const pnml_arc *a)
     int j = find_id(t->trans_id, t->n_transitions, a->dst);
     int8_t *e;
     if (p >= 0 && j >= 0)
-        e = a->inhibitor ? &t->n_inhibit[p * t->n_transitions + j] : &t->n_minus[p * t->n_transitions + j];
-    else if ((j = find_id(t->trans_id, t->n_transitions, a->src)) >= 0
-             && (p = find_id(t->place_id, t->n_places, a->dst)) >= 0 && !a->inhibitor)
+        e = a->inhibitor ? &t->n_inhibit[p * t->n_transitions + j]
+                         : &t->n_minus[p * t->n_transitions + j];
+    else if ((j = find_id(t->trans_id, t->n_transitions, a->src)) >= 0 &&
+             (p = find_id(t->place_id, t->n_places, a->dst)) >= 0 && !a->inhibitor)
         e = &t->n_plus[p * t->n_transitions + j];
     else {
-        netc_say(r->err, "%s: arc %s -> %s: not place -> transition or transition -> place%s\n", r->path, a->src, a->dst, a->inhibitor ? " (an inhibitor arc goes from a place)" : "");
+        netc_say(r->err, "%s: arc %s -> %s: not place -> transition or transition -> place%s\n",
+                 r->path, a->src, a->dst,
+                 a->inhibitor ? " (an inhibitor arc goes from a place)" : "");
         r->rc = NETC_ERR_PNML;
         return;
     }
     if (a->weight != 1 || *e != 0) {
-        netc_say(r->err, "%s: arc %s -> %s: weight %d; the supervisor's engine takes "
-                "weight 1 and one arc per pair (petri.h: entries 0/1)\n",
-                r->path, a->src, a->dst, *e ? *e + a->weight : a->weight);
+        netc_say(r->err,
+                 "%s: arc %s -> %s: weight %d; the supervisor's engine takes "
+                 "weight 1 and one arc per pair (petri.h: entries 0/1)\n",
+                 r->path, a->src, a->dst, *e ? *e + a->weight : a->weight);
         r->rc = NETC_ERR_CAPACITY;
         return;
     }

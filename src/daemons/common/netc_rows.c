@@ -12,39 +12,21 @@
 #include "netc.h"
 
 #define LINE_MAX_CHARS 512
-#define N_FIELDS NETC_ROW_FIELDS   /* transition,live,gains,sync_group,arm1,arm2,name */
+#define N_FIELDS NETC_ROW_FIELDS /* transition,live,gains,sync_group,arm1,arm2,name */
 
 static const char *const HEADER = "transition,live,gains,sync_group,arm1,arm2,name";
 
 typedef struct {
     const char *name;
-    int transition;   /* the shipped row whose gains these are */
+    int transition; /* the shipped row whose gains these are */
 } named_gains;
 
 /* The shipped table's gain sets, by the names carry_net.c gives them. */
 static const named_gains GAINS[] = {
-    { "FREE", CARRY_T1 }, { "FINE", CARRY_T2 }, { "SYNC", CARRY_T3 },
+    { "FREE", CARRY_T1 },
+    { "FINE", CARRY_T2 },
+    { "SYNC", CARRY_T3 },
 };
-
-const char *netc_strerror(int rc)
-{
-    switch (rc) {
-    case NETC_OK: return "ok";
-    case NETC_ERR_IO: return "a file cannot be read or written";
-    case NETC_ERR_PNML: return "not a PNML place/transition net this tool reads";
-    case NETC_ERR_ROWS: return "the rows file is malformed";
-    case NETC_ERR_CAPACITY: return "beyond a fixed capacity of the supervisor";
-    case NETC_ERR_TABLE: return "the tables are refused by their validators";
-    case NETC_ERR_UNBOUNDED: return "a place exceeds its token bound";
-    case NETC_ERR_DEADLOCK: return "a dead marking is reachable";
-    case NETC_ERR_DEAD_TRANSITION: return "a transition never fires";
-    case NETC_ERR_NOT_LIVE: return "a transition that must stay live can be lost";
-    case NETC_ERR_STATES: return "the reachable set exceeds PETRI_MAX_STATES";
-    case NETC_ERR_INVARIANT: return "P-invariants beyond their capacity";
-    case NETC_ERR_ROLES: return "the net lacks a role the supervisor needs (source, its place, the pick)";
-    default: return "unknown error";
-    }
-}
 
 int netc_pose_from_name(const char *s)
 {
@@ -101,8 +83,14 @@ static int parse_gains(const char *s, erlaw_gains *g)
     }
     if (*trim((char *)p))
         return -1;
-    g->v_m = v[0]; g->a_m = v[1]; g->u_m = v[2]; g->k_p = v[3];
-    g->k_v = v[4]; g->k0 = v[5]; g->k1 = v[6]; g->k2 = v[7];
+    g->v_m = v[0];
+    g->a_m = v[1];
+    g->u_m = v[2];
+    g->k_p = v[3];
+    g->k_v = v[4];
+    g->k0 = v[5];
+    g->k1 = v[6];
+    g->k2 = v[7];
     return 0;
 }
 
@@ -143,7 +131,8 @@ static int parse_plan(char *s, carry_row *r, int a)
         s += 6;
     }
     for (tok = strtok(s, ";"); tok; tok = strtok(NULL, ";")) {
-        if (pl->n_segments >= CARRY_MAX_SEGMENTS || parse_segment(tok, &pl->seg[pl->n_segments]) != 0)
+        if (pl->n_segments >= CARRY_MAX_SEGMENTS ||
+            parse_segment(tok, &pl->seg[pl->n_segments]) != 0)
             return -1;
         pl->n_segments++;
     }
@@ -188,11 +177,13 @@ int netc_row_fields(netc_task *t, char *f[NETC_ROW_FIELDS], const char **what)
     r->sync_group = (int32_t)sync;
     if (parse_plan(f[4], r, 0) != 0 || parse_plan(f[5], r, 1) != 0)
         return *what = "arm1/arm2 (-, or [AFTER ]MOVE POSE; GRASP; RELEASE, at most "
-                       "CARRY_MAX_SEGMENTS, poses of the cell)", -1;
+                       "CARRY_MAX_SEGMENTS, poses of the cell)",
+               -1;
     if (!f[6][0])
         return *what = "name", -1;
-    if (strlen(f[6]) >= sizeof t->row_name[j])   /* refused, not cut */
-        return *what = "name: longer than the tables hold (TASKDEF_MAX_ROW_NAME - 1 characters)", -1;
+    if (strlen(f[6]) >= sizeof t->row_name[j]) /* refused, not cut */
+        return *what = "name: longer than the tables hold (TASKDEF_MAX_ROW_NAME - 1 characters)",
+               -1;
     snprintf(t->row_name[j], sizeof t->row_name[j], "%s", f[6]);
     r->name = t->row_name[j];
     t->has_row[j] = 1;

@@ -16,11 +16,12 @@ enum { F_TRANSITION, F_LIVE, F_GAINS, F_SYNC, F_ARM1, F_ARM2, F_NAME };
  * (an arm left out does nothing, sync_group left out is 0). */
 static const struct {
     const char *key;
-    const char *dflt;    /* NULL: required */
-    const char *join;    /* a list's items joined with this */
+    const char *dflt; /* NULL: required */
+    const char *join; /* a list's items joined with this */
 } FIELDS[NETC_ROW_FIELDS] = {
     { "transition", NULL, NULL }, { "live", NULL, NULL }, { "gains", NULL, " " },
-    { "sync_group", "0", NULL },  { "arm1", "-", "; " },  { "arm2", "-", "; " }, { "name", NULL, NULL },
+    { "sync_group", "0", NULL },  { "arm1", "-", "; " },  { "arm2", "-", "; " },
+    { "name", NULL, NULL },
 };
 
 typedef struct {
@@ -32,7 +33,8 @@ typedef struct {
 
 static int say(const yrows *y, const yaml_node_t *n, const char *what)
 {
-    netc_say(y->err, "%s:%lu: %s\n", y->path, n ? (unsigned long)n->start_mark.line + 1 : 0UL, what);
+    netc_say(y->err, "%s:%lu: %s\n", y->path, n ? (unsigned long)n->start_mark.line + 1 : 0UL,
+             what);
     return NETC_ERR_ROWS;
 }
 
@@ -73,7 +75,7 @@ static int field_text(yrows *y, const yaml_node_t *n, const char *join, char *ou
         len += (size_t)w;
     }
     if (len == 0)
-        snprintf(out, FIELD_CHARS, "-");   /* an empty list: the arm does nothing */
+        snprintf(out, FIELD_CHARS, "-"); /* an empty list: the arm does nothing */
     return 0;
 }
 
@@ -92,7 +94,9 @@ static int read_row(yrows *y, netc_task *t, const yaml_node_t *row)
     const char *what = NULL;
     int k;
     if (row->type != YAML_MAPPING_NODE)
-        return say(y, row, "a row is a mapping (transition:, live:, gains:, sync_group:, arm1:, arm2:, name:)");
+        return say(
+            y, row,
+            "a row is a mapping (transition:, live:, gains:, sync_group:, arm1:, arm2:, name:)");
     for (k = 0; k < NETC_ROW_FIELDS; k++) {
         const yaml_node_t *n = map_get(y, row, FIELDS[k].key);
         f[k] = y->text[k];
@@ -117,7 +121,8 @@ static int read_row(yrows *y, netc_task *t, const yaml_node_t *row)
 int netc_is_yaml(const char *path)
 {
     const size_t n = path ? strlen(path) : 0;
-    return (n > 5 && strcmp(path + n - 5, ".yaml") == 0) || (n > 4 && strcmp(path + n - 4, ".yml") == 0);
+    return (n > 5 && strcmp(path + n - 5, ".yaml") == 0) ||
+           (n > 4 && strcmp(path + n - 4, ".yml") == 0);
 }
 
 int netc_rows_read_yaml(netc_task *t, const char *path, FILE *err)

@@ -95,7 +95,8 @@ int netc_task_load(netc_task *t, const char *dir, int bound, int *bound_out, FIL
         return rc;
     if ((rc = find_rows(dir, rows, sizeof rows, err)) != NETC_OK)
         return rc;
-    if ((rc = netc_pnml_read(t, pnml, err)) != NETC_OK || (rc = netc_rows_read(t, rows, err)) != NETC_OK)
+    if ((rc = netc_pnml_read(t, pnml, err)) != NETC_OK ||
+        (rc = netc_rows_read(t, rows, err)) != NETC_OK)
         return rc;
     return netc_check_bound(t, bound, bound_out, out, err);
 }

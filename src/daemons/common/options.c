@@ -11,9 +11,9 @@
 #include "formation.h"
 #include "rover_world.h"
 
-#define HELP_COLUMN 22   /* descriptions start here */
-#define HELP_WIDTH  79
-#define DESC_MAX    1024
+#define HELP_COLUMN 22 /* descriptions start here */
+#define HELP_WIDTH 79
+#define DESC_MAX 1024
 
 typedef struct found {
     const option_entry *e;
@@ -28,7 +28,8 @@ typedef struct found {
 
 /* The entry named by name[0..len) (exact, else a unique prefix when
  * prefixes are allowed). 0 found, FIND_NONE or FIND_AMBIGUOUS. */
-static int find_long(const option_program *p, const char *name, size_t len, int prefixes, found *out)
+static int find_long(const option_program *p, const char *name, size_t len, int prefixes,
+                     found *out)
 {
     int g, n_prefix = 0;
     const option_entry *e;
@@ -137,7 +138,8 @@ static int store_double(const option_program *p, const found *f, char **words)
             if (e->max >= HUGE_VAL)
                 fprintf(stderr, "%s: --%s: %g is below %g\n", p->name, e->name, v[i], e->min);
             else
-                fprintf(stderr, "%s: --%s: %g is outside [%g, %g]\n", p->name, e->name, v[i], e->min, e->max);
+                fprintf(stderr, "%s: --%s: %g is outside [%g, %g]\n", p->name, e->name, v[i],
+                        e->min, e->max);
             return OPTIONS_ERR_ARG;
         }
         if (e->scale != 0.0)
@@ -153,8 +155,8 @@ static int store_string(const option_program *p, const found *f, const char *s)
     const size_t len = strlen(s);
     if ((double)len < e->min || (e->max > 0.0 && (double)len > e->max)) {
         if (e->max > 0.0)
-            fprintf(stderr, "%s: --%s: '%s' is not %g to %g characters long\n", p->name, e->name, s, e->min,
-                    e->max);
+            fprintf(stderr, "%s: --%s: '%s' is not %g to %g characters long\n", p->name, e->name, s,
+                    e->min, e->max);
         else
             fprintf(stderr, "%s: --%s: '%s' is empty\n", p->name, e->name, s);
         return OPTIONS_ERR_ARG;
@@ -226,18 +228,14 @@ static int apply(const option_program *p, const found *f, char **words)
         else
             memcpy(dest_of(f), &one, sizeof one);
         break;
-    case OPTION_INT:     rc = store_int(p, f, words[0]); break;
-    case OPTION_DOUBLE:  rc = store_double(p, f, words); break;
-    case OPTION_STRING:  rc = store_string(p, f, words[0]); break;
-    case OPTION_CHOICE:  rc = store_choice(p, f, words[0]); break;
-    case OPTION_LIST:    rc = store_list(p, f, words[0]); break;
-    case OPTION_CALL:    rc = store_call(p, f, words[0]); break;
-    case OPTION_HELP:
-        options_print_help(p, stdout);
-        return OPTIONS_EXIT;
-    case OPTION_VERSION:
-        daemon_print_version(p->name);
-        return OPTIONS_EXIT;
+    case OPTION_INT: rc = store_int(p, f, words[0]); break;
+    case OPTION_DOUBLE: rc = store_double(p, f, words); break;
+    case OPTION_STRING: rc = store_string(p, f, words[0]); break;
+    case OPTION_CHOICE: rc = store_choice(p, f, words[0]); break;
+    case OPTION_LIST: rc = store_list(p, f, words[0]); break;
+    case OPTION_CALL: rc = store_call(p, f, words[0]); break;
+    case OPTION_HELP: options_print_help(p, stdout); return OPTIONS_EXIT;
+    case OPTION_VERSION: daemon_print_version(p->name); return OPTIONS_EXIT;
     }
     if (rc == 0 && e->seen)
         memcpy((char *)f->base + e->seen - 1, &one, sizeof one);
@@ -296,7 +294,8 @@ static int check_required(const option_program *p)
                 continue;
             memcpy(&one, (char *)p->groups[g].base + e->seen - 1, sizeof one);
             if (!one) {
-                fprintf(stderr, "%s: --%s %s is required\n", p->name, e->name, e->meta ? e->meta : "");
+                fprintf(stderr, "%s: --%s %s is required\n", p->name, e->name,
+                        e->meta ? e->meta : "");
                 return OPTIONS_ERR_ARG;
             }
         }
@@ -331,8 +330,8 @@ int options_parse(const option_program *p, int argc, char **argv, int first)
                 continue;
             }
             if (i + 1 >= argc) {
-                fprintf(stderr, "%s: --%s needs %s%s\n", p->name, f.e->name, n > 1 ? "values " : "a value ",
-                        f.e->meta ? f.e->meta : "");
+                fprintf(stderr, "%s: --%s needs %s%s\n", p->name, f.e->name,
+                        n > 1 ? "values " : "a value ", f.e->meta ? f.e->meta : "");
                 return OPTIONS_ERR_ARG;
             }
             words[k] = argv[++i];
@@ -383,7 +382,8 @@ static void describe(const option_entry *e, char *d, size_t cap)
         else if (e->max >= HUGE_VAL)
             add(d, cap, "%s>= %g", d[0] ? "; " : "", e->min, 0);
         else
-            add(d, cap, e->type == OPTION_INT ? "%s%.0f..%.0f" : "%s%g..%g", d[0] ? "; " : "", e->min, e->max);
+            add(d, cap, e->type == OPTION_INT ? "%s%.0f..%.0f" : "%s%g..%g", d[0] ? "; " : "",
+                e->min, e->max);
     }
     if (e->type == OPTION_STRING && e->max > 0.0)
         add(d, cap, "%s%g..%g characters", d[0] ? "; " : "", e->min, e->max);
@@ -489,7 +489,8 @@ static int entry_validate(const option_entry *e)
             return entry_bad(e, "destination is not nargs doubles (nargs <= 8)");
         return e->min <= e->max ? 0 : entry_bad(e, "min > max");
     case OPTION_STRING:
-        return e->size == sizeof(const char *) ? 0 : entry_bad(e, "destination is not a const char *");
+        return e->size == sizeof(const char *) ? 0
+                                               : entry_bad(e, "destination is not a const char *");
     case OPTION_CHOICE:
         if (!e->choices || !e->choices[0])
             return entry_bad(e, "no choices");
@@ -498,11 +499,9 @@ static int entry_validate(const option_entry *e)
         if (e->max < 1.0 || e->size != (size_t)e->max * sizeof(const char *))
             return entry_bad(e, "destination is not const char *[max]");
         return 0;
-    case OPTION_CALL:
-        return e->call ? 0 : entry_bad(e, "no handler");
+    case OPTION_CALL: return e->call ? 0 : entry_bad(e, "no handler");
     case OPTION_HELP:
-    case OPTION_VERSION:
-        return 0;
+    case OPTION_VERSION: return 0;
     }
     return entry_bad(e, "unknown type");
 }
@@ -531,47 +530,103 @@ const char *const options_arm_model_names[] = { "puma560", "seed002", NULL };
 const char *const options_on_off[] = { "on", "off", NULL };
 const int options_on_off_flags[] = { 1, 0 };
 
-static int key_file(const char *prog, void *dest, char *value)
+/* --key-file and --insecure onto the bus of the group's destination: a
+ * daemon's (options_daemon_common) or a tool's (options_bus_tool) */
+static int bus_option(auth_bus *bus, const char *prog, int opt, const char *value)
 {
-    (void)dest;
-    return auth_bus_option(prog, OPT_KEY_FILE, value) > 0 ? 0 : OPTIONS_ERR_SAID;
+    return auth_bus_option(bus, prog, opt, value) > 0 ? 0 : OPTIONS_ERR_SAID;
 }
 
-static int insecure(const char *prog, void *dest, char *value)
+static int daemon_key_file(const char *prog, void *dest, char *value)
 {
-    (void)dest;
-    return auth_bus_option(prog, OPT_INSECURE, value) > 0 ? 0 : OPTIONS_ERR_SAID;
+    return bus_option(&((daemon *)dest)->bus, prog, OPT_KEY_FILE, value);
 }
 
-#define BUS_KEY_ENTRIES \
-    { .name = "key-file", .type = OPTION_CALL, .call = key_file, .repeatable = 1, .meta = "PATH", \
-      .help = "bus key (default $" AUTH_BUS_KEY_ENV ", else ${XDG_CONFIG_HOME:-~/.config}/tandem/bus.key " \
+static int daemon_insecure(const char *prog, void *dest, char *value)
+{
+    return bus_option(&((daemon *)dest)->bus, prog, OPT_INSECURE, value);
+}
+
+static int tool_key_file(const char *prog, void *dest, char *value)
+{
+    return bus_option(((options_bus *)dest)->bus, prog, OPT_KEY_FILE, value);
+}
+
+static int tool_insecure(const char *prog, void *dest, char *value)
+{
+    return bus_option(((options_bus *)dest)->bus, prog, OPT_INSECURE, value);
+}
+
+#define BUS_KEY_ENTRIES(key_file, insecure)                                          \
+    { .name = "key-file",                                                            \
+      .type = OPTION_CALL,                                                           \
+      .call = (key_file),                                                            \
+      .repeatable = 1,                                                               \
+      .meta = "PATH",                                                                \
+      .help = "bus key (default $" AUTH_BUS_KEY_ENV                                  \
+              ", else ${XDG_CONFIG_HOME:-~/.config}/tandem/bus.key "                 \
               "if it exists); twice while rotating: the first signs, both verify" }, \
-    { .name = "insecure", .type = OPTION_FLAG, .call = insecure, \
-      .help = "no authentication: nothing signed, nothing checked" }
+    {                                                                                \
+        .name = "insecure", .type = OPTION_FLAG, .call = (insecure),                 \
+        .help = "no authentication: nothing signed, nothing checked"                 \
+    }
 
 const option_entry options_daemon_common[] = {
-    { .name = "lcm-url", .type = OPTION_STRING, OPTION_AT(daemon, lcm_url), .min = 1, .meta = "URL",
-      .help = "LCM provider", .def = DAEMON_DEFAULT_LCM_URL ", or $LCM_DEFAULT_URL when set" },
-    { .name = "rt", .type = OPTION_INT, OPTION_AT(daemon, rt_prio), .min = 1, .max = 99, .meta = "PRIO",
-      .help = "SCHED_FIFO priority and mlockall (warns and goes on without them when not permitted)" },
-    { .name = "lockstep", .type = OPTION_FLAG, OPTION_AT(daemon, lockstep),
+    { .name = "lcm-url",
+      .type = OPTION_STRING,
+      OPTION_AT(daemon, lcm_url),
+      .min = 1,
+      .meta = "URL",
+      .help = "LCM provider",
+      .def = DAEMON_DEFAULT_LCM_URL ", or $LCM_DEFAULT_URL when set" },
+    { .name = "rt",
+      .type = OPTION_INT,
+      OPTION_AT(daemon, rt_prio),
+      .min = 1,
+      .max = 99,
+      .meta = "PRIO",
+      .help =
+          "SCHED_FIFO priority and mlockall (warns and goes on without them when not permitted)" },
+    { .name = "lockstep",
+      .type = OPTION_FLAG,
+      OPTION_AT(daemon, lockstep),
       .help = "follow the simulator's clock (deterministic) instead of the wall clock" },
-    { .name = "period-ms", .type = OPTION_DOUBLE, OPTION_AT(daemon, period_s), .min = 0.05, .max = 10000.0,
-      .scale = 1e-3, .meta = "MS", .help = "control period" },
+    { .name = "period-ms",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(daemon, period_s),
+      .min = 0.05,
+      .max = 10000.0,
+      .scale = 1e-3,
+      .meta = "MS",
+      .help = "control period" },
     { .name = "help", .type = OPTION_HELP, .help = "this text" },
-    { .name = "version", .type = OPTION_VERSION, .help = "program version (git describe at build time)" },
-    BUS_KEY_ENTRIES,
-    { .name = "drop-rate", .type = OPTION_DOUBLE, OPTION_AT(daemon, drop_rate), .min = 0.0, .max = 0.9,
-      .meta = "P", .help = "fault injection: drop received messages with probability P" },
-    { .name = "drop-seed", .type = OPTION_INT, OPTION_AT(daemon, drop_seed), .min = 0, .max = 2147483647.0,
-      .meta = "S", .help = "seed of the drops: same seed, same drops", .def = "1" },
+    { .name = "version",
+      .type = OPTION_VERSION,
+      .help = "program version (git describe at build time)" },
+    BUS_KEY_ENTRIES(daemon_key_file, daemon_insecure),
+    { .name = "drop-rate",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(daemon, drop_rate),
+      .min = 0.0,
+      .max = 0.9,
+      .meta = "P",
+      .help = "fault injection: drop received messages with probability P" },
+    { .name = "drop-seed",
+      .type = OPTION_INT,
+      OPTION_AT(daemon, drop_seed),
+      .min = 0,
+      .max = 2147483647.0,
+      .meta = "S",
+      .help = "seed of the drops: same seed, same drops",
+      .def = "1" },
     { .name = NULL }
 };
 
-const option_entry options_bus_tool[] = {
-    { .name = "lcm-url", .type = OPTION_STRING, .offset = 0, .size = sizeof(const char *), .meta = "URL",
-      .help = "LCM provider", .def = "$LCM_DEFAULT_URL or " DAEMON_DEFAULT_LCM_URL },
-    BUS_KEY_ENTRIES,
-    { .name = NULL }
-};
+const option_entry options_bus_tool[] = { { .name = "lcm-url",
+                                            .type = OPTION_STRING,
+                                            OPTION_AT(options_bus, url),
+                                            .meta = "URL",
+                                            .help = "LCM provider",
+                                            .def = "$LCM_DEFAULT_URL or " DAEMON_DEFAULT_LCM_URL },
+                                          BUS_KEY_ENTRIES(tool_key_file, tool_insecure),
+                                          { .name = NULL } };

@@ -78,7 +78,7 @@ int peer_dead(const peer_watch *w, int64_t now_ns, int64_t silent_ns)
 {
     int64_t cpu;
     switch (peer_proc_of(w->pid)) {
-    case PEER_PROC_GONE:    return 1;
+    case PEER_PROC_GONE: return 1;
     case PEER_PROC_STOPPED: return 0;
     case PEER_PROC_UNKNOWN: return now_ns - w->heard_ns > silent_ns;
     default:

@@ -15,10 +15,10 @@
 
 /* What the operating system says about a process. */
 typedef enum peer_proc {
-    PEER_PROC_UNKNOWN = 0,  /* no pid known, or it cannot be asked */
-    PEER_PROC_GONE,         /* no such process, or a zombie: it will never answer */
-    PEER_PROC_STOPPED,      /* stopped (SIGSTOP, a debugger): alive, resumes later */
-    PEER_PROC_RUNNING       /* running, runnable or sleeping */
+    PEER_PROC_UNKNOWN = 0, /* no pid known, or it cannot be asked */
+    PEER_PROC_GONE,        /* no such process, or a zombie: it will never answer */
+    PEER_PROC_STOPPED,     /* stopped (SIGSTOP, a debugger): alive, resumes later */
+    PEER_PROC_RUNNING      /* running, runnable or sleeping */
 } peer_proc;
 
 /* What is known of one peer: its pid (0: none yet) and when it was last
@@ -26,24 +26,24 @@ typedef enum peer_proc {
 typedef struct peer_watch {
     int32_t pid;
     int64_t heard_ns;
-    int64_t heard_cpu_ns;   /* its CPU time (user + system) then, -1 unknown */
+    int64_t heard_cpu_ns; /* its CPU time (user + system) then, -1 unknown */
 } peer_watch;
 
 peer_proc peer_proc_of(int32_t pid);
 /* The CPU time (user + system) the process has had, -1 if unknown. */
-int64_t   peer_cpu_ns(int32_t pid);
+int64_t peer_cpu_ns(int32_t pid);
 /* Something came from the peer at now_ns; pid > 0 replaces the known pid. */
-void      peer_heard(peer_watch *w, int32_t pid, int64_t now_ns);
+void peer_heard(peer_watch *w, int32_t pid, int64_t now_ns);
 /* 1 when the peer is taken as dead at now_ns: its process is gone; or
  * nothing was heard from it for more than silent_ns and either its process
  * is not known or it ran for more than a quarter of silent_ns of CPU time
  * meanwhile (hangs). A stopped process, and one starved of the processor,
  * is never dead: it is waited for. */
-int       peer_dead(const peer_watch *w, int64_t now_ns, int64_t silent_ns);
+int peer_dead(const peer_watch *w, int64_t now_ns, int64_t silent_ns);
 
 /* The robots a daemon's name says it hosts: 1 and *lo..*hi for
  * "tandem-rover-K" / "tandem-rover-A-B" (tandem-rover's name), 0 for
  * any other name. */
-int       peer_rover_range(const char *name, long *lo, long *hi);
+int peer_rover_range(const char *name, long *lo, long *hi);
 
 #endif

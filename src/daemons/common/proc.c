@@ -39,19 +39,19 @@ static int own_dir(char *out, size_t cap)
     return 0;
 }
 
-void proc_init(proc_set *p, const char *bin_dir)
+void proc_init(proc_set *p, const auth_bus *bus, const char *bin_dir)
 {
     const char *env = getenv("TANDEM_BIN");
     memset(p, 0, sizeof *p);
-    auth_child_keys_init(&p->keys);
+    auth_child_keys_init(&p->keys, bus);
     if (bin_dir || env)
         snprintf(p->bin, sizeof p->bin, "%s", bin_dir ? bin_dir : env);
     else if (own_dir(p->bin, sizeof p->bin) != 0)
         snprintf(p->bin, sizeof p->bin, "build/bin");
 }
 
-pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url,
-                 const char *out_path, const char *err_path)
+pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url, const char *out_path,
+                 const char *err_path)
 {
     int fds[2] = { -1, -1 };
     pid_t pid;
@@ -203,7 +203,7 @@ int proc_mkdir_p(const char *dir)
     for (i = 1; path[i]; i++)
         if (path[i] == '/') {
             path[i] = '\0';
-            mkdir(path, 0755);   /* a step that exists, or fails: the last mkdir says */
+            mkdir(path, 0755); /* a step that exists, or fails: the last mkdir says */
             path[i] = '/';
         }
     return mkdir(path, 0755) != 0 && errno != EEXIST ? PROC_ERR_SYS : 0;

@@ -98,7 +98,7 @@ static void trampoline(const lcm_recv_buf_t *rb_in, const char *ch, void *u)
     const wire_type *t;
     int64_t seq;
     int rc;
-    rc = auth_bus_accept(rb_in, ch, &body);
+    rc = auth_bus_accept(&s->d->bus, rb_in, ch, &body);
     if (rc != AUTH_OK) {
         /* a forged channel name must not take a slot of the table */
         c = channel_known(rx, ch);

@@ -19,21 +19,21 @@
 #include <stdint.h>
 #include <lcm/lcm.h>
 
-#define RX_MAX_CHANNELS 32     /* per process; more are summed in "(other)" */
-#define RX_MAX_SUBS     64
-#define RX_STREAMS      8      /* senders told apart per channel */
+#define RX_MAX_CHANNELS 32 /* per process; more are summed in "(other)" */
+#define RX_MAX_SUBS 64
+#define RX_STREAMS 8 /* senders told apart per channel */
 #define RX_CHANNEL_NAME 48
 
 typedef struct rx_channel {
-    char    name[RX_CHANNEL_NAME];
-    int64_t received;          /* passed the wire check */
-    int64_t rejected;          /* failed it */
-    int64_t lost;              /* sequence gaps */
-    int64_t dropped;           /* dropped on purpose (--drop-rate) */
-    int64_t auth_rejected;     /* refused by auth_bus_accept */
-    int64_t copies;            /* every arrival, for the drop hash */
+    char name[RX_CHANNEL_NAME];
+    int64_t received;      /* passed the wire check */
+    int64_t rejected;      /* failed it */
+    int64_t lost;          /* sequence gaps */
+    int64_t dropped;       /* dropped on purpose (--drop-rate) */
+    int64_t auth_rejected; /* refused by auth_bus_accept */
+    int64_t copies;        /* every arrival, for the drop hash */
     int64_t last_seq[RX_STREAMS];
-    int     n_streams;
+    int n_streams;
 } rx_channel;
 
 struct daemon;
@@ -44,7 +44,7 @@ typedef struct rx_sub {
     lcm_msg_handler_t handler;
     void *user;
     char channel[RX_CHANNEL_NAME];
-    lcm_t *lcm;                        /* the handle it is subscribed on, and how */
+    lcm_t *lcm; /* the handle it is subscribed on, and how */
     lcm_subscription_t *sub;
 } rx_sub;
 
@@ -52,16 +52,16 @@ typedef struct rx_sub {
  * is shared between daemons of one process (the unit tests run several). */
 typedef struct rx_state {
     rx_channel chans[RX_MAX_CHANNELS];
-    int        n_chans;
-    rx_sub     subs[RX_MAX_SUBS];
-    int        n_subs;
-    double     drop_p;                 /* --drop-rate */
-    uint64_t   drop_seed;
-    int64_t    deferred;               /* drains that hit their budget (daemon_drain) */
+    int n_chans;
+    rx_sub subs[RX_MAX_SUBS];
+    int n_subs;
+    double drop_p; /* --drop-rate */
+    uint64_t drop_seed;
+    int64_t deferred; /* drains that hit their budget (daemon_drain) */
     /* the health message's arrays point here (rx_fill_health) */
     const char *health_names[RX_MAX_CHANNELS];
-    int64_t    health_received[RX_MAX_CHANNELS], health_lost[RX_MAX_CHANNELS];
-    int64_t    health_auth_rejected[RX_MAX_CHANNELS];
+    int64_t health_received[RX_MAX_CHANNELS], health_lost[RX_MAX_CHANNELS];
+    int64_t health_auth_rejected[RX_MAX_CHANNELS];
 } rx_state;
 
 void rx_init(rx_state *rx);
@@ -73,7 +73,8 @@ void rx_set_drop(rx_state *rx, double p, uint64_t seed);
  * already made, not a second one. The subscription lives as long as
  * the daemon: a renewed handle (daemon_renew_lcm) takes it over, so
  * nobody keeps the lcm_subscription_t. */
-lcm_subscription_t *rx_subscribe(struct daemon *d, const char *channel, lcm_msg_handler_t handler, void *user);
+lcm_subscription_t *rx_subscribe(struct daemon *d, const char *channel, lcm_msg_handler_t handler,
+                                 void *user);
 /* Every subscription of rx made on old again on fresh, each with a queue
  * of capacity messages (a new handle: daemon_renew_lcm, lcm_renew). The
  * number moved. */

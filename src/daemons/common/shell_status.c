@@ -2,6 +2,21 @@
  * module's strerror is a switch over its code list, the one place a
  * code's text is written. */
 #include "shell_status.h"
+#include <string.h>
+
+STATUS_STRERROR(auth_strerror, AUTH_CODES)
+STATUS_STRERROR(auth_child_strerror, AUTH_CHILD_CODES)
+STATUS_STRERROR(journal_strerror, JOURNAL_CODES)
+STATUS_STRERROR(netc_strerror, NETC_CODES)
+STATUS_STRERROR(world_file_strerror, WORLD_FILE_CODES)
+
+static STATUS_STRERROR(auth_bus_own_strerror, AUTH_BUS_CODES)
+
+    const char *auth_bus_strerror(int rc)
+{
+    const char *own = auth_bus_own_strerror(rc);
+    return strcmp(own, STATUS_UNKNOWN_TEXT) == 0 ? auth_strerror(rc) : own;
+}
 
 STATUS_STRERROR(auth_acl_strerror, AUTH_ACL_CODES)
 STATUS_STRERROR(daemon_strerror, DAEMON_CODES)

@@ -1,19 +1,96 @@
-/* The status codes of the daemon shell's modules that had no text, and
- * the text of each (include/tandem/base/status.h): <module>_strerror(rc)
- * returns it, STATUS_UNKNOWN_TEXT for a value that is no code of the
- * module; never NULL. auth, auth_bus, auth_child, journal, world_file and
- * worldgen name theirs in their own headers. */
+/* The status codes of the daemon shell's modules and the text of each
+ * (include/tandem/base/status.h): <module>_strerror(rc) returns it,
+ * STATUS_UNKNOWN_TEXT for a value that is no code of the module (auth_bus:
+ * auth_strerror's text, as it passes auth's results on); never NULL.
+ * worldgen still names its own in worldgen.c. */
 #ifndef TANDEM_SHELL_STATUS_H
 #define TANDEM_SHELL_STATUS_H
 
 #include "status.h"
+#include "auth.h"
 #include "auth_acl.h"
+#include "auth_bus.h"
+#include "auth_child.h"
 #include "daemon.h"
 #include "guard.h"
+#include "journal.h"
 #include "msg_check.h"
+#include "netc.h"
 #include "options.h"
 #include "proc.h"
 #include "wire.h"
+#include "world_file.h"
+
+#define AUTH_CODES(X)                                                  \
+    X(AUTH_OK, "accepted")                                             \
+    X(AUTH_ERR_UNSIGNED, "unsigned or not this trailer version")       \
+    X(AUTH_ERR_MAC, "no tag for this receiver, or it does not verify") \
+    X(AUTH_ERR_SENDER, "unknown sender, or no key with it (revoked)")  \
+    X(AUTH_ERR_REPLAY, "replayed or outside the time window")          \
+    X(AUTH_ERR_ACL, "sender not allowed on this channel")              \
+    X(AUTH_ERR_ARG, "bad argument")                                    \
+    X(AUTH_ERR_KEY, "key file error")                                  \
+    X(AUTH_ERR_INIT, "libsodium does not start")                       \
+    X(AUTH_ERR_CELL, "message of another cell")                        \
+    X(AUTH_ERR_TYPE, "not a tandem type, or over its size")            \
+    X(AUTH_ERR_CHANNEL, "channel not in the table")
+/* auth_bus's own; the rest of its results are auth's (AUTH_CODES) */
+#define AUTH_BUS_CODES(X)                                                     \
+    X(AUTH_BUS_OK, "ok")                                                      \
+    X(AUTH_BUS_ERR_OPTION, "bad --key-file / --insecure option")              \
+    X(AUTH_BUS_ERR_NO_HOME, "no HOME or XDG_CONFIG_HOME for the default key") \
+    X(AUTH_BUS_ERR_START, "the secure bus does not start")                    \
+    X(AUTH_BUS_ERR_KEY, "no usable key file")                                 \
+    X(AUTH_BUS_ERR_ARG, "bad argument (failed encode?)")                      \
+    X(AUTH_BUS_ERR_MEMORY, "out of memory for the transmit buffer")           \
+    X(AUTH_BUS_ERR_NOT_STARTED, "publishing before auth_bus_start")           \
+    X(AUTH_BUS_ERR_SIGN, "the message cannot be signed")                      \
+    X(AUTH_BUS_ERR_SEND, "lcm_publish failed")
+#define AUTH_CHILD_CODES(X)                                                            \
+    X(AUTH_CHILD_INHERIT, "the child inherits the key environment")                    \
+    X(AUTH_CHILD_OK, "ok")                                                             \
+    X(AUTH_CHILD_ERR_DIR, "no directory for the children's role files")                \
+    X(AUTH_CHILD_ERR_KEY, "the master does not load or a role file cannot be written") \
+    X(AUTH_CHILD_ERR_PRINCIPAL, "the child's principal is not in the cell's roster")   \
+    X(AUTH_CHILD_ERR_ARG, "bad argument")
+/* journal's texts are the codes' names (what the daemons print) */
+#define JOURNAL_CODES(X)                            \
+    X(JOURNAL_OK, "JOURNAL_OK")                     \
+    X(JOURNAL_ERR_OPEN, "JOURNAL_ERR_OPEN")         \
+    X(JOURNAL_ERR_WRITE, "JOURNAL_ERR_WRITE")       \
+    X(JOURNAL_ERR_NONE, "JOURNAL_ERR_NONE")         \
+    X(JOURNAL_ERR_ARG, "JOURNAL_ERR_ARG")           \
+    X(JOURNAL_ERR_SYNC, "JOURNAL_ERR_SYNC")         \
+    X(JOURNAL_ERR_READ, "JOURNAL_ERR_READ")         \
+    X(JOURNAL_ERR_FORMAT, "JOURNAL_ERR_FORMAT")     \
+    X(JOURNAL_ERR_TORN, "JOURNAL_ERR_TORN")         \
+    X(JOURNAL_ERR_MAC, "JOURNAL_ERR_MAC")           \
+    X(JOURNAL_ERR_SEQUENCE, "JOURNAL_ERR_SEQUENCE") \
+    X(JOURNAL_ERR_MODE, "JOURNAL_ERR_MODE")
+#define NETC_CODES(X)                                                    \
+    X(NETC_OK, "ok")                                                     \
+    X(NETC_ERR_IO, "a file cannot be read or written")                   \
+    X(NETC_ERR_PNML, "not a PNML place/transition net this tool reads")  \
+    X(NETC_ERR_ROWS, "the rows file is malformed")                       \
+    X(NETC_ERR_CAPACITY, "beyond a fixed capacity of the supervisor")    \
+    X(NETC_ERR_TABLE, "the tables are refused by their validators")      \
+    X(NETC_ERR_UNBOUNDED, "a place exceeds its token bound")             \
+    X(NETC_ERR_DEADLOCK, "a dead marking is reachable")                  \
+    X(NETC_ERR_DEAD_TRANSITION, "a transition never fires")              \
+    X(NETC_ERR_NOT_LIVE, "a transition that must stay live can be lost") \
+    X(NETC_ERR_STATES, "the reachable set exceeds PETRI_MAX_STATES")     \
+    X(NETC_ERR_INVARIANT, "P-invariants beyond their capacity")          \
+    X(NETC_ERR_ROLES, "the net lacks a role the supervisor needs (source, its place, the pick)")
+#define WORLD_FILE_CODES(X)                                                         \
+    X(WORLD_FILE_OK, "ok")                                                          \
+    X(WORLD_FILE_ERR_OPEN, "cannot read the YAML file")                             \
+    X(WORLD_FILE_ERR_YAML, "not a YAML mapping")                                    \
+    X(WORLD_FILE_ERR_FIELD, "a key missing or wrong")                               \
+    X(WORLD_FILE_ERR_IMAGE, "the image is missing or not a PGM of the stated size") \
+    X(WORLD_FILE_ERR_MAP, "the map is refused")                                     \
+    X(WORLD_FILE_ERR_OPTION, "bad --start or --goal")                               \
+    X(WORLD_FILE_ERR_MEMORY, "out of memory")                                       \
+    X(WORLD_FILE_ERR_WRITE, "cannot write the world")
 
 #define AUTH_ACL_CODES(X)                                                       \
     X(AUTH_ACL_OK, "ok")                                                        \

@@ -42,13 +42,12 @@ static int walk_string(const wire_field *f, const uint8_t *b, size_t len, size_t
 }
 
 /* One element of field f; records integer scalars in *val. */
-static int walk_element(const wire_field *f, const uint8_t *b, size_t len, size_t *pos, int depth, int64_t *val)
+static int walk_element(const wire_field *f, const uint8_t *b, size_t len, size_t *pos, int depth,
+                        int64_t *val)
 {
     switch (f->kind) {
-    case WIRE_STRING:
-        return walk_string(f, b, len, pos);
-    case WIRE_STRUCT:
-        return walk(f->nested, b, len, pos, depth + 1);
+    case WIRE_STRING: return walk_string(f, b, len, pos);
+    case WIRE_STRUCT: return walk(f->nested, b, len, pos, depth + 1);
     default:
         if (len - *pos < (size_t)f->size)
             return WIRE_ERR_SHORT;
@@ -107,18 +106,15 @@ int wire_check(const wire_type *t, const void *buf, size_t len)
 static size_t element_max(const wire_field *f)
 {
     switch (f->kind) {
-    case WIRE_STRING:
-        return 4u + (size_t)f->size;
-    case WIRE_STRUCT:
-        return wire_max_size(f->nested) - 8u;   /* a nested struct has no fingerprint */
-    default:
-        return (size_t)f->size;
+    case WIRE_STRING: return 4u + (size_t)f->size;
+    case WIRE_STRUCT: return wire_max_size(f->nested) - 8u; /* a nested struct has no fingerprint */
+    default: return (size_t)f->size;
     }
 }
 
 size_t wire_max_size(const wire_type *t)
 {
-    size_t n = 8;   /* the fingerprint; nested structs have none, see element_max */
+    size_t n = 8; /* the fingerprint; nested structs have none, see element_max */
     int i;
     for (i = 0; i < t->n_fields; i++) {
         const wire_field *f = &t->fields[i];

@@ -19,32 +19,32 @@ enum wire_kind { WIRE_INT, WIRE_RAW, WIRE_STRING, WIRE_STRUCT };
 /* Named results of wire_check (0 = the buffer is a well-formed message). */
 enum {
     WIRE_OK = 0,
-    WIRE_ERR_SHORT = -1,        /* buffer ends inside a field */
-    WIRE_ERR_FINGERPRINT = -2,  /* not this type (or unknown to wire_find) */
-    WIRE_ERR_LENGTH = -3,       /* array length negative, over capacity, or an empty byte array */
-    WIRE_ERR_STRING = -4,       /* string length out of range, or its NUL not (only) at the end */
-    WIRE_ERR_TRAILING = -5,     /* bytes left over after the message */
-    WIRE_ERR_DEPTH = -6         /* nesting deeper than any tandem type */
+    WIRE_ERR_SHORT = -1,       /* buffer ends inside a field */
+    WIRE_ERR_FINGERPRINT = -2, /* not this type (or unknown to wire_find) */
+    WIRE_ERR_LENGTH = -3,      /* array length negative, over capacity, or an empty byte array */
+    WIRE_ERR_STRING = -4,      /* string length out of range, or its NUL not (only) at the end */
+    WIRE_ERR_TRAILING = -5,    /* bytes left over after the message */
+    WIRE_ERR_DEPTH = -6        /* nesting deeper than any tandem type */
 };
 
 struct wire_type;
 
 typedef struct wire_field {
     const char *name;
-    int  kind;                  /* enum wire_kind */
-    int  size;                  /* bytes of one element (WIRE_INT / WIRE_RAW);
+    int kind;                       /* enum wire_kind */
+    int size;                       /* bytes of one element (WIRE_INT / WIRE_RAW);
                                    WIRE_STRING: capacity in bytes incl. the NUL */
-    int  count;                 /* fixed element count (1 = scalar); 0 = variable */
-    int  len_field;             /* variable: index of the length field, else -1 */
-    int  cap;                   /* variable: capacity in elements */
-    const struct wire_type *nested;   /* WIRE_STRUCT */
+    int count;                      /* fixed element count (1 = scalar); 0 = variable */
+    int len_field;                  /* variable: index of the length field, else -1 */
+    int cap;                        /* variable: capacity in elements */
+    const struct wire_type *nested; /* WIRE_STRUCT */
 } wire_field;
 
 typedef struct wire_type {
-    const char *name;           /* e.g. tandem_arm_state_t */
+    const char *name; /* e.g. tandem_arm_state_t */
     const wire_field *fields;
-    int  n_fields;
-    int64_t (*hash)(void);      /* lcm-gen's fingerprint */
+    int n_fields;
+    int64_t (*hash)(void); /* lcm-gen's fingerprint */
 } wire_type;
 
 /* 0 if buf[0, len) is exactly one well-formed message of type t. */
@@ -58,7 +58,7 @@ const wire_type *wire_find(const void *buf, size_t len);
 /* The message's leading int64 `seq` field (every tandem message starts
  * with one), WIRE_SEQ_SHORT if the buffer is too short. Used before
  * decoding, on a buffer that passed wire_check. */
-#define WIRE_SEQ_SHORT (-1)   /* wire_seq: the buffer ends before seq */
+#define WIRE_SEQ_SHORT (-1) /* wire_seq: the buffer ends before seq */
 int64_t wire_seq(const void *buf, size_t len);
 
 #endif

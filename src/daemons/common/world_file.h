@@ -21,34 +21,44 @@
 #include "rover_map.h"
 #include "rover_world.h"
 
-#define WORLD_FILE_OK          0
-#define WORLD_FILE_ERR_OPEN  (-1)   /* the YAML file cannot be read */
-#define WORLD_FILE_ERR_YAML  (-2)   /* not YAML, or not a mapping at the top */
-#define WORLD_FILE_ERR_FIELD (-3)   /* a key missing or its value wrong */
-#define WORLD_FILE_ERR_IMAGE (-4)   /* the image missing, not a PGM, or its data short */
-#define WORLD_FILE_ERR_MAP   (-5)   /* the map refused by rover_map (size, start, goal, boxes) */
-#define WORLD_FILE_ERR_OPTION (-6)  /* --start / --goal malformed, or given without --world-file */
+#define WORLD_FILE_OK 0
+#define WORLD_FILE_ERR_OPEN (-1)   /* the YAML file cannot be read */
+#define WORLD_FILE_ERR_YAML (-2)   /* not YAML, or not a mapping at the top */
+#define WORLD_FILE_ERR_FIELD (-3)  /* a key missing or its value wrong */
+#define WORLD_FILE_ERR_IMAGE (-4)  /* the image missing, not a PGM, or its data short */
+#define WORLD_FILE_ERR_MAP (-5)    /* the map refused by rover_map (size, start, goal, boxes) */
+#define WORLD_FILE_ERR_OPTION (-6) /* --start / --goal malformed, or given without --world-file */
 #define WORLD_FILE_ERR_MEMORY (-7)
-#define WORLD_FILE_ERR_WRITE (-8)   /* an output file cannot be written */
+#define WORLD_FILE_ERR_WRITE (-8) /* an output file cannot be written */
 
 #define WORLD_FILE_WHY_MAX 512
 
 /* The world options of a program (a member of its options struct). */
 typedef struct world_opts {
-    int         world;      /* --world: ROVER_WORLD_* (built-in) */
-    const char *file;       /* --world-file: NULL for a built-in world */
-    const char *start;      /* --start X,Y,THETA: NULL keeps the file's */
-    const char *goal;       /* --goal X,Y: NULL keeps the file's */
+    int world;         /* --world: ROVER_WORLD_* (built-in) */
+    const char *file;  /* --world-file: NULL for a built-in world */
+    const char *start; /* --start X,Y,THETA: NULL keeps the file's */
+    const char *goal;  /* --goal X,Y: NULL keeps the file's */
 } world_opts;
 
 /* The three option entries after a program's --world entry. */
-#define WORLD_FILE_OPTIONS(owner, member) \
-    { .name = "world-file", .type = OPTION_STRING, OPTION_AT(owner, member.file), .min = 1, .meta = "PATH", \
+#define WORLD_FILE_OPTIONS(owner, member)                                                        \
+    { .name = "world-file",                                                                      \
+      .type = OPTION_STRING,                                                                     \
+      OPTION_AT(owner, member.file),                                                             \
+      .min = 1,                                                                                  \
+      .meta = "PATH",                                                                            \
       .help = "the world from a map_server YAML file (with its PGM image) instead of --world" }, \
-    { .name = "start", .type = OPTION_STRING, OPTION_AT(owner, member.start), .min = 1, .meta = "X,Y,THETA", \
-      .help = "with --world-file: the team's start (m, m, rad) instead of the file's" }, \
-    { .name = "goal", .type = OPTION_STRING, OPTION_AT(owner, member.goal), .min = 1, .meta = "X,Y", \
-      .help = "with --world-file: the goal (m) instead of the file's" }
+        { .name = "start",                                                                       \
+          .type = OPTION_STRING,                                                                 \
+          OPTION_AT(owner, member.start),                                                        \
+          .min = 1,                                                                              \
+          .meta = "X,Y,THETA",                                                                   \
+          .help = "with --world-file: the team's start (m, m, rad) instead of the file's" },     \
+    {                                                                                            \
+        .name = "goal", .type = OPTION_STRING, OPTION_AT(owner, member.goal), .min = 1,          \
+        .meta = "X,Y", .help = "with --world-file: the goal (m) instead of the file's"           \
+    }
 
 const char *world_file_strerror(int rc);
 
@@ -62,13 +72,14 @@ int world_file_write(const char *dir, const char *name, const rover_map *m, cons
 
 /* DIR/NAME.svg: a picture of the world w as laid out on its map (the
  * merged boxes, each robot's start, the goal, the landmarks), 20 px/m. */
-int world_file_write_svg(const char *dir, const char *name, const rover_world_config *w, char *why, size_t why_n);
+int world_file_write_svg(const char *dir, const char *name, const rover_world_config *w, char *why,
+                         size_t why_n);
 
 /* The layout the options choose: a built-in world by name, or the file
  * with --start / --goal applied. Said on stderr as "PROG: PATH: FIELD:
  * reason" on failure. */
-int world_opts_layout(rover_world_config *w, const world_opts *o, int n, double spacing_m, int formation,
-                      const char *prog);
+int world_opts_layout(rover_world_config *w, const world_opts *o, int n, double spacing_m,
+                      int formation, const char *prog);
 
 /* With a file world: DIR/world.yaml + world.pgm, the world as run (start
  * and goal after the options). Nothing for a built-in world. */

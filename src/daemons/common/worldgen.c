@@ -12,9 +12,9 @@
 #include "formation.h"
 #include "prng.h"
 
-#define WALL_M 0.2          /* the map's border wall */
-#define POCKET_WALL_M 0.15  /* a pocket's walls */
-#define GOAL_CLEAR_M 1.5    /* free disc round the goal, at least */
+#define WALL_M 0.2         /* the map's border wall */
+#define POCKET_WALL_M 0.15 /* a pocket's walls */
+#define GOAL_CLEAR_M 1.5   /* free disc round the goal, at least */
 
 static const char *const kind_names[WORLDGEN_KINDS] = { "clutter", "traps", "corridor", "mixed" };
 
@@ -22,7 +22,8 @@ const char *worldgen_strerror(int rc)
 {
     switch (rc) {
     case WORLDGEN_OK: return "ok";
-    case WORLDGEN_ERR_ARG: return "kind, size or team out of range (the map must hold the team's start area)";
+    case WORLDGEN_ERR_ARG:
+        return "kind, size or team out of range (the map must hold the team's start area)";
     case WORLDGEN_ERR_NO_WAY: return "no passable world in 64 attempts (WORLDGEN_ATTEMPTS)";
     case WORLDGEN_ERR_MEMORY: return "out of memory";
     default: return "unknown worldgen code";
@@ -33,7 +34,8 @@ int worldgen_kind(const char *name)
 {
     int k;
     for (k = 0; name && k < WORLDGEN_KINDS; k++)
-        if (!strcmp(name, kind_names[k])) return k;
+        if (!strcmp(name, kind_names[k]))
+            return k;
     return WORLDGEN_ERR_ARG;
 }
 
@@ -57,10 +59,14 @@ static void cell_range(const rover_map *m, double x0, double y0, double x1, doub
     r[1] = (int)floor((y0 - m->origin_y_m) / m->resolution_m);
     r[2] = (int)floor((x1 - m->origin_x_m) / m->resolution_m);
     r[3] = (int)floor((y1 - m->origin_y_m) / m->resolution_m);
-    if (r[0] < 0) r[0] = 0;
-    if (r[1] < 0) r[1] = 0;
-    if (r[2] >= m->width) r[2] = m->width - 1;
-    if (r[3] >= m->height) r[3] = m->height - 1;
+    if (r[0] < 0)
+        r[0] = 0;
+    if (r[1] < 0)
+        r[1] = 0;
+    if (r[2] >= m->width)
+        r[2] = m->width - 1;
+    if (r[3] >= m->height)
+        r[3] = m->height - 1;
 }
 
 static double seg_distance(double px, double py, double ax, double ay, double bx, double by)
@@ -72,15 +78,18 @@ static double seg_distance(double px, double py, double ax, double ay, double bx
 }
 
 /* Cells within half_m of the segment become v. */
-static void paint_segment(rover_map *m, double ax, double ay, double bx, double by, double half_m, unsigned char v)
+static void paint_segment(rover_map *m, double ax, double ay, double bx, double by, double half_m,
+                          unsigned char v)
 {
     int r[4], i, j;
     double x, y;
-    cell_range(m, fmin(ax, bx) - half_m, fmin(ay, by) - half_m, fmax(ax, bx) + half_m, fmax(ay, by) + half_m, r);
+    cell_range(m, fmin(ax, bx) - half_m, fmin(ay, by) - half_m, fmax(ax, bx) + half_m,
+               fmax(ay, by) + half_m, r);
     for (j = r[1]; j <= r[3]; j++)
         for (i = r[0]; i <= r[2]; i++) {
             cell_centre(m, i, j, &x, &y);
-            if (seg_distance(x, y, ax, ay, bx, by) <= half_m) m->cell[(long)j * m->width + i] = v;
+            if (seg_distance(x, y, ax, ay, bx, by) <= half_m)
+                m->cell[(long)j * m->width + i] = v;
         }
 }
 
@@ -90,8 +99,10 @@ static void fill_convex(rover_map *m, const double (*p)[2], int n)
     double x0 = p[0][0], y0 = p[0][1], x1 = x0, y1 = y0, x, y;
     int r[4], i, j, k;
     for (k = 1; k < n; k++) {
-        x0 = fmin(x0, p[k][0]); x1 = fmax(x1, p[k][0]);
-        y0 = fmin(y0, p[k][1]); y1 = fmax(y1, p[k][1]);
+        x0 = fmin(x0, p[k][0]);
+        x1 = fmax(x1, p[k][0]);
+        y0 = fmin(y0, p[k][1]);
+        y1 = fmax(y1, p[k][1]);
     }
     cell_range(m, x0, y0, x1, y1, r);
     for (j = r[1]; j <= r[3]; j++)
@@ -102,7 +113,8 @@ static void fill_convex(rover_map *m, const double (*p)[2], int n)
                 const double *a = p[k], *b = p[(k + 1) % n];
                 inside = (b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]) >= 0.0;
             }
-            if (inside) m->cell[(long)j * m->width + i] = ROVER_MAP_OCCUPIED;
+            if (inside)
+                m->cell[(long)j * m->width + i] = ROVER_MAP_OCCUPIED;
         }
 }
 
@@ -119,7 +131,10 @@ static void border(rover_map *m)
 
 /* ---- shapes ------------------------------------------------------------------------ */
 
-static double uniform(prng_state *r, double a, double b) { return a + (b - a) * prng_uniform(r); }
+static double uniform(prng_state *r, double a, double b)
+{
+    return a + (b - a) * prng_uniform(r);
+}
 
 /* A random convex polygon: 3..7 points at sorted angles on a circle,
  * stretched and turned (an affine image of a convex polygon is convex). */
@@ -127,25 +142,32 @@ static void clutter_shape(rover_map *m, prng_state *r, double cx, double cy)
 {
     double p[7][2] = { { 0.0, 0.0 } }, a[7], tmp;
     const int n = 3 + (int)(prng_uniform(r) * 5);
-    const double rad = uniform(r, 0.2, 0.9), sx = uniform(r, 0.5, 1.5), turn = uniform(r, 0.0, 2.0 * VEC2_PI);
+    const double rad = uniform(r, 0.2, 0.9), sx = uniform(r, 0.5, 1.5),
+                 turn = uniform(r, 0.0, 2.0 * VEC2_PI);
     int k, q;
-    for (k = 0; k < n; k++) a[k] = uniform(r, 0.0, 2.0 * VEC2_PI);
-    for (k = 1; k < n; k++)       /* insertion sort: ccw order */
-        for (q = k; q > 0 && a[q - 1] > a[q]; q--) { tmp = a[q]; a[q] = a[q - 1]; a[q - 1] = tmp; }
+    for (k = 0; k < n; k++)
+        a[k] = uniform(r, 0.0, 2.0 * VEC2_PI);
+    for (k = 1; k < n; k++) /* insertion sort: ccw order */
+        for (q = k; q > 0 && a[q - 1] > a[q]; q--) {
+            tmp = a[q];
+            a[q] = a[q - 1];
+            a[q - 1] = tmp;
+        }
     for (k = 0; k < n; k++) {
         const double u = rad * sx * cos(a[k]), v = rad / sx * sin(a[k]);
         p[k][0] = cx + u * cos(turn) - v * sin(turn);
         p[k][1] = cy + u * sin(turn) + v * cos(turn);
     }
-    fill_convex(m, (const double (*)[2])p, n);
+    fill_convex(m, (const double(*)[2])p, n);
 }
 
 /* A wall between local points (u, v) of a frame at (cx, cy) turned by phi. */
-static void local_wall(rover_map *m, double cx, double cy, double phi, double u0, double v0, double u1, double v1)
+static void local_wall(rover_map *m, double cx, double cy, double phi, double u0, double v0,
+                       double u1, double v1)
 {
     const double c = cos(phi), s = sin(phi);
-    paint_segment(m, cx + u0 * c - v0 * s, cy + u0 * s + v0 * c, cx + u1 * c - v1 * s, cy + u1 * s + v1 * c,
-                  0.5 * POCKET_WALL_M, ROVER_MAP_OCCUPIED);
+    paint_segment(m, cx + u0 * c - v0 * s, cy + u0 * s + v0 * c, cx + u1 * c - v1 * s,
+                  cy + u1 * s + v1 * c, 0.5 * POCKET_WALL_M, ROVER_MAP_OCCUPIED);
 }
 
 /* A U, V or L pocket whose mouth (at its centre) faces phi. */
@@ -153,14 +175,14 @@ static void pocket(rover_map *m, prng_state *r, double cx, double cy, double phi
 {
     const int type = (int)(prng_uniform(r) * 3);
     const double w = uniform(r, 1.0, 3.5), d = uniform(r, 1.0, 3.0);
-    if (type == 0) {          /* U */
+    if (type == 0) { /* U */
         local_wall(m, cx, cy, phi, -d, -0.5 * w, -d, 0.5 * w);
         local_wall(m, cx, cy, phi, -d, -0.5 * w, 0.0, -0.5 * w);
         local_wall(m, cx, cy, phi, -d, 0.5 * w, 0.0, 0.5 * w);
-    } else if (type == 1) {   /* V */
+    } else if (type == 1) { /* V */
         local_wall(m, cx, cy, phi, -d, 0.0, 0.0, -0.5 * w);
         local_wall(m, cx, cy, phi, -d, 0.0, 0.0, 0.5 * w);
-    } else {                  /* L */
+    } else { /* L */
         local_wall(m, cx, cy, phi, -d, -0.5 * w, -d, 0.5 * w);
         local_wall(m, cx, cy, phi, -d, 0.5 * w, 0.0, 0.5 * w);
     }
@@ -187,7 +209,8 @@ static double goal_radius(int n)
 /* A point along the way at fraction f, pushed sideways by lat_m. */
 static void along(const rover_map_site *s, double f, double lat_m, double *x, double *y)
 {
-    const double dx = s->goal_m[0] - s->start.x_m, dy = s->goal_m[1] - s->start.y_m, l = hypot(dx, dy);
+    const double dx = s->goal_m[0] - s->start.x_m, dy = s->goal_m[1] - s->start.y_m,
+                 l = hypot(dx, dy);
     *x = s->start.x_m + f * dx - lat_m * dy / l;
     *y = s->start.y_m + f * dy + lat_m * dx / l;
 }
@@ -241,7 +264,8 @@ static void add_corridor(rover_map *m, prng_state *r, const rover_map_site *s)
 /* A wall across the way with one gap 1.5-3 m wide somewhere along it. */
 static void add_wall_with_gap(rover_map *m, prng_state *r, const rover_map_site *s)
 {
-    const double h = m->height * m->resolution_m, gap = uniform(r, 1.5, 3.0), at = uniform(r, -h / 4.0, h / 4.0);
+    const double h = m->height * m->resolution_m, gap = uniform(r, 1.5, 3.0),
+                 at = uniform(r, -h / 4.0, h / 4.0);
     double ax, ay, bx, by;
     const double f = uniform(r, 0.35, 0.65);
     along(s, f, -h, &ax, &ay);
@@ -267,7 +291,8 @@ static void draw(rover_map *m, prng_state *r, const rover_map_site *s, const wor
     default:
         add_clutter(m, r, uniform(r, 0.02, 0.04));
         add_traps(m, r, s, 1 + (int)(prng_uniform(r) * 2));
-        if (prng_uniform(r) < 0.5) add_wall_with_gap(m, r, s);
+        if (prng_uniform(r) < 0.5)
+            add_wall_with_gap(m, r, s);
         break;
     }
     clear_disc(m, s->start.x_m, s->start.y_m, start_radius(p->robots));
@@ -295,31 +320,37 @@ static void distance_field(const rover_map *m, float *d)
             float *c = &d[j * w + i];
             *c = fminf(*c, fminf(d[j * w + i - 1] + s1, d[(j - 1) * w + i] + s1));
             *c = fminf(*c, d[(j - 1) * w + i - 1] + s2);
-            if (i + 1 < w) *c = fminf(*c, d[(j - 1) * w + i + 1] + s2);
+            if (i + 1 < w)
+                *c = fminf(*c, d[(j - 1) * w + i + 1] + s2);
         }
     for (j = h - 2; j >= 0; j--)
         for (i = w - 2; i >= 0; i--) {
             float *c = &d[j * w + i];
             *c = fminf(*c, fminf(d[j * w + i + 1] + s1, d[(j + 1) * w + i] + s1));
             *c = fminf(*c, d[(j + 1) * w + i + 1] + s2);
-            if (i > 0) *c = fminf(*c, d[(j + 1) * w + i - 1] + s2);
+            if (i > 0)
+                *c = fminf(*c, d[(j + 1) * w + i - 1] + s2);
         }
 }
 
 static long cell_of(const rover_map *m, double x, double y)
 {
-    const double u = (x - m->origin_x_m) / m->resolution_m, v = (y - m->origin_y_m) / m->resolution_m;
-    if (!(u >= 0.0 && v >= 0.0 && u < m->width && v < m->height)) return -1;
+    const double u = (x - m->origin_x_m) / m->resolution_m,
+                 v = (y - m->origin_y_m) / m->resolution_m;
+    if (!(u >= 0.0 && v >= 0.0 && u < m->width && v < m->height))
+        return -1;
     return (long)v * m->width + (long)u;
 }
 
 /* Breadth-first from the goal over the cells clear by more than clearance;
  * seen[] marks what it reached. 0 if the goal itself is not clear. */
-static int flood_from(const rover_map *m, const float *d, long goal, float clearance, unsigned char *seen, long *queue)
+static int flood_from(const rover_map *m, const float *d, long goal, float clearance,
+                      unsigned char *seen, long *queue)
 {
     static const int di[8] = { 1, -1, 0, 0, 1, 1, -1, -1 }, dj[8] = { 0, 0, 1, -1, 1, -1, 1, -1 };
     long head = 0, tail = 0;
-    if (goal < 0 || d[goal] <= clearance) return 0;
+    if (goal < 0 || d[goal] <= clearance)
+        return 0;
     seen[goal] = 1;
     queue[tail++] = goal;
     while (head < tail) {
@@ -329,11 +360,14 @@ static int flood_from(const rover_map *m, const float *d, long goal, float clear
         for (k = 0; k < 8; k++) {
             const long ni = i + di[k], nj = j + dj[k];
             long q;
-            if (ni < 0 || nj < 0 || ni >= m->width || nj >= m->height) continue;
+            if (ni < 0 || nj < 0 || ni >= m->width || nj >= m->height)
+                continue;
             q = nj * m->width + ni;
-            if (seen[q] || d[q] <= clearance) continue;
+            if (seen[q] || d[q] <= clearance)
+                continue;
             /* a diagonal step needs both sides clear: no squeezing through a corner */
-            if (k >= 4 && (d[j * m->width + ni] <= clearance || d[nj * m->width + i] <= clearance)) continue;
+            if (k >= 4 && (d[j * m->width + ni] <= clearance || d[nj * m->width + i] <= clearance))
+                continue;
             seen[q] = 1;
             queue[tail++] = q;
         }
@@ -345,19 +379,21 @@ static int flood_from(const rover_map *m, const float *d, long goal, float clear
  * bearing of the goal from the start (what each robot's goal behaviour
  * drives it to) lies on a cell the search reached: the team can take its
  * slots, not only get one robot to the goal. */
-static int goal_slot_reached(const rover_map *m, const rover_map_site *s, int n, int formation, int k,
-                             const unsigned char *seen)
+static int goal_slot_reached(const rover_map *m, const rover_map_site *s, int n, int formation,
+                             int k, const unsigned char *seen)
 {
     const double heading = atan2(s->goal_m[1] - s->start.y_m, s->goal_m[0] - s->start.x_m);
     double xy[2];
     long c;
-    if (formation_slot_xy(xy, formation, n, k, 1.0, 1.0) != 0) return 0;
+    if (formation_slot_xy(xy, formation, n, k, 1.0, 1.0) != 0)
+        return 0;
     c = cell_of(m, s->goal_m[0] + xy[0] * cos(heading) - xy[1] * sin(heading),
                 s->goal_m[1] + xy[0] * sin(heading) + xy[1] * cos(heading));
     return c >= 0 && seen[c];
 }
 
-int worldgen_passable(rover_map *m, const rover_map_site *s, int n, int formation, double clearance_m)
+int worldgen_passable(rover_map *m, const rover_map_site *s, int n, int formation,
+                      double clearance_m)
 {
     const long cells = (long)m->width * m->height;
     rover_world_config *w = malloc(sizeof *w);
@@ -365,9 +401,11 @@ int worldgen_passable(rover_map *m, const rover_map_site *s, int n, int formatio
     unsigned char *seen = calloc((size_t)cells, 1);
     long *queue = malloc(sizeof *queue * (size_t)cells);
     int ok = 0, k;
-    if (w && d && seen && queue && rover_world_from_map(w, m, s, n, 1.0, formation) == ROVER_MAP_OK) {
+    if (w && d && seen && queue &&
+        rover_world_from_map(w, m, s, n, 1.0, formation) == ROVER_MAP_OK) {
         distance_field(m, d);
-        ok = flood_from(m, d, cell_of(m, s->goal_m[0], s->goal_m[1]), (float)clearance_m, seen, queue);
+        ok = flood_from(m, d, cell_of(m, s->goal_m[0], s->goal_m[1]), (float)clearance_m, seen,
+                        queue);
         for (k = 0; ok && k < n; k++) {
             const long c = cell_of(m, w->start_c[k].x_m, w->start_c[k].y_m);
             ok = c >= 0 && seen[c] && goal_slot_reached(m, s, n, formation, k, seen);
@@ -397,9 +435,10 @@ static void place_site(rover_map_site *s, prng_state *r, const worldgen_params *
 static int params_ok(const worldgen_params *p)
 {
     const double rs = start_radius(p->robots);
-    return p->kind >= 0 && p->kind < WORLDGEN_KINDS && p->robots >= 1 && p->robots <= ROVER_WORLD_MAX_ROBOTS &&
-           p->formation >= FORMATION_LINE && p->formation <= FORMATION_COLUMN && isfinite(p->width_m) &&
-           isfinite(p->height_m) && p->height_m >= 2.0 * fmax(rs, goal_radius(p->robots)) + 2.0 * WALL_M + 1.0 &&
+    return p->kind >= 0 && p->kind < WORLDGEN_KINDS && p->robots >= 1 &&
+           p->robots <= ROVER_WORLD_MAX_ROBOTS && p->formation >= FORMATION_LINE &&
+           p->formation <= FORMATION_COLUMN && isfinite(p->width_m) && isfinite(p->height_m) &&
+           p->height_m >= 2.0 * fmax(rs, goal_radius(p->robots)) + 2.0 * WALL_M + 1.0 &&
            /* start and goal areas (placed as place_site does) do not overlap */
            p->width_m >= 2.0 * WALL_M + 1.3 + 2.0 * (rs + goal_radius(p->robots)) &&
            p->width_m / WORLDGEN_RESOLUTION_M <= ROVER_MAP_MAX_SIDE &&
@@ -409,7 +448,8 @@ static int params_ok(const worldgen_params *p)
 int worldgen_make(rover_map *m, rover_map_site *s, const worldgen_params *p, int *attempt)
 {
     int a;
-    if (!m || !s || !p || !params_ok(p)) return WORLDGEN_ERR_ARG;
+    if (!m || !s || !p || !params_ok(p))
+        return WORLDGEN_ERR_ARG;
     m->resolution_m = WORLDGEN_RESOLUTION_M;
     m->origin_x_m = 0.0;
     m->origin_y_m = 0.0;
@@ -421,8 +461,10 @@ int worldgen_make(rover_map *m, rover_map_site *s, const worldgen_params *p, int
         prng_seed(&r, p->seed * 1000003ULL + (uint64_t)a * 7919ULL);
         place_site(s, &r, p);
         draw(m, &r, s, p);
-        if (worldgen_passable(m, s, p->robots, p->formation, WORLDGEN_BODY_RADIUS_M + WORLDGEN_MARGIN_M)) {
-            if (attempt) *attempt = a;
+        if (worldgen_passable(m, s, p->robots, p->formation,
+                              WORLDGEN_BODY_RADIUS_M + WORLDGEN_MARGIN_M)) {
+            if (attempt)
+                *attempt = a;
             return WORLDGEN_OK;
         }
     }

@@ -12,26 +12,32 @@
 #include <stdint.h>
 #include "rover_map.h"
 
-#define WORLDGEN_OK             0
-#define WORLDGEN_ERR_ARG      (-1)   /* kind, size or robots out of range */
-#define WORLDGEN_ERR_NO_WAY   (-2)   /* no attempt gave a passable world */
-#define WORLDGEN_ERR_MEMORY   (-3)
+#define WORLDGEN_OK 0
+#define WORLDGEN_ERR_ARG (-1)    /* kind, size or robots out of range */
+#define WORLDGEN_ERR_NO_WAY (-2) /* no attempt gave a passable world */
+#define WORLDGEN_ERR_MEMORY (-3)
 
-enum { WORLDGEN_CLUTTER = 0, WORLDGEN_TRAPS = 1, WORLDGEN_CORRIDOR = 2, WORLDGEN_MIXED = 3, WORLDGEN_KINDS = 4 };
+enum {
+    WORLDGEN_CLUTTER = 0,
+    WORLDGEN_TRAPS = 1,
+    WORLDGEN_CORRIDOR = 2,
+    WORLDGEN_MIXED = 3,
+    WORLDGEN_KINDS = 4
+};
 
 #define WORLDGEN_RESOLUTION_M 0.1
-#define WORLDGEN_ATTEMPTS     64     /* sub-seeds tried before giving up */
+#define WORLDGEN_ATTEMPTS 64 /* sub-seeds tried before giving up */
 /* The robot body's radius about C (half the chassis diagonal plus the
  * box's offset) and the margin the way must leave on each side of it. */
 #define WORLDGEN_BODY_RADIUS_M 0.32
-#define WORLDGEN_MARGIN_M      0.25
+#define WORLDGEN_MARGIN_M 0.25
 
 typedef struct worldgen_params {
-    int      kind;               /* WORLDGEN_* */
+    int kind; /* WORLDGEN_* */
     uint64_t seed;
-    double   width_m, height_m;  /* the map (a wall round it) */
-    int      robots;             /* team size: the start area holds it */
-    int      formation;          /* the start formation (FORMATION_*) */
+    double width_m, height_m; /* the map (a wall round it) */
+    int robots;               /* team size: the start area holds it */
+    int formation;            /* the start formation (FORMATION_*) */
 } worldgen_params;
 
 const char *worldgen_strerror(int rc);
@@ -47,6 +53,7 @@ int worldgen_make(rover_map *m, rover_map_site *s, const worldgen_params *p, int
  * reach s->goal_m and every slot of the formation placed at the goal
  * (headed along the bearing of the goal from the start) on m inflated by
  * clearance_m (BFS, 8-connected), 0 if not (or the layout is refused). */
-int worldgen_passable(rover_map *m, const rover_map_site *s, int n, int formation, double clearance_m);
+int worldgen_passable(rover_map *m, const rover_map_site *s, int n, int formation,
+                      double clearance_m);
 
 #endif

@@ -16,7 +16,7 @@
 #include "tandem_rovers_sensors_t.h"
 #include "tandem_sonar_scan_t.h"
 
-#define ROVER_INPUT_WAIT_NS 300000000LL   /* a missing input: asked about after 0.3 s */
+#define ROVER_INPUT_WAIT_NS 300000000LL /* a missing input: asked about after 0.3 s */
 /* A mate's process running but silent this long (no ack at all: a waiting
  * participant says "still here" on every announcement) hangs: taken as
  * gone (peer_dead). */
@@ -24,7 +24,10 @@
 
 /* ---- messages in ------------------------------------------------------------ */
 
-static int64_t now_ns(void) { return rtloop_now_ns(); }
+static int64_t now_ns(void)
+{
+    return rtloop_now_ns();
+}
 
 /* Lockstep start-up: the simulator publishes step 0 once, possibly before
  * every host has subscribed; whether a host saw it must not change the
@@ -38,7 +41,8 @@ static int all_ranges(const double *r, int n)
 {
     int i;
     for (i = 0; i < n; i++)
-        if (!isfinite(r[i]) || r[i] < 0.0) return 0;
+        if (!isfinite(r[i]) || r[i] < 0.0)
+            return 0;
     return 1;
 }
 
@@ -46,7 +50,8 @@ static int all_ranges(const double *r, int n)
  * simulator announcing a step again, or a replay): counted, ignored. */
 static int is_copy(rover_daemon *rd, int64_t step, const int64_t *last)
 {
-    if (step > *last) return 0;
+    if (step > *last)
+        return 0;
     rd->d.msgs.duplicate++;
     return 1;
 }
@@ -56,9 +61,11 @@ static int is_copy(rover_daemon *rd, int64_t step, const int64_t *last)
 static void take_sensors(rover_daemon *rd, const tandem_rover_sensors_t *m)
 {
     hosted *h = rover_find_hosted(rd, m->robot);
-    if (!h || rover_too_early(rd, m->step)) return;      /* another host's robot / start-up */
+    if (!h || rover_too_early(rd, m->step))
+        return; /* another host's robot / start-up */
     rd->d.msgs.received++;
-    if (is_copy(rd, m->step, &h->sens_step)) return;
+    if (is_copy(rd, m->step, &h->sens_step))
+        return;
     if (m->step < 0 || !isfinite(m->wheel_left_rad) || !isfinite(m->wheel_right_rad)) {
         rd->d.msgs.rejected++;
         return;
@@ -74,9 +81,11 @@ static void take_sensors(rover_daemon *rd, const tandem_rover_sensors_t *m)
 static void take_sonar(rover_daemon *rd, const tandem_sonar_scan_t *m)
 {
     hosted *h = rover_find_hosted(rd, m->robot);
-    if (!h || rover_too_early(rd, m->step)) return;
+    if (!h || rover_too_early(rd, m->step))
+        return;
     rd->d.msgs.received++;
-    if (is_copy(rd, m->step, &h->sonar_step)) return;
+    if (is_copy(rd, m->step, &h->sonar_step))
+        return;
     if (m->n != BEH_SONAR_N || m->step < 0 || !all_ranges(m->range_m, m->n)) {
         rd->d.msgs.rejected++;
         return;
@@ -90,9 +99,11 @@ static void take_beacons(rover_daemon *rd, const tandem_beacon_obs_t *m)
 {
     hosted *h = rover_find_hosted(rd, m->observer);
     int i;
-    if (!h || rover_too_early(rd, m->step)) return;
+    if (!h || rover_too_early(rd, m->step))
+        return;
     rd->d.msgs.received++;
-    if (is_copy(rd, m->step, &h->camera_step)) return;
+    if (is_copy(rd, m->step, &h->camera_step))
+        return;
     if (m->n < 0 || m->n > ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS) {
         rd->d.msgs.rejected++;
         return;
@@ -116,7 +127,8 @@ void rover_apply_frames(rover_daemon *rd, hosted *h)
     if (h->new_enc && rover_ctl_encoders(&h->c, h->enc_rad[0], h->enc_rad[1],
                                          (double)h->sens_step * DAEMON_SIM_DT_S) != 0)
         rd->d.msgs.rejected++;
-    if (h->new_sonar && rover_ctl_sonar(&h->c, h->sonar_m, (double)h->sonar_step * DAEMON_SIM_DT_S) != 0)
+    if (h->new_sonar &&
+        rover_ctl_sonar(&h->c, h->sonar_m, (double)h->sonar_step * DAEMON_SIM_DT_S) != 0)
         rd->d.msgs.rejected++;
     /* unknown targets (not heard yet) are fine: skipped */
     for (i = 0; h->new_cam && i < h->cam_n; i++)
@@ -125,16 +137,18 @@ void rover_apply_frames(rover_daemon *rd, hosted *h)
 }
 
 /* A message that does not decode is counted once, as received and rejected. */
-#define ROVER_DECODE(rd, type, rb, m) \
-    (type##_decode((rb)->data, 0, (rb)->data_size, (m)) >= 0 ? 1 \
-     : ((rd)->d.msgs.received++, (rd)->d.msgs.rejected++, 0))
+#define ROVER_DECODE(rd, type, rb, m)                        \
+    (type##_decode((rb)->data, 0, (rb)->data_size, (m)) >= 0 \
+         ? 1                                                 \
+         : ((rd)->d.msgs.received++, (rd)->d.msgs.rejected++, 0))
 
 void rover_on_sensors(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     rover_daemon *rd = u;
     tandem_rover_sensors_t m;
     (void)ch;
-    if (ROVER_DECODE(rd, tandem_rover_sensors_t, rb, &m)) take_sensors(rd, &m);
+    if (ROVER_DECODE(rd, tandem_rover_sensors_t, rb, &m))
+        take_sensors(rd, &m);
 }
 
 void rover_on_sonar(const lcm_recv_buf_t *rb, const char *ch, void *u)
@@ -142,7 +156,8 @@ void rover_on_sonar(const lcm_recv_buf_t *rb, const char *ch, void *u)
     rover_daemon *rd = u;
     tandem_sonar_scan_t m;
     (void)ch;
-    if (!ROVER_DECODE(rd, tandem_sonar_scan_t, rb, &m)) return;
+    if (!ROVER_DECODE(rd, tandem_sonar_scan_t, rb, &m))
+        return;
     take_sonar(rd, &m);
     tandem_sonar_scan_t_decode_cleanup(&m);
 }
@@ -152,7 +167,8 @@ void rover_on_beacons(const lcm_recv_buf_t *rb, const char *ch, void *u)
     rover_daemon *rd = u;
     tandem_beacon_obs_t m;
     (void)ch;
-    if (!ROVER_DECODE(rd, tandem_beacon_obs_t, rb, &m)) return;
+    if (!ROVER_DECODE(rd, tandem_beacon_obs_t, rb, &m))
+        return;
     take_beacons(rd, &m);
     tandem_beacon_obs_t_decode_cleanup(&m);
 }
@@ -164,7 +180,8 @@ void rover_on_sensors_batch(const lcm_recv_buf_t *rb, const char *ch, void *u)
     tandem_rovers_sensors_t m;
     int i;
     (void)ch;
-    if (!ROVER_DECODE(rd, tandem_rovers_sensors_t, rb, &m)) return;
+    if (!ROVER_DECODE(rd, tandem_rovers_sensors_t, rb, &m))
+        return;
     for (i = 0; i < m.n; i++) {
         take_sensors(rd, &m.sensors[i]);
         take_sonar(rd, &m.sonar[i]);
@@ -178,8 +195,10 @@ void rover_on_beacons_batch(const lcm_recv_buf_t *rb, const char *ch, void *u)
     tandem_rovers_beacons_t m;
     int i;
     (void)ch;
-    if (!ROVER_DECODE(rd, tandem_rovers_beacons_t, rb, &m)) return;
-    for (i = 0; i < m.n; i++) take_beacons(rd, &m.obs[i]);
+    if (!ROVER_DECODE(rd, tandem_rovers_beacons_t, rb, &m))
+        return;
+    for (i = 0; i < m.n; i++)
+        take_beacons(rd, &m.obs[i]);
     tandem_rovers_beacons_t_decode_cleanup(&m);
 }
 
@@ -189,8 +208,8 @@ static int team_msg_valid(const tandem_team_msg_t *m)
            isfinite(m->v_mps) && isfinite(m->w_radps) && isfinite(m->formation_scale) &&
            m->formation_scale > 0.0 && m->formation_scale <= 1.0 &&
            m->formation >= FORMATION_LINE && m->formation <= FORMATION_COLUMN &&
-           formation_ann_valid(m->announce) &&
-           isfinite(m->goal_m[0]) && isfinite(m->goal_m[1]) && m->step >= 0;
+           formation_ann_valid(m->announce) && isfinite(m->goal_m[0]) && isfinite(m->goal_m[1]) &&
+           m->step >= 0;
 }
 
 void rover_on_team(const lcm_recv_buf_t *rb, const char *ch, void *u)
@@ -208,7 +227,8 @@ void rover_on_team(const lcm_recv_buf_t *rb, const char *ch, void *u)
         rd->d.msgs.rejected++;
         return;
     }
-    if (is_copy(rd, m.step, &rd->mate_step[m.robot])) return;
+    if (is_copy(rd, m.step, &rd->mate_step[m.robot]))
+        return;
     rd->mate_step[m.robot] = m.step;
     rd->mate_gone[m.robot] = 0;
     if (rd->nq >= TEAMQ_MAX) {
@@ -256,7 +276,8 @@ void rover_deliver_team(rover_daemon *rd, int64_t step, double t_s)
         if (rd->d.lockstep && joined_late(rd) && rd->q[i].step <= rd->first_step)
             continue;
         for (j = rd->id_lo; j <= rd->id_hi; j++)
-            if (j != rd->q[i].m.m.robot && rover_ctl_team_msg(&rd->h[j - rd->id_lo].c, &rd->q[i].m, t_s) < 0)
+            if (j != rd->q[i].m.m.robot &&
+                rover_ctl_team_msg(&rd->h[j - rd->id_lo].c, &rd->q[i].m, t_s) < 0)
                 rd->d.msgs.rejected++;
     }
     rd->nq = k;
@@ -300,24 +321,28 @@ static int inputs_missing(rover_daemon *rd, int64_t step, int mark_gone)
     const int64_t sens = frame_due(rd, step, ROVER_SENSOR_PERIOD_STEPS);
     const int64_t cam = frame_due(rd, step, ROVER_CAMERA_PERIOD_STEPS);
     const int64_t team_w = (int64_t)llround(rd->params.team_period_s / DAEMON_SIM_DT_S);
-    const int64_t team_from = joined_late(rd) ? rd->first_step + 1 : 0;   /* see rover_deliver_team */
+    const int64_t team_from = joined_late(rd) ? rd->first_step + 1 : 0; /* see rover_deliver_team */
     int j, missing = 0;
     for (j = rd->id_lo; j <= rd->id_hi; j++) {
         hosted *h = &rd->h[j - rd->id_lo];
-        if (h->silent) continue;
+        if (h->silent)
+            continue;
         if (h->sens_step < sens || h->sonar_step < sens || h->camera_step < cam) {
             missing++;
-            if (mark_gone) h->silent = 1;
+            if (mark_gone)
+                h->silent = 1;
         }
     }
     for (j = 1; j <= rd->robots; j++) {
         const int listened = rd->id_lo != rd->id_hi || rd->id_lo != j;
-        if (!listened || rd->mate_gone[j] || step - team_w < team_from || rd->mate_step[j] >= step - team_w)
+        if (!listened || rd->mate_gone[j] || step - team_w < team_from ||
+            rd->mate_step[j] >= step - team_w)
             continue;
         missing++;
         /* a mate whose process is alive (slow, or stopped) is waited for:
          * what this cycle sees must not depend on the machine's load */
-        if (mark_gone && peer_dead(&rd->mate_peer[j], now_ns(), ROVER_MATE_SILENT_NS)) rd->mate_gone[j] = 1;
+        if (mark_gone && peer_dead(&rd->mate_peer[j], now_ns(), ROVER_MATE_SILENT_NS))
+            rd->mate_gone[j] = 1;
     }
     return missing;
 }
@@ -326,12 +351,14 @@ int rover_inputs_complete(rover_daemon *rd, int64_t step)
 {
     const int64_t now = now_ns();
     int n, left;
-    if (inputs_missing(rd, step, 0) == 0) return 1;
+    if (inputs_missing(rd, step, 0) == 0)
+        return 1;
     if (rd->wait_step != step) {
         rd->wait_step = step;
         rd->wait_since_ns = now;
     }
-    if (now - rd->wait_since_ns < ROVER_INPUT_WAIT_NS) return 0;
+    if (now - rd->wait_since_ns < ROVER_INPUT_WAIT_NS)
+        return 0;
     /* announced again and again for 0.3 s: not lost. A source whose process
      * is gone or hangs (a killed robot, a dead mate) is gone: go on without
      * it until it speaks again; one that is alive is waited for. */
@@ -339,9 +366,10 @@ int rover_inputs_complete(rover_daemon *rd, int64_t step)
     left = inputs_missing(rd, step, 0);
     if (n > left) {
         rd->gone_count += n - left;
-        fprintf(stderr, "%s: step %lld: %d input source(s) silent for %.1f s and not alive, taken as gone\n",
-                rd->d.name, (long long)step, n - left, (double)(now - rd->wait_since_ns) * 1e-9);
+        fprintf(
+            stderr,
+            "%s: step %lld: %d input source(s) silent for %.1f s and not alive, taken as gone\n",
+            rd->d.name, (long long)step, n - left, (double)(now - rd->wait_since_ns) * 1e-9);
     }
     return left == 0;
 }
-

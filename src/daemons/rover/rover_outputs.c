@@ -13,7 +13,8 @@
 
 /* ---- outputs ------------------------------------------------------------------ */
 
-void rover_publish_team(rover_daemon *rd, hosted *h, const rover_ctl_out *o, int64_t step, int64_t utime)
+void rover_publish_team(rover_daemon *rd, hosted *h, const rover_ctl_out *o, int64_t step,
+                        int64_t utime)
 {
     tandem_team_msg_t t;
     memset(&t, 0, sizeof t);
@@ -38,7 +39,7 @@ void rover_publish_team(rover_daemon *rd, hosted *h, const rover_ctl_out *o, int
 
 /* One robot's command and own-view state for this tick, into *cmd / *st. */
 void rover_fill_outputs(hosted *h, const rover_ctl_out *o, int64_t step, int64_t utime,
-                         tandem_rover_command_t *cmd, tandem_rover_state_t *st)
+                        tandem_rover_command_t *cmd, tandem_rover_state_t *st)
 {
     int i;
     cmd->seq = h->cmd_seq++;
@@ -59,7 +60,8 @@ void rover_fill_outputs(hosted *h, const rover_ctl_out *o, int64_t step, int64_t
     st->w_radps = h->c.w_est_radps;
     st->mode = (int8_t)o->mode;
     st->formation = (int8_t)h->c.fsm.type;
-    for (i = 0; i < 4; i++) st->weight[i] = o->weight[i];
+    for (i = 0; i < 4; i++)
+        st->weight[i] = o->weight[i];
     st->formation_err_m = o->slot_err_m;
     st->team_size = (int16_t)o->team_size;
     st->formation_scale = h->c.fsm.scale;
@@ -71,7 +73,8 @@ void rover_fill_outputs(hosted *h, const rover_ctl_out *o, int64_t step, int64_t
 void rover_publish_outbox(rover_daemon *rd, rover_outbox *o)
 {
     int i;
-    if (o->step < 0) return;
+    if (o->step < 0)
+        return;
     if (rd->batch) {
         tandem_rovers_command_t bc;
         tandem_rovers_state_t bs;
@@ -110,24 +113,26 @@ void rover_republish(daemon *d, void *user)
  * distance to the goal with the one where the escape started). */
 static void report_escape(hosted *h, const pose2 *o, double t_s)
 {
-    static const char *const phases[] = { "escape over", "turns out of the trap", "follows the wall",
-                                          "turns away from a leaving mate",
+    static const char *const phases[] = { "escape over", "turns out of the trap",
+                                          "follows the wall", "turns away from a leaving mate",
                                           "follows the wall out of a leaving mate's way" };
     const rover_ctl_state *c = &h->c;
     const int esc = c->esc_phase * 4 + (c->esc_side + 1);
     const double dist_m = hypot(c->goal_m[0] - o->x_m, c->goal_m[1] - o->y_m);
-    if (esc == h->shown_esc || c->esc_phase < ROVER_ESC_NONE || c->esc_phase >= ROVER_ESC_COUNT) return;
+    if (esc == h->shown_esc || c->esc_phase < ROVER_ESC_NONE || c->esc_phase >= ROVER_ESC_COUNT)
+        return;
     if (h->shown_esc < 0 && c->esc_phase == ROVER_ESC_NONE) {
-        h->shown_esc = esc;                 /* not escaping at the start: nothing to say */
+        h->shown_esc = esc; /* not escaping at the start: nothing to say */
         return;
     }
     if (c->esc_phase == ROVER_ESC_FOLLOW)
-        printf("[%9.3f] robot %d: %s on its %s at (%.2f, %.2f), %.2f m from the goal (%.2f m at the start)\n",
-               t_s, (int)c->id, phases[c->esc_phase], c->esc_side < 0 ? "right" : "left", o->x_m,
-               o->y_m, dist_m, c->esc_hit_dist_m);
+        printf(
+            "[%9.3f] robot %d: %s on its %s at (%.2f, %.2f), %.2f m from the goal (%.2f m at the start)\n",
+            t_s, (int)c->id, phases[c->esc_phase], c->esc_side < 0 ? "right" : "left", o->x_m,
+            o->y_m, dist_m, c->esc_hit_dist_m);
     else
-        printf("[%9.3f] robot %d: %s at (%.2f, %.2f)\n", t_s, (int)c->id, phases[c->esc_phase], o->x_m,
-               o->y_m);
+        printf("[%9.3f] robot %d: %s at (%.2f, %.2f)\n", t_s, (int)c->id, phases[c->esc_phase],
+               o->x_m, o->y_m);
     h->shown_esc = esc;
     fflush(stdout);
 }
@@ -137,8 +142,8 @@ static void report_escape(hosted *h, const pose2 *o, double t_s)
 void rover_report_changes(hosted *h, const rover_ctl_out *o, double t_s)
 {
     const int mode = o->mode;
-    static const char *const modes[] = { "formation", "dead-zone escape", "changing formation", "at goal",
-                                   "safe stop (stale input)" };
+    static const char *const modes[] = { "formation", "dead-zone escape", "changing formation",
+                                         "at goal", "safe stop (stale input)" };
     static const char *const types[] = { "line", "triangle", "column" };
     const int type = h->c.fsm.type, yield = h->c.esc_yield;
     if (mode != h->shown_mode && mode >= 0 && mode <= ROVER_MODE_SAFE_STOP)
@@ -147,7 +152,8 @@ void rover_report_changes(hosted *h, const rover_ctl_out *o, double t_s)
         printf("[%9.3f] robot %d: formation %s -> %s (scale %.2f)\n", t_s, (int)h->c.id,
                types[h->shown_type], types[type], h->c.fsm.scale);
     if (yield != h->shown_yield && h->shown_yield >= 0)
-        printf("[%9.3f] robot %d: %s\n", t_s, (int)h->c.id, yield ? "gives way to a leaving mate" : "done giving way");
+        printf("[%9.3f] robot %d: %s\n", t_s, (int)h->c.id,
+               yield ? "gives way to a leaving mate" : "done giving way");
     report_escape(h, &o->o, t_s);
     if (mode != h->shown_mode || type != h->shown_type || yield != h->shown_yield)
         fflush(stdout);
@@ -160,12 +166,14 @@ void rover_report_changes(hosted *h, const rover_ctl_out *o, double t_s)
 /* A robot's journal that does not check out: file, record, why (exit 1
  * follows: resuming from a state that lies would drive the robot from a
  * pose it is not at). */
-static int journal_refused(const rover_daemon *rd, const hosted *h, const journal_report *rep, const char *code,
-                           const char *why)
+static int journal_refused(const rover_daemon *rd, const hosted *h, const journal_report *rep,
+                           const char *code, const char *why)
 {
-    fprintf(stderr, "%s: journal %s: record %ld (line %ld): %s (%s); refusing to start (move the file away, "
-                    "or --journal-reset to start fresh on purpose)\n",
-            rd->d.name, h->journal_path, rep->line, rep->line, why, code);
+    fprintf(
+        stderr,
+        "%s: journal %s: record %ld (line %ld): %s (%s); refusing to start (move the file away, "
+        "or --journal-reset to start fresh on purpose)\n",
+        rd->d.name, h->journal_path, rep->line, rep->line, why, code);
     return ROVER_DAEMON_ERR_JOURNAL;
 }
 
@@ -179,15 +187,18 @@ static int journal_resume(rover_daemon *rd, hosted *h, int j, const journal_key 
     if (n == JOURNAL_ERR_NONE)
         return 0;
     if (n < 0)
-        return journal_refused(rd, h, &rep, journal_strerror(n), n == JOURNAL_ERR_READ ? strerror(rep.err_no) : rep.why);
+        return journal_refused(rd, h, &rep, journal_strerror(n),
+                               n == JOURNAL_ERR_READ ? strerror(rep.err_no) : rep.why);
     if (n != 1 + ROVER_CTL_SNAPSHOT_VALUES || !isfinite(v[0]) || v[0] < 0.0 || v[0] != floor(v[0]))
-        return journal_refused(rd, h, &rep, "ROVER_CTL_ERR_SNAPSHOT", "not a snapshot of this controller");
+        return journal_refused(rd, h, &rep, "ROVER_CTL_ERR_SNAPSHOT",
+                               "not a snapshot of this controller");
     if (rover_ctl_resume(&h->c, v + 1) != ROVER_CTL_OK)
         return journal_refused(rd, h, &rep, "ROVER_CTL_ERR_SNAPSHOT",
                                "another robot's snapshot, or a value out of its range");
     h->jr.seq = rep.last_seq;
-    printf("%s: robot %d resumed from %s record %ld (step %.0f, escapes %d, formation changes %d)\n", rd->d.name,
-           j, h->journal_path, rep.records, v[0], h->c.escapes, h->c.formation_changes);
+    printf(
+        "%s: robot %d resumed from %s record %ld (step %.0f, escapes %d, formation changes %d)\n",
+        rd->d.name, j, h->journal_path, rep.records, v[0], h->c.escapes, h->c.formation_changes);
     fflush(stdout);
     return 0;
 }
@@ -206,14 +217,17 @@ int rover_journal_start(rover_daemon *rd)
     for (j = rd->id_lo; j <= rd->id_hi; j++) {
         hosted *h = &rd->h[j - rd->id_lo];
         long seq = 0;
-        if (rd->id_lo == rd->id_hi) snprintf(h->journal_path, sizeof h->journal_path, "%s", rd->journal);
-        else snprintf(h->journal_path, sizeof h->journal_path, "%s-%d", rd->journal, j);
+        if (rd->id_lo == rd->id_hi)
+            snprintf(h->journal_path, sizeof h->journal_path, "%s", rd->journal);
+        else
+            snprintf(h->journal_path, sizeof h->journal_path, "%s-%d", rd->journal, j);
         if (!rd->journal_reset && journal_resume(rd, h, j, &key) != 0)
             return ROVER_DAEMON_ERR_JOURNAL;
         seq = h->jr.seq;
-        if (journal_open(&h->jr, h->journal_path, &key, rd->journal_reset ? JOURNAL_TRUNCATE : JOURNAL_APPEND) !=
-            JOURNAL_OK) {
-            fprintf(stderr, "%s: cannot open journal %s: %s\n", rd->d.name, h->journal_path, strerror(h->jr.err_no));
+        if (journal_open(&h->jr, h->journal_path, &key,
+                         rd->journal_reset ? JOURNAL_TRUNCATE : JOURNAL_APPEND) != JOURNAL_OK) {
+            fprintf(stderr, "%s: cannot open journal %s: %s\n", rd->d.name, h->journal_path,
+                    strerror(h->jr.err_no));
             return ROVER_DAEMON_ERR_JOURNAL;
         }
         h->jr.seq = seq;
@@ -239,10 +253,13 @@ int rover_journal_cycle(rover_daemon *rd, int64_t step)
         held += h->journal_held;
         /* said once when writing starts failing and once when it works again */
         if (rc != JOURNAL_OK && !rd->journal_failing)
-            fprintf(stderr, "%s: cannot write the journal %s: %s (%s): robot %d STOPPED until it can be written\n",
-                    rd->d.name, h->journal_path, strerror(h->jr.err_no), journal_strerror(rc), j);
+            fprintf(
+                stderr,
+                "%s: cannot write the journal %s: %s (%s): robot %d STOPPED until it can be written\n",
+                rd->d.name, h->journal_path, strerror(h->jr.err_no), journal_strerror(rc), j);
         else if (rc == JOURNAL_OK && rd->journal_failing)
-            fprintf(stderr, "%s: journal %s written again: robot %d moves on\n", rd->d.name, h->journal_path, j);
+            fprintf(stderr, "%s: journal %s written again: robot %d moves on\n", rd->d.name,
+                    h->journal_path, j);
         rd->journal_failing = rc != JOURNAL_OK;
         if (rc != JOURNAL_OK)
             rd->journal_errors++;
@@ -269,4 +286,3 @@ void rover_journal_stop(rover_daemon *rd)
     for (j = rd->id_lo; j <= rd->id_hi && rd->journal; j++)
         journal_close(&rd->h[j - rd->id_lo].jr);
 }
-

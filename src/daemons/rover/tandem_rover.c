@@ -59,17 +59,20 @@ static int parse_ids(rover_daemon *rd, const char *s)
     char *end;
     long a, b;
     a = strtol(s, &end, 10);
-    if (end == s) return ROVER_DAEMON_ERR_IDS;
+    if (end == s)
+        return ROVER_DAEMON_ERR_IDS;
     if (*end == '-') {
         const char *t = end + 1;
         b = strtol(t, &end, 10);
-        if (end == t || *end) return ROVER_DAEMON_ERR_IDS;
+        if (end == t || *end)
+            return ROVER_DAEMON_ERR_IDS;
     } else if (*end) {
         return ROVER_DAEMON_ERR_IDS;
     } else {
         b = a;
     }
-    if (a < 1 || b < a || b - a + 1 > HOST_MAX) return ROVER_DAEMON_ERR_IDS;
+    if (a < 1 || b < a || b - a + 1 > HOST_MAX)
+        return ROVER_DAEMON_ERR_IDS;
     rd->id_lo = (int32_t)a;
     rd->id_hi = (int32_t)b;
     return 0;
@@ -79,7 +82,8 @@ static int parse_ids(rover_daemon *rd, const char *s)
 static int parse_id(const char *prog, void *dest, char *value)
 {
     if (parse_ids(dest, value) != 0) {
-        fprintf(stderr, "%s: --id: '%s' is not K or A-B (1 <= A <= B, at most %d)\n", prog, value, HOST_MAX);
+        fprintf(stderr, "%s: --id: '%s' is not K or A-B (1 <= A <= B, at most %d)\n", prog, value,
+                HOST_MAX);
         return OPTIONS_ERR_SAID;
     }
     return 0;
@@ -107,55 +111,105 @@ static const int law_values[] = { ROVER_LAW_SEED, ROVER_LAW_KANAYAMA };
 /* Into the rover_daemon main made; the values it holds before are the
  * defaults. --stale-ms is stored as s. */
 static const option_entry rover_options[] = {
-    { .name = "id", .type = OPTION_CALL, OPTION_ALL(rover_daemon), .call = parse_id, .meta = "K|A-B",
+    { .name = "id",
+      .type = OPTION_CALL,
+      OPTION_ALL(rover_daemon),
+      .call = parse_id,
+      .meta = "K|A-B",
       .help = "robot id(s), 1..N (required)" },
-    { .name = "robots", .type = OPTION_INT, OPTION_AT(rover_daemon, robots), .min = 1,
-      .max = ROVER_WORLD_MAX_ROBOTS, .meta = "N", .help = "team size in the launch configuration", .def = "3" },
-    { .name = "world", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, world), .choices = options_world_names,
-      .values = options_world_values, .meta = "NAME", .def = "open" },
+    { .name = "robots",
+      .type = OPTION_INT,
+      OPTION_AT(rover_daemon, robots),
+      .min = 1,
+      .max = ROVER_WORLD_MAX_ROBOTS,
+      .meta = "N",
+      .help = "team size in the launch configuration",
+      .def = "3" },
+    { .name = "world",
+      .type = OPTION_CHOICE,
+      OPTION_AT(rover_daemon, world),
+      .choices = options_world_names,
+      .values = options_world_values,
+      .meta = "NAME",
+      .def = "open" },
     WORLD_FILE_OPTIONS(rover_daemon, wopt),
-    { .name = "formation", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, formation),
-      .choices = options_formation_names, .values = options_formation_values, .meta = "F", .def = "line" },
-    { .name = "blend", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, blend), .choices = blend_names,
-      .values = blend_values, .meta = "B", .def = "weighted" },
-    { .name = "formation-law", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, params.formation_law),
-      .choices = law_names, .values = law_values,
+    { .name = "formation",
+      .type = OPTION_CHOICE,
+      OPTION_AT(rover_daemon, formation),
+      .choices = options_formation_names,
+      .values = options_formation_values,
+      .meta = "F",
+      .def = "line" },
+    { .name = "blend",
+      .type = OPTION_CHOICE,
+      OPTION_AT(rover_daemon, blend),
+      .choices = blend_names,
+      .values = blend_values,
+      .meta = "B",
+      .def = "weighted" },
+    { .name = "formation-law",
+      .type = OPTION_CHOICE,
+      OPTION_AT(rover_daemon, params.formation_law),
+      .choices = law_names,
+      .values = law_values,
       .help = "seed: the seed's law, O ahead of the axle; kanayama: slot tracking, for comparison",
       .def = "seed" },
-    { .name = "ref-heading", .type = OPTION_CALL, OPTION_AT(rover_daemon, params.goal_heading_gain),
-      .call = parse_ref_heading, .meta = "goal|mean",
-      .help = "team reference heading: goal (bearing of the goal) | mean (the seed's mean of the headings)",
+    { .name = "ref-heading",
+      .type = OPTION_CALL,
+      OPTION_AT(rover_daemon, params.goal_heading_gain),
+      .call = parse_ref_heading,
+      .meta = "goal|mean",
+      .help =
+          "team reference heading: goal (bearing of the goal) | mean (the seed's mean of the headings)",
       .def = "goal" },
-    { .name = "ref-arrive", .type = OPTION_DOUBLE, OPTION_AT(rover_daemon, params.arrive_m), .min = 0.0,
-      .max = 100.0, .meta = "M", .help = "within M of the goal the team reference turns onto the goal's slot frame "
-      "and its speed fades (0: off)", .def = "0" },
-    { .name = "localize", .type = OPTION_CHOICE, OPTION_AT(rover_daemon, localize), .choices = options_on_off,
+    { .name = "ref-arrive",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(rover_daemon, params.arrive_m),
+      .min = 0.0,
+      .max = 100.0,
+      .meta = "M",
+      .help = "within M of the goal the team reference turns onto the goal's slot frame "
+              "and its speed fades (0: off)",
+      .def = "0" },
+    { .name = "localize",
+      .type = OPTION_CHOICE,
+      OPTION_AT(rover_daemon, localize),
+      .choices = options_on_off,
       .values = options_on_off_flags,
-      .help = "fuse the world's LED landmarks with odometry (EKF); off: odometry and frame consensus only",
+      .help =
+          "fuse the world's LED landmarks with odometry (EKF); off: odometry and frame consensus only",
       .def = "on" },
-    { .name = "stale-ms", .type = OPTION_DOUBLE, OPTION_AT(rover_daemon, params.stale_s), .min = 10.0,
-      .max = 10000.0, .scale = 1e-3, .meta = "MS", .help = "sensors older than this stop the robot", .def = "500" },
-    { .name = "batch", .type = OPTION_FLAG, OPTION_AT(rover_daemon, batch),
-      .help = "publish all hosted robots' commands and states as one ROVERS_COMMAND / ROVERS_STATE message "
-              "per tick (sensors are taken per robot and batched alike)" },
-    { .name = "journal", .type = OPTION_STRING, OPTION_AT(rover_daemon, journal), .meta = "PATH",
-      .help = "append each robot's controller snapshot to PATH (PATH-K when hosting several) after every "
-              "cycle (authenticated, fsynced); a process started on an existing journal resumes there, or "
-              "refuses to start (exit 1) when a record does not check out" },
-    { .name = "journal-reset", .type = OPTION_FLAG, OPTION_AT(rover_daemon, journal_reset),
+    { .name = "stale-ms",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(rover_daemon, params.stale_s),
+      .min = 10.0,
+      .max = 10000.0,
+      .scale = 1e-3,
+      .meta = "MS",
+      .help = "sensors older than this stop the robot",
+      .def = "500" },
+    { .name = "batch",
+      .type = OPTION_FLAG,
+      OPTION_AT(rover_daemon, batch),
+      .help =
+          "publish all hosted robots' commands and states as one ROVERS_COMMAND / ROVERS_STATE message "
+          "per tick (sensors are taken per robot and batched alike)" },
+    { .name = "journal",
+      .type = OPTION_STRING,
+      OPTION_AT(rover_daemon, journal),
+      .meta = "PATH",
+      .help =
+          "append each robot's controller snapshot to PATH (PATH-K when hosting several) after every "
+          "cycle (authenticated, fsynced); a process started on an existing journal resumes there, or "
+          "refuses to start (exit 1) when a record does not check out" },
+    { .name = "journal-reset",
+      .type = OPTION_FLAG,
+      OPTION_AT(rover_daemon, journal_reset),
       .help = "start fresh on purpose: empty the --journal instead of resuming from it" },
     { .name = NULL }
 };
 
-const char *rover_daemon_strerror(int rc)
-{
-    switch (rc) {
-    case 0: return "ok";
-    case ROVER_DAEMON_ERR_IDS: return "ROVER_DAEMON_ERR_IDS";
-    case ROVER_DAEMON_ERR_JOURNAL: return "ROVER_DAEMON_ERR_JOURNAL";
-    default: return "ROVER_DAEMON_ERR_?";
-    }
-}
+STATUS_STRERROR(rover_daemon_strerror, ROVER_DAEMON_CODES)
 
 /* 0, or a negative options_parse result (--help, --version, bad options). */
 static int parse_args(rover_daemon *rd, int argc, char **argv)
@@ -196,7 +250,8 @@ static int check_tables(const rover_daemon *rd)
                            rover_ctl_params_validate(&rd->params), rover_ctl_strerror) != 0 ||
         daemon_check_table(prog, "rover_snapshot field table", "rover_snapshot_validate",
                            rover_snapshot_validate(), rover_ctl_strerror) != 0 ||
-        daemon_check_table(prog, "rover_options", "options_table_validate", options_table_validate(rover_options), options_strerror) != 0)
+        daemon_check_table(prog, "rover_options", "options_table_validate",
+                           options_table_validate(rover_options), options_strerror) != 0)
         return DAEMON_ERR_TABLE;
     return 0;
 }
@@ -210,18 +265,22 @@ static int cycle(daemon *d, void *user)
     const int64_t utime = daemon_utime_now();
     rover_outbox *ob;
     int j, n = 0, stopped = 0, held;
-    if (step < 0) return DAEMON_CONTINUE;                      /* no simulator clock yet */
-    if (d->lockstep && step == rd->last_step) return DAEMON_CONTINUE;   /* a repeated clock: answer again only */
-    if (rover_too_early(rd, step)) return DAEMON_CONTINUE;
+    if (step < 0)
+        return DAEMON_CONTINUE; /* no simulator clock yet */
+    if (d->lockstep && step == rd->last_step)
+        return DAEMON_CONTINUE; /* a repeated clock: answer again only */
+    if (rover_too_early(rd, step))
+        return DAEMON_CONTINUE;
     if (rd->first_step < 0)
         rd->first_step = step;
     if (d->lockstep && !rover_inputs_complete(rd, step)) {
-        d->skip_ack = 1;                       /* wait for the announcement again */
+        d->skip_ack = 1; /* wait for the announcement again */
         return DAEMON_CONTINUE;
     }
     rd->last_step = step;
-    for (j = rd->id_lo; j <= rd->id_hi; j++) rover_apply_frames(rd, &rd->h[j - rd->id_lo]);
-    rd->cur ^= 1;                                /* keep the cycle before for republish */
+    for (j = rd->id_lo; j <= rd->id_hi; j++)
+        rover_apply_frames(rd, &rd->h[j - rd->id_lo]);
+    rd->cur ^= 1; /* keep the cycle before for republish */
     ob = &rd->out[rd->cur];
     rover_deliver_team(rd, step, t_s);
     for (j = rd->id_lo; j <= rd->id_hi; j++) {
@@ -235,9 +294,11 @@ static int cycle(daemon *d, void *user)
         } else if (rover_ctl_step(&h->c, t_s, dt, &o) != 0) {
             d->msgs.rejected++;
         }
-        if (o.mode == ROVER_MODE_SAFE_STOP) stopped++;
+        if (o.mode == ROVER_MODE_SAFE_STOP)
+            stopped++;
         rover_report_changes(h, &o, t_s);
-        if (o.send_team) rover_publish_team(rd, h, &o, step, utime);
+        if (o.send_team)
+            rover_publish_team(rd, h, &o, step, utime);
         rover_fill_outputs(h, &o, step, utime, &ob->cmd[n], &ob->st[n]);
         n++;
     }
@@ -252,7 +313,8 @@ static int cycle(daemon *d, void *user)
     rd->last_t_s = t_s;
     d->safe_hold = stopped > 0 || held > 0;
     if (held > 0)
-        snprintf(d->status, sizeof d->status, "safe stop: journal not written, %d of %d robots stopped", held,
+        snprintf(d->status, sizeof d->status,
+                 "safe stop: journal not written, %d of %d robots stopped", held,
                  rd->id_hi - rd->id_lo + 1);
     else
         snprintf(d->status, sizeof d->status, "%s: %d of %d robots stopped (stale input)%s",
@@ -270,27 +332,33 @@ int main(int argc, char **argv)
     static rover_daemon app;
     rover_daemon *rd = &app;
     daemon *d = &rd->d;
-    lcm_subscription_t *subs[DAEMON_EXPLICIT_MAX];   /* kept for the whole run: never unsubscribed */
+    lcm_subscription_t *subs[DAEMON_EXPLICIT_MAX]; /* kept for the whole run: never unsubscribed */
     rd->last_step = -1;
     rd->first_step = -1;
     rd->wait_step = -1;
     rd->out[0].step = rd->out[1].step = -1;
-    for (j = 0; j <= ROVER_WORLD_MAX_ROBOTS; j++) rd->mate_step[j] = -1;
+    for (j = 0; j <= ROVER_WORLD_MAX_ROBOTS; j++)
+        rd->mate_step[j] = -1;
     rd->robots = 3;
     rd->world = ROVER_WORLD_OPEN;
     rd->localize = 1;
     rover_ctl_params_default(&rd->params);
     daemon_defaults(d, "tandem-rover", 0.05);
-    if ((rc = parse_args(rd, argc, argv)) < 0) return options_exit_status(rc);
+    if ((rc = parse_args(rd, argc, argv)) < 0)
+        return options_exit_status(rc);
     rd->params.formation = rd->formation;
     rd->params.blend_mode = rd->blend;
     rd->params.localize = rd->localize;
-    if (rd->id_lo == rd->id_hi) snprintf(name, sizeof name, "tandem-rover-%d", (int)rd->id_lo);
-    else snprintf(name, sizeof name, "tandem-rover-%d-%d", (int)rd->id_lo, (int)rd->id_hi);
+    if (rd->id_lo == rd->id_hi)
+        snprintf(name, sizeof name, "tandem-rover-%d", (int)rd->id_lo);
+    else
+        snprintf(name, sizeof name, "tandem-rover-%d-%d", (int)rd->id_lo, (int)rd->id_hi);
     snprintf(d->name, sizeof d->name, "%s", name);
-    if (check_tables(rd) != 0) return 1;
+    if (check_tables(rd) != 0)
+        return 1;
     rd->wopt.world = rd->world;
-    if (world_opts_layout(&rd->layout, &rd->wopt, rd->robots, 1.0, rd->formation, "tandem-rover") != 0)
+    if (world_opts_layout(&rd->layout, &rd->wopt, rd->robots, 1.0, rd->formation, "tandem-rover") !=
+        0)
         return 2;
     goal_w.x_m = rd->layout.goal_m[0];
     goal_w.y_m = rd->layout.goal_m[1];
@@ -309,7 +377,7 @@ int main(int argc, char **argv)
         pose2 start;
         rover_world_to_team(&rd->layout, &rd->layout.start_c[j - 1], &start);
         if (rover_ctl_init(&h->c, &rd->params, j, &start, goal) != 0 ||
-            rover_ctl_set_landmarks(&h->c, (const double (*)[2])lm, rd->layout.n_landmarks) != 0) {
+            rover_ctl_set_landmarks(&h->c, (const double(*)[2])lm, rd->layout.n_landmarks) != 0) {
             fprintf(stderr, "tandem-rover: bad controller parameters\n");
             return 2;
         }
@@ -318,12 +386,16 @@ int main(int argc, char **argv)
         h->shown_mode = h->shown_type = h->shown_yield = h->shown_esc = -1;
         h->sens_step = h->sonar_step = h->camera_step = -1;
     }
-    auth_bus_identity(AUTH_ROLE_ROVER, rd->id_lo, rd->id_hi);
-    if (daemon_start(d) != 0) return 1;
+    auth_bus_identity(&rd->d.bus, AUTH_ROLE_ROVER, rd->id_lo, rd->id_hi);
+    if (daemon_start(d) != 0)
+        return 1;
     /* its own robots' channels by name (daemon_subscribe_numbered) */
-    daemon_subscribe_numbered(d, "ROVER", rd->id_lo, rd->id_hi, "_SENSORS", rover_on_sensors, rd, subs, DAEMON_EXPLICIT_MAX);
-    daemon_subscribe_numbered(d, "ROVER", rd->id_lo, rd->id_hi, "_SONAR", rover_on_sonar, rd, subs, DAEMON_EXPLICIT_MAX);
-    daemon_subscribe_numbered(d, "ROVER", rd->id_lo, rd->id_hi, "_BEACONS", rover_on_beacons, rd, subs, DAEMON_EXPLICIT_MAX);
+    daemon_subscribe_numbered(d, "ROVER", rd->id_lo, rd->id_hi, "_SENSORS", rover_on_sensors, rd,
+                              subs, DAEMON_EXPLICIT_MAX);
+    daemon_subscribe_numbered(d, "ROVER", rd->id_lo, rd->id_hi, "_SONAR", rover_on_sonar, rd, subs,
+                              DAEMON_EXPLICIT_MAX);
+    daemon_subscribe_numbered(d, "ROVER", rd->id_lo, rd->id_hi, "_BEACONS", rover_on_beacons, rd,
+                              subs, DAEMON_EXPLICIT_MAX);
     if (rover_journal_start(rd) != 0) {
         daemon_finish(d);
         return 1;
@@ -339,4 +411,3 @@ int main(int argc, char **argv)
     daemon_finish(d);
     return rc;
 }
-

@@ -24,17 +24,19 @@
  * per transition and arm the slot's state, row id and step sent */
 #define SNAP_LEN(pn) (SNAP_HEAD + (pn)->n_places + 6 * (pn)->n_transitions)
 /* the largest task's snapshot fits a journal record */
-typedef char snap_fits_a_record[SNAP_HEAD + PETRI_MAX_PLACES + 6 * PETRI_MAX_TRANSITIONS <= JOURNAL_MAX_VALUES ? 1 : -1];
-#define RUNNING_MAX 4294967295.0   /* a uint32_t running set; petri_set_state
+typedef char snap_fits_a_record
+    [SNAP_HEAD + PETRI_MAX_PLACES + 6 * PETRI_MAX_TRANSITIONS <= JOURNAL_MAX_VALUES ? 1 : -1];
+#define RUNNING_MAX \
+    4294967295.0 /* a uint32_t running set; petri_set_state
                                       refuses bits of transitions the task lacks */
 #define SNAP_VERSION 3
-#define ID_MAX 2147483647.0        /* int32 ids and counters */
-#define COUNT_MAX 9007199254740992.0   /* 2^53: exact in a double */
-#define POS_MAX_M 10.0             /* a workpiece pose outside this is not the cell's */
-#define YAW_MAX_RAD 0.5            /* what on_vision accepts */
-#define HALF_MAX 4294967295.0      /* a 32-bit half of the task's digest */
-#define NAME_PART_MAX 281474976710655.0   /* 6 bytes of the task's name */
-#define SNAP_TASK 27               /* the task: digest (2 halves), name (3 parts) */
+#define ID_MAX 2147483647.0             /* int32 ids and counters */
+#define COUNT_MAX 9007199254740992.0    /* 2^53: exact in a double */
+#define POS_MAX_M 10.0                  /* a workpiece pose outside this is not the cell's */
+#define YAW_MAX_RAD 0.5                 /* what on_vision accepts */
+#define HALF_MAX 4294967295.0           /* a 32-bit half of the task's digest */
+#define NAME_PART_MAX 281474976710655.0 /* 6 bytes of the task's name */
+#define SNAP_TASK 27                    /* the task: digest (2 halves), name (3 parts) */
 #define NAME_PARTS 3
 #define NAME_BYTES 6
 
@@ -47,22 +49,37 @@ typedef struct snap_field {
 } snap_field;
 
 static const snap_field head_fields[SNAP_HEAD] = {
-    { "version", SNAP_VERSION, SNAP_VERSION, 0 }, { "step", 0, COUNT_MAX, 0 },
-    { "running", 0, RUNNING_MAX, 0 }, { "fired_count", 0, COUNT_MAX, 0 },
-    { "next_action_id (next row)", 1, ID_MAX, 0 }, { "wp_id", 0, ID_MAX, 0 },
-    { "wp_pos_x", -POS_MAX_M, POS_MAX_M, 1 }, { "wp_pos_y", -POS_MAX_M, POS_MAX_M, 1 },
-    { "wp_pos_z", -POS_MAX_M, POS_MAX_M, 1 }, { "wp_yaw", -YAW_MAX_RAD, YAW_MAX_RAD, 1 },
-    { "pick_id", 0, ID_MAX, 0 }, { "pick_pos_x", -POS_MAX_M, POS_MAX_M, 1 },
-    { "pick_pos_y", -POS_MAX_M, POS_MAX_M, 1 }, { "pick_pos_z", -POS_MAX_M, POS_MAX_M, 1 },
-    { "pick_yaw", -YAW_MAX_RAD, YAW_MAX_RAD, 1 }, { "last_taken_id", 0, ID_MAX, 0 },
-    { "p1_bound", 0, 1, 0 }, { "detections", 0, ID_MAX, 0 },
-    { "last_fired", 0, PETRI_MAX_TRANSITIONS, 0 }, { "blockages", 0, ID_MAX, 0 },
-    { "rows_reissued", 0, ID_MAX, 0 }, { "dones_recovered", 0, ID_MAX, 0 },
-    { "replans", 0, ID_MAX, 0 }, { "deadlocks", 0, ID_MAX, 0 },
-    { "faults", 0, ID_MAX, 0 }, { "stalls", 0, ID_MAX, 0 },
+    { "version", SNAP_VERSION, SNAP_VERSION, 0 },
+    { "step", 0, COUNT_MAX, 0 },
+    { "running", 0, RUNNING_MAX, 0 },
+    { "fired_count", 0, COUNT_MAX, 0 },
+    { "next_action_id (next row)", 1, ID_MAX, 0 },
+    { "wp_id", 0, ID_MAX, 0 },
+    { "wp_pos_x", -POS_MAX_M, POS_MAX_M, 1 },
+    { "wp_pos_y", -POS_MAX_M, POS_MAX_M, 1 },
+    { "wp_pos_z", -POS_MAX_M, POS_MAX_M, 1 },
+    { "wp_yaw", -YAW_MAX_RAD, YAW_MAX_RAD, 1 },
+    { "pick_id", 0, ID_MAX, 0 },
+    { "pick_pos_x", -POS_MAX_M, POS_MAX_M, 1 },
+    { "pick_pos_y", -POS_MAX_M, POS_MAX_M, 1 },
+    { "pick_pos_z", -POS_MAX_M, POS_MAX_M, 1 },
+    { "pick_yaw", -YAW_MAX_RAD, YAW_MAX_RAD, 1 },
+    { "last_taken_id", 0, ID_MAX, 0 },
+    { "p1_bound", 0, 1, 0 },
+    { "detections", 0, ID_MAX, 0 },
+    { "last_fired", 0, PETRI_MAX_TRANSITIONS, 0 },
+    { "blockages", 0, ID_MAX, 0 },
+    { "rows_reissued", 0, ID_MAX, 0 },
+    { "dones_recovered", 0, ID_MAX, 0 },
+    { "replans", 0, ID_MAX, 0 },
+    { "deadlocks", 0, ID_MAX, 0 },
+    { "faults", 0, ID_MAX, 0 },
+    { "stalls", 0, ID_MAX, 0 },
     { "invariant_violations", 0, COUNT_MAX, 0 },
-    { "task_digest_hi", 0, HALF_MAX, 0 }, { "task_digest_lo", 0, HALF_MAX, 0 },
-    { "task_name_0", 0, NAME_PART_MAX, 0 }, { "task_name_1", 0, NAME_PART_MAX, 0 },
+    { "task_digest_hi", 0, HALF_MAX, 0 },
+    { "task_digest_lo", 0, HALF_MAX, 0 },
+    { "task_name_0", 0, NAME_PART_MAX, 0 },
+    { "task_name_1", 0, NAME_PART_MAX, 0 },
     { "task_name_2", 0, NAME_PART_MAX, 0 },
 };
 
@@ -113,18 +130,37 @@ static void task_name_of(const double *v, char *out, size_t cap)
 static int snapshot(supervisor_daemon *sv, double *v)
 {
     int n = 0, i, a;
-    v[n++] = SNAP_VERSION; v[n++] = (double)sv->d.step;
-    v[n++] = sv->net.st.running; v[n++] = (double)sv->net.fired_count;
-    v[n++] = sv->next_action_id; v[n++] = sv->wp_id;
-    v[n++] = sv->wp_pos_m[0]; v[n++] = sv->wp_pos_m[1]; v[n++] = sv->wp_pos_m[2]; v[n++] = sv->wp_yaw_rad;
-    v[n++] = sv->pick_id; v[n++] = sv->pick_pos_m[0]; v[n++] = sv->pick_pos_m[1]; v[n++] = sv->pick_pos_m[2];
-    v[n++] = sv->pick_yaw_rad; v[n++] = sv->last_taken_id; v[n++] = sv->p1_bound; v[n++] = sv->detections;
-    v[n++] = sv->last_fired; v[n++] = sv->blockages;
-    v[n++] = sv->rows_reissued; v[n++] = sv->dones_recovered; v[n++] = sv->replans; v[n++] = sv->deadlocks;
-    v[n++] = sv->faults; v[n++] = sv->stall.stalls; v[n++] = (double)sv->net.invariant_violations;
+    v[n++] = SNAP_VERSION;
+    v[n++] = (double)sv->d.step;
+    v[n++] = sv->net.st.running;
+    v[n++] = (double)sv->net.fired_count;
+    v[n++] = sv->next_action_id;
+    v[n++] = sv->wp_id;
+    v[n++] = sv->wp_pos_m[0];
+    v[n++] = sv->wp_pos_m[1];
+    v[n++] = sv->wp_pos_m[2];
+    v[n++] = sv->wp_yaw_rad;
+    v[n++] = sv->pick_id;
+    v[n++] = sv->pick_pos_m[0];
+    v[n++] = sv->pick_pos_m[1];
+    v[n++] = sv->pick_pos_m[2];
+    v[n++] = sv->pick_yaw_rad;
+    v[n++] = sv->last_taken_id;
+    v[n++] = sv->p1_bound;
+    v[n++] = sv->detections;
+    v[n++] = sv->last_fired;
+    v[n++] = sv->blockages;
+    v[n++] = sv->rows_reissued;
+    v[n++] = sv->dones_recovered;
+    v[n++] = sv->replans;
+    v[n++] = sv->deadlocks;
+    v[n++] = sv->faults;
+    v[n++] = sv->stall.stalls;
+    v[n++] = (double)sv->net.invariant_violations;
     task_values(sv, v);
     n += 2 + NAME_PARTS;
-    for (i = 0; i < sv->pn->n_places; i++) v[n++] = sv->net.st.m[i];
+    for (i = 0; i < sv->pn->n_places; i++)
+        v[n++] = sv->net.st.m[i];
     for (i = 0; i < sv->pn->n_transitions; i++)
         for (a = 0; a < 2; a++) {
             v[n++] = sv->slot[i].state[a];
@@ -159,16 +195,20 @@ static int check_values(const supervisor_daemon *sv, const double *v, char *why,
     }
     for (i = 0; i < np; i++)
         if (!in_range(v[SNAP_HEAD + i], 0, PETRI_TOKEN_MAX, 0)) {
-            snprintf(why, cap, "tokens of place p%d = %.17g are not a token count", i + 1, v[SNAP_HEAD + i]);
+            snprintf(why, cap, "tokens of place p%d = %.17g are not a token count", i + 1,
+                     v[SNAP_HEAD + i]);
             return SUPERVISOR_ERR_SNAPSHOT;
         }
     for (t = 0; t < nt; t++)
         for (a = 0; a < 2; a++) {
             const double *s = &v[SNAP_HEAD + np + 6 * t + 3 * a];
-            if (!in_range(s[0], ARM_SLOT_NONE, ARM_SLOT_DONE, 0) || !in_range(s[1], 0, v[4] - 1, 0) ||
-                !in_range(s[2], 0, v[1], 0)) {
-                snprintf(why, cap, "row of t%d for arm %d (state %.17g, row %.17g, sent at step %.17g) is not one "
-                         "this supervisor could have sent", t + 1, a + 1, s[0], s[1], s[2]);
+            if (!in_range(s[0], ARM_SLOT_NONE, ARM_SLOT_DONE, 0) ||
+                !in_range(s[1], 0, v[4] - 1, 0) || !in_range(s[2], 0, v[1], 0)) {
+                snprintf(
+                    why, cap,
+                    "row of t%d for arm %d (state %.17g, row %.17g, sent at step %.17g) is not one "
+                    "this supervisor could have sent",
+                    t + 1, a + 1, s[0], s[1], s[2]);
                 return SUPERVISOR_ERR_SNAPSHOT;
             }
         }
@@ -192,14 +232,25 @@ static int restore(supervisor_daemon *sv, const double *v, char *why, size_t cap
         return SUPERVISOR_ERR_SNAPSHOT;
     }
     sv->net.fired_count = (long)v[3];
-    sv->next_action_id = (int32_t)v[4]; sv->wp_id = (int32_t)v[5];
-    vec3_set(sv->wp_pos_m, v[6], v[7], v[8]); sv->wp_yaw_rad = v[9];
-    sv->pick_id = (int32_t)v[10]; vec3_set(sv->pick_pos_m, v[11], v[12], v[13]); sv->pick_yaw_rad = v[14];
-    sv->last_taken_id = (int32_t)v[15]; sv->p1_bound = v[16] != 0; sv->detections = (int32_t)v[17];
-    sv->last_fired = (int)v[18]; sv->blockages = (int32_t)v[19];
-    sv->rows_reissued = (int32_t)v[20]; sv->dones_recovered = (int32_t)v[21]; sv->replans = (int32_t)v[22];
-    sv->deadlocks = (int32_t)v[23]; sv->faults = (int32_t)v[24];
-    sv->stall.stalls = (int)v[25]; sv->net.invariant_violations = (long)v[26];
+    sv->next_action_id = (int32_t)v[4];
+    sv->wp_id = (int32_t)v[5];
+    vec3_set(sv->wp_pos_m, v[6], v[7], v[8]);
+    sv->wp_yaw_rad = v[9];
+    sv->pick_id = (int32_t)v[10];
+    vec3_set(sv->pick_pos_m, v[11], v[12], v[13]);
+    sv->pick_yaw_rad = v[14];
+    sv->last_taken_id = (int32_t)v[15];
+    sv->p1_bound = v[16] != 0;
+    sv->detections = (int32_t)v[17];
+    sv->last_fired = (int)v[18];
+    sv->blockages = (int32_t)v[19];
+    sv->rows_reissued = (int32_t)v[20];
+    sv->dones_recovered = (int32_t)v[21];
+    sv->replans = (int32_t)v[22];
+    sv->deadlocks = (int32_t)v[23];
+    sv->faults = (int32_t)v[24];
+    sv->stall.stalls = (int)v[25];
+    sv->net.invariant_violations = (long)v[26];
     for (i = 0; i < sv->pn->n_transitions; i++)
         for (a = 0; a < 2; a++) {
             sv->slot[i].state[a] = (int)v[n++];
@@ -210,10 +261,12 @@ static int restore(supervisor_daemon *sv, const double *v, char *why, size_t cap
 }
 
 /* The refusal: file, record, why, and what to do. */
-static int refuse(const supervisor_daemon *sv, const journal_report *rep, const char *code, const char *why)
+static int refuse(const supervisor_daemon *sv, const journal_report *rep, const char *code,
+                  const char *why)
 {
-    fprintf(stderr, "tandem-supervisor: journal %s: record %ld (line %ld): %s (%s); refusing to start "
-                    "(move the file away, or --journal-reset to start fresh on purpose)\n",
+    fprintf(stderr,
+            "tandem-supervisor: journal %s: record %ld (line %ld): %s (%s); refusing to start "
+            "(move the file away, or --journal-reset to start fresh on purpose)\n",
             sv->journal_path, rep->line, rep->line, why, code);
     return SUPERVISOR_ERR_JOURNAL;
 }
@@ -227,8 +280,10 @@ static int same_task(const supervisor_daemon *sv, const journal_report *rep, con
     int i;
     uint64_t digest;
     if (n < 1 || v[0] != SNAP_VERSION) {
-        snprintf(why, sizeof why, "version %.17g: this supervisor reads version %d (a journal of an older "
-                 "tandem-supervisor)", n < 1 ? 0.0 : v[0], SNAP_VERSION);
+        snprintf(why, sizeof why,
+                 "version %.17g: this supervisor reads version %d (a journal of an older "
+                 "tandem-supervisor)",
+                 n < 1 ? 0.0 : v[0], SNAP_VERSION);
         return refuse(sv, rep, supervisor_strerror(SUPERVISOR_ERR_SNAPSHOT), why);
     }
     if (n < SNAP_HEAD) {
@@ -237,17 +292,20 @@ static int same_task(const supervisor_daemon *sv, const journal_report *rep, con
     }
     for (i = SNAP_TASK; i < SNAP_TASK + 2 + NAME_PARTS; i++)
         if (!in_range(v[i], head_fields[i].lo, head_fields[i].hi, 0)) {
-            snprintf(why, sizeof why, "%s = %.17g is outside [%g, %g] or not a whole number", head_fields[i].name,
-                     v[i], head_fields[i].lo, head_fields[i].hi);
+            snprintf(why, sizeof why, "%s = %.17g is outside [%g, %g] or not a whole number",
+                     head_fields[i].name, v[i], head_fields[i].lo, head_fields[i].hi);
             return refuse(sv, rep, supervisor_strerror(SUPERVISOR_ERR_SNAPSHOT), why);
         }
     digest = ((uint64_t)v[SNAP_TASK] << 32) | (uint64_t)v[SNAP_TASK + 1];
     if (digest == sv->task_digest)
         return 0;
     task_name_of(v, theirs, sizeof theirs);
-    snprintf(why, sizeof why, "written for task '%s' (digest %016llx), but this supervisor runs task '%s' from %s "
-             "(digest %016llx)", theirs, (unsigned long long)digest, task_name(sv),
-             sv->task_dir ? sv->task_dir : "the shipped carry", (unsigned long long)sv->task_digest);
+    snprintf(why, sizeof why,
+             "written for task '%s' (digest %016llx), but this supervisor runs task '%s' from %s "
+             "(digest %016llx)",
+             theirs, (unsigned long long)digest, task_name(sv),
+             sv->task_dir ? sv->task_dir : "the shipped carry",
+             (unsigned long long)sv->task_digest);
     return refuse(sv, rep, supervisor_strerror(SUPERVISOR_ERR_OTHER_TASK), why);
 }
 
@@ -262,8 +320,8 @@ static int resume(supervisor_daemon *sv)
     if (n == JOURNAL_ERR_NONE)
         return 0;
     if (n == JOURNAL_ERR_READ) {
-        fprintf(stderr, "tandem-supervisor: journal %s cannot be read: %s (JOURNAL_ERR_READ)\n", sv->journal_path,
-                strerror(rep.err_no));
+        fprintf(stderr, "tandem-supervisor: journal %s cannot be read: %s (JOURNAL_ERR_READ)\n",
+                sv->journal_path, strerror(rep.err_no));
         return SUPERVISOR_ERR_JOURNAL;
     }
     if (n < 0)
@@ -271,16 +329,18 @@ static int resume(supervisor_daemon *sv)
     if (same_task(sv, &rep, v, n) != 0)
         return SUPERVISOR_ERR_JOURNAL;
     if (n != SNAP_LEN(sv->pn)) {
-        snprintf(why, sizeof why, "%d values where a snapshot of this supervisor's task has %d", n, SNAP_LEN(sv->pn));
+        snprintf(why, sizeof why, "%d values where a snapshot of this supervisor's task has %d", n,
+                 SNAP_LEN(sv->pn));
         return refuse(sv, &rep, supervisor_strerror(SUPERVISOR_ERR_SNAPSHOT), why);
     }
     if (restore(sv, v, why, sizeof why) != 0)
         return refuse(sv, &rep, supervisor_strerror(SUPERVISOR_ERR_SNAPSHOT), why);
     sv->journal_seq_resumed = rep.last_seq;
-    sv->resumed = (int)v[1] + 1;     /* the snapshot's step + 1, checked in the first cycle */
-    printf("tandem-supervisor: resumed from %s record %ld (step %lld, fired %ld, next row %d, blockages %d)\n",
-           sv->journal_path, rep.records, (long long)v[1], sv->net.fired_count, (int)sv->next_action_id,
-           (int)sv->blockages);
+    sv->resumed = (int)v[1] + 1; /* the snapshot's step + 1, checked in the first cycle */
+    printf(
+        "tandem-supervisor: resumed from %s record %ld (step %lld, fired %ld, next row %d, blockages %d)\n",
+        sv->journal_path, rep.records, (long long)v[1], sv->net.fired_count,
+        (int)sv->next_action_id, (int)sv->blockages);
     return 0;
 }
 
@@ -290,19 +350,21 @@ int sup_journal_start(supervisor_daemon *sv)
     int rc;
     if (!sv->journal_path)
         return 0;
-    journal_key_from_bus(&key, "tandem-supervisor");
+    journal_key_from_bus(&sv->d.bus, &key, "tandem-supervisor");
     sv->jr.key = key;
     if (sv->journal_reset)
-        printf("tandem-supervisor: --journal-reset: starting fresh; %s emptied\n", sv->journal_path);
+        printf("tandem-supervisor: --journal-reset: starting fresh; %s emptied\n",
+               sv->journal_path);
     else if (resume(sv) != 0)
         return SUPERVISOR_ERR_JOURNAL;
-    rc = journal_open(&sv->jr, sv->journal_path, &key, sv->journal_reset ? JOURNAL_TRUNCATE : JOURNAL_APPEND);
+    rc = journal_open(&sv->jr, sv->journal_path, &key,
+                      sv->journal_reset ? JOURNAL_TRUNCATE : JOURNAL_APPEND);
     if (rc != JOURNAL_OK) {
-        fprintf(stderr, "tandem-supervisor: cannot open the journal %s: %s (%s)\n", sv->journal_path,
-                strerror(sv->jr.err_no), journal_strerror(rc));
+        fprintf(stderr, "tandem-supervisor: cannot open the journal %s: %s (%s)\n",
+                sv->journal_path, strerror(sv->jr.err_no), journal_strerror(rc));
         return SUPERVISOR_ERR_JOURNAL;
     }
-    sv->jr.seq = sv->journal_seq_resumed;     /* appending goes on from the last record */
+    sv->jr.seq = sv->journal_seq_resumed; /* appending goes on from the last record */
     return 0;
 }
 
@@ -311,11 +373,13 @@ int sup_journal_start(supervisor_daemon *sv)
 static void note_write(supervisor_daemon *sv, int rc)
 {
     if (rc != JOURNAL_OK && sv->journal_rc == JOURNAL_OK) {
-        fprintf(stderr, "[%9.3f] tandem-supervisor: cannot write the journal %s: %s (%s): HOLDING, no new rows "
-                        "until it can be written\n", sv->d.sim_time_s, sv->journal_path, strerror(sv->jr.err_no),
-                journal_strerror(rc));
-        printf("[%9.3f] HOLD: journal %s not written (%s); no new rows\n", sv->d.sim_time_s, sv->journal_path,
-               strerror(sv->jr.err_no));
+        fprintf(
+            stderr,
+            "[%9.3f] tandem-supervisor: cannot write the journal %s: %s (%s): HOLDING, no new rows "
+            "until it can be written\n",
+            sv->d.sim_time_s, sv->journal_path, strerror(sv->jr.err_no), journal_strerror(rc));
+        printf("[%9.3f] HOLD: journal %s not written (%s); no new rows\n", sv->d.sim_time_s,
+               sv->journal_path, strerror(sv->jr.err_no));
         fflush(stdout);
         sv->journal_errno = sv->jr.err_no;
         sv->changed = 1;
@@ -345,7 +409,8 @@ void sup_journal_cycle(supervisor_daemon *sv)
     if (!sv->journal_checked && sv->d.step >= 0) {
         sv->journal_checked = 1;
         if (sv->resumed && sv->d.step + 1 < sv->resumed) {
-            printf("tandem-supervisor: the journal is from a later step than the simulator's: another run; starting fresh\n");
+            printf(
+                "tandem-supervisor: the journal is from a later step than the simulator's: another run; starting fresh\n");
             memset(sv->slot, 0, sizeof sv->slot);
             petri_init(&sv->net, sv->pn);
             sv->resumed = 0;

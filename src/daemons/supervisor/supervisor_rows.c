@@ -13,8 +13,8 @@
 #include "tandem_action_row_t.h"
 
 #define CLEAR_BACKOFF_M 0.10
-#define RELEASE_LIFT_M 0.003        /* put the bar down from 3 mm */
-#define ROW_RESEND_STEPS 300        /* an arm idle this long after a row was sent lost it */
+#define RELEASE_LIFT_M 0.003 /* put the bar down from 3 mm */
+#define ROW_RESEND_STEPS 300 /* an arm idle this long after a row was sent lost it */
 
 /* ---- poses ---------------------------------------------------------------- */
 
@@ -57,8 +57,7 @@ static int resolve_pose(const supervisor_daemon *sv, int pose, double p[3])
         cell_grasp_point(c, 1, c->deliver_center_m, p);
         p[2] += pose == CARRY_POSE_ABOVE_RELEASE ? c->approach_height_m : RELEASE_LIFT_M;
         return 0;
-    default:
-        return SUPERVISOR_ERR_POSE;
+    default: return SUPERVISOR_ERR_POSE;
     }
 }
 
@@ -72,7 +71,7 @@ static void send_row(supervisor_daemon *sv, int t, int a)
     tandem_action_row_t row;
     int i;
     if (sup_holding(sv))
-        return;     /* the journal cannot be written: the slot waits as it is (sup_recover_rows) */
+        return; /* the journal cannot be written: the slot waits as it is (sup_recover_rows) */
     memset(&row, 0, sizeof row);
     memset(seg, 0, sizeof seg);
     for (i = 0; i < pl->n_segments; i++) {
@@ -97,17 +96,24 @@ static void send_row(supervisor_daemon *sv, int t, int a)
      * at s* = 0 for good (arm 1 restarted 7 mm before the hand-over) */
     row.sync_group = sv->slot[t].state[1 - a] == ARM_SLOT_DONE ? 0 : r->sync_group;
     row.workpiece_id = sv->pick_id;
-    row.v_m = r->lin.v_m; row.a_m = r->lin.a_m; row.u_m = r->lin.u_m;
-    row.k_p = r->lin.k_p; row.k_v = r->lin.k_v;
-    row.k0 = r->lin.k0; row.k1 = r->lin.k1; row.k2 = r->lin.k2;
+    row.v_m = r->lin.v_m;
+    row.a_m = r->lin.a_m;
+    row.u_m = r->lin.u_m;
+    row.k_p = r->lin.k_p;
+    row.k_v = r->lin.k_v;
+    row.k0 = r->lin.k0;
+    row.k1 = r->lin.k1;
+    row.k2 = r->lin.k2;
     row.n_segments = pl->n_segments;
     row.segments = seg;
     sv->slot[t].state[a] = ARM_SLOT_SENT;
     sv->slot[t].action_id[a] = row.action_id;
     sv->slot[t].sent_step[a] = sv->d.step;
     sv->dirty = 1;
-    AUTH_PUBLISH(tandem_action_row_t, sv->d.lcm, a == 0 ? "ARM1_ACTION" : "ARM2_ACTION", &row);
-    printf("[%9.3f] t%d %-46s row %d -> arm %d\n", sv->d.sim_time_s, t + 1, "", (int)row.action_id, a + 1);
+    AUTH_PUBLISH(tandem_action_row_t, &sv->d.bus, sv->d.lcm, a == 0 ? "ARM1_ACTION" : "ARM2_ACTION",
+                 &row);
+    printf("[%9.3f] t%d %-46s row %d -> arm %d\n", sv->d.sim_time_s, t + 1, "", (int)row.action_id,
+           a + 1);
 }
 
 static void log_fire(const supervisor_daemon *sv, int t, const char *what)
@@ -160,7 +166,7 @@ static void see_arm(supervisor_daemon *sv, const tandem_action_event_t *e)
 {
     arm_view *v = &sv->arm[e->arm - 1];
     if (v->heard && e->step < v->step)
-        return;                     /* older than what we know */
+        return; /* older than what we know */
     v->heard = 1;
     v->step = e->step;
     v->rx_ns = rtloop_now_ns();
@@ -180,7 +186,8 @@ void sup_on_event(const lcm_recv_buf_t *rb, const char *ch, void *u)
     if (e.arm < 1 || e.arm > 2 || e.transition < 0 || e.transition > sv->pn->n_transitions ||
         !isfinite(e.s_m) || !isfinite(e.s_f_m) || e.action_id < 0 || e.last_done_action_id < 0) {
         sv->d.msgs.rejected++;
-    } else if (e.event == TANDEM_ACTION_EVENT_T_PROGRESS || e.event == TANDEM_ACTION_EVENT_T_STARTED) {
+    } else if (e.event == TANDEM_ACTION_EVENT_T_PROGRESS ||
+               e.event == TANDEM_ACTION_EVENT_T_STARTED) {
         arm_view *v = &sv->arm[e.arm - 1];
         if (e.step > v->alive_step) {
             v->alive_step = e.step;
@@ -205,34 +212,37 @@ static void handle_event_row(supervisor_daemon *sv, const tandem_action_event_t 
     const int a = e->arm - 1, n = sv->pn->n_transitions;
     int t;
     for (t = 0; t < n; t++)
-        if (t != sv->roles.source && petri_running(&sv->net, t) && sv->slot[t].state[a] == ARM_SLOT_SENT &&
-            sv->slot[t].action_id[a] == e->action_id)
+        if (t != sv->roles.source && petri_running(&sv->net, t) &&
+            sv->slot[t].state[a] == ARM_SLOT_SENT && sv->slot[t].action_id[a] == e->action_id)
             break;
     if (e->event == TANDEM_ACTION_EVENT_T_BLOCKED) {
         sv->blockages++;
-        sv->dirty = 1;      /* a counter summary.json reports: kept over a restart */
-        printf("[%9.3f] arm %d BLOCKED in t%d (s = %.3f of %.3f m)\n", sv->d.sim_time_s, a + 1, e->transition, e->s_m, e->s_f_m);
+        sv->dirty = 1; /* a counter summary.json reports: kept over a restart */
+        printf("[%9.3f] arm %d BLOCKED in t%d (s = %.3f of %.3f m)\n", sv->d.sim_time_s, a + 1,
+               e->transition, e->s_m, e->s_f_m);
         return;
     }
     if (e->event == TANDEM_ACTION_EVENT_T_UNBLOCKED) {
         printf("[%9.3f] arm %d unblocked in t%d\n", sv->d.sim_time_s, a + 1, e->transition);
         return;
     }
-    if (e->event == TANDEM_ACTION_EVENT_T_FAULT || e->event == TANDEM_ACTION_EVENT_T_FAULT_CLEARED) {
+    if (e->event == TANDEM_ACTION_EVENT_T_FAULT ||
+        e->event == TANDEM_ACTION_EVENT_T_FAULT_CLEARED) {
         const int on = e->event == TANDEM_ACTION_EVENT_T_FAULT;
         sv->faults += on;
         sv->dirty = 1;
         sv->arms_faulted = on ? (sv->arms_faulted | 1 << a) : (sv->arms_faulted & ~(1 << a));
         sv->changed = 1;
-        printf("[%9.3f] arm %d %s in t%d\n", sv->d.sim_time_s, a + 1, on ? "FAULT (safe hold)" : "fault cleared",
-               e->transition);
+        printf("[%9.3f] arm %d %s in t%d\n", sv->d.sim_time_s, a + 1,
+               on ? "FAULT (safe hold)" : "fault cleared", e->transition);
         return;
     }
     if (t == n)
-        return;   /* not an action of ours (or already handled) */
+        return; /* not an action of ours (or already handled) */
     if (e->event == TANDEM_ACTION_EVENT_T_REJECTED) {
         sv->replans++;
-        printf("[%9.3f] arm %d REJECTED the row of t%d: re-sending\n", sv->d.sim_time_s, a + 1, t + 1);
+        printf("[%9.3f] arm %d REJECTED the row of t%d: re-sending\n", sv->d.sim_time_s, a + 1,
+               t + 1);
         send_row(sv, t, a);
         return;
     }
@@ -276,8 +286,8 @@ void sup_recover_rows(supervisor_daemon *sv)
             const arm_view *v = &sv->arm[a];
             const int32_t id = sv->slot[t].action_id[a];
             /* a partner row held back while the journal could not be written */
-            if (sv->slot[t].state[a] == ARM_SLOT_WAITING && sv->slot[t].state[1 - a] == ARM_SLOT_DONE &&
-                !sup_holding(sv)) {
+            if (sv->slot[t].state[a] == ARM_SLOT_WAITING &&
+                sv->slot[t].state[1 - a] == ARM_SLOT_DONE && !sup_holding(sv)) {
                 send_row(sv, t, a);
                 continue;
             }
@@ -291,12 +301,14 @@ void sup_recover_rows(supervisor_daemon *sv)
                 e.action_id = id;
                 e.transition = t + 1;
                 sv->dones_recovered++;
-                printf("[%9.3f] arm %d finished row %d of t%d (its DONE was lost)\n", sv->d.sim_time_s, a + 1, (int)id, t + 1);
+                printf("[%9.3f] arm %d finished row %d of t%d (its DONE was lost)\n",
+                       sv->d.sim_time_s, a + 1, (int)id, t + 1);
                 handle_event_row(sv, &e);
             } else if (!v->running && v->step - sv->slot[t].sent_step[a] > ROW_RESEND_STEPS) {
                 sv->rows_reissued++;
-                printf("[%9.3f] arm %d is not running row %d of t%d (restarted, or the row was lost): sending it again\n",
-                       sv->d.sim_time_s, a + 1, (int)id, t + 1);
+                printf(
+                    "[%9.3f] arm %d is not running row %d of t%d (restarted, or the row was lost): sending it again\n",
+                    sv->d.sim_time_s, a + 1, (int)id, t + 1);
                 send_row(sv, t, a);
             }
         }
@@ -311,7 +323,8 @@ int sup_grasp_blocked(const supervisor_daemon *sv, int t)
     int a, i;
     for (a = 0; a < 2; a++)
         for (i = 0; i < r->plan[a].n_segments; i++)
-            if (r->plan[a].seg[i].kind == CARRY_SEG_GRASP && sv->arm[a].heard && sv->arm[a].holding >= 0)
+            if (r->plan[a].seg[i].kind == CARRY_SEG_GRASP && sv->arm[a].heard &&
+                sv->arm[a].holding >= 0)
                 return 1;
     return 0;
 }

@@ -8,8 +8,8 @@
 #include "tandem_petri_marking_t.h"
 #include "tandem_sim_status_t.h"
 
-#define SILENT_NS 1000000000LL      /* wall time without a word: arm or simulator silent */
-#define SILENT_STEPS 1000           /* the same in lockstep, in simulated steps */
+#define SILENT_NS 1000000000LL /* wall time without a word: arm or simulator silent */
+#define SILENT_STEPS 1000      /* the same in lockstep, in simulated steps */
 
 /* ---- marking out ---------------------------------------------------------- */
 
@@ -51,7 +51,7 @@ void sup_publish_marking(supervisor_daemon *sv)
     m.rows_reissued = sv->rows_reissued;
     m.dones_recovered = sv->dones_recovered;
     m.resumed = (int8_t)sv->resumed;
-    AUTH_PUBLISH(tandem_petri_marking_t, sv->d.lcm, "PETRI_MARKING", &m);
+    AUTH_PUBLISH(tandem_petri_marking_t, &sv->d.bus, sv->d.lcm, "PETRI_MARKING", &m);
 }
 
 /* ---- watchdogs ---------------------------------------------------------------- */
@@ -75,22 +75,27 @@ static int work_pending(const supervisor_daemon *sv)
     int t;
     for (t = 0; t < sv->pn->n_transitions; t++)
         if (t != sv->roles.source &&
-            (petri_running(&sv->net, t) || (petri_enabled(&sv->net, t) && (t != sv->roles.pick || sv->p1_bound))))
+            (petri_running(&sv->net, t) ||
+             (petri_enabled(&sv->net, t) && (t != sv->roles.pick || sv->p1_bound))))
             return 1;
     return 0;
 }
 
 void sup_watch_stall(supervisor_daemon *sv)
 {
-    if (stallwatch_update(&sv->stall, sv->d.sim_time_s, sv->completed, work_pending(sv), sv->stick_in) == 1) {
+    if (stallwatch_update(&sv->stall, sv->d.sim_time_s, sv->completed, work_pending(sv),
+                          sv->stick_in) == 1) {
         sv->changed = 1;
         sv->dirty = 1;
         if (sv->stick_in)
-            printf("[%9.3f] STALLED: work pending, no transition completed, the stick in for %.1f s (longer than "
-                   "any block may last)\n", sv->d.sim_time_s, sv->stall.obstructed_s);
+            printf(
+                "[%9.3f] STALLED: work pending, no transition completed, the stick in for %.1f s (longer than "
+                "any block may last)\n",
+                sv->d.sim_time_s, sv->stall.obstructed_s);
         else
-            printf("[%9.3f] STALLED: work pending, no transition completed for %.1f s with the stick out\n",
-                   sv->d.sim_time_s, sv->stall.limit_s);
+            printf(
+                "[%9.3f] STALLED: work pending, no transition completed for %.1f s with the stick out\n",
+                sv->d.sim_time_s, sv->stall.limit_s);
         fflush(stdout);
     }
     sv->completed = 0;
@@ -109,12 +114,11 @@ void sup_watch_silence(supervisor_daemon *sv)
     }
     sim = !sv->d.lockstep && sv->sim_rx_ns > 0 && now - sv->sim_rx_ns > SILENT_NS;
     if (arms != sv->arms_silent || sim != sv->sim_silent) {
-        printf("[%9.3f] silent: arm 1 %s, arm 2 %s, simulator %s\n", sv->d.sim_time_s, arms & 1 ? "SILENT" : "ok",
-               arms & 2 ? "SILENT" : "ok", sim ? "SILENT" : "ok");
+        printf("[%9.3f] silent: arm 1 %s, arm 2 %s, simulator %s\n", sv->d.sim_time_s,
+               arms & 1 ? "SILENT" : "ok", arms & 2 ? "SILENT" : "ok", sim ? "SILENT" : "ok");
         fflush(stdout);
         sv->changed = 1;
     }
     sv->arms_silent = arms;
     sv->sim_silent = sim;
 }
-

@@ -69,19 +69,7 @@
 
 #define PICK_ACCEPT_RADIUS_M 0.15
 
-const char *supervisor_strerror(int rc)
-{
-    switch (rc) {
-    case 0: return "ok";
-    case SUPERVISOR_ERR_NET: return "SUPERVISOR_ERR_NET";
-    case SUPERVISOR_ERR_POSE: return "SUPERVISOR_ERR_POSE";
-    case SUPERVISOR_ERR_SNAPSHOT: return "SUPERVISOR_ERR_SNAPSHOT";
-    case SUPERVISOR_ERR_JOURNAL: return "SUPERVISOR_ERR_JOURNAL";
-    case SUPERVISOR_ERR_TASK: return "SUPERVISOR_ERR_TASK";
-    case SUPERVISOR_ERR_OTHER_TASK: return "SUPERVISOR_ERR_OTHER_TASK";
-    default: return "SUPERVISOR_ERR_?";
-    }
-}
+STATUS_STRERROR(supervisor_strerror, SUPERVISOR_CODES)
 
 /* ---- start-up check ------------------------------------------------------- */
 
@@ -90,7 +78,8 @@ static void print_offender(const supervisor_daemon *sv, const char *what, int in
     int8_t ev[256];
     int n, i;
     const petri_state *s = &sv->explore_ws.states[index];
-    printf("tandem-supervisor: the %s net %s; offending marking [", sv->task ? sv->task->task : "carry", what);
+    printf("tandem-supervisor: the %s net %s; offending marking [",
+           sv->task ? sv->task->task : "carry", what);
     for (i = 0; i < sv->pn->n_places; i++)
         printf("%s%d", i ? " " : "", s->m[i]);
     printf("] running 0x%x\n  reached by:", (unsigned)s->running);
@@ -115,13 +104,16 @@ static int check_net(supervisor_daemon *sv)
      * tokens in a place, up to what its P-invariants allow */
     if (!r.bounded || r.invariant_states || r.deadlock) {
         if (!r.bounded)
-            print_offender(sv, sv->token_bound == 1 ? "is not safe" : "exceeds its token bound", r.unbounded_index);
-        else if (r.invariant_states) print_offender(sv, "violates a P-invariant", r.invariant_index);
-        else print_offender(sv, "can deadlock", r.dead_index);
+            print_offender(sv, sv->token_bound == 1 ? "is not safe" : "exceeds its token bound",
+                           r.unbounded_index);
+        else if (r.invariant_states)
+            print_offender(sv, "violates a P-invariant", r.invariant_index);
+        else
+            print_offender(sv, "can deadlock", r.dead_index);
         return SUPERVISOR_ERR_NET;
     }
-    printf("tandem-supervisor: net checked: %d reachable states, %s, live, invariants hold\n", r.n_states,
-           r.safe ? "safe" : "bounded");
+    printf("tandem-supervisor: net checked: %d reachable states, %s, live, invariants hold\n",
+           r.n_states, r.safe ? "safe" : "bounded");
     return 0;
 }
 
@@ -139,11 +131,13 @@ static void on_vision(const lcm_recv_buf_t *rb, const char *ch, void *u)
     for (i = 0; i < m.n; i++) {
         const tandem_workpiece_t *w = &m.workpieces[i];
         double dist;
-        if (!linalg_all_finite(w->position_m, 3) || !isfinite(w->yaw_rad) || fabs(w->yaw_rad) > 0.5) {
+        if (!linalg_all_finite(w->position_m, 3) || !isfinite(w->yaw_rad) ||
+            fabs(w->yaw_rad) > 0.5) {
             sv->d.msgs.rejected++;
             continue;
         }
-        dist = hypot(w->position_m[0] - cell_default.pick_center_m[0], w->position_m[1] - cell_default.pick_center_m[1]);
+        dist = hypot(w->position_m[0] - cell_default.pick_center_m[0],
+                     w->position_m[1] - cell_default.pick_center_m[1]);
         if (w->id > sv->last_taken_id && dist < best_d) {
             best_d = dist;
             best = i;
@@ -199,8 +193,8 @@ static void take_detection(supervisor_daemon *sv)
     sv->have_detection = 0;
     sv->changed = 1;
     sv->dirty = 1;
-    printf("[%9.3f] vision: workpiece %d at (%.3f %.3f %.3f) yaw %.3f -> p1\n", sv->d.sim_time_s, (int)sv->wp_id,
-           sv->wp_pos_m[0], sv->wp_pos_m[1], sv->wp_pos_m[2], sv->wp_yaw_rad);
+    printf("[%9.3f] vision: workpiece %d at (%.3f %.3f %.3f) yaw %.3f -> p1\n", sv->d.sim_time_s,
+           (int)sv->wp_id, sv->wp_pos_m[0], sv->wp_pos_m[1], sv->wp_pos_m[2], sv->wp_yaw_rad);
 }
 
 /* ---- the cycle ------------------------------------------------------------ */
@@ -220,7 +214,7 @@ static int cycle(daemon *d, void *user)
             (t == sv->roles.pick && !sv->p1_bound) || sup_grasp_blocked(sv, t))
             continue;
         if (t == sv->roles.pick) {
-            sv->p1_bound = 0;   /* the pick (t1) takes the token and its pose */
+            sv->p1_bound = 0; /* the pick (t1) takes the token and its pose */
             vec3_copy(sv->pick_pos_m, sv->wp_pos_m);
             sv->pick_yaw_rad = sv->wp_yaw_rad;
             sv->pick_id = sv->wp_id;
@@ -242,13 +236,15 @@ static int cycle(daemon *d, void *user)
     sv->cycles++;
     if (sup_holding(sv)) {
         /* why the cell holds comes first: it is what an operator must fix */
-        snprintf(d->status, sizeof d->status, "HOLD: journal not written (%s): no new rows; fired %ld",
+        snprintf(d->status, sizeof d->status,
+                 "HOLD: journal not written (%s): no new rows; fired %ld",
                  journal_strerror(sv->journal_rc), sv->net.fired_count);
         return DAEMON_CONTINUE;
     }
-    snprintf(d->status, sizeof d->status, "%sfired %ld, workpiece %d%s%s%s%s", sv->stall.stalled ? "STALLED: " : "",
-             sv->net.fired_count, (int)sv->wp_id, sv->arms_faulted ? ", arm FAULT" : "",
-             sv->arms_silent & 1 ? ", arm 1 SILENT" : "", sv->arms_silent & 2 ? ", arm 2 SILENT" : "",
+    snprintf(d->status, sizeof d->status, "%sfired %ld, workpiece %d%s%s%s%s",
+             sv->stall.stalled ? "STALLED: " : "", sv->net.fired_count, (int)sv->wp_id,
+             sv->arms_faulted ? ", arm FAULT" : "", sv->arms_silent & 1 ? ", arm 1 SILENT" : "",
+             sv->arms_silent & 2 ? ", arm 2 SILENT" : "",
              sv->sim_silent ? ", simulator SILENT" : "");
     return DAEMON_CONTINUE;
 }
@@ -256,37 +252,69 @@ static int cycle(daemon *d, void *user)
 /* ---- command line and start-up check of the tables -------------------------- */
 
 static const char *const controller_names[] = { "event", "time", NULL };
-static const int controller_values[] = { TANDEM_ACTION_ROW_T_CONTROLLER_EVENT, TANDEM_ACTION_ROW_T_CONTROLLER_TIME };
+static const int controller_values[] = { TANDEM_ACTION_ROW_T_CONTROLLER_EVENT,
+                                         TANDEM_ACTION_ROW_T_CONTROLLER_TIME };
 
 /* Into the supervisor_daemon main made; the values it holds before are
  * the defaults. */
 static const option_entry supervisor_options[] = {
-    { .name = "controller", .type = OPTION_CHOICE, OPTION_AT(supervisor_daemon, controller),
-      .choices = controller_names, .values = controller_values,
-      .help = "arms run the event-referenced law or the time-referenced baseline", .def = "event" },
-    { .name = "serial", .type = OPTION_FLAG, OPTION_AT(supervisor_daemon, serial),
+    { .name = "controller",
+      .type = OPTION_CHOICE,
+      OPTION_AT(supervisor_daemon, controller),
+      .choices = controller_names,
+      .values = controller_values,
+      .help = "arms run the event-referenced law or the time-referenced baseline",
+      .def = "event" },
+    { .name = "serial",
+      .type = OPTION_FLAG,
+      OPTION_AT(supervisor_daemon, serial),
       .help = "take a new workpiece only when the previous one is delivered and both arms are home "
               "(no pipelining)" },
-    { .name = "tdsd", .type = OPTION_FLAG, OPTION_AT(supervisor_daemon, use_tdsd),
-      .help = "rows set use_tdsd: the arms resolve unsynchronised Cartesian moves by TDSD (passes near "
-              "singular poses)" },
-    { .name = "stall-s", .type = OPTION_DOUBLE, OPTION_AT(supervisor_daemon, stall_s), .min = 0.1, .max = 1e6,
-      .meta = "S", .help = "a stall: work pending and no transition completed for S s of simulated time while "
-                           "the stick is out", .def = "30" },
-    { .name = "stall-obstructed-s", .type = OPTION_DOUBLE, OPTION_AT(supervisor_daemon, stall_obstructed_s),
-      .min = 0.1, .max = 1e6, .meta = "S",
-      .help = "the stick in excuses a cell without progress for at most S s of simulated time; then "
-              "--stall-s more is a stall", .def = "120" },
-    { .name = "journal", .type = OPTION_STRING, OPTION_AT(supervisor_daemon, journal_path), .meta = "PATH",
-      .help = "append the discrete state to PATH on every change (authenticated with a key derived from the "
-              "bus key, fsynced); start from its last record when PATH exists (restart); a journal that does "
-              "not check out stops the start (exit 1); one that cannot be written holds the cell" },
-    { .name = "journal-reset", .type = OPTION_FLAG, OPTION_AT(supervisor_daemon, journal_reset),
+    { .name = "tdsd",
+      .type = OPTION_FLAG,
+      OPTION_AT(supervisor_daemon, use_tdsd),
+      .help =
+          "rows set use_tdsd: the arms resolve unsynchronised Cartesian moves by TDSD (passes near "
+          "singular poses)" },
+    { .name = "stall-s",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(supervisor_daemon, stall_s),
+      .min = 0.1,
+      .max = 1e6,
+      .meta = "S",
+      .help = "a stall: work pending and no transition completed for S s of simulated time while "
+              "the stick is out",
+      .def = "30" },
+    { .name = "stall-obstructed-s",
+      .type = OPTION_DOUBLE,
+      OPTION_AT(supervisor_daemon, stall_obstructed_s),
+      .min = 0.1,
+      .max = 1e6,
+      .meta = "S",
+      .help =
+          "the stick in excuses a cell without progress for at most S s of simulated time; then "
+          "--stall-s more is a stall",
+      .def = "120" },
+    { .name = "journal",
+      .type = OPTION_STRING,
+      OPTION_AT(supervisor_daemon, journal_path),
+      .meta = "PATH",
+      .help =
+          "append the discrete state to PATH on every change (authenticated with a key derived from the "
+          "bus key, fsynced); start from its last record when PATH exists (restart); a journal that does "
+          "not check out stops the start (exit 1); one that cannot be written holds the cell" },
+    { .name = "journal-reset",
+      .type = OPTION_FLAG,
+      OPTION_AT(supervisor_daemon, journal_reset),
       .help = "start fresh on purpose: empty the --journal instead of resuming from it" },
-    { .name = "task", .type = OPTION_STRING, OPTION_AT(supervisor_daemon, task_dir), .meta = "DIR",
-      .help = "run the task in DIR (one *.pnml and rows.csv, docs/tasks.md) instead of the shipped carry: "
-              "read into fixed tables and checked as tandem-netc does (token bound from its P-invariants); "
-              "refused (exit 2) naming the file, the place or transition and why" },
+    { .name = "task",
+      .type = OPTION_STRING,
+      OPTION_AT(supervisor_daemon, task_dir),
+      .meta = "DIR",
+      .help =
+          "run the task in DIR (one *.pnml and rows.csv, docs/tasks.md) instead of the shipped carry: "
+          "read into fixed tables and checked as tandem-netc does (token bound from its P-invariants); "
+          "refused (exit 2) naming the file, the place or transition and why" },
     { .name = NULL }
 };
 
@@ -295,12 +323,15 @@ static const option_entry supervisor_options[] = {
  * (taskdef_validate), and the option table. */
 static int check_tables(supervisor_daemon *sv)
 {
-    const char *net = sv->task ? "task net" : "carry_net", *rows = sv->task ? "task rows" : "carry_table";
-    if (daemon_check_table(sv->d.name, net, "petri_net_validate", petri_net_validate(sv->pn), petri_strerror) != 0 ||
+    const char *net = sv->task ? "task net" : "carry_net",
+               *rows = sv->task ? "task rows" : "carry_table";
+    if (daemon_check_table(sv->d.name, net, "petri_net_validate", petri_net_validate(sv->pn),
+                           petri_strerror) != 0 ||
         daemon_check_table(sv->d.name, rows, "carry_table_validate",
-                           carry_table_validate(sv->rows, sv->pn->n_transitions, sv->pn), carry_net_strerror) != 0 ||
-        daemon_check_table(sv->d.name, net, "taskdef_validate", taskdef_validate(sv->pn, sv->rows, &sv->roles),
-                           taskdef_strerror) != 0 ||
+                           carry_table_validate(sv->rows, sv->pn->n_transitions, sv->pn),
+                           carry_net_strerror) != 0 ||
+        daemon_check_table(sv->d.name, net, "taskdef_validate",
+                           taskdef_validate(sv->pn, sv->rows, &sv->roles), taskdef_strerror) != 0 ||
         daemon_check_table(sv->d.name, "supervisor_options", "options_table_validate",
                            options_table_validate(supervisor_options), options_strerror) != 0)
         return DAEMON_ERR_TABLE;
@@ -319,39 +350,41 @@ static int load_task(supervisor_daemon *sv, netc_task *store)
     if (!sv->task_dir)
         return 0;
     netc_set_program("tandem-supervisor");
-    rc = netc_task_load(store, sv->task_dir, NETC_BOUND_FROM_INVARIANTS, &sv->token_bound, stdout, stderr);
+    rc = netc_task_load(store, sv->task_dir, NETC_BOUND_FROM_INVARIANTS, &sv->token_bound, stdout,
+                        stderr);
     if (rc != NETC_OK) {
-        fprintf(stderr, "tandem-supervisor: task %s refused: %s (%s)\n", sv->task_dir, netc_strerror(rc),
-                supervisor_strerror(SUPERVISOR_ERR_TASK));
+        fprintf(stderr, "tandem-supervisor: task %s refused: %s (%s)\n", sv->task_dir,
+                netc_strerror(rc), supervisor_strerror(SUPERVISOR_ERR_TASK));
         return SUPERVISOR_ERR_TASK;
     }
     sv->task = store;
     sv->pn = &store->net;
     sv->rows = store->rows;
-    printf("tandem-supervisor: task %s (%s): %d places, %d transitions, token bound %d\n", store->task,
-           sv->task_dir, store->n_places, store->n_transitions, sv->token_bound);
+    printf("tandem-supervisor: task %s (%s): %d places, %d transitions, token bound %d\n",
+           store->task, sv->task_dir, store->n_places, store->n_transitions, sv->token_bound);
     return 0;
 }
 
 int main(int argc, char **argv)
 {
     static supervisor_daemon app;
-    static netc_task task;          /* --task's fixed tables */
+    static netc_task task; /* --task's fixed tables */
     supervisor_daemon *sv = &app;
     daemon *d = &sv->d;
     const option_program prog = {
         .name = "tandem-supervisor",
-        .usage = "usage: tandem-supervisor [options]\n"
-                 "Petri-net supervisor of the two-arm carry (docs/method/carry.md §5-6), or of a task drawn\n"
-                 "as PNML (--task, docs/tasks.md): vision tokens, lookup-table rows to the arms, completion\n"
-                 "events, marking at 10 Hz.\n\n",
+        .usage =
+            "usage: tandem-supervisor [options]\n"
+            "Petri-net supervisor of the two-arm carry (docs/method/carry.md §5-6), or of a task drawn\n"
+            "as PNML (--task, docs/tasks.md): vision tokens, lookup-table rows to the arms, completion\n"
+            "events, marking at 10 Hz.\n\n",
         .epilog = "\nThe control period (--period-ms) is 10 ms unless given.\n",
         .groups = { { supervisor_options, sv }, { options_daemon_common, d } },
         .n_groups = 2,
     };
     int rc;
     sv->next_action_id = 1;
-    sv->jr.fd = -1;                 /* no journal open (journal_close at the end) */
+    sv->jr.fd = -1; /* no journal open (journal_close at the end) */
     sv->controller = TANDEM_ACTION_ROW_T_CONTROLLER_EVENT;
     sv->stall_s = 30.0;
     sv->stall_obstructed_s = STALLWATCH_OBSTRUCT_MAX_S;
@@ -367,7 +400,7 @@ int main(int argc, char **argv)
         stallwatch_set_obstruct_max(&sv->stall, sv->stall_obstructed_s) != 0)
         return 1;
     fflush(stdout);
-    auth_bus_identity(AUTH_ROLE_SUPERVISOR, 0, 0);
+    auth_bus_identity(&sv->d.bus, AUTH_ROLE_SUPERVISOR, 0, 0);
     if (daemon_start(d) != 0)
         return 1;
     /* after daemon_start: the journal's key comes from the bus key */
@@ -385,4 +418,3 @@ int main(int argc, char **argv)
     journal_close(&sv->jr);
     return rc;
 }
-

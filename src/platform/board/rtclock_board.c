@@ -10,8 +10,8 @@
 #include "rtclock.h"
 #include "board_timer.h"
 
-static uint32_t last_count;   /* counter at the previous read */
-static int64_t  ticks_high;   /* wraps seen, times 2^32 */
+static uint32_t last_count; /* counter at the previous read */
+static int64_t ticks_high;  /* wraps seen, times 2^32 */
 
 static int64_t ticks_now(void)
 {

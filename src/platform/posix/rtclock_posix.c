@@ -1,7 +1,7 @@
 /* rtclock on Linux/POSIX (include/tandem/base/rtclock.h): CLOCK_MONOTONIC read and an
  * absolute clock_nanosleep, so the loop's period does not drift with the
  * work done in each cycle. */
-#define _POSIX_C_SOURCE 200809L   /* clock_nanosleep: here, not in the core's flags */
+#define _POSIX_C_SOURCE 200809L /* clock_nanosleep: here, not in the core's flags */
 #include "rtclock.h"
 #include <time.h>
 

@@ -135,7 +135,8 @@ static void test_gravity_is_potential_gradient(void **state)
                         memcpy(qm, q, sizeof qm);
                         qp[j] += h;
                         qm[j] -= h;
-                        dV = (potential(models[k], qp, g, p) - potential(models[k], qm, g, p)) / (2 * h);
+                        dV = (potential(models[k], qp, g, p) - potential(models[k], qm, g, p)) /
+                             (2 * h);
                         assert_true(fabs(dV - tau[j]) < 1e-6);
                     }
                 }
@@ -154,8 +155,8 @@ static void test_rne_decomposition_and_christoffel(void **state)
             for (n = 0; n < 300; n++) {
                 const arm_model *m = models[k];
                 const arm_payload *p = pl ? test_payload() : NULL;
-                double q[ARM_NJ], qd[ARM_NJ], qdd[ARM_NJ], tau[ARM_NJ], M[36], c[ARM_NJ],
-                    g[ARM_NJ], Mp[36], Mm[36], qp[ARM_NJ], qm[ARM_NJ], qdd2[ARM_NJ];
+                double q[ARM_NJ], qd[ARM_NJ], qdd[ARM_NJ], tau[ARM_NJ], M[36], c[ARM_NJ], g[ARM_NJ],
+                    Mp[36], Mm[36], qp[ARM_NJ], qm[ARM_NJ], qdd2[ARM_NJ];
                 double scale = 0.0;
                 random_q(m, &seed, q);
                 random_vec(&seed, 3.0, qd);
@@ -189,8 +190,8 @@ static void test_rne_decomposition_and_christoffel(void **state)
                     for (i = 0; i < 6; i++) {
                         for (kk = 0; kk < 6; kk++)
                             for (j = 0; j < 6; j++)
-                                cc[i] += qd[kk] * dM[kk][i * 6 + j] * qd[j]
-                                         - 0.5 * qd[kk] * dM[i][kk * 6 + j] * qd[j];
+                                cc[i] += qd[kk] * dM[kk][i * 6 + j] * qd[j] -
+                                         0.5 * qd[kk] * dM[i][kk * 6 + j] * qd[j];
                         scale += fabs(c[i]);
                     }
                     for (i = 0; i < 6; i++)
@@ -249,7 +250,8 @@ static void test_armature_on_the_diagonal(void **state)
         bare.armature_kgm2[i] = 0.0;
     }
     for (n = 0; n < 50; n++) {
-        double q[ARM_NJ], qd[ARM_NJ], qdd[ARM_NJ], t1[ARM_NJ], t0[ARM_NJ], M1[36], M0[36], qdd2[ARM_NJ];
+        double q[ARM_NJ], qd[ARM_NJ], qdd[ARM_NJ], t1[ARM_NJ], t0[ARM_NJ], M1[36], M0[36],
+            qdd2[ARM_NJ];
         random_q(m, &seed, q);
         random_vec(&seed, 2.0, qd);
         random_vec(&seed, 5.0, qdd);
@@ -258,9 +260,11 @@ static void test_armature_on_the_diagonal(void **state)
         assert_int_equal(arm_mass_matrix(m, q, p, M1), 0);
         assert_int_equal(arm_mass_matrix(&bare, q, p, M0), 0);
         for (i = 0; i < ARM_NJ; i++) {
-            assert_true(fabs(t1[i] - t0[i] - m->armature_kgm2[i] * qdd[i]) < 1e-9 * (1.0 + fabs(t1[i])));
+            assert_true(fabs(t1[i] - t0[i] - m->armature_kgm2[i] * qdd[i]) <
+                        1e-9 * (1.0 + fabs(t1[i])));
             for (j = 0; j < ARM_NJ; j++)
-                assert_true(fabs(M1[i * 6 + j] - M0[i * 6 + j] - (i == j ? m->armature_kgm2[i] : 0.0)) < 1e-12);
+                assert_true(fabs(M1[i * 6 + j] - M0[i * 6 + j] -
+                                 (i == j ? m->armature_kgm2[i] : 0.0)) < 1e-12);
         }
         assert_int_equal(arm_forward_dynamics(m, q, qd, t1, NULL, p, qdd2), 0);
         for (i = 0; i < ARM_NJ; i++)
@@ -286,7 +290,8 @@ static void test_payload_gravity_as_wrench(void **state)
         arm_gravity(&arm_model_puma560, q, NULL, p, g1);
         arm_jacobian(&arm_model_puma560, &tool, q, J);
         for (i = 0; i < 6; i++)
-            assert_true(fabs((g1[i] - g0[i]) - J[2 * 6 + i] * p->mass_kg * ARM_GRAVITY_MPS2) < 1e-10);
+            assert_true(fabs((g1[i] - g0[i]) - J[2 * 6 + i] * p->mass_kg * ARM_GRAVITY_MPS2) <
+                        1e-10);
     }
 }
 
@@ -317,7 +322,8 @@ static void test_rne_cs_is_rne(void **state)
         assert_int_equal(arm_joint_cs_eval(&arm_model_puma560, z, &cs), 0);
         cs.s[3] = NAN;
         assert_int_equal(arm_rne_cs(&arm_model_puma560, &cs, z, z, NULL, NULL, t), ARM_DYN_ERR_ARG);
-        assert_int_equal(arm_rne_cs(&arm_model_puma560, NULL, z, z, NULL, NULL, t), ARM_DYN_ERR_ARG);
+        assert_int_equal(arm_rne_cs(&arm_model_puma560, NULL, z, z, NULL, NULL, t),
+                         ARM_DYN_ERR_ARG);
     }
 }
 
@@ -349,7 +355,7 @@ static void make_skewed(void)
     static const double off[ARM_NJ] = { 0.1, -0.3, 0.5, 0.0, -0.2, 0.4 };
     int i;
     skewed = arm_model_puma560;
-    skewed.structure = ARM_STRUCTURE_GENERAL;   /* not a PUMA any more */
+    skewed.structure = ARM_STRUCTURE_GENERAL; /* not a PUMA any more */
     for (i = 0; i < ARM_NJ; i++) {
         skewed.alpha_rad[i] = alpha[i];
         skewed.a_m[i] = a[i];

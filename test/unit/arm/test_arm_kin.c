@@ -110,7 +110,7 @@ static void check_jdot(const arm_model *m, const arm_tool *tool, const double q[
     int i, j;
     assert_int_equal(arm_kin_eval(m, tool, q, &k), 0);
     assert_int_equal(arm_fk_jacobian(m, tool, q, T, J), 0);
-    assert_memory_equal(k.T, T, sizeof T);   /* same arithmetic, same bits */
+    assert_memory_equal(k.T, T, sizeof T); /* same arithmetic, same bits */
     assert_memory_equal(k.J, J, sizeof J);
     assert_int_equal(arm_kin_jdot_qd(&k, qd, jd), 0);
     for (i = 0; i < ARM_NJ; i++) {

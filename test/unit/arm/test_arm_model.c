@@ -36,12 +36,13 @@ static void test_mass_properties_valid(void **state)
             const double *I = m->inertia_kgm2[i];
             const double m1 = I[0];
             const double m2 = I[0] * I[4] - I[1] * I[3];
-            const double m3 = I[0] * (I[4] * I[8] - I[5] * I[7]) - I[1] * (I[3] * I[8] - I[5] * I[6])
-                              + I[2] * (I[3] * I[7] - I[4] * I[6]);
+            const double m3 = I[0] * (I[4] * I[8] - I[5] * I[7]) -
+                              I[1] * (I[3] * I[8] - I[5] * I[6]) +
+                              I[2] * (I[3] * I[7] - I[4] * I[6]);
             assert_true(m->mass_kg[i] > 0.0);
             assert_true(m1 > 0.0 && m2 > 0.0 && m3 > 0.0);
-            assert_true(fabs(I[1] - I[3]) < 1e-15 && fabs(I[2] - I[6]) < 1e-15
-                        && fabs(I[5] - I[7]) < 1e-15);
+            assert_true(fabs(I[1] - I[3]) < 1e-15 && fabs(I[2] - I[6]) < 1e-15 &&
+                        fabs(I[5] - I[7]) < 1e-15);
             assert_true(m->q_min_rad[i] < m->q_max_rad[i]);
             assert_true(m->qd_max_radps[i] > 0.0 && m->tau_max_Nm[i] > 0.0);
         }
@@ -99,8 +100,8 @@ static void test_tool_offset(void **state)
     /* the tool point is the flange point p carried by the flange rotation */
     tf_pos(pt, Tt);
     tf_apply(pw, T6, p);
-    assert_true(fabs(pt[0] - pw[0]) < 1e-14 && fabs(pt[1] - pw[1]) < 1e-14
-                && fabs(pt[2] - pw[2]) < 1e-14);
+    assert_true(fabs(pt[0] - pw[0]) < 1e-14 && fabs(pt[1] - pw[1]) < 1e-14 &&
+                fabs(pt[2] - pw[2]) < 1e-14);
     arm_tool_none(&tool);
     arm_fk(&arm_model_puma560, &tool, q, Tt);
     assert_memory_equal(Tt, T6, sizeof Tt);
@@ -116,8 +117,10 @@ static void test_alpha_trig_tables(void **state)
     for (k = 0; k < sizeof models / sizeof models[0]; k++) {
         arm_model copy = *models[k];
         for (i = 0; i < ARM_NJ; i++) {
-            assert_true(fabs(models[k]->cos_alpha[i] - cos(models[k]->alpha_rad[i])) <= DBL_EPSILON);
-            assert_true(fabs(models[k]->sin_alpha[i] - sin(models[k]->alpha_rad[i])) <= DBL_EPSILON);
+            assert_true(fabs(models[k]->cos_alpha[i] - cos(models[k]->alpha_rad[i])) <=
+                        DBL_EPSILON);
+            assert_true(fabs(models[k]->sin_alpha[i] - sin(models[k]->alpha_rad[i])) <=
+                        DBL_EPSILON);
         }
         memset(copy.cos_alpha, 0, sizeof copy.cos_alpha);
         memset(copy.sin_alpha, 0, sizeof copy.sin_alpha);
@@ -139,7 +142,7 @@ static void test_dh_compose_general_alpha(void **state)
     prng_seed(&seed, 11);
     int n, i, e;
     (void)state;
-    m.structure = ARM_STRUCTURE_GENERAL;   /* not a PUMA any more */
+    m.structure = ARM_STRUCTURE_GENERAL; /* not a PUMA any more */
     for (i = 0; i < ARM_NJ; i++) {
         m.alpha_rad[i] = alpha[i];
         m.a_m[i] += 0.01 * (i + 1);
@@ -192,7 +195,7 @@ static void test_joint_faults(void **st)
     int i;
     (void)st;
     for (i = 0; i < ARM_NJ; i++)
-        q[i] = m->q_max_rad[i] + 0.9 * ARM_RANGE_TOL_RAD;   /* on the stop: inside */
+        q[i] = m->q_max_rad[i] + 0.9 * ARM_RANGE_TOL_RAD; /* on the stop: inside */
     assert_int_equal(arm_joint_faults(m, q, qd), 0u);
     for (i = 0; i < ARM_NJ; i++) {
         double qq[ARM_NJ], vv[ARM_NJ] = { 0 };
@@ -220,12 +223,16 @@ static void test_validate(void **state)
     assert_int_equal(arm_model_validate(&arm_model_puma560), 0);
     assert_int_equal(arm_model_validate(&arm_model_seed002), 0);
     assert_int_equal(arm_model_validate(NULL), ARM_MODEL_ERR_ARG);
-#define BROKEN(field_change, code) \
-    do { m = arm_model_puma560; field_change; assert_int_equal(arm_model_validate(&m), (code)); } while (0)
+#define BROKEN(field_change, code)                        \
+    do {                                                  \
+        m = arm_model_puma560;                            \
+        field_change;                                     \
+        assert_int_equal(arm_model_validate(&m), (code)); \
+    } while (0)
     BROKEN(m.name = NULL, ARM_MODEL_ERR_ARG);
     BROKEN(m.d_m[3] = NAN, ARM_MODEL_ERR_NONFINITE);
     BROKEN(m.inertia_kgm2[2][4] = INFINITY, ARM_MODEL_ERR_NONFINITE);
-    BROKEN(m.q_min_rad[1] = m.q_max_rad[1], ARM_MODEL_ERR_RANGE);   /* lo < hi */
+    BROKEN(m.q_min_rad[1] = m.q_max_rad[1], ARM_MODEL_ERR_RANGE); /* lo < hi */
     BROKEN(m.mass_kg[4] = 0.0, ARM_MODEL_ERR_RANGE);
     BROKEN(m.armature_kgm2[5] = NAN, ARM_MODEL_ERR_NONFINITE);
     BROKEN(m.armature_kgm2[1] = -2.3, ARM_MODEL_ERR_RANGE);
@@ -234,9 +241,9 @@ static void test_validate(void **state)
     BROKEN(m.a_m[1] = -0.4318, ARM_MODEL_ERR_RANGE);
     BROKEN(m.base_height_m = -0.1, ARM_MODEL_ERR_RANGE);
     BROKEN(m.alpha_rad[2] = -m.alpha_rad[2], ARM_MODEL_ERR_INCONSISTENT); /* trig tables stale */
-    arm_model_refresh_alpha(&m);                                        /* ... until refreshed, */
-    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_STRUCTURE);  /* no PUMA any more ... */
-    m.structure = ARM_STRUCTURE_GENERAL;                                /* ... but a general arm */
+    arm_model_refresh_alpha(&m);                                          /* ... until refreshed, */
+    assert_int_equal(arm_model_validate(&m), ARM_MODEL_ERR_STRUCTURE);    /* no PUMA any more ... */
+    m.structure = ARM_STRUCTURE_GENERAL; /* ... but a general arm */
     assert_int_equal(arm_model_validate(&m), 0);
     /* claiming the PUMA structure without each of its zeros, one at a time */
     BROKEN(m.a_m[0] = 0.01, ARM_MODEL_ERR_STRUCTURE);
@@ -255,7 +262,8 @@ static void test_validate(void **state)
     {
         int k;
         for (k = 0; k < 2; k++)
-            assert_int_equal(arm_model_has_puma_structure(k ? &arm_model_seed002 : &arm_model_puma560), 1);
+            assert_int_equal(
+                arm_model_has_puma_structure(k ? &arm_model_seed002 : &arm_model_puma560), 1);
         assert_int_equal(arm_model_has_puma_structure(NULL), 0);
     }
     BROKEN(m.inertia_kgm2[1][1] = 0.01, ARM_MODEL_ERR_INCONSISTENT);    /* not symmetric */

@@ -43,7 +43,7 @@ static int agree(const double *a, const double *b, int n)
     for (i = 0; i < n; i++) {
         const double e = fabs(a[i] - b[i]);
         if (!(e <= err))
-            err = e;   /* NaN propagates into a failure */
+            err = e; /* NaN propagates into a failure */
         if (fabs(b[i]) > scale)
             scale = fabs(b[i]);
     }
@@ -70,7 +70,7 @@ static arm_tool tool_of(int k)
         arm_tool_none(&t);
     } else {
         arm_tool_offset(&t, off);
-        if (k == 2) {   /* a turned tool takes the general product */
+        if (k == 2) { /* a turned tool takes the general product */
             t.T_flange_tool[0] = t.T_flange_tool[5] = cos(0.3);
             t.T_flange_tool[1] = -sin(0.3);
             t.T_flange_tool[4] = sin(0.3);
@@ -81,7 +81,8 @@ static arm_tool tool_of(int k)
 
 /* Every routine, folded (m) and general (g), at one state. */
 static void check_state(const arm_model *m, const arm_model *g, const double q[ARM_NJ],
-                        const double qd[ARM_NJ], const double qdd[ARM_NJ], const double grav[3], int variant)
+                        const double qd[ARM_NJ], const double qdd[ARM_NJ], const double grav[3],
+                        int variant)
 {
     const arm_payload *p = (variant & 1) ? bar() : NULL;
     const arm_tool tool = tool_of(variant % 3);
@@ -161,7 +162,7 @@ static void test_agree_limits_and_singularities(void **state)
             check_state(m, &g, q, zero, zero, NULL, corner + 1);
         }
         for (n = 0; n < 3; n++) {
-            const double elbow = atan2(m->a_m[2], m->d_m[3]);   /* a2 and the forearm in line */
+            const double elbow = atan2(m->a_m[2], m->d_m[3]); /* a2 and the forearm in line */
             double q[ARM_NJ] = { 0.3, -0.5, 0.0, 0.7, 0.0, -0.2 };
             if (n == 1)
                 q[2] = 1.57079632679489662 + elbow;
@@ -172,7 +173,8 @@ static void test_agree_limits_and_singularities(void **state)
                 int it;
                 for (it = 0; it < 200; it++) {
                     const double mid = 0.5 * (lo + hi);
-                    const double X = m->a_m[1] * cos(mid) + m->a_m[2] * cos(mid) - m->d_m[3] * sin(mid);
+                    const double X = m->a_m[1] * cos(mid) + m->a_m[2] * cos(mid) -
+                                     m->d_m[3] * sin(mid);
                     if (X > 0.0)
                         hi = mid;
                     else
@@ -211,11 +213,12 @@ static void test_jacobian_is_fk_derivative(void **state)
                 arm_fk(models[k], &tool, qp, Tp);
                 arm_fk(models[k], &tool, qm, Tm);
                 for (r = 0; r < 3; r++)
-                    assert_true(fabs((Tp[4 * r + 3] - Tm[4 * r + 3]) / (2 * h) - J[r * 6 + j]) < 1e-8);
+                    assert_true(fabs((Tp[4 * r + 3] - Tm[4 * r + 3]) / (2 * h) - J[r * 6 + j]) <
+                                1e-8);
                 tf_rot(Rp, Tp);
                 tf_rot(Rm, Tm);
                 rot_transpose(Rmt, Rm);
-                rot_mul(D, Rp, Rmt);   /* ~ I + 2h [w]x */
+                rot_mul(D, Rp, Rmt); /* ~ I + 2h [w]x */
                 assert_true(fabs((D[7] - D[5]) / (4 * h) - J[18 + j]) < 1e-8);
                 assert_true(fabs((D[2] - D[6]) / (4 * h) - J[24 + j]) < 1e-8);
                 assert_true(fabs((D[3] - D[1]) / (4 * h) - J[30 + j]) < 1e-8);

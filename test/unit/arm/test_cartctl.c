@@ -27,7 +27,8 @@ static arm_tool tool10(void)
     return t;
 }
 
-static void pose_at(const double q[ARM_NJ], const double qd[ARM_NJ], double t, double p[3], double R[9])
+static void pose_at(const double q[ARM_NJ], const double qd[ARM_NJ], double t, double p[3],
+                    double R[9])
 {
     const arm_tool tool = tool10();
     double qt[ARM_NJ], T[16];
@@ -84,7 +85,7 @@ static void test_model_plant_gives_commanded_accel(void **st)
     int i;
     (void)st;
     for (i = 0; i < ARM_NJ; i++)
-        qd[i] = 0.1 * QD_A[i];   /* moderate speed: no torque limit reached */
+        qd[i] = 0.1 * QD_A[i]; /* moderate speed: no torque limit reached */
     cartctl_gains_default(&g);
     arm_payload_point(&pl, 0.5, com);
     assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, Q_A, qd, &s), 0);
@@ -95,7 +96,8 @@ static void test_model_plant_gives_commanded_accel(void **st)
         rot_from_axis_angle(dR, axis, 0.002);
         rot_mul(R_d, dR, R);
     }
-    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, &pl, &g, Q_A, qd, &s, a_lin, R_d, tau, &o), 0);
+    assert_int_equal(
+        cartctl_torque(&arm_model_puma560, &tool, &pl, &g, Q_A, qd, &s, a_lin, R_d, tau, &o), 0);
     assert_int_equal(o.saturated, 0);
     assert_true(o.lambda == 0.0);
     assert_int_equal(arm_forward_dynamics(&arm_model_puma560, Q_A, qd, tau, NULL, &pl, qdd), 0);
@@ -150,7 +152,8 @@ static void test_closed_loop_tracks(void **st)
             err += d * d;
         }
         max_err = fmax(max_err, sqrt(err));
-        assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, qd, &s, u, R0, tau, &o), 0);
+        assert_int_equal(
+            cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, qd, &s, u, R0, tau, &o), 0);
         max_rot = fmax(max_rot, vec3_norm(o.rot_err));
         arm_forward_dynamics(&arm_model_puma560, q, qd, tau, NULL, NULL, qdd);
         for (i = 0; i < ARM_NJ; i++) {
@@ -174,11 +177,12 @@ static void test_damping_near_wrist_singularity(void **st)
     cartctl_gains_default(&g);
     memcpy(q, Q_A, sizeof q);
     q[4] = 1e-4;
-    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, QD_A, NULL, a, NULL, tau, &o), 0);
+    assert_int_equal(
+        cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, QD_A, NULL, a, NULL, tau, &o), 0);
     assert_true(o.lambda > 0.9 * g.lambda_max);
     for (i = 0; i < ARM_NJ; i++)
         n_near = fmax(n_near, fabs(o.qdd[i]));
-    assert_true(n_near < 1e3);   /* bounded although J is singular */
+    assert_true(n_near < 1e3); /* bounded although J is singular */
     q[4] = -0.45;
     cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, QD_A, NULL, a, NULL, tau, &o);
     assert_true(o.lambda == 0.0);
@@ -210,7 +214,7 @@ static void fast_path_matches_svd(const arm_model *m)
             q[i] = Q_A[i] + 0.3 * sin(1.7 * n + i);
             qd[i] = QD_A[i] * cos(0.9 * n + 2 * i);
         }
-        q[4] = -0.6 * (double)(n % 50) / 49.0;     /* 0 .. -0.6 rad: through the band */
+        q[4] = -0.6 * (double)(n % 50) / 49.0; /* 0 .. -0.6 rad: through the band */
         vec3_set(a, 0.3 * sin(n), 0.2, -0.1 * cos(n));
         assert_int_equal(cartctl_state_at(m, &tool, q, qd, &s), 0);
         rot_from_axis_angle(R_d, a, 0.05);
@@ -220,7 +224,8 @@ static void fast_path_matches_svd(const arm_model *m)
             rhs[i] = o.a_cmd[i] - jd[i];
         linalg_svd(U, sv, V, s.J, 6, 6);
         if (sv[5] < g.sigma_band)
-            lam2 = g.lambda_max * g.lambda_max * (1.0 - (sv[5] / g.sigma_band) * (sv[5] / g.sigma_band));
+            lam2 = g.lambda_max * g.lambda_max *
+                   (1.0 - (sv[5] / g.sigma_band) * (sv[5] / g.sigma_band));
         linalg_tmatvec(y, U, rhs, 6, 6);
         linalg_tmatvec(vq, V, qd, 6, 6);
         for (i = 0; i < 6; i++)
@@ -231,10 +236,10 @@ static void fast_path_matches_svd(const arm_model *m)
             scale = fmax(scale, fabs(ref[i]));
         }
         assert_true(err <= 1e-9 * fmax(scale, 1.0));
-        assert_int_equal(o.range_limited, 0u);   /* far from every range end */
+        assert_int_equal(o.range_limited, 0u); /* far from every range end */
         assert_true(o.sigma_min <= sv[5] * (1.0 + 1e-9));
         if (lam2 == 0.0 && o.sigma_min < sv[5] * (1.0 - 1e-9)) {
-            fast++;    /* bound, not the SVD value: the fast path ran */
+            fast++; /* bound, not the SVD value: the fast path ran */
             if (s.has_wrist) {
                 /* the wrist path's bound, summed from the blocks, is
                  * 1/||J^-1||_F of the 6x6 inverse */
@@ -287,7 +292,7 @@ static void test_inverse_wrist(void **st)
         cartctl_state s;
         double q[ARM_NJ];
         memcpy(q, Q_A, sizeof q);
-        q[4] = 0.0;   /* z4 and z6 in line */
+        q[4] = 0.0; /* z4 and z6 in line */
         assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, QD_A, &s), 0);
         assert_int_equal(cartctl_inverse_wrist(s.J, s.T, s.wrist_m, Ji), CARTCTL_ERR_SINGULAR);
         assert_int_equal(cartctl_inverse_wrist(NULL, s.T, s.wrist_m, Ji), CARTCTL_ERR_ARG);
@@ -300,8 +305,8 @@ static void test_inverse_wrist(void **st)
  * the pose at q_goal with the model as plant for 4 s. Returns the largest
  * q2 reached; the final tool position and orientation errors and the
  * largest q2 while the barrier held a joint go to *pos_err, *rot_err. */
-static double servo_to(const cartctl_gains *g, const double q_goal[ARM_NJ], double *pos_err, double *rot_err,
-                       int *limited)
+static double servo_to(const cartctl_gains *g, const double q_goal[ARM_NJ], double *pos_err,
+                       double *rot_err, int *limited)
 {
     static const double Q_B[ARM_NJ] = { 0.3, 0.45, 2.9, 0.1, -0.5, 0.2 };
     const arm_tool tool = tool10();
@@ -321,7 +326,8 @@ static double servo_to(const cartctl_gains *g, const double q_goal[ARM_NJ], doub
         tf_pos(x, s.T);
         for (i = 0; i < 3; i++)
             u[i] = 400.0 * (x1[i] - x[i]) - 8.0 * s.twist[i];
-        assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, g, q, qd, &s, u, R1, tau, &o), 0);
+        assert_int_equal(
+            cartctl_torque(&arm_model_puma560, &tool, NULL, g, q, qd, &s, u, R1, tau, &o), 0);
         *limited |= o.range_limited != 0;
         *rot_err = vec3_norm(o.rot_err);
         vec3_sub(x, x1, x);
@@ -356,8 +362,9 @@ static void test_range_barrier(void **st)
     assert_true(q2_free > q2_end);
     cartctl_gains_default(&g);
     q2_held = servo_to(&g, q_goal, &pos_err, &rot_err, &limited);
-    print_message("q2 end %.4f: peak without barrier %.4f, with %.4f; final error %.2g m, %.2g rad\n", q2_end,
-                  q2_free, q2_held, pos_err, rot_err);
+    print_message(
+        "q2 end %.4f: peak without barrier %.4f, with %.4f; final error %.2g m, %.2g rad\n", q2_end,
+        q2_free, q2_held, pos_err, rot_err);
     assert_int_equal(limited, 1);
     assert_true(q2_held < q2_end);
     assert_true(q2_held >= q_goal[1]);
@@ -373,18 +380,26 @@ static void test_bad_input(void **st)
     int i;
     (void)st;
     cartctl_gains_default(&g);
-    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o), CARTCTL_ERR_ARG);
+    assert_int_equal(
+        cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o),
+        CARTCTL_ERR_ARG);
     for (i = 0; i < ARM_NJ; i++)
         assert_true(tau[i] == 0.0);
     a[1] = 0.0;
     memcpy(q, Q_A, sizeof q);
     q[2] = INFINITY;
-    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, QD_A, NULL, a, NULL, tau, &o), CARTCTL_ERR_ARG);
+    assert_int_equal(
+        cartctl_torque(&arm_model_puma560, &tool, NULL, &g, q, QD_A, NULL, a, NULL, tau, &o),
+        CARTCTL_ERR_ARG);
     g.k_null = -1.0;
-    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o), CARTCTL_ERR_ARG);
+    assert_int_equal(
+        cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o),
+        CARTCTL_ERR_ARG);
     cartctl_gains_default(&g);
     g.range_w_radps = -1.0;
-    assert_int_equal(cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o), CARTCTL_ERR_ARG);
+    assert_int_equal(
+        cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o),
+        CARTCTL_ERR_ARG);
 }
 
 int main(void)

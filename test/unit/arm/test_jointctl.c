@@ -24,8 +24,9 @@ static void test_error_dynamics_are_critically_damped(void **state)
     (void)state;
     for (i = 0; i < ARM_NJ; i++)
         q[i] = q_ref[i] + e0;
-    for (k = 1; k <= 5000; k++) {   /* 0.5 s, semi-implicit Euler on the model */
-        assert_int_equal(jointctl_torque(&arm_model_puma560, NULL, &g, q, qd, q_ref, zero, zero, tau, NULL), 0);
+    for (k = 1; k <= 5000; k++) { /* 0.5 s, semi-implicit Euler on the model */
+        assert_int_equal(
+            jointctl_torque(&arm_model_puma560, NULL, &g, q, qd, q_ref, zero, zero, tau, NULL), 0);
         assert_int_equal(arm_forward_dynamics(&arm_model_puma560, q, qd, tau, NULL, NULL, qdd), 0);
         for (i = 0; i < ARM_NJ; i++) {
             qd[i] += qdd[i] * dt;
@@ -50,7 +51,9 @@ static void test_hold_at_rest_is_gravity(void **state)
     double tau[ARM_NJ], grav[ARM_NJ];
     int i;
     (void)state;
-    assert_int_equal(jointctl_torque(&arm_model_puma560, NULL, &g, q_ref, zero, q_ref, zero, zero, tau, NULL), 0);
+    assert_int_equal(
+        jointctl_torque(&arm_model_puma560, NULL, &g, q_ref, zero, q_ref, zero, zero, tau, NULL),
+        0);
     assert_int_equal(arm_gravity(&arm_model_puma560, q_ref, NULL, NULL, grav), 0);
     for (i = 0; i < ARM_NJ; i++)
         assert_true(fabs(tau[i] - grav[i]) < 1e-9);
@@ -65,7 +68,8 @@ static void test_saturation(void **state)
     (void)state;
     for (i = 0; i < ARM_NJ; i++)
         far[i] = q_ref[i] + 1.0;
-    assert_int_equal(jointctl_torque(&arm_model_puma560, NULL, &g, q_ref, zero, far, zero, zero, tau, &sat), 0);
+    assert_int_equal(
+        jointctl_torque(&arm_model_puma560, NULL, &g, q_ref, zero, far, zero, zero, tau, &sat), 0);
     assert_int_equal(sat, 1);
     for (i = 0; i < ARM_NJ; i++)
         assert_true(fabs(tau[i]) <= arm_model_puma560.tau_max_Nm[i]);
@@ -78,7 +82,9 @@ static void test_bad_reference_rejected(void **state)
     (void)state;
     memcpy(bad, q_ref, sizeof bad);
     bad[3] = NAN;
-    assert_int_equal(jointctl_torque(&arm_model_puma560, NULL, &g, q_ref, zero, bad, zero, zero, tau, NULL), JOINTCTL_ERR_ARG);
+    assert_int_equal(
+        jointctl_torque(&arm_model_puma560, NULL, &g, q_ref, zero, bad, zero, zero, tau, NULL),
+        JOINTCTL_ERR_ARG);
 }
 
 int main(void)

@@ -42,7 +42,8 @@ static void test_bounds_and_derivatives(void **state)
 {
     jtraj t;
     const double frac = 0.4, acc = 1.5, h = 1e-5;
-    double qa[ARM_NJ], qb[ARM_NJ], q[ARM_NJ], qd[ARM_NJ], qdd[ARM_NJ], qda[ARM_NJ], qdb[ARM_NJ], tmp[ARM_NJ];
+    double qa[ARM_NJ], qb[ARM_NJ], q[ARM_NJ], qd[ARM_NJ], qdd[ARM_NJ], qda[ARM_NJ], qdb[ARM_NJ],
+        tmp[ARM_NJ];
     int i, k;
     (void)state;
     assert_int_equal(jtraj_plan(&t, &arm_model_puma560, q0, q1, frac, acc), 0);
@@ -138,7 +139,8 @@ static void test_stop_continuous_and_derivatives(void **state)
 {
     jtraj_stop st;
     const double a = 1.5, h = 1e-6;
-    double q[ARM_NJ], qd[ARM_NJ], qdd[ARM_NJ], qa[ARM_NJ], qb[ARM_NJ], qda[ARM_NJ], qdb[ARM_NJ], tmp[ARM_NJ];
+    double q[ARM_NJ], qd[ARM_NJ], qdd[ARM_NJ], qa[ARM_NJ], qb[ARM_NJ], qda[ARM_NJ], qdb[ARM_NJ],
+        tmp[ARM_NJ];
     int i, k;
     (void)state;
     assert_int_equal(jtraj_stop_plan(&st, q0, stop_qd0, a), 0);

@@ -150,7 +150,7 @@ static void test_svd_random_all_shapes(void **state)
 
 static void test_svd_recovers_singular_values(void **state)
 {
-    static const int shapes[][2] = { {3, 6}, {2, 6}, {6, 6}, {6, 3}, {5, 4} };
+    static const int shapes[][2] = { { 3, 6 }, { 2, 6 }, { 6, 6 }, { 6, 3 }, { 5, 4 } };
     double A[NN], U[NN], V[NN], s[LINALG_MAX];
     double sv[LINALG_MAX] = { 7.0, 3.0, 1.0, 0.5, 1e-4, 1e-9 };
     size_t c;
@@ -205,7 +205,7 @@ static int svd_same_as_cold(const double *A, int m, int n, double tol)
 
 static void test_svd_gram_path_matches_cold(void **state)
 {
-    static const int shapes[][2] = { {3, 6}, {2, 6}, {3, 4}, {2, 3}, {1, 6} };
+    static const int shapes[][2] = { { 3, 6 }, { 2, 6 }, { 3, 4 }, { 2, 3 }, { 1, 6 } };
     static const double kappa[] = { 1.0, 10.0, 100.0, 900.0 };
     double A[NN], sv[LINALG_MAX], Ap[NN], Apc[NN], Apct[NN], At[NN];
     size_t c;
@@ -276,8 +276,8 @@ static void test_svd_exactly_singular_and_zero(void **state)
     (void)state;
     rand_mat(A, 6, 6);
     for (j = 0; j < 6; j++) {
-        A[1 * 6 + j] = A[0 * 6 + j];      /* duplicate row */
-        A[4 * 6 + j] = 0.0;               /* zero row */
+        A[1 * 6 + j] = A[0 * 6 + j]; /* duplicate row */
+        A[4 * 6 + j] = 0.0;          /* zero row */
     }
     check_svd(A, 6, 6, 1e-13);
     assert_int_equal(linalg_svd(U, s, V, A, 6, 6), LINALG_OK);
@@ -309,7 +309,7 @@ static void check_pinv_case(const double *A, int m, int n, int rank_expected, do
 
 static void test_pinv_penrose_full_and_deficient(void **state)
 {
-    static const int shapes[][2] = { {3, 6}, {2, 6}, {6, 6}, {5, 6}, {6, 3} };
+    static const int shapes[][2] = { { 3, 6 }, { 2, 6 }, { 6, 6 }, { 5, 6 }, { 6, 3 } };
     double A[NN], sv[LINALG_MAX];
     size_t c;
     int r, k, trial;
@@ -336,10 +336,10 @@ static void test_pinv_exactly_singular_rows(void **state)
         rand_mat(A, 6, 6);
         rand_mat(B, 3, 6);
         for (j = 0; j < 6; j++) {
-            A[5 * 6 + j] = A[2 * 6 + j];       /* two identical rows */
+            A[5 * 6 + j] = A[2 * 6 + j]; /* two identical rows */
             B[1 * 6 + j] = B[0 * 6 + j];
             if (trial % 2)
-                B[2 * 6 + j] = 0.0;             /* plus a zero row */
+                B[2 * 6 + j] = 0.0; /* plus a zero row */
         }
         check_pinv_case(A, 6, 6, 5, 1e-12);
         check_pinv_case(B, 3, 6, (trial % 2) ? 1 : 2, 1e-12);
@@ -378,7 +378,7 @@ static void test_pinv_nearly_singular(void **state)
  * singular inputs. */
 static void test_pinv_factored_matches_explicit(void **state)
 {
-    static const int shapes[][2] = { {3, 6}, {2, 6}, {6, 6}, {6, 3} };
+    static const int shapes[][2] = { { 3, 6 }, { 2, 6 }, { 6, 6 }, { 6, 3 } };
     double A[NN], Ap[NN], P[NN], B[3 * LINALG_MAX], M[3 * LINALG_MAX], Mref[3 * LINALG_MAX];
     double y[LINALG_MAX], g[LINALG_MAX], x[LINALG_MAX], xr[LINALG_MAX], sv[LINALG_MAX];
     linalg_pinv_svd F;
@@ -392,9 +392,9 @@ static void test_pinv_factored_matches_explicit(void **state)
             for (k = 0; k < p; k++)
                 sv[k] = 0.1 + (urand() + 1.0);
             if (trial % 4 == 1)
-                sv[p - 1] = 0.0;   /* rank-deficient */
+                sv[p - 1] = 0.0; /* rank-deficient */
             if (trial % 4 == 2)
-                sv[p - 1] = 1e-7;  /* nearly singular, kept */
+                sv[p - 1] = 1e-7; /* nearly singular, kept */
             mat_with_sv(A, m, n, sv);
             assert_int_equal(linalg_pinv(Ap, P, &info, A, m, n, 0.0), LINALG_OK);
             assert_int_equal(linalg_pinv_factor(&F, A, m, n, 0.0), LINALG_OK);
@@ -405,12 +405,12 @@ static void test_pinv_factored_matches_explicit(void **state)
             linalg_pinv_apply(x, &F, y);
             linalg_matvec(xr, Ap, y, n, m);
             assert_true(linalg_maxabs_diff(x, xr, n, 1) <= 1e-12 * (1.0 + fro(Ap, n * m)));
-            linalg_pinv_rowspace(x, &F, g);   /* A+ A g = g - P g */
+            linalg_pinv_rowspace(x, &F, g); /* A+ A g = g - P g */
             linalg_matvec(xr, P, g, n, n);
             for (i = 0; i < n; i++)
                 xr[i] = g[i] - xr[i];
             assert_true(linalg_maxabs_diff(x, xr, n, 1) <= 1e-13);
-            linalg_copy(x, g, n, 1);          /* in place */
+            linalg_copy(x, g, n, 1); /* in place */
             linalg_pinv_rowspace(x, &F, x);
             assert_true(linalg_maxabs_diff(x, xr, n, 1) <= 1e-13);
             rand_mat(B, 3, n);
@@ -522,8 +522,8 @@ static void test_dls(void **state)
         if (trial % 4 != 3) {
             double smin = info.sigma_min;
             assert_int_equal(linalg_dls(Ad, A, m, 6, 1e-7), LINALG_OK);
-            assert_true(linalg_maxabs_diff(Ad, Ap, 6, m)
-                        <= 2e-14 / (smin * smin * smin) + 1e-12 / (smin * smin));
+            assert_true(linalg_maxabs_diff(Ad, Ap, 6, m) <=
+                        2e-14 / (smin * smin * smin) + 1e-12 / (smin * smin));
         }
     }
     assert_int_equal(linalg_dls(Ad, A, 3, 6, -0.1), LINALG_ERR_ARG);

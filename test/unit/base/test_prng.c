@@ -22,17 +22,23 @@ static void test_same_seed_same_stream(void **state)
     (void)state;
     prng_seed(&a, UINT64_C(0x0123456789ABCDEF));
     prng_seed(&b, UINT64_C(0x0123456789ABCDEF));
-    for (i = 0; i < 1000; i++) assert_true(prng_u64(&a) == prng_u64(&b));
-    for (i = 0; i < 1000; i++) assert_true(prng_uniform(&a) == prng_uniform(&b));
-    for (i = 0; i < 1000; i++) assert_true(prng_gauss(&a) == prng_gauss(&b));
+    for (i = 0; i < 1000; i++)
+        assert_true(prng_u64(&a) == prng_u64(&b));
+    for (i = 0; i < 1000; i++)
+        assert_true(prng_uniform(&a) == prng_uniform(&b));
+    for (i = 0; i < 1000; i++)
+        assert_true(prng_gauss(&a) == prng_gauss(&b));
     /* re-seeding restarts the stream */
     {
         uint64_t first[16];
         prng_seed(&a, 42);
-        for (i = 0; i < 16; i++) first[i] = prng_u64(&a);
-        for (i = 0; i < 100; i++) (void)prng_u64(&a);
+        for (i = 0; i < 16; i++)
+            first[i] = prng_u64(&a);
+        for (i = 0; i < 100; i++)
+            (void)prng_u64(&a);
         prng_seed(&a, 42);
-        for (i = 0; i < 16; i++) assert_true(prng_u64(&a) == first[i]);
+        for (i = 0; i < 16; i++)
+            assert_true(prng_u64(&a) == first[i]);
     }
 }
 
@@ -46,27 +52,30 @@ static void test_different_seeds_differ(void **state)
     /* neighbouring small seeds (1, 2, 3, ...) are the usual case: robot ids */
     for (s = 0; s < SEEDS; s++) {
         prng_seed(&r, (uint64_t)s);
-        for (i = 0; i < LEN; i++) out[s][i] = prng_u64(&r);
+        for (i = 0; i < LEN; i++)
+            out[s][i] = prng_u64(&r);
     }
     for (s = 0; s < SEEDS; s++)
         for (t = s + 1; t < SEEDS; t++) {
             int same = 0;
-            for (i = 0; i < LEN; i++) same += out[s][i] == out[t][i];
+            for (i = 0; i < LEN; i++)
+                same += out[s][i] == out[t][i];
             assert_int_equal(same, 0);
         }
     /* a stream does not repeat its own recent values */
     for (s = 0; s < SEEDS; s++)
         for (i = 0; i < LEN; i++)
-            for (t = i + 1; t < LEN; t++) assert_true(out[s][i] != out[s][t]);
+            for (t = i + 1; t < LEN; t++)
+                assert_true(out[s][i] != out[s][t]);
 }
 
 static void test_uniform_moments(void **state)
 {
     prng_state r;
     double sum = 0.0, sum2 = 0.0, lag = 0.0, prev = 0.5, mean, var, cov;
-    long bins[10] = {0};
+    long bins[10] = { 0 };
     double chi2 = 0.0;
-    long bit_set[64] = {0};
+    long bit_set[64] = { 0 };
     int i, b;
     (void)state;
     prng_seed(&r, 7);
@@ -97,7 +106,8 @@ static void test_uniform_moments(void **state)
     prng_seed(&r, 8);
     for (i = 0; i < N_DRAWS; i++) {
         const uint64_t x = prng_u64(&r);
-        for (b = 0; b < 64; b++) bit_set[b] += (long)((x >> b) & 1u);
+        for (b = 0; b < 64; b++)
+            bit_set[b] += (long)((x >> b) & 1u);
     }
     for (b = 0; b < 64; b++)
         assert_true(fabs(bit_set[b] - N_DRAWS / 2.0) < N_SIGMA * sqrt(N_DRAWS / 4.0));
@@ -108,7 +118,7 @@ static void test_gauss_moments(void **state)
     prng_state r;
     double sum = 0.0, sum2 = 0.0, sum3 = 0.0, sum4 = 0.0, mean, var;
     long in1 = 0;
-    const double p1 = erf(1.0 / sqrt(2.0));      /* P(|X| < 1) */
+    const double p1 = erf(1.0 / sqrt(2.0)); /* P(|X| < 1) */
     int i;
     (void)state;
     prng_seed(&r, 11);
@@ -137,9 +147,10 @@ static void test_gauss_moments(void **state)
  * next raw output is a chosen value. */
 static uint64_t inv_mul(uint64_t a)
 {
-    uint64_t x = a;            /* a odd: Newton doubles the correct bits */
+    uint64_t x = a; /* a odd: Newton doubles the correct bits */
     int i;
-    for (i = 0; i < 6; i++) x *= 2u - a * x;
+    for (i = 0; i < 6; i++)
+        x *= 2u - a * x;
     return x;
 }
 
@@ -147,7 +158,8 @@ static uint64_t inv_xorshift(uint64_t y, int k)
 {
     uint64_t x = y;
     int i;
-    for (i = 0; i < 64 / k + 1; i++) x = y ^ (x >> k);
+    for (i = 0; i < 64 / k + 1; i++)
+        x = y ^ (x >> k);
     return x;
 }
 
@@ -169,7 +181,7 @@ static void test_extreme_outputs(void **state)
     for (i = 0; i < sizeof extremes / sizeof extremes[0]; i++) {
         double u;
         prng_seed(&r, state_for_output(extremes[i]));
-        assert_true(prng_u64(&r) == extremes[i]);     /* the inversion is right */
+        assert_true(prng_u64(&r) == extremes[i]); /* the inversion is right */
         prng_seed(&r, state_for_output(extremes[i]));
         u = prng_uniform(&r);
         assert_true(u >= 0.0 && u < 1.0);
@@ -179,7 +191,7 @@ static void test_extreme_outputs(void **state)
             prng_seed(&r, state_for_output(extremes[i]) - j * UINT64_C(0x9E3779B97F4A7C15));
             g = prng_gauss(&r);
             assert_true(isfinite(g));
-            assert_true(fabs(g) < 9.0);   /* 53-bit inputs bound |g| by sqrt(2 ln 2^53) */
+            assert_true(fabs(g) < 9.0); /* 53-bit inputs bound |g| by sqrt(2 ln 2^53) */
         }
     }
     prng_seed(&r, state_for_output(~UINT64_C(0)));
@@ -191,10 +203,8 @@ static void test_extreme_outputs(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_same_seed_same_stream),
-        cmocka_unit_test(test_different_seeds_differ),
-        cmocka_unit_test(test_uniform_moments),
-        cmocka_unit_test(test_gauss_moments),
+        cmocka_unit_test(test_same_seed_same_stream), cmocka_unit_test(test_different_seeds_differ),
+        cmocka_unit_test(test_uniform_moments),       cmocka_unit_test(test_gauss_moments),
         cmocka_unit_test(test_extreme_outputs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -31,11 +31,11 @@ static void test_deadlines_do_not_drift(void **state)
     int i;
     int64_t t0, elapsed;
     (void)state;
-    assert_int_equal(rtloop_init(&l, 2000000), 0);   /* 2 ms */
+    assert_int_equal(rtloop_init(&l, 2000000), 0); /* 2 ms */
     t0 = l.next_ns - l.period_ns;
     for (i = 0; i < 50; i++) {
         rtloop_wait(&l);
-        busy_ns(200000);                              /* work: 0.2 ms */
+        busy_ns(200000); /* work: 0.2 ms */
         rtloop_end_cycle(&l);
     }
     /* Deadlines stay on the t0 + k*period grid whatever the work took
@@ -54,9 +54,9 @@ static void test_overrun_counted_and_skipped(void **state)
 {
     int64_t before;
     (void)state;
-    assert_int_equal(rtloop_init(&l, 1000000), 0);   /* 1 ms */
+    assert_int_equal(rtloop_init(&l, 1000000), 0); /* 1 ms */
     rtloop_wait(&l);
-    busy_ns(3500000);                                 /* 3.5 ms of work */
+    busy_ns(3500000); /* 3.5 ms of work */
     before = l.next_ns;
     rtloop_end_cycle(&l);
     assert_int_equal(l.overruns, 1);

@@ -9,16 +9,15 @@
 
 #include "sprofile.h"
 
-typedef struct { double s_f, v_m, a_m, u_m; } profile_case;
+typedef struct {
+    double s_f, v_m, a_m, u_m;
+} profile_case;
 
 /* long with a-plateau, long without plateau (w_m < 2 a_m^2/u_m),
  * short (peak speed lowered), very short (peak a lowered too). */
 static const profile_case CASES[] = {
-    { 2.0, 0.5, 0.5, 2.0 },
-    { 1.0, 0.25, 0.5, 2.0 },
-    { 0.3, 0.5, 0.5, 2.0 },
-    { 0.05, 0.5, 0.5, 2.0 },
-    { 3.0, 1.0, 2.0, 8.0 },   /* rad units: an orientation move */
+    { 2.0, 0.5, 0.5, 2.0 },   { 1.0, 0.25, 0.5, 2.0 }, { 0.3, 0.5, 0.5, 2.0 },
+    { 0.05, 0.5, 0.5, 2.0 },  { 3.0, 1.0, 2.0, 8.0 }, /* rad units: an orientation move */
     { 1e-4, 0.25, 0.5, 2.0 },
 };
 #define N_CASES (sizeof CASES / sizeof CASES[0])
@@ -94,8 +93,11 @@ static void test_breakpoints(void **st)
 {
     const double s_f = 2.0, v_m = 0.5, a_m = 0.5, u_m = 2.0;
     const double w_m = v_m * v_m;
-    const double bp[6] = { a_m / u_m, w_m / (2 * a_m), w_m / (2 * a_m) + a_m / u_m,
-                           s_f - w_m / (2 * a_m) - a_m / u_m, s_f - w_m / (2 * a_m),
+    const double bp[6] = { a_m / u_m,
+                           w_m / (2 * a_m),
+                           w_m / (2 * a_m) + a_m / u_m,
+                           s_f - w_m / (2 * a_m) - a_m / u_m,
+                           s_f - w_m / (2 * a_m),
                            s_f - a_m / u_m };
     const double eps = 1e-9;
     sprofile p;

@@ -124,7 +124,8 @@ static void test_atan2_against_libm(void **state)
     assert_true(trig_atan2(0.0, -1.0) == atan2(0.0, -1.0));
     assert_true(trig_atan2(-0.0, -1.0) == atan2(-0.0, -1.0));
     assert_true(trig_atan2(0.0, -0.0) == atan2(0.0, -0.0));
-    assert_true(trig_atan2(2.0, 0.0) == atan2(2.0, 0.0) && trig_atan2(-2.0, 0.0) == atan2(-2.0, 0.0));
+    assert_true(trig_atan2(2.0, 0.0) == atan2(2.0, 0.0) &&
+                trig_atan2(-2.0, 0.0) == atan2(-2.0, 0.0));
     assert_true(isnan(trig_atan2(NAN, 1.0)) && trig_atan2(1.0, INFINITY) == 0.0);
 }
 
@@ -137,7 +138,8 @@ static void test_exp_against_libm(void **state)
     (void)state;
     prng_seed(&r, 127);
     for (i = 0; i < 20000; i++) {
-        const double x = (i & 1) ? 100.0 * (prng_uniform(&r) - 0.5) : 1400.0 * (prng_uniform(&r) - 0.5);
+        const double x = (i & 1) ? 100.0 * (prng_uniform(&r) - 0.5)
+                                 : 1400.0 * (prng_uniform(&r) - 0.5);
         assert_true(same_within_ulps(trig_exp(x), exp(x)));
     }
     assert_true(trig_exp(0.0) == 1.0);
@@ -159,12 +161,9 @@ static void test_exp_against_libm(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_random_angles),
-        cmocka_unit_test(test_quarter_turns),
-        cmocka_unit_test(test_symmetry_and_zero),
-        cmocka_unit_test(test_huge_and_nonfinite),
-        cmocka_unit_test(test_atan2_against_libm),
-        cmocka_unit_test(test_exp_against_libm),
+        cmocka_unit_test(test_random_angles),      cmocka_unit_test(test_quarter_turns),
+        cmocka_unit_test(test_symmetry_and_zero),  cmocka_unit_test(test_huge_and_nonfinite),
+        cmocka_unit_test(test_atan2_against_libm), cmocka_unit_test(test_exp_against_libm),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -20,8 +20,7 @@ static double sample_angle(prng_state *r, int i)
     switch (i % 4) {
     case 0: return (2.0 * u - 1.0) * 4.0;
     case 1: return (2.0 * u - 1.0) * 1000.0;
-    case 2: return (double)((int)(u * 41.0) - 20) * VEC2_PI
-                   + (prng_uniform(r) - 0.5) * 1e-12;
+    case 2: return (double)((int)(u * 41.0) - 20) * VEC2_PI + (prng_uniform(r) - 0.5) * 1e-12;
     default: return ldexp(2.0 * u - 1.0, (int)(prng_uniform(r) * 60.0) - 40);
     }
 }
@@ -43,7 +42,7 @@ static void test_wrap_range_idempotent_trig(void **state)
         const double a = sample_angle(&r, i);
         const double w = vec2_wrap_rad(a);
         assert_true(w > -VEC2_PI && w <= VEC2_PI);
-        assert_true(vec2_wrap_rad(w) == w);                 /* idempotent */
+        assert_true(vec2_wrap_rad(w) == w); /* idempotent */
         assert_true(fabs(sin(w) - sin(a)) < tol_for(a));
         assert_true(fabs(cos(w) - cos(a)) < tol_for(a));
         /* differs from a by a whole number of turns */
@@ -52,7 +51,8 @@ static void test_wrap_range_idempotent_trig(void **state)
             assert_true(fabs(turns - floor(turns + 0.5)) < 1e-9);
         }
         /* already-wrapped angles are left exactly alone */
-        if (a > -VEC2_PI && a <= VEC2_PI) assert_true(w == a);
+        if (a > -VEC2_PI && a <= VEC2_PI)
+            assert_true(w == a);
     }
 }
 
@@ -61,7 +61,7 @@ static void test_wrap_boundaries(void **state)
     const double below = nextafter(-VEC2_PI, 0.0), above = nextafter(VEC2_PI, 4.0);
     (void)state;
     assert_true(vec2_wrap_rad(VEC2_PI) == VEC2_PI);
-    assert_true(vec2_wrap_rad(-VEC2_PI) == VEC2_PI);            /* -pi maps to +pi */
+    assert_true(vec2_wrap_rad(-VEC2_PI) == VEC2_PI); /* -pi maps to +pi */
     assert_true(vec2_wrap_rad(below) == below);
     assert_true(vec2_wrap_rad(above) > -VEC2_PI && vec2_wrap_rad(above) < 0.0);
     assert_true(vec2_wrap_rad(0.0) == 0.0);
@@ -89,7 +89,8 @@ static void test_angle_diff(void **state)
         assert_true(fabs(sin(b + d) - sin(a)) < tol);
         assert_true(fabs(cos(b + d) - cos(a)) < tol);
         /* antisymmetric, except that both ends of the half-open range are +pi */
-        if (fabs(fabs(d) - VEC2_PI) > 1e-9) assert_true(fabs(d + e) < tol);
+        if (fabs(fabs(d) - VEC2_PI) > 1e-9)
+            assert_true(fabs(d + e) < tol);
         /* smallest: no other representative is shorter */
         assert_true(fabs(d) <= VEC2_PI);
         assert_true(fabs(vec2_angle_diff_rad(a, a)) == 0.0);
@@ -111,7 +112,7 @@ static void test_rotate(void **state)
         const double n = vec2_norm(x, y), tol = 1e-13 * (1.0 + n);
         double p[2], q[2], s[2], t[2];
         vec2_rotate(p, x, y, a);
-        assert_true(fabs(vec2_norm(p[0], p[1]) - n) < tol);           /* isometry */
+        assert_true(fabs(vec2_norm(p[0], p[1]) - n) < tol); /* isometry */
         /* the angle of the vector advances by a (counter-clockwise) */
         if (n > 1e-6) {
             const double turned = vec2_angle_diff_rad(atan2(p[1], p[0]), atan2(y, x));
@@ -120,17 +121,17 @@ static void test_rotate(void **state)
             assert_true(fabs(p[0] * x + p[1] * y - n * n * cos(a)) < 1e-12 * (1.0 + n * n));
             assert_true(fabs(x * p[1] - y * p[0] - n * n * sin(a)) < 1e-12 * (1.0 + n * n));
         }
-        vec2_rotate(q, p[0], p[1], b);                                 /* compose */
+        vec2_rotate(q, p[0], p[1], b); /* compose */
         vec2_rotate(s, x, y, a + b);
         assert_true(fabs(q[0] - s[0]) < tol && fabs(q[1] - s[1]) < tol);
-        vec2_rotate(t, p[0], p[1], -a);                                /* inverse */
+        vec2_rotate(t, p[0], p[1], -a); /* inverse */
         assert_true(fabs(t[0] - x) < tol && fabs(t[1] - y) < tol);
-        vec2_rotate(t, x, y, a + 2.0 * VEC2_PI);                       /* periodic */
+        vec2_rotate(t, x, y, a + 2.0 * VEC2_PI); /* periodic */
         assert_true(fabs(t[0] - p[0]) < 1e-12 * (1.0 + n) && fabs(t[1] - p[1]) < 1e-12 * (1.0 + n));
     }
     {
         double e[2];
-        vec2_rotate(e, 1.0, 0.0, 0.5 * VEC2_PI);     /* x axis onto y axis */
+        vec2_rotate(e, 1.0, 0.0, 0.5 * VEC2_PI); /* x axis onto y axis */
         assert_true(fabs(e[0]) < 1e-15 && fabs(e[1] - 1.0) < 1e-15);
         vec2_rotate(e, 2.0, -3.0, 0.0);
         assert_true(e[0] == 2.0 && e[1] == -3.0);
@@ -152,7 +153,8 @@ static void test_norm(void **state)
         assert_true(fabs(n * n - (x * x + y * y)) < 1e-12 * (1.0 + n * n));
         /* symmetric to rounding: C does not promise hypot(y, x) bit-equal
          * to hypot(x, y) (it is not on the 68040's extended-precision FPU) */
-        assert_true(fabs(vec2_norm(-x, y) - n) <= 2e-16 * n && fabs(vec2_norm(y, x) - n) <= 2e-16 * n);
+        assert_true(fabs(vec2_norm(-x, y) - n) <= 2e-16 * n &&
+                    fabs(vec2_norm(y, x) - n) <= 2e-16 * n);
         assert_true(fabs(vec2_norm(k * x, k * y) - fabs(k) * n) < 1e-13 * (1.0 + fabs(k) * n));
         assert_true(vec2_norm(x + u, y + v) <= n + vec2_norm(u, v) + 1e-12);
     }

@@ -34,7 +34,8 @@ static void test_reachability(void **st)
      * tokens of running transitions counted at their inputs */
     for (k = 0; k < r.n_states; k++) {
         const petri_state *s = &WS.states[k];
-        int arm1 = s->m[CARRY_P3] + s->m[CARRY_P4] + s->m[CARRY_P5] + s->m[CARRY_P6] + s->m[CARRY_P7];
+        int arm1 = s->m[CARRY_P3] + s->m[CARRY_P4] + s->m[CARRY_P5] + s->m[CARRY_P6] +
+                   s->m[CARRY_P7];
         int arm2 = s->m[CARRY_P2] + s->m[CARRY_P6] + s->m[CARRY_P8] + s->m[CARRY_P9];
         int j;
         for (j = 0; j < CARRY_N_TRANSITIONS; j++) {
@@ -85,7 +86,7 @@ static void test_one_workpiece_cycle(void **st)
     (void)st;
     assert_int_equal(petri_init(&p, &carry_net), 0);
     assert_int_equal(petri_select(&p), CARRY_T1);
-    assert_false(petri_enabled(&p, CARRY_T_VISION));   /* p1 full: inhibited */
+    assert_false(petri_enabled(&p, CARRY_T_VISION)); /* p1 full: inhibited */
     for (k = 0; k < sizeof seq / sizeof seq[0]; k++) {
         assert_true(petri_enabled(&p, seq[k]));
         assert_int_equal(petri_fire(&p, seq[k]), 0);
@@ -191,7 +192,7 @@ static double point_mass_segment(const erlaw_gains *g, double len_m, double dist
         s_raw_max = fmax(s_raw_max, vec3_dot(d, l.ch.e));
         t += 1e-3;
     }
-    assert_true(s_raw_max <= len_m + 2e-3);   /* no overshoot */
+    assert_true(s_raw_max <= len_m + 2e-3); /* no overshoot */
     return t < 30.0 ? t : 1e9;
 }
 
@@ -236,7 +237,7 @@ static void net_copy_init(net_copy *c)
     c->net.invariants = c->inv;
 }
 
-#define AT(p, t) ((p) * CARRY_N_TRANSITIONS + (t))
+#define AT(p, t) ((p)*CARRY_N_TRANSITIONS + (t))
 
 static void test_net_validate(void **st)
 {
@@ -262,17 +263,17 @@ static void test_net_validate(void **st)
     c.inhibit[AT(CARRY_P9, CARRY_T2)] = -1;
     assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_ENTRY);
     net_copy_init(&c);
-    c.minus[AT(CARRY_P8, CARRY_T5)] = 0;       /* t5 left without arcs */
+    c.minus[AT(CARRY_P8, CARRY_T5)] = 0; /* t5 left without arcs */
     c.plus[AT(CARRY_P9, CARRY_T5)] = 0;
     assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_TRANSITION);
     net_copy_init(&c);
-    c.inhibit[AT(CARRY_P1, CARRY_T1)] = 1;     /* t1 needs p1 marked and empty */
+    c.inhibit[AT(CARRY_P1, CARRY_T1)] = 1; /* t1 needs p1 marked and empty */
     assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_TRANSITION);
     net_copy_init(&c);
-    c.plus[AT(CARRY_P7, CARRY_T4)] = 0;        /* arm 1's token lost at the hand-over */
+    c.plus[AT(CARRY_P7, CARRY_T4)] = 0; /* arm 1's token lost at the hand-over */
     assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_INVARIANT);
     net_copy_init(&c);
-    c.inv[CARRY_P1] = 1;                       /* p1 is not part of arm 1's cycle */
+    c.inv[CARRY_P1] = 1; /* p1 is not part of arm 1's cycle */
     assert_int_equal(petri_net_validate(&c.net), PETRI_ERR_INVARIANT);
     net_copy_init(&c);
     memset(c.inv + CARRY_N_PLACES, 0, CARRY_N_PLACES);
@@ -285,29 +286,66 @@ static void test_table_validate(void **st)
     net_copy c;
     (void)st;
 #define FRESH() memcpy(r, carry_table, sizeof r)
-#define EXPECT(code) assert_int_equal(carry_table_validate(r, CARRY_N_TRANSITIONS, &carry_net), (code))
+#define EXPECT(code) \
+    assert_int_equal(carry_table_validate(r, CARRY_N_TRANSITIONS, &carry_net), (code))
     assert_int_equal(carry_table_validate(carry_table, CARRY_N_TRANSITIONS, &carry_net), 0);
-    assert_int_equal(carry_table_validate(NULL, CARRY_N_TRANSITIONS, &carry_net), CARRY_NET_ERR_ARG);
-    assert_int_equal(carry_table_validate(carry_table, CARRY_N_TRANSITIONS, NULL), CARRY_NET_ERR_ARG);
+    assert_int_equal(carry_table_validate(NULL, CARRY_N_TRANSITIONS, &carry_net),
+                     CARRY_NET_ERR_ARG);
+    assert_int_equal(carry_table_validate(carry_table, CARRY_N_TRANSITIONS, NULL),
+                     CARRY_NET_ERR_ARG);
     assert_int_equal(carry_table_validate(carry_table, CARRY_N_TRANSITIONS - 1, &carry_net),
                      CARRY_NET_ERR_SIZE);
-    FRESH(); r[CARRY_T2].plan[0].n_segments = CARRY_MAX_SEGMENTS + 1; EXPECT(CARRY_NET_ERR_SIZE);
-    FRESH(); r[CARRY_T1].name = NULL; EXPECT(CARRY_NET_ERR_RANGE);
-    FRESH(); r[CARRY_T1].arms = 4u; EXPECT(CARRY_NET_ERR_RANGE);
-    FRESH(); r[CARRY_T3].sync_group = -1; EXPECT(CARRY_NET_ERR_RANGE);
-    FRESH(); r[CARRY_T1].plan[0].seg[0].pose = CARRY_N_POSES; EXPECT(CARRY_NET_ERR_RANGE);
-    FRESH(); r[CARRY_T1].plan[0].seg[0].kind = 1; EXPECT(CARRY_NET_ERR_RANGE);
-    FRESH(); r[CARRY_T4].gripper[1] = 7; EXPECT(CARRY_NET_ERR_RANGE);
-    FRESH(); r[CARRY_T4].plan[0].after_partner = 2; EXPECT(CARRY_NET_ERR_RANGE);
-    FRESH(); r[CARRY_T1].lin.v_m = 0.0; EXPECT(CARRY_NET_ERR_GAINS);
-    FRESH(); r[CARRY_T5].lin.k_p = NAN; EXPECT(CARRY_NET_ERR_GAINS);
-    FRESH(); r[CARRY_T6].target_pose[0] = CARRY_POSE_CLEAR_1; EXPECT(CARRY_NET_ERR_INCONSISTENT);
-    FRESH(); r[CARRY_T2].gripper[0] = CARRY_GRIP_OPEN; EXPECT(CARRY_NET_ERR_INCONSISTENT);
-    FRESH(); r[CARRY_T1].arms = CARRY_ARM1 | CARRY_ARM2; EXPECT(CARRY_NET_ERR_INCONSISTENT);
-    FRESH(); r[CARRY_T4].plan[1].after_partner = 1; EXPECT(CARRY_NET_ERR_INCONSISTENT);
-    FRESH(); r[CARRY_T1].sync_group = 1; EXPECT(CARRY_NET_ERR_INCONSISTENT);
-    FRESH(); r[CARRY_T1].plan[0].seg[0].kind = CARRY_SEG_GRASP; EXPECT(CARRY_NET_ERR_INCONSISTENT);
-    FRESH(); r[CARRY_T5].plan[1].seg[0].pose = CARRY_POSE_NONE; EXPECT(CARRY_NET_ERR_INCONSISTENT);
+    FRESH();
+    r[CARRY_T2].plan[0].n_segments = CARRY_MAX_SEGMENTS + 1;
+    EXPECT(CARRY_NET_ERR_SIZE);
+    FRESH();
+    r[CARRY_T1].name = NULL;
+    EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH();
+    r[CARRY_T1].arms = 4u;
+    EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH();
+    r[CARRY_T3].sync_group = -1;
+    EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH();
+    r[CARRY_T1].plan[0].seg[0].pose = CARRY_N_POSES;
+    EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH();
+    r[CARRY_T1].plan[0].seg[0].kind = 1;
+    EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH();
+    r[CARRY_T4].gripper[1] = 7;
+    EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH();
+    r[CARRY_T4].plan[0].after_partner = 2;
+    EXPECT(CARRY_NET_ERR_RANGE);
+    FRESH();
+    r[CARRY_T1].lin.v_m = 0.0;
+    EXPECT(CARRY_NET_ERR_GAINS);
+    FRESH();
+    r[CARRY_T5].lin.k_p = NAN;
+    EXPECT(CARRY_NET_ERR_GAINS);
+    FRESH();
+    r[CARRY_T6].target_pose[0] = CARRY_POSE_CLEAR_1;
+    EXPECT(CARRY_NET_ERR_INCONSISTENT);
+    FRESH();
+    r[CARRY_T2].gripper[0] = CARRY_GRIP_OPEN;
+    EXPECT(CARRY_NET_ERR_INCONSISTENT);
+    FRESH();
+    r[CARRY_T1].arms = CARRY_ARM1 | CARRY_ARM2;
+    EXPECT(CARRY_NET_ERR_INCONSISTENT);
+    FRESH();
+    r[CARRY_T4].plan[1].after_partner = 1;
+    EXPECT(CARRY_NET_ERR_INCONSISTENT);
+    FRESH();
+    r[CARRY_T1].sync_group = 1;
+    EXPECT(CARRY_NET_ERR_INCONSISTENT);
+    FRESH();
+    r[CARRY_T1].plan[0].seg[0].kind = CARRY_SEG_GRASP;
+    EXPECT(CARRY_NET_ERR_INCONSISTENT);
+    FRESH();
+    r[CARRY_T5].plan[1].seg[0].pose = CARRY_POSE_NONE;
+    EXPECT(CARRY_NET_ERR_INCONSISTENT);
 #undef EXPECT
     /* rows against their transitions: t1 made a source (no input place)
      * while its row still moves arm 1; and a net that is not sound */
@@ -326,14 +364,10 @@ static void test_table_validate(void **st)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_reachability),
-        cmocka_unit_test(test_pipelining),
-        cmocka_unit_test(test_one_workpiece_cycle),
-        cmocka_unit_test(test_random_supervisor),
-        cmocka_unit_test(test_table_consistent),
-        cmocka_unit_test(test_net_validate),
-        cmocka_unit_test(test_table_validate),
-        cmocka_unit_test(test_gains_on_point_mass),
+        cmocka_unit_test(test_reachability),        cmocka_unit_test(test_pipelining),
+        cmocka_unit_test(test_one_workpiece_cycle), cmocka_unit_test(test_random_supervisor),
+        cmocka_unit_test(test_table_consistent),    cmocka_unit_test(test_net_validate),
+        cmocka_unit_test(test_table_validate),      cmocka_unit_test(test_gains_on_point_mass),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -32,7 +32,9 @@ static void setup(double T_wb[16], arm_tool *tool, double q[ARM_NJ], double R1[9
     tf_from_rot_pos(T, Rb, p);
     assert_int_equal(arm_ik(&arm_model_puma560, tool, T, &r), 0);
     memcpy(q, r.branch[arm_ik_nearest(&r, q_ref)].q_rad, sizeof(double) * ARM_NJ);
-    vec3_set(R1, 1, 0, 0); vec3_set(R1 + 3, 0, -1, 0); vec3_set(R1 + 6, 0, 0, -1);
+    vec3_set(R1, 1, 0, 0);
+    vec3_set(R1 + 3, 0, -1, 0);
+    vec3_set(R1 + 6, 0, 0, -1);
 }
 
 /* One 1 ms step of the model as plant (semi-implicit Euler), or, frozen,
@@ -54,8 +56,8 @@ static void plant_step(double q[ARM_NJ], double qd[ARM_NJ], const double tau[ARM
 
 /* Runs n cycles; frozen cycles in [f0, f1) keep q, qd = 0. Returns the
  * first done cycle (-1 if none); max |u| while frozen in *tau_frozen. */
-static int run(cartseg *c, const arm_tool *tool, double q[ARM_NJ], double qd[ARM_NJ], int n, int f0, int f1,
-               double s_ext, int *blocked_at, double *tau_frozen)
+static int run(cartseg *c, const arm_tool *tool, double q[ARM_NJ], double qd[ARM_NJ], int n, int f0,
+               int f1, double s_ext, int *blocked_at, double *tau_frozen)
 {
     int k;
     *blocked_at = -1;
@@ -63,7 +65,8 @@ static int run(cartseg *c, const arm_tool *tool, double q[ARM_NJ], double qd[ARM
     for (k = 0; k < n; k++) {
         const int frozen = k >= f0 && k < f1;
         cartseg_out o;
-        assert_int_equal(cartseg_step(c, &arm_model_puma560, tool, NULL, q, qd, s_ext, 1e-3, &o), 0);
+        assert_int_equal(cartseg_step(c, &arm_model_puma560, tool, NULL, q, qd, s_ext, 1e-3, &o),
+                         0);
         if (o.done)
             return k;
         if (o.blocked && *blocked_at < 0)
@@ -84,8 +87,10 @@ static void test_segment_ends_at_p1(void **st)
     (void)st;
     setup(T_wb, &tool, q, R1);
     vec3_copy(p1, cell_default.home_tool_m[0]);
-    p1[0] -= 0.15; p1[2] -= 0.10;
-    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
+    p1[0] -= 0.15;
+    p1[2] -= 0.10;
+    assert_int_equal(
+        cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
     done = run(&c, &tool, q, qd, 6000, 0, 0, -1.0, &blk, &tf);
     assert_true(done > 0);
     assert_int_equal(blk, -1);
@@ -109,8 +114,10 @@ static void test_take_up_part_way(void **st)
     (void)st;
     setup(T_wb, &tool, q, R1);
     vec3_copy(p1, cell_default.home_tool_m[0]);
-    p1[0] -= 0.15; p1[2] -= 0.10;
-    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
+    p1[0] -= 0.15;
+    p1[2] -= 0.10;
+    assert_int_equal(
+        cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
     vec3_copy(e0, c.line.ch.e);
     assert_int_equal(cartseg_take_up(&c, 0.0), CARTSEG_ERR_ARG);
     assert_int_equal(cartseg_take_up(&c, CARTSEG_TAKE_UP_MAX + 0.01), CARTSEG_ERR_ARG);
@@ -120,7 +127,8 @@ static void test_take_up_part_way(void **st)
     assert_true(fabs(erlaw_line_s(&c.line, p1) - erlaw_channel_length(&c.line.ch)) < 1e-9);
     assert_true(vec3_dot(e0, c.line.ch.e) > 1.0 - 1e-12);
     assert_int_equal(cartseg_step(&c, &arm_model_puma560, &tool, NULL, q, qd, -1.0, 1e-3, &o), 0);
-    assert_true(vec3_dot(o.u_world, c.line.ch.e) <= G.k0 + 1e-9);   /* from rest: the bias, no k_v v_m */
+    assert_true(vec3_dot(o.u_world, c.line.ch.e) <=
+                G.k0 + 1e-9); /* from rest: the bias, no k_v v_m */
     done = run(&c, &tool, q, qd, 6000, 0, 0, -1.0, &blk, &tf);
     assert_true(done > 0);
     cartseg_tool_world(&arm_model_puma560, &tool, T_wb, q, qd, x, v);
@@ -139,15 +147,18 @@ static int run_period(int period_ms, double *dev_max_m, double *miss_m)
     int k, i;
     setup(T_wb, &tool, q, R1);
     vec3_copy(p1, cell_default.home_tool_m[0]);
-    p1[0] -= 0.15; p1[2] -= 0.10;
-    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
+    p1[0] -= 0.15;
+    p1[2] -= 0.10;
+    assert_int_equal(
+        cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
     *dev_max_m = 0.0;
     for (k = 0; k < 6000; k++) {
         double qdd[ARM_NJ];
         if (k % period_ms == 0) {
             cartseg_out o;
             assert_int_equal(cartseg_step(&c, &arm_model_puma560, &tool, NULL, q, qd, -1.0,
-                                          1e-3 * period_ms, &o), 0);
+                                          1e-3 * period_ms, &o),
+                             0);
             *dev_max_m = fmax(*dev_max_m, o.deviation_m);
             if (o.done)
                 break;
@@ -176,7 +187,8 @@ static void test_segment_at_4ms_period(void **st)
     t1 = run_period(1, &dev1, &miss1);
     t4 = run_period(4, &dev4, &miss4);
     print_message("1 ms: done %d ms, line deviation %.2f mm, miss %.2f mm; "
-                  "4 ms: done %d ms, %.2f mm, %.2f mm\n", t1, dev1 * 1e3, miss1 * 1e3, t4, dev4 * 1e3, miss4 * 1e3);
+                  "4 ms: done %d ms, %.2f mm, %.2f mm\n",
+                  t1, dev1 * 1e3, miss1 * 1e3, t4, dev4 * 1e3, miss4 * 1e3);
     assert_true(t1 > 0 && t4 > 0);
     assert_true(miss4 < 0.005);
     assert_true(t4 < 1.25 * t1);
@@ -227,7 +239,8 @@ static void test_external_reference_stops_fast(void **st)
     setup(T_wb, &tool, q, R1);
     vec3_copy(p1, cell_default.home_tool_m[0]);
     p1[0] += 0.2;
-    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
+    assert_int_equal(
+        cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
     vec3_set(pm1, erlaw_channel_length(&c.line.ch), 0, 0);
     assert_int_equal(erlaw_line_init(&partner, pm0, pm1, &G), 0);
     for (k = 0; k < 12000 && !done; k++) {
@@ -238,11 +251,14 @@ static void test_external_reference_stops_fast(void **st)
         double qdd[ARM_NJ], s_arm, s_star;
         cartseg_tool_world(&arm_model_puma560, &tool, T_wb, q, qd, x, v);
         s_arm = erlaw_line_s(&c.line, x);
-        s_star = fmin(s_arm, erlaw_line_s(&partner, xm));    /* min, k = 1 */
-        assert_int_equal(erlaw_line_step(&partner, xm, vm, ERLAW_REF_EXTERNAL, s_arm, 1e-3, &po), 0);
-        assert_int_equal(cartseg_step(&c, &arm_model_puma560, &tool, NULL, q, qd, s_star, 1e-3, &o), 0);
+        s_star = fmin(s_arm, erlaw_line_s(&partner, xm)); /* min, k = 1 */
+        assert_int_equal(erlaw_line_step(&partner, xm, vm, ERLAW_REF_EXTERNAL, s_arm, 1e-3, &po),
+                         0);
+        assert_int_equal(cartseg_step(&c, &arm_model_puma560, &tool, NULL, q, qd, s_star, 1e-3, &o),
+                         0);
         blocked |= o.blocked;
-        done = o.done && erlaw_done(erlaw_line_s(&partner, xm), erlaw_channel_length(&partner.ch), vec3_norm(vm), 0.004, 0.008);
+        done = o.done && erlaw_done(erlaw_line_s(&partner, xm), erlaw_channel_length(&partner.ch),
+                                    vec3_norm(vm), 0.004, 0.008);
         for (i = 0; i < 3; i++) {
             vm[i] = frozen ? 0.0 : vm[i] + po.u[i] * 1e-3;
             xm[i] += vm[i] * 1e-3;
@@ -251,7 +267,7 @@ static void test_external_reference_stops_fast(void **st)
             t_freeze = t;
             v0 = vec3_norm(v);
             s_hold = s_star;
-            assert_true(v0 > 0.12);   /* near the peak of this 0.2 m segment */
+            assert_true(v0 > 0.12); /* near the peak of this 0.2 m segment */
         }
         if (frozen) {
             lead_max = fmax(lead_max, o.s_m - s_hold);
@@ -264,11 +280,12 @@ static void test_external_reference_stops_fast(void **st)
             q[i] += 1e-3 * qd[i];
         }
     }
-    print_message("freeze %.3f v0 %.3f stop %.3f lead %.4f blocked %d done %d\n", t_freeze, v0, t_stop, lead_max, blocked, done);
+    print_message("freeze %.3f v0 %.3f stop %.3f lead %.4f blocked %d done %d\n", t_freeze, v0,
+                  t_stop, lead_max, blocked, done);
     assert_true(t_stop >= t_freeze && t_stop - t_freeze <= 0.050);
     assert_true(lead_max > 0.0 && lead_max <= ERLAW_FOLLOW_GAP_M + v0 / (exp(1.0) * w) + 1e-3);
-    assert_int_equal(blocked, 0);   /* held by the partner: not blocked */
-    assert_true(done);              /* both resumed and finished */
+    assert_int_equal(blocked, 0); /* held by the partner: not blocked */
+    assert_true(done);            /* both resumed and finished */
 }
 
 /* Base-frame point at fraction f between the origins of frames L-1 and L
@@ -304,14 +321,14 @@ static double tool_bias_force(const arm_tool *tool, const arm_payload *pl, const
     int i, j, k;
     assert_int_equal(arm_fk_jacobian(&arm_model_puma560, tool, q, T, J), 0);
     assert_int_equal(arm_mass_matrix(&arm_model_puma560, q, pl, M), 0);
-    for (j = 0; j < 6; j++) {               /* columns of M^-1 J^T */
+    for (j = 0; j < 6; j++) { /* columns of M^-1 J^T */
         for (i = 0; i < 6; i++)
             col[i] = J[j * 6 + i];
         assert_int_equal(arm_spd_solve6(M, col, x), 0);
         for (i = 0; i < 6; i++)
             MiJt[i * 6 + j] = x[i];
     }
-    for (i = 0; i < 6; i++)                 /* A = J M^-1 J^T */
+    for (i = 0; i < 6; i++) /* A = J M^-1 J^T */
         for (j = 0; j < 6; j++) {
             A[i * 6 + j] = 0.0;
             for (k = 0; k < 6; k++)
@@ -340,10 +357,12 @@ static double tool_bias_force(const arm_tool *tool, const arm_payload *pl, const
  * 1.1 x the planned peak). */
 static void test_pinned_upper_arm(void **st)
 {
-    const double off[3] = { 0.0, 0.0, CELL_TOOL_LENGTH_M }, com[3] = { 0.1, 0.0, CELL_TOOL_LENGTH_M };
+    const double off[3] = { 0.0, 0.0, CELL_TOOL_LENGTH_M },
+                 com[3] = { 0.1, 0.0, CELL_TOOL_LENGTH_M };
     const double p0w[3] = { -0.70, 0.50, 0.35 }, p1w[3] = { -0.10, 0.35, 0.45 }, hold_s = 6.0;
     double T_wb[16], Tinv[16], Rinv[9], Rb[9], T[16], p[3], q[ARM_NJ], qd[ARM_NJ] = { 0 }, R1[9];
-    double n[3] = { 0 }, t_in = -1.0, t_out = -1.0, t_blk = -1.0, f_sum = 0.0, f_bias = 0.0, lurch = 0.0;
+    double n[3] = { 0 }, t_in = -1.0, t_out = -1.0, t_blk = -1.0, f_sum = 0.0, f_bias = 0.0,
+           lurch = 0.0;
     const double q_ref[ARM_NJ] = { 0.0, 0.6, 2.9, 0.0, -0.4, 0.0 };
     arm_payload pl;
     arm_tool tool;
@@ -356,21 +375,25 @@ static void test_pinned_upper_arm(void **st)
     cell_world_from_arm(&cell_default, 0, T_wb);
     tf_inverse(Tinv, T_wb);
     tf_apply(p, Tinv, p0w);
-    tf_rot(Rinv, Tinv);   /* base <- world, for the path direction below */
+    tf_rot(Rinv, Tinv); /* base <- world, for the path direction below */
     cell_tool_down_R(&cell_default, 0, Rb);
     tf_from_rot_pos(T, Rb, p);
     assert_int_equal(arm_ik(&arm_model_puma560, &tool, T, &r), 0);
     memcpy(q, r.branch[arm_ik_nearest(&r, q_ref)].q_rad, sizeof q);
-    vec3_set(R1, 1, 0, 0); vec3_set(R1 + 3, 0, -1, 0); vec3_set(R1 + 6, 0, 0, -1);
-    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1w, R1, &G, ERLAW_REF_MEASURED), 0);
+    vec3_set(R1, 1, 0, 0);
+    vec3_set(R1 + 3, 0, -1, 0);
+    vec3_set(R1 + 6, 0, 0, -1);
+    assert_int_equal(
+        cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1w, R1, &G, ERLAW_REF_MEASURED), 0);
     for (k = 0; k < 30000 && !done; k++) {
         const double t = k * 1e-3, dt = 1e-3;
         cartseg_out o;
-        double qdd[ARM_NJ], Jp[18], Jc[ARM_NJ], MiJc[ARM_NJ], M[36], vp[3], a = 0.0, b = 0.0, F = 0.0, pc[3];
+        double qdd[ARM_NJ], Jp[18], Jc[ARM_NJ], MiJc[ARM_NJ], M[36], vp[3], a = 0.0, b = 0.0,
+                                                                            F = 0.0, pc[3];
         assert_int_equal(cartseg_step(&c, &arm_model_puma560, &tool, &pl, q, qd, -1.0, dt, &o), 0);
         done = o.done;
         link_point(q, 2, 0.5, pc, Jp);
-        if (t_in < 0.0 && vec3_norm(o.v_world) > 0.10) {   /* as the scenario's t3 blocks */
+        if (t_in < 0.0 && vec3_norm(o.v_world) > 0.10) { /* as the scenario's t3 blocks */
             linalg_matvec(vp, Jp, qd, 3, ARM_NJ);
             vec3_normalize(n, vp);
             contact = 1;
@@ -386,7 +409,8 @@ static void test_pinned_upper_arm(void **st)
             contact = 0;
             t_out = t;
         }
-        assert_int_equal(arm_forward_dynamics(&arm_model_puma560, q, qd, o.tau_Nm, NULL, &pl, qdd), 0);
+        assert_int_equal(arm_forward_dynamics(&arm_model_puma560, q, qd, o.tau_Nm, NULL, &pl, qdd),
+                         0);
         for (i = 0; i < ARM_NJ; i++)
             qd[i] += dt * qdd[i];
         if (contact) {
@@ -394,7 +418,7 @@ static void test_pinned_upper_arm(void **st)
                 Jc[i] = n[0] * Jp[i] + n[1] * Jp[6 + i] + n[2] * Jp[12 + i];
                 a += Jc[i] * qd[i];
             }
-            if (a > 0.0) {   /* moving into the stick: the contact impulse stops it */
+            if (a > 0.0) { /* moving into the stick: the contact impulse stops it */
                 assert_int_equal(arm_mass_matrix(&arm_model_puma560, q, &pl, M), 0);
                 assert_int_equal(arm_spd_solve6(M, Jc, MiJc), 0);
                 for (i = 0; i < ARM_NJ; i++)
@@ -413,8 +437,9 @@ static void test_pinned_upper_arm(void **st)
         for (i = 0; i < ARM_NJ; i++)
             q[i] += dt * qd[i];
     }
-    print_message("contact %.3f blocked %.3f settled %.1f N (tool bias force %.1f N) lurch %.3f done %d\n",
-                  t_in, t_blk, nf ? f_sum / nf : 0.0, f_bias, lurch, done);
+    print_message(
+        "contact %.3f blocked %.3f settled %.1f N (tool bias force %.1f N) lurch %.3f done %d\n",
+        t_in, t_blk, nf ? f_sum / nf : 0.0, f_bias, lurch, done);
     assert_true(t_in > 0.0 && t_blk > t_in && t_blk < t_in + 0.25);
     assert_true(nf > 0 && f_sum / nf < 10.0 * f_bias);
     assert_true(lurch <= G.v_m * 1.1);
@@ -422,8 +447,8 @@ static void test_pinned_upper_arm(void **st)
 }
 
 /* World pose of the tool at q (arm 1's mounting). */
-static void tool_pose_world(const double T_wb[16], const arm_tool *tool, const double q[ARM_NJ], double p[3],
-                            double R[9])
+static void tool_pose_world(const double T_wb[16], const arm_tool *tool, const double q[ARM_NJ],
+                            double p[3], double R[9])
 {
     double T[16], Tw[16];
     assert_int_equal(arm_fk(&arm_model_puma560, tool, q, T), 0);
@@ -442,7 +467,8 @@ static void tool_pose_world(const double T_wb[16], const arm_tool *tool, const d
 static void test_joint_goal(void **st)
 {
     const double pi = 3.14159265358979323846;
-    double T_wb[16], q[ARM_NJ], qf[ARM_NJ], R1[9], p1[3], pg[3], Rg[9], q_goal[ARM_NJ], d[3], Rt[9], E[9], axis[3];
+    double T_wb[16], q[ARM_NJ], qf[ARM_NJ], R1[9], p1[3], pg[3], Rg[9], q_goal[ARM_NJ], d[3], Rt[9],
+        E[9], axis[3];
     arm_tool tool;
     int j, rc;
     (void)st;
@@ -461,32 +487,35 @@ static void test_joint_goal(void **st)
     qf[3] = arm_model_puma560.q_max_rad[3] - 1.0 * pi / 180.0;
     qf[4] = 0.3;
     qf[5] = 1.0;
-    tool_pose_world(T_wb, &tool, qf, p1, R1);   /* goal: here, 5 mm lower */
+    tool_pose_world(T_wb, &tool, qf, p1, R1); /* goal: here, 5 mm lower */
     p1[2] -= 0.005;
     rc = cartseg_joint_goal(&arm_model_puma560, &tool, T_wb, qf, p1, R1, q_goal);
-    print_message("turned-over wrist: rc %d, q_goal [%.3f %.3f %.3f %.3f %.3f %.3f]\n", rc, q_goal[0], q_goal[1],
-                  q_goal[2], q_goal[3], q_goal[4], q_goal[5]);
+    print_message("turned-over wrist: rc %d, q_goal [%.3f %.3f %.3f %.3f %.3f %.3f]\n", rc,
+                  q_goal[0], q_goal[1], q_goal[2], q_goal[3], q_goal[4], q_goal[5]);
     assert_int_equal(rc, 1);
     for (j = 0; j < ARM_NJ; j++)
         assert_true(q_goal[j] >= arm_model_puma560.q_min_rad[j] + CARTSEG_GOAL_MARGIN_RAD &&
                     q_goal[j] <= arm_model_puma560.q_max_rad[j] - CARTSEG_GOAL_MARGIN_RAD);
-    assert_int_equal(arm_ik_branch_of(&arm_model_puma560, q_goal) & 3, arm_ik_branch_of(&arm_model_puma560, qf) & 3);
-    assert_true(fabs(q_goal[3] - (qf[3] - pi)) < 0.3);   /* the wrist turned back */
+    assert_int_equal(arm_ik_branch_of(&arm_model_puma560, q_goal) & 3,
+                     arm_ik_branch_of(&arm_model_puma560, qf) & 3);
+    assert_true(fabs(q_goal[3] - (qf[3] - pi)) < 0.3); /* the wrist turned back */
     tool_pose_world(T_wb, &tool, q_goal, pg, Rg);
     vec3_sub(d, pg, p1);
     assert_true(vec3_norm(d) < 1e-9);
     rot_transpose(Rt, R1);
     rot_mul(E, Rg, Rt);
     assert_true(rot_to_axis_angle(axis, E) < 1e-9);
-    p1[0] += 5.0;   /* out of reach */
-    assert_int_equal(cartseg_joint_goal(&arm_model_puma560, &tool, T_wb, qf, p1, R1, q_goal), CARTSEG_ERR_NO_GOAL);
+    p1[0] += 5.0; /* out of reach */
+    assert_int_equal(cartseg_joint_goal(&arm_model_puma560, &tool, T_wb, qf, p1, R1, q_goal),
+                     CARTSEG_ERR_NO_GOAL);
 }
 
 /* An 18 cm segment with the model as plant and a contact sensor; the plant
  * is frozen in [f0, f1) ms and the sensor reads force_N then. Returns the
  * done cycle (-1 if none) and the first blocked, unblocked and stuck
  * cycles. */
-static int run_sensed(int f0, int f1, double force_N, int *blocked_at, int *unblocked_at, int *stuck_at)
+static int run_sensed(int f0, int f1, double force_N, int *blocked_at, int *unblocked_at,
+                      int *stuck_at)
 {
     double T_wb[16], q[ARM_NJ], qd[ARM_NJ] = { 0 }, R1[9], p1[3];
     arm_tool tool;
@@ -496,13 +525,15 @@ static int run_sensed(int f0, int f1, double force_N, int *blocked_at, int *unbl
     vec3_copy(p1, cell_default.home_tool_m[0]);
     p1[0] -= 0.15;
     p1[2] -= 0.10;
-    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
+    assert_int_equal(
+        cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), 0);
     *blocked_at = *unblocked_at = *stuck_at = -1;
     for (k = 0; k < 8000; k++) {
         const int frozen = k >= f0 && k < f1;
         cartseg_out o;
         cartseg_set_contact(&c, frozen ? force_N : 0.0);
-        assert_int_equal(cartseg_step(&c, &arm_model_puma560, &tool, NULL, q, qd, -1.0, 1e-3, &o), 0);
+        assert_int_equal(cartseg_step(&c, &arm_model_puma560, &tool, NULL, q, qd, -1.0, 1e-3, &o),
+                         0);
         if (o.done)
             return k;
         if (o.blocked && *blocked_at < 0)
@@ -544,16 +575,21 @@ static void test_bad_input(void **st)
     cartseg c;
     (void)st;
     setup(T_wb, &tool, q, R1);
-    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED), CARTSEG_ERR_ARG);
+    assert_int_equal(
+        cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_MEASURED),
+        CARTSEG_ERR_ARG);
     p1[0] = 0.0;
-    assert_int_equal(cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_EXTERNAL), CARTSEG_ERR_ARG);
-    {   /* no segment: refused before anything of it is read */
+    assert_int_equal(
+        cartseg_start(&c, &arm_model_puma560, &tool, T_wb, q, p1, R1, &G, ERLAW_REF_EXTERNAL),
+        CARTSEG_ERR_ARG);
+    { /* no segment: refused before anything of it is read */
         cartctl_state cs;
         cartseg_out o;
         const double qd[ARM_NJ] = { 0 };
         assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, qd, &cs), 0);
-        assert_int_equal(cartseg_step_at(NULL, &arm_model_puma560, &tool, NULL, &cs, q, qd, 0.5, 1e-3, &o),
-                         CARTSEG_ERR_ARG);
+        assert_int_equal(
+            cartseg_step_at(NULL, &arm_model_puma560, &tool, NULL, &cs, q, qd, 0.5, 1e-3, &o),
+            CARTSEG_ERR_ARG);
     }
 }
 

@@ -52,7 +52,7 @@ static void test_every_working_pose_is_reachable(void **state)
         assert_true(reachable(a, c->home_tool_m[a]));
         cell_grasp_point(c, a, c->handover_center_m, p);
         assert_true(reachable(a, p));
-        p[2] += CELL_STAND_CLEARANCE_M;   /* ABOVE_HANDOVER_1, _2: a stand's approach */
+        p[2] += CELL_STAND_CLEARANCE_M; /* ABOVE_HANDOVER_1, _2: a stand's approach */
         assert_true(reachable(a, p));
     }
     /* arm 1: every corner of the pick zone, at grasp height and above it */
@@ -108,8 +108,12 @@ static void test_validate(void **state)
     (void)state;
     assert_int_equal(cell_layout_validate(&cell_default), 0);
     assert_int_equal(cell_layout_validate(NULL), CELL_ERR_ARG);
-#define BROKEN(field_change, code) \
-    do { c = cell_default; field_change; assert_int_equal(cell_layout_validate(&c), (code)); } while (0)
+#define BROKEN(field_change, code)                          \
+    do {                                                    \
+        c = cell_default;                                   \
+        field_change;                                       \
+        assert_int_equal(cell_layout_validate(&c), (code)); \
+    } while (0)
     BROKEN(c.pick_center_m[1] = NAN, CELL_ERR_NONFINITE);
     BROKEN(c.base_yaw_rad[1] = INFINITY, CELL_ERR_NONFINITE);
     BROKEN(c.home_tool_m[1][2] = NAN, CELL_ERR_NONFINITE);
@@ -118,11 +122,11 @@ static void test_validate(void **state)
     BROKEN(c.grasp_tolerance_m = 0.0, CELL_ERR_RANGE);
     BROKEN(c.pick_spread_m[0] = -0.01, CELL_ERR_RANGE);
     BROKEN(c.approach_height_m = 0.0, CELL_ERR_RANGE);
-    BROKEN(c.grasp_offset_m = 0.14, CELL_ERR_INCONSISTENT);       /* past the bar's end */
-    BROKEN(c.pick_center_m[2] += 0.01, CELL_ERR_INCONSISTENT);    /* floats above the top */
-    BROKEN(c.pick_spread_m[1] = 0.5, CELL_ERR_INCONSISTENT);      /* spreads off the table */
-    BROKEN(c.deliver_center_m[0] = 0.85, CELL_ERR_INCONSISTENT);  /* off the table's end */
-    BROKEN(c.handover_center_m[2] = 0.2, CELL_ERR_INCONSISTENT);  /* inside the table */
+    BROKEN(c.grasp_offset_m = 0.14, CELL_ERR_INCONSISTENT);      /* past the bar's end */
+    BROKEN(c.pick_center_m[2] += 0.01, CELL_ERR_INCONSISTENT);   /* floats above the top */
+    BROKEN(c.pick_spread_m[1] = 0.5, CELL_ERR_INCONSISTENT);     /* spreads off the table */
+    BROKEN(c.deliver_center_m[0] = 0.85, CELL_ERR_INCONSISTENT); /* off the table's end */
+    BROKEN(c.handover_center_m[2] = 0.2, CELL_ERR_INCONSISTENT); /* inside the table */
     BROKEN(vec3_copy(c.base_xyz_m[1], c.base_xyz_m[0]), CELL_ERR_INCONSISTENT);
 #undef BROKEN
 }

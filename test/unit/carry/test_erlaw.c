@@ -15,14 +15,14 @@
 
 static const erlaw_gains G = { 0.25, 0.5, 4.0, 100.0, 20.0, 0.2, 5.0, 50.0 };
 static const double P0[3] = { 0.4, -0.2, 0.3 };
-static const double P1[3] = { 0.7, 0.2, 0.3 };   /* s_f = 0.5 m */
+static const double P1[3] = { 0.7, 0.2, 0.3 }; /* s_f = 0.5 m */
 #define DT 1e-3
 #define TOL_S 1e-3
 #define TOL_V 5e-3
 
 typedef struct {
     double x[3], v[3];
-    double s_raw_max;     /* furthest along e, unclamped: overshoot check */
+    double s_raw_max; /* furthest along e, unclamped: overshoot check */
     double speed_max;
 } mass;
 
@@ -138,7 +138,7 @@ static void test_bias_is_needed(void **st)
  * by about d / (k_v sqrt(u_m)). */
 static void test_short_segment_starts_against_disturbance(void **st)
 {
-    const double p1[3] = { 0.4 + 0.018, -0.2 + 0.024, 0.3 };   /* 0.03 m */
+    const double p1[3] = { 0.4 + 0.018, -0.2 + 0.024, 0.3 }; /* 0.03 m */
     const double d = 0.5 * G.k0, offset = d / (G.k_v * sqrt(G.u_m));
     erlaw_line l;
     mass m;
@@ -204,7 +204,7 @@ static void test_blocked_event_vs_time(void **st)
     assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
     mass_at(&m, P0);
     block_episode(&l, &m, ERLAW_REF_TIME, 0.2, 3.0, &e2, &l2, &mx2);
-    assert_true(l2 > 3.0 * bound);     /* ~k_p (s_f - s): far above the event law */
+    assert_true(l2 > 3.0 * bound); /* ~k_p (s_f - s): far above the event law */
     /* release: a lurch well above the speed limit */
     m.speed_max = 0.0;
     run_to_done(&l, &m, ERLAW_REF_TIME, 30.0);
@@ -247,8 +247,8 @@ static void test_resume_from_rest_at_planned_acceleration(void **st)
     a_plain = accel_after_stop(&l, &m, 0.25, 0);
     assert_true(a_plain > 0.9 * G.k_v * G.v_m);
     a_resumed = accel_after_stop(&l, &m, 0.25, 1);
-    printf("from rest at cruise: %.2f m/s^2 plain, %.2f resumed (a_m %.2f, k0 %.2f)\n", a_plain, a_resumed, G.a_m,
-           G.k0);
+    printf("from rest at cruise: %.2f m/s^2 plain, %.2f resumed (a_m %.2f, k0 %.2f)\n", a_plain,
+           a_resumed, G.a_m, G.k0);
     assert_true(a_resumed <= 1.2 * (G.a_m + G.k0));
     assert_true(m.speed_max <= G.v_m * 1.01);
     assert_true(m.s_raw_max <= 0.5 + TOL_S);
@@ -256,7 +256,8 @@ static void test_resume_from_rest_at_planned_acceleration(void **st)
     assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
     erlaw_channel_resume(&l.ch, 0.25);
     vec3_axpy(p, P0, 0.25 + 0.01, l.ch.e);
-    assert_int_equal(erlaw_line_step(&l, p, (double[3]){ 0, 0, 0 }, ERLAW_REF_MEASURED, 0.0, DT, &o), 0);
+    assert_int_equal(
+        erlaw_line_step(&l, p, (double[3]){ 0, 0, 0 }, ERLAW_REF_MEASURED, 0.0, DT, &o), 0);
     sprofile_at(&l.ch.prof, 0.01, &a_d, &v_d);
     assert_true(fabs(o.v_d - v_d) < 1e-12 && fabs(o.a_d - a_d) < 1e-12);
 }
@@ -317,7 +318,8 @@ static void test_external_reference_follower_stops(void **st)
         /* min semantics: a reference ahead of the arm (or past s_f) is the
          * arm's own s, and the arm is then not a follower */
         vec3_axpy(x, P0, 0.1, lead_l.ch.e);
-        assert_int_equal(erlaw_line_step(&fol_l, x, fol.v, ERLAW_REF_EXTERNAL, k ? 7.0 : 0.3, DT, &o), 0);
+        assert_int_equal(
+            erlaw_line_step(&fol_l, x, fol.v, ERLAW_REF_EXTERNAL, k ? 7.0 : 0.3, DT, &o), 0);
         assert_true(fabs(o.s_ref_m - 0.1) < 1e-12);
         assert_int_equal(o.follower, 0);
     }
@@ -343,17 +345,18 @@ static void test_follower_speed_capped_by_profile(void **st)
     (void)st;
     assert_int_equal(erlaw_line_init(&l, P0, P1, &G), 0);
     for (k = 0; k < 3; k++)
-        x[k] = P0[k] + 0.47 / 0.5 * (P1[k] - P0[k]);     /* s = 0.47 of 0.5 m */
+        x[k] = P0[k] + 0.47 / 0.5 * (P1[k] - P0[k]); /* s = 0.47 of 0.5 m */
     for (k = 0; k < 40; k++) {
-        s_ext += 2.0 * G.v_m * 1e-3;                      /* the partner races on */
-        assert_int_equal(erlaw_line_step(&l, x, v0, ERLAW_REF_EXTERNAL, fmin(s_ext, 0.469), 1e-3, &o), 0);
+        s_ext += 2.0 * G.v_m * 1e-3; /* the partner races on */
+        assert_int_equal(
+            erlaw_line_step(&l, x, v0, ERLAW_REF_EXTERNAL, fmin(s_ext, 0.469), 1e-3, &o), 0);
     }
     {
         double a_d, v_prof;
         sprofile_at(&l.ch.prof, o.s_ref_m, &a_d, &v_prof);
         assert_true(o.follower);
-        assert_true(l.ch.v_ext > v_prof + 0.05);          /* the partner is faster ... */
-        assert_true(o.v_d <= v_prof + 1e-12);             /* ... the follower is not */
+        assert_true(l.ch.v_ext > v_prof + 0.05); /* the partner is faster ... */
+        assert_true(o.v_d <= v_prof + 1e-12);    /* ... the follower is not */
     }
 }
 
@@ -368,12 +371,12 @@ static void test_blocked_leans_with_bias(void **st)
     mass_at(&m, P0);
     while (erlaw_line_s(&l, m.x) < 0.2)
         cycle(&l, &m, ERLAW_REF_MEASURED, 0.0, 0);
-    m.x[1] += 0.03;   /* the obstacle has pushed it 3 cm off the line */
+    m.x[1] += 0.03; /* the obstacle has pushed it 3 cm off the line */
     assert_int_equal(erlaw_line_hold(&l, m.x), 0);
     for (k = 0; k < 1000; k++) {
         erlaw_out o = cycle(&l, &m, ERLAW_REF_BLOCKED, erlaw_line_s(&l, m.x), 1);
         if (k == 0)
-            continue;   /* the mass still had its speed this cycle */
+            continue; /* the mass still had its speed this cycle */
         assert_true(fabs(vec3_norm(o.u) - o.bias) < 1e-9);
         assert_true(o.bias <= G.k0 && o.bias > 0.5 * G.k0);
         assert_true(vec3_dot(o.u, l.ch.e) > 0.0);
@@ -420,10 +423,10 @@ static void test_blocked_near_goal_leans_with_k0(void **st)
         cycle(&l, &m, ERLAW_REF_MEASURED, 0.0, 0);
     m.v[0] = m.v[1] = m.v[2] = 0.0;
     o = cycle(&l, &m, ERLAW_REF_MEASURED, 0.0, 1);
-    assert_true(o.bias < 0.5 * G.k0);           /* eq. 7 has faded here */
+    assert_true(o.bias < 0.5 * G.k0); /* eq. 7 has faded here */
     assert_int_equal(erlaw_line_hold(&l, m.x), 0);
     o = cycle(&l, &m, ERLAW_REF_BLOCKED, 0.0, 1);
-    assert_true(fabs(o.bias - G.k0) < 1e-12);   /* blocked: the full k0 */
+    assert_true(fabs(o.bias - G.k0) < 1e-12); /* blocked: the full k0 */
     s0 = erlaw_line_s(&l, m.x);
     for (k = 0; k < 2000; k++)
         cycle(&l, &m, ERLAW_REF_BLOCKED, 0.0, 0);
@@ -450,8 +453,7 @@ static void test_rotation_channel(void **st)
     assert_true(fabs(theta_f - 1.2) < 1e-9);
     for (k = 0; k < 9; k++)
         R[k] = R0[k];
-    while (t < 20.0 &&
-           !erlaw_done(erlaw_rot_angle(&r, R), theta_f, vec3_norm(w), 1e-3, 5e-3)) {
+    while (t < 20.0 && !erlaw_done(erlaw_rot_angle(&r, R), theta_f, vec3_norm(w), 1e-3, 5e-3)) {
         erlaw_out o;
         double dR[9], Rn[9], wn;
         assert_int_equal(erlaw_rot_step(&r, R, w, ERLAW_REF_MEASURED, 0.0, DT, &o), 0);

@@ -21,20 +21,10 @@
 #define DL_P 6
 #define DL_T 4
 static const int8_t DL_MINUS[DL_P * DL_T] = {
-    1, 0, 0, 0,
-    0, 1, 0, 0,
-    0, 0, 1, 0,
-    0, 0, 0, 1,
-    1, 0, 0, 1,
-    0, 1, 1, 0,
+    1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 1, 0, 0, 1, 0, 1, 1, 0,
 };
 static const int8_t DL_PLUS[DL_P * DL_T] = {
-    0, 1, 0, 0,
-    1, 0, 0, 0,
-    0, 0, 0, 1,
-    0, 0, 1, 0,
-    0, 1, 0, 1,
-    0, 1, 0, 1,
+    0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 1, 0, 1, 0, 1,
 };
 static const uint8_t DL_M0[DL_P] = { 1, 0, 1, 0, 1, 1 };
 /* A: p0 + p1 = 1; B: p2 + p3 = 1 */
@@ -51,7 +41,7 @@ static const uint8_t SRC_M0[2] = { 0, 1 };
 static const petri_net SRC_FREE = { 2, 2, SRC_MINUS, SRC_PLUS, NULL, SRC_M0, 0, NULL };
 static const petri_net SRC_GUARDED = { 2, 2, SRC_MINUS, SRC_PLUS, SRC_INHIB, SRC_M0, 0, NULL };
 
-static petri_explore_ws WS;   /* large: static */
+static petri_explore_ws WS; /* large: static */
 
 static uint32_t rng_state = 12345u;
 static uint32_t rnd(void)
@@ -103,6 +93,8 @@ static void test_scan_equals_mask(void **st)
             memset(&s, 0, sizeof s);
             for (i = 0; i < n.n_places; i++)
                 s.m[i] = (uint8_t)(rnd() % 4 ? 1 + rnd() % 2 : 0);
+            /* three draws: about one bit in eight set */
+            /* NOLINTNEXTLINE(misc-redundant-expression) */
             s.running = (uint32_t)(rnd() & rnd() & rnd());
             if (n.n_transitions < 32)
                 s.running &= (UINT32_C(1) << n.n_transitions) - 1;
@@ -113,7 +105,7 @@ static void test_scan_equals_mask(void **st)
             }
         }
     }
-    assert_true(agree_enabled > 100);   /* both outcomes were exercised */
+    assert_true(agree_enabled > 100); /* both outcomes were exercised */
 }
 
 /* The engine's kept sets (enabled transitions, invariant sums) equal the
@@ -127,7 +119,7 @@ static void assert_sets_match_scan(const petri *p)
         if (on && first < 0)
             first = j;
     }
-    assert_int_equal(petri_select(p), first);   /* the seed's lowest-index pick */
+    assert_int_equal(petri_select(p), first); /* the seed's lowest-index pick */
     assert_int_equal(petri_invariants_hold(p),
                      petri_state_invariant_violations(&p->c, &p->st) == 0);
     assert_int_equal(petri_dead(p), petri_state_dead(&p->c, &p->st));
@@ -167,13 +159,13 @@ static void test_incremental_equals_scan(void **st)
             int r, expect = 0;
             if (op != 1 && !petri_state_enabled_scan(&p.c, &want, t))
                 expect = PETRI_ERR_NOT_ENABLED;
-            if (op != 1 && expect == 0) {   /* start: N- taken, t running */
+            if (op != 1 && expect == 0) { /* start: N- taken, t running */
                 for (i = 0; i < n.n_places; i++)
                     want.m[i] = (uint8_t)(want.m[i] - mi[i * n.n_transitions + t]);
                 want.running |= bit;
                 viol += petri_state_invariant_violations(&p.c, &want) > 0;
             }
-            if (op != 0 && expect == 0) {   /* completion: N+ put, t done */
+            if (op != 0 && expect == 0) { /* completion: N+ put, t done */
                 if (!(want.running & bit))
                     expect = PETRI_ERR_NOT_RUNNING;
                 for (i = 0; i < n.n_places && expect == 0; i++)
@@ -186,7 +178,7 @@ static void test_incremental_equals_scan(void **st)
                     viol += petri_state_invariant_violations(&p.c, &want) > 0;
                 }
             }
-            if (op == 2 && expect != 0)   /* fire: all or nothing (a start's count stays) */
+            if (op == 2 && expect != 0) /* fire: all or nothing (a start's count stays) */
                 want = p.st;
             r = op == 0 ? petri_start(&p, t) : op == 1 ? petri_complete(&p, t) : petri_fire(&p, t);
             assert_int_equal(r, expect);
@@ -236,7 +228,7 @@ static void test_incremental_on_reachable(void **st)
     sets_on_reachable(&SRC_GUARDED);
     assert_int_equal(petri_init(&p, &DL), 0);
     s = p.st;
-    s.running = UINT32_C(1) << DL_T;   /* no such transition */
+    s.running = UINT32_C(1) << DL_T; /* no such transition */
     assert_int_equal(petri_load_state(&p, &s), PETRI_ERR_ARG);
     assert_int_equal(petri_load_state(NULL, &s), PETRI_ERR_ARG);
 }
@@ -249,7 +241,7 @@ static void test_fire_eq11_and_split(void **st)
     int i, t;
     (void)st;
     assert_int_equal(petri_init(&p, &DL), 0);
-    assert_int_equal(petri_select(&p), 0);   /* lowest index wins */
+    assert_int_equal(petri_select(&p), 0); /* lowest index wins */
     before = p.st;
     assert_int_equal(petri_fire(&p, 0), 0);
     for (i = 0; i < DL_P; i++)
@@ -259,8 +251,8 @@ static void test_fire_eq11_and_split(void **st)
     t = 2;
     assert_int_equal(petri_start(&p, t), 0);
     assert_true(petri_running(&p, t));
-    assert_int_equal(petri_start(&p, t), PETRI_ERR_NOT_ENABLED);  /* no double start */
-    assert_true(petri_invariants_hold(&p));   /* tokens in flight counted */
+    assert_int_equal(petri_start(&p, t), PETRI_ERR_NOT_ENABLED); /* no double start */
+    assert_true(petri_invariants_hold(&p));                      /* tokens in flight counted */
     assert_int_equal(petri_complete(&p, 1), PETRI_ERR_NOT_RUNNING);
     assert_int_equal(petri_complete(&p, t), 0);
     assert_false(petri_running(&p, t));
@@ -284,27 +276,28 @@ static void test_set_state_round_trip(void **st)
     (void)st;
     assert_int_equal(petri_init(&p, &DL), 0);
     assert_int_equal(petri_fire(&p, 0), 0);
-    assert_int_equal(petri_start(&p, 2), 0);     /* a transition in flight */
+    assert_int_equal(petri_start(&p, 2), 0); /* a transition in flight */
     saved = p.st;
     assert_int_equal(petri_init(&q, &DL), 0);
     assert_int_equal(petri_set_state(&q, &saved), 0);
     assert_memory_equal(q.st.m, saved.m, sizeof saved.m);
     assert_int_equal(q.st.running, saved.running);
-    assert_int_equal(petri_complete(&q, 2), 0);   /* and runs on from there */
+    assert_int_equal(petri_complete(&q, 2), 0); /* and runs on from there */
     bad = saved;
-    for (i = 0; i < DL_P; i++) bad.m[i] = 0;      /* every token lost */
+    for (i = 0; i < DL_P; i++)
+        bad.m[i] = 0; /* every token lost */
     assert_int_equal(petri_set_state(&p, &bad), PETRI_ERR_ARG);
     assert_int_equal(p.st.running, saved.running);
     assert_memory_equal(p.st.m, saved.m, sizeof saved.m);
     bad = saved;
-    bad.running |= 1u << DL_T;                   /* no such transition */
+    bad.running |= 1u << DL_T; /* no such transition */
     assert_int_equal(petri_set_state(&p, &bad), PETRI_ERR_ARG);
 }
 
 /* A wrong invariant is caught after the change that breaks it. */
 static void test_invariant_violation_counted(void **st)
 {
-    static const int8_t bad_inv[DL_P] = { 1, 0, 0, 0, 0, 0 };   /* not y^T N = 0 */
+    static const int8_t bad_inv[DL_P] = { 1, 0, 0, 0, 0, 0 }; /* not y^T N = 0 */
     petri_net n = DL;
     petri p;
     (void)st;
@@ -313,7 +306,7 @@ static void test_invariant_violation_counted(void **st)
     assert_int_equal(petri_init(&p, &n), 0);
     assert_true(petri_invariants_hold(&p));
     assert_int_equal(petri_start(&p, 0), 0);
-    assert_int_equal(p.invariant_violations, 0);   /* in flight: still 1 */
+    assert_int_equal(p.invariant_violations, 0); /* in flight: still 1 */
     assert_int_equal(petri_complete(&p, 0), 0);
     assert_int_equal(p.invariant_violations, 1);
     assert_false(petri_invariants_hold(&p));
@@ -398,9 +391,9 @@ static void test_explore_capacity(void **st)
     memset(mi, 0, sizeof mi);
     memset(pl, 0, sizeof pl);
     for (k = 0; k < 12; k++) {
-        mi[(2 * k) * 24 + 2 * k] = 1;          /* t2k: p2k -> p2k+1 */
+        mi[(2 * k) * 24 + 2 * k] = 1; /* t2k: p2k -> p2k+1 */
         pl[(2 * k + 1) * 24 + 2 * k] = 1;
-        mi[(2 * k + 1) * 24 + 2 * k + 1] = 1;  /* t2k+1: back */
+        mi[(2 * k + 1) * 24 + 2 * k + 1] = 1; /* t2k+1: back */
         pl[(2 * k) * 24 + 2 * k + 1] = 1;
         m0[2 * k] = 1;
     }

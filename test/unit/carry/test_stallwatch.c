@@ -31,8 +31,8 @@ static void test_stall_after_limit(void **st)
     double t_first = -1.0;
     (void)st;
     assert_int_equal(stallwatch_init(&w, 2.0), STALLWATCH_OK);
-    assert_int_equal(run(&w, 0.0, 5.0, 1, 0, &t_first), 1);    /* once, not every cycle */
-    assert_true(fabs(t_first - 2.01) < 0.011);                  /* just past the limit */
+    assert_int_equal(run(&w, 0.0, 5.0, 1, 0, &t_first), 1); /* once, not every cycle */
+    assert_true(fabs(t_first - 2.01) < 0.011);              /* just past the limit */
     assert_int_equal(w.stalled, 1);
     assert_int_equal(w.stalls, 1);
     /* a completion ends it; a second stall is counted again */
@@ -94,9 +94,9 @@ static void test_idle_cell_is_not_stalled(void **st)
     stallwatch w;
     (void)st;
     assert_int_equal(stallwatch_init(&w, 2.0), STALLWATCH_OK);
-    assert_int_equal(run(&w, 0.0, 30.0, 0, 0, NULL), 0);     /* nothing to do */
-    assert_int_equal(run(&w, 30.01, 3.0, 1, 0, NULL), 1);    /* work came, none done */
-    assert_int_equal(stallwatch_update(&w, 33.1, 0, 0, 0), 0);   /* work gone: no longer stalled */
+    assert_int_equal(run(&w, 0.0, 30.0, 0, 0, NULL), 0);       /* nothing to do */
+    assert_int_equal(run(&w, 30.01, 3.0, 1, 0, NULL), 1);      /* work came, none done */
+    assert_int_equal(stallwatch_update(&w, 33.1, 0, 0, 0), 0); /* work gone: no longer stalled */
     assert_int_equal(w.stalled, 0);
 }
 

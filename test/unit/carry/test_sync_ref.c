@@ -25,7 +25,7 @@ static void test_min_holds_all(void **st)
     assert_true(fabs(s_star - 0.08) < 1e-12);
     for (i = 0; i < 3; i++) {
         assert_true(fabs(ref[i] - r.k[i] * s_star) < 1e-15);
-        assert_true(ref[i] <= s[i] + 1e-15);   /* nobody's reference is ahead of it */
+        assert_true(ref[i] <= s[i] + 1e-15); /* nobody's reference is ahead of it */
     }
     /* the others advance, the laggard stays: s* does not move */
     s[0] = 0.39;
@@ -70,7 +70,7 @@ static void test_invalid(void **st)
     assert_int_equal(sync_ref_init(&r, SYNC_MAX + 1, ok), SYNC_REF_ERR_ARG);
     assert_int_equal(sync_ref_init(&r, 2, ok), 0);
     assert_int_equal(sync_ref_update(&r, s, &s_star, 0), SYNC_REF_ERR_ARG);
-    s[0] = -0.01;   /* measured s may be a hair below 0: clamped */
+    s[0] = -0.01; /* measured s may be a hair below 0: clamped */
     assert_int_equal(sync_ref_update(&r, s, &s_star, 0), 0);
     assert_true(s_star == 0.0);
 }
@@ -107,7 +107,7 @@ static void test_closed_loop_bounded_lead(void **st)
         if (frozen2 && t_freeze < 0.0) {
             t_freeze = t;
             v0 = vec3_norm(v[0]);
-            assert_true(v0 > 0.15);    /* blocked at speed */
+            assert_true(v0 > 0.15); /* blocked at speed */
         }
         for (i = 0; i < 2; i++) {
             erlaw_out o;
@@ -140,7 +140,7 @@ static void test_closed_loop_bounded_lead(void **st)
     assert_true(t_stop > t_freeze && t_stop - t_freeze <= 0.050);
     assert_true(max_lead > 0.0);
     assert_true(max_lead <= ERLAW_FOLLOW_GAP_M + v0 / (exp(1.0) * w) + 2e-4);
-    assert_true(done);   /* both resumed and finished */
+    assert_true(done); /* both resumed and finished */
 }
 
 int main(void)

@@ -101,18 +101,18 @@ static void test_roles_permuted(void **st)
 
 /* One entry of the carry's net changed, and the role it takes away. */
 typedef struct {
-    int table;          /* 0 N-, 1 N+, 2 inhibitor */
+    int table; /* 0 N-, 1 N+, 2 inhibitor */
     int place, transition, value;
     int expect;
 } role_edit;
 
 static const role_edit EDITS[] = {
-    { 0, CARRY_P9, CARRY_T_VISION, 1, TASKDEF_ERR_SOURCE },   /* no source: vision fed from p9 too */
-    { 0, CARRY_P7, CARRY_T6, 0, TASKDEF_ERR_SOURCE },         /* two: t6 takes nothing from p7 */
+    { 0, CARRY_P9, CARRY_T_VISION, 1, TASKDEF_ERR_SOURCE }, /* no source: vision fed from p9 too */
+    { 0, CARRY_P7, CARRY_T6, 0, TASKDEF_ERR_SOURCE },       /* two: t6 takes nothing from p7 */
     { 1, CARRY_P9, CARRY_T_VISION, 1, TASKDEF_ERR_SOURCE_PLACE }, /* the source fills two places */
     { 2, CARRY_P1, CARRY_T_VISION, 0, TASKDEF_ERR_SOURCE_PLACE }, /* not inhibited by its place */
-    { 0, CARRY_P1, CARRY_T2, 1, TASKDEF_ERR_PICK },           /* two transitions take the token */
-    { 0, CARRY_P1, CARRY_T1, 0, TASKDEF_ERR_PICK },           /* none takes it */
+    { 0, CARRY_P1, CARRY_T2, 1, TASKDEF_ERR_PICK }, /* two transitions take the token */
+    { 0, CARRY_P1, CARRY_T1, 0, TASKDEF_ERR_PICK }, /* none takes it */
 };
 
 static void test_roles_refused(void **st)
@@ -174,10 +174,8 @@ static void test_sets_down(void **st)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_roles_of_the_carry),
-        cmocka_unit_test(test_digest),
-        cmocka_unit_test(test_roles_permuted),
-        cmocka_unit_test(test_roles_refused),
+        cmocka_unit_test(test_roles_of_the_carry), cmocka_unit_test(test_digest),
+        cmocka_unit_test(test_roles_permuted),     cmocka_unit_test(test_roles_refused),
         cmocka_unit_test(test_sets_down),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -54,14 +54,16 @@ static void test_goal_error_dynamics(void **state)
         pose2 op, om;
         tries++;
         behaviour_goal_polar(&r, &phi, &o, g);
-        if (r * cos(phi) - d < 0.1 || fabs(phi) > 3.0) continue;
+        if (r * cos(phi) - d < 0.1 || fabs(phi) > 3.0)
+            continue;
         assert_int_equal(behaviour_goal_raw(&u, r, phi, d, a1, a2), 0);
         op = o_after(&o, &u, d, h);
         om = o_after(&o, &u, d, -h);
         behaviour_goal_polar(&rp, &php, &op, g);
         behaviour_goal_polar(&rm, &phm, &om, g);
         assert_true(fabs((rp - rm) / (2 * h) + a1 * r) < 1e-5 * (1 + fabs(a1 * r)));
-        assert_true(fabs(vec2_angle_diff_rad(php, phm) / (2 * h) + a2 * phi) < 1e-5 * (1 + fabs(u.w_radps)));
+        assert_true(fabs(vec2_angle_diff_rad(php, phm) / (2 * h) + a2 * phi) <
+                    1e-5 * (1 + fabs(u.w_radps)));
         n++;
     }
     assert_int_equal(n, 500);
@@ -71,8 +73,8 @@ static void test_goal_singular_and_turn(void **state)
 {
     behaviour_params p;
     unicycle_cmd u;
-    pose2 o = {0, 0, 0};
-    double g[2] = {-2.0, 0.1};   /* behind, slightly left: r cos phi < d */
+    pose2 o = { 0, 0, 0 };
+    double g[2] = { -2.0, 0.1 }; /* behind, slightly left: r cos phi < d */
     (void)state;
     behaviour_params_default(&p);
     /* eq. 5 is singular at r cos phi = d: with O behind (d > 0) for a goal
@@ -82,7 +84,8 @@ static void test_goal_singular_and_turn(void **state)
     assert_int_equal(behaviour_goal_raw(&u, 0.15, 0.0, -0.15, 1, 1), 0);
     assert_int_equal(behaviour_goal(&u, &o, g, &p), BEH_GOAL_TURN);
     assert_true(u.v_mps == 0.0 && u.w_radps > 0.0 && u.w_radps <= p.w_max_radps);
-    g[0] = 0.1; g[1] = 0.1;
+    g[0] = 0.1;
+    g[1] = 0.1;
     assert_int_equal(behaviour_goal(&u, &o, g, &p), BEH_GOAL_REACHED);
     assert_true(u.v_mps == 0.0 && u.w_radps == 0.0);
     g[0] = NAN;
@@ -94,8 +97,8 @@ static void test_goal_saturated_closed_loop_reaches(void **state)
     /* Far goal, behind and to the side: saturated commands stay in limits
      * and the robot arrives. */
     behaviour_params p;
-    pose2 o = {0, 0, 2.5};
-    const double g[2] = {8.0, -3.0};
+    pose2 o = { 0, 0, 2.5 };
+    const double g[2] = { 8.0, -3.0 };
     int k, st = -1;
     (void)state;
     behaviour_params_default(&p);
@@ -103,8 +106,10 @@ static void test_goal_saturated_closed_loop_reaches(void **state)
         unicycle_cmd u;
         st = behaviour_goal(&u, &o, g, &p);
         assert_true(st >= 0);
-        assert_true(fabs(u.v_mps) <= p.v_max_mps + 1e-12 && fabs(u.w_radps) <= p.w_max_radps + 1e-12);
-        if (st == BEH_GOAL_REACHED) break;
+        assert_true(fabs(u.v_mps) <= p.v_max_mps + 1e-12 &&
+                    fabs(u.w_radps) <= p.w_max_radps + 1e-12);
+        if (st == BEH_GOAL_REACHED)
+            break;
         o = o_after(&o, &u, p.d_m, 0.05);
     }
     assert_int_equal(st, BEH_GOAL_REACHED);
@@ -117,7 +122,9 @@ static unicycle_state ref_after(const unicycle_state *r, double d, double dt)
     unicycle_cmd u = { r->v_mps, r->w_radps };
     unicycle_state out = *r;
     o = o_after(&o, &u, d, dt);
-    out.x_m = o.x_m; out.y_m = o.y_m; out.theta_rad = o.theta_rad;
+    out.x_m = o.x_m;
+    out.y_m = o.y_m;
+    out.theta_rad = o.theta_rad;
     return out;
 }
 
@@ -130,11 +137,13 @@ static void test_formation_error_dynamics(void **state)
     (void)state;
     prng_seed(&rng, 7);
     behaviour_params_default(&p);
-    p.v_fm_max_mps = p.w_fm_max_radps = 1e9;   /* check the unsaturated law */
+    p.v_fm_max_mps = p.w_fm_max_radps = 1e9; /* check the unsaturated law */
     while (n < 500 && tries < 100000) {
-        unicycle_state ref = { urand(&rng, -3, 3), urand(&rng, -3, 3), urand(&rng, -VEC2_PI, VEC2_PI),
-                                 urand(&rng, -0.5, 0.8), urand(&rng, -0.8, 0.8) };
-        pose2 o = { ref.x_m + urand(&rng, -3, 3), ref.y_m + urand(&rng, -3, 3), urand(&rng, -VEC2_PI, VEC2_PI) };
+        unicycle_state ref = { urand(&rng, -3, 3), urand(&rng, -3, 3),
+                               urand(&rng, -VEC2_PI, VEC2_PI), urand(&rng, -0.5, 0.8),
+                               urand(&rng, -0.8, 0.8) };
+        pose2 o = { ref.x_m + urand(&rng, -3, 3), ref.y_m + urand(&rng, -3, 3),
+                    urand(&rng, -VEC2_PI, VEC2_PI) };
         const double l_d = urand(&rng, 0, 2), phi_d = urand(&rng, -VEC2_PI, VEC2_PI);
         double l, phi, lp, php, lm, phm, Rd;
         unicycle_cmd u;
@@ -145,7 +154,8 @@ static void test_formation_error_dynamics(void **state)
         p.b1 = urand(&rng, 0.1, 2.0);
         p.b2 = urand(&rng, 0.1, 2.0);
         behaviour_formation_polar(&l, &phi, &o, &ref);
-        if (l < 0.3 || fabs(phi) > 3.0) continue;
+        if (l < 0.3 || fabs(phi) > 3.0)
+            continue;
         assert_int_equal(behaviour_formation(&u, &Rd, &o, &ref, l_d, phi_d, &p), 0);
         assert_true(fabs(Rd - behaviour_slot_error(l, phi, l_d, phi_d)) < 1e-12);
         op = o_after(&o, &u, p.d_m, h);
@@ -154,9 +164,11 @@ static void test_formation_error_dynamics(void **state)
         rm = ref_after(&ref, p.d_m, -h);
         behaviour_formation_polar(&lp, &php, &op, &rp);
         behaviour_formation_polar(&lm, &phm, &om, &rm);
-        assert_true(fabs((lp - lm) / (2 * h) - p.b1 * (l_d - l)) < 1e-5 * (1 + fabs(u.v_mps) + fabs(u.w_radps)));
-        assert_true(fabs(vec2_angle_diff_rad(php, phm) / (2 * h) - p.b2 * vec2_wrap_rad(phi_d - phi)) <
-                    1e-5 * (1 + fabs(u.v_mps) + fabs(u.w_radps)) / l);
+        assert_true(fabs((lp - lm) / (2 * h) - p.b1 * (l_d - l)) <
+                    1e-5 * (1 + fabs(u.v_mps) + fabs(u.w_radps)));
+        assert_true(
+            fabs(vec2_angle_diff_rad(php, phm) / (2 * h) - p.b2 * vec2_wrap_rad(phi_d - phi)) <
+            1e-5 * (1 + fabs(u.v_mps) + fabs(u.w_radps)) / l);
         n++;
     }
     assert_int_equal(n, 500);
@@ -166,8 +178,8 @@ static void test_formation_converges_saturated(void **state)
 {
     /* Reference on a circle; the follower ends up in its slot. */
     behaviour_params p;
-    unicycle_state ref = {0, 0, 0, 0.2, 0.1};
-    pose2 o = {-1.0, 1.5, 1.0};
+    unicycle_state ref = { 0, 0, 0, 0.2, 0.1 };
+    pose2 o = { -1.0, 1.5, 1.0 };
     double Rd = 1e9;
     int k;
     (void)state;
@@ -192,9 +204,9 @@ static void test_formation_converges_saturated(void **state)
 static double slot_follow(int track, double d_m, double *worst_m)
 {
     behaviour_params p;
-    unicycle_state ref = {0, 0, 0, 0.3, 0.0};
+    unicycle_state ref = { 0, 0, 0, 0.3, 0.0 };
     const double l_d = hypot(0.29, 0.5), phi_d = atan2(0.5, -0.29);
-    pose2 o = {0.7, 2.5, 0.5};
+    pose2 o = { 0.7, 2.5, 0.5 };
     double Rd = 0.0;
     int k;
     behaviour_params_default(&p);
@@ -202,11 +214,15 @@ static double slot_follow(int track, double d_m, double *worst_m)
     *worst_m = 0.0;
     for (k = 0; k < 20 * 60; k++) {
         unicycle_cmd u;
-        if (track) assert_int_equal(behaviour_formation_track(&u, &Rd, &o, &ref, l_d, phi_d, &p), 0);
-        else assert_int_equal(behaviour_formation(&u, &Rd, &o, &ref, l_d, phi_d, &p), 0);
-        if (u.v_mps < 0.0) u.v_mps = 0.0;
+        if (track)
+            assert_int_equal(behaviour_formation_track(&u, &Rd, &o, &ref, l_d, phi_d, &p), 0);
+        else
+            assert_int_equal(behaviour_formation(&u, &Rd, &o, &ref, l_d, phi_d, &p), 0);
+        if (u.v_mps < 0.0)
+            u.v_mps = 0.0;
         assert_true(u.v_mps <= p.v_fm_max_mps && fabs(u.w_radps) <= p.w_fm_max_radps);
-        if (Rd > *worst_m) *worst_m = Rd;
+        if (Rd > *worst_m)
+            *worst_m = Rd;
         o = o_after(&o, &u, p.d_m, 0.05);
         ref.x_m += ref.v_mps * 0.05;
     }
@@ -224,13 +240,14 @@ static void test_formation_track_recovers_far_slot(void **state)
     end_seed = slot_follow(0, 0.15, &worst_seed);
     end_track = slot_follow(1, 0.15, &worst_track);
     end_ahead = slot_follow(0, -0.15, &worst_ahead);
-    print_message("seed law, O behind: end %.2f m, worst %.2f m; O ahead: end %.3f m, worst %.2f m; "
-                  "track: end %.3f m, worst %.2f m\n",
-                  end_seed, worst_seed, end_ahead, worst_ahead, end_track, worst_track);
+    print_message(
+        "seed law, O behind: end %.2f m, worst %.2f m; O ahead: end %.3f m, worst %.2f m; "
+        "track: end %.3f m, worst %.2f m\n",
+        end_seed, worst_seed, end_ahead, worst_ahead, end_track, worst_track);
     assert_true(end_track < 0.05);
-    assert_true(worst_track < 2.6);          /* never further than the start */
-    assert_true(end_seed > 1.0);             /* O behind: the robot orbits off */
-    assert_true(end_ahead < 0.01);           /* O ahead: the seed law settles */
+    assert_true(worst_track < 2.6); /* never further than the start */
+    assert_true(end_seed > 1.0);    /* O behind: the robot orbits off */
+    assert_true(end_ahead < 0.01);  /* O ahead: the seed law settles */
     assert_true(worst_ahead < 2.6);
 }
 
@@ -295,12 +312,14 @@ static void test_seed_heading_closed_loop(void **state)
         p.v_fm_max_mps = p.w_fm_max_radps = 1e9;
         for (k = 0; k < 2000; k++) {
             assert_int_equal(behaviour_formation(&u, &Rd, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
-            if (Rd > worst) worst = Rd;
+            if (Rd > worst)
+                worst = Rd;
             o = o_after(&o, &u, p.d_m, 0.005);
             ref.x_m += ref.v_mps * 0.005;
         }
-        print_message("d %+.2f: heading error after 10 s %.3f rad, V %.3f, worst slot error %.4f m\n",
-                      p.d_m, o.theta_rad, u.v_mps, worst);
+        print_message(
+            "d %+.2f: heading error after 10 s %.3f rad, V %.3f, worst slot error %.4f m\n", p.d_m,
+            o.theta_rad, u.v_mps, worst);
         assert_true(worst < 0.01);
         if (p.d_m > 0.0) {
             assert_true(fabs(vec2_wrap_rad(o.theta_rad)) > 3.0);
@@ -321,10 +340,10 @@ static void test_seed_heading_closed_loop(void **state)
 static void test_seed_ahead_converges_from_offsets(void **state)
 {
     /* slot (l_d, phi_d) = (1, 90 deg): at (0, 1) relative to R0 */
-    static const double start[6][2] = {
-        { -0.15, 1.0 }, { 0.0, 1.15 }, { 0.15, 1.0 },   /* behind, beside, ahead */
-        { -1.5, 1.0 }, { 0.0, 2.5 }, { 1.0, 1.0 }
-    };
+    static const double start[6][2] = { { -0.15, 1.0 }, { 0.0, 1.15 },
+                                        { 0.15, 1.0 }, /* behind, beside, ahead */
+                                        { -1.5, 1.0 },  { 0.0, 2.5 },
+                                        { 1.0, 1.0 } };
     int s, k;
     (void)state;
     for (s = 0; s < 6; s++) {
@@ -340,22 +359,26 @@ static void test_seed_ahead_converges_from_offsets(void **state)
             unicycle_cmd u;
             double l, phi;
             assert_int_equal(behaviour_formation_seed(&u, &Rd, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
-            if (u.v_mps < vmin) vmin = u.v_mps;
-            if (u.v_mps > vmax) vmax = u.v_mps;
-            if (fabs(u.w_radps) > wmax) wmax = fabs(u.w_radps);
+            if (u.v_mps < vmin)
+                vmin = u.v_mps;
+            if (u.v_mps > vmax)
+                vmax = u.v_mps;
+            if (fabs(u.w_radps) > wmax)
+                wmax = fabs(u.w_radps);
             behaviour_formation_polar(&l, &phi, &o, &ref);
             if (s < 3) {
                 /* closed form of the seed's error dynamics */
                 const double t = k * dt;
                 dyn_err = fmax(dyn_err, fabs(l - (1.0 + (l0 - 1.0) * exp(-p.b1 * t))));
-                dyn_err = fmax(dyn_err, fabs(phi - (VEC2_PI / 2 + (phi0 - VEC2_PI / 2) *
-                                                                   exp(-p.b2 * t))));
+                dyn_err = fmax(dyn_err,
+                               fabs(phi - (VEC2_PI / 2 + (phi0 - VEC2_PI / 2) * exp(-p.b2 * t))));
             }
             o = o_after(&o, &u, p.d_m, dt);
             ref.x_m += ref.v_mps * dt;
         }
         print_message("start %d: end slot error %.4f m, heading %.4f rad, min V %.3f, "
-                      "max |w| %.3f, error-dynamics residual %.4f\n", s, Rd, o.theta_rad, vmin, wmax, dyn_err);
+                      "max |w| %.3f, error-dynamics residual %.4f\n",
+                      s, Rd, o.theta_rad, vmin, wmax, dyn_err);
         assert_true(vmin >= 0.0);
         assert_true(Rd < 0.005);
         assert_true(fabs(vec2_wrap_rad(o.theta_rad)) < 0.005);
@@ -389,49 +412,54 @@ static void test_seed_backward_turns_onto_team_heading(void **state)
         unicycle_cmd u, law;
         double Rd = 0.0, vmin = 1e9, y;
         behaviour_params_default(&p);
-        for (y = 0.7; y <= 1.3 + 1e-9; y += 0.05) {          /* the slot (0, 1) from beside to 0.3 m off */
+        for (y = 0.7; y <= 1.3 + 1e-9; y += 0.05) { /* the slot (0, 1) from beside to 0.3 m off */
             o = (pose2){ -0.4, y, th0[s] };
             assert_int_equal(behaviour_formation_seed(&u, &Rd, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
             assert_int_equal(behaviour_formation(&law, NULL, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
-            if (!(law.v_mps < 0.0)) continue;                  /* O may move ahead: the law as is */
+            if (!(law.v_mps < 0.0))
+                continue; /* O may move ahead: the law as is */
             assert_true(u.v_mps == 0.0 && u.w_radps * -th0[s] > 0.0);
-            if (law.w_radps > 0.0) law_left++;
-            else law_right++;
+            if (law.w_radps > 0.0)
+                law_left++;
+            else
+                law_right++;
         }
         o = (pose2){ -0.4, 1.2, th0[s] };
         for (k = 0; k < (int)(40.0 / dt); k++) {
             assert_int_equal(behaviour_formation_seed(&u, &Rd, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
-            if (u.v_mps < vmin) vmin = u.v_mps;
+            if (u.v_mps < vmin)
+                vmin = u.v_mps;
             o = o_after(&o, &u, p.d_m, dt);
             ref.x_m += ref.v_mps * dt;
         }
-        print_message("from heading %+.2f: end slot error %.4f m, heading %.4f, min V %.3f\n", th0[s], Rd,
-                      o.theta_rad, vmin);
+        print_message("from heading %+.2f: end slot error %.4f m, heading %.4f, min V %.3f\n",
+                      th0[s], Rd, o.theta_rad, vmin);
         assert_true(vmin >= 0.0);
         assert_true(Rd < 0.005 && fabs(vec2_wrap_rad(o.theta_rad)) < 0.005);
         /* the team standing: the law's own turn */
         ref.v_mps = 0.0;
         ref.x_m = 0.0;
-        o = (pose2){ -0.6, 1.2, th0[s] };         /* the slot behind it */
+        o = (pose2){ -0.6, 1.2, th0[s] }; /* the slot behind it */
         assert_int_equal(behaviour_formation_seed(&u, &Rd, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
         assert_int_equal(behaviour_formation(&law, NULL, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
         assert_true(law.v_mps < 0.0);
         assert_true(u.v_mps == 0.0 && fabs(u.w_radps - law.w_radps) < 1e-12);
     }
-    print_message("the law's own turn over those offsets: %d left, %d right\n", law_left, law_right);
+    print_message("the law's own turn over those offsets: %d left, %d right\n", law_left,
+                  law_right);
     assert_true(law_left + law_right >= 20 && law_left > 0 && law_right > 0);
 }
 
 static void test_formation_track_bands(void **state)
 {
     behaviour_params p;
-    unicycle_state ref = {0, 0, 0, 0.3, 0.0};
+    unicycle_state ref = { 0, 0, 0, 0.3, 0.0 };
     unicycle_cmd a, b;
     double Rd_a, Rd_b;
-    pose2 o = {0.05, 1.02, 0.03};         /* slot (0, 1): 0.05 m off */
+    pose2 o = { 0.05, 1.02, 0.03 }; /* slot (0, 1): 0.05 m off */
     (void)state;
     behaviour_params_default(&p);
-    p.d_m = 0.15;                            /* O behind: the seed law's wrong turn */
+    p.d_m = 0.15; /* O behind: the seed law's wrong turn */
     /* the slot error reported is the seed law's R_d */
     assert_int_equal(behaviour_formation(&a, &Rd_a, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
     assert_int_equal(behaviour_formation_track(&b, &Rd_b, &o, &ref, 1.0, VEC2_PI / 2, &p), 0);
@@ -456,7 +484,8 @@ static void test_formation_track_bands(void **state)
     assert_true(b.v_mps == 0.0);
     /* bad input */
     o.x_m = NAN;
-    assert_int_equal(behaviour_formation_track(&b, &Rd_b, &o, &ref, 1.0, 0.0, &p), BEHAVIOUR_ERR_ARG);
+    assert_int_equal(behaviour_formation_track(&b, &Rd_b, &o, &ref, 1.0, 0.0, &p),
+                     BEHAVIOUR_ERR_ARG);
     assert_true(b.v_mps == 0.0 && b.w_radps == 0.0);
     behaviour_params_default(&p);
     p.form_far_m = p.form_near_m;
@@ -466,7 +495,8 @@ static void test_formation_track_bands(void **state)
 static void ring(double r[8], double v)
 {
     int i;
-    for (i = 0; i < 8; i++) r[i] = v;
+    for (i = 0; i < 8; i++)
+        r[i] = v;
 }
 
 static void test_sonar_groups_and_avoid(void **state)
@@ -478,20 +508,24 @@ static void test_sonar_groups_and_avoid(void **state)
     (void)state;
     behaviour_params_default(&p);
     ring(r, 5.0);
-    r[1] = 0.9; r[6] = 1.4; r[3] = NAN;
+    r[1] = 0.9;
+    r[6] = 1.4;
+    r[3] = NAN;
     behaviour_sonar_groups(&g, r);
-    assert_true(g.right_front_m == 0.9 && g.left_front_m == 1.4 && g.front_m == 0.0 && g.min_m == 0.0);
+    assert_true(g.right_front_m == 0.9 && g.left_front_m == 1.4 && g.front_m == 0.0 &&
+                g.min_m == 0.0);
     ring(r, 5.0);
     behaviour_sonar_groups(&g, r);
     assert_int_equal(behaviour_avoid(&u, &g, 0.33, 1.0, &p), 0);
     assert_true(u.v_mps == 0.33 && u.w_radps == 0.0);
-    r[1] = 0.7; r[4] = 1.2;           /* obstacle right-front: turn left */
+    r[1] = 0.7;
+    r[4] = 1.2; /* obstacle right-front: turn left */
     behaviour_sonar_groups(&g, r);
     assert_int_equal(behaviour_avoid(&u, &g, 0.33, 1.0, &p), 1);
     assert_true(fabs(u.v_mps - p.k_v * 1.2) < 1e-12);
     assert_true(u.w_radps > 0.0 && u.w_radps <= p.w_max_radps);
     ring(r, 5.0);
-    r[6] = 0.5;                        /* mirror: turn right, clamped */
+    r[6] = 0.5; /* mirror: turn right, clamped */
     behaviour_sonar_groups(&g, r);
     behaviour_avoid(&u, &g, 0.33, 1.0, &p);
     assert_true(u.w_radps == -p.w_max_radps);
@@ -516,18 +550,20 @@ static void test_dead_zone_alternation(void **state)
 {
     behaviour_params p;
     behaviour_exception e;
-    sonar_groups blocked = {0.3, 0.3, 0.3, 0.3, 0.3, 0.3}, clear = {2, 2, 2, 2, 2, 0.3};
+    sonar_groups blocked = { 0.3, 0.3, 0.3, 0.3, 0.3, 0.3 }, clear = { 2, 2, 2, 2, 2, 0.3 };
     unicycle_cmd u;
     int k, entry;
     (void)state;
     behaviour_params_default(&p);
     behaviour_exception_init(&e);
     /* shorter than the threshold, then a free direction: timer clears */
-    for (k = 0; k < 15; k++) assert_int_equal(behaviour_exception_step(&e, &u, &blocked, 0.1, &p), 0);
+    for (k = 0; k < 15; k++)
+        assert_int_equal(behaviour_exception_step(&e, &u, &blocked, 0.1, &p), 0);
     assert_int_equal(behaviour_exception_step(&e, &u, &clear, 0.1, &p), 0);
     assert_true(e.blocked_s == 0.0);
     for (entry = 1; entry <= 4; entry++) {
-        for (k = 0; k < 19; k++) assert_int_equal(behaviour_exception_step(&e, &u, &blocked, 0.1, &p), 0);
+        for (k = 0; k < 19; k++)
+            assert_int_equal(behaviour_exception_step(&e, &u, &blocked, 0.1, &p), 0);
         assert_int_equal(behaviour_exception_step(&e, &u, &blocked, 0.1 + 1e-9, &p), 1);
         assert_int_equal(e.entries, entry);
         assert_true(u.v_mps == p.v_k_mps);
@@ -543,7 +579,7 @@ static void test_dead_zone_alternation(void **state)
 static void test_passage_narrow(void **state)
 {
     behaviour_params p;
-    sonar_groups g = {5, 5, 5, 0.5, 0.6, 0.5};
+    sonar_groups g = { 5, 5, 5, 0.5, 0.6, 0.5 };
     (void)state;
     behaviour_params_default(&p);
     /* corridor 0.5 + 0.6 + 0.38 = 1.48 m */
@@ -554,10 +590,14 @@ static void test_passage_narrow(void **state)
 static behaviour_inputs sample_inputs(void)
 {
     behaviour_inputs in;
-    in.u[BEH_GOAL].v_mps = 0.5;       in.u[BEH_GOAL].w_radps = 0.2;
-    in.u[BEH_FORMATION].v_mps = 0.1;  in.u[BEH_FORMATION].w_radps = -0.4;
-    in.u[BEH_AVOID].v_mps = 0.3;      in.u[BEH_AVOID].w_radps = 0.9;
-    in.u[BEH_EXCEPTION].v_mps = 0.0;  in.u[BEH_EXCEPTION].w_radps = -0.6;
+    in.u[BEH_GOAL].v_mps = 0.5;
+    in.u[BEH_GOAL].w_radps = 0.2;
+    in.u[BEH_FORMATION].v_mps = 0.1;
+    in.u[BEH_FORMATION].w_radps = -0.4;
+    in.u[BEH_AVOID].v_mps = 0.3;
+    in.u[BEH_AVOID].w_radps = 0.9;
+    in.u[BEH_EXCEPTION].v_mps = 0.0;
+    in.u[BEH_EXCEPTION].w_radps = -0.6;
     in.exception_active = 0;
     in.avoid_active = 0;
     in.R_d_m = 0.45;
@@ -575,7 +615,9 @@ static void test_blend_weighted(void **state)
     int i;
     (void)state;
     behaviour_params_default(&p);
-    p.k2 = 0.7; p.k3 = 1.3; p.k4 = 0.4;
+    p.k2 = 0.7;
+    p.k3 = 1.3;
+    p.k4 = 0.4;
     assert_int_equal(behaviour_blend(&b, &in, BEH_BLEND_WEIGHTED, &p), 0);
     assert_true(b.weight_raw[BEH_EXCEPTION] == 0.0);
     assert_true(fabs(b.weight_raw[BEH_GOAL] - p.k2) < 1e-15);
@@ -585,14 +627,18 @@ static void test_blend_weighted(void **state)
         s += b.weight[i];
         v += b.weight_raw[i] * in.u[i].v_mps;
         w += b.weight_raw[i] * in.u[i].w_radps;
-        assert_true(fabs(b.weight[i] * (b.weight_raw[0] + b.weight_raw[1] + b.weight_raw[2]) - b.weight_raw[i]) < 1e-12);
+        assert_true(fabs(b.weight[i] * (b.weight_raw[0] + b.weight_raw[1] + b.weight_raw[2]) -
+                         b.weight_raw[i]) < 1e-12);
         assert_true(b.weight[i] <= b.weight[b.winner]);
     }
     assert_true(fabs(s - 1.0) < 1e-12);
     s = b.weight_raw[0] + b.weight_raw[1] + b.weight_raw[2];
     assert_true(fabs(b.u.v_mps - v / s) < 1e-12 && fabs(b.u.w_radps - w / s) < 1e-12);
     /* all behaviours agreeing: blend equals them */
-    for (i = 0; i < BEH_COUNT; i++) { in.u[i].v_mps = 0.25; in.u[i].w_radps = -0.1; }
+    for (i = 0; i < BEH_COUNT; i++) {
+        in.u[i].v_mps = 0.25;
+        in.u[i].w_radps = -0.1;
+    }
     behaviour_blend(&b, &in, BEH_BLEND_WEIGHTED, &p);
     assert_true(fabs(b.u.v_mps - 0.25) < 1e-15 && fabs(b.u.w_radps + 0.1) < 1e-15);
     /* a zero echo keeps the avoid weight finite and dominant */
@@ -605,7 +651,8 @@ static void test_blend_weighted(void **state)
     in.exception_active = 1;
     for (i = 0; i < 3; i++) {
         assert_int_equal(behaviour_blend(&b, &in, i, &p), 0);
-        assert_true(b.u.v_mps == in.u[BEH_EXCEPTION].v_mps && b.u.w_radps == in.u[BEH_EXCEPTION].w_radps);
+        assert_true(b.u.v_mps == in.u[BEH_EXCEPTION].v_mps &&
+                    b.u.w_radps == in.u[BEH_EXCEPTION].w_radps);
         assert_true(b.weight[BEH_EXCEPTION] == 1.0 && b.winner == BEH_EXCEPTION);
     }
     in.R_d_m = NAN;
@@ -634,11 +681,14 @@ static void test_blend_subsumption_vecsum(void **state)
     behaviour_blend(&b, &in, BEH_BLEND_SUBSUMPTION, &p);
     assert_int_equal(b.winner, BEH_AVOID);
     assert_true(b.u.w_radps == in.u[BEH_AVOID].w_radps);
-    for (i = 0; i < BEH_COUNT; i++) assert_true(b.weight[i] == (i == BEH_AVOID ? 1.0 : 0.0));
+    for (i = 0; i < BEH_COUNT; i++)
+        assert_true(b.weight[i] == (i == BEH_AVOID ? 1.0 : 0.0));
     behaviour_blend(&b, &in, BEH_BLEND_VECSUM, &p);
-    for (i = 0; i < 3; i++) assert_true(fabs(b.weight[i] - 1.0 / 3.0) < 1e-15);
+    for (i = 0; i < 3; i++)
+        assert_true(fabs(b.weight[i] - 1.0 / 3.0) < 1e-15);
     assert_true(fabs(3 * b.u.v_mps - (in.u[0].v_mps + in.u[1].v_mps + in.u[2].v_mps)) < 1e-12);
-    assert_true(fabs(3 * b.u.w_radps - (in.u[0].w_radps + in.u[1].w_radps + in.u[2].w_radps)) < 1e-12);
+    assert_true(fabs(3 * b.u.w_radps - (in.u[0].w_radps + in.u[1].w_radps + in.u[2].w_radps)) <
+                1e-12);
 }
 
 static void test_params(void **state)

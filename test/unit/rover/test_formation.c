@@ -62,8 +62,10 @@ static void test_slot_spacing_and_width(void **state)
     assert_true(fabs(formation_width(FORMATION_LINE, 3, s, 1, w) - (2 * s + w)) < 1e-12);
     assert_true(fabs(formation_width(FORMATION_TRIANGLE, 3, s, 1, w) - (s + w)) < 1e-12);
     assert_true(fabs(formation_width(FORMATION_COLUMN, 3, s, 1, w) - w) < 1e-12);
-    assert_true(formation_width(FORMATION_LINE, 5, s, 1, w) > formation_width(FORMATION_TRIANGLE, 5, s, 1, w));
-    assert_true(fabs(formation_width(FORMATION_LINE, 5, s, 0.5, 0) * 2 - formation_width(FORMATION_LINE, 5, s, 1, 0)) < 1e-12);
+    assert_true(formation_width(FORMATION_LINE, 5, s, 1, w) >
+                formation_width(FORMATION_TRIANGLE, 5, s, 1, w));
+    assert_true(fabs(formation_width(FORMATION_LINE, 5, s, 0.5, 0) * 2 -
+                     formation_width(FORMATION_LINE, 5, s, 1, 0)) < 1e-12);
     assert_true(formation_width(7, 3, s, 1, w) < 0);
     assert_true(formation_width(FORMATION_LINE, FORMATION_MAX_ROBOTS + 1, s, 1, w) < 0);
     {
@@ -79,16 +81,17 @@ static void test_slot_spacing_and_width(void **state)
 
 static void test_slot_assignment(void **state)
 {
-    int32_t a[5] = {42, 7, 19, 3, 100}, b[5] = {100, 3, 42, 19, 7}, c[4] = {100, 3, 42, 7};
-    int k, seen[5] = {0};
+    int32_t a[5] = { 42, 7, 19, 3, 100 }, b[5] = { 100, 3, 42, 19, 7 }, c[4] = { 100, 3, 42, 7 };
+    int k, seen[5] = { 0 };
     (void)state;
     for (k = 0; k < 5; k++) {
         const int s = formation_slot_of(a, 5, a[k]);
-        assert_int_equal(s, formation_slot_of(b, 5, a[k]));   /* order-free */
+        assert_int_equal(s, formation_slot_of(b, 5, a[k])); /* order-free */
         assert_true(s >= 0 && s < 5);
         seen[s]++;
     }
-    for (k = 0; k < 5; k++) assert_int_equal(seen[k], 1);          /* a bijection */
+    for (k = 0; k < 5; k++)
+        assert_int_equal(seen[k], 1); /* a bijection */
     assert_int_equal(formation_slot_of(a, 5, 3), 0);
     assert_int_equal(formation_slot_of(a, 5, 100), 4);
     /* 19 leaves: 42 moves up one, 3 and 7 keep theirs */
@@ -97,8 +100,8 @@ static void test_slot_assignment(void **state)
     assert_int_equal(formation_slot_of(c, 4, 19), FORMATION_ERR_ABSENT);
 }
 
-static int run(formation_fsm *f, const formation_fsm_params *p, double width,
-               double secs, int32_t self, formation_announce *log, int *nlog)
+static int run(formation_fsm *f, const formation_fsm_params *p, double width, double secs,
+               int32_t self, formation_announce *log, int *nlog)
 {
     int k, made = 0;
     for (k = 0; k < (int)(secs / 0.1 + 0.5); k++) {
@@ -135,7 +138,8 @@ static void test_protocol_sequence_and_restore(void **state)
     assert_int_equal(log[1].type, FORMATION_TRIANGLE);
     assert_int_equal(log[2].code, FORMATION_ANN_CHANGE);
     assert_int_equal(log[2].type, FORMATION_COLUMN);
-    for (i = 1; i < nlog; i++) assert_true(log[i].seq > log[i - 1].seq);
+    for (i = 1; i < nlog; i++)
+        assert_true(log[i].seq > log[i - 1].seq);
     assert_int_equal(A.type, FORMATION_COLUMN);
     /* clear, but shorter than the hold: nothing */
     assert_int_equal(run(&A, &p, INFINITY, p.clear_hold_s - 0.5, 1, log, &nlog), 0);
@@ -199,7 +203,7 @@ static void test_protocol_agreement_and_ties(void **state)
     formation_announce a, b;
     (void)state;
     formation_fsm_params_default(&p);
-    p.confirm_s = 0.0;   /* one narrow reading is enough here (see test_protocol_confirm) */
+    p.confirm_s = 0.0; /* one narrow reading is enough here (see test_protocol_confirm) */
     formation_fsm_init(&A, FORMATION_LINE, 1.0);
     formation_fsm_init(&B, FORMATION_LINE, 1.0);
     formation_fsm_init(&C, FORMATION_LINE, 1.0);
@@ -242,25 +246,31 @@ static void test_protocol_restore_rear_and_unknown(void **state)
     formation_fsm_params_default(&p);
     formation_fsm_init(&A, FORMATION_LINE, 1.0);
     /* unknown in NORMAL: nothing happens */
-    for (k = 0; k < 50; k++) made += formation_fsm_step(&A, &p, NAN, 3, 0.1, 1, 1, &a);
+    for (k = 0; k < 50; k++)
+        made += formation_fsm_step(&A, &p, NAN, 3, 0.1, 1, 1, &a);
     assert_int_equal(made, 0);
     assert_int_equal(A.phase, FORMATION_PHASE_NORMAL);
-    for (k = 0; k < 50; k++) formation_fsm_step(&A, &p, 1.0, 3, 0.1, 1, 0, &a);
+    for (k = 0; k < 50; k++)
+        formation_fsm_step(&A, &p, 1.0, 3, 0.1, 1, 0, &a);
     assert_int_equal(A.type, FORMATION_COLUMN);
     /* the leader is out, clear for far longer than the hold: no restore */
-    for (k = 0; k < 200; k++) made += formation_fsm_step(&A, &p, INFINITY, 3, 0.1, 1, 0, &a);
+    for (k = 0; k < 200; k++)
+        made += formation_fsm_step(&A, &p, INFINITY, 3, 0.1, 1, 0, &a);
     assert_int_equal(made, 0);
     assert_int_equal(A.type, FORMATION_COLUMN);
     /* the rear robot: clear for less than the hold, then unknown (a mate
      * in front of a side transducer) for long: the timer holds, no reset */
     formation_fsm_init(&A, FORMATION_LINE, 1.0);
-    for (k = 0; k < 50; k++) formation_fsm_step(&A, &p, 1.0, 3, 0.1, 1, 1, &a);
+    for (k = 0; k < 50; k++)
+        formation_fsm_step(&A, &p, 1.0, 3, 0.1, 1, 1, &a);
     for (k = 0; k < (int)(10.0 * (p.clear_hold_s - 1.0)); k++)
         made += formation_fsm_step(&A, &p, INFINITY, 3, 0.1, 1, 1, &a);
-    for (k = 0; k < 100; k++) made += formation_fsm_step(&A, &p, NAN, 3, 0.1, 1, 1, &a);
+    for (k = 0; k < 100; k++)
+        made += formation_fsm_step(&A, &p, NAN, 3, 0.1, 1, 1, &a);
     assert_int_equal(made, 0);
     assert_true(fabs(A.clear_s - (p.clear_hold_s - 1.0)) < 1e-6);
-    for (k = 0; k < 11; k++) made += formation_fsm_step(&A, &p, INFINITY, 3, 0.1, 1, 1, &a);
+    for (k = 0; k < 11; k++)
+        made += formation_fsm_step(&A, &p, INFINITY, 3, 0.1, 1, 1, &a);
     assert_int_equal(made, 1);
     assert_int_equal(a.code, FORMATION_ANN_RESTORE);
     assert_int_equal(A.type, FORMATION_LINE);
@@ -295,7 +305,8 @@ static void test_protocol_confirm(void **state)
     /* narrow, unknown for long, narrow again: the unknown stretch holds */
     for (j = 0; j < (int)(0.6 * p.confirm_s / dt); j++)
         made += formation_fsm_step(&A, &p, 1.5, 3, dt, 1, 1, &a);
-    for (j = 0; j < 100; j++) made += formation_fsm_step(&A, &p, NAN, 3, dt, 1, 1, &a);
+    for (j = 0; j < 100; j++)
+        made += formation_fsm_step(&A, &p, NAN, 3, dt, 1, 1, &a);
     assert_int_equal(made, 0);
     for (j = 0; j < (int)(0.6 * p.confirm_s / dt); j++)
         made += formation_fsm_step(&A, &p, 1.5, 3, dt, 1, 1, &a);
@@ -307,8 +318,10 @@ static void test_protocol_confirm(void **state)
     for (k = 0; k < 200 && isnan(t_change); k++) {
         t += dt;
         if (formation_fsm_step(&A, &p, 1.5, 3, dt, 1, 1, &a) == 1) {
-            if (a.code == FORMATION_ANN_SHRINK) t_shrink = t;
-            if (a.code == FORMATION_ANN_CHANGE) t_change = t;
+            if (a.code == FORMATION_ANN_SHRINK)
+                t_shrink = t;
+            if (a.code == FORMATION_ANN_CHANGE)
+                t_change = t;
         }
     }
     assert_true(t_shrink >= p.confirm_s - 1e-9 && t_shrink < p.confirm_s + 2.0 * dt);
@@ -337,7 +350,7 @@ static void test_slots_held_any_order(void **state)
             assert_int_equal(formation_slot_xy(slot[k], type, n, k, 1.0, 1.0), 0);
             perm[k] = k;
         }
-        for (k = n - 1; k > 0; k--) {       /* Fisher-Yates */
+        for (k = n - 1; k > 0; k--) { /* Fisher-Yates */
             const int j = (int)(prng_uniform(&r) * (k + 1)), t = perm[k];
             perm[k] = perm[j];
             perm[j] = t;
@@ -347,18 +360,23 @@ static void test_slots_held_any_order(void **state)
             xy[k][0] = slot[perm[k]][0] + d * cos(a);
             xy[k][1] = slot[perm[k]][1] + d * sin(a);
         }
-        assert_int_equal(formation_slots_held((const double (*)[2])xy, (const double (*)[2])slot, n, tol), 1);
-        if (n < 2) continue;
+        assert_int_equal(
+            formation_slots_held((const double(*)[2])xy, (const double(*)[2])slot, n, tol), 1);
+        if (n < 2)
+            continue;
         /* two on one slot: the robot of slot perm[1] stands on slot perm[0]'s */
         xy[1][0] = xy[0][0];
         xy[1][1] = xy[0][1];
-        assert_int_equal(formation_slots_held((const double (*)[2])xy, (const double (*)[2])slot, n, tol), 0);
+        assert_int_equal(
+            formation_slots_held((const double(*)[2])xy, (const double(*)[2])slot, n, tol), 0);
         /* one far from every slot */
         xy[1][0] = 100.0;
-        assert_int_equal(formation_slots_held((const double (*)[2])xy, (const double (*)[2])slot, n, tol), 0);
+        assert_int_equal(
+            formation_slots_held((const double(*)[2])xy, (const double(*)[2])slot, n, tol), 0);
     }
-    assert_int_equal(formation_slots_held(NULL, (const double (*)[2])slot, 3, tol), FORMATION_ERR_ARG);
-    assert_int_equal(formation_slots_held((const double (*)[2])xy, (const double (*)[2])slot, 0, tol),
+    assert_int_equal(formation_slots_held(NULL, (const double(*)[2])slot, 3, tol),
+                     FORMATION_ERR_ARG);
+    assert_int_equal(formation_slots_held((const double(*)[2])xy, (const double(*)[2])slot, 0, tol),
                      FORMATION_ERR_ARG);
 }
 

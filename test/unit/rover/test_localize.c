@@ -78,12 +78,15 @@ static void drive(drive_result *res, int use_camera)
     int n = 0, k, w = 0, laps = 0, inside = 0, samples = 0;
     double x;
     for (x = -3.0; x <= 27.0 && n + 3 <= LOCALIZE_LANDMARKS_MAX; x += 3.0) {
-        lm[n][0] = x; lm[n++][1] = -3.5;
-        lm[n][0] = x; lm[n++][1] = 3.0;
-        lm[n][0] = x; lm[n++][1] = 9.5;
+        lm[n][0] = x;
+        lm[n++][1] = -3.5;
+        lm[n][0] = x;
+        lm[n++][1] = 3.0;
+        lm[n][0] = x;
+        lm[n++][1] = 9.5;
     }
     localize_params_default(&p);
-    assert_int_equal(localize_init(&l, &p, &truth, 0.0, 0.0, (const double (*)[2])lm, n), 0);
+    assert_int_equal(localize_init(&l, &p, &truth, 0.0, 0.0, (const double(*)[2])lm, n), 0);
     prng_seed(&rng, 5);
     res->loc_max_m = res->odo_max_m = 0.0;
     for (k = 0; laps < 4; k++) {
@@ -91,10 +94,12 @@ static void drive(drive_result *res, int use_camera)
         const double e = vec2_angle_diff_rad(atan2(by, bx), truth.theta_rad);
         double v = 0.5 * cos(e), om = 1.5 * e, rim[2], ds, dth;
         int j;
-        if (v < 0.0) v = 0.0;
+        if (v < 0.0)
+            v = 0.0;
         if (hypot(bx, by) < 0.4) {
             w = (w + 1) % 4;
-            if (w == 0) laps++;
+            if (w == 0)
+                laps++;
         }
         rim[0] = (v - 0.5 * track * om);
         rim[1] = (v + 0.5 * track * om);
@@ -119,7 +124,8 @@ static void drive(drive_result *res, int use_camera)
             for (j = 0; j < n; j++) {
                 const double dx = lm[j][0] - o.x_m, dy = lm[j][1] - o.y_m, d = hypot(dx, dy);
                 const double b = vec2_angle_diff_rad(atan2(dy, dx), o.theta_rad);
-                if (d > 6.0 || fabs(b) > 60.0 * VEC2_PI / 180.0) continue;
+                if (d > 6.0 || fabs(b) > 60.0 * VEC2_PI / 180.0)
+                    continue;
                 assert_true(localize_landmark(&l, j, d + (0.01 + 0.02 * d) * prng_gauss(&rng),
                                               b + 0.01 * prng_gauss(&rng)) >= 0);
             }
@@ -149,11 +155,10 @@ static void test_long_drive_with_slip_stays_bounded(void **state)
     drive(&dead, 0);
     print_message("240 m with slip: filter max error %.3f m (%.0f %% within 3 sd, %ld sightings); "
                   "dead reckoning %.2f m; filter without camera %.2f m\n",
-                  cam.loc_max_m, 100.0 * cam.within_3sd, cam.fused, cam.odo_max_m,
-                  dead.loc_max_m);
-    assert_true(cam.odo_max_m > 1.0);       /* the drift is real ... */
-    assert_true(cam.loc_max_m < 0.1);       /* ... and bounded by the landmarks */
-    assert_true(cam.within_3sd > 0.95);     /* the covariance is honest */
+                  cam.loc_max_m, 100.0 * cam.within_3sd, cam.fused, cam.odo_max_m, dead.loc_max_m);
+    assert_true(cam.odo_max_m > 1.0);   /* the drift is real ... */
+    assert_true(cam.loc_max_m < 0.1);   /* ... and bounded by the landmarks */
+    assert_true(cam.within_3sd > 0.95); /* the covariance is honest */
     /* without sightings the filter is dead reckoning (midpoint arcs) */
     assert_true(fabs(dead.loc_max_m - dead.odo_max_m) < 0.05 * dead.odo_max_m);
 }
@@ -175,10 +180,11 @@ static void test_gate_and_recovery(void **state)
     assert_true(c.x_m == 0.0 && c.y_m == 0.0);
     /* the wheels spin 1.5 m while the robot stands: every sighting is then
      * gated out until the covariance is raised, then it comes back */
-    for (k = 0; k < 150; k++) localize_predict(&l, 0.01, 0.0);
+    for (k = 0; k < 150; k++)
+        localize_predict(&l, 0.01, 0.0);
     for (k = 0; k < 40; k++)
         for (j = 0; j < 3; j++) {
-            const double dx = lm[j][0] - 0.15, dy = lm[j][1];   /* camera at O = C + 0.15 x */
+            const double dx = lm[j][0] - 0.15, dy = lm[j][1]; /* camera at O = C + 0.15 x */
             localize_landmark(&l, j, hypot(dx, dy), atan2(dy, dx));
         }
     localize_pose_o(&l, &o);
@@ -198,14 +204,16 @@ static void test_bad_input(void **state)
     (void)state;
     localize_params_default(&p);
     assert_int_equal(localize_params_validate(&p), 0);
-    assert_int_equal(localize_params_validate(NULL), LOCALIZE_ERR_ARG);   /* was read before the check */
+    assert_int_equal(localize_params_validate(NULL),
+                     LOCALIZE_ERR_ARG); /* was read before the check */
     p.bearing_sd_rad = 0.0;
     assert_int_equal(localize_init(&l, &p, &c0, 0.1, 0.1, lm, 1), LOCALIZE_ERR_ARG);
     localize_params_default(&p);
-    assert_int_equal(localize_init(&l, &p, &c0, 0.1, 0.1, lm, LOCALIZE_LANDMARKS_MAX + 1), LOCALIZE_ERR_ARG);
+    assert_int_equal(localize_init(&l, &p, &c0, 0.1, 0.1, lm, LOCALIZE_LANDMARKS_MAX + 1),
+                     LOCALIZE_ERR_ARG);
     assert_int_equal(localize_init(&l, &p, &c0, -0.1, 0.1, lm, 1), LOCALIZE_ERR_ARG);
     assert_int_equal(localize_init(&l, &p, &c0, 0.1, 0.1, lm, 1), 0);
-    assert_int_equal(localize_landmark(&l, 1, 1.0, 0.0), LOCALIZE_ERR_ARG);    /* unknown landmark */
+    assert_int_equal(localize_landmark(&l, 1, 1.0, 0.0), LOCALIZE_ERR_ARG); /* unknown landmark */
     assert_int_equal(localize_landmark(&l, 0, NAN, 0.0), LOCALIZE_ERR_ARG);
     assert_int_equal(localize_predict(&l, INFINITY, 0.0), LOCALIZE_ERR_ARG);
     /* camera (O = C + 0.15 x) on the landmark: no bearing */

@@ -15,11 +15,12 @@
 static void test_straight(void **state)
 {
     odometer o;
-    pose2 c0 = {1.0, -1.0, 0.4}, c, p;
+    pose2 c0 = { 1.0, -1.0, 0.4 }, c, p;
     int i;
     (void)state;
     assert_int_equal(odometry_init(&o, R, B, 0.1, &c0, 5.0, -3.0), 0);
-    for (i = 1; i <= 100; i++) odometry_update(&o, 5.0 + 0.1 * i, -3.0 + 0.1 * i, NULL, NULL);
+    for (i = 1; i <= 100; i++)
+        odometry_update(&o, 5.0 + 0.1 * i, -3.0 + 0.1 * i, NULL, NULL);
     odometry_pose_c(&o, &c);
     assert_true(fabs(c.x_m - (1.0 + 10.0 * R * cos(0.4))) < 1e-12);
     assert_true(fabs(c.y_m - (-1.0 + 10.0 * R * sin(0.4))) < 1e-12);
@@ -32,7 +33,7 @@ static void test_straight(void **state)
 static void test_rotation(void **state)
 {
     odometer o;
-    pose2 c0 = {0.5, 0.5, 0.0}, c;
+    pose2 c0 = { 0.5, 0.5, 0.0 }, c;
     /* wheels opposite: phi_wheel R / (B/2) = dtheta */
     const double dth = VEC2_PI / 2, phi = dth * B / (2 * R);
     double ds, dt;
@@ -51,7 +52,7 @@ static void test_arc(void **state)
      * Rc = (B/2) (wr + wl) / (wr - wl). Check after a half circle, in many
      * small increments (also exercises accumulation). */
     odometer o;
-    pose2 c0 = {0, 0, 0}, c;
+    pose2 c0 = { 0, 0, 0 }, c;
     const double wl = 1.0, wr = 2.0;
     const double Rc = 0.5 * B * (wr + wl) / (wr - wl);
     const double wz = R * (wr - wl) / B;
@@ -60,7 +61,8 @@ static void test_arc(void **state)
     int i;
     (void)state;
     odometry_init(&o, R, B, 0, &c0, 0, 0);
-    for (i = 1; i <= n; i++) odometry_update(&o, wl * T * i / n, wr * T * i / n, NULL, NULL);
+    for (i = 1; i <= n; i++)
+        odometry_update(&o, wl * T * i / n, wr * T * i / n, NULL, NULL);
     odometry_pose_c(&o, &c);
     assert_true(fabs(c.x_m) < 1e-10);
     assert_true(fabs(c.y_m - 2 * Rc) < 1e-10);
@@ -70,7 +72,7 @@ static void test_arc(void **state)
 static void test_bad(void **state)
 {
     odometer o;
-    pose2 c0 = {0, 0, 0}, c;
+    pose2 c0 = { 0, 0, 0 }, c;
     (void)state;
     assert_int_equal(odometry_init(&o, 0.0, B, 0, &c0, 0, 0), ODOMETRY_ERR_ARG);
     assert_int_equal(odometry_init(&o, R, -1, 0, &c0, 0, 0), ODOMETRY_ERR_ARG);

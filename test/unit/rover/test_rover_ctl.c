@@ -38,9 +38,9 @@
 typedef struct {
     int reached, collisions, escapes, changes, restored, yields;
     double max_err_end, min_clear, t_end;
-    double est_err_m[KN][2];      /* own estimate - truth of O at the end */
-    double t_first_change;        /* robot 1's protocol first left NORMAL */
-    double max_slot_err_m;        /* at the end: farthest O from its goal slot */
+    double est_err_m[KN][2]; /* own estimate - truth of O at the end */
+    double t_first_change;   /* robot 1's protocol first left NORMAL */
+    double max_slot_err_m;   /* at the end: farthest O from its goal slot */
 } kin_result;
 
 /* Run options: team size n (<= KN), a per-robot scale on the left wheel's
@@ -54,7 +54,7 @@ typedef struct {
 
 static rover_ctl_state ctl[KN];
 static sonar_world sw;
-static const double open_ring[8] = { 5, 5, 5, 5, 5, 5, 5, 5 };   /* no echo anywhere */
+static const double open_ring[8] = { 5, 5, 5, 5, 5, 5, 5, 5 }; /* no echo anywhere */
 
 static kin_opts kin_defaults(double t_max)
 {
@@ -64,7 +64,8 @@ static kin_opts kin_defaults(double t_max)
     o.kill = -1;
     o.t_max = t_max;
     o.t_kill = 0.0;
-    for (i = 0; i < KN; i++) o.enc_left_scale[i] = 1.0;
+    for (i = 0; i < KN; i++)
+        o.enc_left_scale[i] = 1.0;
     return o;
 }
 
@@ -77,14 +78,16 @@ static void build_sonar(const rover_world_config *w, const pose2 *c, const int *
         if (o->kind == ROVER_OBST_CIRCLE)
             sonar_world_add_circle(&sw, o->cx_m, o->cy_m, o->r_m, 0.0, o->height_m);
         else
-            sonar_world_add_box(&sw, o->cx_m, o->cy_m, o->hx_m, o->hy_m, o->angle_rad, 0.0, o->height_m);
+            sonar_world_add_box(&sw, o->cx_m, o->cy_m, o->hx_m, o->hy_m, o->angle_rad, 0.0,
+                                o->height_m);
     }
     for (i = 0; i < w->n_robots; i++) {
-        if (i == self || !alive[i]) continue;
+        if (i == self || !alive[i])
+            continue;
         sonar_world_add_box(&sw, c[i].x_m + ROVER_BODY_OFFSET_M * cos(c[i].theta_rad),
                             c[i].y_m + ROVER_BODY_OFFSET_M * sin(c[i].theta_rad),
-                            0.5 * ROVER_BODY_LENGTH_M, 0.5 * ROVER_BODY_WIDTH_M,
-                            c[i].theta_rad, 0.03, 0.25);
+                            0.5 * ROVER_BODY_LENGTH_M, 0.5 * ROVER_BODY_WIDTH_M, c[i].theta_rad,
+                            0.03, 0.25);
     }
     sonar_world_build(&sw);
 }
@@ -97,11 +100,14 @@ static double held_within(const double xy[][2], const double slot[][2], int n)
 {
     double lo = 0.0, hi = 100.0;
     int k;
-    if (formation_slots_held(xy, slot, n, hi) != 1) return INFINITY;
+    if (formation_slots_held(xy, slot, n, hi) != 1)
+        return INFINITY;
     for (k = 0; k < 40; k++) {
         const double mid = 0.5 * (lo + hi);
-        if (formation_slots_held(xy, slot, n, mid) == 1) hi = mid;
-        else lo = mid;
+        if (formation_slots_held(xy, slot, n, mid) == 1)
+            hi = mid;
+        else
+            lo = mid;
     }
     return hi;
 }
@@ -111,12 +117,12 @@ static kin_result kin_run_world(const rover_world_config *w, const rover_ctl_par
 {
     sonar_model sm;
     pose2 c[KN];
-    double encl[KN] = {0}, encr[KN] = {0}, goal_team[2], at[KN][2], goal_slot[KN][2];
+    double encl[KN] = { 0 }, encr[KN] = { 0 }, goal_team[2], at[KN][2], goal_slot[KN][2];
     int n_at = 0;
-    int alive[KN] = {0}, i, j, step, last_type = p->formation, last_esc[KN] = {0};
+    int alive[KN] = { 0 }, i, j, step, last_type = p->formation, last_esc[KN] = { 0 };
     const int n = opt->n;
     kin_result r;
-    pose2 gw = {0, 0, 0}, gt;
+    pose2 gw = { 0, 0, 0 }, gt;
     memset(&r, 0, sizeof r);
     r.min_clear = INFINITY;
     r.t_first_change = NAN;
@@ -140,64 +146,76 @@ static kin_result kin_run_world(const rover_world_config *w, const rover_ctl_par
         rover_ctl_out out[KN];
         double clear[KN];
         int all_at_goal = 1;
-        if (opt->kill >= 0 && t >= opt->t_kill) alive[opt->kill] = 0;
+        if (opt->kill >= 0 && t >= opt->t_kill)
+            alive[opt->kill] = 0;
         for (i = 0; i < n; i++) {
             double rng[SONAR_N];
-            if (!alive[i]) continue;
+            if (!alive[i])
+                continue;
             build_sonar(w, c, alive, i);
             sonar_ring(rng, &sw, &sm, &c[i], NULL);
             rover_ctl_encoders(&ctl[i], encl[i], encr[i], t);
             rover_ctl_sonar(&ctl[i], rng, t);
         }
         for (i = 0; i < n; i++) {
-            if (!alive[i]) continue;
+            if (!alive[i])
+                continue;
             assert_int_equal(rover_ctl_step(&ctl[i], t, DT, &out[i]), 0);
-            if (out[i].mode != ROVER_MODE_AT_GOAL) all_at_goal = 0;
-            if (ctl[i].esc_phase == ROVER_ESC_YIELD && last_esc[i] != ROVER_ESC_YIELD) r.yields++;
+            if (out[i].mode != ROVER_MODE_AT_GOAL)
+                all_at_goal = 0;
+            if (ctl[i].esc_phase == ROVER_ESC_YIELD && last_esc[i] != ROVER_ESC_YIELD)
+                r.yields++;
             last_esc[i] = ctl[i].esc_phase;
         }
         /* team messages and camera (everyone in view, exact) */
         for (i = 0; i < n; i++) {
-            if (!alive[i] || !out[i].send_team) continue;
+            if (!alive[i] || !out[i].send_team)
+                continue;
             for (j = 0; j < n; j++) {
                 rover_team_msg m;
                 pose2 oi, oj;
-                if (j == i || !alive[j]) continue;
+                if (j == i || !alive[j])
+                    continue;
                 m.m = out[i].team;
                 m.goal_m[0] = goal_team[0];
                 m.goal_m[1] = goal_team[1];
                 rover_ctl_team_msg(&ctl[j], &m, t);
                 unicycle_o_from_c(&oi, &c[i], ROVER_BEACON_D_M);
                 unicycle_o_from_c(&oj, &c[j], ROVER_BEACON_D_M);
-                rover_ctl_beacon(&ctl[j], i + 1, hypot(oi.x_m - oj.x_m, oi.y_m - oj.y_m),
-                                 vec2_angle_diff_rad(atan2(oi.y_m - oj.y_m, oi.x_m - oj.x_m),
-                                                     oj.theta_rad));
+                rover_ctl_beacon(
+                    &ctl[j], i + 1, hypot(oi.x_m - oj.x_m, oi.y_m - oj.y_m),
+                    vec2_angle_diff_rad(atan2(oi.y_m - oj.y_m, oi.x_m - oj.x_m), oj.theta_rad));
             }
         }
         if (ctl[0].fsm.type != last_type) {
-            if (ctl[0].fsm.type == p->formation) r.restored = 1;
+            if (ctl[0].fsm.type == p->formation)
+                r.restored = 1;
             last_type = ctl[0].fsm.type;
         }
         if (isnan(r.t_first_change) && ctl[0].fsm.phase != FORMATION_PHASE_NORMAL)
             r.t_first_change = t;
         for (i = 0; i < n; i++) {
             const double b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
-            if (!alive[i]) continue;
-            encl[i] += opt->enc_left_scale[i] * (out[i].u.v_mps - 0.5 * b * out[i].u.w_radps) / rw * DT;
+            if (!alive[i])
+                continue;
+            encl[i] += opt->enc_left_scale[i] * (out[i].u.v_mps - 0.5 * b * out[i].u.w_radps) / rw *
+                       DT;
             encr[i] += (out[i].u.v_mps + 0.5 * b * out[i].u.w_radps) / rw * DT;
             unicycle_step_exact(&c[i], out[i].u.v_mps, out[i].u.w_radps, DT);
         }
         rover_world_clearance(w, c, alive, n, clear);
         if (getenv("KIN_TRACE") && step % 20 == 0)
             for (i = 0; i < n; i++)
-                print_message("t=%5.1f r%d c=(%6.2f %6.2f %5.2f) u=(%5.2f %5.2f) mode=%d type=%d W=%.2f %.2f %.2f %.2f clr=%.2f esc=%d\n",
-                              t, i + 1, c[i].x_m, c[i].y_m, c[i].theta_rad, out[i].u.v_mps,
-                              out[i].u.w_radps, out[i].mode, ctl[i].fsm.type, out[i].weight[0],
-                              out[i].weight[1], out[i].weight[2], out[i].weight[3], clear[i],
-                              ctl[i].esc_phase);
+                print_message(
+                    "t=%5.1f r%d c=(%6.2f %6.2f %5.2f) u=(%5.2f %5.2f) mode=%d type=%d W=%.2f %.2f %.2f %.2f clr=%.2f esc=%d\n",
+                    t, i + 1, c[i].x_m, c[i].y_m, c[i].theta_rad, out[i].u.v_mps, out[i].u.w_radps,
+                    out[i].mode, ctl[i].fsm.type, out[i].weight[0], out[i].weight[1],
+                    out[i].weight[2], out[i].weight[3], clear[i], ctl[i].esc_phase);
         for (i = 0; i < n; i++) {
-            if (!alive[i]) continue;
-            if (clear[i] < r.min_clear) r.min_clear = clear[i];
+            if (!alive[i])
+                continue;
+            if (clear[i] < r.min_clear)
+                r.min_clear = clear[i];
         }
         if (all_at_goal && step > 10) {
             r.reached = 1;
@@ -207,18 +225,20 @@ static kin_result kin_run_world(const rover_world_config *w, const rover_ctl_par
     }
     for (i = 0; i < n; i++) {
         pose2 o, est, est_w;
-        if (!alive[i]) continue;
+        if (!alive[i])
+            continue;
         unicycle_o_from_c(&o, &c[i], ROVER_BEACON_D_M);
         r.max_err_end = fmax(r.max_err_end, fabs(o.y_m) > 3.0 ? 9.0 : 0.0);
         r.escapes += ctl[i].escapes;
-        if (ctl[i].formation_changes > r.changes) r.changes = ctl[i].formation_changes;
+        if (ctl[i].formation_changes > r.changes)
+            r.changes = ctl[i].formation_changes;
         odometry_pose_o(&ctl[i].odo, &est);
         est.x_m += ctl[i].corr_m[0];
         est.y_m += ctl[i].corr_m[1];
         rover_world_from_team(w, &est, &est_w);
         r.est_err_m[i][0] = est_w.x_m - o.x_m;
         r.est_err_m[i][1] = est_w.y_m - o.y_m;
-        {   /* where the robots are, for the nominal slots round the goal (world
+        { /* where the robots are, for the nominal slots round the goal (world
              * frame, as the scenario has it): held by any robot in any slot */
             at[n_at][0] = o.x_m;
             at[n_at][1] = o.y_m;
@@ -232,7 +252,9 @@ static kin_result kin_run_world(const rover_world_config *w, const rover_ctl_par
         goal_slot[i][0] = w->goal_m[0] + rot[0];
         goal_slot[i][1] = w->goal_m[1] + rot[1];
     }
-    r.max_slot_err_m = n_at > 0 ? held_within((const double (*)[2])at, (const double (*)[2])goal_slot, n_at) : INFINITY;
+    r.max_slot_err_m = n_at > 0 ? held_within((const double(*)[2])at, (const double(*)[2])goal_slot,
+                                              n_at)
+                                : INFINITY;
     return r;
 }
 
@@ -259,9 +281,10 @@ static void test_open_reaches_goal(void **state)
     for (f = FORMATION_LINE; f <= FORMATION_COLUMN; f++)
         for (b = BEH_BLEND_WEIGHTED; b <= BEH_BLEND_VECSUM; b++) {
             kin_result r = kin_run(ROVER_WORLD_OPEN, f, b, 90.0, -1, 0.0);
-            print_message("open f=%d blend=%d reached=%d t=%.1f min_clear=%.2f slot err %.2f\n",
-                          f, b, r.reached, r.t_end, r.min_clear, r.max_slot_err_m);
-            if (b == BEH_BLEND_VECSUM) continue;   /* a baseline: reported, not required */
+            print_message("open f=%d blend=%d reached=%d t=%.1f min_clear=%.2f slot err %.2f\n", f,
+                          b, r.reached, r.t_end, r.min_clear, r.max_slot_err_m);
+            if (b == BEH_BLEND_VECSUM)
+                continue; /* a baseline: reported, not required */
             assert_true(r.reached);
             assert_true(r.min_clear > 0.0);
             /* stopped at the slot, not goal_tol 0.3 m short of it (the team's
@@ -278,7 +301,7 @@ static void test_silent_mate_dropped(void **state)
     print_message("kill: reached=%d t=%.1f team of robot 1: %d\n", r.reached, r.t_end,
                   ctl[0].team.n + 1);
     assert_true(r.reached);
-    assert_int_equal(ctl[0].team.n, 1);   /* robot 3 dropped by the heartbeat */
+    assert_int_equal(ctl[0].team.n, 1); /* robot 3 dropped by the heartbeat */
 }
 
 /* Scattered posts are not a passage: among the obstacles world's posts
@@ -293,8 +316,8 @@ static void test_obstacles_no_spurious_changes(void **state)
     for (f = FORMATION_LINE; f <= FORMATION_COLUMN; f++) {
         kin_result r = kin_run(ROVER_WORLD_OBSTACLES, f, BEH_BLEND_WEIGHTED, 120.0, -1, 0.0);
         print_message("obstacles f=%d reached=%d t=%.1f changes=%d first change at %.1f s, "
-                      "min_clear=%.2f\n", f, r.reached, r.t_end, r.changes, r.t_first_change,
-                      r.min_clear);
+                      "min_clear=%.2f\n",
+                      f, r.reached, r.t_end, r.changes, r.t_first_change, r.min_clear);
         assert_true(r.reached);
         assert_int_equal(r.changes, 0);
         assert_true(isnan(r.t_first_change));
@@ -310,8 +333,8 @@ static void test_corridor_protocol(void **state)
     kin_result r;
     (void)state;
     r = kin_run(ROVER_WORLD_CORRIDOR, FORMATION_LINE, BEH_BLEND_WEIGHTED, 150.0, -1, 0.0);
-    print_message("corridor: reached=%d t=%.1f changes=%d restored=%d min_clear=%.2f\n",
-                  r.reached, r.t_end, r.changes, r.restored, r.min_clear);
+    print_message("corridor: reached=%d t=%.1f changes=%d restored=%d min_clear=%.2f\n", r.reached,
+                  r.t_end, r.changes, r.restored, r.min_clear);
     assert_true(r.reached);
     assert_true(r.changes >= 2);
     assert_true(r.restored);
@@ -330,16 +353,18 @@ static void test_corridor_protocol(void **state)
 static rover_world_config dead_end_world(void)
 {
     rover_world_config w;
-    static const double box[3][4] = {        /* cx, cy, hx, hy */
-        { 11.5, 0.55, 1.5, 0.05 }, { 11.5, -0.55, 1.5, 0.05 }, { 13.05, 0.0, 0.05, 0.6 }
+    static const double box[3][4] = { /* cx, cy, hx, hy */
+                                      { 11.5, 0.55, 1.5, 0.05 },
+                                      { 11.5, -0.55, 1.5, 0.05 },
+                                      { 13.05, 0.0, 0.05, 0.6 }
     };
     int i;
     memset(&w, 0, sizeof w);
     w.world = ROVER_WORLD_OPEN;
     w.n_robots = 2;
     w.spacing_m = 1.0;
-    w.start_c[0] = (pose2){ 11.3, 0.0, 0.0 };    /* robot 1: behind */
-    w.start_c[1] = (pose2){ 12.4, 0.0, 0.0 };    /* robot 2: at the end, trapped */
+    w.start_c[0] = (pose2){ 11.3, 0.0, 0.0 }; /* robot 1: behind */
+    w.start_c[1] = (pose2){ 12.4, 0.0, 0.0 }; /* robot 2: at the end, trapped */
     w.goal_m[0] = 16.0;
     w.goal_m[1] = 0.0;
     w.team_origin.x_m = 0.5 * (w.start_c[0].x_m + w.start_c[1].x_m) - ROVER_BEACON_D_M;
@@ -370,8 +395,8 @@ static void test_give_way_to_leaving_mate(void **state)
     rover_ctl_params_default(&p);
     p.formation = FORMATION_COLUMN;
     r = kin_run_world(&w, &p, &o);
-    print_message("dead end: reached=%d t=%.1f escapes=%d yields=%d min_clear=%.3f\n",
-                  r.reached, r.t_end, r.escapes, r.yields, r.min_clear);
+    print_message("dead end: reached=%d t=%.1f escapes=%d yields=%d min_clear=%.3f\n", r.reached,
+                  r.t_end, r.escapes, r.yields, r.min_clear);
     assert_true(r.escapes >= 1);
     assert_true(r.yields >= 1);
     assert_true(r.reached);
@@ -380,8 +405,8 @@ static void test_give_way_to_leaving_mate(void **state)
     p.give_way_m = 1e-3;
     o.t_max = 120.0;
     r = kin_run_world(&w, &p, &o);
-    print_message("dead end, no give-way: reached=%d escapes=%d yields=%d\n", r.reached,
-                  r.escapes, r.yields);
+    print_message("dead end, no give-way: reached=%d escapes=%d yields=%d\n", r.reached, r.escapes,
+                  r.yields);
     assert_int_equal(r.yields, 0);
     assert_false(r.reached);
 }
@@ -396,8 +421,8 @@ static void test_deadzone_team(void **state)
     (void)state;
     r = kin_run(ROVER_WORLD_DEADZONE, FORMATION_LINE, BEH_BLEND_WEIGHTED, 150.0, -1, 0.0);
     print_message("deadzone team: reached=%d t=%.1f escapes=%d yields=%d changes=%d "
-                  "min_clear=%.3f\n", r.reached, r.t_end, r.escapes, r.yields, r.changes,
-                  r.min_clear);
+                  "min_clear=%.3f\n",
+                  r.reached, r.t_end, r.escapes, r.yields, r.changes, r.min_clear);
     assert_true(r.reached);
     assert_true(r.escapes >= 1);
     assert_true(r.yields >= 1);
@@ -413,7 +438,7 @@ static void test_slot_mapping(void **state)
     (void)state;
     for (type = FORMATION_LINE; type <= FORMATION_COLUMN; type++)
         for (n = 1; n <= 20; n++) {
-            int seen[20] = {0};
+            int seen[20] = { 0 };
             for (r = 0; r < n; r++) {
                 const int k = rover_world_slot(type, n, r);
                 assert_true(k >= 0 && k < n);
@@ -422,7 +447,7 @@ static void test_slot_mapping(void **state)
             }
         }
     assert_int_equal(rover_world_slot(FORMATION_TRIANGLE, 3, 1), 0);
-    assert_int_equal(rover_world_slot(FORMATION_TRIANGLE, 3, 0), 1);   /* left stays left */
+    assert_int_equal(rover_world_slot(FORMATION_TRIANGLE, 3, 0), 1); /* left stays left */
     assert_int_equal(rover_world_slot(FORMATION_TRIANGLE, 3, 2), 2);
     assert_int_equal(rover_world_slot(FORMATION_COLUMN, 5, 2), 0);
     assert_int_equal(rover_world_slot(FORMATION_LINE, 3, 0), 0);
@@ -439,10 +464,10 @@ static void test_slot_mapping(void **state)
 /* One robot at its start in the dead-zone world (w already laid out):
  * default parameters, a noiseless sonar, the goal and start in the team
  * frame, the controller made. */
-static void deadzone_one_robot(const rover_world_config *w, rover_ctl_params *p, sonar_model *sm, pose2 *pose,
-                               pose2 *st, double goal[2], rover_ctl_state *c)
+static void deadzone_one_robot(const rover_world_config *w, rover_ctl_params *p, sonar_model *sm,
+                               pose2 *pose, pose2 *st, double goal[2], rover_ctl_state *c)
 {
-    pose2 gw = {0, 0, 0}, gt;
+    pose2 gw = { 0, 0, 0 }, gt;
     rover_ctl_params_default(p);
     sonar_model_default(sm);
     sm->noise_sd_m = 0.0;
@@ -465,14 +490,16 @@ static void test_deadzone_escape(void **state)
     pose2 pose, st;
     double el = 0.0, er = 0.0, goal[2], min_clear = INFINITY, trap_x = NAN, trap_y = NAN;
     double back_x = -INFINITY;
-    int alive[1] = {1}, step, entered = 0, reached = 0, k;
+    int alive[1] = { 1 }, step, entered = 0, reached = 0, k;
     (void)state;
     assert_int_equal(rover_world_layout(&w, ROVER_WORLD_DEADZONE, 1, 1.0, FORMATION_LINE), 0);
     for (k = 0; k < w.n_obst; k++)
-        if (w.obst[k].cx_m > back_x) back_x = w.obst[k].cx_m;   /* the back wall */
+        if (w.obst[k].cx_m > back_x)
+            back_x = w.obst[k].cx_m; /* the back wall */
     deadzone_one_robot(&w, &p, &sm, &pose, &st, goal, &c);
     for (step = 0; step * DT < 200.0 && !reached; step++) {
-        const double t = step * DT, b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
+        const double t = step * DT, b = ODOMETRY_P2DX_AXLE_TRACK_M,
+                     rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
         double rng[SONAR_N], clear;
         rover_ctl_out out;
         build_sonar(&w, &pose, alive, 0);
@@ -488,15 +515,19 @@ static void test_deadzone_escape(void **state)
             assert_true(rng[0] < p.beh.d_s_m && rng[7] < p.beh.d_s_m &&
                         fmin(rng[3], rng[4]) < p.beh.d_s_m);
         }
-        if (out.mode == ROVER_MODE_AT_GOAL) reached = 1;
+        if (out.mode == ROVER_MODE_AT_GOAL)
+            reached = 1;
         el += (out.u.v_mps - 0.5 * b * out.u.w_radps) / rw * DT;
         er += (out.u.v_mps + 0.5 * b * out.u.w_radps) / rw * DT;
         unicycle_step_exact(&pose, out.u.v_mps, out.u.w_radps, DT);
         rover_world_clearance(&w, &pose, alive, 1, &clear);
-        if (clear < min_clear) min_clear = clear;
+        if (clear < min_clear)
+            min_clear = clear;
     }
-    print_message("deadzone (one robot): trapped at (%.2f, %.2f), escapes=%d, reached=%d at t=%.1f, "
-                  "min clearance %.2f m\n", trap_x, trap_y, c.escapes, reached, step * DT, min_clear);
+    print_message(
+        "deadzone (one robot): trapped at (%.2f, %.2f), escapes=%d, reached=%d at t=%.1f, "
+        "min clearance %.2f m\n",
+        trap_x, trap_y, c.escapes, reached, step * DT, min_clear);
     assert_true(entered);
     assert_true(trap_x > back_x - 1.2 - 0.5 && trap_x < back_x && fabs(trap_y) < 0.5);
     assert_true(c.escapes >= 1);
@@ -517,15 +548,17 @@ static void test_snapshot_resume_identity(void **state)
     rover_ctl_state c, r, before;
     sonar_model sm;
     pose2 pose, st;
-    double el = 0.0, er = 0.0, goal[2], v[ROVER_CTL_SNAPSHOT_VALUES], bad[ROVER_CTL_SNAPSHOT_VALUES];
-    int alive[1] = {1}, step, resumed = 0, compared = 0, escapes_after = 0;
+    double el = 0.0, er = 0.0, goal[2], v[ROVER_CTL_SNAPSHOT_VALUES],
+           bad[ROVER_CTL_SNAPSHOT_VALUES];
+    int alive[1] = { 1 }, step, resumed = 0, compared = 0, escapes_after = 0;
     (void)state;
     assert_int_equal(rover_snapshot_validate(), ROVER_CTL_OK);
     assert_int_equal(rover_world_layout(&w, ROVER_WORLD_DEADZONE, 1, 1.0, FORMATION_LINE), 0);
     deadzone_one_robot(&w, &p, &sm, &pose, &st, goal, &c);
-    assert_int_equal(rover_ctl_snapshot(&c, v), ROVER_CTL_ERR_ARG);   /* nothing to keep yet */
+    assert_int_equal(rover_ctl_snapshot(&c, v), ROVER_CTL_ERR_ARG); /* nothing to keep yet */
     for (step = 0; step * DT < 120.0; step++) {
-        const double t = step * DT, b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
+        const double t = step * DT, b = ODOMETRY_P2DX_AXLE_TRACK_M,
+                     rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
         double rng[SONAR_N];
         rover_ctl_out out, out_r;
         if (step * DT >= 5.0 && !resumed) {
@@ -534,7 +567,7 @@ static void test_snapshot_resume_identity(void **state)
             assert_int_equal(rover_ctl_snapshot(&c, v), ROVER_CTL_OK);
             assert_int_equal(rover_ctl_init(&r, &p, 1, &st, goal), 0);
             memcpy(bad, v, sizeof bad);
-            bad[0] = 2.0;                                   /* robot 2's snapshot */
+            bad[0] = 2.0; /* robot 2's snapshot */
             before = r;
             assert_int_equal(rover_ctl_resume(&r, bad), ROVER_CTL_ERR_SNAPSHOT);
             memcpy(bad, v, sizeof bad);
@@ -558,15 +591,17 @@ static void test_snapshot_resume_identity(void **state)
             assert_int_equal(out_r.mode, out.mode);
             compared++;
         }
-        if (out.mode == ROVER_MODE_AT_GOAL) break;
+        if (out.mode == ROVER_MODE_AT_GOAL)
+            break;
         el += (out.u.v_mps - 0.5 * b * out.u.w_radps) / rw * DT;
         er += (out.u.v_mps + 0.5 * b * out.u.w_radps) / rw * DT;
         unicycle_step_exact(&pose, out.u.v_mps, out.u.w_radps, DT);
     }
-    print_message("snapshot at 5 s (escapes so far %d): %d cycles compared, escapes at the end %d, %s\n",
-                  escapes_after, compared, c.escapes, step * DT < 120.0 ? "at the goal" : "not at the goal");
+    print_message(
+        "snapshot at 5 s (escapes so far %d): %d cycles compared, escapes at the end %d, %s\n",
+        escapes_after, compared, c.escapes, step * DT < 120.0 ? "at the goal" : "not at the goal");
     assert_true(compared > 100);
-    assert_true(c.escapes > escapes_after);   /* the escape happened after the restart */
+    assert_true(c.escapes > escapes_after); /* the escape happened after the restart */
     assert_int_equal(r.escapes, c.escapes);
 }
 
@@ -575,21 +610,21 @@ static void test_stale_sensors_stop(void **state)
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    pose2 s = {0, 0, 0};
-    double g[2] = {10, 0}, rng[8] = {5, 5, 5, 5, 5, 5, 5, 5};
+    pose2 s = { 0, 0, 0 };
+    double g[2] = { 10, 0 }, rng[8] = { 5, 5, 5, 5, 5, 5, 5, 5 };
     (void)state;
     rover_ctl_params_default(&p);
     assert_int_equal(rover_ctl_init(&c, &p, 1, &s, g), 0);
     assert_int_equal(rover_ctl_step(&c, 0.0, DT, &out), 0);
-    assert_int_equal(out.mode, ROVER_MODE_SAFE_STOP);        /* nothing yet */
+    assert_int_equal(out.mode, ROVER_MODE_SAFE_STOP); /* nothing yet */
     rover_ctl_encoders(&c, 0, 0, 0.0);
     rover_ctl_sonar(&c, rng, 0.0);
     assert_int_equal(rover_ctl_step(&c, 0.05, DT, &out), 0);
     assert_true(out.u.v_mps > 0.0 && out.send_team);
-    assert_int_equal(rover_ctl_step(&c, 0.6, DT, &out), 0);   /* 0.6 s > 0.5 s */
+    assert_int_equal(rover_ctl_step(&c, 0.6, DT, &out), 0); /* 0.6 s > 0.5 s */
     assert_int_equal(out.mode, ROVER_MODE_SAFE_STOP);
     assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0 && !out.send_team);
-    rover_ctl_encoders(&c, 0, 0, 0.6);                         /* fresh again */
+    rover_ctl_encoders(&c, 0, 0, 0.6); /* fresh again */
     rover_ctl_sonar(&c, rng, 0.6);
     assert_int_equal(rover_ctl_step(&c, 0.65, DT, &out), 0);
     assert_true(out.u.v_mps > 0.0);
@@ -598,7 +633,7 @@ static void test_stale_sensors_stop(void **state)
     assert_int_equal(rover_ctl_encoders(&c, INFINITY, 0, 0.7), ROVER_CTL_ERR_ARG);
     assert_int_equal(rover_ctl_step(&c, 0.7, -DT, &out), ROVER_CTL_ERR_ARG);
     assert_true(out.mode == ROVER_MODE_SAFE_STOP && out.u.v_mps == 0.0);
-    p.give_way_m = 0.0;                                        /* not a distance */
+    p.give_way_m = 0.0; /* not a distance */
     assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
     assert_int_equal(rover_ctl_init(&c, &p, 1, &s, g), ROVER_CTL_ERR_ARG);
 }
@@ -608,18 +643,18 @@ static void test_follow_keeps_wall_side(void **state)
     rover_ctl_params p;
     sonar_groups g;
     unicycle_cmd u;
-    double r[8] = {5, 5, 5, 5, 5, 5, 5, 5};
+    double r[8] = { 5, 5, 5, 5, 5, 5, 5, 5 };
     (void)state;
     rover_ctl_params_default(&p);
-    r[0] = 0.3;                       /* wall close on the right: turn left */
+    r[0] = 0.3; /* wall close on the right: turn left */
     behaviour_sonar_groups(&g, r);
     rover_ctl_follow(&u, &g, -1, &p);
     assert_true(u.w_radps > 0.0 && u.v_mps > 0.0);
-    r[0] = 0.6;                       /* a bit far: turn right, toward it */
+    r[0] = 0.6; /* a bit far: turn right, toward it */
     behaviour_sonar_groups(&g, r);
     rover_ctl_follow(&u, &g, -1, &p);
     assert_true(u.w_radps < 0.0);
-    r[3] = r[4] = 0.3;                /* blocked ahead: turn away from the wall */
+    r[3] = r[4] = 0.3; /* blocked ahead: turn away from the wall */
     behaviour_sonar_groups(&g, r);
     rover_ctl_follow(&u, &g, -1, &p);
     assert_true(u.w_radps > 0.0 && u.v_mps < 0.1);
@@ -634,11 +669,11 @@ typedef struct {
     int32_t id;
     double x, y, th;
     int announce;
-    double v;               /* its speed in the team message (0 unless set) */
+    double v; /* its speed in the team message (0 unless set) */
 } hand_mate;
 
-static void hand_step_enc(rover_ctl_state *c, double t, double enc_l, double enc_r, const double rng[8],
-                          const hand_mate *m, int nm, rover_ctl_out *out)
+static void hand_step_enc(rover_ctl_state *c, double t, double enc_l, double enc_r,
+                          const double rng[8], const hand_mate *m, int nm, rover_ctl_out *out)
 {
     int i;
     for (i = 0; i < nm; i++) {
@@ -678,16 +713,17 @@ static void test_escape_timeout_and_lost_wall(void **state)
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    const pose2 s0 = {0, 0, 0};
-    const double goal[2] = { -10.0, 0.0 };           /* behind the robot */
+    const pose2 s0 = { 0, 0, 0 };
+    const double goal[2] = { -10.0, 0.0 }; /* behind the robot */
     const double trap[8] = { 0.3, 5, 5, 0.3, 0.3, 5, 5, 0.3 };
-    const double wall[8] = { 0.45, 0.9, 1.5, 5, 5, 5, 5, 5 };   /* wall on the right */
+    const double wall[8] = { 0.45, 0.9, 1.5, 5, 5, 5, 5, 5 }; /* wall on the right */
     double t = 0.0, enc = 0.0;
     int side0, flipped = 0, k;
     (void)state;
     rover_ctl_params_default(&p);
     assert_int_equal(rover_ctl_init(&c, &p, 1, &s0, goal), 0);
-    for (k = 0; t < p.beh.dead_zone_time_s + 0.5; k++, t += DT) hand_step(&c, t, trap, NULL, 0, &out);
+    for (k = 0; t < p.beh.dead_zone_time_s + 0.5; k++, t += DT)
+        hand_step(&c, t, trap, NULL, 0, &out);
     assert_int_equal(out.mode, ROVER_MODE_DEAD_ZONE);
     assert_int_equal(c.escapes, 1);
     hand_step(&c, t, wall, NULL, 0, &out);
@@ -705,10 +741,12 @@ static void test_escape_timeout_and_lost_wall(void **state)
         hand_step_enc(&c, t, enc, enc, wall, NULL, 0, &out);
         assert_int_equal(out.mode, ROVER_MODE_DEAD_ZONE);
         assert_int_equal(out.team.announce * out.send_team, FORMATION_ANN_LEAVE * out.send_team);
-        if (c.esc_side != side0) flipped = 1;
+        if (c.esc_side != side0)
+            flipped = 1;
     }
     assert_true(flipped);
-    for (k = 0; k * DT < p.follow_lost_s + 0.5; k++, t += DT) hand_step_enc(&c, t, enc, enc, open_ring, NULL, 0, &out);
+    for (k = 0; k * DT < p.follow_lost_s + 0.5; k++, t += DT)
+        hand_step_enc(&c, t, enc, enc, open_ring, NULL, 0, &out);
     assert_int_equal(c.esc_phase, ROVER_ESC_NONE);
     assert_true(out.mode != ROVER_MODE_DEAD_ZONE);
     assert_int_equal(c.ann_code, FORMATION_ANN_REJOIN);
@@ -716,8 +754,8 @@ static void test_escape_timeout_and_lost_wall(void **state)
 
 /* One hand-fed step with the camera seeing every mate where the table
  * says it is (the give-way rule counts only mates seen). */
-static void seen_step_lr(rover_ctl_state *c, double t, double enc_l, double enc_r, const double rng[8],
-                         const hand_mate *m, int nm, rover_ctl_out *out)
+static void seen_step_lr(rover_ctl_state *c, double t, double enc_l, double enc_r,
+                         const double rng[8], const hand_mate *m, int nm, rover_ctl_out *out)
 {
     pose2 o;
     int j;
@@ -728,8 +766,8 @@ static void seen_step_lr(rover_ctl_state *c, double t, double enc_l, double enc_
                          vec2_angle_diff_rad(atan2(m[j].y - o.y_m, m[j].x - o.x_m), o.theta_rad));
 }
 
-static void seen_step_enc(rover_ctl_state *c, double t, double enc, const double rng[8], const hand_mate *m,
-                          int nm, rover_ctl_out *out)
+static void seen_step_enc(rover_ctl_state *c, double t, double enc, const double rng[8],
+                          const hand_mate *m, int nm, rover_ctl_out *out)
 {
     seen_step_lr(c, t, enc, enc, rng, m, nm, out);
 }
@@ -772,19 +810,21 @@ static void test_give_way_announces_and_references(void **state)
     at_origin(&c, &p, 1);
     for (k = 0; k < 10; k++, t += DT) {
         seen_step(&c, t, lane_ring, &m, 1, &out);
-        if (out.send_team && out.team.announce == FORMATION_ANN_GIVE_WAY) gave_way_sent = 1;
+        if (out.send_team && out.team.announce == FORMATION_ANN_GIVE_WAY)
+            gave_way_sent = 1;
         assert_true(!out.send_team || out.team.announce != FORMATION_ANN_LEAVE);
     }
     own = hypot(goal_ahead[0] - out.o.x_m, goal_ahead[1] - out.o.y_m);
-    print_message("give way: phase %d yield %d, leave reference %.2f m (own distance %.2f m)\n", c.esc_phase,
-                  c.esc_yield, c.esc_hit_dist_m, own);
+    print_message("give way: phase %d yield %d, leave reference %.2f m (own distance %.2f m)\n",
+                  c.esc_phase, c.esc_yield, c.esc_hit_dist_m, own);
     assert_true(c.esc_yield && c.esc_phase != ROVER_ESC_NONE && gave_way_sent);
     assert_int_equal(out.mode, ROVER_MODE_CHANGING);
     assert_true(fabs(c.esc_hit_dist_m - (own - 1.2)) < 0.3);
     /* the same mate giving way instead of trapped: no give-way */
     m.announce = FORMATION_ANN_GIVE_WAY;
     at_origin(&c, &p, 1);
-    for (k = 0, t = 0.0; k < 10; k++, t += DT) seen_step(&c, t, lane_ring, &m, 1, &out);
+    for (k = 0, t = 0.0; k < 10; k++, t += DT)
+        seen_step(&c, t, lane_ring, &m, 1, &out);
     assert_int_equal(c.esc_phase, ROVER_ESC_NONE);
     assert_false(c.esc_yield);
 }
@@ -804,16 +844,19 @@ static void test_hold_while_trapped_mate_turns(void **state)
     at_origin(&c, &p, 1);
     for (; t < p.hold_max_s - 0.5; t += DT) {
         seen_step(&c, t, lane_ring, &m, 1, &out);
-        if (t > 0.2 && !(c.holding && out.u.v_mps == 0.0 && out.u.w_radps == 0.0)) held = 0;
+        if (t > 0.2 && !(c.holding && out.u.v_mps == 0.0 && out.u.w_radps == 0.0))
+            held = 0;
     }
     assert_true(held);
     assert_int_equal(c.esc_phase, ROVER_ESC_NONE);
-    for (; t < p.hold_max_s + 1.0; t += DT) seen_step(&c, t, lane_ring, &m, 1, &out);
+    for (; t < p.hold_max_s + 1.0; t += DT)
+        seen_step(&c, t, lane_ring, &m, 1, &out);
     assert_false(c.holding);
     assert_true(out.u.v_mps > 0.0);
     /* in the open: no hold */
     at_origin(&c, &p, 1);
-    for (t = 0.0; t < 1.0; t += DT) seen_step(&c, t, open_ring, &m, 1, &out);
+    for (t = 0.0; t < 1.0; t += DT)
+        seen_step(&c, t, open_ring, &m, 1, &out);
     assert_false(c.holding);
     assert_true(out.u.v_mps > 0.0);
 }
@@ -834,22 +877,27 @@ static void test_queue_behind_standing_mate(void **state)
     at_origin(&c, &p, 3);
     for (t = 0.0; t < p.hold_max_s - 0.5; t += DT) {
         seen_step(&c, t, lane_ring, &m, 1, &out);
-        if (t > 0.2 && !(c.holding && out.u.v_mps == 0.0)) held = 0;
+        if (t > 0.2 && !(c.holding && out.u.v_mps == 0.0))
+            held = 0;
     }
     assert_true(held);
-    for (; t < p.hold_max_s + 1.0; t += DT) seen_step(&c, t, lane_ring, &m, 1, &out);
+    for (; t < p.hold_max_s + 1.0; t += DT)
+        seen_step(&c, t, lane_ring, &m, 1, &out);
     assert_false(c.holding);
     m.x = 2.15;
     at_origin(&c, &p, 3);
-    for (t = 0.0; t < 1.0; t += DT) seen_step(&c, t, lane_ring, &m, 1, &out);
+    for (t = 0.0; t < 1.0; t += DT)
+        seen_step(&c, t, lane_ring, &m, 1, &out);
     assert_false(c.holding);
     assert_true(out.u.v_mps > 0.0);
     m.x = 1.15;
     at_origin(&c, &p, 3);
-    for (t = 0.0; t < 1.0; t += DT) seen_step(&c, t, open_ring, &m, 1, &out);
+    for (t = 0.0; t < 1.0; t += DT)
+        seen_step(&c, t, open_ring, &m, 1, &out);
     assert_false(c.holding);
     at_origin(&c, &p, 1);
-    for (t = 0.0; t < 1.0; t += DT) seen_step(&c, t, lane_ring, &m, 1, &out);
+    for (t = 0.0; t < 1.0; t += DT)
+        seen_step(&c, t, lane_ring, &m, 1, &out);
     assert_false(c.holding);
     /* waiting is standing: the mate 0.75 m ahead echoes 0.45 m on the
      * front transducers, a wall near on the right; the collision guard
@@ -890,11 +938,13 @@ static void test_queue_behind_closing_mate(void **state)
         m.v = mate_v[k];
         for (t = 0.0; t < 1.0; t += DT) {
             enc = 0.5 * t / p.wheel_radius_m;
-            m.x = 0.5 * t - p.beh.d_m + 1.15;       /* 1.15 m ahead of our O */
+            m.x = 0.5 * t - p.beh.d_m + 1.15; /* 1.15 m ahead of our O */
             seen_step_lr(&c, t, enc, enc, lane_ring, &m, 1, &out);
-            if (t > 0.5 && c.holding) held = 1;
+            if (t > 0.5 && c.holding)
+                held = 1;
         }
-        print_message("closing at %.2f m/s on a mate 1.15 m ahead: held %d\n", 0.5 - mate_v[k], held);
+        print_message("closing at %.2f m/s on a mate 1.15 m ahead: held %d\n", 0.5 - mate_v[k],
+                      held);
         assert_int_equal(held, k == 0);
     }
 }
@@ -922,7 +972,7 @@ static void test_no_command_sweeps_into_mate(void **state)
     rover_ctl_out out;
     const pose2 s0 = { 0, 0, 0 };
     const double goal_right[2] = { 0.0, -10.0 };
-    const hand_mate m = { 1, -0.1, -0.42, VEC2_PI, FORMATION_ANN_LEAVE, 0.0 };   /* facing away */
+    const hand_mate m = { 1, -0.1, -0.42, VEC2_PI, FORMATION_ANN_LEAVE, 0.0 }; /* facing away */
     unicycle_cmd u;
     double t;
     int swept = 0, moved = 0;
@@ -931,11 +981,13 @@ static void test_no_command_sweeps_into_mate(void **state)
     assert_int_equal(rover_ctl_init(&c, &p, 3, &s0, goal_right), 0);
     for (t = 0.0; t < p.hold_max_s + 5.0; t += DT) {
         seen_step(&c, t, lane_ring, &m, 1, &out);
-        if (rover_ctl_cmd_sweeps_mate(&c, &out.o, &out.u, 1) != 0) swept = 1;
-        if (out.u.v_mps != 0.0 || out.u.w_radps != 0.0) moved = 1;
+        if (rover_ctl_cmd_sweeps_mate(&c, &out.o, &out.u, 1) != 0)
+            swept = 1;
+        if (out.u.v_mps != 0.0 || out.u.w_radps != 0.0)
+            moved = 1;
     }
-    print_message("beside a trapped mate: wait set %d, phase %d, swept %d, moved %d\n", c.wait_n, c.esc_phase,
-                  swept, moved);
+    print_message("beside a trapped mate: wait set %d, phase %d, swept %d, moved %d\n", c.wait_n,
+                  c.esc_phase, swept, moved);
     assert_int_equal(c.wait_n, 1);
     assert_int_equal(c.esc_phase, ROVER_ESC_NONE);
     assert_false(swept);
@@ -956,9 +1008,11 @@ static void test_wedge_turns_clear_way(void **state)
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    hand_mate m[3] = { { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE, 0.0 },
-                       { 1, -0.2, -0.45, 0.0, FORMATION_ANN_NONE, 0.0 },     /* behind the right flank */
-                       { 4, -0.2, 0.45, 0.0, FORMATION_ANN_NONE, 0.0 } };    /* behind the left flank */
+    hand_mate m[3] = {
+        { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE, 0.0 },
+        { 1, -0.2, -0.45, 0.0, FORMATION_ANN_NONE, 0.0 }, /* behind the right flank */
+        { 4, -0.2, 0.45, 0.0, FORMATION_ANN_NONE, 0.0 }
+    }; /* behind the left flank */
     double t, w_first = 0.0, t_first = -1.0;
     int stood = 1;
     (void)state;
@@ -966,16 +1020,18 @@ static void test_wedge_turns_clear_way(void **state)
     assert_int_equal(c.crumb_n, 0);
     for (t = 0.0; t < p.wedge_max_s + 2.0; t += DT) {
         seen_step(&c, t, lane_ring, m, 2, &out);
-        if (!c.esc_yield) continue;
+        if (!c.esc_yield)
+            continue;
         if (out.u.w_radps != 0.0 && t_first < 0.0) {
             t_first = t;
             w_first = out.u.w_radps;
         }
-        if (t < p.wedge_max_s && out.u.w_radps != 0.0) stood = 0;
+        if (t < p.wedge_max_s && out.u.w_radps != 0.0)
+            stood = 0;
         assert_true(out.u.v_mps == 0.0);
     }
-    print_message("wedge: stood until %.2f s (wedge_max_s %.1f), then w = %.2f rad/s\n", t_first, p.wedge_max_s,
-                  w_first);
+    print_message("wedge: stood until %.2f s (wedge_max_s %.1f), then w = %.2f rad/s\n", t_first,
+                  p.wedge_max_s, w_first);
     assert_true(c.esc_yield && stood);
     assert_true(t_first > p.wedge_max_s && t_first < p.wedge_max_s + 0.5);
     assert_true(w_first < 0.0);
@@ -983,7 +1039,8 @@ static void test_wedge_turns_clear_way(void **state)
     at_origin(&c, &p, 3);
     for (t = 0.0; t < p.wedge_max_s + 2.0; t += DT) {
         seen_step(&c, t, lane_ring, m, 3, &out);
-        if (c.esc_yield) assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
+        if (c.esc_yield)
+            assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
     }
     assert_true(c.esc_yield);
 }
@@ -997,8 +1054,9 @@ static double drive_in(rover_ctl_state *c, const rover_ctl_params *p, int32_t id
     rover_ctl_out out;
     double t;
     assert_int_equal(rover_ctl_init(c, p, id, s0, goal), 0);
-    for (t = 0.0; t < 3.0; t += DT) hand_step_enc(c, t, DRIVE_IN_RAD * t / 3.0, DRIVE_IN_RAD * t / 3.0, open_ring,
-                                                  NULL, 0, &out);
+    for (t = 0.0; t < 3.0; t += DT)
+        hand_step_enc(c, t, DRIVE_IN_RAD * t / 3.0, DRIVE_IN_RAD * t / 3.0, open_ring, NULL, 0,
+                      &out);
     return t;
 }
 
@@ -1011,16 +1069,19 @@ static double drive_in(rover_ctl_state *c, const rover_ctl_params *p, int32_t id
  * the mate 0.9 m away it turns at once. A robot that has not driven
  * anywhere has no path to back along: it has no idea what is behind, and
  * stands. */
-static double wedged_backed(rover_ctl_state *c, rover_ctl_params *p, const hand_mate *m, double t_end)
+static double wedged_backed(rover_ctl_state *c, rover_ctl_params *p, const hand_mate *m,
+                            double t_end)
 {
-    const pose2 s0 = { -0.6, 0, 0 };       /* drives 0.6 m straight in first */
+    const pose2 s0 = { -0.6, 0, 0 }; /* drives 0.6 m straight in first */
     rover_ctl_out out;
     double t, backed = 0.0;
     for (t = drive_in(c, p, 3, &s0, goal_ahead); t < t_end; t += DT) {
         seen_step_enc(c, t, DRIVE_IN_RAD, lane_ring, m, 2, &out);
-        if (!c->esc_yield) continue;
+        if (!c->esc_yield)
+            continue;
         assert_true(out.u.w_radps == 0.0);
-        if (out.u.v_mps < 0.0) backed += -out.u.v_mps * DT;
+        if (out.u.v_mps < 0.0)
+            backed += -out.u.v_mps * DT;
     }
     assert_true(c->esc_yield);
     assert_true(out.u.v_mps <= 0.0);
@@ -1034,13 +1095,14 @@ static void test_give_way_wedged(void **state)
     rover_ctl_out out;
     const pose2 s0 = { -0.6, 0, 0 };
     hand_mate m[2] = { { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE, 0.0 },
-                       { 1, 0.15, 0.45, 0.0, FORMATION_ANN_GIVE_WAY, 0.0 } };     /* alongside, left */
+                       { 1, 0.15, 0.45, 0.0, FORMATION_ANN_GIVE_WAY, 0.0 } }; /* alongside, left */
     double t, backed;
     int turned = 0;
     (void)state;
     rover_ctl_params_default(&p);
     backed = wedged_backed(&c, &p, m, 7.0);
-    print_message("wedged beside an outranking mate: backed %.2f m (at most %.2f)\n", backed, p.back_max_m);
+    print_message("wedged beside an outranking mate: backed %.2f m (at most %.2f)\n", backed,
+                  p.back_max_m);
     assert_true(backed > p.back_max_m - 0.05 && backed < p.back_max_m + 0.05);
     /* we outrank the mate: in formation, or giving way with a higher id */
     m[1].announce = FORMATION_ANN_NONE;
@@ -1052,7 +1114,8 @@ static void test_give_way_wedged(void **state)
     m[1].y = 0.9;
     for (t = drive_in(&c, &p, 3, &s0, goal_ahead); t < 6.0; t += DT) {
         seen_step_enc(&c, t, DRIVE_IN_RAD, lane_ring, m, 2, &out);
-        if (c.esc_yield && out.u.w_radps != 0.0) turned = 1;
+        if (c.esc_yield && out.u.w_radps != 0.0)
+            turned = 1;
     }
     assert_true(c.esc_yield && turned);
     /* no way in behind it (it never drove): it stands, it does not back */
@@ -1061,7 +1124,8 @@ static void test_give_way_wedged(void **state)
     at_origin(&c, &p, 3);
     for (t = 0.0; t < 3.0; t += DT) {
         seen_step(&c, t, lane_ring, m, 2, &out);
-        if (c.esc_yield) assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
+        if (c.esc_yield)
+            assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
     }
     assert_true(c.esc_yield);
 }
@@ -1082,7 +1146,8 @@ static void test_wedge_backs_along_path(void **state)
     rover_ctl_params p;
     rover_ctl_out out;
     const pose2 s0 = { 0, 0, 0 };
-    const double r_arc = ARC_M / ARC_RAD, b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
+    const double r_arc = ARC_M / ARC_RAD, b = ODOMETRY_P2DX_AXLE_TRACK_M,
+                 rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
     const double end[3] = { r_arc * sin(ARC_RAD), r_arc * (1.0 - cos(ARC_RAD)), ARC_RAD };
     /* mates in the end pose's frame (x ahead, y left of our axle): the
      * trapped one 1.35 m ahead facing us, the wedging one alongside on the
@@ -1090,7 +1155,8 @@ static void test_wedge_backs_along_path(void **state)
      * lies on its centre's side of the tangent; rover_ctl_crumbs_clear
      * then says no, as test_give_way_wedged checks for a mate behind) */
     const double local[2][3] = { { 1.35, 0.0, VEC2_PI }, { 0.15, -0.45, 0.0 } };
-    hand_mate m[2] = { { 2, 0, 0, 0, FORMATION_ANN_LEAVE, 0.0 }, { 1, 0, 0, 0, FORMATION_ANN_GIVE_WAY, 0.0 } };
+    hand_mate m[2] = { { 2, 0, 0, 0, FORMATION_ANN_LEAVE, 0.0 },
+                       { 1, 0, 0, 0, FORMATION_ANN_GIVE_WAY, 0.0 } };
     double t, el = 0.0, er = 0.0, backed = 0.0, off_max = 0.0;
     int j, turned = 0;
     (void)state;
@@ -1115,14 +1181,15 @@ static void test_wedge_backs_along_path(void **state)
             off_max = fmax(off_max, fabs(hypot(ax.x_m, ax.y_m - r_arc) - r_arc));
         }
         if (c.esc_yield && out.u.v_mps == 0.0 && out.u.w_radps != 0.0) {
-            turned = 1;     /* the first turn on the spot: clear of the mate */
+            turned = 1; /* the first turn on the spot: clear of the mate */
             assert_int_equal(rover_ctl_spin_hits_mate(&c, &out.o), 0);
         }
         el += (out.u.v_mps - 0.5 * b * out.u.w_radps) * DT / rw;
         er += (out.u.v_mps + 0.5 * b * out.u.w_radps) * DT / rw;
     }
-    print_message("backed %.2f m (back_max_m %.2f) along the arc, axle off it by at most %.3f m, then turned: %d\n",
-                  backed, p.back_max_m, off_max, turned);
+    print_message(
+        "backed %.2f m (back_max_m %.2f) along the arc, axle off it by at most %.3f m, then turned: %d\n",
+        backed, p.back_max_m, off_max, turned);
     assert_true(c.esc_yield && turned);
     assert_true(backed > 0.25 && backed <= p.back_max_m + 1e-9);
     assert_true(off_max < 0.03);
@@ -1149,17 +1216,17 @@ static double mate_near_m(const pose2 *mate_c, const pose2 *c, int k)
     box.hx_m = 0.5 * ROVER_BODY_LENGTH_M;
     box.hy_m = 0.5 * ROVER_BODY_WIDTH_M;
     box.angle_rad = mate_c->theta_rad;
-    return rover_obstacle_distance(&box,
-                                   c->x_m + tr->x_m * cos(c->theta_rad) - tr->y_m * sin(c->theta_rad),
-                                   c->y_m + tr->x_m * sin(c->theta_rad) + tr->y_m * cos(c->theta_rad));
+    return rover_obstacle_distance(
+        &box, c->x_m + tr->x_m * cos(c->theta_rad) - tr->y_m * sin(c->theta_rad),
+        c->y_m + tr->x_m * sin(c->theta_rad) + tr->y_m * cos(c->theta_rad));
 }
 
 /* A robot at the team origin with an open ring and noise-free sonar, for
  * the mask tests; me_c / me_o its C and O poses. */
-static void mask_fixture(rover_ctl_state *c, rover_ctl_params *p, sonar_model *sm,
-                         pose2 *me_c, pose2 *me_o)
+static void mask_fixture(rover_ctl_state *c, rover_ctl_params *p, sonar_model *sm, pose2 *me_c,
+                         pose2 *me_o)
 {
-    const pose2 s0 = {0, 0, 0};
+    const pose2 s0 = { 0, 0, 0 };
     const double goal[2] = { 10.0, 0.0 };
     rover_ctl_params_default(p);
     sonar_model_default(sm);
@@ -1191,8 +1258,8 @@ static void mask_world_mate(const pose2 *mc)
     sonar_world_init(&sw);
     sonar_world_add_box(&sw, mc->x_m + ROVER_BODY_OFFSET_M * cos(mc->theta_rad),
                         mc->y_m + ROVER_BODY_OFFSET_M * sin(mc->theta_rad),
-                        0.5 * ROVER_BODY_LENGTH_M, 0.5 * ROVER_BODY_WIDTH_M, mc->theta_rad,
-                        0.03, 0.25);
+                        0.5 * ROVER_BODY_LENGTH_M, 0.5 * ROVER_BODY_WIDTH_M, mc->theta_rad, 0.03,
+                        0.25);
     sonar_world_build(&sw);
 }
 
@@ -1216,7 +1283,7 @@ static void test_mask_mates_property(void **state)
         const double pd = 0.35 + (dist - 0.7) * prng_uniform(&rng);
         double r_mate[8], r_post[8], r_all[8], masked[8], ex, ey, eth;
         unicycle_o_from_c(&mo, &mc, ROVER_BEACON_D_M);
-        ex = 0.08 * (2.0 * prng_uniform(&rng) - 1.0);   /* the table's error */
+        ex = 0.08 * (2.0 * prng_uniform(&rng) - 1.0); /* the table's error */
         ey = 0.08 * (2.0 * prng_uniform(&rng) - 1.0);
         eth = 0.1 * (2.0 * prng_uniform(&rng) - 1.0);
         mask_tell_mate(&c, mo.x_m + ex, mo.y_m + ey, th + eth);
@@ -1224,27 +1291,33 @@ static void test_mask_mates_property(void **state)
         mask_world_mate(&mc);
         sonar_ring(r_mate, &sw, &sm, &me_c, NULL);
         sonar_world_init(&sw);
-        sonar_world_add_circle(&sw, me_c.x_m + pd * cos(pb), me_c.y_m + pd * sin(pb), 0.08, 0.0, 0.5);
+        sonar_world_add_circle(&sw, me_c.x_m + pd * cos(pb), me_c.y_m + pd * sin(pb), 0.08, 0.0,
+                               0.5);
         sonar_world_build(&sw);
         sonar_ring(r_post, &sw, &sm, &me_c, NULL);
-        for (k = 0; k < 8; k++) r_all[k] = fmin(r_mate[k], r_post[k]);
+        for (k = 0; k < 8; k++)
+            r_all[k] = fmin(r_mate[k], r_post[k]);
         memcpy(c.range_m, r_all, sizeof c.range_m);
         rover_ctl_mask_mates(&c, &me_o, 0.0, masked);
         for (k = 0; k < 8; k++) {
-            if (r_all[k] >= sm.range_max_m) continue;
+            if (r_all[k] >= sm.range_max_m)
+                continue;
             if (r_mate[k] <= r_post[k]) {
                 mate_echoes++;
                 if (masked[k] != p.sonar_max_m)
-                    print_message("trial %d k %d: mate at %.2f m %.2f rad (C) th %.2f told (%.3f %.3f %.3f) "
-                                  "true O (%.3f %.3f): r_mate %.2f\n", trial, k, dist, bear, th,
-                                  mo.x_m + ex, mo.y_m + ey, th + eth, mo.x_m, mo.y_m, r_mate[k]);
+                    print_message(
+                        "trial %d k %d: mate at %.2f m %.2f rad (C) th %.2f told (%.3f %.3f %.3f) "
+                        "true O (%.3f %.3f): r_mate %.2f\n",
+                        trial, k, dist, bear, th, mo.x_m + ex, mo.y_m + ey, th + eth, mo.x_m,
+                        mo.y_m, r_mate[k]);
                 assert_true(masked[k] == p.sonar_max_m);
             } else if (r_post[k] < mate_near_m(&mc, &me_c, k) - 0.35) {
                 post_echoes++;
                 if (masked[k] != r_all[k])
-                    print_message("trial %d k %d: mate at %.2f m %.2f rad (C), post %.2f m %.2f rad: "
-                                  "r_mate %.2f r_post %.2f\n", trial, k, dist, bear, pd, pb,
-                                  r_mate[k], r_post[k]);
+                    print_message(
+                        "trial %d k %d: mate at %.2f m %.2f rad (C), post %.2f m %.2f rad: "
+                        "r_mate %.2f r_post %.2f\n",
+                        trial, k, dist, bear, pd, pb, r_mate[k], r_post[k]);
                 assert_true(masked[k] == r_all[k]);
             }
         }
@@ -1284,15 +1357,18 @@ static void test_mask_cull_keeps_mates_that_echo(void **state)
         mask_tell_mate(&c, mo.x_m, mo.y_m, mo.theta_rad);
         mask_world_mate(&mc);
         sonar_ring(r, &sw, &sm, &me_c, NULL);
-        for (k = 0; k < 8; k++) nearest = fmin(nearest, r[k]);
-        if (nearest >= sm.range_max_m) continue;     /* out of sonar reach */
+        for (k = 0; k < 8; k++)
+            nearest = fmin(nearest, r[k]);
+        if (nearest >= sm.range_max_m)
+            continue; /* out of sonar reach */
         memcpy(echo, r, sizeof echo);
         for (k = 0; k < 8; k++)
-            if (r[k] >= sm.range_max_m) r[k] = nearest;
+            if (r[k] >= sm.range_max_m)
+                r[k] = nearest;
         memcpy(c.range_m, r, sizeof c.range_m);
         rover_ctl_mask_mates(&c, &me_o, 0.0, masked);
         for (k = 0; k < 8; k++)
-            if (echo[k] < sm.range_max_m) {     /* the mate's own echo */
+            if (echo[k] < sm.range_max_m) { /* the mate's own echo */
                 assert_true(masked[k] == p.sonar_max_m);
                 checked++;
             }
@@ -1314,49 +1390,57 @@ static void test_mask_cull_keeps_mates_that_echo(void **state)
 static void test_guard_rules(void **state)
 {
     rover_ctl_params p;
-    const pose2 o = {0, 0, 0};
+    const pose2 o = { 0, 0, 0 };
     const double goal[2] = { 10.0, -3.0 };
     unicycle_cmd u;
     (void)state;
     rover_ctl_params_default(&p);
-    {   /* post at right-front, command turning right into it */
+    { /* post at right-front, command turning right into it */
         const double r[8] = { 5, 0.25, 0.3, 5, 5, 5, 5, 5 };
-        u.v_mps = 0.3; u.w_radps = -0.6;
+        u.v_mps = 0.3;
+        u.w_radps = -0.6;
         rover_ctl_guard(&u, r, &o, goal, &p);
         assert_true(u.w_radps >= 0.0);
-        u.v_mps = 0.0; u.w_radps = -0.05;   /* stopped, barely turning: turn away */
+        u.v_mps = 0.0;
+        u.w_radps = -0.05; /* stopped, barely turning: turn away */
         rover_ctl_guard(&u, r, &o, goal, &p);
         assert_true(u.w_radps > 0.2);
-        u.v_mps = 0.3; u.w_radps = 0.6;     /* turning away is left alone */
+        u.v_mps = 0.3;
+        u.w_radps = 0.6; /* turning away is left alone */
         rover_ctl_guard(&u, r, &o, goal, &p);
         assert_true(u.w_radps == 0.6);
     }
-    {   /* a mate alongside, only the 50 deg transducer sees it: not in the way */
+    { /* a mate alongside, only the 50 deg transducer sees it: not in the way */
         const double r[8] = { 5, 0.4, 5, 5, 5, 5, 5, 5 };
-        u.v_mps = 0.5; u.w_radps = 0.0;
+        u.v_mps = 0.5;
+        u.w_radps = 0.0;
         rover_ctl_guard(&u, r, &o, goal, &p);
         assert_true(u.v_mps == 0.5);
     }
-    {   /* dead ahead: stopped short of it */
+    { /* dead ahead: stopped short of it */
         const double r[8] = { 5, 5, 5, 0.14, 0.14, 5, 5, 5 };
-        u.v_mps = 0.5; u.w_radps = 0.0;
+        u.v_mps = 0.5;
+        u.w_radps = 0.0;
         rover_ctl_guard(&u, r, &o, goal, &p);
         assert_true(u.v_mps == 0.0 && fabs(u.w_radps) > 0.2);
     }
-    {   /* a mate squeezed in alongside on the left: turn away from it (not
+    { /* a mate squeezed in alongside on the left: turn away from it (not
          * when the right-front is close too: squeezed both ways) */
         double r[8] = { 5, 5, 5, 5, 5, 5, 5, 0.2 };
-        u.v_mps = 0.4; u.w_radps = 0.1;
+        u.v_mps = 0.4;
+        u.w_radps = 0.1;
         rover_ctl_guard(&u, r, &o, goal, &p);
         assert_true(u.w_radps <= -p.side_turn_radps && u.v_mps == 0.4);
         r[1] = 0.35;
-        u.v_mps = 0.4; u.w_radps = 0.1;
+        u.v_mps = 0.4;
+        u.w_radps = 0.1;
         rover_ctl_guard(&u, r, &o, goal, &p);
         assert_true(u.w_radps >= 0.0);
     }
-    {   /* a 30 deg echo close in is in the lane: capped */
+    { /* a 30 deg echo close in is in the lane: capped */
         const double r[8] = { 5, 5, 0.3, 5, 5, 5, 5, 5 };
-        u.v_mps = 0.5; u.w_radps = 0.3;
+        u.v_mps = 0.5;
+        u.w_radps = 0.3;
         rover_ctl_guard(&u, r, &o, goal, &p);
         assert_true(u.v_mps <= p.beh.k_v * (0.3 - p.guard_stop_m) + 1e-12);
     }
@@ -1380,7 +1464,8 @@ static void test_frame_consensus(void **state)
     for (pass = 0; pass < 2; pass++) {
         kin_result r;
         rover_ctl_params_default(&p);
-        if (pass == 1) p.consensus_gain = 0.0;
+        if (pass == 1)
+            p.consensus_gain = 0.0;
         r = kin_run_world(&w, &p, &o);
         spread[pass] = 0.0;
         for (i = 0; i < KN; i++)
@@ -1388,10 +1473,12 @@ static void test_frame_consensus(void **state)
                 spread[pass] = fmax(spread[pass], hypot(r.est_err_m[i][0] - r.est_err_m[j][0],
                                                         r.est_err_m[i][1] - r.est_err_m[j][1]));
         print_message("consensus %s: reached=%d t=%.1f, estimate errors (%.2f %.2f) (%.2f %.2f) "
-                      "(%.2f %.2f), spread %.2f m\n", pass ? "off" : "on", r.reached, r.t_end,
-                      r.est_err_m[0][0], r.est_err_m[0][1], r.est_err_m[1][0], r.est_err_m[1][1],
-                      r.est_err_m[2][0], r.est_err_m[2][1], spread[pass]);
-        if (pass == 0) assert_true(r.reached);
+                      "(%.2f %.2f), spread %.2f m\n",
+                      pass ? "off" : "on", r.reached, r.t_end, r.est_err_m[0][0], r.est_err_m[0][1],
+                      r.est_err_m[1][0], r.est_err_m[1][1], r.est_err_m[2][0], r.est_err_m[2][1],
+                      spread[pass]);
+        if (pass == 0)
+            assert_true(r.reached);
     }
     assert_true(spread[0] < 0.3);
     assert_true(spread[1] > 3.0 * spread[0]);
@@ -1406,7 +1493,7 @@ static void test_restore_ignores_leaving_mate(void **state)
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    const pose2 s0 = {0, 0, 0};
+    const pose2 s0 = { 0, 0, 0 };
     const double goal[2] = { 20.0, 0.0 };
     const double narrow[8] = { 0.4, 5, 5, 5, 5, 5, 5, 0.4 };
     const hand_mate mates[2] = { { 2, 2.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
@@ -1417,15 +1504,18 @@ static void test_restore_ignores_leaving_mate(void **state)
     for (pass = 0; pass < 2; pass++) {
         hand_mate m[2];
         memcpy(m, mates, sizeof m);
-        if (pass == 1) m[1].announce = FORMATION_ANN_NONE;   /* control: 3 still in formation */
+        if (pass == 1)
+            m[1].announce = FORMATION_ANN_NONE; /* control: 3 still in formation */
         rover_ctl_params_default(&p);
         assert_int_equal(rover_ctl_init(&c, &p, 1, &s0, goal), 0);
         restored = 0;
-        for (t = 0.0; t < 3.0; t += DT) hand_step(&c, t, narrow, m, 2, &out);
+        for (t = 0.0; t < 3.0; t += DT)
+            hand_step(&c, t, narrow, m, 2, &out);
         assert_true(c.fsm.phase != FORMATION_PHASE_NORMAL && c.fsm.witnessed);
         for (; t < 3.0 + 2.0 * p.fsm.clear_hold_s; t += DT) {
             hand_step(&c, t, open_ring, m, 2, &out);
-            if (c.ann_code == FORMATION_ANN_RESTORE) restored = 1;
+            if (c.ann_code == FORMATION_ANN_RESTORE)
+                restored = 1;
         }
         print_message("restore with mate 3 behind %s: %d\n", pass ? "in formation" : "leaving",
                       restored);
@@ -1442,7 +1532,7 @@ static void test_post_inside_formation_not_a_wall(void **state)
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    const pose2 s0 = {0, -1.0, 0};
+    const pose2 s0 = { 0, -1.0, 0 };
     const double goal[2] = { 20.0, -1.0 };
     const double ring[8] = { 0.9, 5, 5, 5, 5, 5, 5, 0.3 };
     hand_mate m[2] = { { 2, 0.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
@@ -1453,12 +1543,20 @@ static void test_post_inside_formation_not_a_wall(void **state)
     for (pass = 0; pass < 2; pass++) {
         rover_ctl_params_default(&p);
         assert_int_equal(rover_ctl_init(&c, &p, 1, &s0, goal), 0);
-        if (pass == 1) { m[0].x = 3.0; m[0].y = -1.0; m[1].x = -3.0; m[1].y = -1.0; } /* in file */
-        for (t = 0.0; t < 3.0 * p.fsm.confirm_s; t += DT) hand_step(&c, t, ring, m, 2, &out);
+        if (pass == 1) {
+            m[0].x = 3.0;
+            m[0].y = -1.0;
+            m[1].x = -3.0;
+            m[1].y = -1.0;
+        } /* in file */
+        for (t = 0.0; t < 3.0 * p.fsm.confirm_s; t += DT)
+            hand_step(&c, t, ring, m, 2, &out);
         print_message("post %s: phase %d\n", pass ? "with no mate beyond" : "inside the line",
                       c.fsm.phase);
-        if (pass == 0) assert_int_equal(c.fsm.phase, FORMATION_PHASE_NORMAL);
-        else assert_true(c.fsm.phase != FORMATION_PHASE_NORMAL);
+        if (pass == 0)
+            assert_int_equal(c.fsm.phase, FORMATION_PHASE_NORMAL);
+        else
+            assert_true(c.fsm.phase != FORMATION_PHASE_NORMAL);
     }
 }
 
@@ -1466,8 +1564,8 @@ static void test_post_inside_formation_not_a_wall(void **state)
  * wheels; the robot is a kinematic unicycle at *pose, the axle) in the
  * open, the camera seeing the hand-fed mates, until it reports AT_GOAL or
  * t_max; returns 1 at the goal, the time in *t_end. */
-static int drive_closed_loop(rover_ctl_state *c, pose2 *pose, const hand_mate *m, int nm, double t_max,
-                             double *t_end)
+static int drive_closed_loop(rover_ctl_state *c, pose2 *pose, const hand_mate *m, int nm,
+                             double t_max, double *t_end)
 {
     const double b = ODOMETRY_P2DX_AXLE_TRACK_M, rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
     rover_ctl_out out;
@@ -1478,8 +1576,9 @@ static int drive_closed_loop(rover_ctl_state *c, pose2 *pose, const hand_mate *m
         hand_step_enc(c, t, el, er, open_ring, m, nm, &out);
         unicycle_o_from_c(&o, pose, ROVER_BEACON_D_M);
         for (j = 0; j < nm; j++)
-            rover_ctl_beacon(c, m[j].id, hypot(m[j].x - o.x_m, m[j].y - o.y_m),
-                             vec2_angle_diff_rad(atan2(m[j].y - o.y_m, m[j].x - o.x_m), o.theta_rad));
+            rover_ctl_beacon(
+                c, m[j].id, hypot(m[j].x - o.x_m, m[j].y - o.y_m),
+                vec2_angle_diff_rad(atan2(m[j].y - o.y_m, m[j].x - o.x_m), o.theta_rad));
         at_goal = out.mode == ROVER_MODE_AT_GOAL;
         el += (out.u.v_mps - 0.5 * b * out.u.w_radps) / rw * DT;
         er += (out.u.v_mps + 0.5 * b * out.u.w_radps) / rw * DT;
@@ -1535,7 +1634,7 @@ static void test_turns_back_past_goal(void **state)
     int side;
     (void)state;
     rover_ctl_params_default(&p);
-    p.arrive_m = 3.0;           /* arrival on (`--ref-arrive 3`; off by default) */
+    p.arrive_m = 3.0; /* arrival on (`--ref-arrive 3`; off by default) */
     for (side = -1; side <= 1; side += 2) {
         pose2 pose = { 13.5, 0.01 * side, 0.0 }, o;
         double t;
@@ -1543,8 +1642,9 @@ static void test_turns_back_past_goal(void **state)
         assert_int_equal(rover_ctl_init(&c, &p, 2, &pose, goal), 0);
         at_goal = drive_closed_loop(&c, &pose, m, 2, 40.0, &t);
         unicycle_o_from_c(&o, &pose, ROVER_BEACON_D_M);
-        print_message("past the goal (y %+.2f): at_goal=%d after %.1f s, O at (%.2f %.2f), slot (10, 0)\n",
-                      0.01 * side, at_goal, t, o.x_m, o.y_m);
+        print_message(
+            "past the goal (y %+.2f): at_goal=%d after %.1f s, O at (%.2f %.2f), slot (10, 0)\n",
+            0.01 * side, at_goal, t, o.x_m, o.y_m);
         assert_true(at_goal);
         assert_true(hypot(o.x_m - 10.0, o.y_m) < p.beh.goal_tol_m + 0.05);
     }
@@ -1554,7 +1654,7 @@ static void test_world_layout_and_clearance(void **state)
 {
     rover_world_config a, b;
     pose2 c[2], t, back;
-    int alive[2] = {1, 1}, i;
+    int alive[2] = { 1, 1 }, i;
     double cl[2];
     (void)state;
     assert_int_equal(rover_world_id("corridor"), ROVER_WORLD_CORRIDOR);
@@ -1613,7 +1713,7 @@ static void test_world_layout_and_clearance(void **state)
 typedef struct {
     int n;
     int32_t id[WN_MAX];
-    int ann[WN_MAX];              /* what each broadcasts */
+    int ann[WN_MAX]; /* what each broadcasts */
     pose2 o[WN_MAX];
     double v[WN_MAX], w[WN_MAX];
     int walls[WN_MAX];
@@ -1621,8 +1721,9 @@ typedef struct {
 
 static int ann_phase(int ann)
 {
-    return ann == FORMATION_ANN_LEAVE ? ROVER_ESC_FOLLOW
-         : ann == FORMATION_ANN_GIVE_WAY ? ROVER_ESC_CLEAR : ROVER_ESC_NONE;
+    return ann == FORMATION_ANN_LEAVE      ? ROVER_ESC_FOLLOW
+           : ann == FORMATION_ANN_GIVE_WAY ? ROVER_ESC_CLEAR
+                                           : ROVER_ESC_NONE;
 }
 
 static void wait_config_draw(wait_config *k, prng_state *r)
@@ -1630,9 +1731,11 @@ static void wait_config_draw(wait_config *k, prng_state *r)
     static const int anns[3] = { FORMATION_ANN_NONE, FORMATION_ANN_LEAVE, FORMATION_ANN_GIVE_WAY };
     int32_t pool[50];
     int i;
-    for (i = 0; i < 50; i++) pool[i] = i + 1;
+    for (i = 0; i < 50; i++)
+        pool[i] = i + 1;
     k->n = 2 + (int)(prng_uniform(r) * (WN_MAX - 1));
-    if (k->n > WN_MAX) k->n = WN_MAX;
+    if (k->n > WN_MAX)
+        k->n = WN_MAX;
     for (i = 0; i < k->n; i++) {
         const int pick = i + (int)(prng_uniform(r) * (50 - i));
         const int32_t tmp = pool[i];
@@ -1667,7 +1770,8 @@ static void wait_robot(rover_ctl_state *c, const wait_config *k, int i, int self
     for (j = 0; j < k->n; j++) {
         team_member msg;
         const team_member *held;
-        if (j == i) continue;
+        if (j == i)
+            continue;
         memset(&msg, 0, sizeof msg);
         msg.robot = k->id[j];
         msg.x_m = k->o[j].x_m;
@@ -1682,7 +1786,7 @@ static void wait_robot(rover_ctl_state *c, const wait_config *k, int i, int self
         assert_true(team_update(&c->team, &msg) >= 0);
         held = team_find(&c->team, k->id[j]);
         assert_non_null(held);
-        c->team.m[held - c->team.m].obs_t_s = t;      /* the camera sees it */
+        c->team.m[held - c->team.m].obs_t_s = t; /* the camera sees it */
     }
 }
 
@@ -1692,16 +1796,19 @@ static int wait_graph_cyclic(int n, int adj[WN_MAX][WN_MAX])
     int indeg[WN_MAX] = { 0 }, done = 0, a, b, progress = 1;
     int gone[WN_MAX] = { 0 };
     for (a = 0; a < n; a++)
-        for (b = 0; b < n; b++) indeg[b] += adj[a][b];
+        for (b = 0; b < n; b++)
+            indeg[b] += adj[a][b];
     /* Kahn: peel nodes nobody waits on; a cycle is what is left */
     while (progress) {
         progress = 0;
         for (a = 0; a < n; a++) {
-            if (gone[a] || indeg[a] != 0) continue;
+            if (gone[a] || indeg[a] != 0)
+                continue;
             gone[a] = 1;
             done++;
             progress = 1;
-            for (b = 0; b < n; b++) indeg[b] -= adj[a][b];
+            for (b = 0; b < n; b++)
+                indeg[b] -= adj[a][b];
         }
     }
     return done != n;
@@ -1721,7 +1828,7 @@ static int wait_graph(const wait_config *k, int liar, int adj[WN_MAX][WN_MAX], i
         sonar_groups gw;
         int nw;
         behaviour_sonar_groups(&gw, k->walls[i] ? lane_ring : open_ring);
-        const int lies = liar >= 0 && i == liar;   /* liar -1: nobody */
+        const int lies = liar >= 0 && i == liar; /* liar -1: nobody */
         wait_robot(&c, k, i, lies ? FORMATION_ANN_NONE : k->ann[i], t);
         nw = rover_ctl_wait_set(&c, &k->o[i], &gw, t, wait);
         for (q = 0; q < nw; q++)
@@ -1746,10 +1853,13 @@ static void test_wait_for_graph_acyclic(void **state)
         wait_config_draw(&k, &r);
         assert_false(wait_graph(&k, -1, adj, &edges));
         total += edges;
-        if (edges > most) most = edges;
+        if (edges > most)
+            most = edges;
         for (i = 1; i < k.n; i++)
-            if (rover_ctl_outranks(k.ann[i], k.id[i], k.ann[top], k.id[top])) top = i;
-        for (j = 0; j < k.n; j++) assert_int_equal(adj[top][j], 0);
+            if (rover_ctl_outranks(k.ann[i], k.id[i], k.ann[top], k.id[top]))
+                top = i;
+        for (j = 0; j < k.n; j++)
+            assert_int_equal(adj[top][j], 0);
         /* control: a robot trapped in its mates' tables that ranks itself in formation */
         for (i = 0; i < k.n; i++)
             if (k.ann[i] == FORMATION_ANN_LEAVE && wait_graph(&k, i, adj, &edges)) {
@@ -1758,10 +1868,10 @@ static void test_wait_for_graph_acyclic(void **state)
             }
     }
     print_message("%d configurations of 2-%d robots: %d wait edges (at most %d in one), no cycle; "
-                  "control with an inconsistent key: %d cyclic\n", WAIT_TRIALS, WN_MAX, total, most,
-                  liar_cycles);
-    assert_true(total > WAIT_TRIALS);           /* robots did wait: the check had work */
-    assert_true(liar_cycles > 0);               /* and it finds a cycle where there is one */
+                  "control with an inconsistent key: %d cyclic\n",
+                  WAIT_TRIALS, WN_MAX, total, most, liar_cycles);
+    assert_true(total > WAIT_TRIALS); /* robots did wait: the check had work */
+    assert_true(liar_cycles > 0);     /* and it finds a cycle where there is one */
 }
 
 /* The escape's state table: the one flown passes; a copy with any field of
@@ -1773,23 +1883,30 @@ static void test_escape_table_validate(void **state)
     (void)state;
     assert_int_equal(rover_esc_table_validate(rover_esc_table, ROVER_ESC_COUNT), ROVER_CTL_OK);
     assert_int_equal(rover_esc_table_validate(NULL, ROVER_ESC_COUNT), ROVER_CTL_ERR_ARG);
-    assert_int_equal(rover_esc_table_validate(rover_esc_table, ROVER_ESC_COUNT - 1), ROVER_CTL_ERR_ARG);
+    assert_int_equal(rover_esc_table_validate(rover_esc_table, ROVER_ESC_COUNT - 1),
+                     ROVER_CTL_ERR_ARG);
     for (k = 0; k < ROVER_ESC_COUNT; k++)
         for (f = 0; f < 7; f++) {
             memcpy(t, rover_esc_table, sizeof t);
             switch (f) {
-            case 0: t[k].phase = (k + 1) % ROVER_ESC_COUNT; break;          /* out of order */
-            case 1: t[k].announce = k == ROVER_ESC_NONE ? FORMATION_ANN_LEAVE
-                                  : FORMATION_ANN_NONE; break;            /* not out of formation */
-            case 2: t[k].mode = t[k].mode == ROVER_MODE_CHANGING ? ROVER_MODE_DEAD_ZONE
-                              : ROVER_MODE_CHANGING; break;               /* mode against announcement */
-            case 3: t[k].fly = k == ROVER_ESC_NONE ? ROVER_ESC_FLY_FOLLOW : ROVER_ESC_FLY_BLEND; break;
+            case 0: t[k].phase = (k + 1) % ROVER_ESC_COUNT; break; /* out of order */
+            case 1:
+                t[k].announce = k == ROVER_ESC_NONE ? FORMATION_ANN_LEAVE : FORMATION_ANN_NONE;
+                break; /* not out of formation */
+            case 2:
+                t[k].mode = t[k].mode == ROVER_MODE_CHANGING ? ROVER_MODE_DEAD_ZONE
+                                                             : ROVER_MODE_CHANGING;
+                break; /* mode against announcement */
+            case 3:
+                t[k].fly = k == ROVER_ESC_NONE ? ROVER_ESC_FLY_FOLLOW : ROVER_ESC_FLY_BLEND;
+                break;
             case 4: t[k].limit = 7; break;
-            case 5: t[k].next = ROVER_ESC_COUNT; break;                   /* out of range */
+            case 5: t[k].next = ROVER_ESC_COUNT; break; /* out of range */
             default: t[k].on_limit = -1; break;
             }
             tried++;
-            if (rover_esc_table_validate(t, ROVER_ESC_COUNT) != ROVER_CTL_OK) refused++;
+            if (rover_esc_table_validate(t, ROVER_ESC_COUNT) != ROVER_CTL_OK)
+                refused++;
         }
     assert_int_equal(refused, tried);
     /* a phase whose exits never lead back to NONE: FOLLOW -> CLEAR -> FOLLOW */

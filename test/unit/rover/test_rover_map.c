@@ -18,7 +18,7 @@
 #include "rover_map.h"
 #include "sonar.h"
 
-static rover_map M;                    /* large: keep off the stack */
+static rover_map M; /* large: keep off the stack */
 static rover_world_config W, OPEN;
 static rover_obstacle BOX[ROVER_WORLD_MAX_OBST];
 static unsigned char COUNT[ROVER_MAP_MAX_SIDE * 64];
@@ -34,20 +34,26 @@ static void map_empty(int w, int h, double res, double ox, double oy)
     M.origin_y_m = oy;
 }
 
-static void set(int i, int j) { M.cell[(long)j * M.width + i] = ROVER_MAP_OCCUPIED; }
+static void set(int i, int j)
+{
+    M.cell[(long)j * M.width + i] = ROVER_MAP_OCCUPIED;
+}
 
 /* Random rectangles and single cells: runs that merge and runs that don't. */
 static void map_random(prng_state *r, int w, int h, int rects, int dots)
 {
     int k, i, j;
-    map_empty(w, h, 0.1 + 0.4 * prng_uniform(r), -5.0 + 10.0 * prng_uniform(r), -5.0 + 10.0 * prng_uniform(r));
+    map_empty(w, h, 0.1 + 0.4 * prng_uniform(r), -5.0 + 10.0 * prng_uniform(r),
+              -5.0 + 10.0 * prng_uniform(r));
     for (k = 0; k < rects; k++) {
         const int i0 = (int)(prng_uniform(r) * w), j0 = (int)(prng_uniform(r) * h);
         const int i1 = i0 + (int)(prng_uniform(r) * 8), j1 = j0 + (int)(prng_uniform(r) * 8);
         for (j = j0; j <= j1 && j < h; j++)
-            for (i = i0; i <= i1 && i < w; i++) set(i, j);
+            for (i = i0; i <= i1 && i < w; i++)
+                set(i, j);
     }
-    for (k = 0; k < dots; k++) set((int)(prng_uniform(r) * w), (int)(prng_uniform(r) * h));
+    for (k = 0; k < dots; k++)
+        set((int)(prng_uniform(r) * w), (int)(prng_uniform(r) * h));
 }
 
 /* Cell range of a box, from its extent in cells (must be whole cells). */
@@ -82,14 +88,15 @@ static void test_merge_covers_exactly_the_occupied_cells(void **state)
             box_cells(&BOX[k], &i0, &j0, &i1, &j1);
             assert_true(i0 >= 0 && j0 >= 0 && i1 < w && j1 < h && i0 <= i1 && j0 <= j1);
             for (j = j0; j <= j1; j++)
-                for (i = i0; i <= i1; i++) COUNT[j * w + i]++;
+                for (i = i0; i <= i1; i++)
+                    COUNT[j * w + i]++;
         }
         occupied = 0;
         for (j = 0; j < h; j++)
             for (i = 0; i < w; i++) {
                 const int occ = M.cell[(long)j * w + i] == ROVER_MAP_OCCUPIED;
                 occupied += occ;
-                assert_int_equal(COUNT[j * w + i], occ);   /* the map is restored, too */
+                assert_int_equal(COUNT[j * w + i], occ); /* the map is restored, too */
             }
         assert_true(n <= occupied);
     }
@@ -101,12 +108,15 @@ static void test_merge_makes_one_box_of_a_block(void **state)
     (void)state;
     map_empty(50, 40, 0.05, 1.0, 2.0);
     for (j = 10; j < 30; j++)
-        for (i = 5; i < 25; i++) set(i, j);
+        for (i = 5; i < 25; i++)
+            set(i, j);
     assert_int_equal(rover_map_merge(&M, BOX, ROVER_WORLD_MAX_OBST, &n), ROVER_MAP_OK);
     assert_int_equal(n, 1);
     /* its outline: x 1 + 5 * 0.05 .. 1 + 25 * 0.05, y 2 + 0.5 .. 2 + 1.5 */
-    assert_true(fabs(BOX[0].cx_m - BOX[0].hx_m - 1.25) < 1e-12 && fabs(BOX[0].cx_m + BOX[0].hx_m - 2.25) < 1e-12);
-    assert_true(fabs(BOX[0].cy_m - BOX[0].hy_m - 2.5) < 1e-12 && fabs(BOX[0].cy_m + BOX[0].hy_m - 3.5) < 1e-12);
+    assert_true(fabs(BOX[0].cx_m - BOX[0].hx_m - 1.25) < 1e-12 &&
+                fabs(BOX[0].cx_m + BOX[0].hx_m - 2.25) < 1e-12);
+    assert_true(fabs(BOX[0].cy_m - BOX[0].hy_m - 2.5) < 1e-12 &&
+                fabs(BOX[0].cy_m + BOX[0].hy_m - 3.5) < 1e-12);
 }
 
 static void test_merge_refuses_beyond_capacity(void **state)
@@ -115,13 +125,15 @@ static void test_merge_refuses_beyond_capacity(void **state)
     (void)state;
     map_empty(20, 20, 0.1, 0.0, 0.0);
     for (j = 0; j < 20; j++)
-        for (i = (j & 1); i < 20; i += 2) set(i, j);   /* a checkerboard: 200 single-cell boxes */
+        for (i = (j & 1); i < 20; i += 2)
+            set(i, j); /* a checkerboard: 200 single-cell boxes */
     assert_int_equal(rover_map_merge(&M, BOX, 199, &n), ROVER_MAP_ERR_BOXES);
     assert_int_equal(rover_map_merge(&M, BOX, 200, &n), ROVER_MAP_OK);
     assert_int_equal(n, 200);
     for (j = 0; j < 20; j++)
         for (i = 0; i < 20; i++)
-            assert_int_equal(M.cell[j * 20 + i], ((i + j) & 1) == 0 ? ROVER_MAP_OCCUPIED : ROVER_MAP_FREE);
+            assert_int_equal(M.cell[j * 20 + i],
+                             ((i + j) & 1) == 0 ? ROVER_MAP_OCCUPIED : ROVER_MAP_FREE);
 }
 
 static void test_validate_refuses_each_corruption(void **state)
@@ -129,15 +141,27 @@ static void test_validate_refuses_each_corruption(void **state)
     (void)state;
     map_empty(10, 10, 0.1, 0.0, 0.0);
     assert_int_equal(rover_map_validate(&M), ROVER_MAP_OK);
-    M.width = 0;                         assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_SIZE);
-    M.width = ROVER_MAP_MAX_SIDE + 1;    assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_SIZE);
-    M.width = 10; M.height = -1;         assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_SIZE);
-    M.height = 10; M.resolution_m = 0.0; assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_RESOLUTION);
-    M.resolution_m = NAN;                assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_RESOLUTION);
-    M.resolution_m = 0.1; M.origin_y_m = INFINITY; assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_RESOLUTION);
-    M.origin_y_m = 0.0; M.cell[57] = 3;  assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_CELL);
+    M.width = 0;
+    assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_SIZE);
+    M.width = ROVER_MAP_MAX_SIDE + 1;
+    assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_SIZE);
+    M.width = 10;
+    M.height = -1;
+    assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_SIZE);
+    M.height = 10;
+    M.resolution_m = 0.0;
+    assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_RESOLUTION);
+    M.resolution_m = NAN;
+    assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_RESOLUTION);
+    M.resolution_m = 0.1;
+    M.origin_y_m = INFINITY;
+    assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_RESOLUTION);
+    M.origin_y_m = 0.0;
+    M.cell[57] = 3;
+    assert_int_equal(rover_map_validate(&M), ROVER_MAP_ERR_CELL);
     assert_int_equal(rover_map_validate(NULL), ROVER_MAP_ERR_ARG);
-    assert_string_equal(rover_map_strerror(ROVER_MAP_ERR_CELL), "a cell is neither free nor occupied");
+    assert_string_equal(rover_map_strerror(ROVER_MAP_ERR_CELL),
+                        "a cell is neither free nor occupied");
 }
 
 /* A 30 m x 20 m hall with a wall round it and a block in the middle. */
@@ -145,10 +169,17 @@ static void map_hall(void)
 {
     int i, j;
     map_empty(300, 200, 0.1, -10.0, -10.0);
-    for (i = 0; i < 300; i++) { set(i, 0); set(i, 199); }
-    for (j = 0; j < 200; j++) { set(0, j); set(299, j); }
+    for (i = 0; i < 300; i++) {
+        set(i, 0);
+        set(i, 199);
+    }
+    for (j = 0; j < 200; j++) {
+        set(0, j);
+        set(299, j);
+    }
     for (j = 90; j < 110; j++)
-        for (i = 190; i < 210; i++) set(i, j);   /* x 9..11, y -1..1 */
+        for (i = 190; i < 210; i++)
+            set(i, j); /* x 9..11, y -1..1 */
 }
 
 static void test_layout_is_the_open_layout_moved_to_the_start(void **state)
@@ -159,8 +190,11 @@ static void test_layout_is_the_open_layout_moved_to_the_start(void **state)
     (void)state;
     map_hall();
     memset(&s, 0, sizeof s);
-    s.start.x_m = -3.0; s.start.y_m = 2.0; s.start.theta_rad = 0.7;
-    s.goal_m[0] = 14.0; s.goal_m[1] = 5.0;
+    s.start.x_m = -3.0;
+    s.start.y_m = 2.0;
+    s.start.theta_rad = 0.7;
+    s.goal_m[0] = 14.0;
+    s.goal_m[1] = 5.0;
     s.n_landmarks = ROVER_MAP_LANDMARKS_AUTO;
     for (f = 0; f < 3; f++)
         for (n = 1; n <= 7; n += 3) {
@@ -180,7 +214,7 @@ static void test_layout_is_the_open_layout_moved_to_the_start(void **state)
                 my += W.start_c[k].y_m - ROVER_BEACON_D_M * sin(0.7);
             }
             assert_true(fabs(mx / n + 3.0) < 1e-9 && fabs(my / n - 2.0) < 1e-9);
-            assert_true(W.n_obst == 5);   /* two long walls, two short, the block */
+            assert_true(W.n_obst == 5); /* two long walls, two short, the block */
             assert_true(W.x_min_m == -10.0 && fabs(W.x_max_m - 20.0) < 1e-9);
         }
 }
@@ -195,22 +229,26 @@ static void test_start_and_goal_refused_on_obstacles_and_off_the_map(void **stat
     s.goal_m[0] = 14.0;
     s.n_landmarks = 0;
     assert_int_equal(rover_world_from_map(&W, &M, &s, 3, 1.0, FORMATION_LINE), ROVER_MAP_OK);
-    s.goal_m[0] = 10.0;                  /* in the block */
+    s.goal_m[0] = 10.0; /* in the block */
     assert_int_equal(rover_world_from_map(&W, &M, &s, 3, 1.0, FORMATION_LINE), ROVER_MAP_ERR_GOAL);
-    assert_int_equal(W.n_obst, 0);       /* zeroed on failure */
-    s.goal_m[0] = 25.0;                  /* off the map */
+    assert_int_equal(W.n_obst, 0); /* zeroed on failure */
+    s.goal_m[0] = 25.0;            /* off the map */
     assert_int_equal(rover_world_from_map(&W, &M, &s, 3, 1.0, FORMATION_LINE), ROVER_MAP_ERR_GOAL);
     s.goal_m[0] = 14.0;
-    s.start.x_m = 9.0;                   /* the middle robot's nose on the block (x 9..11) */
+    s.start.x_m = 9.0; /* the middle robot's nose on the block (x 9..11) */
     assert_int_equal(rover_world_from_map(&W, &M, &s, 3, 1.0, FORMATION_LINE), ROVER_MAP_ERR_START);
-    s.start.x_m = -3.0; s.start.y_m = -9.3;   /* a robot on the south wall */
+    s.start.x_m = -3.0;
+    s.start.y_m = -9.3; /* a robot on the south wall */
     assert_int_equal(rover_world_from_map(&W, &M, &s, 3, 1.0, FORMATION_LINE), ROVER_MAP_ERR_START);
-    s.start.y_m = 0.0; s.start.x_m = -30.0;   /* off the map */
+    s.start.y_m = 0.0;
+    s.start.x_m = -30.0; /* off the map */
     assert_int_equal(rover_world_from_map(&W, &M, &s, 3, 1.0, FORMATION_LINE), ROVER_MAP_ERR_START);
     s.start.x_m = NAN;
     assert_int_equal(rover_world_from_map(&W, &M, &s, 3, 1.0, FORMATION_LINE), ROVER_MAP_ERR_START);
-    s.start.x_m = -3.0; s.n_landmarks = ROVER_WORLD_MAX_LANDMARKS + 1;
-    assert_int_equal(rover_world_from_map(&W, &M, &s, 3, 1.0, FORMATION_LINE), ROVER_MAP_ERR_LANDMARKS);
+    s.start.x_m = -3.0;
+    s.n_landmarks = ROVER_WORLD_MAX_LANDMARKS + 1;
+    assert_int_equal(rover_world_from_map(&W, &M, &s, 3, 1.0, FORMATION_LINE),
+                     ROVER_MAP_ERR_LANDMARKS);
 }
 
 static void test_auto_landmarks_stand_on_free_cells(void **state)
@@ -223,7 +261,8 @@ static void test_auto_landmarks_stand_on_free_cells(void **state)
     map_hall();
     n = rover_map_auto_landmarks(&M, &start, near_goal, lm);
     assert_true(n >= 8 && n <= ROVER_WORLD_MAX_LANDMARKS);
-    for (k = 0; k < n; k++) assert_int_equal(rover_map_blocked(&M, lm[k][0], lm[k][1]), 0);
+    for (k = 0; k < n; k++)
+        assert_int_equal(rover_map_blocked(&M, lm[k][0], lm[k][1]), 0);
     /* a way far longer than 64 posts at 3 m: fewer, farther apart, still on the map */
     map_empty(2000, 1200, 0.5, -10.0, -10.0);
     n = rover_map_auto_landmarks(&M, &start, far_goal, lm);
@@ -240,18 +279,20 @@ static void test_ray_cast_equals_brute_force_on_merged_maps(void **state)
     prng_seed(&r, 11);
     for (trial = 0; trial < 6; trial++) {
         map_random(&r, 400, 400, 600, 600);
-        M.resolution_m = 0.25;               /* 100 m x 100 m */
+        M.resolution_m = 0.25; /* 100 m x 100 m */
         assert_int_equal(rover_map_merge(&M, BOX, ROVER_WORLD_MAX_OBST, &n), ROVER_MAP_OK);
         sonar_world_init(&SW);
         for (k = 0; k < n; k++)
-            assert_true(sonar_world_add_box(&SW, BOX[k].cx_m, BOX[k].cy_m, BOX[k].hx_m, BOX[k].hy_m, 0.0, 0.0,
-                                            BOX[k].height_m) >= 0);
+            assert_true(sonar_world_add_box(&SW, BOX[k].cx_m, BOX[k].cy_m, BOX[k].hx_m, BOX[k].hy_m,
+                                            0.0, 0.0, BOX[k].height_m) >= 0);
         assert_int_equal(sonar_world_build(&SW), 0);
         assert_true(SW.built);
         for (q = 0; q < 2000; q++) {
             sonar_hit a, b;
-            const double x = M.origin_x_m + 100.0 * prng_uniform(&r), y = M.origin_y_m + 100.0 * prng_uniform(&r);
-            const double dir = 2.0 * VEC2_PI * prng_uniform(&r), range = 0.5 + 10.0 * prng_uniform(&r);
+            const double x = M.origin_x_m + 100.0 * prng_uniform(&r),
+                         y = M.origin_y_m + 100.0 * prng_uniform(&r);
+            const double dir = 2.0 * VEC2_PI * prng_uniform(&r),
+                         range = 0.5 + 10.0 * prng_uniform(&r);
             const int ha = sonar_cast(&a, &SW, x, y, 0.2, dir, range);
             const int hb = sonar_cast_brute(&b, &SW, x, y, 0.2, dir, range);
             assert_int_equal(ha, hb);
@@ -261,7 +302,7 @@ static void test_ray_cast_equals_brute_force_on_merged_maps(void **state)
             }
         }
     }
-    assert_true(hits > 1000);    /* the maps are dense enough to be hit */
+    assert_true(hits > 1000); /* the maps are dense enough to be hit */
 }
 
 int main(void)

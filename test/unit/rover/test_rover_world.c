@@ -24,9 +24,15 @@ static const int team_sizes[] = { 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 30, 100, ROVER_
 /* Body box half extents and the distance from its centre to a corner. */
 #define HX (0.5 * ROVER_BODY_LENGTH_M)
 #define HY (0.5 * ROVER_BODY_WIDTH_M)
-static double half_diag(void) { return hypot(HX, HY); }
+static double half_diag(void)
+{
+    return hypot(HX, HY);
+}
 /* Radius swept by the body turning on the spot about the axle centre C. */
-static double turn_radius(void) { return hypot(HX - ROVER_BODY_OFFSET_M, HY); }
+static double turn_radius(void)
+{
+    return hypot(HX - ROVER_BODY_OFFSET_M, HY);
+}
 
 static void body_centre(const pose2 *c, double b[2])
 {
@@ -40,7 +46,8 @@ static double obstacle_min_distance(const rover_world_config *w, double x, doubl
     int k;
     for (k = 0; k < w->n_obst; k++) {
         const double d = rover_obstacle_distance(&w->obst[k], x, y);
-        if (d < best) best = d;
+        if (d < best)
+            best = d;
     }
     return best;
 }
@@ -53,7 +60,8 @@ static double ray_free(const rover_world_config *w, double x, double y, double d
     double t = 0.0;
     while (t < max_m) {
         const double d = obstacle_min_distance(w, x + t * dx, y + t * dy);
-        if (d < 1e-9) return t;
+        if (d < 1e-9)
+            return t;
         t += d;
     }
     return max_m;
@@ -64,7 +72,8 @@ static double front_x(const rover_world_config *w)
     double xf = -INFINITY;
     int k;
     for (k = 0; k < w->n_robots; k++)
-        if (w->start_c[k].x_m > xf) xf = w->start_c[k].x_m;
+        if (w->start_c[k].x_m > xf)
+            xf = w->start_c[k].x_m;
     return xf;
 }
 
@@ -85,8 +94,8 @@ static int grid_cell(const rover_world_config *w, double x, double y, int *i, in
 
 /* 1 if a disc of radius r_m can move from (sx, sy) to (gx, gy) inside the
  * world extent without overlapping an obstacle. */
-static int disc_reachable(const rover_world_config *w, double r_m, double sx, double sy,
-                          double gx, double gy)
+static int disc_reachable(const rover_world_config *w, double r_m, double sx, double sy, double gx,
+                          double gy)
 {
     const int nx = (int)((w->x_max_m - w->x_min_m) / GRID_RES_M);
     const int ny = (int)((w->y_max_m - w->y_min_m) / GRID_RES_M);
@@ -99,8 +108,10 @@ static int disc_reachable(const rover_world_config *w, double r_m, double sx, do
             grid_free[i][j] = obstacle_min_distance(w, x, y) > r_m;
             grid_seen[i][j] = 0;
         }
-    if (!grid_cell(w, sx, sy, &si, &sj) || !grid_cell(w, gx, gy, &gi, &gj)) return 0;
-    if (si >= nx || sj >= ny || gi >= nx || gj >= ny || !grid_free[si][sj]) return 0;
+    if (!grid_cell(w, sx, sy, &si, &sj) || !grid_cell(w, gx, gy, &gi, &gj))
+        return 0;
+    if (si >= nx || sj >= ny || gi >= nx || gj >= ny || !grid_free[si][sj])
+        return 0;
     grid_seen[si][sj] = 1;
     grid_queue[tail++] = si * GRID_NY + sj;
     while (head < tail) {
@@ -108,11 +119,14 @@ static int disc_reachable(const rover_world_config *w, double r_m, double sx, do
         const int ci = grid_queue[head] / GRID_NY, cj = grid_queue[head] % GRID_NY;
         int m;
         head++;
-        if (ci == gi && cj == gj) return 1;
+        if (ci == gi && cj == gj)
+            return 1;
         for (m = 0; m < 4; m++) {
             const int ni = ci + di[m], nj = cj + dj[m];
-            if (ni < 0 || ni >= nx || nj < 0 || nj >= ny) continue;
-            if (!grid_free[ni][nj] || grid_seen[ni][nj]) continue;
+            if (ni < 0 || ni >= nx || nj < 0 || nj >= ny)
+                continue;
+            if (!grid_free[ni][nj] || grid_seen[ni][nj])
+                continue;
             grid_seen[ni][nj] = 1;
             grid_queue[tail++] = ni * GRID_NY + nj;
         }
@@ -122,7 +136,8 @@ static int disc_reachable(const rover_world_config *w, double r_m, double sx, do
 
 /* ---- layouts ----------------------------------------------------------- */
 
-static void check_layout(const rover_world_config *w, int world, int n, double spacing, int formation)
+static void check_layout(const rover_world_config *w, int world, int n, double spacing,
+                         int formation)
 {
     const double hd = half_diag();
     double clear[ROVER_WORLD_MAX_ROBOTS];
@@ -137,23 +152,25 @@ static void check_layout(const rover_world_config *w, int world, int n, double s
         const pose2 *c = &w->start_c[k];
         double b[2];
         assert_true(vec2_pose_finite(c));
-        assert_true(c->theta_rad == 0.0);                 /* all heading +x */
+        assert_true(c->theta_rad == 0.0); /* all heading +x */
         body_centre(c, b);
         /* the whole body inside the world extent */
-        if (!(b[0] - hd > w->x_min_m && b[0] + hd < w->x_max_m &&
-              b[1] - hd > w->y_min_m && b[1] + hd < w->y_max_m))
+        if (!(b[0] - hd > w->x_min_m && b[0] + hd < w->x_max_m && b[1] - hd > w->y_min_m &&
+              b[1] + hd < w->y_max_m))
             fail_msg("%s n=%d s=%.2f f=%d robot %d at (%.3f, %.3f) outside world x [%.3f, %.3f] "
-                     "y [%.3f, %.3f]", rover_world_name(world), n, spacing, formation,
-                     k + 1, c->x_m, c->y_m, w->x_min_m, w->x_max_m, w->y_min_m, w->y_max_m);
+                     "y [%.3f, %.3f]",
+                     rover_world_name(world), n, spacing, formation, k + 1, c->x_m, c->y_m,
+                     w->x_min_m, w->x_max_m, w->y_min_m, w->y_max_m);
         /* the header's "worlds sit at x > 4 m, clear of the PUMA cell" holds
          * for line and grid starts; deep triangle / column starts (5 or more
          * robots) reach x < 4 m because the front x is the same for every
          * formation (known limitation, reported, not asserted) */
-        if (formation == FORMATION_LINE || n > ROVER_WORLD_ROW_MAX) assert_true(b[0] - hd > 4.0);
+        if (formation == FORMATION_LINE || n > ROVER_WORLD_ROW_MAX)
+            assert_true(b[0] - hd > 4.0);
         /* no obstacle primitive within the half-diagonal of the body */
         if (!(obstacle_min_distance(w, b[0], b[1]) > hd))
-            fail_msg("%s n=%d robot %d: obstacle within %.3f m", rover_world_name(world), n,
-                     k + 1, hd);
+            fail_msg("%s n=%d robot %d: obstacle within %.3f m", rover_world_name(world), n, k + 1,
+                     hd);
         /* distinct: bounding circles apart */
         for (j = 0; j < k; j++) {
             double b2[2];
@@ -164,7 +181,7 @@ static void check_layout(const rover_world_config *w, int world, int n, double s
         /* team frame: origin at the mean beacon position O = C - d (cos, sin) */
         {
             const pose2 o = { c->x_m - ROVER_BEACON_D_M * cos(c->theta_rad),
-                                c->y_m - ROVER_BEACON_D_M * sin(c->theta_rad), c->theta_rad };
+                              c->y_m - ROVER_BEACON_D_M * sin(c->theta_rad), c->theta_rad };
             pose2 t, back;
             rover_world_to_team(w, &o, &t);
             rover_world_from_team(w, &t, &back);
@@ -178,7 +195,8 @@ static void check_layout(const rover_world_config *w, int world, int n, double s
     assert_true(w->team_origin.theta_rad == 0.0);
     /* ground truth agrees: every start has positive clearance */
     assert_int_equal(rover_world_clearance(w, w->start_c, alive, n, clear), 0);
-    for (k = 0; k < n; k++) assert_true(clear[k] > 0.0);
+    for (k = 0; k < n; k++)
+        assert_true(clear[k] > 0.0);
     /* the goal: ahead of the team, inside, free for a robot turning there */
     assert_true(w->goal_m[0] > front_x(w));
     assert_true(w->goal_m[0] + hd < w->x_max_m && w->goal_m[1] - hd > w->y_min_m &&
@@ -196,7 +214,8 @@ static void test_layout_all_worlds(void **state)
         for (s = 0; s < 3; s++)
             for (si = 0; si < N_SIZES; si++)
                 for (f = FORMATION_LINE; f <= FORMATION_COLUMN; f++) {
-                    assert_int_equal(rover_world_layout(&w, world, team_sizes[si], spacings[s], f), 0);
+                    assert_int_equal(rover_world_layout(&w, world, team_sizes[si], spacings[s], f),
+                                     0);
                     check_layout(&w, world, team_sizes[si], spacings[s], f);
                 }
 }
@@ -218,8 +237,8 @@ static void test_goal_reachable_and_deterministic(void **state)
             for (k = 0; k < n; k += (n > 10 ? 9 : 1))
                 if (!disc_reachable(&w, turn_radius(), w.start_c[k].x_m, w.start_c[k].y_m,
                                     w.goal_m[0], w.goal_m[1]))
-                    fail_msg("%s n=%d: robot %d cannot reach the goal", rover_world_name(world),
-                             n, k + 1);
+                    fail_msg("%s n=%d: robot %d cannot reach the goal", rover_world_name(world), n,
+                             k + 1);
         }
 }
 
@@ -229,10 +248,13 @@ static void test_bad_input(void **state)
     (void)state;
     assert_int_equal(rover_world_layout(NULL, 0, 3, 1.0, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
     assert_int_equal(rover_world_layout(&w, -1, 3, 1.0, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
-    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_COUNT, 3, 1.0, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_COUNT, 3, 1.0, FORMATION_LINE),
+                     ROVER_WORLD_ERR_ARG);
     assert_int_equal(rover_world_layout(&w, 0, 0, 1.0, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
-    assert_int_equal(rover_world_layout(&w, 0, ROVER_WORLD_MAX_ROBOTS + 1, 1.0, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
-    assert_int_equal(rover_world_layout(&w, 0, 3, ROVER_BODY_LENGTH_M, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_layout(&w, 0, ROVER_WORLD_MAX_ROBOTS + 1, 1.0, FORMATION_LINE),
+                     ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_layout(&w, 0, 3, ROVER_BODY_LENGTH_M, FORMATION_LINE),
+                     ROVER_WORLD_ERR_ARG);
     assert_int_equal(rover_world_layout(&w, 0, 3, NAN, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
     assert_int_equal(rover_world_layout(&w, 0, 3, INFINITY, FORMATION_LINE), ROVER_WORLD_ERR_ARG);
     assert_int_equal(rover_world_layout(&w, 0, 3, 1.0, FORMATION_COLUMN + 1), ROVER_WORLD_ERR_ARG);
@@ -256,15 +278,18 @@ static void test_start_in_formation(void **state)
         double front = 0.0;
         for (f = FORMATION_LINE; f <= FORMATION_COLUMN; f++) {
             assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, n, 1.2, f), 0);
-            if (f == FORMATION_LINE) front = front_x(&w);
+            if (f == FORMATION_LINE)
+                front = front_x(&w);
             assert_true(fabs(front_x(&w) - front) < 1e-12);
             for (k = 0; k < n; k++)
                 for (j = 0; j < n; j++) {
                     double pk[2], pj[2];
                     formation_slot_xy(pk, f, n, rover_world_slot(f, n, k), 1.2, 1.0);
                     formation_slot_xy(pj, f, n, rover_world_slot(f, n, j), 1.2, 1.0);
-                    assert_true(fabs((w.start_c[k].x_m - w.start_c[j].x_m) - (pk[0] - pj[0])) < 1e-12);
-                    assert_true(fabs((w.start_c[k].y_m - w.start_c[j].y_m) - (pk[1] - pj[1])) < 1e-12);
+                    assert_true(fabs((w.start_c[k].x_m - w.start_c[j].x_m) - (pk[0] - pj[0])) <
+                                1e-12);
+                    assert_true(fabs((w.start_c[k].y_m - w.start_c[j].y_m) - (pk[1] - pj[1])) <
+                                1e-12);
                 }
         }
     }
@@ -281,13 +306,14 @@ static void test_slot_sides(void **state)
     (void)state;
     for (type = FORMATION_LINE; type <= FORMATION_COLUMN; type++)
         for (n = 1; n <= 40; n++) {
-            int seen[40] = {0};
+            int seen[40] = { 0 };
             for (r = 0; r < n; r++) {
                 const int k = rover_world_slot(type, n, r);
                 assert_true(k >= 0 && k < n);
                 assert_int_equal(seen[k], 0);
                 seen[k] = 1;
-                if (type == FORMATION_LINE) assert_int_equal(k, r);
+                if (type == FORMATION_LINE)
+                    assert_int_equal(k, r);
             }
             assert_int_equal(rover_world_slot(type, n, -1), ROVER_WORLD_ERR_ARG);
             assert_int_equal(rover_world_slot(type, n, n), ROVER_WORLD_ERR_ARG);
@@ -295,9 +321,12 @@ static void test_slot_sides(void **state)
     for (n = 1; n <= 40; n++) {
         double line[40][2], tri[40][2], col[40][2];
         for (r = 0; r < n; r++) {
-            formation_slot_xy(line[r], FORMATION_LINE, n, rover_world_slot(FORMATION_LINE, n, r), 1.0, 1.0);
-            formation_slot_xy(tri[r], FORMATION_TRIANGLE, n, rover_world_slot(FORMATION_TRIANGLE, n, r), 1.0, 1.0);
-            formation_slot_xy(col[r], FORMATION_COLUMN, n, rover_world_slot(FORMATION_COLUMN, n, r), 1.0, 1.0);
+            formation_slot_xy(line[r], FORMATION_LINE, n, rover_world_slot(FORMATION_LINE, n, r),
+                              1.0, 1.0);
+            formation_slot_xy(tri[r], FORMATION_TRIANGLE, n,
+                              rover_world_slot(FORMATION_TRIANGLE, n, r), 1.0, 1.0);
+            formation_slot_xy(col[r], FORMATION_COLUMN, n, rover_world_slot(FORMATION_COLUMN, n, r),
+                              1.0, 1.0);
         }
         for (r = 0; r < n; r++)
             for (q = r + 1; q < n; q++) {
@@ -305,8 +334,8 @@ static void test_slot_sides(void **state)
                 assert_true(line[r][1] > line[q][1]);
                 /* triangle keeps that lateral order (ties only on the axis) */
                 if (!(tri[r][1] >= tri[q][1]))
-                    fail_msg("n=%d: ranks %d, %d swap sides line -> triangle (y %.2f, %.2f)",
-                             n, r, q, tri[r][1], tri[q][1]);
+                    fail_msg("n=%d: ranks %d, %d swap sides line -> triangle (y %.2f, %.2f)", n, r,
+                             q, tri[r][1], tri[q][1]);
             }
     }
     /* the column head is the triangle apex */
@@ -331,20 +360,25 @@ static void test_corridor(void **state)
         double x, narrowest = INFINITY, x_narrow = 0.0;
         assert_int_equal(rover_world_layout(&w, ROVER_WORLD_CORRIDOR, n, 1.0, FORMATION_LINE), 0);
         for (x = front_x(&w); x < w.goal_m[0]; x += 0.05) {
-            const double wd = ray_free(&w, x, 0.0, 0.0, 1.0, 50.0) + ray_free(&w, x, 0.0, 0.0, -1.0, 50.0);
-            if (wd < narrowest) { narrowest = wd; x_narrow = x; }
+            const double wd = ray_free(&w, x, 0.0, 0.0, 1.0, 50.0) +
+                              ray_free(&w, x, 0.0, 0.0, -1.0, 50.0);
+            if (wd < narrowest) {
+                narrowest = wd;
+                x_narrow = x;
+            }
         }
         {
-            const double line_w = formation_width(FORMATION_LINE, n < 3 ? n : 3, 1.0, 1.0, ROVER_BODY_WIDTH_M);
+            const double line_w = formation_width(FORMATION_LINE, n < 3 ? n : 3, 1.0, 1.0,
+                                                  ROVER_BODY_WIDTH_M);
             const double col_w = formation_width(FORMATION_COLUMN, n, 1.0, 1.0, ROVER_BODY_WIDTH_M);
             assert_true(line_w > 0.0 && col_w > 0.0);
             if (!(narrowest < line_w && narrowest > col_w))
-                fail_msg("corridor n=%d: width %.3f at x=%.2f not in (column %.3f, line %.3f)",
-                         n, narrowest, x_narrow, col_w, line_w);
+                fail_msg("corridor n=%d: width %.3f at x=%.2f not in (column %.3f, line %.3f)", n,
+                         narrowest, x_narrow, col_w, line_w);
             /* a robot fits through turning; shrinking the line does not */
             assert_true(narrowest > 2.0 * turn_radius());
-            assert_true(narrowest < formation_width(FORMATION_LINE, 2, 0.6, 1.0, ROVER_BODY_WIDTH_M)
-                        + 0.3);
+            assert_true(narrowest <
+                        formation_width(FORMATION_LINE, 2, 0.6, 1.0, ROVER_BODY_WIDTH_M) + 0.3);
         }
         /* the corridor is the only way: a disc wider than it cannot get by */
         assert_false(disc_reachable(&w, 0.5 * narrowest + 0.05, w.start_c[0].x_m, w.start_c[0].y_m,
@@ -370,7 +404,10 @@ static void test_deadzone(void **state)
         double sx = 0.0, sy = 0.0, len, hit, x, mouth = 0.0, prev = 0.0;
         int k;
         assert_int_equal(rover_world_layout(&w, ROVER_WORLD_DEADZONE, n, 1.0, FORMATION_LINE), 0);
-        for (k = 0; k < n; k++) { sx += w.start_c[k].x_m; sy += w.start_c[k].y_m; }
+        for (k = 0; k < n; k++) {
+            sx += w.start_c[k].x_m;
+            sy += w.start_c[k].y_m;
+        }
         sx /= n;
         sy /= n;
         len = hypot(w.goal_m[0] - sx, w.goal_m[1] - sy);
@@ -383,7 +420,8 @@ static void test_deadzone(void **state)
         for (x = sx + hit - 0.01; x > front_x(&w); x -= 0.02) {
             const double up = ray_free(&w, x, sy, 0.0, 1.0, 20.0);
             const double dn = ray_free(&w, x, sy, 0.0, -1.0, 20.0);
-            if (up >= 20.0 || dn >= 20.0) break;        /* out of the U */
+            if (up >= 20.0 || dn >= 20.0)
+                break; /* out of the U */
             /* tapers toward the back (the walls' butt joints leave notches
              * of a few cm: not a way through) */
             if (!(up + dn >= prev - 0.1))
@@ -391,7 +429,7 @@ static void test_deadzone(void **state)
             prev = up + dn;
             mouth = up + dn;
         }
-        assert_true(x > front_x(&w));                    /* the U has an outside */
+        assert_true(x > front_x(&w)); /* the U has an outside */
         /* the whole line (3 robots at 1 m) enters the mouth */
         assert_true(mouth > formation_width(FORMATION_LINE, 3, 1.0, 1.0, ROVER_BODY_WIDTH_M));
         /* the pocket: a robot whose front nearly touches the back wall */
@@ -431,8 +469,12 @@ static void test_obstacle_signed_distance(void **state)
                 const double x = o->cx_m + (prng_uniform(&r) - 0.5) * 6.0;
                 const double y = o->cy_m + (prng_uniform(&r) - 0.5) * 6.0;
                 const double d = rover_obstacle_distance(o, x, y), h = 1e-6;
-                const double gx = (rover_obstacle_distance(o, x + h, y) - rover_obstacle_distance(o, x - h, y)) / (2 * h);
-                const double gy = (rover_obstacle_distance(o, x, y + h) - rover_obstacle_distance(o, x, y - h)) / (2 * h);
+                const double gx = (rover_obstacle_distance(o, x + h, y) -
+                                   rover_obstacle_distance(o, x - h, y)) /
+                                  (2 * h);
+                const double gy = (rover_obstacle_distance(o, x, y + h) -
+                                   rover_obstacle_distance(o, x, y - h)) /
+                                  (2 * h);
                 const double g = hypot(gx, gy);
                 /* 1-Lipschitz everywhere; unit gradient outside (a true
                  * Euclidean distance), where the outline is smooth */
@@ -452,7 +494,8 @@ static void test_obstacle_signed_distance(void **state)
                 } else {
                     double v[2];
                     vec2_rotate(v, x - o->cx_m, y - o->cy_m, 1.234);
-                    assert_true(fabs(rover_obstacle_distance(o, o->cx_m + v[0], o->cy_m + v[1]) - d) < 1e-9);
+                    assert_true(fabs(rover_obstacle_distance(o, o->cx_m + v[0], o->cy_m + v[1]) -
+                                     d) < 1e-9);
                 }
             }
         }
@@ -488,10 +531,13 @@ static int boxes_overlap(const pose2 *a, const pose2 *b)
             double amin = INFINITY, amax = -INFINITY, bmin = INFINITY, bmax = -INFINITY;
             for (i = 0; i < 4; i++) {
                 const double pa = ax[i] * nx + ay[i] * ny, pb = bx[i] * nx + by[i] * ny;
-                amin = fmin(amin, pa); amax = fmax(amax, pa);
-                bmin = fmin(bmin, pb); bmax = fmax(bmax, pb);
+                amin = fmin(amin, pa);
+                amax = fmax(amax, pa);
+                bmin = fmin(bmin, pb);
+                bmax = fmax(bmax, pb);
             }
-            if (amax < bmin || bmax < amin) return 0;
+            if (amax < bmin || bmax < amin)
+                return 0;
         }
     return 1;
 }
@@ -509,14 +555,17 @@ static void test_clearance(void **state)
     assert_int_equal(w.n_obst, 0);
     /* two robots side by side, a gap g between their boxes */
     memset(c, 0, sizeof c);
-    c[0].x_m = 10.0; c[0].y_m = 0.0;
-    c[1].x_m = 10.0; c[1].y_m = ROVER_BODY_WIDTH_M + 0.2;
+    c[0].x_m = 10.0;
+    c[0].y_m = 0.0;
+    c[1].x_m = 10.0;
+    c[1].y_m = ROVER_BODY_WIDTH_M + 0.2;
     c[2].x_m = 30.0;
     assert_int_equal(rover_world_clearance(&w, c, alive, 3, cl), 0);
     assert_true(fabs(cl[0] - 0.2) < 1e-12 && fabs(cl[1] - 0.2) < 1e-12);
     assert_true(cl[2] > 19.0);
     /* nose to tail along x: gap measured between the boxes */
-    c[1].x_m = 10.0 + ROVER_BODY_LENGTH_M + 0.1; c[1].y_m = 0.0;
+    c[1].x_m = 10.0 + ROVER_BODY_LENGTH_M + 0.1;
+    c[1].y_m = 0.0;
     assert_int_equal(rover_world_clearance(&w, c, alive, 3, cl), 0);
     assert_true(fabs(cl[0] - 0.1) < 1e-12 && fabs(cl[1] - 0.1) < 1e-12);
     /* overlapping: negative; dead robots: infinite and ignored */
@@ -559,7 +608,8 @@ static void test_clearance(void **state)
             body_centre(&p[1], b1);
             dc = hypot(b0[0] - b1[0], b0[1] - b1[1]);
             assert_int_equal(a[0] <= 0.0, boxes_overlap(&p[0], &p[1]));
-            if (dc >= 2.0 * HY) assert_true(a[0] <= dc - 2.0 * HY + 1e-12);
+            if (dc >= 2.0 * HY)
+                assert_true(a[0] <= dc - 2.0 * HY + 1e-12);
         }
     }
     /* obstacles: a robot next to an obstacle of the obstacles world */

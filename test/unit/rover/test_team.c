@@ -13,10 +13,13 @@
 
 static team_member mate(int32_t id, double x, double y, double th, double v, double w, double t)
 {
-    team_member m = {0};
+    team_member m = { 0 };
     m.robot = id;
-    m.x_m = x; m.y_m = y; m.theta_rad = th;
-    m.v_mps = v; m.w_radps = w;
+    m.x_m = x;
+    m.y_m = y;
+    m.theta_rad = th;
+    m.v_mps = v;
+    m.w_radps = w;
     m.formation = FORMATION_LINE;
     m.scale = 1.0;
     m.t_s = t;
@@ -28,7 +31,7 @@ static void test_reference_average_wrap(void **state)
     team_table t;
     team_member a = mate(3, 1.0, 2.0, VEC2_PI - 0.1, 0.2, 0.1, 10.0);
     team_member b = mate(9, 3.0, -2.0, -VEC2_PI + 0.2, 0.4, -0.4, 10.0);
-    unicycle_state self = {2.0, 3.0, VEC2_PI - 0.05, 0.3, 0.0}, ref;
+    unicycle_state self = { 2.0, 3.0, VEC2_PI - 0.05, 0.3, 0.0 }, ref;
     (void)state;
     assert_int_equal(team_init(&t, 5, 1.0), 0);
     assert_int_equal(team_update(&t, &a), 1);
@@ -75,7 +78,8 @@ static void test_reference_extrapolates(void **state)
     /* turning in place: O swings about C by the same angle */
     a = mate(1, 0.0, 0.0, 0.0, 0.0, 1.0, 3.0);
     team_update(&t, &a);
-    assert_int_equal(team_reference(&ref, &t, NULL, 0, 0.15, 3.0 + VEC2_PI / 2), TEAM_ERR_UNKNOWN); /* stale > 1 s */
+    assert_int_equal(team_reference(&ref, &t, NULL, 0, 0.15, 3.0 + VEC2_PI / 2),
+                     TEAM_ERR_UNKNOWN); /* stale > 1 s */
     assert_int_equal(team_reference(&ref, &t, NULL, 0, 0.15, 3.5), 1);
     assert_true(fabs(hypot(ref.x_m - 0.15, ref.y_m) - 0.15) < 1e-12);
     assert_true(fabs(ref.theta_rad - 0.5) < 1e-12);
@@ -98,12 +102,12 @@ static void test_timeout_and_late_join(void **state)
     /* 7 keeps talking, 2 goes silent */
     a.t_s = 0.9;
     assert_int_equal(team_update(&t, &a), 0);
-    assert_int_equal(team_expire(&t, 1.0), 0);       /* exactly 1 s: still alive */
+    assert_int_equal(team_expire(&t, 1.0), 0); /* exactly 1 s: still alive */
     assert_int_equal(team_expire(&t, 1.05), 1);
     assert_null(team_find(&t, 2));
     n = team_ids(&t, ids, TEAM_MAX + 1);
     assert_int_equal(n, 2);
-    assert_int_equal(formation_slot_of(ids, n, 4), 0);  /* re-slot */
+    assert_int_equal(formation_slot_of(ids, n, 4), 0); /* re-slot */
     /* late joiner (and 2 coming back) are taken in */
     c = mate(5, 3, 3, 0, 0, 0, 1.1);
     assert_int_equal(team_update(&t, &c), 1);
@@ -113,7 +117,8 @@ static void test_timeout_and_late_join(void **state)
     assert_int_equal(n, 4);
     assert_true(ids[0] == 2 && ids[1] == 4 && ids[2] == 5 && ids[3] == 7);
     /* an older message is ignored */
-    b.t_s = 1.15; b.x_m = 99;
+    b.t_s = 1.15;
+    b.x_m = 99;
     assert_int_equal(team_update(&t, &b), 0);
     assert_true(team_find(&t, 2)->x_m == 1.0);
 }
@@ -126,15 +131,16 @@ static void test_capacity_and_bad(void **state)
     (void)state;
     team_init(&t, -1, 1.0);
     for (i = 0; i < TEAM_MAX; i++) {
-        m = mate(TEAM_MAX - i, i, 0, 0, 0, 0, 0);   /* reverse order: sorted insert */
+        m = mate(TEAM_MAX - i, i, 0, 0, 0, 0, 0); /* reverse order: sorted insert */
         assert_int_equal(team_update(&t, &m), 1);
     }
-    for (i = 1; i < t.n; i++) assert_true(t.m[i - 1].robot < t.m[i].robot);
+    for (i = 1; i < t.n; i++)
+        assert_true(t.m[i - 1].robot < t.m[i].robot);
     m = mate(1000, 0, 0, 0, 0, 0, 0);
     assert_int_equal(team_update(&t, &m), TEAM_ERR_FULL);
     team_init(&t, 3, 1.0);
     m = mate(3, 0, 0, 0, 0, 0, 0);
-    assert_int_equal(team_update(&t, &m), TEAM_ERR_ARG);       /* own id */
+    assert_int_equal(team_update(&t, &m), TEAM_ERR_ARG); /* own id */
     m = mate(4, NAN, 0, 0, 0, 0, 0);
     assert_int_equal(team_update(&t, &m), TEAM_ERR_ARG);
     m = mate(4, 0, 0, 0, 0, 0, 0);
@@ -148,8 +154,8 @@ static void test_beacon_fusion(void **state)
 {
     team_table t;
     team_member a = mate(8, 2.0, 1.0, 0.3, 0, 0, 0);
-    const pose2 me = {0.5, -0.5, 0.7};
-    const double true_x = 2.4, true_y = 0.8;        /* where the mate really is */
+    const pose2 me = { 0.5, -0.5, 0.7 };
+    const double true_x = 2.4, true_y = 0.8; /* where the mate really is */
     const double rng = hypot(true_x - me.x_m, true_y - me.y_m);
     const double brg = atan2(true_y - me.y_m, true_x - me.x_m) - me.theta_rad;
     double xy[2];
@@ -165,11 +171,13 @@ static void test_beacon_fusion(void **state)
     assert_true(fabs(xy[0] - true_x) < 1e-12 && fabs(xy[1] - true_y) < 1e-12);
     /* the correction survives new messages, and tracks a changed offset
      * geometrically: after k observations the error is (1-alpha)^k */
-    a.t_s = 0.1; a.x_m = 2.1;
+    a.t_s = 0.1;
+    a.x_m = 2.1;
     team_update(&t, &a);
     team_position(&t, 8, xy);
     assert_true(fabs(xy[0] - (true_x + 0.1)) < 1e-12);
-    for (k = 0; k < 10; k++) team_observe(&t, 8, &me, rng, brg, 0.2, 1.0);
+    for (k = 0; k < 10; k++)
+        team_observe(&t, 8, &me, rng, brg, 0.2, 1.0);
     team_position(&t, 8, xy);
     assert_true(fabs(xy[0] - true_x - 0.1 * pow(0.8, 10)) < 1e-12);
     assert_true(fabs(xy[1] - true_y) < 1e-12);
@@ -190,20 +198,20 @@ static void test_consensus_offset(void **state)
 {
     team_table t;
     const double e_self[2] = { 0.3, -0.2 }, e_mate[2] = { -0.1, 0.4 };
-    const double tx = 3.0, ty = 1.0;                 /* the mate, truly */
+    const double tx = 3.0, ty = 1.0; /* the mate, truly */
     team_member a = mate(4, tx + e_mate[0], ty + e_mate[1], 0.0, 0.0, 0.0, 1.0);
     team_member b = mate(6, 0.0, 5.0, 0.0, 0.0, 0.0, 1.0);
-    pose2 me = { 1.0 + e_self[0], -1.0 + e_self[1], 0.4 };   /* truly (1, -1) */
+    pose2 me = { 1.0 + e_self[0], -1.0 + e_self[1], 0.4 }; /* truly (1, -1) */
     const double rng = hypot(tx - 1.0, ty + 1.0), brg = atan2(ty + 1.0, tx - 1.0) - 0.4;
     double off[2], xy[2];
     (void)state;
     team_init(&t, 2, 1.0);
     team_update(&t, &a);
     team_update(&t, &b);
-    assert_int_equal(team_mean_offset(&t, 1.0, 2.0, 10.0, off), 0);      /* nobody seen yet */
+    assert_int_equal(team_mean_offset(&t, 1.0, 2.0, 10.0, off), 0); /* nobody seen yet */
     assert_true(off[0] == 0.0 && off[1] == 0.0);
     assert_int_equal(team_observe(&t, 4, &me, rng, brg, 0.2, 1.0), 0);
-    assert_int_equal(team_mean_offset(&t, 1.5, 2.0, 10.0, off), 1);      /* b never seen */
+    assert_int_equal(team_mean_offset(&t, 1.5, 2.0, 10.0, off), 1); /* b never seen */
     assert_true(fabs(off[0] - (e_self[0] - e_mate[0])) < 1e-12);
     assert_true(fabs(off[1] - (e_self[1] - e_mate[1])) < 1e-12);
     assert_int_equal(team_mean_offset(&t, 3.5, 2.0, 10.0, off), 0);      /* too old */

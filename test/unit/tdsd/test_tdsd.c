@@ -174,7 +174,7 @@ static void test_priority1_exact_under_speed_distribution(void **state)
             assert_true(out.Q1 == 0.0 || worst < 1.0);
         }
     }
-    assert_true(n_q1 > 50);  /* the branches were exercised */
+    assert_true(n_q1 > 50); /* the branches were exercised */
     assert_true(n_ts > 20);
 }
 
@@ -184,10 +184,10 @@ static void make_singular_J1(double J1[3 * NJ], int kind)
     rand_vec(J1, 3 * NJ, 1.0);
     for (j = 0; j < NJ; j++) {
         switch (kind % 4) {
-        case 0: J1[1 * NJ + j] = J1[0 * NJ + j]; break;                /* equal rows */
-        case 1: J1[2 * NJ + j] = 0.0; break;                           /* zero row */
+        case 0: J1[1 * NJ + j] = J1[0 * NJ + j]; break;                    /* equal rows */
+        case 1: J1[2 * NJ + j] = 0.0; break;                               /* zero row */
         case 2: J1[2 * NJ + j] = 2.0 * J1[0 * NJ + j] - J1[NJ + j]; break; /* dependent */
-        default: J1[j] = J1[NJ + j] = J1[2 * NJ + j] = 0.0; break;     /* J1 = 0 */
+        default: J1[j] = J1[NJ + j] = J1[2 * NJ + j] = 0.0; break;         /* J1 = 0 */
         }
     }
 }
@@ -230,8 +230,8 @@ static void test_limits_random_and_singular(void **state)
  * M = J2 P1), evaluated at the lambda and fb_scale tdsd_step chose. The
  * three components must agree on random well-conditioned tasks; scale is
  * the size of the terms, so the bound is relative. */
-static void reference_components(const tdsd_input *in, const tdsd_output *out,
-                                 double dq1[NJ], double dq2[NJ], double dq3[NJ])
+static void reference_components(const tdsd_input *in, const tdsd_output *out, double dq1[NJ],
+                                 double dq2[NJ], double dq3[NJ])
 {
     double J1p[NJ * 3], P1[NJ * NJ], J2[3 * NJ], M[3 * NJ], Mp[NJ * 3];
     double y1[3], r[3], Mg[3], t[NJ], g[NJ];
@@ -313,7 +313,9 @@ static void test_Q1_drops_toward_singularity(void **state)
         rand_vec(A, NJ * NJ, 1.0);
         assert_int_equal(linalg_svd(Uu, s, V, A, NJ, NJ), LINALG_OK);
     }
-    in.v_d_mps[0] = 0.1; in.v_d_mps[1] = 0.05; in.v_d_mps[2] = 0.1;
+    in.v_d_mps[0] = 0.1;
+    in.v_d_mps[1] = 0.05;
+    in.v_d_mps[2] = 0.1;
     vec3_copy(in.p_d_m, in.p_m); /* e_p = 0: y1' fixed */
     for (i = 0; i < NJ; i++)
         in.dq_max_radps[i] = 2.0;
@@ -325,9 +327,8 @@ static void test_Q1_drops_toward_singularity(void **state)
         /* J1 = U S V(:,0:3)^T */
         for (i = 0; i < 3; i++)
             for (j = 0; j < NJ; j++)
-                in.J1[i * NJ + j] = US[i * 3 + 0] * V[j * NJ + 0]
-                                    + US[i * 3 + 1] * V[j * NJ + 1]
-                                    + US[i * 3 + 2] * V[j * NJ + 2];
+                in.J1[i * NJ + j] = US[i * 3 + 0] * V[j * NJ + 0] + US[i * 3 + 1] * V[j * NJ + 1] +
+                                    US[i * 3 + 2] * V[j * NJ + 2];
         assert_int_equal(tdsd_step(&in, &out), TDSD_OK);
         check_limits(&in, &out);
         assert_true(fabs(out.sigma_min_J1 - eps) <= 1e-12);
@@ -547,7 +548,9 @@ static void test_time_scaled_path_tracking(void **state)
     make_input(&in);
     for (i = 0; i < NJ; i++)
         in.J1[2 * NJ + i] = 0.5 * in.J1[i] + 0.5 * in.J1[NJ + i] + 1e-3 * in.Jw[i];
-    in.v_d_mps[0] = 0.5; in.v_d_mps[1] = 0.5; in.v_d_mps[2] = 1.0;
+    in.v_d_mps[0] = 0.5;
+    in.v_d_mps[1] = 0.5;
+    in.v_d_mps[2] = 1.0;
     for (i = 0; i < NJ; i++)
         in.dq_max_radps[i] = 1.5;
     vec3_copy(p0, in.p_m);
@@ -563,15 +566,17 @@ static void test_time_scaled_path_tracking(void **state)
         rotate_by(in.R, y2, dt);
         s_path += out.lambda * dt;
     }
-    assert_true(min_lambda < 0.1);     /* it really crawled */
-    assert_true(s_path > 0.0);         /* and still advanced */
-    assert_true(worst <= 1e-12);       /* on the path throughout */
+    assert_true(min_lambda < 0.1); /* it really crawled */
+    assert_true(s_path > 0.0);     /* and still advanced */
+    assert_true(worst <= 1e-12);   /* on the path throughout */
 }
 
 static void test_midrange_grad(void **state)
 {
     const double deg = PI_ / 180.0;
-    const double qmin[NJ] = { -160 * deg, -225 * deg, -45 * deg, -110 * deg, -100 * deg, -266 * deg };
+    const double qmin[NJ] = {
+        -160 * deg, -225 * deg, -45 * deg, -110 * deg, -100 * deg, -266 * deg
+    };
     const double qmax[NJ] = { 160 * deg, 45 * deg, 225 * deg, 170 * deg, 100 * deg, 266 * deg };
     double q[NJ], g[NJ], V, Vp, Vm, gd[NJ];
     int trial, i;
@@ -634,8 +639,8 @@ static void test_baselines(void **state)
         assert_int_equal(rr_dls_step(&in, &dls, &out), TDSD_OK);
         {
             double smin = sigma_min_of(J, NJ, NJ), r = smin / dls.eps;
-            assert_true(fabs(out.damping * out.damping
-                             - dls.lambda0 * dls.lambda0 * (1 - r * r)) <= 1e-12);
+            assert_true(fabs(out.damping * out.damping - dls.lambda0 * dls.lambda0 * (1 - r * r)) <=
+                        1e-12);
         }
         /* constant damping and its normal equations */
         dls.eps = 0.0;
@@ -675,19 +680,25 @@ static void test_invalid_input(void **state)
     int i;
     (void)state;
     make_input(&in);
-    bad = in; bad.J1[4] = NAN;
+    bad = in;
+    bad.J1[4] = NAN;
     assert_int_equal(tdsd_step(&bad, &out), TDSD_ERR_ARG);
     for (i = 0; i < NJ; i++)
         assert_true(out.dq_radps[i] == 0.0);
-    bad = in; bad.dq_max_radps[2] = 0.0;
+    bad = in;
+    bad.dq_max_radps[2] = 0.0;
     assert_int_equal(tdsd_step(&bad, &out), TDSD_ERR_ARG);
-    bad = in; bad.rate_cap = 1.5;
+    bad = in;
+    bad.rate_cap = 1.5;
     assert_int_equal(tdsd_step(&bad, &out), TDSD_ERR_ARG);
-    bad = in; bad.orient = (tdsd_orient_mode)7;
+    bad = in;
+    bad.orient = (tdsd_orient_mode)7;
     assert_int_equal(tdsd_step(&bad, &out), TDSD_ERR_ARG);
-    bad = in; bad.K_p = -1.0;
+    bad = in;
+    bad.K_p = -1.0;
     assert_int_equal(rr_pinv_step(&bad, &out), TDSD_ERR_ARG);
-    bad = in; bad.R[3] = INFINITY;
+    bad = in;
+    bad.R[3] = INFINITY;
     assert_int_equal(rr_dls_step(&bad, &dls, &out), TDSD_ERR_ARG);
     dls.lambda0 = -1.0;
     assert_int_equal(rr_dls_step(&in, &dls, &out), TDSD_ERR_ARG);

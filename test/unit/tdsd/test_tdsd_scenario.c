@@ -88,8 +88,8 @@ static void test_s1_baselines_fail(void **state)
     run_s1(TDSDRUN_PINV, &p);
     run_s1(TDSDRUN_DLS, &d);
     assert_true(p.m.max_demand_ratio > 10.0);
-    assert_true(p.m.max_speed_ratio <= 1.0 + 1e-12);   /* clipped ... */
-    assert_true(p.m.max_pos_err_m > 2e-3);             /* ... so off the path */
+    assert_true(p.m.max_speed_ratio <= 1.0 + 1e-12); /* clipped ... */
+    assert_true(p.m.max_pos_err_m > 2e-3);           /* ... so off the path */
     assert_true(d.m.max_pos_err_m > 2e-3);
 }
 

@@ -72,14 +72,14 @@ static void wrist_line(double tilt_rad, double A[3], double B[3], double R1[9])
 }
 
 typedef struct run_result {
-    double max_pos_err_m;        /* reference tool vs path point */
-    double max_line_dev_m;       /* reference tool vs the straight line */
-    double max_speed_ratio;      /* max |dq_i| / qd_max_i */
+    double max_pos_err_m;   /* reference tool vs path point */
+    double max_line_dev_m;  /* reference tool vs the straight line */
+    double max_speed_ratio; /* max |dq_i| / qd_max_i */
     double min_Q1, min_lambda, min_abs_q5;
     double ori_err_end_rad, final_err_m;
     double t_done_s, t_path_s;
-    int    errors;
-    long   limit_violations;     /* steps with a joint outside its range */
+    int errors;
+    long limit_violations; /* steps with a joint outside its range */
 } run_result;
 
 static double line_distance(const double p[3], const double A[3], const double B[3])
@@ -92,8 +92,8 @@ static double line_distance(const double p[3], const double A[3], const double B
     return vec3_norm(x);
 }
 
-static void run_kin(const double A[3], const double R0[9], const double B[3], const double R1[9], const tdsd_seg_params *par,
-                    double t_max_s, run_result *r)
+static void run_kin(const double A[3], const double R0[9], const double B[3], const double R1[9],
+                    const tdsd_seg_params *par, double t_max_s, run_result *r)
 {
     const arm_model *m = &arm_model_puma560;
     double q[ARM_NJ], qd[ARM_NJ], Tid[16], T[16], p[3], d[3];
@@ -133,9 +133,10 @@ static void run_kin(const double A[3], const double R0[9], const double B[3], co
         if (o.path_done && r->t_path_s < 0.0)
             r->t_path_s = t;
         if (getenv("TDSD_SEG_TRACE") && ((long)(t / DT + 0.5)) % 20 == 0)
-            printf("    t %.3f s %.4f lam %.3f Q1 %.3f Q2 %.3f ep %.4f mm eo %.4f q %.3f %.3f %.3f %.3f %.3f %.3f dq %.2f %.2f %.2f %.2f %.2f %.2f\n",
-                   t, o.s_m, o.lambda, o.Q1, o.Q2, o.pos_err_m * 1e3, o.ori_err_rad, q[0], q[1], q[2], q[3], q[4], q[5],
-                   qd[0], qd[1], qd[2], qd[3], qd[4], qd[5]);
+            printf(
+                "    t %.3f s %.4f lam %.3f Q1 %.3f Q2 %.3f ep %.4f mm eo %.4f q %.3f %.3f %.3f %.3f %.3f %.3f dq %.2f %.2f %.2f %.2f %.2f %.2f\n",
+                t, o.s_m, o.lambda, o.Q1, o.Q2, o.pos_err_m * 1e3, o.ori_err_rad, q[0], q[1], q[2],
+                q[3], q[4], q[5], qd[0], qd[1], qd[2], qd[3], qd[4], qd[5]);
         if (tdsd_seg_done(&g, q, (double[ARM_NJ]){ 0 })) {
             r->t_done_s = t;
             break;
@@ -147,15 +148,17 @@ static void run_kin(const double A[3], const double R0[9], const double B[3], co
 
 static void print_result(const char *what, const run_result *r)
 {
-    printf("  %-28s pos err %.4f mm, line dev %.4f mm, speed ratio %.3f, min Q1 %.3f, min lambda %.3f, "
-           "min |q5| %.2f deg, path %.3f s, done %.3f s, final %.4f mm, ori end %.3f deg\n",
-           what, r->max_pos_err_m * 1e3, r->max_line_dev_m * 1e3, r->max_speed_ratio, r->min_Q1, r->min_lambda,
-           r->min_abs_q5 / DEG, r->t_path_s, r->t_done_s, r->final_err_m * 1e3, asin(fmin(1.0, r->ori_err_end_rad)) / DEG);
+    printf(
+        "  %-28s pos err %.4f mm, line dev %.4f mm, speed ratio %.3f, min Q1 %.3f, min lambda %.3f, "
+        "min |q5| %.2f deg, path %.3f s, done %.3f s, final %.4f mm, ori end %.3f deg\n",
+        what, r->max_pos_err_m * 1e3, r->max_line_dev_m * 1e3, r->max_speed_ratio, r->min_Q1,
+        r->min_lambda, r->min_abs_q5 / DEG, r->t_path_s, r->t_done_s, r->final_err_m * 1e3,
+        asin(fmin(1.0, r->ori_err_end_rad)) / DEG);
 }
 
 static void default_params(tdsd_seg_params *p)
 {
-    tdsd_seg_default_params(p, 0.25, 0.5, 4.0);   /* carry_net's FREE row */
+    tdsd_seg_default_params(p, 0.25, 0.5, 4.0); /* carry_net's FREE row */
 }
 
 /* Through and near the wrist singularity: on the path, within the limits,
@@ -189,7 +192,7 @@ static void test_wrist_singularity_kin(void **state)
             assert_true(r.min_abs_q5 < (tilts_deg[k] + 1.0) * DEG);
             assert_true(r.min_Q1 < 0.5);
             assert_true(r.max_speed_ratio > 0.8 * par.speed_frac);
-        }   /* it really passed the singular pose */
+        } /* it really passed the singular pose */
     }
 }
 
@@ -244,15 +247,19 @@ static void test_bad_input(void **state)
     tf_identity(Tid);
     memcpy(q, q_near_home, sizeof q);
     default_params(&par);
-    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, nan_p, R_down, &par), TDSD_SEG_ERR_ARG);
+    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, nan_p, R_down, &par),
+                     TDSD_SEG_ERR_ARG);
     par.speed_frac = 1.5;
-    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, B, R_down, &par), TDSD_SEG_ERR_ARG);
+    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, B, R_down, &par),
+                     TDSD_SEG_ERR_ARG);
     default_params(&par);
     par.v_m = 0.0;
-    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, B, R_down, &par), TDSD_SEG_ERR_ARG);
+    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, B, R_down, &par),
+                     TDSD_SEG_ERR_ARG);
     default_params(&par);
     q[2] = INFINITY;
-    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, B, R_down, &par), TDSD_SEG_ERR_ARG);
+    assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, B, R_down, &par),
+                     TDSD_SEG_ERR_ARG);
 }
 
 /* Velocity limit: unchanged law below the limit; above it, the servo
@@ -271,10 +278,10 @@ static void test_servo_vlimit(void **state)
         qd_d0[i] = 0.5 * lim[i];
         qdd_d0[i] = 3.0;
     }
-    q_d0[0] = q[0] + 0.05;          /* joint 1 lags: v_c = 2 + 25 * 0.05 > 2 */
+    q_d0[0] = q[0] + 0.05; /* joint 1 lags: v_c = 2 + 25 * 0.05 > 2 */
     qd_d0[0] = lim[0];
     qd_d0[3] = -lim[3];
-    q_d0[3] = q[3] - 0.01;          /* joint 4 lags the other way */
+    q_d0[3] = q[3] - 0.01; /* joint 4 lags the other way */
     memcpy(q_d, q_d0, sizeof q_d);
     memcpy(qd_d, qd_d0, sizeof qd_d);
     memcpy(qdd_d, qdd_d0, sizeof qdd_d);
@@ -309,10 +316,8 @@ static void test_servo_vlimit(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_wrist_singularity_kin),
-        cmocka_unit_test(test_regular_line_exact),
-        cmocka_unit_test(test_rotation_only),
-        cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_wrist_singularity_kin), cmocka_unit_test(test_regular_line_exact),
+        cmocka_unit_test(test_rotation_only),         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_servo_vlimit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
