@@ -611,6 +611,7 @@ static void test_receive_path_counts_every_refusal(void **state)
     assert_int_equal(got_b, 1);
     assert_int_equal(auth_bus_rejected_total(&bus), 4);
     lcm_destroy(lcm);
+    auth_bus_free(&bus);
 }
 
 static int move_checked(void *subs, lcm_t *old, lcm_t *fresh)
@@ -666,6 +667,7 @@ static void test_checked_subscriptions_move(void **state)
                      DAEMON_ERR_LCM);
     assert_true(lcm == old);
     auth_bus_close(&bus, lcm);
+    auth_bus_free(&bus);
 }
 
 /* A child's command line names its principal: what its role file is made for. */

@@ -173,6 +173,7 @@ void harness_close(harness *h)
     if (h->lcm)
         lcm_destroy(h->lcm);
     h->lcm = NULL;
+    auth_bus_free(&h->bus);
 }
 
 static harness_health *health_slot(harness *h, const char *name)

@@ -586,6 +586,13 @@ void auth_bus_close(auth_bus *bus, lcm_t *lcm)
     lcm_destroy(lcm);
 }
 
+void auth_bus_free(auth_bus *bus)
+{
+    free(bus->tx);
+    bus->tx = NULL;
+    bus->tx_cap = 0;
+}
+
 const auth_bus_counts *auth_bus_counts_get(const auth_bus *bus)
 {
     return &bus->counts;

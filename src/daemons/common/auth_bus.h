@@ -245,6 +245,9 @@ int auth_bus_unsubscribe_user(auth_bus *bus, lcm_t *lcm, const void *user);
 int auth_bus_move(auth_bus *bus, lcm_t *old, lcm_t *fresh);
 /* lcm_destroy, and the checked subscriptions of bus on lcm forgotten. */
 void auth_bus_close(auth_bus *bus, lcm_t *lcm);
+/* Gives back the bus's publish buffer (the next publish makes it again):
+ * for a bus that is done, before it goes out of scope. */
+void auth_bus_free(auth_bus *bus);
 const auth_bus_counts *auth_bus_counts_get(const auth_bus *bus);
 int64_t auth_bus_rejected_total(const auth_bus *bus);
 

@@ -580,4 +580,5 @@ void daemon_finish(daemon *d)
         ack(d, d->step, 1);
     lcm_destroy(d->lcm);
     d->lcm = NULL;
+    auth_bus_free(&d->bus);
 }
