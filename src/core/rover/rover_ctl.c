@@ -147,9 +147,12 @@ typedef struct {
     behaviour_inputs in;        /* the behaviours' commands for the blend */
     double R_d;                 /* own slot error */
     int rc_goal;                /* behaviour_goal's result */
+    int arriving;               /* arriving(): the same all through the step */
+    int slot;                   /* own slot for slot_type and slot_scale */
+    int slot_type;              /* the formation slot was found for (-1: none yet) */
+    double slot_scale;
 } step_view;
 
-/* Own slot index in the formation flown (-1: none). */
 /* Where robot ids[j] is, from the team messages (our own last one for
  * ourselves): the numbers every robot of the team holds alike. */
 static int sent_xy(const rover_ctl_state *c, int32_t id, double xy[2])
@@ -237,14 +240,22 @@ static int arriving(const rover_ctl_state *c, const step_view *v)
            0.5 * (v->n - 1) * c->p.fsm.spacing_m + c->p.arrival_m;
 }
 
-static int own_slot(const rover_ctl_state *c, const step_view *v)
+/* Own slot index in the formation flown (-1: none): found once per step
+ * and formation (arrival_slot is the costly part), again only when the
+ * formation changed within the step. */
+static int own_slot(const rover_ctl_state *c, step_view *v)
 {
-    if (arriving(c, v)) {
-        const int k = arrival_slot(c, v);
-        if (k >= 0)
-            return k;
-    }
-    return rover_world_slot(c->fsm.type, v->n, formation_slot_of(v->ids, v->n, c->id));
+    int k = -1;
+    if (v->slot_type == c->fsm.type && v->slot_scale == c->fsm.scale)
+        return v->slot;
+    if (v->arriving)
+        k = arrival_slot(c, v);
+    if (k < 0)
+        k = rover_world_slot(c->fsm.type, v->n, formation_slot_of(v->ids, v->n, c->id));
+    v->slot = k;
+    v->slot_type = c->fsm.type;
+    v->slot_scale = c->fsm.scale;
+    return k;
 }
 
 /* Own pose, team and sonar as this period sees them, and the own goal. */
@@ -260,6 +271,8 @@ static void perceive(rover_ctl_state *c, double t_s, double dt_s, step_view *v)
     v->self.v_mps = c->v_est_mps;
     v->self.w_radps = c->w_est_radps;
     v->n = team_ids(&c->team, v->ids, TEAM_MAX + 1);
+    v->arriving = arriving(c, v);
+    v->slot_type = -1;
     k = own_slot(c, v);
     /* avoid sees mates that come too near; the passage and dead-zone
      * tests never take a mate for a wall */
@@ -287,7 +300,7 @@ static void reference_and_passage(rover_ctl_state *c, double t_s, double dt_s, s
      * corridor into the goal area stayed a column there, its rear robot
      * never seeing the way clear long enough, and the team stood in
      * column slots short of the goal's line) */
-    if (arriving(c, v))
+    if (v->arriving)
         passage = INFINITY;
     if (!v->escaping) {
         const int before = c->fsm.type;
