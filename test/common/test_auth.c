@@ -655,11 +655,29 @@ static void test_checked_subscriptions_move(void **state)
     assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, &bus, lcm, "SIM_CONTROL", &m), 0);
     assert_true(lcm_handle_timeout(lcm, 1000) > 0);
     assert_int_equal(got_a, a0 + 2);
+    /* a datagram both handles received while they overlapped comes twice:
+     * the copy is refused, counted as a renewal's copy and not as a replay
+     * (nor in the refusal total) */
+    {
+        const auth_bus_counts *c = auth_bus_counts_get(&bus);
+        const int64_t replayed = c->replayed, refused = auth_bus_rejected_total(&bus);
+        lcm_subscription_t *cap = lcm_subscribe(lcm, "SIM_CONTROL", capture, NULL);
+        assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, &bus, lcm, "SIM_CONTROL", &m), 0);
+        assert_true(lcm_handle_timeout(lcm, 1000) > 0);
+        lcm_unsubscribe(lcm, cap);
+        assert_int_equal(got_a, a0 + 3);
+        lcm_publish(lcm, "SIM_CONTROL", captured, (unsigned)captured_len);
+        assert_true(lcm_handle_timeout(lcm, 1000) > 0);
+        assert_int_equal(got_a, a0 + 3);
+        assert_int_equal(c->renewal_copies, 1);
+        assert_int_equal(c->replayed, replayed);
+        assert_int_equal(auth_bus_rejected_total(&bus), refused);
+    }
     /* ended by its user: no more */
     assert_int_equal(auth_bus_unsubscribe_user(&bus, lcm, &user_a), 1);
     assert_int_equal(AUTH_PUBLISH(tandem_sim_control_t, &bus, lcm, "SIM_CONTROL", &m), 0);
     assert_int_equal(lcm_handle_timeout(lcm, 50), 0);
-    assert_int_equal(got_a, a0 + 2);
+    assert_int_equal(got_a, a0 + 3);
     assert_int_equal(got_b, b0);
     /* a handle that cannot open: nothing changes */
     old = lcm;

@@ -560,6 +560,12 @@ static void test_attacker_without_key_changes_nothing(void **state)
     assert_int_equal(attacked.status[0], quiet.status[0]);
     assert_int_equal(attacked.status[1], quiet.status[1]);
     for (b = 0; b < N_BUS; b++)
+        for (i = 0; i < quiet.health[b].n_health; i++)
+            if (harness_refused(&quiet.health[b].health[i]) > 0) {
+                printf("quiet run, refused (must be none):\n");
+                harness_print_refused(&quiet.health[b].health[i]);
+            }
+    for (b = 0; b < N_BUS; b++)
         for (i = 0; i < attacked.health[b].n_health; i++)
             harness_print_refused(&attacked.health[b].health[i]);
     assert_same_hashes(&quiet.view[0], &attacked.view[0], "carry");

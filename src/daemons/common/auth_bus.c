@@ -399,6 +399,16 @@ static void count(auth_bus *bus, int rc)
     }
 }
 
+/* A replay refusal of a message that a renewal's two handles both
+ * delivered (auth_bus_counts.renewal_copies). */
+static int renewal_copy(const auth_bus *bus, int rc, const auth_trailer *t)
+{
+    const uint64_t now = (uint64_t)wall_us();
+    return rc == AUTH_ERR_REPLAY && bus->renewed_us != 0 &&
+           now <= bus->renewed_us + (uint64_t)AUTH_BUS_RENEW_OVERLAP_US &&
+           t->counter + (uint64_t)AUTH_BUS_RENEW_OVERLAP_US >= bus->renewed_us;
+}
+
 static int same_delivery(const auth_bus *bus, const lcm_recv_buf_t *rb, uint64_t ch_hash,
                          const uint8_t *mac)
 {
@@ -471,7 +481,10 @@ int auth_bus_accept(auth_bus *bus, const lcm_recv_buf_t *rb, const char *channel
         rc = bus->last.rc;
     } else {
         rc = check(bus, data, rb->data_size, channel, ch_hash, &t);
-        count(bus, rc);
+        if (renewal_copy(bus, rc, &t))
+            bus->counts.renewal_copies++;
+        else
+            count(bus, rc);
         bus->last.valid = 1;
         bus->last.data = rb->data;
         bus->last.recv_utime = rb->recv_utime;
@@ -558,9 +571,15 @@ int auth_bus_unsubscribe_user(auth_bus *bus, lcm_t *lcm, const void *user)
     return n;
 }
 
+void auth_bus_renewing(auth_bus *bus)
+{
+    bus->renewed_us = (uint64_t)wall_us();
+}
+
 int auth_bus_move(auth_bus *bus, lcm_t *old, lcm_t *fresh)
 {
     int i, n = 0;
+    auth_bus_renewing(bus);
     for (i = 0; i < bus->n_subs; i++) {
         bus_sub *e = &bus->subs[i];
         if (!e->used || e->lcm != old || !e->sub)
@@ -627,4 +646,5 @@ void auth_bus_fill_health(const auth_bus *bus, tandem_health_t *h)
     h->auth_unauthorised = bus->counts.unauthorised;
     h->auth_other_cell = bus->counts.other_cell;
     h->auth_precheck = bus->counts.precheck;
+    h->msgs_duplicate += bus->counts.renewal_copies; /* copies, refused, of messages taken */
 }

@@ -82,7 +82,16 @@ typedef struct auth_bus_counts {
     int64_t unauthorised;   /* AUTH_ERR_ACL */
     int64_t other_cell;     /* AUTH_ERR_CELL */
     int64_t precheck;       /* AUTH_ERR_TYPE / AUTH_ERR_CHANNEL: refused before any MAC */
+    /* AUTH_ERR_REPLAY of a copy a renewal made (auth_bus_move): refused
+     * like a replay, counted apart and in no refusal total, since it is
+     * no attack. Between the new handle's subscription and the old one's
+     * close both sockets receive, so what arrived then comes twice. Taken
+     * for such a copy: within AUTH_BUS_RENEW_OVERLAP_US after the renewal,
+     * signed no earlier than that before it. */
+    int64_t renewal_copies;
 } auth_bus_counts;
+
+#define AUTH_BUS_RENEW_OVERLAP_US 2000000LL /* generous: sanitizers on a loaded host */
 
 #define AUTH_BUS_MAX_SUBS 64
 
@@ -147,6 +156,7 @@ struct auth_bus {
     auth_keyring ring;
     int started, secure;
     uint64_t last_counter;
+    uint64_t renewed_us; /* wall clock of the last auth_bus_move, 0: none */
     auth_replay replay;
     auth_bus_counts counts;
     last_verdict last;
@@ -240,6 +250,12 @@ lcm_subscription_t *auth_bus_subscribe_queue(auth_bus *bus, lcm_t *lcm, const ch
                                              lcm_msg_handler_t handler, void *user, int capacity);
 /* Ends every checked subscription of bus on lcm handed user; how many. */
 int auth_bus_unsubscribe_user(auth_bus *bus, lcm_t *lcm, const void *user);
+/* A renewed handle is being subscribed: from now on, for
+ * AUTH_BUS_RENEW_OVERLAP_US, a replay refusal of a message signed about
+ * now is a copy both handles received (auth_bus_counts.renewal_copies).
+ * auth_bus_move calls it; a receive path with subscriptions of its own
+ * (rx.c) calls it as it moves them. */
+void auth_bus_renewing(auth_bus *bus);
 /* Every checked subscription of bus on old made again on fresh (a renewed
  * handle); how many. */
 int auth_bus_move(auth_bus *bus, lcm_t *old, lcm_t *fresh);

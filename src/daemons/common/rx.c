@@ -173,6 +173,8 @@ int rx_move_subscriptions(rx_state *rx, lcm_t *old, lcm_t *fresh, int capacity)
         rx_sub *s = &rx->subs[i];
         if (s->lcm != old || !s->sub)
             continue;
+        if (n == 0)
+            auth_bus_renewing(&s->d->bus); /* what both handles get is a copy */
         s->lcm = fresh;
         s->sub = lcm_subscribe(fresh, s->channel, trampoline, s);
         if (s->sub) {
