@@ -14,6 +14,9 @@
 #           the arms hold on their brakes)
 #   status  `tandem-status --insecure` (a tool: its own handle, checked
 #           subscriptions)
+#   view    the viewer bridge, tools/viewer/tandem_view.py (make viewer):
+#           it counts the names it sees and renews its handle at
+#           TANDEM_VIEW_NAMES_MAX (its memory is mostly Rerun's store)
 # Run it in a network namespace of its own:
 #   unshare -n sh -c 'ip link set lo up; ip route add 224.0.0.0/4 dev lo; tools/flood-names.sh'
 # TARGET (default arm), FLOOD_S (default 60), RATE (default 50000), STEP_S
@@ -30,9 +33,12 @@ case $target in
 arm) cmd=("$bin/tandem-arm" --arm 1 --insecure) ;;
 sim) cmd=("$bin/tandem-sim" --insecure) ;;
 status) cmd=("$bin/tandem-status" --insecure --every 5) ;;
-*) echo "flood-names.sh: TARGET=$target is not arm|sim|status" >&2; exit 2 ;;
+view) cmd=("$here/build/venv/bin/python" "$here/tools/viewer/tandem_view.py" --bin "$bin" --stats-s 0
+           --web-port 29090 --grpc-port 29876) ;;
+*) echo "flood-names.sh: TARGET=$target is not arm|sim|status|view" >&2; exit 2 ;;
 esac
 name=$(basename "${cmd[0]}")
+[ "$target" = view ] && name=tandem-view
 export LCM_DEFAULT_URL="udpm://239.255.76.67:7667?ttl=0"
 # as tools/tandem-run and tandem-scenario start their daemons (daemon.h,
 # DAEMON_GLIB_SLICE_ENV); G_SLICE= (empty) on the command line shows why

@@ -47,6 +47,65 @@ SUBSCRIPTIONS = {
 }
 
 
+# LCM keeps every channel name it sees, subscribed or not, for good: a
+# flood of made-up names grows the process without end (docs/security.md
+# §5-6). The daemons renew their handle on their resident memory; the
+# viewer's memory is mostly Rerun's store, so it counts the names instead
+# (a catch-all subscription sees every one) and renews its handle once it
+# has seen NAMES_MAX distinct ones. A cell has a few hundred channels at
+# most (4 per rover, 128 rovers), so a renewal means a flood.
+NAMES_MAX = int(os.environ.get("TANDEM_VIEW_NAMES_MAX", "4096"))
+DRAIN_MAX = 10000   # messages taken from an old handle before it is closed
+UNDECODABLE_MAX = 64  # channels counted one by one when they do not decode
+
+
+class Bus:
+    """The viewer's LCM handle, renewed when it has seen NAMES_MAX names."""
+
+    def __init__(self, url, subscriptions):
+        self.url = url
+        self.subscriptions = subscriptions   # [(pattern, handler)]
+        self.names = set()
+        self.renewals = 0
+        self.said_s = 0.0
+        self.lc = self.open()
+
+    def open(self):
+        lc = lcm.LCM(self.url)
+        for pattern, handler in self.subscriptions:
+            lc.subscribe(pattern, handler)
+        lc.subscribe(".*", self.on_any)
+        return lc
+
+    def on_any(self, channel, data):
+        if len(self.names) < NAMES_MAX:
+            self.names.add(channel)
+
+    def fileno(self):
+        return self.lc.fileno()
+
+    def handle(self):
+        self.lc.handle()
+        if len(self.names) >= NAMES_MAX:
+            self.renew()
+
+    def renew(self):
+        """A new handle subscribed as the old one; what the old one still
+        holds is handled (bounded), then it is closed with its names."""
+        old, self.lc = self.lc, self.open()
+        for _ in range(DRAIN_MAX):
+            if old.handle_timeout(0) <= 0:
+                break
+        del old
+        self.names = set()
+        self.renewals += 1
+        now = time.monotonic()
+        if self.renewals == 1 or now - self.said_s >= 10.0:   # a flood renews many times a second
+            self.said_s = now
+            print(f"tandem-view: LCM handle renewed ({NAMES_MAX} channel names seen; "
+                  f"renewals {self.renewals})", file=sys.stderr, flush=True)
+
+
 def parse_args(argv):
     here_bin = os.path.join(HERE, "..", "..", "build", "bin")
     p = argparse.ArgumentParser(prog="tandem-view", description=__doc__.split("\n\n")[0])
@@ -92,6 +151,8 @@ class Bridge:
         try:
             fn(*args)
         except (ValueError, struct.error, IndexError) as e:
+            if channel not in self.undecodable and len(self.undecodable) >= UNDECODABLE_MAX:
+                channel = "(other channels)"   # a flood of names stays a few entries
             n = self.undecodable.get(channel, 0)
             self.undecodable[channel] = n + 1
             if n == 0:
@@ -127,16 +188,14 @@ def run(args):
     b = Bridge(args, scene, robot)
     b.cell.log_static()
     b.team.log_static()
-    lc = lcm.LCM(args.lcm_url)
-    for pattern, how in SUBSCRIPTIONS.items():
-        lc.subscribe(pattern, b.on_latest if how == "latest" else b.on_now)
+    lc = Bus(args.lcm_url, [(pattern, b.on_latest if how == "latest" else b.on_now)
+                            for pattern, how in SUBSCRIPTIONS.items()])
     period = 1.0 / args.rate_hz
     next_frame = t_stats = time.monotonic()
     cpu0, n0, f0 = time.process_time(), 0, 0
-    fd = lc.fileno()
     while True:
         wait = max(0.0, next_frame - time.monotonic())
-        if select.select([fd], [], [], wait)[0]:
+        if select.select([lc.fileno()], [], [], wait)[0]:  # a renewal changes it
             lc.handle()
             continue
         b.draw()
