@@ -7,7 +7,10 @@
 # fresh viewer is fed by lcm-logplayer from that log and checked the same
 # way (replay.png). Runs in its own network namespace when it can (root),
 # so its LCM bus and ports never meet another run's.
-#   tools/view-test.sh [--docs]
+#   tools/view-test.sh [--docs] [--world-file PATH [--shot FILE]]
+# --world-file: the team flies that map_server world (a drawn map, or one
+# of tandem-worldgen's); no replay check; --shot also copies the live
+# screenshot to FILE (the docs' pictures of file worlds).
 set -u
 here=$(cd "$(dirname "$0")/.." && pwd)
 if [ -z "${TANDEM_VIEW_TEST_NS:-}" ] && [ "$(id -u)" -eq 0 ] && command -v unshare >/dev/null &&
@@ -18,6 +21,17 @@ if [ -n "${TANDEM_VIEW_TEST_NS:-}" ]; then
     ip link set lo up
     ip route add 224.0.0.0/4 dev lo 2>/dev/null   # LCM's multicast on the loopback
 fi
+docs=0; world_file=; shot=
+while [ $# -gt 0 ]; do
+    case $1 in
+    --docs) docs=1; shift ;;
+    --world-file) world_file=$(cd "$(dirname "$2")" && pwd)/$(basename "$2"); shift 2 ;;
+    --shot) shot=$2; shift 2 ;;
+    *) echo "view-test: unknown option $1" >&2; exit 2 ;;
+    esac
+done
+world_args=()
+[ -n "$world_file" ] && world_args=(--world-file "$world_file")
 out=$here/build/view-test
 mkdir -p "$out"
 # the events panel's feed on encoded messages, before anything is started
@@ -34,7 +48,8 @@ lcm-logger --force -c 'ARM[12]_STATE|ARM_EVENTS|PETRI_MARKING|VISION_DETECTIONS|
     "$out/run.lcmlog" >/dev/null 2>&1 &
 logger=$!
 ( sleep 30; kill -INT $logger 2>/dev/null ) &
-"$here/tools/tandem-run" --duration 400 --view --web-port "$web" --rovers "$rovers" > "$out/run.log" 2>&1 &
+"$here/tools/tandem-run" --duration 400 --view --web-port "$web" --rovers "$rovers" "${world_args[@]}" \
+    > "$out/run.log" 2>&1 &
 run=$!
 url=
 for _ in $(seq 1 300); do
@@ -57,7 +72,10 @@ kill -TERM $run 2>/dev/null; wait $run
 kill -INT $logger 2>/dev/null; wait $logger
 grep -E "tandem-view|\[view\]" "$out/run.log" | tail -5
 [ $rc -eq 0 ] || { echo "view-test: run log:" >&2; tail -40 "$out/run.log" >&2; }
-if [ $rc -eq 0 ]; then
+if [ $rc -eq 0 ] && [ -n "$shot" ]; then
+    cp "$out/viewer.png" "$shot"
+fi
+if [ $rc -eq 0 ] && [ -z "$world_file" ]; then
     # the same checks on a replay of the recorded run, at half its speed
     "$here/build/venv/bin/python" "$here/tools/viewer/tandem_view.py" --web-port $((web + 3)) \
         --grpc-port $((web + 4)) --rovers "$rovers" > "$out/replay.log" 2>&1 &
@@ -72,6 +90,6 @@ if [ $rc -eq 0 ]; then
     kill $player $view 2>/dev/null; wait $player $view 2>/dev/null
     [ $rc -eq 0 ] || { echo "view-test: replay viewer log:" >&2; tail -20 "$out/replay.log" >&2; }
 fi
-[ $rc -eq 0 ] && [ "${1:-}" = --docs ] && cp "$out/viewer.png" "$here/docs/viewer.png"
+[ $rc -eq 0 ] && [ $docs -eq 1 ] && [ -z "$world_file" ] && cp "$out/viewer.png" "$here/docs/viewer.png"
 echo "view test: $([ $rc -eq 0 ] && echo "1 passed, 0 failed" || echo "0 passed, 1 failed")"
 exit $rc
