@@ -303,10 +303,7 @@ static const option_entry supervisor_options[] = {
           "append the discrete state to PATH on every change (authenticated with a key derived from the "
           "bus key, fsynced); start from its last record when PATH exists (restart); a journal that does "
           "not check out stops the start (exit 1); one that cannot be written holds the cell" },
-    { .name = "journal-reset",
-      .type = OPTION_FLAG,
-      OPTION_AT(supervisor_daemon, journal_reset),
-      .help = "start fresh on purpose: empty the --journal instead of resuming from it" },
+    OPTION_JOURNAL_RESET_ENTRY(supervisor_daemon, journal_reset),
     { .name = "task",
       .type = OPTION_STRING,
       OPTION_AT(supervisor_daemon, task_dir),
