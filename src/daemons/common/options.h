@@ -102,6 +102,11 @@ typedef struct option_entry {
         .help = "start fresh on purpose: empty the --journal instead of resuming from it" \
     }
 
+/* A default written once, as a number the program sets and the text
+ * help shows: .def = OPTION_DEF(NAME) with #define NAME 8 gives "8". */
+#define OPTION_DEF_TEXT(x) #x
+#define OPTION_DEF(x) OPTION_DEF_TEXT(x)
+
 /* One table and the struct its offsets point into. */
 typedef struct option_group {
     const option_entry *table; /* ends with an entry whose name is NULL */
