@@ -12,10 +12,12 @@
  *     a one-core figure.
  * Usage: bench_rovers [SIM_SECONDS] [BIN_DIR]  (default 20 s, build/bin)
  */
+/* NOLINTBEGIN(bugprone-suspicious-include): the simulator's sources, statics and all */
 #include "sim_world.c"
 #include "sim_lockstep.c"
 #include "sim_rovers.c"
 #include "sim_rovers_sense.c"
+/* NOLINTEND(bugprone-suspicious-include) */
 #include <time.h>
 #include <sys/resource.h>
 #include <unistd.h> /* getpid */

@@ -66,6 +66,7 @@ static double rays_per_cpu_s(const rover_obstacle *o, int n, double x0, double y
     for (q = 0; q < rays; q++) {
         sonar_hit h;
         const int k2 = (int)(q % STARTS);
+        /* NOLINTNEXTLINE(bugprone-integer-division): q / STARTS: the whole round the ray belongs to */
         *hits += sonar_cast(&h, &SW, sx[k2], sy[k2], 0.2, dir[k2] + 1e-3 * (double)(q / STARTS),
                             5.0) == 1;
     }

@@ -145,7 +145,7 @@ uint64_t sim_state_hash(const sim_world *w)
     uint64_t h = 1469598103934665603ULL;
     int i;
     for (i = 0; i < w->n_bodies; i++) {
-        const dBodyID b = w->bodies[i];
+        dBodyID b = w->bodies[i];
         h = fnv_bytes(h, dBodyGetPosition(b), 3 * sizeof(dReal));
         h = fnv_bytes(h, dBodyGetQuaternion(b), 4 * sizeof(dReal));
         h = fnv_bytes(h, dBodyGetLinearVel(b), 3 * sizeof(dReal));

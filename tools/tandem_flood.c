@@ -128,8 +128,8 @@ static const option_entry flood_table[] = {
       OPTION_AT(flood_options, random_channels),
       .help =
           "a new random channel name for every datagram (what LCM remembers of each name it sees)" },
-    { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
-    { .name = "version", .type = OPTION_VERSION, .help = "program version" },
+    OPTION_HELP_ENTRY('h'),
+    OPTION_VERSION_ENTRY,
     { .name = NULL }
 };
 

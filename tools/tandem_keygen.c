@@ -70,8 +70,8 @@ static const option_entry keygen_table[] = {
       .help =
           "with --cell: leave principal NAME (e.g. rover2) out of every role file; restart the others with "
           "their new files and NAME is refused" },
-    { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
-    { .name = "version", .type = OPTION_VERSION, .help = "program version" },
+    OPTION_HELP_ENTRY('h'),
+    OPTION_VERSION_ENTRY,
     { .name = NULL }
 };
 

@@ -58,7 +58,7 @@ static const option_entry kin_table[] = {
       .help = "point mass held at the tool point (the flange origin without --tool); "
               "used by grav only",
       .def = "0" },
-    { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
+    OPTION_HELP_ENTRY('h'),
     { .name = NULL }
 };
 

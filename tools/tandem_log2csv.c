@@ -169,8 +169,8 @@ static const option_entry log2csv_table[] = {
       .type = OPTION_FLAG,
       OPTION_AT(log2csv_options, all_fields),
       .help = "the generic layout for every channel" },
-    { .name = "help", .type = OPTION_HELP, .help = "this text" },
-    { .name = "version", .type = OPTION_VERSION, .help = "program version" },
+    OPTION_HELP_ENTRY(0),
+    OPTION_VERSION_ENTRY,
     { .name = NULL }
 };
 

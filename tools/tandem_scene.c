@@ -422,8 +422,8 @@ static const option_entry scene_table[] = {
       OPTION_AT(scene_options, urdf),
       .help = "write the cell as URDF (both arms' DH chains with limits, masses and inertias, "
               "the table, a Pioneer at the team's start) instead of JSON" },
-    { .name = "help", .type = OPTION_HELP, .help = "this text" },
-    { .name = "version", .type = OPTION_VERSION, .help = "program version" },
+    OPTION_HELP_ENTRY(0),
+    OPTION_VERSION_ENTRY,
     { .name = NULL }
 };
 

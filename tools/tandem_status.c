@@ -384,8 +384,8 @@ static const option_entry status_table[] = {
       .help =
           "on every health message write DIR/PID (its time is the daemon's last heartbeat; tandem-run "
           "kills a daemon whose heartbeat stops)" },
-    { .name = "help", .type = OPTION_HELP, .help = "this text" },
-    { .name = "version", .type = OPTION_VERSION, .help = "program version" },
+    OPTION_HELP_ENTRY(0),
+    OPTION_VERSION_ENTRY,
     { .name = NULL }
 };
 

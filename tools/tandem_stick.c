@@ -122,7 +122,7 @@ static const option_entry stick_table[] = {
       .help = "send again until the simulator's SIM_STATUS shows the stick, at most S s "
               "(0: send once, do not wait)",
       .def = "5" },
-    { .name = "help", .type = OPTION_HELP, .help = "this text" },
+    OPTION_HELP_ENTRY(0),
     { .name = NULL }
 };
 

@@ -77,7 +77,7 @@ static const option_entry gen_table[] = {
       .required = 1,
       .meta = "DIR",
       .help = "writes DIR/world.yaml, world.pgm and world.svg" },
-    { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
+    OPTION_HELP_ENTRY('h'),
     { .name = NULL }
 };
 

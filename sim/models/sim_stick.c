@@ -36,7 +36,7 @@ static void stick_frame_for_link(const sim_arms *arms, const tandem_sim_control_
 {
     const sim_arm *a = &arms->pair[c->target - 1];
     const int i = c->link - 1;
-    const dBodyID b = a->link[i];
+    dBodyID b = a->link[i];
     dGeomID g = a->geom[i][0];
     dReal r0 = 0, l0 = 0, r1 = 0, l1 = 0;
     const dReal *p, *R;

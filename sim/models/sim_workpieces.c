@@ -84,7 +84,7 @@ static dGeomID stand_create(sim_world *w)
     const double *h = cell_default.handover_center_m;
     const double top = h[2] - 0.5 * cell_default.workpiece_size_m[2] - WP_STAND_DROP_M;
     const double height = top - table_top_z();
-    const dGeomID g = dCreateBox(w->space, WP_STAND_SIZE_X_M, WP_STAND_SIZE_Y_M, height);
+    dGeomID g = dCreateBox(w->space, WP_STAND_SIZE_X_M, WP_STAND_SIZE_Y_M, height);
     dGeomSetPosition(g, h[0], h[1], table_top_z() + 0.5 * height);
     dGeomSetCategoryBits(g, SIM_CAT_TABLE);
     dGeomSetCollideBits(g, SIM_CAT_WORKPIECE);
@@ -251,7 +251,7 @@ static void maybe_spawn(sim_workpieces *m)
 static void attach(sim_workpieces *m, sim_world *w, int k, sim_workpiece *p)
 {
     sim_arm *a = sim_arms_arm(m->arms, k);
-    const dBodyID flange = a->link[ARM_NJ - 1];
+    dBodyID flange = a->link[ARM_NJ - 1];
     if (!held_by_other(p, k)) {
         /* self-centring jaws: bar along the flange x axis, grasp point on
          * the tool point, bar z opposite the tool z (upright for tool-down) */

@@ -192,7 +192,7 @@ static const option_entry carry_option_table[] = {
       .required = 1,
       .meta = "DIR",
       .help = "output directory" },
-    { .name = "help", .type = OPTION_HELP, .help = "this text" },
+    OPTION_HELP_ENTRY(0),
     { .name = NULL }
 };
 

@@ -237,7 +237,7 @@ static const option_entry formation_table[] = {
       .required = 1,
       .meta = "DIR",
       .help = "output directory" },
-    { .name = "help", .letter = 'h', .type = OPTION_HELP, .help = "this text" },
+    OPTION_HELP_ENTRY('h'),
     { .name = NULL }
 };
 

@@ -41,7 +41,7 @@ int tdsd_scen_args(tdsd_scen *s, int argc, char **argv, const tdsd_scen_usage *u
           .required = 1,
           .meta = "DIR",
           .help = "output directory" },
-        { .name = "help", .type = OPTION_HELP, .help = "this text" },
+        OPTION_HELP_ENTRY(0),
         { .name = NULL }
     };
     char name[64];

@@ -127,6 +127,7 @@ static int channel_ref(erlaw_channel *c, double s, erlaw_ref ref, double s_ext, 
     if (ref != ERLAW_REF_EXTERNAL)
         c->ext_seen = 0;
     switch (ref) {
+    /* NOLINTNEXTLINE(bugprone-branch-clone): BLOCKED keeps s for a reason of its own */
     case ERLAW_REF_MEASURED: *s_ref = s; return 0;
     case ERLAW_REF_BLOCKED:
         /* no reference motion along e (the error across it is taken from

@@ -12,6 +12,7 @@
  * are made here.
  */
 #include "rover_ctl_internal.h"
+#include "sonar.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -84,7 +85,16 @@ int rover_esc_table_validate(const rover_esc_row *t, int n)
 }
 
 /* Escape wall following: the nearer range on the wall side held at
- * follow_dist_m by a proportional turn. */
+ * follow_dist_m by a proportional turn (FOLLOW_GAIN), blocked ahead
+ * within follow_dist_m + FOLLOW_FRONT_MARGIN_M or on the wall side's
+ * front within FOLLOW_SIDE_FRONT_FRAC of the distance kept, the wall lost
+ * beyond follow_dist_m + FOLLOW_LOST_MARGIN_M. */
+#define FOLLOW_FRONT_MARGIN_M 0.1
+#define FOLLOW_SIDE_FRONT_FRAC 0.75
+#define FOLLOW_LOST_MARGIN_M 0.8
+#define FOLLOW_ARC_V_FRAC 0.7 /* round a lost wall's corner: of follow_v_mps */
+#define FOLLOW_ARC_W_FRAC 0.8 /* ... and of follow_w_radps */
+#define FOLLOW_GAIN 2.0       /* rad/s per m of distance error */
 void rover_ctl_follow(unicycle_cmd *u, const sonar_groups *g, int side, const rover_ctl_params *p)
 {
     const double s = side < 0 ? -1.0 : 1.0;
@@ -96,19 +106,19 @@ void rover_ctl_follow(unicycle_cmd *u, const sonar_groups *g, int side, const ro
      * the other, found itself blocked and turned on the spot there for good */
     const double keep_m = fmin(p->follow_dist_m, 0.5 * (left + right));
     const double wmax = p->follow_w_radps;
-    if (g->front_m < p->follow_dist_m + 0.1 ||
-        (s < 0 ? g->right_front_m : g->left_front_m) < 0.75 * keep_m) {
+    if (g->front_m < p->follow_dist_m + FOLLOW_FRONT_MARGIN_M ||
+        (s < 0 ? g->right_front_m : g->left_front_m) < FOLLOW_SIDE_FRONT_FRAC * keep_m) {
         /* blocked ahead: turn away from the wall side on the spot (creeping
          * forward while turning walked the axle toward the walls of a narrow
          * pocket until the turning tail touched one) */
         u->v_mps = 0.0;
         u->w_radps = -s * wmax;
-    } else if (near_side > p->follow_dist_m + 0.8) {
+    } else if (near_side > p->follow_dist_m + FOLLOW_LOST_MARGIN_M) {
         /* lost the wall (a convex corner): arc round toward it */
-        u->v_mps = 0.7 * p->follow_v_mps;
-        u->w_radps = s * 0.8 * wmax;
+        u->v_mps = FOLLOW_ARC_V_FRAC * p->follow_v_mps;
+        u->w_radps = s * FOLLOW_ARC_W_FRAC * wmax;
     } else {
-        double w = -s * 2.0 * (keep_m - near_side);
+        double w = -s * FOLLOW_GAIN * (keep_m - near_side);
         if (w > wmax)
             w = wmax;
         if (w < -wmax)
@@ -118,13 +128,14 @@ void rover_ctl_follow(unicycle_cmd *u, const sonar_groups *g, int side, const ro
     }
 }
 
-/* The transducer whose bearing is nearest to b (table order, -90..90 deg). */
+/* The transducer whose bearing is nearest to b (sonar_p2dx_front, the
+ * ring's one table). */
 static double range_toward(const double range_m[BEH_SONAR_N], double b_rad)
 {
-    static const double deg[BEH_SONAR_N] = { -90, -50, -30, -10, 10, 30, 50, 90 };
     int i, best = 0;
     for (i = 1; i < BEH_SONAR_N; i++)
-        if (fabs(deg[i] * VEC2_PI / 180.0 - b_rad) < fabs(deg[best] * VEC2_PI / 180.0 - b_rad))
+        if (fabs(sonar_p2dx_front[i].angle_rad - b_rad) <
+            fabs(sonar_p2dx_front[best].angle_rad - b_rad))
             best = i;
     return range_m[best];
 }
@@ -191,6 +202,7 @@ static int trapped_mate_coming(const rover_ctl_state *c, const pose2 *o, double 
     return found;
 }
 
+#define YIELD_DEAD_AHEAD_RAD 0.2 /* a trapped mate within this of dead ahead */
 /* Give way to a trapped mate that we wait for and that comes our way:
  * its only way out is back past us. YIELD (turn away from it), then
  * CLEAR (follow the nearer wall out). The leave rule's reference is the
@@ -210,7 +222,7 @@ static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose
     c->esc_lost_s = 0.0;
     c->esc_hit_dist_m = hypot(goal[0] - mate[0], goal[1] - mate[1]);
     /* away from the mate; one dead ahead: toward the roomier side */
-    if (fabs(b) > 0.2)
+    if (fabs(b) > YIELD_DEAD_AHEAD_RAD)
         c->esc_turn = b > 0.0 ? -1 : 1;
     else
         c->esc_turn = gw->left_m + gw->left_front_m >= gw->right_m + gw->right_front_m ? 1 : -1;
@@ -393,6 +405,8 @@ static int deconflict(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
     return u->w_radps == 0.0;
 }
 
+/* a mate this far either side of the heading is ahead */
+#define YIELD_AHEAD_RAD (2.0 * VEC2_PI / 3.0)
 /* YIELD: turn on the spot away from the trapped mate while one that is
  * out of the formation is ahead within give_way_m, at most yield_max_s
  * of turning (the limit), never into a mate (deconflict); then CLEAR,
@@ -407,7 +421,7 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
         if (formation_ann_out(m->announce) && team_position(&c->team, m->robot, xy) == 0 &&
             hypot(xy[0] - o->x_m, xy[1] - o->y_m) < c->p.give_way_m &&
             fabs(vec2_angle_diff_rad(atan2(xy[1] - o->y_m, xy[0] - o->x_m), o->theta_rad)) <
-                2.0 * VEC2_PI / 3.0)
+                YIELD_AHEAD_RAD)
             ahead = 1;
     }
     if (ahead && c->esc_s < c->p.yield_max_s) {
@@ -422,6 +436,10 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
     return 0;
 }
 
+/* The way to the goal is free: the transducer toward it reads beyond
+ * FREE_WAY_RANGE_M and the front beyond FREE_WAY_FRONT_M. */
+#define FREE_WAY_RANGE_M 1.2
+#define FREE_WAY_FRONT_M 0.8
 /* FOLLOW, CLEAR: the boundary on esc_side (U in *u, 1) until the leave
  * rule or open floor ends the escape (`next`: NONE, REJOIN, 0); the other
  * way round after escape_max_s of following (the limit). dist: own
@@ -432,8 +450,9 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
 {
     const rover_esc_row *row = &rover_esc_table[c->esc_phase];
     const double b = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m), o->theta_rad);
-    const int free_way = fabs(b) < 0.5 * VEC2_PI && range_toward(c->range_m, b) > 1.2 &&
-                         g->front_m > 0.8;
+    const int free_way = fabs(b) < 0.5 * VEC2_PI &&
+                         range_toward(c->range_m, b) > FREE_WAY_RANGE_M &&
+                         g->front_m > FREE_WAY_FRONT_M;
     c->esc_lost_s = rover_ctl_walls_near(gw, &c->p) ? 0.0 : c->esc_lost_s + dt_s;
     if ((dist < c->esc_hit_dist_m - c->p.leave_gain_m && free_way) ||
         c->esc_lost_s > c->p.follow_lost_s) {

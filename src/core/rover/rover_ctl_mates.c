@@ -51,6 +51,7 @@ static int boxes_touch(const box2 *a, const box2 *b)
         const box2 *p = pass ? b : a, *q = pass ? a : b;
         const double cp = cos(p->theta_rad), sp = sin(p->theta_rad);
         for (k = 0; k < 9; k++) {
+            /* NOLINTNEXTLINE(bugprone-integer-division): k / 3 - 1 is the cell row -1, 0 or 1 */
             const double u = (k % 3 - 1) * p->hx_m, v = (k / 3 - 1) * p->hy_m; /* -1, 0, 1 each */
             if (in_box(p->x_m + u * cp - v * sp, p->y_m + u * sp + v * cp, q))
                 return 1;

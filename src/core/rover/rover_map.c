@@ -137,7 +137,9 @@ int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const doubl
     const double span = len + 2.0 * margin_m;
     double step_m = 3.0;
     int k, n = 0, pairs;
+    /* NOLINTNEXTLINE(bugprone-integer-division): whole pairs of landmarks */
     if (span / step_m + 1.0 > ROVER_WORLD_MAX_LANDMARKS / 2)
+        /* NOLINTNEXTLINE(bugprone-integer-division): whole pairs of landmarks */
         step_m = span / (ROVER_WORLD_MAX_LANDMARKS / 2 - 1);
     pairs = (int)floor(span / step_m + 1e-9) + 1;
     if (pairs > ROVER_WORLD_MAX_LANDMARKS / 2)

@@ -286,6 +286,12 @@ static int parse_model(const char *prog, void *dest, char *value)
     return 0;
 }
 
+/* The defaults main sets and the help shows, written once. */
+#define ARM_WN_DEFAULT_HZ 8
+#define ARM_STALE_DEFAULT_MS 20
+#define ARM_SPEED_FRAC_DEFAULT 0.5
+#define TWO_PI 6.283185307179586
+
 /* Into the arm_daemon main made; the values it holds before are the
  * defaults. --wn is stored as rad/s (times 2 pi), --stale-ms as s. */
 static const option_entry arm_options[] = {
@@ -301,10 +307,10 @@ static const option_entry arm_options[] = {
       OPTION_AT(arm_daemon, gains.wn_radps),
       .min = 0.5,
       .max = 50.0,
-      .scale = 6.283185307179586,
+      .scale = TWO_PI,
       .meta = "HZ",
       .help = "joint servo natural frequency in Hz",
-      .def = "8" },
+      .def = OPTION_DEF(ARM_WN_DEFAULT_HZ) },
     { .name = "stale-ms",
       .type = OPTION_DOUBLE,
       OPTION_AT(arm_daemon, stale_s),
@@ -313,7 +319,7 @@ static const option_entry arm_options[] = {
       .scale = 1e-3,
       .meta = "MS",
       .help = "state older than this engages the brakes",
-      .def = "20" },
+      .def = OPTION_DEF(ARM_STALE_DEFAULT_MS) },
     { .name = "speed-frac",
       .type = OPTION_DOUBLE,
       OPTION_AT(arm_daemon, speed_frac),
@@ -321,7 +327,7 @@ static const option_entry arm_options[] = {
       .max = 1.0,
       .meta = "F",
       .help = "joint moves use this fraction of the motor speed",
-      .def = "0.5" },
+      .def = OPTION_DEF(ARM_SPEED_FRAC_DEFAULT) },
     { .name = "arm-model",
       .type = OPTION_CALL,
       /* the option stores a pointer: its size is a pointer's */
@@ -395,9 +401,9 @@ int main(int argc, char **argv)
     int rc;
     char name[32];
     ad->model = &arm_model_puma560;
-    ad->gains.wn_radps = 6.283185307179586 * 8.0;
-    ad->stale_s = 20.0 * 1e-3;
-    ad->speed_frac = 0.5;
+    ad->gains.wn_radps = TWO_PI * ARM_WN_DEFAULT_HZ;
+    ad->stale_s = ARM_STALE_DEFAULT_MS * 1e-3;
+    ad->speed_frac = ARM_SPEED_FRAC_DEFAULT;
     ad->block_detect = 1;
     daemon_defaults(d, "tandem-arm", 0.001);
     if ((rc = parse_args(ad, argc, argv)) < 0)

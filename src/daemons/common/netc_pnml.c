@@ -105,6 +105,7 @@ static void add_node(pnml_reader *r, const xmlNode *n, int is_place)
 {
     netc_task *t = r->t;
     int *count = is_place ? &t->n_places : &t->n_transitions;
+    /* NOLINTNEXTLINE(bugprone-branch-clone): the two capacities are equal today, not by rule */
     const int max = is_place ? PETRI_MAX_PLACES : PETRI_MAX_TRANSITIONS;
     char *id, *name;
     if (*count >= max) {

@@ -599,7 +599,7 @@ const option_entry options_daemon_common[] = {
       .scale = 1e-3,
       .meta = "MS",
       .help = "control period" },
-    { .name = "help", .type = OPTION_HELP, .help = "this text" },
+    OPTION_HELP_ENTRY(0),
     { .name = "version",
       .type = OPTION_VERSION,
       .help = "program version (git describe at build time)" },

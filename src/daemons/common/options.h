@@ -84,6 +84,29 @@ typedef struct option_entry {
 #define OPTION_ALL(type) .offset = 0, .size = sizeof(type)
 #define OPTION_SEEN(type, member) .seen = 1 + offsetof(type, member)
 
+/* Entries several tables share, written once so their names and help stay
+ * one: --help (letter: its short form, 0 for none) and --version in a
+ * tool's table (a daemon has them from options_daemon_common), and
+ * --journal-reset, the flag of a daemon with a --journal. */
+#define OPTION_HELP_ENTRY(letter_)                                                    \
+    {                                                                                 \
+        .name = "help", .letter = (letter_), .type = OPTION_HELP, .help = "this text" \
+    }
+#define OPTION_VERSION_ENTRY                                                 \
+    {                                                                        \
+        .name = "version", .type = OPTION_VERSION, .help = "program version" \
+    }
+#define OPTION_JOURNAL_RESET_ENTRY(owner, field)                                          \
+    {                                                                                     \
+        .name = "journal-reset", .type = OPTION_FLAG, OPTION_AT(owner, field),            \
+        .help = "start fresh on purpose: empty the --journal instead of resuming from it" \
+    }
+
+/* A default written once, as a number the program sets and the text
+ * help shows: .def = OPTION_DEF(NAME) with #define NAME 8 gives "8". */
+#define OPTION_DEF_TEXT(x) #x
+#define OPTION_DEF(x) OPTION_DEF_TEXT(x)
+
 /* One table and the struct its offsets point into. */
 typedef struct option_group {
     const option_entry *table; /* ends with an entry whose name is NULL */

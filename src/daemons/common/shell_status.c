@@ -9,6 +9,7 @@ STATUS_STRERROR(auth_child_strerror, AUTH_CHILD_CODES)
 STATUS_STRERROR(journal_strerror, JOURNAL_CODES)
 STATUS_STRERROR(netc_strerror, NETC_CODES)
 STATUS_STRERROR(world_file_strerror, WORLD_FILE_CODES)
+STATUS_STRERROR(worldgen_strerror, WORLDGEN_CODES)
 
 static STATUS_STRERROR(auth_bus_own_strerror, AUTH_BUS_CODES)
 

@@ -1,8 +1,7 @@
 /* The status codes of the daemon shell's modules and the text of each
  * (include/tandem/base/status.h): <module>_strerror(rc) returns it,
  * STATUS_UNKNOWN_TEXT for a value that is no code of the module (auth_bus:
- * auth_strerror's text, as it passes auth's results on); never NULL.
- * worldgen still names its own in worldgen.c. */
+ * auth_strerror's text, as it passes auth's results on); never NULL. */
 #ifndef TANDEM_SHELL_STATUS_H
 #define TANDEM_SHELL_STATUS_H
 
@@ -20,6 +19,7 @@
 #include "proc.h"
 #include "wire.h"
 #include "world_file.h"
+#include "worldgen.h"
 
 #define AUTH_CODES(X)                                                  \
     X(AUTH_OK, "accepted")                                             \
@@ -91,6 +91,12 @@
     X(WORLD_FILE_ERR_OPTION, "bad --start or --goal")                               \
     X(WORLD_FILE_ERR_MEMORY, "out of memory")                                       \
     X(WORLD_FILE_ERR_WRITE, "cannot write the world")
+#define WORLDGEN_CODES(X)                                                          \
+    X(WORLDGEN_OK, "ok")                                                           \
+    X(WORLDGEN_ERR_ARG,                                                            \
+      "kind, size or team out of range (the map must hold the team's start area)") \
+    X(WORLDGEN_ERR_NO_WAY, "no passable world in 64 attempts (WORLDGEN_ATTEMPTS)") \
+    X(WORLDGEN_ERR_MEMORY, "out of memory")
 
 #define AUTH_ACL_CODES(X)                                                       \
     X(AUTH_ACL_OK, "ok")                                                        \

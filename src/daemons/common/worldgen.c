@@ -18,18 +18,6 @@
 
 static const char *const kind_names[WORLDGEN_KINDS] = { "clutter", "traps", "corridor", "mixed" };
 
-const char *worldgen_strerror(int rc)
-{
-    switch (rc) {
-    case WORLDGEN_OK: return "ok";
-    case WORLDGEN_ERR_ARG:
-        return "kind, size or team out of range (the map must hold the team's start area)";
-    case WORLDGEN_ERR_NO_WAY: return "no passable world in 64 attempts (WORLDGEN_ATTEMPTS)";
-    case WORLDGEN_ERR_MEMORY: return "out of memory";
-    default: return "unknown worldgen code";
-    }
-}
-
 int worldgen_kind(const char *name)
 {
     int k;

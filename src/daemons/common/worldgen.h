@@ -12,6 +12,7 @@
 #include <stdint.h>
 #include "rover_map.h"
 
+/* status codes; their texts: WORLDGEN_CODES (shell_status.h) */
 #define WORLDGEN_OK 0
 #define WORLDGEN_ERR_ARG (-1)    /* kind, size or robots out of range */
 #define WORLDGEN_ERR_NO_WAY (-2) /* no attempt gave a passable world */
@@ -40,6 +41,7 @@ typedef struct worldgen_params {
     int formation;            /* the start formation (FORMATION_*) */
 } worldgen_params;
 
+/* the text of a WORLDGEN_* code (shell_status.h), STATUS_UNKNOWN_TEXT for another value */
 const char *worldgen_strerror(int rc);
 /* "clutter" | "traps" | "corridor" | "mixed" -> WORLDGEN_*, else WORLDGEN_ERR_ARG. */
 int worldgen_kind(const char *name);

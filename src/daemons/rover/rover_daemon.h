@@ -140,14 +140,4 @@ int rover_journal_cycle(rover_daemon *rd, int64_t step);
 void rover_journal_hold(rover_daemon *rd, rover_outbox *o);
 void rover_journal_stop(rover_daemon *rd);
 
-/* ---- until rover_outputs.c names its bus --------------------------------------
- * rover_outputs.c is being reworked on another branch; until that lands it
- * keeps its calls of the old process-wide bus, which here mean the daemon's
- * own bus, rd->d.bus (every such call there has `rd`, the rover_daemon).
- * Its next edit passes &rd->d.bus itself and these two go. */
-#undef AUTH_PUBLISH
-#define AUTH_PUBLISH(type, lcm, channel, msg) \
-    auth_bus_publish_tx(&rd->d.bus, (lcm), (channel), AUTH_BUS_ENCODE(type, &rd->d.bus, msg))
-#define journal_key_from_bus(key, prog) journal_key_from_bus(&rd->d.bus, (key), (prog))
-
 #endif

@@ -33,7 +33,7 @@ void rover_publish_team(rover_daemon *rd, hosted *h, const rover_ctl_out *o, int
     t.announce_seq = o->team.announce_seq;
     t.goal_m[0] = h->c.goal_m[0];
     t.goal_m[1] = h->c.goal_m[1];
-    AUTH_PUBLISH(tandem_team_msg_t, rd->d.lcm, "TEAM", &t);
+    AUTH_PUBLISH(tandem_team_msg_t, &rd->d.bus, rd->d.lcm, "TEAM", &t);
     h->last_team = t;
 }
 
@@ -82,14 +82,14 @@ void rover_publish_outbox(rover_daemon *rd, rover_outbox *o)
         BATCH_HEADER(bs, o->batch_seq, o->utime, o->step, o->n);
         bc.cmd = o->cmd;
         bs.state = o->st;
-        AUTH_PUBLISH(tandem_rovers_command_t, rd->d.lcm, "ROVERS_COMMAND", &bc);
-        AUTH_PUBLISH(tandem_rovers_state_t, rd->d.lcm, "ROVERS_STATE", &bs);
+        AUTH_PUBLISH(tandem_rovers_command_t, &rd->d.bus, rd->d.lcm, "ROVERS_COMMAND", &bc);
+        AUTH_PUBLISH(tandem_rovers_state_t, &rd->d.bus, rd->d.lcm, "ROVERS_STATE", &bs);
         return;
     }
     for (i = 0; i < o->n; i++) {
         hosted *h = rover_find_hosted(rd, o->cmd[i].robot);
-        AUTH_PUBLISH(tandem_rover_command_t, rd->d.lcm, h->ch_cmd, &o->cmd[i]);
-        AUTH_PUBLISH(tandem_rover_state_t, rd->d.lcm, h->ch_state, &o->st[i]);
+        AUTH_PUBLISH(tandem_rover_command_t, &rd->d.bus, rd->d.lcm, h->ch_cmd, &o->cmd[i]);
+        AUTH_PUBLISH(tandem_rover_state_t, &rd->d.bus, rd->d.lcm, h->ch_state, &o->st[i]);
     }
 }
 
@@ -105,7 +105,8 @@ void rover_republish(daemon *d, void *user)
     rover_publish_outbox(rd, &rd->out[rd->cur]);
     for (j = rd->id_lo; j <= rd->id_hi; j++)
         if (rd->h[j - rd->id_lo].last_team.robot > 0)
-            AUTH_PUBLISH(tandem_team_msg_t, rd->d.lcm, "TEAM", &rd->h[j - rd->id_lo].last_team);
+            AUTH_PUBLISH(tandem_team_msg_t, &rd->d.bus, rd->d.lcm, "TEAM",
+                         &rd->h[j - rd->id_lo].last_team);
 }
 
 /* One line per change of escape phase or of the wall side followed, with
@@ -213,7 +214,7 @@ int rover_journal_start(rover_daemon *rd)
     int j;
     if (!rd->journal)
         return 0;
-    journal_key_from_bus(&key, rd->d.name);
+    journal_key_from_bus(&rd->d.bus, &key, rd->d.name);
     for (j = rd->id_lo; j <= rd->id_hi; j++) {
         hosted *h = &rd->h[j - rd->id_lo];
         long seq = 0;

@@ -202,10 +202,7 @@ static const option_entry rover_options[] = {
           "append each robot's controller snapshot to PATH (PATH-K when hosting several) after every "
           "cycle (authenticated, fsynced); a process started on an existing journal resumes there, or "
           "refuses to start (exit 1) when a record does not check out" },
-    { .name = "journal-reset",
-      .type = OPTION_FLAG,
-      OPTION_AT(rover_daemon, journal_reset),
-      .help = "start fresh on purpose: empty the --journal instead of resuming from it" },
+    OPTION_JOURNAL_RESET_ENTRY(rover_daemon, journal_reset),
     { .name = NULL }
 };
 

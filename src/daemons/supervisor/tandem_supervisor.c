@@ -255,6 +255,9 @@ static const char *const controller_names[] = { "event", "time", NULL };
 static const int controller_values[] = { TANDEM_ACTION_ROW_T_CONTROLLER_EVENT,
                                          TANDEM_ACTION_ROW_T_CONTROLLER_TIME };
 
+/* --stall-s's default, set by main and shown in help */
+#define SUP_STALL_DEFAULT_S 30
+
 /* Into the supervisor_daemon main made; the values it holds before are
  * the defaults. */
 static const option_entry supervisor_options[] = {
@@ -284,7 +287,7 @@ static const option_entry supervisor_options[] = {
       .meta = "S",
       .help = "a stall: work pending and no transition completed for S s of simulated time while "
               "the stick is out",
-      .def = "30" },
+      .def = OPTION_DEF(SUP_STALL_DEFAULT_S) },
     { .name = "stall-obstructed-s",
       .type = OPTION_DOUBLE,
       OPTION_AT(supervisor_daemon, stall_obstructed_s),
@@ -303,10 +306,7 @@ static const option_entry supervisor_options[] = {
           "append the discrete state to PATH on every change (authenticated with a key derived from the "
           "bus key, fsynced); start from its last record when PATH exists (restart); a journal that does "
           "not check out stops the start (exit 1); one that cannot be written holds the cell" },
-    { .name = "journal-reset",
-      .type = OPTION_FLAG,
-      OPTION_AT(supervisor_daemon, journal_reset),
-      .help = "start fresh on purpose: empty the --journal instead of resuming from it" },
+    OPTION_JOURNAL_RESET_ENTRY(supervisor_daemon, journal_reset),
     { .name = "task",
       .type = OPTION_STRING,
       OPTION_AT(supervisor_daemon, task_dir),
@@ -386,7 +386,7 @@ int main(int argc, char **argv)
     sv->next_action_id = 1;
     sv->jr.fd = -1; /* no journal open (journal_close at the end) */
     sv->controller = TANDEM_ACTION_ROW_T_CONTROLLER_EVENT;
-    sv->stall_s = 30.0;
+    sv->stall_s = SUP_STALL_DEFAULT_S;
     sv->stall_obstructed_s = STALLWATCH_OBSTRUCT_MAX_S;
     daemon_defaults(d, "tandem-supervisor", 0.010);
     if ((rc = options_parse(&prog, argc, argv, 1)) < 0)

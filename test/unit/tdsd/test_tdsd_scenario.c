@@ -15,8 +15,10 @@
 #include <math.h>
 #include <string.h>
 
+/* NOLINTBEGIN(bugprone-suspicious-include): the scenario's sources, statics and all */
 #include "tdsd_run.c"
 #include "tdsd_setup.c"
+/* NOLINTEND(bugprone-suspicious-include) */
 
 #define RAD2DEG_ (180.0 / 3.14159265358979323846)
 
