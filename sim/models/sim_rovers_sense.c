@@ -9,7 +9,7 @@
  * unit stepping ahead/left/ahead/right: LED beacons of mates and the
  * world's LED landmarks within 6 m and +-60 deg of where it looks, line of
  * sight, noise; 10 Hz), ROVER_TRUTH (ground truth, 20 Hz, for metrics
- * only). With --rover-batch the same frames of all robots go out as one
+ * only; a fleet of more than RV_TRUTH_CHUNK robots in several messages). With --rover-batch the same frames of all robots go out as one
  * message per tick (ROVERS_SENSORS, ROVERS_BEACONS).
  *
  * Cost per robot independent of the fleet: the sonar world is one grid of
@@ -34,6 +34,7 @@
 
 #define RV_BEACON_STEPS ROVER_CAMERA_PERIOD_STEPS
 #define RV_TRUTH_STEPS 50
+#define RV_TRUTH_CHUNK 1024 /* = rover_truth_t.n in lcmtypes/capacities */
 #define RV_CAM_RANGE_M 6.0
 #define RV_CAM_HALF_FOV (60.0 * VEC2_PI / 180.0)
 #define RV_BEACON_Z_M 0.30
@@ -275,19 +276,24 @@ static void publish_truth(sim_rovers *team, sim_world *w)
         if (!isfinite(cl[i]))
             cl[i] = 1e3;
     }
-    m.seq = team->truth_seq++;
-    m.utime = daemon_utime_now();
-    m.step = w->step;
-    m.sim_time_s = w->time_s;
-    m.n = (int16_t)team->n;
-    m.robot = id;
-    m.x_m = x;
-    m.y_m = y;
-    m.theta_rad = th;
-    m.min_clearance_m = cl;
-    m.collisions = col;
-    m.alive = al;
-    AUTH_PUBLISH(tandem_rover_truth_t, &w->d.bus, w->d.lcm, "ROVER_TRUTH", &m);
+    /* RV_TRUTH_CHUNK robots a message (a datagram holds about 1,500):
+     * a team's truth is one message, a larger fleet's several */
+    for (i = 0; i < team->n; i += RV_TRUTH_CHUNK) {
+        const int k = team->n - i < RV_TRUTH_CHUNK ? team->n - i : RV_TRUTH_CHUNK;
+        m.seq = team->truth_seq++;
+        m.utime = daemon_utime_now();
+        m.step = w->step;
+        m.sim_time_s = w->time_s;
+        m.n = (int16_t)k;
+        m.robot = id + i;
+        m.x_m = x + i;
+        m.y_m = y + i;
+        m.theta_rad = th + i;
+        m.min_clearance_m = cl + i;
+        m.collisions = col + i;
+        m.alive = al + i;
+        AUTH_PUBLISH(tandem_rover_truth_t, &w->d.bus, w->d.lcm, "ROVER_TRUTH", &m);
+    }
 }
 
 void sim_rovers_after_step(void *model, sim_world *w)
