@@ -14,13 +14,15 @@
 #include <lcm/lcm.h>
 #include "daemon.h"
 #include "peer.h"
+#include "rover_world.h"
 #include "tandem_sim_control_t.h"
 #include "tandem_sim_status_t.h"
 
 #define SIM_DT_S 0.001
 #define SIM_MAX_CONTACTS 1024
 #define SIM_MAX_PARTICIPANTS 16
-#define SIM_MAX_BODIES 2048
+/* the arm cell's bodies and three per Pioneer */
+#define SIM_MAX_BODIES (2048 + 3 * ROVER_WORLD_MAX_ROBOTS)
 
 /* The stick is a hand-held rod with a force sensor, not a rigid wall: its
  * contact is a spring-damper (a firm grip: 20 N per mm, damped near

@@ -120,7 +120,7 @@ static const option_entry sim_options[] = {
       .type = OPTION_INT,
       OPTION_AT(sim_app, cfg.rovers),
       .min = 0,
-      .max = 1000,
+      .max = ROVER_WORLD_MAX_ROBOTS,
       .meta = "N",
       .help = "number of Pioneer robots",
       .def = "0" },

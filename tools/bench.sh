@@ -93,6 +93,10 @@ done
 echo; echo "== sonar ray cast: a 100 m x 100 m map of 2000 boxes against the built-in worlds =="
 "$bin/bench_sonar_map" 2000000 | sed 's/^/  /'
 
+echo; echo "== bench_fleet: the simulator alone, 100 to 3000 robots, one core (taskset -c 0) =="
+if command -v taskset >/dev/null; then taskset -c 0 "$bin/bench_fleet" 1
+else echo "  (taskset not found: not pinned)"; "$bin/bench_fleet" 1; fi
+
 echo; echo "== bench_rovers: Pioneer team, all processes pinned to one core (taskset -c 0) =="
 if command -v taskset >/dev/null; then taskset -c 0 "$bin/bench_rovers" 20 "$bin"
 else echo "  (taskset not found: not pinned)"; "$bin/bench_rovers" 20 "$bin"; fi

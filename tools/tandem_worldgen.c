@@ -52,7 +52,7 @@ static const option_entry gen_table[] = {
       .type = OPTION_INT,
       OPTION_AT(gen_options, robots),
       .min = 1,
-      .max = ROVER_WORLD_MAX_ROBOTS,
+      .max = ROVER_TEAM_MAX,
       .meta = "N",
       .help = "team size: the start area holds it, the check places it",
       .def = "3" },

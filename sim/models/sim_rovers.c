@@ -130,8 +130,17 @@ static int team_layout(sim_rovers *team, const sim_config *cfg)
     int i;
     team->formation = cfg->rover_formation; /* the rovers get the same --formation */
     if (cfg->rovers < 1 || cfg->rovers > RV_MAX || (wo.world < 0 && !wo.file)) {
-        fprintf(stderr, "tandem-sim: --rovers %d --world %s: not a valid team (1..%d robots)\n",
+        fprintf(stderr,
+                "tandem-sim: --rovers %d --world %s: not a valid fleet (1..%d robots: "
+                "ROVER_WORLD_MAX_ROBOTS, set at build time)\n",
                 cfg->rovers, cfg->rover_world, RV_MAX);
+        return SIM_ERR_CREATE;
+    }
+    if (cfg->rover_batch && cfg->rovers > ROVER_TEAM_MAX) {
+        fprintf(stderr,
+                "tandem-sim: --rover-batch with --rovers %d: a ROVERS_* message holds at most %d "
+                "robots (ROVER_TEAM_MAX, lcmtypes/capacities)\n",
+                cfg->rovers, ROVER_TEAM_MAX);
         return SIM_ERR_CREATE;
     }
     if (world_opts_layout(&team->layout, &wo, cfg->rovers, 1.0, team->formation, "tandem-sim") != 0)
@@ -143,6 +152,10 @@ static int team_layout(sim_rovers *team, const sim_config *cfg)
     team->w_max = env_num("TANDEM_ROVER_WMAX_DEG", 100.0, 5.0, 360.0) * VEC2_PI / 180.0;
     team->stale_s = env_num("TANDEM_ROVER_STALE_S", 0.5, 0.01, 10.0);
     team->phys_steps = (int)env_num("TANDEM_ROVER_PHYS_STEPS", 4, 1, 10);
+    {
+        const char *nb = getenv("TANDEM_SIM_NEIGHBOURS");
+        team->brute = nb && strcmp(nb, "scan") == 0;
+    }
     sim_rovers_sonar_model(&team->sm);
     for (i = 0; i < SONAR_N; i++)
         team->sonar_angle_rad[i] = sonar_p2dx_front[i].angle_rad;
@@ -195,12 +208,63 @@ static void team_robots_create(sim_rovers *team, sim_world *w)
     }
 }
 
+/* Every per-robot array, once, for n robots: nothing is allocated after. */
+static void team_free(sim_rovers *team)
+{
+    sim_rovers_scratch *s = &team->s;
+    sim_rovers_frames *f = &team->frames;
+    void *p[] = { team->r, f->obs,  f->target, f->range_m, f->bearing_rad, s->sens, s->scan,
+                  s->pose, s->cam,  s->x,      s->y,       s->th,          s->cl,   s->id,
+                  s->col,  s->near, s->al,     s->alive,   s->cam_grid,    s->clear };
+    size_t i;
+    for (i = 0; i < sizeof p / sizeof p[0]; i++)
+        free(p[i]);
+    team->r = NULL;
+    memset(f, 0, sizeof *f);
+    memset(s, 0, sizeof *s);
+}
+
+static int team_alloc(sim_rovers *team, int n)
+{
+    sim_rovers_scratch *s = &team->s;
+    sim_rovers_frames *f = &team->frames;
+    const size_t k = (size_t)n;
+    team->r = calloc(k, sizeof *team->r);
+    f->obs = calloc(k, sizeof *f->obs);
+    f->target = calloc(k, sizeof *f->target);
+    f->range_m = calloc(k, sizeof *f->range_m);
+    f->bearing_rad = calloc(k, sizeof *f->bearing_rad);
+    s->sens = calloc(k, sizeof *s->sens);
+    s->scan = calloc(k, sizeof *s->scan);
+    s->pose = calloc(k, sizeof *s->pose);
+    s->cam = calloc(k, sizeof *s->cam);
+    s->x = calloc(k, sizeof *s->x);
+    s->y = calloc(k, sizeof *s->y);
+    s->th = calloc(k, sizeof *s->th);
+    s->cl = calloc(k, sizeof *s->cl);
+    s->id = calloc(k, sizeof *s->id);
+    s->col = calloc(k, sizeof *s->col);
+    s->near = calloc(k, sizeof *s->near);
+    s->al = calloc(k, sizeof *s->al);
+    s->alive = calloc(k, sizeof *s->alive);
+    s->cam_grid = calloc(1, sizeof *s->cam_grid);
+    s->clear = calloc(1, sizeof *s->clear);
+    if (!team->r || !f->obs || !f->target || !f->range_m || !f->bearing_rad || !s->sens ||
+        !s->scan || !s->pose || !s->cam || !s->x || !s->y || !s->th || !s->cl || !s->id ||
+        !s->col || !s->near || !s->al || !s->alive || !s->cam_grid || !s->clear) {
+        fprintf(stderr, "tandem-sim: no memory for %d robots\n", n);
+        team_free(team);
+        return SIM_ERR_CREATE;
+    }
+    return 0;
+}
+
 static int rovers_create(void *model, sim_world *w, const sim_config *cfg)
 {
     sim_rovers *team = model;
     memset(team, 0, sizeof *team);
     team->w = w;
-    if (team_layout(team, cfg) != 0)
+    if (team_layout(team, cfg) != 0 || team_alloc(team, team->n) != 0)
         return SIM_ERR_CREATE;
     team_world_create(team);
     team_robots_create(team, w);
@@ -234,6 +298,7 @@ static void rovers_destroy(void *model, sim_world *w)
         dWorldDestroy(team->world);
         team->world = NULL;
     }
+    team_free(team);
 }
 
 /* ---- commands ------------------------------------------------------------- */

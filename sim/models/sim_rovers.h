@@ -2,6 +2,12 @@
  * struct handed to every function of sim_rovers.c (world, commands,
  * physics) and sim_rovers_sense.c (sonar, camera, ground truth), and the
  * calls between the two files; extra hooks for benchmarks.
+ *
+ * Capacity: up to RV_MAX robots (ROVER_WORLD_MAX_ROBOTS, a build setting);
+ * every per-robot array is allocated once when the model is created, for
+ * the --rovers asked, and nothing is allocated while it steps. The
+ * batched link (--rover-batch) carries one team of at most ROVER_TEAM_MAX
+ * (the bound of the ROVERS_* messages).
  */
 #ifndef TANDEM_SIM_ROVERS_H
 #define TANDEM_SIM_ROVERS_H
@@ -12,11 +18,14 @@
 #include "rover_world.h"
 #include "sonar.h"
 #include "vec2.h"
+#include "pgrid.h"
 #include "tandem_beacon_obs_t.h"
+#include "tandem_rover_sensors_t.h"
+#include "tandem_sonar_scan_t.h"
 
 #define RV_MAX ROVER_WORLD_MAX_ROBOTS
-#define RV_SENSORS_STEPS ROVER_SENSOR_PERIOD_STEPS       /* the control tick */
-#define RV_SEEN_MAX (RV_MAX + ROVER_WORLD_MAX_LANDMARKS) /* LEDs one camera frame can hold */
+#define RV_SENSORS_STEPS ROVER_SENSOR_PERIOD_STEPS               /* the control tick */
+#define RV_SEEN_MAX (ROVER_TEAM_MAX + ROVER_WORLD_MAX_LANDMARKS) /* LEDs one frame holds */
 
 typedef struct sim_rover {
     int32_t id;
@@ -43,15 +52,29 @@ typedef struct sim_rover {
 /* The camera frames last drawn: a re-announced step publishes them again. */
 typedef struct sim_rovers_frames {
     int n;
-    tandem_beacon_obs_t obs[RV_MAX];
-    int32_t target[RV_MAX][RV_SEEN_MAX];
-    double range_m[RV_MAX][RV_SEEN_MAX];
-    double bearing_rad[RV_MAX][RV_SEEN_MAX];
+    tandem_beacon_obs_t *obs; /* [robots] */
+    int32_t (*target)[RV_SEEN_MAX];
+    double (*range_m)[RV_SEEN_MAX];
+    double (*bearing_rad)[RV_SEEN_MAX];
 } sim_rovers_frames;
+
+/* Work arrays of the sensor publication, one slot per robot, allocated at
+ * creation (the stack would not hold them for thousands of robots). */
+typedef struct sim_rovers_scratch {
+    tandem_rover_sensors_t *sens;
+    tandem_sonar_scan_t *scan;
+    pose2 *pose, *cam;
+    double *x, *y, *th, *cl;
+    int32_t *id, *col, *near;
+    int8_t *al;
+    int *alive;
+    pgrid *cam_grid;             /* the camera's neighbours */
+    rover_clearance_work *clear; /* the truth's clearance */
+} sim_rovers_scratch;
 
 typedef struct sim_rovers {
     int n;
-    sim_rover r[RV_MAX];
+    sim_rover *r; /* [n] */
     rover_world_config layout;
     sonar_world sw;
     sonar_model sm;
@@ -69,6 +92,9 @@ typedef struct sim_rovers {
     int64_t quick_steps;  /* steps that fell back to QuickStep */
     int64_t last_after_step;
     sim_rovers_frames frames;
+    sim_rovers_scratch s;
+    int brute;            /* TANDEM_SIM_NEIGHBOURS=scan: every robot scanned (the old way) */
+    int64_t seen_dropped; /* LEDs in view past a frame's RV_SEEN_MAX */
     int64_t truth_seq, rejected, rays;
     int formation;
 } sim_rovers;

@@ -9,8 +9,18 @@
  * unit stepping ahead/left/ahead/right: LED beacons of mates and the
  * world's LED landmarks within 6 m and +-60 deg of where it looks, line of
  * sight, noise; 10 Hz), ROVER_TRUTH (ground truth, 20 Hz, for metrics
- * only). With --rover-batch the same frames of all robots go out as one
+ * only; a fleet of more than RV_TRUTH_CHUNK robots in several messages). With --rover-batch the same frames of all robots go out as one
  * message per tick (ROVERS_SENSORS, ROVERS_BEACONS).
+ *
+ * Cost per robot independent of the fleet: the sonar world is one grid of
+ * obstacles and robot boxes rebuilt each firing (O(robots + obstacles),
+ * sonar.c: its cells stay fine however the fleet is spread); a camera
+ * frame takes the mates within its range from a grid of the beacons
+ * (pgrid.h), and the truth's clearance its neighbours from a grid of the
+ * bodies (rover_world_clearance_indexed). Both return exactly the robots
+ * the scan over all of them found, in the same ascending order, so the
+ * noise is drawn in the same order and every reading is bit for bit what
+ * it was (TANDEM_SIM_NEIGHBOURS=scan runs the scan, for comparison).
  */
 #include "sim_rovers.h"
 #include <math.h>
@@ -24,9 +34,11 @@
 
 #define RV_BEACON_STEPS ROVER_CAMERA_PERIOD_STEPS
 #define RV_TRUTH_STEPS 50
+#define RV_TRUTH_CHUNK 1024 /* = rover_truth_t.n in lcmtypes/capacities */
 #define RV_CAM_RANGE_M 6.0
 #define RV_CAM_HALF_FOV (60.0 * VEC2_PI / 180.0)
 #define RV_BEACON_Z_M 0.30
+#define RV_CAM_CELL_M 3.0 /* the beacons' grid: half the camera's range */
 
 static void rebuild_sonar_world(sim_rovers *team)
 {
@@ -108,8 +120,8 @@ static void fill_sensors(sim_rovers *team, sim_rover *r, int64_t step, int64_t u
 
 static void publish_sensors(sim_rovers *team, sim_world *w)
 {
-    tandem_rover_sensors_t s[RV_MAX];
-    tandem_sonar_scan_t m[RV_MAX];
+    tandem_rover_sensors_t *s = team->s.sens;
+    tandem_sonar_scan_t *m = team->s.scan;
     const int64_t utime = daemon_utime_now();
     int i, n = 0;
     for (i = 0; i < team->n; i++)
@@ -136,14 +148,18 @@ static void publish_sensors(sim_rovers *team, sim_world *w)
  * with noisy range and bearing if in view (6 m, the pan's field of view)
  * and not hidden by an obstacle taller than the LED (robots, 0.25 m, do
  * not hide it). */
-static int see_led(const sim_rovers *team, sim_rover *r, const pose2 *o, double pan, double x,
-                   double y, int32_t id, int32_t *tgt, double *rng, double *brg, int n)
+static int see_led(sim_rovers *team, sim_rover *r, const pose2 *o, double pan, double x, double y,
+                   int32_t id, int32_t *tgt, double *rng, double *brg, int n)
 {
     const double dx = x - o->x_m, dy = y - o->y_m, d = hypot(dx, dy);
     const double b = vec2_angle_diff_rad(atan2(dy, dx), o->theta_rad);
     sonar_hit hit;
     if (d > RV_CAM_RANGE_M || d < 0.05 || fabs(vec2_angle_diff_rad(b, pan)) > RV_CAM_HALF_FOV)
         return n;
+    if (n >= RV_SEEN_MAX) { /* a frame holds what its message may carry */
+        team->seen_dropped++;
+        return n;
+    }
     if (sonar_cast(&hit, &team->sw, o->x_m, o->y_m, RV_BEACON_Z_M, atan2(dy, dx), d) == 1)
         return n;
     tgt[n] = id;
@@ -159,10 +175,19 @@ static void observe_beacons(sim_rovers *team, int i, const pose2 o[], double pan
                             tandem_beacon_obs_t *m)
 {
     sim_rover *r = &team->r[i];
-    int j, n = 0;
-    for (j = 0; j < team->n; j++)
-        if (j != i && team->r[j].alive)
+    int32_t *near = team->s.near;
+    const int k = team->brute ? pgrid_query_brute(team->s.cam_grid, o[i].x_m, o[i].y_m,
+                                                  RV_CAM_RANGE_M + 1e-6, near, team->n)
+                              : pgrid_query(team->s.cam_grid, o[i].x_m, o[i].y_m,
+                                            RV_CAM_RANGE_M + 1e-6, near, team->n);
+    int j, q, n = 0;
+    /* every mate within range, ascending (those farther were refused by
+     * see_led before drawing anything) */
+    for (q = 0; q < k; q++) {
+        j = near[q];
+        if (j != i)
             n = see_led(team, r, &o[i], pan, o[j].x_m, o[j].y_m, team->r[j].id, tgt, rng, brg, n);
+    }
     for (j = 0; j < team->layout.n_landmarks; j++)
         n = see_led(team, r, &o[i], pan, team->layout.landmark_m[j][0],
                     team->layout.landmark_m[j][1], ROVER_LANDMARK_ID_BASE + j, tgt, rng, brg, n);
@@ -187,14 +212,21 @@ static void publish_beacons(sim_rovers *team, sim_world *w, int fresh)
     int *n = &f->n;
     const double pan = pans[(w->step / RV_BEACON_STEPS) % 4];
     const int64_t utime = daemon_utime_now();
-    pose2 o[RV_MAX], c;
+    pose2 *o = team->s.cam, c;
     int i;
     for (i = 0; fresh && i < team->n; i++) {
+        team->s.alive[i] = team->r[i].alive;
+        team->s.x[i] = team->s.y[i] = 0.0;
         if (!team->r[i].alive)
             continue;
         sim_rover_pose_c(&team->r[i], &c);
         unicycle_o_from_c(&o[i], &c, ROVER_BEACON_D_M);
+        team->s.x[i] = o[i].x_m;
+        team->s.y[i] = o[i].y_m;
     }
+    if (fresh)
+        (void)pgrid_build(team->s.cam_grid, team->s.x, team->s.y, team->s.alive, team->n,
+                          RV_CAM_CELL_M); /* n <= RV_MAX <= PGRID_MAX_ITEMS, finite poses */
     if (fresh)
         *n = 0;
     for (i = 0; fresh && i < team->n; i++)
@@ -218,17 +250,21 @@ static void publish_beacons(sim_rovers *team, sim_world *w, int fresh)
 
 static void publish_truth(sim_rovers *team, sim_world *w)
 {
-    int32_t id[RV_MAX], col[RV_MAX];
-    double x[RV_MAX], y[RV_MAX], th[RV_MAX], cl[RV_MAX];
-    int8_t al[RV_MAX];
-    pose2 c[RV_MAX], o;
-    int alive[RV_MAX], i;
+    sim_rovers_scratch *s = &team->s;
+    int32_t *id = s->id, *col = s->col;
+    double *x = s->x, *y = s->y, *th = s->th, *cl = s->cl;
+    int8_t *al = s->al;
+    pose2 *c = s->pose, o;
+    int *alive = s->alive, i;
     tandem_rover_truth_t m;
     for (i = 0; i < team->n; i++) {
         sim_rover_pose_c(&team->r[i], &c[i]);
         alive[i] = team->r[i].alive;
     }
-    rover_world_clearance(&team->layout, c, alive, team->n, cl);
+    if (team->brute)
+        rover_world_clearance(&team->layout, c, alive, team->n, cl);
+    else
+        rover_world_clearance_indexed(&team->layout, c, alive, team->n, s->clear, cl);
     for (i = 0; i < team->n; i++) {
         unicycle_o_from_c(&o, &c[i], ROVER_BEACON_D_M);
         id[i] = team->r[i].id;
@@ -240,19 +276,24 @@ static void publish_truth(sim_rovers *team, sim_world *w)
         if (!isfinite(cl[i]))
             cl[i] = 1e3;
     }
-    m.seq = team->truth_seq++;
-    m.utime = daemon_utime_now();
-    m.step = w->step;
-    m.sim_time_s = w->time_s;
-    m.n = (int16_t)team->n;
-    m.robot = id;
-    m.x_m = x;
-    m.y_m = y;
-    m.theta_rad = th;
-    m.min_clearance_m = cl;
-    m.collisions = col;
-    m.alive = al;
-    AUTH_PUBLISH(tandem_rover_truth_t, &w->d.bus, w->d.lcm, "ROVER_TRUTH", &m);
+    /* RV_TRUTH_CHUNK robots a message (a datagram holds about 1,500):
+     * a team's truth is one message, a larger fleet's several */
+    for (i = 0; i < team->n; i += RV_TRUTH_CHUNK) {
+        const int k = team->n - i < RV_TRUTH_CHUNK ? team->n - i : RV_TRUTH_CHUNK;
+        m.seq = team->truth_seq++;
+        m.utime = daemon_utime_now();
+        m.step = w->step;
+        m.sim_time_s = w->time_s;
+        m.n = (int16_t)k;
+        m.robot = id + i;
+        m.x_m = x + i;
+        m.y_m = y + i;
+        m.theta_rad = th + i;
+        m.min_clearance_m = cl + i;
+        m.collisions = col + i;
+        m.alive = al + i;
+        AUTH_PUBLISH(tandem_rover_truth_t, &w->d.bus, w->d.lcm, "ROVER_TRUTH", &m);
+    }
 }
 
 void sim_rovers_after_step(void *model, sim_world *w)

@@ -142,7 +142,7 @@ static int team_truth(fm_state *fm, const tandem_rover_truth_t *m, int n, double
 static int formation_error(const fm_state *fm, const tandem_rover_truth_t *m, const int32_t *ids,
                            int n, const team_pose *tp, double *sq, double *mx)
 {
-    double at[ROVER_WORLD_MAX_ROBOTS][2], goal_slot[ROVER_WORLD_MAX_ROBOTS][2];
+    double at[ROVER_TEAM_MAX][2], goal_slot[ROVER_TEAM_MAX][2];
     const double heading = atan2(fm->layout.goal_m[1] - fm->layout.team_origin.y_m,
                                  fm->layout.goal_m[0] - fm->layout.team_origin.x_m);
     int i, k = 0;
@@ -159,7 +159,7 @@ static int formation_error(const fm_state *fm, const tandem_rover_truth_t *m, co
         *sq += e * e;
         if (e > *mx)
             *mx = e;
-        if (k >= n || k >= ROVER_WORLD_MAX_ROBOTS)
+        if (k >= n || k >= ROVER_TEAM_MAX)
             return 0;
         formation_slot_xy(xy, fm->formation, n, k, 1.0, 1.0);
         vec2_rotate(r, xy[0], xy[1], heading);

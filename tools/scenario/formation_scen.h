@@ -26,7 +26,7 @@
 #include "tandem_rover_state_t.h"
 #include "tandem_rover_truth_t.h"
 
-#define FM_MAX ROVER_WORLD_MAX_ROBOTS
+#define FM_MAX ROVER_TEAM_MAX
 #define FM_PERIOD 50
 #define FM_PROCS (FM_MAX + 2)
 #define FM_RING 4      /* states kept per robot */

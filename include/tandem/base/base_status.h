@@ -7,6 +7,7 @@
 #include "status.h"
 #include "linalg.h"
 #include "loopstats.h"
+#include "pgrid.h"
 #include "rtloop.h"
 #include "sprofile.h"
 
@@ -20,6 +21,11 @@
 #define LOOPSTATS_CODES(X) \
     X(0, "ok")             \
     X(LOOPSTATS_ERR_ARG, "a sample negative or not finite (ignored)")
+#define PGRID_CODES(X)                                                             \
+    X(PGRID_OK, "ok")                                                              \
+    X(PGRID_ERR_ARG, "NULL, a count outside 0..PGRID_MAX_ITEMS, a cell or radius " \
+                     "not > 0, or a position not finite")                          \
+    X(PGRID_ERR_FULL, "more items in range than the caller's buffer holds")
 #define RTLOOP_CODES(X) \
     X(0, "ok")          \
     X(RTLOOP_ERR_RANGE, "period outside [RTLOOP_MIN_PERIOD_NS, RTLOOP_MAX_PERIOD_NS]")
@@ -29,6 +35,7 @@
 
 const char *linalg_strerror(int rc);
 const char *loopstats_strerror(int rc);
+const char *pgrid_strerror(int rc);
 const char *rtloop_strerror(int rc);
 const char *sprofile_strerror(int rc);
 

@@ -46,6 +46,9 @@ enum {
 /* Slot k of n (0 <= k < n <= FORMATION_MAX_ROBOTS) as (x, y) and as
  * (l_d, phi_d). FORMATION_ERR_ARG on bad type, n, k, or non-positive spacing/scale. */
 int formation_slot_xy(double xy_m[2], int type, int n, int k, double spacing_m, double scale);
+/* Every slot at once, xy_m[k] = formation_slot_xy(.., k, ..) bit for bit,
+ * in O(n) rather than n calls of O(n) each. 0 or FORMATION_ERR_ARG. */
+int formation_slots_xy(double xy_m[][2], int type, int n, double spacing_m, double scale);
 int formation_slot(double *l_d_m, double *phi_d_rad, int type, int n, int k, double spacing_m,
                    double scale);
 /* Width D across the heading: lateral extent of the slots + robot width.

@@ -17,6 +17,9 @@
 #ifndef TANDEM_ROVER_WORLD_H
 #define TANDEM_ROVER_WORLD_H
 
+#include <stdint.h>
+
+#include "pgrid.h"
 #include "vec2.h"
 
 #define ROVER_WORLD_ERR_ARG \
@@ -24,7 +27,15 @@
                                          range, a non-finite pose          */
 #define ROVER_WORLD_ERR_UNKNOWN (-2) /* rover_world_id: no such world name */
 
-#define ROVER_WORLD_MAX_ROBOTS 128
+/* Capacities, fixed at build time (VME style: no heap). The world's robots
+ * (the layout's start poses, the simulator's fleet) may be set with
+ * -DROVER_WORLD_MAX_ROBOTS=N; one team (one formation, one rover host's
+ * batch, the TEAM and ROVERS_* messages) holds at most ROVER_TEAM_MAX,
+ * the bound of those messages' arrays in lcmtypes/capacities. */
+#ifndef ROVER_WORLD_MAX_ROBOTS
+#define ROVER_WORLD_MAX_ROBOTS 4096 /* <= PGRID_MAX_ITEMS */
+#endif
+#define ROVER_TEAM_MAX 128
 #define ROVER_WORLD_MAX_OBST 2048    /* a map's merged boxes (rover_map.h) */
 #define ROVER_WORLD_ROW_MAX 10       /* robots per start row */
 #define ROVER_WORLD_MAX_LANDMARKS 64 /* = LOCALIZE_LANDMARKS_MAX */
@@ -121,5 +132,20 @@ double rover_obstacle_distance(const rover_obstacle *o, double x_m, double y_m);
  * minimum of both directions. Dead robots get INFINITY. 0 ok, ROVER_WORLD_ERR_ARG bad. */
 int rover_world_clearance(const rover_world_config *w, const pose2 *c, const int *alive, int n,
                           double *clearance_m);
+
+/* The indexed computation's workspace (large: the caller keeps one). */
+typedef struct {
+    pgrid grid; /* the alive robots' body centres */
+    double bx[ROVER_WORLD_MAX_ROBOTS], by[ROVER_WORLD_MAX_ROBOTS];
+    int32_t near[ROVER_WORLD_MAX_ROBOTS];
+} rover_clearance_work;
+
+/* The same numbers as rover_world_clearance, bit for bit, with each
+ * robot's mates taken from a grid of the body centres (pgrid.h) in discs
+ * grown until no mate outside could be nearer: the cost per robot is set
+ * by its neighbourhood, not by n (the obstacles are still all tested).
+ * 0 ok, ROVER_WORLD_ERR_ARG bad input (work NULL too). */
+int rover_world_clearance_indexed(const rover_world_config *w, const pose2 *c, const int *alive,
+                                  int n, rover_clearance_work *work, double *clearance_m);
 
 #endif

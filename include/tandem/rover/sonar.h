@@ -4,8 +4,9 @@
  * World: up to SONAR_MAX_PRIMS primitives, each a 2-D shape extruded over
  * [z_min, z_max] (infinities allowed): oriented boxes (axis-aligned is
  * angle 0), circles (cylinders) and line segments (thin walls, two-sided).
- * sonar_world_build() makes a uniform grid (at most SONAR_GRID_MAX cells a
- * side, SONAR_GRID_MAX_REFS prim references); sonar_cast walks it with a
+ * sonar_world_build() makes a uniform grid (at most SONAR_GRID_MAX^2 cells,
+ * in any shape: a long row of robots gets cells as fine as a square map,
+ * SONAR_GRID_MAX_REFS prim references); sonar_cast walks it with a
  * 2-D DDA and stops at the first cell whose far edge lies beyond the best
  * hit. Without a built grid (or if it did not fit) it scans every prim with
  * a bounding-circle reject.
@@ -29,16 +30,19 @@
 #include <stdint.h>
 
 #include "prng.h"
+#include "rover_world.h"
 #include "vec2.h"
 
 #define SONAR_ERR_ARG \
     (-1) /* NULL, non-finite or out-of-range input, an
                                invalid model, or the primitive table full */
 
-#define SONAR_MAX_PRIMS 2304 /* a map's boxes and the robots */
+#ifndef SONAR_MAX_PRIMS /* a map's boxes and the robots */
+#define SONAR_MAX_PRIMS (ROVER_WORLD_MAX_OBST + ROVER_WORLD_MAX_ROBOTS)
+#endif
 #define SONAR_N 8
 #define SONAR_MAX_RAYS 32
-#define SONAR_GRID_MAX 64
+#define SONAR_GRID_MAX 64         /* the grid holds SONAR_GRID_MAX^2 cells */
 #define SONAR_MANY_PRIMS 256      /* above: grid cells of about one prim each */
 #define SONAR_GRID_MAX_REFS 32768 /* < 65536: cell_start and refs are uint16 */
 

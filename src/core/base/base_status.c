@@ -5,5 +5,6 @@
 
 STATUS_STRERROR(linalg_strerror, LINALG_CODES)
 STATUS_STRERROR(loopstats_strerror, LOOPSTATS_CODES)
+STATUS_STRERROR(pgrid_strerror, PGRID_CODES)
 STATUS_STRERROR(rtloop_strerror, RTLOOP_CODES)
 STATUS_STRERROR(sprofile_strerror, SPROFILE_CODES)

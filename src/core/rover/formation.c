@@ -65,6 +65,21 @@ int formation_slot_xy(double xy_m[2], int type, int n, int k, double spacing_m, 
     return 0;
 }
 
+int formation_slots_xy(double xy_m[][2], int type, int n, double spacing_m, double scale)
+{
+    double p[2], c[2];
+    int k;
+    if (!xy_m || !geom_ok(type, n, spacing_m, scale))
+        return FORMATION_ERR_ARG;
+    pattern_centroid(c, type, n);
+    for (k = 0; k < n; k++) {
+        pattern_xy(p, type, n, k);
+        xy_m[k][0] = (p[0] - c[0]) * spacing_m * scale;
+        xy_m[k][1] = (p[1] - c[1]) * spacing_m * scale;
+    }
+    return 0;
+}
+
 int formation_slot(double *l_d_m, double *phi_d_rad, int type, int n, int k, double spacing_m,
                    double scale)
 {

@@ -179,7 +179,10 @@ static int sent_xy(const rover_ctl_state *c, int32_t id, double xy[2])
  * two robots cross: a column that came out of a corridor, or robots back
  * from an escape, by id crossed the team in the goal area and jammed
  * there). At most n passes of n^2 pairs. Every robot computes it from the
- * same team messages; our slot, or -1. */
+ * same team messages; our slot, or -1. The slots' geometry is computed
+ * once (formation_slots_xy), and each robot's squared distance to its
+ * current slot is kept and renewed on a swap: the same numbers as
+ * computing them afresh for every pair, at half the cost of the pairs. */
 static double sq_dist(const double a[2], const double b[2])
 {
     return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
@@ -187,31 +190,36 @@ static double sq_dist(const double a[2], const double b[2])
 
 static int arrival_slot(const rover_ctl_state *c, const step_view *v)
 {
-    double xy[TEAM_MAX + 1][2], sl[TEAM_MAX + 1][2];
+    double xy[TEAM_MAX + 1][2], sl[TEAM_MAX + 1][2], s[TEAM_MAX + 1][2], d[TEAM_MAX + 1];
     const double heading = atan2(c->goal_m[1], c->goal_m[0]);
     int slot[TEAM_MAX + 1], j, q, pass, swapped = 1, mine = -1;
+    if (v->n > TEAM_MAX + 1 ||
+        formation_slots_xy(s, c->fsm.type, v->n, c->p.fsm.spacing_m, c->fsm.scale) != 0)
+        memset(s, 0, sizeof s); /* as formation_slot_xy's untouched output was */
     for (j = 0; j < v->n; j++) {
-        double s[2] = { 0.0, 0.0 };
         if (sent_xy(c, v->ids[j], xy[j]) != 0)
             return -1;
-        formation_slot_xy(s, c->fsm.type, v->n, j, c->p.fsm.spacing_m, c->fsm.scale);
-        vec2_rotate(sl[j], s[0], s[1], heading);
+        vec2_rotate(sl[j], s[j][0], s[j][1], heading);
         sl[j][0] += c->goal_m[0];
         sl[j][1] += c->goal_m[1];
         slot[j] = rover_world_slot(c->fsm.type, v->n, j); /* ids sorted: j is the rank */
         if (slot[j] < 0)
             return -1;
     }
+    for (j = 0; j < v->n; j++)
+        d[j] = sq_dist(xy[j], sl[slot[j]]);
     for (pass = 0; pass < v->n && swapped; pass++) {
         swapped = 0;
         for (j = 0; j < v->n; j++)
             for (q = j + 1; q < v->n; q++) {
-                const double now = sq_dist(xy[j], sl[slot[j]]) + sq_dist(xy[q], sl[slot[q]]);
+                const double now = d[j] + d[q];
                 const double then = sq_dist(xy[j], sl[slot[q]]) + sq_dist(xy[q], sl[slot[j]]);
                 if (then < now - c->p.arrival_swap_m2) {
                     const int t = slot[j];
                     slot[j] = slot[q];
                     slot[q] = t;
+                    d[j] = sq_dist(xy[j], sl[slot[j]]);
+                    d[q] = sq_dist(xy[q], sl[slot[q]]);
                     swapped = 1;
                 }
             }

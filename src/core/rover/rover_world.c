@@ -300,48 +300,123 @@ static void footprint(const pose2 *c, double px[FOOT_PTS], double py[FOOT_PTS], 
     }
 }
 
-int rover_world_clearance(const rover_world_config *w, const pose2 *c, const int *alive, int n,
-                          double *clearance_m)
+typedef char rover_world_grid_fits[ROVER_WORLD_MAX_ROBOTS <= PGRID_MAX_ITEMS ? 1 : -1];
+
+#define CLEAR_REACH 0.6 /* two half-diagonals of the body, rounded up */
+
+static int clearance_args(const rover_world_config *w, const pose2 *c, const int *alive, int n,
+                          const double *clearance_m)
 {
-    static const double reach = 0.6; /* two half-diagonals, rounded up */
-    double px[FOOT_PTS], py[FOOT_PTS], bx, by, qx[FOOT_PTS], qy[FOOT_PTS], cx2, cy2;
-    int i, j, k, p;
+    int i;
     if (!w || !c || !alive || !clearance_m || n < 0 || n > ROVER_WORLD_MAX_ROBOTS)
         return ROVER_WORLD_ERR_ARG;
     for (i = 0; i < n; i++)
         if (alive[i] && !vec2_pose_finite(&c[i]))
             return ROVER_WORLD_ERR_ARG;
+    return 0;
+}
+
+/* Smallest distance from robot i's footprint to an obstacle. */
+static double clearance_obstacles(const rover_world_config *w, const double px[FOOT_PTS],
+                                  const double py[FOOT_PTS])
+{
+    double best = INFINITY;
+    int k, p;
+    for (k = 0; k < w->n_obst; k++)
+        for (p = 0; p < FOOT_PTS; p++) {
+            const double d = rover_obstacle_distance(&w->obst[k], px[p], py[p]);
+            if (d < best)
+                best = d;
+        }
+    return best;
+}
+
+/* best lowered to robot i's distance to robot j's footprint (both ways),
+ * unless j's centre is too far to come nearer than best. */
+static double clearance_mate(const pose2 *c, int i, int j, const double px[FOOT_PTS],
+                             const double py[FOOT_PTS], double bx, double by, double best)
+{
+    double qx[FOOT_PTS], qy[FOOT_PTS], cx2, cy2;
+    int p;
+    footprint(&c[j], qx, qy, &cx2, &cy2);
+    if (hypot(cx2 - bx, cy2 - by) - CLEAR_REACH > best)
+        return best;
+    for (p = 0; p < FOOT_PTS; p++) {
+        const double d1 = box_distance(cx2, cy2, 0.5 * ROVER_BODY_LENGTH_M,
+                                       0.5 * ROVER_BODY_WIDTH_M, c[j].theta_rad, px[p], py[p]);
+        const double d2 = box_distance(bx, by, 0.5 * ROVER_BODY_LENGTH_M, 0.5 * ROVER_BODY_WIDTH_M,
+                                       c[i].theta_rad, qx[p], qy[p]);
+        if (d1 < best)
+            best = d1;
+        if (d2 < best)
+            best = d2;
+    }
+    return best;
+}
+
+int rover_world_clearance(const rover_world_config *w, const pose2 *c, const int *alive, int n,
+                          double *clearance_m)
+{
+    double px[FOOT_PTS], py[FOOT_PTS], bx, by;
+    int i, j;
+    if (clearance_args(w, c, alive, n, clearance_m) != 0)
+        return ROVER_WORLD_ERR_ARG;
     for (i = 0; i < n; i++) {
-        double best = INFINITY;
+        double best;
         if (!alive[i]) {
             clearance_m[i] = INFINITY;
             continue;
         }
         footprint(&c[i], px, py, &bx, &by);
-        for (k = 0; k < w->n_obst; k++)
-            for (p = 0; p < FOOT_PTS; p++) {
-                const double d = rover_obstacle_distance(&w->obst[k], px[p], py[p]);
-                if (d < best)
-                    best = d;
-            }
-        for (j = 0; j < n; j++) {
-            if (j == i || !alive[j])
-                continue;
-            footprint(&c[j], qx, qy, &cx2, &cy2);
-            if (hypot(cx2 - bx, cy2 - by) - reach > best)
-                continue;
-            for (p = 0; p < FOOT_PTS; p++) {
-                const double d1 = box_distance(cx2, cy2, 0.5 * ROVER_BODY_LENGTH_M,
-                                               0.5 * ROVER_BODY_WIDTH_M, c[j].theta_rad, px[p],
-                                               py[p]);
-                const double d2 = box_distance(bx, by, 0.5 * ROVER_BODY_LENGTH_M,
-                                               0.5 * ROVER_BODY_WIDTH_M, c[i].theta_rad, qx[p],
-                                               qy[p]);
-                if (d1 < best)
-                    best = d1;
-                if (d2 < best)
-                    best = d2;
-            }
+        best = clearance_obstacles(w, px, py);
+        for (j = 0; j < n; j++)
+            if (j != i && alive[j])
+                best = clearance_mate(c, i, j, px, py, bx, by, best);
+        clearance_m[i] = best;
+    }
+    return 0;
+}
+
+/* The mates are looked up in a grid of the body centres, in discs that
+ * double until the nearest distance found, plus the reach, lies inside
+ * (with a margin for rounding): a mate outside has its centre farther
+ * than best + reach, so it could not have lowered the minimum, which is
+ * the same floating-point number whatever order it is taken in. */
+int rover_world_clearance_indexed(const rover_world_config *w, const pose2 *c, const int *alive,
+                                  int n, rover_clearance_work *work, double *clearance_m)
+{
+    double px[FOOT_PTS], py[FOOT_PTS], bx, by;
+    int32_t *near;
+    int i, q;
+    if (clearance_args(w, c, alive, n, clearance_m) != 0 || !work)
+        return ROVER_WORLD_ERR_ARG;
+    near = work->near;
+    for (i = 0; i < n; i++) {
+        /* the body centres, as footprint() puts them */
+        work->bx[i] = alive[i] ? c[i].x_m + ROVER_BODY_OFFSET_M * cos(c[i].theta_rad) : 0.0;
+        work->by[i] = alive[i] ? c[i].y_m + ROVER_BODY_OFFSET_M * sin(c[i].theta_rad) : 0.0;
+    }
+    if (pgrid_build(&work->grid, work->bx, work->by, alive, n, 1.0) != PGRID_OK)
+        return ROVER_WORLD_ERR_ARG;
+    for (i = 0; i < n; i++) {
+        double best, r = 2.0;
+        int k;
+        if (!alive[i]) {
+            clearance_m[i] = INFINITY;
+            continue;
+        }
+        footprint(&c[i], px, py, &bx, &by);
+        best = clearance_obstacles(w, px, py);
+        for (;;) {
+            k = pgrid_query(&work->grid, bx, by, r, near, n);
+            if (k < 0)
+                return ROVER_WORLD_ERR_ARG;
+            for (q = 0; q < k; q++)
+                if (near[q] != i)
+                    best = clearance_mate(c, i, near[q], px, py, bx, by, best);
+            if (k >= work->grid.n_used || best + CLEAR_REACH + 1e-6 < r)
+                break;
+            r *= 2.0;
         }
         clearance_m[i] = best;
     }

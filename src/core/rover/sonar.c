@@ -11,6 +11,10 @@
 
 #define DEG (VEC2_PI / 180.0)
 #define SONAR_EPS 1e-12
+#define SONAR_GRID_CELLS (SONAR_GRID_MAX * SONAR_GRID_MAX)
+
+/* cell_start and refs are uint16 */
+typedef char sonar_prims_fit_uint16[SONAR_MAX_PRIMS < 65536 ? 1 : -1];
 
 /* Pioneer 2 DX front ring (ARIA p2dx parameters, mm -> m), relative to the
  * centre of rotation (the axle centre C), in table order -90 .. 90 deg. */
@@ -185,10 +189,14 @@ int sonar_world_build(sonar_world *w)
     w->gx0 = x0;
     w->gy0 = y0;
     /* Cells about 4 prims' worth of area (1 in a map of many boxes, where a
-     * ray crosses many cells and each tested box costs), at least
-     * span / GRID_MAX; coarsen until the references fit. */
-    w->cell_m = fmax(span / SONAR_GRID_MAX, sqrt((x1 - x0 + 1e-9) * (y1 - y0 + 1e-9) *
-                                                 (w->n > SONAR_MANY_PRIMS ? 1.0 : 4.0) / w->n));
+     * ray crosses many cells and each tested box costs), no more than
+     * GRID_CELLS of them (the grid may be long and thin: a fleet spread
+     * along a row gets cells as fine as a square map of the same area);
+     * coarsen until the references fit. For a square world this is the
+     * grid of GRID_MAX a side it always was. */
+    w->cell_m = fmax(
+        fmax(span / SONAR_GRID_CELLS, sqrt((x1 - x0) * (y1 - y0) / SONAR_GRID_CELLS)),
+        sqrt((x1 - x0 + 1e-9) * (y1 - y0 + 1e-9) * (w->n > SONAR_MANY_PRIMS ? 1.0 : 4.0) / w->n));
     if (!(w->cell_m > 0.0))
         w->cell_m = 1.0;
     for (attempt = 0; attempt < 8; attempt++, w->cell_m *= 2.0) {
@@ -198,7 +206,7 @@ int sonar_world_build(sonar_world *w)
             w->nx = 1;
         if (w->ny < 1)
             w->ny = 1;
-        if (w->nx > SONAR_GRID_MAX || w->ny > SONAR_GRID_MAX)
+        if (w->nx * w->ny > SONAR_GRID_CELLS)
             continue;
         if (grid_count(w) <= SONAR_GRID_MAX_REFS)
             break;

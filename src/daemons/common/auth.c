@@ -1,5 +1,6 @@
 /* auth: pairwise keys, key files, trailer, tags and replay table (see auth.h). */
 #include "auth.h"
+#include "auth_acl.h"
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
@@ -113,17 +114,22 @@ int auth_roster(int rovers, auth_peer *out, int cap)
     int i, n = 0;
     for (i = 0; i < (int)(sizeof fixed / sizeof fixed[0]) && n < cap; i++)
         out[n++] = fixed[i];
-    for (i = 1; i <= rovers && n < cap; i++) {
-        out[n].role = AUTH_ROLE_ROVER;
-        out[n].first = out[n].last = (uint16_t)i;
-        n++;
-    }
+    if (rovers > AUTH_ACL_NUMBER_MAX)
+        rovers = AUTH_ACL_NUMBER_MAX;
     /* one process may host the whole team (tandem-rover --id 1-N, the
-     * formation scenario's --procs single): it is a principal of its own */
+     * formation scenario's --procs single): it is a principal of its own,
+     * listed before the single rovers, so that it has its keys however
+     * many robots there are (the single rovers fill what a message's tags
+     * leave: AUTH_MAX_TAGS - AUTH_ROSTER_FIXED of them) */
     if (rovers >= 2 && n < cap) {
         out[n].role = AUTH_ROLE_ROVER;
         out[n].first = 1;
         out[n].last = (uint16_t)rovers;
+        n++;
+    }
+    for (i = 1; i <= rovers && n < cap; i++) {
+        out[n].role = AUTH_ROLE_ROVER;
+        out[n].first = out[n].last = (uint16_t)i;
         n++;
     }
     return n;

@@ -189,9 +189,10 @@ void auth_keyset_free(auth_keyset *k);
 /* A master holder's set (holder = who it is, rovers = its roster). */
 void auth_keyset_master(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES],
                         const auth_peer *holder, int rovers);
-/* The roster of a cell with `rovers` single rovers: sim, arms 1-2,
- * supervisor, tool, monitor, rovers 1..rovers and, for two or more, the
- * host of them all (rover 1-rovers); returns how many (<= cap). */
+/* The roster of a cell with `rovers` robots: sim, arms 1-2, supervisor,
+ * tool, monitor, for two or more the host of them all (rover 1-rovers),
+ * then single rovers 1, 2, ... as far as cap allows; returns how many
+ * (<= cap). */
 int auth_roster(int rovers, auth_peer *out, int cap);
 /* The role file of `holder` in the cell of master with the given roster:
  * a send key to every other principal but the monitor (monitors only

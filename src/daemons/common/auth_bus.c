@@ -54,9 +54,9 @@ void auth_bus_identity(auth_bus *bus, int role, int first, int last)
 void auth_bus_roster(auth_bus *bus, int rovers)
 {
     int i;
-    bus->rovers = rovers < 0                                   ? 0
-                  : rovers > AUTH_MAX_TAGS - AUTH_ROSTER_FIXED ? AUTH_MAX_TAGS - AUTH_ROSTER_FIXED
-                                                               : rovers;
+    /* the host of them all covers every robot; the single rovers are as
+     * many as a message's tags hold (auth_roster) */
+    bus->rovers = rovers < 0 ? 0 : rovers > AUTH_ACL_NUMBER_MAX ? AUTH_ACL_NUMBER_MAX : rovers;
     bus->n_routes = 0;
     for (i = 0; i < bus->ring.n; i++) /* a master holder tags for the new roster at once */
         if (bus->ring.set[i] && bus->ring.set[i]->is_master)

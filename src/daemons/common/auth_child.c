@@ -144,9 +144,12 @@ int auth_child_key(auth_child_keys *c, const char *const argv[], char *path, siz
     n = auth_roster(roster_rovers(c), roster, AUTH_MAX_TAGS);
     if (!in_roster(&who, roster, n)) {
         fprintf(stderr,
-                "tandem: %s: principal %d %d-%d is in no role file of this cell (rovers 1..%d and "
-                "the host of all of them)\n",
-                argv[0], who.role, who.first, who.last, roster_rovers(c));
+                "tandem: %s: principal %d %d-%d is in no role file of this cell (the host of "
+                "rovers 1-%d and single rovers 1..%d: AUTH_MAX_TAGS)\n",
+                argv[0], who.role, who.first, who.last, roster_rovers(c),
+                roster_rovers(c) < AUTH_MAX_TAGS - AUTH_ROSTER_FIXED
+                    ? roster_rovers(c)
+                    : AUTH_MAX_TAGS - AUTH_ROSTER_FIXED);
         auth_keyset_free(m);
         return AUTH_CHILD_ERR_PRINCIPAL;
     }

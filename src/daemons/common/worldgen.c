@@ -424,7 +424,7 @@ static int params_ok(const worldgen_params *p)
 {
     const double rs = start_radius(p->robots);
     return p->kind >= 0 && p->kind < WORLDGEN_KINDS && p->robots >= 1 &&
-           p->robots <= ROVER_WORLD_MAX_ROBOTS && p->formation >= FORMATION_LINE &&
+           p->robots <= ROVER_TEAM_MAX && p->formation >= FORMATION_LINE &&
            p->formation <= FORMATION_COLUMN && isfinite(p->width_m) && isfinite(p->height_m) &&
            p->height_m >= 2.0 * fmax(rs, goal_radius(p->robots)) + 2.0 * WALL_M + 1.0 &&
            /* start and goal areas (placed as place_site does) do not overlap */

@@ -19,7 +19,7 @@
 #include "tandem_rover_state_t.h"
 #include "tandem_team_msg_t.h"
 
-#define HOST_MAX ROVER_WORLD_MAX_ROBOTS
+#define HOST_MAX ROVER_TEAM_MAX
 #define TEAMQ_MAX 4096
 
 /* Failures of tandem-rover's own steps (0 = ok). */
@@ -43,9 +43,9 @@ typedef struct hosted {
     double enc_rad[2];
     double sonar_m[BEH_SONAR_N];
     int cam_n;
-    int32_t cam_target[ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS];
-    double cam_range_m[ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS];
-    double cam_bearing_rad[ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS];
+    int32_t cam_target[ROVER_TEAM_MAX + ROVER_WORLD_MAX_LANDMARKS];
+    double cam_range_m[ROVER_TEAM_MAX + ROVER_WORLD_MAX_LANDMARKS];
+    double cam_bearing_rad[ROVER_TEAM_MAX + ROVER_WORLD_MAX_LANDMARKS];
     int silent;                  /* lockstep: frames stopped (killed body) */
     tandem_team_msg_t last_team; /* for republish (robot 0: none yet) */
     char ch_cmd[24], ch_state[24];
@@ -87,10 +87,10 @@ typedef struct rover_daemon {
     int localize; /* --localize: landmarks fused (1) */
     int64_t batch_seq;
     /* lockstep: what each mate last said on TEAM, and what we published */
-    int64_t mate_step[ROVER_WORLD_MAX_ROBOTS + 1]; /* -1: nothing yet */
-    int mate_gone[ROVER_WORLD_MAX_ROBOTS + 1];
-    peer_watch mate_peer[ROVER_WORLD_MAX_ROBOTS + 1]; /* the process hosting each mate */
-    int64_t wait_step, wait_since_ns;                 /* incomplete inputs */
+    int64_t mate_step[ROVER_TEAM_MAX + 1]; /* -1: nothing yet */
+    int mate_gone[ROVER_TEAM_MAX + 1];
+    peer_watch mate_peer[ROVER_TEAM_MAX + 1]; /* the process hosting each mate */
+    int64_t wait_step, wait_since_ns;         /* incomplete inputs */
     int64_t gone_count;
     rover_outbox out[2]; /* out[cur]: the last cycle */
     int cur;

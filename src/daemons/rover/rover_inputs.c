@@ -104,7 +104,7 @@ static void take_beacons(rover_daemon *rd, const tandem_beacon_obs_t *m)
     rd->d.msgs.received++;
     if (is_copy(rd, m->step, &h->camera_step))
         return;
-    if (m->n < 0 || m->n > ROVER_WORLD_MAX_ROBOTS + ROVER_WORLD_MAX_LANDMARKS) {
+    if (m->n < 0 || m->n > ROVER_TEAM_MAX + ROVER_WORLD_MAX_LANDMARKS) {
         rd->d.msgs.rejected++;
         return;
     }

@@ -121,7 +121,7 @@ static const option_entry rover_options[] = {
       .type = OPTION_INT,
       OPTION_AT(rover_daemon, robots),
       .min = 1,
-      .max = ROVER_WORLD_MAX_ROBOTS,
+      .max = ROVER_TEAM_MAX,
       .meta = "N",
       .help = "team size in the launch configuration",
       .def = "3" },
@@ -334,7 +334,7 @@ int main(int argc, char **argv)
     rd->first_step = -1;
     rd->wait_step = -1;
     rd->out[0].step = rd->out[1].step = -1;
-    for (j = 0; j <= ROVER_WORLD_MAX_ROBOTS; j++)
+    for (j = 0; j <= ROVER_TEAM_MAX; j++)
         rd->mate_step[j] = -1;
     rd->robots = 3;
     rd->world = ROVER_WORLD_OPEN;

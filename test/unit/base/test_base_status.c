@@ -18,6 +18,7 @@ static void test_loop_and_profile(void **st)
 {
     (void)st;
     STATUS_CHECK(loopstats_strerror, LOOPSTATS_CODES);
+    STATUS_CHECK(pgrid_strerror, PGRID_CODES);
     STATUS_CHECK(rtloop_strerror, RTLOOP_CODES);
     STATUS_CHECK(sprofile_strerror, SPROFILE_CODES);
 }

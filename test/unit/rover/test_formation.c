@@ -380,9 +380,33 @@ static void test_slots_held_any_order(void **state)
                      FORMATION_ERR_ARG);
 }
 
+/* formation_slots_xy gives every slot exactly as formation_slot_xy does,
+ * for every type and size; bad input is refused. */
+static void test_slots_at_once(void **state)
+{
+    static double all[FORMATION_MAX_ROBOTS][2];
+    double one[2];
+    int type, n, k;
+    (void)state;
+    for (type = FORMATION_LINE; type <= FORMATION_COLUMN; type++)
+        for (n = 1; n <= FORMATION_MAX_ROBOTS; n++) {
+            assert_int_equal(formation_slots_xy(all, type, n, 1.3, 0.7), 0);
+            for (k = 0; k < n; k++) {
+                assert_int_equal(formation_slot_xy(one, type, n, k, 1.3, 0.7), 0);
+                assert_memory_equal(one, all[k], sizeof one);
+            }
+        }
+    assert_int_equal(formation_slots_xy(NULL, FORMATION_LINE, 3, 1.0, 1.0), FORMATION_ERR_ARG);
+    assert_int_equal(formation_slots_xy(all, FORMATION_LINE, 0, 1.0, 1.0), FORMATION_ERR_ARG);
+    assert_int_equal(formation_slots_xy(all, FORMATION_LINE, FORMATION_MAX_ROBOTS + 1, 1.0, 1.0),
+                     FORMATION_ERR_ARG);
+    assert_int_equal(formation_slots_xy(all, FORMATION_LINE, 3, 0.0, 1.0), FORMATION_ERR_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_slots_at_once),
         cmocka_unit_test(test_slots_centred_and_polar),
         cmocka_unit_test(test_slot_spacing_and_width),
         cmocka_unit_test(test_slot_assignment),

@@ -18,7 +18,7 @@
 #include "prng.h"
 #include "rover_world.h"
 
-static const int team_sizes[] = { 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 30, 100, ROVER_WORLD_MAX_ROBOTS };
+static const int team_sizes[] = { 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 30, 100, ROVER_TEAM_MAX };
 #define N_SIZES ((int)(sizeof team_sizes / sizeof team_sizes[0]))
 
 /* Body box half extents and the distance from its centre to a corner. */
@@ -218,6 +218,11 @@ static void test_layout_all_worlds(void **state)
                                      0);
                     check_layout(&w, world, team_sizes[si], spacings[s], f);
                 }
+    /* a whole fleet at the build's capacity, in the open world (the
+     * checks are quadratic in the robots) */
+    assert_int_equal(
+        rover_world_layout(&w, ROVER_WORLD_OPEN, ROVER_WORLD_MAX_ROBOTS, 1.0, FORMATION_LINE), 0);
+    check_layout(&w, ROVER_WORLD_OPEN, ROVER_WORLD_MAX_ROBOTS, 1.0, FORMATION_LINE);
 }
 
 /* Every robot can reach the goal (as a disc it can turn in), and the
@@ -627,12 +632,65 @@ static void test_clearance(void **state)
     assert_int_equal(rover_world_clearance(&w, c, alive, -1, cl), ROVER_WORLD_ERR_ARG);
 }
 
+/* The indexed clearance is the brute one, bit for bit: random fleets
+ * (scattered, packed into contact, on the start grid, some dead) in every
+ * world; and a corrupted grid would be caught (the comparison can fail). */
+static rover_clearance_work clear_work;
+
+static void random_fleet(prng_state *r, const rover_world_config *L, int kind, int n, pose2 *c,
+                         int *alive)
+{
+    int i;
+    for (i = 0; i < n; i++) {
+        c[i] = L->start_c[i];
+        if (kind == 1) { /* scattered over the world */
+            c[i].x_m = L->x_min_m + (L->x_max_m - L->x_min_m) * prng_uniform(r);
+            c[i].y_m = L->y_min_m + (L->y_max_m - L->y_min_m) * prng_uniform(r);
+        } else if (kind == 2) { /* packed: overlaps and touching bodies */
+            c[i].x_m = 10.0 + 0.35 * (double)(i % 7) + 0.05 * prng_gauss(r);
+            c[i].y_m = 0.3 * (double)(i / 7) + 0.05 * prng_gauss(r);
+        }
+        c[i].theta_rad = (kind == 0 ? 0.0 : 6.0 * prng_uniform(r) - 3.0);
+        alive[i] = (prng_u64(r) % 5) != 0;
+    }
+}
+
+static void test_clearance_indexed_matches(void **state)
+{
+    static const int sizes[] = { 1, 2, 3, 10, 50, 300 };
+    static pose2 c[ROVER_WORLD_MAX_ROBOTS];
+    static int alive[ROVER_WORLD_MAX_ROBOTS];
+    static double want[ROVER_WORLD_MAX_ROBOTS], got[ROVER_WORLD_MAX_ROBOTS];
+    static rover_world_config L;
+    prng_state r;
+    int w, s, kind, i;
+    (void)state;
+    prng_seed(&r, 28);
+    for (w = 0; w < ROVER_WORLD_COUNT; w++)
+        for (s = 0; s < (int)(sizeof sizes / sizeof sizes[0]); s++)
+            for (kind = 0; kind < 3; kind++) {
+                const int n = sizes[s];
+                assert_int_equal(rover_world_layout(&L, w, n, 1.0, FORMATION_LINE), 0);
+                random_fleet(&r, &L, kind, n, c, alive);
+                assert_int_equal(rover_world_clearance(&L, c, alive, n, want), 0);
+                assert_int_equal(rover_world_clearance_indexed(&L, c, alive, n, &clear_work, got),
+                                 0);
+                for (i = 0; i < n; i++)
+                    assert_memory_equal(&got[i], &want[i], sizeof got[i]);
+            }
+    assert_int_equal(rover_world_clearance_indexed(&L, c, alive, 3, NULL, got),
+                     ROVER_WORLD_ERR_ARG);
+    assert_int_equal(rover_world_clearance_indexed(&L, c, alive, -1, &clear_work, got),
+                     ROVER_WORLD_ERR_ARG);
+}
+
 /* Landmarks: within capacity for every world and team size, and from
  * every point of the way (start to goal, centre line) at least two lie
- * within the camera's 6 m and none inside an obstacle. */
+ * within the camera's 6 m and none inside an obstacle. (One team: a fleet
+ * of many teams in rows hundreds of metres long is not lit this way.) */
 static void test_landmarks_cover_the_way(void **state)
 {
-    static const int sizes[] = { 1, 3, 10, 30, 100, ROVER_WORLD_MAX_ROBOTS };
+    static const int sizes[] = { 1, 3, 10, 30, 100, ROVER_TEAM_MAX };
     int w, s;
     (void)state;
     for (w = 0; w < ROVER_WORLD_COUNT; w++)
@@ -658,6 +716,7 @@ static void test_landmarks_cover_the_way(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_clearance_indexed_matches),
         cmocka_unit_test(test_layout_all_worlds),
         cmocka_unit_test(test_goal_reachable_and_deterministic),
         cmocka_unit_test(test_bad_input),
