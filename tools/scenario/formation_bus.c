@@ -20,7 +20,7 @@
 
 void fm_ack(fm_bus *bus, int64_t step)
 {
-    scenario_ack(run_key_bus(), bus->lcm, &bus->ack_seq, step, FM_PERIOD, 0);
+    scenario_ack(bus->auth, bus->lcm, &bus->ack_seq, step, FM_PERIOD, 0);
 }
 
 int64_t fm_mono_ns(void)
@@ -35,6 +35,7 @@ int fm_bus_open(fm_bus *bus, const fm_cfg *cfg, hang_watch *hw)
     int k;
     bus->cfg = cfg;
     bus->hw = hw;
+    bus->auth = run_key_bus();
     bus->clock_step = -1;
     bus->answered = -1;
     bus->last_truth_step = -1;
@@ -55,7 +56,7 @@ int fm_bus_handle(fm_bus *bus, int ms)
     if (rc < 0)
         return rc;
     /* a flood of channel names: a new handle */
-    bus_names_watch(&bus->names, run_key_bus(), &bus->lcm, bus->cfg->url);
+    bus_names_watch(&bus->names, bus->auth, &bus->lcm, bus->cfg->url);
     return rc;
 }
 
@@ -252,16 +253,15 @@ AUTH_TYPED_HANDLER(tandem_rovers_state_t, raw_on_states, on_states)
 void fm_subscribe(fm_run *r)
 {
     fm_bus *bus = &r->bus;
-    auth_bus_subscribe_queue(run_key_bus(), bus->lcm, "SIM_CLOCK", raw_on_clock, bus, 0);
-    auth_bus_subscribe_queue(run_key_bus(), bus->lcm, "ROVER_TRUTH", raw_on_truth, r, 100000);
-    auth_bus_subscribe_queue(run_key_bus(), bus->lcm, "ROVER[0-9]+_STATE", raw_on_state, bus,
-                             100000);
-    auth_bus_subscribe_queue(run_key_bus(), bus->lcm, "ROVERS_STATE", raw_on_states, bus, 100000);
-    auth_bus_subscribe_queue(run_key_bus(), bus->lcm, "SIM_ACK", raw_on_ack, bus, 100000);
+    auth_bus_subscribe_queue(bus->auth, bus->lcm, "SIM_CLOCK", raw_on_clock, bus, 0);
+    auth_bus_subscribe_queue(bus->auth, bus->lcm, "ROVER_TRUTH", raw_on_truth, r, 100000);
+    auth_bus_subscribe_queue(bus->auth, bus->lcm, "ROVER[0-9]+_STATE", raw_on_state, bus, 100000);
+    auth_bus_subscribe_queue(bus->auth, bus->lcm, "ROVERS_STATE", raw_on_states, bus, 100000);
+    auth_bus_subscribe_queue(bus->auth, bus->lcm, "SIM_ACK", raw_on_ack, bus, 100000);
 }
 
 void fm_unsubscribe(fm_run *r)
 {
-    auth_bus_unsubscribe_user(run_key_bus(), r->bus.lcm, &r->bus);
-    auth_bus_unsubscribe_user(run_key_bus(), r->bus.lcm, r);
+    auth_bus_unsubscribe_user(r->bus.auth, r->bus.lcm, &r->bus);
+    auth_bus_unsubscribe_user(r->bus.auth, r->bus.lcm, r);
 }

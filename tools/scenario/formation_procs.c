@@ -15,7 +15,6 @@
 #include <unistd.h>
 #include "formation_scen.h"
 #include "shared_run.h"
-#include "run_key.h"
 #include "auth_bus.h"
 #include "daemon.h"
 #include "tandem_sim_control_t.h"
@@ -36,12 +35,12 @@ int fm_process_down(const fm_procs *pr, int id, int64_t k)
     return id >= 1 && id <= FM_MAX && k > pr->down_after[id] && k < pr->up_at[id];
 }
 
-static pid_t spawn(fm_procs *pr, const fm_cfg *cfg, char *const argv[])
+static pid_t spawn(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, char *const argv[])
 {
     char key[600];
     /* the child's own role file, never this process's master */
     int keyed;
-    pr->keys.parent = run_key_bus(); /* fm_run_reset zeroed it: the roster of this run's bus */
+    pr->keys.parent = bus->auth; /* fm_run_reset zeroed it: the roster of this run's bus */
     keyed = auth_child_key(&pr->keys, (const char *const *)argv, key, sizeof key);
     pid_t p = keyed < 0 ? -1 : fork();
     if (p == 0) {
@@ -113,7 +112,7 @@ static int journaled(const fm_cfg *cfg, int k)
 }
 
 /* The tandem-rover process of robot k (all robots with --procs single). */
-static pid_t spawn_rover(fm_procs *pr, const fm_cfg *cfg, int k)
+static pid_t spawn_rover(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, int k)
 {
     char n_s[16], w_s[32], id_s[32], arrive_s[32], journal[700];
     char *fo = (char *)fm_formation_name(cfg->formation), *bl = (char *)fm_blend_name(cfg->blend);
@@ -154,10 +153,10 @@ static pid_t spawn_rover(fm_procs *pr, const fm_cfg *cfg, int k)
         snprintf(id_s, sizeof id_s, "1-%d", cfg->robots);
     else
         snprintf(id_s, sizeof id_s, "%d", k);
-    return spawn(pr, cfg, rv);
+    return spawn(pr, cfg, bus, rv);
 }
 
-int fm_start_children(fm_procs *pr, const fm_cfg *cfg)
+int fm_start_children(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus)
 {
     char n_s[16], w_s[32], seed_s[24], expect_s[16];
     int k, procs = cfg->single ? 1 : cfg->robots;
@@ -166,7 +165,7 @@ int fm_start_children(fm_procs *pr, const fm_cfg *cfg)
     snprintf(seed_s, sizeof seed_s, "%ld", cfg->seed);
     snprintf(expect_s, sizeof expect_s, "%d", procs + 1);
     /* the role files name this team: rovers 1..N and the host of all N */
-    auth_bus_roster(run_key_bus(), cfg->robots);
+    auth_bus_roster(bus->auth, cfg->robots);
     {
         char *sim[32] = { "tandem-sim",
                           "--lockstep",
@@ -188,11 +187,11 @@ int fm_start_children(fm_procs *pr, const fm_cfg *cfg)
             sim[n++] = "--rover-batch";
         world_opts_argv(&cfg->child_world, sim, &n, 32);
         scenario_argv_drop(&cfg->drop, sim, &n, 32);
-        if (spawn(pr, cfg, sim) <= 0)
+        if (spawn(pr, cfg, bus, sim) <= 0)
             return FM_ERR_START;
     }
     for (k = 1; k <= procs; k++) {
-        pr->rover_pid[k] = spawn_rover(pr, cfg, k);
+        pr->rover_pid[k] = spawn_rover(pr, cfg, bus, k);
         if (pr->rover_pid[k] <= 0)
             return FM_ERR_START;
     }
@@ -202,9 +201,9 @@ int fm_start_children(fm_procs *pr, const fm_cfg *cfg)
 /* Robot k's process started again (from its journal): watched again
  * from now, no more leaves; the step is held from now. 0, or
  * FM_ERR_FAULT when it did not start. */
-static int restart_rover(fm_procs *pr, const fm_cfg *cfg, int k)
+static int restart_rover(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, int k)
 {
-    pr->rover_pid[k] = spawn_rover(pr, cfg, k);
+    pr->rover_pid[k] = spawn_rover(pr, cfg, bus, k);
     if (pr->rover_pid[k] <= 0)
         return FM_ERR_FAULT;
     scenario_leave_end(&pr->leave[k]);
@@ -258,7 +257,7 @@ int fm_faults_step(fm_procs *pr, const fm_cfg *cfg, fm_bus *bus)
             fm_forget_ack(bus, k);
             pr->down_after[k] = bus->clock_step;
             pr->up_at[k] = INT64_MAX;
-            scenario_leave_send(&pr->leave[k], run_key_bus(), bus->lcm, name, bus->clock_step,
+            scenario_leave_send(&pr->leave[k], bus->auth, bus->lcm, name, bus->clock_step,
                                 FM_PERIOD);
             hang_watch_down(&pr->hw, k);
             fprintf(stderr, "formation: fault: rover %d's process killed at t = %.2f s\n", k,
@@ -267,7 +266,7 @@ int fm_faults_step(fm_procs *pr, const fm_cfg *cfg, fm_bus *bus)
             scenario_fault_killed(f);
         }
         if (f->stage == SCENARIO_FAULT_KILLED && bus->sim_time >= f->restart_s) {
-            if (restart_rover(pr, cfg, k) != 0)
+            if (restart_rover(pr, cfg, bus, k) != 0)
                 return FM_ERR_FAULT;
             fprintf(stderr, "formation: fault: rover %d's process restarted at t = %.2f s\n", k,
                     bus->sim_time);
@@ -292,7 +291,7 @@ static void send_kill_robot(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus)
     memset(&c, 0, sizeof c);
     c.command = TANDEM_SIM_CONTROL_T_KILL_ROBOT;
     c.target = cfg->kill_id;
-    AUTH_PUBLISH(tandem_sim_control_t, run_key_bus(), bus->lcm, "SIM_CONTROL", &c);
+    AUTH_PUBLISH(tandem_sim_control_t, bus->auth, bus->lcm, "SIM_CONTROL", &c);
     pr->kill_sent_step = bus->clock_step;
 }
 
@@ -319,8 +318,8 @@ void fm_kill_robot(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus)
         char name[64];
         kill(pr->rover_pid[cfg->kill_id], SIGKILL);
         snprintf(name, sizeof name, "tandem-rover-%d", cfg->kill_id);
-        scenario_leave_send(&pr->leave[cfg->kill_id], run_key_bus(), bus->lcm, name,
-                            bus->clock_step, FM_PERIOD);
+        scenario_leave_send(&pr->leave[cfg->kill_id], bus->auth, bus->lcm, name, bus->clock_step,
+                            FM_PERIOD);
         hang_watch_down(&pr->hw, cfg->kill_id);
     }
     pr->killed = 1;
@@ -353,7 +352,7 @@ void fm_hang_start(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus)
             hang_watch_add(&pr->hw, name, now);
         }
     }
-    hang_watch_subscribe(&pr->hw, run_key_bus(), bus->lcm);
+    hang_watch_subscribe(&pr->hw, bus->auth, bus->lcm);
 }
 
 void fm_hang_stop(fm_procs *pr, const fm_bus *bus)
@@ -392,7 +391,7 @@ int fm_hung_watch(fm_procs *pr, const fm_cfg *cfg, fm_bus *bus)
     const double now = scenario_wall_s();
     int k;
     for (k = 0; k < pr->hw.n; k++)
-        pr->leave_resends += scenario_leave_confirm(&pr->leave[k], run_key_bus(), bus->lcm,
+        pr->leave_resends += scenario_leave_confirm(&pr->leave[k], bus->auth, bus->lcm,
                                                     bus->clock_step);
     if (!hang_watch_look(&pr->hw, bus->lcm, now))
         return 0; /* messages still to read: not now */
@@ -421,14 +420,13 @@ int fm_hung_watch(fm_procs *pr, const fm_cfg *cfg, fm_bus *bus)
         pr->down_after[k] = bus->rover_ack[k];
         pr->up_at[k] = INT64_MAX;
         fm_forget_ack(bus, k);
-        scenario_leave_send(&pr->leave[k], run_key_bus(), bus->lcm, name, bus->clock_step,
-                            FM_PERIOD);
+        scenario_leave_send(&pr->leave[k], bus->auth, bus->lcm, name, bus->clock_step, FM_PERIOD);
         pr->hung_stage[k] = FM_HUNG_KILLED;
         pr->hung_step[k] = bus->clock_step;
         if (bus->clock_step <= 0) {
             /* before the first step the simulator waits for every process
              * to join: no step to hold, the new one joins as the first would */
-            if (restart_rover(pr, cfg, k) != 0)
+            if (restart_rover(pr, cfg, bus, k) != 0)
                 return FM_ERR_FAULT;
             fprintf(stderr, "formation: hung: rover %d's process restarted at t = %.2f s\n", k,
                     bus->sim_time);
@@ -446,7 +444,7 @@ int fm_hung_step(fm_procs *pr, const fm_cfg *cfg, fm_bus *bus)
     int k;
     for (k = 1; k < pr->hw.n && !cfg->single; k++) {
         if (pr->hung_stage[k] == FM_HUNG_KILLED && bus->clock_step > pr->hung_step[k]) {
-            if (restart_rover(pr, cfg, k) != 0)
+            if (restart_rover(pr, cfg, bus, k) != 0)
                 return FM_ERR_FAULT;
             fprintf(stderr, "formation: hung: rover %d's process restarted at t = %.2f s\n", k,
                     bus->sim_time);

@@ -22,6 +22,7 @@
 #include <stdio.h>
 #include <sys/types.h>
 #include <lcm/lcm.h>
+#include "auth_bus.h"
 #include "auth_child.h"
 #include "daemon.h"
 #include "hang_watch.h"
@@ -114,6 +115,7 @@ typedef struct fm_procs {
  * formation_bus.c alone. */
 typedef struct fm_bus {
     const fm_cfg *cfg;
+    auth_bus *auth; /* the process's bus (run_key_bus) */
     hang_watch *hw; /* fm_procs's: the children's signs of life heard here */
     lcm_t *lcm;
     names_watch names; /* the bound on LCM's table of channel names */
@@ -199,7 +201,7 @@ const char *fm_world_arg(const fm_cfg *cfg);
 /* Before the children: no process down, cfg's --fault taken. */
 void fm_procs_init(fm_procs *pr, const fm_cfg *cfg);
 /* Starts the simulator and the rover processes; 0 ok, FM_ERR_START. */
-int fm_start_children(fm_procs *pr, const fm_cfg *cfg);
+int fm_start_children(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus);
 /* SIGTERM to every child, SIGKILL to those still there after 5 s. */
 void fm_stop_children(fm_procs *pr);
 /* --fault at a step due to be answered: 1 go on, 0 hold the step,

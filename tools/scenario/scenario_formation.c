@@ -17,7 +17,6 @@
 #include <string.h>
 #include <unistd.h>
 #include "formation_scen.h"
-#include "run_key.h"
 #include "shared_run.h"
 #include "formation.h"
 #include "rover_ctl.h"
@@ -546,7 +545,7 @@ static void finish(fm_run *r, double wall0)
                      scenario_wall_s() - wall0);
     fm_write_plots(&r->cfg);
     fm_unsubscribe(r);
-    auth_bus_close(run_key_bus(), r->bus.lcm);
+    auth_bus_close(r->bus.auth, r->bus.lcm);
     print_result(r, scenario_wall_s() - wall0);
 }
 
@@ -564,7 +563,7 @@ static int run(int argc, char **argv)
     signal(SIGPIPE, SIG_IGN);
     signal(SIGINT, on_sig);
     wall0 = scenario_wall_s();
-    if (fm_start_children(&r->procs, cfg) != 0) {
+    if (fm_start_children(&r->procs, cfg, &r->bus) != 0) {
         fm_stop_children(&r->procs);
         return 1;
     }
