@@ -18,9 +18,9 @@
 #include "tandem_rovers_state_t.h"
 #include "tandem_sim_clock_t.h"
 
-void fm_ack(fm_state *fm, int64_t step)
+void fm_ack(fm_bus *bus, int64_t step)
 {
-    scenario_ack(run_key_bus(), fm->lcm, &fm->ack_seq, step, FM_PERIOD, 0);
+    scenario_ack(bus->auth, bus->lcm, &bus->ack_seq, step, FM_PERIOD, 0);
 }
 
 int64_t fm_mono_ns(void)
@@ -30,23 +30,74 @@ int64_t fm_mono_ns(void)
     return (int64_t)ts.tv_sec * 1000000000LL + ts.tv_nsec;
 }
 
+int fm_bus_open(fm_bus *bus, const fm_cfg *cfg, hang_watch *hw)
+{
+    int k;
+    bus->cfg = cfg;
+    bus->hw = hw;
+    bus->auth = run_key_bus();
+    bus->clock_step = -1;
+    bus->answered = -1;
+    bus->last_truth_step = -1;
+    for (k = 0; k <= FM_MAX; k++)
+        bus->rover_ack[k] = -1;
+    names_watch_init(&bus->names, "formation");
+    bus->lcm = lcm_create(cfg->url);
+    if (!bus->lcm) {
+        fprintf(stderr, "formation: cannot open LCM at %s\n", cfg->url);
+        return 1;
+    }
+    return 0;
+}
+
+int fm_bus_handle(fm_bus *bus, int ms)
+{
+    const int rc = lcm_handle_timeout(bus->lcm, ms);
+    if (rc < 0)
+        return rc;
+    /* a flood of channel names: a new handle */
+    bus_names_watch(&bus->names, bus->auth, &bus->lcm, bus->cfg->url);
+    return rc;
+}
+
+void fm_answer(fm_bus *bus, int ack)
+{
+    bus->answered = bus->clock_step;
+    if (ack)
+        fm_ack(bus, bus->clock_step);
+}
+
+void fm_answer_repeat(fm_bus *bus)
+{
+    if (!bus->clock_repeat)
+        return;
+    bus->clock_repeat = 0; /* our ack was lost: answer again */
+    if (bus->answered >= 0)
+        fm_ack(bus, bus->answered);
+}
+
+void fm_forget_ack(fm_bus *bus, int k)
+{
+    bus->rover_ack[k] = -1;
+}
+
 static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_clock_t *m, void *u)
 {
-    fm_state *fm = u;
+    fm_bus *bus = u;
     (void)rb;
     (void)ch;
-    if (m->step < fm->clock_step)
+    if (m->step < bus->clock_step)
         return;
     /* a step announced again: answered (our ack was lost), or not yet (we
      * wait for the robots' states): either way the ack of our last answered
      * step goes out, which also tells the simulator we are alive */
-    if (m->step == fm->answered || m->step == fm->clock_step)
-        fm->clock_repeat = 1;
-    fm->clock_step = m->step;
-    fm->sim_time = m->sim_time_s;
-    fm->have_clock = 1;
-    fm->last_clock_ns = fm_mono_ns();
-    hang_watch_heard(&fm->hw, "tandem-sim", scenario_wall_s()); /* a sign of life (--hang-s) */
+    if (m->step == bus->answered || m->step == bus->clock_step)
+        bus->clock_repeat = 1;
+    bus->clock_step = m->step;
+    bus->sim_time = m->sim_time_s;
+    bus->have_clock = 1;
+    bus->last_clock_ns = fm_mono_ns();
+    hang_watch_heard(bus->hw, "tandem-sim", scenario_wall_s()); /* a sign of life (--hang-s) */
 }
 
 /* When the last clock seen is a step everyone answers and nothing has
@@ -54,91 +105,124 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, const tandem_sim_
  * again in case our ack was lost. (The simulator itself re-announces a
  * step whose answers are missing, sim_loop.c; only it may publish
  * SIM_CLOCK, auth_acl.c.) */
-void fm_nudge(fm_state *fm)
+static void nudge(fm_bus *bus)
 {
-    const int64_t k = fm->clock_step;
+    const int64_t k = bus->clock_step;
     if (k % FM_PERIOD)
         return;
-    fm_ack(fm, k);
+    fm_ack(bus, k);
 }
 
-static void take_state(fm_state *fm, const tandem_rover_state_t *m)
+void fm_quiet_from_now(fm_bus *bus)
+{
+    bus->last_clock_ns = fm_mono_ns();
+}
+
+void fm_nudge_if_quiet(fm_bus *bus)
+{
+    if (!bus->have_clock || fm_mono_ns() - bus->last_clock_ns <= 500000000LL)
+        return;
+    nudge(bus);
+    bus->last_clock_ns = fm_mono_ns();
+}
+
+/* Robot m's state taken; 1 when it entered the dead zone with it. */
+static int take_state(fm_bus *bus, const tandem_rover_state_t *m)
 {
     const int i = m->robot - 1;
-    if (i < 0 || i >= fm->robots)
-        return;
-    if (fm->have_state[i] && m->mode == TANDEM_ROVER_STATE_T_MODE_DEAD_ZONE &&
-        fm->mode[i] != TANDEM_ROVER_STATE_T_MODE_DEAD_ZONE)
-        fm->escapes++;
-    fm->mode[i] = m->mode;
-    fm->state_type[i] = m->formation;
+    int entered;
+    if (i < 0 || i >= bus->cfg->robots)
+        return 0;
+    entered = bus->have_state[i] && m->mode == TANDEM_ROVER_STATE_T_MODE_DEAD_ZONE &&
+              bus->mode[i] != TANDEM_ROVER_STATE_T_MODE_DEAD_ZONE;
+    bus->mode[i] = m->mode;
+    bus->state_type[i] = m->formation;
     if (isfinite(m->formation_scale) && m->formation_scale > 0.0)
-        fm->state_scale[i] = m->formation_scale;
-    memcpy(fm->weight[i], m->weight, sizeof fm->weight[i]);
+        bus->state_scale[i] = m->formation_scale;
+    memcpy(bus->weight[i], m->weight, sizeof bus->weight[i]);
     {
         const pose2 team = { m->x_m, m->y_m, m->theta_rad };
-        rover_world_from_team(&fm->layout, &team, &fm->est[i]);
+        rover_world_from_team(&bus->cfg->layout, &team, &bus->est[i]);
     }
-    fm->have_state[i] = 1;
+    bus->have_state[i] = 1;
+    return entered;
 }
 
-static void ring_put(fm_state *fm, const tandem_rover_state_t *m)
+static void ring_put(fm_bus *bus, const tandem_rover_state_t *m)
 {
     const int i = m->robot - 1;
-    if (i < 0 || i >= fm->robots || m->step < 0)
+    if (i < 0 || i >= bus->cfg->robots || m->step < 0)
         return;
-    fm->ring[i][(m->step / FM_PERIOD) % FM_RING] = *m;
+    bus->ring[i][(m->step / FM_PERIOD) % FM_RING] = *m;
 }
 
-const tandem_rover_state_t *fm_ring_get(const fm_state *fm, int i, int64_t k)
+const tandem_rover_state_t *fm_ring_get(const fm_bus *bus, int i, int64_t k)
 {
-    const tandem_rover_state_t *m = &fm->ring[i][(k / FM_PERIOD) % FM_RING];
+    const tandem_rover_state_t *m = &bus->ring[i][(k / FM_PERIOD) % FM_RING];
     return m->step == k && m->robot == i + 1 ? m : NULL;
 }
 
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_state_t *m,
                      void *u)
 {
-    fm_state *fm = u;
+    fm_bus *bus = u;
     (void)rb;
     (void)ch;
-    ring_put(fm, m);
+    ring_put(bus, m);
 }
 
 static void on_states(const lcm_recv_buf_t *rb, const char *ch, const tandem_rovers_state_t *m,
                       void *u)
 {
     int i;
-    fm_state *fm = u;
+    fm_bus *bus = u;
     (void)rb;
     (void)ch;
     for (i = 0; i < m->n; i++)
-        ring_put(fm, &m->state[i]);
+        ring_put(bus, &m->state[i]);
 }
 
-int fm_process_down(const fm_state *fm, int id, int64_t k)
+/* Truth at step k is taken with every live robot's state of the cycle
+ * before; 0 while one of them is missing. *dz_entries: how many robots
+ * entered the dead zone with the states taken. */
+static int states_for_truth(fm_bus *bus, const fm_procs *pr, const tandem_rover_truth_t *m,
+                            int *dz_entries)
 {
-    return id >= 1 && id <= FM_MAX && k > fm->down_after[id] && k < fm->up_at[id];
-}
-
-int fm_states_for_truth(fm_state *fm, const tandem_rover_truth_t *m)
-{
+    const fm_cfg *cfg = bus->cfg;
     const int64_t k = m->step - FM_PERIOD;
     int i;
     if (k < FM_PERIOD)
         return 1; /* robots start at their first period */
     for (i = 0; i < m->n; i++) {
         const int r = m->robot[i] - 1;
-        if (m->alive[i] && r >= 0 && r < fm->robots && !(fm->killed && r + 1 == fm->kill_id) &&
-            !fm_process_down(fm, r + 1, k) && !fm_ring_get(fm, r, k))
+        if (m->alive[i] && r >= 0 && r < cfg->robots && !(pr->killed && r + 1 == cfg->kill_id) &&
+            !fm_process_down(pr, r + 1, k) && !fm_ring_get(bus, r, k))
             return 0;
     }
-    for (i = 0; i < fm->robots; i++) {
-        const tandem_rover_state_t *st = fm_ring_get(fm, i, k);
+    for (i = 0; i < cfg->robots; i++) {
+        const tandem_rover_state_t *st = fm_ring_get(bus, i, k);
         if (st)
-            take_state(fm, st);
+            *dz_entries += take_state(bus, st);
     }
     return 1;
+}
+
+/* ROVER_TRUTH: the --kill seen; with the robots' states of the cycle
+ * before, the metrics. */
+static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_truth_t *m,
+                     void *u)
+{
+    fm_run *r = u;
+    fm_bus *bus = &r->bus;
+    int dz_entries = 0;
+    (void)rb;
+    (void)ch;
+    fm_kill_truth(&r->procs, &r->cfg, m);
+    if (m->n != r->cfg.robots || m->step <= bus->last_truth_step ||
+        !states_for_truth(bus, &r->procs, m, &dz_entries))
+        return;
+    bus->last_truth_step = m->step;
+    fm_metrics_truth(&r->metrics, &r->cfg, bus, &r->procs, m, dz_entries);
 }
 
 /* SIM_ACK: the last step each rover process answered (--fault). */
@@ -146,36 +230,38 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const tandem_clock_
 {
     char *e;
     long k;
-    fm_state *fm = u;
+    fm_bus *bus = u;
     (void)rb;
     (void)ch;
     if (!m->leaving)
-        hang_watch_heard(&fm->hw, m->name, scenario_wall_s()); /* a sign of life (--hang-s) */
+        hang_watch_heard(bus->hw, m->name, scenario_wall_s()); /* a sign of life (--hang-s) */
     if (m->leaving || strncmp(m->name, "tandem-rover-", 13) != 0)
         return;
     k = strtol(m->name + 13, &e, 10);
     if (*e || k < 1 || k > FM_MAX)
         return;
-    if (m->step > fm->rover_ack[k])
-        fm->rover_ack[k] = m->step;
+    if (m->step > bus->rover_ack[k])
+        bus->rover_ack[k] = m->step;
 }
 
 AUTH_TYPED_HANDLER(tandem_clock_ack_t, raw_on_ack, on_ack)
 AUTH_TYPED_HANDLER(tandem_sim_clock_t, raw_on_clock, on_clock)
-AUTH_TYPED_HANDLER(tandem_rover_truth_t, raw_on_truth, fm_on_truth)
+AUTH_TYPED_HANDLER(tandem_rover_truth_t, raw_on_truth, on_truth)
 AUTH_TYPED_HANDLER(tandem_rover_state_t, raw_on_state, on_state)
 AUTH_TYPED_HANDLER(tandem_rovers_state_t, raw_on_states, on_states)
 
-void fm_subscribe(fm_state *fm)
+void fm_subscribe(fm_run *r)
 {
-    auth_bus_subscribe_queue(run_key_bus(), fm->lcm, "SIM_CLOCK", raw_on_clock, fm, 0);
-    auth_bus_subscribe_queue(run_key_bus(), fm->lcm, "ROVER_TRUTH", raw_on_truth, fm, 100000);
-    auth_bus_subscribe_queue(run_key_bus(), fm->lcm, "ROVER[0-9]+_STATE", raw_on_state, fm, 100000);
-    auth_bus_subscribe_queue(run_key_bus(), fm->lcm, "ROVERS_STATE", raw_on_states, fm, 100000);
-    auth_bus_subscribe_queue(run_key_bus(), fm->lcm, "SIM_ACK", raw_on_ack, fm, 100000);
+    fm_bus *bus = &r->bus;
+    auth_bus_subscribe_queue(bus->auth, bus->lcm, "SIM_CLOCK", raw_on_clock, bus, 0);
+    auth_bus_subscribe_queue(bus->auth, bus->lcm, "ROVER_TRUTH", raw_on_truth, r, 100000);
+    auth_bus_subscribe_queue(bus->auth, bus->lcm, "ROVER[0-9]+_STATE", raw_on_state, bus, 100000);
+    auth_bus_subscribe_queue(bus->auth, bus->lcm, "ROVERS_STATE", raw_on_states, bus, 100000);
+    auth_bus_subscribe_queue(bus->auth, bus->lcm, "SIM_ACK", raw_on_ack, bus, 100000);
 }
 
-void fm_unsubscribe(fm_state *fm)
+void fm_unsubscribe(fm_run *r)
 {
-    auth_bus_unsubscribe_user(run_key_bus(), fm->lcm, fm);
+    auth_bus_unsubscribe_user(r->bus.auth, r->bus.lcm, &r->bus);
+    auth_bus_unsubscribe_user(r->bus.auth, r->bus.lcm, r);
 }

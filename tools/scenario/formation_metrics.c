@@ -28,36 +28,37 @@ static int alive_ids(const tandem_rover_truth_t *m, int32_t *ids)
 
 /* Robot i (index in m, alive): path and smoothness, localization error,
  * its line of truth.csv. */
-static void robot_truth(fm_state *fm, const tandem_rover_truth_t *m, int i, double t)
+static void robot_truth(fm_metrics *mt, const fm_bus *bus, const fm_procs *pr,
+                        const tandem_rover_truth_t *m, int i, double t)
 {
     /* path and smoothness (mean |dw/dt|) */
-    if (fm->have_prev[i]) {
-        const double w = vec2_angle_diff_rad(m->theta_rad[i], fm->prev_th[i]) / (FM_PERIOD * 1e-3);
-        fm->path[i] += hypot(m->x_m[i] - fm->prev_x[i], m->y_m[i] - fm->prev_y[i]);
-        if (fm->have_prev_w[i] && !fm->reached) {
-            fm->sum_dw += fabs(w - fm->prev_w[i]) / (FM_PERIOD * 1e-3);
-            fm->n_dw++;
+    if (mt->have_prev[i]) {
+        const double w = vec2_angle_diff_rad(m->theta_rad[i], mt->prev_th[i]) / (FM_PERIOD * 1e-3);
+        mt->path[i] += hypot(m->x_m[i] - mt->prev_x[i], m->y_m[i] - mt->prev_y[i]);
+        if (mt->have_prev_w[i] && !mt->reached) {
+            mt->sum_dw += fabs(w - mt->prev_w[i]) / (FM_PERIOD * 1e-3);
+            mt->n_dw++;
         }
-        fm->prev_w[i] = w;
-        fm->have_prev_w[i] = 1;
+        mt->prev_w[i] = w;
+        mt->have_prev_w[i] = 1;
     }
-    fm->prev_x[i] = m->x_m[i];
-    fm->prev_y[i] = m->y_m[i];
-    fm->prev_th[i] = m->theta_rad[i];
-    fm->have_prev[i] = 1;
-    if (fm->have_state[i] && !fm_process_down(fm, m->robot[i], m->step - FM_PERIOD)) {
+    mt->prev_x[i] = m->x_m[i];
+    mt->prev_y[i] = m->y_m[i];
+    mt->prev_th[i] = m->theta_rad[i];
+    mt->have_prev[i] = 1;
+    if (bus->have_state[i] && !fm_process_down(pr, m->robot[i], m->step - FM_PERIOD)) {
         /* localization error: the robot's own estimate of O against
          * the truth (both world frame); none while its process is down */
-        const double e = hypot(fm->est[i].x_m - m->x_m[i], fm->est[i].y_m - m->y_m[i]);
-        fm->loc_sum_sq += e * e;
-        fm->loc_n++;
-        if (e > fm->loc_max)
-            fm->loc_max = e;
+        const double e = hypot(bus->est[i].x_m - m->x_m[i], bus->est[i].y_m - m->y_m[i]);
+        mt->loc_sum_sq += e * e;
+        mt->loc_n++;
+        if (e > mt->loc_max)
+            mt->loc_max = e;
     }
-    if (fm->truth_csv)
-        fprintf(fm->truth_csv, "%.3f,%d,%.4f,%.4f,%.4f,%.4f,%d,%.4f,%.4f,%.4f\n", t, m->robot[i],
+    if (mt->truth_csv)
+        fprintf(mt->truth_csv, "%.3f,%d,%.4f,%.4f,%.4f,%.4f,%d,%.4f,%.4f,%.4f\n", t, m->robot[i],
                 m->x_m[i], m->y_m[i], m->theta_rad[i], m->min_clearance_m[i], m->collisions[i],
-                fm->est[i].x_m, fm->est[i].y_m, fm->est[i].theta_rad);
+                bus->est[i].x_m, bus->est[i].y_m, bus->est[i].theta_rad);
 }
 
 /* Centre of robot i's body box (world frame): O is ROVER_BEACON_D_M from
@@ -90,24 +91,25 @@ static int mate_within_reach(const tandem_rover_truth_t *m, int i)
 
 /* The new contact events of each robot since the last sample, counted on
  * mates if a mate is within reach, else on walls (docs/formation.md). */
-static void split_contacts(fm_state *fm, const tandem_rover_truth_t *m)
+static void split_contacts(fm_metrics *mt, const tandem_rover_truth_t *m)
 {
     int i;
     for (i = 0; i < m->n && i < FM_MAX; i++) {
-        const int d = m->collisions[i] - fm->coll_prev[i];
+        const int d = m->collisions[i] - mt->coll_prev[i];
         if (d <= 0)
             continue;
-        fm->coll_prev[i] = m->collisions[i];
+        mt->coll_prev[i] = m->collisions[i];
         if (mate_within_reach(m, i))
-            fm->collisions_mates += d;
+            mt->collisions_mates += d;
         else
-            fm->collisions_walls += d;
+            mt->collisions_walls += d;
     }
 }
 
 /* Every live robot's truth; the team's centroid and mean heading. Returns
  * the index of the lowest live robot, -1 none. */
-static int team_truth(fm_state *fm, const tandem_rover_truth_t *m, int n, double t, team_pose *tp)
+static int team_truth(fm_metrics *mt, const fm_bus *bus, const fm_procs *pr,
+                      const tandem_rover_truth_t *m, int n, double t, team_pose *tp)
 {
     double cx = 0, cy = 0, s = 0, c = 0;
     int i, lowest = -1;
@@ -120,9 +122,9 @@ static int team_truth(fm_state *fm, const tandem_rover_truth_t *m, int n, double
         cy += m->y_m[i];
         s += sin(m->theta_rad[i]);
         c += cos(m->theta_rad[i]);
-        if (m->min_clearance_m[i] < fm->min_clear)
-            fm->min_clear = m->min_clearance_m[i];
-        robot_truth(fm, m, i, t);
+        if (m->min_clearance_m[i] < mt->min_clear)
+            mt->min_clear = m->min_clearance_m[i];
+        robot_truth(mt, bus, pr, m, i, t);
     }
     cx /= n;
     cy /= n;
@@ -139,12 +141,12 @@ static int team_truth(fm_state *fm, const tandem_rover_truth_t *m, int n, double
  * bearing from the team origin, as the robots place it) are held: each
  * by its own robot within 0.75 m, whichever robot (the robots take the
  * goal's slots in the order they arrive). */
-static int formation_error(const fm_state *fm, const tandem_rover_truth_t *m, const int32_t *ids,
-                           int n, const team_pose *tp, double *sq, double *mx)
+static int formation_error(const fm_metrics *mt, const fm_cfg *cfg, const tandem_rover_truth_t *m,
+                           const int32_t *ids, int n, const team_pose *tp, double *sq, double *mx)
 {
     double at[ROVER_TEAM_MAX][2], goal_slot[ROVER_TEAM_MAX][2];
-    const double heading = atan2(fm->layout.goal_m[1] - fm->layout.team_origin.y_m,
-                                 fm->layout.goal_m[0] - fm->layout.team_origin.x_m);
+    const double heading = atan2(cfg->layout.goal_m[1] - cfg->layout.team_origin.y_m,
+                                 cfg->layout.goal_m[0] - cfg->layout.team_origin.x_m);
     int i, k = 0;
     for (i = 0; i < m->n; i++) {
         double xy[2], r[2], e;
@@ -152,8 +154,8 @@ static int formation_error(const fm_state *fm, const tandem_rover_truth_t *m, co
         if (!m->alive[i])
             continue;
         rank = formation_slot_of(ids, n, m->robot[i]);
-        formation_slot_xy(xy, fm->type_now, n, rover_world_slot(fm->type_now, n, rank), 1.0,
-                          fm->scale_now);
+        formation_slot_xy(xy, mt->type_now, n, rover_world_slot(mt->type_now, n, rank), 1.0,
+                          mt->scale_now);
         vec2_rotate(r, xy[0], xy[1], tp->th0);
         e = hypot(m->x_m[i] - tp->cx - r[0], m->y_m[i] - tp->cy - r[1]);
         *sq += e * e;
@@ -161,10 +163,10 @@ static int formation_error(const fm_state *fm, const tandem_rover_truth_t *m, co
             *mx = e;
         if (k >= n || k >= ROVER_TEAM_MAX)
             return 0;
-        formation_slot_xy(xy, fm->formation, n, k, 1.0, 1.0);
+        formation_slot_xy(xy, cfg->formation, n, k, 1.0, 1.0);
         vec2_rotate(r, xy[0], xy[1], heading);
-        goal_slot[k][0] = fm->layout.goal_m[0] + r[0];
-        goal_slot[k][1] = fm->layout.goal_m[1] + r[1];
+        goal_slot[k][0] = cfg->layout.goal_m[0] + r[0];
+        goal_slot[k][1] = cfg->layout.goal_m[1] + r[1];
         at[k][0] = m->x_m[i];
         at[k][1] = m->y_m[i];
         k++;
@@ -175,67 +177,105 @@ static int formation_error(const fm_state *fm, const tandem_rover_truth_t *m, co
 
 /* formation_error.csv, weights.csv (the lowest live robot's), and
  * snapshots.csv every 5 s. */
-static void truth_series(fm_state *fm, const tandem_rover_truth_t *m, double t, double sq,
-                         double mx, int n, int lowest)
+static void truth_series(fm_metrics *mt, const fm_bus *bus, const tandem_rover_truth_t *m, double t,
+                         double sq, double mx, int n, int lowest)
 {
     int i;
-    if (fm->err_csv)
-        fprintf(fm->err_csv, "%.3f,%.4f,%.4f,%d\n", t, sqrt(sq / n), mx, fm->type_now);
-    if (fm->w_csv && lowest >= 0)
-        fprintf(fm->w_csv, "%.3f,%.3f,%.3f,%.3f,%.3f,%d\n", t, fm->weight[lowest][0],
-                fm->weight[lowest][1], fm->weight[lowest][2], fm->weight[lowest][3],
-                fm->mode[lowest]);
-    if (fm->snap_csv && t - fm->last_snap_t >= 5.0 - 1e-9) {
-        fm->last_snap_t = t;
+    if (mt->err_csv)
+        fprintf(mt->err_csv, "%.3f,%.4f,%.4f,%d\n", t, sqrt(sq / n), mx, mt->type_now);
+    if (mt->w_csv && lowest >= 0)
+        fprintf(mt->w_csv, "%.3f,%.3f,%.3f,%.3f,%.3f,%d\n", t, bus->weight[lowest][0],
+                bus->weight[lowest][1], bus->weight[lowest][2], bus->weight[lowest][3],
+                bus->mode[lowest]);
+    if (mt->snap_csv && t - mt->last_snap_t >= 5.0 - 1e-9) {
+        mt->last_snap_t = t;
         for (i = 0; i < m->n; i++)
             if (m->alive[i])
-                fprintf(fm->snap_csv, "%.4f,%.4f\n", m->x_m[i], m->y_m[i]);
+                fprintf(mt->snap_csv, "%.4f,%.4f\n", m->x_m[i], m->y_m[i]);
         if (lowest >= 0)
-            fprintf(fm->snap_csv, "%.4f,%.4f\n", m->x_m[lowest], m->y_m[lowest]);
-        fprintf(fm->snap_csv, "\n");
+            fprintf(mt->snap_csv, "%.4f,%.4f\n", m->x_m[lowest], m->y_m[lowest]);
+        fprintf(mt->snap_csv, "\n");
     }
 }
 
-void fm_on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_truth_t *m, void *u)
+void fm_metrics_truth(fm_metrics *mt, const fm_cfg *cfg, const fm_bus *bus, const fm_procs *pr,
+                      const tandem_rover_truth_t *m, int dz_entries)
 {
-    fm_state *fm = u;
     int32_t ids[FM_MAX];
     int i, n, lowest, all_at;
     double sq = 0, mx = 0, t = m->sim_time_s;
     team_pose tp;
-    (void)rb;
-    (void)ch;
-    for (i = 0; i < m->n && fm->killed; i++) /* the --kill taken (fm_kill_robot) */
-        if (m->robot[i] == fm->kill_id && !m->alive[i])
-            fm->kill_seen = 1;
-    if (m->n != fm->robots || m->step <= fm->last_truth_step || !fm_states_for_truth(fm, m))
-        return;
-    fm->last_truth_step = m->step;
+    mt->escapes += dz_entries;
     n = alive_ids(m, ids);
     if (n == 0)
         return;
-    lowest = team_truth(fm, m, n, t, &tp);
-    if (lowest >= 0 && fm->have_state[lowest])
-        fm->type_now = fm->state_type[lowest];
-    if (lowest >= 0 && fm->have_state[lowest])
-        fm->scale_now = fm->state_scale[lowest];
-    all_at = formation_error(fm, m, ids, n, &tp, &sq, &mx);
-    if (!fm->reached) {
-        fm->samples++;
-        fm->sum_sq_err += sq / n;
-        if (mx > fm->max_err)
-            fm->max_err = mx;
+    lowest = team_truth(mt, bus, pr, m, n, t, &tp);
+    if (lowest >= 0 && bus->have_state[lowest])
+        mt->type_now = bus->state_type[lowest];
+    if (lowest >= 0 && bus->have_state[lowest])
+        mt->scale_now = bus->state_scale[lowest];
+    all_at = formation_error(mt, cfg, m, ids, n, &tp, &sq, &mx);
+    if (!mt->reached) {
+        mt->samples++;
+        mt->sum_sq_err += sq / n;
+        if (mx > mt->max_err)
+            mt->max_err = mx;
         if (mx > FM_OUT_TOL)
-            fm->out_samples++;
+            mt->out_samples++;
     }
-    truth_series(fm, m, t, sq, mx, n, lowest);
-    fm->collisions = 0;
+    truth_series(mt, bus, m, t, sq, mx, n, lowest);
+    mt->collisions = 0;
     for (i = 0; i < m->n; i++)
-        fm->collisions += m->collisions[i];
-    split_contacts(fm, m);
-    if (!fm->reached && all_at &&
-        hypot(tp.cx - fm->layout.goal_m[0], tp.cy - fm->layout.goal_m[1]) < 0.5) {
-        fm->reached = 1;
-        fm->time_to_goal = t;
+        mt->collisions += m->collisions[i];
+    split_contacts(mt, m);
+    if (!mt->reached && all_at &&
+        hypot(tp.cx - cfg->layout.goal_m[0], tp.cy - cfg->layout.goal_m[1]) < 0.5) {
+        mt->reached = 1;
+        mt->time_to_goal = t;
     }
+}
+
+void fm_metrics_init(fm_metrics *mt, const fm_cfg *cfg)
+{
+    mt->type_now = cfg->formation;
+    mt->scale_now = 1.0;
+    mt->last_type = -1;
+    mt->min_clear = INFINITY;
+    mt->last_snap_t = -1e9;
+}
+
+void fm_metrics_open(fm_metrics *mt, const char *out)
+{
+    mt->truth_csv = scenario_fopen(out, "truth.csv");
+    mt->err_csv = scenario_fopen(out, "formation_error.csv");
+    mt->w_csv = scenario_fopen(out, "weights.csv");
+    mt->snap_csv = scenario_fopen(out, "snapshots.csv");
+}
+
+void fm_metrics_close(fm_metrics *mt)
+{
+    if (mt->truth_csv)
+        fclose(mt->truth_csv);
+    if (mt->err_csv)
+        fclose(mt->err_csv);
+    if (mt->w_csv)
+        fclose(mt->w_csv);
+    if (mt->snap_csv)
+        fclose(mt->snap_csv);
+    mt->truth_csv = mt->err_csv = mt->w_csv = mt->snap_csv = NULL;
+}
+
+void fm_metrics_cycle(fm_metrics *mt, const fm_cfg *cfg, const fm_bus *bus, const fm_procs *pr)
+{
+    int i, lo = -1;
+    for (i = 0; i < cfg->robots; i++)
+        if (bus->have_state[i] && (i + 1 != cfg->kill_id || !pr->killed)) {
+            lo = i;
+            break;
+        }
+    if (lo < 0)
+        return;
+    if (mt->last_type >= 0 && bus->state_type[lo] != mt->last_type)
+        mt->formation_changes++;
+    mt->last_type = bus->state_type[lo];
 }

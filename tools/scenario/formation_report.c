@@ -159,128 +159,130 @@ double fm_passage_width_m(const rover_world_config *w)
 /* The width the team needs in its start formation: the formation's
  * width across the heading plus the FSM's safety margin (the rule
  * by which the robots themselves decide to change, formation.c). */
-double fm_needed_width_m(const fm_state *fm)
+double fm_needed_width_m(const fm_cfg *cfg)
 {
     formation_fsm_params p;
     formation_fsm_params_default(&p);
-    return fm_formation_width_m(fm) + p.safety_m;
+    return fm_formation_width_m(cfg) + p.safety_m;
 }
 
 /* The start formation's own width across the heading (its slots and a
  * robot's width), without the FSM's margin. */
-double fm_formation_width_m(const fm_state *fm)
+double fm_formation_width_m(const fm_cfg *cfg)
 {
     formation_fsm_params p;
     formation_fsm_params_default(&p);
-    return formation_width(fm->formation, fm->robots, p.spacing_m, 1.0, p.robot_width_m);
+    return formation_width(cfg->formation, cfg->robots, p.spacing_m, 1.0, p.robot_width_m);
 }
 
 /* The run's success criteria (the seed-003 must-show figures): the team
  * reached the goal without a collision, each robot's own pose estimate
  * within 0.25 m of the truth, >= 2 formation changes (into a narrower
  * one and back) where no way is as wide as the formation itself
- * (fm->passage_m, fm_passage_width_m, < fm_formation_width_m: a change is
+ * (fm_cfg.passage_m, fm_passage_width_m, < fm_formation_width_m: a change is
  * demanded only where the team cannot pass without one; between that and
  * fm_needed_width_m, where the robots' own margin may make them change,
  * either is right), and >= 1 dead-zone
  * escape in the dead zone. Appends the failed ones to buf; returns how
  * many failed. */
-int fm_criteria(const fm_state *fm, char *buf, size_t cap)
+int fm_criteria(const fm_cfg *cfg, const fm_procs *pr, const fm_metrics *mt, const fm_outcome *oc,
+                char *buf, size_t cap)
 {
-    const int must_change = fm->passage_m < fm_formation_width_m(fm);
+    const int must_change = cfg->passage_m < fm_formation_width_m(cfg);
     const scenario_criterion k[] = {
-        { !fm->reached, "reached_goal" },
-        { fm->collisions != 0, "collisions" },
-        { fm->loc_n && !(fm->loc_max <= 0.25), "loc_err_max_m" },
-        { must_change && fm->formation_changes < 2, "formation_changes" },
-        { fm->world == ROVER_WORLD_DEADZONE && fm->escapes < 1, "dead_zone_escapes" },
-        { fm->lost_lockstep, "lockstep" },
-        { fm->restart_failed, "restarts" },
-        { fm->hung_stopped, "hung" },
+        { !mt->reached, "reached_goal" },
+        { mt->collisions != 0, "collisions" },
+        { mt->loc_n && !(mt->loc_max <= 0.25), "loc_err_max_m" },
+        { must_change && mt->formation_changes < 2, "formation_changes" },
+        { cfg->world == ROVER_WORLD_DEADZONE && mt->escapes < 1, "dead_zone_escapes" },
+        { oc->lost_lockstep, "lockstep" },
+        { oc->restart_failed, "restarts" },
+        { pr->hung_stopped, "hung" },
     };
     return scenario_failed_criteria(k, (int)(sizeof k / sizeof k[0]), buf, cap);
 }
 
-void fm_write_summary(const fm_state *fm, double wall_s)
+void fm_write_summary(const fm_cfg *cfg, const fm_procs *pr, const fm_metrics *mt,
+                      const fm_outcome *oc, double sim_s, double wall_s)
 {
     json_out j;
     double path = 0.0;
     int i, n = 0;
-    if (json_open(&j, fm->out, "summary.json") != 0)
+    if (json_open(&j, cfg->out, "summary.json") != 0)
         return;
-    for (i = 0; i < fm->robots; i++)
-        if (fm->have_prev[i] && i + 1 != fm->kill_id) {
-            path += fm->path[i];
+    for (i = 0; i < cfg->robots; i++)
+        if (mt->have_prev[i] && i + 1 != cfg->kill_id) {
+            path += mt->path[i];
             n++;
         }
     json_str(&j, "scenario", "formation");
-    json_str(&j, "formation", fm_formation_name(fm->formation));
-    json_str(&j, "world", rover_world_name(fm->world));
-    json_str(&j, "blend", fm_blend_name(fm->blend));
-    json_str(&j, "formation_law", fm->law_kanayama ? "kanayama" : "seed");
-    json_str(&j, "ref_heading", fm->ref_goal ? "goal" : "mean");
-    json_num(&j, "ref_arrive_m", fm->ref_arrive_m);
-    json_bool(&j, "localize", !fm->localize_off);
-    json_int(&j, "robots", fm->robots);
-    json_int(&j, "seed", fm->seed);
-    json_int(&j, "killed_robot", fm->kill_id > 0 && fm->killed ? fm->kill_id : 0);
-    json_bool(&j, "reached_goal", fm->reached);
-    json_num(&j, "time_to_goal_s", fm->reached ? fm->time_to_goal : NAN);
-    json_num(&j, "rms_formation_err_m", fm->samples ? sqrt(fm->sum_sq_err / fm->samples) : NAN);
-    json_num(&j, "max_formation_err_m", fm->max_err);
+    json_str(&j, "formation", fm_formation_name(cfg->formation));
+    json_str(&j, "world", rover_world_name(cfg->world));
+    json_str(&j, "blend", fm_blend_name(cfg->blend));
+    json_str(&j, "formation_law", cfg->law_kanayama ? "kanayama" : "seed");
+    json_str(&j, "ref_heading", cfg->ref_goal ? "goal" : "mean");
+    json_num(&j, "ref_arrive_m", cfg->ref_arrive_m);
+    json_bool(&j, "localize", !cfg->localize_off);
+    json_int(&j, "robots", cfg->robots);
+    json_int(&j, "seed", cfg->seed);
+    json_int(&j, "killed_robot", cfg->kill_id > 0 && pr->killed ? cfg->kill_id : 0);
+    json_bool(&j, "reached_goal", mt->reached);
+    json_num(&j, "time_to_goal_s", mt->reached ? mt->time_to_goal : NAN);
+    json_num(&j, "rms_formation_err_m", mt->samples ? sqrt(mt->sum_sq_err / mt->samples) : NAN);
+    json_num(&j, "max_formation_err_m", mt->max_err);
     json_num(&j, "time_out_of_formation_frac",
-             fm->samples ? (double)fm->out_samples / fm->samples : NAN);
-    json_num(&j, "min_clearance_m", fm->min_clear);
-    json_int(&j, "collisions", fm->collisions);
-    json_int(&j, "collisions_walls", fm->collisions_walls);
-    json_int(&j, "collisions_mates", fm->collisions_mates);
-    json_int(&j, "kills", fm->kills);
-    json_int(&j, "restarts", fm->restarts);
-    json_num(&j, "hang_s", fm->hang_s);
-    json_int(&j, "hung_restarts", fm->hung_restarts);
-    json_int(&j, "leave_resends", fm->leave_resends);
-    json_int(&j, "kill_resends", fm->kill_resends);
-    json_int(&j, "formation_changes", fm->formation_changes);
-    json_num(&j, "passage_width_m", fm->passage_m);
-    json_num(&j, "needed_width_m", fm_needed_width_m(fm));
-    json_num(&j, "formation_width_m", fm_formation_width_m(fm));
-    json_int(&j, "dead_zone_escapes", fm->escapes);
+             mt->samples ? (double)mt->out_samples / mt->samples : NAN);
+    json_num(&j, "min_clearance_m", mt->min_clear);
+    json_int(&j, "collisions", mt->collisions);
+    json_int(&j, "collisions_walls", mt->collisions_walls);
+    json_int(&j, "collisions_mates", mt->collisions_mates);
+    json_int(&j, "kills", pr->kills);
+    json_int(&j, "restarts", pr->restarts);
+    json_num(&j, "hang_s", cfg->hang_s);
+    json_int(&j, "hung_restarts", pr->hung_restarts);
+    json_int(&j, "leave_resends", pr->leave_resends);
+    json_int(&j, "kill_resends", pr->kill_resends);
+    json_int(&j, "formation_changes", mt->formation_changes);
+    json_num(&j, "passage_width_m", cfg->passage_m);
+    json_num(&j, "needed_width_m", fm_needed_width_m(cfg));
+    json_num(&j, "formation_width_m", fm_formation_width_m(cfg));
+    json_int(&j, "dead_zone_escapes", mt->escapes);
     json_num(&j, "path_length_m", n ? path / n : NAN);
-    json_num(&j, "way_length_m", fm->way_m);
-    json_num(&j, "max_time_s", fm->max_time_s);
-    json_num(&j, "smoothness", fm->n_dw ? fm->sum_dw / fm->n_dw : NAN);
-    json_num(&j, "loc_err_rms_m", fm->loc_n ? sqrt(fm->loc_sum_sq / fm->loc_n) : NAN);
-    json_num(&j, "loc_err_max_m", fm->loc_n ? fm->loc_max : NAN);
-    json_num(&j, "sim_time_s", fm->sim_time);
+    json_num(&j, "way_length_m", cfg->way_m);
+    json_num(&j, "max_time_s", cfg->max_time_s);
+    json_num(&j, "smoothness", mt->n_dw ? mt->sum_dw / mt->n_dw : NAN);
+    json_num(&j, "loc_err_rms_m", mt->loc_n ? sqrt(mt->loc_sum_sq / mt->loc_n) : NAN);
+    json_num(&j, "loc_err_max_m", mt->loc_n ? mt->loc_max : NAN);
+    json_num(&j, "sim_time_s", sim_s);
     json_num(&j, "wall_time_s", wall_s);
     json_str(&j, "exit_reason",
-             fm->hung_stopped     ? "hung"
-             : fm->restart_failed ? "restart_failed"
-             : fm->lost_lockstep  ? "lockstep_lost"
-             : fm->reached        ? "completed"
+             pr->hung_stopped     ? "hung"
+             : oc->restart_failed ? "restart_failed"
+             : oc->lost_lockstep  ? "lockstep_lost"
+             : mt->reached        ? "completed"
                                   : "goal_not_reached");
-    json_str(&j, "failed_criteria", fm->failed);
+    json_str(&j, "failed_criteria", oc->failed);
     json_close(&j);
 }
 
-void fm_write_plots(const fm_state *fm)
+void fm_write_plots(const fm_cfg *cfg)
 {
-    FILE *g = scenario_plot_open(fm->out, 1100, 700);
+    FILE *g = scenario_plot_open(cfg->out, 1100, 700);
     int i;
     if (!g)
         return;
     fprintf(
         g,
         "set output 'paths.png'\nset size ratio -1\nset title 'formation %s, world %s, blend %s: paths (ground truth), snapshots every 5 s'\n",
-        fm_formation_name(fm->formation), rover_world_name(fm->world), fm_blend_name(fm->blend));
+        fm_formation_name(cfg->formation), rover_world_name(cfg->world), fm_blend_name(cfg->blend));
     /* the whole world with the goal disc inside it; the key below the plot,
      * where it covers nothing */
     fprintf(g,
             "set xlabel 'x (m)'\nset ylabel 'y (m)'\nset key below horizontal\n"
             "set xrange [%g:%g]\nset yrange [%g:%g]\n",
-            fm->layout.x_min_m, fm->layout.x_max_m, fm->layout.y_min_m, fm->layout.y_max_m);
-    for (i = 0; i < fm->layout.n_obst; i++) {
-        const rover_obstacle *o = &fm->layout.obst[i];
+            cfg->layout.x_min_m, cfg->layout.x_max_m, cfg->layout.y_min_m, cfg->layout.y_max_m);
+    for (i = 0; i < cfg->layout.n_obst; i++) {
+        const rover_obstacle *o = &cfg->layout.obst[i];
         if (o->kind == ROVER_OBST_CIRCLE) {
             fprintf(g, "set object %d circle at %g,%g size %g fc rgb 'gray40' fs solid\n", i + 1,
                     o->cx_m, o->cy_m, o->r_m);
@@ -297,9 +299,9 @@ void fm_write_plots(const fm_state *fm)
         }
     }
     fprintf(g, "set object %d circle at %g,%g size 0.3 fc rgb 'green' fs transparent solid 0.4\n",
-            fm->layout.n_obst + 1, fm->layout.goal_m[0], fm->layout.goal_m[1]);
+            cfg->layout.n_obst + 1, cfg->layout.goal_m[0], cfg->layout.goal_m[1]);
     fprintf(g, "plot ");
-    for (i = 1; i <= fm->robots && i <= 12; i++)
+    for (i = 1; i <= cfg->robots && i <= 12; i++)
         fprintf(g,
                 "'truth.csv' using ($2==%d?$3:1/0):4 with points pt 7 ps 0.25 title 'robot %d', ",
                 i, i);
@@ -322,5 +324,5 @@ void fm_write_plots(const fm_state *fm)
         "set ylabel 'normalised weight (1)'\nset yrange [-0.05:1.05]\n"
         "plot 'weights.csv' using 1:2 with lines title 'goal', '' using 1:3 with lines title 'formation', "
         "'' using 1:4 with lines title 'avoid', '' using 1:5 with lines title 'exception'\n");
-    scenario_plot_run(fm->out, g);
+    scenario_plot_run(cfg->out, g);
 }

@@ -30,7 +30,7 @@ static int parse_size(const char *v, double *w, double *h)
     return *end == '\0' && *w > 0.0 && *h > 0.0 && *w < 1e6 && *h < 1e6;
 }
 
-int fm_random_world(fm_state *fm)
+int fm_random_world(fm_cfg *cfg)
 {
     char why[WORLD_FILE_WHY_MAX];
     rover_map *m;
@@ -38,12 +38,12 @@ int fm_random_world(fm_state *fm)
     worldgen_params p;
     int rc, attempt = 0;
     memset(&p, 0, sizeof p);
-    p.kind = fm->world_kind;
-    p.seed = (uint64_t)fm->world_seed;
-    p.robots = fm->robots;
-    p.formation = fm->formation;
-    if (!parse_size(fm->world_size ? fm->world_size : "30x20", &p.width_m, &p.height_m)) {
-        fprintf(stderr, "formation: --world-size: '%s' is not WxH (m)\n", fm->world_size);
+    p.kind = cfg->world_kind;
+    p.seed = (uint64_t)cfg->world_seed;
+    p.robots = cfg->robots;
+    p.formation = cfg->formation;
+    if (!parse_size(cfg->world_size ? cfg->world_size : "30x20", &p.width_m, &p.height_m)) {
+        fprintf(stderr, "formation: --world-size: '%s' is not WxH (m)\n", cfg->world_size);
         return 2;
     }
     if (!(m = malloc(sizeof *m)))
@@ -51,12 +51,12 @@ int fm_random_world(fm_state *fm)
     rc = worldgen_make(m, &s, &p, &attempt);
     if (rc != WORLDGEN_OK) {
         fprintf(stderr, "formation: --world random --world-kind %s --world-seed %ld: %s\n",
-                worldgen_kind_name(p.kind), fm->world_seed, worldgen_strerror(rc));
+                worldgen_kind_name(p.kind), cfg->world_seed, worldgen_strerror(rc));
         free(m);
         return rc == WORLDGEN_ERR_ARG ? 2 : 1;
     }
-    if (scenario_mkdir(fm->out) != 0 ||
-        world_file_write(fm->out, "world", m, &s, why, sizeof why) != 0) {
+    if (scenario_mkdir(cfg->out) != 0 ||
+        world_file_write(cfg->out, "world", m, &s, why, sizeof why) != 0) {
         if (why[0])
             fprintf(stderr, "formation: %s\n", why);
         free(m);
@@ -64,31 +64,31 @@ int fm_random_world(fm_state *fm)
     }
     free(m);
     fprintf(stderr, "formation: %s world of seed %ld (sub-seed %d) in %s/world.yaml\n",
-            worldgen_kind_name(p.kind), fm->world_seed, attempt, fm->out);
-    snprintf(fm->world_copy, sizeof fm->world_copy, "%s/world.yaml", fm->out);
-    fm->wopt.file = fm->world_copy;
+            worldgen_kind_name(p.kind), cfg->world_seed, attempt, cfg->out);
+    snprintf(cfg->world_copy, sizeof cfg->world_copy, "%s/world.yaml", cfg->out);
+    cfg->wopt.file = cfg->world_copy;
     return 0;
 }
 
-int fm_keep_world(fm_state *fm)
+int fm_keep_world(fm_cfg *cfg)
 {
     char why[WORLD_FILE_WHY_MAX];
-    fm->child_world = fm->wopt;
-    if (!fm->wopt.file)
+    cfg->child_world = cfg->wopt;
+    if (!cfg->wopt.file)
         return 0;
-    if (fm->world != FM_WORLD_RANDOM && world_opts_save(&fm->wopt, fm->out, "formation") != 0)
+    if (cfg->world != FM_WORLD_RANDOM && world_opts_save(&cfg->wopt, cfg->out, "formation") != 0)
         return 1;
-    if (world_file_write_svg(fm->out, "world", &fm->layout, why, sizeof why) != 0)
+    if (world_file_write_svg(cfg->out, "world", &cfg->layout, why, sizeof why) != 0)
         fprintf(stderr, "formation: %s\n", why); /* the picture only: the run goes on */
-    snprintf(fm->world_copy, sizeof fm->world_copy, "%s/world.yaml", fm->out);
-    fm->child_world.file = fm->world_copy;
-    fm->child_world.start = NULL;
-    fm->child_world.goal = NULL;
-    fm->world = ROVER_WORLD_FILE;
+    snprintf(cfg->world_copy, sizeof cfg->world_copy, "%s/world.yaml", cfg->out);
+    cfg->child_world.file = cfg->world_copy;
+    cfg->child_world.start = NULL;
+    cfg->child_world.goal = NULL;
+    cfg->world = ROVER_WORLD_FILE;
     return 0;
 }
 
-const char *fm_world_arg(const fm_state *fm)
+const char *fm_world_arg(const fm_cfg *cfg)
 {
-    return fm->world == ROVER_WORLD_FILE ? "open" : rover_world_name(fm->world);
+    return cfg->world == ROVER_WORLD_FILE ? "open" : rover_world_name(cfg->world);
 }

@@ -28,10 +28,8 @@ int run_key_setup(int *argc, char **argv);
 /* The bus of this tandem-scenario process (the program holds it here, as
  * a daemon holds its own in its `daemon`): run_key_setup starts it; each
  * scenario takes it at its set-up and passes it on (the carry run in
- * carry_state.bus, the TDSD run in its state). The formation run, whose
- * driver and state (scenario_formation.c, formation_scen.h) are being
- * reworked on another branch, asks here in each of its files until its
- * state holds the bus. */
+ * carry_state.bus, the formation run in fm_bus.auth, the TDSD run in its
+ * state). */
 auth_bus *run_key_bus(void);
 
 #endif

@@ -17,19 +17,18 @@
 #include <string.h>
 #include <unistd.h>
 #include "formation_scen.h"
-#include "run_key.h"
 #include "shared_run.h"
 #include "formation.h"
 #include "rover_ctl.h"
 #include "options.h"
 
 /* The run's state: large (every robot's last states), so not on the stack. */
-static fm_state F;
+static fm_run F;
 
 /* --kill K:T */
 static int option_kill(const char *prog, void *dest, char *v)
 {
-    fm_state *f = dest;
+    fm_cfg *f = dest;
     char *e;
     long k = strtol(v, &e, 10);
     double t;
@@ -47,11 +46,11 @@ static int option_kill(const char *prog, void *dest, char *v)
 /* --fault kill:roverK:T[:R], repeatable */
 static int option_fault(const char *prog, void *dest, char *v)
 {
-    fm_state *fm = dest;
-    scenario_fault *f = &fm->faults[fm->n_faults];
+    fm_cfg *cfg = dest;
+    scenario_fault *f = &cfg->faults[cfg->n_faults];
     char *e = NULL;
     long k;
-    if (fm->n_faults >= SCENARIO_MAX_FAULTS || scenario_parse_fault(f, v) != 0)
+    if (cfg->n_faults >= SCENARIO_MAX_FAULTS || scenario_parse_fault(f, v) != 0)
         return OPTIONS_ERR_SAID;
     k = strncmp(f->daemon, "rover", 5) == 0 ? strtol(f->daemon + 5, &e, 10) : 0;
     if (k < 1 || k > FM_MAX || *e) {
@@ -59,7 +58,7 @@ static int option_fault(const char *prog, void *dest, char *v)
         return OPTIONS_ERR_SAID;
     }
     f->slot = (int)k;
-    fm->n_faults++;
+    cfg->n_faults++;
     return 0;
 }
 
@@ -72,27 +71,27 @@ static const char *const links[] = { "robot", "batch", NULL };
 static const option_entry formation_table[] = {
     { .name = "formation",
       .type = OPTION_CHOICE,
-      OPTION_AT(fm_state, formation),
+      OPTION_AT(fm_cfg, formation),
       .choices = options_formation_names,
       .values = options_formation_values,
       .help = "the team's formation",
       .def = "line" },
     { .name = "world",
       .type = OPTION_CHOICE,
-      OPTION_AT(fm_state, world),
+      OPTION_AT(fm_cfg, world),
       .choices = fm_world_names,
       .values = fm_world_values,
       .help = "the rover world (random: generated, see --world-kind, --world-seed)",
       .def = "open" },
     { .name = "world-kind",
       .type = OPTION_CHOICE,
-      OPTION_AT(fm_state, world_kind),
+      OPTION_AT(fm_cfg, world_kind),
       .choices = fm_world_kinds,
       .help = "--world random: clutter, traps (U, V, L pockets), corridor or a mix",
       .def = "mixed" },
     { .name = "world-seed",
       .type = OPTION_INT,
-      OPTION_AT(fm_state, world_seed),
+      OPTION_AT(fm_cfg, world_seed),
       .min = 0,
       .max = 2147483647.0,
       .meta = "W",
@@ -100,33 +99,33 @@ static const option_entry formation_table[] = {
       .def = "1" },
     { .name = "world-size",
       .type = OPTION_STRING,
-      OPTION_AT(fm_state, world_size),
+      OPTION_AT(fm_cfg, world_size),
       .meta = "WxH",
       .help = "--world random: the map's size (m)",
       .def = "30x20" },
-    WORLD_FILE_OPTIONS(fm_state, wopt),
+    WORLD_FILE_OPTIONS(fm_cfg, wopt),
     { .name = "blend",
       .type = OPTION_CHOICE,
-      OPTION_AT(fm_state, blend),
+      OPTION_AT(fm_cfg, blend),
       .choices = blends,
       .help = "how the behaviours' outputs are blended",
       .def = "weighted" },
     { .name = "formation-law",
       .type = OPTION_CHOICE,
-      OPTION_AT(fm_state, law_kanayama),
+      OPTION_AT(fm_cfg, law_kanayama),
       .choices = laws,
       .help = "the formation behaviour flown",
       .def = "seed" },
     { .name = "ref-heading",
       .type = OPTION_CHOICE,
-      OPTION_AT(fm_state, ref_goal),
+      OPTION_AT(fm_cfg, ref_goal),
       .choices = ref_headings,
       .help =
           "the team reference heading: goal (bearing of the goal) or mean (the seed's mean of the headings)",
       .def = "goal" },
     { .name = "ref-arrive",
       .type = OPTION_DOUBLE,
-      OPTION_AT(fm_state, ref_arrive_m),
+      OPTION_AT(fm_cfg, ref_arrive_m),
       .min = 0.0,
       .max = 100.0,
       .meta = "M",
@@ -135,13 +134,13 @@ static const option_entry formation_table[] = {
       .def = "0" },
     { .name = "localize",
       .type = OPTION_CHOICE,
-      OPTION_AT(fm_state, localize_off),
+      OPTION_AT(fm_cfg, localize_off),
       .choices = options_on_off,
       .help = "robots fuse the world's LED landmarks",
       .def = "on" },
     { .name = "lockstep-timeout-ms",
       .type = OPTION_INT,
-      OPTION_AT(fm_state, timeout_ms_given),
+      OPTION_AT(fm_cfg, timeout_ms_given),
       .min = 100,
       .max = 3600000,
       .meta = "MS",
@@ -152,7 +151,7 @@ static const option_entry formation_table[] = {
       .def = "10000" },
     { .name = "robots",
       .type = OPTION_INT,
-      OPTION_AT(fm_state, robots),
+      OPTION_AT(fm_cfg, robots),
       .min = 1,
       .max = FM_MAX,
       .meta = "N",
@@ -160,7 +159,7 @@ static const option_entry formation_table[] = {
       .def = "3" },
     { .name = "seed",
       .type = OPTION_INT,
-      OPTION_AT(fm_state, seed),
+      OPTION_AT(fm_cfg, seed),
       .min = 0,
       .max = 2147483647.0,
       .meta = "S",
@@ -168,13 +167,13 @@ static const option_entry formation_table[] = {
       .def = "1" },
     { .name = "kill",
       .type = OPTION_CALL,
-      OPTION_ALL(fm_state),
+      OPTION_ALL(fm_cfg),
       .call = option_kill,
       .meta = "K:T",
       .help = "kill robot K (its process and its body) at sim time T s" },
     { .name = "fault",
       .type = OPTION_CALL,
-      OPTION_ALL(fm_state),
+      OPTION_ALL(fm_cfg),
       .call = option_fault,
       .repeatable = 1,
       .meta = "kill:roverK:T[:R]",
@@ -184,7 +183,7 @@ static const option_entry formation_table[] = {
           "lockstep is held while it rejoins)" },
     { .name = "hang-s",
       .type = OPTION_DOUBLE,
-      OPTION_AT(fm_state, hang_s),
+      OPTION_AT(fm_cfg, hang_s),
       .min = 0.0,
       .max = 3600.0,
       .meta = "S",
@@ -195,7 +194,7 @@ static const option_entry formation_table[] = {
       .def = "5" },
     { .name = "drop-rate",
       .type = OPTION_STRING,
-      OPTION_AT(fm_state, drop_arg),
+      OPTION_AT(fm_cfg, drop_arg),
       .meta = "P",
       .help =
           "fault injection: every daemon drops received messages with probability P (0 <= P < 1, "
@@ -203,13 +202,13 @@ static const option_entry formation_table[] = {
       .def = "0" },
     { .name = "procs",
       .type = OPTION_CHOICE,
-      OPTION_AT(fm_state, single),
+      OPTION_AT(fm_cfg, single),
       .choices = procs,
       .help = "separate: one tandem-rover per robot; single: one process hosting all",
       .def = "separate up to 10 robots" },
     { .name = "link",
       .type = OPTION_CHOICE,
-      OPTION_AT(fm_state, batch),
+      OPTION_AT(fm_cfg, batch),
       .choices = links,
       .help =
           "robot: ROVERk_* channels per robot; batch: ROVERS_*, one message per tick for all robots. "
@@ -217,7 +216,7 @@ static const option_entry formation_table[] = {
       .def = "batch with --procs single, robot otherwise" },
     { .name = "max-time",
       .type = OPTION_DOUBLE,
-      OPTION_AT(fm_state, max_time_s),
+      OPTION_AT(fm_cfg, max_time_s),
       .min = 0.0,
       .max = 3600.0,
       .meta = "S",
@@ -226,14 +225,14 @@ static const option_entry formation_table[] = {
       .def = "from the way" },
     { .name = "lcm-url",
       .type = OPTION_STRING,
-      OPTION_AT(fm_state, url),
+      OPTION_AT(fm_cfg, url),
       .meta = "URL",
       .help = "bus for the children",
       .def = "a private udpm port" },
     { .name = "out",
       .type = OPTION_STRING,
-      OPTION_AT(fm_state, out),
-      OPTION_SEEN(fm_state, out_given),
+      OPTION_AT(fm_cfg, out),
+      OPTION_SEEN(fm_cfg, out_given),
       .required = 1,
       .meta = "DIR",
       .help = "output directory" },
@@ -241,60 +240,60 @@ static const option_entry formation_table[] = {
     { .name = NULL }
 };
 
-static int parse(fm_state *fm, int argc, char **argv)
+static int parse(fm_cfg *cfg, int argc, char **argv)
 {
     const option_program prog = {
         .name = "tandem-scenario formation",
         .usage =
             "usage: tandem-scenario formation [options] --out DIR\n"
             "Pioneer team to the goal in formation (seed 003), lockstep, ground-truth metrics.\n\n",
-        .groups = { { formation_table, fm } },
+        .groups = { { formation_table, cfg } },
         .n_groups = 1,
     };
     rover_ctl_params rp;
     int i, rc;
-    fm->formation = FORMATION_LINE;
-    fm->world = ROVER_WORLD_OPEN;
-    fm->world_kind = 3; /* mixed */
-    fm->world_seed = 1;
-    fm->blend = 0;
-    fm->ref_goal = 1;
+    cfg->formation = FORMATION_LINE;
+    cfg->world = ROVER_WORLD_OPEN;
+    cfg->world_kind = 3; /* mixed */
+    cfg->world_seed = 1;
+    cfg->blend = 0;
+    cfg->ref_goal = 1;
     rover_ctl_params_default(&rp); /* the rovers' own default */
-    fm->ref_arrive_m = rp.arrive_m;
-    fm->timeout_ms_given = 10000;
-    fm->robots = 3;
-    fm->seed = 1;
-    fm->max_time_s = -1.0; /* not given: from the way (setup) */
-    fm->hang_s = HANG_WATCH_DEFAULT_S;
-    fm->kill_id = -1;
-    fm->single = -1;
-    fm->batch = -1;
+    cfg->ref_arrive_m = rp.arrive_m;
+    cfg->timeout_ms_given = 10000;
+    cfg->robots = 3;
+    cfg->seed = 1;
+    cfg->max_time_s = -1.0; /* not given: from the way (setup) */
+    cfg->hang_s = HANG_WATCH_DEFAULT_S;
+    cfg->kill_id = -1;
+    cfg->single = -1;
+    cfg->batch = -1;
     rc = options_parse(&prog, argc, argv, 1);
     if (rc == OPTIONS_EXIT)
         exit(0);
     if (rc < 0)
         return SCENARIO_ERR_ARG;
-    snprintf(fm->timeout_ms, sizeof fm->timeout_ms, "%ld", fm->timeout_ms_given);
-    if (!(fm->max_time_s > 0) && fm->max_time_s != -1.0) {
-        fprintf(stderr, "formation: --max-time: '%g'\n", fm->max_time_s);
+    snprintf(cfg->timeout_ms, sizeof cfg->timeout_ms, "%ld", cfg->timeout_ms_given);
+    if (!(cfg->max_time_s > 0) && cfg->max_time_s != -1.0) {
+        fprintf(stderr, "formation: --max-time: '%g'\n", cfg->max_time_s);
         return SCENARIO_ERR_ARG;
     }
-    if (fm->kill_id > fm->robots) {
-        fprintf(stderr, "formation: --kill: robot %d not in the team\n", fm->kill_id);
+    if (cfg->kill_id > cfg->robots) {
+        fprintf(stderr, "formation: --kill: robot %d not in the team\n", cfg->kill_id);
         return SCENARIO_ERR_ARG;
     }
-    for (i = 0; i < fm->n_faults; i++)
-        if (fm->faults[i].slot > fm->robots) {
-            fprintf(stderr, "formation: --fault: robot %d not in the team\n", fm->faults[i].slot);
+    for (i = 0; i < cfg->n_faults; i++)
+        if (cfg->faults[i].slot > cfg->robots) {
+            fprintf(stderr, "formation: --fault: robot %d not in the team\n", cfg->faults[i].slot);
             return SCENARIO_ERR_ARG;
         }
-    if (scenario_parse_drop(&fm->drop, fm->drop_arg ? fm->drop_arg : "0", fm->seed) != 0)
+    if (scenario_parse_drop(&cfg->drop, cfg->drop_arg ? cfg->drop_arg : "0", cfg->seed) != 0)
         return SCENARIO_ERR_ARG;
-    if (fm->single < 0)
-        fm->single = fm->robots > 10;
-    if (fm->batch < 0)
-        fm->batch = fm->single;
-    if (fm->n_faults > 0 && fm->single) {
+    if (cfg->single < 0)
+        cfg->single = cfg->robots > 10;
+    if (cfg->batch < 0)
+        cfg->batch = cfg->single;
+    if (cfg->n_faults > 0 && cfg->single) {
         fprintf(stderr,
                 "formation: --fault kill:roverK needs one process per robot (--procs separate)\n");
         return SCENARIO_ERR_ARG;
@@ -313,23 +312,17 @@ const char *fm_blend_name(int b)
 
 /* ---- set-up ----------------------------------------------------------------------- */
 
-static void fm_reset(fm_state *fm)
+/* Zeroes the run's parts. */
+static void fm_run_reset(fm_run *r)
 {
-    memset(fm, 0, sizeof *fm);
-    fm->min_clear = INFINITY;
-    fm->scale_now = 1.0;
-    fm->clock_step = -1;
-    fm->answered = -1;
-    fm->last_truth_step = -1;
-    fm->last_snap_t = -1e9;
-    fm->last_type = -1;
+    memset(r, 0, sizeof *r);
 }
 
 /* find_bindir: the running binary's path is not known */
 #define BINDIR_UNKNOWN (-1)
 
 /* The children are started from this binary's directory. 0 ok. */
-static int find_bindir(fm_state *fm)
+static int find_bindir(fm_cfg *cfg)
 {
     char self[512];
     ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);
@@ -338,76 +331,78 @@ static int find_bindir(fm_state *fm)
         return BINDIR_UNKNOWN;
     }
     self[len] = '\0';
-    snprintf(fm->bindir, sizeof fm->bindir, "%s", self);
-    if (strrchr(fm->bindir, '/'))
-        *strrchr(fm->bindir, '/') = '\0';
+    snprintf(cfg->bindir, sizeof cfg->bindir, "%s", self);
+    if (strrchr(cfg->bindir, '/'))
+        *strrchr(cfg->bindir, '/') = '\0';
     return 0;
 }
 
 /* The time series, and a fresh children.log and journals (a restart reads
  * what this run wrote). */
-static void open_outputs(fm_state *fm)
+static void open_outputs(const fm_cfg *cfg, fm_metrics *mt)
 {
     char p[700];
     int i;
-    fm->truth_csv = scenario_fopen(fm->out, "truth.csv");
-    fm->err_csv = scenario_fopen(fm->out, "formation_error.csv");
-    fm->w_csv = scenario_fopen(fm->out, "weights.csv");
-    fm->snap_csv = scenario_fopen(fm->out, "snapshots.csv");
-    snprintf(p, sizeof p, "%s/children.log", fm->out);
+    fm_metrics_open(mt, cfg->out);
+    snprintf(p, sizeof p, "%s/children.log", cfg->out);
     remove(p);
-    for (i = 1; i <= fm->robots; i++) {
-        snprintf(p, sizeof p, "%s/rover_%d.journal", fm->out, i);
+    for (i = 1; i <= cfg->robots; i++) {
+        snprintf(p, sizeof p, "%s/rover_%d.journal", cfg->out, i);
         remove(p);
     }
 }
 
-/* Output directory, the bus, the world's layout, the subscriptions, the
- * outputs. An exit status (>= 0) on failure, SCENARIO_GO_ON otherwise. */
-static int setup(fm_state *fm)
+/* The world, the way, the time limit, the output directory, where the
+ * children are and the bus's URL. An exit status (>= 0) on failure,
+ * SCENARIO_GO_ON otherwise. */
+static int setup_cfg(fm_cfg *cfg)
 {
     int i;
-    fm->wopt.world = fm->world;
-    if (fm->world == FM_WORLD_RANDOM) {
-        if (fm->wopt.file) {
+    cfg->wopt.world = cfg->world;
+    if (cfg->world == FM_WORLD_RANDOM) {
+        if (cfg->wopt.file) {
             fprintf(stderr, "formation: --world random and --world-file exclude each other\n");
             return 2;
         }
-        if ((i = fm_random_world(fm)) != 0)
+        if ((i = fm_random_world(cfg)) != 0)
             return i;
     }
-    if (world_opts_layout(&fm->layout, &fm->wopt, fm->robots, 1.0, fm->formation, "formation") != 0)
+    if (world_opts_layout(&cfg->layout, &cfg->wopt, cfg->robots, 1.0, cfg->formation,
+                          "formation") != 0)
         return 2;
-    fm->way_m = fm_way_length_m(&fm->layout);
-    fm->passage_m = fm_passage_width_m(&fm->layout);
-    if (fm->max_time_s == -1.0)
-        fm->max_time_s = fm_time_limit_s(fm->way_m);
-    if (scenario_mkdir(fm->out) != 0)
+    cfg->way_m = fm_way_length_m(&cfg->layout);
+    cfg->passage_m = fm_passage_width_m(&cfg->layout);
+    if (cfg->max_time_s == -1.0)
+        cfg->max_time_s = fm_time_limit_s(cfg->way_m);
+    if (scenario_mkdir(cfg->out) != 0)
         return 1;
-    if (fm_keep_world(fm) != 0)
+    if (fm_keep_world(cfg) != 0)
         return 1;
-    if (find_bindir(fm) != 0)
+    if (find_bindir(cfg) != 0)
         return 1;
-    if (!fm->url) {
-        snprintf(fm->url_buf, sizeof fm->url_buf,
+    if (!cfg->url) {
+        snprintf(cfg->url_buf, sizeof cfg->url_buf,
                  "udpm://239.255.76.67:%d?ttl=0&recv_buf_size=4194304",
                  20000 + (int)(getpid() % 20000));
-        fm->url = fm->url_buf;
+        cfg->url = cfg->url_buf;
     }
-    fm->type_now = fm->formation;
-    names_watch_init(&fm->names, "formation");
-    fm->lcm = lcm_create(fm->url);
-    if (!fm->lcm) {
-        fprintf(stderr, "formation: cannot open LCM at %s\n", fm->url);
+    return SCENARIO_GO_ON;
+}
+
+/* The configuration, then the other parts from it: the bus, the
+ * subscriptions, the outputs. An exit status (>= 0) on failure,
+ * SCENARIO_GO_ON otherwise. */
+static int setup(fm_run *r)
+{
+    const int rc = setup_cfg(&r->cfg);
+    if (rc != SCENARIO_GO_ON)
+        return rc;
+    fm_metrics_init(&r->metrics, &r->cfg);
+    if (fm_bus_open(&r->bus, &r->cfg, &r->procs.hw) != 0)
         return 1;
-    }
-    fm_subscribe(fm);
-    open_outputs(fm);
-    for (i = 0; i <= FM_MAX; i++) {
-        fm->rover_ack[i] = -1;
-        fm->down_after[i] = INT64_MAX;
-        fm->up_at[i] = INT64_MAX;
-    }
+    fm_subscribe(r);
+    open_outputs(&r->cfg, &r->metrics);
+    fm_procs_init(&r->procs, &r->cfg);
     return SCENARIO_GO_ON;
 }
 
@@ -419,105 +414,100 @@ static void on_sig(int s)
 }
 
 /* A step every participant answers, its truth in, not answered yet. */
-static int cycle_due(const fm_state *fm)
+static int cycle_due(const fm_bus *bus)
 {
-    const int64_t due = fm->clock_step - fm->clock_step % FM_PERIOD;
-    return fm->have_clock && due > fm->answered && fm->clock_step % FM_PERIOD == 0 &&
-           fm->last_truth_step >= fm->clock_step;
+    const int64_t due = bus->clock_step - bus->clock_step % FM_PERIOD;
+    return bus->have_clock && due > bus->answered && bus->clock_step % FM_PERIOD == 0 &&
+           bus->last_truth_step >= bus->clock_step;
 }
 
 /* The cycle's step: the protocol counts from the robot states of the last
  * cycle, --kill, the answer. 1 when the run is over (goal or time limit). */
-static int answer_cycle(fm_state *fm)
+static int answer_cycle(fm_run *r)
 {
-    int i, lo = -1;
-    for (i = 0; i < fm->robots; i++)
-        if (fm->have_state[i] && (i + 1 != fm->kill_id || !fm->killed)) {
-            lo = i;
-            break;
-        }
-    if (lo >= 0) {
-        if (fm->last_type >= 0 && fm->state_type[lo] != fm->last_type)
-            fm->formation_changes++;
-        fm->last_type = fm->state_type[lo];
-    }
-    fm_kill_robot(fm);
-    fm->answered = fm->clock_step;
-    if (fm->reached || fm->sim_time >= fm->max_time_s)
-        return 1;
-    fm_ack(fm, fm->clock_step);
-    return 0;
+    int over;
+    fm_metrics_cycle(&r->metrics, &r->cfg, &r->bus, &r->procs);
+    fm_kill_robot(&r->procs, &r->cfg, &r->bus);
+    over = r->metrics.reached || r->bus.sim_time >= r->cfg.max_time_s;
+    fm_answer(&r->bus, !over);
+    return over;
 }
 
 /* One line every few seconds of wall time. */
-static void progress_line(const fm_state *fm, double wall0)
+static void progress_line(const fm_run *r, double wall0)
 {
     const double wall = scenario_wall_s() - wall0;
+    const fm_metrics *mt = &r->metrics;
     fprintf(stderr,
             "formation: t %.1f s (%.1fx real time), collisions %d, formation changes %d, "
             "dead-zone escapes %d%s\n",
-            fm->sim_time, scenario_realtime_factor(fm->sim_time, wall), fm->collisions,
-            fm->formation_changes, fm->escapes, fm->reached ? ", at the goal" : "");
+            r->bus.sim_time, scenario_realtime_factor(r->bus.sim_time, wall), mt->collisions,
+            mt->formation_changes, mt->escapes, mt->reached ? ", at the goal" : "");
 }
 
 /* Registers before the first step (the sim waits for --expect participants). */
-static void register_lockstep(fm_state *fm, double wall0)
+static void register_lockstep(fm_bus *bus, double wall0)
 {
     while (scenario_wall_s() - wall0 < 30.0) {
-        fm_ack(fm, 0);
-        lcm_handle_timeout(fm->lcm, 100);
-        if (fm->have_clock)
+        fm_ack(bus, 0);
+        lcm_handle_timeout(bus->lcm, 100);
+        if (bus->have_clock)
             break;
     }
 }
 
-/* Until the goal, a limit, a lost lockstep or a failed restart. */
-static void lockstep_loop(fm_state *fm, double wall0)
+/* --fault and hung restarts at a due step: 1 go on, 0 hold the step,
+ * FM_ERR_FAULT. */
+static int restarts_step(fm_run *r)
 {
+    int rc = fm_faults_step(&r->procs, &r->cfg, &r->bus);
+    if (rc == 1)
+        rc = fm_hung_step(&r->procs, &r->cfg, &r->bus);
+    return rc;
+}
+
+/* Until the goal, a limit, a lost lockstep or a failed restart. */
+static void lockstep_loop(fm_run *r, double wall0)
+{
+    const fm_cfg *cfg = &r->cfg;
+    fm_bus *bus = &r->bus;
     double next_progress = wall0 + 5.0;
     for (;;) {
         int fault_rc = 1, due, hung_rc;
-        if (lcm_handle_timeout(fm->lcm, 50) < 0)
+        if (fm_bus_handle(bus, 50) < 0)
             break;
-        /* a flood of channel names: a new handle */
-        bus_names_watch(&fm->names, run_key_bus(), &fm->lcm, fm->url);
-        hung_rc = fm_hung_watch(fm);
+        hung_rc = fm_hung_watch(&r->procs, cfg, bus);
         if (hung_rc < 0) {
             if (hung_rc == FM_ERR_FAULT)
-                fm->restart_failed = 1;
+                r->outcome.restart_failed = 1;
             break;
         }
-        if (fm->clock_repeat) {
-            fm->clock_repeat = 0; /* our ack was lost: answer again */
-            if (fm->answered >= 0)
-                fm_ack(fm, fm->answered);
-        }
-        due = cycle_due(fm);
-        if (due && (fault_rc = fm_faults_step(fm)) == 1)
-            fault_rc = fm_hung_step(fm);
+        fm_answer_repeat(bus);
+        due = cycle_due(bus);
+        if (due)
+            fault_rc = restarts_step(r);
         if (due && fault_rc < 0) {
-            fm->restart_failed = 1;
+            r->outcome.restart_failed = 1;
             break;
         }
         if (fault_rc == 1 && due) {
-            if (answer_cycle(fm))
+            if (answer_cycle(r))
                 break;
-        } else if (fm->have_clock && fm_mono_ns() - fm->last_clock_ns > 500000000LL) {
-            fm_nudge(fm);
-            fm->last_clock_ns = fm_mono_ns();
+        } else {
+            fm_nudge_if_quiet(bus);
         }
         if (scenario_progress_due(&next_progress, 5.0))
-            progress_line(fm, wall0);
-        if (fm->sim_time > fm->max_time_s + 5.0) {
+            progress_line(r, wall0);
+        if (bus->sim_time > cfg->max_time_s + 5.0) {
             /* the world ran past the limit without us: every participant
              * was dropped (dead or hung, docs/method/lockstep.md §3) */
             fprintf(
                 stderr,
                 "formation: the simulator went on without the lockstep participants; giving up\n");
-            fm->lost_lockstep = 1;
+            r->outcome.lost_lockstep = 1;
             break;
         }
-        if (scenario_wall_s() - wall0 > 20.0 * fm->max_time_s + 60.0) {
+        if (scenario_wall_s() - wall0 > 20.0 * cfg->max_time_s + 60.0) {
             fprintf(stderr, "formation: no progress; giving up\n");
             break;
         }
@@ -526,69 +516,68 @@ static void lockstep_loop(fm_state *fm, double wall0)
 
 /* ---- the end ------------------------------------------------------------------------ */
 
-static void close_outputs(fm_state *fm)
+static void print_result(const fm_run *r, double wall_s)
 {
-    if (fm->truth_csv)
-        fclose(fm->truth_csv);
-    if (fm->err_csv)
-        fclose(fm->err_csv);
-    if (fm->w_csv)
-        fclose(fm->w_csv);
-    if (fm->snap_csv)
-        fclose(fm->snap_csv);
-    fm->truth_csv = fm->err_csv = fm->w_csv = fm->snap_csv = NULL;
-}
-
-static void print_result(const fm_state *fm, double wall_s)
-{
+    const fm_cfg *cfg = &r->cfg;
+    const fm_metrics *mt = &r->metrics;
     printf(
         "formation %s world %s blend %s law %s robots %d seed %ld: reached_goal=%d time_to_goal_s=%.2f "
         "rms_formation_err_m=%.3f max_formation_err_m=%.3f min_clearance_m=%.3f collisions=%d "
         "formation_changes=%d dead_zone_escapes=%d loc_err_max_m=%.3f sim_time_s=%.1f wall_time_s=%.1f\n",
-        fm_formation_name(fm->formation), rover_world_name(fm->world), fm_blend_name(fm->blend),
-        fm->law_kanayama ? "kanayama" : "seed", fm->robots, fm->seed, fm->reached,
-        fm->reached ? fm->time_to_goal : NAN,
-        fm->samples ? sqrt(fm->sum_sq_err / fm->samples) : NAN, fm->max_err, fm->min_clear,
-        fm->collisions, fm->formation_changes, fm->escapes, fm->loc_n ? fm->loc_max : NAN,
-        fm->sim_time, wall_s);
+        fm_formation_name(cfg->formation), rover_world_name(cfg->world), fm_blend_name(cfg->blend),
+        cfg->law_kanayama ? "kanayama" : "seed", cfg->robots, cfg->seed, mt->reached,
+        mt->reached ? mt->time_to_goal : NAN,
+        mt->samples ? sqrt(mt->sum_sq_err / mt->samples) : NAN, mt->max_err, mt->min_clear,
+        mt->collisions, mt->formation_changes, mt->escapes, mt->loc_n ? mt->loc_max : NAN,
+        r->bus.sim_time, wall_s);
+}
+
+/* The children stopped, the outputs closed, the criteria, summary.json
+ * and the plots. */
+static void finish(fm_run *r, double wall0)
+{
+    fm_outcome *oc = &r->outcome;
+    fm_stop_children(&r->procs);
+    fm_hang_stop(&r->procs, &r->bus);
+    fm_metrics_close(&r->metrics);
+    oc->n_failed = fm_criteria(&r->cfg, &r->procs, &r->metrics, oc, oc->failed, sizeof oc->failed);
+    fm_write_summary(&r->cfg, &r->procs, &r->metrics, oc, r->bus.sim_time,
+                     scenario_wall_s() - wall0);
+    fm_write_plots(&r->cfg);
+    fm_unsubscribe(r);
+    auth_bus_close(r->bus.auth, r->bus.lcm);
+    print_result(r, scenario_wall_s() - wall0);
 }
 
 static int run(int argc, char **argv)
 {
-    fm_state *fm = &F;
+    fm_run *r = &F;
+    const fm_cfg *cfg = &r->cfg;
     double wall0;
     int rc;
-    fm_reset(fm);
-    if (parse(fm, argc, argv) != 0)
+    fm_run_reset(r);
+    if (parse(&r->cfg, argc, argv) != 0)
         return 2;
-    if ((rc = setup(fm)) >= 0)
+    if ((rc = setup(r)) >= 0)
         return rc;
     signal(SIGPIPE, SIG_IGN);
     signal(SIGINT, on_sig);
     wall0 = scenario_wall_s();
-    if (fm_start_children(fm) != 0) {
-        fm_stop_children(fm);
+    if (fm_start_children(&r->procs, cfg, &r->bus) != 0) {
+        fm_stop_children(&r->procs);
         return 1;
     }
-    fprintf(stderr, "formation: %d robots, %s, world %s, blend %s, seed %ld on %s\n", fm->robots,
-            fm_formation_name(fm->formation), rover_world_name(fm->world), fm_blend_name(fm->blend),
-            fm->seed, fm->url);
-    fprintf(stderr, "formation: time limit %.0f s (the way for the body: %.1f m)\n", fm->max_time_s,
-            fm->way_m);
-    fm->last_clock_ns = fm_mono_ns();
-    fm_hang_start(fm);
-    register_lockstep(fm, wall0);
-    lockstep_loop(fm, wall0);
-    fm_stop_children(fm);
-    hang_watch_stop(&fm->hw, fm->lcm);
-    close_outputs(fm);
-    fm->n_failed = fm_criteria(fm, fm->failed, sizeof fm->failed);
-    fm_write_summary(fm, scenario_wall_s() - wall0);
-    fm_write_plots(fm);
-    fm_unsubscribe(fm);
-    auth_bus_close(run_key_bus(), fm->lcm);
-    print_result(fm, scenario_wall_s() - wall0);
-    return scenario_exit_status("formation", fm->n_failed, fm->failed);
+    fprintf(stderr, "formation: %d robots, %s, world %s, blend %s, seed %ld on %s\n", cfg->robots,
+            fm_formation_name(cfg->formation), rover_world_name(cfg->world),
+            fm_blend_name(cfg->blend), cfg->seed, cfg->url);
+    fprintf(stderr, "formation: time limit %.0f s (the way for the body: %.1f m)\n",
+            cfg->max_time_s, cfg->way_m);
+    fm_quiet_from_now(&r->bus);
+    fm_hang_start(&r->procs, cfg, &r->bus);
+    register_lockstep(&r->bus, wall0);
+    lockstep_loop(r, wall0);
+    finish(r, wall0);
+    return scenario_exit_status("formation", r->outcome.n_failed, r->outcome.failed);
 }
 
 const scenario_def scenario_formation = {

@@ -188,6 +188,23 @@ typedef struct {
     int team_size;     /* including self */
 } rover_ctl_out;
 
+/* The dead-zone escape and giving way (docs/method/formation.md §10), one
+ * phase of rover_esc_table at a time. Written by rover_ctl_escape.c alone
+ * (rover_ctl_escape_step); the rest of the controller reads it. */
+typedef struct {
+    int phase;         /* ROVER_ESC_* */
+    int side;          /* -1: wall kept on the right, +1 left */
+    int yield;         /* 1: giving way to a leaving mate, not trapped (YIELD, CLEAR) */
+    int turn;          /* giving way: turn direction (+1 left) */
+    double hit_dist_m; /* goal distance at the hit point: Bug2 leaves nearer than it */
+    double s;          /* time in this phase (standing for a mate not counted) */
+    double lost_s;     /* time without a wall in reach while following */
+    double wait_s;     /* escaping: time stood for an outranking mate in the way */
+    int backing;       /* 1: backing out of an outranking mate's way (V < 0 allowed) */
+    double back_m;     /* backed so far in this escape */
+    double wedge_s;    /* standing wedged between mates this long */
+} rover_esc_state;
+
 typedef struct {
     int32_t id;
     rover_ctl_params p;
@@ -205,17 +222,8 @@ typedef struct {
     team_table team;
     formation_fsm fsm;
     behaviour_exception exc;
-    int esc_phase; /* ROVER_ESC_* */
-    int esc_side;  /* -1: wall kept on the right, +1 left */
-    int esc_yield; /* 1: giving way to a leaving mate, not trapped (YIELD, CLEAR) */
-    int esc_turn;  /* giving way: turn direction (+1 left) */
-    double esc_hit_dist_m, esc_s;
-    double esc_lost_s;  /* time without a wall in reach while following */
-    double esc_wait_s;  /* escaping: time stood for an outranking mate in the way */
-    int holding;        /* in formation, waiting for outranking mates: ROVER_WAIT_* */
-    int esc_backing;    /* 1: backing out of an outranking mate's way (V < 0 allowed) */
-    double esc_back_m;  /* backed so far in this escape */
-    double esc_wedge_s; /* standing wedged between mates this long */
+    rover_esc_state esc;
+    int holding;                     /* in formation, waiting for outranking mates: ROVER_WAIT_* */
     double crumb_m[ROVER_CRUMBS][2]; /* the axle's path, a crumb every ROVER_CRUMB_STEP_M,
                                        * oldest first: the way back known free */
     int crumb_n;                     /* crumbs held (the newest is crumb_m[crumb_n - 1]) */

@@ -374,7 +374,7 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
             u.v_mps = c->p.v_change_mps;
     /* the escape table's mode (a robot giving way left the formation but
      * was not trapped itself) */
-    out->mode = v->escaping                              ? rover_esc_table[c->esc_phase].mode
+    out->mode = v->escaping                              ? rover_esc_table[c->esc.phase].mode
                 : c->fsm.phase != FORMATION_PHASE_NORMAL ? ROVER_MODE_CHANGING
                                                          : ROVER_MODE_FORMATION;
     if (!v->escaping && v->rc_goal == BEH_GOAL_REACHED) {
@@ -398,7 +398,7 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
         u.v_mps = u.w_radps = 0.0;
     /* no rear sonar: never back up blindly (backing out of a mate's way
      * goes the way the robot came, clear of mates) */
-    if (u.v_mps < 0.0 && !c->esc_backing)
+    if (u.v_mps < 0.0 && !c->esc.backing)
         u.v_mps = 0.0;
     unicycle_saturate(&out->u, &u, bp->v_max_mps, bp->w_max_radps, UNICYCLE_SAT_CLIP);
     out->o = v->o;

@@ -9,7 +9,8 @@
  * following the obstacle boundary until Bug2's leave rule lets it rejoin)
  * runs through the const state table rover_esc_table, checked by
  * rover_esc_table_validate. Own announcements (LEAVE, GIVE_WAY, REJOIN)
- * are made here.
+ * are made here. The escape's state, c->esc (rover_esc_state), is written
+ * here alone; the controller's other files read it.
  */
 #include "rover_ctl_internal.h"
 #include "sonar.h"
@@ -149,8 +150,8 @@ static void announce_own(rover_ctl_state *c, int code)
 
 int rover_ctl_own_announce(const rover_ctl_state *c)
 {
-    if (c->esc_phase > ROVER_ESC_NONE && c->esc_phase < ROVER_ESC_COUNT)
-        return rover_esc_table[c->esc_phase].announce;
+    if (c->esc.phase > ROVER_ESC_NONE && c->esc.phase < ROVER_ESC_COUNT)
+        return rover_esc_table[c->esc.phase].announce;
     return c->ann_code;
 }
 
@@ -158,11 +159,11 @@ int rover_ctl_own_announce(const rover_ctl_state *c)
  * back in NONE), and its clock restarted. */
 static void enter(rover_ctl_state *c, int k)
 {
-    const int was = c->esc_phase;
-    c->esc_phase = k;
-    c->esc_yield = rover_esc_table[k].announce == FORMATION_ANN_GIVE_WAY;
-    c->esc_s = 0.0;
-    c->esc_wait_s = 0.0;
+    const int was = c->esc.phase;
+    c->esc.phase = k;
+    c->esc.yield = rover_esc_table[k].announce == FORMATION_ANN_GIVE_WAY;
+    c->esc.s = 0.0;
+    c->esc.wait_s = 0.0;
     if (k == ROVER_ESC_NONE) {
         if (was != ROVER_ESC_NONE)
             announce_own(c, FORMATION_ANN_REJOIN);
@@ -217,15 +218,15 @@ static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose
     if (!trapped_mate_coming(c, o, &b, mate))
         return 0;
     enter(c, ROVER_ESC_YIELD);
-    c->esc_back_m = 0.0;
-    c->esc_wedge_s = 0.0;
-    c->esc_lost_s = 0.0;
-    c->esc_hit_dist_m = hypot(goal[0] - mate[0], goal[1] - mate[1]);
+    c->esc.back_m = 0.0;
+    c->esc.wedge_s = 0.0;
+    c->esc.lost_s = 0.0;
+    c->esc.hit_dist_m = hypot(goal[0] - mate[0], goal[1] - mate[1]);
     /* away from the mate; one dead ahead: toward the roomier side */
     if (fabs(b) > YIELD_DEAD_AHEAD_RAD)
-        c->esc_turn = b > 0.0 ? -1 : 1;
+        c->esc.turn = b > 0.0 ? -1 : 1;
     else
-        c->esc_turn = gw->left_m + gw->left_front_m >= gw->right_m + gw->right_front_m ? 1 : -1;
+        c->esc.turn = gw->left_m + gw->left_front_m >= gw->right_m + gw->right_front_m ? 1 : -1;
     return 1;
 }
 
@@ -233,15 +234,15 @@ static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose
  * and the wall kept on the side the turn of eq. 2 turned away from. */
 static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, double dist)
 {
-    if (rover_esc_table[c->esc_phase].announce != FORMATION_ANN_LEAVE)
-        c->esc_hit_dist_m = dist;
+    if (rover_esc_table[c->esc.phase].announce != FORMATION_ANN_LEAVE)
+        c->esc.hit_dist_m = dist;
     enter(c, ROVER_ESC_TURN);
     c->escapes++;
-    c->esc_back_m = 0.0;
-    c->esc_wedge_s = 0.0;
-    c->esc_lost_s = 0.0;
+    c->esc.back_m = 0.0;
+    c->esc.wedge_s = 0.0;
+    c->esc.lost_s = 0.0;
     /* turned left (+w_k): keep the wall on the right */
-    c->esc_side = turn->w_radps > 0.0 ? -1 : 1;
+    c->esc.side = turn->w_radps > 0.0 ? -1 : 1;
 }
 
 /* The way back known free: the axle's own path (a robot has no rear
@@ -257,7 +258,7 @@ static void crumbs_lay(rover_ctl_state *c, const pose2 *o)
     double *last;
     unicycle_c_from_o(&ax, o, c->p.beh.d_m);
     last = c->crumb_n > 0 ? c->crumb_m[c->crumb_n - 1] : NULL;
-    if (c->esc_backing || (last && hypot(ax.x_m - last[0], ax.y_m - last[1]) < ROVER_CRUMB_STEP_M))
+    if (c->esc.backing || (last && hypot(ax.x_m - last[0], ax.y_m - last[1]) < ROVER_CRUMB_STEP_M))
         return;
     if (c->crumb_n == ROVER_CRUMBS) {
         int k;
@@ -307,12 +308,12 @@ static int crumbs_back(rover_ctl_state *c, const pose2 *o, unicycle_cmd *u)
 static int back_out(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_cmd *u)
 {
     unicycle_cmd back;
-    if (!(c->esc_back_m < c->p.back_max_m) || !crumbs_back(c, o, &back) ||
-        !rover_ctl_crumbs_clear(c, o, c->p.back_max_m - c->esc_back_m))
+    if (!(c->esc.back_m < c->p.back_max_m) || !crumbs_back(c, o, &back) ||
+        !rover_ctl_crumbs_clear(c, o, c->p.back_max_m - c->esc.back_m))
         return 0;
     *u = back;
-    c->esc_backing = 1;
-    c->esc_back_m += c->p.back_v_mps * dt_s;
+    c->esc.backing = 1;
+    c->esc.back_m += c->p.back_v_mps * dt_s;
     return 1;
 }
 
@@ -357,7 +358,7 @@ static void wait_step(rover_ctl_state *c, const pose2 *o, double dt_s)
 {
     if (c->wait_n == 0) {
         c->hold_s = 0.0;
-        c->esc_back_m = 0.0;
+        c->esc.back_m = 0.0;
         return;
     }
     c->hold_s += dt_s;
@@ -384,18 +385,18 @@ static int deconflict(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
     const team_member *m;
     int32_t hit;
     if (!(u->v_mps == 0.0 && w != 0.0) || (hit = rover_ctl_spin_hits_mate(c, o)) == 0) {
-        c->esc_wedge_s = 0.0;
+        c->esc.wedge_s = 0.0;
         return 0;
     }
     u->w_radps = 0.0;
     m = team_find(&c->team, hit);
     if (m && rover_ctl_outranks(m->announce, m->robot, rover_ctl_own_announce(c), c->id) &&
         (back_out(c, o, dt_s, u) || ahead_out(c, gw, o, m, u))) {
-        c->esc_wedge_s = 0.0;
+        c->esc.wedge_s = 0.0;
         return 1;
     }
-    c->esc_wedge_s += dt_s;
-    if (c->esc_wedge_s > c->p.wedge_max_s) {
+    c->esc.wedge_s += dt_s;
+    if (c->esc.wedge_s > c->p.wedge_max_s) {
         const int dir = w > 0.0 ? 1 : -1;
         if (!rover_ctl_turn_sweeps_mate(c, o, dir))
             u->w_radps = w;
@@ -424,15 +425,15 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
                 YIELD_AHEAD_RAD)
             ahead = 1;
     }
-    if (ahead && c->esc_s < c->p.yield_max_s) {
+    if (ahead && c->esc.s < c->p.yield_max_s) {
         u->v_mps = 0.0;
-        u->w_radps = c->esc_turn * c->p.follow_w_radps;
+        u->w_radps = c->esc.turn * c->p.follow_w_radps;
         if (deconflict(c, gw, o, dt_s, u))
-            c->esc_s -= dt_s; /* standing is not turning */
+            c->esc.s -= dt_s; /* standing is not turning */
         return 1;
     }
     enter(c, rover_esc_table[ROVER_ESC_YIELD].next);
-    c->esc_side = nearer_wall_side(gw);
+    c->esc.side = nearer_wall_side(gw);
     return 0;
 }
 
@@ -440,7 +441,7 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
  * FREE_WAY_RANGE_M and the front beyond FREE_WAY_FRONT_M. */
 #define FREE_WAY_RANGE_M 1.2
 #define FREE_WAY_FRONT_M 0.8
-/* FOLLOW, CLEAR: the boundary on esc_side (U in *u, 1) until the leave
+/* FOLLOW, CLEAR: the boundary on esc.side (U in *u, 1) until the leave
  * rule or open floor ends the escape (`next`: NONE, REJOIN, 0); the other
  * way round after escape_max_s of following (the limit). dist: own
  * distance to the goal. */
@@ -448,14 +449,14 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
                            const pose2 *o, const double goal[2], double dist, double dt_s,
                            unicycle_cmd *u)
 {
-    const rover_esc_row *row = &rover_esc_table[c->esc_phase];
+    const rover_esc_row *row = &rover_esc_table[c->esc.phase];
     const double b = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m), o->theta_rad);
     const int free_way = fabs(b) < 0.5 * VEC2_PI &&
                          range_toward(c->range_m, b) > FREE_WAY_RANGE_M &&
                          g->front_m > FREE_WAY_FRONT_M;
-    c->esc_lost_s = rover_ctl_walls_near(gw, &c->p) ? 0.0 : c->esc_lost_s + dt_s;
-    if ((dist < c->esc_hit_dist_m - c->p.leave_gain_m && free_way) ||
-        c->esc_lost_s > c->p.follow_lost_s) {
+    c->esc.lost_s = rover_ctl_walls_near(gw, &c->p) ? 0.0 : c->esc.lost_s + dt_s;
+    if ((dist < c->esc.hit_dist_m - c->p.leave_gain_m && free_way) ||
+        c->esc.lost_s > c->p.follow_lost_s) {
         enter(c, row->next);
         return 0;
     }
@@ -464,13 +465,13 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
      * robot that had spun 50 s in its pocket turned back round the U's
      * lip just where the wall it followed led on to the goal. */
     if (!(c->v_est_mps > c->p.follow_moving_mps))
-        c->esc_s -= dt_s;
-    if (c->esc_s > c->p.escape_max_s) {
-        const int side = c->esc_side;
+        c->esc.s -= dt_s;
+    if (c->esc.s > c->p.escape_max_s) {
+        const int side = c->esc.side;
         enter(c, row->on_limit);
-        c->esc_side = row->on_limit == c->esc_phase ? -side : side;
+        c->esc.side = row->on_limit == c->esc.phase ? -side : side;
     }
-    rover_ctl_follow(u, gw, c->esc_side, &c->p);
+    rover_ctl_follow(u, gw, c->esc.side, &c->p);
     if (u->v_mps > 0.0 && rover_ctl_cmd_sweeps_mate(c, o, u, 0) != 0) {
         /* the drive sweeps into a mate: turn away from the wall as at a
          * wall ahead. Not a lane test from the axle forward: a mate at the
@@ -478,7 +479,7 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
          * a robot giving way beside the trapped one, and the three stood
          * wedged in the dead zone's mouth: 3 in line, seed 1) */
         u->v_mps = 0.0;
-        u->w_radps = -(c->esc_side < 0 ? -1.0 : 1.0) * c->p.follow_w_radps;
+        u->w_radps = -(c->esc.side < 0 ? -1.0 : 1.0) * c->p.follow_w_radps;
     }
     deconflict(c, gw, o, dt_s, u);
     return 1;
@@ -508,7 +509,7 @@ int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sona
     const int in_dz = behaviour_exception_step(&c->exc, &turn, gw, dt_s, &c->p.beh);
     const double dist = hypot(goal[0] - o->x_m, goal[1] - o->y_m);
     crumbs_lay(c, o);
-    c->esc_backing = 0;
+    c->esc.backing = 0;
     c->holding = ROVER_WAIT_NONE;
     c->wait_n = rover_ctl_wait_set(c, o, gw, t_s, c->wait_id);
     if (in_dz == 1) {
@@ -517,14 +518,14 @@ int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sona
         *u = turn;
         return 1;
     }
-    if (c->esc_phase == ROVER_ESC_TURN)
+    if (c->esc.phase == ROVER_ESC_TURN)
         enter(c, rover_esc_table[ROVER_ESC_TURN].next);
-    if (c->esc_phase == ROVER_ESC_NONE && !give_way_start(c, gw, o, goal)) {
+    if (c->esc.phase == ROVER_ESC_NONE && !give_way_start(c, gw, o, goal)) {
         wait_step(c, o, dt_s);
         return 0;
     }
-    c->esc_s += dt_s;
-    if (c->esc_phase == ROVER_ESC_YIELD && yield_turn(c, gw, o, dt_s, u))
+    c->esc.s += dt_s;
+    if (c->esc.phase == ROVER_ESC_YIELD && yield_turn(c, gw, o, dt_s, u))
         return 1;
     return follow_boundary(c, gw, g, o, goal, dist, dt_s, u);
 }

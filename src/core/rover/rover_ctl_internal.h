@@ -7,7 +7,8 @@
  *                        frame consensus, the mate mask
  *   rover_ctl_guard.c    collision guard, passage width, rearmost test
  *   rover_ctl_escape.c   the escape's state table, dead-zone escape,
- *                        giving way and waiting for outranking mates
+ *                        giving way and waiting for outranking mates; the
+ *                        one writer of the escape's state (c->esc)
  *   rover_ctl_mates.c    the priority order, the wait set, mates' chassis
  *                        by the team table: turning, backing and driving
  *                        clear of them

@@ -176,7 +176,7 @@ static int mate_conflicts(const rover_ctl_state *c, const pose2 *o, int walls, i
 {
     const rover_ctl_params *p = &c->p;
     const team_member *m = &c->team.m[i];
-    const int mate_out = rank_class(m->announce) < 2, self_out = c->esc_phase != ROVER_ESC_NONE;
+    const int mate_out = rank_class(m->announce) < 2, self_out = c->esc.phase != ROVER_ESC_NONE;
     pose2 own_c, mc;
     double xy[2], dist, b;
     if (mate_c(c, i, &mc) != 0 || team_position(&c->team, m->robot, xy) != 0)

@@ -118,21 +118,21 @@ static void report_escape(hosted *h, const pose2 *o, double t_s)
                                           "follows the wall", "turns away from a leaving mate",
                                           "follows the wall out of a leaving mate's way" };
     const rover_ctl_state *c = &h->c;
-    const int esc = c->esc_phase * 4 + (c->esc_side + 1);
+    const int esc = c->esc.phase * 4 + (c->esc.side + 1);
     const double dist_m = hypot(c->goal_m[0] - o->x_m, c->goal_m[1] - o->y_m);
-    if (esc == h->shown_esc || c->esc_phase < ROVER_ESC_NONE || c->esc_phase >= ROVER_ESC_COUNT)
+    if (esc == h->shown_esc || c->esc.phase < ROVER_ESC_NONE || c->esc.phase >= ROVER_ESC_COUNT)
         return;
-    if (h->shown_esc < 0 && c->esc_phase == ROVER_ESC_NONE) {
+    if (h->shown_esc < 0 && c->esc.phase == ROVER_ESC_NONE) {
         h->shown_esc = esc; /* not escaping at the start: nothing to say */
         return;
     }
-    if (c->esc_phase == ROVER_ESC_FOLLOW)
+    if (c->esc.phase == ROVER_ESC_FOLLOW)
         printf(
             "[%9.3f] robot %d: %s on its %s at (%.2f, %.2f), %.2f m from the goal (%.2f m at the start)\n",
-            t_s, (int)c->id, phases[c->esc_phase], c->esc_side < 0 ? "right" : "left", o->x_m,
-            o->y_m, dist_m, c->esc_hit_dist_m);
+            t_s, (int)c->id, phases[c->esc.phase], c->esc.side < 0 ? "right" : "left", o->x_m,
+            o->y_m, dist_m, c->esc.hit_dist_m);
     else
-        printf("[%9.3f] robot %d: %s at (%.2f, %.2f)\n", t_s, (int)c->id, phases[c->esc_phase],
+        printf("[%9.3f] robot %d: %s at (%.2f, %.2f)\n", t_s, (int)c->id, phases[c->esc.phase],
                o->x_m, o->y_m);
     h->shown_esc = esc;
     fflush(stdout);
@@ -146,7 +146,7 @@ void rover_report_changes(hosted *h, const rover_ctl_out *o, double t_s)
     static const char *const modes[] = { "formation", "dead-zone escape", "changing formation",
                                          "at goal", "safe stop (stale input)" };
     static const char *const types[] = { "line", "triangle", "column" };
-    const int type = h->c.fsm.type, yield = h->c.esc_yield;
+    const int type = h->c.fsm.type, yield = h->c.esc.yield;
     if (mode != h->shown_mode && mode >= 0 && mode <= ROVER_MODE_SAFE_STOP)
         printf("[%9.3f] robot %d: %s\n", t_s, (int)h->c.id, modes[mode]);
     if (type != h->shown_type && h->shown_type >= 0 && type >= 0 && type <= FORMATION_COLUMN)

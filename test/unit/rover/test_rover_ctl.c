@@ -163,9 +163,9 @@ static kin_result kin_run_world(const rover_world_config *w, const rover_ctl_par
             assert_int_equal(rover_ctl_step(&ctl[i], t, DT, &out[i]), 0);
             if (out[i].mode != ROVER_MODE_AT_GOAL)
                 all_at_goal = 0;
-            if (ctl[i].esc_phase == ROVER_ESC_YIELD && last_esc[i] != ROVER_ESC_YIELD)
+            if (ctl[i].esc.phase == ROVER_ESC_YIELD && last_esc[i] != ROVER_ESC_YIELD)
                 r.yields++;
-            last_esc[i] = ctl[i].esc_phase;
+            last_esc[i] = ctl[i].esc.phase;
         }
         /* team messages and camera (everyone in view, exact) */
         for (i = 0; i < n; i++) {
@@ -210,7 +210,7 @@ static kin_result kin_run_world(const rover_world_config *w, const rover_ctl_par
                     "t=%5.1f r%d c=(%6.2f %6.2f %5.2f) u=(%5.2f %5.2f) mode=%d type=%d W=%.2f %.2f %.2f %.2f clr=%.2f esc=%d\n",
                     t, i + 1, c[i].x_m, c[i].y_m, c[i].theta_rad, out[i].u.v_mps, out[i].u.w_radps,
                     out[i].mode, ctl[i].fsm.type, out[i].weight[0], out[i].weight[1],
-                    out[i].weight[2], out[i].weight[3], clear[i], ctl[i].esc_phase);
+                    out[i].weight[2], out[i].weight[3], clear[i], ctl[i].esc.phase);
         for (i = 0; i < n; i++) {
             if (!alive[i])
                 continue;
@@ -728,12 +728,12 @@ static void test_escape_timeout_and_lost_wall(void **state)
     assert_int_equal(c.escapes, 1);
     hand_step(&c, t, wall, NULL, 0, &out);
     t += DT;
-    assert_int_equal(c.esc_phase, ROVER_ESC_FOLLOW);
-    side0 = c.esc_side;
+    assert_int_equal(c.esc.phase, ROVER_ESC_FOLLOW);
+    side0 = c.esc.side;
     /* standing (held by mates, turning in its pocket) is not following */
     for (k = 0; k * DT < 2.0 * p.escape_max_s; k++, t += DT) {
         hand_step(&c, t, wall, NULL, 0, &out);
-        assert_int_equal(c.esc_side, side0);
+        assert_int_equal(c.esc.side, side0);
     }
     /* driving along the wall (the encoders turn at follow_v_mps) */
     for (k = 0; k * DT < 2.5 * p.escape_max_s; k++, t += DT) {
@@ -741,13 +741,13 @@ static void test_escape_timeout_and_lost_wall(void **state)
         hand_step_enc(&c, t, enc, enc, wall, NULL, 0, &out);
         assert_int_equal(out.mode, ROVER_MODE_DEAD_ZONE);
         assert_int_equal(out.team.announce * out.send_team, FORMATION_ANN_LEAVE * out.send_team);
-        if (c.esc_side != side0)
+        if (c.esc.side != side0)
             flipped = 1;
     }
     assert_true(flipped);
     for (k = 0; k * DT < p.follow_lost_s + 0.5; k++, t += DT)
         hand_step_enc(&c, t, enc, enc, open_ring, NULL, 0, &out);
-    assert_int_equal(c.esc_phase, ROVER_ESC_NONE);
+    assert_int_equal(c.esc.phase, ROVER_ESC_NONE);
     assert_true(out.mode != ROVER_MODE_DEAD_ZONE);
     assert_int_equal(c.ann_code, FORMATION_ANN_REJOIN);
 }
@@ -816,17 +816,17 @@ static void test_give_way_announces_and_references(void **state)
     }
     own = hypot(goal_ahead[0] - out.o.x_m, goal_ahead[1] - out.o.y_m);
     print_message("give way: phase %d yield %d, leave reference %.2f m (own distance %.2f m)\n",
-                  c.esc_phase, c.esc_yield, c.esc_hit_dist_m, own);
-    assert_true(c.esc_yield && c.esc_phase != ROVER_ESC_NONE && gave_way_sent);
+                  c.esc.phase, c.esc.yield, c.esc.hit_dist_m, own);
+    assert_true(c.esc.yield && c.esc.phase != ROVER_ESC_NONE && gave_way_sent);
     assert_int_equal(out.mode, ROVER_MODE_CHANGING);
-    assert_true(fabs(c.esc_hit_dist_m - (own - 1.2)) < 0.3);
+    assert_true(fabs(c.esc.hit_dist_m - (own - 1.2)) < 0.3);
     /* the same mate giving way instead of trapped: no give-way */
     m.announce = FORMATION_ANN_GIVE_WAY;
     at_origin(&c, &p, 1);
     for (k = 0, t = 0.0; k < 10; k++, t += DT)
         seen_step(&c, t, lane_ring, &m, 1, &out);
-    assert_int_equal(c.esc_phase, ROVER_ESC_NONE);
-    assert_false(c.esc_yield);
+    assert_int_equal(c.esc.phase, ROVER_ESC_NONE);
+    assert_false(c.esc.yield);
 }
 
 /* A trapped mate ahead still facing into its pocket (not coming our way
@@ -848,7 +848,7 @@ static void test_hold_while_trapped_mate_turns(void **state)
             held = 0;
     }
     assert_true(held);
-    assert_int_equal(c.esc_phase, ROVER_ESC_NONE);
+    assert_int_equal(c.esc.phase, ROVER_ESC_NONE);
     for (; t < p.hold_max_s + 1.0; t += DT)
         seen_step(&c, t, lane_ring, &m, 1, &out);
     assert_false(c.holding);
@@ -987,9 +987,9 @@ static void test_no_command_sweeps_into_mate(void **state)
             moved = 1;
     }
     print_message("beside a trapped mate: wait set %d, phase %d, swept %d, moved %d\n", c.wait_n,
-                  c.esc_phase, swept, moved);
+                  c.esc.phase, swept, moved);
     assert_int_equal(c.wait_n, 1);
-    assert_int_equal(c.esc_phase, ROVER_ESC_NONE);
+    assert_int_equal(c.esc.phase, ROVER_ESC_NONE);
     assert_false(swept);
     /* the test itself: turning on the spot there sweeps into the mate
      * either way, driving straight on leaves it behind */
@@ -1020,7 +1020,7 @@ static void test_wedge_turns_clear_way(void **state)
     assert_int_equal(c.crumb_n, 0);
     for (t = 0.0; t < p.wedge_max_s + 2.0; t += DT) {
         seen_step(&c, t, lane_ring, m, 2, &out);
-        if (!c.esc_yield)
+        if (!c.esc.yield)
             continue;
         if (out.u.w_radps != 0.0 && t_first < 0.0) {
             t_first = t;
@@ -1032,17 +1032,17 @@ static void test_wedge_turns_clear_way(void **state)
     }
     print_message("wedge: stood until %.2f s (wedge_max_s %.1f), then w = %.2f rad/s\n", t_first,
                   p.wedge_max_s, w_first);
-    assert_true(c.esc_yield && stood);
+    assert_true(c.esc.yield && stood);
     assert_true(t_first > p.wedge_max_s && t_first < p.wedge_max_s + 0.5);
     assert_true(w_first < 0.0);
     /* hemmed in on both flanks: no turn is clear */
     at_origin(&c, &p, 3);
     for (t = 0.0; t < p.wedge_max_s + 2.0; t += DT) {
         seen_step(&c, t, lane_ring, m, 3, &out);
-        if (c.esc_yield)
+        if (c.esc.yield)
             assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
     }
-    assert_true(c.esc_yield);
+    assert_true(c.esc.yield);
 }
 
 /* A controller whose robot drove 0.6 m straight ahead from s0 in 3 s (the
@@ -1077,13 +1077,13 @@ static double wedged_backed(rover_ctl_state *c, rover_ctl_params *p, const hand_
     double t, backed = 0.0;
     for (t = drive_in(c, p, 3, &s0, goal_ahead); t < t_end; t += DT) {
         seen_step_enc(c, t, DRIVE_IN_RAD, lane_ring, m, 2, &out);
-        if (!c->esc_yield)
+        if (!c->esc.yield)
             continue;
         assert_true(out.u.w_radps == 0.0);
         if (out.u.v_mps < 0.0)
             backed += -out.u.v_mps * DT;
     }
-    assert_true(c->esc_yield);
+    assert_true(c->esc.yield);
     assert_true(out.u.v_mps <= 0.0);
     return backed;
 }
@@ -1114,20 +1114,20 @@ static void test_give_way_wedged(void **state)
     m[1].y = 0.9;
     for (t = drive_in(&c, &p, 3, &s0, goal_ahead); t < 6.0; t += DT) {
         seen_step_enc(&c, t, DRIVE_IN_RAD, lane_ring, m, 2, &out);
-        if (c.esc_yield && out.u.w_radps != 0.0)
+        if (c.esc.yield && out.u.w_radps != 0.0)
             turned = 1;
     }
-    assert_true(c.esc_yield && turned);
+    assert_true(c.esc.yield && turned);
     /* no way in behind it (it never drove): it stands, it does not back */
     m[1].id = 1;
     m[1].y = 0.45;
     at_origin(&c, &p, 3);
     for (t = 0.0; t < 3.0; t += DT) {
         seen_step(&c, t, lane_ring, m, 2, &out);
-        if (c.esc_yield)
+        if (c.esc.yield)
             assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
     }
-    assert_true(c.esc_yield);
+    assert_true(c.esc.yield);
 }
 
 /* Backing out of a wedge goes back along the robot's own path, not
@@ -1180,7 +1180,7 @@ static void test_wedge_backs_along_path(void **state)
             backed -= out.u.v_mps * DT;
             off_max = fmax(off_max, fabs(hypot(ax.x_m, ax.y_m - r_arc) - r_arc));
         }
-        if (c.esc_yield && out.u.v_mps == 0.0 && out.u.w_radps != 0.0) {
+        if (c.esc.yield && out.u.v_mps == 0.0 && out.u.w_radps != 0.0) {
             turned = 1; /* the first turn on the spot: clear of the mate */
             assert_int_equal(rover_ctl_spin_hits_mate(&c, &out.o), 0);
         }
@@ -1190,7 +1190,7 @@ static void test_wedge_backs_along_path(void **state)
     print_message(
         "backed %.2f m (back_max_m %.2f) along the arc, axle off it by at most %.3f m, then turned: %d\n",
         backed, p.back_max_m, off_max, turned);
-    assert_true(c.esc_yield && turned);
+    assert_true(c.esc.yield && turned);
     assert_true(backed > 0.25 && backed <= p.back_max_m + 1e-9);
     assert_true(off_max < 0.03);
 }
@@ -1764,7 +1764,7 @@ static void wait_robot(rover_ctl_state *c, const wait_config *k, int i, int self
     rover_ctl_params_default(&p);
     unicycle_c_from_o(&ax, &k->o[i], p.beh.d_m);
     assert_int_equal(rover_ctl_init(c, &p, k->id[i], &ax, goal), 0);
-    c->esc_phase = ann_phase(self_ann);
+    c->esc.phase = ann_phase(self_ann);
     c->v_est_mps = k->v[i];
     assert_int_equal(rover_ctl_own_announce(c), self_ann);
     for (j = 0; j < k->n; j++) {
