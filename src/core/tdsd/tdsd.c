@@ -5,8 +5,13 @@
  *   P1 = I - J1+ J1,  dq1 = J1+ y1',  dq2 = (J2P1)+ (y2' - J2 dq1),
  *   dq3 = (P1 - (J2P1)+ (J2P1)) k grad V,  dq = dq1 + Q1 dq2 + Q2 dq3 (8, 11)
  * with Q1, Q2 from the joint speed limits and lambda (path-rate factor)
- * chosen so that dq1 alone fits the limits. Also the baselines of §3:
- * clipped pseudo-inverse and damped-least-squares resolved rate.
+ * chosen so that dq1 alone fits the limits. Resolved each cycle by one LQ
+ * factor of [J1; J2] (docs/method/tdsd.md §3a: J = L Q^T gives J1^+ = Q1 L11^-1,
+ * (J2P1)^+ = Q2 L22^-1, exact while both blocks are nonsingular, taken
+ * where both condition bounds are <= TDSD_FAST_COND_MAX), by the SVD of §3
+ * at and near a singularity (tdsd_step_svd: that path alone, the oracle).
+ * Also the baselines of §6: clipped pseudo-inverse and damped-least-squares
+ * resolved rate.
  * Pure computation; every matrix is a fixed-size stack array.
  */
 #include "tdsd.h"
@@ -165,11 +170,13 @@ static int task2_setup(const tdsd_input *in, double J2[3 * NJ], double e2[3], do
 
 /* Largest lambda in [0, cap] with |lambda a_i + b_i| <= m_i for all i.
  * Each joint admits an interval of lambda; returns 0 and sets *lambda if
- * the intersection with [0, cap] is non-empty, RATE_INFEASIBLE otherwise. */
+ * the intersection with [0, cap] is non-empty, RATE_INFEASIBLE otherwise.
+ * The interval ends are kept as fractions num / |a_i| and compared by
+ * cross-multiplication (denominators > 0): one division, for the result. */
 static int max_path_rate(double *lambda, const double a[NJ], const double b[NJ], const double m[NJ],
                          double cap)
 {
-    double lo = 0.0, hi = cap;
+    double lo_n = 0.0, lo_d = 1.0, hi_n = cap, hi_d = 1.0;
     int i;
     for (i = 0; i < NJ; i++) {
         if (a[i] == 0.0) {
@@ -178,33 +185,42 @@ static int max_path_rate(double *lambda, const double a[NJ], const double b[NJ],
             continue;
         }
         {
-            double l1 = (-m[i] - b[i]) / a[i], l2 = (m[i] - b[i]) / a[i];
-            double ilo = a[i] > 0.0 ? l1 : l2, ihi = a[i] > 0.0 ? l2 : l1;
-            if (ilo > lo)
-                lo = ilo;
-            if (ihi < hi)
-                hi = ihi;
+            const double den = fabs(a[i]);
+            const double ilo = a[i] > 0.0 ? -m[i] - b[i] : b[i] - m[i];
+            const double ihi = a[i] > 0.0 ? m[i] - b[i] : m[i] + b[i];
+            if (ilo * lo_d > lo_n * den) {
+                lo_n = ilo;
+                lo_d = den;
+            }
+            if (ihi * hi_d < hi_n * den) {
+                hi_n = ihi;
+                hi_d = den;
+            }
         }
     }
-    if (!(lo <= hi))
+    if (!(lo_n * hi_d <= hi_n * lo_d))
         return RATE_INFEASIBLE;
-    *lambda = hi;
+    *lambda = hi_d == 1.0 ? hi_n : hi_n / hi_d;
     return 0;
 }
 
-/* Largest Q in [0,1] with |base_i| + Q |d_i| <= m_i for all i. */
+/* Largest Q in [0,1] with |base_i| + Q |d_i| <= m_i for all i: the least
+ * (m_i - |base_i|) / |d_i|, compared by cross-multiplication. */
 static double speed_share(const double base[NJ], const double d[NJ], const double m[NJ])
 {
-    double Q = 1.0;
+    double num = 1.0, den = 1.0, Q;
     int i;
     for (i = 0; i < NJ; i++) {
-        double ad = fabs(d[i]);
+        const double ad = fabs(d[i]);
         if (ad > 0.0) {
-            double q = (m[i] - fabs(base[i])) / ad;
-            if (q < Q)
-                Q = q;
+            const double n = m[i] - fabs(base[i]);
+            if (n * den < num * ad) {
+                num = n;
+                den = ad;
+            }
         }
     }
+    Q = den == 1.0 ? num : num / den;
     return Q > 0.0 ? Q : 0.0;
 }
 
@@ -285,7 +301,7 @@ static void step_finish(const tdsd_input *in, tdsd_output *out)
     out->n_clipped = clip_joints(out->dq_radps, in->dq_max_radps, 1e-6);
 }
 
-/* ---- fast path: J = [J1; J2] = L Q^T (docs/method/tdsd.md §3a) ----------
+/* ---- fast path: J = [J1; J2] = L Q^T (docs/method/tdsd.md §3a) ----
  * The rows of J (n = 3 + n2 of them) are orthonormalised in order by
  * modified Gram-Schmidt, with a second pass where the first left less than
  * a tenth of a row's norm (Kahan-Parlett, "twice is enough": one pass
@@ -373,20 +389,28 @@ static void lq_solve(const lq_factor *f, int off, int k, const double *y, double
 /* (||L_kk||_F ||L_kk^-1||_F)^2 of a diagonal block (k <= 3): its root is
  * an upper bound on the block's condition number sigma_max / sigma_min.
  * fro2 = ||L_kk||_F^2 (sigma_max <= its root), inv2 = ||L_kk^-1||_F^2
- * (sigma_min >= 1 / its root). */
+ * (sigma_min >= 1 / its root). The inverse of a lower triangular block
+ * written out: X_ii = 1 / L_ii, X_10 = -L_10 X_00 X_11,
+ * X_21 = -L_21 X_11 X_22, X_20 = -(L_20 X_00 + L_21 X_10) X_22. */
 static double lq_block_cond2(const lq_factor *f, int off, int k, double *fro2, double *inv2)
 {
+    const double(*L)[NJ] = f->L;
+    const double *d = f->inv + off;
     double fro = 0.0, inv = 0.0;
-    int c, i;
-    for (i = 0; i < k; i++)
+    int i, c;
+    for (i = 0; i < k; i++) {
         for (c = 0; c <= i; c++)
-            fro += f->L[off + i][off + c] * f->L[off + i][off + c];
-    for (c = 0; c < k; c++) { /* column c of L_kk^-1 */
-        double e[3] = { 0.0, 0.0, 0.0 }, x[3];
-        e[c] = 1.0;
-        lq_solve(f, off, k, e, x);
-        for (i = c; i < k; i++)
-            inv += x[i] * x[i];
+            fro += L[off + i][off + c] * L[off + i][off + c];
+        inv += d[i] * d[i];
+    }
+    if (k >= 2) {
+        const double x10 = -L[off + 1][off] * d[0] * d[1];
+        inv += x10 * x10;
+        if (k == 3) {
+            const double x21 = -L[off + 2][off + 1] * d[1] * d[2];
+            const double x20 = -(L[off + 2][off] * d[0] + L[off + 2][off + 1] * x10) * d[2];
+            inv += x21 * x21 + x20 * x20;
+        }
     }
     *fro2 = fro;
     *inv2 = inv;

@@ -91,7 +91,7 @@ static void path_at(const tdsd_seg *g, double s, double p[3], double R[9], doubl
         f = s / g->L_m;
         if (s < g->L_m) {
             sprofile_at(&g->prof, s, NULL, &vs);
-            vs = fmax(vs, g->par.v_floor_mps) / g->L_m; /* df/dt */
+            vs = (vs > g->par.v_floor_mps ? vs : g->par.v_floor_mps) / g->L_m; /* df/dt */
         }
     }
     vec3_sub(d, g->p1, g->p0);
@@ -111,7 +111,6 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
     if (!g || !m || !out || !isfinite(dt_s) || dt_s <= 0.0)
         return TDSD_ERR_ARG;
     memset(out, 0, sizeof *out);
-    memset(&in, 0, sizeof in);
     if (arm_fk_jacobian(m, &g->tool, g->q_ref, T, J) != 0)
         return TDSD_ERR_ARG;
     tf_pos(in.p_m, T);
@@ -123,13 +122,18 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
     in.K_p = g->par.K_p;
     in.K_o = g->par.K_o;
     in.k_V = g->par.k_V;
+    in.pinv_rtol = 0.0;
+    for (i = 0; i < ARM_NJ; i++)
+        in.grad_V[i] = 0.0;
     if (g->par.criterion_mask && tdsd_midrange_grad(in.grad_V, NULL, g->q_ref, m->q_min_rad,
                                                     m->q_max_rad, g->par.criterion_mask) != TDSD_OK)
         return TDSD_ERR_ARG;
     for (i = 0; i < ARM_NJ; i++)
         in.dq_max_radps[i] = g->par.speed_frac * m->qd_max_radps[i];
     /* re-accelerate smoothly after a slow-down (tdsd.h, rate_cap) */
-    in.rate_cap = fmin(1.0, g->lambda + dt_s / g->par.T_recover_s);
+    in.rate_cap = g->lambda + dt_s / g->par.T_recover_s;
+    if (!(in.rate_cap < 1.0))
+        in.rate_cap = 1.0;
     rc = tdsd_step(&in, &o); /* on error o.dq is zero: the reference holds */
 
     for (i = 0; i < ARM_NJ; i++) {
