@@ -346,24 +346,26 @@ static inline void sub6(double v[NJ], double c, const double u[NJ])
  * rounding) in the span of the rows before it. */
 static int lq_row(lq_factor *f, int i, const double r[NJ])
 {
-    double *v = f->q[i], r2, v2, inv;
+    double *v = f->q[i], v2, inv;
     int j, k, pass;
     for (k = 0; k < NJ; k++)
         v[k] = r[k];
-    r2 = v2 = dot6(v, v);
     for (j = 0; j < i; j++)
         f->L[i][j] = 0.0;
     for (pass = 0; pass < 2 && i > 0; pass++) {
+        double c2 = 0.0; /* |removed part|^2: |v_before|^2 = |v_after|^2 + c2 */
         for (j = 0; j < i; j++) {
             const double c = dot6(f->q[j], v);
             f->L[i][j] += c;
+            c2 += c * c;
             sub6(v, c, f->q[j]);
         }
         v2 = dot6(v, v);
-        if (v2 >= 0.01 * r2) /* kept at least 1/10 of the row: orthogonal */
+        if (v2 >= 0.01 * (v2 + c2)) /* kept at least 1/10 of the row: orthogonal */
             break;
-        r2 = v2;
     }
+    if (i == 0)
+        v2 = dot6(v, v);
     if (!(v2 > 0.0))
         return -1;
     f->L[i][i] = sqrt(v2);

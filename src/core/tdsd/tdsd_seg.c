@@ -7,6 +7,7 @@
 #include "tdsd_seg.h"
 #include "arm_kin.h"
 #include "linalg.h"
+#include "trig.h"
 #include "vec3.h"
 #include <math.h>
 #include <string.h>
@@ -82,6 +83,24 @@ int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
     return 0;
 }
 
+/* R = Rot(k, angle) for a unit (or zero, then angle 0) axis k: Rodrigues,
+ * with the sine and cosine of trig.c (no FPSP trap on the 68040). */
+static void rot_about_unit(double R[9], const double k[3], double angle_rad)
+{
+    double s, c, v;
+    trig_sincos(angle_rad, &s, &c);
+    v = 1.0 - c;
+    R[0] = k[0] * k[0] * v + c;
+    R[1] = k[0] * k[1] * v - k[2] * s;
+    R[2] = k[0] * k[2] * v + k[1] * s;
+    R[3] = k[1] * k[0] * v + k[2] * s;
+    R[4] = k[1] * k[1] * v + c;
+    R[5] = k[1] * k[2] * v - k[0] * s;
+    R[6] = k[2] * k[0] * v - k[1] * s;
+    R[7] = k[2] * k[1] * v + k[0] * s;
+    R[8] = k[2] * k[2] * v + c;
+}
+
 /* Path point, frame and their rates at path rate 1 (d/dt with ds/dt =
  * max(v(s), floor)), base frame. */
 static void path_at(const tdsd_seg *g, double s, double p[3], double R[9], double v[3], double w[3])
@@ -97,7 +116,7 @@ static void path_at(const tdsd_seg *g, double s, double p[3], double R[9], doubl
     vec3_sub(d, g->p1, g->p0);
     vec3_axpy(p, g->p0, f, d);
     vec3_scale(v, d, vs);
-    rot_from_axis_angle(dR, g->rot_axis, f * g->rot_rad);
+    rot_about_unit(dR, g->rot_axis, f * g->rot_rad);
     rot_mul(R, dR, g->R0);
     vec3_scale(w, g->rot_axis, g->rot_rad * vs);
 }
