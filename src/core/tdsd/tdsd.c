@@ -521,19 +521,19 @@ static int resolve_svd(const tdsd_input *in, tdsd_output *out, const double J2[3
             out->dq3[i] = g[i] - t[i];
     }
     if (n2 > 0) {
-        linalg_pinv_svd F2;
         double M[3 * NJ], r[3], s[NJ];
         linalg_pinv_null_rows(M, J2, n2, &F1); /* J2 P1 */
-        if (!la_ok(linalg_pinv_factor(&F2, M, n2, NJ, in->pinv_rtol)))
+        /* F1 is not needed past J2 P1: its storage takes J2 P1's SVD */
+        if (!la_ok(linalg_pinv_factor(&F1, M, n2, NJ, in->pinv_rtol)))
             return TDSD_ERR_NUMERIC;
-        out->rank_J2P1 = F2.info.rank;
+        out->rank_J2P1 = F1.info.rank;
         linalg_matvec(r, J2, out->dq1, n2, NJ);
         for (i = 0; i < n2; i++) {
             out->y2[i] = out->lambda * w2[i] + in->K_o * e2[i];
             r[i] = out->y2[i] - r[i];
         }
-        linalg_pinv_apply(out->dq2, &F2, r);
-        linalg_pinv_rowspace(s, &F2, g);
+        linalg_pinv_apply(out->dq2, &F1, r);
+        linalg_pinv_rowspace(s, &F1, g);
         for (i = 0; i < NJ; i++)
             out->dq3[i] -= s[i];
     }
@@ -543,19 +543,21 @@ static int resolve_svd(const tdsd_input *in, tdsd_output *out, const double J2[3
 static int step_with(const tdsd_input *in, tdsd_output *out, int allow_fast)
 {
     double J2[3 * NJ], e2[3], w2[3], g[NJ], Kpe[3];
-    int n2, rc = TDSD_OK;
+    int n2, rc = TDSD_OK, fast = 0;
 
     output_reset(out);
     if (!input_valid(in))
         return TDSD_ERR_ARG;
     n2 = step_setup(in, out, J2, e2, w2, Kpe, g);
-    {
+    if (allow_fast) { /* f's scope ends before the SVD's: they share stack */
         lq_factor f;
-        if (allow_fast && lq_factor_task(&f, in, J2, n2, out) == 0)
+        if (lq_factor_task(&f, in, J2, n2, out) == 0) {
             resolve_lq(in, out, &f, n2, w2, e2, Kpe, g);
-        else
-            rc = resolve_svd(in, out, J2, n2, w2, e2, Kpe, g);
+            fast = 1;
+        }
     }
+    if (!fast)
+        rc = resolve_svd(in, out, J2, n2, w2, e2, Kpe, g);
     if (rc != TDSD_OK) {
         output_reset(out);
         return rc;
