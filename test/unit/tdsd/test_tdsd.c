@@ -853,7 +853,7 @@ static void test_fast_path_matches_svd_random(void **state)
     fast_stats st = { 0, 0, 0.0 };
     int t;
     (void)state;
-    for (t = 0; t < 3000; t++) {
+    for (t = 0; t < 2000; t++) {
         tdsd_input in;
         const double e = pow(10.0, -14.0 * 0.5 * (urand() + 1.0)); /* 1 .. 1e-14 */
         make_input(&in);
@@ -869,7 +869,7 @@ static void test_fast_path_matches_svd_random(void **state)
     }
     print_message("fast %d, SVD %d, worst error / (eps k1 k2 scale) %.3g\n", st.fast, st.slow,
                   st.worst);
-    assert_true(st.fast > 1000 && st.slow > 300);
+    assert_true(st.fast > 600 && st.slow > 200);
 }
 
 /* The PUMA 560's own Jacobians (tool 0.1 m down the flange), over the
@@ -884,7 +884,7 @@ static void test_fast_path_matches_svd_puma(void **state)
     int t, i;
     (void)state;
     arm_tool_offset(&tool, off);
-    for (t = 0; t < 3000; t++) {
+    for (t = 0; t < 2000; t++) {
         tdsd_input in;
         double q[ARM_NJ], T[16], J[36];
         const double e = t % 4 == 0 ? 0.0 : pow(10.0, -12.0 * 0.5 * (urand() + 1.0));
@@ -909,7 +909,7 @@ static void test_fast_path_matches_svd_puma(void **state)
     }
     print_message("fast %d, SVD %d, worst error / (eps k1 k2 scale) %.3g\n", st.fast, st.slow,
                   st.worst);
-    assert_true(st.fast > 1000 && st.slow > 0);
+    assert_true(st.fast > 600 && st.slow > 0);
 }
 
 int main(void)
