@@ -12,20 +12,12 @@
 int linalg_all_finite(const double *A, int count)
 {
     /* x - x is 0 for finite x and NaN for NaN or +-Inf, and NaN survives
-     * the sum: one test instead of one per entry. Four sums, so the adds
-     * do not wait on each other (one chain was latency-bound) and the
-     * loop's test runs once per four entries. */
-    double a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0;
+     * the sum: one test instead of one per entry */
+    double acc = 0.0;
     int i;
-    for (i = 0; i + 4 <= count; i += 4) {
-        a0 += A[i] - A[i];
-        a1 += A[i + 1] - A[i + 1];
-        a2 += A[i + 2] - A[i + 2];
-        a3 += A[i + 3] - A[i + 3];
-    }
-    for (; i < count; i++)
-        a0 += A[i] - A[i];
-    return (a0 + a1) + (a2 + a3) == 0.0;
+    for (i = 0; i < count; i++)
+        acc += A[i] - A[i];
+    return acc == 0.0;
 }
 
 void linalg_identity(double *I, int n)
