@@ -352,6 +352,7 @@ static int lq_row(lq_factor *f, int i, const double r[NJ])
         v[k] = r[k];
     for (j = 0; j < i; j++)
         f->L[i][j] = 0.0;
+    v2 = i == 0 ? dot6(v, v) : 0.0; /* rows after the first: set by the pass */
     for (pass = 0; pass < 2 && i > 0; pass++) {
         double c2 = 0.0; /* |removed part|^2: |v_before|^2 = |v_after|^2 + c2 */
         for (j = 0; j < i; j++) {
@@ -364,8 +365,6 @@ static int lq_row(lq_factor *f, int i, const double r[NJ])
         if (v2 >= 0.01 * (v2 + c2)) /* kept at least 1/10 of the row: orthogonal */
             break;
     }
-    if (i == 0)
-        v2 = dot6(v, v);
     if (!(v2 > 0.0))
         return -1;
     f->L[i][i] = sqrt(v2);
