@@ -539,9 +539,9 @@ static void test_all_finite_every_position(void **state)
     double A[12];
     int n, k, b, i;
     (void)state;
+    for (i = 0; i < 12; i++)
+        A[i] = (i % 2 ? -1.0 : 1.0) * DBL_MAX;
     for (n = 0; n <= 12; n++) {
-        for (i = 0; i < n; i++)
-            A[i] = (i % 2 ? -1.0 : 1.0) * DBL_MAX;
         assert_int_equal(linalg_all_finite(A, n), 1);
         for (k = 0; k < n; k++)
             for (b = 0; b < 3; b++) {
