@@ -22,6 +22,12 @@
 
 #define TDSD_NJ 6
 
+/* tdsd_step's fast path (docs/method/tdsd.md §3a) runs where the position
+ * block and the orientation block of the LQ factor of [J1; J2] each have
+ * ||L||_F ||L^-1||_F at most this (an upper bound on sigma_max / sigma_min)
+ * and at most 1 / pinv_rtol; elsewhere the SVD resolution runs. */
+#define TDSD_FAST_COND_MAX 1e6
+
 enum {
     TDSD_OK = 0,
     TDSD_ERR_ARG = -1,    /* non-finite or out-of-range input; out->dq is zeroed */
@@ -72,21 +78,31 @@ typedef struct {
                                     the final exact-limit guard cut by more
                                     than 1e-6 relative (rounding stays below;
                                     nonzero means a bug) */
-    double sigma_min_J1;      /* smallest singular value of J1 */
-    double sigma_max_J1;
-    int rank_J1;    /* under the pinv tolerance */
-    int rank_J2P1;  /* TDSD: rank of J2 P1; baselines: of [J1;J2] */
-    int n2;         /* rows of task 2 (0, 2 or 3) */
-    double e_p[3];  /* p_d - p */
-    double e_o[3];  /* first n2 entries: orientation error used */
-    double y1[3];   /* y1' demanded (after scaling) */
-    double y2[3];   /* y2' demanded (first n2 entries) */
-    double damping; /* rr_dls_step: damping lambda used; else 0 */
+    double sigma_min_J1;      /* smallest singular value of J1; on the fast
+                                    path (fast = 1) a lower bound on it,
+                                    1 / ||L11^-1||_F */
+    double sigma_max_J1;      /* largest; fast path: upper bound ||L11||_F */
+    int fast;                 /* 1: resolved by the LQ fast path, 0: by SVD */
+    int rank_J1;              /* under the pinv tolerance */
+    int rank_J2P1;            /* TDSD: rank of J2 P1; baselines: of [J1;J2] */
+    int n2;                   /* rows of task 2 (0, 2 or 3) */
+    double e_p[3];            /* p_d - p */
+    double e_o[3];            /* first n2 entries: orientation error used */
+    double y1[3];             /* y1' demanded (after scaling) */
+    double y2[3];             /* y2' demanded (first n2 entries) */
+    double damping;           /* rr_dls_step: damping lambda used; else 0 */
 } tdsd_output;
 
 /* One control cycle of TDSD. Returns TDSD_OK, or a negative code with
- * out->dq_radps zeroed (safe: hold). Guarantees |dq_i| <= dq_max_i. */
+ * out->dq_radps zeroed (safe: hold). Guarantees |dq_i| <= dq_max_i.
+ * Resolves by the LQ factor of [J1; J2] (modified Gram-Schmidt, two 3x3
+ * triangular blocks) where both blocks are well conditioned
+ * (TDSD_FAST_COND_MAX), by the SVD of tdsd_step_svd elsewhere; the two
+ * agree to rounding (docs/method/tdsd.md §3a gives the identities). */
 int tdsd_step(const tdsd_input *in, tdsd_output *out);
+/* The same step, always by the SVD (the generic path; the fast path's
+ * test oracle). */
+int tdsd_step_svd(const tdsd_input *in, tdsd_output *out);
 
 /* e_o = 1/2 (n x n_d + o x o_d + a x a_d) (eq. 13); equals sin(theta) k
  * when R_d = Rot(k, theta) R. */

@@ -81,7 +81,16 @@ void linalg_mul_t(double *C, const double *A, const double *B, int m, int k, int
 
 void linalg_matvec(double *y, const double *A, const double *x, int m, int n)
 {
-    linalg_mul(y, A, x, m, n, 1);
+    /* linalg_mul's sums in its order, without its column loop and index
+     * products (the control cycles' twist J qd and solves) */
+    int i, l;
+    for (i = 0; i < m; i++) {
+        const double *a = A + i * n;
+        double acc = 0.0;
+        for (l = 0; l < n; l++)
+            acc += a[l] * x[l];
+        y[i] = acc;
+    }
 }
 
 void linalg_tmatvec(double *y, const double *A, const double *x, int m, int n)

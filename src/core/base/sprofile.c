@@ -51,6 +51,14 @@ int sprofile_plan(sprofile *p, double s_f_m, double v_m, double a_m, double u_m)
     return 0;
 }
 
+/* s clamped to [0, s_f] (s not NaN): fmin(fmax(s, 0), s_f) without the
+ * two library calls of every control cycle. */
+static double clamp_s(double s, double s_f)
+{
+    s = s > 0.0 ? s : 0.0;
+    return s < s_f ? s : s_f;
+}
+
 /* Acceleration phase, x in [0, D]. */
 static void acc_phase(const sprofile *p, double x, double *a, double *w)
 {
@@ -77,7 +85,7 @@ void sprofile_at(const sprofile *p, double s_m, double *a_d, double *v_d)
 {
     double a = 0.0, w = 0.0, s;
     if (p && p->s_f_m > 0.0 && !isnan(s_m)) {
-        s = fmin(fmax(s_m, 0.0), p->s_f_m);
+        s = clamp_s(s_m, p->s_f_m);
         if (s <= p->d_acc_m) {
             acc_phase(p, s, &a, &w);
         } else if (s >= p->s_f_m - p->d_acc_m) {
@@ -102,7 +110,7 @@ static double rate(const sprofile *p, double s, double v_floor)
 {
     double v;
     sprofile_at(p, s, 0, &v);
-    return fmax(v, v_floor);
+    return v > v_floor ? v : v_floor;
 }
 
 double sprofile_advance(const sprofile *p, double s_m, double dt_s, double v_floor)
@@ -110,7 +118,7 @@ double sprofile_advance(const sprofile *p, double s_m, double dt_s, double v_flo
     double k1, k2, k3, k4, s;
     if (!p || !isfinite(s_m))
         return 0.0;
-    s = fmin(fmax(s_m, 0.0), p->s_f_m);
+    s = clamp_s(s_m, p->s_f_m);
     if (!isfinite(dt_s) || dt_s <= 0.0 || !isfinite(v_floor))
         return s;
     if (v_floor < 0.0)
@@ -120,5 +128,5 @@ double sprofile_advance(const sprofile *p, double s_m, double dt_s, double v_flo
     k3 = rate(p, s + 0.5 * dt_s * k2, v_floor);
     k4 = rate(p, s + dt_s * k3, v_floor);
     s += dt_s * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
-    return fmin(fmax(s, 0.0), p->s_f_m);
+    return clamp_s(s, p->s_f_m);
 }

@@ -28,8 +28,10 @@ static const double C1 = 4.16666666666666019037e-02, C2 = -1.3888888888874109574
                     C3 = 2.48015872894767294178e-05, C4 = -2.75573143513906633035e-07,
                     C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
 
-/* sin(x), |x| <= pi/4, z = x^2 */
-static double kernel_sin(double x, double z)
+/* sin(x), |x| <= pi/4, z = x^2. Both kernels inline: their two Horner
+ * chains are independent and overlap where the FPU can (on the host
+ * trig_sincos was latency-bound while it called kernel_cos). */
+static inline double kernel_sin(double x, double z)
 {
     const double v = z * x;
     const double r = S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)));
@@ -38,7 +40,7 @@ static double kernel_sin(double x, double z)
 
 /* cos(x), |x| <= pi/4, z = x^2: 1 - z/2 + z r, the 1 - z/2 split so that
  * its rounding error is added back */
-static double kernel_cos(double z)
+static inline double kernel_cos(double z)
 {
     const double w = z * z;
     const double r = z * (C1 + z * (C2 + z * C3)) + w * w * (C4 + z * (C5 + z * C6));

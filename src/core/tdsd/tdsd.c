@@ -5,8 +5,13 @@
  *   P1 = I - J1+ J1,  dq1 = J1+ y1',  dq2 = (J2P1)+ (y2' - J2 dq1),
  *   dq3 = (P1 - (J2P1)+ (J2P1)) k grad V,  dq = dq1 + Q1 dq2 + Q2 dq3 (8, 11)
  * with Q1, Q2 from the joint speed limits and lambda (path-rate factor)
- * chosen so that dq1 alone fits the limits. Also the baselines of §3:
- * clipped pseudo-inverse and damped-least-squares resolved rate.
+ * chosen so that dq1 alone fits the limits. Resolved each cycle by one LQ
+ * factor of [J1; J2] (docs/method/tdsd.md §3a: J = L Q^T gives J1^+ = Q1 L11^-1,
+ * (J2P1)^+ = Q2 L22^-1, exact while both blocks are nonsingular, taken
+ * where both condition bounds are <= TDSD_FAST_COND_MAX), by the SVD of §3
+ * at and near a singularity (tdsd_step_svd: that path alone, the oracle).
+ * Also the baselines of §6: clipped pseudo-inverse and damped-least-squares
+ * resolved rate.
  * Pure computation; every matrix is a fixed-size stack array.
  */
 #include "tdsd.h"
@@ -135,6 +140,7 @@ static void output_reset(tdsd_output *out)
     out->rank_J1 = out->rank_J2P1 = 0;
     out->n2 = 0;
     out->damping = 0.0;
+    out->fast = 0;
 }
 
 /* Task 2 rows J2 (n2 x 6), error e2 and feed-forward w2 (n2), per mode. */
@@ -164,11 +170,13 @@ static int task2_setup(const tdsd_input *in, double J2[3 * NJ], double e2[3], do
 
 /* Largest lambda in [0, cap] with |lambda a_i + b_i| <= m_i for all i.
  * Each joint admits an interval of lambda; returns 0 and sets *lambda if
- * the intersection with [0, cap] is non-empty, RATE_INFEASIBLE otherwise. */
+ * the intersection with [0, cap] is non-empty, RATE_INFEASIBLE otherwise.
+ * The interval ends are kept as fractions num / |a_i| and compared by
+ * cross-multiplication (denominators > 0): one division, for the result. */
 static int max_path_rate(double *lambda, const double a[NJ], const double b[NJ], const double m[NJ],
                          double cap)
 {
-    double lo = 0.0, hi = cap;
+    double lo_n = 0.0, lo_d = 1.0, hi_n = cap, hi_d = 1.0;
     int i;
     for (i = 0; i < NJ; i++) {
         if (a[i] == 0.0) {
@@ -177,33 +185,42 @@ static int max_path_rate(double *lambda, const double a[NJ], const double b[NJ],
             continue;
         }
         {
-            double l1 = (-m[i] - b[i]) / a[i], l2 = (m[i] - b[i]) / a[i];
-            double ilo = a[i] > 0.0 ? l1 : l2, ihi = a[i] > 0.0 ? l2 : l1;
-            if (ilo > lo)
-                lo = ilo;
-            if (ihi < hi)
-                hi = ihi;
+            const double den = fabs(a[i]);
+            const double ilo = a[i] > 0.0 ? -m[i] - b[i] : b[i] - m[i];
+            const double ihi = a[i] > 0.0 ? m[i] - b[i] : m[i] + b[i];
+            if (ilo * lo_d > lo_n * den) {
+                lo_n = ilo;
+                lo_d = den;
+            }
+            if (ihi * hi_d < hi_n * den) {
+                hi_n = ihi;
+                hi_d = den;
+            }
         }
     }
-    if (!(lo <= hi))
+    if (!(lo_n * hi_d <= hi_n * lo_d))
         return RATE_INFEASIBLE;
-    *lambda = hi;
+    *lambda = hi_d == 1.0 ? hi_n : hi_n / hi_d;
     return 0;
 }
 
-/* Largest Q in [0,1] with |base_i| + Q |d_i| <= m_i for all i. */
+/* Largest Q in [0,1] with |base_i| + Q |d_i| <= m_i for all i: the least
+ * (m_i - |base_i|) / |d_i|, compared by cross-multiplication. */
 static double speed_share(const double base[NJ], const double d[NJ], const double m[NJ])
 {
-    double Q = 1.0;
+    double num = 1.0, den = 1.0, Q;
     int i;
     for (i = 0; i < NJ; i++) {
-        double ad = fabs(d[i]);
+        const double ad = fabs(d[i]);
         if (ad > 0.0) {
-            double q = (m[i] - fabs(base[i])) / ad;
-            if (q < Q)
-                Q = q;
+            const double n = m[i] - fabs(base[i]);
+            if (n * den < num * ad) {
+                num = n;
+                den = ad;
+            }
         }
     }
+    Q = den == 1.0 ? num : num / den;
     return Q > 0.0 ? Q : 0.0;
 }
 
@@ -221,44 +238,15 @@ static int clip_joints(double dq[NJ], const double m[NJ], double slack)
     return n;
 }
 
-/* The pseudo-inverses stay in SVD form (linalg_pinv_svd): J1+ is applied
- * to two vectors and P1 only enters through J2 P1 and P1 g, so neither J1+
- * nor P1 (6x6) nor (J2P1)+ is ever formed:
- *   J2 P1 = J2 - (J2 V1) V1^T,   P1 g = g - V1 V1^T g,
- *   (J2P1)+ (J2P1) g = V2 V2^T g   (V1, V2: kept right singular vectors).
- * Kept whole (about 90 lines): it is eq. 8-11 of docs/method/tdsd.md §3-4
- * in the order written there, and the intermediate products (J2 V1, the
- * kept singular vectors) are shared by every line; split, they would travel
- * through half a dozen parameters and the equations would no longer read
- * top to bottom. */
-int tdsd_step(const tdsd_input *in, tdsd_output *out)
+/* dq1(lambda) = lambda a + c b (a = J1^+ p_d', b = J1^+ K_p e_p): the
+ * largest admissible path rate, else the feedback shrunk in its own
+ * direction (docs/method/tdsd.md §4). Sets dq1, y1, lambda, fb_scale,
+ * time_scaled; returns c (lambda in out->lambda). */
+static double path_rate_dq1(const tdsd_input *in, tdsd_output *out, const double a[NJ],
+                            const double b[NJ], const double Kpe[3])
 {
-    linalg_pinv_svd F1;
-    double J2[3 * NJ], e2[3], w2[3], g[NJ];
-    double a[NJ], b[NJ], Kpe[3];
     double lambda = 0.0, c = 1.0;
-    int n2, i;
-
-    output_reset(out);
-    if (!input_valid(in))
-        return TDSD_ERR_ARG;
-
-    vec3_sub(out->e_p, in->p_d_m, in->p_m);
-    n2 = task2_setup(in, J2, e2, w2);
-    out->n2 = n2;
-    for (i = 0; i < n2; i++)
-        out->e_o[i] = e2[i];
-
-    if (!la_ok(linalg_pinv_factor(&F1, in->J1, 3, NJ, in->pinv_rtol)))
-        return TDSD_ERR_NUMERIC;
-    out->sigma_min_J1 = F1.info.sigma_min;
-    out->sigma_max_J1 = F1.info.sigma_max;
-    out->rank_J1 = F1.info.rank;
-
-    /* dq1(lambda) = lambda a + b: feed-forward and feedback parts */
-    vec3_scale(Kpe, out->e_p, in->K_p);
-    linalg_pinv_apply(a, &F1, in->v_d_mps);
-    linalg_pinv_apply(b, &F1, Kpe);
+    int i;
     if (max_path_rate(&lambda, a, b, in->dq_max_radps, in->rate_cap) != 0) {
         /* even stopping on the path leaves the feedback too fast: keep its
          * direction (the tool still heads straight for p_d), shrink it */
@@ -274,11 +262,257 @@ int tdsd_step(const tdsd_input *in, tdsd_output *out)
     out->lambda = lambda;
     out->fb_scale = c;
     out->time_scaled = (lambda < in->rate_cap) || (c < 1.0);
+    return c;
+}
+
+/* The task set-up both resolutions share: e_p, task 2's rows, error and
+ * feed-forward, y2' follows once lambda is known. Returns n2. */
+static int step_setup(const tdsd_input *in, tdsd_output *out, double J2[3 * NJ], double e2[3],
+                      double w2[3], double Kpe[3], double g[NJ])
+{
+    int n2, i;
+    vec3_sub(out->e_p, in->p_d_m, in->p_m);
+    n2 = task2_setup(in, J2, e2, w2);
+    out->n2 = n2;
+    for (i = 0; i < n2; i++)
+        out->e_o[i] = e2[i];
+    vec3_scale(Kpe, out->e_p, in->K_p);
+    for (i = 0; i < NJ; i++)
+        g[i] = in->k_V * in->grad_V[i];
+    return n2;
+}
+
+/* Speed distribution (eq. 9-11) and the exact-limit guard. */
+static void step_finish(const tdsd_input *in, tdsd_output *out)
+{
+    double base[NJ];
+    int i;
+    out->Q1 = speed_share(out->dq1, out->dq2, in->dq_max_radps);
+    for (i = 0; i < NJ; i++)
+        base[i] = out->dq1[i] + out->Q1 * out->dq2[i];
+    out->Q2 = speed_share(base, out->dq3, in->dq_max_radps);
+    for (i = 0; i < NJ; i++)
+        out->dq_radps[i] = base[i] + out->Q2 * out->dq3[i];
+    /* By construction |dq_i| <= dq_max_i up to rounding; the guard makes the
+     * hard limit exact and counts any real violation. The slack is wide
+     * because near a singularity dq1 = lambda a + b cancels two terms of
+     * size ~ |y1'| / sigma_min, so its rounding is ~ DBL_EPSILON / sigma_min
+     * relative (1e-7 at sigma_min = 1e-9). */
+    out->n_clipped = clip_joints(out->dq_radps, in->dq_max_radps, 1e-6);
+}
+
+/* ---- fast path: J = [J1; J2] = L Q^T (docs/method/tdsd.md §3a) ----
+ * The rows of J (n = 3 + n2 of them) are orthonormalised in order by
+ * modified Gram-Schmidt, with a second pass where the first left less than
+ * a tenth of a row's norm (Kahan-Parlett, "twice is enough": one pass
+ * leaves the new row orthogonal to ~ DBL_EPSILON times the ratio of the
+ * norms, the second to ~ DBL_EPSILON), so Q^T's rows q_i are orthonormal
+ * to ~ 10 DBL_EPSILON and L is lower triangular with J = L Q^T.
+ * Block by the task split, Q = [Q1 Q2], L = [L11 0; L21 L22]:
+ *   J1 = L11 Q1^T                 => J1^+ = Q1 L11^-1,   P1 = I - Q1 Q1^T
+ *   J2 P1 = L22 Q2^T (Q2 _|_ Q1)  => (J2P1)^+ = Q2 L22^-1,
+ *                                    (J2P1)^+(J2P1) = Q2 Q2^T
+ *   J2 dq1 = L21 L11^-1 y1'        (Q1^T Q1 = I, Q2^T Q1 = 0)
+ * so dq1 = Q1 L11^-1 y1', dq2 = Q2 L22^-1 (y2' - L21 z1), z1 = L11^-1 y1',
+ * dq3 = g - Q Q^T g (zero when n = 6: Q is then square and orthogonal).
+ * Exact whenever L11 and L22 are nonsingular, and then every singular value
+ * of J1 (of J2 P1) is one of L11 (L22). The path is taken only where
+ * ||L_kk||_F ||L_kk^-1||_F <= TDSD_FAST_COND_MAX for both blocks: that
+ * product bounds sigma_max / sigma_min from above, so no singular value lies
+ * under the SVD path's rank cut (which would drop it) and the rounding of
+ * the triangular solves stays ~ DBL_EPSILON times it. Elsewhere (at and
+ * near a singularity) the SVD resolution runs. */
+typedef struct {
+    double q[NJ][NJ]; /* q[i]: row i of Q^T */
+    double L[NJ][NJ]; /* lower triangular, J = L Q^T */
+    double inv[NJ];   /* 1 / L_ii */
+    int n;
+} lq_factor;
+
+static inline double dot6(const double a[NJ], const double b[NJ])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5];
+}
+
+/* v -= c u */
+static inline void sub6(double v[NJ], double c, const double u[NJ])
+{
+    int k;
+    for (k = 0; k < NJ; k++)
+        v[k] -= c * u[k];
+}
+
+/* Row i of the factor from row r of J; 0, or -1 when the row is (to
+ * rounding) in the span of the rows before it. */
+static int lq_row(lq_factor *f, int i, const double r[NJ])
+{
+    double *v = f->q[i], v2, inv;
+    int j, k, pass;
+    for (k = 0; k < NJ; k++)
+        v[k] = r[k];
+    for (j = 0; j < i; j++)
+        f->L[i][j] = 0.0;
+    v2 = i == 0 ? dot6(v, v) : 0.0; /* rows after the first: set by the pass */
+    for (pass = 0; pass < 2 && i > 0; pass++) {
+        double c2 = 0.0; /* |removed part|^2: |v_before|^2 = |v_after|^2 + c2 */
+        for (j = 0; j < i; j++) {
+            const double c = dot6(f->q[j], v);
+            f->L[i][j] += c;
+            c2 += c * c;
+            sub6(v, c, f->q[j]);
+        }
+        v2 = dot6(v, v);
+        if (v2 >= 0.01 * (v2 + c2)) /* kept at least 1/10 of the row: orthogonal */
+            break;
+    }
+    if (!(v2 > 0.0))
+        return -1;
+    f->L[i][i] = sqrt(v2);
+    inv = 1.0 / f->L[i][i];
+    f->inv[i] = inv;
+    for (k = 0; k < NJ; k++)
+        v[k] *= inv;
+    return 0;
+}
+
+/* x = L_kk^-1 y for the diagonal block of rows/columns off..off+k-1. */
+static void lq_solve(const lq_factor *f, int off, int k, const double *y, double *x)
+{
+    int i, j;
+    for (i = 0; i < k; i++) {
+        double acc = y[i];
+        for (j = 0; j < i; j++)
+            acc -= f->L[off + i][off + j] * x[j];
+        x[i] = acc * f->inv[off + i];
+    }
+}
+
+/* (||L_kk||_F ||L_kk^-1||_F)^2 of a diagonal block (k <= 3): its root is
+ * an upper bound on the block's condition number sigma_max / sigma_min.
+ * fro2 = ||L_kk||_F^2 (sigma_max <= its root), inv2 = ||L_kk^-1||_F^2
+ * (sigma_min >= 1 / its root). The inverse of a lower triangular block
+ * written out: X_ii = 1 / L_ii, X_10 = -L_10 X_00 X_11,
+ * X_21 = -L_21 X_11 X_22, X_20 = -(L_20 X_00 + L_21 X_10) X_22. */
+static double lq_block_cond2(const lq_factor *f, int off, int k, double *fro2, double *inv2)
+{
+    const double(*L)[NJ] = f->L;
+    const double *d = f->inv + off;
+    double fro = 0.0, inv = 0.0;
+    int i, c;
+    for (i = 0; i < k; i++) {
+        for (c = 0; c <= i; c++)
+            fro += L[off + i][off + c] * L[off + i][off + c];
+        inv += d[i] * d[i];
+    }
+    if (k >= 2) {
+        const double x10 = -L[off + 1][off] * d[0] * d[1];
+        inv += x10 * x10;
+        if (k == 3) {
+            const double x21 = -L[off + 2][off + 1] * d[1] * d[2];
+            const double x20 = -(L[off + 2][off] * d[0] + L[off + 2][off + 1] * x10) * d[2];
+            inv += x21 * x21 + x20 * x20;
+        }
+    }
+    *fro2 = fro;
+    *inv2 = inv;
+    return fro * inv;
+}
+
+/* x = sum_{i < k} z_i q_{off+i} */
+static void lq_combine(const lq_factor *f, int off, int k, const double *z, double x[NJ])
+{
+    int i, j;
+    for (j = 0; j < NJ; j++)
+        x[j] = 0.0;
+    for (i = 0; i < k; i++)
+        for (j = 0; j < NJ; j++)
+            x[j] += z[i] * f->q[off + i][j];
+}
+
+/* Factors [J1; J2] and checks both blocks; 0 when the fast path applies. */
+static int lq_factor_task(lq_factor *f, const tdsd_input *in, const double J2[3 * NJ], int n2,
+                          tdsd_output *out)
+{
+    const double rtol = in->pinv_rtol > 0.0 ? in->pinv_rtol : LINALG_PINV_RTOL;
+    const double cmax = rtol * TDSD_FAST_COND_MAX > 1.0 ? 1.0 / rtol : TDSD_FAST_COND_MAX;
+    double fro2, inv2;
+    int i;
+    f->n = 3 + n2;
+    for (i = 0; i < f->n; i++)
+        if (lq_row(f, i, i < 3 ? in->J1 + i * NJ : J2 + (i - 3) * NJ) != 0)
+            return -1;
+    if (!(lq_block_cond2(f, 0, 3, &fro2, &inv2) <= cmax * cmax))
+        return -1;
+    out->sigma_min_J1 = 1.0 / sqrt(inv2);
+    out->sigma_max_J1 = sqrt(fro2);
+    if (n2 > 0 && !(lq_block_cond2(f, 3, n2, &fro2, &inv2) <= cmax * cmax))
+        return -1;
+    return 0;
+}
+
+static void resolve_lq(const tdsd_input *in, tdsd_output *out, const lq_factor *f, int n2,
+                       const double w2[3], const double e2[3], const double Kpe[3],
+                       const double g[NJ])
+{
+    double za[3], zb[3], a[NJ], b[NJ], c;
+    int i, j;
+    out->fast = 1;
+    out->rank_J1 = 3;
+    out->rank_J2P1 = n2;
+    lq_solve(f, 0, 3, in->v_d_mps, za);
+    lq_solve(f, 0, 3, Kpe, zb);
+    lq_combine(f, 0, 3, za, a);
+    lq_combine(f, 0, 3, zb, b);
+    c = path_rate_dq1(in, out, a, b, Kpe);
+    if (n2 > 0) {
+        double r[3], z2[3];
+        for (i = 0; i < n2; i++) {
+            out->y2[i] = out->lambda * w2[i] + in->K_o * e2[i];
+            r[i] = out->y2[i];
+            for (j = 0; j < 3; j++) /* - J2 dq1 = - L21 z1 */
+                r[i] -= f->L[3 + i][j] * (out->lambda * za[j] + c * zb[j]);
+        }
+        lq_solve(f, 3, n2, r, z2);
+        lq_combine(f, 3, n2, z2, out->dq2);
+    }
+    for (i = 0; i < NJ; i++)
+        out->dq3[i] = 0.0;
+    if (f->n < NJ) { /* dq3 = g - Q Q^T g */
+        for (i = 0; i < NJ; i++)
+            out->dq3[i] = g[i];
+        for (j = 0; j < f->n; j++)
+            sub6(out->dq3, dot6(f->q[j], g), f->q[j]);
+    }
+}
+
+/* ---- the SVD resolution: the generic path and the fast path's oracle ----
+ * The pseudo-inverses stay in SVD form (linalg_pinv_svd): J1+ is applied
+ * to two vectors and P1 only enters through J2 P1 and P1 g, so neither J1+
+ * nor P1 (6x6) nor (J2P1)+ is ever formed:
+ *   J2 P1 = J2 - (J2 V1) V1^T,   P1 g = g - V1 V1^T g,
+ *   (J2P1)+ (J2P1) g = V2 V2^T g   (V1, V2: kept right singular vectors).
+ * It is eq. 8-11 of docs/method/tdsd.md §3-4 in the order written there. */
+static int resolve_svd(const tdsd_input *in, tdsd_output *out, const double J2[3 * NJ], int n2,
+                       const double w2[3], const double e2[3], const double Kpe[3],
+                       const double g[NJ])
+{
+    linalg_pinv_svd F1;
+    double a[NJ], b[NJ];
+    int i;
+
+    if (!la_ok(linalg_pinv_factor(&F1, in->J1, 3, NJ, in->pinv_rtol)))
+        return TDSD_ERR_NUMERIC;
+    out->fast = 0;
+    out->sigma_min_J1 = F1.info.sigma_min;
+    out->sigma_max_J1 = F1.info.sigma_max;
+    out->rank_J1 = F1.info.rank;
+
+    linalg_pinv_apply(a, &F1, in->v_d_mps);
+    linalg_pinv_apply(b, &F1, Kpe);
+    (void)path_rate_dq1(in, out, a, b, Kpe);
 
     /* dq3 = P1 g - (J2P1)+ (J2P1) g: project k grad V onto the joint
      * motions that move neither task */
-    for (i = 0; i < NJ; i++)
-        g[i] = in->k_V * in->grad_V[i];
     {
         double t[NJ];
         linalg_pinv_rowspace(t, &F1, g);
@@ -286,41 +520,59 @@ int tdsd_step(const tdsd_input *in, tdsd_output *out)
             out->dq3[i] = g[i] - t[i];
     }
     if (n2 > 0) {
-        linalg_pinv_svd F2;
         double M[3 * NJ], r[3], s[NJ];
         linalg_pinv_null_rows(M, J2, n2, &F1); /* J2 P1 */
-        if (!la_ok(linalg_pinv_factor(&F2, M, n2, NJ, in->pinv_rtol))) {
-            output_reset(out);
+        /* F1 is not needed past J2 P1: its storage takes J2 P1's SVD */
+        if (!la_ok(linalg_pinv_factor(&F1, M, n2, NJ, in->pinv_rtol)))
             return TDSD_ERR_NUMERIC;
-        }
-        out->rank_J2P1 = F2.info.rank;
+        out->rank_J2P1 = F1.info.rank;
         linalg_matvec(r, J2, out->dq1, n2, NJ);
         for (i = 0; i < n2; i++) {
-            out->y2[i] = lambda * w2[i] + in->K_o * e2[i];
+            out->y2[i] = out->lambda * w2[i] + in->K_o * e2[i];
             r[i] = out->y2[i] - r[i];
         }
-        linalg_pinv_apply(out->dq2, &F2, r);
-        linalg_pinv_rowspace(s, &F2, g);
+        linalg_pinv_apply(out->dq2, &F1, r);
+        linalg_pinv_rowspace(s, &F1, g);
         for (i = 0; i < NJ; i++)
             out->dq3[i] -= s[i];
     }
-
-    out->Q1 = speed_share(out->dq1, out->dq2, in->dq_max_radps);
-    {
-        double base[NJ];
-        for (i = 0; i < NJ; i++)
-            base[i] = out->dq1[i] + out->Q1 * out->dq2[i];
-        out->Q2 = speed_share(base, out->dq3, in->dq_max_radps);
-        for (i = 0; i < NJ; i++)
-            out->dq_radps[i] = base[i] + out->Q2 * out->dq3[i];
-    }
-    /* By construction |dq_i| <= dq_max_i up to rounding; the guard makes the
-     * hard limit exact and counts any real violation. The slack is wide
-     * because near a singularity dq1 = lambda a + b cancels two terms of
-     * size ~ |y1'| / sigma_min, so its rounding is ~ DBL_EPSILON / sigma_min
-     * relative (1e-7 at sigma_min = 1e-9). */
-    out->n_clipped = clip_joints(out->dq_radps, in->dq_max_radps, 1e-6);
     return TDSD_OK;
+}
+
+static int step_with(const tdsd_input *in, tdsd_output *out, int allow_fast)
+{
+    double J2[3 * NJ], e2[3], w2[3], g[NJ], Kpe[3];
+    int n2, rc = TDSD_OK, fast = 0;
+
+    output_reset(out);
+    if (!input_valid(in))
+        return TDSD_ERR_ARG;
+    n2 = step_setup(in, out, J2, e2, w2, Kpe, g);
+    if (allow_fast) { /* f's scope ends before the SVD's: they share stack */
+        lq_factor f;
+        if (lq_factor_task(&f, in, J2, n2, out) == 0) {
+            resolve_lq(in, out, &f, n2, w2, e2, Kpe, g);
+            fast = 1;
+        }
+    }
+    if (!fast)
+        rc = resolve_svd(in, out, J2, n2, w2, e2, Kpe, g);
+    if (rc != TDSD_OK) {
+        output_reset(out);
+        return rc;
+    }
+    step_finish(in, out);
+    return TDSD_OK;
+}
+
+int tdsd_step(const tdsd_input *in, tdsd_output *out)
+{
+    return step_with(in, out, 1);
+}
+
+int tdsd_step_svd(const tdsd_input *in, tdsd_output *out)
+{
+    return step_with(in, out, 0);
 }
 
 /* Stacked task [J1; J2] (m x 6) and velocity [y1'; y2'] at lambda = rate_cap. */

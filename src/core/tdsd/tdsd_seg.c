@@ -7,6 +7,7 @@
 #include "tdsd_seg.h"
 #include "arm_kin.h"
 #include "linalg.h"
+#include "trig.h"
 #include "vec3.h"
 #include <math.h>
 #include <string.h>
@@ -82,6 +83,24 @@ int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
     return 0;
 }
 
+/* R = Rot(k, angle) for a unit (or zero, then angle 0) axis k: Rodrigues,
+ * with the sine and cosine of trig.c (no FPSP trap on the 68040). */
+static void rot_about_unit(double R[9], const double k[3], double angle_rad)
+{
+    double s, c, v;
+    trig_sincos(angle_rad, &s, &c);
+    v = 1.0 - c;
+    R[0] = k[0] * k[0] * v + c;
+    R[1] = k[0] * k[1] * v - k[2] * s;
+    R[2] = k[0] * k[2] * v + k[1] * s;
+    R[3] = k[1] * k[0] * v + k[2] * s;
+    R[4] = k[1] * k[1] * v + c;
+    R[5] = k[1] * k[2] * v - k[0] * s;
+    R[6] = k[2] * k[0] * v - k[1] * s;
+    R[7] = k[2] * k[1] * v + k[0] * s;
+    R[8] = k[2] * k[2] * v + c;
+}
+
 /* Path point, frame and their rates at path rate 1 (d/dt with ds/dt =
  * max(v(s), floor)), base frame. */
 static void path_at(const tdsd_seg *g, double s, double p[3], double R[9], double v[3], double w[3])
@@ -91,13 +110,13 @@ static void path_at(const tdsd_seg *g, double s, double p[3], double R[9], doubl
         f = s / g->L_m;
         if (s < g->L_m) {
             sprofile_at(&g->prof, s, NULL, &vs);
-            vs = fmax(vs, g->par.v_floor_mps) / g->L_m; /* df/dt */
+            vs = (vs > g->par.v_floor_mps ? vs : g->par.v_floor_mps) / g->L_m; /* df/dt */
         }
     }
     vec3_sub(d, g->p1, g->p0);
     vec3_axpy(p, g->p0, f, d);
     vec3_scale(v, d, vs);
-    rot_from_axis_angle(dR, g->rot_axis, f * g->rot_rad);
+    rot_about_unit(dR, g->rot_axis, f * g->rot_rad);
     rot_mul(R, dR, g->R0);
     vec3_scale(w, g->rot_axis, g->rot_rad * vs);
 }
@@ -111,7 +130,6 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
     if (!g || !m || !out || !isfinite(dt_s) || dt_s <= 0.0)
         return TDSD_ERR_ARG;
     memset(out, 0, sizeof *out);
-    memset(&in, 0, sizeof in);
     if (arm_fk_jacobian(m, &g->tool, g->q_ref, T, J) != 0)
         return TDSD_ERR_ARG;
     tf_pos(in.p_m, T);
@@ -123,13 +141,18 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
     in.K_p = g->par.K_p;
     in.K_o = g->par.K_o;
     in.k_V = g->par.k_V;
+    in.pinv_rtol = 0.0;
+    for (i = 0; i < ARM_NJ; i++)
+        in.grad_V[i] = 0.0;
     if (g->par.criterion_mask && tdsd_midrange_grad(in.grad_V, NULL, g->q_ref, m->q_min_rad,
                                                     m->q_max_rad, g->par.criterion_mask) != TDSD_OK)
         return TDSD_ERR_ARG;
     for (i = 0; i < ARM_NJ; i++)
         in.dq_max_radps[i] = g->par.speed_frac * m->qd_max_radps[i];
     /* re-accelerate smoothly after a slow-down (tdsd.h, rate_cap) */
-    in.rate_cap = fmin(1.0, g->lambda + dt_s / g->par.T_recover_s);
+    in.rate_cap = g->lambda + dt_s / g->par.T_recover_s;
+    if (!(in.rate_cap < 1.0))
+        in.rate_cap = 1.0;
     rc = tdsd_step(&in, &o); /* on error o.dq is zero: the reference holds */
 
     for (i = 0; i < ARM_NJ; i++) {

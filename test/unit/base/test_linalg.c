@@ -6,6 +6,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <cmocka.h>
+#include <float.h>
 #include <math.h>
 
 #include "linalg.h"
@@ -529,6 +530,29 @@ static void test_dls(void **state)
     assert_int_equal(linalg_dls(Ad, A, 3, 6, -0.1), LINALG_ERR_ARG);
 }
 
+/* linalg_all_finite against the entry-by-entry isfinite test: every
+ * length 0..11 (the four-sum loop and its tail), a NaN, +Inf or -Inf at
+ * every position, and the largest finite values (whose differences are 0). */
+static void test_all_finite_every_position(void **state)
+{
+    const double bad[3] = { NAN, INFINITY, -INFINITY };
+    double A[12];
+    int n, k, b, i;
+    (void)state;
+    for (i = 0; i < 12; i++)
+        A[i] = (i % 2 ? -1.0 : 1.0) * DBL_MAX;
+    for (n = 0; n <= 12; n++) {
+        assert_int_equal(linalg_all_finite(A, n), 1);
+        for (k = 0; k < n; k++)
+            for (b = 0; b < 3; b++) {
+                const double keep = A[k];
+                A[k] = bad[b];
+                assert_int_equal(linalg_all_finite(A, n), 0);
+                A[k] = keep;
+            }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -545,6 +569,7 @@ int main(void)
         cmocka_unit_test(test_mul_identities),
         cmocka_unit_test(test_cholesky),
         cmocka_unit_test(test_dls),
+        cmocka_unit_test(test_all_finite_every_position),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -8,15 +8,19 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <cmocka.h>
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
+#include "arm_kin.h"
 #include "linalg.h"
 #include "tdsd.h"
 #include "vec3.h"
 
 #define NJ TDSD_NJ
 #define PI_ 3.14159265358979323846
+/* fast path vs SVD: error <= FAST_TOL_FACTOR eps kappa(J1) kappa(J2 P1) scale */
+#define FAST_TOL_FACTOR 64.0
 
 static unsigned long long rng_state = 0x9E3779B97F4A7C15ULL;
 
@@ -331,7 +335,11 @@ static void test_Q1_drops_toward_singularity(void **state)
                                     US[i * 3 + 2] * V[j * NJ + 2];
         assert_int_equal(tdsd_step(&in, &out), TDSD_OK);
         check_limits(&in, &out);
-        assert_true(fabs(out.sigma_min_J1 - eps) <= 1e-12);
+        if (out.fast) /* Frobenius bounds: sigma_min / sqrt 3 <= bound <= sigma_min */
+            assert_true(out.sigma_min_J1 <= eps * (1.0 + 1e-12) &&
+                        out.sigma_min_J1 >= eps / sqrt(3.0) * (1.0 - 1e-12));
+        else
+            assert_true(fabs(out.sigma_min_J1 - eps) <= 1e-12);
         assert_true(out.Q1 <= prev_Q1 + 1e-12);
         prev_Q1 = out.Q1;
         task_rates(y1, y2, &in, out.dq_radps);
@@ -705,6 +713,205 @@ static void test_invalid_input(void **state)
     assert_int_equal(rr_dls_step(&in, NULL, &out), TDSD_ERR_ARG);
 }
 
+/* ---- the fast path against the SVD path (docs/method/tdsd.md §3a) ---- */
+
+/* sigma_max / sigma_min of J1 and of J2 P1 (explicit, by the SVD). */
+static void task_conds(const tdsd_input *in, double *k1, double *k2)
+{
+    linalg_pinv_svd F1, F2;
+    double J2[3 * NJ], M[3 * NJ];
+    int n2 = 0, i;
+    assert_true(linalg_pinv_factor(&F1, in->J1, 3, NJ, 1e-300) >= LINALG_ERR_NOCONV);
+    *k1 = F1.s[0] / F1.s[2];
+    *k2 = 1.0;
+    if (in->orient == TDSD_ORIENT_FULL) {
+        n2 = 3;
+        for (i = 0; i < 3 * NJ; i++)
+            J2[i] = in->Jw[i];
+    } else if (in->orient == TDSD_ORIENT_AXIS) {
+        n2 = 2;
+        tdsd_axis_jacobian(J2, in->Jw, in->R);
+    }
+    if (n2 > 0) {
+        F1.info.rank = 3; /* the whole row space of J1 */
+        linalg_pinv_null_rows(M, J2, n2, &F1);
+        assert_true(linalg_pinv_factor(&F2, M, n2, NJ, 1e-300) >= LINALG_ERR_NOCONV);
+        *k2 = F2.s[0] / F2.s[n2 - 1];
+    }
+}
+
+static double vmax(const double *v, int n)
+{
+    double m = 0.0;
+    int i;
+    for (i = 0; i < n; i++)
+        if (fabs(v[i]) > m)
+            m = fabs(v[i]);
+    return m;
+}
+
+/* A joint within tol of its limit at the base of either speed share. */
+static int at_limit(const tdsd_input *in, const tdsd_output *o, double tol)
+{
+    int i;
+    for (i = 0; i < NJ; i++) {
+        const double m = in->dq_max_radps[i];
+        if (fabs(fabs(o->dq1[i]) - m) <= tol ||
+            fabs(fabs(o->dq1[i] + o->Q1 * o->dq2[i]) - m) <= tol)
+            return 1;
+    }
+    return 0;
+}
+
+typedef struct {
+    int fast, slow;
+    double worst; /* max error / (DBL_EPSILON kappa1 kappa2 scale) */
+} fast_stats;
+
+/* One input through both paths: the fast path taken only where both
+ * blocks are well conditioned, and then the same rates to rounding. */
+static void compare_paths(const tdsd_input *in, fast_stats *st)
+{
+    tdsd_output f, o;
+    double k1, k2, scale, tol, err;
+    assert_int_equal(tdsd_step(in, &f), TDSD_OK);
+    assert_int_equal(tdsd_step_svd(in, &o), TDSD_OK);
+    assert_int_equal(o.fast, 0);
+    check_limits(in, &f);
+    task_conds(in, &k1, &k2);
+    if (!f.fast) {
+        /* declined: one block's condition number is past the bound (the
+         * Frobenius product overestimates it at most 3 times) */
+        st->slow++;
+        assert_true(k1 >= TDSD_FAST_COND_MAX / 3.0 || k2 >= TDSD_FAST_COND_MAX / 3.0 || k1 != k1 ||
+                    k2 != k2);
+        assert_memory_equal(f.dq_radps, o.dq_radps, sizeof f.dq_radps);
+        return;
+    }
+    st->fast++;
+    assert_true(k1 <= TDSD_FAST_COND_MAX * (1.0 + 1e-9) && k2 <= TDSD_FAST_COND_MAX * (1.0 + 1e-9));
+    /* the singular-value bounds bracket the SVD's */
+    assert_true(f.sigma_min_J1 <= o.sigma_min_J1 * (1.0 + 1e-9));
+    assert_true(f.sigma_min_J1 * sqrt(3.0) >= o.sigma_min_J1 * (1.0 - 1e-9));
+    assert_true(f.sigma_max_J1 >= o.sigma_max_J1 * (1.0 - 1e-9));
+    assert_true(f.sigma_max_J1 <= o.sigma_max_J1 * sqrt(3.0) * (1.0 + 1e-9));
+    assert_int_equal(f.rank_J1, o.rank_J1);
+    assert_int_equal(f.rank_J2P1, o.rank_J2P1);
+    scale = 1.0 + vmax(o.dq1, NJ) + vmax(o.dq2, NJ) + vmax(o.dq3, NJ) + vmax(in->dq_max_radps, NJ);
+    tol = DBL_EPSILON * k1 * k2 * scale;
+    /* Q1 (Q2) is decided by rounding where a joint of dq1 (dq1 + Q1 dq2)
+     * already runs at its limit, as after time scaling or a shrunk
+     * feedback: (dq_max_i - |base_i|) / |d_i| is then rounding over
+     * rounding. There the final rates are compared through their parts. */
+    err = at_limit(in, &o, FAST_TOL_FACTOR * tol)
+              ? 0.0
+              : linalg_maxabs_diff(f.dq_radps, o.dq_radps, NJ, 1);
+    err = fmax(err, linalg_maxabs_diff(f.dq1, o.dq1, NJ, 1));
+    err = fmax(err, linalg_maxabs_diff(f.dq2, o.dq2, NJ, 1));
+    err = fmax(err, linalg_maxabs_diff(f.dq3, o.dq3, NJ, 1));
+    err = fmax(err, fabs(f.lambda - o.lambda) * (1.0 + vmax(o.dq1, NJ)));
+    if (err / tol > st->worst)
+        st->worst = err / tol;
+    assert_true(err <= FAST_TOL_FACTOR * tol);
+}
+
+/* J1 = U diag(1, s2, s3) V1^T with random orthogonal U, V: conditioning set. */
+static void set_conditioned_J1(tdsd_input *in, double s2, double s3)
+{
+    double A[NJ * NJ], Uu[NJ * NJ], V[NJ * NJ], s[NJ], U[9], sv[3];
+    int i, j, k;
+    rand_vec(A, NJ * NJ, 1.0);
+    assert_true(linalg_svd(Uu, s, V, A, NJ, NJ) >= LINALG_ERR_NOCONV);
+    rand_rot(U, PI_);
+    sv[0] = 1.0;
+    sv[1] = s2;
+    sv[2] = s3;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < NJ; j++) {
+            double acc = 0.0;
+            for (k = 0; k < 3; k++)
+                acc += U[i * 3 + k] * sv[k] * V[j * NJ + k];
+            in->J1[i * NJ + j] = acc;
+        }
+}
+
+static void randomise_task(tdsd_input *in)
+{
+    int i;
+    in->orient = (tdsd_orient_mode)(rng_state % 3u);
+    in->k_V = 2.0 * (urand() + 1.0);
+    rand_vec(in->grad_V, NJ, 1.0);
+    for (i = 0; i < NJ; i++)
+        in->dq_max_radps[i] = 0.05 + 1.5 * (urand() + 1.0);
+    in->rate_cap = 0.5 * (urand() + 1.0);
+    in->K_p = 20.0;
+    in->K_o = 10.0;
+}
+
+static void test_fast_path_matches_svd_random(void **state)
+{
+    fast_stats st = { 0, 0, 0.0 };
+    int t;
+    (void)state;
+    for (t = 0; t < 2000; t++) {
+        tdsd_input in;
+        const double e = pow(10.0, -14.0 * 0.5 * (urand() + 1.0)); /* 1 .. 1e-14 */
+        make_input(&in);
+        randomise_task(&in);
+        set_conditioned_J1(&in, 0.5 * (urand() + 1.0), t % 2 ? e : 0.5 * (urand() + 1.0));
+        if (t % 3 == 0) { /* J2 P1 near rank loss: a row of Jw near J1's row space */
+            const double d = pow(10.0, -14.0 * 0.5 * (urand() + 1.0));
+            int j;
+            for (j = 0; j < NJ; j++)
+                in.Jw[j] = in.J1[j] - 0.5 * in.J1[NJ + j] + d * in.Jw[j];
+        }
+        compare_paths(&in, &st);
+    }
+    print_message("fast %d, SVD %d, worst error / (eps k1 k2 scale) %.3g\n", st.fast, st.slow,
+                  st.worst);
+    assert_true(st.fast > 600 && st.slow > 200);
+}
+
+/* The PUMA 560's own Jacobians (tool 0.1 m down the flange), over the
+ * joint ranges and at the wrist (q5 = 0) and elbow (q3 with the arm
+ * stretched) singularities and near them. */
+static void test_fast_path_matches_svd_puma(void **state)
+{
+    const arm_model *m = &arm_model_puma560;
+    const double off[3] = { 0.0, 0.0, 0.1 };
+    fast_stats st = { 0, 0, 0.0 };
+    arm_tool tool;
+    int t, i;
+    (void)state;
+    arm_tool_offset(&tool, off);
+    for (t = 0; t < 2000; t++) {
+        tdsd_input in;
+        double q[ARM_NJ], T[16], J[36];
+        const double e = t % 4 == 0 ? 0.0 : pow(10.0, -12.0 * 0.5 * (urand() + 1.0));
+        make_input(&in);
+        randomise_task(&in);
+        for (i = 0; i < ARM_NJ; i++)
+            q[i] = m->q_min_rad[i] + 0.5 * (urand() + 1.0) * (m->q_max_rad[i] - m->q_min_rad[i]);
+        switch (t % 5) {
+        case 1: q[4] = e * urand(); break; /* wrist */
+        case 2: /* elbow: wrist centre on link 2's line, d4 cos q3 = a3 sin q3 */
+            q[2] = atan2(m->d_m[3], m->a_m[2]) + e * urand();
+            break;
+        default: break;
+        }
+        assert_int_equal(arm_fk_jacobian(m, &tool, q, T, J), 0);
+        for (i = 0; i < 3 * NJ; i++) {
+            in.J1[i] = J[i];
+            in.Jw[i] = J[18 + i];
+        }
+        tf_rot(in.R, T);
+        compare_paths(&in, &st);
+    }
+    print_message("fast %d, SVD %d, worst error / (eps k1 k2 scale) %.3g\n", st.fast, st.slow,
+                  st.worst);
+    assert_true(st.fast > 600 && st.slow > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -721,6 +928,8 @@ int main(void)
         cmocka_unit_test(test_midrange_grad),
         cmocka_unit_test(test_baselines),
         cmocka_unit_test(test_invalid_input),
+        cmocka_unit_test(test_fast_path_matches_svd_random),
+        cmocka_unit_test(test_fast_path_matches_svd_puma),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
