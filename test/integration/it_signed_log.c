@@ -52,7 +52,7 @@ static int find_root(void)
     b = strstr(root, "/build/");
     if (b)
         *b = '\0';
-    else if (!strcmp(root, "build/bin") || !strcmp(root, "build/san/bin"))
+    else if (!strncmp(root, "build/", 6)) /* build/bin, build/san/bin, build/cov/bin */
         snprintf(root, sizeof root, ".");
     return harness_sh("test -d '%s/lcmtypes' && test -d '%s/tools/logcheck'", root, root) == 0 ? 0
                                                                                                : -1;
