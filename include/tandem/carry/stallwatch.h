@@ -28,8 +28,10 @@ typedef struct stallwatch {
 
 enum { STALLWATCH_OK = 0, STALLWATCH_ERR_ARG = -1 };
 
-/* obstruct_max_s unless set: longer than any block the scenarios make (60 s) */
-#define STALLWATCH_OBSTRUCT_MAX_S 120.0
+/* obstruct_max_s unless set, s: longer than any block the scenarios make
+ * (60 s). Written as an integer so that tandem-supervisor's help shows it
+ * as written (OPTION_DEF). */
+#define STALLWATCH_OBSTRUCT_MAX_S 120
 
 /* limit_s finite and > 0; obstruct_max_s STALLWATCH_OBSTRUCT_MAX_S. */
 int stallwatch_init(stallwatch *w, double limit_s);

@@ -78,6 +78,9 @@ enum {
     ROVER_ESC_FLY_FOLLOW = 3
 };
 
+/* stale_s's default in ms (tandem-rover --stale-ms shows it as written). */
+#define ROVER_CTL_STALE_MS 500
+
 /* One row of the escape's state table. */
 typedef struct {
     int phase;    /* ROVER_ESC_*: the row's own index */
@@ -121,7 +124,7 @@ typedef struct {
     int formation;         /* nominal FORMATION_* */
     double team_timeout_s; /* heartbeat: 1 s */
     double beacon_alpha;   /* team_observe gain */
-    double stale_s;        /* sensors older than this: safe stop */
+    double stale_s;        /* sensors older than this: safe stop (ROVER_CTL_STALE_MS) */
     double team_period_s;  /* team messages: 0.1 s (10 Hz) */
     double wheel_radius_m, axle_track_m;
     double follow_dist_m; /* escape: wall distance kept */

@@ -28,7 +28,7 @@ void rover_ctl_params_default(rover_ctl_params *p)
     p->formation = FORMATION_LINE;
     p->team_timeout_s = TEAM_TIMEOUT_S_DEFAULT;
     p->beacon_alpha = 0.2;
-    p->stale_s = 0.5;
+    p->stale_s = ROVER_CTL_STALE_MS / 1000.0;
     p->team_period_s = 0.1;
     p->wheel_radius_m = ODOMETRY_P2DX_WHEEL_RADIUS_M;
     p->axle_track_m = ODOMETRY_P2DX_AXLE_TRACK_M;

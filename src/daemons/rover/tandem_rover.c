@@ -108,6 +108,8 @@ static const int blend_values[] = { BEH_BLEND_WEIGHTED, BEH_BLEND_SUBSUMPTION, B
 static const char *const law_names[] = { "seed", "kanayama", NULL };
 static const int law_values[] = { ROVER_LAW_SEED, ROVER_LAW_KANAYAMA };
 
+#define ROVER_ROBOTS_DEFAULT 3 /* --robots */
+
 /* Into the rover_daemon main made; the values it holds before are the
  * defaults. --stale-ms is stored as s. */
 static const option_entry rover_options[] = {
@@ -124,7 +126,7 @@ static const option_entry rover_options[] = {
       .max = ROVER_TEAM_MAX,
       .meta = "N",
       .help = "team size in the launch configuration",
-      .def = "3" },
+      .def = OPTION_DEF(ROVER_ROBOTS_DEFAULT) },
     { .name = "world",
       .type = OPTION_CHOICE,
       OPTION_AT(rover_daemon, world),
@@ -187,7 +189,7 @@ static const option_entry rover_options[] = {
       .scale = 1e-3,
       .meta = "MS",
       .help = "sensors older than this stop the robot",
-      .def = "500" },
+      .def = OPTION_DEF(ROVER_CTL_STALE_MS) },
     { .name = "batch",
       .type = OPTION_FLAG,
       OPTION_AT(rover_daemon, batch),
@@ -336,7 +338,7 @@ int main(int argc, char **argv)
     rd->out[0].step = rd->out[1].step = -1;
     for (j = 0; j <= ROVER_TEAM_MAX; j++)
         rd->mate_step[j] = -1;
-    rd->robots = 3;
+    rd->robots = ROVER_ROBOTS_DEFAULT;
     rd->world = ROVER_WORLD_OPEN;
     rd->localize = 1;
     rover_ctl_params_default(&rd->params);

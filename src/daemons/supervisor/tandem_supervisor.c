@@ -297,7 +297,7 @@ static const option_entry supervisor_options[] = {
       .help =
           "the stick in excuses a cell without progress for at most S s of simulated time; then "
           "--stall-s more is a stall",
-      .def = "120" },
+      .def = OPTION_DEF(STALLWATCH_OBSTRUCT_MAX_S) },
     { .name = "journal",
       .type = OPTION_STRING,
       OPTION_AT(supervisor_daemon, journal_path),
