@@ -14,10 +14,12 @@
  * Usage: bench_fleet [SCALE] [N...]  (SCALE multiplies the simulated time,
  * default 1: 4 s at 100 robots down to 0.4 s at 3000)
  */
+/* NOLINTBEGIN(bugprone-suspicious-include): the simulator's sources, statics and all */
 #include "sim_world.c"
 #include "sim_lockstep.c"
 #include "sim_rovers.c"
 #include "sim_rovers_sense.c"
+/* NOLINTEND(bugprone-suspicious-include) */
 #include <time.h>
 #include <sys/resource.h>
 #include <sys/wait.h>

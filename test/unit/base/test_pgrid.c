@@ -34,7 +34,7 @@ static void scene(prng_state *r, int kind, int n)
             ys[i] = -500.0 * (double)(i % 3) + 0.3 * prng_gauss(r);
             break;
         case SCENE_ROW: /* 10 abreast, 1 m apart, as a large team starts */
-            xs[i] = 4.0 + (double)(i / 10);
+            xs[i] = 4.0 + (double)(i - i % 10) / 10.0; /* the row: i / 10 */
             ys[i] = (double)(i % 10) - 4.5;
             break;
         default: /* integer lattice with duplicates: items on cell edges */

@@ -648,7 +648,7 @@ static void random_fleet(prng_state *r, const rover_world_config *L, int kind, i
             c[i].y_m = L->y_min_m + (L->y_max_m - L->y_min_m) * prng_uniform(r);
         } else if (kind == 2) { /* packed: overlaps and touching bodies */
             c[i].x_m = 10.0 + 0.35 * (double)(i % 7) + 0.05 * prng_gauss(r);
-            c[i].y_m = 0.3 * (double)(i / 7) + 0.05 * prng_gauss(r);
+            c[i].y_m = 0.3 * ((double)(i - i % 7) / 7.0) + 0.05 * prng_gauss(r); /* row i / 7 */
         }
         c[i].theta_rad = (kind == 0 ? 0.0 : 6.0 * prng_uniform(r) - 3.0);
         alive[i] = (prng_u64(r) % 5) != 0;
