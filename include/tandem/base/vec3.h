@@ -54,6 +54,9 @@ void rot_apply(double out[3], const double R[9], const double v[3]);
 /* out = R^T v */
 void rot_tapply(double out[3], const double R[9], const double v[3]);
 void rot_transpose(double out[9], const double R[9]);
+/* Rotation about the unit axis k whose angle has sine s and cosine c
+ * (Rodrigues), for callers with their own sine and cosine. */
+void rot_from_unit_axis_sc(double R[9], const double k[3], double s, double c);
 /* Rotation of angle_rad about unit axis (Rodrigues). */
 void rot_from_axis_angle(double R[9], const double axis[3], double angle_rad);
 /* Inverse of the above; angle in [0, pi]; axis (1,0,0) for the identity. */

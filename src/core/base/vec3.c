@@ -116,14 +116,9 @@ void rot_transpose(double out[9], const double R[9])
         out[r] = t[r];
 }
 
-void rot_from_axis_angle(double R[9], const double axis[3], double angle_rad)
+void rot_from_unit_axis_sc(double R[9], const double k[3], double s, double c)
 {
-    double k[3];
-    const double c = cos(angle_rad), s = sin(angle_rad), v = 1.0 - c;
-    if (vec3_normalize(k, axis) == 0.0) {
-        rot_identity(R);
-        return;
-    }
+    const double v = 1.0 - c;
     R[0] = k[0] * k[0] * v + c;
     R[1] = k[0] * k[1] * v - k[2] * s;
     R[2] = k[0] * k[2] * v + k[1] * s;
@@ -133,6 +128,16 @@ void rot_from_axis_angle(double R[9], const double axis[3], double angle_rad)
     R[6] = k[2] * k[0] * v - k[1] * s;
     R[7] = k[2] * k[1] * v + k[0] * s;
     R[8] = k[2] * k[2] * v + c;
+}
+
+void rot_from_axis_angle(double R[9], const double axis[3], double angle_rad)
+{
+    double k[3];
+    if (vec3_normalize(k, axis) == 0.0) {
+        rot_identity(R);
+        return;
+    }
+    rot_from_unit_axis_sc(R, k, sin(angle_rad), cos(angle_rad));
 }
 
 double rot_to_axis_angle(double axis[3], const double R[9])

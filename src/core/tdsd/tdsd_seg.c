@@ -87,18 +87,9 @@ int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
  * with the sine and cosine of trig.c (no FPSP trap on the 68040). */
 static void rot_about_unit(double R[9], const double k[3], double angle_rad)
 {
-    double s, c, v;
+    double s, c;
     trig_sincos(angle_rad, &s, &c);
-    v = 1.0 - c;
-    R[0] = k[0] * k[0] * v + c;
-    R[1] = k[0] * k[1] * v - k[2] * s;
-    R[2] = k[0] * k[2] * v + k[1] * s;
-    R[3] = k[1] * k[0] * v + k[2] * s;
-    R[4] = k[1] * k[1] * v + c;
-    R[5] = k[1] * k[2] * v - k[0] * s;
-    R[6] = k[2] * k[0] * v - k[1] * s;
-    R[7] = k[2] * k[1] * v + k[0] * s;
-    R[8] = k[2] * k[2] * v + c;
+    rot_from_unit_axis_sc(R, k, s, c);
 }
 
 /* Path point, frame and their rates at path rate 1 (d/dt with ds/dt =
