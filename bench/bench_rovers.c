@@ -21,6 +21,7 @@
 #include <time.h>
 #include <sys/resource.h>
 #include <unistd.h> /* getpid */
+#include "auth_bus.h"
 #include "proc.h"
 
 static double cpu_s(void)
@@ -87,7 +88,7 @@ static void in_process(int n, double sim_s)
 /* tandem-sim (rovers only) and one tandem-rover hosting all N robots, in
  * lockstep over a private udpm bus, for sim_s simulated seconds (they
  * inherit the bench's CPU affinity). */
-static void lockstep_system(int n, double sim_s, const char *bin, int batch)
+static void lockstep_system(auth_bus *bus, int n, double sim_s, const char *bin, int batch)
 {
     char n_s[16], ids[32], steps_s[32], url[128];
     const char *sim[] = { "tandem-sim", "--lockstep", "--no-arms", "--rovers",
@@ -107,7 +108,10 @@ static void lockstep_system(int n, double sim_s, const char *bin, int batch)
     snprintf(steps_s, sizeof steps_s, "%ld", (long)llround(sim_s / SIM_DT_S));
     snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0&recv_buf_size=4194304",
              20000 + (int)(getpid() % 10000));
-    proc_init(&ps, NULL, bin);
+    /* the role files this bus gives its children name rovers 1..n and the
+     * host of them all (auth_bus_roster), as tandem-scenario formation's do */
+    auth_bus_roster(bus, n);
+    proc_init(&ps, bus, bin);
     w0 = wall_s();
     if (proc_spawn(&ps, rover, url, "/dev/null", "/dev/null") < 0 ||
         (sim_pid = proc_spawn(&ps, sim, url, "/dev/null", "/dev/null")) < 0) {
@@ -135,15 +139,20 @@ int main(int argc, char **argv)
     static const int ns[] = { 3, 10, 30, 100 };
     const double sim_s = argc > 1 ? atof(argv[1]) : 20.0;
     const char *bin = argc > 2 ? argv[2] : "build/bin";
+    static auth_bus bus; /* the bench's: the cell's key (TANDEM_KEY_FILE), or --insecure by env */
     size_t i;
     printf("rover simulation, in process (physics + sonar rings + camera, no LCM), one core:\n");
     for (i = 0; i < sizeof ns / sizeof ns[0]; i++)
         in_process(ns[i], sim_s);
+    auth_bus_init(&bus);
+    auth_bus_identity(&bus, AUTH_ROLE_TOOL, 0, 0); /* it signs nothing; it starts the daemons */
+    if (auth_bus_start(&bus, "bench_rovers") != 0)
+        return 1;
     printf("whole system in lockstep over LCM (tandem-sim + tandem-rover --id 1-N), sensor link\n"
            "per robot (ROVERk_*) and batched (ROVERS_*, --rover-batch / --batch) in turn:\n");
     for (i = 0; i < sizeof ns / sizeof ns[0]; i++) {
-        lockstep_system(ns[i], sim_s, bin, 0);
-        lockstep_system(ns[i], sim_s, bin, 1);
+        lockstep_system(&bus, ns[i], sim_s, bin, 0);
+        lockstep_system(&bus, ns[i], sim_s, bin, 1);
     }
     return 0;
 }

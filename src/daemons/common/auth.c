@@ -93,8 +93,10 @@ void auth_pair_key(const uint8_t master[AUTH_KEY_BYTES], const uint8_t cell[AUTH
 auth_keyset *auth_keyset_new(void)
 {
     /* sodium_malloc: guard pages, mlock'd, MADV_DONTDUMP; allocated at
-     * start-up, never inside a control cycle */
-    auth_keyset *k = sodium_malloc(sizeof *k);
+     * start-up, never inside a control cycle. sodium_malloc aborts the
+     * process unless libsodium was initialised: a caller that never ran
+     * auth_init (a bench, a tool spawning daemons) gets NULL instead */
+    auth_keyset *k = sodium_init() < 0 ? NULL : sodium_malloc(sizeof *k);
     if (k)
         memset(k, 0, sizeof *k);
     return k;
