@@ -292,10 +292,7 @@ static void wait_for_answers(sim_app *app)
         /* health goes on while waiting: a simulator held by a silent
          * controller is alive, and its health says so (a scenario takes a
          * daemon without health for hung) */
-        if (now - app->w.d.last_health_ns >= 1000000000LL) {
-            app->w.d.last_health_ns = now;
-            daemon_publish_health(&app->w.d);
-        }
+        daemon_health_tick(&app->w.d, now);
         /* a long wait (the start, a pause) under a flood of channel names:
          * the new handle is subscribed before the old one is read for the
          * last time, so no answer is lost */
@@ -330,10 +327,7 @@ void sim_run_lockstep(sim_app *app)
         t0 = rtloop_now_ns();
         advance(app);
         rtloop_record(&app->w.d.loop, t0);
-        if (t0 - app->w.d.last_health_ns >= 1000000000LL) {
-            app->w.d.last_health_ns = t0;
-            daemon_publish_health(&app->w.d);
-        }
+        daemon_health_tick(&app->w.d, t0);
     }
 }
 
@@ -351,10 +345,7 @@ void sim_run_realtime(sim_app *app)
         else if (l->cycles % 100 == 0)
             publish_clock(app);
         rtloop_end_cycle(l);
-        if (l->wake_ns - app->w.d.last_health_ns >= 1000000000LL) {
-            app->w.d.last_health_ns = l->wake_ns;
-            daemon_publish_health(&app->w.d);
-        }
+        daemon_health_tick(&app->w.d, l->wake_ns);
         daemon_names_watch(&app->w.d); /* after the step, as the daemons do */
     }
 }

@@ -38,6 +38,7 @@ typedef struct {
     int64_t auth_rejected, auth_rejected_shown;
     double auth_warned_s;
     double period_us, cycle_p99_us, cycle_max_us; /* its loop statistics (--loops) */
+    double rx_cpu_max_us;                         /* the most CPU one receive drain took */
     int64_t rx_deferred, msgs_received;
 } daemon_view;
 
@@ -119,6 +120,7 @@ static void on_health(const lcm_recv_buf_t *rb, const char *ch, const tandem_hea
     d->period_us = h->period_us;
     d->cycle_p99_us = h->cycle_p99_us;
     d->cycle_max_us = h->cycle_max_us;
+    d->rx_cpu_max_us = h->rx_cpu_max_us;
     d->rx_deferred = h->rx_deferred;
     d->msgs_received = h->msgs_received;
 }
@@ -231,9 +233,10 @@ static void loop_lines(void)
         const daemon_view *d = &S.d[i];
         printf(
             "  loop %-22s period %7.0f us  cycle p99 %7.0f us  max %8.0f us  overruns %lld  rx deferred %lld  "
-            "received %lld  refused %lld\n",
+            "rx cpu max %6.0f us  received %lld  refused %lld\n",
             d->name, d->period_us, d->cycle_p99_us, d->cycle_max_us, (long long)d->overruns,
-            (long long)d->rx_deferred, (long long)d->msgs_received, (long long)d->auth_rejected);
+            (long long)d->rx_deferred, d->rx_cpu_max_us, (long long)d->msgs_received,
+            (long long)d->auth_rejected);
     }
 }
 
@@ -376,7 +379,7 @@ static const option_entry status_table[] = {
       OPTION_AT(status_options, loops),
       .help =
           "also a line per daemon: cycle time p99 and longest since it started, overruns, receive drains "
-          "over budget (rx_deferred), messages received and refused" },
+          "over budget (rx_deferred), the most CPU time one drain took (rx_cpu_max_us), messages received and refused" },
     { .name = "heartbeat-dir",
       .type = OPTION_STRING,
       OPTION_AT(status_options, heartbeat_dir),

@@ -14,6 +14,9 @@
 #include <stdio.h>
 #include <string.h>
 #include <fcntl.h>
+#include <stdlib.h>
+#include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 #include "arm_model.h"
 #include "carry_net.h"
@@ -236,6 +239,74 @@ static void test_renewed_lcm_keeps_subscriptions(void **state)
     lcm_destroy(d.lcm);
 }
 
+/* A flood in the queue: one drain stops at its budget (a quarter of the
+ * period), counts the drain as deferred and leaves the rest queued; the
+ * CPU it took (health rx_cpu_max_us) is within the budget and one
+ * message's handling, not the queue's. */
+static void test_drain_stops_at_budget(void **state)
+{
+    static daemon d;
+    static const char junk[256];
+    int i;
+    (void)state;
+    daemon_defaults(&d, "test-drain", 0.004); /* budget 1 ms */
+    d.lcm_url = "memq://";
+    d.lcm = lcm_create(d.lcm_url);
+    assert_non_null(d.lcm);
+    assert_non_null(daemon_subscribe(&d, "ARM1_ACTION", on_heard, NULL));
+    for (i = 0; i < 50000; i++) /* refused unsigned, a few us each: far past 1 ms */
+        assert_int_equal(lcm_publish(d.lcm, "ARM1_ACTION", junk, sizeof junk), 0);
+    daemon_drain(&d);
+    assert_int_equal(d.rx.deferred, 1);
+    assert_true(seen_on(&d, "ARM1_ACTION") > 0 && seen_on(&d, "ARM1_ACTION") < 50000);
+    assert_true(d.rx.drain_cpu_max_ns > 0);
+    assert_true(d.rx.drain_cpu_max_ns < 2 * daemon_drain_budget_ns(&d));
+    lcm_destroy(d.lcm);
+}
+
+static int three_cycles(daemon *d, void *user)
+{
+    int *n = user;
+    (void)d;
+    return ++*n >= 3 ? 7 : DAEMON_CONTINUE;
+}
+
+/* With DAEMON_HEARTBEAT_ENV set, the loop itself touches DIR/PID (the
+ * launcher's liveness check, which a flood on the bus cannot starve):
+ * a file made an hour old before the run is fresh after it. */
+static void test_heartbeat_file_touched_by_the_loop(void **state)
+{
+    static daemon d;
+    char dir[] = "/tmp/tandem-hb-XXXXXX", path[128];
+    struct stat st;
+    struct timespec old[2];
+    int n = 0, fd;
+    (void)state;
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof path, "%s/%ld", dir, (long)getpid());
+    fd = open(path, O_WRONLY | O_CREAT, 0600);
+    assert_true(fd >= 0);
+    old[0].tv_sec = old[1].tv_sec = time(NULL) - 3600;
+    old[0].tv_nsec = old[1].tv_nsec = 0;
+    assert_int_equal(futimens(fd, old), 0);
+    close(fd);
+    assert_int_equal(setenv(DAEMON_HEARTBEAT_ENV, dir, 1), 0);
+    daemon_defaults(&d, "test-heartbeat", 0.01);
+    d.lcm_url = "memq://";
+    d.lcm = lcm_create(d.lcm_url);
+    assert_non_null(d.lcm);
+    assert_int_equal(rtloop_init(&d.loop, 10000000), 0);
+    assert_int_equal(daemon_run(&d, three_cycles, &n), 7);
+    assert_true(d.heartbeat_fd >= 0);
+    daemon_finish(&d);
+    assert_int_equal(d.heartbeat_fd, -1);
+    unsetenv(DAEMON_HEARTBEAT_ENV);
+    assert_int_equal(stat(path, &st), 0);
+    assert_true(st.st_mtime >= time(NULL) - 5);
+    unlink(path);
+    rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -246,6 +317,8 @@ int main(void)
         cmocka_unit_test(test_refusal_names_the_code),
         cmocka_unit_test(test_drain_budget_and_own_rx),
         cmocka_unit_test(test_renewed_lcm_keeps_subscriptions),
+        cmocka_unit_test(test_drain_stops_at_budget),
+        cmocka_unit_test(test_heartbeat_file_touched_by_the_loop),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

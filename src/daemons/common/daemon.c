@@ -19,6 +19,7 @@
 #include <sys/select.h>
 #include <sys/time.h>
 #include <time.h>
+#include <sys/stat.h> /* futimens */
 #include <unistd.h>
 #include "rx.h"
 #include "tandem_clock_ack_t.h"
@@ -102,6 +103,7 @@ void daemon_defaults(daemon *d, const char *name, double period_s)
     d->step = -1;
     d->pending_step = -1;
     d->dma_latency_fd = -1;
+    d->heartbeat_fd = -1;
     d->answered_step = -1;
     d->drop_seed = 1;
     rx_init(&d->rx);
@@ -279,11 +281,26 @@ static int drain_lcm(lcm_t *lcm, int64_t budget_ns)
     return readable(fd);
 }
 
+/* This thread's CPU time (not the wall clock: on a loaded machine a
+ * drain's wall time holds other processes' turns too). */
+static int64_t thread_cpu_ns(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0)
+        return 0;
+    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
 void daemon_drain(daemon *d)
 {
+    const int64_t c0 = thread_cpu_ns();
+    int64_t cpu_ns;
     /* out of budget: what is still queued waits for the next cycle */
     if (drain_lcm(d->lcm, daemon_drain_budget_ns(d)))
         d->rx.deferred++;
+    cpu_ns = thread_cpu_ns() - c0;
+    if (cpu_ns > d->rx.drain_cpu_max_ns)
+        d->rx.drain_cpu_max_ns = cpu_ns;
 }
 
 void daemon_publish_health(daemon *d)
@@ -483,6 +500,37 @@ int bus_names_watch(names_watch *w, auth_bus *bus, lcm_t **lcm, const char *url)
     return names_watch_tick(w, rtloop_now_ns(), lcm, url, bus_move, bus, 50000000LL);
 }
 
+/* DIR/PID under $TANDEM_HEARTBEAT_DIR, opened once, at the first health
+ * tick; no directory: no heartbeat file (a daemon started by hand). */
+static void heartbeat_open(daemon *d)
+{
+    const char *dir = getenv(DAEMON_HEARTBEAT_ENV);
+    char path[512];
+    d->heartbeat_opened = 1;
+    d->heartbeat_fd = -1;
+    if (!dir || !dir[0])
+        return;
+    if (snprintf(path, sizeof path, "%s/%ld", dir, (long)getpid()) >= (int)sizeof path)
+        return;
+    d->heartbeat_fd = open(path, O_WRONLY | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0600);
+    if (d->heartbeat_fd < 0)
+        fprintf(stderr, "%s: heartbeat file %s: %s (no heartbeat for the launcher)\n", d->name,
+                path, strerror(errno));
+}
+
+void daemon_health_tick(daemon *d, int64_t now_ns)
+{
+    if (now_ns - d->last_health_ns < 1000000000LL)
+        return;
+    d->last_health_ns = now_ns;
+    daemon_publish_health(d);
+    if (!d->heartbeat_opened)
+        heartbeat_open(d);
+    /* a metadata update of a file already open: nothing to wait for */
+    if (d->heartbeat_fd >= 0)
+        (void)futimens(d->heartbeat_fd, NULL);
+}
+
 static void health_tick(daemon *d)
 {
     const int64_t now = rtloop_now_ns();
@@ -495,10 +543,7 @@ static void health_tick(daemon *d)
                  (double)(now - d->clock_rx_ns) * 1e-9);
         fprintf(stderr, "%s: %s\n", d->name, d->status);
     }
-    if (now - d->last_health_ns >= 1000000000LL) {
-        d->last_health_ns = now;
-        daemon_publish_health(d);
-    }
+    daemon_health_tick(d, now);
 }
 
 static int run_realtime(daemon *d, daemon_cycle_fn fn, void *user)
@@ -581,4 +626,7 @@ void daemon_finish(daemon *d)
     lcm_destroy(d->lcm);
     d->lcm = NULL;
     auth_bus_free(&d->bus);
+    if (d->heartbeat_fd >= 0)
+        close(d->heartbeat_fd);
+    d->heartbeat_fd = -1;
 }

@@ -222,6 +222,7 @@ void rx_fill_health(rx_state *rx, tandem_health_t *h)
     h->msgs_lost = rx_lost_total(rx);
     h->msgs_dropped = rx_dropped_total(rx);
     h->rx_deferred = rx->deferred;
+    h->rx_cpu_max_us = 1e-3 * (double)rx->drain_cpu_max_ns;
     h->loss_rate = rec + h->msgs_lost > 0 ? (double)h->msgs_lost / (double)(rec + h->msgs_lost)
                                           : 0.0;
 }

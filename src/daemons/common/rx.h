@@ -58,6 +58,10 @@ typedef struct rx_state {
     double drop_p; /* --drop-rate */
     uint64_t drop_seed;
     int64_t deferred; /* drains that hit their budget (daemon_drain) */
+    /* the most CPU time one drain took, this thread's alone (a loaded
+     * machine's preemption is not in it): what receive work costs a
+     * cycle, whatever the flood (health rx_cpu_max_us) */
+    int64_t drain_cpu_max_ns;
     /* the health message's arrays point here (rx_fill_health) */
     const char *health_names[RX_MAX_CHANNELS];
     int64_t health_received[RX_MAX_CHANNELS], health_lost[RX_MAX_CHANNELS];
