@@ -449,6 +449,47 @@ void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F
     }
 }
 
+/* ---- the Cartesian cycle's kinematics pass -------------------------------- */
+
+/* T = F6 X for a rigid tool X (bottom row 0 0 0 1, as arm_tool_none and
+ * arm_tool_offset make it), the flange's bottom row left out. For a tool
+ * that only moves the point the products with X's zeros and ones change
+ * no bit (x 1 + y 0 = x): the pose of arm_kin_eval. */
+static void tool_pose(const double F6[16], const double X[16], double T[16])
+{
+    int r, c;
+    for (r = 0; r < 3; r++) {
+        const double *a = F6 + 4 * r;
+        for (c = 0; c < 3; c++)
+            T[4 * r + c] = a[0] * X[c] + a[1] * X[4 + c] + a[2] * X[8 + c];
+        T[4 * r + 3] = a[0] * X[3] + a[1] * X[7] + a[2] * X[11] + a[3];
+    }
+    T[12] = 0.0;
+    T[13] = 0.0;
+    T[14] = 0.0;
+    T[15] = 1.0;
+}
+
+/* docs/method/puma.md §3a: the frames once (§2), then from them the tool
+ * pose, J (§3) and J-dot q-dot (§3), written straight into the caller's
+ * arrays; the frames stay in this function's stack. */
+void arm_puma_cycle_kin(const arm_model *m, const arm_joint_cs *cs, const arm_tool *tool,
+                        const double qd[ARM_NJ], double T[16], double J[36], double jdqd[6],
+                        double wrist_m[3])
+{
+    double F[ARM_NJ + 1][16];
+    arm_puma_chain(m, cs, F);
+    if (tool)
+        tool_pose(F[ARM_NJ], tool->T_flange_tool, T);
+    else
+        memcpy(T, F[ARM_NJ], sizeof F[ARM_NJ]);
+    arm_puma_jacobian((const double(*)[16])F, T, J);
+    arm_puma_jdot_qd(m, cs, F[ARM_NJ], T, qd, jdqd);
+    wrist_m[0] = F[4][3];
+    wrist_m[1] = F[4][7];
+    wrist_m[2] = F[4][11];
+}
+
 /* ---- joint-space inertia (composite rigid bodies) ---------------------- */
 
 /* The composite of arm_dyn.c's CRBA (arm_composite), its entries by name */

@@ -43,36 +43,45 @@ int cartctl_gains_validate(const cartctl_gains *g)
 static void puma_twist(const double J[36], const double qd[ARM_NJ], double twist[6])
 {
     int r;
-    for (r = 0; r < 6; r++) {
+    for (r = 0; r < 5; r++) {
         const double *row = J + 6 * r;
-        double acc = r < 2 ? row[0] * qd[0] : (r == 5 ? qd[0] : 0.0);
-        acc += row[1] * qd[1];
-        acc += row[2] * qd[2];
-        acc += row[3] * qd[3];
-        acc += row[4] * qd[4];
-        acc += row[5] * qd[5];
-        twist[r] = acc;
+        const double acc = r < 2 ? row[0] * qd[0] + row[1] * qd[1] : row[1] * qd[1];
+        twist[r] = acc + row[2] * qd[2] + row[3] * qd[3] + row[4] * qd[4] + row[5] * qd[5];
     }
+    twist[5] = qd[0] + J[31] * qd[1] + J[32] * qd[2] + J[33] * qd[3] + J[34] * qd[4] + J[35] * qd[5];
 }
 
-int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
-                     const double qd[ARM_NJ], cartctl_state *s)
+/* The general arm's state: the kinematics pass of arm_kin.c, copied. */
+static int state_general(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
+                         const double qd[ARM_NJ], cartctl_state *s)
 {
     arm_kin_pass k;
     /* q is checked finite by arm_kin_eval, qd by arm_kin_jdot_qd */
-    if (!m || !q || !qd || !s)
-        return CARTCTL_ERR_ARG;
     if (arm_kin_eval(m, tool, q, &k) != 0 || arm_kin_jdot_qd(&k, qd, s->jdqd) != 0)
         return CARTCTL_ERR_ARG;
     memcpy(s->T, k.T, sizeof s->T);
     memcpy(s->J, k.J, sizeof s->J);
     s->cs = k.cs;
-    s->has_wrist = m->structure == ARM_STRUCTURE_PUMA;
+    s->has_wrist = 0;
     vec3_set(s->wrist_m, k.F[4][3], k.F[4][7], k.F[4][11]);
-    if (s->has_wrist)
-        puma_twist(s->J, qd, s->twist);
-    else
-        linalg_matvec(s->twist, s->J, qd, 6, ARM_NJ);
+    linalg_matvec(s->twist, s->J, qd, 6, ARM_NJ);
+    return 0;
+}
+
+int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
+                     const double qd[ARM_NJ], cartctl_state *s)
+{
+    if (!m || !q || !qd || !s)
+        return CARTCTL_ERR_ARG;
+    if (m->structure != ARM_STRUCTURE_PUMA)
+        return state_general(m, tool, q, qd, s);
+    /* the PUMA: one pass into s, no copies (docs/method/puma.md §3a);
+     * q is checked finite by arm_joint_cs_eval */
+    if (arm_joint_cs_eval(m, q, &s->cs) != 0 || !linalg_all_finite(qd, ARM_NJ))
+        return CARTCTL_ERR_ARG;
+    arm_puma_cycle_kin(m, &s->cs, tool, qd, s->T, s->J, s->jdqd, s->wrist_m);
+    s->has_wrist = 1;
+    puma_twist(s->J, qd, s->twist);
     return 0;
 }
 
@@ -354,14 +363,15 @@ static int exact_solve(const cartctl_state *s, const double rhs[6], double qdd[6
     return 0;
 }
 
-/* Bounds of the range barrier on qdd (see cartctl.h). Returns 1 if a
- * joint is within the band of a range end (a bound is finite), 0 if none
- * is: then no qdd can leave its bounds and the barrier has nothing to do. */
+/* Bounds of the range barrier on qdd (see cartctl.h), finite only within
+ * the band of a range end. Returns 1 if qdd leaves them (the barrier has
+ * work), 0 if it does not: then range_resolve would hold nothing. */
 static int range_bounds(const arm_model *m, const cartctl_gains *g, const double q[ARM_NJ],
-                        const double qd[ARM_NJ], double lo[ARM_NJ], double hi[ARM_NJ])
+                        const double qd[ARM_NJ], const double qdd[ARM_NJ], double lo[ARM_NJ],
+                        double hi[ARM_NJ])
 {
     const double w = g->range_w_radps;
-    int i, near = 0;
+    int i, leaves = 0;
     for (i = 0; i < ARM_NJ; i++) {
         const double d_lo = q[i] - (m->q_min_rad[i] + g->range_margin_rad);
         const double d_hi = (m->q_max_rad[i] - g->range_margin_rad) - q[i];
@@ -369,14 +379,14 @@ static int range_bounds(const arm_model *m, const cartctl_gains *g, const double
         hi[i] = HUGE_VAL;
         if (d_lo + g->range_margin_rad < CARTCTL_RANGE_BAND_RAD) {
             lo[i] = -w * w * d_lo - 2.0 * w * qd[i];
-            near = 1;
+            leaves |= qdd[i] < lo[i];
         }
         if (d_hi + g->range_margin_rad < CARTCTL_RANGE_BAND_RAD) {
             hi[i] = w * w * d_hi - 2.0 * w * qd[i];
-            near = 1;
+            leaves |= qdd[i] > hi[i];
         }
     }
-    return near;
+    return leaves;
 }
 
 /* Holds the joints that leave their bounds (worst first) at the bound and
@@ -441,7 +451,7 @@ static int qdd_finish(const arm_model *m, const cartctl_gains *g, const double q
                       cartctl_out *out)
 {
     double lo[ARM_NJ], hi[ARM_NJ];
-    if (!(g->range_w_radps > 0.0) || !range_bounds(m, g, q, qd, lo, hi))
+    if (!(g->range_w_radps > 0.0) || !range_bounds(m, g, q, qd, out->qdd, lo, hi))
         return 0;
     out->range_limited =
         range_resolve(J, rhs, lo, hi, g->lambda_max * g->lambda_max + 1e-12, out->qdd);
