@@ -95,16 +95,24 @@ int cartctl_jdot_qd(const arm_model *m, const arm_tool *tool, const double q[ARM
     return 0;
 }
 
-void cartctl_rot_error(const double R_d[9], const double R[9], double err[3])
+/* log(R_d R^T) with row j of R at R + stride j: a 3x3 (stride 3) or the
+ * rotation of a 4x4 pose read in place (stride 4, no copy). */
+static void rot_error_rows(const double R_d[9], const double *R, int stride, double err[3])
 {
     double E[9], axis[3], angle;
     int i, j;
     for (i = 0; i < 3; i++) /* E = R_d R^T, the transpose read in place */
-        for (j = 0; j < 3; j++)
-            E[3 * i + j] = R_d[3 * i] * R[3 * j] + R_d[3 * i + 1] * R[3 * j + 1] +
-                           R_d[3 * i + 2] * R[3 * j + 2];
+        for (j = 0; j < 3; j++) {
+            const double *Rj = R + stride * j;
+            E[3 * i + j] = R_d[3 * i] * Rj[0] + R_d[3 * i + 1] * Rj[1] + R_d[3 * i + 2] * Rj[2];
+        }
     angle = rot_to_axis_angle(axis, E);
     vec3_scale(err, axis, angle);
+}
+
+void cartctl_rot_error(const double R_d[9], const double R[9], double err[3])
+{
+    rot_error_rows(R_d, R, 3, err);
 }
 
 /* lambda^2 of the damped inverse for the smallest singular value. */
@@ -472,9 +480,7 @@ static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM
         return CARTCTL_ERR_ARG;
     vec3_copy(out->a_cmd, a_lin);
     if (R_d) {
-        double R[9];
-        tf_rot(R, s->T);
-        cartctl_rot_error(R_d, R, out->rot_err);
+        rot_error_rows(R_d, s->T, 4, out->rot_err);
         for (i = 0; i < 3; i++)
             out->a_cmd[3 + i] = g->kp_rot * out->rot_err[i] - g->kv_rot * s->twist[3 + i];
     }
