@@ -48,7 +48,8 @@ static void puma_twist(const double J[36], const double qd[ARM_NJ], double twist
         const double acc = r < 2 ? row[0] * qd[0] + row[1] * qd[1] : row[1] * qd[1];
         twist[r] = acc + row[2] * qd[2] + row[3] * qd[3] + row[4] * qd[4] + row[5] * qd[5];
     }
-    twist[5] = qd[0] + J[31] * qd[1] + J[32] * qd[2] + J[33] * qd[3] + J[34] * qd[4] + J[35] * qd[5];
+    twist[5] = qd[0] + J[31] * qd[1] + J[32] * qd[2] + J[33] * qd[3] + J[34] * qd[4] +
+               J[35] * qd[5];
 }
 
 /* The general arm's state: the kinematics pass of arm_kin.c, copied. */
@@ -461,8 +462,8 @@ static int qdd_finish(const arm_model *m, const cartctl_gains *g, const double q
     double lo[ARM_NJ], hi[ARM_NJ];
     if (!(g->range_w_radps > 0.0) || !range_bounds(m, g, q, qd, out->qdd, lo, hi))
         return 0;
-    out->range_limited =
-        range_resolve(J, rhs, lo, hi, g->lambda_max * g->lambda_max + 1e-12, out->qdd);
+    out->range_limited = range_resolve(J, rhs, lo, hi, g->lambda_max * g->lambda_max + 1e-12,
+                                       out->qdd);
     return linalg_all_finite(out->qdd, ARM_NJ) ? 0 : CARTCTL_ERR_ARG;
 }
 
