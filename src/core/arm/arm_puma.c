@@ -58,22 +58,16 @@ static inline void rot(int twist, double c, double s, const double v[3], double 
 
 /* ---- kinematics ----------------------------------------------------------- */
 
-/* Frame F (4x4 row-major) from its axes and origin; xy = 0: z and the
- * origin only (what the Jacobian reads of frames 0-5), the rest of F
- * left as it was. */
+/* Frame F (4x4 row-major) from its axes and origin. */
 static inline void frame_store(double F[16], const double x[3], const double y[3],
-                               const double z[3], const double o[3], int xy)
+                               const double z[3], const double o[3])
 {
     int r;
     for (r = 0; r < 3; r++) {
-        F[4 * r + 2] = z[r];
-        F[4 * r + 3] = o[r];
-    }
-    if (!xy)
-        return;
-    for (r = 0; r < 3; r++) {
         F[4 * r] = x[r];
         F[4 * r + 1] = y[r];
+        F[4 * r + 2] = z[r];
+        F[4 * r + 3] = o[r];
     }
     F[12] = 0.0;
     F[13] = 0.0;
@@ -93,9 +87,8 @@ static inline void axis_comb(double a[3], double ca, const double u[3], double s
 /* docs/method/puma.md §2: R_03 = Rz(q1) Ry(-(q2 + q3)) in closed form, the
  * wrist axes by one plane turn each, o_i = o_{i-1} + a_i x_i + d_i z_{i-1}
  * with the zero lengths left out. Written frame by frame into F, few
- * locals: this sits on the Cartesian cycle's deepest stack path. xy = 0
- * (the cycle's pass): of frames 0-5 only z and the origin are stored. */
-static void chain_frames(const arm_model *m, const arm_joint_cs *cs, double (*F)[16], int xy)
+ * locals: this sits on the Cartesian cycle's deepest stack path. */
+void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
 {
     const double c1 = cs->c[0], s1 = cs->s[0], c2 = cs->c[1], s2 = cs->s[1];
     const double c3 = cs->c[2], s3 = cs->s[2];
@@ -108,8 +101,8 @@ static void chain_frames(const arm_model *m, const arm_joint_cs *cs, double (*F)
         const double ex[3] = { 1.0, 0.0, 0.0 }, ey[3] = { 0.0, 1.0, 0.0 },
                      ez[3] = { 0.0, 0.0, 1.0 };
         const double x1[3] = { c1, s1, 0.0 };
-        frame_store(F[0], ex, ey, ez, o, xy);
-        frame_store(F[1], x1, ez, z1, o, xy);
+        frame_store(F[0], ex, ey, ez, o);
+        frame_store(F[1], x1, ez, z1, o);
     }
     x[0] = c1 * c2;
     x[1] = s1 * c2;
@@ -119,7 +112,7 @@ static void chain_frames(const arm_model *m, const arm_joint_cs *cs, double (*F)
     y[2] = c2;
     for (k = 0; k < 3; k++)
         o[k] += a2 * x[k];
-    frame_store(F[2], x, y, z1, o, xy);
+    frame_store(F[2], x, y, z1, o);
     x[0] = c1 * c23;
     x[1] = s1 * c23;
     x[2] = s23;
@@ -131,33 +124,28 @@ static void chain_frames(const arm_model *m, const arm_joint_cs *cs, double (*F)
     z[2] = c23;
     for (k = 0; k < 3; k++)
         o[k] += a3 * x[k] + d3 * z1[k]; /* z2 = z1 */
-    frame_store(F[3], x, y, z, o, xy);
+    frame_store(F[3], x, y, z, o);
     {
         double x4[3], z4[3];
         axis_comb(x4, cs->c[3], x, cs->s[3], y);
         axis_comb(z4, cs->s[3], x, -cs->c[3], y);
         for (k = 0; k < 3; k++)
             o[k] += d4 * z[k];
-        frame_store(F[4], x4, z, z4, o, xy); /* y4 = z3 */
+        frame_store(F[4], x4, z, z4, o); /* y4 = z3 */
         axis_comb(x, cs->c[4], x4, cs->s[4], z);
         axis_comb(y, -cs->s[4], x4, cs->c[4], z); /* z5, for now in y */
         for (k = 0; k < 3; k++)
             z[k] = -z4[k]; /* y5 = -z4 */
     }
-    frame_store(F[5], x, z, y, o, xy); /* o5 = o4 */
+    frame_store(F[5], x, z, y, o); /* o5 = o4 */
     {
         double x6[3], y6[3];
         axis_comb(x6, cs->c[5], x, cs->s[5], z);
         axis_comb(y6, -cs->s[5], x, cs->c[5], z);
         for (k = 0; k < 3; k++)
             o[k] += d6 * y[k];
-        frame_store(F[6], x6, y6, y, o, 1); /* z6 = z5 */
+        frame_store(F[6], x6, y6, y, o); /* z6 = z5 */
     }
-}
-
-void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
-{
-    chain_frames(m, cs, F, 1);
 }
 
 /* Column i: [z_{i-1} x (p - o_{i-1}); z_{i-1}]; z_0 = e_z makes the first
@@ -482,16 +470,15 @@ static void tool_pose(const double F6[16], const double X[16], double T[16])
     T[15] = 1.0;
 }
 
-/* docs/method/puma.md §3a: the frames once (§2), of frames 0-5 only the z
- * axes and origins (all the Jacobian reads of them), then from them the
- * tool pose, J (§3) and J-dot q-dot (§3), written straight into the
- * caller's arrays; the frames stay in this function's stack. */
+/* docs/method/puma.md §3a: the frames once (§2), then from them the tool
+ * pose, J (§3) and J-dot q-dot (§3), written straight into the caller's
+ * arrays; the frames stay in this function's stack. */
 void arm_puma_cycle_kin(const arm_model *m, const arm_joint_cs *cs, const arm_tool *tool,
                         const double qd[ARM_NJ], double T[16], double J[36], double jdqd[6],
                         double wrist_m[3])
 {
     double F[ARM_NJ + 1][16];
-    chain_frames(m, cs, F, 0);
+    arm_puma_chain(m, cs, F);
     if (tool)
         tool_pose(F[ARM_NJ], tool->T_flange_tool, T);
     else
