@@ -1,5 +1,6 @@
-/* arm_puma: forward kinematics, Jacobian, J-dot q-dot, RNE torques and M(q)
- * folded for the PUMA structure (docs/method/puma.md §2-§5): twists of 90, 0, -90,
+/* arm_puma: forward kinematics, Jacobian, J-dot q-dot (and the Cartesian
+ * cycle's one pass of them, §3a), RNE torques and M(q) folded for the PUMA
+ * structure (docs/method/puma.md §2-§5): twists of 90, 0, -90,
  * 90, -90, 0 deg, a1 = a4 = a5 = a6 = 0, d1 = d2 = d5 = 0, no joint
  * offsets, diagonal link inertias (arm_model_has_puma_structure).
  *
