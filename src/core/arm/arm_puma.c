@@ -453,16 +453,19 @@ void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F
 /* ---- the Cartesian cycle's kinematics pass -------------------------------- */
 
 /* T = F6 X for a rigid tool X (bottom row 0 0 0 1, as arm_tool_none and
- * arm_tool_offset make it), the flange's bottom row left out. For a tool
- * that only moves the point the products with X's zeros and ones change
- * no bit (x 1 + y 0 = x): the pose of arm_kin_eval. */
+ * arm_tool_offset make it), the flange's bottom row left out. A tool
+ * that only moves the point keeps the flange's axes (no products: on the
+ * 68040 the 27 of the turn cost more than the test); its point, and a
+ * turned tool's axes, are the bits of arm_kin_eval's pose (x 1 + y 0 = x). */
 static void tool_pose(const double F6[16], const double X[16], double T[16])
 {
+    const int turns = !(X[0] == 1.0 && X[5] == 1.0 && X[10] == 1.0 && X[1] == 0.0 && X[2] == 0.0 &&
+                        X[4] == 0.0 && X[6] == 0.0 && X[8] == 0.0 && X[9] == 0.0);
     int r, c;
     for (r = 0; r < 3; r++) {
         const double *a = F6 + 4 * r;
         for (c = 0; c < 3; c++)
-            T[4 * r + c] = a[0] * X[c] + a[1] * X[4 + c] + a[2] * X[8 + c];
+            T[4 * r + c] = turns ? a[0] * X[c] + a[1] * X[4 + c] + a[2] * X[8 + c] : a[c];
         T[4 * r + 3] = a[0] * X[3] + a[1] * X[7] + a[2] * X[11] + a[3];
     }
     T[12] = 0.0;
