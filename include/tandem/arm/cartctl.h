@@ -13,7 +13,8 @@
  * bounded joint accelerations near it (tool-down poses keep q5 at
  * -10..-35 deg). P = I - J# J = V diag(lambda^2 / (s^2 + lambda^2)) V^T is
  * the (damped) null-space projector; -k_null P qd damps the motion J#
- * cannot see. Jdot qd is the central difference of J along qd.
+ * cannot see. Jdot qd is analytic (docs/method/puma.md §3); for a PUMA
+ * table pose, J, Jdot qd and J qd come from one pass (§3a).
  *
  * Joint ranges: the task cannot ask a joint to run onto its stop. Each
  * joint's acceleration is bounded so that it comes to rest no closer than

@@ -1,5 +1,6 @@
-/* arm_puma: forward kinematics, Jacobian, J-dot q-dot, RNE torques and M(q)
- * folded for the PUMA structure (docs/method/puma.md §2-§5): twists of 90, 0, -90,
+/* arm_puma: forward kinematics, Jacobian, J-dot q-dot (and the Cartesian
+ * cycle's one pass of them, §3a), RNE torques and M(q) folded for the PUMA
+ * structure (docs/method/puma.md §2-§5): twists of 90, 0, -90,
  * 90, -90, 0 deg, a1 = a4 = a5 = a6 = 0, d1 = d2 = d5 = 0, no joint
  * offsets, diagonal link inertias (arm_model_has_puma_structure).
  *
@@ -447,6 +448,50 @@ void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F
         jdqd[i] = row[0] * vd[0] + row[1] * vd[1] + row[2] * vd[2];
         jdqd[3 + i] = row[0] * wd[0] + row[1] * wd[1] + row[2] * wd[2];
     }
+}
+
+/* ---- the Cartesian cycle's kinematics pass -------------------------------- */
+
+/* T = F6 X for a rigid tool X (bottom row 0 0 0 1, as arm_tool_none and
+ * arm_tool_offset make it), the flange's bottom row left out. A tool
+ * that only moves the point keeps the flange's axes (no products: on the
+ * 68040 the 27 of the turn cost more than the test); its point, and a
+ * turned tool's axes, are the bits of arm_kin_eval's pose (x 1 + y 0 = x). */
+static void tool_pose(const double F6[16], const double X[16], double T[16])
+{
+    const int turns = !(X[0] == 1.0 && X[5] == 1.0 && X[10] == 1.0 && X[1] == 0.0 && X[2] == 0.0 &&
+                        X[4] == 0.0 && X[6] == 0.0 && X[8] == 0.0 && X[9] == 0.0);
+    int r, c;
+    for (r = 0; r < 3; r++) {
+        const double *a = F6 + 4 * r;
+        for (c = 0; c < 3; c++)
+            T[4 * r + c] = turns ? a[0] * X[c] + a[1] * X[4 + c] + a[2] * X[8 + c] : a[c];
+        T[4 * r + 3] = a[0] * X[3] + a[1] * X[7] + a[2] * X[11] + a[3];
+    }
+    T[12] = 0.0;
+    T[13] = 0.0;
+    T[14] = 0.0;
+    T[15] = 1.0;
+}
+
+/* docs/method/puma.md §3a: the frames once (§2), then from them the tool
+ * pose, J (§3) and J-dot q-dot (§3), written straight into the caller's
+ * arrays; the frames stay in this function's stack. */
+void arm_puma_cycle_kin(const arm_model *m, const arm_joint_cs *cs, const arm_tool *tool,
+                        const double qd[ARM_NJ], double T[16], double J[36], double jdqd[6],
+                        double wrist_m[3])
+{
+    double F[ARM_NJ + 1][16];
+    arm_puma_chain(m, cs, F);
+    if (tool)
+        tool_pose(F[ARM_NJ], tool->T_flange_tool, T);
+    else
+        memcpy(T, F[ARM_NJ], sizeof F[ARM_NJ]);
+    arm_puma_jacobian((const double(*)[16])F, T, J);
+    arm_puma_jdot_qd(m, cs, F[ARM_NJ], T, qd, jdqd);
+    wrist_m[0] = F[4][3];
+    wrist_m[1] = F[4][7];
+    wrist_m[2] = F[4][11];
 }
 
 /* ---- joint-space inertia (composite rigid bodies) ---------------------- */

@@ -68,6 +68,15 @@ void arm_puma_jacobian(const double (*F)[16], const double T[16], double J[36]);
 void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F6[16],
                       const double T[16], const double qd[ARM_NJ], double jdqd[6]);
 
+/* The Cartesian cycle's kinematics in one pass (§3a): the frames of
+ * arm_puma_chain once, and from them the pose T of the tool (NULL: the
+ * flange; a rigid T_flange_tool), its Jacobian J, J-dot q-dot and the
+ * wrist centre o4, all in base coordinates; the bits of arm_kin_eval and
+ * arm_kin_jdot_qd. Inputs checked by the caller (cartctl_state_at). */
+void arm_puma_cycle_kin(const arm_model *m, const arm_joint_cs *cs, const arm_tool *tool,
+                        const double qd[ARM_NJ], double T[16], double J[36], double jdqd[6],
+                        double wrist_m[3]);
+
 /* RNE torques (§4); g the gravity vector in base coordinates, payload
  * NULL or valid. */
 void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload *payload,

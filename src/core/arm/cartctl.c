@@ -37,21 +37,52 @@ int cartctl_gains_validate(const cartctl_gains *g)
                : CARTCTL_ERR_ARG;
 }
 
-int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
-                     const double qd[ARM_NJ], cartctl_state *s)
+/* twist = J qd for the PUMA's Jacobian (arm_puma_jacobian): its first
+ * column is (., ., 0, 0, 0, 1) exactly, and those products are left out
+ * (0 + x = x, 1 x = x: the bits of linalg_matvec, summed in its order). */
+static void puma_twist(const double J[36], const double qd[ARM_NJ], double twist[6])
+{
+    int r;
+    for (r = 0; r < 5; r++) {
+        const double *row = J + 6 * r;
+        const double acc = r < 2 ? row[0] * qd[0] + row[1] * qd[1] : row[1] * qd[1];
+        twist[r] = acc + row[2] * qd[2] + row[3] * qd[3] + row[4] * qd[4] + row[5] * qd[5];
+    }
+    twist[5] = qd[0] + J[31] * qd[1] + J[32] * qd[2] + J[33] * qd[3] + J[34] * qd[4] +
+               J[35] * qd[5];
+}
+
+/* The general arm's state: the kinematics pass of arm_kin.c, copied. */
+static int state_general(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
+                         const double qd[ARM_NJ], cartctl_state *s)
 {
     arm_kin_pass k;
     /* q is checked finite by arm_kin_eval, qd by arm_kin_jdot_qd */
-    if (!m || !q || !qd || !s)
-        return CARTCTL_ERR_ARG;
     if (arm_kin_eval(m, tool, q, &k) != 0 || arm_kin_jdot_qd(&k, qd, s->jdqd) != 0)
         return CARTCTL_ERR_ARG;
     memcpy(s->T, k.T, sizeof s->T);
     memcpy(s->J, k.J, sizeof s->J);
     s->cs = k.cs;
-    s->has_wrist = m->structure == ARM_STRUCTURE_PUMA;
+    s->has_wrist = 0;
     vec3_set(s->wrist_m, k.F[4][3], k.F[4][7], k.F[4][11]);
     linalg_matvec(s->twist, s->J, qd, 6, ARM_NJ);
+    return 0;
+}
+
+int cartctl_state_at(const arm_model *m, const arm_tool *tool, const double q[ARM_NJ],
+                     const double qd[ARM_NJ], cartctl_state *s)
+{
+    if (!m || !q || !qd || !s)
+        return CARTCTL_ERR_ARG;
+    if (m->structure != ARM_STRUCTURE_PUMA)
+        return state_general(m, tool, q, qd, s);
+    /* the PUMA: one pass into s, no copies (docs/method/puma.md §3a);
+     * q is checked finite by arm_joint_cs_eval */
+    if (arm_joint_cs_eval(m, q, &s->cs) != 0 || !linalg_all_finite(qd, ARM_NJ))
+        return CARTCTL_ERR_ARG;
+    arm_puma_cycle_kin(m, &s->cs, tool, qd, s->T, s->J, s->jdqd, s->wrist_m);
+    s->has_wrist = 1;
+    puma_twist(s->J, qd, s->twist);
     return 0;
 }
 
@@ -65,16 +96,24 @@ int cartctl_jdot_qd(const arm_model *m, const arm_tool *tool, const double q[ARM
     return 0;
 }
 
-void cartctl_rot_error(const double R_d[9], const double R[9], double err[3])
+/* log(R_d R^T) with row j of R at R + stride j: a 3x3 (stride 3) or the
+ * rotation of a 4x4 pose read in place (stride 4, no copy). */
+static void rot_error_rows(const double R_d[9], const double *R, int stride, double err[3])
 {
     double E[9], axis[3], angle;
     int i, j;
     for (i = 0; i < 3; i++) /* E = R_d R^T, the transpose read in place */
-        for (j = 0; j < 3; j++)
-            E[3 * i + j] = R_d[3 * i] * R[3 * j] + R_d[3 * i + 1] * R[3 * j + 1] +
-                           R_d[3 * i + 2] * R[3 * j + 2];
+        for (j = 0; j < 3; j++) {
+            const double *Rj = R + stride * j;
+            E[3 * i + j] = R_d[3 * i] * Rj[0] + R_d[3 * i + 1] * Rj[1] + R_d[3 * i + 2] * Rj[2];
+        }
     angle = rot_to_axis_angle(axis, E);
     vec3_scale(err, axis, angle);
+}
+
+void cartctl_rot_error(const double R_d[9], const double R[9], double err[3])
+{
+    rot_error_rows(R_d, R, 3, err);
 }
 
 /* lambda^2 of the damped inverse for the smallest singular value. */
@@ -181,30 +220,72 @@ static int inverse3(const double A[9], double Ai[9])
  * forms the 6x6. */
 enum { WB_R = 0, WB_AI = 3, WB_CI = 12, WB_D = 21, WB_N = 30 };
 
-/* b[WB_N]: r, A^-1, C^-1, D. 0, or CARTCTL_ERR_SINGULAR (A or C singular:
- * the arm at its elbow or wrist singularity). */
-static int wrist_blocks(const double J[36], const double T[16], const double w[3], double b[WB_N])
+/* A = J_v,123 + [r]x J_w,123 and CB = C^-1 J_w,123 of any Jacobian with a
+ * spherical wrist (cartctl_inverse_wrist). */
+static void wrist_a_cb_general(const double J[36], const double r[3], const double Ci[9],
+                               double A[9], double CB[9])
 {
-    double A[9], B[9], C[9], CB[9];
-    double *r = b + WB_R, *Ai = b + WB_AI, *Ci = b + WB_CI, *D = b + WB_D;
     int i, j;
-    vec3_set(r, T[3] - w[0], T[7] - w[1], T[11] - w[2]);
     for (j = 0; j < 3; j++) {
         const double wx = J[18 + j], wy = J[24 + j], wz = J[30 + j]; /* column j, angular */
         A[j] = J[j] + r[1] * wz - r[2] * wy;
         A[3 + j] = J[6 + j] + r[2] * wx - r[0] * wz;
         A[6 + j] = J[12 + j] + r[0] * wy - r[1] * wx;
-        for (i = 0; i < 3; i++) {
-            B[3 * i + j] = J[18 + 6 * i + j];
-            C[3 * i + j] = J[18 + 6 * i + 3 + j];
-        }
     }
-    if (inverse3(A, Ai) != 0 || inverse3(C, Ci) != 0)
-        return CARTCTL_ERR_SINGULAR;
-    /* written out rather than two rot_mul: no temporary copies */
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++)
-            CB[3 * i + j] = Ci[3 * i] * B[j] + Ci[3 * i + 1] * B[3 + j] + Ci[3 * i + 2] * B[6 + j];
+            CB[3 * i + j] = Ci[3 * i] * J[18 + j] + Ci[3 * i + 1] * J[24 + j] +
+                            Ci[3 * i + 2] * J[30 + j];
+}
+
+/* The same for the PUMA's Jacobian (arm_puma_jacobian), whose first three
+ * axes are z0 = e_z and z1 = z2 = (s1, -c1, 0) exactly: the products with
+ * those zeros and ones are left out (x + 0 = x, 1 x = x: the same bits,
+ * docs/method/puma.md §6), and CB's columns 2 and 3 are one. */
+static void wrist_a_cb_puma(const double J[36], const double r[3], const double Ci[9], double A[9],
+                            double CB[9])
+{
+    const double zx = J[19], zy = J[25], r2y = r[2] * zy, r2x = r[2] * zx;
+    const double r0y = r[0] * zy, r1x = r[1] * zx;
+    int i;
+    A[0] = J[0] + r[1];
+    A[3] = J[6] - r[0];
+    A[6] = J[12];
+    A[1] = J[1] - r2y;
+    A[2] = J[2] - r2y;
+    A[4] = J[7] + r2x;
+    A[5] = J[8] + r2x;
+    A[7] = J[13] + r0y - r1x;
+    A[8] = J[14] + r0y - r1x;
+    for (i = 0; i < 3; i++) {
+        CB[3 * i] = Ci[3 * i + 2];
+        CB[3 * i + 1] = Ci[3 * i] * zx + Ci[3 * i + 1] * zy;
+        CB[3 * i + 2] = CB[3 * i + 1];
+    }
+}
+
+/* b[WB_N]: r, A^-1, C^-1, D; puma: J is the PUMA's (wrist_a_cb_puma).
+ * 0, or CARTCTL_ERR_SINGULAR (A or C singular: the arm at its elbow or
+ * wrist singularity). */
+static int wrist_blocks(const double J[36], const double T[16], const double w[3], int puma,
+                        double b[WB_N])
+{
+    double A[9], C[9], CB[9];
+    double *r = b + WB_R, *Ai = b + WB_AI, *Ci = b + WB_CI, *D = b + WB_D;
+    int i, j;
+    vec3_set(r, T[3] - w[0], T[7] - w[1], T[11] - w[2]);
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            C[3 * i + j] = J[18 + 6 * i + 3 + j];
+    if (inverse3(C, Ci) != 0)
+        return CARTCTL_ERR_SINGULAR;
+    if (puma)
+        wrist_a_cb_puma(J, r, Ci, A, CB);
+    else
+        wrist_a_cb_general(J, r, Ci, A, CB);
+    if (inverse3(A, Ai) != 0)
+        return CARTCTL_ERR_SINGULAR;
+    /* written out rather than a rot_mul: no temporary copy */
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++)
             D[3 * i + j] = -(CB[3 * i] * Ai[j] + CB[3 * i + 1] * Ai[3 + j] +
@@ -252,7 +333,7 @@ int cartctl_inverse_wrist(const double J[36], const double T[16], const double w
     if (!J || !T || !w || !Ji || !linalg_all_finite(J, 36) || !linalg_all_finite(T, 16) ||
         !linalg_all_finite(w, 3))
         return CARTCTL_ERR_ARG;
-    if (wrist_blocks(J, T, w, b) != 0)
+    if (wrist_blocks(J, T, w, 0, b) != 0)
         return CARTCTL_ERR_SINGULAR;
     for (k = 0; k < 6; k++) { /* column k: J^-1 e_k */
         double e[6] = { 0, 0, 0, 0, 0, 0 }, x[6];
@@ -278,7 +359,7 @@ static int exact_solve(const cartctl_state *s, const double rhs[6], double qdd[6
 {
     if (s->has_wrist) {
         double f2;
-        if (wrist_blocks(s->J, s->T, s->wrist_m, work) != 0)
+        if (wrist_blocks(s->J, s->T, s->wrist_m, 1, work) != 0)
             return SINGULAR;
         f2 = wrist_solve(work, rhs, qdd);
         *s_lo = f2 > 0.0 ? 1.0 / sqrt(f2) : 0.0;
@@ -291,21 +372,30 @@ static int exact_solve(const cartctl_state *s, const double rhs[6], double qdd[6
     return 0;
 }
 
-/* Bounds of the range barrier on qdd (see cartctl.h). */
-static void range_bounds(const arm_model *m, const cartctl_gains *g, const double q[ARM_NJ],
-                         const double qd[ARM_NJ], double lo[ARM_NJ], double hi[ARM_NJ])
+/* Bounds of the range barrier on qdd (see cartctl.h), finite only within
+ * the band of a range end. Returns 1 if qdd leaves them (the barrier has
+ * work), 0 if it does not: then range_resolve would hold nothing. */
+static int range_bounds(const arm_model *m, const cartctl_gains *g, const double q[ARM_NJ],
+                        const double qd[ARM_NJ], const double qdd[ARM_NJ], double lo[ARM_NJ],
+                        double hi[ARM_NJ])
 {
     const double w = g->range_w_radps;
-    int i;
+    int i, leaves = 0;
     for (i = 0; i < ARM_NJ; i++) {
         const double d_lo = q[i] - (m->q_min_rad[i] + g->range_margin_rad);
         const double d_hi = (m->q_max_rad[i] - g->range_margin_rad) - q[i];
-        lo[i] = d_lo + g->range_margin_rad < CARTCTL_RANGE_BAND_RAD
-                    ? -w * w * d_lo - 2.0 * w * qd[i]
-                    : -HUGE_VAL;
-        hi[i] = d_hi + g->range_margin_rad < CARTCTL_RANGE_BAND_RAD ? w * w * d_hi - 2.0 * w * qd[i]
-                                                                    : HUGE_VAL;
+        lo[i] = -HUGE_VAL;
+        hi[i] = HUGE_VAL;
+        if (d_lo + g->range_margin_rad < CARTCTL_RANGE_BAND_RAD) {
+            lo[i] = -w * w * d_lo - 2.0 * w * qd[i];
+            leaves |= qdd[i] < lo[i];
+        }
+        if (d_hi + g->range_margin_rad < CARTCTL_RANGE_BAND_RAD) {
+            hi[i] = w * w * d_hi - 2.0 * w * qd[i];
+            leaves |= qdd[i] > hi[i];
+        }
     }
+    return leaves;
 }
 
 /* Holds the joints that leave their bounds (worst first) at the bound and
@@ -363,17 +453,17 @@ static unsigned range_resolve(const double J[36], const double rhs[6], const dou
 }
 
 /* The range barrier on out->qdd (J qdd = rhs solved before, its result
- * checked finite by the caller), then the finiteness check: 0 / -1. */
+ * checked finite by the caller), then the finiteness check of what the
+ * barrier re-solved: 0 / -1. */
 static int qdd_finish(const arm_model *m, const cartctl_gains *g, const double q[ARM_NJ],
                       const double qd[ARM_NJ], const double J[36], const double rhs[6],
                       cartctl_out *out)
 {
-    if (g->range_w_radps > 0.0) {
-        double lo[ARM_NJ], hi[ARM_NJ];
-        range_bounds(m, g, q, qd, lo, hi);
-        out->range_limited = range_resolve(J, rhs, lo, hi, g->lambda_max * g->lambda_max + 1e-12,
-                                           out->qdd);
-    }
+    double lo[ARM_NJ], hi[ARM_NJ];
+    if (!(g->range_w_radps > 0.0) || !range_bounds(m, g, q, qd, out->qdd, lo, hi))
+        return 0;
+    out->range_limited = range_resolve(J, rhs, lo, hi, g->lambda_max * g->lambda_max + 1e-12,
+                                       out->qdd);
     return linalg_all_finite(out->qdd, ARM_NJ) ? 0 : CARTCTL_ERR_ARG;
 }
 
@@ -391,9 +481,7 @@ static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM
         return CARTCTL_ERR_ARG;
     vec3_copy(out->a_cmd, a_lin);
     if (R_d) {
-        double R[9];
-        tf_rot(R, s->T);
-        cartctl_rot_error(R_d, R, out->rot_err);
+        rot_error_rows(R_d, s->T, 4, out->rot_err);
         for (i = 0; i < 3; i++)
             out->a_cmd[3 + i] = g->kp_rot * out->rot_err[i] - g->kv_rot * s->twist[3 + i];
     }

@@ -25,17 +25,24 @@ int cartseg_tool_world(const arm_model *m, const arm_tool *tool, const double T_
 }
 
 /* x = T_world_base p_tool, v = R_world_base v_tool: the tool point alone,
- * not the whole 4x4 product */
-int cartseg_tool_world_at(const cartctl_state *st, const double T_world_base[16], double x[3],
-                          double v[3])
+ * not the whole 4x4 product; Rwb = R_world_base, kept for the caller */
+static void tool_world(const cartctl_state *st, const double T_world_base[16], double Rwb[9],
+                       double x[3], double v[3])
 {
-    double p[3], Rwb[9];
-    if (!st || !T_world_base || !x || !v)
-        return CARTSEG_ERR_ARG;
+    double p[3];
     tf_pos(p, st->T);
     tf_apply(x, T_world_base, p);
     R_of(T_world_base, Rwb);
     rot_apply(v, Rwb, st->twist);
+}
+
+int cartseg_tool_world_at(const cartctl_state *st, const double T_world_base[16], double x[3],
+                          double v[3])
+{
+    double Rwb[9];
+    if (!st || !T_world_base || !x || !v)
+        return CARTSEG_ERR_ARG;
+    tool_world(st, T_world_base, Rwb, x, v);
     return 0;
 }
 
@@ -332,10 +339,11 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
                  cartseg_out *out)
 {
     cartctl_state st;
-    if (out)
-        memset(out, 0, sizeof *out);
-    if (cartctl_state_at(m, tool, q, qd, &st) != 0)
+    if (cartctl_state_at(m, tool, q, qd, &st) != 0) {
+        if (out)
+            memset(out, 0, sizeof *out);
         return CARTSEG_ERR_ARG;
+    }
     return cartseg_step_at(c, m, tool, payload, &st, q, qd, s_ext_m, dt_s, out);
 }
 
@@ -353,12 +361,11 @@ int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool,
     sync = s_ext_m >= 0.0 && c->ref == ERLAW_REF_MEASURED; /* c is checked first */
     ref = sync ? ERLAW_REF_EXTERNAL : c->ref;
     memset(out, 0, sizeof *out);
-    if (!isfinite(dt_s) || dt_s < 0.0 || !stp ||
-        cartseg_tool_world_at(stp, c->T_world_base, out->x_world, out->v_world) != 0)
+    if (!isfinite(dt_s) || dt_s < 0.0 || !stp)
         return CARTSEG_ERR_ARG;
+    tool_world(stp, c->T_world_base, Rwb, out->x_world, out->v_world);
     if (c->contact_N >= 0.0)
         c->t_no_contact_s = c->contact_N >= CARTSEG_CONTACT_N ? 0.0 : c->t_no_contact_s + dt_s;
-    R_of(c->T_world_base, Rwb);
     /* a detected block suspends the planned motion (event law only; the
      * baseline keeps its clock): lean on the obstacle with the bias, the
      * pose across the path and the orientation held where the block was

@@ -2,7 +2,9 @@
  * general DH recursions they replace, and identities that hold them on
  * their own.
  *  - agreement to 1e-12 (relative to the largest entry of each result) of
- *    FK, Jacobian, the kinematics pass and its Jdot qd, RNE torques for random qd, qdd,
+ *    FK, Jacobian, the kinematics pass and its Jdot qd, the Cartesian
+ *    cycle's one pass (cartctl_state_at: pose, J, Jdot qd, J qd, wrist
+ *    centre), RNE torques for random qd, qdd,
  *    tilted gravity and a payload, and M(q): 10,000 seeded configurations
  *    inside the joint ranges per model, every corner of the ranges, and
  *    the shoulder, elbow and wrist singularities;
@@ -19,6 +21,7 @@
 #include "arm_dyn.h"
 #include "arm_kin.h"
 #include "arm_samples.h"
+#include "cartctl.h"
 #include "vec3.h"
 
 #define N_RANDOM 10000
@@ -79,6 +82,30 @@ static arm_tool tool_of(int k)
     return t;
 }
 
+/* The Cartesian cycle's one pass (cartctl_state_at: arm_puma_cycle_kin,
+ * docs/method/puma.md §3a) against the separate general routines: the
+ * pass kb, its J-dot q-dot, J qd, and the wrist centre from the frames
+ * (F4: frame 4, its origin o4). */
+static void check_cycle_pass(const arm_model *m, const arm_kin_pass *kb, const double q[ARM_NJ],
+                             const double qd[ARM_NJ], const arm_tool *tool, const double F4[16])
+{
+    const double w[3] = { F4[3], F4[7], F4[11] };
+    double jb[6], vb[6];
+    cartctl_state s;
+    int i, j;
+    assert_int_equal(cartctl_state_at(m, tool, q, qd, &s), 0);
+    assert_int_equal(arm_kin_jdot_qd(kb, qd, jb), 0);
+    for (i = 0; i < 6; i++) {
+        vb[i] = 0.0;
+        for (j = 0; j < ARM_NJ; j++)
+            vb[i] += kb->J[6 * i + j] * qd[j];
+    }
+    assert_true(agree(s.T, kb->T, 16) && agree(s.J, kb->J, 36));
+    assert_true(agree(s.jdqd, jb, 6) && agree(s.twist, vb, 6) && agree(s.wrist_m, w, 3));
+    assert_true(agree(s.cs.c, kb->cs.c, ARM_NJ) && agree(s.cs.s, kb->cs.s, ARM_NJ));
+    assert_int_equal(s.has_wrist, m->structure == ARM_STRUCTURE_PUMA);
+}
+
 /* Every routine, folded (m) and general (g), at one state. */
 static void check_state(const arm_model *m, const arm_model *g, const double q[ARM_NJ],
                         const double qd[ARM_NJ], const double qdd[ARM_NJ], const double grav[3],
@@ -109,6 +136,7 @@ static void check_state(const arm_model *m, const arm_model *g, const double q[A
     assert_int_equal(arm_link_frames(m, q, Fa), 0);
     assert_int_equal(arm_link_frames(g, q, Fb), 0);
     assert_true(agree(Fa[0], Fb[0], 16 * (ARM_NJ + 1)));
+    check_cycle_pass(m, &kb, q, qd, &tool, Fb[4]);
     assert_int_equal(arm_rne(m, q, qd, qdd, grav, p, ta), 0);
     assert_int_equal(arm_rne(g, q, qd, qdd, grav, p, tb), 0);
     assert_true(agree(ta, tb, ARM_NJ));

@@ -244,10 +244,19 @@ static void fast_path_matches_svd(const arm_model *m)
                 /* the wrist path's bound, summed from the blocks, is
                  * 1/||J^-1||_F of the 6x6 inverse */
                 double Ji[36], f2 = 0.0;
+                double x[ARM_NJ], xe = 0.0, xs = 0.0;
                 assert_int_equal(cartctl_inverse_wrist(s.J, s.T, s.wrist_m, Ji), 0);
                 for (i = 0; i < 36; i++)
                     f2 += Ji[i] * Ji[i];
                 assert_true(fabs(o.sigma_min * sqrt(f2) - 1.0) < 1e-12);
+                /* and the cycle's blocks, folded for the PUMA's zeros
+                 * (wrist_a_cb_puma), solve as the general ones do */
+                linalg_matvec(x, Ji, rhs, 6, 6);
+                for (i = 0; i < ARM_NJ; i++) {
+                    xe = fmax(xe, fabs(o.qdd[i] - x[i]));
+                    xs = fmax(xs, fabs(x[i]));
+                }
+                assert_true(xe <= 1e-12 * xs);
             }
         } else
             slow++;
