@@ -7,8 +7,9 @@
  *    exit 1, the file, the record and why on stderr. --journal-reset
  *    starts fresh on purpose.
  * 1b. A journal of another task -- the same net with other rows, whose
- *    snapshots would fit -- is refused naming the record and both tasks;
- *    tasks/carry (the shipped carry as files) is the same task.
+ *    snapshots would fit, or the buffer task, whose would not -- is
+ *    refused naming the record and both tasks; tasks/carry (the shipped
+ *    carry as files) is the same task.
  * 2. A journal on a full disk (/dev/full): the supervisor holds -- one
  *    HOLD line, no row sent -- while the simulator offers workpieces.
  * 3. A rover whose journal is on a full disk stops: every command it
@@ -192,6 +193,12 @@ static void test_journal_of_another_task_refused(void **state)
     if (!strstr(err, path))
         fail_msg("the refusal does not name the journal %s:\n%s", path, err);
     printf("%s", err);
+    /* the buffer task, whose snapshot has another size: refused for its
+     * task, not for the snapshot's size */
+    write_journal(path, &key, v);
+    assert_int_equal(supervisor(c, path, "--task tasks/carry_buffer", err, sizeof err), 1);
+    if (!strstr(err, "SUPERVISOR_ERR_OTHER_TASK") || !strstr(err, "tasks/carry_buffer"))
+        fail_msg("the buffer task is not refused as another task:\n%s", err);
     /* --journal-reset: the other task starts fresh on purpose */
     snprintf(extra, sizeof extra, "--task %s --journal-reset", task);
     assert_int_equal(supervisor(c, path, extra, err, sizeof err), -1);

@@ -59,13 +59,13 @@ static void test_buffer_task_delivers_every_workpiece(void **state)
     assert_true(harness_json_value(text, "joint_limit_violations") == 0.0);
     assert_non_null(strstr(text, "\"exit_reason\": \"completed\""));
     /* the supervisor ran the buffer's net: its bound, and the buffer's
-     * transitions fired (t3 into the buffer, t4 out of it) */
+     * transitions fired (t3b into the buffer, t4b out of it) */
     snprintf(path, sizeof path, "%s/run_supervisor.log", dir);
     assert_true(harness_slurp(path, log, sizeof log) > 0);
     assert_non_null(strstr(
-        log, "task carry_buffer (tasks/carry_buffer): 9 places, 7 transitions, token bound 2"));
-    assert_non_null(strstr(log, "complete t3 arm 1 puts it in the buffer"));
-    assert_non_null(strstr(log, "complete t4 arm 2 takes it from the buffer"));
+        log, "task carry_buffer (tasks/carry_buffer): 11 places, 9 transitions, token bound 2"));
+    assert_non_null(strstr(log, "complete t3b arm 1 puts it in the buffer"));
+    assert_non_null(strstr(log, "complete t4b arm 2 takes it from the buffer"));
 }
 
 /* Runs `cmd` (a program of this build and its arguments), stdout and
