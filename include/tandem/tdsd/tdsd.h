@@ -27,6 +27,15 @@
  * ||L||_F ||L^-1||_F at most this (an upper bound on sigma_max / sigma_min)
  * and at most 1 / pinv_rtol; elsewhere the SVD resolution runs. */
 #define TDSD_FAST_COND_MAX 1e6
+/* The cheaper of the two fast paths, the U D U^T factor of J J^T
+ * (docs/method/tdsd.md §3a), runs where the product of the two blocks'
+ * bounds is at most this: its rounding grows like their square. */
+#define TDSD_GRAM_COND_MAX 1e3
+
+/* tdsd_output.fast: which resolution ran */
+#define TDSD_PATH_SVD 0  /* the SVD of §3 (tdsd_step_svd, singular or near) */
+#define TDSD_PATH_LQ 1   /* LQ of [J1; J2] by Gram-Schmidt (§3a) */
+#define TDSD_PATH_GRAM 2 /* U D U^T of J J^T (§3a), well conditioned */
 
 enum {
     TDSD_OK = 0,
@@ -82,7 +91,7 @@ typedef struct {
                                     path (fast = 1) a lower bound on it,
                                     1 / ||L11^-1||_F */
     double sigma_max_J1;      /* largest; fast path: upper bound ||L11||_F */
-    int fast;                 /* 1: resolved by the LQ fast path, 0: by SVD */
+    int fast;                 /* TDSD_PATH_GRAM, _LQ (fast paths) or _SVD */
     int rank_J1;              /* under the pinv tolerance */
     int rank_J2P1;            /* TDSD: rank of J2 P1; baselines: of [J1;J2] */
     int n2;                   /* rows of task 2 (0, 2 or 3) */

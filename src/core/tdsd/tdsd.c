@@ -140,7 +140,7 @@ static void output_reset(tdsd_output *out)
     out->rank_J1 = out->rank_J2P1 = 0;
     out->n2 = 0;
     out->damping = 0.0;
-    out->fast = 0;
+    out->fast = TDSD_PATH_SVD;
 }
 
 /* Task 2 rows J2 (n2 x 6), error e2 and feed-forward w2 (n2), per mode. */
@@ -301,6 +301,25 @@ static void step_finish(const tdsd_input *in, tdsd_output *out)
     out->n_clipped = clip_joints(out->dq_radps, in->dq_max_radps, 1e-6);
 }
 
+/* y2' = lambda w2 + K_o e2 into out->y2, and r = y2' - J2 dq1 with
+ * J2 dq1 = M21 z1, z1 = lambda za + c zb (M21: the rows 3.. of the fast
+ * paths' lower triangular factor, the first 3 columns). */
+static void task2_residual(const tdsd_input *in, tdsd_output *out, const double (*M21)[NJ], int n2,
+                           const double w2[3], const double e2[3], const double za[3],
+                           const double zb[3], double c, double r[3])
+{
+    double z1[3];
+    int i, j;
+    for (j = 0; j < 3; j++)
+        z1[j] = out->lambda * za[j] + c * zb[j];
+    for (i = 0; i < n2; i++) {
+        out->y2[i] = out->lambda * w2[i] + in->K_o * e2[i];
+        r[i] = out->y2[i];
+        for (j = 0; j < 3; j++)
+            r[i] -= M21[i][j] * z1[j];
+    }
+}
+
 /* ---- fast path: J = [J1; J2] = L Q^T (docs/method/tdsd.md §3a) ----
  * The rows of J (n = 3 + n2 of them) are orthonormalised in order by
  * modified Gram-Schmidt, with a second pass where the first left less than
@@ -456,7 +475,7 @@ static void resolve_lq(const tdsd_input *in, tdsd_output *out, const lq_factor *
 {
     double za[3], zb[3], a[NJ], b[NJ], c;
     int i, j;
-    out->fast = 1;
+    out->fast = TDSD_PATH_LQ;
     out->rank_J1 = 3;
     out->rank_J2P1 = n2;
     lq_solve(f, 0, 3, in->v_d_mps, za);
@@ -466,12 +485,7 @@ static void resolve_lq(const tdsd_input *in, tdsd_output *out, const lq_factor *
     c = path_rate_dq1(in, out, a, b, Kpe);
     if (n2 > 0) {
         double r[3], z2[3];
-        for (i = 0; i < n2; i++) {
-            out->y2[i] = out->lambda * w2[i] + in->K_o * e2[i];
-            r[i] = out->y2[i];
-            for (j = 0; j < 3; j++) /* - J2 dq1 = - L21 z1 */
-                r[i] -= f->L[3 + i][j] * (out->lambda * za[j] + c * zb[j]);
-        }
+        task2_residual(in, out, f->L + 3, n2, w2, e2, za, zb, c, r); /* J2 dq1 = L21 z1 */
         lq_solve(f, 3, n2, r, z2);
         lq_combine(f, 3, n2, z2, out->dq2);
     }
@@ -482,6 +496,200 @@ static void resolve_lq(const tdsd_input *in, tdsd_output *out, const lq_factor *
             out->dq3[i] = g[i];
         for (j = 0; j < f->n; j++)
             sub6(out->dq3, dot6(f->q[j], g), f->q[j]);
+    }
+}
+
+/* ---- fast path: J J^T = U D U^T (docs/method/tdsd.md §3a) ----
+ * J = [J1; J2] (n = 3 + n2 rows) has the Gram matrix G = J J^T. Its
+ * factor G = U D U^T (U unit lower triangular, D diagonal > 0) gives the
+ * L of the LQ factor J = L Q^T as L = U D^1/2, Q = J^T L^-T, without a
+ * square root. Block by the task split, U = [U11 0; U21 U22]:
+ *   U11 D1 U11^T = J1 J1^T,   U21 = J2 J1^T U11^-T D1^-1,
+ *   U22 D2 U22^T = J2 J2^T - U21 D1 U21^T = (J2 P1)(J2 P1)^T  (Schur complement)
+ * so L11 = U11 D1^1/2 (L22 = U22 D2^1/2) has the singular values of J1
+ * (of J2 P1), and with z1 = U11^-1 y1' (J2 dq1 = U21 z1):
+ *   dq1 = J1^T U11^-T D1^-1 z1                                 (= J1^+ y1')
+ *   dq2 = J2^T x2 - J1^T U11^-T U21^T x2,  x2 = U22^-T D2^-1 U22^-1 (y2' - U21 z1)
+ *   dq3 = g - J^T U^-T D^-1 U^-1 J g          (= g - Q Q^T g; zero when n = 6)
+ * Exact whenever D > 0. The path is taken only where
+ * ||L_kk||_F ||L_kk^-1||_F <= TDSD_FAST_COND_MAX for both blocks: that
+ * product bounds sigma_max / sigma_min from above, so no singular value lies
+ * under the SVD path's rank cut. Forming G squares the condition numbers:
+ * the rounding is ~ DBL_EPSILON (kappa1 kappa2)^2 relative, which the bound
+ * keeps small (docs/method/tdsd.md §3a, Accuracy). Elsewhere (at and near a
+ * singularity) the SVD resolution runs. */
+typedef struct {
+    const double *row[NJ]; /* row i of J = [J1; J2] */
+    double U[NJ][NJ];      /* unit lower triangular (below the diagonal) */
+    double W[NJ][NJ];      /* W_ij = U_ij d_j */
+    double d[NJ];          /* D */
+    double dinv[NJ];       /* 1 / d_i */
+    int n;
+} gram_factor;
+
+/* z = U_kk^-1 y for the diagonal block of rows/columns off..off+k-1 (or
+ * the whole factor: off 0, k n); z may be y. */
+static void gram_fwd(const gram_factor *f, int off, int k, const double *y, double *z)
+{
+    int i, j;
+    for (i = 0; i < k; i++) {
+        double acc = y[i];
+        for (j = 0; j < i; j++)
+            acc -= f->U[off + i][off + j] * z[j];
+        z[i] = acc;
+    }
+}
+
+/* x = U_kk^-T y, the same block, by back substitution; x may be y. */
+static void gram_bwd(const gram_factor *f, int off, int k, const double *y, double *x)
+{
+    int i, j;
+    for (i = k - 1; i >= 0; i--) {
+        double acc = y[i];
+        for (j = i + 1; j < k; j++)
+            acc -= f->U[off + j][off + i] * x[j];
+        x[i] = acc;
+    }
+}
+
+/* x = U_kk^-T D_k^-1 U_kk^-1 y: (J_k J_k^T)^-1 y for the first block, the
+ * inverse of the Schur complement for the second. */
+static void gram_solve(const gram_factor *f, int off, int k, const double *y, double *x)
+{
+    int i;
+    gram_fwd(f, off, k, y, x);
+    for (i = 0; i < k; i++)
+        x[i] *= f->dinv[off + i];
+    gram_bwd(f, off, k, x, x);
+}
+
+/* v = sum_{i < k} x_i row_{off+i} (J^T x over k rows from off). */
+static void gram_combine(const gram_factor *f, int off, int k, const double *x, double v[NJ])
+{
+    int i, j;
+    for (j = 0; j < NJ; j++) {
+        double acc = 0.0;
+        for (i = 0; i < k; i++)
+            acc += x[i] * f->row[off + i][j];
+        v[j] = acc;
+    }
+}
+
+/* (||L_kk||_F ||L_kk^-1||_F)^2 of a diagonal block (k <= 3) of
+ * L = U D^1/2: its root is an upper bound on the block's condition number
+ * sigma_max / sigma_min. fro2 = ||L_kk||_F^2 = sum d_i + U_ic W_ic
+ * (sigma_max <= its root), inv2 = ||L_kk^-1||_F^2 = sum_i (1 + sum_c X_ic^2) / d_i
+ * (sigma_min >= 1 / its root), X = U_kk^-1 written out: X_10 = -U_10,
+ * X_21 = -U_21, X_20 = U_21 U_10 - U_20. */
+static double gram_block_cond2(const gram_factor *f, int off, int k, double *fro2, double *inv2)
+{
+    const double(*U)[NJ] = f->U;
+    const double(*W)[NJ] = f->W;
+    const double *di = f->dinv + off;
+    double fro = 0.0, inv = 0.0;
+    int i, c;
+    for (i = 0; i < k; i++) {
+        fro += f->d[off + i];
+        for (c = 0; c < i; c++)
+            fro += U[off + i][off + c] * W[off + i][off + c];
+        inv += di[i];
+    }
+    if (k >= 2) {
+        const double x10 = U[off + 1][off];
+        inv += x10 * x10 * di[1];
+        if (k == 3) {
+            const double x21 = U[off + 2][off + 1];
+            const double x20 = x21 * x10 - U[off + 2][off];
+            inv += (x21 * x21 + x20 * x20) * di[2];
+        }
+    }
+    *fro2 = fro;
+    *inv2 = inv;
+    return fro * inv;
+}
+
+/* Forms J J^T row by row and factors it (entry (i, j) of G is formed only
+ * where U's entry (i, j) is computed), then checks both blocks; 0 when the
+ * product of their condition bounds is at most TDSD_GRAM_COND_MAX (and
+ * 1 / rtol): each block's is then too, since each is >= 1. */
+static int gram_factor_task(gram_factor *f, const tdsd_input *in, const double *J2, int n2,
+                            tdsd_output *out)
+{
+    const double rtol = in->pinv_rtol > 0.0 ? in->pinv_rtol : LINALG_PINV_RTOL;
+    const double gmax = rtol * TDSD_GRAM_COND_MAX > 1.0 ? 1.0 / rtol : TDSD_GRAM_COND_MAX;
+    double fro2, inv2, fro2b, inv2b, c2;
+    int i, j, k;
+    f->n = 3 + n2;
+    for (i = 0; i < f->n; i++) {
+        f->row[i] = i < 3 ? in->J1 + i * NJ : J2 + (i - 3) * NJ;
+        for (j = 0; j <= i; j++) {
+            double s = dot6(f->row[i], f->row[j]);
+            for (k = 0; k < j; k++)
+                s -= f->W[i][k] * f->U[j][k];
+            if (j < i) {
+                f->W[i][j] = s;
+                f->U[i][j] = s * f->dinv[j];
+            } else {
+                if (!(s > 0.0))
+                    return -1; /* rank lost to rounding: the SVD path */
+                f->d[i] = s;
+                f->dinv[i] = 1.0 / s;
+            }
+        }
+    }
+    c2 = gram_block_cond2(f, 0, 3, &fro2, &inv2);
+    if (n2 > 0)
+        c2 *= gram_block_cond2(f, 3, n2, &fro2b, &inv2b);
+    if (!(c2 <= gmax * gmax))
+        return -1;
+    out->sigma_min_J1 = 1.0 / sqrt(inv2);
+    out->sigma_max_J1 = sqrt(fro2);
+    return 0;
+}
+
+static void resolve_gram(const tdsd_input *in, tdsd_output *out, const gram_factor *f, int n2,
+                         const double w2[3], const double e2[3], const double Kpe[3],
+                         const double g[NJ])
+{
+    double za[3], zb[3], x[NJ], a[NJ], b[NJ], c;
+    int i, j;
+    out->fast = TDSD_PATH_GRAM;
+    out->rank_J1 = 3;
+    out->rank_J2P1 = n2;
+    /* a = J1^+ p_d', b = J1^+ K_p e_p, through z = U11^-1 y */
+    gram_fwd(f, 0, 3, in->v_d_mps, za);
+    gram_fwd(f, 0, 3, Kpe, zb);
+    for (i = 0; i < 3; i++)
+        x[i] = za[i] * f->dinv[i];
+    gram_bwd(f, 0, 3, x, x);
+    gram_combine(f, 0, 3, x, a);
+    for (i = 0; i < 3; i++)
+        x[i] = zb[i] * f->dinv[i];
+    gram_bwd(f, 0, 3, x, x);
+    gram_combine(f, 0, 3, x, b);
+    c = path_rate_dq1(in, out, a, b, Kpe);
+    if (n2 > 0) {
+        double r[3];
+        task2_residual(in, out, f->U + 3, n2, w2, e2, za, zb, c, r); /* J2 dq1 = U21 z1 */
+        gram_solve(f, 3, n2, r, x + 3); /* x2 */
+        for (j = 0; j < 3; j++) {       /* x1 = -U11^-T U21^T x2 */
+            x[j] = 0.0;
+            for (i = 0; i < n2; i++)
+                x[j] -= f->U[3 + i][j] * x[3 + i];
+        }
+        gram_bwd(f, 0, 3, x, x);
+        gram_combine(f, 0, f->n, x, out->dq2);
+    }
+    for (i = 0; i < NJ; i++)
+        out->dq3[i] = 0.0;
+    if (f->n < NJ) { /* dq3 = g - J^T G^-1 J g */
+        double u[NJ];
+        for (i = 0; i < f->n; i++)
+            u[i] = dot6(f->row[i], g);
+        gram_solve(f, 0, f->n, u, x);
+        gram_combine(f, 0, f->n, x, u);
+        for (i = 0; i < NJ; i++)
+            out->dq3[i] = g[i] - u[i];
     }
 }
 
@@ -502,7 +710,7 @@ static int resolve_svd(const tdsd_input *in, tdsd_output *out, const double J2[3
 
     if (!la_ok(linalg_pinv_factor(&F1, in->J1, 3, NJ, in->pinv_rtol)))
         return TDSD_ERR_NUMERIC;
-    out->fast = 0;
+    out->fast = TDSD_PATH_SVD;
     out->sigma_min_J1 = F1.info.sigma_min;
     out->sigma_max_J1 = F1.info.sigma_max;
     out->rank_J1 = F1.info.rank;
@@ -548,7 +756,14 @@ static int step_with(const tdsd_input *in, tdsd_output *out, int allow_fast)
     if (!input_valid(in))
         return TDSD_ERR_ARG;
     n2 = step_setup(in, out, J2, e2, w2, Kpe, g);
-    if (allow_fast) { /* f's scope ends before the SVD's: they share stack */
+    if (allow_fast) { /* the factors' scopes end before the SVD's: they share stack */
+        gram_factor f;
+        if (gram_factor_task(&f, in, J2, n2, out) == 0) {
+            resolve_gram(in, out, &f, n2, w2, e2, Kpe, g);
+            fast = 1;
+        }
+    }
+    if (allow_fast && !fast) { /* near rank loss: orthogonal rows keep eps kappa */
         lq_factor f;
         if (lq_factor_task(&f, in, J2, n2, out) == 0) {
             resolve_lq(in, out, &f, n2, w2, e2, Kpe, g);
