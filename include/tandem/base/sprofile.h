@@ -49,5 +49,11 @@ double sprofile_v_peak(const sprofile *p);
  * Call once per control cycle from s = 0 at the segment start: no table,
  * no allocation. */
 double sprofile_advance(const sprofile *p, double s_m, double dt_s, double v_floor);
+/* The same step from s_m in [0, s_f] for a caller that has just evaluated
+ * its first stage, rate_s = max(v(s_m), v_floor) (v_floor >= 0): one
+ * profile evaluation fewer, the same result. Other arguments: as
+ * sprofile_advance. */
+double sprofile_advance_at(const sprofile *p, double s_m, double rate_s, double dt_s,
+                           double v_floor);
 
 #endif

@@ -109,6 +109,13 @@ typedef struct {
  * (TDSD_FAST_COND_MAX), by the SVD of tdsd_step_svd elsewhere; the two
  * agree to rounding (docs/method/tdsd.md §3a gives the identities). */
 int tdsd_step(const tdsd_input *in, tdsd_output *out);
+/* tdsd_step without its pass over the inputs, for a caller whose inputs
+ * are valid by construction (every entry finite, orient one of the modes,
+ * K_p, K_o >= 0, rate_cap in [0, 1], pinv_rtol in [0, 1), dq_max > 0):
+ * tdsd_seg_step, which builds them from a checked reference and segment,
+ * so that no input is checked twice a cycle. Invalid inputs are then
+ * undefined behaviour of the result, not an error code. */
+int tdsd_step_unchecked(const tdsd_input *in, tdsd_output *out);
 /* The same step, always by the SVD (the generic path; the fast path's
  * test oracle). */
 int tdsd_step_svd(const tdsd_input *in, tdsd_output *out);

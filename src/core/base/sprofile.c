@@ -113,9 +113,19 @@ static double rate(const sprofile *p, double s, double v_floor)
     return v > v_floor ? v : v_floor;
 }
 
+/* The RK4 step from s with its first stage's rate k1 = rate(p, s, v_floor). */
+static double advance_from(const sprofile *p, double s, double k1, double dt_s, double v_floor)
+{
+    const double k2 = rate(p, s + 0.5 * dt_s * k1, v_floor);
+    const double k3 = rate(p, s + 0.5 * dt_s * k2, v_floor);
+    const double k4 = rate(p, s + dt_s * k3, v_floor);
+    s += dt_s * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
+    return clamp_s(s, p->s_f_m);
+}
+
 double sprofile_advance(const sprofile *p, double s_m, double dt_s, double v_floor)
 {
-    double k1, k2, k3, k4, s;
+    double s;
     if (!p || !isfinite(s_m))
         return 0.0;
     s = clamp_s(s_m, p->s_f_m);
@@ -123,10 +133,14 @@ double sprofile_advance(const sprofile *p, double s_m, double dt_s, double v_flo
         return s;
     if (v_floor < 0.0)
         v_floor = 0.0;
-    k1 = rate(p, s, v_floor);
-    k2 = rate(p, s + 0.5 * dt_s * k1, v_floor);
-    k3 = rate(p, s + 0.5 * dt_s * k2, v_floor);
-    k4 = rate(p, s + dt_s * k3, v_floor);
-    s += dt_s * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
-    return clamp_s(s, p->s_f_m);
+    return advance_from(p, s, rate(p, s, v_floor), dt_s, v_floor);
+}
+
+double sprofile_advance_at(const sprofile *p, double s_m, double rate_s, double dt_s,
+                           double v_floor)
+{
+    if (!p || !isfinite(s_m) || !(s_m >= 0.0) || !(s_m <= p->s_f_m) || !isfinite(rate_s) ||
+        !isfinite(dt_s) || dt_s <= 0.0 || !isfinite(v_floor) || v_floor < 0.0)
+        return sprofile_advance(p, s_m, dt_s, v_floor);
+    return advance_from(p, s_m, rate_s, dt_s, v_floor);
 }

@@ -143,13 +143,16 @@ static void output_reset(tdsd_output *out)
     out->fast = TDSD_PATH_SVD;
 }
 
-/* Task 2 rows J2 (n2 x 6), error e2 and feed-forward w2 (n2), per mode. */
-static int task2_setup(const tdsd_input *in, double J2[3 * NJ], double e2[3], double w2[3])
+/* Task 2 rows J2 (n2 x 6), error e2 and feed-forward w2 (n2), per mode:
+ * *J2 is in->Jw itself (full orientation) or buf. */
+static int task2_setup(const tdsd_input *in, double buf[3 * NJ], const double **J2, double e2[3],
+                       double w2[3])
 {
     int j;
+    *J2 = buf;
     switch (in->orient) {
     case TDSD_ORIENT_FULL:
-        linalg_copy(J2, in->Jw, 3, NJ);
+        *J2 = in->Jw;
         tdsd_orientation_error(e2, in->R_d, in->R);
         for (j = 0; j < 3; j++)
             w2[j] = in->w_d_radps[j];
@@ -158,7 +161,7 @@ static int task2_setup(const tdsd_input *in, double J2[3 * NJ], double e2[3], do
         double n[3], o[3];
         rot_col(n, in->R, 0);
         rot_col(o, in->R, 1);
-        tdsd_axis_jacobian(J2, in->Jw, in->R);
+        tdsd_axis_jacobian(buf, in->Jw, in->R);
         tdsd_axis_error(e2, in->R_d, in->R);
         w2[0] = vec3_dot(n, in->w_d_radps);
         w2[1] = vec3_dot(o, in->w_d_radps);
@@ -267,12 +270,12 @@ static double path_rate_dq1(const tdsd_input *in, tdsd_output *out, const double
 
 /* The task set-up both resolutions share: e_p, task 2's rows, error and
  * feed-forward, y2' follows once lambda is known. Returns n2. */
-static int step_setup(const tdsd_input *in, tdsd_output *out, double J2[3 * NJ], double e2[3],
-                      double w2[3], double Kpe[3], double g[NJ])
+static int step_setup(const tdsd_input *in, tdsd_output *out, double buf[3 * NJ],
+                      const double **J2, double e2[3], double w2[3], double Kpe[3], double g[NJ])
 {
     int n2, i;
     vec3_sub(out->e_p, in->p_d_m, in->p_m);
-    n2 = task2_setup(in, J2, e2, w2);
+    n2 = task2_setup(in, buf, J2, e2, w2);
     out->n2 = n2;
     for (i = 0; i < n2; i++)
         out->e_o[i] = e2[i];
@@ -449,7 +452,7 @@ static void lq_combine(const lq_factor *f, int off, int k, const double *z, doub
 }
 
 /* Factors [J1; J2] and checks both blocks; 0 when the fast path applies. */
-static int lq_factor_task(lq_factor *f, const tdsd_input *in, const double J2[3 * NJ], int n2,
+static int lq_factor_task(lq_factor *f, const tdsd_input *in, const double *J2, int n2,
                           tdsd_output *out)
 {
     const double rtol = in->pinv_rtol > 0.0 ? in->pinv_rtol : LINALG_PINV_RTOL;
@@ -700,7 +703,7 @@ static void resolve_gram(const tdsd_input *in, tdsd_output *out, const gram_fact
  *   J2 P1 = J2 - (J2 V1) V1^T,   P1 g = g - V1 V1^T g,
  *   (J2P1)+ (J2P1) g = V2 V2^T g   (V1, V2: kept right singular vectors).
  * It is eq. 8-11 of docs/method/tdsd.md §3-4 in the order written there. */
-static int resolve_svd(const tdsd_input *in, tdsd_output *out, const double J2[3 * NJ], int n2,
+static int resolve_svd(const tdsd_input *in, tdsd_output *out, const double *J2, int n2,
                        const double w2[3], const double e2[3], const double Kpe[3],
                        const double g[NJ])
 {
@@ -747,15 +750,18 @@ static int resolve_svd(const tdsd_input *in, tdsd_output *out, const double J2[3
     return TDSD_OK;
 }
 
-static int step_with(const tdsd_input *in, tdsd_output *out, int allow_fast)
+/* check: 0 skips input_valid (tdsd_step_unchecked: the caller's inputs
+ * are valid by construction). */
+static int step_with(const tdsd_input *in, tdsd_output *out, int allow_fast, int check)
 {
-    double J2[3 * NJ], e2[3], w2[3], g[NJ], Kpe[3];
+    double buf[3 * NJ], e2[3], w2[3], g[NJ], Kpe[3];
+    const double *J2;
     int n2, rc = TDSD_OK, fast = 0;
 
     output_reset(out);
-    if (!input_valid(in))
+    if (check && !input_valid(in))
         return TDSD_ERR_ARG;
-    n2 = step_setup(in, out, J2, e2, w2, Kpe, g);
+    n2 = step_setup(in, out, buf, &J2, e2, w2, Kpe, g);
     if (allow_fast) { /* the factors' scopes end before the SVD's: they share stack */
         gram_factor f;
         if (gram_factor_task(&f, in, J2, n2, out) == 0) {
@@ -782,23 +788,29 @@ static int step_with(const tdsd_input *in, tdsd_output *out, int allow_fast)
 
 int tdsd_step(const tdsd_input *in, tdsd_output *out)
 {
-    return step_with(in, out, 1);
+    return step_with(in, out, 1, 1);
+}
+
+int tdsd_step_unchecked(const tdsd_input *in, tdsd_output *out)
+{
+    return step_with(in, out, 1, 0);
 }
 
 int tdsd_step_svd(const tdsd_input *in, tdsd_output *out)
 {
-    return step_with(in, out, 0);
+    return step_with(in, out, 0, 1);
 }
 
 /* Stacked task [J1; J2] (m x 6) and velocity [y1'; y2'] at lambda = rate_cap. */
 static int rr_setup(const tdsd_input *in, tdsd_output *out, double J[NJ * NJ], double y[NJ])
 {
-    double J2[3 * NJ], e2[3], w2[3];
+    double buf[3 * NJ], e2[3], w2[3];
+    const double *J2;
     linalg_pinv_svd F1;
     int n2, i;
 
     vec3_sub(out->e_p, in->p_d_m, in->p_m);
-    n2 = task2_setup(in, J2, e2, w2);
+    n2 = task2_setup(in, buf, &J2, e2, w2);
     out->n2 = n2;
     out->lambda = in->rate_cap;
     out->Q1 = out->Q2 = 1.0;

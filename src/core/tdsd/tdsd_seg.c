@@ -9,6 +9,7 @@
 #include "linalg.h"
 #include "trig.h"
 #include "vec3.h"
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -60,7 +61,7 @@ int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
     g->par = *par;
     g->tool = *tool;
     memcpy(g->T_world_base, T_world_base, sizeof g->T_world_base);
-    if (arm_fk(m, tool, q, T) != 0)
+    if (arm_fk(m, tool, q, T) != 0 || !linalg_all_finite(T, 16))
         return TDSD_SEG_ERR_ARG;
     tf_pos(g->p0, T);
     tf_rot(g->R0, T);
@@ -73,6 +74,8 @@ int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
         rot_mul(dR, g->R1, R0t);
     }
     g->rot_rad = rot_to_axis_angle(g->rot_axis, dR);
+    if (!isfinite(g->rot_rad) || !linalg_all_finite(g->rot_axis, 3))
+        return TDSD_SEG_ERR_ARG;
     vec3_sub(d, g->p1, g->p0);
     g->L_m = fmax(vec3_norm(d), par->rot_len_m * g->rot_rad);
     if (sprofile_plan(&g->prof, g->L_m, par->v_m, par->a_m, par->u_m) != 0)
@@ -93,15 +96,19 @@ static void rot_about_unit(double R[9], const double k[3], double angle_rad)
 }
 
 /* Path point, frame and their rates at path rate 1 (d/dt with ds/dt =
- * max(v(s), floor)), base frame. */
-static void path_at(const tdsd_seg *g, double s, double p[3], double R[9], double v[3], double w[3])
+ * max(v(s), floor)), base frame; returns max(v(s), floor), the profile's
+ * rate at s (sprofile_advance_at's first stage; the floor where v(s) = 0,
+ * at L). */
+static double path_at(const tdsd_seg *g, double s, double p[3], double R[9], double v[3],
+                      double w[3])
 {
-    double vs = 0.0, f = 0.0, d[3], dR[9];
+    double vs = 0.0, f = 0.0, rate = g->par.v_floor_mps, d[3], dR[9];
     if (g->L_m > 0.0) {
         f = s / g->L_m;
         if (s < g->L_m) {
             sprofile_at(&g->prof, s, NULL, &vs);
-            vs = (vs > g->par.v_floor_mps ? vs : g->par.v_floor_mps) / g->L_m; /* df/dt */
+            rate = vs > g->par.v_floor_mps ? vs : g->par.v_floor_mps;
+            vs = rate / g->L_m; /* df/dt */
         }
     }
     vec3_sub(d, g->p1, g->p0);
@@ -110,22 +117,27 @@ static void path_at(const tdsd_seg *g, double s, double p[3], double R[9], doubl
     rot_about_unit(dR, g->rot_axis, f * g->rot_rad);
     rot_mul(R, dR, g->R0);
     vec3_scale(w, g->rot_axis, g->rot_rad * vs);
+    return rate;
 }
 
 int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *out)
 {
-    double T[16], J[36], Rwb[9];
+    double T[16], J[36], Rwb[9], rate_s;
     tdsd_input in;
     tdsd_output o;
-    int i, rc;
+    int i, rc, lim_ok = 1;
     if (!g || !m || !out || !isfinite(dt_s) || dt_s <= 0.0)
         return TDSD_ERR_ARG;
-    memset(out, 0, sizeof *out);
-    if (arm_fk_jacobian(m, &g->tool, g->q_ref, T, J) != 0)
+    /* arm_fk_jacobian checks q_ref: the segment (tdsd_seg_start) and the
+     * reference being finite, every input of the step below is (the one
+     * pass over them, tdsd_step_unchecked) */
+    if (arm_fk_jacobian(m, &g->tool, g->q_ref, T, J) != 0) {
+        memset(out, 0, sizeof *out);
         return TDSD_ERR_ARG;
+    }
     tf_pos(in.p_m, T);
     tf_rot(in.R, T);
-    path_at(g, g->s_m, in.p_d_m, in.R_d, in.v_d_mps, in.w_d_radps);
+    rate_s = path_at(g, g->s_m, in.p_d_m, in.R_d, in.v_d_mps, in.w_d_radps);
     memcpy(in.J1, J, sizeof in.J1);
     memcpy(in.Jw, J + 18, sizeof in.Jw);
     in.orient = TDSD_ORIENT_FULL;
@@ -136,20 +148,35 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
     for (i = 0; i < ARM_NJ; i++)
         in.grad_V[i] = 0.0;
     if (g->par.criterion_mask && tdsd_midrange_grad(in.grad_V, NULL, g->q_ref, m->q_min_rad,
-                                                    m->q_max_rad, g->par.criterion_mask) != TDSD_OK)
+                                                    m->q_max_rad, g->par.criterion_mask) != TDSD_OK) {
+        memset(out, 0, sizeof *out);
         return TDSD_ERR_ARG;
-    for (i = 0; i < ARM_NJ; i++)
+    }
+    for (i = 0; i < ARM_NJ; i++) {
         in.dq_max_radps[i] = g->par.speed_frac * m->qd_max_radps[i];
+        lim_ok &= in.dq_max_radps[i] > 0.0 && in.dq_max_radps[i] <= DBL_MAX;
+    }
     /* re-accelerate smoothly after a slow-down (tdsd.h, rate_cap) */
     in.rate_cap = g->lambda + dt_s / g->par.T_recover_s;
     if (!(in.rate_cap < 1.0))
         in.rate_cap = 1.0;
-    rc = tdsd_step(&in, &o); /* on error o.dq is zero: the reference holds */
+    /* on error o.dq is zero: the reference holds (a bad limit: tdsd_step
+     * finds it). A non-finite model table, the one input not checked here
+     * or at the start, makes the command non-finite: refused the same way. */
+    rc = lim_ok ? tdsd_step_unchecked(&in, &o) : tdsd_step(&in, &o);
+    if (rc == TDSD_OK && !linalg_all_finite(o.dq_radps, ARM_NJ)) {
+        rc = TDSD_ERR_NUMERIC;
+        for (i = 0; i < ARM_NJ; i++)
+            o.dq_radps[i] = 0.0;
+    }
 
     for (i = 0; i < ARM_NJ; i++) {
         g->ddq_ref[i] = (o.dq_radps[i] - g->dq_ref[i]) / dt_s;
         g->dq_ref[i] = o.dq_radps[i];
         g->q_ref[i] += o.dq_radps[i] * dt_s;
+        out->q_d[i] = g->q_ref[i];
+        out->qd_d[i] = g->dq_ref[i];
+        out->qdd_d[i] = g->ddq_ref[i];
     }
     g->lambda = rc == TDSD_OK ? o.lambda : 0.0;
     out->pos_err_m = vec3_norm(o.e_p);
@@ -163,7 +190,7 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
     for (i = 0; i < 3; i++)
         out->p_d_world[i] += g->T_world_base[4 * i + 3];
 
-    g->s_m = sprofile_advance(&g->prof, g->s_m, g->lambda * dt_s, g->par.v_floor_mps);
+    g->s_m = sprofile_advance_at(&g->prof, g->s_m, rate_s, g->lambda * dt_s, g->par.v_floor_mps);
     g->t_s += dt_s;
     if (g->t_path_end_s < 0.0 && g->s_m >= g->L_m)
         g->t_path_end_s = g->t_s;
@@ -171,9 +198,6 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
     g->settled = g->t_path_end_s >= 0.0 && rc == TDSD_OK && g->s_m >= g->L_m &&
                  out->pos_err_m < TDSD_SEG_DONE_POS_M && out->ori_err_rad < TDSD_SEG_DONE_ORI_RAD;
 
-    memcpy(out->q_d, g->q_ref, sizeof out->q_d);
-    memcpy(out->qd_d, g->dq_ref, sizeof out->qd_d);
-    memcpy(out->qdd_d, g->ddq_ref, sizeof out->qdd_d);
     out->s_m = g->s_m;
     out->L_m = g->L_m;
     out->path_done = g->t_path_end_s >= 0.0;
