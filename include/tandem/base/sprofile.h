@@ -27,6 +27,9 @@ typedef struct {
     double w_peak;  /* peak v^2 actually used (<= v_m^2)              */
     double d_acc_m; /* length of the acceleration (and deceleration)
                            phase; s3 - s0 in eq. 4                        */
+    double x1_m;    /* a_peak / u_m: end of the jerk phase (x = s - s0) */
+    double w_x1;    /* a_peak^2 / u_m: w there (every evaluation used to
+                           divide for both)                               */
 } sprofile;
 
 /* Plan a profile. s_f_m >= 0 and v_m, a_m, u_m > 0, all finite.

@@ -25,6 +25,8 @@ static void zero(sprofile *p)
     p->a_peak = 0.0;
     p->w_peak = 0.0;
     p->d_acc_m = 0.0;
+    p->x1_m = 0.0;
+    p->w_x1 = 0.0;
 }
 
 int sprofile_plan(sprofile *p, double s_f_m, double v_m, double a_m, double u_m)
@@ -48,6 +50,8 @@ int sprofile_plan(sprofile *p, double s_f_m, double v_m, double a_m, double u_m)
     p->d_acc_m = d;
     p->a_peak = a;
     p->w_peak = fmin(w_m, fmax(0.0, 2.0 * a * d - 2.0 * a * a / u_m));
+    p->x1_m = a / u_m;
+    p->w_x1 = a * a / u_m;
     return 0;
 }
 
@@ -62,18 +66,17 @@ static double clamp_s(double s, double s_f)
 /* Acceleration phase, x in [0, D]. */
 static void acc_phase(const sprofile *p, double x, double *a, double *w)
 {
-    const double u = p->u_m, A = p->a_peak, D = p->d_acc_m;
-    const double x1 = A / u, x2 = D - A / u;
+    const double u = p->u_m, A = p->a_peak, x1 = p->x1_m, x2 = p->d_acc_m - p->x1_m;
     if (x <= x1) {
         *a = u * x;
         *w = u * x * x;
     } else if (x <= x2) {
         *a = A;
-        *w = A * A / u + 2.0 * A * (x - x1);
+        *w = p->w_x1 + 2.0 * A * (x - x1);
     } else {
         double y = x - x2;
         *a = A - u * y;
-        *w = A * A / u + 2.0 * A * (x2 - x1) + 2.0 * A * y - u * y * y;
+        *w = p->w_x1 + 2.0 * A * (x2 - x1) + 2.0 * A * y - u * y * y;
     }
     if (*w > p->w_peak)
         *w = p->w_peak;

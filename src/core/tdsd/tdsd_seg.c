@@ -222,21 +222,25 @@ int tdsd_servo_vlimit(const jointctl_gains *gains, const double qd_lim[ARM_NJ],
                       const double q[ARM_NJ], double q_d[ARM_NJ], double qd_d[ARM_NJ],
                       double qdd_d[ARM_NJ])
 {
-    double k;
+    double k, v_c[ARM_NJ];
     int i, n = 0;
     if (!gains || !qd_lim || !q || !q_d || !qd_d || !qdd_d || !(gains->wn_radps > 0.0) ||
-        !(gains->zeta > 0.0) || !isfinite(gains->wn_radps) || !isfinite(gains->zeta) ||
-        arm_q_finite(q) != 0 || arm_q_finite(q_d) != 0 || arm_q_finite(qd_d) != 0)
+        !(gains->zeta > 0.0) || !isfinite(gains->wn_radps) || !isfinite(gains->zeta))
         return TDSD_SEG_ERR_ARG;
-    for (i = 0; i < ARM_NJ; i++)
-        if (!(qd_lim[i] > 0.0))
-            return TDSD_SEG_ERR_ARG;
     k = gains->wn_radps / (2.0 * gains->zeta); /* Kp / Kv */
     for (i = 0; i < ARM_NJ; i++) {
-        const double v_c = qd_d[i] + k * (q_d[i] - q[i]);
-        if (fabs(v_c) > qd_lim[i]) {
+        if (!(qd_lim[i] > 0.0))
+            return TDSD_SEG_ERR_ARG;
+        v_c[i] = qd_d[i] + k * (q_d[i] - q[i]);
+    }
+    /* v_c is finite only if q, q_d and qd_d are (k is finite, > 0): one
+     * check of the three */
+    if (!linalg_all_finite(v_c, ARM_NJ))
+        return TDSD_SEG_ERR_ARG;
+    for (i = 0; i < ARM_NJ; i++) {
+        if (fabs(v_c[i]) > qd_lim[i]) {
             q_d[i] = q[i];
-            qd_d[i] = v_c > 0.0 ? qd_lim[i] : -qd_lim[i];
+            qd_d[i] = v_c[i] > 0.0 ? qd_lim[i] : -qd_lim[i];
             qdd_d[i] = 0.0;
             n++;
         }
