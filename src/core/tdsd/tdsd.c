@@ -566,6 +566,30 @@ static void gram_solve(const gram_factor *f, int off, int k, const double *y, do
     gram_bwd(f, off, k, x, x);
 }
 
+/* A diagonal block of k <= 3 rows at off written out: z = U_kk^-1 y,
+ * x = U_kk^-T D_k^-1 z (for the first block J1^+ y = J1^T x; for the
+ * second x = (J2 P1 (J2 P1)^T)^-1 y), in the order of gram_fwd and gram_bwd. */
+static void gram_block_solve(const gram_factor *f, int off, int k, const double *y, double *z,
+                             double *x)
+{
+    const double *d = f->dinv + off, *u1 = f->U[off + 1] + off, *u2 = f->U[off + 2] + off;
+    z[0] = y[0];
+    if (k == 1) {
+        x[0] = z[0] * d[0];
+        return;
+    }
+    z[1] = y[1] - u1[0] * z[0];
+    if (k == 2) {
+        x[1] = z[1] * d[1];
+        x[0] = z[0] * d[0] - u1[0] * x[1];
+        return;
+    }
+    z[2] = y[2] - u2[0] * z[0] - u2[1] * z[1];
+    x[2] = z[2] * d[2];
+    x[1] = z[1] * d[1] - u2[1] * x[2];
+    x[0] = z[0] * d[0] - u1[0] * x[1] - u2[0] * x[2];
+}
+
 /* v = sum_{i < k} x_i row_{off+i} (J^T x over k rows from off). */
 static void gram_combine(const gram_factor *f, int off, int k, const double *x, double v[NJ])
 {
@@ -586,24 +610,25 @@ static void gram_combine(const gram_factor *f, int off, int k, const double *x, 
  * X_21 = -U_21, X_20 = U_21 U_10 - U_20. */
 static double gram_block_cond2(const gram_factor *f, int off, int k, double *fro2, double *inv2)
 {
-    const double(*U)[NJ] = f->U;
-    const double(*W)[NJ] = f->W;
-    const double *di = f->dinv + off;
-    double fro = 0.0, inv = 0.0;
-    int i, c;
-    for (i = 0; i < k; i++) {
-        fro += f->d[off + i];
-        for (c = 0; c < i; c++)
-            fro += U[off + i][off + c] * W[off + i][off + c];
-        inv += di[i];
-    }
+    const double *d = f->d + off, *di = f->dinv + off;
+    const double *u1 = f->U[off + 1] + off, *u2 = f->U[off + 2] + off;
+    const double *w1 = f->W[off + 1] + off, *w2 = f->W[off + 2] + off;
+    double fro = d[0], inv = di[0];
     if (k >= 2) {
-        const double x10 = U[off + 1][off];
-        inv += x10 * x10 * di[1];
+        const double x10 = u1[0];
+        fro += d[1];
+        fro += u1[0] * w1[0];
+        inv += di[1];
         if (k == 3) {
-            const double x21 = U[off + 2][off + 1];
-            const double x20 = x21 * x10 - U[off + 2][off];
+            const double x21 = u2[1], x20 = x21 * x10 - u2[0];
+            fro += d[2];
+            fro += u2[0] * w2[0];
+            fro += u2[1] * w2[1];
+            inv += di[2];
+            inv += x10 * x10 * di[1];
             inv += (x21 * x21 + x20 * x20) * di[2];
+        } else {
+            inv += x10 * x10 * di[1];
         }
     }
     *fro2 = fro;
@@ -654,27 +679,24 @@ static void resolve_gram(const tdsd_input *in, tdsd_output *out, const gram_fact
                          const double w2[3], const double e2[3], const double Kpe[3],
                          const double g[NJ])
 {
-    double za[3], zb[3], x[NJ], a[NJ], b[NJ], c;
+    double za[3], zb[3], xa[3], xb[3], x[NJ], a[NJ], b[NJ], c;
     int i, j;
     out->fast = TDSD_PATH_GRAM;
     out->rank_J1 = 3;
     out->rank_J2P1 = n2;
     /* a = J1^+ p_d', b = J1^+ K_p e_p, through z = U11^-1 y */
-    gram_fwd(f, 0, 3, in->v_d_mps, za);
-    gram_fwd(f, 0, 3, Kpe, zb);
-    for (i = 0; i < 3; i++)
-        x[i] = za[i] * f->dinv[i];
-    gram_bwd(f, 0, 3, x, x);
-    gram_combine(f, 0, 3, x, a);
-    for (i = 0; i < 3; i++)
-        x[i] = zb[i] * f->dinv[i];
-    gram_bwd(f, 0, 3, x, x);
-    gram_combine(f, 0, 3, x, b);
+    gram_block_solve(f, 0, 3, in->v_d_mps, za, xa);
+    gram_block_solve(f, 0, 3, Kpe, zb, xb);
+    for (j = 0; j < NJ; j++) { /* J1^T xa, J1^T xb in one pass over J1 */
+        const double r0 = f->row[0][j], r1 = f->row[1][j], r2 = f->row[2][j];
+        a[j] = xa[0] * r0 + xa[1] * r1 + xa[2] * r2;
+        b[j] = xb[0] * r0 + xb[1] * r1 + xb[2] * r2;
+    }
     c = path_rate_dq1(in, out, a, b, Kpe);
     if (n2 > 0) {
-        double r[3];
+        double r[3], z2[3];
         task2_residual(in, out, f->U + 3, n2, w2, e2, za, zb, c, r); /* J2 dq1 = U21 z1 */
-        gram_solve(f, 3, n2, r, x + 3); /* x2 */
+        gram_block_solve(f, 3, n2, r, z2, x + 3); /* x2 */
         for (j = 0; j < 3; j++) {       /* x1 = -U11^-T U21^T x2 */
             x[j] = 0.0;
             for (i = 0; i < n2; i++)
