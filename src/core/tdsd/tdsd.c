@@ -311,15 +311,12 @@ static void task2_residual(const tdsd_input *in, tdsd_output *out, const double 
                            const double w2[3], const double e2[3], const double za[3],
                            const double zb[3], double c, double r[3])
 {
-    double z1[3];
-    int i, j;
-    for (j = 0; j < 3; j++)
-        z1[j] = out->lambda * za[j] + c * zb[j];
+    const double z0 = out->lambda * za[0] + c * zb[0], z1 = out->lambda * za[1] + c * zb[1],
+                 z2 = out->lambda * za[2] + c * zb[2];
+    int i;
     for (i = 0; i < n2; i++) {
         out->y2[i] = out->lambda * w2[i] + in->K_o * e2[i];
-        r[i] = out->y2[i];
-        for (j = 0; j < 3; j++)
-            r[i] -= M21[i][j] * z1[j];
+        r[i] = out->y2[i] - M21[i][0] * z0 - M21[i][1] * z1 - M21[i][2] * z2;
     }
 }
 
@@ -492,9 +489,7 @@ static void resolve_lq(const tdsd_input *in, tdsd_output *out, const lq_factor *
         lq_solve(f, 3, n2, r, z2);
         lq_combine(f, 3, n2, z2, out->dq2);
     }
-    for (i = 0; i < NJ; i++)
-        out->dq3[i] = 0.0;
-    if (f->n < NJ) { /* dq3 = g - Q Q^T g */
+    if (f->n < NJ) { /* dq3 = g - Q Q^T g; else 0, as output_reset left it */
         for (i = 0; i < NJ; i++)
             out->dq3[i] = g[i];
         for (j = 0; j < f->n; j++)
@@ -566,38 +561,54 @@ static void gram_solve(const gram_factor *f, int off, int k, const double *y, do
     gram_bwd(f, off, k, x, x);
 }
 
-/* A diagonal block of k <= 3 rows at off written out: z = U_kk^-1 y,
- * x = U_kk^-T D_k^-1 z (for the first block J1^+ y = J1^T x; for the
- * second x = (J2 P1 (J2 P1)^T)^-1 y), in the order of gram_fwd and gram_bwd. */
+/* x = U_kk^-T y for a diagonal block of k <= 3 rows at off, written out
+ * in gram_bwd's order; x may be y. */
+static void gram_block_bwd(const gram_factor *f, int off, int k, const double *y, double *x)
+{
+    const double *u1 = f->U[off + 1] + off, *u2 = f->U[off + 2] + off;
+    if (k == 3) {
+        x[2] = y[2];
+        x[1] = y[1] - u2[1] * x[2];
+        x[0] = y[0] - u1[0] * x[1] - u2[0] * x[2];
+    } else if (k == 2) {
+        x[1] = y[1];
+        x[0] = y[0] - u1[0] * x[1];
+    } else {
+        x[0] = y[0];
+    }
+}
+
+/* The same block: z = U_kk^-1 y, x = U_kk^-T D_k^-1 z (for the first
+ * block J1^+ y = J1^T x; for the second x = (J2 P1 (J2 P1)^T)^-1 y). */
 static void gram_block_solve(const gram_factor *f, int off, int k, const double *y, double *z,
                              double *x)
 {
     const double *d = f->dinv + off, *u1 = f->U[off + 1] + off, *u2 = f->U[off + 2] + off;
+    int i;
     z[0] = y[0];
-    if (k == 1) {
-        x[0] = z[0] * d[0];
-        return;
-    }
-    z[1] = y[1] - u1[0] * z[0];
-    if (k == 2) {
-        x[1] = z[1] * d[1];
-        x[0] = z[0] * d[0] - u1[0] * x[1];
-        return;
-    }
-    z[2] = y[2] - u2[0] * z[0] - u2[1] * z[1];
-    x[2] = z[2] * d[2];
-    x[1] = z[1] * d[1] - u2[1] * x[2];
-    x[0] = z[0] * d[0] - u1[0] * x[1] - u2[0] * x[2];
+    if (k >= 2)
+        z[1] = y[1] - u1[0] * z[0];
+    if (k == 3)
+        z[2] = y[2] - u2[0] * z[0] - u2[1] * z[1];
+    for (i = 0; i < k; i++)
+        x[i] = z[i] * d[i];
+    gram_block_bwd(f, off, k, x, x);
 }
 
-/* v = sum_{i < k} x_i row_{off+i} (J^T x over k rows from off). */
-static void gram_combine(const gram_factor *f, int off, int k, const double *x, double v[NJ])
+/* v = J^T x over the first k rows of J (k = n: 3, 5 or 6), summed in row
+ * order. */
+static void gram_combine(const gram_factor *f, int k, const double *x, double v[NJ])
 {
-    int i, j;
+    const double *const *r = f->row;
+    int j;
     for (j = 0; j < NJ; j++) {
-        double acc = 0.0;
-        for (i = 0; i < k; i++)
-            acc += x[i] * f->row[off + i][j];
+        double acc = x[0] * r[0][j] + x[1] * r[1][j] + x[2] * r[2][j];
+        if (k > 3)
+            acc += x[3] * r[3][j];
+        if (k > 4)
+            acc += x[4] * r[4][j];
+        if (k > 5)
+            acc += x[5] * r[5][j];
         v[j] = acc;
     }
 }
@@ -702,17 +713,15 @@ static void resolve_gram(const tdsd_input *in, tdsd_output *out, const gram_fact
             for (i = 0; i < n2; i++)
                 x[j] -= f->U[3 + i][j] * x[3 + i];
         }
-        gram_bwd(f, 0, 3, x, x);
-        gram_combine(f, 0, f->n, x, out->dq2);
+        gram_block_bwd(f, 0, 3, x, x);
+        gram_combine(f, f->n, x, out->dq2);
     }
-    for (i = 0; i < NJ; i++)
-        out->dq3[i] = 0.0;
-    if (f->n < NJ) { /* dq3 = g - J^T G^-1 J g */
+    if (f->n < NJ) { /* dq3 = g - J^T G^-1 J g; else 0 (output_reset) */
         double u[NJ];
         for (i = 0; i < f->n; i++)
             u[i] = dot6(f->row[i], g);
         gram_solve(f, 0, f->n, u, x);
-        gram_combine(f, 0, f->n, x, u);
+        gram_combine(f, f->n, x, u);
         for (i = 0; i < NJ; i++)
             out->dq3[i] = g[i] - u[i];
     }

@@ -53,6 +53,7 @@ int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
                    const double R1_world[9], const tdsd_seg_params *par)
 {
     double T[16], Rwb[9], dR[9], d[3];
+    int i;
     if (!g || !m || !tool || !T_world_base || !q || !p1_world || !R1_world || !par ||
         !params_valid(par) || arm_q_finite(q) != 0 || !linalg_all_finite(T_world_base, 16) ||
         !linalg_all_finite(p1_world, 3) || !linalg_all_finite(R1_world, 9))
@@ -81,6 +82,18 @@ int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
     if (sprofile_plan(&g->prof, g->L_m, par->v_m, par->a_m, par->u_m) != 0)
         return TDSD_SEG_ERR_ARG;
     memcpy(g->q_ref, q, sizeof g->q_ref);
+    tf_rot(g->R_world_base, T_world_base);
+    g->in.orient = TDSD_ORIENT_FULL;
+    g->in.K_p = par->K_p;
+    g->in.K_o = par->K_o;
+    g->in.k_V = par->k_V;
+    g->in.pinv_rtol = 0.0;
+    for (i = 0; i < ARM_NJ; i++) {
+        g->in.grad_V[i] = 0.0;
+        g->in.dq_max_radps[i] = par->speed_frac * m->qd_max_radps[i];
+        if (!(g->in.dq_max_radps[i] > 0.0) || !(g->in.dq_max_radps[i] <= DBL_MAX))
+            return TDSD_SEG_ERR_ARG;
+    }
     g->lambda = 1.0;
     g->t_path_end_s = g->L_m > 0.0 ? -1.0 : 0.0;
     return 0;
@@ -122,12 +135,13 @@ static double path_at(const tdsd_seg *g, double s, double p[3], double R[9], dou
 
 int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *out)
 {
-    double T[16], J[36], Rwb[9], rate_s;
-    tdsd_input in;
+    tdsd_input *in;
+    double T[16], J[36], rate_s, inv_dt;
     tdsd_output o;
-    int i, rc, lim_ok = 1;
+    int i, rc;
     if (!g || !m || !out || !isfinite(dt_s) || dt_s <= 0.0)
         return TDSD_ERR_ARG;
+    in = &g->in;
     /* arm_fk_jacobian checks q_ref: the segment (tdsd_seg_start) and the
      * reference being finite, every input of the step below is (the one
      * pass over them, tdsd_step_unchecked) */
@@ -135,43 +149,33 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
         memset(out, 0, sizeof *out);
         return TDSD_ERR_ARG;
     }
-    tf_pos(in.p_m, T);
-    tf_rot(in.R, T);
-    rate_s = path_at(g, g->s_m, in.p_d_m, in.R_d, in.v_d_mps, in.w_d_radps);
-    memcpy(in.J1, J, sizeof in.J1);
-    memcpy(in.Jw, J + 18, sizeof in.Jw);
-    in.orient = TDSD_ORIENT_FULL;
-    in.K_p = g->par.K_p;
-    in.K_o = g->par.K_o;
-    in.k_V = g->par.k_V;
-    in.pinv_rtol = 0.0;
-    for (i = 0; i < ARM_NJ; i++)
-        in.grad_V[i] = 0.0;
-    if (g->par.criterion_mask && tdsd_midrange_grad(in.grad_V, NULL, g->q_ref, m->q_min_rad,
+    tf_pos(in->p_m, T);
+    tf_rot(in->R, T);
+    rate_s = path_at(g, g->s_m, in->p_d_m, in->R_d, in->v_d_mps, in->w_d_radps);
+    memcpy(in->J1, J, sizeof in->J1);
+    memcpy(in->Jw, J + 18, sizeof in->Jw);
+    if (g->par.criterion_mask && tdsd_midrange_grad(in->grad_V, NULL, g->q_ref, m->q_min_rad,
                                                     m->q_max_rad, g->par.criterion_mask) != TDSD_OK) {
         memset(out, 0, sizeof *out);
         return TDSD_ERR_ARG;
     }
-    for (i = 0; i < ARM_NJ; i++) {
-        in.dq_max_radps[i] = g->par.speed_frac * m->qd_max_radps[i];
-        lim_ok &= in.dq_max_radps[i] > 0.0 && in.dq_max_radps[i] <= DBL_MAX;
-    }
     /* re-accelerate smoothly after a slow-down (tdsd.h, rate_cap) */
-    in.rate_cap = g->lambda + dt_s / g->par.T_recover_s;
-    if (!(in.rate_cap < 1.0))
-        in.rate_cap = 1.0;
-    /* on error o.dq is zero: the reference holds (a bad limit: tdsd_step
-     * finds it). A non-finite model table, the one input not checked here
-     * or at the start, makes the command non-finite: refused the same way. */
-    rc = lim_ok ? tdsd_step_unchecked(&in, &o) : tdsd_step(&in, &o);
+    in->rate_cap = g->lambda + dt_s / g->par.T_recover_s;
+    if (!(in->rate_cap < 1.0))
+        in->rate_cap = 1.0;
+    /* on error o.dq is zero: the reference holds. A non-finite model table,
+     * the one input not checked here or at the start, makes the command
+     * non-finite: refused the same way. */
+    rc = tdsd_step_unchecked(in, &o);
     if (rc == TDSD_OK && !linalg_all_finite(o.dq_radps, ARM_NJ)) {
         rc = TDSD_ERR_NUMERIC;
         for (i = 0; i < ARM_NJ; i++)
             o.dq_radps[i] = 0.0;
     }
 
+    inv_dt = 1.0 / dt_s;
     for (i = 0; i < ARM_NJ; i++) {
-        g->ddq_ref[i] = (o.dq_radps[i] - g->dq_ref[i]) / dt_s;
+        g->ddq_ref[i] = (o.dq_radps[i] - g->dq_ref[i]) * inv_dt;
         g->dq_ref[i] = o.dq_radps[i];
         g->q_ref[i] += o.dq_radps[i] * dt_s;
         out->q_d[i] = g->q_ref[i];
@@ -185,8 +189,7 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
     out->Q2 = o.Q2;
     out->lambda = g->lambda;
     out->status = rc;
-    tf_rot(Rwb, g->T_world_base);
-    rot_apply(out->p_d_world, Rwb, in.p_d_m);
+    rot_apply(out->p_d_world, g->R_world_base, in->p_d_m);
     for (i = 0; i < 3; i++)
         out->p_d_world[i] += g->T_world_base[4 * i + 3];
 
