@@ -140,6 +140,21 @@ int tdsd_midrange_grad(double grad_V[TDSD_NJ], double *V, const double q_rad[TDS
                        const double q_min_rad[TDSD_NJ], const double q_max_rad[TDSD_NJ],
                        unsigned joint_mask);
 
+/* The same gradient with the ranges taken once (a control cycle divides
+ * nothing): dV/dq_i = k_i (q_i - mid_i), k_i = -2 / (max_i - min_i)^2, for
+ * the joints of the mask (0 elsewhere). tdsd_midrange_init checks the
+ * ranges as tdsd_midrange_grad does (TDSD_ERR_ARG); tdsd_midrange_grad_at
+ * takes q as given (the caller's q is finite). */
+typedef struct {
+    double mid_rad[TDSD_NJ];
+    double k_per_rad2[TDSD_NJ];
+    unsigned mask;
+} tdsd_midrange;
+int tdsd_midrange_init(tdsd_midrange *c, const double q_min_rad[TDSD_NJ],
+                       const double q_max_rad[TDSD_NJ], unsigned joint_mask);
+void tdsd_midrange_grad_at(const tdsd_midrange *c, const double q_rad[TDSD_NJ],
+                           double grad_V[TDSD_NJ]);
+
 /* Baseline 1: full resolved rate dq = J+ [y1'; y2'] with J = [J1; J2]
  * (J2 per in->orient: 6 rows for FULL), plain pseudo-inverse (in->pinv_rtol),
  * then each joint saturated to +-dq_max independently (this distorts the

@@ -73,28 +73,50 @@ void tdsd_axis_jacobian(double J2[2 * NJ], const double Jw[3 * NJ], const double
     linalg_mul(J2, NO, Jw, 2, 3, NJ);
 }
 
+int tdsd_midrange_init(tdsd_midrange *c, const double q_min_rad[NJ], const double q_max_rad[NJ],
+                       unsigned joint_mask)
+{
+    int i;
+    c->mask = joint_mask;
+    for (i = 0; i < NJ; i++) {
+        c->mid_rad[i] = 0.0;
+        c->k_per_rad2[i] = 0.0;
+        if (!(joint_mask & (1u << i)))
+            continue;
+        if (!isfinite(q_min_rad[i]) || !isfinite(q_max_rad[i]) || !(q_max_rad[i] > q_min_rad[i]))
+            return TDSD_ERR_ARG;
+        {
+            const double range = q_max_rad[i] - q_min_rad[i];
+            c->mid_rad[i] = 0.5 * (q_min_rad[i] + q_max_rad[i]);
+            c->k_per_rad2[i] = -2.0 / (range * range);
+        }
+    }
+    return TDSD_OK;
+}
+
+void tdsd_midrange_grad_at(const tdsd_midrange *c, const double q_rad[NJ], double grad_V[NJ])
+{
+    int i;
+    for (i = 0; i < NJ; i++)
+        grad_V[i] = c->mask & (1u << i) ? c->k_per_rad2[i] * (q_rad[i] - c->mid_rad[i]) : 0.0;
+}
+
 int tdsd_midrange_grad(double grad_V[NJ], double *V, const double q_rad[NJ],
                        const double q_min_rad[NJ], const double q_max_rad[NJ], unsigned joint_mask)
 {
+    tdsd_midrange c;
     double v = 0.0;
     int i;
-    for (i = 0; i < NJ; i++) {
+    for (i = 0; i < NJ; i++)
         grad_V[i] = 0.0;
-        if (!(joint_mask & (1u << i)))
-            continue;
-        if (!isfinite(q_rad[i]) || !isfinite(q_min_rad[i]) || !isfinite(q_max_rad[i]) ||
-            !(q_max_rad[i] > q_min_rad[i]))
+    if (tdsd_midrange_init(&c, q_min_rad, q_max_rad, joint_mask) != TDSD_OK)
+        return TDSD_ERR_ARG;
+    for (i = 0; i < NJ; i++)
+        if ((joint_mask & (1u << i)) && !isfinite(q_rad[i]))
             return TDSD_ERR_ARG;
-    }
-    for (i = 0; i < NJ; i++) {
-        double range, u;
-        if (!(joint_mask & (1u << i)))
-            continue;
-        range = q_max_rad[i] - q_min_rad[i];
-        u = (q_rad[i] - 0.5 * (q_min_rad[i] + q_max_rad[i])) / range;
-        v -= u * u;
-        grad_V[i] = -2.0 * u / range;
-    }
+    tdsd_midrange_grad_at(&c, q_rad, grad_V);
+    for (i = 0; i < NJ; i++) /* V = sum k_i d_i^2 / 2, d = q - mid */
+        v += 0.5 * grad_V[i] * (q_rad[i] - c.mid_rad[i]);
     if (V)
         *V = v;
     return TDSD_OK;

@@ -94,18 +94,21 @@ int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
         if (!(g->in.dq_max_radps[i] > 0.0) || !(g->in.dq_max_radps[i] <= DBL_MAX))
             return TDSD_SEG_ERR_ARG;
     }
+    if (tdsd_midrange_init(&g->crit, m->q_min_rad, m->q_max_rad, par->criterion_mask) != TDSD_OK)
+        return TDSD_SEG_ERR_ARG;
+    {
+        /* the path frame's fixed parts (path_at) */
+        const double *k = g->rot_axis;
+        const double K[9] = { 0.0, -k[2], k[1], k[2], 0.0, -k[0], -k[1], k[0], 0.0 };
+        double kR[3];
+        rot_mul(g->KR0, K, g->R0);
+        rot_tapply(kR, g->R0, k); /* k^T R0, as a column */
+        for (i = 0; i < 9; i++)
+            g->kkR0[i] = k[i / 3] * kR[i % 3];
+    }
     g->lambda = 1.0;
     g->t_path_end_s = g->L_m > 0.0 ? -1.0 : 0.0;
     return 0;
-}
-
-/* R = Rot(k, angle) for a unit (or zero, then angle 0) axis k: Rodrigues,
- * with the sine and cosine of trig.c (no FPSP trap on the 68040). */
-static void rot_about_unit(double R[9], const double k[3], double angle_rad)
-{
-    double s, c;
-    trig_sincos(angle_rad, &s, &c);
-    rot_from_unit_axis_sc(R, k, s, c);
 }
 
 /* Path point, frame and their rates at path rate 1 (d/dt with ds/dt =
@@ -115,7 +118,8 @@ static void rot_about_unit(double R[9], const double k[3], double angle_rad)
 static double path_at(const tdsd_seg *g, double s, double p[3], double R[9], double v[3],
                       double w[3])
 {
-    double vs = 0.0, f = 0.0, rate = g->par.v_floor_mps, d[3], dR[9];
+    double vs = 0.0, f = 0.0, rate = g->par.v_floor_mps, d[3], sn, cs;
+    int i;
     if (g->L_m > 0.0) {
         f = s / g->L_m;
         if (s < g->L_m) {
@@ -127,8 +131,12 @@ static double path_at(const tdsd_seg *g, double s, double p[3], double R[9], dou
     vec3_sub(d, g->p1, g->p0);
     vec3_axpy(p, g->p0, f, d);
     vec3_scale(v, d, vs);
-    rot_about_unit(dR, g->rot_axis, f * g->rot_rad);
-    rot_mul(R, dR, g->R0);
+    /* R = Rot(k, f theta) R0, Rodrigues (c I + s K + (1 - c) k k^T) applied
+     * to R0 through its fixed parts; sine and cosine of trig.c (no FPSP
+     * trap on the 68040) */
+    trig_sincos(f * g->rot_rad, &sn, &cs);
+    for (i = 0; i < 9; i++)
+        R[i] = cs * g->R0[i] + sn * g->KR0[i] + (1.0 - cs) * g->kkR0[i];
     vec3_scale(w, g->rot_axis, g->rot_rad * vs);
     return rate;
 }
@@ -154,11 +162,8 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
     rate_s = path_at(g, g->s_m, in->p_d_m, in->R_d, in->v_d_mps, in->w_d_radps);
     memcpy(in->J1, J, sizeof in->J1);
     memcpy(in->Jw, J + 18, sizeof in->Jw);
-    if (g->par.criterion_mask && tdsd_midrange_grad(in->grad_V, NULL, g->q_ref, m->q_min_rad,
-                                                    m->q_max_rad, g->par.criterion_mask) != TDSD_OK) {
-        memset(out, 0, sizeof *out);
-        return TDSD_ERR_ARG;
-    }
+    if (g->par.criterion_mask)
+        tdsd_midrange_grad_at(&g->crit, g->q_ref, in->grad_V);
     /* re-accelerate smoothly after a slow-down (tdsd.h, rate_cap) */
     in->rate_cap = g->lambda + dt_s / g->par.T_recover_s;
     if (!(in->rate_cap < 1.0))
