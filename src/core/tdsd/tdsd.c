@@ -299,9 +299,10 @@ static int step_setup(const tdsd_input *in, tdsd_output *out, double buf[3 * NJ]
     vec3_sub(out->e_p, in->p_d_m, in->p_m);
     n2 = task2_setup(in, buf, J2, e2, w2);
     out->n2 = n2;
-    for (i = 0; i < n2; i++)
-        out->e_o[i] = e2[i];
-    vec3_scale(Kpe, out->e_p, in->K_p);
+    for (i = 0; i < 3; i++) {
+        out->e_o[i] = i < n2 ? e2[i] : 0.0;
+        Kpe[i] = in->K_p * out->e_p[i];
+    }
     for (i = 0; i < NJ; i++)
         g[i] = in->k_V * in->grad_V[i];
     return n2;
@@ -310,14 +311,19 @@ static int step_setup(const tdsd_input *in, tdsd_output *out, double buf[3 * NJ]
 /* Speed distribution (eq. 9-11) and the exact-limit guard. */
 static void step_finish(const tdsd_input *in, tdsd_output *out)
 {
-    double base[NJ];
-    int i;
+    int i, dq3_zero = 1;
     out->Q1 = speed_share(out->dq1, out->dq2, in->dq_max_radps);
-    for (i = 0; i < NJ; i++)
-        base[i] = out->dq1[i] + out->Q1 * out->dq2[i];
-    out->Q2 = speed_share(base, out->dq3, in->dq_max_radps);
-    for (i = 0; i < NJ; i++)
-        out->dq_radps[i] = base[i] + out->Q2 * out->dq3[i];
+    for (i = 0; i < NJ; i++) {
+        out->dq_radps[i] = out->dq1[i] + out->Q1 * out->dq2[i];
+        dq3_zero &= out->dq3[i] == 0.0;
+    }
+    /* dq3 = 0 (the 6-row task off a singularity): Q2 = 1 adds nothing */
+    out->Q2 = 1.0;
+    if (!dq3_zero) {
+        out->Q2 = speed_share(out->dq_radps, out->dq3, in->dq_max_radps);
+        for (i = 0; i < NJ; i++)
+            out->dq_radps[i] += out->Q2 * out->dq3[i];
+    }
     /* By construction |dq_i| <= dq_max_i up to rounding; the guard makes the
      * hard limit exact and counts any real violation. The slack is wide
      * because near a singularity dq1 = lambda a + b cancels two terms of
