@@ -292,8 +292,8 @@ static double path_rate_dq1(const tdsd_input *in, tdsd_output *out, const double
 
 /* The task set-up both resolutions share: e_p, task 2's rows, error and
  * feed-forward, y2' follows once lambda is known. Returns n2. */
-static int step_setup(const tdsd_input *in, tdsd_output *out, double buf[3 * NJ],
-                      const double **J2, double e2[3], double w2[3], double Kpe[3], double g[NJ])
+static int step_setup(const tdsd_input *in, tdsd_output *out, double buf[3 * NJ], const double **J2,
+                      double e2[3], double w2[3], double Kpe[3], double g[NJ])
 {
     int n2, i;
     vec3_sub(out->e_p, in->p_d_m, in->p_m);
@@ -422,16 +422,25 @@ static int lq_row(lq_factor *f, int i, const double r[NJ])
     return 0;
 }
 
-/* x = L_kk^-1 y for the diagonal block of rows/columns off..off+k-1. */
-static void lq_solve(const lq_factor *f, int off, int k, const double *y, double *x)
+/* x = M_kk^-1 y for the diagonal block of rows/columns off..off+k-1 of a
+ * lower triangular M whose diagonal has the reciprocals dinv (NULL: unit
+ * diagonal); x may be y. Both fast paths' forward substitution. */
+static void lower_solve(const double (*M)[NJ], const double *dinv, int off, int k, const double *y,
+                        double *x)
 {
     int i, j;
     for (i = 0; i < k; i++) {
         double acc = y[i];
         for (j = 0; j < i; j++)
-            acc -= f->L[off + i][off + j] * x[j];
-        x[i] = acc * f->inv[off + i];
+            acc -= M[off + i][off + j] * x[j];
+        x[i] = dinv ? acc * dinv[off + i] : acc;
     }
+}
+
+/* x = L_kk^-1 y for the diagonal block of rows/columns off..off+k-1. */
+static void lq_solve(const lq_factor *f, int off, int k, const double *y, double *x)
+{
+    lower_solve((const double(*)[NJ])f->L, f->inv, off, k, y, x);
 }
 
 /* (||L_kk||_F ||L_kk^-1||_F)^2 of a diagonal block (k <= 3): its root is
@@ -557,13 +566,7 @@ typedef struct {
  * the whole factor: off 0, k n); z may be y. */
 static void gram_fwd(const gram_factor *f, int off, int k, const double *y, double *z)
 {
-    int i, j;
-    for (i = 0; i < k; i++) {
-        double acc = y[i];
-        for (j = 0; j < i; j++)
-            acc -= f->U[off + i][off + j] * z[j];
-        z[i] = acc;
-    }
+    lower_solve((const double(*)[NJ])f->U, NULL, off, k, y, z);
 }
 
 /* x = U_kk^-T y, the same block, by back substitution; x may be y. */
@@ -735,8 +738,9 @@ static void resolve_gram(const tdsd_input *in, tdsd_output *out, const gram_fact
     if (n2 > 0) {
         double r[3], z2[3];
         task2_residual(in, out, f->U + 3, n2, w2, e2, za, zb, c, r); /* J2 dq1 = U21 z1 */
-        gram_block_solve(f, 3, n2, r, z2, x + 3); /* x2 */
-        for (j = 0; j < 3; j++) {       /* x1 = -U11^-T U21^T x2 */
+        gram_block_solve(f, 3, n2, r, z2, x + 3);
+        /* x = [x1; x2], x1 = -U11^-T U21^T x2: dq2 = J^T x */
+        for (j = 0; j < 3; j++) {
             x[j] = 0.0;
             for (i = 0; i < n2; i++)
                 x[j] -= f->U[3 + i][j] * x[3 + i];
@@ -745,7 +749,9 @@ static void resolve_gram(const tdsd_input *in, tdsd_output *out, const gram_fact
         gram_combine(f, f->n, x, out->dq2);
     }
     if (f->n < NJ) { /* dq3 = g - J^T G^-1 J g; else 0 (output_reset) */
-        double u[NJ];
+        double u[NJ] = {
+            0.0
+        }; /* the first n are set; the rest keeps -Wmaybe-uninitialized quiet */
         for (i = 0; i < f->n; i++)
             u[i] = dot6(f->row[i], g);
         gram_solve(f, 0, f->n, u, x);
