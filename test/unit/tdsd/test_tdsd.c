@@ -618,6 +618,21 @@ static void test_midrange_grad(void **state)
     assert_int_equal(tdsd_midrange_grad(g, &V, q, qmax, qmin, 0x38u), TDSD_ERR_ARG);
     q[4] = NAN;
     assert_int_equal(tdsd_midrange_grad(g, &V, q, qmin, qmax, 0x38u), TDSD_ERR_ARG);
+    /* the ranges taken once: the same gradient bit for bit, a NaN of an
+     * unmasked joint left out, the same range check */
+    {
+        tdsd_midrange c;
+        assert_int_equal(tdsd_midrange_init(&c, qmin, qmax, 0x38u), TDSD_OK);
+        q[4] = 0.3;
+        q[0] = NAN;
+        tdsd_midrange_grad_at(&c, q, gd);
+        assert_int_equal(tdsd_midrange_grad(g, &V, q, qmin, qmax, 0x38u), TDSD_OK);
+        assert_memory_equal(g, gd, sizeof g);
+        assert_true(gd[0] == 0.0 && gd[4] != 0.0);
+        assert_int_equal(tdsd_midrange_init(&c, qmax, qmin, 0x38u), TDSD_ERR_ARG);
+        assert_int_equal(tdsd_midrange_init(&c, qmax, qmin, 0x7u), TDSD_ERR_ARG);
+        assert_int_equal(tdsd_midrange_init(&c, qmin, qmax, 0u), TDSD_OK);
+    }
 }
 
 static void test_baselines(void **state)
@@ -778,9 +793,12 @@ typedef struct {
  * blocks are well conditioned, and then the same rates to rounding. */
 static void compare_paths(const tdsd_input *in, fast_stats *st)
 {
-    tdsd_output f, o;
+    tdsd_output f, o, u;
     double k1, k2, scale, tol, err;
     assert_int_equal(tdsd_step(in, &f), TDSD_OK);
+    /* the unchecked entry (tdsd_seg_step's) is the same step */
+    assert_int_equal(tdsd_step_unchecked(in, &u), TDSD_OK);
+    assert_memory_equal(&f, &u, sizeof f);
     assert_int_equal(tdsd_step_svd(in, &o), TDSD_OK);
     assert_int_equal(o.fast, 0);
     check_limits(in, &f);
