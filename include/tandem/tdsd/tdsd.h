@@ -104,10 +104,12 @@ typedef struct {
 
 /* One control cycle of TDSD. Returns TDSD_OK, or a negative code with
  * out->dq_radps zeroed (safe: hold). Guarantees |dq_i| <= dq_max_i.
- * Resolves by the LQ factor of [J1; J2] (modified Gram-Schmidt, two 3x3
- * triangular blocks) where both blocks are well conditioned
- * (TDSD_FAST_COND_MAX), by the SVD of tdsd_step_svd elsewhere; the two
- * agree to rounding (docs/method/tdsd.md §3a gives the identities). */
+ * Resolves by the U D U^T factor of the Gram matrix of [J1; J2] where the
+ * product of the two blocks' condition bounds is at most
+ * TDSD_GRAM_COND_MAX, by the LQ factor (modified Gram-Schmidt) where each
+ * is at most TDSD_FAST_COND_MAX, by the SVD of tdsd_step_svd elsewhere;
+ * they agree to rounding (docs/method/tdsd.md §3a gives the identities and
+ * the bounds). */
 int tdsd_step(const tdsd_input *in, tdsd_output *out);
 /* tdsd_step without its pass over the inputs, for a caller whose inputs
  * are valid by construction (every entry finite, orient one of the modes,

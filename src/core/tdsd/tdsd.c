@@ -5,11 +5,13 @@
  *   P1 = I - J1+ J1,  dq1 = J1+ y1',  dq2 = (J2P1)+ (y2' - J2 dq1),
  *   dq3 = (P1 - (J2P1)+ (J2P1)) k grad V,  dq = dq1 + Q1 dq2 + Q2 dq3 (8, 11)
  * with Q1, Q2 from the joint speed limits and lambda (path-rate factor)
- * chosen so that dq1 alone fits the limits. Resolved each cycle by one LQ
- * factor of [J1; J2] (docs/method/tdsd.md §3a: J = L Q^T gives J1^+ = Q1 L11^-1,
- * (J2P1)^+ = Q2 L22^-1, exact while both blocks are nonsingular, taken
- * where both condition bounds are <= TDSD_FAST_COND_MAX), by the SVD of §3
- * at and near a singularity (tdsd_step_svd: that path alone, the oracle).
+ * chosen so that dq1 alone fits the limits. Resolved each cycle by the
+ * L of [J1; J2] = L Q^T (docs/method/tdsd.md §3a: J1^+ = Q1 L11^-1,
+ * (J2P1)^+ = Q2 L22^-1, exact while both blocks are nonsingular): from the
+ * U D U^T factor of J J^T (L = U D^1/2, §3a "The Gram route") where the
+ * product of the blocks' condition bounds is <= TDSD_GRAM_COND_MAX, by
+ * modified Gram-Schmidt where each is <= TDSD_FAST_COND_MAX, by the SVD of
+ * §3 at and near a singularity (tdsd_step_svd: that path alone, the oracle).
  * Also the baselines of §6: clipped pseudo-inverse and damped-least-squares
  * resolved rate.
  * Pure computation; every matrix is a fixed-size stack array.
