@@ -613,8 +613,8 @@ static void gram_block_bwd(const gram_factor *f, int off, int k, const double *y
 
 /* The same block: z = U_kk^-1 y, x = U_kk^-T D_k^-1 z (for the first
  * block J1^+ y = J1^T x; for the second x = (J2 P1 (J2 P1)^T)^-1 y). */
-static void gram_block_solve(const gram_factor *f, int off, int k, const double *y, double *z,
-                             double *x)
+static inline void gram_block_solve(const gram_factor *f, int off, int k, const double *y,
+                                    double *z, double *x)
 {
     const double *d = f->dinv + off, *u1 = f->U[off + 1] + off, *u2 = f->U[off + 2] + off;
     int i;
@@ -630,7 +630,7 @@ static void gram_block_solve(const gram_factor *f, int off, int k, const double 
 
 /* v = J^T x over the first k rows of J (k = n: 3, 5 or 6), summed in row
  * order. */
-static void gram_combine(const gram_factor *f, int k, const double *x, double v[NJ])
+static inline void gram_combine(const gram_factor *f, int k, const double *x, double v[NJ])
 {
     const double *const *r = f->row;
     int j;
@@ -652,7 +652,8 @@ static void gram_combine(const gram_factor *f, int k, const double *x, double v[
  * (sigma_max <= its root), inv2 = ||L_kk^-1||_F^2 = sum_i (1 + sum_c X_ic^2) / d_i
  * (sigma_min >= 1 / its root), X = U_kk^-1 written out: X_10 = -U_10,
  * X_21 = -U_21, X_20 = U_21 U_10 - U_20. */
-static double gram_block_cond2(const gram_factor *f, int off, int k, double *fro2, double *inv2)
+static inline double gram_block_cond2(const gram_factor *f, int off, int k, double *fro2,
+                                      double *inv2)
 {
     const double *d = f->d + off, *di = f->dinv + off;
     const double *u1 = f->U[off + 1] + off, *u2 = f->U[off + 2] + off;
