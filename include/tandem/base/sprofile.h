@@ -27,6 +27,9 @@ typedef struct {
     double w_peak;  /* peak v^2 actually used (<= v_m^2)              */
     double d_acc_m; /* length of the acceleration (and deceleration)
                            phase; s3 - s0 in eq. 4                        */
+    double x1_m;    /* a_peak / u_m: end of the jerk phase (x = s - s0) */
+    double w_x1;    /* a_peak^2 / u_m: w there (every evaluation used to
+                           divide for both)                               */
 } sprofile;
 
 /* Plan a profile. s_f_m >= 0 and v_m, a_m, u_m > 0, all finite.
@@ -49,5 +52,11 @@ double sprofile_v_peak(const sprofile *p);
  * Call once per control cycle from s = 0 at the segment start: no table,
  * no allocation. */
 double sprofile_advance(const sprofile *p, double s_m, double dt_s, double v_floor);
+/* The same step from s_m in [0, s_f] for a caller that has just evaluated
+ * its first stage, rate_s = max(v(s_m), v_floor) (v_floor >= 0): one
+ * profile evaluation fewer, the same result. Other arguments: as
+ * sprofile_advance. */
+double sprofile_advance_at(const sprofile *p, double s_m, double rate_s, double dt_s,
+                           double v_floor);
 
 #endif

@@ -27,6 +27,15 @@
  * ||L||_F ||L^-1||_F at most this (an upper bound on sigma_max / sigma_min)
  * and at most 1 / pinv_rtol; elsewhere the SVD resolution runs. */
 #define TDSD_FAST_COND_MAX 1e6
+/* The cheaper of the two fast paths, the U D U^T factor of J J^T
+ * (docs/method/tdsd.md §3a), runs where the product of the two blocks'
+ * bounds is at most this: its rounding grows like their square. */
+#define TDSD_GRAM_COND_MAX 1e3
+
+/* tdsd_output.fast: which resolution ran */
+#define TDSD_PATH_SVD 0  /* the SVD of §3 (tdsd_step_svd, singular or near) */
+#define TDSD_PATH_LQ 1   /* LQ of [J1; J2] by Gram-Schmidt (§3a) */
+#define TDSD_PATH_GRAM 2 /* U D U^T of J J^T (§3a), well conditioned */
 
 enum {
     TDSD_OK = 0,
@@ -82,7 +91,7 @@ typedef struct {
                                     path (fast = 1) a lower bound on it,
                                     1 / ||L11^-1||_F */
     double sigma_max_J1;      /* largest; fast path: upper bound ||L11||_F */
-    int fast;                 /* 1: resolved by the LQ fast path, 0: by SVD */
+    int fast;                 /* TDSD_PATH_GRAM, _LQ (fast paths) or _SVD */
     int rank_J1;              /* under the pinv tolerance */
     int rank_J2P1;            /* TDSD: rank of J2 P1; baselines: of [J1;J2] */
     int n2;                   /* rows of task 2 (0, 2 or 3) */
@@ -95,11 +104,20 @@ typedef struct {
 
 /* One control cycle of TDSD. Returns TDSD_OK, or a negative code with
  * out->dq_radps zeroed (safe: hold). Guarantees |dq_i| <= dq_max_i.
- * Resolves by the LQ factor of [J1; J2] (modified Gram-Schmidt, two 3x3
- * triangular blocks) where both blocks are well conditioned
- * (TDSD_FAST_COND_MAX), by the SVD of tdsd_step_svd elsewhere; the two
- * agree to rounding (docs/method/tdsd.md §3a gives the identities). */
+ * Resolves by the U D U^T factor of the Gram matrix of [J1; J2] where the
+ * product of the two blocks' condition bounds is at most
+ * TDSD_GRAM_COND_MAX, by the LQ factor (modified Gram-Schmidt) where each
+ * is at most TDSD_FAST_COND_MAX, by the SVD of tdsd_step_svd elsewhere;
+ * they agree to rounding (docs/method/tdsd.md §3a gives the identities and
+ * the bounds). */
 int tdsd_step(const tdsd_input *in, tdsd_output *out);
+/* tdsd_step without its pass over the inputs, for a caller whose inputs
+ * are valid by construction (every entry finite, orient one of the modes,
+ * K_p, K_o >= 0, rate_cap in [0, 1], pinv_rtol in [0, 1), dq_max > 0):
+ * tdsd_seg_step, which builds them from a checked reference and segment,
+ * so that no input is checked twice a cycle. Invalid inputs are then
+ * undefined behaviour of the result, not an error code. */
+int tdsd_step_unchecked(const tdsd_input *in, tdsd_output *out);
 /* The same step, always by the SVD (the generic path; the fast path's
  * test oracle). */
 int tdsd_step_svd(const tdsd_input *in, tdsd_output *out);
@@ -123,6 +141,21 @@ void tdsd_axis_jacobian(double J2[2 * TDSD_NJ], const double Jw[3 * TDSD_NJ], co
 int tdsd_midrange_grad(double grad_V[TDSD_NJ], double *V, const double q_rad[TDSD_NJ],
                        const double q_min_rad[TDSD_NJ], const double q_max_rad[TDSD_NJ],
                        unsigned joint_mask);
+
+/* The same gradient with the ranges taken once (a control cycle divides
+ * nothing): dV/dq_i = k_i (q_i - mid_i), k_i = -2 / (max_i - min_i)^2, for
+ * the joints of the mask (0 elsewhere). tdsd_midrange_init checks the
+ * ranges as tdsd_midrange_grad does (TDSD_ERR_ARG); tdsd_midrange_grad_at
+ * takes q as given (the caller's q is finite). */
+typedef struct {
+    double mid_rad[TDSD_NJ];
+    double k_per_rad2[TDSD_NJ];
+    unsigned mask;
+} tdsd_midrange;
+int tdsd_midrange_init(tdsd_midrange *c, const double q_min_rad[TDSD_NJ],
+                       const double q_max_rad[TDSD_NJ], unsigned joint_mask);
+void tdsd_midrange_grad_at(const tdsd_midrange *c, const double q_rad[TDSD_NJ],
+                           double grad_V[TDSD_NJ]);
 
 /* Baseline 1: full resolved rate dq = J+ [y1'; y2'] with J = [J1; J2]
  * (J2 per in->orient: 6 rows for FULL), plain pseudo-inverse (in->pinv_rtol),

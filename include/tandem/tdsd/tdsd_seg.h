@@ -74,6 +74,13 @@ typedef struct tdsd_seg {
     double t_s;          /* since the start */
     double t_path_end_s; /* when s reached L, -1 before */
     int settled;         /* reference on the target (see DONE_*) */
+    double R_world_base[9];
+    double KR0[9], kkR0[9]; /* K R0, k k^T R0 (K: the cross-product matrix of
+                               rot_axis): R(s) = c R0 + s K R0 + (1 - c) k k^T R0 */
+    tdsd_midrange crit;     /* the criterion's ranges (criterion_mask) */
+    tdsd_input in; /* the resolver's input; its constant part (mode, gains,
+                      limits) set once by tdsd_seg_start */ /* the resolver's input; its constant part (mode, gains,
+                      limits) set once by tdsd_seg_start */
 } tdsd_seg;
 
 typedef struct tdsd_seg_out {
@@ -93,7 +100,8 @@ int tdsd_seg_start(tdsd_seg *g, const arm_model *m, const arm_tool *tool,
                    const double T_world_base[16], const double q[ARM_NJ], const double p1_world[3],
                    const double R1_world[9], const tdsd_seg_params *par);
 
-/* One cycle of dt_s: resolve at q_ref, advance s, integrate. After the
+/* One cycle of dt_s: resolve at q_ref, advance s, integrate (m: the model
+ * given to tdsd_seg_start). After the
  * path the resolver keeps running with s = L (the errors decay with K_p,
  * K_o). 0 ok, negative: the resolver's error (the reference then holds). */
 int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *out);

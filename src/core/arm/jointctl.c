@@ -32,12 +32,13 @@ int jointctl_torque(const arm_model *m, const arm_payload *payload, const jointc
     double a[ARM_NJ];
     const double kp = g->wn_radps * g->wn_radps, kv = 2.0 * g->zeta * g->wn_radps;
     int i, hit;
-    if (arm_q_finite(q_d) != 0 || arm_q_finite(qd_d) != 0 || arm_q_finite(qdd_d) != 0 ||
-        !(kp >= 0.0) || !(kv >= 0.0))
+    if (!q_d || !qd_d || !qdd_d || !(kp >= 0.0) || !(kv >= 0.0))
         return JOINTCTL_ERR_ARG;
     for (i = 0; i < ARM_NJ; i++)
         a[i] = qdd_d[i] + kv * (qd_d[i] - qd[i]) + kp * (q_d[i] - q[i]);
-    /* RNE with the servo acceleration is M a + C qd + g in one pass. */
+    /* RNE with the servo acceleration is M a + C qd + g in one pass. It
+     * checks a finite, and a is finite only if q_d, qd_d and qdd_d are
+     * (inf - inf, 0 inf and NaN anything are NaN): they are checked once. */
     if (arm_rne(m, q, qd, a, gravity_down, payload, tau_Nm) != 0)
         return JOINTCTL_ERR_ARG;
     hit = jointctl_saturate(m, tau_Nm);

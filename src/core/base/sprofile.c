@@ -25,6 +25,8 @@ static void zero(sprofile *p)
     p->a_peak = 0.0;
     p->w_peak = 0.0;
     p->d_acc_m = 0.0;
+    p->x1_m = 0.0;
+    p->w_x1 = 0.0;
 }
 
 int sprofile_plan(sprofile *p, double s_f_m, double v_m, double a_m, double u_m)
@@ -48,6 +50,8 @@ int sprofile_plan(sprofile *p, double s_f_m, double v_m, double a_m, double u_m)
     p->d_acc_m = d;
     p->a_peak = a;
     p->w_peak = fmin(w_m, fmax(0.0, 2.0 * a * d - 2.0 * a * a / u_m));
+    p->x1_m = a / u_m;
+    p->w_x1 = a * a / u_m;
     return 0;
 }
 
@@ -62,18 +66,17 @@ static double clamp_s(double s, double s_f)
 /* Acceleration phase, x in [0, D]. */
 static void acc_phase(const sprofile *p, double x, double *a, double *w)
 {
-    const double u = p->u_m, A = p->a_peak, D = p->d_acc_m;
-    const double x1 = A / u, x2 = D - A / u;
+    const double u = p->u_m, A = p->a_peak, x1 = p->x1_m, x2 = p->d_acc_m - p->x1_m;
     if (x <= x1) {
         *a = u * x;
         *w = u * x * x;
     } else if (x <= x2) {
         *a = A;
-        *w = A * A / u + 2.0 * A * (x - x1);
+        *w = p->w_x1 + 2.0 * A * (x - x1);
     } else {
         double y = x - x2;
         *a = A - u * y;
-        *w = A * A / u + 2.0 * A * (x2 - x1) + 2.0 * A * y - u * y * y;
+        *w = p->w_x1 + 2.0 * A * (x2 - x1) + 2.0 * A * y - u * y * y;
     }
     if (*w > p->w_peak)
         *w = p->w_peak;
@@ -113,9 +116,19 @@ static double rate(const sprofile *p, double s, double v_floor)
     return v > v_floor ? v : v_floor;
 }
 
+/* The RK4 step from s with its first stage's rate k1 = rate(p, s, v_floor). */
+static double advance_from(const sprofile *p, double s, double k1, double dt_s, double v_floor)
+{
+    const double k2 = rate(p, s + 0.5 * dt_s * k1, v_floor);
+    const double k3 = rate(p, s + 0.5 * dt_s * k2, v_floor);
+    const double k4 = rate(p, s + dt_s * k3, v_floor);
+    s += dt_s * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
+    return clamp_s(s, p->s_f_m);
+}
+
 double sprofile_advance(const sprofile *p, double s_m, double dt_s, double v_floor)
 {
-    double k1, k2, k3, k4, s;
+    double s;
     if (!p || !isfinite(s_m))
         return 0.0;
     s = clamp_s(s_m, p->s_f_m);
@@ -123,10 +136,14 @@ double sprofile_advance(const sprofile *p, double s_m, double dt_s, double v_flo
         return s;
     if (v_floor < 0.0)
         v_floor = 0.0;
-    k1 = rate(p, s, v_floor);
-    k2 = rate(p, s + 0.5 * dt_s * k1, v_floor);
-    k3 = rate(p, s + 0.5 * dt_s * k2, v_floor);
-    k4 = rate(p, s + dt_s * k3, v_floor);
-    s += dt_s * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
-    return clamp_s(s, p->s_f_m);
+    return advance_from(p, s, rate(p, s, v_floor), dt_s, v_floor);
+}
+
+double sprofile_advance_at(const sprofile *p, double s_m, double rate_s, double dt_s,
+                           double v_floor)
+{
+    if (!p || !isfinite(s_m) || !(s_m >= 0.0) || !(s_m <= p->s_f_m) || !isfinite(rate_s) ||
+        !isfinite(dt_s) || dt_s <= 0.0 || !isfinite(v_floor) || v_floor < 0.0)
+        return sprofile_advance(p, s_m, dt_s, v_floor);
+    return advance_from(p, s_m, rate_s, dt_s, v_floor);
 }

@@ -172,8 +172,11 @@ static void test_advance(void **st)
     (void)st;
     assert_int_equal(sprofile_plan(&p, 0.5, 0.25, 0.5, 2.0), 0);
     while (s < p.s_f_m && t < 100.0) {
-        double s1 = sprofile_advance(&p, s, dt, floor_v), v;
+        double s1 = sprofile_advance(&p, s, dt, floor_v), v, v0;
         assert_true(s1 >= s);
+        /* given the first stage's rate, the same step bit for bit */
+        sprofile_at(&p, s, 0, &v0);
+        assert_true(sprofile_advance_at(&p, s, fmax(v0, floor_v), dt, floor_v) == s1);
         sprofile_at(&p, 0.5 * (s + s1), 0, &v);
         if (s1 < p.s_f_m)
             assert_true(fabs((s1 - s) / dt - fmax(v, floor_v)) < 1e-3);
@@ -184,6 +187,11 @@ static void test_advance(void **st)
     assert_true(t < 10.0);
     /* without a floor the pure profile never leaves rest */
     assert_true(sprofile_advance(&p, 0.0, dt, 0.0) == 0.0);
+    /* outside its domain sprofile_advance_at is sprofile_advance */
+    assert_true(sprofile_advance_at(&p, -1.0, 5.0, dt, floor_v) ==
+                sprofile_advance(&p, -1.0, dt, floor_v));
+    assert_true(sprofile_advance_at(&p, 0.1, NAN, dt, floor_v) ==
+                sprofile_advance(&p, 0.1, dt, floor_v));
 }
 
 int main(void)

@@ -19,8 +19,12 @@
 
 #define NJ TDSD_NJ
 #define PI_ 3.14159265358979323846
-/* fast path vs SVD: error <= FAST_TOL_FACTOR eps kappa(J1) kappa(J2 P1) scale */
+/* fast paths vs SVD: error <= FAST_TOL_FACTOR eps kappa(J1) kappa(J2 P1) scale
+ * (LQ), FAST_TOL_FACTOR eps (kappa(J1) kappa(J2 P1))^2 scale (U D U^T of J J^T) */
 #define FAST_TOL_FACTOR 64.0
+/* and on the U D U^T path away from singularities (kappa1 kappa2 <= 100):
+ * error <= WELL_TOL scale */
+#define WELL_TOL 1e-9
 
 static unsigned long long rng_state = 0x9E3779B97F4A7C15ULL;
 
@@ -614,6 +618,21 @@ static void test_midrange_grad(void **state)
     assert_int_equal(tdsd_midrange_grad(g, &V, q, qmax, qmin, 0x38u), TDSD_ERR_ARG);
     q[4] = NAN;
     assert_int_equal(tdsd_midrange_grad(g, &V, q, qmin, qmax, 0x38u), TDSD_ERR_ARG);
+    /* the ranges taken once: the same gradient bit for bit, a NaN of an
+     * unmasked joint left out, the same range check */
+    {
+        tdsd_midrange c;
+        assert_int_equal(tdsd_midrange_init(&c, qmin, qmax, 0x38u), TDSD_OK);
+        q[4] = 0.3;
+        q[0] = NAN;
+        tdsd_midrange_grad_at(&c, q, gd);
+        assert_int_equal(tdsd_midrange_grad(g, &V, q, qmin, qmax, 0x38u), TDSD_OK);
+        assert_memory_equal(g, gd, sizeof g);
+        assert_true(gd[0] == 0.0 && gd[4] != 0.0);
+        assert_int_equal(tdsd_midrange_init(&c, qmax, qmin, 0x38u), TDSD_ERR_ARG);
+        assert_int_equal(tdsd_midrange_init(&c, qmax, qmin, 0x7u), TDSD_ERR_ARG);
+        assert_int_equal(tdsd_midrange_init(&c, qmin, qmax, 0u), TDSD_OK);
+    }
 }
 
 static void test_baselines(void **state)
@@ -764,22 +783,27 @@ static int at_limit(const tdsd_input *in, const tdsd_output *o, double tol)
 }
 
 typedef struct {
-    int fast, slow;
-    double worst; /* max error / (DBL_EPSILON kappa1 kappa2 scale) */
+    int gram, lq, slow;
+    double worst_gram; /* max error / (DBL_EPSILON (kappa1 kappa2)^2 scale) */
+    double worst_lq;   /* max error / (DBL_EPSILON kappa1 kappa2 scale) */
+    double worst_well; /* max error / scale where kappa1 kappa2 <= 100 */
 } fast_stats;
 
 /* One input through both paths: the fast path taken only where both
  * blocks are well conditioned, and then the same rates to rounding. */
 static void compare_paths(const tdsd_input *in, fast_stats *st)
 {
-    tdsd_output f, o;
+    tdsd_output f, o, u;
     double k1, k2, scale, tol, err;
     assert_int_equal(tdsd_step(in, &f), TDSD_OK);
+    /* the unchecked entry (tdsd_seg_step's) is the same step */
+    assert_int_equal(tdsd_step_unchecked(in, &u), TDSD_OK);
+    assert_memory_equal(&f, &u, sizeof f);
     assert_int_equal(tdsd_step_svd(in, &o), TDSD_OK);
     assert_int_equal(o.fast, 0);
     check_limits(in, &f);
     task_conds(in, &k1, &k2);
-    if (!f.fast) {
+    if (f.fast == TDSD_PATH_SVD) {
         /* declined: one block's condition number is past the bound (the
          * Frobenius product overestimates it at most 3 times) */
         st->slow++;
@@ -788,8 +812,16 @@ static void compare_paths(const tdsd_input *in, fast_stats *st)
         assert_memory_equal(f.dq_radps, o.dq_radps, sizeof f.dq_radps);
         return;
     }
-    st->fast++;
     assert_true(k1 <= TDSD_FAST_COND_MAX * (1.0 + 1e-9) && k2 <= TDSD_FAST_COND_MAX * (1.0 + 1e-9));
+    if (f.fast == TDSD_PATH_GRAM) { /* the product of the bounds is <= the Gram bound */
+        st->gram++;
+        assert_true(k1 * k2 <= TDSD_GRAM_COND_MAX * (1.0 + 1e-9));
+    } else { /* declined by the Gram path: the product of the bounds (each at
+              * most 3 times its kappa) is past the Gram bound */
+        assert_int_equal(f.fast, TDSD_PATH_LQ);
+        st->lq++;
+        assert_true(k1 * k2 >= TDSD_GRAM_COND_MAX / 9.0 * (1.0 - 1e-9));
+    }
     /* the singular-value bounds bracket the SVD's */
     assert_true(f.sigma_min_J1 <= o.sigma_min_J1 * (1.0 + 1e-9));
     assert_true(f.sigma_min_J1 * sqrt(3.0) >= o.sigma_min_J1 * (1.0 - 1e-9));
@@ -799,6 +831,8 @@ static void compare_paths(const tdsd_input *in, fast_stats *st)
     assert_int_equal(f.rank_J2P1, o.rank_J2P1);
     scale = 1.0 + vmax(o.dq1, NJ) + vmax(o.dq2, NJ) + vmax(o.dq3, NJ) + vmax(in->dq_max_radps, NJ);
     tol = DBL_EPSILON * k1 * k2 * scale;
+    if (f.fast == TDSD_PATH_GRAM)
+        tol *= k1 * k2;
     /* Q1 (Q2) is decided by rounding where a joint of dq1 (dq1 + Q1 dq2)
      * already runs at its limit, as after time scaling or a shrunk
      * feedback: (dq_max_i - |base_i|) / |d_i| is then rounding over
@@ -810,9 +844,23 @@ static void compare_paths(const tdsd_input *in, fast_stats *st)
     err = fmax(err, linalg_maxabs_diff(f.dq2, o.dq2, NJ, 1));
     err = fmax(err, linalg_maxabs_diff(f.dq3, o.dq3, NJ, 1));
     err = fmax(err, fabs(f.lambda - o.lambda) * (1.0 + vmax(o.dq1, NJ)));
-    if (err / tol > st->worst)
-        st->worst = err / tol;
+    if (f.fast == TDSD_PATH_GRAM) {
+        st->worst_gram = fmax(st->worst_gram, err / tol);
+        if (k1 * k2 <= 100.0) {
+            st->worst_well = fmax(st->worst_well, err / scale);
+            assert_true(err <= WELL_TOL * scale);
+        }
+    } else {
+        st->worst_lq = fmax(st->worst_lq, err / tol);
+    }
     assert_true(err <= FAST_TOL_FACTOR * tol);
+}
+
+static void print_stats(const fast_stats *st)
+{
+    print_message("U D U^T %d, LQ %d, SVD %d; worst error / (eps (k1 k2)^2 scale) %.3g, "
+                  "/ (eps k1 k2 scale) %.3g; where k1 k2 <= 100: error / scale %.3g\n",
+                  st->gram, st->lq, st->slow, st->worst_gram, st->worst_lq, st->worst_well);
 }
 
 /* J1 = U diag(1, s2, s3) V1^T with random orthogonal U, V: conditioning set. */
@@ -850,7 +898,7 @@ static void randomise_task(tdsd_input *in)
 
 static void test_fast_path_matches_svd_random(void **state)
 {
-    fast_stats st = { 0, 0, 0.0 };
+    fast_stats st = { 0, 0, 0, 0.0, 0.0, 0.0 };
     int t;
     (void)state;
     for (t = 0; t < 2000; t++) {
@@ -867,9 +915,8 @@ static void test_fast_path_matches_svd_random(void **state)
         }
         compare_paths(&in, &st);
     }
-    print_message("fast %d, SVD %d, worst error / (eps k1 k2 scale) %.3g\n", st.fast, st.slow,
-                  st.worst);
-    assert_true(st.fast > 600 && st.slow > 200);
+    print_stats(&st);
+    assert_true(st.gram > 600 && st.lq > 200 && st.slow > 200);
 }
 
 /* The PUMA 560's own Jacobians (tool 0.1 m down the flange), over the
@@ -879,7 +926,7 @@ static void test_fast_path_matches_svd_puma(void **state)
 {
     const arm_model *m = &arm_model_puma560;
     const double off[3] = { 0.0, 0.0, 0.1 };
-    fast_stats st = { 0, 0, 0.0 };
+    fast_stats st = { 0, 0, 0, 0.0, 0.0, 0.0 };
     arm_tool tool;
     int t, i;
     (void)state;
@@ -907,9 +954,8 @@ static void test_fast_path_matches_svd_puma(void **state)
         tf_rot(in.R, T);
         compare_paths(&in, &st);
     }
-    print_message("fast %d, SVD %d, worst error / (eps k1 k2 scale) %.3g\n", st.fast, st.slow,
-                  st.worst);
-    assert_true(st.fast > 600 && st.slow > 0);
+    print_stats(&st);
+    assert_true(st.gram > 600 && st.lq > 0 && st.slow > 0);
 }
 
 int main(void)

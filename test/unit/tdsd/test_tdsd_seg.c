@@ -260,6 +260,21 @@ static void test_bad_input(void **state)
     q[2] = INFINITY;
     assert_int_equal(tdsd_seg_start(&g, &arm_model_puma560, &tool, Tid, q, B, R_down, &par),
                      TDSD_SEG_ERR_ARG);
+    /* the model's limits and the criterion's ranges are checked once, at
+     * the start (tdsd_seg_step then checks neither) */
+    memcpy(q, q_near_home, sizeof q);
+    {
+        arm_model bad = arm_model_puma560;
+        bad.qd_max_radps[1] = 0.0;
+        assert_int_equal(tdsd_seg_start(&g, &bad, &tool, Tid, q, B, R_down, &par),
+                         TDSD_SEG_ERR_ARG);
+        bad = arm_model_puma560;
+        bad.q_min_rad[4] = bad.q_max_rad[4]; /* joint 5: in the criterion's mask */
+        assert_int_equal(tdsd_seg_start(&g, &bad, &tool, Tid, q, B, R_down, &par),
+                         TDSD_SEG_ERR_ARG);
+        par.criterion_mask = 0x07u; /* not in it: accepted */
+        assert_int_equal(tdsd_seg_start(&g, &bad, &tool, Tid, q, B, R_down, &par), 0);
+    }
 }
 
 /* Velocity limit: unchanged law below the limit; above it, the servo
