@@ -296,6 +296,7 @@ static void test_heartbeat_file_touched_by_the_loop(void **state)
     d.lcm = lcm_create(d.lcm_url);
     assert_non_null(d.lcm);
     assert_int_equal(rtloop_init(&d.loop, 10000000), 0);
+    daemon_heartbeat_open(&d); /* as daemon_start does */
     assert_int_equal(daemon_run(&d, three_cycles, &n), 7);
     assert_true(d.heartbeat_fd >= 0);
     daemon_finish(&d);

@@ -78,8 +78,7 @@ typedef struct tdsd_seg {
     double KR0[9], kkR0[9]; /* K R0, k k^T R0 (K: the cross-product matrix of
                                rot_axis): R(s) = c R0 + s K R0 + (1 - c) k k^T R0 */
     tdsd_midrange crit;     /* the criterion's ranges (criterion_mask) */
-    tdsd_input in; /* the resolver's input; its constant part (mode, gains,
-                      limits) set once by tdsd_seg_start */ /* the resolver's input; its constant part (mode, gains,
+    tdsd_input in;          /* the resolver's input; its constant part (mode, gains,
                       limits) set once by tdsd_seg_start */
 } tdsd_seg;
 

@@ -548,13 +548,15 @@ static void resolve_lq(const tdsd_input *in, tdsd_output *out, const lq_factor *
  *   dq1 = J1^T U11^-T D1^-1 z1                                 (= J1^+ y1')
  *   dq2 = J2^T x2 - J1^T U11^-T U21^T x2,  x2 = U22^-T D2^-1 U22^-1 (y2' - U21 z1)
  *   dq3 = g - J^T U^-T D^-1 U^-1 J g          (= g - Q Q^T g; zero when n = 6)
- * Exact whenever D > 0. The path is taken only where
- * ||L_kk||_F ||L_kk^-1||_F <= TDSD_FAST_COND_MAX for both blocks: that
- * product bounds sigma_max / sigma_min from above, so no singular value lies
- * under the SVD path's rank cut. Forming G squares the condition numbers:
- * the rounding is ~ DBL_EPSILON (kappa1 kappa2)^2 relative, which the bound
- * keeps small (docs/method/tdsd.md §3a, Accuracy). Elsewhere (at and near a
- * singularity) the SVD resolution runs. */
+ * Exact whenever D > 0. The path is taken only where the product of the
+ * two blocks' ||L_kk||_F ||L_kk^-1||_F is at most TDSD_GRAM_COND_MAX (and
+ * 1 / pinv_rtol): each factor bounds its block's sigma_max / sigma_min from
+ * above, so no singular value lies under the SVD path's rank cut. Forming
+ * G squares the condition numbers: the rounding is ~ DBL_EPSILON
+ * (kappa1 kappa2)^2 relative, which that bound keeps small
+ * (docs/method/tdsd.md §3a, Accuracy). Beyond it the Gram-Schmidt LQ
+ * (TDSD_FAST_COND_MAX per block) and, at and near a singularity, the SVD
+ * resolution run. */
 typedef struct {
     const double *row[NJ]; /* row i of J = [J1; J2] */
     double U[NJ][NJ];      /* unit lower triangular (below the diagonal) */

@@ -177,6 +177,21 @@ static void on_clock(const lcm_recv_buf_t *rb, const char *ch, void *user)
     tandem_sim_clock_t_decode_cleanup(&m);
 }
 
+void daemon_heartbeat_open(daemon *d)
+{
+    const char *dir = getenv(DAEMON_HEARTBEAT_ENV);
+    char path[512];
+    d->heartbeat_fd = -1;
+    if (!dir || !dir[0])
+        return;
+    if (snprintf(path, sizeof path, "%s/%ld", dir, (long)getpid()) >= (int)sizeof path)
+        return;
+    d->heartbeat_fd = open(path, O_WRONLY | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0600);
+    if (d->heartbeat_fd < 0)
+        fprintf(stderr, "%s: heartbeat file %s: %s (no heartbeat for the launcher)\n", d->name,
+                path, strerror(errno));
+}
+
 int daemon_start(daemon *d)
 {
     struct sigaction sa;
@@ -213,6 +228,7 @@ int daemon_start(daemon *d)
         fprintf(stderr, "%s: period %g s out of range\n", d->name, d->period_s);
         return DAEMON_ERR_RANGE;
     }
+    daemon_heartbeat_open(d); /* at start-up: the loop only touches it */
     d->last_health_ns = rtloop_now_ns();
     return 0;
 }
@@ -500,32 +516,12 @@ int bus_names_watch(names_watch *w, auth_bus *bus, lcm_t **lcm, const char *url)
     return names_watch_tick(w, rtloop_now_ns(), lcm, url, bus_move, bus, 50000000LL);
 }
 
-/* DIR/PID under $TANDEM_HEARTBEAT_DIR, opened once, at the first health
- * tick; no directory: no heartbeat file (a daemon started by hand). */
-static void heartbeat_open(daemon *d)
-{
-    const char *dir = getenv(DAEMON_HEARTBEAT_ENV);
-    char path[512];
-    d->heartbeat_opened = 1;
-    d->heartbeat_fd = -1;
-    if (!dir || !dir[0])
-        return;
-    if (snprintf(path, sizeof path, "%s/%ld", dir, (long)getpid()) >= (int)sizeof path)
-        return;
-    d->heartbeat_fd = open(path, O_WRONLY | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0600);
-    if (d->heartbeat_fd < 0)
-        fprintf(stderr, "%s: heartbeat file %s: %s (no heartbeat for the launcher)\n", d->name,
-                path, strerror(errno));
-}
-
 void daemon_health_tick(daemon *d, int64_t now_ns)
 {
     if (now_ns - d->last_health_ns < 1000000000LL)
         return;
     d->last_health_ns = now_ns;
     daemon_publish_health(d);
-    if (!d->heartbeat_opened)
-        heartbeat_open(d);
     /* a metadata update of a file already open: nothing to wait for */
     if (d->heartbeat_fd >= 0)
         (void)futimens(d->heartbeat_fd, NULL);

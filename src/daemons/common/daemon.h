@@ -74,10 +74,9 @@ typedef struct daemon {
     char name[DAEMON_NAME_MAX]; /* e.g. tandem-arm-1 */
     char health_channel[DAEMON_NAME_MAX + 8];
     const char *lcm_url;
-    int rt_prio;          /* 0 = normal scheduling */
-    int dma_latency_fd;   /* /dev/cpu_dma_latency, held open while we run (-1: none) */
-    int heartbeat_fd;     /* $TANDEM_HEARTBEAT_DIR/PID, touched once a second (-1: none) */
-    int heartbeat_opened; /* heartbeat_fd was looked for (the first health tick) */
+    int rt_prio;        /* 0 = normal scheduling */
+    int dma_latency_fd; /* /dev/cpu_dma_latency, held open while we run (-1: none) */
+    int heartbeat_fd;   /* $TANDEM_HEARTBEAT_DIR/PID, touched once a second (-1: none) */
     int lockstep;
     double period_s;
     int32_t period_steps; /* lockstep: answer every n-th step */
@@ -234,12 +233,15 @@ int bus_names_watch(names_watch *w, auth_bus *bus, lcm_t **lcm, const char *url)
 void lockstep_ack(auth_bus *bus, lcm_t *lcm, const char *name, int64_t seq, int64_t step,
                   int32_t period_steps, int leaving);
 /* A launcher's liveness check that no bus can fool: with
- * DAEMON_HEARTBEAT_ENV naming a directory, the first health tick creates
- * DIR/PID and every one sets its modification time, once a second from
- * the loop, beside the health message (daemon_health_tick). A daemon stopped (SIGSTOP), spinning in a cycle or
- * blocked stops touching it; a flood that drops its health messages on
- * the bus does not (tools/tandem-run --hang-s). */
+ * DAEMON_HEARTBEAT_ENV naming a directory, daemon_start opens DIR/PID
+ * (daemon_heartbeat_open) and every health tick sets its modification
+ * time, once a second from the loop (daemon_health_tick). A daemon
+ * stopped (SIGSTOP), spinning in a cycle or blocked stops touching it; a
+ * flood that drops its health messages on the bus does not
+ * (tools/tandem-run --hang-s). No directory: no file (a daemon started by
+ * hand); a file that cannot be opened is said on stderr. */
 #define DAEMON_HEARTBEAT_ENV "TANDEM_HEARTBEAT_DIR"
+void daemon_heartbeat_open(daemon *d);
 /* Once a second (now_ns from rtloop_now_ns): the health message and the
  * heartbeat file. Every loop calls it, the simulator's included. */
 void daemon_health_tick(daemon *d, int64_t now_ns);
