@@ -111,44 +111,48 @@ static int journaled(const fm_cfg *cfg, int k)
     return 0;
 }
 
+#define ROVER_ARGV_MAX 40 /* tandem-rover's argv, its NULL included */
+
 /* The tandem-rover process of robot k (all robots with --procs single). */
 static pid_t spawn_rover(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, int k)
 {
     char n_s[16], w_s[32], id_s[32], arrive_s[32], journal[700];
     char *fo = (char *)fm_formation_name(cfg->formation), *bl = (char *)fm_blend_name(cfg->blend);
-    char *rv[32] = { "tandem-rover",
-                     "--id",
-                     id_s,
-                     "--robots",
-                     n_s,
-                     "--world",
-                     w_s,
-                     "--formation",
-                     fo,
-                     "--blend",
-                     bl,
-                     "--lockstep",
-                     "--formation-law",
-                     cfg->law_kanayama ? "kanayama" : "seed",
-                     "--ref-heading",
-                     cfg->ref_goal ? "goal" : "mean",
-                     "--localize",
-                     cfg->localize_off ? "off" : "on",
-                     "--ref-arrive",
-                     arrive_s };
-    int n = 20;
+    char *rv[ROVER_ARGV_MAX] = { "tandem-rover",
+                                 "--id",
+                                 id_s,
+                                 "--robots",
+                                 n_s,
+                                 "--world",
+                                 w_s,
+                                 "--formation",
+                                 fo,
+                                 "--blend",
+                                 bl,
+                                 "--lockstep",
+                                 "--formation-law",
+                                 cfg->law_kanayama ? "kanayama" : "seed",
+                                 "--ref-heading",
+                                 cfg->ref_goal ? "goal" : "mean",
+                                 "--localize",
+                                 cfg->localize_off ? "off" : "on",
+                                 "--ref-arrive",
+                                 arrive_s,
+                                 "--goal-path",
+                                 cfg->goal_direct ? "direct" : "map" };
+    int n = 22;
     snprintf(n_s, sizeof n_s, "%d", cfg->robots);
     snprintf(arrive_s, sizeof arrive_s, "%.17g", cfg->ref_arrive_m);
     snprintf(w_s, sizeof w_s, "%s", fm_world_arg(cfg));
     if (cfg->batch)
         rv[n++] = "--batch";
-    world_opts_argv(&cfg->child_world, rv, &n, 32);
+    world_opts_argv(&cfg->child_world, rv, &n, ROVER_ARGV_MAX);
     if (journaled(cfg, k)) {
         snprintf(journal, sizeof journal, "%s/rover_%d.journal", cfg->out, k);
         rv[n++] = "--journal";
         rv[n++] = journal;
     }
-    scenario_argv_drop(&cfg->drop, rv, &n, 32);
+    scenario_argv_drop(&cfg->drop, rv, &n, ROVER_ARGV_MAX);
     if (cfg->single)
         snprintf(id_s, sizeof id_s, "1-%d", cfg->robots);
     else

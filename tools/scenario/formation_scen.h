@@ -54,6 +54,7 @@ enum { FM_HUNG_NONE = 0, FM_HUNG_KILLED = 1, FM_HUNG_RESTARTING = 2 };
 typedef struct fm_cfg {
     int formation, world, blend, robots, single, batch;
     int law_kanayama, ref_goal, localize_off; /* --formation-law, --ref-heading, --localize */
+    int goal_direct;                          /* --goal-path direct (1) or map (0) */
     double ref_arrive_m;                      /* --ref-arrive */
     char timeout_ms[24];                      /* --lockstep-timeout-ms */
     long timeout_ms_given;

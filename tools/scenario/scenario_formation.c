@@ -65,6 +65,7 @@ static int option_fault(const char *prog, void *dest, char *v)
 static const char *const blends[] = { "weighted", "subsumption", "vecsum", NULL };
 static const char *const laws[] = { "seed", "kanayama", NULL };
 static const char *const ref_headings[] = { "mean", "goal", NULL };
+static const char *const goal_paths[] = { "map", "direct", NULL };
 static const char *const procs[] = { "separate", "single", NULL };
 static const char *const links[] = { "robot", "batch", NULL };
 
@@ -116,6 +117,13 @@ static const option_entry formation_table[] = {
       .choices = laws,
       .help = "the formation behaviour flown",
       .def = "seed" },
+    { .name = "goal-path",
+      .type = OPTION_CHOICE,
+      OPTION_AT(fm_cfg, goal_direct),
+      .choices = goal_paths,
+      .help = "map: the robots steer by the world's navigation function where the goal is not in "
+              "plain view; direct: for the goal straight, as the seed (the dead zone's escape)",
+      .def = "map" },
     { .name = "ref-heading",
       .type = OPTION_CHOICE,
       OPTION_AT(fm_cfg, ref_goal),

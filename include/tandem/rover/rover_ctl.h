@@ -40,6 +40,7 @@
 #include "behaviour.h"
 #include "formation.h"
 #include "localize.h"
+#include "navfield.h"
 #include "odometry.h"
 #include "team.h"
 
@@ -242,6 +243,8 @@ typedef struct {
                                    assignment ranks us by it, as every mate does) */
     int formation_changes; /* adopted changes of type (own view) */
     behaviour_blender blend;
+    const navfield
+        *nav; /* the world's navigation function, or NULL: the goal straight (the seed) */
 } rover_ctl_state;
 
 void rover_ctl_params_default(rover_ctl_params *p);
@@ -252,6 +255,11 @@ int rover_ctl_params_validate(const rover_ctl_params *p);
  * ROVER_CTL_ERR_ARG on bad input or parameters. */
 int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id, const pose2 *start_c,
                    const double goal_m[2]);
+/* The navigation function the goal behaviour and the reference heading
+ * steer by (docs/method/formation.md §14), built on the world in the team
+ * frame; NULL (as after init) steers for the goal straight, as the seed.
+ * The field is read, never written, and must outlive the controller. */
+void rover_ctl_set_navfield(rover_ctl_state *c, const navfield *f);
 /* The world's LED landmarks in the team frame (landmark k is camera
  * target ROVER_LANDMARK_ID_BASE + k); call before the first encoder
  * reading. ROVER_CTL_ERR_ARG on bad input or too many. */

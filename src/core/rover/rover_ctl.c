@@ -46,6 +46,12 @@ int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id, co
     return ROVER_CTL_OK;
 }
 
+void rover_ctl_set_navfield(rover_ctl_state *c, const navfield *f)
+{
+    if (c)
+        c->nav = f;
+}
+
 /* R0's heading: the seed's circular mean of the robots' headings couples
  * every slot to every robot's turning (a robot that turns rotates the
  * frame, its slot moves sideways, it turns more): long formations (a
@@ -57,11 +63,32 @@ int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id, co
  * used: there the mean heading of robots that have stopped anyhow turned
  * the formation round, and a robot whose slot came to lie behind it
  * circled the goal chasing it. */
+/* The point to steer for from (x, y) toward `goal`: the goal itself
+ * without a navigation function or where the straight way to it is clear
+ * (the seed's behaviour), else a point of the field's descent
+ * (navfield_waypoint, docs/method/formation.md §14). 1 when it is the
+ * goal. */
+static int steer_point(const rover_ctl_state *c, double x_m, double y_m, const double goal[2],
+                       double out[2])
+{
+    const double from[2] = { x_m, y_m };
+    out[0] = goal[0];
+    out[1] = goal[1];
+    if (!c->nav)
+        return 1;
+    return navfield_waypoint(c->nav, from, goal, out) != NAVFIELD_DESCENT;
+}
+
 static void ref_heading_to_goal(const rover_ctl_state *c, unicycle_state *ref)
 {
     const double g = c->p.goal_heading_gain;
     const double dx = c->goal_m[0] - ref->x_m, dy = c->goal_m[1] - ref->y_m;
-    const double to = hypot(dx, dy) < 1.0 ? atan2(c->goal_m[1], c->goal_m[0]) : atan2(dy, dx);
+    double to = atan2(c->goal_m[1], c->goal_m[0]);
+    if (hypot(dx, dy) >= 1.0) {
+        double w[2];
+        steer_point(c, ref->x_m, ref->y_m, c->goal_m, w);
+        to = atan2(w[1] - ref->y_m, w[0] - ref->x_m);
+    }
     if (!(g > 0.0))
         return;
     ref->theta_rad = vec2_wrap_rad(ref->theta_rad + g * vec2_angle_diff_rad(to, ref->theta_rad));
@@ -143,6 +170,8 @@ typedef struct {
     sonar_groups gw;            /* every mate masked (walls only) */
     double masked[BEH_SONAR_N]; /* the ranges gw is made of */
     double goal[2];             /* own goal slot */
+    double steer[2];            /* what the goal behaviour drives to (steer_point) */
+    int steer_goal;             /* 1: steer is the goal slot itself */
     int escaping;               /* rover_ctl_escape_step's verdict */
     behaviour_inputs in;        /* the behaviours' commands for the blend */
     double R_d;                 /* own slot error */
@@ -289,6 +318,7 @@ static void perceive(rover_ctl_state *c, double t_s, double dt_s, step_view *v)
     rover_ctl_mask_mates(c, &v->o, 0.0, v->masked);
     behaviour_sonar_groups(&v->gw, v->masked);
     own_goal(c, v->n, k, v->goal);
+    v->steer_goal = steer_point(c, v->o.x_m, v->o.y_m, v->goal, v->steer);
 }
 
 /* The team reference R0 and the narrow-passage protocol (not while
@@ -337,7 +367,10 @@ static int blend_behaviours(rover_ctl_state *c, step_view *v)
     }
     D = formation_width(c->fsm.type, v->n, c->p.fsm.spacing_m, c->fsm.scale, bp->robot_width_m);
     v->R_d = 0.0;
-    v->rc_goal = behaviour_goal(&v->in.u[BEH_GOAL], &v->o, v->goal, bp);
+    v->rc_goal = behaviour_goal(&v->in.u[BEH_GOAL], &v->o, v->steer, bp);
+    /* a point of the way is passed through, never stopped at */
+    if (!v->steer_goal && v->rc_goal == BEH_GOAL_REACHED)
+        v->rc_goal = behaviour_goal(&v->in.u[BEH_GOAL], &v->o, v->goal, bp);
     if (c->p.formation_law == ROVER_LAW_KANAYAMA)
         behaviour_formation_track(&v->in.u[BEH_FORMATION], &v->R_d, &v->o, &v->ref, l_d, phi_d, bp);
     else
@@ -388,7 +421,7 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
     if (c->holding != ROVER_WAIT_NONE)
         u = c->wait_u;
     else if (!v->escaping)
-        rover_ctl_guard(&u, c->range_m, &v->o, v->goal, &c->p);
+        rover_ctl_guard(&u, c->range_m, &v->o, v->steer, &c->p);
     /* no command sweeps the chassis into a mate we wait for
      * (rover_ctl_cmd_sweeps_mate): past hold_max_s a robot flies the blend
      * again, and one standing beside a trapped mate turned toward its slot

@@ -22,6 +22,10 @@
 #define HOST_MAX ROVER_TEAM_MAX
 #define TEAMQ_MAX 4096
 
+/* --goal-path: steer by the world's navigation function, or straight for
+ * the goal as the seed (docs/method/formation.md §14) */
+enum { ROVER_GOAL_PATH_MAP = 0, ROVER_GOAL_PATH_DIRECT = 1 };
+
 /* Failures of tandem-rover's own steps (0 = ok). */
 #define ROVER_DAEMON_ERR_IDS (-1)     /* --id is not K or A-B inside 1..HOST_MAX robots */
 #define ROVER_DAEMON_ERR_JOURNAL (-2) /* a robot's journal is refused or does not open (said) */
@@ -83,8 +87,10 @@ typedef struct rover_daemon {
     double last_t_s;
     int64_t last_step;
     int64_t dropped_q;
-    int batch;    /* --batch: ROVERS_COMMAND / ROVERS_STATE */
-    int localize; /* --localize: landmarks fused (1) */
+    int batch;     /* --batch: ROVERS_COMMAND / ROVERS_STATE */
+    int localize;  /* --localize: landmarks fused (1) */
+    int goal_path; /* --goal-path: ROVER_GOAL_PATH_* */
+    navfield nav;  /* the world's navigation function (--goal-path map) */
     int64_t batch_seq;
     /* lockstep: what each mate last said on TEAM, and what we published */
     int64_t mate_step[ROVER_TEAM_MAX + 1]; /* -1: nothing yet */

@@ -105,6 +105,8 @@ static int parse_ref_heading(const char *prog, void *dest, char *value)
 
 static const char *const blend_names[] = { "weighted", "subsumption", "vecsum", NULL };
 static const int blend_values[] = { BEH_BLEND_WEIGHTED, BEH_BLEND_SUBSUMPTION, BEH_BLEND_VECSUM };
+static const char *const goal_path_names[] = { "map", "direct", NULL };
+static const int goal_path_values[] = { ROVER_GOAL_PATH_MAP, ROVER_GOAL_PATH_DIRECT };
 static const char *const law_names[] = { "seed", "kanayama", NULL };
 static const int law_values[] = { ROVER_LAW_SEED, ROVER_LAW_KANAYAMA };
 
@@ -156,6 +158,14 @@ static const option_entry rover_options[] = {
       .values = law_values,
       .help = "seed: the seed's law, O ahead of the axle; kanayama: slot tracking, for comparison",
       .def = "seed" },
+    { .name = "goal-path",
+      .type = OPTION_CHOICE,
+      OPTION_AT(rover_daemon, goal_path),
+      .choices = goal_path_names,
+      .values = goal_path_values,
+      .help = "map: steer by the world's navigation function where the goal is not in plain "
+              "view (docs/method/formation.md 14); direct: for the goal straight, as the seed",
+      .def = "map" },
     { .name = "ref-heading",
       .type = OPTION_CALL,
       OPTION_AT(rover_daemon, params.goal_heading_gain),
@@ -341,6 +351,7 @@ int main(int argc, char **argv)
     rd->robots = ROVER_ROBOTS_DEFAULT;
     rd->world = ROVER_WORLD_OPEN;
     rd->localize = 1;
+    rd->goal_path = ROVER_GOAL_PATH_MAP;
     rover_ctl_params_default(&rd->params);
     daemon_defaults(d, "tandem-rover", 0.05);
     if ((rc = parse_args(rd, argc, argv)) < 0)
@@ -371,6 +382,18 @@ int main(int argc, char **argv)
         lm[j][0] = lt.x_m;
         lm[j][1] = lt.y_m;
     }
+    if (rd->goal_path == ROVER_GOAL_PATH_MAP) {
+        navfield_params np;
+        navfield_params_default(&np);
+        if ((rc = navfield_build(&rd->nav, &np, &rd->layout)) != NAVFIELD_OK) {
+            fprintf(stderr,
+                    "tandem-rover: --goal-path map: no navigation function for this world (%s)\n",
+                    rc == NAVFIELD_ERR_GOAL
+                        ? "the goal is nearer an obstacle than the body's clearance"
+                        : "the world's extent or the field's bound");
+            return 2;
+        }
+    }
     for (j = rd->id_lo; j <= rd->id_hi; j++) {
         hosted *h = &rd->h[j - rd->id_lo];
         pose2 start;
@@ -380,6 +403,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "tandem-rover: bad controller parameters\n");
             return 2;
         }
+        rover_ctl_set_navfield(&h->c, rd->goal_path == ROVER_GOAL_PATH_MAP ? &rd->nav : NULL);
         snprintf(h->ch_cmd, sizeof h->ch_cmd, "ROVER%d_COMMAND", j);
         snprintf(h->ch_state, sizeof h->ch_state, "ROVER%d_STATE", j);
         h->shown_mode = h->shown_type = h->shown_yield = h->shown_esc = -1;

@@ -481,6 +481,51 @@ static void deadzone_one_robot(const rover_world_config *w, rover_ctl_params *p,
     assert_int_equal(rover_ctl_init(c, p, 1, st, goal), 0);
 }
 
+/* One robot flown from its start in w until it is at its goal or t_max. */
+typedef struct {
+    int entered, reached, trap_ok; /* trap_ok: at entry all three ahead under d_s */
+    double t_s, min_clear, trap_x, trap_y;
+} one_result;
+
+static one_result fly_one(const rover_world_config *w, const rover_ctl_params *p,
+                          const sonar_model *sm, pose2 pose, rover_ctl_state *c, double t_max)
+{
+    double el = 0.0, er = 0.0;
+    int alive[1] = { 1 }, step;
+    one_result r;
+    memset(&r, 0, sizeof r);
+    r.min_clear = INFINITY;
+    r.trap_x = r.trap_y = NAN;
+    for (step = 0; step * DT < t_max && !r.reached; step++) {
+        const double t = step * DT, b = ODOMETRY_P2DX_AXLE_TRACK_M,
+                     rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
+        double rng[SONAR_N], clear;
+        rover_ctl_out out;
+        build_sonar(w, &pose, alive, 0);
+        sonar_ring(rng, &sw, sm, &pose, NULL);
+        rover_ctl_encoders(c, el, er, t);
+        rover_ctl_sonar(c, rng, t);
+        assert_int_equal(rover_ctl_step(c, t, DT, &out), 0);
+        if (out.mode == ROVER_MODE_DEAD_ZONE && !r.entered) {
+            r.entered = 1;
+            r.trap_x = pose.x_m;
+            r.trap_y = pose.y_m;
+            r.trap_ok = rng[0] < p->beh.d_s_m && rng[7] < p->beh.d_s_m &&
+                        fmin(rng[3], rng[4]) < p->beh.d_s_m;
+        }
+        if (out.mode == ROVER_MODE_AT_GOAL)
+            r.reached = 1;
+        el += (out.u.v_mps - 0.5 * b * out.u.w_radps) / rw * DT;
+        er += (out.u.v_mps + 0.5 * b * out.u.w_radps) / rw * DT;
+        unicycle_step_exact(&pose, out.u.v_mps, out.u.w_radps, DT);
+        rover_world_clearance(w, &pose, alive, 1, &clear);
+        if (clear < r.min_clear)
+            r.min_clear = clear;
+    }
+    r.t_s = step * DT;
+    return r;
+}
+
 static void test_deadzone_escape(void **state)
 {
     rover_world_config w;
@@ -488,51 +533,59 @@ static void test_deadzone_escape(void **state)
     rover_ctl_state c;
     sonar_model sm;
     pose2 pose, st;
-    double el = 0.0, er = 0.0, goal[2], min_clear = INFINITY, trap_x = NAN, trap_y = NAN;
-    double back_x = -INFINITY;
-    int alive[1] = { 1 }, step, entered = 0, reached = 0, k;
+    double goal[2], back_x = -INFINITY;
+    one_result r;
+    int k;
     (void)state;
     assert_int_equal(rover_world_layout(&w, ROVER_WORLD_DEADZONE, 1, 1.0, FORMATION_LINE), 0);
     for (k = 0; k < w.n_obst; k++)
         if (w.obst[k].cx_m > back_x)
             back_x = w.obst[k].cx_m; /* the back wall */
     deadzone_one_robot(&w, &p, &sm, &pose, &st, goal, &c);
-    for (step = 0; step * DT < 200.0 && !reached; step++) {
-        const double t = step * DT, b = ODOMETRY_P2DX_AXLE_TRACK_M,
-                     rw = ODOMETRY_P2DX_WHEEL_RADIUS_M;
-        double rng[SONAR_N], clear;
-        rover_ctl_out out;
-        build_sonar(&w, &pose, alive, 0);
-        sonar_ring(rng, &sw, &sm, &pose, NULL);
-        rover_ctl_encoders(&c, el, er, t);
-        rover_ctl_sonar(&c, rng, t);
-        assert_int_equal(rover_ctl_step(&c, t, DT, &out), 0);
-        if (out.mode == ROVER_MODE_DEAD_ZONE && !entered) {
-            entered = 1;
-            trap_x = pose.x_m;
-            trap_y = pose.y_m;
-            /* the trap as the exception sees it: all three under d_s */
-            assert_true(rng[0] < p.beh.d_s_m && rng[7] < p.beh.d_s_m &&
-                        fmin(rng[3], rng[4]) < p.beh.d_s_m);
-        }
-        if (out.mode == ROVER_MODE_AT_GOAL)
-            reached = 1;
-        el += (out.u.v_mps - 0.5 * b * out.u.w_radps) / rw * DT;
-        er += (out.u.v_mps + 0.5 * b * out.u.w_radps) / rw * DT;
-        unicycle_step_exact(&pose, out.u.v_mps, out.u.w_radps, DT);
-        rover_world_clearance(&w, &pose, alive, 1, &clear);
-        if (clear < min_clear)
-            min_clear = clear;
-    }
+    r = fly_one(&w, &p, &sm, pose, &c, 200.0);
     print_message(
         "deadzone (one robot): trapped at (%.2f, %.2f), escapes=%d, reached=%d at t=%.1f, "
         "min clearance %.2f m\n",
-        trap_x, trap_y, c.escapes, reached, step * DT, min_clear);
-    assert_true(entered);
-    assert_true(trap_x > back_x - 1.2 - 0.5 && trap_x < back_x && fabs(trap_y) < 0.5);
+        r.trap_x, r.trap_y, c.escapes, r.reached, r.t_s, r.min_clear);
+    assert_true(r.entered && r.trap_ok);
+    assert_true(r.trap_x > back_x - 1.2 - 0.5 && r.trap_x < back_x && fabs(r.trap_y) < 0.5);
     assert_true(c.escapes >= 1);
-    assert_true(reached);
-    assert_true(min_clear > 0.0);
+    assert_true(r.reached);
+    assert_true(r.min_clear > 0.0);
+}
+
+/* The same robot steering by the world's navigation function
+ * (docs/method/formation.md §14): it never enters the U, reaches the goal
+ * without a touch, and sooner than the escape lets it. */
+static navfield NAV; /* large: keep off the stack */
+
+static void test_deadzone_navfield(void **state)
+{
+    rover_world_config w;
+    rover_ctl_params p;
+    rover_ctl_state c;
+    sonar_model sm;
+    pose2 pose, st;
+    navfield_params np;
+    double goal[2];
+    one_result r, direct;
+    (void)state;
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_DEADZONE, 1, 1.0, FORMATION_LINE), 0);
+    deadzone_one_robot(&w, &p, &sm, &pose, &st, goal, &c);
+    direct = fly_one(&w, &p, &sm, pose, &c, 200.0);
+    navfield_params_default(&np);
+    assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
+    deadzone_one_robot(&w, &p, &sm, &pose, &st, goal, &c);
+    rover_ctl_set_navfield(&c, &NAV);
+    r = fly_one(&w, &p, &sm, pose, &c, 200.0);
+    print_message("deadzone (one robot, navigation function): entered=%d reached=%d at t=%.1f "
+                  "(direct %.1f), min clearance %.2f m\n",
+                  r.entered, r.reached, r.t_s, direct.t_s, r.min_clear);
+    assert_false(r.entered);
+    assert_int_equal(c.escapes, 0);
+    assert_true(r.reached && direct.reached);
+    assert_true(r.t_s < direct.t_s);
+    assert_true(r.min_clear > 0.0);
 }
 
 /* Restart (rover_ctl_snapshot / rover_ctl_resume): a controller resumed
@@ -1930,6 +1983,7 @@ int main(void)
         cmocka_unit_test(test_silent_mate_dropped),
         cmocka_unit_test(test_slot_mapping),
         cmocka_unit_test(test_deadzone_escape),
+        cmocka_unit_test(test_deadzone_navfield),
         cmocka_unit_test(test_obstacles_no_spurious_changes),
         cmocka_unit_test(test_corridor_protocol),
         cmocka_unit_test(test_give_way_to_leaving_mate),

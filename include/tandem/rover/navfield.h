@@ -1,0 +1,90 @@
+/* navfield: a navigation function over a world's free space, and the
+ * point to steer for on it (docs/method/formation.md §14).
+ *
+ * A grid laid over the world holds, for every cell, its centre's clearance
+ * (distance to the nearest obstacle) and the length of the shortest
+ * 8-connected way from the cell centre to the goal for a disc of radius
+ * clear_m, each step's length weighted by 1 + pen_gain (1 - c / prefer_m)
+ * where the way passes at a clearance c below prefer_m (a way through the
+ * middle of a passage costs less than one along its wall).
+ *
+ * Why steepest descent cannot stall (the local minima of a reactive goal
+ * behaviour, a pocket facing the team, a wall with one gap): the value is a
+ * shortest-path length on a graph with positive weights, so every finite
+ * cell but the goal's has a neighbour on its shortest way whose value is
+ * smaller by that step's weight; descent from any cell joined to the goal
+ * reaches it in fewer steps than there are cells.
+ *
+ * navfield_waypoint returns the goal itself wherever the straight way to it
+ * keeps los_m from every obstacle, so in the open the seed's goal behaviour
+ * is flown unchanged; elsewhere the farthest point of the descent, within
+ * look_m, that is seen straight. Pure computation, fixed capacity (the
+ * cells grow coarser when a world needs more than NAVFIELD_MAX_CELLS), no
+ * allocation; the build is bounded by the cells and obstacles, a query by
+ * look_m and the world's size.
+ */
+#ifndef TANDEM_ROVER_NAVFIELD_H
+#define TANDEM_ROVER_NAVFIELD_H
+
+#include "rover_world.h"
+#include "vec2.h"
+
+#define NAVFIELD_OK 0
+#define NAVFIELD_ERR_ARG (-1)    /* NULL, bad parameters, a world without extent */
+#define NAVFIELD_ERR_GOAL (-2)   /* the goal's cell is off the grid or nearer an obstacle than clear_m */
+#define NAVFIELD_ERR_PASSES (-3) /* the relaxation did not settle within its bound */
+
+/* navfield_waypoint's answers (>= 0) */
+#define NAVFIELD_DIRECT 0  /* the goal, seen straight */
+#define NAVFIELD_DESCENT 1 /* a point of the descent */
+#define NAVFIELD_NO_WAY 2  /* no way from here: the goal (the seed's behaviour) */
+
+#ifndef NAVFIELD_MAX_CELLS
+#define NAVFIELD_MAX_CELLS (512L * 512L)
+#endif
+
+typedef struct {
+    double clear_m;     /* cells nearer an obstacle than this are not passable (body + margin) */
+    double los_m;       /* a straight way is seen clear if it keeps this from every obstacle */
+    double prefer_m;    /* ways nearer an obstacle than this cost more ... */
+    double pen_gain;    /* ... up to (1 + pen_gain) times their length */
+    double look_m;      /* the waypoint lies at most this far along the descent ... */
+    double min_ahead_m; /* ... and at least this far, where the descent is that long */
+    double cell_min_m;  /* the finest cell side (coarser when the world needs more cells) */
+} navfield_params;
+
+typedef struct {
+    navfield_params p;
+    int nx, ny;
+    double cell_m;       /* cell side */
+    double x0_m, y0_m;   /* world frame: the lower-left corner of cell (0, 0) */
+    pose2 frame;         /* the callers' frame in the world (the team frame) */
+    double goal_w_m[2];  /* the goal, world frame */
+    long goal_cell;      /* j * nx + i */
+    float clear_m[NAVFIELD_MAX_CELLS]; /* centre to the nearest obstacle, capped */
+    float way_m[NAVFIELD_MAX_CELLS];   /* weighted way to the goal; INFINITY: none */
+} navfield;
+
+void navfield_params_default(navfield_params *p);
+/* NAVFIELD_OK, or NAVFIELD_ERR_ARG for a value not finite, not positive
+ * where it must be, or los_m / prefer_m below clear_m's half / clear_m. */
+int navfield_params_validate(const navfield_params *p);
+
+/* The field of world w (its obstacles, extent, goal and team frame).
+ * NAVFIELD_OK or a NAVFIELD_ERR_* code (the field is then unusable). */
+int navfield_build(navfield *f, const navfield_params *p, const rover_world_config *w);
+
+/* The weighted way from the world point (x, y) to the goal (the cell's
+ * value); INFINITY off the grid or where there is none. */
+double navfield_way_m(const navfield *f, double x_m, double y_m);
+
+/* The point to steer for from `from` toward `goal` (both in the callers'
+ * frame, f->frame): NAVFIELD_DIRECT and out = goal when the straight way
+ * is clear; NAVFIELD_DESCENT and a point of the field's descent; or
+ * NAVFIELD_NO_WAY and out = goal where no cell near `from` is joined to
+ * the goal. `goal` should lie near the field's goal (a slot of the
+ * formation placed at it). NAVFIELD_ERR_ARG on NULL or non-finite input. */
+int navfield_waypoint(const navfield *f, const double from_m[2], const double goal_m[2],
+                      double out_m[2]);
+
+#endif

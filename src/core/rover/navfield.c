@@ -1,0 +1,349 @@
+/* navfield: the navigation function of a world and the point to steer for
+ * on it (docs/method/formation.md §14; navfield.h says why its descent
+ * cannot stall). The field is a shortest-path length computed by
+ * Gauss-Seidel relaxation of the 8-connected grid in the four raster
+ * orders until a pass changes nothing (the fast-sweeping method): each
+ * pass carries the values round the bends its order runs along.
+ */
+#include "navfield.h"
+
+#include <math.h>
+
+#define START_RING_M 1.5 /* a start in a blocked cell looks this far for one joined to the goal */
+#define CELL_GROW 1.05   /* the cell grows by this while the world needs too many */
+#define CELL_GROW_MAX 64 /* ... at most this many times */
+
+/* the 8 neighbours: the four sides first, then the diagonals */
+static const int nb_di[8] = { 1, -1, 0, 0, 1, 1, -1, -1 };
+static const int nb_dj[8] = { 0, 0, 1, -1, 1, -1, 1, -1 };
+
+void navfield_params_default(navfield_params *p)
+{
+    p->clear_m = 0.45; /* the body's 0.32 m about C and 0.13 m */
+    p->los_m = 0.45;
+    p->prefer_m = 1.5;
+    p->pen_gain = 4.0;
+    p->look_m = 8.0;
+    p->min_ahead_m = 1.0;
+    p->cell_min_m = 0.1;
+}
+
+static int positive(double x)
+{
+    return isfinite(x) && x > 0.0;
+}
+
+int navfield_params_validate(const navfield_params *p)
+{
+    if (!p || !positive(p->clear_m) || !positive(p->los_m) || !positive(p->prefer_m) ||
+        !isfinite(p->pen_gain) || p->pen_gain < 0.0 || !positive(p->look_m) ||
+        !isfinite(p->min_ahead_m) || p->min_ahead_m < 0.0 || p->min_ahead_m > p->look_m ||
+        !positive(p->cell_min_m))
+        return NAVFIELD_ERR_ARG;
+    if (p->los_m < 0.5 * p->clear_m || p->prefer_m < p->clear_m)
+        return NAVFIELD_ERR_ARG;
+    return NAVFIELD_OK;
+}
+
+/* The cell holding world point (x, y), or -1 off the grid. */
+static long cell_of(const navfield *f, double x_m, double y_m)
+{
+    const double u = (x_m - f->x0_m) / f->cell_m, v = (y_m - f->y0_m) / f->cell_m;
+    if (!(u >= 0.0 && v >= 0.0 && u < (double)f->nx && v < (double)f->ny))
+        return -1;
+    return (long)v * f->nx + (long)u;
+}
+
+static void centre_of(const navfield *f, long c, double xy[2])
+{
+    xy[0] = f->x0_m + ((double)(c % f->nx) + 0.5) * f->cell_m;
+    xy[1] = f->y0_m + ((double)(c / f->nx) + 0.5) * f->cell_m;
+}
+
+static int passable(const navfield *f, long c)
+{
+    return f->clear_m[c] >= (float)f->p.clear_m;
+}
+
+/* Neighbour k of cell (i, j), or -1 off the grid or across a blocked
+ * corner (a diagonal step between two blocked side cells). */
+static long neighbour(const navfield *f, long i, long j, int k)
+{
+    const long a = i + nb_di[k], b = j + nb_dj[k];
+    if (a < 0 || b < 0 || a >= f->nx || b >= f->ny)
+        return -1;
+    if (k >= 4 && (!passable(f, j * f->nx + a) || !passable(f, b * f->nx + i)))
+        return -1;
+    return b * f->nx + a;
+}
+
+/* ---- build ------------------------------------------------------------------------- */
+
+static long index_floor(double u, long n)
+{
+    return u < 0.0 ? 0 : u >= (double)n ? n - 1 : (long)u;
+}
+
+/* Every cell's clearance, capped at cap_m: each obstacle lowers the cells
+ * within its reach plus cap_m only, so the cost is the obstacles' area,
+ * not cells times obstacles. */
+static void clearance_fill(navfield *f, const rover_world_config *w, double cap_m)
+{
+    const long n = (long)f->nx * f->ny;
+    long c, i, j;
+    int k;
+    for (c = 0; c < n; c++)
+        f->clear_m[c] = (float)cap_m;
+    for (k = 0; k < w->n_obst; k++) {
+        const rover_obstacle *o = &w->obst[k];
+        const double r = (o->kind == ROVER_OBST_CIRCLE ? o->r_m : hypot(o->hx_m, o->hy_m)) + cap_m;
+        const double u0 = (o->cx_m - r - f->x0_m) / f->cell_m, u1 = (o->cx_m + r - f->x0_m) / f->cell_m;
+        const double v0 = (o->cy_m - r - f->y0_m) / f->cell_m, v1 = (o->cy_m + r - f->y0_m) / f->cell_m;
+        if (u1 < 0.0 || v1 < 0.0 || u0 >= (double)f->nx || v0 >= (double)f->ny)
+            continue;
+        for (j = index_floor(v0, f->ny); j <= index_floor(v1, f->ny); j++)
+            for (i = index_floor(u0, f->nx); i <= index_floor(u1, f->nx); i++) {
+                double xy[2], d;
+                c = j * f->nx + i;
+                centre_of(f, c, xy);
+                d = rover_obstacle_distance(o, xy[0], xy[1]);
+                if (d < (double)f->clear_m[c])
+                    f->clear_m[c] = (float)d;
+            }
+    }
+}
+
+/* A step's weight: its length times 1 + pen_gain times the mean shortfall
+ * of its ends' clearance below prefer_m (as a fraction of prefer_m). */
+static float step_cost(const navfield *f, long a, long b, double len_m)
+{
+    const double sa = fmax(0.0, 1.0 - f->clear_m[a] / f->p.prefer_m);
+    const double sb = fmax(0.0, 1.0 - f->clear_m[b] / f->p.prefer_m);
+    return (float)(len_m * (1.0 + f->p.pen_gain * 0.5 * (sa + sb)));
+}
+
+/* Bellman's update of cell (i, j) from its neighbours; 1 if it fell. */
+static int relax(navfield *f, long i, long j)
+{
+    const long c = j * f->nx + i;
+    float best = f->way_m[c];
+    int k;
+    if (!passable(f, c))
+        return 0;
+    for (k = 0; k < 8; k++) {
+        const long n = neighbour(f, i, j, k);
+        float w;
+        if (n < 0 || !(f->way_m[n] < best))
+            continue;
+        w = f->way_m[n] + step_cost(f, c, n, k >= 4 ? f->cell_m * sqrt(2.0) : f->cell_m);
+        if (w < best)
+            best = w;
+    }
+    if (best < f->way_m[c]) {
+        f->way_m[c] = best;
+        return 1;
+    }
+    return 0;
+}
+
+/* One pass in raster order `order` (bit 0: rows downward, bit 1: columns
+ * leftward); 1 if any cell changed. */
+static int relax_pass(navfield *f, int order)
+{
+    int changed = 0;
+    long r, s;
+    for (r = 0; r < f->ny; r++) {
+        const long j = (order & 1) ? f->ny - 1 - r : r;
+        for (s = 0; s < f->nx; s++)
+            changed |= relax(f, (order & 2) ? f->nx - 1 - s : s, j);
+    }
+    return changed;
+}
+
+/* The grid over w's extent: cells of cell_min_m, grown while there would
+ * be more than NAVFIELD_MAX_CELLS. 0, or -1 when even the coarsest fails. */
+static int grid_fit(navfield *f, const rover_world_config *w)
+{
+    const double wx = w->x_max_m - w->x_min_m, wy = w->y_max_m - w->y_min_m;
+    double cell = fmax(f->p.cell_min_m, sqrt(wx * wy / (double)NAVFIELD_MAX_CELLS));
+    int k;
+    if (!(isfinite(wx) && isfinite(wy) && wx > 0.0 && wy > 0.0))
+        return -1;
+    for (k = 0; k <= CELL_GROW_MAX; k++, cell *= CELL_GROW) {
+        const double nx = ceil(wx / cell), ny = ceil(wy / cell);
+        if (nx * ny <= (double)NAVFIELD_MAX_CELLS) {
+            f->nx = (int)nx;
+            f->ny = (int)ny;
+            f->cell_m = cell;
+            f->x0_m = w->x_min_m;
+            f->y0_m = w->y_min_m;
+            return 0;
+        }
+    }
+    return -1;
+}
+
+int navfield_build(navfield *f, const navfield_params *p, const rover_world_config *w)
+{
+    long c, n;
+    int pass, max_passes;
+    if (!f || !w || navfield_params_validate(p) != NAVFIELD_OK)
+        return NAVFIELD_ERR_ARG;
+    f->p = *p;
+    if (grid_fit(f, w) != 0 || !vec2_pose_finite(&w->team_origin) || !isfinite(w->goal_m[0]) ||
+        !isfinite(w->goal_m[1]))
+        return NAVFIELD_ERR_ARG;
+    f->frame = w->team_origin;
+    f->goal_w_m[0] = w->goal_m[0];
+    f->goal_w_m[1] = w->goal_m[1];
+    clearance_fill(f, w, fmax(p->prefer_m, p->los_m) + f->cell_m);
+    n = (long)f->nx * f->ny;
+    for (c = 0; c < n; c++)
+        f->way_m[c] = INFINITY;
+    f->goal_cell = cell_of(f, w->goal_m[0], w->goal_m[1]);
+    if (f->goal_cell < 0 || !passable(f, f->goal_cell))
+        return NAVFIELD_ERR_GOAL;
+    f->way_m[f->goal_cell] = 0.0f;
+    /* a shortest way turns at most once per pass of the right order; more
+     * passes than cells along both sides, four orders each, means a bug */
+    max_passes = 4 * (f->nx + f->ny) + 4;
+    for (pass = 0; pass < max_passes; pass++)
+        if (!relax_pass(f, pass & 3))
+            return NAVFIELD_OK; /* no cell fell: Bellman's equation holds everywhere */
+    return NAVFIELD_ERR_PASSES;
+}
+
+double navfield_way_m(const navfield *f, double x_m, double y_m)
+{
+    const long c = f ? cell_of(f, x_m, y_m) : -1;
+    return c < 0 ? INFINITY : (double)f->way_m[c];
+}
+
+/* ---- waypoint ---------------------------------------------------------------------- */
+
+static void to_world(const navfield *f, const double p[2], double w[2])
+{
+    vec2_rotate(w, p[0], p[1], f->frame.theta_rad);
+    w[0] += f->frame.x_m;
+    w[1] += f->frame.y_m;
+}
+
+static void to_frame(const navfield *f, const double w[2], double p[2])
+{
+    vec2_rotate(p, w[0] - f->frame.x_m, w[1] - f->frame.y_m, -f->frame.theta_rad);
+}
+
+static double clear_at(const navfield *f, const double xy[2])
+{
+    const long c = cell_of(f, xy[0], xy[1]);
+    return c < 0 ? -INFINITY : (double)f->clear_m[c];
+}
+
+/* 1 if the straight way a -> b (world frame, both on the grid) keeps
+ * los_m from every obstacle, or as much as its ends keep (a robot beside a
+ * wall, a slot near one) but never less than half of it; sampled every half
+ * cell, so at most four samples per cell of the grid's diagonal. */
+static int seen_straight(const navfield *f, const double a[2], const double b[2])
+{
+    const double ca = clear_at(f, a), cb = clear_at(f, b);
+    const double need = fmax(0.5 * f->p.los_m, fmin(f->p.los_m, fmin(ca, cb)));
+    const double len = hypot(b[0] - a[0], b[1] - a[1]);
+    const long n = (long)ceil(len / (0.5 * f->cell_m));
+    long s;
+    if (ca == -INFINITY || cb == -INFINITY)
+        return 0;
+    for (s = 1; s <= n; s++) {
+        const double t = (double)s / (double)n;
+        const double xy[2] = { a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]) };
+        if (clear_at(f, xy) < need)
+            return 0;
+    }
+    return 1;
+}
+
+/* The cell to descend from: a's own if it is joined to the goal, else the
+ * one within START_RING_M that is (least way plus the straight distance to
+ * it); -1 when there is none. */
+static long start_cell(const navfield *f, const double a[2])
+{
+    const long c = cell_of(f, a[0], a[1]);
+    const long ring = (long)ceil(START_RING_M / f->cell_m);
+    long best = -1, i, j, i0, j0;
+    double best_v = INFINITY;
+    if (c < 0 || isfinite(f->way_m[c]))
+        return c;
+    i0 = c % f->nx;
+    j0 = c / f->nx;
+    for (j = j0 - ring; j <= j0 + ring; j++)
+        for (i = i0 - ring; i <= i0 + ring; i++) {
+            double xy[2], v;
+            if (i < 0 || j < 0 || i >= f->nx || j >= f->ny || !isfinite(f->way_m[j * f->nx + i]))
+                continue;
+            centre_of(f, j * f->nx + i, xy);
+            v = (double)f->way_m[j * f->nx + i] + hypot(xy[0] - a[0], xy[1] - a[1]);
+            if (v < best_v) {
+                best_v = v;
+                best = j * f->nx + i;
+            }
+        }
+    return best;
+}
+
+/* The neighbour of c with the least way below c's (a step the field was
+ * built with), or -1 at the goal. */
+static long descend(const navfield *f, long c)
+{
+    const long i = c % f->nx, j = c / f->nx;
+    long best = -1;
+    float best_v = f->way_m[c];
+    int k;
+    for (k = 0; k < 8; k++) {
+        const long n = neighbour(f, i, j, k);
+        if (n >= 0 && f->way_m[n] < best_v) {
+            best_v = f->way_m[n];
+            best = n;
+        }
+    }
+    return best;
+}
+
+int navfield_waypoint(const navfield *f, const double from_m[2], const double goal_m[2],
+                      double out_m[2])
+{
+    double a[2], g[2], p[2], q[2], best[2], walked;
+    long c, n;
+    int steps, max_steps;
+    if (!f || !from_m || !goal_m || !out_m || !isfinite(from_m[0]) || !isfinite(from_m[1]) ||
+        !isfinite(goal_m[0]) || !isfinite(goal_m[1]))
+        return NAVFIELD_ERR_ARG;
+    out_m[0] = goal_m[0];
+    out_m[1] = goal_m[1];
+    to_world(f, from_m, a);
+    to_world(f, goal_m, g);
+    if (seen_straight(f, a, g))
+        return NAVFIELD_DIRECT;
+    c = start_cell(f, a);
+    if (c < 0)
+        return NAVFIELD_NO_WAY;
+    centre_of(f, c, p);
+    best[0] = p[0];
+    best[1] = p[1];
+    walked = hypot(p[0] - a[0], p[1] - a[1]);
+    /* every step is at least a cell long */
+    max_steps = (int)ceil(f->p.look_m / f->cell_m) + 1;
+    for (steps = 0; steps < max_steps && (n = descend(f, c)) >= 0; steps++) {
+        centre_of(f, n, q);
+        walked += hypot(q[0] - p[0], q[1] - p[1]);
+        if (walked > f->p.look_m)
+            break;
+        c = n;
+        p[0] = q[0];
+        p[1] = q[1];
+        if (!seen_straight(f, a, p) && walked >= f->p.min_ahead_m)
+            break;
+        best[0] = p[0];
+        best[1] = p[1];
+    }
+    to_frame(f, best, out_m);
+    return NAVFIELD_DESCENT;
+}

@@ -1,0 +1,219 @@
+/* Unit tests for navfield: in the open the field is the octile distance
+ * and the waypoint the goal itself, bit for bit; Bellman's bounds hold on
+ * every cell of a world with a pocket facing the start; following
+ * waypoints from inside that pocket (where the straight way to the goal
+ * runs into its back wall) reaches the goal, every leg clear of the walls
+ * by an independent distance check; the team frame's rotation commutes
+ * with the query; a goal on an obstacle and bad parameters are refused. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <string.h>
+
+#include "navfield.h"
+
+static navfield F, G; /* large: keep off the stack */
+static rover_world_config W;
+
+/* 20 m x 10 m; team frame at (2, 5) heading +x; goal at (18, 5). */
+static void world_open(void)
+{
+    memset(&W, 0, sizeof W);
+    W.x_min_m = 0.0;
+    W.y_min_m = 0.0;
+    W.x_max_m = 20.0;
+    W.y_max_m = 10.0;
+    W.goal_m[0] = 18.0;
+    W.goal_m[1] = 5.0;
+    W.team_origin.x_m = 2.0;
+    W.team_origin.y_m = 5.0;
+}
+
+static void box(double cx, double cy, double hx, double hy)
+{
+    rover_obstacle *o = &W.obst[W.n_obst++];
+    memset(o, 0, sizeof *o);
+    o->kind = ROVER_OBST_BOX;
+    o->cx_m = cx;
+    o->cy_m = cy;
+    o->hx_m = hx;
+    o->hy_m = hy;
+    o->height_m = 0.5;
+}
+
+/* A U pocket 3 m deep, mouth toward the start, across the straight way. */
+static void world_pocket(void)
+{
+    world_open();
+    box(12.0, 5.0, 0.15, 2.65);
+    box(10.5, 7.5, 1.5, 0.15);
+    box(10.5, 2.5, 1.5, 0.15);
+}
+
+static void build(navfield *f)
+{
+    navfield_params p;
+    navfield_params_default(&p);
+    assert_int_equal(navfield_build(f, &p, &W), NAVFIELD_OK);
+}
+
+static double world_clearance(double x, double y)
+{
+    double best = INFINITY;
+    int k;
+    for (k = 0; k < W.n_obst; k++)
+        best = fmin(best, rover_obstacle_distance(&W.obst[k], x, y));
+    return best;
+}
+
+static void test_open_is_octile_and_direct(void **state)
+{
+    const double from[2] = { 0.3, -1.7 }, goal[2] = { 16.0, 0.0 };
+    double out[2];
+    long c, gi, gj;
+    (void)state;
+    world_open();
+    build(&F);
+    gi = F.goal_cell % F.nx;
+    gj = F.goal_cell / F.nx;
+    for (c = 0; c < (long)F.nx * F.ny; c += 37) {
+        const double dx = fabs((double)(c % F.nx - gi)), dy = fabs((double)(c / F.nx - gj));
+        const double octile = F.cell_m * (fmax(dx, dy) + (sqrt(2.0) - 1.0) * fmin(dx, dy));
+        assert_true(fabs(F.way_m[c] - octile) < 1e-3);
+    }
+    assert_int_equal(navfield_waypoint(&F, from, goal, out), NAVFIELD_DIRECT);
+    assert_true(out[0] == goal[0] && out[1] == goal[1]);
+}
+
+/* Every finite cell but the goal's: some neighbour lies lower by at least
+ * a cell (the weights are at least the step's length), and no side
+ * neighbour joined to the goal lies lower by more than a weighted step. */
+static void test_bellman_bounds(void **state)
+{
+    long i, j, finite = 0;
+    (void)state;
+    world_pocket();
+    build(&F);
+    for (j = 0; j < F.ny; j++)
+        for (i = 0; i < F.nx; i++) {
+            const long c = j * F.nx + i;
+            float low = INFINITY;
+            int di, dj;
+            if (!isfinite(F.way_m[c]) || c == F.goal_cell)
+                continue;
+            finite++;
+            for (dj = -1; dj <= 1; dj++)
+                for (di = -1; di <= 1; di++) {
+                    const long a = i + di, b = j + dj;
+                    if ((di || dj) && a >= 0 && b >= 0 && a < F.nx && b < F.ny)
+                        low = fminf(low, F.way_m[b * F.nx + a]);
+                }
+            assert_true(F.way_m[c] >= low + (float)F.cell_m * 0.999f);
+            for (di = 0; di < 4; di++) {
+                const long a = i + (di == 0) - (di == 1), b = j + (di == 2) - (di == 3);
+                if (a >= 0 && b >= 0 && a < F.nx && b < F.ny && isfinite(F.way_m[b * F.nx + a]))
+                    assert_true(F.way_m[c] <= F.way_m[b * F.nx + a] +
+                                                  (float)(F.cell_m * (1.0 + F.p.pen_gain)) + 1e-3f);
+            }
+        }
+    assert_true(finite > F.nx * F.ny / 2);
+}
+
+/* From inside the pocket the straight way runs into its back wall; the
+ * waypoints lead out and round to the goal, each leg clear of the walls. */
+static void test_pocket_escape(void **state)
+{
+    const double goal[2] = { 16.0, 0.0 };
+    double p[2] = { 9.0, 0.0 }, out[2];
+    int it, rc = NAVFIELD_DESCENT;
+    double s, blocked = INFINITY;
+    (void)state;
+    world_pocket();
+    build(&F);
+    for (s = 0.0; s <= 1.0; s += 0.01)
+        blocked = fmin(blocked, world_clearance(11.0 + s * 7.0, 5.0));
+    assert_true(blocked < 0.0); /* the straight way goes through the wall */
+    for (it = 0; it < 200 && rc != NAVFIELD_DIRECT; it++) {
+        double step, leg_clear = INFINITY;
+        rc = navfield_waypoint(&F, p, goal, out);
+        assert_true(rc == NAVFIELD_DIRECT || rc == NAVFIELD_DESCENT);
+        for (s = 0.0; s <= 1.0; s += 0.005)
+            leg_clear = fmin(leg_clear, world_clearance(2.0 + p[0] + s * (out[0] - p[0]),
+                                                        5.0 + p[1] + s * (out[1] - p[1])));
+        assert_true(leg_clear >= 0.5 * F.p.los_m - F.cell_m);
+        step = fmin(0.5, hypot(out[0] - p[0], out[1] - p[1]));
+        assert_true(step > 0.0);
+        p[0] += step * (out[0] - p[0]) / hypot(out[0] - p[0], out[1] - p[1]);
+        p[1] += step * (out[1] - p[1]) / hypot(out[0] - p[0], out[1] - p[1]);
+    }
+    assert_int_equal(rc, NAVFIELD_DIRECT);
+    assert_true(it < 200);
+}
+
+/* The same world with the team frame turned and moved: the query in the
+ * team frame, mapped to the world, is the world-frame query. */
+static void test_frame_commutes(void **state)
+{
+    const double th = 1.1, ox = 3.0, oy = 4.0;
+    const double pw[2] = { 11.0, 5.2 }, gw[2] = { 18.0, 5.0 };
+    double pt[2], gt[2], ow[2], ot[2], back[2];
+    (void)state;
+    world_pocket();
+    W.team_origin.x_m = 0.0;
+    W.team_origin.y_m = 0.0;
+    build(&F);
+    W.team_origin.x_m = ox;
+    W.team_origin.y_m = oy;
+    W.team_origin.theta_rad = th;
+    build(&G);
+    vec2_rotate(pt, pw[0] - ox, pw[1] - oy, -th);
+    vec2_rotate(gt, gw[0] - ox, gw[1] - oy, -th);
+    assert_int_equal(navfield_waypoint(&F, pw, gw, ow), NAVFIELD_DESCENT);
+    assert_int_equal(navfield_waypoint(&G, pt, gt, ot), NAVFIELD_DESCENT);
+    vec2_rotate(back, ot[0], ot[1], th);
+    assert_true(fabs(back[0] + ox - ow[0]) < 1e-9 && fabs(back[1] + oy - ow[1]) < 1e-9);
+}
+
+static void test_refusals(void **state)
+{
+    navfield_params p;
+    const double from[2] = { 0.0, 0.0 }, bad[2] = { NAN, 0.0 };
+    double out[2];
+    (void)state;
+    navfield_params_default(&p);
+    assert_int_equal(navfield_params_validate(&p), NAVFIELD_OK);
+    p.clear_m = -0.1;
+    assert_int_equal(navfield_params_validate(&p), NAVFIELD_ERR_ARG);
+    navfield_params_default(&p);
+    p.min_ahead_m = p.look_m + 1.0;
+    assert_int_equal(navfield_params_validate(&p), NAVFIELD_ERR_ARG);
+    navfield_params_default(&p);
+    p.prefer_m = 0.5 * p.clear_m;
+    assert_int_equal(navfield_params_validate(&p), NAVFIELD_ERR_ARG);
+    navfield_params_default(&p);
+    world_open();
+    box(18.0, 5.0, 0.5, 0.5); /* on the goal */
+    assert_int_equal(navfield_build(&F, &p, &W), NAVFIELD_ERR_GOAL);
+    world_open();
+    W.x_max_m = W.x_min_m;
+    assert_int_equal(navfield_build(&F, &p, &W), NAVFIELD_ERR_ARG);
+    world_open();
+    build(&F);
+    assert_int_equal(navfield_waypoint(&F, bad, from, out), NAVFIELD_ERR_ARG);
+    assert_int_equal(navfield_waypoint(NULL, from, from, out), NAVFIELD_ERR_ARG);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_open_is_octile_and_direct),
+        cmocka_unit_test(test_bellman_bounds),
+        cmocka_unit_test(test_pocket_escape),
+        cmocka_unit_test(test_frame_commutes),
+        cmocka_unit_test(test_refusals),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
