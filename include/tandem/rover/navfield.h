@@ -30,8 +30,9 @@
 #include "vec2.h"
 
 #define NAVFIELD_OK 0
-#define NAVFIELD_ERR_ARG (-1)    /* NULL, bad parameters, a world without extent */
-#define NAVFIELD_ERR_GOAL (-2)   /* the goal's cell is off the grid or nearer an obstacle than clear_m */
+#define NAVFIELD_ERR_ARG (-1) /* NULL, bad parameters, a world without extent */
+#define NAVFIELD_ERR_GOAL \
+    (-2) /* the goal's cell is off the grid or nearer an obstacle than clear_m */
 #define NAVFIELD_ERR_PASSES (-3) /* the relaxation did not settle within its bound */
 
 /* navfield_waypoint's answers (>= 0) */
@@ -56,11 +57,11 @@ typedef struct {
 typedef struct {
     navfield_params p;
     int nx, ny;
-    double cell_m;       /* cell side */
-    double x0_m, y0_m;   /* world frame: the lower-left corner of cell (0, 0) */
-    pose2 frame;         /* the callers' frame in the world (the team frame) */
-    double goal_w_m[2];  /* the goal, world frame */
-    long goal_cell;      /* j * nx + i */
+    double cell_m;                     /* cell side */
+    double x0_m, y0_m;                 /* world frame: the lower-left corner of cell (0, 0) */
+    pose2 frame;                       /* the callers' frame in the world (the team frame) */
+    double goal_w_m[2];                /* the goal, world frame */
+    long goal_cell;                    /* j * nx + i */
     float clear_m[NAVFIELD_MAX_CELLS]; /* centre to the nearest obstacle, capped */
     float way_m[NAVFIELD_MAX_CELLS];   /* weighted way to the goal; INFINITY: none */
 } navfield;

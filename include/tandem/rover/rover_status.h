@@ -15,6 +15,7 @@
 #include "rover_world.h"
 #include "rover_ctl.h"
 #include "rover_map.h"
+#include "navfield.h"
 
 #define UNICYCLE_CODES(X) \
     X(0, "ok")            \
@@ -64,6 +65,11 @@
     X(ROVER_MAP_ERR_LANDMARKS,                                                           \
       "landmarks: not finite, or more than 64 (ROVER_WORLD_MAX_LANDMARKS)")              \
     X(ROVER_MAP_ERR_CELL, "a cell is neither free nor occupied")
+#define NAVFIELD_CODES(X)                                                               \
+    X(NAVFIELD_OK, "ok")                                                                \
+    X(NAVFIELD_ERR_ARG, "NULL, bad parameters, or a world without extent")              \
+    X(NAVFIELD_ERR_GOAL, "the goal is off the grid or nearer an obstacle than clear_m") \
+    X(NAVFIELD_ERR_PASSES, "the relaxation did not settle within its bound")
 
 const char *unicycle_strerror(int rc);
 const char *odometry_strerror(int rc);
@@ -74,5 +80,6 @@ const char *formation_strerror(int rc);
 const char *team_strerror(int rc);
 const char *rover_world_strerror(int rc);
 const char *rover_ctl_strerror(int rc);
+const char *navfield_strerror(int rc);
 
 #endif

@@ -97,8 +97,10 @@ static void clearance_fill(navfield *f, const rover_world_config *w, double cap_
     for (k = 0; k < w->n_obst; k++) {
         const rover_obstacle *o = &w->obst[k];
         const double r = (o->kind == ROVER_OBST_CIRCLE ? o->r_m : hypot(o->hx_m, o->hy_m)) + cap_m;
-        const double u0 = (o->cx_m - r - f->x0_m) / f->cell_m, u1 = (o->cx_m + r - f->x0_m) / f->cell_m;
-        const double v0 = (o->cy_m - r - f->y0_m) / f->cell_m, v1 = (o->cy_m + r - f->y0_m) / f->cell_m;
+        const double u0 = (o->cx_m - r - f->x0_m) / f->cell_m,
+                     u1 = (o->cx_m + r - f->x0_m) / f->cell_m;
+        const double v0 = (o->cy_m - r - f->y0_m) / f->cell_m,
+                     v1 = (o->cy_m + r - f->y0_m) / f->cell_m;
         if (u1 < 0.0 || v1 < 0.0 || u0 >= (double)f->nx || v0 >= (double)f->ny)
             continue;
         for (j = index_floor(v0, f->ny); j <= index_floor(v1, f->ny); j++)

@@ -387,10 +387,8 @@ int main(int argc, char **argv)
         navfield_params_default(&np);
         if ((rc = navfield_build(&rd->nav, &np, &rd->layout)) != NAVFIELD_OK) {
             fprintf(stderr,
-                    "tandem-rover: --goal-path map: no navigation function for this world (%s)\n",
-                    rc == NAVFIELD_ERR_GOAL
-                        ? "the goal is nearer an obstacle than the body's clearance"
-                        : "the world's extent or the field's bound");
+                    "tandem-rover: --goal-path map: no navigation function for this world: %s\n",
+                    navfield_strerror(rc));
             return 2;
         }
     }
