@@ -10,117 +10,54 @@
 #include "formation_scen.h"
 #include "shared_run.h"
 #include "formation.h"
+#include "navfield.h"
 
 #define FREE_SIDE_M 5.0 /* a way this clear on both sides is open */
 
 /* ---- the way's length and the time limit ---------------------------------------- */
 
-#define WAY_CLEAR_M 0.32      /* the body's radius about C (WORLDGEN_BODY_RADIUS_M) */
-#define WAY_CELLS_MAX 200000L /* grid cells at most: the cell grows on large maps */
+#define WAY_CLEAR_M 0.32 /* the body's radius about C (WORLDGEN_BODY_RADIUS_M) */
 
-/* Geodesic distance over the free cells (d >= 0; blocked cells and the
- * unreached hold INFINITY) by forward and backward 8-neighbour chamfer
- * passes (steps of one cell side or a diagonal) repeated until a pair
- * changes nothing: each pair carries the distance round one more bend. */
-static void way_sweeps(float *d, const unsigned char *blocked, long nx, long ny, float s1, float s2)
+/* The way field of w for a disc of radius clear_m about C, lengths
+ * unweighted and clearances kept up to FREE_SIDE_M (navfield.h); NULL
+ * when it cannot be built or the goal is nearer an obstacle than clear_m.
+ * The caller frees it. */
+static navfield *way_field(const rover_world_config *w, double clear_m)
 {
-    int changed = 1, pass;
-    long i, j;
-    for (pass = 0; changed && pass < 4 * (int)(nx + ny); pass++) {
-        changed = 0;
-        for (j = 0; j < ny; j++)
-            for (i = 0; i < nx; i++) {
-                const long c = j * nx + i;
-                float best = d[c];
-                if (blocked[c])
-                    continue;
-                if (i > 0)
-                    best = fminf(best, d[c - 1] + s1);
-                if (j > 0)
-                    best = fminf(best, d[c - nx] + s1);
-                if (i > 0 && j > 0)
-                    best = fminf(best, d[c - nx - 1] + s2);
-                if (i + 1 < nx && j > 0)
-                    best = fminf(best, d[c - nx + 1] + s2);
-                if (best < d[c]) {
-                    d[c] = best;
-                    changed = 1;
-                }
-            }
-        for (j = ny - 1; j >= 0; j--)
-            for (i = nx - 1; i >= 0; i--) {
-                const long c = j * nx + i;
-                float best = d[c];
-                if (blocked[c])
-                    continue;
-                if (i + 1 < nx)
-                    best = fminf(best, d[c + 1] + s1);
-                if (j + 1 < ny)
-                    best = fminf(best, d[c + nx] + s1);
-                if (i + 1 < nx && j + 1 < ny)
-                    best = fminf(best, d[c + nx + 1] + s2);
-                if (i > 0 && j + 1 < ny)
-                    best = fminf(best, d[c + nx - 1] + s2);
-                if (best < d[c]) {
-                    d[c] = best;
-                    changed = 1;
-                }
-            }
-    }
+    navfield_params p;
+    navfield *f = malloc(sizeof *f);
+    navfield_params_default(&p);
+    p.clear_m = clear_m;
+    p.los_m = p.prefer_m = FREE_SIDE_M; /* the bisection's clearances up to it */
+    p.pen_gain = 0.0;
+    if (f && navfield_build(f, &p, w) == NAVFIELD_OK)
+        return f;
+    free(f);
+    return NULL;
 }
 
-/* Length of the shortest way from the team's start (the mean of the
- * start poses) to the goal for a disc of radius clear_m about C, on a grid
- * of at most WAY_CELLS_MAX cells (a cell is blocked when its centre lies
- * nearer than clear_m to an obstacle); NAN when there is none. */
-static double way_length_clear_m(const rover_world_config *w, double clear_m)
+/* The way's length from the team's start (the mean of the start poses);
+ * NAN when there is none. */
+static double way_from_start(const navfield *f, const rover_world_config *w)
 {
-    const double wx = w->x_max_m - w->x_min_m, wy = w->y_max_m - w->y_min_m;
-    const double cell = fmax(0.1, sqrt(wx * wy / (double)WAY_CELLS_MAX));
-    const long nx = (long)ceil(wx / cell), ny = (long)ceil(wy / cell);
-    double sx = 0.0, sy = 0.0, len = NAN;
-    float *d;
-    unsigned char *blocked;
-    long i, j, from, to;
+    double sx = 0.0, sy = 0.0, len;
     int k;
-    if (!(wx > 0.0 && wy > 0.0) || w->n_robots < 1)
+    if (!f || w->n_robots < 1)
         return NAN;
     for (k = 0; k < w->n_robots; k++) {
         sx += w->start_c[k].x_m;
         sy += w->start_c[k].y_m;
     }
-    sx /= w->n_robots;
-    sy /= w->n_robots;
-    d = malloc(sizeof *d * (size_t)(nx * ny));
-    blocked = malloc((size_t)(nx * ny));
-    if (!d || !blocked)
-        goto out;
-    for (j = 0; j < ny; j++)
-        for (i = 0; i < nx; i++) {
-            const double x = w->x_min_m + (i + 0.5) * cell, y = w->y_min_m + (j + 0.5) * cell;
-            blocked[j * nx + i] = 0;
-            d[j * nx + i] = INFINITY;
-            for (k = 0; k < w->n_obst && !blocked[j * nx + i]; k++)
-                blocked[j * nx + i] = rover_obstacle_distance(&w->obst[k], x, y) < clear_m;
-        }
-    from = (long)((sy - w->y_min_m) / cell) * nx + (long)((sx - w->x_min_m) / cell);
-    to = (long)((w->goal_m[1] - w->y_min_m) / cell) * nx +
-         (long)((w->goal_m[0] - w->x_min_m) / cell);
-    if (from < 0 || from >= nx * ny || to < 0 || to >= nx * ny || blocked[from] || blocked[to])
-        goto out;
-    d[from] = 0.0f;
-    way_sweeps(d, blocked, nx, ny, (float)cell, (float)(cell * sqrt(2.0)));
-    if (isfinite(d[to]))
-        len = d[to];
-out:
-    free(d);
-    free(blocked);
-    return len;
+    len = navfield_way_m(f, sx / w->n_robots, sy / w->n_robots);
+    return isfinite(len) ? len : NAN;
 }
 
 double fm_way_length_m(const rover_world_config *w)
 {
-    return way_length_clear_m(w, WAY_CLEAR_M);
+    navfield *f = way_field(w, WAY_CLEAR_M);
+    const double len = way_from_start(f, w);
+    free(f);
+    return len;
 }
 
 double fm_time_limit_s(double way_m)
@@ -130,8 +67,8 @@ double fm_time_limit_s(double way_m)
 
 /* The narrowest width the team must drive through: the widest way's
  * bottleneck, twice the largest clearance a disc about C keeps from every
- * obstacle on some way from the start to the goal (bisection on
- * way_length_clear_m to PASSAGE_TOL_M; 2 FREE_SIDE_M when that clearance
+ * obstacle on some way from the start to the goal (bisection on the way
+ * field's clear_m, navfield_relax, to PASSAGE_TOL_M; 2 FREE_SIDE_M when that clearance
  * reaches FREE_SIDE_M; 0 when not even the body's finds a way). A team
  * wider than this cannot reach the goal without narrowing; one that is
  * not can go round every narrow gap (posts it splits round, a pocket it
@@ -141,19 +78,24 @@ double fm_time_limit_s(double way_m)
 #define PASSAGE_TOL_M 0.02
 double fm_passage_width_m(const rover_world_config *w)
 {
-    double lo = WAY_CLEAR_M, hi = FREE_SIDE_M;
-    if (!isfinite(way_length_clear_m(w, lo)))
-        return 0.0;
-    if (isfinite(way_length_clear_m(w, hi)))
-        return 2.0 * FREE_SIDE_M;
-    while (hi - lo > PASSAGE_TOL_M) {
-        const double mid = 0.5 * (lo + hi);
-        if (isfinite(way_length_clear_m(w, mid)))
-            lo = mid;
-        else
-            hi = mid;
+    double lo = WAY_CLEAR_M, hi = FREE_SIDE_M, width;
+    navfield *f = way_field(w, lo);
+    if (!isfinite(way_from_start(f, w)))
+        width = 0.0;
+    else if (navfield_relax(f, hi) == NAVFIELD_OK && isfinite(way_from_start(f, w)))
+        width = 2.0 * FREE_SIDE_M;
+    else {
+        while (hi - lo > PASSAGE_TOL_M) {
+            const double mid = 0.5 * (lo + hi);
+            if (navfield_relax(f, mid) == NAVFIELD_OK && isfinite(way_from_start(f, w)))
+                lo = mid;
+            else
+                hi = mid;
+        }
+        width = 2.0 * lo;
     }
-    return 2.0 * lo;
+    free(f);
+    return width;
 }
 
 /* The width the team needs in its start formation: the formation's

@@ -75,6 +75,11 @@ int navfield_params_validate(const navfield_params *p);
  * NAVFIELD_OK or a NAVFIELD_ERR_* code (the field is then unusable). */
 int navfield_build(navfield *f, const navfield_params *p, const rover_world_config *w);
 
+/* The way field again for another clear_m, the clearances kept (what a
+ * search for the widest passable disc needs); clear_m at most prefer_m
+ * and at most twice los_m. NAVFIELD_OK or a NAVFIELD_ERR_* code. */
+int navfield_relax(navfield *f, double clear_m);
+
 /* The weighted way from the world point (x, y) to the goal (the cell's
  * value); INFINITY off the grid or where there is none. */
 double navfield_way_m(const navfield *f, double x_m, double y_m);

@@ -187,8 +187,6 @@ static int grid_fit(navfield *f, const rover_world_config *w)
 
 int navfield_build(navfield *f, const navfield_params *p, const rover_world_config *w)
 {
-    long c, n;
-    int pass, max_passes;
     if (!f || !w || navfield_params_validate(p) != NAVFIELD_OK)
         return NAVFIELD_ERR_ARG;
     f->p = *p;
@@ -199,15 +197,26 @@ int navfield_build(navfield *f, const navfield_params *p, const rover_world_conf
     f->goal_w_m[0] = w->goal_m[0];
     f->goal_w_m[1] = w->goal_m[1];
     clearance_fill(f, w, fmax(p->prefer_m, p->los_m) + f->cell_m);
-    n = (long)f->nx * f->ny;
+    f->goal_cell = cell_of(f, w->goal_m[0], w->goal_m[1]);
+    return navfield_relax(f, p->clear_m);
+}
+
+int navfield_relax(navfield *f, double clear_m)
+{
+    const long n = f ? (long)f->nx * f->ny : 0;
+    long c;
+    int pass, max_passes;
+    if (!f || !(clear_m > 0.0) || !(clear_m <= f->p.prefer_m) || 0.5 * clear_m > f->p.los_m)
+        return NAVFIELD_ERR_ARG;
+    f->p.clear_m = clear_m;
     for (c = 0; c < n; c++)
         f->way_m[c] = INFINITY;
-    f->goal_cell = cell_of(f, w->goal_m[0], w->goal_m[1]);
     if (f->goal_cell < 0 || !passable(f, f->goal_cell))
         return NAVFIELD_ERR_GOAL;
     f->way_m[f->goal_cell] = 0.0f;
-    /* a shortest way turns at most once per pass of the right order; more
-     * passes than cells along both sides, four orders each, means a bug */
+    /* a pass carries the values along a shortest way up to its next turn
+     * against the pass's order; a world whose ways turn more often than
+     * this bound (a maze) is refused, not flown on a field not settled */
     max_passes = 4 * (f->nx + f->ny) + 4;
     for (pass = 0; pass < max_passes; pass++)
         if (!relax_pass(f, pass & 3))
