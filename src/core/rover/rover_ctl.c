@@ -52,17 +52,6 @@ void rover_ctl_set_navfield(rover_ctl_state *c, const navfield *f)
         c->nav = f;
 }
 
-/* R0's heading: the seed's circular mean of the robots' headings couples
- * every slot to every robot's turning (a robot that turns rotates the
- * frame, its slot moves sideways, it turns more): long formations (a
- * column) drift round in a slow spiral. With goal_heading_gain g > 0 the
- * heading used is the mean heading pulled toward the bearing of the goal
- * from R0 by the fraction g (1: the goal bearing alone), and its rate w0 is
- * dropped in the same proportion. Within a metre of the goal the bearing
- * swings about, so the heading of the goal's own slot frame (own_goal) is
- * used: there the mean heading of robots that have stopped anyhow turned
- * the formation round, and a robot whose slot came to lie behind it
- * circled the goal chasing it. */
 /* The point to steer for from (x, y) toward `goal`: the goal itself
  * without a navigation function or where the straight way to it is clear
  * (the seed's behaviour), else a point of the field's descent
@@ -79,16 +68,25 @@ static int steer_point(const rover_ctl_state *c, double x_m, double y_m, const d
     return navfield_waypoint(c->nav, from, goal, out) != NAVFIELD_DESCENT;
 }
 
-static void ref_heading_to_goal(const rover_ctl_state *c, unicycle_state *ref)
+/* R0's heading: the seed's circular mean of the robots' headings couples
+ * every slot to every robot's turning (a robot that turns rotates the
+ * frame, its slot moves sideways, it turns more): long formations (a
+ * column) drift round in a slow spiral. With goal_heading_gain g > 0 the
+ * heading used is the mean heading pulled toward the bearing of the goal
+ * from R0 (of R0's point steered for, steer_point: the goal itself in
+ * plain view) by the fraction g (1: that bearing alone), and its rate w0 is
+ * dropped in the same proportion. Within a metre of the goal the bearing
+ * swings about, so the heading of the goal's own slot frame (own_goal) is
+ * used: there the mean heading of robots that have stopped anyhow turned
+ * the formation round, and a robot whose slot came to lie behind it
+ * circled the goal chasing it. */
+static void ref_heading_to_goal(const rover_ctl_state *c, const double steer[2],
+                                unicycle_state *ref)
 {
     const double g = c->p.goal_heading_gain;
     const double dx = c->goal_m[0] - ref->x_m, dy = c->goal_m[1] - ref->y_m;
-    double to = atan2(c->goal_m[1], c->goal_m[0]);
-    if (hypot(dx, dy) >= 1.0) {
-        double w[2];
-        steer_point(c, ref->x_m, ref->y_m, c->goal_m, w);
-        to = atan2(w[1] - ref->y_m, w[0] - ref->x_m);
-    }
+    const double to = hypot(dx, dy) < 1.0 ? atan2(c->goal_m[1], c->goal_m[0])
+                                          : atan2(steer[1] - ref->y_m, steer[0] - ref->x_m);
     if (!(g > 0.0))
         return;
     ref->theta_rad = vec2_wrap_rad(ref->theta_rad + g * vec2_angle_diff_rad(to, ref->theta_rad));
@@ -170,8 +168,10 @@ typedef struct {
     sonar_groups gw;            /* every mate masked (walls only) */
     double masked[BEH_SONAR_N]; /* the ranges gw is made of */
     double goal[2];             /* own goal slot */
-    double steer[2];            /* what the goal behaviour drives to (steer_point) */
-    int steer_goal;             /* 1: steer is the goal slot itself */
+    double team_steer[2];       /* R0's point steered for toward the team goal */
+    int team_direct;            /* 1: that is the team goal itself */
+    double steer[2];            /* what the goal behaviour drives to (own_steer) */
+    int steer_goal;             /* 1: steer is the own goal slot itself */
     int escaping;               /* rover_ctl_escape_step's verdict */
     behaviour_inputs in;        /* the behaviours' commands for the blend */
     double R_d;                 /* own slot error */
@@ -318,7 +318,6 @@ static void perceive(rover_ctl_state *c, double t_s, double dt_s, step_view *v)
     rover_ctl_mask_mates(c, &v->o, 0.0, v->masked);
     behaviour_sonar_groups(&v->gw, v->masked);
     own_goal(c, v->n, k, v->goal);
-    v->steer_goal = steer_point(c, v->o.x_m, v->o.y_m, v->goal, v->steer);
 }
 
 /* The team reference R0 and the narrow-passage protocol (not while
@@ -330,7 +329,8 @@ static void reference_and_passage(rover_ctl_state *c, double t_s, double dt_s, s
     double passage;
     if (team_reference(&v->ref, &c->team, &v->self, v->escaping, c->p.beh.d_m, t_s) < 0)
         v->ref = v->self;
-    ref_heading_to_goal(c, &v->ref);
+    v->team_direct = steer_point(c, v->ref.x_m, v->ref.y_m, c->goal_m, v->team_steer);
+    ref_heading_to_goal(c, v->team_steer, &v->ref);
     ref_arrive(c, &v->ref);
     passage = rover_ctl_passage_width(c, &v->o, &v->ref, &v->gw, v->masked);
     /* arriving, the goal's slots are where the team ends: the formation
@@ -352,6 +352,33 @@ static void reference_and_passage(rover_ctl_state *c, double t_s, double dt_s, s
     }
 }
 
+/* What the goal behaviour drives to (docs/method/formation.md §14): the
+ * own goal slot while R0 sees the team goal straight (the seed's
+ * behaviour, and the arrival); else the own slot k of the formation placed
+ * at R0's point steered for, headed from R0 toward it, so that the robots
+ * keep their places across the way (each descending to the goal on the
+ * field's one path from its own place bunched a line behind a post).
+ * Either is then steered for from the robot's own O (a target behind an
+ * obstacle from where it stands is gone round). */
+static void own_steer(const rover_ctl_state *c, step_view *v, int k)
+{
+    double target[2];
+    int at_goal = 1, seen;
+    target[0] = v->goal[0];
+    target[1] = v->goal[1];
+    if (!v->team_direct && k >= 0) {
+        const double heading = atan2(v->team_steer[1] - v->ref.y_m, v->team_steer[0] - v->ref.x_m);
+        double xy[2], r[2];
+        formation_slot_xy(xy, c->fsm.type, v->n, k, c->p.fsm.spacing_m, c->fsm.scale);
+        vec2_rotate(r, xy[0], xy[1], heading);
+        target[0] = v->team_steer[0] + r[0];
+        target[1] = v->team_steer[1] + r[1];
+        at_goal = 0;
+    }
+    seen = steer_point(c, v->o.x_m, v->o.y_m, target, v->steer);
+    v->steer_goal = at_goal && seen;
+}
+
 /* The four behaviours for the own slot of the (possibly new) formation
  * and their blend (eq. 11 or a baseline) into c->blend; the blend's
  * status. */
@@ -367,6 +394,7 @@ static int blend_behaviours(rover_ctl_state *c, step_view *v)
     }
     D = formation_width(c->fsm.type, v->n, c->p.fsm.spacing_m, c->fsm.scale, bp->robot_width_m);
     v->R_d = 0.0;
+    own_steer(c, v, k);
     v->rc_goal = behaviour_goal(&v->in.u[BEH_GOAL], &v->o, v->steer, bp);
     /* a point of the way is passed through, never stopped at */
     if (!v->steer_goal && v->rc_goal == BEH_GOAL_REACHED)
