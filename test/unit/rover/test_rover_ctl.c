@@ -50,10 +50,12 @@ typedef struct {
     int n, kill;
     double t_max, t_kill;
     double enc_left_scale[KN];
+    const navfield *nav; /* the goal path (rover_ctl_set_navfield), or NULL */
 } kin_opts;
 
 static rover_ctl_state ctl[KN];
 static sonar_world sw;
+static navfield NAV;                                           /* large: keep off the stack */
 static const double open_ring[8] = { 5, 5, 5, 5, 5, 5, 5, 5 }; /* no echo anywhere */
 
 static kin_opts kin_defaults(double t_max)
@@ -64,6 +66,7 @@ static kin_opts kin_defaults(double t_max)
     o.kill = -1;
     o.t_max = t_max;
     o.t_kill = 0.0;
+    o.nav = NULL;
     for (i = 0; i < KN; i++)
         o.enc_left_scale[i] = 1.0;
     return o;
@@ -140,6 +143,7 @@ static kin_result kin_run_world(const rover_world_config *w, const rover_ctl_par
         c[i] = w->start_c[i];
         rover_world_to_team(w, &c[i], &st);
         assert_int_equal(rover_ctl_init(&ctl[i], p, i + 1, &st, goal_team), 0);
+        rover_ctl_set_navfield(&ctl[i], opt->nav);
     }
     for (step = 0; step * DT < opt->t_max; step++) {
         const double t = step * DT;
@@ -429,6 +433,37 @@ static void test_deadzone_team(void **state)
     assert_true(r.min_clear > 0.0);
 }
 
+/* The whole line in the dead zone steering by the navigation function:
+ * each robot drives to its slot round R0's point on the field, so the team
+ * passes the U by as a line (nobody trapped, no escape, no give-way) and
+ * reaches the goal without a touch, sooner than the escape lets it. */
+static void test_deadzone_team_navfield(void **state)
+{
+    rover_world_config w;
+    rover_ctl_params p;
+    navfield_params np;
+    kin_opts o = kin_defaults(150.0);
+    kin_result r, direct;
+    (void)state;
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_DEADZONE, KN, 1.0, FORMATION_LINE), 0);
+    rover_ctl_params_default(&p);
+    direct = kin_run_world(&w, &p, &o);
+    navfield_params_default(&np);
+    assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
+    o.nav = &NAV;
+    r = kin_run_world(&w, &p, &o);
+    print_message("deadzone team, navigation function: reached=%d t=%.1f (direct %.1f) escapes=%d "
+                  "yields=%d min_clear=%.3f slot err %.2f\n",
+                  r.reached, r.t_end, direct.t_end, r.escapes, r.yields, r.min_clear,
+                  r.max_slot_err_m);
+    assert_true(r.reached && direct.reached);
+    assert_int_equal(r.escapes, 0);
+    assert_int_equal(r.yields, 0);
+    assert_true(r.min_clear > 0.0);
+    assert_true(r.t_end < direct.t_end);
+    assert_true(r.max_slot_err_m < 0.25);
+}
+
 /* Centre-out slots: a bijection onto 0..n-1 for every type and team size;
  * the middle robot of the line heads the triangle and the column, and
  * each side keeps its side (odd triangle slots are left). */
@@ -557,8 +592,6 @@ static void test_deadzone_escape(void **state)
 /* The same robot steering by the world's navigation function
  * (docs/method/formation.md §14): it never enters the U, reaches the goal
  * without a touch, and sooner than the escape lets it. */
-static navfield NAV; /* large: keep off the stack */
-
 static void test_deadzone_navfield(void **state)
 {
     rover_world_config w;
@@ -1998,6 +2031,7 @@ int main(void)
         cmocka_unit_test(test_escape_table_validate),
         cmocka_unit_test(test_wedge_backs_along_path),
         cmocka_unit_test(test_deadzone_team),
+        cmocka_unit_test(test_deadzone_team_navfield),
         cmocka_unit_test(test_escape_timeout_and_lost_wall),
         cmocka_unit_test(test_mask_mates_property),
         cmocka_unit_test(test_mask_cull_keeps_mates_that_echo),
