@@ -7,3 +7,6 @@ $(BIN)/test_hang_watch: $(OBJ)/tools/scenario/hang_watch.o $(OBJ)/tools/scenario
 # the status texts of tandem-sim and tandem-scenario (their code lists)
 $(OBJ)/test/common/test_tool_status.o: DIR_CPPFLAGS += -Itools/scenario
 $(BIN)/test_tool_status: $(OBJ)/sim/sim_status.o $(OBJ)/tools/scenario/scen_status.o
+# what tandem-scenario measures of a world (its way, passage and cut)
+$(OBJ)/test/common/test_formation_way.o: DIR_CPPFLAGS += -Itools/scenario
+$(BIN)/test_formation_way: $(OBJ)/tools/scenario/formation_way.o

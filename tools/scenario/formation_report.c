@@ -10,93 +10,6 @@
 #include "formation_scen.h"
 #include "shared_run.h"
 #include "formation.h"
-#include "navfield.h"
-
-#define FREE_SIDE_M 5.0 /* a way this clear on both sides is open */
-
-/* ---- the way's length and the time limit ---------------------------------------- */
-
-#define WAY_CLEAR_M 0.32 /* the body's radius about C (WORLDGEN_BODY_RADIUS_M) */
-
-/* The way field of w for a disc of radius clear_m about C, lengths
- * unweighted and clearances kept up to FREE_SIDE_M (navfield.h); NULL
- * when it cannot be built or the goal is nearer an obstacle than clear_m.
- * The caller frees it. */
-static navfield *way_field(const rover_world_config *w, double clear_m)
-{
-    navfield_params p;
-    navfield *f = malloc(sizeof *f);
-    navfield_params_default(&p);
-    p.clear_m = clear_m;
-    p.los_m = p.prefer_m = FREE_SIDE_M; /* the bisection's clearances up to it */
-    p.pen_gain = 0.0;
-    if (f && navfield_build(f, &p, w) == NAVFIELD_OK)
-        return f;
-    free(f);
-    return NULL;
-}
-
-/* The way's length from the team's start (the mean of the start poses);
- * NAN when there is none. */
-static double way_from_start(const navfield *f, const rover_world_config *w)
-{
-    double sx = 0.0, sy = 0.0, len;
-    int k;
-    if (!f || w->n_robots < 1)
-        return NAN;
-    for (k = 0; k < w->n_robots; k++) {
-        sx += w->start_c[k].x_m;
-        sy += w->start_c[k].y_m;
-    }
-    len = navfield_way_m(f, sx / w->n_robots, sy / w->n_robots);
-    return isfinite(len) ? len : NAN;
-}
-
-double fm_way_length_m(const rover_world_config *w)
-{
-    navfield *f = way_field(w, WAY_CLEAR_M);
-    const double len = way_from_start(f, w);
-    free(f);
-    return len;
-}
-
-double fm_time_limit_s(double way_m)
-{
-    return isfinite(way_m) ? FM_TIME_BASE_S + way_m / FM_TIME_SPEED_MPS : FM_TIME_DEFAULT_S;
-}
-
-/* The narrowest width the team must drive through: the widest way's
- * bottleneck, twice the largest clearance a disc about C keeps from every
- * obstacle on some way from the start to the goal (bisection on the way
- * field's clear_m, navfield_relax, to PASSAGE_TOL_M; 2 FREE_SIDE_M when that clearance
- * reaches FREE_SIDE_M; 0 when not even the body's finds a way). A team
- * wider than this cannot reach the goal without narrowing; one that is
- * not can go round every narrow gap (posts it splits round, a pocket it
- * passes), so the criterion asks for a change only then. Measured along
- * the straight start-goal line instead, a pair of posts beside the line
- * asked for a change that no way needs (generated clutter worlds). */
-#define PASSAGE_TOL_M 0.02
-double fm_passage_width_m(const rover_world_config *w)
-{
-    double lo = WAY_CLEAR_M, hi = FREE_SIDE_M, width;
-    navfield *f = way_field(w, lo);
-    if (!isfinite(way_from_start(f, w)))
-        width = 0.0;
-    else if (navfield_relax(f, hi) == NAVFIELD_OK && isfinite(way_from_start(f, w)))
-        width = 2.0 * FREE_SIDE_M;
-    else {
-        while (hi - lo > PASSAGE_TOL_M) {
-            const double mid = 0.5 * (lo + hi);
-            if (navfield_relax(f, mid) == NAVFIELD_OK && isfinite(way_from_start(f, w)))
-                lo = mid;
-            else
-                hi = mid;
-        }
-        width = 2.0 * lo;
-    }
-    free(f);
-    return width;
-}
 
 /* The width the team needs in its start formation: the formation's
  * width across the heading plus the FSM's safety margin (the rule
@@ -124,7 +37,8 @@ double fm_formation_width_m(const fm_cfg *cfg)
  * (fm_cfg.passage_m, fm_passage_width_m, below fm_formation_width_m less
  * 2 d_r: a robot within d_r, FM_OUT_TOL, of its slot is in formation, so
  * a team whose outer robots each give way by d_r passes such a gap
- * without one; between that and fm_needed_width_m, where the robots' own
+ * without one) and no cross-section of all the ways together is either
+ * (fm_cfg.cut_m: a team may split round an obstacle and join again); between that and fm_needed_width_m, where the robots' own
  * margin may make them change, either is right), and >= 1 dead-zone
  * escape in the dead zone flown without the map (--goal-path direct:
  * with it the team steers round the U, and there is nothing to escape).
@@ -132,7 +46,8 @@ double fm_formation_width_m(const fm_cfg *cfg)
 int fm_criteria(const fm_cfg *cfg, const fm_procs *pr, const fm_metrics *mt, const fm_outcome *oc,
                 char *buf, size_t cap)
 {
-    const int must_change = cfg->passage_m < fm_formation_width_m(cfg) - 2.0 * FM_OUT_TOL;
+    const double fits = fm_formation_width_m(cfg) - 2.0 * FM_OUT_TOL;
+    const int must_change = cfg->passage_m < fits && cfg->cut_m < fits;
     const scenario_criterion k[] = {
         { !mt->reached, "reached_goal" },
         { mt->collisions != 0, "collisions" },
@@ -190,6 +105,7 @@ void fm_write_summary(const fm_cfg *cfg, const fm_procs *pr, const fm_metrics *m
     json_int(&j, "kill_resends", pr->kill_resends);
     json_int(&j, "formation_changes", mt->formation_changes);
     json_num(&j, "passage_width_m", cfg->passage_m);
+    json_num(&j, "cut_width_m", cfg->cut_m);
     json_num(&j, "needed_width_m", fm_needed_width_m(cfg));
     json_num(&j, "formation_width_m", fm_formation_width_m(cfg));
     json_int(&j, "dead_zone_escapes", mt->escapes);

@@ -64,6 +64,7 @@ typedef struct fm_cfg {
     double max_time_s; /* --max-time; 0: fm_time_limit_s of the way */
     double way_m;      /* fm_way_length_m of the layout (NAN: no way found) */
     double passage_m;  /* fm_passage_width_m of the layout */
+    double cut_m;      /* fm_cut_width_m of the layout */
     int kill_id;
     double kill_t_s;
     scenario_fault faults[SCENARIO_MAX_FAULTS]; /* --fault kill:roverK:T[:R] as given */
@@ -274,6 +275,10 @@ int fm_criteria(const fm_cfg *cfg, const fm_procs *pr, const fm_metrics *mt, con
  * largest clearance a disc keeps on some way; 10 when 5 m is kept, 0 when
  * not even the robot body finds a way. */
 double fm_passage_width_m(const rover_world_config *w);
+/* The narrowest cross-section of all the ways together, side by side (a
+ * team splitting round an obstacle): see formation_report.c. INFINITY
+ * where the way is too short to hold one away from the start and goal. */
+double fm_cut_width_m(const rover_world_config *w, double team_width_m);
 /* Width the team's formation needs (formation width + the FSM's margin). */
 double fm_needed_width_m(const fm_cfg *cfg);
 /* The start formation's width without that margin: below it a change is demanded. */

@@ -380,6 +380,7 @@ static int setup_cfg(fm_cfg *cfg)
         return 2;
     cfg->way_m = fm_way_length_m(&cfg->layout);
     cfg->passage_m = fm_passage_width_m(&cfg->layout);
+    cfg->cut_m = fm_cut_width_m(&cfg->layout, fm_formation_width_m(cfg));
     if (cfg->max_time_s == -1.0)
         cfg->max_time_s = fm_time_limit_s(cfg->way_m);
     if (scenario_mkdir(cfg->out) != 0)
