@@ -108,11 +108,11 @@ double fm_passage_width_m(const rover_world_config *w)
  * cross-section of all the ways side by side, in cells. */
 typedef struct {
     const navfield *f;
-    long n;                   /* cells */
-    unsigned char *role;      /* 0 passable, 1 source, 2 sink, 3 blocked */
-    unsigned char *used;      /* the cell carries a way */
-    signed char *edge;        /* [c * 8 + k]: ways from c to its neighbour k */
-    long *parent, *queue;     /* [2n] */
+    long n;               /* cells */
+    unsigned char *role;  /* 0 passable, 1 source, 2 sink, 3 blocked */
+    unsigned char *used;  /* the cell carries a way */
+    signed char *edge;    /* [c * 8 + k]: ways from c to its neighbour k */
+    long *parent, *queue; /* [2n] */
 } cut_work;
 
 static const int cut_di[8] = { 1, -1, 0, 0, 1, 1, -1, -1 };
@@ -223,10 +223,10 @@ double fm_cut_width_m(const rover_world_config *w, double team_width_m)
         for (c = 0; c < cw.n; c++) {
             const double x = f->x0_m + (c % f->nx + 0.5) * f->cell_m;
             const double y = f->y0_m + (c / f->nx + 0.5) * f->cell_m;
-            cw.role[c] = !isfinite(f->way_m[c])                                      ? 3
-                         : hypot(x - sx, y - sy) <= 0.5 * team_width_m                ? 1
+            cw.role[c] = !isfinite(f->way_m[c])                                            ? 3
+                         : hypot(x - sx, y - sy) <= 0.5 * team_width_m                     ? 1
                          : hypot(x - w->goal_m[0], y - w->goal_m[1]) <= 0.5 * team_width_m ? 2
-                                                                                      : 0;
+                                                                                           : 0;
         }
         while (flow < cap && cut_augment(&cw))
             flow++;
@@ -240,4 +240,3 @@ double fm_cut_width_m(const rover_world_config *w, double team_width_m)
     free(f);
     return width;
 }
-

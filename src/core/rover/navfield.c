@@ -251,34 +251,44 @@ static double clear_at(const navfield *f, const double xy[2])
 }
 
 /* 1 if the straight way a -> b (world frame, both on the grid) keeps
- * los_m from every obstacle, or as much as its ends keep (a robot beside a
- * wall, a slot near one) but never less than half of it; sampled every half
- * cell, so at most four samples per cell of the grid's diagonal. */
-static int seen_straight(const navfield *f, const double a[2], const double b[2])
+ * need_m from every obstacle, sampled every half cell (at most four
+ * samples per cell of the grid's diagonal). */
+static int clear_along(const navfield *f, const double a[2], const double b[2], double need_m)
 {
-    const double ca = clear_at(f, a), cb = clear_at(f, b);
-    const double need = fmax(0.5 * f->p.los_m, fmin(f->p.los_m, fmin(ca, cb)));
     const double len = hypot(b[0] - a[0], b[1] - a[1]);
     const long n = (long)ceil(len / (0.5 * f->cell_m));
     long s;
-    if (ca == -INFINITY || cb == -INFINITY)
+    if (clear_at(f, a) == -INFINITY || clear_at(f, b) == -INFINITY)
         return 0;
     for (s = 1; s <= n; s++) {
         const double t = (double)s / (double)n;
         const double xy[2] = { a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]) };
-        if (clear_at(f, xy) < need)
+        if (clear_at(f, xy) < need_m)
             return 0;
     }
     return 1;
 }
 
+/* Seen straight: the way a -> b keeps los_m from every obstacle, or as
+ * much as its ends keep (a robot beside a wall, a slot near one), but
+ * never less than half of it. */
+static int seen_straight(const navfield *f, const double a[2], const double b[2])
+{
+    const double ca = clear_at(f, a), cb = clear_at(f, b);
+    return clear_along(f, a, b, fmax(0.5 * f->p.los_m, fmin(f->p.los_m, fmin(ca, cb))));
+}
+
 /* The cell to descend from: a's own if it is joined to the goal, else the
  * one within START_RING_M that is (least way plus the straight distance to
- * it); -1 when there is none. */
+ * it) and that a reaches straight without coming nearer an obstacle than
+ * it is or than half clear_m: a point beside a wall does not take a cell
+ * on the wall's far side, nearer the goal as that may be; -1 when there
+ * is none. */
 static long start_cell(const navfield *f, const double a[2])
 {
     const long c = cell_of(f, a[0], a[1]);
     const long ring = (long)ceil(START_RING_M / f->cell_m);
+    const double need = fmin(clear_at(f, a), 0.5 * f->p.clear_m);
     long best = -1, i, j, i0, j0;
     double best_v = INFINITY;
     if (c < 0 || isfinite(f->way_m[c]))
@@ -292,7 +302,7 @@ static long start_cell(const navfield *f, const double a[2])
                 continue;
             centre_of(f, j * f->nx + i, xy);
             v = (double)f->way_m[j * f->nx + i] + hypot(xy[0] - a[0], xy[1] - a[1]);
-            if (v < best_v) {
+            if (v < best_v && clear_along(f, a, xy, need)) {
                 best_v = v;
                 best = j * f->nx + i;
             }

@@ -4,7 +4,8 @@
  * waypoints from inside that pocket (where the straight way to the goal
  * runs into its back wall) reaches the goal, every leg clear of the walls
  * by an independent distance check; the team frame's rotation commutes
- * with the query; a goal on an obstacle and bad parameters are refused. */
+ * with the query; a point beside a wall does not descend from its far
+ * side; a goal on an obstacle and bad parameters are refused. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -177,6 +178,35 @@ static void test_frame_commutes(void **state)
     assert_true(fabs(back[0] + ox - ow[0]) < 1e-9 && fabs(back[1] + oy - ow[1]) < 1e-9);
 }
 
+/* A point beside a thin wall, nearer it than clear_m, with the goal just
+ * across: the cell it descends from is on its own side (the far side is
+ * within reach and nearer the goal, but only through the wall), so the
+ * waypoint leads along the wall to its end, never through it. */
+static void test_start_beside_wall(void **state)
+{
+    const double from_w[2] = { 9.7, 5.0 }, goal_w[2] = { 12.0, 5.0 };
+    double from[2], goal[2], out[2], s, leg_clear = INFINITY;
+    (void)state;
+    world_open();
+    W.goal_m[0] = goal_w[0];
+    W.goal_m[1] = goal_w[1];
+    box(10.0, 4.0, 0.1, 4.0); /* x = 10 from y = 0 to 8; the way round its top end */
+    build(&F);
+    from[0] = from_w[0] - W.team_origin.x_m;
+    from[1] = from_w[1] - W.team_origin.y_m;
+    goal[0] = goal_w[0] - W.team_origin.x_m;
+    goal[1] = goal_w[1] - W.team_origin.y_m;
+    assert_int_equal(navfield_waypoint(&F, from, goal, out), NAVFIELD_DESCENT);
+    out[0] += W.team_origin.x_m;
+    out[1] += W.team_origin.y_m;
+    print_message("beside the wall: waypoint (%.2f, %.2f)\n", out[0], out[1]);
+    for (s = 0.0; s <= 1.0; s += 0.005)
+        leg_clear = fmin(leg_clear, world_clearance(from_w[0] + s * (out[0] - from_w[0]),
+                                                    from_w[1] + s * (out[1] - from_w[1])));
+    assert_true(leg_clear > 0.1); /* not through the wall (0.2 m from it at the start) */
+    assert_true(out[1] > from_w[1] + 0.5);
+}
+
 static void test_refusals(void **state)
 {
     navfield_params p;
@@ -213,6 +243,7 @@ int main(void)
         cmocka_unit_test(test_bellman_bounds),
         cmocka_unit_test(test_pocket_escape),
         cmocka_unit_test(test_frame_commutes),
+        cmocka_unit_test(test_start_beside_wall),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
