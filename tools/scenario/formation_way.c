@@ -221,8 +221,9 @@ double fm_cut_width_m(const rover_world_config *w, double team_width_m)
     if (cw.role && cw.used && cw.edge && cw.parent && cw.queue) {
         cap = (long)ceil(team_width_m / f->cell_m) + 1;
         for (c = 0; c < cw.n; c++) {
-            const double x = f->x0_m + (c % f->nx + 0.5) * f->cell_m;
-            const double y = f->y0_m + (c / f->nx + 0.5) * f->cell_m;
+            const long i = c % f->nx, j = c / f->nx;
+            const double x = f->x0_m + ((double)i + 0.5) * f->cell_m;
+            const double y = f->y0_m + ((double)j + 0.5) * f->cell_m;
             cw.role[c] = !isfinite(f->way_m[c])                                            ? 3
                          : hypot(x - sx, y - sy) <= 0.5 * team_width_m                     ? 1
                          : hypot(x - w->goal_m[0], y - w->goal_m[1]) <= 0.5 * team_width_m ? 2

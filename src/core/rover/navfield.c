@@ -56,8 +56,9 @@ static long cell_of(const navfield *f, double x_m, double y_m)
 
 static void centre_of(const navfield *f, long c, double xy[2])
 {
-    xy[0] = f->x0_m + ((double)(c % f->nx) + 0.5) * f->cell_m;
-    xy[1] = f->y0_m + ((double)(c / f->nx) + 0.5) * f->cell_m;
+    const long i = c % f->nx, j = c / f->nx;
+    xy[0] = f->x0_m + ((double)i + 0.5) * f->cell_m;
+    xy[1] = f->y0_m + ((double)j + 0.5) * f->cell_m;
 }
 
 static int passable(const navfield *f, long c)

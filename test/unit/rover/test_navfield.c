@@ -81,7 +81,8 @@ static void test_open_is_octile_and_direct(void **state)
     gi = F.goal_cell % F.nx;
     gj = F.goal_cell / F.nx;
     for (c = 0; c < (long)F.nx * F.ny; c += 37) {
-        const double dx = fabs((double)(c % F.nx - gi)), dy = fabs((double)(c / F.nx - gj));
+        const long i = c % F.nx, j = c / F.nx;
+        const double dx = fabs((double)(i - gi)), dy = fabs((double)(j - gj));
         const double octile = F.cell_m * (fmax(dx, dy) + (sqrt(2.0) - 1.0) * fmin(dx, dy));
         assert_true(fabs(F.way_m[c] - octile) < 1e-3);
     }
