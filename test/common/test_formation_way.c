@@ -10,6 +10,9 @@
 #include <stdint.h>
 #include <cmocka.h>
 #include <math.h>
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
 #include <string.h>
 
 #include "formation_scen.h"
@@ -100,6 +103,35 @@ static void test_two_gaps_side_by_side(void **state)
     assert_true(fabs(cut - (3.0 - 2.0 * 0.32)) <= 2.0 * CELL_M);
 }
 
+/* A wall at 45 degrees across the world with one 1.5 m gap: the ways
+ * through it step diagonally, and the flow must cancel along diagonal
+ * steps to find them all; the cut counts oblique cells (up to sqrt(2)
+ * times the length), never fewer than the gap's passable middle. */
+static void test_oblique_gap(void **state)
+{
+    const double c = cos(M_PI / 4.0), sn = sin(M_PI / 4.0), gap = 1.5, half = 20.0;
+    double cut;
+    int side;
+    (void)state;
+    world_open();
+    for (side = -1; side <= 1; side += 2) { /* two boxes along the diagonal, the gap between */
+        rover_obstacle *o = &W.obst[W.n_obst++];
+        const double d = side * (0.5 * gap + 0.5 * half);
+        memset(o, 0, sizeof *o);
+        o->kind = ROVER_OBST_BOX;
+        o->cx_m = 10.0 + d * c;
+        o->cy_m = 5.0 - d * sn;
+        o->hx_m = 0.5 * half;
+        o->hy_m = 0.1;
+        o->angle_rad = -M_PI / 4.0;
+        o->height_m = 0.5;
+    }
+    cut = fm_cut_width_m(&W, 3.0);
+    print_message("oblique 1.5 m gap: passage %.3f m, cut %.3f m\n", fm_passage_width_m(&W), cut);
+    assert_true(cut >= gap - 2.0 * CELL_M);
+    assert_true(cut <= (gap - 0.64) * sqrt(2.0) + 0.64 + 2.0 * CELL_M);
+}
+
 static void test_no_way(void **state)
 {
     static const double gap[1][2] = { { 5.0, 5.3 } }; /* narrower than the body */
@@ -117,6 +149,7 @@ int main(void)
         cmocka_unit_test(test_open),
         cmocka_unit_test(test_one_gap),
         cmocka_unit_test(test_two_gaps_side_by_side),
+        cmocka_unit_test(test_oblique_gap),
         cmocka_unit_test(test_no_way),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

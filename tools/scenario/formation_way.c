@@ -118,6 +118,13 @@ typedef struct {
 static const int cut_di[8] = { 1, -1, 0, 0, 1, 1, -1, -1 };
 static const int cut_dj[8] = { 0, 0, 1, -1, 1, -1, 1, -1 };
 
+/* The direction back: (1, 0) <-> (-1, 0), (0, 1) <-> (0, -1),
+ * (1, 1) <-> (-1, -1), (1, -1) <-> (-1, 1). */
+static int cut_back(int k)
+{
+    return k < 4 ? k ^ 1 : 11 - k;
+}
+
 /* Neighbour k of c for a way (both passable, no blocked corner), or -1. */
 static long cut_nb(const cut_work *w, long c, int k)
 {
@@ -155,7 +162,7 @@ static int cut_augment(cut_work *w)
                 cut_visit(w, u, u + 1, &tail);
             for (k = 0; k < 8; k++) {
                 const long a = cut_nb(w, c, k);
-                if (a >= 0 && w->edge[a * 8 + (k ^ 1)] > 0)
+                if (a >= 0 && w->edge[a * 8 + cut_back(k)] > 0)
                     cut_visit(w, u, 2 * a + 1, &tail);
             }
         } else if (w->role[c] == 2) {
