@@ -132,6 +132,23 @@ static void test_oblique_gap(void **state)
     assert_true(cut <= (gap - 0.64) * sqrt(2.0) + 0.64 + 2.0 * CELL_M);
 }
 
+/* A team wider than the start's distance to the wall: the cells within
+ * half its width of the start are taken by the way, so the flow starts
+ * on the start's side and the cut is the gap, not the wall's far side. */
+static void test_wall_near_start(void **state)
+{
+    static const double gap[1][2] = { { 4.4, 5.6 } };
+    double cut;
+    (void)state;
+    world_open();
+    W.x_max_m = 40.0;
+    W.goal_m[0] = 37.0;
+    wall_with_gaps(gap, 1); /* x = 10, 7 m from the start; the team 16 m wide */
+    cut = fm_cut_width_m(&W, 16.0);
+    print_message("wall 7 m from a 16 m team's start: cut %.3f m\n", cut);
+    assert_true(fabs(cut - 1.2) <= 1.5 * CELL_M);
+}
+
 static void test_no_way(void **state)
 {
     static const double gap[1][2] = { { 5.0, 5.3 } }; /* narrower than the body */
@@ -150,6 +167,7 @@ int main(void)
         cmocka_unit_test(test_one_gap),
         cmocka_unit_test(test_two_gaps_side_by_side),
         cmocka_unit_test(test_oblique_gap),
+        cmocka_unit_test(test_wall_near_start),
         cmocka_unit_test(test_no_way),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -194,18 +194,22 @@ static int cut_augment(cut_work *w)
 
 /* The cross-section of all the ways together, side by side (a team that
  * splits round an obstacle and joins again needs that, not one way as
- * wide as itself): the max flow above, from the cells within half the
- * team's width of its start to those within it of the goal, times a
+ * wide as itself): the max flow above, from the cells where the robots
+ * stand at the start (within CUT_START_M of each) to those within half the
+ * team's width of the goal by the way (a disc about the start, straight
+ * or by the way, reached through or past a gap near it and let the flow
+ * start beyond the gap), times a
  * cell's side, plus the body's 2 x WAY_CLEAR_M (a gap is that much wider
  * than its passable middle). Counted only up to what the team's width
  * needs; a cut across the grid obliquely counts up to sqrt(2) times its
  * length (cells, not metres). INFINITY when the start and the goal are
  * nearer than the team is wide, 0 when there is no way. */
+#define CUT_START_M 0.5 /* a robot's start: the cells this near its axle */
 double fm_cut_width_m(const rover_world_config *w, double team_width_m)
 {
     navfield *f = way_field(w, WAY_CLEAR_M);
-    const double way = way_from_start(f, w);
-    double sx = 0.0, sy = 0.0, width = 0.0;
+    const double way = way_from_start(f, w), r = 0.5 * team_width_m;
+    double width = 0.0;
     cut_work cw;
     long c, flow = 0, cap;
     int k;
@@ -221,20 +225,16 @@ double fm_cut_width_m(const rover_world_config *w, double team_width_m)
     cw.edge = calloc((size_t)cw.n * 8, 1);
     cw.parent = malloc(sizeof *cw.parent * (size_t)(2 * cw.n));
     cw.queue = malloc(sizeof *cw.queue * (size_t)(2 * cw.n));
-    for (k = 0; k < w->n_robots; k++) {
-        sx += w->start_c[k].x_m / w->n_robots;
-        sy += w->start_c[k].y_m / w->n_robots;
-    }
     if (cw.role && cw.used && cw.edge && cw.parent && cw.queue) {
         cap = (long)ceil(team_width_m / f->cell_m) + 1;
         for (c = 0; c < cw.n; c++) {
             const long i = c % f->nx, j = c / f->nx;
             const double x = f->x0_m + ((double)i + 0.5) * f->cell_m;
             const double y = f->y0_m + ((double)j + 0.5) * f->cell_m;
-            cw.role[c] = !isfinite(f->way_m[c])                                            ? 3
-                         : hypot(x - sx, y - sy) <= 0.5 * team_width_m                     ? 1
-                         : hypot(x - w->goal_m[0], y - w->goal_m[1]) <= 0.5 * team_width_m ? 2
-                                                                                           : 0;
+            int start = 0;
+            for (k = 0; k < w->n_robots && !start; k++)
+                start = hypot(x - w->start_c[k].x_m, y - w->start_c[k].y_m) <= CUT_START_M;
+            cw.role[c] = !isfinite(f->way_m[c]) ? 3 : start ? 1 : f->way_m[c] <= r ? 2 : 0;
         }
         while (flow < cap && cut_augment(&cw))
             flow++;
