@@ -276,8 +276,9 @@ int fm_criteria(const fm_cfg *cfg, const fm_procs *pr, const fm_metrics *mt, con
  * not even the robot body finds a way. */
 double fm_passage_width_m(const rover_world_config *w);
 /* The narrowest cross-section of all the ways together, side by side (a
- * team splitting round an obstacle): see formation_report.c. INFINITY
- * where the way is too short to hold one away from the start and goal. */
+ * team splitting round an obstacle): see formation_way.c. INFINITY where
+ * the way from the start to the goal is no longer than the team is wide,
+ * 0 where there is none. */
 double fm_cut_width_m(const rover_world_config *w, double team_width_m);
 /* Width the team's formation needs (formation width + the FSM's margin). */
 double fm_needed_width_m(const fm_cfg *cfg);

@@ -60,7 +60,6 @@ typedef struct {
     double cell_m;                     /* cell side */
     double x0_m, y0_m;                 /* world frame: the lower-left corner of cell (0, 0) */
     pose2 frame;                       /* the callers' frame in the world (the team frame) */
-    double goal_w_m[2];                /* the goal, world frame */
     long goal_cell;                    /* j * nx + i */
     float clear_m[NAVFIELD_MAX_CELLS]; /* centre to the nearest obstacle, capped */
     float way_m[NAVFIELD_MAX_CELLS];   /* weighted way to the goal; INFINITY: none */

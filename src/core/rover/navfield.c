@@ -195,8 +195,6 @@ int navfield_build(navfield *f, const navfield_params *p, const rover_world_conf
         !isfinite(w->goal_m[1]))
         return NAVFIELD_ERR_ARG;
     f->frame = w->team_origin;
-    f->goal_w_m[0] = w->goal_m[0];
-    f->goal_w_m[1] = w->goal_m[1];
     clearance_fill(f, w, fmax(p->prefer_m, p->los_m) + f->cell_m);
     f->goal_cell = cell_of(f, w->goal_m[0], w->goal_m[1]);
     return navfield_relax(f, p->clear_m);

@@ -130,17 +130,24 @@ static void ref_arrive(const rover_ctl_state *c, unicycle_state *ref)
     ref->w_radps *= 1.0 - lam;
 }
 
+/* The own slot k of the formation flown (of n robots) placed at
+ * `centre`, the slot frame headed heading_rad; k < 0: the centre. */
+static void slot_placed(const rover_ctl_state *c, int n, int k, const double centre[2],
+                        double heading_rad, double out[2])
+{
+    double xy[2] = { 0.0, 0.0 }, r[2];
+    if (k >= 0)
+        formation_slot_xy(xy, c->fsm.type, n, k, c->p.fsm.spacing_m, c->fsm.scale);
+    vec2_rotate(r, xy[0], xy[1], heading_rad);
+    out[0] = centre[0] + r[0];
+    out[1] = centre[1] + r[1];
+}
+
 /* Own goal: the own slot of the formation flown, placed at the team goal
  * (the slot frame headed along the goal's bearing from the origin). */
 static void own_goal(const rover_ctl_state *c, int n, int k, double g[2])
 {
-    double xy[2] = { 0.0, 0.0 }, r[2];
-    const double heading = atan2(c->goal_m[1], c->goal_m[0]);
-    if (k >= 0)
-        formation_slot_xy(xy, c->fsm.type, n, k, c->p.fsm.spacing_m, c->fsm.scale);
-    vec2_rotate(r, xy[0], xy[1], heading);
-    g[0] = c->goal_m[0] + r[0];
-    g[1] = c->goal_m[1] + r[1];
+    slot_placed(c, n, k, c->goal_m, atan2(c->goal_m[1], c->goal_m[0]), g);
 }
 
 static void stop_out(rover_ctl_out *out, int mode)
@@ -367,12 +374,8 @@ static void own_steer(const rover_ctl_state *c, step_view *v, int k)
     target[0] = v->goal[0];
     target[1] = v->goal[1];
     if (!v->team_direct && k >= 0) {
-        const double heading = atan2(v->team_steer[1] - v->ref.y_m, v->team_steer[0] - v->ref.x_m);
-        double xy[2], r[2];
-        formation_slot_xy(xy, c->fsm.type, v->n, k, c->p.fsm.spacing_m, c->fsm.scale);
-        vec2_rotate(r, xy[0], xy[1], heading);
-        target[0] = v->team_steer[0] + r[0];
-        target[1] = v->team_steer[1] + r[1];
+        slot_placed(c, v->n, k, v->team_steer,
+                    atan2(v->team_steer[1] - v->ref.y_m, v->team_steer[0] - v->ref.x_m), target);
         at_goal = 0;
     }
     seen = steer_point(c, v->o.x_m, v->o.y_m, target, v->steer);
