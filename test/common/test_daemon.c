@@ -193,50 +193,91 @@ static int64_t seen_on(const daemon *d, const char *ch)
     return -1;
 }
 
-static void test_renewed_lcm_keeps_subscriptions(void **state)
+/* Every subscription of d delivers once on its handle, and only there. */
+static void assert_each_heard_once(daemon *d, const char *const *chans, int n)
+{
+    static const char junk[32];
+    int i;
+    for (i = 0; i < n; i++) {
+        const int64_t before = seen_on(d, chans[i]);
+        assert_true(before >= 0);
+        assert_int_equal(lcm_publish(d->lcm, chans[i], junk, sizeof junk), 0);
+        /* not heard: no message to handle, a timeout (0) */
+        assert_true(lcm_handle_timeout(d->lcm, 1000) > 0);
+        assert_int_equal(seen_on(d, chans[i]), before + 1);
+    }
+}
+
+/* A renewed handle keeps every subscription, on its own thread
+ * (lcm_renew) or made beside it by the worker (renew.h): with the
+ * worker, a channel subscribed after the request was staged is
+ * subscribed at the swap, and the old handle is closed by the worker. */
+static void renew_case(int with_worker)
 {
     static daemon d;
-    static const char junk[32];
-    const char *chans[2] = { "ARM1_ACTION", "SIM_CLOCK" };
+    const char *chans[3] = { "ARM1_ACTION", "SIM_CLOCK", "ARM2_ACTION" };
     lcm_t *old;
     lcm_subscription_t *first[2];
-    int64_t before[2];
     int i;
-    (void)state;
     daemon_defaults(&d, "test-renew", 0.001);
     d.lcm_url = "memq://";
     d.lcm = lcm_create(d.lcm_url);
     assert_non_null(d.lcm);
+    if (with_worker)
+        assert_int_equal(renew_start(&d.renew, d.lcm_url, DAEMON_QUEUE_CAPACITY), RENEW_OK);
     for (i = 0; i < 2; i++) {
         first[i] = daemon_subscribe(&d, chans[i], on_heard, NULL);
         assert_non_null(first[i]);
-        before[i] = seen_on(&d, chans[i]);
-        assert_true(before[i] >= 0);
     }
     /* subscribing again (a model re-created after a reset) is the same
      * subscription, not a second delivery */
     assert_true(daemon_subscribe(&d, chans[0], on_heard, NULL) == first[0]);
     assert_int_equal(d.rx.n_subs, 2);
+    if (with_worker) {
+        assert_int_equal(renew_request(&d.renew, &d.rx, d.lcm), 1);
+        assert_int_equal(renew_request(&d.renew, &d.rx, d.lcm), 0); /* one at a time */
+    }
+    assert_non_null(daemon_subscribe(&d, chans[2], on_heard, NULL));
     old = d.lcm;
     assert_int_equal(daemon_renew_lcm(&d), DAEMON_OK);
     assert_true(d.lcm != old); /* the new one opens before the old one closes */
     assert_int_equal(d.names.renewals, 1);
     /* again after the renewal: the renewed handle's subscription */
     assert_non_null(daemon_subscribe(&d, chans[0], on_heard, NULL));
-    assert_int_equal(d.rx.n_subs, 2);
-    for (i = 0; i < 2; i++) {
-        assert_int_equal(lcm_publish(d.lcm, chans[i], junk, sizeof junk), 0);
-        /* not heard: no message to handle, a timeout (0) */
-        assert_true(lcm_handle_timeout(d.lcm, 1000) > 0);
-        assert_int_equal(seen_on(&d, chans[i]), before[i] + 1);
+    assert_int_equal(d.rx.n_subs, 3);
+    for (i = 0; i < 3; i++)
+        assert_true(d.rx.subs[i].lcm == d.lcm);
+    assert_each_heard_once(&d, chans, 3);
+    if (with_worker) {
+        for (i = 0; i < DAEMON_RENEW_WAIT_MS && renew_pending(&d.renew); i++) {
+            const struct timespec ms = { 0, 1000000L };
+            renew_take(&d.renew, &old, NULL, NULL); /* hands a retired one left waiting */
+            nanosleep(&ms, NULL);
+        }
+        assert_false(renew_pending(&d.renew));
+        assert_int_equal(d.renew.closed, 1);
     }
     /* a handle that cannot open: the old one kept, nothing counted */
     old = d.lcm;
-    d.lcm_url = "nosuchprovider://";
+    d.lcm_url = d.renew.url = "nosuchprovider://";
     assert_int_equal(daemon_renew_lcm(&d), DAEMON_ERR_LCM);
     assert_true(d.lcm == old);
     assert_int_equal(d.names.renewals, 1);
+    assert_each_heard_once(&d, chans, 3);
+    renew_stop(&d.renew);
     lcm_destroy(d.lcm);
+}
+
+static void test_renewed_lcm_keeps_subscriptions(void **state)
+{
+    (void)state;
+    renew_case(0);
+}
+
+static void test_renewed_beside_the_loop(void **state)
+{
+    (void)state;
+    renew_case(1);
 }
 
 /* A flood in the queue: one drain stops at its budget (a quarter of the
@@ -318,6 +359,7 @@ int main(void)
         cmocka_unit_test(test_refusal_names_the_code),
         cmocka_unit_test(test_drain_budget_and_own_rx),
         cmocka_unit_test(test_renewed_lcm_keeps_subscriptions),
+        cmocka_unit_test(test_renewed_beside_the_loop),
         cmocka_unit_test(test_drain_stops_at_budget),
         cmocka_unit_test(test_heartbeat_file_touched_by_the_loop),
     };

@@ -30,6 +30,7 @@ static void test_listed_modules(void **st)
     STATUS_CHECK(netc_strerror, NETC_CODES);
     STATUS_CHECK(options_strerror, OPTIONS_CODES);
     STATUS_CHECK(proc_strerror, PROC_CODES);
+    STATUS_CHECK(renew_strerror, RENEW_CODES);
     STATUS_CHECK(wire_strerror, WIRE_CODES);
     STATUS_CHECK(world_file_strerror, WORLD_FILE_CODES);
     STATUS_CHECK(worldgen_strerror, WORLDGEN_CODES);

@@ -22,6 +22,7 @@
 #include <sys/stat.h> /* futimens */
 #include <unistd.h>
 #include "rx.h"
+#include "shell_status.h"
 #include "tandem_clock_ack_t.h"
 #include "tandem_health_t.h"
 #include "tandem_sim_clock_t.h"
@@ -197,6 +198,7 @@ int daemon_start(daemon *d)
     struct sigaction sa;
     size_t i;
     long steps;
+    int rc;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
@@ -221,6 +223,10 @@ int daemon_start(daemon *d)
         fprintf(stderr, "%s: cannot open LCM at '%s'\n", d->name, d->lcm_url);
         return DAEMON_ERR_LCM;
     }
+    rc = renew_start(&d->renew, d->lcm_url, DAEMON_QUEUE_CAPACITY);
+    if (rc != RENEW_OK)
+        fprintf(stderr, "%s: %s (%d): a flood of channel names is bounded on the control thread\n",
+                d->name, renew_strerror(rc), rc);
     if (!d->clock_source)
         daemon_subscribe(d, "SIM_CLOCK", on_clock, d);
     daemon_rt_setup(d->name, d->rt_prio, &d->dma_latency_fd);
@@ -307,16 +313,22 @@ static int64_t thread_cpu_ns(void)
     return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
 }
 
+/* Receive work that began at thread CPU time c0 ends now: the most of it
+ * in one go is the health's rx_cpu_max_us. */
+static void rx_cpu_note(daemon *d, int64_t c0)
+{
+    const int64_t cpu_ns = thread_cpu_ns() - c0;
+    if (cpu_ns > d->rx.drain_cpu_max_ns)
+        d->rx.drain_cpu_max_ns = cpu_ns;
+}
+
 void daemon_drain(daemon *d)
 {
     const int64_t c0 = thread_cpu_ns();
-    int64_t cpu_ns;
     /* out of budget: what is still queued waits for the next cycle */
     if (drain_lcm(d->lcm, daemon_drain_budget_ns(d)))
         d->rx.deferred++;
-    cpu_ns = thread_cpu_ns() - c0;
-    if (cpu_ns > d->rx.drain_cpu_max_ns)
-        d->rx.drain_cpu_max_ns = cpu_ns;
+    rx_cpu_note(d, c0);
 }
 
 void daemon_publish_health(daemon *d)
@@ -453,20 +465,27 @@ int lcm_renew(lcm_t **lcm, const char *url, lcm_move_fn move, void *subs, int64_
     return DAEMON_OK;
 }
 
+/* 1 when w's check is due (now) and resident memory is its slack above
+ * its base, *rss the resident memory; a lower reading is the new base. */
+static int names_over(names_watch *w, int64_t now, long *rss)
+{
+    if (now - w->check_ns < DAEMON_NAMES_CHECK_NS)
+        return 0;
+    w->check_ns = now;
+    if ((*rss = rss_kb()) <= 0)
+        return 0;
+    if (w->base_kb == 0 || *rss < w->base_kb) {
+        w->base_kb = *rss;
+        return 0;
+    }
+    return *rss - w->base_kb >= (w->slack_kb > 0 ? w->slack_kb : DAEMON_NAMES_SLACK_KB);
+}
+
 int names_watch_tick(names_watch *w, int64_t now, lcm_t **lcm, const char *url, lcm_move_fn move,
                      void *subs, int64_t budget_ns)
 {
     long rss;
-    if (!*lcm || now - w->check_ns < DAEMON_NAMES_CHECK_NS)
-        return 0;
-    w->check_ns = now;
-    if ((rss = rss_kb()) <= 0)
-        return 0;
-    if (w->base_kb == 0 || rss < w->base_kb) {
-        w->base_kb = rss;
-        return 0;
-    }
-    if (rss - w->base_kb < (w->slack_kb > 0 ? w->slack_kb : DAEMON_NAMES_SLACK_KB))
+    if (!*lcm || !names_over(w, now, &rss))
         return 0;
     if (lcm_renew(lcm, url, move, subs, budget_ns) != DAEMON_OK) {
         fprintf(stderr,
@@ -491,18 +510,71 @@ static int rx_move(void *subs, lcm_t *old, lcm_t *fresh)
     return rx_move_subscriptions(subs, old, fresh, DAEMON_QUEUE_CAPACITY);
 }
 
+/* A new handle the worker made takes the old one's place: its
+ * subscriptions are moved, what the old one holds is handed on within
+ * the drain budget, and the worker closes it. 1 when swapped. */
+static int swap_renewed(daemon *d)
+{
+    lcm_t *fresh, *const old = d->lcm;
+    lcm_subscription_t *const *staged;
+    int n_staged;
+    if (!renew_take(&d->renew, &fresh, &staged, &n_staged))
+        return 0;
+    rx_commit_subscriptions(&d->rx, old, fresh, staged, n_staged, DAEMON_QUEUE_CAPACITY);
+    d->lcm = fresh; /* a handler that publishes, publishes on the new one */
+    drain_lcm(old, daemon_drain_budget_ns(d));
+    renew_retire(&d->renew, old);
+    d->names.renewals++;
+    /* read again once the worker has closed the old one: the lowest
+     * reading from then on is the base */
+    d->names.base_kb = 0;
+    fprintf(stderr,
+            "%s: LCM handle renewed (renewal %lld); the old one is closed beside the loop\n",
+            d->name, (long long)d->names.renewals);
+    return 1;
+}
+
 int daemon_renew_lcm(daemon *d)
 {
-    if (lcm_renew(&d->lcm, d->lcm_url, rx_move, &d->rx, daemon_drain_budget_ns(d)) != DAEMON_OK)
-        return DAEMON_ERR_LCM;
-    d->names.renewals++;
-    return DAEMON_OK;
+    const struct timespec ms = { 0, 1000000L };
+    int64_t failures;
+    int i;
+    if (!d->renew.started) {
+        if (lcm_renew(&d->lcm, d->lcm_url, rx_move, &d->rx, daemon_drain_budget_ns(d)) != DAEMON_OK)
+            return DAEMON_ERR_LCM;
+        d->names.renewals++;
+        return DAEMON_OK;
+    }
+    failures = renew_failures(&d->renew);
+    for (i = 0; i < DAEMON_RENEW_WAIT_MS; i++) {
+        if (swap_renewed(d))
+            return DAEMON_OK;
+        if (renew_failures(&d->renew) != failures)
+            return DAEMON_ERR_LCM;
+        renew_request(&d->renew, &d->rx, d->lcm); /* nothing while one is under way */
+        nanosleep(&ms, NULL);
+    }
+    return DAEMON_ERR_LCM;
 }
 
 int daemon_names_watch(daemon *d)
 {
-    return names_watch_tick(&d->names, rtloop_now_ns(), &d->lcm, d->lcm_url, rx_move, &d->rx,
-                            daemon_drain_budget_ns(d));
+    const int64_t c0 = thread_cpu_ns();
+    int renewed;
+    long rss;
+    if (!d->renew.started)
+        renewed = names_watch_tick(&d->names, rtloop_now_ns(), &d->lcm, d->lcm_url, rx_move, &d->rx,
+                                   daemon_drain_budget_ns(d));
+    else if (!(renewed = swap_renewed(d)) && d->lcm &&
+             names_over(&d->names, rtloop_now_ns(), &rss) &&
+             renew_request(&d->renew, &d->rx, d->lcm))
+        fprintf(stderr,
+                "%s: resident memory %ld kB, %ld kB above its base: a new LCM handle is being "
+                "made beside the loop (a flood of channel names?)\n",
+                d->name, rss, rss - d->names.base_kb);
+    if (renewed) /* what a renewal took from this thread is receive work too */
+        rx_cpu_note(d, c0);
+    return renewed;
 }
 
 static int bus_move(void *subs, lcm_t *old, lcm_t *fresh)
@@ -619,6 +691,7 @@ void daemon_finish(daemon *d)
     daemon_publish_health(d);
     if (d->lockstep)
         ack(d, d->step, 1);
+    renew_stop(&d->renew);
     lcm_destroy(d->lcm);
     d->lcm = NULL;
     auth_bus_free(&d->bus);

@@ -16,6 +16,7 @@
 #include "rtloop.h"
 #include "auth_bus.h"
 #include "guard.h"
+#include "renew.h"
 #include "rx.h"
 #include "version.h"
 
@@ -114,6 +115,7 @@ typedef struct daemon {
     auth_bus bus;        /* this daemon's side of the secure bus (auth_bus.h):
                             its identity, keys, counts, publish buffer */
     names_watch names;   /* the bound on LCM's table of channel names */
+    lcm_renewer renew;   /* its renewals, made beside the loop (renew.h) */
 } daemon;
 
 /* Cycle callback: read the latest inputs, call the core, publish outputs;
@@ -218,12 +220,19 @@ void names_watch_init(names_watch *w, const char *who);
  * renewed, else 0. */
 int names_watch_tick(names_watch *w, int64_t now, lcm_t **lcm, const char *url, lcm_move_fn move,
                      void *subs, int64_t budget_ns);
-/* The daemon's: names_watch_tick on d->lcm with the receive path's
- * subscriptions. daemon_run calls it in its health tick; a program with a
- * loop of its own (tandem-sim) calls it where a renewal is harmless.
- * 1 when the handle was renewed. */
+/* The daemon's, called every cycle: the same bound, but the new handle is
+ * made and the old one closed by a worker thread (renew.h), so a cycle
+ * only swaps them (and hands on what the old one holds, within the drain
+ * budget); on its own thread (names_watch_tick) when the worker did not
+ * start. daemon_run calls it in its health tick; a program with a loop
+ * of its own (tandem-sim) calls it where a renewal is harmless. 1 when
+ * the handle was renewed. */
 int daemon_names_watch(daemon *d);
-/* daemon_names_watch's renewal, now (lcm_renew). */
+/* daemon_names_watch's renewal, now: by the worker when it runs (waits
+ * up to DAEMON_RENEW_WAIT_MS for it: for tests and tools, not a cycle),
+ * else lcm_renew. DAEMON_OK, or DAEMON_ERR_LCM (a new handle does not
+ * open, or not in time; the old one kept). */
+#define DAEMON_RENEW_WAIT_MS 5000
 int daemon_renew_lcm(daemon *d);
 /* A tool's, with its own handle *lcm and checked subscriptions
  * (auth_bus_subscribe): names_watch_tick with auth_bus_move. Call it in

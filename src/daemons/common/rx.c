@@ -166,7 +166,18 @@ lcm_subscription_t *rx_subscribe(daemon *d, const char *channel, lcm_msg_handler
     return s->sub;
 }
 
-int rx_move_subscriptions(rx_state *rx, lcm_t *old, lcm_t *fresh, int capacity)
+lcm_subscription_t *rx_stage(lcm_t *fresh, const char *channel, rx_sub *s, int capacity)
+{
+    /* s is only handed to LCM here: the trampoline reads it when the
+     * control thread handles fresh, after rx_commit_subscriptions */
+    lcm_subscription_t *sub = lcm_subscribe(fresh, channel, trampoline, s);
+    if (sub)
+        lcm_subscription_set_queue_capacity(sub, capacity);
+    return sub;
+}
+
+int rx_commit_subscriptions(rx_state *rx, lcm_t *old, lcm_t *fresh,
+                            lcm_subscription_t *const *staged, int n_staged, int capacity)
 {
     int i, n = 0;
     for (i = 0; i < rx->n_subs; i++) {
@@ -176,13 +187,17 @@ int rx_move_subscriptions(rx_state *rx, lcm_t *old, lcm_t *fresh, int capacity)
         if (n == 0)
             auth_bus_renewing(&s->d->bus); /* what both handles get is a copy */
         s->lcm = fresh;
-        s->sub = lcm_subscribe(fresh, s->channel, trampoline, s);
-        if (s->sub) {
-            lcm_subscription_set_queue_capacity(s->sub, capacity);
+        /* one made since the snapshot was staged: subscribed now */
+        s->sub = i < n_staged && staged[i] ? staged[i] : rx_stage(fresh, s->channel, s, capacity);
+        if (s->sub)
             n++;
-        }
     }
     return n;
+}
+
+int rx_move_subscriptions(rx_state *rx, lcm_t *old, lcm_t *fresh, int capacity)
+{
+    return rx_commit_subscriptions(rx, old, fresh, NULL, 0, capacity);
 }
 
 int64_t rx_lost_total(const rx_state *rx)

@@ -83,6 +83,15 @@ lcm_subscription_t *rx_subscribe(struct daemon *d, const char *channel, lcm_msg_
  * of capacity messages (a new handle: daemon_renew_lcm, lcm_renew). The
  * number moved. */
 int rx_move_subscriptions(rx_state *rx, lcm_t *old, lcm_t *fresh, int capacity);
+/* The same in two halves, for a handle made beside the control thread
+ * (renew.h). rx_stage, on any thread: subscribes s's channel (copied by
+ * the caller) on fresh with s's trampoline and a queue of capacity;
+ * nothing of s is read. rx_commit_subscriptions, on the control thread:
+ * every subscription of rx on old moves to fresh, taking staged[i] for
+ * subs[i] (i < n_staged, non-NULL) and subscribing the rest now. */
+lcm_subscription_t *rx_stage(lcm_t *fresh, const char *channel, rx_sub *s, int capacity);
+int rx_commit_subscriptions(rx_state *rx, lcm_t *old, lcm_t *fresh,
+                            lcm_subscription_t *const *staged, int n_staged, int capacity);
 /* Adds per-channel counts, gaps, the loss rate and the deferred drains to
  * a health message; the strings and arrays point into rx. */
 void rx_fill_health(rx_state *rx, struct _tandem_health_t *h);

@@ -17,6 +17,7 @@
 #include "netc.h"
 #include "options.h"
 #include "proc.h"
+#include "renew.h"
 #include "wire.h"
 #include "world_file.h"
 #include "worldgen.h"
@@ -144,6 +145,9 @@
     X(PROC_ERR_KEY, "the child's role file cannot be made")      \
     X(PROC_ERR_FULL, "PROC_MAX children already, or no argv[0]") \
     X(PROC_ERR_UNKNOWN, "not a child of this set")
+#define RENEW_CODES(X) \
+    X(RENEW_OK, "ok")  \
+    X(RENEW_ERR_THREAD, "the renewal worker thread does not start")
 #define WIRE_CODES(X)                                                                         \
     X(WIRE_OK, "ok")                                                                          \
     X(WIRE_ERR_SHORT, "the buffer ends inside a field")                                       \
@@ -159,6 +163,7 @@ const char *guard_strerror(int rc);
 const char *msg_strerror(int rc);
 const char *options_strerror(int rc);
 const char *proc_strerror(int rc);
+const char *renew_strerror(int rc);
 const char *wire_strerror(int rc);
 
 #endif
