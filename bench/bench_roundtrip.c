@@ -37,6 +37,7 @@
 #include "auth_bus.h"
 #include "auth_acl.h"
 #include "auth_child.h"
+#include "daemon.h"
 #include <sodium.h>
 #include "loopstats.h"
 #include "rtloop.h"
@@ -292,6 +293,8 @@ static pid_t start_arm(const char *path, const char *url, int insecure, auth_chi
     const pid_t pid = keyed < 0 ? -1 : fork();
     if (pid == 0) {
         setenv("LCM_DEFAULT_URL", url, 1);
+        /* as tandem-run starts its daemons (daemon.h) */
+        setenv(DAEMON_GLIB_SLICE_ENV, DAEMON_GLIB_SLICE_VALUE, 1);
         if (keyed == AUTH_CHILD_OK)
             setenv(AUTH_BUS_KEY_ENV, key, 1); /* arm 1's role file, as tandem-run gives it */
         if (insecure)
