@@ -92,4 +92,30 @@ double navfield_way_m(const navfield *f, double x_m, double y_m);
 int navfield_waypoint(const navfield *f, const double from_m[2], const double goal_m[2],
                       double out_m[2]);
 
+/* The passages on the way ahead: what the sonar's passage test measures
+ * (left + right + the robot's width, docs/method/formation.md §9), read
+ * from the map along the descent. At every cell of the descent the free
+ * width across the way's direction, from the first obstacle on its left
+ * to the first on its right, each looked for up to side_m (a cell with a
+ * side open beyond side_m has none). */
+typedef struct {
+    double ahead_m;  /* the narrowest width is taken this far along the way */
+    double side_m;   /* each side's obstacle looked for this far */
+    double below_m;  /* the way narrower than this is measured ... */
+    double beyond_m; /* ... over ahead_m and this much further */
+} navfield_passage_query;
+
+typedef struct {
+    double narrowest_m; /* INFINITY: no passage within ahead_m (or no way) */
+    double below_len_m; /* how much of the way looked at is narrower than below_m:
+                           a gap in a thin wall is short, a corridor long */
+} navfield_passage;
+
+/* The passages on the descent from `from` (the callers' frame).
+ * NAVFIELD_OK, or NAVFIELD_ERR_ARG on NULL or non-finite input (out
+ * unchanged). Bounded: (ahead_m + beyond_m) / cell steps, 4 side_m /
+ * cell samples per step. */
+int navfield_passage_ahead(const navfield *f, const double from_m[2],
+                           const navfield_passage_query *q, navfield_passage *out);
+
 #endif

@@ -157,6 +157,8 @@ typedef struct {
     double passage_sense_max_m;   /* side readings beyond: no passage wall */
     double mate_keep_m;           /* a mate's echo nearer than this stays an obstacle */
     double passage_front_min_m;   /* a passage needs the front open this far */
+    double passage_ahead_m;       /* with the map: passages looked for this far along the way */
+    double passage_short_m;       /* ... those shorter than this along it (the sonar's too short) */
     double v_change_mps;          /* speed cap while shrinking / changing type */
     double guard_m, guard_stop_m; /* collision guard: slow below, stop at (echo in the way) */
     double guard_lane_m;          /* an echo this far outside the swept lane is not in the way */

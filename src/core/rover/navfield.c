@@ -367,3 +367,81 @@ int navfield_waypoint(const navfield *f, const double from_m[2], const double go
     to_frame(f, best, out_m);
     return NAVFIELD_DESCENT;
 }
+
+/* ---- passage width ----------------------------------------------------------------- */
+
+/* From world point p along the unit direction u: the distance to the
+ * first sample nearer an obstacle than half a cell (its centre about on
+ * one), sampled every half cell up to side_m; INFINITY when there is none. */
+static double side_free_m(const navfield *f, const double p[2], const double u[2], double side_m)
+{
+    const double step = 0.5 * f->cell_m, hit = 0.5 * f->cell_m;
+    const long n = (long)ceil(side_m / step);
+    long s;
+    for (s = 1; s <= n; s++) {
+        const double d = (double)s * step;
+        const double xy[2] = { p[0] + d * u[0], p[1] + d * u[1] };
+        if (clear_at(f, xy) < hit)
+            return d;
+    }
+    return INFINITY;
+}
+
+/* The free width across the way at cell c heading for cell n: to the
+ * first obstacle on either side; INFINITY when a side is open. */
+static double across_m(const navfield *f, long c, long n, double side_m)
+{
+    double p[2], q[2], d, u[2];
+    double left, v[2];
+    centre_of(f, c, p);
+    centre_of(f, n, q);
+    d = hypot(q[0] - p[0], q[1] - p[1]);
+    u[0] = -(q[1] - p[1]) / d; /* left of the way */
+    u[1] = (q[0] - p[0]) / d;
+    left = side_free_m(f, p, u, side_m);
+    if (!isfinite(left))
+        return INFINITY;
+    v[0] = -u[0];
+    v[1] = -u[1];
+    return left + side_free_m(f, p, v, side_m);
+}
+
+int navfield_passage_ahead(const navfield *f, const double from_m[2],
+                           const navfield_passage_query *q, navfield_passage *out)
+{
+    double a[2], p[2], r[2], walked = 0.0;
+    long c, n;
+    int steps, max_steps;
+    if (!f || !from_m || !q || !out || !isfinite(from_m[0]) || !isfinite(from_m[1]) ||
+        !(q->ahead_m >= 0.0) || !isfinite(q->ahead_m) || !(q->side_m > 0.0) ||
+        !isfinite(q->side_m) || isnan(q->below_m) || !(q->beyond_m >= 0.0) ||
+        !isfinite(q->beyond_m))
+        return NAVFIELD_ERR_ARG;
+    out->narrowest_m = INFINITY;
+    out->below_len_m = 0.0;
+    to_world(f, from_m, a);
+    c = start_cell(f, a);
+    if (c < 0)
+        return NAVFIELD_OK;
+    centre_of(f, c, p);
+    /* a width at every cell (a wall a cell thick is not stepped over);
+     * every step is at least a cell long */
+    max_steps = (int)ceil((q->ahead_m + q->beyond_m) / f->cell_m) + 1;
+    for (steps = 0;
+         steps < max_steps && walked <= q->ahead_m + q->beyond_m && (n = descend(f, c)) >= 0;
+         steps++) {
+        const double w = across_m(f, c, n, q->side_m);
+        double step;
+        centre_of(f, n, r);
+        step = hypot(r[0] - p[0], r[1] - p[1]);
+        if (walked <= q->ahead_m)
+            out->narrowest_m = fmin(out->narrowest_m, w);
+        if (w < q->below_m)
+            out->below_len_m += step;
+        walked += step;
+        c = n;
+        p[0] = r[0];
+        p[1] = r[1];
+    }
+    return NAVFIELD_OK;
+}

@@ -327,6 +327,48 @@ static void perceive(rover_ctl_state *c, double t_s, double dt_s, step_view *v)
     own_goal(c, v->n, k, v->goal);
 }
 
+/* With the map (docs/method/formation.md §9): a passage too short for
+ * the sonar's test, read off the way ahead. The side sonars confirm a
+ * passage by walls on both sides for confirm_s, so one shorter along the
+ * way than passage_short_m (a gap in a thin wall) is passed before it is
+ * confirmed, and the team squeezed through such gaps a robot at a time
+ * with no formation change. Its width (wall to wall across the way, as
+ * the sonar measures it) is taken from the map within passage_ahead_m of
+ * this robot's own way and of R0's, early enough for the change; the
+ * robot's own way keeps it in view until it is through, so the rearmost
+ * restores only then. A longer passage is the sonar's alone, as before
+ * (a corridor or a funnel: reshaping before it was slower, and a line
+ * reshaping in a funnel's wide mouth crowded there). The narrower of the
+ * two readings counts; the map's where the sonar cannot tell. */
+static double short_passage(const rover_ctl_state *c, const double from[2],
+                            const navfield_passage_query *q)
+{
+    navfield_passage out;
+    if (navfield_passage_ahead(c->nav, from, q, &out) != NAVFIELD_OK ||
+        !(out.below_len_m < c->p.passage_short_m))
+        return INFINITY;
+    return out.narrowest_m;
+}
+
+static double map_passage(const rover_ctl_state *c, const step_view *v, double sensed)
+{
+    const formation_fsm_params *fp = &c->p.fsm;
+    const double own[2] = { v->o.x_m, v->o.y_m }, r0[2] = { v->ref.x_m, v->ref.y_m };
+    navfield_passage_query q;
+    double w;
+    if (!c->nav)
+        return sensed;
+    q.ahead_m = c->p.passage_ahead_m;
+    q.side_m = c->p.passage_sense_max_m + 0.5 * c->p.beh.robot_width_m;
+    q.below_m = formation_width(c->fsm.type, v->n, fp->spacing_m, c->fsm.scale, fp->robot_width_m) +
+                fp->safety_m;
+    q.beyond_m = c->p.passage_short_m;
+    w = fmin(short_passage(c, own, &q), short_passage(c, r0, &q));
+    if (!isfinite(w))
+        return sensed;
+    return isnan(sensed) ? w : fmin(sensed, w);
+}
+
 /* The team reference R0 and the narrow-passage protocol (not while
  * escaping: the trap is not a passage); an announcement the protocol
  * makes becomes the own one. */
@@ -339,7 +381,7 @@ static void reference_and_passage(rover_ctl_state *c, double t_s, double dt_s, s
     v->team_direct = steer_point(c, v->ref.x_m, v->ref.y_m, c->goal_m, v->team_steer);
     ref_heading_to_goal(c, v->team_steer, &v->ref);
     ref_arrive(c, &v->ref);
-    passage = rover_ctl_passage_width(c, &v->o, &v->ref, &v->gw, v->masked);
+    passage = map_passage(c, v, rover_ctl_passage_width(c, &v->o, &v->ref, &v->gw, v->masked));
     /* arriving, the goal's slots are where the team ends: the formation
      * flown is restored as in the open (a column that came out of a
      * corridor into the goal area stayed a column there, its rear robot

@@ -81,6 +81,12 @@ void rover_ctl_params_default(rover_ctl_params *p)
     p->side_guard_m = 0.3;
     p->side_turn_radps = 0.4;
     p->passage_front_min_m = 2.0;
+    /* a change from line to column is a shrink and two types, each
+     * confirmed for 1 s and held for 1 s, at 0.25-0.5 m/s */
+    p->passage_ahead_m = 1.5;
+    /* the side sonars confirm walls for 1 s (confirm_s), some 0.3-0.5 m
+     * at the team's pace: shorter passages are passed unconfirmed */
+    p->passage_short_m = 1.0;
     p->sonar_max_m = 5.0;
     p->consensus_gain = 0.2;
     p->consensus_age_s = 2.0;
@@ -122,10 +128,10 @@ int rover_ctl_params_validate(const rover_ctl_params *p)
         !pos(p->guard_lane_m) || !pos(p->side_guard_m) || !pos(p->side_turn_radps) ||
         !isfinite(p->goal_heading_gain) || p->goal_heading_gain < 0.0 ||
         p->goal_heading_gain > 1.0 || !isfinite(p->arrive_m) || p->arrive_m < 0.0 ||
-        !pos(p->passage_front_min_m) || !pos(p->sonar_max_m) || !(p->consensus_gain >= 0.0) ||
-        !isfinite(p->consensus_gain) || !pos(p->consensus_age_s) || !pos(p->consensus_max_mps) ||
-        !pos(p->consensus_range_m) || !pos(p->fsm.spacing_m) ||
-        !(p->fsm.shrink_scale > 0.0 && p->fsm.shrink_scale <= 1.0))
+        !pos(p->passage_front_min_m) || !pos(p->passage_ahead_m) || !pos(p->passage_short_m) ||
+        !pos(p->sonar_max_m) || !(p->consensus_gain >= 0.0) || !isfinite(p->consensus_gain) ||
+        !pos(p->consensus_age_s) || !pos(p->consensus_max_mps) || !pos(p->consensus_range_m) ||
+        !pos(p->fsm.spacing_m) || !(p->fsm.shrink_scale > 0.0 && p->fsm.shrink_scale <= 1.0))
         return ROVER_CTL_ERR_ARG;
     if (!isfinite(p->beacon_alpha) || p->beacon_alpha < 0.0 || p->beacon_alpha > 1.0)
         return ROVER_CTL_ERR_ARG;

@@ -5,7 +5,9 @@
  * runs into its back wall) reaches the goal, every leg clear of the walls
  * by an independent distance check; the team frame's rotation commutes
  * with the query; a point beside a wall does not descend from its far
- * side; a goal on an obstacle and bad parameters are refused. */
+ * side; the passage on the way ahead is the gap or corridor built, and
+ * none in the open or beside one wall; a goal on an obstacle and bad
+ * parameters are refused. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -208,6 +210,67 @@ static void test_start_beside_wall(void **state)
     assert_true(out[1] > from_w[1] + 0.5);
 }
 
+/* The passage on the way ahead, against the world as built: a gap of
+ * 1.2 m in a wall 0.2 m thick across the way is a passage of 1.2 m
+ * (within a cell a side) and about as long as the wall is thick, once it
+ * lies within ahead_m, and none before; a corridor 1.8 m wide is one of
+ * 1.8 m, as long as the way looked at runs in it; a wall on one side
+ * only, or the open, is none; bad input is refused. From team-frame
+ * points (origin (2, 5)). */
+static navfield_passage passage_from(double x_w, double y_w, double ahead_m)
+{
+    const double from[2] = { x_w - W.team_origin.x_m, y_w - W.team_origin.y_m };
+    const navfield_passage_query q = { ahead_m, 2.75, 2.0, 1.0 };
+    navfield_passage out;
+    assert_int_equal(navfield_passage_ahead(&F, from, &q, &out), NAVFIELD_OK);
+    return out;
+}
+
+static void test_passage_ahead(void **state)
+{
+    const double tol = 2.5 * 0.1; /* a cell's side and a half-cell sample on each side */
+    const double bad[2] = { NAN, 0.0 }, from[2] = { 0.0, 0.0 };
+    navfield_passage_query q = { 3.0, 2.75, 2.0, 1.0 };
+    navfield_passage out;
+    (void)state;
+    world_open();
+    box(10.0, 2.2, 0.1, 2.2); /* x = 10, y 0 .. 4.4 */
+    box(10.0, 7.8, 0.1, 2.2); /* y 5.6 .. 10: a gap of 1.2 m at y = 5 */
+    build(&F);
+    out = passage_from(7.0, 5.0, 3.5);
+    print_message("gap 1.2 m: %.3f m wide, %.3f m long, from 3 m before it\n", out.narrowest_m,
+                  out.below_len_m);
+    assert_true(fabs(out.narrowest_m - 1.2) <= tol);
+    assert_true(fabs(out.below_len_m - 0.2) <= tol);
+    assert_true(fabs(passage_from(9.5, 5.0, 3.0).narrowest_m - 1.2) <= tol);
+    assert_true(isinf(passage_from(5.0, 5.0, 3.0).narrowest_m));  /* 5 m short of it */
+    assert_true(isinf(passage_from(11.0, 5.0, 3.0).narrowest_m)); /* through it */
+    assert_int_equal(navfield_passage_ahead(&F, bad, &q, &out), NAVFIELD_ERR_ARG);
+    q.ahead_m = -1.0;
+    assert_int_equal(navfield_passage_ahead(&F, from, &q, &out), NAVFIELD_ERR_ARG);
+
+    world_open();
+    box(10.0, 7.95, 4.0, 2.05); /* the only way: a corridor x 6 .. 14, inner faces y 4.1, 5.9 */
+    box(10.0, 2.05, 4.0, 2.05);
+    build(&F);
+    out = passage_from(4.0, 5.0, 3.0);
+    print_message("corridor 1.8 m: %.3f m wide, %.3f m long of the 4 m looked at\n",
+                  out.narrowest_m, out.below_len_m);
+    assert_true(fabs(out.narrowest_m - 1.8) <= tol);
+    assert_true(fabs(out.below_len_m - 2.0) <= tol); /* x 6 .. 8 */
+    assert_true(fabs(passage_from(10.0, 5.0, 1.0).narrowest_m - 1.8) <= tol);
+
+    world_open();
+    box(10.0, 2.05, 4.0, 2.05); /* its lower side alone */
+    build(&F);
+    assert_true(isinf(passage_from(4.0, 5.0, 3.0).narrowest_m));
+    world_open();
+    build(&F);
+    out = passage_from(4.0, 5.0, 10.0);
+    assert_true(isinf(out.narrowest_m));
+    assert_true(out.below_len_m == 0.0);
+}
+
 static void test_refusals(void **state)
 {
     navfield_params p;
@@ -245,6 +308,7 @@ int main(void)
         cmocka_unit_test(test_pocket_escape),
         cmocka_unit_test(test_frame_commutes),
         cmocka_unit_test(test_start_beside_wall),
+        cmocka_unit_test(test_passage_ahead),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -464,6 +464,53 @@ static void test_deadzone_team_navfield(void **state)
     assert_true(r.max_slot_err_m < 0.25);
 }
 
+/* A thin wall (0.2 m) across the way with one gap of 1.4 m, narrower
+ * than the line (about 2.9 m with its safety margin): steering by the
+ * map, the team reads the gap off its way ahead, changes formation before
+ * it and restores after it, without a touch. Control: with the map's
+ * short-passage reading off (passage_short_m tiny) the side sonars pass
+ * the gap before they confirm it, and the line squeezes through with no
+ * change at all. */
+static void test_gap_in_thin_wall(void **state)
+{
+    rover_world_config w;
+    rover_ctl_params p;
+    navfield_params np;
+    kin_opts o = kin_defaults(150.0);
+    kin_result r, control;
+    int k;
+    (void)state;
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, KN, 1.0, FORMATION_LINE), 0);
+    w.n_obst = 2;
+    for (k = 0; k < 2; k++) {
+        rover_obstacle *b = &w.obst[k];
+        memset(b, 0, sizeof *b);
+        b->kind = ROVER_OBST_BOX;
+        b->cx_m = 0.5 * (w.team_origin.x_m + w.goal_m[0]);
+        b->hx_m = 0.1;
+        b->hy_m = 0.5 * (w.y_max_m - w.y_min_m);
+        b->cy_m = w.goal_m[1] + (k ? 1.0 : -1.0) * (0.7 + b->hy_m);
+        b->height_m = 0.5;
+    }
+    rover_ctl_params_default(&p);
+    navfield_params_default(&np);
+    assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
+    o.nav = &NAV;
+    r = kin_run_world(&w, &p, &o);
+    print_message("gap 1.4 m in a thin wall: reached=%d t=%.1f changes=%d restored=%d "
+                  "min_clear=%.3f\n",
+                  r.reached, r.t_end, r.changes, r.restored, r.min_clear);
+    p.passage_short_m = 1e-6;
+    control = kin_run_world(&w, &p, &o);
+    print_message("the same, short passages off: reached=%d t=%.1f changes=%d min_clear=%.3f\n",
+                  control.reached, control.t_end, control.changes, control.min_clear);
+    assert_true(r.reached);
+    assert_true(r.changes >= 2);
+    assert_true(r.restored);
+    assert_true(r.min_clear > 0.0);
+    assert_int_equal(control.changes, 0);
+}
+
 /* Centre-out slots: a bijection onto 0..n-1 for every type and team size;
  * the middle robot of the line heads the triangle and the column, and
  * each side keeps its side (odd triangle slots are left). */
@@ -2032,6 +2079,7 @@ int main(void)
         cmocka_unit_test(test_wedge_backs_along_path),
         cmocka_unit_test(test_deadzone_team),
         cmocka_unit_test(test_deadzone_team_navfield),
+        cmocka_unit_test(test_gap_in_thin_wall),
         cmocka_unit_test(test_escape_timeout_and_lost_wall),
         cmocka_unit_test(test_mask_mates_property),
         cmocka_unit_test(test_mask_cull_keeps_mates_that_echo),
