@@ -334,12 +334,14 @@ static void perceive(rover_ctl_state *c, double t_s, double dt_s, step_view *v)
  * confirmed, and the team squeezed through such gaps a robot at a time
  * with no formation change. Its width (wall to wall across the way, as
  * the sonar measures it) is taken from the map within passage_ahead_m of
- * this robot's own way and of R0's, early enough for the change; the
- * robot's own way keeps it in view until it is through, so the rearmost
- * restores only then. A longer passage is the sonar's alone, as before
- * (a corridor or a funnel: reshaping before it was slower, and a line
- * reshaping in a funnel's wide mouth crowded there). The narrower of the
- * two readings counts; the map's where the sonar cannot tell. */
+ * R0's way, early enough for the change: the narrower of it and the
+ * sonar's reading, or it alone where the sonar cannot tell. On the
+ * robot's own way it only holds the protocol (unknown: neither narrow
+ * nor clear), so the rearmost restores only once it is through, and a
+ * robot whose way leads out of a pocket's mouth does not shrink the team.
+ * A longer passage is the sonar's alone, as before (a corridor or a
+ * funnel: reshaping before it was slower, and a line reshaping in a
+ * funnel's wide mouth crowded there). */
 static double short_passage(const rover_ctl_state *c, const double from[2],
                             const navfield_passage_query *q)
 {
@@ -355,7 +357,7 @@ static double map_passage(const rover_ctl_state *c, const step_view *v, double s
     const formation_fsm_params *fp = &c->p.fsm;
     const double own[2] = { v->o.x_m, v->o.y_m }, r0[2] = { v->ref.x_m, v->ref.y_m };
     navfield_passage_query q;
-    double w;
+    double team;
     if (!c->nav)
         return sensed;
     q.ahead_m = c->p.passage_ahead_m;
@@ -363,10 +365,12 @@ static double map_passage(const rover_ctl_state *c, const step_view *v, double s
     q.below_m = formation_width(c->fsm.type, v->n, fp->spacing_m, c->fsm.scale, fp->robot_width_m) +
                 fp->safety_m;
     q.beyond_m = c->p.passage_short_m;
-    w = fmin(short_passage(c, own, &q), short_passage(c, r0, &q));
-    if (!isfinite(w))
-        return sensed;
-    return isnan(sensed) ? w : fmin(sensed, w);
+    team = short_passage(c, r0, &q);
+    if (isfinite(team))
+        return isnan(sensed) ? team : fmin(sensed, team);
+    if (short_passage(c, own, &q) < q.below_m && !(sensed < q.below_m))
+        return NAN;
+    return sensed;
 }
 
 /* The team reference R0 and the narrow-passage protocol (not while
