@@ -85,35 +85,30 @@ static inline void axis_comb(double a[3], double ca, const double u[3], double s
     a[2] = ca * u[2] + sa * v[2];
 }
 
-/* docs/method/puma.md §2: R_03 = Rz(q1) Ry(-(q2 + q3)) in closed form, the
- * wrist axes by one plane turn each, o_i = o_{i-1} + a_i x_i + d_i z_{i-1}
- * with the zero lengths left out. Written frame by frame into F, few
- * locals: this sits on the Cartesian cycle's deepest stack path. */
-void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
+/* out = o + len v: the next origin along one axis; out may be o */
+static inline void origin_next(double out[3], const double o[3], double len, const double v[3])
 {
-    const double c1 = cs->c[0], s1 = cs->s[0], c2 = cs->c[1], s2 = cs->s[1];
-    const double c3 = cs->c[2], s3 = cs->s[2];
-    const double c23 = c2 * c3 - s2 * s3, s23 = s2 * c3 + c2 * s3;
-    const double a2 = m->a_m[1], a3 = m->a_m[2], d3 = m->d_m[2], d4 = m->d_m[3], d6 = m->d_m[5];
-    const double z1[3] = { s1, -c1, 0.0 };
-    double x[3], y[3], z[3], o[3] = { 0.0, 0.0, m->base_height_m };
     int k;
-    {
-        const double ex[3] = { 1.0, 0.0, 0.0 }, ey[3] = { 0.0, 1.0, 0.0 },
-                     ez[3] = { 0.0, 0.0, 1.0 };
-        const double x1[3] = { c1, s1, 0.0 };
-        frame_store(F[0], ex, ey, ez, o);
-        frame_store(F[1], x1, ez, z1, o);
-    }
+    for (k = 0; k < 3; k++)
+        out[k] = o[k] + len * v[k];
+}
+
+/* x2, y2 (z2 = z1) */
+static inline void frame2_axes(double c1, double s1, double c2, double s2, double x[3], double y[3])
+{
     x[0] = c1 * c2;
     x[1] = s1 * c2;
     x[2] = s2;
     y[0] = -c1 * s2;
     y[1] = -s1 * s2;
     y[2] = c2;
-    for (k = 0; k < 3; k++)
-        o[k] += a2 * x[k];
-    frame_store(F[2], x, y, z1, o);
+}
+
+/* x3, y3, z3: R_03 = Rz(q1) Ry(-(q2 + q3)), and o3 = o2 + a3 x3 + d3 z2
+ * with z2 = z1 = (s1, -c1, 0); o may be o2 */
+static inline void frame3(double c1, double s1, double c23, double s23, double a3, double d3,
+                          const double o2[3], double x[3], double y[3], double z[3], double o[3])
+{
     x[0] = c1 * c23;
     x[1] = s1 * c23;
     x[2] = s23;
@@ -123,54 +118,103 @@ void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
     z[0] = -c1 * s23;
     z[1] = -s1 * s23;
     z[2] = c23;
+    o[0] = o2[0] + (a3 * x[0] + d3 * s1);
+    o[1] = o2[1] + (a3 * x[1] - d3 * c1);
+    o[2] = o2[2] + a3 * x[2];
+}
+
+/* The wrist's axes from frame 3's (§2): x4, z4 (y4 = z3), x5, y5 = -z4,
+ * z5, then the flange's x6, y6 (z6 = z5) */
+static inline void wrist_axes(const arm_joint_cs *cs, const double x3[3], const double y3[3],
+                              const double z3[3], double x4[3], double z4[3], double x5[3],
+                              double y5[3], double z5[3])
+{
+    int k;
+    axis_comb(x4, cs->c[3], x3, cs->s[3], y3);
+    axis_comb(z4, cs->s[3], x3, -cs->c[3], y3);
+    axis_comb(x5, cs->c[4], x4, cs->s[4], z3);
+    axis_comb(z5, -cs->s[4], x4, cs->c[4], z3);
     for (k = 0; k < 3; k++)
-        o[k] += a3 * x[k] + d3 * z1[k]; /* z2 = z1 */
+        y5[k] = -z4[k];
+}
+
+static inline void flange_axes(const arm_joint_cs *cs, const double x5[3], const double y5[3],
+                               double x6[3], double y6[3])
+{
+    axis_comb(x6, cs->c[5], x5, cs->s[5], y5);
+    axis_comb(y6, -cs->s[5], x5, cs->c[5], y5);
+}
+
+/* docs/method/puma.md §2: R_03 = Rz(q1) Ry(-(q2 + q3)) in closed form, the
+ * wrist axes by one plane turn each, o_i = o_{i-1} + a_i x_i + d_i z_{i-1}
+ * with the zero lengths left out. Written frame by frame into F. */
+void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
+{
+    const double c1 = cs->c[0], s1 = cs->s[0], c2 = cs->c[1], s2 = cs->s[1];
+    const double c3 = cs->c[2], s3 = cs->s[2];
+    const double c23 = c2 * c3 - s2 * s3, s23 = s2 * c3 + c2 * s3;
+    const double z1[3] = { s1, -c1, 0.0 };
+    double x[3], y[3], z[3], o[3] = { 0.0, 0.0, m->base_height_m };
+    {
+        const double ex[3] = { 1.0, 0.0, 0.0 }, ey[3] = { 0.0, 1.0, 0.0 },
+                     ez[3] = { 0.0, 0.0, 1.0 };
+        const double x1[3] = { c1, s1, 0.0 };
+        frame_store(F[0], ex, ey, ez, o);
+        frame_store(F[1], x1, ez, z1, o);
+    }
+    frame2_axes(c1, s1, c2, s2, x, y);
+    origin_next(o, o, m->a_m[1], x);
+    frame_store(F[2], x, y, z1, o);
+    frame3(c1, s1, c23, s23, m->a_m[2], m->d_m[2], o, x, y, z, o);
     frame_store(F[3], x, y, z, o);
     {
-        double x4[3], z4[3];
-        axis_comb(x4, cs->c[3], x, cs->s[3], y);
-        axis_comb(z4, cs->s[3], x, -cs->c[3], y);
-        for (k = 0; k < 3; k++)
-            o[k] += d4 * z[k];
-        frame_store(F[4], x4, z, z4, o); /* y4 = z3 */
-        axis_comb(x, cs->c[4], x4, cs->s[4], z);
-        axis_comb(y, -cs->s[4], x4, cs->c[4], z); /* z5, for now in y */
-        for (k = 0; k < 3; k++)
-            z[k] = -z4[k]; /* y5 = -z4 */
-    }
-    frame_store(F[5], x, z, y, o); /* o5 = o4 */
-    {
-        double x6[3], y6[3];
-        axis_comb(x6, cs->c[5], x, cs->s[5], z);
-        axis_comb(y6, -cs->s[5], x, cs->c[5], z);
-        for (k = 0; k < 3; k++)
-            o[k] += d6 * y[k];
-        frame_store(F[6], x6, y6, y, o); /* z6 = z5 */
+        double x4[3], z4[3], x5[3], y5[3], z5[3];
+        wrist_axes(cs, x, y, z, x4, z4, x5, y5, z5);
+        origin_next(o, o, m->d_m[3], z);
+        frame_store(F[4], x4, z, z4, o);  /* y4 = z3 */
+        frame_store(F[5], x5, y5, z5, o); /* o5 = o4 */
+        flange_axes(cs, x5, y5, x, y);
+        origin_next(o, o, m->d_m[5], z5);
+        frame_store(F[6], x, y, z5, o); /* z6 = z5 */
     }
 }
 
-/* Column i: [z_{i-1} x (p - o_{i-1}); z_{i-1}]; z_0 = e_z makes the first
- * one free of products. */
-void arm_puma_jacobian(const double (*F)[16], const double T[16], double J[36])
+/* Column i of J: [z x (p - o); z], z and o axis and origin of frame i-1 */
+static inline void jacobian_column(double J[36], int i, const double z[3], const double o[3],
+                                   const double p[3])
 {
-    const double p[3] = { T[3], T[7], T[11] };
-    int i;
-    J[0] = -(p[1] - F[0][7]);
-    J[6] = p[0] - F[0][3];
+    const double r0 = p[0] - o[0], r1 = p[1] - o[1], r2 = p[2] - o[2];
+    J[i] = z[1] * r2 - z[2] * r1;
+    J[6 + i] = z[2] * r0 - z[0] * r2;
+    J[12 + i] = z[0] * r1 - z[1] * r0;
+    J[18 + i] = z[0];
+    J[24 + i] = z[1];
+    J[30 + i] = z[2];
+}
+
+/* Column 1: z_0 = e_z, o_0 on the z axis: free of products */
+static inline void jacobian_column0(double J[36], const double o0[3], const double p[3])
+{
+    J[0] = -(p[1] - o0[1]);
+    J[6] = p[0] - o0[0];
     J[12] = 0.0;
     J[18] = 0.0;
     J[24] = 0.0;
     J[30] = 1.0;
+}
+
+void arm_puma_jacobian(const double (*F)[16], const double T[16], double J[36])
+{
+    const double p[3] = { T[3], T[7], T[11] };
+    int i;
+    {
+        const double o0[3] = { F[0][3], F[0][7], F[0][11] };
+        jacobian_column0(J, o0, p);
+    }
     for (i = 1; i < ARM_NJ; i++) {
         const double *Fi = F[i];
-        const double z0 = Fi[2], z1 = Fi[6], z2 = Fi[10];
-        const double r0 = p[0] - Fi[3], r1 = p[1] - Fi[7], r2 = p[2] - Fi[11];
-        J[i] = z1 * r2 - z2 * r1;
-        J[6 + i] = z2 * r0 - z0 * r2;
-        J[12 + i] = z0 * r1 - z1 * r0;
-        J[18 + i] = z0;
-        J[24 + i] = z1;
-        J[30 + i] = z2;
+        const double z[3] = { Fi[2], Fi[6], Fi[10] }, o[3] = { Fi[3], Fi[7], Fi[11] };
+        jacobian_column(J, i, z, o, p);
     }
 }
 
@@ -474,24 +518,46 @@ static void tool_pose(const double F6[16], const double X[16], double T[16])
     T[15] = 1.0;
 }
 
-/* docs/method/puma.md §3a: the frames once (§2), then from them the tool
- * pose, J (§3) and J-dot q-dot (§3), written straight into the caller's
- * arrays; the frames stay in this function's stack. */
+/* docs/method/puma.md §3a: the axes and origins of §2 once, in locals:
+ * of frames 0-5 only what J reads (z_i, o_i), never stored as frames;
+ * the flange frame for the tool pose and J-dot q-dot (§3); written
+ * straight into the caller's arrays. The same operations as
+ * arm_puma_chain (the same helpers), so the same bits. */
 void arm_puma_cycle_kin(const arm_model *m, const arm_joint_cs *cs, const arm_tool *tool,
                         const double qd[ARM_NJ], double T[16], double J[36], double jdqd[6],
                         double wrist_m[3])
 {
-    double F[ARM_NJ + 1][16];
-    arm_puma_chain(m, cs, F);
+    const double c1 = cs->c[0], s1 = cs->s[0], c2 = cs->c[1], s2 = cs->s[1];
+    const double c3 = cs->c[2], s3 = cs->s[2];
+    const double c23 = c2 * c3 - s2 * s3, s23 = s2 * c3 + c2 * s3;
+    const double z1[3] = { s1, -c1, 0.0 }, o0[3] = { 0.0, 0.0, m->base_height_m };
+    double F6[16], x[3], y[3], z3[3], x4[3], z4[3], x5[3], y5[3], z5[3];
+    double o2[3], o3[3], o4[3], o6[3];
+    frame2_axes(c1, s1, c2, s2, x, y);
+    origin_next(o2, o0, m->a_m[1], x);
+    frame3(c1, s1, c23, s23, m->a_m[2], m->d_m[2], o2, x, y, z3, o3);
+    wrist_axes(cs, x, y, z3, x4, z4, x5, y5, z5);
+    origin_next(o4, o3, m->d_m[3], z3);
+    flange_axes(cs, x5, y5, x, y);
+    origin_next(o6, o4, m->d_m[5], z5);
+    frame_store(F6, x, y, z5, o6);
     if (tool)
-        tool_pose(F[ARM_NJ], tool->T_flange_tool, T);
+        tool_pose(F6, tool->T_flange_tool, T);
     else
-        memcpy(T, F[ARM_NJ], sizeof F[ARM_NJ]);
-    arm_puma_jacobian((const double(*)[16])F, T, J);
-    arm_puma_jdot_qd(m, cs, F[ARM_NJ], T, qd, jdqd);
-    wrist_m[0] = F[4][3];
-    wrist_m[1] = F[4][7];
-    wrist_m[2] = F[4][11];
+        memcpy(T, F6, sizeof F6);
+    {
+        const double p[3] = { T[3], T[7], T[11] };
+        jacobian_column0(J, o0, p);
+        jacobian_column(J, 1, z1, o0, p);
+        jacobian_column(J, 2, z1, o2, p);
+        jacobian_column(J, 3, z3, o3, p);
+        jacobian_column(J, 4, z4, o4, p);
+        jacobian_column(J, 5, z5, o4, p);
+    }
+    arm_puma_jdot_qd(m, cs, F6, T, qd, jdqd);
+    wrist_m[0] = o4[0];
+    wrist_m[1] = o4[1];
+    wrist_m[2] = o4[2];
 }
 
 /* ---- joint-space inertia (composite rigid bodies) ---------------------- */
