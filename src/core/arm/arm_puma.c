@@ -16,6 +16,8 @@
 
 #include <string.h>
 
+#include "vec3.h"
+
 /* The three twist angles of the structure. */
 enum { TWIST_P90, TWIST_0, TWIST_M90 };
 
@@ -59,21 +61,24 @@ static inline void rot(int twist, double c, double s, const double v[3], double 
 
 /* ---- kinematics ----------------------------------------------------------- */
 
-/* Frame F (4x4 row-major) from its axes and origin. */
+/* One row of a 4x4 */
+static inline void frame_row(double *row, double x, double y, double z, double o)
+{
+    row[0] = x;
+    row[1] = y;
+    row[2] = z;
+    row[3] = o;
+}
+
+/* Frame F (4x4 row-major) from its axes and origin, written out row by
+ * row (no loop: the chain stores seven) */
 static inline void frame_store(double F[16], const double x[3], const double y[3],
                                const double z[3], const double o[3])
 {
-    int r;
-    for (r = 0; r < 3; r++) {
-        F[4 * r] = x[r];
-        F[4 * r + 1] = y[r];
-        F[4 * r + 2] = z[r];
-        F[4 * r + 3] = o[r];
-    }
-    F[12] = 0.0;
-    F[13] = 0.0;
-    F[14] = 0.0;
-    F[15] = 1.0;
+    frame_row(F, x[0], y[0], z[0], o[0]);
+    frame_row(F + 4, x[1], y[1], z[1], o[1]);
+    frame_row(F + 8, x[2], y[2], z[2], o[2]);
+    frame_row(F + 12, 0.0, 0.0, 0.0, 1.0);
 }
 
 /* a = ca u + sa v (a frame axis turned by a joint) */
@@ -88,9 +93,7 @@ static inline void axis_comb(double a[3], double ca, const double u[3], double s
 /* out = o + len v: the next origin along one axis; out may be o */
 static inline void origin_next(double out[3], const double o[3], double len, const double v[3])
 {
-    int k;
-    for (k = 0; k < 3; k++)
-        out[k] = o[k] + len * v[k];
+    vec3_axpy(out, o, len, v);
 }
 
 /* x2, y2 (z2 = z1) */
@@ -129,13 +132,11 @@ static inline void wrist_axes(const arm_joint_cs *cs, const double x3[3], const 
                               const double z3[3], double x4[3], double z4[3], double x5[3],
                               double y5[3], double z5[3])
 {
-    int k;
     axis_comb(x4, cs->c[3], x3, cs->s[3], y3);
     axis_comb(z4, cs->s[3], x3, -cs->c[3], y3);
     axis_comb(x5, cs->c[4], x4, cs->s[4], z3);
     axis_comb(z5, -cs->s[4], x4, cs->c[4], z3);
-    for (k = 0; k < 3; k++)
-        y5[k] = -z4[k];
+    vec3_set(y5, -z4[0], -z4[1], -z4[2]);
 }
 
 static inline void flange_axes(const arm_joint_cs *cs, const double x5[3], const double y5[3],
@@ -269,17 +270,25 @@ static inline void outward(int twist, double c, double s, double qd, double qdd,
     rot_t(twist, c, s, vd, vd);
 }
 
-/* Inertial force F = m (vd + K c) and moment about the COM
- * N = I wd + w x (I w) of a link with diagonal inertia. */
+/* Inertial force F = m (vd + K c) of a body of mass m, COM c. Written
+ * out (no loop: the cycle's RNE calls it six times). */
+static inline void body_force(double mass, const accel_map *a, const double vd[3],
+                              const double c[3], double F[3])
+{
+    const double *K = a->K;
+    F[0] = mass * (vd[0] + K[0] * c[0] + K[1] * c[1] + K[2] * c[2]);
+    F[1] = mass * (vd[1] + K[3] * c[0] + K[4] * c[1] + K[5] * c[2]);
+    F[2] = mass * (vd[2] + K[6] * c[0] + K[7] * c[1] + K[8] * c[2]);
+}
+
+/* body_force and the moment about the COM N = I wd + w x (I w) of a link
+ * with diagonal inertia. */
 static inline void link_wrench_diag(const arm_model *m, int i, const accel_map *a,
                                     const double vd[3], const double wd[3], double F[3],
                                     double N[3])
 {
-    const double *c = m->com_m[i], *I = m->inertia_kgm2[i], mass = m->mass_kg[i];
-    int k;
-    for (k = 0; k < 3; k++)
-        F[k] = mass *
-               (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
+    const double *I = m->inertia_kgm2[i];
+    body_force(m->mass_kg[i], a, vd, m->com_m[i], F);
     N[0] = I[0] * wd[0] + (I[8] - I[4]) * a->w12;
     N[1] = I[4] * wd[1] + (I[0] - I[8]) * a->w02;
     N[2] = I[8] * wd[2] + (I[4] - I[0]) * a->w01;
@@ -292,22 +301,16 @@ static inline void link_wrench_diag(const arm_model *m, int i, const accel_map *
 static void payload_wrench(const arm_payload *p, const accel_map *a, const double w[3],
                            const double vd[3], const double wd[3], double F[3], double N[3])
 {
-    const double *c = p->com_m, *I = p->inertia_kgm2;
-    int k, point = 1;
-    for (k = 0; k < 3; k++)
-        F[k] = p->mass_kg *
-               (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
-    for (k = 0; k < 9; k++)
-        if (I[k] != 0.0)
-            point = 0;
-    if (point) {
+    const double *I = p->inertia_kgm2;
+    body_force(p->mass_kg, a, vd, p->com_m, F);
+    if (I[0] == 0.0 && I[4] == 0.0 && I[8] == 0.0 && I[1] == 0.0 && I[2] == 0.0 && I[3] == 0.0 &&
+        I[5] == 0.0 && I[6] == 0.0 && I[7] == 0.0) {
         N[0] = N[1] = N[2] = 0.0;
         return;
     }
     {
         double Iw[3];
-        for (k = 0; k < 3; k++)
-            Iw[k] = I[3 * k] * w[0] + I[3 * k + 1] * w[1] + I[3 * k + 2] * w[2];
+        rot_apply(Iw, I, w); /* I w */
         N[0] = I[0] * wd[0] + I[1] * wd[1] + I[2] * wd[2] + w[1] * Iw[2] - w[2] * Iw[1];
         N[1] = I[3] * wd[0] + I[4] * wd[1] + I[5] * wd[2] + w[2] * Iw[0] - w[0] * Iw[2];
         N[2] = I[6] * wd[0] + I[7] * wd[1] + I[8] * wd[2] + w[0] * Iw[1] - w[1] * Iw[0];
@@ -323,14 +326,13 @@ static inline void add_link_moment(double n[3], const double c[3], const double 
     n[2] += c[0] * F[1] - c[1] * F[0] + N[2];
 }
 
-/* The rotors' reflected inertia (arm_model.h armature_kgm2, Jm G^2) acts on
- * each joint's own acceleration only: a diagonal term, as in arm_dyn.c. */
-static inline void add_armature_torque(const arm_model *m, const double qdd[ARM_NJ],
-                                       double tau_Nm[ARM_NJ])
+/* tau_i + J_i qdd_i: the rotors' reflected inertia (arm_model.h
+ * armature_kgm2, Jm G^2) acts on each joint's own acceleration only, a
+ * diagonal term, as in arm_dyn.c. */
+static inline double with_armature(const arm_model *m, const double qdd[ARM_NJ], int i,
+                                   double tau_Nm)
 {
-    int i;
-    for (i = 0; i < ARM_NJ; i++)
-        tau_Nm[i] += m->armature_kgm2[i] * qdd[i];
+    return tau_Nm + m->armature_kgm2[i] * qdd[i];
 }
 
 /* Outward by joints, with p*_1 = 0, p*_2 = (a2, 0, 0), p*_3 = (a3, -d3, 0),
@@ -345,7 +347,6 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload 
     double F[ARM_NJ][3], N[ARM_NJ][3], w[3], wd[3], vd[3], f[3], n[3], mg[3];
     double Fp[3] = { 0.0, 0.0, 0.0 }, Np[3] = { 0.0, 0.0, 0.0 };
     accel_map a;
-    int k;
 
     /* joint 1 turns about the base z: w = (0, qd1, 0), wd = (0, qdd1, 0) in frame 1 */
     mg[0] = -g[0];
@@ -396,54 +397,65 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload 
         payload_wrench(payload, &a, w, vd, wd, Fp, Np);
 
     /* inward: link 6, p*_6 x f = d6 (-f1, f0, 0) */
-    for (k = 0; k < 3; k++)
-        f[k] = F[5][k] + Fp[k];
+    vec3_add(f, F[5], Fp);
     n[0] = -d6 * f[1];
     n[1] = d6 * f[0];
     n[2] = 0.0;
     add_link_moment(n, m->com_m[5], F[5], N[5]);
     if (payload)
         add_link_moment(n, payload->com_m, Fp, Np);
-    tau_Nm[5] = n[2];
+    tau_Nm[5] = with_armature(m, qdd, 5, n[2]);
     /* link 5: p*_5 = 0 */
     rot(TWIST_0, c[5], s[5], f, f);
     rot(TWIST_0, c[5], s[5], n, n);
-    for (k = 0; k < 3; k++)
-        f[k] += F[4][k];
+    vec3_add(f, f, F[4]);
     add_link_moment(n, m->com_m[4], F[4], N[4]);
-    tau_Nm[4] = -n[1];
+    tau_Nm[4] = with_armature(m, qdd, 4, -n[1]);
     /* link 4: p*_4 x f = d4 (f2, 0, -f0) */
     rot(TWIST_M90, c[4], s[4], f, f);
     rot(TWIST_M90, c[4], s[4], n, n);
-    for (k = 0; k < 3; k++)
-        f[k] += F[3][k];
+    vec3_add(f, f, F[3]);
     n[0] += d4 * f[2];
     n[2] -= d4 * f[0];
     add_link_moment(n, m->com_m[3], F[3], N[3]);
-    tau_Nm[3] = n[1];
+    tau_Nm[3] = with_armature(m, qdd, 3, n[1]);
     /* link 3: p*_3 x f = a3 (0, -f2, f1) - d3 (f2, 0, -f0) */
     rot(TWIST_P90, c[3], s[3], f, f);
     rot(TWIST_P90, c[3], s[3], n, n);
-    for (k = 0; k < 3; k++)
-        f[k] += F[2][k];
+    vec3_add(f, f, F[2]);
     n[0] -= d3 * f[2];
     n[1] -= a3 * f[2];
     n[2] += a3 * f[1] + d3 * f[0];
     add_link_moment(n, m->com_m[2], F[2], N[2]);
-    tau_Nm[2] = -n[1];
+    tau_Nm[2] = with_armature(m, qdd, 2, -n[1]);
     /* link 2: p*_2 x f = a2 (0, -f2, f1) */
     rot(TWIST_M90, c[2], s[2], f, f);
     rot(TWIST_M90, c[2], s[2], n, n);
-    for (k = 0; k < 3; k++)
-        f[k] += F[1][k];
+    vec3_add(f, f, F[1]);
     n[1] -= a2 * f[2];
     n[2] += a2 * f[1];
     add_link_moment(n, m->com_m[1], F[1], N[1]);
-    tau_Nm[1] = n[2];
+    tau_Nm[1] = with_armature(m, qdd, 1, n[2]);
     /* link 1: only the moment's y (its joint axis in frame 1) is wanted */
     rot(TWIST_0, c[1], s[1], n, n);
-    tau_Nm[0] = n[1] + m->com_m[0][2] * F[0][0] - m->com_m[0][0] * F[0][2] + N[0][1];
-    add_armature_torque(m, qdd, tau_Nm);
+    tau_Nm[0] = with_armature(m, qdd, 0,
+                              n[1] + m->com_m[0][2] * F[0][0] - m->com_m[0][0] * F[0][2] + N[0][1]);
+}
+
+/* out = R v and out = R^T v, R the rotation of a frame F (4x4, row-major),
+ * read in place */
+static inline void frame_turn(const double F[16], const double v[3], double out[3])
+{
+    out[0] = F[0] * v[0] + F[1] * v[1] + F[2] * v[2];
+    out[1] = F[4] * v[0] + F[5] * v[1] + F[6] * v[2];
+    out[2] = F[8] * v[0] + F[9] * v[1] + F[10] * v[2];
+}
+
+static inline void frame_turn_back(const double F[16], const double v[3], double out[3])
+{
+    out[0] = F[0] * v[0] + F[4] * v[1] + F[8] * v[2];
+    out[1] = F[1] * v[0] + F[5] * v[1] + F[9] * v[2];
+    out[2] = F[2] * v[0] + F[6] * v[1] + F[10] * v[2];
 }
 
 /* ---- J-dot q-dot ------------------------------------------------------------ */
@@ -460,7 +472,6 @@ void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F
     const double *c = cs->c, *s = cs->s;
     double w[3], wd[3], vd[3], r[3];
     accel_map k;
-    int i;
     w[0] = 0.0;
     w[1] = qd[0];
     w[2] = 0.0;
@@ -481,17 +492,15 @@ void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F
     accel_map_of(w, wd, &k);
     add_column(vd, &k, 2, m->d_m[5]);
     {
-        const double d0 = T[3] - F6[3], d1 = T[7] - F6[7], d2 = T[11] - F6[11];
-        for (i = 0; i < 3; i++)
-            r[i] = F6[i] * d0 + F6[4 + i] * d1 + F6[8 + i] * d2;
+        const double d[3] = { T[3] - F6[3], T[7] - F6[7], T[11] - F6[11] };
+        frame_turn_back(F6, d, r);
     }
-    for (i = 0; i < 3; i++) /* vd_6 + K_6 r: the point's acceleration */
-        vd[i] += k.K[3 * i] * r[0] + k.K[3 * i + 1] * r[1] + k.K[3 * i + 2] * r[2];
-    for (i = 0; i < 3; i++) {
-        const double *row = F6 + 4 * i;
-        jdqd[i] = row[0] * vd[0] + row[1] * vd[1] + row[2] * vd[2];
-        jdqd[3 + i] = row[0] * wd[0] + row[1] * wd[1] + row[2] * wd[2];
-    }
+    /* vd_6 + K_6 r: the point's acceleration */
+    vd[0] += k.K[0] * r[0] + k.K[1] * r[1] + k.K[2] * r[2];
+    vd[1] += k.K[3] * r[0] + k.K[4] * r[1] + k.K[5] * r[2];
+    vd[2] += k.K[6] * r[0] + k.K[7] * r[1] + k.K[8] * r[2];
+    frame_turn(F6, vd, jdqd);
+    frame_turn(F6, wd, jdqd + 3);
 }
 
 /* ---- the Cartesian cycle's kinematics pass -------------------------------- */
@@ -505,12 +514,19 @@ static void tool_pose(const double F6[16], const double X[16], double T[16])
 {
     const int turns = !(X[0] == 1.0 && X[5] == 1.0 && X[10] == 1.0 && X[1] == 0.0 && X[2] == 0.0 &&
                         X[4] == 0.0 && X[6] == 0.0 && X[8] == 0.0 && X[9] == 0.0);
-    int r, c;
-    for (r = 0; r < 3; r++) {
-        const double *a = F6 + 4 * r;
-        for (c = 0; c < 3; c++)
-            T[4 * r + c] = turns ? a[0] * X[c] + a[1] * X[4 + c] + a[2] * X[8 + c] : a[c];
-        T[4 * r + 3] = a[0] * X[3] + a[1] * X[7] + a[2] * X[11] + a[3];
+    int r;
+    for (r = 0; r < 12; r += 4) {
+        const double *a = F6 + r;
+        if (turns) {
+            T[r] = a[0] * X[0] + a[1] * X[4] + a[2] * X[8];
+            T[r + 1] = a[0] * X[1] + a[1] * X[5] + a[2] * X[9];
+            T[r + 2] = a[0] * X[2] + a[1] * X[6] + a[2] * X[10];
+        } else {
+            T[r] = a[0];
+            T[r + 1] = a[1];
+            T[r + 2] = a[2];
+        }
+        T[r + 3] = a[0] * X[3] + a[1] * X[7] + a[2] * X[11] + a[3];
     }
     T[12] = 0.0;
     T[13] = 0.0;
