@@ -37,19 +37,24 @@ int cartctl_gains_validate(const cartctl_gains *g)
                : CARTCTL_ERR_ARG;
 }
 
+/* head + row[2] qd[2] + ... + row[5] qd[5], summed in that order */
+static inline double row_tail(const double *row, const double qd[ARM_NJ], double head)
+{
+    return head + row[2] * qd[2] + row[3] * qd[3] + row[4] * qd[4] + row[5] * qd[5];
+}
+
 /* twist = J qd for the PUMA's Jacobian (arm_puma_jacobian): its first
  * column is (., ., 0, 0, 0, 1) exactly, and those products are left out
- * (0 + x = x, 1 x = x: the bits of linalg_matvec, summed in its order). */
+ * (0 + x = x, 1 x = x: the bits of linalg_matvec, summed in its order);
+ * row by row, no loop. */
 static void puma_twist(const double J[36], const double qd[ARM_NJ], double twist[6])
 {
-    int r;
-    for (r = 0; r < 5; r++) {
-        const double *row = J + 6 * r;
-        const double acc = r < 2 ? row[0] * qd[0] + row[1] * qd[1] : row[1] * qd[1];
-        twist[r] = acc + row[2] * qd[2] + row[3] * qd[3] + row[4] * qd[4] + row[5] * qd[5];
-    }
-    twist[5] = qd[0] + J[31] * qd[1] + J[32] * qd[2] + J[33] * qd[3] + J[34] * qd[4] +
-               J[35] * qd[5];
+    twist[0] = row_tail(J, qd, J[0] * qd[0] + J[1] * qd[1]);
+    twist[1] = row_tail(J + 6, qd, J[6] * qd[0] + J[7] * qd[1]);
+    twist[2] = row_tail(J + 12, qd, J[13] * qd[1]);
+    twist[3] = row_tail(J + 18, qd, J[19] * qd[1]);
+    twist[4] = row_tail(J + 24, qd, J[25] * qd[1]);
+    twist[5] = row_tail(J + 30, qd, qd[0] + J[31] * qd[1]);
 }
 
 /* The general arm's state: the kinematics pass of arm_kin.c, copied. */
@@ -101,12 +106,13 @@ int cartctl_jdot_qd(const arm_model *m, const arm_tool *tool, const double q[ARM
 static void rot_error_rows(const double R_d[9], const double *R, int stride, double err[3])
 {
     double E[9], axis[3], angle;
-    int i, j;
-    for (i = 0; i < 3; i++) /* E = R_d R^T, the transpose read in place */
-        for (j = 0; j < 3; j++) {
-            const double *Rj = R + stride * j;
-            E[3 * i + j] = R_d[3 * i] * Rj[0] + R_d[3 * i + 1] * Rj[1] + R_d[3 * i + 2] * Rj[2];
-        }
+    int i;
+    for (i = 0; i < 3; i++) { /* E = R_d R^T, the transpose read in place */
+        const double *Rd_i = R_d + 3 * i;
+        E[3 * i] = vec3_dot(Rd_i, R);
+        E[3 * i + 1] = vec3_dot(Rd_i, R + stride);
+        E[3 * i + 2] = vec3_dot(Rd_i, R + 2 * stride);
+    }
     angle = rot_to_axis_angle(axis, E);
     vec3_scale(err, axis, angle);
 }
@@ -242,12 +248,19 @@ static void wrist_a_cb_general(const double J[36], const double r[3], const doub
  * axes are z0 = e_z and z1 = z2 = (s1, -c1, 0) exactly: the products with
  * those zeros and ones are left out (x + 0 = x, 1 x = x: the same bits,
  * docs/method/puma.md §6), and CB's columns 2 and 3 are one. */
+/* A row of C^-1 B for the PUMA: (ci . e_z, ci . z1, ci . z1), z1 = (zx, zy, 0) */
+static inline void cb_row(const double ci[3], double zx, double zy, double cb[3])
+{
+    cb[0] = ci[2];
+    cb[1] = ci[0] * zx + ci[1] * zy;
+    cb[2] = cb[1];
+}
+
 static void wrist_a_cb_puma(const double J[36], const double r[3], const double Ci[9], double A[9],
                             double CB[9])
 {
     const double zx = J[19], zy = J[25], r2y = r[2] * zy, r2x = r[2] * zx;
     const double r0y = r[0] * zy, r1x = r[1] * zx;
-    int i;
     A[0] = J[0] + r[1];
     A[3] = J[6] - r[0];
     A[6] = J[12];
@@ -257,11 +270,9 @@ static void wrist_a_cb_puma(const double J[36], const double r[3], const double 
     A[5] = J[8] + r2x;
     A[7] = J[13] + r0y - r1x;
     A[8] = J[14] + r0y - r1x;
-    for (i = 0; i < 3; i++) {
-        CB[3 * i] = Ci[3 * i + 2];
-        CB[3 * i + 1] = Ci[3 * i] * zx + Ci[3 * i + 1] * zy;
-        CB[3 * i + 2] = CB[3 * i + 1];
-    }
+    cb_row(Ci, zx, zy, CB);
+    cb_row(Ci + 3, zx, zy, CB + 3);
+    cb_row(Ci + 6, zx, zy, CB + 6);
 }
 
 /* b[WB_N]: r, A^-1, C^-1, D; puma: J is the PUMA's (wrist_a_cb_puma).
@@ -272,11 +283,11 @@ static int wrist_blocks(const double J[36], const double T[16], const double w[3
 {
     double A[9], C[9], CB[9];
     double *r = b + WB_R, *Ai = b + WB_AI, *Ci = b + WB_CI, *D = b + WB_D;
-    int i, j;
+    int i;
     vec3_set(r, T[3] - w[0], T[7] - w[1], T[11] - w[2]);
-    for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++)
-            C[3 * i + j] = J[18 + 6 * i + 3 + j];
+    vec3_copy(C, J + 21);
+    vec3_copy(C + 3, J + 27);
+    vec3_copy(C + 6, J + 33);
     if (inverse3(C, Ci) != 0)
         return CARTCTL_ERR_SINGULAR;
     if (puma)
@@ -285,11 +296,12 @@ static int wrist_blocks(const double J[36], const double T[16], const double w[3
         wrist_a_cb_general(J, r, Ci, A, CB);
     if (inverse3(A, Ai) != 0)
         return CARTCTL_ERR_SINGULAR;
-    /* written out rather than a rot_mul: no temporary copy */
-    for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++)
-            D[3 * i + j] = -(CB[3 * i] * Ai[j] + CB[3 * i + 1] * Ai[3 + j] +
-                             CB[3 * i + 2] * Ai[6 + j]);
+    /* row by row, D_i = -(CB_i A^-1) = -(A^-T CB_i): no temporary copy */
+    for (i = 0; i < 3; i++) {
+        double *Di = D + 3 * i;
+        rot_tapply(Di, Ai, CB + 3 * i);
+        vec3_set(Di, -Di[0], -Di[1], -Di[2]);
+    }
     return 0;
 }
 
@@ -485,8 +497,8 @@ static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM
         for (i = 0; i < 3; i++)
             out->a_cmd[3 + i] = g->kp_rot * out->rot_err[i] - g->kv_rot * s->twist[3 + i];
     }
-    for (i = 0; i < 6; i++)
-        rhs[i] = out->a_cmd[i] - s->jdqd[i];
+    vec3_sub(rhs, out->a_cmd, s->jdqd);
+    vec3_sub(rhs + 3, out->a_cmd + 3, s->jdqd + 3);
     /* Fast path: when sigma_min >= sigma_band for sure, lambda = 0 and the
      * damped inverse is the exact inverse (P = 0): the wrist's blocks or
      * one 6x6 inverse instead of the SVD (about 7x cheaper). Otherwise, or
