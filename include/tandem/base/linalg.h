@@ -80,7 +80,9 @@ inline int linalg_all_finite(const double *A, int count)
 {
     double acc = 0.0;
     int i;
-    for (i = 0; i < count; i++)
+    for (i = 0; i + 3 <= count; i += 3) /* by threes: the loop's count is a third */
+        acc += (A[i] - A[i]) + (A[i + 1] - A[i + 1]) + (A[i + 2] - A[i + 2]);
+    for (; i < count; i++)
         acc += A[i] - A[i];
     return acc == 0.0;
 }
