@@ -275,25 +275,52 @@ static void wrist_a_cb_puma(const double J[36], const double r[3], const double 
     cb_row(Ci + 6, zx, zy, CB + 6);
 }
 
-/* b[WB_N]: r, A^-1, C^-1, D; puma: J is the PUMA's (wrist_a_cb_puma).
- * 0, or CARTCTL_ERR_SINGULAR (A or C singular: the arm at its elbow or
- * wrist singularity). */
-static int wrist_blocks(const double J[36], const double T[16], const double w[3], int puma,
-                        double b[WB_N])
+/* C^-1 of the PUMA's wrist in closed form (docs/method/puma.md §6): C's
+ * columns z3, z4, z5 (J's angular rows, columns 4-6) are those of frames
+ * 3-5, with z3 = y4 and z4 orthogonal to both others, so C^-1 has the
+ * rows x5 / s5, z4 and -x4 / s5, x4 = z3 x z4, x5 = z5 x z4, s5 = sin q5
+ * (det C = -s5): two cross products and a reciprocal instead of the
+ * adjugate's nine cofactors and determinant. 0, or SINGULAR (s5 = 0). */
+static int wrist_c_inverse_puma(const double J[36], double s5, double Ci[9])
 {
-    double A[9], C[9], CB[9];
+    const double z3[3] = { J[21], J[27], J[33] }, z4[3] = { J[22], J[28], J[34] };
+    const double z5[3] = { J[23], J[29], J[35] };
+    double inv;
+    if (s5 == 0.0)
+        return SINGULAR;
+    inv = 1.0 / s5;
+    vec3_cross(Ci, z5, z4);
+    vec3_scale(Ci, Ci, inv);
+    vec3_copy(Ci + 3, z4);
+    vec3_cross(Ci + 6, z4, z3);
+    vec3_scale(Ci + 6, Ci + 6, inv);
+    return 0;
+}
+
+/* b[WB_N]: r, A^-1, C^-1, D; puma_cs: J is the PUMA's at the joint sines
+ * and cosines puma_cs (wrist_c_inverse_puma, wrist_a_cb_puma), NULL: any
+ * spherical wrist. 0, or CARTCTL_ERR_SINGULAR (A or C singular: the arm
+ * at its elbow or wrist singularity). */
+static int wrist_blocks(const double J[36], const double T[16], const double w[3],
+                        const arm_joint_cs *puma_cs, double b[WB_N])
+{
+    double A[9], CB[9];
     double *r = b + WB_R, *Ai = b + WB_AI, *Ci = b + WB_CI, *D = b + WB_D;
     int i;
     vec3_set(r, T[3] - w[0], T[7] - w[1], T[11] - w[2]);
-    vec3_copy(C, J + 21);
-    vec3_copy(C + 3, J + 27);
-    vec3_copy(C + 6, J + 33);
-    if (inverse3(C, Ci) != 0)
-        return CARTCTL_ERR_SINGULAR;
-    if (puma)
+    if (puma_cs) {
+        if (wrist_c_inverse_puma(J, puma_cs->s[4], Ci) != 0)
+            return CARTCTL_ERR_SINGULAR;
         wrist_a_cb_puma(J, r, Ci, A, CB);
-    else
+    } else {
+        double C[9];
+        vec3_copy(C, J + 21);
+        vec3_copy(C + 3, J + 27);
+        vec3_copy(C + 6, J + 33);
+        if (inverse3(C, Ci) != 0)
+            return CARTCTL_ERR_SINGULAR;
         wrist_a_cb_general(J, r, Ci, A, CB);
+    }
     if (inverse3(A, Ai) != 0)
         return CARTCTL_ERR_SINGULAR;
     /* row by row, D_i = -(CB_i A^-1) = -(A^-T CB_i): no temporary copy */
@@ -345,7 +372,7 @@ int cartctl_inverse_wrist(const double J[36], const double T[16], const double w
     if (!J || !T || !w || !Ji || !linalg_all_finite(J, 36) || !linalg_all_finite(T, 16) ||
         !linalg_all_finite(w, 3))
         return CARTCTL_ERR_ARG;
-    if (wrist_blocks(J, T, w, 0, b) != 0)
+    if (wrist_blocks(J, T, w, NULL, b) != 0)
         return CARTCTL_ERR_SINGULAR;
     for (k = 0; k < 6; k++) { /* column k: J^-1 e_k */
         double e[6] = { 0, 0, 0, 0, 0, 0 }, x[6];
@@ -371,7 +398,7 @@ static int exact_solve(const cartctl_state *s, const double rhs[6], double qdd[6
 {
     if (s->has_wrist) {
         double f2;
-        if (wrist_blocks(s->J, s->T, s->wrist_m, 1, work) != 0)
+        if (wrist_blocks(s->J, s->T, s->wrist_m, &s->cs, work) != 0)
             return SINGULAR;
         f2 = wrist_solve(work, rhs, qdd);
         *s_lo = f2 > 0.0 ? 1.0 / sqrt(f2) : 0.0;
