@@ -78,11 +78,12 @@ double linalg_maxabs_diff(const double *A, const double *B, int m, int n);
  * one per entry. */
 inline int linalg_all_finite(const double *A, int count)
 {
+    const int threes = count / 3;
     double acc = 0.0;
-    int i;
-    for (i = 0; i + 3 <= count; i += 3) /* by threes: the loop's count is a third */
-        acc += (A[i] - A[i]) + (A[i + 1] - A[i + 1]) + (A[i + 2] - A[i + 2]);
-    for (; i < count; i++)
+    int i, k;
+    for (k = 0; k < threes; k++, A += 3) /* by threes: the loop's count is a third */
+        acc += (A[0] - A[0]) + (A[1] - A[1]) + (A[2] - A[2]);
+    for (i = 0; i < count - 3 * threes; i++)
         acc += A[i] - A[i];
     return acc == 0.0;
 }
