@@ -281,14 +281,14 @@ static inline void body_force(double mass, const accel_map *a, const double vd[3
     F[2] = mass * (vd[2] + K[6] * c[0] + K[7] * c[1] + K[8] * c[2]);
 }
 
-/* body_force and the moment about the COM N = I wd + w x (I w) of a link
- * with diagonal inertia. */
-static inline void link_wrench_diag(const arm_model *m, int i, const accel_map *a,
-                                    const double vd[3], const double wd[3], double F[3],
-                                    double N[3])
+/* The moment about the COM N = I wd + w x (I w) of link i, whose inertia
+ * is diagonal. Apart from body_force: the 68040's compiler inlines the two
+ * at each link, not one function doing both, whose call cost the RNE 124
+ * bytes of stack (make budget). */
+static inline void link_moment_diag(const arm_model *m, int i, const accel_map *a,
+                                    const double wd[3], double N[3])
 {
     const double *I = m->inertia_kgm2[i];
-    body_force(m->mass_kg[i], a, vd, m->com_m[i], F);
     N[0] = I[0] * wd[0] + (I[8] - I[4]) * a->w12;
     N[1] = I[4] * wd[1] + (I[0] - I[8]) * a->w02;
     N[2] = I[8] * wd[2] + (I[4] - I[0]) * a->w01;
@@ -372,27 +372,32 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload 
     outward(TWIST_0, c[1], s[1], qd[1], qdd[1], w, wd, vd);
     accel_map_of(w, wd, &a);
     add_column(vd, &a, 0, a2);
-    link_wrench_diag(m, 1, &a, vd, wd, F[1], N[1]);
+    body_force(m->mass_kg[1], &a, vd, m->com_m[1], F[1]);
+    link_moment_diag(m, 1, &a, wd, N[1]);
 
     outward(TWIST_M90, c[2], s[2], qd[2], qdd[2], w, wd, vd);
     accel_map_of(w, wd, &a);
     add_column(vd, &a, 0, a3);
     add_column(vd, &a, 1, -d3);
-    link_wrench_diag(m, 2, &a, vd, wd, F[2], N[2]);
+    body_force(m->mass_kg[2], &a, vd, m->com_m[2], F[2]);
+    link_moment_diag(m, 2, &a, wd, N[2]);
 
     outward(TWIST_P90, c[3], s[3], qd[3], qdd[3], w, wd, vd);
     accel_map_of(w, wd, &a);
     add_column(vd, &a, 1, d4);
-    link_wrench_diag(m, 3, &a, vd, wd, F[3], N[3]);
+    body_force(m->mass_kg[3], &a, vd, m->com_m[3], F[3]);
+    link_moment_diag(m, 3, &a, wd, N[3]);
 
     outward(TWIST_M90, c[4], s[4], qd[4], qdd[4], w, wd, vd);
     accel_map_of(w, wd, &a);
-    link_wrench_diag(m, 4, &a, vd, wd, F[4], N[4]);
+    body_force(m->mass_kg[4], &a, vd, m->com_m[4], F[4]);
+    link_moment_diag(m, 4, &a, wd, N[4]);
 
     outward(TWIST_0, c[5], s[5], qd[5], qdd[5], w, wd, vd);
     accel_map_of(w, wd, &a);
     add_column(vd, &a, 2, d6);
-    link_wrench_diag(m, 5, &a, vd, wd, F[5], N[5]);
+    body_force(m->mass_kg[5], &a, vd, m->com_m[5], F[5]);
+    link_moment_diag(m, 5, &a, wd, N[5]);
     if (payload && payload->mass_kg > 0.0)
         payload_wrench(payload, &a, w, vd, wd, Fp, Np);
 

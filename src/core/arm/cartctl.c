@@ -571,19 +571,22 @@ int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g
     return qdd_at(m, g, q, qd, s, a_lin, R_d, out);
 }
 
-/* cartctl_torque with the kinematics s given (tau and out zeroed by the caller). */
-static int torque_at(const arm_model *m, const arm_payload *payload, const cartctl_gains *g,
-                     const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s,
-                     const double a_lin[3], const double R_d[9], double tau_Nm[ARM_NJ],
-                     cartctl_out *o)
+int cartctl_torque_at(const arm_model *m, const arm_payload *payload, const cartctl_gains *g,
+                      const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s,
+                      const double a_lin[3], const double R_d[9], double tau_Nm[ARM_NJ],
+                      cartctl_out *out)
 {
-    if (qdd_at(m, g, q, qd, s, a_lin, R_d, o) != 0)
+    if (!tau_Nm || !out)
         return CARTCTL_ERR_ARG;
-    if (arm_rne_cs_unchecked(m, &s->cs, qd, o->qdd, NULL, payload, tau_Nm) != 0) {
+    memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
+    memset(out, 0, sizeof *out);
+    if (!s || qdd_at(m, g, q, qd, s, a_lin, R_d, out) != 0)
+        return CARTCTL_ERR_ARG;
+    if (arm_rne_cs_unchecked(m, &s->cs, qd, out->qdd, NULL, payload, tau_Nm) != 0) {
         memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
         return CARTCTL_ERR_ARG;
     }
-    o->saturated = jointctl_saturate(m, tau_Nm);
+    out->saturated = jointctl_saturate(m, tau_Nm);
     return 0;
 }
 
@@ -593,16 +596,17 @@ int cartctl_torque(const arm_model *m, const arm_tool *tool, const arm_payload *
                    double tau_Nm[ARM_NJ], cartctl_out *out)
 {
     cartctl_out local;
-    cartctl_out *o = out ? out : &local;
     cartctl_state s_local;
     if (!tau_Nm)
         return CARTCTL_ERR_ARG;
-    memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
-    memset(o, 0, sizeof *o);
     if (!s) {
-        if (cartctl_state_at(m, tool, q, qd, &s_local) != 0)
+        if (cartctl_state_at(m, tool, q, qd, &s_local) != 0) {
+            memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
+            if (out)
+                memset(out, 0, sizeof *out);
             return CARTCTL_ERR_ARG;
+        }
         s = &s_local;
     }
-    return torque_at(m, payload, g, q, qd, s, a_lin, R_d, tau_Nm, o);
+    return cartctl_torque_at(m, payload, g, q, qd, s, a_lin, R_d, tau_Nm, out ? out : &local);
 }

@@ -477,6 +477,42 @@ static void test_bad_input(void **st)
     assert_int_equal(
         cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o),
         CARTCTL_ERR_ARG);
+    /* the cycle's entry wants the kinematics and an output */
+    cartctl_gains_default(&g);
+    {
+        cartctl_state s;
+        assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, Q_A, QD_A, &s), 0);
+        tau[0] = 1.0;
+        assert_int_equal(
+            cartctl_torque_at(&arm_model_puma560, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o),
+            CARTCTL_ERR_ARG);
+        assert_true(tau[0] == 0.0);
+        assert_int_equal(
+            cartctl_torque_at(&arm_model_puma560, NULL, &g, Q_A, QD_A, &s, a, NULL, tau, NULL),
+            CARTCTL_ERR_ARG);
+    }
+}
+
+/* cartctl_torque_at (the cycle's entry) is cartctl_torque with the
+ * kinematics given: the same torques and outputs, to the bit */
+static void test_torque_at_is_torque(void **st)
+{
+    const arm_tool tool = tool10();
+    const double a[3] = { 0.2, -0.1, 0.3 };
+    double R_d[9], ta[ARM_NJ], tb[ARM_NJ];
+    cartctl_gains g;
+    cartctl_state s;
+    cartctl_out oa, ob;
+    (void)st;
+    cartctl_gains_default(&g);
+    rot_from_axis_angle(R_d, a, 0.3);
+    assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, Q_A, QD_A, &s), 0);
+    assert_int_equal(
+        cartctl_torque_at(&arm_model_puma560, NULL, &g, Q_A, QD_A, &s, a, R_d, ta, &oa), 0);
+    assert_int_equal(
+        cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, R_d, tb, &ob), 0);
+    assert_memory_equal(ta, tb, sizeof ta);
+    assert_memory_equal(oa.qdd, ob.qdd, sizeof oa.qdd);
 }
 
 int main(void)
@@ -491,6 +527,7 @@ int main(void)
         cmocka_unit_test(test_wrist_closed_form),
         cmocka_unit_test(test_range_barrier),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_torque_at_is_torque),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
