@@ -27,8 +27,8 @@ int budget_arm_cart_cycle(budget_arm *a)
     l[1] = a->partner_s_f_m;
     if (sync_ref_init(&r, 2, l) != 0 || sync_ref_update(&r, s, &s_star, s_ref) != 0)
         return -1;
-    if (cartseg_step_at(&a->cart, a->model, &a->tool, &a->bar, &kin, a->q, a->qd, s_ref[0],
-                        BUDGET_ARM_DT_S, &o) != 0)
+    if (cartseg_step_at(&a->cart, a->model, &a->bar, &kin, a->q, a->qd, s_ref[0], BUDGET_ARM_DT_S,
+                        &o) != 0)
         return -1;
     memcpy(a->tau_Nm, o.tau_Nm, sizeof a->tau_Nm);
     return o.done;

@@ -134,4 +134,14 @@ int cartctl_torque(const arm_model *m, const arm_tool *tool, const arm_payload *
                    const cartctl_state *s, const double a_lin[3], const double R_d[9],
                    double tau_Nm[ARM_NJ], cartctl_out *out);
 
+/* cartctl_torque with the kinematics s of q, qd given (not NULL) and out
+ * not NULL: the arm cycle's entry (cartseg_step_at). It keeps no
+ * kinematics pass or output of its own, so the cycle's deepest stack
+ * (down to the damped inverse's SVD) holds none. 0 / CARTCTL_ERR_ARG
+ * (tau is then 0). */
+int cartctl_torque_at(const arm_model *m, const arm_payload *payload, const cartctl_gains *g,
+                      const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s,
+                      const double a_lin[3], const double R_d[9], double tau_Nm[ARM_NJ],
+                      cartctl_out *out);
+
 #endif

@@ -161,9 +161,10 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
                  const double q[ARM_NJ], const double qd[ARM_NJ], double s_ext_m, double dt_s,
                  cartseg_out *out);
 /* The same cycle with the kinematics st = cartctl_state_at(m, tool, q, qd)
- * already evaluated (the caller's one pass of the cycle). */
-int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool,
-                    const arm_payload *payload, const cartctl_state *st, const double q[ARM_NJ],
-                    const double qd[ARM_NJ], double s_ext_m, double dt_s, cartseg_out *out);
+ * already evaluated (the caller's one pass of the cycle; the tool is in
+ * st). */
+int cartseg_step_at(cartseg *c, const arm_model *m, const arm_payload *payload,
+                    const cartctl_state *st, const double q[ARM_NJ], const double qd[ARM_NJ],
+                    double s_ext_m, double dt_s, cartseg_out *out);
 
 #endif

@@ -16,6 +16,8 @@
 
 #include <string.h>
 
+#include "vec3.h"
+
 /* The three twist angles of the structure. */
 enum { TWIST_P90, TWIST_0, TWIST_M90 };
 
@@ -59,21 +61,24 @@ static inline void rot(int twist, double c, double s, const double v[3], double 
 
 /* ---- kinematics ----------------------------------------------------------- */
 
-/* Frame F (4x4 row-major) from its axes and origin. */
+/* One row of a 4x4 */
+static inline void frame_row(double *row, double x, double y, double z, double o)
+{
+    row[0] = x;
+    row[1] = y;
+    row[2] = z;
+    row[3] = o;
+}
+
+/* Frame F (4x4 row-major) from its axes and origin, written out row by
+ * row (no loop: the chain stores seven) */
 static inline void frame_store(double F[16], const double x[3], const double y[3],
                                const double z[3], const double o[3])
 {
-    int r;
-    for (r = 0; r < 3; r++) {
-        F[4 * r] = x[r];
-        F[4 * r + 1] = y[r];
-        F[4 * r + 2] = z[r];
-        F[4 * r + 3] = o[r];
-    }
-    F[12] = 0.0;
-    F[13] = 0.0;
-    F[14] = 0.0;
-    F[15] = 1.0;
+    frame_row(F, x[0], y[0], z[0], o[0]);
+    frame_row(F + 4, x[1], y[1], z[1], o[1]);
+    frame_row(F + 8, x[2], y[2], z[2], o[2]);
+    frame_row(F + 12, 0.0, 0.0, 0.0, 1.0);
 }
 
 /* a = ca u + sa v (a frame axis turned by a joint) */
@@ -85,35 +90,28 @@ static inline void axis_comb(double a[3], double ca, const double u[3], double s
     a[2] = ca * u[2] + sa * v[2];
 }
 
-/* docs/method/puma.md §2: R_03 = Rz(q1) Ry(-(q2 + q3)) in closed form, the
- * wrist axes by one plane turn each, o_i = o_{i-1} + a_i x_i + d_i z_{i-1}
- * with the zero lengths left out. Written frame by frame into F, few
- * locals: this sits on the Cartesian cycle's deepest stack path. */
-void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
+/* out = o + len v: the next origin along one axis; out may be o */
+static inline void origin_next(double out[3], const double o[3], double len, const double v[3])
 {
-    const double c1 = cs->c[0], s1 = cs->s[0], c2 = cs->c[1], s2 = cs->s[1];
-    const double c3 = cs->c[2], s3 = cs->s[2];
-    const double c23 = c2 * c3 - s2 * s3, s23 = s2 * c3 + c2 * s3;
-    const double a2 = m->a_m[1], a3 = m->a_m[2], d3 = m->d_m[2], d4 = m->d_m[3], d6 = m->d_m[5];
-    const double z1[3] = { s1, -c1, 0.0 };
-    double x[3], y[3], z[3], o[3] = { 0.0, 0.0, m->base_height_m };
-    int k;
-    {
-        const double ex[3] = { 1.0, 0.0, 0.0 }, ey[3] = { 0.0, 1.0, 0.0 },
-                     ez[3] = { 0.0, 0.0, 1.0 };
-        const double x1[3] = { c1, s1, 0.0 };
-        frame_store(F[0], ex, ey, ez, o);
-        frame_store(F[1], x1, ez, z1, o);
-    }
+    vec3_axpy(out, o, len, v);
+}
+
+/* x2, y2 (z2 = z1) */
+static inline void frame2_axes(double c1, double s1, double c2, double s2, double x[3], double y[3])
+{
     x[0] = c1 * c2;
     x[1] = s1 * c2;
     x[2] = s2;
     y[0] = -c1 * s2;
     y[1] = -s1 * s2;
     y[2] = c2;
-    for (k = 0; k < 3; k++)
-        o[k] += a2 * x[k];
-    frame_store(F[2], x, y, z1, o);
+}
+
+/* x3, y3, z3: R_03 = Rz(q1) Ry(-(q2 + q3)), and o3 = o2 + a3 x3 + d3 z2
+ * with z2 = z1 = (s1, -c1, 0); o may be o2 */
+static inline void frame3(double c1, double s1, double c23, double s23, double a3, double d3,
+                          const double o2[3], double x[3], double y[3], double z[3], double o[3])
+{
     x[0] = c1 * c23;
     x[1] = s1 * c23;
     x[2] = s23;
@@ -123,54 +121,101 @@ void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
     z[0] = -c1 * s23;
     z[1] = -s1 * s23;
     z[2] = c23;
-    for (k = 0; k < 3; k++)
-        o[k] += a3 * x[k] + d3 * z1[k]; /* z2 = z1 */
+    o[0] = o2[0] + (a3 * x[0] + d3 * s1);
+    o[1] = o2[1] + (a3 * x[1] - d3 * c1);
+    o[2] = o2[2] + a3 * x[2];
+}
+
+/* The wrist's axes from frame 3's (§2): x4, z4 (y4 = z3), x5, y5 = -z4,
+ * z5, then the flange's x6, y6 (z6 = z5) */
+static inline void wrist_axes(const arm_joint_cs *cs, const double x3[3], const double y3[3],
+                              const double z3[3], double x4[3], double z4[3], double x5[3],
+                              double y5[3], double z5[3])
+{
+    axis_comb(x4, cs->c[3], x3, cs->s[3], y3);
+    axis_comb(z4, cs->s[3], x3, -cs->c[3], y3);
+    axis_comb(x5, cs->c[4], x4, cs->s[4], z3);
+    axis_comb(z5, -cs->s[4], x4, cs->c[4], z3);
+    vec3_set(y5, -z4[0], -z4[1], -z4[2]);
+}
+
+static inline void flange_axes(const arm_joint_cs *cs, const double x5[3], const double y5[3],
+                               double x6[3], double y6[3])
+{
+    axis_comb(x6, cs->c[5], x5, cs->s[5], y5);
+    axis_comb(y6, -cs->s[5], x5, cs->c[5], y5);
+}
+
+/* docs/method/puma.md §2: R_03 = Rz(q1) Ry(-(q2 + q3)) in closed form, the
+ * wrist axes by one plane turn each, o_i = o_{i-1} + a_i x_i + d_i z_{i-1}
+ * with the zero lengths left out. Written frame by frame into F. */
+void arm_puma_chain(const arm_model *m, const arm_joint_cs *cs, double (*F)[16])
+{
+    const double c1 = cs->c[0], s1 = cs->s[0], c2 = cs->c[1], s2 = cs->s[1];
+    const double c3 = cs->c[2], s3 = cs->s[2];
+    const double c23 = c2 * c3 - s2 * s3, s23 = s2 * c3 + c2 * s3;
+    const double z1[3] = { s1, -c1, 0.0 };
+    double x[3], y[3], z[3], o[3] = { 0.0, 0.0, m->base_height_m };
+    {
+        const double ex[3] = { 1.0, 0.0, 0.0 }, ey[3] = { 0.0, 1.0, 0.0 },
+                     ez[3] = { 0.0, 0.0, 1.0 };
+        const double x1[3] = { c1, s1, 0.0 };
+        frame_store(F[0], ex, ey, ez, o);
+        frame_store(F[1], x1, ez, z1, o);
+    }
+    frame2_axes(c1, s1, c2, s2, x, y);
+    origin_next(o, o, m->a_m[1], x);
+    frame_store(F[2], x, y, z1, o);
+    frame3(c1, s1, c23, s23, m->a_m[2], m->d_m[2], o, x, y, z, o);
     frame_store(F[3], x, y, z, o);
     {
-        double x4[3], z4[3];
-        axis_comb(x4, cs->c[3], x, cs->s[3], y);
-        axis_comb(z4, cs->s[3], x, -cs->c[3], y);
-        for (k = 0; k < 3; k++)
-            o[k] += d4 * z[k];
-        frame_store(F[4], x4, z, z4, o); /* y4 = z3 */
-        axis_comb(x, cs->c[4], x4, cs->s[4], z);
-        axis_comb(y, -cs->s[4], x4, cs->c[4], z); /* z5, for now in y */
-        for (k = 0; k < 3; k++)
-            z[k] = -z4[k]; /* y5 = -z4 */
-    }
-    frame_store(F[5], x, z, y, o); /* o5 = o4 */
-    {
-        double x6[3], y6[3];
-        axis_comb(x6, cs->c[5], x, cs->s[5], z);
-        axis_comb(y6, -cs->s[5], x, cs->c[5], z);
-        for (k = 0; k < 3; k++)
-            o[k] += d6 * y[k];
-        frame_store(F[6], x6, y6, y, o); /* z6 = z5 */
+        double x4[3], z4[3], x5[3], y5[3], z5[3];
+        wrist_axes(cs, x, y, z, x4, z4, x5, y5, z5);
+        origin_next(o, o, m->d_m[3], z);
+        frame_store(F[4], x4, z, z4, o);  /* y4 = z3 */
+        frame_store(F[5], x5, y5, z5, o); /* o5 = o4 */
+        flange_axes(cs, x5, y5, x, y);
+        origin_next(o, o, m->d_m[5], z5);
+        frame_store(F[6], x, y, z5, o); /* z6 = z5 */
     }
 }
 
-/* Column i: [z_{i-1} x (p - o_{i-1}); z_{i-1}]; z_0 = e_z makes the first
- * one free of products. */
-void arm_puma_jacobian(const double (*F)[16], const double T[16], double J[36])
+/* Column i of J: [z x (p - o); z], z and o axis and origin of frame i-1 */
+static inline void jacobian_column(double J[36], int i, const double z[3], const double o[3],
+                                   const double p[3])
 {
-    const double p[3] = { T[3], T[7], T[11] };
-    int i;
-    J[0] = -(p[1] - F[0][7]);
-    J[6] = p[0] - F[0][3];
+    const double r0 = p[0] - o[0], r1 = p[1] - o[1], r2 = p[2] - o[2];
+    J[i] = z[1] * r2 - z[2] * r1;
+    J[6 + i] = z[2] * r0 - z[0] * r2;
+    J[12 + i] = z[0] * r1 - z[1] * r0;
+    J[18 + i] = z[0];
+    J[24 + i] = z[1];
+    J[30 + i] = z[2];
+}
+
+/* Column 1: z_0 = e_z, o_0 on the z axis: free of products */
+static inline void jacobian_column0(double J[36], const double o0[3], const double p[3])
+{
+    J[0] = -(p[1] - o0[1]);
+    J[6] = p[0] - o0[0];
     J[12] = 0.0;
     J[18] = 0.0;
     J[24] = 0.0;
     J[30] = 1.0;
+}
+
+void arm_puma_jacobian(const double (*F)[16], const double T[16], double J[36])
+{
+    const double p[3] = { T[3], T[7], T[11] };
+    int i;
+    {
+        const double o0[3] = { F[0][3], F[0][7], F[0][11] };
+        jacobian_column0(J, o0, p);
+    }
     for (i = 1; i < ARM_NJ; i++) {
         const double *Fi = F[i];
-        const double z0 = Fi[2], z1 = Fi[6], z2 = Fi[10];
-        const double r0 = p[0] - Fi[3], r1 = p[1] - Fi[7], r2 = p[2] - Fi[11];
-        J[i] = z1 * r2 - z2 * r1;
-        J[6 + i] = z2 * r0 - z0 * r2;
-        J[12 + i] = z0 * r1 - z1 * r0;
-        J[18 + i] = z0;
-        J[24 + i] = z1;
-        J[30 + i] = z2;
+        const double z[3] = { Fi[2], Fi[6], Fi[10] }, o[3] = { Fi[3], Fi[7], Fi[11] };
+        jacobian_column(J, i, z, o, p);
     }
 }
 
@@ -225,17 +270,25 @@ static inline void outward(int twist, double c, double s, double qd, double qdd,
     rot_t(twist, c, s, vd, vd);
 }
 
-/* Inertial force F = m (vd + K c) and moment about the COM
- * N = I wd + w x (I w) of a link with diagonal inertia. */
-static inline void link_wrench_diag(const arm_model *m, int i, const accel_map *a,
-                                    const double vd[3], const double wd[3], double F[3],
-                                    double N[3])
+/* Inertial force F = m (vd + K c) of a body of mass m, COM c. Written
+ * out (no loop: the cycle's RNE calls it six times). */
+static inline void body_force(double mass, const accel_map *a, const double vd[3],
+                              const double c[3], double F[3])
 {
-    const double *c = m->com_m[i], *I = m->inertia_kgm2[i], mass = m->mass_kg[i];
-    int k;
-    for (k = 0; k < 3; k++)
-        F[k] = mass *
-               (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
+    const double *K = a->K;
+    F[0] = mass * (vd[0] + K[0] * c[0] + K[1] * c[1] + K[2] * c[2]);
+    F[1] = mass * (vd[1] + K[3] * c[0] + K[4] * c[1] + K[5] * c[2]);
+    F[2] = mass * (vd[2] + K[6] * c[0] + K[7] * c[1] + K[8] * c[2]);
+}
+
+/* The moment about the COM N = I wd + w x (I w) of link i, whose inertia
+ * is diagonal. Apart from body_force: the 68040's compiler inlines the two
+ * at each link, not one function doing both, whose call cost the RNE 124
+ * bytes of stack (make budget). */
+static inline void link_moment_diag(const arm_model *m, int i, const accel_map *a,
+                                    const double wd[3], double N[3])
+{
+    const double *I = m->inertia_kgm2[i];
     N[0] = I[0] * wd[0] + (I[8] - I[4]) * a->w12;
     N[1] = I[4] * wd[1] + (I[0] - I[8]) * a->w02;
     N[2] = I[8] * wd[2] + (I[4] - I[0]) * a->w01;
@@ -248,22 +301,16 @@ static inline void link_wrench_diag(const arm_model *m, int i, const accel_map *
 static void payload_wrench(const arm_payload *p, const accel_map *a, const double w[3],
                            const double vd[3], const double wd[3], double F[3], double N[3])
 {
-    const double *c = p->com_m, *I = p->inertia_kgm2;
-    int k, point = 1;
-    for (k = 0; k < 3; k++)
-        F[k] = p->mass_kg *
-               (vd[k] + a->K[3 * k] * c[0] + a->K[3 * k + 1] * c[1] + a->K[3 * k + 2] * c[2]);
-    for (k = 0; k < 9; k++)
-        if (I[k] != 0.0)
-            point = 0;
-    if (point) {
+    const double *I = p->inertia_kgm2;
+    body_force(p->mass_kg, a, vd, p->com_m, F);
+    if (I[0] == 0.0 && I[4] == 0.0 && I[8] == 0.0 && I[1] == 0.0 && I[2] == 0.0 && I[3] == 0.0 &&
+        I[5] == 0.0 && I[6] == 0.0 && I[7] == 0.0) {
         N[0] = N[1] = N[2] = 0.0;
         return;
     }
     {
         double Iw[3];
-        for (k = 0; k < 3; k++)
-            Iw[k] = I[3 * k] * w[0] + I[3 * k + 1] * w[1] + I[3 * k + 2] * w[2];
+        rot_apply(Iw, I, w); /* I w */
         N[0] = I[0] * wd[0] + I[1] * wd[1] + I[2] * wd[2] + w[1] * Iw[2] - w[2] * Iw[1];
         N[1] = I[3] * wd[0] + I[4] * wd[1] + I[5] * wd[2] + w[2] * Iw[0] - w[0] * Iw[2];
         N[2] = I[6] * wd[0] + I[7] * wd[1] + I[8] * wd[2] + w[0] * Iw[1] - w[1] * Iw[0];
@@ -279,14 +326,13 @@ static inline void add_link_moment(double n[3], const double c[3], const double 
     n[2] += c[0] * F[1] - c[1] * F[0] + N[2];
 }
 
-/* The rotors' reflected inertia (arm_model.h armature_kgm2, Jm G^2) acts on
- * each joint's own acceleration only: a diagonal term, as in arm_dyn.c. */
-static inline void add_armature_torque(const arm_model *m, const double qdd[ARM_NJ],
-                                       double tau_Nm[ARM_NJ])
+/* tau_i + J_i qdd_i: the rotors' reflected inertia (arm_model.h
+ * armature_kgm2, Jm G^2) acts on each joint's own acceleration only, a
+ * diagonal term, as in arm_dyn.c. */
+static inline double with_armature(const arm_model *m, const double qdd[ARM_NJ], int i,
+                                   double tau_Nm)
 {
-    int i;
-    for (i = 0; i < ARM_NJ; i++)
-        tau_Nm[i] += m->armature_kgm2[i] * qdd[i];
+    return tau_Nm + m->armature_kgm2[i] * qdd[i];
 }
 
 /* Outward by joints, with p*_1 = 0, p*_2 = (a2, 0, 0), p*_3 = (a3, -d3, 0),
@@ -301,7 +347,6 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload 
     double F[ARM_NJ][3], N[ARM_NJ][3], w[3], wd[3], vd[3], f[3], n[3], mg[3];
     double Fp[3] = { 0.0, 0.0, 0.0 }, Np[3] = { 0.0, 0.0, 0.0 };
     accel_map a;
-    int k;
 
     /* joint 1 turns about the base z: w = (0, qd1, 0), wd = (0, qdd1, 0) in frame 1 */
     mg[0] = -g[0];
@@ -327,79 +372,95 @@ void arm_puma_rne(const arm_model *m, const arm_joint_cs *cs, const arm_payload 
     outward(TWIST_0, c[1], s[1], qd[1], qdd[1], w, wd, vd);
     accel_map_of(w, wd, &a);
     add_column(vd, &a, 0, a2);
-    link_wrench_diag(m, 1, &a, vd, wd, F[1], N[1]);
+    body_force(m->mass_kg[1], &a, vd, m->com_m[1], F[1]);
+    link_moment_diag(m, 1, &a, wd, N[1]);
 
     outward(TWIST_M90, c[2], s[2], qd[2], qdd[2], w, wd, vd);
     accel_map_of(w, wd, &a);
     add_column(vd, &a, 0, a3);
     add_column(vd, &a, 1, -d3);
-    link_wrench_diag(m, 2, &a, vd, wd, F[2], N[2]);
+    body_force(m->mass_kg[2], &a, vd, m->com_m[2], F[2]);
+    link_moment_diag(m, 2, &a, wd, N[2]);
 
     outward(TWIST_P90, c[3], s[3], qd[3], qdd[3], w, wd, vd);
     accel_map_of(w, wd, &a);
     add_column(vd, &a, 1, d4);
-    link_wrench_diag(m, 3, &a, vd, wd, F[3], N[3]);
+    body_force(m->mass_kg[3], &a, vd, m->com_m[3], F[3]);
+    link_moment_diag(m, 3, &a, wd, N[3]);
 
     outward(TWIST_M90, c[4], s[4], qd[4], qdd[4], w, wd, vd);
     accel_map_of(w, wd, &a);
-    link_wrench_diag(m, 4, &a, vd, wd, F[4], N[4]);
+    body_force(m->mass_kg[4], &a, vd, m->com_m[4], F[4]);
+    link_moment_diag(m, 4, &a, wd, N[4]);
 
     outward(TWIST_0, c[5], s[5], qd[5], qdd[5], w, wd, vd);
     accel_map_of(w, wd, &a);
     add_column(vd, &a, 2, d6);
-    link_wrench_diag(m, 5, &a, vd, wd, F[5], N[5]);
+    body_force(m->mass_kg[5], &a, vd, m->com_m[5], F[5]);
+    link_moment_diag(m, 5, &a, wd, N[5]);
     if (payload && payload->mass_kg > 0.0)
         payload_wrench(payload, &a, w, vd, wd, Fp, Np);
 
     /* inward: link 6, p*_6 x f = d6 (-f1, f0, 0) */
-    for (k = 0; k < 3; k++)
-        f[k] = F[5][k] + Fp[k];
+    vec3_add(f, F[5], Fp);
     n[0] = -d6 * f[1];
     n[1] = d6 * f[0];
     n[2] = 0.0;
     add_link_moment(n, m->com_m[5], F[5], N[5]);
     if (payload)
         add_link_moment(n, payload->com_m, Fp, Np);
-    tau_Nm[5] = n[2];
+    tau_Nm[5] = with_armature(m, qdd, 5, n[2]);
     /* link 5: p*_5 = 0 */
     rot(TWIST_0, c[5], s[5], f, f);
     rot(TWIST_0, c[5], s[5], n, n);
-    for (k = 0; k < 3; k++)
-        f[k] += F[4][k];
+    vec3_add(f, f, F[4]);
     add_link_moment(n, m->com_m[4], F[4], N[4]);
-    tau_Nm[4] = -n[1];
+    tau_Nm[4] = with_armature(m, qdd, 4, -n[1]);
     /* link 4: p*_4 x f = d4 (f2, 0, -f0) */
     rot(TWIST_M90, c[4], s[4], f, f);
     rot(TWIST_M90, c[4], s[4], n, n);
-    for (k = 0; k < 3; k++)
-        f[k] += F[3][k];
+    vec3_add(f, f, F[3]);
     n[0] += d4 * f[2];
     n[2] -= d4 * f[0];
     add_link_moment(n, m->com_m[3], F[3], N[3]);
-    tau_Nm[3] = n[1];
+    tau_Nm[3] = with_armature(m, qdd, 3, n[1]);
     /* link 3: p*_3 x f = a3 (0, -f2, f1) - d3 (f2, 0, -f0) */
     rot(TWIST_P90, c[3], s[3], f, f);
     rot(TWIST_P90, c[3], s[3], n, n);
-    for (k = 0; k < 3; k++)
-        f[k] += F[2][k];
+    vec3_add(f, f, F[2]);
     n[0] -= d3 * f[2];
     n[1] -= a3 * f[2];
     n[2] += a3 * f[1] + d3 * f[0];
     add_link_moment(n, m->com_m[2], F[2], N[2]);
-    tau_Nm[2] = -n[1];
+    tau_Nm[2] = with_armature(m, qdd, 2, -n[1]);
     /* link 2: p*_2 x f = a2 (0, -f2, f1) */
     rot(TWIST_M90, c[2], s[2], f, f);
     rot(TWIST_M90, c[2], s[2], n, n);
-    for (k = 0; k < 3; k++)
-        f[k] += F[1][k];
+    vec3_add(f, f, F[1]);
     n[1] -= a2 * f[2];
     n[2] += a2 * f[1];
     add_link_moment(n, m->com_m[1], F[1], N[1]);
-    tau_Nm[1] = n[2];
+    tau_Nm[1] = with_armature(m, qdd, 1, n[2]);
     /* link 1: only the moment's y (its joint axis in frame 1) is wanted */
     rot(TWIST_0, c[1], s[1], n, n);
-    tau_Nm[0] = n[1] + m->com_m[0][2] * F[0][0] - m->com_m[0][0] * F[0][2] + N[0][1];
-    add_armature_torque(m, qdd, tau_Nm);
+    tau_Nm[0] = with_armature(m, qdd, 0,
+                              n[1] + m->com_m[0][2] * F[0][0] - m->com_m[0][0] * F[0][2] + N[0][1]);
+}
+
+/* out = R v and out = R^T v, R the rotation of a frame F (4x4, row-major),
+ * read in place */
+static inline void frame_turn(const double F[16], const double v[3], double out[3])
+{
+    out[0] = F[0] * v[0] + F[1] * v[1] + F[2] * v[2];
+    out[1] = F[4] * v[0] + F[5] * v[1] + F[6] * v[2];
+    out[2] = F[8] * v[0] + F[9] * v[1] + F[10] * v[2];
+}
+
+static inline void frame_turn_back(const double F[16], const double v[3], double out[3])
+{
+    out[0] = F[0] * v[0] + F[4] * v[1] + F[8] * v[2];
+    out[1] = F[1] * v[0] + F[5] * v[1] + F[9] * v[2];
+    out[2] = F[2] * v[0] + F[6] * v[1] + F[10] * v[2];
 }
 
 /* ---- J-dot q-dot ------------------------------------------------------------ */
@@ -416,7 +477,6 @@ void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F
     const double *c = cs->c, *s = cs->s;
     double w[3], wd[3], vd[3], r[3];
     accel_map k;
-    int i;
     w[0] = 0.0;
     w[1] = qd[0];
     w[2] = 0.0;
@@ -437,17 +497,15 @@ void arm_puma_jdot_qd(const arm_model *m, const arm_joint_cs *cs, const double F
     accel_map_of(w, wd, &k);
     add_column(vd, &k, 2, m->d_m[5]);
     {
-        const double d0 = T[3] - F6[3], d1 = T[7] - F6[7], d2 = T[11] - F6[11];
-        for (i = 0; i < 3; i++)
-            r[i] = F6[i] * d0 + F6[4 + i] * d1 + F6[8 + i] * d2;
+        const double d[3] = { T[3] - F6[3], T[7] - F6[7], T[11] - F6[11] };
+        frame_turn_back(F6, d, r);
     }
-    for (i = 0; i < 3; i++) /* vd_6 + K_6 r: the point's acceleration */
-        vd[i] += k.K[3 * i] * r[0] + k.K[3 * i + 1] * r[1] + k.K[3 * i + 2] * r[2];
-    for (i = 0; i < 3; i++) {
-        const double *row = F6 + 4 * i;
-        jdqd[i] = row[0] * vd[0] + row[1] * vd[1] + row[2] * vd[2];
-        jdqd[3 + i] = row[0] * wd[0] + row[1] * wd[1] + row[2] * wd[2];
-    }
+    /* vd_6 + K_6 r: the point's acceleration */
+    vd[0] += k.K[0] * r[0] + k.K[1] * r[1] + k.K[2] * r[2];
+    vd[1] += k.K[3] * r[0] + k.K[4] * r[1] + k.K[5] * r[2];
+    vd[2] += k.K[6] * r[0] + k.K[7] * r[1] + k.K[8] * r[2];
+    frame_turn(F6, vd, jdqd);
+    frame_turn(F6, wd, jdqd + 3);
 }
 
 /* ---- the Cartesian cycle's kinematics pass -------------------------------- */
@@ -461,12 +519,19 @@ static void tool_pose(const double F6[16], const double X[16], double T[16])
 {
     const int turns = !(X[0] == 1.0 && X[5] == 1.0 && X[10] == 1.0 && X[1] == 0.0 && X[2] == 0.0 &&
                         X[4] == 0.0 && X[6] == 0.0 && X[8] == 0.0 && X[9] == 0.0);
-    int r, c;
-    for (r = 0; r < 3; r++) {
-        const double *a = F6 + 4 * r;
-        for (c = 0; c < 3; c++)
-            T[4 * r + c] = turns ? a[0] * X[c] + a[1] * X[4 + c] + a[2] * X[8 + c] : a[c];
-        T[4 * r + 3] = a[0] * X[3] + a[1] * X[7] + a[2] * X[11] + a[3];
+    int r;
+    for (r = 0; r < 12; r += 4) {
+        const double *a = F6 + r;
+        if (turns) {
+            T[r] = a[0] * X[0] + a[1] * X[4] + a[2] * X[8];
+            T[r + 1] = a[0] * X[1] + a[1] * X[5] + a[2] * X[9];
+            T[r + 2] = a[0] * X[2] + a[1] * X[6] + a[2] * X[10];
+        } else {
+            T[r] = a[0];
+            T[r + 1] = a[1];
+            T[r + 2] = a[2];
+        }
+        T[r + 3] = a[0] * X[3] + a[1] * X[7] + a[2] * X[11] + a[3];
     }
     T[12] = 0.0;
     T[13] = 0.0;
@@ -474,24 +539,46 @@ static void tool_pose(const double F6[16], const double X[16], double T[16])
     T[15] = 1.0;
 }
 
-/* docs/method/puma.md §3a: the frames once (§2), then from them the tool
- * pose, J (§3) and J-dot q-dot (§3), written straight into the caller's
- * arrays; the frames stay in this function's stack. */
+/* docs/method/puma.md §3a: the axes and origins of §2 once, in locals:
+ * of frames 0-5 only what J reads (z_i, o_i), never stored as frames;
+ * the flange frame for the tool pose and J-dot q-dot (§3); written
+ * straight into the caller's arrays. The same operations as
+ * arm_puma_chain (the same helpers), so the same bits. */
 void arm_puma_cycle_kin(const arm_model *m, const arm_joint_cs *cs, const arm_tool *tool,
                         const double qd[ARM_NJ], double T[16], double J[36], double jdqd[6],
                         double wrist_m[3])
 {
-    double F[ARM_NJ + 1][16];
-    arm_puma_chain(m, cs, F);
+    const double c1 = cs->c[0], s1 = cs->s[0], c2 = cs->c[1], s2 = cs->s[1];
+    const double c3 = cs->c[2], s3 = cs->s[2];
+    const double c23 = c2 * c3 - s2 * s3, s23 = s2 * c3 + c2 * s3;
+    const double z1[3] = { s1, -c1, 0.0 }, o0[3] = { 0.0, 0.0, m->base_height_m };
+    double F6[16], x[3], y[3], z3[3], x4[3], z4[3], x5[3], y5[3], z5[3];
+    double o2[3], o3[3], o4[3], o6[3];
+    frame2_axes(c1, s1, c2, s2, x, y);
+    origin_next(o2, o0, m->a_m[1], x);
+    frame3(c1, s1, c23, s23, m->a_m[2], m->d_m[2], o2, x, y, z3, o3);
+    wrist_axes(cs, x, y, z3, x4, z4, x5, y5, z5);
+    origin_next(o4, o3, m->d_m[3], z3);
+    flange_axes(cs, x5, y5, x, y);
+    origin_next(o6, o4, m->d_m[5], z5);
+    frame_store(F6, x, y, z5, o6);
     if (tool)
-        tool_pose(F[ARM_NJ], tool->T_flange_tool, T);
+        tool_pose(F6, tool->T_flange_tool, T);
     else
-        memcpy(T, F[ARM_NJ], sizeof F[ARM_NJ]);
-    arm_puma_jacobian((const double(*)[16])F, T, J);
-    arm_puma_jdot_qd(m, cs, F[ARM_NJ], T, qd, jdqd);
-    wrist_m[0] = F[4][3];
-    wrist_m[1] = F[4][7];
-    wrist_m[2] = F[4][11];
+        memcpy(T, F6, sizeof F6);
+    {
+        const double p[3] = { T[3], T[7], T[11] };
+        jacobian_column0(J, o0, p);
+        jacobian_column(J, 1, z1, o0, p);
+        jacobian_column(J, 2, z1, o2, p);
+        jacobian_column(J, 3, z3, o3, p);
+        jacobian_column(J, 4, z4, o4, p);
+        jacobian_column(J, 5, z5, o4, p);
+    }
+    arm_puma_jdot_qd(m, cs, F6, T, qd, jdqd);
+    wrist_m[0] = o4[0];
+    wrist_m[1] = o4[1];
+    wrist_m[2] = o4[2];
 }
 
 /* ---- joint-space inertia (composite rigid bodies) ---------------------- */

@@ -37,19 +37,24 @@ int cartctl_gains_validate(const cartctl_gains *g)
                : CARTCTL_ERR_ARG;
 }
 
+/* head + row[2] qd[2] + ... + row[5] qd[5], summed in that order */
+static inline double row_tail(const double *row, const double qd[ARM_NJ], double head)
+{
+    return head + row[2] * qd[2] + row[3] * qd[3] + row[4] * qd[4] + row[5] * qd[5];
+}
+
 /* twist = J qd for the PUMA's Jacobian (arm_puma_jacobian): its first
  * column is (., ., 0, 0, 0, 1) exactly, and those products are left out
- * (0 + x = x, 1 x = x: the bits of linalg_matvec, summed in its order). */
+ * (0 + x = x, 1 x = x: the bits of linalg_matvec, summed in its order);
+ * row by row, no loop. */
 static void puma_twist(const double J[36], const double qd[ARM_NJ], double twist[6])
 {
-    int r;
-    for (r = 0; r < 5; r++) {
-        const double *row = J + 6 * r;
-        const double acc = r < 2 ? row[0] * qd[0] + row[1] * qd[1] : row[1] * qd[1];
-        twist[r] = acc + row[2] * qd[2] + row[3] * qd[3] + row[4] * qd[4] + row[5] * qd[5];
-    }
-    twist[5] = qd[0] + J[31] * qd[1] + J[32] * qd[2] + J[33] * qd[3] + J[34] * qd[4] +
-               J[35] * qd[5];
+    twist[0] = row_tail(J, qd, J[0] * qd[0] + J[1] * qd[1]);
+    twist[1] = row_tail(J + 6, qd, J[6] * qd[0] + J[7] * qd[1]);
+    twist[2] = row_tail(J + 12, qd, J[13] * qd[1]);
+    twist[3] = row_tail(J + 18, qd, J[19] * qd[1]);
+    twist[4] = row_tail(J + 24, qd, J[25] * qd[1]);
+    twist[5] = row_tail(J + 30, qd, qd[0] + J[31] * qd[1]);
 }
 
 /* The general arm's state: the kinematics pass of arm_kin.c, copied. */
@@ -101,12 +106,13 @@ int cartctl_jdot_qd(const arm_model *m, const arm_tool *tool, const double q[ARM
 static void rot_error_rows(const double R_d[9], const double *R, int stride, double err[3])
 {
     double E[9], axis[3], angle;
-    int i, j;
-    for (i = 0; i < 3; i++) /* E = R_d R^T, the transpose read in place */
-        for (j = 0; j < 3; j++) {
-            const double *Rj = R + stride * j;
-            E[3 * i + j] = R_d[3 * i] * Rj[0] + R_d[3 * i + 1] * Rj[1] + R_d[3 * i + 2] * Rj[2];
-        }
+    int i;
+    for (i = 0; i < 3; i++) { /* E = R_d R^T, the transpose read in place */
+        const double *Rd_i = R_d + 3 * i;
+        E[3 * i] = vec3_dot(Rd_i, R);
+        E[3 * i + 1] = vec3_dot(Rd_i, R + stride);
+        E[3 * i + 2] = vec3_dot(Rd_i, R + 2 * stride);
+    }
     angle = rot_to_axis_angle(axis, E);
     vec3_scale(err, axis, angle);
 }
@@ -242,12 +248,19 @@ static void wrist_a_cb_general(const double J[36], const double r[3], const doub
  * axes are z0 = e_z and z1 = z2 = (s1, -c1, 0) exactly: the products with
  * those zeros and ones are left out (x + 0 = x, 1 x = x: the same bits,
  * docs/method/puma.md §6), and CB's columns 2 and 3 are one. */
+/* A row of C^-1 B for the PUMA: (ci . e_z, ci . z1, ci . z1), z1 = (zx, zy, 0) */
+static inline void cb_row(const double ci[3], double zx, double zy, double cb[3])
+{
+    cb[0] = ci[2];
+    cb[1] = ci[0] * zx + ci[1] * zy;
+    cb[2] = cb[1];
+}
+
 static void wrist_a_cb_puma(const double J[36], const double r[3], const double Ci[9], double A[9],
                             double CB[9])
 {
     const double zx = J[19], zy = J[25], r2y = r[2] * zy, r2x = r[2] * zx;
     const double r0y = r[0] * zy, r1x = r[1] * zx;
-    int i;
     A[0] = J[0] + r[1];
     A[3] = J[6] - r[0];
     A[6] = J[12];
@@ -257,39 +270,65 @@ static void wrist_a_cb_puma(const double J[36], const double r[3], const double 
     A[5] = J[8] + r2x;
     A[7] = J[13] + r0y - r1x;
     A[8] = J[14] + r0y - r1x;
-    for (i = 0; i < 3; i++) {
-        CB[3 * i] = Ci[3 * i + 2];
-        CB[3 * i + 1] = Ci[3 * i] * zx + Ci[3 * i + 1] * zy;
-        CB[3 * i + 2] = CB[3 * i + 1];
-    }
+    cb_row(Ci, zx, zy, CB);
+    cb_row(Ci + 3, zx, zy, CB + 3);
+    cb_row(Ci + 6, zx, zy, CB + 6);
 }
 
-/* b[WB_N]: r, A^-1, C^-1, D; puma: J is the PUMA's (wrist_a_cb_puma).
- * 0, or CARTCTL_ERR_SINGULAR (A or C singular: the arm at its elbow or
- * wrist singularity). */
-static int wrist_blocks(const double J[36], const double T[16], const double w[3], int puma,
-                        double b[WB_N])
+/* C^-1 of the PUMA's wrist in closed form (docs/method/puma.md §6): C's
+ * columns z3, z4, z5 (J's angular rows, columns 4-6) are those of frames
+ * 3-5, with z3 = y4 and z4 orthogonal to both others, so C^-1 has the
+ * rows x5 / s5, z4 and -x4 / s5, x4 = z3 x z4, x5 = z5 x z4, s5 = sin q5
+ * (det C = -s5): two cross products and a reciprocal instead of the
+ * adjugate's nine cofactors and determinant. 0, or SINGULAR (s5 = 0). */
+static int wrist_c_inverse_puma(const double J[36], double s5, double Ci[9])
 {
-    double A[9], C[9], CB[9];
+    const double z3[3] = { J[21], J[27], J[33] }, z4[3] = { J[22], J[28], J[34] };
+    const double z5[3] = { J[23], J[29], J[35] };
+    double inv;
+    if (s5 == 0.0)
+        return SINGULAR;
+    inv = 1.0 / s5;
+    vec3_cross(Ci, z5, z4);
+    vec3_scale(Ci, Ci, inv);
+    vec3_copy(Ci + 3, z4);
+    vec3_cross(Ci + 6, z4, z3);
+    vec3_scale(Ci + 6, Ci + 6, inv);
+    return 0;
+}
+
+/* b[WB_N]: r, A^-1, C^-1, D; puma_cs: J is the PUMA's at the joint sines
+ * and cosines puma_cs (wrist_c_inverse_puma, wrist_a_cb_puma), NULL: any
+ * spherical wrist. 0, or CARTCTL_ERR_SINGULAR (A or C singular: the arm
+ * at its elbow or wrist singularity). */
+static int wrist_blocks(const double J[36], const double T[16], const double w[3],
+                        const arm_joint_cs *puma_cs, double b[WB_N])
+{
+    double A[9], CB[9];
     double *r = b + WB_R, *Ai = b + WB_AI, *Ci = b + WB_CI, *D = b + WB_D;
-    int i, j;
+    int i;
     vec3_set(r, T[3] - w[0], T[7] - w[1], T[11] - w[2]);
-    for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++)
-            C[3 * i + j] = J[18 + 6 * i + 3 + j];
-    if (inverse3(C, Ci) != 0)
-        return CARTCTL_ERR_SINGULAR;
-    if (puma)
+    if (puma_cs) {
+        if (wrist_c_inverse_puma(J, puma_cs->s[4], Ci) != 0)
+            return CARTCTL_ERR_SINGULAR;
         wrist_a_cb_puma(J, r, Ci, A, CB);
-    else
+    } else {
+        double C[9];
+        vec3_copy(C, J + 21);
+        vec3_copy(C + 3, J + 27);
+        vec3_copy(C + 6, J + 33);
+        if (inverse3(C, Ci) != 0)
+            return CARTCTL_ERR_SINGULAR;
         wrist_a_cb_general(J, r, Ci, A, CB);
+    }
     if (inverse3(A, Ai) != 0)
         return CARTCTL_ERR_SINGULAR;
-    /* written out rather than a rot_mul: no temporary copy */
-    for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++)
-            D[3 * i + j] = -(CB[3 * i] * Ai[j] + CB[3 * i + 1] * Ai[3 + j] +
-                             CB[3 * i + 2] * Ai[6 + j]);
+    /* row by row, D_i = -(CB_i A^-1) = -(A^-T CB_i): no temporary copy */
+    for (i = 0; i < 3; i++) {
+        double *Di = D + 3 * i;
+        rot_tapply(Di, Ai, CB + 3 * i);
+        vec3_set(Di, -Di[0], -Di[1], -Di[2]);
+    }
     return 0;
 }
 
@@ -333,7 +372,7 @@ int cartctl_inverse_wrist(const double J[36], const double T[16], const double w
     if (!J || !T || !w || !Ji || !linalg_all_finite(J, 36) || !linalg_all_finite(T, 16) ||
         !linalg_all_finite(w, 3))
         return CARTCTL_ERR_ARG;
-    if (wrist_blocks(J, T, w, 0, b) != 0)
+    if (wrist_blocks(J, T, w, NULL, b) != 0)
         return CARTCTL_ERR_SINGULAR;
     for (k = 0; k < 6; k++) { /* column k: J^-1 e_k */
         double e[6] = { 0, 0, 0, 0, 0, 0 }, x[6];
@@ -359,7 +398,7 @@ static int exact_solve(const cartctl_state *s, const double rhs[6], double qdd[6
 {
     if (s->has_wrist) {
         double f2;
-        if (wrist_blocks(s->J, s->T, s->wrist_m, 1, work) != 0)
+        if (wrist_blocks(s->J, s->T, s->wrist_m, &s->cs, work) != 0)
             return SINGULAR;
         f2 = wrist_solve(work, rhs, qdd);
         *s_lo = f2 > 0.0 ? 1.0 / sqrt(f2) : 0.0;
@@ -485,8 +524,8 @@ static int qdd_at(const arm_model *m, const cartctl_gains *g, const double q[ARM
         for (i = 0; i < 3; i++)
             out->a_cmd[3 + i] = g->kp_rot * out->rot_err[i] - g->kv_rot * s->twist[3 + i];
     }
-    for (i = 0; i < 6; i++)
-        rhs[i] = out->a_cmd[i] - s->jdqd[i];
+    vec3_sub(rhs, out->a_cmd, s->jdqd);
+    vec3_sub(rhs + 3, out->a_cmd + 3, s->jdqd + 3);
     /* Fast path: when sigma_min >= sigma_band for sure, lambda = 0 and the
      * damped inverse is the exact inverse (P = 0): the wrist's blocks or
      * one 6x6 inverse instead of the SVD (about 7x cheaper). Otherwise, or
@@ -532,19 +571,22 @@ int cartctl_qdd(const arm_model *m, const arm_tool *tool, const cartctl_gains *g
     return qdd_at(m, g, q, qd, s, a_lin, R_d, out);
 }
 
-/* cartctl_torque with the kinematics s given (tau and out zeroed by the caller). */
-static int torque_at(const arm_model *m, const arm_payload *payload, const cartctl_gains *g,
-                     const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s,
-                     const double a_lin[3], const double R_d[9], double tau_Nm[ARM_NJ],
-                     cartctl_out *o)
+int cartctl_torque_at(const arm_model *m, const arm_payload *payload, const cartctl_gains *g,
+                      const double q[ARM_NJ], const double qd[ARM_NJ], const cartctl_state *s,
+                      const double a_lin[3], const double R_d[9], double tau_Nm[ARM_NJ],
+                      cartctl_out *out)
 {
-    if (qdd_at(m, g, q, qd, s, a_lin, R_d, o) != 0)
+    if (!tau_Nm || !out)
         return CARTCTL_ERR_ARG;
-    if (arm_rne_cs_unchecked(m, &s->cs, qd, o->qdd, NULL, payload, tau_Nm) != 0) {
+    memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
+    memset(out, 0, sizeof *out);
+    if (!s || qdd_at(m, g, q, qd, s, a_lin, R_d, out) != 0)
+        return CARTCTL_ERR_ARG;
+    if (arm_rne_cs_unchecked(m, &s->cs, qd, out->qdd, NULL, payload, tau_Nm) != 0) {
         memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
         return CARTCTL_ERR_ARG;
     }
-    o->saturated = jointctl_saturate(m, tau_Nm);
+    out->saturated = jointctl_saturate(m, tau_Nm);
     return 0;
 }
 
@@ -554,16 +596,17 @@ int cartctl_torque(const arm_model *m, const arm_tool *tool, const arm_payload *
                    double tau_Nm[ARM_NJ], cartctl_out *out)
 {
     cartctl_out local;
-    cartctl_out *o = out ? out : &local;
     cartctl_state s_local;
     if (!tau_Nm)
         return CARTCTL_ERR_ARG;
-    memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
-    memset(o, 0, sizeof *o);
     if (!s) {
-        if (cartctl_state_at(m, tool, q, qd, &s_local) != 0)
+        if (cartctl_state_at(m, tool, q, qd, &s_local) != 0) {
+            memset(tau_Nm, 0, sizeof(double) * ARM_NJ);
+            if (out)
+                memset(out, 0, sizeof *out);
             return CARTCTL_ERR_ARG;
+        }
         s = &s_local;
     }
-    return torque_at(m, payload, g, q, qd, s, a_lin, R_d, tau_Nm, o);
+    return cartctl_torque_at(m, payload, g, q, qd, s, a_lin, R_d, tau_Nm, out ? out : &local);
 }

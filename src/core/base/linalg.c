@@ -9,16 +9,7 @@
 #include "linalg_internal.h"
 #include <math.h>
 
-int linalg_all_finite(const double *A, int count)
-{
-    /* x - x is 0 for finite x and NaN for NaN or +-Inf, and NaN survives
-     * the sum: one test instead of one per entry */
-    double acc = 0.0;
-    int i;
-    for (i = 0; i < count; i++)
-        acc += A[i] - A[i];
-    return acc == 0.0;
-}
+int linalg_all_finite(const double *A, int count); /* the external definition (C99 6.7.4) */
 
 void linalg_identity(double *I, int n)
 {

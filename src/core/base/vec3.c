@@ -5,50 +5,20 @@
 #include "trig.h"
 #include <math.h>
 
-void vec3_set(double out[3], double x, double y, double z)
-{
-    out[0] = x;
-    out[1] = y;
-    out[2] = z;
-}
-
-void vec3_copy(double out[3], const double a[3])
-{
-    out[0] = a[0];
-    out[1] = a[1];
-    out[2] = a[2];
-}
-
-void vec3_add(double out[3], const double a[3],
-              const double b[3]); /* the external definition of the inline one in vec3.h */
-
-void vec3_sub(double out[3], const double a[3],
-              const double b[3]); /* the external definition of the inline one in vec3.h */
-
-void vec3_scale(double out[3], const double a[3], double k)
-{
-    out[0] = k * a[0];
-    out[1] = k * a[1];
-    out[2] = k * a[2];
-}
-
-void vec3_axpy(double out[3], const double a[3], double k, const double b[3])
-{
-    out[0] = a[0] + k * b[0];
-    out[1] = a[1] + k * b[1];
-    out[2] = a[2] + k * b[2];
-}
-
-double vec3_dot(const double a[3],
-                const double b[3]); /* the external definition of the inline one in vec3.h */
-
-void vec3_cross(double out[3], const double a[3],
-                const double b[3]); /* the external definition of the inline one in vec3.h */
-
-double vec3_norm(const double a[3])
-{
-    return sqrt(vec3_dot(a, a));
-}
+/* The external definitions of vec3.h's inline ones (C99 6.7.4). */
+void vec3_set(double out[3], double x, double y, double z);
+void vec3_copy(double out[3], const double a[3]);
+void vec3_add(double out[3], const double a[3], const double b[3]);
+void vec3_sub(double out[3], const double a[3], const double b[3]);
+void vec3_scale(double out[3], const double a[3], double k);
+void vec3_axpy(double out[3], const double a[3], double k, const double b[3]);
+double vec3_dot(const double a[3], const double b[3]);
+void vec3_cross(double out[3], const double a[3], const double b[3]);
+double vec3_norm(const double a[3]);
+void rot_apply(double out[3], const double R[9], const double v[3]);
+void rot_tapply(double out[3], const double R[9], const double v[3]);
+void tf_rot(double R[9], const double T[16]);
+void tf_apply(double out[3], const double T[16], const double p[3]);
 
 double vec3_normalize(double out[3], const double a[3])
 {
@@ -83,26 +53,6 @@ void rot_tmul(double out[9], const double A[9], const double B[9])
     double At[9];
     rot_transpose(At, A);
     rot_mul(out, At, B);
-}
-
-void rot_apply(double out[3], const double R[9], const double v[3])
-{
-    const double x = R[0] * v[0] + R[1] * v[1] + R[2] * v[2];
-    const double y = R[3] * v[0] + R[4] * v[1] + R[5] * v[2];
-    const double z = R[6] * v[0] + R[7] * v[1] + R[8] * v[2];
-    out[0] = x;
-    out[1] = y;
-    out[2] = z;
-}
-
-void rot_tapply(double out[3], const double R[9], const double v[3])
-{
-    const double x = R[0] * v[0] + R[3] * v[1] + R[6] * v[2];
-    const double y = R[1] * v[0] + R[4] * v[1] + R[7] * v[2];
-    const double z = R[2] * v[0] + R[5] * v[1] + R[8] * v[2];
-    out[0] = x;
-    out[1] = y;
-    out[2] = z;
 }
 
 void rot_transpose(double out[9], const double R[9])
@@ -252,31 +202,11 @@ void tf_from_rot_pos(double T[16], const double R[9], const double p[3])
     T[15] = 1.0;
 }
 
-void tf_rot(double R[9], const double T[16])
-{
-    int r;
-    for (r = 0; r < 3; r++) {
-        R[3 * r] = T[4 * r];
-        R[3 * r + 1] = T[4 * r + 1];
-        R[3 * r + 2] = T[4 * r + 2];
-    }
-}
-
 void tf_pos(double p[3], const double T[16])
 {
     p[0] = T[3];
     p[1] = T[7];
     p[2] = T[11];
-}
-
-void tf_apply(double out[3], const double T[16], const double p[3])
-{
-    double R[9], r[3];
-    tf_rot(R, T);
-    rot_apply(r, R, p);
-    out[0] = r[0] + T[3];
-    out[1] = r[1] + T[7];
-    out[2] = r[2] + T[11];
 }
 
 void tf_inverse(double out[16], const double T[16])

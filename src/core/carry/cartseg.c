@@ -344,12 +344,12 @@ int cartseg_step(cartseg *c, const arm_model *m, const arm_tool *tool, const arm
             memset(out, 0, sizeof *out);
         return CARTSEG_ERR_ARG;
     }
-    return cartseg_step_at(c, m, tool, payload, &st, q, qd, s_ext_m, dt_s, out);
+    return cartseg_step_at(c, m, payload, &st, q, qd, s_ext_m, dt_s, out);
 }
 
-int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool,
-                    const arm_payload *payload, const cartctl_state *stp, const double q[ARM_NJ],
-                    const double qd[ARM_NJ], double s_ext_m, double dt_s, cartseg_out *out)
+int cartseg_step_at(cartseg *c, const arm_model *m, const arm_payload *payload,
+                    const cartctl_state *stp, const double q[ARM_NJ], const double qd[ARM_NJ],
+                    double s_ext_m, double dt_s, cartseg_out *out)
 {
     cartctl_out co;
     erlaw_out eo;
@@ -414,9 +414,9 @@ int cartseg_step_at(cartseg *c, const arm_model *m, const arm_tool *tool,
     c->blocked = blocked;
     out->blocked = blocked;
     rot_tapply(u_base, Rwb, eo.u);
-    if (cartctl_torque(m, tool, payload, &c->cg, q, qd, stp, u_base,
-                       ref == ERLAW_REF_BLOCKED ? c->R_hold_base : c->R_d_base, out->tau_Nm,
-                       &co) != 0)
+    if (cartctl_torque_at(m, payload, &c->cg, q, qd, stp, u_base,
+                          ref == ERLAW_REF_BLOCKED ? c->R_hold_base : c->R_d_base, out->tau_Nm,
+                          &co) != 0)
         return CARTSEG_ERR_ARG;
     out->saturated = co.saturated;
     out->range_limited = co.range_limited;

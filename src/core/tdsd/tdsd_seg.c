@@ -144,24 +144,27 @@ static double path_at(const tdsd_seg *g, double s, double p[3], double R[9], dou
 int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *out)
 {
     tdsd_input *in;
-    double T[16], J[36], rate_s, inv_dt;
-    tdsd_output o;
+    double rate_s, inv_dt;
     int i, rc;
     if (!g || !m || !out || !isfinite(dt_s) || dt_s <= 0.0)
         return TDSD_ERR_ARG;
     in = &g->in;
-    /* arm_fk_jacobian checks q_ref: the segment (tdsd_seg_start) and the
-     * reference being finite, every input of the step below is (the one
-     * pass over them, tdsd_step_unchecked) */
-    if (arm_fk_jacobian(m, &g->tool, g->q_ref, T, J) != 0) {
-        memset(out, 0, sizeof *out);
-        return TDSD_ERR_ARG;
+    { /* T and J in a block of their own, and the step's output in a later
+       * one: they share stack (the step below is the cycle's deepest path) */
+        double T[16], J[36];
+        /* arm_fk_jacobian checks q_ref: the segment (tdsd_seg_start) and
+         * the reference being finite, every input of the step below is
+         * (the one pass over them, tdsd_step_unchecked) */
+        if (arm_fk_jacobian(m, &g->tool, g->q_ref, T, J) != 0) {
+            memset(out, 0, sizeof *out);
+            return TDSD_ERR_ARG;
+        }
+        tf_pos(in->p_m, T);
+        tf_rot(in->R, T);
+        memcpy(in->J1, J, sizeof in->J1);
+        memcpy(in->Jw, J + 18, sizeof in->Jw);
     }
-    tf_pos(in->p_m, T);
-    tf_rot(in->R, T);
     rate_s = path_at(g, g->s_m, in->p_d_m, in->R_d, in->v_d_mps, in->w_d_radps);
-    memcpy(in->J1, J, sizeof in->J1);
-    memcpy(in->Jw, J + 18, sizeof in->Jw);
     if (g->par.criterion_mask)
         tdsd_midrange_grad_at(&g->crit, g->q_ref, in->grad_V);
     /* re-accelerate smoothly after a slow-down (tdsd.h, rate_cap) */
@@ -171,27 +174,30 @@ int tdsd_seg_step(tdsd_seg *g, const arm_model *m, double dt_s, tdsd_seg_out *ou
     /* on error o.dq is zero: the reference holds. A non-finite model table,
      * the one input not checked here or at the start, makes the command
      * non-finite: refused the same way. */
-    rc = tdsd_step_unchecked(in, &o);
-    if (rc == TDSD_OK && !linalg_all_finite(o.dq_radps, ARM_NJ)) {
-        rc = TDSD_ERR_NUMERIC;
-        for (i = 0; i < ARM_NJ; i++)
-            o.dq_radps[i] = 0.0;
-    }
+    {
+        tdsd_output o;
+        rc = tdsd_step_unchecked(in, &o);
+        if (rc == TDSD_OK && !linalg_all_finite(o.dq_radps, ARM_NJ)) {
+            rc = TDSD_ERR_NUMERIC;
+            for (i = 0; i < ARM_NJ; i++)
+                o.dq_radps[i] = 0.0;
+        }
 
-    inv_dt = 1.0 / dt_s;
-    for (i = 0; i < ARM_NJ; i++) {
-        g->ddq_ref[i] = (o.dq_radps[i] - g->dq_ref[i]) * inv_dt;
-        g->dq_ref[i] = o.dq_radps[i];
-        g->q_ref[i] += o.dq_radps[i] * dt_s;
-        out->q_d[i] = g->q_ref[i];
-        out->qd_d[i] = g->dq_ref[i];
-        out->qdd_d[i] = g->ddq_ref[i];
+        inv_dt = 1.0 / dt_s;
+        for (i = 0; i < ARM_NJ; i++) {
+            g->ddq_ref[i] = (o.dq_radps[i] - g->dq_ref[i]) * inv_dt;
+            g->dq_ref[i] = o.dq_radps[i];
+            g->q_ref[i] += o.dq_radps[i] * dt_s;
+            out->q_d[i] = g->q_ref[i];
+            out->qd_d[i] = g->dq_ref[i];
+            out->qdd_d[i] = g->ddq_ref[i];
+        }
+        g->lambda = rc == TDSD_OK ? o.lambda : 0.0;
+        out->pos_err_m = vec3_norm(o.e_p);
+        out->ori_err_rad = vec3_norm(o.e_o);
+        out->Q1 = o.Q1;
+        out->Q2 = o.Q2;
     }
-    g->lambda = rc == TDSD_OK ? o.lambda : 0.0;
-    out->pos_err_m = vec3_norm(o.e_p);
-    out->ori_err_rad = vec3_norm(o.e_o);
-    out->Q1 = o.Q1;
-    out->Q2 = o.Q2;
     out->lambda = g->lambda;
     out->status = rc;
     rot_apply(out->p_d_world, g->R_world_base, in->p_d_m);

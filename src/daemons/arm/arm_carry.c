@@ -309,8 +309,8 @@ int arm_cart_cycle(arm_daemon *ad)
     cx->s_m = erlaw_line_s(&cx->seg.line, x);
     s_ext = cart_sync_ref(ad);
     cartseg_set_contact(&cx->seg, ad->st.max_contact_force_10ms_N);
-    if (cartseg_step_at(&cx->seg, ad->model, &cx->tool, arm_cart_payload(ad, &pl), &kin,
-                        ad->st.q_rad, ad->st.qd_radps, s_ext, ad->d.period_s, &o) != 0)
+    if (cartseg_step_at(&cx->seg, ad->model, arm_cart_payload(ad, &pl), &kin, ad->st.q_rad,
+                        ad->st.qd_radps, s_ext, ad->d.period_s, &o) != 0)
         return 0; /* joint-space hold at hold_q this cycle */
     /* done (within CARTSEG_DONE_TOL_M of s_f, at rest): the last PROGRESS
      * says s_f, so a synchronised partner's s* is not held up to 4 mm short

@@ -4,7 +4,8 @@
  * profile and holds the orientation, damping engages only near the wrist
  * singularity, the range barrier keeps a joint inside its range where the
  * unbounded law runs it past (and the tool still converges), bad input is
- * refused. */
+ * refused; the PUMA's fast path (C^-1 in closed form) solves as the
+ * general wrist blocks do. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -12,6 +13,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "arm_samples.h"
 #include "cartctl.h"
 #include "linalg.h"
 #include "vec3.h"
@@ -310,6 +312,72 @@ static void test_inverse_wrist(void **st)
     }
 }
 
+/* The largest |qdd - J^-1 rhs| / max |J^-1 rhs| of the cycle's fast path
+ * at q (the PUMA's blocks, C^-1 in closed form: wrist_c_inverse_puma)
+ * against the general blocks (cartctl_inverse_wrist, C^-1 by its
+ * adjugate); -1 where the fast path did not run (damping, the range
+ * barrier, a singular block). */
+static double fast_path_vs_general_blocks(const double q[ARM_NJ], const double qd[ARM_NJ])
+{
+    const arm_tool tool = tool10();
+    const double a[3] = { 0.3, -0.2, 0.1 };
+    double R_d[9], Ji[36], rhs[6], x[6], err = 0.0, scale = 0.0;
+    cartctl_gains g;
+    cartctl_state s;
+    cartctl_out o;
+    int i;
+    cartctl_gains_default(&g);
+    rot_from_axis_angle(R_d, a, 0.4);
+    assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, qd, &s), 0);
+    assert_int_equal(cartctl_qdd(&arm_model_puma560, &tool, &g, q, qd, &s, a, R_d, &o), 0);
+    if (o.lambda != 0.0 || o.range_limited || cartctl_inverse_wrist(s.J, s.T, s.wrist_m, Ji) != 0)
+        return -1.0;
+    vec3_sub(rhs, o.a_cmd, s.jdqd);
+    vec3_sub(rhs + 3, o.a_cmd + 3, s.jdqd + 3);
+    linalg_matvec(x, Ji, rhs, 6, 6);
+    for (i = 0; i < ARM_NJ; i++) {
+        err = fmax(err, fabs(o.qdd[i] - x[i]));
+        scale = fmax(scale, fabs(x[i]));
+    }
+    return err / scale;
+}
+
+/* The fast path with C^-1 in closed form agrees with the general blocks to
+ * 1e-12 on 10,000 seeded poses inside the joint ranges and on the 64
+ * corners of the ranges (docs/method/puma.md §6); at the wrist
+ * singularity (q5 = 0, C^-1 undefined) it leaves the solve to the SVD. */
+static void test_wrist_closed_form(void **st)
+{
+    prng_state seed;
+    double worst = 0.0;
+    int n, fast = 0;
+    (void)st;
+    prng_seed(&seed, 6);
+    for (n = 0; n < 10000 + 64; n++) {
+        double q[ARM_NJ], qd[ARM_NJ], e;
+        int j;
+        random_q(&arm_model_puma560, &seed, q);
+        random_vec(&seed, 1.0, qd);
+        for (j = 0; n >= 10000 && j < ARM_NJ; j++)
+            q[j] = ((n - 10000) >> j) & 1 ? arm_model_puma560.q_max_rad[j]
+                                          : arm_model_puma560.q_min_rad[j];
+        e = fast_path_vs_general_blocks(q, qd);
+        if (e >= 0.0) {
+            fast++;
+            worst = fmax(worst, e);
+        }
+    }
+    print_message("fast path on %d of 10064 poses; largest difference %.2g of the largest qdd\n",
+                  fast, worst);
+    assert_true(fast > 5000 && worst <= 1e-12);
+    {
+        double q[ARM_NJ];
+        memcpy(q, Q_A, sizeof q);
+        q[4] = 0.0;
+        assert_true(fast_path_vs_general_blocks(q, QD_A) < 0.0);
+    }
+}
+
 /* Runs an underdamped tool servo (k_p 400, k_v 8: zeta 0.2) from Q_B to
  * the pose at q_goal with the model as plant for 4 s. Returns the largest
  * q2 reached; the final tool position and orientation errors and the
@@ -409,6 +477,42 @@ static void test_bad_input(void **st)
     assert_int_equal(
         cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o),
         CARTCTL_ERR_ARG);
+    /* the cycle's entry wants the kinematics and an output */
+    cartctl_gains_default(&g);
+    {
+        cartctl_state s;
+        assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, Q_A, QD_A, &s), 0);
+        tau[0] = 1.0;
+        assert_int_equal(
+            cartctl_torque_at(&arm_model_puma560, NULL, &g, Q_A, QD_A, NULL, a, NULL, tau, &o),
+            CARTCTL_ERR_ARG);
+        assert_true(tau[0] == 0.0);
+        assert_int_equal(
+            cartctl_torque_at(&arm_model_puma560, NULL, &g, Q_A, QD_A, &s, a, NULL, tau, NULL),
+            CARTCTL_ERR_ARG);
+    }
+}
+
+/* cartctl_torque_at (the cycle's entry) is cartctl_torque with the
+ * kinematics given: the same torques and outputs, to the bit */
+static void test_torque_at_is_torque(void **st)
+{
+    const arm_tool tool = tool10();
+    const double a[3] = { 0.2, -0.1, 0.3 };
+    double R_d[9], ta[ARM_NJ], tb[ARM_NJ];
+    cartctl_gains g;
+    cartctl_state s;
+    cartctl_out oa, ob;
+    (void)st;
+    cartctl_gains_default(&g);
+    rot_from_axis_angle(R_d, a, 0.3);
+    assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, Q_A, QD_A, &s), 0);
+    assert_int_equal(
+        cartctl_torque_at(&arm_model_puma560, NULL, &g, Q_A, QD_A, &s, a, R_d, ta, &oa), 0);
+    assert_int_equal(
+        cartctl_torque(&arm_model_puma560, &tool, NULL, &g, Q_A, QD_A, NULL, a, R_d, tb, &ob), 0);
+    assert_memory_equal(ta, tb, sizeof ta);
+    assert_memory_equal(oa.qdd, ob.qdd, sizeof oa.qdd);
 }
 
 int main(void)
@@ -420,8 +524,10 @@ int main(void)
         cmocka_unit_test(test_damping_near_wrist_singularity),
         cmocka_unit_test(test_fast_path_matches_svd),
         cmocka_unit_test(test_inverse_wrist),
+        cmocka_unit_test(test_wrist_closed_form),
         cmocka_unit_test(test_range_barrier),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_torque_at_is_torque),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -587,9 +587,8 @@ static void test_bad_input(void **st)
         cartseg_out o;
         const double qd[ARM_NJ] = { 0 };
         assert_int_equal(cartctl_state_at(&arm_model_puma560, &tool, q, qd, &cs), 0);
-        assert_int_equal(
-            cartseg_step_at(NULL, &arm_model_puma560, &tool, NULL, &cs, q, qd, 0.5, 1e-3, &o),
-            CARTSEG_ERR_ARG);
+        assert_int_equal(cartseg_step_at(NULL, &arm_model_puma560, NULL, &cs, q, qd, 0.5, 1e-3, &o),
+                         CARTSEG_ERR_ARG);
     }
 }
 
