@@ -87,6 +87,14 @@ void fm_write_summary(const fm_cfg *cfg, const fm_procs *pr, const fm_metrics *m
     json_int(&j, "robots", cfg->robots);
     json_int(&j, "seed", cfg->seed);
     json_int(&j, "killed_robot", cfg->kill_id > 0 && pr->killed ? cfg->kill_id : 0);
+    /* where the goal formation stands (goal_place.h): the goal given, the
+     * one flown to, and whether the formation fits there */
+    json_num(&j, "goal_x_m", cfg->layout.goal_m[0]);
+    json_num(&j, "goal_y_m", cfg->layout.goal_m[1]);
+    json_num(&j, "goal_shift_m",
+             hypot(cfg->layout.goal_m[0] - cfg->layout.goal_nominal_m[0],
+                   cfg->layout.goal_m[1] - cfg->layout.goal_nominal_m[1]));
+    json_bool(&j, "goal_formation_fits", cfg->layout.goal_fits);
     json_bool(&j, "reached_goal", mt->reached);
     json_num(&j, "time_to_goal_s", mt->reached ? mt->time_to_goal : NAN);
     json_num(&j, "rms_formation_err_m", mt->samples ? sqrt(mt->sum_sq_err / mt->samples) : NAN);

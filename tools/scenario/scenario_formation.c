@@ -378,6 +378,16 @@ static int setup_cfg(fm_cfg *cfg)
     if (world_opts_layout(&cfg->layout, &cfg->wopt, cfg->robots, 1.0, cfg->formation,
                           "formation") != 0)
         return 2;
+    if (!cfg->layout.goal_fits)
+        printf("formation: no place near the goal (%.2f, %.2f) fits the goal formation; flying to "
+               "it as given\n",
+               cfg->layout.goal_m[0], cfg->layout.goal_m[1]);
+    else if (cfg->layout.goal_m[0] != cfg->layout.goal_nominal_m[0] ||
+             cfg->layout.goal_m[1] != cfg->layout.goal_nominal_m[1])
+        printf("formation: the goal formation does not fit at (%.2f, %.2f); placed at (%.2f, %.2f) "
+               "(docs/method/formation.md §15)\n",
+               cfg->layout.goal_nominal_m[0], cfg->layout.goal_nominal_m[1], cfg->layout.goal_m[0],
+               cfg->layout.goal_m[1]);
     cfg->way_m = fm_way_length_m(&cfg->layout);
     cfg->passage_m = fm_passage_width_m(&cfg->layout);
     cfg->cut_m = fm_cut_width_m(&cfg->layout, fm_formation_width_m(cfg));

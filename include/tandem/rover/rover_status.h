@@ -16,6 +16,7 @@
 #include "rover_ctl.h"
 #include "rover_map.h"
 #include "navfield.h"
+#include "goal_place.h"
 
 #define UNICYCLE_CODES(X) \
     X(0, "ok")            \
@@ -70,6 +71,10 @@
     X(NAVFIELD_ERR_ARG, "NULL, bad parameters, or a world without extent")              \
     X(NAVFIELD_ERR_GOAL, "the goal is off the grid or nearer an obstacle than clear_m") \
     X(NAVFIELD_ERR_PASSES, "the relaxation did not settle within its bound")
+#define GOAL_PLACE_CODES(X)                                            \
+    X(GOAL_PLACE_OK, "ok")                                             \
+    X(GOAL_PLACE_ERR_ARG, "NULL, bad formation, team size or spacing") \
+    X(GOAL_PLACE_ERR_NO_FIT, "no place near the goal fits the goal formation: the goal kept")
 
 const char *unicycle_strerror(int rc);
 const char *odometry_strerror(int rc);
@@ -81,5 +86,6 @@ const char *team_strerror(int rc);
 const char *rover_world_strerror(int rc);
 const char *rover_ctl_strerror(int rc);
 const char *navfield_strerror(int rc);
+const char *goal_place_strerror(int rc);
 
 #endif

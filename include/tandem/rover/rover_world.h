@@ -82,7 +82,9 @@ typedef struct {
     int n_robots;
     double spacing_m;                      /* start grid spacing */
     pose2 start_c[ROVER_WORLD_MAX_ROBOTS]; /* robot id k is index k-1 */
-    double goal_m[2];                      /* world frame */
+    double goal_m[2];                      /* world frame: where the goal formation stands */
+    double goal_nominal_m[2];              /* the goal as given (goal_place moves goal_m) */
+    int goal_fits;                         /* goal_place found room for the goal formation */
     pose2 team_origin;                     /* team frame in the world */
     int n_obst;
     rover_obstacle obst[ROVER_WORLD_MAX_OBST];

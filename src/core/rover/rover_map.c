@@ -5,6 +5,7 @@
 #include "rover_map.h"
 
 #include "formation.h"
+#include "goal_place.h"
 
 #include <math.h>
 #include <string.h>
@@ -258,6 +259,7 @@ int rover_world_from_map(rover_world_config *w, rover_map *m, const rover_map_si
         memset(w, 0, sizeof *w);
         return rc;
     }
+    goal_place(w, formation, spacing_m); /* a team too large for slots keeps the goal */
     if (s->n_landmarks == ROVER_MAP_LANDMARKS_AUTO) {
         w->n_landmarks = rover_map_auto_landmarks(m, &w->team_origin, w->goal_m, w->landmark_m);
     } else {

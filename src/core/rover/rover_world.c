@@ -5,6 +5,7 @@
 #include "rover_world.h"
 
 #include "formation.h"
+#include "goal_place.h"
 
 #include <math.h>
 #include <string.h>
@@ -157,6 +158,18 @@ static void build_landmarks(rover_world_config *w, double x_from_m, double xf)
     }
 }
 
+/* How far the slots of the formation reach ahead of its centre (the
+ * built-in worlds' goals lie ahead of the team, on y = 0). */
+static double slots_ahead_m(int formation, int n, double spacing_m)
+{
+    double xy[2], ahead = 0.0;
+    int k;
+    for (k = 0; k < n; k++)
+        if (formation_slot_xy(xy, formation, n, k, spacing_m, 1.0) == 0)
+            ahead = fmax(ahead, xy[0]);
+    return ahead;
+}
+
 int rover_world_layout(rover_world_config *w, int world, int n, double spacing_m, int formation)
 {
     int k, rows;
@@ -205,12 +218,16 @@ int rover_world_layout(rover_world_config *w, int world, int n, double spacing_m
     for (k = 0; k < n; k++)
         if (w->start_c[k].x_m - spacing_m - 1.0 < w->x_min_m)
             w->x_min_m = w->start_c[k].x_m - spacing_m - 1.0;
-    w->x_max_m = w->goal_m[0] + 3.0;
+    /* past the goal, room for the goal formation's slots ahead of its
+     * centre (goal_place keeps them inside the extent, which the
+     * navigation function's grid covers) */
+    w->x_max_m = w->goal_m[0] + fmax(3.0, slots_ahead_m(formation, n, spacing_m) + 1.0);
     build_landmarks(w, w->x_min_m - 1.0, xf);
     w->y_max_m = 0.5 * spacing_m * ROVER_WORLD_ROW_MAX + 1.0;
     if (w->y_max_m < 4.0)
         w->y_max_m = 4.0;
     w->y_min_m = -w->y_max_m;
+    goal_place(w, formation, spacing_m); /* a team too large for slots keeps the goal */
     return 0;
 }
 

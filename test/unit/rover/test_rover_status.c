@@ -20,6 +20,9 @@ static void test_every_code_has_its_text(void **st)
     STATUS_CHECK(team_strerror, TEAM_CODES);
     STATUS_CHECK(rover_world_strerror, ROVER_WORLD_CODES);
     STATUS_CHECK(rover_ctl_strerror, ROVER_CTL_CODES);
+    STATUS_CHECK(rover_map_strerror, ROVER_MAP_CODES);
+    STATUS_CHECK(navfield_strerror, NAVFIELD_CODES);
+    STATUS_CHECK(goal_place_strerror, GOAL_PLACE_CODES);
 }
 
 int main(void)
