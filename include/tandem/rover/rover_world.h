@@ -124,6 +124,12 @@ int rover_world_slot(int type, int n, int rank);
 void rover_world_to_team(const rover_world_config *w, const pose2 *world_p, pose2 *team_p);
 void rover_world_from_team(const rover_world_config *w, const pose2 *team_p, pose2 *world_p);
 
+/* Appends a box obstacle (centre, half extents in its frame, angle,
+ * height) to w. 0, or ROVER_WORLD_ERR_ARG when w is NULL or holds
+ * ROVER_WORLD_MAX_OBST already. */
+int rover_world_add_box(rover_world_config *w, double cx, double cy, double hx, double hy,
+                        double angle_rad, double height_m);
+
 /* Signed distance from a point to an obstacle's outline (negative inside). */
 double rover_obstacle_distance(const rover_obstacle *o, double x_m, double y_m);
 

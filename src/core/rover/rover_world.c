@@ -31,12 +31,12 @@ const char *rover_world_name(int world)
     return (world >= 0 && world < ROVER_WORLD_COUNT) ? world_names[world] : "?";
 }
 
-static void add_box(rover_world_config *w, double cx, double cy, double hx, double hy,
-                    double angle_rad, double height_m)
+int rover_world_add_box(rover_world_config *w, double cx, double cy, double hx, double hy,
+                        double angle_rad, double height_m)
 {
     rover_obstacle *o;
-    if (w->n_obst >= ROVER_WORLD_MAX_OBST)
-        return;
+    if (!w || w->n_obst < 0 || w->n_obst >= ROVER_WORLD_MAX_OBST)
+        return ROVER_WORLD_ERR_ARG;
     o = &w->obst[w->n_obst++];
     memset(o, 0, sizeof *o);
     o->kind = ROVER_OBST_BOX;
@@ -46,6 +46,7 @@ static void add_box(rover_world_config *w, double cx, double cy, double hx, doub
     o->hy_m = hy;
     o->angle_rad = angle_rad;
     o->height_m = height_m;
+    return 0;
 }
 
 /* A thin wall from (ax, ay) to (bx, by) whose faces are thick_m apart. */
@@ -53,8 +54,8 @@ static void add_wall(rover_world_config *w, double ax, double ay, double bx, dou
                      double thick_m)
 {
     const double len = hypot(bx - ax, by - ay);
-    add_box(w, 0.5 * (ax + bx), 0.5 * (ay + by), 0.5 * len, 0.5 * thick_m, atan2(by - ay, bx - ax),
-            0.5);
+    (void)rover_world_add_box(w, 0.5 * (ax + bx), 0.5 * (ay + by), 0.5 * len, 0.5 * thick_m,
+                              atan2(by - ay, bx - ax), 0.5);
 }
 
 static void add_circle(rover_world_config *w, double cx, double cy, double r)
@@ -84,7 +85,7 @@ static void build_features(rover_world_config *w, double xf)
         add_circle(w, xf + 4.0, 0.5, 0.25);
         add_circle(w, xf + 6.0, -2.3, 0.35);
         add_circle(w, xf + 8.0, -0.5, 0.3);
-        add_box(w, xf + 11.0, 1.7, 0.3, 0.3, 0.4, 0.6);
+        (void)rover_world_add_box(w, xf + 11.0, 1.7, 0.3, 0.3, 0.4, 0.6);
         break;
     case ROVER_WORLD_CORRIDOR:
         /* funnel in, a 1.2 m corridor (faces at y = +-0.6: narrower than the

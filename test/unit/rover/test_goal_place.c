@@ -101,18 +101,6 @@ static void test_dead_zone_column_moves_to_nearest_fit(void **state)
         }
 }
 
-static void add_box(rover_world_config *w, double cx, double cy, double hx, double hy)
-{
-    rover_obstacle *o = &w->obst[w->n_obst++];
-    memset(o, 0, sizeof *o);
-    o->kind = ROVER_OBST_BOX;
-    o->cx_m = cx;
-    o->cy_m = cy;
-    o->hx_m = hx;
-    o->hy_m = hy;
-    o->height_m = 0.5;
-}
-
 /* A line of three 2 m apart, a short wall between the centre slot and the
  * left one: both slots are far from it, the way between them is not. */
 static void test_wall_between_slots_refused(void **state)
@@ -123,7 +111,7 @@ static void test_wall_between_slots_refused(void **state)
     W.goal_m[0] = goal[0];
     W.goal_m[1] = goal[1];
     W.n_obst = 0;
-    add_box(&W, goal[0], 1.0, 0.5, 0.05);
+    assert_int_equal(rover_world_add_box(&W, goal[0], 1.0, 0.5, 0.05, 0.0, 0.5), 0);
     assert_true(clearance_at(&W, goal[0], 2.0) > GOAL_PLACE_CLEAR_M);
     assert_true(clearance_at(&W, goal[0], 0.0) > GOAL_PLACE_CLEAR_M);
     assert_false(goal_place_fits(&W, FORMATION_LINE, 3, 2.0, goal));
@@ -166,6 +154,11 @@ static void test_bad_arguments(void **state)
     assert_false(goal_place_fits(NULL, FORMATION_LINE, 3, 1.0, W.goal_m));
     assert_true(isnan(goal_place_radius_m(FORMATION_LINE, 0, 1.0)));
     assert_true(fabs(goal_place_radius_m(FORMATION_LINE, 3, 1.0) - 1.0) < 1e-12);
+    /* the tests' boxes: refused into no world and into a full one */
+    assert_int_equal(rover_world_add_box(NULL, 0, 0, 1, 1, 0, 1), ROVER_WORLD_ERR_ARG);
+    W.n_obst = ROVER_WORLD_MAX_OBST;
+    assert_int_equal(rover_world_add_box(&W, 0, 0, 1, 1, 0, 1), ROVER_WORLD_ERR_ARG);
+    assert_int_equal(W.n_obst, ROVER_WORLD_MAX_OBST);
 }
 
 int main(void)

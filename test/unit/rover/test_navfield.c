@@ -37,14 +37,7 @@ static void world_open(void)
 
 static void box(double cx, double cy, double hx, double hy)
 {
-    rover_obstacle *o = &W.obst[W.n_obst++];
-    memset(o, 0, sizeof *o);
-    o->kind = ROVER_OBST_BOX;
-    o->cx_m = cx;
-    o->cy_m = cy;
-    o->hx_m = hx;
-    o->hy_m = hy;
-    o->height_m = 0.5;
+    assert_int_equal(rover_world_add_box(&W, cx, cy, hx, hy, 0.0, 0.5), 0);
 }
 
 /* A U pocket 3 m deep, mouth toward the start, across the straight way. */
