@@ -138,8 +138,8 @@ typedef struct {
     double yield_near_m;    /* axles this near, walls near or one out of formation: a conflict */
     double arrival_m;       /* the team's mean within the formation's half extent plus this
                                    of the goal: slots by where the robots are (0: by id) */
-    double arrival_swap_m2; /* two robots swap goal slots only when that shortens their summed
-                                   squared distances by more than this */
+    double arrival_swap_m2; /* the goal's slots leave the order by id only when the least summed
+                                   squared distance is shorter than by id by more than this */
     double queue_m;         /* a mate in formation this near ahead ... */
     double queue_cone_rad;  /* ... within this of our heading ... */
     double queue_slow_mps;  /* ... slower than this, or than us by queue_closing_mps: a conflict */
@@ -230,6 +230,8 @@ typedef struct {
     behaviour_exception exc;
     rover_esc_state esc;
     int holding;                     /* in formation, waiting for outranking mates: ROVER_WAIT_* */
+    int arrive_turn;                 /* arriving, turning to face the own slot: the way round held
+                      * (+1 left, -1 right), 0 the short way (rover_ctl.c) */
     double crumb_m[ROVER_CRUMBS][2]; /* the axle's path, a crumb every ROVER_CRUMB_STEP_M,
                                        * oldest first: the way back known free */
     int crumb_n;                     /* crumbs held (the newest is crumb_m[crumb_n - 1]) */
@@ -290,7 +292,7 @@ int rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double 
  * encoder reading after rover_ctl_resume integrates the wheels' travel
  * while the process was down. A snapshot is ROVER_CTL_SNAPSHOT_VALUES
  * numbers, id first. */
-#define ROVER_CTL_SNAPSHOT_VALUES 78
+#define ROVER_CTL_SNAPSHOT_VALUES 79
 /* ROVER_CTL_ERR_ARG before the first encoder reading (nothing to keep). */
 int rover_ctl_snapshot(const rover_ctl_state *c, double v[ROVER_CTL_SNAPSHOT_VALUES]);
 /* c as made by rover_ctl_init (same id) and rover_ctl_set_landmarks;

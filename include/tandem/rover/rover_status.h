@@ -17,6 +17,7 @@
 #include "rover_map.h"
 #include "navfield.h"
 #include "goal_place.h"
+#include "slot_assign.h"
 
 #define UNICYCLE_CODES(X) \
     X(0, "ok")            \
@@ -75,6 +76,9 @@
     X(GOAL_PLACE_OK, "ok")                                             \
     X(GOAL_PLACE_ERR_ARG, "NULL, bad formation, team size or spacing") \
     X(GOAL_PLACE_ERR_NO_FIT, "no place near the goal fits the goal formation: the goal kept")
+#define SLOT_ASSIGN_CODES(X) \
+    X(SLOT_ASSIGN_OK, "ok")  \
+    X(SLOT_ASSIGN_ERR_ARG, "NULL, team size not 1..FORMATION_MAX_ROBOTS, or a position not finite")
 
 const char *unicycle_strerror(int rc);
 const char *odometry_strerror(int rc);
@@ -87,5 +91,6 @@ const char *rover_world_strerror(int rc);
 const char *rover_ctl_strerror(int rc);
 const char *navfield_strerror(int rc);
 const char *goal_place_strerror(int rc);
+const char *slot_assign_strerror(int rc);
 
 #endif

@@ -31,6 +31,7 @@ void behaviour_params_default(behaviour_params *p)
     p->k_v = 0.3;
     p->k_s = 0.8;
     p->d_st_lateral = 0;
+    p->d_st_rear_max_m = 1.0;
     p->v_k_mps = 0.0;
     p->w_k_radps = 0.6;
     p->dead_zone_time_s = 2.0;
@@ -55,6 +56,7 @@ static int params_check_values(const behaviour_params *p)
                               p->b1,
                               p->b2,
                               p->d_s_m,
+                              p->d_st_rear_max_m,
                               p->k_v,
                               p->k_s,
                               p->v_k_mps,
@@ -329,10 +331,24 @@ int behaviour_formation_track(unicycle_cmd *u, double *R_d_m, const pose2 *o,
 
 /* ---- avoid obstacles --------------------------------------------------- */
 
+/* The seed's d_st grows with the slot's distance behind R0: a rear robot
+ * of a three-robot triangle starts avoiding what lies ahead of the
+ * formation. Counted in full for a large team it outgrows the sonar
+ * (the rearmost of a column of twelve, 5.5 m behind R0, had 6.3 m
+ * against the sonar's 5 m): every echo, and no echo at all, was within
+ * it, so avoidance was always on, always weighed d_st / 5 m and drove on
+ * at full speed, and the robot crept past its goal slot while the goal
+ * behaviour turned it. So what lies behind R0 counts up to
+ * d_st_rear_max_m, one spacing: a robot reacts at most as much earlier
+ * as the mate in front of it, which sees the obstacle first. Teams whose
+ * slots lie within one spacing behind R0 (every team of three) are not
+ * changed. */
 double behaviour_d_st(const behaviour_params *p, double width_D_m, double l_d_m, double phi_d_rad)
 {
-    const double off = p->d_st_lateral ? fabs(l_d_m * sin(phi_d_rad)) : l_d_m * cos(phi_d_rad);
-    const double d_st = p->d_s_m + (0.5 * width_D_m - off);
+    double off = p->d_st_lateral ? fabs(l_d_m * sin(phi_d_rad)) : l_d_m * cos(phi_d_rad), d_st;
+    if (off < -p->d_st_rear_max_m)
+        off = -p->d_st_rear_max_m;
+    d_st = p->d_s_m + (0.5 * width_D_m - off);
     return (isfinite(d_st) && d_st > p->d_s_m) ? d_st : p->d_s_m;
 }
 

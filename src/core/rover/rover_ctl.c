@@ -12,6 +12,7 @@
  * (rover_ctl_internal.h lists them).
  */
 #include "rover_ctl_internal.h"
+#include "slot_assign.h"
 #include "rover_world.h"
 
 #include <math.h>
@@ -208,17 +209,12 @@ static int sent_xy(const rover_ctl_state *c, int32_t id, double xy[2])
 }
 
 /* The goal's slots by where the robots are (docs/method/formation.md
- * §11): starting from the slots by id, any two robots swap slots while
- * that shortens the sum of their squared distances to their slots by
- * more than arrival_swap_m2 (a local optimum of the squared-distance
- * assignment; on a line of slots that is the order-keeping match, so no
- * two robots cross: a column that came out of a corridor, or robots back
- * from an escape, by id crossed the team in the goal area and jammed
- * there). At most n passes of n^2 pairs. Every robot computes it from the
- * same team messages; our slot, or -1. The slots' geometry is computed
- * once (formation_slots_xy), and each robot's squared distance to its
- * current slot is kept and renewed on a swap: the same numbers as
- * computing them afresh for every pair, at half the cost of the pairs. */
+ * §6, "Arrival"): the assignment of least sum of squared distances
+ * (slot_assign_min_sq), unless it beats the slots by id by no more than
+ * arrival_swap_m2. Both choices hold themselves: robots driving to the
+ * slots of either make that assignment's cost fall fastest, so noise in
+ * the team messages does not flip a near tie to and fro. Every robot
+ * computes it from the same team messages; our slot, or -1. */
 static double sq_dist(const double a[2], const double b[2])
 {
     return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
@@ -226,9 +222,10 @@ static double sq_dist(const double a[2], const double b[2])
 
 static int arrival_slot(const rover_ctl_state *c, const step_view *v)
 {
-    double xy[TEAM_MAX + 1][2], sl[TEAM_MAX + 1][2], s[TEAM_MAX + 1][2], d[TEAM_MAX + 1];
+    double xy[TEAM_MAX + 1][2], sl[TEAM_MAX + 1][2], s[TEAM_MAX + 1][2], by_id_m2 = 0.0, best_m2;
     const double heading = atan2(c->goal_m[1], c->goal_m[0]);
-    int slot[TEAM_MAX + 1], j, q, pass, swapped = 1, mine = -1;
+    int by_id[TEAM_MAX + 1], best[TEAM_MAX + 1], j;
+    const int *slot = by_id;
     if (v->n > TEAM_MAX + 1 ||
         formation_slots_xy(s, c->fsm.type, v->n, c->p.fsm.spacing_m, c->fsm.scale) != 0)
         memset(s, 0, sizeof s); /* as formation_slot_xy's untouched output was */
@@ -238,32 +235,20 @@ static int arrival_slot(const rover_ctl_state *c, const step_view *v)
         vec2_rotate(sl[j], s[j][0], s[j][1], heading);
         sl[j][0] += c->goal_m[0];
         sl[j][1] += c->goal_m[1];
-        slot[j] = rover_world_slot(c->fsm.type, v->n, j); /* ids sorted: j is the rank */
-        if (slot[j] < 0)
+        by_id[j] = rover_world_slot(c->fsm.type, v->n, j); /* ids sorted: j is the rank */
+        if (by_id[j] < 0)
             return -1;
     }
     for (j = 0; j < v->n; j++)
-        d[j] = sq_dist(xy[j], sl[slot[j]]);
-    for (pass = 0; pass < v->n && swapped; pass++) {
-        swapped = 0;
-        for (j = 0; j < v->n; j++)
-            for (q = j + 1; q < v->n; q++) {
-                const double now = d[j] + d[q];
-                const double then = sq_dist(xy[j], sl[slot[q]]) + sq_dist(xy[q], sl[slot[j]]);
-                if (then < now - c->p.arrival_swap_m2) {
-                    const int t = slot[j];
-                    slot[j] = slot[q];
-                    slot[q] = t;
-                    d[j] = sq_dist(xy[j], sl[slot[j]]);
-                    d[q] = sq_dist(xy[q], sl[slot[q]]);
-                    swapped = 1;
-                }
-            }
-    }
+        by_id_m2 += sq_dist(xy[j], sl[by_id[j]]);
+    if (slot_assign_min_sq((const double(*)[2])xy, (const double(*)[2])sl, v->n, best, &best_m2) ==
+            SLOT_ASSIGN_OK &&
+        best_m2 < by_id_m2 - c->p.arrival_swap_m2)
+        slot = best;
     for (j = 0; j < v->n; j++)
         if (v->ids[j] == c->id)
-            mine = slot[j];
-    return mine;
+            return slot[j];
+    return -1;
 }
 
 /* The team is arriving: the mean of the sent positions within the
@@ -473,11 +458,44 @@ static int blend_behaviours(rover_ctl_state *c, step_view *v)
 /* The drive command from the blend and the mode reported: capped while
  * the formation reshapes, zero at the goal, guarded, never backwards,
  * saturated. */
-static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_out *out)
+/* Arriving, a robot whose own slot (or the way's next point to it) lies
+ * behind it turns to face it on the spot (docs/method/formation.md §6,
+ * "Arrival"): the goal behaviour asks for no speed then, and the blend's
+ * speed came from the others alone (avoidance's V = k S_F, a formation
+ * slot round R0 that is not the goal's), whose turns cancelled the
+ * goal's, so the robot crept on past its slot. 1 if it does; the turn
+ * in *u. */
+static int arrival_turn(const rover_ctl_state *c, const step_view *v, unicycle_cmd *u)
+{
+    if (v->escaping || !v->arriving || v->rc_goal != BEH_GOAL_TURN || c->holding != ROVER_WAIT_NONE)
+        return 0;
+    *u = v->in.u[BEH_GOAL];
+    if (c->arrive_turn != 0)
+        u->w_radps = c->arrive_turn * fabs(u->w_radps);
+    return 1;
+}
+
+/* The guard keeps a robot from turning toward the nearer echo ahead (it
+ * stops the turn, or turns it the other way); facing the U's arm with its
+ * slot behind the arm's tip, the short way round was that way and the
+ * robot stood still for good. So once the guard has stopped or reversed
+ * the short way, the robot turns the long way round, and keeps that way
+ * until the target lies ahead (turned back, the echo left the guard's
+ * reach and the short way was open again, to and fro at the boundary). */
+static void arrival_turn_other_way(rover_ctl_state *c, const step_view *v, unicycle_cmd *u)
+{
+    const double w_goal = v->in.u[BEH_GOAL].w_radps;
+    if (c->arrive_turn != 0 || w_goal == 0.0 || u->w_radps * w_goal > 0.0)
+        return;
+    c->arrive_turn = w_goal > 0.0 ? -1 : 1;
+    u->w_radps = c->arrive_turn * fabs(w_goal);
+}
+
+static void command_out(rover_ctl_state *c, const step_view *v, rover_ctl_out *out)
 {
     const behaviour_params *bp = &c->p.beh;
     unicycle_cmd u = c->blend.u;
-    int i;
+    int i, turning;
     /* while the formation reshapes for a passage, give it time */
     if (c->fsm.phase == FORMATION_PHASE_SHRINK || c->fsm.phase == FORMATION_PHASE_CHANGE)
         if (u.v_mps > c->p.v_change_mps)
@@ -491,6 +509,9 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
         u.v_mps = u.w_radps = 0.0;
         out->mode = ROVER_MODE_AT_GOAL;
     }
+    turning = arrival_turn(c, v, &u);
+    if (!turning)
+        c->arrive_turn = 0;
     /* waiting for outranking mates (method §10): stand, or back out of
      * one's way. Not guarded: the guard turns a stopped robot with an echo
      * near ahead toward the freer side, and a robot standing for a mate
@@ -499,6 +520,8 @@ static void command_out(const rover_ctl_state *c, const step_view *v, rover_ctl_
         u = c->wait_u;
     else if (!v->escaping)
         rover_ctl_guard(&u, c->range_m, &v->o, v->steer, &c->p);
+    if (turning)
+        arrival_turn_other_way(c, v, &u);
     /* no command sweeps the chassis into a mate we wait for
      * (rover_ctl_cmd_sweeps_mate): past hold_max_s a robot flies the blend
      * again, and one standing beside a trapped mate turned toward its slot

@@ -102,6 +102,7 @@ static const snap_field snap_table[] = {
     F_D(hold_s),
     F_D(esc.back_m),
     F_I(holding),
+    F_I(arrive_turn),
     F_D(esc.wedge_s),
     F_I(crumb_n),
     F_CRUMB(0),

@@ -490,6 +490,11 @@ static void test_formation_track_bands(void **state)
     behaviour_params_default(&p);
     p.form_far_m = p.form_near_m;
     assert_int_equal(behaviour_params_validate(&p), BEHAVIOUR_ERR_ARG);
+    behaviour_params_default(&p);
+    p.d_st_rear_max_m = -0.1;
+    assert_int_equal(behaviour_params_validate(&p), BEHAVIOUR_ERR_ARG);
+    p.d_st_rear_max_m = NAN;
+    assert_int_equal(behaviour_params_validate(&p), BEHAVIOUR_ERR_ARG);
 }
 
 static void ring(double r[8], double v)
@@ -538,6 +543,13 @@ static void test_d_st(void **state)
     behaviour_params_default(&p);
     /* abreast slot at +-90 deg: the seed's form gives d_s + D/2 */
     assert_true(fabs(behaviour_d_st(&p, 2.0, 1.0, VEC2_PI / 2) - (p.d_s_m + 1.0)) < 1e-12);
+    /* behind R0: the seed's form within one spacing (a triangle of three's
+     * rear row), then no more (a column of twelve's rearmost, 5.5 m) */
+    assert_true(fabs(behaviour_d_st(&p, 2.0, 1.0, VEC2_PI * 5.0 / 6.0) -
+                     (p.d_s_m + 1.0 + sqrt(3.0) / 2.0)) < 1e-12);
+    assert_true(fabs(behaviour_d_st(&p, 0.38, 5.5, VEC2_PI) - (p.d_s_m + 0.19 + 1.0)) < 1e-12);
+    /* ahead of R0 unbounded: the seed's form */
+    assert_true(fabs(behaviour_d_st(&p, 6.0, 2.0, 0.0) - (p.d_s_m + 1.0)) < 1e-12);
     /* lateral variant: edge robot needs only d_s, centre d_s + D/2 */
     p.d_st_lateral = 1;
     assert_true(fabs(behaviour_d_st(&p, 2.0, 1.0, VEC2_PI / 2) - p.d_s_m) < 1e-12);

@@ -1749,6 +1749,39 @@ static void test_team_heading_at_goal(void **state)
     assert_true(hypot(o.x_m - 10.0, o.y_m - 1.0) < p.beh.goal_tol_m + 0.05);
 }
 
+/* Arriving with its goal slot behind it (its mates at theirs), a robot
+ * turns on the spot: no speed, whatever the blend of the other behaviours
+ * asks (avoidance of an echo at its right-front drove it on, away from its
+ * slot). With that echo within the guard, the short way round (right) is
+ * closed: it turns left, the long way, and keeps turning left when the
+ * echo is gone again, until the slot lies ahead. */
+static void test_arrival_turns_on_the_spot(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    const double goal[2] = { 10.0, 0.0 };
+    const hand_mate m[2] = { { 2, 10.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
+                             { 3, 10.0, -1.0, 0.0, FORMATION_ANN_NONE, 0.0 } };
+    const double post_right[8] = { 5, 0.45, 0.45, 5, 5, 5, 5, 5 };
+    const pose2 start = { 11.0, 1.3, -0.5 }; /* slot (10, 1) behind, to the right */
+    double t = 0.0;
+    (void)state;
+    rover_ctl_params_default(&p);
+    assert_int_equal(rover_ctl_init(&c, &p, 1, &start, goal), 0);
+    for (; t < 0.5; t += DT)
+        hand_step(&c, t, open_ring, m, 2, &out);
+    assert_true(out.u.v_mps == 0.0 && out.u.w_radps < 0.0); /* the short way */
+    for (; t < 1.0; t += DT) {
+        hand_step(&c, t, post_right, m, 2, &out);
+        assert_true(out.u.v_mps == 0.0 && out.u.w_radps > 0.0); /* the long way */
+    }
+    for (; t < 1.5; t += DT) {
+        hand_step(&c, t, open_ring, m, 2, &out);
+        assert_true(out.u.v_mps == 0.0 && out.u.w_radps > 0.0); /* held */
+    }
+}
+
 /* Past the goal: the middle robot stands 3.5 m beyond its goal slot
  * facing away, its mates at theirs, so R0 (their mean) lies 1.2 m past
  * the goal on the goal line. R0 heads back along the bearing of the goal
@@ -2089,6 +2122,7 @@ int main(void)
         cmocka_unit_test(test_post_inside_formation_not_a_wall),
         cmocka_unit_test(test_team_heading_at_goal),
         cmocka_unit_test(test_turns_back_past_goal),
+        cmocka_unit_test(test_arrival_turns_on_the_spot),
         cmocka_unit_test(test_snapshot_resume_identity),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -23,6 +23,7 @@ static void test_every_code_has_its_text(void **st)
     STATUS_CHECK(rover_map_strerror, ROVER_MAP_CODES);
     STATUS_CHECK(navfield_strerror, NAVFIELD_CODES);
     STATUS_CHECK(goal_place_strerror, GOAL_PLACE_CODES);
+    STATUS_CHECK(slot_assign_strerror, SLOT_ASSIGN_CODES);
 }
 
 int main(void)
