@@ -415,6 +415,31 @@ static void own_steer(const rover_ctl_state *c, step_view *v, int k)
     v->steer_goal = at_goal && seen;
 }
 
+/* Arriving, with neither its goal slot nor its formation slot round R0
+ * (l_d, phi_d) in sight: the way to the goal slot goes round an obstacle
+ * (§14), and the formation slot lies beyond one too. Eq. 8's law drives
+ * at that slot straight, with a weight that grows with the distance, and
+ * held the robot against the obstacle (a pocket beside the goal: the
+ * robot circled there to the time limit, the goal behaviour's way out
+ * weighing 5 %). The goal's slot is where the formation ends, so the
+ * formation behaviour then drives the way to it as the goal behaviour
+ * does (docs/method/formation.md §14). Only then: with the formation
+ * slot in sight its law keeps the robots apart (robots of the dead
+ * zone's column of twelve, taking the field's one way together, touched),
+ * and before the arrival the way out of sight is the field's one path to
+ * the goal, onto which the whole team bunched (the dead zone, 3 in line:
+ * 73 s against 30 s). */
+static int formation_slot_hidden(const rover_ctl_state *c, const step_view *v, double l_d,
+                                 double phi_d)
+{
+    double slot[2], through[2];
+    if (!v->arriving || v->steer_seen || v->slot < 0)
+        return 0;
+    slot[0] = v->ref.x_m + l_d * cos(v->ref.theta_rad + phi_d);
+    slot[1] = v->ref.y_m + l_d * sin(v->ref.theta_rad + phi_d);
+    return !steer_point(c, v->o.x_m, v->o.y_m, slot, through);
+}
+
 /* The four behaviours for the own slot of the (possibly new) formation
  * and their blend (eq. 11 or a baseline) into c->blend; the blend's
  * status. */
@@ -439,17 +464,7 @@ static int blend_behaviours(rover_ctl_state *c, step_view *v)
         behaviour_formation_track(&v->in.u[BEH_FORMATION], &v->R_d, &v->o, &v->ref, l_d, phi_d, bp);
     else
         behaviour_formation_seed(&v->in.u[BEH_FORMATION], &v->R_d, &v->o, &v->ref, l_d, phi_d, bp);
-    /* arriving with its goal slot out of sight (the way to it goes round
-     * an obstacle, §14): the formation's slot round R0 lies beyond that
-     * obstacle too, and its weight, growing with the distance, held the
-     * robot against it (a pocket beside the goal: the robot circled there
-     * to the time limit, the goal behaviour's way out weighing 5 %). The
-     * goal's slot is where the formation ends, so the formation behaviour
-     * drives the way to it as the goal behaviour does. Not before the
-     * arrival: the target is then the robot's place beside R0's way, and
-     * out of sight of it the way is the field's one path to the goal, onto
-     * which the team bunched (the dead zone, 3 in line: 73 s against 30 s) */
-    if (v->arriving && !v->steer_seen && k >= 0)
+    if (formation_slot_hidden(c, v, l_d, phi_d))
         v->in.u[BEH_FORMATION] = v->in.u[BEH_GOAL];
     v->in.d_st_m = behaviour_d_st(bp, D, l_d, phi_d);
     v->in.avoid_active = behaviour_avoid(&v->in.u[BEH_AVOID], &v->g, v->self.v_mps, v->in.d_st_m,
