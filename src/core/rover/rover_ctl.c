@@ -508,15 +508,18 @@ static int arrival_turn(const rover_ctl_state *c, const step_view *v, unicycle_c
  * stops the turn, or turns it the other way); facing the U's arm with its
  * slot behind the arm's tip, the short way round was that way and the
  * robot stood still for good. So once the guard has stopped or reversed
- * the short way, the robot turns the long way round, and keeps that way
- * until the target lies ahead (turned back, the echo left the guard's
- * reach and the short way was open again, to and fro at the boundary). */
+ * the way the robot turns, it turns the other way round, and holds that
+ * way until the target lies ahead (turned back, the echo left the guard's
+ * reach and the short way was open again, to and fro at the boundary); a
+ * way held that the guard closes in turn is given up for the other (the
+ * robot stood facing the arm's tip with the held way closed). */
 static void arrival_turn_other_way(rover_ctl_state *c, const step_view *v, unicycle_cmd *u)
 {
     const double w_goal = v->in.u[BEH_GOAL].w_radps;
-    if (c->arrive_turn != 0 || w_goal == 0.0 || u->w_radps * w_goal > 0.0)
+    const double want = c->arrive_turn != 0 ? (double)c->arrive_turn : w_goal;
+    if (w_goal == 0.0 || u->w_radps * want > 0.0)
         return;
-    c->arrive_turn = w_goal > 0.0 ? -1 : 1;
+    c->arrive_turn = want > 0.0 ? -1 : 1;
     u->w_radps = c->arrive_turn * fabs(w_goal);
 }
 
