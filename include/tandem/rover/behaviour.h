@@ -67,7 +67,8 @@ typedef struct {
 /* Defaults (Pioneer 2 DX-like):
  *   d -0.15 m (O ahead of C); V_max 0.5 m/s, w_max 1.0 rad/s (both eq. 6 and eq. 10);
  *   a1 0.4, a2 1.0; goal_tol 0.3 m, goal_margin 0.05 m; b1 0.5, b2 1.0;
- *   d_s 0.6 m; k_v 0.3 1/s, k_s 0.8; d_st_rear_max 1.0 m (one spacing); V_k 0.0 m/s, w_k 0.6 rad/s, 2 s;
+ *   d_s 0.6 m; k_v 0.3 1/s, k_s 0.8; d_st_rear_max 1.0 m (one spacing);
+ *   V_k 0.0 m/s, w_k 0.6 rad/s, 2 s;
  *   passage safety 0.3 m, width 0.38 m; k2 1, k3 1, k4 1, d_r 0.3 m;
  *   form_near 0.3 m, form_far 0.8 m. */
 void behaviour_params_default(behaviour_params *p);

@@ -229,9 +229,10 @@ typedef struct {
     formation_fsm fsm;
     behaviour_exception exc;
     rover_esc_state esc;
-    int holding;                     /* in formation, waiting for outranking mates: ROVER_WAIT_* */
-    int arrive_turn;                 /* arriving, turning to face the own slot: the way round held
-                      * (+1 left, -1 right), 0 the short way (rover_ctl.c) */
+    int holding; /* in formation, waiting for outranking mates: ROVER_WAIT_* */
+    /* arriving, turning to face the own slot: the way round held (+1 left,
+     * -1 right), 0 the short way (rover_ctl.c arrival_turn_other_way) */
+    int arrive_turn;
     double crumb_m[ROVER_CRUMBS][2]; /* the axle's path, a crumb every ROVER_CRUMB_STEP_M,
                                        * oldest first: the way back known free */
     int crumb_n;                     /* crumbs held (the newest is crumb_m[crumb_n - 1]) */

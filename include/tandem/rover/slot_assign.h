@@ -9,7 +9,8 @@
  * if every robot drives straight to its slot, arriving together, the
  * optimal assignment stays optimal all the way (Turpin, Michael and
  * Kumar's CAPT, 2014: the cost of the assignment flown falls faster than
- * that of any other), and no two straight paths of it cross. So the same
+ * that of any other), and robots that start and end a distance s apart
+ * stay s / sqrt(2) apart on the way. So the same
  * rule evaluated afresh each period keeps giving the same answer while
  * the team does what it says, which a local optimum reached from a fixed
  * starting order does not (it is path dependent: as the robots move the

@@ -484,9 +484,6 @@ static int blend_behaviours(rover_ctl_state *c, step_view *v)
     return behaviour_blend(&c->blend, &v->in, c->p.blend_mode, bp);
 }
 
-/* The drive command from the blend and the mode reported: capped while
- * the formation reshapes, zero at the goal, guarded, never backwards,
- * saturated. */
 /* Arriving, a robot whose own slot (or the way's next point to it) lies
  * behind it turns to face it on the spot (docs/method/formation.md §6,
  * "Arrival"): the goal behaviour asks for no speed then, and the blend's
@@ -523,6 +520,9 @@ static void arrival_turn_other_way(rover_ctl_state *c, const step_view *v, unicy
     u->w_radps = c->arrive_turn * fabs(w_goal);
 }
 
+/* The drive command from the blend and the mode reported: capped while
+ * the formation reshapes, zero at the goal, turned on the spot arriving
+ * with the slot behind, guarded, never backwards, saturated. */
 static void command_out(rover_ctl_state *c, const step_view *v, rover_ctl_out *out)
 {
     const behaviour_params *bp = &c->p.beh;
