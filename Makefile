@@ -35,6 +35,11 @@ OPT      := -O0 -g --coverage
 LDSAN    := --coverage
 else
 BUILD    := build
+# the core is the code of every control cycle, so it is built for speed:
+# -O3 keeps IEEE semantics (no -ffast-math, no FP contraction on x86-64
+# without -march), so its results are the bits -O2 gives; CORE_OPT= builds
+# it like the rest
+CORE_OPT ?= -O3
 endif
 BIN      := $(BUILD)/bin
 LIB      := $(BUILD)/lib

@@ -20,6 +20,7 @@ LAYER_rover  := base rover
 define core_domain
 CORE_SRC  += $$(wildcard src/core/$(1)/*.c)
 $$(OBJ)/src/core/$(1)/%.o: DIR_CPPFLAGS = $$(call core_cppflags,$(1))
+$$(OBJ)/src/core/$(1)/%.o: CFLAGS += $$(CORE_OPT)
 endef
 
 # one stub per header a domain may not include (public or private)

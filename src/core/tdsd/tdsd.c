@@ -726,7 +726,7 @@ static void resolve_gram(const tdsd_input *in, tdsd_output *out, const gram_fact
                          const double w2[3], const double e2[3], const double Kpe[3],
                          const double g[NJ])
 {
-    double za[3], zb[3], xa[3], xb[3], x[NJ], a[NJ], b[NJ], c;
+    double za[3], zb[3], xa[3], xb[3], x[NJ] = { 0.0 }, a[NJ], b[NJ], c;
     int i, j;
     out->fast = TDSD_PATH_GRAM;
     out->rank_J1 = 3;
