@@ -97,7 +97,9 @@ int navfield_waypoint(const navfield *f, const double from_m[2], const double go
  * from the map along the descent. At every cell of the descent the free
  * width across the way's direction, from the first obstacle on its left
  * to the first on its right, each looked for up to side_m (a cell with a
- * side open beyond side_m has none). */
+ * side open beyond side_m has none); also along lines tilted up to 45 deg
+ * from the way's normal, projected on it (a gap in a thin wall crossed
+ * aslant), the least of them. */
 typedef struct {
     double ahead_m;  /* the narrowest width is taken this far along the way */
     double side_m;   /* each side's obstacle looked for this far */
@@ -114,7 +116,7 @@ typedef struct {
 /* The passages on the descent from `from` (the callers' frame).
  * NAVFIELD_OK, or NAVFIELD_ERR_ARG on NULL or non-finite input (out
  * unchanged). Bounded: (ahead_m + beyond_m) / cell steps, 4 side_m /
- * cell samples per step. */
+ * cell samples on each of 9 lines per step. */
 int navfield_passage_ahead(const navfield *f, const double from_m[2],
                            const navfield_passage_query *q, navfield_passage *out);
 

@@ -12,6 +12,10 @@
 #define START_RING_M 1.5 /* a start in a blocked cell looks this far for one joined to the goal */
 #define CELL_GROW 1.05   /* the cell grows by this while the world needs too many */
 #define CELL_GROW_MAX 64 /* ... at most this many times */
+/* the passage width's lines: the way's normal and 2 x TILTS lines tilted
+ * from it in equal steps up to TILT_RAD (45 deg) each way (across_m) */
+#define NAVFIELD_ACROSS_TILT_RAD 0.78539816339744831
+#define NAVFIELD_ACROSS_TILTS 4
 
 /* the 8 neighbours: the four sides first, then the diagonals */
 static const int nb_di[8] = { 1, -1, 0, 0, 1, 1, -1, -1 };
@@ -370,40 +374,87 @@ int navfield_waypoint(const navfield *f, const double from_m[2], const double go
 
 /* ---- passage width ----------------------------------------------------------------- */
 
+/* How far xy lies inside the grid's outer edges (negative outside). */
+static double inside_m(const navfield *f, const double xy[2])
+{
+    const double x = xy[0] - f->x0_m, y = xy[1] - f->y0_m;
+    return fmin(fmin(x, (double)f->nx * f->cell_m - x), fmin(y, (double)f->ny * f->cell_m - y));
+}
+
 /* From world point p along the unit direction u: the distance to the
  * first sample nearer an obstacle than half a cell (its centre about on
- * one), sampled every half cell up to side_m; INFINITY when there is none. */
+ * one) or off the grid, sampled every half cell up to side_m; INFINITY
+ * when there is none. Samples that cannot be that are skipped, with the
+ * same answer: the clearance is a distance (it changes by no more than
+ * the way moved) stored at cell centres (within 0.71 cell of a sample),
+ * so every sample within c - 2 cells of one whose cell reads c, and as
+ * far inside the grid, reads at least half a cell. */
 static double side_free_m(const navfield *f, const double p[2], const double u[2], double side_m)
 {
     const double step = 0.5 * f->cell_m, hit = 0.5 * f->cell_m;
     const long n = (long)ceil(side_m / step);
-    long s;
-    for (s = 1; s <= n; s++) {
+    long s = 1;
+    while (s <= n) {
         const double d = (double)s * step;
         const double xy[2] = { p[0] + d * u[0], p[1] + d * u[1] };
-        if (clear_at(f, xy) < hit)
+        const double c = clear_at(f, xy);
+        double skip;
+        if (c < hit)
             return d;
+        skip = floor((fmin(c, inside_m(f, xy)) - 2.0 * f->cell_m) / step);
+        s += skip > 1.0 ? (long)fmin(skip, (double)n) : 1;
     }
     return INFINITY;
 }
 
+/* left + right along the unit direction u from p, times cos_a: the width
+ * of the gap that line spans, projected across the way (u at angle a from
+ * the way's normal); INFINITY when a side is open. */
+static double span_m(const navfield *f, const double p[2], const double u[2], double cos_a,
+                     double side_m)
+{
+    const double v[2] = { -u[0], -u[1] };
+    const double left = side_free_m(f, p, u, side_m);
+    if (!isfinite(left))
+        return INFINITY;
+    return (left + side_free_m(f, p, v, side_m)) * cos_a;
+}
+
 /* The free width across the way at cell c heading for cell n: to the
- * first obstacle on either side; INFINITY when a side is open. */
+ * first obstacle on either side, along the way's normal and along lines
+ * tilted from it by up to NAVFIELD_ACROSS_TILT_RAD, each span projected
+ * on the normal; the least of them, INFINITY when every line has a side
+ * open. Why tilted lines: the way is a chain of 8-neighbour steps, so its
+ * normal is known only to 45 deg, and a gap in a thin wall crossed aslant
+ * is spanned only by the line along the wall; across the way's normal a
+ * line through the gap passes beside the wall's ends and reads open.
+ * Why the projection: a team of width W crossing a gap's line at angle a
+ * needs W / cos a of it. A corridor reads its width along every line, so
+ * tilting never narrows a passage below what the team meets. */
 static double across_m(const navfield *f, long c, long n, double side_m)
 {
-    double p[2], q[2], d, u[2];
-    double left, v[2];
+    /* cos and sin of NAVFIELD_ACROSS_TILT_RAD / NAVFIELD_ACROSS_TILTS */
+    const double ct = cos(NAVFIELD_ACROSS_TILT_RAD / NAVFIELD_ACROSS_TILTS),
+                 st = sin(NAVFIELD_ACROSS_TILT_RAD / NAVFIELD_ACROSS_TILTS);
+    double p[2], q[2], d, u[2], a[2], b[2], w, ca = 1.0, sa = 0.0;
+    int k;
     centre_of(f, c, p);
     centre_of(f, n, q);
     d = hypot(q[0] - p[0], q[1] - p[1]);
     u[0] = -(q[1] - p[1]) / d; /* left of the way */
     u[1] = (q[0] - p[0]) / d;
-    left = side_free_m(f, p, u, side_m);
-    if (!isfinite(left))
-        return INFINITY;
-    v[0] = -u[0];
-    v[1] = -u[1];
-    return left + side_free_m(f, p, v, side_m);
+    w = span_m(f, p, u, 1.0, side_m);
+    for (k = 1; k <= NAVFIELD_ACROSS_TILTS; k++) {
+        const double c1 = ca * ct - sa * st; /* angle k tilt / TILTS */
+        sa = sa * ct + ca * st;
+        ca = c1;
+        a[0] = ca * u[0] - sa * u[1]; /* u turned by +angle, and by -angle */
+        a[1] = sa * u[0] + ca * u[1];
+        b[0] = ca * u[0] + sa * u[1];
+        b[1] = -sa * u[0] + ca * u[1];
+        w = fmin(w, fmin(span_m(f, p, a, ca, side_m), span_m(f, p, b, ca, side_m)));
+    }
+    return w;
 }
 
 int navfield_passage_ahead(const navfield *f, const double from_m[2],

@@ -6,8 +6,10 @@
  * by an independent distance check; the team frame's rotation commutes
  * with the query; a point beside a wall does not descend from its far
  * side; the passage on the way ahead is the gap or corridor built, and
- * none in the open or beside one wall; a goal on an obstacle and bad
- * parameters are refused. */
+ * none in the open or beside one wall; a gap in a thin wall crossed
+ * aslant is found, at most its width along the wall and at least its
+ * width across the way; a goal on an obstacle and bad parameters are
+ * refused. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -264,6 +266,40 @@ static void test_passage_ahead(void **state)
     assert_true(out.below_len_m == 0.0);
 }
 
+/* A wall 0.1 m thick turned by beta from the way's normal (the way runs
+ * along +x at y = 5), with a gap of 1.4 m along it centred on the way: the
+ * team meets a width of 1.4 cos(beta) across its way, and the passage
+ * read is between that and 1.4 m (within a cell a side). Across the way's
+ * normal alone the lines through the gap pass beside the wall's ends and
+ * read it open. */
+static void box_turned(double cx, double cy, double hx, double hy, double a)
+{
+    assert_int_equal(rover_world_add_box(&W, cx, cy, hx, hy, a, 0.5), 0);
+}
+
+static void test_passage_aslant(void **state)
+{
+    const double tol = 2.5 * 0.1, gap = 1.4, half = 2.5; /* each wall piece 5 m long */
+    const double betas_deg[] = { 10.0, 17.0, 25.0, 33.0, 40.0 };
+    size_t k;
+    (void)state;
+    for (k = 0; k < sizeof betas_deg / sizeof betas_deg[0]; k++) {
+        const double b = betas_deg[k] * 3.14159265358979324 / 180.0;
+        const double along[2] = { -sin(b), cos(b) }; /* the wall's direction */
+        const double r = 0.5 * gap + half;
+        navfield_passage out;
+        world_open();
+        box_turned(10.0 + r * along[0], 5.0 + r * along[1], 0.05, half, b);
+        box_turned(10.0 - r * along[0], 5.0 - r * along[1], 0.05, half, b);
+        build(&F);
+        out = passage_from(8.0, 5.0, 3.0);
+        print_message("gap %.1f m in a wall turned %.0f deg: %.3f m (across the way %.3f m)\n", gap,
+                      betas_deg[k], out.narrowest_m, gap * cos(b));
+        assert_true(out.narrowest_m <= gap + tol);
+        assert_true(out.narrowest_m >= gap * cos(b) - tol);
+    }
+}
+
 static void test_refusals(void **state)
 {
     navfield_params p;
@@ -302,6 +338,7 @@ int main(void)
         cmocka_unit_test(test_frame_commutes),
         cmocka_unit_test(test_start_beside_wall),
         cmocka_unit_test(test_passage_ahead),
+        cmocka_unit_test(test_passage_aslant),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
