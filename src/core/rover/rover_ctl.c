@@ -415,28 +415,37 @@ static void own_steer(const rover_ctl_state *c, step_view *v, int k)
     v->steer_goal = at_goal && seen;
 }
 
-/* Arriving, with neither its goal slot nor its formation slot round R0
- * (l_d, phi_d) in sight: the way to the goal slot goes round an obstacle
- * (§14), and the formation slot lies beyond one too. Eq. 8's law drives
- * at that slot straight, with a weight that grows with the distance, and
- * held the robot against the obstacle (a pocket beside the goal: the
- * robot circled there to the time limit, the goal behaviour's way out
- * weighing 5 %). The goal's slot is where the formation ends, so the
- * formation behaviour then drives the way to it as the goal behaviour
- * does (docs/method/formation.md §14). Only then: with the formation
- * slot in sight its law keeps the robots apart (robots of the dead
- * zone's column of twelve, taking the field's one way together, touched),
- * and before the arrival the way out of sight is the field's one path to
- * the goal, onto which the whole team bunched (the dead zone, 3 in line:
- * 73 s against 30 s). */
+/* A formation slot round R0 (l_d, phi_d) that eq. 8's law cannot bring
+ * the robot to: the formation behaviour then drives the way to the goal
+ * slot as the goal behaviour does (docs/method/formation.md §14). Eq. 8
+ * drives at its slot straight, with a weight that grows with the
+ * distance, and holds a robot whose slot lies beyond an obstacle against
+ * it. Two cases:
+ * - arriving, with neither its goal slot nor its formation slot in sight
+ *   (a pocket beside the goal: the robot circled there to the time limit,
+ *   the goal behaviour's way out weighing 5 %);
+ * - on the way, with its formation slot out of sight and farther than
+ *   cut_off_m: the robot is on the wrong side of a wall the team went
+ *   through a gap in. It slid along the wall, away from the goal, after
+ *   a slot it could not reach (a line of four that became a column at a
+ *   gap, its rear robot left 10 m down the wall: generated mixed worlds 1
+ *   and 6). The goal behaviour's way is the field's way to where the team
+ *   is going, so through the gap the team took.
+ * Not nearer than cut_off_m: a slot just behind an obstacle's corner is
+ * reached by going round it, and there the law keeps the robots apart
+ * (with every hidden slot left to the way, robots of the dead zone's
+ * column of twelve, taking the field's one way together, touched, and a
+ * line of three bunched onto that way: 73 s to the goal against 30 s). */
 static int formation_slot_hidden(const rover_ctl_state *c, const step_view *v, double l_d,
                                  double phi_d)
 {
     double slot[2], through[2];
-    if (!v->arriving || v->steer_seen || v->slot < 0)
+    if (v->arriving ? (v->steer_seen || v->slot < 0) : !c->nav)
         return 0;
     slot[0] = v->ref.x_m + l_d * cos(v->ref.theta_rad + phi_d);
     slot[1] = v->ref.y_m + l_d * sin(v->ref.theta_rad + phi_d);
+    if (!v->arriving && !(hypot(slot[0] - v->o.x_m, slot[1] - v->o.y_m) > c->p.cut_off_m))
+        return 0;
     return !steer_point(c, v->o.x_m, v->o.y_m, slot, through);
 }
 

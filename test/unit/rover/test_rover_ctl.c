@@ -511,6 +511,65 @@ static void test_gap_in_thin_wall(void **state)
     assert_int_equal(control.changes, 0);
 }
 
+/* A long thin wall across the way, turned by `angle_rad`, with a gap of
+ * 1.2 m `off_m` to the side of the start -> goal line: the team goes
+ * through the gap in column, and one robot can be left on the wrong side. */
+static kin_result cut_off_run(double angle_rad, double off_m, double cut_off_m)
+{
+    const double gap = 1.2, len = 30.0;
+    rover_world_config w;
+    rover_ctl_params p;
+    navfield_params np;
+    kin_opts o = kin_defaults(200.0);
+    int k;
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, KN, 1.0, FORMATION_LINE), 0);
+    w.n_obst = 2;
+    for (k = 0; k < 2; k++) {
+        rover_obstacle *b = &w.obst[k];
+        const double d = (k ? 1.0 : -1.0) * 0.5 * (gap + len);
+        memset(b, 0, sizeof *b);
+        b->kind = ROVER_OBST_BOX;
+        b->hx_m = 0.05;
+        b->hy_m = 0.5 * len;
+        b->angle_rad = angle_rad;
+        b->cx_m = 0.5 * (w.team_origin.x_m + w.goal_m[0]) - d * sin(angle_rad);
+        b->cy_m = w.goal_m[1] + off_m + d * cos(angle_rad);
+        b->height_m = 0.5;
+    }
+    rover_ctl_params_default(&p);
+    p.cut_off_m = cut_off_m;
+    navfield_params_default(&np);
+    assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
+    o.nav = &NAV;
+    return kin_run_world(&w, &p, &o);
+}
+
+/* A robot left on the far side of a wall from its formation slot is
+ * brought through the gap by the way to the goal (cut_off_m,
+ * formation_slot_hidden): without that, eq. 8's law holds it against the
+ * wall, sliding along it after the slot, and the team never arrives. */
+static void test_cut_off_takes_the_way(void **state)
+{
+    static const double cases[][2] = { { 0.3, 2.5 }, { -0.3, -2.5 }, { 0.5, 3.5 } };
+    size_t k;
+    (void)state;
+    for (k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        rover_ctl_params d;
+        kin_result r, control;
+        rover_ctl_params_default(&d);
+        r = cut_off_run(cases[k][0], cases[k][1], d.cut_off_m);
+        control = cut_off_run(cases[k][0], cases[k][1], 1e9);
+        print_message("wall at %.1f rad, gap %.1f m aside: reached=%d t=%.1f; without the way: "
+                      "reached=%d, farthest from its goal slot %.1f m\n",
+                      cases[k][0], cases[k][1], r.reached, r.t_end, control.reached,
+                      control.max_slot_err_m);
+        assert_true(r.reached);
+        assert_true(r.min_clear > 0.0);
+        assert_false(control.reached);
+        assert_true(control.max_slot_err_m > 5.0);
+    }
+}
+
 /* Centre-out slots: a bijection onto 0..n-1 for every type and team size;
  * the middle robot of the line heads the triangle and the column, and
  * each side keeps its side (odd triangle slots are left). */
@@ -769,6 +828,9 @@ static void test_stale_sensors_stop(void **state)
     p.give_way_m = 0.0; /* not a distance */
     assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
     assert_int_equal(rover_ctl_init(&c, &p, 1, &s, g), ROVER_CTL_ERR_ARG);
+    rover_ctl_params_default(&p);
+    p.cut_off_m = NAN;
+    assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
 }
 
 static void test_follow_keeps_wall_side(void **state)
@@ -2123,6 +2185,7 @@ int main(void)
         cmocka_unit_test(test_team_heading_at_goal),
         cmocka_unit_test(test_turns_back_past_goal),
         cmocka_unit_test(test_arrival_turns_on_the_spot),
+        cmocka_unit_test(test_cut_off_takes_the_way),
         cmocka_unit_test(test_snapshot_resume_identity),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
