@@ -140,6 +140,8 @@ typedef struct {
                                    of the goal: slots by where the robots are (0: by id) */
     double arrival_swap_m2; /* the goal's slots leave the order by id only when the least summed
                                    squared distance is shorter than by id by more than this */
+    double arrive_face_rad; /* arriving, a turn on the spot goes on until the target lies
+                               within this of ahead */
     double cut_off_m;       /* a formation slot out of sight (beyond a wall) and farther
                                than this: the formation behaviour drives the way to it */
     double queue_m;         /* a mate in formation this near ahead ... */

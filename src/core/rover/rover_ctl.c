@@ -502,9 +502,25 @@ static int blend_behaviours(rover_ctl_state *c, step_view *v)
  * in *u. */
 static int arrival_turn(const rover_ctl_state *c, const step_view *v, unicycle_cmd *u)
 {
-    if (v->escaping || !v->arriving || v->rc_goal != BEH_GOAL_TURN || c->holding != ROVER_WAIT_NONE)
+    double r, phi;
+    if (v->escaping || !v->arriving || c->holding != ROVER_WAIT_NONE)
         return 0;
-    *u = v->in.u[BEH_GOAL];
+    if (v->rc_goal == BEH_GOAL_TURN) {
+        *u = v->in.u[BEH_GOAL];
+    } else {
+        /* a turn begun goes on until the target lies within arrive_face_rad
+         * of ahead: the goal behaviour turns only while the target is
+         * behind (eq. 5's singular line), and the blend, pulling elsewhere,
+         * turned the robot back over that line, to and fro for good (a
+         * robot 0.4 m from its goal slot, test_cut_off_takes_the_way) */
+        if (c->arrive_turn == 0 || v->rc_goal == BEH_GOAL_REACHED)
+            return 0;
+        behaviour_goal_polar(&r, &phi, &v->o, v->steer);
+        if (!(fabs(phi) > c->p.arrive_face_rad))
+            return 0;
+        u->v_mps = 0.0;
+        u->w_radps = fmin(c->p.beh.a2 * fabs(phi), c->p.beh.w_max_radps);
+    }
     if (c->arrive_turn != 0)
         u->w_radps = c->arrive_turn * fabs(u->w_radps);
     return 1;
@@ -553,6 +569,8 @@ static void command_out(rover_ctl_state *c, const step_view *v, rover_ctl_out *o
     turning = arrival_turn(c, v, &u);
     if (!turning)
         c->arrive_turn = 0;
+    else if (c->arrive_turn == 0 && u.w_radps != 0.0)
+        c->arrive_turn = u.w_radps > 0.0 ? 1 : -1; /* the way the turn begins is held */
     /* waiting for outranking mates (method §10): stand, or back out of
      * one's way. Not guarded: the guard turns a stopped robot with an echo
      * near ahead toward the freer side, and a robot standing for a mate

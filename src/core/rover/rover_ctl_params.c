@@ -53,6 +53,8 @@ void rover_ctl_params_default(rover_ctl_params *p)
      * robots apart (the dead zone's team bunched on the field's one path
      * when every hidden slot was left for it) */
     p->cut_off_m = 2.0;
+    /* 30 deg: the goal behaviour's own turn ends about 90 deg off */
+    p->arrive_face_rad = 0.5;
     /* queue: a mate in formation ahead that stands or that we close on is
      * usually one about to find its pocket closed */
     p->queue_m = 1.3;
@@ -124,14 +126,15 @@ int rover_ctl_params_validate(const rover_ctl_params *p)
         !pos(p->give_way_m) || !pos(p->yield_max_s) || !pos(p->give_way_seen_s) ||
         !pos(p->yield_near_m) || !isfinite(p->arrival_m) || p->arrival_m < 0.0 ||
         !isfinite(p->arrival_swap_m2) || p->arrival_swap_m2 < 0.0 || !pos(p->cut_off_m) ||
-        !pos(p->queue_m) || !pos(p->queue_cone_rad) || p->queue_cone_rad > VEC2_PI ||
-        !pos(p->queue_slow_mps) || !pos(p->queue_closing_mps) || !pos(p->hold_max_s) ||
-        !pos(p->walls_near_m) || !pos(p->leave_gain_m) || !pos(p->follow_mate_ahead_m) ||
-        !pos(p->follow_moving_mps) || !pos(p->back_max_m) || !pos(p->back_v_mps) ||
-        !pos(p->wedge_max_s) || !pos(p->follow_lost_s) || !pos(p->passage_sense_max_m) ||
-        !pos(p->mate_keep_m) || !pos(p->v_change_mps) || !pos(p->guard_m) ||
-        !pos(p->guard_stop_m) || !pos(p->guard_lane_m) || !pos(p->side_guard_m) ||
-        !pos(p->side_turn_radps) || !isfinite(p->goal_heading_gain) || p->goal_heading_gain < 0.0 ||
+        !pos(p->arrive_face_rad) || p->arrive_face_rad > VEC2_PI || !pos(p->queue_m) ||
+        !pos(p->queue_cone_rad) || p->queue_cone_rad > VEC2_PI || !pos(p->queue_slow_mps) ||
+        !pos(p->queue_closing_mps) || !pos(p->hold_max_s) || !pos(p->walls_near_m) ||
+        !pos(p->leave_gain_m) || !pos(p->follow_mate_ahead_m) || !pos(p->follow_moving_mps) ||
+        !pos(p->back_max_m) || !pos(p->back_v_mps) || !pos(p->wedge_max_s) ||
+        !pos(p->follow_lost_s) || !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) ||
+        !pos(p->v_change_mps) || !pos(p->guard_m) || !pos(p->guard_stop_m) ||
+        !pos(p->guard_lane_m) || !pos(p->side_guard_m) || !pos(p->side_turn_radps) ||
+        !isfinite(p->goal_heading_gain) || p->goal_heading_gain < 0.0 ||
         p->goal_heading_gain > 1.0 || !isfinite(p->arrive_m) || p->arrive_m < 0.0 ||
         !pos(p->passage_front_min_m) || !pos(p->passage_ahead_m) || !pos(p->passage_short_m) ||
         !pos(p->sonar_max_m) || !(p->consensus_gain >= 0.0) || !isfinite(p->consensus_gain) ||

@@ -547,7 +547,8 @@ static kin_result cut_off_run(double angle_rad, double off_m, double cut_off_m)
 /* A robot left on the far side of a wall from its formation slot is
  * brought through the gap by the way to the goal (cut_off_m,
  * formation_slot_hidden): without that, eq. 8's law holds it against the
- * wall, sliding along it after the slot, and the team never arrives. */
+ * wall, sliding along it after the slot, and the team never arrives. And
+ * a turn on the spot at the goal is held until the slot is ahead. */
 static void test_cut_off_takes_the_way(void **state)
 {
     static const double cases[][2] = { { 0.3, 2.5 }, { -0.3, -2.5 }, { 0.5, 3.5 } };
@@ -567,6 +568,18 @@ static void test_cut_off_takes_the_way(void **state)
         assert_true(r.min_clear > 0.0);
         assert_false(control.reached);
         assert_true(control.max_slot_err_m > 5.0);
+    }
+    /* arriving 0.4 m from its goal slot with the slot behind, a robot
+     * turned on the spot only while the goal behaviour said turn, and the
+     * blend turned it back over that line, to and fro at 10 Hz for good:
+     * the turn begun goes on until the slot is ahead (arrive_face_rad) */
+    {
+        rover_ctl_params d;
+        kin_result r;
+        rover_ctl_params_default(&d);
+        r = cut_off_run(-0.5, 1.5, d.cut_off_m);
+        print_message("wall at -0.5 rad, gap 1.5 m aside: reached=%d t=%.1f\n", r.reached, r.t_end);
+        assert_true(r.reached);
     }
 }
 
