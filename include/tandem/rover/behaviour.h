@@ -97,6 +97,9 @@ int behaviour_goal_raw(unicycle_cmd *u, double r_m, double phi_rad, double d_m, 
  * U = 0), or BEHAVIOUR_ERR_ARG on bad input (U = 0). */
 int behaviour_goal(unicycle_cmd *u, const pose2 *o, const double goal_m[2],
                    const behaviour_params *p);
+/* The turn on the spot toward a target at bearing phi (the BEH_GOAL_TURN
+ * branch): V = 0, w = sat(a2 phi). */
+void behaviour_goal_face(unicycle_cmd *u, double phi_rad, const behaviour_params *p);
 
 /* ---- keep formation (docs/method/formation.md §3: A, B, gamma; eq. 10) ------------------------ */
 /* (l, phi) of O_i relative to O_0 in R0's frame. */

@@ -134,19 +134,20 @@ typedef struct {
     double escape_max_s; /* boundary following: the other way round after this long */
     double give_way_m;   /* a trapped (LEAVE) mate this near conflicts; coming our way: give way */
     double yield_max_s;  /* giving way: turn away at most this long, then follow */
-    double give_way_seen_s; /* ... to a mate the camera saw this recently (no wall between) */
-    double yield_near_m;    /* axles this near, walls near or one out of formation: a conflict */
-    double arrival_m;       /* the team's mean within the formation's half extent plus this
+    double give_way_seen_s;  /* ... to a mate the camera saw this recently (no wall between) */
+    double yield_near_m;     /* axles this near, walls near or one out of formation: a conflict */
+    double arrival_m;        /* the team's mean within the formation's half extent plus this
                                    of the goal: slots by where the robots are (0: by id) */
-    double arrival_swap_m2; /* the goal's slots leave the order by id only when the least summed
+    double arrival_swap_m2;  /* the goal's slots leave the order by id only when the least summed
                                    squared distance is shorter than by id by more than this */
-    double arrive_face_rad; /* arriving, a turn on the spot goes on until the target lies
+    double arrive_face_rad;  /* arriving, a turn on the spot goes on until the target lies
                                within this of ahead */
-    double cut_off_m;       /* a formation slot out of sight (beyond a wall) and farther
-                               than this: the formation behaviour drives the way to it */
-    double queue_m;         /* a mate in formation this near ahead ... */
-    double queue_cone_rad;  /* ... within this of our heading ... */
-    double queue_slow_mps;  /* ... slower than this, or than us by queue_closing_mps: a conflict */
+    double cut_off_spacings; /* a formation slot out of sight (beyond a wall) and farther
+                                than this many spacings: the formation behaviour drives
+                                the way to it */
+    double queue_m;          /* a mate in formation this near ahead ... */
+    double queue_cone_rad;   /* ... within this of our heading ... */
+    double queue_slow_mps;   /* ... slower than this, or than us by queue_closing_mps: a conflict */
     double queue_closing_mps;
     double hold_max_s; /* wait at most this long for outranking mates in formation */
     double back_max_m; /* clearing an outranking mate's way: back out at most this far ... */

@@ -155,14 +155,20 @@ int behaviour_goal(unicycle_cmd *u, const pose2 *o, const double goal_m[2],
         return BEH_GOAL_REACHED;
     if (r * cos(phi) - p->d_m <= p->goal_margin_m) {
         /* Eq. 5 is singular at r cos phi = d; face the goal first. */
-        raw.v_mps = 0.0;
-        raw.w_radps = p->a2 * phi;
-        unicycle_saturate(u, &raw, p->v_max_mps, p->w_max_radps, UNICYCLE_SAT_CLIP);
+        behaviour_goal_face(u, phi, p);
         return BEH_GOAL_TURN;
     }
     behaviour_goal_raw(&raw, r, phi, p->d_m, p->a1, p->a2);
     unicycle_saturate(u, &raw, p->v_max_mps, p->w_max_radps, p->sat_mode);
     return BEH_GOAL_DRIVE;
+}
+
+void behaviour_goal_face(unicycle_cmd *u, double phi_rad, const behaviour_params *p)
+{
+    unicycle_cmd raw;
+    raw.v_mps = 0.0;
+    raw.w_radps = p->a2 * phi_rad;
+    unicycle_saturate(u, &raw, p->v_max_mps, p->w_max_radps, UNICYCLE_SAT_CLIP);
 }
 
 /* ---- keep formation ---------------------------------------------------- */

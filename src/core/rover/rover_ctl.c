@@ -425,13 +425,13 @@ static void own_steer(const rover_ctl_state *c, step_view *v, int k)
  *   (a pocket beside the goal: the robot circled there to the time limit,
  *   the goal behaviour's way out weighing 5 %);
  * - on the way, with its formation slot out of sight and farther than
- *   cut_off_m: the robot is on the wrong side of a wall the team went
+ *   cut_off_spacings formation spacings: the robot is on the wrong side of a wall the team went
  *   through a gap in. It slid along the wall, away from the goal, after
  *   a slot it could not reach (a line of four that became a column at a
  *   gap, its rear robot left 10 m down the wall: generated mixed worlds 1
  *   and 6). The goal behaviour's way is the field's way to where the team
  *   is going, so through the gap the team took.
- * Not nearer than cut_off_m: a slot just behind an obstacle's corner is
+ * Not nearer: a slot just behind an obstacle's corner is
  * reached by going round it, and there the law keeps the robots apart
  * (with every hidden slot left to the way, robots of the dead zone's
  * column of twelve, taking the field's one way together, touched, and a
@@ -444,7 +444,8 @@ static int formation_slot_hidden(const rover_ctl_state *c, const step_view *v, d
         return 0;
     slot[0] = v->ref.x_m + l_d * cos(v->ref.theta_rad + phi_d);
     slot[1] = v->ref.y_m + l_d * sin(v->ref.theta_rad + phi_d);
-    if (!v->arriving && !(hypot(slot[0] - v->o.x_m, slot[1] - v->o.y_m) > c->p.cut_off_m))
+    if (!v->arriving && !(hypot(slot[0] - v->o.x_m, slot[1] - v->o.y_m) >
+                          c->p.cut_off_spacings * c->p.fsm.spacing_m))
         return 0;
     return !steer_point(c, v->o.x_m, v->o.y_m, slot, through);
 }
@@ -518,8 +519,7 @@ static int arrival_turn(const rover_ctl_state *c, const step_view *v, unicycle_c
         behaviour_goal_polar(&r, &phi, &v->o, v->steer);
         if (!(fabs(phi) > c->p.arrive_face_rad))
             return 0;
-        u->v_mps = 0.0;
-        u->w_radps = fmin(c->p.beh.a2 * fabs(phi), c->p.beh.w_max_radps);
+        behaviour_goal_face(u, phi, &c->p.beh);
     }
     if (c->arrive_turn != 0)
         u->w_radps = c->arrive_turn * fabs(u->w_radps);
@@ -535,14 +535,13 @@ static int arrival_turn(const rover_ctl_state *c, const step_view *v, unicycle_c
  * reach and the short way was open again, to and fro at the boundary); a
  * way held that the guard closes in turn is given up for the other (the
  * robot stood facing the arm's tip with the held way closed). */
-static void arrival_turn_other_way(rover_ctl_state *c, const step_view *v, unicycle_cmd *u)
+static void arrival_turn_other_way(rover_ctl_state *c, double w_turn, unicycle_cmd *u)
 {
-    const double w_goal = v->in.u[BEH_GOAL].w_radps;
-    const double want = c->arrive_turn != 0 ? (double)c->arrive_turn : w_goal;
-    if (w_goal == 0.0 || u->w_radps * want > 0.0)
+    const double want = c->arrive_turn != 0 ? (double)c->arrive_turn : w_turn;
+    if (w_turn == 0.0 || u->w_radps * want > 0.0)
         return;
     c->arrive_turn = want > 0.0 ? -1 : 1;
-    u->w_radps = c->arrive_turn * fabs(w_goal);
+    u->w_radps = c->arrive_turn * fabs(w_turn);
 }
 
 /* The drive command from the blend and the mode reported: capped while
@@ -553,6 +552,7 @@ static void command_out(rover_ctl_state *c, const step_view *v, rover_ctl_out *o
     const behaviour_params *bp = &c->p.beh;
     unicycle_cmd u = c->blend.u;
     int i, turning;
+    double w_turn;
     /* while the formation reshapes for a passage, give it time */
     if (c->fsm.phase == FORMATION_PHASE_SHRINK || c->fsm.phase == FORMATION_PHASE_CHANGE)
         if (u.v_mps > c->p.v_change_mps)
@@ -567,6 +567,7 @@ static void command_out(rover_ctl_state *c, const step_view *v, rover_ctl_out *o
         out->mode = ROVER_MODE_AT_GOAL;
     }
     turning = arrival_turn(c, v, &u);
+    w_turn = u.w_radps; /* the turn's rate, before the guard */
     if (!turning)
         c->arrive_turn = 0;
     else if (c->arrive_turn == 0 && u.w_radps != 0.0)
@@ -580,7 +581,7 @@ static void command_out(rover_ctl_state *c, const step_view *v, rover_ctl_out *o
     else if (!v->escaping)
         rover_ctl_guard(&u, c->range_m, &v->o, v->steer, &c->p);
     if (turning)
-        arrival_turn_other_way(c, v, &u);
+        arrival_turn_other_way(c, w_turn, &u);
     /* no command sweeps the chassis into a mate we wait for
      * (rover_ctl_cmd_sweeps_mate): past hold_max_s a robot flies the blend
      * again, and one standing beside a trapped mate turned toward its slot

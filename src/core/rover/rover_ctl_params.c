@@ -52,7 +52,7 @@ void rover_ctl_params_default(rover_ctl_params *p)
      * corner the robot is going round anyway, and eq. 8's law keeps the
      * robots apart (the dead zone's team bunched on the field's one path
      * when every hidden slot was left for it) */
-    p->cut_off_m = 2.0;
+    p->cut_off_spacings = 2.0;
     /* 30 deg: the goal behaviour's own turn ends about 90 deg off */
     p->arrive_face_rad = 0.5;
     /* queue: a mate in formation ahead that stands or that we close on is
@@ -125,7 +125,7 @@ int rover_ctl_params_validate(const rover_ctl_params *p)
         !pos(p->follow_v_mps) || !pos(p->follow_w_radps) || !pos(p->escape_max_s) ||
         !pos(p->give_way_m) || !pos(p->yield_max_s) || !pos(p->give_way_seen_s) ||
         !pos(p->yield_near_m) || !isfinite(p->arrival_m) || p->arrival_m < 0.0 ||
-        !isfinite(p->arrival_swap_m2) || p->arrival_swap_m2 < 0.0 || !pos(p->cut_off_m) ||
+        !isfinite(p->arrival_swap_m2) || p->arrival_swap_m2 < 0.0 || !pos(p->cut_off_spacings) ||
         !pos(p->arrive_face_rad) || p->arrive_face_rad > VEC2_PI || !pos(p->queue_m) ||
         !pos(p->queue_cone_rad) || p->queue_cone_rad > VEC2_PI || !pos(p->queue_slow_mps) ||
         !pos(p->queue_closing_mps) || !pos(p->hold_max_s) || !pos(p->walls_near_m) ||

@@ -514,7 +514,7 @@ static void test_gap_in_thin_wall(void **state)
 /* A long thin wall across the way, turned by `angle_rad`, with a gap of
  * 1.2 m `off_m` to the side of the start -> goal line: the team goes
  * through the gap in column, and one robot can be left on the wrong side. */
-static kin_result cut_off_run(double angle_rad, double off_m, double cut_off_m)
+static kin_result cut_off_run(double angle_rad, double off_m, double cut_off_spacings)
 {
     const double gap = 1.2, len = 30.0;
     rover_world_config w;
@@ -537,7 +537,7 @@ static kin_result cut_off_run(double angle_rad, double off_m, double cut_off_m)
         b->height_m = 0.5;
     }
     rover_ctl_params_default(&p);
-    p.cut_off_m = cut_off_m;
+    p.cut_off_spacings = cut_off_spacings;
     navfield_params_default(&np);
     assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
     o.nav = &NAV;
@@ -545,7 +545,7 @@ static kin_result cut_off_run(double angle_rad, double off_m, double cut_off_m)
 }
 
 /* A robot left on the far side of a wall from its formation slot is
- * brought through the gap by the way to the goal (cut_off_m,
+ * brought through the gap by the way to the goal (cut_off_spacings,
  * formation_slot_hidden): without that, eq. 8's law holds it against the
  * wall, sliding along it after the slot, and the team never arrives. And
  * a turn on the spot at the goal is held until the slot is ahead. */
@@ -558,7 +558,7 @@ static void test_cut_off_takes_the_way(void **state)
         rover_ctl_params d;
         kin_result r, control;
         rover_ctl_params_default(&d);
-        r = cut_off_run(cases[k][0], cases[k][1], d.cut_off_m);
+        r = cut_off_run(cases[k][0], cases[k][1], d.cut_off_spacings);
         control = cut_off_run(cases[k][0], cases[k][1], 1e9);
         print_message("wall at %.1f rad, gap %.1f m aside: reached=%d t=%.1f; without the way: "
                       "reached=%d, farthest from its goal slot %.1f m\n",
@@ -577,7 +577,7 @@ static void test_cut_off_takes_the_way(void **state)
         rover_ctl_params d;
         kin_result r;
         rover_ctl_params_default(&d);
-        r = cut_off_run(-0.5, 1.5, d.cut_off_m);
+        r = cut_off_run(-0.5, 1.5, d.cut_off_spacings);
         print_message("wall at -0.5 rad, gap 1.5 m aside: reached=%d t=%.1f\n", r.reached, r.t_end);
         assert_true(r.reached);
     }
@@ -842,7 +842,7 @@ static void test_stale_sensors_stop(void **state)
     assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
     assert_int_equal(rover_ctl_init(&c, &p, 1, &s, g), ROVER_CTL_ERR_ARG);
     rover_ctl_params_default(&p);
-    p.cut_off_m = NAN;
+    p.cut_off_spacings = NAN;
     assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
 }
 
