@@ -63,7 +63,7 @@ static void test_buffer_task_delivers_every_workpiece(void **state)
     snprintf(path, sizeof path, "%s/run_supervisor.log", dir);
     assert_true(harness_slurp(path, log, sizeof log) > 0);
     assert_non_null(strstr(
-        log, "task carry_buffer (tasks/carry_buffer): 11 places, 9 transitions, token bound 2"));
+        log, "task carry_buffer (tasks/carry_buffer): 12 places, 10 transitions, token bound 1"));
     assert_non_null(strstr(log, "complete t3b arm 1 puts it in the buffer"));
     assert_non_null(strstr(log, "complete t4b arm 2 takes it from the buffer"));
 }

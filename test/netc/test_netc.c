@@ -19,6 +19,10 @@
 #define CARRY_ROWS "tasks/carry/rows.csv"
 #define BUFFER_PNML "tasks/carry_buffer/carry_buffer.pnml"
 #define BUFFER_ROWS "tasks/carry_buffer/rows.csv"
+/* the buffer task's first net: two slots on one stand (pf = 2), which let
+ * arm 1 above the stand while arm 2 lifted a bar off it */
+#define UNSAFE_PNML "test/netc/buffer_unsafe.pnml"
+#define UNSAFE_ROWS "test/netc/buffer_unsafe_rows.csv"
 
 /* Reads and checks a task; what the checker said to err goes to msg. */
 static int compile(netc_task *t, const char *pnml, const char *rows, int bound, char *msg, size_t n)
@@ -108,13 +112,37 @@ static void test_yaml_rows(void **st)
 static void test_buffer_task_is_bounded_not_safe(void **st)
 {
     (void)st;
-    assert_int_equal(compile(&TASK, BUFFER_PNML, BUFFER_ROWS, 2, MSG, sizeof MSG), NETC_OK);
+    assert_int_equal(compile(&TASK, UNSAFE_PNML, UNSAFE_ROWS, 2, MSG, sizeof MSG), NETC_OK);
     assert_int_equal(TASK.n_invariants, 3);
     assert_int_equal(carry_table_validate(TASK.rows, TASK.n_transitions, &TASK.net), 0);
     /* the two buffer slots are two tokens in pf at the start */
-    assert_int_equal(compile(&TASK, BUFFER_PNML, BUFFER_ROWS, 1, MSG, sizeof MSG),
+    assert_int_equal(compile(&TASK, UNSAFE_PNML, UNSAFE_ROWS, 1, MSG, sizeof MSG),
                      NETC_ERR_UNBOUNDED);
     assert_non_null(strstr(MSG, "the net must be safe"));
+}
+
+/* The shipped buffer: the stand held by one arm at a time, so safe, and
+ * p6 + pb + pf + p7 + p8 = 1 says no two of "arm 1 above the stand", "a
+ * bar on it", "arm 2 coming for it or lifting it" at once. */
+static void test_buffer_task_is_safe(void **st)
+{
+    int k, i, found = 0;
+    (void)st;
+    assert_int_equal(compile(&TASK, BUFFER_PNML, BUFFER_ROWS, 1, MSG, sizeof MSG), NETC_OK);
+    assert_int_equal(TASK.n_invariants, 3);
+    assert_int_equal(carry_table_validate(TASK.rows, TASK.n_transitions, &TASK.net), 0);
+    for (k = 0; k < TASK.n_invariants; k++) {
+        char support[64] = "";
+        for (i = 0; i < TASK.n_places; i++)
+            if (TASK.invariants[k * TASK.n_places + i] == 1) {
+                strcat(support, " ");
+                strcat(support, TASK.place_name[i]);
+            } else if (TASK.invariants[k * TASK.n_places + i] != 0) {
+                strcat(support, " ?");
+            }
+        found += strcmp(support, " p6 pb pf p7 p8") == 0;
+    }
+    assert_int_equal(found, 1);
 }
 
 static void test_deadlock_refused_with_counterexample(void **st)
@@ -224,6 +252,7 @@ int main(void)
         cmocka_unit_test(test_carry_compiles_to_the_shipped_tables),
         cmocka_unit_test(test_yaml_rows),
         cmocka_unit_test(test_buffer_task_is_bounded_not_safe),
+        cmocka_unit_test(test_buffer_task_is_safe),
         cmocka_unit_test(test_deadlock_refused_with_counterexample),
         cmocka_unit_test(test_dead_transition_refused),
         cmocka_unit_test(test_lost_transition_refused),
