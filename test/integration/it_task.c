@@ -1,7 +1,7 @@
 /* Integration: a task other than the shipped carry, drawn as PNML, run by
  * the real daemons over LCM (docs/tasks.md §7). tandem-scenario carry
  * --task tasks/carry_buffer: the supervisor loads the buffer net and its
- * rows at start-up (token bound 2 from pb + pf = 2, its roles found from
+ * rows at start-up (token bound 1 from p6 + pb + pf + p7 + p8 = 1, its roles found from
  * the net's structure), the simulator gets the hand-over stand; both
  * workpieces are delivered through the buffer, none dropped, no
  * invariant violation, deadlock or stall, every criterion met. Then a

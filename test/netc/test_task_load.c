@@ -1,7 +1,7 @@
 /* Tests of netc_task_load, the loader behind tandem-supervisor --task
  * (docs/tasks.md §7): a task directory read into the fixed tables and
  * checked. The shipped carry loads to the shipped tables with bound 1 and
- * the carry's roles; the buffer task with bound 2 from its P-invariants;
+ * the carry's roles; the buffer task with bound 1 from its P-invariants;
  * and each broken directory is refused for its own reason, the message
  * naming the file, the limit, or the place or transition. */
 #include <stdarg.h>
