@@ -140,6 +140,8 @@ typedef struct {
                                    of the goal: slots by where the robots are (0: by id) */
     double arrival_swap_m2;  /* the goal's slots leave the order by id only when the least summed
                                    squared distance is shorter than by id by more than this */
+    int column_by_place;     /* 1: on the way, a column's slots go by where the robots are
+                                (as the goal's, with arrival_swap_m2); 0: by id */
     double arrive_face_rad;  /* arriving, a turn on the spot goes on until the target lies
                                within this of ahead */
     double cut_off_spacings; /* a formation slot out of sight (beyond a wall) and farther

@@ -209,22 +209,23 @@ static int sent_xy(const rover_ctl_state *c, int32_t id, double xy[2])
     return 0;
 }
 
-/* The goal's slots by where the robots are (docs/method/formation.md
- * §6, "Arrival"): the assignment of least sum of squared distances
- * (slot_assign_min_sq), unless it beats the slots by id by no more than
- * arrival_swap_m2. Both choices hold themselves: robots driving to the
- * slots of either make that assignment's cost fall fastest, so noise in
- * the team messages does not flip a near tie to and fro. Every robot
- * computes it from the same team messages; our slot, or -1. */
 static double sq_dist(const double a[2], const double b[2])
 {
     return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
 }
 
-static int arrival_slot(const rover_ctl_state *c, const step_view *v)
+/* The formation's slots, laid round centre facing heading, by where the
+ * robots are (docs/method/formation.md §6, "Arrival"): the assignment of
+ * least sum of squared distances (slot_assign_min_sq), unless it beats
+ * the slots by id by no more than arrival_swap_m2. Both choices hold
+ * themselves: robots driving to the slots of either make that
+ * assignment's cost fall fastest, so noise in the team messages does not
+ * flip a near tie to and fro. Every robot computes it from the same team
+ * messages; our slot, or -1. */
+static int slot_by_place(const rover_ctl_state *c, const step_view *v, const double centre[2],
+                         double heading)
 {
     double xy[TEAM_MAX + 1][2], sl[TEAM_MAX + 1][2], s[TEAM_MAX + 1][2], by_id_m2 = 0.0, best_m2;
-    const double heading = atan2(c->goal_m[1], c->goal_m[0]);
     int by_id[TEAM_MAX + 1], best[TEAM_MAX + 1], j;
     const int *slot = by_id;
     if (v->n > TEAM_MAX + 1 ||
@@ -234,8 +235,8 @@ static int arrival_slot(const rover_ctl_state *c, const step_view *v)
         if (sent_xy(c, v->ids[j], xy[j]) != 0)
             return -1;
         vec2_rotate(sl[j], s[j][0], s[j][1], heading);
-        sl[j][0] += c->goal_m[0];
-        sl[j][1] += c->goal_m[1];
+        sl[j][0] += centre[0];
+        sl[j][1] += centre[1];
         by_id[j] = rover_world_slot(c->fsm.type, v->n, j); /* ids sorted: j is the rank */
         if (by_id[j] < 0)
             return -1;
@@ -252,8 +253,39 @@ static int arrival_slot(const rover_ctl_state *c, const step_view *v)
     return -1;
 }
 
-/* The team is arriving: the mean of the sent positions within the
- * formation's half extent plus arrival_m of the goal. */
+/* The goal's slots by where the robots are. */
+static int arrival_slot(const rover_ctl_state *c, const step_view *v)
+{
+    return slot_by_place(c, v, c->goal_m, atan2(c->goal_m[1], c->goal_m[0]));
+}
+
+/* On the way, a column's slots by where the robots are
+ * (docs/method/formation.md §6, "On the way, a column by where the robots
+ * are"): the slots where the formation behaviour puts them, round R0
+ * along its heading (the way's direction, so also in a hairpin that turns
+ * the column away from the goal), given as the goal's are (slot_by_place,
+ * with its hold against noise). In the order by id (the middle robot of the line first, then
+ * the others from alternate sides) a robot that reached a passage before
+ * its predecessor in that order had to fall back behind it, and in a
+ * passage one robot wide that is turning back into the mates behind: two
+ * robots stood nose to nose in a bend for good, touching (generated
+ * corridor world 11, 4 in line). By place, the robot farthest along the
+ * column's axis takes its head, and no robot overtakes another to reach
+ * its slot. Only a column the passage protocol formed: a team flown as a
+ * column starts in its order by id and keeps it nose to tail, and by
+ * place it did worse in the dead zone (12 in column: 9/10 reached and 3
+ * runs with contacts, against 10/10 and none). After reference_and_passage
+ * (R0 is this period's); our slot, or -1 (arriving, not such a column,
+ * or a mate's position unknown). */
+static int way_slot(const rover_ctl_state *c, const step_view *v)
+{
+    const double centre[2] = { v->ref.x_m, v->ref.y_m };
+    if (!c->p.column_by_place || v->arriving || c->fsm.type != FORMATION_COLUMN ||
+        c->p.formation == FORMATION_COLUMN || v->n < 2)
+        return -1;
+    return slot_by_place(c, v, centre, v->ref.theta_rad);
+}
+
 static int arriving(const rover_ctl_state *c, const step_view *v)
 {
     double mx = 0.0, my = 0.0, xy[2];
@@ -456,8 +488,13 @@ static int formation_slot_hidden(const rover_ctl_state *c, const step_view *v, d
 static int blend_behaviours(rover_ctl_state *c, step_view *v)
 {
     const behaviour_params *bp = &c->p.beh;
-    const int k = own_slot(c, v); /* type may have changed */
+    int k = own_slot(c, v); /* type may have changed */
     double l_d, phi_d, D;
+    {
+        const int by_place = way_slot(c, v);
+        if (by_place >= 0)
+            k = v->slot = by_place;
+    }
     if (k < 0 ||
         formation_slot(&l_d, &phi_d, c->fsm.type, v->n, k, c->p.fsm.spacing_m, c->fsm.scale) != 0) {
         l_d = 0.0;

@@ -48,6 +48,10 @@ void rover_ctl_params_default(rover_ctl_params *p)
     /* a swap must gain what 0.5 m more for one robot costs at a slot 1 m
      * away (1.5^2 - 1^2): noise in the team messages does not flip slots */
     p->arrival_swap_m2 = 1.25;
+    /* a column passes a passage one robot after another: in its order by
+     * id a robot already ahead of its predecessor turned back into the
+     * passage to fall in behind it (docs/method/formation.md §14) */
+    p->column_by_place = 1;
     /* two spacings: nearer, a slot out of sight is behind an obstacle's
      * corner the robot is going round anyway, and eq. 8's law keeps the
      * robots apart (the dead zone's team bunched on the field's one path
@@ -125,7 +129,8 @@ int rover_ctl_params_validate(const rover_ctl_params *p)
         !pos(p->follow_v_mps) || !pos(p->follow_w_radps) || !pos(p->escape_max_s) ||
         !pos(p->give_way_m) || !pos(p->yield_max_s) || !pos(p->give_way_seen_s) ||
         !pos(p->yield_near_m) || !isfinite(p->arrival_m) || p->arrival_m < 0.0 ||
-        !isfinite(p->arrival_swap_m2) || p->arrival_swap_m2 < 0.0 || !pos(p->cut_off_spacings) ||
+        !isfinite(p->arrival_swap_m2) || p->arrival_swap_m2 < 0.0 ||
+        (p->column_by_place != 0 && p->column_by_place != 1) || !pos(p->cut_off_spacings) ||
         !pos(p->arrive_face_rad) || p->arrive_face_rad > VEC2_PI || !pos(p->queue_m) ||
         !pos(p->queue_cone_rad) || p->queue_cone_rad > VEC2_PI || !pos(p->queue_slow_mps) ||
         !pos(p->queue_closing_mps) || !pos(p->hold_max_s) || !pos(p->walls_near_m) ||

@@ -514,7 +514,8 @@ static void test_gap_in_thin_wall(void **state)
 /* A long thin wall across the way, turned by `angle_rad`, with a gap of
  * 1.2 m `off_m` to the side of the start -> goal line: the team goes
  * through the gap in column, and one robot can be left on the wrong side. */
-static kin_result cut_off_run(double angle_rad, double off_m, double cut_off_spacings)
+static kin_result cut_off_run(double angle_rad, double off_m, double cut_off_spacings,
+                              int column_by_place)
 {
     const double gap = 1.2, len = 30.0;
     rover_world_config w;
@@ -538,6 +539,7 @@ static kin_result cut_off_run(double angle_rad, double off_m, double cut_off_spa
     }
     rover_ctl_params_default(&p);
     p.cut_off_spacings = cut_off_spacings;
+    p.column_by_place = column_by_place;
     navfield_params_default(&np);
     assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
     o.nav = &NAV;
@@ -558,8 +560,8 @@ static void test_cut_off_takes_the_way(void **state)
         rover_ctl_params d;
         kin_result r, control;
         rover_ctl_params_default(&d);
-        r = cut_off_run(cases[k][0], cases[k][1], d.cut_off_spacings);
-        control = cut_off_run(cases[k][0], cases[k][1], 1e9);
+        r = cut_off_run(cases[k][0], cases[k][1], d.cut_off_spacings, 0);
+        control = cut_off_run(cases[k][0], cases[k][1], 1e9, 0);
         print_message("wall at %.1f rad, gap %.1f m aside: reached=%d t=%.1f; without the way: "
                       "reached=%d, farthest from its goal slot %.1f m\n",
                       cases[k][0], cases[k][1], r.reached, r.t_end, control.reached,
@@ -568,6 +570,15 @@ static void test_cut_off_takes_the_way(void **state)
         assert_true(r.min_clear > 0.0);
         assert_false(control.reached);
         assert_true(control.max_slot_err_m > 5.0);
+        /* a column in its order by place: the robot left behind is the
+         * column's tail, whose slot is behind its mates, through the gap */
+        r = cut_off_run(cases[k][0], cases[k][1], d.cut_off_spacings, 1);
+        control = cut_off_run(cases[k][0], cases[k][1], 1e9, 1);
+        print_message("  column by place: reached=%d t=%.1f min_clear=%.3f; without the way: "
+                      "reached=%d t=%.1f\n",
+                      r.reached, r.t_end, r.min_clear, control.reached, control.t_end);
+        assert_true(r.reached);
+        assert_true(r.min_clear > 0.0);
     }
     /* arriving 0.4 m from its goal slot with the slot behind, a robot
      * turned on the spot only while the goal behaviour said turn, and the
@@ -577,10 +588,77 @@ static void test_cut_off_takes_the_way(void **state)
         rover_ctl_params d;
         kin_result r;
         rover_ctl_params_default(&d);
-        r = cut_off_run(-0.5, 1.5, d.cut_off_spacings);
+        r = cut_off_run(-0.5, 1.5, d.cut_off_spacings, d.column_by_place);
         print_message("wall at -0.5 rad, gap 1.5 m aside: reached=%d t=%.1f\n", r.reached, r.t_end);
         assert_true(r.reached);
     }
+}
+
+/* A line team in a corridor 1.1 m wide, where no robot can pass
+ * another, started nose to tail with the head and tail of the column's
+ * order by id swapped (robot 3 ahead, robot 2, which leads by id, at the
+ * back); the passage protocol makes it a column: by place
+ * (column_by_place, way_slot) it keeps the order it has and drives
+ * through; by id the robot at the back presses on after the head slot,
+ * and the column arrives late (18 s later here), or touches, or not at
+ * all. */
+static kin_result column_run(int column_by_place, double *x_first_m, double *x_last_m)
+{
+    const double half_width = 0.55;
+    double end_m;
+    rover_world_config w;
+    rover_ctl_params p;
+    navfield_params np;
+    kin_opts o = kin_defaults(120.0);
+    pose2 head;
+    kin_result r;
+    int k;
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, KN, 1.0, FORMATION_COLUMN), 0);
+    head = w.start_c[1];
+    w.start_c[1] = w.start_c[2];
+    w.start_c[2] = head;
+    *x_first_m = head.x_m;
+    *x_last_m = w.start_c[1].x_m;
+    end_m = 0.5 * (head.x_m + w.goal_m[0]); /* the goal area is open: the line is restored there */
+    w.n_obst = 2;
+    for (k = 0; k < 2; k++) {
+        rover_obstacle *b = &w.obst[k];
+        memset(b, 0, sizeof *b);
+        b->kind = ROVER_OBST_BOX;
+        b->cx_m = 0.5 * (w.x_min_m + end_m);
+        b->hx_m = 0.5 * (end_m - w.x_min_m);
+        b->hy_m = 0.1;
+        b->cy_m = w.start_c[0].y_m + (k ? 1.0 : -1.0) * (half_width + b->hy_m);
+        b->height_m = 0.5;
+    }
+    rover_ctl_params_default(&p);
+    p.formation = FORMATION_LINE; /* the column is the passage protocol's */
+    p.column_by_place = column_by_place;
+    navfield_params_default(&np);
+    assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
+    o.nav = &NAV;
+    r = kin_run_world(&w, &p, &o);
+    return r;
+}
+
+static void test_column_by_place(void **state)
+{
+    double x_first, x_last;
+    kin_result r, control;
+    (void)state;
+    r = column_run(1, &x_first, &x_last);
+    print_message("column in a 1.1 m corridor, robot 3 ahead (x %.1f), robot 2 behind (x %.1f): "
+                  "by place reached=%d t=%.1f min_clear=%.3f\n",
+                  x_first, x_last, r.reached, r.t_end, r.min_clear);
+    control = column_run(0, &x_first, &x_last);
+    print_message("  by id: reached=%d t=%.1f min_clear=%.3f collisions=%d\n", control.reached,
+                  control.t_end, control.min_clear, control.collisions);
+    assert_true(x_first > x_last + 1.5);
+    assert_true(r.reached);
+    assert_true(r.min_clear > 0.0);
+    /* by id the robots behind press on after slots ahead of the mates
+     * in their way until the arrival gives the goal's slots by place */
+    assert_true(!control.reached || !(control.min_clear > 0.0) || control.t_end > r.t_end + 8.0);
 }
 
 /* Centre-out slots: a bijection onto 0..n-1 for every type and team size;
@@ -2199,6 +2277,7 @@ int main(void)
         cmocka_unit_test(test_turns_back_past_goal),
         cmocka_unit_test(test_arrival_turns_on_the_spot),
         cmocka_unit_test(test_cut_off_takes_the_way),
+        cmocka_unit_test(test_column_by_place),
         cmocka_unit_test(test_snapshot_resume_identity),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
