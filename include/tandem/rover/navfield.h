@@ -83,6 +83,18 @@ int navfield_relax(navfield *f, double clear_m);
  * value); INFINITY off the grid or where there is none. */
 double navfield_way_m(const navfield *f, double x_m, double y_m);
 
+/* The way to the goal from `from` (the callers' frame): from the cell
+ * navfield_waypoint would descend from (its own, or for a point nearer an
+ * obstacle than clear_m, a robot beside a wall, the one within reach with
+ * the least way plus the straight distance to it), that cell's way plus
+ * the straight distance to its centre. So from any point p, and any q that
+ * p reaches straight (within the reach, no nearer an obstacle than p or
+ * clear_m / 2), way(p) <= way(q) + |pq| + the distance from q to its
+ * cell's centre. INFINITY where no cell near is joined to the goal, or on
+ * NULL or non-finite input. How far along the way a robot is, the same
+ * measure round any bend. */
+double navfield_way_from(const navfield *f, const double from_m[2]);
+
 /* The point to steer for from `from` toward `goal` (both in the callers'
  * frame, f->frame): NAVFIELD_DIRECT and out = goal when the straight way
  * is clear; NAVFIELD_DESCENT and a point of the field's descent; or

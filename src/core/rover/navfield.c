@@ -331,6 +331,20 @@ static long descend(const navfield *f, long c)
     return best;
 }
 
+double navfield_way_from(const navfield *f, const double from_m[2])
+{
+    double a[2], p[2];
+    long c;
+    if (!f || !from_m || !isfinite(from_m[0]) || !isfinite(from_m[1]))
+        return INFINITY;
+    to_world(f, from_m, a);
+    c = start_cell(f, a);
+    if (c < 0)
+        return INFINITY;
+    centre_of(f, c, p);
+    return (double)f->way_m[c] + hypot(p[0] - a[0], p[1] - a[1]);
+}
+
 int navfield_waypoint(const navfield *f, const double from_m[2], const double goal_m[2],
                       double out_m[2])
 {

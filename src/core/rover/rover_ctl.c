@@ -214,43 +214,94 @@ static double sq_dist(const double a[2], const double b[2])
     return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
 }
 
-/* The formation's slots, laid round centre facing heading, by where the
- * robots are (docs/method/formation.md §6, "Arrival"): the assignment of
- * least sum of squared distances (slot_assign_min_sq), unless it beats
- * the slots by id by no more than arrival_swap_m2. Both choices hold
- * themselves: robots driving to the slots of either make that
- * assignment's cost fall fastest, so noise in the team messages does not
- * flip a near tie to and fro. Every robot computes it from the same team
- * messages; our slot, or -1. */
-static int slot_by_place(const rover_ctl_state *c, const step_view *v, const double centre[2],
-                         double heading)
+/* Our slot in the assignment of least sum of squared distances of the
+ * robots (at xy, in the order of v->ids) to the slots (sl)
+ * (slot_assign_min_sq), unless it beats the slots by id by no more than
+ * arrival_swap_m2. Both choices hold themselves: robots driving to the
+ * slots of either make that assignment's cost fall fastest, so noise in
+ * the team messages does not flip a near tie to and fro. Every robot
+ * computes it from the same team messages; our slot, or -1. */
+static int slot_least_sq(const rover_ctl_state *c, const step_view *v, const double xy[][2],
+                         const double sl[][2])
 {
-    double xy[TEAM_MAX + 1][2], sl[TEAM_MAX + 1][2], s[TEAM_MAX + 1][2], by_id_m2 = 0.0, best_m2;
+    double by_id_m2 = 0.0, best_m2;
     int by_id[TEAM_MAX + 1], best[TEAM_MAX + 1], j;
     const int *slot = by_id;
-    if (v->n > TEAM_MAX + 1 ||
-        formation_slots_xy(s, c->fsm.type, v->n, c->p.fsm.spacing_m, c->fsm.scale) != 0)
-        memset(s, 0, sizeof s); /* as formation_slot_xy's untouched output was */
     for (j = 0; j < v->n; j++) {
-        if (sent_xy(c, v->ids[j], xy[j]) != 0)
-            return -1;
-        vec2_rotate(sl[j], s[j][0], s[j][1], heading);
-        sl[j][0] += centre[0];
-        sl[j][1] += centre[1];
         by_id[j] = rover_world_slot(c->fsm.type, v->n, j); /* ids sorted: j is the rank */
         if (by_id[j] < 0)
             return -1;
-    }
-    for (j = 0; j < v->n; j++)
         by_id_m2 += sq_dist(xy[j], sl[by_id[j]]);
-    if (slot_assign_min_sq((const double(*)[2])xy, (const double(*)[2])sl, v->n, best, &best_m2) ==
-            SLOT_ASSIGN_OK &&
+    }
+    if (slot_assign_min_sq(xy, sl, v->n, best, &best_m2) == SLOT_ASSIGN_OK &&
         best_m2 < by_id_m2 - c->p.arrival_swap_m2)
         slot = best;
     for (j = 0; j < v->n; j++)
         if (v->ids[j] == c->id)
             return slot[j];
     return -1;
+}
+
+/* The formation's slots in its own frame (centred), or all zero as
+ * formation_slot_xy's untouched output was. */
+static void own_pattern(const rover_ctl_state *c, const step_view *v, double s[][2])
+{
+    if (v->n > TEAM_MAX + 1 ||
+        formation_slots_xy(s, c->fsm.type, v->n, c->p.fsm.spacing_m, c->fsm.scale) != 0)
+        memset(s, 0, (size_t)(TEAM_MAX + 1) * sizeof s[0]);
+}
+
+/* The formation's slots, laid round centre facing heading, by where the
+ * robots are (docs/method/formation.md §6, "Arrival"; slot_least_sq). */
+static int slot_by_place(const rover_ctl_state *c, const step_view *v, const double centre[2],
+                         double heading)
+{
+    double xy[TEAM_MAX + 1][2], sl[TEAM_MAX + 1][2], s[TEAM_MAX + 1][2];
+    int j;
+    own_pattern(c, v, s);
+    for (j = 0; j < v->n; j++) {
+        if (sent_xy(c, v->ids[j], xy[j]) != 0)
+            return -1;
+        vec2_rotate(sl[j], s[j][0], s[j][1], heading);
+        sl[j][0] += centre[0];
+        sl[j][1] += centre[1];
+    }
+    return slot_least_sq(c, v, (const double(*)[2])xy, (const double(*)[2])sl);
+}
+
+/* A column's slots by how far along the way the robots are
+ * (docs/method/formation.md §6, "On the way, a column by where the robots
+ * are"): each robot at its way to the goal (navfield_way_from), slot k at
+ * the mean of those plus its place behind the column's centre, matched
+ * as slot_by_place matches points, on that one axis (where the least sum
+ * of squares is the sorted order: the robot nearest the goal along the
+ * way heads the column). Round a bend the way is what orders the robots;
+ * slots laid straight back from R0 along its heading lie across the leg
+ * the column is still on, and the robots behind took one another's slots
+ * there (generated corridor world 58, 6 in triangle: the column stood in
+ * a 100 deg bend, touching 10 times). The way is in the field's weighted
+ * metres, at most (1 + pen_gain) times the length, which moves the
+ * assignment's margin, not its order. Our slot, or -1 (a mate's position
+ * unknown or without a way). */
+static int slot_by_way(const rover_ctl_state *c, const step_view *v)
+{
+    double xy[TEAM_MAX + 1][2], sl[TEAM_MAX + 1][2], s[TEAM_MAX + 1][2], mean = 0.0;
+    int j;
+    own_pattern(c, v, s);
+    for (j = 0; j < v->n; j++) {
+        if (sent_xy(c, v->ids[j], xy[j]) != 0)
+            return -1;
+        xy[j][0] = navfield_way_from(c->nav, xy[j]);
+        xy[j][1] = 0.0;
+        if (!isfinite(xy[j][0]))
+            return -1;
+        mean += xy[j][0] / (double)v->n;
+    }
+    for (j = 0; j < v->n; j++) {
+        sl[j][0] = mean - s[j][0];
+        sl[j][1] = 0.0;
+    }
+    return slot_least_sq(c, v, (const double(*)[2])xy, (const double(*)[2])sl);
 }
 
 /* The goal's slots by where the robots are. */
@@ -261,28 +312,30 @@ static int arrival_slot(const rover_ctl_state *c, const step_view *v)
 
 /* On the way, a column's slots by where the robots are
  * (docs/method/formation.md §6, "On the way, a column by where the robots
- * are"): the slots where the formation behaviour puts them, round R0
- * along its heading (the way's direction, so also in a hairpin that turns
- * the column away from the goal), given as the goal's are (slot_by_place,
- * with its hold against noise). In the order by id (the middle robot of the line first, then
+ * are"): in the order by id (the middle robot of the line first, then
  * the others from alternate sides) a robot that reached a passage before
  * its predecessor in that order had to fall back behind it, and in a
  * passage one robot wide that is turning back into the mates behind: two
  * robots stood nose to nose in a bend for good, touching (generated
  * corridor world 11, 4 in line). By place, the robot farthest along the
- * column's axis takes its head, and no robot overtakes another to reach
- * its slot. Only a column the passage protocol formed: a team flown as a
- * column starts in its order by id and keeps it nose to tail, and by
+ * way takes the column's head, and no robot overtakes another to reach
+ * its slot: along the world's way to the goal where the robots have one
+ * (slot_by_way), else the slots round R0 along its heading (slot_by_place,
+ * the way's direction, so also in a hairpin that turns the column away
+ * from the goal). Only a column the passage protocol formed: a team flown
+ * as a column starts in its order by id and keeps it nose to tail, and by
  * place it did worse in the dead zone (12 in column: 9/10 reached and 3
- * runs with contacts, against 10/10 and none). After reference_and_passage
- * (R0 is this period's); our slot, or -1 (arriving, not such a column,
- * or a mate's position unknown). */
+ * runs with contacts, against 10/10 and none). After
+ * reference_and_passage (R0 is this period's); our slot, or -1 (arriving,
+ * not such a column, or a mate's position unknown). */
 static int way_slot(const rover_ctl_state *c, const step_view *v)
 {
     const double centre[2] = { v->ref.x_m, v->ref.y_m };
     if (!c->p.column_by_place || v->arriving || c->fsm.type != FORMATION_COLUMN ||
         c->p.formation == FORMATION_COLUMN || v->n < 2)
         return -1;
+    if (c->nav)
+        return slot_by_way(c, v);
     return slot_by_place(c, v, centre, v->ref.theta_rad);
 }
 
@@ -482,19 +535,26 @@ static int formation_slot_hidden(const rover_ctl_state *c, const step_view *v, d
     return !steer_point(c, v->o.x_m, v->o.y_m, slot, through);
 }
 
+/* The slot the behaviours fly to this period: own_slot's (the type may
+ * have changed since perceive), or way_slot's on the way in a column the
+ * passage protocol formed. */
+static int blend_slot(rover_ctl_state *c, step_view *v)
+{
+    const int k = own_slot(c, v), by_place = way_slot(c, v);
+    if (by_place < 0)
+        return k;
+    v->slot = by_place;
+    return by_place;
+}
+
 /* The four behaviours for the own slot of the (possibly new) formation
  * and their blend (eq. 11 or a baseline) into c->blend; the blend's
  * status. */
 static int blend_behaviours(rover_ctl_state *c, step_view *v)
 {
     const behaviour_params *bp = &c->p.beh;
-    int k = own_slot(c, v); /* type may have changed */
+    const int k = blend_slot(c, v);
     double l_d, phi_d, D;
-    {
-        const int by_place = way_slot(c, v);
-        if (by_place >= 0)
-            k = v->slot = by_place;
-    }
     if (k < 0 ||
         formation_slot(&l_d, &phi_d, c->fsm.type, v->n, k, c->p.fsm.spacing_m, c->fsm.scale) != 0) {
         l_d = 0.0;

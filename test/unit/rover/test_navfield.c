@@ -205,6 +205,55 @@ static void test_start_beside_wall(void **state)
     assert_true(out[1] > from_w[1] + 0.5);
 }
 
+/* Where along the way: round the end of a thin wall (x = 10, y 0-8, the
+ * goal just across it at (12, 5)), points on the way up the near side,
+ * over the top and down the far side have ways to the goal that fall in
+ * that order, which the straight distance does not (the first point is
+ * 3 m from the goal, the one over the top 4.2 m); in a free cell the way
+ * is the cell's value plus at most half its diagonal; a point beside the
+ * wall, in a cell nearer it than clear_m, still has a way, no longer than
+ * a point's a body width out plus the straight step to it (the triangle
+ * inequality of navfield_way_from); off the grid and NULL, none. */
+static void test_way_from_round_bend(void **state)
+{
+    static const double along_w[][2] = { { 9.2, 4.0 },  { 9.2, 6.5 },  { 9.5, 8.6 },
+                                         { 10.5, 8.7 }, { 10.8, 7.0 }, { 11.2, 5.5 } };
+    const int n = (int)(sizeof along_w / sizeof along_w[0]);
+    double prev = INFINITY, p[2], q[2];
+    int k;
+    (void)state;
+    world_open();
+    W.goal_m[0] = 12.0;
+    W.goal_m[1] = 5.0;
+    box(10.0, 4.0, 0.1, 4.0);
+    build(&F);
+    for (k = 0; k < n; k++) {
+        double way;
+        p[0] = along_w[k][0] - W.team_origin.x_m;
+        p[1] = along_w[k][1] - W.team_origin.y_m;
+        way = navfield_way_from(&F, p);
+        print_message("(%.1f, %.1f): way %.2f m, straight %.2f m\n", along_w[k][0], along_w[k][1],
+                      way, hypot(along_w[k][0] - 12.0, along_w[k][1] - 5.0));
+        assert_true(isfinite(way) && way < prev);
+        assert_true(fabs(way - navfield_way_m(&F, along_w[k][0], along_w[k][1])) <=
+                    0.71 * F.cell_m + 1e-9);
+        prev = way;
+    }
+    assert_true(hypot(along_w[0][0] - 12.0, along_w[0][1] - 5.0) <
+                hypot(along_w[3][0] - 12.0, along_w[3][1] - 5.0));
+    p[0] = 9.8 - W.team_origin.x_m; /* 0.1 m from the wall's face */
+    p[1] = 5.0 - W.team_origin.y_m;
+    q[0] = 9.4 - W.team_origin.x_m;
+    q[1] = p[1];
+    assert_false(isfinite(navfield_way_m(&F, 9.8, 5.0)));
+    print_message("beside the wall: way %.2f m, a body width out %.2f m\n",
+                  navfield_way_from(&F, p), navfield_way_from(&F, q));
+    assert_true(navfield_way_from(&F, p) <= navfield_way_from(&F, q) + 0.4 + 0.71 * F.cell_m);
+    p[0] = 100.0;
+    assert_false(isfinite(navfield_way_from(&F, p)));
+    assert_false(isfinite(navfield_way_from(NULL, q)));
+}
+
 /* The passage on the way ahead, against the world as built: a gap of
  * 1.2 m in a wall 0.2 m thick across the way is a passage of 1.2 m
  * (within a cell a side) and about as long as the wall is thick, once it
@@ -337,6 +386,7 @@ int main(void)
         cmocka_unit_test(test_pocket_escape),
         cmocka_unit_test(test_frame_commutes),
         cmocka_unit_test(test_start_beside_wall),
+        cmocka_unit_test(test_way_from_round_bend),
         cmocka_unit_test(test_passage_ahead),
         cmocka_unit_test(test_passage_aslant),
         cmocka_unit_test(test_refusals),
