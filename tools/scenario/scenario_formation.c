@@ -165,6 +165,7 @@ static const option_entry formation_table[] = {
       .meta = "N",
       .help = "team size",
       .def = "3" },
+    FLEET_OPTIONS(fm_cfg, teams, per_team, team_goals),
     { .name = "seed",
       .type = OPTION_INT,
       OPTION_AT(fm_cfg, seed),
@@ -270,6 +271,8 @@ static int parse(fm_cfg *cfg, int argc, char **argv)
     cfg->ref_arrive_m = rp.arrive_m;
     cfg->timeout_ms_given = 10000;
     cfg->robots = 3;
+    cfg->teams = 1;
+    cfg->per_team = 3;
     cfg->seed = 1;
     cfg->max_time_s = -1.0; /* not given: from the way (setup) */
     cfg->hang_s = HANG_WATCH_DEFAULT_S;
@@ -282,6 +285,18 @@ static int parse(fm_cfg *cfg, int argc, char **argv)
     if (rc < 0)
         return SCENARIO_ERR_ARG;
     snprintf(cfg->timeout_ms, sizeof cfg->timeout_ms, "%ld", cfg->timeout_ms_given);
+    if (cfg->teams > 1) {
+        const long n = (long)cfg->teams * cfg->per_team;
+        if (n > FM_MAX) {
+            fprintf(stderr,
+                    "formation: --teams %d --robots-per-team %d: %ld robots, more than a run "
+                    "holds (FM_MAX = ROVER_TEAM_MAX = %d)\n",
+                    cfg->teams, cfg->per_team, n, FM_MAX);
+            return SCENARIO_ERR_ARG;
+        }
+        cfg->robots = (int)n;
+        cfg->goal_direct = 1; /* the open world: each goal in plain view */
+    }
     if (!(cfg->max_time_s > 0) && cfg->max_time_s != -1.0) {
         fprintf(stderr, "formation: --max-time: '%g'\n", cfg->max_time_s);
         return SCENARIO_ERR_ARG;
@@ -375,8 +390,8 @@ static int setup_cfg(fm_cfg *cfg)
         if ((i = fm_random_world(cfg)) != 0)
             return i;
     }
-    if (world_opts_layout(&cfg->layout, &cfg->wopt, cfg->robots, 1.0, cfg->formation,
-                          "formation") != 0)
+    if (world_opts_fleet_layout(&cfg->layout, &cfg->fleet, &cfg->wopt, cfg->robots, cfg->teams,
+                                cfg->per_team, cfg->team_goals, cfg->formation, "formation") != 0)
         return 2;
     if (!cfg->layout.goal_fits)
         printf("formation: no place near the goal (%.2f, %.2f) fits the goal formation; flying to "

@@ -28,6 +28,8 @@ int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id, co
         return ROVER_CTL_ERR_ARG;
     memset(c, 0, sizeof *c);
     c->id = id;
+    c->team_lo = 0;
+    c->team_hi = INT32_MAX;
     c->p = *p;
     c->start_c = *start_c;
     c->goal_m[0] = goal_m[0];
@@ -44,6 +46,15 @@ int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id, co
         c->tx_xy_m[0] = o.x_m;
         c->tx_xy_m[1] = o.y_m;
     }
+    return ROVER_CTL_OK;
+}
+
+int rover_ctl_set_team(rover_ctl_state *c, int32_t lo, int32_t hi)
+{
+    if (!c || lo > hi || c->id < lo || c->id > hi)
+        return ROVER_CTL_ERR_ARG;
+    c->team_lo = lo;
+    c->team_hi = hi;
     return ROVER_CTL_OK;
 }
 

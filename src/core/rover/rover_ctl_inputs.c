@@ -87,6 +87,8 @@ int rover_ctl_team_msg(rover_ctl_state *c, const rover_team_msg *msg, double t_s
     int rc;
     if (!msg || !isfinite(t_s) || msg->m.robot == c->id)
         return ROVER_CTL_ERR_ARG;
+    if (msg->m.robot < c->team_lo || msg->m.robot > c->team_hi)
+        return ROVER_CTL_ERR_TEAM;
     m = msg->m;
     m.t_s = t_s;
     rc = team_update(&c->team, &m);
