@@ -40,12 +40,12 @@ enum { ROVER_FLEET_GOALS_AHEAD = 0, ROVER_FLEET_GOALS_CROSS = 1 };
 #define ROVER_FLEET_LANE_GAP_M 3.0
 
 typedef struct {
-    int teams, per_team; /* T, K */
-    int goals;           /* ROVER_FLEET_GOALS_* */
-    double lane_m;       /* lane pitch across the way (y) */
-    double lane_y_m[ROVER_FLEET_MAX_TEAMS];    /* team t's lane centre (world frame) */
-    double goal_m[ROVER_FLEET_MAX_TEAMS][2];   /* team t's goal (world frame) */
-    pose2 origin[ROVER_FLEET_MAX_TEAMS];       /* team t's team frame in the world */
+    int teams, per_team;                     /* T, K */
+    int goals;                               /* ROVER_FLEET_GOALS_* */
+    double lane_m;                           /* lane pitch across the way (y) */
+    double lane_y_m[ROVER_FLEET_MAX_TEAMS];  /* team t's lane centre (world frame) */
+    double goal_m[ROVER_FLEET_MAX_TEAMS][2]; /* team t's goal (world frame) */
+    pose2 origin[ROVER_FLEET_MAX_TEAMS];     /* team t's team frame in the world */
 } rover_fleet;
 
 /* The fleet's world: w as rover_world_layout's for the open world, with

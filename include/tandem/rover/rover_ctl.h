@@ -112,6 +112,15 @@ int rover_esc_table_validate(const rover_esc_row *t, int n);
 /* Waiting for outranking mates (rover_ctl_state.holding). */
 enum { ROVER_WAIT_NONE = 0, ROVER_WAIT_STAND = 1, ROVER_WAIT_BACK = 2 };
 
+/* Robots of other teams (fleet.h) the camera saw lately, kept to give way
+ * to those of outranking teams (rover_ctl_teams.c). */
+#define ROVER_STRANGERS 16
+typedef struct {
+    int32_t id;     /* 0: free */
+    double xy_m[2]; /* where its beacon was seen (own team frame) */
+    double t_s;     /* when */
+} rover_stranger;
+
 /* Breadcrumbs of the axle's path for backing out of a wedge (there is no
  * rear sonar: the way the robot came is the only way known free of walls;
  * rover_ctl_escape.c). 8 x 0.1 m: twice back_max_m's default. */
@@ -153,6 +162,11 @@ typedef struct {
     double queue_slow_mps;   /* ... slower than this, or than us by queue_closing_mps: a conflict */
     double queue_closing_mps;
     double hold_max_s; /* wait at most this long for outranking mates in formation */
+    /* other teams (fleet.h): a robot of a team with lower ids, seen by the
+     * camera within stranger_seen_s, nearer than stranger_give_m and within
+     * stranger_cone_rad of the heading: stand, at most stranger_hold_max_s
+     * at a time */
+    double stranger_give_m, stranger_cone_rad, stranger_seen_s, stranger_hold_max_s;
     double back_max_m; /* clearing an outranking mate's way: back out at most this far ... */
     double back_v_mps; /* ... this fast */
     double
@@ -256,6 +270,9 @@ typedef struct {
     double tx_xy_m[2];     /* own position in the last team message (the goal's slot
                                    assignment ranks us by it, as every mate does) */
     int formation_changes; /* adopted changes of type (own view) */
+    rover_stranger stranger[ROVER_STRANGERS]; /* other teams' robots seen (rover_ctl_teams.c) */
+    double stranger_hold_s;                   /* stood this long for them since last free to go */
+    int giving_way_team;                      /* 1: standing for another team's robot this period */
     behaviour_blender blend;
     const navfield
         *nav; /* the world's navigation function, or NULL: the goal straight (the seed) */

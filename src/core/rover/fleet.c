@@ -64,8 +64,7 @@ int rover_fleet_layout(rover_world_config *w, rover_fleet *f, int teams, int per
             c->y_m += f->lane_y_m[t];
         }
     for (t = 0; t < teams; t++) {
-        const int partner =
-            goals == ROVER_FLEET_GOALS_CROSS && (t ^ 1) < teams ? (t ^ 1) : t;
+        const int partner = goals == ROVER_FLEET_GOALS_CROSS && (t ^ 1) < teams ? (t ^ 1) : t;
         f->goal_m[t][0] = w->goal_m[0];
         f->goal_m[t][1] = f->lane_y_m[partner];
     }

@@ -595,7 +595,8 @@ static void arrival_turn_other_way(rover_ctl_state *c, double w_turn, unicycle_c
 /* The drive command from the blend and the mode reported: capped while
  * the formation reshapes, zero at the goal, turned on the spot arriving
  * with the slot behind, guarded, never backwards, saturated. */
-static void command_out(rover_ctl_state *c, const step_view *v, rover_ctl_out *out)
+static void command_out(rover_ctl_state *c, const step_view *v, double t_s, double dt_s,
+                        rover_ctl_out *out)
 {
     const behaviour_params *bp = &c->p.beh;
     unicycle_cmd u = c->blend.u;
@@ -636,6 +637,12 @@ static void command_out(rover_ctl_state *c, const step_view *v, rover_ctl_out *o
      * and swung its tail into it (dead zone, 3 in line, seed 1). Only the
      * wait set: standing for a lower mate too wedged teams of 6 in the U */
     if (c->holding == ROVER_WAIT_NONE && !v->escaping && rover_ctl_cmd_sweeps_mate(c, &v->o, &u, 1))
+        u.v_mps = u.w_radps = 0.0;
+    /* other teams (fleet.h): stand for an outranking team's robot near
+     * ahead (rover_ctl_teams.c); never with one team */
+    c->giving_way_team = !v->escaping && out->mode != ROVER_MODE_AT_GOAL &&
+                         rover_ctl_stranger_wait(c, &v->o, t_s, dt_s);
+    if (c->giving_way_team)
         u.v_mps = u.w_radps = 0.0;
     /* no rear sonar: never back up blindly (backing out of a mate's way
      * goes the way the robot came, clear of mates) */
@@ -700,7 +707,7 @@ int rover_ctl_step(rover_ctl_state *c, double t_s, double dt_s, rover_ctl_out *o
         stop_out(out, ROVER_MODE_SAFE_STOP);
         return ROVER_CTL_ERR_ARG;
     }
-    command_out(c, &v, out);
+    command_out(c, &v, t_s, dt_s, out);
     team_message_out(c, &v, t_s, out);
     return ROVER_CTL_OK;
 }

@@ -98,8 +98,9 @@ static void test_capacities_refused(void **state)
     rover_fleet f;
     (void)state;
     assert_int_equal(rover_fleet_layout(&W, &f, 0, 3, 1.0, FORMATION_LINE, 0), ROVER_FLEET_ERR_ARG);
-    assert_int_equal(rover_fleet_layout(&W, &f, ROVER_FLEET_MAX_TEAMS + 1, 3, 1.0, FORMATION_LINE, 0),
-                     ROVER_FLEET_ERR_ARG);
+    assert_int_equal(
+        rover_fleet_layout(&W, &f, ROVER_FLEET_MAX_TEAMS + 1, 3, 1.0, FORMATION_LINE, 0),
+        ROVER_FLEET_ERR_ARG);
     assert_int_equal(rover_fleet_layout(&W, &f, 2, ROVER_TEAM_MAX + 1, 1.0, FORMATION_LINE, 0),
                      ROVER_FLEET_ERR_ARG);
     assert_int_equal(rover_fleet_layout(&W, &f, 2, 3, 1.0, FORMATION_LINE, 2), ROVER_FLEET_ERR_ARG);

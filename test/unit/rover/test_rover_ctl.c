@@ -1037,6 +1037,57 @@ static void test_other_team_not_heard(void **state)
     assert_int_equal(rover_ctl_team_msg(&c, &msg, 0.0), 1);
 }
 
+/* Other teams' robots (rover_ctl_teams.c): robot 4 of the team 4..6
+ * stands for robot 2 (an outranking team) seen 1.5 m ahead, not for
+ * robot 8 (a team it outranks) nor for robot 2 behind it, and stands at
+ * most stranger_hold_max_s. */
+static void test_give_way_to_outranking_team(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    pose2 s = { 0, 0, 0 };
+    double g[2] = { 10, 0 }, rng[8] = { 5, 5, 5, 5, 5, 5, 5, 5 }, t = 0.0;
+    int k;
+    (void)state;
+    rover_ctl_params_default(&p);
+    assert_int_equal(rover_ctl_init(&c, &p, 4, &s, g), 0);
+    assert_int_equal(rover_ctl_set_team(&c, 4, 6), ROVER_CTL_OK);
+    rover_ctl_encoders(&c, 0, 0, t);
+    rover_ctl_sonar(&c, rng, t);
+    assert_int_equal(rover_ctl_beacon(&c, 8, 1.5, 0.0), 0); /* seen, not a mate */
+    t += DT;
+    assert_int_equal(rover_ctl_step(&c, t, DT, &out), 0);
+    assert_true(out.u.v_mps > 0.0);
+    assert_int_equal(c.team.n, 0);
+    assert_int_equal(rover_ctl_beacon(&c, 2, 1.5, 0.0), 0);
+    for (k = 0; k < 3; k++) {
+        t += DT;
+        rover_ctl_encoders(&c, 0, 0, t);
+        rover_ctl_sonar(&c, rng, t);
+        assert_int_equal(rover_ctl_beacon(&c, 2, 1.5, 0.0), 0);
+        assert_int_equal(rover_ctl_step(&c, t, DT, &out), 0);
+        assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
+    }
+    /* behind: not in the way */
+    t += DT;
+    rover_ctl_encoders(&c, 0, 0, t);
+    rover_ctl_sonar(&c, rng, t);
+    memset(c.stranger, 0, sizeof c.stranger);
+    assert_int_equal(rover_ctl_beacon(&c, 2, 1.5, VEC2_PI), 0);
+    assert_int_equal(rover_ctl_step(&c, t, DT, &out), 0);
+    assert_true(out.u.v_mps > 0.0);
+    /* ahead for longer than stranger_hold_max_s: the robot goes on */
+    for (k = 0; k * DT <= p.stranger_hold_max_s + 1.0; k++) {
+        t += DT;
+        rover_ctl_encoders(&c, 0, 0, t);
+        rover_ctl_sonar(&c, rng, t);
+        assert_int_equal(rover_ctl_beacon(&c, 2, 1.5, 0.0), 0);
+        assert_int_equal(rover_ctl_step(&c, t, DT, &out), 0);
+    }
+    assert_true(out.u.v_mps > 0.0);
+}
+
 /* Boundary following never ends on a timer: a robot that has followed a
  * wall (driving along it; standing does not count) for escape_max_s
  * without getting nearer the goal goes round the other way (it used to rejoin and drive straight back toward the goal,
@@ -2293,6 +2344,7 @@ int main(void)
         cmocka_unit_test(test_world_layout_and_clearance),
         cmocka_unit_test(test_stale_sensors_stop),
         cmocka_unit_test(test_other_team_not_heard),
+        cmocka_unit_test(test_give_way_to_outranking_team),
         cmocka_unit_test(test_follow_keeps_wall_side),
         cmocka_unit_test(test_open_reaches_goal),
         cmocka_unit_test(test_silent_mate_dropped),
