@@ -272,6 +272,7 @@ static int setup(sim_app *app, int argc, char **argv, int *status)
     app->cfg.rover_formation = FORMATION_LINE;
     app->cfg.rover_teams = 1;
     app->cfg.rover_per_team = 3;
+    app->cfg.rover_team_goals = ROVER_FLEET_GOALS_CROSS;
     app->arm_model = -1;
     rc = parse_args(app, argc, argv);
     if (rc < 0) {

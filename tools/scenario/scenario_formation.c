@@ -273,6 +273,7 @@ static int parse(fm_cfg *cfg, int argc, char **argv)
     cfg->robots = 3;
     cfg->teams = 1;
     cfg->per_team = 3;
+    cfg->team_goals = ROVER_FLEET_GOALS_CROSS;
     cfg->seed = 1;
     cfg->max_time_s = -1.0; /* not given: from the way (setup) */
     cfg->hang_s = HANG_WATCH_DEFAULT_S;

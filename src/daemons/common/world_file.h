@@ -64,7 +64,7 @@ typedef struct world_opts {
 /* --teams T --robots-per-team K --team-goals ahead|cross (fleet.h), the
  * same on tandem-sim, tandem-rover and tandem-scenario formation: the
  * owner's int members teams_m, per_team_m and goals_m
- * (ROVER_FLEET_GOALS_*), 1, 3 and ahead unless the owner sets others. */
+ * (ROVER_FLEET_GOALS_*), 1, 3 and cross unless the owner sets others. */
 #define FLEET_OPTIONS(owner, teams_m, per_team_m, goals_m)                                      \
     { .name = "teams",                                                                          \
       .type = OPTION_INT,                                                                       \

@@ -411,7 +411,7 @@ int main(int argc, char **argv)
     rd->robots = ROVER_ROBOTS_DEFAULT;
     rd->teams = 1;
     rd->per_team = ROVER_ROBOTS_DEFAULT;
-    rd->team_goals = ROVER_FLEET_GOALS_AHEAD;
+    rd->team_goals = ROVER_FLEET_GOALS_CROSS;
     rd->world = ROVER_WORLD_OPEN;
     rd->localize = 1;
     rd->goal_path = ROVER_GOAL_PATH_MAP;
