@@ -376,6 +376,19 @@ static void open_outputs(const fm_cfg *cfg, fm_metrics *mt)
     }
 }
 
+/* Many teams (fleet.h) on the open world: the longest of the teams' ways,
+ * each straight from its start (its frame's origin) to its goal (nothing
+ * stands between them but the other teams). */
+static double fleet_way_m(const fm_cfg *cfg)
+{
+    double way = 0.0;
+    int t;
+    for (t = 0; t < cfg->teams; t++)
+        way = fmax(way, hypot(cfg->fleet.goal_m[t][0] - cfg->fleet.origin[t].x_m,
+                              cfg->fleet.goal_m[t][1] - cfg->fleet.origin[t].y_m));
+    return way;
+}
+
 /* The world, the way, the time limit, the output directory, where the
  * children are and the bus's URL. An exit status (>= 0) on failure,
  * SCENARIO_GO_ON otherwise. */
@@ -404,7 +417,7 @@ static int setup_cfg(fm_cfg *cfg)
                "(docs/method/formation.md §15)\n",
                cfg->layout.goal_nominal_m[0], cfg->layout.goal_nominal_m[1], cfg->layout.goal_m[0],
                cfg->layout.goal_m[1]);
-    cfg->way_m = fm_way_length_m(&cfg->layout);
+    cfg->way_m = cfg->teams > 1 ? fleet_way_m(cfg) : fm_way_length_m(&cfg->layout);
     cfg->passage_m = fm_passage_width_m(&cfg->layout);
     cfg->cut_m = fm_cut_width_m(&cfg->layout, fm_formation_width_m(cfg));
     if (cfg->max_time_s == -1.0)

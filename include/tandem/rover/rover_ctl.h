@@ -272,7 +272,8 @@ typedef struct {
     int formation_changes; /* adopted changes of type (own view) */
     rover_stranger stranger[ROVER_STRANGERS]; /* other teams' robots seen (rover_ctl_teams.c) */
     double stranger_hold_s;                   /* stood this long for them since last free to go */
-    int giving_way_team;                      /* 1: standing for another team's robot this period */
+    double stranger_free_s; /* nobody to stand for this long (STRANGER_FREE_S: free to go) */
+    int giving_way_team;    /* 1: standing for another team's robot this period */
     behaviour_blender blend;
     const navfield
         *nav; /* the world's navigation function, or NULL: the goal straight (the seed) */

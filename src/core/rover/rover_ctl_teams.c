@@ -8,8 +8,9 @@
  * and ahead of it; the outranking robot goes round it as round any
  * obstacle. A robot never waits for a team it outranks, so the waits
  * between teams form no cycle: the first team waits for none; and each
- * wait is bounded (stranger_hold_max_s), after which the robot flies on
- * its sonar alone until it is free again.
+ * wait is bounded (stranger_hold_max_s, counted until the robot has had
+ * nobody to stand for during STRANGER_FREE_S), after which it flies on its
+ * sonar alone until it is free again.
  */
 #include "rover_ctl_internal.h"
 
@@ -54,12 +55,20 @@ static int stranger_ahead(const rover_ctl_state *c, const pose2 *o, double t_s)
     return 0;
 }
 
+/* Free to go again only after STRANGER_FREE_S with nobody to stand for:
+ * a robot abreast is seen in every other camera frame, and a wait counted
+ * afresh after each gap between sightings would never run out. */
+#define STRANGER_FREE_S 1.0
+
 int rover_ctl_stranger_wait(rover_ctl_state *c, const pose2 *o, double t_s, double dt_s)
 {
     if (!stranger_ahead(c, o, t_s)) {
-        c->stranger_hold_s = 0.0;
+        c->stranger_free_s += dt_s;
+        if (c->stranger_free_s >= STRANGER_FREE_S)
+            c->stranger_hold_s = 0.0;
         return 0;
     }
+    c->stranger_free_s = 0.0;
     c->stranger_hold_s += dt_s;
     return c->stranger_hold_s <= c->p.stranger_hold_max_s;
 }
