@@ -70,23 +70,26 @@ static void body_centre(const tandem_rover_truth_t *m, int i, double *x, double 
     *y = m->y_m[i] + d * sin(m->theta_rad[i]);
 }
 
-/* Another live robot whose body is within reach of robot i's (their box
- * centres closer than the box diagonal plus 2 cm: two boxes farther apart
- * cannot touch whatever their headings): its index, or -1 none. */
+/* The nearest other live robot whose body is within reach of robot i's
+ * (their box centres closer than the box diagonal plus 2 cm: two boxes
+ * farther apart cannot touch whatever their headings): its index, or -1
+ * none. */
 static int robot_within_reach(const tandem_rover_truth_t *m, int i)
 {
-    const double reach_m = hypot(ROVER_BODY_LENGTH_M, ROVER_BODY_WIDTH_M) + 0.02;
+    double near_m = hypot(ROVER_BODY_LENGTH_M, ROVER_BODY_WIDTH_M) + 0.02;
     double xi, yi, xj, yj;
-    int j;
+    int j, nearest = -1;
     body_centre(m, i, &xi, &yi);
     for (j = 0; j < m->n; j++) {
         if (j == i || !m->alive[j])
             continue;
         body_centre(m, j, &xj, &yj);
-        if (hypot(xj - xi, yj - yi) < reach_m)
-            return j;
+        if (hypot(xj - xi, yj - yi) < near_m) {
+            near_m = hypot(xj - xi, yj - yi);
+            nearest = j;
+        }
     }
-    return -1;
+    return nearest;
 }
 
 /* The new contact events of each robot since the last sample, counted on
