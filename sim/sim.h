@@ -122,6 +122,9 @@ typedef struct sim_config {
     const char *rover_start, *rover_goal; /* --start, --goal with it (NULL: the file's) */
     int rover_formation;                  /* FORMATION_* the team starts in (0 = line) */
     int rover_batch;                      /* 1: ROVERS_* batched sensor messages */
+    int rover_teams;                      /* --teams: teams in the world (fleet.h), 1 */
+    int rover_per_team;                   /* --robots-per-team with rover_teams > 1 */
+    int rover_team_goals;                 /* --team-goals: ROVER_FLEET_GOALS_* */
     const struct arm_model *arm1_model;   /* arm 1's tables; NULL = PUMA 560 */
     int arm1_q0_set;                      /* 1: arm 1 starts at arm1_q0_rad, not at home */
     double arm1_q0_rad[6];

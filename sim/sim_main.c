@@ -140,6 +140,7 @@ static const option_entry sim_options[] = {
       .meta = "F",
       .help = "rover team's start formation",
       .def = "line" },
+    FLEET_OPTIONS(sim_app, cfg.rover_teams, cfg.rover_per_team, cfg.rover_team_goals),
     { .name = "rover-batch",
       .type = OPTION_FLAG,
       OPTION_AT(sim_app, cfg.rover_batch),
@@ -181,6 +182,16 @@ static int parse_args(sim_app *app, int argc, char **argv)
     snprintf(app->cfg.rover_world, sizeof app->cfg.rover_world, "%s",
              options_world_names[app->world]);
     app->cfg.rover_world_file = app->wopt.file;
+    if (app->cfg.rover_teams > 1) {
+        if ((long)app->cfg.rover_teams * app->cfg.rover_per_team > ROVER_WORLD_MAX_ROBOTS) {
+            fprintf(stderr,
+                    "tandem-sim: --teams %d --robots-per-team %d: more than %d robots "
+                    "(ROVER_WORLD_MAX_ROBOTS)\n",
+                    app->cfg.rover_teams, app->cfg.rover_per_team, ROVER_WORLD_MAX_ROBOTS);
+            return OPTIONS_ERR_ARG;
+        }
+        app->cfg.rovers = app->cfg.rover_teams * app->cfg.rover_per_team;
+    }
     app->cfg.rover_start = app->wopt.start;
     app->cfg.rover_goal = app->wopt.goal;
     if (app->arm_model >= 0)
@@ -233,12 +244,14 @@ static int check_tables(const sim_app *app)
 static int world_refused(sim_app *app)
 {
     rover_world_config *w = malloc(sizeof *w);
+    rover_fleet f;
     int rc;
     app->wopt.world = rover_world_id(app->cfg.rover_world);
     if (!w)
         return 1;
-    rc = world_opts_layout(w, &app->wopt, app->cfg.rovers, 1.0, app->cfg.rover_formation,
-                           "tandem-sim");
+    rc = world_opts_fleet_layout(w, &f, &app->wopt, app->cfg.rovers, app->cfg.rover_teams,
+                                 app->cfg.rover_per_team, app->cfg.rover_team_goals,
+                                 app->cfg.rover_formation, "tandem-sim");
     free(w);
     return rc != 0;
 }
@@ -257,6 +270,9 @@ static int setup(sim_app *app, int argc, char **argv, int *status)
     app->cfg.arms = 1;
     snprintf(app->cfg.rover_world, sizeof app->cfg.rover_world, "open");
     app->cfg.rover_formation = FORMATION_LINE;
+    app->cfg.rover_teams = 1;
+    app->cfg.rover_per_team = 3;
+    app->cfg.rover_team_goals = ROVER_FLEET_GOALS_CROSS;
     app->arm_model = -1;
     rc = parse_args(app, argc, argv);
     if (rc < 0) {

@@ -143,7 +143,9 @@ static int team_layout(sim_rovers *team, const sim_config *cfg)
                 cfg->rovers, ROVER_TEAM_MAX);
         return SIM_ERR_CREATE;
     }
-    if (world_opts_layout(&team->layout, &wo, cfg->rovers, 1.0, team->formation, "tandem-sim") != 0)
+    if (world_opts_fleet_layout(&team->layout, &team->fleet, &wo, cfg->rovers, cfg->rover_teams,
+                                cfg->rover_per_team, cfg->rover_team_goals, team->formation,
+                                "tandem-sim") != 0)
         return SIM_ERR_CREATE;
     team->n = cfg->rovers;
     team->batch = cfg->rover_batch;

@@ -15,6 +15,7 @@
 #include <stdint.h>
 #include "sim.h"
 #include "prng.h"
+#include "fleet.h"
 #include "rover_world.h"
 #include "sonar.h"
 #include "vec2.h"
@@ -76,6 +77,7 @@ typedef struct sim_rovers {
     int n;
     sim_rover *r; /* [n] */
     rover_world_config layout;
+    rover_fleet fleet; /* the teams (fleet.h) when the run holds more than one */
     sonar_world sw;
     sonar_model sm;
     dWorldID world; /* the rovers' own ODE world (sim_rovers.c) */

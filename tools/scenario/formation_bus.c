@@ -142,7 +142,10 @@ static int take_state(fm_bus *bus, const tandem_rover_state_t *m)
     memcpy(bus->weight[i], m->weight, sizeof bus->weight[i]);
     {
         const pose2 team = { m->x_m, m->y_m, m->theta_rad };
-        rover_world_from_team(&bus->cfg->layout, &team, &bus->est[i]);
+        const fm_cfg *cfg = bus->cfg;
+        const pose2 frame = rover_fleet_frame_of(&cfg->layout, cfg->teams > 1 ? &cfg->fleet : NULL,
+                                                 m->robot);
+        rover_frame_from(&frame, &team, &bus->est[i]);
     }
     bus->have_state[i] = 1;
     return entered;

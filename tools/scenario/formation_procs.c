@@ -113,10 +113,27 @@ static int journaled(const fm_cfg *cfg, int k)
 
 #define ROVER_ARGV_MAX 40 /* tandem-rover's argv, its NULL included */
 
+/* --teams T --robots-per-team K --team-goals G for the simulator and the
+ * rovers of a run of many teams (nothing with one): appended at argv[*n];
+ * t_s and k_s hold the numbers' text. */
+static void fleet_argv(const fm_cfg *cfg, char **argv, int *n, char t_s[16], char k_s[16])
+{
+    if (cfg->teams <= 1)
+        return;
+    snprintf(t_s, 16, "%d", cfg->teams);
+    snprintf(k_s, 16, "%d", cfg->per_team);
+    argv[(*n)++] = "--teams";
+    argv[(*n)++] = t_s;
+    argv[(*n)++] = "--robots-per-team";
+    argv[(*n)++] = k_s;
+    argv[(*n)++] = "--team-goals";
+    argv[(*n)++] = (char *)rover_fleet_goals_name(cfg->team_goals);
+}
+
 /* The tandem-rover process of robot k (all robots with --procs single). */
 static pid_t spawn_rover(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, int k)
 {
-    char n_s[16], w_s[32], id_s[32], arrive_s[32], journal[700];
+    char n_s[16], w_s[32], id_s[32], arrive_s[32], journal[700], t_s[16], k_s[16];
     char *fo = (char *)fm_formation_name(cfg->formation), *bl = (char *)fm_blend_name(cfg->blend);
     char *rv[ROVER_ARGV_MAX] = { "tandem-rover",
                                  "--id",
@@ -146,6 +163,7 @@ static pid_t spawn_rover(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, int
     snprintf(w_s, sizeof w_s, "%s", fm_world_arg(cfg));
     if (cfg->batch)
         rv[n++] = "--batch";
+    fleet_argv(cfg, rv, &n, t_s, k_s);
     world_opts_argv(&cfg->child_world, rv, &n, ROVER_ARGV_MAX);
     if (journaled(cfg, k)) {
         snprintf(journal, sizeof journal, "%s/rover_%d.journal", cfg->out, k);
@@ -162,7 +180,7 @@ static pid_t spawn_rover(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, int
 
 int fm_start_children(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus)
 {
-    char n_s[16], w_s[32], seed_s[24], expect_s[16];
+    char n_s[16], w_s[32], seed_s[24], expect_s[16], t_s[16], k_s[16];
     int k, procs = cfg->single ? 1 : cfg->robots;
     snprintf(n_s, sizeof n_s, "%d", cfg->robots);
     snprintf(w_s, sizeof w_s, "%s", fm_world_arg(cfg));
@@ -171,7 +189,7 @@ int fm_start_children(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus)
     /* the role files name this team: rovers 1..N and the host of all N */
     auth_bus_roster(bus->auth, cfg->robots);
     {
-        char *sim[32] = { "tandem-sim",
+        char *sim[40] = { "tandem-sim",
                           "--lockstep",
                           "--no-arms",
                           "--rovers",
@@ -189,8 +207,9 @@ int fm_start_children(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus)
         int n = 15;
         if (cfg->batch)
             sim[n++] = "--rover-batch";
-        world_opts_argv(&cfg->child_world, sim, &n, 32);
-        scenario_argv_drop(&cfg->drop, sim, &n, 32);
+        fleet_argv(cfg, sim, &n, t_s, k_s);
+        world_opts_argv(&cfg->child_world, sim, &n, 40);
+        scenario_argv_drop(&cfg->drop, sim, &n, 40);
         if (spawn(pr, cfg, bus, sim) <= 0)
             return FM_ERR_START;
     }

@@ -62,6 +62,46 @@ int fm_criteria(const fm_cfg *cfg, const fm_procs *pr, const fm_metrics *mt, con
     return scenario_failed_criteria(k, (int)(sizeof k / sizeof k[0]), buf, cap);
 }
 
+/* Many teams (fleet.h): the fleet's keys and each team's own criteria,
+ * the array "teams" (robots first_robot..last_robot). */
+static void fleet_summary(json_out *j, const fm_cfg *cfg, const fm_metrics *mt)
+{
+    int t, reached = 0;
+    for (t = 0; t < cfg->teams; t++)
+        reached += mt->team[t].reached;
+    json_int(j, "teams", cfg->teams);
+    json_int(j, "robots_per_team", cfg->per_team);
+    json_str(j, "team_goals", rover_fleet_goals_name(cfg->team_goals));
+    json_num(j, "lane_m", cfg->fleet.lane_m);
+    json_int(j, "teams_reached_goal", reached);
+    json_int(j, "collisions_between_teams", mt->collisions_teams);
+    json_array_begin(j, "team");
+    for (t = 0; t < cfg->teams; t++) {
+        const fm_team_metrics *tm = &mt->team[t];
+        int32_t lo, hi;
+        rover_fleet_members(&cfg->fleet, t, &lo, &hi);
+        json_object_begin(j);
+        json_int(j, "team", t + 1);
+        json_int(j, "first_robot", lo);
+        json_int(j, "last_robot", hi);
+        json_num(j, "goal_x_m", cfg->fleet.goal_m[t][0]);
+        json_num(j, "goal_y_m", cfg->fleet.goal_m[t][1]);
+        json_bool(j, "reached_goal", tm->reached);
+        json_num(j, "time_to_goal_s", tm->reached ? tm->time_to_goal : NAN);
+        json_num(j, "rms_formation_err_m", tm->samples ? sqrt(tm->sum_sq_err / tm->samples) : NAN);
+        json_num(j, "max_formation_err_m", tm->max_err);
+        json_num(j, "time_out_of_formation_frac",
+                 tm->samples ? (double)tm->out_samples / tm->samples : NAN);
+        json_num(j, "min_clearance_m", tm->min_clear);
+        json_int(j, "collisions", tm->collisions);
+        json_int(j, "collisions_mates", tm->collisions_mates);
+        json_int(j, "collisions_other_teams", tm->collisions_others);
+        json_int(j, "formation_changes", tm->formation_changes);
+        json_object_end(j);
+    }
+    json_array_end(j);
+}
+
 void fm_write_summary(const fm_cfg *cfg, const fm_procs *pr, const fm_metrics *mt,
                       const fm_outcome *oc, double sim_s, double wall_s)
 {
@@ -132,6 +172,8 @@ void fm_write_summary(const fm_cfg *cfg, const fm_procs *pr, const fm_metrics *m
              : mt->reached        ? "completed"
                                   : "goal_not_reached");
     json_str(&j, "failed_criteria", oc->failed);
+    if (cfg->teams > 1)
+        fleet_summary(&j, cfg, mt);
     json_close(&j);
 }
 

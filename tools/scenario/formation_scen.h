@@ -53,6 +53,10 @@ enum { FM_HUNG_NONE = 0, FM_HUNG_KILLED = 1, FM_HUNG_RESTARTING = 2 };
  * the children start; read by every file after. */
 typedef struct fm_cfg {
     int formation, world, blend, robots, single, batch;
+    /* --teams T --robots-per-team K --team-goals (fleet.h): robots is T K
+     * and fleet the teams' lanes and goals when T > 1 */
+    int teams, per_team, team_goals;
+    rover_fleet fleet;
     int law_kanayama, ref_goal, localize_off; /* --formation-law, --ref-heading, --localize */
     int goal_direct;                          /* --goal-path direct (1) or map (0) */
     double ref_arrive_m;                      /* --ref-arrive */
@@ -139,8 +143,28 @@ typedef struct fm_bus {
     int64_t last_truth_step;
 } fm_bus;
 
+/* One team's own criteria in a run of many (fleet.h): its formation
+ * error about its own centroid and goal, its contacts, its arrival. */
+typedef struct fm_team_metrics {
+    int type_now; /* formation reported by its lowest live id */
+    double scale_now;
+    int last_type; /* ... at the last cycle, -1 none */
+    int samples, out_samples;
+    double sum_sq_err, max_err, min_clear;
+    int collisions;        /* contact onsets of its robots */
+    int collisions_mates;  /* ... with a robot of its own team within reach */
+    int collisions_others; /* ... with a robot of another team within reach */
+    int formation_changes;
+    int reached;
+    double time_to_goal;
+} fm_team_metrics;
+
 /* The metrics from ground truth and the robots' states, and their time
- * series. Written by formation_metrics.c alone. */
+ * series. Written by formation_metrics.c alone. With many teams the
+ * run's keys cover the fleet: each robot's formation error is from its
+ * own team's slot, the goal is reached when every team has reached its
+ * own, the formation changes are the teams' summed; team[] holds each
+ * team's own. */
 typedef struct fm_metrics {
     int type_now; /* formation reported by the lowest alive id */
     double scale_now;
@@ -159,6 +183,8 @@ typedef struct fm_metrics {
     int coll_prev[FM_MAX], collisions_mates, collisions_walls;
     int reached;
     double time_to_goal;
+    int collisions_teams; /* contact onsets with a robot of another team within reach */
+    fm_team_metrics team[ROVER_FLEET_MAX_TEAMS];
     FILE *truth_csv, *err_csv, *w_csv, *snap_csv;
     double last_snap_t;
 } fm_metrics;

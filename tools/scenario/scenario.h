@@ -21,10 +21,12 @@ typedef struct scenario_def {
     int (*run)(int argc, char **argv); /* argv[0] = scenario name; exit code */
 } scenario_def;
 
-/* summary.json writer: keys in insertion order, flat object. */
+/* summary.json writer: keys in insertion order, a flat object, which may
+ * hold one level of arrays of flat objects (json_array_begin). */
 typedef struct json_out {
     FILE *f;
     int n;
+    int outer_n, items; /* inside an array: the object's keys before it, its elements */
 } json_out;
 
 /* Opens DIR/FILE and the object: 0, or SCENARIO_ERR_IO (said). */
@@ -35,6 +37,12 @@ void json_str(json_out *j, const char *key, const char *v);
 /* A point as a string, printed with fmt (three doubles, e.g. "%.3f %.3f %.3f"). */
 void json_point(json_out *j, const char *key, const double p[3], const char *fmt);
 void json_bool(json_out *j, const char *key, int v);
+/* "key": [ {..}, {..} ]: json_array_begin, then for each element
+ * json_object_begin, its values, json_object_end; then json_array_end. */
+void json_array_begin(json_out *j, const char *key);
+void json_object_begin(json_out *j);
+void json_object_end(json_out *j);
+void json_array_end(json_out *j);
 void json_close(json_out *j);
 
 /* One success criterion of a run: its summary key and whether it failed. */

@@ -165,6 +165,7 @@ static const option_entry formation_table[] = {
       .meta = "N",
       .help = "team size",
       .def = "3" },
+    FLEET_OPTIONS(fm_cfg, teams, per_team, team_goals),
     { .name = "seed",
       .type = OPTION_INT,
       OPTION_AT(fm_cfg, seed),
@@ -270,6 +271,9 @@ static int parse(fm_cfg *cfg, int argc, char **argv)
     cfg->ref_arrive_m = rp.arrive_m;
     cfg->timeout_ms_given = 10000;
     cfg->robots = 3;
+    cfg->teams = 1;
+    cfg->per_team = 3;
+    cfg->team_goals = ROVER_FLEET_GOALS_CROSS;
     cfg->seed = 1;
     cfg->max_time_s = -1.0; /* not given: from the way (setup) */
     cfg->hang_s = HANG_WATCH_DEFAULT_S;
@@ -282,6 +286,18 @@ static int parse(fm_cfg *cfg, int argc, char **argv)
     if (rc < 0)
         return SCENARIO_ERR_ARG;
     snprintf(cfg->timeout_ms, sizeof cfg->timeout_ms, "%ld", cfg->timeout_ms_given);
+    if (cfg->teams > 1) {
+        const long n = (long)cfg->teams * cfg->per_team;
+        if (n > FM_MAX) {
+            fprintf(stderr,
+                    "formation: --teams %d --robots-per-team %d: %ld robots, more than a run "
+                    "holds (FM_MAX = ROVER_TEAM_MAX = %d)\n",
+                    cfg->teams, cfg->per_team, n, FM_MAX);
+            return SCENARIO_ERR_ARG;
+        }
+        cfg->robots = (int)n;
+        cfg->goal_direct = 1; /* the open world: each goal in plain view */
+    }
     if (!(cfg->max_time_s > 0) && cfg->max_time_s != -1.0) {
         fprintf(stderr, "formation: --max-time: '%g'\n", cfg->max_time_s);
         return SCENARIO_ERR_ARG;
@@ -360,6 +376,19 @@ static void open_outputs(const fm_cfg *cfg, fm_metrics *mt)
     }
 }
 
+/* Many teams (fleet.h) on the open world: the longest of the teams' ways,
+ * each straight from its start (its frame's origin) to its goal (nothing
+ * stands between them but the other teams). */
+static double fleet_way_m(const fm_cfg *cfg)
+{
+    double way = 0.0;
+    int t;
+    for (t = 0; t < cfg->teams; t++)
+        way = fmax(way, hypot(cfg->fleet.goal_m[t][0] - cfg->fleet.origin[t].x_m,
+                              cfg->fleet.goal_m[t][1] - cfg->fleet.origin[t].y_m));
+    return way;
+}
+
 /* The world, the way, the time limit, the output directory, where the
  * children are and the bus's URL. An exit status (>= 0) on failure,
  * SCENARIO_GO_ON otherwise. */
@@ -375,8 +404,8 @@ static int setup_cfg(fm_cfg *cfg)
         if ((i = fm_random_world(cfg)) != 0)
             return i;
     }
-    if (world_opts_layout(&cfg->layout, &cfg->wopt, cfg->robots, 1.0, cfg->formation,
-                          "formation") != 0)
+    if (world_opts_fleet_layout(&cfg->layout, &cfg->fleet, &cfg->wopt, cfg->robots, cfg->teams,
+                                cfg->per_team, cfg->team_goals, cfg->formation, "formation") != 0)
         return 2;
     if (!cfg->layout.goal_fits)
         printf("formation: no place near the goal (%.2f, %.2f) fits the goal formation; flying to "
@@ -388,7 +417,7 @@ static int setup_cfg(fm_cfg *cfg)
                "(docs/method/formation.md §15)\n",
                cfg->layout.goal_nominal_m[0], cfg->layout.goal_nominal_m[1], cfg->layout.goal_m[0],
                cfg->layout.goal_m[1]);
-    cfg->way_m = fm_way_length_m(&cfg->layout);
+    cfg->way_m = cfg->teams > 1 ? fleet_way_m(cfg) : fm_way_length_m(&cfg->layout);
     cfg->passage_m = fm_passage_width_m(&cfg->layout);
     cfg->cut_m = fm_cut_width_m(&cfg->layout, fm_formation_width_m(cfg));
     if (cfg->max_time_s == -1.0)

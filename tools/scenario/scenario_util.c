@@ -46,6 +46,7 @@ int json_open(json_out *j, const char *dir, const char *file)
 {
     j->f = scenario_fopen(dir, file);
     j->n = 0;
+    j->outer_n = j->items = 0;
     if (!j->f)
         return SCENARIO_ERR_IO;
     fputs("{\n", j->f);
@@ -95,6 +96,31 @@ void json_bool(json_out *j, const char *k, int v)
 {
     key(j, k);
     fputs(v ? "true" : "false", j->f);
+}
+
+void json_array_begin(json_out *j, const char *k)
+{
+    key(j, k);
+    fputs("[\n", j->f);
+    j->outer_n = j->n;
+    j->items = 0;
+}
+
+void json_object_begin(json_out *j)
+{
+    fputs(j->items++ ? ",\n    {" : "    {", j->f);
+    j->n = 0;
+}
+
+void json_object_end(json_out *j)
+{
+    fputs(" }", j->f);
+}
+
+void json_array_end(json_out *j)
+{
+    fputs("\n  ]", j->f);
+    j->n = j->outer_n;
 }
 
 void json_close(json_out *j)

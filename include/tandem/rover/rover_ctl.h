@@ -107,9 +107,19 @@ int rover_esc_table_validate(const rover_esc_row *t, int n);
 #define ROVER_CTL_OK 0
 #define ROVER_CTL_ERR_ARG (-1)      /* bad argument, parameter set or reading */
 #define ROVER_CTL_ERR_SNAPSHOT (-2) /* a snapshot of another robot or out of range */
+#define ROVER_CTL_ERR_TEAM (-3)     /* a team message from a robot of another team: not taken */
 
 /* Waiting for outranking mates (rover_ctl_state.holding). */
 enum { ROVER_WAIT_NONE = 0, ROVER_WAIT_STAND = 1, ROVER_WAIT_BACK = 2 };
+
+/* Robots of other teams (fleet.h) the camera saw lately, kept to give way
+ * to those of outranking teams (rover_ctl_teams.c). */
+#define ROVER_STRANGERS 16
+typedef struct {
+    int32_t id;     /* 0: free */
+    double xy_m[2]; /* where its beacon was seen (own team frame) */
+    double t_s;     /* when */
+} rover_stranger;
 
 /* Breadcrumbs of the axle's path for backing out of a wedge (there is no
  * rear sonar: the way the robot came is the only way known free of walls;
@@ -152,6 +162,11 @@ typedef struct {
     double queue_slow_mps;   /* ... slower than this, or than us by queue_closing_mps: a conflict */
     double queue_closing_mps;
     double hold_max_s; /* wait at most this long for outranking mates in formation */
+    /* other teams (fleet.h): a robot of a team with lower ids, seen by the
+     * camera within stranger_seen_s, nearer than stranger_give_m and within
+     * stranger_cone_rad of the heading: stand, at most stranger_hold_max_s
+     * at a time */
+    double stranger_give_m, stranger_cone_rad, stranger_seen_s, stranger_hold_max_s;
     double back_max_m; /* clearing an outranking mate's way: back out at most this far ... */
     double back_v_mps; /* ... this fast */
     double
@@ -220,6 +235,7 @@ typedef struct {
 
 typedef struct {
     int32_t id;
+    int32_t team_lo, team_hi; /* its team's ids (rover_ctl_set_team; init: every id) */
     rover_ctl_params p;
     odometer odo;
     double corr_m[2]; /* frame consensus: added to the odometry position */
@@ -254,6 +270,10 @@ typedef struct {
     double tx_xy_m[2];     /* own position in the last team message (the goal's slot
                                    assignment ranks us by it, as every mate does) */
     int formation_changes; /* adopted changes of type (own view) */
+    rover_stranger stranger[ROVER_STRANGERS]; /* other teams' robots seen (rover_ctl_teams.c) */
+    double stranger_hold_s;                   /* stood this long for them since last free to go */
+    double stranger_free_s; /* nobody to stand for this long (STRANGER_FREE_S: free to go) */
+    int giving_way_team;    /* 1: standing for another team's robot this period */
     behaviour_blender blend;
     const navfield
         *nav; /* the world's navigation function, or NULL: the goal straight (the seed) */
@@ -276,6 +296,11 @@ void rover_ctl_set_navfield(rover_ctl_state *c, const navfield *f);
  * target ROVER_LANDMARK_ID_BASE + k); call before the first encoder
  * reading. ROVER_CTL_ERR_ARG on bad input or too many. */
 int rover_ctl_set_landmarks(rover_ctl_state *c, const double (*lm_m)[2], int n);
+/* The robot's team in a fleet of many (fleet.h): the ids lo..hi, its own
+ * among them. Team messages from any other robot are not its team's and
+ * are not taken (rover_ctl_team_msg). ROVER_CTL_ERR_ARG when its own id
+ * is outside lo..hi. */
+int rover_ctl_set_team(rover_ctl_state *c, int32_t lo, int32_t hi);
 /* Accumulated wheel angles at time t_s. The first reading anchors the
  * odometry at start_c. ROVER_CTL_ERR_ARG on non-finite input. */
 int rover_ctl_encoders(rover_ctl_state *c, double left_rad, double right_rad, double t_s);
@@ -283,7 +308,8 @@ int rover_ctl_encoders(rover_ctl_state *c, double left_rad, double right_rad, do
  * bad input. */
 int rover_ctl_sonar(rover_ctl_state *c, const double range_m[BEH_SONAR_N], double t_s);
 /* A team-mate's message heard at t_s. Returns team_update's result
- * (1 new member, 0 refreshed), ROVER_CTL_ERR_ARG invalid. */
+ * (1 new member, 0 refreshed), ROVER_CTL_ERR_ARG invalid,
+ * ROVER_CTL_ERR_TEAM from a robot outside its team (nothing changed). */
 int rover_ctl_team_msg(rover_ctl_state *c, const rover_team_msg *msg, double t_s);
 /* Camera: beacon of `target` (a mate, or a landmark: ROVER_LANDMARK_ID_BASE
  * + k) at range / bearing. ROVER_CTL_ERR_ARG unknown or bad (team_observe's

@@ -18,6 +18,7 @@
 #include "navfield.h"
 #include "goal_place.h"
 #include "slot_assign.h"
+#include "fleet.h"
 
 #define UNICYCLE_CODES(X) \
     X(0, "ok")            \
@@ -51,10 +52,11 @@
     X(ROVER_WORLD_ERR_ARG,                                                        \
       "NULL, team size, spacing or formation out of range, or a non-finite pose") \
     X(ROVER_WORLD_ERR_UNKNOWN, "no world of that name")
-#define ROVER_CTL_CODES(X)                                         \
-    X(ROVER_CTL_OK, "ok")                                          \
-    X(ROVER_CTL_ERR_ARG, "bad argument, parameter set or reading") \
-    X(ROVER_CTL_ERR_SNAPSHOT, "a snapshot of another robot or out of range")
+#define ROVER_CTL_CODES(X)                                                   \
+    X(ROVER_CTL_OK, "ok")                                                    \
+    X(ROVER_CTL_ERR_ARG, "bad argument, parameter set or reading")           \
+    X(ROVER_CTL_ERR_SNAPSHOT, "a snapshot of another robot or out of range") \
+    X(ROVER_CTL_ERR_TEAM, "a team message from a robot of another team: not taken")
 #define ROVER_MAP_CODES(X)                                                               \
     X(ROVER_MAP_OK, "ok")                                                                \
     X(ROVER_MAP_ERR_ARG, "bad argument")                                                 \
@@ -76,6 +78,10 @@
     X(GOAL_PLACE_OK, "ok")                                             \
     X(GOAL_PLACE_ERR_ARG, "NULL, bad formation, team size or spacing") \
     X(GOAL_PLACE_ERR_NO_FIT, "no place near the goal fits the goal formation: the goal kept")
+#define ROVER_FLEET_CODES(X) \
+    X(0, "ok")               \
+    X(ROVER_FLEET_ERR_ARG,   \
+      "NULL, teams, robots per team, their product or the goals out of range, or bad spacing")
 #define SLOT_ASSIGN_CODES(X) \
     X(SLOT_ASSIGN_OK, "ok")  \
     X(SLOT_ASSIGN_ERR_ARG, "NULL, team size not 1..FORMATION_MAX_ROBOTS, or a position not finite")
@@ -92,5 +98,6 @@ const char *rover_ctl_strerror(int rc);
 const char *navfield_strerror(int rc);
 const char *goal_place_strerror(int rc);
 const char *slot_assign_strerror(int rc);
+const char *rover_fleet_strerror(int rc);
 
 #endif

@@ -123,6 +123,10 @@ int rover_world_slot(int type, int n, int rank);
 /* World <-> team frame (poses of any point). */
 void rover_world_to_team(const rover_world_config *w, const pose2 *world_p, pose2 *team_p);
 void rover_world_from_team(const rover_world_config *w, const pose2 *team_p, pose2 *world_p);
+/* The same with the frame given by its origin in the world (a team of a
+ * fleet, fleet.h: each team its own frame). */
+void rover_frame_to(const pose2 *origin, const pose2 *world_p, pose2 *frame_p);
+void rover_frame_from(const pose2 *origin, const pose2 *frame_p, pose2 *world_p);
 
 /* Appends a box obstacle (centre, half extents in its frame, angle,
  * height) to w. 0, or ROVER_WORLD_ERR_ARG when w is NULL or holds

@@ -28,6 +28,8 @@ int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id, co
         return ROVER_CTL_ERR_ARG;
     memset(c, 0, sizeof *c);
     c->id = id;
+    c->team_lo = 0;
+    c->team_hi = INT32_MAX;
     c->p = *p;
     c->start_c = *start_c;
     c->goal_m[0] = goal_m[0];
@@ -44,6 +46,15 @@ int rover_ctl_init(rover_ctl_state *c, const rover_ctl_params *p, int32_t id, co
         c->tx_xy_m[0] = o.x_m;
         c->tx_xy_m[1] = o.y_m;
     }
+    return ROVER_CTL_OK;
+}
+
+int rover_ctl_set_team(rover_ctl_state *c, int32_t lo, int32_t hi)
+{
+    if (!c || lo > hi || c->id < lo || c->id > hi)
+        return ROVER_CTL_ERR_ARG;
+    c->team_lo = lo;
+    c->team_hi = hi;
     return ROVER_CTL_OK;
 }
 
@@ -644,7 +655,8 @@ static void arrival_turn_other_way(rover_ctl_state *c, double w_turn, unicycle_c
 /* The drive command from the blend and the mode reported: capped while
  * the formation reshapes, zero at the goal, turned on the spot arriving
  * with the slot behind, guarded, never backwards, saturated. */
-static void command_out(rover_ctl_state *c, const step_view *v, rover_ctl_out *out)
+static void command_out(rover_ctl_state *c, const step_view *v, double t_s, double dt_s,
+                        rover_ctl_out *out)
 {
     const behaviour_params *bp = &c->p.beh;
     unicycle_cmd u = c->blend.u;
@@ -685,6 +697,12 @@ static void command_out(rover_ctl_state *c, const step_view *v, rover_ctl_out *o
      * and swung its tail into it (dead zone, 3 in line, seed 1). Only the
      * wait set: standing for a lower mate too wedged teams of 6 in the U */
     if (c->holding == ROVER_WAIT_NONE && !v->escaping && rover_ctl_cmd_sweeps_mate(c, &v->o, &u, 1))
+        u.v_mps = u.w_radps = 0.0;
+    /* other teams (fleet.h): stand for an outranking team's robot near
+     * ahead (rover_ctl_teams.c); never with one team */
+    c->giving_way_team = !v->escaping && out->mode != ROVER_MODE_AT_GOAL &&
+                         rover_ctl_stranger_wait(c, &v->o, t_s, dt_s);
+    if (c->giving_way_team)
         u.v_mps = u.w_radps = 0.0;
     /* no rear sonar: never back up blindly (backing out of a mate's way
      * goes the way the robot came, clear of mates) */
@@ -749,7 +767,7 @@ int rover_ctl_step(rover_ctl_state *c, double t_s, double dt_s, rover_ctl_out *o
         stop_out(out, ROVER_MODE_SAFE_STOP);
         return ROVER_CTL_ERR_ARG;
     }
-    command_out(c, &v, out);
+    command_out(c, &v, t_s, dt_s, out);
     team_message_out(c, &v, t_s, out);
     return ROVER_CTL_OK;
 }

@@ -87,6 +87,8 @@ int rover_ctl_team_msg(rover_ctl_state *c, const rover_team_msg *msg, double t_s
     int rc;
     if (!msg || !isfinite(t_s) || msg->m.robot == c->id)
         return ROVER_CTL_ERR_ARG;
+    if (msg->m.robot < c->team_lo || msg->m.robot > c->team_hi)
+        return ROVER_CTL_ERR_TEAM;
     m = msg->m;
     m.t_s = t_s;
     rc = team_update(&c->team, &m);
@@ -144,6 +146,13 @@ int rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double 
         return localize_landmark(&c->loc, target - ROVER_LANDMARK_ID_BASE, range_m, bearing_rad);
     }
     rover_ctl_own_pose(c, &o);
+    if (target < c->team_lo || target > c->team_hi) {
+        /* another team's robot (fleet.h): seen, not fused */
+        if (!isfinite(range_m) || !isfinite(bearing_rad) || range_m < 0.0)
+            return ROVER_CTL_ERR_ARG;
+        rover_ctl_stranger_seen(c, target, &o, range_m, bearing_rad, c->enc_t_s);
+        return 0;
+    }
     return team_observe(&c->team, target, &o, range_m, bearing_rad, c->p.beacon_alpha, c->enc_t_s);
 }
 

@@ -12,11 +12,22 @@
  *   rover_ctl_mates.c    the priority order, the wait set, mates' chassis
  *                        by the team table: turning, backing and driving
  *                        clear of them
+ *   rover_ctl_teams.c    robots of other teams seen by the camera, and
+ *                        standing for those of outranking teams
  */
 #ifndef TANDEM_ROVER_CTL_INTERNAL_H
 #define TANDEM_ROVER_CTL_INTERNAL_H
 
 #include "rover_ctl.h"
+
+/* Another team's robot `id` seen by the camera at range / bearing from
+ * own O pose o at t_s: kept (rover_ctl_teams.c). */
+void rover_ctl_stranger_seen(rover_ctl_state *c, int32_t id, const pose2 *o, double range_m,
+                             double bearing_rad, double t_s);
+/* 1 if the robot is to stand this period for a robot of an outranking
+ * team (one with lower ids) near ahead; bounded by stranger_hold_max_s
+ * (rover_ctl_teams.c). */
+int rover_ctl_stranger_wait(rover_ctl_state *c, const pose2 *o, double t_s, double dt_s);
 
 /* Own pose of O, localized or dead-reckoned (rover_ctl_inputs.c). */
 void rover_ctl_own_pose(const rover_ctl_state *c, pose2 *o);

@@ -261,23 +261,32 @@ int rover_world_slot(int type, int n, int rank)
     return ROVER_WORLD_ERR_ARG;
 }
 
-void rover_world_to_team(const rover_world_config *w, const pose2 *world_p, pose2 *team_p)
+void rover_frame_to(const pose2 *origin, const pose2 *world_p, pose2 *frame_p)
 {
     double v[2];
-    vec2_rotate(v, world_p->x_m - w->team_origin.x_m, world_p->y_m - w->team_origin.y_m,
-                -w->team_origin.theta_rad);
-    team_p->x_m = v[0];
-    team_p->y_m = v[1];
-    team_p->theta_rad = vec2_wrap_rad(world_p->theta_rad - w->team_origin.theta_rad);
+    vec2_rotate(v, world_p->x_m - origin->x_m, world_p->y_m - origin->y_m, -origin->theta_rad);
+    frame_p->x_m = v[0];
+    frame_p->y_m = v[1];
+    frame_p->theta_rad = vec2_wrap_rad(world_p->theta_rad - origin->theta_rad);
+}
+
+void rover_frame_from(const pose2 *origin, const pose2 *frame_p, pose2 *world_p)
+{
+    double v[2];
+    vec2_rotate(v, frame_p->x_m, frame_p->y_m, origin->theta_rad);
+    world_p->x_m = v[0] + origin->x_m;
+    world_p->y_m = v[1] + origin->y_m;
+    world_p->theta_rad = vec2_wrap_rad(frame_p->theta_rad + origin->theta_rad);
+}
+
+void rover_world_to_team(const rover_world_config *w, const pose2 *world_p, pose2 *team_p)
+{
+    rover_frame_to(&w->team_origin, world_p, team_p);
 }
 
 void rover_world_from_team(const rover_world_config *w, const pose2 *team_p, pose2 *world_p)
 {
-    double v[2];
-    vec2_rotate(v, team_p->x_m, team_p->y_m, w->team_origin.theta_rad);
-    world_p->x_m = v[0] + w->team_origin.x_m;
-    world_p->y_m = v[1] + w->team_origin.y_m;
-    world_p->theta_rad = vec2_wrap_rad(team_p->theta_rad + w->team_origin.theta_rad);
+    rover_frame_from(&w->team_origin, team_p, world_p);
 }
 
 /* Signed distance from (x, y) to a box with centre, half extents, angle. */

@@ -528,6 +528,7 @@ const char *const options_formation_names[] = { "line", "triangle", "column", NU
 const int options_formation_values[] = { FORMATION_LINE, FORMATION_TRIANGLE, FORMATION_COLUMN };
 const char *const options_arm_model_names[] = { "puma560", "seed002", NULL };
 const char *const options_on_off[] = { "on", "off", NULL };
+const char *const options_team_goal_names[] = { "ahead", "cross", NULL };
 const int options_on_off_flags[] = { 1, 0 };
 
 /* --key-file and --insecure onto the bus of the group's destination: a

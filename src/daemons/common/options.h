@@ -172,6 +172,7 @@ extern const char *const options_formation_names[]; /* FORMATION_* */
 extern const int options_formation_values[];
 extern const char *const options_arm_model_names[]; /* arm_model_by_name */
 extern const char *const options_on_off[];          /* on = 0, off = 1 */
+extern const char *const options_team_goal_names[]; /* ROVER_FLEET_GOALS_* (fleet.h) */
 extern const int options_on_off_flags[];            /* values: on 1, off 0 */
 
 #endif

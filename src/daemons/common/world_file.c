@@ -592,6 +592,27 @@ int world_opts_layout(rover_world_config *w, const world_opts *o, int n, double 
     return rc;
 }
 
+int world_opts_fleet_layout(rover_world_config *w, rover_fleet *f, const world_opts *o, int n,
+                            int teams, int per_team, int goals, int formation, const char *prog)
+{
+    if (teams <= 1)
+        return world_opts_layout(w, o, n, 1.0, formation, prog);
+    if (o->file || o->world != ROVER_WORLD_OPEN) {
+        fprintf(stderr, "%s: --teams %d: teams fly the open world only (not %s)\n", prog, teams,
+                o->file ? "--world-file" : rover_world_name(o->world));
+        return WORLD_FILE_ERR_OPTION;
+    }
+    if (rover_fleet_layout(w, f, teams, per_team, 1.0, formation, goals) != 0) {
+        fprintf(stderr,
+                "%s: no fleet of %d teams of %d robots (at most %d teams of %d, %d robots in all: "
+                "ROVER_FLEET_MAX_TEAMS, ROVER_TEAM_MAX, ROVER_WORLD_MAX_ROBOTS)\n",
+                prog, teams, per_team, ROVER_FLEET_MAX_TEAMS, ROVER_TEAM_MAX,
+                ROVER_WORLD_MAX_ROBOTS);
+        return WORLD_FILE_ERR_OPTION;
+    }
+    return WORLD_FILE_OK;
+}
+
 int world_opts_save(const world_opts *o, const char *dir, const char *prog)
 {
     char why[WORLD_FILE_WHY_MAX];

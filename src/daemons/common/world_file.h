@@ -18,6 +18,7 @@
 
 #include <stddef.h>
 #include "options.h"
+#include "fleet.h"
 #include "rover_map.h"
 #include "rover_world.h"
 
@@ -60,6 +61,38 @@ typedef struct world_opts {
         .meta = "X,Y", .help = "with --world-file: the goal (m) instead of the file's"           \
     }
 
+/* --teams T --robots-per-team K --team-goals ahead|cross (fleet.h), the
+ * same on tandem-sim, tandem-rover and tandem-scenario formation: the
+ * owner's int members teams_m, per_team_m and goals_m
+ * (ROVER_FLEET_GOALS_*), 1, 3 and cross unless the owner sets others. */
+#define FLEET_OPTIONS(owner, teams_m, per_team_m, goals_m)                                      \
+    { .name = "teams",                                                                          \
+      .type = OPTION_INT,                                                                       \
+      OPTION_AT(owner, teams_m),                                                                \
+      .min = 1,                                                                                 \
+      .max = ROVER_FLEET_MAX_TEAMS,                                                             \
+      .meta = "T",                                                                              \
+      .help = "teams in one world (fleet.h), robots numbered team by team, each team its own "  \
+              "formation, lane and goal; T > 1: the open world sized for them, goals straight " \
+              "(--goal-path direct), T K robots",                                               \
+      .def = "1" },                                                                             \
+        { .name = "robots-per-team",                                                            \
+          .type = OPTION_INT,                                                                   \
+          OPTION_AT(owner, per_team_m),                                                         \
+          .min = 1,                                                                             \
+          .max = ROVER_TEAM_MAX,                                                                \
+          .meta = "K",                                                                          \
+          .help = "with --teams T > 1: each team's size",                                       \
+          .def = "3" },                                                                         \
+    {                                                                                           \
+        .name = "team-goals", .type = OPTION_CHOICE, OPTION_AT(owner, goals_m),                 \
+        .choices = options_team_goal_names,                                                     \
+        .help = "with --teams T > 1: ahead, each team's goal 12 m ahead in its own lane; "      \
+                "cross, in the lane of the neighbour it is paired with (lanes 1-2, 3-4, "       \
+                "...), the two teams of a pair crossing each other's way half-way",             \
+        .def = "ahead"                                                                          \
+    }
+
 const char *world_file_strerror(int rc);
 
 /* Reads the YAML at path and its image into m (row 0 the bottom) and s.
@@ -80,6 +113,12 @@ int world_file_write_svg(const char *dir, const char *name, const rover_world_co
  * reason" on failure. */
 int world_opts_layout(rover_world_config *w, const world_opts *o, int n, double spacing_m,
                       int formation, const char *prog);
+/* The layout of a run of `teams` teams (fleet.h): with one team
+ * world_opts_layout's for n robots (f untouched); with more the fleet of
+ * teams x per_team robots on the open world (f its lanes and goals),
+ * refused (said) for another world or a file. 0, or non-zero (said). */
+int world_opts_fleet_layout(rover_world_config *w, rover_fleet *f, const world_opts *o, int n,
+                            int teams, int per_team, int goals, int formation, const char *prog);
 
 /* With a file world: DIR/world.yaml + world.pgm, the world as run (start
  * and goal after the options). Nothing for a built-in world. */

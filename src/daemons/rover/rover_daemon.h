@@ -12,6 +12,7 @@
 #include "daemon.h"
 #include "journal.h"
 #include "peer.h"
+#include "fleet.h"
 #include "rover_ctl.h"
 #include "rover_world.h"
 #include "world_file.h"
@@ -77,6 +78,12 @@ typedef struct rover_daemon {
     daemon d; /* the shell: bus, loop, counters, health */
     int32_t id_lo, id_hi;
     int robots;
+    /* --teams T --robots-per-team K (fleet.h): T teams in one world; a
+     * hosted robot hears only its own team, this process only the teams
+     * of its robots: ids listen_lo..listen_hi (1..robots with one team) */
+    int teams, per_team, team_goals;
+    rover_fleet fleet;
+    int32_t listen_lo, listen_hi;
     int world, formation, blend;
     rover_world_config layout;
     world_opts wopt; /* --world-file, --start, --goal */

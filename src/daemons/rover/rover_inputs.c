@@ -227,6 +227,8 @@ void rover_on_team(const lcm_recv_buf_t *rb, const char *ch, void *u)
         rd->d.msgs.rejected++;
         return;
     }
+    if (m.robot < rd->listen_lo || m.robot > rd->listen_hi)
+        return; /* another team's (fleet.h): not heard */
     if (is_copy(rd, m.step, &rd->mate_step[m.robot]))
         return;
     rd->mate_step[m.robot] = m.step;
@@ -260,6 +262,21 @@ static int joined_late(const rover_daemon *rd)
     return rd->first_step > rd->d.period_steps;
 }
 
+/* The hosted robots of robot id's team: lo..hi (empty: lo > hi); with one
+ * team every hosted robot, so a message costs its team's robots only. */
+static void team_hosted(const rover_daemon *rd, int32_t id, int32_t *lo, int32_t *hi)
+{
+    *lo = rd->id_lo;
+    *hi = rd->id_hi;
+    if (rd->teams > 1 &&
+        rover_fleet_members(&rd->fleet, rover_fleet_team_of(&rd->fleet, id), lo, hi) == 0) {
+        if (*lo < rd->id_lo)
+            *lo = rd->id_lo;
+        if (*hi > rd->id_hi)
+            *hi = rd->id_hi;
+    }
+}
+
 /* Deliver queued team messages sent before `step` (all of them in real
  * time). Lockstep: only those sent after this process's first cycle; what
  * a mate sent up to that step may or may not have reached a process that
@@ -268,6 +285,7 @@ static int joined_late(const rover_daemon *rd)
 void rover_deliver_team(rover_daemon *rd, int64_t step, double t_s)
 {
     int i, k = 0, j;
+    int32_t lo, hi;
     for (i = 0; i < rd->nq; i++) {
         if (rd->d.lockstep && rd->q[i].step >= step) {
             rd->q[k++] = rd->q[i];
@@ -275,7 +293,8 @@ void rover_deliver_team(rover_daemon *rd, int64_t step, double t_s)
         }
         if (rd->d.lockstep && joined_late(rd) && rd->q[i].step <= rd->first_step)
             continue;
-        for (j = rd->id_lo; j <= rd->id_hi; j++)
+        team_hosted(rd, rd->q[i].m.m.robot, &lo, &hi);
+        for (j = lo; j <= hi; j++)
             if (j != rd->q[i].m.m.robot &&
                 rover_ctl_team_msg(&rd->h[j - rd->id_lo].c, &rd->q[i].m, t_s) < 0)
                 rd->d.msgs.rejected++;
@@ -333,7 +352,7 @@ static int inputs_missing(rover_daemon *rd, int64_t step, int mark_gone)
                 h->silent = 1;
         }
     }
-    for (j = 1; j <= rd->robots; j++) {
+    for (j = rd->listen_lo; j <= rd->listen_hi; j++) {
         const int listened = rd->id_lo != rd->id_hi || rd->id_lo != j;
         if (!listened || rd->mate_gone[j] || step - team_w < team_from ||
             rd->mate_step[j] >= step - team_w)

@@ -111,7 +111,6 @@ static const char *const law_names[] = { "seed", "kanayama", NULL };
 static const int law_values[] = { ROVER_LAW_SEED, ROVER_LAW_KANAYAMA };
 
 #define ROVER_ROBOTS_DEFAULT 3 /* --robots */
-
 /* Into the rover_daemon main made; the values it holds before are the
  * defaults. --stale-ms is stored as s. */
 static const option_entry rover_options[] = {
@@ -129,6 +128,7 @@ static const option_entry rover_options[] = {
       .meta = "N",
       .help = "team size in the launch configuration",
       .def = OPTION_DEF(ROVER_ROBOTS_DEFAULT) },
+    FLEET_OPTIONS(rover_daemon, teams, per_team, team_goals),
     { .name = "world",
       .type = OPTION_CHOICE,
       OPTION_AT(rover_daemon, world),
@@ -241,6 +241,16 @@ static int parse_args(rover_daemon *rd, int argc, char **argv)
         fprintf(stderr, "tandem-rover: --id is required\n");
         return OPTIONS_ERR_ARG;
     }
+    if (rd->teams > 1) {
+        if ((long)rd->teams * rd->per_team > ROVER_TEAM_MAX) {
+            fprintf(stderr,
+                    "tandem-rover: --teams %d --robots-per-team %d: %ld robots, more than a "
+                    "fleet's mates table holds (ROVER_TEAM_MAX = %d)\n",
+                    rd->teams, rd->per_team, (long)rd->teams * rd->per_team, ROVER_TEAM_MAX);
+            return OPTIONS_ERR_ARG;
+        }
+        rd->robots = rd->teams * rd->per_team;
+    }
     if (rd->id_hi > rd->robots) {
         fprintf(stderr, "tandem-rover: --id %d-%d outside the team of --robots %d\n",
                 (int)rd->id_lo, (int)rd->id_hi, rd->robots);
@@ -332,12 +342,62 @@ static int cycle(daemon *d, void *user)
     return DAEMON_CONTINUE;
 }
 
+/* The launch configuration (world_opts_fleet_layout) and the ids this
+ * process listens to: its robots' teams. 0, or an exit status (said). */
+static int rover_layout(rover_daemon *rd)
+{
+    int32_t lo, hi;
+    rd->listen_lo = 1;
+    rd->listen_hi = rd->robots;
+    if (world_opts_fleet_layout(&rd->layout, &rd->fleet, &rd->wopt, rd->robots, rd->teams,
+                                rd->per_team, rd->team_goals, rd->formation, "tandem-rover") != 0)
+        return 2;
+    if (rd->teams == 1)
+        return 0;
+    rover_fleet_members(&rd->fleet, rover_fleet_team_of(&rd->fleet, rd->id_lo), &lo, &hi);
+    rd->listen_lo = lo;
+    rover_fleet_members(&rd->fleet, rover_fleet_team_of(&rd->fleet, rd->id_hi), &lo, &hi);
+    rd->listen_hi = hi;
+    return 0;
+}
+
+/* Robot j's controller in its team's frame (fleet.h: its own team's with
+ * --teams; the team frame of the layout with one): its start, its team's
+ * goal and the landmarks, and the ids of its team. 0, or non-zero. */
+static int robot_init(rover_daemon *rd, hosted *h, int32_t j)
+{
+    const rover_fleet *f = rd->teams > 1 ? &rd->fleet : NULL;
+    const pose2 frame = rover_fleet_frame_of(&rd->layout, f, j);
+    const int team = f ? rover_fleet_team_of(f, j) : 0;
+    double goal[2], lm[ROVER_WORLD_MAX_LANDMARKS][2];
+    pose2 goal_w, goal_t, start;
+    int32_t lo = 1, hi = rd->robots;
+    int k;
+    for (k = 0; k < rd->layout.n_landmarks; k++) {
+        const pose2 lw = { rd->layout.landmark_m[k][0], rd->layout.landmark_m[k][1], 0.0 };
+        pose2 lt;
+        rover_frame_to(&frame, &lw, &lt);
+        lm[k][0] = lt.x_m;
+        lm[k][1] = lt.y_m;
+    }
+    if (f)
+        rover_fleet_members(f, team, &lo, &hi);
+    goal_w.x_m = f ? f->goal_m[team][0] : rd->layout.goal_m[0];
+    goal_w.y_m = f ? f->goal_m[team][1] : rd->layout.goal_m[1];
+    goal_w.theta_rad = 0.0;
+    rover_frame_to(&frame, &goal_w, &goal_t);
+    goal[0] = goal_t.x_m;
+    goal[1] = goal_t.y_m;
+    rover_frame_to(&frame, &rd->layout.start_c[j - 1], &start);
+    return rover_ctl_init(&h->c, &rd->params, j, &start, goal) != 0 ||
+           rover_ctl_set_team(&h->c, lo, hi) != 0 ||
+           rover_ctl_set_landmarks(&h->c, (const double(*)[2])lm, rd->layout.n_landmarks) != 0;
+}
+
 int main(int argc, char **argv)
 {
     int j, rc;
     char name[DAEMON_NAME_MAX];
-    pose2 goal_w = { 0, 0, 0 }, goal_t;
-    double goal[2], lm[ROVER_WORLD_MAX_LANDMARKS][2];
     static rover_daemon app;
     rover_daemon *rd = &app;
     daemon *d = &rd->d;
@@ -349,6 +409,9 @@ int main(int argc, char **argv)
     for (j = 0; j <= ROVER_TEAM_MAX; j++)
         rd->mate_step[j] = -1;
     rd->robots = ROVER_ROBOTS_DEFAULT;
+    rd->teams = 1;
+    rd->per_team = ROVER_ROBOTS_DEFAULT;
+    rd->team_goals = ROVER_FLEET_GOALS_CROSS;
     rd->world = ROVER_WORLD_OPEN;
     rd->localize = 1;
     rd->goal_path = ROVER_GOAL_PATH_MAP;
@@ -367,22 +430,9 @@ int main(int argc, char **argv)
     if (check_tables(rd) != 0)
         return 1;
     rd->wopt.world = rd->world;
-    if (world_opts_layout(&rd->layout, &rd->wopt, rd->robots, 1.0, rd->formation, "tandem-rover") !=
-        0)
-        return 2;
-    goal_w.x_m = rd->layout.goal_m[0];
-    goal_w.y_m = rd->layout.goal_m[1];
-    rover_world_to_team(&rd->layout, &goal_w, &goal_t);
-    goal[0] = goal_t.x_m;
-    goal[1] = goal_t.y_m;
-    for (j = 0; j < rd->layout.n_landmarks; j++) {
-        const pose2 lw = { rd->layout.landmark_m[j][0], rd->layout.landmark_m[j][1], 0.0 };
-        pose2 lt;
-        rover_world_to_team(&rd->layout, &lw, &lt);
-        lm[j][0] = lt.x_m;
-        lm[j][1] = lt.y_m;
-    }
-    if (rd->goal_path == ROVER_GOAL_PATH_MAP) {
+    if ((rc = rover_layout(rd)) != 0)
+        return rc;
+    if (rd->goal_path == ROVER_GOAL_PATH_MAP && rd->teams == 1) {
         navfield_params np;
         navfield_params_default(&np);
         if ((rc = navfield_build(&rd->nav, &np, &rd->layout)) != NAVFIELD_OK) {
@@ -394,14 +444,12 @@ int main(int argc, char **argv)
     }
     for (j = rd->id_lo; j <= rd->id_hi; j++) {
         hosted *h = &rd->h[j - rd->id_lo];
-        pose2 start;
-        rover_world_to_team(&rd->layout, &rd->layout.start_c[j - 1], &start);
-        if (rover_ctl_init(&h->c, &rd->params, j, &start, goal) != 0 ||
-            rover_ctl_set_landmarks(&h->c, (const double(*)[2])lm, rd->layout.n_landmarks) != 0) {
+        if (robot_init(rd, h, j) != 0) {
             fprintf(stderr, "tandem-rover: bad controller parameters\n");
             return 2;
         }
-        rover_ctl_set_navfield(&h->c, rd->goal_path == ROVER_GOAL_PATH_MAP ? &rd->nav : NULL);
+        rover_ctl_set_navfield(
+            &h->c, rd->goal_path == ROVER_GOAL_PATH_MAP && rd->teams == 1 ? &rd->nav : NULL);
         snprintf(h->ch_cmd, sizeof h->ch_cmd, "ROVER%d_COMMAND", j);
         snprintf(h->ch_state, sizeof h->ch_state, "ROVER%d_STATE", j);
         h->shown_mode = h->shown_type = h->shown_yield = h->shown_esc = -1;

@@ -989,6 +989,105 @@ static void hand_step(rover_ctl_state *c, double t, const double rng[8], const h
     hand_step_enc(c, t, 0.0, 0.0, rng, m, nm, out);
 }
 
+/* Many teams in one world (fleet.h): a robot hears only its own team.
+ * Robot 4 of the team 4..6 takes robot 5's message and not robot 2's (team
+ * 1..3), not even its announcement of a formation change: its table,
+ * its formation and its team size stay its own team's. */
+static void test_other_team_not_heard(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    rover_team_msg msg;
+    pose2 s = { 0, 0, 0 };
+    double g[2] = { 10, 0 }, rng[8] = { 5, 5, 5, 5, 5, 5, 5, 5 };
+    (void)state;
+    rover_ctl_params_default(&p);
+    assert_int_equal(rover_ctl_init(&c, &p, 4, &s, g), 0);
+    assert_int_equal(rover_ctl_set_team(&c, 1, 3), ROVER_CTL_ERR_ARG); /* not its own */
+    assert_int_equal(rover_ctl_set_team(&c, 4, 6), ROVER_CTL_OK);
+    memset(&msg, 0, sizeof msg);
+    msg.m.robot = 2;
+    msg.m.x_m = 0.0;
+    msg.m.y_m = 1.0;
+    msg.m.scale = 1.0;
+    msg.m.formation = FORMATION_COLUMN;
+    msg.m.announce = FORMATION_ANN_CHANGE;
+    msg.m.announce_seq = 1;
+    msg.goal_m[0] = g[0];
+    msg.goal_m[1] = g[1];
+    assert_int_equal(rover_ctl_team_msg(&c, &msg, 0.0), ROVER_CTL_ERR_TEAM);
+    assert_int_equal(c.team.n, 0);
+    assert_int_equal(c.fsm.type, FORMATION_LINE);
+    msg.m.robot = 7; /* the next team's first robot */
+    assert_int_equal(rover_ctl_team_msg(&c, &msg, 0.0), ROVER_CTL_ERR_TEAM);
+    msg.m.robot = 5;
+    msg.m.formation = FORMATION_LINE;
+    msg.m.announce = FORMATION_ANN_NONE;
+    msg.m.announce_seq = 0;
+    assert_int_equal(rover_ctl_team_msg(&c, &msg, 0.0), 1);
+    assert_int_equal(c.team.n, 1);
+    rover_ctl_encoders(&c, 0, 0, 0.0);
+    rover_ctl_sonar(&c, rng, 0.0);
+    assert_int_equal(rover_ctl_step(&c, 0.05, DT, &out), 0);
+    assert_int_equal(out.team_size, 2);
+    /* init hears every id, as a robot of a single team */
+    assert_int_equal(rover_ctl_init(&c, &p, 4, &s, g), 0);
+    msg.m.robot = 2;
+    assert_int_equal(rover_ctl_team_msg(&c, &msg, 0.0), 1);
+}
+
+/* Other teams' robots (rover_ctl_teams.c): robot 4 of the team 4..6
+ * stands for robot 2 (an outranking team) seen 1.5 m ahead, not for
+ * robot 8 (a team it outranks) nor for robot 2 behind it, and stands at
+ * most stranger_hold_max_s. */
+static void test_give_way_to_outranking_team(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    pose2 s = { 0, 0, 0 };
+    double g[2] = { 10, 0 }, rng[8] = { 5, 5, 5, 5, 5, 5, 5, 5 }, t = 0.0;
+    int k;
+    (void)state;
+    rover_ctl_params_default(&p);
+    assert_int_equal(rover_ctl_init(&c, &p, 4, &s, g), 0);
+    assert_int_equal(rover_ctl_set_team(&c, 4, 6), ROVER_CTL_OK);
+    rover_ctl_encoders(&c, 0, 0, t);
+    rover_ctl_sonar(&c, rng, t);
+    assert_int_equal(rover_ctl_beacon(&c, 8, 1.5, 0.0), 0); /* seen, not a mate */
+    t += DT;
+    assert_int_equal(rover_ctl_step(&c, t, DT, &out), 0);
+    assert_true(out.u.v_mps > 0.0);
+    assert_int_equal(c.team.n, 0);
+    assert_int_equal(rover_ctl_beacon(&c, 2, 1.5, 0.0), 0);
+    for (k = 0; k < 3; k++) {
+        t += DT;
+        rover_ctl_encoders(&c, 0, 0, t);
+        rover_ctl_sonar(&c, rng, t);
+        assert_int_equal(rover_ctl_beacon(&c, 2, 1.5, 0.0), 0);
+        assert_int_equal(rover_ctl_step(&c, t, DT, &out), 0);
+        assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
+    }
+    /* behind: not in the way */
+    t += DT;
+    rover_ctl_encoders(&c, 0, 0, t);
+    rover_ctl_sonar(&c, rng, t);
+    memset(c.stranger, 0, sizeof c.stranger);
+    assert_int_equal(rover_ctl_beacon(&c, 2, 1.5, VEC2_PI), 0);
+    assert_int_equal(rover_ctl_step(&c, t, DT, &out), 0);
+    assert_true(out.u.v_mps > 0.0);
+    /* ahead for longer than stranger_hold_max_s: the robot goes on */
+    for (k = 0; k * DT <= p.stranger_hold_max_s + 1.0; k++) {
+        t += DT;
+        rover_ctl_encoders(&c, 0, 0, t);
+        rover_ctl_sonar(&c, rng, t);
+        assert_int_equal(rover_ctl_beacon(&c, 2, 1.5, 0.0), 0);
+        assert_int_equal(rover_ctl_step(&c, t, DT, &out), 0);
+    }
+    assert_true(out.u.v_mps > 0.0);
+}
+
 /* Boundary following never ends on a timer: a robot that has followed a
  * wall (driving along it; standing does not count) for escape_max_s
  * without getting nearer the goal goes round the other way (it used to rejoin and drive straight back toward the goal,
@@ -2244,6 +2343,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_world_layout_and_clearance),
         cmocka_unit_test(test_stale_sensors_stop),
+        cmocka_unit_test(test_other_team_not_heard),
+        cmocka_unit_test(test_give_way_to_outranking_team),
         cmocka_unit_test(test_follow_keeps_wall_side),
         cmocka_unit_test(test_open_reaches_goal),
         cmocka_unit_test(test_silent_mate_dropped),

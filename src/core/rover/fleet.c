@@ -1,0 +1,130 @@
+/* fleet: the layout of many teams in one open world, each team's lane,
+ * start area and goal, and which robots make up each team (fleet.h).
+ */
+#include "fleet.h"
+#include "formation.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Landmark rows: a row of posts along every border between lanes (and
+ * outside the outer lanes), the posts spread evenly from behind the start
+ * to past the goals, as many per row as the capacity leaves. */
+static void fleet_landmarks(rover_world_config *w, const rover_fleet *f, double x_lo, double x_hi)
+{
+    const int rows = f->teams + 1;
+    int per_row = ROVER_WORLD_MAX_LANDMARKS / rows, r, k;
+    const double y0 = f->lane_y_m[0] + 0.5 * f->lane_m; /* the leftmost border */
+    if (per_row > 8)
+        per_row = 8;
+    if (per_row < 1)
+        per_row = 1;
+    w->n_landmarks = 0;
+    for (r = 0; r < rows && w->n_landmarks < ROVER_WORLD_MAX_LANDMARKS; r++)
+        for (k = 0; k < per_row && w->n_landmarks < ROVER_WORLD_MAX_LANDMARKS; k++) {
+            const double x = per_row == 1 ? 0.5 * (x_lo + x_hi)
+                                          : x_lo + (x_hi - x_lo) * k / (per_row - 1);
+            w->landmark_m[w->n_landmarks][0] = x;
+            w->landmark_m[w->n_landmarks][1] = y0 - f->lane_m * r;
+            w->n_landmarks++;
+        }
+}
+
+int rover_fleet_layout(rover_world_config *w, rover_fleet *f, int teams, int per_team,
+                       double spacing_m, int formation, int goals)
+{
+    formation_fsm_params fp;
+    double width, x_lo, x_hi;
+    int t, i;
+    if (!w || !f || teams < 1 || teams > ROVER_FLEET_MAX_TEAMS || per_team < 1 ||
+        per_team > ROVER_TEAM_MAX || (long)teams * per_team > ROVER_WORLD_MAX_ROBOTS ||
+        (goals != ROVER_FLEET_GOALS_AHEAD && goals != ROVER_FLEET_GOALS_CROSS))
+        return ROVER_FLEET_ERR_ARG;
+    /* one team's layout on the open world: team 0's robots in w->start_c[0..K-1] */
+    if (rover_world_layout(w, ROVER_WORLD_OPEN, per_team, spacing_m, formation) != 0)
+        return ROVER_FLEET_ERR_ARG;
+    memset(f, 0, sizeof *f);
+    f->teams = teams;
+    f->per_team = per_team;
+    f->goals = goals;
+    formation_fsm_params_default(&fp);
+    width = formation_width(formation, per_team, spacing_m, 1.0, fp.robot_width_m);
+    if (per_team > ROVER_WORLD_ROW_MAX) /* a grid of rows of ROVER_WORLD_ROW_MAX abreast */
+        width = fmax(width, spacing_m * (ROVER_WORLD_ROW_MAX - 1) + fp.robot_width_m);
+    f->lane_m = width + ROVER_FLEET_LANE_GAP_M;
+    for (t = 0; t < teams; t++)
+        f->lane_y_m[t] = f->lane_m * (0.5 * (teams - 1) - t); /* team 0 leftmost (+y) */
+    /* every team's robots: team 0's (laid out about y = 0) shifted across
+     * to the team's lane, from the last team down so that team 0's are
+     * read before they move */
+    for (t = teams - 1; t >= 0; t--)
+        for (i = 0; i < per_team; i++) {
+            pose2 *c = &w->start_c[t * per_team + i];
+            *c = w->start_c[i];
+            c->y_m += f->lane_y_m[t];
+        }
+    for (t = 0; t < teams; t++) {
+        const int partner = goals == ROVER_FLEET_GOALS_CROSS && (t ^ 1) < teams ? (t ^ 1) : t;
+        f->goal_m[t][0] = w->goal_m[0];
+        f->goal_m[t][1] = f->lane_y_m[partner];
+    }
+    for (t = 0; t < teams; t++) {
+        double sx = 0.0, sy = 0.0;
+        for (i = t * per_team; i < (t + 1) * per_team; i++) {
+            sx += w->start_c[i].x_m - ROVER_BEACON_D_M;
+            sy += w->start_c[i].y_m;
+        }
+        f->origin[t].x_m = sx / per_team;
+        f->origin[t].y_m = sy / per_team;
+        f->origin[t].theta_rad = 0.0;
+    }
+    w->n_robots = teams * per_team;
+    w->team_origin = f->origin[0];
+    w->goal_m[0] = f->goal_m[0][0];
+    w->goal_m[1] = f->goal_m[0][1];
+    w->goal_nominal_m[0] = w->goal_m[0];
+    w->goal_nominal_m[1] = w->goal_m[1];
+    w->goal_fits = 1; /* the open world: nothing in a goal formation's way */
+    w->y_max_m = f->lane_y_m[0] + 0.5 * f->lane_m + 1.0;
+    w->y_min_m = f->lane_y_m[teams - 1] - 0.5 * f->lane_m - 1.0;
+    x_lo = w->x_min_m + 1.0;
+    x_hi = w->goal_m[0] + 3.0;
+    fleet_landmarks(w, f, x_lo, x_hi);
+    return 0;
+}
+
+int rover_fleet_team_of(const rover_fleet *f, int32_t id)
+{
+    if (!f || f->per_team < 1 || id < 1 || id > (int32_t)f->teams * f->per_team)
+        return ROVER_FLEET_ERR_ARG;
+    return (int)((id - 1) / f->per_team);
+}
+
+int rover_fleet_members(const rover_fleet *f, int team, int32_t *lo, int32_t *hi)
+{
+    if (!f || !lo || !hi || team < 0 || team >= f->teams)
+        return ROVER_FLEET_ERR_ARG;
+    *lo = (int32_t)team * f->per_team + 1;
+    *hi = (int32_t)(team + 1) * f->per_team;
+    return 0;
+}
+
+pose2 rover_fleet_frame_of(const rover_world_config *w, const rover_fleet *f, int32_t id)
+{
+    const int t = f && f->teams > 1 ? rover_fleet_team_of(f, id) : ROVER_FLEET_ERR_ARG;
+    return t >= 0 ? f->origin[t] : w->team_origin;
+}
+
+int rover_fleet_goals_id(const char *name)
+{
+    if (name && strcmp(name, "ahead") == 0)
+        return ROVER_FLEET_GOALS_AHEAD;
+    if (name && strcmp(name, "cross") == 0)
+        return ROVER_FLEET_GOALS_CROSS;
+    return ROVER_FLEET_ERR_ARG;
+}
+
+const char *rover_fleet_goals_name(int goals)
+{
+    return goals == ROVER_FLEET_GOALS_CROSS ? "cross" : "ahead";
+}

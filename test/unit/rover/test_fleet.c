@@ -1,0 +1,126 @@
+/* Unit tests for fleet: the teams' members by id, their lanes, start
+ * poses and goals (ahead and crossing), the same for the same arguments
+ * (deterministic), each team's frame at its own start, and the
+ * capacities refused. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <string.h>
+
+#include "fleet.h"
+#include "formation.h"
+
+/* Large: not on the stack. */
+static rover_world_config W, W2, ONE;
+
+static void test_members(void **state)
+{
+    rover_fleet f;
+    int32_t lo, hi;
+    (void)state;
+    assert_int_equal(rover_fleet_layout(&W, &f, 4, 3, 1.0, FORMATION_LINE, ROVER_FLEET_GOALS_AHEAD),
+                     0);
+    assert_int_equal(W.n_robots, 12);
+    assert_int_equal(rover_fleet_team_of(&f, 1), 0);
+    assert_int_equal(rover_fleet_team_of(&f, 3), 0);
+    assert_int_equal(rover_fleet_team_of(&f, 4), 1);
+    assert_int_equal(rover_fleet_team_of(&f, 12), 3);
+    assert_int_equal(rover_fleet_team_of(&f, 0), ROVER_FLEET_ERR_ARG);
+    assert_int_equal(rover_fleet_team_of(&f, 13), ROVER_FLEET_ERR_ARG);
+    assert_int_equal(rover_fleet_members(&f, 2, &lo, &hi), 0);
+    assert_int_equal(lo, 7);
+    assert_int_equal(hi, 9);
+    assert_int_equal(rover_fleet_members(&f, 4, &lo, &hi), ROVER_FLEET_ERR_ARG);
+}
+
+/* Every team starts as the single team of the open world does, shifted
+ * into its lane; the goals are the open world's distance ahead; the same
+ * arguments give the same fleet, bit for bit. */
+static void test_lanes_and_goals_ahead(void **state)
+{
+    rover_fleet f, f2;
+    int t, i;
+    (void)state;
+    assert_int_equal(rover_world_layout(&ONE, ROVER_WORLD_OPEN, 3, 1.0, FORMATION_TRIANGLE), 0);
+    assert_int_equal(
+        rover_fleet_layout(&W, &f, 5, 3, 1.0, FORMATION_TRIANGLE, ROVER_FLEET_GOALS_AHEAD), 0);
+    assert_int_equal(
+        rover_fleet_layout(&W2, &f2, 5, 3, 1.0, FORMATION_TRIANGLE, ROVER_FLEET_GOALS_AHEAD), 0);
+    assert_memory_equal(&f, &f2, sizeof f);
+    assert_memory_equal(W.start_c, W2.start_c, sizeof W.start_c);
+    assert_true(f.lane_m > 3.0);
+    for (t = 0; t < 5; t++) {
+        if (t > 0)
+            assert_true(fabs(f.lane_y_m[t - 1] - f.lane_y_m[t] - f.lane_m) < 1e-12);
+        for (i = 0; i < 3; i++) {
+            const pose2 *c = &W.start_c[t * 3 + i];
+            assert_true(c->x_m == ONE.start_c[i].x_m);
+            assert_true(fabs(c->y_m - ONE.start_c[i].y_m - f.lane_y_m[t]) < 1e-12);
+        }
+        assert_true(f.goal_m[t][0] == ONE.goal_m[0]);
+        assert_true(f.goal_m[t][1] == f.lane_y_m[t]);
+        /* the team's frame at its own start, so its goal lies straight ahead */
+        assert_true(fabs(f.origin[t].y_m - f.lane_y_m[t] - ONE.team_origin.y_m) < 1e-12);
+        assert_true(fabs(f.origin[t].x_m - ONE.team_origin.x_m) < 1e-12);
+        assert_true(rover_fleet_frame_of(&W, &f, t * 3 + 2).y_m == f.origin[t].y_m);
+    }
+    /* lanes side by side, the middle one on y = 0 */
+    assert_true(fabs(f.lane_y_m[2]) < 1e-12);
+    assert_true(W.y_max_m > f.lane_y_m[0] && W.y_min_m < f.lane_y_m[4]);
+    assert_true(W.n_landmarks > 0 && W.n_landmarks <= ROVER_WORLD_MAX_LANDMARKS);
+    /* one team: the layout's own frame */
+    assert_true(rover_fleet_frame_of(&ONE, NULL, 2).x_m == ONE.team_origin.x_m);
+}
+
+/* Crossing: lanes 0-1 and 2-3 swap goals, the odd last team keeps its own. */
+static void test_goals_cross(void **state)
+{
+    rover_fleet f;
+    (void)state;
+    assert_int_equal(rover_fleet_layout(&W, &f, 5, 4, 1.0, FORMATION_LINE, ROVER_FLEET_GOALS_CROSS),
+                     0);
+    assert_true(f.goal_m[0][1] == f.lane_y_m[1]);
+    assert_true(f.goal_m[1][1] == f.lane_y_m[0]);
+    assert_true(f.goal_m[2][1] == f.lane_y_m[3]);
+    assert_true(f.goal_m[3][1] == f.lane_y_m[2]);
+    assert_true(f.goal_m[4][1] == f.lane_y_m[4]);
+    assert_int_equal(rover_fleet_goals_id("cross"), ROVER_FLEET_GOALS_CROSS);
+    assert_int_equal(rover_fleet_goals_id("ahead"), ROVER_FLEET_GOALS_AHEAD);
+    assert_int_equal(rover_fleet_goals_id("round"), ROVER_FLEET_ERR_ARG);
+    assert_string_equal(rover_fleet_goals_name(ROVER_FLEET_GOALS_CROSS), "cross");
+}
+
+static void test_capacities_refused(void **state)
+{
+    rover_fleet f;
+    (void)state;
+    assert_int_equal(rover_fleet_layout(&W, &f, 0, 3, 1.0, FORMATION_LINE, 0), ROVER_FLEET_ERR_ARG);
+    assert_int_equal(
+        rover_fleet_layout(&W, &f, ROVER_FLEET_MAX_TEAMS + 1, 3, 1.0, FORMATION_LINE, 0),
+        ROVER_FLEET_ERR_ARG);
+    assert_int_equal(rover_fleet_layout(&W, &f, 2, ROVER_TEAM_MAX + 1, 1.0, FORMATION_LINE, 0),
+                     ROVER_FLEET_ERR_ARG);
+    assert_int_equal(rover_fleet_layout(&W, &f, 2, 3, 1.0, FORMATION_LINE, 2), ROVER_FLEET_ERR_ARG);
+    assert_int_equal(rover_fleet_layout(NULL, &f, 2, 3, 1.0, FORMATION_LINE, 0),
+                     ROVER_FLEET_ERR_ARG);
+    assert_int_equal(rover_fleet_layout(&W, &f, 2, 3, 0.1, FORMATION_LINE, 0), ROVER_FLEET_ERR_ARG);
+    /* the largest fleet the capacities allow */
+    assert_int_equal(rover_fleet_layout(&W, &f, ROVER_FLEET_MAX_TEAMS,
+                                        ROVER_WORLD_MAX_ROBOTS / ROVER_FLEET_MAX_TEAMS, 1.0,
+                                        FORMATION_COLUMN, ROVER_FLEET_GOALS_CROSS),
+                     0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_members),
+        cmocka_unit_test(test_lanes_and_goals_ahead),
+        cmocka_unit_test(test_goals_cross),
+        cmocka_unit_test(test_capacities_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
