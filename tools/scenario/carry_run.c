@@ -176,6 +176,8 @@ static int daemons_start(carry_daemons *d, const carry_cfg *c)
     n_sim = 10;
     if (c->handover_stand)
         d->sim_argv[n_sim++] = "--handover-stand";
+    if (c->magazine)
+        d->sim_argv[n_sim++] = "--magazine";
     daemon_argv_finish(c, d->sim_argv, n_sim, 16);
     daemon_argv_finish(c, d->a1_argv, 6, 16);
     daemon_argv_finish(c, d->a2_argv, 6, 16);

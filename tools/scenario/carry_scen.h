@@ -76,6 +76,7 @@ typedef struct carry_cfg {
     const char *task;         /* --task DIR (tandem-supervisor --task), NULL: the shipped carry */
     int handover_stand;       /* the task sets workpieces down at the hand-over:
                                   tandem-sim --handover-stand */
+    int magazine;             /* a row goes to arm 2's magazine: tandem-sim --magazine */
     double hang_s;            /* --hang-s: a daemon silent this long (wall) is hung; 0 off */
     uint64_t seed;
     scenario_drop drop;     /* --drop-rate, to every daemon */

@@ -69,12 +69,12 @@ void sup_on_sim_status(const lcm_recv_buf_t *rb, const char *ch, void *u)
 }
 
 /* Work is pending while a transition runs or one but the source (t1..t7
- * of the carry) may start. */
+ * of the carry) and the arms' health transitions may start. */
 static int work_pending(const supervisor_daemon *sv)
 {
     int t;
     for (t = 0; t < sv->pn->n_transitions; t++)
-        if (t != sv->roles.source &&
+        if (t != sv->roles.source && !sup_health_transition(sv, t) &&
             (petri_running(&sv->net, t) ||
              (petri_enabled(&sv->net, t) && (t != sv->roles.pick || sv->p1_bound))))
             return 1;
