@@ -218,8 +218,8 @@ static void test_solo_task_is_safe(void **st)
     assert_int_equal(h.mask, 1u << h.fault[0] | 1u << h.recover[0]);
     assert_int_equal(carry_table_validate(TASK.rows, TASK.n_transitions, &TASK.net),
                      CARRY_NET_ERR_NET);
-    assert_int_equal(
-        carry_table_validate_health(TASK.rows, TASK.n_transitions, &TASK.net, h.mask), 0);
+    assert_int_equal(carry_table_validate_health(TASK.rows, TASK.n_transitions, &TASK.net, h.mask),
+                     0);
     for (j = 0; j < TASK.n_transitions; j++) {
         const int inhibited_down = TASK.n_inhibit[down * TASK.n_transitions + j] != 0;
         if (TASK.rows[j].arms & CARRY_ARM1)
