@@ -176,7 +176,10 @@ static void follow_health(supervisor_daemon *sv)
     for (a = 0; a < 2; a++) {
         const int down = ((sv->arms_faulted | sv->arms_silent) >> a) & 1;
         const int t = down ? sv->health.fault[a] : sv->health.recover[a];
-        if (t < 0 || !petri_enabled(&sv->net, t) || petri_fire(&sv->net, t) != 0)
+        /* up again only on the arm's own word: a supervisor restarted from
+         * its journal with the arm down has not heard it yet */
+        if (t < 0 || (!down && !sv->arm[a].heard) || !petri_enabled(&sv->net, t) ||
+            petri_fire(&sv->net, t) != 0)
             continue;
         sv->changed = 1;
         sv->dirty = 1;
