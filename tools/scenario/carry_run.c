@@ -218,6 +218,8 @@ static int64_t clock_step(const carry_state *r)
 static void kill_daemon(carry_state *r, carry_daemons *d, int k)
 {
     proc_kill(&d->ps, d->pid[k]);
+    if (k == 1 || k == 2)
+        r->arm_down[k - 1] = 1;
     scenario_leave_send(&d->leave[k], r->bus, r->lcm, carry_daemon_lock_name[k], clock_step(r), 1);
     hang_watch_down(&d->hw, k);
 }
@@ -230,6 +232,8 @@ static int restart_daemon(carry_state *r, carry_daemons *d, int k, const char *l
     if (d->pid[k] < 0)
         return CARRY_SCEN_ERR_FAULT;
     scenario_leave_end(&d->leave[k]);
+    if (k == 1 || k == 2)
+        r->arm_down[k - 1] = 0;
     hang_watch_started(&d->hw, k, scenario_wall_s());
     r->hold_since_s = scenario_wall_s();
     return 0;
