@@ -114,6 +114,7 @@ typedef struct sim_config {
     int workpieces;                       /* workpieces to feed (0 = endless stream) */
     int handover_stand;                   /* 1: a stand under the hand-over, a buffer
                                   a task sets workpieces down on */
+    int magazine;                         /* 1: arm 2's magazine (cell magazine_center_m) */
     double arm_friction_viscous;          /* N m s / rad */
     double arm_friction_coulomb;          /* N m */
     int rovers;                           /* number of Pioneer robots (0 = none) */

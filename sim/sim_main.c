@@ -109,6 +109,12 @@ static const option_entry sim_options[] = {
       .help =
           "a stand on the table under the hand-over: a workpiece set down there rests on it until an arm "
           "takes it (the buffer of tasks/carry_buffer, docs/tasks.md §6)" },
+    { .name = "magazine",
+      .type = OPTION_FLAG,
+      OPTION_AT(sim_app, cfg.magazine),
+      .help =
+          "arm 2's magazine on the table: it presents a bar (one of --workpieces) when arm 2 comes "
+          "above it empty (tasks/carry_solo, docs/tasks.md §8)" },
     { .name = "friction",
       .type = OPTION_CALL,
       OPTION_AT(sim_app, cfg),

@@ -22,6 +22,15 @@
  * hand-over stand (--handover-stand): a task's buffer, where it waits for
  * an arm to take it (docs/tasks.md §6).
  *
+ * Arm 2's magazine (--magazine, docs/tasks.md §8): a feeder that presents
+ * one bar at cell_default.magazine_center_m, along x, when arm 2's tool
+ * comes within WP_MAGAZINE_CALL_M of the point above it (ABOVE_MAGAZINE)
+ * with nothing in its gripper and the magazine empty, while fewer than
+ * --workpieces are spawned: a bar comes out only for an arm about to take
+ * it, so none is left there at the end. A bar in the magazine is not seen
+ * by the camera (arm 2 takes it at a fixed pose) and is not counted
+ * dropped; taken and released at the delivery pose, it is delivered.
+ *
  * Camera: VISION_DETECTIONS at 20 Hz with the free bars lying at rest,
  * positions with Gaussian noise (VISION_SIGMA_M) and yaw noise.
  * Bars collide with the table and the ground only.
@@ -48,6 +57,7 @@
 #define WP_STAND_DROP_M 0.002
 #define WP_STAND_RADIUS_M 0.05 /* a bar this near the stand's axis rests on it */
 #define WP_YAW_SPREAD_RAD 0.05
+#define WP_MAGAZINE_CALL_M 0.03 /* arm 2's tool this near above the magazine calls a bar */
 #define VISION_PERIOD_STEPS 50
 #define VISION_SIGMA_M 0.001
 #define VISION_SIGMA_YAW_RAD 0.005
@@ -229,6 +239,44 @@ static int spawn(sim_workpieces *m)
     return i;
 }
 
+/* --magazine: a bar at the magazine when arm 2, empty-handed, comes above
+ * it, the magazine is empty and bars remain to be fed. */
+static void maybe_feed_magazine(sim_workpieces *m)
+{
+    const sim_arm *a = sim_arms_arm(m->arms, 1);
+    const double *mc = cell_default.magazine_center_m;
+    const double R[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+    double tool[3], call[3], d[3];
+    int i;
+    if (!m->cfg->magazine || a->holding >= 0 ||
+        (m->cfg->workpieces != 0 && m->spawned >= m->cfg->workpieces))
+        return;
+    for (i = 0; i < WP_POOL; i++)
+        if (m->pool[i].state == WP_IN_MAGAZINE)
+            return;
+    sim_arm_tool(a, tool, NULL);
+    cell_grasp_point(&cell_default, 1, mc, call);
+    call[2] += cell_default.approach_height_m;
+    vec3_sub(d, tool, call);
+    if (vec3_norm(d) > WP_MAGAZINE_CALL_M)
+        return;
+    for (i = 0; i < WP_POOL && m->pool[i].state != WP_PARKED; i++)
+        ;
+    if (i == WP_POOL)
+        return; /* every bar in use: called again next step */
+    dBodyEnable(m->pool[i].body);
+    dGeomEnable(m->pool[i].geom);
+    set_body_R(m->pool[i].body, R);
+    dBodySetPosition(m->pool[i].body, mc[0], mc[1], mc[2] + 0.001);
+    dBodySetLinearVel(m->pool[i].body, 0, 0, 0);
+    dBodySetAngularVel(m->pool[i].body, 0, 0, 0);
+    m->pool[i].state = WP_IN_MAGAZINE;
+    m->pool[i].id = m->next_id++;
+    m->pool[i].rest_s = 0.0;
+    m->spawned++;
+    fprintf(stderr, "tandem-sim: workpiece %d in arm 2's magazine\n", (int)m->pool[i].id);
+}
+
 static void maybe_spawn(sim_workpieces *m)
 {
     const int more = m->cfg->workpieces == 0 || m->spawned < m->cfg->workpieces;
@@ -321,6 +369,7 @@ static void wp_before_step(void *model, sim_world *w)
     for (k = 0; k < SIM_ARMS; k++)
         gripper_step(m, w, k);
     maybe_spawn(m);
+    maybe_feed_magazine(m);
 }
 
 /* ---- bookkeeping and camera ----------------------------------------------- */
@@ -332,7 +381,8 @@ static void settle(sim_workpieces *m, int i)
     const int on_floor = c[2] < table_top_z() - 0.05;
     const int on_stand = m->stand_geom && p->state == WP_FREE && c[2] > table_top_z() + 0.05 &&
                          xy_dist(c, cell_default.handover_center_m) < WP_STAND_RADIUS_M;
-    if (p->state == WP_HELD || p->state == WP_PARKED || on_stand)
+    if (p->state == WP_HELD || p->state == WP_PARKED || on_stand ||
+        (p->state == WP_IN_MAGAZINE && !on_floor))
         return;
     if (body_speed(p->body) > WP_REST_SPEED_MPS) {
         p->rest_s = 0.0;

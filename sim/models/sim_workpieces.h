@@ -14,7 +14,7 @@
 
 #define WP_POOL 4
 
-enum { WP_PARKED = 0, WP_ON_PICK, WP_HELD, WP_FREE };
+enum { WP_PARKED = 0, WP_ON_PICK, WP_HELD, WP_FREE, WP_IN_MAGAZINE };
 
 typedef struct sim_workpiece {
     dBodyID body;

@@ -7,7 +7,10 @@
  * invariant violation, deadlock or stall, every criterion met. Then a
  * broken task: tandem-supervisor --task refuses it with exit 2, naming
  * the file and why, and tandem-scenario refuses it before any daemon
- * starts. */
+ * starts. And tasks/carry_solo with arm 1 killed at 30 s and restarted at
+ * 60 s (docs/tasks.md §8): the supervisor puts arm 1 down, arm 2 takes a
+ * bar from its magazine and delivers it alone, arm 1 comes back and the
+ * carry resumes; every workpiece delivered, every criterion met. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -68,6 +71,36 @@ static void test_buffer_task_delivers_every_workpiece(void **state)
     assert_non_null(strstr(log, "complete t4b arm 2 takes it from the buffer"));
 }
 
+static void test_solo_task_arm2_carries_while_arm1_is_down(void **state)
+{
+    char out[300], path[400], text[8192];
+    static char log[262144];
+    const char *argv[] = { "tandem-scenario", "carry", "--task",  "tasks/carry_solo",
+                           "--workpieces",    "4",     "--fault", "kill:arm1:30:60",
+                           "--no-serial",     "--out", out,       NULL };
+    (void)state;
+    snprintf(out, sizeof out, "%s_solo", dir);
+    assert_int_equal(run(argv, 400.0, text, sizeof text), 0);
+    snprintf(path, sizeof path, "%s/summary.json", out);
+    assert_true(harness_slurp(path, text, sizeof text) > 0);
+    assert_true(harness_json_value(text, "workpieces_delivered") == 4.0);
+    assert_true(harness_json_value(text, "workpieces_dropped") == 0.0);
+    assert_true(harness_json_value(text, "invariant_violations") == 0.0);
+    assert_true(harness_json_value(text, "joint_limit_violations") == 0.0);
+    assert_true(harness_json_value(text, "kills") == 1.0);
+    assert_true(harness_json_value(text, "restarts") == 1.0);
+    assert_non_null(strstr(text, "\"exit_reason\": \"completed\""));
+    snprintf(path, sizeof path, "%s/run_supervisor.log", out);
+    assert_true(harness_slurp(path, log, sizeof log) > 0);
+    assert_non_null(strstr(log, "arm 1 DOWN (fault or silent): f1 fired"));
+    assert_non_null(strstr(log, "complete s4 arm 2 releases it"));
+    assert_non_null(strstr(log, "arm 1 up again: r1 fired"));
+    assert_non_null(strstr(log, "complete s6 arm 1 back"));
+    snprintf(path, sizeof path, "%s/run_stderr.log", out);
+    assert_true(harness_slurp(path, log, sizeof log) > 0);
+    assert_non_null(strstr(log, "in arm 2's magazine"));
+}
+
 /* Runs `cmd` (a program of this build and its arguments), stdout and
  * stderr into log and text; its exit status. */
 static int run_logged(const char *cmd, const char *log, char *text, int cap)
@@ -121,6 +154,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_buffer_task_delivers_every_workpiece),
         cmocka_unit_test(test_broken_task_refused_before_anything_moves),
+        cmocka_unit_test(test_solo_task_arm2_carries_while_arm1_is_down),
     };
     snprintf(dir, sizeof dir, "/tmp/it_task_%d", (int)getpid());
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -2,7 +2,10 @@
  * as PNML compiles to carry_net and carry_table field by field; the buffer
  * task passes with its bound and is refused as unsafe without it; a
  * deadlocking variant, a dead transition, a lost transition, a bad row,
- * an unreadable net and a weighted arc are refused, each for its reason. */
+ * an unreadable net and a weighted arc are refused, each for its reason;
+ * the task where arm 2 works alone while arm 1 is down is safe, never
+ * lets arm 2 leave a bar it holds with arm 1, and its health places are
+ * refused when a row takes their token. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -21,6 +24,8 @@
 #define BUFFER_ROWS "tasks/carry_buffer/rows.csv"
 /* the buffer task's first net: two slots on one stand (pf = 2), which let
  * arm 1 above the stand while arm 2 lifted a bar off it */
+#define SOLO_PNML "tasks/carry_solo/carry_solo.pnml"
+#define SOLO_ROWS "tasks/carry_solo/rows.csv"
 #define UNSAFE_PNML "test/netc/buffer_unsafe.pnml"
 #define UNSAFE_ROWS "test/netc/buffer_unsafe_rows.csv"
 
@@ -145,6 +150,105 @@ static void test_buffer_task_is_safe(void **st)
     assert_int_equal(found, 1);
 }
 
+/* The index of the place or transition named s, -1 if none. */
+static int place_index(const netc_task *t, const char *s)
+{
+    int i;
+    for (i = 0; i < t->n_places; i++)
+        if (strcmp(t->place_name[i], s) == 0)
+            return i;
+    return -1;
+}
+
+static int trans_index(const netc_task *t, const char *s)
+{
+    int j;
+    for (j = 0; j < t->n_transitions; j++)
+        if (strcmp(t->trans_name[j], s) == 0)
+            return j;
+    return -1;
+}
+
+/* The invariant whose support is exactly the places in want (" a b c"),
+ * all with weight 1: found once. */
+static int has_invariant(const netc_task *t, const char *want)
+{
+    int k, i, found = 0;
+    for (k = 0; k < t->n_invariants; k++) {
+        char support[256] = "";
+        for (i = 0; i < t->n_places; i++)
+            if (t->invariants[k * t->n_places + i] == 1) {
+                strcat(support, " ");
+                strcat(support, t->place_name[i]);
+            } else if (t->invariants[k * t->n_places + i] != 0) {
+                strcat(support, " ?");
+            }
+        found += strcmp(support, want) == 0;
+    }
+    return found;
+}
+
+/* The task where arm 2 carries alone while arm 1 is down (docs/tasks.md
+ * §8): safe and live with faults and recoveries at any moment (f1, r1 are
+ * in the graph); pz + p6 + q1..q4 = 1 says arm 2 is never working from its
+ * magazine while the arms hold a bar together (p6, t3 and t4 running,
+ * which hold pz); every row of arm 1 waits for arm 1
+ * up, arm 2 starts alone only with arm 1 down; f1 and r1 are the health
+ * transitions and move no arm, which the plain validator refuses. */
+static void test_solo_task_is_safe(void **st)
+{
+    taskdef_health h;
+    int j, up, down;
+    (void)st;
+    assert_int_equal(compile(&TASK, SOLO_PNML, SOLO_ROWS, 1, MSG, sizeof MSG), NETC_OK);
+    assert_int_equal(TASK.n_invariants, 4);
+    assert_int_equal(has_invariant(&TASK, " arm1_up arm1_down"), 1);
+    assert_int_equal(has_invariant(&TASK, " p6 pz q1 q2 q3 q4"), 1);
+    assert_int_equal(has_invariant(&TASK, " p3 p4 p5 p6 p7"), 1);
+    assert_int_equal(has_invariant(&TASK, " p2 p6 p8 p9 q1 q2 q3 q4"), 1);
+    assert_int_equal(taskdef_health_find(&TASK, &h), TASKDEF_OK);
+    up = place_index(&TASK, "arm1_up");
+    down = place_index(&TASK, "arm1_down");
+    assert_int_equal(h.up[0], up);
+    assert_int_equal(h.down[0], down);
+    assert_int_equal(h.fault[0], trans_index(&TASK, "f1"));
+    assert_int_equal(h.recover[0], trans_index(&TASK, "r1"));
+    assert_int_equal(h.up[1], -1);
+    assert_int_equal(h.fault[1], -1);
+    assert_int_equal(h.mask, 1u << h.fault[0] | 1u << h.recover[0]);
+    assert_int_equal(carry_table_validate(TASK.rows, TASK.n_transitions, &TASK.net),
+                     CARRY_NET_ERR_NET);
+    assert_int_equal(carry_table_validate_health(TASK.rows, TASK.n_transitions, &TASK.net, h.mask),
+                     0);
+    for (j = 0; j < TASK.n_transitions; j++) {
+        const int inhibited_down = TASK.n_inhibit[down * TASK.n_transitions + j] != 0;
+        if (TASK.rows[j].arms & CARRY_ARM1)
+            assert_true(inhibited_down); /* no row goes to arm 1 while it is down */
+    }
+    /* arm 2 goes to its magazine (s1 from home, s5 after a delivery)
+     * only with arm 1 down, and back to the carry (s6) only with it up */
+    assert_true(TASK.n_inhibit[up * TASK.n_transitions + trans_index(&TASK, "s1")] != 0);
+    assert_true(TASK.n_inhibit[up * TASK.n_transitions + trans_index(&TASK, "s5")] != 0);
+    assert_true(TASK.n_inhibit[down * TASK.n_transitions + trans_index(&TASK, "s6")] != 0);
+}
+
+/* Health places whose token a row takes, or a fault transition with another
+ * arc, are refused (TASKDEF_ERR_HEALTH): only the supervisor moves it. */
+static void test_solo_health_refused(void **st)
+{
+    const char *path = "build/test_netc_solo.pnml";
+    (void)st;
+    edit_copy(SOLO_PNML, path, "    </page>",
+              "      <arc id=\"x1\" source=\"arm1_down\" target=\"s2\"/>\n    </page>");
+    assert_int_equal(compile(&TASK, path, SOLO_ROWS, 1, MSG, sizeof MSG), NETC_ERR_TABLE);
+    assert_non_null(strstr(MSG, "TASKDEF_ERR_HEALTH"));
+    edit_copy(SOLO_PNML, path, "    </page>",
+              "      <arc id=\"x1\" source=\"pz\" target=\"f1\"/>\n    </page>");
+    assert_int_equal(compile(&TASK, path, SOLO_ROWS, 1, MSG, sizeof MSG), NETC_ERR_TABLE);
+    assert_non_null(strstr(MSG, "TASKDEF_ERR_HEALTH"));
+    remove(path);
+}
+
 static void test_deadlock_refused_with_counterexample(void **st)
 {
     (void)st;
@@ -253,6 +357,8 @@ int main(void)
         cmocka_unit_test(test_yaml_rows),
         cmocka_unit_test(test_buffer_task_is_bounded_not_safe),
         cmocka_unit_test(test_buffer_task_is_safe),
+        cmocka_unit_test(test_solo_task_is_safe),
+        cmocka_unit_test(test_solo_health_refused),
         cmocka_unit_test(test_deadlock_refused_with_counterexample),
         cmocka_unit_test(test_dead_transition_refused),
         cmocka_unit_test(test_lost_transition_refused),

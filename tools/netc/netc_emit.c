@@ -113,6 +113,7 @@ static int emit_header(const netc_task *t, const char *path, const char *pnml, c
 static int emit_source(const netc_task *t, const char *path, const char *pnml, const char *rows)
 {
     FILE *f = fopen(path, "w");
+    taskdef_health h;
     int i, j;
     if (!f)
         return NETC_ERR_IO;
@@ -152,11 +153,24 @@ static int emit_source(const netc_task *t, const char *path, const char *pnml, c
     fprintf(f, "const carry_row %s_task_table[%d] = {\n", t->task, t->n_transitions);
     for (j = 0; j < t->n_transitions; j++)
         emit_row(f, &t->rows[j]);
-    fprintf(f,
+    if (taskdef_health_find(t, &h) != TASKDEF_OK)
+        h.mask = 0;
+    if (h.mask == 0)
+        fprintf(
+            f,
             "};\n\nint %s_task_validate(void)\n{\n"
             "    const int rc = petri_net_validate(&%s_task_net);\n"
             "    return rc != 0 ? rc : carry_table_validate(%s_task_table, %d, &%s_task_net);\n}\n",
             t->task, t->task, t->task, t->n_transitions, t->task);
+    else /* the arms' fault and recovery transitions move no arm */
+        fprintf(
+            f,
+            "};\n\nint %s_task_validate(void)\n{\n"
+            "    const int rc = petri_net_validate(&%s_task_net);\n"
+            "    return rc != 0 ? rc\n"
+            "                   : carry_table_validate_health(%s_task_table, %d, &%s_task_net,\n"
+            "                                                 0x%08lxu);\n}\n",
+            t->task, t->task, t->task, t->n_transitions, t->task, (unsigned long)h.mask);
     return fclose(f) == 0 ? NETC_OK : NETC_ERR_IO;
 }
 

@@ -22,7 +22,8 @@ static void usage(FILE *f)
         "  --bound K    token bound per place (default 1: the net must be safe; 0: the\n"
         "               largest its P-invariants allow, as tandem-supervisor --task takes it)\n"
         "  --sim-args   last line: the tandem-sim options the cell needs for the task\n"
-        "               (--handover-stand when a row sets a workpiece down at the hand-over)\n"
+        "               (--handover-stand when a row sets a workpiece down at the hand-over,\n"
+        "               --magazine when a row goes to arm 2's magazine)\n"
         "  exit 0 ok, 1 refused (with a counterexample), 2 usage or files\n"
         "  docs/tasks.md\n",
         PETRI_MAX_STATES);
@@ -44,10 +45,13 @@ static int name_ok(const char *s)
  * tandem-sim options on one line (tools/tandem-run reads it). */
 static void print_sim_args(const netc_task *t)
 {
-    int j, stand = 0;
-    for (j = 0; j < t->n_transitions; j++)
+    int j, stand = 0, magazine = 0;
+    for (j = 0; j < t->n_transitions; j++) {
         stand |= carry_row_sets_down(&t->rows[j], 0) || carry_row_sets_down(&t->rows[j], 1);
-    printf("%s\n", stand ? "--handover-stand" : "");
+        magazine |= carry_row_uses_magazine(&t->rows[j]);
+    }
+    printf("%s%s%s\n", stand ? "--handover-stand" : "", stand && magazine ? " " : "",
+           magazine ? "--magazine" : "");
 }
 
 int main(int argc, char **argv)

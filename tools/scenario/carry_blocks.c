@@ -14,7 +14,9 @@
  * After removal: when the stick comes out while the blocked arm runs a row
  * (its last event is not DONE), the arm has resumed at the first step at
  * which its tool is 5 mm from where it was at removal, or it reports
- * UNBLOCKED or DONE; resume_latency = that step - removal. The tool's
+ * UNBLOCKED or DONE; resume_latency = that step - removal (or, when the
+ * arm's daemon was killed by --fault and is down at the removal, - its
+ * restart: it cannot resume before, and that wait is the kill's). The tool's
  * largest speed within LURCH_WINDOW_S of removal is the lurch.
  */
 #include <math.h>
@@ -134,6 +136,7 @@ static void block_in(carry_state *r, block *b)
         memcpy(b->out_pos_m, r->arm[a].tool_position_m, sizeof b->out_pos_m);
         b->row_running_at_out = r->last_event[a] != TANDEM_ACTION_EVENT_T_DONE;
         b->resume_s = b->row_running_at_out ? -1.0 : b->out_s;
+        b->resume_from_s = b->out_s;
     }
 }
 
@@ -142,8 +145,15 @@ static void block_in(carry_state *r, block *b)
 static void block_out(carry_state *r, carry_blocks *bl, block *b)
 {
     const int a = b->arm - 1;
+    if (b->resume_s < 0.0 && r->arm_down[a]) {
+        /* the arm's daemon is down (--fault): it cannot resume before it is
+         * restarted, and the time it was down is the kill's, not the stick's */
+        b->resume_from_s = r->t_s;
+        memcpy(b->out_pos_m, r->arm[a].tool_position_m, sizeof b->out_pos_m);
+        return;
+    }
     if (b->resume_s < 0.0) {
-        const int64_t out_step = (int64_t)(b->out_s * 1000.0 + 0.5);
+        const int64_t out_step = (int64_t)(b->resume_from_s * 1000.0 + 0.5);
         double d[3];
         int i;
         for (i = 0; i < 3; i++)

@@ -27,7 +27,7 @@ void carry_block_figures_of(carry_block_figures *f, const carry_blocks *bl, doub
             f->skipped++;
         if (b->out_s >= 0.0) /* not resumed by the end: counted to the end */
             f->resume_max_s = fmax(f->resume_max_s,
-                                   (b->resume_s >= 0.0 ? b->resume_s : sim_s) - b->out_s);
+                                   (b->resume_s >= 0.0 ? b->resume_s : sim_s) - b->resume_from_s);
         if (b->force_late_n)
             f->settled_max_N = fmax(f->settled_max_N,
                                     b->force_late_sum_N / (double)b->force_late_n);

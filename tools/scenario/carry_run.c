@@ -176,6 +176,8 @@ static int daemons_start(carry_daemons *d, const carry_cfg *c)
     n_sim = 10;
     if (c->handover_stand)
         d->sim_argv[n_sim++] = "--handover-stand";
+    if (c->magazine)
+        d->sim_argv[n_sim++] = "--magazine";
     daemon_argv_finish(c, d->sim_argv, n_sim, 16);
     daemon_argv_finish(c, d->a1_argv, 6, 16);
     daemon_argv_finish(c, d->a2_argv, 6, 16);
@@ -216,6 +218,8 @@ static int64_t clock_step(const carry_state *r)
 static void kill_daemon(carry_state *r, carry_daemons *d, int k)
 {
     proc_kill(&d->ps, d->pid[k]);
+    if (k == 1 || k == 2)
+        r->arm_down[k - 1] = 1;
     scenario_leave_send(&d->leave[k], r->bus, r->lcm, carry_daemon_lock_name[k], clock_step(r), 1);
     hang_watch_down(&d->hw, k);
 }
@@ -228,6 +232,8 @@ static int restart_daemon(carry_state *r, carry_daemons *d, int k, const char *l
     if (d->pid[k] < 0)
         return CARRY_SCEN_ERR_FAULT;
     scenario_leave_end(&d->leave[k]);
+    if (k == 1 || k == 2)
+        r->arm_down[k - 1] = 0;
     hang_watch_started(&d->hw, k, scenario_wall_s());
     r->hold_since_s = scenario_wall_s();
     return 0;

@@ -51,6 +51,8 @@ typedef struct block {
     long force_n, force_late_n;
     double lead_max_m, lurch_mps;
     double out_pos_m[3], resume_s; /* tool at removal; resumed at (< 0: not yet) */
+    double resume_from_s;          /* the resume latency counts from here: the removal,
+                                      or the restart of an arm killed before it (--fault) */
     int row_running_at_out;        /* the arm had a row to finish when the stick came out */
     int during_t3, done;
 } block;
@@ -76,6 +78,7 @@ typedef struct carry_cfg {
     const char *task;         /* --task DIR (tandem-supervisor --task), NULL: the shipped carry */
     int handover_stand;       /* the task sets workpieces down at the hand-over:
                                   tandem-sim --handover-stand */
+    int magazine;             /* a row goes to arm 2's magazine: tandem-sim --magazine */
     double hang_s;            /* --hang-s: a daemon silent this long (wall) is hung; 0 off */
     uint64_t seed;
     scenario_drop drop;     /* --drop-rate, to every daemon */
@@ -136,6 +139,7 @@ typedef struct carry_state {
     int stick_want;      /* -1 nothing asked, 0 out, 1 in */
     int stick_arm, stick_link;
     int64_t stick_sent_step;
+    int arm_down[2]; /* arm k's daemon killed (--fault, hung) and not restarted yet */
     int stick_resends, stick_tries; /* in the run; for the command in hand */
     int64_t ack_seq;
     int running_prev[NT];

@@ -242,7 +242,7 @@ static int parse(carry_options *o, int argc, char **argv)
 /* --task: checked before anything starts (the supervisor would refuse it
  * the same way, but only once the simulator runs), and what the cell
  * needs for it: the hand-over stand when a row sets a workpiece down
- * there. An exit status (2: refused) or SCENARIO_GO_ON. */
+ * there, arm 2's magazine when a row goes to it. An exit status (2: refused) or SCENARIO_GO_ON. */
 static int task_setup(carry_cfg *cfg)
 {
     static netc_task task;
@@ -256,9 +256,11 @@ static int task_setup(carry_cfg *cfg)
                 netc_strerror(rc));
         return 2;
     }
-    for (t = 0; t < task.n_transitions; t++)
+    for (t = 0; t < task.n_transitions; t++) {
         cfg->handover_stand |= carry_row_sets_down(&task.rows[t], 0) ||
                                carry_row_sets_down(&task.rows[t], 1);
+        cfg->magazine |= carry_row_uses_magazine(&task.rows[t]);
+    }
     return SCENARIO_GO_ON;
 }
 

@@ -104,6 +104,11 @@ typedef enum {
      * as at the pick and the delivery, so the bar clears the stand */
     CARRY_POSE_ABOVE_HANDOVER_1,
     CARRY_POSE_ABOVE_HANDOVER_2,
+    /* arm 2's own source (cell_default.magazine_center_m, tandem-sim
+     * --magazine): a bar it takes alone while arm 1 is down
+     * (docs/tasks.md §8), at grasp height and approach_height_m above */
+    CARRY_POSE_ABOVE_MAGAZINE,
+    CARRY_POSE_AT_MAGAZINE,
     CARRY_N_POSES
 } carry_pose;
 
@@ -152,6 +157,14 @@ extern const erlaw_gains carry_rot_gains;
  * For start-up checks: carry_table_validate(carry_table,
  * CARRY_N_TRANSITIONS, &carry_net). */
 int carry_table_validate(const carry_row *rows, int n_rows, const petri_net *net);
+
+/* carry_table_validate, except that a transition t with bit t set in
+ * health (an arm's fault or recovery, fired by the supervisor from the
+ * arms' health: taskdef_health_find) has inputs and moves no arm; any
+ * such transition that moves an arm is refused (CARRY_NET_ERR_NET).
+ * carry_table_validate is this with health 0. */
+int carry_table_validate_health(const carry_row *rows, int n_rows, const petri_net *net,
+                                uint32_t health);
 
 /* Bounds of the lookup table's gains: lo[i], hi[i] = min, max over every
  * row that moves an arm, field i in erlaw_gains order (v_m a_m u_m k_p k_v

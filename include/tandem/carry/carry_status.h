@@ -62,7 +62,8 @@
       "the source fills not exactly one place, or it does not inhibit the source") \
     X(TASKDEF_ERR_PICK, "not exactly one transition takes the source's token")     \
     X(TASKDEF_ERR_NET, "petri_net_validate refuses the net")                       \
-    X(TASKDEF_ERR_TABLE, "carry_table_validate refuses the rows")
+    X(TASKDEF_ERR_TABLE, "carry_table_validate refuses the rows")                  \
+    X(TASKDEF_ERR_HEALTH, "an arm's health places (armK_up, armK_down) are not as taskdef.h says")
 
 const char *petri_strerror(int rc);
 const char *carry_net_strerror(int rc);

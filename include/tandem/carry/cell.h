@@ -47,6 +47,10 @@ typedef struct cell_layout {
     double handover_center_m[3];      /* workpiece centre at the hand-over */
     double approach_height_m;         /* above-workpiece clearance */
     double home_tool_m[CELL_ARMS][3]; /* tool point at home */
+    /* arm 2's own source of workpieces (tandem-sim --magazine, a task
+     * where arm 2 works alone while arm 1 is down: docs/tasks.md §8): a
+     * bar's centre, resting on the table, along world x, in arm 2's reach */
+    double magazine_center_m[3];
 } cell_layout;
 
 extern const cell_layout cell_default;
@@ -54,8 +58,8 @@ extern const cell_layout cell_default;
 /* The layout is sound: every number finite, sizes, mass, grasp offset and
  * tolerance and approach height > 0, spreads >= 0, both grasp points on
  * the bar (within the tolerance of its ends), the pick zone (with its
- * spread) and the delivery pose resting on the table top and inside its
- * footprint, the hand-over workpiece above the table top, the arms at two
+ * spread), the delivery pose and the magazine resting on the table top
+ * and inside its footprint, the hand-over workpiece above the table top, the arms at two
  * different places. 0 or CELL_ERR_*. For start-up checks. */
 int cell_layout_validate(const cell_layout *c);
 

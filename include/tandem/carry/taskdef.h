@@ -42,6 +42,10 @@
                                             source's token                      */
 #define TASKDEF_ERR_NET (-5)   /* petri_net_validate refuses the net  */
 #define TASKDEF_ERR_TABLE (-6) /* carry_table_validate refuses the rows */
+#define TASKDEF_ERR_HEALTH \
+    (-7) /* an arm's health places (armK_up,
+                                            armK_down) not as taskdef_health
+                                            says                                */
 
 typedef struct {
     int source;       /* transition index */
@@ -72,6 +76,23 @@ typedef struct {
     int live[PETRI_MAX_TRANSITIONS]; /* the rows file asks for liveness */
 } taskdef;
 
+/* The arms' health in a task's net (docs/tasks.md §8), found by name: a
+ * place named (or with the id) "arm1_up" and one "arm1_down" (arm2_up,
+ * arm2_down for arm 2), one token between them in the initial marking.
+ * The supervisor moves that token from what the arms report (a FAULT, or
+ * silence, puts arm K down; FAULT_CLEARED and its voice back put it up),
+ * by firing the one transition whose only arcs are up -> down (the
+ * fault) or down -> up (the recovery); those move no arm. Every other
+ * transition may only test them, by inhibitor arcs ("needs arm K up" is
+ * an inhibitor arc from armK_down), never take or give their token: the
+ * task cannot lie about an arm's health. An arm whose places the net does
+ * not name has no health transitions (-1): the shipped carry has none. */
+typedef struct {
+    int up[2], down[2];       /* place indices, or -1              */
+    int fault[2], recover[2]; /* transition indices, or -1         */
+    uint32_t mask;            /* bit t: t is a fault or a recovery */
+} taskdef_health;
+
 /* t->net points into t's arrays, with t's sizes and invariants. */
 void taskdef_bind(taskdef *t);
 
@@ -84,6 +105,20 @@ int taskdef_roles_find(const petri_net *net, taskdef_roles *r);
  * TASKDEF_OK (and *r set when r is not NULL) or the first
  * TASKDEF_ERR_*. For start-up checks. */
 int taskdef_validate(const petri_net *net, const carry_row *rows, taskdef_roles *r);
+
+/* The health places and transitions of t (taskdef_health above): TASKDEF_OK
+ * and *h set (all -1 and mask 0 for a net without them), or
+ * TASKDEF_ERR_HEALTH (*h all -1) when one of an arm's two places is
+ * missing, they do not hold one token between them, not exactly one
+ * transition does the fault or the recovery, or another transition takes
+ * or gives their token; TASKDEF_ERR_ARG for NULL. */
+int taskdef_health_find(const taskdef *t, taskdef_health *h);
+
+/* taskdef_validate with the rows of the transitions in health_mask allowed
+ * to move no arm (carry_table_validate_health); taskdef_validate is this
+ * with 0. */
+int taskdef_validate_health(const petri_net *net, const carry_row *rows, uint32_t health_mask,
+                            taskdef_roles *r);
 
 /* What a task does, in 64 bits (FNV-1a): the net's sizes, N-, N+, its
  * inhibitor arcs and initial marking, and every transition's row (arms,
@@ -98,5 +133,9 @@ uint64_t taskdef_digest(const petri_net *net, const carry_row *rows);
  * (a RELEASE not at the release pose and not handed to the partner, which
  * grasps in the same row): the task needs a stand at the hand-over. */
 int carry_row_sets_down(const carry_row *r, int a);
+
+/* 1 if an arm of row r moves to arm 2's magazine (ABOVE_MAGAZINE,
+ * AT_MAGAZINE): the task needs the magazine (tandem-sim --magazine). */
+int carry_row_uses_magazine(const carry_row *r);
 
 #endif

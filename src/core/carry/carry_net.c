@@ -156,9 +156,10 @@ const carry_row carry_table[CARRY_N_TRANSITIONS] = {
 };
 
 static const char *const POSE_NAMES[CARRY_N_POSES] = {
-    "NONE",          "HOME_1",       "ABOVE_WORKPIECE",  "AT_WORKPIECE",
-    "HANDOVER_1",    "CLEAR_1",      "HOME_2",           "HANDOVER_2",
-    "ABOVE_RELEASE", "RELEASE_POSE", "ABOVE_HANDOVER_1", "ABOVE_HANDOVER_2",
+    "NONE",           "HOME_1",       "ABOVE_WORKPIECE",  "AT_WORKPIECE",
+    "HANDOVER_1",     "CLEAR_1",      "HOME_2",           "HANDOVER_2",
+    "ABOVE_RELEASE",  "RELEASE_POSE", "ABOVE_HANDOVER_1", "ABOVE_HANDOVER_2",
+    "ABOVE_MAGAZINE", "AT_MAGAZINE",
 };
 
 const carry_row *carry_row_of(int t)
@@ -270,7 +271,7 @@ static int has_input(const petri_net *net, int t)
     return 0;
 }
 
-static int row_check(const carry_row *r, const petri_net *net, int t)
+static int row_check(const carry_row *r, const petri_net *net, int t, int health)
 {
     int a, rc, moves = 0;
     if (!r->name || (r->arms & ~(CARRY_ARM1 | CARRY_ARM2)) != 0 || r->sync_group < 0)
@@ -282,12 +283,20 @@ static int row_check(const carry_row *r, const petri_net *net, int t)
         return CARRY_NET_ERR_INCONSISTENT;
     if (moves && erlaw_gains_validate(&r->lin) != 0)
         return CARRY_NET_ERR_GAINS;
+    if (health)
+        return r->arms == 0 && has_input(net, t) ? 0 : CARRY_NET_ERR_NET;
     if ((r->arms != 0) != has_input(net, t))
         return CARRY_NET_ERR_NET;
     return 0;
 }
 
 int carry_table_validate(const carry_row *rows, int n_rows, const petri_net *net)
+{
+    return carry_table_validate_health(rows, n_rows, net, 0);
+}
+
+int carry_table_validate_health(const carry_row *rows, int n_rows, const petri_net *net,
+                                uint32_t health)
 {
     int t, rc;
     if (!rows || !net)
@@ -297,7 +306,7 @@ int carry_table_validate(const carry_row *rows, int n_rows, const petri_net *net
     if (n_rows != net->n_transitions)
         return CARRY_NET_ERR_SIZE;
     for (t = 0; t < n_rows; t++)
-        if ((rc = row_check(&rows[t], net, t)) != 0)
+        if ((rc = row_check(&rows[t], net, t, (int)(health >> t & 1u))) != 0)
             return rc;
     return 0;
 }

@@ -24,6 +24,9 @@ const cell_layout cell_default = {
     .handover_center_m = { 0.0, 0.35, 0.45 },
     .approach_height_m = 0.13,
     .home_tool_m = { { -0.50, 0.50, 0.45 }, { 0.50, 0.50, 0.45 } },
+    /* 0.18 m behind the delivery pose, arm 2's grasp point 0.68 m from its
+     * base axis; arm 1 cannot reach it */
+    .magazine_center_m = { 0.45, 0.68, 0.22 },
 };
 
 /* Every number of the layout, group by group. */
@@ -34,8 +37,8 @@ static int numbers_finite(const cell_layout *c)
                                &c->workpiece_mass_kg, &c->grasp_offset_m,    &c->grasp_tolerance_m,
                                c->pick_center_m,      c->pick_spread_m,      c->deliver_center_m,
                                c->handover_center_m,  &c->approach_height_m, c->home_tool_m[0],
-                               c->home_tool_m[1] };
-    const int len[] = { 3, 3, CELL_ARMS, 3, 3, 3, 1, 1, 1, 3, 2, 3, 3, 1, 3, 3 };
+                               c->home_tool_m[1],     c->magazine_center_m };
+    const int len[] = { 3, 3, CELL_ARMS, 3, 3, 3, 1, 1, 1, 3, 2, 3, 3, 1, 3, 3, 3 };
     size_t g;
     int i;
     for (g = 0; g < sizeof groups / sizeof groups[0]; g++)
@@ -86,6 +89,7 @@ int cell_layout_validate(const cell_layout *c)
     if (c->grasp_offset_m + c->grasp_tolerance_m > 0.5 * c->workpiece_size_m[0] ||
         !rests_on_table(c, c->pick_center_m, c->pick_spread_m) ||
         !rests_on_table(c, c->deliver_center_m, no_spread) ||
+        !rests_on_table(c, c->magazine_center_m, no_spread) ||
         !(c->handover_center_m[2] - 0.5 * c->workpiece_size_m[2] >
           c->table_center_m[2] + 0.5 * c->table_size_m[2]))
         return CELL_ERR_INCONSISTENT;

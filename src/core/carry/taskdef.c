@@ -1,8 +1,10 @@
 /* taskdef: a task in fixed tables and the roles the supervisor finds
  * from its net's structure (docs/tasks.md §7; the net and rows of
- * docs/method/carry.md §5, §6). No equation: structure only.
+ * docs/method/carry.md §5, §6), and the arms' health places it names
+ * (taskdef_health_find, docs/tasks.md §8). No equation: structure only.
  */
 #include "taskdef.h"
+#include <string.h>
 
 #include <stddef.h>
 
@@ -150,19 +152,105 @@ int taskdef_roles_find(const petri_net *net, taskdef_roles *r)
 
 int taskdef_validate(const petri_net *net, const carry_row *rows, taskdef_roles *r)
 {
+    return taskdef_validate_health(net, rows, 0, r);
+}
+
+int taskdef_validate_health(const petri_net *net, const carry_row *rows, uint32_t health_mask,
+                            taskdef_roles *r)
+{
     taskdef_roles found;
     int rc;
     if (!net || !rows)
         return TASKDEF_ERR_ARG;
     if (petri_net_validate(net) != 0)
         return TASKDEF_ERR_NET;
-    if (carry_table_validate(rows, net->n_transitions, net) != 0)
+    if (carry_table_validate_health(rows, net->n_transitions, net, health_mask) != 0)
         return TASKDEF_ERR_TABLE;
     if ((rc = taskdef_roles_find(net, &found)) != TASKDEF_OK)
         return rc;
     if (r)
         *r = found;
     return TASKDEF_OK;
+}
+
+/* ---- the arms' health -------------------------------------------------------- */
+
+/* The place named or with the id s, -1 if none. */
+static int place_named(const taskdef *t, const char *s)
+{
+    int i;
+    for (i = 0; i < t->n_places; i++)
+        if (strcmp(t->place_name[i], s) == 0 || strcmp(t->place_id[i], s) == 0)
+            return i;
+    return -1;
+}
+
+/* The one transition whose only arcs are from place a to place b (no
+ * inhibitor arc), -1 if not exactly one. */
+static int only_arc(const petri_net *n, int a, int b)
+{
+    int i, j, found = -1, count = 0;
+    for (j = 0; j < n->n_transitions; j++) {
+        int ok = entry(n->n_minus, n, a, j) && entry(n->n_plus, n, b, j);
+        for (i = 0; i < n->n_places && ok; i++)
+            ok = (i == a || !entry(n->n_minus, n, i, j)) &&
+                 (i == b || !entry(n->n_plus, n, i, j)) &&
+                 !(n->n_inhibit && entry(n->n_inhibit, n, i, j));
+        if (ok) {
+            found = j;
+            count++;
+        }
+    }
+    return count == 1 ? found : -1;
+}
+
+static void health_none(taskdef_health *h)
+{
+    int k;
+    for (k = 0; k < 2; k++)
+        h->up[k] = h->down[k] = h->fault[k] = h->recover[k] = -1;
+    h->mask = 0;
+}
+
+int taskdef_health_find(const taskdef *t, taskdef_health *h)
+{
+    static const char *const up_name[2] = { "arm1_up", "arm2_up" }, *const down_name[2] = {
+        "arm1_down", "arm2_down"
+    };
+    const petri_net *n;
+    int k, j;
+    if (!h)
+        return TASKDEF_ERR_ARG;
+    health_none(h);
+    if (!t)
+        return TASKDEF_ERR_ARG;
+    n = &t->net;
+    for (k = 0; k < 2; k++) {
+        const int up = place_named(t, up_name[k]), down = place_named(t, down_name[k]);
+        int f, r;
+        if (up < 0 && down < 0)
+            continue;
+        if (up < 0 || down < 0 || t->m0[up] + t->m0[down] != 1)
+            goto refused;
+        f = only_arc(n, up, down);
+        r = only_arc(n, down, up);
+        if (f < 0 || r < 0)
+            goto refused;
+        for (j = 0; j < n->n_transitions; j++)
+            if (j != f && j != r &&
+                (entry(n->n_minus, n, up, j) || entry(n->n_plus, n, up, j) ||
+                 entry(n->n_minus, n, down, j) || entry(n->n_plus, n, down, j)))
+                goto refused;
+        h->up[k] = up;
+        h->down[k] = down;
+        h->fault[k] = f;
+        h->recover[k] = r;
+        h->mask |= 1u << f | 1u << r;
+    }
+    return TASKDEF_OK;
+refused:
+    health_none(h);
+    return TASKDEF_ERR_HEALTH;
 }
 
 int carry_row_sets_down(const carry_row *r, int a)
@@ -183,4 +271,18 @@ int carry_row_sets_down(const carry_row *r, int a)
             releases = 1;
     }
     return releases && !partner_grasps;
+}
+
+int carry_row_uses_magazine(const carry_row *r)
+{
+    int a, k;
+    if (!r)
+        return 0;
+    for (a = 0; a < 2; a++)
+        for (k = 0; k < r->plan[a].n_segments && k < CARRY_MAX_SEGMENTS; k++)
+            if (r->plan[a].seg[k].kind == CARRY_SEG_MOVE &&
+                (r->plan[a].seg[k].pose == CARRY_POSE_ABOVE_MAGAZINE ||
+                 r->plan[a].seg[k].pose == CARRY_POSE_AT_MAGAZINE))
+                return 1;
+    return 0;
 }

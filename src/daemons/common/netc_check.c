@@ -1,6 +1,7 @@
 /* netc_check: what tandem-netc proves of a task before it becomes tables
  * (docs/tasks.md §4): the validators the supervisor runs at start-up
- * (petri_net_validate, carry_table_validate), gains inside what the arms
+ * (petri_net_validate, carry_table_validate with the arms' health
+ * transitions, taskdef_health_find), gains inside what the arms
  * accept (carry_gains_within_table), then the reachability graph of the
  * split-firing net (petri_explore, docs/method/carry.md §5) within
  * PETRI_MAX_STATES: bounded (safe for bound 1), deadlock-free, every
@@ -322,6 +323,8 @@ static const int8_t POSE_ARM[CARRY_N_POSES] = {
     [CARRY_POSE_RELEASE_POSE] = 1,
     [CARRY_POSE_ABOVE_HANDOVER_1] = 0,
     [CARRY_POSE_ABOVE_HANDOVER_2] = 1,
+    [CARRY_POSE_ABOVE_MAGAZINE] = 1,
+    [CARRY_POSE_AT_MAGAZINE] = 1,
 };
 
 /* Every move of row j goes to a pose of its own arm. */
@@ -384,6 +387,7 @@ static int check_roles(const netc_task *t, FILE *err)
 
 static int check_tables(netc_task *t, FILE *err)
 {
+    taskdef_health h;
     int j, rc = petri_net_validate(&t->net);
     if (rc != 0) {
         netc_say(err,
@@ -392,7 +396,16 @@ static int check_tables(netc_task *t, FILE *err)
                  rc);
         return NETC_ERR_TABLE;
     }
-    if ((rc = carry_table_validate(t->rows, t->n_transitions, &t->net)) != 0) {
+    if (taskdef_health_find(t, &h) != TASKDEF_OK) {
+        netc_say(
+            err,
+            "refused: the arms' health places (armK_up, armK_down): both or neither, one token "
+            "between them, one fault (up -> down) and one recovery (down -> up) transition with "
+            "no other arc, and no other transition taking or giving their token; other "
+            "transitions test them by inhibitor arcs (TASKDEF_ERR_HEALTH)\n");
+        return NETC_ERR_TABLE;
+    }
+    if ((rc = carry_table_validate_health(t->rows, t->n_transitions, &t->net, h.mask)) != 0) {
         netc_say(err,
                  "carry_table_validate refuses the rows (%d, CARRY_NET_ERR_*: "
                  "include/tandem/carry/carry_net.h)\n",

@@ -51,8 +51,9 @@ typedef struct supervisor_daemon {
     const petri_net *pn;
     const carry_row *rows; /* row t for transition t */
     taskdef_roles roles;
-    int token_bound;      /* the start-up check's bound per place */
-    uint64_t task_digest; /* taskdef_digest of pn and rows: journalled */
+    taskdef_health health; /* the arms' health places, if the task has them */
+    int token_bound;       /* the start-up check's bound per place */
+    uint64_t task_digest;  /* taskdef_digest of pn and rows: journalled */
     petri net;
     sup_slot slot[PETRI_MAX_TRANSITIONS];
     int controller; /* action_row_t CONTROLLER_* */
@@ -128,6 +129,9 @@ const char *supervisor_strerror(int rc);
 
 /* The row of transition t (t a transition of the task). */
 const carry_row *sup_row(const supervisor_daemon *sv, int t);
+/* 1 if t is an arm's fault or recovery (taskdef_health): fired by the
+ * supervisor from the arms' health only, never started as a row. */
+int sup_health_transition(const supervisor_daemon *sv, int t);
 
 /* supervisor_rows.c */
 void sup_start_transition(supervisor_daemon *sv, int t);

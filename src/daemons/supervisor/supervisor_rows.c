@@ -52,6 +52,12 @@ static int resolve_pose(const supervisor_daemon *sv, int pose, double p[3])
         vec3_copy(p, h);
         p[0] -= CLEAR_BACKOFF_M;
         return 0;
+    case CARRY_POSE_ABOVE_MAGAZINE:
+    case CARRY_POSE_AT_MAGAZINE:
+        cell_grasp_point(c, 1, c->magazine_center_m, p);
+        if (pose == CARRY_POSE_ABOVE_MAGAZINE)
+            p[2] += c->approach_height_m;
+        return 0;
     case CARRY_POSE_ABOVE_RELEASE:
     case CARRY_POSE_RELEASE_POSE:
         cell_grasp_point(c, 1, c->deliver_center_m, p);

@@ -68,14 +68,28 @@ void sup_on_sim_status(const lcm_recv_buf_t *rb, const char *ch, void *u)
     tandem_sim_status_t_decode_cleanup(&m);
 }
 
-/* Work is pending while a transition runs or one but the source (t1..t7
- * of the carry) may start. */
+/* A running row of an arm that is down, in a task whose net knows that
+ * arm's health (taskdef_health): it waits for the arm, which the net
+ * and the health status say, not on a stuck cell. */
+static int waits_on_down_arm(const supervisor_daemon *sv, int t)
+{
+    int a;
+    for (a = 0; a < 2; a++)
+        if (sv->health.fault[a] >= 0 && ((sv->arms_faulted | sv->arms_silent) >> a & 1) &&
+            (sup_row(sv, t)->arms & (a == 0 ? CARRY_ARM1 : CARRY_ARM2)))
+            return 1;
+    return 0;
+}
+
+/* Work is pending while a transition runs (but one waiting on an arm the
+ * task knows is down) or one but the source (t1..t7 of the carry) and the
+ * arms' health transitions may start. */
 static int work_pending(const supervisor_daemon *sv)
 {
     int t;
     for (t = 0; t < sv->pn->n_transitions; t++)
-        if (t != sv->roles.source &&
-            (petri_running(&sv->net, t) ||
+        if (t != sv->roles.source && !sup_health_transition(sv, t) &&
+            ((petri_running(&sv->net, t) && !waits_on_down_arm(sv, t)) ||
              (petri_enabled(&sv->net, t) && (t != sv->roles.pick || sv->p1_bound))))
             return 1;
     return 0;

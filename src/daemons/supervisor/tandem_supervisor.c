@@ -24,6 +24,11 @@
  * added). The marking goes out on PETRI_MARKING on every change and at
  * 10 Hz; every start and completion is logged on stdout.
  *
+ * The arms' health: a task whose net names arm K's health places
+ * (armK_up, armK_down: taskdef_health) has them follow the arm's FAULT and
+ * silence (follow_health); the net decides what runs while an arm is down
+ * (docs/tasks.md §8: arm 2 alone from its magazine).
+ *
  * Watchdogs: an arm's FAULT event (joint out of range or over speed; the
  * arm holds on its brakes) is logged and shown in the marking message
  * until FAULT_CLEARED. A stall -- work pending, nothing completed for
@@ -155,6 +160,34 @@ const carry_row *sup_row(const supervisor_daemon *sv, int t)
     return &sv->rows[t];
 }
 
+int sup_health_transition(const supervisor_daemon *sv, int t)
+{
+    return t >= 0 && t < PETRI_MAX_TRANSITIONS && (sv->health.mask >> t & 1u);
+}
+
+/* The arms' health places (taskdef_health, docs/tasks.md §8) follow what
+ * the arms report: a FAULT or silence fires arm k's fault transition,
+ * FAULT_CLEARED and its voice back its recovery, at once (start and
+ * completion), as the source is fired. The net then lets no row start
+ * for an arm that is down (inhibitor arcs from its down place). */
+static void follow_health(supervisor_daemon *sv)
+{
+    int a;
+    for (a = 0; a < 2; a++) {
+        const int down = ((sv->arms_faulted | sv->arms_silent) >> a) & 1;
+        const int t = down ? sv->health.fault[a] : sv->health.recover[a];
+        /* up again only on the arm's own word: a supervisor restarted from
+         * its journal with the arm down has not heard it yet */
+        if (t < 0 || (!down && !sv->arm[a].heard) || !petri_enabled(&sv->net, t) ||
+            petri_fire(&sv->net, t) != 0)
+            continue;
+        sv->changed = 1;
+        sv->dirty = 1;
+        printf("[%9.3f] arm %d %s: %s fired\n", sv->d.sim_time_s, a + 1,
+               down ? "DOWN (fault or silent)" : "up again", sv->task->trans_name[t]);
+    }
+}
+
 /* --serial: the cell is back where it started, nothing running and every
  * place but the source's at its initial marking (the carry: both arms
  * home, the previous workpiece delivered). */
@@ -205,13 +238,15 @@ static int cycle(daemon *d, void *user)
     const int per_10hz = (int)(0.1 / d->period_s + 0.5);
     int t, dead;
     sup_handle_events(sv);
+    follow_health(sv);
     sup_recover_rows(sv);
     /* holding (the journal cannot be written): nothing new starts */
     if (!sup_holding(sv))
         take_detection(sv);
     for (t = 0; t < sv->pn->n_transitions; t++) {
-        if (t == sv->roles.source || sup_holding(sv) || !petri_enabled(&sv->net, t) ||
-            (t == sv->roles.pick && !sv->p1_bound) || sup_grasp_blocked(sv, t))
+        if (t == sv->roles.source || sup_health_transition(sv, t) || sup_holding(sv) ||
+            !petri_enabled(&sv->net, t) || (t == sv->roles.pick && !sv->p1_bound) ||
+            sup_grasp_blocked(sv, t))
             continue;
         if (t == sv->roles.pick) {
             sv->p1_bound = 0; /* the pick (t1) takes the token and its pose */
@@ -327,11 +362,16 @@ static int check_tables(supervisor_daemon *sv)
                *rows = sv->task ? "task rows" : "carry_table";
     if (daemon_check_table(sv->d.name, net, "petri_net_validate", petri_net_validate(sv->pn),
                            petri_strerror) != 0 ||
-        daemon_check_table(sv->d.name, rows, "carry_table_validate",
-                           carry_table_validate(sv->rows, sv->pn->n_transitions, sv->pn),
-                           carry_net_strerror) != 0 ||
+        daemon_check_table(sv->d.name, net, "taskdef_health_find",
+                           sv->task ? taskdef_health_find(sv->task, &sv->health) : TASKDEF_OK,
+                           taskdef_strerror) != 0 ||
+        daemon_check_table(
+            sv->d.name, rows, "carry_table_validate",
+            carry_table_validate_health(sv->rows, sv->pn->n_transitions, sv->pn, sv->health.mask),
+            carry_net_strerror) != 0 ||
         daemon_check_table(sv->d.name, net, "taskdef_validate",
-                           taskdef_validate(sv->pn, sv->rows, &sv->roles), taskdef_strerror) != 0 ||
+                           taskdef_validate_health(sv->pn, sv->rows, sv->health.mask, &sv->roles),
+                           taskdef_strerror) != 0 ||
         daemon_check_table(sv->d.name, "supervisor_options", "options_table_validate",
                            options_table_validate(supervisor_options), options_strerror) != 0)
         return DAEMON_ERR_TABLE;
@@ -384,7 +424,8 @@ int main(int argc, char **argv)
     };
     int rc;
     sv->next_action_id = 1;
-    sv->jr.fd = -1; /* no journal open (journal_close at the end) */
+    taskdef_health_find(NULL, &sv->health); /* none: the shipped carry */
+    sv->jr.fd = -1;                         /* no journal open (journal_close at the end) */
     sv->controller = TANDEM_ACTION_ROW_T_CONTROLLER_EVENT;
     sv->stall_s = SUP_STALL_DEFAULT_S;
     sv->stall_obstructed_s = STALLWATCH_OBSTRUCT_MAX_S;

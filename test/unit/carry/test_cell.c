@@ -71,6 +71,13 @@ static void test_every_working_pose_is_reachable(void **state)
     assert_true(reachable(1, p));
     p[2] += c->approach_height_m;
     assert_true(reachable(1, p));
+    /* arm 2: its magazine (AT_MAGAZINE, ABOVE_MAGAZINE); arm 1 cannot reach it */
+    cell_grasp_point(c, 1, c->magazine_center_m, p);
+    assert_true(reachable(1, p));
+    p[2] += c->approach_height_m;
+    assert_true(reachable(1, p));
+    cell_grasp_point(c, 0, c->magazine_center_m, p);
+    assert_false(reachable(0, p));
 }
 
 static void test_tool_down_is_down_in_the_world(void **state)
@@ -122,11 +129,13 @@ static void test_validate(void **state)
     BROKEN(c.grasp_tolerance_m = 0.0, CELL_ERR_RANGE);
     BROKEN(c.pick_spread_m[0] = -0.01, CELL_ERR_RANGE);
     BROKEN(c.approach_height_m = 0.0, CELL_ERR_RANGE);
-    BROKEN(c.grasp_offset_m = 0.14, CELL_ERR_INCONSISTENT);      /* past the bar's end */
-    BROKEN(c.pick_center_m[2] += 0.01, CELL_ERR_INCONSISTENT);   /* floats above the top */
-    BROKEN(c.pick_spread_m[1] = 0.5, CELL_ERR_INCONSISTENT);     /* spreads off the table */
-    BROKEN(c.deliver_center_m[0] = 0.85, CELL_ERR_INCONSISTENT); /* off the table's end */
-    BROKEN(c.handover_center_m[2] = 0.2, CELL_ERR_INCONSISTENT); /* inside the table */
+    BROKEN(c.grasp_offset_m = 0.14, CELL_ERR_INCONSISTENT);       /* past the bar's end */
+    BROKEN(c.pick_center_m[2] += 0.01, CELL_ERR_INCONSISTENT);    /* floats above the top */
+    BROKEN(c.pick_spread_m[1] = 0.5, CELL_ERR_INCONSISTENT);      /* spreads off the table */
+    BROKEN(c.deliver_center_m[0] = 0.85, CELL_ERR_INCONSISTENT);  /* off the table's end */
+    BROKEN(c.handover_center_m[2] = 0.2, CELL_ERR_INCONSISTENT);  /* inside the table */
+    BROKEN(c.magazine_center_m[1] = 0.79, CELL_ERR_INCONSISTENT); /* off the table's edge */
+    BROKEN(c.magazine_center_m[2] = NAN, CELL_ERR_NONFINITE);
     BROKEN(vec3_copy(c.base_xyz_m[1], c.base_xyz_m[0]), CELL_ERR_INCONSISTENT);
 #undef BROKEN
 }

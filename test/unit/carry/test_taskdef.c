@@ -171,12 +171,92 @@ static void test_sets_down(void **st)
     assert_false(carry_row_sets_down(&r, 2));
 }
 
+/* The carry with arm 1's health: places 9 arm1_up (1 token), 10 arm1_down,
+ * transitions 8 (fault) and 9 (recovery) moving no arm, t1 inhibited by
+ * arm1_down. */
+static void task_with_health(taskdef *t)
+{
+    const int np = NP + 2, nt = NT + 2;
+    int i, j;
+    memset(t, 0, sizeof *t);
+    t->n_places = np;
+    t->n_transitions = nt;
+    t->has_inhibit = 1;
+    for (i = 0; i < NP; i++) {
+        t->m0[i] = carry_net.m0[i];
+        for (j = 0; j < NT; j++) {
+            t->n_minus[i * nt + j] = carry_net.n_minus[i * NT + j];
+            t->n_plus[i * nt + j] = carry_net.n_plus[i * NT + j];
+            t->n_inhibit[i * nt + j] = carry_net.n_inhibit[i * NT + j];
+        }
+    }
+    for (j = 0; j < NT; j++)
+        t->rows[j] = carry_table[j];
+    strcpy(t->place_name[NP], "arm1_up");
+    strcpy(t->place_id[NP + 1], "arm1_down"); /* by id too */
+    t->m0[NP] = 1;
+    t->n_minus[NP * nt + NT] = t->n_plus[(NP + 1) * nt + NT] = 1;         /* fault   */
+    t->n_minus[(NP + 1) * nt + NT + 1] = t->n_plus[NP * nt + NT + 1] = 1; /* recover */
+    t->n_inhibit[(NP + 1) * nt + CARRY_T1] = 1;
+    t->rows[NT] = carry_table[CARRY_T_VISION];
+    t->rows[NT + 1] = carry_table[CARRY_T_VISION];
+    taskdef_bind(t);
+}
+
+/* The arms' health places: none in the carry; found by name in a net that
+ * has them; refused when one is missing, the token is doubled or a row
+ * takes it. */
+static void test_health(void **st)
+{
+    static taskdef t;
+    taskdef_health h;
+    carry_row r;
+    int k;
+    (void)st;
+    task_from_carry(&t, ID_P, ID_T);
+    assert_int_equal(taskdef_health_find(&t, &h), TASKDEF_OK);
+    assert_int_equal(h.mask, 0u);
+    assert_int_equal(h.fault[0], -1);
+    assert_int_equal(taskdef_health_find(NULL, &h), TASKDEF_ERR_ARG);
+    assert_int_equal(h.up[0], -1);
+    task_with_health(&t);
+    assert_int_equal(taskdef_health_find(&t, &h), TASKDEF_OK);
+    assert_int_equal(h.up[0], NP);
+    assert_int_equal(h.down[0], NP + 1);
+    assert_int_equal(h.fault[0], NT);
+    assert_int_equal(h.recover[0], NT + 1);
+    assert_int_equal(h.up[1], -1);
+    assert_int_equal(h.mask, 3u << NT);
+    assert_int_equal(taskdef_validate(&t.net, t.rows, NULL), TASKDEF_ERR_TABLE);
+    assert_int_equal(taskdef_validate_health(&t.net, t.rows, h.mask, NULL), TASKDEF_OK);
+    /* a health transition that moves an arm */
+    t.rows[NT] = carry_table[CARRY_T6];
+    assert_int_equal(taskdef_validate_health(&t.net, t.rows, h.mask, NULL), TASKDEF_ERR_TABLE);
+    task_with_health(&t);
+    t.place_id[NP + 1][0] = '\0';
+    assert_int_equal(taskdef_health_find(&t, &h), TASKDEF_ERR_HEALTH);
+    assert_int_equal(h.mask, 0u);
+    task_with_health(&t);
+    t.m0[NP + 1] = 1;
+    assert_int_equal(taskdef_health_find(&t, &h), TASKDEF_ERR_HEALTH);
+    task_with_health(&t);
+    t.n_minus[(NP + 1) * (NT + 2) + CARRY_T2] = 1; /* t2 takes "arm 1 down" */
+    assert_int_equal(taskdef_health_find(&t, &h), TASKDEF_ERR_HEALTH);
+    /* the magazine: no row of the carry goes there */
+    for (k = 0; k < NT; k++)
+        assert_false(carry_row_uses_magazine(&carry_table[k]));
+    r = carry_table[CARRY_T1];
+    r.plan[0].seg[0].pose = CARRY_POSE_ABOVE_MAGAZINE;
+    assert_true(carry_row_uses_magazine(&r));
+    assert_false(carry_row_uses_magazine(NULL));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_roles_of_the_carry), cmocka_unit_test(test_digest),
         cmocka_unit_test(test_roles_permuted),     cmocka_unit_test(test_roles_refused),
-        cmocka_unit_test(test_sets_down),
+        cmocka_unit_test(test_sets_down),          cmocka_unit_test(test_health),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
