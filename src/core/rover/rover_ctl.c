@@ -652,6 +652,17 @@ static void arrival_turn_other_way(rover_ctl_state *c, double w_turn, unicycle_c
     u->w_radps = c->arrive_turn * fabs(w_turn);
 }
 
+/* u turns on the spot (no more than SPIN_V_MPS of speed), and the turn
+ * sweeps our chassis into a mate's (rover_ctl_cmd_sweeps_mate, every mate:
+ * standing for a lower mate's box costs nothing where the lower one keeps
+ * out of our turning circle). */
+#define SPIN_V_MPS 0.05
+static int spin_into_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u)
+{
+    return fabs(u->v_mps) <= SPIN_V_MPS && u->w_radps != 0.0 &&
+           rover_ctl_cmd_sweeps_mate(c, o, u, 0) != 0;
+}
+
 /* The drive command from the blend and the mode reported: capped while
  * the formation reshapes, zero at the goal, turned on the spot arriving
  * with the slot behind, guarded, never backwards, saturated. */
@@ -698,6 +709,13 @@ static void command_out(rover_ctl_state *c, const step_view *v, double t_s, doub
      * wait set: standing for a lower mate too wedged teams of 6 in the U */
     if (c->holding == ROVER_WAIT_NONE && !v->escaping && rover_ctl_cmd_sweeps_mate(c, &v->o, &u, 1))
         u.v_mps = u.w_radps = 0.0;
+    /* nor a turn on the spot into any mate's chassis: a mate within our
+     * turning circle keeps out of it when we outrank it (the wait set), but
+     * we are the one turning. Two robots arriving side by side, each turning
+     * to its slot with the other in its circle, met tail to tail (mixed
+     * world 120, 12 in line) */
+    if (!v->escaping && spin_into_mate(c, &v->o, &u))
+        u.w_radps = 0.0;
     /* other teams (fleet.h): stand for an outranking team's robot near
      * ahead (rover_ctl_teams.c); never with one team */
     c->giving_way_team = !v->escaping && out->mode != ROVER_MODE_AT_GOAL &&

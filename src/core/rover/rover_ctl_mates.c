@@ -160,7 +160,17 @@ int rover_ctl_walls_near(const sonar_groups *gw, const rover_ctl_params *p)
            p->follow_dist_m + p->walls_near_m;
 }
 
-/* Mate i (which outranks us) conflicts with us, as we see it: its axle
+/* Our chassis (axle at own_c, grown by SPIN_MARGIN_M) lies within the
+ * circle a mate whose axle is at mc sweeps turning on the spot. */
+static int in_turn_circle(const pose2 *own_c, const pose2 *mc)
+{
+    const box2 own = chassis_box(own_c, SPIN_MARGIN_M);
+    return box_gap_m(&own, mc->x_m, mc->y_m) < turn_reach_m();
+}
+
+/* Mate i (which outranks us) conflicts with us, as we see it: our chassis
+ * within the circle it sweeps turning on the spot, anywhere (its circle is
+ * its own: it may have to turn there, and only we can clear it); its axle
  * within yield_near_m of ours where either of us is out of the formation
  * (neither could turn on the spot), or where walls are near and its axle
  * lies ahead of ours (within 90 deg of our heading: a mate beside or
@@ -182,6 +192,8 @@ static int mate_conflicts(const rover_ctl_state *c, const pose2 *o, int walls, i
     if (mate_c(c, i, &mc) != 0 || team_position(&c->team, m->robot, xy) != 0)
         return 0;
     unicycle_c_from_o(&own_c, o, p->beh.d_m);
+    if (in_turn_circle(&own_c, &mc))
+        return 1;
     if (hypot(mc.x_m - own_c.x_m, mc.y_m - own_c.y_m) < p->yield_near_m &&
         (mate_out || self_out ||
          (walls && fabs(vec2_angle_diff_rad(atan2(mc.y_m - own_c.y_m, mc.x_m - own_c.x_m),
@@ -284,7 +296,7 @@ int rover_ctl_in_way_of(const rover_ctl_state *c, const pose2 *o, int32_t mate, 
     unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
     own = chassis_box(&own_c, SPIN_MARGIN_M);
     lane = lane_box(&mc, ahead_m);
-    return box_gap_m(&own, mc.x_m, mc.y_m) < turn_reach_m() || boxes_touch(&own, &lane);
+    return in_turn_circle(&own_c, &mc) || boxes_touch(&own, &lane);
 }
 
 /* A mate's chassis (where the team table puts it, grown by SPIN_MARGIN_M)

@@ -2034,6 +2034,66 @@ static void test_arrival_turns_on_the_spot(void **state)
     }
 }
 
+/* A turn on the spot never sweeps the chassis into a mate's, whoever
+ * ranks higher, and a mate within an outranking robot's turning circle
+ * keeps out of it. Robot 1 arriving with its slot behind turns right on
+ * the spot (as test_arrival_turns_on_the_spot); robot 4 stands behind its
+ * left flank, where that turn swings robot 1's tail (two robots arriving
+ * side by side met so tail to tail, mixed world 120, 12 in line). Robot 1
+ * stands instead; robot 4, in the open but within robot 1's circle, waits
+ * for it (and, with no path behind it to back along, stands). */
+static void test_no_spin_into_mate(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    const double goal[2] = { 10.0, 0.0 };
+    hand_mate m[3] = { { 2, 10.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
+                       { 3, 10.0, -1.0, 0.0, FORMATION_ANN_NONE, 0.0 },
+                       { 4, 0.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 } };
+    const pose2 start = { 11.0, 1.3, -0.5 };
+    const unicycle_cmd right = { 0.0, -0.6 }, left = { 0.0, 0.6 };
+    pose2 own_c, o4;
+    hand_mate top;
+    double t = 0.0;
+    (void)state;
+    rover_ctl_params_default(&p);
+    assert_int_equal(rover_ctl_init(&c, &p, 1, &start, goal), 0);
+    hand_step(&c, t, open_ring, m, 2, &out);
+    assert_true(out.u.v_mps == 0.0 && out.u.w_radps < 0.0); /* turns right, mates clear */
+    /* robot 4's axle 0.25 m behind ours and 0.48 m to the left, alongside */
+    unicycle_c_from_o(&own_c, &out.o, p.beh.d_m);
+    o4.theta_rad = own_c.theta_rad;
+    o4.x_m = own_c.x_m + (-0.25 - p.beh.d_m) * cos(o4.theta_rad) - 0.48 * sin(o4.theta_rad);
+    o4.y_m = own_c.y_m + (-0.25 - p.beh.d_m) * sin(o4.theta_rad) + 0.48 * cos(o4.theta_rad);
+    m[2].x = o4.x_m;
+    m[2].y = o4.y_m;
+    m[2].th = o4.theta_rad;
+    for (t = DT; t < 1.0; t += DT) {
+        hand_step(&c, t, open_ring, m, 3, &out);
+        /* the test is live: the right turn sweeps into robot 4, the left does not */
+        assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &right, 0), 4);
+        assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &left, 0), 0);
+        assert_true(out.u.w_radps == 0.0 && out.u.v_mps == 0.0);
+    }
+    /* robot 4's side: robot 1 outranks it and it lies in robot 1's circle */
+    top.id = 1;
+    top.x = out.o.x_m;
+    top.y = out.o.y_m;
+    top.th = out.o.theta_rad;
+    top.announce = FORMATION_ANN_NONE;
+    top.v = 0.0;
+    assert_int_equal(rover_ctl_init(&c, &p, 4, &o4, goal), 0);
+    for (t = 0.0; t < 1.0; t += DT) {
+        hand_step(&c, t, open_ring, &top, 1, &out);
+        if (t > 0.3) { /* once robot 1 is in its table */
+            assert_int_equal(c.wait_n, 1);
+            assert_int_equal(c.wait_id[0], 1);
+            assert_true(out.u.w_radps == 0.0 && out.u.v_mps <= 0.0);
+        }
+    }
+}
+
 /* Past the goal: the middle robot stands 3.5 m beyond its goal slot
  * facing away, its mates at theirs, so R0 (their mean) lies 1.2 m past
  * the goal on the goal line. R0 heads back along the bearing of the goal
@@ -2377,6 +2437,7 @@ int main(void)
         cmocka_unit_test(test_team_heading_at_goal),
         cmocka_unit_test(test_turns_back_past_goal),
         cmocka_unit_test(test_arrival_turns_on_the_spot),
+        cmocka_unit_test(test_no_spin_into_mate),
         cmocka_unit_test(test_cut_off_takes_the_way),
         cmocka_unit_test(test_column_by_place),
         cmocka_unit_test(test_snapshot_resume_identity),
