@@ -301,6 +301,10 @@ static void test_bad_rows_refused(void **st)
               "-,MOVE ABOVE_RELEASE; MOVE HOME_1");
     assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_TABLE);
     assert_non_null(strstr(MSG, "arm 2 cannot go to HOME_1"));
+    /* arm 2 sent above the stand's second place on arm 1's side of the bar */
+    edit_copy(BUFFER_ROWS, path, "-,MOVE ABOVE_STAND_B_2,", "-,MOVE ABOVE_STAND_B_1,");
+    assert_int_equal(compile(&TASK, BUFFER_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_TABLE);
+    assert_non_null(strstr(MSG, "arm 2 cannot go to ABOVE_STAND_B_1"));
     /* a transition without its row */
     edit_copy(CARRY_ROWS, path, "t5,yes", "t6,yes");
     assert_int_equal(compile(&TASK, CARRY_PNML, path, 1, MSG, sizeof MSG), NETC_ERR_ROWS);
