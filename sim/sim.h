@@ -112,8 +112,9 @@ uint64_t sim_state_hash(const sim_world *w);
 typedef struct sim_config {
     int arms;                             /* 1: the PUMA 560 pair, table, workpieces */
     int workpieces;                       /* workpieces to feed (0 = endless stream) */
-    int handover_stand;                   /* 1: a stand under the hand-over, a buffer
-                                  a task sets workpieces down on */
+    int handover_stand;                   /* 1: a stand with two places (the hand-over,
+                                  cell stand_b_center_m), a buffer a task sets
+                                  workpieces down on */
     int magazine;                         /* 1: arm 2's magazine (cell magazine_center_m) */
     double arm_friction_viscous;          /* N m s / rad */
     double arm_friction_coulomb;          /* N m */

@@ -107,8 +107,9 @@ static const option_entry sim_options[] = {
       .type = OPTION_FLAG,
       OPTION_AT(sim_app, cfg.handover_stand),
       .help =
-          "a stand on the table under the hand-over: a workpiece set down there rests on it until an arm "
-          "takes it (the buffer of tasks/carry_buffer, docs/tasks.md §6)" },
+          "a stand on the table with two places, under the hand-over and 0.12 m behind it: a workpiece set "
+          "down at either rests on it until an arm takes it (the buffer of tasks/carry_buffer, "
+          "docs/tasks.md §6)" },
     { .name = "magazine",
       .type = OPTION_FLAG,
       OPTION_AT(sim_app, cfg.magazine),

@@ -20,7 +20,9 @@
  * delivered and parked; one at rest anywhere else after it left the pick
  * zone (or on the floor) is counted dropped and parked, except on the
  * hand-over stand (--handover-stand): a task's buffer, where it waits for
- * an arm to take it (docs/tasks.md §6).
+ * an arm to take it (docs/tasks.md §6). The stand has two places, the
+ * hand-over and cell_default.stand_b_center_m behind it, each its own box,
+ * so two bars rest on it apart.
  *
  * Arm 2's magazine (--magazine, docs/tasks.md §8): a feeder that presents
  * one bar at cell_default.magazine_center_m, along x, when arm 2's tool
@@ -87,11 +89,16 @@ static void park(sim_workpieces *m, int i)
     dGeomDisable(p->geom);
 }
 
-/* The hand-over stand: a box on the table top up to just below a bar held
- * at the hand-over; a table to the bars, nothing to the arms. */
-static dGeomID stand_create(sim_world *w)
+/* The stand's places: the hand-over, and its second place behind it. */
+static const double *stand_place(int k)
 {
-    const double *h = cell_default.handover_center_m;
+    return k == 0 ? cell_default.handover_center_m : cell_default.stand_b_center_m;
+}
+
+/* One place of the hand-over stand: a box on the table top up to just below
+ * a bar held at the place; a table to the bars, nothing to the arms. */
+static dGeomID stand_create(sim_world *w, const double *h)
+{
     const double top = h[2] - 0.5 * cell_default.workpiece_size_m[2] - WP_STAND_DROP_M;
     const double height = top - table_top_z();
     dGeomID g = dCreateBox(w->space, WP_STAND_SIZE_X_M, WP_STAND_SIZE_Y_M, height);
@@ -122,7 +129,8 @@ static int wp_create(void *model, sim_world *w, const sim_config *cfg)
                      cell_default.table_center_m[2]);
     dGeomSetCategoryBits(m->table_geom, SIM_CAT_TABLE);
     dGeomSetCollideBits(m->table_geom, SIM_CAT_WORKPIECE);
-    m->stand_geom = cfg->handover_stand ? stand_create(w) : NULL;
+    for (i = 0; i < SIM_STAND_PLACES; i++)
+        m->stand_geom[i] = cfg->handover_stand ? stand_create(w, stand_place(i)) : NULL;
     for (i = 0; i < WP_POOL; i++) {
         m->pool[i].body = sim_body_create(w);
         dMassSetBoxTotal(&mass, cell_default.workpiece_mass_kg, sz[0], sz[1], sz[2]);
@@ -142,7 +150,7 @@ static void wp_destroy(void *model, sim_world *w)
     (void)w; /* bodies, geoms and joints go with the ODE world */
     memset(m->pool, 0, sizeof m->pool);
     m->table_geom = NULL;
-    m->stand_geom = NULL;
+    memset(m->stand_geom, 0, sizeof m->stand_geom);
 }
 
 /* ---- geometry helpers ----------------------------------------------------- */
@@ -374,14 +382,24 @@ static void wp_before_step(void *model, sim_world *w)
 
 /* ---- bookkeeping and camera ----------------------------------------------- */
 
+/* A free bar at rest on one of the stand's places. */
+static int on_stand(const sim_workpieces *m, const sim_workpiece *p, const dReal *c)
+{
+    int k;
+    if (p->state != WP_FREE || !(c[2] > table_top_z() + 0.05))
+        return 0;
+    for (k = 0; k < SIM_STAND_PLACES; k++)
+        if (m->stand_geom[k] && xy_dist(c, stand_place(k)) < WP_STAND_RADIUS_M)
+            return 1;
+    return 0;
+}
+
 static void settle(sim_workpieces *m, int i)
 {
     sim_workpiece *p = &m->pool[i];
     const dReal *c = dBodyGetPosition(p->body);
     const int on_floor = c[2] < table_top_z() - 0.05;
-    const int on_stand = m->stand_geom && p->state == WP_FREE && c[2] > table_top_z() + 0.05 &&
-                         xy_dist(c, cell_default.handover_center_m) < WP_STAND_RADIUS_M;
-    if (p->state == WP_HELD || p->state == WP_PARKED || on_stand ||
+    if (p->state == WP_HELD || p->state == WP_PARKED || on_stand(m, p, c) ||
         (p->state == WP_IN_MAGAZINE && !on_floor))
         return;
     if (body_speed(p->body) > WP_REST_SPEED_MPS) {

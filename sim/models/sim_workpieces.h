@@ -13,6 +13,8 @@
 #include "tandem_workpiece_t.h"
 
 #define WP_POOL 4
+/* the hand-over stand's places: cell handover_center_m, stand_b_center_m */
+#define SIM_STAND_PLACES 2
 
 enum { WP_PARKED = 0, WP_ON_PICK, WP_HELD, WP_FREE, WP_IN_MAGAZINE };
 
@@ -29,7 +31,7 @@ typedef struct sim_workpieces {
     sim_arms *arms; /* the grippers: set by the owner before create */
     sim_workpiece pool[WP_POOL];
     dGeomID table_geom;
-    dGeomID stand_geom; /* --handover-stand, or NULL */
+    dGeomID stand_geom[SIM_STAND_PLACES]; /* --handover-stand, or NULL */
     prng_state rng;
     const sim_config *cfg;
     int32_t spawned, delivered, dropped, next_id;

@@ -1,9 +1,10 @@
 /* Integration: a task other than the shipped carry, drawn as PNML, run by
  * the real daemons over LCM (docs/tasks.md §7). tandem-scenario carry
  * --task tasks/carry_buffer: the supervisor loads the buffer net and its
- * rows at start-up (token bound 1 from p6 + pb + pf + p7 + p8 = 1, its roles found from
- * the net's structure), the simulator gets the hand-over stand; both
- * workpieces are delivered through the buffer, none dropped, no
+ * rows at start-up (token bound 1 from p6X + pbX + pfX + p7X + p8X = 1 for each of the
+ * stand's two places X, its roles found from the net's structure), the
+ * simulator gets the hand-over stand; both workpieces are delivered through
+ * the buffer, one at each place, none dropped, no
  * invariant violation, deadlock or stall, every criterion met. Then a
  * broken task: tandem-supervisor --task refuses it with exit 2, naming
  * the file and why, and tandem-scenario refuses it before any daemon
@@ -62,13 +63,16 @@ static void test_buffer_task_delivers_every_workpiece(void **state)
     assert_true(harness_json_value(text, "joint_limit_violations") == 0.0);
     assert_non_null(strstr(text, "\"exit_reason\": \"completed\""));
     /* the supervisor ran the buffer's net: its bound, and the buffer's
-     * transitions fired (t3b into the buffer, t4b out of it) */
+     * transitions fired (t3b* into the buffer, t4b* out of it), at both of
+     * the stand's places */
     snprintf(path, sizeof path, "%s/run_supervisor.log", dir);
     assert_true(harness_slurp(path, log, sizeof log) > 0);
     assert_non_null(strstr(
-        log, "task carry_buffer (tasks/carry_buffer): 12 places, 10 transitions, token bound 1"));
-    assert_non_null(strstr(log, "complete t3b arm 1 puts it in the buffer"));
-    assert_non_null(strstr(log, "complete t4b arm 2 takes it from the buffer"));
+        log, "task carry_buffer (tasks/carry_buffer): 17 places, 15 transitions, token bound 1"));
+    assert_non_null(strstr(log, "complete t3bB arm 1 puts it in buffer place B"));
+    assert_non_null(strstr(log, "complete t4bB arm 2 takes it from buffer place B"));
+    assert_non_null(strstr(log, "complete t3bA arm 1 puts it in buffer place A"));
+    assert_non_null(strstr(log, "complete t4bA arm 2 takes it from buffer place A"));
 }
 
 static void test_solo_task_arm2_carries_while_arm1_is_down(void **state)

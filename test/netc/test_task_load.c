@@ -118,8 +118,9 @@ static void test_buffer_loads_safe(void **st)
     int bound = 0;
     (void)st;
     assert_int_equal(load("tasks/carry_buffer", &bound), NETC_OK);
-    assert_int_equal(bound, 1); /* p6 + pb + pf + p7 + p8 = 1: the stand, one arm at a time */
-    assert_int_equal(TASK.n_invariants, 3);
+    assert_int_equal(bound,
+                     1); /* p6X + pbX + pfX + p7X + p8X = 1: each stand place, one arm at a time */
+    assert_int_equal(TASK.n_invariants, 4);
     assert_int_equal(taskdef_validate(&TASK.net, TASK.rows, &r), TASKDEF_OK);
     assert_string_equal(TASK.trans_name[r.source], "tv");
     assert_string_equal(TASK.place_name[r.source_place], "p1");

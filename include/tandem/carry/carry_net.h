@@ -109,6 +109,13 @@ typedef enum {
      * (docs/tasks.md §8), at grasp height and approach_height_m above */
     CARRY_POSE_ABOVE_MAGAZINE,
     CARRY_POSE_AT_MAGAZINE,
+    /* the stand's second place (cell_default.stand_b_center_m, docs/tasks.md
+     * §6), as HANDOVER_k, ABOVE_HANDOVER_k and CLEAR_1 are at its first */
+    CARRY_POSE_STAND_B_1,
+    CARRY_POSE_ABOVE_STAND_B_1,
+    CARRY_POSE_CLEAR_B_1,
+    CARRY_POSE_STAND_B_2,
+    CARRY_POSE_ABOVE_STAND_B_2,
     CARRY_N_POSES
 } carry_pose;
 

@@ -22,7 +22,9 @@
                                        grasp points off the bar, a
                                        workpiece pose not resting on the
                                        table or outside it, the hand-over
-                                       not above it, the arms on one spot */
+                                       or the stand's second place not
+                                       above it, the stand's places too
+                                       near, the arms on one spot */
 
 #define CELL_ARMS 2
 #define CELL_TOOL_LENGTH_M 0.10 /* flange -> point between the fingers */
@@ -51,6 +53,11 @@ typedef struct cell_layout {
      * where arm 2 works alone while arm 1 is down: docs/tasks.md §8): a
      * bar's centre, resting on the table, along world x, in arm 2's reach */
     double magazine_center_m[3];
+    /* the stand's second place (tandem-sim --handover-stand, docs/tasks.md
+     * §6): a bar's centre, along world x, behind the hand-over (its first
+     * place) in both arms' reach, so that arm 1 sets a bar down at one
+     * while arm 2 lifts the other off */
+    double stand_b_center_m[3];
 } cell_layout;
 
 extern const cell_layout cell_default;
@@ -59,8 +66,10 @@ extern const cell_layout cell_default;
  * tolerance and approach height > 0, spreads >= 0, both grasp points on
  * the bar (within the tolerance of its ends), the pick zone (with its
  * spread), the delivery pose and the magazine resting on the table top
- * and inside its footprint, the hand-over workpiece above the table top, the arms at two
- * different places. 0 or CELL_ERR_*. For start-up checks. */
+ * and inside its footprint, the hand-over workpiece and the stand's second
+ * place above the table top, the two stand places apart by more than a
+ * bar's width and a grasp tolerance each way, the arms at two different
+ * places. 0 or CELL_ERR_*. For start-up checks. */
 int cell_layout_validate(const cell_layout *c);
 
 /* World <-> arm mounting frame (4x4, row-major) for arm index a (0, 1). */

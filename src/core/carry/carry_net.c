@@ -159,7 +159,8 @@ static const char *const POSE_NAMES[CARRY_N_POSES] = {
     "NONE",           "HOME_1",       "ABOVE_WORKPIECE",  "AT_WORKPIECE",
     "HANDOVER_1",     "CLEAR_1",      "HOME_2",           "HANDOVER_2",
     "ABOVE_RELEASE",  "RELEASE_POSE", "ABOVE_HANDOVER_1", "ABOVE_HANDOVER_2",
-    "ABOVE_MAGAZINE", "AT_MAGAZINE",
+    "ABOVE_MAGAZINE", "AT_MAGAZINE",  "STAND_B_1",        "ABOVE_STAND_B_1",
+    "CLEAR_B_1",      "STAND_B_2",    "ABOVE_STAND_B_2",
 };
 
 const carry_row *carry_row_of(int t)

@@ -27,6 +27,9 @@ const cell_layout cell_default = {
     /* 0.18 m behind the delivery pose, arm 2's grasp point 0.68 m from its
      * base axis; arm 1 cannot reach it */
     .magazine_center_m = { 0.45, 0.68, 0.22 },
+    /* 0.12 m behind the hand-over: its grasp points 6 grasp tolerances from
+     * the first place's, where both arms keep more joint-range margin */
+    .stand_b_center_m = { 0.0, 0.47, 0.45 },
 };
 
 /* Every number of the layout, group by group. */
@@ -37,8 +40,8 @@ static int numbers_finite(const cell_layout *c)
                                &c->workpiece_mass_kg, &c->grasp_offset_m,    &c->grasp_tolerance_m,
                                c->pick_center_m,      c->pick_spread_m,      c->deliver_center_m,
                                c->handover_center_m,  &c->approach_height_m, c->home_tool_m[0],
-                               c->home_tool_m[1],     c->magazine_center_m };
-    const int len[] = { 3, 3, CELL_ARMS, 3, 3, 3, 1, 1, 1, 3, 2, 3, 3, 1, 3, 3, 3 };
+                               c->home_tool_m[1],     c->magazine_center_m,  c->stand_b_center_m };
+    const int len[] = { 3, 3, CELL_ARMS, 3, 3, 3, 1, 1, 1, 3, 2, 3, 3, 1, 3, 3, 3, 3 };
     size_t g;
     int i;
     for (g = 0; g < sizeof groups / sizeof groups[0]; g++)
@@ -73,6 +76,21 @@ static int rests_on_table(const cell_layout *c, const double p[3], const double 
     return 1;
 }
 
+/* A bar centred at p is held above the table top. */
+static int above_table(const cell_layout *c, const double p[3])
+{
+    return p[2] - 0.5 * c->workpiece_size_m[2] > c->table_center_m[2] + 0.5 * c->table_size_m[2];
+}
+
+/* The stand's two places hold two bars apart: no grasp point of one within
+ * a grasp tolerance of the other's bar. */
+static int stand_places_apart(const cell_layout *c)
+{
+    const double dx = c->stand_b_center_m[0] - c->handover_center_m[0];
+    const double dy = c->stand_b_center_m[1] - c->handover_center_m[1];
+    return hypot(dx, dy) > c->workpiece_size_m[1] + 2.0 * c->grasp_tolerance_m;
+}
+
 int cell_layout_validate(const cell_layout *c)
 {
     static const double no_spread[2] = { 0.0, 0.0 };
@@ -90,8 +108,8 @@ int cell_layout_validate(const cell_layout *c)
         !rests_on_table(c, c->pick_center_m, c->pick_spread_m) ||
         !rests_on_table(c, c->deliver_center_m, no_spread) ||
         !rests_on_table(c, c->magazine_center_m, no_spread) ||
-        !(c->handover_center_m[2] - 0.5 * c->workpiece_size_m[2] >
-          c->table_center_m[2] + 0.5 * c->table_size_m[2]))
+        !above_table(c, c->handover_center_m) || !above_table(c, c->stand_b_center_m) ||
+        !stand_places_apart(c))
         return CELL_ERR_INCONSISTENT;
     vec3_sub(arms_apart, c->base_xyz_m[1], c->base_xyz_m[0]);
     if (!(vec3_norm(arms_apart) > 0.0))

@@ -307,8 +307,8 @@ static void print_invariants(const netc_task *t, FILE *out)
 /* ---- the checks ------------------------------------------------------------------ */
 
 /* The arm whose tool each pose of the cell is computed for (0, 1): the
- * supervisor resolves HOME_1 ... CLEAR_1 on arm 1's side of the bar and
- * the rest on arm 2's (resolve_pose), and test_cell checks each inside
+ * supervisor resolves HOME_1 ... CLEAR_1, ABOVE_HANDOVER_1 and the _B_1
+ * poses on arm 1's side of the bar and the rest on arm 2's (resolve_pose), and test_cell checks each inside
  * that arm's joint ranges; the other arm is not known to reach it. */
 static const int8_t POSE_ARM[CARRY_N_POSES] = {
     [CARRY_POSE_NONE] = -1,
@@ -325,6 +325,11 @@ static const int8_t POSE_ARM[CARRY_N_POSES] = {
     [CARRY_POSE_ABOVE_HANDOVER_2] = 1,
     [CARRY_POSE_ABOVE_MAGAZINE] = 1,
     [CARRY_POSE_AT_MAGAZINE] = 1,
+    [CARRY_POSE_STAND_B_1] = 0,
+    [CARRY_POSE_ABOVE_STAND_B_1] = 0,
+    [CARRY_POSE_CLEAR_B_1] = 0,
+    [CARRY_POSE_STAND_B_2] = 1,
+    [CARRY_POSE_ABOVE_STAND_B_2] = 1,
 };
 
 /* Every move of row j goes to a pose of its own arm. */

@@ -48,9 +48,21 @@ static int resolve_pose(const supervisor_daemon *sv, int pose, double p[3])
         p[2] += CELL_STAND_CLEARANCE_M;
         return 0;
     case CARRY_POSE_CLEAR_1:
-        cell_grasp_point(c, 0, c->handover_center_m, h);
+    case CARRY_POSE_CLEAR_B_1:
+        cell_grasp_point(
+            c, 0, pose == CARRY_POSE_CLEAR_1 ? c->handover_center_m : c->stand_b_center_m, h);
         vec3_copy(p, h);
         p[0] -= CLEAR_BACKOFF_M;
+        return 0;
+    case CARRY_POSE_STAND_B_1:
+    case CARRY_POSE_STAND_B_2:
+    case CARRY_POSE_ABOVE_STAND_B_1:
+    case CARRY_POSE_ABOVE_STAND_B_2:
+        cell_grasp_point(c,
+                         pose == CARRY_POSE_STAND_B_1 || pose == CARRY_POSE_ABOVE_STAND_B_1 ? 0 : 1,
+                         c->stand_b_center_m, p);
+        if (pose == CARRY_POSE_ABOVE_STAND_B_1 || pose == CARRY_POSE_ABOVE_STAND_B_2)
+            p[2] += CELL_STAND_CLEARANCE_M;
         return 0;
     case CARRY_POSE_ABOVE_MAGAZINE:
     case CARRY_POSE_AT_MAGAZINE:

@@ -54,7 +54,21 @@ static void test_every_working_pose_is_reachable(void **state)
         assert_true(reachable(a, p));
         p[2] += CELL_STAND_CLEARANCE_M; /* ABOVE_HANDOVER_1, _2: a stand's approach */
         assert_true(reachable(a, p));
+        /* the stand's second place, where both arms set down and take bars:
+         * STAND_B_k, ABOVE_STAND_B_k, and arm 1's CLEAR_B_1 */
+        cell_grasp_point(c, a, c->stand_b_center_m, p);
+        assert_true(reachable(a, p));
+        p[2] += CELL_STAND_CLEARANCE_M;
+        assert_true(reachable(a, p));
     }
+    /* arm 1 backed off the stand's places along the bar (CLEAR_1, CLEAR_B_1:
+     * 0.10 m, the supervisor's CLEAR_BACKOFF_M) */
+    cell_grasp_point(c, 0, c->handover_center_m, p);
+    p[0] -= 0.10;
+    assert_true(reachable(0, p));
+    cell_grasp_point(c, 0, c->stand_b_center_m, p);
+    p[0] -= 0.10;
+    assert_true(reachable(0, p));
     /* arm 1: every corner of the pick zone, at grasp height and above it */
     for (sx = -1; sx <= 1; sx += 2)
         for (sy = -1; sy <= 1; sy += 2) {
@@ -129,11 +143,14 @@ static void test_validate(void **state)
     BROKEN(c.grasp_tolerance_m = 0.0, CELL_ERR_RANGE);
     BROKEN(c.pick_spread_m[0] = -0.01, CELL_ERR_RANGE);
     BROKEN(c.approach_height_m = 0.0, CELL_ERR_RANGE);
-    BROKEN(c.grasp_offset_m = 0.14, CELL_ERR_INCONSISTENT);       /* past the bar's end */
-    BROKEN(c.pick_center_m[2] += 0.01, CELL_ERR_INCONSISTENT);    /* floats above the top */
-    BROKEN(c.pick_spread_m[1] = 0.5, CELL_ERR_INCONSISTENT);      /* spreads off the table */
-    BROKEN(c.deliver_center_m[0] = 0.85, CELL_ERR_INCONSISTENT);  /* off the table's end */
-    BROKEN(c.handover_center_m[2] = 0.2, CELL_ERR_INCONSISTENT);  /* inside the table */
+    BROKEN(c.grasp_offset_m = 0.14, CELL_ERR_INCONSISTENT);      /* past the bar's end */
+    BROKEN(c.pick_center_m[2] += 0.01, CELL_ERR_INCONSISTENT);   /* floats above the top */
+    BROKEN(c.pick_spread_m[1] = 0.5, CELL_ERR_INCONSISTENT);     /* spreads off the table */
+    BROKEN(c.deliver_center_m[0] = 0.85, CELL_ERR_INCONSISTENT); /* off the table's end */
+    BROKEN(c.handover_center_m[2] = 0.2, CELL_ERR_INCONSISTENT); /* inside the table */
+    BROKEN(c.stand_b_center_m[2] = 0.2, CELL_ERR_INCONSISTENT);  /* inside the table */
+    BROKEN(c.stand_b_center_m[1] = 0.40, CELL_ERR_INCONSISTENT); /* two bars touching */
+    BROKEN(c.stand_b_center_m[0] = NAN, CELL_ERR_NONFINITE);
     BROKEN(c.magazine_center_m[1] = 0.79, CELL_ERR_INCONSISTENT); /* off the table's edge */
     BROKEN(c.magazine_center_m[2] = NAN, CELL_ERR_NONFINITE);
     BROKEN(vec3_copy(c.base_xyz_m[1], c.base_xyz_m[0]), CELL_ERR_INCONSISTENT);
