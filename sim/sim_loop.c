@@ -257,14 +257,10 @@ static void wait_for_answers(sim_app *app)
         const int late = sim_lockstep_late(&app->w, app->w.step);
         if (waiting && !late &&
             (active_participants(&app->w) == 0 || models_ready(app, app->w.step))) {
-            /* answer time, averaged over ~64 waits. Waits with a repeat
-             * count too: counted only without one, the average of a host
-             * whose answer always outlasts the first repeat (a fleet's, on
-             * a loaded core) never grew, and every control tick was
-             * announced again and again, each time with the whole fleet's
-             * frames (300 robots: 349k duplicates in 3 s). A lost message
-             * moves the average by at most SIM_REANNOUNCE_MAX_NS / 64. */
-            app->answer_ns_avg += (now - t0 - app->answer_ns_avg) / 64;
+            /* answer time, averaged over ~64 waits, only of those answered
+             * without a repeat (a lost message is not the machine's speed) */
+            if (last_pub == t0)
+                app->answer_ns_avg += (now - t0 - app->answer_ns_avg) / 64;
             return;
         }
         if (waiting && late && now - last_check > SIM_LIVENESS_CHECK_NS) {
