@@ -152,8 +152,8 @@ static const option_entry sim_options[] = {
       .type = OPTION_FLAG,
       OPTION_AT(sim_app, cfg.rover_batch),
       .help =
-          "all robots' sensors in one message per tick (ROVERS_SENSORS, ROVERS_BEACONS) instead of "
-          "ROVERk_SENSORS/_SONAR/_BEACONS" },
+          "all robots' sensors in one message per tick (ROVERS_SENSORS, ROVERS_BEACONS; a fleet "
+          "of more than 128 in several) instead of ROVERk_SENSORS/_SONAR/_BEACONS" },
     { .name = "arm-model",
       .type = OPTION_CHOICE,
       OPTION_AT(sim_app, arm_model),
@@ -316,6 +316,7 @@ int main(int argc, char **argv)
     if (setup(app, argc, argv, &status) != 0)
         return status;
     auth_bus_identity(&app->w.d.bus, AUTH_ROLE_SIM, 0, 0);
+    daemon_queue_for_burst(&app->w.d, app->cfg.rovers); /* a fleet's commands, acks */
     if (daemon_start(&app->w.d) != 0)
         return 1;
     sim_subscribe(app);

@@ -136,13 +136,6 @@ static int team_layout(sim_rovers *team, const sim_config *cfg)
                 cfg->rovers, cfg->rover_world, RV_MAX);
         return SIM_ERR_CREATE;
     }
-    if (cfg->rover_batch && cfg->rovers > ROVER_TEAM_MAX) {
-        fprintf(stderr,
-                "tandem-sim: --rover-batch with --rovers %d: a ROVERS_* message holds at most %d "
-                "robots (ROVER_TEAM_MAX, lcmtypes/capacities)\n",
-                cfg->rovers, ROVER_TEAM_MAX);
-        return SIM_ERR_CREATE;
-    }
     if (world_opts_fleet_layout(&team->layout, &team->fleet, &wo, cfg->rovers, cfg->rover_teams,
                                 cfg->rover_per_team, cfg->rover_team_goals, team->formation,
                                 "tandem-sim") != 0)

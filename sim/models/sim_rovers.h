@@ -6,8 +6,8 @@
  * Capacity: up to RV_MAX robots (ROVER_WORLD_MAX_ROBOTS, a build setting);
  * every per-robot array is allocated once when the model is created, for
  * the --rovers asked, and nothing is allocated while it steps. The
- * batched link (--rover-batch) carries one team of at most ROVER_TEAM_MAX
- * (the bound of the ROVERS_* messages).
+ * batched link (--rover-batch) carries BATCH_MAX robots a message (the
+ * bound of the ROVERS_* messages), a larger fleet in several a tick.
  */
 #ifndef TANDEM_SIM_ROVERS_H
 #define TANDEM_SIM_ROVERS_H

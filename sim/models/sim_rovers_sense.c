@@ -10,7 +10,8 @@
  * world's LED landmarks within 6 m and +-60 deg of where it looks, line of
  * sight, noise; 10 Hz), ROVER_TRUTH (ground truth, 20 Hz, for metrics
  * only; a fleet of more than RV_TRUTH_CHUNK robots in several messages). With --rover-batch the same frames of all robots go out as one
- * message per tick (ROVERS_SENSORS, ROVERS_BEACONS).
+ * message per tick (ROVERS_SENSORS, ROVERS_BEACONS), a fleet of more than
+ * BATCH_MAX robots in several (daemon.h).
  *
  * Cost per robot independent of the fleet: the sonar world is one grid of
  * obstacles and robot boxes rebuilt each firing (O(robots + obstacles),
@@ -123,18 +124,19 @@ static void publish_sensors(sim_rovers *team, sim_world *w)
     tandem_rover_sensors_t *s = team->s.sens;
     tandem_sonar_scan_t *m = team->s.scan;
     const int64_t utime = daemon_utime_now();
-    int i, n = 0;
+    int i, c, n = 0;
     for (i = 0; i < team->n; i++)
         if (team->r[i].alive)
             fill_sensors(team, &team->r[i], w->step, utime, &s[n], &m[n]), n++;
-    if (team->batch) {
+    for (c = 0; team->batch && c < BATCH_CHUNKS(n); c++) {
         tandem_rovers_sensors_t b;
-        BATCH_HEADER(b, team->batch_seq[0]++, utime, w->step, n);
-        b.sensors = s;
-        b.sonar = m;
+        BATCH_HEADER(b, team->batch_seq[0]++, utime, w->step, BATCH_CHUNK_N(n, c));
+        b.sensors = s + c * BATCH_MAX;
+        b.sonar = m + c * BATCH_MAX;
         AUTH_PUBLISH(tandem_rovers_sensors_t, &w->d.bus, w->d.lcm, "ROVERS_SENSORS", &b);
-        return;
     }
+    if (team->batch)
+        return;
     for (i = 0; i < n; i++) {
         char ch[32];
         snprintf(ch, sizeof ch, "ROVER%d_SENSORS", s[i].robot);
@@ -213,7 +215,7 @@ static void publish_beacons(sim_rovers *team, sim_world *w, int fresh)
     const double pan = pans[(w->step / RV_BEACON_STEPS) % 4];
     const int64_t utime = daemon_utime_now();
     pose2 *o = team->s.cam, c;
-    int i;
+    int i, k;
     for (i = 0; fresh && i < team->n; i++) {
         team->s.alive[i] = team->r[i].alive;
         team->s.x[i] = team->s.y[i] = 0.0;
@@ -234,13 +236,14 @@ static void publish_beacons(sim_rovers *team, sim_world *w, int fresh)
             observe_beacons(team, i, o, pan, w->step, utime, f->target[*n], f->range_m[*n],
                             f->bearing_rad[*n], &m[*n]),
                 (*n)++;
-    if (team->batch) {
+    for (k = 0; team->batch && k < BATCH_CHUNKS(*n); k++) {
         tandem_rovers_beacons_t b;
-        BATCH_HEADER(b, team->batch_seq[1]++, utime, w->step, *n);
-        b.obs = m;
+        BATCH_HEADER(b, team->batch_seq[1]++, utime, w->step, BATCH_CHUNK_N(*n, k));
+        b.obs = m + k * BATCH_MAX;
         AUTH_PUBLISH(tandem_rovers_beacons_t, &w->d.bus, w->d.lcm, "ROVERS_BEACONS", &b);
-        return;
     }
+    if (team->batch)
+        return;
     for (i = 0; i < *n; i++) {
         char ch[32];
         snprintf(ch, sizeof ch, "ROVER%d_BEACONS", m[i].observer);

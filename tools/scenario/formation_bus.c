@@ -210,18 +210,62 @@ static int states_for_truth(fm_bus *bus, const fm_procs *pr, const tandem_rover_
     return 1;
 }
 
+/* A piece of a fleet's truth (robots m->robot[0] .. in id order) put in
+ * its place; the whole step's truth once every robot's is in, NULL
+ * before. A piece of a later step starts the step afresh. */
+static const tandem_rover_truth_t *truth_gather(fm_bus *bus, const tandem_rover_truth_t *m)
+{
+    struct fm_truth_parts *p = &bus->parts;
+    const int at = m->n > 0 ? m->robot[0] - 1 : -1, n = bus->cfg->robots;
+    size_t k;
+    if (at < 0 || at + m->n > n)
+        return NULL;
+    if (p->m.step == m->step && p->have > 0 && p->got_step[at] == m->step)
+        return NULL; /* a piece announced again */
+    if (p->m.step != m->step || p->have == 0) {
+        p->m = *m;
+        p->m.n = (int16_t)n;
+        p->m.robot = p->robot;
+        p->m.x_m = p->x_m;
+        p->m.y_m = p->y_m;
+        p->m.theta_rad = p->theta_rad;
+        p->m.min_clearance_m = p->min_clearance_m;
+        p->m.collisions = p->collisions;
+        p->m.alive = p->alive;
+        p->have = 0;
+    }
+    k = (size_t)m->n;
+    memcpy(p->robot + at, m->robot, k * sizeof *m->robot);
+    memcpy(p->x_m + at, m->x_m, k * sizeof *m->x_m);
+    memcpy(p->y_m + at, m->y_m, k * sizeof *m->y_m);
+    memcpy(p->theta_rad + at, m->theta_rad, k * sizeof *m->theta_rad);
+    memcpy(p->min_clearance_m + at, m->min_clearance_m, k * sizeof *m->min_clearance_m);
+    memcpy(p->collisions + at, m->collisions, k * sizeof *m->collisions);
+    memcpy(p->alive + at, m->alive, k * sizeof *m->alive);
+    p->got_step[at] = m->step;
+    p->have += m->n;
+    if (p->have < n)
+        return NULL;
+    p->have = 0;
+    return &p->m;
+}
+
 /* ROVER_TRUTH: the --kill seen; with the robots' states of the cycle
- * before, the metrics. */
-static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_truth_t *m,
+ * before, the metrics. A team's truth is one message, a larger fleet's
+ * gathered from its pieces first. */
+static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rover_truth_t *piece,
                      void *u)
 {
     fm_run *r = u;
     fm_bus *bus = &r->bus;
+    const tandem_rover_truth_t *m = piece;
     int dz_entries = 0;
     (void)rb;
     (void)ch;
-    fm_kill_truth(&r->procs, &r->cfg, m);
-    if (m->n != r->cfg.robots || m->step <= bus->last_truth_step ||
+    fm_kill_truth(&r->procs, &r->cfg, piece);
+    if (piece->n != r->cfg.robots && piece->step > bus->last_truth_step)
+        m = truth_gather(bus, piece);
+    if (!m || m->n != r->cfg.robots || m->step <= bus->last_truth_step ||
         !states_for_truth(bus, &r->procs, m, &dz_entries))
         return;
     bus->last_truth_step = m->step;

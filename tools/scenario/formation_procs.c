@@ -158,7 +158,8 @@ static pid_t spawn_rover(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, int
                                  "--goal-path",
                                  cfg->goal_direct ? "direct" : "map" };
     int n = 22;
-    snprintf(n_s, sizeof n_s, "%d", cfg->robots);
+    /* a fleet's --robots is one team's (tandem-rover takes T K from --teams) */
+    snprintf(n_s, sizeof n_s, "%d", cfg->teams > 1 ? cfg->per_team : cfg->robots);
     snprintf(arrive_s, sizeof arrive_s, "%.17g", cfg->ref_arrive_m);
     snprintf(w_s, sizeof w_s, "%s", fm_world_arg(cfg));
     if (cfg->batch)

@@ -33,7 +33,7 @@
 #include "tandem_rover_state_t.h"
 #include "tandem_rover_truth_t.h"
 
-#define FM_MAX ROVER_TEAM_MAX
+#define FM_MAX ROVER_WORLD_MAX_ROBOTS /* the fleet; one team: ROVER_TEAM_MAX */
 #define FM_PERIOD 50
 #define FM_PROCS (FM_MAX + 2)
 #define FM_RING 4      /* states kept per robot */
@@ -141,6 +141,16 @@ typedef struct fm_bus {
     pose2 est[FM_MAX]; /* the robot's own odometry, world frame */
     int have_state[FM_MAX];
     int64_t last_truth_step;
+    /* a fleet's truth of one step, gathered from its pieces (the simulator
+     * sends RV_TRUTH_CHUNK robots a message, in id order) */
+    struct fm_truth_parts {
+        tandem_rover_truth_t m; /* the whole step's, its arrays below */
+        int32_t robot[FM_MAX], collisions[FM_MAX];
+        double x_m[FM_MAX], y_m[FM_MAX], theta_rad[FM_MAX], min_clearance_m[FM_MAX];
+        int8_t alive[FM_MAX];
+        int have;                 /* robots gathered for step m.step */
+        int64_t got_step[FM_MAX]; /* the step of the piece that began at robot k */
+    } parts;
 } fm_bus;
 
 /* One team's own criteria in a run of many (fleet.h): its formation

@@ -205,6 +205,39 @@ static int cut_augment(cut_work *w)
  * length (cells, not metres). INFINITY when the start and the goal are
  * nearer than the team is wide, 0 when there is no way. */
 #define CUT_START_M 0.5 /* a robot's start: the cells this near its axle */
+
+/* Cell centre (i, j) of f, world frame. */
+static void cell_centre(const navfield *f, long i, long j, double *x, double *y)
+{
+    *x = f->x0_m + ((double)i + 0.5) * f->cell_m;
+    *y = f->y0_m + ((double)j + 0.5) * f->cell_m;
+}
+
+/* start[c] = 1 for every cell within CUT_START_M of a robot's start: each
+ * robot marks the cells of its own square about it, O(robots), where
+ * asking every robot of every cell was O(cells x robots) (a fleet's
+ * world grows with the fleet); the same test, the same cells. */
+static void mark_starts(const navfield *f, const rover_world_config *w, unsigned char *start)
+{
+    const long reach = (long)ceil(CUT_START_M / f->cell_m) + 1;
+    int k;
+    for (k = 0; k < w->n_robots; k++) {
+        const pose2 *s = &w->start_c[k];
+        const long ci = (long)floor((s->x_m - f->x0_m) / f->cell_m);
+        const long cj = (long)floor((s->y_m - f->y0_m) / f->cell_m);
+        long i, j;
+        for (j = cj - reach; j <= cj + reach; j++)
+            for (i = ci - reach; i <= ci + reach; i++) {
+                double x, y;
+                if (i < 0 || j < 0 || i >= f->nx || j >= f->ny)
+                    continue;
+                cell_centre(f, i, j, &x, &y);
+                if (hypot(x - s->x_m, y - s->y_m) <= CUT_START_M)
+                    start[j * f->nx + i] = 1;
+            }
+    }
+}
+
 double fm_cut_width_m(const rover_world_config *w, double team_width_m)
 {
     navfield *f = way_field(w, WAY_CLEAR_M);
@@ -212,7 +245,6 @@ double fm_cut_width_m(const rover_world_config *w, double team_width_m)
     double width = 0.0;
     cut_work cw;
     long c, flow = 0, cap;
-    int k;
     if (!isfinite(way) || way <= team_width_m) {
         free(f);
         return isfinite(way) ? INFINITY : 0.0;
@@ -227,15 +259,10 @@ double fm_cut_width_m(const rover_world_config *w, double team_width_m)
     cw.queue = malloc(sizeof *cw.queue * (size_t)(2 * cw.n));
     if (cw.role && cw.used && cw.edge && cw.parent && cw.queue) {
         cap = (long)ceil(team_width_m / f->cell_m) + 1;
-        for (c = 0; c < cw.n; c++) {
-            const long i = c % f->nx, j = c / f->nx;
-            const double x = f->x0_m + ((double)i + 0.5) * f->cell_m;
-            const double y = f->y0_m + ((double)j + 0.5) * f->cell_m;
-            int start = 0;
-            for (k = 0; k < w->n_robots && !start; k++)
-                start = hypot(x - w->start_c[k].x_m, y - w->start_c[k].y_m) <= CUT_START_M;
-            cw.role[c] = !isfinite(f->way_m[c]) ? 3 : start ? 1 : f->way_m[c] <= r ? 2 : 0;
-        }
+        mark_starts(f, w, cw.used); /* cw.used is the starts' marks until the flow */
+        for (c = 0; c < cw.n; c++)
+            cw.role[c] = !isfinite(f->way_m[c]) ? 3 : cw.used[c] ? 1 : f->way_m[c] <= r ? 2 : 0;
+        memset(cw.used, 0, (size_t)cw.n);
         while (flow < cap && cut_augment(&cw))
             flow++;
         width = (double)flow * f->cell_m + 2.0 * WAY_CLEAR_M;

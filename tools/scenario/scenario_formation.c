@@ -291,7 +291,7 @@ static int parse(fm_cfg *cfg, int argc, char **argv)
         if (n > FM_MAX) {
             fprintf(stderr,
                     "formation: --teams %d --robots-per-team %d: %ld robots, more than a run "
-                    "holds (FM_MAX = ROVER_TEAM_MAX = %d)\n",
+                    "holds (FM_MAX = ROVER_WORLD_MAX_ROBOTS = %d)\n",
                     cfg->teams, cfg->per_team, n, FM_MAX);
             return SCENARIO_ERR_ARG;
         }

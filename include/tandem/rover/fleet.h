@@ -3,7 +3,11 @@
  * (team t, 0-based, holds ids t K + 1 .. (t + 1) K), each team its own
  * formation, start area and goal, on an open world sized by T: the
  * teams' start areas side by side across the way (lanes, each as wide as
- * the team's formation plus a gap), all heading +x. Each team's goal lies
+ * the team's formation plus a gap), all heading +x; more than
+ * ROVER_FLEET_ROW_LANES teams in rows of that many lanes, each row
+ * ROVER_FLEET_ROW_GAP_M past the goals of the row behind it (the world
+ * grows along the way and across it alike, not across it alone: 300 teams
+ * of 10 on 16 lanes of 19 rows, not one lane row 4 km wide). Each team's goal lies
  * ROVER_FLEET_GOAL_AHEAD_M ahead of its start, in its own lane (AHEAD) or,
  * with CROSS, in the lane of the neighbour it is paired with (lanes 0-1,
  * 2-3, ...: the two teams of a pair cross each other's way half-way;
@@ -28,7 +32,9 @@
 /* Capacities (VME style, fixed at build time): a fleet of at most
  * ROVER_FLEET_MAX_TEAMS teams of at most ROVER_TEAM_MAX robots, and at
  * most ROVER_WORLD_MAX_ROBOTS robots in all. */
-#define ROVER_FLEET_MAX_TEAMS 64
+#define ROVER_FLEET_MAX_TEAMS 512
+/* Lanes in one row of teams (even: the pairs of CROSS stay in a row). */
+#define ROVER_FLEET_ROW_LANES 16
 
 /* The teams' goals (rover_fleet.goals). */
 enum { ROVER_FLEET_GOALS_AHEAD = 0, ROVER_FLEET_GOALS_CROSS = 1 };
@@ -38,11 +44,16 @@ enum { ROVER_FLEET_GOALS_AHEAD = 0, ROVER_FLEET_GOALS_CROSS = 1 };
 #define ROVER_FLEET_GOAL_AHEAD_M 12.0
 /* Free space between two neighbouring teams' formations at the start. */
 #define ROVER_FLEET_LANE_GAP_M 3.0
+/* Free space between a row's goal formations and the start area of the
+ * row ahead of it. */
+#define ROVER_FLEET_ROW_GAP_M 6.0
 
 typedef struct {
     int teams, per_team;                     /* T, K */
     int goals;                               /* ROVER_FLEET_GOALS_* */
     double lane_m;                           /* lane pitch across the way (y) */
+    int rows;                                /* rows of ROVER_FLEET_ROW_LANES lanes */
+    double row_m;                            /* row pitch along the way (x) */
     double lane_y_m[ROVER_FLEET_MAX_TEAMS];  /* team t's lane centre (world frame) */
     double goal_m[ROVER_FLEET_MAX_TEAMS][2]; /* team t's goal (world frame) */
     pose2 origin[ROVER_FLEET_MAX_TEAMS];     /* team t's team frame in the world */

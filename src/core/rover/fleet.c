@@ -8,11 +8,12 @@
 #include <string.h>
 
 /* Landmark rows: a row of posts along every border between lanes (and
- * outside the outer lanes), the posts spread evenly from behind the start
- * to past the goals, as many per row as the capacity leaves. */
+ * outside the outer lanes), the posts spread evenly from behind the first
+ * row's start to past the last row's goals, as many per row as the
+ * capacity leaves. */
 static void fleet_landmarks(rover_world_config *w, const rover_fleet *f, double x_lo, double x_hi)
 {
-    const int rows = f->teams + 1;
+    const int rows = (f->teams < ROVER_FLEET_ROW_LANES ? f->teams : ROVER_FLEET_ROW_LANES) + 1;
     int per_row = ROVER_WORLD_MAX_LANDMARKS / rows, r, k;
     const double y0 = f->lane_y_m[0] + 0.5 * f->lane_m; /* the leftmost border */
     if (per_row > 8)
@@ -30,12 +31,36 @@ static void fleet_landmarks(rover_world_config *w, const rover_fleet *f, double 
         }
 }
 
+/* The rows of teams and their pitch along the way: a row's start area
+ * (team 0's robots, as rover_world_layout placed them) ROVER_FLEET_ROW_GAP_M
+ * past the farthest a goal formation of the row behind reaches (its goal
+ * plus the formation's depth either way). */
+static void fleet_rows(const rover_world_config *w, rover_fleet *f, int per_team)
+{
+    double x_lo = w->start_c[0].x_m, x_hi = x_lo;
+    int i;
+    for (i = 1; i < per_team; i++) {
+        x_lo = fmin(x_lo, w->start_c[i].x_m);
+        x_hi = fmax(x_hi, w->start_c[i].x_m);
+    }
+    f->rows = (f->teams + ROVER_FLEET_ROW_LANES - 1) / ROVER_FLEET_ROW_LANES;
+    f->row_m = (w->goal_m[0] - x_lo) + 2.0 * (x_hi - x_lo + ROVER_BODY_LENGTH_M) +
+               ROVER_FLEET_ROW_GAP_M;
+}
+
+/* How far along the way team t's row lies from the first. */
+static double row_x(const rover_fleet *f, int t)
+{
+    return f->row_m * (double)(t / ROVER_FLEET_ROW_LANES);
+}
+
 int rover_fleet_layout(rover_world_config *w, rover_fleet *f, int teams, int per_team,
                        double spacing_m, int formation, int goals)
 {
     formation_fsm_params fp;
     double width, x_lo, x_hi;
     int t, i;
+    const int lanes = teams < ROVER_FLEET_ROW_LANES ? teams : ROVER_FLEET_ROW_LANES;
     if (!w || !f || teams < 1 || teams > ROVER_FLEET_MAX_TEAMS || per_team < 1 ||
         per_team > ROVER_TEAM_MAX || (long)teams * per_team > ROVER_WORLD_MAX_ROBOTS ||
         (goals != ROVER_FLEET_GOALS_AHEAD && goals != ROVER_FLEET_GOALS_CROSS))
@@ -52,20 +77,22 @@ int rover_fleet_layout(rover_world_config *w, rover_fleet *f, int teams, int per
     if (per_team > ROVER_WORLD_ROW_MAX) /* a grid of rows of ROVER_WORLD_ROW_MAX abreast */
         width = fmax(width, spacing_m * (ROVER_WORLD_ROW_MAX - 1) + fp.robot_width_m);
     f->lane_m = width + ROVER_FLEET_LANE_GAP_M;
-    for (t = 0; t < teams; t++)
-        f->lane_y_m[t] = f->lane_m * (0.5 * (teams - 1) - t); /* team 0 leftmost (+y) */
+    fleet_rows(w, f, per_team);
+    for (t = 0; t < teams; t++) /* team 0 leftmost (+y) in its row */
+        f->lane_y_m[t] = f->lane_m * (0.5 * (lanes - 1) - t % ROVER_FLEET_ROW_LANES);
     /* every team's robots: team 0's (laid out about y = 0) shifted across
-     * to the team's lane, from the last team down so that team 0's are
-     * read before they move */
+     * to the team's lane and along to its row, from the last team down so
+     * that team 0's are read before they move */
     for (t = teams - 1; t >= 0; t--)
         for (i = 0; i < per_team; i++) {
             pose2 *c = &w->start_c[t * per_team + i];
             *c = w->start_c[i];
+            c->x_m += row_x(f, t);
             c->y_m += f->lane_y_m[t];
         }
     for (t = 0; t < teams; t++) {
         const int partner = goals == ROVER_FLEET_GOALS_CROSS && (t ^ 1) < teams ? (t ^ 1) : t;
-        f->goal_m[t][0] = w->goal_m[0];
+        f->goal_m[t][0] = w->goal_m[0] + row_x(f, t);
         f->goal_m[t][1] = f->lane_y_m[partner];
     }
     for (t = 0; t < teams; t++) {
@@ -86,9 +113,10 @@ int rover_fleet_layout(rover_world_config *w, rover_fleet *f, int teams, int per
     w->goal_nominal_m[1] = w->goal_m[1];
     w->goal_fits = 1; /* the open world: nothing in a goal formation's way */
     w->y_max_m = f->lane_y_m[0] + 0.5 * f->lane_m + 1.0;
-    w->y_min_m = f->lane_y_m[teams - 1] - 0.5 * f->lane_m - 1.0;
+    w->y_min_m = f->lane_y_m[lanes - 1] - 0.5 * f->lane_m - 1.0;
+    w->x_max_m += row_x(f, teams - 1);
     x_lo = w->x_min_m + 1.0;
-    x_hi = w->goal_m[0] + 3.0;
+    x_hi = f->goal_m[teams - 1][0] + 3.0;
     fleet_landmarks(w, f, x_lo, x_hi);
     return 0;
 }

@@ -3,6 +3,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <math.h>
 #include <sched.h>
 #include <signal.h>
@@ -103,6 +104,7 @@ void daemon_defaults(daemon *d, const char *name, double period_s)
     d->period_s = period_s;
     d->step = -1;
     d->pending_step = -1;
+    d->queue_capacity = DAEMON_QUEUE_CAPACITY;
     d->dma_latency_fd = -1;
     d->heartbeat_fd = -1;
     d->answered_step = -1;
@@ -223,7 +225,7 @@ int daemon_start(daemon *d)
         fprintf(stderr, "%s: cannot open LCM at '%s'\n", d->name, d->lcm_url);
         return DAEMON_ERR_LCM;
     }
-    rc = renew_start(&d->renew, d->lcm_url, DAEMON_QUEUE_CAPACITY);
+    rc = renew_start(&d->renew, d->lcm_url, d->queue_capacity);
     if (rc != RENEW_OK)
         fprintf(stderr, "%s: %s (%d): a flood of channel names is bounded on the control thread\n",
                 d->name, renew_strerror(rc), rc);
@@ -239,6 +241,12 @@ int daemon_start(daemon *d)
     return 0;
 }
 
+void daemon_queue_for_burst(daemon *d, long burst)
+{
+    if (burst > DAEMON_QUEUE_CAPACITY / 2 && burst <= INT_MAX / 2)
+        d->queue_capacity = (int)(2 * burst);
+}
+
 lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_handler_t handler,
                                      void *user)
 {
@@ -246,9 +254,9 @@ lcm_subscription_t *daemon_subscribe(daemon *d, const char *channel, lcm_msg_han
     /* LCM keeps 30 messages per subscription by default and drops the rest
      * silently: a busy moment must not lose inputs, nor a whole team's
      * burst; but what LCM keeps must stay bounded under a flood
-     * (DAEMON_QUEUE_CAPACITY) */
+     * (d->queue_capacity: DAEMON_QUEUE_CAPACITY, or what its burst takes) */
     if (s)
-        lcm_subscription_set_queue_capacity(s, DAEMON_QUEUE_CAPACITY);
+        lcm_subscription_set_queue_capacity(s, d->queue_capacity);
     return s;
 }
 
@@ -505,9 +513,10 @@ int names_watch_tick(names_watch *w, int64_t now, lcm_t **lcm, const char *url, 
     return 1;
 }
 
-static int rx_move(void *subs, lcm_t *old, lcm_t *fresh)
+static int rx_move(void *user, lcm_t *old, lcm_t *fresh)
 {
-    return rx_move_subscriptions(subs, old, fresh, DAEMON_QUEUE_CAPACITY);
+    daemon *d = user;
+    return rx_move_subscriptions(&d->rx, old, fresh, d->queue_capacity);
 }
 
 /* A new handle the worker made takes the old one's place: its
@@ -520,7 +529,7 @@ static int swap_renewed(daemon *d)
     int n_staged;
     if (!renew_take(&d->renew, &fresh, &staged, &n_staged))
         return 0;
-    rx_commit_subscriptions(&d->rx, old, fresh, staged, n_staged, DAEMON_QUEUE_CAPACITY);
+    rx_commit_subscriptions(&d->rx, old, fresh, staged, n_staged, d->queue_capacity);
     d->lcm = fresh; /* a handler that publishes, publishes on the new one */
     drain_lcm(old, daemon_drain_budget_ns(d));
     renew_retire(&d->renew, old);
@@ -540,7 +549,7 @@ int daemon_renew_lcm(daemon *d)
     int64_t failures;
     int i;
     if (!d->renew.started) {
-        if (lcm_renew(&d->lcm, d->lcm_url, rx_move, &d->rx, daemon_drain_budget_ns(d)) != DAEMON_OK)
+        if (lcm_renew(&d->lcm, d->lcm_url, rx_move, d, daemon_drain_budget_ns(d)) != DAEMON_OK)
             return DAEMON_ERR_LCM;
         d->names.renewals++;
         return DAEMON_OK;
@@ -563,7 +572,7 @@ int daemon_names_watch(daemon *d)
     int renewed;
     long rss;
     if (!d->renew.started)
-        renewed = names_watch_tick(&d->names, rtloop_now_ns(), &d->lcm, d->lcm_url, rx_move, &d->rx,
+        renewed = names_watch_tick(&d->names, rtloop_now_ns(), &d->lcm, d->lcm_url, rx_move, d,
                                    daemon_drain_budget_ns(d));
     else if (!(renewed = swap_renewed(d)) && d->lcm &&
              names_over(&d->names, rtloop_now_ns(), &rss) &&
@@ -628,6 +637,17 @@ static int run_realtime(daemon *d, daemon_cycle_fn fn, void *user)
     return status;
 }
 
+/* Lockstep: the last outputs again (a lost one is found at the next
+ * repeat), at most once in DAEMON_REPEAT_GAP_NS. */
+static void repeat_outputs(daemon *d, void *user)
+{
+    const int64_t now = rtloop_now_ns();
+    if (!d->repeat_fn || (d->repeat_ns > 0 && now - d->repeat_ns < DAEMON_REPEAT_GAP_NS))
+        return;
+    d->repeat_fn(d, user);
+    d->repeat_ns = now;
+}
+
 static int run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
 {
     int status = DAEMON_CONTINUE;
@@ -643,13 +663,15 @@ static int run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
             /* the simulator announced this step again: our ack, or one of
              * our outputs, was lost. Publish them again and answer again;
              * the cycle must not run twice. */
-            if (d->repeat_fn)
-                d->repeat_fn(d, user);
+            repeat_outputs(d, user);
             d->repeats++;
             ack(d, d->pending_step, 0);
             d->pending_step = -1;
             continue;
         }
+        /* the step's inputs already here (a fleet's: hundreds of
+         * messages) are taken before its cycle looks for them */
+        daemon_drain(d);
         t0 = rtloop_now_ns();
         d->skip_ack = 0;
         status = fn(d, user);
@@ -663,8 +685,7 @@ static int run_lockstep(daemon *d, daemon_cycle_fn fn, void *user)
             /* waiting for an input: a mate may wait for ours just the same
              * (each for the other's lost message), so ours go out again */
             d->input_waits++;
-            if (d->repeat_fn)
-                d->repeat_fn(d, user);
+            repeat_outputs(d, user);
             /* and say we are here: the step answered last again, which
              * the simulator takes as a sign of life and nothing more */
             if (d->answered_step >= 0)

@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <lcm/lcm.h>
 #include "linalg.h"
+#include "rover_world.h"
 #include "rtloop.h"
 #include "auth_bus.h"
 #include "guard.h"
@@ -28,8 +29,16 @@
  * this bounds what a flood of large forgeries can make a daemon hold
  * (docs/security.md, "Flooding"): 256 x 64 kB per subscription at worst.
  * It still takes a burst of a whole team's messages (TEAM, SIM_ACK: one
- * per robot and step, 128 robots at most) twice over. */
+ * per robot and step, 128 robots at most) twice over. A daemon that
+ * takes a larger burst (a fleet's TEAM messages on one host, a fleet's
+ * commands at the simulator) sets its own before daemon_start
+ * (daemon_queue_for_burst). */
 #define DAEMON_QUEUE_CAPACITY 256
+/* Lockstep: a daemon's outputs are published again (repeat_fn) at most
+ * once in this long; the ack goes out every time. A host of a fleet
+ * republishes hundreds of messages: a burst of announcements must not
+ * make it a burst of bursts. */
+#define DAEMON_REPEAT_GAP_NS 20000000LL
 #define DAEMON_SIM_SILENT_NS 5000000000LL /* lockstep: no clock this long = no simulator */
 /* LCM keeps every channel name it sees, subscribed or not, for good
  * (docs/security.md §5): a flood of made-up names grows every process on
@@ -87,6 +96,7 @@ typedef struct daemon {
     int64_t step; /* last SIM_CLOCK step seen */
     double sim_time_s;
     int64_t pending_step; /* lockstep: step to answer, -1 none */
+    int queue_capacity;   /* messages LCM keeps per subscription (DAEMON_QUEUE_CAPACITY) */
     int64_t health_seq;
     int64_t ack_seq;
     int64_t last_health_ns;
@@ -105,6 +115,7 @@ typedef struct daemon {
      * out again; also while a cycle waits for a missing input (a mate
      * may be waiting for ours). NULL: only the ack is repeated. */
     void (*repeat_fn)(struct daemon *d, void *user);
+    int64_t repeat_ns;   /* wall time repeat_fn last ran (DAEMON_REPEAT_GAP_NS) */
     int64_t repeats;     /* lockstep: steps answered again */
     int64_t clock_rx_ns; /* wall time of the last SIM_CLOCK (0 none) */
     int64_t input_waits; /* lockstep: announcements not answered
@@ -141,6 +152,11 @@ typedef int (*daemon_cycle_fn)(daemon *d, void *user);
 #define DAEMON_CONTINUE 0    /* cycle: go on */
 #define DAEMON_STOPPED 0     /* daemon_run: stopped by SIGINT/SIGTERM (exit 0) */
 #define DAEMON_STOP_FAILED 1 /* cycle: stop, the daemon cannot go on (exit 1) */
+
+/* Before daemon_start: LCM keeps twice `burst` messages per subscription
+ * (a burst of one message per robot of what this daemon hears in a
+ * step), never fewer than DAEMON_QUEUE_CAPACITY. */
+void daemon_queue_for_burst(daemon *d, long burst);
 
 void daemon_defaults(daemon *d, const char *name, double period_s);
 /* Start-up check of one constant table: rc is what its validator returned
@@ -277,6 +293,15 @@ int64_t daemon_utime_now(void);
  * of one tick in one message). */
 #define BATCH_HEADER(b, seq_, utime_, step_, n_) \
     ((b).seq = (seq_), (b).utime = (utime_), (b).step = (step_), (b).n = (int16_t)(n_))
+/* A batch holds at most BATCH_MAX robots (the bound of the rovers_*_t
+ * arrays in lcmtypes/capacities: one team); a fleet's frames of one tick
+ * go out as BATCH_CHUNKS(n) messages on the same channel (one, even
+ * empty, up to BATCH_MAX), robots in id order, BATCH_MAX a message and
+ * the rest in the last. */
+#define BATCH_MAX ROVER_TEAM_MAX
+#define BATCH_CHUNKS(n) ((n) > BATCH_MAX ? ((n) + BATCH_MAX - 1) / BATCH_MAX : 1)
+/* Robots in chunk c of a batch of n. */
+#define BATCH_CHUNK_N(n, c) ((n) - (c)*BATCH_MAX < BATCH_MAX ? (n) - (c)*BATCH_MAX : BATCH_MAX)
 
 /* Strict number parsing for command-line values: the whole string must be
  * a finite number inside [lo, hi]; prints "NAME: --OPT: why" and returns

@@ -20,8 +20,12 @@
 #include "tandem_rover_state_t.h"
 #include "tandem_team_msg_t.h"
 
-#define HOST_MAX ROVER_TEAM_MAX
-#define TEAMQ_MAX 4096
+/* One process hosts up to the fleet's capacity (the build setting
+ * ROVER_WORLD_MAX_ROBOTS); the mates' tables are indexed by robot id; the
+ * team messages queued between two cycles, two a robot. */
+#define HOST_MAX ROVER_WORLD_MAX_ROBOTS
+#define MATES_MAX ROVER_WORLD_MAX_ROBOTS
+#define TEAMQ_MAX (2 * ROVER_WORLD_MAX_ROBOTS)
 
 /* --goal-path: steer by the world's navigation function, or straight for
  * the goal as the seed (docs/method/formation.md §14) */
@@ -100,10 +104,10 @@ typedef struct rover_daemon {
     navfield nav;  /* the world's navigation function (--goal-path map) */
     int64_t batch_seq;
     /* lockstep: what each mate last said on TEAM, and what we published */
-    int64_t mate_step[ROVER_TEAM_MAX + 1]; /* -1: nothing yet */
-    int mate_gone[ROVER_TEAM_MAX + 1];
-    peer_watch mate_peer[ROVER_TEAM_MAX + 1]; /* the process hosting each mate */
-    int64_t wait_step, wait_since_ns;         /* incomplete inputs */
+    int64_t mate_step[MATES_MAX + 1]; /* -1: nothing yet */
+    int mate_gone[MATES_MAX + 1];
+    peer_watch mate_peer[MATES_MAX + 1]; /* the process hosting each mate */
+    int64_t wait_step, wait_since_ns;    /* incomplete inputs */
     int64_t gone_count;
     rover_outbox out[2]; /* out[cur]: the last cycle */
     int cur;

@@ -303,7 +303,9 @@ void rover_deliver_team(rover_daemon *rd, int64_t step, double t_s)
 }
 
 /* A lockstep participant's ack (any step): the process hosting the
- * robots its name says is alive, and which pid it has. */
+ * robots its name says is alive, and which pid it has. Its CPU time is
+ * read once (/proc) and copied to every robot it hosts: a host of the
+ * whole fleet costs one read an ack, not one a robot. */
 void rover_on_ack(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     rover_daemon *rd = u;
@@ -312,9 +314,12 @@ void rover_on_ack(const lcm_recv_buf_t *rb, const char *ch, void *u)
     (void)ch;
     if (!DAEMON_DECODE(&rd->d.msgs, tandem_clock_ack_t, rb, &m))
         return;
-    if (m.pid > 0 && m.name && !m.leaving && peer_rover_range(m.name, &lo, &hi))
-        for (j = lo; j <= hi && j <= rd->robots; j++)
-            peer_heard(&rd->mate_peer[j], m.pid, now_ns());
+    if (m.pid > 0 && m.name && !m.leaving && peer_rover_range(m.name, &lo, &hi) && lo >= 1 &&
+        lo <= rd->robots) {
+        peer_heard(&rd->mate_peer[lo], m.pid, now_ns());
+        for (j = lo + 1; j <= hi && j <= rd->robots; j++)
+            rd->mate_peer[j] = rd->mate_peer[lo];
+    }
     tandem_clock_ack_t_decode_cleanup(&m);
 }
 

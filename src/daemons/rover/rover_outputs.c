@@ -69,23 +69,24 @@ void rover_fill_outputs(hosted *h, const rover_ctl_out *o, int64_t step, int64_t
 
 /* The hosted robots' commands and states of one cycle: one message each
  * per robot, or (--batch) one ROVERS_COMMAND and one ROVERS_STATE for all
- * of them. Published again as they were by rover_republish. */
+ * of them (BATCH_MAX a message: a larger host in several). Published again as they were by rover_republish. */
 void rover_publish_outbox(rover_daemon *rd, rover_outbox *o)
 {
-    int i;
+    int i, c;
     if (o->step < 0)
         return;
-    if (rd->batch) {
+    for (c = 0; rd->batch && c < BATCH_CHUNKS(o->n); c++) {
         tandem_rovers_command_t bc;
         tandem_rovers_state_t bs;
-        BATCH_HEADER(bc, o->batch_seq, o->utime, o->step, o->n);
-        BATCH_HEADER(bs, o->batch_seq, o->utime, o->step, o->n);
-        bc.cmd = o->cmd;
-        bs.state = o->st;
+        BATCH_HEADER(bc, o->batch_seq + c, o->utime, o->step, BATCH_CHUNK_N(o->n, c));
+        BATCH_HEADER(bs, o->batch_seq + c, o->utime, o->step, BATCH_CHUNK_N(o->n, c));
+        bc.cmd = o->cmd + c * BATCH_MAX;
+        bs.state = o->st + c * BATCH_MAX;
         AUTH_PUBLISH(tandem_rovers_command_t, &rd->d.bus, rd->d.lcm, "ROVERS_COMMAND", &bc);
         AUTH_PUBLISH(tandem_rovers_state_t, &rd->d.bus, rd->d.lcm, "ROVERS_STATE", &bs);
-        return;
     }
+    if (rd->batch)
+        return;
     for (i = 0; i < o->n; i++) {
         hosted *h = rover_find_hosted(rd, o->cmd[i].robot);
         AUTH_PUBLISH(tandem_rover_command_t, &rd->d.bus, rd->d.lcm, h->ch_cmd, &o->cmd[i]);

@@ -242,11 +242,11 @@ static int parse_args(rover_daemon *rd, int argc, char **argv)
         return OPTIONS_ERR_ARG;
     }
     if (rd->teams > 1) {
-        if ((long)rd->teams * rd->per_team > ROVER_TEAM_MAX) {
+        if ((long)rd->teams * rd->per_team > MATES_MAX) {
             fprintf(stderr,
                     "tandem-rover: --teams %d --robots-per-team %d: %ld robots, more than a "
-                    "fleet's mates table holds (ROVER_TEAM_MAX = %d)\n",
-                    rd->teams, rd->per_team, (long)rd->teams * rd->per_team, ROVER_TEAM_MAX);
+                    "fleet's mates table holds (ROVER_WORLD_MAX_ROBOTS = %d)\n",
+                    rd->teams, rd->per_team, (long)rd->teams * rd->per_team, MATES_MAX);
             return OPTIONS_ERR_ARG;
         }
         rd->robots = rd->teams * rd->per_team;
@@ -324,7 +324,8 @@ static int cycle(daemon *d, void *user)
     ob->n = n;
     ob->step = step;
     ob->utime = utime;
-    ob->batch_seq = rd->batch_seq++;
+    ob->batch_seq = rd->batch_seq;
+    rd->batch_seq += BATCH_CHUNKS(n);
     /* the record first: a robot whose record is not written stops */
     held = rover_journal_cycle(rd, step);
     rover_journal_hold(rd, ob);
@@ -406,7 +407,7 @@ int main(int argc, char **argv)
     rd->first_step = -1;
     rd->wait_step = -1;
     rd->out[0].step = rd->out[1].step = -1;
-    for (j = 0; j <= ROVER_TEAM_MAX; j++)
+    for (j = 0; j <= MATES_MAX; j++)
         rd->mate_step[j] = -1;
     rd->robots = ROVER_ROBOTS_DEFAULT;
     rd->teams = 1;
@@ -456,6 +457,7 @@ int main(int argc, char **argv)
         h->sens_step = h->sonar_step = h->camera_step = -1;
     }
     auth_bus_identity(&rd->d.bus, AUTH_ROLE_ROVER, rd->id_lo, rd->id_hi);
+    daemon_queue_for_burst(d, rd->listen_hi - rd->listen_lo + 1); /* its teams' TEAM messages */
     if (daemon_start(d) != 0)
         return 1;
     /* its own robots' channels by name (daemon_subscribe_numbered) */

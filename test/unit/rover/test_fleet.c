@@ -1,7 +1,7 @@
 /* Unit tests for fleet: the teams' members by id, their lanes, start
  * poses and goals (ahead and crossing), the same for the same arguments
- * (deterministic), each team's frame at its own start, and the
- * capacities refused. */
+ * (deterministic), each team's frame at its own start, rows of lanes for
+ * many teams inside the world, and the capacities refused. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -93,6 +93,54 @@ static void test_goals_cross(void **state)
     assert_string_equal(rover_fleet_goals_name(ROVER_FLEET_GOALS_CROSS), "cross");
 }
 
+/* Every robot of the fleet inside the world's extent, and no two starts
+ * closer than the spacing. */
+static void assert_fits(const rover_world_config *w, double spacing_m)
+{
+    int i, j;
+    for (i = 0; i < w->n_robots; i++) {
+        const pose2 *a = &w->start_c[i];
+        assert_true(a->x_m > w->x_min_m && a->x_m < w->x_max_m);
+        assert_true(a->y_m > w->y_min_m && a->y_m < w->y_max_m);
+        for (j = i + 1; j < w->n_robots; j++)
+            assert_true(hypot(w->start_c[j].x_m - a->x_m, w->start_c[j].y_m - a->y_m) >
+                        spacing_m - 1e-9);
+    }
+}
+
+/* More teams than a row's lanes: rows of ROVER_FLEET_ROW_LANES, team t
+ * laid out as team t mod ROVER_FLEET_ROW_LANES moved along the way by
+ * whole rows; a row's start area lies ahead of every goal of the row
+ * behind it by more than a goal formation's depth; the goals stay in the
+ * row. Fewer teams: one row, as before rows were. */
+static void test_rows(void **state)
+{
+    const int teams = 2 * ROVER_FLEET_ROW_LANES + 3, k = 10;
+    rover_fleet f;
+    int t, i;
+    (void)state;
+    assert_int_equal(
+        rover_fleet_layout(&W, &f, teams, k, 1.0, FORMATION_LINE, ROVER_FLEET_GOALS_CROSS), 0);
+    assert_int_equal(f.rows, 3);
+    for (t = ROVER_FLEET_ROW_LANES; t < teams; t++) {
+        const int u = t - ROVER_FLEET_ROW_LANES; /* the same lane, a row behind */
+        assert_true(f.lane_y_m[t] == f.lane_y_m[u]);
+        assert_true(fabs(f.goal_m[t][0] - f.goal_m[u][0] - f.row_m) < 1e-9);
+        if ((t ^ 1) < teams) /* the odd last team keeps its own lane */
+            assert_true(f.goal_m[t][1] == f.goal_m[u][1]);
+        for (i = 0; i < k; i++) {
+            const pose2 *c = &W.start_c[t * k + i], *b = &W.start_c[u * k + i];
+            assert_true(fabs(c->x_m - b->x_m - f.row_m) < 1e-9 && c->y_m == b->y_m);
+            assert_true(c->x_m > f.goal_m[u][0] + ROVER_FLEET_ROW_GAP_M);
+        }
+    }
+    assert_fits(&W, 1.0);
+    assert_true(W.n_landmarks > 0 && W.n_landmarks <= ROVER_WORLD_MAX_LANDMARKS);
+    assert_int_equal(rover_fleet_layout(&W, &f, ROVER_FLEET_ROW_LANES, 3, 1.0, FORMATION_LINE, 0),
+                     0);
+    assert_int_equal(f.rows, 1);
+}
+
 static void test_capacities_refused(void **state)
 {
     rover_fleet f;
@@ -112,6 +160,8 @@ static void test_capacities_refused(void **state)
                                         ROVER_WORLD_MAX_ROBOTS / ROVER_FLEET_MAX_TEAMS, 1.0,
                                         FORMATION_COLUMN, ROVER_FLEET_GOALS_CROSS),
                      0);
+    assert_int_equal(W.n_robots, ROVER_WORLD_MAX_ROBOTS);
+    assert_fits(&W, 1.0);
 }
 
 int main(void)
@@ -120,6 +170,7 @@ int main(void)
         cmocka_unit_test(test_members),
         cmocka_unit_test(test_lanes_and_goals_ahead),
         cmocka_unit_test(test_goals_cross),
+        cmocka_unit_test(test_rows),
         cmocka_unit_test(test_capacities_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
