@@ -51,28 +51,6 @@ double rover_ctl_guard_speed(unicycle_cmd *u, const double range_m[BEH_SONAR_N],
     return near;
 }
 
-/* Every echo of the ring lies outside the circle the chassis sweeps
- * turning on the spot, by SPIN_CLEAR_M: each transducer's cone at its
- * range (its axis and both edges) seen from the axle C. The rear, which
- * has no sonar, is the way the robot came. */
-#define SPIN_CLEAR_M 0.05
-#define SPIN_V_MPS 0.02 /* slower than this, a turn is a turn on the spot */
-static int spin_clear(const double range_m[BEH_SONAR_N])
-{
-    const double half_cone = 12.5 * VEC2_PI / 180.0,
-                 reach = rover_ctl_turn_reach_m() + SPIN_CLEAR_M;
-    int k, e;
-    for (k = 0; k < BEH_SONAR_N; k++) {
-        const sonar_transducer *tr = &sonar_p2dx_front[k];
-        for (e = -1; e <= 1; e++) {
-            const double a = tr->angle_rad + e * half_cone;
-            if (hypot(tr->x_m + range_m[k] * cos(a), tr->y_m + range_m[k] * sin(a)) < reach)
-                return 0;
-        }
-    }
-    return 1;
-}
-
 /* Eq. 11 only weights avoidance by d_st / range; goal and formation keep
  * pushing, so a robot can creep into an obstacle dead ahead (and with
  * S_LF = S_RF the seed's turn is zero). Last line of defence: forward speed
@@ -82,11 +60,7 @@ static int spin_clear(const double range_m[BEH_SONAR_N])
  * turning into it, the guard held it, and the weighted sum of "toward the
  * slot" and "away from the post" came to nothing: it stood there for the
  * rest of the run); and a robot the guard has stopped that is not turning
- * turns toward the freer side (toward its goal on a tie), unless it turns
- * on the spot with every echo outside its turning circle (spin_clear: in
- * a U's pocket 1.1 m wide, with its slot behind, a robot turned back and
- * forth for good, each way toward the nearer echo in turn, dead zone, 4
- * in line, seed 1); an echo alongside
+ * turns toward the freer side (toward its goal on a tie); an echo alongside
  * within side_guard_m turns it away. It works on the
  * raw ranges: a mate is masked out of the avoid behaviour (or a line would
  * flee its own members), but one in our way is still something to stop
@@ -102,8 +76,7 @@ void rover_ctl_guard(unicycle_cmd *u, const double range_m[BEH_SONAR_N], const p
     side = g.left_front_m - g.right_front_m;
     if (fabs(side) < 0.05)
         side = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m), o->theta_rad);
-    if (fmin(g.left_front_m, g.right_front_m) < p->guard_m && u->w_radps * side < 0.0 &&
-        !(u->v_mps < SPIN_V_MPS && spin_clear(range_m)))
+    if (fmin(g.left_front_m, g.right_front_m) < p->guard_m && u->w_radps * side < 0.0)
         u->w_radps = 0.0;
     if (near < p->guard_m && fabs(u->w_radps) < 0.2 && (g.front_m < p->guard_m || u->v_mps < 0.05))
         u->w_radps = side >= 0.0 ? 0.5 : -0.5;

@@ -35,10 +35,6 @@ void rover_ctl_own_pose(const rover_ctl_state *c, pose2 *o);
 /* Moves the own frame toward the team's (rover_ctl_inputs.c). */
 void rover_ctl_frame_consensus(rover_ctl_state *c, double t_s, double dt_s);
 
-/* The circle a robot's chassis sweeps turning on the spot: its corners'
- * reach round the axle C, 0.314 m (rover_ctl_mates.c). */
-double rover_ctl_turn_reach_m(void);
-
 /* The collision guard's speed rule alone; returns the nearest echo in the
  * way (rover_ctl_guard.c). */
 double rover_ctl_guard_speed(unicycle_cmd *u, const double range_m[BEH_SONAR_N],

@@ -1795,26 +1795,6 @@ static void test_guard_rules(void **state)
         rover_ctl_guard(&u, r, &o, goal, &p);
         assert_true(u.w_radps == 0.6);
     }
-    { /* in a U's pocket 1.1 m wide, its goal behind: a turn on the spot
-         * toward the nearer front-side echo (within guard_m) is kept while
-         * every echo lies outside the turning circle, and stopped when one
-         * lies inside it or the robot drives */
-        double r[8] = { 0.45, 0.4, 0.45, 0.55, 0.55, 0.6, 0.55, 0.62 };
-        const double open_ahead[8] = { 0.45, 0.4, 2, 2, 2, 0.6, 0.55, 0.62 };
-        u.v_mps = 0.0;
-        u.w_radps = -0.6; /* toward the right, nearer */
-        rover_ctl_guard(&u, r, &o, goal, &p);
-        assert_true(u.w_radps == -0.6);
-        u.v_mps = 0.1;
-        u.w_radps = -0.6;
-        rover_ctl_guard(&u, open_ahead, &o, goal, &p);
-        assert_true(u.v_mps == 0.1 && u.w_radps >= 0.0);
-        r[0] = 0.15; /* the wall at the right 0.29 m from the axle: inside the circle */
-        u.v_mps = 0.0;
-        u.w_radps = -0.6;
-        rover_ctl_guard(&u, r, &o, goal, &p);
-        assert_true(u.w_radps >= 0.0);
-    }
     { /* a mate alongside, only the 50 deg transducer sees it: not in the way */
         const double r[8] = { 5, 0.4, 5, 5, 5, 5, 5, 5 };
         u.v_mps = 0.5;
@@ -2035,10 +2015,7 @@ static void test_arrival_turns_on_the_spot(void **state)
     const double goal[2] = { 10.0, 0.0 };
     const hand_mate m[2] = { { 2, 10.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
                              { 3, 10.0, -1.0, 0.0, FORMATION_ANN_NONE, 0.0 } };
-    /* a post at the right front, within the circle the chassis sweeps
-     * turning on the spot (one outside it does not stop a turn on the
-     * spot, test_guard_rules) */
-    const double post_right[8] = { 5, 0.15, 0.2, 5, 5, 5, 5, 5 };
+    const double post_right[8] = { 5, 0.45, 0.45, 5, 5, 5, 5, 5 };
     const pose2 start = { 11.0, 1.3, -0.5 }; /* slot (10, 1) behind, to the right */
     double t = 0.0;
     (void)state;
