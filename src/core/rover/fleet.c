@@ -51,7 +51,8 @@ static void fleet_rows(const rover_world_config *w, rover_fleet *f, int per_team
 /* How far along the way team t's row lies from the first. */
 static double row_x(const rover_fleet *f, int t)
 {
-    return f->row_m * (double)(t / ROVER_FLEET_ROW_LANES);
+    const int row = t / ROVER_FLEET_ROW_LANES; /* whole rows of lanes before t's */
+    return f->row_m * (double)row;
 }
 
 int rover_fleet_layout(rover_world_config *w, rover_fleet *f, int teams, int per_team,
