@@ -634,6 +634,16 @@ static int arrival_turn(const rover_ctl_state *c, const step_view *v, unicycle_c
     return 1;
 }
 
+/* u turns on the spot (no more than ROVER_SPIN_V_MPS of speed), and the
+ * turn sweeps our chassis into a mate's (rover_ctl_cmd_sweeps_mate, every
+ * mate: standing for a lower mate's box costs nothing where the lower one
+ * keeps out of our turning circle). */
+static int spin_into_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u)
+{
+    return fabs(u->v_mps) <= ROVER_SPIN_V_MPS && u->w_radps != 0.0 &&
+           rover_ctl_cmd_sweeps_mate(c, o, u, 0) != 0;
+}
+
 /* The guard keeps a robot from turning toward the nearer echo ahead (it
  * stops the turn, or turns it the other way); facing the U's arm with its
  * slot behind the arm's tip, the short way round was that way and the
@@ -642,25 +652,45 @@ static int arrival_turn(const rover_ctl_state *c, const step_view *v, unicycle_c
  * way until the target lies ahead (turned back, the echo left the guard's
  * reach and the short way was open again, to and fro at the boundary); a
  * way held that the guard closes in turn is given up for the other (the
- * robot stood facing the arm's tip with the held way closed). */
-static void arrival_turn_other_way(rover_ctl_state *c, double w_turn, unicycle_cmd *u)
+ * robot stood facing the arm's tip with the held way closed). Unless the
+ * turn is on the spot with every echo outside the circle it sweeps
+ * (rover_ctl_spin_clear), every echo the guard heeds a wall's
+ * (near_echoes_are_walls) and no mate in its sweep (spin_into_mate: the
+ * sonar does not look behind): walls stay where they are, so such a turn
+ * can hit nothing, and the way held is kept whatever the guard says. A
+ * mate moves: one outside the circle now may not be later, so near a
+ * mate's echo the guard's rule stands (two robots arriving side by side,
+ * the one turning toward the other crept into its circle and both stood,
+ * test_column_by_place). A robot in a U's pocket 1.1 m
+ * wide, its slot behind, had each way closed by the nearer side wall in
+ * turn and turned to and fro to the time limit (dead zone, 4 in line,
+ * every seed). Only the arrival turn: a slow turn of the blend, kept
+ * toward a wall, drove the robot's nose to it (mixed world 120). */
+static int near_echoes_are_walls(const rover_ctl_state *c, const step_view *v)
+{
+    int k;
+    for (k = 0; k < BEH_SONAR_N; k++)
+        if (c->range_m[k] < c->p.guard_m && v->masked[k] != c->range_m[k])
+            return 0;
+    return 1;
+}
+
+static void arrival_turn_other_way(rover_ctl_state *c, const step_view *v, double w_turn,
+                                   unicycle_cmd *u)
 {
     const double want = c->arrive_turn != 0 ? (double)c->arrive_turn : w_turn;
     if (w_turn == 0.0 || u->w_radps * want > 0.0)
         return;
+    if (fabs(u->v_mps) <= ROVER_SPIN_V_MPS && rover_ctl_spin_clear(c->range_m) &&
+        near_echoes_are_walls(c, v)) {
+        const unicycle_cmd held = { u->v_mps, want > 0.0 ? fabs(w_turn) : -fabs(w_turn) };
+        if (!spin_into_mate(c, &v->o, &held)) {
+            *u = held;
+            return;
+        }
+    }
     c->arrive_turn = want > 0.0 ? -1 : 1;
     u->w_radps = c->arrive_turn * fabs(w_turn);
-}
-
-/* u turns on the spot (no more than SPIN_V_MPS of speed), and the turn
- * sweeps our chassis into a mate's (rover_ctl_cmd_sweeps_mate, every mate:
- * standing for a lower mate's box costs nothing where the lower one keeps
- * out of our turning circle). */
-#define SPIN_V_MPS 0.05
-static int spin_into_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u)
-{
-    return fabs(u->v_mps) <= SPIN_V_MPS && u->w_radps != 0.0 &&
-           rover_ctl_cmd_sweeps_mate(c, o, u, 0) != 0;
 }
 
 /* The drive command from the blend and the mode reported: capped while
@@ -701,7 +731,7 @@ static void command_out(rover_ctl_state *c, const step_view *v, double t_s, doub
     else if (!v->escaping)
         rover_ctl_guard(&u, c->range_m, &v->o, v->steer, &c->p);
     if (turning)
-        arrival_turn_other_way(c, w_turn, &u);
+        arrival_turn_other_way(c, v, w_turn, &u);
     /* no command sweeps the chassis into a mate we wait for
      * (rover_ctl_cmd_sweeps_mate): past hold_max_s a robot flies the blend
      * again, and one standing beside a trapped mate turned toward its slot

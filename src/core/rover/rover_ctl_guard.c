@@ -51,6 +51,28 @@ double rover_ctl_guard_speed(unicycle_cmd *u, const double range_m[BEH_SONAR_N],
     return near;
 }
 
+/* Every echo of the ring lies outside the circle the chassis sweeps
+ * turning on the spot, by SPIN_CLEAR_M: each transducer's cone at its
+ * range (its axis and both edges) seen from the axle C. A turn on the
+ * spot can hit nothing else the sonar sees; the rear, which has no
+ * sonar, is the way the robot came. */
+#define SPIN_CLEAR_M 0.05
+int rover_ctl_spin_clear(const double range_m[BEH_SONAR_N])
+{
+    const double half_cone = 12.5 * VEC2_PI / 180.0,
+                 reach = rover_ctl_turn_reach_m() + SPIN_CLEAR_M;
+    int k, e;
+    for (k = 0; k < BEH_SONAR_N; k++) {
+        const sonar_transducer *tr = &sonar_p2dx_front[k];
+        for (e = -1; e <= 1; e++) {
+            const double a = tr->angle_rad + e * half_cone;
+            if (hypot(tr->x_m + range_m[k] * cos(a), tr->y_m + range_m[k] * sin(a)) < reach)
+                return 0;
+        }
+    }
+    return 1;
+}
+
 /* Eq. 11 only weights avoidance by d_st / range; goal and formation keep
  * pushing, so a robot can creep into an obstacle dead ahead (and with
  * S_LF = S_RF the seed's turn is zero). Last line of defence: forward speed

@@ -35,6 +35,18 @@ void rover_ctl_own_pose(const rover_ctl_state *c, pose2 *o);
 /* Moves the own frame toward the team's (rover_ctl_inputs.c). */
 void rover_ctl_frame_consensus(rover_ctl_state *c, double t_s, double dt_s);
 
+/* Slower than this, a turn is a turn on the spot (a mate's, as the team
+ * table reports it, or our own command). */
+#define ROVER_SPIN_V_MPS 0.05
+
+/* The circle a robot's chassis sweeps turning on the spot: its corners'
+ * reach round the axle C, 0.314 m (rover_ctl_mates.c). */
+double rover_ctl_turn_reach_m(void);
+
+/* Every echo of the sonar ring lies at least 5 cm outside that circle
+ * (rover_ctl_guard.c). */
+int rover_ctl_spin_clear(const double range_m[BEH_SONAR_N]);
+
 /* The collision guard's speed rule alone; returns the nearest echo in the
  * way (rover_ctl_guard.c). */
 double rover_ctl_guard_speed(unicycle_cmd *u, const double range_m[BEH_SONAR_N],

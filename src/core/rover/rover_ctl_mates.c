@@ -15,7 +15,7 @@
 
 /* Chassis corners' reach round C (the box centre is ROVER_BODY_OFFSET_M
  * ahead of C): the circle a robot turning on the spot sweeps, 0.314 m. */
-static double turn_reach_m(void)
+double rover_ctl_turn_reach_m(void)
 {
     return hypot(0.5 * ROVER_BODY_LENGTH_M + fabs(ROVER_BODY_OFFSET_M), 0.5 * ROVER_BODY_WIDTH_M);
 }
@@ -151,7 +151,7 @@ static int mate_outranks(const rover_ctl_state *c, int i)
 static int mate_turning_first(const rover_ctl_state *c, int i)
 {
     const team_member *m = &c->team.m[i];
-    return mate_outranks(c, i) && fabs(m->v_mps) <= 0.05 && fabs(m->w_radps) >= MATE_TURNING_RADPS;
+    return mate_outranks(c, i) && fabs(m->v_mps) <= ROVER_SPIN_V_MPS && fabs(m->w_radps) >= MATE_TURNING_RADPS;
 }
 
 int rover_ctl_walls_near(const sonar_groups *gw, const rover_ctl_params *p)
@@ -165,7 +165,7 @@ int rover_ctl_walls_near(const sonar_groups *gw, const rover_ctl_params *p)
 static int in_turn_circle(const pose2 *own_c, const pose2 *mc)
 {
     const box2 own = chassis_box(own_c, SPIN_MARGIN_M);
-    return box_gap_m(&own, mc->x_m, mc->y_m) < turn_reach_m();
+    return box_gap_m(&own, mc->x_m, mc->y_m) < rover_ctl_turn_reach_m();
 }
 
 /* Mate i (which outranks us) conflicts with us, as we see it: our chassis
@@ -237,7 +237,7 @@ int rover_ctl_mate_coming(const team_member *m, const double mate_xy_m[2], const
  * wait ran out with the other still turning. */
 int32_t rover_ctl_spin_hits_mate(const rover_ctl_state *c, const pose2 *o)
 {
-    const double reach = turn_reach_m() + SPIN_MARGIN_M;
+    const double reach = rover_ctl_turn_reach_m() + SPIN_MARGIN_M;
     pose2 own_c, mc;
     box2 mb;
     int i;
@@ -248,7 +248,7 @@ int32_t rover_ctl_spin_hits_mate(const rover_ctl_state *c, const pose2 *o)
         mb = chassis_box(&mc, 0.0);
         if (box_gap_m(&mb, own_c.x_m, own_c.y_m) < reach ||
             (mate_turning_first(c, i) &&
-             hypot(mc.x_m - own_c.x_m, mc.y_m - own_c.y_m) < reach + turn_reach_m()))
+             hypot(mc.x_m - own_c.x_m, mc.y_m - own_c.y_m) < reach + rover_ctl_turn_reach_m()))
             return c->team.m[i].robot;
     }
     return 0;
@@ -330,7 +330,7 @@ static int mate_touches(const rover_ctl_state *c, int i, const box2 *b)
     if (mate_c(c, i, &mc) != 0)
         return 0;
     if (fabs(m->w_radps) >= MATE_TURNING_RADPS)
-        return box_gap_m(b, mc.x_m, mc.y_m) < turn_reach_m() + SPIN_MARGIN_M;
+        return box_gap_m(b, mc.x_m, mc.y_m) < rover_ctl_turn_reach_m() + SPIN_MARGIN_M;
     mb = chassis_box(&mc, SPIN_MARGIN_M);
     return boxes_touch(b, &mb);
 }

@@ -2015,7 +2015,10 @@ static void test_arrival_turns_on_the_spot(void **state)
     const double goal[2] = { 10.0, 0.0 };
     const hand_mate m[2] = { { 2, 10.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
                              { 3, 10.0, -1.0, 0.0, FORMATION_ANN_NONE, 0.0 } };
-    const double post_right[8] = { 5, 0.45, 0.45, 5, 5, 5, 5, 5 };
+    /* a post at the right front, within the circle the chassis sweeps
+     * turning on the spot (one outside it does not stop a turn on the
+     * spot, test_arrival_turn_in_a_pocket) */
+    const double post_right[8] = { 5, 0.15, 0.2, 5, 5, 5, 5, 5 };
     const pose2 start = { 11.0, 1.3, -0.5 }; /* slot (10, 1) behind, to the right */
     double t = 0.0;
     (void)state;
@@ -2031,6 +2034,45 @@ static void test_arrival_turns_on_the_spot(void **state)
     for (; t < 1.5; t += DT) {
         hand_step(&c, t, open_ring, m, 2, &out);
         assert_true(out.u.v_mps == 0.0 && out.u.w_radps > 0.0); /* held */
+    }
+}
+
+/* In a U's pocket 1.1 m wide with its slot behind, the nearer side wall
+ * changes sides as the robot turns; the guard closed each way in turn and
+ * the robot turned to and fro to the time limit (dead zone, 4 in line,
+ * every seed). Every echo lies outside the circle a turn on the spot
+ * sweeps and is a wall's, so the way held is kept whichever side is
+ * nearer; a wall inside the circle still closes it. */
+static void test_arrival_turn_in_a_pocket(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    const double goal[2] = { 10.0, 0.0 };
+    const hand_mate m[2] = { { 2, 10.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
+                             { 3, 10.0, -1.0, 0.0, FORMATION_ANN_NONE, 0.0 } };
+    const double right_near[8] = { 0.45, 0.4, 0.45, 0.55, 0.55, 0.6, 0.55, 0.62 };
+    const double left_near[8] = { 0.62, 0.55, 0.6, 0.55, 0.55, 0.45, 0.4, 0.45 };
+    const double right_inside[8] = { 0.15, 0.4, 0.45, 0.55, 0.55, 0.6, 0.55, 0.62 };
+    const pose2 start = { 11.0, 1.3, -0.5 }; /* slot (10, 1) behind, to the right */
+    double t = 0.0;
+    (void)state;
+    rover_ctl_params_default(&p);
+    assert_true(right_near[1] < p.guard_m && left_near[6] < p.guard_m); /* the guard heeds both */
+    assert_int_equal(rover_ctl_spin_clear(right_near), 1);
+    assert_int_equal(rover_ctl_spin_clear(right_inside), 0);
+    assert_int_equal(rover_ctl_init(&c, &p, 1, &start, goal), 0);
+    for (; t < 0.5; t += DT) {
+        hand_step(&c, t, right_near, m, 2, &out);
+        assert_true(fabs(out.u.v_mps) <= 0.05 && out.u.w_radps < 0.0); /* the short way, held */
+    }
+    for (; t < 1.0; t += DT) {
+        hand_step(&c, t, left_near, m, 2, &out);
+        assert_true(fabs(out.u.v_mps) <= 0.05 && out.u.w_radps < 0.0);
+    }
+    for (; t < 1.5; t += DT) {
+        hand_step(&c, t, right_inside, m, 2, &out);
+        assert_true(out.u.w_radps >= 0.0); /* the wall within the circle closes the way */
     }
 }
 
@@ -2437,6 +2479,7 @@ int main(void)
         cmocka_unit_test(test_team_heading_at_goal),
         cmocka_unit_test(test_turns_back_past_goal),
         cmocka_unit_test(test_arrival_turns_on_the_spot),
+        cmocka_unit_test(test_arrival_turn_in_a_pocket),
         cmocka_unit_test(test_no_spin_into_mate),
         cmocka_unit_test(test_cut_off_takes_the_way),
         cmocka_unit_test(test_column_by_place),
