@@ -11,7 +11,12 @@
  * partner's stop the same test on its s; latency = partner stop - blocked
  * stop; lead = the partner's s minus its reference k_p s*.
  *
- * After removal: when the stick comes out while the blocked arm runs a row
+ * After removal: the arm that counts is the one the stick touched (the arm
+ * it was pushed into; if that one was never touched, the other arm, which
+ * the stick can stand in the way of too; if neither, the stick stopped
+ * nothing and there is nothing to resume: an untouched arm waiting on its
+ * partner is the task's wait, not the stick's). When the stick comes out
+ * while that arm runs a row
  * (its last event is not DONE), the arm has resumed at the first step at
  * which its tool is 5 mm from where it was at removal, or it reports
  * UNBLOCKED or DONE; resume_latency = that step - removal (or, when the
@@ -113,6 +118,10 @@ static void block_in(carry_state *r, block *b)
 {
     const int a = b->arm - 1;
     const double f = r->arm[a].max_contact_force_N;
+    int k;
+    for (k = 0; k < 2; k++)
+        if (r->arm[k].max_contact_force_N > CONTACT_N)
+            b->touched[k] = 1;
     if (f > b->max_force_N)
         b->max_force_N = f;
     if (f > CONTACT_N && b->contact_s < 0.0)
@@ -131,11 +140,13 @@ static void block_in(carry_state *r, block *b)
         r->s_f[1] > 0.0)
         block_t3_stops(r, b);
     if (r->t_s >= b->in_s + b->dur_s) {
+        const int o = b->touched[a] || !b->touched[1 - a] ? a : 1 - a;
         carry_stick_command(r, TANDEM_SIM_CONTROL_T_REMOVE_STICK, 0, 0);
         b->out_s = r->t_s;
-        memcpy(b->out_pos_m, r->arm[a].tool_position_m, sizeof b->out_pos_m);
-        b->row_running_at_out = r->last_event[a] != TANDEM_ACTION_EVENT_T_DONE;
-        b->resume_s = b->row_running_at_out ? -1.0 : b->out_s;
+        b->out_arm = o;
+        memcpy(b->out_pos_m, r->arm[o].tool_position_m, sizeof b->out_pos_m);
+        b->row_running_at_out = r->last_event[o] != TANDEM_ACTION_EVENT_T_DONE;
+        b->resume_s = b->row_running_at_out && b->touched[o] ? -1.0 : b->out_s;
         b->resume_from_s = b->out_s;
     }
 }
@@ -144,7 +155,7 @@ static void block_in(carry_state *r, block *b)
  * and the next one starts no earlier than gap_after_s later. */
 static void block_out(carry_state *r, carry_blocks *bl, block *b)
 {
-    const int a = b->arm - 1;
+    const int a = b->out_arm;
     if (b->resume_s < 0.0 && r->arm_down[a]) {
         /* the arm's daemon is down (--fault): it cannot resume before it is
          * restarted, and the time it was down is the kill's, not the stick's */
