@@ -27,10 +27,65 @@ static void grasp_on_bar(int a, const double c[3], double yaw, double p[3])
     p[2] = c[2];
 }
 
+/* The poses at the stand's two places: whose grasp point, on which place
+ * (0 the hand-over, 1 place B), how high above it. */
+typedef struct {
+    int pose, arm, place;
+    double lift_m;
+} stand_pose;
+
+static const stand_pose stand_poses[] = {
+    { CARRY_POSE_HANDOVER_1, 0, 0, 0.0 },
+    { CARRY_POSE_HANDOVER_2, 1, 0, 0.0 },
+    { CARRY_POSE_ABOVE_HANDOVER_1, 0, 0, CELL_STAND_CLEARANCE_M },
+    { CARRY_POSE_ABOVE_HANDOVER_2, 1, 0, CELL_STAND_CLEARANCE_M },
+    { CARRY_POSE_STAND_B_1, 0, 1, 0.0 },
+    { CARRY_POSE_STAND_B_2, 1, 1, 0.0 },
+    { CARRY_POSE_ABOVE_STAND_B_1, 0, 1, CELL_STAND_CLEARANCE_M },
+    { CARRY_POSE_ABOVE_STAND_B_2, 1, 1, CELL_STAND_CLEARANCE_M },
+};
+#define N_STAND_POSES ((int)(sizeof stand_poses / sizeof stand_poses[0]))
+
+int sup_stand_poses_validate(void)
+{
+    int i, k;
+    for (i = 0; i < N_STAND_POSES; i++) {
+        const stand_pose *s = &stand_poses[i];
+        if (s->arm < 0 || s->arm > 1 || s->place < 0 || s->place > 1 || !(s->lift_m >= 0.0))
+            return SUPERVISOR_ERR_POSE;
+        for (k = 0; k < i; k++)
+            if (stand_poses[k].pose == s->pose)
+                return SUPERVISOR_ERR_POSE;
+    }
+    return 0;
+}
+
+static const double *stand_place_m(const cell_layout *c, int place)
+{
+    return place == 0 ? c->handover_center_m : c->stand_b_center_m;
+}
+
+/* A stand pose's point; 0, or -1 if pose is not one. */
+static int stand_pose_point(int pose, double p[3])
+{
+    const cell_layout *c = &cell_default;
+    int i;
+    for (i = 0; i < N_STAND_POSES; i++) {
+        const stand_pose *s = &stand_poses[i];
+        if (s->pose != pose)
+            continue;
+        cell_grasp_point(c, s->arm, stand_place_m(c, s->place), p);
+        p[2] += s->lift_m;
+        return 0;
+    }
+    return -1;
+}
+
 static int resolve_pose(const supervisor_daemon *sv, int pose, double p[3])
 {
     const cell_layout *c = &cell_default;
-    double h[3];
+    if (stand_pose_point(pose, p) == 0)
+        return 0;
     switch (pose) {
     case CARRY_POSE_HOME_1: vec3_copy(p, c->home_tool_m[0]); return 0;
     case CARRY_POSE_HOME_2: vec3_copy(p, c->home_tool_m[1]); return 0;
@@ -40,29 +95,10 @@ static int resolve_pose(const supervisor_daemon *sv, int pose, double p[3])
         if (pose == CARRY_POSE_ABOVE_WORKPIECE)
             p[2] += c->approach_height_m;
         return 0;
-    case CARRY_POSE_HANDOVER_1: cell_grasp_point(c, 0, c->handover_center_m, p); return 0;
-    case CARRY_POSE_HANDOVER_2: cell_grasp_point(c, 1, c->handover_center_m, p); return 0;
-    case CARRY_POSE_ABOVE_HANDOVER_1:
-    case CARRY_POSE_ABOVE_HANDOVER_2:
-        cell_grasp_point(c, pose == CARRY_POSE_ABOVE_HANDOVER_1 ? 0 : 1, c->handover_center_m, p);
-        p[2] += CELL_STAND_CLEARANCE_M;
-        return 0;
     case CARRY_POSE_CLEAR_1:
     case CARRY_POSE_CLEAR_B_1:
-        cell_grasp_point(
-            c, 0, pose == CARRY_POSE_CLEAR_1 ? c->handover_center_m : c->stand_b_center_m, h);
-        vec3_copy(p, h);
+        cell_grasp_point(c, 0, stand_place_m(c, pose == CARRY_POSE_CLEAR_1 ? 0 : 1), p);
         p[0] -= CLEAR_BACKOFF_M;
-        return 0;
-    case CARRY_POSE_STAND_B_1:
-    case CARRY_POSE_STAND_B_2:
-    case CARRY_POSE_ABOVE_STAND_B_1:
-    case CARRY_POSE_ABOVE_STAND_B_2:
-        cell_grasp_point(c,
-                         pose == CARRY_POSE_STAND_B_1 || pose == CARRY_POSE_ABOVE_STAND_B_1 ? 0 : 1,
-                         c->stand_b_center_m, p);
-        if (pose == CARRY_POSE_ABOVE_STAND_B_1 || pose == CARRY_POSE_ABOVE_STAND_B_2)
-            p[2] += CELL_STAND_CLEARANCE_M;
         return 0;
     case CARRY_POSE_ABOVE_MAGAZINE:
     case CARRY_POSE_AT_MAGAZINE:

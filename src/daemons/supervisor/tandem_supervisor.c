@@ -372,6 +372,8 @@ static int check_tables(supervisor_daemon *sv)
         daemon_check_table(sv->d.name, net, "taskdef_validate",
                            taskdef_validate_health(sv->pn, sv->rows, sv->health.mask, &sv->roles),
                            taskdef_strerror) != 0 ||
+        daemon_check_table(sv->d.name, "stand_poses", "sup_stand_poses_validate",
+                           sup_stand_poses_validate(), supervisor_strerror) != 0 ||
         daemon_check_table(sv->d.name, "supervisor_options", "options_table_validate",
                            options_table_validate(supervisor_options), options_strerror) != 0)
         return DAEMON_ERR_TABLE;
