@@ -187,6 +187,8 @@ int carry_gains_within_table(const erlaw_gains *g, int allow_zero);
 /* Row of transition t, NULL for a bad index. */
 const carry_row *carry_row_of(int t);
 const char *carry_pose_name(int pose);
+/* The arm (0, 1) whose tool the pose is for; -1 for NONE or a bad pose. */
+int carry_pose_arm(int pose);
 /* 1 if the pose's coordinates come from the vision system. */
 int carry_pose_from_vision(int pose);
 

@@ -163,6 +163,33 @@ static const char *const POSE_NAMES[CARRY_N_POSES] = {
     "CLEAR_B_1",      "STAND_B_2",    "ABOVE_STAND_B_2",
 };
 
+/* The arm whose tool each pose of the cell is computed for (0, 1): the
+ * supervisor resolves HOME_1 ... CLEAR_1, ABOVE_HANDOVER_1 and the _B_1
+ * poses on arm 1's side of the bar and the rest on arm 2's, and test_cell
+ * checks each inside that arm's joint ranges; the other arm is not known
+ * to reach it. */
+static const int8_t POSE_ARM[CARRY_N_POSES] = {
+    [CARRY_POSE_NONE] = -1,
+    [CARRY_POSE_HOME_1] = 0,
+    [CARRY_POSE_ABOVE_WORKPIECE] = 0,
+    [CARRY_POSE_AT_WORKPIECE] = 0,
+    [CARRY_POSE_HANDOVER_1] = 0,
+    [CARRY_POSE_CLEAR_1] = 0,
+    [CARRY_POSE_HOME_2] = 1,
+    [CARRY_POSE_HANDOVER_2] = 1,
+    [CARRY_POSE_ABOVE_RELEASE] = 1,
+    [CARRY_POSE_RELEASE_POSE] = 1,
+    [CARRY_POSE_ABOVE_HANDOVER_1] = 0,
+    [CARRY_POSE_ABOVE_HANDOVER_2] = 1,
+    [CARRY_POSE_ABOVE_MAGAZINE] = 1,
+    [CARRY_POSE_AT_MAGAZINE] = 1,
+    [CARRY_POSE_STAND_B_1] = 0,
+    [CARRY_POSE_ABOVE_STAND_B_1] = 0,
+    [CARRY_POSE_CLEAR_B_1] = 0,
+    [CARRY_POSE_STAND_B_2] = 1,
+    [CARRY_POSE_ABOVE_STAND_B_2] = 1,
+};
+
 const carry_row *carry_row_of(int t)
 {
     return (t >= 0 && t < CARRY_N_TRANSITIONS) ? &carry_table[t] : NULL;
@@ -315,6 +342,11 @@ int carry_table_validate_health(const carry_row *rows, int n_rows, const petri_n
 const char *carry_pose_name(int pose)
 {
     return (pose >= 0 && pose < CARRY_N_POSES) ? POSE_NAMES[pose] : "?";
+}
+
+int carry_pose_arm(int pose)
+{
+    return (pose >= 0 && pose < CARRY_N_POSES) ? POSE_ARM[pose] : -1;
 }
 
 int carry_pose_from_vision(int pose)

@@ -306,32 +306,6 @@ static void print_invariants(const netc_task *t, FILE *out)
 
 /* ---- the checks ------------------------------------------------------------------ */
 
-/* The arm whose tool each pose of the cell is computed for (0, 1): the
- * supervisor resolves HOME_1 ... CLEAR_1, ABOVE_HANDOVER_1 and the _B_1
- * poses on arm 1's side of the bar and the rest on arm 2's (resolve_pose), and test_cell checks each inside
- * that arm's joint ranges; the other arm is not known to reach it. */
-static const int8_t POSE_ARM[CARRY_N_POSES] = {
-    [CARRY_POSE_NONE] = -1,
-    [CARRY_POSE_HOME_1] = 0,
-    [CARRY_POSE_ABOVE_WORKPIECE] = 0,
-    [CARRY_POSE_AT_WORKPIECE] = 0,
-    [CARRY_POSE_HANDOVER_1] = 0,
-    [CARRY_POSE_CLEAR_1] = 0,
-    [CARRY_POSE_HOME_2] = 1,
-    [CARRY_POSE_HANDOVER_2] = 1,
-    [CARRY_POSE_ABOVE_RELEASE] = 1,
-    [CARRY_POSE_RELEASE_POSE] = 1,
-    [CARRY_POSE_ABOVE_HANDOVER_1] = 0,
-    [CARRY_POSE_ABOVE_HANDOVER_2] = 1,
-    [CARRY_POSE_ABOVE_MAGAZINE] = 1,
-    [CARRY_POSE_AT_MAGAZINE] = 1,
-    [CARRY_POSE_STAND_B_1] = 0,
-    [CARRY_POSE_ABOVE_STAND_B_1] = 0,
-    [CARRY_POSE_CLEAR_B_1] = 0,
-    [CARRY_POSE_STAND_B_2] = 1,
-    [CARRY_POSE_ABOVE_STAND_B_2] = 1,
-};
-
 /* Every move of row j goes to a pose of its own arm. */
 static int check_poses(const netc_task *t, int j, FILE *err)
 {
@@ -339,9 +313,9 @@ static int check_poses(const netc_task *t, int j, FILE *err)
     for (a = 0; a < 2; a++)
         for (k = 0; k < t->rows[j].plan[a].n_segments; k++) {
             const carry_segment *s = &t->rows[j].plan[a].seg[k];
-            if (s->kind == CARRY_SEG_MOVE && POSE_ARM[s->pose] != a) {
+            if (s->kind == CARRY_SEG_MOVE && carry_pose_arm(s->pose) != a) {
                 netc_say(err, "row %s: arm %d cannot go to %s, a pose of arm %d in the cell\n",
-                         t->trans_name[j], a + 1, carry_pose_name(s->pose), POSE_ARM[s->pose] + 1);
+                         t->trans_name[j], a + 1, carry_pose_name(s->pose), carry_pose_arm(s->pose) + 1);
                 return NETC_ERR_TABLE;
             }
         }

@@ -136,7 +136,7 @@ int sup_health_transition(const supervisor_daemon *sv, int t);
 /* supervisor_rows.c */
 void sup_start_transition(supervisor_daemon *sv, int t);
 /* The stand poses' table (supervisor_rows.c): 0, or SUPERVISOR_ERR_POSE
- * (an arm or place out of range, a negative lift, a pose twice). */
+ * (a pose of no arm, a place out of range, a negative lift, a pose twice). */
 int sup_stand_poses_validate(void);
 /* The queued arm events, in arrival order (lockstep: those sent before
  * the step this cycle answers). */

@@ -27,22 +27,23 @@ static void grasp_on_bar(int a, const double c[3], double yaw, double p[3])
     p[2] = c[2];
 }
 
-/* The poses at the stand's two places: whose grasp point, on which place
- * (0 the hand-over, 1 place B), how high above it. */
+/* The poses at the stand's two places: on which place (0 the hand-over,
+ * 1 place B), how high above it; the grasp point is that of the pose's
+ * arm (carry_pose_arm). */
 typedef struct {
-    int pose, arm, place;
+    int pose, place;
     double lift_m;
 } stand_pose;
 
 static const stand_pose stand_poses[] = {
-    { CARRY_POSE_HANDOVER_1, 0, 0, 0.0 },
-    { CARRY_POSE_HANDOVER_2, 1, 0, 0.0 },
-    { CARRY_POSE_ABOVE_HANDOVER_1, 0, 0, CELL_STAND_CLEARANCE_M },
-    { CARRY_POSE_ABOVE_HANDOVER_2, 1, 0, CELL_STAND_CLEARANCE_M },
-    { CARRY_POSE_STAND_B_1, 0, 1, 0.0 },
-    { CARRY_POSE_STAND_B_2, 1, 1, 0.0 },
-    { CARRY_POSE_ABOVE_STAND_B_1, 0, 1, CELL_STAND_CLEARANCE_M },
-    { CARRY_POSE_ABOVE_STAND_B_2, 1, 1, CELL_STAND_CLEARANCE_M },
+    { CARRY_POSE_HANDOVER_1, 0, 0.0 },
+    { CARRY_POSE_HANDOVER_2, 0, 0.0 },
+    { CARRY_POSE_ABOVE_HANDOVER_1, 0, CELL_STAND_CLEARANCE_M },
+    { CARRY_POSE_ABOVE_HANDOVER_2, 0, CELL_STAND_CLEARANCE_M },
+    { CARRY_POSE_STAND_B_1, 1, 0.0 },
+    { CARRY_POSE_STAND_B_2, 1, 0.0 },
+    { CARRY_POSE_ABOVE_STAND_B_1, 1, CELL_STAND_CLEARANCE_M },
+    { CARRY_POSE_ABOVE_STAND_B_2, 1, CELL_STAND_CLEARANCE_M },
 };
 #define N_STAND_POSES ((int)(sizeof stand_poses / sizeof stand_poses[0]))
 
@@ -51,7 +52,7 @@ int sup_stand_poses_validate(void)
     int i, k;
     for (i = 0; i < N_STAND_POSES; i++) {
         const stand_pose *s = &stand_poses[i];
-        if (s->arm < 0 || s->arm > 1 || s->place < 0 || s->place > 1 || !(s->lift_m >= 0.0))
+        if (carry_pose_arm(s->pose) < 0 || s->place < 0 || s->place > 1 || !(s->lift_m >= 0.0))
             return SUPERVISOR_ERR_POSE;
         for (k = 0; k < i; k++)
             if (stand_poses[k].pose == s->pose)
@@ -74,7 +75,7 @@ static int stand_pose_point(int pose, double p[3])
         const stand_pose *s = &stand_poses[i];
         if (s->pose != pose)
             continue;
-        cell_grasp_point(c, s->arm, stand_place_m(c, s->place), p);
+        cell_grasp_point(c, carry_pose_arm(pose), stand_place_m(c, s->place), p);
         p[2] += s->lift_m;
         return 0;
     }

@@ -162,6 +162,19 @@ static void test_table_consistent(void **st)
     assert_int_equal(carry_table[CARRY_T5].arms, CARRY_ARM2);
     assert_int_equal(carry_table[CARRY_T4].plan[0].after_partner, 1);
     assert_string_equal(carry_pose_name(CARRY_POSE_HANDOVER_2), "HANDOVER_2");
+    /* every pose belongs to one arm, and a name ending _1 or _2 says which */
+    assert_int_equal(carry_pose_arm(CARRY_POSE_NONE), -1);
+    assert_int_equal(carry_pose_arm(CARRY_N_POSES), -1);
+    for (t = 1; t < CARRY_N_POSES; t++) {
+        const char *name = carry_pose_name(t);
+        const size_t len = strlen(name);
+        const int arm = carry_pose_arm(t);
+        assert_true(arm == 0 || arm == 1);
+        if (len > 2 && name[len - 2] == '_' && (name[len - 1] == '1' || name[len - 1] == '2'))
+            assert_int_equal(arm, name[len - 1] - '1');
+    }
+    assert_int_equal(carry_pose_arm(CARRY_POSE_ABOVE_WORKPIECE), 0);
+    assert_int_equal(carry_pose_arm(CARRY_POSE_AT_MAGAZINE), 1);
     assert_int_equal(erlaw_gains_validate(&carry_rot_gains), 0);
 }
 
