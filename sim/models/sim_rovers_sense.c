@@ -24,6 +24,7 @@
  * it was (TANDEM_SIM_NEIGHBOURS=scan runs the scan, for comparison).
  */
 #include "sim_rovers.h"
+#include "rover_batch.h"
 #include <math.h>
 #include <stdio.h>
 #include "unicycle.h"

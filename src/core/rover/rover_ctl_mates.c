@@ -151,7 +151,8 @@ static int mate_outranks(const rover_ctl_state *c, int i)
 static int mate_turning_first(const rover_ctl_state *c, int i)
 {
     const team_member *m = &c->team.m[i];
-    return mate_outranks(c, i) && fabs(m->v_mps) <= ROVER_SPIN_V_MPS && fabs(m->w_radps) >= MATE_TURNING_RADPS;
+    return mate_outranks(c, i) && fabs(m->v_mps) <= ROVER_SPIN_V_MPS &&
+           fabs(m->w_radps) >= MATE_TURNING_RADPS;
 }
 
 int rover_ctl_walls_near(const sonar_groups *gw, const rover_ctl_params *p)

@@ -13,7 +13,6 @@
 #include <stdint.h>
 #include <lcm/lcm.h>
 #include "linalg.h"
-#include "rover_world.h"
 #include "rtloop.h"
 #include "auth_bus.h"
 #include "guard.h"
@@ -293,16 +292,6 @@ int64_t daemon_utime_now(void);
  * of one tick in one message). */
 #define BATCH_HEADER(b, seq_, utime_, step_, n_) \
     ((b).seq = (seq_), (b).utime = (utime_), (b).step = (step_), (b).n = (int16_t)(n_))
-/* A batch holds at most BATCH_MAX robots (the bound of the rovers_*_t
- * arrays in lcmtypes/capacities: one team); a fleet's frames of one tick
- * go out as BATCH_CHUNKS(n) messages on the same channel (one, even
- * empty, up to BATCH_MAX), robots in id order, BATCH_MAX a message and
- * the rest in the last. */
-#define BATCH_MAX ROVER_TEAM_MAX
-#define BATCH_CHUNKS(n) ((n) > BATCH_MAX ? ((n) + BATCH_MAX - 1) / BATCH_MAX : 1)
-/* Robots in chunk c of a batch of n. */
-#define BATCH_CHUNK_N(n, c) ((n) - (c)*BATCH_MAX < BATCH_MAX ? (n) - (c)*BATCH_MAX : BATCH_MAX)
-
 /* Strict number parsing for command-line values: the whole string must be
  * a finite number inside [lo, hi]; prints "NAME: --OPT: why" and returns
  * DAEMON_ERR_NUMBER or DAEMON_ERR_RANGE otherwise. */

@@ -315,7 +315,8 @@ static int check_poses(const netc_task *t, int j, FILE *err)
             const carry_segment *s = &t->rows[j].plan[a].seg[k];
             if (s->kind == CARRY_SEG_MOVE && carry_pose_arm(s->pose) != a) {
                 netc_say(err, "row %s: arm %d cannot go to %s, a pose of arm %d in the cell\n",
-                         t->trans_name[j], a + 1, carry_pose_name(s->pose), carry_pose_arm(s->pose) + 1);
+                         t->trans_name[j], a + 1, carry_pose_name(s->pose),
+                         carry_pose_arm(s->pose) + 1);
                 return NETC_ERR_TABLE;
             }
         }

@@ -10,6 +10,7 @@
 
 #include <stdint.h>
 #include "daemon.h"
+#include "rover_batch.h"
 #include "journal.h"
 #include "peer.h"
 #include "fleet.h"
