@@ -38,4 +38,13 @@
 int slot_assign_min_sq(const double xy_m[][2], const double slot_m[][2], int n, int *slot_of,
                        double *cost_sum_m2);
 
+/* The same on one axis (robot j at x_m[j], slot k at s_m[k]): there the
+ * least sum of squares pairs the robots and the slots in sorted order
+ * (exchange argument: for a < b and c < d, (a - c)^2 + (b - d)^2 <=
+ * (a - d)^2 + (b - c)^2, the difference being 2 (b - a)(d - c) >= 0), so a
+ * stable sort of each, O(n log n) instead of O(n^3); equal keys keep their
+ * index order. Same results and errors as slot_assign_min_sq. */
+int slot_assign_sorted(const double x_m[], const double s_m[], int n, int *slot_of,
+                       double *cost_sum_m2);
+
 #endif

@@ -232,8 +232,22 @@ static double sq_dist(const double a[2], const double b[2])
  * slots of either make that assignment's cost fall fastest, so noise in
  * the team messages does not flip a near tie to and fro. Every robot
  * computes it from the same team messages; our slot, or -1. */
+static int least_sq(const double xy[][2], const double sl[][2], int n, int one_axis, int *best,
+                    double *best_m2)
+{
+    double x[TEAM_MAX + 1], s[TEAM_MAX + 1];
+    int j;
+    if (!one_axis)
+        return slot_assign_min_sq(xy, sl, n, best, best_m2);
+    for (j = 0; j < n && j < TEAM_MAX + 1; j++) {
+        x[j] = xy[j][0];
+        s[j] = sl[j][0];
+    }
+    return slot_assign_sorted(x, s, n, best, best_m2);
+}
+
 static int slot_least_sq(const rover_ctl_state *c, const step_view *v, const double xy[][2],
-                         const double sl[][2])
+                         const double sl[][2], int one_axis)
 {
     double by_id_m2 = 0.0, best_m2;
     int by_id[TEAM_MAX + 1], best[TEAM_MAX + 1], j;
@@ -244,7 +258,7 @@ static int slot_least_sq(const rover_ctl_state *c, const step_view *v, const dou
             return -1;
         by_id_m2 += sq_dist(xy[j], sl[by_id[j]]);
     }
-    if (slot_assign_min_sq(xy, sl, v->n, best, &best_m2) == SLOT_ASSIGN_OK &&
+    if (least_sq(xy, sl, v->n, one_axis, best, &best_m2) == SLOT_ASSIGN_OK &&
         best_m2 < by_id_m2 - c->p.arrival_swap_m2)
         slot = best;
     for (j = 0; j < v->n; j++)
@@ -277,7 +291,7 @@ static int slot_by_place(const rover_ctl_state *c, const step_view *v, const dou
         sl[j][0] += centre[0];
         sl[j][1] += centre[1];
     }
-    return slot_least_sq(c, v, (const double(*)[2])xy, (const double(*)[2])sl);
+    return slot_least_sq(c, v, (const double(*)[2])xy, (const double(*)[2])sl, 0);
 }
 
 /* A column's slots by how far along the way the robots are
@@ -285,8 +299,8 @@ static int slot_by_place(const rover_ctl_state *c, const step_view *v, const dou
  * are"): each robot at its way to the goal (navfield_way_from), slot k at
  * the mean of those plus its place behind the column's centre, matched
  * as slot_by_place matches points, on that one axis (where the least sum
- * of squares is the sorted order: the robot nearest the goal along the
- * way heads the column). Round a bend the way is what orders the robots;
+ * of squares is the sorted order, slot_assign_sorted: the robot nearest
+ * the goal along the way heads the column). Round a bend the way is what orders the robots;
  * slots laid straight back from R0 along its heading lie across the leg
  * the column is still on, and the robots behind took one another's slots
  * there (generated corridor world 58, 6 in triangle: the column stood in
@@ -312,7 +326,7 @@ static int slot_by_way(const rover_ctl_state *c, const step_view *v)
         sl[j][0] = mean - s[j][0];
         sl[j][1] = 0.0;
     }
-    return slot_least_sq(c, v, (const double(*)[2])xy, (const double(*)[2])sl);
+    return slot_least_sq(c, v, (const double(*)[2])xy, (const double(*)[2])sl, 1);
 }
 
 /* The goal's slots by where the robots are. */

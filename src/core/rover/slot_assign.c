@@ -6,7 +6,8 @@
  * c - u - v), so after n rows the matching is optimal (the potentials are
  * the dual's certificate). n rows of at most n steps of O(n): O(n^3). The
  * costs are computed when needed, not stored: the stack holds O(n), not
- * an n x n matrix. */
+ * an n x n matrix. On one axis the optimum is the sorted order
+ * (slot_assign_sorted, O(n log n)). */
 #include "slot_assign.h"
 
 #include <math.h>
@@ -108,6 +109,56 @@ int slot_assign_min_sq(const double xy_m[][2], const double slot_m[][2], int n, 
     for (k = 1; k <= n; k++) {
         slot_of[h.robot_at[k] - 1] = k - 1;
         sum += cost_m2(xy_m[h.robot_at[k] - 1], slot_m[k - 1]);
+    }
+    if (cost_sum_m2)
+        *cost_sum_m2 = sum;
+    return SLOT_ASSIGN_OK;
+}
+
+/* order[0..n) = 0..n-1 sorted by key, stably (bottom-up merge sort through
+ * tmp: O(n log n), no recursion, no allocation). */
+static void sort_index(const double key[], int n, int order[], int tmp[])
+{
+    int w, i, *a = order, *b = tmp;
+    for (i = 0; i < n; i++)
+        order[i] = i;
+    for (w = 1; w < n; w *= 2) {
+        int *t;
+        for (i = 0; i < n; i += 2 * w) {
+            const int mid = i + w < n ? i + w : n, end = i + 2 * w < n ? i + 2 * w : n;
+            int l = i, r = mid, k = i;
+            while (l < mid && r < end)
+                b[k++] = key[a[r]] < key[a[l]] ? a[r++] : a[l++];
+            while (l < mid)
+                b[k++] = a[l++];
+            while (r < end)
+                b[k++] = a[r++];
+        }
+        t = a;
+        a = b;
+        b = t;
+    }
+    if (a != order)
+        for (i = 0; i < n; i++)
+            order[i] = a[i];
+}
+
+int slot_assign_sorted(const double x_m[], const double s_m[], int n, int *slot_of,
+                       double *cost_sum_m2)
+{
+    int by_x[SLOT_ASSIGN_MAX], by_s[SLOT_ASSIGN_MAX], tmp[SLOT_ASSIGN_MAX], j;
+    double sum = 0.0;
+    if (!x_m || !s_m || !slot_of || n < 1 || n > SLOT_ASSIGN_MAX)
+        return SLOT_ASSIGN_ERR_ARG;
+    for (j = 0; j < n; j++)
+        if (!isfinite(x_m[j]) || !isfinite(s_m[j]))
+            return SLOT_ASSIGN_ERR_ARG;
+    sort_index(x_m, n, by_x, tmp);
+    sort_index(s_m, n, by_s, tmp);
+    for (j = 0; j < n; j++) {
+        const double d = x_m[by_x[j]] - s_m[by_s[j]];
+        slot_of[by_x[j]] = by_s[j];
+        sum += d * d;
     }
     if (cost_sum_m2)
         *cost_sum_m2 = sum;

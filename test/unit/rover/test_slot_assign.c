@@ -227,6 +227,45 @@ static void test_column_keeps_its_order(void **state)
     assert_memory_equal(slot_of, want, sizeof want);
 }
 
+/* On one axis the sorted order is the Hungarian's optimum: over random
+ * teams of 1 to SLOT_ASSIGN_MAX robots (distinct keys, so the optimum is
+ * unique) the same assignment and the same cost; with equal keys the same
+ * cost. And bad arguments are refused as slot_assign_min_sq refuses them. */
+static void test_sorted_on_one_axis(void **state)
+{
+    static double xy[SLOT_ASSIGN_MAX][2], sl[SLOT_ASSIGN_MAX][2];
+    double x[SLOT_ASSIGN_MAX], s[SLOT_ASSIGN_MAX], c_hung, c_sort;
+    int a[SLOT_ASSIGN_MAX], b[SLOT_ASSIGN_MAX], n, j, rep;
+    uint32_t seed = 17u;
+    (void)state;
+    for (rep = 0; rep < 60; rep++) {
+        n = 1 + rep * (SLOT_ASSIGN_MAX - 1) / 59;
+        for (j = 0; j < n; j++) {
+            x[j] = xy[j][0] = 20.0 * uniform(&seed);
+            s[j] = sl[j][0] = 20.0 * uniform(&seed);
+            /* every third case with repeated keys */
+            if (rep % 3 == 2 && j > 0 && j % 4 == 0) {
+                x[j] = xy[j][0] = x[j - 1];
+                s[j] = sl[j][0] = s[j - 1];
+            }
+            xy[j][1] = sl[j][1] = 0.0;
+        }
+        assert_int_equal(
+            slot_assign_min_sq((const double(*)[2])xy, (const double(*)[2])sl, n, a, &c_hung),
+            SLOT_ASSIGN_OK);
+        assert_int_equal(slot_assign_sorted(x, s, n, b, &c_sort), SLOT_ASSIGN_OK);
+        assert_permutation(b, n);
+        assert_true(fabs(c_hung - c_sort) <= 1e-9 * (1.0 + c_hung));
+        if (rep % 3 != 2)
+            assert_memory_equal(a, b, (size_t)n * sizeof a[0]);
+    }
+    assert_int_equal(slot_assign_sorted(NULL, s, 2, b, NULL), SLOT_ASSIGN_ERR_ARG);
+    assert_int_equal(slot_assign_sorted(x, s, 0, b, NULL), SLOT_ASSIGN_ERR_ARG);
+    assert_int_equal(slot_assign_sorted(x, s, SLOT_ASSIGN_MAX + 1, b, NULL), SLOT_ASSIGN_ERR_ARG);
+    x[1] = NAN;
+    assert_int_equal(slot_assign_sorted(x, s, 2, b, NULL), SLOT_ASSIGN_ERR_ARG);
+}
+
 static void test_bad_arguments(void **state)
 {
     double xy[2][2] = { { 0.0, 0.0 }, { 1.0, 1.0 } }, sl[2][2] = { { 0.0, 1.0 }, { 1.0, 0.0 } };
@@ -261,6 +300,7 @@ int main(void)
         cmocka_unit_test(test_synchronised_paths_keep_apart),
         cmocka_unit_test(test_assignment_holds_while_driven_to_it),
         cmocka_unit_test(test_column_keeps_its_order),
+        cmocka_unit_test(test_sorted_on_one_axis),
         cmocka_unit_test(test_bad_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
