@@ -2001,6 +2001,37 @@ static void test_team_heading_at_goal(void **state)
     assert_true(hypot(o.x_m - 10.0, o.y_m - 1.0) < p.beh.goal_tol_m + 0.05);
 }
 
+/* The arrival cases below: robot 1 at (11, 1.3) heading -0.5 rad, its
+ * goal slot (10, 1) behind it to the right, mates 2 and 3 at their goal
+ * slots. */
+static const hand_mate arrival_mates[2] = { { 2, 10.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
+                                            { 3, 10.0, -1.0, 0.0, FORMATION_ANN_NONE, 0.0 } };
+
+static void arrival_init(rover_ctl_state *c, rover_ctl_params *p)
+{
+    const double goal[2] = { 10.0, 0.0 };
+    const pose2 start = { 11.0, 1.3, -0.5 };
+    rover_ctl_params_default(p);
+    assert_int_equal(rover_ctl_init(c, p, 1, &start, goal), 0);
+}
+
+/* Robot 1 steps from *t to t_end with the ring rng: every command turns
+ * on the spot (no speed), the way sign says (+1 left, -1
+ * right, 0 not right). */
+static void arrival_turns(rover_ctl_state *c, double *t, double t_end, const double rng[8],
+                          int sign)
+{
+    rover_ctl_out out;
+    for (; *t < t_end; *t += DT) {
+        hand_step(c, *t, rng, arrival_mates, 2, &out);
+        assert_true(out.u.v_mps == 0.0);
+        if (sign != 0)
+            assert_true(out.u.w_radps * sign > 0.0);
+        else
+            assert_true(out.u.w_radps >= 0.0);
+    }
+}
+
 /* Arriving with its goal slot behind it (its mates at theirs), a robot
  * turns on the spot: no speed, whatever the blend of the other behaviours
  * asks (avoidance of an echo at its right-front drove it on, away from its
@@ -2012,29 +2043,19 @@ static void test_arrival_turns_on_the_spot(void **state)
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    const double goal[2] = { 10.0, 0.0 };
-    const hand_mate m[2] = { { 2, 10.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
-                             { 3, 10.0, -1.0, 0.0, FORMATION_ANN_NONE, 0.0 } };
+    const hand_mate *m = arrival_mates;
     /* a post at the right front, within the circle the chassis sweeps
      * turning on the spot (one outside it does not stop a turn on the
      * spot, test_arrival_turn_in_a_pocket) */
     const double post_right[8] = { 5, 0.15, 0.2, 5, 5, 5, 5, 5 };
-    const pose2 start = { 11.0, 1.3, -0.5 }; /* slot (10, 1) behind, to the right */
     double t = 0.0;
     (void)state;
-    rover_ctl_params_default(&p);
-    assert_int_equal(rover_ctl_init(&c, &p, 1, &start, goal), 0);
+    arrival_init(&c, &p);
     for (; t < 0.5; t += DT)
         hand_step(&c, t, open_ring, m, 2, &out);
     assert_true(out.u.v_mps == 0.0 && out.u.w_radps < 0.0); /* the short way */
-    for (; t < 1.0; t += DT) {
-        hand_step(&c, t, post_right, m, 2, &out);
-        assert_true(out.u.v_mps == 0.0 && out.u.w_radps > 0.0); /* the long way */
-    }
-    for (; t < 1.5; t += DT) {
-        hand_step(&c, t, open_ring, m, 2, &out);
-        assert_true(out.u.v_mps == 0.0 && out.u.w_radps > 0.0); /* held */
-    }
+    arrival_turns(&c, &t, 1.0, post_right, 1);              /* the long way */
+    arrival_turns(&c, &t, 1.5, open_ring, 1);               /* held */
 }
 
 /* In a U's pocket 1.1 m wide with its slot behind, the nearer side wall
@@ -2047,33 +2068,18 @@ static void test_arrival_turn_in_a_pocket(void **state)
 {
     rover_ctl_state c;
     rover_ctl_params p;
-    rover_ctl_out out;
-    const double goal[2] = { 10.0, 0.0 };
-    const hand_mate m[2] = { { 2, 10.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
-                             { 3, 10.0, -1.0, 0.0, FORMATION_ANN_NONE, 0.0 } };
     const double right_near[8] = { 0.45, 0.4, 0.45, 0.55, 0.55, 0.6, 0.55, 0.62 };
     const double left_near[8] = { 0.62, 0.55, 0.6, 0.55, 0.55, 0.45, 0.4, 0.45 };
     const double right_inside[8] = { 0.15, 0.4, 0.45, 0.55, 0.55, 0.6, 0.55, 0.62 };
-    const pose2 start = { 11.0, 1.3, -0.5 }; /* slot (10, 1) behind, to the right */
     double t = 0.0;
     (void)state;
-    rover_ctl_params_default(&p);
+    arrival_init(&c, &p);
     assert_true(right_near[1] < p.guard_m && left_near[6] < p.guard_m); /* the guard heeds both */
     assert_int_equal(rover_ctl_spin_clear(right_near), 1);
     assert_int_equal(rover_ctl_spin_clear(right_inside), 0);
-    assert_int_equal(rover_ctl_init(&c, &p, 1, &start, goal), 0);
-    for (; t < 0.5; t += DT) {
-        hand_step(&c, t, right_near, m, 2, &out);
-        assert_true(fabs(out.u.v_mps) <= 0.05 && out.u.w_radps < 0.0); /* the short way, held */
-    }
-    for (; t < 1.0; t += DT) {
-        hand_step(&c, t, left_near, m, 2, &out);
-        assert_true(fabs(out.u.v_mps) <= 0.05 && out.u.w_radps < 0.0);
-    }
-    for (; t < 1.5; t += DT) {
-        hand_step(&c, t, right_inside, m, 2, &out);
-        assert_true(out.u.w_radps >= 0.0); /* the wall within the circle closes the way */
-    }
+    arrival_turns(&c, &t, 0.5, right_near, -1); /* the short way, held */
+    arrival_turns(&c, &t, 1.0, left_near, -1);
+    arrival_turns(&c, &t, 1.5, right_inside, 0); /* a wall within the circle closes the way */
 }
 
 /* A turn on the spot never sweeps the chassis into a mate's, whoever
