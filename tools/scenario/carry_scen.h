@@ -116,6 +116,7 @@ typedef struct carry_state {
     int64_t pending; /* step to answer, -1 none */
     int64_t handled; /* last step recorded, -1 none */
     double t_s;
+    double progress_t_s, progress_wall_s; /* the last gain of simulated time, and its wall time */
     tandem_arm_state_t arm[2];
     int have_arm[2];
     double speed[2];
