@@ -11,11 +11,12 @@
  * partner's stop the same test on its s; latency = partner stop - blocked
  * stop; lead = the partner's s minus its reference k_p s*.
  *
- * After removal: the arm that counts is the one the stick touched (the arm
- * it was pushed into; if that one was never touched, the other arm, which
- * the stick can stand in the way of too; if neither, the stick stopped
- * nothing and there is nothing to resume: an untouched arm waiting on its
- * partner is the task's wait, not the stick's). When the stick comes out
+ * After removal: the arm that counts is the one the stick stopped, that is
+ * touched or that reported BLOCKED while it was in (the arm it was pushed
+ * into; if that one was not stopped, the other arm, whose way the stick
+ * can stand in too; if neither, the stick stopped nothing and there is
+ * nothing to resume: an arm it never stopped, waiting on its partner, is
+ * the task's wait, not the stick's). When the stick comes out
  * while that arm runs a row
  * (its last event is not DONE), the arm has resumed at the first step at
  * which its tool is 5 mm from where it was at removal, or it reports
@@ -120,8 +121,9 @@ static void block_in(carry_state *r, block *b)
     const double f = r->arm[a].max_contact_force_N;
     int k;
     for (k = 0; k < 2; k++)
-        if (r->arm[k].max_contact_force_N > CONTACT_N)
-            b->touched[k] = 1;
+        if (r->arm[k].max_contact_force_N > CONTACT_N ||
+            r->last_event[k] == TANDEM_ACTION_EVENT_T_BLOCKED)
+            b->stopped[k] = 1;
     if (f > b->max_force_N)
         b->max_force_N = f;
     if (f > CONTACT_N && b->contact_s < 0.0)
@@ -140,13 +142,13 @@ static void block_in(carry_state *r, block *b)
         r->s_f[1] > 0.0)
         block_t3_stops(r, b);
     if (r->t_s >= b->in_s + b->dur_s) {
-        const int o = b->touched[a] || !b->touched[1 - a] ? a : 1 - a;
+        const int o = b->stopped[a] || !b->stopped[1 - a] ? a : 1 - a;
         carry_stick_command(r, TANDEM_SIM_CONTROL_T_REMOVE_STICK, 0, 0);
         b->out_s = r->t_s;
         b->out_arm = o;
         memcpy(b->out_pos_m, r->arm[o].tool_position_m, sizeof b->out_pos_m);
         b->row_running_at_out = r->last_event[o] != TANDEM_ACTION_EVENT_T_DONE;
-        b->resume_s = b->row_running_at_out && b->touched[o] ? -1.0 : b->out_s;
+        b->resume_s = b->row_running_at_out && b->stopped[o] ? -1.0 : b->out_s;
         b->resume_from_s = b->out_s;
     }
 }

@@ -54,7 +54,8 @@ typedef struct block {
     double resume_from_s;          /* the resume latency counts from here: the removal,
                                       or the restart of an arm killed before it (--fault) */
     int row_running_at_out;        /* the arm had a row to finish when the stick came out */
-    int touched[2];                /* the stick touched arm 1, arm 2 (> CONTACT_N) while in */
+    int stopped[2];                /* while the stick was in, it touched arm 1, arm 2 (> CONTACT_N)
+                                      or that arm reported BLOCKED */
     int out_arm;                   /* the arm whose resume and lurch count (0-based) */
     int during_t3, done;
 } block;

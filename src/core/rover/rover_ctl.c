@@ -225,13 +225,8 @@ static double sq_dist(const double a[2], const double b[2])
     return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
 }
 
-/* Our slot in the assignment of least sum of squared distances of the
- * robots (at xy, in the order of v->ids) to the slots (sl)
- * (slot_assign_min_sq), unless it beats the slots by id by no more than
- * arrival_swap_m2. Both choices hold themselves: robots driving to the
- * slots of either make that assignment's cost fall fastest, so noise in
- * the team messages does not flip a near tie to and fro. Every robot
- * computes it from the same team messages; our slot, or -1. */
+/* The assignment of least summed squares: on one axis (the x of each
+ * point) by sorting, else by the Hungarian method. */
 static int least_sq(const double xy[][2], const double sl[][2], int n, int one_axis, int *best,
                     double *best_m2)
 {
@@ -246,6 +241,13 @@ static int least_sq(const double xy[][2], const double sl[][2], int n, int one_a
     return slot_assign_sorted(x, s, n, best, best_m2);
 }
 
+/* Our slot in the assignment of least sum of squared distances of the
+ * robots (at xy, in the order of v->ids) to the slots (sl)
+ * (least_sq), unless it beats the slots by id by no more than
+ * arrival_swap_m2. Both choices hold themselves: robots driving to the
+ * slots of either make that assignment's cost fall fastest, so noise in
+ * the team messages does not flip a near tie to and fro. Every robot
+ * computes it from the same team messages; our slot, or -1. */
 static int slot_least_sq(const rover_ctl_state *c, const step_view *v, const double xy[][2],
                          const double sl[][2], int one_axis)
 {
@@ -300,10 +302,10 @@ static int slot_by_place(const rover_ctl_state *c, const step_view *v, const dou
  * the mean of those plus its place behind the column's centre, matched
  * as slot_by_place matches points, on that one axis (where the least sum
  * of squares is the sorted order, slot_assign_sorted: the robot nearest
- * the goal along the way heads the column). Round a bend the way is what orders the robots;
- * slots laid straight back from R0 along its heading lie across the leg
- * the column is still on, and the robots behind took one another's slots
- * there (generated corridor world 58, 6 in triangle: the column stood in
+ * the goal along the way heads the column). Round a bend the way is what
+ * orders the robots; slots laid straight back from R0 along its heading
+ * lie across the leg the column is still on, and the robots behind took
+ * one another's slots there (generated corridor world 58, 6 in triangle: the column stood in
  * a 100 deg bend, touching 10 times). The way is in the field's weighted
  * metres, at most (1 + pen_gain) times the length, which moves the
  * assignment's margin, not its order. Our slot, or -1 (a mate's position
@@ -658,6 +660,17 @@ static int spin_into_mate(const rover_ctl_state *c, const pose2 *o, const unicyc
            rover_ctl_cmd_sweeps_mate(c, o, u, 0) != 0;
 }
 
+/* Every echo within the guard's reach is a wall's: none explained by a
+ * mate where the team table puts it (v->masked, walls only). */
+static int near_echoes_are_walls(const rover_ctl_state *c, const step_view *v)
+{
+    int k;
+    for (k = 0; k < BEH_SONAR_N; k++)
+        if (c->range_m[k] < c->p.guard_m && v->masked[k] != c->range_m[k])
+            return 0;
+    return 1;
+}
+
 /* The guard keeps a robot from turning toward the nearer echo ahead (it
  * stops the turn, or turns it the other way); facing the U's arm with its
  * slot behind the arm's tip, the short way round was that way and the
@@ -675,20 +688,11 @@ static int spin_into_mate(const rover_ctl_state *c, const pose2 *o, const unicyc
  * mate moves: one outside the circle now may not be later, so near a
  * mate's echo the guard's rule stands (two robots arriving side by side,
  * the one turning toward the other crept into its circle and both stood,
- * test_column_by_place). A robot in a U's pocket 1.1 m
- * wide, its slot behind, had each way closed by the nearer side wall in
- * turn and turned to and fro to the time limit (dead zone, 4 in line,
+ * test_column_by_place). A robot in a U's pocket 1.1 m wide, its slot
+ * behind, had each way closed by the nearer side wall in turn and turned
+ * to and fro to the time limit (dead zone, 4 in line,
  * every seed). Only the arrival turn: a slow turn of the blend, kept
  * toward a wall, drove the robot's nose to it (mixed world 120). */
-static int near_echoes_are_walls(const rover_ctl_state *c, const step_view *v)
-{
-    int k;
-    for (k = 0; k < BEH_SONAR_N; k++)
-        if (c->range_m[k] < c->p.guard_m && v->masked[k] != c->range_m[k])
-            return 0;
-    return 1;
-}
-
 static void arrival_turn_other_way(rover_ctl_state *c, const step_view *v, double w_turn,
                                    unicycle_cmd *u)
 {
