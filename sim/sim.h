@@ -58,7 +58,9 @@ typedef struct sim_participant {
     int64_t last_ack;  /* last step answered */
     int64_t first_ack; /* the step it joined on (its first answer) */
     int active;
-    peer_watch peer; /* its pid (from its acks) and when last heard */
+    peer_watch peer;       /* its pid (from its acks) and when last heard */
+    int64_t answer_ns_avg; /* wall time from a due step's announcement to its
+                              answer, averaged over ~16 answers (re-announce timer) */
 } sim_participant;
 
 typedef struct sim_world {
@@ -81,6 +83,8 @@ typedef struct sim_world {
     sim_participant part[SIM_MAX_PARTICIPANTS];
     int n_part;
     int64_t lockstep_timeouts;
+    int64_t lockstep_reannounced; /* steps announced again (an answer late or lost) */
+    int64_t step_announced_ns;    /* wall time the current step was first announced */
     double lockstep_timeout_s;
     int64_t stale_commands;
     int64_t stick_refused; /* insertions refused: no pose clear of the arms */
@@ -180,6 +184,9 @@ int sim_lockstep_ready(const sim_world *w, int64_t k);
 int sim_lockstep_due(const sim_world *w, int64_t k);
 /* 1 if some participant due at k has not answered it. */
 int sim_lockstep_late(const sim_world *w, int64_t k);
+/* The longest typical answer time of the participants due at step k (0
+ * before any answered): the re-announce timer is a few of these. */
+int64_t sim_lockstep_answer_ns(const sim_world *w, int64_t k);
 /* Drops the participants due at k that have not answered it and are dead
  * (peer_dead: process gone, or not stopped and silent for the lockstep
  * timeout); a live one, however slow or stopped, is waited for. Returns

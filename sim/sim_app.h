@@ -25,7 +25,6 @@ typedef struct sim_app {
     int n_models;
     int reset_pending;
     uint64_t next_seed;
-    int64_t answer_ns_avg; /* lockstep: typical wall time to an answered step */
     /* options that are not stored as given */
     int no_arms;     /* --no-arms: cfg.arms = 0 */
     int world;       /* --world: index in options_world_names */

@@ -23,6 +23,21 @@ static sim_participant *find(sim_world *w, const char *name)
     return NULL;
 }
 
+/* Every first answer to the current step counts, a re-announced one too:
+ * counting only the answers that came before the first re-announce would
+ * keep a slow participant's average below its real answer time for good
+ * (its every answer re-announced, none counted), and each re-announce
+ * resends every robot's frames. */
+static void note_answer_time(sim_participant *p, int64_t answer_ns)
+{
+    if (answer_ns < 0)
+        return;
+    if (p->answer_ns_avg == 0)
+        p->answer_ns_avg = answer_ns;
+    else
+        p->answer_ns_avg += (answer_ns - p->answer_ns_avg) / 16;
+}
+
 void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t period, int leaving,
                          int32_t pid)
 {
@@ -53,6 +68,8 @@ void sim_lockstep_on_ack(sim_world *w, const char *name, int64_t step, int32_t p
         p->first_ack = step; /* back (a restarted controller): owes from here */
     p->active = 1;
     peer_heard(&p->peer, pid, rtloop_now_ns());
+    if (step == w->step && step > p->last_ack)
+        note_answer_time(p, p->peer.heard_ns - w->step_announced_ns);
     p->period_steps = period < 1 ? 1 : period;
     if (step > p->last_ack)
         p->last_ack = step;
@@ -106,6 +123,18 @@ int sim_lockstep_late(const sim_world *w, int64_t k)
         if (is_late(&w->part[i], k))
             return 1;
     return 0;
+}
+
+int64_t sim_lockstep_answer_ns(const sim_world *w, int64_t k)
+{
+    int64_t longest = 0;
+    int i;
+    for (i = 0; i < w->n_part; i++) {
+        const sim_participant *p = &w->part[i];
+        if (p->active && k % p->period_steps == 0 && p->answer_ns_avg > longest)
+            longest = p->answer_ns_avg;
+    }
+    return longest;
 }
 
 int sim_lockstep_drop_dead(sim_world *w, int64_t k)

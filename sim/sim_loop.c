@@ -243,9 +243,13 @@ static void give_up_waiting(sim_world *w)
 static void wait_for_answers(sim_app *app)
 {
     const int64_t t0 = rtloop_now_ns();
-    /* the first repeat comes after a few typical answer times (at least
-     * SIM_REANNOUNCE_NS): on a loaded machine a slow answer is not a lost one */
-    int64_t last_pub = t0, again_ns = 4 * app->answer_ns_avg, last_check = t0, answered_ns = -1;
+    /* the first repeat comes after a few typical answer times of those due
+     * (at least SIM_REANNOUNCE_NS): on a loaded machine a slow answer is
+     * not a lost one, and the steps nobody answers must not pull the
+     * typical time down (a 20 Hz rover host is due one step in 50) */
+    int64_t last_pub = t0, again_ns = 4 * sim_lockstep_answer_ns(&app->w, app->w.step),
+            last_check = t0, answered_ns = -1;
+    app->w.step_announced_ns = t0;
     if (again_ns < SIM_REANNOUNCE_NS)
         again_ns = SIM_REANNOUNCE_NS;
     if (again_ns > SIM_REANNOUNCE_MAX_NS)
@@ -257,10 +261,6 @@ static void wait_for_answers(sim_app *app)
         const int late = sim_lockstep_late(&app->w, app->w.step);
         if (waiting && !late &&
             (active_participants(&app->w) == 0 || models_ready(app, app->w.step))) {
-            /* answer time, averaged over ~64 waits, only of those answered
-             * without a repeat (a lost message is not the machine's speed) */
-            if (last_pub == t0)
-                app->answer_ns_avg += (now - t0 - app->answer_ns_avg) / 64;
             return;
         }
         if (waiting && late && now - last_check > SIM_LIVENESS_CHECK_NS) {
@@ -283,6 +283,7 @@ static void wait_for_answers(sim_app *app)
         if (now - last_pub > ((starting || app->w.paused) ? 100000000LL : again_ns)) {
             publish_step(app);
             last_pub = now;
+            app->w.lockstep_reannounced += !starting && !app->w.paused;
             /* a lost message is found at the first repeat; a controller
              * that is only slow (a loaded machine) should not be flooded */
             if (again_ns < SIM_REANNOUNCE_MAX_NS)

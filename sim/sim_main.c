@@ -326,9 +326,11 @@ int main(int argc, char **argv)
         sim_run_lockstep(app);
     else
         sim_run_realtime(app);
-    printf("tandem-sim: stopped at step %lld state_hash=%016llx rejected=%lld lcm_renewals=%lld\n",
+    printf("tandem-sim: stopped at step %lld state_hash=%016llx rejected=%lld lcm_renewals=%lld "
+           "reannounced=%lld\n",
            (long long)app->w.step, (unsigned long long)sim_state_hash(&app->w),
-           (long long)app->w.d.msgs.rejected, (long long)app->w.d.names.renewals);
+           (long long)app->w.d.msgs.rejected, (long long)app->w.d.names.renewals,
+           (long long)app->w.lockstep_reannounced);
     fflush(stdout);
     sim_publish_status(app);
     sim_destroy_world(app);

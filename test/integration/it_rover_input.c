@@ -19,6 +19,7 @@
 #include "tandem_rover_command_t.h"
 #include "tandem_rover_truth_t.h"
 #include "tandem_rovers_command_t.h"
+#include "tandem_teams_msg_t.h"
 #include "tandem_rovers_sensors_t.h"
 #include "tandem_sim_status_t.h"
 #include "tandem_team_msg_t.h"
@@ -107,13 +108,16 @@ static void bad_commands(harness *h)
     AUTH_PUBLISH(tandem_rovers_command_t, &h->bus, h->lcm, "ROVERS_COMMAND", &b);
 }
 
-/* 4 rejections at the rover: junk batch, NaN encoder, NaN sonar, bad team */
+/* 6 rejections at the rover: junk batch, NaN encoder, NaN sonar, bad
+ * team, junk team batch, a team batch's NaN element (its valid mate
+ * element beside it is taken) */
 static void bad_frames(harness *h)
 {
     tandem_rover_sensors_t s;
     tandem_sonar_scan_t sc;
     tandem_rovers_sensors_t b;
-    tandem_team_msg_t t;
+    tandem_team_msg_t t, tt[2];
+    tandem_teams_msg_t tb;
     double ang[8] = { 0 }, rng[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
     auth_bus_publish_raw(&h->bus, h->lcm, "ROVERS_SENSORS", junk, (int)sizeof junk);
     memset(&s, 0, sizeof s);
@@ -137,6 +141,19 @@ static void bad_frames(harness *h)
     t.x_m = NAN;
     t.formation_scale = 1.0;
     AUTH_PUBLISH(tandem_team_msg_t, &h->bus, h->lcm, "TEAM", &t);
+    auth_bus_publish_raw(&h->bus, h->lcm, "TEAMS", junk, (int)sizeof junk);
+    memset(tt, 0, sizeof tt);
+    tt[0].robot = 1;
+    tt[0].step = 100000;
+    tt[0].formation_scale = 1.0;
+    tt[1] = tt[0];
+    tt[1].robot = 2;
+    tt[1].y_m = NAN;
+    memset(&tb, 0, sizeof tb);
+    tb.step = 100000;
+    tb.n = 2;
+    tb.team = tt;
+    AUTH_PUBLISH(tandem_teams_msg_t, &h->bus, h->lcm, "TEAMS", &tb);
 }
 
 static void test_bad_commands_counted_robot_stays(void **state)
@@ -205,7 +222,7 @@ static void test_bad_frames_counted_by_rover(void **state)
     bad_frames(&h);
     harness_pump(&h, 2200); /* at least one health message after */
     printf("rover rejected %lld\n", w.rover_rejected);
-    assert_true(w.rover_rejected >= 4);
+    assert_true(w.rover_rejected >= 6);
     tandem_health_t_unsubscribe(h.lcm, s2);
     harness_close(&h);
 }

@@ -17,7 +17,7 @@ import rerun as rr
 from feed import SIM_DT_S, EventFeed
 from tandem import (action_event_t, arm_state_t, beacon_obs_t, health_t, petri_marking_t, rover_state_t,
                     rover_truth_t, rovers_beacons_t, rovers_sensors_t, rovers_state_t, sim_control_t,
-                    sim_status_t, sonar_scan_t, team_msg_t, workpiece_detections_t)
+                    sim_status_t, sonar_scan_t, team_msg_t, teams_msg_t, workpiece_detections_t)
 
 
 def at_step(step):
@@ -54,9 +54,14 @@ class EventLog:
             at_step(st.step)
             cell.stick_status(st)
         elif channel == "TEAM":
-            t = team_msg_t.decode(data)
-            self.log(self.feed.team(t))
-            team.team(t)
+            self._team(team, team_msg_t.decode(data))
+        elif channel == "TEAMS":  # a host's robots' team messages, batched
+            for t in teams_msg_t.decode(data).team:
+                self._team(team, t)
+
+    def _team(self, team, t):
+        self.log(self.feed.team(t))
+        team.team(t)
 
     def _action(self, e):
         if e.event == e.PROGRESS:

@@ -43,7 +43,7 @@ SUBSCRIPTIONS = {
     "ROVER[0-9]+_STATE": "latest", "ROVERS_SENSORS": "latest", "ROVERS_BEACONS": "latest",
     "ROVERS_STATE": "latest",
     "ARM_EVENTS": "now", "PETRI_MARKING": "now", "HEALTH_.*": "now", "SIM_CONTROL": "now",
-    "SIM_STATUS": "now", "TEAM": "now",
+    "SIM_STATUS": "now", "TEAM": "now", "TEAMS": "now",
 }
 
 

@@ -42,6 +42,7 @@ const auth_acl_rule auth_acl_table[] = {
     { "ROVERS_COMMAND", "", AUTH_ACL_EXACT, ROVER, 0, ALL, 0 },
     { "ROVERS_STATE", "", AUTH_ACL_EXACT, ROVER, 0, ALL, 0 },
     { "TEAM", "", AUTH_ACL_EXACT, ROVER, 0, ALL, 0 },
+    { "TEAMS", "", AUTH_ACL_EXACT, ROVER, 0, ALL, 0 },
     { "ROVER_TRUTH", "", AUTH_ACL_EXACT, SIM, 0, ALL, 0 },
     /* each daemon its own health channel (daemon_start names it) */
     { "HEALTH_TANDEM_SIM", "", AUTH_ACL_EXACT, SIM, 0, ALL, 0 },

@@ -58,6 +58,7 @@ typedef struct hosted {
     double cam_bearing_rad[ROVER_TEAM_MAX + ROVER_WORLD_MAX_LANDMARKS];
     int silent;                  /* lockstep: frames stopped (killed body) */
     tandem_team_msg_t last_team; /* for republish (robot 0: none yet) */
+    int team_due;                /* --batch: last_team made this cycle, not sent yet */
     char ch_cmd[24], ch_state[24];
     int shown_mode, shown_type, shown_yield; /* last printed (-1: none yet) */
     int shown_esc;                           /* escape phase and wall side last printed */
@@ -111,6 +112,10 @@ typedef struct rover_daemon {
     int64_t wait_step, wait_since_ns;    /* incomplete inputs */
     int64_t gone_count;
     rover_outbox out[2]; /* out[cur]: the last cycle */
+    /* --batch: the hosted robots' team messages of a cycle, gathered into
+     * TEAMS chunks (rover_publish_teams) */
+    tandem_team_msg_t teams_out[HOST_MAX];
+    int64_t teams_seq;
     int cur;
     const char *journal; /* --journal PATH, NULL: none */
     int64_t first_step;  /* the first step this process ran a cycle for (-1) */
@@ -131,6 +136,7 @@ void rover_on_beacons(const lcm_recv_buf_t *rb, const char *ch, void *u);
 void rover_on_sensors_batch(const lcm_recv_buf_t *rb, const char *ch, void *u);
 void rover_on_beacons_batch(const lcm_recv_buf_t *rb, const char *ch, void *u);
 void rover_on_team(const lcm_recv_buf_t *rb, const char *ch, void *u);
+void rover_on_teams(const lcm_recv_buf_t *rb, const char *ch, void *u);
 /* SIM_ACK: the pid of the process hosting each mate, and that it lives. */
 void rover_on_ack(const lcm_recv_buf_t *rb, const char *ch, void *u);
 void rover_deliver_team(rover_daemon *rd, int64_t step, double t_s);
@@ -144,6 +150,9 @@ void rover_publish_team(rover_daemon *rd, hosted *h, const rover_ctl_out *o, int
 void rover_fill_outputs(hosted *h, const rover_ctl_out *o, int64_t step, int64_t utime,
                         tandem_rover_command_t *cmd, tandem_rover_state_t *st);
 void rover_publish_outbox(rover_daemon *rd, rover_outbox *o);
+/* --batch: the team messages made this cycle (again = 0) or every robot's
+ * last one (again = 1, a repeated step) as TEAMS, BATCH_MAX a message. */
+void rover_publish_teams(rover_daemon *rd, int again);
 void rover_republish(daemon *d, void *user);
 void rover_report_changes(hosted *h, const rover_ctl_out *o, double t_s);
 /* Resumes each robot from its journal and opens it for appending: 0, or

@@ -13,6 +13,7 @@
 #include "tandem_clock_ack_t.h"
 #include "tandem_rover_sensors_t.h"
 #include "tandem_rovers_beacons_t.h"
+#include "tandem_teams_msg_t.h"
 #include "tandem_rovers_sensors_t.h"
 #include "tandem_sonar_scan_t.h"
 
@@ -212,27 +213,22 @@ static int team_msg_valid(const tandem_team_msg_t *m)
            m->step >= 0;
 }
 
-void rover_on_team(const lcm_recv_buf_t *rb, const char *ch, void *u)
+/* One mate's team message, from TEAM or a TEAMS batch: queued for the
+ * first cycle after the step it was sent at (rover_deliver_team). */
+static void take_team(rover_daemon *rd, const tandem_team_msg_t *m)
 {
-    rover_daemon *rd = u;
-    tandem_team_msg_t m;
     teamq_item *q;
-    (void)ch;
     rd->d.msgs.received++;
-    if (tandem_team_msg_t_decode(rb->data, 0, rb->data_size, &m) < 0 || !team_msg_valid(&m)) {
+    if (!team_msg_valid(m) || m->robot > rd->robots) {
         rd->d.msgs.rejected++;
         return;
     }
-    if (m.robot > rd->robots) {
-        rd->d.msgs.rejected++;
-        return;
-    }
-    if (m.robot < rd->listen_lo || m.robot > rd->listen_hi)
+    if (m->robot < rd->listen_lo || m->robot > rd->listen_hi)
         return; /* another team's (fleet.h): not heard */
-    if (is_copy(rd, m.step, &rd->mate_step[m.robot]))
+    if (is_copy(rd, m->step, &rd->mate_step[m->robot]))
         return;
-    rd->mate_step[m.robot] = m.step;
-    rd->mate_gone[m.robot] = 0;
+    rd->mate_step[m->robot] = m->step;
+    rd->mate_gone[m->robot] = 0;
     if (rd->nq >= TEAMQ_MAX) {
         rd->dropped_q++;
         rd->d.msgs.stale++;
@@ -240,19 +236,43 @@ void rover_on_team(const lcm_recv_buf_t *rb, const char *ch, void *u)
     }
     q = &rd->q[rd->nq++];
     memset(q, 0, sizeof *q);
-    q->step = m.step;
-    q->m.m.robot = m.robot;
-    q->m.m.x_m = m.x_m;
-    q->m.m.y_m = m.y_m;
-    q->m.m.theta_rad = m.theta_rad;
-    q->m.m.v_mps = m.v_mps;
-    q->m.m.w_radps = m.w_radps;
-    q->m.m.formation = m.formation;
-    q->m.m.scale = m.formation_scale;
-    q->m.m.announce = m.announce;
-    q->m.m.announce_seq = m.announce_seq;
-    q->m.goal_m[0] = m.goal_m[0];
-    q->m.goal_m[1] = m.goal_m[1];
+    q->step = m->step;
+    q->m.m.robot = m->robot;
+    q->m.m.x_m = m->x_m;
+    q->m.m.y_m = m->y_m;
+    q->m.m.theta_rad = m->theta_rad;
+    q->m.m.v_mps = m->v_mps;
+    q->m.m.w_radps = m->w_radps;
+    q->m.m.formation = m->formation;
+    q->m.m.scale = m->formation_scale;
+    q->m.m.announce = m->announce;
+    q->m.m.announce_seq = m->announce_seq;
+    q->m.goal_m[0] = m->goal_m[0];
+    q->m.goal_m[1] = m->goal_m[1];
+}
+
+void rover_on_team(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    rover_daemon *rd = u;
+    tandem_team_msg_t m;
+    (void)ch;
+    if (!ROVER_DECODE(rd, tandem_team_msg_t, rb, &m))
+        return;
+    take_team(rd, &m);
+}
+
+/* tandem-rover --batch: a host's robots' team messages in one message */
+void rover_on_teams(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    rover_daemon *rd = u;
+    tandem_teams_msg_t m;
+    int i;
+    (void)ch;
+    if (!ROVER_DECODE(rd, tandem_teams_msg_t, rb, &m))
+        return;
+    for (i = 0; i < m.n; i++)
+        take_team(rd, &m.team[i]);
+    tandem_teams_msg_t_decode_cleanup(&m);
 }
 
 /* This process started after the run had (a restart): its first cycle

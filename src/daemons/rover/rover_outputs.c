@@ -10,6 +10,7 @@
 #include "formation.h"
 #include "tandem_rovers_command_t.h"
 #include "tandem_rovers_state_t.h"
+#include "tandem_teams_msg_t.h"
 
 /* ---- outputs ------------------------------------------------------------------ */
 
@@ -33,8 +34,28 @@ void rover_publish_team(rover_daemon *rd, hosted *h, const rover_ctl_out *o, int
     t.announce_seq = o->team.announce_seq;
     t.goal_m[0] = h->c.goal_m[0];
     t.goal_m[1] = h->c.goal_m[1];
-    AUTH_PUBLISH(tandem_team_msg_t, &rd->d.bus, rd->d.lcm, "TEAM", &t);
+    if (!rd->batch)
+        AUTH_PUBLISH(tandem_team_msg_t, &rd->d.bus, rd->d.lcm, "TEAM", &t);
     h->last_team = t;
+    h->team_due = rd->batch;
+}
+
+void rover_publish_teams(rover_daemon *rd, int again)
+{
+    int j, n = 0, c;
+    for (j = rd->id_lo; j <= rd->id_hi; j++) {
+        hosted *h = &rd->h[j - rd->id_lo];
+        if ((again ? h->last_team.robot > 0 : h->team_due) && n < HOST_MAX)
+            rd->teams_out[n++] = h->last_team;
+        h->team_due = 0;
+    }
+    for (c = 0; n > 0 && c < BATCH_CHUNKS(n); c++) {
+        tandem_teams_msg_t b;
+        BATCH_HEADER(b, rd->teams_seq++, daemon_utime_now(), rd->teams_out[c * BATCH_MAX].step,
+                     BATCH_CHUNK_N(n, c));
+        b.team = rd->teams_out + c * BATCH_MAX;
+        AUTH_PUBLISH(tandem_teams_msg_t, &rd->d.bus, rd->d.lcm, "TEAMS", &b);
+    }
 }
 
 /* One robot's command and own-view state for this tick, into *cmd / *st. */
@@ -104,6 +125,10 @@ void rover_republish(daemon *d, void *user)
     (void)d;
     rover_publish_outbox(rd, &rd->out[rd->cur ^ 1]);
     rover_publish_outbox(rd, &rd->out[rd->cur]);
+    if (rd->batch) {
+        rover_publish_teams(rd, 1);
+        return;
+    }
     for (j = rd->id_lo; j <= rd->id_hi; j++)
         if (rd->h[j - rd->id_lo].last_team.robot > 0)
             AUTH_PUBLISH(tandem_team_msg_t, &rd->d.bus, rd->d.lcm, "TEAM",

@@ -6,8 +6,10 @@
  *      the same frames batched (ROVERS_SENSORS, ROVERS_BEACONS).
  * Out: ROVERk_COMMAND (V, w), TEAM (10 Hz), ROVERk_STATE, health; with
  *      --batch the commands and states of all hosted robots go out as one
- *      ROVERS_COMMAND and one ROVERS_STATE per tick (TEAM stays per robot:
- *      it is the robots' radio, not the simulator link).
+ *      ROVERS_COMMAND and one ROVERS_STATE per tick, and their team
+ *      messages as TEAMS (the robots' radio, each element what the robot
+ *      would send on TEAM: a host speaks for its robots in one datagram a
+ *      chunk, not one each, which every process on the bus would wake for).
  * The team frame and each robot's initial pose come from the launch
  * configuration (--robots N --world W --formation F, see rover_world.h);
  * after that a robot knows itself only by odometry and its mates by their
@@ -330,6 +332,8 @@ static int cycle(daemon *d, void *user)
     held = rover_journal_cycle(rd, step);
     rover_journal_hold(rd, ob);
     rover_publish_outbox(rd, ob);
+    if (rd->batch)
+        rover_publish_teams(rd, 0);
     rd->last_t_s = t_s;
     d->safe_hold = stopped > 0 || held > 0;
     if (held > 0)
@@ -474,6 +478,7 @@ int main(int argc, char **argv)
     daemon_subscribe(d, "ROVERS_SENSORS", rover_on_sensors_batch, rd);
     daemon_subscribe(d, "ROVERS_BEACONS", rover_on_beacons_batch, rd);
     daemon_subscribe(d, "TEAM", rover_on_team, rd);
+    daemon_subscribe(d, "TEAMS", rover_on_teams, rd);
     if (d->lockstep)
         daemon_subscribe(d, "SIM_ACK", rover_on_ack, rd);
     d->repeat_fn = rover_republish;
