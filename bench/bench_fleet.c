@@ -19,6 +19,7 @@
 #include "sim_lockstep.c"
 #include "sim_rovers.c"
 #include "sim_rovers_sense.c"
+#include "sim_rovers_free.c"
 /* NOLINTEND(bugprone-suspicious-include) */
 #include <time.h>
 #include <sys/resource.h>

@@ -128,6 +128,7 @@ typedef struct sim_config {
     const char *rover_start, *rover_goal; /* --start, --goal with it (NULL: the file's) */
     int rover_formation;                  /* FORMATION_* the team starts in (0 = line) */
     int rover_batch;                      /* 1: ROVERS_* batched sensor messages */
+    int rover_far_kinematic;              /* --rover-far kinematic (sim_rovers_free.c) */
     int rover_teams;                      /* --teams: teams in the world (fleet.h), 1 */
     int rover_per_team;                   /* --robots-per-team with rover_teams > 1 */
     int rover_team_goals;                 /* --team-goals: ROVER_FLEET_GOALS_* */

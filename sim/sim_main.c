@@ -56,6 +56,9 @@ static int parse_q0(const char *prog, void *dest, char *value)
     return 0;
 }
 
+/* --rover-far: how a robot far from everything is stepped (index = cfg.rover_far_kinematic) */
+static const char *const rover_far_names[] = { "ode", "kinematic", NULL };
+
 static const option_entry sim_options[] = {
     { .name = "seed",
       .type = OPTION_INT,
@@ -154,6 +157,14 @@ static const option_entry sim_options[] = {
       .help =
           "all robots' sensors in one message per tick (ROVERS_SENSORS, ROVERS_BEACONS; a fleet "
           "of more than 128 in several) instead of ROVERk_SENSORS/_SONAR/_BEACONS" },
+    { .name = "rover-far",
+      .type = OPTION_CHOICE,
+      OPTION_AT(sim_app, cfg.rover_far_kinematic),
+      .choices = rover_far_names,
+      .meta = "HOW",
+      .help = "a robot clear of everything: ode, the full model; kinematic, moved by its wheels "
+              "outside the solver (a large fleet's physics; docs/formation.md, far robots)",
+      .def = "ode" },
     { .name = "arm-model",
       .type = OPTION_CHOICE,
       OPTION_AT(sim_app, arm_model),

@@ -31,8 +31,6 @@
 #include "tandem_rover_command_t.h"
 #include "tandem_rovers_command_t.h"
 
-#define RV_WHEEL_R 0.0825
-#define RV_TRACK 0.33
 #define RV_CHASSIS_H 0.20
 #define RV_CHASSIS_Z 0.15
 #define RV_CASTER_R 0.04
@@ -147,6 +145,7 @@ static int team_layout(sim_rovers *team, const sim_config *cfg)
     team->w_max = env_num("TANDEM_ROVER_WMAX_DEG", 100.0, 5.0, 360.0) * VEC2_PI / 180.0;
     team->stale_s = env_num("TANDEM_ROVER_STALE_S", 0.5, 0.01, 10.0);
     team->phys_steps = (int)env_num("TANDEM_ROVER_PHYS_STEPS", 4, 1, 10);
+    team->far_kinematic = cfg->rover_far_kinematic;
     {
         const char *nb = getenv("TANDEM_SIM_NEIGHBOURS");
         team->brute = nb && strcmp(nb, "scan") == 0;
@@ -441,7 +440,7 @@ static void floor_contacts(sim_rovers *team)
     for (i = 0; i < team->n; i++) {
         sim_rover *r = &team->r[i];
         dVector3 p;
-        if (!r->alive)
+        if (!r->alive || r->free)
             continue;
         for (s = 0; s < 2; s++) {
             const dReal *q = dBodyGetPosition(r->wheel[s]);
@@ -519,13 +518,20 @@ static void rovers_before_step(void *model, sim_world *w)
     for (i = 0; i < team->n; i++)
         if (team->r[i].alive)
             drive(team, &team->r[i], w, dt);
+    sim_rovers_free_check(team, w);
     team_world_step(team, dt);
     for (i = 0; i < team->n; i++) {
         sim_rover *r = &team->r[i];
         if (!r->alive)
             continue;
-        for (s = 0; s < 2; s++)
-            r->enc[s] += dJointGetHingeAngleRate(r->hinge[s]) * dt;
+        /* ODE enables a disabled body a contact joins to an enabled one:
+         * that robot is not far any more */
+        r->free = r->free && !dBodyIsEnabled(r->chassis);
+        if (r->free)
+            sim_rovers_free_move(r, dt);
+        else
+            for (s = 0; s < 2; s++)
+                r->enc[s] += dJointGetHingeAngleRate(r->hinge[s]) * dt;
         if (r->bump_now && !r->bump_prev)
             r->collisions++;
     }

@@ -25,7 +25,9 @@
 #include "tandem_sonar_scan_t.h"
 
 #define RV_MAX ROVER_WORLD_MAX_ROBOTS
-#define RV_SENSORS_STEPS ROVER_SENSOR_PERIOD_STEPS               /* the control tick */
+#define RV_WHEEL_R 0.0825                          /* m */
+#define RV_TRACK 0.33                              /* m, between the wheels' contacts */
+#define RV_SENSORS_STEPS ROVER_SENSOR_PERIOD_STEPS /* the control tick */
 #define RV_SEEN_MAX (ROVER_TEAM_MAX + ROVER_WORLD_MAX_LANDMARKS) /* LEDs one frame holds */
 
 typedef struct sim_rover {
@@ -43,6 +45,7 @@ typedef struct sim_rover {
     double enc[2]; /* accumulated wheel angles */
     double range[SONAR_N];
     int bump_now, bump_prev, collisions;
+    int free; /* --rover-far kinematic: far from everything, moved by its wheels */
     double min_clear;
     prng_state rng;
     int prim;  /* its box in the sonar world */
@@ -90,6 +93,7 @@ typedef struct sim_rovers {
     int64_t batch_seq[2];
     double v_max, w_max, stale_s;
     int phys_steps;
+    int far_kinematic;    /* --rover-far kinematic (sim_rovers_free.c) */
     int chassis_contacts; /* chassis contact joints this step */
     int64_t quick_steps;  /* steps that fell back to QuickStep */
     int64_t last_after_step;
@@ -118,5 +122,12 @@ void sim_rovers_sonar_model(sonar_model *m);
 void sim_rover_pose_c(const sim_rover *r, pose2 *c);
 /* The after_step hook: sonar firings, sensor frames, camera, truth. */
 void sim_rovers_after_step(void *model, sim_world *w);
+/* sim_rovers_free.c: with --rover-far kinematic, every RV_FREE_CHECK_STEPS
+ * the robots clear of everything by sim_rovers_free_margin_m leave the
+ * solver (and the others rejoin it); sim_rovers_free_move steps one of
+ * them by its wheels. */
+void sim_rovers_free_check(sim_rovers *team, const sim_world *w);
+void sim_rovers_free_move(sim_rover *r, double dt);
+double sim_rovers_free_margin_m(const sim_rovers *team);
 
 #endif

@@ -208,6 +208,10 @@ int fm_start_children(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus)
         int n = 15;
         if (cfg->batch)
             sim[n++] = "--rover-batch";
+        if (cfg->far_kinematic) {
+            sim[n++] = "--rover-far";
+            sim[n++] = "kinematic";
+        }
         fleet_argv(cfg, sim, &n, t_s, k_s);
         world_opts_argv(&cfg->child_world, sim, &n, 40);
         scenario_argv_drop(&cfg->drop, sim, &n, 40);

@@ -53,6 +53,7 @@ enum { FM_HUNG_NONE = 0, FM_HUNG_KILLED = 1, FM_HUNG_RESTARTING = 2 };
  * the children start; read by every file after. */
 typedef struct fm_cfg {
     int formation, world, blend, robots, single, batch;
+    int far_kinematic; /* --rover-far kinematic (tandem-sim's) */
     /* --teams T --robots-per-team K --team-goals (fleet.h): robots is T K
      * and fleet the teams' lanes and goals when T > 1 */
     int teams, per_team, team_goals;

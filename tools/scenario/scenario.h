@@ -87,7 +87,8 @@ int scenario_mkdir(const char *dir);
 /* fopen(dir/file) for writing, with an error message on failure. */
 FILE *scenario_fopen(const char *dir, const char *file);
 /* Runs gnuplot on dir/script (written by the caller); a missing gnuplot
- * only prints a warning (plots are optional, the numbers are not).
+ * only prints a warning (plots are optional, the numbers are not), and
+ * TANDEM_NO_PLOTS=1 in the environment skips it (a benchmark's runs).
  * 0 ok, SCENARIO_ERR_IO when gnuplot fails. */
 int scenario_gnuplot(const char *dir, const char *script);
 /* Monotonic wall clock in seconds. */

@@ -68,6 +68,7 @@ static const char *const ref_headings[] = { "mean", "goal", NULL };
 static const char *const goal_paths[] = { "map", "direct", NULL };
 static const char *const procs[] = { "separate", "single", NULL };
 static const char *const links[] = { "robot", "batch", NULL };
+static const char *const rover_far[] = { "ode", "kinematic", NULL }; /* tandem-sim --rover-far */
 
 static const option_entry formation_table[] = {
     { .name = "formation",
@@ -223,6 +224,14 @@ static const option_entry formation_table[] = {
           "robot: ROVERk_* channels per robot; batch: ROVERS_*, one message per tick for all robots. "
           "Same run either way",
       .def = "batch with --procs single, robot otherwise" },
+    { .name = "rover-far",
+      .type = OPTION_CHOICE,
+      OPTION_AT(fm_cfg, far_kinematic),
+      .choices = rover_far,
+      .meta = "HOW",
+      .help = "tandem-sim --rover-far: a robot clear of everything in the full ODE model (ode) or "
+              "moved by its wheels outside the solver (kinematic: a large fleet's physics)",
+      .def = "ode" },
     { .name = "max-time",
       .type = OPTION_DOUBLE,
       OPTION_AT(fm_cfg, max_time_s),

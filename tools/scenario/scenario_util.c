@@ -135,7 +135,12 @@ void json_close(json_out *j)
 int scenario_gnuplot(const char *dir, const char *script)
 {
     char cmd[2048];
+    const char *off = getenv("TANDEM_NO_PLOTS");
     int rc;
+    if (off && *off && strcmp(off, "0") != 0) {
+        fprintf(stderr, "tandem-scenario: TANDEM_NO_PLOTS: CSV written, PNG plots skipped\n");
+        return 0; /* a fleet's benchmark: the run's CPU, not the drawing's */
+    }
     /* NOLINTNEXTLINE(cert-env33-c): asks the shell whether gnuplot is installed */
     if (system("command -v gnuplot >/dev/null 2>&1") != 0) {
         fprintf(stderr, "tandem-scenario: gnuplot not found; CSV written, PNG plots skipped\n");
