@@ -98,19 +98,22 @@ if command -v taskset >/dev/null; then taskset -c 0 "$bin/bench_fleet" 1
 else echo "  (taskset not found: not pinned)"; "$bin/bench_fleet" 1; fi
 
 echo; echo "== fleet, whole system: T teams of 10 in lockstep, one process of all rovers, one core (taskset -c 0) =="
-echo "  CPU of every process (simulator, rover host, scenario) by difference of a 2 s and a 6 s run (start-up cancels)"
+echo "  CPU of every process (simulator, rover host, scenario; no plots) by difference of a 2 s and a 6 s run (start-up cancels);"
+echo "  --rover-far ode: every robot in the ODE solver; kinematic: robots clear of everything moved by their wheels"
 pin=(); command -v taskset >/dev/null && pin=(taskset -c 0)
-fleet_cpu() { # teams sim_seconds -> CPU seconds (user + system) of the run and its children
+fleet_cpu() { # teams sim_seconds far -> CPU seconds (user + system) of the run and its children
     local TIMEFORMAT='%U %S'
-    { time "${pin[@]}" "$bin/tandem-scenario" formation --teams "$1" --robots-per-team 10 --procs single \
-        --max-time "$2" --out "$keydir/fleet" >/dev/null 2>&1; } 2>&1 | awk '{ print $1 + $2 }'
+    { time TANDEM_NO_PLOTS=1 "${pin[@]}" "$bin/tandem-scenario" formation --teams "$1" --robots-per-team 10 \
+        --procs single --rover-far "$3" --max-time "$2" --out "$keydir/fleet" >/dev/null 2>&1; } 2>&1 |
+        awk '{ print $1 + $2 }'
 }
-for teams in 10 30 100; do
-    a=$(fleet_cpu $teams 2); b=$(fleet_cpu $teams 6)
-    awk -v n=$((teams * 10)) -v a="$a" -v b="$b" 'BEGIN {
+for row in "10 ode" "30 ode" "100 ode" "10 kinematic" "30 kinematic" "100 kinematic" "300 kinematic"; do
+    set -- $row
+    a=$(fleet_cpu "$1" 2 "$2"); b=$(fleet_cpu "$1" 6 "$2")
+    awk -v n=$(($1 * 10)) -v far="$2" -v a="$a" -v b="$b" 'BEGIN {
         d = b - a; if (d <= 0) d = 1e-9
-        printf "  %5d robots: %.2f us CPU per robot-step, %.2f sim-s per CPU-s (runs of 2 s: %.1f s CPU, 6 s: %.1f s)\n",
-               n, d / (n * 4000) * 1e6, 4 / d, a, b }'
+        printf "  %5d robots, %-9s: %.2f us CPU per robot-step, %.2f sim-s per CPU-s (runs of 2 s: %.1f s CPU, 6 s: %.1f s)\n",
+               n, far, d / (n * 4000) * 1e6, 4 / d, a, b }'
 done
 
 echo; echo "== bench_rovers: Pioneer team, all processes pinned to one core (taskset -c 0) =="

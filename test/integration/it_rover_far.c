@@ -54,9 +54,9 @@ static void drive_team(int far_kinematic, uint64_t seed, far_run *out)
     for (k = 0; k < FAR_STEPS; k++) {
         if (k % 50 == 0) /* a 20 Hz "controller": all weave alike, the back row closes in */
             for (i = 1; i <= FAR_N; i++)
-                assert_int_equal(sim_rovers_set_command(&team, i, i > ROVER_WORLD_ROW_MAX ? 0.43 : 0.4,
-                                                        FAR_WEAVE_RADPS * sin(0.4 * (double)k * SIM_DT_S),
-                                                        w.step),
+                assert_int_equal(sim_rovers_set_command(
+                                     &team, i, i > ROVER_WORLD_ROW_MAX ? 0.43 : 0.4,
+                                     FAR_WEAVE_RADPS * sin(0.4 * (double)k * SIM_DT_S), w.step),
                                  0);
         sim_rovers_ops.before_step(&team, &w);
         sim_world_step(&w);
