@@ -207,9 +207,10 @@ static void team_free(sim_rovers *team)
 {
     sim_rovers_scratch *s = &team->s;
     sim_rovers_frames *f = &team->frames;
-    void *p[] = { team->r, f->obs,  f->target, f->range_m, f->bearing_rad, s->sens, s->scan,
-                  s->pose, s->cam,  s->x,      s->y,       s->th,          s->cl,   s->id,
-                  s->col,  s->near, s->al,     s->alive,   s->cam_grid,    s->clear };
+    void *p[] = { team->r,     f->obs,   f->target,    f->range_m,  f->bearing_rad, s->sens,
+                  s->scan,     s->pose,  s->cam,       s->x,        s->y,           s->th,
+                  s->cl,       s->id,    s->col,       s->near,     s->al,          s->alive,
+                  s->cam_grid, s->clear, s->post_grid, s->post_near };
     size_t i;
     for (i = 0; i < sizeof p / sizeof p[0]; i++)
         free(p[i]);
@@ -243,9 +244,12 @@ static int team_alloc(sim_rovers *team, int n)
     s->alive = calloc(k, sizeof *s->alive);
     s->cam_grid = calloc(1, sizeof *s->cam_grid);
     s->clear = calloc(1, sizeof *s->clear);
+    s->post_grid = calloc(1, sizeof *s->post_grid);
+    s->post_near = calloc(ROVER_WORLD_MAX_POSTS, sizeof *s->post_near);
     if (!team->r || !f->obs || !f->target || !f->range_m || !f->bearing_rad || !s->sens ||
         !s->scan || !s->pose || !s->cam || !s->x || !s->y || !s->th || !s->cl || !s->id ||
-        !s->col || !s->near || !s->al || !s->alive || !s->cam_grid || !s->clear) {
+        !s->col || !s->near || !s->al || !s->alive || !s->cam_grid || !s->clear || !s->post_grid ||
+        !s->post_near) {
         fprintf(stderr, "tandem-sim: no memory for %d robots\n", n);
         team_free(team);
         return SIM_ERR_CREATE;
@@ -258,7 +262,8 @@ static int rovers_create(void *model, sim_world *w, const sim_config *cfg)
     sim_rovers *team = model;
     memset(team, 0, sizeof *team);
     team->w = w;
-    if (team_layout(team, cfg) != 0 || team_alloc(team, team->n) != 0)
+    if (team_layout(team, cfg) != 0 || team_alloc(team, team->n) != 0 ||
+        sim_rovers_index_posts(team) != 0)
         return SIM_ERR_CREATE;
     team_world_create(team);
     team_robots_create(team, w);

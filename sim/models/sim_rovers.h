@@ -73,6 +73,8 @@ typedef struct sim_rovers_scratch {
     int8_t *al;
     int *alive;
     pgrid *cam_grid;             /* the camera's neighbours */
+    pgrid *post_grid;            /* the world's LED posts (built once) */
+    int32_t *post_near;          /* [ROVER_WORLD_MAX_POSTS]: posts in a camera's reach */
     rover_clearance_work *clear; /* the truth's clearance */
 } sim_rovers_scratch;
 
@@ -122,6 +124,8 @@ void sim_rovers_sonar_model(sonar_model *m);
 void sim_rover_pose_c(const sim_rover *r, pose2 *c);
 /* The after_step hook: sonar firings, sensor frames, camera, truth. */
 void sim_rovers_after_step(void *model, sim_world *w);
+/* Indexes the layout's LED posts for the camera (once, at creation). */
+int sim_rovers_index_posts(sim_rovers *team);
 /* sim_rovers_free.c: with --rover-far kinematic, every RV_FREE_CHECK_STEPS
  * the robots clear of everything by sim_rovers_free_margin_m leave the
  * solver (and the others rejoin it); sim_rovers_free_move steps one of

@@ -183,7 +183,7 @@ static void observe_beacons(sim_rovers *team, int i, const pose2 o[], double pan
                                                   RV_CAM_RANGE_M + 1e-6, near, team->n)
                               : pgrid_query(team->s.cam_grid, o[i].x_m, o[i].y_m,
                                             RV_CAM_RANGE_M + 1e-6, near, team->n);
-    int j, q, n = 0;
+    int j, q, n = 0, k_posts;
     /* every mate within range, ascending (those farther were refused by
      * see_led before drawing anything) */
     for (q = 0; q < k; q++) {
@@ -191,9 +191,15 @@ static void observe_beacons(sim_rovers *team, int i, const pose2 o[], double pan
         if (j != i)
             n = see_led(team, r, &o[i], pan, o[j].x_m, o[j].y_m, team->r[j].id, tgt, rng, brg, n);
     }
-    for (j = 0; j < team->layout.n_landmarks; j++)
+    /* the posts within reach, ascending as the scan over all of them went
+     * (a fleet's world holds hundreds) */
+    k_posts = pgrid_query(team->s.post_grid, o[i].x_m, o[i].y_m, RV_CAM_RANGE_M + 1e-6,
+                          team->s.post_near, ROVER_WORLD_MAX_POSTS);
+    for (q = 0; q < k_posts; q++) {
+        j = team->s.post_near[q];
         n = see_led(team, r, &o[i], pan, team->layout.landmark_m[j][0],
                     team->layout.landmark_m[j][1], ROVER_LANDMARK_ID_BASE + j, tgt, rng, brg, n);
+    }
     m->seq = r->seq_beacon++;
     m->utime = utime;
     m->step = step;
@@ -319,4 +325,21 @@ void sim_rovers_after_step(void *model, sim_world *w)
         publish_beacons(team, w, !repeat);
     if (w->step % RV_TRUTH_STEPS == 0)
         publish_truth(team, w);
+}
+
+int sim_rovers_index_posts(sim_rovers *team)
+{
+    double x[ROVER_WORLD_MAX_POSTS], y[ROVER_WORLD_MAX_POSTS];
+    int k;
+    for (k = 0; k < team->layout.n_landmarks; k++) {
+        x[k] = team->layout.landmark_m[k][0];
+        y[k] = team->layout.landmark_m[k][1];
+    }
+    if (pgrid_build(team->s.post_grid, x, y, NULL, team->layout.n_landmarks, RV_CAM_RANGE_M) !=
+        PGRID_OK) {
+        fprintf(stderr, "tandem-sim: the world's %d LED posts could not be indexed\n",
+                team->layout.n_landmarks);
+        return SIM_ERR_CREATE;
+    }
+    return 0;
 }

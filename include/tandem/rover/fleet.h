@@ -47,6 +47,9 @@ enum { ROVER_FLEET_GOALS_AHEAD = 0, ROVER_FLEET_GOALS_CROSS = 1 };
 /* Free space between a row's goal formations and the start area of the
  * row ahead of it. */
 #define ROVER_FLEET_ROW_GAP_M 6.0
+/* LED posts along a lane's border stand at most this far apart where the
+ * world's capacity allows: the camera's reach (sim_rovers_sense.c) */
+#define ROVER_FLEET_POST_STEP_M 6.0
 
 typedef struct {
     int teams, per_team;                     /* T, K */
@@ -62,7 +65,8 @@ typedef struct {
 /* The fleet's world: w as rover_world_layout's for the open world, with
  * the start poses of all teams * per_team robots (id k at index k - 1),
  * the extent and the LED landmarks (rows along the lanes' borders, at
- * most ROVER_WORLD_MAX_LANDMARKS) covering every lane, w->team_origin
+ * most ROVER_FLEET_POST_STEP_M apart where ROVER_WORLD_MAX_POSTS allows)
+ * covering every lane, w->team_origin
  * and w->goal_m team 0's; f the teams' lanes, frames and goals. 0, or ROVER_FLEET_ERR_ARG (teams 1..ROVER_FLEET_MAX_TEAMS,
  * per_team 1..ROVER_TEAM_MAX, their product at most ROVER_WORLD_MAX_ROBOTS,
  * goals one of ROVER_FLEET_GOALS_*). */

@@ -38,10 +38,16 @@
 #define ROVER_TEAM_MAX 128
 #define ROVER_WORLD_MAX_OBST 2048    /* a map's merged boxes (rover_map.h) */
 #define ROVER_WORLD_ROW_MAX 10       /* robots per start row */
-#define ROVER_WORLD_MAX_LANDMARKS 64 /* = LOCALIZE_LANDMARKS_MAX */
+#define ROVER_WORLD_MAX_LANDMARKS 64 /* a robot's (= LOCALIZE_LANDMARKS_MAX), a map's, a file's */
+/* A world's LED posts: a fleet's world (fleet.h) spreads more over its
+ * area than any one robot uses (each takes the ROVER_WORLD_MAX_LANDMARKS
+ * nearest its way, rover_world_landmarks_near). */
+#define ROVER_WORLD_MAX_POSTS 1024
 /* The camera reports landmark k (rover_world_config.landmark_m[k]) as beacon
- * target ROVER_LANDMARK_ID_BASE + k (robot ids stay below it). */
-#define ROVER_LANDMARK_ID_BASE 1000
+ * target ROVER_LANDMARK_ID_BASE + k. Every robot id stays below it
+ * (rover_world.c checks ROVER_WORLD_MAX_ROBOTS against it at build time):
+ * at 1000 a fleet's robots 1000-1063 were seen as landmarks 0-63. */
+#define ROVER_LANDMARK_ID_BASE 1000000
 
 /* Pioneer 2 DX body (the chassis box, relative to the axle centre C). */
 #define ROVER_BODY_LENGTH_M 0.44
@@ -95,8 +101,8 @@ typedef struct {
      * pairs on the corridor's inner faces (the funnel walls hide the
      * outer ones there). Not obstacles: the posts stand outside the space
      * the team drives through (sim/models/sim_rovers.c sees them as LEDs only). */
-    int n_landmarks;
-    double landmark_m[ROVER_WORLD_MAX_LANDMARKS][2];
+    int n_landmarks; /* at most ROVER_WORLD_MAX_LANDMARKS but in a fleet's world */
+    double landmark_m[ROVER_WORLD_MAX_POSTS][2];
 } rover_world_config;
 
 /* "open" | "obstacles" | "corridor" | "deadzone" -> ROVER_WORLD_*, else
@@ -159,5 +165,12 @@ typedef struct {
  * 0 ok, ROVER_WORLD_ERR_ARG bad input (work NULL too). */
 int rover_world_clearance_indexed(const rover_world_config *w, const pose2 *c, const int *alive,
                                   int n, rover_clearance_work *work, double *clearance_m);
+
+/* The posts a robot going from a to b (world frame) localizes on: the
+ * indices of the ROVER_WORLD_MAX_LANDMARKS posts of w nearest the segment
+ * a-b (ties to the lower index), ascending, into idx; all of them, 0..n-1,
+ * when w holds no more. Returns their number, or ROVER_WORLD_ERR_ARG. */
+int rover_world_landmarks_near(const rover_world_config *w, const double a[2], const double b[2],
+                               int32_t idx[ROVER_WORLD_MAX_LANDMARKS]);
 
 #endif

@@ -9,20 +9,29 @@
 
 /* Landmark rows: a row of posts along every border between lanes (and
  * outside the outer lanes), the posts spread evenly from behind the first
- * row's start to past the last row's goals, as many per row as the
- * capacity leaves. */
+ * row's start to past the last row's goals. As many a border as a world
+ * of ROVER_WORLD_MAX_LANDMARKS gave (8 at most), and more where those
+ * would stand farther apart than ROVER_FLEET_POST_STEP_M, the camera's
+ * reach, as many as ROVER_WORLD_MAX_POSTS holds: with rows of teams along
+ * the way 64 posts stood some 60 m apart, robots crossed their 12 m on
+ * odometry alone and took each other's slots 0.6 m off. */
 static void fleet_landmarks(rover_world_config *w, const rover_fleet *f, double x_lo, double x_hi)
 {
     const int rows = (f->teams < ROVER_FLEET_ROW_LANES ? f->teams : ROVER_FLEET_ROW_LANES) + 1;
+    const int reach = (int)ceil((x_hi - x_lo) / ROVER_FLEET_POST_STEP_M) + 1;
     int per_row = ROVER_WORLD_MAX_LANDMARKS / rows, r, k;
     const double y0 = f->lane_y_m[0] + 0.5 * f->lane_m; /* the leftmost border */
     if (per_row > 8)
         per_row = 8;
+    if (per_row < reach)
+        per_row = reach;
+    if (per_row > ROVER_WORLD_MAX_POSTS / rows)
+        per_row = ROVER_WORLD_MAX_POSTS / rows;
     if (per_row < 1)
         per_row = 1;
     w->n_landmarks = 0;
-    for (r = 0; r < rows && w->n_landmarks < ROVER_WORLD_MAX_LANDMARKS; r++)
-        for (k = 0; k < per_row && w->n_landmarks < ROVER_WORLD_MAX_LANDMARKS; k++) {
+    for (r = 0; r < rows && w->n_landmarks < ROVER_WORLD_MAX_POSTS; r++)
+        for (k = 0; k < per_row && w->n_landmarks < ROVER_WORLD_MAX_POSTS; k++) {
             const double x = per_row == 1 ? 0.5 * (x_lo + x_hi)
                                           : x_lo + (x_hi - x_lo) * k / (per_row - 1);
             w->landmark_m[w->n_landmarks][0] = x;

@@ -328,6 +328,8 @@ static void footprint(const pose2 *c, double px[FOOT_PTS], double py[FOOT_PTS], 
 }
 
 typedef char rover_world_grid_fits[ROVER_WORLD_MAX_ROBOTS <= PGRID_MAX_ITEMS ? 1 : -1];
+typedef char
+    rover_world_ids_below_landmarks[ROVER_WORLD_MAX_ROBOTS < ROVER_LANDMARK_ID_BASE ? 1 : -1];
 
 #define CLEAR_REACH 0.6 /* two half-diagonals of the body, rounded up */
 
@@ -448,4 +450,48 @@ int rover_world_clearance_indexed(const rover_world_config *w, const pose2 *c, c
         clearance_m[i] = best;
     }
     return 0;
+}
+
+/* Distance from p to the segment a-b. */
+static double segment_distance_m(const double p[2], const double a[2], const double b[2])
+{
+    const double ux = b[0] - a[0], uy = b[1] - a[1], len2 = ux * ux + uy * uy;
+    double t = len2 > 0.0 ? ((p[0] - a[0]) * ux + (p[1] - a[1]) * uy) / len2 : 0.0;
+    t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+    return hypot(p[0] - a[0] - t * ux, p[1] - a[1] - t * uy);
+}
+
+int rover_world_landmarks_near(const rover_world_config *w, const double a[2], const double b[2],
+                               int32_t idx[ROVER_WORLD_MAX_LANDMARKS])
+{
+    double best_m[ROVER_WORLD_MAX_LANDMARKS];
+    int k, n = 0, i;
+    if (!w || !a || !b || !idx || w->n_landmarks < 0 || w->n_landmarks > ROVER_WORLD_MAX_POSTS)
+        return ROVER_WORLD_ERR_ARG;
+    if (w->n_landmarks <= ROVER_WORLD_MAX_LANDMARKS) {
+        for (k = 0; k < w->n_landmarks; k++)
+            idx[k] = k;
+        return w->n_landmarks;
+    }
+    /* the nearest so far, by distance then index, in best_m / idx (an
+     * insertion into at most ROVER_WORLD_MAX_LANDMARKS: O(posts x 64)) */
+    for (k = 0; k < w->n_landmarks; k++) {
+        const double d = segment_distance_m(w->landmark_m[k], a, b);
+        if (n == ROVER_WORLD_MAX_LANDMARKS && !(d < best_m[n - 1]))
+            continue;
+        i = n < ROVER_WORLD_MAX_LANDMARKS ? n++ : n - 1;
+        for (; i > 0 && best_m[i - 1] > d; i--) {
+            best_m[i] = best_m[i - 1];
+            idx[i] = idx[i - 1];
+        }
+        best_m[i] = d;
+        idx[i] = k;
+    }
+    for (k = 1; k < n; k++) /* ascending index: the camera's order */
+        for (i = k; i > 0 && idx[i - 1] > idx[i]; i--) {
+            const int32_t t = idx[i];
+            idx[i] = idx[i - 1];
+            idx[i - 1] = t;
+        }
+    return n;
 }

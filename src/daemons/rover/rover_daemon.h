@@ -56,7 +56,11 @@ typedef struct hosted {
     int32_t cam_target[ROVER_TEAM_MAX + ROVER_WORLD_MAX_LANDMARKS];
     double cam_range_m[ROVER_TEAM_MAX + ROVER_WORLD_MAX_LANDMARKS];
     double cam_bearing_rad[ROVER_TEAM_MAX + ROVER_WORLD_MAX_LANDMARKS];
-    int silent;                  /* lockstep: frames stopped (killed body) */
+    int silent; /* lockstep: frames stopped (killed body) */
+    /* the world's posts its localizer holds, ascending: its landmark k is
+     * post[k] (the camera reports posts by the world's index) */
+    int32_t post[ROVER_WORLD_MAX_LANDMARKS];
+    int n_posts;
     tandem_team_msg_t last_team; /* for republish (robot 0: none yet) */
     int team_due;                /* --batch: last_team made this cycle, not sent yet */
     char ch_cmd[24], ch_state[24];

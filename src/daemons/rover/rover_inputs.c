@@ -121,6 +121,27 @@ static void take_beacons(rover_daemon *rd, const tandem_beacon_obs_t *m)
     h->new_cam = 1;
 }
 
+/* A camera target as the robot's controller knows it: a mate's id as it
+ * is, a post of the world (ROVER_LANDMARK_ID_BASE + its world index) as
+ * ROVER_LANDMARK_ID_BASE + its place in the robot's own list (h->post,
+ * ascending: a binary search), or -1 for a post the robot does not hold. */
+static int32_t localized_target(const hosted *h, int32_t target)
+{
+    int lo = 0, hi = h->n_posts - 1;
+    if (target < ROVER_LANDMARK_ID_BASE)
+        return target;
+    while (lo <= hi) {
+        const int mid = (lo + hi) / 2;
+        if (h->post[mid] == target - ROVER_LANDMARK_ID_BASE)
+            return ROVER_LANDMARK_ID_BASE + mid;
+        if (h->post[mid] < target - ROVER_LANDMARK_ID_BASE)
+            lo = mid + 1;
+        else
+            hi = mid - 1;
+    }
+    return -1;
+}
+
 /* The frames taken since the last cycle, into the controller. */
 void rover_apply_frames(rover_daemon *rd, hosted *h)
 {
@@ -132,8 +153,11 @@ void rover_apply_frames(rover_daemon *rd, hosted *h)
         rover_ctl_sonar(&h->c, h->sonar_m, (double)h->sonar_step * DAEMON_SIM_DT_S) != 0)
         rd->d.msgs.rejected++;
     /* unknown targets (not heard yet) are fine: skipped */
-    for (i = 0; h->new_cam && i < h->cam_n; i++)
-        rover_ctl_beacon(&h->c, h->cam_target[i], h->cam_range_m[i], h->cam_bearing_rad[i]);
+    for (i = 0; h->new_cam && i < h->cam_n; i++) {
+        const int32_t target = localized_target(h, h->cam_target[i]);
+        if (target >= 0)
+            rover_ctl_beacon(&h->c, target, h->cam_range_m[i], h->cam_bearing_rad[i]);
+    }
     h->new_enc = h->new_sonar = h->new_cam = 0;
 }
 

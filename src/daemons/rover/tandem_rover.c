@@ -374,29 +374,37 @@ static int robot_init(rover_daemon *rd, hosted *h, int32_t j)
     const rover_fleet *f = rd->teams > 1 ? &rd->fleet : NULL;
     const pose2 frame = rover_fleet_frame_of(&rd->layout, f, j);
     const int team = f ? rover_fleet_team_of(f, j) : 0;
-    double goal[2], lm[ROVER_WORLD_MAX_LANDMARKS][2];
+    double goal[2], lm[ROVER_WORLD_MAX_LANDMARKS][2], way_a[2], way_b[2];
     pose2 goal_w, goal_t, start;
     int32_t lo = 1, hi = rd->robots;
     int k;
-    for (k = 0; k < rd->layout.n_landmarks; k++) {
-        const pose2 lw = { rd->layout.landmark_m[k][0], rd->layout.landmark_m[k][1], 0.0 };
-        pose2 lt;
-        rover_frame_to(&frame, &lw, &lt);
-        lm[k][0] = lt.x_m;
-        lm[k][1] = lt.y_m;
-    }
     if (f)
         rover_fleet_members(f, team, &lo, &hi);
     goal_w.x_m = f ? f->goal_m[team][0] : rd->layout.goal_m[0];
     goal_w.y_m = f ? f->goal_m[team][1] : rd->layout.goal_m[1];
     goal_w.theta_rad = 0.0;
+    /* the posts it localizes on: all of a world's 64, or the 64 of a
+     * fleet's world nearest its team's way (rover_world_landmarks_near) */
+    way_a[0] = frame.x_m;
+    way_a[1] = frame.y_m;
+    way_b[0] = goal_w.x_m;
+    way_b[1] = goal_w.y_m;
+    h->n_posts = rover_world_landmarks_near(&rd->layout, way_a, way_b, h->post);
+    for (k = 0; k < h->n_posts; k++) {
+        const double *p = rd->layout.landmark_m[h->post[k]];
+        const pose2 lw = { p[0], p[1], 0.0 };
+        pose2 lt;
+        rover_frame_to(&frame, &lw, &lt);
+        lm[k][0] = lt.x_m;
+        lm[k][1] = lt.y_m;
+    }
     rover_frame_to(&frame, &goal_w, &goal_t);
     goal[0] = goal_t.x_m;
     goal[1] = goal_t.y_m;
     rover_frame_to(&frame, &rd->layout.start_c[j - 1], &start);
-    return rover_ctl_init(&h->c, &rd->params, j, &start, goal) != 0 ||
+    return h->n_posts < 0 || rover_ctl_init(&h->c, &rd->params, j, &start, goal) != 0 ||
            rover_ctl_set_team(&h->c, lo, hi) != 0 ||
-           rover_ctl_set_landmarks(&h->c, (const double(*)[2])lm, rd->layout.n_landmarks) != 0;
+           rover_ctl_set_landmarks(&h->c, (const double(*)[2])lm, h->n_posts) != 0;
 }
 
 int main(int argc, char **argv)

@@ -108,6 +108,25 @@ static void assert_fits(const rover_world_config *w, double spacing_m)
     }
 }
 
+/* The posts stand in rows along the lanes' borders, each row from behind
+ * the first start to past the last goal with no gap wider than the
+ * camera's reach (ROVER_FLEET_POST_STEP_M), within the world's capacity. */
+static void assert_posts_within_reach(const rover_world_config *w)
+{
+    int k, rows = 1;
+    assert_true(w->n_landmarks > ROVER_WORLD_MAX_LANDMARKS); /* more than one robot holds */
+    assert_true(w->n_landmarks <= ROVER_WORLD_MAX_POSTS);
+    for (k = 1; k < w->n_landmarks; k++) {
+        const double *a = w->landmark_m[k - 1], *b = w->landmark_m[k];
+        if (a[1] != b[1]) { /* the next border's row */
+            rows++;
+            continue;
+        }
+        assert_true(b[0] > a[0] && b[0] - a[0] <= ROVER_FLEET_POST_STEP_M + 1e-9);
+    }
+    assert_int_equal(w->n_landmarks % rows, 0);
+}
+
 /* More teams than a row's lanes: rows of ROVER_FLEET_ROW_LANES, team t
  * laid out as team t mod ROVER_FLEET_ROW_LANES moved along the way by
  * whole rows; a row's start area lies ahead of every goal of the row
@@ -135,7 +154,7 @@ static void test_rows(void **state)
         }
     }
     assert_fits(&W, 1.0);
-    assert_true(W.n_landmarks > 0 && W.n_landmarks <= ROVER_WORLD_MAX_LANDMARKS);
+    assert_posts_within_reach(&W);
     assert_int_equal(rover_fleet_layout(&W, &f, ROVER_FLEET_ROW_LANES, 3, 1.0, FORMATION_LINE, 0),
                      0);
     assert_int_equal(f.rows, 1);

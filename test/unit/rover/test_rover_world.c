@@ -722,6 +722,55 @@ static void test_landmarks_cover_the_way(void **state)
         }
 }
 
+/* Distance from p to the segment a-b by the other formula: the nearer
+ * end, or the perpendicular (|cross| / length) where p projects inside. */
+static double way_distance(const double p[2], const double a[2], const double b[2])
+{
+    const double ux = b[0] - a[0], uy = b[1] - a[1], len = hypot(ux, uy);
+    const double along = ((p[0] - a[0]) * ux + (p[1] - a[1]) * uy) / len;
+    if (along <= 0.0 || along >= len)
+        return fmin(hypot(p[0] - a[0], p[1] - a[1]), hypot(p[0] - b[0], p[1] - b[1]));
+    return fabs(ux * (p[1] - a[1]) - uy * (p[0] - a[0])) / len;
+}
+
+/* A robot's posts: a world of at most 64 gives all, in order; a larger
+ * one the 64 nearest the way, ascending, and no post left out is nearer
+ * than one taken (checked against every post). */
+static void test_landmarks_near_the_way(void **state)
+{
+    static rover_world_config w;
+    const double a[2] = { 3.0, -2.0 }, b[2] = { 40.0, 25.0 };
+    int32_t idx[ROVER_WORLD_MAX_LANDMARKS];
+    prng_state rng;
+    int k, n, taken[ROVER_WORLD_MAX_POSTS];
+    double far_taken = 0.0;
+    (void)state;
+    memset(&w, 0, sizeof w);
+    prng_seed(&rng, 7);
+    w.n_landmarks = 40;
+    for (k = 0; k < ROVER_WORLD_MAX_POSTS; k++) {
+        w.landmark_m[k][0] = 100.0 * prng_uniform(&rng) - 30.0;
+        w.landmark_m[k][1] = 100.0 * prng_uniform(&rng) - 30.0;
+    }
+    assert_int_equal(rover_world_landmarks_near(&w, a, b, idx), 40);
+    for (k = 0; k < 40; k++)
+        assert_int_equal(idx[k], k);
+    w.n_landmarks = ROVER_WORLD_MAX_POSTS;
+    n = rover_world_landmarks_near(&w, a, b, idx);
+    assert_int_equal(n, ROVER_WORLD_MAX_LANDMARKS);
+    memset(taken, 0, sizeof taken);
+    for (k = 0; k < n; k++) {
+        assert_true(k == 0 || idx[k] > idx[k - 1]);
+        taken[idx[k]] = 1;
+        far_taken = fmax(far_taken, way_distance(w.landmark_m[idx[k]], a, b));
+    }
+    for (k = 0; k < w.n_landmarks; k++)
+        if (!taken[k])
+            assert_true(way_distance(w.landmark_m[k], a, b) >= far_taken);
+    w.n_landmarks = ROVER_WORLD_MAX_POSTS + 1;
+    assert_int_equal(rover_world_landmarks_near(&w, a, b, idx), ROVER_WORLD_ERR_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -736,6 +785,7 @@ int main(void)
         cmocka_unit_test(test_obstacle_signed_distance),
         cmocka_unit_test(test_clearance),
         cmocka_unit_test(test_landmarks_cover_the_way),
+        cmocka_unit_test(test_landmarks_near_the_way),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
