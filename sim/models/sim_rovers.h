@@ -126,7 +126,7 @@ void sim_rover_pose_c(const sim_rover *r, pose2 *c);
 void sim_rovers_after_step(void *model, sim_world *w);
 /* Indexes the layout's LED posts for the camera (once, at creation). */
 int sim_rovers_index_posts(sim_rovers *team);
-/* sim_rovers_free.c: with --rover-far kinematic, every RV_FREE_CHECK_STEPS
+/* sim_rovers_free.c: with --rover-far kinematic, every RV_FREE_CHECK_PHYS rover steps
  * the robots clear of everything by sim_rovers_free_margin_m leave the
  * solver (and the others rejoin it); sim_rovers_free_move steps one of
  * them by its wheels. */

@@ -16,7 +16,7 @@
  * rigid motion about C, each wheel turned about its axle, the velocities
  * set to match and the encoders counting the motor's speed. Its commands,
  * ramps and slip noise are drawn as for any robot, so the noise streams do
- * not change. The clearance is checked every RV_FREE_CHECK_STEPS with a
+ * not change. The clearance is checked every RV_FREE_CHECK_PHYS rover steps with a
  * margin that two robots closing at the speed limit cannot use up before
  * the next check; below it (or on any contact ODE reports) the bodies
  * rejoin the solver with the velocities they move at.
@@ -28,8 +28,8 @@
 #include "sim_rovers.h"
 #include <math.h>
 
-/* the clearance check's period: 12 rover steps of 4 ms */
-#define RV_FREE_CHECK_STEPS 48
+/* the clearance check's period, in rover steps (12 of 4 ms by default) */
+#define RV_FREE_CHECK_PHYS 12
 /* not before the robots stand settled on their wheels */
 #define RV_FREE_SETTLE_STEPS 1000
 /* the margin beyond two robots closing at the speed limit for a check
@@ -38,7 +38,7 @@
 
 double sim_rovers_free_margin_m(const sim_rovers *team)
 {
-    return RV_FREE_SPARE_M + 2.0 * team->v_max * RV_FREE_CHECK_STEPS * SIM_DT_S;
+    return RV_FREE_SPARE_M + 2.0 * team->v_max * RV_FREE_CHECK_PHYS * team->phys_steps * SIM_DT_S;
 }
 
 static void set_free(sim_rover *r, int on)
@@ -63,7 +63,7 @@ void sim_rovers_free_check(sim_rovers *team, const sim_world *w)
     sim_rovers_scratch *s = &team->s;
     const double margin_m = sim_rovers_free_margin_m(team);
     int i;
-    if (!team->far_kinematic || w->step % RV_FREE_CHECK_STEPS != 0)
+    if (!team->far_kinematic || w->step % ((int64_t)RV_FREE_CHECK_PHYS * team->phys_steps) != 0)
         return;
     for (i = 0; i < team->n; i++) {
         sim_rover_pose_c(&team->r[i], &s->pose[i]);
