@@ -264,7 +264,7 @@ int rover_world_from_map(rover_world_config *w, rover_map *m, const rover_map_si
         w->n_landmarks = rover_map_auto_landmarks(m, &w->team_origin, w->goal_m, w->landmark_m);
     } else {
         w->n_landmarks = s->n_landmarks;
-        memcpy(w->landmark_m, s->landmark_m, sizeof w->landmark_m);
+        memcpy(w->landmark_m, s->landmark_m, sizeof s->landmark_m); /* a site holds a robot's 64 */
     }
     return ROVER_MAP_OK;
 }
