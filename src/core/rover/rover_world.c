@@ -464,7 +464,7 @@ static double segment_distance_m(const double p[2], const double a[2], const dou
 int rover_world_landmarks_near(const rover_world_config *w, const double a[2], const double b[2],
                                int32_t idx[ROVER_WORLD_MAX_LANDMARKS])
 {
-    double best_m[ROVER_WORLD_MAX_LANDMARKS];
+    double best_m[ROVER_WORLD_MAX_LANDMARKS] = { 0.0 };
     int k, n = 0, i;
     if (!w || !a || !b || !idx || w->n_landmarks < 0 || w->n_landmarks > ROVER_WORLD_MAX_POSTS)
         return ROVER_WORLD_ERR_ARG;
