@@ -124,6 +124,9 @@ void sim_rovers_sonar_model(sonar_model *m);
 void sim_rover_pose_c(const sim_rover *r, pose2 *c);
 /* The after_step hook: sonar firings, sensor frames, camera, truth. */
 void sim_rovers_after_step(void *model, sim_world *w);
+/* Every robot's axle pose, alive flag and ground-truth clearance into
+ * team->s.pose, .alive, .cl (the truth's, and the far robots' check). */
+void sim_rovers_clearance(sim_rovers *team);
 /* Indexes the layout's LED posts for the camera (once, at creation). */
 int sim_rovers_index_posts(sim_rovers *team);
 /* sim_rovers_free.c: with --rover-far kinematic, every RV_FREE_CHECK_PHYS rover steps

@@ -60,20 +60,16 @@ static void set_free(sim_rover *r, int on)
 
 void sim_rovers_free_check(sim_rovers *team, const sim_world *w)
 {
-    sim_rovers_scratch *s = &team->s;
     const double margin_m = sim_rovers_free_margin_m(team);
     int i;
     if (!team->far_kinematic || w->step % ((int64_t)RV_FREE_CHECK_PHYS * team->phys_steps) != 0)
         return;
-    for (i = 0; i < team->n; i++) {
-        sim_rover_pose_c(&team->r[i], &s->pose[i]);
-        s->alive[i] = team->r[i].alive;
-    }
-    rover_world_clearance_indexed(&team->layout, s->pose, s->alive, team->n, s->clear, s->cl);
+    sim_rovers_clearance(team);
     for (i = 0; i < team->n; i++) {
         sim_rover *r = &team->r[i];
         if (r->alive)
-            set_free(r, w->step >= RV_FREE_SETTLE_STEPS && s->cl[i] > margin_m && !r->bump_now);
+            set_free(r,
+                     w->step >= RV_FREE_SETTLE_STEPS && team->s.cl[i] > margin_m && !r->bump_now);
     }
 }
 

@@ -258,6 +258,20 @@ static void publish_beacons(sim_rovers *team, sim_world *w, int fresh)
     }
 }
 
+void sim_rovers_clearance(sim_rovers *team)
+{
+    sim_rovers_scratch *s = &team->s;
+    int i;
+    for (i = 0; i < team->n; i++) {
+        sim_rover_pose_c(&team->r[i], &s->pose[i]);
+        s->alive[i] = team->r[i].alive;
+    }
+    if (team->brute)
+        rover_world_clearance(&team->layout, s->pose, s->alive, team->n, s->cl);
+    else
+        rover_world_clearance_indexed(&team->layout, s->pose, s->alive, team->n, s->clear, s->cl);
+}
+
 static void publish_truth(sim_rovers *team, sim_world *w)
 {
     sim_rovers_scratch *s = &team->s;
@@ -265,16 +279,9 @@ static void publish_truth(sim_rovers *team, sim_world *w)
     double *x = s->x, *y = s->y, *th = s->th, *cl = s->cl;
     int8_t *al = s->al;
     pose2 *c = s->pose, o;
-    int *alive = s->alive, i;
+    int i;
     tandem_rover_truth_t m;
-    for (i = 0; i < team->n; i++) {
-        sim_rover_pose_c(&team->r[i], &c[i]);
-        alive[i] = team->r[i].alive;
-    }
-    if (team->brute)
-        rover_world_clearance(&team->layout, c, alive, team->n, cl);
-    else
-        rover_world_clearance_indexed(&team->layout, c, alive, team->n, s->clear, cl);
+    sim_rovers_clearance(team);
     for (i = 0; i < team->n; i++) {
         unicycle_o_from_c(&o, &c[i], ROVER_BEACON_D_M);
         id[i] = team->r[i].id;

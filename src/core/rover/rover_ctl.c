@@ -305,8 +305,8 @@ static int slot_by_place(const rover_ctl_state *c, const step_view *v, const dou
  * the goal along the way heads the column). Round a bend the way is what
  * orders the robots; slots laid straight back from R0 along its heading
  * lie across the leg the column is still on, and the robots behind took
- * one another's slots there (generated corridor world 58, 6 in triangle: the column stood in
- * a 100 deg bend, touching 10 times). The way is in the field's weighted
+ * one another's slots there (generated corridor world 58, 6 in triangle:
+ * the column stood in a 100 deg bend, touching 10 times). The way is in the field's weighted
  * metres, at most (1 + pen_gain) times the length, which moves the
  * assignment's margin, not its order. Our slot, or -1 (a mate's position
  * unknown or without a way). */
