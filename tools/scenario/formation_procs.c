@@ -15,6 +15,8 @@
 #include <unistd.h>
 #include "formation_scen.h"
 #include "shared_run.h"
+#include "host_netns.h"
+#include "auth.h"
 #include "auth_bus.h"
 #include "daemon.h"
 #include "tandem_sim_control_t.h"
@@ -35,7 +37,18 @@ int fm_process_down(const fm_procs *pr, int id, int64_t k)
     return id >= 1 && id <= FM_MAX && k > pr->down_after[id] && k < pr->up_at[id];
 }
 
-static pid_t spawn(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, char *const argv[])
+/* The roster of the run: its robots, on cfg->hosts processes of whole
+ * teams with --procs single (one each with --procs separate: their own). */
+static auth_fleet run_fleet(const fm_cfg *cfg)
+{
+    return auth_fleet_clamped(cfg->robots, cfg->single ? cfg->hosts : 1,
+                              cfg->teams > 1 ? cfg->per_team : 1);
+}
+
+/* A child: argv from cfg->bindir with its own role file, its chatter in
+ * DIR/children.log; host >= 1: rover host `host` (--host-netns). */
+static pid_t spawn_in(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, char *const argv[],
+                      int host)
 {
     char key[600];
     /* the child's own role file, never this process's master */
@@ -58,6 +71,8 @@ static pid_t spawn(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, char *con
             dup2(fd, 2);
             close(fd);
         }
+        if (host >= 1 && host_netns_enter(cfg->host_netns, host) != 0)
+            _exit(127);
         snprintf(path, sizeof path, "%s/%s", cfg->bindir, argv[0]);
         execv(path, argv);
         _exit(127);
@@ -65,6 +80,11 @@ static pid_t spawn(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, char *con
     if (p > 0 && pr->n_pid < FM_PROCS)
         pr->pid[pr->n_pid++] = p;
     return p;
+}
+
+static pid_t spawn(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, char *const argv[])
+{
+    return spawn_in(pr, cfg, bus, argv, 0);
 }
 
 void fm_stop_children(fm_procs *pr)
@@ -130,7 +150,8 @@ static void fleet_argv(const fm_cfg *cfg, char **argv, int *n, char t_s[16], cha
     argv[(*n)++] = (char *)rover_fleet_goals_name(cfg->team_goals);
 }
 
-/* The tandem-rover process of robot k (all robots with --procs single). */
+/* The tandem-rover process of robot k (--procs separate), or of host k's
+ * robots (--procs single, --hosts). */
 static pid_t spawn_rover(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, int k)
 {
     char n_s[16], w_s[32], id_s[32], arrive_s[32], journal[700], t_s[16], k_s[16];
@@ -172,23 +193,33 @@ static pid_t spawn_rover(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, int
         rv[n++] = journal;
     }
     scenario_argv_drop(&cfg->drop, rv, &n, ROVER_ARGV_MAX);
-    if (cfg->single)
-        snprintf(id_s, sizeof id_s, "1-%d", cfg->robots);
-    else
+    if (cfg->single) {
+        const auth_fleet f = run_fleet(cfg);
+        int first = 1, last = cfg->robots;
+        auth_fleet_host(&f, k - 1, &first, &last);
+        snprintf(id_s, sizeof id_s, "%d-%d", first, last);
+    } else {
         snprintf(id_s, sizeof id_s, "%d", k);
-    return spawn(pr, cfg, bus, rv);
+    }
+    return spawn_in(pr, cfg, bus, rv, cfg->single ? k : 0);
+}
+
+int fm_rover_procs(const fm_cfg *cfg)
+{
+    return cfg->single ? run_fleet(cfg).hosts : cfg->robots;
 }
 
 int fm_start_children(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus)
 {
     char n_s[16], w_s[32], seed_s[24], expect_s[16], t_s[16], k_s[16];
-    int k, procs = cfg->single ? 1 : cfg->robots;
+    const auth_fleet fleet = run_fleet(cfg);
+    int k, procs = fm_rover_procs(cfg);
     snprintf(n_s, sizeof n_s, "%d", cfg->robots);
     snprintf(w_s, sizeof w_s, "%s", fm_world_arg(cfg));
     snprintf(seed_s, sizeof seed_s, "%ld", cfg->seed);
     snprintf(expect_s, sizeof expect_s, "%d", procs + 1);
-    /* the role files name this team: rovers 1..N and the host of all N */
-    auth_bus_roster(bus->auth, cfg->robots);
+    /* the role files name this team: rovers 1..N and the hosts of them */
+    auth_bus_roster_fleet(bus->auth, &fleet);
     {
         char *sim[40] = { "tandem-sim",
                           "--lockstep",
@@ -372,8 +403,12 @@ void fm_hang_start(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus)
     hang_watch_init(&pr->hw, cfg->hang_s);
     hang_watch_add(&pr->hw, "tandem-sim", now);
     if (cfg->single) {
-        snprintf(name, sizeof name, "tandem-rover-1-%d", cfg->robots);
-        hang_watch_add(&pr->hw, name, now);
+        const auth_fleet f = run_fleet(cfg);
+        int first, last;
+        for (k = 0; auth_fleet_host(&f, k, &first, &last) == 0; k++) {
+            snprintf(name, sizeof name, "tandem-rover-%d-%d", first, last);
+            hang_watch_add(&pr->hw, name, now);
+        }
     } else {
         for (k = 1; k <= cfg->robots; k++) {
             snprintf(name, sizeof name, "tandem-rover-%d", k);

@@ -125,6 +125,7 @@ void fm_write_summary(const fm_cfg *cfg, const fm_procs *pr, const fm_metrics *m
     json_num(&j, "ref_arrive_m", cfg->ref_arrive_m);
     json_bool(&j, "localize", !cfg->localize_off);
     json_int(&j, "robots", cfg->robots);
+    json_int(&j, "rover_processes", fm_rover_procs(cfg)); /* --procs, --hosts */
     json_int(&j, "seed", cfg->seed);
     json_int(&j, "killed_robot", cfg->kill_id > 0 && pr->killed ? cfg->kill_id : 0);
     /* where the goal formation stands (goal_place.h): the goal given, the

@@ -54,6 +54,12 @@ enum { FM_HUNG_NONE = 0, FM_HUNG_KILLED = 1, FM_HUNG_RESTARTING = 2 };
 typedef struct fm_cfg {
     int formation, world, blend, robots, single, batch;
     int far_kinematic; /* --rover-far kinematic (tandem-sim's) */
+    /* --hosts H: with --procs single, H tandem-rover processes, each a run
+     * of whole teams (auth_fleet_host); --host-netns P: host h runs in the
+     * network namespace P<h> (/var/run/netns, made by the caller), as on
+     * another machine on the bus */
+    int hosts;
+    const char *host_netns;
     /* --teams T --robots-per-team K --team-goals (fleet.h): robots is T K
      * and fleet the teams' lanes and goals when T > 1 */
     int teams, per_team, team_goals;
@@ -241,6 +247,8 @@ const char *fm_world_arg(const fm_cfg *cfg);
 void fm_procs_init(fm_procs *pr, const fm_cfg *cfg);
 /* Starts the simulator and the rover processes; 0 ok, FM_ERR_START. */
 int fm_start_children(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus);
+/* The rover processes of the run: one per robot, or its hosts (--hosts). */
+int fm_rover_procs(const fm_cfg *cfg);
 /* SIGTERM to every child, SIGKILL to those still there after 5 s. */
 void fm_stop_children(fm_procs *pr);
 /* --fault at a step due to be answered: 1 go on, 0 hold the step,

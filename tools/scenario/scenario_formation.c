@@ -17,6 +17,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "formation_scen.h"
+#include "auth.h"
 #include "shared_run.h"
 #include "formation.h"
 #include "rover_ctl.h"
@@ -216,6 +217,23 @@ static const option_entry formation_table[] = {
       .choices = procs,
       .help = "separate: one tandem-rover per robot; single: one process hosting all",
       .def = "separate up to 10 robots" },
+    { .name = "hosts",
+      .type = OPTION_INT,
+      OPTION_AT(fm_cfg, hosts),
+      .min = 1,
+      .max = AUTH_FLEET_HOSTS_MAX,
+      .meta = "H",
+      .help =
+          "with --procs single: the robots split over H tandem-rover processes (--id A-B, whole "
+          "teams each, as even as the teams allow), as H machines would host them; the same run",
+      .def = "1" },
+    { .name = "host-netns",
+      .type = OPTION_STRING,
+      OPTION_AT(fm_cfg, host_netns),
+      .meta = "P",
+      .help = "rover host h (1..H) runs in the network namespace P<h> (ip netns add P<h>; needs "
+              "root and an --lcm-url with ttl=1 that reaches it): a host on another machine",
+      .def = "this namespace" },
     { .name = "link",
       .type = OPTION_CHOICE,
       OPTION_AT(fm_cfg, batch),
@@ -289,6 +307,7 @@ static int parse(fm_cfg *cfg, int argc, char **argv)
     cfg->kill_id = -1;
     cfg->single = -1;
     cfg->batch = -1;
+    cfg->hosts = 1;
     rc = options_parse(&prog, argc, argv, 1);
     if (rc == OPTIONS_EXIT)
         exit(0);
@@ -322,8 +341,14 @@ static int parse(fm_cfg *cfg, int argc, char **argv)
         }
     if (scenario_parse_drop(&cfg->drop, cfg->drop_arg ? cfg->drop_arg : "0", cfg->seed) != 0)
         return SCENARIO_ERR_ARG;
+    if (cfg->hosts > 1 && cfg->single == 0) {
+        fprintf(stderr,
+                "formation: --hosts %d needs --procs single (each host a range of robots)\n",
+                cfg->hosts);
+        return SCENARIO_ERR_ARG;
+    }
     if (cfg->single < 0)
-        cfg->single = cfg->robots > 10;
+        cfg->single = cfg->robots > 10 || cfg->hosts > 1;
     if (cfg->batch < 0)
         cfg->batch = cfg->single;
     if (cfg->n_faults > 0 && cfg->single) {

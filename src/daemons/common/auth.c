@@ -107,34 +107,70 @@ void auth_keyset_free(auth_keyset *k)
     sodium_free(k); /* wipes before unlocking */
 }
 
-int auth_roster(int rovers, auth_peer *out, int cap)
+auth_fleet auth_fleet_clamped(int rovers, int hosts, int unit)
+{
+    auth_fleet f;
+    int units;
+    f.rovers = rovers < 0 ? 0 : rovers > AUTH_ACL_NUMBER_MAX ? AUTH_ACL_NUMBER_MAX : rovers;
+    f.unit = unit < 1 ? 1 : unit > f.rovers && f.rovers > 0 ? f.rovers : unit;
+    units = (f.rovers + f.unit - 1) / f.unit;
+    f.hosts = hosts < 1 ? 1 : hosts > AUTH_FLEET_HOSTS_MAX ? AUTH_FLEET_HOSTS_MAX : hosts;
+    if (units >= 1 && f.hosts > units)
+        f.hosts = units;
+    return f;
+}
+
+int auth_fleet_host(const auth_fleet *f, int h, int *first, int *last)
+{
+    const auth_fleet c = auth_fleet_clamped(f->rovers, f->hosts, f->unit);
+    const long units = (c.rovers + c.unit - 1) / c.unit;
+    long lo, hi;
+    if (c.rovers < 1 || h < 0 || h >= c.hosts)
+        return -1;
+    /* units [h U / H, (h+1) U / H): every host at least one unit, sizes
+     * differing by at most one unit */
+    lo = (long)h * units / c.hosts;
+    hi = (long)(h + 1) * units / c.hosts;
+    *first = (int)(lo * c.unit + 1);
+    *last = (int)(hi * c.unit < c.rovers ? hi * c.unit : c.rovers);
+    return 0;
+}
+
+int auth_roster_fleet(const auth_fleet *f, auth_peer *out, int cap)
 {
     static const auth_peer fixed[] = {
         { AUTH_ROLE_SIM, 0, 0 },        { AUTH_ROLE_ARM, 1, 1 },  { AUTH_ROLE_ARM, 2, 2 },
         { AUTH_ROLE_SUPERVISOR, 0, 0 }, { AUTH_ROLE_TOOL, 0, 0 }, { AUTH_ROLE_MONITOR, 0, 0 },
     };
-    int i, n = 0;
+    const auth_fleet c = auth_fleet_clamped(f->rovers, f->hosts, f->unit);
+    int i, n = 0, a, b;
     for (i = 0; i < (int)(sizeof fixed / sizeof fixed[0]) && n < cap; i++)
         out[n++] = fixed[i];
-    if (rovers > AUTH_ACL_NUMBER_MAX)
-        rovers = AUTH_ACL_NUMBER_MAX;
-    /* one process may host the whole team (tandem-rover --id 1-N, the
-     * formation scenario's --procs single): it is a principal of its own,
-     * listed before the single rovers, so that it has its keys however
-     * many robots there are (the single rovers fill what a message's tags
-     * leave: AUTH_MAX_TAGS - AUTH_ROSTER_FIXED of them) */
-    if (rovers >= 2 && n < cap) {
+    /* the processes hosting the robots (tandem-rover --id A-B; one for the
+     * whole team with the formation scenario's --procs single) are
+     * principals of their own, listed before the single rovers, so that
+     * they have their keys however many robots there are (the single
+     * rovers fill what a message's tags leave) */
+    for (i = 0; i < c.hosts && n < cap; i++) {
+        if (auth_fleet_host(&c, i, &a, &b) != 0 || b <= a)
+            continue; /* one robot: the single rover below */
         out[n].role = AUTH_ROLE_ROVER;
-        out[n].first = 1;
-        out[n].last = (uint16_t)rovers;
+        out[n].first = (uint16_t)a;
+        out[n].last = (uint16_t)b;
         n++;
     }
-    for (i = 1; i <= rovers && n < cap; i++) {
+    for (i = 1; i <= c.rovers && n < cap; i++) {
         out[n].role = AUTH_ROLE_ROVER;
         out[n].first = out[n].last = (uint16_t)i;
         n++;
     }
     return n;
+}
+
+int auth_roster(int rovers, auth_peer *out, int cap)
+{
+    const auth_fleet f = auth_fleet_clamped(rovers, 1, 1);
+    return auth_roster_fleet(&f, out, cap);
 }
 
 static void set_head(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES], const auth_peer *holder)
@@ -168,7 +204,7 @@ void auth_keyset_role(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES], cons
     int i;
     set_head(k, master, holder);
     k->is_master = 0;
-    k->rovers = 0;
+    k->fleet = auth_fleet_clamped(0, 1, 1);
     for (i = 0; i < n; i++) {
         const int self = auth_peer_equal(&roster[i], holder);
         /* a monitor is told everything and may tell nobody anything;
@@ -187,7 +223,7 @@ void auth_keyset_master(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES],
     const int n = auth_roster(rovers, roster, AUTH_MAX_TAGS);
     auth_keyset_role(k, master, holder, roster, n); /* the usual pairs, precomputed */
     k->is_master = 1;
-    k->rovers = rovers;
+    k->fleet = auth_fleet_clamped(rovers, 1, 1);
     memcpy(k->master, master, AUTH_KEY_BYTES);
 }
 
@@ -452,7 +488,7 @@ int auth_receivers(const auth_keyset *k, const char *channel, unsigned readers, 
     auth_peer roster[AUTH_MAX_TAGS];
     int i, n = 0, n_all;
     if (k->is_master) {
-        n_all = auth_roster(k->rovers, roster, AUTH_MAX_TAGS);
+        n_all = auth_roster_fleet(&k->fleet, roster, AUTH_MAX_TAGS);
     } else {
         for (i = n_all = 0; i < k->n; i++)
             if (k->pair[i].dir == AUTH_DIR_SEND && n_all < AUTH_MAX_TAGS)

@@ -131,6 +131,16 @@ typedef struct auth_peer {
     uint16_t first, last;
 } auth_peer;
 
+/* The rover principals of a cell: rovers 1..rovers, hosted by `hosts`
+ * processes (tandem-rover --id A-B; 1: the host of them all), each a run
+ * of whole units of `unit` robots (a team), as even as the units allow
+ * (auth_fleet_host). A role file made for this roster is one the cell's
+ * other role files also list, so every host can talk to every process. */
+typedef struct auth_fleet {
+    int rovers, hosts, unit;
+} auth_fleet;
+#define AUTH_FLEET_HOSTS_MAX 32 /* hosts of one roster (each a principal, tagged) */
+
 typedef struct auth_sender {
     uint8_t role;
     uint16_t first, last; /* instances covered, first <= last */
@@ -155,7 +165,7 @@ typedef struct auth_keyset {
     auth_peer holder;
     int is_master; /* 1: master below, every pair derivable */
     uint8_t master[AUTH_KEY_BYTES];
-    int rovers; /* a master holder's roster: rovers 1..rovers */
+    auth_fleet fleet; /* a master holder's roster: rovers 1..fleet.rovers */
     int n;
     auth_pair pair[AUTH_MAX_PAIRS];
 } auth_keyset;
@@ -194,6 +204,15 @@ void auth_keyset_master(auth_keyset *k, const uint8_t master[AUTH_KEY_BYTES],
  * then single rovers 1, 2, ... as far as cap allows; returns how many
  * (<= cap). */
 int auth_roster(int rovers, auth_peer *out, int cap);
+/* The same with the fleet's hosts: each host's range (rovers 1..N if one)
+ * in place of the host of them all. */
+int auth_roster_fleet(const auth_fleet *f, auth_peer *out, int cap);
+/* Host h's robots (0 <= h < hosts): *first..*last; 0, or -1 when there is
+ * no such host (h out of range, fewer units than hosts, no robots). */
+int auth_fleet_host(const auth_fleet *f, int h, int *first, int *last);
+/* f with its fields brought into range: rovers 0..AUTH_ACL_NUMBER_MAX,
+ * hosts 1..AUTH_FLEET_HOSTS_MAX and no more than the units, unit >= 1. */
+auth_fleet auth_fleet_clamped(int rovers, int hosts, int unit);
 /* The role file of `holder` in the cell of master with the given roster:
  * a send key to every other principal but the monitor (monitors only
  * receive), a receive key from every other one. */

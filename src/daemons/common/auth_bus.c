@@ -53,19 +53,30 @@ void auth_bus_identity(auth_bus *bus, int role, int first, int last)
 
 void auth_bus_roster(auth_bus *bus, int rovers)
 {
+    const auth_fleet f = auth_fleet_clamped(rovers, 1, 1);
+    auth_bus_roster_fleet(bus, &f);
+}
+
+void auth_bus_roster_fleet(auth_bus *bus, const auth_fleet *f)
+{
     int i;
-    /* the host of them all covers every robot; the single rovers are as
-     * many as a message's tags hold (auth_roster) */
-    bus->rovers = rovers < 0 ? 0 : rovers > AUTH_ACL_NUMBER_MAX ? AUTH_ACL_NUMBER_MAX : rovers;
+    /* the hosts cover every robot; the single rovers are as many as a
+     * message's tags hold (auth_roster_fleet) */
+    bus->fleet = auth_fleet_clamped(f->rovers, f->hosts, f->unit);
     bus->n_routes = 0;
     for (i = 0; i < bus->ring.n; i++) /* a master holder tags for the new roster at once */
         if (bus->ring.set[i] && bus->ring.set[i]->is_master)
-            bus->ring.set[i]->rovers = auth_bus_roster_rovers(bus);
+            bus->ring.set[i]->fleet = auth_bus_fleet(bus);
 }
 
 int auth_bus_roster_rovers(const auth_bus *bus)
 {
-    return bus->rovers > 0 ? bus->rovers : AUTH_ROSTER_ROVERS;
+    return bus->fleet.rovers > 0 ? bus->fleet.rovers : AUTH_ROSTER_ROVERS;
+}
+
+auth_fleet auth_bus_fleet(const auth_bus *bus)
+{
+    return bus->fleet.rovers > 0 ? bus->fleet : auth_fleet_clamped(AUTH_ROSTER_ROVERS, 1, 1);
 }
 
 void auth_bus_sign_as_owner(auth_bus *bus, int on)
@@ -173,7 +184,7 @@ static int load_keys(auth_bus *bus)
             return AUTH_BUS_ERR_KEY;
         }
         if (bus->ring.set[i]->is_master)
-            bus->ring.set[i]->rovers = auth_bus_roster_rovers(bus);
+            bus->ring.set[i]->fleet = auth_bus_fleet(bus);
         if (!bus->ring.set[i]->is_master &&
             !auth_peer_equal(&bus->ring.set[i]->holder, &bus->me_peer)) {
             fprintf(stderr,

@@ -150,7 +150,7 @@ struct auth_bus {
     int n_key_files;
     int insecure;
     int have_identity, as_owner;
-    int rovers; /* the roster's rovers, 0: AUTH_ROSTER_ROVERS */
+    auth_fleet fleet; /* the roster's rovers and hosts; rovers 0: AUTH_ROSTER_ROVERS */
     auth_sender me;
     auth_peer me_peer;
     auth_keyring ring;
@@ -183,7 +183,13 @@ void auth_bus_identity(auth_bus *bus, int role, int first, int last);
  * A master holder tags for these, and the role files it makes for its
  * children (auth_child.h) list them; set it before the first child starts. */
 void auth_bus_roster(auth_bus *bus, int rovers);
+/* The same with the rovers hosted by f->hosts processes, each a run of
+ * whole teams of f->unit robots (auth_fleet_host): the ranges a launcher
+ * gives its tandem-rover --id A-B hosts. */
+void auth_bus_roster_fleet(auth_bus *bus, const auth_fleet *f);
 int auth_bus_roster_rovers(const auth_bus *bus);
+/* The roster (auth_bus_roster_fleet; the default's rovers filled in). */
+auth_fleet auth_bus_fleet(const auth_bus *bus);
 /* A process standing in for several publishers (integration tests, the
  * round-trip bench) signs each message as its channel's owner
  * (auth_acl_owner) -- what only a holder of the cell's master can do

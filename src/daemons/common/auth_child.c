@@ -12,9 +12,9 @@ void auth_child_keys_init(auth_child_keys *c, const auth_bus *parent)
     c->parent = parent;
 }
 
-static int roster_rovers(const auth_child_keys *c)
+static auth_fleet roster_fleet(const auth_child_keys *c)
 {
-    return c->parent ? auth_bus_roster_rovers(c->parent) : AUTH_ROSTER_ROVERS;
+    return c->parent ? auth_bus_fleet(c->parent) : auth_fleet_clamped(AUTH_ROSTER_ROVERS, 1, 1);
 }
 
 /* The value of option --name in argv (--name V or --name=V), or NULL. */
@@ -127,6 +127,7 @@ int auth_child_key(auth_child_keys *c, const char *const argv[], char *path, siz
     auth_peer who, roster[AUTH_MAX_TAGS];
     const auth_peer tool = { AUTH_ROLE_TOOL, 0, 0 };
     auth_keyset *m;
+    auth_fleet fleet;
     char why[700];
     int n, rc;
     if (!argv || !argv[0])
@@ -141,14 +142,15 @@ int auth_child_key(auth_child_keys *c, const char *const argv[], char *path, siz
         return rc == AUTH_OK ? AUTH_CHILD_INHERIT : AUTH_CHILD_ERR_KEY;
     }
     auth_child_principal(argv, &who);
-    n = auth_roster(roster_rovers(c), roster, AUTH_MAX_TAGS);
+    fleet = roster_fleet(c);
+    n = auth_roster_fleet(&fleet, roster, AUTH_MAX_TAGS);
     if (!in_roster(&who, roster, n)) {
         fprintf(stderr,
-                "tandem: %s: principal %d %d-%d is in no role file of this cell (the host of "
-                "rovers 1-%d and single rovers 1..%d: AUTH_MAX_TAGS)\n",
-                argv[0], who.role, who.first, who.last, roster_rovers(c),
-                roster_rovers(c) < AUTH_MAX_TAGS - AUTH_ROSTER_FIXED
-                    ? roster_rovers(c)
+                "tandem: %s: principal %d %d-%d is in no role file of this cell (rovers 1-%d on "
+                "%d host(s) of whole teams of %d, and single rovers 1..%d: AUTH_MAX_TAGS)\n",
+                argv[0], who.role, who.first, who.last, fleet.rovers, fleet.hosts, fleet.unit,
+                fleet.rovers < AUTH_MAX_TAGS - AUTH_ROSTER_FIXED
+                    ? fleet.rovers
                     : AUTH_MAX_TAGS - AUTH_ROSTER_FIXED);
         auth_keyset_free(m);
         return AUTH_CHILD_ERR_PRINCIPAL;
