@@ -17,7 +17,7 @@
 /* Lockstep: how long to wait for the answers before publishing the step
  * again (a datagram lost on a loaded host, not a dead participant). */
 #define SIM_REANNOUNCE_NS 1000000LL      /* first repeat of an unanswered step */
-#define SIM_REANNOUNCE_MAX_NS 32000000LL /* back-off cap */
+#define SIM_REANNOUNCE_MAX_NS 32000000LL /* back-off cap, unless the answers take longer */
 /* Lockstep: how often a late participant's process is looked at (alive,
  * stopped, gone: sim_lockstep_drop_dead). */
 #define SIM_LIVENESS_CHECK_NS 50000000LL
@@ -248,12 +248,16 @@ static void wait_for_answers(sim_app *app)
      * not a lost one, and the steps nobody answers must not pull the
      * typical time down (a 20 Hz rover host is due one step in 50) */
     int64_t last_pub = t0, again_ns = 4 * sim_lockstep_answer_ns(&app->w, app->w.step),
-            last_check = t0, answered_ns = -1;
+            last_check = t0, answered_ns = -1, again_max_ns;
     app->w.step_announced_ns = t0;
     if (again_ns < SIM_REANNOUNCE_NS)
         again_ns = SIM_REANNOUNCE_NS;
-    if (again_ns > SIM_REANNOUNCE_MAX_NS)
-        again_ns = SIM_REANNOUNCE_MAX_NS;
+    /* a repeat sends the step's every frame again, a fleet's megabytes to
+     * every host: repeated faster than the hosts answer, it is work added
+     * to the work they are behind with (10,000 robots on 4 hosts, each
+     * 0.1-1 s a step, were sent each step every 32 ms and never caught up).
+     * So the back-off stops at 32 ms or 4 typical answers, the longer */
+    again_max_ns = again_ns > SIM_REANNOUNCE_MAX_NS ? again_ns : SIM_REANNOUNCE_MAX_NS;
     while (!daemon_stop_requested()) {
         const int64_t now = rtloop_now_ns();
         const int starting = app->w.step == 0 && active_participants(&app->w) < app->expect;
@@ -286,8 +290,8 @@ static void wait_for_answers(sim_app *app)
             app->w.lockstep_reannounced += !starting && !app->w.paused;
             /* a lost message is found at the first repeat; a controller
              * that is only slow (a loaded machine) should not be flooded */
-            if (again_ns < SIM_REANNOUNCE_MAX_NS)
-                again_ns *= 2;
+            if (again_ns < again_max_ns)
+                again_ns = 2 * again_ns < again_max_ns ? 2 * again_ns : again_max_ns;
         }
         lcm_handle_timeout(app->w.d.lcm, 1); /* the re-announce timer's resolution */
         /* health goes on while waiting: a simulator held by a silent

@@ -305,6 +305,7 @@ static int setup(sim_app *app, int argc, char **argv, int *status)
         *status = 2;
         return SETUP_EXIT;
     }
+    app->w.d.fleet_robots = app->cfg.rovers;
     app->w.lockstep = app->w.d.lockstep;
     app->w.d.period_s = SIM_DT_S;
     app->w.d.clock_source = 1;

@@ -42,6 +42,7 @@ int fm_bus_open(fm_bus *bus, const fm_cfg *cfg, hang_watch *hw)
     for (k = 0; k <= FM_MAX; k++)
         bus->rover_ack[k] = -1;
     names_watch_init(&bus->names, "formation");
+    names_watch_fleet(&bus->names, cfg->robots); /* every robot's states and truth */
     bus->lcm = lcm_create(cfg->url);
     if (!bus->lcm) {
         fprintf(stderr, "formation: cannot open LCM at %s\n", cfg->url);

@@ -26,7 +26,7 @@
 #define PGRID_ERR_FULL (-2) /* pgrid_query: more results than the caller's cap */
 
 #ifndef PGRID_MAX_ITEMS
-#define PGRID_MAX_ITEMS 4096
+#define PGRID_MAX_ITEMS 10240
 #endif
 #ifndef PGRID_MAX_CELLS
 #define PGRID_MAX_CELLS 16384

@@ -32,7 +32,7 @@
 /* Capacities (VME style, fixed at build time): a fleet of at most
  * ROVER_FLEET_MAX_TEAMS teams of at most ROVER_TEAM_MAX robots, and at
  * most ROVER_WORLD_MAX_ROBOTS robots in all. */
-#define ROVER_FLEET_MAX_TEAMS 512
+#define ROVER_FLEET_MAX_TEAMS 1024
 /* Lanes in one row of teams (even: the pairs of CROSS stay in a row). */
 #define ROVER_FLEET_ROW_LANES 16
 

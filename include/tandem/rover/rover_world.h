@@ -33,7 +33,7 @@
  * batch, the TEAM and ROVERS_* messages) holds at most ROVER_TEAM_MAX,
  * the bound of those messages' arrays in lcmtypes/capacities. */
 #ifndef ROVER_WORLD_MAX_ROBOTS
-#define ROVER_WORLD_MAX_ROBOTS 4096 /* <= PGRID_MAX_ITEMS */
+#define ROVER_WORLD_MAX_ROBOTS 10240 /* <= PGRID_MAX_ITEMS */
 #endif
 #define ROVER_TEAM_MAX 128
 #define ROVER_WORLD_MAX_OBST 2048    /* a map's merged boxes (rover_map.h) */

@@ -220,6 +220,7 @@ int daemon_start(daemon *d)
         return DAEMON_ERR_AUTH;
     rx_set_drop(&d->rx, d->drop_rate, (uint64_t)d->drop_seed);
     names_watch_init(&d->names, d->name); /* before LCM's receive thread starts */
+    names_watch_fleet(&d->names, d->fleet_robots);
     d->lcm = lcm_create(d->lcm_url);
     if (!d->lcm) {
         fprintf(stderr, "%s: cannot open LCM at '%s'\n", d->name, d->lcm_url);
@@ -487,6 +488,14 @@ static int names_over(names_watch *w, int64_t now, long *rss)
         return 0;
     }
     return *rss - w->base_kb >= (w->slack_kb > 0 ? w->slack_kb : DAEMON_NAMES_SLACK_KB);
+}
+
+void names_watch_fleet(names_watch *w, int robots)
+{
+    const char *env = getenv(DAEMON_NAMES_SLACK_ENV);
+    if ((env && env[0]) || robots <= 0)
+        return;
+    w->slack_kb = DAEMON_NAMES_SLACK_KB + (long)robots * DAEMON_NAMES_SLACK_ROBOT_KB;
 }
 
 int names_watch_tick(names_watch *w, int64_t now, lcm_t **lcm, const char *url, lcm_move_fn move,

@@ -55,6 +55,15 @@
 #define DAEMON_NAMES_SLACK_MIN_KB 256L
 #define DAEMON_NAMES_SLACK_MAX_KB (4L * 1024L * 1024L)
 #define DAEMON_NAMES_CHECK_NS 100000000LL /* resident memory read at 10 Hz */
+/* A process that takes a fleet's frames (the simulator, a rover host: every
+ * ROVERS_* chunk of every robot reaches it) holds a fleet-sized burst of
+ * them in LCM's and glib's buffers, and ODE's arena grows with the bodies
+ * in contact: 10,000 robots grew the simulator by 28 MB and a host by
+ * 16-18 MB in their first simulated second, each past the 16 MB slack,
+ * and each renewal's new buffers set off the next (40 in 0.6 s). The
+ * slack grows by this much a robot (80 MB more at 10,000, over 3x what
+ * they grew), so a flood is still caught, later in proportion. */
+#define DAEMON_NAMES_SLACK_ROBOT_KB 8L
 /* The environment a launcher gives its daemons so that glib (2.74) frees
  * what it frees instead of keeping slices (daemon_defaults, docs/security.md §5). */
 #define DAEMON_GLIB_SLICE_ENV "G_SLICE"
@@ -125,6 +134,8 @@ typedef struct daemon {
     auth_bus bus;        /* this daemon's side of the secure bus (auth_bus.h):
                             its identity, keys, counts, publish buffer */
     names_watch names;   /* the bound on LCM's table of channel names */
+    int fleet_robots;    /* robots whose frames reach this process (names_watch_fleet):
+                            set before daemon_start, 0: none */
     lcm_renewer renew;   /* its renewals, made beside the loop (renew.h) */
 } daemon;
 
@@ -229,6 +240,10 @@ void names_watch_env(char **argv);
  * whose glib keeps freed slices (G_SLICE not always-malloc,
  * DAEMON_GLIB_SLICE_ENV) is told so on stderr. */
 void names_watch_init(names_watch *w, const char *who);
+/* The slack of a process that takes the frames of `robots` robots:
+ * DAEMON_NAMES_SLACK_KB + robots DAEMON_NAMES_SLACK_ROBOT_KB, unless
+ * DAEMON_NAMES_SLACK_ENV set it. */
+void names_watch_fleet(names_watch *w, int robots);
 /* At most every DAEMON_NAMES_CHECK_NS (now: rtloop_now_ns()): reads the
  * resident memory, renews *lcm (lcm_renew) once it is
  * DAEMON_NAMES_SLACK_KB above w's base, and says so on stderr. 1 when

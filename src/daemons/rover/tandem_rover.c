@@ -357,6 +357,8 @@ static int rover_layout(rover_daemon *rd)
     if (world_opts_fleet_layout(&rd->layout, &rd->fleet, &rd->wopt, rd->robots, rd->teams,
                                 rd->per_team, rd->team_goals, rd->formation, "tandem-rover") != 0)
         return 2;
+    /* --batch: every robot's frames reach this process */
+    rd->d.fleet_robots = rd->batch ? rd->robots : rd->id_hi - rd->id_lo + 1;
     if (rd->teams == 1)
         return 0;
     rover_fleet_members(&rd->fleet, rover_fleet_team_of(&rd->fleet, rd->id_lo), &lo, &hi);
