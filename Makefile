@@ -11,6 +11,7 @@
 #   make budget     memory, stack and cycle budgets of the cross builds
 #   make view       live 3D viewer in the browser (also: make run VIEW=1)
 #   make multihost-test  the cell on three network namespaces (root)
+#   make fleet-hosts     a fleet on rover hosts in network namespaces (root)
 #   make help       every target and variable
 #   make clean
 # SAN=1 builds into build/san with the sanitizers on, COV=1 into build/cov
@@ -115,7 +116,7 @@ DUNIT_BIN  := $(patsubst %.c,$(BIN)/%,$(notdir $(DUNIT_SRC)))
 IT_BIN     := $(patsubst %.c,$(BIN)/%,$(notdir $(IT_SRC)))
 BENCH_BIN  := $(patsubst %.c,$(BIN)/%,$(notdir $(BENCH_SRC)))
 
-.PHONY: all run test unit integration bench coverage spy clean deps deps-bench deps-cross jar fuzz multihost-test lint
+.PHONY: all run test unit integration bench coverage spy clean deps deps-bench deps-cross jar fuzz multihost-test fleet-hosts lint
 all: $(PROGS) $(UNIT_BIN) $(DUNIT_BIN) $(IT_BIN) $(TYPES_JAR)
 
 # make cross, make test-cross, make budget: the core on a 68040 and a Cortex-M4
@@ -234,6 +235,11 @@ fuzz: $(GEN_STAMP) $(GEN)/c/tandem_version.h
 multihost-test: deps $(PROGS)
 	@command -v ip >/dev/null || { apt-get update -qq && apt-get install -y -qq iproute2; }
 	@tools/multihost-test.sh
+
+# TEAMS (30: 300 robots), HOSTS (4), MAX_TIME (8), ONE=0: the hosts' run alone
+fleet-hosts: deps $(PROGS)
+	@command -v ip >/dev/null || { apt-get update -qq && apt-get install -y -qq iproute2; }
+	@tools/fleet-hosts.sh
 
 spy: $(TYPES_JAR)
 	@tools/spy.sh $(TYPES_JAR)

@@ -116,6 +116,24 @@ for row in "10 ode" "30 ode" "100 ode" "10 kinematic" "30 kinematic" "100 kinema
                n, far, d / (n * 4000) * 1e6, 4 / d, a, b }'
 done
 
+echo; echo "== fleet over hosts: 1,000 teams of 10 on 4 rover hosts, each its own network namespace (root; TEAMS=, HOSTS=) =="
+echo "  CPU of every process (simulator and scenario in one namespace, a host in each other, on a bridge)"
+echo "  by difference of a 1 s and a 3 s run; against the one-process rows above (they share this machine's cores)"
+hosts_cpu() { # sim_seconds -> CPU seconds of the whole run, or nothing (skipped, failed)
+    ONE=0 TEAMS=${TEAMS:-1000} HOSTS=${HOSTS:-4} MAX_TIME=$1 TANDEM_BIN=$bin tools/fleet-hosts.sh 2>&1 |
+        sed -n 's/.* simulated: CPU \([0-9.]*\) s.*/\1/p' | head -n 1
+}
+a=$(hosts_cpu 1)
+if [ -z "$a" ]; then
+    echo "  skipped (tools/fleet-hosts.sh: needs root for network namespaces, or the run failed)"
+else
+    b=$(hosts_cpu 3)
+    awk -v n=$((${TEAMS:-1000} * 10)) -v h=${HOSTS:-4} -v a="$a" -v b="${b:-0}" 'BEGIN {
+        d = b - a; if (d <= 0) d = 1e-9
+        printf "  %5d robots on %d hosts: %.2f us CPU per robot-step, %.3f sim-s per CPU-s (runs of 1 s: %.1f s CPU, 3 s: %.1f s)\n",
+               n, h, d / (n * 2000) * 1e6, 2 / d, a, b }'
+fi
+
 echo; echo "== bench_rovers: Pioneer team, all processes pinned to one core (taskset -c 0) =="
 if command -v taskset >/dev/null; then taskset -c 0 "$bin/bench_rovers" 20 "$bin"
 else echo "  (taskset not found: not pinned)"; "$bin/bench_rovers" 20 "$bin"; fi

@@ -59,6 +59,7 @@ help:
 	@echo '  make budget        memory, stack and cycle budgets of the cross builds'
 	@echo '  make fuzz          libFuzzer targets (clang), FUZZ_SECONDS=N each'
 	@echo '  make multihost-test  the cell on three network namespaces vs one host (root)'
+	@echo '  make fleet-hosts     a fleet on rover hosts in network namespaces vs one process (root)'
 	@echo '  make install       PREFIX=/usr/local: binaries, types jar, man pages, pkg-config file'
 	@echo '  make jar           build/lib/tandem_types.jar only'
 	@echo '  make tools-venv    build/venv-tools: Python packages of tandem-log2mcap and its tests'

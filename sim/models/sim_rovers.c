@@ -348,8 +348,15 @@ static void on_commands(const lcm_recv_buf_t *rb, const char *ch, void *u)
     (void)ch;
     if (!DAEMON_DECODE(&team->w->d.msgs, tandem_rovers_command_t, rb, &m))
         return;
-    for (i = 0; i < m.n; i++)
+    for (i = 0; i < m.n; i++) {
+        /* a rover host commands its own robots alone */
+        if (!auth_bus_sender_covers(&team->w->d.bus, m.cmd[i].robot)) {
+            team->w->d.msgs.rejected++;
+            team->rejected++;
+            continue;
+        }
         take_command(team, &m.cmd[i], -1);
+    }
     tandem_rovers_command_t_decode_cleanup(&m);
 }
 

@@ -126,6 +126,22 @@ static void stop_rover_2(pid_t scen, const char *truth, double stop_s)
     assert_int_equal(kill(r, SIGCONT), 0);
 }
 
+/* FNV-1a of a file's bytes, and their number in *size. */
+static uint64_t file_hash(const char *path, long *size)
+{
+    uint64_t hash = 1469598103934665603ULL;
+    FILE *f = fopen(path, "r");
+    int c;
+    assert_non_null(f);
+    *size = 0;
+    while ((c = fgetc(f)) != EOF) {
+        hash = (hash ^ (uint64_t)(unsigned char)c) * 1099511628211ULL;
+        (*size)++;
+    }
+    fclose(f);
+    return hash;
+}
+
 /* Runs the obstacles world for 20 s; returns truth.csv's size and hash.
  * stop_s > 0: robot 2's process is stopped that long in the run. */
 static uint64_t run_truth_hash(harness *h, const char *procs, const char *link, double stop_s,
@@ -153,10 +169,7 @@ static uint64_t run_truth_hash(harness *h, const char *procs, const char *link, 
                            "--out",
                            dir,
                            NULL };
-    uint64_t hash = 1469598103934665603ULL;
     pid_t p;
-    FILE *f;
-    int c;
     snprintf(dir, sizeof dir, "/tmp/it_formation_%s%s_%d", link, stop_s > 0.0 ? "_stop" : "",
              (int)getpid());
     snprintf(path, sizeof path, "%s/truth.csv", dir);
@@ -168,15 +181,39 @@ static uint64_t run_truth_hash(harness *h, const char *procs, const char *link, 
     /* 20 s is short of the goal: the run ends on its time limit and says
      * so with exit status 3 (a criterion failed) */
     assert_int_equal(harness_wait(h, p, 120.0), 3);
-    f = fopen(path, "r");
-    assert_non_null(f);
-    *size = 0;
-    while ((c = fgetc(f)) != EOF) {
-        hash = (hash ^ (uint64_t)(unsigned char)c) * 1099511628211ULL;
-        (*size)++;
-    }
-    fclose(f);
-    return hash;
+    return file_hash(path, size);
+}
+
+/* Four teams of 3 crossing in pairs (their paths meet at 5-7 s) for 8 s,
+ * their robots on `hosts` tandem-rover processes: truth.csv's hash. */
+static uint64_t fleet_truth_hash(harness *h, const char *hosts, long *size)
+{
+    char dir[64], path[128];
+    const char *argv[] = { "tandem-scenario",
+                           "formation",
+                           "--teams",
+                           "4",
+                           "--robots-per-team",
+                           "3",
+                           "--procs",
+                           "single",
+                           "--hosts",
+                           hosts,
+                           "--max-time",
+                           "8",
+                           "--lcm-url",
+                           h->url,
+                           "--out",
+                           dir,
+                           NULL };
+    pid_t p;
+    snprintf(dir, sizeof dir, "/tmp/it_formation_hosts%s_%d", hosts, (int)getpid());
+    snprintf(path, sizeof path, "%s/truth.csv", dir);
+    remove(path);
+    p = harness_spawn(h, argv);
+    assert_true(p > 0);
+    assert_int_equal(harness_wait(h, p, 120.0), 3); /* short of the goals */
+    return file_hash(path, size);
 }
 
 static void test_batched_link_is_the_same_run(void **state)
@@ -216,12 +253,32 @@ static void test_stopped_rover_is_waited_for(void **state)
     harness_close(&h);
 }
 
+/* The fleet's robots on one host or on three (whole teams each: 1, 1
+ * and 2 teams): the same run, mates on other hosts included. */
+static void test_hosts_are_the_same_run(void **state)
+{
+    harness h;
+    long size_one, size_three;
+    uint64_t one, three;
+    (void)state;
+    assert_int_equal(harness_open(&h, 10), 0);
+    one = fleet_truth_hash(&h, "1", &size_one);
+    three = fleet_truth_hash(&h, "3", &size_three);
+    printf("truth.csv: %ld bytes on one host, %ld on three; hashes %016llx %016llx\n", size_one,
+           size_three, (unsigned long long)one, (unsigned long long)three);
+    assert_true(size_one > 50000); /* 8 s of 20 Hz truth for 12 robots */
+    assert_int_equal(size_one, size_three);
+    assert_true(one == three);
+    harness_close(&h);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_kill_one_rover_mid_run),
         cmocka_unit_test(test_batched_link_is_the_same_run),
         cmocka_unit_test(test_stopped_rover_is_waited_for),
+        cmocka_unit_test(test_hosts_are_the_same_run),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

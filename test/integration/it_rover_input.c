@@ -67,18 +67,24 @@ static void on_truth(const lcm_recv_buf_t *rb, const char *ch, const tandem_rove
     w->have_truth = 1;
 }
 
-static void drive_robot2(harness *h, int64_t seq)
+/* A batch commanding robot `robot` at 0.3 m/s, signed by rover host
+ * first..last's role (a role file's principal, not the owner a holder of
+ * the master signs as). */
+static void drive_as(harness *h, int64_t seq, int robot, int first, int last)
 {
     tandem_rover_command_t c;
     tandem_rovers_command_t b;
     memset(&c, 0, sizeof c);
-    c.robot = 2;
+    c.robot = robot;
     c.v_mps = 0.3;
     memset(&b, 0, sizeof b);
     b.seq = seq;
     b.n = 1;
     b.cmd = &c;
+    auth_bus_sign_as_owner(&h->bus, 0);
+    auth_bus_identity(&h->bus, AUTH_ROLE_ROVER, first, last);
     AUTH_PUBLISH(tandem_rovers_command_t, &h->bus, h->lcm, "ROVERS_COMMAND", &b);
+    auth_bus_sign_as_owner(&h->bus, 1);
 }
 
 /* 7 rejections: junk x2, NaN, wrong channel, and a batch of three bad ones */
@@ -108,9 +114,9 @@ static void bad_commands(harness *h)
     AUTH_PUBLISH(tandem_rovers_command_t, &h->bus, h->lcm, "ROVERS_COMMAND", &b);
 }
 
-/* 6 rejections at the rover: junk batch, NaN encoder, NaN sonar, bad
+/* 7 rejections at the rover: junk batch, NaN encoder, NaN sonar, bad
  * team, junk team batch, a team batch's NaN element (its valid mate
- * element beside it is taken) */
+ * element beside it is taken), a valid element signed by another robot's principal */
 static void bad_frames(harness *h)
 {
     tandem_rover_sensors_t s;
@@ -154,6 +160,14 @@ static void bad_frames(harness *h)
     tb.n = 2;
     tb.team = tt;
     AUTH_PUBLISH(tandem_teams_msg_t, &h->bus, h->lcm, "TEAMS", &tb);
+    /* robot 1's valid team message signed as robot 2 alone: not
+     * its robot to speak for (auth_bus_sender_covers) */
+    tb.n = 1;
+    tt[0].step = 100001;
+    auth_bus_sign_as_owner(&h->bus, 0);
+    auth_bus_identity(&h->bus, AUTH_ROLE_ROVER, 2, 2);
+    AUTH_PUBLISH(tandem_teams_msg_t, &h->bus, h->lcm, "TEAMS", &tb);
+    auth_bus_sign_as_owner(&h->bus, 1);
 }
 
 static void test_bad_commands_counted_robot_stays(void **state)
@@ -185,7 +199,11 @@ static void test_bad_commands_counted_robot_stays(void **state)
     if (!getenv("NOBAD"))
         bad_commands(&h);
     for (i = 0; i < 25; i++) { /* 2.5 s of valid commands for robot 2 */
-        drive_robot2(&h, i);
+        drive_as(&h, i, 2, 2, 2);
+        /* robot 1 by robot 2's host: refused (auth_bus_sender_covers),
+         * counted, robot 1 stays */
+        if (!getenv("NOBAD"))
+            drive_as(&h, 1000 + i, 1, 2, 2);
         harness_pump(&h, 100);
     }
     harness_pump(&h, 1200); /* the next status */
@@ -193,7 +211,7 @@ static void test_bad_commands_counted_robot_stays(void **state)
         moved[i] = hypot(w.last[i][0] - w.first[i][0], w.last[i][1] - w.first[i][1]);
     printf("sim rejected %lld; robot 1 moved %.4f m, robot 2 (valid batched commands) %.3f m\n",
            w.sim_rejected, moved[0], moved[1]);
-    assert_true(w.sim_rejected >= 7);
+    assert_true(w.sim_rejected >= 7 + 25);
     assert_true(moved[0] < 0.005);
     assert_true(moved[1] > 0.2);
     tandem_sim_status_t_unsubscribe(h.lcm, s1);
@@ -222,7 +240,7 @@ static void test_bad_frames_counted_by_rover(void **state)
     bad_frames(&h);
     harness_pump(&h, 2200); /* at least one health message after */
     printf("rover rejected %lld\n", w.rover_rejected);
-    assert_true(w.rover_rejected >= 6);
+    assert_true(w.rover_rejected >= 7);
     tandem_health_t_unsubscribe(h.lcm, s2);
     harness_close(&h);
 }

@@ -548,12 +548,18 @@ static int restarts_step(fm_run *r)
     return rc;
 }
 
+/* A run that gains no simulated time for this long of wall time is
+ * stuck, however slow the machine (a hung child is found sooner, by
+ * --hang-s). Not a multiple of --max-time: 10,000 robots on one core run
+ * at 0.06x real time, and 20x the run plus a minute cut them off. */
+#define FM_STALL_WALL_S 300.0
+
 /* Until the goal, a limit, a lost lockstep or a failed restart. */
 static void lockstep_loop(fm_run *r, double wall0)
 {
     const fm_cfg *cfg = &r->cfg;
     fm_bus *bus = &r->bus;
-    double next_progress = wall0 + 5.0;
+    double next_progress = wall0 + 5.0, last_sim_s = -1.0, last_gain_wall = wall0;
     for (;;) {
         int fault_rc = 1, due, hung_rc;
         if (fm_bus_handle(bus, 50) < 0)
@@ -589,8 +595,14 @@ static void lockstep_loop(fm_run *r, double wall0)
             r->outcome.lost_lockstep = 1;
             break;
         }
-        if (scenario_wall_s() - wall0 > 20.0 * cfg->max_time_s + 60.0) {
-            fprintf(stderr, "formation: no progress; giving up\n");
+        if (bus->sim_time > last_sim_s) {
+            last_sim_s = bus->sim_time;
+            last_gain_wall = scenario_wall_s();
+        } else if (scenario_wall_s() - last_gain_wall > FM_STALL_WALL_S) {
+            fprintf(
+                stderr,
+                "formation: no simulated time gained for %.0f s of wall time at t = %.2f s; giving up\n",
+                FM_STALL_WALL_S, bus->sim_time);
             break;
         }
     }

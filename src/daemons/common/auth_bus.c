@@ -74,6 +74,14 @@ int auth_bus_roster_rovers(const auth_bus *bus)
     return bus->fleet.rovers > 0 ? bus->fleet.rovers : AUTH_ROSTER_ROVERS;
 }
 
+int auth_bus_sender_covers(const auth_bus *bus, long k)
+{
+    const auth_sender *s = &bus->last.sender;
+    if (!bus->secure || !bus->last.valid || bus->last.rc != AUTH_OK)
+        return !bus->secure;
+    return k >= s->first && k <= s->last;
+}
+
 auth_fleet auth_bus_fleet(const auth_bus *bus)
 {
     return bus->fleet.rovers > 0 ? bus->fleet : auth_fleet_clamped(AUTH_ROSTER_ROVERS, 1, 1);
@@ -504,6 +512,7 @@ int auth_bus_accept(auth_bus *bus, const lcm_recv_buf_t *rb, const char *channel
         memcpy(bus->last.mac, mark, AUTH_MAC_BYTES);
         bus->last.rc = rc;
         bus->last.trailer = t.len;
+        bus->last.sender = t.sender;
     }
     if (rc == AUTH_OK)
         body->data_size -= (uint32_t)bus->last.trailer;

@@ -123,6 +123,7 @@ typedef struct last_verdict {
     uint64_t channel_hash;
     uint8_t mac[AUTH_MAC_BYTES]; /* delivery_mark */
     size_t trailer;              /* its trailer's length when accepted */
+    auth_sender sender;          /* who signed it (when accepted) */
     int rc;
     int valid;
 } last_verdict;
@@ -188,6 +189,12 @@ void auth_bus_roster(auth_bus *bus, int rovers);
  * gives its tandem-rover --id A-B hosts. */
 void auth_bus_roster_fleet(auth_bus *bus, const auth_fleet *f);
 int auth_bus_roster_rovers(const auth_bus *bus);
+/* In a handler: 1 when the message being handled may speak for instance
+ * k (a rover id in a batch or a team message), that is when its signer's
+ * instances cover k, or when the bus is not secure. 0: a rover host
+ * speaking for another host's robot (a holder of the master signing as a
+ * channel's owner speaks as rover 1: sender_for). */
+int auth_bus_sender_covers(const auth_bus *bus, long k);
 /* The roster (auth_bus_roster_fleet; the default's rovers filled in). */
 auth_fleet auth_bus_fleet(const auth_bus *bus);
 /* A process standing in for several publishers (integration tests, the

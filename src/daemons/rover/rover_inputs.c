@@ -243,7 +243,10 @@ static void take_team(rover_daemon *rd, const tandem_team_msg_t *m)
 {
     teamq_item *q;
     rd->d.msgs.received++;
-    if (!team_msg_valid(m) || m->robot > rd->robots) {
+    /* a host speaks for its own robots alone (auth_bus_sender_covers):
+     * one that signs a message for another host's robot is refused */
+    if (!team_msg_valid(m) || m->robot > rd->robots ||
+        !auth_bus_sender_covers(&rd->d.bus, m->robot)) {
         rd->d.msgs.rejected++;
         return;
     }
