@@ -14,6 +14,9 @@
  *                                        role files DIR/<name>.key from the master
  *                                        PATH (made if missing); --revoke leaves
  *                                        NAME out of every file (its keys stop working)
+ *   tandem-keygen --cell DIR --rovers N --hosts H [--robots-per-team K] [PATH]
+ *                                        a fleet on H hosts of whole teams of K:
+ *                                        roverA-B.key for each (auth_fleet_host)
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,6 +25,7 @@
 #include <unistd.h>
 #include <sodium.h>
 #include "auth.h"
+#include "auth_acl.h"
 #include "auth_bus.h"
 #include "options.h"
 #include "version.h"
@@ -31,6 +35,7 @@
 typedef struct keygen_options {
     int rotate, show;
     int rovers;
+    int hosts, per_team; /* --hosts, --robots-per-team: the fleet's hosts (auth_fleet) */
     const char *cell;   /* --cell DIR */
     const char *revoke; /* --revoke NAME */
     const char *path;   /* the one PATH argument, NULL: the default */
@@ -59,9 +64,25 @@ static const option_entry keygen_table[] = {
       .type = OPTION_INT,
       OPTION_AT(keygen_options, rovers),
       .min = 0,
-      .max = AUTH_MAX_TAGS - AUTH_ROSTER_FIXED,
+      .max = AUTH_ACL_NUMBER_MAX,
       .meta = "N",
-      .help = "with --cell: rovers in the cell (default 8)" },
+      .help = "with --cell: rovers in the cell (default 8; at most 41 without --hosts)" },
+    { .name = "hosts",
+      .type = OPTION_INT,
+      OPTION_AT(keygen_options, hosts),
+      .min = 1,
+      .max = AUTH_FLEET_HOSTS_MAX,
+      .meta = "H",
+      .help = "with --cell: the rovers hosted by H processes of whole teams, roverA-B.key each (the "
+              "ranges tandem-scenario formation --hosts H gives them); --rovers may then be up to "
+              "65535, single rovers' files as far as a message's tags go" },
+    { .name = "robots-per-team",
+      .type = OPTION_INT,
+      OPTION_AT(keygen_options, per_team),
+      .min = 1,
+      .max = 65535,
+      .meta = "K",
+      .help = "with --hosts: a team's robots, the unit a host's range is made of" },
     { .name = "revoke",
       .type = OPTION_STRING,
       OPTION_AT(keygen_options, revoke),
@@ -139,7 +160,8 @@ static void peer_name(const auth_peer *p, char *out, size_t cap)
 }
 
 /* Writes DIR/<name>.key for every principal of the roster but the revoked one. */
-static int write_cell(const char *dir, const uint8_t *master, int rovers, const char *revoke)
+static int write_cell(const char *dir, const uint8_t *master, const auth_fleet *fleet,
+                      const char *revoke)
 {
     auth_peer roster[AUTH_MAX_TAGS], kept[AUTH_MAX_TAGS];
     auth_keyset *k = auth_keyset_new();
@@ -147,7 +169,7 @@ static int write_cell(const char *dir, const uint8_t *master, int rovers, const 
     int i, n, m = 0, rc = 0;
     if (!k)
         return 1;
-    n = auth_roster(rovers, roster, AUTH_MAX_TAGS);
+    n = auth_roster_fleet(fleet, roster, AUTH_MAX_TAGS);
     for (i = 0; i < n; i++) {
         peer_name(&roster[i], name, sizeof name);
         if (!revoke || strcmp(revoke, name) != 0)
@@ -178,6 +200,7 @@ static int write_cell(const char *dir, const uint8_t *master, int rovers, const 
 
 static int make_cell(const keygen_options *o)
 {
+    const auth_fleet fleet = auth_fleet_clamped(o->rovers, o->hosts, o->per_team);
     uint8_t *master;
     char why[1200];
     int rc;
@@ -195,7 +218,7 @@ static int make_cell(const keygen_options *o)
     if (rc != AUTH_OK)
         fprintf(stderr, PROG ": %s\n", why);
     else
-        rc = write_cell(o->cell, master, o->rovers, o->revoke);
+        rc = write_cell(o->cell, master, &fleet, o->revoke);
     sodium_free(master);
     if (rc == 0 && !o->revoke)
         printf("cell key set in %s (master %s): give each daemon --key-file %s/<name>.key\n",
@@ -232,7 +255,7 @@ static int make(const char *path, int rotate)
 int main(int argc, char **argv)
 {
     char def[1024] = "~/.config/tandem/bus.key", usage[1400];
-    keygen_options o = { 0, 0, AUTH_ROSTER_ROVERS, NULL, NULL, NULL };
+    keygen_options o = { 0, 0, AUTH_ROSTER_ROVERS, 1, 1, NULL, NULL, NULL };
     const option_program prog = {
         .name = PROG,
         .usage = usage,
@@ -250,7 +273,8 @@ int main(int argc, char **argv)
     auth_bus_default_key_path(def, sizeof def);
     snprintf(
         usage, sizeof usage,
-        "usage: tandem-keygen [--rotate | --show | --cell DIR [--rovers N] [--revoke NAME]] [PATH]\n"
+        "usage: tandem-keygen [--rotate | --show | --cell DIR [--rovers N] [--hosts H "
+        "[--robots-per-team K]] [--revoke NAME]] [PATH]\n"
         "Makes the master key of a tandem cell: 32 random bytes (libsodium), mode 0600;\n"
         "with --cell, the role files of the cell's daemons and tools from it.\n"
         "PATH defaults to %s.\n\n",
@@ -268,8 +292,9 @@ int main(int argc, char **argv)
         }
         o.path = def;
     }
-    if (o.rovers < 0 || o.rovers > AUTH_MAX_TAGS - AUTH_ROSTER_FIXED || (o.revoke && !o.cell)) {
-        fprintf(stderr, PROG ": --rovers 0..%d; --revoke needs --cell\n",
+    if (o.rovers < 0 || (o.hosts <= 1 && o.rovers > AUTH_MAX_TAGS - AUTH_ROSTER_FIXED) ||
+        (o.revoke && !o.cell)) {
+        fprintf(stderr, PROG ": --rovers 0..%d (more with --hosts); --revoke needs --cell\n",
                 AUTH_MAX_TAGS - AUTH_ROSTER_FIXED);
         return OPTIONS_EXIT_BAD_ARGS;
     }
