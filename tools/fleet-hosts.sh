@@ -28,44 +28,14 @@ seed=${SEED:-1}
 one_too=${ONE:-1}
 tag=tfh$$
 out=$(mktemp -d)
-if [ "$(id -u)" != 0 ] || ! ip netns add "${tag}probe" 2>/dev/null; then
-    echo "fleet-hosts: SKIPPED (needs root for network namespaces)"
-    exit 0
-fi
-ip netns del "${tag}probe"
+. "$here/tools/netns-lan.sh"
+netns_root_or_skip fleet-hosts
 
 names=(sim)
 for h in $(seq 1 "$hosts"); do names+=("h$h"); done
-cleanup() {
-    local n
-    for n in "${names[@]}" all hub; do
-        ip netns pids "$tag$n" 2>/dev/null | xargs -r kill -KILL 2>/dev/null
-        ip netns del "$tag$n" 2>/dev/null
-    done
-}
-trap cleanup EXIT
-
-ns() { local n=$1; shift; ip netns exec "$tag$n" "$@"; }
-
-# the one-process run's namespace: loopback only
-ip netns add "${tag}all"
-ns all ip link set lo up
-ns all ip route add 224.0.0.0/4 dev lo
-# the LAN: the simulator's namespace and one per host, each eth0 on br0
-ip netns add "${tag}hub"
-ns hub ip link add br0 type bridge mcast_snooping 0
-ns hub ip link set br0 up
-i=1
-for n in "${names[@]}"; do
-    ip netns add "$tag$n"
-    ns "$n" ip link set lo up
-    ip link add "${tag}v$i" netns "${tag}hub" type veth peer name eth0 netns "$tag$n"
-    ns hub ip link set "${tag}v$i" master br0 up
-    ns "$n" ip addr add "10.78.0.$((10 + i))/24" dev eth0
-    ns "$n" ip link set eth0 up
-    ns "$n" ip route add 224.0.0.0/4 dev eth0
-    i=$((i + 1))
-done
+trap 'netns_cleanup "${names[@]}" all hub' EXIT
+netns_loopback all             # the one-process run
+netns_lan 10.78.0 "${names[@]}" # the simulator's namespace and one per host
 
 # run NS URL DIR [ARGS...]: one formation run of the fleet; prints
 # "cpu_s wall_s" (every process of the run)

@@ -17,49 +17,11 @@ bin=${TANDEM_BIN:-$here/build/bin}
 steps=${MULTIHOST_STEPS:-15000}
 tag=tmh$$
 out=$(mktemp -d)
-if [ "$(id -u)" != 0 ] || ! ip netns add "${tag}probe" 2>/dev/null; then
-    echo "multihost-test: SKIPPED (needs root for network namespaces)"
-    exit 0
-fi
-ip netns del "${tag}probe"
+. "$here/tools/netns-lan.sh"
+netns_root_or_skip multihost-test
 
 hosts=(sim arms rovers)
-cleanup() {
-    local h
-    for h in "${hosts[@]}" all hub; do
-        ip netns pids "$tag$h" 2>/dev/null | xargs -r kill -KILL 2>/dev/null
-        ip netns del "$tag$h" 2>/dev/null
-    done
-}
-trap cleanup EXIT
-
-# ns NAME CMD...: run in namespace NAME
-ns() { local n=$1; shift; ip netns exec "$tag$n" "$@"; }
-
-# One namespace, loopback only.
-make_single() {
-    ip netns add "${tag}all"
-    ns all ip link set lo up
-    ns all ip route add 224.0.0.0/4 dev lo
-}
-
-# Three namespaces, each with eth0 on a bridge in the hub namespace.
-make_lan() {
-    local i=1 h
-    ip netns add "${tag}hub"
-    ns hub ip link add br0 type bridge mcast_snooping 0
-    ns hub ip link set br0 up
-    for h in "${hosts[@]}"; do
-        ip netns add "$tag$h"
-        ns "$h" ip link set lo up
-        ip link add "${tag}v$i" netns "${tag}hub" type veth peer name eth0 netns "$tag$h"
-        ns hub ip link set "${tag}v$i" master br0 up
-        ns "$h" ip addr add "10.77.0.$((10 + i))/24" dev eth0
-        ns "$h" ip link set eth0 up
-        ns "$h" ip route add 224.0.0.0/4 dev eth0
-        i=$((i + 1))
-    done
-}
+trap 'netns_cleanup "${hosts[@]}" all hub' EXIT
 
 # run_cell URL NS_SIM NS_ARMS NS_ROVERS LOGDIR: the cell, until the
 # simulator stops at $steps; prints its state hash.
@@ -86,8 +48,8 @@ run_cell() {
 # one bus key for the whole cell, as make run would make (tandem-keygen)
 export TANDEM_KEY_FILE=$out/bus.key
 "$bin/tandem-keygen" "$TANDEM_KEY_FILE" >/dev/null || { echo "multihost-test: cannot make a bus key"; exit 1; }
-make_single
-make_lan
+netns_loopback all          # one host, loopback only
+netns_lan 10.77.0 "${hosts[@]}" # three hosts on a bridge
 t0=$SECONDS
 one=$(run_cell "udpm://239.255.76.67:7667?ttl=0" all all all "$out/one")
 t1=$SECONDS

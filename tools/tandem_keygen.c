@@ -36,9 +36,9 @@ typedef struct keygen_options {
     int rotate, show;
     int rovers;
     int hosts, per_team; /* --hosts, --robots-per-team: the fleet's hosts (auth_fleet) */
-    const char *cell;   /* --cell DIR */
-    const char *revoke; /* --revoke NAME */
-    const char *path;   /* the one PATH argument, NULL: the default */
+    const char *cell;    /* --cell DIR */
+    const char *revoke;  /* --revoke NAME */
+    const char *path;    /* the one PATH argument, NULL: the default */
 } keygen_options;
 
 static const option_entry keygen_table[] = {
@@ -73,9 +73,10 @@ static const option_entry keygen_table[] = {
       .min = 1,
       .max = AUTH_FLEET_HOSTS_MAX,
       .meta = "H",
-      .help = "with --cell: the rovers hosted by H processes of whole teams, roverA-B.key each (the "
-              "ranges tandem-scenario formation --hosts H gives them); --rovers may then be up to "
-              "65535, single rovers' files as far as a message's tags go" },
+      .help =
+          "with --cell: the rovers hosted by H processes of whole teams, roverA-B.key each (the "
+          "ranges tandem-scenario formation --hosts H gives them); --rovers may then be up to "
+          "65535, single rovers' files as far as a message's tags go" },
     { .name = "robots-per-team",
       .type = OPTION_INT,
       OPTION_AT(keygen_options, per_team),
@@ -271,14 +272,13 @@ int main(int argc, char **argv)
     if (version_requested(argc, argv, PROG))
         return 0;
     auth_bus_default_key_path(def, sizeof def);
-    snprintf(
-        usage, sizeof usage,
-        "usage: tandem-keygen [--rotate | --show | --cell DIR [--rovers N] [--hosts H "
-        "[--robots-per-team K]] [--revoke NAME]] [PATH]\n"
-        "Makes the master key of a tandem cell: 32 random bytes (libsodium), mode 0600;\n"
-        "with --cell, the role files of the cell's daemons and tools from it.\n"
-        "PATH defaults to %s.\n\n",
-        def);
+    snprintf(usage, sizeof usage,
+             "usage: tandem-keygen [--rotate | --show | --cell DIR [--rovers N] [--hosts H "
+             "[--robots-per-team K]] [--revoke NAME]] [PATH]\n"
+             "Makes the master key of a tandem cell: 32 random bytes (libsodium), mode 0600;\n"
+             "with --cell, the role files of the cell's daemons and tools from it.\n"
+             "PATH defaults to %s.\n\n",
+             def);
     if ((rc = options_parse(&prog, argc, argv, 1)) < 0)
         return options_exit_status(rc);
     if (o.rotate && o.show) {

@@ -691,6 +691,54 @@ static void test_checked_subscriptions_move(void **state)
 }
 
 /* A child's command line names its principal: what its role file is made for. */
+/* A fleet's hosts (auth_fleet_host): for fleets of every size, team size
+ * and host count, the ranges are consecutive, cover 1..N once, start and
+ * end on team boundaries (the last at N), every host has at least one
+ * team and no two differ by more than one; the roster lists each range of
+ * more than one robot once, before the single rovers. */
+static void test_fleet_hosts_partition_the_teams(void **state)
+{
+    static const int rovers[] = { 1, 2, 3, 12, 30, 300, 1000, 9999, 10000 };
+    static const int units[] = { 1, 3, 10 };
+    size_t a, b;
+    (void)state;
+    for (a = 0; a < sizeof rovers / sizeof rovers[0]; a++)
+        for (b = 0; b < sizeof units / sizeof units[0]; b++) {
+            int hosts;
+            for (hosts = 1; hosts <= AUTH_FLEET_HOSTS_MAX + 2; hosts++) {
+                const auth_fleet f = auth_fleet_clamped(rovers[a], hosts, units[b]);
+                const int n_units = (rovers[a] + f.unit - 1) / f.unit;
+                int h, first, last, next = 1, least = 1 << 30, most = 0;
+                assert_true(f.hosts >= 1 && f.hosts <= hosts && f.hosts <= n_units);
+                for (h = 0; auth_fleet_host(&f, h, &first, &last) == 0; h++) {
+                    const int teams = (last - first) / f.unit + 1;
+                    assert_int_equal(first, next);
+                    assert_true(last >= first);
+                    assert_int_equal((first - 1) % f.unit, 0);
+                    assert_true(last == rovers[a] || last % f.unit == 0);
+                    least = teams < least ? teams : least;
+                    most = teams > most ? teams : most;
+                    next = last + 1;
+                }
+                assert_int_equal(h, f.hosts);
+                assert_int_equal(next, rovers[a] + 1);
+                assert_true(most - least <= 1);
+            }
+        }
+    {
+        const auth_fleet f = auth_fleet_clamped(10000, 4, 10);
+        auth_peer roster[AUTH_MAX_TAGS];
+        const int n = auth_roster_fleet(&f, roster, AUTH_MAX_TAGS);
+        assert_int_equal(n, AUTH_MAX_TAGS);
+        assert_int_equal(roster[6].first, 1);
+        assert_int_equal(roster[6].last, 2500);
+        assert_int_equal(roster[9].first, 7501);
+        assert_int_equal(roster[9].last, 10000);
+        assert_int_equal(roster[10].first, 1); /* then the single rovers */
+        assert_int_equal(roster[10].last, 1);
+    }
+}
+
 static void test_child_principal(void **state)
 {
     const char *const sim[] = { "tandem-sim", "--rovers", "3", NULL };
@@ -741,6 +789,7 @@ int main(void)
         cmocka_unit_test(test_receive_path_counts_every_refusal),
         cmocka_unit_test(test_checked_subscriptions_move),
         cmocka_unit_test(test_child_principal),
+        cmocka_unit_test(test_fleet_hosts_partition_the_teams),
     };
     if (auth_init() != 0)
         return 1;

@@ -216,6 +216,18 @@ static uint64_t fleet_truth_hash(harness *h, const char *hosts, long *size)
     return file_hash(path, size);
 }
 
+/* Two runs' truth.csv (their sizes and hashes, a and b: what each was)
+ * are the same and at least min_size bytes. */
+static void assert_same_truth(const char *a, long size_a, uint64_t hash_a, const char *b,
+                              long size_b, uint64_t hash_b, long min_size)
+{
+    printf("truth.csv: %ld bytes %s, %ld %s; hashes %016llx %016llx\n", size_a, a, size_b, b,
+           (unsigned long long)hash_a, (unsigned long long)hash_b);
+    assert_true(size_a > min_size);
+    assert_int_equal(size_a, size_b);
+    assert_true(hash_a == hash_b);
+}
+
 static void test_batched_link_is_the_same_run(void **state)
 {
     harness h;
@@ -225,11 +237,8 @@ static void test_batched_link_is_the_same_run(void **state)
     assert_int_equal(harness_open(&h, 8), 0);
     robot = run_truth_hash(&h, "separate", "robot", 0.0, &size_robot);
     batch = run_truth_hash(&h, "single", "batch", 0.0, &size_batch);
-    printf("truth.csv: %ld bytes per robot link, %ld batched; hashes %016llx %016llx\n", size_robot,
-           size_batch, (unsigned long long)robot, (unsigned long long)batch);
-    assert_true(size_robot > 10000); /* 20 s of 20 Hz truth for 3 robots */
-    assert_int_equal(size_robot, size_batch);
-    assert_true(robot == batch);
+    /* 20 s of 20 Hz truth for 3 robots: over 10,000 bytes */
+    assert_same_truth("per robot link", size_robot, robot, "batched", size_batch, batch, 10000);
     harness_close(&h);
 }
 
@@ -244,12 +253,8 @@ static void test_stopped_rover_is_waited_for(void **state)
     assert_int_equal(harness_open(&h, 9), 0);
     plain = run_truth_hash(&h, "separate", "robot", 0.0, &size_plain);
     stopped = run_truth_hash(&h, "separate", "robot", 1.5, &size_stop);
-    printf(
-        "truth.csv: %ld bytes undisturbed, %ld with robot 2 stopped 1.5 s; hashes %016llx %016llx\n",
-        size_plain, size_stop, (unsigned long long)plain, (unsigned long long)stopped);
-    assert_true(size_plain > 10000);
-    assert_int_equal(size_plain, size_stop);
-    assert_true(plain == stopped);
+    assert_same_truth("undisturbed", size_plain, plain, "with robot 2 stopped 1.5 s", size_stop,
+                      stopped, 10000);
     harness_close(&h);
 }
 
@@ -264,11 +269,8 @@ static void test_hosts_are_the_same_run(void **state)
     assert_int_equal(harness_open(&h, 10), 0);
     one = fleet_truth_hash(&h, "1", &size_one);
     three = fleet_truth_hash(&h, "3", &size_three);
-    printf("truth.csv: %ld bytes on one host, %ld on three; hashes %016llx %016llx\n", size_one,
-           size_three, (unsigned long long)one, (unsigned long long)three);
-    assert_true(size_one > 50000); /* 8 s of 20 Hz truth for 12 robots */
-    assert_int_equal(size_one, size_three);
-    assert_true(one == three);
+    /* 8 s of 20 Hz truth for 12 robots: over 50,000 bytes */
+    assert_same_truth("on one host", size_one, one, "on three", size_three, three, 50000);
     harness_close(&h);
 }
 
