@@ -5,9 +5,14 @@
 #include <stddef.h>
 #include <setjmp.h>
 #include <cmocka.h>
+#include <signal.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
 #include <lcm/lcm.h>
 #include "hang_watch.h"
+#include "peer.h"
 
 /* Silent for hang_s after speaking: hung; a word resets the clock. */
 static void test_silent_after_speaking_is_hung(void **state)
@@ -98,6 +103,72 @@ static void test_look_forgives_own_absence(void **state)
     lcm_destroy(lcm);
 }
 
+/* A child process that sleeps (sleep_s > 0) or spins for -sleep_s s of
+ * CPU, then sleeps until killed. */
+static pid_t child(double sleep_s)
+{
+    const pid_t p = fork();
+    assert_true(p >= 0);
+    if (p == 0) {
+        /* gone by itself if a failed assertion leaves it unreaped, and
+         * holding no pipe of the caller's open meanwhile */
+        alarm(30);
+        close(1);
+        close(2);
+        if (sleep_s < 0.0) {
+            const clock_t until = clock() + (clock_t)(-sleep_s * CLOCKS_PER_SEC);
+            while (clock() < until) {
+            }
+        }
+        for (;;)
+            pause();
+    }
+    return p;
+}
+
+static void reap(pid_t p)
+{
+    kill(p, SIGKILL);
+    waitpid(p, NULL, 0);
+}
+
+/* With its process known, silence is not enough: a child that got no CPU
+ * (a loaded machine; here one asleep) is hung only after
+ * HANG_WATCH_STARVED_X times the limit; one that ran for more than a
+ * quarter of hang_s since it spoke, or is stopped, after the limit. */
+static void test_slow_is_not_hung(void **state)
+{
+    const double hang_s = 0.4;
+    const double lim = HANG_WATCH_START_S + hang_s; /* never spoke */
+    hang_watch w;
+    pid_t sleeper = child(1.0), spinner = child(-0.3), stopped = child(1.0);
+    int ks, kr, kt;
+    (void)state;
+    hang_watch_init(&w, hang_s);
+    ks = hang_watch_add(&w, "sleeper", 0.0);
+    kr = hang_watch_add(&w, "spinner", 0.0);
+    kt = hang_watch_add(&w, "stopped", 0.0);
+    hang_watch_pid(&w, ks, sleeper);
+    hang_watch_pid(&w, kr, spinner);
+    hang_watch_pid(&w, kt, stopped);
+    assert_int_equal(kill(stopped, SIGSTOP), 0);
+    { /* until the spinner has had its CPU (a loaded machine: up to 20 s) */
+        const struct timespec ts = { 0, 20000000L };
+        int i;
+        for (i = 0; i < 1000 && peer_cpu_ns(spinner) < 250000000LL; i++)
+            nanosleep(&ts, NULL);
+    }
+    assert_false(hang_watch_hung(&w, ks, lim + 0.1));
+    assert_false(hang_watch_hung(&w, ks, HANG_WATCH_STARVED_X * lim - 0.1));
+    assert_true(hang_watch_hung(&w, ks, HANG_WATCH_STARVED_X * lim + 0.1));
+    assert_false(hang_watch_hung(&w, kr, lim - 0.1));
+    assert_true(hang_watch_hung(&w, kr, lim + 0.1));
+    assert_true(hang_watch_hung(&w, kt, lim + 0.1));
+    reap(sleeper);
+    reap(spinner);
+    reap(stopped);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -106,6 +177,7 @@ int main(void)
         cmocka_unit_test(test_names_down_and_off),
         cmocka_unit_test(test_bad_names),
         cmocka_unit_test(test_look_forgives_own_absence),
+        cmocka_unit_test(test_slow_is_not_hung),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -201,8 +201,10 @@ static int daemons_start(carry_daemons *d, const carry_cfg *c)
         }
     }
     hang_watch_init(&d->hw, c->hang_s);
-    for (k = 0; k < CARRY_DAEMONS; k++)
+    for (k = 0; k < CARRY_DAEMONS; k++) {
         hang_watch_add(&d->hw, carry_daemon_lock_name[k], scenario_wall_s());
+        hang_watch_pid(&d->hw, k, d->pid[k]);
+    }
     return 0;
 }
 
@@ -235,6 +237,7 @@ static int restart_daemon(carry_state *r, carry_daemons *d, int k, const char *l
     if (k == 1 || k == 2)
         r->arm_down[k - 1] = 0;
     hang_watch_started(&d->hw, k, scenario_wall_s());
+    hang_watch_pid(&d->hw, k, d->pid[k]);
     r->hold_since_s = scenario_wall_s();
     return 0;
 }

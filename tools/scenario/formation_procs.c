@@ -267,6 +267,7 @@ static int restart_rover(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, int
         return FM_ERR_FAULT;
     scenario_leave_end(&pr->leave[k]);
     hang_watch_started(&pr->hw, k, scenario_wall_s());
+    hang_watch_pid(&pr->hw, k, pr->rover_pid[k]);
     pr->hold_since_s = scenario_wall_s();
     return 0;
 }
@@ -415,6 +416,9 @@ void fm_hang_start(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus)
             hang_watch_add(&pr->hw, name, now);
         }
     }
+    /* slot 0 the simulator (started first), slot k rover process k */
+    for (k = 0; k < pr->hw.n; k++)
+        hang_watch_pid(&pr->hw, k, k == 0 ? pr->pid[0] : pr->rover_pid[k]);
     hang_watch_subscribe(&pr->hw, bus->auth, bus->lcm);
 }
 

@@ -3,6 +3,7 @@
 #include <sys/select.h>
 #include "hang_watch.h"
 #include "auth_bus.h"
+#include "peer.h"
 #include "scenario.h"
 #include "tandem_health_t.h"
 
@@ -33,6 +34,16 @@ void hang_watch_started(hang_watch *w, int k, double now_s)
     w->spoken[k] = 0;
 }
 
+void hang_watch_pid(hang_watch *w, int k, int pid)
+{
+    if (k < 0 || k >= HANG_WATCH_MAX)
+        return;
+    w->pid[k] = pid > 0 ? pid : 0;
+    w->cpu_ns[k] = pid > 0 ? peer_cpu_ns(pid) : -1;
+    w->cpu_for_s[k] = w->last_s[k];
+    w->cpu_read_s[k] = w->last_s[k];
+}
+
 void hang_watch_down(hang_watch *w, int k)
 {
     if (k >= 0 && k < HANG_WATCH_MAX)
@@ -56,8 +67,34 @@ double hang_watch_silent_s(const hang_watch *w, int k, double now_s)
 
 int hang_watch_hung(const hang_watch *w, int k, double now_s)
 {
-    return w->hang_s > 0.0 && k >= 0 && k < w->n && w->on[k] &&
-           hang_watch_silent_s(w, k, now_s) > w->hang_s + (w->spoken[k] ? 0.0 : HANG_WATCH_START_S);
+    double limit, silent;
+    long long cpu;
+    if (w->hang_s <= 0.0 || k < 0 || k >= w->n || !w->on[k])
+        return 0;
+    limit = w->hang_s + (w->spoken[k] ? 0.0 : HANG_WATCH_START_S);
+    silent = hang_watch_silent_s(w, k, now_s);
+    if (silent <= limit)
+        return 0;
+    if (w->pid[k] <= 0 || w->cpu_ns[k] < 0 || peer_proc_of(w->pid[k]) == PEER_PROC_STOPPED)
+        return 1; /* not known, or stopped: silence decides */
+    cpu = peer_cpu_ns(w->pid[k]);
+    /* it ran and said nothing (hangs), or got no CPU for far too long */
+    return cpu < 0 || (double)(cpu - w->cpu_ns[k]) * 1e-9 > 0.25 * w->hang_s ||
+           silent > HANG_WATCH_STARVED_X * limit;
+}
+
+/* Each child that spoke since its CPU time was read: read again (at most
+ * once in HANG_WATCH_CPU_EVERY_S), the baseline of hang_watch_hung. */
+static void note_cpu(hang_watch *w, double now_s)
+{
+    int k;
+    for (k = 0; k < w->n; k++)
+        if (w->pid[k] > 0 && w->last_s[k] > w->cpu_for_s[k] &&
+            now_s - w->cpu_read_s[k] >= HANG_WATCH_CPU_EVERY_S) {
+            w->cpu_ns[k] = peer_cpu_ns(w->pid[k]);
+            w->cpu_for_s[k] = w->last_s[k];
+            w->cpu_read_s[k] = now_s;
+        }
 }
 
 int hang_watch_look(hang_watch *w, lcm_t *lcm, double now_s)
@@ -70,6 +107,7 @@ int hang_watch_look(hang_watch *w, lcm_t *lcm, double now_s)
         for (k = 0; k < w->n; k++)
             w->last_s[k] += now_s - w->looked_s;
     w->looked_s = now_s;
+    note_cpu(w, now_s);
     FD_ZERO(&fds);
     FD_SET(fd, &fds);
     return select(fd + 1, &fds, NULL, NULL, &tv) == 0;
