@@ -16,6 +16,7 @@
 #include "formation_scen.h"
 #include "shared_run.h"
 #include "host_netns.h"
+#include "proc.h"
 #include "auth.h"
 #include "auth_bus.h"
 #include "daemon.h"
@@ -54,9 +55,11 @@ static pid_t spawn_in(fm_procs *pr, const fm_cfg *cfg, const fm_bus *bus, char *
     /* the child's own role file, never this process's master */
     int keyed;
     pr->keys.parent = bus->auth; /* fm_run_reset zeroed it: the roster of this run's bus */
+    const pid_t self = getpid();
     keyed = auth_child_key(&pr->keys, (const char *const *)argv, key, sizeof key);
     pid_t p = keyed < 0 ? -1 : fork();
     if (p == 0) {
+        proc_die_with_parent(self);
         char path[700];
         int fd;
         setenv("LCM_DEFAULT_URL", cfg->url, 1);

@@ -12,6 +12,9 @@
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
 
 static double mono_s(void)
 {
@@ -50,9 +53,19 @@ void proc_init(proc_set *p, const auth_bus *bus, const char *bin_dir)
         snprintf(p->bin, sizeof p->bin, "build/bin");
 }
 
+void proc_die_with_parent(pid_t parent)
+{
+#ifdef __linux__
+    (void)prctl(PR_SET_PDEATHSIG, SIGTERM);
+#endif
+    if (getppid() != parent) /* it died before the signal was asked for */
+        _exit(127);
+}
+
 pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url, const char *out_path,
                  const char *err_path)
 {
+    const pid_t self = getpid();
     int fds[2] = { -1, -1 };
     pid_t pid;
     char path[512], key[600];
@@ -69,6 +82,7 @@ pid_t proc_spawn(proc_set *p, const char *const argv[], const char *lcm_url, con
     if (pid < 0)
         return PROC_ERR_SYS;
     if (pid == 0) {
+        proc_die_with_parent(self);
         if (out_path) {
             int fd = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
             if (fd >= 0) {

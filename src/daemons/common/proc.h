@@ -28,6 +28,12 @@ typedef struct proc_set {
  * bus: this process's, whose roster the children's role files list (NULL:
  * the default roster; auth_child.h). */
 void proc_init(proc_set *p, const struct auth_bus *bus, const char *bin_dir);
+/* In a child before it execs, with the pid of the parent that forked it:
+ * the child gets SIGTERM when that parent dies (Linux's parent-death
+ * signal; elsewhere nothing), so a launcher killed outright (a test's
+ * timeout, SIGKILL) leaves no daemons running on without it; a child whose
+ * parent is already gone exits. */
+void proc_die_with_parent(pid_t parent);
 /* argv[0] is a program name under bin (NULL-terminated argv). The child
  * gets LCM_DEFAULT_URL = lcm_url (if not NULL) and, when this process
  * holds the cell's master, the role file of the principal argv names in
