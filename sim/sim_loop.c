@@ -6,6 +6,7 @@
  * time it steps on the wall clock.
  */
 #include "sim_app.h"
+#include "rover_batch.h"
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -18,8 +19,6 @@
  * again (a datagram lost on a loaded host, not a dead participant). */
 #define SIM_REANNOUNCE_NS 1000000LL      /* first repeat of an unanswered step */
 #define SIM_REANNOUNCE_MAX_NS 32000000LL /* back-off cap, unless a fleet's answers take longer */
-/* a fleet whose frames of a step are more than one batch (BATCH_MAX) */
-#define SIM_FLEET_FRAMES 128
 /* Lockstep: how often a late participant's process is looked at (alive,
  * stopped, gone: sim_lockstep_drop_dead). */
 #define SIM_LIVENESS_CHECK_NS 50000000LL
@@ -261,12 +260,12 @@ static void wait_for_answers(sim_app *app)
      * every host: repeated faster than the hosts answer, it is work added
      * to the work they are behind with (10,000 robots on 4 hosts, each
      * 0.1-1 s a step, were sent each step every 32 ms and never caught up).
-     * So for a fleet of more than one batch of frames (SIM_FLEET_FRAMES),
+     * So for a fleet of more than one batch of frames (BATCH_MAX robots),
      * where a typical answer itself takes longer than the 32 ms cap, the
      * back-off goes on to 4 of them while answers are due; a cell and a
      * team (a lost datagram, 10 % loss; a flood's handle renewals) keep
      * the short schedule as it was */
-    if (app->cfg.rovers > SIM_FLEET_FRAMES && answer_ns > SIM_REANNOUNCE_MAX_NS)
+    if (app->cfg.rovers > BATCH_MAX && answer_ns > SIM_REANNOUNCE_MAX_NS)
         again_max_ns = 4 * answer_ns;
     while (!daemon_stop_requested()) {
         const int64_t now = rtloop_now_ns();

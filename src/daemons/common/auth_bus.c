@@ -69,11 +69,6 @@ void auth_bus_roster_fleet(auth_bus *bus, const auth_fleet *f)
             bus->ring.set[i]->fleet = auth_bus_fleet(bus);
 }
 
-int auth_bus_roster_rovers(const auth_bus *bus)
-{
-    return bus->fleet.rovers > 0 ? bus->fleet.rovers : AUTH_ROSTER_ROVERS;
-}
-
 int auth_bus_sender_covers(const auth_bus *bus, long k)
 {
     const auth_sender *s = &bus->last.sender;

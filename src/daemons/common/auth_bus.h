@@ -188,7 +188,6 @@ void auth_bus_roster(auth_bus *bus, int rovers);
  * whole teams of f->unit robots (auth_fleet_host): the ranges a launcher
  * gives its tandem-rover --id A-B hosts. */
 void auth_bus_roster_fleet(auth_bus *bus, const auth_fleet *f);
-int auth_bus_roster_rovers(const auth_bus *bus);
 /* In a handler: 1 when the message being handled may speak for instance
  * k (a rover id in a batch or a team message), that is when its signer's
  * instances cover k, or when the bus is not secure. 0: a rover host
