@@ -9,6 +9,7 @@
 #ifndef TANDEM_SIM_H
 #define TANDEM_SIM_H
 
+#include <stddef.h>
 #include <stdint.h>
 #include <ode/ode.h>
 #include <lcm/lcm.h>
@@ -109,8 +110,11 @@ void sim_from_ode_rotation(double R[9], const dReal *ode);
 /* A rotation taking the z axis onto the unit vector axis (capsules and
  * cylinders in ODE lie along their z axis). */
 void sim_rot_z_to(double R[9], const double axis[3]);
-/* FNV-1a over every body's position, rotation and velocities, bit for bit. */
+/* FNV-1a over every body's position, rotation and velocities, bit for bit
+ * (sim_app_state_hash adds the state models keep outside the bodies). */
 uint64_t sim_state_hash(const sim_world *w);
+/* FNV-1a of n more bytes onto hash h. */
+uint64_t sim_hash_bytes(uint64_t h, const void *p, size_t n);
 
 /* Configuration of the simulated models (command line of tandem-sim). */
 typedef struct sim_config {
@@ -159,6 +163,9 @@ typedef struct sim_model_ops {
      * k again until it is (lost messages), up to the participant timeout.
      * NULL: nothing to wait for. */
     int (*ready)(const void *model, const sim_world *w, int64_t k);
+    /* the state the model keeps outside ODE's bodies, folded onto the
+     * state hash h (sim_hash_bytes). NULL: none. */
+    uint64_t (*hash)(const void *model, uint64_t h);
 } sim_model_ops;
 
 /* One model in the step: its hooks and the state they are handed. */

@@ -46,5 +46,7 @@ void sim_destroy_world(sim_app *app);
 void sim_run_lockstep(sim_app *app);
 void sim_run_realtime(sim_app *app);
 void sim_publish_status(sim_app *app);
+/* sim_state_hash, and the state each model keeps outside the bodies. */
+uint64_t sim_app_state_hash(const sim_app *app);
 
 #endif

@@ -340,7 +340,7 @@ int main(int argc, char **argv)
         sim_run_realtime(app);
     printf("tandem-sim: stopped at step %lld state_hash=%016llx rejected=%lld lcm_renewals=%lld "
            "reannounced=%lld\n",
-           (long long)app->w.step, (unsigned long long)sim_state_hash(&app->w),
+           (long long)app->w.step, (unsigned long long)sim_app_state_hash(app),
            (long long)app->w.d.msgs.rejected, (long long)app->w.d.names.renewals,
            (long long)app->w.lockstep_reannounced);
     fflush(stdout);

@@ -129,7 +129,7 @@ double sim_contact_force_on(const sim_world *w, dBodyID b)
     return dSqrt(fx * fx + fy * fy + fz * fz);
 }
 
-static uint64_t fnv_bytes(uint64_t h, const void *p, size_t n)
+uint64_t sim_hash_bytes(uint64_t h, const void *p, size_t n)
 {
     const unsigned char *c = p;
     size_t i;
@@ -146,10 +146,10 @@ uint64_t sim_state_hash(const sim_world *w)
     int i;
     for (i = 0; i < w->n_bodies; i++) {
         dBodyID b = w->bodies[i];
-        h = fnv_bytes(h, dBodyGetPosition(b), 3 * sizeof(dReal));
-        h = fnv_bytes(h, dBodyGetQuaternion(b), 4 * sizeof(dReal));
-        h = fnv_bytes(h, dBodyGetLinearVel(b), 3 * sizeof(dReal));
-        h = fnv_bytes(h, dBodyGetAngularVel(b), 3 * sizeof(dReal));
+        h = sim_hash_bytes(h, dBodyGetPosition(b), 3 * sizeof(dReal));
+        h = sim_hash_bytes(h, dBodyGetQuaternion(b), 4 * sizeof(dReal));
+        h = sim_hash_bytes(h, dBodyGetLinearVel(b), 3 * sizeof(dReal));
+        h = sim_hash_bytes(h, dBodyGetAngularVel(b), 3 * sizeof(dReal));
     }
     return h;
 }

@@ -502,5 +502,6 @@ static int arms_ready(const void *model, const sim_world *w, int64_t k)
     return 1;
 }
 
-const sim_model_ops sim_arms_ops = { "arms",          arms_create,  arms_destroy, arms_before_step,
-                                     arms_after_step, arms_control, arms_status,  arms_ready };
+const sim_model_ops sim_arms_ops = { "arms",           arms_create,     arms_destroy,
+                                     arms_before_step, arms_after_step, arms_control,
+                                     arms_status,      arms_ready,      NULL };

@@ -65,6 +65,10 @@ static int rover_index(const sim_rovers *team, int32_t id)
 
 void sim_rover_pose_c(const sim_rover *r, pose2 *c)
 {
+    if (r->free) { /* out of ODE: its bodies stand where it left the solver */
+        *c = r->free_c;
+        return;
+    }
     const dReal *p = dBodyGetPosition(r->chassis);
     const dReal *m = dBodyGetRotation(r->chassis);
     c->theta_rad = atan2(m[4], m[0]);
@@ -112,7 +116,9 @@ static void build_robot(sim_rovers *team, sim_rover *r, const pose2 *c, sim_worl
         dJointSetHingeParam(r->hinge[s], dParamVel, 0.0);
     }
     /* the sim's state hash covers the rover bodies too */
+    r->hash_slot = -1;
     if (w->n_bodies + 3 <= SIM_MAX_BODIES) {
+        r->hash_slot = w->n_bodies;
         w->bodies[w->n_bodies++] = r->chassis;
         w->bodies[w->n_bodies++] = r->wheel[0];
         w->bodies[w->n_bodies++] = r->wheel[1];
@@ -161,6 +167,7 @@ static void team_world_create(sim_rovers *team)
 {
     int i;
     team->world = dWorldCreate();
+    team->park = dWorldCreate();
     dWorldSetGravity(team->world, 0, 0, -9.81);
     dWorldSetERP(team->world, 0.2);
     dWorldSetCFM(team->world, 1e-5);
@@ -289,13 +296,16 @@ static void rovers_destroy(void *model, sim_world *w)
     if (team->world)
         fprintf(stderr,
                 "tandem-sim: rovers: %lld of %lld physics steps had chassis contacts "
-                "(QuickStep)\n",
-                (long long)team->quick_steps, (long long)(w->step / team->phys_steps));
+                "(QuickStep); free robots found touching: %lld\n",
+                (long long)team->quick_steps, (long long)(w->step / team->phys_steps),
+                (long long)team->free_overlaps);
     if (team->world) {
         dJointGroupDestroy(team->contacts);
         dSpaceDestroy(team->space);
         dWorldDestroy(team->world);
+        dWorldDestroy(team->park);
         team->world = NULL;
+        team->park = NULL;
     }
     team_free(team);
 }
@@ -484,7 +494,9 @@ static void drive(sim_rovers *team, sim_rover *r, sim_world *w, double dt)
     for (s = 0; s < 2; s++) {
         const double side = s == 0 ? 0.5 * RV_TRACK : -0.5 * RV_TRACK;
         const double rim = r->v_ref - side * r->w_ref;
-        dJointSetHingeParam(r->hinge[s], dParamVel, rim / RV_WHEEL_R);
+        r->motor_radps[s] = rim / RV_WHEEL_R;
+        if (!r->free) /* a free robot's hinges wait in the parking world */
+            dJointSetHingeParam(r->hinge[s], dParamVel, r->motor_radps[s]);
         r->slip[s] += -r->slip[s] / RV_SLIP_TAU_S * dt +
                       RV_SLIP_SD * sqrt(2.0 * dt / RV_SLIP_TAU_S) * prng_gauss(&r->rng);
     }
@@ -536,9 +548,6 @@ static void rovers_before_step(void *model, sim_world *w)
         sim_rover *r = &team->r[i];
         if (!r->alive)
             continue;
-        /* ODE enables a disabled body a contact joins to an enabled one:
-         * that robot is not far any more */
-        r->free = r->free && !dBodyIsEnabled(r->chassis);
         if (r->free)
             sim_rovers_free_move(r, dt);
         else
@@ -611,6 +620,6 @@ int sim_rovers_set_command(sim_rovers *team, int32_t id, double v_mps, double w_
 }
 
 const sim_model_ops sim_rovers_ops = {
-    "rovers",       rovers_create, rovers_destroy, rovers_before_step, sim_rovers_after_step,
-    rovers_control, NULL,          rovers_ready
+    "rovers",       rovers_create, rovers_destroy, rovers_before_step,  sim_rovers_after_step,
+    rovers_control, NULL,          rovers_ready,   sim_rovers_free_hash
 };

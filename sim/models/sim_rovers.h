@@ -45,7 +45,14 @@ typedef struct sim_rover {
     double enc[2]; /* accumulated wheel angles */
     double range[SONAR_N];
     int bump_now, bump_prev, collisions;
-    int free; /* --rover-far kinematic: far from everything, moved by its wheels */
+    int free;              /* --rover-far kinematic: far from everything, moved by its wheels */
+    int hash_slot;         /* its chassis' index in the simulator's hashed bodies (-1 none) */
+    double motor_radps[2]; /* the wheel motors' rates (the hinges' dParamVel) */
+    /* while free (sim_rovers_free.c): C when it left the solver and now,
+     * each wheel's turn since, and the rolling */
+    pose2 free_c0, free_c;
+    double free_spin_rad[2];
+    double free_v_mps, free_w_radps;
     double min_clear;
     prng_state rng;
     int prim;  /* its box in the sonar world */
@@ -85,7 +92,9 @@ typedef struct sim_rovers {
     rover_fleet fleet; /* the teams (fleet.h) when the run holds more than one */
     sonar_world sw;
     sonar_model sm;
-    dWorldID world; /* the rovers' own ODE world (sim_rovers.c) */
+    dWorldID world;        /* the rovers' own ODE world (sim_rovers.c) */
+    dWorldID park;         /* free robots' bodies, never stepped (sim_rovers_free.c) */
+    int64_t free_overlaps; /* free robots found touching something (none expected) */
     dSpaceID space;
     dJointGroupID contacts;
     dGeomID obst[ROVER_WORLD_MAX_OBST];
@@ -135,6 +144,8 @@ int sim_rovers_index_posts(sim_rovers *team);
  * them by its wheels. */
 void sim_rovers_free_check(sim_rovers *team, const sim_world *w);
 void sim_rovers_free_move(sim_rover *r, double dt);
+/* The free robots' state (outside ODE) onto the simulator's state hash h. */
+uint64_t sim_rovers_free_hash(const void *model, uint64_t h);
 double sim_rovers_free_margin_m(const sim_rovers *team);
 
 #endif

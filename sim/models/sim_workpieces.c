@@ -498,5 +498,6 @@ static void wp_status(const void *model, const sim_world *w, tandem_sim_status_t
     s->workpieces_dropped = m->dropped;
 }
 
-const sim_model_ops sim_workpieces_ops = { "workpieces",  wp_create,  wp_destroy, wp_before_step,
-                                           wp_after_step, wp_control, wp_status,  NULL };
+const sim_model_ops sim_workpieces_ops = { "workpieces",   wp_create,     wp_destroy,
+                                           wp_before_step, wp_after_step, wp_control,
+                                           wp_status,      NULL,          NULL };
