@@ -158,7 +158,7 @@ static void bodies_catch_up(sim_rover *r)
 static dBodyID body_copy(dBodyID b, dWorldID to)
 {
     const dReal *p = dBodyGetPosition(b), *v = dBodyGetLinearVel(b), *a = dBodyGetAngularVel(b);
-    const dBodyID c = dBodyCreate(to);
+    dBodyID c = dBodyCreate(to);
     dGeomID g = dBodyGetFirstGeom(b);
     dMass m;
     dBodyGetMass(b, &m);
@@ -169,7 +169,7 @@ static dBodyID body_copy(dBodyID b, dWorldID to)
     dBodySetAngularVel(c, a[0], a[1], a[2]);
     dBodySetData(c, dBodyGetData(b));
     while (g) {
-        const dGeomID next = dBodyGetNextGeom(g);
+        dGeomID next = dBodyGetNextGeom(g);
         dGeomSetBody(g, c);
         g = next;
     }
@@ -181,7 +181,7 @@ static dBodyID body_copy(dBodyID b, dWorldID to)
 static dJointID hinge_move(dJointID h, dWorldID to, dBodyID chassis, dBodyID wheel,
                            double motor_radps)
 {
-    const dJointID c = dJointCreateHinge(to, 0);
+    dJointID c = dJointCreateHinge(to, 0);
     dVector3 anchor, axis;
     dJointGetHingeAnchor(h, anchor);
     dJointGetHingeAxis(h, axis);
