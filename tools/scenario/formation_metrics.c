@@ -61,13 +61,19 @@ static void robot_truth(fm_metrics *mt, const fm_bus *bus, const fm_procs *pr,
                 bus->est[i].x_m, bus->est[i].y_m, bus->est[i].theta_rad);
 }
 
-/* Centre of robot i's body box (world frame): O is ROVER_BEACON_D_M from
- * C along the heading, the box centre ROVER_BODY_OFFSET_M from C. */
+/* Centre of robot i's body box (world frame) from its truth pose, which
+ * is O's (rover_body_centre_of_o). The sign of O's offset from C was taken
+ * the wrong way here once: every box 0.30 m off along its heading, and
+ * robots that touched counted as touching walls (1,000 robots crossing:
+ * contacts between teams at 0.47-0.58 m between true box centres read as
+ * 0.66-1.09 m). */
 static void body_centre(const tandem_rover_truth_t *m, int i, double *x, double *y)
 {
-    const double d = ROVER_BODY_OFFSET_M - ROVER_BEACON_D_M;
-    *x = m->x_m[i] + d * cos(m->theta_rad[i]);
-    *y = m->y_m[i] + d * sin(m->theta_rad[i]);
+    const pose2 o = { m->x_m[i], m->y_m[i], m->theta_rad[i] };
+    double xy[2];
+    rover_body_centre_of_o(&o, xy);
+    *x = xy[0];
+    *y = xy[1];
 }
 
 /* The nearest other live robot whose body is within reach of robot i's

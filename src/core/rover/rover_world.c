@@ -6,6 +6,7 @@
 
 #include "formation.h"
 #include "goal_place.h"
+#include "unicycle.h"
 
 #include <math.h>
 #include <string.h>
@@ -306,6 +307,14 @@ double rover_obstacle_distance(const rover_obstacle *o, double x_m, double y_m)
     if (o->kind == ROVER_OBST_CIRCLE)
         return hypot(x_m - o->cx_m, y_m - o->cy_m) - o->r_m;
     return box_distance(o->cx_m, o->cy_m, o->hx_m, o->hy_m, o->angle_rad, x_m, y_m);
+}
+
+void rover_body_centre_of_o(const pose2 *o, double xy_m[2])
+{
+    pose2 c;
+    unicycle_c_from_o(&c, o, ROVER_BEACON_D_M);
+    xy_m[0] = c.x_m + ROVER_BODY_OFFSET_M * cos(c.theta_rad);
+    xy_m[1] = c.y_m + ROVER_BODY_OFFSET_M * sin(c.theta_rad);
 }
 
 #define FOOT_PTS 8

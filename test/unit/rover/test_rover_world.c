@@ -17,6 +17,7 @@
 #include "formation.h"
 #include "prng.h"
 #include "rover_world.h"
+#include "unicycle.h"
 
 static const int team_sizes[] = { 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 30, 100, ROVER_TEAM_MAX };
 #define N_SIZES ((int)(sizeof team_sizes / sizeof team_sizes[0]))
@@ -771,6 +772,42 @@ static void test_landmarks_near_the_way(void **state)
     assert_int_equal(rover_world_landmarks_near(&w, a, b, idx), ROVER_WORLD_ERR_ARG);
 }
 
+/* Two robots tail to tail, their boxes 1 mm apart by the clearance
+ * (footprints round their axle centres C): the box centres found from
+ * their O poses, the pose the truth carries, lie a box length apart, and
+ * each is where the footprint has it. With O's offset from C taken the
+ * wrong way the centres came out 0.30 m off along each heading, 1.04 m
+ * apart, and the scenario counted such contacts as walls'. */
+static void test_body_centre_of_o(void **state)
+{
+    rover_world_config w;
+    pose2 c[2], o;
+    const int alive[2] = { 1, 1 };
+    double cl[2], xy[2][2];
+    int i;
+    (void)state;
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, 2, 1.0, FORMATION_LINE), 0);
+    c[0].x_m = 10.0;
+    c[0].y_m = 0.0;
+    c[0].theta_rad = 0.0; /* facing +x, its tail toward robot 2 */
+    c[1].theta_rad = VEC2_PI;
+    c[1].y_m = 0.0;
+    /* robot 2's tail 1 mm behind robot 1's */
+    c[1].x_m = c[0].x_m + 2.0 * ROVER_BODY_OFFSET_M - ROVER_BODY_LENGTH_M - 0.001;
+    assert_int_equal(rover_world_clearance(&w, c, alive, 2, cl), 0);
+    assert_true(fabs(cl[0] - 0.001) < 1e-9 && fabs(cl[1] - 0.001) < 1e-9);
+    for (i = 0; i < 2; i++) {
+        unicycle_o_from_c(&o, &c[i], ROVER_BEACON_D_M);
+        rover_body_centre_of_o(&o, xy[i]);
+        assert_true(fabs(xy[i][0] - (c[i].x_m + ROVER_BODY_OFFSET_M * cos(c[i].theta_rad))) <
+                    1e-12);
+        assert_true(fabs(xy[i][1] - (c[i].y_m + ROVER_BODY_OFFSET_M * sin(c[i].theta_rad))) <
+                    1e-12);
+    }
+    assert_true(fabs(hypot(xy[1][0] - xy[0][0], xy[1][1] - xy[0][1]) -
+                     (ROVER_BODY_LENGTH_M + 0.001)) < 1e-9);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -784,6 +821,7 @@ int main(void)
         cmocka_unit_test(test_deadzone),
         cmocka_unit_test(test_obstacle_signed_distance),
         cmocka_unit_test(test_clearance),
+        cmocka_unit_test(test_body_centre_of_o),
         cmocka_unit_test(test_landmarks_cover_the_way),
         cmocka_unit_test(test_landmarks_near_the_way),
     };
