@@ -101,6 +101,7 @@ echo; echo "== fleet, whole system: T teams of 10 in lockstep, one process of al
 echo "  CPU of every process (simulator, rover host, scenario; no plots) by difference of a 2 s and a 6 s run (start-up cancels);"
 echo "  --rover-far ode: every robot in the ODE solver; kinematic: robots clear of everything moved by their wheels"
 pin=(); command -v taskset >/dev/null && pin=(taskset -c 0)
+k1000=
 fleet_cpu() { # teams sim_seconds far -> CPU seconds (user + system) of the run and its children
     local TIMEFORMAT='%U %S'
     { time TANDEM_NO_PLOTS=1 "${pin[@]}" "$bin/tandem-scenario" formation --teams "$1" --robots-per-team 10 \
@@ -110,6 +111,8 @@ fleet_cpu() { # teams sim_seconds far -> CPU seconds (user + system) of the run 
 for row in "10 ode" "30 ode" "100 ode" "10 kinematic" "30 kinematic" "100 kinematic" "300 kinematic"; do
     set -- $row
     a=$(fleet_cpu "$1" 2 "$2"); b=$(fleet_cpu "$1" 6 "$2")
+    # the 1,000-robot kinematic row is the hosts row's baseline (same run)
+    [ "$row" = "100 kinematic" ] && k1000=$(awk -v a="$a" -v b="$b" 'BEGIN { d = b - a; if (d > 0) printf "%.4f", d / 4e6 * 1e6 }')
     awk -v n=$(($1 * 10)) -v far="$2" -v a="$a" -v b="$b" 'BEGIN {
         d = b - a; if (d <= 0) d = 1e-9
         printf "  %5d robots, %-9s: %.2f us CPU per robot-step, %.2f sim-s per CPU-s (runs of 2 s: %.1f s CPU, 6 s: %.1f s)\n",
@@ -128,10 +131,12 @@ if [ -z "$a" ]; then
     echo "  skipped (tools/fleet-hosts.sh: needs root for network namespaces, or the run failed)"
 else
     b=$(hosts_cpu 3)
-    awk -v n=$((${TEAMS:-1000} * 10)) -v h=${HOSTS:-4} -v a="$a" -v b="${b:-0}" 'BEGIN {
+    awk -v n=$((${TEAMS:-1000} * 10)) -v h=${HOSTS:-4} -v a="$a" -v b="${b:-0}" -v k="${k1000:-0}" 'BEGIN {
         d = b - a; if (d <= 0) d = 1e-9
+        us = d / (n * 2000) * 1e6
         printf "  %5d robots on %d hosts: %.2f us CPU per robot-step, %.3f sim-s per CPU-s (runs of 1 s: %.1f s CPU, 3 s: %.1f s)\n",
-               n, h, d / (n * 2000) * 1e6, 2 / d, a, b }'
+               n, h, us, 2 / d, a, b
+        if (k > 0) printf "  against 1,000 robots in one process above: %.2fx (the target: at most 1.5x)\n", us / k }'
 fi
 
 echo; echo "== bench_rovers: Pioneer team, all processes pinned to one core (taskset -c 0) =="
