@@ -140,10 +140,13 @@ void rover_frame_from(const pose2 *origin, const pose2 *frame_p, pose2 *world_p)
 int rover_world_add_box(rover_world_config *w, double cx, double cy, double hx, double hy,
                         double angle_rad, double height_m);
 
-/* The centre of the chassis box of a robot whose beacon point O has pose
- * o (the pose the truth and the team messages carry): C from O
- * (unicycle_c_from_o with ROVER_BEACON_D_M), the box ROVER_BODY_OFFSET_M
- * ahead of C, as the clearance's footprints have it. */
+/* The centre of the chassis box of a robot whose axle centre C has pose
+ * c: ROVER_BODY_OFFSET_M ahead of C along the heading (the footprint of
+ * the clearance, the mates' boxes of the controller, the simulator's). */
+void rover_body_centre_of_c(const pose2 *c, double xy_m[2]);
+/* The same for a robot whose beacon point O has pose o (the pose the
+ * truth and the team messages carry): C from O by unicycle_c_from_o with
+ * ROVER_BEACON_D_M. */
 void rover_body_centre_of_o(const pose2 *o, double xy_m[2]);
 
 /* Signed distance from a point to an obstacle's outline (negative inside). */

@@ -64,8 +64,10 @@ static int boxes_touch(const box2 *a, const box2 *b)
 static box2 chassis_box(const pose2 *c, double grow_m)
 {
     box2 b;
-    b.x_m = c->x_m + ROVER_BODY_OFFSET_M * cos(c->theta_rad);
-    b.y_m = c->y_m + ROVER_BODY_OFFSET_M * sin(c->theta_rad);
+    double centre[2];
+    rover_body_centre_of_c(c, centre);
+    b.x_m = centre[0];
+    b.y_m = centre[1];
     b.theta_rad = c->theta_rad;
     b.hx_m = 0.5 * ROVER_BODY_LENGTH_M + grow_m;
     b.hy_m = 0.5 * ROVER_BODY_WIDTH_M + grow_m;

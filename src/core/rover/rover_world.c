@@ -309,12 +309,17 @@ double rover_obstacle_distance(const rover_obstacle *o, double x_m, double y_m)
     return box_distance(o->cx_m, o->cy_m, o->hx_m, o->hy_m, o->angle_rad, x_m, y_m);
 }
 
+void rover_body_centre_of_c(const pose2 *c, double xy_m[2])
+{
+    xy_m[0] = c->x_m + ROVER_BODY_OFFSET_M * cos(c->theta_rad);
+    xy_m[1] = c->y_m + ROVER_BODY_OFFSET_M * sin(c->theta_rad);
+}
+
 void rover_body_centre_of_o(const pose2 *o, double xy_m[2])
 {
     pose2 c;
     unicycle_c_from_o(&c, o, ROVER_BEACON_D_M);
-    xy_m[0] = c.x_m + ROVER_BODY_OFFSET_M * cos(c.theta_rad);
-    xy_m[1] = c.y_m + ROVER_BODY_OFFSET_M * sin(c.theta_rad);
+    rover_body_centre_of_c(&c, xy_m);
 }
 
 #define FOOT_PTS 8
@@ -327,9 +332,11 @@ static void footprint(const pose2 *c, double px[FOOT_PTS], double py[FOOT_PTS], 
     static const double v[FOOT_PTS] = { 1, 0, -1, -1, -1, 0, 1, 1 };
     const double ct = cos(c->theta_rad), st = sin(c->theta_rad);
     const double hx = 0.5 * ROVER_BODY_LENGTH_M, hy = 0.5 * ROVER_BODY_WIDTH_M;
+    double b[2];
     int i;
-    *bx = c->x_m + ROVER_BODY_OFFSET_M * ct;
-    *by = c->y_m + ROVER_BODY_OFFSET_M * st;
+    rover_body_centre_of_c(c, b);
+    *bx = b[0];
+    *by = b[1];
     for (i = 0; i < FOOT_PTS; i++) {
         px[i] = *bx + u[i] * hx * ct - v[i] * hy * st;
         py[i] = *by + u[i] * hx * st + v[i] * hy * ct;
@@ -431,8 +438,11 @@ int rover_world_clearance_indexed(const rover_world_config *w, const pose2 *c, c
     near = work->near;
     for (i = 0; i < n; i++) {
         /* the body centres, as footprint() puts them */
-        work->bx[i] = alive[i] ? c[i].x_m + ROVER_BODY_OFFSET_M * cos(c[i].theta_rad) : 0.0;
-        work->by[i] = alive[i] ? c[i].y_m + ROVER_BODY_OFFSET_M * sin(c[i].theta_rad) : 0.0;
+        double b[2] = { 0.0, 0.0 };
+        if (alive[i])
+            rover_body_centre_of_c(&c[i], b);
+        work->bx[i] = b[0];
+        work->by[i] = b[1];
     }
     if (pgrid_build(&work->grid, work->bx, work->by, alive, n, 1.0) != PGRID_OK)
         return ROVER_WORLD_ERR_ARG;
