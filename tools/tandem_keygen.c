@@ -148,16 +148,7 @@ static int show(const char *path)
  * rover3, and rover1-3 for the host of a whole team of three. */
 static void peer_name(const auth_peer *p, char *out, size_t cap)
 {
-    static const char *const names[] = {
-        "?", "sim", "arm", "supervisor", "rover", "tool", "monitor"
-    };
-    const char *n = p->role <= AUTH_ROLE_LAST ? names[p->role] : "?";
-    if (p->role == AUTH_ROLE_ROVER && p->first != p->last)
-        snprintf(out, cap, "%s%d-%d", n, p->first, p->last);
-    else if (p->role == AUTH_ROLE_ARM || p->role == AUTH_ROLE_ROVER)
-        snprintf(out, cap, "%s%d", n, p->first);
-    else
-        snprintf(out, cap, "%s", n);
+    auth_principal_name(p->role, p->first, p->last, out, cap);
 }
 
 /* Writes DIR/<name>.key for every principal of the roster but the revoked one. */

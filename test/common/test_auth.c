@@ -739,6 +739,23 @@ static void test_fleet_hosts_partition_the_teams(void **state)
     }
 }
 
+/* Names as key files spell them; a host of several rovers gives its range. */
+static void test_principal_names(void **state)
+{
+    char n[32];
+    (void)state;
+    auth_principal_name(AUTH_ROLE_ROVER, 1, 3, n, sizeof n);
+    assert_string_equal(n, "rover1-3");
+    auth_principal_name(AUTH_ROLE_ROVER, 7, 7, n, sizeof n);
+    assert_string_equal(n, "rover7");
+    auth_principal_name(AUTH_ROLE_ARM, 2, 2, n, sizeof n);
+    assert_string_equal(n, "arm2");
+    auth_principal_name(AUTH_ROLE_SUPERVISOR, 0, 0, n, sizeof n);
+    assert_string_equal(n, "supervisor");
+    auth_principal_name(AUTH_ROLE_LAST + 1, 0, 0, n, sizeof n);
+    assert_string_equal(n, "?");
+}
+
 static void test_child_principal(void **state)
 {
     const char *const sim[] = { "tandem-sim", "--rovers", "3", NULL };
@@ -789,6 +806,7 @@ int main(void)
         cmocka_unit_test(test_receive_path_counts_every_refusal),
         cmocka_unit_test(test_checked_subscriptions_move),
         cmocka_unit_test(test_child_principal),
+        cmocka_unit_test(test_principal_names),
         cmocka_unit_test(test_fleet_hosts_partition_the_teams),
     };
     if (auth_init() != 0)

@@ -454,6 +454,22 @@ static void run_pair(harness *h, const char *tag, int attacked, run_out *o)
 
 /* ---- comparisons ------------------------------------------------------------------ */
 
+/* The lines of dir/file holding what: a daemon's exit report of whom it
+ * refused, for a quiet run that refused anything. */
+static void print_lines_with(const char *dir, const char *file, const char *what)
+{
+    char path[512], line[1024];
+    FILE *f;
+    snprintf(path, sizeof path, "%s/%s", dir, file);
+    f = fopen(path, "r");
+    if (!f)
+        return;
+    while (fgets(line, sizeof line, f))
+        if (strstr(line, what))
+            printf("  %s: %s", file, line);
+    fclose(f);
+}
+
 /* The file with lines holding `skip` (NULL: none) left out. */
 static char *slurp(const char *dir, const char *file, const char *skip, long *len)
 {
@@ -565,6 +581,7 @@ static void test_attacker_without_key_changes_nothing(void **state)
             if (harness_refused(&quiet.health[b].health[i]) > 0) {
                 printf("quiet run, refused (must be none):\n");
                 harness_print_refused(&quiet.health[b].health[i]);
+                print_lines_with(quiet.dir[b], "children.log", "not allowed");
             }
     for (b = 0; b < N_BUS; b++)
         for (i = 0; i < attacked.health[b].n_health; i++)

@@ -700,3 +700,17 @@ uint64_t auth_next_counter(uint64_t *last, uint64_t now_us)
     *last = now_us > *last ? now_us : *last + 1;
     return *last;
 }
+
+void auth_principal_name(int role, int first, int last, char *out, size_t cap)
+{
+    static const char *const names[] = {
+        "?", "sim", "arm", "supervisor", "rover", "tool", "monitor"
+    };
+    const char *n = role >= 0 && role <= AUTH_ROLE_LAST ? names[role] : "?";
+    if (role == AUTH_ROLE_ROVER && first != last)
+        snprintf(out, cap, "%s%d-%d", n, first, last);
+    else if (role == AUTH_ROLE_ARM || role == AUTH_ROLE_ROVER)
+        snprintf(out, cap, "%s%d", n, first);
+    else
+        snprintf(out, cap, "%s", n);
+}

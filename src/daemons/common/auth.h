@@ -120,6 +120,9 @@ enum {
     AUTH_ROLE_LAST = AUTH_ROLE_MONITOR
 };
 #define AUTH_ROLE_BIT(r) (1u << (r))
+/* A principal's name as key files and reports spell it: sim, arm1,
+ * supervisor, tool, monitor, rover3, and rover1-3 for a host of three. */
+void auth_principal_name(int role, int first, int last, char *out, size_t cap);
 #define AUTH_ROLES_ALL                                                      \
     (AUTH_ROLE_BIT(AUTH_ROLE_SIM) | AUTH_ROLE_BIT(AUTH_ROLE_ARM) |          \
      AUTH_ROLE_BIT(AUTH_ROLE_SUPERVISOR) | AUTH_ROLE_BIT(AUTH_ROLE_ROVER) | \

@@ -499,6 +499,10 @@ int auth_bus_accept(auth_bus *bus, const lcm_recv_buf_t *rb, const char *channel
             bus->counts.renewal_copies++;
         else
             count(bus, rc);
+        if (rc == AUTH_ERR_ACL) {
+            snprintf(bus->unauthorised_channel, sizeof bus->unauthorised_channel, "%s", channel);
+            bus->unauthorised_sender = t.sender;
+        }
         bus->last.valid = 1;
         bus->last.data = rb->data;
         bus->last.recv_utime = rb->recv_utime;
@@ -637,6 +641,20 @@ int64_t auth_bus_rejected_total(const auth_bus *bus)
     return bus->counts.unsigned_msgs + bus->counts.bad_mac + bus->counts.unknown_sender +
            bus->counts.replayed + bus->counts.unauthorised + bus->counts.other_cell +
            bus->counts.precheck;
+}
+
+void auth_bus_report_unauthorised(const auth_bus *bus, char *out, size_t cap)
+{
+    char who[32];
+    const auth_sender *s = &bus->unauthorised_sender;
+    if (cap > 0)
+        out[0] = '\0';
+    if (bus->counts.unauthorised == 0)
+        return;
+    auth_principal_name(s->role, s->first, s->last, who, sizeof who);
+    snprintf(out, cap,
+             "%lld messages refused as not allowed on their channel, the last on %s signed by %s",
+             (long long)bus->counts.unauthorised, bus->unauthorised_channel, who);
 }
 
 int64_t auth_bus_health_refusals(const tandem_health_t *h, int64_t kinds[AUTH_BUS_KINDS])

@@ -160,6 +160,11 @@ struct auth_bus {
     uint64_t renewed_us; /* wall clock of the last auth_bus_move, 0: none */
     auth_replay replay;
     auth_bus_counts counts;
+    /* the last message refused as not allowed on its channel: a key
+     * holder speaking out of turn is a fault or a bug, so its exit
+     * report names it (auth_bus_report_unauthorised) */
+    char unauthorised_channel[AUTH_CHANNEL_MAX + 1];
+    auth_sender unauthorised_sender;
     last_verdict last;
     uint8_t *tx;
     int tx_cap;
@@ -278,6 +283,10 @@ void auth_bus_close(auth_bus *bus, lcm_t *lcm);
 void auth_bus_free(auth_bus *bus);
 const auth_bus_counts *auth_bus_counts_get(const auth_bus *bus);
 int64_t auth_bus_rejected_total(const auth_bus *bus);
+/* Writes to out, if bus refused any message as not allowed on its
+ * channel, how many and the last one's channel and signer (for a
+ * daemon's exit report); "" if none. */
+void auth_bus_report_unauthorised(const auth_bus *bus, char *out, size_t cap);
 
 struct _tandem_health_t;
 /* The auth_* fields of a health message. */

@@ -713,12 +713,22 @@ int daemon_run(daemon *d, daemon_cycle_fn fn, void *user)
     return status == DAEMON_CONTINUE ? DAEMON_STOPPED : status;
 }
 
+/* At exit, off the control cycle: who spoke out of turn, if anyone. */
+static void daemon_report_unauthorised(const daemon *d)
+{
+    char why[AUTH_CHANNEL_MAX + 160];
+    auth_bus_report_unauthorised(&d->bus, why, sizeof why);
+    if (why[0])
+        fprintf(stderr, "%s: %s\n", d->name, why);
+}
+
 void daemon_finish(daemon *d)
 {
     if (!d->lcm)
         return;
     snprintf(d->status, sizeof d->status, "stopped");
     daemon_publish_health(d);
+    daemon_report_unauthorised(d);
     if (d->lockstep)
         ack(d, d->step, 1);
     renew_stop(&d->renew);
