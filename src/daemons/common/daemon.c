@@ -729,7 +729,9 @@ void daemon_finish(daemon *d)
     snprintf(d->status, sizeof d->status, "stopped");
     daemon_publish_health(d);
     daemon_report_unauthorised(d);
-    if (d->lockstep)
+    /* a participant says it leaves; the simulator, whose clock the
+     * participants answer, is none (SIM_ACK is not its channel) */
+    if (d->lockstep && !d->clock_source)
         ack(d, d->step, 1);
     renew_stop(&d->renew);
     lcm_destroy(d->lcm);
