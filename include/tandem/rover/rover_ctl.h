@@ -174,6 +174,8 @@ typedef struct {
     double follow_lost_s; /* boundary following: no wall in reach this long ends it */
     double walls_near_m;  /* a wall within follow_dist_m + this on a side: confined */
     double leave_gain_m;  /* Bug2's leave rule: this much nearer the goal than the hit point */
+    int leave_by_way;     /* 1: "nearer" along the map's way where the robot holds one
+                             (navfield_way_from); 0: straight, as Bug2 has it */
     double follow_mate_ahead_m;   /* a follower turns away from a mate this short of it */
     double follow_moving_mps;     /* slower than this a follower is not following (escape_max_s) */
     double passage_sense_max_m;   /* side readings beyond: no passage wall */

@@ -203,6 +203,22 @@ static int trapped_mate_coming(const rover_ctl_state *c, const pose2 *o, double 
     return found;
 }
 
+/* How far from the goal the point xy is, for the leave rule: along the
+ * map's way where the robot holds a navigation field and xy is joined to
+ * the goal (navfield_way_from, docs/method/formation.md §14), else
+ * straight (Bug2's distance). The way has no local minimum: following the
+ * boundary of whatever holds the robot reaches the side where the way to
+ * the goal leaves it, and there the way is shorter than at the hit point
+ * by at least the length along it. The straight distance has no such
+ * point round a cluster of obstacles the goal lies beyond (a robot
+ * trapped in one of two pockets side by side followed their joint
+ * boundary for 170 s, never nearer the goal than where it hit). */
+static double leave_measure_m(const rover_ctl_state *c, const double xy[2], const double goal[2])
+{
+    const double way = c->nav && c->p.leave_by_way ? navfield_way_from(c->nav, xy) : INFINITY;
+    return isfinite(way) ? way : hypot(goal[0] - xy[0], goal[1] - xy[1]);
+}
+
 #define YIELD_DEAD_AHEAD_RAD 0.2 /* a trapped mate within this of dead ahead */
 /* Give way to a trapped mate that we wait for and that comes our way:
  * its only way out is back past us. YIELD (turn away from it), then
@@ -221,7 +237,7 @@ static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose
     c->esc.back_m = 0.0;
     c->esc.wedge_s = 0.0;
     c->esc.lost_s = 0.0;
-    c->esc.hit_dist_m = hypot(goal[0] - mate[0], goal[1] - mate[1]);
+    c->esc.hit_dist_m = leave_measure_m(c, mate, goal);
     /* away from the mate; one dead ahead: toward the roomier side */
     if (fabs(b) > YIELD_DEAD_AHEAD_RAD)
         c->esc.turn = b > 0.0 ? -1 : 1;
@@ -437,23 +453,38 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
     return 0;
 }
 
-/* The way to the goal is free: the transducer toward it reads beyond
- * FREE_WAY_RANGE_M and the front beyond FREE_WAY_FRONT_M. */
+/* The way to the goal is free: the transducer toward the point the goal
+ * behaviour will steer for (the goal, or with a navigation field the
+ * point of its descent, navfield_waypoint: a goal round the corner is
+ * not ahead) reads beyond FREE_WAY_RANGE_M and the front beyond
+ * FREE_WAY_FRONT_M. */
 #define FREE_WAY_RANGE_M 1.2
 #define FREE_WAY_FRONT_M 0.8
+static int way_free(const rover_ctl_state *c, const sonar_groups *g, const pose2 *o,
+                    const double goal[2])
+{
+    const double xy[2] = { o->x_m, o->y_m };
+    double to[2] = { goal[0], goal[1] };
+    double b;
+    if (c->nav && c->p.leave_by_way &&
+        navfield_waypoint(c->nav, xy, goal, to) == NAVFIELD_ERR_ARG) {
+        to[0] = goal[0];
+        to[1] = goal[1];
+    }
+    b = vec2_angle_diff_rad(atan2(to[1] - o->y_m, to[0] - o->x_m), o->theta_rad);
+    return fabs(b) < 0.5 * VEC2_PI && range_toward(c->range_m, b) > FREE_WAY_RANGE_M &&
+           g->front_m > FREE_WAY_FRONT_M;
+}
 /* FOLLOW, CLEAR: the boundary on esc.side (U in *u, 1) until the leave
  * rule or open floor ends the escape (`next`: NONE, REJOIN, 0); the other
  * way round after escape_max_s of following (the limit). dist: own
- * distance to the goal. */
+ * distance to the goal (leave_measure_m). */
 static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const sonar_groups *g,
                            const pose2 *o, const double goal[2], double dist, double dt_s,
                            unicycle_cmd *u)
 {
     const rover_esc_row *row = &rover_esc_table[c->esc.phase];
-    const double b = vec2_angle_diff_rad(atan2(goal[1] - o->y_m, goal[0] - o->x_m), o->theta_rad);
-    const int free_way = fabs(b) < 0.5 * VEC2_PI &&
-                         range_toward(c->range_m, b) > FREE_WAY_RANGE_M &&
-                         g->front_m > FREE_WAY_FRONT_M;
+    const int free_way = way_free(c, g, o, goal);
     c->esc.lost_s = rover_ctl_walls_near(gw, &c->p) ? 0.0 : c->esc.lost_s + dt_s;
     if ((dist < c->esc.hit_dist_m - c->p.leave_gain_m && free_way) ||
         c->esc.lost_s > c->p.follow_lost_s) {
@@ -507,7 +538,8 @@ int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sona
     unicycle_cmd turn;
     const int entries = c->exc.entries;
     const int in_dz = behaviour_exception_step(&c->exc, &turn, gw, dt_s, &c->p.beh);
-    const double dist = hypot(goal[0] - o->x_m, goal[1] - o->y_m);
+    const double xy[2] = { o->x_m, o->y_m };
+    const double dist = leave_measure_m(c, xy, goal);
     crumbs_lay(c, o);
     c->esc.backing = 0;
     c->holding = ROVER_WAIT_NONE;

@@ -79,6 +79,7 @@ void rover_ctl_params_default(rover_ctl_params *p)
     p->follow_lost_s = 5.0;
     p->walls_near_m = 0.8;
     p->leave_gain_m = 0.5;
+    p->leave_by_way = 1;
     p->follow_mate_ahead_m = 0.3;
     p->follow_moving_mps = 0.05;
     p->passage_sense_max_m = 2.5;
@@ -134,7 +135,8 @@ int rover_ctl_params_validate(const rover_ctl_params *p)
         !pos(p->give_way_m) || !pos(p->yield_max_s) || !pos(p->give_way_seen_s) ||
         !pos(p->yield_near_m) || !isfinite(p->arrival_m) || p->arrival_m < 0.0 ||
         !isfinite(p->arrival_swap_m2) || p->arrival_swap_m2 < 0.0 ||
-        (p->column_by_place != 0 && p->column_by_place != 1) || !pos(p->cut_off_spacings) ||
+        (p->column_by_place != 0 && p->column_by_place != 1) ||
+        (p->leave_by_way != 0 && p->leave_by_way != 1) || !pos(p->cut_off_spacings) ||
         !pos(p->arrive_face_rad) || p->arrive_face_rad > VEC2_PI || !pos(p->queue_m) ||
         !pos(p->queue_cone_rad) || p->queue_cone_rad > VEC2_PI || !pos(p->queue_slow_mps) ||
         !pos(p->queue_closing_mps) || !pos(p->hold_max_s) || !pos(p->walls_near_m) ||

@@ -546,6 +546,84 @@ static kin_result cut_off_run(double angle_rad, double off_m, double cut_off_spa
     return kin_run_world(&w, &p, &o);
 }
 
+/* Two pockets side by side, their mouths toward the start and the goal
+ * beyond both (generated traps world 308: a V whose upper arm nearly
+ * meets the lower leg of a bent chevron), as thin walls: the corners in
+ * metres relative to the goal, and the robot's start inside the V. */
+static const double pocket_pair_walls[][4] = {
+    { -8.20, 1.80, -10.15, -0.60 }, /* the V: its lower arm */
+    { -8.20, 1.80, -11.25, 1.15 },  /* ... its upper arm */
+    { -10.85, 3.95, -12.25, 2.45 }, /* the chevron: its left leg */
+    { -10.85, 3.95, -9.80, 3.00 },  /* ... its right leg, upper part */
+    { -9.80, 3.00, -11.15, 1.45 },  /* ... and lower part, 0.3 m from the V */
+};
+
+/* One robot started in the V's pocket facing its apex, the goal 9.5 m
+ * on; leave_by_way as given. */
+static kin_result pocket_pair_run(int leave_by_way)
+{
+    rover_world_config w;
+    rover_ctl_params p;
+    navfield_params np;
+    kin_opts o = kin_defaults(150.0);
+    const double gx = 0.0, gy = 0.0;
+    size_t k;
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, 1, 1.0, FORMATION_LINE), 0);
+    w.n_obst = 0;
+    w.goal_m[0] = gx;
+    w.goal_m[1] = gy;
+    w.x_min_m = gx - 16.0;
+    w.x_max_m = gx + 3.0;
+    w.y_min_m = gy - 6.0;
+    w.y_max_m = gy + 7.0;
+    for (k = 0; k < sizeof pocket_pair_walls / sizeof pocket_pair_walls[0]; k++) {
+        const double *e = pocket_pair_walls[k];
+        const double len = hypot(e[2] - e[0], e[3] - e[1]);
+        assert_int_equal(rover_world_add_box(&w, gx + 0.5 * (e[0] + e[2]), gy + 0.5 * (e[1] + e[3]),
+                                             0.5 * len + 0.05, 0.05,
+                                             atan2(e[3] - e[1], e[2] - e[0]), 0.5),
+                         0);
+    }
+    w.start_c[0].x_m = gx - 9.4;
+    w.start_c[0].y_m = gy + 0.9;
+    w.start_c[0].theta_rad = 0.5;
+    rover_ctl_params_default(&p);
+    p.leave_by_way = leave_by_way;
+    navfield_params_default(&np);
+    assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
+    o.nav = &NAV;
+    o.n = 1;
+    return kin_run_world(&w, &p, &o);
+}
+
+/* A robot trapped in one of two pockets side by side escapes and
+ * follows their joint boundary; Bug2's leave rule (straight distance) finds
+ * no point on it nearer the goal by leave_gain_m with the way free and
+ * the robot circles the pair to the time limit; measured along the map's
+ * way it leaves at the V's mouth and the goal behaviour's way takes it
+ * round (docs/method/formation.md §10, leave_measure_m). */
+static void test_leave_by_way(void **state)
+{
+    kin_result r, control;
+    (void)state;
+    r = pocket_pair_run(1);
+    control = pocket_pair_run(0);
+    print_message("two pockets: by the way reached=%d t=%.1f escapes=%d min_clear=%.3f; straight "
+                  "reached=%d escapes=%d, %.1f m from the goal at %.0f s\n",
+                  r.reached, r.t_end, r.escapes, r.min_clear, control.reached, control.escapes,
+                  control.max_slot_err_m, 150.0);
+    assert_true(r.reached);
+    assert_true(r.min_clear > 0.0);
+    assert_int_equal(r.escapes, 1); /* it was trapped: the leave rule is what is tested */
+    /* the way ahead looked for toward the point the goal behaviour steers
+     * for: 37 s here; toward the goal itself, which lies beyond the V from
+     * its mouth, the robot left on the V's far side (85 s) */
+    assert_true(r.t_end < 60.0);
+    assert_false(control.reached);
+    assert_int_equal(control.escapes, 1);
+    assert_true(control.max_slot_err_m > 5.0);
+}
+
 /* A robot left on the far side of a wall from its formation slot is
  * brought through the gap by the way to the goal (cut_off_spacings,
  * formation_slot_hidden): without that, eq. 8's law holds it against the
@@ -2489,6 +2567,7 @@ int main(void)
         cmocka_unit_test(test_no_spin_into_mate),
         cmocka_unit_test(test_cut_off_takes_the_way),
         cmocka_unit_test(test_column_by_place),
+        cmocka_unit_test(test_leave_by_way),
         cmocka_unit_test(test_snapshot_resume_identity),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
