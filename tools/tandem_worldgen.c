@@ -129,6 +129,10 @@ static int write_all(const char *dir, rover_map *m, const rover_map_site *s, int
         fprintf(stderr, "tandem-worldgen: the world gives no layout: %s\n", rover_map_strerror(rc));
         return 1;
     }
+    if (s->n_landmarks == ROVER_MAP_LANDMARKS_AUTO && world_landmarks_on_way(&w, m) != 0) {
+        fprintf(stderr, "tandem-worldgen: out of memory\n");
+        return 1;
+    }
     if (world_file_write(dir, "world", m, s, why, sizeof why) != 0 ||
         world_file_write_svg(dir, "world", &w, why, sizeof why) != 0) {
         fprintf(stderr, "tandem-worldgen: %s\n", why);

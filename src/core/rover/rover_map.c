@@ -125,19 +125,64 @@ int rover_map_merge(rover_map *m, rover_obstacle *box, int cap, int *n)
     return ROVER_MAP_OK;
 }
 
-int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const double goal_m[2],
-                             double lm[ROVER_WORLD_MAX_LANDMARKS][2])
+/* The point at arc length a along the polyline way[0..n-1] (a < 0:
+ * before way[0] along the first leg; past the end: on along the last
+ * leg) and that leg's unit direction. Every leg is longer than 1e-9. */
+static void along_point(const double (*way)[2], const double *leg_m, int n, double a, double p[2],
+                        double u[2])
+{
+    int i = 0;
+    double at = 0.0;
+    while (i < n - 2 && a > at + leg_m[i]) {
+        at += leg_m[i];
+        i++;
+    }
+    u[0] = (way[i + 1][0] - way[i][0]) / leg_m[i];
+    u[1] = (way[i + 1][1] - way[i][1]) / leg_m[i];
+    p[0] = way[i][0] + (a - at) * u[0];
+    p[1] = way[i][1] + (a - at) * u[1];
+}
+
+/* way[] without legs shorter than 1e-9 (into out; how many, at most cap),
+ * each leg's length into leg_m. */
+static int way_legs(const double (*way)[2], int n, double (*out)[2], double *leg_m, int cap)
+{
+    int k, m = 0;
+    for (k = 0; k < n && m < cap; k++) {
+        const double d = m > 0 ? hypot(way[k][0] - out[m - 1][0], way[k][1] - out[m - 1][1]) : 1.0;
+        if (!(d > 1e-9) || !isfinite(way[k][0]) || !isfinite(way[k][1]))
+            continue;
+        if (m > 0)
+            leg_m[m - 1] = d;
+        out[m][0] = way[k][0];
+        out[m][1] = way[k][1];
+        m++;
+    }
+    return m;
+}
+
+int rover_map_landmarks_along(const rover_map *m, const double (*way)[2], int n_way,
+                              double heading_rad, double lm[ROVER_WORLD_MAX_LANDMARKS][2])
 {
     static const double out_frac[4] = { 1.0, 0.7, 0.43, 0.23 }; /* 3.5, 2.45, 1.5, 0.8 m */
     const double side_m = 3.5, margin_m = 3.0;
-    const double dx = goal_m[0] - start->x_m, dy = goal_m[1] - start->y_m;
-    const double len = hypot(dx, dy);
-    /* along the way; a start on the goal still gets posts around it */
-    const double ux = len > 1e-9 ? dx / len : cos(start->theta_rad);
-    const double uy = len > 1e-9 ? dy / len : sin(start->theta_rad);
-    const double span = len + 2.0 * margin_m;
-    double step_m = 3.0;
-    int k, n = 0, pairs;
+    double pts[ROVER_MAP_WAY_MAX][2], leg_m[ROVER_MAP_WAY_MAX], len = 0.0, span, step_m = 3.0;
+    int k, n = 0, pairs, np;
+    if (!m || !way || n_way < 1 || n_way > ROVER_MAP_WAY_MAX)
+        return 0;
+    np = way_legs(way, n_way, pts, leg_m, ROVER_MAP_WAY_MAX);
+    if (np < 1)
+        return 0;
+    if (np == 1) { /* a start on the goal still gets posts around it */
+        pts[1][0] = pts[0][0] + cos(heading_rad);
+        pts[1][1] = pts[0][1] + sin(heading_rad);
+        leg_m[0] = 1.0;
+        np = 2;
+    } else {
+        for (k = 0; k < np - 1; k++)
+            len += leg_m[k];
+    }
+    span = len + 2.0 * margin_m;
     /* NOLINTNEXTLINE(bugprone-integer-division): whole pairs of landmarks */
     if (span / step_m + 1.0 > ROVER_WORLD_MAX_LANDMARKS / 2)
         /* NOLINTNEXTLINE(bugprone-integer-division): whole pairs of landmarks */
@@ -146,15 +191,15 @@ int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const doubl
     if (pairs > ROVER_WORLD_MAX_LANDMARKS / 2)
         pairs = ROVER_WORLD_MAX_LANDMARKS / 2;
     for (k = 0; k < pairs; k++) {
-        const double s = -margin_m + step_m * k;
-        const double cx = start->x_m + s * ux, cy = start->y_m + s * uy;
+        double c[2], u[2];
         int side, q;
+        along_point((const double(*)[2])pts, leg_m, np, -margin_m + step_m * k, c, u);
         for (side = -1; side <= 1; side += 2)
             /* 3.5 m out, or nearer the way where a wall stands there (a
              * corridor's posts stand on its floor, by its walls) */
             for (q = 0; q < 4; q++) {
                 const double off = side_m * out_frac[q];
-                const double x = cx - side * off * uy, y = cy + side * off * ux;
+                const double x = c[0] - side * off * u[1], y = c[1] + side * off * u[0];
                 if (rover_map_blocked(m, x, y))
                     continue;
                 lm[n][0] = x;
@@ -164,6 +209,13 @@ int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const doubl
             }
     }
     return n;
+}
+
+int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const double goal_m[2],
+                             double lm[ROVER_WORLD_MAX_LANDMARKS][2])
+{
+    const double way[2][2] = { { start->x_m, start->y_m }, { goal_m[0], goal_m[1] } };
+    return rover_map_landmarks_along(m, way, 2, start->theta_rad, lm);
 }
 
 /* Robots of the open-world layout moved so that its team frame becomes

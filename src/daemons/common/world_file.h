@@ -99,6 +99,13 @@ const char *world_file_strerror(int rc);
  * On failure why holds "PATH: FIELD: reason". */
 int world_file_read(const char *path, rover_map *m, rover_map_site *s, char *why, size_t why_n);
 
+/* `landmarks: auto` on a map: w's posts placed along the team's way to
+ * the goal (the navigation function's, docs/method/formation.md §14),
+ * not the straight line from start to goal, so a corridor's bends have
+ * posts in view (rover_map_landmarks_along). WORLD_FILE_OK (w unchanged
+ * where no field can be built), or WORLD_FILE_ERR_MEMORY. */
+int world_landmarks_on_way(rover_world_config *w, const rover_map *m);
+
 /* Writes DIR/NAME.yaml and DIR/NAME.pgm (P5) holding m and s. */
 int world_file_write(const char *dir, const char *name, const rover_map *m, const rover_map_site *s,
                      char *why, size_t why_n);

@@ -269,6 +269,104 @@ static void test_auto_landmarks_stand_on_free_cells(void **state)
     assert_true(n > ROVER_WORLD_MAX_LANDMARKS / 2 && n <= ROVER_WORLD_MAX_LANDMARKS);
 }
 
+/* A corridor 2 m wide bent like a hairpin: along x from (0, 1) to
+ * (20, 1), up to (20, 15), back to (0, 15); everything else occupied. */
+static const double hairpin_way[4][2] = {
+    { 0.0, 1.0 }, { 20.0, 1.0 }, { 20.0, 15.0 }, { 0.0, 15.0 }
+};
+
+static void map_hairpin(void)
+{
+    int i, j, k;
+    map_empty(230, 180, 0.1, -1.5, -1.5);
+    for (j = 0; j < M.height; j++)
+        for (i = 0; i < M.width; i++) {
+            const double x = M.origin_x_m + (i + 0.5) * M.resolution_m;
+            const double y = M.origin_y_m + (j + 0.5) * M.resolution_m;
+            int free_cell = 0;
+            for (k = 0; k < 3; k++) {
+                const double x0 = fmin(hairpin_way[k][0], hairpin_way[k + 1][0]) - 1.0;
+                const double x1 = fmax(hairpin_way[k][0], hairpin_way[k + 1][0]) + 1.0;
+                const double y0 = fmin(hairpin_way[k][1], hairpin_way[k + 1][1]) - 1.0;
+                const double y1 = fmax(hairpin_way[k][1], hairpin_way[k + 1][1]) + 1.0;
+                free_cell |= x >= x0 && x <= x1 && y >= y0 && y <= y1;
+            }
+            if (!free_cell)
+                set(i, j);
+        }
+}
+
+/* The posts p sees: within range_m, no occupied cell on the line between. */
+static int posts_in_sight(const double p[2], const double (*lm)[2], int n, double range_m)
+{
+    int k, q, seen = 0;
+    for (k = 0; k < n; k++) {
+        const double d = hypot(lm[k][0] - p[0], lm[k][1] - p[1]);
+        int clear = d <= range_m;
+        for (q = 1; clear && q < 200; q++) {
+            const double f = q / 200.0;
+            clear = !rover_map_blocked(&M, p[0] + f * (lm[k][0] - p[0]),
+                                       p[1] + f * (lm[k][1] - p[1]));
+        }
+        seen += clear;
+    }
+    return seen;
+}
+
+/* The fewest posts in sight (6 m, the camera's range) from any point of
+ * the hairpin's way, every 0.25 m. */
+static int fewest_in_sight(const double (*lm)[2], int n)
+{
+    int k, fewest = 1 << 30;
+    for (k = 0; k < 3; k++) {
+        const double len = hypot(hairpin_way[k + 1][0] - hairpin_way[k][0],
+                                 hairpin_way[k + 1][1] - hairpin_way[k][1]);
+        double a;
+        for (a = 0.0; a <= len; a += 0.25) {
+            const double p[2] = {
+                hairpin_way[k][0] + a / len * (hairpin_way[k + 1][0] - hairpin_way[k][0]),
+                hairpin_way[k][1] + a / len * (hairpin_way[k + 1][1] - hairpin_way[k][1])
+            };
+            const int seen = posts_in_sight(p, lm, n, 6.0);
+            if (seen < fewest)
+                fewest = seen;
+        }
+    }
+    return fewest;
+}
+
+/* Posts along a bent way stand on free cells and keep one in sight from
+ * every point of it; along the straight line from start to goal (the
+ * map's way not known) the hairpin's far end has none in sight. And the
+ * straight rule is rover_map_landmarks_along on the way of two points. */
+static void test_landmarks_along_a_bent_way(void **state)
+{
+    double lm[ROVER_WORLD_MAX_LANDMARKS][2], straight[ROVER_WORLD_MAX_LANDMARKS][2];
+    const pose2 start = { 0.0, 1.0, 0.0 };
+    int n, ns, k;
+    (void)state;
+    map_hairpin();
+    n = rover_map_landmarks_along(&M, hairpin_way, 4, 0.0, lm);
+    assert_true(n >= 10);
+    for (k = 0; k < n; k++)
+        assert_int_equal(rover_map_blocked(&M, lm[k][0], lm[k][1]), 0);
+    ns = rover_map_auto_landmarks(&M, &start, hairpin_way[3], straight);
+    print_message(
+        "hairpin corridor: %d posts along the way, at least %d in sight; %d along the straight "
+        "line, at least %d in sight\n",
+        n, fewest_in_sight((const double(*)[2])lm, n), ns,
+        fewest_in_sight((const double(*)[2])straight, ns));
+    assert_true(fewest_in_sight((const double(*)[2])lm, n) >= 1);
+    assert_int_equal(fewest_in_sight((const double(*)[2])straight, ns), 0);
+    assert_int_equal(rover_map_landmarks_along(&M, hairpin_way, 2, 0.0, lm),
+                     rover_map_auto_landmarks(&M, &start, hairpin_way[1], straight));
+    assert_memory_equal(lm, straight,
+                        sizeof lm[0] *
+                            (size_t)rover_map_auto_landmarks(&M, &start, hairpin_way[1], straight));
+    assert_int_equal(rover_map_landmarks_along(&M, hairpin_way, 0, 0.0, lm), 0);
+    assert_int_equal(rover_map_landmarks_along(&M, hairpin_way, ROVER_MAP_WAY_MAX + 1, 0.0, lm), 0);
+}
+
 /* The sonar's grid cast on the merged boxes of random large maps gives
  * the brute-force cast's hit over every box. */
 static void test_ray_cast_equals_brute_force_on_merged_maps(void **state)
@@ -315,6 +413,7 @@ int main(void)
         cmocka_unit_test(test_layout_is_the_open_layout_moved_to_the_start),
         cmocka_unit_test(test_start_and_goal_refused_on_obstacles_and_off_the_map),
         cmocka_unit_test(test_auto_landmarks_stand_on_free_cells),
+        cmocka_unit_test(test_landmarks_along_a_bent_way),
         cmocka_unit_test(test_ray_cast_equals_brute_force_on_merged_maps),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
