@@ -77,14 +77,16 @@ int rover_map_merge(rover_map *m, rover_obstacle *box, int cap, int *n);
 int rover_world_from_map(rover_world_config *w, rover_map *m, const rover_map_site *s, int n,
                          double spacing_m, int formation);
 
-/* LED posts along the way: pairs 3.5 m either side of the polyline
+/* LED posts along the way: pairs either side of the polyline
  * way[0..n_way-1] (the start, the way's turns, the goal), across its
  * local direction, every 3 m of its length from 3 m before way[0] to 3 m
  * past its end (the step grows if they would exceed
- * ROVER_WORLD_MAX_LANDMARKS); where that point is not a free cell of the
- * map, the first free one of 2.45, 1.5 and 0.8 m out, else none. A way of
- * one point (a start on the goal) runs along heading_rad. Returns how
- * many (into lm); 0 for no way or more than ROVER_MAP_WAY_MAX points. */
+ * ROVER_WORLD_MAX_LANDMARKS): each 3.5 m out, or where a wall stands
+ * nearer, 0.15 m before it on the way's side (never beyond a wall; a
+ * corridor's posts stand on its floor by its walls); none where the
+ * way's point is not free. A way of one point (a start on the goal) runs
+ * along heading_rad. Returns how many (into lm); 0 for no way or more
+ * than ROVER_MAP_WAY_MAX points. */
 #define ROVER_MAP_WAY_MAX 256
 int rover_map_landmarks_along(const rover_map *m, const double (*way)[2], int n_way,
                               double heading_rad, double lm[ROVER_WORLD_MAX_LANDMARKS][2]);

@@ -161,11 +161,38 @@ static int way_legs(const double (*way)[2], int n, double (*out)[2], double *leg
     return m;
 }
 
+/* A post on one side (side = +1 left, -1 right) of the way's point c,
+ * across its direction u: side_m out, or, where a wall stands nearer,
+ * by that wall on the way's side of it (wall_gap_m before its first
+ * occupied sample), so a post never stands beyond a wall and a narrow
+ * corridor still has posts on its floor. 1 and the post in out[], or 0
+ * (a wall within wall_gap_m of c, or c itself off the free map). */
+static int side_post(const rover_map *m, const double c[2], const double u[2], int side,
+                     double out[2])
+{
+    const double side_m = 3.5, wall_gap_m = 0.15;
+    const double step = 0.5 * m->resolution_m;
+    const double nx = -side * u[1], ny = side * u[0];
+    double d = 0.0, at = side_m;
+    if (rover_map_blocked(m, c[0], c[1]))
+        return 0;
+    /* bounded: side_m / step samples */
+    for (d = step; d <= side_m; d += step)
+        if (rover_map_blocked(m, c[0] + d * nx, c[1] + d * ny)) {
+            at = d - wall_gap_m;
+            break;
+        }
+    if (at < step)
+        return 0;
+    out[0] = c[0] + at * nx;
+    out[1] = c[1] + at * ny;
+    return 1;
+}
+
 int rover_map_landmarks_along(const rover_map *m, const double (*way)[2], int n_way,
                               double heading_rad, double lm[ROVER_WORLD_MAX_LANDMARKS][2])
 {
-    static const double out_frac[4] = { 1.0, 0.7, 0.43, 0.23 }; /* 3.5, 2.45, 1.5, 0.8 m */
-    const double side_m = 3.5, margin_m = 3.0;
+    const double margin_m = 3.0;
     double pts[ROVER_MAP_WAY_MAX][2], leg_m[ROVER_MAP_WAY_MAX], len = 0.0, span, step_m = 3.0;
     int k, n = 0, pairs, np;
     if (!m || !way || n_way < 1 || n_way > ROVER_MAP_WAY_MAX)
@@ -192,21 +219,10 @@ int rover_map_landmarks_along(const rover_map *m, const double (*way)[2], int n_
         pairs = ROVER_WORLD_MAX_LANDMARKS / 2;
     for (k = 0; k < pairs; k++) {
         double c[2], u[2];
-        int side, q;
+        int side;
         along_point((const double(*)[2])pts, leg_m, np, -margin_m + step_m * k, c, u);
         for (side = -1; side <= 1; side += 2)
-            /* 3.5 m out, or nearer the way where a wall stands there (a
-             * corridor's posts stand on its floor, by its walls) */
-            for (q = 0; q < 4; q++) {
-                const double off = side_m * out_frac[q];
-                const double x = c[0] - side * off * u[1], y = c[1] + side * off * u[0];
-                if (rover_map_blocked(m, x, y))
-                    continue;
-                lm[n][0] = x;
-                lm[n][1] = y;
-                n++;
-                break;
-            }
+            n += side_post(m, c, u, side, lm[n]);
     }
     return n;
 }

@@ -269,8 +269,9 @@ static void test_auto_landmarks_stand_on_free_cells(void **state)
     assert_true(n > ROVER_WORLD_MAX_LANDMARKS / 2 && n <= ROVER_WORLD_MAX_LANDMARKS);
 }
 
-/* A corridor 2 m wide bent like a hairpin: along x from (0, 1) to
- * (20, 1), up to (20, 15), back to (0, 15); everything else occupied. */
+/* A corridor bent like a hairpin: along x from (0, 1) to (20, 1), 2 m
+ * wide; up to (20, 15), 1.3 m wide; back to (0, 15), 2 m wide;
+ * everything else occupied. */
 static const double hairpin_way[4][2] = {
     { 0.0, 1.0 }, { 20.0, 1.0 }, { 20.0, 15.0 }, { 0.0, 15.0 }
 };
@@ -285,10 +286,11 @@ static void map_hairpin(void)
             const double y = M.origin_y_m + (j + 0.5) * M.resolution_m;
             int free_cell = 0;
             for (k = 0; k < 3; k++) {
-                const double x0 = fmin(hairpin_way[k][0], hairpin_way[k + 1][0]) - 1.0;
-                const double x1 = fmax(hairpin_way[k][0], hairpin_way[k + 1][0]) + 1.0;
-                const double y0 = fmin(hairpin_way[k][1], hairpin_way[k + 1][1]) - 1.0;
-                const double y1 = fmax(hairpin_way[k][1], hairpin_way[k + 1][1]) + 1.0;
+                const double h = k == 1 ? 0.65 : 1.0;
+                const double x0 = fmin(hairpin_way[k][0], hairpin_way[k + 1][0]) - h;
+                const double x1 = fmax(hairpin_way[k][0], hairpin_way[k + 1][0]) + h;
+                const double y0 = fmin(hairpin_way[k][1], hairpin_way[k + 1][1]) - h;
+                const double y1 = fmax(hairpin_way[k][1], hairpin_way[k + 1][1]) + h;
                 free_cell |= x >= x0 && x <= x1 && y >= y0 && y <= y1;
             }
             if (!free_cell)
@@ -336,8 +338,10 @@ static int fewest_in_sight(const double (*lm)[2], int n)
 }
 
 /* Posts along a bent way stand on free cells and keep one in sight from
- * every point of it; along the straight line from start to goal (the
- * map's way not known) the hairpin's far end has none in sight. And the
+ * every point of it, the narrow leg's too (posts 3.5, 2.45, 1.5 or 0.8 m
+ * out, as they once stood, left it none); along the straight line from
+ * start to goal (the map's way not known) the hairpin's far end has none
+ * in sight. And the
  * straight rule is rover_map_landmarks_along on the way of two points. */
 static void test_landmarks_along_a_bent_way(void **state)
 {
