@@ -104,6 +104,15 @@ double navfield_way_from(const navfield *f, const double from_m[2]);
 int navfield_waypoint(const navfield *f, const double from_m[2], const double goal_m[2],
                       double out_m[2]);
 
+/* The way from `from` to `goal` (the callers' frame) as a polyline:
+ * `from`, then the points navfield_waypoint steers for in turn until the
+ * goal is seen straight, then the goal (also where there is no way, or
+ * the cap cuts it short). Each point is at least a metre along the
+ * descent, so at most cap points. How many (0 on NULL, non-finite input
+ * or cap < 2). */
+int navfield_polyline(const navfield *f, const double from_m[2], const double goal_m[2],
+                      double (*way)[2], int cap);
+
 /* The passages on the way ahead: what the sonar's passage test measures
  * (left + right + the robot's width, docs/method/formation.md §9), read
  * from the map along the descent. At every cell of the descent the free

@@ -13,6 +13,7 @@
 #ifndef TANDEM_ROVER_MAP_H
 #define TANDEM_ROVER_MAP_H
 
+#include "navfield.h"
 #include "rover_world.h"
 #include "vec2.h"
 
@@ -90,6 +91,11 @@ int rover_world_from_map(rover_world_config *w, rover_map *m, const rover_map_si
 #define ROVER_MAP_WAY_MAX 256
 int rover_map_landmarks_along(const rover_map *m, const double (*way)[2], int n_way,
                               double heading_rad, double lm[ROVER_WORLD_MAX_LANDMARKS][2]);
+/* w's posts along the way field f (built on w) takes from the team's
+ * start to the goal (navfield_polyline, in w's world frame), so a
+ * corridor's bends have posts in sight; w unchanged where that way has
+ * no leg. Returns w->n_landmarks. */
+int rover_map_landmarks_on_way(rover_world_config *w, const rover_map *m, const navfield *f);
 /* rover_map_landmarks_along the straight line from start to goal (the
  * way of a map on which no navigation function was built). */
 int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const double goal_m[2],

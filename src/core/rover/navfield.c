@@ -510,3 +510,25 @@ int navfield_passage_ahead(const navfield *f, const double from_m[2],
     }
     return NAVFIELD_OK;
 }
+
+int navfield_polyline(const navfield *f, const double from_m[2], const double goal_m[2],
+                      double (*way)[2], int cap)
+{
+    int n = 0, rc = NAVFIELD_DESCENT;
+    if (!f || !from_m || !goal_m || !way || cap < 2 || !isfinite(from_m[0]) ||
+        !isfinite(from_m[1]) || !isfinite(goal_m[0]) || !isfinite(goal_m[1]))
+        return 0;
+    way[n][0] = from_m[0];
+    way[n][1] = from_m[1];
+    n++;
+    /* bounded by cap; a point that does not move on ends it */
+    while (rc == NAVFIELD_DESCENT && n < cap - 1) {
+        rc = navfield_waypoint(f, way[n - 1], goal_m, way[n]);
+        if (rc != NAVFIELD_DESCENT || (way[n][0] == way[n - 1][0] && way[n][1] == way[n - 1][1]))
+            break;
+        n++;
+    }
+    way[n][0] = goal_m[0];
+    way[n][1] = goal_m[1];
+    return n + 1;
+}

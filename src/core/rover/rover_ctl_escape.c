@@ -248,10 +248,12 @@ static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose
 
 /* A new dead-zone entry: LEAVE, the hit point (first entry of an escape),
  * and the wall kept on the side the turn of eq. 2 turned away from. */
-static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, double dist)
+static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, const pose2 *o,
+                            const double goal[2])
 {
+    const double xy[2] = { o->x_m, o->y_m };
     if (rover_esc_table[c->esc.phase].announce != FORMATION_ANN_LEAVE)
-        c->esc.hit_dist_m = dist;
+        c->esc.hit_dist_m = leave_measure_m(c, xy, goal);
     enter(c, ROVER_ESC_TURN);
     c->escapes++;
     c->esc.back_m = 0.0;
@@ -477,13 +479,13 @@ static int way_free(const rover_ctl_state *c, const sonar_groups *g, const pose2
 }
 /* FOLLOW, CLEAR: the boundary on esc.side (U in *u, 1) until the leave
  * rule or open floor ends the escape (`next`: NONE, REJOIN, 0); the other
- * way round after escape_max_s of following (the limit). dist: own
- * distance to the goal (leave_measure_m). */
+ * way round after escape_max_s of following (the limit). */
 static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const sonar_groups *g,
-                           const pose2 *o, const double goal[2], double dist, double dt_s,
-                           unicycle_cmd *u)
+                           const pose2 *o, const double goal[2], double dt_s, unicycle_cmd *u)
 {
     const rover_esc_row *row = &rover_esc_table[c->esc.phase];
+    const double xy[2] = { o->x_m, o->y_m };
+    const double dist = leave_measure_m(c, xy, goal); /* own, from the goal */
     const int free_way = way_free(c, g, o, goal);
     c->esc.lost_s = rover_ctl_walls_near(gw, &c->p) ? 0.0 : c->esc.lost_s + dt_s;
     if ((dist < c->esc.hit_dist_m - c->p.leave_gain_m && free_way) ||
@@ -538,15 +540,13 @@ int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sona
     unicycle_cmd turn;
     const int entries = c->exc.entries;
     const int in_dz = behaviour_exception_step(&c->exc, &turn, gw, dt_s, &c->p.beh);
-    const double xy[2] = { o->x_m, o->y_m };
-    const double dist = leave_measure_m(c, xy, goal);
     crumbs_lay(c, o);
     c->esc.backing = 0;
     c->holding = ROVER_WAIT_NONE;
     c->wait_n = rover_ctl_wait_set(c, o, gw, t_s, c->wait_id);
     if (in_dz == 1) {
         if (c->exc.entries != entries)
-            dead_zone_entry(c, &turn, dist);
+            dead_zone_entry(c, &turn, o, goal);
         *u = turn;
         return 1;
     }
@@ -559,5 +559,5 @@ int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sona
     c->esc.s += dt_s;
     if (c->esc.phase == ROVER_ESC_YIELD && yield_turn(c, gw, o, dt_s, u))
         return 1;
-    return follow_boundary(c, gw, g, o, goal, dist, dt_s, u);
+    return follow_boundary(c, gw, g, o, goal, dt_s, u);
 }

@@ -234,6 +234,39 @@ int rover_map_auto_landmarks(const rover_map *m, const pose2 *start, const doubl
     return rover_map_landmarks_along(m, way, 2, start->theta_rad, lm);
 }
 
+int rover_map_landmarks_on_way(rover_world_config *w, const rover_map *m, const navfield *f)
+{
+    double way[ROVER_MAP_WAY_MAX][2], from[2], goal[2];
+    pose2 p, q;
+    int k, n;
+    p = w->team_origin;
+    rover_world_to_team(w, &p, &q);
+    from[0] = q.x_m;
+    from[1] = q.y_m;
+    p.x_m = w->goal_m[0];
+    p.y_m = w->goal_m[1];
+    rover_world_to_team(w, &p, &q);
+    goal[0] = q.x_m;
+    goal[1] = q.y_m;
+    n = navfield_polyline(f, from, goal, way, ROVER_MAP_WAY_MAX);
+    if (n >= 1) { /* the start as it is given, the rest to the world frame the posts are in */
+        way[0][0] = w->team_origin.x_m;
+        way[0][1] = w->team_origin.y_m;
+    }
+    for (k = 1; k < n; k++) {
+        q.x_m = way[k][0];
+        q.y_m = way[k][1];
+        q.theta_rad = 0.0;
+        rover_world_from_team(w, &q, &p);
+        way[k][0] = p.x_m;
+        way[k][1] = p.y_m;
+    }
+    if (n >= 2)
+        w->n_landmarks = rover_map_landmarks_along(m, (const double(*)[2])way, n,
+                                                   w->team_origin.theta_rad, w->landmark_m);
+    return w->n_landmarks;
+}
+
 /* Robots of the open-world layout moved so that its team frame becomes
  * the start pose. */
 static int place_team(rover_world_config *w, const pose2 *start, int n, double spacing_m,

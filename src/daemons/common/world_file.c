@@ -555,65 +555,16 @@ static const char *map_field(int rc)
     }
 }
 
-/* The way from the start to the goal as the team's goal path has it: the
- * points navfield_waypoint steers for in turn, from the start until the
- * goal is seen straight (world frame, way[0] the start). How many; 0 if
- * the field cannot be built. */
-static int way_polyline(const rover_world_config *w, navfield *f, double (*way)[2], int cap)
-{
-    navfield_params np;
-    pose2 g = { 0.0, 0.0, 0.0 }, gt, p = w->team_origin, pt;
-    double goal[2], from[2], to[2];
-    int n = 0, rc = NAVFIELD_DESCENT;
-    navfield_params_default(&np);
-    if (navfield_build(f, &np, w) != NAVFIELD_OK)
-        return 0;
-    g.x_m = w->goal_m[0];
-    g.y_m = w->goal_m[1];
-    rover_world_to_team(w, &g, &gt);
-    goal[0] = gt.x_m;
-    goal[1] = gt.y_m;
-    way[n][0] = p.x_m;
-    way[n][1] = p.y_m;
-    n++;
-    rover_world_to_team(w, &p, &pt);
-    from[0] = pt.x_m;
-    from[1] = pt.y_m;
-    /* each point is at least a metre along the descent, or the goal:
-     * bounded by cap */
-    while (rc == NAVFIELD_DESCENT && n < cap) {
-        rc = navfield_waypoint(f, from, goal, to);
-        if (rc == NAVFIELD_ERR_ARG || (to[0] == from[0] && to[1] == from[1]))
-            break;
-        pt.x_m = to[0];
-        pt.y_m = to[1];
-        rover_world_from_team(w, &pt, &p);
-        way[n][0] = p.x_m;
-        way[n][1] = p.y_m;
-        n++;
-        from[0] = to[0];
-        from[1] = to[1];
-    }
-    if (rc != NAVFIELD_DIRECT && n < cap) { /* no way, or cut short: on to the goal straight */
-        way[n][0] = w->goal_m[0];
-        way[n][1] = w->goal_m[1];
-        n++;
-    }
-    return n;
-}
-
 int world_landmarks_on_way(rover_world_config *w, const rover_map *m)
 {
-    double way[ROVER_MAP_WAY_MAX][2];
-    navfield *f = malloc(sizeof *f);
-    int n;
+    navfield_params np;
+    navfield *f = malloc(sizeof *f); /* 2 MB, once at start-up */
     if (!f)
         return WORLD_FILE_ERR_MEMORY;
-    n = way_polyline(w, f, way, ROVER_MAP_WAY_MAX);
+    navfield_params_default(&np);
+    if (navfield_build(f, &np, w) == NAVFIELD_OK)
+        rover_map_landmarks_on_way(w, m, f);
     free(f);
-    if (n >= 2)
-        w->n_landmarks = rover_map_landmarks_along(m, (const double(*)[2])way, n,
-                                                   w->team_origin.theta_rad, w->landmark_m);
     return WORLD_FILE_OK;
 }
 

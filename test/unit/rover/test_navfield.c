@@ -152,6 +152,36 @@ static void test_pocket_escape(void **state)
     assert_true(it < 200);
 }
 
+/* The way from inside the pocket as a polyline: it starts where asked,
+ * ends on the goal, and every leg keeps clear of the walls; a cap too
+ * small for it still ends on the goal; bad input gives none. */
+static void test_polyline_out_of_pocket(void **state)
+{
+    const double goal[2] = { 16.0, 0.0 }, from[2] = { 9.0, 0.0 };
+    double way[64][2], s;
+    int n, k;
+    (void)state;
+    world_pocket();
+    build(&F);
+    n = navfield_polyline(&F, from, goal, way, 64);
+    assert_true(n >= 3); /* the straight way goes through the wall: at least one turn */
+    assert_true(way[0][0] == from[0] && way[0][1] == from[1]);
+    assert_true(way[n - 1][0] == goal[0] && way[n - 1][1] == goal[1]);
+    for (k = 0; k + 1 < n; k++) {
+        double leg_clear = INFINITY;
+        for (s = 0.0; s <= 1.0; s += 0.005)
+            leg_clear = fmin(leg_clear,
+                             world_clearance(2.0 + way[k][0] + s * (way[k + 1][0] - way[k][0]),
+                                             5.0 + way[k][1] + s * (way[k + 1][1] - way[k][1])));
+        assert_true(leg_clear >= 0.5 * F.p.los_m - F.cell_m);
+    }
+    n = navfield_polyline(&F, from, goal, way, 2);
+    assert_int_equal(n, 2);
+    assert_true(way[1][0] == goal[0] && way[1][1] == goal[1]);
+    assert_int_equal(navfield_polyline(&F, from, goal, way, 1), 0);
+    assert_int_equal(navfield_polyline(NULL, from, goal, way, 64), 0);
+}
+
 /* The same world with the team frame turned and moved: the query in the
  * team frame, mapped to the world, is the world-frame query. */
 static void test_frame_commutes(void **state)
@@ -384,6 +414,7 @@ int main(void)
         cmocka_unit_test(test_open_is_octile_and_direct),
         cmocka_unit_test(test_bellman_bounds),
         cmocka_unit_test(test_pocket_escape),
+        cmocka_unit_test(test_polyline_out_of_pocket),
         cmocka_unit_test(test_frame_commutes),
         cmocka_unit_test(test_start_beside_wall),
         cmocka_unit_test(test_way_from_round_bend),
