@@ -10,3 +10,6 @@ $(BIN)/test_tool_status: $(OBJ)/sim/sim_status.o $(OBJ)/tools/scenario/scen_stat
 # what tandem-scenario measures of a world (its way, passage and cut)
 $(OBJ)/test/common/test_formation_way.o: DIR_CPPFLAGS += -Itools/scenario
 $(BIN)/test_formation_way: $(OBJ)/tools/scenario/formation_way.o
+# the sweep's lists in turn (--robots 3,4,6,8 --formation line,triangle,column)
+$(OBJ)/test/common/test_sweep_in_turn.o: DIR_CPPFLAGS += -Itools/scenario
+$(BIN)/test_sweep_in_turn: $(OBJ)/tools/scenario/sweep_worlds.o $(OBJ)/tools/scenario/scenario_util.o $(OBJ)/tools/scenario/scen_status.o

@@ -118,6 +118,10 @@ void fm_write_summary(const fm_cfg *cfg, const fm_procs *pr, const fm_metrics *m
     json_str(&j, "scenario", "formation");
     json_str(&j, "formation", fm_formation_name(cfg->formation));
     json_str(&j, "world", rover_world_name(cfg->world));
+    if (cfg->wopt.world == FM_WORLD_RANDOM) { /* what generates the same world again */
+        json_str(&j, "world_kind", fm_world_kinds[cfg->world_kind]);
+        json_int(&j, "world_seed", cfg->world_seed);
+    }
     json_str(&j, "blend", fm_blend_name(cfg->blend));
     json_str(&j, "formation_law", cfg->law_kanayama ? "kanayama" : "seed");
     json_str(&j, "ref_heading", cfg->ref_goal ? "goal" : "mean");

@@ -44,8 +44,8 @@ static const struct {
     { "carry",
       "workpieces_delivered,workpieces_dropped,joint_limit_violations,max_joint_speed_ratio,"
       "max_contact_force_10ms_N,settled_force_max_N,resume_latency_max_s,stalls,sim_time_s,exit_reason" },
-    { "formation", "reached_goal,time_to_goal_s,collisions,formation_changes,dead_zone_escapes,"
-                   "max_formation_err_m,loc_err_max_m,exit_reason" },
+    { "formation", "robots,formation,reached_goal,time_to_goal_s,collisions,formation_changes,"
+                   "dead_zone_escapes,max_formation_err_m,loc_err_max_m,exit_reason" },
     { "singularity", "max_pos_err_m,exit_reason" },
     { "liquid", "joint_limit_violations,exit_reason" },
 };
@@ -191,10 +191,12 @@ static const option_program sweep_program = {
         "usage: tandem-scenario sweep NAME --seeds A-B [--jobs J] [--keys K1,K2,..]\n"
         "         --out DIR [NAME's options]\n"
         "       tandem-scenario sweep formation --world random --world-seeds A-B [--seeds S] ...\n"
+        "         [--robots N1,N2,..] [--formation F1,F2,..] [--world-kind K1,K2,..]\n"
         "Runs scenario NAME for every seed A..B (J at a time, default 1), each with\n"
         "--seed S --out DIR/seed-S, and prints one row per seed (exit status and\n"
         "summary.json keys), totals and DIR/sweep.csv. Exit 0 when every run\n"
-        "exited 0, 3 otherwise. Every other option goes to NAME.\n\n",
+        "exited 0, 3 otherwise. Every other option goes to NAME; --robots, --formation\n"
+        "and --world-kind may be lists, run i (from 0) taking item i mod n of each.\n\n",
     .groups = { { sweep_table, NULL } }, /* the base is the caller's sweep */
     .n_groups = 1,
 };
@@ -236,7 +238,7 @@ static int parse(sweep *w, int argc, char **argv)
 
 static pid_t spawn_seed(const sweep *w, const sweep_run *r)
 {
-    char dir[1024], seed[32], log[1100], wseed[32];
+    char dir[1024], seed[32], log[1100], wseed[32], item[SWEEP_MAX_ARGS][64];
     const char *argv[SWEEP_MAX_ARGS + 8];
     int n = 0, i;
     pid_t pid;
@@ -249,7 +251,7 @@ static pid_t spawn_seed(const sweep *w, const sweep_run *r)
     argv[n++] = "tandem-scenario";
     argv[n++] = w->name;
     for (i = 0; i < w->n_pass; i++)
-        argv[n++] = w->pass[i];
+        argv[n++] = sweep_in_turn(w->pass, i, (int)(r - w->run), item[i], sizeof item[i]);
     argv[n++] = "--seed";
     argv[n++] = seed;
     if (w->worlds_given) {
@@ -402,9 +404,9 @@ static int run_all(sweep *w, double wall0)
                 passed += r->status == 0;
                 fprintf(
                     stderr,
-                    "sweep %s: seed %ld exit %d | %d/%d done, %d passed, %.0f s elapsed, ~%.0f s left\n",
-                    w->name, r->seed, r->status, finished, w->n_run, passed, el,
-                    el / finished * (w->n_run - finished));
+                    "sweep %s: %s %ld exit %d | %d/%d done, %d passed, %.0f s elapsed, ~%.0f s left\n",
+                    w->name, w->worlds_given ? "world" : "seed", r->seed, r->status, finished,
+                    w->n_run, passed, el, el / finished * (w->n_run - finished));
             }
     }
     return finished;
