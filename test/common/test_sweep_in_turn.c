@@ -51,8 +51,8 @@ static void every_pair_once_in_twelve(const char *const *pass, int k_size, int k
 
 static void test_lists_as_separate_words(void **state)
 {
-    const char *const pass[] = { "--world", "random", "--robots", "3,4,6,8", "--formation",
-                                 "line,triangle,column" };
+    const char *const pass[] = { "--world", "random",      "--robots",
+                                 "3,4,6,8", "--formation", "line,triangle,column" };
     (void)state;
     every_pair_once_in_twelve(pass, 3, 5, "", "");
 }

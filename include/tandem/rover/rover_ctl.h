@@ -58,20 +58,23 @@ enum { ROVER_LAW_SEED = 0, ROVER_LAW_KANAYAMA = 1 };
 /* Escape phases, the rows of rover_esc_table (docs/method/formation.md §10):
  * TURN eq. 2's turn, FOLLOW the boundary (both trapped, LEAVE); YIELD
  * turning away from a trapped mate, CLEAR following the boundary out of
- * its way (both giving way, GIVE_WAY). */
+ * its way (both giving way, GIVE_WAY); FACE turning toward the way out of
+ * a stall before FOLLOW (stalled, LEAVE). */
 enum {
     ROVER_ESC_NONE = 0,
     ROVER_ESC_TURN = 1,
     ROVER_ESC_FOLLOW = 2,
     ROVER_ESC_YIELD = 3,
     ROVER_ESC_CLEAR = 4,
-    ROVER_ESC_COUNT = 5
+    ROVER_ESC_FACE = 5,
+    ROVER_ESC_COUNT = 6
 };
 /* What bounds the time spent in a phase: nothing (the seed's turn ends
  * with the front free), yield_max_s, escape_max_s of boundary following. */
 enum { ROVER_ESC_LIMIT_NONE = 0, ROVER_ESC_LIMIT_YIELD = 1, ROVER_ESC_LIMIT_FOLLOW = 2 };
 /* What a phase flies: the blend (not escaping), eq. 2's turn, a turn on
- * the spot away from the trapped mate, the boundary follower. */
+ * the spot (away from the trapped mate, or toward the way), the boundary
+ * follower. */
 enum {
     ROVER_ESC_FLY_BLEND = 0,
     ROVER_ESC_FLY_EQ2 = 1,
@@ -176,6 +179,11 @@ typedef struct {
     double leave_gain_m;  /* Bug2's leave rule: this much nearer the goal than the hit point */
     int leave_by_way;     /* 1: "nearer" along the map's way where the robot holds one
                              (navfield_way_from); 0: straight, as Bug2 has it */
+    /* a stall (docs/method/formation.md §10): arriving, farther than
+     * stall_near_m from its goal slot, waiting for nobody, the axle within
+     * stall_move_m of where it was stall_s ago: a trap eq. 2's test does not
+     * see, escaped as one (stall_s 0: never) */
+    double stall_s, stall_move_m, stall_near_m;
     double follow_mate_ahead_m;   /* a follower turns away from a mate this short of it */
     double follow_moving_mps;     /* slower than this a follower is not following (escape_max_s) */
     double passage_sense_max_m;   /* side readings beyond: no passage wall */
@@ -225,7 +233,7 @@ typedef struct {
     int phase;         /* ROVER_ESC_* */
     int side;          /* -1: wall kept on the right, +1 left */
     int yield;         /* 1: giving way to a leaving mate, not trapped (YIELD, CLEAR) */
-    int turn;          /* giving way: turn direction (+1 left) */
+    int turn;          /* giving way, or facing the way: turn direction (+1 left) */
     double hit_dist_m; /* goal distance at the hit point: Bug2 leaves nearer than it */
     double s;          /* time in this phase (standing for a mate not counted) */
     double lost_s;     /* time without a wall in reach while following */
@@ -258,6 +266,8 @@ typedef struct {
     /* arriving, turning to face the own slot: the way round held (+1 left,
      * -1 right), 0 the short way (rover_ctl.c arrival_turn_other_way) */
     int arrive_turn;
+    double stall_xy_m[2]; /* where the stall clock last started (rover_ctl.c stall_watch) */
+    double stall_t_s;     /* how long the axle has stayed within stall_move_m of it */
     double crumb_m[ROVER_CRUMBS][2]; /* the axle's path, a crumb every ROVER_CRUMB_STEP_M,
                                        * oldest first: the way back known free */
     int crumb_n;                     /* crumbs held (the newest is crumb_m[crumb_n - 1]) */
@@ -284,6 +294,12 @@ typedef struct {
 void rover_ctl_params_default(rover_ctl_params *p);
 /* ROVER_CTL_OK or ROVER_CTL_ERR_ARG. */
 int rover_ctl_params_validate(const rover_ctl_params *p);
+
+/* How far the point xy (team frame) is from the goal as the escape's leave
+ * rule measures it: along the map's way where the robot holds a
+ * navigation field (and leave_by_way), else straight to goal. */
+double rover_ctl_leave_measure_m(const rover_ctl_state *c, const double xy[2],
+                                 const double goal[2]);
 
 /* start_c: pose of C in the team frame; goal in the team frame.
  * ROVER_CTL_ERR_ARG on bad input or parameters. */
@@ -328,7 +344,7 @@ int rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double 
  * encoder reading after rover_ctl_resume integrates the wheels' travel
  * while the process was down. A snapshot is ROVER_CTL_SNAPSHOT_VALUES
  * numbers, id first. */
-#define ROVER_CTL_SNAPSHOT_VALUES 79
+#define ROVER_CTL_SNAPSHOT_VALUES 82
 /* ROVER_CTL_ERR_ARG before the first encoder reading (nothing to keep). */
 int rover_ctl_snapshot(const rover_ctl_state *c, double v[ROVER_CTL_SNAPSHOT_VALUES]);
 /* c as made by rover_ctl_init (same id) and rover_ctl_set_landmarks;

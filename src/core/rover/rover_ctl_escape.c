@@ -20,8 +20,9 @@
 
 /* The escape's phases (rover_ctl.h: what each field means). A trapped
  * robot turns (eq. 2) and follows the boundary; a robot in a trapped
- * mate's way turns away from it and follows the boundary out. Both end,
- * through `next`, in NONE: the leave rule or a lost wall. */
+ * mate's way turns away from it and follows the boundary out; a stalled
+ * robot turns toward its way and follows the boundary. All end, through
+ * `next`, in NONE: the leave rule or a lost wall. */
 const rover_esc_row rover_esc_table[ROVER_ESC_COUNT] = {
     { ROVER_ESC_NONE, FORMATION_ANN_NONE, ROVER_MODE_FORMATION, ROVER_ESC_FLY_BLEND,
       ROVER_ESC_LIMIT_NONE, ROVER_ESC_NONE, ROVER_ESC_NONE },
@@ -34,6 +35,9 @@ const rover_esc_row rover_esc_table[ROVER_ESC_COUNT] = {
       ROVER_ESC_LIMIT_YIELD, ROVER_ESC_CLEAR, ROVER_ESC_CLEAR },
     { ROVER_ESC_CLEAR, FORMATION_ANN_GIVE_WAY, ROVER_MODE_CHANGING, ROVER_ESC_FLY_FOLLOW,
       ROVER_ESC_LIMIT_FOLLOW, ROVER_ESC_NONE, ROVER_ESC_CLEAR },
+    /* a stall: trapped as surely as by eq. 2's test, so LEAVE */
+    { ROVER_ESC_FACE, FORMATION_ANN_LEAVE, ROVER_MODE_DEAD_ZONE, ROVER_ESC_FLY_SPIN,
+      ROVER_ESC_LIMIT_YIELD, ROVER_ESC_FOLLOW, ROVER_ESC_FOLLOW },
 };
 
 static int phase_ok(int k)
@@ -203,7 +207,7 @@ static int trapped_mate_coming(const rover_ctl_state *c, const pose2 *o, double 
     return found;
 }
 
-/* How far from the goal the point xy is, for the leave rule: along the
+/* How far from the goal the point xy is, for the leave rule (rover_ctl.h): along the
  * map's way where the robot holds a navigation field and xy is joined to
  * the goal (navfield_way_from, docs/method/formation.md §14), else
  * straight (Bug2's distance). The way has no local minimum: following the
@@ -213,7 +217,7 @@ static int trapped_mate_coming(const rover_ctl_state *c, const pose2 *o, double 
  * point round a cluster of obstacles the goal lies beyond (a robot
  * trapped in one of two pockets side by side followed their joint
  * boundary for 170 s, never nearer the goal than where it hit). */
-static double leave_measure_m(const rover_ctl_state *c, const double xy[2], const double goal[2])
+double rover_ctl_leave_measure_m(const rover_ctl_state *c, const double xy[2], const double goal[2])
 {
     const double way = c->nav && c->p.leave_by_way ? navfield_way_from(c->nav, xy) : INFINITY;
     return isfinite(way) ? way : hypot(goal[0] - xy[0], goal[1] - xy[1]);
@@ -237,7 +241,7 @@ static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose
     c->esc.back_m = 0.0;
     c->esc.wedge_s = 0.0;
     c->esc.lost_s = 0.0;
-    c->esc.hit_dist_m = leave_measure_m(c, mate, goal);
+    c->esc.hit_dist_m = rover_ctl_leave_measure_m(c, mate, goal);
     /* away from the mate; one dead ahead: toward the roomier side */
     if (fabs(b) > YIELD_DEAD_AHEAD_RAD)
         c->esc.turn = b > 0.0 ? -1 : 1;
@@ -253,7 +257,7 @@ static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, const 
 {
     const double xy[2] = { o->x_m, o->y_m };
     if (rover_esc_table[c->esc.phase].announce != FORMATION_ANN_LEAVE)
-        c->esc.hit_dist_m = leave_measure_m(c, xy, goal);
+        c->esc.hit_dist_m = rover_ctl_leave_measure_m(c, xy, goal);
     enter(c, ROVER_ESC_TURN);
     c->escapes++;
     c->esc.back_m = 0.0;
@@ -261,6 +265,46 @@ static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, const 
     c->esc.lost_s = 0.0;
     /* turned left (+w_k): keep the wall on the right */
     c->esc.side = turn->w_radps > 0.0 ? -1 : 1;
+}
+
+/* The bearing from the heading of the point the goal behaviour will steer
+ * for: the goal, or with a navigation field the point of its descent
+ * (navfield_waypoint: a goal round the corner is not ahead). */
+static double way_bearing_rad(const rover_ctl_state *c, const pose2 *o, const double goal[2])
+{
+    const double xy[2] = { o->x_m, o->y_m };
+    double to[2] = { goal[0], goal[1] };
+    if (c->nav && c->p.leave_by_way &&
+        navfield_waypoint(c->nav, xy, goal, to) == NAVFIELD_ERR_ARG) {
+        to[0] = goal[0];
+        to[1] = goal[1];
+    }
+    return vec2_angle_diff_rad(atan2(to[1] - o->y_m, to[0] - o->x_m), o->theta_rad);
+}
+
+/* A stall (rover_ctl.c stall_watch): escaped as a trap, LEAVE, the hit
+ * point where it stands: FACE turns it toward the way, the short way
+ * round, then it follows the nearer wall. Its mates rank it as trapped
+ * and give way to it as to one; the leave rule brings it out. Facing
+ * first: the follower goes the way the robot faces, and a robot stalled
+ * in a corridor bend's dead end, facing back down the corridor, followed
+ * it 11 m the wrong way (corridor world 416, 6 in column). */
+static int stall_entry(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
+                       const double goal[2])
+{
+    const double xy[2] = { o->x_m, o->y_m };
+    if (!(c->p.stall_s > 0.0) || !(c->stall_t_s > c->p.stall_s))
+        return 0;
+    c->stall_t_s = 0.0;
+    c->esc.hit_dist_m = rover_ctl_leave_measure_m(c, xy, goal);
+    enter(c, ROVER_ESC_FACE);
+    c->escapes++;
+    c->esc.back_m = 0.0;
+    c->esc.wedge_s = 0.0;
+    c->esc.lost_s = 0.0;
+    c->esc.side = nearer_wall_side(gw);
+    c->esc.turn = way_bearing_rad(c, o, goal) > 0.0 ? 1 : -1;
+    return 1;
 }
 
 /* The way back known free: the axle's own path (a robot has no rear
@@ -455,41 +499,69 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
     return 0;
 }
 
+/* FACE: turn on the spot the way chosen at the stall's entry until the
+ * way's point lies within arrive_face_rad of ahead, at most yield_max_s
+ * of turning, never into a mate (deconflict); then FOLLOW the nearer
+ * wall. 1 with the command in *u while turning. */
+static int face_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
+                     const double goal[2], double dt_s, unicycle_cmd *u)
+{
+    if (fabs(way_bearing_rad(c, o, goal)) > c->p.arrive_face_rad && c->esc.s < c->p.yield_max_s) {
+        u->v_mps = 0.0;
+        u->w_radps = c->esc.turn * c->p.follow_w_radps;
+        if (deconflict(c, gw, o, dt_s, u))
+            c->esc.s -= dt_s; /* standing is not turning */
+        return 1;
+    }
+    enter(c, rover_esc_table[ROVER_ESC_FACE].next);
+    c->esc.side = nearer_wall_side(gw);
+    return 0;
+}
+
 /* The way to the goal is free: the transducer toward the point the goal
- * behaviour will steer for (the goal, or with a navigation field the
- * point of its descent, navfield_waypoint: a goal round the corner is
- * not ahead) reads beyond FREE_WAY_RANGE_M and the front beyond
- * FREE_WAY_FRONT_M. */
+ * behaviour will steer for (way_bearing_rad) reads beyond
+ * FREE_WAY_RANGE_M and the front beyond FREE_WAY_FRONT_M. */
 #define FREE_WAY_RANGE_M 1.2
 #define FREE_WAY_FRONT_M 0.8
 static int way_free(const rover_ctl_state *c, const sonar_groups *g, const pose2 *o,
                     const double goal[2])
 {
-    const double xy[2] = { o->x_m, o->y_m };
-    double to[2] = { goal[0], goal[1] };
-    double b;
-    if (c->nav && c->p.leave_by_way &&
-        navfield_waypoint(c->nav, xy, goal, to) == NAVFIELD_ERR_ARG) {
-        to[0] = goal[0];
-        to[1] = goal[1];
-    }
-    b = vec2_angle_diff_rad(atan2(to[1] - o->y_m, to[0] - o->x_m), o->theta_rad);
+    const double b = way_bearing_rad(c, o, goal);
     return fabs(b) < 0.5 * VEC2_PI && range_toward(c->range_m, b) > FREE_WAY_RANGE_M &&
            g->front_m > FREE_WAY_FRONT_M;
 }
 /* FOLLOW, CLEAR: the boundary on esc.side (U in *u, 1) until the leave
  * rule or open floor ends the escape (`next`: NONE, REJOIN, 0); the other
  * way round after escape_max_s of following (the limit). */
+/* A mate that announces LEAVE within give_way_m of us. */
+static int trapped_mate_near(const rover_ctl_state *c, const pose2 *o)
+{
+    int k;
+    for (k = 0; k < c->team.n; k++) {
+        const team_member *m = &c->team.m[k];
+        double xy[2];
+        if (m->announce == FORMATION_ANN_LEAVE && team_position(&c->team, m->robot, xy) == 0 &&
+            hypot(xy[0] - o->x_m, xy[1] - o->y_m) < c->p.give_way_m)
+            return 1;
+    }
+    return 0;
+}
+
 static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const sonar_groups *g,
                            const pose2 *o, const double goal[2], double dt_s, unicycle_cmd *u)
 {
     const rover_esc_row *row = &rover_esc_table[c->esc.phase];
     const double xy[2] = { o->x_m, o->y_m };
-    const double dist = leave_measure_m(c, xy, goal); /* own, from the goal */
+    const double dist = rover_ctl_leave_measure_m(c, xy, goal); /* own, from the goal */
     const int free_way = way_free(c, g, o, goal);
     c->esc.lost_s = rover_ctl_walls_near(gw, &c->p) ? 0.0 : c->esc.lost_s + dt_s;
+    /* giving way ends with the trapped mate gone (rejoined, or beyond
+     * give_way_m): one that cleared a corridor bend's dead end for a mate
+     * stalled in it followed the corridor's wall 8 m back the way the team
+     * came, toward the leave point of a mate that had long rejoined
+     * (corridor world 416, 6 in column) */
     if ((dist < c->esc.hit_dist_m - c->p.leave_gain_m && free_way) ||
-        c->esc.lost_s > c->p.follow_lost_s) {
+        c->esc.lost_s > c->p.follow_lost_s || (c->esc.yield && !trapped_mate_near(c, o))) {
         enter(c, row->next);
         return 0;
     }
@@ -552,12 +624,15 @@ int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sona
     }
     if (c->esc.phase == ROVER_ESC_TURN)
         enter(c, rover_esc_table[ROVER_ESC_TURN].next);
-    if (c->esc.phase == ROVER_ESC_NONE && !give_way_start(c, gw, o, goal)) {
+    if (c->esc.phase == ROVER_ESC_NONE && !stall_entry(c, gw, o, goal) &&
+        !give_way_start(c, gw, o, goal)) {
         wait_step(c, o, dt_s);
         return 0;
     }
     c->esc.s += dt_s;
     if (c->esc.phase == ROVER_ESC_YIELD && yield_turn(c, gw, o, dt_s, u))
+        return 1;
+    if (c->esc.phase == ROVER_ESC_FACE && face_turn(c, gw, o, goal, dt_s, u))
         return 1;
     return follow_boundary(c, gw, g, o, goal, dt_s, u);
 }

@@ -140,12 +140,19 @@ void rover_republish(daemon *d, void *user)
  * distance to the goal with the one where the escape started). */
 static void report_escape(hosted *h, const pose2 *o, double t_s)
 {
-    static const char *const phases[] = { "escape over", "turns out of the trap",
-                                          "follows the wall", "turns away from a leaving mate",
-                                          "follows the wall out of a leaving mate's way" };
+    static const char *const phases[ROVER_ESC_COUNT] = {
+        "escape over",
+        "turns out of the trap",
+        "follows the wall",
+        "turns away from a leaving mate",
+        "follows the wall out of a leaving mate's way",
+        "stalled: turns toward its way"
+    };
     const rover_ctl_state *c = &h->c;
     const int esc = c->esc.phase * 4 + (c->esc.side + 1);
-    const double dist_m = hypot(c->goal_m[0] - o->x_m, c->goal_m[1] - o->y_m);
+    const double xy[2] = { o->x_m, o->y_m };
+    /* as the leave rule measures it, like the hit point's */
+    const double dist_m = rover_ctl_leave_measure_m(c, xy, c->goal_m);
     if (esc == h->shown_esc || c->esc.phase < ROVER_ESC_NONE || c->esc.phase >= ROVER_ESC_COUNT)
         return;
     if (h->shown_esc < 0 && c->esc.phase == ROVER_ESC_NONE) {
@@ -154,7 +161,7 @@ static void report_escape(hosted *h, const pose2 *o, double t_s)
     }
     if (c->esc.phase == ROVER_ESC_FOLLOW)
         printf(
-            "[%9.3f] robot %d: %s on its %s at (%.2f, %.2f), %.2f m from the goal (%.2f m at the start)\n",
+            "[%9.3f] robot %d: %s on its %s at (%.2f, %.2f), %.2f m from the goal (%.2f m where it began)\n",
             t_s, (int)c->id, phases[c->esc.phase], c->esc.side < 0 ? "right" : "left", o->x_m,
             o->y_m, dist_m, c->esc.hit_dist_m);
     else

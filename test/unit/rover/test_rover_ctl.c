@@ -1283,6 +1283,14 @@ static void test_give_way_announces_and_references(void **state)
     assert_true(c.esc.yield && c.esc.phase != ROVER_ESC_NONE && gave_way_sent);
     assert_int_equal(out.mode, ROVER_MODE_CHANGING);
     assert_true(fabs(c.esc.hit_dist_m - (own - 1.2)) < 0.3);
+    /* the trapped mate rejoins: giving way ends (CLEAR followed a corridor's
+     * wall 8 m back for a mate that had long rejoined: corridor world 416) */
+    m.announce = FORMATION_ANN_REJOIN;
+    for (k = 0; k < 30; k++, t += DT)
+        seen_step(&c, t, lane_ring, &m, 1, &out);
+    print_message("give way, mate rejoined: phase %d\n", c.esc.phase);
+    assert_int_equal(c.esc.phase, ROVER_ESC_NONE);
+    assert_false(formation_ann_out(rover_ctl_own_announce(&c))); /* back in the formation */
     /* the same mate giving way instead of trapped: no give-way */
     m.announce = FORMATION_ANN_GIVE_WAY;
     at_origin(&c, &p, 1);
@@ -2168,33 +2176,47 @@ static void test_arrival_turn_in_a_pocket(void **state)
  * side by side met so tail to tail, mixed world 120, 12 in line). Robot 1
  * stands instead; robot 4, in the open but within robot 1's circle, waits
  * for it (and, with no path behind it to back along, stands). */
+/* Robot 1 arriving as in test_arrival_turns_on_the_spot (its first
+ * command in *out: a right turn on the spot, the mates clear), with
+ * robot 4 (m[2]) placed behind its left flank, its axle 0.25 m behind
+ * ours and 0.48 m to the left, alongside: where the right turn swings
+ * robot 1's tail. Robot 4's pose in *o4. */
+static void flank_mate_setup(rover_ctl_state *c, const rover_ctl_params *p, hand_mate m[3],
+                             rover_ctl_out *out, pose2 *o4)
+{
+    const double goal[2] = { 10.0, 0.0 };
+    const hand_mate init[3] = { { 2, 10.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
+                                { 3, 10.0, -1.0, 0.0, FORMATION_ANN_NONE, 0.0 },
+                                { 4, 0.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 } };
+    const pose2 start = { 11.0, 1.3, -0.5 };
+    pose2 own_c;
+    memcpy(m, init, sizeof init);
+    assert_int_equal(rover_ctl_init(c, p, 1, &start, goal), 0);
+    hand_step(c, 0.0, open_ring, m, 2, out);
+    assert_true(out->u.v_mps == 0.0 && out->u.w_radps < 0.0); /* turns right, mates clear */
+    unicycle_c_from_o(&own_c, &out->o, p->beh.d_m);
+    o4->theta_rad = own_c.theta_rad;
+    o4->x_m = own_c.x_m + (-0.25 - p->beh.d_m) * cos(o4->theta_rad) - 0.48 * sin(o4->theta_rad);
+    o4->y_m = own_c.y_m + (-0.25 - p->beh.d_m) * sin(o4->theta_rad) + 0.48 * cos(o4->theta_rad);
+    m[2].x = o4->x_m;
+    m[2].y = o4->y_m;
+    m[2].th = o4->theta_rad;
+}
+
 static void test_no_spin_into_mate(void **state)
 {
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
     const double goal[2] = { 10.0, 0.0 };
-    hand_mate m[3] = { { 2, 10.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 },
-                       { 3, 10.0, -1.0, 0.0, FORMATION_ANN_NONE, 0.0 },
-                       { 4, 0.0, 0.0, 0.0, FORMATION_ANN_NONE, 0.0 } };
-    const pose2 start = { 11.0, 1.3, -0.5 };
+    hand_mate m[3];
     const unicycle_cmd right = { 0.0, -0.6 }, left = { 0.0, 0.6 };
-    pose2 own_c, o4;
+    pose2 o4;
     hand_mate top;
     double t = 0.0;
     (void)state;
     rover_ctl_params_default(&p);
-    assert_int_equal(rover_ctl_init(&c, &p, 1, &start, goal), 0);
-    hand_step(&c, t, open_ring, m, 2, &out);
-    assert_true(out.u.v_mps == 0.0 && out.u.w_radps < 0.0); /* turns right, mates clear */
-    /* robot 4's axle 0.25 m behind ours and 0.48 m to the left, alongside */
-    unicycle_c_from_o(&own_c, &out.o, p.beh.d_m);
-    o4.theta_rad = own_c.theta_rad;
-    o4.x_m = own_c.x_m + (-0.25 - p.beh.d_m) * cos(o4.theta_rad) - 0.48 * sin(o4.theta_rad);
-    o4.y_m = own_c.y_m + (-0.25 - p.beh.d_m) * sin(o4.theta_rad) + 0.48 * cos(o4.theta_rad);
-    m[2].x = o4.x_m;
-    m[2].y = o4.y_m;
-    m[2].th = o4.theta_rad;
+    flank_mate_setup(&c, &p, m, &out, &o4);
     for (t = DT; t < 1.0; t += DT) {
         hand_step(&c, t, open_ring, m, 3, &out);
         /* the test is live: the right turn sweeps into robot 4, the left does not */
@@ -2216,6 +2238,57 @@ static void test_no_spin_into_mate(void **state)
             assert_int_equal(c.wait_n, 1);
             assert_int_equal(c.wait_id[0], 1);
             assert_true(out.u.w_radps == 0.0 && out.u.v_mps <= 0.0);
+        }
+    }
+}
+
+/* A stall (docs/method/formation.md §10, "Stalls"): robot 1 arriving with
+ * its slot behind and robot 4 in the sweep of its turn, as in
+ * test_no_spin_into_mate, but robot 4 never clears (it could not back out
+ * of the circle: traps world 412, 8 in triangle, where robot 1 turned to
+ * and fro for 150 s). Robot 1 stands in formation for stall_s; then it
+ * announces LEAVE, reports a dead-zone escape and turns toward its way
+ * (FACE): not the short way, which sweeps into robot 4, but, once wedged
+ * wedge_max_s, the way that does not. With stall_s 0 it stands in
+ * formation to the end (the control). */
+static void test_stall_escapes(void **state)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    hand_mate m[3];
+    pose2 o4;
+    double t, turned_left_s;
+    int pass;
+    (void)state;
+    for (pass = 0; pass < 2; pass++) {
+        rover_ctl_params_default(&p);
+        if (pass == 1)
+            p.stall_s = 0.0;
+        turned_left_s = 0.0;
+        flank_mate_setup(&c, &p, m, &out, &o4);
+        for (t = DT; t < p.stall_s - 0.5; t += DT) {
+            hand_step(&c, t, open_ring, m, 3, &out);
+            assert_int_equal(out.mode, ROVER_MODE_FORMATION);
+            assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
+        }
+        for (; t < 15.0 + 1.0 + p.wedge_max_s + 3.0; t += DT) {
+            hand_step(&c, t, open_ring, m, 3, &out);
+            turned_left_s += out.u.w_radps > 0.0 ? DT : 0.0;
+            assert_true(out.u.v_mps == 0.0 && out.u.w_radps >= 0.0); /* never into robot 4 */
+        }
+        print_message("stall (stall_s %.0f): phase %d, announces %d, mode %d, turned left %.1f s\n",
+                      p.stall_s, c.esc.phase, rover_ctl_own_announce(&c), out.mode, turned_left_s);
+        if (pass == 0) {
+            assert_int_equal(c.escapes, 1);
+            assert_int_equal(rover_ctl_own_announce(&c), FORMATION_ANN_LEAVE);
+            assert_true(c.esc.phase == ROVER_ESC_FACE || c.esc.phase == ROVER_ESC_FOLLOW);
+            assert_true(turned_left_s > 1.0);
+        } else {
+            assert_int_equal(c.escapes, 0);
+            assert_int_equal(c.esc.phase, ROVER_ESC_NONE);
+            assert_int_equal(out.mode, ROVER_MODE_FORMATION);
+            assert_true(turned_left_s == 0.0);
         }
     }
 }
@@ -2565,6 +2638,7 @@ int main(void)
         cmocka_unit_test(test_arrival_turns_on_the_spot),
         cmocka_unit_test(test_arrival_turn_in_a_pocket),
         cmocka_unit_test(test_no_spin_into_mate),
+        cmocka_unit_test(test_stall_escapes),
         cmocka_unit_test(test_cut_off_takes_the_way),
         cmocka_unit_test(test_column_by_place),
         cmocka_unit_test(test_leave_by_way),
