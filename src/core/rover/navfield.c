@@ -396,16 +396,24 @@ static double inside_m(const navfield *f, const double xy[2])
 }
 
 /* From world point p along the unit direction u: the distance to the
- * first sample nearer an obstacle than half a cell (its centre about on
- * one) or off the grid, sampled every half cell up to side_m; INFINITY
- * when there is none. Samples that cannot be that are skipped, with the
- * same answer: the clearance is a distance (it changes by no more than
- * the way moved) stored at cell centres (within 0.71 cell of a sample),
- * so every sample within c - 2 cells of one whose cell reads c, and as
- * far inside the grid, reads at least half a cell. */
+ * obstacle that the first sample whose cell touches one (its centre
+ * within 0.71 cell of it: by a side or a corner) finds (the sample's
+ * distance plus its cell's clearance), or to the grid's edge, sampled
+ * every half cell up to side_m; INFINITY when there is none. Touching,
+ * not "its centre on one": a wall one cell thick lies half a cell from the centres
+ * beside it, and a line passing through those cells read it open or not
+ * as the float rounding of that half cell went (a gap in a thin wall
+ * whose two ends stand a cell apart across the way read open, and a team
+ * of 6 in triangle crossed a 1.9 m gap without reshaping: mixed world
+ * 315). Samples that cannot be that are skipped, with the same answer:
+ * the clearance is a distance (it changes by no more than the way moved)
+ * stored at cell centres (within 0.71 cell of a sample), so every sample
+ * within c - 2.5 cells of one whose cell reads c, and as far inside the
+ * grid, reads more than 0.71 cell. */
+#define NAVFIELD_TOUCH_CELLS 0.71
 static double side_free_m(const navfield *f, const double p[2], const double u[2], double side_m)
 {
-    const double step = 0.5 * f->cell_m, hit = 0.5 * f->cell_m;
+    const double step = 0.5 * f->cell_m, hit = NAVFIELD_TOUCH_CELLS * f->cell_m;
     const long n = (long)ceil(side_m / step);
     long s = 1;
     while (s <= n) {
@@ -414,8 +422,8 @@ static double side_free_m(const navfield *f, const double p[2], const double u[2
         const double c = clear_at(f, xy);
         double skip;
         if (c < hit)
-            return d;
-        skip = floor((fmin(c, inside_m(f, xy)) - 2.0 * f->cell_m) / step);
+            return d + fmax(c, 0.0); /* where the obstacle is, not the sample */
+        skip = floor((fmin(c, inside_m(f, xy)) - 2.5 * f->cell_m) / step);
         s += skip > 1.0 ? (long)fmin(skip, (double)n) : 1;
     }
     return INFINITY;

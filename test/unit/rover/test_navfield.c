@@ -345,6 +345,29 @@ static void test_passage_ahead(void **state)
     assert_true(out.below_len_m == 0.0);
 }
 
+/* A gap of 1.2 m in a wall one cell thick whose two parts stand a cell
+ * apart along the way (x 10.0-10.1 below the gap, 10.1-10.2 above it), as
+ * a map's wall drawn slightly aslant is: the passage is the gap. Every
+ * line across the way through the gap's cells passes beside one part's
+ * end, half a cell from it; read as "a sample's centre on an obstacle"
+ * those lines read open, and a team of 6 in triangle crossed a 1.9 m gap
+ * of generated mixed world 315 with no formation change. */
+static void test_passage_staggered_thin_wall(void **state)
+{
+    const double tol = 2.5 * 0.1;
+    navfield_passage out;
+    (void)state;
+    world_open();
+    box(10.05, 2.2, 0.05, 2.2); /* x 10.0 .. 10.1, y 0 .. 4.4 */
+    box(10.15, 7.8, 0.05, 2.2); /* x 10.1 .. 10.2, y 5.6 .. 10 */
+    build(&F);
+    out = passage_from(8.0, 5.0, 3.0);
+    print_message("staggered thin wall, gap 1.2 m: %.3f m wide, %.3f m long\n", out.narrowest_m,
+                  out.below_len_m);
+    assert_true(fabs(out.narrowest_m - 1.2) <= tol);
+    assert_true(out.below_len_m < 1.0); /* short: a gap, not a corridor */
+}
+
 /* A wall 0.1 m thick turned by beta from the way's normal (the way runs
  * along +x at y = 5), with a gap of 1.4 m along it centred on the way: the
  * team meets a width of 1.4 cos(beta) across its way, and the passage
@@ -419,6 +442,7 @@ int main(void)
         cmocka_unit_test(test_start_beside_wall),
         cmocka_unit_test(test_way_from_round_bend),
         cmocka_unit_test(test_passage_ahead),
+        cmocka_unit_test(test_passage_staggered_thin_wall),
         cmocka_unit_test(test_passage_aslant),
         cmocka_unit_test(test_refusals),
     };
