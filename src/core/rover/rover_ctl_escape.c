@@ -250,6 +250,17 @@ static int give_way_start(rover_ctl_state *c, const sonar_groups *gw, const pose
     return 1;
 }
 
+/* Into an escape's first phase k (TURN, FACE): counted as an escape, its
+ * backing, wedge and lost-wall measures started afresh. */
+static void escape_begin(rover_ctl_state *c, int k)
+{
+    enter(c, k);
+    c->escapes++;
+    c->esc.back_m = 0.0;
+    c->esc.wedge_s = 0.0;
+    c->esc.lost_s = 0.0;
+}
+
 /* A new dead-zone entry: LEAVE, the hit point (first entry of an escape),
  * and the wall kept on the side the turn of eq. 2 turned away from. */
 static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, const pose2 *o,
@@ -258,11 +269,7 @@ static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, const 
     const double xy[2] = { o->x_m, o->y_m };
     if (rover_esc_table[c->esc.phase].announce != FORMATION_ANN_LEAVE)
         c->esc.hit_dist_m = rover_ctl_leave_measure_m(c, xy, goal);
-    enter(c, ROVER_ESC_TURN);
-    c->escapes++;
-    c->esc.back_m = 0.0;
-    c->esc.wedge_s = 0.0;
-    c->esc.lost_s = 0.0;
+    escape_begin(c, ROVER_ESC_TURN);
     /* turned left (+w_k): keep the wall on the right */
     c->esc.side = turn->w_radps > 0.0 ? -1 : 1;
 }
@@ -297,11 +304,7 @@ static int stall_entry(rover_ctl_state *c, const sonar_groups *gw, const pose2 *
         return 0;
     c->stall_t_s = 0.0;
     c->esc.hit_dist_m = rover_ctl_leave_measure_m(c, xy, goal);
-    enter(c, ROVER_ESC_FACE);
-    c->escapes++;
-    c->esc.back_m = 0.0;
-    c->esc.wedge_s = 0.0;
-    c->esc.lost_s = 0.0;
+    escape_begin(c, ROVER_ESC_FACE);
     c->esc.side = nearer_wall_side(gw);
     c->esc.turn = way_bearing_rad(c, o, goal) > 0.0 ? 1 : -1;
     return 1;
@@ -468,6 +471,25 @@ static int deconflict(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
     return u->w_radps == 0.0;
 }
 
+/* The escape's turns on the spot (YIELD, FACE): while go_on, at most
+ * yield_max_s of turning, turn c->esc.turn at follow_w_radps, never into a
+ * mate (deconflict; standing is not turning); then the phase's next,
+ * following the nearer wall. 1 with the command in *u while turning. */
+static int spin_or_next(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, int go_on,
+                        double dt_s, unicycle_cmd *u)
+{
+    if (go_on && c->esc.s < c->p.yield_max_s) {
+        u->v_mps = 0.0;
+        u->w_radps = c->esc.turn * c->p.follow_w_radps;
+        if (deconflict(c, gw, o, dt_s, u))
+            c->esc.s -= dt_s;
+        return 1;
+    }
+    enter(c, rover_esc_table[c->esc.phase].next);
+    c->esc.side = nearer_wall_side(gw);
+    return 0;
+}
+
 /* a mate this far either side of the heading is ahead */
 #define YIELD_AHEAD_RAD (2.0 * VEC2_PI / 3.0)
 /* YIELD: turn on the spot away from the trapped mate while one that is
@@ -487,16 +509,7 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
                 YIELD_AHEAD_RAD)
             ahead = 1;
     }
-    if (ahead && c->esc.s < c->p.yield_max_s) {
-        u->v_mps = 0.0;
-        u->w_radps = c->esc.turn * c->p.follow_w_radps;
-        if (deconflict(c, gw, o, dt_s, u))
-            c->esc.s -= dt_s; /* standing is not turning */
-        return 1;
-    }
-    enter(c, rover_esc_table[ROVER_ESC_YIELD].next);
-    c->esc.side = nearer_wall_side(gw);
-    return 0;
+    return spin_or_next(c, gw, o, ahead, dt_s, u);
 }
 
 /* FACE: turn on the spot the way chosen at the stall's entry until the
@@ -506,16 +519,8 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
 static int face_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
                      const double goal[2], double dt_s, unicycle_cmd *u)
 {
-    if (fabs(way_bearing_rad(c, o, goal)) > c->p.arrive_face_rad && c->esc.s < c->p.yield_max_s) {
-        u->v_mps = 0.0;
-        u->w_radps = c->esc.turn * c->p.follow_w_radps;
-        if (deconflict(c, gw, o, dt_s, u))
-            c->esc.s -= dt_s; /* standing is not turning */
-        return 1;
-    }
-    enter(c, rover_esc_table[ROVER_ESC_FACE].next);
-    c->esc.side = nearer_wall_side(gw);
-    return 0;
+    return spin_or_next(c, gw, o, fabs(way_bearing_rad(c, o, goal)) > c->p.arrive_face_rad, dt_s,
+                        u);
 }
 
 /* The way to the goal is free: the transducer toward the point the goal
