@@ -514,13 +514,18 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
 
 /* FACE: turn on the spot the way chosen at the stall's entry until the
  * way's point lies within arrive_face_rad of ahead, at most yield_max_s
- * of turning, never into a mate (deconflict); then FOLLOW the nearer
- * wall. 1 with the command in *u while turning. */
+ * of turning, never into a mate (deconflict) and only while every echo
+ * lies outside the circle the turn sweeps (rover_ctl_spin_clear: a robot
+ * stalled among walls ground a corner into one, 3 wall contacts in
+ * traps world 160, 8 in line); then FOLLOW the nearer wall, which keeps
+ * its distance. 1 with the command in *u while turning. */
 static int face_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
                      const double goal[2], double dt_s, unicycle_cmd *u)
 {
-    return spin_or_next(c, gw, o, fabs(way_bearing_rad(c, o, goal)) > c->p.arrive_face_rad, dt_s,
-                        u);
+    return spin_or_next(c, gw, o,
+                        fabs(way_bearing_rad(c, o, goal)) > c->p.arrive_face_rad &&
+                            rover_ctl_spin_clear(c->range_m),
+                        dt_s, u);
 }
 
 /* The way to the goal is free: the transducer toward the point the goal
