@@ -711,22 +711,26 @@ static void arrival_turn_other_way(rover_ctl_state *c, const step_view *v, doubl
     u->w_radps = c->arrive_turn * fabs(w_turn);
 }
 
-/* The stall clock (docs/method/formation.md §10, "Stalls"): how long an
- * arriving robot that waits for nobody and is not at its goal slot has
- * kept its axle within stall_move_m of one place. Arriving, the slots
- * stand still, so a robot that wants to move and stays put is held by
- * walls and mates its behaviours cannot get round: turning to and fro on
- * the spot beside a mate that could not back out of its turning circle
- * (traps world 412, 8 in triangle), or in a corridor bend's dead end with
- * a mate standing in its way out (corridor world 416, 6 in column). Eq.
- * 2's test sees a trap only with walls on three sides. The escape reads
- * the clock (rover_ctl_escape.c). Not en route: there the slot moves with
- * the team, and a robot standing in a formation change is not stalled. */
+/* The stall clock (docs/method/formation.md §10, "Stalls"): how long a
+ * robot away from where it should be (arriving: its goal slot; en route:
+ * its formation slot; farther than stall_near_m) has kept its axle within
+ * stall_move_m of one place. Waiting for outranking mates pauses the
+ * clock (a wait is bounded by hold_max_s, and a robot whose wait set
+ * flickers stood for good at a corridor's bend); anything else a robot
+ * that wants to move and stays put is held by walls and mates its
+ * behaviours cannot get round: turning to and fro on the spot beside a
+ * mate that could not back out of its turning circle (traps world 412, 8
+ * in triangle), in a corridor bend's dead end with a mate standing in its
+ * way out (corridor world 416, 6 in column), two left behind at the
+ * start, each in the other's turning circle, while the team flew on
+ * (corridor world 4, 8 in line). Eq. 2's test sees a trap only with
+ * walls on three sides. The escape reads the clock
+ * (rover_ctl_escape.c). */
 static void stall_watch(rover_ctl_state *c, const step_view *v, double dt_s)
 {
-    const int counts = v->arriving && !v->escaping && c->holding == ROVER_WAIT_NONE &&
-                       v->rc_goal != BEH_GOAL_REACHED &&
-                       hypot(v->goal[0] - v->o.x_m, v->goal[1] - v->o.y_m) > c->p.stall_near_m;
+    const double away_m = v->arriving ? hypot(v->goal[0] - v->o.x_m, v->goal[1] - v->o.y_m)
+                                      : v->R_d;
+    const int counts = !v->escaping && v->rc_goal != BEH_GOAL_REACHED && away_m > c->p.stall_near_m;
     if (!counts ||
         hypot(v->o.x_m - c->stall_xy_m[0], v->o.y_m - c->stall_xy_m[1]) > c->p.stall_move_m) {
         c->stall_xy_m[0] = v->o.x_m;
@@ -734,7 +738,8 @@ static void stall_watch(rover_ctl_state *c, const step_view *v, double dt_s)
         c->stall_t_s = 0.0;
         return;
     }
-    c->stall_t_s += dt_s;
+    if (c->holding == ROVER_WAIT_NONE)
+        c->stall_t_s += dt_s;
 }
 
 /* The drive command from the blend and the mode reported: capped while
