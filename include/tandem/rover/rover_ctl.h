@@ -179,9 +179,9 @@ typedef struct {
     double leave_gain_m;  /* Bug2's leave rule: this much nearer the goal than the hit point */
     int leave_by_way;     /* 1: "nearer" along the map's way where the robot holds one
                              (navfield_way_from); 0: straight, as Bug2 has it */
-    /* a stall (docs/method/formation.md §10): arriving, farther than
-     * stall_near_m from its goal slot, waiting for nobody, the axle within
-     * stall_move_m of where it was stall_s ago: a trap eq. 2's test does not
+    /* a stall (docs/method/formation.md §10): farther than stall_near_m
+     * from its slot (arriving: its goal slot), the axle within stall_move_m
+     * of one place for stall_s of not waiting: a trap eq. 2's test does not
      * see, escaped as one (stall_s 0: never) */
     double stall_s, stall_move_m, stall_near_m;
     double follow_mate_ahead_m;   /* a follower turns away from a mate this short of it */
@@ -267,7 +267,7 @@ typedef struct {
      * -1 right), 0 the short way (rover_ctl.c arrival_turn_other_way) */
     int arrive_turn;
     double stall_xy_m[2]; /* where the stall clock last started (rover_ctl.c stall_watch) */
-    double stall_t_s;     /* how long the axle has stayed within stall_move_m of it */
+    double stall_t_s;     /* how long (not waiting) the axle has stayed within stall_move_m of it */
     double crumb_m[ROVER_CRUMBS][2]; /* the axle's path, a crumb every ROVER_CRUMB_STEP_M,
                                        * oldest first: the way back known free */
     int crumb_n;                     /* crumbs held (the newest is crumb_m[crumb_n - 1]) */
