@@ -1006,6 +1006,21 @@ static void test_stale_sensors_stop(void **state)
     rover_ctl_params_default(&p);
     p.cut_off_spacings = NAN;
     assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
+    /* the stall's constants: stall_s 0 (never) is valid, below 0 or NaN is
+     * not; the move is a distance; the near distance may be 0, not below */
+    rover_ctl_params_default(&p);
+    p.stall_s = 0.0;
+    assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_OK);
+    p.stall_s = -1.0;
+    assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
+    p.stall_s = NAN;
+    assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
+    rover_ctl_params_default(&p);
+    p.stall_move_m = 0.0;
+    assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
+    rover_ctl_params_default(&p);
+    p.stall_near_m = -0.1;
+    assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
 }
 
 static void test_follow_keeps_wall_side(void **state)
