@@ -83,6 +83,12 @@ int navfield_relax(navfield *f, double clear_m);
  * value); INFINITY off the grid or where there is none. */
 double navfield_way_m(const navfield *f, double x_m, double y_m);
 
+/* A lower bound on the distance from `at` (the callers' frame) to the
+ * nearest obstacle: its cell centre's clearance less half the cell's
+ * diagonal (no obstacle is nearer the point than that), capped as the
+ * clearances are. -INFINITY off the grid, or on NULL or non-finite input. */
+double navfield_clearance_m(const navfield *f, const double at_m[2]);
+
 /* The way to the goal from `from` (the callers' frame): from the cell
  * navfield_waypoint would descend from (its own, or for a point nearer an
  * obstacle than clear_m, a robot beside a wall, the one within reach with

@@ -179,6 +179,8 @@ typedef struct {
     double leave_gain_m;  /* Bug2's leave rule: this much nearer the goal than the hit point */
     int leave_by_way;     /* 1: "nearer" along the map's way where the robot holds one
                              (navfield_way_from); 0: straight, as Bug2 has it */
+    int entry_by_way;     /* 1: a dead-zone entry turns first toward the map's way, then
+                             alternates (§10); 0: eq. 2's alternation alone */
     /* a stall (docs/method/formation.md §10): farther than stall_near_m
      * from its slot (arriving: its goal slot), the axle within stall_move_m
      * of one place for stall_s of not waiting: a trap eq. 2's test does not
@@ -191,6 +193,7 @@ typedef struct {
     double passage_front_min_m;   /* a passage needs the front open this far */
     double passage_ahead_m;       /* with the map: passages looked for this far along the way */
     double passage_short_m;       /* ... those shorter than this along it (the sonar's too short) */
+    int passage_long_by_map;      /* 1: a longer one too, where the sonar cannot tell; 0: never */
     double v_change_mps;          /* speed cap while shrinking / changing type */
     double guard_m, guard_stop_m; /* collision guard: slow below, stop at (echo in the way) */
     double guard_lane_m;          /* an echo this far outside the swept lane is not in the way */
@@ -233,7 +236,7 @@ typedef struct {
     int phase;         /* ROVER_ESC_* */
     int side;          /* -1: wall kept on the right, +1 left */
     int yield;         /* 1: giving way to a leaving mate, not trapped (YIELD, CLEAR) */
-    int turn;          /* giving way, or facing the way: turn direction (+1 left) */
+    int turn;          /* giving way, facing the way, eq. 2's turn: direction (+1 left) */
     double hit_dist_m; /* goal distance at the hit point: Bug2 leaves nearer than it */
     double s;          /* time in this phase (standing for a mate not counted) */
     double lost_s;     /* time without a wall in reach while following */

@@ -331,6 +331,15 @@ static long descend(const navfield *f, long c)
     return best;
 }
 
+double navfield_clearance_m(const navfield *f, const double at_m[2])
+{
+    double a[2];
+    if (!f || !at_m || !isfinite(at_m[0]) || !isfinite(at_m[1]))
+        return -INFINITY;
+    to_world(f, at_m, a);
+    return clear_at(f, a) - 0.5 * sqrt(2.0) * f->cell_m;
+}
+
 double navfield_way_from(const navfield *f, const double from_m[2])
 {
     double a[2], p[2];

@@ -441,11 +441,14 @@ static void perceive(rover_ctl_state *c, double t_s, double dt_s, step_view *v)
  * funnel: reshaping before it was slower, and a line reshaping in a
  * funnel's wide mouth crowded there). */
 static double short_passage(const rover_ctl_state *c, const double from[2],
-                            const navfield_passage_query *q)
+                            const navfield_passage_query *q, double *any_m)
 {
     navfield_passage out;
-    if (navfield_passage_ahead(c->nav, from, q, &out) != NAVFIELD_OK ||
-        !(out.below_len_m < c->p.passage_short_m))
+    *any_m = INFINITY;
+    if (navfield_passage_ahead(c->nav, from, q, &out) != NAVFIELD_OK)
+        return INFINITY;
+    *any_m = out.narrowest_m;
+    if (!(out.below_len_m < c->p.passage_short_m))
         return INFINITY;
     return out.narrowest_m;
 }
@@ -455,7 +458,7 @@ static double map_passage(const rover_ctl_state *c, const step_view *v, double s
     const formation_fsm_params *fp = &c->p.fsm;
     const double own[2] = { v->o.x_m, v->o.y_m }, r0[2] = { v->ref.x_m, v->ref.y_m };
     navfield_passage_query q;
-    double team;
+    double team, any;
     if (!c->nav)
         return sensed;
     q.ahead_m = c->p.passage_ahead_m;
@@ -463,10 +466,12 @@ static double map_passage(const rover_ctl_state *c, const step_view *v, double s
     q.below_m = formation_width(c->fsm.type, v->n, fp->spacing_m, c->fsm.scale, fp->robot_width_m) +
                 fp->safety_m;
     q.beyond_m = c->p.passage_short_m;
-    team = short_passage(c, r0, &q);
+    team = short_passage(c, r0, &q, &any);
     if (isfinite(team))
         return isnan(sensed) ? team : fmin(sensed, team);
-    if (short_passage(c, own, &q) < q.below_m && !(sensed < q.below_m))
+    if (c->p.passage_long_by_map && isnan(sensed) && any < q.below_m)
+        return any;
+    if (short_passage(c, own, &q, &any) < q.below_m && !(sensed < q.below_m))
         return NAN;
     return sensed;
 }
@@ -699,7 +704,7 @@ static void arrival_turn_other_way(rover_ctl_state *c, const step_view *v, doubl
     const double want = c->arrive_turn != 0 ? (double)c->arrive_turn : w_turn;
     if (w_turn == 0.0 || u->w_radps * want > 0.0)
         return;
-    if (fabs(u->v_mps) <= ROVER_SPIN_V_MPS && rover_ctl_spin_clear(c->range_m) &&
+    if (fabs(u->v_mps) <= ROVER_SPIN_V_MPS && rover_ctl_spin_free(c, &v->o) &&
         near_echoes_are_walls(c, v)) {
         const unicycle_cmd held = { u->v_mps, want > 0.0 ? fabs(w_turn) : -fabs(w_turn) };
         if (!spin_into_mate(c, &v->o, &held)) {

@@ -261,17 +261,33 @@ static void escape_begin(rover_ctl_state *c, int k)
     c->esc.lost_s = 0.0;
 }
 
+static double way_bearing_rad(const rover_ctl_state *c, const pose2 *o, const double goal[2]);
+
 /* A new dead-zone entry: LEAVE, the hit point (first entry of an escape),
- * and the wall kept on the side the turn of eq. 2 turned away from. */
+ * eq. 2's turn direction and the wall kept on the side it turns away
+ * from. With the map (entry_by_way), the first entry turns toward the
+ * way and later ones alternate from there: eq. 2 turns until the front is
+ * free, and the follower goes the way the robot then faces. In a
+ * corridor's bend the seed's fixed first sense turned half the robots
+ * until they faced back down the corridor, and they followed it the wrong
+ * way (generated corridor worlds 15 and 44). Turning toward the way, the
+ * first free heading is the one nearest the way on that side. */
 static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, const pose2 *o,
                             const double goal[2])
 {
     const double xy[2] = { o->x_m, o->y_m };
+    int dir = turn->w_radps > 0.0 ? 1 : -1;
     if (rover_esc_table[c->esc.phase].announce != FORMATION_ANN_LEAVE)
         c->esc.hit_dist_m = rover_ctl_leave_measure_m(c, xy, goal);
     escape_begin(c, ROVER_ESC_TURN);
+    if (c->nav && c->p.entry_by_way) {
+        dir = way_bearing_rad(c, o, goal) > 0.0 ? 1 : -1;
+        if (c->exc.entries % 2 == 0)
+            dir = -dir;
+    }
+    c->esc.turn = dir;
     /* turned left (+w_k): keep the wall on the right */
-    c->esc.side = turn->w_radps > 0.0 ? -1 : 1;
+    c->esc.side = -dir;
 }
 
 /* The bearing from the heading of the point the goal behaviour will steer
@@ -522,10 +538,18 @@ static int yield_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
 static int face_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
                      const double goal[2], double dt_s, unicycle_cmd *u)
 {
-    return spin_or_next(c, gw, o,
-                        fabs(way_bearing_rad(c, o, goal)) > c->p.arrive_face_rad &&
-                            rover_ctl_spin_clear(c->range_m),
-                        dt_s, u);
+    const double b = way_bearing_rad(c, o, goal);
+    const int facing = fabs(b) <= c->p.arrive_face_rad;
+    if (spin_or_next(c, gw, o, !facing && rover_ctl_spin_free(c, o), dt_s, u))
+        return 1;
+    /* not facing the way (the turn was not free, or took yield_max_s):
+     * the wall kept on the side away from the way, so that the follower
+     * turns toward it. The nearer wall sent a robot stalled in a sharp
+     * bend's apex, facing into the apex, round and back down the corridor
+     * (generated corridor world 15, 6 in column) */
+    if (!facing)
+        c->esc.side = b > 0.0 ? -1 : 1;
+    return 0;
 }
 
 /* The way to the goal is free: the transducer toward the point the goal
@@ -629,6 +653,8 @@ int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sona
     if (in_dz == 1) {
         if (c->exc.entries != entries)
             dead_zone_entry(c, &turn, o, goal);
+        if (c->esc.turn != 0)
+            turn.w_radps = c->esc.turn * fabs(turn.w_radps);
         *u = turn;
         return 1;
     }

@@ -73,6 +73,28 @@ int rover_ctl_spin_clear(const double range_m[BEH_SONAR_N])
     return 1;
 }
 
+/* The rear has no sonar, and it is not always the way the robot came: a
+ * robot stalled at a room's corner that had turned there, then turned on
+ * the spot toward its way, swung its rear corner into the wall (generated
+ * corridor worlds 16 and 64, 8 in line). Walls stand where the map has
+ * them, and the localizer holds the pose within about 5 cm, so with a map
+ * a turn on the spot also needs the walls' clearance at C beyond the
+ * circle by SPIN_CLEAR_M. Mates are not on the map; the callers keep a
+ * turn out of a mate's box (deconflict, spin_into_mate). */
+int rover_ctl_spin_free(const rover_ctl_state *c, const pose2 *o)
+{
+    pose2 cpos;
+    double at[2];
+    if (!rover_ctl_spin_clear(c->range_m))
+        return 0;
+    if (!c->nav)
+        return 1;
+    unicycle_c_from_o(&cpos, o, c->p.beh.d_m);
+    at[0] = cpos.x_m;
+    at[1] = cpos.y_m;
+    return navfield_clearance_m(c->nav, at) >= rover_ctl_turn_reach_m() + SPIN_CLEAR_M;
+}
+
 /* Eq. 11 only weights avoidance by d_st / range; goal and formation keep
  * pushing, so a robot can creep into an obstacle dead ahead (and with
  * S_LF = S_RF the seed's turn is zero). Last line of defence: forward speed

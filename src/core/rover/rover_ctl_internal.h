@@ -47,6 +47,10 @@ double rover_ctl_turn_reach_m(void);
  * (rover_ctl_guard.c). */
 int rover_ctl_spin_clear(const double range_m[BEH_SONAR_N]);
 
+/* That, and with a map the map's clearance at the axle C as far outside
+ * the circle: the walls behind, which no transducer sees (rover_ctl_guard.c). */
+int rover_ctl_spin_free(const rover_ctl_state *c, const pose2 *o);
+
 /* The collision guard's speed rule alone; returns the nearest echo in the
  * way (rover_ctl_guard.c). */
 double rover_ctl_guard_speed(unicycle_cmd *u, const double range_m[BEH_SONAR_N],

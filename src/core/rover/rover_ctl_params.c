@@ -80,6 +80,7 @@ void rover_ctl_params_default(rover_ctl_params *p)
     p->walls_near_m = 0.8;
     p->leave_gain_m = 0.5;
     p->leave_by_way = 1;
+    p->entry_by_way = 1;
     /* longer than a wait (hold_max_s) and a trapped mate's escape past
      * us; 0.3 m: a turn on the spot to and fro moves the axle less */
     p->stall_s = 15.0;
@@ -108,6 +109,7 @@ void rover_ctl_params_default(rover_ctl_params *p)
     /* the side sonars confirm walls for 1 s (confirm_s), some 0.3-0.5 m
      * at the team's pace: shorter passages are passed unconfirmed */
     p->passage_short_m = 1.0;
+    p->passage_long_by_map = 1;
     p->sonar_max_m = 5.0;
     p->consensus_gain = 0.2;
     p->consensus_age_s = 2.0;
@@ -141,7 +143,9 @@ int rover_ctl_params_validate(const rover_ctl_params *p)
         !pos(p->yield_near_m) || !isfinite(p->arrival_m) || p->arrival_m < 0.0 ||
         !isfinite(p->arrival_swap_m2) || p->arrival_swap_m2 < 0.0 ||
         (p->column_by_place != 0 && p->column_by_place != 1) ||
-        (p->leave_by_way != 0 && p->leave_by_way != 1) || !pos(p->cut_off_spacings) ||
+        (p->leave_by_way != 0 && p->leave_by_way != 1) ||
+        (p->entry_by_way != 0 && p->entry_by_way != 1) ||
+        (p->passage_long_by_map != 0 && p->passage_long_by_map != 1) || !pos(p->cut_off_spacings) ||
         !isfinite(p->stall_s) || p->stall_s < 0.0 || !pos(p->stall_move_m) ||
         !isfinite(p->stall_near_m) || p->stall_near_m < 0.0 || !pos(p->arrive_face_rad) ||
         p->arrive_face_rad > VEC2_PI || !pos(p->queue_m) || !pos(p->queue_cone_rad) ||

@@ -284,6 +284,39 @@ static void test_way_from_round_bend(void **state)
     assert_false(isfinite(navfield_way_from(NULL, q)));
 }
 
+/* The clearance at a point (callers' frame) is a lower bound on its true
+ * distance to the nearest obstacle, and within a cell's diagonal of it,
+ * across a wall on both sides; off the grid or with no field there is
+ * none (-INFINITY). What a turn on the spot is checked against. */
+static void test_clearance_bounds(void **state)
+{
+    double p[2], x;
+    int seen = 0;
+    (void)state;
+    world_open();
+    box(10.0, 4.0, 0.1, 4.0);
+    build(&F);
+    for (x = 8.5; x <= 11.5; x += 0.037) {
+        const double truth = fmax(0.0, fabs(x - 10.0) - 0.1);
+        double c;
+        p[0] = x - W.team_origin.x_m;
+        p[1] = 3.3 - W.team_origin.y_m;
+        c = navfield_clearance_m(&F, p);
+        if (truth > 0.6)
+            continue;
+        assert_true(c <= truth + 1e-9);
+        assert_true(c >= truth - sqrt(2.0) * F.cell_m - 1e-9);
+        seen++;
+    }
+    assert_true(seen > 20);
+    p[0] = 1e3;
+    assert_true(navfield_clearance_m(&F, p) == -INFINITY);
+    p[0] = 0.0;
+    assert_true(navfield_clearance_m(NULL, p) == -INFINITY);
+    p[1] = NAN;
+    assert_true(navfield_clearance_m(&F, p) == -INFINITY);
+}
+
 /* The passage on the way ahead, against the world as built: a gap of
  * 1.2 m in a wall 0.2 m thick across the way is a passage of 1.2 m
  * (within a cell a side) and about as long as the wall is thick, once it
@@ -441,6 +474,7 @@ int main(void)
         cmocka_unit_test(test_frame_commutes),
         cmocka_unit_test(test_start_beside_wall),
         cmocka_unit_test(test_way_from_round_bend),
+        cmocka_unit_test(test_clearance_bounds),
         cmocka_unit_test(test_passage_ahead),
         cmocka_unit_test(test_passage_staggered_thin_wall),
         cmocka_unit_test(test_passage_aslant),

@@ -468,7 +468,7 @@ static void test_deadzone_team_navfield(void **state)
  * than the line (about 2.9 m with its safety margin): steering by the
  * map, the team reads the gap off its way ahead, changes formation before
  * it and restores after it, without a touch. Control: with the map's
- * short-passage reading off (passage_short_m tiny) the side sonars pass
+ * passage reading off (passage_short_m tiny, passage_long_by_map 0) the side sonars pass
  * the gap before they confirm it, and the line squeezes through with no
  * change at all. */
 static void test_gap_in_thin_wall(void **state)
@@ -501,6 +501,7 @@ static void test_gap_in_thin_wall(void **state)
                   "min_clear=%.3f\n",
                   r.reached, r.t_end, r.changes, r.restored, r.min_clear);
     p.passage_short_m = 1e-6;
+    p.passage_long_by_map = 0;
     control = kin_run_world(&w, &p, &o);
     print_message("the same, short passages off: reached=%d t=%.1f changes=%d min_clear=%.3f\n",
                   control.reached, control.t_end, control.changes, control.min_clear);
@@ -540,12 +541,13 @@ static kin_result cut_off_run(double angle_rad, double off_m, double cut_off_spa
     rover_ctl_params_default(&p);
     p.cut_off_spacings = cut_off_spacings;
     p.column_by_place = column_by_place;
-    /* the map's reading of short passages off: the team meets the gap as
+    /* the map's reading of passages off: the team meets the gap as
      * the sonar sees it, late, and a robot can be left on the wrong side,
      * the case the way is for (read from the map, the gap at 0.3 rad
      * reshaped the team in time: no robot was ever more than 0.2 m from
      * its slot, even without the way) */
     p.passage_short_m = 1e-6;
+    p.passage_long_by_map = 0;
     navfield_params_default(&np);
     assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
     o.nav = &NAV;
@@ -595,6 +597,10 @@ static kin_result pocket_pair_run(int leave_by_way)
     w.start_c[0].theta_rad = 0.5;
     rover_ctl_params_default(&p);
     p.leave_by_way = leave_by_way;
+    /* eq. 2's seed alternation: its first turn toward the way
+     * (entry_by_way) brings the robot out of the V by a side where even
+     * the straight rule leaves, and the rule under test is not reached */
+    p.entry_by_way = 0;
     navfield_params_default(&np);
     assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
     o.nav = &NAV;
@@ -1021,6 +1027,21 @@ static void test_stale_sensors_stop(void **state)
     rover_ctl_params_default(&p);
     p.stall_near_m = -0.1;
     assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
+    /* the map's switches are 0 or 1 */
+    {
+        int *sw[3], k;
+        rover_ctl_params_default(&p);
+        sw[0] = &p.leave_by_way;
+        sw[1] = &p.entry_by_way;
+        sw[2] = &p.passage_long_by_map;
+        for (k = 0; k < 3; k++) {
+            *sw[k] = 0;
+            assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_OK);
+            *sw[k] = 2;
+            assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
+            *sw[k] = 1;
+        }
+    }
 }
 
 static void test_follow_keeps_wall_side(void **state)
@@ -1234,6 +1255,71 @@ static void test_escape_timeout_and_lost_wall(void **state)
     assert_int_equal(c.esc.phase, ROVER_ESC_NONE);
     assert_true(out.mode != ROVER_MODE_DEAD_ZONE);
     assert_int_equal(c.ann_code, FORMATION_ANN_REJOIN);
+}
+
+/* Trapped (eq. 2's test) for the dead-zone time, robot at the origin
+ * heading +x, its way to the goal at (0, -10) bearing -90 deg (right),
+ * the map on the robot if `nav`: eq. 2's turn on the first and second
+ * entries (the robot let out in between), +1 left, in w1 and w2. */
+static void entry_turns(int entry_by_way, int nav, int *w1, int *w2)
+{
+    static const double trap[8] = { 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3 };
+    rover_world_config w;
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    navfield_params np;
+    const pose2 s0 = { 0, 0, 0 };
+    const double goal[2] = { 0.0, -10.0 };
+    double t = 0.0;
+    int k, entry;
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, 1, 1.0, FORMATION_LINE), 0);
+    w.n_obst = 0;
+    w.goal_m[0] = goal[0];
+    w.goal_m[1] = goal[1];
+    w.x_min_m = -5.0;
+    w.x_max_m = 5.0;
+    w.y_min_m = -12.0;
+    w.y_max_m = 2.0;
+    rover_ctl_params_default(&p);
+    p.entry_by_way = entry_by_way;
+    assert_int_equal(rover_ctl_init(&c, &p, 1, &s0, goal), 0);
+    if (nav) {
+        navfield_params_default(&np);
+        assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
+        rover_ctl_set_navfield(&c, &NAV);
+    }
+    for (entry = 1; entry <= 2; entry++) {
+        for (k = 0; c.exc.entries < entry && k * DT < 2.0 * p.beh.dead_zone_time_s; k++, t += DT)
+            hand_step(&c, t, trap, NULL, 0, &out);
+        assert_int_equal(c.exc.entries, entry);
+        assert_int_equal(out.mode, ROVER_MODE_DEAD_ZONE);
+        /* the direction eq. 2's turn holds, and the wall kept on the
+         * other side */
+        assert_int_equal(c.esc.side, -c.esc.turn);
+        *(entry == 1 ? w1 : w2) = c.esc.turn;
+        hand_step(&c, t, open_ring, NULL, 0, &out); /* the front free: the turn ends */
+        t += DT;
+        assert_int_equal(c.exc.active, 0);
+    }
+}
+
+/* Eq. 2's first turn with the map (entry_by_way) is toward the way, and
+ * later entries alternate from it; without the map, or with
+ * entry_by_way 0, the seed's alternation starts to the left. In a
+ * corridor's bend, turning away from the way left the robot facing back
+ * down the corridor, and the follower took it there (generated corridor
+ * worlds 15 and 44). */
+static void test_dead_zone_entry_by_way(void **state)
+{
+    int w1, w2;
+    (void)state;
+    entry_turns(1, 1, &w1, &w2);
+    assert_true(w1 == -1 && w2 == 1);
+    entry_turns(0, 1, &w1, &w2);
+    assert_true(w1 == 1 && w2 == -1);
+    entry_turns(1, 0, &w1, &w2);
+    assert_true(w1 == 1 && w2 == -1);
 }
 
 /* One hand-fed step with the camera seeing every mate where the table
@@ -2189,6 +2275,56 @@ static void test_arrival_turn_in_a_pocket(void **state)
     arrival_turns(&c, &t, 1.5, right_inside, 0); /* a wall within the circle closes the way */
 }
 
+/* One robot at the team frame's origin heading +x, the sonar seeing
+ * nothing, a wall across `behind_m` behind its axle C on the map:
+ * rover_ctl_spin_free with the map (nav) or without. */
+static int spin_free_with_wall_behind(double behind_m, int nav)
+{
+    rover_world_config w;
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    navfield_params np;
+    const pose2 s0 = { 0, 0, 0 };
+    const double goal[2] = { 10.0, 0.0 };
+    double cx, cy;
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, 1, 1.0, FORMATION_LINE), 0);
+    w.n_obst = 0;
+    rover_ctl_params_default(&p);
+    /* C is d_m behind O; the wall's face behind_m behind C */
+    cx = -p.beh.d_m - behind_m - 0.1;
+    cy = 0.0;
+    assert_int_equal(rover_world_add_box(&w,
+                                         w.team_origin.x_m + cx * cos(w.team_origin.theta_rad) -
+                                             cy * sin(w.team_origin.theta_rad),
+                                         w.team_origin.y_m + cx * sin(w.team_origin.theta_rad) +
+                                             cy * cos(w.team_origin.theta_rad),
+                                         0.1, 2.0, w.team_origin.theta_rad, 0.5),
+                     0);
+    assert_int_equal(rover_ctl_init(&c, &p, 1, &s0, goal), 0);
+    if (nav) {
+        navfield_params_default(&np);
+        assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
+        rover_ctl_set_navfield(&c, &NAV);
+    }
+    hand_step(&c, 0.0, open_ring, NULL, 0, &out);
+    assert_int_equal(rover_ctl_spin_clear(c.range_m), 1);
+    return rover_ctl_spin_free(&c, &out.o);
+}
+
+/* The rear has no sonar: a wall behind within the circle a turn on the
+ * spot sweeps (0.314 m round C) is seen on the map alone. A robot stalled
+ * at a room's corner turned there toward its way and swung its rear into
+ * the wall (generated corridor worlds 16 and 64). */
+static void test_spin_free_sees_walls_behind(void **state)
+{
+    const double reach = rover_ctl_turn_reach_m();
+    (void)state;
+    assert_int_equal(spin_free_with_wall_behind(reach - 0.05, 1), 0);
+    assert_int_equal(spin_free_with_wall_behind(reach - 0.05, 0), 1); /* no map: the sonar's word */
+    assert_int_equal(spin_free_with_wall_behind(reach + 0.3, 1), 1);
+}
+
 /* A turn on the spot never sweeps the chassis into a mate's, whoever
  * ranks higher, and a mate within an outranking robot's turning circle
  * keeps out of it. Robot 1 arriving with its slot behind turns right on
@@ -2663,6 +2799,8 @@ int main(void)
         cmocka_unit_test(test_cut_off_takes_the_way),
         cmocka_unit_test(test_column_by_place),
         cmocka_unit_test(test_leave_by_way),
+        cmocka_unit_test(test_dead_zone_entry_by_way),
+        cmocka_unit_test(test_spin_free_sees_walls_behind),
         cmocka_unit_test(test_snapshot_resume_identity),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
