@@ -425,40 +425,48 @@ static void perceive(rover_ctl_state *c, double t_s, double dt_s, step_view *v)
     own_goal(c, v->n, k, v->goal);
 }
 
-/* With the map (docs/method/formation.md §9): a passage too short for
- * the sonar's test, read off the way ahead. The side sonars confirm a
- * passage by walls on both sides for confirm_s, so one shorter along the
- * way than passage_short_m (a gap in a thin wall) is passed before it is
- * confirmed, and the team squeezed through such gaps a robot at a time
- * with no formation change. Its width (wall to wall across the way, as
- * the sonar measures it) is taken from the map within passage_ahead_m of
- * R0's way, early enough for the change: the narrower of it and the
- * sonar's reading, or it alone where the sonar cannot tell. On the
- * robot's own way it only holds the protocol (unknown: neither narrow
- * nor clear), so the rearmost restores only once it is through, and a
- * robot whose way leads out of a pocket's mouth does not shrink the team.
- * A longer passage is the sonar's alone, as before (a corridor or a
- * funnel: reshaping before it was slower, and a line reshaping in a
- * funnel's wide mouth crowded there). */
-static double short_passage(const rover_ctl_state *c, const double from[2],
-                            const navfield_passage_query *q, double *any_m)
+/* With the map (docs/method/formation.md §9): the narrowest width of the
+ * way within passage_ahead_m of `from` (INFINITY: none narrower than
+ * q->below_m), and in *is_short whether it is narrower than that for less
+ * than passage_short_m of the way's length. */
+static double map_passage_at(const rover_ctl_state *c, const double from[2],
+                             const navfield_passage_query *q, int *is_short)
 {
     navfield_passage out;
-    *any_m = INFINITY;
+    *is_short = 0;
     if (navfield_passage_ahead(c->nav, from, q, &out) != NAVFIELD_OK)
         return INFINITY;
-    *any_m = out.narrowest_m;
-    if (!(out.below_len_m < c->p.passage_short_m))
-        return INFINITY;
+    *is_short = isfinite(out.narrowest_m) && out.below_len_m < c->p.passage_short_m;
     return out.narrowest_m;
 }
 
+/* The passage width the protocol takes, the sonar's `sensed` and the
+ * map's (§9):
+ * - a passage too short for the sonar's test, read off R0's way ahead.
+ *   The side sonars confirm a passage by walls on both sides for
+ *   confirm_s, so one shorter along the way than passage_short_m (a gap in
+ *   a thin wall) is passed before it is confirmed, and the team squeezed
+ *   through such gaps a robot at a time with no formation change. The
+ *   narrower of it and the sonar's reading, or it alone where the sonar
+ *   cannot tell;
+ * - a longer one (a corridor) where the sonar cannot tell
+ *   (passage_long_by_map): at a corridor's mouth a wide team's mates
+ *   stand farther out than the walls, every wall echo reads as inside the
+ *   formation, and a line of eight flew a whole corridor with no change.
+ *   Where the sonar reads the sides open it stands: read from the map
+ *   whatever the sonar said, a line reshaped in a funnel's wide mouth and
+ *   crowded there;
+ * - a short one on the robot's own way only holds the protocol (unknown:
+ *   neither narrow nor clear), so the rearmost restores only once it is
+ *   through, and a robot whose way leads out of a pocket's mouth does not
+ *   shrink the team. */
 static double map_passage(const rover_ctl_state *c, const step_view *v, double sensed)
 {
     const formation_fsm_params *fp = &c->p.fsm;
     const double own[2] = { v->o.x_m, v->o.y_m }, r0[2] = { v->ref.x_m, v->ref.y_m };
     navfield_passage_query q;
-    double team, any;
+    double team;
+    int is_short;
     if (!c->nav)
         return sensed;
     q.ahead_m = c->p.passage_ahead_m;
@@ -466,12 +474,12 @@ static double map_passage(const rover_ctl_state *c, const step_view *v, double s
     q.below_m = formation_width(c->fsm.type, v->n, fp->spacing_m, c->fsm.scale, fp->robot_width_m) +
                 fp->safety_m;
     q.beyond_m = c->p.passage_short_m;
-    team = short_passage(c, r0, &q, &any);
-    if (isfinite(team))
+    team = map_passage_at(c, r0, &q, &is_short);
+    if (is_short)
         return isnan(sensed) ? team : fmin(sensed, team);
-    if (c->p.passage_long_by_map && isnan(sensed) && any < q.below_m)
-        return any;
-    if (short_passage(c, own, &q, &any) < q.below_m && !(sensed < q.below_m))
+    if (c->p.passage_long_by_map && isnan(sensed) && team < q.below_m)
+        return team;
+    if (map_passage_at(c, own, &q, &is_short) < q.below_m && is_short && !(sensed < q.below_m))
         return NAN;
     return sensed;
 }

@@ -270,7 +270,7 @@ static double way_bearing_rad(const rover_ctl_state *c, const pose2 *o, const do
  * free, and the follower goes the way the robot then faces. In a
  * corridor's bend the seed's fixed first sense turned half the robots
  * until they faced back down the corridor, and they followed it the wrong
- * way (generated corridor worlds 15 and 44). Turning toward the way, the
+ * way (generated corridor world 44). Turning toward the way, the
  * first free heading is the one nearest the way on that side. */
 static void dead_zone_entry(rover_ctl_state *c, const unicycle_cmd *turn, const pose2 *o,
                             const double goal[2])
