@@ -1257,6 +1257,21 @@ static void test_escape_timeout_and_lost_wall(void **state)
     assert_int_equal(c.ann_code, FORMATION_ANN_REJOIN);
 }
 
+/* Robot 1 at the team frame's origin heading +x for `goal`, holding the
+ * navigation field of w if `nav`. */
+static void one_robot_on(rover_ctl_state *c, const rover_ctl_params *p, const rover_world_config *w,
+                         const double goal[2], int nav)
+{
+    const pose2 s0 = { 0, 0, 0 };
+    navfield_params np;
+    assert_int_equal(rover_ctl_init(c, p, 1, &s0, goal), 0);
+    if (nav) {
+        navfield_params_default(&np);
+        assert_int_equal(navfield_build(&NAV, &np, w), NAVFIELD_OK);
+        rover_ctl_set_navfield(c, &NAV);
+    }
+}
+
 /* Trapped (eq. 2's test) for the dead-zone time, robot at the origin
  * heading +x, its way to the goal at (0, -10) bearing -90 deg (right),
  * the map on the robot if `nav`: eq. 2's turn on the first and second
@@ -1268,8 +1283,6 @@ static void entry_turns(int entry_by_way, int nav, int *w1, int *w2)
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    navfield_params np;
-    const pose2 s0 = { 0, 0, 0 };
     const double goal[2] = { 0.0, -10.0 };
     double t = 0.0;
     int k, entry;
@@ -1283,12 +1296,7 @@ static void entry_turns(int entry_by_way, int nav, int *w1, int *w2)
     w.y_max_m = 2.0;
     rover_ctl_params_default(&p);
     p.entry_by_way = entry_by_way;
-    assert_int_equal(rover_ctl_init(&c, &p, 1, &s0, goal), 0);
-    if (nav) {
-        navfield_params_default(&np);
-        assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
-        rover_ctl_set_navfield(&c, &NAV);
-    }
+    one_robot_on(&c, &p, &w, goal, nav);
     for (entry = 1; entry <= 2; entry++) {
         for (k = 0; c.exc.entries < entry && k * DT < 2.0 * p.beh.dead_zone_time_s; k++, t += DT)
             hand_step(&c, t, trap, NULL, 0, &out);
@@ -2284,8 +2292,6 @@ static int spin_free_with_wall_behind(double behind_m, int nav)
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    navfield_params np;
-    const pose2 s0 = { 0, 0, 0 };
     const double goal[2] = { 10.0, 0.0 };
     double cx, cy;
     assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, 1, 1.0, FORMATION_LINE), 0);
@@ -2301,12 +2307,7 @@ static int spin_free_with_wall_behind(double behind_m, int nav)
                                              cy * cos(w.team_origin.theta_rad),
                                          0.1, 2.0, w.team_origin.theta_rad, 0.5),
                      0);
-    assert_int_equal(rover_ctl_init(&c, &p, 1, &s0, goal), 0);
-    if (nav) {
-        navfield_params_default(&np);
-        assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
-        rover_ctl_set_navfield(&c, &NAV);
-    }
+    one_robot_on(&c, &p, &w, goal, nav);
     hand_step(&c, 0.0, open_ring, NULL, 0, &out);
     assert_int_equal(rover_ctl_spin_clear(c.range_m), 1);
     return rover_ctl_spin_free(&c, &out.o);
