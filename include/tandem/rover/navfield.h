@@ -89,6 +89,14 @@ double navfield_way_m(const navfield *f, double x_m, double y_m);
  * clearances are. -INFINITY off the grid, or on NULL or non-finite input. */
 double navfield_clearance_m(const navfield *f, const double at_m[2]);
 
+/* A tighter lower bound than navfield_clearance_m (the best of the nine
+ * cells round the point's, each centre's clearance less its distance to
+ * the point), and in slope the way the clearance grows there (the cells'
+ * central differences, per metre, the callers' frame; away from the
+ * nearest obstacle, about unit length where one is within the cap; 0 off
+ * the grid). -INFINITY off the grid, or on NULL or non-finite input. */
+double navfield_clearance_slope_m(const navfield *f, const double at_m[2], double slope[2]);
+
 /* The way to the goal from `from` (the callers' frame): from the cell
  * navfield_waypoint would descend from (its own, or for a point nearer an
  * obstacle than clear_m, a robot beside a wall, the one within reach with

@@ -174,13 +174,18 @@ typedef struct {
     double back_v_mps; /* ... this fast */
     double
         wedge_max_s; /* wedged this long (may neither turn nor back): a turn clear of mates' boxes */
-    double follow_lost_s; /* boundary following: no wall in reach this long ends it */
-    double walls_near_m;  /* a wall within follow_dist_m + this on a side: confined */
-    double leave_gain_m;  /* Bug2's leave rule: this much nearer the goal than the hit point */
-    int leave_by_way;     /* 1: "nearer" along the map's way where the robot holds one
+    double follow_lost_s;    /* boundary following: no wall in reach this long ends it */
+    double walls_near_m;     /* a wall within follow_dist_m + this on a side: confined */
+    double leave_gain_m;     /* Bug2's leave rule: this much nearer the goal than the hit point */
+    int leave_by_way;        /* 1: "nearer" along the map's way where the robot holds one
                              (navfield_way_from); 0: straight, as Bug2 has it */
-    int entry_by_way;     /* 1: a dead-zone entry turns first toward the map's way, then
+    int entry_by_way;        /* 1: a dead-zone entry turns first toward the map's way, then
                              alternates (§10); 0: eq. 2's alternation alone */
+    int map_graze;           /* 1: with the map, no turn swings a chassis corner into a wall
+                             (rover_ctl_turn_grazes, §10); 0: the sonar's guard alone */
+    double follow_regress_m; /* with the map, a trapped robot following the boundary this far
+                                farther along the way than its hit point turns back toward the
+                                way (FACE; §10); 0: never */
     /* a stall (docs/method/formation.md §10): farther than stall_near_m
      * from its slot (arriving: its goal slot), the axle within stall_move_m
      * of one place for stall_s of not waiting: a trap eq. 2's test does not
@@ -244,6 +249,7 @@ typedef struct {
     int backing;       /* 1: backing out of an outranking mate's way (V < 0 allowed) */
     double back_m;     /* backed so far in this escape */
     double wedge_s;    /* standing wedged between mates this long */
+    int turned_back;   /* 1: this escape has turned back once (follow_regress_m) */
 } rover_esc_state;
 
 typedef struct {
@@ -347,7 +353,7 @@ int rover_ctl_beacon(rover_ctl_state *c, int32_t target, double range_m, double 
  * encoder reading after rover_ctl_resume integrates the wheels' travel
  * while the process was down. A snapshot is ROVER_CTL_SNAPSHOT_VALUES
  * numbers, id first. */
-#define ROVER_CTL_SNAPSHOT_VALUES 82
+#define ROVER_CTL_SNAPSHOT_VALUES 83
 /* ROVER_CTL_ERR_ARG before the first encoder reading (nothing to keep). */
 int rover_ctl_snapshot(const rover_ctl_state *c, double v[ROVER_CTL_SNAPSHOT_VALUES]);
 /* c as made by rover_ctl_init (same id) and rover_ctl_set_landmarks;

@@ -340,6 +340,58 @@ double navfield_clearance_m(const navfield *f, const double at_m[2])
     return clear_at(f, a) - 0.5 * sqrt(2.0) * f->cell_m;
 }
 
+/* The tightest of the bounds the cells round c give at world point a:
+ * the distance to the obstacles is 1-Lipschitz, so no obstacle is nearer
+ * a than clear(q) - |a q| for any cell centre q. Exact beside a straight
+ * wall along the grid; continuous as a moves, unlike one cell's bound. */
+static double clearance_bound(const navfield *f, long c, const double a[2])
+{
+    const long i = c % f->nx, j = c / f->nx;
+    double best = -INFINITY, q[2];
+    long di, dj;
+    for (dj = -1; dj <= 1; dj++)
+        for (di = -1; di <= 1; di++) {
+            long n;
+            if (i + di < 0 || i + di >= f->nx || j + dj < 0 || j + dj >= f->ny)
+                continue;
+            n = (j + dj) * f->nx + i + di;
+            centre_of(f, n, q);
+            best = fmax(best, (double)f->clear_m[n] - hypot(a[0] - q[0], a[1] - q[1]));
+        }
+    return best;
+}
+
+/* Central difference of the cells' clearance across cell c along
+ * (di, dj), per metre; one-sided at the grid's edge. */
+static double clearance_diff(const navfield *f, long c, int di, int dj)
+{
+    const long i = c % f->nx, j = c / f->nx;
+    const long i0 = i - di >= 0 ? i - di : i, i1 = i + di < f->nx ? i + di : i;
+    const long j0 = j - dj >= 0 ? j - dj : j, j1 = j + dj < f->ny ? j + dj : j;
+    const long n = (i1 - i0) + (j1 - j0);
+    if (n == 0)
+        return 0.0;
+    return ((double)f->clear_m[j1 * f->nx + i1] - (double)f->clear_m[j0 * f->nx + i0]) /
+           ((double)n * f->cell_m);
+}
+
+double navfield_clearance_slope_m(const navfield *f, const double at_m[2], double slope[2])
+{
+    double a[2], gw[2];
+    long c;
+    slope[0] = slope[1] = 0.0;
+    if (!f || !at_m || !isfinite(at_m[0]) || !isfinite(at_m[1]))
+        return -INFINITY;
+    to_world(f, at_m, a);
+    c = cell_of(f, a[0], a[1]);
+    if (c < 0)
+        return -INFINITY;
+    gw[0] = clearance_diff(f, c, 1, 0);
+    gw[1] = clearance_diff(f, c, 0, 1);
+    vec2_rotate(slope, gw[0], gw[1], -f->frame.theta_rad);
+    return clearance_bound(f, c, a);
+}
+
 double navfield_way_from(const navfield *f, const double from_m[2])
 {
     double a[2], p[2];

@@ -673,6 +673,29 @@ static int spin_into_mate(const rover_ctl_state *c, const pose2 *o, const unicyc
            rover_ctl_cmd_sweeps_mate(c, o, u, 0) != 0;
 }
 
+/* The map's graze guard held the turn in *u (rover_ctl_turn_grazes). In
+ * formation, or escaping while driving: no turn. A turn on the spot while
+ * escaping (eq. 2's and the follower's turn the other way round first
+ * where that is free, graze_other_way in rover_ctl_escape.c) becomes a
+ * creep straight on where the front is free of echoes within guard_m and
+ * of mates: a robot whose tail is in a corner draws away from it, then
+ * turns (standing is not following, so escape_max_s would not run).
+ * Hemmed in where neither the sonar nor the map leaves a way, the turn is
+ * made as asked: a robot standing there would hold its escape for good. */
+#define GRAZE_CREEP_MPS 0.05
+static void graze_hold(const rover_ctl_state *c, const step_view *v, unicycle_cmd *u)
+{
+    if (!v->escaping || fabs(u->v_mps) > ROVER_SPIN_V_MPS) {
+        u->w_radps = 0.0;
+        return;
+    }
+    if (fmin(v->g.front_m, fmin(v->g.left_front_m, v->g.right_front_m)) > c->p.guard_m &&
+        !rover_ctl_mate_in_lane(c, &v->o, c->p.follow_mate_ahead_m)) {
+        u->w_radps = 0.0;
+        u->v_mps = GRAZE_CREEP_MPS;
+    }
+}
+
 /* Every echo within the guard's reach is a wall's: none explained by a
  * mate where the team table puts it (v->masked, walls only). */
 static int near_echoes_are_walls(const rover_ctl_state *c, const step_view *v)
@@ -819,6 +842,11 @@ static void command_out(rover_ctl_state *c, const step_view *v, double t_s, doub
     if (u.v_mps < 0.0 && !c->esc.backing)
         u.v_mps = 0.0;
     unicycle_saturate(&out->u, &u, bp->v_max_mps, bp->w_max_radps, UNICYCLE_SAT_CLIP);
+    /* last, on what is flown: no turn swings a corner the sonar cannot see
+     * into a wall of the map; not while backing along the crumbs (the
+     * chassis's own way back) */
+    if (!c->esc.backing && rover_ctl_turn_grazes(c, &v->o, out->u.w_radps))
+        graze_hold(c, v, &out->u);
     stall_watch(c, v, dt_s);
     out->o = v->o;
     for (i = 0; i < BEH_COUNT; i++)

@@ -259,6 +259,7 @@ static void escape_begin(rover_ctl_state *c, int k)
     c->esc.back_m = 0.0;
     c->esc.wedge_s = 0.0;
     c->esc.lost_s = 0.0;
+    c->esc.turned_back = 0;
 }
 
 static double way_bearing_rad(const rover_ctl_state *c, const pose2 *o, const double goal[2]);
@@ -547,9 +548,62 @@ static int face_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
      * turns toward it. The nearer wall sent a robot stalled in a sharp
      * bend's apex, facing into the apex, round and back down the corridor
      * (generated corridor world 15, 6 in column) */
-    if (!facing)
+    if (!facing) {
         c->esc.side = b > 0.0 ? -1 : 1;
+        c->esc.turned_back = 0; /* not turned: follow_regress tries again */
+    }
     return 0;
+}
+
+/* FOLLOW, trapped, with the map (leave_by_way): the boundary has led
+ * follow_regress_m farther along the way than the hit point, so the robot
+ * follows it away from the goal: FACE, turning toward the way, then
+ * follow on. Once an escape; again while the turn could not be made
+ * (face_turn). Flipping the wall side is no turn in a corridor (the
+ * other wall lies alongside too, the same way on), and escape_max_s of
+ * following the wrong way is a corridor's length: a robot stalled in a
+ * bend followed a corridor's wall back into the start room (generated
+ * corridor world 196, 8 in column). Why it holds: the way has no local
+ * minimum, so a boundary that leads farther from the goal than the hit
+ * point by follow_regress_m does so on one side of it; back past the hit
+ * point the robot goes the other way round, where the leave rule can
+ * end the escape (or escape_max_s turns it, as without the map). */
+static void follow_regress(rover_ctl_state *c, const pose2 *o, const double goal[2])
+{
+    const double xy[2] = { o->x_m, o->y_m };
+    if (c->esc.phase != ROVER_ESC_FOLLOW || c->esc.turned_back || !c->nav || !c->p.leave_by_way ||
+        !(c->p.follow_regress_m > 0.0) ||
+        !(rover_ctl_leave_measure_m(c, xy, goal) > c->esc.hit_dist_m + c->p.follow_regress_m))
+        return;
+    enter(c, ROVER_ESC_FACE);
+    c->esc.turned_back = 1;
+    c->esc.turn = way_bearing_rad(c, o, goal) > 0.0 ? 1 : -1;
+}
+
+/* A turn on the spot of eq. 2 (`eq2`) or of the follower would swing a
+ * corner into a wall of the map (rover_ctl_turn_grazes) and the other way
+ * round would not: it turns that way from now on (eq. 2: esc.turn, the
+ * wall kept on the side it turns away from; the follower: the wall kept
+ * on the other side, so that it turns the other way when blocked). Both
+ * turn until the front is free, either way round will do. Held only for
+ * the turn (command_out), a robot trapped in a V's point, its corner
+ * 12 cm from one arm, was turned to and fro at the guard's edge and
+ * stood there for good (test_leave_by_way); and one following with its
+ * tail in a corridor bend's apex, facing the apex's other wall, turned
+ * on as asked and ground its rear corner into the wall 9 times
+ * (generated corridor world 196, 8 in column). */
+static void graze_other_way(rover_ctl_state *c, const pose2 *o, int eq2, unicycle_cmd *u)
+{
+    if (fabs(u->v_mps) > ROVER_SPIN_V_MPS || !rover_ctl_turn_grazes(c, o, u->w_radps) ||
+        rover_ctl_turn_grazes(c, o, -u->w_radps))
+        return;
+    u->w_radps = -u->w_radps;
+    if (eq2) {
+        c->esc.turn = u->w_radps > 0.0 ? 1 : -1;
+        c->esc.side = -c->esc.turn;
+    } else {
+        c->esc.side = -c->esc.side;
+    }
 }
 
 /* The way to the goal is free: the transducer toward the point the goal
@@ -620,6 +674,7 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
         u->v_mps = 0.0;
         u->w_radps = -(c->esc.side < 0 ? -1.0 : 1.0) * c->p.follow_w_radps;
     }
+    graze_other_way(c, o, 0, u);
     deconflict(c, gw, o, dt_s, u);
     return 1;
 }
@@ -655,6 +710,7 @@ int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sona
             dead_zone_entry(c, &turn, o, goal);
         if (c->esc.turn != 0)
             turn.w_radps = c->esc.turn * fabs(turn.w_radps);
+        graze_other_way(c, o, 1, &turn);
         *u = turn;
         return 1;
     }
@@ -665,6 +721,7 @@ int rover_ctl_escape_step(rover_ctl_state *c, const sonar_groups *gw, const sona
         wait_step(c, o, dt_s);
         return 0;
     }
+    follow_regress(c, o, goal);
     c->esc.s += dt_s;
     if (c->esc.phase == ROVER_ESC_YIELD && yield_turn(c, gw, o, dt_s, u))
         return 1;

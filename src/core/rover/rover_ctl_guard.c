@@ -8,6 +8,7 @@
  * and which robot, last through, may restore the formation.
  */
 #include "rover_ctl_internal.h"
+#include "navfield.h"
 #include "rover_world.h"
 #include "sonar.h"
 
@@ -93,6 +94,49 @@ int rover_ctl_spin_free(const rover_ctl_state *c, const pose2 *o)
     at[0] = cpos.x_m;
     at[1] = cpos.y_m;
     return navfield_clearance_m(c->nav, at) >= rover_ctl_turn_reach_m() + SPIN_CLEAR_M;
+}
+
+/* The map's graze guard. A turn swings the chassis's corners out to the
+ * sides and behind, where no transducer looks: a robot in FOLLOW with its
+ * tail in a corridor bend's apex turned on the spot to and fro and ground
+ * its rear corner into the wall 9 times (generated corridor world 196,
+ * 8 in column). With a map, a turn (w) that moves a corner toward a wall
+ * the map puts within GRAZE_M of it (navfield's lower bound: the localizer
+ * holds the pose within about 5 cm) faster than GRAZE_TOWARD_MPS is not
+ * made. Only the turn: driving straight, the rear corners pass where the
+ * front ones did, and the front is the sonar's. Nothing within the
+ * turning circle plus GRAZE_M of C: no corner can graze, and the grid is
+ * not read further. */
+#define GRAZE_M 0.05
+#define GRAZE_TOWARD_MPS 0.01
+int rover_ctl_turn_grazes(const rover_ctl_state *c, const pose2 *o, double w_radps)
+{
+    static const double corner_m[4][2] = {
+        { ROVER_BODY_OFFSET_M + 0.5 * ROVER_BODY_LENGTH_M, 0.5 * ROVER_BODY_WIDTH_M },
+        { ROVER_BODY_OFFSET_M + 0.5 * ROVER_BODY_LENGTH_M, -0.5 * ROVER_BODY_WIDTH_M },
+        { ROVER_BODY_OFFSET_M - 0.5 * ROVER_BODY_LENGTH_M, 0.5 * ROVER_BODY_WIDTH_M },
+        { ROVER_BODY_OFFSET_M - 0.5 * ROVER_BODY_LENGTH_M, -0.5 * ROVER_BODY_WIDTH_M },
+    };
+    pose2 cp;
+    double at[2], slope[2], r[2];
+    int k;
+    if (!c->nav || !c->p.map_graze || w_radps == 0.0)
+        return 0;
+    unicycle_c_from_o(&cp, o, c->p.beh.d_m);
+    at[0] = cp.x_m;
+    at[1] = cp.y_m;
+    if (navfield_clearance_m(c->nav, at) >= rover_ctl_turn_reach_m() + GRAZE_M)
+        return 0;
+    for (k = 0; k < 4; k++) {
+        vec2_rotate(r, corner_m[k][0], corner_m[k][1], cp.theta_rad);
+        at[0] = cp.x_m + r[0];
+        at[1] = cp.y_m + r[1];
+        /* the corner's velocity w x r along the way the clearance grows */
+        if (navfield_clearance_slope_m(c->nav, at, slope) < GRAZE_M &&
+            w_radps * (-r[1] * slope[0] + r[0] * slope[1]) < -GRAZE_TOWARD_MPS)
+            return 1;
+    }
+    return 0;
 }
 
 /* Eq. 11 only weights avoidance by d_st / range; goal and formation keep

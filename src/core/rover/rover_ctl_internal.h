@@ -51,6 +51,10 @@ int rover_ctl_spin_clear(const double range_m[BEH_SONAR_N]);
  * the circle: the walls behind, which no transducer sees (rover_ctl_guard.c). */
 int rover_ctl_spin_free(const rover_ctl_state *c, const pose2 *o);
 
+/* With a map, turning at w_radps would move a chassis corner toward a
+ * wall the map puts within 5 cm of it: 1, else 0 (rover_ctl_guard.c). */
+int rover_ctl_turn_grazes(const rover_ctl_state *c, const pose2 *o, double w_radps);
+
 /* The collision guard's speed rule alone; returns the nearest echo in the
  * way (rover_ctl_guard.c). */
 double rover_ctl_guard_speed(unicycle_cmd *u, const double range_m[BEH_SONAR_N],

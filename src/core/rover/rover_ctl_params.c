@@ -81,6 +81,10 @@ void rover_ctl_params_default(rover_ctl_params *p)
     p->leave_gain_m = 0.5;
     p->leave_by_way = 1;
     p->entry_by_way = 1;
+    /* a corridor's width or two: more than a follower's sway round a
+     * pillar, less than the legs of a generated corridor */
+    p->follow_regress_m = 3.0;
+    p->map_graze = 1;
     /* longer than a wait (hold_max_s) and a trapped mate's escape past
      * us; 0.3 m: a turn on the spot to and fro moves the axle less */
     p->stall_s = 15.0;
@@ -144,7 +148,8 @@ int rover_ctl_params_validate(const rover_ctl_params *p)
         !isfinite(p->arrival_swap_m2) || p->arrival_swap_m2 < 0.0 ||
         (p->column_by_place != 0 && p->column_by_place != 1) ||
         (p->leave_by_way != 0 && p->leave_by_way != 1) ||
-        (p->entry_by_way != 0 && p->entry_by_way != 1) ||
+        (p->entry_by_way != 0 && p->entry_by_way != 1) || !isfinite(p->follow_regress_m) ||
+        (p->map_graze != 0 && p->map_graze != 1) || p->follow_regress_m < 0.0 ||
         (p->passage_long_by_map != 0 && p->passage_long_by_map != 1) || !pos(p->cut_off_spacings) ||
         !isfinite(p->stall_s) || p->stall_s < 0.0 || !pos(p->stall_move_m) ||
         !isfinite(p->stall_near_m) || p->stall_near_m < 0.0 || !pos(p->arrive_face_rad) ||

@@ -107,6 +107,7 @@ static const snap_field snap_table[] = {
     F_D(stall_xy_m[1]),
     F_D(stall_t_s),
     F_D(esc.wedge_s),
+    F_I(esc.turned_back),
     F_I(crumb_n),
     F_CRUMB(0),
     F_CRUMB(1),

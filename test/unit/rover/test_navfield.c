@@ -42,6 +42,11 @@ static void box(double cx, double cy, double hx, double hy)
     assert_int_equal(rover_world_add_box(&W, cx, cy, hx, hy, 0.0, 0.5), 0);
 }
 
+static void box_turned(double cx, double cy, double hx, double hy, double a)
+{
+    assert_int_equal(rover_world_add_box(&W, cx, cy, hx, hy, a, 0.5), 0);
+}
+
 /* A U pocket 3 m deep, mouth toward the start, across the straight way. */
 static void world_pocket(void)
 {
@@ -317,6 +322,56 @@ static void test_clearance_bounds(void **state)
     assert_true(navfield_clearance_m(&F, p) == -INFINITY);
 }
 
+/* navfield_clearance_slope_m against the world as built, round a wall
+ * set aslant to the grid and a post: a lower bound on the true clearance
+ * everywhere (inside the walls too), within half a cell of it where the
+ * wall is near (a quarter here; the single cell's within a diagonal), and its
+ * slope pointing away from the nearest wall, about unit length. What the
+ * map's graze guard moves chassis corners against. */
+static void test_clearance_slope(void **state)
+{
+    double worst_gap = 0.0, worst_cos = 1.0;
+    int i, j, seen = 0;
+    (void)state;
+    world_open();
+    box_turned(10.0, 5.0, 0.1, 3.0, 0.4);
+    box(6.0, 3.0, 0.3, 0.3);
+    build(&F);
+    for (j = 0; j < 120; j++)
+        for (i = 0; i < 160; i++) {
+            const double x = 4.0 + 0.0533 * i, y = 1.0 + 0.0617 * j;
+            const double p[2] = { x - W.team_origin.x_m, y - W.team_origin.y_m };
+            const double truth = world_clearance(x, y), e = 1e-4;
+            double slope[2], c, gx, gy, n;
+            c = navfield_clearance_slope_m(&F, p, slope);
+            assert_true(c <= truth + 1e-6);
+            if (truth < F.cell_m || truth > 0.4)
+                continue;
+            seen++;
+            worst_gap = fmax(worst_gap, truth - c);
+            /* the true clearance's own gradient, by finite differences */
+            gx = (world_clearance(x + e, y) - world_clearance(x - e, y)) / (2 * e);
+            gy = (world_clearance(x, y + e) - world_clearance(x, y - e)) / (2 * e);
+            n = hypot(slope[0], slope[1]);
+            assert_true(n > 0.5 && n < 1.5);
+            worst_cos = fmin(worst_cos, (slope[0] * gx + slope[1] * gy) / (n * hypot(gx, gy)));
+        }
+    print_message("clearance slope: %d points near walls, truth - bound at most %.3f m (cell "
+                  "%.2f m), slope within %.1f deg of the true gradient\n",
+                  seen, worst_gap, F.cell_m, acos(worst_cos) * 180.0 / 3.14159265358979);
+    assert_true(seen > 500);
+    assert_true(worst_gap <= 0.25 * F.cell_m);
+    assert_true(worst_cos > cos(30.0 * 3.14159265358979 / 180.0));
+    {
+        double p[2] = { 1e3, 0.0 }, slope[2];
+        assert_true(navfield_clearance_slope_m(&F, p, slope) == -INFINITY);
+        assert_true(slope[0] == 0.0 && slope[1] == 0.0);
+        p[0] = NAN;
+        assert_true(navfield_clearance_slope_m(&F, p, slope) == -INFINITY);
+        assert_true(navfield_clearance_slope_m(NULL, p, slope) == -INFINITY);
+    }
+}
+
 /* The passage on the way ahead, against the world as built: a gap of
  * 1.2 m in a wall 0.2 m thick across the way is a passage of 1.2 m
  * (within a cell a side) and about as long as the wall is thick, once it
@@ -407,11 +462,6 @@ static void test_passage_staggered_thin_wall(void **state)
  * read is between that and 1.4 m (within a cell a side). Across the way's
  * normal alone the lines through the gap pass beside the wall's ends and
  * read it open. */
-static void box_turned(double cx, double cy, double hx, double hy, double a)
-{
-    assert_int_equal(rover_world_add_box(&W, cx, cy, hx, hy, a, 0.5), 0);
-}
-
 static void test_passage_aslant(void **state)
 {
     const double tol = 2.5 * 0.1, gap = 1.4, half = 2.5; /* each wall piece 5 m long */
@@ -475,6 +525,7 @@ int main(void)
         cmocka_unit_test(test_start_beside_wall),
         cmocka_unit_test(test_way_from_round_bend),
         cmocka_unit_test(test_clearance_bounds),
+        cmocka_unit_test(test_clearance_slope),
         cmocka_unit_test(test_passage_ahead),
         cmocka_unit_test(test_passage_staggered_thin_wall),
         cmocka_unit_test(test_passage_aslant),

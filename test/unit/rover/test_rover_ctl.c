@@ -601,6 +601,7 @@ static kin_result pocket_pair_run(int leave_by_way)
      * (entry_by_way) brings the robot out of the V by a side where even
      * the straight rule leaves, and the rule under test is not reached */
     p.entry_by_way = 0;
+    p.map_graze = 0; /* nor its turn the other way round at the V's arm */
     navfield_params_default(&np);
     assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
     o.nav = &NAV;
@@ -1027,14 +1028,22 @@ static void test_stale_sensors_stop(void **state)
     rover_ctl_params_default(&p);
     p.stall_near_m = -0.1;
     assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
+    rover_ctl_params_default(&p);
+    p.follow_regress_m = -1.0;
+    assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
+    p.follow_regress_m = NAN;
+    assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_ERR_ARG);
+    p.follow_regress_m = 0.0; /* never */
+    assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_OK);
     /* the map's switches are 0 or 1 */
     {
-        int *sw[3], k;
+        int *sw[4], k;
         rover_ctl_params_default(&p);
         sw[0] = &p.leave_by_way;
         sw[1] = &p.entry_by_way;
         sw[2] = &p.passage_long_by_map;
-        for (k = 0; k < 3; k++) {
+        sw[3] = &p.map_graze;
+        for (k = 0; k < 4; k++) {
             *sw[k] = 0;
             assert_int_equal(rover_ctl_params_validate(&p), ROVER_CTL_OK);
             *sw[k] = 2;
@@ -1328,6 +1337,77 @@ static void test_dead_zone_entry_by_way(void **state)
     assert_true(w1 == 1 && w2 == -1);
     entry_turns(1, 0, &w1, &w2);
     assert_true(w1 == 1 && w2 == -1);
+}
+
+/* Trapped at the origin heading +x with the goal 10 m behind it (-x),
+ * then driven straight on along a wall on its right (the encoders turn at
+ * follow_v_mps): the boundary leads away from the goal. Returns how far
+ * the robot had driven when the escape turned it back toward the way
+ * (FACE, turning on the spot), or -1 if it did not within 6 m; the
+ * direction of that turn in *turn. */
+static double regress_drive_m(double follow_regress_m, int nav, int *turn)
+{
+    static const double trap[8] = { 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3 };
+    static const double wall[8] = { 0.8, 1.2, 5, 5, 5, 5, 5, 5 }; /* wall on the right */
+    rover_world_config w;
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    const double goal[2] = { -10.0, 0.0 };
+    double t = 0.0, enc = 0.0, driven_m = 0.0;
+    int k;
+    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, 1, 1.0, FORMATION_LINE), 0);
+    w.n_obst = 0;
+    w.team_origin.x_m = w.team_origin.y_m = w.team_origin.theta_rad = 0.0;
+    w.goal_m[0] = goal[0];
+    w.goal_m[1] = goal[1];
+    w.x_min_m = -12.0;
+    w.x_max_m = 9.0;
+    w.y_min_m = -3.0;
+    w.y_max_m = 3.0;
+    rover_ctl_params_default(&p);
+    p.follow_regress_m = follow_regress_m;
+    one_robot_on(&c, &p, &w, goal, nav);
+    for (k = 0; c.exc.entries < 1 && k * DT < 2.0 * p.beh.dead_zone_time_s; k++, t += DT)
+        hand_step(&c, t, trap, NULL, 0, &out);
+    hand_step(&c, t, wall, NULL, 0, &out);
+    t += DT;
+    assert_int_equal(c.esc.phase, ROVER_ESC_FOLLOW);
+    for (; driven_m < 6.0; t += DT) {
+        enc += p.follow_v_mps * DT / p.wheel_radius_m;
+        driven_m = enc * p.wheel_radius_m;
+        hand_step_enc(&c, t, enc, enc, wall, NULL, 0, &out);
+        assert_int_equal(out.mode, ROVER_MODE_DEAD_ZONE); /* still escaping */
+        if (c.esc.phase == ROVER_ESC_FACE) {
+            assert_true(out.u.v_mps == 0.0 && out.u.w_radps != 0.0);
+            *turn = out.u.w_radps > 0.0 ? 1 : -1;
+            return driven_m;
+        }
+    }
+    return -1.0;
+}
+
+/* A trapped robot whose boundary leads follow_regress_m farther along the
+ * map's way than its hit point turns back toward the way; without the
+ * map, or with follow_regress_m 0, it follows on (escape_max_s alone
+ * turns it, after a corridor's length: generated corridor world 196). */
+static void test_follow_turns_back_when_the_way_grows(void **state)
+{
+    rover_ctl_params p;
+    int turn = 0;
+    double at_m;
+    (void)state;
+    rover_ctl_params_default(&p);
+    at_m = regress_drive_m(p.follow_regress_m, 1, &turn);
+    print_message("turned back after %.2f m (follow_regress_m %.1f), turn %d\n", at_m,
+                  p.follow_regress_m, turn);
+    /* the way grows as fast as the robot drives, from the hit point's (the
+     * field within a cell's diagonal of the true way) */
+    assert_true(at_m > p.follow_regress_m - 0.25 && at_m < p.follow_regress_m + 0.25);
+    at_m = regress_drive_m(1.5, 1, &turn);
+    assert_true(at_m > 1.25 && at_m < 1.75);
+    assert_true(regress_drive_m(0.0, 1, &turn) < 0.0);
+    assert_true(regress_drive_m(p.follow_regress_m, 0, &turn) < 0.0);
 }
 
 /* One hand-fed step with the camera seeing every mate where the table
@@ -2286,19 +2366,18 @@ static void test_arrival_turn_in_a_pocket(void **state)
 /* One robot at the team frame's origin heading +x, the sonar seeing
  * nothing, a wall across `behind_m` behind its axle C on the map:
  * rover_ctl_spin_free with the map (nav) or without. */
-static int spin_free_with_wall_behind(double behind_m, int nav)
+/* Robot 1 at the team frame's origin heading +x, a wall across its way
+ * behind it, the wall's face behind_m behind C (the map on the robot if
+ * `nav`), in *c; its O pose in *o. */
+static void wall_behind(rover_ctl_state *c, rover_ctl_params *p, pose2 *o, double behind_m, int nav)
 {
     rover_world_config w;
-    rover_ctl_state c;
-    rover_ctl_params p;
     rover_ctl_out out;
     const double goal[2] = { 10.0, 0.0 };
     double cx, cy;
     assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, 1, 1.0, FORMATION_LINE), 0);
     w.n_obst = 0;
-    rover_ctl_params_default(&p);
-    /* C is d_m behind O; the wall's face behind_m behind C */
-    cx = -p.beh.d_m - behind_m - 0.1;
+    cx = -p->beh.d_m - behind_m - 0.1;
     cy = 0.0;
     assert_int_equal(rover_world_add_box(&w,
                                          w.team_origin.x_m + cx * cos(w.team_origin.theta_rad) -
@@ -2307,10 +2386,48 @@ static int spin_free_with_wall_behind(double behind_m, int nav)
                                              cy * cos(w.team_origin.theta_rad),
                                          0.1, 2.0, w.team_origin.theta_rad, 0.5),
                      0);
-    one_robot_on(&c, &p, &w, goal, nav);
-    hand_step(&c, 0.0, open_ring, NULL, 0, &out);
+    one_robot_on(c, p, &w, goal, nav);
+    hand_step(c, 0.0, open_ring, NULL, 0, &out);
+    *o = out.o;
+}
+
+static int spin_free_with_wall_behind(double behind_m, int nav)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    pose2 o;
+    rover_ctl_params_default(&p);
+    wall_behind(&c, &p, &o, behind_m, nav);
     assert_int_equal(rover_ctl_spin_clear(c.range_m), 1);
-    return rover_ctl_spin_free(&c, &out.o);
+    return rover_ctl_spin_free(&c, &o);
+}
+
+/* rover_ctl_turn_grazes with the wall behind_m behind C and map_graze as
+ * given: bit 0 a left turn grazes, bit 1 a right one. */
+static int grazes_with_wall_behind(double behind_m, int nav, int map_graze)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    pose2 o;
+    rover_ctl_params_default(&p);
+    p.map_graze = map_graze;
+    wall_behind(&c, &p, &o, behind_m, nav);
+    return rover_ctl_turn_grazes(&c, &o, 0.5) | rover_ctl_turn_grazes(&c, &o, -0.5) << 1;
+}
+
+/* The map's graze guard: with the rear 3 cm from a wall behind, a turn
+ * either way swings a rear corner toward it (the tail's corners lie
+ * 0.25 m behind C); 0.3 m away, or without the map, or with map_graze 0,
+ * no turn is held. A robot in a corridor bend's apex ground its rear into
+ * the wall 9 times turning there (generated corridor world 196). */
+static void test_turn_grazes_wall_behind(void **state)
+{
+    const double rear_m = 0.5 * ROVER_BODY_LENGTH_M - ROVER_BODY_OFFSET_M; /* C to the tail */
+    (void)state;
+    assert_int_equal(grazes_with_wall_behind(rear_m + 0.03, 1, 1), 3);
+    assert_int_equal(grazes_with_wall_behind(rear_m + 0.3, 1, 1), 0);
+    assert_int_equal(grazes_with_wall_behind(rear_m + 0.03, 0, 1), 0);
+    assert_int_equal(grazes_with_wall_behind(rear_m + 0.03, 1, 0), 0);
 }
 
 /* The rear has no sonar: a wall behind within the circle a turn on the
@@ -2801,7 +2918,9 @@ int main(void)
         cmocka_unit_test(test_column_by_place),
         cmocka_unit_test(test_leave_by_way),
         cmocka_unit_test(test_dead_zone_entry_by_way),
+        cmocka_unit_test(test_follow_turns_back_when_the_way_grows),
         cmocka_unit_test(test_spin_free_sees_walls_behind),
+        cmocka_unit_test(test_turn_grazes_wall_behind),
         cmocka_unit_test(test_snapshot_resume_identity),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
