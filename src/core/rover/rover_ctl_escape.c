@@ -558,26 +558,33 @@ static int face_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
 /* FOLLOW, trapped, with the map (leave_by_way): the boundary has led
  * follow_regress_m farther along the way than the hit point, so the robot
  * follows it away from the goal: FACE, turning toward the way, then
- * follow on. Once an escape; again while the turn could not be made
- * (face_turn). Flipping the wall side is no turn in a corridor (the
- * other wall lies alongside too, the same way on), and escape_max_s of
- * following the wrong way is a corridor's length: a robot stalled in a
- * bend followed a corridor's wall back into the start room (generated
- * corridor world 196, 8 in column). Why it holds: the way has no local
+ * follow on, the turn-back point the hit point from there. Once an
+ * escape; again while the turn could not be made (face_turn). Flipping
+ * the wall side is no turn in a corridor (the other wall lies alongside
+ * too, the same way on), and escape_max_s of following the wrong way is
+ * a corridor's length: a robot stalled in a bend followed a corridor's
+ * wall back into the start room (generated corridor world 196, 8 in
+ * column, before the graze guard). Why it holds: the way has no local
  * minimum, so a boundary that leads farther from the goal than the hit
- * point by follow_regress_m does so on one side of it; back past the hit
- * point the robot goes the other way round, where the leave rule can
- * end the escape (or escape_max_s turns it, as without the map). */
+ * point by follow_regress_m does so on one side of it; turned toward the
+ * way, the robot descends it, and the leave rule, measured from the
+ * turn-back point, ends the escape once it is leave_gain_m nearer with
+ * the way free (or escape_max_s turns it, as without the map). Measured
+ * from the first hit point, a robot turned back inside a V pocket
+ * followed a short wall piece in it round and round for 100 s, never
+ * 0.5 m nearer the goal than where it was first trapped (generated mixed
+ * world 4, 12 in line). */
 static void follow_regress(rover_ctl_state *c, const pose2 *o, const double goal[2])
 {
     const double xy[2] = { o->x_m, o->y_m };
+    const double way_m = rover_ctl_leave_measure_m(c, xy, goal);
     if (c->esc.phase != ROVER_ESC_FOLLOW || c->esc.turned_back || !c->nav || !c->p.leave_by_way ||
-        !(c->p.follow_regress_m > 0.0) ||
-        !(rover_ctl_leave_measure_m(c, xy, goal) > c->esc.hit_dist_m + c->p.follow_regress_m))
+        !(c->p.follow_regress_m > 0.0) || !(way_m > c->esc.hit_dist_m + c->p.follow_regress_m))
         return;
     enter(c, ROVER_ESC_FACE);
     c->esc.turned_back = 1;
     c->esc.turn = way_bearing_rad(c, o, goal) > 0.0 ? 1 : -1;
+    c->esc.hit_dist_m = way_m;
 }
 
 /* A turn on the spot of eq. 2 (`eq2`) or of the follower would swing a

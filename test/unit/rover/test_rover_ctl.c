@@ -1354,7 +1354,7 @@ static double regress_drive_m(double follow_regress_m, int nav, int *turn)
     rover_ctl_params p;
     rover_ctl_out out;
     const double goal[2] = { -10.0, 0.0 };
-    double t = 0.0, enc = 0.0, driven_m = 0.0;
+    double t = 0.0, enc = 0.0, driven_m = 0.0, hit0_m;
     int k;
     assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, 1, 1.0, FORMATION_LINE), 0);
     w.n_obst = 0;
@@ -1373,6 +1373,7 @@ static double regress_drive_m(double follow_regress_m, int nav, int *turn)
     hand_step(&c, t, wall, NULL, 0, &out);
     t += DT;
     assert_int_equal(c.esc.phase, ROVER_ESC_FOLLOW);
+    hit0_m = c.esc.hit_dist_m;
     for (; driven_m < 6.0; t += DT) {
         enc += p.follow_v_mps * DT / p.wheel_radius_m;
         driven_m = enc * p.wheel_radius_m;
@@ -1380,6 +1381,8 @@ static double regress_drive_m(double follow_regress_m, int nav, int *turn)
         assert_int_equal(out.mode, ROVER_MODE_DEAD_ZONE); /* still escaping */
         if (c.esc.phase == ROVER_ESC_FACE) {
             assert_true(out.u.v_mps == 0.0 && out.u.w_radps != 0.0);
+            /* the leave rule measures from the turn-back point now */
+            assert_true(c.esc.hit_dist_m > hit0_m + follow_regress_m);
             *turn = out.u.w_radps > 0.0 ? 1 : -1;
             return driven_m;
         }
