@@ -1281,6 +1281,21 @@ static void one_robot_on(rover_ctl_state *c, const rover_ctl_params *p, const ro
     }
 }
 
+/* The open world emptied, one robot, the goal at `goal` (world frame),
+ * the extent [x0, x1] x [y0, y1]. */
+static void empty_world(rover_world_config *w, const double goal[2], double x0_m, double x1_m,
+                        double y0_m, double y1_m)
+{
+    assert_int_equal(rover_world_layout(w, ROVER_WORLD_OPEN, 1, 1.0, FORMATION_LINE), 0);
+    w->n_obst = 0;
+    w->goal_m[0] = goal[0];
+    w->goal_m[1] = goal[1];
+    w->x_min_m = x0_m;
+    w->x_max_m = x1_m;
+    w->y_min_m = y0_m;
+    w->y_max_m = y1_m;
+}
+
 /* Trapped (eq. 2's test) for the dead-zone time, robot at the origin
  * heading +x, its way to the goal at (0, -10) bearing -90 deg (right),
  * the map on the robot if `nav`: eq. 2's turn on the first and second
@@ -1295,14 +1310,7 @@ static void entry_turns(int entry_by_way, int nav, int *w1, int *w2)
     const double goal[2] = { 0.0, -10.0 };
     double t = 0.0;
     int k, entry;
-    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, 1, 1.0, FORMATION_LINE), 0);
-    w.n_obst = 0;
-    w.goal_m[0] = goal[0];
-    w.goal_m[1] = goal[1];
-    w.x_min_m = -5.0;
-    w.x_max_m = 5.0;
-    w.y_min_m = -12.0;
-    w.y_max_m = 2.0;
+    empty_world(&w, goal, -5.0, 5.0, -12.0, 2.0);
     rover_ctl_params_default(&p);
     p.entry_by_way = entry_by_way;
     one_robot_on(&c, &p, &w, goal, nav);
@@ -1356,15 +1364,8 @@ static double regress_drive_m(double follow_regress_m, int nav, int *turn)
     const double goal[2] = { -10.0, 0.0 };
     double t = 0.0, enc = 0.0, driven_m = 0.0, hit0_m;
     int k;
-    assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, 1, 1.0, FORMATION_LINE), 0);
-    w.n_obst = 0;
+    empty_world(&w, goal, -12.0, 9.0, -3.0, 3.0);
     w.team_origin.x_m = w.team_origin.y_m = w.team_origin.theta_rad = 0.0;
-    w.goal_m[0] = goal[0];
-    w.goal_m[1] = goal[1];
-    w.x_min_m = -12.0;
-    w.x_max_m = 9.0;
-    w.y_min_m = -3.0;
-    w.y_max_m = 3.0;
     rover_ctl_params_default(&p);
     p.follow_regress_m = follow_regress_m;
     one_robot_on(&c, &p, &w, goal, nav);
