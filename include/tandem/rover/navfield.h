@@ -94,7 +94,8 @@ double navfield_clearance_m(const navfield *f, const double at_m[2]);
  * the point), and in slope the way the clearance grows there (the cells'
  * central differences, per metre, the callers' frame; away from the
  * nearest obstacle, about unit length where one is within the cap; 0 off
- * the grid). -INFINITY off the grid, or on NULL or non-finite input. */
+ * the grid). -INFINITY off the grid, or on NULL or non-finite input
+ * (slope NULL: nothing written). */
 double navfield_clearance_slope_m(const navfield *f, const double at_m[2], double slope[2]);
 
 /* The way to the goal from `from` (the callers' frame): from the cell

@@ -379,6 +379,8 @@ double navfield_clearance_slope_m(const navfield *f, const double at_m[2], doubl
 {
     double a[2], gw[2];
     long c;
+    if (!slope)
+        return -INFINITY;
     slope[0] = slope[1] = 0.0;
     if (!f || !at_m || !isfinite(at_m[0]) || !isfinite(at_m[1]))
         return -INFINITY;

@@ -550,7 +550,7 @@ static int face_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
      * (generated corridor world 15, 6 in column) */
     if (!facing) {
         c->esc.side = b > 0.0 ? -1 : 1;
-        c->esc.turned_back = 0; /* not turned: follow_regress tries again */
+        c->esc.turned_back = 0; /* not turned: follow_regress may try again */
     }
     return 0;
 }
@@ -559,7 +559,8 @@ static int face_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
  * follow_regress_m farther along the way than the hit point, so the robot
  * follows it away from the goal: FACE, turning toward the way, then
  * follow on, the turn-back point the hit point from there. Once an
- * escape; again while the turn could not be made (face_turn). Flipping
+ * escape, unless the turn could not be made (face_turn): then again once
+ * the way has grown follow_regress_m beyond the turn-back point. Flipping
  * the wall side is no turn in a corridor (the other wall lies alongside
  * too, the same way on), and escape_max_s of following the wrong way is
  * a corridor's length: a robot stalled in a bend followed a corridor's

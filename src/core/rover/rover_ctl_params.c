@@ -148,26 +148,27 @@ int rover_ctl_params_validate(const rover_ctl_params *p)
         !isfinite(p->arrival_swap_m2) || p->arrival_swap_m2 < 0.0 ||
         (p->column_by_place != 0 && p->column_by_place != 1) ||
         (p->leave_by_way != 0 && p->leave_by_way != 1) ||
-        (p->entry_by_way != 0 && p->entry_by_way != 1) || !isfinite(p->follow_regress_m) ||
-        (p->map_graze != 0 && p->map_graze != 1) || p->follow_regress_m < 0.0 ||
-        (p->passage_long_by_map != 0 && p->passage_long_by_map != 1) || !pos(p->cut_off_spacings) ||
-        !isfinite(p->stall_s) || p->stall_s < 0.0 || !pos(p->stall_move_m) ||
-        !isfinite(p->stall_near_m) || p->stall_near_m < 0.0 || !pos(p->arrive_face_rad) ||
-        p->arrive_face_rad > VEC2_PI || !pos(p->queue_m) || !pos(p->queue_cone_rad) ||
-        p->queue_cone_rad > VEC2_PI || !pos(p->queue_slow_mps) || !pos(p->queue_closing_mps) ||
-        !pos(p->hold_max_s) || !pos(p->walls_near_m) || !pos(p->stranger_give_m) ||
-        !pos(p->stranger_cone_rad) || p->stranger_cone_rad > VEC2_PI || !pos(p->stranger_seen_s) ||
-        !pos(p->stranger_hold_max_s) || !pos(p->leave_gain_m) || !pos(p->follow_mate_ahead_m) ||
-        !pos(p->follow_moving_mps) || !pos(p->back_max_m) || !pos(p->back_v_mps) ||
-        !pos(p->wedge_max_s) || !pos(p->follow_lost_s) || !pos(p->passage_sense_max_m) ||
-        !pos(p->mate_keep_m) || !pos(p->v_change_mps) || !pos(p->guard_m) ||
-        !pos(p->guard_stop_m) || !pos(p->guard_lane_m) || !pos(p->side_guard_m) ||
-        !pos(p->side_turn_radps) || !isfinite(p->goal_heading_gain) || p->goal_heading_gain < 0.0 ||
-        p->goal_heading_gain > 1.0 || !isfinite(p->arrive_m) || p->arrive_m < 0.0 ||
-        !pos(p->passage_front_min_m) || !pos(p->passage_ahead_m) || !pos(p->passage_short_m) ||
-        !pos(p->sonar_max_m) || !(p->consensus_gain >= 0.0) || !isfinite(p->consensus_gain) ||
-        !pos(p->consensus_age_s) || !pos(p->consensus_max_mps) || !pos(p->consensus_range_m) ||
-        !pos(p->fsm.spacing_m) || !(p->fsm.shrink_scale > 0.0 && p->fsm.shrink_scale <= 1.0))
+        (p->entry_by_way != 0 && p->entry_by_way != 1) ||
+        (p->map_graze != 0 && p->map_graze != 1) || !isfinite(p->follow_regress_m) ||
+        p->follow_regress_m < 0.0 || (p->passage_long_by_map != 0 && p->passage_long_by_map != 1) ||
+        !pos(p->cut_off_spacings) || !isfinite(p->stall_s) || p->stall_s < 0.0 ||
+        !pos(p->stall_move_m) || !isfinite(p->stall_near_m) || p->stall_near_m < 0.0 ||
+        !pos(p->arrive_face_rad) || p->arrive_face_rad > VEC2_PI || !pos(p->queue_m) ||
+        !pos(p->queue_cone_rad) || p->queue_cone_rad > VEC2_PI || !pos(p->queue_slow_mps) ||
+        !pos(p->queue_closing_mps) || !pos(p->hold_max_s) || !pos(p->walls_near_m) ||
+        !pos(p->stranger_give_m) || !pos(p->stranger_cone_rad) || p->stranger_cone_rad > VEC2_PI ||
+        !pos(p->stranger_seen_s) || !pos(p->stranger_hold_max_s) || !pos(p->leave_gain_m) ||
+        !pos(p->follow_mate_ahead_m) || !pos(p->follow_moving_mps) || !pos(p->back_max_m) ||
+        !pos(p->back_v_mps) || !pos(p->wedge_max_s) || !pos(p->follow_lost_s) ||
+        !pos(p->passage_sense_max_m) || !pos(p->mate_keep_m) || !pos(p->v_change_mps) ||
+        !pos(p->guard_m) || !pos(p->guard_stop_m) || !pos(p->guard_lane_m) ||
+        !pos(p->side_guard_m) || !pos(p->side_turn_radps) || !isfinite(p->goal_heading_gain) ||
+        p->goal_heading_gain < 0.0 || p->goal_heading_gain > 1.0 || !isfinite(p->arrive_m) ||
+        p->arrive_m < 0.0 || !pos(p->passage_front_min_m) || !pos(p->passage_ahead_m) ||
+        !pos(p->passage_short_m) || !pos(p->sonar_max_m) || !(p->consensus_gain >= 0.0) ||
+        !isfinite(p->consensus_gain) || !pos(p->consensus_age_s) || !pos(p->consensus_max_mps) ||
+        !pos(p->consensus_range_m) || !pos(p->fsm.spacing_m) ||
+        !(p->fsm.shrink_scale > 0.0 && p->fsm.shrink_scale <= 1.0))
         return ROVER_CTL_ERR_ARG;
     if (!isfinite(p->beacon_alpha) || p->beacon_alpha < 0.0 || p->beacon_alpha > 1.0)
         return ROVER_CTL_ERR_ARG;

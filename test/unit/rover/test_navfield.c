@@ -369,6 +369,8 @@ static void test_clearance_slope(void **state)
         p[0] = NAN;
         assert_true(navfield_clearance_slope_m(&F, p, slope) == -INFINITY);
         assert_true(navfield_clearance_slope_m(NULL, p, slope) == -INFINITY);
+        p[0] = 5.0;
+        assert_true(navfield_clearance_slope_m(&F, p, NULL) == -INFINITY);
     }
 }
 

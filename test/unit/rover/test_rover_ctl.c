@@ -2381,6 +2381,7 @@ static void wall_behind(rover_ctl_state *c, rover_ctl_params *p, pose2 *o, doubl
     double cx, cy;
     assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, 1, 1.0, FORMATION_LINE), 0);
     w.n_obst = 0;
+    /* C is d_m behind O; the wall's face behind_m behind C */
     cx = -p->beh.d_m - behind_m - 0.1;
     cy = 0.0;
     assert_int_equal(rover_world_add_box(&w,
