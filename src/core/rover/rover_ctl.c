@@ -670,7 +670,7 @@ static int arrival_turn(const rover_ctl_state *c, const step_view *v, unicycle_c
 static int spin_into_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u)
 {
     return fabs(u->v_mps) <= ROVER_SPIN_V_MPS && u->w_radps != 0.0 &&
-           rover_ctl_cmd_sweeps_mate(c, o, u, 0) != 0;
+           rover_ctl_cmd_sweeps_mate(c, o, u, ROVER_SWEEP_ANY) != 0;
 }
 
 /* The map's graze guard held the turn in *u (rover_ctl_turn_grazes). In
@@ -680,20 +680,28 @@ static int spin_into_mate(const rover_ctl_state *c, const pose2 *o, const unicyc
  * creep straight on where the front is free of echoes within guard_m and
  * of mates: a robot whose tail is in a corner draws away from it, then
  * turns (standing is not following, so escape_max_s would not run).
- * Hemmed in where neither the sonar nor the map leaves a way, the turn is
- * made as asked: a robot standing there would hold its escape for good. */
+ * Hemmed in ahead, it creeps straight back where the map keeps the rear
+ * edge clear of walls (rover_ctl_back_clear_of_map) and no mate is in the
+ * way, else it stands: a robot wedged by a mate against a corridor's jog
+ * that turned as asked touched the wall (mixed world 187, 6 in line).
+ * Standing cannot hold for good: a robot that came in driving forward can
+ * go back the way it came unless a mate stands there, and the mate moves
+ * on (its own wait or escape). */
 #define GRAZE_CREEP_MPS 0.05
+#define GRAZE_BACK_LOOK_M 0.1
 static void graze_hold(const rover_ctl_state *c, const step_view *v, unicycle_cmd *u)
 {
-    if (!v->escaping || fabs(u->v_mps) > ROVER_SPIN_V_MPS) {
-        u->w_radps = 0.0;
+    unicycle_cmd back = { -GRAZE_CREEP_MPS, 0.0 };
+    u->w_radps = 0.0;
+    if (!v->escaping || fabs(u->v_mps) > ROVER_SPIN_V_MPS)
         return;
-    }
+    u->v_mps = 0.0;
     if (fmin(v->g.front_m, fmin(v->g.left_front_m, v->g.right_front_m)) > c->p.guard_m &&
-        !rover_ctl_mate_in_lane(c, &v->o, c->p.follow_mate_ahead_m)) {
-        u->w_radps = 0.0;
+        !rover_ctl_mate_in_lane(c, &v->o, c->p.follow_mate_ahead_m))
         u->v_mps = GRAZE_CREEP_MPS;
-    }
+    else if (rover_ctl_back_clear_of_map(c, &v->o, GRAZE_BACK_LOOK_M) &&
+             rover_ctl_cmd_sweeps_mate(c, &v->o, &back, ROVER_SWEEP_ANY) == 0)
+        *u = back;
 }
 
 /* Every echo within the guard's reach is a wall's: none explained by a
@@ -822,7 +830,18 @@ static void command_out(rover_ctl_state *c, const step_view *v, double t_s, doub
      * again, and one standing beside a trapped mate turned toward its slot
      * and swung its tail into it (dead zone, 3 in line, seed 1). Only the
      * wait set: standing for a lower mate too wedged teams of 6 in the U */
-    if (c->holding == ROVER_WAIT_NONE && !v->escaping && rover_ctl_cmd_sweeps_mate(c, &v->o, &u, 1))
+    if (c->holding == ROVER_WAIT_NONE && !v->escaping &&
+        rover_ctl_cmd_sweeps_mate(c, &v->o, &u, ROVER_SWEEP_WAITED))
+        u.v_mps = u.w_radps = 0.0;
+    /* nor into an outranking mate that drives our way (ROVER_SWEEP_COMING),
+     * wait set or not: in the open nothing conflicts, and two robots of a
+     * line closing into column in the start room crossed paths side by
+     * side and met, each flying its blend (corridor world 39, 12 in
+     * column). The lower one stands; the higher drives on and its guard
+     * stops it short of us. A mate driving away, or standing, is not
+     * waited for: a column's follower closes on its leader as before */
+    if (c->holding == ROVER_WAIT_NONE && !v->escaping &&
+        rover_ctl_cmd_sweeps_mate(c, &v->o, &u, ROVER_SWEEP_COMING))
         u.v_mps = u.w_radps = 0.0;
     /* nor a turn on the spot into any mate's chassis: a mate within our
      * turning circle keeps out of it when we outrank it (the wait set), but

@@ -451,6 +451,21 @@ static void wait_step(rover_ctl_state *c, const pose2 *o, double dt_s)
                                                                             : ROVER_WAIT_STAND;
 }
 
+/* Wedged: the turn rate (w or -w) whose next 0.6 rad sweeps clear of
+ * every mate's box, one that grazes no wall of the map before one that
+ * does (command_out's graze guard holds that); 0 if both sweep a mate. */
+static double wedge_turn(const rover_ctl_state *c, const pose2 *o, double w)
+{
+    const int dir = w > 0.0 ? 1 : -1;
+    const int free_w = !rover_ctl_turn_sweeps_mate(c, o, dir);
+    const int free_back = !rover_ctl_turn_sweeps_mate(c, o, -dir);
+    if (free_w && !rover_ctl_turn_grazes(c, o, w))
+        return w;
+    if (free_back && !rover_ctl_turn_grazes(c, o, -w))
+        return -w;
+    return free_w ? w : free_back ? -w : 0.0;
+}
+
 /* The escape's own motion in *u, made only where it keeps clear of the
  * mates. A turn on the spot that would sweep our chassis into a mate
  * (rover_ctl_spin_hits_mate) or a drive with a mate in the lane is not
@@ -458,7 +473,8 @@ static void wait_step(rover_ctl_state *c, const pose2 *o, double dt_s)
  * crumbs; otherwise we stand: the mate is lower, waits for us and clears
  * our way (wait_step). Standing wedged
  * wedge_max_s (neither could move: no crumbs, or none clear), a turn
- * whose next 0.6 rad sweeps clear of every mate's box, either way round.
+ * whose next 0.6 rad sweeps clear of every mate's box, either way round
+ * (wedge_turn).
  * Returns 1 if the motion was held back. */
 static int deconflict(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o, double dt_s,
                       unicycle_cmd *u)
@@ -478,13 +494,8 @@ static int deconflict(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
         return 1;
     }
     c->esc.wedge_s += dt_s;
-    if (c->esc.wedge_s > c->p.wedge_max_s) {
-        const int dir = w > 0.0 ? 1 : -1;
-        if (!rover_ctl_turn_sweeps_mate(c, o, dir))
-            u->w_radps = w;
-        else if (!rover_ctl_turn_sweeps_mate(c, o, -dir))
-            u->w_radps = -w;
-    }
+    if (c->esc.wedge_s > c->p.wedge_max_s)
+        u->w_radps = wedge_turn(c, o, w);
     return u->w_radps == 0.0;
 }
 
@@ -574,13 +585,21 @@ static int face_turn(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o,
  * from the first hit point, a robot turned back inside a V pocket
  * followed a short wall piece in it round and round for 100 s, never
  * 0.5 m nearer the goal than where it was first trapped (generated mixed
- * world 4, 12 in line). */
+ * world 4, 12 in line). The way must have grown by driving: esc.s, the
+ * time spent following on the move, at follow_v_mps covers at least
+ * follow_regress_m. Read off the grid, the way of a robot standing in a
+ * corridor's mouth, in cells the field leaves blocked (navfield_way_from
+ * takes the best cell it sees from there), jumped 3.5 m as its pose
+ * estimate moved by a centimetre; it turned back on the spot and followed
+ * the start room's wall away from the goal (generated corridor worlds 3
+ * and 39, 12 in column). */
 static void follow_regress(rover_ctl_state *c, const pose2 *o, const double goal[2])
 {
     const double xy[2] = { o->x_m, o->y_m };
     const double way_m = rover_ctl_leave_measure_m(c, xy, goal);
     if (c->esc.phase != ROVER_ESC_FOLLOW || c->esc.turned_back || !c->nav || !c->p.leave_by_way ||
-        !(c->p.follow_regress_m > 0.0) || !(way_m > c->esc.hit_dist_m + c->p.follow_regress_m))
+        !(c->p.follow_regress_m > 0.0) || !(way_m > c->esc.hit_dist_m + c->p.follow_regress_m) ||
+        !(c->esc.s * c->p.follow_v_mps >= c->p.follow_regress_m))
         return;
     enter(c, ROVER_ESC_FACE);
     c->esc.turned_back = 1;
@@ -673,7 +692,7 @@ static int follow_boundary(rover_ctl_state *c, const sonar_groups *gw, const son
         c->esc.side = row->on_limit == c->esc.phase ? -side : side;
     }
     rover_ctl_follow(u, gw, c->esc.side, &c->p);
-    if (u->v_mps > 0.0 && rover_ctl_cmd_sweeps_mate(c, o, u, 0) != 0) {
+    if (u->v_mps > 0.0 && rover_ctl_cmd_sweeps_mate(c, o, u, ROVER_SWEEP_ANY) != 0) {
         /* the drive sweeps into a mate: turn away from the wall as at a
          * wall ahead. Not a lane test from the axle forward: a mate at the
          * flank that the drive leaves behind is not in the way (it stopped

@@ -139,6 +139,40 @@ int rover_ctl_turn_grazes(const rover_ctl_state *c, const pose2 *o, double w_rad
     return 0;
 }
 
+/* Backing straight, the sides of the chassis slide along themselves and
+ * only the rear edge sweeps new floor: with a map, 1 if the rear edge,
+ * moved back_m behind the chassis, keeps GRAZE_M from every wall the map
+ * has that backing comes toward (navfield_clearance_slope_m's bound and
+ * slope: more than BACK_TOWARD_COS of the motion toward it; a wall
+ * alongside that the flank slides along is no bar), else 0. No map: 0,
+ * there is nothing to tell the way back by. The edge is read every
+ * BACK_SAMPLE_M or closer: a wall point within GRAZE_M - BACK_SAMPLE_M / 2
+ * of the edge lies within GRAZE_M of one sample. */
+#define BACK_SAMPLE_M 0.05
+#define BACK_TOWARD_COS 0.2
+int rover_ctl_back_clear_of_map(const rover_ctl_state *c, const pose2 *o, double back_m)
+{
+    const double rear_m = ROVER_BODY_OFFSET_M - 0.5 * ROVER_BODY_LENGTH_M - back_m;
+    const int n = (int)ceil(ROVER_BODY_WIDTH_M / BACK_SAMPLE_M);
+    double slope[2];
+    pose2 cp;
+    int k;
+    if (!c->nav)
+        return 0;
+    unicycle_c_from_o(&cp, o, c->p.beh.d_m);
+    for (k = 0; k <= n; k++) {
+        double r[2], at[2];
+        vec2_rotate(r, rear_m, ROVER_BODY_WIDTH_M * ((double)k / n - 0.5), cp.theta_rad);
+        at[0] = cp.x_m + r[0];
+        at[1] = cp.y_m + r[1];
+        /* backing moves the edge along -heading */
+        if (navfield_clearance_slope_m(c->nav, at, slope) < GRAZE_M &&
+            cos(cp.theta_rad) * slope[0] + sin(cp.theta_rad) * slope[1] > BACK_TOWARD_COS)
+            return 0;
+    }
+    return 1;
+}
+
 /* Eq. 11 only weights avoidance by d_st / range; goal and formation keep
  * pushing, so a robot can creep into an obstacle dead ahead (and with
  * S_LF = S_RF the seed's turn is zero). Last line of defence: forward speed

@@ -55,6 +55,10 @@ int rover_ctl_spin_free(const rover_ctl_state *c, const pose2 *o);
  * wall the map puts within 5 cm of it: 1, else 0 (rover_ctl_guard.c). */
 int rover_ctl_turn_grazes(const rover_ctl_state *c, const pose2 *o, double w_radps);
 
+/* With a map, backing back_m straight keeps the chassis's rear edge
+ * 5 cm from the map's walls: 1, else 0 (rover_ctl_guard.c). */
+int rover_ctl_back_clear_of_map(const rover_ctl_state *c, const pose2 *o, double back_m);
+
 /* The collision guard's speed rule alone; returns the nearest echo in the
  * way (rover_ctl_guard.c). */
 double rover_ctl_guard_speed(unicycle_cmd *u, const double range_m[BEH_SONAR_N],
@@ -111,10 +115,17 @@ int rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reac
 /* 1 if a mate's chassis reaches into the lane ours sweeps driving ahead_m
  * straight on. */
 int rover_ctl_mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahead_m);
-/* The id of a mate (waited_only: of our wait set) whose chassis ours
- * would sweep into (or come nearer to, touching it already) flying u for
- * the next second (arcs and turns on the spot included), else 0. */
+/* Which mates rover_ctl_cmd_sweeps_mate looks at. */
+typedef enum {
+    ROVER_SWEEP_ANY = 0,    /* every mate */
+    ROVER_SWEEP_WAITED = 1, /* the mates of our wait set */
+    ROVER_SWEEP_COMING = 2  /* outranking mates driving our way */
+} rover_sweep_mates;
+
+/* The id of a mate (of those `which` names) whose chassis ours would
+ * sweep into (or come nearer to, touching it already) flying u for the
+ * next second (arcs and turns on the spot included), else 0. */
 int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u,
-                                  int waited_only);
+                                  rover_sweep_mates which);
 
 #endif

@@ -376,9 +376,11 @@ int rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reac
  * motion brings our chassis nearer to it: driving on away from a mate
  * alongside is allowed (a lane test from the axle forward stopped a robot
  * giving way whose mate stood at its flank, and held three robots wedged
- * in the dead zone's mouth, 3 in line, seed 1). waited_only: only the
- * mates of our wait set (c->wait_id), those that outrank us and conflict
- * with us, so that standing for them keeps the wait-for graph acyclic. */
+ * in the dead zone's mouth, 3 in line, seed 1). ROVER_SWEEP_WAITED: only
+ * the mates of our wait set (c->wait_id), those that outrank us and
+ * conflict with us; ROVER_SWEEP_COMING: only mates that outrank us and
+ * drive toward us (sweep_counts). Standing for either keeps the wait-for
+ * graph acyclic: nobody stands for a mate it outranks. */
 #define CMD_LOOK_S 1.0
 #define CMD_LOOK_STEPS 10
 /* 1 if mate `id` is in our wait set. */
@@ -391,8 +393,23 @@ static int waited_for(const rover_ctl_state *c, int32_t id)
     return 0;
 }
 
+/* Mate i is one rover_ctl_cmd_sweeps_mate looks at: any, one of our wait
+ * set, or one that outranks us, drives faster than queue_slow_mps and
+ * heads our way (rover_ctl_mate_coming). */
+static int sweep_counts(const rover_ctl_state *c, const pose2 *o, int i, rover_sweep_mates which)
+{
+    const team_member *m = &c->team.m[i];
+    double xy[2];
+    if (which == ROVER_SWEEP_WAITED)
+        return waited_for(c, m->robot);
+    if (which != ROVER_SWEEP_COMING)
+        return 1;
+    return mate_outranks(c, i) && fabs(m->v_mps) > c->p.queue_slow_mps &&
+           team_position(&c->team, m->robot, xy) == 0 && rover_ctl_mate_coming(m, xy, o);
+}
+
 int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u,
-                                  int waited_only)
+                                  rover_sweep_mates which)
 {
     pose2 own_c;
     int k, s;
@@ -402,7 +419,7 @@ int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, cons
     for (k = 0; k < c->team.n; k++) {
         const team_member *m = &c->team.m[k];
         const int i = k;
-        if (waited_only && !waited_for(c, m->robot))
+        if (!sweep_counts(c, o, k, which))
             continue;
         pose2 at = own_c, mc;
         box2 own = chassis_box(&own_c, 0.0);

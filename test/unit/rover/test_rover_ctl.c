@@ -1353,7 +1353,7 @@ static void test_dead_zone_entry_by_way(void **state)
  * the robot had driven when the escape turned it back toward the way
  * (FACE, turning on the spot), or -1 if it did not within 6 m; the
  * direction of that turn in *turn. */
-static double regress_drive_m(double follow_regress_m, int nav, int *turn)
+static double regress_drive_m(double follow_regress_m, int nav, double hit_drop_m, int *turn)
 {
     static const double trap[8] = { 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3 };
     static const double wall[8] = { 0.8, 1.2, 5, 5, 5, 5, 5, 5 }; /* wall on the right */
@@ -1374,6 +1374,13 @@ static double regress_drive_m(double follow_regress_m, int nav, int *turn)
     hand_step(&c, t, wall, NULL, 0, &out);
     t += DT;
     assert_int_equal(c.esc.phase, ROVER_ESC_FOLLOW);
+    /* the way read off the grid jumps by hit_drop_m while the robot
+     * stands (encoders still): no turn back before it has driven */
+    c.esc.hit_dist_m -= hit_drop_m;
+    for (k = 0; hit_drop_m > 0.0 && k * DT < 5.0; k++, t += DT) {
+        hand_step_enc(&c, t, enc, enc, wall, NULL, 0, &out);
+        assert_int_equal(c.esc.phase, ROVER_ESC_FOLLOW);
+    }
     hit0_m = c.esc.hit_dist_m;
     for (; driven_m < 6.0; t += DT) {
         enc += p.follow_v_mps * DT / p.wheel_radius_m;
@@ -1402,16 +1409,22 @@ static void test_follow_turns_back_when_the_way_grows(void **state)
     double at_m;
     (void)state;
     rover_ctl_params_default(&p);
-    at_m = regress_drive_m(p.follow_regress_m, 1, &turn);
+    at_m = regress_drive_m(p.follow_regress_m, 1, 0.0, &turn);
     print_message("turned back after %.2f m (follow_regress_m %.1f), turn %d\n", at_m,
                   p.follow_regress_m, turn);
     /* the way grows as fast as the robot drives, from the hit point's (the
      * field within a cell's diagonal of the true way) */
     assert_true(at_m > p.follow_regress_m - 0.25 && at_m < p.follow_regress_m + 0.25);
-    at_m = regress_drive_m(1.5, 1, &turn);
+    at_m = regress_drive_m(1.5, 1, 0.0, &turn);
     assert_true(at_m > 1.25 && at_m < 1.75);
-    assert_true(regress_drive_m(0.0, 1, &turn) < 0.0);
-    assert_true(regress_drive_m(p.follow_regress_m, 0, &turn) < 0.0);
+    assert_true(regress_drive_m(0.0, 1, 0.0, &turn) < 0.0);
+    assert_true(regress_drive_m(p.follow_regress_m, 0, 0.0, &turn) < 0.0);
+    /* a way that jumped 5 m while the robot stood (the grid read in a
+     * corridor's mouth: generated corridor worlds 3 and 39, 12 in column)
+     * turns it back only once it has driven follow_regress_m */
+    at_m = regress_drive_m(p.follow_regress_m, 1, 5.0, &turn);
+    print_message("the way jumped 5 m standing: turned back after driving %.2f m\n", at_m);
+    assert_true(at_m > p.follow_regress_m - 0.25 && at_m < p.follow_regress_m + 0.25);
 }
 
 /* One hand-fed step with the camera seeing every mate where the table
@@ -1671,6 +1684,38 @@ static void test_no_command_sweeps_into_mate(void **state)
     u.v_mps = 0.25;
     u.w_radps = 0.0;
     assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u, 0), 0);
+}
+
+/* ROVER_SWEEP_COMING: of the mates our command sweeps into, those that
+ * outrank us and drive our way. Mate 1 crosses ahead of robot 3 driving
+ * toward its lane; driving on at 0.3 m/s sweeps into it. Driving away,
+ * standing, or outranked (robot 4), it is not one to stand for. Two
+ * robots closing into column crossed paths side by side and met, each
+ * flying its blend (generated corridor world 39, 12 in column). */
+static int32_t sweeps_crossing_mate(int32_t mate_id, double mate_th_rad, double mate_v_mps,
+                                    rover_sweep_mates which)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    const hand_mate m = { mate_id, 0.6, 0.2, mate_th_rad, FORMATION_ANN_NONE, mate_v_mps };
+    const unicycle_cmd u = { 0.3, 0.0 };
+    at_origin(&c, &p, 3);
+    seen_step(&c, 0.0, open_ring, &m, 1, &out);
+    return rover_ctl_cmd_sweeps_mate(&c, &out.o, &u, which);
+}
+
+static void test_sweep_coming_mates(void **state)
+{
+    const double down = -0.5 * VEC2_PI, up = 0.5 * VEC2_PI;
+    (void)state;
+    assert_int_equal(sweeps_crossing_mate(1, down, 0.3, ROVER_SWEEP_ANY), 1);
+    assert_int_equal(sweeps_crossing_mate(1, down, 0.3, ROVER_SWEEP_COMING), 1);
+    assert_int_equal(sweeps_crossing_mate(1, up, 0.3, ROVER_SWEEP_ANY), 1);
+    assert_int_equal(sweeps_crossing_mate(1, up, 0.3, ROVER_SWEEP_COMING), 0);
+    assert_int_equal(sweeps_crossing_mate(1, down, 0.0, ROVER_SWEEP_COMING), 0);
+    assert_int_equal(sweeps_crossing_mate(4, down, 0.3, ROVER_SWEEP_ANY), 4);
+    assert_int_equal(sweeps_crossing_mate(4, down, 0.3, ROVER_SWEEP_COMING), 0);
 }
 
 static void test_wedge_turns_clear_way(void **state)
@@ -2373,27 +2418,39 @@ static void test_arrival_turn_in_a_pocket(void **state)
 /* Robot 1 at the team frame's origin heading +x, a wall across its way
  * behind it, the wall's face behind_m behind C (the map on the robot if
  * `nav`), in *c; its O pose in *o. */
-static void wall_behind(rover_ctl_state *c, rover_ctl_params *p, pose2 *o, double behind_m, int nav)
+/* A wall at (cx, cy) in the frame of the robot's start (O at the origin,
+ * heading +x), half-sizes hx along the heading and hy across it. */
+static void add_wall_at(rover_world_config *w, double cx, double cy, double hx, double hy)
+{
+    const double th = w->team_origin.theta_rad;
+    assert_int_equal(rover_world_add_box(w, w->team_origin.x_m + cx * cos(th) - cy * sin(th),
+                                         w->team_origin.y_m + cx * sin(th) + cy * cos(th), hx, hy,
+                                         th, 0.5),
+                     0);
+}
+
+/* One robot on the map with a wall's face behind_m behind C and, if
+ * side_m > 0, another side_m right of the chassis's flank. */
+static void walls_round(rover_ctl_state *c, rover_ctl_params *p, pose2 *o, double behind_m,
+                        double side_m, int nav)
 {
     rover_world_config w;
     rover_ctl_out out;
     const double goal[2] = { 10.0, 0.0 };
-    double cx, cy;
+    const double c_x = 0.0; /* C starts at the team frame's origin (one_robot_on's s0) */
     assert_int_equal(rover_world_layout(&w, ROVER_WORLD_OPEN, 1, 1.0, FORMATION_LINE), 0);
     w.n_obst = 0;
-    /* C is d_m behind O; the wall's face behind_m behind C */
-    cx = -p->beh.d_m - behind_m - 0.1;
-    cy = 0.0;
-    assert_int_equal(rover_world_add_box(&w,
-                                         w.team_origin.x_m + cx * cos(w.team_origin.theta_rad) -
-                                             cy * sin(w.team_origin.theta_rad),
-                                         w.team_origin.y_m + cx * sin(w.team_origin.theta_rad) +
-                                             cy * cos(w.team_origin.theta_rad),
-                                         0.1, 2.0, w.team_origin.theta_rad, 0.5),
-                     0);
+    add_wall_at(&w, c_x - behind_m - 0.1, 0.0, 0.1, 2.0);
+    if (side_m > 0.0)
+        add_wall_at(&w, c_x, -(0.5 * ROVER_BODY_WIDTH_M + side_m + 0.1), 2.0, 0.1);
     one_robot_on(c, p, &w, goal, nav);
     hand_step(c, 0.0, open_ring, NULL, 0, &out);
     *o = out.o;
+}
+
+static void wall_behind(rover_ctl_state *c, rover_ctl_params *p, pose2 *o, double behind_m, int nav)
+{
+    walls_round(c, p, o, behind_m, 0.0, nav);
 }
 
 static int spin_free_with_wall_behind(double behind_m, int nav)
@@ -2433,6 +2490,69 @@ static void test_turn_grazes_wall_behind(void **state)
     assert_int_equal(grazes_with_wall_behind(rear_m + 0.3, 1, 1), 0);
     assert_int_equal(grazes_with_wall_behind(rear_m + 0.03, 0, 1), 0);
     assert_int_equal(grazes_with_wall_behind(rear_m + 0.03, 1, 0), 0);
+}
+
+/* rover_ctl_back_clear_of_map: backing 0.1 m keeps the rear edge 5 cm
+ * from a wall 0.2 m behind the tail, not from one 0.12 m or 3 cm behind
+ * it; without the map nothing tells the way back. */
+static int back_clear_with_wall_behind(double behind_m, int nav)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    pose2 o;
+    rover_ctl_params_default(&p);
+    wall_behind(&c, &p, &o, behind_m, nav);
+    return rover_ctl_back_clear_of_map(&c, &o, 0.1);
+}
+
+static void test_back_clear_of_map(void **state)
+{
+    const double rear_m = 0.5 * ROVER_BODY_LENGTH_M - ROVER_BODY_OFFSET_M; /* C to the tail */
+    (void)state;
+    assert_int_equal(back_clear_with_wall_behind(rear_m + 0.3, 1), 1);
+    assert_int_equal(back_clear_with_wall_behind(rear_m + 0.2, 1), 1);
+    assert_int_equal(back_clear_with_wall_behind(rear_m + 0.12, 1), 0);
+    assert_int_equal(back_clear_with_wall_behind(rear_m + 0.03, 1), 0);
+    assert_int_equal(back_clear_with_wall_behind(rear_m + 0.3, 0), 0);
+}
+
+/* Hemmed in: trapped (eq. 2) with a wall 3 cm from the right flank, so
+ * that a turn on the spot either way swings a right corner into it (the
+ * graze guard holds both), and the front blocked. The robot creeps
+ * straight back where the map leaves the way behind free; with a wall
+ * 3 cm behind the tail as well it stands. Turning as asked touched the
+ * wall (generated mixed world 187, 6 in line). Returns the command flown
+ * on the first trapped period. */
+static unicycle_cmd hemmed_in_cmd(double behind_m)
+{
+    static const double trap[8] = { 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3 };
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    pose2 o;
+    double t = DT;
+    rover_ctl_params_default(&p);
+    walls_round(&c, &p, &o, behind_m, 0.03, 1);
+    assert_int_equal(rover_ctl_turn_grazes(&c, &o, 0.5), 1);
+    assert_int_equal(rover_ctl_turn_grazes(&c, &o, -0.5), 1);
+    do {
+        hand_step(&c, t, trap, NULL, 0, &out);
+        t += DT;
+    } while (c.exc.entries < 1 && t < 2.0 * p.beh.dead_zone_time_s);
+    assert_int_equal(c.exc.entries, 1);
+    return out.u;
+}
+
+static void test_hemmed_in_backs_or_stands(void **state)
+{
+    const double rear_m = 0.5 * ROVER_BODY_LENGTH_M - ROVER_BODY_OFFSET_M;
+    unicycle_cmd u;
+    (void)state;
+    u = hemmed_in_cmd(rear_m + 1.0);
+    print_message("hemmed in, free behind: v %.3f m/s, w %.3f rad/s\n", u.v_mps, u.w_radps);
+    assert_true(u.v_mps < 0.0 && u.v_mps > -0.1 && u.w_radps == 0.0);
+    u = hemmed_in_cmd(rear_m + 0.03);
+    assert_true(u.v_mps == 0.0 && u.w_radps == 0.0);
 }
 
 /* The rear has no sonar: a wall behind within the circle a turn on the
@@ -2899,6 +3019,9 @@ int main(void)
         cmocka_unit_test(test_queue_behind_closing_mate),
         cmocka_unit_test(test_no_command_sweeps_into_mate),
         cmocka_unit_test(test_wedge_turns_clear_way),
+        cmocka_unit_test(test_back_clear_of_map),
+        cmocka_unit_test(test_sweep_coming_mates),
+        cmocka_unit_test(test_hemmed_in_backs_or_stands),
         cmocka_unit_test(test_give_way_wedged),
         cmocka_unit_test(test_wait_for_graph_acyclic),
         cmocka_unit_test(test_escape_table_validate),
