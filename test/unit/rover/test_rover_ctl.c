@@ -2448,33 +2448,35 @@ static void walls_round(rover_ctl_state *c, rover_ctl_params *p, pose2 *o, doubl
     *o = out.o;
 }
 
-static void wall_behind(rover_ctl_state *c, rover_ctl_params *p, pose2 *o, double behind_m, int nav)
+/* One robot, default parameters but map_graze, a wall behind_m behind C. */
+typedef struct {
+    rover_ctl_state c;
+    rover_ctl_params p;
+    pose2 o;
+} wall_fixture;
+
+static void wall_behind(wall_fixture *f, double behind_m, int nav, int map_graze)
 {
-    walls_round(c, p, o, behind_m, 0.0, nav);
+    rover_ctl_params_default(&f->p);
+    f->p.map_graze = map_graze;
+    walls_round(&f->c, &f->p, &f->o, behind_m, 0.0, nav);
 }
 
 static int spin_free_with_wall_behind(double behind_m, int nav)
 {
-    rover_ctl_state c;
-    rover_ctl_params p;
-    pose2 o;
-    rover_ctl_params_default(&p);
-    wall_behind(&c, &p, &o, behind_m, nav);
-    assert_int_equal(rover_ctl_spin_clear(c.range_m), 1);
-    return rover_ctl_spin_free(&c, &o);
+    wall_fixture f;
+    wall_behind(&f, behind_m, nav, 1);
+    assert_int_equal(rover_ctl_spin_clear(f.c.range_m), 1);
+    return rover_ctl_spin_free(&f.c, &f.o);
 }
 
 /* rover_ctl_turn_grazes with the wall behind_m behind C and map_graze as
  * given: bit 0 a left turn grazes, bit 1 a right one. */
 static int grazes_with_wall_behind(double behind_m, int nav, int map_graze)
 {
-    rover_ctl_state c;
-    rover_ctl_params p;
-    pose2 o;
-    rover_ctl_params_default(&p);
-    p.map_graze = map_graze;
-    wall_behind(&c, &p, &o, behind_m, nav);
-    return rover_ctl_turn_grazes(&c, &o, 0.5) | rover_ctl_turn_grazes(&c, &o, -0.5) << 1;
+    wall_fixture f;
+    wall_behind(&f, behind_m, nav, map_graze);
+    return rover_ctl_turn_grazes(&f.c, &f.o, 0.5) | rover_ctl_turn_grazes(&f.c, &f.o, -0.5) << 1;
 }
 
 /* The map's graze guard: with the rear 3 cm from a wall behind, a turn
@@ -2497,12 +2499,9 @@ static void test_turn_grazes_wall_behind(void **state)
  * it; without the map nothing tells the way back. */
 static int back_clear_with_wall_behind(double behind_m, int nav)
 {
-    rover_ctl_state c;
-    rover_ctl_params p;
-    pose2 o;
-    rover_ctl_params_default(&p);
-    wall_behind(&c, &p, &o, behind_m, nav);
-    return rover_ctl_back_clear_of_map(&c, &o, 0.1);
+    wall_fixture f;
+    wall_behind(&f, behind_m, nav, 1);
+    return rover_ctl_back_clear_of_map(&f.c, &f.o, 0.1);
 }
 
 static void test_back_clear_of_map(void **state)
