@@ -833,15 +833,16 @@ static void command_out(rover_ctl_state *c, const step_view *v, double t_s, doub
     if (c->holding == ROVER_WAIT_NONE && !v->escaping &&
         rover_ctl_cmd_sweeps_mate(c, &v->o, &u, ROVER_SWEEP_WAITED))
         u.v_mps = u.w_radps = 0.0;
-    /* nor into an outranking mate that drives our way (ROVER_SWEEP_COMING),
-     * wait set or not: in the open nothing conflicts, and two robots of a
-     * line closing into column in the start room crossed paths side by
-     * side and met, each flying its blend (corridor world 39, 12 in
-     * column). The lower one stands; the higher drives on and its guard
-     * stops it short of us. A mate driving away, or standing, is not
-     * waited for: a column's follower closes on its leader as before */
-    if (c->holding == ROVER_WAIT_NONE && !v->escaping &&
-        rover_ctl_cmd_sweeps_mate(c, &v->o, &u, ROVER_SWEEP_COMING))
+    /* nor one that meets an outranking mate flying on as it does
+     * (rover_ctl_cmd_meets_mate), wait set or not: in the open nothing
+     * conflicts, and two robots of a line closing into column in the
+     * start room crossed paths side by side and met, each flying its
+     * blend (corridor world 39, 12 in column). The lower one stands; the
+     * higher drives on. Standing for every outranking mate driving our
+     * way, the last robot of 12 stood so often in a corridor's mouth that
+     * it reached the goal room after the time limit (corridor world 31,
+     * 12 in line) */
+    if (c->holding == ROVER_WAIT_NONE && !v->escaping && rover_ctl_cmd_meets_mate(c, &v->o, &u))
         u.v_mps = u.w_radps = 0.0;
     /* nor a turn on the spot into any mate's chassis: a mate within our
      * turning circle keeps out of it when we outrank it (the wait set), but

@@ -117,9 +117,8 @@ int rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reac
 int rover_ctl_mate_in_lane(const rover_ctl_state *c, const pose2 *o, double ahead_m);
 /* Which mates rover_ctl_cmd_sweeps_mate looks at. */
 typedef enum {
-    ROVER_SWEEP_ANY = 0,    /* every mate */
-    ROVER_SWEEP_WAITED = 1, /* the mates of our wait set */
-    ROVER_SWEEP_COMING = 2  /* outranking mates driving our way */
+    ROVER_SWEEP_ANY = 0,   /* every mate */
+    ROVER_SWEEP_WAITED = 1 /* the mates of our wait set */
 } rover_sweep_mates;
 
 /* The id of a mate (of those `which` names) whose chassis ours would
@@ -127,5 +126,9 @@ typedef enum {
  * next second (arcs and turns on the spot included), else 0. */
 int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u,
                                   rover_sweep_mates which);
+/* The id of an outranking mate that flying u for the next second meets,
+ * the mate flying on at the speed and turn rate of the team table, else
+ * 0 (rover_ctl_mates.c). */
+int32_t rover_ctl_cmd_meets_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u);
 
 #endif

@@ -378,11 +378,18 @@ int rover_ctl_crumbs_clear(const rover_ctl_state *c, const pose2 *o, double reac
  * giving way whose mate stood at its flank, and held three robots wedged
  * in the dead zone's mouth, 3 in line, seed 1). ROVER_SWEEP_WAITED: only
  * the mates of our wait set (c->wait_id), those that outrank us and
- * conflict with us; ROVER_SWEEP_COMING: only mates that outrank us and
- * drive toward us (sweep_counts). Standing for either keeps the wait-for
- * graph acyclic: nobody stands for a mate it outranks. */
+ * conflict with us, so that standing for them keeps the wait-for graph
+ * acyclic. */
 #define CMD_LOOK_S 1.0
 #define CMD_LOOK_STEPS 10
+/* p flown at v_mps, w_radps for dt_s (one Euler step of the unicycle). */
+static void pose_step(pose2 *p, double v_mps, double w_radps, double dt_s)
+{
+    p->x_m += v_mps * dt_s * cos(p->theta_rad);
+    p->y_m += v_mps * dt_s * sin(p->theta_rad);
+    p->theta_rad += w_radps * dt_s;
+}
+
 /* 1 if mate `id` is in our wait set. */
 static int waited_for(const rover_ctl_state *c, int32_t id)
 {
@@ -391,21 +398,6 @@ static int waited_for(const rover_ctl_state *c, int32_t id)
         if (c->wait_id[k] == id)
             return 1;
     return 0;
-}
-
-/* Mate i is one rover_ctl_cmd_sweeps_mate looks at: any, one of our wait
- * set, or one that outranks us, drives faster than queue_slow_mps and
- * heads our way (rover_ctl_mate_coming). */
-static int sweep_counts(const rover_ctl_state *c, const pose2 *o, int i, rover_sweep_mates which)
-{
-    const team_member *m = &c->team.m[i];
-    double xy[2];
-    if (which == ROVER_SWEEP_WAITED)
-        return waited_for(c, m->robot);
-    if (which != ROVER_SWEEP_COMING)
-        return 1;
-    return mate_outranks(c, i) && fabs(m->v_mps) > c->p.queue_slow_mps &&
-           team_position(&c->team, m->robot, xy) == 0 && rover_ctl_mate_coming(m, xy, o);
 }
 
 int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u,
@@ -419,7 +411,7 @@ int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, cons
     for (k = 0; k < c->team.n; k++) {
         const team_member *m = &c->team.m[k];
         const int i = k;
-        if (!sweep_counts(c, o, k, which))
+        if (which == ROVER_SWEEP_WAITED && !waited_for(c, m->robot))
             continue;
         pose2 at = own_c, mc;
         box2 own = chassis_box(&own_c, 0.0);
@@ -430,14 +422,45 @@ int32_t rover_ctl_cmd_sweeps_mate(const rover_ctl_state *c, const pose2 *o, cons
         touching = mate_touches(c, i, &own);
         d0 = hypot(own.x_m - mc.x_m, own.y_m - mc.y_m);
         for (s = 1; s <= CMD_LOOK_STEPS; s++) {
-            const double dt = CMD_LOOK_S / CMD_LOOK_STEPS;
-            at.x_m += u->v_mps * dt * cos(at.theta_rad);
-            at.y_m += u->v_mps * dt * sin(at.theta_rad);
-            at.theta_rad += u->w_radps * dt;
+            pose_step(&at, u->v_mps, u->w_radps, CMD_LOOK_S / CMD_LOOK_STEPS);
             own = chassis_box(&at, 0.0);
             if (!mate_touches(c, i, &own))
                 continue;
             if (!touching || hypot(own.x_m - mc.x_m, own.y_m - mc.y_m) < d0)
+                return m->robot;
+        }
+    }
+    return 0;
+}
+
+/* Flying u for the next CMD_LOOK_S meets an outranking mate flying on as
+ * the team table says it does (its speed and turn rate from its pose
+ * there): our chassis and its box, grown by SPIN_MARGIN_M, touch at the
+ * same moment, and do not now. Its id, else 0. A mate that stands is
+ * rover_ctl_cmd_sweeps_mate's; only outranking ones: standing for them
+ * keeps the wait-for graph acyclic. */
+int32_t rover_ctl_cmd_meets_mate(const rover_ctl_state *c, const pose2 *o, const unicycle_cmd *u)
+{
+    const double dt = CMD_LOOK_S / CMD_LOOK_STEPS;
+    pose2 own_c;
+    int k, s;
+    unicycle_c_from_o(&own_c, o, c->p.beh.d_m);
+    for (k = 0; k < c->team.n; k++) {
+        const team_member *m = &c->team.m[k];
+        pose2 at = own_c, mc;
+        box2 own = chassis_box(&own_c, 0.0), mb;
+        if (!mate_outranks(c, k) || !(fabs(m->v_mps) > c->p.queue_slow_mps) ||
+            mate_c(c, k, &mc) != 0)
+            continue;
+        mb = chassis_box(&mc, SPIN_MARGIN_M);
+        if (boxes_touch(&own, &mb))
+            continue;
+        for (s = 1; s <= CMD_LOOK_STEPS; s++) {
+            pose_step(&at, u->v_mps, u->w_radps, dt);
+            pose_step(&mc, m->v_mps, m->w_radps, dt);
+            own = chassis_box(&at, 0.0);
+            mb = chassis_box(&mc, SPIN_MARGIN_M);
+            if (boxes_touch(&own, &mb))
                 return m->robot;
         }
     }

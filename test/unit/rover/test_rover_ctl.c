@@ -1686,36 +1686,34 @@ static void test_no_command_sweeps_into_mate(void **state)
     assert_int_equal(rover_ctl_cmd_sweeps_mate(&c, &out.o, &u, 0), 0);
 }
 
-/* ROVER_SWEEP_COMING: of the mates our command sweeps into, those that
- * outrank us and drive our way. Mate 1 crosses ahead of robot 3 driving
- * toward its lane; driving on at 0.3 m/s sweeps into it. Driving away,
- * standing, or outranked (robot 4), it is not one to stand for. Two
- * robots closing into column crossed paths side by side and met, each
- * flying its blend (generated corridor world 39, 12 in column). */
-static int32_t sweeps_crossing_mate(int32_t mate_id, double mate_th_rad, double mate_v_mps,
-                                    rover_sweep_mates which)
+/* rover_ctl_cmd_meets_mate: mate 1 drives across robot 3's way from its
+ * right, so that flying on at 0.3 m/s each they meet within the second.
+ * Driving away, standing, or outranked (robot 4), it is not one to stand
+ * for; nor, driving across, is it met where robot 3 stands. Two robots
+ * closing into column crossed paths side by side and met, each flying
+ * its blend (generated corridor world 39, 12 in column). */
+static int32_t meets_crossing_mate(int32_t mate_id, double mate_th_rad, double mate_v_mps,
+                                   double own_v_mps)
 {
     rover_ctl_state c;
     rover_ctl_params p;
     rover_ctl_out out;
-    const hand_mate m = { mate_id, 0.6, 0.2, mate_th_rad, FORMATION_ANN_NONE, mate_v_mps };
-    const unicycle_cmd u = { 0.3, 0.0 };
+    const hand_mate m = { mate_id, 0.6, -0.5, mate_th_rad, FORMATION_ANN_NONE, mate_v_mps };
+    const unicycle_cmd u = { own_v_mps, 0.0 };
     at_origin(&c, &p, 3);
     seen_step(&c, 0.0, open_ring, &m, 1, &out);
-    return rover_ctl_cmd_sweeps_mate(&c, &out.o, &u, which);
+    return rover_ctl_cmd_meets_mate(&c, &out.o, &u);
 }
 
-static void test_sweep_coming_mates(void **state)
+static void test_meets_crossing_mate(void **state)
 {
-    const double down = -0.5 * VEC2_PI, up = 0.5 * VEC2_PI;
+    const double up = 0.5 * VEC2_PI, down = -0.5 * VEC2_PI;
     (void)state;
-    assert_int_equal(sweeps_crossing_mate(1, down, 0.3, ROVER_SWEEP_ANY), 1);
-    assert_int_equal(sweeps_crossing_mate(1, down, 0.3, ROVER_SWEEP_COMING), 1);
-    assert_int_equal(sweeps_crossing_mate(1, up, 0.3, ROVER_SWEEP_ANY), 1);
-    assert_int_equal(sweeps_crossing_mate(1, up, 0.3, ROVER_SWEEP_COMING), 0);
-    assert_int_equal(sweeps_crossing_mate(1, down, 0.0, ROVER_SWEEP_COMING), 0);
-    assert_int_equal(sweeps_crossing_mate(4, down, 0.3, ROVER_SWEEP_ANY), 4);
-    assert_int_equal(sweeps_crossing_mate(4, down, 0.3, ROVER_SWEEP_COMING), 0);
+    assert_int_equal(meets_crossing_mate(1, up, 0.3, 0.3), 1);
+    assert_int_equal(meets_crossing_mate(1, down, 0.3, 0.3), 0);
+    assert_int_equal(meets_crossing_mate(1, up, 0.0, 0.3), 0);
+    assert_int_equal(meets_crossing_mate(4, up, 0.3, 0.3), 0);
+    assert_int_equal(meets_crossing_mate(1, up, 0.3, 0.0), 0);
 }
 
 static void test_wedge_turns_clear_way(void **state)
@@ -3019,7 +3017,7 @@ int main(void)
         cmocka_unit_test(test_no_command_sweeps_into_mate),
         cmocka_unit_test(test_wedge_turns_clear_way),
         cmocka_unit_test(test_back_clear_of_map),
-        cmocka_unit_test(test_sweep_coming_mates),
+        cmocka_unit_test(test_meets_crossing_mate),
         cmocka_unit_test(test_hemmed_in_backs_or_stands),
         cmocka_unit_test(test_give_way_wedged),
         cmocka_unit_test(test_wait_for_graph_acyclic),
