@@ -56,7 +56,8 @@ int rover_ctl_spin_free(const rover_ctl_state *c, const pose2 *o);
 int rover_ctl_turn_grazes(const rover_ctl_state *c, const pose2 *o, double w_radps);
 
 /* With a map, backing back_m straight keeps the chassis's rear edge
- * 5 cm from the map's walls: 1, else 0 (rover_ctl_guard.c). */
+ * 5 cm from every wall of the map it comes toward: 1, else 0
+ * (rover_ctl_guard.c). */
 int rover_ctl_back_clear_of_map(const rover_ctl_state *c, const pose2 *o, double back_m);
 
 /* The collision guard's speed rule alone; returns the nearest echo in the

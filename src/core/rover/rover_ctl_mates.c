@@ -3,7 +3,7 @@
  * and where the mates' chassis are, by the team table, for keeping clear
  * of them while escaping, giving way or waiting (never turning into a
  * mate, whose way we are in, backing clear, the wedge turn, a follower's
- * lane). There is no rear
+ * lane, a command that meets a mate flying on). There is no rear
  * sonar and a mate's echo is masked out of the ring the follower uses, so
  * these answers come from geometry: each chassis a box ROVER_BODY_LENGTH_M
  * x ROVER_BODY_WIDTH_M, centred ROVER_BODY_OFFSET_M ahead of the axle C.
