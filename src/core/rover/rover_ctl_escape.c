@@ -399,6 +399,31 @@ static int back_out(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_cm
     return 1;
 }
 
+/* Clear an outranking mate's way backing straight, where the crumbs
+ * cannot be followed (the robot turned on the spot since it laid them, so
+ * they lie off its tail): only with the map, which keeps the rear edge
+ * clear of its walls (rover_ctl_back_clear_of_map), no mate in the way
+ * back, and within back_max_m as back_out. 1 with the command in *u,
+ * else 0. Two robots following a wall into a doorway's jamb stood wedged,
+ * each in the other's turning circle, for 120 s: the lower one's crumbs
+ * lay off its tail and nothing else would move it (generated mixed world
+ * 20, 8 in triangle). */
+#define BACK_STRAIGHT_LOOK_M 0.1
+static int back_straight_out(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_cmd *u)
+{
+    unicycle_cmd back;
+    back.v_mps = -c->p.back_v_mps;
+    back.w_radps = 0.0;
+    if (!(c->esc.back_m < c->p.back_max_m) ||
+        !rover_ctl_back_clear_of_map(c, o, BACK_STRAIGHT_LOOK_M) ||
+        rover_ctl_cmd_sweeps_mate(c, o, &back, ROVER_SWEEP_ANY) != 0)
+        return 0;
+    *u = back;
+    c->esc.backing = 1;
+    c->esc.back_m += c->p.back_v_mps * dt_s;
+    return 1;
+}
+
 /* Clear an outranking mate's way driving straight ahead, where backing
  * cannot (no crumbs, or the way back taken by a mate): only with the
  * front sonar groups free of walls (mates masked) beyond AHEAD_FREE_M, no
@@ -489,7 +514,8 @@ static int deconflict(rover_ctl_state *c, const sonar_groups *gw, const pose2 *o
     u->w_radps = 0.0;
     m = team_find(&c->team, hit);
     if (m && rover_ctl_outranks(m->announce, m->robot, rover_ctl_own_announce(c), c->id) &&
-        (back_out(c, o, dt_s, u) || ahead_out(c, gw, o, m, u))) {
+        (back_out(c, o, dt_s, u) || back_straight_out(c, o, dt_s, u) ||
+         ahead_out(c, gw, o, m, u))) {
         c->esc.wedge_s = 0.0;
         return 1;
     }
