@@ -1296,6 +1296,18 @@ static void empty_world(rover_world_config *w, const double goal[2], double x0_m
     w->y_max_m = y1_m;
 }
 
+/* A wall at (cx, cy) in the team frame (the robot's C starts at its
+ * origin, heading +x: one_robot_on, at_origin), half-sizes hx along x and
+ * hy across. */
+static void add_wall_at(rover_world_config *w, double cx, double cy, double hx, double hy)
+{
+    const double th = w->team_origin.theta_rad;
+    assert_int_equal(rover_world_add_box(w, w->team_origin.x_m + cx * cos(th) - cy * sin(th),
+                                         w->team_origin.y_m + cx * sin(th) + cy * cos(th), hx, hy,
+                                         th, 0.5),
+                     0);
+}
+
 /* Trapped (eq. 2's test) for the dead-zone time, robot at the origin
  * heading +x, its way to the goal at (0, -10) bearing -90 deg (right),
  * the map on the robot if `nav`: eq. 2's turn on the first and second
@@ -1841,6 +1853,57 @@ static void test_give_way_wedged(void **state)
             assert_true(out.u.v_mps == 0.0 && out.u.w_radps == 0.0);
     }
     assert_true(c.esc.yield);
+}
+
+/* Wedged below an outranking mate with no crumbs to back along (it never
+ * drove), the robot backs straight where the map keeps its rear edge
+ * clear (back_straight_out), at most back_max_m; with a wall 5 cm behind
+ * its tail it stands; without the map it stands (test_give_way_wedged).
+ * Two robots wedged at a doorway's jamb stood there 120 s, the lower
+ * one's crumbs off its tail (generated mixed world 20, 8 in triangle).
+ * Returns the distance backed; wall_m > 0 puts a wall that far behind C. */
+static double wedged_backed_straight(double wall_m)
+{
+    rover_ctl_state c;
+    rover_ctl_params p;
+    rover_ctl_out out;
+    rover_world_config w;
+    navfield_params np;
+    const hand_mate m[2] = { { 2, 1.35, 0.0, VEC2_PI, FORMATION_ANN_LEAVE, 0.0 },
+                             { 1, 0.15, 0.45, 0.0, FORMATION_ANN_GIVE_WAY, 0.0 } };
+    double t, backed = 0.0;
+    at_origin(&c, &p, 3);
+    empty_world(&w, goal_ahead, -6.0, 12.0, -4.0, 4.0);
+    w.team_origin.x_m = w.team_origin.y_m = w.team_origin.theta_rad = 0.0;
+    if (wall_m > 0.0)
+        add_wall_at(&w, -wall_m - 0.1, 0.0, 0.1, 2.0);
+    navfield_params_default(&np);
+    assert_int_equal(navfield_build(&NAV, &np, &w), NAVFIELD_OK);
+    rover_ctl_set_navfield(&c, &NAV);
+    for (t = 0.0; t < 7.0; t += DT) {
+        seen_step(&c, t, lane_ring, m, 2, &out);
+        if (!c.esc.yield)
+            continue;
+        assert_true(out.u.w_radps == 0.0);
+        if (out.u.v_mps < 0.0)
+            backed += -out.u.v_mps * DT;
+    }
+    assert_true(c.esc.yield);
+    return backed;
+}
+
+static void test_wedge_backs_straight_on_the_map(void **state)
+{
+    const double rear_m = 0.5 * ROVER_BODY_LENGTH_M - ROVER_BODY_OFFSET_M; /* C to the tail */
+    rover_ctl_params p;
+    double backed;
+    (void)state;
+    rover_ctl_params_default(&p);
+    backed = wedged_backed_straight(0.0);
+    print_message("wedged, no crumbs, the map clear behind: backed %.2f m (at most %.2f)\n", backed,
+                  p.back_max_m);
+    assert_true(backed > p.back_max_m - 0.05 && backed < p.back_max_m + 0.05);
+    assert_true(wedged_backed_straight(rear_m + 0.05) == 0.0);
 }
 
 /* Backing out of a wedge goes back along the robot's own path, not
@@ -2416,16 +2479,6 @@ static void test_arrival_turn_in_a_pocket(void **state)
 /* Robot 1 at the team frame's origin heading +x, a wall across its way
  * behind it, the wall's face behind_m behind C (the map on the robot if
  * `nav`), in *c; its O pose in *o. */
-/* A wall at (cx, cy) in the frame of the robot's start (O at the origin,
- * heading +x), half-sizes hx along the heading and hy across it. */
-static void add_wall_at(rover_world_config *w, double cx, double cy, double hx, double hy)
-{
-    const double th = w->team_origin.theta_rad;
-    assert_int_equal(rover_world_add_box(w, w->team_origin.x_m + cx * cos(th) - cy * sin(th),
-                                         w->team_origin.y_m + cx * sin(th) + cy * cos(th), hx, hy,
-                                         th, 0.5),
-                     0);
-}
 
 /* One robot on the map with a wall's face behind_m behind C and, if
  * side_m > 0, another side_m right of the chassis's flank. */
@@ -3023,6 +3076,7 @@ int main(void)
         cmocka_unit_test(test_wait_for_graph_acyclic),
         cmocka_unit_test(test_escape_table_validate),
         cmocka_unit_test(test_wedge_backs_along_path),
+        cmocka_unit_test(test_wedge_backs_straight_on_the_map),
         cmocka_unit_test(test_deadzone_team),
         cmocka_unit_test(test_deadzone_team_navfield),
         cmocka_unit_test(test_gap_in_thin_wall),
