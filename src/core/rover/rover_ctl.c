@@ -685,8 +685,9 @@ static int spin_into_mate(const rover_ctl_state *c, const pose2 *o, const unicyc
  * way, else it stands: a robot wedged by a mate against a corridor's jog
  * that turned as asked touched the wall (mixed world 187, 6 in line).
  * Standing cannot hold for good: a robot that came in driving forward can
- * go back the way it came unless a mate stands there, and the mate moves
- * on (its own wait or escape). */
+ * go back the way it came unless a mate stands there, and of two robots
+ * so wedged the lower one clears (deconflict in rover_ctl_escape.c: back
+ * along its crumbs, or straight back on the map). */
 #define GRAZE_CREEP_MPS 0.05
 #define GRAZE_BACK_LOOK_M 0.1
 static void graze_hold(const rover_ctl_state *c, const step_view *v, unicycle_cmd *u)
