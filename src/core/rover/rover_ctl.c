@@ -689,7 +689,6 @@ static int spin_into_mate(const rover_ctl_state *c, const pose2 *o, const unicyc
  * so wedged the lower one clears (deconflict in rover_ctl_escape.c: back
  * along its crumbs, or straight back on the map). */
 #define GRAZE_CREEP_MPS 0.05
-#define GRAZE_BACK_LOOK_M 0.1
 static void graze_hold(const rover_ctl_state *c, const step_view *v, unicycle_cmd *u)
 {
     unicycle_cmd back = { -GRAZE_CREEP_MPS, 0.0 };
@@ -700,7 +699,7 @@ static void graze_hold(const rover_ctl_state *c, const step_view *v, unicycle_cm
     if (fmin(v->g.front_m, fmin(v->g.left_front_m, v->g.right_front_m)) > c->p.guard_m &&
         !rover_ctl_mate_in_lane(c, &v->o, c->p.follow_mate_ahead_m))
         u->v_mps = GRAZE_CREEP_MPS;
-    else if (rover_ctl_back_clear_of_map(c, &v->o, GRAZE_BACK_LOOK_M) &&
+    else if (rover_ctl_back_clear_of_map(c, &v->o) &&
              rover_ctl_cmd_sweeps_mate(c, &v->o, &back, ROVER_SWEEP_ANY) == 0)
         *u = back;
 }

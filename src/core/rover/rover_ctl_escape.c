@@ -408,14 +408,12 @@ static int back_out(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_cm
  * each in the other's turning circle, for 120 s: the lower one's crumbs
  * lay off its tail and nothing else would move it (generated mixed world
  * 20, 8 in triangle). */
-#define BACK_STRAIGHT_LOOK_M 0.1
 static int back_straight_out(rover_ctl_state *c, const pose2 *o, double dt_s, unicycle_cmd *u)
 {
     unicycle_cmd back;
     back.v_mps = -c->p.back_v_mps;
     back.w_radps = 0.0;
-    if (!(c->esc.back_m < c->p.back_max_m) ||
-        !rover_ctl_back_clear_of_map(c, o, BACK_STRAIGHT_LOOK_M) ||
+    if (!(c->esc.back_m < c->p.back_max_m) || !rover_ctl_back_clear_of_map(c, o) ||
         rover_ctl_cmd_sweeps_mate(c, o, &back, ROVER_SWEEP_ANY) != 0)
         return 0;
     *u = back;

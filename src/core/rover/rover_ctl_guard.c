@@ -141,7 +141,8 @@ int rover_ctl_turn_grazes(const rover_ctl_state *c, const pose2 *o, double w_rad
 
 /* Backing straight, the sides of the chassis slide along themselves and
  * only the rear edge sweeps new floor: with a map, 1 if the rear edge,
- * moved back_m behind the chassis, keeps GRAZE_M from every wall the map
+ * moved BACK_LOOK_M behind the chassis (each period re-reads it; a creep
+ * covers a few mm), keeps GRAZE_M from every wall the map
  * has that backing comes toward (navfield_clearance_slope_m's bound and
  * slope: more than BACK_TOWARD_COS of the motion toward it; a wall
  * alongside that the flank slides along is no bar), else 0. No map: 0,
@@ -150,9 +151,10 @@ int rover_ctl_turn_grazes(const rover_ctl_state *c, const pose2 *o, double w_rad
  * of the edge lies within GRAZE_M of one sample. */
 #define BACK_SAMPLE_M 0.05
 #define BACK_TOWARD_COS 0.2
-int rover_ctl_back_clear_of_map(const rover_ctl_state *c, const pose2 *o, double back_m)
+#define BACK_LOOK_M 0.1
+int rover_ctl_back_clear_of_map(const rover_ctl_state *c, const pose2 *o)
 {
-    const double rear_m = ROVER_BODY_OFFSET_M - 0.5 * ROVER_BODY_LENGTH_M - back_m;
+    const double rear_m = ROVER_BODY_OFFSET_M - 0.5 * ROVER_BODY_LENGTH_M - BACK_LOOK_M;
     const int n = (int)ceil(ROVER_BODY_WIDTH_M / BACK_SAMPLE_M);
     double slope[2];
     pose2 cp;

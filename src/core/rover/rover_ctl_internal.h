@@ -55,10 +55,10 @@ int rover_ctl_spin_free(const rover_ctl_state *c, const pose2 *o);
  * wall the map puts within 5 cm of it: 1, else 0 (rover_ctl_guard.c). */
 int rover_ctl_turn_grazes(const rover_ctl_state *c, const pose2 *o, double w_radps);
 
-/* With a map, backing back_m straight keeps the chassis's rear edge
- * 5 cm from every wall of the map it comes toward: 1, else 0
+/* With a map, backing 0.1 m straight keeps the chassis's rear edge 5 cm
+ * from every wall of the map it comes toward: 1, else 0
  * (rover_ctl_guard.c). */
-int rover_ctl_back_clear_of_map(const rover_ctl_state *c, const pose2 *o, double back_m);
+int rover_ctl_back_clear_of_map(const rover_ctl_state *c, const pose2 *o);
 
 /* The collision guard's speed rule alone; returns the nearest echo in the
  * way (rover_ctl_guard.c). */

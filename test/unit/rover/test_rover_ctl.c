@@ -2552,7 +2552,7 @@ static int back_clear_with_wall_behind(double behind_m, int nav)
 {
     wall_fixture f;
     wall_behind(&f, behind_m, nav, 1);
-    return rover_ctl_back_clear_of_map(&f.c, &f.o, 0.1);
+    return rover_ctl_back_clear_of_map(&f.c, &f.o);
 }
 
 static void test_back_clear_of_map(void **state)
